@@ -1,0 +1,259 @@
+/*
+ * fixmath.h - portable fixed-point core for the DTC firmware (C99, freestanding).
+ *
+ * Formats
+ *   q15_t    int16_t, value = raw / 2^15, range [-1, 1 - 2^-15].
+ *   q31_t    int32_t, value = raw / 2^31, range [-1, 1 - 2^-31].
+ *   iq_t     int32_t, value = raw / 2^FIX_IQ_Q with FIX_IQ_Q = 24, range [-128, 128 - 2^-24].
+ *   angle_t  uint16_t per-unit angle, 65536 = one turn (2*pi). It wraps modulo one turn BY DESIGN:
+ *            unsigned arithmetic on angles is well defined and is the only wrap-around allowed.
+ *
+ * Why Q24 for the IQ type. All firmware quantities are per-unit. In this drive the largest
+ * values seen are over-currents and intermediate sums of a few per-unit (the trip level is below
+ * 8 pu), so 7 integer bits (+-128) leave ample headroom. The fraction must resolve the smallest
+ * per-sample change the estimators make: the voltage-model low-pass leak psi*wc*Ts at wc = 5 rad/s,
+ * Ts = 50 us is about 2.5e-4 pu of flux per sample, i.e. 8 LSB in Q15 (a 12 % quantisation of the
+ * leak, which turns the low-pass into a dead band) but 4200 LSB in Q24. Q24 is also TI IQmath's
+ * default GLOBAL_Q, so the TI build can map these functions onto IQmath unchanged.
+ *
+ * Rules (see docs/DESIGN-NOTES.md): every multiply widens first; every sum that can overflow
+ * saturates; right shifts of negative numbers happen only in this module (arithmetic shift on
+ * every compiler the project targets: gcc, arm-none-eabi-gcc, avr-gcc and TI cl2000 document it).
+ * No function here divides. Literals go through Q15()/Q31()/IQ()/ANGLE() so the format is stated.
+ */
+#ifndef FIXMATH_H
+#define FIXMATH_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+typedef int16_t q15_t;
+typedef int32_t q31_t;
+typedef int32_t iq_t;
+typedef uint16_t angle_t;
+
+#define FIX_IQ_Q 24
+
+#define Q15_MAX ((q15_t)INT16_MAX)
+#define Q15_MIN ((q15_t)INT16_MIN)
+#define Q31_MAX ((q31_t)INT32_MAX)
+#define Q31_MIN ((q31_t)INT32_MIN)
+#define IQ_MAX ((iq_t)INT32_MAX)
+#define IQ_MIN ((iq_t)INT32_MIN)
+
+/* Compile-time literal conversions, rounded to nearest, saturated to the format's range.
+ * Arguments must be constant expressions (they are folded by the compiler; a run-time argument
+ * would pull in floating point, which the firmware-rules check rejects). */
+#define FIX_RND_(x) ((x) >= 0 ? 0.5 : -0.5)
+#define Q15(x)                                                                                 \
+    ((q15_t)((x) >= (32767.5 / 32768.0) ? INT16_MAX                                            \
+             : (x) <= -1.0              ? INT16_MIN                                            \
+                                        : (int32_t)((x) * 32768.0 + FIX_RND_(x))))
+#define Q31(x)                                                                                 \
+    ((q31_t)((x) >= (2147483647.5 / 2147483648.0) ? INT32_MAX                                  \
+             : (x) <= -1.0                        ? INT32_MIN                                  \
+                                                  : (int32_t)((x) * 2147483648.0 + FIX_RND_(x))))
+#define IQ(x)                                                                                  \
+    ((iq_t)((x) >= (2147483647.5 / 16777216.0) ? INT32_MAX                                     \
+            : (x) <= -128.0                     ? INT32_MIN                                    \
+                                                : (int32_t)((x) * 16777216.0 + FIX_RND_(x))))
+/* Angle in turns (1.0 = 2*pi), reduced modulo one turn: ANGLE(0.25) = 90 degrees. */
+#define ANGLE(turns) ((angle_t)(((int32_t)((turns) * 65536.0 + 0.5)) & 0xFFFF))
+
+/* ------------------------------------------------------------------------------------------ */
+/* Saturation                                                                                  */
+
+/* Scaling and overflow: clamps a 32-bit value to [Q15_MIN, Q15_MAX]. Exact, no rounding. */
+static inline q15_t q15_sat(int32_t x)
+{
+    if (x > INT16_MAX) {
+        return Q15_MAX;
+    }
+    if (x < INT16_MIN) {
+        return Q15_MIN;
+    }
+    return (q15_t)x;
+}
+
+/* Scaling and overflow: clamps a 64-bit value to the int32 range (q31_t and iq_t alike). */
+static inline int32_t fix_sat32(int64_t x)
+{
+    if (x > INT32_MAX) {
+        return INT32_MAX;
+    }
+    if (x < INT32_MIN) {
+        return INT32_MIN;
+    }
+    return (int32_t)x;
+}
+
+/* Scaling and overflow: clamps x to [lo, hi] (any 32-bit format; requires lo <= hi). */
+static inline int32_t fix_clamp32(int32_t x, int32_t lo, int32_t hi)
+{
+    if (x > hi) {
+        return hi;
+    }
+    if (x < lo) {
+        return lo;
+    }
+    return x;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* Shifts (the only place negative values are shifted right)                                   */
+
+/* Arithmetic right shift with round-half-up: (x + 2^(n-1)) >> n, 1 <= n <= 31.
+ * Scaling and overflow: the rounding add is done in 64 bits, so it cannot overflow. */
+static inline int32_t fix_rshift_rnd32(int32_t x, uint16_t n)
+{
+    return (int32_t)(((int64_t)x + ((int64_t)1 << (n - 1U))) >> n);
+}
+
+/* Arithmetic right shift with round-half-up on a 64-bit value, 1 <= n <= 62, saturated to int32.
+ * Scaling and overflow: the rounding add cannot overflow for |x| < 2^62; result saturates. */
+static inline int32_t fix_rshift_rnd64_sat32(int64_t x, uint16_t n)
+{
+    return fix_sat32((x + ((int64_t)1 << (n - 1U))) >> n);
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* Q15 arithmetic                                                                               */
+
+/* Scaling and overflow: sum formed in 32 bits, saturated to Q15. */
+static inline q15_t q15_add(q15_t a, q15_t b) { return q15_sat((int32_t)a + (int32_t)b); }
+/* Scaling and overflow: difference formed in 32 bits, saturated to Q15. */
+static inline q15_t q15_sub(q15_t a, q15_t b) { return q15_sat((int32_t)a - (int32_t)b); }
+/* Scaling and overflow: -(-1.0) saturates to Q15_MAX. */
+static inline q15_t q15_neg(q15_t a) { return q15_sat(-(int32_t)a); }
+/* Scaling and overflow: |-1.0| saturates to Q15_MAX. */
+static inline q15_t q15_abs(q15_t a) { return q15_sat(a < 0 ? -(int32_t)a : (int32_t)a); }
+
+/* Q15 x Q15 -> Q15, rounded to nearest. Scaling and overflow: the product is exact in 32 bits
+ * (Q30); only (-1.0) * (-1.0) exceeds Q15 and saturates to Q15_MAX. Error <= 0.5 LSB. */
+static inline q15_t q15_mul(q15_t a, q15_t b)
+{
+    return q15_sat(fix_rshift_rnd32((int32_t)a * (int32_t)b, 15U));
+}
+
+/* Q15 x Q15 -> Q30 (exact 32-bit product, for accumulating before one rounding step).
+ * Scaling and overflow: |result| <= 2^30, cannot overflow. */
+static inline int32_t q15_mul_q30(q15_t a, q15_t b) { return (int32_t)a * (int32_t)b; }
+
+/* ------------------------------------------------------------------------------------------ */
+/* Q31 / IQ arithmetic (both are int32; the functions are format-agnostic where noted)         */
+
+/* Scaling and overflow: 64-bit sum saturated to int32. Same format in and out (Q31 or IQ). */
+static inline int32_t fix_add32(int32_t a, int32_t b) { return fix_sat32((int64_t)a + (int64_t)b); }
+/* Scaling and overflow: 64-bit difference saturated to int32. Same format in and out. */
+static inline int32_t fix_sub32(int32_t a, int32_t b) { return fix_sat32((int64_t)a - (int64_t)b); }
+/* Scaling and overflow: -INT32_MIN saturates to INT32_MAX. */
+static inline int32_t fix_neg32(int32_t a) { return fix_sat32(-(int64_t)a); }
+/* Scaling and overflow: |INT32_MIN| saturates to INT32_MAX. */
+static inline int32_t fix_abs32(int32_t a) { return fix_sat32(a < 0 ? -(int64_t)a : (int64_t)a); }
+
+static inline q31_t q31_add(q31_t a, q31_t b) { return fix_add32(a, b); }
+static inline q31_t q31_sub(q31_t a, q31_t b) { return fix_sub32(a, b); }
+static inline iq_t iq_add(iq_t a, iq_t b) { return fix_add32(a, b); }
+static inline iq_t iq_sub(iq_t a, iq_t b) { return fix_sub32(a, b); }
+
+/* Q31 x Q31 -> Q31, high part of the 64-bit product, rounded (as IQmath's _IQ31rsmpy).
+ * Scaling and overflow: product exact in 64 bits (Q62); (-1)*(-1) saturates to Q31_MAX.
+ * Error <= 0.5 LSB. */
+static inline q31_t q31_mul(q31_t a, q31_t b)
+{
+    return fix_rshift_rnd64_sat32((int64_t)a * (int64_t)b, 31U);
+}
+
+/* IQ x IQ -> IQ (Q24), rounded and saturated (as IQmath's _IQrsmpy).
+ * Scaling and overflow: product exact in 64 bits (Q48); |a*b| >= 128 saturates. Error <= 0.5 LSB. */
+static inline iq_t iq_mpy(iq_t a, iq_t b)
+{
+    return fix_rshift_rnd64_sat32((int64_t)a * (int64_t)b, (uint16_t)FIX_IQ_Q);
+}
+
+/* IQ x Q15 -> IQ: scales an IQ value by a Q15 gain in [-1, 1).
+ * Scaling and overflow: product exact in 64 bits (Q39); only INT32_MIN * -1.0 saturates.
+ * Error <= 0.5 LSB. */
+static inline iq_t iq_mpy_q15(iq_t a, q15_t b)
+{
+    return fix_rshift_rnd64_sat32((int64_t)a * (int64_t)b, 15U);
+}
+
+/* IQ x unsigned Q16 gain -> IQ: scales an IQ value by g/65536, g in [0, 1). Used for small
+ * positive gains (e.g. wc*Ts) where Q15 would waste a bit.
+ * Scaling and overflow: product exact in 64 bits; |result| <= |a|, cannot overflow. */
+static inline iq_t iq_mpy_uq16(iq_t a, uint16_t g)
+{
+    return fix_rshift_rnd64_sat32((int64_t)a * (int64_t)g, 16U);
+}
+
+/* Clamp an IQ value to [lo, hi] (as IQmath's _IQsat, argument order lo, hi). */
+static inline iq_t iq_sat(iq_t x, iq_t lo, iq_t hi) { return fix_clamp32(x, lo, hi); }
+
+/* ------------------------------------------------------------------------------------------ */
+/* Conversions                                                                                  */
+
+/* Q15 -> IQ (Q24): exact (value preserved, shift left by 9). */
+static inline iq_t iq_from_q15(q15_t a) { return (iq_t)((int32_t)a * (int32_t)512); }
+/* IQ -> Q15: rounded, saturated to [-1, 1 - 2^-15]. Error <= 0.5 LSB of Q15 inside the range. */
+static inline q15_t q15_from_iq(iq_t a) { return q15_sat(fix_rshift_rnd32(a, (uint16_t)(FIX_IQ_Q - 15))); }
+/* Q15 -> Q31: exact. */
+static inline q31_t q31_from_q15(q15_t a) { return (q31_t)((int32_t)a * (int32_t)65536); }
+/* Q31 -> Q15: rounded, saturated (rounding 0x7FFF8000 and above would exceed Q15_MAX). */
+static inline q15_t q15_from_q31(q31_t a) { return q15_sat(fix_rshift_rnd32(a, 16U)); }
+/* IQ -> Q31: IQ values outside [-1, 1) saturate. Exact inside. */
+static inline q31_t q31_from_iq(iq_t a) { return fix_sat32((int64_t)a * (int64_t)128); }
+/* Q31 -> IQ: rounded (drops 7 fraction bits). Cannot overflow. */
+static inline iq_t iq_from_q31(q31_t a) { return fix_rshift_rnd32(a, (uint16_t)(31 - FIX_IQ_Q)); }
+/* Integer -> IQ, saturated to +-128. */
+static inline iq_t iq_from_int(int16_t n) { return fix_sat32((int64_t)n * ((int64_t)1 << FIX_IQ_Q)); }
+
+/* ------------------------------------------------------------------------------------------ */
+/* Square root and vector magnitude (fixmath.c; bit-by-bit, no division, fixed iteration count) */
+
+/* floor(sqrt(x)) for a 64-bit unsigned x. Result fits in 32 bits. 32 iterations. */
+uint32_t fix_isqrt64(uint64_t x);
+
+/* sqrt of an IQ value (Q24 -> Q24). Negative input returns 0. Error <= 1 LSB (floor). */
+iq_t iq_sqrt(iq_t x);
+
+/* sqrt(a^2 + b^2) in IQ (Q24). Sum of squares formed in 64 bits (Q48, <= 2^63, cannot overflow);
+ * the result saturates to IQ_MAX when it would exceed 128. Error <= 1 LSB (floor). */
+iq_t iq_mag(iq_t a, iq_t b);
+
+/* sqrt(a^2 + b^2) in Q15; saturates to Q15_MAX when >= 1.0. Error <= 1 LSB (floor). */
+q15_t q15_mag(q15_t a, q15_t b);
+
+/* Sum of squares a^2 + b^2 as unsigned Q48 (IQ inputs). Exact; for comparing a magnitude with a
+ * threshold without the square root. */
+static inline uint64_t iq_sumsq_q48(iq_t a, iq_t b)
+{
+    return (uint64_t)((int64_t)a * (int64_t)a) + (uint64_t)((int64_t)b * (int64_t)b);
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* Sine and cosine of a per-unit angle (fixmath.c; 256-segment table, linear interpolation)    */
+
+/* sin(2*pi*angle/65536) in Q15. Max error 2 LSB (interpolation error <= 8e-5 + table rounding).
+ * Scaling and overflow: table values within [-32767, 32767]; interpolation stays between two
+ * neighbouring entries, so no overflow. */
+q15_t fix_sin(angle_t angle);
+/* cos(2*pi*angle/65536) in Q15, = fix_sin(angle + quarter turn). Same bounds. */
+q15_t fix_cos(angle_t angle);
+
+/* ------------------------------------------------------------------------------------------ */
+/* Flux-vector position without an arctangent                                                  */
+
+/* 60-degree sector of the vector (alpha, beta), sectors centred on 0, 60, ..., 300 degrees:
+ * returns 1 for [-30, 30), 2 for [30, 90), 3 for [90, 150), 4 for [150, 210), 5 for [210, 270),
+ * 6 for [270, 330). (alpha, beta) = (0, 0) returns 1. Decided from the signs of
+ * p = sqrt(3)*beta - alpha, q = sqrt(3)*beta + alpha and alpha, formed exactly in 64 bits; no
+ * overflow for any inputs. Boundary rays belong to the sector that starts there, except the
+ * +-90 degree rays, which go to sectors 3 and 5 (a measure-zero choice; both are adjacent). */
+uint16_t fix_sector6(iq_t alpha, iq_t beta);
+
+/* Quadrant of (alpha, beta): 1 for [0, 90), 2 for [90, 180), 3 for [180, 270), 4 for [270, 360)
+ * degrees. (0, 0) returns 1. Sign tests only. */
+uint16_t fix_quadrant(iq_t alpha, iq_t beta);
+
+#endif /* FIXMATH_H */

@@ -1,0 +1,105 @@
+/*
+ * plant.h - C ABI of the physical plant model (model/, C++17 + Eigen, SI units only).
+ *
+ * hal/host creates a plant from a parameter struct, applies leg states held for one control
+ * period, advances it by exactly one period (sub-stepping inside) and reads the true state. The
+ * model never includes firmware headers; everything here is SI (suffix gives the unit).
+ */
+#ifndef DTC_MODEL_PLANT_H
+#define DTC_MODEL_PLANT_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum {
+    PLANT_INVERTER_IDEAL = 0, /* alpha/beta voltages applied directly (plant_set_voltage) */
+    PLANT_INVERTER_SSTP = 1,  /* six switches, eight states (Casadei eq. 2, Fig. A2) */
+    PLANT_INVERTER_FSTP = 2   /* four switches, phase A on the capacitor mid-point (Hoang Fig. 1b) */
+} plant_inverter_t;
+
+typedef enum {
+    PLANT_LOAD_SPEED = 0,     /* dynamometer holds load_speed_rpm */
+    PLANT_LOAD_TORQUE = 1,    /* constant load torque load_torque_nm (opposes positive speed) */
+    PLANT_LOAD_GENERATOR = 2, /* DC-generator load: torque = load_torque_nm * speed / load_speed_rpm */
+    PLANT_LOAD_INERTIA = 3    /* inertia and friction only */
+} plant_load_t;
+
+typedef struct {
+    /* Surface PM BLAC machine (Hoang eqs. 6-10). */
+    double rs_ohm;
+    double ls_h;
+    double psi_m_wb;
+    int pole_pairs;
+    double emf_gain[3];        /* per-phase back-EMF fundamental scale, 1.0 = psi_m_wb */
+    double emf_harm[3][3];     /* [phase][3rd, 5th, 7th] amplitude relative to the fundamental */
+    /* Mechanics. */
+    double j_kgm2;
+    double b_nms;              /* viscous friction, N*m per rad/s */
+    /* Inverter. */
+    plant_inverter_t inverter;
+    double vdc_v;              /* DC source voltage */
+    double r_dc_ohm;           /* DC source internal resistance */
+    double c_dc_f;             /* each DC-link capacitor (FSTP: two in series; SSTP: one of 2x) */
+    double v_ce_v;             /* transistor forward drop (Hoang Table III/IV) */
+    double v_d_v;              /* diode forward drop */
+    double r_on_ohm;           /* on-state resistance of a conducting device */
+    double dead_time_s;
+    int drops_enabled;         /* 0: ideal devices (no V_CE, V_d, R_on) */
+    int dead_time_enabled;     /* 0: no dead time */
+    int finite_dc_link;        /* 0: stiff DC link (capacitor voltages fixed at vdc/2) */
+    /* Load. */
+    plant_load_t load;
+    double load_speed_rpm;
+    double load_torque_nm;
+    /* Initial state. */
+    double speed0_rpm;
+    double theta_m0_rad;
+    /* Numerics. */
+    double max_step_s;         /* largest integration sub-step */
+} plant_params_t;
+
+typedef struct {
+    double t_s;
+    double i_a, i_b, i_c;             /* phase currents, A */
+    double i_alpha_a, i_beta_a;       /* Clarke (amplitude-invariant), A */
+    double psi_alpha_wb, psi_beta_wb; /* true stator flux linkage, Wb */
+    double theta_e_rad;               /* electrical rotor angle, wrapped to [0, 2*pi) */
+    double theta_m_rad;               /* mechanical rotor angle, unwrapped */
+    double omega_m_rad_s;
+    double speed_rpm;
+    double te_nm;                     /* electromagnetic torque */
+    double tload_nm;                  /* load torque applied */
+    double vdc_v;                     /* DC-link voltage across the capacitor(s) */
+    double vc_lo_v, vc_hi_v;          /* FSTP lower / upper capacitor voltages */
+    double v_alpha_v, v_beta_v;       /* mean applied stator voltage over the last advance */
+    /* Energy accounting since creation, J. */
+    double e_dc_in_j, e_copper_j, e_device_j, e_friction_j, e_load_j;
+    double e_magnetic_j, e_kinetic_j, e_capacitor_j;
+} plant_state_t;
+
+/* Defaults: Hoang Table VIII machine, Table IV devices, 70 V DC link, SSTP. */
+void plant_params_default(plant_params_t *p);
+
+/* Returns NULL and writes a message into err when a parameter is invalid. */
+typedef struct plant plant_t;
+plant_t *plant_create(const plant_params_t *p, char *err, size_t err_len);
+void plant_destroy(plant_t *plant);
+
+/* Leg states for the next advance: 1 = upper device on. enable = 0: all gates off. */
+void plant_set_legs(plant_t *plant, int sa, int sb, int sc, int enable);
+/* Ideal inverter only: alpha/beta voltages for the next advance. */
+void plant_set_voltage(plant_t *plant, double v_alpha_v, double v_beta_v);
+/* Change the load while running (load steps). */
+void plant_set_load(plant_t *plant, plant_load_t load, double speed_rpm, double torque_nm);
+
+void plant_advance(plant_t *plant, double dt_s);
+void plant_get_state(const plant_t *plant, plant_state_t *s);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* DTC_MODEL_PLANT_H */
