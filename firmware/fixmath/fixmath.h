@@ -115,7 +115,8 @@ static inline int32_t fix_rshift_rnd32(int32_t x, uint16_t n)
 }
 
 /* Arithmetic right shift with round-half-up on a 64-bit value, 1 <= n <= 62, saturated to int32.
- * Scaling and overflow: the rounding add cannot overflow for |x| < 2^62; result saturates. */
+ * Scaling and overflow: the rounding add cannot overflow for |x| <= 2^62 (every 32x32 product,
+ * including INT32_MIN * INT32_MIN = 2^62, is inside); the result saturates. */
 static inline int32_t fix_rshift_rnd64_sat32(int64_t x, uint16_t n)
 {
     return fix_sat32((x + ((int64_t)1 << (n - 1U))) >> n);
