@@ -9,16 +9,17 @@ static const q15_t fix_sin_table[257] = {
 #include "fix_sin_table.inc"
 };
 
-uint32_t fix_isqrt64(uint64_t x)
+/* Digit-by-digit square root of x < 4^n_digits: n_digits iterations, each a compare and a
+ * subtract; returns floor(sqrt(x)) and leaves x - floor(sqrt(x))^2 in *rem_out.
+ * Scaling and overflow: root < 2^n_digits <= 2^32 and bit <= 2^62, so root + bit < 2^64. */
+static uint64_t fix_isqrt_core(uint64_t x, uint16_t n_digits, uint64_t *rem_out)
 {
-    /* Bit-by-bit (digit-by-digit) square root: 32 iterations, each a compare and subtract.
-     * Scaling and overflow: rem and root stay below 2^64 because root < 2^33 and bit <= 2^62. */
     uint64_t rem = x;
     uint64_t root = 0U;
-    uint64_t bit = (uint64_t)1 << 62;
+    uint64_t bit = (uint64_t)1 << (2U * (n_digits - 1U));
     uint16_t i;
 
-    for (i = 0U; i < 32U; i++) {
+    for (i = 0U; i < n_digits; i++) {
         if (rem >= root + bit) {
             rem -= root + bit;
             root = (root >> 1) + bit;
@@ -27,23 +28,42 @@ uint32_t fix_isqrt64(uint64_t x)
         }
         bit >>= 2;
     }
-    return (uint32_t)root;
+    *rem_out = rem;
+    return root;
+}
+
+/* Square root rounded to nearest: r = floor(sqrt(x)) is rounded up when x - r^2 > r, i.e. when
+ * x >= r^2 + r + 1 > (r + 1/2)^2 (x <= r^2 + r < (r + 1/2)^2 otherwise; no ties, since
+ * (r + 1/2)^2 is never an integer). Result <= 2^n_digits, returned in 64 bits. */
+static uint64_t fix_isqrt_rnd(uint64_t x, uint16_t n_digits)
+{
+    uint64_t rem;
+    uint64_t root = fix_isqrt_core(x, n_digits, &rem);
+    return rem > root ? root + 1U : root;
+}
+
+uint32_t fix_isqrt64(uint64_t x)
+{
+    uint64_t rem;
+    return (uint32_t)fix_isqrt_core(x, 32U, &rem);
 }
 
 iq_t iq_sqrt(iq_t x)
 {
-    /* sqrt(X / 2^24) * 2^24 = sqrt(X * 2^24): the argument is < 2^55, the result < 2^28. */
+    /* sqrt(X / 2^24) * 2^24 = sqrt(X * 2^24): the argument is < 2^55, so 28 digits suffice and
+     * the rounded result is <= 2^27.5 + 1, far inside iq_t. */
     if (x <= 0) {
         return 0;
     }
-    return (iq_t)fix_isqrt64((uint64_t)x << FIX_IQ_Q);
+    return (iq_t)fix_isqrt_rnd((uint64_t)x << FIX_IQ_Q, 28U);
 }
 
 iq_t iq_mag(iq_t a, iq_t b)
 {
-    /* a^2 + b^2 in Q48 is at most 2 * 2^62 = 2^63: fits uint64. Its root is Q24. */
-    uint32_t r = fix_isqrt64(iq_sumsq_q48(a, b));
-    if (r > (uint32_t)IQ_MAX) {
+    /* a^2 + b^2 in Q48 is at most 2 * 2^62 = 2^63: fits uint64. Its root is Q24, at most
+     * 2^31.5 before saturation. */
+    uint64_t r = fix_isqrt_rnd(iq_sumsq_q48(a, b), 32U);
+    if (r > (uint64_t)IQ_MAX) {
         return IQ_MAX;
     }
     return (iq_t)r;
@@ -51,10 +71,11 @@ iq_t iq_mag(iq_t a, iq_t b)
 
 q15_t q15_mag(q15_t a, q15_t b)
 {
-    /* a^2 + b^2 in Q30 is at most 2^31: exact in uint64. Its root is Q15. */
+    /* a^2 + b^2 in Q30 is at most 2^31 < 4^16: exact in uint64, 16 digits suffice. Its root is
+     * Q15, at most 2^15.5 before saturation. */
     uint64_t s = (uint64_t)((int32_t)a * (int32_t)a) + (uint64_t)((int32_t)b * (int32_t)b);
-    uint32_t r = fix_isqrt64(s);
-    if (r > (uint32_t)Q15_MAX) {
+    uint64_t r = fix_isqrt_rnd(s, 16U);
+    if (r > (uint64_t)Q15_MAX) {
         return Q15_MAX;
     }
     return (q15_t)r;

@@ -146,13 +146,13 @@ void fixtest_lsb_add(fixtest_lsb_t *t, double val, double ref, double lsb, int64
 void fixtest_lsb_check(const fixtest_lsb_t *t, double max_lsb, const char *what)
 {
     double rms = t->n > 0U ? sqrt(t->sum_sq_lsb / (double)t->n) : 0.0;
-    print_message("[ MEASURE  ] %s: max %.4f LSB (bound %.4f), rms %.4f LSB, %zu points\n", what,
+    print_message("[ MEASURE  ] %s: max %.6f LSB (bound %.6f), rms %.4f LSB, %zu points\n", what,
                   t->max_lsb, max_lsb, rms, t->n);
     if (t->n == 0U) {
         fail_msg("%s: no points were checked", what);
     }
     if (!(t->max_lsb <= max_lsb)) {
-        fail_msg("%s: error %.4f LSB > bound %.4f LSB at inputs (%lld, %lld): value %.12g vs "
+        fail_msg("%s: error %.6f LSB > bound %.6f LSB at inputs (%lld, %lld): value %.12g vs "
                  "reference %.12g",
                  what, t->max_lsb, max_lsb, (long long)t->worst_in1, (long long)t->worst_in2,
                  t->worst_val, t->worst_ref);
