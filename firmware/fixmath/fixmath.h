@@ -228,7 +228,7 @@ iq_t iq_sqrt(iq_t x);
 
 /* sqrt(a^2 + b^2) in IQ (Q24), rounded to nearest (error < 0.5 LSB). Scaling and overflow: sum of
  * squares formed in 64 bits (Q48, <= 2^63, cannot overflow), 32 iterations; the result saturates
- * to IQ_MAX when it would reach 128 (only when |a| or |b| is above 90.5 pu). */
+ * to IQ_MAX when it would reach 128 (possible only when |a| or |b| exceeds 90.5 pu). */
 iq_t iq_mag(iq_t a, iq_t b);
 
 /* sqrt(a^2 + b^2) in Q15, rounded to nearest (error < 0.5 LSB). Scaling and overflow: sum of
@@ -263,8 +263,9 @@ q15_t fix_cos(angle_t angle);
 /* 60-degree sector of the vector (alpha, beta), sectors centred on 0, 60, ..., 300 degrees:
  * returns 1 for [-30, 30), 2 for [30, 90), 3 for [90, 150), 4 for [150, 210), 5 for [210, 270),
  * 6 for [270, 330). (alpha, beta) = (0, 0) returns 1. Decided from the signs of
- * p = sqrt(3)*beta - alpha, q = sqrt(3)*beta + alpha and alpha, formed exactly in 64 bits; no
- * overflow for any inputs. Boundary rays belong to the sector that starts there, except the
+ * p = sqrt(3)*beta - alpha, q = sqrt(3)*beta + alpha and alpha, with sqrt(3) in Q30 and the
+ * products formed exactly in 64 bits (< 2^63, no overflow for any inputs); the 30 + 60k degree
+ * rays it implements lie within 9e-11 rad of the true ones. Boundary rays belong to the sector that starts there, except the
  * +-90 degree rays, which go to sectors 3 and 5 (a measure-zero choice; both are adjacent). */
 uint16_t fix_sector6(iq_t alpha, iq_t beta);
 

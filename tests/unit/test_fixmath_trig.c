@@ -51,8 +51,10 @@ static void test_sin_cos_all_angles(void **state)
         q15_t c = fix_cos((angle_t)a);
         fixtest_lsb_add(&ts, fixtest_q15_to_d(s), sin(th), LSB_Q15, a, 0);
         fixtest_lsb_add(&tc, fixtest_q15_to_d(c), cos(th), LSB_Q15, a, 0);
-        /* Never the one Q15 value without a positive counterpart. */
+        /* Never the one Q15 value without a positive counterpart; exactly odd / even. */
         assert_true(s != Q15_MIN && c != Q15_MIN);
+        assert_int_equal(fix_sin((angle_t)(65536 - a)), -s);
+        assert_int_equal(fix_cos((angle_t)(65536 - a)), c);
     }
     fixtest_lsb_check(&ts, SIN_MAX_LSB, "fix_sin, all 65536 angles");
     fixtest_lsb_check(&tc, SIN_MAX_LSB, "fix_cos, all 65536 angles");
