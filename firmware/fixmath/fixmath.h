@@ -59,11 +59,12 @@ typedef uint16_t angle_t;
                                                 : (int32_t)((x) * 16777216.0 + FIX_RND_(x))))
 /* Angle in turns (1.0 = 2*pi), rounded to the nearest 1/65536 turn (halves up) and reduced
  * modulo one turn: ANGLE(0.25) = 90 degrees, ANGLE(-0.25) = ANGLE(0.75) = 270 degrees.
- * Valid for -1024 < turns < 2^37. A bias of 1024 turns (2^26 LSB, a whole number of turns, so
- * it vanishes in the reduction) keeps the argument of the truncating cast positive, where
- * truncation is floor; without it negative angles were truncated towards zero and came out up
- * to 1 LSB off (ANGLE(-0.25) was 49153). */
-#define ANGLE(turns) ((angle_t)((int64_t)((turns) * 65536.0 + 67108864.5) & 0xFFFF))
+ * Valid for |turns| < 32768. The cast truncates towards zero, so FIX_FLOOR_ subtracts 1 where
+ * that rounded a negative value up (a plain cast made ANGLE(-0.25) 49153). No large bias is
+ * added: on compilers whose double is 32 bits (TI C28x COFF ABI, avr-gcc) a bias would eat the
+ * fraction bits. */
+#define FIX_FLOOR_(v) ((int32_t)(v) - ((v) < (int32_t)(v) ? 1 : 0))
+#define ANGLE(turns) ((angle_t)((uint32_t)FIX_FLOOR_((turns) * 65536.0 + 0.5) & 0xFFFFU))
 
 /* ------------------------------------------------------------------------------------------ */
 /* Saturation                                                                                  */
