@@ -37,4 +37,56 @@ double fixtest_acc_snr_db(const fixtest_acc_t *acc);
 void fixtest_assert_lsb(double val, double ref, double lsb, double max_lsb, const char *what);
 void fixtest_assert_snr(const fixtest_acc_t *acc, double min_db, const char *what);
 
+/* ---- Added for the fixmath suite (host-only helpers) ------------------------------------- */
+
+/* pi (M_PI is not C99). */
+#define FIXTEST_PI 3.14159265358979323846
+
+/* Seeded pseudo-random numbers (SplitMix64): every run tests the same "random" inputs, so a
+ * failure is reproducible, and the sequence is the same on every host. */
+typedef struct {
+    uint64_t state;
+} fixtest_rng_t;
+
+void fixtest_rng_seed(fixtest_rng_t *rng, uint64_t seed);
+uint64_t fixtest_rng_u64(fixtest_rng_t *rng);
+/* Uniform over the whole int32 / int16 range. */
+int32_t fixtest_rng_i32(fixtest_rng_t *rng);
+int16_t fixtest_rng_i16(fixtest_rng_t *rng);
+/* Uniform int32 with a uniformly chosen bit length 0..31 (log-uniform magnitude, random sign):
+ * exercises tiny and huge values equally, which a plain uniform draw almost never does. */
+int32_t fixtest_rng_i32_log(fixtest_rng_t *rng);
+/* Uniform double in [0, 1). */
+double fixtest_rng_unit(fixtest_rng_t *rng);
+
+/* Worst-case error over a sweep, in LSB, with the inputs that produced it (for the message). */
+typedef struct {
+    double max_lsb;     /* worst |val - ref| / lsb */
+    double sum_sq_lsb;  /* for the rms figure */
+    double worst_val;   /* value and reference at the worst point */
+    double worst_ref;
+    int64_t worst_in1;  /* the caller's inputs at the worst point */
+    int64_t worst_in2;
+    size_t n;
+} fixtest_lsb_t;
+
+void fixtest_lsb_init(fixtest_lsb_t *t);
+/* Adds one point; in1/in2 are recorded with the worst point so the report can name them. */
+void fixtest_lsb_add(fixtest_lsb_t *t, double val, double ref, double lsb, int64_t in1,
+                     int64_t in2);
+/* Adds one point whose error is already in LSB (e.g. formed exactly in integers). */
+void fixtest_lsb_add_err(fixtest_lsb_t *t, double err_lsb, double val, double ref, int64_t in1,
+                         int64_t in2);
+/* Prints "what: max X LSB (bound B), rms R LSB, N points" and fails when X > B. */
+void fixtest_lsb_check(const fixtest_lsb_t *t, double max_lsb, const char *what);
+
+/* Prints "what: SNR X dB (bound B), max error E" and fails when X < B. */
+void fixtest_snr_check(const fixtest_acc_t *acc, double min_db, const char *what);
+
+/* Error in LSB of a fixed-point result res against the exact real value num / 2^shift clamped to
+ * [lo, hi] (the saturating reference). num is a full 64-bit product or sum, which a double
+ * cannot hold exactly (53-bit mantissa), so the difference is formed exactly in 128-bit
+ * integers and only then converted; shift <= 62. */
+double fixtest_err_lsb_exact(int64_t res, int64_t num, uint16_t shift, int64_t lo, int64_t hi);
+
 #endif /* FIXTEST_H */
