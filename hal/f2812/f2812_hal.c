@@ -41,6 +41,7 @@
 /* Binding state (a singleton, like the registers it shadows). */
 static struct {
     uint32_t tick;  /* completed control periods */
+    uint16_t isr_ticks_max; /* longest ISR end time after the period start, in HSPCLK periods */
     uint16_t fstp;  /* 1: leg A absent (four-switch board) */
     uint16_t rearm; /* 1: outputs are Hi-Z and the all-off state has been written to the shadows */
 } s_hal;
@@ -72,6 +73,8 @@ void f2812_memcopy(uint16_t *dst, const uint16_t *begin, const uint16_t *end)
 #define COMCONA_RUN_NO_OUTPUTS                                                                     \
     ((uint16_t)(F2812_COMCONA_CENABLE | F2812_COMCONA_CLD_UF | F2812_COMCONA_ACTRLD_UF))
 #define ADCTRL2_RUN ((uint16_t)(F2812_ADCTRL2_EVA_SOC_SEQ1 | F2812_ADCTRL2_INT_ENA_SEQ1))
+#define T1CON_STOPPED                                                                              \
+    ((uint16_t)(F2812_TXCON_FREE_SOFT | F2812_TXCON_TMODE_UPDOWN | F2812_TXCON_TPS(0u)))
 
 /* ------------------------------------------------------------------ start-up steps -------- */
 /* Watchdog off (again: the codestart stub already did it, fact sheet 1.4), PLL, clock dividers,
@@ -210,6 +213,7 @@ static void init_gpio(void)
 void hal_init(void)
 {
     s_hal.tick = 0u;
+    s_hal.isr_ticks_max = 0u;
     s_hal.fstp = (uint16_t)F2812_BOARD_FSTP;
     s_hal.rearm = 0u;
 
@@ -223,12 +227,12 @@ void hal_init(void)
     init_gpio();
 
     /* Interrupt sources: PDPINTA (1.1) and ADCINT (1.6) in PIE group 1 -> CPU INT1. Timer 1 is
-     * started last so the first SOC finds everything ready. INTM stays set: main() enables
-     * interrupts once app_init() has run. */
+     * configured but not counting, and INTM stays set: no conversion is started and no ISR runs
+     * until main() calls f2812_interrupts_enable() after app_init() (hal.h: "The ISR is not
+     * running yet"). */
     f2812_piectrl.grp[0].IER = (uint16_t)(F2812_PIE_INTX(1u) | F2812_PIE_INTX(6u));
     f2812_ier_set(F2812_IER_INT1);
-    f2812_eva.T1CON = (uint16_t)(F2812_TXCON_FREE_SOFT | F2812_TXCON_TMODE_UPDOWN |
-                                 F2812_TXCON_TPS(0u) | F2812_TXCON_TENABLE);
+    f2812_eva.T1CON = T1CON_STOPPED;
 }
 
 static inline uint16_t f2812_tripped(void)
@@ -347,9 +351,24 @@ uint16_t hal_irq_save(void) { return f2812_irq_save(); }
 void hal_irq_restore(uint16_t state) { f2812_irq_restore(state); }
 
 /* ------------------------------------------------------------------ F2812 extras ---------- */
+/* Time since the period started (T1 underflow), in HSPCLK periods: T1 counts up 0..T1PR in the
+ * first half of the period and down T1PR..0 in the second (GPTCONA.T1STAT, 1 = up, EVG ✔). */
+static inline uint16_t period_elapsed_ticks(void)
+{
+    uint16_t cnt = f2812_eva.T1CNT;
+    if ((f2812_eva.GPTCONA & F2812_GPTCONA_T1STAT) != 0u) {
+        return cnt;
+    }
+    return (uint16_t)((uint16_t)(2u * F2812_T1PR) - cnt);
+}
+
 F2812_RAMFUNC(f2812_adcint_done)
 void f2812_adcint_done(void)
 {
+    uint16_t elapsed = period_elapsed_ticks();
+    if (elapsed > s_hal.isr_ticks_max) {
+        s_hal.isr_ticks_max = elapsed;
+    }
     s_hal.tick++;
     f2812_adc.ADCTRL2 = (uint16_t)(ADCTRL2_RUN | F2812_ADCTRL2_RST_SEQ1);
     f2812_adc.ADCST = F2812_ADCST_INT_SEQ1_CLR;
@@ -393,4 +412,14 @@ void f2812_watchdog_start(void)
     f2812_edis();
 }
 
-void f2812_interrupts_enable(void) { f2812_int_global_enable(); }
+uint16_t f2812_isr_ticks_max(void) { return s_hal.isr_ticks_max; }
+
+/* Start of operation: SEQ1 back to CONV00 with its flag clear, timer 1 counting (its first
+ * underflow starts the first conversion), then INTM = 0. */
+void f2812_interrupts_enable(void)
+{
+    f2812_adc.ADCTRL2 = (uint16_t)(ADCTRL2_RUN | F2812_ADCTRL2_RST_SEQ1);
+    f2812_adc.ADCST = F2812_ADCST_INT_SEQ1_CLR;
+    f2812_eva.T1CON = (uint16_t)(T1CON_STOPPED | F2812_TXCON_TENABLE);
+    f2812_int_global_enable();
+}

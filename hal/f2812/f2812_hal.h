@@ -39,7 +39,13 @@ int16_t f2812_qep_direction(void);
  * hal_watchdog_service(). */
 void f2812_watchdog_start(void);
 
-/* Global interrupt enable (INTM = 0, DBGM = 0), called by main() after app_init. */
+/* Start of operation, called by main() after app_init: starts EV-A timer 1 (the 50 us period and
+ * the ADC trigger) with SEQ1 reset, then enables interrupts globally (INTM = 0, DBGM = 0). */
 void f2812_interrupts_enable(void);
+
+/* Worst-case ISR completion time since the start of its period, in HSPCLK periods (13.33 ns; a
+ * period is 2 * T1PR = 3750). Read it with the debugger on the running drive: it must stay well
+ * below 3750, or the switching state of period k is applied a period late. */
+uint16_t f2812_isr_ticks_max(void);
 
 #endif /* F2812_HAL_H */

@@ -210,6 +210,7 @@ struct f2812_eva_regs {
 
 /* GPTCONA (2.2) */
 #define F2812_GPTCONA_T1TOADC_UF 0x0080u   /* 8:7 = 01: T1 underflow starts the ADC (EVG, EX ✔) */
+#define F2812_GPTCONA_T1STAT 0x2000u       /* read-only: T1 counting up */
 #define F2812_GPTCONA_T2STAT 0x4000u       /* read-only: T2 (QEP) counting up */
 
 /* TxCON (2.3) */

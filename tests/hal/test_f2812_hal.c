@@ -251,8 +251,15 @@ static void test_init_timer1_50us_up_down(void **state)
     /* Continuous up/down: period = 2 * T1PR / HSPCLK = 2 * 1875 / 75 MHz = 50 us (2.3, EVG ✔). */
     assert_int_equal(f2812_eva.T1PR, 1875);
     assert_true(2.0 * f2812_eva.T1PR / 75e6 == 50e-6);
-    /* T1CON: FREE+SOFT 0xC000, TMODE 01 (bits 12:11) 0x0800, TPS 0 (/1), TENABLE 0x0040. */
+    /* T1CON: FREE+SOFT 0xC000, TMODE 01 (bits 12:11) 0x0800, TPS 0 (/1); TENABLE (0x0040) only
+     * when main() starts operation: no conversion, no ISR before app_init has run. */
+    assert_int_equal(f2812_eva.T1CON, 0xC800);
+    f2812_adc.ADCTRL2 = 0;
+    f2812_interrupts_enable();
     assert_int_equal(f2812_eva.T1CON, 0xC840);
+    assert_int_equal(f2812_adc.ADCTRL2, 0x4900); /* SEQ1 reset to CONV00 before the first SOC */
+    assert_int_equal(f2812_adc.ADCST, 0x0010);
+    assert_int_equal(f2812_host_cpu.intm, 0);
     /* GPTCONA.T1TOADC (8:7) = 01: underflow starts the ADC, once per period (2.2, 2.10). */
     assert_int_equal(f2812_eva.GPTCONA, 0x0080);
 }
@@ -382,7 +389,7 @@ static void test_sstp_all_eight_states(void **state)
         }
         /* Only shadows were written: the timer and compare control are untouched. */
         assert_int_equal(f2812_eva.COMCONA, comcona);
-        assert_int_equal(f2812_eva.T1CON, 0xC840);
+        assert_int_equal(f2812_eva.T1CON, 0xC800);
     }
 }
 
@@ -571,6 +578,26 @@ static void test_adc_isr_exit_and_tick(void **state)
     }
 }
 
+static void test_isr_load_figure(void **state)
+{
+    (void)state;
+    assert_int_equal(f2812_isr_ticks_max(), 0);
+    /* ISR ends while T1 still counts up at 1000: 1000 ticks (13.3 us) into the period. */
+    f2812_eva.GPTCONA = (uint16_t)(f2812_eva.GPTCONA | 0x2000u); /* T1STAT = up (2.2) */
+    f2812_eva.T1CNT = 1000;
+    f2812_adcint_done();
+    assert_int_equal(f2812_isr_ticks_max(), 1000);
+    /* Counting down at 1000: 2 * 1875 - 1000 = 2750 ticks (36.7 us) into the period. */
+    f2812_eva.GPTCONA = (uint16_t)(f2812_eva.GPTCONA & ~0x2000u);
+    f2812_adcint_done();
+    assert_int_equal(f2812_isr_ticks_max(), 2750);
+    /* A shorter one does not lower the worst case. */
+    f2812_eva.GPTCONA = (uint16_t)(f2812_eva.GPTCONA | 0x2000u);
+    f2812_eva.T1CNT = 10;
+    f2812_adcint_done();
+    assert_int_equal(f2812_isr_ticks_max(), 2750);
+}
+
 /* ---- helpers ----------------------------------------------------------------------------- */
 static void test_memcopy_copies_exactly_the_range(void **state)
 {
@@ -626,6 +653,7 @@ int main(void)
         cmocka_unit_test_setup(test_adc_results_left_justified_to_hal_slots, setup_initialised),
         cmocka_unit_test_setup(test_qep_count_index_and_direction, setup_initialised),
         cmocka_unit_test_setup(test_adc_isr_exit_and_tick, setup_initialised),
+        cmocka_unit_test_setup(test_isr_load_figure, setup_initialised),
         cmocka_unit_test(test_memcopy_copies_exactly_the_range),
         cmocka_unit_test_setup(test_irq_save_restore_nests, setup_initialised),
     };
