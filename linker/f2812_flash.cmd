@@ -36,26 +36,29 @@ PAGE 1:    /* data */
 
 SECTIONS
 {
+    /* Control path first: the library-member specifications must claim the firmware's sections
+     * before the generic .text/.econst rules below. Copied flash -> RAM by hal_init() before any
+     * of it is called. The archive is named as CMake builds it (firmware/libdtc_firmware.a; the
+     * link adds --search_path for it). */
+    ramfuncs  : {
+                    *(ramfuncs)
+                    -l=libdtc_firmware.a (.text)
+                    -l=libdtc_firmware.a (.econst)
+                    -l=libdtc_firmware.a (.switch)
+                }
+                LOAD = FLASH_JC,
+                RUN = RAML0L1,
+                LOAD_START(_f2812_ramfuncs_load_start),
+                LOAD_END(_f2812_ramfuncs_load_end),
+                RUN_START(_f2812_ramfuncs_run_start),
+                PAGE = 0
+
     codestart : > BEGIN,    PAGE = 0
     .text     : > FLASH_JC, PAGE = 0
     .cinit    : > FLASH_JC, PAGE = 0
     .pinit    : > FLASH_JC, PAGE = 0
     .switch   : > FLASH_JC, PAGE = 0
     .econst   : > FLASH_JC, PAGE = 0   /* flash, PAGE 0 (TI note for flash programmers) */
-
-    /* Control path: copied flash -> RAM by hal_init() before any of it is called. The library
-     * member selection names the archive as CMake builds it (firmware/libdtc_firmware.a). */
-    ramfuncs  : {
-                    *(ramfuncs)
-                    -l=libdtc_firmware.a(.text)
-                    -l=libdtc_firmware.a(.econst)
-                    -l=libdtc_firmware.a(.switch)
-                }
-                LOAD = FLASH_JC, PAGE = 0
-                RUN  = RAML0L1,  PAGE = 0
-                LOAD_START(_f2812_ramfuncs_load_start),
-                LOAD_END(_f2812_ramfuncs_load_end),
-                RUN_START(_f2812_ramfuncs_run_start)
 
     .stack    : > RAMM0M1, PAGE = 1
     .ebss     : > RAMH0,   PAGE = 1

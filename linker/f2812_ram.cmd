@@ -24,23 +24,26 @@ PAGE 1:    /* data */
 
 SECTIONS
 {
+    /* Control path first, so the library-member specifications claim the firmware's sections
+     * before the generic rules below. */
+    ramfuncs  : {
+                    *(ramfuncs)
+                    -l=libdtc_firmware.a (.text)
+                    -l=libdtc_firmware.a (.econst)
+                    -l=libdtc_firmware.a (.switch)
+                }
+                > RAML0,
+                LOAD_START(_f2812_ramfuncs_load_start),
+                LOAD_END(_f2812_ramfuncs_load_end),
+                RUN_START(_f2812_ramfuncs_run_start),
+                PAGE = 0
+
     codestart : > BEGINH0, PAGE = 0
     .text     : > RAMH0,   PAGE = 0
     .cinit    : > RAMH0,   PAGE = 0
     .pinit    : > RAMH0,   PAGE = 0
     .switch   : > RAMH0,   PAGE = 0
     .econst   : > RAMH0,   PAGE = 0
-
-    ramfuncs  : {
-                    *(ramfuncs)
-                    -l=libdtc_firmware.a(.text)
-                    -l=libdtc_firmware.a(.econst)
-                    -l=libdtc_firmware.a(.switch)
-                }
-                > RAML0, PAGE = 0
-                LOAD_START(_f2812_ramfuncs_load_start),
-                LOAD_END(_f2812_ramfuncs_load_end),
-                RUN_START(_f2812_ramfuncs_run_start)
 
     .stack    : > RAMM0M1, PAGE = 1
     .ebss     : > RAML1,   PAGE = 1
