@@ -44,6 +44,7 @@ static struct {
     uint16_t isr_ticks_max; /* longest ISR end time after the period start, in HSPCLK periods */
     uint16_t fstp;  /* 1: leg A absent (four-switch board) */
     uint16_t rearm; /* 1: outputs are Hi-Z and the all-off state has been written to the shadows */
+    uint32_t rearm_tick; /* the period in which it was written */
 } s_hal;
 
 /* ------------------------------------------------------------------------- helpers -------- */
@@ -216,6 +217,7 @@ void hal_init(void)
     s_hal.isr_ticks_max = 0u;
     s_hal.fstp = (uint16_t)F2812_BOARD_FSTP;
     s_hal.rearm = 0u;
+    s_hal.rearm_tick = 0u;
 
     init_sysctrl();
     f2812_ramfuncs_copy(); /* before the first call into RAM code (fact sheet 1.4) */
@@ -286,9 +288,9 @@ static inline uint16_t leg_cmpr(uint16_t upper_on)
 /* The command of period k goes to the shadow registers and becomes active at the next T1
  * underflow (start of period k+1). Outputs that are high-impedance (after init, hal_gates_off or
  * a PDPINTA trip) are re-enabled in two steps so that they can never come back driving a stale
- * state: call 1 writes the all-off state to the shadows; by call 2 (one period later) it is the
- * active state, FCOMPOE is set (the pins now drive every switch off) and the command is written,
- * to be applied at the following boundary. A latched trip blocks the re-enable. */
+ * state: in period k the all-off state is written to the shadows; in a LATER period (the tick has
+ * moved on, so a boundary has loaded it) FCOMPOE is set, the pins drive every switch off, and the
+ * command is written, to be applied at the following boundary. A latched trip blocks it all. */
 F2812_RAMFUNC(hal_write)
 void hal_write(const hal_cmd_t *cmd)
 {
@@ -299,9 +301,10 @@ void hal_write(const hal_cmd_t *cmd)
         return;
     }
     if ((f2812_eva.COMCONA & F2812_COMCONA_FCOMPOE) == 0u) {
-        if (s_hal.rearm == 0u) {
+        if ((s_hal.rearm == 0u) || (s_hal.rearm_tick == s_hal.tick)) {
             write_all_off_shadows();
             s_hal.rearm = 1u;
+            s_hal.rearm_tick = s_hal.tick;
             return;
         }
         f2812_eva.COMCONA = bits_set(f2812_eva.COMCONA, F2812_COMCONA_FCOMPOE);

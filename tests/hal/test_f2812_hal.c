@@ -119,11 +119,18 @@ static void assert_all_off_next_period(void)
     assert_int_equal(f2812_eva.ACTRA, 0x0000); /* every output forced low (2.5) */
 }
 
+/* One control period as the target runs it: (app_isr ->) hal_write, then the ISR epilogue. */
+static void period(const hal_cmd_t *cmd)
+{
+    hal_write(cmd);
+    f2812_adcint_done();
+}
+
 static void enable_outputs(void)
 {
     const hal_cmd_t cmd = {0u, 0u, 0u, 1u};
-    hal_write(&cmd); /* period k: all-off state to the shadows, outputs still Hi-Z */
-    hal_write(&cmd); /* period k+1: all-off is now active, FCOMPOE set, command to the shadows */
+    period(&cmd); /* period k: all-off state to the shadows, outputs still Hi-Z */
+    period(&cmd); /* period k+1: all-off is now active, FCOMPOE set, command to the shadows */
     assert_true(f2812_eva.COMCONA & FCOMPOE);
 }
 
@@ -359,6 +366,10 @@ static void test_first_enable_takes_two_periods(void **state)
     hal_write(&cmd);
     assert_false(f2812_eva.COMCONA & FCOMPOE); /* still high-impedance */
     assert_all_off_next_period();
+    hal_write(&cmd); /* again in the SAME period: the all-off state is not active yet */
+    assert_false(f2812_eva.COMCONA & FCOMPOE);
+    assert_all_off_next_period();
+    f2812_adcint_done(); /* end of period; its boundary loads the all-off shadows */
     hal_write(&cmd);
     assert_true(f2812_eva.COMCONA & FCOMPOE);
     assert_int_equal(leg_state(0).upper, 1);
@@ -437,7 +448,8 @@ static void test_gates_off_is_immediate_and_rearms_in_two_periods(void **state)
     hal_gates_off();
     assert_false(f2812_eva.COMCONA & FCOMPOE); /* Hi-Z now, not at the boundary */
     assert_all_off_next_period();
-    hal_write(&on);
+    f2812_adcint_done();
+    period(&on);
     assert_false(f2812_eva.COMCONA & FCOMPOE);
     assert_all_off_next_period();
     hal_write(&on);
@@ -469,7 +481,7 @@ static void test_pdpinta_trip_latches_and_blocks_enable(void **state)
     pdpinta_pin(1);
     const hal_cmd_t on = {1u, 1u, 1u, 1u};
     for (int i = 0; i < 3; i++) {
-        hal_write(&on);
+        period(&on);
         assert_false(f2812_eva.COMCONA & FCOMPOE);
         assert_all_off_next_period();
     }
@@ -482,7 +494,7 @@ static void test_pdpinta_trip_latches_and_blocks_enable(void **state)
     f2812_eva.EVAIFRA = 0x0000; /* hardware: write-1-to-clear */
     hal_read(&m);
     assert_int_equal(m.trip, 0);
-    hal_write(&on);
+    period(&on);
     hal_write(&on);
     assert_true(f2812_eva.COMCONA & FCOMPOE);
 }
@@ -495,8 +507,8 @@ static void test_pin_still_low_keeps_trip(void **state)
     hal_read(&m);
     assert_int_equal(m.trip, 1);
     const hal_cmd_t on = {1u, 1u, 1u, 1u};
-    hal_write(&on);
-    hal_write(&on);
+    period(&on);
+    period(&on);
     assert_false(f2812_eva.COMCONA & FCOMPOE);
 }
 
