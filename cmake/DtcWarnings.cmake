@@ -4,6 +4,10 @@
 set(DTC_FIRMWARE_WARNINGS
   -Wall -Wextra -Wconversion -Wsign-conversion -Wshadow -Wdouble-promotion
   -Wstrict-prototypes -Wmissing-prototypes -Werror)
+if(CMAKE_C_COMPILER_ID STREQUAL "TI")
+  # cl2000 (f2812 preset) spells it differently and rejects the gcc flags.
+  set(DTC_FIRMWARE_WARNINGS --emit_warnings_as_errors)
+endif()
 
 function(dtc_firmware_warnings target)
   get_target_property(_type ${target} TYPE)

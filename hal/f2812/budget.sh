@@ -1,0 +1,109 @@
+#!/usr/bin/env bash
+# budget.sh - code/data size of the F2812 image's control path, measured on the proxy cross builds
+# (cross-cm0: arm-none-eabi, Thumb; cross-avr: avr-gcc), and whether the ISR path fits the
+# zero-wait RAM the linker command files reserve for it (section "ramfuncs").
+#
+#   usage: hal/f2812/budget.sh PROJECT_ROOT     (after: cmake --build --preset cross-cm0 / cross-avr)
+#
+# What is counted
+#   firmware   libdtc_firmware.a: all of it is placed in ramfuncs by linker/f2812_*.cmd (.text and
+#              the constant tables), so all of it is ISR path.
+#   hal        libhal_f2812.a without the register blocks (RAM on the proxies, peripheral frames on
+#              the DSP); the ISR-path part is the functions marked F2812_RAMFUNC in hal/f2812/*.c.
+#   main       f2812_main.c (main and the ADCINT glue; the glue is a ramfunc).
+#
+# ESTIMATE, clearly: no C28x compiler is available here. C28x and Thumb both have 16-bit base
+# encodings with 32-bit forms; the C28x does 32-bit multiplies/shifts/saturation in one
+# instruction where Thumb-1 needs several, but uses 32-bit forms more often. We therefore take
+#     C28x code words ~= Thumb bytes / 2          (nominal)
+#     C28x code words <= Thumb bytes / 2 * 1.5    (pessimistic, used for the pass/fail check)
+# and for data: words = bytes / 2 (16-bit and 32-bit types have the same word counts on both;
+# the C28x has no 8-bit type). AVR figures are printed for information only (8-bit code is not
+# comparable). The real figures come from the map file of the f2812 preset (cl2000).
+set -euo pipefail
+root=${1:?usage: budget.sh PROJECT_ROOT}
+cm0=$root/build/cross-cm0
+avr=$root/build/cross-avr
+
+# Zero-wait RAM reserved for ramfuncs (linker/f2812_flash.cmd: L0+L1; linker/f2812_ram.cmd: L0).
+RAMFUNCS_FLASH_WORDS=8192
+RAMFUNCS_RAM_WORDS=4096
+
+need() { [ -f "$1" ] || { echo "budget: $1 not found (build the cross presets first)" >&2; exit 2; }; }
+for f in "$cm0/firmware/libdtc_firmware.a" "$cm0/hal/f2812/libhal_f2812.a" \
+         "$avr/firmware/libdtc_firmware.a" "$avr/hal/f2812/libhal_f2812.a"; do need "$f"; done
+cm0_main=$(find "$cm0/hal/f2812" -name 'f2812_main.c.obj' | head -1)
+avr_main=$(find "$avr/hal/f2812" -name 'f2812_main.c.obj' | head -1)
+need "$cm0_main"; need "$avr_main"
+
+# Sum sections of `size -A` output by kind: text / rodata / data / bss.
+sum_sections() { # $1 = size tool, rest = files
+  local tool=$1; shift
+  "$tool" -A "$@" | awk '
+    $1 ~ /^\.text/   { t += $2 } $1 ~ /^\.rodata/ { r += $2 }
+    $1 ~ /^\.data/   { d += $2 } $1 ~ /^\.bss/    { b += $2 }
+    END { printf "%d %d %d %d\n", t, r, d, b }'
+}
+# Sizes (bytes) of the named symbols in the given files.
+sum_symbols() { # $1 = nm tool, $2 = regex of names, rest = files
+  local tool=$1 re=$2; shift 2
+  "$tool" -S -t d "$@" 2>/dev/null | awk -v re="^(${re})$" 'NF == 4 && $4 ~ re { s += $2 } END { print s + 0 }'
+}
+
+# Bytes of the register blocks and the host CPU emulation, by kind (data, bss): RAM on the proxies,
+# peripheral frames (not RAM) on the DSP, so they are subtracted.
+REGS='f2812_(flash|piectrl|pievect|sysctrl|gpiomux|adc|eva|host_cpu)'
+reg_bytes() { # $1 = nm tool, $2 = file; prints "data bss"
+  "$1" -S -t d "$2" 2>/dev/null | awk -v re="^${REGS}$" '
+    NF == 4 && $4 ~ re { if ($3 ~ /[Dd]/) d += $2; else if ($3 ~ /[BbCc]/) b += $2 }
+    END { printf "%d %d\n", d, b }'
+}
+
+ramfuncs=$(grep -ho 'F2812_RAMFUNC([a-z0-9_]*)' "$root"/hal/f2812/*.c | sed 's/.*(\(.*\))/\1/' | sort -u | paste -sd'|')
+
+report() { # $1 = label, $2 = size tool, $3 = nm tool, $4 = build dir, $5 = main obj
+  read -r fw_t fw_r fw_d fw_b < <(sum_sections "$2" "$4/firmware/libdtc_firmware.a")
+  read -r hal_t hal_r hal_d hal_b < <(sum_sections "$2" "$4/hal/f2812/libhal_f2812.a")
+  read -r reg_d reg_b < <(reg_bytes "$3" "$4/hal/f2812/libhal_f2812.a")
+  hal_d=$((hal_d - reg_d)); hal_b=$((hal_b - reg_b))
+  read -r mn_t mn_r mn_d mn_b < <(sum_sections "$2" "$5")
+  hal_isr=$(sum_symbols "$3" "$ramfuncs" "$4/hal/f2812/libhal_f2812.a" "$5")
+  printf '%-9s %-28s %8s %8s %8s %8s\n' "$1" "bytes" ".text" ".rodata" ".data" ".bss"
+  printf '%-9s %-28s %8d %8d %8d %8d\n' "" "libdtc_firmware.a" "$fw_t" "$fw_r" "$fw_d" "$fw_b"
+  printf '%-9s %-28s %8d %8d %8d %8d\n' "" "libhal_f2812.a (no regs)" "$hal_t" "$hal_r" "$hal_d" "$hal_b"
+  printf '%-9s %-28s %8d %8d %8d %8d\n' "" "f2812_main.c" "$mn_t" "$mn_r" "$mn_d" "$mn_b"
+  printf '%-9s %-28s %8d\n' "" "hal ISR-path functions" "$hal_isr"
+}
+
+echo "== F2812 control-path size budget (proxy builds; see the ESTIMATE note in this script) =="
+echo "hal ramfuncs: ${ramfuncs//|/ }"
+report cross-cm0 arm-none-eabi-size arm-none-eabi-nm "$cm0" "$cm0_main"
+isr_code_bytes=$((fw_t + hal_isr))
+isr_table_bytes=$fw_r
+state_bytes=$((fw_d + fw_b + hal_d + hal_b + mn_d + mn_b))
+report cross-avr avr-size avr-nm "$avr" "$avr_main"
+
+nom=$(( (isr_code_bytes + 1) / 2 ))
+pess=$(( (isr_code_bytes * 3 + 3) / 4 ))
+tables=$(( (isr_table_bytes + 1) / 2 ))
+state=$(( (state_bytes + 1) / 2 ))
+total_pess=$((pess + tables))
+echo
+echo "ISR path in ramfuncs (from cross-cm0; C28x 16-bit words, ESTIMATE):"
+printf '  code   %6d words nominal (Thumb bytes/2), %6d words pessimistic (x1.5)\n' "$nom" "$pess"
+printf '  tables %6d words (constant data of the firmware, copied with the code)\n' "$tables"
+printf '  state  %6d words (.ebss: RAMH0 in the flash build, RAML1 in the RAM build)\n' "$state"
+printf '  ramfuncs pessimistic total %d words: flash build L0+L1 %d words (%d%%), RAM build L0 %d words (%d%%)\n' \
+  "$total_pess" "$RAMFUNCS_FLASH_WORDS" $((100 * total_pess / RAMFUNCS_FLASH_WORDS)) \
+  "$RAMFUNCS_RAM_WORDS" $((100 * total_pess / RAMFUNCS_RAM_WORDS))
+status=0
+if [ "$total_pess" -gt "$RAMFUNCS_RAM_WORDS" ]; then
+  echo "budget: the ISR path (pessimistic estimate) does NOT fit the RAM build's L0 block" >&2
+  status=1
+fi
+if [ "$state" -gt 4096 ]; then
+  echo "budget: controller state exceeds RAML1 (4096 words) of the RAM build" >&2
+  status=1
+fi
+[ $status -eq 0 ] && echo "budget: fits (estimate; confirm with the cl2000 map file, docs/f2812.md)"
+exit $status

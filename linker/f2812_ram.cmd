@@ -1,0 +1,53 @@
+/*
+ * f2812_ram.cmd - RAM image for debugging with the user's emulator (loaded by CCS/UniFlash into
+ * SARAM, nothing written to flash). Boot mode "jump to H0" (GPIOF4,F12,F3,F2 = 0,0,1,0: fact sheet
+ * 1.5) or start at f2812_code_start from the debugger. Link with f2812_regs.cmd.
+ *
+ *   codestart  H0 0x3F8000 (the H0 boot entry), then .text/.cinit/.econst in the rest of H0
+ *   ramfuncs   L0 (4K words), LOAD = RUN: hal_init()'s copy finds load == run and copies in place
+ *   .ebss      L1 (4K words)
+ *   .stack     M0 + M1 (low 64K)
+ * Every block is zero-wait SARAM, so timing equals the flash build's ISR timing; the ISR path must
+ * fit L0 here (the stricter of the two budgets, hal/f2812/budget.sh).
+ */
+MEMORY
+{
+PAGE 0:    /* program */
+    BEGINH0   : origin = 0x3F8000, length = 0x000002   /* boot-to-H0 entry */
+    RAMH0     : origin = 0x3F8002, length = 0x001FFE   /* H0 SARAM: code and constants */
+    RAML0     : origin = 0x008000, length = 0x001000   /* L0 SARAM: ramfuncs */
+    RESET     : origin = 0x3FFFC0, length = 0x000002
+PAGE 1:    /* data */
+    RAMM0M1   : origin = 0x000000, length = 0x000800   /* M0 + M1, low 64K: stack */
+    RAML1     : origin = 0x009000, length = 0x001000   /* L1: controller state */
+}
+
+SECTIONS
+{
+    /* Control path first, so the library-member specifications claim the firmware's sections
+     * before the generic rules below. */
+    ramfuncs  : {
+                    *(ramfuncs)
+                    -l=libdtc_firmware.a (.text)
+                    -l=libdtc_firmware.a (.econst)
+                    -l=libdtc_firmware.a (.switch)
+                }
+                > RAML0,
+                LOAD_START(_f2812_ramfuncs_load_start),
+                LOAD_END(_f2812_ramfuncs_load_end),
+                RUN_START(_f2812_ramfuncs_run_start),
+                PAGE = 0
+
+    codestart : > BEGINH0, PAGE = 0
+    .text     : > RAMH0,   PAGE = 0
+    .cinit    : > RAMH0,   PAGE = 0
+    .pinit    : > RAMH0,   PAGE = 0
+    .switch   : > RAMH0,   PAGE = 0
+    .econst   : > RAMH0,   PAGE = 0
+
+    .stack    : > RAMM0M1, PAGE = 1
+    .ebss     : > RAML1,   PAGE = 1
+    .esysmem  : > RAML1,   PAGE = 1
+
+    .reset    : > RESET,   PAGE = 0, TYPE = DSECT
+}
