@@ -2,9 +2,9 @@
 
 #include <stddef.h>
 
-/* Largest enc_counts * enc_gain product the angle computation accepts (it is done in 64 bits,
- * but a gain above 65536 * 16 pole pairs means a nonsense configuration). */
-#define DTC_ENC_GAIN_MAX ((uint32_t)65536U * 65536U / 4U)
+/* Largest encoder gain accepted: half an electrical turn per count (Q16). Anything coarser
+ * aliases the electrical angle (fewer than two counts per electrical turn). */
+#define DTC_ENC_GAIN_MAX ((uint32_t)1U << 31)
 
 int16_t dtc_config_validate(const dtc_config_t *cfg)
 {
