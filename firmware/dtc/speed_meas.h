@@ -11,11 +11,12 @@
  * power-of-two window N = 2^m (m = 0..DTC_SPEED_WIN_LOG2_MAX) that holds at least
  * speed_min_counts counts:
  *     w = (pos[n] - pos[n - N]) * k_speed / N,   k_speed = pu speed per count per speed period,
- * where "/ N" is an exact arithmetic shift by m (no division). With speed_min_counts = 64:
+ * where "/ N" is an exact arithmetic shift by m (no division). With speed_min_counts = 100:
  *     1500 rpm: 100 counts per 500 us, N = 1, resolution 15 rpm = 1.0 % of the speed;
+ *     150 rpm:  10 counts per 500 us, N = 16, 160 counts, resolution 0.94 rpm = 0.6 %;
  *     100 rpm:  6.7 counts per 500 us, N = 16 (8 ms), 107 counts, resolution 0.94 rpm = 0.94 %.
  * The quantisation is below 1/min_counts of the speed everywhere the longest window suffices
- * (down to 60 rpm here); below that the 16-period window gives 0.94 rpm per count. The measured
+ * (down to 94 rpm here); below that the 16-period window gives 0.94 rpm per count. The measured
  * speed is the mean over the window, i.e. delayed by (N-1)/2 speed periods: short at high speed
  * where the loop needs bandwidth, long only at low speed where the counts are scarce. Until the
  * ring has filled, only the windows it holds are used.

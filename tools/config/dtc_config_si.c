@@ -35,7 +35,7 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->speed_div = 10;
     si->enc_lines = 2000;
     si->enc_offset_rad = 0.0;
-    si->speed_min_counts = 64;
+    si->speed_min_counts = 100; /* <= 1 % quantisation wherever a window holds 100 counts */
     /* Section IV: zero bands, LPF 5 rad/s, |psi*| = psi_m */
     si->flux_band_wb = 0.0;
     si->torque_band_nm = 0.0;

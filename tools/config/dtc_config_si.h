@@ -59,7 +59,7 @@ typedef struct {
     /* Encoder. */
     int enc_lines;          /* lines per turn (2000); quadrature gives 4x counts */
     double enc_offset_rad;  /* electrical angle at count 0 */
-    int speed_min_counts;   /* speed window: shortest with at least this many counts (64) */
+    int speed_min_counts;   /* speed window: shortest with at least this many counts (100) */
 
     /* Control. */
     double flux_band_wb;    /* Delta psi_s (full width), >= 0 */
