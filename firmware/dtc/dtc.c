@@ -187,7 +187,11 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         fin.v_alpha_iq = fix_add32(fin.v_alpha_iq, vfa);
         fin.v_beta_iq = fix_add32(fin.v_beta_iq, vfb);
     }
-    flux_est_step(&c->fe, &fin);
+    if (c->speed_primed == 0U && cfg->estimator == DTC_EST_VOLTAGE) {
+        flux_est_seed(&c->fe, &fin); /* first step after a reset: start from eqs. 8-9 */
+    } else {
+        flux_est_step(&c->fe, &fin);
+    }
     psi_a = c->fe.psi_alpha_iq;
     psi_b = c->fe.psi_beta_iq;
 

@@ -104,7 +104,9 @@ typedef struct {
  * on error c is left unusable (c->cfg = 0) and must not be stepped. */
 int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg);
 
-/* Back to the initial state (zero flux, speed unknown, integrator at zero, references kept). */
+/* Back to the initial state (speed unknown, integrator at zero, references kept). The first
+ * dtc_step() after it takes the encoder position as the speed reference and, for the voltage
+ * model, seeds the flux with the current model (flux_est_seed). */
 void dtc_reset(dtc_t *c);
 
 /* One control period. */

@@ -72,6 +72,12 @@ typedef struct {
 void flux_est_init(flux_est_t *s, const flux_est_params_t *p);
 /* Zero flux (voltage model); the current model needs no memory. */
 void flux_est_reset(flux_est_t *s);
+/* Voltage model start-up: seeds the state with the current-model flux (Hoang eqs. 8-9) of the
+ * measured currents and encoder angle. Without it the low-pass starts from zero and needs
+ * several time constants (1/w_c = 0.2 s) to find the magnet flux, during which the DTC selects
+ * vectors for the wrong flux position (the machine can stall or reverse). dtc_step() calls it
+ * on the first step after a reset. */
+void flux_est_seed(flux_est_t *s, const flux_est_in_t *in);
 /* One 50 us step; the estimate is in s->psi_alpha_iq, s->psi_beta_iq afterwards. */
 void flux_est_step(flux_est_t *s, const flux_est_in_t *in);
 

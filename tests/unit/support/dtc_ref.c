@@ -108,3 +108,19 @@ void dtc_ref_pm_step(dtc_ref_pm_t *m, double va, double vb, double dt, int n_sub
         m->theta = th + h * m->w;
     }
 }
+
+static double leg_drop(int state, double i, double vce, double vd, double ron)
+{
+    double vf = state == 0 ? (i >= 0 ? vd : -vce) : (i >= 0 ? vce : -vd); /* Table III */
+    return vf + ron * i;                                                  /* eq. 20 */
+}
+
+void dtc_ref_fstp_inverter(int sb, int sc, double vdc, double ib, double ic, double vce,
+                           double vd, double ron, double *va, double *vb)
+{
+    double va0 = 0.5 * vdc;
+    double vb0 = sb * vdc - leg_drop(sb, ib, vce, vd, ron);
+    double vc0 = sc * vdc - leg_drop(sc, ic, vce, vd, ron);
+    *va = (2.0 * va0 - vb0 - vc0) / 3.0; /* Hoang eqs. 1-5: v_n0 cancels */
+    *vb = (vb0 - vc0) / sqrt(3.0);
+}

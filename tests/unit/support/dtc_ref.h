@@ -22,6 +22,12 @@ void dtc_ref_table_v(int sgn_b, int sgn_c, double vf, double *va, double *vb);
 void dtc_ref_table_vi(int sb, int sc, int sgn_b, int sgn_c, double vce, double vd, double *va,
                       double *vb);
 
+/* FSTP inverter with device drops (Hoang Table III per leg, plus R_on*i of eq. 20): the
+ * alpha-beta voltage applied to the machine for leg states S_B, S_C, DC link vdc with the
+ * mid-point at vdc/2, phase currents i_b, i_c (positive out of the leg). All in pu. */
+void dtc_ref_fstp_inverter(int sb, int sc, double vdc, double ib, double ic, double vce,
+                           double vd, double ron, double *va, double *vb);
+
 /* Surface PM machine (Hoang eqs. 6-10) in per-unit, alpha-beta frame, for closed-loop checks:
  * psi = ls i + psi_m e^{j theta}, d psi/dt = v - rs i, d theta/dt = w (constant speed). */
 typedef struct {
