@@ -132,7 +132,28 @@ int16_t dtc_shadow_write(dtc_t *c, const dtc_refs_t *r)
 
 void dtc_refs_get(const dtc_t *c, dtc_refs_t *r)
 {
-    *r = c->act;
+    r->speed_ref_iq = c->act.speed_ref_iq;
+    r->torque_ref_iq = c->act.torque_ref_iq;
+    r->flux_ref_iq = c->act.flux_ref_iq;
+    r->kp_iq = c->act.kp_iq;
+    r->ki_ts_iq = c->act.ki_ts_iq;
+    r->mode = c->act.mode;
+}
+
+/* Copies the shadow set (complete: the caller checked the sequence number) and adopts it.
+ * External linkage on purpose: a static function called once is inlined, and its copy of the
+ * set would then sit in dtc_step's frame on the deepest stack path. */
+void dtc_shadow_adopt(dtc_t *c, uint16_t seq)
+{
+    dtc_refs_t r;
+    r.speed_ref_iq = c->sh_speed_ref_iq;
+    r.torque_ref_iq = c->sh_torque_ref_iq;
+    r.flux_ref_iq = c->sh_flux_ref_iq;
+    r.kp_iq = c->sh_kp_iq;
+    r.ki_ts_iq = c->sh_ki_ts_iq;
+    r.mode = c->sh_mode;
+    dtc_adopt(c, &r);
+    c->adopted_seq = seq;
 }
 
 void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
@@ -149,15 +170,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     {
         uint16_t seq = c->shadow_seq;
         if ((seq & 1U) == 0U && seq != c->adopted_seq) {
-            dtc_refs_t r;
-            r.speed_ref_iq = c->sh_speed_ref_iq;
-            r.torque_ref_iq = c->sh_torque_ref_iq;
-            r.flux_ref_iq = c->sh_flux_ref_iq;
-            r.kp_iq = c->sh_kp_iq;
-            r.ki_ts_iq = c->sh_ki_ts_iq;
-            r.mode = c->sh_mode;
-            dtc_adopt(c, &r);
-            c->adopted_seq = seq;
+            dtc_shadow_adopt(c, seq);
         }
     }
 
@@ -239,8 +252,12 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         vec = swtab_null_choice(vec, c->vec_1);
         legs = swtab_sstp_legs(vec);
     }
-    c->legs_2 = c->legs_1;
-    c->legs_1 = legs;
+    c->legs_2.sa = c->legs_1.sa; /* field by field: no struct copy (memcpy) in the ISR */
+    c->legs_2.sb = c->legs_1.sb;
+    c->legs_2.sc = c->legs_1.sc;
+    c->legs_1.sa = legs.sa;
+    c->legs_1.sb = legs.sb;
+    c->legs_1.sc = legs.sc;
     c->vec_1 = vec;
 
     /* 8. Outputs. */

@@ -116,6 +116,10 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
  * DTC_ERR_VARIANT for a set that would be refused (nothing is published then). */
 int16_t dtc_shadow_write(dtc_t *c, const dtc_refs_t *r);
 
+/* Used by dtc_step() (ISR side): adopts the shadow set whose (even) sequence number is seq.
+ * Not for the background. */
+void dtc_shadow_adopt(dtc_t *c, uint16_t seq);
+
 /* The set in force (for the background's display). */
 void dtc_refs_get(const dtc_t *c, dtc_refs_t *r);
 

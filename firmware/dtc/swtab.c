@@ -71,20 +71,27 @@ uint16_t swtab_null_choice(uint16_t vec, uint16_t present_vec)
     }
 }
 
+/* Leg states as a bit mask S_A S_B S_C (bit 2..0); built field by field so that no struct
+ * copy (memcpy on some compilers) happens in the control path. */
+static swtab_legs_t swtab_legs_of_mask(uint16_t m)
+{
+    swtab_legs_t l;
+    l.sa = (uint16_t)((m >> 2) & 1U);
+    l.sb = (uint16_t)((m >> 1) & 1U);
+    l.sc = (uint16_t)(m & 1U);
+    return l;
+}
+
 swtab_legs_t swtab_sstp_legs(uint16_t vec)
 {
-    static const swtab_legs_t legs[8] = {
-        {0U, 0U, 0U}, {1U, 0U, 0U}, {1U, 1U, 0U}, {0U, 1U, 0U},
-        {0U, 1U, 1U}, {0U, 0U, 1U}, {1U, 0U, 1U}, {1U, 1U, 1U},
-    };
-    return legs[vec & 7U];
+    /* V_0 = 000, V_1 = 100, V_2 = 110, V_3 = 010, V_4 = 011, V_5 = 001, V_6 = 101, V_7 = 111 */
+    static const uint16_t mask[8] = {0U, 4U, 6U, 2U, 3U, 1U, 5U, 7U};
+    return swtab_legs_of_mask(mask[vec & 7U]);
 }
 
 swtab_legs_t swtab_fstp_legs(uint16_t vec)
 {
-    static const swtab_legs_t legs[5] = {
-        {0U, 0U, 0U}, /* unused index 0: treated as V_1 */
-        {0U, 0U, 0U}, {0U, 1U, 0U}, {0U, 1U, 1U}, {0U, 0U, 1U},
-    };
-    return legs[vec <= 4U ? vec : 0U];
+    /* Hoang Table I, S_B S_C: V_1 = 00, V_2 = 10, V_3 = 11, V_4 = 01 (index 0 unused: V_1) */
+    static const uint16_t mask[5] = {0U, 0U, 2U, 3U, 1U};
+    return swtab_legs_of_mask(mask[vec <= 4U ? vec : 0U]);
 }

@@ -79,8 +79,10 @@ int main(int argc, char **argv)
             bench_step_normal(&c, &me, &o);
             n_norm++;
         }
-        va = (1.0 - sb - sc) / 3.0;
-        vb = ((double)sb - (double)sc) / sqrt(3.0);
+        /* FSTP with the Table IV device drops (Table III + eq. 20), which the compensation is for */
+        dtc_ref_fstp_inverter((int)sb, (int)sc, 1.0, -0.5 * ia + 0.5 * sqrt(3.0) * ib,
+                              -0.5 * ia - 0.5 * sqrt(3.0) * ib, si.v_ce_v / b.v_base_v,
+                              si.v_d_v / b.v_base_v, si.r_on_ohm / b.z_base_ohm, &va, &vb);
         dtc_ref_pm_step(&m, va, vb, tspu, 2);
         double t_nm = dtc_ref_pm_torque(&m) * b.t_base_nm;
         w_mech += (t_nm - 0.1) / si.inertia_kgm2 * si.ts_s;
