@@ -41,6 +41,20 @@ for fn in ("flux_est_step", "vcomp_step", "iq_mag", "fix_isqrt64", "speed_meas_s
         print("    of which %-16s %7.1f per step" % (fn, v / (n_norm + n_tick)))
 PY
 
+
+# Per-call distribution: collect only inside one wrapper and dump after every call, so each dump
+# holds exactly one dtc_step() (plus the wrapper's call/return).
+percall_steps=${DTC_BENCH_PERCALL_STEPS:-2000}
+for kind in normal tick; do
+  mkdir -p "$tmp/pc_$kind"
+  valgrind --tool=callgrind --callgrind-out-file="$tmp/pc_$kind/cg" --collect-atstart=no \
+    --toggle-collect=bench_step_$kind --dump-after=bench_step_$kind "$bench" "$percall_steps" \
+    >/dev/null 2>&1
+  grep -h '^totals:' "$tmp/pc_$kind"/cg.* | awk -v k="$kind" '$2 > 0 { n++; s += $2; if ($2 > m) m = $2; if (mn == "" || $2 < mn) mn = $2 }
+    END { printf "  per call, %-6s steps (%4d calls, first %d periods): min %d, mean %.1f, max %d instructions\n", k, n, '"$percall_steps"', mn, s / n, m }'
+done
+echo "  (worst single call = the max of the speed-loop steps; target <= 2500)"
+
 echo
 echo "== 2. cross-cm0 stack usage of the control path"
 (cd "$root" && env -u CC -u CXX cmake --preset cross-cm0 >/dev/null && cmake --build --preset cross-cm0 >/dev/null)
