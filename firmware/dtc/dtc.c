@@ -1,0 +1,278 @@
+#include "dtc.h"
+
+#include <stddef.h>
+
+#include "clarke.h"
+#include "sector.h"
+#include "torque.h"
+#include "vrec.h"
+
+static void dtc_adopt(dtc_t *c, const dtc_refs_t *r)
+{
+    const dtc_config_t *cfg = c->cfg;
+    uint16_t old_mode = c->act.mode;
+
+    c->act.speed_ref_iq = iq_sat(r->speed_ref_iq, fix_neg32(cfg->speed_limit_iq),
+                                 cfg->speed_limit_iq);
+    c->act.torque_ref_iq = iq_sat(r->torque_ref_iq, fix_neg32(cfg->torque_limit_iq),
+                                  cfg->torque_limit_iq);
+    c->act.flux_ref_iq = r->flux_ref_iq;
+    c->act.kp_iq = r->kp_iq;
+    c->act.ki_ts_iq = r->ki_ts_iq;
+    c->act.mode = r->mode;
+    c->pi_p.kp_iq = r->kp_iq;
+    c->pi_p.ki_ts_iq = r->ki_ts_iq;
+    if (old_mode != DTC_MODE_SPEED && r->mode == DTC_MODE_SPEED) {
+        speed_pi_reset(&c->pi, c->te_ref_iq, cfg->torque_limit_iq); /* bumpless */
+    }
+}
+
+static int16_t dtc_refs_check(const dtc_refs_t *r)
+{
+    if (r->mode > DTC_MODE_TORQUE) {
+        return DTC_ERR_VARIANT;
+    }
+    if (r->kp_iq < 0 || r->ki_ts_iq < 0) {
+        return DTC_ERR_PI;
+    }
+    if (r->flux_ref_iq <= 0) {
+        return DTC_ERR_REFERENCE;
+    }
+    return DTC_OK;
+}
+
+int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg)
+{
+    int16_t err;
+    dtc_refs_t r;
+
+    if (c == NULL) {
+        return DTC_ERR_NULL;
+    }
+    c->cfg = NULL;
+    err = dtc_config_validate(cfg);
+    if (err != DTC_OK) {
+        return err;
+    }
+    c->cfg = cfg;
+
+    c->fe_p.estimator = cfg->estimator;
+    c->fe_p.k_in_q31 = cfg->k_in_q31;
+    c->fe_p.k_leak_q31 = cfg->k_leak_q31;
+    c->fe_p.rs_iq = cfg->rs_iq;
+    c->fe_p.ls_iq = cfg->ls_iq;
+    c->fe_p.psi_m_iq = cfg->psi_m_iq;
+    c->fe_p.enc_gain_q16 = cfg->enc_gain_q16;
+    c->fe_p.enc_offset = cfg->enc_offset;
+    vcomp_init(&c->vc_p, cfg->compensation, cfg->v_f_iq, cfg->v_ce_iq, cfg->v_d_iq, cfg->r_on_iq);
+    c->sm_p.enc_counts = cfg->enc_counts;
+    c->sm_p.k_speed_iq = cfg->speed_k_iq;
+    c->sm_p.min_counts = cfg->speed_min_counts;
+    c->pi_p.kp_iq = cfg->kp_iq;
+    c->pi_p.ki_ts_iq = cfg->ki_ts_iq;
+    c->pi_p.limit_iq = cfg->torque_limit_iq;
+
+    r.speed_ref_iq = cfg->speed_ref_iq;
+    r.torque_ref_iq = cfg->torque_ref_iq;
+    r.flux_ref_iq = cfg->flux_ref_iq;
+    r.kp_iq = cfg->kp_iq;
+    r.ki_ts_iq = cfg->ki_ts_iq;
+    r.mode = cfg->mode;
+    c->act.mode = cfg->mode;
+    c->te_ref_iq = 0;
+    dtc_adopt(c, &r);
+    c->shadow_seq = 0U;
+    c->adopted_seq = 0U;
+
+    flux_est_init(&c->fe, &c->fe_p);
+    speed_meas_init(&c->sm, &c->sm_p, 0U);
+    dtc_reset(c);
+    return DTC_OK;
+}
+
+void dtc_reset(dtc_t *c)
+{
+    static const swtab_legs_t off = {0U, 0U, 0U};
+    const dtc_config_t *cfg = c->cfg;
+
+    flux_est_reset(&c->fe);
+    speed_meas_reset(&c->sm, 0U);
+    c->speed_primed = 0U; /* the first step takes the encoder position as the reference */
+    speed_pi_reset(&c->pi, 0, cfg->torque_limit_iq);
+    hyst2_init(&c->h_flux, cfg->flux_band_iq, 1U);
+    hyst2_init(&c->h_torque2, cfg->torque_band_iq, 1U);
+    hyst3_init(&c->h_torque3, cfg->torque_band_iq);
+    c->div_cnt = 0U;
+    c->legs_1 = off;
+    c->legs_2 = off;
+    c->vec_1 = cfg->topology == DTC_TOPO_FSTP ? 1U : 0U;
+    c->te_ref_iq = c->act.mode == DTC_MODE_TORQUE ? c->act.torque_ref_iq : 0;
+    c->speed_iq = 0;
+}
+
+int16_t dtc_shadow_write(dtc_t *c, const dtc_refs_t *r)
+{
+    int16_t err = dtc_refs_check(r);
+    uint16_t seq;
+
+    if (err != DTC_OK) {
+        return err;
+    }
+    seq = c->shadow_seq;
+    c->shadow_seq = (uint16_t)((seq | 1U) == seq ? seq + 2U : seq + 1U); /* odd: writing */
+    c->sh_speed_ref_iq = r->speed_ref_iq;
+    c->sh_torque_ref_iq = r->torque_ref_iq;
+    c->sh_flux_ref_iq = r->flux_ref_iq;
+    c->sh_kp_iq = r->kp_iq;
+    c->sh_ki_ts_iq = r->ki_ts_iq;
+    c->sh_mode = r->mode;
+    c->shadow_seq = (uint16_t)(c->shadow_seq + 1U); /* even: complete */
+    return DTC_OK;
+}
+
+void dtc_refs_get(const dtc_t *c, dtc_refs_t *r)
+{
+    r->speed_ref_iq = c->act.speed_ref_iq;
+    r->torque_ref_iq = c->act.torque_ref_iq;
+    r->flux_ref_iq = c->act.flux_ref_iq;
+    r->kp_iq = c->act.kp_iq;
+    r->ki_ts_iq = c->act.ki_ts_iq;
+    r->mode = c->act.mode;
+}
+
+/* Copies the shadow set (complete: the caller checked the sequence number) and adopts it.
+ * External linkage on purpose: a static function called once is inlined, and its copy of the
+ * set would then sit in dtc_step's frame on the deepest stack path. */
+void dtc_shadow_adopt(dtc_t *c, uint16_t seq)
+{
+    dtc_refs_t r;
+    r.speed_ref_iq = c->sh_speed_ref_iq;
+    r.torque_ref_iq = c->sh_torque_ref_iq;
+    r.flux_ref_iq = c->sh_flux_ref_iq;
+    r.kp_iq = c->sh_kp_iq;
+    r.ki_ts_iq = c->sh_ki_ts_iq;
+    r.mode = c->sh_mode;
+    dtc_adopt(c, &r);
+    c->adopted_seq = seq;
+}
+
+void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
+{
+    const dtc_config_t *cfg = c->cfg;
+    clarke_out_t i;
+    flux_est_in_t fin;
+    iq_t psi_a, psi_b, mag, te;
+    uint16_t sector, flux_up, vec;
+    int16_t tdem;
+    swtab_legs_t legs;
+
+    /* 1. Shadow set: adopt a complete, not yet adopted set (sequence number even). */
+    {
+        uint16_t seq = c->shadow_seq;
+        if ((seq & 1U) == 0U && seq != c->adopted_seq) {
+            dtc_shadow_adopt(c, seq);
+        }
+    }
+
+    /* 2. Clarke (Hoang eqs. 4-5) from the two measured currents. */
+    if (cfg->topology == DTC_TOPO_FSTP) {
+        clarke_fstp(m->ib_iq, m->ic_iq, &i);
+    } else {
+        clarke_sstp(m->ia_iq, m->ib_iq, &i);
+    }
+
+    /* 3. Flux estimator. */
+    fin.i_alpha_iq = i.i_alpha_iq;
+    fin.i_beta_iq = i.i_beta_iq;
+    fin.enc_count = m->enc_count;
+    fin.v_alpha_iq = 0;
+    fin.v_beta_iq = 0;
+    if (cfg->estimator == DTC_EST_VOLTAGE) {
+        iq_t vfa, vfb;
+        if (cfg->topology == DTC_TOPO_FSTP) {
+            vrec_fstp(c->legs_2.sb, c->legs_2.sc, m->vdc_iq, m->vmid_iq, cfg->fstp_vmid_measured,
+                      &fin.v_alpha_iq, &fin.v_beta_iq);
+        } else {
+            vrec_sstp(c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, m->vdc_iq, &fin.v_alpha_iq,
+                      &fin.v_beta_iq);
+        }
+        vcomp_step(&c->vc_p, c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, &i, &vfa, &vfb);
+        fin.v_alpha_iq = fix_add32(fin.v_alpha_iq, vfa);
+        fin.v_beta_iq = fix_add32(fin.v_beta_iq, vfb);
+    }
+    if (c->speed_primed == 0U && cfg->estimator == DTC_EST_VOLTAGE) {
+        flux_est_seed(&c->fe, &fin); /* first step after a reset: start from eqs. 8-9 */
+    } else {
+        flux_est_step(&c->fe, &fin);
+    }
+    psi_a = c->fe.psi_alpha_iq;
+    psi_b = c->fe.psi_beta_iq;
+
+    /* 4. Torque (Hoang eq. 10), |psi| (eq. 11), sector. */
+    te = torque_eq10(psi_a, psi_b, i.i_alpha_iq, i.i_beta_iq);
+    mag = torque_flux_mag(psi_a, psi_b);
+    sector = cfg->topology == DTC_TOPO_FSTP ? sector_fstp(psi_a, psi_b) : sector_sstp(psi_a, psi_b);
+
+    /* 5. Speed loop every speed_div-th call (the first call of each group). */
+    o->speed_tick = 0U;
+    if (c->speed_primed == 0U) {
+        speed_meas_reset(&c->sm, m->enc_count);
+        c->speed_primed = 1U;
+        c->div_cnt = 0U;
+    } else if (c->div_cnt == 0U) {
+        o->speed_tick = 1U;
+        c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
+        if (c->act.mode == DTC_MODE_SPEED) {
+            c->te_ref_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
+        }
+    }
+    c->div_cnt = (uint16_t)(c->div_cnt + 1U >= cfg->speed_div ? 0U : c->div_cnt + 1U);
+    if (c->act.mode == DTC_MODE_TORQUE) {
+        c->te_ref_iq = c->act.torque_ref_iq;
+    }
+
+    /* 6. Hysteresis comparators (Hoang eqs. 13-14, Casadei section 4). */
+    flux_up = hyst2_step(&c->h_flux, iq_sub(c->act.flux_ref_iq, mag));
+    if (cfg->topology == DTC_TOPO_SSTP && cfg->sstp_table == DTC_ST_BASIC) {
+        tdem = hyst3_step(&c->h_torque3, iq_sub(c->te_ref_iq, te));
+    } else {
+        tdem = hyst2_step(&c->h_torque2, iq_sub(c->te_ref_iq, te)) != 0U ? 1 : -1;
+    }
+
+    /* 7. Switching table. */
+    if (cfg->topology == DTC_TOPO_FSTP) {
+        vec = swtab_fstp(sector, flux_up, tdem > 0 ? 1U : 0U);
+        legs = swtab_fstp_legs(vec);
+    } else {
+        if (cfg->sstp_table == DTC_ST_BASIC) {
+            vec = swtab_sstp_basic(sector, flux_up, tdem);
+        } else {
+            vec = swtab_sstp_st(cfg->sstp_table, sector, flux_up, tdem > 0 ? 1U : 0U);
+        }
+        vec = swtab_null_choice(vec, c->vec_1);
+        legs = swtab_sstp_legs(vec);
+    }
+    c->legs_2.sa = c->legs_1.sa; /* field by field: no struct copy (memcpy) in the ISR */
+    c->legs_2.sb = c->legs_1.sb;
+    c->legs_2.sc = c->legs_1.sc;
+    c->legs_1.sa = legs.sa;
+    c->legs_1.sb = legs.sb;
+    c->legs_1.sc = legs.sc;
+    c->vec_1 = vec;
+
+    /* 8. Outputs. */
+    o->sa = legs.sa;
+    o->sb = legs.sb;
+    o->sc = legs.sc;
+    o->vector = vec;
+    o->sector = sector;
+    o->flux_up = flux_up;
+    o->torque_dem = tdem;
+    o->psi_alpha_iq = psi_a;
+    o->psi_beta_iq = psi_b;
+    o->psi_mag_iq = mag;
+    o->te_iq = te;
+    o->te_ref_iq = c->te_ref_iq;
+    o->speed_iq = c->speed_iq;
+    o->theta_e = c->fe.theta_e;
+}

@@ -1,0 +1,126 @@
+/*
+ * dtc.h - the DTC controller: one dtc_step() per 50 us control period (Hoang Fig. 4, Casadei
+ * Fig. 4), the speed loop every speed_div-th call.
+ *
+ *   Clarke (clarke.h) -> voltage reconstruction (vrec.h) + drop compensation (vcomp.h)
+ *   -> stator-flux estimator (flux_est.h) -> torque, |psi|, sector (torque.h, sector.h)
+ *   -> hysteresis comparators (hyst.h) -> switching table (swtab.h) -> leg states
+ *   speed measurement (speed_meas.h) + speed PI (speed_pi.h) every speed_div-th call
+ *
+ * Timing contract (hal.h): the command returned by step k takes effect at the start of period
+ * k+1. The voltage-model estimator at step k therefore integrates the period [k-1, k] with the
+ * leg states returned by step k-2 (two-deep history kept here), the measured V_dc and the
+ * currents sampled at k.
+ *
+ * Ownership: the caller owns dtc_t (no static state anywhere); the configuration passed to
+ * dtc_init() must outlive the controller (it is typically const data in flash).
+ *
+ * Shadow set: the background loop changes references and speed-PI gains with
+ * dtc_shadow_write(); dtc_step() adopts a complete set atomically at its top. Protocol (a
+ * sequence lock for one writer that the ISR can preempt, on a single core): the writer makes
+ * the sequence number odd, writes the fields, makes it even again; the ISR adopts only an even
+ * sequence number it has not adopted yet, so it never sees half a set (if it preempts a write it
+ * keeps the old set for one more period). All shared fields are volatile.
+ */
+#ifndef DTC_H
+#define DTC_H
+
+#include <stdint.h>
+
+#include "dtc_config.h"
+#include "fixmath.h"
+#include "flux_est.h"
+#include "hyst.h"
+#include "speed_meas.h"
+#include "speed_pi.h"
+#include "swtab.h"
+#include "vcomp.h"
+
+/* Per-unit measurements of one period (the app converts ADC and QEP counts with the
+ * configuration's ADC scaling). Which currents are read (clarke.h): SSTP i_a, i_b; FSTP i_b, i_c;
+ * the third field is ignored. */
+typedef struct {
+    iq_t ia_iq, ib_iq, ic_iq; /* phase currents, pu */
+    iq_t vdc_iq;              /* DC-link voltage, pu */
+    iq_t vmid_iq;             /* FSTP: lower capacitor (mid-point to negative rail), pu */
+    uint16_t enc_count;       /* quadrature counter 0 .. 4*lines - 1 */
+} dtc_meas_t;
+
+typedef struct {
+    uint16_t sa, sb, sc;   /* leg states for the next period (FSTP: sa = 0, unused) */
+    uint16_t vector;       /* SSTP 0..7, FSTP 1..4 (swtab.h) */
+    uint16_t sector;       /* SSTP 1..6, FSTP 1..4 */
+    uint16_t flux_up;      /* flux comparator output (1 = increase) */
+    int16_t torque_dem;    /* torque comparator output: +1 / 0 / -1 (two-level: +1 / -1) */
+    uint16_t speed_tick;   /* 1 when the speed loop ran in this step */
+    iq_t psi_alpha_iq, psi_beta_iq, psi_mag_iq; /* estimated stator flux, pu */
+    iq_t te_iq;            /* estimated torque (Hoang eq. 10), pu */
+    iq_t te_ref_iq;        /* torque reference in force, pu */
+    iq_t speed_iq;         /* measured electrical speed, pu */
+    angle_t theta_e;       /* encoder electrical angle */
+} dtc_out_t;
+
+/* The background-changeable parameter set. */
+typedef struct {
+    iq_t speed_ref_iq;  /* clamped to +-speed_limit on adoption */
+    iq_t torque_ref_iq; /* torque mode; clamped to +-torque_limit on adoption */
+    iq_t flux_ref_iq;   /* > 0 */
+    iq_t kp_iq;         /* >= 0 */
+    iq_t ki_ts_iq;      /* >= 0 */
+    uint16_t mode;      /* enum dtc_mode */
+} dtc_refs_t;
+
+typedef struct {
+    const dtc_config_t *cfg;
+    /* parameters derived at init */
+    flux_est_params_t fe_p;
+    vcomp_params_t vc_p;
+    speed_meas_params_t sm_p;
+    speed_pi_params_t pi_p;
+    /* block states */
+    flux_est_t fe;
+    speed_meas_t sm;
+    speed_pi_t pi;
+    hyst2_t h_flux;
+    hyst2_t h_torque2;
+    hyst3_t h_torque3;
+    /* references in force and the shadow set */
+    dtc_refs_t act;
+    volatile uint16_t shadow_seq;
+    uint16_t adopted_seq;
+    volatile iq_t sh_speed_ref_iq, sh_torque_ref_iq, sh_flux_ref_iq, sh_kp_iq, sh_ki_ts_iq;
+    volatile uint16_t sh_mode;
+    /* timing */
+    uint16_t div_cnt;
+    uint16_t speed_primed;
+    swtab_legs_t legs_1; /* returned by the previous step: applied during this period */
+    swtab_legs_t legs_2; /* returned two steps ago: applied during the period just ended */
+    uint16_t vec_1;      /* vector returned by the previous step */
+    iq_t te_ref_iq;
+    iq_t speed_iq;
+} dtc_t;
+
+/* Validates cfg (dtc_config_validate) and initialises c. Returns DTC_OK or an enum dtc_err code;
+ * on error c is left unusable (c->cfg = 0) and must not be stepped. */
+int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg);
+
+/* Back to the initial state (speed unknown, integrator at zero, references kept). The first
+ * dtc_step() after it takes the encoder position as the speed reference and, for the voltage
+ * model, seeds the flux with the current model (flux_est_seed). */
+void dtc_reset(dtc_t *c);
+
+/* One control period. */
+void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
+
+/* Background: publish a new parameter set. Returns DTC_OK, or DTC_ERR_REFERENCE / DTC_ERR_PI /
+ * DTC_ERR_VARIANT for a set that would be refused (nothing is published then). */
+int16_t dtc_shadow_write(dtc_t *c, const dtc_refs_t *r);
+
+/* Used by dtc_step() (ISR side): adopts the shadow set whose (even) sequence number is seq.
+ * Not for the background. */
+void dtc_shadow_adopt(dtc_t *c, uint16_t seq);
+
+/* The set in force (for the background's display). */
+void dtc_refs_get(const dtc_t *c, dtc_refs_t *r);
+
+#endif /* DTC_H */

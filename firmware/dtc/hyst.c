@@ -1,0 +1,16 @@
+#include "hyst.h"
+
+/* Half band: the band is validated non-negative, so the halving shift is of a non-negative
+ * value; it still goes through the fixmath helper by rule. Rounded; a band of 1 LSB gives a
+ * half band of 1 LSB. */
+void hyst2_init(hyst2_t *h, iq_t band_iq, uint16_t out_init)
+{
+    h->half_band_iq = fix_rshift_rnd32(band_iq, 1U);
+    h->out = out_init != 0U ? 1U : 0U;
+}
+
+void hyst3_init(hyst3_t *h, iq_t band_iq)
+{
+    h->half_band_iq = fix_rshift_rnd32(band_iq, 1U);
+    h->out = 0;
+}

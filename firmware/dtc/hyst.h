@@ -1,0 +1,64 @@
+/*
+ * hyst.h - hysteresis comparators of the DTC (Hoang eqs. 13-14, Casadei section 4).
+ *
+ * Two-level (Hoang eq. 13 for the flux, eq. 14 for the torque), error e = reference - estimate,
+ * half band h = band/2 >= 0:
+ *     e >  h -> 1 (increase),   e < -h -> 0 (decrease),   otherwise hold.
+ * Three-level torque comparator (Casadei section 4, Fig. 4; used with Table 1):
+ *     e >  h -> +1,  e < -h -> -1,
+ *     from +1: e < 0 -> 0 (the torque has reached the reference; a null vector lets it fall),
+ *     from -1: e > 0 -> 0,
+ *     otherwise hold.
+ *   In motoring the output alternates between +1 and 0 and the torque ripples in
+ *   [T* - h, T*]; -1 only appears when the torque overshoots by more than h (braking,
+ *   reversal), so the zero vectors do the ordinary work, as Casadei's Table 1 intends.
+ * Bands of zero are allowed (Hoang section IV sets both to zero): the comparators then switch
+ * on the sign of the error, holding at exactly zero error.
+ *
+ * Formats: errors and bands IQ pu. The errors are formed by the caller with saturating
+ * subtraction; the comparators only compare (no arithmetic, no overflow).
+ */
+#ifndef HYST_H
+#define HYST_H
+
+#include <stdint.h>
+
+#include "fixmath.h"
+
+typedef struct {
+    iq_t half_band_iq;
+    uint16_t out; /* 1 = increase, 0 = decrease */
+} hyst2_t;
+
+typedef struct {
+    iq_t half_band_iq;
+    int16_t out; /* +1, 0, -1 */
+} hyst3_t;
+
+/* band_iq is the full width (Delta in eqs. 13-14); out_init the initial output. */
+void hyst2_init(hyst2_t *h, iq_t band_iq, uint16_t out_init);
+void hyst3_init(hyst3_t *h, iq_t band_iq);
+
+static inline uint16_t hyst2_step(hyst2_t *h, iq_t err_iq)
+{
+    if (err_iq > h->half_band_iq) {
+        h->out = 1U;
+    } else if (err_iq < -h->half_band_iq) {
+        h->out = 0U;
+    }
+    return h->out;
+}
+
+static inline int16_t hyst3_step(hyst3_t *h, iq_t err_iq)
+{
+    if (err_iq > h->half_band_iq) {
+        h->out = 1;
+    } else if (err_iq < -h->half_band_iq) {
+        h->out = -1;
+    } else if ((h->out > 0 && err_iq < 0) || (h->out < 0 && err_iq > 0)) {
+        h->out = 0;
+    }
+    return h->out;
+}
+
+#endif /* HYST_H */

@@ -1,0 +1,55 @@
+#include "vcomp.h"
+
+#include "dtc_config.h"
+#include "vrec.h"
+
+void vcomp_init(vcomp_params_t *p, uint16_t mode, iq_t v_f_iq, iq_t v_ce_iq, iq_t v_d_iq,
+                iq_t r_on_iq)
+{
+    p->mode = mode;
+    p->v_f_iq = v_f_iq;
+    p->v_ce_iq = v_ce_iq;
+    p->v_d_iq = v_d_iq;
+    p->r_on_iq = r_on_iq;
+    p->r_on_third_iq = q31_mul(r_on_iq, VREC_THIRD_Q31);
+}
+
+void vcomp_step(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t sc,
+                const clarke_out_t *i, iq_t *v_f_alpha_iq, iq_t *v_f_beta_iq)
+{
+    iq_t da, db, dc, fa, fb;
+
+    switch (p->mode) {
+    case DTC_COMP_SSTP:
+        /* Leg drops V_f*sign(i_x) (Table III with V_CE = V_d = V_f); minus their Clarke
+         * transform, then the on-resistance terms of eqs. 24-25. */
+        da = vcomp_leg_drop(sa, i->ia_iq, p->v_f_iq, p->v_f_iq);
+        db = vcomp_leg_drop(sb, i->ib_iq, p->v_f_iq, p->v_f_iq);
+        dc = vcomp_leg_drop(sc, i->ic_iq, p->v_f_iq, p->v_f_iq);
+        vrec_from_legs(da, db, dc, &fa, &fb);
+        *v_f_alpha_iq = fix_sub32(fix_neg32(fa), iq_mpy(p->r_on_iq, i->i_alpha_iq));
+        *v_f_beta_iq = fix_sub32(fix_neg32(fb), iq_mpy(p->r_on_iq, i->i_beta_iq));
+        break;
+    case DTC_COMP_FSTP_SIMPLE:
+        /* Table V = eqs. 35-36: legs B and C, V_f, no leg-A device. */
+        db = vcomp_leg_drop(sb, i->ib_iq, p->v_f_iq, p->v_f_iq);
+        dc = vcomp_leg_drop(sc, i->ic_iq, p->v_f_iq, p->v_f_iq);
+        *v_f_alpha_iq = q31_mul(fix_add32(db, dc), VREC_THIRD_Q31);          /* eq. 33 */
+        *v_f_beta_iq = q31_mul(fix_sub32(dc, db), VREC_INV_SQRT3_Q31);       /* eq. 34 */
+        break;
+    case DTC_COMP_FSTP_PROPOSED:
+        /* Table VI = Table III per leg + eqs. 33-34, plus the R_on terms (eqs. 37-38; see the
+         * header for the sign of the alpha term). */
+        db = vcomp_leg_drop(sb, i->ib_iq, p->v_ce_iq, p->v_d_iq);
+        dc = vcomp_leg_drop(sc, i->ic_iq, p->v_ce_iq, p->v_d_iq);
+        fa = q31_mul(fix_add32(db, dc), VREC_THIRD_Q31);                     /* eq. 33 */
+        fb = q31_mul(fix_sub32(dc, db), VREC_INV_SQRT3_Q31);                 /* eq. 34 */
+        *v_f_alpha_iq = fix_sub32(fa, iq_mpy(p->r_on_third_iq, i->i_alpha_iq));
+        *v_f_beta_iq = fix_sub32(fb, iq_mpy(p->r_on_iq, i->i_beta_iq));
+        break;
+    default: /* DTC_COMP_NONE */
+        *v_f_alpha_iq = 0;
+        *v_f_beta_iq = 0;
+        break;
+    }
+}

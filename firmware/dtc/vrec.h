@@ -1,0 +1,45 @@
+/*
+ * vrec.h - phase-voltage reconstruction from the leg states and the measured DC link
+ * (Hoang section III-A, eqs. 1-5 and 17-19).
+ *
+ * The leg (phase-to-negative-rail) voltages are v_x0 = S_x * V_dc for a switched leg. For the
+ * FSTP, leg A is the capacitor mid-point: v_a0 = V_mid when the mid-point voltage is measured
+ * (it drifts with the phase-A current through the capacitors), otherwise V_dc/2, which is
+ * Hoang's "S_A = 1/2" and reproduces eqs. 17-19 exactly. Then (eqs. 1-5)
+ *   v_alpha = (2 v_a0 - v_b0 - v_c0) / 3,   v_beta = (v_b0 - v_c0) / sqrt(3)
+ * (the neutral-to-zero voltage v_n0 cancels in both). For the FSTP with v_a0 = V_dc/2:
+ *   v_alpha = V_dc (1 - S_B - S_C)/3, v_beta = V_dc (S_B - S_C)/sqrt(3), i.e. Hoang Table I.
+ *
+ * Formats: V_dc, V_mid, outputs in IQ pu; leg states 0/1. Scaling and overflow: 2 v_a0 - v_b0 -
+ * v_c0 is bounded by 2*|V_dc| + 2*|V_mid|, formed with saturating adds; the 1/3 and 1/sqrt(3)
+ * factors are Q31 constants (rounded 64-bit product, <= 0.5 LSB each). No division.
+ */
+#ifndef VREC_H
+#define VREC_H
+
+#include <stdint.h>
+
+#include "fixmath.h"
+
+#define VREC_THIRD_Q31 Q31(0.33333333333333333)
+#define VREC_INV_SQRT3_Q31 Q31(0.57735026918962576)
+
+/* General form from the three leg voltages (IQ pu, referred to the negative rail). */
+static inline void vrec_from_legs(iq_t va0_iq, iq_t vb0_iq, iq_t vc0_iq, iq_t *v_alpha_iq,
+                                  iq_t *v_beta_iq)
+{
+    iq_t num = fix_sub32(fix_add32(va0_iq, va0_iq), fix_add32(vb0_iq, vc0_iq));
+    *v_alpha_iq = q31_mul(num, VREC_THIRD_Q31);
+    *v_beta_iq = q31_mul(fix_sub32(vb0_iq, vc0_iq), VREC_INV_SQRT3_Q31);
+}
+
+/* SSTP: v_x0 = S_x * V_dc (Casadei eq. 2: active vectors have length 2/3 V_dc). */
+void vrec_sstp(uint16_t sa, uint16_t sb, uint16_t sc, iq_t vdc_iq, iq_t *v_alpha_iq,
+               iq_t *v_beta_iq);
+
+/* FSTP: leg A at the mid-point. vmid_measured = 0 uses V_dc/2 (Hoang eqs. 17-19, S_A = 1/2);
+ * 1 uses the measured mid-point (lower capacitor) voltage vmid_iq. */
+void vrec_fstp(uint16_t sb, uint16_t sc, iq_t vdc_iq, iq_t vmid_iq, uint16_t vmid_measured,
+               iq_t *v_alpha_iq, iq_t *v_beta_iq);
+
+#endif /* VREC_H */

@@ -1,0 +1,287 @@
+/*
+ * test_dtc_config.c - the SI -> per-unit converter (tools/config) and the firmware's own
+ * validation (dtc_init): the defaults convert to the numbers the per-unit bases predict, bad
+ * configurations are refused with the right code and a message naming the field, both on the
+ * host and at dtc_init.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "dtc.h"
+#include "dtc_config_si.h"
+#include "dtc_ref.h"
+#include "fixtest.h"
+
+static void test_defaults_convert_to_expected_pu(void **state)
+{
+    (void)state;
+    dtc_config_si_t si;
+    dtc_config_t cfg;
+    dtc_bases_t b;
+    char msg[256];
+
+    dtc_config_si_defaults(&si);
+    assert_int_equal(dtc_config_from_si(&si, &cfg, msg, sizeof msg), DTC_SI_OK);
+    assert_int_equal(dtc_config_validate(&cfg), DTC_OK);
+    dtc_bases_from_si(&si, &b);
+
+    /* Bases of dtc_base.h, computed by hand from Hoang Table VIII and the 70 V link. */
+    assert_true(fabs(b.psi_base_wb - 70.0 / (100.0 * DTC_REF_PI)) < 1e-12);
+    assert_true(fabs(b.z_base_ohm - 70.0 / 2.2) < 1e-12);
+    assert_true(fabs(b.t_base_nm - 1.5 * (70.0 / (100.0 * DTC_REF_PI)) * 2.2) < 1e-12);
+    /* Machine in pu, within one IQ24 LSB (0.5 LSB rounding). */
+    fixtest_assert_lsb(fixtest_iq_to_d(cfg.rs_iq), 0.466 / (70.0 / 2.2), 1.0 / 16777216.0, 0.5, "rs");
+    fixtest_assert_lsb(fixtest_iq_to_d(cfg.ls_iq), 3.19e-3 / (70.0 / 2.2 / (100.0 * DTC_REF_PI)),
+                       1.0 / 16777216.0, 0.5, "ls");
+    fixtest_assert_lsb(fixtest_iq_to_d(cfg.psi_m_iq), 0.0928 / (70.0 / (100.0 * DTC_REF_PI)),
+                       1.0 / 16777216.0, 0.5, "psi_m");
+    /* Rated torque 0.3 N.m with the rated 2.2 A in quadrature: T = psi_m * i (pu) = 0.408. */
+    assert_true(fabs(0.3 / b.t_base_nm - 0.0928 / b.psi_base_wb * 1.0) < 0.01);
+    /* Low-pass: k_leak = 1 - exp(-5 * 50e-6), k_in -> Ts_pu = 50e-6 * 100 pi. */
+    fixtest_assert_lsb(fixtest_q31_to_d(cfg.k_leak_q31), 1.0 - exp(-2.5e-4), 1.0 / 2147483648.0,
+                       0.5, "k_leak");
+    assert_true(fabs(fixtest_q31_to_d(cfg.k_in_q31) - 50e-6 * 100.0 * DTC_REF_PI) < 1e-5);
+    /* Encoder: 8000 counts, 8.192 electrical LSB per count (p = 1). */
+    assert_int_equal(cfg.enc_counts, 8000);
+    assert_int_equal(cfg.enc_gain_q16, 536871U);
+    /* One count per 500 us = 15 rpm = 0.005 pu of 3000 rpm. */
+    fixtest_assert_lsb(fixtest_iq_to_d(cfg.speed_k_iq), 15.0 / 3000.0, 1.0 / 16777216.0, 0.5,
+                       "speed_k");
+    assert_int_equal(cfg.topology, DTC_TOPO_FSTP);
+    assert_int_equal(cfg.compensation, DTC_COMP_FSTP_PROPOSED);
+    assert_int_equal(cfg.flux_band_iq, 0);
+    assert_int_equal(cfg.torque_band_iq, 0);
+}
+
+typedef void (*mutate_fn)(dtc_config_si_t *);
+typedef struct {
+    mutate_fn fn;
+    int code;
+    const char *field;
+} si_case_t;
+
+#define MUT(name, stmt) static void name(dtc_config_si_t *s) { stmt; }
+MUT(m_ls_neg, s->ls_h = -1e-3)
+MUT(m_ls_zero, s->ls_h = 0.0)
+MUT(m_rs_neg, s->rs_ohm = -0.1)
+MUT(m_psi_zero, s->psi_m_wb = 0.0)
+MUT(m_pp_zero, s->pole_pairs = 0)
+MUT(m_vdc_zero, s->vdc_v = 0.0)
+MUT(m_vd_neg, s->v_d_v = -1.0)
+MUT(m_ts_zero, s->ts_s = 0.0)
+MUT(m_div_zero, s->speed_div = 0)
+MUT(m_ts_long, s->ts_s = 5e-3)
+MUT(m_lines, s->enc_lines = 20000)
+MUT(m_band_neg, s->flux_band_wb = -0.001)
+MUT(m_tband_neg, s->torque_band_nm = -0.01)
+MUT(m_cut_zero, s->lpf_cutoff_rad_s = 0.0)
+MUT(m_cut_high, s->lpf_cutoff_rad_s = 70000.0)
+MUT(m_bw_fast, s->speed_bw_rad_s = 1000.0)
+MUT(m_kp_neg, { s->pi_from_bandwidth = 0; s->kp_nm_s_rad = -1.0; })
+MUT(m_kp_overflow, { s->pi_from_bandwidth = 0; s->kp_nm_s_rad = 1.0; s->ki_nm_rad = 0.0; })
+MUT(m_tlim_zero, s->torque_limit_nm = 0.0)
+MUT(m_flux_ref_zero, s->flux_ref_wb = 0.0)
+MUT(m_speed_ref_high, s->speed_ref_rpm = 4000.0)
+MUT(m_topo_bad, s->topology = 7)
+MUT(m_comp_mismatch, { s->topology = DTC_TOPO_SSTP; s->compensation = DTC_COMP_FSTP_PROPOSED; })
+MUT(m_comp_mismatch2, s->compensation = DTC_COMP_SSTP)
+MUT(m_table_bad, s->sstp_table = 9)
+MUT(m_adc_gain, s->adc_i_a_per_count = 0.0)
+MUT(m_adc_off, s->adc_vdc_offset = 5000)
+MUT(m_base, s->i_base_a = 0.0)
+MUT(m_vdc_order, s->vdc_min_v = 100.0)
+MUT(m_rs_huge, s->rs_ohm = 1e4)
+MUT(m_band_tiny, s->flux_band_wb = 1e-12)
+
+static void test_bad_si_configs_refused_with_field(void **state)
+{
+    (void)state;
+    static const si_case_t cases[] = {
+        {m_ls_neg, DTC_SI_ERR_MACHINE, "ls_h"},
+        {m_ls_zero, DTC_SI_ERR_MACHINE, "ls_h"},
+        {m_rs_neg, DTC_SI_ERR_MACHINE, "rs_ohm"},
+        {m_psi_zero, DTC_SI_ERR_MACHINE, "psi_m_wb"},
+        {m_pp_zero, DTC_SI_ERR_MACHINE, "pole_pairs"},
+        {m_vdc_zero, DTC_SI_ERR_INVERTER, "vdc_v"},
+        {m_vd_neg, DTC_SI_ERR_INVERTER, "v_d_v"},
+        {m_ts_zero, DTC_SI_ERR_TIMING, "ts_s"},
+        {m_div_zero, DTC_SI_ERR_TIMING, "speed_div"},
+        {m_ts_long, DTC_SI_ERR_BASE, "ts_s"},
+        {m_lines, DTC_SI_ERR_ENCODER, "enc_lines"},
+        {m_band_neg, DTC_SI_ERR_BAND, "flux_band_wb"},
+        {m_tband_neg, DTC_SI_ERR_BAND, "torque_band_nm"},
+        {m_cut_zero, DTC_SI_ERR_CUTOFF, "lpf_cutoff_rad_s"},
+        {m_cut_high, DTC_SI_ERR_CUTOFF, "lpf_cutoff_rad_s"},
+        {m_bw_fast, DTC_SI_ERR_GAIN, "speed_bw_rad_s"},
+        {m_kp_neg, DTC_SI_ERR_GAIN, "kp_nm_s_rad"},
+        {m_kp_overflow, DTC_SI_ERR_RANGE, "kp_nm_s_rad"}, /* 1 N.m s/rad = 427 pu > 128 */
+        {m_tlim_zero, DTC_SI_ERR_LIMIT, "torque_limit_nm"},
+        {m_flux_ref_zero, DTC_SI_ERR_REFERENCE, "flux_ref_wb"},
+        {m_speed_ref_high, DTC_SI_ERR_REFERENCE, "speed_ref_rpm"},
+        {m_topo_bad, DTC_SI_ERR_VARIANT, "topology"},
+        {m_comp_mismatch, DTC_SI_ERR_VARIANT, "compensation"},
+        {m_comp_mismatch2, DTC_SI_ERR_VARIANT, "compensation"},
+        {m_table_bad, DTC_SI_ERR_VARIANT, "sstp_table"},
+        {m_adc_gain, DTC_SI_ERR_ADC, "adc_i_a_per_count"},
+        {m_adc_off, DTC_SI_ERR_ADC, "adc_vdc_offset"},
+        {m_base, DTC_SI_ERR_BASE, "i_base_a"},
+        {m_vdc_order, DTC_SI_ERR_LIMIT, "vdc_min_v"},
+        {m_rs_huge, DTC_SI_ERR_RANGE, "rs_ohm"}, /* 314 pu overflows IQ24 */
+        {m_band_tiny, DTC_SI_ERR_RANGE, "flux_band_wb"}, /* below one LSB */
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        dtc_config_si_t si;
+        dtc_config_t cfg;
+        char msg[256];
+        dtc_config_si_defaults(&si);
+        cases[k].fn(&si);
+        int rc = dtc_config_from_si(&si, &cfg, msg, sizeof msg);
+        if (rc != cases[k].code || strstr(msg, cases[k].field) == NULL) {
+            fail_msg("case %zu (%s): code %d (want %d), message \"%s\"", k, cases[k].field, rc,
+                     cases[k].code, msg);
+        }
+    }
+    assert_int_equal(dtc_config_from_si(NULL, NULL, NULL, 0), DTC_SI_ERR_NULL);
+}
+
+typedef void (*fw_mutate_fn)(dtc_config_t *);
+typedef struct {
+    fw_mutate_fn fn;
+    int16_t code;
+} fw_case_t;
+#define FMUT(name, stmt) static void name(dtc_config_t *c) { stmt; }
+FMUT(f_version, c->version = 99U)
+FMUT(f_topo, c->topology = 2U)
+FMUT(f_est, c->estimator = 5U)
+FMUT(f_table, c->sstp_table = 5U)
+FMUT(f_mode, c->mode = 2U)
+FMUT(f_vmid, c->fstp_vmid_measured = 2U)
+FMUT(f_comp, c->compensation = 4U)
+FMUT(f_comp_topo, c->compensation = DTC_COMP_SSTP)
+FMUT(f_ls, c->ls_iq = 0)
+FMUT(f_rs, c->rs_iq = -1)
+FMUT(f_psi, c->psi_m_iq = -5)
+FMUT(f_kin, c->k_in_q31 = 0)
+FMUT(f_kleak, c->k_leak_q31 = -3)
+FMUT(f_enc, c->enc_counts = 0U)
+FMUT(f_enc_gain, c->enc_gain_q16 = 0U)
+FMUT(f_band, c->torque_band_iq = -1)
+FMUT(f_div, c->speed_div = 0U)
+FMUT(f_sk, c->speed_k_iq = 0)
+FMUT(f_kp, c->kp_iq = -1)
+FMUT(f_lim, c->torque_limit_iq = 0)
+FMUT(f_fref, c->flux_ref_iq = 0)
+FMUT(f_sref, c->speed_ref_iq = IQ(2.0))
+FMUT(f_tref, c->torque_ref_iq = IQ(-1.0))
+FMUT(f_drop, c->v_d_iq = -1)
+FMUT(f_adc, c->adc_i_offset[2] = 4096U)
+FMUT(f_adc_gain, c->adc_vdc_gain_iq = 0)
+FMUT(f_base, c->w_base_mrad_s = 0U)
+FMUT(f_limit, c->vdc_min_iq = c->vdc_max_iq)
+
+static void test_dtc_init_refuses_bad_struct(void **state)
+{
+    (void)state;
+    static const fw_case_t cases[] = {
+        {f_version, DTC_ERR_VERSION}, {f_topo, DTC_ERR_VARIANT}, {f_est, DTC_ERR_VARIANT},
+        {f_table, DTC_ERR_VARIANT}, {f_mode, DTC_ERR_VARIANT}, {f_vmid, DTC_ERR_VARIANT},
+        {f_comp, DTC_ERR_COMPENSATION}, {f_comp_topo, DTC_ERR_COMPENSATION},
+        {f_ls, DTC_ERR_MACHINE}, {f_rs, DTC_ERR_MACHINE}, {f_psi, DTC_ERR_MACHINE},
+        {f_kin, DTC_ERR_FLUX_EST}, {f_kleak, DTC_ERR_FLUX_EST}, {f_enc, DTC_ERR_ENCODER},
+        {f_enc_gain, DTC_ERR_ENCODER}, {f_band, DTC_ERR_BAND}, {f_div, DTC_ERR_SPEED},
+        {f_sk, DTC_ERR_SPEED}, {f_kp, DTC_ERR_PI}, {f_lim, DTC_ERR_PI},
+        {f_fref, DTC_ERR_REFERENCE}, {f_sref, DTC_ERR_REFERENCE}, {f_tref, DTC_ERR_REFERENCE},
+        {f_drop, DTC_ERR_DROP}, {f_adc, DTC_ERR_ADC}, {f_adc_gain, DTC_ERR_ADC},
+        {f_base, DTC_ERR_BASE}, {f_limit, DTC_ERR_LIMIT},
+    };
+    dtc_config_si_t si;
+    dtc_config_t good;
+    dtc_t c;
+
+    dtc_config_si_defaults(&si);
+    assert_int_equal(dtc_config_from_si(&si, &good, NULL, 0), DTC_SI_OK);
+    assert_int_equal(dtc_init(&c, &good), DTC_OK);
+    assert_ptr_equal(c.cfg, &good);
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        dtc_config_t bad = good;
+        cases[k].fn(&bad);
+        int16_t rc = dtc_init(&c, &bad);
+        if (rc != cases[k].code) {
+            fail_msg("firmware case %zu: dtc_init returned %d, want %d", k, rc, cases[k].code);
+        }
+        assert_null(c.cfg);
+    }
+    assert_int_equal(dtc_init(&c, NULL), DTC_ERR_NULL);
+    assert_int_equal(dtc_init(NULL, &good), DTC_ERR_NULL);
+}
+
+static void test_every_variant_converts_and_inits(void **state)
+{
+    (void)state;
+    for (int topo = 0; topo <= 1; topo++)
+        for (int est = 0; est <= 1; est++)
+            for (int comp = 0; comp <= 3; comp++)
+                for (int tab = 0; tab <= 4; tab++) {
+                    dtc_config_si_t si;
+                    dtc_config_t cfg;
+                    dtc_t c;
+                    char msg[256];
+                    int ok = !((topo == DTC_TOPO_SSTP && comp >= 2) || (topo == DTC_TOPO_FSTP && comp == 1));
+                    dtc_config_si_defaults(&si);
+                    si.topology = topo;
+                    si.estimator = est;
+                    si.compensation = comp;
+                    si.sstp_table = tab;
+                    int rc = dtc_config_from_si(&si, &cfg, msg, sizeof msg);
+                    if (ok) {
+                        assert_int_equal(rc, DTC_SI_OK);
+                        assert_int_equal(dtc_init(&c, &cfg), DTC_OK);
+                    } else {
+                        assert_int_equal(rc, DTC_SI_ERR_VARIANT);
+                    }
+                }
+}
+
+static void test_emitter_writes_every_field(void **state)
+{
+    (void)state;
+    dtc_config_si_t si;
+    dtc_config_t cfg;
+    char buf[8192];
+    FILE *f = tmpfile();
+    assert_non_null(f);
+    dtc_config_si_defaults(&si);
+    assert_int_equal(dtc_config_from_si(&si, &cfg, NULL, 0), DTC_SI_OK);
+    assert_int_equal(dtc_config_emit_c(&cfg, "my_cfg", f), 0);
+    rewind(f);
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    buf[n] = '\0';
+    fclose(f);
+    assert_non_null(strstr(buf, "const dtc_config_t my_cfg = {"));
+    char want[64];
+    snprintf(want, sizeof want, ".psi_m_iq = %ld,", (long)cfg.psi_m_iq);
+    assert_non_null(strstr(buf, want));
+    snprintf(want, sizeof want, ".k_leak_q31 = %ld,", (long)cfg.k_leak_q31);
+    assert_non_null(strstr(buf, want));
+    assert_non_null(strstr(buf, ".adc_i_offset = {2048U, 2048U, 2048U},"));
+    assert_int_equal(dtc_config_emit_c(&cfg, "x", NULL), -1);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_defaults_convert_to_expected_pu),
+        cmocka_unit_test(test_bad_si_configs_refused_with_field),
+        cmocka_unit_test(test_dtc_init_refuses_bad_struct),
+        cmocka_unit_test(test_every_variant_converts_and_inits),
+        cmocka_unit_test(test_emitter_writes_every_field),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,213 @@
+/*
+ * test_dtc_vcomp.c - inverter voltage-drop compensation: Hoang Tables V and VI reproduced row by
+ * row (typed in from the paper in dtc_ref.c), the SSTP equal-drop scheme of ref. [29], and the
+ * on-resistance terms of eqs. 24-25 / 37-38 derived from eq. 20 leg by leg.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+
+#include "clarke.h"
+#include "dtc_config.h"
+#include "dtc_ref.h"
+#include "fixtest.h"
+#include "vcomp.h"
+
+#define LSB (1.0 / 16777216.0)
+/* Table IV devices in pu of the default 70 V base: V_CE = 0.9 V, V_d = 1.25 V, R_on = 0.075 Ohm
+ * on Z_base = 70/2.2 Ohm. */
+#define VCE (0.9 / 70.0)
+#define VD (1.25 / 70.0)
+#define RON (0.075 / (70.0 / 2.2))
+
+static void currents_with_signs(int sgn_b, int sgn_c, double mag, clarke_out_t *o)
+{
+    /* FSTP measures i_b and i_c directly (clarke.h). */
+    clarke_fstp(fixtest_d_to_iq(sgn_b * mag), fixtest_d_to_iq(sgn_c * 0.7 * mag), o);
+}
+
+static void test_hoang_table_v_every_row(void **state)
+{
+    (void)state;
+    vcomp_params_t p;
+    const double vf = 0.9 / 70.0; /* the paper's V_f = 0.9 V */
+    vcomp_init(&p, DTC_COMP_FSTP_SIMPLE, fixtest_d_to_iq(vf), 0, 0, fixtest_d_to_iq(RON));
+    for (int row = 0; row < 4; row++) {
+        int sgn_b = row < 2 ? -1 : 1, sgn_c = (row & 1) ? 1 : -1;
+        double ra, rb;
+        dtc_ref_table_v(sgn_b, sgn_c, vf, &ra, &rb);
+        /* Table V depends on the current signs only: every switching state gives the row. */
+        for (int s = 0; s < 4; s++) {
+            clarke_out_t i;
+            iq_t fa, fb;
+            currents_with_signs(sgn_b, sgn_c, 1.3, &i);
+            vcomp_step(&p, 0U, (uint16_t)(s >> 1), (uint16_t)(s & 1), &i, &fa, &fb);
+            fixtest_assert_lsb(fixtest_iq_to_d(fa), ra, LSB, 1.0, "Table V v_f_alpha");
+            fixtest_assert_lsb(fixtest_iq_to_d(fb), rb, LSB, 1.0, "Table V v_f_beta");
+        }
+    }
+}
+
+static void test_hoang_table_vi_every_row(void **state)
+{
+    (void)state;
+    vcomp_params_t p;
+    /* R_on = 0 isolates the table; the R_on terms are tested below. */
+    vcomp_init(&p, DTC_COMP_FSTP_PROPOSED, 0, fixtest_d_to_iq(VCE), fixtest_d_to_iq(VD), 0);
+    int rows = 0;
+    for (int sg = 0; sg < 4; sg++) {
+        for (int st = 0; st < 4; st++) {
+            int sgn_b = sg < 2 ? -1 : 1, sgn_c = (sg & 1) ? 1 : -1;
+            int sb = st >> 1, sc = st & 1;
+            double ra, rb;
+            clarke_out_t i;
+            iq_t fa, fb;
+            dtc_ref_table_vi(sb, sc, sgn_b, sgn_c, VCE, VD, &ra, &rb);
+            currents_with_signs(sgn_b, sgn_c, 0.8, &i);
+            vcomp_step(&p, 0U, (uint16_t)sb, (uint16_t)sc, &i, &fa, &fb);
+            fixtest_assert_lsb(fixtest_iq_to_d(fa), ra, LSB, 1.0, "Table VI v_f_alpha");
+            fixtest_assert_lsb(fixtest_iq_to_d(fb), rb, LSB, 1.0, "Table VI v_f_beta");
+            rows++;
+        }
+    }
+    assert_int_equal(rows, 16);
+    /* With V_CE = V_d = V_f, Table VI collapses to Table V (eqs. 35-36). */
+    vcomp_init(&p, DTC_COMP_FSTP_PROPOSED, 0, fixtest_d_to_iq(VCE), fixtest_d_to_iq(VCE), 0);
+    for (int sg = 0; sg < 4; sg++) {
+        int sgn_b = sg < 2 ? -1 : 1, sgn_c = (sg & 1) ? 1 : -1;
+        double ra, rb;
+        clarke_out_t i;
+        iq_t fa, fb;
+        dtc_ref_table_v(sgn_b, sgn_c, VCE, &ra, &rb);
+        currents_with_signs(sgn_b, sgn_c, 0.5, &i);
+        vcomp_step(&p, 0U, 1U, 0U, &i, &fa, &fb);
+        fixtest_assert_lsb(fixtest_iq_to_d(fa), ra, LSB, 1.0, "VI->V alpha");
+        fixtest_assert_lsb(fixtest_iq_to_d(fb), rb, LSB, 1.0, "VI->V beta");
+    }
+}
+
+static void test_table_vi_follows_from_table_iii_and_eqs_33_34(void **state)
+{
+    (void)state;
+    /* Table III per leg (state 0: + -> V_d, - -> -V_CE; state 1: + -> V_CE, - -> -V_d) and eqs.
+     * 33-34 generate all 16 rows of Table VI in double: the paper is self-consistent, which is
+     * the derivation the firmware implements. */
+    for (int sg = 0; sg < 4; sg++)
+        for (int st = 0; st < 4; st++) {
+            int sgn_b = sg < 2 ? -1 : 1, sgn_c = (sg & 1) ? 1 : -1, sb = st >> 1, sc = st & 1;
+            double vfb = sb == 0 ? (sgn_b > 0 ? VD : -VCE) : (sgn_b > 0 ? VCE : -VD);
+            double vfc = sc == 0 ? (sgn_c > 0 ? VD : -VCE) : (sgn_c > 0 ? VCE : -VD);
+            double ra, rb;
+            dtc_ref_table_vi(sb, sc, sgn_b, sgn_c, VCE, VD, &ra, &rb);
+            assert_true(fabs((vfb + vfc) / 3.0 - ra) < 1e-15);
+            assert_true(fabs(-(vfb - vfc) / sqrt(3.0) - rb) < 1e-15);
+        }
+}
+
+static void test_r_on_terms_from_eq20(void **state)
+{
+    (void)state;
+    /* Eq. 20 leg by leg: each switched leg loses R_on * i_x. The compensation is minus the
+     * Clarke transform (eqs. 4-5) of the leg drops:
+     *   SSTP (all legs):  (-R_on i_alpha, -R_on i_beta)              = eqs. 24-25
+     *   FSTP (B, C only): (-R_on i_alpha / 3, -R_on i_beta)          eq. 38; eq. 37 printed with +
+     * With V_CE = V_d = 0 only the R_on terms remain. */
+    vcomp_params_t pf, ps;
+    vcomp_init(&pf, DTC_COMP_FSTP_PROPOSED, 0, 0, 0, fixtest_d_to_iq(RON));
+    vcomp_init(&ps, DTC_COMP_SSTP, 0, 0, 0, fixtest_d_to_iq(RON));
+    fixtest_acc_t acc;
+    fixtest_acc_init(&acc);
+    for (int n = 0; n < 720; n++) {
+        double th = n * DTC_REF_PI / 360.0, amp = 2.0;
+        double ia = amp * cos(th), ib = amp * cos(th - 2.0 * DTC_REF_PI / 3.0), ic = -ia - ib;
+        double da, db, ra, rb;
+        clarke_out_t i;
+        iq_t fa, fb;
+
+        clarke_fstp(fixtest_d_to_iq(ib), fixtest_d_to_iq(ic), &i);
+        vcomp_step(&pf, 0U, 1U, 0U, &i, &fa, &fb);
+        dtc_ref_clarke3(0.0, RON * ib, RON * ic, &da, &db);
+        ra = -da;
+        rb = -db;
+        assert_true(fabs(ra - (-RON * ia / 3.0)) < 1e-12); /* = -R_on i_alpha / 3 */
+        fixtest_assert_lsb(fixtest_iq_to_d(fa), ra, LSB, 2.0, "FSTP R_on alpha");
+        fixtest_assert_lsb(fixtest_iq_to_d(fb), rb, LSB, 2.0, "FSTP R_on beta (eq. 38)");
+        fixtest_acc_add(&acc, fixtest_iq_to_d(fa), ra);
+
+        clarke_sstp(fixtest_d_to_iq(ia), fixtest_d_to_iq(ib), &i);
+        vcomp_step(&ps, 0U, 0U, 0U, &i, &fa, &fb);
+        fixtest_assert_lsb(fixtest_iq_to_d(fa), -RON * ia, LSB, 2.0, "SSTP R_on alpha (eq. 24)");
+        fixtest_assert_lsb(fixtest_iq_to_d(fb), -RON * (ib - ic) / sqrt(3.0), LSB, 2.0,
+                           "SSTP R_on beta (eq. 25)");
+    }
+    fixtest_assert_snr(&acc, 90.0, "FSTP R_on alpha trajectory");
+}
+
+static void test_sstp_equal_drop_scheme(void **state)
+{
+    (void)state;
+    /* Ref. [29] as described by Hoang: equal device and diode drops V_f in all three legs; the
+     * compensation is minus the Clarke transform of (V_f sgn i_a, V_f sgn i_b, V_f sgn i_c): a
+     * vector of length 4V_f/3 in each of the six current-sign sectors, whatever the leg states,
+     * pointing against the current vector (within 30 degrees). */
+    const double vf = 0.9 / 70.0;
+    vcomp_params_t p;
+    vcomp_init(&p, DTC_COMP_SSTP, fixtest_d_to_iq(vf), 0, 0, 0);
+    for (int n = 0; n < 360; n++) {
+        double th = (n + 0.5) * DTC_REF_PI / 180.0;
+        double ia = cos(th), ib = cos(th - 2.0 * DTC_REF_PI / 3.0), ic = -ia - ib;
+        double sa = ia >= 0 ? 1 : -1, sb = ib >= 0 ? 1 : -1, sc = ic >= 0 ? 1 : -1, ra, rb;
+        clarke_out_t i;
+        iq_t fa, fb;
+        clarke_sstp(fixtest_d_to_iq(ia), fixtest_d_to_iq(ib), &i);
+        /* the leg states must not matter (equal drops) */
+        vcomp_step(&p, (uint16_t)(n & 1), (uint16_t)((n >> 1) & 1), (uint16_t)((n >> 2) & 1), &i,
+                   &fa, &fb);
+        dtc_ref_clarke3(-vf * sa, -vf * sb, -vf * sc, &ra, &rb);
+        fixtest_assert_lsb(fixtest_iq_to_d(fa), ra, LSB, 1.5, "SSTP [29] alpha");
+        fixtest_assert_lsb(fixtest_iq_to_d(fb), rb, LSB, 1.5, "SSTP [29] beta");
+        /* magnitude 4V_f/3 in every current-sign sector (balanced: same for alpha and beta) */
+        assert_true(fabs(hypot(ra, rb) - 4.0 * vf / 3.0) < 1e-12);
+        /* opposite to the current vector within 30 degrees */
+        assert_true(ra * cos(th) + rb * sin(th) < -cos(DTC_REF_PI / 6.0) * 4.0 * vf / 3.0 + 1e-12);
+    }
+}
+
+static void test_none_and_saturation(void **state)
+{
+    (void)state;
+    vcomp_params_t p;
+    clarke_out_t i;
+    iq_t fa = 1, fb = 1;
+    vcomp_init(&p, DTC_COMP_NONE, IQ(0.1), IQ(0.1), IQ(0.1), IQ(0.1));
+    clarke_fstp(IQ(1.0), IQ(-0.5), &i);
+    vcomp_step(&p, 0U, 1U, 1U, &i, &fa, &fb);
+    assert_int_equal(fa, 0);
+    assert_int_equal(fb, 0);
+    /* Extreme drops and currents saturate, never wrap. */
+    vcomp_init(&p, DTC_COMP_FSTP_PROPOSED, 0, IQ_MAX, IQ_MAX, IQ(100.0));
+    clarke_fstp(IQ_MAX, IQ_MAX, &i); /* i_a = -(sat sum) = IQ_MIN + 1 */
+    vcomp_step(&p, 0U, 1U, 1U, &i, &fa, &fb);
+    assert_true(fa > 0);
+    vcomp_init(&p, DTC_COMP_SSTP, IQ_MAX, 0, 0, IQ(100.0));
+    clarke_sstp(IQ_MAX, 0, &i);
+    vcomp_step(&p, 0U, 0U, 0U, &i, &fa, &fb);
+    assert_int_equal(fa, IQ_MIN);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_hoang_table_v_every_row),
+        cmocka_unit_test(test_hoang_table_vi_every_row),
+        cmocka_unit_test(test_table_vi_follows_from_table_iii_and_eqs_33_34),
+        cmocka_unit_test(test_r_on_terms_from_eq20),
+        cmocka_unit_test(test_sstp_equal_drop_scheme),
+        cmocka_unit_test(test_none_and_saturation),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

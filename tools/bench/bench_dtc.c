@@ -1,0 +1,98 @@
+/*
+ * bench_dtc - drives dtc_step() in closed loop (FSTP, voltage model, proposed compensation:
+ * the configuration with the most work per step) against the double-precision PM machine of
+ * the unit tests, for valgrind --tool=callgrind (tools/bench/run_budget.sh).
+ *
+ * The two wrappers below are never inlined, so callgrind reports the inclusive instruction
+ * count of dtc_step() separately for ordinary steps and for speed-loop steps (the worst case).
+ * Prints the number of calls of each kind; the script divides.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "dtc.h"
+#include "dtc_config_si.h"
+#include "dtc_ref.h"
+
+#ifndef M_PI
+#define M_PI DTC_REF_PI
+#endif
+
+__attribute__((noinline)) void bench_step_normal(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
+__attribute__((noinline)) void bench_step_tick(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
+
+__attribute__((noinline)) void bench_step_normal(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
+{
+    dtc_step(c, m, o);
+}
+
+__attribute__((noinline)) void bench_step_tick(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
+{
+    dtc_step(c, m, o);
+}
+
+static iq_t to_iq(double x) { return (iq_t)lrint(x * 16777216.0); }
+
+int main(int argc, char **argv)
+{
+    long n = argc > 1 ? atol(argv[1]) : 20000;
+    dtc_config_si_t si;
+    dtc_config_t cfg;
+    dtc_bases_t b;
+    dtc_t c;
+    dtc_out_t o;
+    dtc_ref_pm_t m;
+    char msg[256];
+    long n_tick = 0, n_norm = 0;
+    unsigned sa = 0, sb = 0, sc = 0;
+
+    dtc_config_si_defaults(&si); /* FSTP, voltage model, Table VI compensation, speed mode */
+    if (dtc_config_from_si(&si, &cfg, msg, sizeof msg) != DTC_SI_OK) {
+        fprintf(stderr, "bench: %s\n", msg);
+        return 1;
+    }
+    if (dtc_init(&c, &cfg) != DTC_OK) {
+        return 1;
+    }
+    dtc_bases_from_si(&si, &b);
+    double w_mech = 1450.0 * M_PI / 30.0;
+    dtc_ref_pm_init(&m, si.rs_ohm / b.z_base_ohm, si.ls_h / b.l_base_h, si.psi_m_wb / b.psi_base_wb,
+                    w_mech / b.w_base_rad_s, 0.0, 0.0, 0.0);
+    const double tspu = si.ts_s * b.w_base_rad_s;
+    for (long k = 0; k < n; k++) {
+        dtc_meas_t me;
+        double ia, ib, va, vb;
+        dtc_ref_pm_currents(&m, &ia, &ib);
+        me.ia_iq = to_iq(ia);
+        me.ib_iq = to_iq(-0.5 * ia + 0.5 * sqrt(3.0) * ib);
+        me.ic_iq = to_iq(-0.5 * ia - 0.5 * sqrt(3.0) * ib);
+        me.vdc_iq = to_iq(1.0);
+        me.vmid_iq = to_iq(0.5);
+        double cnt = fmod(floor(m.theta / (2.0 * M_PI) * 8000.0), 8000.0);
+        me.enc_count = (uint16_t)(cnt < 0 ? cnt + 8000.0 : cnt);
+        /* the next call is a speed-loop step when the divider is at zero (after priming) */
+        if (c.speed_primed != 0U && c.div_cnt == 0U) {
+            bench_step_tick(&c, &me, &o);
+            n_tick++;
+        } else {
+            bench_step_normal(&c, &me, &o);
+            n_norm++;
+        }
+        /* FSTP with the Table IV device drops (Table III + eq. 20), which the compensation is for */
+        dtc_ref_fstp_inverter((int)sb, (int)sc, 1.0, -0.5 * ia + 0.5 * sqrt(3.0) * ib,
+                              -0.5 * ia - 0.5 * sqrt(3.0) * ib, si.v_ce_v / b.v_base_v,
+                              si.v_d_v / b.v_base_v, si.r_on_ohm / b.z_base_ohm, &va, &vb);
+        dtc_ref_pm_step(&m, va, vb, tspu, 2);
+        double t_nm = dtc_ref_pm_torque(&m) * b.t_base_nm;
+        w_mech += (t_nm - 0.1) / si.inertia_kgm2 * si.ts_s;
+        m.w = w_mech / b.w_base_rad_s;
+        sa = o.sa;
+        sb = o.sb;
+        sc = o.sc;
+    }
+    (void)sa;
+    printf("calls normal %ld tick %ld\n", n_norm, n_tick);
+    printf("final speed %.1f rpm (ref 1500)\n", w_mech * 30.0 / M_PI);
+    return 0;
+}

@@ -1,0 +1,136 @@
+/*
+ * dtc_config_si.h - host-side configuration of the DTC firmware in SI units, and its conversion
+ * to the firmware's per-unit Q-format struct (firmware/dtc/dtc_config.h).
+ *
+ * Host code (C99, double and libm allowed): it is linked by the SIL runner and the tests, and
+ * it is where every reciprocal the firmware needs is precomputed, so the firmware never divides.
+ *
+ *   dtc_config_si_defaults()  the paper's set-up: Hoang Table VIII machine, Table IV devices,
+ *                             70 V DC link, 50 us, speed loop 10x slower, 2000-line encoder,
+ *                             LPF 5 rad/s, zero hysteresis bands, FSTP, voltage model with the
+ *                             proposed compensation (Table VI).
+ *   dtc_config_from_si()      SI -> dtc_config_t; refuses what cannot be represented with an
+ *                             enum dtc_si_err code AND a message naming the field.
+ *   dtc_config_emit_c()       writes a dtc_config_t as a C source file for a target build.
+ *
+ * Per-unit bases: see firmware/dtc/dtc_base.h (V_base, I_base, w_base chosen here).
+ */
+#ifndef DTC_CONFIG_SI_H
+#define DTC_CONFIG_SI_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#include "dtc_config.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct {
+    /* Per-unit bases. */
+    double v_base_v;        /* voltage base (default: nominal DC link) */
+    double i_base_a;        /* current base (default: rated peak current) */
+    double w_base_rad_s;    /* electrical speed base (default: rated speed * pole pairs) */
+
+    /* Machine (Hoang Table VIII). */
+    double rs_ohm;
+    double ls_h;
+    double psi_m_wb;
+    int pole_pairs;
+    double rated_speed_rpm;
+    double rated_torque_nm;
+    double rated_current_a;
+    double inertia_kgm2;    /* for the speed-PI design from a bandwidth */
+
+    /* Inverter (Hoang Table IV). */
+    int topology;           /* enum dtc_topology */
+    double vdc_v;           /* nominal DC link */
+    double v_ce_v;          /* device forward drop */
+    double v_d_v;           /* diode forward drop */
+    double v_f_v;           /* equal drop of the simple schemes (SSTP [29], Table V) */
+    double r_on_ohm;
+    int fstp_vmid_measured; /* 1: the mid-point voltage is measured */
+
+    /* Timing. */
+    double ts_s;            /* control period (50 us) */
+    int speed_div;          /* speed loop every speed_div-th period (10) */
+
+    /* Encoder. */
+    int enc_lines;          /* lines per turn (2000); quadrature gives 4x counts */
+    double enc_offset_rad;  /* electrical angle at count 0 */
+    int speed_min_counts;   /* speed window: shortest with at least this many counts (100) */
+
+    /* Control. */
+    double flux_band_wb;    /* Delta psi_s (full width), >= 0 */
+    double torque_band_nm;  /* Delta T_e (full width), >= 0 */
+    double lpf_cutoff_rad_s;/* voltage-model low-pass cut-off (5 rad/s) */
+    int pi_from_bandwidth;  /* 1: kp, ki from speed_bw_rad_s and inertia_kgm2 */
+    double speed_bw_rad_s;  /* speed-loop crossover; PI zero at bw/4 */
+    double kp_nm_s_rad;     /* N.m per (mechanical rad/s) */
+    double ki_nm_rad;       /* N.m per (mechanical rad/s) per s */
+    double torque_limit_nm;
+    double speed_limit_rpm;
+    double flux_ref_wb;
+    double speed_ref_rpm;
+    double torque_ref_nm;
+
+    /* Variants. */
+    int estimator;          /* enum dtc_estimator */
+    int compensation;       /* enum dtc_compensation */
+    int sstp_table;         /* enum dtc_sstp_table */
+    int mode;               /* enum dtc_mode */
+
+    /* ADC (12-bit) scaling and nominal offsets; protection levels. */
+    double adc_i_a_per_count;
+    int adc_i_offset[3];
+    double adc_vdc_v_per_count;
+    int adc_vdc_offset;
+    double adc_vmid_v_per_count;
+    int adc_vmid_offset;
+    double i_trip_a;
+    double vdc_max_v;
+    double vdc_min_v;
+} dtc_config_si_t;
+
+enum dtc_si_err {
+    DTC_SI_OK = 0,
+    DTC_SI_ERR_NULL = -100,      /* null pointer */
+    DTC_SI_ERR_BASE = -101,      /* a base <= 0, or a sample time not below the time base */
+    DTC_SI_ERR_MACHINE = -102,   /* rs < 0, ls <= 0, psi_m <= 0, pole pairs < 1, ratings <= 0 */
+    DTC_SI_ERR_INVERTER = -103,  /* vdc <= 0, drops or R_on < 0 */
+    DTC_SI_ERR_TIMING = -104,    /* ts <= 0, speed_div < 1 */
+    DTC_SI_ERR_ENCODER = -105,   /* lines < 1, counts beyond 16 bits, min counts out of range */
+    DTC_SI_ERR_BAND = -106,      /* negative hysteresis band */
+    DTC_SI_ERR_CUTOFF = -107,    /* LPF cut-off <= 0 or at/above the Nyquist rate pi/ts */
+    DTC_SI_ERR_GAIN = -108,      /* negative gain, or a gain/bandwidth design not possible */
+    DTC_SI_ERR_LIMIT = -109,     /* torque/speed limit <= 0, protection levels not ordered */
+    DTC_SI_ERR_REFERENCE = -110, /* flux reference <= 0, references beyond their limits */
+    DTC_SI_ERR_VARIANT = -111,   /* variant out of range or not meant for the topology */
+    DTC_SI_ERR_ADC = -112,       /* ADC gain <= 0, offset outside 0..4095 */
+    DTC_SI_ERR_RANGE = -113,     /* a value overflows its Q format or a non-zero one rounds to 0 */
+    DTC_SI_ERR_FIRMWARE = -114   /* the firmware validation refused the result (a bug) */
+};
+
+void dtc_config_si_defaults(dtc_config_si_t *si);
+
+/* Converts si to cfg. Returns DTC_SI_OK or an enum dtc_si_err code; on error msg (if not null)
+ * receives a message naming the offending field, e.g. "ls_h = -0.001: inductance must be > 0". */
+int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, size_t msg_len);
+
+/* Writes cfg as a C source file defining `const dtc_config_t <symbol> = {...};` with each
+ * field's value and meaning. Returns 0, or -1 on an I/O error. */
+int dtc_config_emit_c(const dtc_config_t *cfg, const char *symbol, FILE *f);
+
+/* Per-unit bases derived from si (for tests and tools converting logs back to SI). */
+typedef struct {
+    double v_base_v, i_base_a, w_base_rad_s, psi_base_wb, z_base_ohm, l_base_h, t_base_nm,
+        t_base_s;
+} dtc_bases_t;
+void dtc_bases_from_si(const dtc_config_si_t *si, dtc_bases_t *b);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* DTC_CONFIG_SI_H */
