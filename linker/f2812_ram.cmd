@@ -3,19 +3,21 @@
  * SARAM, nothing written to flash). Boot mode "jump to H0" (GPIOF4,F12,F3,F2 = 0,0,1,0: fact sheet
  * 1.5) or start at f2812_code_start from the debugger. Link with f2812_regs.cmd.
  *
- *   codestart  H0 0x3F8000 (the H0 boot entry), then .text/.cinit/.econst in the rest of H0
- *   ramfuncs   L0 (4K words), LOAD = RUN: hal_init()'s copy finds load == run and copies in place
+ *   codestart  H0 0x3F8000 (the H0 boot entry)
+ *   ramfuncs   the rest of H0 (8190 words), LOAD = RUN: hal_init()'s copy finds load == run
+ *   .text/.cinit/.econst (start-up code, RTS, constants outside the firmware library)  L0 (4K)
  *   .ebss      L1 (4K words)
  *   .stack     M0 + M1 (low 64K)
- * Every block is zero-wait SARAM, so timing equals the flash build's ISR timing; the ISR path must
- * fit L0 here (the stricter of the two budgets, hal/f2812/budget.sh).
+ * Every block is zero-wait SARAM, so timing equals the flash build's ISR timing. The control path
+ * (the whole firmware library) gets the largest block, H0, as in the flash build it gets L0+L1:
+ * the same ~8K-word budget in both builds (hal/f2812/budget.sh).
  */
 MEMORY
 {
 PAGE 0:    /* program */
     BEGINH0   : origin = 0x3F8000, length = 0x000002   /* boot-to-H0 entry */
-    RAMH0     : origin = 0x3F8002, length = 0x001FFE   /* H0 SARAM: code and constants */
-    RAML0     : origin = 0x008000, length = 0x001000   /* L0 SARAM: ramfuncs */
+    RAMH0     : origin = 0x3F8002, length = 0x001FFE   /* H0 SARAM: ramfuncs */
+    RAML0     : origin = 0x008000, length = 0x001000   /* L0 SARAM: start-up code, constants */
     RESET     : origin = 0x3FFFC0, length = 0x000002
 PAGE 1:    /* data */
     RAMM0M1   : origin = 0x000000, length = 0x000800   /* M0 + M1, low 64K: stack */
@@ -32,18 +34,18 @@ SECTIONS
                     -l=libdtc_firmware.a (.econst)
                     -l=libdtc_firmware.a (.switch)
                 }
-                > RAML0,
+                > RAMH0,
                 LOAD_START(_f2812_ramfuncs_load_start),
                 LOAD_END(_f2812_ramfuncs_load_end),
                 RUN_START(_f2812_ramfuncs_run_start),
                 PAGE = 0
 
     codestart : > BEGINH0, PAGE = 0
-    .text     : > RAMH0,   PAGE = 0
-    .cinit    : > RAMH0,   PAGE = 0
-    .pinit    : > RAMH0,   PAGE = 0
-    .switch   : > RAMH0,   PAGE = 0
-    .econst   : > RAMH0,   PAGE = 0
+    .text     : > RAML0,   PAGE = 0
+    .cinit    : > RAML0,   PAGE = 0
+    .pinit    : > RAML0,   PAGE = 0
+    .switch   : > RAML0,   PAGE = 0
+    .econst   : > RAML0,   PAGE = 0
 
     .stack    : > RAMM0M1, PAGE = 1
     .ebss     : > RAML1,   PAGE = 1

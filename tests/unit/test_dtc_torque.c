@@ -62,9 +62,10 @@ static void test_flux_magnitude_eq11(void **state)
         double th = n * 0.0113, m = 3.0 * n / 19999.0;
         iq_t a = fixtest_d_to_iq(m * cos(th)), b = fixtest_d_to_iq(m * sin(th));
         double ref = hypot(fixtest_iq_to_d(a), fixtest_iq_to_d(b));
-        /* floor root: error in [0, 1) LSB below */
+        /* iq_mag rounds to nearest (fixmath.h): |error| < 0.5 LSB (+1e-6 LSB for the double
+         * reference's own rounding). */
         double got = fixtest_iq_to_d(torque_flux_mag(a, b));
-        assert_true(got <= ref + 1e-15 && got > ref - LSB);
+        fixtest_assert_lsb(got, ref, LSB, 0.500001, "|psi| (eq. 11)");
     }
     assert_int_equal(torque_flux_mag(IQ_MAX, IQ_MAX), IQ_MAX); /* 181 pu saturates */
     assert_int_equal(torque_flux_mag(0, 0), 0);

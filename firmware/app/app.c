@@ -1,0 +1,58 @@
+/*
+ * app.c - the ISR translation unit: owns the one controller instance and binds the pure
+ * application core (app_core.h) to the HAL. The same file runs on the F2812 (app_isr called from
+ * the ADC interrupt by hal/f2812) and in SIL (called once per simulated period by hal/host).
+ */
+#include "app.h"
+
+#include "app_core.h"
+#include "hal.h"
+
+/* The one global of the firmware (DESIGN.md section 4): the controller owned by the ISR. */
+static app_core_t g_app;
+
+int16_t app_init(const struct dtc_config *cfg)
+{
+    hal_gates_off();
+    return app_core_init(&g_app, cfg);
+}
+
+void app_isr(void)
+{
+    hal_meas_t m;
+    hal_cmd_t cmd;
+
+    if (g_app.clear_request != 0U) {
+        hal_trip_clear(); /* the core decides whether the fault may be left (app_core_step) */
+    }
+    hal_read(&m);
+    if (app_core_step(&g_app, &m, &cmd) != 0U) {
+        hal_gates_off(); /* a trip on this sample: off now, not at the next period boundary */
+    }
+    hal_write(&cmd);
+}
+
+void app_background(void)
+{
+    hal_watchdog_service();
+}
+
+void app_get_status(app_status_t *s)
+{
+    uint16_t irq = hal_irq_save();
+    *s = g_app.st;
+    hal_irq_restore(irq);
+}
+
+int16_t app_set_refs(const dtc_refs_t *r)
+{
+    if (g_app.cfg == 0) {
+        return DTC_ERR_NULL;
+    }
+    return dtc_shadow_write(&g_app.dtc, r);
+}
+
+void app_request_fault_clear(void)
+{
+    g_app.clear_request = 1U;
+}

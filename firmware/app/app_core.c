@@ -1,0 +1,280 @@
+/*
+ * app_core.c - drive state machine and ISR body (see app_core.h).
+ */
+#include "app_core.h"
+
+#include <stddef.h>
+
+/* Counts -> pu: (count - offset) * gain. Scaling and overflow: |count - offset| <= 4095 fits in
+ * int32; the product with an IQ gain is formed in 64 bits and saturates at +-128 pu. */
+static iq_t counts_to_pu(uint16_t count, uint16_t offset, iq_t gain_iq)
+{
+    int32_t d = (int32_t)count - (int32_t)offset;
+    return fix_sat32((int64_t)d * (int64_t)gain_iq);
+}
+
+/* Folds a counter difference into (-counts/2, counts/2] (counter runs 0 .. counts-1). */
+static int32_t fold_counts(int32_t d, uint16_t counts)
+{
+    int32_t half = (int32_t)(counts >> 1);
+    if (d > half) {
+        d -= (int32_t)counts;
+    } else if (d <= -half) {
+        d += (int32_t)counts;
+    }
+    return d;
+}
+
+static void latch_fault(app_core_t *a, uint16_t fault, int16_t detail)
+{
+    if (a->st.state != APP_STATE_FAULT) {
+        a->st.state = APP_STATE_FAULT;
+        a->st.fault = fault;
+        a->st.fault_detail = detail;
+        a->st.fault_tick = a->st.tick;
+    }
+}
+
+static void enter_calibrate(app_core_t *a)
+{
+    uint16_t k;
+    for (k = 0U; k < 3U; k++) {
+        a->cal_sum[k] = 0U;
+    }
+    a->cal_n = 0U;
+    a->enc_primed = 0U;
+    a->index_known = 0U;
+    a->st.fault = APP_FAULT_NONE;
+    a->st.fault_detail = 0;
+    a->st.state = APP_STATE_CALIBRATE;
+}
+
+int16_t app_core_init(app_core_t *a, const dtc_config_t *cfg)
+{
+    int16_t rc;
+    uint16_t k;
+
+    a->cfg = NULL;
+    a->clear_request = 0U;
+    a->st.tick = 0U;
+    a->st.fault_tick = 0U;
+    a->st.state = APP_STATE_INIT;
+    a->st.fault = APP_FAULT_NONE;
+    a->st.fault_detail = 0;
+    rc = dtc_init(&a->dtc, cfg);
+    if (rc != DTC_OK) {
+        latch_fault(a, APP_FAULT_CONFIG, rc);
+        return rc;
+    }
+    a->cfg = cfg;
+    for (k = 0U; k < 3U; k++) {
+        a->offset[k] = cfg->adc_i_offset[k];
+    }
+    /* Which two currents are measured (clarke.h): SSTP i_a, i_b; FSTP i_b, i_c, the two switched
+     * phases whose signs the FSTP compensation tables need (Hoang Tables V-VI). */
+    if (cfg->topology == (uint16_t)DTC_TOPO_FSTP) {
+        a->meas_ch[0] = (uint16_t)HAL_ADC_IB;
+        a->meas_ch[1] = (uint16_t)HAL_ADC_IC;
+    } else {
+        a->meas_ch[0] = (uint16_t)HAL_ADC_IA;
+        a->meas_ch[1] = (uint16_t)HAL_ADC_IB;
+    }
+    a->enc_k_iq = fix_sat32((int64_t)cfg->speed_k_iq * (int64_t)cfg->speed_div);
+    a->enc_jump_iq = fix_add32(cfg->speed_limit_iq, cfg->speed_limit_iq);
+    enter_calibrate(a);
+    return 0;
+}
+
+void app_core_convert(const app_core_t *a, const hal_meas_t *m, dtc_meas_t *pu)
+{
+    const dtc_config_t *c = a->cfg;
+    iq_t i[3];
+    uint16_t k;
+
+    for (k = 0U; k < 3U; k++) {
+        i[k] = counts_to_pu(m->adc[k], a->offset[k], c->adc_i_gain_iq);
+    }
+    /* The unmeasured phase from Kirchhoff's current law (isolated star point). */
+    if (c->topology == (uint16_t)DTC_TOPO_FSTP) {
+        i[0] = fix_neg32(fix_add32(i[1], i[2]));
+    } else {
+        i[2] = fix_neg32(fix_add32(i[0], i[1]));
+    }
+    pu->ia_iq = i[0];
+    pu->ib_iq = i[1];
+    pu->ic_iq = i[2];
+    pu->vdc_iq = counts_to_pu(m->adc[HAL_ADC_VDC], c->adc_vdc_offset, c->adc_vdc_gain_iq);
+    pu->vmid_iq = counts_to_pu(m->adc[HAL_ADC_VMID], c->adc_vmid_offset, c->adc_vmid_gain_iq);
+    pu->enc_count = m->qep_count;
+}
+
+/* Trip checks on one per-unit sample; latches and returns 1 on a trip. */
+static uint16_t check_trips(app_core_t *a, const hal_meas_t *m, const dtc_meas_t *pu)
+{
+    const dtc_config_t *c = a->cfg;
+    const iq_t i[3] = {pu->ia_iq, pu->ib_iq, pu->ic_iq};
+    uint16_t k;
+
+    if (m->trip != 0U) {
+        latch_fault(a, APP_FAULT_HW_TRIP, 0);
+        return 1U;
+    }
+    for (k = 0U; k < 3U; k++) {
+        if (fix_abs32(i[k]) > c->i_trip_iq) {
+            latch_fault(a, APP_FAULT_OVERCURRENT, (int16_t)k);
+            return 1U;
+        }
+    }
+    if (pu->vdc_iq > c->vdc_max_iq) {
+        latch_fault(a, APP_FAULT_DC_OVERVOLTAGE, 0);
+        return 1U;
+    }
+    if (pu->vdc_iq < c->vdc_min_iq) {
+        latch_fault(a, APP_FAULT_DC_UNDERVOLTAGE, 0);
+        return 1U;
+    }
+    return 0U;
+}
+
+/* Encoder plausibility (the current-model estimator and the speed loop rely on it):
+ *  1. the count change of one period, read as a speed, must stay below twice the speed limit;
+ *  2. the count at each index pulse must equal the count at the first one, within the motion of
+ *     this period plus APP_INDEX_TOL_COUNTS (lost or extra counts show up here).
+ * Scaling and overflow: |delta| <= counts/2 (<= 32768), times an IQ gain in 64 bits. */
+static uint16_t check_encoder(app_core_t *a, const hal_meas_t *m)
+{
+    const uint16_t counts = a->cfg->enc_counts;
+    int32_t d;
+
+    if (a->enc_primed == 0U) {
+        a->enc_last = m->qep_count;
+        a->enc_primed = 1U;
+        d = 0;
+    } else {
+        d = fold_counts((int32_t)m->qep_count - (int32_t)a->enc_last, counts);
+        a->enc_last = m->qep_count;
+        if ((int64_t)fix_abs32(d) * (int64_t)a->enc_k_iq > (int64_t)a->enc_jump_iq) {
+            latch_fault(a, APP_FAULT_ENCODER, 1);
+            return 1U;
+        }
+    }
+    if (m->qep_count >= counts) {
+        latch_fault(a, APP_FAULT_ENCODER, 1);
+        return 1U;
+    }
+    if (m->qep_index_seen != 0U) {
+        if (a->index_known == 0U) {
+            a->index_ref = m->qep_count;
+            a->index_known = 1U;
+        } else {
+            /* The pulse came during this period: now = ref + (part of d). Compare with the
+             * middle of that interval, allowing half the period's motion plus the slack. */
+            int32_t half_d = fix_rshift_rnd32(d, 1U);
+            int32_t e = fold_counts((int32_t)m->qep_count - (int32_t)a->index_ref - half_d, counts);
+            int32_t tol = fix_abs32(half_d) + (int32_t)APP_INDEX_TOL_COUNTS;
+            if (fix_abs32(e) > tol) {
+                latch_fault(a, APP_FAULT_ENCODER, 2);
+                return 1U;
+            }
+        }
+    }
+    return 0U;
+}
+
+/* Calibration period: accumulate the measured channels; after 2^APP_CAL_LOG2 samples set the
+ * offsets (rounded mean, a shift: no division) and check them and the DC link. */
+static void calibrate_step(app_core_t *a, const hal_meas_t *m)
+{
+    uint16_t k;
+    for (k = 0U; k < 2U; k++) {
+        uint16_t ch = a->meas_ch[k];
+        a->cal_sum[ch] += (uint32_t)m->adc[ch];
+    }
+    a->cal_n++;
+    if (a->cal_n < ((uint16_t)1U << APP_CAL_LOG2)) {
+        return;
+    }
+    for (k = 0U; k < 2U; k++) {
+        uint16_t ch = a->meas_ch[k];
+        uint32_t mean = (a->cal_sum[ch] + ((uint32_t)1U << (APP_CAL_LOG2 - 1U))) >> APP_CAL_LOG2;
+        int32_t dev = (int32_t)mean - (int32_t)a->cfg->adc_i_offset[ch];
+        if (fix_abs32(dev) > (int32_t)APP_OFFSET_TOL_COUNTS) {
+            latch_fault(a, APP_FAULT_ADC_OFFSET, (int16_t)ch);
+            return;
+        }
+        a->offset[ch] = (uint16_t)mean;
+    }
+    {
+        dtc_meas_t pu;
+        app_core_convert(a, m, &pu);
+        if (pu.vdc_iq < a->cfg->vdc_min_iq) {
+            latch_fault(a, APP_FAULT_DC_UNDERVOLTAGE, 0);
+            return;
+        }
+        if (pu.vdc_iq > a->cfg->vdc_max_iq) {
+            latch_fault(a, APP_FAULT_DC_OVERVOLTAGE, 0);
+            return;
+        }
+    }
+    dtc_reset(&a->dtc);
+    a->st.state = APP_STATE_RUN;
+}
+
+uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
+{
+    cmd->sa = 0U;
+    cmd->sb = 0U;
+    cmd->sc = 0U;
+    cmd->enable = 0U;
+    a->st.tick = m->tick;
+
+    if (a->clear_request != 0U) {
+        a->clear_request = 0U;
+        if (a->st.state == APP_STATE_FAULT && a->st.fault != (uint16_t)APP_FAULT_CONFIG) {
+            enter_calibrate(a);
+        }
+    }
+
+    switch (a->st.state) {
+    case APP_STATE_CALIBRATE:
+        /* Hardware trip still counts while calibrating. */
+        if (m->trip != 0U) {
+            latch_fault(a, APP_FAULT_HW_TRIP, 0);
+            return 1U;
+        }
+        calibrate_step(a, m);
+        return 1U; /* gates stay off until RUN */
+
+    case APP_STATE_RUN:
+        app_core_convert(a, m, &a->st.meas);
+        if (check_trips(a, m, &a->st.meas) != 0U || check_encoder(a, m) != 0U) {
+            return 1U;
+        }
+        dtc_step(&a->dtc, &a->st.meas, &a->st.out);
+        cmd->sa = a->st.out.sa;
+        cmd->sb = a->st.out.sb;
+        cmd->sc = a->st.out.sc;
+        cmd->enable = 1U;
+        return 0U;
+
+    case APP_STATE_INIT:
+    case APP_STATE_FAULT:
+    default:
+        return 1U;
+    }
+}
+
+const char *app_fault_name(uint16_t fault)
+{
+    switch (fault) {
+    case APP_FAULT_NONE: return "none";
+    case APP_FAULT_CONFIG: return "config";
+    case APP_FAULT_OVERCURRENT: return "overcurrent";
+    case APP_FAULT_DC_OVERVOLTAGE: return "dc_overvoltage";
+    case APP_FAULT_DC_UNDERVOLTAGE: return "dc_undervoltage";
+    case APP_FAULT_ENCODER: return "encoder";
+    case APP_FAULT_HW_TRIP: return "hw_trip";
+    case APP_FAULT_ADC_OFFSET: return "adc_offset";
+    default: return "unknown";
+    }
+}

@@ -1,0 +1,96 @@
+/*
+ * app_core.h - the drive's state machine and ISR body as a pure function of its state and one
+ * raw measurement (no HAL calls, so unit tests drive it directly; app.c binds it to the HAL).
+ *
+ *   INIT --app_core_init ok--> CALIBRATE --64 periods, offsets and DC link sane--> RUN
+ *     |                          |                                                  |
+ *     +--bad configuration-------+---------------- any trip ------------------------+--> FAULT
+ *   FAULT is latched with every gate off and a reason code; a clear request (background) takes
+ *   the drive back to CALIBRATE, unless the fault is the configuration.
+ *
+ * Per period (app_core_step): raw ADC/encoder counts -> per-unit (calibrated offsets, config
+ * gains) -> trip checks on THIS sample (phase over-current on all three currents, DC-link over-
+ * and under-voltage, hardware trip input, encoder plausibility) -> dtc_step -> leg command. A
+ * trip decided here turns the gates off in the same ISR that saw the sample.
+ *
+ * Formats: per-unit IQ (fixmath.h, dtc_base.h). Scaling and overflow: a count difference is at
+ * most +-4095 and the gains are IQ pu per count; the product is formed in 64 bits and saturates
+ * at +-128 pu, far beyond any trip level, so a saturated value still trips.
+ */
+#ifndef APP_CORE_H
+#define APP_CORE_H
+
+#include <stdint.h>
+
+#include "dtc.h"
+#include "hal.h"
+
+enum app_state {
+    APP_STATE_INIT = 0,
+    APP_STATE_CALIBRATE = 1, /* gates off, measuring the current-sensor offsets */
+    APP_STATE_RUN = 2,
+    APP_STATE_FAULT = 3      /* latched, gates off */
+};
+
+/* Fault reasons (stable numbers; app_fault_name() gives the text). */
+enum app_fault {
+    APP_FAULT_NONE = 0,
+    APP_FAULT_CONFIG = 1,         /* dtc_init refused the configuration (detail: enum dtc_err) */
+    APP_FAULT_OVERCURRENT = 2,    /* |i| > i_trip on a phase (detail: phase 0=A, 1=B, 2=C) */
+    APP_FAULT_DC_OVERVOLTAGE = 3, /* V_dc > vdc_max */
+    APP_FAULT_DC_UNDERVOLTAGE = 4,/* V_dc < vdc_min */
+    APP_FAULT_ENCODER = 5,        /* implausible count jump (detail 1) or index mismatch (2) */
+    APP_FAULT_HW_TRIP = 6,        /* hardware protection input (PDPINTA) */
+    APP_FAULT_ADC_OFFSET = 7      /* calibrated offset too far from nominal (detail: channel) */
+};
+
+/* Calibration: 2^APP_CAL_LOG2 samples averaged per current channel. */
+#define APP_CAL_LOG2 6U
+/* Largest accepted |calibrated - nominal| current offset, counts (5 % of full scale). */
+#define APP_OFFSET_TOL_COUNTS 205
+/* Index check: slack in counts beyond the motion of one period. */
+#define APP_INDEX_TOL_COUNTS 4
+
+typedef struct {
+    uint16_t state;       /* enum app_state */
+    uint16_t fault;       /* enum app_fault */
+    int16_t fault_detail; /* see enum app_fault */
+    uint32_t tick;        /* tick of the last processed measurement */
+    uint32_t fault_tick;  /* tick at which the fault latched */
+    dtc_meas_t meas;      /* last per-unit measurement (third current derived) */
+    dtc_out_t out;        /* last controller output (valid in RUN) */
+} app_status_t;
+
+typedef struct app_core {
+    const dtc_config_t *cfg;
+    dtc_t dtc;
+    app_status_t st;
+    uint16_t offset[3];    /* current-sensor offsets in use, counts */
+    uint32_t cal_sum[3];
+    uint16_t cal_n;
+    uint16_t meas_ch[2];   /* the two measured current channels (HAL_ADC_IA.. IC) */
+    iq_t enc_k_iq;         /* pu speed per count per CONTROL period (speed_k * speed_div) */
+    iq_t enc_jump_iq;      /* implausible speed: 2 x speed limit, pu */
+    uint16_t enc_last;
+    uint16_t enc_primed;
+    uint16_t index_ref;    /* count at the first index pulse */
+    uint16_t index_known;
+    volatile uint16_t clear_request; /* set by the background, adopted by the ISR */
+} app_core_t;
+
+/* Validates the configuration (dtc_init) and enters CALIBRATE. Returns 0 or the dtc_err code;
+ * on error the core is in FAULT with APP_FAULT_CONFIG. */
+int16_t app_core_init(app_core_t *a, const dtc_config_t *cfg);
+
+/* One control period: raw measurement in, leg command out. Returns 1 when the gates must be
+ * turned off NOW (a trip decided on this sample, or any period outside RUN), else 0. */
+uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd);
+
+/* Raw counts -> per-unit with the offsets in use (the derived third current included).
+ * Pure; also used by the HAL register tests. */
+void app_core_convert(const app_core_t *a, const hal_meas_t *m, dtc_meas_t *pu);
+
+/* Short text of a fault reason (never NULL). */
+const char *app_fault_name(uint16_t fault);
+
+#endif /* APP_CORE_H */

@@ -1,0 +1,365 @@
+/*
+ * test_app_core.c - the drive state machine and ISR body (firmware/app/app_core.h):
+ * calibration, per-unit conversion against a double reference, every trip on the very sample that
+ * exceeds its level (and not one LSB below it), latching with gates off, fault clearing, encoder
+ * plausibility, and that RUN forwards exactly what the controller decides.
+ */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <cmocka.h>
+
+#include "app_core.h"
+#include "dtc_config_si.h"
+#include "fixtest.h"
+
+typedef struct {
+    dtc_config_si_t si;
+    dtc_config_t cfg;
+    dtc_bases_t b;
+    app_core_t app;
+    hal_meas_t m;
+    hal_cmd_t cmd;
+} fx_t;
+
+static fx_t fx;
+
+/* ADC counts for a physical value (the inverse of the sensing chain the config describes). */
+static uint16_t i_counts(double amps, int offset)
+{
+    double c = floor(offset + amps / fx.si.adc_i_a_per_count + 0.5);
+    return (uint16_t)(c < 0 ? 0 : c > 4095 ? 4095 : c);
+}
+static uint16_t v_counts(double volts) { return (uint16_t)floor(volts / fx.si.adc_vdc_v_per_count + 0.5); }
+
+static void meas_idle(void)
+{
+    fx.m.adc[HAL_ADC_IA] = (uint16_t)fx.si.adc_i_offset[0];
+    fx.m.adc[HAL_ADC_IB] = (uint16_t)fx.si.adc_i_offset[1];
+    fx.m.adc[HAL_ADC_IC] = (uint16_t)fx.si.adc_i_offset[2];
+    fx.m.adc[HAL_ADC_VDC] = v_counts(fx.si.vdc_v);
+    fx.m.adc[HAL_ADC_VMID] = v_counts(fx.si.vdc_v / 2.0);
+    fx.m.qep_count = 100U;
+    fx.m.qep_index_seen = 0U;
+    fx.m.trip = 0U;
+}
+
+static uint16_t step(void)
+{
+    uint16_t off = app_core_step(&fx.app, &fx.m, &fx.cmd);
+    fx.m.tick++;
+    return off;
+}
+
+static void setup_topology(int topology)
+{
+    char msg[200];
+    dtc_config_si_defaults(&fx.si);
+    fx.si.topology = topology;
+    if (topology == DTC_TOPO_FSTP) {
+        fx.si.compensation = DTC_COMP_FSTP_PROPOSED;
+        fx.si.fstp_vmid_measured = 1;
+    } else {
+        fx.si.compensation = DTC_COMP_SSTP;
+    }
+    fx.si.mode = DTC_MODE_TORQUE;
+    if (dtc_config_from_si(&fx.si, &fx.cfg, msg, sizeof msg) != DTC_SI_OK) {
+        fail_msg("default configuration refused: %s", msg);
+    }
+    dtc_bases_from_si(&fx.si, &fx.b);
+    fx.m.tick = 0U;
+    meas_idle();
+}
+
+/* Init, then run the calibration with the given constant offset error on the measured channels. */
+static void run_to_state(int topology, int offset_error)
+{
+    uint16_t k;
+    setup_topology(topology);
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    assert_int_equal(fx.app.st.state, APP_STATE_CALIBRATE);
+    for (k = 0; k < 3; k++) {
+        fx.m.adc[k] = (uint16_t)(fx.si.adc_i_offset[k] + offset_error);
+    }
+    for (k = 0; k < (1U << APP_CAL_LOG2); k++) {
+        /* Gates stay off during the whole calibration. */
+        assert_int_equal(step(), 1);
+        assert_int_equal(fx.cmd.enable, 0);
+    }
+}
+
+static void test_calibration_finds_offsets_then_runs(void **state)
+{
+    (void)state;
+    run_to_state(DTC_TOPO_SSTP, 7);
+    assert_int_equal(fx.app.st.state, APP_STATE_RUN);
+    assert_int_equal(fx.app.offset[HAL_ADC_IA], fx.si.adc_i_offset[0] + 7);
+    assert_int_equal(fx.app.offset[HAL_ADC_IB], fx.si.adc_i_offset[1] + 7);
+    /* The first RUN period enables the gates. */
+    assert_int_equal(step(), 0);
+    assert_int_equal(fx.cmd.enable, 1);
+}
+
+static void test_calibration_mean_is_rounded_with_noise(void **state)
+{
+    uint16_t k;
+    (void)state;
+    setup_topology(DTC_TOPO_FSTP);
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    /* Alternating +3 / -2 counts around nominal+10: mean = nominal + 10.5 -> rounds to +11 (B)
+     * and a constant +10 on C. FSTP calibrates B and C only. */
+    for (k = 0; k < (1U << APP_CAL_LOG2); k++) {
+        fx.m.adc[HAL_ADC_IB] = (uint16_t)(fx.si.adc_i_offset[1] + 10 + ((k & 1U) ? 3 : -2));
+        fx.m.adc[HAL_ADC_IC] = (uint16_t)(fx.si.adc_i_offset[2] + 10);
+        fx.m.adc[HAL_ADC_IA] = 0U; /* not fitted on the FSTP board: must not matter */
+        step();
+    }
+    assert_int_equal(fx.app.st.state, APP_STATE_RUN);
+    assert_int_equal(fx.app.offset[HAL_ADC_IB], fx.si.adc_i_offset[1] + 11);
+    assert_int_equal(fx.app.offset[HAL_ADC_IC], fx.si.adc_i_offset[2] + 10);
+    assert_int_equal(fx.app.offset[HAL_ADC_IA], fx.si.adc_i_offset[0]);
+}
+
+static void test_offset_too_far_is_a_fault(void **state)
+{
+    (void)state;
+    run_to_state(DTC_TOPO_SSTP, APP_OFFSET_TOL_COUNTS + 1);
+    assert_int_equal(fx.app.st.state, APP_STATE_FAULT);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_ADC_OFFSET);
+    run_to_state(DTC_TOPO_SSTP, -APP_OFFSET_TOL_COUNTS);
+    assert_int_equal(fx.app.st.state, APP_STATE_RUN);
+}
+
+static void test_bad_config_latches_config_fault(void **state)
+{
+    uint16_t k;
+    (void)state;
+    setup_topology(DTC_TOPO_SSTP);
+    fx.cfg.version = (uint16_t)(DTC_CONFIG_VERSION + 1U);
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), DTC_ERR_VERSION);
+    assert_int_equal(fx.app.st.state, APP_STATE_FAULT);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_CONFIG);
+    assert_int_equal(fx.app.st.fault_detail, DTC_ERR_VERSION);
+    fx.app.clear_request = 1U; /* a configuration fault cannot be cleared */
+    for (k = 0; k < 200; k++) {
+        assert_int_equal(step(), 1);
+        assert_int_equal(fx.cmd.enable, 0);
+    }
+    assert_int_equal(fx.app.st.fault, APP_FAULT_CONFIG);
+}
+
+static void test_conversion_matches_double_reference(void **state)
+{
+    int c;
+    (void)state;
+    run_to_state(DTC_TOPO_SSTP, 0);
+    for (c = 0; c <= 4095; c += 3) {
+        dtc_meas_t pu;
+        double ia_ref, ib_ref, vdc_ref, err_lsb;
+        fx.m.adc[HAL_ADC_IA] = (uint16_t)c;
+        fx.m.adc[HAL_ADC_IB] = (uint16_t)(4095 - c);
+        fx.m.adc[HAL_ADC_VDC] = (uint16_t)c;
+        app_core_convert(&fx.app, &fx.m, &pu);
+        ia_ref = (c - fx.si.adc_i_offset[0]) * fx.si.adc_i_a_per_count / fx.b.i_base_a;
+        ib_ref = ((4095 - c) - fx.si.adc_i_offset[1]) * fx.si.adc_i_a_per_count / fx.b.i_base_a;
+        vdc_ref = c * fx.si.adc_vdc_v_per_count / fx.b.v_base_v;
+        /* The gain is rounded to 0.5 LSB of Q24, so the error grows with the count difference:
+         * bound = 0.5 LSB x |counts| + 0.5 LSB. */
+        err_lsb = 0.5 * fabs((double)(c - fx.si.adc_i_offset[0])) + 0.5;
+        fixtest_assert_lsb(fixtest_iq_to_d(pu.ia_iq), ia_ref, ldexp(1.0, -FIX_IQ_Q), err_lsb, "ia");
+        err_lsb = 0.5 * fabs((double)((4095 - c) - fx.si.adc_i_offset[1])) + 0.5;
+        fixtest_assert_lsb(fixtest_iq_to_d(pu.ib_iq), ib_ref, ldexp(1.0, -FIX_IQ_Q), err_lsb, "ib");
+        /* Kirchhoff: the third current is minus the sum of the two measured ones, exactly. */
+        assert_int_equal(pu.ic_iq, -(pu.ia_iq + pu.ib_iq));
+        fixtest_assert_lsb(fixtest_iq_to_d(pu.vdc_iq), vdc_ref, ldexp(1.0, -FIX_IQ_Q), 0.5 * c + 0.5, "vdc");
+    }
+}
+
+/* Over-current: trips on the sample that exceeds i_trip on any phase (the derived one too), not
+ * on the one just below; gates off at once and they stay off. */
+static void test_overcurrent_trips_on_the_sample(void **state)
+{
+    const double lsb_a = fx.si.adc_i_a_per_count;
+    double trip_a;
+    uint16_t k;
+    (void)state;
+    run_to_state(DTC_TOPO_SSTP, 0);
+    trip_a = fixtest_iq_to_d(fx.cfg.i_trip_iq) * fx.b.i_base_a;
+    /* Highest count not above the trip level on phase B: no trip. */
+    fx.m.adc[HAL_ADC_IB] = (uint16_t)(fx.si.adc_i_offset[1] + (int)floor(trip_a / lsb_a - 1e-9));
+    fx.m.adc[HAL_ADC_IA] = (uint16_t)(fx.si.adc_i_offset[0] - (int)floor(trip_a / lsb_a - 1e-9) / 2);
+    assert_int_equal(step(), 0);
+    assert_int_equal(fx.app.st.state, APP_STATE_RUN);
+    /* One count more: trip on this sample. */
+    fx.m.adc[HAL_ADC_IB]++;
+    assert_int_equal(step(), 1);
+    assert_int_equal(fx.cmd.enable, 0);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_OVERCURRENT);
+    assert_int_equal(fx.app.st.fault_detail, 1);
+    assert_int_equal(fx.app.st.fault_tick, fx.m.tick - 1U);
+    /* Latched: back to normal currents, the gates stay off. */
+    meas_idle();
+    for (k = 0; k < 100; k++) {
+        assert_int_equal(step(), 1);
+        assert_int_equal(fx.cmd.enable, 0);
+    }
+    assert_int_equal(fx.app.st.state, APP_STATE_FAULT);
+
+    /* The unmeasured phase C = -(A + B) trips too, although A and B are each below the level. */
+    run_to_state(DTC_TOPO_SSTP, 0);
+    fx.m.adc[HAL_ADC_IA] = i_counts(0.6 * trip_a, fx.si.adc_i_offset[0]);
+    fx.m.adc[HAL_ADC_IB] = i_counts(0.6 * trip_a, fx.si.adc_i_offset[1]);
+    assert_int_equal(step(), 1);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_OVERCURRENT);
+    assert_int_equal(fx.app.st.fault_detail, 2);
+}
+
+static void test_dc_link_window(void **state)
+{
+    (void)state;
+    run_to_state(DTC_TOPO_FSTP, 0);
+    fx.m.adc[HAL_ADC_VDC] = v_counts(fx.si.vdc_max_v - 0.5);
+    assert_int_equal(step(), 0);
+    fx.m.adc[HAL_ADC_VDC] = v_counts(fx.si.vdc_max_v + 0.5);
+    assert_int_equal(step(), 1);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_DC_OVERVOLTAGE);
+
+    run_to_state(DTC_TOPO_FSTP, 0);
+    fx.m.adc[HAL_ADC_VDC] = v_counts(fx.si.vdc_min_v + 0.5);
+    assert_int_equal(step(), 0);
+    fx.m.adc[HAL_ADC_VDC] = v_counts(fx.si.vdc_min_v - 0.5);
+    assert_int_equal(step(), 1);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_DC_UNDERVOLTAGE);
+
+    /* A DC link that is absent at the end of calibration never lets the drive run. */
+    setup_topology(DTC_TOPO_SSTP);
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    fx.m.adc[HAL_ADC_VDC] = v_counts(10.0);
+    while (fx.app.st.state == APP_STATE_CALIBRATE) {
+        assert_int_equal(step(), 1);
+    }
+    assert_int_equal(fx.app.st.fault, APP_FAULT_DC_UNDERVOLTAGE);
+}
+
+static void test_hw_trip_and_clear(void **state)
+{
+    uint16_t k;
+    (void)state;
+    run_to_state(DTC_TOPO_SSTP, 0);
+    fx.m.trip = 1U;
+    assert_int_equal(step(), 1);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_HW_TRIP);
+    fx.m.trip = 0U;
+    assert_int_equal(step(), 1); /* still latched without a clear request */
+    fx.app.clear_request = 1U;
+    for (k = 0; k < (1U << APP_CAL_LOG2); k++) {
+        assert_int_equal(step(), 1); /* recalibrates with the gates off */
+        assert_int_equal(fx.app.st.state, k + 1U < (1U << APP_CAL_LOG2) ? APP_STATE_CALIBRATE : APP_STATE_RUN);
+    }
+    assert_int_equal(step(), 0);
+    assert_int_equal(fx.cmd.enable, 1);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_NONE);
+}
+
+/* Encoder: constant rotation with an index pulse each turn is healthy; a jump worth more than
+ * twice the speed limit, or an index pulse at a shifted count (lost counts), is a fault. */
+static void test_encoder_plausibility(void **state)
+{
+    const uint16_t n = 8000U;
+    const uint16_t per_period = 20U; /* 20 counts / 50 us = 3000 rpm, the rated speed */
+    uint32_t pos = 123U;
+    uint16_t k;
+    (void)state;
+    run_to_state(DTC_TOPO_SSTP, 0);
+    for (k = 0; k < 2000; k++) { /* five turns */
+        uint32_t next = pos + per_period;
+        fx.m.qep_index_seen = (uint16_t)((next / n) != (pos / n));
+        pos = next;
+        fx.m.qep_count = (uint16_t)(pos % n);
+        assert_int_equal(step(), 0);
+    }
+    /* Lose 30 counts (noise on the A/B lines): the counter now reads the true shaft position
+     * minus 30, while the index pulse still comes from the true position, so the next pulse is
+     * seen 30 counts away from where the first one was. */
+    {
+        const uint32_t lost = 30U;
+        fx.m.qep_count = (uint16_t)((pos - lost) % n);
+        fx.m.qep_index_seen = 0U;
+        assert_int_equal(step(), 0); /* -30 counts in one period is below the jump limit */
+        while (fx.app.st.state == APP_STATE_RUN) {
+            uint32_t next = pos + per_period;
+            fx.m.qep_index_seen = (uint16_t)((next / n) != (pos / n));
+            pos = next;
+            fx.m.qep_count = (uint16_t)((pos - lost) % n);
+            (void)step();
+            assert_true(pos < 200000U);
+        }
+    }
+    assert_int_equal(fx.app.st.fault, APP_FAULT_ENCODER);
+    assert_int_equal(fx.app.st.fault_detail, 2);
+
+    /* A glitch of a quarter turn in one period (15000 rpm x 20) is implausible. */
+    run_to_state(DTC_TOPO_SSTP, 0);
+    fx.m.qep_count = 100U;
+    assert_int_equal(step(), 0);
+    fx.m.qep_count = 2100U;
+    assert_int_equal(step(), 1);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_ENCODER);
+    assert_int_equal(fx.app.st.fault_detail, 1);
+}
+
+/* In RUN the command is exactly what dtc_step decides on the same per-unit measurement. */
+static void test_run_forwards_controller_decision(void **state)
+{
+    dtc_t ref;
+    uint16_t k;
+    (void)state;
+    run_to_state(DTC_TOPO_SSTP, 0);
+    assert_int_equal(dtc_init(&ref, &fx.cfg), DTC_OK);
+    dtc_reset(&ref);
+    for (k = 0; k < 500; k++) {
+        dtc_meas_t pu;
+        dtc_out_t o;
+        double th = 2.0 * FIXTEST_PI * k / 400.0;
+        fx.m.adc[HAL_ADC_IA] = i_counts(2.0 * cos(th), fx.si.adc_i_offset[0]);
+        fx.m.adc[HAL_ADC_IB] = i_counts(2.0 * cos(th - 2.0 * FIXTEST_PI / 3.0), fx.si.adc_i_offset[1]);
+        fx.m.qep_count = (uint16_t)((k * 20U) % 8000U);
+        app_core_convert(&fx.app, &fx.m, &pu);
+        dtc_step(&ref, &pu, &o);
+        assert_int_equal(step(), 0);
+        assert_int_equal(fx.cmd.enable, 1);
+        assert_int_equal(fx.cmd.sa, o.sa);
+        assert_int_equal(fx.cmd.sb, o.sb);
+        assert_int_equal(fx.cmd.sc, o.sc);
+        assert_int_equal(fx.app.st.out.vector, o.vector);
+    }
+}
+
+static void test_fault_names(void **state)
+{
+    (void)state;
+    assert_string_equal(app_fault_name(APP_FAULT_NONE), "none");
+    assert_string_equal(app_fault_name(APP_FAULT_OVERCURRENT), "overcurrent");
+    assert_string_equal(app_fault_name(APP_FAULT_ENCODER), "encoder");
+    assert_string_equal(app_fault_name(999U), "unknown");
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_calibration_finds_offsets_then_runs),
+        cmocka_unit_test(test_calibration_mean_is_rounded_with_noise),
+        cmocka_unit_test(test_offset_too_far_is_a_fault),
+        cmocka_unit_test(test_bad_config_latches_config_fault),
+        cmocka_unit_test(test_conversion_matches_double_reference),
+        cmocka_unit_test(test_overcurrent_trips_on_the_sample),
+        cmocka_unit_test(test_dc_link_window),
+        cmocka_unit_test(test_hw_trip_and_clear),
+        cmocka_unit_test(test_encoder_plausibility),
+        cmocka_unit_test(test_run_forwards_controller_decision),
+        cmocka_unit_test(test_fault_names),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
