@@ -136,6 +136,11 @@ int plant_set_max_step(plant_t *plant, double max_step_s, char *err, size_t err_
 
 void plant_get_stats(const plant_t *plant, plant_stats_t *st);
 
+/* Set the phase currents (A) directly, e.g. to start a test from a known operating point.
+ * Returns -1 unless |i_a + i_b + i_c| <= 1e-12 * (|i_a| + |i_b| + |i_c|) (isolated neutral).
+ * The stored magnetic energy changes with it (energy accounting starts from the new state). */
+int plant_set_phase_currents(plant_t *plant, double i_a, double i_b, double i_c);
+
 #ifdef __cplusplus
 }
 #endif

@@ -869,4 +869,14 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
 
 void plant_get_stats(const plant_t *plant, plant_stats_t *st) { *st = plant->stats; }
 
+int plant_set_phase_currents(plant_t *plant, double i_a, double i_b, double i_c) {
+    const double sum = i_a + i_b + i_c;
+    const double mag = std::fabs(i_a) + std::fabs(i_b) + std::fabs(i_c);
+    if (!std::isfinite(mag) || std::fabs(sum) > 1e-12 * mag) return -1;
+    plant->y[S_IA] = i_a;
+    plant->y[S_IB] = i_b;
+    plant->y[S_IC] = i_c;
+    return 0;
+}
+
 }  // extern "C"
