@@ -62,6 +62,19 @@ struct Mode {
     int ph[3];  // PhaseMode per phase
 };
 
+// Per-step constants of the conduction mode, so the right-hand side is branch-light.
+struct Prep {
+    int nk;             // conducting phases
+    double inv_nk;
+    double cond[3];     // 1 conducting, 0 blocked
+    double a_lo[3], a_hi[3], c[3];  // path voltage = a_lo vc_lo + a_hi vc_hi + c (c includes -v_f)
+    double r[3];        // device resistance in the path
+    double rtot[3];     // R_s + r
+    double dev_d[3];    // v_f of a device path (0 otherwise), for the loss term (d + r i) i
+    double dev[3];      // 1 for a device path
+    double plus[3], mid[3], src[3];
+};
+
 struct Aux {
     double te, tload, vn0;
     double vx0[3];
@@ -96,8 +109,18 @@ struct plant {
     double last_dt;
     Mode mode;
     Leg legs[3];
-    // sin/cos cache for the step being taken.
+    // sin/cos cache for the step being taken (advanced by a short rotation from step to step and
+    // re-synchronised with the library sin/cos every 256 steps).
     double th0, c0, s0;
+    unsigned sync_count;
+    // Reciprocals used in the right-hand side.
+    double inv_l, inv_j, inv_c_lo, inv_c_hi, inv_rdc;
+    Prep prep;
+    // Taylor coefficients (in delta = theta_e - th0) of dpsi_pm,x/dtheta_e for the step being taken:
+    // dpsi_x(th0 + d) = sum_k emf_tc[x][k] d^k, k = 0..5; valid while |n_max d| < 0.2.
+    double emf_tc[3][6];
+    double tc_range;
+    bool tc_valid;
     plant_stats_t stats;
 };
 
@@ -117,6 +140,11 @@ void derive(plant_t *pl) {
     } else {
         pl->c_lo = pl->c_hi = p.c_dc_f;
     }
+    pl->inv_l = 1.0 / p.ls_h;
+    pl->inv_j = 1.0 / p.j_kgm2;
+    pl->inv_c_lo = (pl->c_lo > 0.0) ? 1.0 / pl->c_lo : 0.0;
+    pl->inv_c_hi = (pl->c_hi > 0.0) ? 1.0 / pl->c_hi : 0.0;
+    pl->inv_rdc = (p.r_dc_ohm > 0.0) ? 1.0 / p.r_dc_ohm : 0.0;
     pl->has_harm = false;
     for (int x = 0; x < 3; ++x) {
         const double g = p.psi_m_wb * p.emf_gain[x];
@@ -175,6 +203,56 @@ inline void pm_flux(const plant_t *pl, double theta_e, double dpsi[3], double *p
     }
 }
 
+// Per-step Taylor expansion of dpsi_pm,x/dtheta_e around th0 (the cache angle). For harmonic n,
+// d^k/dtheta^k [-A sin(n u)] = -A n^k sin(n u + k pi/2); divided by k!. Remainder of the order-5
+// series: (n_max |d|)^6 / 720 relative to the harmonic's amplitude (< 9e-8 at the 0.2 limit).
+void setup_emf_taylor(plant_t *pl) {
+    const double c = pl->c0, s = pl->s0;
+    const double ch = -0.5, sh = kSqrt3 / 2.0;
+    const double cx[3] = {c, c * ch + s * sh, c * ch - s * sh};
+    const double sx[3] = {s, s * ch - c * sh, s * ch + c * sh};
+    static const double inv_fact[6] = {1.0, 1.0, 0.5, 1.0 / 6.0, 1.0 / 24.0, 1.0 / 120.0};
+    for (int x = 0; x < 3; ++x) {
+        const double *a = pl->emf_amp[x];
+        double cn[4], sn[4];
+        cn[0] = cx[x];
+        sn[0] = sx[x];
+        const int nh = pl->has_harm ? 4 : 1;
+        if (pl->has_harm) {
+            const double c1 = cx[x], s1 = sx[x];
+            const double c2 = c1 * c1 - s1 * s1, s2 = 2.0 * c1 * s1;
+            cn[1] = c2 * c1 - s2 * s1; sn[1] = s2 * c1 + c2 * s1;
+            cn[2] = cn[1] * c2 - sn[1] * s2; sn[2] = sn[1] * c2 + cn[1] * s2;
+            cn[3] = cn[2] * c2 - sn[2] * s2; sn[3] = sn[2] * c2 + cn[2] * s2;
+        }
+        static const double nn[4] = {1.0, 3.0, 5.0, 7.0};
+        for (int k = 0; k < 6; ++k) pl->emf_tc[x][k] = 0.0;
+        for (int h = 0; h < nh; ++h) {
+            double nk = 1.0;
+            for (int k = 0; k < 6; ++k) {
+                // sin(nu + k pi/2): sin, cos, -sin, -cos, ...
+                const double sk = (k % 4 == 0) ? sn[h] : (k % 4 == 1) ? cn[h] : (k % 4 == 2) ? -sn[h] : -cn[h];
+                pl->emf_tc[x][k] -= a[h] * nk * sk * inv_fact[k];
+                nk *= nn[h];
+            }
+        }
+    }
+    pl->tc_range = pl->has_harm ? 0.2 / 7.0 : 0.2;
+    pl->tc_valid = true;
+}
+
+inline void dpsi_fast(const plant_t *pl, double theta_e, double dpsi[3]) {
+    const double d = theta_e - pl->th0;
+    if (pl->tc_valid && std::fabs(d) < pl->tc_range) {
+        for (int x = 0; x < 3; ++x) {
+            const double *t = pl->emf_tc[x];
+            dpsi[x] = t[0] + d * (t[1] + d * (t[2] + d * (t[3] + d * (t[4] + d * t[5]))));
+        }
+    } else {
+        pm_flux(pl, theta_e, dpsi, nullptr);
+    }
+}
+
 inline void rails(const plant_t *pl, const Vec &y, double rv[4], int x) {
     rv[RAIL_ZERO] = 0.0;
     rv[RAIL_PLUS] = y[S_VCLO] + y[S_VCHI];
@@ -197,88 +275,105 @@ double load_torque(const plant_t *pl, double omega, double te) {
     }
 }
 
-// Right-hand side for a fixed conduction mode.
+void make_prep(plant_t *pl, const Mode &m, Prep &q) {
+    const plant_params_t &p = pl->p;
+    double vsrc[3] = {0.0, 0.0, 0.0};
+    if (p.inverter == PLANT_INVERTER_IDEAL) {
+        // Ideal source: phase voltages from the inverse amplitude-invariant Clarke transform.
+        const double va = pl->v_set_alpha, vb = pl->v_set_beta;
+        vsrc[0] = va;
+        vsrc[1] = -0.5 * va + 0.5 * kSqrt3 * vb;
+        vsrc[2] = -0.5 * va - 0.5 * kSqrt3 * vb;
+    }
+    q.nk = 0;
+    for (int x = 0; x < 3; ++x) {
+        const bool blk = (m.ph[x] == PH_BLOCKED);
+        const Path &pa = (m.ph[x] == PH_NEG) ? pl->legs[x].neg : pl->legs[x].pos;
+        q.cond[x] = blk ? 0.0 : 1.0;
+        q.a_lo[x] = (pa.rail == RAIL_PLUS || pa.rail == RAIL_MID) ? 1.0 : 0.0;
+        q.a_hi[x] = (pa.rail == RAIL_PLUS) ? 1.0 : 0.0;
+        q.c[x] = ((pa.rail == RAIL_SRC) ? vsrc[x] : 0.0) - pa.d;
+        q.r[x] = pa.r;
+        q.rtot[x] = p.rs_ohm + pa.r;
+        q.dev[x] = (pl->legs[x].device && !blk) ? 1.0 : 0.0;
+        q.dev_d[x] = pa.d;
+        q.plus[x] = (!blk && pa.rail == RAIL_PLUS) ? 1.0 : 0.0;
+        q.mid[x] = (!blk && pa.rail == RAIL_MID) ? 1.0 : 0.0;
+        q.src[x] = (!blk && pa.rail == RAIL_SRC) ? 1.0 : 0.0;
+        if (!blk) ++q.nk;
+    }
+    q.inv_nk = (q.nk > 0) ? 1.0 / q.nk : 0.0;
+}
+
+// Neutral voltage when every phase is blocked: centre of the feasible range.
+double vn0_all_blocked(const plant_t *pl, const Vec &y, const double e[3]) {
+    double lo = -1e300, hi = 1e300;
+    for (int x = 0; x < 3; ++x) {
+        double rv[4];
+        rails(pl, y, rv, x);
+        const double a = path_v(pl->legs[x].pos, rv), b = path_v(pl->legs[x].neg, rv);
+        lo = std::max(lo, std::min(a, b) - e[x]);
+        hi = std::min(hi, std::max(a, b) - e[x]);
+    }
+    return 0.5 * (lo + hi);
+}
+
+// Right-hand side for a fixed conduction mode (pl->prep must match m).
 void rhs(plant_t *pl, const Vec &y, const Mode &m, Vec &dy, Aux *aux) {
     ++pl->stats.evals;
     const plant_params_t &p = pl->p;
+    const Prep &q = pl->prep;
     const double pp = p.pole_pairs;
-    const double theta_e = pp * y[S_THETA];
-    const double omega_e = pp * y[S_OMEGA];
+    const double omega = y[S_OMEGA];
+    const double omega_e = pp * omega;
     double dpsi[3];
-    pm_flux(pl, theta_e, dpsi, nullptr);
-    double e[3], vp[3], rr[3];
-    int nk = 0;
+    dpsi_fast(pl, pp * y[S_THETA], dpsi);
+    const double vlo = y[S_VCLO], vhi = y[S_VCHI];
+    double e[3], vp[3], ix[3];
     double sum = 0.0;
     for (int x = 0; x < 3; ++x) {
+        ix[x] = y[S_IA + x];
         e[x] = omega_e * dpsi[x];
-        if (m.ph[x] != PH_BLOCKED) {
-            double rv[4];
-            rails(pl, y, rv, x);
-            const Path &pa = (m.ph[x] == PH_POS) ? pl->legs[x].pos : pl->legs[x].neg;
-            vp[x] = path_v(pa, rv);
-            rr[x] = pa.r;
-            sum += vp[x] - (p.rs_ohm + rr[x]) * y[S_IA + x] - e[x];
-            ++nk;
-        }
+        vp[x] = q.a_lo[x] * vlo + q.a_hi[x] * vhi + q.c[x];
+        sum += q.cond[x] * (vp[x] - q.rtot[x] * ix[x] - e[x]);
     }
-    double vn0 = 0.0;
+    const double vn0 = (q.nk >= 2) ? sum * q.inv_nk : vn0_all_blocked(pl, y, e);
     double vx0[3];
-    const double inv_l = 1.0 / p.ls_h;
     double te = 0.0, p_cu = 0.0, p_dev = 0.0, i_plus = 0.0, i_mid = 0.0, p_src = 0.0;
-    if (nk >= 2) {
-        vn0 = sum / nk;
-    } else {
-        // All blocked: the neutral floats; report the centre of the feasible range.
-        double lo = -1e300, hi = 1e300;
-        for (int x = 0; x < 3; ++x) {
-            double rv[4];
-            rails(pl, y, rv, x);
-            const double a = path_v(pl->legs[x].pos, rv), b = path_v(pl->legs[x].neg, rv);
-            lo = std::max(lo, std::min(a, b) - e[x]);
-            hi = std::min(hi, std::max(a, b) - e[x]);
-        }
-        vn0 = 0.5 * (lo + hi);
-    }
     for (int x = 0; x < 3; ++x) {
-        const double i = y[S_IA + x];
-        if (m.ph[x] != PH_BLOCKED) {
-            dy[S_IA + x] = (vp[x] - (p.rs_ohm + rr[x]) * i - e[x] - vn0) * inv_l;
-            vx0[x] = vp[x] - rr[x] * i;
-            const Path &pa = (m.ph[x] == PH_POS) ? pl->legs[x].pos : pl->legs[x].neg;
-            if (pl->legs[x].device) p_dev += (pa.d + pa.r * i) * i;
-            if (pa.rail == RAIL_PLUS) i_plus += i;
-            if (pa.rail == RAIL_MID) i_mid += i;
-            if (pa.rail == RAIL_SRC) p_src += vx0[x] * i;
-        } else {
-            dy[S_IA + x] = 0.0;
-            vx0[x] = vn0 + e[x];
-        }
+        const double i = ix[x];
+        const double vc = vp[x] - q.r[x] * i;
+        dy[S_IA + x] = q.cond[x] * (vp[x] - q.rtot[x] * i - e[x] - vn0) * pl->inv_l;
+        vx0[x] = q.cond[x] * vc + (1.0 - q.cond[x]) * (vn0 + e[x]);  // blocked: floating terminal
+        p_dev += q.dev[x] * (q.dev_d[x] + q.r[x] * i) * i;
+        i_plus += q.plus[x] * i;
+        i_mid += q.mid[x] * i;
+        p_src += q.src[x] * vc * i;
         te += i * dpsi[x];
-        p_cu += p.rs_ohm * i * i;
+        p_cu += i * i;
     }
+    (void)m;
+    p_cu *= p.rs_ohm;
     te *= pp;
-    const double omega = y[S_OMEGA];
     const double tl = load_torque(pl, omega, te);
     dy[S_THETA] = omega;
-    dy[S_OMEGA] = (p.load == PLANT_LOAD_SPEED) ? 0.0 : (te - p.b_nms * omega - tl) / p.j_kgm2;
+    dy[S_OMEGA] = (p.load == PLANT_LOAD_SPEED) ? 0.0 : (te - p.b_nms * omega - tl) * pl->inv_j;
     // DC link.
-    const double vlink = y[S_VCLO] + y[S_VCHI];
-    double p_dc = 0.0, p_rdc = 0.0;
+    double p_dc, p_rdc = 0.0;
     if (p.inverter == PLANT_INVERTER_IDEAL) {
         dy[S_VCLO] = dy[S_VCHI] = 0.0;
         p_dc = p_src;
     } else if (!p.finite_dc_link) {
         dy[S_VCLO] = dy[S_VCHI] = 0.0;
-        p_dc = vlink * i_plus + y[S_VCLO] * i_mid;
+        p_dc = (vlo + vhi) * i_plus + vlo * i_mid;
     } else {
-        const double i_s = (p.vdc_v - vlink) / p.r_dc_ohm;
+        const double i_s = (p.vdc_v - (vlo + vhi)) * pl->inv_rdc;
         if (p.inverter == PLANT_INVERTER_FSTP) {
-            dy[S_VCHI] = (i_s - i_plus) / pl->c_hi;
-            dy[S_VCLO] = (i_s - i_plus - i_mid) / pl->c_lo;
+            dy[S_VCHI] = (i_s - i_plus) * pl->inv_c_hi;
+            dy[S_VCLO] = (i_s - i_plus - i_mid) * pl->inv_c_lo;
         } else {
             // SSTP: one capacitor of 2*c_dc_f (c_lo holds that value, see derive()).
-            const double dvl = (i_s - i_plus) / pl->c_lo;
-            dy[S_VCLO] = dy[S_VCHI] = 0.5 * dvl;
+            dy[S_VCLO] = dy[S_VCHI] = 0.5 * (i_s - i_plus) * pl->inv_c_lo;
         }
         p_dc = p.vdc_v * i_s;
         p_rdc = p.r_dc_ohm * i_s * i_s;
@@ -289,8 +384,8 @@ void rhs(plant_t *pl, const Vec &y, const Mode &m, Vec &dy, Aux *aux) {
     dy[S_EFRIC] = p.b_nms * omega * omega;
     dy[S_ELOAD] = tl * omega;
     dy[S_ERDC] = p_rdc;
-    dy[S_IVA] = (2.0 * vx0[0] - vx0[1] - vx0[2]) / 3.0;  // Hoang eqs. (1)-(4)
-    dy[S_IVB] = (vx0[1] - vx0[2]) / kSqrt3;              // Hoang eq. (5)
+    dy[S_IVA] = (2.0 * vx0[0] - vx0[1] - vx0[2]) * (1.0 / 3.0);  // Hoang eqs. (1)-(4)
+    dy[S_IVB] = (vx0[1] - vx0[2]) * (1.0 / kSqrt3);              // Hoang eq. (5)
     dy[S_IVA0] = vx0[0];
     dy[S_IVB0] = vx0[1];
     dy[S_IVC0] = vx0[2];
@@ -493,11 +588,22 @@ double event_g(plant_t *pl, const Vec &y, const Mode &m, const bool active[3]) {
 // One step of at most h with mode selection and event location. Returns the time advanced.
 double step(plant_t *pl, double h) {
     Vec &y = pl->y;
-    pl->th0 = pl->p.pole_pairs * y[S_THETA];
-    pl->c0 = std::cos(pl->th0);
-    pl->s0 = std::sin(pl->th0);
+    const double th = pl->p.pole_pairs * y[S_THETA];
+    if (++pl->sync_count >= 256 || std::fabs(th - pl->th0) >= 0.25) {
+        pl->sync_count = 0;
+        pl->c0 = std::cos(th);
+        pl->s0 = std::sin(th);
+    } else {
+        double c, s;
+        fast_sincos(pl, th, c, s);
+        pl->c0 = c;
+        pl->s0 = s;
+    }
+    pl->th0 = th;
+    setup_emf_taylor(pl);
     const Mode m = select_mode(pl, y);
     pl->mode = m;
+    make_prep(pl, m, pl->prep);
     Vec k1, y1;
     rhs(pl, y, m, k1, nullptr);
     rk4(pl, y, m, h, k1, y1);
@@ -723,6 +829,8 @@ plant_t *plant_create(const plant_params_t *p, char *err, size_t err_len) {
     pl->th0 = 0.0;
     pl->c0 = 1.0;
     pl->s0 = 0.0;
+    pl->sync_count = 0;
+    pl->tc_valid = false;
     std::memset(&pl->stats, 0, sizeof(pl->stats));
     build_legs(pl);
     return pl;
@@ -809,9 +917,6 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
     const Vec &y = pl->y;
     const double pp = p.pole_pairs;
     const double theta_e = pp * y[S_THETA];
-    pl->th0 = theta_e;
-    pl->c0 = std::cos(theta_e);
-    pl->s0 = std::sin(theta_e);
     double dpsi[3], psi[3];
     pm_flux(pl, theta_e, dpsi, psi);
     s->t_s = pl->t;
@@ -860,10 +965,12 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
     } else if (p.inverter == PLANT_INVERTER_FSTP) {
         s->e_capacitor_j = 0.5 * pl->c_lo * y[S_VCLO] * y[S_VCLO] + 0.5 * pl->c_hi * y[S_VCHI] * y[S_VCHI];
     }
-    const Mode m = select_mode(pl, y);
     int mask = 0;
-    for (int x = 0; x < 3; ++x)
-        if (m.ph[x] == PH_BLOCKED) mask |= 1 << x;
+    if (y[S_IA] == 0.0 || y[S_IB] == 0.0 || y[S_IC] == 0.0) {
+        const Mode m = select_mode(pl, y);
+        for (int x = 0; x < 3; ++x)
+            if (m.ph[x] == PH_BLOCKED) mask |= 1 << x;
+    }
     s->blocked_mask = mask;
 }
 
