@@ -767,7 +767,7 @@ void plant_params_default(plant_params_t *p) {
     p->inverter = PLANT_INVERTER_SSTP;
     p->vdc_v = 70.0;
     p->r_dc_ohm = 0.2;
-    p->c_dc_f = 1000e-6;
+    p->c_dc_f = 2200e-6;
     // Hoang Table IV.
     p->v_ce_v = 0.9;
     p->v_d_v = 1.25;
