@@ -82,10 +82,10 @@ int main(int argc, char **argv) {
     std::printf("bench_plant: %.1f s simulated per case, 50 us periods, max_step %.1f us, dead time %.1f us\n",
                 sim_s, p.max_step_s * 1e6, p.dead_time_s * 1e6);
     std::printf("%-44s %9s  %18s\n", "case", "x realtime", "cost");
-    line("FSTP full fidelity (default step 25 us)", p, sim_s);
+    line("FSTP full fidelity (default max_step 50 us)", p, sim_s);
     plant_params_t q = p;
-    q.max_step_s = 50e-6;
-    line("FSTP full fidelity, max_step 50 us", q, sim_s);
+    q.max_step_s = 25e-6;
+    line("FSTP full fidelity, max_step 25 us", q, sim_s);
     q = p;
     q.max_step_s = 12.5e-6;
     line("FSTP full fidelity, max_step 12.5 us", q, sim_s);

@@ -762,7 +762,7 @@ void plant_params_default(plant_params_t *p) {
     p->pole_pairs = 1;
     for (int x = 0; x < 3; ++x) p->emf_gain[x] = 1.0;
     // Mechanics: docs/plant.md ("Inertia and friction") gives the derivation.
-    p->j_kgm2 = 4.0e-5;
+    p->j_kgm2 = 1.0e-4;
     p->b_nms = 4.8e-4;
     p->inverter = PLANT_INVERTER_SSTP;
     p->vdc_v = 70.0;
@@ -781,7 +781,7 @@ void plant_params_default(plant_params_t *p) {
     p->load_torque_nm = 0.3;
     p->speed0_rpm = 0.0;
     p->theta_m0_rad = 0.0;
-    p->max_step_s = 25e-6;
+    p->max_step_s = 50e-6;
 }
 
 void plant_params_emf_table_vii(plant_params_t *p) {

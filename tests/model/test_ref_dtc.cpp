@@ -380,7 +380,7 @@ TEST(RefController, RejectsBadConfig) {
 // change one 50 us period can make, 1.5 p psi_m (2/3 Vdc + E) / L_s * Ts / 2 = 0.067 N*m, of
 // 0.3 N*m; FSTP DTC in speed mode reaches 1000 rpm from rest against a generator load and holds it
 // within 3 % (current model with the finite split link; voltage model + Table VI with a stiff link;
-// the band is the speed ripple that the zero-band DTC torque ripple makes on the 4e-5 kg m^2 shaft).
+// the band is the speed ripple that the zero-band DTC torque ripple makes on the 1e-4 kg m^2 shaft).
 // The voltage model with the finite split link loses synchronism after ~0.35 s: see docs/plant.md.
 TEST(RefController, ClosedLoopWithPlant) {
     {
