@@ -211,7 +211,6 @@ void setup_emf_taylor(plant_t *pl) {
     const double ch = -0.5, sh = kSqrt3 / 2.0;
     const double cx[3] = {c, c * ch + s * sh, c * ch - s * sh};
     const double sx[3] = {s, s * ch - c * sh, s * ch + c * sh};
-    static const double inv_fact[6] = {1.0, 1.0, 0.5, 1.0 / 6.0, 1.0 / 24.0, 1.0 / 120.0};
     for (int x = 0; x < 3; ++x) {
         const double *a = pl->emf_amp[x];
         double cn[4], sn[4];
@@ -226,16 +225,20 @@ void setup_emf_taylor(plant_t *pl) {
             cn[3] = cn[2] * c2 - sn[2] * s2; sn[3] = sn[2] * c2 + cn[2] * s2;
         }
         static const double nn[4] = {1.0, 3.0, 5.0, 7.0};
-        for (int k = 0; k < 6; ++k) pl->emf_tc[x][k] = 0.0;
+        double t0 = 0.0, t1 = 0.0, t2 = 0.0, t3 = 0.0, t4 = 0.0, t5 = 0.0;
         for (int h = 0; h < nh; ++h) {
-            double nk = 1.0;
-            for (int k = 0; k < 6; ++k) {
-                // sin(nu + k pi/2): sin, cos, -sin, -cos, ...
-                const double sk = (k % 4 == 0) ? sn[h] : (k % 4 == 1) ? cn[h] : (k % 4 == 2) ? -sn[h] : -cn[h];
-                pl->emf_tc[x][k] -= a[h] * nk * sk * inv_fact[k];
-                nk *= nn[h];
-            }
+            const double n = nn[h], n2 = n * n;
+            const double as = a[h] * sn[h], ac = a[h] * cn[h] * n;
+            // -A n^k sin(nu + k pi/2) / k!, k = 0..5
+            t0 -= as;
+            t1 -= ac;
+            t2 += as * n2 * 0.5;
+            t3 += ac * n2 * (1.0 / 6.0);
+            t4 -= as * n2 * n2 * (1.0 / 24.0);
+            t5 -= ac * n2 * n2 * (1.0 / 120.0);
         }
+        double *tc = pl->emf_tc[x];
+        tc[0] = t0; tc[1] = t1; tc[2] = t2; tc[3] = t3; tc[4] = t4; tc[5] = t5;
     }
     pl->tc_range = pl->has_harm ? 0.2 / 7.0 : 0.2;
     pl->tc_valid = true;
