@@ -116,6 +116,8 @@ struct plant {
     // Reciprocals used in the right-hand side.
     double inv_l, inv_j, inv_c_lo, inv_c_hi, inv_rdc;
     Prep prep;
+    bool prep_valid;  // prep matches prep_mode and the current legs / source voltages
+    Mode prep_mode;
     // Taylor coefficients (in delta = theta_e - th0) of dpsi_pm,x/dtheta_e for the step being taken:
     // dpsi_x(th0 + d) = sum_k emf_tc[x][k] d^k, k = 0..5; valid while |n_max d| < 0.2.
     double emf_tc[3][6];
@@ -305,7 +307,8 @@ void make_prep(plant_t *pl, const Mode &m, Prep &q) {
         q.src[x] = (!blk && pa.rail == RAIL_SRC) ? 1.0 : 0.0;
         if (!blk) ++q.nk;
     }
-    q.inv_nk = (q.nk > 0) ? 1.0 / q.nk : 0.0;
+    static const double inv_n[4] = {0.0, 1.0, 0.5, 1.0 / 3.0};
+    q.inv_nk = inv_n[q.nk];
 }
 
 // Neutral voltage when every phase is blocked: centre of the feasible range.
@@ -406,6 +409,7 @@ void rhs(plant_t *pl, const Vec &y, const Mode &m, Vec &dy, Aux *aux) {
 // Build the leg paths from the gate states (Hoang Table III, eq. 20).
 void build_legs(plant_t *pl) {
     const plant_params_t &p = pl->p;
+    pl->prep_valid = false;
     const double vce = p.drops_enabled ? p.v_ce_v : 0.0;
     const double vd = p.drops_enabled ? p.v_d_v : 0.0;
     const double ron = p.drops_enabled ? p.r_on_ohm : 0.0;
@@ -592,21 +596,33 @@ double event_g(plant_t *pl, const Vec &y, const Mode &m, const bool active[3]) {
 double step(plant_t *pl, double h) {
     Vec &y = pl->y;
     const double th = pl->p.pole_pairs * y[S_THETA];
-    if (++pl->sync_count >= 256 || std::fabs(th - pl->th0) >= 0.25) {
-        pl->sync_count = 0;
-        pl->c0 = std::cos(th);
-        pl->s0 = std::sin(th);
-    } else {
-        double c, s;
-        fast_sincos(pl, th, c, s);
-        pl->c0 = c;
-        pl->s0 = s;
+    // Re-centre the EMF expansion only when this step could leave the range where its truncation
+    // stays below 1.4e-9 of each harmonic's amplitude (n_max |delta| < 0.1); a dead-time segment
+    // and the rest of its period usually share one expansion.
+    const double reach = (std::fabs(th - pl->th0) + std::fabs(pl->p.pole_pairs * y[S_OMEGA]) * h * 1.2) *
+                         (pl->has_harm ? 7.0 : 1.0);
+    if (!pl->tc_valid || reach >= 0.1) {
+        if (++pl->sync_count >= 256 || std::fabs(th - pl->th0) >= 0.25) {
+            pl->sync_count = 0;
+            pl->c0 = std::cos(th);
+            pl->s0 = std::sin(th);
+        } else {
+            double c, s;
+            fast_sincos(pl, th, c, s);
+            pl->c0 = c;
+            pl->s0 = s;
+        }
+        pl->th0 = th;
+        setup_emf_taylor(pl);
     }
-    pl->th0 = th;
-    setup_emf_taylor(pl);
     const Mode m = select_mode(pl, y);
     pl->mode = m;
-    make_prep(pl, m, pl->prep);
+    if (!pl->prep_valid || m.ph[0] != pl->prep_mode.ph[0] || m.ph[1] != pl->prep_mode.ph[1] ||
+        m.ph[2] != pl->prep_mode.ph[2]) {
+        make_prep(pl, m, pl->prep);
+        pl->prep_mode = m;
+        pl->prep_valid = true;
+    }
     Vec k1, y1;
     rhs(pl, y, m, k1, nullptr);
     rk4(pl, y, m, h, k1, y1);
@@ -851,6 +867,7 @@ void plant_set_legs(plant_t *plant, int sa, int sb, int sc, int enable) {
 void plant_set_voltage(plant_t *plant, double v_alpha_v, double v_beta_v) {
     plant->v_set_alpha = v_alpha_v;
     plant->v_set_beta = v_beta_v;
+    plant->prep_valid = false;
 }
 
 void plant_set_load(plant_t *plant, plant_load_t load, double speed_rpm, double torque_nm) {
@@ -933,8 +950,9 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
     const double psi_pm_beta = (psi[1] - psi[2]) / kSqrt3;
     s->psi_alpha_wb = p.ls_h * s->i_alpha_a + psi_pm_alpha;  // Hoang eq. (8)
     s->psi_beta_wb = p.ls_h * s->i_beta_a + psi_pm_beta;     // Hoang eq. (9)
-    double th = std::fmod(theta_e, 2.0 * kPi);
-    if (th < 0.0) th += 2.0 * kPi;
+    double th = theta_e - 2.0 * kPi * std::floor(theta_e * (0.5 / kPi));
+    if (th >= 2.0 * kPi) th -= 2.0 * kPi;
+    if (th < 0.0) th = 0.0;
     s->theta_e_rad = th;
     s->theta_m_rad = y[S_THETA];
     s->omega_m_rad_s = y[S_OMEGA];
