@@ -577,8 +577,8 @@ inline void rk4(plant_t *pl, const Vec &y0, const Mode &m, double h, const Vec &
 
 // Event function: the most negative of (a) dir * i for conducting sign-dependent phases (the
 // current must not change sign inside a step with its path fixed) and (b) the margin of a
-// blocked phase's floating voltage inside its zero-current interval (volts; scaled by 1/L_s*1e-4
-// so both are comparable only in sign - the root finder needs only the sign and continuity).
+// blocked phase's floating voltage inside its zero-current interval (volts, scaled by 1e-3 A/V so
+// the two kinds are of similar size; the root finder needs only sign and continuity).
 double event_g(plant_t *pl, const Vec &y, const Mode &m, const bool active[3]) {
     double g = 1e300;
     bool any_blocked = false;
@@ -917,7 +917,7 @@ void plant_advance(plant_t *pl, double dt_s) {
     update_gates_for_command(pl);
     const double t_end = pl->t + dt_s;
     const double eps = 1e-12 * (1.0 + std::fabs(t_end));
-    int guard = 0;
+    int guard = 0;  // a runaway cap (never reached in the tests): 1e6 sub-steps per advance
     while (pl->t < t_end - eps && guard < 1000000) {
         ++guard;
         double next = t_end;
