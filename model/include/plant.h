@@ -78,7 +78,28 @@ typedef struct {
     /* Energy accounting since creation, J. */
     double e_dc_in_j, e_copper_j, e_device_j, e_friction_j, e_load_j;
     double e_magnetic_j, e_kinetic_j, e_capacitor_j;
+    /* ---- Additions (after the original fields, so existing users are unaffected). ---- */
+    double e_rdc_j;                   /* loss in the DC source's internal resistance, J */
+    double v_a0_v, v_b0_v, v_c0_v;    /* mean terminal-to-negative-rail voltages, last advance */
+    int blocked_mask;                 /* bit x set: phase x is held at zero current (all devices
+                                       * of that path blocked), at the end of the last advance */
 } plant_state_t;
+
+/* Per-leg override (addition), for protection and fault tests. */
+typedef enum {
+    PLANT_LEG_NORMAL = 0,     /* follow plant_set_legs */
+    PLANT_LEG_DIODE_ONLY = 1, /* both gates held off: only the free-wheeling diodes conduct */
+    PLANT_LEG_UPPER_ON = 2,   /* upper gate stuck on (lower off), whatever the command */
+    PLANT_LEG_LOWER_ON = 3    /* lower gate stuck on (upper off), whatever the command */
+} plant_leg_override_t;
+
+/* Integration statistics since creation (addition; benchmark and tests). */
+typedef struct {
+    unsigned long long steps;        /* accepted integration steps */
+    unsigned long long evals;        /* right-hand-side evaluations (4 per RK4 step + events) */
+    unsigned long long events;       /* located zero-crossing / release events */
+    unsigned long long mode_selects; /* complementarity mode selections with a zero current */
+} plant_stats_t;
 
 /* Defaults: Hoang Table VIII machine, Table IV devices, 70 V DC link, SSTP. */
 void plant_params_default(plant_params_t *p);
@@ -97,6 +118,28 @@ void plant_set_load(plant_t *plant, plant_load_t load, double speed_rpm, double 
 
 void plant_advance(plant_t *plant, double dt_s);
 void plant_get_state(const plant_t *plant, plant_state_t *s);
+
+/* ---- Additions ---- */
+
+/* Hoang Table VII (measured back-EMF at 1500 rpm, peak volts): sets emf_gain[] to each phase's
+ * fundamental divided by omega_e * psi_m_wb at 1500 rpm, and emf_harm[][] to the 3rd/5th/7th
+ * amplitudes relative to that phase's fundamental. Call after setting psi_m_wb and pole_pairs. */
+void plant_params_emf_table_vii(plant_params_t *p);
+
+/* Override one leg (0 = A, 1 = B, 2 = C; FSTP leg A has no devices and ignores this). Takes effect
+ * at the next advance. Returns 0, or -1 for a bad leg or mode. */
+int plant_set_leg_override(plant_t *plant, int leg, plant_leg_override_t mode);
+
+/* Change the largest integration sub-step (s) of a running plant. Returns 0, or -1 if out of the
+ * range plant_create accepts (the message says why). */
+int plant_set_max_step(plant_t *plant, double max_step_s, char *err, size_t err_len);
+
+void plant_get_stats(const plant_t *plant, plant_stats_t *st);
+
+/* Set the phase currents (A) directly, e.g. to start a test from a known operating point.
+ * Returns -1 unless |i_a + i_b + i_c| <= 1e-12 * (|i_a| + |i_b| + |i_c|) (isolated neutral).
+ * The stored magnetic energy changes with it (energy accounting starts from the new state). */
+int plant_set_phase_currents(plant_t *plant, double i_a, double i_b, double i_c);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,1034 @@
+// plant.cpp - surface PM BLAC machine + SSTP/FSTP inverter + DC link + mechanics (SI units).
+//
+// Physics (docs/plant.md has the derivations and the error analysis):
+//  * Machine: Hoang 2011 eqs. (6)-(10) in the stationary frame, written per phase so that the
+//    per-phase back-EMF gains and 3rd/5th/7th harmonics (Hoang Table VII) enter naturally:
+//      L_s di_x/dt = v_x0 - v_n0 - R_s i_x - e_x,   e_x = omega_e dpsi_pm,x/dtheta_e,
+//    star connection, isolated neutral: sum(i_x) = 0 and v_n0 follows (Hoang eqs. 1-3).
+//    Torque T_e = p sum(i_x dpsi_pm,x/dtheta_e), which for sinusoidal balanced EMF is exactly
+//    Hoang eq. (10), 1.5 p (psi_alpha i_beta - psi_beta i_alpha).
+//  * Inverter legs: every conducting path is (rail voltage) - v_f - R_on i with v_f from Hoang
+//    Table III chosen by gate state and current sign (Hoang eq. 20). During dead time / gates
+//    off the current sign picks the diode. At i = 0 a leg's voltage is the whole interval between
+//    its two branches; a phase whose floating terminal voltage lies inside that interval stays at
+//    exactly zero current (no chatter). This is a small complementarity problem solved by
+//    enumeration whenever a current sits at zero.
+//  * FSTP: phase A on the mid-point of two capacitors fed by a DC source with internal resistance.
+//  * Integration: classical RK4 on sub-steps that land exactly on every switching and dead-time
+//    edge and on every located current zero crossing / zero-current release (Illinois root
+//    finding on the step's own RK4 solution). Between events the right-hand side is smooth.
+#include "plant.h"
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <new>
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kSqrt3 = 1.73205080756887729353;
+constexpr double kRpmToRadS = 2.0 * kPi / 60.0;
+
+// State vector layout.
+enum : int {
+    S_IA = 0, S_IB, S_IC, S_THETA, S_OMEGA, S_VCLO, S_VCHI,
+    S_EDC, S_ECU, S_EDEV, S_EFRIC, S_ELOAD, S_ERDC, S_IVA, S_IVB, S_IVA0, S_IVB0, S_IVC0,
+    NS
+};
+using Vec = Eigen::Matrix<double, NS, 1>;
+
+enum Rail : int { RAIL_ZERO = 0, RAIL_PLUS = 1, RAIL_MID = 2, RAIL_SRC = 3 };
+enum Gate : int { GATE_LOWER = 0, GATE_UPPER = 1, GATE_OFF = 2 };
+
+struct Path {
+    int rail;   // which node the phase terminal is tied to through the conducting device
+    double d;   // forward drop v_f (Hoang Table III sign convention): v_x0 = rail - d - r*i
+    double r;   // on-state resistance in the path
+};
+
+struct Leg {
+    Path pos, neg;  // path for i > 0 (out of the leg into the machine) and for i < 0
+    bool sign_dep;  // the two paths differ: the voltage jumps at i = 0
+    bool device;    // a semiconductor path (losses accounted); false for mid-point / ideal source
+};
+
+enum PhaseMode : int { PH_POS = 0, PH_NEG = 1, PH_BLOCKED = 2 };
+
+struct Mode {
+    int ph[3];  // PhaseMode per phase
+};
+
+// Per-step constants of the conduction mode, so the right-hand side is branch-light.
+struct Prep {
+    int nk;             // conducting phases
+    double inv_nk;
+    double cond[3];     // 1 conducting, 0 blocked
+    double a_lo[3], a_hi[3], c[3];  // path voltage = a_lo vc_lo + a_hi vc_hi + c (c includes -v_f)
+    double r[3];        // device resistance in the path
+    double rtot[3];     // R_s + r
+    double dev_d[3];    // v_f of a device path (0 otherwise), for the loss term (d + r i) i
+    double dev[3];      // 1 for a device path
+    double plus[3], mid[3], src[3];
+};
+
+struct Aux {
+    double te, tload, vn0;
+    double vx0[3];
+    double e[3];
+};
+
+inline double path_v(const Path &p, const double *rail_v) { return rail_v[p.rail] - p.d; }
+
+}  // namespace
+
+struct plant {
+    plant_params_t p;
+    // Derived constants.
+    double omega_load_ref;  // rad/s for the generator law
+    double c_lo, c_hi;      // capacitances (SSTP: one capacitor of 2*c_dc_f, split in the report)
+    bool has_harm;
+    double flux_amp[3][4];  // psi_m * gain * (1, h3/3, h5/5, h7/7)
+    double emf_amp[3][4];   // psi_m * gain * (1, h3, h5, h7): -dpsi/dtheta amplitudes
+    // Commands.
+    int cmd[3];
+    int enable;
+    double v_set_alpha, v_set_beta;
+    int override_mode[3];
+    // Per-leg gate timeline.
+    int gate[3];         // gate state in force now
+    int gate_target[3];  // gate state after the dead time
+    double dead_end[3];  // absolute time the dead time ends (<= t: none)
+    // Integrator.
+    double t;
+    Vec y;
+    Vec y_adv0;          // state at the start of the last advance (for the mean voltages)
+    double last_dt;
+    Mode mode;
+    Leg legs[3];
+    // sin/cos cache for the step being taken (advanced by a short rotation from step to step and
+    // re-synchronised with the library sin/cos every 256 steps).
+    double th0, c0, s0;
+    unsigned sync_count;
+    // Reciprocals used in the right-hand side.
+    double inv_l, inv_j, inv_c_lo, inv_c_hi, inv_rdc;
+    Prep prep;
+    bool prep_valid;  // prep matches prep_mode and the current legs / source voltages
+    Mode prep_mode;
+    // Taylor coefficients (in delta = theta_e - th0) of dpsi_pm,x/dtheta_e for the step being taken:
+    // dpsi_x(th0 + d) = sum_k emf_tc[x][k] d^k, k = 0..5; valid while |n_max d| < 0.2.
+    double emf_tc[3][6];
+    double flux_tc[3][6];  // same for psi_pm,x itself
+    double tc_range;
+    bool tc_valid;
+    plant_stats_t stats;
+};
+
+namespace {
+
+void set_err(char *err, size_t n, const char *msg) {
+    if (err && n > 0) {
+        std::snprintf(err, n, "%s", msg);
+    }
+}
+
+void derive(plant_t *pl) {
+    const plant_params_t &p = pl->p;
+    pl->omega_load_ref = p.load_speed_rpm * kRpmToRadS;
+    if (p.inverter == PLANT_INVERTER_SSTP) {
+        pl->c_lo = pl->c_hi = 2.0 * p.c_dc_f;
+    } else {
+        pl->c_lo = pl->c_hi = p.c_dc_f;
+    }
+    pl->inv_l = 1.0 / p.ls_h;
+    pl->inv_j = 1.0 / p.j_kgm2;
+    pl->inv_c_lo = (pl->c_lo > 0.0) ? 1.0 / pl->c_lo : 0.0;
+    pl->inv_c_hi = (pl->c_hi > 0.0) ? 1.0 / pl->c_hi : 0.0;
+    pl->inv_rdc = (p.r_dc_ohm > 0.0) ? 1.0 / p.r_dc_ohm : 0.0;
+    pl->has_harm = false;
+    for (int x = 0; x < 3; ++x) {
+        const double g = p.psi_m_wb * p.emf_gain[x];
+        const double h[4] = {1.0, p.emf_harm[x][0], p.emf_harm[x][1], p.emf_harm[x][2]};
+        const int n[4] = {1, 3, 5, 7};
+        for (int k = 0; k < 4; ++k) {
+            pl->flux_amp[x][k] = g * h[k] / n[k];
+            pl->emf_amp[x][k] = g * h[k];
+            if (k > 0 && h[k] != 0.0) pl->has_harm = true;
+        }
+    }
+}
+
+// sin/cos of theta using the value cached at the step start and a short Taylor rotation for the
+// small angle increment of an RK stage (|d| < 0.25 rad: truncation < 1e-16).
+inline void fast_sincos(const plant_t *pl, double th, double &c, double &s) {
+    const double d = th - pl->th0;
+    if (std::fabs(d) < 0.25) {
+        const double d2 = d * d;
+        const double cd = 1.0 - d2 * (0.5 - d2 * (1.0 / 24.0 - d2 * (1.0 / 720.0 - d2 * (1.0 / 40320.0 - d2 / 3628800.0))));
+        const double sd = d * (1.0 - d2 * (1.0 / 6.0 - d2 * (1.0 / 120.0 - d2 * (1.0 / 5040.0 - d2 * (1.0 / 362880.0 - d2 / 39916800.0)))));
+        c = pl->c0 * cd - pl->s0 * sd;
+        s = pl->s0 * cd + pl->c0 * sd;
+    } else {
+        c = std::cos(th);
+        s = std::sin(th);
+    }
+}
+
+// dpsi_pm,x/dtheta_e for the three phases (and, if wanted, psi_pm,x itself).
+// psi_pm,x = sum_n flux_amp[x][n] cos(n (theta - phi_x)), phi_x = 0, 2pi/3, 4pi/3.
+inline void pm_flux(const plant_t *pl, double theta_e, double dpsi[3], double *psi) {
+    double c, s;
+    fast_sincos(pl, theta_e, c, s);
+    // Rotate by -2pi/3 and -4pi/3.
+    const double ch = -0.5, sh = kSqrt3 / 2.0;
+    const double cb = c * ch + s * sh, sb = s * ch - c * sh;  // theta - 2pi/3
+    const double cc = c * ch - s * sh, sc = s * ch + c * sh;  // theta - 4pi/3 (= + 2pi/3)
+    const double cx[3] = {c, cb, cc}, sx[3] = {s, sb, sc};
+    for (int x = 0; x < 3; ++x) {
+        const double *a = pl->emf_amp[x];
+        double dp = -a[0] * sx[x];
+        double ps = pl->flux_amp[x][0] * cx[x];
+        if (pl->has_harm) {
+            // z^n by complex multiplication: z2, z3, z5 = z3 z2, z7 = z5 z2.
+            const double c1 = cx[x], s1 = sx[x];
+            const double c2 = c1 * c1 - s1 * s1, s2 = 2.0 * c1 * s1;
+            const double c3 = c2 * c1 - s2 * s1, s3 = s2 * c1 + c2 * s1;
+            const double c5 = c3 * c2 - s3 * s2, s5 = s3 * c2 + c3 * s2;
+            const double c7 = c5 * c2 - s5 * s2, s7 = s5 * c2 + c5 * s2;
+            dp -= a[1] * s3 + a[2] * s5 + a[3] * s7;
+            ps += pl->flux_amp[x][1] * c3 + pl->flux_amp[x][2] * c5 + pl->flux_amp[x][3] * c7;
+        }
+        dpsi[x] = dp;
+        if (psi) psi[x] = ps;
+    }
+}
+
+// Per-step Taylor expansion of dpsi_pm,x/dtheta_e around th0 (the cache angle). For harmonic n,
+// d^k/dtheta^k [-A sin(n u)] = -A n^k sin(n u + k pi/2); divided by k!. Remainder of the order-5
+// series: (n_max |d|)^6 / 720 relative to the harmonic's amplitude (< 9e-8 at the 0.2 limit).
+void setup_emf_taylor(plant_t *pl) {
+    const double c = pl->c0, s = pl->s0;
+    const double ch = -0.5, sh = kSqrt3 / 2.0;
+    const double cx[3] = {c, c * ch + s * sh, c * ch - s * sh};
+    const double sx[3] = {s, s * ch - c * sh, s * ch + c * sh};
+    for (int x = 0; x < 3; ++x) {
+        const double *a = pl->emf_amp[x];
+        double cn[4], sn[4];
+        cn[0] = cx[x];
+        sn[0] = sx[x];
+        const int nh = pl->has_harm ? 4 : 1;
+        if (pl->has_harm) {
+            const double c1 = cx[x], s1 = sx[x];
+            const double c2 = c1 * c1 - s1 * s1, s2 = 2.0 * c1 * s1;
+            cn[1] = c2 * c1 - s2 * s1; sn[1] = s2 * c1 + c2 * s1;
+            cn[2] = cn[1] * c2 - sn[1] * s2; sn[2] = sn[1] * c2 + cn[1] * s2;
+            cn[3] = cn[2] * c2 - sn[2] * s2; sn[3] = sn[2] * c2 + cn[2] * s2;
+        }
+        static const double nn[4] = {1.0, 3.0, 5.0, 7.0};
+        double t0 = 0.0, t1 = 0.0, t2 = 0.0, t3 = 0.0, t4 = 0.0, t5 = 0.0;
+        double f0 = 0.0, f1 = 0.0, f2 = 0.0, f3 = 0.0, f4 = 0.0, f5 = 0.0;
+        for (int h = 0; h < nh; ++h) {
+            const double n = nn[h], n2 = n * n;
+            const double as = a[h] * sn[h], ac = a[h] * cn[h] * n;
+            // -A n^k sin(nu + k pi/2) / k!, k = 0..5
+            t0 -= as;
+            t1 -= ac;
+            t2 += as * n2 * 0.5;
+            t3 += ac * n2 * (1.0 / 6.0);
+            t4 -= as * n2 * n2 * (1.0 / 24.0);
+            t5 -= ac * n2 * n2 * (1.0 / 120.0);
+            // psi: (A/n) n^k cos(n u + k pi/2) / k!
+            f0 += ac / n2;
+            f1 -= as;
+            f2 -= ac * 0.5;
+            f3 += as * n2 * (1.0 / 6.0);
+            f4 += ac * n2 * (1.0 / 24.0);
+            f5 -= as * n2 * n2 * (1.0 / 120.0);
+        }
+        double *fc = pl->flux_tc[x];
+        fc[0] = f0; fc[1] = f1; fc[2] = f2; fc[3] = f3; fc[4] = f4; fc[5] = f5;
+        double *tc = pl->emf_tc[x];
+        tc[0] = t0; tc[1] = t1; tc[2] = t2; tc[3] = t3; tc[4] = t4; tc[5] = t5;
+    }
+    pl->tc_range = pl->has_harm ? 0.2 / 7.0 : 0.2;
+    pl->tc_valid = true;
+}
+
+inline void dpsi_fast(const plant_t *pl, double theta_e, double dpsi[3]) {
+    const double d = theta_e - pl->th0;
+    if (pl->tc_valid && std::fabs(d) < pl->tc_range) {
+        const double d2 = d * d;
+        for (int x = 0; x < 3; ++x) {
+            const double *t = pl->emf_tc[x];
+            // Estrin's scheme: same polynomial, shorter dependency chain than Horner.
+            dpsi[x] = (t[0] + t[1] * d) + d2 * ((t[2] + t[3] * d) + d2 * (t[4] + t[5] * d));
+        }
+    } else {
+        pm_flux(pl, theta_e, dpsi, nullptr);
+    }
+}
+
+inline void rails(const plant_t *pl, const Vec &y, double rv[4], int x) {
+    rv[RAIL_ZERO] = 0.0;
+    rv[RAIL_PLUS] = y[S_VCLO] + y[S_VCHI];
+    rv[RAIL_MID] = y[S_VCLO];
+    rv[RAIL_SRC] = 0.0;
+    if (pl->p.inverter == PLANT_INVERTER_IDEAL) {
+        // Ideal source: phase voltages from the inverse amplitude-invariant Clarke transform.
+        const double va = pl->v_set_alpha, vb = pl->v_set_beta;
+        const double v[3] = {va, -0.5 * va + 0.5 * kSqrt3 * vb, -0.5 * va - 0.5 * kSqrt3 * vb};
+        rv[RAIL_SRC] = v[x];
+    }
+}
+
+double load_torque(const plant_t *pl, double omega, double te) {
+    switch (pl->p.load) {
+        case PLANT_LOAD_SPEED: return te - pl->p.b_nms * omega;  // the dynamometer holds speed
+        case PLANT_LOAD_TORQUE: return pl->p.load_torque_nm;
+        case PLANT_LOAD_GENERATOR: return pl->p.load_torque_nm * omega / pl->omega_load_ref;
+        default: return 0.0;
+    }
+}
+
+void make_prep(plant_t *pl, const Mode &m, Prep &q) {
+    const plant_params_t &p = pl->p;
+    double vsrc[3] = {0.0, 0.0, 0.0};
+    if (p.inverter == PLANT_INVERTER_IDEAL) {
+        // Ideal source: phase voltages from the inverse amplitude-invariant Clarke transform.
+        const double va = pl->v_set_alpha, vb = pl->v_set_beta;
+        vsrc[0] = va;
+        vsrc[1] = -0.5 * va + 0.5 * kSqrt3 * vb;
+        vsrc[2] = -0.5 * va - 0.5 * kSqrt3 * vb;
+    }
+    q.nk = 0;
+    for (int x = 0; x < 3; ++x) {
+        const bool blk = (m.ph[x] == PH_BLOCKED);
+        const Path &pa = (m.ph[x] == PH_NEG) ? pl->legs[x].neg : pl->legs[x].pos;
+        q.cond[x] = blk ? 0.0 : 1.0;
+        q.a_lo[x] = (pa.rail == RAIL_PLUS || pa.rail == RAIL_MID) ? 1.0 : 0.0;
+        q.a_hi[x] = (pa.rail == RAIL_PLUS) ? 1.0 : 0.0;
+        q.c[x] = ((pa.rail == RAIL_SRC) ? vsrc[x] : 0.0) - pa.d;
+        q.r[x] = pa.r;
+        q.rtot[x] = p.rs_ohm + pa.r;
+        q.dev[x] = (pl->legs[x].device && !blk) ? 1.0 : 0.0;
+        q.dev_d[x] = pa.d;
+        q.plus[x] = (!blk && pa.rail == RAIL_PLUS) ? 1.0 : 0.0;
+        q.mid[x] = (!blk && pa.rail == RAIL_MID) ? 1.0 : 0.0;
+        q.src[x] = (!blk && pa.rail == RAIL_SRC) ? 1.0 : 0.0;
+        if (!blk) ++q.nk;
+    }
+    static const double inv_n[4] = {0.0, 1.0, 0.5, 1.0 / 3.0};
+    q.inv_nk = inv_n[q.nk];
+}
+
+// Neutral voltage when every phase is blocked: centre of the feasible range.
+double vn0_all_blocked(const plant_t *pl, const Vec &y, const double e[3]) {
+    double lo = -1e300, hi = 1e300;
+    for (int x = 0; x < 3; ++x) {
+        double rv[4];
+        rails(pl, y, rv, x);
+        const double a = path_v(pl->legs[x].pos, rv), b = path_v(pl->legs[x].neg, rv);
+        lo = std::max(lo, std::min(a, b) - e[x]);
+        hi = std::min(hi, std::max(a, b) - e[x]);
+    }
+    return 0.5 * (lo + hi);
+}
+
+// Right-hand side for a fixed conduction mode (pl->prep must match m).
+void rhs(plant_t *pl, const Vec &y, const Mode &m, Vec &dy, Aux *aux) {
+    ++pl->stats.evals;
+    const plant_params_t &p = pl->p;
+    const Prep &q = pl->prep;
+    const double pp = p.pole_pairs;
+    const double omega = y[S_OMEGA];
+    const double omega_e = pp * omega;
+    double dpsi[3];
+    dpsi_fast(pl, pp * y[S_THETA], dpsi);
+    const double vlo = y[S_VCLO], vhi = y[S_VCHI];
+    double e[3], vp[3], ix[3];
+    double sum = 0.0;
+    for (int x = 0; x < 3; ++x) {
+        ix[x] = y[S_IA + x];
+        e[x] = omega_e * dpsi[x];
+        vp[x] = q.a_lo[x] * vlo + q.a_hi[x] * vhi + q.c[x];
+        sum += q.cond[x] * (vp[x] - q.rtot[x] * ix[x] - e[x]);
+    }
+    const double vn0 = (q.nk >= 2) ? sum * q.inv_nk : vn0_all_blocked(pl, y, e);
+    double vx0[3];
+    double te = 0.0, p_cu = 0.0, p_dev = 0.0, i_plus = 0.0, i_mid = 0.0, p_src = 0.0;
+    for (int x = 0; x < 3; ++x) {
+        const double i = ix[x];
+        const double vc = vp[x] - q.r[x] * i;
+        dy[S_IA + x] = q.cond[x] * (vp[x] - q.rtot[x] * i - e[x] - vn0) * pl->inv_l;
+        vx0[x] = q.cond[x] * vc + (1.0 - q.cond[x]) * (vn0 + e[x]);  // blocked: floating terminal
+        p_dev += q.dev[x] * (q.dev_d[x] + q.r[x] * i) * i;
+        i_plus += q.plus[x] * i;
+        i_mid += q.mid[x] * i;
+        p_src += q.src[x] * vc * i;
+        te += i * dpsi[x];
+        p_cu += i * i;
+    }
+    (void)m;
+    p_cu *= p.rs_ohm;
+    te *= pp;
+    const double tl = load_torque(pl, omega, te);
+    dy[S_THETA] = omega;
+    dy[S_OMEGA] = (p.load == PLANT_LOAD_SPEED) ? 0.0 : (te - p.b_nms * omega - tl) * pl->inv_j;
+    // DC link.
+    double p_dc, p_rdc = 0.0;
+    if (p.inverter == PLANT_INVERTER_IDEAL) {
+        dy[S_VCLO] = dy[S_VCHI] = 0.0;
+        p_dc = p_src;
+    } else if (!p.finite_dc_link) {
+        dy[S_VCLO] = dy[S_VCHI] = 0.0;
+        p_dc = (vlo + vhi) * i_plus + vlo * i_mid;
+    } else {
+        const double i_s = (p.vdc_v - (vlo + vhi)) * pl->inv_rdc;
+        if (p.inverter == PLANT_INVERTER_FSTP) {
+            dy[S_VCHI] = (i_s - i_plus) * pl->inv_c_hi;
+            dy[S_VCLO] = (i_s - i_plus - i_mid) * pl->inv_c_lo;
+        } else {
+            // SSTP: one capacitor of 2*c_dc_f (c_lo holds that value, see derive()).
+            dy[S_VCLO] = dy[S_VCHI] = 0.5 * (i_s - i_plus) * pl->inv_c_lo;
+        }
+        p_dc = p.vdc_v * i_s;
+        p_rdc = p.r_dc_ohm * i_s * i_s;
+    }
+    dy[S_EDC] = p_dc;
+    dy[S_ECU] = p_cu;
+    dy[S_EDEV] = p_dev;
+    dy[S_EFRIC] = p.b_nms * omega * omega;
+    dy[S_ELOAD] = tl * omega;
+    dy[S_ERDC] = p_rdc;
+    dy[S_IVA] = (2.0 * vx0[0] - vx0[1] - vx0[2]) * (1.0 / 3.0);  // Hoang eqs. (1)-(4)
+    dy[S_IVB] = (vx0[1] - vx0[2]) * (1.0 / kSqrt3);              // Hoang eq. (5)
+    dy[S_IVA0] = vx0[0];
+    dy[S_IVB0] = vx0[1];
+    dy[S_IVC0] = vx0[2];
+    if (aux) {
+        aux->te = te;
+        aux->tload = tl;
+        aux->vn0 = vn0;
+        for (int x = 0; x < 3; ++x) {
+            aux->vx0[x] = vx0[x];
+            aux->e[x] = e[x];
+        }
+    }
+}
+
+// Build the leg paths from the gate states (Hoang Table III, eq. 20).
+void build_legs(plant_t *pl) {
+    const plant_params_t &p = pl->p;
+    pl->prep_valid = false;
+    const double vce = p.drops_enabled ? p.v_ce_v : 0.0;
+    const double vd = p.drops_enabled ? p.v_d_v : 0.0;
+    const double ron = p.drops_enabled ? p.r_on_ohm : 0.0;
+    for (int x = 0; x < 3; ++x) {
+        Leg &L = pl->legs[x];
+        if (p.inverter == PLANT_INVERTER_IDEAL) {
+            L.pos = L.neg = Path{RAIL_SRC, 0.0, 0.0};
+            L.sign_dep = false;
+            L.device = false;
+            continue;
+        }
+        if (p.inverter == PLANT_INVERTER_FSTP && x == 0) {
+            L.pos = L.neg = Path{RAIL_MID, 0.0, 0.0};  // Hoang Fig. 1(b): no device in phase A
+            L.sign_dep = false;
+            L.device = false;
+            continue;
+        }
+        L.device = true;
+        switch (pl->gate[x]) {
+            case GATE_UPPER:  // Table III state 1: + -> V_CE, - -> -V_d
+                L.pos = Path{RAIL_PLUS, vce, ron};
+                L.neg = Path{RAIL_PLUS, -vd, ron};
+                break;
+            case GATE_LOWER:  // Table III state 0: + -> V_d, - -> -V_CE
+                L.pos = Path{RAIL_ZERO, vd, ron};
+                L.neg = Path{RAIL_ZERO, -vce, ron};
+                break;
+            default:  // both gates off: the current sign picks the diode
+                L.pos = Path{RAIL_ZERO, vd, ron};
+                L.neg = Path{RAIL_PLUS, -vd, ron};
+                break;
+        }
+        L.sign_dep = !(L.pos.rail == L.neg.rail && L.pos.d == L.neg.d && L.pos.r == L.neg.r);
+    }
+}
+
+// Conduction mode at state y. Currents that are exactly zero on a sign-dependent leg are resolved
+// by enumerating {blocked, +, -} and keeping the consistent assignment (Filippov / linear
+// complementarity; the leg characteristics are monotone so the consistent one is unique up to
+// ties, which are broken towards "blocked" so a zero current never chatters).
+Mode select_mode(plant_t *pl, const Vec &y) {
+    Mode m;
+    int zl[3], nz = 0;
+    for (int x = 0; x < 3; ++x) {
+        const double i = y[S_IA + x];
+        if (i > 0.0) m.ph[x] = PH_POS;
+        else if (i < 0.0) m.ph[x] = PH_NEG;
+        else { m.ph[x] = PH_POS; zl[nz++] = x; }
+    }
+    if (nz == 0) return m;
+    ++pl->stats.mode_selects;
+    const plant_params_t &p = pl->p;
+    const double pp = p.pole_pairs;
+    double dpsi[3];
+    pm_flux(pl, pp * y[S_THETA], dpsi, nullptr);
+    double e[3], rv[3][4];
+    for (int x = 0; x < 3; ++x) {
+        e[x] = pp * y[S_OMEGA] * dpsi[x];
+        rails(pl, y, rv[x], x);
+    }
+    int ncand = 1;
+    for (int k = 0; k < nz; ++k) ncand *= 3;
+    double best_v = 1e300;
+    Mode best = m;
+    for (int c = 0; c < ncand; ++c) {
+        Mode t = m;
+        int code = c;
+        bool skip = false;
+        for (int k = 0; k < nz; ++k) {
+            const int digit = code % 3;
+            code /= 3;
+            const int x = zl[k];
+            if (digit == 0) t.ph[x] = PH_BLOCKED;
+            else if (digit == 1) t.ph[x] = PH_POS;
+            else {
+                if (!pl->legs[x].sign_dep) { skip = true; }  // same as PH_POS
+                t.ph[x] = PH_NEG;
+            }
+        }
+        if (skip) continue;
+        int nk = 0;
+        double sum = 0.0, vp[3] = {0, 0, 0}, rr[3] = {0, 0, 0};
+        for (int x = 0; x < 3; ++x) {
+            if (t.ph[x] == PH_BLOCKED) continue;
+            const Path &pa = (t.ph[x] == PH_POS) ? pl->legs[x].pos : pl->legs[x].neg;
+            vp[x] = path_v(pa, rv[x]);
+            rr[x] = pa.r;
+            sum += vp[x] - (p.rs_ohm + rr[x]) * y[S_IA + x] - e[x];
+            ++nk;
+        }
+        if (nk == 1) continue;
+        double viol = 0.0;
+        if (nk == 0) {
+            double lo = -1e300, hi = 1e300;
+            for (int x = 0; x < 3; ++x) {
+                const double a = path_v(pl->legs[x].pos, rv[x]), b = path_v(pl->legs[x].neg, rv[x]);
+                lo = std::max(lo, std::min(a, b) - e[x]);
+                hi = std::min(hi, std::max(a, b) - e[x]);
+            }
+            viol = std::max(0.0, lo - hi);
+        } else {
+            const double vn0 = sum / nk;
+            for (int k = 0; k < nz; ++k) {
+                const int x = zl[k];
+                if (t.ph[x] == PH_BLOCKED) {
+                    const double vf = vn0 + e[x];
+                    const double a = path_v(pl->legs[x].pos, rv[x]), b = path_v(pl->legs[x].neg, rv[x]);
+                    viol += std::max(0.0, std::min(a, b) - vf) + std::max(0.0, vf - std::max(a, b));
+                } else if (pl->legs[x].sign_dep) {
+                    const double di = vp[x] - (p.rs_ohm + rr[x]) * y[S_IA + x] - e[x] - vn0;  // L di/dt
+                    if (t.ph[x] == PH_POS) viol += std::max(0.0, -di);
+                    else viol += std::max(0.0, di);
+                }
+            }
+        }
+        if (viol < best_v) {
+            best_v = viol;
+            best = t;
+            if (viol == 0.0) break;
+        }
+    }
+    return best;
+}
+
+// After forcing the currents in snapped[] to zero, restore sum(i) = 0 on the others: with one other
+// conducting phase left, it must be zero too; with two, they share the removed amount.
+void snap_currents(Vec &y, bool snapped[3]) {
+    double removed = 0.0;
+    for (int x = 0; x < 3; ++x)
+        if (snapped[x]) { removed += y[S_IA + x]; y[S_IA + x] = 0.0; }
+    int nrest = 0;
+    for (int x = 0; x < 3; ++x)
+        if (!snapped[x] && y[S_IA + x] != 0.0) ++nrest;
+    if (nrest <= 1) {
+        for (int x = 0; x < 3; ++x) y[S_IA + x] = 0.0;
+    } else {
+        for (int x = 0; x < 3; ++x)
+            if (!snapped[x] && y[S_IA + x] != 0.0) y[S_IA + x] += removed / nrest;
+    }
+}
+
+inline void rk4(plant_t *pl, const Vec &y0, const Mode &m, double h, const Vec &k1, Vec &out) {
+    Vec k2, k3, k4, yt;
+    yt.noalias() = y0 + (0.5 * h) * k1;
+    rhs(pl, yt, m, k2, nullptr);
+    yt.noalias() = y0 + (0.5 * h) * k2;
+    rhs(pl, yt, m, k3, nullptr);
+    yt.noalias() = y0 + h * k3;
+    rhs(pl, yt, m, k4, nullptr);
+    out.noalias() = y0 + (h / 6.0) * (k1 + 2.0 * (k2 + k3) + k4);
+}
+
+// Event function: the most negative of (a) dir * i for conducting sign-dependent phases (the
+// current must not change sign inside a step with its path fixed) and (b) the margin of a
+// blocked phase's floating voltage inside its zero-current interval (volts, scaled by 1e-3 A/V so
+// the two kinds are of similar size; the root finder needs only sign and continuity).
+double event_g(plant_t *pl, const Vec &y, const Mode &m, const bool active[3]) {
+    double g = 1e300;
+    bool any_blocked = false;
+    for (int x = 0; x < 3; ++x) {
+        if (!active[x]) continue;
+        if (m.ph[x] == PH_BLOCKED) { any_blocked = true; continue; }
+        const double v = (m.ph[x] == PH_POS) ? y[S_IA + x] : -y[S_IA + x];
+        g = std::min(g, v);
+    }
+    if (any_blocked) {
+        Vec dy;
+        Aux aux;
+        rhs(pl, y, m, dy, &aux);
+        for (int x = 0; x < 3; ++x) {
+            if (!active[x] || m.ph[x] != PH_BLOCKED) continue;
+            double rv[4];
+            rails(pl, y, rv, x);
+            const double a = path_v(pl->legs[x].pos, rv), b = path_v(pl->legs[x].neg, rv);
+            const double vf = aux.vx0[x];
+            const double margin = std::min(vf - std::min(a, b), std::max(a, b) - vf);
+            g = std::min(g, margin * 1e-3);
+        }
+    }
+    return g;
+}
+
+// One step of at most h with mode selection and event location. Returns the time advanced.
+double step(plant_t *pl, double h) {
+    Vec &y = pl->y;
+    const double th = pl->p.pole_pairs * y[S_THETA];
+    // Re-centre the EMF expansion only when this step could leave the range where its truncation
+    // stays below 1.4e-9 of each harmonic's amplitude (n_max |delta| < 0.1); a dead-time segment
+    // and the rest of its period usually share one expansion.
+    const double reach = (std::fabs(th - pl->th0) + std::fabs(pl->p.pole_pairs * y[S_OMEGA]) * h * 1.2) *
+                         (pl->has_harm ? 7.0 : 1.0);
+    if (!pl->tc_valid || reach >= 0.1) {
+        if (++pl->sync_count >= 256 || std::fabs(th - pl->th0) >= 0.25) {
+            pl->sync_count = 0;
+            pl->c0 = std::cos(th);
+            pl->s0 = std::sin(th);
+        } else {
+            double c, s;
+            fast_sincos(pl, th, c, s);
+            pl->c0 = c;
+            pl->s0 = s;
+        }
+        pl->th0 = th;
+        setup_emf_taylor(pl);
+    }
+    const Mode m = select_mode(pl, y);
+    pl->mode = m;
+    if (!pl->prep_valid || m.ph[0] != pl->prep_mode.ph[0] || m.ph[1] != pl->prep_mode.ph[1] ||
+        m.ph[2] != pl->prep_mode.ph[2]) {
+        make_prep(pl, m, pl->prep);
+        pl->prep_mode = m;
+        pl->prep_valid = true;
+    }
+    Vec k1, y1;
+    rhs(pl, y, m, k1, nullptr);
+    rk4(pl, y, m, h, k1, y1);
+    ++pl->stats.steps;
+    // Which phases can produce an event?
+    bool active[3] = {false, false, false};
+    bool any = false;
+    for (int x = 0; x < 3; ++x) {
+        if (m.ph[x] == PH_BLOCKED) { active[x] = true; any = true; }
+        else if (pl->legs[x].sign_dep) {
+            const double i0 = (m.ph[x] == PH_POS) ? y[S_IA + x] : -y[S_IA + x];
+            if (i0 > 0.0) { active[x] = true; any = true; }
+        }
+    }
+    if (!any) { y = y1; return h; }
+    // Blocked phases: is the margin >= 0 at the end? (Cheap test first for currents.)
+    double g1 = event_g(pl, y1, m, active);
+    if (g1 >= -1e-12) {
+        // Currents of phases that started exactly at zero and were released may have come back
+        // through zero within the step; snap them (second-order small, see docs/plant.md).
+        bool snapped[3] = {false, false, false};
+        bool any_snap = false;
+        for (int x = 0; x < 3; ++x) {
+            if (m.ph[x] != PH_BLOCKED && pl->legs[x].sign_dep && y[S_IA + x] == 0.0) {
+                const double v = (m.ph[x] == PH_POS) ? y1[S_IA + x] : -y1[S_IA + x];
+                if (v < 0.0) snapped[x] = any_snap = true;
+            }
+        }
+        if (any_snap) snap_currents(y1, snapped);
+        y = y1;
+        return h;
+    }
+    // Locate the earliest sign change with the Illinois method on s in (0, 1].
+    ++pl->stats.events;
+    double a = 0.0, b = 1.0;
+    double ga = event_g(pl, y, m, active), gb = g1;
+    if (ga < 0.0) ga = 0.0;
+    int side = 0;
+    Vec ys = y1;
+    double sb_keep = 1.0;
+    Vec yb = y1;
+    for (int it = 0; it < 40 && (b - a) * h > 1e-12; ++it) {
+        double s = (a * gb - b * ga) / (gb - ga);
+        if (!(s > a && s < b)) s = 0.5 * (a + b);
+        rk4(pl, y, m, s * h, k1, ys);
+        const double gs = event_g(pl, ys, m, active);
+        if (gs < 0.0) {
+            b = s; gb = gs; yb = ys; sb_keep = s;
+            if (side == -1) ga *= 0.5;
+            side = -1;
+        } else {
+            a = s; ga = gs;
+            if (side == +1) gb *= 0.5;
+            side = +1;
+        }
+    }
+    y1 = yb;
+    // Snap the currents that crossed zero to exactly zero, keeping sum(i) = 0.
+    bool snapped[3] = {false, false, false};
+    for (int x = 0; x < 3; ++x) {
+        if (!active[x] || m.ph[x] == PH_BLOCKED) continue;
+        const double v = (m.ph[x] == PH_POS) ? y1[S_IA + x] : -y1[S_IA + x];
+        if (v <= 1e-9) snapped[x] = true;
+    }
+    snap_currents(y1, snapped);
+    y = y1;
+    return sb_keep * h;
+}
+
+void update_gates_for_command(plant_t *pl) {
+    const plant_params_t &p = pl->p;
+    for (int x = 0; x < 3; ++x) {
+        int want;
+        if (pl->override_mode[x] == PLANT_LEG_DIODE_ONLY) want = GATE_OFF;
+        else if (pl->override_mode[x] == PLANT_LEG_UPPER_ON) want = GATE_UPPER;
+        else if (pl->override_mode[x] == PLANT_LEG_LOWER_ON) want = GATE_LOWER;
+        else if (!pl->enable) want = GATE_OFF;
+        else want = pl->cmd[x] ? GATE_UPPER : GATE_LOWER;
+        // Resolve a dead time still running from the previous command.
+        if (pl->dead_end[x] > pl->t) {
+            // Still off; the new target replaces the old one, dead time keeps running.
+            pl->gate_target[x] = want;
+            if (want == GATE_OFF) pl->dead_end[x] = pl->t;
+            continue;
+        }
+        const int cur = pl->gate[x];
+        if (want == cur) continue;
+        const bool both_on = (cur != GATE_OFF) && (want != GATE_OFF);
+        if (both_on && p.dead_time_enabled && p.dead_time_s > 0.0) {
+            // Hoang/inverter practice: the outgoing device turns off at once, the incoming one
+            // after the dead time; in between only the diodes can conduct.
+            pl->gate[x] = GATE_OFF;
+            pl->gate_target[x] = want;
+            pl->dead_end[x] = pl->t + p.dead_time_s;
+        } else {
+            pl->gate[x] = want;
+            pl->gate_target[x] = want;
+        }
+    }
+}
+
+const char *check_params(const plant_params_t *p) {
+    if (!p) return "params: NULL";
+    auto bad = [](double v) { return !std::isfinite(v); };
+    if (bad(p->rs_ohm) || p->rs_ohm < 0.0) return "rs_ohm must be finite and >= 0";
+    if (bad(p->ls_h) || p->ls_h <= 0.0) return "ls_h must be finite and > 0";
+    if (bad(p->psi_m_wb) || p->psi_m_wb < 0.0) return "psi_m_wb must be finite and >= 0";
+    if (p->pole_pairs < 1 || p->pole_pairs > 64) return "pole_pairs must be in 1..64";
+    for (int x = 0; x < 3; ++x) {
+        if (bad(p->emf_gain[x]) || p->emf_gain[x] < 0.0) return "emf_gain[] must be finite and >= 0";
+        for (int k = 0; k < 3; ++k)
+            if (bad(p->emf_harm[x][k]) || std::fabs(p->emf_harm[x][k]) > 1.0)
+                return "emf_harm[][] must be finite with |h| <= 1";
+    }
+    if (bad(p->j_kgm2) || p->j_kgm2 <= 0.0) return "j_kgm2 must be finite and > 0";
+    if (bad(p->b_nms) || p->b_nms < 0.0) return "b_nms must be finite and >= 0";
+    if (p->inverter != PLANT_INVERTER_IDEAL && p->inverter != PLANT_INVERTER_SSTP &&
+        p->inverter != PLANT_INVERTER_FSTP)
+        return "inverter must be PLANT_INVERTER_IDEAL, _SSTP or _FSTP";
+    if (bad(p->vdc_v) || p->vdc_v <= 0.0) return "vdc_v must be finite and > 0";
+    if (bad(p->v_ce_v) || p->v_ce_v < 0.0) return "v_ce_v must be finite and >= 0";
+    if (bad(p->v_d_v) || p->v_d_v < 0.0) return "v_d_v must be finite and >= 0";
+    if (bad(p->r_on_ohm) || p->r_on_ohm < 0.0) return "r_on_ohm must be finite and >= 0";
+    if (bad(p->dead_time_s) || p->dead_time_s < 0.0 || p->dead_time_s > 20e-6)
+        return "dead_time_s must be in [0, 20e-6]";
+    if (bad(p->max_step_s) || p->max_step_s <= 0.0 || p->max_step_s > 100e-6)
+        return "max_step_s must be in (0, 100e-6]";
+    if (p->finite_dc_link && p->inverter != PLANT_INVERTER_IDEAL) {
+        if (bad(p->c_dc_f) || p->c_dc_f <= 0.0) return "c_dc_f must be > 0 with finite_dc_link";
+        if (bad(p->r_dc_ohm) || p->r_dc_ohm <= 0.0) return "r_dc_ohm must be > 0 with finite_dc_link";
+        // RK4 accuracy/stability on the source-capacitor mode: lambda * h <= 1.
+        const double c_eff = (p->inverter == PLANT_INVERTER_FSTP) ? 0.5 * p->c_dc_f : 2.0 * p->c_dc_f;
+        if (p->max_step_s > p->r_dc_ohm * c_eff)
+            return "max_step_s exceeds r_dc_ohm * C_link (DC source/capacitor time constant): "
+                   "reduce max_step_s or raise r_dc_ohm / c_dc_f";
+    }
+    if (p->load < PLANT_LOAD_SPEED || p->load > PLANT_LOAD_INERTIA)
+        return "load must be PLANT_LOAD_SPEED, _TORQUE, _GENERATOR or _INERTIA";
+    if (bad(p->load_speed_rpm) || bad(p->load_torque_nm)) return "load_speed_rpm/load_torque_nm must be finite";
+    if (p->load == PLANT_LOAD_GENERATOR && p->load_speed_rpm == 0.0)
+        return "load_speed_rpm must be non-zero for PLANT_LOAD_GENERATOR (torque = T * n / n_ref)";
+    if (bad(p->speed0_rpm) || bad(p->theta_m0_rad)) return "speed0_rpm/theta_m0_rad must be finite";
+    return nullptr;
+}
+
+}  // namespace
+
+extern "C" {
+
+void plant_params_default(plant_params_t *p) {
+    std::memset(p, 0, sizeof(*p));
+    // Hoang 2011 Table VIII.
+    p->rs_ohm = 0.466;
+    p->ls_h = 3.19e-3;
+    p->psi_m_wb = 0.0928;
+    p->pole_pairs = 1;
+    for (int x = 0; x < 3; ++x) p->emf_gain[x] = 1.0;
+    // Mechanics: docs/plant.md ("Inertia and friction") gives the derivation.
+    p->j_kgm2 = 1.0e-4;
+    p->b_nms = 4.8e-4;
+    p->inverter = PLANT_INVERTER_SSTP;
+    p->vdc_v = 70.0;
+    p->r_dc_ohm = 0.2;
+    p->c_dc_f = 2200e-6;
+    // Hoang Table IV.
+    p->v_ce_v = 0.9;
+    p->v_d_v = 1.25;
+    p->r_on_ohm = 0.075;
+    p->dead_time_s = 2e-6;
+    p->drops_enabled = 1;
+    p->dead_time_enabled = 1;
+    p->finite_dc_link = 1;
+    p->load = PLANT_LOAD_INERTIA;
+    p->load_speed_rpm = 1500.0;
+    p->load_torque_nm = 0.3;
+    p->speed0_rpm = 0.0;
+    p->theta_m0_rad = 0.0;
+    p->max_step_s = 50e-6;
+}
+
+void plant_params_emf_table_vii(plant_params_t *p) {
+    // Hoang 2011 Table VII: phase back-EMF harmonics (V) at 1500 rpm.
+    static const double fund[3] = {14.0868, 14.2880, 14.4254};
+    static const double harm[3][3] = {{0.0488, 0.2385, 0.2274},
+                                      {0.0321, 0.2483, 0.2375},
+                                      {0.0364, 0.2209, 0.2472}};
+    const double we = 1500.0 * kRpmToRadS * p->pole_pairs;
+    for (int x = 0; x < 3; ++x) {
+        p->emf_gain[x] = (p->psi_m_wb > 0.0) ? fund[x] / (we * p->psi_m_wb) : 0.0;
+        for (int k = 0; k < 3; ++k) p->emf_harm[x][k] = harm[x][k] / fund[x];
+    }
+}
+
+plant_t *plant_create(const plant_params_t *p, char *err, size_t err_len) {
+    const char *msg = check_params(p);
+    if (msg) {
+        set_err(err, err_len, msg);
+        return nullptr;
+    }
+    plant_t *pl = new (std::nothrow) plant_t();
+    if (!pl) {
+        set_err(err, err_len, "out of memory");
+        return nullptr;
+    }
+    pl->p = *p;
+    derive(pl);
+    pl->y.setZero();
+    pl->y[S_THETA] = p->theta_m0_rad;
+    pl->y[S_OMEGA] = (p->load == PLANT_LOAD_SPEED ? p->load_speed_rpm : p->speed0_rpm) * kRpmToRadS;
+    pl->y[S_VCLO] = pl->y[S_VCHI] = 0.5 * p->vdc_v;
+    pl->y_adv0 = pl->y;
+    pl->t = 0.0;
+    pl->last_dt = 0.0;
+    for (int x = 0; x < 3; ++x) {
+        pl->cmd[x] = 0;
+        pl->gate[x] = pl->gate_target[x] = GATE_OFF;
+        pl->dead_end[x] = -1.0;
+        pl->override_mode[x] = PLANT_LEG_NORMAL;
+        pl->mode.ph[x] = PH_BLOCKED;
+    }
+    pl->enable = 0;
+    pl->v_set_alpha = pl->v_set_beta = 0.0;
+    pl->th0 = 0.0;
+    pl->c0 = 1.0;
+    pl->s0 = 0.0;
+    pl->sync_count = 0;
+    pl->tc_valid = false;
+    std::memset(&pl->stats, 0, sizeof(pl->stats));
+    build_legs(pl);
+    return pl;
+}
+
+void plant_destroy(plant_t *plant) { delete plant; }
+
+void plant_set_legs(plant_t *plant, int sa, int sb, int sc, int enable) {
+    plant->cmd[0] = sa ? 1 : 0;
+    plant->cmd[1] = sb ? 1 : 0;
+    plant->cmd[2] = sc ? 1 : 0;
+    plant->enable = enable ? 1 : 0;
+}
+
+void plant_set_voltage(plant_t *plant, double v_alpha_v, double v_beta_v) {
+    plant->v_set_alpha = v_alpha_v;
+    plant->v_set_beta = v_beta_v;
+    plant->prep_valid = false;
+}
+
+void plant_set_load(plant_t *plant, plant_load_t load, double speed_rpm, double torque_nm) {
+    plant->p.load = load;
+    plant->p.load_speed_rpm = speed_rpm;
+    plant->p.load_torque_nm = torque_nm;
+    derive(plant);
+    if (load == PLANT_LOAD_SPEED) plant->y[S_OMEGA] = speed_rpm * kRpmToRadS;
+    if (load == PLANT_LOAD_GENERATOR && speed_rpm == 0.0) plant->omega_load_ref = 1e300;  // no load
+}
+
+int plant_set_leg_override(plant_t *plant, int leg, plant_leg_override_t mode) {
+    if (!plant || leg < 0 || leg > 2 || mode < PLANT_LEG_NORMAL || mode > PLANT_LEG_LOWER_ON) return -1;
+    plant->override_mode[leg] = mode;
+    return 0;
+}
+
+int plant_set_max_step(plant_t *plant, double max_step_s, char *err, size_t err_len) {
+    plant_params_t q = plant->p;
+    q.max_step_s = max_step_s;
+    const char *msg = check_params(&q);
+    if (msg) {
+        set_err(err, err_len, msg);
+        return -1;
+    }
+    plant->p.max_step_s = max_step_s;
+    return 0;
+}
+
+void plant_advance(plant_t *pl, double dt_s) {
+    if (!(dt_s > 0.0)) return;
+    pl->y_adv0 = pl->y;
+    pl->last_dt = dt_s;
+    update_gates_for_command(pl);
+    const double t_end = pl->t + dt_s;
+    const double eps = 1e-12 * (1.0 + std::fabs(t_end));
+    int guard = 0;  // a runaway cap (never reached in the tests): 1e6 sub-steps per advance
+    while (pl->t < t_end - eps && guard < 1000000) {
+        ++guard;
+        double next = t_end;
+        bool changed = false;
+        for (int x = 0; x < 3; ++x) {
+            if (pl->gate[x] != pl->gate_target[x]) {
+                if (pl->dead_end[x] <= pl->t + eps) {
+                    pl->gate[x] = pl->gate_target[x];
+                    changed = true;
+                } else {
+                    next = std::min(next, pl->dead_end[x]);
+                }
+            }
+        }
+        if (changed || guard == 1) build_legs(pl);
+        const double h = std::min(pl->p.max_step_s, next - pl->t);
+        const double taken = step(pl, h);
+        // Land exactly on breakpoints to avoid drift.
+        if (taken == h) pl->t = (h == next - pl->t) ? next : pl->t + h;
+        else pl->t += taken;
+    }
+    pl->t = t_end;
+    if (pl->p.load == PLANT_LOAD_SPEED) pl->y[S_OMEGA] = pl->p.load_speed_rpm * kRpmToRadS;
+}
+
+void plant_get_state(const plant_t *plant, plant_state_t *s) {
+    plant_t *pl = const_cast<plant_t *>(plant);  // rhs() counts evaluations; the state is unchanged
+    std::memset(s, 0, sizeof(*s));
+    const plant_params_t &p = pl->p;
+    const Vec &y = pl->y;
+    const double pp = p.pole_pairs;
+    const double theta_e = pp * y[S_THETA];
+    double dpsi[3], psi[3];
+    const double d = theta_e - pl->th0;
+    // The reported flux uses the expansion only where its truncation is < 1e-13 relative.
+    if (pl->tc_valid && std::fabs(d) * (pl->has_harm ? 7.0 : 1.0) < 0.02) {
+        const double d2 = d * d;
+        for (int x = 0; x < 3; ++x) {
+            const double *t = pl->emf_tc[x], *f = pl->flux_tc[x];
+            dpsi[x] = (t[0] + t[1] * d) + d2 * ((t[2] + t[3] * d) + d2 * (t[4] + t[5] * d));
+            psi[x] = (f[0] + f[1] * d) + d2 * ((f[2] + f[3] * d) + d2 * (f[4] + f[5] * d));
+        }
+    } else {
+        pm_flux(pl, theta_e, dpsi, psi);
+    }
+    s->t_s = pl->t;
+    s->i_a = y[S_IA];
+    s->i_b = y[S_IB];
+    s->i_c = y[S_IC];
+    // Amplitude-invariant Clarke (Hoang eqs. 4-5).
+    s->i_alpha_a = (2.0 * s->i_a - s->i_b - s->i_c) / 3.0;
+    s->i_beta_a = (s->i_b - s->i_c) / kSqrt3;
+    const double psi_pm_alpha = (2.0 * psi[0] - psi[1] - psi[2]) / 3.0;
+    const double psi_pm_beta = (psi[1] - psi[2]) / kSqrt3;
+    s->psi_alpha_wb = p.ls_h * s->i_alpha_a + psi_pm_alpha;  // Hoang eq. (8)
+    s->psi_beta_wb = p.ls_h * s->i_beta_a + psi_pm_beta;     // Hoang eq. (9)
+    double th = theta_e - 2.0 * kPi * std::floor(theta_e * (0.5 / kPi));
+    if (th >= 2.0 * kPi) th -= 2.0 * kPi;
+    if (th < 0.0) th = 0.0;
+    s->theta_e_rad = th;
+    s->theta_m_rad = y[S_THETA];
+    s->omega_m_rad_s = y[S_OMEGA];
+    s->speed_rpm = y[S_OMEGA] / kRpmToRadS;
+    double te = 0.0;
+    for (int x = 0; x < 3; ++x) te += y[S_IA + x] * dpsi[x];
+    s->te_nm = pp * te;
+    s->tload_nm = load_torque(pl, y[S_OMEGA], s->te_nm);
+    s->vdc_v = y[S_VCLO] + y[S_VCHI];
+    s->vc_lo_v = y[S_VCLO];
+    s->vc_hi_v = y[S_VCHI];
+    if (pl->last_dt > 0.0) {
+        s->v_alpha_v = (y[S_IVA] - pl->y_adv0[S_IVA]) / pl->last_dt;
+        s->v_beta_v = (y[S_IVB] - pl->y_adv0[S_IVB]) / pl->last_dt;
+        s->v_a0_v = (y[S_IVA0] - pl->y_adv0[S_IVA0]) / pl->last_dt;
+        s->v_b0_v = (y[S_IVB0] - pl->y_adv0[S_IVB0]) / pl->last_dt;
+        s->v_c0_v = (y[S_IVC0] - pl->y_adv0[S_IVC0]) / pl->last_dt;
+    }
+    s->e_dc_in_j = y[S_EDC];
+    s->e_copper_j = y[S_ECU];
+    s->e_device_j = y[S_EDEV];
+    s->e_friction_j = y[S_EFRIC];
+    s->e_load_j = y[S_ELOAD];
+    s->e_rdc_j = y[S_ERDC];
+    const double ia2 = s->i_alpha_a * s->i_alpha_a + s->i_beta_a * s->i_beta_a;
+    s->e_magnetic_j = 0.75 * p.ls_h * ia2;  // (3/2) * (1/2) L_s |i|^2, amplitude-invariant frame
+    s->e_kinetic_j = 0.5 * p.j_kgm2 * y[S_OMEGA] * y[S_OMEGA];
+    if (p.inverter == PLANT_INVERTER_SSTP) {
+        const double v = y[S_VCLO] + y[S_VCHI];
+        s->e_capacitor_j = 0.5 * pl->c_lo * v * v;
+    } else if (p.inverter == PLANT_INVERTER_FSTP) {
+        s->e_capacitor_j = 0.5 * pl->c_lo * y[S_VCLO] * y[S_VCLO] + 0.5 * pl->c_hi * y[S_VCHI] * y[S_VCHI];
+    }
+    int mask = 0;
+    if (y[S_IA] == 0.0 || y[S_IB] == 0.0 || y[S_IC] == 0.0) {
+        const Mode m = select_mode(pl, y);
+        for (int x = 0; x < 3; ++x)
+            if (m.ph[x] == PH_BLOCKED) mask |= 1 << x;
+    }
+    s->blocked_mask = mask;
+}
+
+void plant_get_stats(const plant_t *plant, plant_stats_t *st) { *st = plant->stats; }
+
+int plant_set_phase_currents(plant_t *plant, double i_a, double i_b, double i_c) {
+    const double sum = i_a + i_b + i_c;
+    const double mag = std::fabs(i_a) + std::fabs(i_b) + std::fabs(i_c);
+    if (!std::isfinite(mag) || std::fabs(sum) > 1e-12 * mag) return -1;
+    plant->y[S_IA] = i_a;
+    plant->y[S_IB] = i_b;
+    plant->y[S_IC] = i_c;
+    return 0;
+}
+
+}  // extern "C"
