@@ -118,11 +118,13 @@ void Harness::sample()
         last_turn_ = turn;
     }
 
-    // ADC: one noise draw per channel per period, in a fixed order (reproducible for a seed).
+    // ADC: one noise draw per noisy channel per period, in channel order (reproducible for a
+    // seed and a configuration; noiseless channels cost no draw).
     const double x[HAL_ADC_COUNT] = {state_.i_a, state_.i_b, state_.i_c, state_.vdc_v, state_.vc_lo_v};
     for (int ch = 0; ch < HAL_ADC_COUNT; ++ch) {
-        const double n = noise_.next();
-        meas_.adc[ch] = adc_[static_cast<std::size_t>(ch)].code(x[ch], n);
+        const AnalogChannel& a = adc_[static_cast<std::size_t>(ch)];
+        const double n = a.noise_rms > 0.0 ? noise_.next() : 0.0;
+        meas_.adc[ch] = a.code(x[ch], n);
     }
     if (!cfg_.sensors.vmid_fitted || inverter_ != PLANT_INVERTER_FSTP) {
         meas_.adc[HAL_ADC_VMID] = 0u;
