@@ -145,6 +145,17 @@ TEST_F(RunScripted, TraceHasTheDocumentedColumnsOneRowPerDecimatedIsr)
     EXPECT_EQ(second.substr(0, second.find(',')), "0.0005"); // row 1 = ISR 10 at 0.5 ms
 }
 
+TEST_F(RunScripted, RerunWithoutTraceLeavesNoStaleTrace)
+{
+    ASSERT_EQ(cli({"run", (dir / "ol.toml").string(), "--out", (dir / "res").string(), "-q"}), 0);
+    ASSERT_TRUE(fs::exists(dir / "res" / "trace.csv"));
+    std::ofstream(dir / "res" / "notes.txt") << "user file";
+    ASSERT_EQ(cli({"run", (dir / "ol.toml").string(), "--out", (dir / "res").string(), "-q", "--no-trace"}), 0);
+    EXPECT_FALSE(fs::exists(dir / "res" / "trace.csv"));
+    EXPECT_TRUE(fs::exists(dir / "res" / "metrics.json"));
+    EXPECT_TRUE(fs::exists(dir / "res" / "notes.txt")); // only dtc-sil's own files are managed
+}
+
 TEST_F(RunScripted, SetOverridesReachThePlant)
 {
     ASSERT_EQ(cli({"run", (dir / "ol.toml").string(), "--out", (dir / "res").string(), "--no-trace", "-q", "--set",

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -66,8 +67,9 @@ public:
     /// the staging directory.
     bool begin(const std::string& out_dir, std::string* err);
     std::string path(const std::string& file) const;
-    /// Moves every staged file into out_dir (replacing files of the same name).
-    bool commit(std::string* err);
+    /// Moves every staged file into out_dir (replacing files of the same name) and removes the
+    /// files of `managed` this run did not produce (no stale trace.csv next to a new metrics.json).
+    bool commit(std::string* err, const std::vector<std::string>& managed = {"trace.csv", "metrics.json"});
     /// Removes the staging directory (also done by the destructor if not committed).
     void abort();
     ~StagedOutput();

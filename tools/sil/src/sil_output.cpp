@@ -240,7 +240,7 @@ bool StagedOutput::begin(const std::string& out_dir, std::string* err)
 
 std::string StagedOutput::path(const std::string& file) const { return (fs::path(stage_dir_) / file).string(); }
 
-bool StagedOutput::commit(std::string* err)
+bool StagedOutput::commit(std::string* err, const std::vector<std::string>& managed)
 {
     std::error_code ec;
     if (!fs::exists(out_dir_, ec)) {
@@ -251,6 +251,11 @@ bool StagedOutput::commit(std::string* err)
         }
         active_ = false;
         return true;
+    }
+    for (const std::string& name : managed) {
+        if (!fs::exists(fs::path(stage_dir_) / name, ec)) {
+            fs::remove(fs::path(out_dir_) / name, ec);
+        }
     }
     for (const auto& e : fs::directory_iterator(stage_dir_)) {
         fs::rename(e.path(), fs::path(out_dir_) / e.path().filename(), ec);
