@@ -3,9 +3,11 @@
 #define DTC_SIL_RUN_HPP
 
 #include <iosfwd>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "controller_adapter.hpp"
 #include "hal_host.hpp"
 #include "metrics.hpp"
 #include "plant.h"
@@ -33,6 +35,10 @@ struct RunResult {
 /// Runs the scenario. Returns false with *err when anything fails before the results are complete
 /// (nothing is then left in out_dir). A controller fault is a result, not a failure.
 bool run_scenario(const Scenario& sc, const RunOptions& opt, RunResult* res, std::string* err);
+
+/// Same with a given control side instead of make_controller(sc) (tests, alternative controllers).
+bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, const RunOptions& opt, RunResult* res,
+                       std::string* err);
 
 /// The dtc-sil command line (main() is a one-line call; tests call it directly).
 /// Exit status: 0 done, 1 bad usage or scenario, 2 run failed.

@@ -102,9 +102,19 @@ unsigned switched_legs(const Scenario& sc)
 
 bool run_scenario(const Scenario& sc, const RunOptions& opt, RunResult* res, std::string* err)
 {
-    // Everything that can be refused is refused before the first period and before any file exists.
     std::unique_ptr<Controller> ctrl = make_controller(sc, err);
     if (!ctrl) {
+        return false;
+    }
+    return run_scenario_with(sc, std::move(ctrl), opt, res, err);
+}
+
+bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, const RunOptions& opt, RunResult* res,
+                       std::string* err)
+{
+    // Everything that can be refused is refused before the first period and before any file exists.
+    if (!ctrl) {
+        *err = "no controller";
         return false;
     }
     const plant_params_t pp = plant_params_from(sc);
@@ -138,13 +148,14 @@ bool run_scenario(const Scenario& sc, const RunOptions& opt, RunResult* res, std
     // The metrics window spans round(window/ts) periods: that many + 1 samples (metrics.cpp).
     const auto window_n =
         std::min<std::uint64_t>(periods, static_cast<std::uint64_t>(std::llround(sc.metrics_window_s / sc.ts_s)) + 1);
-    const std::uint64_t record_from = periods - window_n;
+    // One sample more before the window: the switching count needs the leg state before its start.
+    const std::uint64_t record_from = periods - std::min<std::uint64_t>(periods, window_n + 1);
     Series& s = res->series;
     s = Series{};
     s.ts_s = sc.ts_s;
     const bool est = ctrl->has_estimates();
     const bool legs = sc.inverter.topology != "ideal";
-    auto reserve = [&](std::vector<double>& v) { v.reserve(window_n); };
+    auto reserve = [&](std::vector<double>& v) { v.reserve(window_n + 1); };
     for (auto* v : {&s.ia, &s.ib, &s.ic, &s.te, &s.psi_a, &s.psi_b, &s.speed_rpm, &s.theta_e}) {
         reserve(*v);
     }
