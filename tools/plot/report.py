@@ -8,7 +8,9 @@ For each of the seven operating points of Tables IX and X (1500 rpm, full load 0
 tools/scenarios/<name>.toml into OUT/<name>/, draws that run's figures (plot_run.py), and writes
 OUT/report.md: paper vs simulation for the per-phase fundamental currents and their imbalance
 (Table IX), the DC component of the predicted (estimated) torque, the total current THD (eq. 39)
-and the TRF (eq. 40) (Table X). Exit status 1 if any run failed (its row says why).
+and the TRF (eq. 40) (Table X). Unless --table-only, it also runs the FSTP inertial and half-load
+points and draws OUT/fig12.png, fig15.png, fig16.png, fig17.png: phase currents at inertial, half
+and full load, as Hoang Figs. 12 and 15-17. Exit status 1 if any run failed (its row says why).
 """
 import argparse
 import concurrent.futures
@@ -36,6 +38,54 @@ PAPER = [
     ("fstp_voltage_proposed_full", "Voltage model, proposed compensation, FSTP", (2.26, 2.16, 2.16),
      (0.2989, 7.16, 86.27)),
 ]
+
+
+# Hoang's load series at 1500 rpm (FSTP): (a) inertial, (b) half, (c) full load.
+FIGURES = [
+    ("fig12", "Fig. 12: current-model DTC, FSTP", "fstp_current"),
+    ("fig15", "Fig. 15: voltage-model DTC, FSTP, no compensation", "fstp_voltage_none"),
+    ("fig16", "Fig. 16: voltage-model DTC, FSTP, simple compensation (Table V)", "fstp_voltage_simple"),
+    ("fig17", "Fig. 17: voltage-model DTC, FSTP, proposed compensation (Table VI)", "fstp_voltage_proposed"),
+]
+LOADS = [("inertial", "(a) inertial load"), ("half", "(b) half load"), ("full", "(c) full load (0.3 N·m)")]
+
+
+def load_figure(out_root, name, title, base):
+    """Three stacked current plots (inertial, half, full load), as Hoang's Figs. 12 and 15-17."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(3, 1, figsize=(8, 9), sharex=False)
+    for ax, (load, label) in zip(axes, LOADS):
+        run = os.path.join(out_root, f"{base}_{load}")
+        try:
+            tr = plot_run.load_trace(os.path.join(run, "trace.csv"))
+            m = plot_run.load_metrics(run)
+            sel = plot_run.span(tr, m, None, None)
+        except (OSError, ValueError) as e:
+            ax.text(0.5, 0.5, f"{label}: no run ({e})", transform=ax.transAxes, ha="center", fontsize=8)
+            continue
+        t_ms = 1e3 * tr["t_s"][sel]
+        t_ms = t_ms - t_ms[0]
+        for col, lab, color in (("ia_a", "$i_a$", "tab:blue"), ("ib_a", "$i_b$", "tab:red"), ("ic_a", "$i_c$", "tab:green")):
+            ax.plot(t_ms, tr[col][sel], label=lab, color=color, linewidth=0.8)
+        fund = m.get("fundamental_a")
+        txt = label
+        if fund:
+            txt += ":  fundamental " + " / ".join(f"{x:.2f}" for x in fund) + " A"
+        if m.get("fault", "none") != "none":
+            txt += f"  FAULT: {m['fault']}"
+        ax.set_title(txt, fontsize=8, loc="left")
+        ax.set_ylabel("current (A)")
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="upper right", ncol=3, fontsize=7)
+    axes[-1].set_xlabel("time (ms)")
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    path = os.path.join(out_root, name + ".png")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
 
 
 def imbalance(a):
@@ -124,17 +174,22 @@ def main(argv=None):
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "report"))
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--set", action="append", default=[], help="override passed to every run")
+    ap.add_argument("--table-only", action="store_true",
+                    help="only the seven Table IX/X runs, not the inertial/half-load runs of Figs. 12, 15-17")
     a = ap.parse_args(argv)
     if not os.path.exists(a.exe):
         print(f"report: {a.exe} not found (build it: cmake --build build/host --target dtc-sil)", file=sys.stderr)
         return 1
     os.makedirs(a.out, exist_ok=True)
     results = {}
+    extra = [] if a.table_only else [f"{base}_{load}" for _, _, base in FIGURES for load in ("inertial", "half")]
+    extra_results = {}
     with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as pool:
-        futs = [pool.submit(run_one, a.exe, a.scenarios, a.out, stem, a.set) for stem, *_ in PAPER]
+        futs = [pool.submit(run_one, a.exe, a.scenarios, a.out, stem, a.set) for stem in
+                [p[0] for p in PAPER] + extra]
         for fut in concurrent.futures.as_completed(futs):
             stem, m, err, cmd = fut.result()
-            results[stem] = (m, err)
+            (extra_results if stem in extra else results)[stem] = (m, err)
             print(f"{'FAILED' if err else 'ok    '} {stem}" + (f": {err}" if err else ""))
     # Figures in this thread only: matplotlib's text layout is not thread-safe.
     for stem, *_ in PAPER:
@@ -144,10 +199,17 @@ def main(argv=None):
                 plot_run.plot_run(os.path.join(a.out, stem))
             except (OSError, ValueError) as e:
                 results[stem] = (m, f"plots failed: {e}")
+    figs = [] if a.table_only else [(title, load_figure(a.out, name, title, base)) for name, title, base in FIGURES]
     path = os.path.join(a.out, "report.md")
     write_report(path, results, a.exe, a.set)
+    if figs:
+        with open(path, "a", encoding="utf-8") as f:
+            f.write("\n## Load series (Hoang Figs. 12, 15-17)\n\n")
+            for title, p in figs:
+                f.write(f"![{title}]({os.path.basename(p)})\n\n")
     print(path)
-    return 1 if any(err for _, err in results.values()) else 0
+    failed = [k for k, (_, err) in list(results.items()) + list(extra_results.items()) if err]
+    return 1 if failed else 0
 
 
 if __name__ == "__main__":

@@ -123,6 +123,9 @@ def main():
     for stem in ("sstp_current_full", "fstp_voltage_simple_full"):
         for png in ("currents.png", "torque.png", "flux_locus.png", "flux_components.png"):
             check_png(os.path.join(rep, stem, png))
+    for fig in ("fig12.png", "fig15.png", "fig16.png", "fig17.png"):
+        check_png(os.path.join(rep, fig))
+        assert f"]({fig})" in md, f"report.md does not show {fig}"
     print(f"selftest: ok ({work})")
     return 0
 
