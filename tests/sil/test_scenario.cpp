@@ -260,6 +260,9 @@ TEST(Scenario, EveryKeyIsDocumented)
     const std::string doc = ss.str();
     const auto keys = scenario_keys();
     EXPECT_GT(keys.size(), 60u);
+    // The table is the output of `dtc-sil keys`, verbatim (units, defaults and ranges included).
+    EXPECT_NE(doc.find(scenario_keys_markdown()), std::string::npos)
+        << "docs/sil.md section 4 is out of date: paste the output of `dtc-sil keys`";
     for (const KeyDoc& k : keys) {
         EXPECT_NE(doc.find("`" + k.name + "`"), std::string::npos) << k.name << " missing from docs/sil.md";
     }

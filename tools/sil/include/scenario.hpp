@@ -39,7 +39,7 @@ struct InverterCfg {
     double v_d_v = 1.25;           // Table IV
     double r_on_ohm = 0.075;       // Table IV
     double dead_time_s = 1.0e-6;
-    double c_dc_f = 1.0e-3;
+    double c_dc_f = 4.7e-3;        // FSTP mid-point ripple at 2.2 A, 25 Hz: +-1.5 V (see docs/sil.md)
     double r_dc_ohm = 0.1;
     bool drops = true;
     bool dead_time = true;
