@@ -269,7 +269,7 @@ const std::vector<Spec>& schema()
         num("protection.vdc_min_v", "V", nonneg(), "firmware DC-link under-voltage trip", ACC(protection.vdc_min_v)),
         num("protection.vdc_max_v", "V", positive(), "firmware DC-link over-voltage trip", ACC(protection.vdc_max_v)),
         num("protection.hw_trip_current_a", "A", nonneg(),
-            "hardware comparator on |i| (PDPINTA), latching, gates off; 0 = not fitted",
+            "hardware comparator on each phase-current magnitude (PDPINTA), latching, gates off; 0 = not fitted",
             ACC(protection.hw_trip_current_a)),
     };
     return specs;
