@@ -12,6 +12,12 @@ bool firmware_controller_available() { return true; }
 bool firmware_controller_available() { return false; }
 #endif
 
+namespace {
+ControllerFactory g_reference_factory = nullptr;
+}
+
+void register_reference_controller(ControllerFactory factory) { g_reference_factory = factory; }
+
 FirmwareSiConfig firmware_si_config(const Scenario& sc)
 {
     FirmwareSiConfig c{};
@@ -109,11 +115,12 @@ std::unique_ptr<Controller> make_controller(const Scenario& sc, std::string* err
         return make_open_loop_controller(std::move(rows));
     }
     if (sc.control.implementation == "reference") {
-        // INTEGRATION POINT: wrap model/'s double-precision reference DTC controller here (issue 3,
-        // item 5) behind the same interface; it reads the plant state through the harness
-        // (h.meas() / h.state()) and writes legs with h.hal_write().
-        *err = "control.implementation = \"reference\": the reference-controller adapter is not built in yet";
-        return nullptr;
+        if (g_reference_factory == nullptr) {
+            *err = "control.implementation = \"reference\": the reference controller (model/ref_dtc.h) is not "
+                   "built into this program";
+            return nullptr;
+        }
+        return g_reference_factory(sc, err);
     }
 #if DTC_SIL_HAVE_FIRMWARE
     return make_firmware_controller(sc, err);
