@@ -1,0 +1,150 @@
+// hal_host.hpp - the SIL binding of hal/include/hal.h on top of the plant (model/include/plant.h).
+//
+// A Harness owns one plant_t, the simulated clock, the sensor emulation (ADC, encoder, noise with a
+// fixed seed) and the hardware protection emulation. The global C functions of hal.h forward to
+// the one *active* Harness (Harness::activate()); without an active harness they abort with a
+// message, because firmware running on no hardware is a test-setup bug.
+//
+// Period protocol, one call of run_period() per 50 us control period k, t_k = k * ts:
+//   1. sample():  read the plant's true state at t_k; convert it to ADC codes and encoder counts
+//                 (hal_meas_t); run the trip comparator (|i_x| > trip level -> latch, gates off now).
+//   2. isr():     the firmware's ISR body (app_isr) runs "instantaneously" at t_k: hal_read() gets
+//                 the sample, hal_write() stores the command for period k+1.
+//   3. advance(): the plant runs over [t_k, t_k+1) with the command written in period k-1 (the
+//                 DSP's shadowed action registers load at the period boundary), then the pending
+//                 command becomes the active one.
+// hal_gates_off() acts on the current period at once (the fault path), like forcing the PWM
+// outputs to high impedance. A latched trip keeps every gate off until hal_trip_clear() succeeds,
+// which it does only once the comparator condition has gone (PDPINTA behaviour, f2812-facts 2.11).
+#ifndef HAL_HOST_HPP
+#define HAL_HOST_HPP
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "hal.h"
+#include "hal_host_sensors.hpp"
+#include "plant.h"
+
+namespace hal_host {
+
+/// Sensor chains, encoder and protection of the emulated board (SI units).
+struct SensorConfig {
+    double current_range_a = 10.0;             // +-range maps onto the 0..3 V ADC input
+    std::array<double, 3> current_offset_a{};  // per phase A, B, C
+    std::array<double, 3> current_gain_error{};
+    double current_noise_a_rms = 0.0;
+    double voltage_range_v = 100.0;            // 0..range maps onto 0..3 V (dividers)
+    double vdc_offset_v = 0.0;
+    double vdc_gain_error = 0.0;
+    double vmid_offset_v = 0.0;
+    double vmid_gain_error = 0.0;
+    double voltage_noise_v_rms = 0.0;
+    bool vmid_fitted = true;                   // false: HAL_ADC_VMID reads 0
+    std::uint32_t encoder_lines = 2000;        // Hoang Fig. 9(b): 2000 pulse/rev
+    double encoder_offset_rad = 0.0;           // mechanical angle of the index pulse is -offset
+    double trip_current_a = 0.0;               // PDPINTA comparator level on |i_a|,|i_b|,|i_c|; 0 = off
+    std::uint64_t noise_seed = 1;
+};
+
+struct HarnessConfig {
+    double ts_s = 50e-6; // control period = one ISR = one plant advance
+    SensorConfig sensors;
+};
+
+/// Why the gates are off (for the runner's log).
+enum class TripCause { none, overcurrent };
+
+class Harness {
+public:
+    /// Creates the plant from params. Returns nullptr and sets *err if the plant or the harness
+    /// configuration is invalid.
+    static std::unique_ptr<Harness> create(const plant_params_t& params, const HarnessConfig& cfg,
+                                           std::string* err);
+    ~Harness();
+    Harness(const Harness&) = delete;
+    Harness& operator=(const Harness&) = delete;
+
+    /// Makes this the instance the hal.h functions forward to (one at a time per process).
+    void activate();
+    void deactivate();
+    static Harness* active();
+
+    /// One control period: sample(), isr(), advance().
+    template <typename Isr> void run_period(Isr&& isr)
+    {
+        sample();
+        isr();
+        advance();
+    }
+    void sample();
+    void advance();
+
+    /// Ideal inverter only: alpha/beta voltages for the current period (open-loop runs have no
+    /// actuation delay: the voltage table already says what is applied when).
+    void set_ideal_voltage(double v_alpha_v, double v_beta_v);
+
+    // --- what the runner records -------------------------------------------------------------
+    const plant_state_t& state() const { return state_; }   // true state at t_k (after sample())
+    const hal_meas_t& meas() const { return meas_; }        // what hal_read() returns in period k
+    const hal_cmd_t& applied_cmd() const { return active_; } // legs applied over period k (after sample)
+    bool gates_enabled() const;                              // effective enable over period k
+    bool trip_latched() const { return trip_latched_; }
+    TripCause trip_cause() const { return trip_cause_; }
+    std::uint64_t period_count() const { return k_; }
+    double time_s() const { return static_cast<double>(k_) * cfg_.ts_s; }
+    double ts_s() const { return cfg_.ts_s; }
+    std::uint64_t watchdog_services() const { return watchdog_services_; }
+    std::uint64_t hal_writes() const { return writes_; }
+    /// hal_write() calls with a leg state or enable other than 0/1 (firmware contract violations).
+    std::uint64_t invalid_writes() const { return invalid_writes_; }
+    bool hal_initialised() const { return initialised_; }
+    plant_t* plant() { return plant_; }
+    const HarnessConfig& config() const { return cfg_; }
+
+    // --- hal.h back-end (the C functions forward here) ------------------------------------------
+    void hal_init();
+    void hal_read(hal_meas_t* meas); // clears the index flag: "seen since the previous read"
+    void hal_write(const hal_cmd_t* cmd);
+    void hal_gates_off();
+    void hal_trip_clear();
+    void hal_watchdog_service() { ++watchdog_services_; }
+    std::uint16_t hal_irq_save();
+    void hal_irq_restore(std::uint16_t state);
+
+private:
+    Harness(plant_t* plant, const HarnessConfig& cfg, const plant_params_t& params);
+    bool comparator_active() const;
+    void apply_to_plant();
+
+    plant_t* plant_;
+    HarnessConfig cfg_;
+    plant_inverter_t inverter_;
+    int pole_pairs_;
+    std::array<AnalogChannel, HAL_ADC_COUNT> adc_;
+    Encoder encoder_;
+    GaussianNoise noise_;
+
+    plant_state_t state_{};
+    hal_meas_t meas_{};
+    hal_cmd_t active_{};  // applied over the current period
+    hal_cmd_t pending_{}; // written in the current period, applied from the next boundary
+    double v_alpha_v_ = 0.0, v_beta_v_ = 0.0;
+    std::uint64_t k_ = 0;
+    std::int64_t last_turn_ = 0;
+    bool index_seen_ = false;
+    bool sampled_ = false;
+    bool trip_latched_ = false;
+    TripCause trip_cause_ = TripCause::none;
+    bool initialised_ = false;
+    std::uint16_t irq_enabled_ = 1;
+    std::uint64_t watchdog_services_ = 0;
+    std::uint64_t writes_ = 0;
+    std::uint64_t invalid_writes_ = 0;
+};
+
+} // namespace hal_host
+
+#endif // HAL_HOST_HPP

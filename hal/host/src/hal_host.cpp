@@ -1,0 +1,240 @@
+// hal_host.cpp - Harness (see hal_host.hpp) and the C functions of hal.h forwarding to it.
+#include "hal_host.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <stdexcept>
+
+namespace hal_host {
+
+namespace {
+Harness* g_active = nullptr;
+
+Harness& active_or_die(const char* fn)
+{
+    if (g_active == nullptr) {
+        std::fprintf(stderr, "hal_host: %s() called with no active Harness (call Harness::activate())\n", fn);
+        std::abort();
+    }
+    return *g_active;
+}
+
+bool finite_nonneg(double x) { return std::isfinite(x) && x >= 0.0; }
+} // namespace
+
+std::unique_ptr<Harness> Harness::create(const plant_params_t& params, const HarnessConfig& cfg,
+                                         std::string* err)
+{
+    auto fail = [err](const std::string& m) {
+        if (err != nullptr) {
+            *err = m;
+        }
+        return std::unique_ptr<Harness>();
+    };
+    const SensorConfig& s = cfg.sensors;
+    if (!(std::isfinite(cfg.ts_s) && cfg.ts_s > 0.0)) {
+        return fail("control period ts_s must be > 0");
+    }
+    if (!(std::isfinite(s.current_range_a) && s.current_range_a > 0.0)) {
+        return fail("current sensor range must be > 0 A");
+    }
+    if (!(std::isfinite(s.voltage_range_v) && s.voltage_range_v > 0.0)) {
+        return fail("voltage sensor range must be > 0 V");
+    }
+    if (!finite_nonneg(s.current_noise_a_rms) || !finite_nonneg(s.voltage_noise_v_rms) ||
+        !finite_nonneg(s.trip_current_a)) {
+        return fail("sensor noise and trip level must be finite and >= 0");
+    }
+    if (s.encoder_lines == 0u || s.encoder_lines > 16383u) {
+        return fail("encoder lines must be 1..16383 (4 * lines counts must fit 16 bits)");
+    }
+    char buf[512] = {0};
+    plant_t* plant = plant_create(&params, buf, sizeof buf);
+    if (plant == nullptr) {
+        return fail(std::string("plant: ") + (buf[0] != '\0' ? buf : "invalid parameters"));
+    }
+    return std::unique_ptr<Harness>(new Harness(plant, cfg, params));
+}
+
+Harness::Harness(plant_t* plant, const HarnessConfig& cfg, const plant_params_t& params)
+    : plant_(plant), cfg_(cfg), inverter_(params.inverter), pole_pairs_(params.pole_pairs),
+      encoder_(cfg.sensors.encoder_lines, cfg.sensors.encoder_offset_rad), noise_(cfg.sensors.noise_seed)
+{
+    const SensorConfig& s = cfg.sensors;
+    for (int ph = 0; ph < 3; ++ph) {
+        adc_[static_cast<std::size_t>(ph)] =
+            current_channel(s.current_range_a, s.current_gain_error[static_cast<std::size_t>(ph)],
+                            s.current_offset_a[static_cast<std::size_t>(ph)], s.current_noise_a_rms);
+    }
+    adc_[HAL_ADC_VDC] = voltage_channel(s.voltage_range_v, s.vdc_gain_error, s.vdc_offset_v, s.voltage_noise_v_rms);
+    adc_[HAL_ADC_VMID] = voltage_channel(s.voltage_range_v, s.vmid_gain_error, s.vmid_offset_v, s.voltage_noise_v_rms);
+    plant_get_state(plant_, &state_);
+    last_turn_ = encoder_.turn(state_.theta_m_rad);
+    active_ = hal_cmd_t{0, 0, 0, 0};
+    pending_ = active_;
+}
+
+Harness::~Harness()
+{
+    if (g_active == this) {
+        g_active = nullptr;
+    }
+    plant_destroy(plant_);
+}
+
+void Harness::activate() { g_active = this; }
+void Harness::deactivate()
+{
+    if (g_active == this) {
+        g_active = nullptr;
+    }
+}
+Harness* Harness::active() { return g_active; }
+
+bool Harness::comparator_active() const
+{
+    const double lim = cfg_.sensors.trip_current_a;
+    if (lim <= 0.0) {
+        return false;
+    }
+    return std::fabs(state_.i_a) > lim || std::fabs(state_.i_b) > lim || std::fabs(state_.i_c) > lim;
+}
+
+void Harness::sample()
+{
+    plant_get_state(plant_, &state_);
+
+    // Protection first: the comparator acts in hardware, before any software sees the sample.
+    if (comparator_active() && !trip_latched_) {
+        trip_latched_ = true;
+        trip_cause_ = TripCause::overcurrent;
+    }
+
+    // Encoder: index pulse whenever the shaft crossed the index position since the last sample.
+    const std::int64_t turn = encoder_.turn(state_.theta_m_rad);
+    if (turn != last_turn_) {
+        index_seen_ = true;
+        last_turn_ = turn;
+    }
+
+    // ADC: one noise draw per noisy channel per period, in channel order (reproducible for a
+    // seed and a configuration; noiseless channels cost no draw).
+    const double x[HAL_ADC_COUNT] = {state_.i_a, state_.i_b, state_.i_c, state_.vdc_v, state_.vc_lo_v};
+    for (int ch = 0; ch < HAL_ADC_COUNT; ++ch) {
+        const AnalogChannel& a = adc_[static_cast<std::size_t>(ch)];
+        const double n = a.noise_rms > 0.0 ? noise_.next() : 0.0;
+        meas_.adc[ch] = a.code(x[ch], n);
+    }
+    if (!cfg_.sensors.vmid_fitted || inverter_ != PLANT_INVERTER_FSTP) {
+        meas_.adc[HAL_ADC_VMID] = 0u;
+    }
+    meas_.qep_count = encoder_.count(state_.theta_m_rad);
+    meas_.qep_index_seen = index_seen_ ? 1u : 0u;
+    meas_.trip = trip_latched_ ? 1u : 0u;
+    meas_.tick = static_cast<std::uint32_t>(k_ & 0xFFFFFFFFu);
+    sampled_ = true;
+}
+
+bool Harness::gates_enabled() const { return active_.enable != 0u && !trip_latched_; }
+
+void Harness::apply_to_plant()
+{
+    if (inverter_ == PLANT_INVERTER_IDEAL) {
+        if (trip_latched_) {
+            plant_set_voltage(plant_, 0.0, 0.0);
+        } else {
+            plant_set_voltage(plant_, v_alpha_v_, v_beta_v_);
+        }
+        return;
+    }
+    const int en = gates_enabled() ? 1 : 0;
+    plant_set_legs(plant_, active_.sa != 0u ? 1 : 0, active_.sb != 0u ? 1 : 0, active_.sc != 0u ? 1 : 0, en);
+}
+
+void Harness::advance()
+{
+    if (!sampled_) {
+        sample(); // keep the protocol robust when a caller advances without sampling
+    }
+    apply_to_plant();
+    plant_advance(plant_, cfg_.ts_s);
+    ++k_;
+    active_ = pending_; // shadow registers load at the period boundary
+    sampled_ = false;
+}
+
+void Harness::set_ideal_voltage(double v_alpha_v, double v_beta_v)
+{
+    v_alpha_v_ = v_alpha_v;
+    v_beta_v_ = v_beta_v;
+}
+
+void Harness::hal_init()
+{
+    initialised_ = true;
+    active_ = hal_cmd_t{0, 0, 0, 0};
+    pending_ = active_;
+    irq_enabled_ = 1;
+}
+
+void Harness::hal_read(hal_meas_t* meas)
+{
+    if (meas == nullptr) {
+        return;
+    }
+    *meas = meas_;
+    index_seen_ = false;
+    meas_.qep_index_seen = 0u;
+}
+
+void Harness::hal_write(const hal_cmd_t* cmd)
+{
+    if (cmd == nullptr) {
+        return;
+    }
+    ++writes_;
+    if (cmd->sa > 1u || cmd->sb > 1u || cmd->sc > 1u || cmd->enable > 1u) {
+        ++invalid_writes_;
+    }
+    pending_ = *cmd;
+}
+
+void Harness::hal_gates_off()
+{
+    active_.enable = 0u;
+    pending_.enable = 0u;
+}
+
+void Harness::hal_trip_clear()
+{
+    if (trip_latched_ && !comparator_active()) {
+        trip_latched_ = false;
+        trip_cause_ = TripCause::none;
+    }
+}
+
+std::uint16_t Harness::hal_irq_save()
+{
+    const std::uint16_t s = irq_enabled_;
+    irq_enabled_ = 0;
+    return s;
+}
+
+void Harness::hal_irq_restore(std::uint16_t state) { irq_enabled_ = state; }
+
+} // namespace hal_host
+
+// ---- hal.h: thin forwarding to the active harness -------------------------------------------
+extern "C" {
+
+void hal_init(void) { hal_host::active_or_die("hal_init").hal_init(); }
+void hal_read(hal_meas_t* meas) { hal_host::active_or_die("hal_read").hal_read(meas); }
+void hal_write(const hal_cmd_t* cmd) { hal_host::active_or_die("hal_write").hal_write(cmd); }
+void hal_gates_off(void) { hal_host::active_or_die("hal_gates_off").hal_gates_off(); }
+void hal_trip_clear(void) { hal_host::active_or_die("hal_trip_clear").hal_trip_clear(); }
+void hal_watchdog_service(void) { hal_host::active_or_die("hal_watchdog_service").hal_watchdog_service(); }
+uint16_t hal_irq_save(void) { return hal_host::active_or_die("hal_irq_save").hal_irq_save(); }
+void hal_irq_restore(uint16_t state) { hal_host::active_or_die("hal_irq_restore").hal_irq_restore(state); }
+
+} // extern "C"

@@ -1,0 +1,205 @@
+// Closed-loop SIL tests: the fixed-point firmware + hal_host + the plant (issue 5's test list).
+// Built only when dtc-sil contains the firmware adapter (tests/sil/CMakeLists.txt).
+//
+// Assertions are envelopes over the metrics window (never single samples) and the orderings
+// Hoang 2011 reports for physical reasons. INTEGRATION: the numeric thresholds marked
+// "measured:" are to be set from the first integrated runs, with a margin, and compared with
+// Tables IX/X in the closing note.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "controller_adapter.hpp"
+#include "run.hpp"
+
+namespace fs = std::filesystem;
+using namespace sil;
+
+namespace {
+const std::string kScenarios = std::string(DTC_SOURCE_DIR) + "/tools/scenarios/";
+
+struct Outcome {
+    Metrics m;
+    RunInfo info;
+    Series series;
+};
+
+Outcome run(const std::string& file, const std::vector<std::string>& sets = {}, const std::string& out_dir = "")
+{
+    Scenario sc;
+    Diagnostics d;
+    EXPECT_TRUE(load_scenario(kScenarios + file, sets, &sc, &d)) << d.text();
+    RunOptions opt;
+    opt.out_dir = out_dir;
+    RunResult r;
+    std::string err;
+    EXPECT_TRUE(run_scenario(sc, opt, &r, &err)) << err;
+    return Outcome{r.metrics, r.info, r.series};
+}
+
+// trace.csv as columns.
+std::map<std::string, std::vector<double>> read_trace(const fs::path& p)
+{
+    std::ifstream f(p);
+    std::string line;
+    std::getline(f, line);
+    std::vector<std::string> names;
+    std::stringstream hs(line);
+    for (std::string c; std::getline(hs, c, ',');) {
+        names.push_back(c);
+    }
+    std::map<std::string, std::vector<double>> cols;
+    while (std::getline(f, line)) {
+        std::stringstream ls(line);
+        std::size_t i = 0;
+        for (std::string c; std::getline(ls, c, ','); ++i) {
+            cols[names.at(i)].push_back(std::strtod(c.c_str(), nullptr));
+        }
+    }
+    return cols;
+}
+
+fs::path tmp(const std::string& name)
+{
+    const fs::path p = fs::temp_directory_path() / ("dtc_sil_closed_" + name);
+    fs::remove_all(p);
+    return p;
+}
+} // namespace
+
+TEST(SilClosedLoop, SpeedModeSettlesWithinOnePercentAtFullLoadAndStaysThere)
+{
+    // From standstill: 1500 rpm, 0.3 N*m total load. The speed averaged over each electrical
+    // period (40 ms at 25 Hz) stays within 1 % over the whole 0.4 s window; the instantaneous
+    // speed, which carries the torque ripple through the inertia, within 2 %.
+    // Trial run (app + dtc branches, plant branch, 2026-11-22): period means within 0.5 %,
+    // instantaneous 1479..1510 rpm (1.4 %).
+    const Outcome o = run("fstp_current_full.toml", {"initial_speed_rpm=0"});
+    EXPECT_EQ(o.info.fault, "none");
+    const auto& v = o.series.speed_rpm;
+    ASSERT_GT(v.size(), 1600u);
+    const std::size_t per = 800; // samples per electrical period at 1500 rpm, p = 1
+    for (std::size_t b = v.size() % per; b + per <= v.size(); b += per) {
+        double mean = 0.0;
+        for (std::size_t k = b; k < b + per; ++k) {
+            mean += v[k];
+        }
+        mean /= static_cast<double>(per);
+        EXPECT_NEAR(mean, 1500.0, 15.0) << "period starting at sample " << b;
+    }
+    const auto mm = std::minmax_element(v.begin(), v.end());
+    EXPECT_GT(*mm.first, 1500.0 * 0.98);
+    EXPECT_LT(*mm.second, 1500.0 * 1.02);
+    EXPECT_NEAR(o.m.torque_mean_nm, 0.3, 0.01); // the load it carries: friction + generator
+}
+
+TEST(SilClosedLoop, TorqueModeTracksTheReference)
+{
+    // Dynamometer holds 1500 rpm; torque reference 0.3 N*m: mean plant torque within 2 %.
+    for (const char* topo : {"sstp", "fstp"}) {
+        const Outcome o = run("fstp_current_full.toml", {std::string("inverter.topology=") + topo, "control.mode=torque",
+                                                         "control.torque_ref_nm=0.3", "load.type=speed"});
+        EXPECT_EQ(o.info.fault, "none") << topo;
+        EXPECT_NEAR(o.m.torque_mean_nm, 0.3, 0.02 * 0.3) << topo;
+    }
+}
+
+TEST(SilClosedLoop, HoangFindingsFstpVoltageModelImbalanceOrdering)
+{
+    // Hoang Tables IX/X: FSTP voltage model without compensation -> the largest imbalance and an
+    // estimated torque above the true torque; simple -> smaller; proposed -> the smallest, close
+    // to the current model's; current model balanced.
+    const Outcome none = run("fstp_voltage_none_full.toml");
+    const Outcome simple = run("fstp_voltage_simple_full.toml");
+    const Outcome proposed = run("fstp_voltage_proposed_full.toml");
+    const Outcome current = run("fstp_current_full.toml");
+    for (const Outcome* o : {&none, &simple, &proposed, &current}) {
+        ASSERT_TRUE(o->m.imbalance_pct.has_value());
+        EXPECT_EQ(o->info.fault, "none");
+    }
+    EXPECT_GT(*none.m.imbalance_pct, *simple.m.imbalance_pct);
+    EXPECT_GT(*simple.m.imbalance_pct, *proposed.m.imbalance_pct);
+    ASSERT_TRUE(none.m.torque_est_mean_nm.has_value());
+    EXPECT_GT(*none.m.torque_est_mean_nm, none.m.torque_mean_nm);
+    // measured: set these from the integrated runs (paper: none 26.6 %, simple 6.8 %, proposed
+    // 4.6 %, current 3.4 % imbalance, with Table VII back-EMFs).
+    EXPECT_LT(std::fabs(*proposed.m.imbalance_pct - *current.m.imbalance_pct), *none.m.imbalance_pct / 2.0);
+    EXPECT_LT(*current.m.imbalance_pct, *none.m.imbalance_pct / 2.0);
+}
+
+TEST(SilClosedLoop, FixedPointFirmwareAgreesWithTheDoubleReference)
+{
+    // model/'s double-precision reference DTC on the same plant and the same measurements
+    // (controller_reference.cpp). Tolerances: measured: to be set from the integrated runs.
+#if DTC_SIL_HAVE_REFERENCE
+    register_reference_controller(&make_reference_controller);
+#endif
+    Scenario sc;
+    Diagnostics d;
+    ASSERT_TRUE(load_scenario(kScenarios + "fstp_voltage_proposed_full.toml", {"control.implementation=reference"},
+                              &sc, &d));
+    std::string err;
+    if (!make_controller(sc, &err)) {
+        GTEST_SKIP() << err;
+    }
+    const Outcome fx = run("fstp_voltage_proposed_full.toml");
+    const Outcome ref = run("fstp_voltage_proposed_full.toml", {"control.implementation=reference"});
+    ASSERT_TRUE(fx.m.fundamental_a.has_value()) << fx.info.fault;
+    ASSERT_TRUE(ref.m.fundamental_a.has_value());
+    for (int ph = 0; ph < 3; ++ph) {
+        EXPECT_NEAR((*fx.m.fundamental_a)[static_cast<std::size_t>(ph)], (*ref.m.fundamental_a)[static_cast<std::size_t>(ph)],
+                    0.03 * (*ref.m.fundamental_a)[static_cast<std::size_t>(ph)]);
+    }
+    EXPECT_NEAR(fx.m.torque_mean_nm, ref.m.torque_mean_nm, 0.01);
+    EXPECT_NEAR(*fx.m.thd_total_pct, *ref.m.thd_total_pct, 0.2 * *ref.m.thd_total_pct);
+}
+
+TEST(SilClosedLoop, OverCurrentTripsWithinOneIsrPeriodAndGatesStayOff)
+{
+    // A trip level below the running current: the first sample above it must see the gates off
+    // in that very period (trip decided in the ISR that sees the sample) and forever after.
+    const fs::path out = tmp("overcurrent");
+    const Outcome o = run("sstp_current_full.toml", {"protection.overcurrent_a=1.5", "duration_s=0.3",
+                                                     "metrics_window_s=0.1", "initial_speed_rpm=0"},
+                          out.string());
+    EXPECT_NE(o.info.fault, "none");
+    const auto tr = read_trace(out / "trace.csv");
+    const auto& ia = tr.at("ia_a");
+    const auto& ib = tr.at("ib_a");
+    const auto& ic = tr.at("ic_a");
+    const auto& en = tr.at("en");
+    std::size_t first = ia.size();
+    for (std::size_t k = 0; k < ia.size(); ++k) {
+        if (std::max({std::fabs(ia[k]), std::fabs(ib[k]), std::fabs(ic[k])}) > 1.5 * 1.02) { // + ADC gain margin
+            first = k;
+            break;
+        }
+    }
+    ASSERT_LT(first, ia.size()) << "the current never exceeded the trip level";
+    for (std::size_t k = first; k < en.size(); ++k) {
+        ASSERT_EQ(en[k], 0.0) << "gates on at row " << k << " after the over-current at row " << first;
+    }
+    fs::remove_all(out);
+}
+
+TEST(SilClosedLoop, DcLinkOutOfRangeTrips)
+{
+    const Outcome over = run("sstp_current_full.toml", {"protection.vdc_max_v=60", "duration_s=0.1", "metrics_window_s=0.05"});
+    EXPECT_NE(over.info.fault, "none");
+    const Outcome under = run("sstp_current_full.toml", {"protection.vdc_min_v=75", "duration_s=0.1", "metrics_window_s=0.05"});
+    EXPECT_NE(under.info.fault, "none");
+    EXPECT_NE(over.info.fault, under.info.fault);
+}
+
+TEST(SilClosedLoop, FirmwareNeverCommandsAStateOutsideItsTable)
+{
+    for (const char* f : {"sstp_current_full.toml", "fstp_voltage_proposed_full.toml"}) {
+        const Outcome o = run(f, {"duration_s=0.5", "metrics_window_s=0.2"});
+        EXPECT_EQ(o.info.invalid_commands, 0u) << f;
+    }
+}

@@ -1,0 +1,215 @@
+// Metrics against synthetic signals with known answers (Hoang eqs. 39, 40 and the window rules).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "metrics.hpp"
+
+using namespace sil;
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kTs = 50e-6;
+
+// Three-phase set with per-phase amplitude, and a common 5th/7th harmonic content.
+Series three_phase(double f_hz, double duration_s, std::array<double, 3> amp, double h5 = 0.0, double h7 = 0.0,
+                   double phase0 = 0.3)
+{
+    Series s;
+    s.ts_s = kTs;
+    const auto n = static_cast<std::size_t>(std::llround(duration_s / kTs));
+    for (std::size_t k = 0; k < n; ++k) {
+        const double th = 2.0 * kPi * f_hz * static_cast<double>(k) * kTs + phase0;
+        const double sh[3] = {0.0, -2.0 * kPi / 3.0, 2.0 * kPi / 3.0};
+        double* dst[3] = {nullptr, nullptr, nullptr};
+        double v[3];
+        for (int p = 0; p < 3; ++p) {
+            const double a = th + sh[p];
+            v[p] = amp[static_cast<std::size_t>(p)] * (std::cos(a) + h5 * std::cos(5.0 * a) + h7 * std::cos(7.0 * a));
+        }
+        (void)dst;
+        s.ia.push_back(v[0]);
+        s.ib.push_back(v[1]);
+        s.ic.push_back(v[2]);
+        s.theta_e.push_back(th);
+        s.te.push_back(0.3);
+        s.speed_rpm.push_back(60.0 * f_hz);
+        s.psi_a.push_back(0.0928 * std::cos(th));
+        s.psi_b.push_back(0.0928 * std::sin(th));
+    }
+    return s;
+}
+} // namespace
+
+TEST(Metrics, SineWithKnownHarmonicsGivesExactThd)
+{
+    // 25 Hz (1500 rpm, p = 1): 800 samples per period; 5th = 4 %, 7th = 3 % -> THD = 5 % exactly.
+    Series s = three_phase(25.0, 0.2, {2.2, 2.2, 2.2}, 0.04, 0.03);
+    const Spectrum sp = spectrum(s.ia.data(), 4000, 5);
+    EXPECT_NEAR(sp.fundamental_peak, 2.2, 1e-9);
+    EXPECT_NEAR(sp.thd_pct, 5.0, 1e-8);
+    EXPECT_NEAR(sp.thd_harmonic_pct, 5.0, 1e-8);
+}
+
+TEST(Metrics, NonHarmonicRippleCountsInThdButNotInHarmonicOnlyThd)
+{
+    // 2 A fundamental at 25 Hz + 0.1 A at 1015 Hz (not a multiple of 25 Hz, on a bin of the
+    // 0.2 s window): THD = 5 % in the all-lines definition, 0 % counting harmonics only.
+    Series s = three_phase(25.0, 0.2, {2.0, 2.0, 2.0});
+    for (std::size_t k = 0; k < s.ia.size(); ++k) {
+        s.ia[k] += 0.1 * std::sin(2.0 * kPi * 1015.0 * static_cast<double>(k) * kTs);
+    }
+    const Spectrum sp = spectrum(s.ia.data(), 4000, 5);
+    EXPECT_NEAR(sp.thd_pct, 5.0, 1e-8);
+    EXPECT_NEAR(sp.thd_harmonic_pct, 0.0, 1e-8);
+}
+
+TEST(Metrics, DcOffsetIsNotDistortion)
+{
+    Series s = three_phase(25.0, 0.2, {2.0, 2.0, 2.0});
+    for (double& x : s.ia) {
+        x += 0.5;
+    }
+    const Spectrum sp = spectrum(s.ia.data(), 4000, 5);
+    EXPECT_NEAR(sp.fundamental_peak, 2.0, 1e-9);
+    EXPECT_NEAR(sp.thd_pct, 0.0, 1e-8);
+}
+
+TEST(Metrics, UnbalancedThreePhaseSetGivesKnownImbalanceAndTotalThd)
+{
+    // Hoang Table IX, FSTP voltage model without compensation: 2.97 / 2.37 / 3.00 A.
+    Series s = three_phase(25.0, 0.3, {2.97, 2.37, 3.00}, 0.05);
+    MetricsConfig mc;
+    mc.window_s = 0.2;
+    mc.switched_legs = 0;
+    const Metrics m = compute_metrics(s, mc);
+    ASSERT_TRUE(m.fundamental_a.has_value());
+    EXPECT_NEAR((*m.fundamental_a)[0], 2.97, 1e-6);
+    EXPECT_NEAR((*m.fundamental_a)[1], 2.37, 1e-6);
+    EXPECT_NEAR((*m.fundamental_a)[2], 3.00, 1e-6);
+    EXPECT_NEAR(*m.imbalance_pct, 100.0 * (3.00 / 2.37 - 1.0), 1e-4); // 26.58 %
+    // eq. 39 total: every phase has 5 % -> total 5 %.
+    EXPECT_NEAR(*m.thd_total_pct, 5.0, 1e-6);
+    EXPECT_NEAR(thd_total_pct({3.0, 4.0, 12.0}), std::sqrt((9.0 + 16.0 + 144.0) / 3.0), 1e-12);
+}
+
+TEST(Metrics, WindowIsTrimmedToWholeElectricalPeriods)
+{
+    // 27 Hz, 0.23 s window: 6.21 periods -> 6 periods; with a non-integer number of samples per
+    // period (740.7) the trimmed window holds 4444 samples (6 * 740.74 rounded), and the amplitude
+    // comes out within the half-sample leakage bound, while the untrimmed window leaks far more.
+    Series s = three_phase(27.0, 0.5, {1.0, 1.0, 1.0});
+    MetricsConfig mc;
+    mc.window_s = 0.23;
+    mc.switched_legs = 0;
+    const Metrics m = compute_metrics(s, mc);
+    EXPECT_EQ(m.window.periods, 6);
+    EXPECT_NEAR(static_cast<double>(m.window.n), 6.0 / 27.0 / kTs, 1.0);
+    EXPECT_EQ(m.window.begin + m.window.n, s.size() - 1);
+    EXPECT_NEAR(m.window_s, 6.0 / 27.0, kTs);
+    EXPECT_NEAR((*m.fundamental_a)[0], 1.0, 2e-4);
+    EXPECT_LT((*m.thd_pct)[0], 0.2);
+    // The same data over the untrimmed 0.23 s (6.21 periods) treated as 6 periods: visibly wrong.
+    const std::size_t n_raw = static_cast<std::size_t>(0.23 / kTs);
+    const Spectrum raw = spectrum(s.ia.data() + s.size() - n_raw, n_raw, 6);
+    EXPECT_GT(raw.thd_pct, 10.0 * (*m.thd_pct)[0]);
+}
+
+TEST(Metrics, WindowFollowsTheAngleNotAnAssumedFrequency)
+{
+    // Speed steps from 25 Hz to 30 Hz inside the window: the trimming uses the unwrapped angle,
+    // so the window still spans an exact multiple of 2 pi.
+    std::vector<double> th;
+    double a = 0.0;
+    for (int k = 0; k < 8000; ++k) {
+        th.push_back(a);
+        a += 2.0 * kPi * (k < 5000 ? 25.0 : 30.0) * kTs;
+    }
+    const Window w = whole_period_window(th, 6000);
+    ASSERT_GE(w.periods, 1);
+    const double span = th[w.begin + w.n] - th[w.begin];
+    EXPECT_NEAR(span, 2.0 * kPi * w.periods, 2.0 * kPi * 30.0 * kTs);
+    EXPECT_EQ(w.periods, static_cast<int>(std::floor((th.back() - th[2000]) / (2.0 * kPi))));
+}
+
+TEST(Metrics, StandstillHasNoSpectralMetrics)
+{
+    Series s = three_phase(0.0, 0.1, {1.0, 1.0, 1.0});
+    MetricsConfig mc;
+    mc.window_s = 0.05;
+    const Metrics m = compute_metrics(s, mc);
+    EXPECT_FALSE(m.fundamental_a.has_value());
+    EXPECT_FALSE(m.thd_total_pct.has_value());
+    EXPECT_EQ(m.window.n, 1001u); // 0.05 s = 1000 intervals = 1001 samples
+    EXPECT_NEAR(m.torque_mean_nm, 0.3, 1e-12);
+}
+
+TEST(Metrics, SquareWaveTorqueRippleGivesTrfByEq40)
+{
+    // 0.3 N*m mean with a +-0.1 N*m square ripple at 1 kHz: peak-to-peak 0.2 N*m -> TRF = 66.67 %
+    // of the 0.3 N*m rated torque; mean exactly 0.3 over whole ripple periods.
+    Series s = three_phase(25.0, 0.3, {1.0, 1.0, 1.0});
+    for (std::size_t k = 0; k < s.te.size(); ++k) {
+        s.te[k] = 0.3 + ((k / 10) % 2 == 0 ? 0.1 : -0.1);
+    }
+    EXPECT_NEAR(trf_pct(s.te.data(), s.te.size(), 0.3), 100.0 * 0.2 / 0.3, 1e-9);
+    MetricsConfig mc;
+    mc.window_s = 0.2;
+    mc.rated_torque_nm = 0.3;
+    const Metrics m = compute_metrics(s, mc);
+    EXPECT_NEAR(m.trf_pct, 66.6666667, 1e-6);
+    EXPECT_EQ(m.window.n, 4000u);             // 5 electrical periods = 200 whole ripple periods
+    EXPECT_NEAR(m.torque_mean_nm, 0.3, 1e-12);
+}
+
+TEST(Metrics, KnownSwitchingPatternGivesSwitchingFrequency)
+{
+    // Leg B toggles every period: 1 turn-on per period per leg, shared by its 2 devices ->
+    // 1 / (2 ts) = 10 kHz. Leg C toggles every 4th period -> 2.5 kHz. FSTP (legs B, C): mean 6.25 kHz.
+    Series s = three_phase(25.0, 0.2, {1.0, 1.0, 1.0});
+    const std::size_t n = s.size();
+    for (std::size_t k = 0; k < n; ++k) {
+        s.sa.push_back(0);
+        s.sb.push_back(static_cast<std::uint8_t>(k % 2));
+        s.sc.push_back(static_cast<std::uint8_t>((k / 4) % 2));
+        s.en.push_back(1);
+    }
+    EXPECT_NEAR(switching_frequency_hz(s, 1000, 2000, 0x2), 10000.0, 1e-9);
+    EXPECT_NEAR(switching_frequency_hz(s, 1000, 2000, 0x4), 2500.0, 1e-9);
+    EXPECT_NEAR(switching_frequency_hz(s, 1000, 2000, 0x6), 6250.0, 1e-9);
+    // Gates off for the second half: no turn-ons there; re-enabling counts one per leg.
+    for (std::size_t k = 2000; k < 3000; ++k) {
+        s.en[k] = 0;
+    }
+    EXPECT_NEAR(switching_frequency_hz(s, 1000, 1000, 0x2), 10000.0, 1e-9);
+    EXPECT_NEAR(switching_frequency_hz(s, 2000, 1000, 0x2), 0.0, 1e-9);
+    // Window [2500, 3500): 500 enabled rows, one re-enable edge at 3000 plus 499 toggles.
+    EXPECT_NEAR(switching_frequency_hz(s, 2500, 1000, 0x2), 500.0 / (2.0 * 1000 * kTs), 1e-9);
+}
+
+TEST(Metrics, FluxErrorRmsIsRelativeToTheTrueFluxRms)
+{
+    Series s = three_phase(25.0, 0.2, {1.0, 1.0, 1.0});
+    for (std::size_t k = 0; k < s.size(); ++k) {
+        s.psi_a_est.push_back(1.02 * s.psi_a[k]); // 2 % magnitude error
+        s.psi_b_est.push_back(1.02 * s.psi_b[k]);
+    }
+    EXPECT_NEAR(flux_error_rms_pct(s, 0, s.size()), 2.0, 1e-9);
+}
+
+TEST(Metrics, EstimateMetricsOnlyWithEstimates)
+{
+    Series s = three_phase(25.0, 0.2, {1.0, 1.0, 1.0});
+    MetricsConfig mc;
+    mc.window_s = 0.1;
+    mc.switched_legs = 0;
+    Metrics m = compute_metrics(s, mc);
+    EXPECT_FALSE(m.torque_est_mean_nm.has_value());
+    EXPECT_FALSE(m.flux_est_error_rms_pct.has_value());
+    EXPECT_FALSE(m.switching_freq_hz.has_value());
+    s.te_est.assign(s.size(), 0.33);
+    m = compute_metrics(s, mc);
+    ASSERT_TRUE(m.torque_est_mean_nm.has_value());
+    EXPECT_NEAR(*m.torque_est_mean_nm, 0.33, 1e-12);
+    EXPECT_NEAR(*m.trf_est_pct, 0.0, 1e-12);
+}

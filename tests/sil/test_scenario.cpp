@@ -1,0 +1,325 @@
+// Scenario parsing: defaults, good files, --set, and every malformed case naming key and line.
+#include <gtest/gtest.h>
+
+#include <complex>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "controller_adapter.hpp"
+#include "scenario.hpp"
+
+using namespace sil;
+
+namespace {
+
+// Parses text as "case.toml"; returns the joined error text ("" if accepted).
+std::string errors_of(const std::string& text, const std::vector<std::string>& sets = {}, Scenario* out = nullptr)
+{
+    Scenario s;
+    Diagnostics d;
+    const bool ok = parse_scenario(text, "case.toml", sets, &s, &d);
+    if (out != nullptr) {
+        *out = s;
+    }
+    std::string all;
+    for (const auto& e : d.errors) {
+        all += e + "\n";
+    }
+    EXPECT_EQ(ok, d.errors.empty());
+    return all;
+}
+
+void expect_error(const std::string& text, const std::string& key, int line, const std::string& what = "",
+                  const std::vector<std::string>& sets = {})
+{
+    const std::string e = errors_of(text, sets);
+    ASSERT_FALSE(e.empty()) << "accepted:\n" << text;
+    EXPECT_NE(e.find(key), std::string::npos) << "key '" << key << "' not named in: " << e;
+    if (line > 0) {
+        EXPECT_NE(e.find("case.toml:" + std::to_string(line) + ":"), std::string::npos)
+            << "line " << line << " not named in: " << e;
+    }
+    if (!what.empty()) {
+        EXPECT_NE(e.find(what), std::string::npos) << "'" << what << "' not in: " << e;
+    }
+}
+
+std::filesystem::path temp_dir()
+{
+    auto d = std::filesystem::temp_directory_path() / ("dtc_sil_scn_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
+                                                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::remove_all(d);
+    std::filesystem::create_directories(d);
+    return d;
+}
+
+const char* kGood = R"(# FSTP, voltage model, proposed compensation, full load
+duration_s = 1.0
+metrics_window_s = 0.4
+[motor]
+rs_ohm = 0.466
+pole_pairs = 1
+emf_gain = [0.98739, 1.00149, 1.01112]
+[inverter]
+topology = "fstp"
+vdc_v = 70
+[load]
+type = "generator"
+speed_rpm = 1500
+torque_nm = 0.225
+[control]
+mode = "speed"
+estimator = "voltage"
+compensation = "proposed"
+speed_ref_rpm = 1500
+[sensors]
+current_noise_a_rms = 0.01
+seed = 7
+)";
+
+} // namespace
+
+TEST(Scenario, EmptyFileGivesTheDocumentedDefaults)
+{
+    Scenario s;
+    EXPECT_EQ(errors_of("", {}, &s), "");
+    // Hoang Table VIII machine, Table IV devices, 70 V, sec. IV control settings.
+    EXPECT_DOUBLE_EQ(s.motor.rs_ohm, 0.466);
+    EXPECT_DOUBLE_EQ(s.motor.ls_h, 3.19e-3);
+    EXPECT_DOUBLE_EQ(s.motor.psi_m_wb, 0.0928);
+    EXPECT_EQ(s.motor.pole_pairs, 1);
+    EXPECT_DOUBLE_EQ(s.motor.rated_torque_nm, 0.3);
+    EXPECT_DOUBLE_EQ(s.inverter.vdc_v, 70.0);
+    EXPECT_DOUBLE_EQ(s.inverter.v_ce_v, 0.9);
+    EXPECT_DOUBLE_EQ(s.inverter.v_d_v, 1.25);
+    EXPECT_DOUBLE_EQ(s.inverter.r_on_ohm, 0.075);
+    EXPECT_DOUBLE_EQ(s.ts_s, 50e-6);
+    EXPECT_EQ(s.control.speed_loop_divider, 10);
+    EXPECT_DOUBLE_EQ(s.control.lpf_cutoff_rad_s, 5.0);
+    EXPECT_DOUBLE_EQ(s.control.flux_ref_wb, 0.0928);
+    EXPECT_DOUBLE_EQ(s.control.torque_band_nm, 0.0);
+    EXPECT_DOUBLE_EQ(s.control.flux_band_wb, 0.0);
+    EXPECT_EQ(s.sensors.encoder_lines, 2000);
+    // b_nms: 25 % of the 0.3 N*m rated torque at 1500 rpm (Hoang sec. IV, inertial load).
+    EXPECT_NEAR(s.motor.b_nms * 1500.0 * 2.0 * 3.14159265358979 / 60.0, 0.075, 1e-5);
+}
+
+TEST(Scenario, GoodFileIsReadWithOriginsAndIntegersPromoted)
+{
+    Scenario s;
+    ASSERT_EQ(errors_of(kGood, {}, &s), "");
+    EXPECT_EQ(s.inverter.topology, "fstp");
+    EXPECT_DOUBLE_EQ(s.inverter.vdc_v, 70.0); // TOML integer accepted for a number
+    EXPECT_EQ(s.control.compensation, "proposed");
+    EXPECT_DOUBLE_EQ(s.load.torque_nm, 0.225);
+    EXPECT_DOUBLE_EQ(s.motor.emf_gain[2], 1.01112);
+    EXPECT_EQ(s.sensors.seed, 7);
+    EXPECT_EQ(s.origin.at("load.torque_nm"), "case.toml:14:13");
+    EXPECT_EQ(s.name, "case");
+}
+
+TEST(Scenario, SetOverridesWithDottedNamesAndTypeChecks)
+{
+    Scenario s;
+    ASSERT_EQ(errors_of(kGood, {"load.speed_rpm=700", "control.estimator=current", "inverter.drops=false",
+                                "motor.emf_gain=[1, 1, 1]", "sensors.seed=42", "control.mode=\"torque\""},
+                        &s),
+              "");
+    EXPECT_DOUBLE_EQ(s.load.speed_rpm, 700.0);
+    EXPECT_EQ(s.control.estimator, "current");
+    EXPECT_FALSE(s.inverter.drops);
+    EXPECT_DOUBLE_EQ(s.motor.emf_gain[0], 1.0);
+    EXPECT_EQ(s.sensors.seed, 42);
+    EXPECT_EQ(s.control.mode, "torque");
+    EXPECT_NE(s.origin.at("load.speed_rpm").find("--set"), std::string::npos);
+
+    expect_error(kGood, "load.speed_rpm", 0, "expected a number", {"load.speed_rpm=fast"});
+    expect_error(kGood, "load.spede_rpm", 0, "unknown key", {"load.spede_rpm=700"});
+    expect_error(kGood, "sensors.seed", 0, "expected an integer", {"sensors.seed=1.5"});
+    expect_error(kGood, "inverter.drops", 0, "true or false", {"inverter.drops=1"});
+    expect_error(kGood, "motor.rs_ohm", 0, "impossible", {"motor.rs_ohm=-1"});
+    expect_error(kGood, "control.estimator", 0, "expected one of", {"control.estimator=flux"});
+    expect_error(kGood, "--set #1", 0, "key=value", {"load.speed_rpm"});
+    expect_error(kGood, "motor.emf_gain", 0, "3 numbers", {"motor.emf_gain=[1,1]"});
+}
+
+TEST(Scenario, UnknownKeyNamesKeyAndLine)
+{
+    expect_error("duration_s = 1.0\n[motor]\nrs_ohm = 0.4\nls_mh = 3.19\n", "motor.ls_mh", 4, "unknown key");
+    expect_error("duration = 1.0\n", "duration", 1, "unknown key");
+    expect_error("[motr]\nrs_ohm = 0.4\n", "motr", 1, "unknown table");
+    expect_error("[control.speed]\nkp = 1\n", "control.speed", 1, "unknown key");
+}
+
+TEST(Scenario, WrongTypeNamesKeyAndLine)
+{
+    expect_error("[motor]\nrs_ohm = \"0.466\"\n", "motor.rs_ohm", 2, "expected a number, got string");
+    expect_error("[motor]\npole_pairs = 1.5\n", "motor.pole_pairs", 2, "expected an integer, got float");
+    expect_error("[inverter]\ndrops = 1\n", "inverter.drops", 2, "expected true or false");
+    expect_error("[control]\nmode = 1\n", "control.mode", 2, "expected a string");
+    expect_error("[motor]\nemf_gain = [1.0, 1.0]\n", "motor.emf_gain", 2, "got 2 elements");
+    expect_error("[motor]\nemf_gain = [1.0, \"x\", 1.0]\n", "motor.emf_gain", 2, "element 1");
+    expect_error("motor = 3\n", "motor", 1, "expected a table");
+}
+
+TEST(Scenario, ImpossibleNumbersNameKeyAndLine)
+{
+    expect_error("\n[motor]\nrs_ohm = 0.0\n", "motor.rs_ohm", 3, "impossible");
+    expect_error("[motor]\nls_h = -3.19e-3\n", "motor.ls_h", 2, "must be > 0");
+    expect_error("[motor]\npsi_m_wb = nan\n", "motor.psi_m_wb", 2, "impossible");
+    expect_error("[inverter]\nvdc_v = inf\n", "inverter.vdc_v", 2, "impossible");
+    expect_error("[motor]\npole_pairs = 0\n", "motor.pole_pairs", 2, "impossible");
+    expect_error("[control]\nlpf_cutoff_rad_s = -5\n", "control.lpf_cutoff_rad_s", 2, "impossible");
+    expect_error("[control]\nmode = \"sped\"\n", "control.mode", 2, "expected one of \"speed\"");
+    expect_error("[sensors]\nencoder_lines = 20000\n", "sensors.encoder_lines", 2, "impossible");
+    expect_error("duration_s = 0.1\nmetrics_window_s = 0.2\n", "metrics_window_s", 2, "longer than duration_s");
+    expect_error("[control]\nspeed_bw_hz = 500\n", "control.speed_bw_hz", 2, "1/20 of the speed-loop rate");
+    expect_error("[protection]\nvdc_min_v = 80\nvdc_max_v = 60\n", "protection.vdc_min_v", 2, "below");
+}
+
+TEST(Scenario, TomlSyntaxErrorNamesTheLine)
+{
+    expect_error("[motor]\nrs_ohm = 0.466\nls_h = \n", "", 3, "TOML syntax error");
+    expect_error("[motor]\nrs_ohm = 0.466\nrs_ohm = 0.5\n", "", 3, "TOML syntax error");
+}
+
+TEST(Scenario, MissingValuesAndInconsistentCombinations)
+{
+    // open_loop needs a voltage table and the ideal inverter.
+    expect_error("[inverter]\ntopology = \"ideal\"\n[control]\nmode = \"open_loop\"\n", "control.voltage_csv", 0,
+                 "missing value");
+    expect_error("[control]\nmode = \"open_loop\"\nvoltage_csv = \"v.csv\"\n", "inverter.topology", 0,
+                 "\"ideal\"");
+    expect_error("[inverter]\ntopology = \"ideal\"\n", "inverter.topology", 2, "open_loop");
+    expect_error("[inverter]\ntopology = \"sstp\"\n[control]\nestimator = \"voltage\"\ncompensation = \"proposed\"\n",
+                 "control.compensation", 5, "FSTP only");
+    expect_error("[control]\nvoltage_csv = \"\"\n", "control.voltage_csv", 2, "missing value");
+}
+
+TEST(Scenario, OpenLoopCsvIsResolvedRelativeToTheScenarioAndChecked)
+{
+    const auto d = temp_dir();
+    {
+        std::ofstream(d / "v.csv") << "t_s,v_alpha_v,v_beta_v\n0,1,0\n0.001,0,1\n";
+        std::ofstream(d / "ol.toml") << "[inverter]\ntopology = \"ideal\"\n[control]\nmode = \"open_loop\"\n"
+                                        "voltage_csv = \"v.csv\"\n";
+    }
+    Scenario s;
+    Diagnostics diag;
+    ASSERT_TRUE(load_scenario((d / "ol.toml").string(), {}, &s, &diag)) << diag.text();
+    EXPECT_EQ(std::filesystem::path(s.control.voltage_csv), (d / "v.csv").lexically_normal());
+
+    // Bad tables: each error names the CSV file and line, under the key control.voltage_csv.
+    auto bad = [&](const std::string& csv, const std::string& what) {
+        std::ofstream(d / "v.csv") << csv;
+        Scenario s2;
+        Diagnostics d2;
+        EXPECT_FALSE(load_scenario((d / "ol.toml").string(), {}, &s2, &d2)) << csv;
+        const std::string t = d2.text();
+        EXPECT_NE(t.find("control.voltage_csv"), std::string::npos) << t;
+        EXPECT_NE(t.find("ol.toml:5:"), std::string::npos) << t;
+        EXPECT_NE(t.find(what), std::string::npos) << t;
+    };
+    bad("t,va,vb\n0,1,0\n", "v.csv:1: expected the header");
+    bad("t_s,v_alpha_v,v_beta_v\n0,1,0\n0,2,0\n", "v.csv:3: t_s must increase");
+    bad("t_s,v_alpha_v,v_beta_v\n0,1,x\n", "v.csv:2: column 3");
+    bad("t_s,v_alpha_v,v_beta_v\n0.5,1,0\n", "v.csv:2: the first row must start");
+    bad("t_s,v_alpha_v,v_beta_v\n", "no data rows");
+    std::vector<VoltageRow> rows;
+    std::string e;
+    EXPECT_FALSE(load_voltage_csv((d / "missing.csv").string(), &rows, &e));
+    EXPECT_NE(e.find("missing.csv: cannot open"), std::string::npos) << e;
+    std::filesystem::remove_all(d);
+}
+
+TEST(Scenario, MissingFileIsReported)
+{
+    Scenario s;
+    Diagnostics d;
+    EXPECT_FALSE(load_scenario("/nonexistent/x.toml", {}, &s, &d));
+    EXPECT_NE(d.text().find("/nonexistent/x.toml: cannot open"), std::string::npos);
+}
+
+TEST(Scenario, WarningsDoNotReject)
+{
+    Scenario s;
+    Diagnostics d;
+    ASSERT_TRUE(parse_scenario("[inverter]\ntopology = \"fstp\"\n[control]\ntable = \"st-a\"\n", "w.toml", {}, &s, &d));
+    ASSERT_EQ(d.warnings.size(), 1u);
+    EXPECT_NE(d.warnings[0].find("control.table"), std::string::npos);
+}
+
+TEST(Scenario, EveryKeyIsDocumented)
+{
+    // docs/sil.md carries the key table; a key added to the schema but not documented fails here.
+    std::ifstream f(std::string(DTC_SOURCE_DIR) + "/docs/sil.md");
+    ASSERT_TRUE(f.good());
+    std::stringstream ss;
+    ss << f.rdbuf();
+    const std::string doc = ss.str();
+    const auto keys = scenario_keys();
+    EXPECT_GT(keys.size(), 60u);
+    // The table is the output of `dtc-sil keys`, verbatim (units, defaults and ranges included).
+    EXPECT_NE(doc.find(scenario_keys_markdown()), std::string::npos)
+        << "docs/sil.md section 4 is out of date: paste the output of `dtc-sil keys`";
+    for (const KeyDoc& k : keys) {
+        EXPECT_NE(doc.find("`" + k.name + "`"), std::string::npos) << k.name << " missing from docs/sil.md";
+    }
+}
+
+TEST(Scenario, SpeedPiGainsGiveTheRequestedBandwidth)
+{
+    // Plant 1/(J s); L(jw) = C(jw)/(J jw). At w = wc: |L| = sqrt(1 + 1/16), phase margin 76 deg.
+    const double j = 1e-4, bw = 10.0, wc = 2.0 * 3.14159265358979 * bw;
+    const SpeedPiGains g = speed_pi_gains(j, bw);
+    const std::complex<double> s(0.0, wc);
+    const std::complex<double> l = (g.kp_nm_per_rad_s + g.ki_nm_per_rad / s) / (j * s);
+    EXPECT_NEAR(std::abs(l), std::sqrt(1.0 + 1.0 / 16.0), 1e-9);
+    EXPECT_NEAR(180.0 + std::arg(l) * 180.0 / 3.14159265358979, 75.96, 0.01);
+}
+
+TEST(Scenario, FirmwareSiConfigCarriesTheScenario)
+{
+    Scenario s;
+    ASSERT_EQ(errors_of(kGood, {}, &s), "");
+    const FirmwareSiConfig c = firmware_si_config(s);
+    EXPECT_EQ(c.topology_fstp, 1);
+    EXPECT_EQ(c.estimator_voltage, 1);
+    EXPECT_EQ(c.compensation, 2);
+    EXPECT_EQ(c.mode_torque, 0);
+    EXPECT_DOUBLE_EQ(c.rs_ohm, 0.466);
+    EXPECT_DOUBLE_EQ(c.v_ce_v, 0.9);
+    EXPECT_DOUBLE_EQ(c.speed_kp_nm_per_rad_s, speed_pi_gains(s.motor.j_kgm2, s.control.speed_bw_hz).kp_nm_per_rad_s);
+}
+
+TEST(Scenario, ShippedScenariosAreValid)
+{
+    int n = 0;
+    for (const auto& e : std::filesystem::directory_iterator(std::string(DTC_SOURCE_DIR) + "/tools/scenarios")) {
+        if (e.path().extension() != ".toml") {
+            continue;
+        }
+        ++n;
+        Scenario s;
+        Diagnostics d;
+        EXPECT_TRUE(load_scenario(e.path().string(), {}, &s, &d)) << d.text();
+        EXPECT_TRUE(d.warnings.empty()) << d.text();
+        if (s.control.mode != "open_loop") {
+            // The paper's operating point: 1500 rpm, Table VIII/IV values, bands zero.
+            EXPECT_DOUBLE_EQ(s.control.speed_ref_rpm, 1500.0) << e.path();
+            EXPECT_DOUBLE_EQ(s.control.torque_band_nm, 0.0);
+            EXPECT_DOUBLE_EQ(s.control.flux_band_wb, 0.0);
+            EXPECT_DOUBLE_EQ(s.inverter.vdc_v, 70.0);
+            // Total load at 1500 rpm: friction + generator = 0.075 + {0, 0.075, 0.225} N*m.
+            const double friction = s.motor.b_nms * 1500.0 * 2.0 * 3.14159265358979 / 60.0;
+            const double total = friction + (s.load.type == "generator" ? s.load.torque_nm : 0.0);
+            const std::string f = e.path().filename().string();
+            const double expect = f.find("_full") != std::string::npos   ? 0.3
+                                  : f.find("_half") != std::string::npos ? 0.15
+                                                                         : 0.075;
+            EXPECT_NEAR(total, expect, 1e-4) << f;
+        }
+    }
+    EXPECT_EQ(n, 16);
+}

@@ -1,0 +1,216 @@
+#!/usr/bin/python3
+"""Run Hoang 2011's Table IX/X matrix with dtc-sil and write a side-by-side markdown report.
+
+    /usr/bin/python3 tools/plot/report.py [--exe build/host/bin/dtc-sil] [--out out/report]
+                                          [--jobs 2] [--set key=value ...]
+
+For each of the seven operating points of Tables IX and X (1500 rpm, full load 0.3 N*m) it runs
+tools/scenarios/<name>.toml into OUT/<name>/, draws that run's figures (plot_run.py), and writes
+OUT/report.md: paper vs simulation for the per-phase fundamental currents and their imbalance
+(Table IX), the DC component of the predicted (estimated) torque, the total current THD (eq. 39)
+and the TRF (eq. 40) (Table X). Unless --table-only, it also runs the FSTP inertial and half-load
+points and draws OUT/fig12.png, fig15.png, fig16.png, fig17.png: phase currents at inertial, half
+and full load, as Hoang Figs. 12 and 15-17. Exit status 1 if any run failed (its row says why).
+"""
+import argparse
+import concurrent.futures
+import datetime
+import json
+import os
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
+sys.path.insert(0, HERE)
+import plot_run  # noqa: E402
+
+# Hoang, Zhu, Foster 2011, Table IX (fundamental phase currents, A peak) and Table X (DC component
+# of the predicted torque N*m, current THD %, TRF %), 1500 rpm, full torque 0.3 N*m.
+PAPER = [
+    # scenario stem,             label,                                  IX (A, B, C),        X (torque, THD, TRF)
+    ("sstp_current_full", "Current model, SSTP", (2.22, 2.20, 2.29), (0.3034, 7.84, 86.27)),
+    ("fstp_current_full", "Current model, FSTP", (2.05, 2.06, 2.12), (0.2973, 7.40, 60.39)),
+    ("sstp_voltage_none_full", "Voltage model, no compensation, SSTP", (2.74, 2.73, 2.89), (0.3296, 7.70, 92.02)),
+    ("fstp_voltage_none_full", "Voltage model, no compensation, FSTP", (2.97, 2.37, 3.00), (0.3345, 7.20, 92.02)),
+    ("sstp_voltage_simple_full", "Voltage model, compensation, SSTP [29]", (2.13, 2.13, 2.25), (0.2984, 8.99, 89.15)),
+    ("fstp_voltage_simple_full", "Voltage model, simple compensation, FSTP", (2.53, 2.37, 2.41), (0.3046, 8.83, 89.15)),
+    ("fstp_voltage_proposed_full", "Voltage model, proposed compensation, FSTP", (2.26, 2.16, 2.16),
+     (0.2989, 7.16, 86.27)),
+]
+
+
+# Hoang's load series at 1500 rpm (FSTP): (a) inertial, (b) half, (c) full load.
+FIGURES = [
+    ("fig12", "Fig. 12: current-model DTC, FSTP", "fstp_current"),
+    ("fig15", "Fig. 15: voltage-model DTC, FSTP, no compensation", "fstp_voltage_none"),
+    ("fig16", "Fig. 16: voltage-model DTC, FSTP, simple compensation (Table V)", "fstp_voltage_simple"),
+    ("fig17", "Fig. 17: voltage-model DTC, FSTP, proposed compensation (Table VI)", "fstp_voltage_proposed"),
+]
+LOADS = [("inertial", "(a) inertial load"), ("half", "(b) half load"), ("full", "(c) full load (0.3 N·m)")]
+
+
+def load_figure(out_root, name, title, base):
+    """Three stacked current plots (inertial, half, full load), as Hoang's Figs. 12 and 15-17."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(3, 1, figsize=(8, 9), sharex=False)
+    for ax, (load, label) in zip(axes, LOADS):
+        run = os.path.join(out_root, f"{base}_{load}")
+        try:
+            tr = plot_run.load_trace(os.path.join(run, "trace.csv"))
+            m = plot_run.load_metrics(run)
+            sel = plot_run.span(tr, m, None, None)
+        except (OSError, ValueError) as e:
+            ax.text(0.5, 0.5, f"{label}: no run ({e})", transform=ax.transAxes, ha="center", fontsize=8)
+            continue
+        t_ms = 1e3 * tr["t_s"][sel]
+        t_ms = t_ms - t_ms[0]
+        for col, lab, color in (("ia_a", "$i_a$", "tab:blue"), ("ib_a", "$i_b$", "tab:red"), ("ic_a", "$i_c$", "tab:green")):
+            ax.plot(t_ms, tr[col][sel], label=lab, color=color, linewidth=0.8)
+        fund = m.get("fundamental_a")
+        txt = label
+        if fund:
+            txt += ":  fundamental " + " / ".join(f"{x:.2f}" for x in fund) + " A"
+        if m.get("fault", "none") != "none":
+            txt += f"  FAULT: {m['fault']}"
+        ax.set_title(txt, fontsize=8, loc="left")
+        ax.set_ylabel("current (A)")
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="upper right", ncol=3, fontsize=7)
+    axes[-1].set_xlabel("time (ms)")
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    path = os.path.join(out_root, name + ".png")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def imbalance(a):
+    return 100.0 * (max(a) / min(a) - 1.0)
+
+
+def run_one(exe, scen_dir, out_root, stem, sets):
+    scen = os.path.join(scen_dir, stem + ".toml")
+    out = os.path.join(out_root, stem)
+    cmd = [exe, "run", scen, "--out", out, "--quiet"]
+    for s in sets:
+        cmd += ["--set", s]
+    r = subprocess.run(cmd, capture_output=True, text=True, check=False)
+    if r.returncode != 0:
+        msg = (r.stderr.strip().splitlines() or ["exit status %d" % r.returncode])[-1]
+        return stem, None, msg, " ".join(cmd)
+    with open(os.path.join(out, "metrics.json"), encoding="utf-8") as f:
+        m = json.load(f)
+    return stem, m, None, " ".join(cmd)
+
+
+def fmt3(a):
+    return " / ".join(f"{x:.2f}" for x in a) if a else "n/a"
+
+
+def num(x, f="{:.4f}"):
+    return f.format(x) if isinstance(x, (int, float)) else "n/a"
+
+
+def write_report(path, results, exe, sets):
+    lines = ["# Hoang 2011 Tables IX and X: paper vs simulation", ""]
+    lines += [f"Generated {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M UTC} by "
+              f"`tools/plot/report.py` with `{os.path.relpath(exe, ROOT) if os.path.isabs(exe) else exe}`"
+              + (f", overrides `{' '.join(sets)}`" if sets else "") + ".", ""]
+    lines += ["Paper: measured on the prototype (TMS320F2812, IRAMY20UP60B, Table VIII machine), 1500 rpm, "
+              "full load 0.3 N·m. Simulation: the same firmware against the plant model, scenarios in "
+              "`tools/scenarios/`, metrics over the last `metrics_window_s` trimmed to whole electrical "
+              "periods (docs/sil.md).", ""]
+    lines += ["## Table IX: fundamental phase currents (A, peak) and imbalance", "",
+              "| scheme | paper A / B / C | sim A / B / C | paper imbalance % | sim imbalance % |",
+              "|---|---|---|---|---|"]
+    for stem, label, ix, _ in PAPER:
+        m, err = results[stem]
+        if m is None:
+            lines.append(f"| {label} (`{stem}`) | {fmt3(ix)} | run failed: {err} | {imbalance(ix):.1f} | n/a |")
+            continue
+        f = m.get("fundamental_a")
+        lines.append(f"| {label} (`{stem}`) | {fmt3(ix)} | {fmt3(f)} | {imbalance(ix):.1f} | "
+                     f"{num(m.get('imbalance_pct'), '{:.1f}')} |")
+    lines += ["", "## Table X: predicted torque, current THD (eq. 39), TRF (eq. 40)", "",
+              "| scheme | paper predicted torque N·m | sim estimated torque N·m | sim true torque N·m "
+              "| paper THD % | sim THD % | paper TRF % | sim TRF % (true) | sim TRF % (estimate) |",
+              "|---|---|---|---|---|---|---|---|---|"]
+    for stem, label, _, x in PAPER:
+        m, err = results[stem]
+        if m is None:
+            lines.append(f"| {label} | {x[0]:.4f} | run failed | | {x[1]:.2f} | | {x[2]:.2f} | | |")
+            continue
+        lines.append(f"| {label} | {x[0]:.4f} | {num(m.get('torque_est_mean_nm'))} | {num(m.get('torque_mean_nm'))} "
+                     f"| {x[1]:.2f} | {num(m.get('thd_total_pct'), '{:.2f}')} | {x[2]:.2f} "
+                     f"| {num(m.get('trf_pct'), '{:.2f}')} | {num(m.get('trf_est_pct'), '{:.2f}')} |")
+    lines += ["", "## Runs", "", "| scenario | fault | speed rpm | switching Hz | flux est. error % | figures |",
+              "|---|---|---|---|---|---|"]
+    for stem, _, _, _ in PAPER:
+        m, err = results[stem]
+        if m is None:
+            lines.append(f"| `{stem}` | run failed: {err} | | | | |")
+            continue
+        figs = " ".join(f"[{p[:-4]}]({stem}/{p})" for p in
+                        ("currents.png", "torque.png", "flux_locus.png", "flux_components.png"))
+        lines.append(f"| `{stem}` | {m.get('fault')} | {num(m.get('speed_mean_rpm'), '{:.1f}')} "
+                     f"| {num(m.get('switching_freq_hz'), '{:.0f}')} | {num(m.get('flux_est_error_rms_pct'), '{:.2f}')} "
+                     f"| {figs} |")
+    lines += ["", "Definitions: fundamental = peak of the DFT line at the electrical frequency; imbalance = "
+              "100 (max/min - 1); THD = eq. 39 total over all non-fundamental lines; TRF = eq. 40, peak-to-peak "
+              "over the window / 0.3 N·m, sampled once per 50 µs period (the paper's torque transducer "
+              "bandwidth is not stated, so the simulated TRF of the instantaneous torque is an upper bound).", ""]
+    with open(path, "w", encoding="utf-8") as f:
+        f.write("\n".join(lines))
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--exe", default=os.path.join(ROOT, "build", "host", "bin", "dtc-sil"))
+    ap.add_argument("--scenarios", default=os.path.join(ROOT, "tools", "scenarios"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", "report"))
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--set", action="append", default=[], help="override passed to every run")
+    ap.add_argument("--table-only", action="store_true",
+                    help="only the seven Table IX/X runs, not the inertial/half-load runs of Figs. 12, 15-17")
+    a = ap.parse_args(argv)
+    if not os.path.exists(a.exe):
+        print(f"report: {a.exe} not found (build it: cmake --build build/host --target dtc-sil)", file=sys.stderr)
+        return 1
+    os.makedirs(a.out, exist_ok=True)
+    results = {}
+    extra = [] if a.table_only else [f"{base}_{load}" for _, _, base in FIGURES for load in ("inertial", "half")]
+    extra_results = {}
+    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as pool:
+        futs = [pool.submit(run_one, a.exe, a.scenarios, a.out, stem, a.set) for stem in
+                [p[0] for p in PAPER] + extra]
+        for fut in concurrent.futures.as_completed(futs):
+            stem, m, err, cmd = fut.result()
+            (extra_results if stem in extra else results)[stem] = (m, err)
+            print(f"{'FAILED' if err else 'ok    '} {stem}" + (f": {err}" if err else ""))
+    # Figures in this thread only: matplotlib's text layout is not thread-safe.
+    for stem, *_ in PAPER:
+        m, err = results[stem]
+        if m is not None:
+            try:
+                plot_run.plot_run(os.path.join(a.out, stem))
+            except (OSError, ValueError) as e:
+                results[stem] = (m, f"plots failed: {e}")
+    figs = [] if a.table_only else [(title, load_figure(a.out, name, title, base)) for name, title, base in FIGURES]
+    path = os.path.join(a.out, "report.md")
+    write_report(path, results, a.exe, a.set)
+    if figs:
+        with open(path, "a", encoding="utf-8") as f:
+            f.write("\n## Load series (Hoang Figs. 12, 15-17)\n\n")
+            for title, p in figs:
+                f.write(f"![{title}]({os.path.basename(p)})\n\n")
+    print(path)
+    failed = [k for k, (_, err) in list(results.items()) + list(extra_results.items()) if err]
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,97 @@
+// metrics.hpp - the SIL metrics of Hoang 2011 Tables IX and X, computed from sampled signals.
+//
+// Window: the last metrics_window_s of the run, trimmed to a whole number of electrical periods
+// using the plant's unwrapped electrical angle (exact under speed ripple; no assumption of a
+// constant frequency). Spectra use FFTW (real-input DFT of the trimmed window, no window function:
+// with whole periods the fundamental and its harmonics fall on bins exactly).
+//
+// Definitions:
+//   fundamental_a[x]  peak amplitude of phase x's fundamental, A.
+//   thd_pct[x]        Hoang eq. 39, THD_x = sqrt(sum_{n>=2} X_n^2) / X_1 * 100 %. The sum runs over
+//                     every spectral line except DC and the fundamental, so switching ripple that is
+//                     not locked to the fundamental counts too and the result does not depend on the
+//                     window length; for a periodic signal this equals eq. 39 exactly.
+//                     thd_harmonic_pct counts only the integer harmonics n*f1 (eq. 39 read literally).
+//   thd_total_pct     eq. 39: sqrt((THD_A^2 + THD_B^2 + THD_C^2) / 3).
+//   imbalance_pct     100 * (max/min - 1) of the three fundamentals.
+//   trf_pct           Hoang eq. 40: (T_max - T_min) / T_rated * 100 % over the window.
+//   switching_freq_hz turn-on events per second per switching device, averaged over the switched
+//                     legs: every leg-state change turns one of the leg's two devices on, and so does
+//                     re-enabling the gates; f = events / (2 * legs * T_window).
+//   flux_est_error_rms_pct  100 * rms(|psi_est - psi|) / rms(|psi|).
+#ifndef DTC_SIL_METRICS_HPP
+#define DTC_SIL_METRICS_HPP
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace sil {
+
+/// Signals sampled once per control period (row k = instant t_k; legs = applied over period k).
+struct Series {
+    double ts_s = 50e-6;
+    std::vector<double> ia, ib, ic;
+    std::vector<double> te, te_est;                 // te_est may be empty (no estimator)
+    std::vector<double> psi_a, psi_b, psi_a_est, psi_b_est; // *_est may be empty
+    std::vector<double> speed_rpm;
+    std::vector<double> theta_e;                    // unwrapped electrical angle, rad
+    std::vector<std::uint8_t> sa, sb, sc, en;       // may be empty (ideal inverter)
+    std::size_t size() const { return ia.size(); }
+};
+
+/// [begin, begin + n) covers `periods` whole electrical periods; periods == 0 if none fits.
+struct Window {
+    std::size_t begin = 0;
+    std::size_t n = 0;
+    int periods = 0;
+};
+
+/// Largest whole number of electrical periods inside the last `window_n` samples.
+/// The window ends at the last sample; its start is the sample whose angle is closest to
+/// theta_end - periods * 2 pi (the end sample itself begins the next period, so it is excluded).
+Window whole_period_window(const std::vector<double>& theta_e, std::size_t window_n);
+
+struct Spectrum {
+    double fundamental_peak = 0.0; // peak amplitude of the fundamental
+    double thd_pct = 0.0;          // all non-DC, non-fundamental lines (see header)
+    double thd_harmonic_pct = 0.0; // integer harmonics only
+};
+/// DFT of x[0..n) that holds `periods` whole periods (fundamental at bin `periods`).
+Spectrum spectrum(const double* x, std::size_t n, int periods);
+
+double imbalance_pct(const std::array<double, 3>& amplitudes);
+double thd_total_pct(const std::array<double, 3>& thd);
+double trf_pct(const double* t, std::size_t n, double rated_torque_nm);
+double mean(const double* x, std::size_t n);
+/// legs_mask: bit 0 = leg A, bit 1 = B, bit 2 = C.
+double switching_frequency_hz(const Series& s, std::size_t begin, std::size_t n, unsigned legs_mask);
+double flux_error_rms_pct(const Series& s, std::size_t begin, std::size_t n);
+
+struct MetricsConfig {
+    double window_s = 0.2;
+    double rated_torque_nm = 0.3;
+    unsigned switched_legs = 0x7; // 0 for the ideal inverter
+};
+
+struct Metrics {
+    Window window;
+    double window_s = 0.0;       // trimmed window actually used
+    double f_e_hz = 0.0;         // periods / window_s
+    std::optional<std::array<double, 3>> fundamental_a, thd_pct, thd_harmonic_pct;
+    std::optional<double> imbalance_pct, thd_total_pct;
+    double torque_mean_nm = 0.0, trf_pct = 0.0;
+    std::optional<double> torque_est_mean_nm, trf_est_pct, flux_est_error_rms_pct;
+    double speed_mean_rpm = 0.0;
+    std::optional<double> switching_freq_hz;
+};
+
+/// All metrics over the last cfg.window_s of s. Without a whole electrical period in the window
+/// (standstill) the spectral metrics are empty and the others use the untrimmed window.
+Metrics compute_metrics(const Series& s, const MetricsConfig& cfg);
+
+} // namespace sil
+
+#endif // DTC_SIL_METRICS_HPP

@@ -1,0 +1,166 @@
+// scenario.hpp - SIL scenario: the SI description of one run (TOML file + --set overrides).
+//
+// Every key, its type, unit, default and allowed range lives in one schema table
+// (scenario_schema()); parsing, --set, validation, `dtc-sil keys` and the key table of docs/sil.md
+// all come from it. Defaults: Hoang 2011 Table VIII machine, Table IV devices, 70 V, SSTP.
+// Errors always name the key and where its value came from ("file:line:col" or "--set").
+#ifndef DTC_SIL_SCENARIO_HPP
+#define DTC_SIL_SCENARIO_HPP
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace sil {
+
+struct MotorCfg {
+    std::string type = "pmsm";
+    double rs_ohm = 0.466;      // Hoang Table VIII
+    double ls_h = 3.19e-3;      // Table VIII (dq inductance, surface PM: Ld = Lq)
+    double psi_m_wb = 0.0928;   // Table VIII
+    std::int64_t pole_pairs = 1;
+    double j_kgm2 = 1.0e-4;     // not in the paper: small servo motor + coupled DC generator
+    double b_nms = 4.7746e-4;   // 0.075 N*m at 1500 rpm: Hoang sec. IV, inertial load = 25 % of 0.3 N*m
+    std::array<double, 3> emf_gain{1.0, 1.0, 1.0};
+    std::array<double, 3> emf_harm_a{}; // 3rd, 5th, 7th relative to the fundamental
+    std::array<double, 3> emf_harm_b{};
+    std::array<double, 3> emf_harm_c{};
+    double rated_torque_nm = 0.3;  // Table VIII, the T_rated of eq. 40
+    double rated_current_a = 2.2;
+    double rated_speed_rpm = 3000.0;
+};
+
+struct InverterCfg {
+    std::string topology = "sstp"; // ideal | sstp | fstp
+    double vdc_v = 70.0;           // Table VIII
+    double v_ce_v = 0.9;           // Table IV
+    double v_d_v = 1.25;           // Table IV
+    double r_on_ohm = 0.075;       // Table IV
+    double dead_time_s = 1.0e-6;
+    double c_dc_f = 4.7e-3;        // FSTP mid-point ripple at 2.2 A, 25 Hz: +-1.5 V (see docs/sil.md)
+    double r_dc_ohm = 0.1;
+    bool drops = true;
+    bool dead_time = true;
+    bool finite_dc_link = true;
+};
+
+struct LoadCfg {
+    std::string type = "inertia"; // speed | torque | generator | inertia
+    double speed_rpm = 1500.0;
+    double torque_nm = 0.0;
+    double step_time_s = 0.0;     // 0 = no step
+    double step_torque_nm = 0.0;
+};
+
+struct ControlCfg {
+    std::string mode = "speed";          // speed | torque | open_loop
+    std::string implementation = "firmware"; // firmware | reference
+    std::string estimator = "current";   // current | voltage
+    std::string compensation = "none";   // none | simple | proposed
+    std::string table = "basic";         // basic | st-a | st-b | st-c | st-d (SSTP)
+    double speed_ref_rpm = 1500.0;
+    double speed_bw_hz = 10.0;
+    std::int64_t speed_loop_divider = 10; // Hoang sec. IV: speed loop 10x slower than 50 us
+    double torque_limit_nm = 0.6;
+    double torque_ref_nm = 0.3;
+    double flux_ref_wb = 0.0928;         // Hoang sec. IV: |psi_s*| = psi_m
+    double torque_band_nm = 0.0;         // Hoang sec. IV: bands set to zero
+    double flux_band_wb = 0.0;
+    double lpf_cutoff_rad_s = 5.0;       // Hoang sec. IV
+    double v_f_v = 0.9;                  // simple compensation V_f (Hoang sec. III-B)
+    std::string voltage_csv;             // open_loop: t_s,v_alpha_v,v_beta_v (resolved path)
+};
+
+struct SensorsCfg {
+    double current_range_a = 10.0;
+    std::array<double, 3> current_offset_a{};
+    std::array<double, 3> current_gain_error{};
+    double current_noise_a_rms = 0.0;
+    double voltage_range_v = 100.0;
+    double vdc_offset_v = 0.0;
+    double vdc_gain_error = 0.0;
+    double vmid_offset_v = 0.0;
+    double vmid_gain_error = 0.0;
+    double voltage_noise_v_rms = 0.0;
+    bool vmid_fitted = true;
+    std::int64_t encoder_lines = 2000;   // Hoang Fig. 9(b)
+    double encoder_offset_rad = 0.0;
+    std::int64_t seed = 1;
+};
+
+struct ProtectionCfg {
+    double overcurrent_a = 6.0;   // firmware trip on any phase current
+    double vdc_min_v = 40.0;      // firmware DC-link under-voltage trip
+    double vdc_max_v = 90.0;      // firmware DC-link over-voltage trip
+    double hw_trip_current_a = 8.0; // hardware comparator (PDPINTA), in hal_host
+};
+
+struct Scenario {
+    std::string name;            // file stem
+    std::string path;            // scenario file as given
+    double duration_s = 0.5;
+    double metrics_window_s = 0.2;
+    double ts_s = 50e-6;         // control period (Hoang sec. IV: 50 us)
+    double max_step_s = 5e-6;    // plant integration sub-step
+    double initial_speed_rpm = 0.0;
+    double initial_theta_m_rad = 0.0;
+    MotorCfg motor;
+    InverterCfg inverter;
+    LoadCfg load;
+    ControlCfg control;
+    SensorsCfg sensors;
+    ProtectionCfg protection;
+    std::map<std::string, std::string> origin; // key -> "file:line:col" or "--set"
+};
+
+/// One documented scenario key (for the schema table, `dtc-sil keys` and docs/sil.md).
+struct KeyDoc {
+    std::string name;     // dotted
+    std::string type;     // number, integer, boolean, string, array of 3 numbers, path
+    std::string unit;
+    std::string default_text;
+    std::string range;    // allowed values
+    std::string doc;
+};
+std::vector<KeyDoc> scenario_keys();
+
+/// Parse errors and warnings; each error names the key and where its value came from.
+struct Diagnostics {
+    std::vector<std::string> errors;
+    std::vector<std::string> warnings;
+    bool ok() const { return errors.empty(); }
+    std::string text() const;
+};
+
+/// Loads a scenario file and applies "key=value" overrides. Returns false (and fills diag) when
+/// the file cannot be read or parsed, a key is unknown, a type is wrong, a value is impossible or
+/// required values are missing. Nothing is run or written by this function.
+bool load_scenario(const std::string& path, const std::vector<std::string>& overrides, Scenario* out,
+                   Diagnostics* diag);
+/// Same, from TOML text (source_name is used in messages and to resolve relative paths).
+bool parse_scenario(const std::string& toml_text, const std::string& source_name,
+                    const std::vector<std::string>& overrides, Scenario* out, Diagnostics* diag);
+
+/// Markdown table of every key (the text of `dtc-sil keys`).
+std::string scenario_keys_markdown();
+
+/// One row of an open-loop voltage table.
+struct VoltageRow {
+    double t_s, v_alpha_v, v_beta_v;
+};
+/// Reads a `t_s,v_alpha_v,v_beta_v` CSV (header required, t strictly increasing from <= 0,
+/// finite values). Errors name the file and line.
+bool load_voltage_csv(const std::string& path, std::vector<VoltageRow>* rows, std::string* err);
+
+/// Speed PI gains from the inertia and the wanted bandwidth (see scenario.cpp for the design).
+struct SpeedPiGains {
+    double kp_nm_per_rad_s;
+    double ki_nm_per_rad;
+};
+SpeedPiGains speed_pi_gains(double j_kgm2, double bw_hz);
+
+} // namespace sil
+
+#endif // DTC_SIL_SCENARIO_HPP

@@ -1,0 +1,84 @@
+// sil_output.hpp - trace.csv rows, metrics.json, the stdout summary, and all-or-nothing output.
+#ifndef DTC_SIL_OUTPUT_HPP
+#define DTC_SIL_OUTPUT_HPP
+
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "metrics.hpp"
+#include "scenario.hpp"
+
+namespace sil {
+
+/// One trace row: plant state at t_k, the controller's estimates made from the sample at t_k,
+/// and the leg states applied over [t_k, t_k+1).
+struct TraceRow {
+    double t_s, ia_a, ib_a, ic_a, i_alpha_a, i_beta_a;
+    double torque_nm, torque_est_nm;
+    double psi_alpha_wb, psi_beta_wb, psi_alpha_est_wb, psi_beta_est_wb;
+    double speed_rpm;
+    int sa, sb, sc;
+    double vdc_v;
+    int en;
+    double theta_e_rad, vc_lo_v, v_alpha_v, v_beta_v, tload_nm;
+};
+
+/// Column names, in order (the first 17 are the ones issue 5 requires).
+const char* trace_header();
+
+/// Buffered CSV writer (std::to_chars, 9 significant digits; estimates without a controller
+/// estimate are written as "nan").
+class TraceWriter {
+public:
+    TraceWriter() = default;
+    ~TraceWriter();
+    TraceWriter(const TraceWriter&) = delete;
+    TraceWriter& operator=(const TraceWriter&) = delete;
+    bool open(const std::string& path, std::string* err);
+    void write(const TraceRow& r);
+    bool close(std::string* err);
+
+private:
+    std::FILE* f_ = nullptr;
+    std::string buf_;
+};
+
+struct RunInfo {
+    double sim_time_s = 0.0;
+    double wall_time_s = 0.0;
+    std::uint64_t isr_count = 0;
+    std::string fault = "none";
+    std::uint64_t invalid_commands = 0;
+    bool hw_trip = false;
+};
+
+nlohmann::json metrics_json(const Scenario& sc, const Metrics& m, const RunInfo& info);
+std::string summary_text(const Scenario& sc, const Metrics& m, const RunInfo& info);
+
+/// Output staging: files are written into a fresh sibling directory and moved into the
+/// destination only when the run completed, so a failed run leaves nothing partial behind.
+class StagedOutput {
+public:
+    /// Checks that out_dir can be used (a directory or not existing, parent creatable) and creates
+    /// the staging directory.
+    bool begin(const std::string& out_dir, std::string* err);
+    std::string path(const std::string& file) const;
+    /// Moves every staged file into out_dir (replacing files of the same name) and removes the
+    /// files of `managed` this run did not produce (no stale trace.csv next to a new metrics.json).
+    bool commit(std::string* err, const std::vector<std::string>& managed = {"trace.csv", "metrics.json"});
+    /// Removes the staging directory (also done by the destructor if not committed).
+    void abort();
+    ~StagedOutput();
+
+private:
+    std::string out_dir_, stage_dir_;
+    bool active_ = false;
+};
+
+} // namespace sil
+
+#endif // DTC_SIL_OUTPUT_HPP

@@ -1,0 +1,161 @@
+// controller_firmware.cpp - the unchanged firmware (firmware/app + firmware/dtc) as the SIL controller.
+//
+// Built only when firmware/dtc/dtc.h and the SI -> Q-format converter target (dtc_config_si,
+// tools/config) exist (tools/sil/CMakeLists.txt; -DDTC_SIL_FIRMWARE_ADAPTER=OFF removes it).
+// The firmware reaches the plant only through hal.h, i.e. the active hal_host::Harness: this
+// adapter converts the scenario's SI values with the firmware's own converter (so SIL and a
+// target build share one conversion), then calls the application's entry points
+// (firmware/app/app.h) once per period, exactly as the DSP's ADC interrupt and background loop
+// would, and reads the application status for the trace.
+//
+// Written against the firmware and converter headers of the app/dtc branches before they were
+// merged: INTEGRATION: re-check the field names below against the merged headers.
+#include <cmath>
+#include <string>
+
+extern "C" {
+#include "app.h"
+#include "dtc_config_si.h"
+}
+
+#include "controller_adapter.hpp"
+#include "hal_host.hpp"
+
+namespace sil {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kIqOne = 16777216.0; // 2^FIX_IQ_Q, fixmath.h (iq_t = Q24)
+
+// The sensing chain of hal_host (hal_host_sensors.hpp) seen from the firmware: ADC counts per
+// ampere / volt and the nominal zero-current code. The firmware calibrates the current offsets
+// itself at start-up with the gates off; these nominal values are its starting point.
+void fill_si(const FirmwareSiConfig& c, const Scenario& sc, dtc_config_si_t* si)
+{
+    dtc_config_si_defaults(si);
+    // Per-unit bases (firmware/dtc/dtc_base.h): nominal DC link, rated peak current, rated
+    // electrical speed.
+    si->v_base_v = c.vdc_nominal_v;
+    si->i_base_a = c.rated_current_a;
+    si->w_base_rad_s = c.rated_speed_rpm * kPi / 30.0 * c.pole_pairs;
+    // Machine, inverter, timing.
+    si->rs_ohm = c.rs_ohm;
+    si->ls_h = c.ls_h;
+    si->psi_m_wb = c.psi_m_wb;
+    si->pole_pairs = c.pole_pairs;
+    si->rated_speed_rpm = c.rated_speed_rpm;
+    si->rated_torque_nm = c.rated_torque_nm;
+    si->rated_current_a = c.rated_current_a;
+    si->inertia_kgm2 = sc.motor.j_kgm2;
+    si->topology = c.topology_fstp != 0 ? DTC_TOPO_FSTP : DTC_TOPO_SSTP;
+    si->vdc_v = c.vdc_nominal_v;
+    si->v_ce_v = c.v_ce_v;
+    si->v_d_v = c.v_d_v;
+    si->v_f_v = c.v_f_v;
+    si->r_on_ohm = c.r_on_ohm;
+    si->fstp_vmid_measured = c.vmid_fitted;
+    si->ts_s = c.ts_s;
+    si->speed_div = c.speed_loop_divider;
+    // Encoder: hal_host counts 0 where theta_m + offset = 0, i.e. the electrical angle at count 0
+    // is -p * offset (the firmware is told the true mounting offset).
+    si->enc_lines = c.encoder_lines;
+    si->enc_offset_rad = -static_cast<double>(c.pole_pairs) * c.encoder_offset_rad;
+    // Control: the converter designs the PI from the bandwidth with the same rule as
+    // speed_pi_gains() (crossover wc, PI zero at wc/4).
+    si->flux_band_wb = c.flux_band_wb;
+    si->torque_band_nm = c.torque_band_nm;
+    si->lpf_cutoff_rad_s = c.lpf_cutoff_rad_s;
+    si->pi_from_bandwidth = 1;
+    si->speed_bw_rad_s = 2.0 * kPi * sc.control.speed_bw_hz;
+    si->kp_nm_s_rad = c.speed_kp_nm_per_rad_s;
+    si->ki_nm_rad = c.speed_ki_nm_per_rad;
+    si->torque_limit_nm = c.torque_limit_nm;
+    si->speed_limit_rpm = std::fmax(si->speed_limit_rpm, std::fabs(c.speed_ref_rpm));
+    si->flux_ref_wb = c.flux_ref_wb;
+    si->speed_ref_rpm = c.speed_ref_rpm;
+    si->torque_ref_nm = c.torque_ref_nm;
+    si->estimator = c.estimator_voltage != 0 ? DTC_EST_VOLTAGE : DTC_EST_CURRENT;
+    si->compensation = c.compensation == 0   ? DTC_COMP_NONE
+                       : c.compensation == 2 ? DTC_COMP_FSTP_PROPOSED
+                       : c.topology_fstp != 0 ? DTC_COMP_FSTP_SIMPLE
+                                              : DTC_COMP_SSTP;
+    static const int tables[] = {DTC_ST_BASIC, DTC_ST_A, DTC_ST_B, DTC_ST_C, DTC_ST_D};
+    si->sstp_table = tables[c.table >= 0 && c.table <= 4 ? c.table : 0];
+    si->mode = c.mode_torque != 0 ? DTC_MODE_TORQUE : DTC_MODE_SPEED;
+    // ADC (hal_host: code = 4095/3 * (1.5 + 1.5 i / range) for currents, 4095/3 * 3 v / range).
+    si->adc_i_a_per_count = c.current_range_a / 2047.5;
+    for (int ph = 0; ph < 3; ++ph) {
+        si->adc_i_offset[ph] = 2048;
+    }
+    si->adc_vdc_v_per_count = c.voltage_range_v / 4095.0;
+    si->adc_vdc_offset = 0;
+    si->adc_vmid_v_per_count = c.voltage_range_v / 4095.0;
+    si->adc_vmid_offset = 0;
+    si->i_trip_a = c.overcurrent_a;
+    si->vdc_max_v = c.vdc_max_v;
+    si->vdc_min_v = c.vdc_min_v;
+}
+
+class FirmwareController final : public Controller {
+public:
+    explicit FirmwareController(const Scenario& sc) : sc_(sc), si_(firmware_si_config(sc)) {}
+
+    std::string init(hal_host::Harness& h) override
+    {
+        (void)h;
+        dtc_config_si_t si;
+        fill_si(si_, sc_, &si);
+        char msg[256] = {0};
+        const int rc = dtc_config_from_si(&si, &cfg_, msg, sizeof msg);
+        if (rc != DTC_SI_OK) {
+            return "firmware configuration refused (" + std::to_string(rc) + "): " + msg;
+        }
+        dtc_bases_from_si(&si, &bases_);
+        hal_init(); // board bring-up, as main() does on the DSP before the ISR is enabled
+        const int16_t init_rc = app_init(&cfg_);
+        if (init_rc != 0) {
+            return "app_init() refused the configuration (dtc_err " + std::to_string(init_rc) + ")";
+        }
+        return "";
+    }
+
+    void step(hal_host::Harness& h) override
+    {
+        (void)h;
+        app_isr();        // hal_read() -> per-unit, trips -> dtc_step() -> hal_write()
+        app_background(); // one pass of the background loop per period (watchdog)
+        app_get_status(&st_);
+        est_.valid = st_.state == APP_STATE_RUN;
+        if (est_.valid) {
+            est_.te_nm = static_cast<double>(st_.out.te_iq) / kIqOne * bases_.t_base_nm;
+            est_.psi_alpha_wb = static_cast<double>(st_.out.psi_alpha_iq) / kIqOne * bases_.psi_base_wb;
+            est_.psi_beta_wb = static_cast<double>(st_.out.psi_beta_iq) / kIqOne * bases_.psi_base_wb;
+        }
+    }
+
+    ControllerEstimates estimates() const override { return est_; }
+    std::string fault() const override
+    {
+        return st_.fault == APP_FAULT_NONE ? std::string("none") : std::string(app_fault_name(st_.fault));
+    }
+    bool has_estimates() const override { return true; }
+
+private:
+    Scenario sc_;
+    FirmwareSiConfig si_;
+    dtc_config_t cfg_{};
+    dtc_bases_t bases_{};
+    app_status_t st_{};
+    ControllerEstimates est_{};
+};
+
+} // namespace
+
+std::unique_ptr<Controller> make_firmware_controller(const Scenario& sc, std::string* err)
+{
+    (void)err;
+    return std::make_unique<FirmwareController>(sc);
+}
+
+} // namespace sil

@@ -1,0 +1,217 @@
+// metrics.cpp - see metrics.hpp.
+#include "metrics.hpp"
+
+#include <fftw3.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <stdexcept>
+
+namespace sil {
+
+namespace {
+constexpr double kTwoPi = 6.283185307179586476925286766559;
+}
+
+Window whole_period_window(const std::vector<double>& theta_e, std::size_t window_n)
+{
+    Window w;
+    const std::size_t total = theta_e.size();
+    if (total < 2 || window_n < 2) {
+        return w;
+    }
+    window_n = std::min(window_n, total);
+    const std::size_t last = total - 1;
+    const std::size_t first = total - window_n;
+    const double span = std::fabs(theta_e[last] - theta_e[first]);
+    const int periods = static_cast<int>(std::floor(span / kTwoPi + 1e-9));
+    if (periods < 1) {
+        return w;
+    }
+    const double target = static_cast<double>(periods) * kTwoPi;
+    std::size_t best = first;
+    double best_err = INFINITY;
+    for (std::size_t i = first; i < last; ++i) {
+        const double err = std::fabs(std::fabs(theta_e[last] - theta_e[i]) - target);
+        if (err < best_err) {
+            best_err = err;
+            best = i;
+        }
+    }
+    w.begin = best;
+    w.n = last - best;
+    w.periods = periods;
+    return w;
+}
+
+Spectrum spectrum(const double* x, std::size_t n, int periods)
+{
+    Spectrum out;
+    if (n < 4 || periods < 1 || static_cast<std::size_t>(periods) * 2 > n) {
+        throw std::invalid_argument("spectrum: need at least 2 samples per period");
+    }
+    std::vector<double> in(x, x + n);
+    const std::size_t nc = n / 2 + 1;
+    fftw_complex* spec = fftw_alloc_complex(nc);
+    fftw_plan plan = fftw_plan_dft_r2c_1d(static_cast<int>(n), in.data(), spec, FFTW_ESTIMATE);
+    fftw_execute(plan);
+    // RMS^2 of the line at bin k: 2|X_k|^2/N^2 inside, |X_k|^2/N^2 at DC and Nyquist.
+    auto rms2 = [&](std::size_t k) {
+        const double re = spec[k][0], im = spec[k][1];
+        const double m2 = (re * re + im * im) / (static_cast<double>(n) * static_cast<double>(n));
+        const bool edge = k == 0 || (n % 2 == 0 && k == n / 2);
+        return edge ? m2 : 2.0 * m2;
+    };
+    const auto f1 = static_cast<std::size_t>(periods);
+    const double fund2 = rms2(f1);
+    double all2 = 0.0, harm2 = 0.0;
+    for (std::size_t k = 1; k < nc; ++k) {
+        if (k == f1) {
+            continue;
+        }
+        const double r2 = rms2(k);
+        all2 += r2;
+        if (k % f1 == 0) {
+            harm2 += r2;
+        }
+    }
+    fftw_destroy_plan(plan);
+    fftw_free(spec);
+    out.fundamental_peak = std::sqrt(2.0 * fund2);
+    out.thd_pct = fund2 > 0.0 ? 100.0 * std::sqrt(all2 / fund2) : INFINITY;
+    out.thd_harmonic_pct = fund2 > 0.0 ? 100.0 * std::sqrt(harm2 / fund2) : INFINITY;
+    return out;
+}
+
+double imbalance_pct(const std::array<double, 3>& a)
+{
+    const double mx = std::max({a[0], a[1], a[2]});
+    const double mn = std::min({a[0], a[1], a[2]});
+    return mn > 0.0 ? 100.0 * (mx / mn - 1.0) : INFINITY;
+}
+
+double thd_total_pct(const std::array<double, 3>& t)
+{
+    return std::sqrt((t[0] * t[0] + t[1] * t[1] + t[2] * t[2]) / 3.0);
+}
+
+double trf_pct(const double* t, std::size_t n, double rated_torque_nm)
+{
+    if (n == 0) {
+        return 0.0;
+    }
+    const auto mm = std::minmax_element(t, t + n);
+    return 100.0 * (*mm.second - *mm.first) / rated_torque_nm;
+}
+
+double mean(const double* x, std::size_t n)
+{
+    if (n == 0) {
+        return 0.0;
+    }
+    double s = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        s += x[i];
+    }
+    return s / static_cast<double>(n);
+}
+
+double switching_frequency_hz(const Series& s, std::size_t begin, std::size_t n, unsigned legs_mask)
+{
+    const std::vector<std::uint8_t>* legs[3] = {&s.sa, &s.sb, &s.sc};
+    int n_legs = 0;
+    double events = 0.0;
+    const bool have_en = s.en.size() == s.size();
+    for (int l = 0; l < 3; ++l) {
+        if ((legs_mask & (1u << l)) == 0u) {
+            continue;
+        }
+        const std::vector<std::uint8_t>& v = *legs[l];
+        if (v.size() != s.size()) {
+            continue;
+        }
+        ++n_legs;
+        // Boundary before row i, for every row of the window (the first one only if it has a
+        // predecessor): each state change turns one device on; re-enabling turns one on as well.
+        for (std::size_t i = std::max<std::size_t>(begin, 1); i < begin + n; ++i) {
+            const bool en_prev = have_en ? s.en[i - 1] != 0u : true;
+            const bool en_now = have_en ? s.en[i] != 0u : true;
+            if (!en_now) {
+                continue;
+            }
+            if (!en_prev || v[i] != v[i - 1]) {
+                events += 1.0;
+            }
+        }
+    }
+    if (n_legs == 0 || n == 0) {
+        return 0.0;
+    }
+    return events / (2.0 * n_legs * static_cast<double>(n) * s.ts_s);
+}
+
+double flux_error_rms_pct(const Series& s, std::size_t begin, std::size_t n)
+{
+    double e2 = 0.0, p2 = 0.0;
+    for (std::size_t i = begin; i < begin + n; ++i) {
+        const double ea = s.psi_a_est[i] - s.psi_a[i];
+        const double eb = s.psi_b_est[i] - s.psi_b[i];
+        e2 += ea * ea + eb * eb;
+        p2 += s.psi_a[i] * s.psi_a[i] + s.psi_b[i] * s.psi_b[i];
+    }
+    return p2 > 0.0 ? 100.0 * std::sqrt(e2 / p2) : INFINITY;
+}
+
+Metrics compute_metrics(const Series& s, const MetricsConfig& cfg)
+{
+    Metrics m;
+    const std::size_t total = s.size();
+    if (total == 0) {
+        return m;
+    }
+    // window_s spans round(window_s / ts) sample intervals, i.e. one more sample than that.
+    auto window_n = static_cast<std::size_t>(std::llround(cfg.window_s / s.ts_s)) + 1;
+    window_n = std::clamp<std::size_t>(window_n, 1, total);
+    Window w = whole_period_window(s.theta_e, window_n);
+    std::size_t b = total - window_n, n = window_n;
+    if (w.periods >= 1 && w.n >= 2 * static_cast<std::size_t>(w.periods)) {
+        b = w.begin;
+        n = w.n;
+        std::array<double, 3> fund{}, thd{}, thdh{};
+        const std::vector<double>* ph[3] = {&s.ia, &s.ib, &s.ic};
+        for (int p = 0; p < 3; ++p) {
+            const Spectrum sp = spectrum(ph[p]->data() + b, n, w.periods);
+            fund[static_cast<std::size_t>(p)] = sp.fundamental_peak;
+            thd[static_cast<std::size_t>(p)] = sp.thd_pct;
+            thdh[static_cast<std::size_t>(p)] = sp.thd_harmonic_pct;
+        }
+        m.fundamental_a = fund;
+        m.thd_pct = thd;
+        m.thd_harmonic_pct = thdh;
+        m.imbalance_pct = imbalance_pct(fund);
+        m.thd_total_pct = thd_total_pct(thd);
+    } else {
+        w = Window{b, n, 0};
+    }
+    m.window = w;
+    m.window_s = static_cast<double>(n) * s.ts_s;
+    m.f_e_hz = static_cast<double>(w.periods) / m.window_s;
+    m.torque_mean_nm = mean(s.te.data() + b, n);
+    m.trf_pct = trf_pct(s.te.data() + b, n, cfg.rated_torque_nm);
+    m.speed_mean_rpm = mean(s.speed_rpm.data() + b, n);
+    if (s.te_est.size() == total) {
+        m.torque_est_mean_nm = mean(s.te_est.data() + b, n);
+        m.trf_est_pct = trf_pct(s.te_est.data() + b, n, cfg.rated_torque_nm);
+    }
+    if (s.psi_a_est.size() == total && s.psi_b_est.size() == total && s.psi_a.size() == total &&
+        s.psi_b.size() == total) {
+        m.flux_est_error_rms_pct = flux_error_rms_pct(s, b, n);
+    }
+    if (cfg.switched_legs != 0u) {
+        m.switching_freq_hz = switching_frequency_hz(s, b, n, cfg.switched_legs);
+    }
+    return m;
+}
+
+} // namespace sil

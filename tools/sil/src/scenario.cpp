@@ -1,0 +1,849 @@
+// scenario.cpp - schema-driven scenario parsing and validation (toml++), see scenario.hpp.
+#include "scenario.hpp"
+
+#include <toml++/toml.h>
+
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <sstream>
+
+namespace sil {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kPi = 3.14159265358979323846;
+
+enum class Kind { Number, Integer, Bool, String, Number3, Path };
+
+struct Value {
+    double num = 0.0;
+    std::int64_t integer = 0;
+    bool boolean = false;
+    std::string str;
+    std::array<double, 3> arr{};
+};
+
+struct Range {
+    double lo = -kInf, hi = kInf;
+    bool lo_open = false, hi_open = false;
+    bool contains(double x) const
+    {
+        if (!std::isfinite(x)) {
+            return false;
+        }
+        const bool lo_ok = lo_open ? x > lo : x >= lo;
+        const bool hi_ok = hi_open ? x < hi : x <= hi;
+        return lo_ok && hi_ok;
+    }
+    std::string text() const
+    {
+        std::ostringstream o;
+        o.precision(6);
+        if (lo == -kInf && hi == kInf) {
+            return "any finite value";
+        }
+        if (hi == kInf) {
+            o << (lo_open ? "> " : ">= ") << lo;
+        } else if (lo == -kInf) {
+            o << (hi_open ? "< " : "<= ") << hi;
+        } else {
+            o << (lo_open ? "(" : "[") << lo << ", " << hi << (hi_open ? ")" : "]");
+        }
+        return o.str();
+    }
+};
+Range positive() { return Range{0.0, kInf, true, false}; }
+Range nonneg() { return Range{0.0, kInf, false, false}; }
+Range closed(double lo, double hi) { return Range{lo, hi, false, false}; }
+Range any() { return Range{}; }
+
+struct Spec {
+    std::string name;
+    Kind kind;
+    std::string unit;
+    std::string doc;
+    Range range;
+    std::vector<std::string> choices; // String only
+    std::function<void(Scenario&, const Value&)> set;
+    std::function<std::string(const Scenario&)> show;
+};
+
+std::string fmt_double(double x)
+{
+    std::ostringstream o;
+    o.precision(6);
+    o << x;
+    return o.str();
+}
+
+using NumAcc = double& (*)(Scenario&);
+using IntAcc = std::int64_t& (*)(Scenario&);
+using BoolAcc = bool& (*)(Scenario&);
+using StrAcc = std::string& (*)(Scenario&);
+using ArrAcc = std::array<double, 3>& (*)(Scenario&);
+
+Spec num(const char* name, const char* unit, Range r, const char* doc, NumAcc acc)
+{
+    return Spec{name, Kind::Number, unit, doc, r, {},
+                [acc](Scenario& s, const Value& v) { acc(s) = v.num; },
+                [acc](const Scenario& s) { return fmt_double(acc(const_cast<Scenario&>(s))); }};
+}
+Spec integer(const char* name, const char* unit, Range r, const char* doc, IntAcc acc)
+{
+    return Spec{name, Kind::Integer, unit, doc, r, {},
+                [acc](Scenario& s, const Value& v) { acc(s) = v.integer; },
+                [acc](const Scenario& s) { return std::to_string(acc(const_cast<Scenario&>(s))); }};
+}
+Spec boolean(const char* name, const char* doc, BoolAcc acc)
+{
+    return Spec{name, Kind::Bool, "", doc, any(), {},
+                [acc](Scenario& s, const Value& v) { acc(s) = v.boolean; },
+                [acc](const Scenario& s) { return std::string(acc(const_cast<Scenario&>(s)) ? "true" : "false"); }};
+}
+Spec choice(const char* name, std::vector<std::string> choices, const char* doc, StrAcc acc)
+{
+    return Spec{name, Kind::String, "", doc, any(), std::move(choices),
+                [acc](Scenario& s, const Value& v) { acc(s) = v.str; },
+                [acc](const Scenario& s) { return "\"" + acc(const_cast<Scenario&>(s)) + "\""; }};
+}
+Spec path(const char* name, const char* doc, StrAcc acc)
+{
+    return Spec{name, Kind::Path, "", doc, any(), {},
+                [acc](Scenario& s, const Value& v) { acc(s) = v.str; },
+                [acc](const Scenario& s) {
+                    const std::string& p = acc(const_cast<Scenario&>(s));
+                    return p.empty() ? std::string("(none)") : "\"" + p + "\"";
+                }};
+}
+Spec num3(const char* name, const char* unit, Range r, const char* doc, ArrAcc acc)
+{
+    return Spec{name, Kind::Number3, unit, doc, r, {},
+                [acc](Scenario& s, const Value& v) { acc(s) = v.arr; },
+                [acc](const Scenario& s) {
+                    const auto& a = acc(const_cast<Scenario&>(s));
+                    return "[" + fmt_double(a[0]) + ", " + fmt_double(a[1]) + ", " + fmt_double(a[2]) + "]";
+                }};
+}
+
+#define ACC(field) [](Scenario& s) -> auto& { return s.field; }
+
+const std::vector<Spec>& schema()
+{
+    static const std::vector<Spec> specs = {
+        // ---- run ----
+        num("duration_s", "s", positive(), "simulated time", ACC(duration_s)),
+        num("metrics_window_s", "s", positive(),
+            "metrics use the last metrics_window_s, trimmed to whole electrical periods", ACC(metrics_window_s)),
+        num("ts_s", "s", closed(1e-6, 1e-3), "control period = one ISR = one plant advance (Hoang sec. IV: 50 us)",
+            ACC(ts_s)),
+        num("max_step_s", "s", positive(), "largest plant integration sub-step (<= ts_s)", ACC(max_step_s)),
+        num("initial_speed_rpm", "rpm", any(), "rotor speed at t = 0", ACC(initial_speed_rpm)),
+        num("initial_theta_m_rad", "rad", any(), "mechanical rotor angle at t = 0", ACC(initial_theta_m_rad)),
+        // ---- motor ----
+        choice("motor.type", {"pmsm"}, "surface PM brushless AC machine (Hoang eqs. 6-10)", ACC(motor.type)),
+        num("motor.rs_ohm", "ohm", positive(), "phase resistance (Hoang Table VIII)", ACC(motor.rs_ohm)),
+        num("motor.ls_h", "H", positive(), "synchronous inductance, Ld = Lq (Table VIII)", ACC(motor.ls_h)),
+        num("motor.psi_m_wb", "Wb", positive(), "PM flux linkage, peak (Table VIII)", ACC(motor.psi_m_wb)),
+        integer("motor.pole_pairs", "", closed(1, 64), "pole pairs (Table VIII)", ACC(motor.pole_pairs)),
+        num("motor.j_kgm2", "kg*m^2", positive(),
+            "rotor + coupled load inertia (not in the paper: small servo motor with a DC generator)", ACC(motor.j_kgm2)),
+        num("motor.b_nms", "N*m*s/rad", nonneg(),
+            "viscous friction; default gives 0.075 N*m at 1500 rpm = Hoang's inertial load (25 % of 0.3 N*m)",
+            ACC(motor.b_nms)),
+        num3("motor.emf_gain", "", closed(0.5, 1.5), "per-phase back-EMF scale [A, B, C] (Table VII: measured)",
+             ACC(motor.emf_gain)),
+        num3("motor.emf_harm_a", "", closed(-0.5, 0.5), "phase A back-EMF 3rd, 5th, 7th / fundamental",
+             ACC(motor.emf_harm_a)),
+        num3("motor.emf_harm_b", "", closed(-0.5, 0.5), "phase B back-EMF 3rd, 5th, 7th / fundamental",
+             ACC(motor.emf_harm_b)),
+        num3("motor.emf_harm_c", "", closed(-0.5, 0.5), "phase C back-EMF 3rd, 5th, 7th / fundamental",
+             ACC(motor.emf_harm_c)),
+        num("motor.rated_torque_nm", "N*m", positive(), "rated torque, the T_rated of TRF (Hoang eq. 40)",
+            ACC(motor.rated_torque_nm)),
+        num("motor.rated_current_a", "A", positive(), "rated current, peak (Table VIII)", ACC(motor.rated_current_a)),
+        num("motor.rated_speed_rpm", "rpm", positive(), "rated speed (Table VIII)", ACC(motor.rated_speed_rpm)),
+        // ---- inverter ----
+        choice("inverter.topology", {"ideal", "sstp", "fstp"},
+               "ideal = alpha/beta voltage source (open loop only); sstp = six switches; fstp = four switches, "
+               "phase A on the DC-link mid-point (Hoang Fig. 1)",
+               ACC(inverter.topology)),
+        num("inverter.vdc_v", "V", positive(), "DC source voltage (Table VIII: 70 V)", ACC(inverter.vdc_v)),
+        num("inverter.v_ce_v", "V", nonneg(), "transistor forward drop (Table IV)", ACC(inverter.v_ce_v)),
+        num("inverter.v_d_v", "V", nonneg(), "diode forward drop (Table IV)", ACC(inverter.v_d_v)),
+        num("inverter.r_on_ohm", "ohm", nonneg(), "on-state resistance (Table IV)", ACC(inverter.r_on_ohm)),
+        num("inverter.dead_time_s", "s", closed(0.0, 10e-6), "dead time per leg transition (not in the paper)",
+            ACC(inverter.dead_time_s)),
+        num("inverter.c_dc_f", "F", positive(), "each DC-link capacitor (FSTP: two in series)", ACC(inverter.c_dc_f)),
+        num("inverter.r_dc_ohm", "ohm", nonneg(), "DC source internal resistance", ACC(inverter.r_dc_ohm)),
+        boolean("inverter.drops", "device forward drops and R_on (false: ideal devices)", ACC(inverter.drops)),
+        boolean("inverter.dead_time", "dead time modelled", ACC(inverter.dead_time)),
+        boolean("inverter.finite_dc_link", "capacitor voltages move (false: stiff DC link)",
+                ACC(inverter.finite_dc_link)),
+        // ---- load ----
+        choice("load.type", {"speed", "torque", "generator", "inertia"},
+               "speed = dynamometer holds load.speed_rpm; torque = constant load.torque_nm; generator = "
+               "load.torque_nm * speed / load.speed_rpm (DC generator, Hoang sec. IV); inertia = J and B only",
+               ACC(load.type)),
+        num("load.speed_rpm", "rpm", any(), "held speed (speed load) or the speed where the generator gives "
+            "load.torque_nm", ACC(load.speed_rpm)),
+        num("load.torque_nm", "N*m", any(), "load torque (torque, generator loads)", ACC(load.torque_nm)),
+        num("load.step_time_s", "s", nonneg(), "time of a load-torque step (0 = none)", ACC(load.step_time_s)),
+        num("load.step_torque_nm", "N*m", any(), "load.torque_nm after the step", ACC(load.step_torque_nm)),
+        // ---- control ----
+        choice("control.mode", {"speed", "torque", "open_loop"},
+               "speed = speed PI -> torque reference; torque = fixed torque reference; open_loop = "
+               "control.voltage_csv on the ideal inverter, no firmware",
+               ACC(control.mode)),
+        choice("control.implementation", {"firmware", "reference"},
+               "firmware = the fixed-point firmware through hal_host; reference = the double-precision "
+               "reference controller of model/",
+               ACC(control.implementation)),
+        choice("control.estimator", {"current", "voltage"},
+               "stator-flux estimator: current model (Hoang eqs. 8-9) or voltage model (eqs. 15-16 with LPF)",
+               ACC(control.estimator)),
+        choice("control.compensation", {"none", "simple", "proposed"},
+               "voltage-model drop compensation: simple = Hoang Table V (FSTP) / ref. [29] (SSTP); "
+               "proposed = Table VI + eqs. 37-38 (FSTP only)",
+               ACC(control.compensation)),
+        choice("control.table", {"basic", "st-a", "st-b", "st-c", "st-d"},
+               "SSTP switching table (Casadei Tables 1, 3); the FSTP always uses Hoang Table II",
+               ACC(control.table)),
+        num("control.speed_ref_rpm", "rpm", any(), "speed reference (speed mode)", ACC(control.speed_ref_rpm)),
+        num("control.speed_bw_hz", "Hz", positive(),
+            "speed-loop bandwidth; PI gains derived from motor.j_kgm2 (Kp = J*wc, Ki = Kp*wc/4)",
+            ACC(control.speed_bw_hz)),
+        integer("control.speed_loop_divider", "", closed(1, 1000),
+                "speed loop runs every N-th ISR (Hoang sec. IV: 10)", ACC(control.speed_loop_divider)),
+        num("control.torque_limit_nm", "N*m", positive(), "speed-PI output limit", ACC(control.torque_limit_nm)),
+        num("control.torque_ref_nm", "N*m", any(), "torque reference (torque mode)", ACC(control.torque_ref_nm)),
+        num("control.flux_ref_wb", "Wb", positive(), "stator flux reference (Hoang sec. IV: psi_m)",
+            ACC(control.flux_ref_wb)),
+        num("control.torque_band_nm", "N*m", nonneg(), "torque hysteresis band (Hoang sec. IV: 0)",
+            ACC(control.torque_band_nm)),
+        num("control.flux_band_wb", "Wb", nonneg(), "flux hysteresis band (Hoang sec. IV: 0)",
+            ACC(control.flux_band_wb)),
+        num("control.lpf_cutoff_rad_s", "rad/s", positive(),
+            "voltage-model low-pass cutoff in place of the integrator (Hoang sec. IV: 5 rad/s)",
+            ACC(control.lpf_cutoff_rad_s)),
+        num("control.v_f_v", "V", nonneg(), "forward drop V_f of the simple compensation (Hoang sec. III-B: 0.9 V)",
+            ACC(control.v_f_v)),
+        path("control.voltage_csv",
+             "open_loop: CSV with header t_s,v_alpha_v,v_beta_v, held per period (path relative to the "
+             "scenario file)",
+             ACC(control.voltage_csv)),
+        // ---- sensors ----
+        num("sensors.current_range_a", "A", positive(), "Hall sensor: +-range maps onto the 0..3 V ADC input",
+            ACC(sensors.current_range_a)),
+        num3("sensors.current_offset_a", "A", closed(-1e3, 1e3), "current sensor offsets [A, B, C]",
+             ACC(sensors.current_offset_a)),
+        num3("sensors.current_gain_error", "", closed(-0.5, 0.5), "relative gain errors [A, B, C] (0.01 = +1 %)",
+             ACC(sensors.current_gain_error)),
+        num("sensors.current_noise_a_rms", "A", nonneg(), "white Gaussian noise per sample",
+            ACC(sensors.current_noise_a_rms)),
+        num("sensors.voltage_range_v", "V", positive(), "divider: 0..range maps onto 0..3 V",
+            ACC(sensors.voltage_range_v)),
+        num("sensors.vdc_offset_v", "V", closed(-1e3, 1e3), "DC-link sensor offset", ACC(sensors.vdc_offset_v)),
+        num("sensors.vdc_gain_error", "", closed(-0.5, 0.5), "DC-link sensor relative gain error",
+            ACC(sensors.vdc_gain_error)),
+        num("sensors.vmid_offset_v", "V", closed(-1e3, 1e3), "mid-point sensor offset", ACC(sensors.vmid_offset_v)),
+        num("sensors.vmid_gain_error", "", closed(-0.5, 0.5), "mid-point sensor relative gain error",
+            ACC(sensors.vmid_gain_error)),
+        num("sensors.voltage_noise_v_rms", "V", nonneg(), "white Gaussian noise on both voltage channels",
+            ACC(sensors.voltage_noise_v_rms)),
+        boolean("sensors.vmid_fitted", "FSTP mid-point voltage sensor fitted (false: channel reads 0)",
+                ACC(sensors.vmid_fitted)),
+        integer("sensors.encoder_lines", "", closed(1, 16383), "encoder lines; 4x quadrature counts (Fig. 9(b))",
+                ACC(sensors.encoder_lines)),
+        num("sensors.encoder_offset_rad", "rad", any(), "mechanical angle offset of the encoder index",
+            ACC(sensors.encoder_offset_rad)),
+        integer("sensors.seed", "", closed(0, 9.0e18), "noise generator seed (same seed, same run)",
+                ACC(sensors.seed)),
+        // ---- protection ----
+        num("protection.overcurrent_a", "A", positive(), "firmware phase over-current trip",
+            ACC(protection.overcurrent_a)),
+        num("protection.vdc_min_v", "V", nonneg(), "firmware DC-link under-voltage trip", ACC(protection.vdc_min_v)),
+        num("protection.vdc_max_v", "V", positive(), "firmware DC-link over-voltage trip", ACC(protection.vdc_max_v)),
+        num("protection.hw_trip_current_a", "A", nonneg(),
+            "hardware comparator on each phase-current magnitude (PDPINTA), latching, gates off; 0 = not fitted",
+            ACC(protection.hw_trip_current_a)),
+    };
+    return specs;
+}
+
+#undef ACC
+
+const Spec* find_spec(const std::string& name)
+{
+    for (const Spec& s : schema()) {
+        if (s.name == name) {
+            return &s;
+        }
+    }
+    return nullptr;
+}
+
+std::string kind_name(Kind k)
+{
+    switch (k) {
+    case Kind::Number: return "number";
+    case Kind::Integer: return "integer";
+    case Kind::Bool: return "boolean";
+    case Kind::String: return "string";
+    case Kind::Number3: return "array of 3 numbers";
+    case Kind::Path: return "path (string)";
+    }
+    return "?";
+}
+
+std::string where(const std::string& file, const toml::source_region& r)
+{
+    return file + ":" + std::to_string(r.begin.line) + ":" + std::to_string(r.begin.column);
+}
+
+std::string node_type_name(const toml::node& n)
+{
+    switch (n.type()) {
+    case toml::node_type::table: return "table";
+    case toml::node_type::array: return "array";
+    case toml::node_type::string: return "string";
+    case toml::node_type::integer: return "integer";
+    case toml::node_type::floating_point: return "float";
+    case toml::node_type::boolean: return "boolean";
+    case toml::node_type::date: return "date";
+    case toml::node_type::time: return "time";
+    case toml::node_type::date_time: return "date-time";
+    default: return "nothing";
+    }
+}
+
+// Converts a TOML node to a Value of the spec's kind; returns "" or the reason it cannot.
+std::string from_node(const Spec& spec, const toml::node& n, Value* v)
+{
+    auto as_number = [](const toml::node& x, double* out) {
+        if (auto i = x.as_integer()) {
+            *out = static_cast<double>(i->get());
+            return true;
+        }
+        if (auto f = x.as_floating_point()) {
+            *out = f->get();
+            return true;
+        }
+        return false;
+    };
+    switch (spec.kind) {
+    case Kind::Number:
+        if (!as_number(n, &v->num)) {
+            return "expected a number, got " + node_type_name(n);
+        }
+        return "";
+    case Kind::Integer:
+        if (auto i = n.as_integer()) {
+            v->integer = i->get();
+            v->num = static_cast<double>(v->integer);
+            return "";
+        }
+        return "expected an integer, got " + node_type_name(n);
+    case Kind::Bool:
+        if (auto b = n.as_boolean()) {
+            v->boolean = b->get();
+            return "";
+        }
+        return "expected true or false, got " + node_type_name(n);
+    case Kind::String:
+    case Kind::Path:
+        if (auto s = n.as_string()) {
+            v->str = s->get();
+            return "";
+        }
+        return "expected a string, got " + node_type_name(n);
+    case Kind::Number3: {
+        const toml::array* a = n.as_array();
+        if (a == nullptr) {
+            return "expected an array of 3 numbers, got " + node_type_name(n);
+        }
+        if (a->size() != 3) {
+            return "expected an array of 3 numbers, got " + std::to_string(a->size()) + " elements";
+        }
+        for (std::size_t i = 0; i < 3; ++i) {
+            if (!as_number(*a->get(i), &v->arr[i])) {
+                return "expected an array of 3 numbers, element " + std::to_string(i) + " is " +
+                       node_type_name(*a->get(i));
+            }
+        }
+        return "";
+    }
+    }
+    return "unsupported kind";
+}
+
+// Converts --set text to a Value of the spec's kind (strict: the whole text must be consumed).
+std::string from_text(const Spec& spec, const std::string& text, Value* v)
+{
+    auto parse_double = [](std::string t, double* out) {
+        while (!t.empty() && t.back() == ' ') {
+            t.pop_back();
+        }
+        while (!t.empty() && t.front() == ' ') {
+            t.erase(t.begin());
+        }
+        if (t.empty()) {
+            return false;
+        }
+        std::string no_us;
+        for (char c : t) {
+            if (c != '_') {
+                no_us += c; // TOML allows 1_000
+            }
+        }
+        const char* b = no_us.c_str();
+        const char* e = b + no_us.size();
+        if (*b == '+') {
+            ++b;
+        }
+        auto r = std::from_chars(b, e, *out);
+        return r.ec == std::errc() && r.ptr == e;
+    };
+    switch (spec.kind) {
+    case Kind::Number:
+        if (!parse_double(text, &v->num)) {
+            return "expected a number, got '" + text + "'";
+        }
+        return "";
+    case Kind::Integer: {
+        double d = 0.0;
+        if (!parse_double(text, &d) || d != std::floor(d) || std::fabs(d) > 9.0e18 ||
+            text.find_first_of(".eE") != std::string::npos) {
+            return "expected an integer, got '" + text + "'";
+        }
+        v->integer = static_cast<std::int64_t>(d);
+        v->num = d;
+        return "";
+    }
+    case Kind::Bool:
+        if (text == "true" || text == "false") {
+            v->boolean = text == "true";
+            return "";
+        }
+        return "expected true or false, got '" + text + "'";
+    case Kind::String:
+    case Kind::Path: {
+        std::string t = text;
+        if (t.size() >= 2 && (t.front() == '"' || t.front() == '\'') && t.back() == t.front()) {
+            t = t.substr(1, t.size() - 2);
+        }
+        v->str = t;
+        return "";
+    }
+    case Kind::Number3: {
+        std::string t = text;
+        if (t.size() < 2 || t.front() != '[' || t.back() != ']') {
+            return "expected [x, y, z], got '" + text + "'";
+        }
+        t = t.substr(1, t.size() - 2);
+        std::vector<std::string> parts;
+        std::string cur;
+        for (char c : t) {
+            if (c == ',') {
+                parts.push_back(cur);
+                cur.clear();
+            } else {
+                cur += c;
+            }
+        }
+        parts.push_back(cur);
+        if (parts.size() != 3) {
+            return "expected [x, y, z] with 3 numbers, got '" + text + "'";
+        }
+        for (std::size_t i = 0; i < 3; ++i) {
+            if (!parse_double(parts[i], &v->arr[i])) {
+                return "expected [x, y, z] with 3 numbers, got '" + text + "'";
+            }
+        }
+        return "";
+    }
+    }
+    return "unsupported kind";
+}
+
+std::string check_value(const Spec& spec, const Value& v)
+{
+    switch (spec.kind) {
+    case Kind::Number:
+    case Kind::Integer:
+        if (!spec.range.contains(v.num)) {
+            return "value " + fmt_double(v.num) + " is impossible: must be " + spec.range.text() +
+                   (spec.unit.empty() ? "" : " " + spec.unit);
+        }
+        return "";
+    case Kind::Number3:
+        for (std::size_t i = 0; i < 3; ++i) {
+            if (!spec.range.contains(v.arr[i])) {
+                return "element " + std::to_string(i) + " = " + fmt_double(v.arr[i]) +
+                       " is impossible: each must be " + spec.range.text();
+            }
+        }
+        return "";
+    case Kind::String: {
+        for (const std::string& c : spec.choices) {
+            if (c == v.str) {
+                return "";
+            }
+        }
+        std::string list;
+        for (const std::string& c : spec.choices) {
+            list += (list.empty() ? "" : ", ") + ("\"" + c + "\"");
+        }
+        return "expected one of " + list + ", got \"" + v.str + "\"";
+    }
+    case Kind::Path:
+        if (v.str.empty()) {
+            return "missing value: the path is empty";
+        }
+        return "";
+    case Kind::Bool: return "";
+    }
+    return "";
+}
+
+std::string origin_of(const Scenario& s, const std::string& key)
+{
+    auto it = s.origin.find(key);
+    return it == s.origin.end() ? std::string("(default)") : it->second;
+}
+
+void cross_validate(Scenario& s, Diagnostics* d)
+{
+    auto err = [&](const std::string& key, const std::string& msg) {
+        d->errors.push_back(origin_of(s, key) + ": " + key + ": " + msg);
+    };
+    auto warn = [&](const std::string& key, const std::string& msg) {
+        d->warnings.push_back(origin_of(s, key) + ": " + key + ": " + msg);
+    };
+    if (s.metrics_window_s > s.duration_s) {
+        err("metrics_window_s", "is " + fmt_double(s.metrics_window_s) + " s, longer than duration_s = " +
+                                    fmt_double(s.duration_s) + " s");
+    }
+    if (s.max_step_s > s.ts_s) {
+        err("max_step_s", "must not exceed the control period ts_s = " + fmt_double(s.ts_s) + " s");
+    }
+    if (s.duration_s / s.ts_s > 2.0e9) {
+        err("duration_s", "more than 2e9 control periods");
+    }
+    const bool open_loop = s.control.mode == "open_loop";
+    if (open_loop) {
+        if (s.inverter.topology != "ideal") {
+            err("inverter.topology", "control.mode = \"open_loop\" applies alpha/beta voltages to the \"ideal\" "
+                                     "inverter; got \"" + s.inverter.topology + "\"");
+        }
+        if (s.control.voltage_csv.empty()) {
+            err("control.voltage_csv", "missing value: required when control.mode = \"open_loop\" (" +
+                                           origin_of(s, "control.mode") + ")");
+        } else {
+            std::vector<VoltageRow> rows;
+            std::string e;
+            if (!load_voltage_csv(s.control.voltage_csv, &rows, &e)) {
+                err("control.voltage_csv", e);
+            }
+        }
+    } else {
+        if (s.inverter.topology == "ideal") {
+            err("inverter.topology", "the \"ideal\" inverter takes voltages, not switch states: use it with "
+                                     "control.mode = \"open_loop\"");
+        }
+        if (s.control.compensation == "proposed" && s.inverter.topology == "sstp") {
+            err("control.compensation", "\"proposed\" (Hoang Table VI) is defined for the FSTP only; use "
+                                        "\"simple\" for the SSTP (Hoang ref. [29])");
+        }
+        if (s.control.estimator == "current" && s.control.compensation != "none") {
+            warn("control.compensation", "ignored by the current-model estimator");
+        }
+        if (s.inverter.topology == "fstp" && s.control.table != "basic") {
+            warn("control.table", "ignored: the FSTP always uses Hoang Table II");
+        }
+        const double f_speed_hz = 1.0 / (s.ts_s * static_cast<double>(s.control.speed_loop_divider));
+        if (s.control.speed_bw_hz > f_speed_hz / 20.0) {
+            err("control.speed_bw_hz", "is " + fmt_double(s.control.speed_bw_hz) +
+                                           " Hz; must be <= 1/20 of the speed-loop rate (" +
+                                           fmt_double(f_speed_hz / 20.0) + " Hz)");
+        }
+        if (s.control.lpf_cutoff_rad_s >= kPi / s.ts_s) {
+            err("control.lpf_cutoff_rad_s", "must be below the Nyquist rate pi/ts_s = " +
+                                                fmt_double(kPi / s.ts_s) + " rad/s");
+        }
+    }
+    if (s.protection.vdc_min_v >= s.protection.vdc_max_v) {
+        err("protection.vdc_min_v", "must be below protection.vdc_max_v = " + fmt_double(s.protection.vdc_max_v));
+    }
+    if (!open_loop && (s.inverter.vdc_v <= s.protection.vdc_min_v || s.inverter.vdc_v >= s.protection.vdc_max_v)) {
+        warn("inverter.vdc_v", "outside the protection window [vdc_min_v, vdc_max_v]: the firmware will trip");
+    }
+    if (s.inverter.vdc_v * (1.0 + s.sensors.vdc_gain_error) + s.sensors.vdc_offset_v >= s.sensors.voltage_range_v) {
+        warn("sensors.voltage_range_v", "the DC-link voltage is at or above the divider's full scale; the ADC clamps");
+    }
+    if (s.protection.overcurrent_a >= s.sensors.current_range_a) {
+        warn("protection.overcurrent_a", "at or above the current sensor range: the ADC clamps before it trips");
+    }
+    if (s.load.step_time_s > s.duration_s) {
+        warn("load.step_time_s", "after the end of the run");
+    }
+    if (s.load.type == "generator" && s.load.speed_rpm == 0.0) {
+        err("load.speed_rpm", "the generator load needs a non-zero reference speed");
+    }
+}
+
+} // namespace
+
+std::vector<KeyDoc> scenario_keys()
+{
+    const Scenario defaults;
+    std::vector<KeyDoc> out;
+    for (const Spec& s : schema()) {
+        std::string range;
+        if (s.kind == Kind::String) {
+            for (const std::string& c : s.choices) {
+                range += (range.empty() ? "" : " \\| ") + ("\"" + c + "\"");
+            }
+        } else if (s.kind == Kind::Number || s.kind == Kind::Integer || s.kind == Kind::Number3) {
+            range = s.range.text();
+        } else if (s.kind == Kind::Bool) {
+            range = "true \\| false";
+        } else {
+            range = "readable file";
+        }
+        out.push_back(KeyDoc{s.name, kind_name(s.kind), s.unit, s.show(defaults), range, s.doc});
+    }
+    return out;
+}
+
+std::string scenario_keys_markdown()
+{
+    std::ostringstream o;
+    o << "| key | type | unit | default | allowed | meaning |\n|---|---|---|---|---|---|\n";
+    for (const KeyDoc& k : scenario_keys()) {
+        o << "| `" << k.name << "` | " << k.type << " | " << k.unit << " | " << k.default_text << " | " << k.range
+          << " | " << k.doc << " |\n";
+    }
+    return o.str();
+}
+
+std::string Diagnostics::text() const
+{
+    std::string t;
+    for (const std::string& e : errors) {
+        t += "error: " + e + "\n";
+    }
+    for (const std::string& w : warnings) {
+        t += "warning: " + w + "\n";
+    }
+    return t;
+}
+
+bool parse_scenario(const std::string& toml_text, const std::string& source_name,
+                    const std::vector<std::string>& overrides, Scenario* out, Diagnostics* diag)
+{
+    Scenario s;
+    s.path = source_name;
+    s.name = std::filesystem::path(source_name).stem().string();
+    toml::table root;
+    try {
+        root = toml::parse(toml_text, source_name);
+    } catch (const toml::parse_error& e) {
+        diag->errors.push_back(where(source_name, e.source()) + ": TOML syntax error: " +
+                               std::string(e.description()));
+        return false;
+    }
+
+    auto apply_node = [&](const std::string& name, const toml::node& n, const toml::source_region& key_src) {
+        const Spec* spec = find_spec(name);
+        const std::string loc = where(source_name, n.source().begin.line != 0 ? n.source() : key_src);
+        if (spec == nullptr) {
+            diag->errors.push_back(where(source_name, key_src) + ": " + name + ": unknown key");
+            return;
+        }
+        Value v;
+        std::string why = from_node(*spec, n, &v);
+        if (why.empty()) {
+            if (spec->kind == Kind::Path && !v.str.empty()) {
+                std::filesystem::path p(v.str);
+                if (p.is_relative()) {
+                    v.str = (std::filesystem::path(source_name).parent_path() / p).lexically_normal().string();
+                }
+            }
+            why = check_value(*spec, v);
+        }
+        if (!why.empty()) {
+            diag->errors.push_back(loc + ": " + name + ": " + why);
+            return;
+        }
+        spec->set(s, v);
+        s.origin[name] = loc;
+    };
+
+    static const char* const sections[] = {"motor", "inverter", "load", "control", "sensors", "protection"};
+    for (auto&& [key, node] : root) {
+        const std::string k(key.str());
+        bool is_section = false;
+        for (const char* sec : sections) {
+            is_section = is_section || k == sec;
+        }
+        if (is_section) {
+            const toml::table* t = node.as_table();
+            if (t == nullptr) {
+                diag->errors.push_back(where(source_name, key.source()) + ": " + k + ": expected a table [" + k +
+                                       "], got " + node_type_name(node));
+                continue;
+            }
+            for (auto&& [sub, sn] : *t) {
+                apply_node(k + "." + std::string(sub.str()), sn, sub.source());
+            }
+        } else if (node.is_table()) {
+            diag->errors.push_back(where(source_name, key.source()) + ": [" + k + "]: unknown table");
+        } else {
+            apply_node(k, node, key.source());
+        }
+    }
+
+    int n_set = 0;
+    for (const std::string& o : overrides) {
+        ++n_set;
+        const std::string loc = "--set #" + std::to_string(n_set) + " '" + o + "'";
+        const auto eq = o.find('=');
+        if (eq == std::string::npos || eq == 0) {
+            diag->errors.push_back(loc + ": expected key=value");
+            continue;
+        }
+        const std::string name = o.substr(0, eq);
+        const std::string text = o.substr(eq + 1);
+        const Spec* spec = find_spec(name);
+        if (spec == nullptr) {
+            diag->errors.push_back(loc + ": " + name + ": unknown key");
+            continue;
+        }
+        Value v;
+        std::string why = from_text(*spec, text, &v);
+        if (why.empty()) {
+            why = check_value(*spec, v); // relative paths on the command line are relative to the cwd
+        }
+        if (!why.empty()) {
+            diag->errors.push_back(loc + ": " + name + ": " + why);
+            continue;
+        }
+        spec->set(s, v);
+        s.origin[name] = loc;
+    }
+
+    if (diag->ok()) {
+        cross_validate(s, diag);
+    }
+    if (!diag->ok()) {
+        return false;
+    }
+    *out = std::move(s);
+    return true;
+}
+
+bool load_scenario(const std::string& path, const std::vector<std::string>& overrides, Scenario* out,
+                   Diagnostics* diag)
+{
+    std::ifstream f(path, std::ios::binary);
+    if (!f) {
+        diag->errors.push_back(path + ": cannot open the scenario file");
+        return false;
+    }
+    std::ostringstream ss;
+    ss << f.rdbuf();
+    return parse_scenario(ss.str(), path, overrides, out, diag);
+}
+
+bool load_voltage_csv(const std::string& path, std::vector<VoltageRow>* rows, std::string* err)
+{
+    std::ifstream f(path);
+    if (!f) {
+        *err = path + ": cannot open the voltage table";
+        return false;
+    }
+    rows->clear();
+    std::string line;
+    int lineno = 0;
+    bool header = false;
+    while (std::getline(f, line)) {
+        ++lineno;
+        if (!line.empty() && line.back() == '\r') {
+            line.pop_back();
+        }
+        if (line.empty() || line[0] == '#') {
+            continue;
+        }
+        if (!header) {
+            std::string h;
+            for (char c : line) {
+                if (c != ' ') {
+                    h += c;
+                }
+            }
+            if (h != "t_s,v_alpha_v,v_beta_v") {
+                *err = path + ":" + std::to_string(lineno) + ": expected the header t_s,v_alpha_v,v_beta_v";
+                return false;
+            }
+            header = true;
+            continue;
+        }
+        VoltageRow r{};
+        double* dst[3] = {&r.t_s, &r.v_alpha_v, &r.v_beta_v};
+        std::size_t pos = 0;
+        for (int i = 0; i < 3; ++i) {
+            const std::size_t comma = i < 2 ? line.find(',', pos) : line.size();
+            if (comma == std::string::npos) {
+                *err = path + ":" + std::to_string(lineno) + ": expected 3 comma-separated numbers";
+                return false;
+            }
+            std::string cell = line.substr(pos, comma - pos);
+            while (!cell.empty() && cell.front() == ' ') {
+                cell.erase(cell.begin());
+            }
+            while (!cell.empty() && cell.back() == ' ') {
+                cell.pop_back();
+            }
+            const char* b = cell.c_str();
+            auto res = std::from_chars(b, b + cell.size(), *dst[i]);
+            if (cell.empty() || res.ec != std::errc() || res.ptr != b + cell.size() || !std::isfinite(*dst[i])) {
+                *err = path + ":" + std::to_string(lineno) + ": column " + std::to_string(i + 1) +
+                       " is not a finite number: '" + cell + "'";
+                return false;
+            }
+            pos = comma + 1;
+        }
+        if (rows->empty() && r.t_s > 0.0) {
+            *err = path + ":" + std::to_string(lineno) + ": the first row must start at t_s <= 0";
+            return false;
+        }
+        if (!rows->empty() && !(r.t_s > rows->back().t_s)) {
+            *err = path + ":" + std::to_string(lineno) + ": t_s must increase strictly";
+            return false;
+        }
+        rows->push_back(r);
+    }
+    if (!header || rows->empty()) {
+        *err = path + ": no data rows";
+        return false;
+    }
+    return true;
+}
+
+SpeedPiGains speed_pi_gains(double j_kgm2, double bw_hz)
+{
+    // The inner DTC torque loop is fast against the speed loop, so the speed plant is 1/(J s)
+    // (friction B only adds damping). PI: C(s) = Kp (1 + wc / (4 s)), Kp = J wc. Open loop
+    // L(jw) = (wc/w) (1 - j wc/(4 w)): |L(j wc)| = sqrt(1 + 1/16) = 1.03 (crossover ~ wc), phase
+    // margin = 90 deg - atan(1/4) = 76 deg.
+    const double wc = 2.0 * kPi * bw_hz;
+    const double kp = j_kgm2 * wc;
+    return SpeedPiGains{kp, kp * wc / 4.0};
+}
+
+} // namespace sil

@@ -1,0 +1,283 @@
+// sil_output.cpp - see sil_output.hpp.
+#include "sil_output.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+#include <system_error>
+#include <unistd.h>
+
+namespace sil {
+
+namespace fs = std::filesystem;
+
+const char* trace_header()
+{
+    return "t_s,ia_a,ib_a,ic_a,i_alpha_a,i_beta_a,torque_nm,torque_est_nm,psi_alpha_wb,psi_beta_wb,"
+           "psi_alpha_est_wb,psi_beta_est_wb,speed_rpm,sa,sb,sc,vdc_v,en,theta_e_rad,vc_lo_v,v_alpha_v,"
+           "v_beta_v,tload_nm";
+}
+
+TraceWriter::~TraceWriter()
+{
+    if (f_ != nullptr) {
+        std::fclose(f_);
+    }
+}
+
+bool TraceWriter::open(const std::string& path, std::string* err)
+{
+    f_ = std::fopen(path.c_str(), "wb");
+    if (f_ == nullptr) {
+        *err = path + ": cannot create";
+        return false;
+    }
+    buf_.reserve(1 << 20);
+    buf_ += trace_header();
+    buf_ += '\n';
+    return true;
+}
+
+namespace {
+void put(std::string& b, double x)
+{
+    char tmp[32];
+    if (!std::isfinite(x)) {
+        b += std::isnan(x) ? "nan" : (x > 0 ? "inf" : "-inf");
+        return;
+    }
+    auto r = std::to_chars(tmp, tmp + sizeof tmp, x, std::chars_format::general, 9);
+    b.append(tmp, r.ptr);
+}
+void put(std::string& b, int x)
+{
+    char tmp[16];
+    auto r = std::to_chars(tmp, tmp + sizeof tmp, x);
+    b.append(tmp, r.ptr);
+}
+} // namespace
+
+void TraceWriter::write(const TraceRow& r)
+{
+    const double d1[] = {r.t_s, r.ia_a, r.ib_a, r.ic_a, r.i_alpha_a, r.i_beta_a, r.torque_nm, r.torque_est_nm,
+                         r.psi_alpha_wb, r.psi_beta_wb, r.psi_alpha_est_wb, r.psi_beta_est_wb, r.speed_rpm};
+    for (double x : d1) {
+        put(buf_, x);
+        buf_ += ',';
+    }
+    put(buf_, r.sa);
+    buf_ += ',';
+    put(buf_, r.sb);
+    buf_ += ',';
+    put(buf_, r.sc);
+    buf_ += ',';
+    put(buf_, r.vdc_v);
+    buf_ += ',';
+    put(buf_, r.en);
+    const double d2[] = {r.theta_e_rad, r.vc_lo_v, r.v_alpha_v, r.v_beta_v, r.tload_nm};
+    for (double x : d2) {
+        buf_ += ',';
+        put(buf_, x);
+    }
+    buf_ += '\n';
+    if (buf_.size() > (1u << 20) - 512u) {
+        std::fwrite(buf_.data(), 1, buf_.size(), f_);
+        buf_.clear();
+    }
+}
+
+bool TraceWriter::close(std::string* err)
+{
+    if (f_ == nullptr) {
+        return true;
+    }
+    const bool ok_w = std::fwrite(buf_.data(), 1, buf_.size(), f_) == buf_.size();
+    buf_.clear();
+    const bool ok_c = std::fclose(f_) == 0;
+    f_ = nullptr;
+    if (!ok_w || !ok_c) {
+        *err = "trace.csv: write failed (disk full?)";
+        return false;
+    }
+    return true;
+}
+
+nlohmann::json metrics_json(const Scenario& sc, const Metrics& m, const RunInfo& info)
+{
+    using nlohmann::json;
+    auto opt = [](const std::optional<double>& x) { return x ? json(*x) : json(nullptr); };
+    auto opt3 = [](const std::optional<std::array<double, 3>>& x) {
+        return x ? json::array({(*x)[0], (*x)[1], (*x)[2]}) : json(nullptr);
+    };
+    json j;
+    j["scenario"] = sc.name;
+    j["sim_time_s"] = info.sim_time_s;
+    j["wall_time_s"] = info.wall_time_s;
+    j["realtime_factor"] = info.wall_time_s > 0.0 ? info.sim_time_s / info.wall_time_s : 0.0;
+    j["isr_count"] = info.isr_count;
+    j["fundamental_a"] = opt3(m.fundamental_a);
+    j["imbalance_pct"] = opt(m.imbalance_pct);
+    j["thd_pct"] = opt3(m.thd_pct);
+    j["thd_total_pct"] = opt(m.thd_total_pct);
+    j["thd_harmonic_pct"] = opt3(m.thd_harmonic_pct);
+    j["torque_mean_nm"] = m.torque_mean_nm;
+    j["torque_est_mean_nm"] = opt(m.torque_est_mean_nm);
+    j["trf_pct"] = m.trf_pct;
+    j["trf_est_pct"] = opt(m.trf_est_pct);
+    j["speed_mean_rpm"] = m.speed_mean_rpm;
+    j["switching_freq_hz"] = opt(m.switching_freq_hz);
+    j["flux_est_error_rms_pct"] = opt(m.flux_est_error_rms_pct);
+    j["fault"] = info.fault;
+    j["hw_trip"] = info.hw_trip;
+    j["invalid_commands"] = info.invalid_commands;
+    const double t_end = info.sim_time_s;
+    j["metrics_window"] = {{"t_start_s", t_end - m.window_s},
+                           {"t_end_s", t_end},
+                           {"electrical_periods", m.window.periods},
+                           {"f_e_hz", m.f_e_hz}};
+    j["config"] = {{"mode", sc.control.mode},
+                   {"implementation", sc.control.implementation},
+                   {"topology", sc.inverter.topology},
+                   {"estimator", sc.control.estimator},
+                   {"compensation", sc.control.compensation},
+                   {"table", sc.control.table},
+                   {"load", sc.load.type},
+                   {"load_torque_nm", sc.load.torque_nm},
+                   {"speed_ref_rpm", sc.control.speed_ref_rpm},
+                   {"rated_torque_nm", sc.motor.rated_torque_nm},
+                   {"ts_s", sc.ts_s}};
+    return j;
+}
+
+std::string summary_text(const Scenario& sc, const Metrics& m, const RunInfo& info)
+{
+    char line[256];
+    std::ostringstream o;
+    std::snprintf(line, sizeof line, "dtc-sil: %s  (%s, %s", sc.name.c_str(), sc.inverter.topology.c_str(),
+                  sc.control.mode.c_str());
+    o << line;
+    if (sc.control.mode != "open_loop") {
+        o << ", " << sc.control.estimator << " model";
+        if (sc.control.estimator == "voltage") {
+            o << ", compensation " << sc.control.compensation;
+        }
+    }
+    o << ", " << sc.load.type << " load)\n";
+    std::snprintf(line, sizeof line, "  simulated %.3f s in %.3f s wall (%.0fx real time), %llu ISRs, fault: %s%s\n",
+                  info.sim_time_s, info.wall_time_s,
+                  info.wall_time_s > 0 ? info.sim_time_s / info.wall_time_s : 0.0,
+                  static_cast<unsigned long long>(info.isr_count), info.fault.c_str(),
+                  info.hw_trip ? " (hardware trip latched)" : "");
+    o << line;
+    std::snprintf(line, sizeof line, "  window     %.4f s = %d electrical periods (%.2f Hz)\n", m.window_s,
+                  m.window.periods, m.f_e_hz);
+    o << line;
+    std::snprintf(line, sizeof line, "  speed      %.1f rpm\n", m.speed_mean_rpm);
+    o << line;
+    std::snprintf(line, sizeof line, "  torque     mean %.4f N*m, TRF %.1f %%", m.torque_mean_nm, m.trf_pct);
+    o << line;
+    if (m.torque_est_mean_nm) {
+        std::snprintf(line, sizeof line, "; estimate %.4f N*m, TRF %.1f %%", *m.torque_est_mean_nm,
+                      m.trf_est_pct.value_or(NAN));
+        o << line;
+    }
+    o << "\n";
+    if (m.fundamental_a) {
+        const auto& f = *m.fundamental_a;
+        const auto& t = *m.thd_pct;
+        std::snprintf(line, sizeof line, "  currents   fundamental A/B/C %.3f / %.3f / %.3f A, imbalance %.2f %%\n", f[0],
+                      f[1], f[2], m.imbalance_pct.value_or(NAN));
+        o << line;
+        std::snprintf(line, sizeof line, "  THD        A/B/C %.2f / %.2f / %.2f %%, total %.2f %%\n", t[0], t[1], t[2],
+                      m.thd_total_pct.value_or(NAN));
+        o << line;
+    } else {
+        o << "  currents   no whole electrical period in the window: no spectral metrics\n";
+    }
+    if (m.switching_freq_hz) {
+        std::snprintf(line, sizeof line, "  switching  %.0f Hz per device\n", *m.switching_freq_hz);
+        o << line;
+    }
+    if (m.flux_est_error_rms_pct) {
+        std::snprintf(line, sizeof line, "  flux est.  error %.2f %% rms\n", *m.flux_est_error_rms_pct);
+        o << line;
+    }
+    return o.str();
+}
+
+bool StagedOutput::begin(const std::string& out_dir, std::string* err)
+{
+    std::error_code ec;
+    fs::path out(out_dir);
+    if (out.empty()) {
+        *err = "--out: empty directory name";
+        return false;
+    }
+    if (fs::exists(out, ec) && !fs::is_directory(out, ec)) {
+        *err = out_dir + ": exists and is not a directory";
+        return false;
+    }
+    fs::path parent = fs::absolute(out, ec).parent_path();
+    fs::create_directories(parent, ec);
+    if (ec) {
+        *err = parent.string() + ": cannot create (" + ec.message() + ")";
+        return false;
+    }
+    out_dir_ = fs::absolute(out).lexically_normal().string();
+    if (!out_dir_.empty() && out_dir_.back() == '/') {
+        out_dir_.pop_back();
+    }
+    stage_dir_ = out_dir_ + ".partial-" + std::to_string(static_cast<long>(::getpid()));
+    fs::remove_all(stage_dir_, ec);
+    if (!fs::create_directory(stage_dir_, ec)) {
+        *err = stage_dir_ + ": cannot create (" + ec.message() + ")";
+        return false;
+    }
+    active_ = true;
+    return true;
+}
+
+std::string StagedOutput::path(const std::string& file) const { return (fs::path(stage_dir_) / file).string(); }
+
+bool StagedOutput::commit(std::string* err, const std::vector<std::string>& managed)
+{
+    std::error_code ec;
+    if (!fs::exists(out_dir_, ec)) {
+        fs::rename(stage_dir_, out_dir_, ec);
+        if (ec) {
+            *err = out_dir_ + ": cannot move the results in place (" + ec.message() + ")";
+            return false;
+        }
+        active_ = false;
+        return true;
+    }
+    for (const std::string& name : managed) {
+        if (!fs::exists(fs::path(stage_dir_) / name, ec)) {
+            fs::remove(fs::path(out_dir_) / name, ec);
+        }
+    }
+    for (const auto& e : fs::directory_iterator(stage_dir_)) {
+        fs::rename(e.path(), fs::path(out_dir_) / e.path().filename(), ec);
+        if (ec) {
+            *err = out_dir_ + ": cannot move " + e.path().filename().string() + " in place (" + ec.message() + ")";
+            return false;
+        }
+    }
+    fs::remove_all(stage_dir_, ec);
+    active_ = false;
+    return true;
+}
+
+void StagedOutput::abort()
+{
+    if (active_) {
+        std::error_code ec;
+        fs::remove_all(stage_dir_, ec);
+        active_ = false;
+    }
+}
+
+StagedOutput::~StagedOutput() { abort(); }
+
+} // namespace sil
