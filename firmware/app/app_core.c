@@ -138,8 +138,9 @@ static uint16_t check_trips(app_core_t *a, const hal_meas_t *m, const dtc_meas_t
 
 /* Encoder plausibility (the current-model estimator and the speed loop rely on it):
  *  1. the count change of one period, read as a speed, must stay below twice the speed limit;
- *  2. the count at each index pulse must equal the count at the first one, within the motion of
- *     this period plus APP_INDEX_TOL_COUNTS (lost or extra counts show up here).
+ *  2. the counter value latched by each index pulse (hal_meas_t.qep_index_count, the capture unit)
+ *     must equal the one latched by the first pulse within APP_INDEX_TOL_COUNTS: lost or extra
+ *     counts show up as that difference, at whatever speed.
  * Scaling and overflow: |delta| <= counts/2 (<= 32768), times an IQ gain in 64 bits. */
 static uint16_t check_encoder(app_core_t *a, const hal_meas_t *m)
 {
@@ -164,15 +165,11 @@ static uint16_t check_encoder(app_core_t *a, const hal_meas_t *m)
     }
     if (m->qep_index_seen != 0U) {
         if (a->index_known == 0U) {
-            a->index_ref = m->qep_count;
+            a->index_ref = m->qep_index_count;
             a->index_known = 1U;
         } else {
-            /* The pulse came during this period: now = ref + (part of d). Compare with the
-             * middle of that interval, allowing half the period's motion plus the slack. */
-            int32_t half_d = fix_rshift_rnd32(d, 1U);
-            int32_t e = fold_counts((int32_t)m->qep_count - (int32_t)a->index_ref - half_d, counts);
-            int32_t tol = fix_abs32(half_d) + (int32_t)APP_INDEX_TOL_COUNTS;
-            if (fix_abs32(e) > tol) {
+            int32_t e = fold_counts((int32_t)m->qep_index_count - (int32_t)a->index_ref, counts);
+            if (fix_abs32(e) > (int32_t)APP_INDEX_TOL_COUNTS) {
                 latch_fault(a, APP_FAULT_ENCODER, 2);
                 return 1U;
             }

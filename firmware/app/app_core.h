@@ -48,7 +48,7 @@ enum app_fault {
 #define APP_CAL_LOG2 6U
 /* Largest accepted |calibrated - nominal| current offset, counts (5 % of full scale). */
 #define APP_OFFSET_TOL_COUNTS 205
-/* Index check: slack in counts beyond the motion of one period. */
+/* Index check: accepted difference between latched index counts (edge jitter, direction). */
 #define APP_INDEX_TOL_COUNTS 4
 
 typedef struct {
@@ -73,7 +73,7 @@ typedef struct app_core {
     iq_t enc_jump_iq;      /* implausible speed: 2 x speed limit, pu */
     uint16_t enc_last;
     uint16_t enc_primed;
-    uint16_t index_ref;    /* count at the first index pulse */
+    uint16_t index_ref;    /* count latched by the first index pulse */
     uint16_t index_known;
     volatile uint16_t clear_request; /* set by the background, adopted by the ISR */
 } app_core_t;

@@ -97,6 +97,7 @@ typedef struct {
     swtab_legs_t legs_2; /* returned two steps ago: applied during the period just ended */
     uint16_t vec_1;      /* vector returned by the previous step */
     iq_t te_ref_iq;
+    iq_t te_trim_iq;     /* torque mode: mean-torque trim added to the reference */
     iq_t speed_iq;
 } dtc_t;
 

@@ -40,7 +40,8 @@ int16_t dtc_config_validate(const dtc_config_t *cfg)
     if (cfg->speed_div == 0U || cfg->speed_k_iq <= 0 || cfg->speed_min_counts == 0U) {
         return DTC_ERR_SPEED;
     }
-    if (cfg->kp_iq < 0 || cfg->ki_ts_iq < 0 || cfg->torque_limit_iq <= 0) {
+    if (cfg->kp_iq < 0 || cfg->ki_ts_iq < 0 || cfg->torque_limit_iq <= 0 ||
+        cfg->torque_trim_k_q15 < 0) {
         return DTC_ERR_PI;
     }
     if (cfg->flux_ref_iq <= 0 || cfg->speed_limit_iq <= 0 ||

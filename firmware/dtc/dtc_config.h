@@ -16,7 +16,7 @@
 #include "fixmath.h"
 
 /* Layout version: bump when a field is added, removed or changes meaning. */
-#define DTC_CONFIG_VERSION 1U
+#define DTC_CONFIG_VERSION 2U
 
 enum dtc_topology {
     DTC_TOPO_SSTP = 0, /* six-switch three-phase inverter (Hoang Fig. 1a, Casadei) */
@@ -61,7 +61,7 @@ enum dtc_err {
     DTC_ERR_ENCODER = -7,      /* encoder counts/angle gain not representable */
     DTC_ERR_BAND = -8,         /* negative hysteresis band */
     DTC_ERR_SPEED = -9,        /* speed divider or speed-measurement parameters out of range */
-    DTC_ERR_PI = -10,          /* negative gain or non-positive torque limit */
+    DTC_ERR_PI = -10,          /* negative gain (speed PI, torque trim) or torque limit <= 0 */
     DTC_ERR_REFERENCE = -11,   /* flux reference <= 0, references outside their limits */
     DTC_ERR_DROP = -12,        /* negative device drop or on-resistance */
     DTC_ERR_ADC = -13,         /* zero or negative ADC gain, offset outside 12 bits */
@@ -123,6 +123,8 @@ struct dtc_config {
     iq_t kp_iq;                   /* speed PI proportional gain, pu torque per pu speed */
     iq_t ki_ts_iq;                /* integral gain times the speed period, pu torque per pu speed */
     iq_t torque_limit_iq;         /* |T_ref| limit, pu (> 0) */
+    q15_t torque_trim_k_q15;      /* torque mode: mean-torque trim gain per control period,
+                                   * Ts / tau (0 = off, < 1); see dtc.c step 5 */
     iq_t speed_limit_iq;          /* |speed_ref| limit, pu (> 0) */
 
     /* Initial references (the shadow set replaces them at run time), pu. */

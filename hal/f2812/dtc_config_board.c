@@ -4,7 +4,7 @@
 #include "dtc_config.h"
 
 const dtc_config_t g_dtc_config = {
-    .version = 1U,
+    .version = 2U,
     .topology = 1U,
     .estimator = 0U,
     .compensation = 3U,
@@ -36,6 +36,7 @@ const dtc_config_t g_dtc_config = {
     .ki_ts_iq = 645134, /* 0.0384529829 pu */
     .torque_limit_iq = 10267632, /* 0.611998558 pu */
     .speed_limit_iq = 16777216, /* 1 pu */
+    .torque_trim_k_q15 = 82, /* Ts / tau of the torque-mode trim, Q15 */
     .flux_ref_iq = 6987466, /* 0.416485429 pu */
     .speed_ref_iq = 8388608, /* 0.5 pu */
     .torque_ref_iq = 0, /* 0 pu */

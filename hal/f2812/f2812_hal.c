@@ -261,7 +261,7 @@ void hal_read(hal_meas_t *meas)
 #endif
     meas->qep_count = count;
     if ((f2812_eva.EVAIFRC & F2812_EVA_INTC_CAP3) != 0u) {
-        (void)f2812_eva.CAP3FIFO;                /* pop the captured T2 value */
+        meas->qep_index_count = f2812_eva.CAP3FIFO; /* T2 (QEP counter) latched at the pulse */
         f2812_eva.EVAIFRC = F2812_EVA_INTC_CAP3; /* write-1-to-clear, this flag only */
         meas->qep_index_seen = 1u;
     } else {

@@ -36,6 +36,8 @@ typedef struct {
     uint16_t adc[HAL_ADC_COUNT]; /* 12-bit counts, 0..4095, indexed by enum hal_adc_channel */
     uint16_t qep_count;          /* quadrature counter, 0 .. 4*lines-1, counts up for positive speed */
     uint16_t qep_index_seen;     /* 1 if the index pulse was seen since the previous read */
+    uint16_t qep_index_count;    /* counter value latched by the index pulse (capture unit);
+                                  * valid when qep_index_seen = 1 */
     uint16_t trip;               /* 1 if the hardware protection input (PDPINTA) has tripped */
     uint32_t tick;               /* control periods since start (wraps after 2^32 periods) */
 } hal_meas_t;

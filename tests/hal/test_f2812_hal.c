@@ -557,8 +557,10 @@ static void test_qep_count_index_and_direction(void **state)
     /* Index: CAP3 captured T2 on QEPI1 and flagged EVAIFRC.CAP3INT (bit 2); CAP1INT also
      * pending. hal_read reports it once and clears only that flag (write 1, 2.8). */
     f2812_eva.EVAIFRC = 0x0005;
+    f2812_eva.CAP3FIFO = 7991u; /* T2 value latched at the pulse */
     hal_read(&m);
     assert_int_equal(m.qep_index_seen, 1);
+    assert_int_equal(m.qep_index_count, 7991u);
     assert_int_equal(f2812_eva.EVAIFRC, 0x0004);
     f2812_eva.EVAIFRC = 0x0000; /* hardware: write-1-to-clear */
     hal_read(&m);

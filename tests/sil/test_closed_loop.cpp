@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -113,23 +114,93 @@ TEST(SilClosedLoop, HoangFindingsFstpVoltageModelImbalanceOrdering)
 {
     // Hoang Tables IX/X: FSTP voltage model without compensation -> the largest imbalance and an
     // estimated torque above the true torque; simple -> smaller; proposed -> the smallest, close
-    // to the current model's; current model balanced.
+    // to the current model's; current model balanced. Stiff split link (see the scenarios).
+    // Measured (firmware, 1.5 s runs, 0.4 s window), paper values in brackets:
+    //   imbalance %     none 60.8 [26.6]  simple 28.4 [6.8]  proposed 16.3 [4.6]  current 1.9 [3.4]
+    //   est. torque N*m none 0.334 [0.3345] simple 0.307 [0.3046] proposed 0.3025 [0.2989]
+    //                   current 0.300 [0.2973], true torque 0.300 in every run
+    //   none: phase B carries the smallest fundamental, 2.05 A vs 2.95 / 3.29 [2.37 vs 2.97 / 3.00].
+    // The thresholds below keep a margin of about a third around those figures.
     const Outcome none = run("fstp_voltage_none_full.toml");
     const Outcome simple = run("fstp_voltage_simple_full.toml");
     const Outcome proposed = run("fstp_voltage_proposed_full.toml");
     const Outcome current = run("fstp_current_full.toml");
     for (const Outcome* o : {&none, &simple, &proposed, &current}) {
-        ASSERT_TRUE(o->m.imbalance_pct.has_value());
+        ASSERT_TRUE(o->m.imbalance_pct.has_value()) << o->info.fault;
+        ASSERT_TRUE(o->m.torque_est_mean_nm.has_value());
+        EXPECT_EQ(o->info.fault, "none");
+        EXPECT_NEAR(o->m.torque_mean_nm, 0.3, 0.006); // the speed loop holds the load in every case
+    }
+    // Imbalance ordering and levels.
+    EXPECT_GT(*none.m.imbalance_pct, 40.0);
+    EXPECT_GT(*none.m.imbalance_pct, *simple.m.imbalance_pct + 15.0);
+    EXPECT_GT(*simple.m.imbalance_pct, *proposed.m.imbalance_pct + 5.0);
+    EXPECT_GT(*proposed.m.imbalance_pct, *current.m.imbalance_pct);
+    EXPECT_LT(*proposed.m.imbalance_pct, 25.0);
+    EXPECT_LT(*current.m.imbalance_pct, 5.0);
+    // Without compensation the mid-point phase's neighbour B is the smallest (Table IX).
+    const auto& fn = *none.m.fundamental_a;
+    EXPECT_LT(fn[1], fn[0]);
+    EXPECT_LT(fn[1], fn[2]);
+    // Estimated torque: the uncompensated estimate is ~11 % high (paper 11.5 %), the compensation
+    // removes most of it, the current model none of consequence.
+    const double t = 0.3;
+    EXPECT_GT(*none.m.torque_est_mean_nm, t * 1.08);
+    EXPECT_GT(*none.m.torque_est_mean_nm, *simple.m.torque_est_mean_nm + 0.015);
+    EXPECT_GT(*simple.m.torque_est_mean_nm, *proposed.m.torque_est_mean_nm);
+    EXPECT_NEAR(*proposed.m.torque_est_mean_nm, proposed.m.torque_mean_nm, 0.01);
+    EXPECT_NEAR(*current.m.torque_est_mean_nm, current.m.torque_mean_nm, 0.003);
+}
+
+TEST(SilClosedLoop, HoangFindingsSstpVoltageModel)
+{
+    // Hoang Tables IX/X, SSTP: without compensation the voltage model over-estimates the torque
+    // (0.3296 vs 0.3 N*m) and the currents rise above the current model's (2.74-2.89 vs 2.2 A), but
+    // stay balanced because all three legs carry the drops; with the equal-drop compensation of
+    // [29] the estimate comes back (0.2984). Measured: none 0.366 N*m, 3.25-3.46 A, 6.3 %;
+    // compensated 0.311 N*m, 2.19-2.36 A; current model 2.16 A, 0.4 %.
+    const Outcome none = run("sstp_voltage_none_full.toml");
+    const Outcome comp = run("sstp_voltage_simple_full.toml");
+    const Outcome current = run("sstp_current_full.toml");
+    for (const Outcome* o : {&none, &comp, &current}) {
+        ASSERT_TRUE(o->m.fundamental_a.has_value()) << o->info.fault;
         EXPECT_EQ(o->info.fault, "none");
     }
-    EXPECT_GT(*none.m.imbalance_pct, *simple.m.imbalance_pct);
-    EXPECT_GT(*simple.m.imbalance_pct, *proposed.m.imbalance_pct);
-    ASSERT_TRUE(none.m.torque_est_mean_nm.has_value());
-    EXPECT_GT(*none.m.torque_est_mean_nm, none.m.torque_mean_nm);
-    // measured: set these from the integrated runs (paper: none 26.6 %, simple 6.8 %, proposed
-    // 4.6 %, current 3.4 % imbalance, with Table VII back-EMFs).
-    EXPECT_LT(std::fabs(*proposed.m.imbalance_pct - *current.m.imbalance_pct), *none.m.imbalance_pct / 2.0);
-    EXPECT_LT(*current.m.imbalance_pct, *none.m.imbalance_pct / 2.0);
+    EXPECT_GT(*none.m.torque_est_mean_nm, 0.3 * 1.1);
+    EXPECT_LT(std::fabs(*comp.m.torque_est_mean_nm - 0.3), 0.5 * std::fabs(*none.m.torque_est_mean_nm - 0.3));
+    const auto mean3 = [](const std::array<double, 3>& a) { return (a[0] + a[1] + a[2]) / 3.0; };
+    EXPECT_GT(mean3(*none.m.fundamental_a), 1.3 * mean3(*current.m.fundamental_a));
+    EXPECT_LT(*none.m.imbalance_pct, 10.0);
+    EXPECT_LT(*current.m.imbalance_pct, 2.0);
+}
+
+TEST(SilClosedLoop, FstpMidPointDriftsOnAFiniteLinkWithTheVoltageModel)
+{
+    // Not in the paper: on a finite split link (2 x 4.7 mF) the voltage-model FSTP drive with the
+    // simple compensation lets the mid-point walk away from vdc/2 (a DC voltage error b gives a
+    // flux offset b/w_c and a DC phase-A current, which charges the capacitors) until control is
+    // lost; the current-model drive on the same link keeps the mid-point near vdc/2.
+    // Measured: voltage model trips on over-current after the lower capacitor reaches ~50 V;
+    // current model: mid-point within 35 +- 2 V.
+    const fs::path dir_v = fs::temp_directory_path() / "sil_midpoint_voltage";
+    const fs::path dir_c = fs::temp_directory_path() / "sil_midpoint_current";
+    const Outcome v = run("fstp_voltage_simple_full_midpoint.toml", {}, dir_v.string());
+    const Outcome c = run("fstp_voltage_simple_full_midpoint.toml", {"control.estimator=current"}, dir_c.string());
+    const auto tv = read_trace(dir_v / "trace.csv");
+    const auto tc = read_trace(dir_c / "trace.csv");
+    const auto excursion = [](const std::vector<double>& vlo) {
+        double e = 0.0;
+        for (double x : vlo) {
+            e = std::max(e, std::fabs(x - 35.0));
+        }
+        return e;
+    };
+    EXPECT_GT(excursion(tv.at("vc_lo_v")), 8.0);
+    EXPECT_LT(excursion(tc.at("vc_lo_v")), 3.0);
+    EXPECT_EQ(c.info.fault, "none");
+    ASSERT_TRUE(c.m.imbalance_pct.has_value());
+    EXPECT_LT(*c.m.imbalance_pct, 5.0);
+    (void)v;
 }
 
 TEST(SilClosedLoop, FixedPointFirmwareAgreesWithTheDoubleReference)

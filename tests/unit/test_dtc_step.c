@@ -307,6 +307,7 @@ static void test_shadow_set_and_modes(void **state)
     sim_init(&s, DTC_TOPO_FSTP, DTC_EST_CURRENT, DTC_COMP_NONE, 0, 600.0);
     s.cfg.mode = DTC_MODE_TORQUE;
     s.cfg.torque_ref_iq = IQ(0.2);
+    s.cfg.torque_trim_k_q15 = 0; /* this test isolates the shadow set: reference = set in force */
     assert_int_equal(dtc_init(&c, &s.cfg), DTC_OK);
     sim_period(&s, &c, &o);
     fixtest_assert_lsb(fixtest_iq_to_d(o.te_ref_iq), 0.2, 1.0 / 16777216.0, 0.5, "initial ref");
@@ -355,6 +356,52 @@ static void test_shadow_set_and_modes(void **state)
         sim_period(&s, &c, &o);
     }
     assert_int_equal(o.te_ref_iq, before); /* kp = ki = 0: the output stays where it was */
+}
+
+/* Torque mode at constant speed (FSTP, current model, zero bands): the bang-bang torque loop with
+ * the one-period actuation delay settles below the reference; the mean-torque trim (dtc.c step 5)
+ * brings the mean of the estimate to the reference within 1 %, and never lets the reference in
+ * force leave +-torque_limit. */
+static double torque_mode_mean(q15_t k, double ref_pu, iq_t *ref_max)
+{
+    sim_t s;
+    dtc_t c;
+    dtc_out_t o;
+    double sum = 0.0;
+    int n;
+    sim_init(&s, DTC_TOPO_FSTP, DTC_EST_CURRENT, DTC_COMP_NONE, 0, 1500.0);
+    s.cfg.mode = DTC_MODE_TORQUE;
+    s.cfg.torque_ref_iq = fixtest_d_to_iq(ref_pu);
+    s.cfg.torque_trim_k_q15 = k;
+    assert_int_equal(dtc_init(&c, &s.cfg), DTC_OK);
+    *ref_max = 0;
+    for (n = 0; n < 12000; n++) { /* 0.6 s: 30 trim time constants */
+        sim_period(&s, &c, &o);
+        if (n >= 8000) {
+            sum += fixtest_iq_to_d(o.te_iq);
+        }
+        if (fix_abs32(o.te_ref_iq) > *ref_max) {
+            *ref_max = fix_abs32(o.te_ref_iq);
+        }
+    }
+    return sum / 4000.0;
+}
+
+static void test_torque_mode_trim(void **state)
+{
+    (void)state;
+    sim_t s;
+    iq_t ref_max;
+    double ref, off, on;
+    sim_init(&s, DTC_TOPO_FSTP, DTC_EST_CURRENT, DTC_COMP_NONE, 0, 1500.0);
+    ref = 0.3 / s.b.t_base_nm; /* rated torque, 0.3 N.m */
+    off = torque_mode_mean(0, ref, &ref_max);
+    on = torque_mode_mean(s.cfg.torque_trim_k_q15, ref, &ref_max);
+    print_message("[ MEASURE  ] torque mode mean/ref: trim off %.4f, trim on %.4f\n", off / ref, on / ref);
+    assert_true(s.cfg.torque_trim_k_q15 > 0);  /* on by default (tau = 20 ms) */
+    assert_true(fabs(off / ref - 1.0) > 0.03); /* the offset the trim exists for */
+    assert_true(fabs(on / ref - 1.0) < 0.01);
+    assert_true(ref_max <= s.cfg.torque_limit_iq);
 }
 
 static void test_outputs_consistent(void **state)
@@ -431,6 +478,7 @@ int main(void)
         cmocka_unit_test(test_compensation_on_fstp_with_drops),
         cmocka_unit_test(test_voltage_model_uses_legs_from_two_steps_back),
         cmocka_unit_test(test_shadow_set_and_modes),
+        cmocka_unit_test(test_torque_mode_trim),
         cmocka_unit_test(test_outputs_consistent),
         cmocka_unit_test(test_extreme_measurements_all_variants),
     };

@@ -43,6 +43,7 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->pi_from_bandwidth = 1;
     si->speed_bw_rad_s = 60.0;
     si->torque_limit_nm = 0.45; /* 1.5 x rated */
+    si->torque_trim_tau_s = 0.02; /* 400 control periods: slow against the torque ripple */
     si->speed_limit_rpm = 3000.0;
     si->flux_ref_wb = 0.0928;
     si->speed_ref_rpm = 1500.0; /* the paper's test speed */
@@ -191,6 +192,8 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     if (si->mode != DTC_MODE_SPEED && si->mode != DTC_MODE_TORQUE)
         return fail(&c, DTC_SI_ERR_VARIANT, "mode = %d: must be DTC_MODE_SPEED or DTC_MODE_TORQUE", si->mode);
     if (!(si->torque_limit_nm > 0.0)) return fail(&c, DTC_SI_ERR_LIMIT, "torque_limit_nm = %g: must be > 0", si->torque_limit_nm);
+    if (!(si->torque_trim_tau_s == 0.0 || si->torque_trim_tau_s > si->ts_s))
+        return fail(&c, DTC_SI_ERR_GAIN, "torque_trim_tau_s = %g: must be 0 (off) or longer than ts_s = %g", si->torque_trim_tau_s, si->ts_s);
     if (!(si->speed_limit_rpm > 0.0)) return fail(&c, DTC_SI_ERR_LIMIT, "speed_limit_rpm = %g: must be > 0", si->speed_limit_rpm);
     if (!(si->i_trip_a > 0.0)) return fail(&c, DTC_SI_ERR_LIMIT, "i_trip_a = %g: must be > 0", si->i_trip_a);
     if (!(si->vdc_min_v >= 0.0 && si->vdc_max_v > si->vdc_min_v))
@@ -277,6 +280,8 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     cfg->kp_iq = to_iq(&c, "kp_nm_s_rad", kp, kp * b.w_base_rad_s / (si->pole_pairs * b.t_base_nm));
     cfg->ki_ts_iq = to_iq(&c, "ki_nm_rad", ki, ki * tsp * b.w_base_rad_s / (si->pole_pairs * b.t_base_nm));
     cfg->torque_limit_iq = to_iq(&c, "torque_limit_nm", si->torque_limit_nm, si->torque_limit_nm / b.t_base_nm);
+    cfg->torque_trim_k_q15 = si->torque_trim_tau_s == 0.0 ? 0
+                             : (q15_t)lround(32768.0 * si->ts_s / si->torque_trim_tau_s);
     cfg->speed_limit_iq = to_iq(&c, "speed_limit_rpm", si->speed_limit_rpm,
                                 si->speed_limit_rpm * M_PI / 30.0 * si->pole_pairs / b.w_base_rad_s);
 
@@ -347,6 +352,7 @@ int dtc_config_emit_c(const dtc_config_t *cfg, const char *symbol, FILE *f)
     EIQ(flux_band_iq); EIQ(torque_band_iq);
     EU(speed_div); EIQ(speed_k_iq); EU(speed_min_counts);
     EIQ(kp_iq); EIQ(ki_ts_iq); EIQ(torque_limit_iq); EIQ(speed_limit_iq);
+    EMIT("    .torque_trim_k_q15 = %d, /* Ts / tau of the torque-mode trim, Q15 */\n", (int)cfg->torque_trim_k_q15);
     EIQ(flux_ref_iq); EIQ(speed_ref_iq); EIQ(torque_ref_iq);
     EIQ(adc_i_gain_iq);
     EMIT("    .adc_i_offset = {%uU, %uU, %uU},\n", (unsigned)cfg->adc_i_offset[0],

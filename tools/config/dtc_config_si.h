@@ -70,6 +70,7 @@ typedef struct {
     double kp_nm_s_rad;     /* N.m per (mechanical rad/s) */
     double ki_nm_rad;       /* N.m per (mechanical rad/s) per s */
     double torque_limit_nm;
+    double torque_trim_tau_s; /* torque mode: mean-torque trim time constant (0 = off) */
     double speed_limit_rpm;
     double flux_ref_wb;
     double speed_ref_rpm;

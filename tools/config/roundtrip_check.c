@@ -25,7 +25,7 @@ int main(void)
     CHK(rs_iq); CHK(ls_iq); CHK(psi_m_iq); CHK(k_in_q31); CHK(k_leak_q31); CHK(enc_counts);
     CHK(enc_gain_q16); CHK(enc_offset); CHK(v_f_iq); CHK(v_ce_iq); CHK(v_d_iq); CHK(r_on_iq);
     CHK(flux_band_iq); CHK(torque_band_iq); CHK(speed_div); CHK(speed_k_iq); CHK(speed_min_counts);
-    CHK(kp_iq); CHK(ki_ts_iq); CHK(torque_limit_iq); CHK(speed_limit_iq); CHK(flux_ref_iq);
+    CHK(kp_iq); CHK(ki_ts_iq); CHK(torque_limit_iq); CHK(torque_trim_k_q15); CHK(speed_limit_iq); CHK(flux_ref_iq);
     CHK(speed_ref_iq); CHK(torque_ref_iq); CHK(adc_i_gain_iq); CHK(adc_i_offset[0]);
     CHK(adc_i_offset[1]); CHK(adc_i_offset[2]); CHK(adc_vdc_gain_iq); CHK(adc_vdc_offset);
     CHK(adc_vmid_gain_iq); CHK(adc_vmid_offset); CHK(i_trip_iq); CHK(vdc_max_iq); CHK(vdc_min_iq);

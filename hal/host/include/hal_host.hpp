@@ -135,6 +135,7 @@ private:
     std::uint64_t k_ = 0;
     std::int64_t last_turn_ = 0;
     bool index_seen_ = false;
+    std::uint16_t index_count_ = 0;
     bool sampled_ = false;
     bool trip_latched_ = false;
     TripCause trip_cause_ = TripCause::none;

@@ -114,7 +114,11 @@ void Harness::sample()
     // Encoder: index pulse whenever the shaft crossed the index position since the last sample.
     const std::int64_t turn = encoder_.turn(state_.theta_m_rad);
     if (turn != last_turn_) {
+        // The capture unit latches the counter at the pulse edge: the index position is count 0
+        // when crossing forward, and the count just below it (4*lines - 1) when crossing backward.
         index_seen_ = true;
+        index_count_ = turn > last_turn_ ? 0u
+                                         : static_cast<std::uint16_t>(encoder_.counts_per_turn() - 1u);
         last_turn_ = turn;
     }
 
@@ -131,6 +135,7 @@ void Harness::sample()
     }
     meas_.qep_count = encoder_.count(state_.theta_m_rad);
     meas_.qep_index_seen = index_seen_ ? 1u : 0u;
+    meas_.qep_index_count = index_count_;
     meas_.trip = trip_latched_ ? 1u : 0u;
     meas_.tick = static_cast<std::uint32_t>(k_ & 0xFFFFFFFFu);
     sampled_ = true;

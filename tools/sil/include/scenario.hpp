@@ -103,7 +103,7 @@ struct Scenario {
     double duration_s = 0.5;
     double metrics_window_s = 0.2;
     double ts_s = 50e-6;         // control period (Hoang sec. IV: 50 us)
-    double max_step_s = 5e-6;    // plant integration sub-step
+    double max_step_s = 50e-6;   // plant integration sub-step (RK4 on event-landing steps; docs/sil.md)
     double initial_speed_rpm = 0.0;
     double initial_theta_m_rad = 0.0;
     MotorCfg motor;
