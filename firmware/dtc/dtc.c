@@ -160,6 +160,29 @@ void dtc_shadow_adopt(dtc_t *c, uint16_t seq)
     c->adopted_seq = seq;
 }
 
+/* Torque mode: the reference in force, with the mean-torque trim. External linkage on purpose
+ * (as dtc_shadow_adopt): inlined, its 64-bit temporaries would sit in dtc_step's frame on the
+ * deepest stack path (budget: tools/bench, <= 256 bytes on the Cortex-M0 proxy).
+ *
+ * Mean-torque trim. With zero (or small) bands the torque comparator's decision acts one period
+ * late (hal.h) and the torque rises and falls at different rates, so the bang-bang loop settles
+ * with a mean offset from the reference (about -22 % with the Table VIII machine on the FSTP at
+ * 1500 rpm, tests/unit/test_dtc_step.c). In speed mode the speed PI absorbs it; in torque mode a
+ * slow integrator on the estimated-torque error does: trim += k * (T* - T_est), k = Ts/tau,
+ * limited to a quarter of the torque limit, reset on every mode change and at reset; the trimmed
+ * reference still respects the torque limit.
+ * Scaling and overflow: the error is IQ pu, times a Q15 gain < 1; the sum saturates and is
+ * clamped to +-torque_limit/4 (torque_limit > 0, validated). */
+void dtc_torque_trim(dtc_t *c, iq_t te)
+{
+    const dtc_config_t *cfg = c->cfg;
+    const iq_t lim = fix_rshift_rnd32(cfg->torque_limit_iq, 2U);
+    iq_t d = iq_mpy_q15(iq_sub(c->act.torque_ref_iq, te), cfg->torque_trim_k_q15);
+    c->te_trim_iq = iq_sat(iq_add(c->te_trim_iq, d), fix_neg32(lim), lim);
+    c->te_ref_iq = iq_sat(iq_add(c->act.torque_ref_iq, c->te_trim_iq),
+                          fix_neg32(cfg->torque_limit_iq), cfg->torque_limit_iq);
+}
+
 void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
 {
     const dtc_config_t *cfg = c->cfg;
@@ -232,20 +255,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     }
     c->div_cnt = (uint16_t)(c->div_cnt + 1U >= cfg->speed_div ? 0U : c->div_cnt + 1U);
     if (c->act.mode == DTC_MODE_TORQUE) {
-        /* Mean-torque trim. With zero (or small) bands the torque comparator's decision acts one
-         * period late (hal.h) and the torque rises and falls at different rates, so the bang-bang
-         * loop settles with a mean offset from the reference (about -15 % with the Table VIII
-         * machine at 1500 rpm). In speed mode the speed PI absorbs it; in torque mode a slow
-         * integrator on the estimated-torque error does: trim += k * (T* - T_est), k = Ts/tau,
-         * limited to a quarter of the torque limit, reset on every mode change and at reset;
-         * the trimmed reference still respects the torque limit.
-         * Scaling and overflow: the error is IQ pu, times a Q15 gain < 1; the sum saturates and
-         * is clamped to +-torque_limit/4 (torque_limit > 0, validated). */
-        const iq_t lim = fix_rshift_rnd32(cfg->torque_limit_iq, 2U);
-        iq_t d = iq_mpy_q15(iq_sub(c->act.torque_ref_iq, te), cfg->torque_trim_k_q15);
-        c->te_trim_iq = iq_sat(iq_add(c->te_trim_iq, d), fix_neg32(lim), lim);
-        c->te_ref_iq = iq_sat(iq_add(c->act.torque_ref_iq, c->te_trim_iq),
-                              fix_neg32(cfg->torque_limit_iq), cfg->torque_limit_iq);
+        dtc_torque_trim(c, te);
     }
 
     /* 6. Hysteresis comparators (Hoang eqs. 13-14, Casadei section 4). */

@@ -120,6 +120,8 @@ int16_t dtc_shadow_write(dtc_t *c, const dtc_refs_t *r);
 /* Used by dtc_step() (ISR side): adopts the shadow set whose (even) sequence number is seq.
  * Not for the background. */
 void dtc_shadow_adopt(dtc_t *c, uint16_t seq);
+/* Internal to dtc_step (torque mode: reference plus mean-torque trim); out of line for the stack. */
+void dtc_torque_trim(dtc_t *c, iq_t te);
 
 /* The set in force (for the background's display). */
 void dtc_refs_get(const dtc_t *c, dtc_refs_t *r);
