@@ -12,9 +12,13 @@ status=0
 count=0
 while IFS= read -r -d '' f; do
   count=$((count + 1))
-  hits=$("$cc" -fpreprocessed -dD -E -P -x c "$f" 2>/dev/null | grep -nE "$pattern" || true)
+  hits=$("$cc" -fpreprocessed -dD -E -P -x c "$f" 2>/dev/null | grep -E "$pattern" || true)
   if [ -n "$hits" ]; then
-    while IFS= read -r h; do echo "firmware rule violated in $f: $h"; done <<<"$hits"
+    # Report the line of the original file (the stripped text has its own numbering).
+    while IFS= read -r h; do
+      line=$(grep -nF -- "$(sed 's/^[[:space:]]*//' <<<"$h")" "$f" | head -1 | cut -d: -f1)
+      echo "firmware rule violated at $f:${line:-?}: $h"
+    done <<<"$hits"
     status=1
   fi
 done < <(find "$dir" -type f \( -name '*.c' -o -name '*.h' -o -name '*.inc' \) -print0)
