@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -14,6 +15,33 @@ namespace mt {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kSqrt3 = 1.73205080756887729353;
+
+// Hoang Table VI (proposed FSTP drop compensation), transcribed once, row by row: S_B, S_C,
+// sign(i_b), sign(i_c), v_f_alpha, v_f_beta, for device drops V_CE and V_d.
+struct HoangTableVIRow {
+    int sb, sc, sign_ib, sign_ic;
+    double fa, fb;
+};
+inline std::array<HoangTableVIRow, 16> hoang_table_vi(double Vce, double Vd) {
+    return {{
+        {0, 0, -1, -1, -2 * Vce / 3, 0.0},
+        {0, 1, -1, -1, -(Vd + Vce) / 3, -(Vd - Vce) / kSqrt3},
+        {1, 0, -1, -1, -(Vd + Vce) / 3, (Vd - Vce) / kSqrt3},
+        {1, 1, -1, -1, -2 * Vd / 3, 0.0},
+        {0, 0, -1, +1, (Vd - Vce) / 3, (Vd + Vce) / kSqrt3},
+        {0, 1, -1, +1, 0.0, 2 * Vce / kSqrt3},
+        {1, 0, -1, +1, 0.0, 2 * Vd / kSqrt3},
+        {1, 1, -1, +1, -(Vd - Vce) / 3, (Vd + Vce) / kSqrt3},
+        {0, 0, +1, -1, (Vd - Vce) / 3, -(Vd + Vce) / kSqrt3},
+        {0, 1, +1, -1, 0.0, -2 * Vd / kSqrt3},
+        {1, 0, +1, -1, 0.0, -2 * Vce / kSqrt3},
+        {1, 1, +1, -1, -(Vd - Vce) / 3, -(Vd + Vce) / kSqrt3},
+        {0, 0, +1, +1, 2 * Vd / 3, 0.0},
+        {0, 1, +1, +1, (Vd + Vce) / 3, -(Vd - Vce) / kSqrt3},
+        {1, 0, +1, +1, (Vd + Vce) / 3, (Vd - Vce) / kSqrt3},
+        {1, 1, +1, +1, 2 * Vce / 3, 0.0},
+    }};
+}
 constexpr double kRpm = 2.0 * kPi / 60.0;
 
 struct PlantDeleter {

@@ -95,30 +95,11 @@ TEST(Inverter, FstpAlphaBetaDropHoangTableVI) {
     plant_params_t p = locked(ideal_inverter(PLANT_INVERTER_FSTP));
     p.drops_enabled = 1;
     const double Vce = p.v_ce_v, Vd = p.v_d_v, ron = p.r_on_ohm, V = p.vdc_v;
-    struct Row { int sb, sc, gb, gc; double fa, fb; };
-    // Table VI transcribed row by row (S_B, S_C, sign i_b, sign i_c, v_f_alpha, v_f_beta).
-    const Row rows[16] = {
-        {0, 0, -1, -1, -2 * Vce / 3, 0.0},
-        {0, 1, -1, -1, -(Vd + Vce) / 3, -(Vd - Vce) / kSqrt3},
-        {1, 0, -1, -1, -(Vd + Vce) / 3, (Vd - Vce) / kSqrt3},
-        {1, 1, -1, -1, -2 * Vd / 3, 0.0},
-        {0, 0, -1, +1, (Vd - Vce) / 3, (Vd + Vce) / kSqrt3},
-        {0, 1, -1, +1, 0.0, 2 * Vce / kSqrt3},
-        {1, 0, -1, +1, 0.0, 2 * Vd / kSqrt3},
-        {1, 1, -1, +1, -(Vd - Vce) / 3, (Vd + Vce) / kSqrt3},
-        {0, 0, +1, -1, (Vd - Vce) / 3, -(Vd + Vce) / kSqrt3},
-        {0, 1, +1, -1, 0.0, -2 * Vd / kSqrt3},
-        {1, 0, +1, -1, 0.0, -2 * Vce / kSqrt3},
-        {1, 1, +1, -1, -(Vd - Vce) / 3, -(Vd + Vce) / kSqrt3},
-        {0, 0, +1, +1, 2 * Vd / 3, 0.0},
-        {0, 1, +1, +1, (Vd + Vce) / 3, -(Vd - Vce) / kSqrt3},
-        {1, 0, +1, +1, (Vd + Vce) / 3, (Vd - Vce) / kSqrt3},
-        {1, 1, +1, +1, 2 * Vce / 3, 0.0},
-    };
+    const auto rows = hoang_table_vi(Vce, Vd);
     double worst = 0.0;
-    for (const Row &r : rows) {
+    for (const HoangTableVIRow &r : rows) {
         auto pl = make(p);
-        const double ib = 1.2 * r.gb, ic = 0.8 * r.gc;
+        const double ib = 1.2 * r.sign_ib, ic = 0.8 * r.sign_ic;
         ASSERT_EQ(plant_set_phase_currents(pl.get(), -(ib + ic), ib, ic), 0);
         const plant_state_t s0 = state(pl);
         plant_set_legs(pl.get(), 0, r.sb, r.sc, 1);
@@ -131,8 +112,8 @@ TEST(Inverter, FstpAlphaBetaDropHoangTableVI) {
         const double da = s.v_alpha_v - va + ron * ia_m / 3.0;
         const double db = s.v_beta_v - vb + ron * ib_m;
         worst = std::max({worst, std::fabs(da - r.fa), std::fabs(db - r.fb)});
-        EXPECT_NEAR(da, r.fa, 1e-7) << "SB SC=" << r.sb << r.sc << " signs " << r.gb << r.gc;
-        EXPECT_NEAR(db, r.fb, 1e-7) << "SB SC=" << r.sb << r.sc << " signs " << r.gb << r.gc;
+        EXPECT_NEAR(da, r.fa, 1e-7) << "SB SC=" << r.sb << r.sc << " signs " << r.sign_ib << r.sign_ic;
+        EXPECT_NEAR(db, r.fb, 1e-7) << "SB SC=" << r.sb << r.sc << " signs " << r.sign_ib << r.sign_ic;
     }
     std::printf("Table VI: worst |drop - table| = %.3e V\n", worst);
 }

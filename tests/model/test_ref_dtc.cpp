@@ -89,36 +89,18 @@ TEST(RefTables, HoangTablesIIIandV) {
 
 // Hoang Table VI, all 16 rows, exact.
 TEST(RefTables, HoangTableVI) {
-    struct Row { int sb, sc; double ib, ic, fa, fb; };
-    const Row rows[16] = {
-        {0, 0, -1, -1, -2 * Vce / 3, 0.0},
-        {0, 1, -1, -1, -(Vd + Vce) / 3, -(Vd - Vce) / kSqrt3},
-        {1, 0, -1, -1, -(Vd + Vce) / 3, (Vd - Vce) / kSqrt3},
-        {1, 1, -1, -1, -2 * Vd / 3, 0.0},
-        {0, 0, -1, +1, (Vd - Vce) / 3, (Vd + Vce) / kSqrt3},
-        {0, 1, -1, +1, 0.0, 2 * Vce / kSqrt3},
-        {1, 0, -1, +1, 0.0, 2 * Vd / kSqrt3},
-        {1, 1, -1, +1, -(Vd - Vce) / 3, (Vd + Vce) / kSqrt3},
-        {0, 0, +1, -1, (Vd - Vce) / 3, -(Vd + Vce) / kSqrt3},
-        {0, 1, +1, -1, 0.0, -2 * Vd / kSqrt3},
-        {1, 0, +1, -1, 0.0, -2 * Vce / kSqrt3},
-        {1, 1, +1, -1, -(Vd - Vce) / 3, -(Vd + Vce) / kSqrt3},
-        {0, 0, +1, +1, 2 * Vd / 3, 0.0},
-        {0, 1, +1, +1, (Vd + Vce) / 3, -(Vd - Vce) / kSqrt3},
-        {1, 0, +1, +1, (Vd + Vce) / 3, (Vd - Vce) / kSqrt3},
-        {1, 1, +1, +1, 2 * Vce / 3, 0.0},
-    };
-    for (const Row &r : rows) {
+    const auto rows = hoang_table_vi(Vce, Vd);
+    for (const HoangTableVIRow &r : rows) {
         double fa, fb;
-        fstp_drop_proposed(r.sb, r.sc, r.ib, r.ic, Vce, Vd, fa, fb);
-        EXPECT_NEAR(fa, r.fa, 1e-15) << r.sb << r.sc << r.ib << r.ic;
-        EXPECT_NEAR(fb, r.fb, 1e-15) << r.sb << r.sc << r.ib << r.ic;
+        fstp_drop_proposed(r.sb, r.sc, r.sign_ib, r.sign_ic, Vce, Vd, fa, fb);
+        EXPECT_NEAR(fa, r.fa, 1e-15) << r.sb << r.sc << r.sign_ib << r.sign_ic;
+        EXPECT_NEAR(fb, r.fb, 1e-15) << r.sb << r.sc << r.sign_ib << r.sign_ic;
     }
     // With V_CE = V_d the proposed scheme reduces to the simple one (Table V).
-    for (const Row &r : rows) {
+    for (const HoangTableVIRow &r : rows) {
         double fa, fb, sa, sbb;
-        fstp_drop_proposed(r.sb, r.sc, r.ib, r.ic, 1.0, 1.0, fa, fb);
-        fstp_drop_simple(r.ib, r.ic, 1.0, sa, sbb);
+        fstp_drop_proposed(r.sb, r.sc, r.sign_ib, r.sign_ic, 1.0, 1.0, fa, fb);
+        fstp_drop_simple(r.sign_ib, r.sign_ic, 1.0, sa, sbb);
         EXPECT_NEAR(fa, sa, 1e-15);
         EXPECT_NEAR(fb, sbb, 1e-15);
     }
