@@ -206,7 +206,10 @@ TEST(SilClosedLoop, FstpMidPointDriftsOnAFiniteLinkWithTheVoltageModel)
 TEST(SilClosedLoop, FixedPointFirmwareAgreesWithTheDoubleReference)
 {
     // model/'s double-precision reference DTC on the same plant and the same measurements
-    // (controller_reference.cpp). Tolerances: measured: to be set from the integrated runs.
+    // (controller_reference.cpp). Measured (FSTP, voltage model, proposed compensation, 1500 rpm,
+    // full load): fundamentals 2.190/2.009/2.337 A vs 2.193/2.016/2.324 A (0.6 %), THD 31.46 vs
+    // 31.42 %, estimated torque 0.3025 vs 0.3025 N*m, imbalance 16.3 vs 15.3 %. Both are chaotic
+    // bang-bang loops, so they are compared as envelopes, with about 3x the measured gaps.
 #if DTC_SIL_HAVE_REFERENCE
     register_reference_controller(&make_reference_controller);
 #endif
@@ -224,10 +227,12 @@ TEST(SilClosedLoop, FixedPointFirmwareAgreesWithTheDoubleReference)
     ASSERT_TRUE(ref.m.fundamental_a.has_value());
     for (int ph = 0; ph < 3; ++ph) {
         EXPECT_NEAR((*fx.m.fundamental_a)[static_cast<std::size_t>(ph)], (*ref.m.fundamental_a)[static_cast<std::size_t>(ph)],
-                    0.03 * (*ref.m.fundamental_a)[static_cast<std::size_t>(ph)]);
+                    0.02 * (*ref.m.fundamental_a)[static_cast<std::size_t>(ph)]);
     }
-    EXPECT_NEAR(fx.m.torque_mean_nm, ref.m.torque_mean_nm, 0.01);
-    EXPECT_NEAR(*fx.m.thd_total_pct, *ref.m.thd_total_pct, 0.2 * *ref.m.thd_total_pct);
+    EXPECT_NEAR(fx.m.torque_mean_nm, ref.m.torque_mean_nm, 0.002);
+    EXPECT_NEAR(*fx.m.torque_est_mean_nm, *ref.m.torque_est_mean_nm, 0.002);
+    EXPECT_NEAR(*fx.m.thd_total_pct, *ref.m.thd_total_pct, 0.05 * *ref.m.thd_total_pct);
+    EXPECT_NEAR(*fx.m.imbalance_pct, *ref.m.imbalance_pct, 3.0);
 }
 
 TEST(SilClosedLoop, OverCurrentTripsWithinOneIsrPeriodAndGatesStayOff)
