@@ -36,9 +36,13 @@ constexpr double kRpmToRadS = 2.0 * kPi / 60.0;
 // State vector layout.
 enum : int {
     S_IA = 0, S_IB, S_IC, S_THETA, S_OMEGA, S_VCLO, S_VCHI,
-    S_EDC, S_ECU, S_EDEV, S_EFRIC, S_ELOAD, S_ERDC, S_IVA, S_IVB, S_IVA0, S_IVB0, S_IVC0,
+    S_EDC, S_ECU, S_EDEV, S_EFRIC, S_ELOAD, S_ERDC, S_IVA0, S_IVB0, S_IVC0,
     NS
 };
+// The first ND states are dynamic (they enter the right-hand side); the rest are quadratures
+// (energy accounts and terminal-voltage integrals) that RK4 integrates with the same weights, so
+// the intermediate stage states only need their first ND entries.
+constexpr int ND = S_VCHI + 1;
 using Vec = Eigen::Matrix<double, NS, 1>;
 
 enum Rail : int { RAIL_ZERO = 0, RAIL_PLUS = 1, RAIL_MID = 2, RAIL_SRC = 3 };
@@ -73,6 +77,15 @@ struct Prep {
     double dev_d[3];    // v_f of a device path (0 otherwise), for the loss term (d + r i) i
     double dev[3];      // 1 for a device path
     double plus[3], mid[3], src[3];
+    // Mode-independent linear forms (set in make_prep, so the right-hand side has no branches on
+    // the inverter, DC link or load kind):
+    //   T_load = ld_c0 + ld_cw omega + ld_cte T_e;  domega/dt = w_on (T_e - b omega - T_load) / J
+    //   i_s = is_g (vdc - vc_lo - vc_hi)
+    //   dvc_hi/dt = hi_s i_s - hi_p i_plus;  dvc_lo/dt = lo_s i_s - lo_p i_plus - lo_m i_mid
+    //   p_dc = pdc_s i_s + pdc_st ((vc_lo + vc_hi) i_plus + vc_lo i_mid) + pdc_src p_src
+    double ld_c0, ld_cw, ld_cte, w_on;
+    double is_g, hi_s, hi_p, lo_s, lo_p, lo_m;
+    double pdc_s, pdc_st, pdc_src, r_dc;
 };
 
 struct Aux {
@@ -89,6 +102,7 @@ struct plant {
     plant_params_t p;
     // Derived constants.
     double omega_load_ref;  // rad/s for the generator law
+    double pp;              // pole pairs as a double
     double c_lo, c_hi;      // capacitances (SSTP: one capacitor of 2*c_dc_f, split in the report)
     bool has_harm;
     double flux_amp[3][4];  // psi_m * gain * (1, h3/3, h5/5, h7/7)
@@ -105,7 +119,6 @@ struct plant {
     // Integrator.
     double t;
     Vec y;
-    Vec y_adv0;          // state at the start of the last advance (for the mean voltages)
     double last_dt;
     Mode mode;
     Leg legs[3];
@@ -138,6 +151,7 @@ void set_err(char *err, size_t n, const char *msg) {
 void derive(plant_t *pl) {
     const plant_params_t &p = pl->p;
     pl->omega_load_ref = p.load_speed_rpm * kRpmToRadS;
+    pl->pp = p.pole_pairs;
     if (p.inverter == PLANT_INVERTER_SSTP) {
         pl->c_lo = pl->c_hi = 2.0 * p.c_dc_f;
     } else {
@@ -322,6 +336,39 @@ void make_prep(plant_t *pl, const Mode &m, Prep &q) {
     }
     static const double inv_n[4] = {0.0, 1.0, 0.5, 1.0 / 3.0};
     q.inv_nk = inv_n[q.nk];
+    // Load law (Casadei/Hoang test rigs; plant.h): see the Prep comment.
+    q.ld_c0 = q.ld_cw = q.ld_cte = 0.0;
+    q.w_on = 1.0;
+    switch (p.load) {
+        case PLANT_LOAD_SPEED:  // the dynamometer holds speed: T_load = T_e - b omega
+            q.ld_cte = 1.0;
+            q.ld_cw = -p.b_nms;
+            q.w_on = 0.0;
+            break;
+        case PLANT_LOAD_TORQUE: q.ld_c0 = p.load_torque_nm; break;
+        case PLANT_LOAD_GENERATOR: q.ld_cw = p.load_torque_nm / pl->omega_load_ref; break;
+        default: break;
+    }
+    // DC link.
+    q.is_g = q.hi_s = q.hi_p = q.lo_s = q.lo_p = q.lo_m = 0.0;
+    q.pdc_s = q.pdc_st = q.pdc_src = q.r_dc = 0.0;
+    if (p.inverter == PLANT_INVERTER_IDEAL) {
+        q.pdc_src = 1.0;
+    } else if (!p.finite_dc_link) {
+        q.pdc_st = 1.0;
+    } else {
+        q.is_g = pl->inv_rdc;
+        q.pdc_s = p.vdc_v;
+        q.r_dc = p.r_dc_ohm;
+        if (p.inverter == PLANT_INVERTER_FSTP) {
+            q.hi_s = q.hi_p = pl->inv_c_hi;
+            q.lo_s = q.lo_p = q.lo_m = pl->inv_c_lo;
+        } else {
+            // SSTP: one capacitor of 2*c_dc_f (c_lo holds that value, see derive()), reported as
+            // two equal halves.
+            q.hi_s = q.hi_p = q.lo_s = q.lo_p = 0.5 * pl->inv_c_lo;
+        }
+    }
 }
 
 // Neutral voltage when every phase is blocked: centre of the feasible range.
@@ -337,24 +384,26 @@ double vn0_all_blocked(const plant_t *pl, const Vec &y, const double e[3]) {
     return 0.5 * (lo + hi);
 }
 
-// Right-hand side for a fixed conduction mode (pl->prep must match m).
-void rhs(plant_t *pl, const Vec &y, const Mode &m, Vec &dy, Aux *aux) {
+// Right-hand side for a fixed conduction mode (pl->prep must match the mode). Only the first ND
+// entries of y are read. Branch-free apart from the all-blocked neutral (Prep holds the linear
+// forms of the inverter, DC link and load).
+inline void rhs(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
     ++pl->stats.evals;
-    const plant_params_t &p = pl->p;
     const Prep &q = pl->prep;
-    const double pp = p.pole_pairs;
+    const double pp = pl->pp;
     const double omega = y[S_OMEGA];
     const double omega_e = pp * omega;
     double dpsi[3];
     dpsi_fast(pl, pp * y[S_THETA], dpsi);
     const double vlo = y[S_VCLO], vhi = y[S_VCHI];
-    double e[3], vp[3], ix[3];
+    const double ix[3] = {y[S_IA], y[S_IB], y[S_IC]};
+    double e[3], vp[3], u[3];
     double sum = 0.0;
     for (int x = 0; x < 3; ++x) {
-        ix[x] = y[S_IA + x];
         e[x] = omega_e * dpsi[x];
         vp[x] = q.a_lo[x] * vlo + q.a_hi[x] * vhi + q.c[x];
-        sum += q.cond[x] * (vp[x] - q.rtot[x] * ix[x] - e[x]);
+        u[x] = vp[x] - q.rtot[x] * ix[x] - e[x];  // L di/dt + v_n0 of a conducting phase
+        sum += q.cond[x] * u[x];
     }
     const double vn0 = (q.nk >= 2) ? sum * q.inv_nk : vn0_all_blocked(pl, y, e);
     double vx0[3];
@@ -362,7 +411,7 @@ void rhs(plant_t *pl, const Vec &y, const Mode &m, Vec &dy, Aux *aux) {
     for (int x = 0; x < 3; ++x) {
         const double i = ix[x];
         const double vc = vp[x] - q.r[x] * i;
-        dy[S_IA + x] = q.cond[x] * (vp[x] - q.rtot[x] * i - e[x] - vn0) * pl->inv_l;
+        dy[S_IA + x] = q.cond[x] * (u[x] - vn0) * pl->inv_l;
         vx0[x] = q.cond[x] * vc + (1.0 - q.cond[x]) * (vn0 + e[x]);  // blocked: floating terminal
         p_dev += q.dev[x] * (q.dev_d[x] + q.r[x] * i) * i;
         i_plus += q.plus[x] * i;
@@ -371,40 +420,21 @@ void rhs(plant_t *pl, const Vec &y, const Mode &m, Vec &dy, Aux *aux) {
         te += i * dpsi[x];
         p_cu += i * i;
     }
-    (void)m;
-    p_cu *= p.rs_ohm;
     te *= pp;
-    const double tl = load_torque(pl, omega, te);
+    const double b = pl->p.b_nms;
+    const double tl = q.ld_c0 + q.ld_cw * omega + q.ld_cte * te;
     dy[S_THETA] = omega;
-    dy[S_OMEGA] = (p.load == PLANT_LOAD_SPEED) ? 0.0 : (te - p.b_nms * omega - tl) * pl->inv_j;
+    dy[S_OMEGA] = q.w_on * (te - b * omega - tl) * pl->inv_j;
     // DC link.
-    double p_dc, p_rdc = 0.0;
-    if (p.inverter == PLANT_INVERTER_IDEAL) {
-        dy[S_VCLO] = dy[S_VCHI] = 0.0;
-        p_dc = p_src;
-    } else if (!p.finite_dc_link) {
-        dy[S_VCLO] = dy[S_VCHI] = 0.0;
-        p_dc = (vlo + vhi) * i_plus + vlo * i_mid;
-    } else {
-        const double i_s = (p.vdc_v - (vlo + vhi)) * pl->inv_rdc;
-        if (p.inverter == PLANT_INVERTER_FSTP) {
-            dy[S_VCHI] = (i_s - i_plus) * pl->inv_c_hi;
-            dy[S_VCLO] = (i_s - i_plus - i_mid) * pl->inv_c_lo;
-        } else {
-            // SSTP: one capacitor of 2*c_dc_f (c_lo holds that value, see derive()).
-            dy[S_VCLO] = dy[S_VCHI] = 0.5 * (i_s - i_plus) * pl->inv_c_lo;
-        }
-        p_dc = p.vdc_v * i_s;
-        p_rdc = p.r_dc_ohm * i_s * i_s;
-    }
-    dy[S_EDC] = p_dc;
-    dy[S_ECU] = p_cu;
+    const double i_s = q.is_g * (pl->p.vdc_v - (vlo + vhi));
+    dy[S_VCHI] = q.hi_s * i_s - q.hi_p * i_plus;
+    dy[S_VCLO] = q.lo_s * i_s - q.lo_p * i_plus - q.lo_m * i_mid;
+    dy[S_EDC] = q.pdc_s * i_s + q.pdc_st * ((vlo + vhi) * i_plus + vlo * i_mid) + q.pdc_src * p_src;
+    dy[S_ECU] = pl->p.rs_ohm * p_cu;
     dy[S_EDEV] = p_dev;
-    dy[S_EFRIC] = p.b_nms * omega * omega;
+    dy[S_EFRIC] = b * omega * omega;
     dy[S_ELOAD] = tl * omega;
-    dy[S_ERDC] = p_rdc;
-    dy[S_IVA] = (2.0 * vx0[0] - vx0[1] - vx0[2]) * (1.0 / 3.0);  // Hoang eqs. (1)-(4)
-    dy[S_IVB] = (vx0[1] - vx0[2]) * (1.0 / kSqrt3);              // Hoang eq. (5)
+    dy[S_ERDC] = q.r_dc * i_s * i_s;
     dy[S_IVA0] = vx0[0];
     dy[S_IVB0] = vx0[1];
     dy[S_IVC0] = vx0[2];
@@ -564,14 +594,16 @@ void snap_currents(Vec &y, bool snapped[3]) {
     }
 }
 
-inline void rk4(plant_t *pl, const Vec &y0, const Mode &m, double h, const Vec &k1, Vec &out) {
+// Classical RK4 over h from y0 with k1 = f(y0). The stage states carry only the ND dynamic
+// entries (the quadratures do not enter f); the result is the full RK4 combination.
+inline void rk4(plant_t *pl, const Vec &y0, double h, const Vec &k1, Vec &out) {
     Vec k2, k3, k4, yt;
-    yt.noalias() = y0 + (0.5 * h) * k1;
-    rhs(pl, yt, m, k2, nullptr);
-    yt.noalias() = y0 + (0.5 * h) * k2;
-    rhs(pl, yt, m, k3, nullptr);
-    yt.noalias() = y0 + h * k3;
-    rhs(pl, yt, m, k4, nullptr);
+    yt.head<ND>().noalias() = y0.head<ND>() + (0.5 * h) * k1.head<ND>();
+    rhs(pl, yt, k2, nullptr);
+    yt.head<ND>().noalias() = y0.head<ND>() + (0.5 * h) * k2.head<ND>();
+    rhs(pl, yt, k3, nullptr);
+    yt.head<ND>().noalias() = y0.head<ND>() + h * k3.head<ND>();
+    rhs(pl, yt, k4, nullptr);
     out.noalias() = y0 + (h / 6.0) * (k1 + 2.0 * (k2 + k3) + k4);
 }
 
@@ -591,7 +623,7 @@ double event_g(plant_t *pl, const Vec &y, const Mode &m, const bool active[3]) {
     if (any_blocked) {
         Vec dy;
         Aux aux;
-        rhs(pl, y, m, dy, &aux);
+        rhs(pl, y, dy, &aux);
         for (int x = 0; x < 3; ++x) {
             if (!active[x] || m.ph[x] != PH_BLOCKED) continue;
             double rv[4];
@@ -637,8 +669,8 @@ double step(plant_t *pl, double h) {
         pl->prep_valid = true;
     }
     Vec k1, y1;
-    rhs(pl, y, m, k1, nullptr);
-    rk4(pl, y, m, h, k1, y1);
+    rhs(pl, y, k1, nullptr);
+    rk4(pl, y, h, k1, y1);
     ++pl->stats.steps;
     // Which phases can produce an event?
     bool active[3] = {false, false, false};
@@ -680,7 +712,7 @@ double step(plant_t *pl, double h) {
     for (int it = 0; it < 40 && (b - a) * h > 1e-12; ++it) {
         double s = (a * gb - b * ga) / (gb - ga);
         if (!(s > a && s < b)) s = 0.5 * (a + b);
-        rk4(pl, y, m, s * h, k1, ys);
+        rk4(pl, y, s * h, k1, ys);
         const double gs = event_g(pl, ys, m, active);
         if (gs < 0.0) {
             b = s; gb = gs; yb = ys; sb_keep = s;
@@ -846,7 +878,6 @@ plant_t *plant_create(const plant_params_t *p, char *err, size_t err_len) {
     pl->y[S_THETA] = p->theta_m0_rad;
     pl->y[S_OMEGA] = (p->load == PLANT_LOAD_SPEED ? p->load_speed_rpm : p->speed0_rpm) * kRpmToRadS;
     pl->y[S_VCLO] = pl->y[S_VCHI] = 0.5 * p->vdc_v;
-    pl->y_adv0 = pl->y;
     pl->t = 0.0;
     pl->last_dt = 0.0;
     for (int x = 0; x < 3; ++x) {
@@ -888,6 +919,7 @@ void plant_set_load(plant_t *plant, plant_load_t load, double speed_rpm, double 
     plant->p.load_speed_rpm = speed_rpm;
     plant->p.load_torque_nm = torque_nm;
     derive(plant);
+    plant->prep_valid = false;  // the load law lives in Prep
     if (load == PLANT_LOAD_SPEED) plant->y[S_OMEGA] = speed_rpm * kRpmToRadS;
     if (load == PLANT_LOAD_GENERATOR && speed_rpm == 0.0) plant->omega_load_ref = 1e300;  // no load
 }
@@ -912,7 +944,8 @@ int plant_set_max_step(plant_t *plant, double max_step_s, char *err, size_t err_
 
 void plant_advance(plant_t *pl, double dt_s) {
     if (!(dt_s > 0.0)) return;
-    pl->y_adv0 = pl->y;
+    // Terminal-voltage integrals restart every advance (their mean over it is reported).
+    pl->y[S_IVA0] = pl->y[S_IVB0] = pl->y[S_IVC0] = 0.0;
     pl->last_dt = dt_s;
     update_gates_for_command(pl);
     const double t_end = pl->t + dt_s;
@@ -989,11 +1022,14 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
     s->vc_lo_v = y[S_VCLO];
     s->vc_hi_v = y[S_VCHI];
     if (pl->last_dt > 0.0) {
-        s->v_alpha_v = (y[S_IVA] - pl->y_adv0[S_IVA]) / pl->last_dt;
-        s->v_beta_v = (y[S_IVB] - pl->y_adv0[S_IVB]) / pl->last_dt;
-        s->v_a0_v = (y[S_IVA0] - pl->y_adv0[S_IVA0]) / pl->last_dt;
-        s->v_b0_v = (y[S_IVB0] - pl->y_adv0[S_IVB0]) / pl->last_dt;
-        s->v_c0_v = (y[S_IVC0] - pl->y_adv0[S_IVC0]) / pl->last_dt;
+        const double inv_dt = 1.0 / pl->last_dt;
+        s->v_a0_v = y[S_IVA0] * inv_dt;
+        s->v_b0_v = y[S_IVB0] * inv_dt;
+        s->v_c0_v = y[S_IVC0] * inv_dt;
+        // Mean stator voltage: Hoang eqs. (1)-(5) applied to the mean terminal voltages (the
+        // transform is linear, so this is the mean of the instantaneous alpha/beta voltage).
+        s->v_alpha_v = (2.0 * s->v_a0_v - s->v_b0_v - s->v_c0_v) * (1.0 / 3.0);
+        s->v_beta_v = (s->v_b0_v - s->v_c0_v) * (1.0 / kSqrt3);
     }
     s->e_dc_in_j = y[S_EDC];
     s->e_copper_j = y[S_ECU];
