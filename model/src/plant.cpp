@@ -137,6 +137,7 @@ struct plant {
     double flux_tc[3][6];  // same for psi_pm,x itself
     double tc_range;
     bool tc_valid;
+    bool short_seg;  // the step being taken is a short dead-time segment (midpoint rule)
     plant_stats_t stats;
 };
 
@@ -607,6 +608,22 @@ inline void rk4(plant_t *pl, const Vec &y0, double h, const Vec &k1, Vec &out) {
     out.noalias() = y0 + (h / 6.0) * (k1 + 2.0 * (k2 + k3) + k4);
 }
 
+// Explicit midpoint rule (second order, two evaluations) for short dead-time segments; same
+// stage-state convention as rk4().
+inline void midpoint(plant_t *pl, const Vec &y0, double h, const Vec &k1, Vec &out) {
+    Vec k2, yt;
+    yt.head<ND>().noalias() = y0.head<ND>() + (0.5 * h) * k1.head<ND>();
+    rhs(pl, yt, k2, nullptr);
+    out.noalias() = y0 + h * k2;
+}
+
+// The step's integrator: RK4, or the midpoint rule on a short dead-time segment (plant_advance
+// sets pl->short_seg; docs/plant.md section 2 gives the rule and its error).
+inline void integrate(plant_t *pl, const Vec &y0, double h, const Vec &k1, Vec &out) {
+    if (pl->short_seg) midpoint(pl, y0, h, k1, out);
+    else rk4(pl, y0, h, k1, out);
+}
+
 // Event function: the most negative of (a) dir * i for conducting sign-dependent phases (the
 // current must not change sign inside a step with its path fixed) and (b) the margin of a
 // blocked phase's floating voltage inside its zero-current interval (volts, scaled by 1e-3 A/V so
@@ -670,7 +687,7 @@ double step(plant_t *pl, double h) {
     }
     Vec k1, y1;
     rhs(pl, y, k1, nullptr);
-    rk4(pl, y, h, k1, y1);
+    integrate(pl, y, h, k1, y1);
     ++pl->stats.steps;
     // Which phases can produce an event?
     bool active[3] = {false, false, false};
@@ -712,7 +729,7 @@ double step(plant_t *pl, double h) {
     for (int it = 0; it < 40 && (b - a) * h > 1e-12; ++it) {
         double s = (a * gb - b * ga) / (gb - ga);
         if (!(s > a && s < b)) s = 0.5 * (a + b);
-        rk4(pl, y, s * h, k1, ys);
+        integrate(pl, y, s * h, k1, ys);
         const double gs = event_g(pl, ys, m, active);
         if (gs < 0.0) {
             b = s; gb = gs; yb = ys; sb_keep = s;
@@ -967,6 +984,10 @@ void plant_advance(plant_t *pl, double dt_s) {
         }
         if (changed || guard == 1) build_legs(pl);
         const double h = std::min(pl->p.max_step_s, next - pl->t);
+        // A sub-step that ends at a dead-time end and is at most max_step/16 long (default: the
+        // 2 us dead-time segment at the 50 us step) uses the midpoint rule: its local error is
+        // O(h^3) on a tiny h, well below the RK4 error of the main step (docs/plant.md, section 2).
+        pl->short_seg = next < t_end && h == next - pl->t && h <= pl->p.max_step_s * (1.0 / 16.0);
         const double taken = step(pl, h);
         // Land exactly on breakpoints to avoid drift.
         if (taken == h) pl->t = (h == next - pl->t) ? next : pl->t + h;
