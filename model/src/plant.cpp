@@ -54,35 +54,45 @@ struct Path {
     double r;   // on-state resistance in the path
 };
 
+// Right-hand-side coefficients of one phase in one PhaseMode (built with the legs, so a mode
+// change only copies three of these).
+struct PhaseCoef {
+    double cond;          // 1 conducting, 0 blocked
+    double a_lo, a_hi, c; // path voltage = a_lo vc_lo + a_hi vc_hi + c (c includes -v_f)
+    double r;             // device resistance in the path
+    double rtot;          // R_s + r
+    double dev_d;         // v_f of the path, for the device loss term dev (d + r i) i
+    double dev;           // 1 for a conducting device path
+    double plus, mid, src;  // 1 if the conducting path is tied to that node
+};
+
+struct Mode {
+    int ph[3];  // PhaseMode per phase
+};
+
 struct Leg {
     Path pos, neg;  // path for i > 0 (out of the leg into the machine) and for i < 0
+    PhaseCoef coef[3];  // per PhaseMode
     bool sign_dep;  // the two paths differ: the voltage jumps at i = 0
     bool device;    // a semiconductor path (losses accounted); false for mid-point / ideal source
 };
 
 enum PhaseMode : int { PH_POS = 0, PH_NEG = 1, PH_BLOCKED = 2 };
 
-struct Mode {
-    int ph[3];  // PhaseMode per phase
-};
-
 // Per-step constants of the conduction mode, so the right-hand side is branch-light.
 struct Prep {
     int nk;             // conducting phases
     double inv_nk;
-    double cond[3];     // 1 conducting, 0 blocked
-    double a_lo[3], a_hi[3], c[3];  // path voltage = a_lo vc_lo + a_hi vc_hi + c (c includes -v_f)
-    double r[3];        // device resistance in the path
-    double rtot[3];     // R_s + r
-    double dev_d[3];    // v_f of a device path (0 otherwise), for the loss term (d + r i) i
-    double dev[3];      // 1 for a device path
-    double plus[3], mid[3], src[3];
-    // Mode-independent linear forms (set in make_prep, so the right-hand side has no branches on
-    // the inverter, DC link or load kind):
+    PhaseCoef ph[3];
+};
+
+// Mode-independent linear forms (set in derive(), so the right-hand side has no branches on the
+// inverter, DC link or load kind):
     //   T_load = ld_c0 + ld_cw omega + ld_cte T_e;  domega/dt = w_on (T_e - b omega - T_load) / J
     //   i_s = is_g (vdc - vc_lo - vc_hi)
     //   dvc_hi/dt = hi_s i_s - hi_p i_plus;  dvc_lo/dt = lo_s i_s - lo_p i_plus - lo_m i_mid
     //   p_dc = pdc_s i_s + pdc_st ((vc_lo + vc_hi) i_plus + vc_lo i_mid) + pdc_src p_src
+struct Glob {
     double ld_c0, ld_cw, ld_cte, w_on;
     double is_g, hi_s, hi_p, lo_s, lo_p, lo_m;
     double pdc_s, pdc_st, pdc_src, r_dc;
@@ -121,7 +131,8 @@ struct plant {
     Vec y;
     double last_dt;
     Mode mode;
-    Leg legs[3];
+    Leg leg_tab[3][3];     // [leg][Gate]: paths and coefficients, built at creation
+    const Leg *legs[3];    // legs in force: &leg_tab[x][gate[x]]
     // sin/cos cache for the step being taken (advanced by a short rotation from step to step and
     // re-synchronised with the library sin/cos every 256 steps).
     double th0, c0, s0;
@@ -129,6 +140,7 @@ struct plant {
     // Reciprocals used in the right-hand side.
     double inv_l, inv_j, inv_c_lo, inv_c_hi, inv_rdc;
     Prep prep;
+    Glob g;
     bool prep_valid;  // prep matches prep_mode and the current legs / source voltages
     Mode prep_mode;
     // Taylor coefficients (in delta = theta_e - th0) of dpsi_pm,x/dtheta_e for the step being taken:
@@ -309,35 +321,36 @@ double load_torque(const plant_t *pl, double omega, double te) {
 }
 
 void make_prep(plant_t *pl, const Mode &m, Prep &q) {
-    const plant_params_t &p = pl->p;
-    double vsrc[3] = {0.0, 0.0, 0.0};
-    if (p.inverter == PLANT_INVERTER_IDEAL) {
-        // Ideal source: phase voltages from the inverse amplitude-invariant Clarke transform.
-        const double va = pl->v_set_alpha, vb = pl->v_set_beta;
-        vsrc[0] = va;
-        vsrc[1] = -0.5 * va + 0.5 * kSqrt3 * vb;
-        vsrc[2] = -0.5 * va - 0.5 * kSqrt3 * vb;
-    }
     q.nk = 0;
     for (int x = 0; x < 3; ++x) {
-        const bool blk = (m.ph[x] == PH_BLOCKED);
-        const Path &pa = (m.ph[x] == PH_NEG) ? pl->legs[x].neg : pl->legs[x].pos;
-        q.cond[x] = blk ? 0.0 : 1.0;
-        q.a_lo[x] = (pa.rail == RAIL_PLUS || pa.rail == RAIL_MID) ? 1.0 : 0.0;
-        q.a_hi[x] = (pa.rail == RAIL_PLUS) ? 1.0 : 0.0;
-        q.c[x] = ((pa.rail == RAIL_SRC) ? vsrc[x] : 0.0) - pa.d;
-        q.r[x] = pa.r;
-        q.rtot[x] = p.rs_ohm + pa.r;
-        q.dev[x] = (pl->legs[x].device && !blk) ? 1.0 : 0.0;
-        q.dev_d[x] = pa.d;
-        q.plus[x] = (!blk && pa.rail == RAIL_PLUS) ? 1.0 : 0.0;
-        q.mid[x] = (!blk && pa.rail == RAIL_MID) ? 1.0 : 0.0;
-        q.src[x] = (!blk && pa.rail == RAIL_SRC) ? 1.0 : 0.0;
-        if (!blk) ++q.nk;
+        q.ph[x] = pl->legs[x]->coef[m.ph[x]];
+        if (m.ph[x] != PH_BLOCKED) ++q.nk;
     }
     static const double inv_n[4] = {0.0, 1.0, 0.5, 1.0 / 3.0};
     q.inv_nk = inv_n[q.nk];
-    // Load law (Casadei/Hoang test rigs; plant.h): see the Prep comment.
+}
+
+// Coefficients of a phase for one path (conducting) or blocked.
+PhaseCoef phase_coef(const plant_t *pl, const Leg &L, const Path &pa, bool blk, double vsrc) {
+    PhaseCoef k;
+    k.cond = blk ? 0.0 : 1.0;
+    k.a_lo = (pa.rail == RAIL_PLUS || pa.rail == RAIL_MID) ? 1.0 : 0.0;
+    k.a_hi = (pa.rail == RAIL_PLUS) ? 1.0 : 0.0;
+    k.c = ((pa.rail == RAIL_SRC) ? vsrc : 0.0) - pa.d;
+    k.r = pa.r;
+    k.rtot = pl->p.rs_ohm + pa.r;
+    k.dev = (L.device && !blk) ? 1.0 : 0.0;
+    k.dev_d = pa.d;
+    k.plus = (!blk && pa.rail == RAIL_PLUS) ? 1.0 : 0.0;
+    k.mid = (!blk && pa.rail == RAIL_MID) ? 1.0 : 0.0;
+    k.src = (!blk && pa.rail == RAIL_SRC) ? 1.0 : 0.0;
+    return k;
+}
+
+// Load law and DC link as linear forms (see Glob).
+void make_glob(plant_t *pl) {
+    const plant_params_t &p = pl->p;
+    Glob &q = pl->g;
     q.ld_c0 = q.ld_cw = q.ld_cte = 0.0;
     q.w_on = 1.0;
     switch (p.load) {
@@ -350,7 +363,6 @@ void make_prep(plant_t *pl, const Mode &m, Prep &q) {
         case PLANT_LOAD_GENERATOR: q.ld_cw = p.load_torque_nm / pl->omega_load_ref; break;
         default: break;
     }
-    // DC link.
     q.is_g = q.hi_s = q.hi_p = q.lo_s = q.lo_p = q.lo_m = 0.0;
     q.pdc_s = q.pdc_st = q.pdc_src = q.r_dc = 0.0;
     if (p.inverter == PLANT_INVERTER_IDEAL) {
@@ -378,7 +390,7 @@ double vn0_all_blocked(const plant_t *pl, const Vec &y, const double e[3]) {
     for (int x = 0; x < 3; ++x) {
         double rv[4];
         rails(pl, y, rv, x);
-        const double a = path_v(pl->legs[x].pos, rv), b = path_v(pl->legs[x].neg, rv);
+        const double a = path_v(pl->legs[x]->pos, rv), b = path_v(pl->legs[x]->neg, rv);
         lo = std::max(lo, std::min(a, b) - e[x]);
         hi = std::min(hi, std::max(a, b) - e[x]);
     }
@@ -402,40 +414,41 @@ inline void rhs(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
     double sum = 0.0;
     for (int x = 0; x < 3; ++x) {
         e[x] = omega_e * dpsi[x];
-        vp[x] = q.a_lo[x] * vlo + q.a_hi[x] * vhi + q.c[x];
-        u[x] = vp[x] - q.rtot[x] * ix[x] - e[x];  // L di/dt + v_n0 of a conducting phase
-        sum += q.cond[x] * u[x];
+        vp[x] = q.ph[x].a_lo * vlo + q.ph[x].a_hi * vhi + q.ph[x].c;
+        u[x] = vp[x] - q.ph[x].rtot * ix[x] - e[x];  // L di/dt + v_n0 of a conducting phase
+        sum += q.ph[x].cond * u[x];
     }
     const double vn0 = (q.nk >= 2) ? sum * q.inv_nk : vn0_all_blocked(pl, y, e);
     double vx0[3];
     double te = 0.0, p_cu = 0.0, p_dev = 0.0, i_plus = 0.0, i_mid = 0.0, p_src = 0.0;
     for (int x = 0; x < 3; ++x) {
         const double i = ix[x];
-        const double vc = vp[x] - q.r[x] * i;
-        dy[S_IA + x] = q.cond[x] * (u[x] - vn0) * pl->inv_l;
-        vx0[x] = q.cond[x] * vc + (1.0 - q.cond[x]) * (vn0 + e[x]);  // blocked: floating terminal
-        p_dev += q.dev[x] * (q.dev_d[x] + q.r[x] * i) * i;
-        i_plus += q.plus[x] * i;
-        i_mid += q.mid[x] * i;
-        p_src += q.src[x] * vc * i;
+        const double vc = vp[x] - q.ph[x].r * i;
+        dy[S_IA + x] = q.ph[x].cond * (u[x] - vn0) * pl->inv_l;
+        vx0[x] = q.ph[x].cond * vc + (1.0 - q.ph[x].cond) * (vn0 + e[x]);  // blocked: floating terminal
+        p_dev += q.ph[x].dev * (q.ph[x].dev_d + q.ph[x].r * i) * i;
+        i_plus += q.ph[x].plus * i;
+        i_mid += q.ph[x].mid * i;
+        p_src += q.ph[x].src * vc * i;
         te += i * dpsi[x];
         p_cu += i * i;
     }
     te *= pp;
     const double b = pl->p.b_nms;
-    const double tl = q.ld_c0 + q.ld_cw * omega + q.ld_cte * te;
+    const Glob &g = pl->g;
+    const double tl = g.ld_c0 + g.ld_cw * omega + g.ld_cte * te;
     dy[S_THETA] = omega;
-    dy[S_OMEGA] = q.w_on * (te - b * omega - tl) * pl->inv_j;
+    dy[S_OMEGA] = g.w_on * (te - b * omega - tl) * pl->inv_j;
     // DC link.
-    const double i_s = q.is_g * (pl->p.vdc_v - (vlo + vhi));
-    dy[S_VCHI] = q.hi_s * i_s - q.hi_p * i_plus;
-    dy[S_VCLO] = q.lo_s * i_s - q.lo_p * i_plus - q.lo_m * i_mid;
-    dy[S_EDC] = q.pdc_s * i_s + q.pdc_st * ((vlo + vhi) * i_plus + vlo * i_mid) + q.pdc_src * p_src;
+    const double i_s = g.is_g * (pl->p.vdc_v - (vlo + vhi));
+    dy[S_VCHI] = g.hi_s * i_s - g.hi_p * i_plus;
+    dy[S_VCLO] = g.lo_s * i_s - g.lo_p * i_plus - g.lo_m * i_mid;
+    dy[S_EDC] = g.pdc_s * i_s + g.pdc_st * ((vlo + vhi) * i_plus + vlo * i_mid) + g.pdc_src * p_src;
     dy[S_ECU] = pl->p.rs_ohm * p_cu;
     dy[S_EDEV] = p_dev;
     dy[S_EFRIC] = b * omega * omega;
     dy[S_ELOAD] = tl * omega;
-    dy[S_ERDC] = q.r_dc * i_s * i_s;
+    dy[S_ERDC] = g.r_dc * i_s * i_s;
     dy[S_IVA0] = vx0[0];
     dy[S_IVB0] = vx0[1];
     dy[S_IVC0] = vx0[2];
@@ -450,44 +463,61 @@ inline void rhs(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
     }
 }
 
-// Build the leg paths from the gate states (Hoang Table III, eq. 20).
-void build_legs(plant_t *pl) {
+// Leg paths and coefficients for every gate state (Hoang Table III, eq. 20); called at creation
+// and when the ideal source's voltages change.
+void build_leg_table(plant_t *pl) {
     const plant_params_t &p = pl->p;
     pl->prep_valid = false;
     const double vce = p.drops_enabled ? p.v_ce_v : 0.0;
     const double vd = p.drops_enabled ? p.v_d_v : 0.0;
     const double ron = p.drops_enabled ? p.r_on_ohm : 0.0;
-    for (int x = 0; x < 3; ++x) {
-        Leg &L = pl->legs[x];
+    double vsrc[3] = {0.0, 0.0, 0.0};
+    if (p.inverter == PLANT_INVERTER_IDEAL) {
+        // Ideal source: phase voltages from the inverse amplitude-invariant Clarke transform.
+        const double va = pl->v_set_alpha, vb = pl->v_set_beta;
+        vsrc[0] = va;
+        vsrc[1] = -0.5 * va + 0.5 * kSqrt3 * vb;
+        vsrc[2] = -0.5 * va - 0.5 * kSqrt3 * vb;
+    }
+    for (int x = 0; x < 3; ++x)
+    for (int gate = 0; gate < 3; ++gate) {
+        Leg &L = pl->leg_tab[x][gate];
         if (p.inverter == PLANT_INVERTER_IDEAL) {
             L.pos = L.neg = Path{RAIL_SRC, 0.0, 0.0};
             L.sign_dep = false;
             L.device = false;
-            continue;
-        }
-        if (p.inverter == PLANT_INVERTER_FSTP && x == 0) {
+        } else if (p.inverter == PLANT_INVERTER_FSTP && x == 0) {
             L.pos = L.neg = Path{RAIL_MID, 0.0, 0.0};  // Hoang Fig. 1(b): no device in phase A
             L.sign_dep = false;
             L.device = false;
-            continue;
+        } else {
+            L.device = true;
+            switch (gate) {
+                case GATE_UPPER:  // Table III state 1: + -> V_CE, - -> -V_d
+                    L.pos = Path{RAIL_PLUS, vce, ron};
+                    L.neg = Path{RAIL_PLUS, -vd, ron};
+                    break;
+                case GATE_LOWER:  // Table III state 0: + -> V_d, - -> -V_CE
+                    L.pos = Path{RAIL_ZERO, vd, ron};
+                    L.neg = Path{RAIL_ZERO, -vce, ron};
+                    break;
+                default:  // both gates off: the current sign picks the diode
+                    L.pos = Path{RAIL_ZERO, vd, ron};
+                    L.neg = Path{RAIL_PLUS, -vd, ron};
+                    break;
+            }
+            L.sign_dep = !(L.pos.rail == L.neg.rail && L.pos.d == L.neg.d && L.pos.r == L.neg.r);
         }
-        L.device = true;
-        switch (pl->gate[x]) {
-            case GATE_UPPER:  // Table III state 1: + -> V_CE, - -> -V_d
-                L.pos = Path{RAIL_PLUS, vce, ron};
-                L.neg = Path{RAIL_PLUS, -vd, ron};
-                break;
-            case GATE_LOWER:  // Table III state 0: + -> V_d, - -> -V_CE
-                L.pos = Path{RAIL_ZERO, vd, ron};
-                L.neg = Path{RAIL_ZERO, -vce, ron};
-                break;
-            default:  // both gates off: the current sign picks the diode
-                L.pos = Path{RAIL_ZERO, vd, ron};
-                L.neg = Path{RAIL_PLUS, -vd, ron};
-                break;
-        }
-        L.sign_dep = !(L.pos.rail == L.neg.rail && L.pos.d == L.neg.d && L.pos.r == L.neg.r);
+        L.coef[PH_POS] = phase_coef(pl, L, L.pos, false, vsrc[x]);
+        L.coef[PH_NEG] = phase_coef(pl, L, L.neg, false, vsrc[x]);
+        L.coef[PH_BLOCKED] = phase_coef(pl, L, L.pos, true, vsrc[x]);
     }
+}
+
+// Legs in force from the gate states.
+void build_legs(plant_t *pl) {
+    pl->prep_valid = false;
+    for (int x = 0; x < 3; ++x) pl->legs[x] = &pl->leg_tab[x][pl->gate[x]];
 }
 
 // Conduction mode at state y. Currents that are exactly zero on a sign-dependent leg are resolved
@@ -529,7 +559,7 @@ Mode select_mode(plant_t *pl, const Vec &y) {
             if (digit == 0) t.ph[x] = PH_BLOCKED;
             else if (digit == 1) t.ph[x] = PH_POS;
             else {
-                if (!pl->legs[x].sign_dep) { skip = true; }  // same as PH_POS
+                if (!pl->legs[x]->sign_dep) { skip = true; }  // same as PH_POS
                 t.ph[x] = PH_NEG;
             }
         }
@@ -538,7 +568,7 @@ Mode select_mode(plant_t *pl, const Vec &y) {
         double sum = 0.0, vp[3] = {0, 0, 0}, rr[3] = {0, 0, 0};
         for (int x = 0; x < 3; ++x) {
             if (t.ph[x] == PH_BLOCKED) continue;
-            const Path &pa = (t.ph[x] == PH_POS) ? pl->legs[x].pos : pl->legs[x].neg;
+            const Path &pa = (t.ph[x] == PH_POS) ? pl->legs[x]->pos : pl->legs[x]->neg;
             vp[x] = path_v(pa, rv[x]);
             rr[x] = pa.r;
             sum += vp[x] - (p.rs_ohm + rr[x]) * y[S_IA + x] - e[x];
@@ -549,7 +579,7 @@ Mode select_mode(plant_t *pl, const Vec &y) {
         if (nk == 0) {
             double lo = -1e300, hi = 1e300;
             for (int x = 0; x < 3; ++x) {
-                const double a = path_v(pl->legs[x].pos, rv[x]), b = path_v(pl->legs[x].neg, rv[x]);
+                const double a = path_v(pl->legs[x]->pos, rv[x]), b = path_v(pl->legs[x]->neg, rv[x]);
                 lo = std::max(lo, std::min(a, b) - e[x]);
                 hi = std::min(hi, std::max(a, b) - e[x]);
             }
@@ -560,9 +590,9 @@ Mode select_mode(plant_t *pl, const Vec &y) {
                 const int x = zl[k];
                 if (t.ph[x] == PH_BLOCKED) {
                     const double vf = vn0 + e[x];
-                    const double a = path_v(pl->legs[x].pos, rv[x]), b = path_v(pl->legs[x].neg, rv[x]);
+                    const double a = path_v(pl->legs[x]->pos, rv[x]), b = path_v(pl->legs[x]->neg, rv[x]);
                     viol += std::max(0.0, std::min(a, b) - vf) + std::max(0.0, vf - std::max(a, b));
-                } else if (pl->legs[x].sign_dep) {
+                } else if (pl->legs[x]->sign_dep) {
                     const double di = vp[x] - (p.rs_ohm + rr[x]) * y[S_IA + x] - e[x] - vn0;  // L di/dt
                     if (t.ph[x] == PH_POS) viol += std::max(0.0, -di);
                     else viol += std::max(0.0, di);
@@ -645,7 +675,7 @@ double event_g(plant_t *pl, const Vec &y, const Mode &m, const bool active[3]) {
             if (!active[x] || m.ph[x] != PH_BLOCKED) continue;
             double rv[4];
             rails(pl, y, rv, x);
-            const double a = path_v(pl->legs[x].pos, rv), b = path_v(pl->legs[x].neg, rv);
+            const double a = path_v(pl->legs[x]->pos, rv), b = path_v(pl->legs[x]->neg, rv);
             const double vf = aux.vx0[x];
             const double margin = std::min(vf - std::min(a, b), std::max(a, b) - vf);
             g = std::min(g, margin * 1e-3);
@@ -694,7 +724,7 @@ double step(plant_t *pl, double h) {
     bool any = false;
     for (int x = 0; x < 3; ++x) {
         if (m.ph[x] == PH_BLOCKED) { active[x] = true; any = true; }
-        else if (pl->legs[x].sign_dep) {
+        else if (pl->legs[x]->sign_dep) {
             const double i0 = (m.ph[x] == PH_POS) ? y[S_IA + x] : -y[S_IA + x];
             if (i0 > 0.0) { active[x] = true; any = true; }
         }
@@ -708,7 +738,7 @@ double step(plant_t *pl, double h) {
         bool snapped[3] = {false, false, false};
         bool any_snap = false;
         for (int x = 0; x < 3; ++x) {
-            if (m.ph[x] != PH_BLOCKED && pl->legs[x].sign_dep && y[S_IA + x] == 0.0) {
+            if (m.ph[x] != PH_BLOCKED && pl->legs[x]->sign_dep && y[S_IA + x] == 0.0) {
                 const double v = (m.ph[x] == PH_POS) ? y1[S_IA + x] : -y1[S_IA + x];
                 if (v < 0.0) snapped[x] = any_snap = true;
             }
@@ -891,6 +921,7 @@ plant_t *plant_create(const plant_params_t *p, char *err, size_t err_len) {
     }
     pl->p = *p;
     derive(pl);
+    make_glob(pl);
     pl->y.setZero();
     pl->y[S_THETA] = p->theta_m0_rad;
     pl->y[S_OMEGA] = (p->load == PLANT_LOAD_SPEED ? p->load_speed_rpm : p->speed0_rpm) * kRpmToRadS;
@@ -912,6 +943,7 @@ plant_t *plant_create(const plant_params_t *p, char *err, size_t err_len) {
     pl->sync_count = 0;
     pl->tc_valid = false;
     std::memset(&pl->stats, 0, sizeof(pl->stats));
+    build_leg_table(pl);
     build_legs(pl);
     return pl;
 }
@@ -928,7 +960,8 @@ void plant_set_legs(plant_t *plant, int sa, int sb, int sc, int enable) {
 void plant_set_voltage(plant_t *plant, double v_alpha_v, double v_beta_v) {
     plant->v_set_alpha = v_alpha_v;
     plant->v_set_beta = v_beta_v;
-    plant->prep_valid = false;
+    build_leg_table(plant);  // the ideal source's phase voltages live in the leg coefficients
+    build_legs(plant);
 }
 
 void plant_set_load(plant_t *plant, plant_load_t load, double speed_rpm, double torque_nm) {
@@ -936,9 +969,9 @@ void plant_set_load(plant_t *plant, plant_load_t load, double speed_rpm, double 
     plant->p.load_speed_rpm = speed_rpm;
     plant->p.load_torque_nm = torque_nm;
     derive(plant);
-    plant->prep_valid = false;  // the load law lives in Prep
     if (load == PLANT_LOAD_SPEED) plant->y[S_OMEGA] = speed_rpm * kRpmToRadS;
     if (load == PLANT_LOAD_GENERATOR && speed_rpm == 0.0) plant->omega_load_ref = 1e300;  // no load
+    make_glob(plant);
 }
 
 int plant_set_leg_override(plant_t *plant, int leg, plant_leg_override_t mode) {
