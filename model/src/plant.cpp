@@ -143,10 +143,9 @@ struct plant {
     Glob g;
     bool prep_valid;  // prep matches prep_mode and the current legs / source voltages
     Mode prep_mode;
-    // Taylor coefficients (in delta = theta_e - th0) of dpsi_pm,x/dtheta_e for the step being taken:
-    // dpsi_x(th0 + d) = sum_k emf_tc[x][k] d^k, k = 0..5; valid while |n_max d| < 0.2.
-    double emf_tc[3][6];
-    double flux_tc[3][6];  // same for psi_pm,x itself
+    // Taylor coefficients (in delta = theta_e - th0) of dpsi_pm,x/dtheta_e:
+    // dpsi_x(th0 + d) = sum_k emf_tc[x][k] d^k, k = 0..7; used while n_max |d| < kTcRange.
+    double emf_tc[3][8];
     double tc_range;
     bool tc_valid;
     bool short_seg;  // the step being taken is a short dead-time segment (midpoint rule)
@@ -233,9 +232,12 @@ inline void pm_flux(const plant_t *pl, double theta_e, double dpsi[3], double *p
     }
 }
 
-// Per-step Taylor expansion of dpsi_pm,x/dtheta_e around th0 (the cache angle). For harmonic n,
-// d^k/dtheta^k [-A sin(n u)] = -A n^k sin(n u + k pi/2); divided by k!. Remainder of the order-5
-// series: (n_max |d|)^6 / 720 relative to the harmonic's amplitude (< 9e-8 at the 0.2 limit).
+// Taylor expansion of dpsi_pm,x/dtheta_e around th0 (the cache angle), order kTcOrder = 7. For
+// harmonic n, d^k/dtheta^k [-A sin(n u)] = -A n^k sin(n u + k pi/2); divided by k!. Remainder:
+// (n_max |d|)^8 / 8! relative to the harmonic's amplitude, < 1.7e-9 within kTcRange (n_max |d| <
+// 0.3). The step re-centres it when it could leave kTcRecentre (0.25), i.e. every few periods.
+constexpr double kTcRange = 0.3;
+constexpr double kTcRecentre = 0.25;
 void setup_emf_taylor(plant_t *pl) {
     const double c = pl->c0, s = pl->s0;
     const double ch = -0.5, sh = kSqrt3 / 2.0;
@@ -255,43 +257,36 @@ void setup_emf_taylor(plant_t *pl) {
             cn[3] = cn[2] * c2 - sn[2] * s2; sn[3] = sn[2] * c2 + cn[2] * s2;
         }
         static const double nn[4] = {1.0, 3.0, 5.0, 7.0};
-        double t0 = 0.0, t1 = 0.0, t2 = 0.0, t3 = 0.0, t4 = 0.0, t5 = 0.0;
-        double f0 = 0.0, f1 = 0.0, f2 = 0.0, f3 = 0.0, f4 = 0.0, f5 = 0.0;
+        double t0 = 0.0, t1 = 0.0, t2 = 0.0, t3 = 0.0, t4 = 0.0, t5 = 0.0, t6 = 0.0, t7 = 0.0;
         for (int h = 0; h < nh; ++h) {
-            const double n = nn[h], n2 = n * n;
+            const double n = nn[h], n2 = n * n, n4 = n2 * n2;
             const double as = a[h] * sn[h], ac = a[h] * cn[h] * n;
-            // -A n^k sin(nu + k pi/2) / k!, k = 0..5
+            // -A n^k sin(nu + k pi/2) / k!, k = 0..7
             t0 -= as;
             t1 -= ac;
             t2 += as * n2 * 0.5;
             t3 += ac * n2 * (1.0 / 6.0);
-            t4 -= as * n2 * n2 * (1.0 / 24.0);
-            t5 -= ac * n2 * n2 * (1.0 / 120.0);
-            // psi: (A/n) n^k cos(n u + k pi/2) / k!
-            f0 += ac / n2;
-            f1 -= as;
-            f2 -= ac * 0.5;
-            f3 += as * n2 * (1.0 / 6.0);
-            f4 += ac * n2 * (1.0 / 24.0);
-            f5 -= as * n2 * n2 * (1.0 / 120.0);
+            t4 -= as * n4 * (1.0 / 24.0);
+            t5 -= ac * n4 * (1.0 / 120.0);
+            t6 += as * n4 * n2 * (1.0 / 720.0);
+            t7 += ac * n4 * n2 * (1.0 / 5040.0);
         }
-        double *fc = pl->flux_tc[x];
-        fc[0] = f0; fc[1] = f1; fc[2] = f2; fc[3] = f3; fc[4] = f4; fc[5] = f5;
         double *tc = pl->emf_tc[x];
-        tc[0] = t0; tc[1] = t1; tc[2] = t2; tc[3] = t3; tc[4] = t4; tc[5] = t5;
+        tc[0] = t0; tc[1] = t1; tc[2] = t2; tc[3] = t3; tc[4] = t4; tc[5] = t5; tc[6] = t6; tc[7] = t7;
     }
-    pl->tc_range = pl->has_harm ? 0.2 / 7.0 : 0.2;
+    pl->tc_range = kTcRange / (pl->has_harm ? 7.0 : 1.0);
     pl->tc_valid = true;
 }
 
 inline void dpsi_fast(const plant_t *pl, double theta_e, double dpsi[3]) {
     const double d = theta_e - pl->th0;
     if (pl->tc_valid && std::fabs(d) < pl->tc_range) {
-        const double d2 = d * d;
+        const double d2 = d * d, d4 = d2 * d2;
         for (int x = 0; x < 3; ++x) {
             const double *t = pl->emf_tc[x];
             // Estrin's scheme: same polynomial, shorter dependency chain than Horner.
-            dpsi[x] = (t[0] + t[1] * d) + d2 * ((t[2] + t[3] * d) + d2 * (t[4] + t[5] * d));
+            dpsi[x] = ((t[0] + t[1] * d) + d2 * (t[2] + t[3] * d)) +
+                      d4 * ((t[4] + t[5] * d) + d2 * (t[6] + t[7] * d));
         }
     } else {
         pm_flux(pl, theta_e, dpsi, nullptr);
@@ -688,12 +683,12 @@ double event_g(plant_t *pl, const Vec &y, const Mode &m, const bool active[3]) {
 double step(plant_t *pl, double h) {
     Vec &y = pl->y;
     const double th = pl->p.pole_pairs * y[S_THETA];
-    // Re-centre the EMF expansion only when this step could leave the range where its truncation
-    // stays below 1.4e-9 of each harmonic's amplitude (n_max |delta| < 0.1); a dead-time segment
-    // and the rest of its period usually share one expansion.
+    // Re-centre the EMF expansion only when this step could leave n_max |delta| < kTcRecentre
+    // (truncation < 1.7e-9 of each harmonic's amplitude even at kTcRange); one expansion serves
+    // several periods.
     const double reach = (std::fabs(th - pl->th0) + std::fabs(pl->p.pole_pairs * y[S_OMEGA]) * h * 1.2) *
                          (pl->has_harm ? 7.0 : 1.0);
-    if (!pl->tc_valid || reach >= 0.1) {
+    if (!pl->tc_valid || reach >= kTcRecentre) {
         if (++pl->sync_count >= 256 || std::fabs(th - pl->th0) >= 0.25) {
             pl->sync_count = 0;
             pl->c0 = std::cos(th);
@@ -1038,18 +1033,8 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
     const double pp = p.pole_pairs;
     const double theta_e = pp * y[S_THETA];
     double dpsi[3], psi[3];
-    const double d = theta_e - pl->th0;
-    // The reported flux uses the expansion only where its truncation is < 1e-13 relative.
-    if (pl->tc_valid && std::fabs(d) * (pl->has_harm ? 7.0 : 1.0) < 0.02) {
-        const double d2 = d * d;
-        for (int x = 0; x < 3; ++x) {
-            const double *t = pl->emf_tc[x], *f = pl->flux_tc[x];
-            dpsi[x] = (t[0] + t[1] * d) + d2 * ((t[2] + t[3] * d) + d2 * (t[4] + t[5] * d));
-            psi[x] = (f[0] + f[1] * d) + d2 * ((f[2] + f[3] * d) + d2 * (f[4] + f[5] * d));
-        }
-    } else {
-        pm_flux(pl, theta_e, dpsi, psi);
-    }
+    // The reported flux and torque use the exact formula (rotation from the cache angle).
+    pm_flux(pl, theta_e, dpsi, psi);
     s->t_s = pl->t;
     s->i_a = y[S_IA];
     s->i_b = y[S_IB];
