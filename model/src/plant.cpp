@@ -64,6 +64,7 @@ struct PhaseCoef {
     double dev_d;         // v_f of the path, for the device loss term dev (d + r i) i
     double dev;           // 1 for a conducting device path
     double plus, mid, src;  // 1 if the conducting path is tied to that node
+    double pd, pr;        // dev * dev_d, dev * r: device loss (pd + pr i) i
 };
 
 struct Mode {
@@ -339,6 +340,8 @@ PhaseCoef phase_coef(const plant_t *pl, const Leg &L, const Path &pa, bool blk, 
     k.plus = (!blk && pa.rail == RAIL_PLUS) ? 1.0 : 0.0;
     k.mid = (!blk && pa.rail == RAIL_MID) ? 1.0 : 0.0;
     k.src = (!blk && pa.rail == RAIL_SRC) ? 1.0 : 0.0;
+    k.pd = k.dev * k.dev_d;
+    k.pr = k.dev * k.r;
     return k;
 }
 
@@ -393,11 +396,14 @@ double vn0_all_blocked(const plant_t *pl, const Vec &y, const double e[3]) {
 }
 
 // Right-hand side for a fixed conduction mode (pl->prep must match the mode). Only the first ND
-// entries of y are read. Branch-free apart from the all-blocked neutral (Prep holds the linear
-// forms of the inverter, DC link and load).
-inline void rhs(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
+// entries of y are read. Branch-free apart from the all-blocked neutral (Prep and Glob hold the
+// linear forms of the paths, the DC link and the load). kAll: all three phases conduct (the
+// common case; the blocked-phase terms drop out).
+template <bool kAll>
+inline void rhs_t(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
     ++pl->stats.evals;
     const Prep &q = pl->prep;
+    const PhaseCoef *k = q.ph;
     const double pp = pl->pp;
     const double omega = y[S_OMEGA];
     const double omega_e = pp * omega;
@@ -406,31 +412,43 @@ inline void rhs(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
     const double vlo = y[S_VCLO], vhi = y[S_VCHI];
     const double ix[3] = {y[S_IA], y[S_IB], y[S_IC]};
     double e[3], vp[3], u[3];
-    double sum = 0.0;
+#pragma GCC unroll 3
     for (int x = 0; x < 3; ++x) {
         e[x] = omega_e * dpsi[x];
-        vp[x] = q.ph[x].a_lo * vlo + q.ph[x].a_hi * vhi + q.ph[x].c;
-        u[x] = vp[x] - q.ph[x].rtot * ix[x] - e[x];  // L di/dt + v_n0 of a conducting phase
-        sum += q.ph[x].cond * u[x];
+        vp[x] = k[x].a_lo * vlo + k[x].a_hi * vhi + k[x].c;
+        u[x] = vp[x] - k[x].rtot * ix[x] - e[x];  // L di/dt + v_n0 of a conducting phase
     }
-    const double vn0 = (q.nk >= 2) ? sum * q.inv_nk : vn0_all_blocked(pl, y, e);
+    double vn0;
+    if (kAll) {
+        vn0 = (u[0] + u[1] + u[2]) * (1.0 / 3.0);
+    } else {
+        const double sum = k[0].cond * u[0] + k[1].cond * u[1] + k[2].cond * u[2];
+        vn0 = (q.nk >= 2) ? sum * q.inv_nk : vn0_all_blocked(pl, y, e);
+    }
+    const double inv_l = pl->inv_l;
     double vx0[3];
     double te = 0.0, p_cu = 0.0, p_dev = 0.0, i_plus = 0.0, i_mid = 0.0, p_src = 0.0;
+#pragma GCC unroll 3
     for (int x = 0; x < 3; ++x) {
         const double i = ix[x];
-        const double vc = vp[x] - q.ph[x].r * i;
-        dy[S_IA + x] = q.ph[x].cond * (u[x] - vn0) * pl->inv_l;
-        vx0[x] = q.ph[x].cond * vc + (1.0 - q.ph[x].cond) * (vn0 + e[x]);  // blocked: floating terminal
-        p_dev += q.ph[x].dev * (q.ph[x].dev_d + q.ph[x].r * i) * i;
-        i_plus += q.ph[x].plus * i;
-        i_mid += q.ph[x].mid * i;
-        p_src += q.ph[x].src * vc * i;
+        const double vc = vp[x] - k[x].r * i;
+        if (kAll) {
+            dy[S_IA + x] = (u[x] - vn0) * inv_l;
+            vx0[x] = vc;
+        } else {
+            dy[S_IA + x] = k[x].cond * (u[x] - vn0) * inv_l;
+            vx0[x] = k[x].cond * vc + (1.0 - k[x].cond) * (vn0 + e[x]);  // blocked: floating terminal
+        }
+        p_dev += (k[x].pd + k[x].pr * i) * i;
+        i_plus += k[x].plus * i;
+        i_mid += k[x].mid * i;
+        p_src += k[x].src * vc * i;
         te += i * dpsi[x];
         p_cu += i * i;
     }
     te *= pp;
-    const double b = pl->p.b_nms;
     const Glob &g = pl->g;
+    const double b = pl->p.b_nms;
     const double tl = g.ld_c0 + g.ld_cw * omega + g.ld_cte * te;
     dy[S_THETA] = omega;
     dy[S_OMEGA] = g.w_on * (te - b * omega - tl) * pl->inv_j;
@@ -456,6 +474,11 @@ inline void rhs(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
             aux->e[x] = e[x];
         }
     }
+}
+
+inline void rhs(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
+    if (pl->prep.nk == 3) rhs_t<true>(pl, y, dy, aux);
+    else rhs_t<false>(pl, y, dy, aux);
 }
 
 // Leg paths and coefficients for every gate state (Hoang Table III, eq. 20); called at creation
