@@ -84,7 +84,7 @@ enum PhaseMode : int { PH_POS = 0, PH_NEG = 1, PH_BLOCKED = 2 };
 struct Prep {
     int nk;             // conducting phases
     double inv_nk;
-    PhaseCoef ph[3];
+    const PhaseCoef *ph[3];  // into the legs in force (valid until the next build_legs)
 };
 
 // Mode-independent linear forms (set in derive(), so the right-hand side has no branches on the
@@ -319,7 +319,7 @@ double load_torque(const plant_t *pl, double omega, double te) {
 void make_prep(plant_t *pl, const Mode &m, Prep &q) {
     q.nk = 0;
     for (int x = 0; x < 3; ++x) {
-        q.ph[x] = pl->legs[x]->coef[m.ph[x]];
+        q.ph[x] = &pl->legs[x]->coef[m.ph[x]];
         if (m.ph[x] != PH_BLOCKED) ++q.nk;
     }
     static const double inv_n[4] = {0.0, 1.0, 0.5, 1.0 / 3.0};
@@ -403,7 +403,7 @@ template <bool kAll>
 inline void rhs_t(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
     ++pl->stats.evals;
     const Prep &q = pl->prep;
-    const PhaseCoef *k = q.ph;
+    const PhaseCoef *const *k = q.ph;
     const double pp = pl->pp;
     const double omega = y[S_OMEGA];
     const double omega_e = pp * omega;
@@ -415,14 +415,14 @@ inline void rhs_t(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
 #pragma GCC unroll 3
     for (int x = 0; x < 3; ++x) {
         e[x] = omega_e * dpsi[x];
-        vp[x] = k[x].a_lo * vlo + k[x].a_hi * vhi + k[x].c;
-        u[x] = vp[x] - k[x].rtot * ix[x] - e[x];  // L di/dt + v_n0 of a conducting phase
+        vp[x] = k[x]->a_lo * vlo + k[x]->a_hi * vhi + k[x]->c;
+        u[x] = vp[x] - k[x]->rtot * ix[x] - e[x];  // L di/dt + v_n0 of a conducting phase
     }
     double vn0;
     if (kAll) {
         vn0 = (u[0] + u[1] + u[2]) * (1.0 / 3.0);
     } else {
-        const double sum = k[0].cond * u[0] + k[1].cond * u[1] + k[2].cond * u[2];
+        const double sum = k[0]->cond * u[0] + k[1]->cond * u[1] + k[2]->cond * u[2];
         vn0 = (q.nk >= 2) ? sum * q.inv_nk : vn0_all_blocked(pl, y, e);
     }
     const double inv_l = pl->inv_l;
@@ -431,18 +431,18 @@ inline void rhs_t(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
 #pragma GCC unroll 3
     for (int x = 0; x < 3; ++x) {
         const double i = ix[x];
-        const double vc = vp[x] - k[x].r * i;
+        const double vc = vp[x] - k[x]->r * i;
         if (kAll) {
             dy[S_IA + x] = (u[x] - vn0) * inv_l;
             vx0[x] = vc;
         } else {
-            dy[S_IA + x] = k[x].cond * (u[x] - vn0) * inv_l;
-            vx0[x] = k[x].cond * vc + (1.0 - k[x].cond) * (vn0 + e[x]);  // blocked: floating terminal
+            dy[S_IA + x] = k[x]->cond * (u[x] - vn0) * inv_l;
+            vx0[x] = k[x]->cond * vc + (1.0 - k[x]->cond) * (vn0 + e[x]);  // blocked: floating terminal
         }
-        p_dev += (k[x].pd + k[x].pr * i) * i;
-        i_plus += k[x].plus * i;
-        i_mid += k[x].mid * i;
-        p_src += k[x].src * vc * i;
+        p_dev += (k[x]->pd + k[x]->pr * i) * i;
+        i_plus += k[x]->plus * i;
+        i_mid += k[x]->mid * i;
+        p_src += k[x]->src * vc * i;
         te += i * dpsi[x];
         p_cu += i * i;
     }
@@ -725,7 +725,14 @@ double step(plant_t *pl, double h) {
         pl->th0 = th;
         setup_emf_taylor(pl);
     }
-    const Mode m = select_mode(pl, y);
+    // Fast path: no current exactly zero (the usual case), the mode follows the current signs.
+    const bool nonzero = y[S_IA] != 0.0 && y[S_IB] != 0.0 && y[S_IC] != 0.0;
+    Mode m;
+    if (nonzero) {
+        for (int x = 0; x < 3; ++x) m.ph[x] = (y[S_IA + x] > 0.0) ? PH_POS : PH_NEG;
+    } else {
+        m = select_mode(pl, y);
+    }
     pl->mode = m;
     if (!pl->prep_valid || m.ph[0] != pl->prep_mode.ph[0] || m.ph[1] != pl->prep_mode.ph[1] ||
         m.ph[2] != pl->prep_mode.ph[2]) {
@@ -737,6 +744,17 @@ double step(plant_t *pl, double h) {
     rhs(pl, y, k1, nullptr);
     integrate(pl, y, h, k1, y1);
     ++pl->stats.steps;
+    if (nonzero) {
+        // No blocked phase and none starting at zero: the only events are sign changes of the
+        // currents on sign-dependent legs (event_g's first kind).
+        double g1 = 1e300;
+        for (int x = 0; x < 3; ++x)
+            if (pl->legs[x]->sign_dep) g1 = std::min(g1, (m.ph[x] == PH_POS) ? y1[S_IA + x] : -y1[S_IA + x]);
+        if (g1 >= -1e-12) {
+            y = y1;
+            return h;
+        }
+    }
     // Which phases can produce an event?
     bool active[3] = {false, false, false};
     bool any = false;
