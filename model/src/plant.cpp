@@ -307,15 +307,6 @@ inline void rails(const plant_t *pl, const Vec &y, double rv[4], int x) {
     }
 }
 
-double load_torque(const plant_t *pl, double omega, double te) {
-    switch (pl->p.load) {
-        case PLANT_LOAD_SPEED: return te - pl->p.b_nms * omega;  // the dynamometer holds speed
-        case PLANT_LOAD_TORQUE: return pl->p.load_torque_nm;
-        case PLANT_LOAD_GENERATOR: return pl->p.load_torque_nm * omega / pl->omega_load_ref;
-        default: return 0.0;
-    }
-}
-
 void make_prep(plant_t *pl, const Mode &m, Prep &q) {
     q.nk = 0;
     for (int x = 0; x < 3; ++x) {
@@ -1068,7 +1059,8 @@ void plant_advance(plant_t *pl, double dt_s) {
 
 void plant_get_state(const plant_t *plant, plant_state_t *s) {
     plant_t *pl = const_cast<plant_t *>(plant);  // rhs() counts evaluations; the state is unchanged
-    std::memset(s, 0, sizeof(*s));
+    // Every field is assigned below (no memset: this runs once per control period).
+    static_assert(sizeof(plant_state_t) == 32 * sizeof(double), "plant_state_t changed: assign the new fields");
     const plant_params_t &p = pl->p;
     const Vec &y = pl->y;
     const double pp = p.pole_pairs;
@@ -1081,23 +1073,27 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
     s->i_b = y[S_IB];
     s->i_c = y[S_IC];
     // Amplitude-invariant Clarke (Hoang eqs. 4-5).
-    s->i_alpha_a = (2.0 * s->i_a - s->i_b - s->i_c) / 3.0;
-    s->i_beta_a = (s->i_b - s->i_c) / kSqrt3;
-    const double psi_pm_alpha = (2.0 * psi[0] - psi[1] - psi[2]) / 3.0;
-    const double psi_pm_beta = (psi[1] - psi[2]) / kSqrt3;
+    s->i_alpha_a = (2.0 * s->i_a - s->i_b - s->i_c) * (1.0 / 3.0);
+    s->i_beta_a = (s->i_b - s->i_c) * (1.0 / kSqrt3);
+    const double psi_pm_alpha = (2.0 * psi[0] - psi[1] - psi[2]) * (1.0 / 3.0);
+    const double psi_pm_beta = (psi[1] - psi[2]) * (1.0 / kSqrt3);
     s->psi_alpha_wb = p.ls_h * s->i_alpha_a + psi_pm_alpha;  // Hoang eq. (8)
     s->psi_beta_wb = p.ls_h * s->i_beta_a + psi_pm_beta;     // Hoang eq. (9)
-    double th = theta_e - 2.0 * kPi * std::floor(theta_e * (0.5 / kPi));
+    // Wrap to [0, 2 pi): floor by truncation (|turns| < 2^53 for any finite run).
+    const double turns = theta_e * (0.5 / kPi);
+    double whole = static_cast<double>(static_cast<long long>(turns));
+    if (whole > turns) whole -= 1.0;
+    double th = theta_e - 2.0 * kPi * whole;
     if (th >= 2.0 * kPi) th -= 2.0 * kPi;
     if (th < 0.0) th = 0.0;
     s->theta_e_rad = th;
     s->theta_m_rad = y[S_THETA];
     s->omega_m_rad_s = y[S_OMEGA];
-    s->speed_rpm = y[S_OMEGA] / kRpmToRadS;
+    s->speed_rpm = y[S_OMEGA] * (1.0 / kRpmToRadS);
     double te = 0.0;
     for (int x = 0; x < 3; ++x) te += y[S_IA + x] * dpsi[x];
     s->te_nm = pp * te;
-    s->tload_nm = load_torque(pl, y[S_OMEGA], s->te_nm);
+    s->tload_nm = pl->g.ld_c0 + pl->g.ld_cw * y[S_OMEGA] + pl->g.ld_cte * s->te_nm;  // as in rhs_t
     s->vdc_v = y[S_VCLO] + y[S_VCHI];
     s->vc_lo_v = y[S_VCLO];
     s->vc_hi_v = y[S_VCHI];
@@ -1110,6 +1106,8 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
         // transform is linear, so this is the mean of the instantaneous alpha/beta voltage).
         s->v_alpha_v = (2.0 * s->v_a0_v - s->v_b0_v - s->v_c0_v) * (1.0 / 3.0);
         s->v_beta_v = (s->v_b0_v - s->v_c0_v) * (1.0 / kSqrt3);
+    } else {
+        s->v_a0_v = s->v_b0_v = s->v_c0_v = s->v_alpha_v = s->v_beta_v = 0.0;
     }
     s->e_dc_in_j = y[S_EDC];
     s->e_copper_j = y[S_ECU];
@@ -1125,6 +1123,8 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
         s->e_capacitor_j = 0.5 * pl->c_lo * v * v;
     } else if (p.inverter == PLANT_INVERTER_FSTP) {
         s->e_capacitor_j = 0.5 * pl->c_lo * y[S_VCLO] * y[S_VCLO] + 0.5 * pl->c_hi * y[S_VCHI] * y[S_VCHI];
+    } else {
+        s->e_capacitor_j = 0.0;
     }
     int mask = 0;
     if (y[S_IA] == 0.0 || y[S_IB] == 0.0 || y[S_IC] == 0.0) {
