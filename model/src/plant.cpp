@@ -146,7 +146,8 @@ struct plant {
     Mode prep_mode;
     // Taylor coefficients (in delta = theta_e - th0) of dpsi_pm,x/dtheta_e:
     // dpsi_x(th0 + d) = sum_k emf_tc[x][k] d^k, k = 0..7; used while n_max |d| < kTcRange.
-    double emf_tc[3][8];
+    Eigen::Array4d emf_tc[8];  // [k], lane x = phase x (lane 3 zero): the three polynomials run as
+                               // SIMD packets
     double tc_range;
     bool tc_valid;
     bool short_seg;  // the step being taken is a short dead-time segment (midpoint rule)
@@ -272,9 +273,10 @@ void setup_emf_taylor(plant_t *pl) {
             t6 += as * n4 * n2 * (1.0 / 720.0);
             t7 += ac * n4 * n2 * (1.0 / 5040.0);
         }
-        double *tc = pl->emf_tc[x];
-        tc[0] = t0; tc[1] = t1; tc[2] = t2; tc[3] = t3; tc[4] = t4; tc[5] = t5; tc[6] = t6; tc[7] = t7;
+        const double tc[8] = {t0, t1, t2, t3, t4, t5, t6, t7};
+        for (int k = 0; k < 8; ++k) pl->emf_tc[k][x] = tc[k];
     }
+    for (int k = 0; k < 8; ++k) pl->emf_tc[k][3] = 0.0;
     pl->tc_range = kTcRange / (pl->has_harm ? 7.0 : 1.0);
     pl->tc_valid = true;
 }
@@ -283,12 +285,13 @@ inline void dpsi_fast(const plant_t *pl, double theta_e, double dpsi[3]) {
     const double d = theta_e - pl->th0;
     if (pl->tc_valid && std::fabs(d) < pl->tc_range) {
         const double d2 = d * d, d4 = d2 * d2;
-        for (int x = 0; x < 3; ++x) {
-            const double *t = pl->emf_tc[x];
-            // Estrin's scheme: same polynomial, shorter dependency chain than Horner.
-            dpsi[x] = ((t[0] + t[1] * d) + d2 * (t[2] + t[3] * d)) +
-                      d4 * ((t[4] + t[5] * d) + d2 * (t[6] + t[7] * d));
-        }
+        const Eigen::Array4d *t = pl->emf_tc;
+        // Estrin's scheme: same polynomial, shorter dependency chain than Horner.
+        const Eigen::Array4d r =
+            ((t[0] + t[1] * d) + d2 * (t[2] + t[3] * d)) + d4 * ((t[4] + t[5] * d) + d2 * (t[6] + t[7] * d));
+        dpsi[0] = r[0];
+        dpsi[1] = r[1];
+        dpsi[2] = r[2];
     } else {
         pm_flux(pl, theta_e, dpsi, nullptr);
     }
