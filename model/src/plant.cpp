@@ -755,17 +755,19 @@ double step(plant_t *pl, double h) {
     }
     // Fast path: no current exactly zero (the usual case), the mode follows the current signs.
     const bool nonzero = y[S_IA] != 0.0 && y[S_IB] != 0.0 && y[S_IC] != 0.0;
-    Mode m;
+    // (Written in place, element by element: a struct copy of the freshly stored ints would stall
+    // on store forwarding.)
+    Mode &m = pl->mode;
     if (nonzero) {
         for (int x = 0; x < 3; ++x) m.ph[x] = (y[S_IA + x] > 0.0) ? PH_POS : PH_NEG;
     } else {
-        m = select_mode(pl, y);
+        const Mode ms = select_mode(pl, y);
+        for (int x = 0; x < 3; ++x) m.ph[x] = ms.ph[x];
     }
-    pl->mode = m;
     if (!pl->prep_valid || m.ph[0] != pl->prep_mode.ph[0] || m.ph[1] != pl->prep_mode.ph[1] ||
         m.ph[2] != pl->prep_mode.ph[2]) {
         make_prep(pl, m, pl->prep);
-        pl->prep_mode = m;
+        for (int x = 0; x < 3; ++x) pl->prep_mode.ph[x] = m.ph[x];
         pl->prep_valid = true;
     }
     Vec k1, y1;
