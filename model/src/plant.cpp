@@ -114,6 +114,7 @@ struct plant {
     // Derived constants.
     double omega_load_ref;  // rad/s for the generator law
     double pp;              // pole pairs as a double
+    double inv_l_2_3, inv_l_1_3;  // (2/3) / L_s, (1/3) / L_s
     double c_lo, c_hi;      // capacitances (SSTP: one capacitor of 2*c_dc_f, split in the report)
     bool has_harm;
     double flux_amp[3][4];  // psi_m * gain * (1, h3/3, h5/5, h7/7)
@@ -170,6 +171,8 @@ void derive(plant_t *pl) {
     const plant_params_t &p = pl->p;
     pl->omega_load_ref = p.load_speed_rpm * kRpmToRadS;
     pl->pp = p.pole_pairs;
+    pl->inv_l_2_3 = (2.0 / 3.0) / p.ls_h;
+    pl->inv_l_1_3 = (1.0 / 3.0) / p.ls_h;
     if (p.inverter == PLANT_INVERTER_SSTP) {
         pl->c_lo = pl->c_hi = 2.0 * p.c_dc_f;
     } else {
@@ -461,7 +464,8 @@ inline void rhs_t(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
         const double i = ix[x];
         const double vc = vp[x] - k[x]->r * i;
         if (kAll) {
-            dy[S_IA + x] = (u[x] - vn0) * inv_l;
+            // (u_x - vn0) / L with vn0 = mean(u), written so that u_x does not wait for the sum.
+            dy[S_IA + x] = pl->inv_l_2_3 * u[x] - pl->inv_l_1_3 * (u[(x + 1) % 3] + u[(x + 2) % 3]);
             vx0[x] = vc;
         } else {
             dy[S_IA + x] = k[x]->cond * (u[x] - vn0) * inv_l;
