@@ -4,7 +4,8 @@
 // resistance, Hoang Table VII back-EMF) driven with a fixed switching pattern: one decision per
 // 50 us period, the four FSTP vectors rotating at the 1500 rpm electrical frequency with every
 // fourth period reversed, so both legs switch and every period has a dead-time segment.
-// The cost split is shown by switching each non-ideality off in turn and by the integrator counts.
+// The cost split is shown by switching each non-ideality off in turn, by a run that does not read
+// the state, and by the integrator counts.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -34,6 +35,8 @@ struct Result {
 // period), 1 = recorded from the reference FSTP DTC (current model, Hoang Table II) closing the loop
 // on the same plant at 1000 rpm with a 0.2 N*m generator load (recorded first, not timed).
 int g_pattern = 0;
+// 0: plant_get_state every period, as hal/host does; 1: not read (shows plant_get_state's share).
+int g_skip_state = 0;
 static int pat[2][200000];
 
 void record_dtc_pattern(const plant_params_t &p0, int n) {
@@ -91,7 +94,7 @@ Result run(const plant_params_t &p, double sim_s) {
     for (int k = 0; k < n; ++k) {
         plant_set_legs(pl, 0, pat[0][k], pat[1][k], 1);
         plant_advance(pl, 50e-6);
-        plant_get_state(pl, &s);  // hal/host reads the state every period
+        if (!g_skip_state) plant_get_state(pl, &s);  // hal/host reads the state every period
     }
     const auto t1 = std::chrono::steady_clock::now();
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c1);
@@ -130,6 +133,9 @@ int main(int argc, char **argv) {
                 sim_s, p.max_step_s * 1e6, p.dead_time_s * 1e6);
     std::printf("%-44s %7s %7s  %s\n", "case", "wall", "cpu", "(x real time; cost per period in thread CPU time)");
     line("FSTP full fidelity (default max_step 50 us)", p, sim_s);
+    g_skip_state = 1;
+    line("  - state not read (plant_advance alone)", p, sim_s);
+    g_skip_state = 0;
     plant_params_t q = p;
     q.max_step_s = 25e-6;
     line("FSTP full fidelity, max_step 25 us", q, sim_s);

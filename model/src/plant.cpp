@@ -16,13 +16,16 @@
 //  * FSTP: phase A on the mid-point of two capacitors fed by a DC source with internal resistance.
 //  * Integration: classical RK4 on sub-steps that land exactly on every switching and dead-time
 //    edge and on every located current zero crossing / zero-current release (Illinois root
-//    finding on the step's own RK4 solution). Between events the right-hand side is smooth.
+//    finding on the step's own solution); the explicit midpoint rule on a dead-time segment no
+//    longer than max_step/16. Between events the right-hand side is smooth. docs/plant.md,
+//    section 2, gives the error of each part; section 7 the cost.
 #include "plant.h"
 
 #include <Eigen/Core>
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <cstring>
 #include <new>
@@ -36,9 +39,13 @@ constexpr double kRpmToRadS = 2.0 * kPi / 60.0;
 // State vector layout.
 enum : int {
     S_IA = 0, S_IB, S_IC, S_THETA, S_OMEGA, S_VCLO, S_VCHI,
-    S_EDC, S_ECU, S_EDEV, S_EFRIC, S_ELOAD, S_ERDC, S_IVA, S_IVB, S_IVA0, S_IVB0, S_IVC0,
+    S_EDC, S_ECU, S_EDEV, S_EFRIC, S_ELOAD, S_ERDC, S_IVA0, S_IVB0, S_IVC0,
     NS
 };
+// The first ND states are dynamic (they enter the right-hand side); the rest are quadratures
+// (energy accounts and terminal-voltage integrals) that RK4 integrates with the same weights, so
+// the intermediate stage states only need their first ND entries.
+constexpr int ND = S_VCHI + 1;
 using Vec = Eigen::Matrix<double, NS, 1>;
 
 enum Rail : int { RAIL_ZERO = 0, RAIL_PLUS = 1, RAIL_MID = 2, RAIL_SRC = 3 };
@@ -50,29 +57,49 @@ struct Path {
     double r;   // on-state resistance in the path
 };
 
+// Right-hand-side coefficients of one phase in one PhaseMode (built with the legs, so a mode
+// change only copies three of these).
+struct PhaseCoef {
+    double cond;          // 1 conducting, 0 blocked
+    double a_lo, a_hi, c; // path voltage = a_lo vc_lo + a_hi vc_hi + c (c includes -v_f)
+    double r;             // device resistance in the path
+    double rtot;          // R_s + r
+    double dev_d;         // v_f of the path, for the device loss term dev (d + r i) i
+    double dev;           // 1 for a conducting device path
+    double plus, mid, src;  // 1 if the conducting path is tied to that node
+    double pd, pr;        // dev * dev_d, dev * r: device loss (pd + pr i) i
+};
+
+struct Mode {
+    int ph[3];  // PhaseMode per phase
+};
+
 struct Leg {
     Path pos, neg;  // path for i > 0 (out of the leg into the machine) and for i < 0
+    PhaseCoef coef[3];  // per PhaseMode
     bool sign_dep;  // the two paths differ: the voltage jumps at i = 0
     bool device;    // a semiconductor path (losses accounted); false for mid-point / ideal source
 };
 
 enum PhaseMode : int { PH_POS = 0, PH_NEG = 1, PH_BLOCKED = 2 };
 
-struct Mode {
-    int ph[3];  // PhaseMode per phase
-};
-
 // Per-step constants of the conduction mode, so the right-hand side is branch-light.
 struct Prep {
     int nk;             // conducting phases
     double inv_nk;
-    double cond[3];     // 1 conducting, 0 blocked
-    double a_lo[3], a_hi[3], c[3];  // path voltage = a_lo vc_lo + a_hi vc_hi + c (c includes -v_f)
-    double r[3];        // device resistance in the path
-    double rtot[3];     // R_s + r
-    double dev_d[3];    // v_f of a device path (0 otherwise), for the loss term (d + r i) i
-    double dev[3];      // 1 for a device path
-    double plus[3], mid[3], src[3];
+    const PhaseCoef *ph[3];  // into the legs in force (valid until the next build_legs)
+};
+
+// Mode-independent linear forms (set in derive(), so the right-hand side has no branches on the
+// inverter, DC link or load kind):
+    //   T_load = ld_c0 + ld_cw omega + ld_cte T_e;  domega/dt = w_on (T_e - b omega - T_load) / J
+    //   i_s = is_g (vdc - vc_lo - vc_hi)
+    //   dvc_hi/dt = hi_s i_s - hi_p i_plus;  dvc_lo/dt = lo_s i_s - lo_p i_plus - lo_m i_mid
+    //   p_dc = pdc_s i_s + pdc_st ((vc_lo + vc_hi) i_plus + vc_lo i_mid) + pdc_src p_src
+struct Glob {
+    double ld_c0, ld_cw, ld_cte, w_on;
+    double is_g, hi_s, hi_p, lo_s, lo_p, lo_m;
+    double pdc_s, pdc_st, pdc_src, r_dc;
 };
 
 struct Aux {
@@ -89,6 +116,8 @@ struct plant {
     plant_params_t p;
     // Derived constants.
     double omega_load_ref;  // rad/s for the generator law
+    double pp;              // pole pairs as a double
+    double inv_l_2_3, inv_l_1_3;  // (2/3) / L_s, (1/3) / L_s
     double c_lo, c_hi;      // capacitances (SSTP: one capacitor of 2*c_dc_f, split in the report)
     bool has_harm;
     double flux_amp[3][4];  // psi_m * gain * (1, h3/3, h5/5, h7/7)
@@ -105,10 +134,10 @@ struct plant {
     // Integrator.
     double t;
     Vec y;
-    Vec y_adv0;          // state at the start of the last advance (for the mean voltages)
     double last_dt;
     Mode mode;
-    Leg legs[3];
+    Leg leg_tab[3][3];     // [leg][Gate]: paths and coefficients, built at creation
+    const Leg *legs[3];    // legs in force: &leg_tab[x][gate[x]]
     // sin/cos cache for the step being taken (advanced by a short rotation from step to step and
     // re-synchronised with the library sin/cos every 256 steps).
     double th0, c0, s0;
@@ -116,14 +145,20 @@ struct plant {
     // Reciprocals used in the right-hand side.
     double inv_l, inv_j, inv_c_lo, inv_c_hi, inv_rdc;
     Prep prep;
+    Glob g;
     bool prep_valid;  // prep matches prep_mode and the current legs / source voltages
     Mode prep_mode;
-    // Taylor coefficients (in delta = theta_e - th0) of dpsi_pm,x/dtheta_e for the step being taken:
-    // dpsi_x(th0 + d) = sum_k emf_tc[x][k] d^k, k = 0..5; valid while |n_max d| < 0.2.
-    double emf_tc[3][6];
-    double flux_tc[3][6];  // same for psi_pm,x itself
+    // Taylor coefficients (in delta = theta_e - th0) of dpsi_pm,x/dtheta_e:
+    // dpsi_x(th0 + d) = sum_k emf_tc[x][k] d^k, k = 0..7; used while n_max |d| < kTcRange.
+    Eigen::Array4d emf_tc[8];  // [k], lane x = phase x (lane 3 zero): the three polynomials run as
+                               // SIMD packets
     double tc_range;
+    // The PM flux at the expansion centre as phasors, lane h = harmonic (1, 3, 5, 7): per phase x
+    // flux_amp * (cos, sin)(n (th0 - phi_x)) and emf_amp * (cos, sin)(...); plant_get_state
+    // rotates them by n (theta - th0) (exact, see pm_flux_centre()).
+    Eigen::Array4d ph_fc[3], ph_fs[3], ph_ac[3], ph_as[3];
     bool tc_valid;
+    bool short_seg;  // the step being taken is a short dead-time segment (midpoint rule)
     plant_stats_t stats;
 };
 
@@ -138,6 +173,9 @@ void set_err(char *err, size_t n, const char *msg) {
 void derive(plant_t *pl) {
     const plant_params_t &p = pl->p;
     pl->omega_load_ref = p.load_speed_rpm * kRpmToRadS;
+    pl->pp = p.pole_pairs;
+    pl->inv_l_2_3 = (2.0 / 3.0) / p.ls_h;
+    pl->inv_l_1_3 = (1.0 / 3.0) / p.ls_h;
     if (p.inverter == PLANT_INVERTER_SSTP) {
         pl->c_lo = pl->c_hi = 2.0 * p.c_dc_f;
     } else {
@@ -206,9 +244,12 @@ inline void pm_flux(const plant_t *pl, double theta_e, double dpsi[3], double *p
     }
 }
 
-// Per-step Taylor expansion of dpsi_pm,x/dtheta_e around th0 (the cache angle). For harmonic n,
-// d^k/dtheta^k [-A sin(n u)] = -A n^k sin(n u + k pi/2); divided by k!. Remainder of the order-5
-// series: (n_max |d|)^6 / 720 relative to the harmonic's amplitude (< 9e-8 at the 0.2 limit).
+// Taylor expansion of dpsi_pm,x/dtheta_e around th0 (the cache angle), order kTcOrder = 7. For
+// harmonic n, d^k/dtheta^k [-A sin(n u)] = -A n^k sin(n u + k pi/2); divided by k!. Remainder:
+// (n_max |d|)^8 / 8! relative to the harmonic's amplitude, < 1.7e-9 within kTcRange (n_max |d| <
+// 0.3). The step re-centres it when it could leave kTcRecentre (0.25), i.e. every few periods.
+constexpr double kTcRange = 0.3;
+constexpr double kTcRecentre = 0.25;
 void setup_emf_taylor(plant_t *pl) {
     const double c = pl->c0, s = pl->s0;
     const double ch = -0.5, sh = kSqrt3 / 2.0;
@@ -227,47 +268,72 @@ void setup_emf_taylor(plant_t *pl) {
             cn[2] = cn[1] * c2 - sn[1] * s2; sn[2] = sn[1] * c2 + cn[1] * s2;
             cn[3] = cn[2] * c2 - sn[2] * s2; sn[3] = sn[2] * c2 + cn[2] * s2;
         }
+        for (int h = 0; h < 4; ++h) {
+            const bool on = h < nh;
+            pl->ph_fc[x][h] = on ? pl->flux_amp[x][h] * cn[h] : 0.0;
+            pl->ph_fs[x][h] = on ? pl->flux_amp[x][h] * sn[h] : 0.0;
+            pl->ph_ac[x][h] = on ? a[h] * cn[h] : 0.0;
+            pl->ph_as[x][h] = on ? a[h] * sn[h] : 0.0;
+        }
         static const double nn[4] = {1.0, 3.0, 5.0, 7.0};
-        double t0 = 0.0, t1 = 0.0, t2 = 0.0, t3 = 0.0, t4 = 0.0, t5 = 0.0;
-        double f0 = 0.0, f1 = 0.0, f2 = 0.0, f3 = 0.0, f4 = 0.0, f5 = 0.0;
+        double t0 = 0.0, t1 = 0.0, t2 = 0.0, t3 = 0.0, t4 = 0.0, t5 = 0.0, t6 = 0.0, t7 = 0.0;
         for (int h = 0; h < nh; ++h) {
-            const double n = nn[h], n2 = n * n;
+            const double n = nn[h], n2 = n * n, n4 = n2 * n2;
             const double as = a[h] * sn[h], ac = a[h] * cn[h] * n;
-            // -A n^k sin(nu + k pi/2) / k!, k = 0..5
+            // -A n^k sin(nu + k pi/2) / k!, k = 0..7
             t0 -= as;
             t1 -= ac;
             t2 += as * n2 * 0.5;
             t3 += ac * n2 * (1.0 / 6.0);
-            t4 -= as * n2 * n2 * (1.0 / 24.0);
-            t5 -= ac * n2 * n2 * (1.0 / 120.0);
-            // psi: (A/n) n^k cos(n u + k pi/2) / k!
-            f0 += ac / n2;
-            f1 -= as;
-            f2 -= ac * 0.5;
-            f3 += as * n2 * (1.0 / 6.0);
-            f4 += ac * n2 * (1.0 / 24.0);
-            f5 -= as * n2 * n2 * (1.0 / 120.0);
+            t4 -= as * n4 * (1.0 / 24.0);
+            t5 -= ac * n4 * (1.0 / 120.0);
+            t6 += as * n4 * n2 * (1.0 / 720.0);
+            t7 += ac * n4 * n2 * (1.0 / 5040.0);
         }
-        double *fc = pl->flux_tc[x];
-        fc[0] = f0; fc[1] = f1; fc[2] = f2; fc[3] = f3; fc[4] = f4; fc[5] = f5;
-        double *tc = pl->emf_tc[x];
-        tc[0] = t0; tc[1] = t1; tc[2] = t2; tc[3] = t3; tc[4] = t4; tc[5] = t5;
+        const double tc[8] = {t0, t1, t2, t3, t4, t5, t6, t7};
+        for (int k = 0; k < 8; ++k) pl->emf_tc[k][x] = tc[k];
     }
-    pl->tc_range = pl->has_harm ? 0.2 / 7.0 : 0.2;
+    for (int k = 0; k < 8; ++k) pl->emf_tc[k][3] = 0.0;
+    pl->tc_range = kTcRange / (pl->has_harm ? 7.0 : 1.0);
     pl->tc_valid = true;
 }
 
 inline void dpsi_fast(const plant_t *pl, double theta_e, double dpsi[3]) {
     const double d = theta_e - pl->th0;
     if (pl->tc_valid && std::fabs(d) < pl->tc_range) {
-        const double d2 = d * d;
-        for (int x = 0; x < 3; ++x) {
-            const double *t = pl->emf_tc[x];
-            // Estrin's scheme: same polynomial, shorter dependency chain than Horner.
-            dpsi[x] = (t[0] + t[1] * d) + d2 * ((t[2] + t[3] * d) + d2 * (t[4] + t[5] * d));
-        }
+        const double d2 = d * d, d4 = d2 * d2;
+        const Eigen::Array4d *t = pl->emf_tc;
+        // Estrin's scheme: same polynomial, shorter dependency chain than Horner.
+        const Eigen::Array4d r =
+            ((t[0] + t[1] * d) + d2 * (t[2] + t[3] * d)) + d4 * ((t[4] + t[5] * d) + d2 * (t[6] + t[7] * d));
+        dpsi[0] = r[0];
+        dpsi[1] = r[1];
+        dpsi[2] = r[2];
     } else {
         pm_flux(pl, theta_e, dpsi, nullptr);
+    }
+}
+
+// psi_pm,x and dpsi_pm,x/dtheta_e at theta_e, exact (to rounding): the centre phasors rotated by
+// n d, d = theta_e - th0, with cos/sin(n d) for n = 1, 3, 5, 7 from their Taylor series to d^12 /
+// d^13 (remainder < 0.3^14/14! = 6e-19 for n_max |d| < 0.3), evaluated in SIMD lanes. Falls back
+// to pm_flux() outside that range. Lower latency than pm_flux() (no chained rotations); used by
+// plant_get_state once per period.
+void pm_flux_centre(const plant_t *pl, double theta_e, double dpsi[3], double psi[3]) {
+    const double d = theta_e - pl->th0;
+    if (!(pl->tc_valid && std::fabs(d) * (pl->has_harm ? 7.0 : 1.0) < 0.3)) {
+        pm_flux(pl, theta_e, dpsi, psi);
+        return;
+    }
+    const Eigen::Array4d x = Eigen::Array4d(1.0, 3.0, 5.0, 7.0) * d;
+    const Eigen::Array4d x2 = x * x, x4 = x2 * x2, x8 = x4 * x4;
+    const Eigen::Array4d cv = ((1.0 - x2 * 0.5) + x4 * (1.0 / 24.0 - x2 * (1.0 / 720.0))) +
+                              x8 * ((1.0 / 40320.0 - x2 * (1.0 / 3628800.0)) + x4 * (1.0 / 479001600.0));
+    const Eigen::Array4d sv = x * (((1.0 - x2 * (1.0 / 6.0)) + x4 * (1.0 / 120.0 - x2 * (1.0 / 5040.0))) +
+                                   x8 * ((1.0 / 362880.0 - x2 * (1.0 / 39916800.0)) + x4 * (1.0 / 6227020800.0)));
+    for (int k = 0; k < 3; ++k) {
+        psi[k] = (pl->ph_fc[k] * cv - pl->ph_fs[k] * sv).sum();
+        dpsi[k] = -(pl->ph_as[k] * cv + pl->ph_ac[k] * sv).sum();
     }
 }
 
@@ -284,44 +350,70 @@ inline void rails(const plant_t *pl, const Vec &y, double rv[4], int x) {
     }
 }
 
-double load_torque(const plant_t *pl, double omega, double te) {
-    switch (pl->p.load) {
-        case PLANT_LOAD_SPEED: return te - pl->p.b_nms * omega;  // the dynamometer holds speed
-        case PLANT_LOAD_TORQUE: return pl->p.load_torque_nm;
-        case PLANT_LOAD_GENERATOR: return pl->p.load_torque_nm * omega / pl->omega_load_ref;
-        default: return 0.0;
-    }
-}
-
 void make_prep(plant_t *pl, const Mode &m, Prep &q) {
-    const plant_params_t &p = pl->p;
-    double vsrc[3] = {0.0, 0.0, 0.0};
-    if (p.inverter == PLANT_INVERTER_IDEAL) {
-        // Ideal source: phase voltages from the inverse amplitude-invariant Clarke transform.
-        const double va = pl->v_set_alpha, vb = pl->v_set_beta;
-        vsrc[0] = va;
-        vsrc[1] = -0.5 * va + 0.5 * kSqrt3 * vb;
-        vsrc[2] = -0.5 * va - 0.5 * kSqrt3 * vb;
-    }
     q.nk = 0;
     for (int x = 0; x < 3; ++x) {
-        const bool blk = (m.ph[x] == PH_BLOCKED);
-        const Path &pa = (m.ph[x] == PH_NEG) ? pl->legs[x].neg : pl->legs[x].pos;
-        q.cond[x] = blk ? 0.0 : 1.0;
-        q.a_lo[x] = (pa.rail == RAIL_PLUS || pa.rail == RAIL_MID) ? 1.0 : 0.0;
-        q.a_hi[x] = (pa.rail == RAIL_PLUS) ? 1.0 : 0.0;
-        q.c[x] = ((pa.rail == RAIL_SRC) ? vsrc[x] : 0.0) - pa.d;
-        q.r[x] = pa.r;
-        q.rtot[x] = p.rs_ohm + pa.r;
-        q.dev[x] = (pl->legs[x].device && !blk) ? 1.0 : 0.0;
-        q.dev_d[x] = pa.d;
-        q.plus[x] = (!blk && pa.rail == RAIL_PLUS) ? 1.0 : 0.0;
-        q.mid[x] = (!blk && pa.rail == RAIL_MID) ? 1.0 : 0.0;
-        q.src[x] = (!blk && pa.rail == RAIL_SRC) ? 1.0 : 0.0;
-        if (!blk) ++q.nk;
+        q.ph[x] = &pl->legs[x]->coef[m.ph[x]];
+        if (m.ph[x] != PH_BLOCKED) ++q.nk;
     }
     static const double inv_n[4] = {0.0, 1.0, 0.5, 1.0 / 3.0};
     q.inv_nk = inv_n[q.nk];
+}
+
+// Coefficients of a phase for one path (conducting) or blocked.
+PhaseCoef phase_coef(const plant_t *pl, const Leg &L, const Path &pa, bool blk, double vsrc) {
+    PhaseCoef k;
+    k.cond = blk ? 0.0 : 1.0;
+    k.a_lo = (pa.rail == RAIL_PLUS || pa.rail == RAIL_MID) ? 1.0 : 0.0;
+    k.a_hi = (pa.rail == RAIL_PLUS) ? 1.0 : 0.0;
+    k.c = ((pa.rail == RAIL_SRC) ? vsrc : 0.0) - pa.d;
+    k.r = pa.r;
+    k.rtot = pl->p.rs_ohm + pa.r;
+    k.dev = (L.device && !blk) ? 1.0 : 0.0;
+    k.dev_d = pa.d;
+    k.plus = (!blk && pa.rail == RAIL_PLUS) ? 1.0 : 0.0;
+    k.mid = (!blk && pa.rail == RAIL_MID) ? 1.0 : 0.0;
+    k.src = (!blk && pa.rail == RAIL_SRC) ? 1.0 : 0.0;
+    k.pd = k.dev * k.dev_d;
+    k.pr = k.dev * k.r;
+    return k;
+}
+
+// Load law and DC link as linear forms (see Glob).
+void make_glob(plant_t *pl) {
+    const plant_params_t &p = pl->p;
+    Glob &q = pl->g;
+    q.ld_c0 = q.ld_cw = q.ld_cte = 0.0;
+    q.w_on = 1.0;
+    switch (p.load) {
+        case PLANT_LOAD_SPEED:  // the dynamometer holds speed: T_load = T_e - b omega
+            q.ld_cte = 1.0;
+            q.ld_cw = -p.b_nms;
+            q.w_on = 0.0;
+            break;
+        case PLANT_LOAD_TORQUE: q.ld_c0 = p.load_torque_nm; break;
+        case PLANT_LOAD_GENERATOR: q.ld_cw = p.load_torque_nm / pl->omega_load_ref; break;
+        default: break;
+    }
+    q.is_g = q.hi_s = q.hi_p = q.lo_s = q.lo_p = q.lo_m = 0.0;
+    q.pdc_s = q.pdc_st = q.pdc_src = q.r_dc = 0.0;
+    if (p.inverter == PLANT_INVERTER_IDEAL) {
+        q.pdc_src = 1.0;
+    } else if (!p.finite_dc_link) {
+        q.pdc_st = 1.0;
+    } else {
+        q.is_g = pl->inv_rdc;
+        q.pdc_s = p.vdc_v;
+        q.r_dc = p.r_dc_ohm;
+        if (p.inverter == PLANT_INVERTER_FSTP) {
+            q.hi_s = q.hi_p = pl->inv_c_hi;
+            q.lo_s = q.lo_p = q.lo_m = pl->inv_c_lo;
+        } else {
+            // SSTP: one capacitor of 2*c_dc_f (c_lo holds that value, see derive()), reported as
+            // two equal halves.
+            q.hi_s = q.hi_p = q.lo_s = q.lo_p = 0.5 * pl->inv_c_lo;
+        }
+    }
 }
 
 // Neutral voltage when every phase is blocked: centre of the feasible range.
@@ -330,81 +422,81 @@ double vn0_all_blocked(const plant_t *pl, const Vec &y, const double e[3]) {
     for (int x = 0; x < 3; ++x) {
         double rv[4];
         rails(pl, y, rv, x);
-        const double a = path_v(pl->legs[x].pos, rv), b = path_v(pl->legs[x].neg, rv);
+        const double a = path_v(pl->legs[x]->pos, rv), b = path_v(pl->legs[x]->neg, rv);
         lo = std::max(lo, std::min(a, b) - e[x]);
         hi = std::min(hi, std::max(a, b) - e[x]);
     }
     return 0.5 * (lo + hi);
 }
 
-// Right-hand side for a fixed conduction mode (pl->prep must match m).
-void rhs(plant_t *pl, const Vec &y, const Mode &m, Vec &dy, Aux *aux) {
+// Right-hand side for a fixed conduction mode (pl->prep must match the mode). Only the first ND
+// entries of y are read. Branch-free apart from the all-blocked neutral (Prep and Glob hold the
+// linear forms of the paths, the DC link and the load). kAll: all three phases conduct (the
+// common case; the blocked-phase terms drop out).
+template <bool kAll>
+inline void rhs_t(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
     ++pl->stats.evals;
-    const plant_params_t &p = pl->p;
     const Prep &q = pl->prep;
-    const double pp = p.pole_pairs;
+    const PhaseCoef *const *k = q.ph;
+    const double pp = pl->pp;
     const double omega = y[S_OMEGA];
     const double omega_e = pp * omega;
     double dpsi[3];
     dpsi_fast(pl, pp * y[S_THETA], dpsi);
     const double vlo = y[S_VCLO], vhi = y[S_VCHI];
-    double e[3], vp[3], ix[3];
-    double sum = 0.0;
+    const double ix[3] = {y[S_IA], y[S_IB], y[S_IC]};
+    double e[3], vp[3], u[3];
+#pragma GCC unroll 3
     for (int x = 0; x < 3; ++x) {
-        ix[x] = y[S_IA + x];
         e[x] = omega_e * dpsi[x];
-        vp[x] = q.a_lo[x] * vlo + q.a_hi[x] * vhi + q.c[x];
-        sum += q.cond[x] * (vp[x] - q.rtot[x] * ix[x] - e[x]);
+        vp[x] = k[x]->a_lo * vlo + k[x]->a_hi * vhi + k[x]->c;
+        u[x] = vp[x] - k[x]->rtot * ix[x] - e[x];  // L di/dt + v_n0 of a conducting phase
     }
-    const double vn0 = (q.nk >= 2) ? sum * q.inv_nk : vn0_all_blocked(pl, y, e);
+    double vn0;
+    if (kAll) {
+        vn0 = (u[0] + u[1] + u[2]) * (1.0 / 3.0);
+    } else {
+        const double sum = k[0]->cond * u[0] + k[1]->cond * u[1] + k[2]->cond * u[2];
+        vn0 = (q.nk >= 2) ? sum * q.inv_nk : vn0_all_blocked(pl, y, e);
+    }
+    const double inv_l = pl->inv_l;
     double vx0[3];
     double te = 0.0, p_cu = 0.0, p_dev = 0.0, i_plus = 0.0, i_mid = 0.0, p_src = 0.0;
+#pragma GCC unroll 3
     for (int x = 0; x < 3; ++x) {
         const double i = ix[x];
-        const double vc = vp[x] - q.r[x] * i;
-        dy[S_IA + x] = q.cond[x] * (vp[x] - q.rtot[x] * i - e[x] - vn0) * pl->inv_l;
-        vx0[x] = q.cond[x] * vc + (1.0 - q.cond[x]) * (vn0 + e[x]);  // blocked: floating terminal
-        p_dev += q.dev[x] * (q.dev_d[x] + q.r[x] * i) * i;
-        i_plus += q.plus[x] * i;
-        i_mid += q.mid[x] * i;
-        p_src += q.src[x] * vc * i;
+        const double vc = vp[x] - k[x]->r * i;
+        if (kAll) {
+            // (u_x - vn0) / L with vn0 = mean(u), written so that u_x does not wait for the sum.
+            dy[S_IA + x] = pl->inv_l_2_3 * u[x] - pl->inv_l_1_3 * (u[(x + 1) % 3] + u[(x + 2) % 3]);
+            vx0[x] = vc;
+        } else {
+            dy[S_IA + x] = k[x]->cond * (u[x] - vn0) * inv_l;
+            vx0[x] = k[x]->cond * vc + (1.0 - k[x]->cond) * (vn0 + e[x]);  // blocked: floating terminal
+        }
+        p_dev += (k[x]->pd + k[x]->pr * i) * i;
+        i_plus += k[x]->plus * i;
+        i_mid += k[x]->mid * i;
+        p_src += k[x]->src * vc * i;
         te += i * dpsi[x];
         p_cu += i * i;
     }
-    (void)m;
-    p_cu *= p.rs_ohm;
     te *= pp;
-    const double tl = load_torque(pl, omega, te);
+    const Glob &g = pl->g;
+    const double b = pl->p.b_nms;
+    const double tl = g.ld_c0 + g.ld_cw * omega + g.ld_cte * te;
     dy[S_THETA] = omega;
-    dy[S_OMEGA] = (p.load == PLANT_LOAD_SPEED) ? 0.0 : (te - p.b_nms * omega - tl) * pl->inv_j;
+    dy[S_OMEGA] = g.w_on * (te - b * omega - tl) * pl->inv_j;
     // DC link.
-    double p_dc, p_rdc = 0.0;
-    if (p.inverter == PLANT_INVERTER_IDEAL) {
-        dy[S_VCLO] = dy[S_VCHI] = 0.0;
-        p_dc = p_src;
-    } else if (!p.finite_dc_link) {
-        dy[S_VCLO] = dy[S_VCHI] = 0.0;
-        p_dc = (vlo + vhi) * i_plus + vlo * i_mid;
-    } else {
-        const double i_s = (p.vdc_v - (vlo + vhi)) * pl->inv_rdc;
-        if (p.inverter == PLANT_INVERTER_FSTP) {
-            dy[S_VCHI] = (i_s - i_plus) * pl->inv_c_hi;
-            dy[S_VCLO] = (i_s - i_plus - i_mid) * pl->inv_c_lo;
-        } else {
-            // SSTP: one capacitor of 2*c_dc_f (c_lo holds that value, see derive()).
-            dy[S_VCLO] = dy[S_VCHI] = 0.5 * (i_s - i_plus) * pl->inv_c_lo;
-        }
-        p_dc = p.vdc_v * i_s;
-        p_rdc = p.r_dc_ohm * i_s * i_s;
-    }
-    dy[S_EDC] = p_dc;
-    dy[S_ECU] = p_cu;
+    const double i_s = g.is_g * (pl->p.vdc_v - (vlo + vhi));
+    dy[S_VCHI] = g.hi_s * i_s - g.hi_p * i_plus;
+    dy[S_VCLO] = g.lo_s * i_s - g.lo_p * i_plus - g.lo_m * i_mid;
+    dy[S_EDC] = g.pdc_s * i_s + g.pdc_st * ((vlo + vhi) * i_plus + vlo * i_mid) + g.pdc_src * p_src;
+    dy[S_ECU] = pl->p.rs_ohm * p_cu;
     dy[S_EDEV] = p_dev;
-    dy[S_EFRIC] = p.b_nms * omega * omega;
+    dy[S_EFRIC] = b * omega * omega;
     dy[S_ELOAD] = tl * omega;
-    dy[S_ERDC] = p_rdc;
-    dy[S_IVA] = (2.0 * vx0[0] - vx0[1] - vx0[2]) * (1.0 / 3.0);  // Hoang eqs. (1)-(4)
-    dy[S_IVB] = (vx0[1] - vx0[2]) * (1.0 / kSqrt3);              // Hoang eq. (5)
+    dy[S_ERDC] = g.r_dc * i_s * i_s;
     dy[S_IVA0] = vx0[0];
     dy[S_IVB0] = vx0[1];
     dy[S_IVC0] = vx0[2];
@@ -419,44 +511,66 @@ void rhs(plant_t *pl, const Vec &y, const Mode &m, Vec &dy, Aux *aux) {
     }
 }
 
-// Build the leg paths from the gate states (Hoang Table III, eq. 20).
-void build_legs(plant_t *pl) {
+inline void rhs(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
+    if (pl->prep.nk == 3) rhs_t<true>(pl, y, dy, aux);
+    else rhs_t<false>(pl, y, dy, aux);
+}
+
+// Leg paths and coefficients for every gate state (Hoang Table III, eq. 20); called at creation
+// and when the ideal source's voltages change.
+void build_leg_table(plant_t *pl) {
     const plant_params_t &p = pl->p;
     pl->prep_valid = false;
     const double vce = p.drops_enabled ? p.v_ce_v : 0.0;
     const double vd = p.drops_enabled ? p.v_d_v : 0.0;
     const double ron = p.drops_enabled ? p.r_on_ohm : 0.0;
-    for (int x = 0; x < 3; ++x) {
-        Leg &L = pl->legs[x];
+    double vsrc[3] = {0.0, 0.0, 0.0};
+    if (p.inverter == PLANT_INVERTER_IDEAL) {
+        // Ideal source: phase voltages from the inverse amplitude-invariant Clarke transform.
+        const double va = pl->v_set_alpha, vb = pl->v_set_beta;
+        vsrc[0] = va;
+        vsrc[1] = -0.5 * va + 0.5 * kSqrt3 * vb;
+        vsrc[2] = -0.5 * va - 0.5 * kSqrt3 * vb;
+    }
+    for (int x = 0; x < 3; ++x)
+    for (int gate = 0; gate < 3; ++gate) {
+        Leg &L = pl->leg_tab[x][gate];
         if (p.inverter == PLANT_INVERTER_IDEAL) {
             L.pos = L.neg = Path{RAIL_SRC, 0.0, 0.0};
             L.sign_dep = false;
             L.device = false;
-            continue;
-        }
-        if (p.inverter == PLANT_INVERTER_FSTP && x == 0) {
+        } else if (p.inverter == PLANT_INVERTER_FSTP && x == 0) {
             L.pos = L.neg = Path{RAIL_MID, 0.0, 0.0};  // Hoang Fig. 1(b): no device in phase A
             L.sign_dep = false;
             L.device = false;
-            continue;
+        } else {
+            L.device = true;
+            switch (gate) {
+                case GATE_UPPER:  // Table III state 1: + -> V_CE, - -> -V_d
+                    L.pos = Path{RAIL_PLUS, vce, ron};
+                    L.neg = Path{RAIL_PLUS, -vd, ron};
+                    break;
+                case GATE_LOWER:  // Table III state 0: + -> V_d, - -> -V_CE
+                    L.pos = Path{RAIL_ZERO, vd, ron};
+                    L.neg = Path{RAIL_ZERO, -vce, ron};
+                    break;
+                default:  // both gates off: the current sign picks the diode
+                    L.pos = Path{RAIL_ZERO, vd, ron};
+                    L.neg = Path{RAIL_PLUS, -vd, ron};
+                    break;
+            }
+            L.sign_dep = !(L.pos.rail == L.neg.rail && L.pos.d == L.neg.d && L.pos.r == L.neg.r);
         }
-        L.device = true;
-        switch (pl->gate[x]) {
-            case GATE_UPPER:  // Table III state 1: + -> V_CE, - -> -V_d
-                L.pos = Path{RAIL_PLUS, vce, ron};
-                L.neg = Path{RAIL_PLUS, -vd, ron};
-                break;
-            case GATE_LOWER:  // Table III state 0: + -> V_d, - -> -V_CE
-                L.pos = Path{RAIL_ZERO, vd, ron};
-                L.neg = Path{RAIL_ZERO, -vce, ron};
-                break;
-            default:  // both gates off: the current sign picks the diode
-                L.pos = Path{RAIL_ZERO, vd, ron};
-                L.neg = Path{RAIL_PLUS, -vd, ron};
-                break;
-        }
-        L.sign_dep = !(L.pos.rail == L.neg.rail && L.pos.d == L.neg.d && L.pos.r == L.neg.r);
+        L.coef[PH_POS] = phase_coef(pl, L, L.pos, false, vsrc[x]);
+        L.coef[PH_NEG] = phase_coef(pl, L, L.neg, false, vsrc[x]);
+        L.coef[PH_BLOCKED] = phase_coef(pl, L, L.pos, true, vsrc[x]);
     }
+}
+
+// Legs in force from the gate states.
+void build_legs(plant_t *pl) {
+    pl->prep_valid = false;
+    for (int x = 0; x < 3; ++x) pl->legs[x] = &pl->leg_tab[x][pl->gate[x]];
 }
 
 // Conduction mode at state y. Currents that are exactly zero on a sign-dependent leg are resolved
@@ -498,7 +612,7 @@ Mode select_mode(plant_t *pl, const Vec &y) {
             if (digit == 0) t.ph[x] = PH_BLOCKED;
             else if (digit == 1) t.ph[x] = PH_POS;
             else {
-                if (!pl->legs[x].sign_dep) { skip = true; }  // same as PH_POS
+                if (!pl->legs[x]->sign_dep) { skip = true; }  // same as PH_POS
                 t.ph[x] = PH_NEG;
             }
         }
@@ -507,7 +621,7 @@ Mode select_mode(plant_t *pl, const Vec &y) {
         double sum = 0.0, vp[3] = {0, 0, 0}, rr[3] = {0, 0, 0};
         for (int x = 0; x < 3; ++x) {
             if (t.ph[x] == PH_BLOCKED) continue;
-            const Path &pa = (t.ph[x] == PH_POS) ? pl->legs[x].pos : pl->legs[x].neg;
+            const Path &pa = (t.ph[x] == PH_POS) ? pl->legs[x]->pos : pl->legs[x]->neg;
             vp[x] = path_v(pa, rv[x]);
             rr[x] = pa.r;
             sum += vp[x] - (p.rs_ohm + rr[x]) * y[S_IA + x] - e[x];
@@ -518,7 +632,7 @@ Mode select_mode(plant_t *pl, const Vec &y) {
         if (nk == 0) {
             double lo = -1e300, hi = 1e300;
             for (int x = 0; x < 3; ++x) {
-                const double a = path_v(pl->legs[x].pos, rv[x]), b = path_v(pl->legs[x].neg, rv[x]);
+                const double a = path_v(pl->legs[x]->pos, rv[x]), b = path_v(pl->legs[x]->neg, rv[x]);
                 lo = std::max(lo, std::min(a, b) - e[x]);
                 hi = std::min(hi, std::max(a, b) - e[x]);
             }
@@ -529,9 +643,9 @@ Mode select_mode(plant_t *pl, const Vec &y) {
                 const int x = zl[k];
                 if (t.ph[x] == PH_BLOCKED) {
                     const double vf = vn0 + e[x];
-                    const double a = path_v(pl->legs[x].pos, rv[x]), b = path_v(pl->legs[x].neg, rv[x]);
+                    const double a = path_v(pl->legs[x]->pos, rv[x]), b = path_v(pl->legs[x]->neg, rv[x]);
                     viol += std::max(0.0, std::min(a, b) - vf) + std::max(0.0, vf - std::max(a, b));
-                } else if (pl->legs[x].sign_dep) {
+                } else if (pl->legs[x]->sign_dep) {
                     const double di = vp[x] - (p.rs_ohm + rr[x]) * y[S_IA + x] - e[x] - vn0;  // L di/dt
                     if (t.ph[x] == PH_POS) viol += std::max(0.0, -di);
                     else viol += std::max(0.0, di);
@@ -564,15 +678,46 @@ void snap_currents(Vec &y, bool snapped[3]) {
     }
 }
 
-inline void rk4(plant_t *pl, const Vec &y0, const Mode &m, double h, const Vec &k1, Vec &out) {
+// Classical RK4 over h from y0 with k1 = f(y0). The stage states carry only the ND dynamic
+// entries (the quadratures do not enter f); the result is the full RK4 combination.
+// Stage state y0 + c k on the ND dynamic entries, as a scalar loop on purpose: the right-hand
+// side stores its outputs one double at a time, and a 16-byte SIMD load spanning two such fresh
+// stores cannot be forwarded from the store buffer (a stall on the critical path of every stage;
+// ~10 ns per period measured).
+#if defined(__GNUC__) && !defined(__clang__)
+#define DTC_NO_AUTOVEC __attribute__((optimize("no-tree-vectorize")))
+#else
+#define DTC_NO_AUTOVEC
+#endif
+DTC_NO_AUTOVEC inline void stage_state(const Vec &y0, double c, const Vec &k, Vec &yt) {
+    for (int j = 0; j < ND; ++j) yt[j] = y0[j] + c * k[j];
+}
+
+inline void rk4(plant_t *pl, const Vec &y0, double h, const Vec &k1, Vec &out) {
     Vec k2, k3, k4, yt;
-    yt.noalias() = y0 + (0.5 * h) * k1;
-    rhs(pl, yt, m, k2, nullptr);
-    yt.noalias() = y0 + (0.5 * h) * k2;
-    rhs(pl, yt, m, k3, nullptr);
-    yt.noalias() = y0 + h * k3;
-    rhs(pl, yt, m, k4, nullptr);
+    stage_state(y0, 0.5 * h, k1, yt);
+    rhs(pl, yt, k2, nullptr);
+    stage_state(y0, 0.5 * h, k2, yt);
+    rhs(pl, yt, k3, nullptr);
+    stage_state(y0, h, k3, yt);
+    rhs(pl, yt, k4, nullptr);
     out.noalias() = y0 + (h / 6.0) * (k1 + 2.0 * (k2 + k3) + k4);
+}
+
+// Explicit midpoint rule (second order, two evaluations) for short dead-time segments; same
+// stage-state convention as rk4().
+inline void midpoint(plant_t *pl, const Vec &y0, double h, const Vec &k1, Vec &out) {
+    Vec k2, yt;
+    stage_state(y0, 0.5 * h, k1, yt);
+    rhs(pl, yt, k2, nullptr);
+    out.noalias() = y0 + h * k2;
+}
+
+// The step's integrator: RK4, or the midpoint rule on a short dead-time segment (plant_advance
+// sets pl->short_seg; docs/plant.md section 2 gives the rule and its error).
+inline void integrate(plant_t *pl, const Vec &y0, double h, const Vec &k1, Vec &out) {
+    if (pl->short_seg) midpoint(pl, y0, h, k1, out);
+    else rk4(pl, y0, h, k1, out);
 }
 
 // Event function: the most negative of (a) dir * i for conducting sign-dependent phases (the
@@ -591,12 +736,12 @@ double event_g(plant_t *pl, const Vec &y, const Mode &m, const bool active[3]) {
     if (any_blocked) {
         Vec dy;
         Aux aux;
-        rhs(pl, y, m, dy, &aux);
+        rhs(pl, y, dy, &aux);
         for (int x = 0; x < 3; ++x) {
             if (!active[x] || m.ph[x] != PH_BLOCKED) continue;
             double rv[4];
             rails(pl, y, rv, x);
-            const double a = path_v(pl->legs[x].pos, rv), b = path_v(pl->legs[x].neg, rv);
+            const double a = path_v(pl->legs[x]->pos, rv), b = path_v(pl->legs[x]->neg, rv);
             const double vf = aux.vx0[x];
             const double margin = std::min(vf - std::min(a, b), std::max(a, b) - vf);
             g = std::min(g, margin * 1e-3);
@@ -609,12 +754,12 @@ double event_g(plant_t *pl, const Vec &y, const Mode &m, const bool active[3]) {
 double step(plant_t *pl, double h) {
     Vec &y = pl->y;
     const double th = pl->p.pole_pairs * y[S_THETA];
-    // Re-centre the EMF expansion only when this step could leave the range where its truncation
-    // stays below 1.4e-9 of each harmonic's amplitude (n_max |delta| < 0.1); a dead-time segment
-    // and the rest of its period usually share one expansion.
+    // Re-centre the EMF expansion only when this step could leave n_max |delta| < kTcRecentre
+    // (truncation < 1.7e-9 of each harmonic's amplitude even at kTcRange); one expansion serves
+    // several periods.
     const double reach = (std::fabs(th - pl->th0) + std::fabs(pl->p.pole_pairs * y[S_OMEGA]) * h * 1.2) *
                          (pl->has_harm ? 7.0 : 1.0);
-    if (!pl->tc_valid || reach >= 0.1) {
+    if (!pl->tc_valid || reach >= kTcRecentre) {
         if (++pl->sync_count >= 256 || std::fabs(th - pl->th0) >= 0.25) {
             pl->sync_count = 0;
             pl->c0 = std::cos(th);
@@ -628,24 +773,44 @@ double step(plant_t *pl, double h) {
         pl->th0 = th;
         setup_emf_taylor(pl);
     }
-    const Mode m = select_mode(pl, y);
-    pl->mode = m;
+    // Fast path: no current exactly zero (the usual case), the mode follows the current signs.
+    const bool nonzero = y[S_IA] != 0.0 && y[S_IB] != 0.0 && y[S_IC] != 0.0;
+    // (Written in place, element by element: a struct copy of the freshly stored ints would stall
+    // on store forwarding.)
+    Mode &m = pl->mode;
+    if (nonzero) {
+        for (int x = 0; x < 3; ++x) m.ph[x] = (y[S_IA + x] > 0.0) ? PH_POS : PH_NEG;
+    } else {
+        const Mode ms = select_mode(pl, y);
+        for (int x = 0; x < 3; ++x) m.ph[x] = ms.ph[x];
+    }
     if (!pl->prep_valid || m.ph[0] != pl->prep_mode.ph[0] || m.ph[1] != pl->prep_mode.ph[1] ||
         m.ph[2] != pl->prep_mode.ph[2]) {
         make_prep(pl, m, pl->prep);
-        pl->prep_mode = m;
+        for (int x = 0; x < 3; ++x) pl->prep_mode.ph[x] = m.ph[x];
         pl->prep_valid = true;
     }
     Vec k1, y1;
-    rhs(pl, y, m, k1, nullptr);
-    rk4(pl, y, m, h, k1, y1);
+    rhs(pl, y, k1, nullptr);
+    integrate(pl, y, h, k1, y1);
     ++pl->stats.steps;
+    if (nonzero) {
+        // No blocked phase and none starting at zero: the only events are sign changes of the
+        // currents on sign-dependent legs (event_g's first kind).
+        double g1 = 1e300;
+        for (int x = 0; x < 3; ++x)
+            if (pl->legs[x]->sign_dep) g1 = std::min(g1, (m.ph[x] == PH_POS) ? y1[S_IA + x] : -y1[S_IA + x]);
+        if (g1 >= -1e-12) {
+            y = y1;
+            return h;
+        }
+    }
     // Which phases can produce an event?
     bool active[3] = {false, false, false};
     bool any = false;
     for (int x = 0; x < 3; ++x) {
         if (m.ph[x] == PH_BLOCKED) { active[x] = true; any = true; }
-        else if (pl->legs[x].sign_dep) {
+        else if (pl->legs[x]->sign_dep) {
             const double i0 = (m.ph[x] == PH_POS) ? y[S_IA + x] : -y[S_IA + x];
             if (i0 > 0.0) { active[x] = true; any = true; }
         }
@@ -659,7 +824,7 @@ double step(plant_t *pl, double h) {
         bool snapped[3] = {false, false, false};
         bool any_snap = false;
         for (int x = 0; x < 3; ++x) {
-            if (m.ph[x] != PH_BLOCKED && pl->legs[x].sign_dep && y[S_IA + x] == 0.0) {
+            if (m.ph[x] != PH_BLOCKED && pl->legs[x]->sign_dep && y[S_IA + x] == 0.0) {
                 const double v = (m.ph[x] == PH_POS) ? y1[S_IA + x] : -y1[S_IA + x];
                 if (v < 0.0) snapped[x] = any_snap = true;
             }
@@ -680,7 +845,7 @@ double step(plant_t *pl, double h) {
     for (int it = 0; it < 40 && (b - a) * h > 1e-12; ++it) {
         double s = (a * gb - b * ga) / (gb - ga);
         if (!(s > a && s < b)) s = 0.5 * (a + b);
-        rk4(pl, y, m, s * h, k1, ys);
+        integrate(pl, y, s * h, k1, ys);
         const double gs = event_g(pl, ys, m, active);
         if (gs < 0.0) {
             b = s; gb = gs; yb = ys; sb_keep = s;
@@ -842,11 +1007,11 @@ plant_t *plant_create(const plant_params_t *p, char *err, size_t err_len) {
     }
     pl->p = *p;
     derive(pl);
+    make_glob(pl);
     pl->y.setZero();
     pl->y[S_THETA] = p->theta_m0_rad;
     pl->y[S_OMEGA] = (p->load == PLANT_LOAD_SPEED ? p->load_speed_rpm : p->speed0_rpm) * kRpmToRadS;
     pl->y[S_VCLO] = pl->y[S_VCHI] = 0.5 * p->vdc_v;
-    pl->y_adv0 = pl->y;
     pl->t = 0.0;
     pl->last_dt = 0.0;
     for (int x = 0; x < 3; ++x) {
@@ -864,6 +1029,7 @@ plant_t *plant_create(const plant_params_t *p, char *err, size_t err_len) {
     pl->sync_count = 0;
     pl->tc_valid = false;
     std::memset(&pl->stats, 0, sizeof(pl->stats));
+    build_leg_table(pl);
     build_legs(pl);
     return pl;
 }
@@ -880,7 +1046,8 @@ void plant_set_legs(plant_t *plant, int sa, int sb, int sc, int enable) {
 void plant_set_voltage(plant_t *plant, double v_alpha_v, double v_beta_v) {
     plant->v_set_alpha = v_alpha_v;
     plant->v_set_beta = v_beta_v;
-    plant->prep_valid = false;
+    build_leg_table(plant);  // the ideal source's phase voltages live in the leg coefficients
+    build_legs(plant);
 }
 
 void plant_set_load(plant_t *plant, plant_load_t load, double speed_rpm, double torque_nm) {
@@ -890,6 +1057,7 @@ void plant_set_load(plant_t *plant, plant_load_t load, double speed_rpm, double 
     derive(plant);
     if (load == PLANT_LOAD_SPEED) plant->y[S_OMEGA] = speed_rpm * kRpmToRadS;
     if (load == PLANT_LOAD_GENERATOR && speed_rpm == 0.0) plant->omega_load_ref = 1e300;  // no load
+    make_glob(plant);
 }
 
 int plant_set_leg_override(plant_t *plant, int leg, plant_leg_override_t mode) {
@@ -912,7 +1080,8 @@ int plant_set_max_step(plant_t *plant, double max_step_s, char *err, size_t err_
 
 void plant_advance(plant_t *pl, double dt_s) {
     if (!(dt_s > 0.0)) return;
-    pl->y_adv0 = pl->y;
+    // Terminal-voltage integrals restart every advance (their mean over it is reported).
+    pl->y[S_IVA0] = pl->y[S_IVB0] = pl->y[S_IVC0] = 0.0;
     pl->last_dt = dt_s;
     update_gates_for_command(pl);
     const double t_end = pl->t + dt_s;
@@ -934,6 +1103,10 @@ void plant_advance(plant_t *pl, double dt_s) {
         }
         if (changed || guard == 1) build_legs(pl);
         const double h = std::min(pl->p.max_step_s, next - pl->t);
+        // A sub-step that ends at a dead-time end and is at most max_step/16 long (default: the
+        // 2 us dead-time segment at the 50 us step) uses the midpoint rule: its local error is
+        // O(h^3) on a tiny h, well below the RK4 error of the main step (docs/plant.md, section 2).
+        pl->short_seg = next < t_end && h == next - pl->t && h <= pl->p.max_step_s * (1.0 / 16.0);
         const double taken = step(pl, h);
         // Land exactly on breakpoints to avoid drift.
         if (taken == h) pl->t = (h == next - pl->t) ? next : pl->t + h;
@@ -945,55 +1118,57 @@ void plant_advance(plant_t *pl, double dt_s) {
 
 void plant_get_state(const plant_t *plant, plant_state_t *s) {
     plant_t *pl = const_cast<plant_t *>(plant);  // rhs() counts evaluations; the state is unchanged
-    std::memset(s, 0, sizeof(*s));
+    // Every field is assigned below (no memset: this runs once per control period).
+    static_assert(offsetof(plant_state_t, blocked_mask) == 31 * sizeof(double) &&
+                      sizeof(plant_state_t) <= 32 * sizeof(double),
+                  "plant_state_t changed: assign the new fields");
     const plant_params_t &p = pl->p;
     const Vec &y = pl->y;
     const double pp = p.pole_pairs;
     const double theta_e = pp * y[S_THETA];
     double dpsi[3], psi[3];
-    const double d = theta_e - pl->th0;
-    // The reported flux uses the expansion only where its truncation is < 1e-13 relative.
-    if (pl->tc_valid && std::fabs(d) * (pl->has_harm ? 7.0 : 1.0) < 0.02) {
-        const double d2 = d * d;
-        for (int x = 0; x < 3; ++x) {
-            const double *t = pl->emf_tc[x], *f = pl->flux_tc[x];
-            dpsi[x] = (t[0] + t[1] * d) + d2 * ((t[2] + t[3] * d) + d2 * (t[4] + t[5] * d));
-            psi[x] = (f[0] + f[1] * d) + d2 * ((f[2] + f[3] * d) + d2 * (f[4] + f[5] * d));
-        }
-    } else {
-        pm_flux(pl, theta_e, dpsi, psi);
-    }
+    // The reported flux and torque use the exact formula (rotation from the expansion centre).
+    pm_flux_centre(pl, theta_e, dpsi, psi);
     s->t_s = pl->t;
     s->i_a = y[S_IA];
     s->i_b = y[S_IB];
     s->i_c = y[S_IC];
     // Amplitude-invariant Clarke (Hoang eqs. 4-5).
-    s->i_alpha_a = (2.0 * s->i_a - s->i_b - s->i_c) / 3.0;
-    s->i_beta_a = (s->i_b - s->i_c) / kSqrt3;
-    const double psi_pm_alpha = (2.0 * psi[0] - psi[1] - psi[2]) / 3.0;
-    const double psi_pm_beta = (psi[1] - psi[2]) / kSqrt3;
+    s->i_alpha_a = (2.0 * s->i_a - s->i_b - s->i_c) * (1.0 / 3.0);
+    s->i_beta_a = (s->i_b - s->i_c) * (1.0 / kSqrt3);
+    const double psi_pm_alpha = (2.0 * psi[0] - psi[1] - psi[2]) * (1.0 / 3.0);
+    const double psi_pm_beta = (psi[1] - psi[2]) * (1.0 / kSqrt3);
     s->psi_alpha_wb = p.ls_h * s->i_alpha_a + psi_pm_alpha;  // Hoang eq. (8)
     s->psi_beta_wb = p.ls_h * s->i_beta_a + psi_pm_beta;     // Hoang eq. (9)
-    double th = theta_e - 2.0 * kPi * std::floor(theta_e * (0.5 / kPi));
+    // Wrap to [0, 2 pi): floor by truncation (|turns| < 2^53 for any finite run).
+    const double turns = theta_e * (0.5 / kPi);
+    double whole = static_cast<double>(static_cast<long long>(turns));
+    if (whole > turns) whole -= 1.0;
+    double th = theta_e - 2.0 * kPi * whole;
     if (th >= 2.0 * kPi) th -= 2.0 * kPi;
     if (th < 0.0) th = 0.0;
     s->theta_e_rad = th;
     s->theta_m_rad = y[S_THETA];
     s->omega_m_rad_s = y[S_OMEGA];
-    s->speed_rpm = y[S_OMEGA] / kRpmToRadS;
+    s->speed_rpm = y[S_OMEGA] * (1.0 / kRpmToRadS);
     double te = 0.0;
     for (int x = 0; x < 3; ++x) te += y[S_IA + x] * dpsi[x];
     s->te_nm = pp * te;
-    s->tload_nm = load_torque(pl, y[S_OMEGA], s->te_nm);
+    s->tload_nm = pl->g.ld_c0 + pl->g.ld_cw * y[S_OMEGA] + pl->g.ld_cte * s->te_nm;  // as in rhs_t
     s->vdc_v = y[S_VCLO] + y[S_VCHI];
     s->vc_lo_v = y[S_VCLO];
     s->vc_hi_v = y[S_VCHI];
     if (pl->last_dt > 0.0) {
-        s->v_alpha_v = (y[S_IVA] - pl->y_adv0[S_IVA]) / pl->last_dt;
-        s->v_beta_v = (y[S_IVB] - pl->y_adv0[S_IVB]) / pl->last_dt;
-        s->v_a0_v = (y[S_IVA0] - pl->y_adv0[S_IVA0]) / pl->last_dt;
-        s->v_b0_v = (y[S_IVB0] - pl->y_adv0[S_IVB0]) / pl->last_dt;
-        s->v_c0_v = (y[S_IVC0] - pl->y_adv0[S_IVC0]) / pl->last_dt;
+        const double inv_dt = 1.0 / pl->last_dt;
+        s->v_a0_v = y[S_IVA0] * inv_dt;
+        s->v_b0_v = y[S_IVB0] * inv_dt;
+        s->v_c0_v = y[S_IVC0] * inv_dt;
+        // Mean stator voltage: Hoang eqs. (1)-(5) applied to the mean terminal voltages (the
+        // transform is linear, so this is the mean of the instantaneous alpha/beta voltage).
+        s->v_alpha_v = (2.0 * s->v_a0_v - s->v_b0_v - s->v_c0_v) * (1.0 / 3.0);
+        s->v_beta_v = (s->v_b0_v - s->v_c0_v) * (1.0 / kSqrt3);
+    } else {
+        s->v_a0_v = s->v_b0_v = s->v_c0_v = s->v_alpha_v = s->v_beta_v = 0.0;
     }
     s->e_dc_in_j = y[S_EDC];
     s->e_copper_j = y[S_ECU];
@@ -1009,6 +1184,8 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
         s->e_capacitor_j = 0.5 * pl->c_lo * v * v;
     } else if (p.inverter == PLANT_INVERTER_FSTP) {
         s->e_capacitor_j = 0.5 * pl->c_lo * y[S_VCLO] * y[S_VCLO] + 0.5 * pl->c_hi * y[S_VCHI] * y[S_VCHI];
+    } else {
+        s->e_capacitor_j = 0.0;
     }
     int mask = 0;
     if (y[S_IA] == 0.0 || y[S_IB] == 0.0 || y[S_IC] == 0.0) {
