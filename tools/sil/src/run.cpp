@@ -177,11 +177,19 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
         }
         h->sample();
         ctrl->step(*h);
+        const bool record = k >= record_from;
+        const bool trace_row = writing && opt.write_trace && k % decimate == 0;
+        if (!record && !trace_row) {
+            // Before the metrics window with no trace row: nothing to record, so neither the
+            // full plant state (plant_get_state) nor the controller's estimates are read.
+            h->advance();
+            continue;
+        }
         const plant_state_t& st = h->state();
         const ControllerEstimates e = ctrl->estimates();
         const hal_cmd_t& cmd = h->applied_cmd();
         const bool en = legs ? h->gates_enabled() : !h->trip_latched();
-        if (k >= record_from) {
+        if (record) {
             s.ia.push_back(st.i_a);
             s.ib.push_back(st.i_b);
             s.ic.push_back(st.i_c);
@@ -202,7 +210,7 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
                 s.en.push_back(static_cast<std::uint8_t>(en));
             }
         }
-        if (writing && opt.write_trace && k % decimate == 0) {
+        if (trace_row) {
             TraceRow r{};
             r.t_s = st.t_s;
             r.ia_a = st.i_a;
