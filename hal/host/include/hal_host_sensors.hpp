@@ -29,7 +29,23 @@ constexpr double kAdcMaxCode = 4095.0;
 
 /// 12-bit conversion of an input voltage: round(4095 * v / 3), clamped to 0..4095 (the F2812
 /// ADC saturates at its rails; NaN reads as 0).
-std::uint16_t adc_code(double v_in);
+inline std::uint16_t adc_code(double v_in)
+{
+    const double y = kAdcMaxCode * v_in / kAdcFullScaleV;
+    if (!(y > 0.0)) { // also catches NaN; round(y) <= 0 for every such y
+        return 0u;
+    }
+    if (y >= kAdcMaxCode) {
+        return 4095u;
+    }
+    // Round to nearest, ties to even, exactly as std::nearbyint in the default rounding mode but
+    // without the library call: for 0 < y < 2^51, y + 1.5 * 2^52 has no fraction bits left, so the
+    // addition rounds y to an integer (IEEE 754 round-to-nearest-even) and the subtraction is exact.
+    // (Needs IEEE semantics: no -ffast-math, which would fold the two operations away; the project
+    // never builds with it, and AdcQuantisesAndClampsAtTheRails checks a tie.)
+    constexpr double kRound = 0x1.8p52;
+    return static_cast<std::uint16_t>((y + kRound) - kRound);
+}
 
 /// Inverse of the ideal transfer (centre of the code's bin), for tests and for the firmware-side
 /// expectations: v = code * 3 / 4095.
@@ -72,18 +88,20 @@ private:
 class GaussianNoise {
 public:
     explicit GaussianNoise(std::uint64_t seed);
+    /// Draws come from a block of kBatch made ahead in one tight loop (the generator state stays
+    /// in registers); the sequence is the same as drawing them one at a time.
     double next()
     {
-        const std::uint64_t b = rng_();
-        const unsigned i = static_cast<unsigned>(b & 0xFFu);
-        const double u = static_cast<double>(b >> 11) * 0x1.0p-53; // [0, 1)
-        if (u < t_->ratio[i]) { // inside the layer's rectangle, wholly under the curve
-            const double x = u * t_->x[i];
-            return (b & 0x100u) != 0u ? -x : x;
+        if (pos_ == kBatch) {
+            refill();
         }
-        return slow(i, u, (b & 0x100u) != 0u);
+        return buf_[pos_++];
     }
-    void reseed(std::uint64_t seed) { rng_.seed_with(seed); }
+    void reseed(std::uint64_t seed)
+    {
+        rng_.seed_with(seed);
+        pos_ = kBatch;
+    }
 
     /// Ziggurat tables (built once per process): x[0] = v / f(r) (the base layer's equivalent
     /// width), x[1] = r, f(x[i+1]) = f(x[i]) + v / x[i], x[256] = 0; ratio[i] = x[i+1] / x[i],
@@ -96,9 +114,13 @@ public:
     static constexpr double kR = 3.6541528853610088; // r for 256 layers (Marsaglia & Tsang)
 
 private:
+    static constexpr unsigned kBatch = 64;
+    void refill();
     double slow(unsigned i, double u, bool negative);
     Xoshiro256pp rng_;
     const Tables* t_;
+    unsigned pos_ = kBatch;
+    double buf_[kBatch];
 };
 
 /// One analogue channel: measured = x * (1 + gain_error) + offset + noise_rms * N(0,1);

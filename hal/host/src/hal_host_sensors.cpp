@@ -2,30 +2,13 @@
 #include "hal_host_sensors.hpp"
 
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 namespace hal_host {
 
 namespace {
 constexpr double kTwoPi = 6.283185307179586476925286766559;
-}
-
-std::uint16_t adc_code(double v_in)
-{
-    const double y = kAdcMaxCode * v_in / kAdcFullScaleV;
-    if (!(y > 0.0)) { // also catches NaN; round(y) <= 0 for every such y
-        return 0u;
-    }
-    if (y >= kAdcMaxCode) {
-        return 4095u;
-    }
-    // Round to nearest, ties to even, exactly as std::nearbyint in the default rounding mode but
-    // without the library call: for 0 < y < 2^51, y + 1.5 * 2^52 has no fraction bits left, so the
-    // addition rounds y to an integer (IEEE 754 round-to-nearest-even) and the subtraction is exact.
-    // (Needs IEEE semantics: no -ffast-math, which would fold the two operations away; the project
-    // never builds with it, and AdcQuantisesAndClampsAtTheRails checks a tie.)
-    constexpr double kRound = 0x1.8p52;
-    return static_cast<std::uint16_t>((y + kRound) - kRound);
 }
 
 double adc_code_to_volts(std::uint16_t code)
@@ -82,6 +65,33 @@ const GaussianNoise::Tables& ziggurat_tables()
 } // namespace
 
 GaussianNoise::GaussianNoise(std::uint64_t seed) : rng_(seed), t_(&ziggurat_tables()) {}
+
+void GaussianNoise::refill()
+{
+    Xoshiro256pp r = rng_; // a local copy: its address never escapes, so it lives in registers
+    const Tables& t = *t_;
+    for (unsigned j = 0; j < kBatch; ++j) {
+        const std::uint64_t b = r();
+        const unsigned i = static_cast<unsigned>(b & 0xFFu);
+        const double u = static_cast<double>(b >> 11) * 0x1.0p-53; // [0, 1)
+        const bool negative = (b & 0x100u) != 0u;
+        if (u < t.ratio[i]) { // inside the layer's rectangle, wholly under the curve
+            // The sign without a branch (a random sign mispredicts half the time): bit 8 of the
+            // word moved onto the IEEE sign bit.
+            std::uint64_t bits = 0;
+            const double x = u * t.x[i];
+            std::memcpy(&bits, &x, sizeof bits);
+            bits ^= (b & 0x100u) << 55;
+            std::memcpy(&buf_[j], &bits, sizeof bits);
+        } else { // wedge or tail (1.5 %): the exact tests draw more words from the member state
+            rng_ = r;
+            buf_[j] = slow(i, u, negative);
+            r = rng_;
+        }
+    }
+    rng_ = r;
+    pos_ = 0;
+}
 
 double GaussianNoise::slow(unsigned i, double u, bool negative)
 {
