@@ -85,6 +85,20 @@ typedef struct {
                                        * of that path blocked), at the end of the last advance */
 } plant_state_t;
 
+/* What a drive's sensors can see (addition): the subset of plant_state_t that hal/host samples
+ * every control period (phase currents, capacitor voltages, shaft angle and speed). Each field
+ * holds exactly the value of the plant_state_t field of the same name. plant_get_sensed() only
+ * copies integrator states, while plant_get_state() also evaluates the PM flux, torque, mean
+ * voltages and energies; hal/host calls the full read only when its caller asks for it. */
+typedef struct {
+    double t_s;
+    double i_a, i_b, i_c;             /* phase currents, A */
+    double theta_m_rad;               /* mechanical rotor angle, unwrapped */
+    double omega_m_rad_s;
+    double vdc_v;                     /* DC-link voltage across the capacitor(s) */
+    double vc_lo_v, vc_hi_v;          /* FSTP lower / upper capacitor voltages */
+} plant_sensed_t;
+
 /* Per-leg override (addition), for protection and fault tests. */
 typedef enum {
     PLANT_LEG_NORMAL = 0,     /* follow plant_set_legs */
@@ -135,6 +149,9 @@ int plant_set_leg_override(plant_t *plant, int leg, plant_leg_override_t mode);
 int plant_set_max_step(plant_t *plant, double max_step_s, char *err, size_t err_len);
 
 void plant_get_stats(const plant_t *plant, plant_stats_t *st);
+
+/* The sensed subset of the state (see plant_sensed_t): a few loads, no model evaluation. */
+void plant_get_sensed(const plant_t *plant, plant_sensed_t *s);
 
 /* Set the phase currents (A) directly, e.g. to start a test from a known operating point.
  * Returns -1 unless |i_a + i_b + i_c| <= 1e-12 * (|i_a| + |i_b| + |i_c|) (isolated neutral).

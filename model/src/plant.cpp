@@ -1198,6 +1198,20 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
 
 void plant_get_stats(const plant_t *plant, plant_stats_t *st) { *st = plant->stats; }
 
+// Same expressions as the corresponding fields of plant_get_state(), so the values are identical.
+void plant_get_sensed(const plant_t *plant, plant_sensed_t *s) {
+    const Vec &y = plant->y;
+    s->t_s = plant->t;
+    s->i_a = y[S_IA];
+    s->i_b = y[S_IB];
+    s->i_c = y[S_IC];
+    s->theta_m_rad = y[S_THETA];
+    s->omega_m_rad_s = y[S_OMEGA];
+    s->vdc_v = y[S_VCLO] + y[S_VCHI];
+    s->vc_lo_v = y[S_VCLO];
+    s->vc_hi_v = y[S_VCHI];
+}
+
 int plant_set_phase_currents(plant_t *plant, double i_a, double i_b, double i_c) {
     const double sum = i_a + i_b + i_c;
     const double mag = std::fabs(i_a) + std::fabs(i_b) + std::fabs(i_c);

@@ -6,7 +6,9 @@
 // message, because firmware running on no hardware is a test-setup bug.
 //
 // Period protocol, one call of run_period() per 50 us control period k, t_k = k * ts:
-//   1. sample():  read the plant's true state at t_k; convert it to ADC codes and encoder counts
+//   1. sample():  read what the sensors see of the plant at t_k (plant_get_sensed: currents,
+//                 capacitor voltages, shaft angle; the full plant_state_t is computed only when
+//                 state() asks for it); convert it to ADC codes and encoder counts
 //                 (hal_meas_t); run the trip comparator (|i_x| > trip level -> latch, gates off now).
 //   2. isr():     the firmware's ISR body (app_isr) runs "instantaneously" at t_k: hal_read() gets
 //                 the sample, hal_write() stores the command for period k+1.
@@ -82,12 +84,34 @@ public:
     void sample();
     void advance();
 
+    /// Replay instead of sample(): the next hal_read() returns m (tick and all) instead of the
+    /// emulated measurement; the plant is not read. For timing the ISR alone on recorded
+    /// measurements (sil_bench); do not mix with advance() in one period.
+    void replay_sample(const hal_meas_t& m)
+    {
+        meas_ = m;
+        sampled_ = true;
+    }
+
     /// Ideal inverter only: alpha/beta voltages for the current period (open-loop runs have no
     /// actuation delay: the voltage table already says what is applied when).
     void set_ideal_voltage(double v_alpha_v, double v_beta_v);
 
     // --- what the runner records -------------------------------------------------------------
-    const plant_state_t& state() const { return state_; }   // true state at t_k (after sample())
+    /// The plant's full true state at time_s(): between sample() and advance() the state at t_k
+    /// that was sampled. Computed by plant_get_state() on the first call after each sample() or
+    /// advance() (it costs more than the sensor emulation, and the runner needs it only in the
+    /// metrics window or for the trace). A caller that changes the plant through plant() between
+    /// calls must call sample() again to see the change.
+    const plant_state_t& state() const
+    {
+        if (!state_valid_) {
+            plant_get_state(plant_, &state_);
+            state_valid_ = true;
+        }
+        return state_;
+    }
+    const plant_sensed_t& sensed() const { return sensed_; } // sensed subset at t_k (after sample())
     const hal_meas_t& meas() const { return meas_; }        // what hal_read() returns in period k
     const hal_cmd_t& applied_cmd() const { return active_; } // legs applied over period k (after sample)
     bool gates_enabled() const;                              // effective enable over period k
@@ -127,7 +151,9 @@ private:
     Encoder encoder_;
     GaussianNoise noise_;
 
-    plant_state_t state_{};
+    plant_sensed_t sensed_{};
+    mutable plant_state_t state_{};
+    mutable bool state_valid_ = false;
     hal_meas_t meas_{};
     hal_cmd_t active_{};  // applied over the current period
     hal_cmd_t pending_{}; // written in the current period, applied from the next boundary

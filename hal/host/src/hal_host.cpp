@@ -69,8 +69,8 @@ Harness::Harness(plant_t* plant, const HarnessConfig& cfg, const plant_params_t&
     }
     adc_[HAL_ADC_VDC] = voltage_channel(s.voltage_range_v, s.vdc_gain_error, s.vdc_offset_v, s.voltage_noise_v_rms);
     adc_[HAL_ADC_VMID] = voltage_channel(s.voltage_range_v, s.vmid_gain_error, s.vmid_offset_v, s.voltage_noise_v_rms);
-    plant_get_state(plant_, &state_);
-    last_turn_ = encoder_.turn(state_.theta_m_rad);
+    plant_get_sensed(plant_, &sensed_);
+    last_turn_ = encoder_.turn(sensed_.theta_m_rad);
     active_ = hal_cmd_t{0, 0, 0, 0};
     pending_ = active_;
 }
@@ -98,12 +98,13 @@ bool Harness::comparator_active() const
     if (lim <= 0.0) {
         return false;
     }
-    return std::fabs(state_.i_a) > lim || std::fabs(state_.i_b) > lim || std::fabs(state_.i_c) > lim;
+    return std::fabs(sensed_.i_a) > lim || std::fabs(sensed_.i_b) > lim || std::fabs(sensed_.i_c) > lim;
 }
 
 void Harness::sample()
 {
-    plant_get_state(plant_, &state_);
+    plant_get_sensed(plant_, &sensed_);
+    state_valid_ = false;
 
     // Protection first: the comparator acts in hardware, before any software sees the sample.
     if (comparator_active() && !trip_latched_) {
@@ -112,7 +113,8 @@ void Harness::sample()
     }
 
     // Encoder: index pulse whenever the shaft crossed the index position since the last sample.
-    const std::int64_t turn = encoder_.turn(state_.theta_m_rad);
+    std::int64_t turn = 0;
+    meas_.qep_count = encoder_.read(sensed_.theta_m_rad, &turn);
     if (turn != last_turn_) {
         // The capture unit latches the counter at the pulse edge: the index position is count 0
         // when crossing forward, and the count just below it (4*lines - 1) when crossing backward.
@@ -124,7 +126,7 @@ void Harness::sample()
 
     // ADC: one noise draw per noisy channel per period, in channel order (reproducible for a
     // seed and a configuration; noiseless channels cost no draw).
-    const double x[HAL_ADC_COUNT] = {state_.i_a, state_.i_b, state_.i_c, state_.vdc_v, state_.vc_lo_v};
+    const double x[HAL_ADC_COUNT] = {sensed_.i_a, sensed_.i_b, sensed_.i_c, sensed_.vdc_v, sensed_.vc_lo_v};
     for (int ch = 0; ch < HAL_ADC_COUNT; ++ch) {
         const AnalogChannel& a = adc_[static_cast<std::size_t>(ch)];
         const double n = a.noise_rms > 0.0 ? noise_.next() : 0.0;
@@ -133,7 +135,6 @@ void Harness::sample()
     if (!cfg_.sensors.vmid_fitted || inverter_ != PLANT_INVERTER_FSTP) {
         meas_.adc[HAL_ADC_VMID] = 0u;
     }
-    meas_.qep_count = encoder_.count(state_.theta_m_rad);
     meas_.qep_index_seen = index_seen_ ? 1u : 0u;
     meas_.qep_index_count = index_count_;
     meas_.trip = trip_latched_ ? 1u : 0u;
@@ -164,6 +165,7 @@ void Harness::advance()
     }
     apply_to_plant();
     plant_advance(plant_, cfg_.ts_s);
+    state_valid_ = false;
     ++k_;
     active_ = pending_; // shadow registers load at the period boundary
     sampled_ = false;

@@ -101,3 +101,23 @@ void plant_get_state(const plant_t* plant, plant_state_t* s)
 }
 
 } // extern "C"
+
+extern "C" {
+
+// The sensed subset is, by contract (plant.h), the same values as plant_get_state's fields.
+void plant_get_sensed(const plant_t* plant, plant_sensed_t* s)
+{
+    plant_state_t st;
+    plant_get_state(plant, &st);
+    s->t_s = st.t_s;
+    s->i_a = st.i_a;
+    s->i_b = st.i_b;
+    s->i_c = st.i_c;
+    s->theta_m_rad = st.theta_m_rad;
+    s->omega_m_rad_s = st.omega_m_rad_s;
+    s->vdc_v = st.vdc_v;
+    s->vc_lo_v = st.vc_lo_v;
+    s->vc_hi_v = st.vc_hi_v;
+}
+
+} // extern "C"

@@ -41,9 +41,11 @@ public:
     virtual std::string init(hal_host::Harness& h) = 0;
     /// Period k: runs between Harness::sample() and Harness::advance().
     virtual void step(hal_host::Harness& h) = 0;
-    /// Estimates made in the last step (valid = false if the controller has none).
+    /// Estimates made in the last step (valid = false if the controller has none). The run loop
+    /// calls it only in periods it records (metrics window, trace rows), between step() and the
+    /// next step(), with the harness active.
     virtual ControllerEstimates estimates() const = 0;
-    /// "none" or the controller's fault reason code.
+    /// "none" or the controller's fault reason code (called after the last step, harness active).
     virtual std::string fault() const = 0;
     /// True if the controller produces torque/flux estimates at all (open loop does not).
     virtual bool has_estimates() const = 0;

@@ -112,6 +112,8 @@ public:
             return "firmware configuration refused (" + std::to_string(rc) + "): " + msg;
         }
         dtc_bases_from_si(&si, &bases_);
+        te_scale_ = bases_.t_base_nm / kIqOne;
+        psi_scale_ = bases_.psi_base_wb / kIqOne;
         hal_init(); // board bring-up, as main() does on the DSP before the ISR is enabled
         const int16_t init_rc = app_init(&cfg_);
         if (init_rc != 0) {
@@ -125,18 +127,24 @@ public:
         (void)h;
         app_isr();        // hal_read() -> per-unit, trips -> dtc_step() -> hal_write()
         app_background(); // one pass of the background loop per period (watchdog)
-        app_get_status(&st_);
-        est_.valid = st_.state == APP_STATE_RUN;
-        if (est_.valid) {
-            est_.te_nm = static_cast<double>(st_.out.te_iq) / kIqOne * bases_.t_base_nm;
-            est_.psi_alpha_wb = static_cast<double>(st_.out.psi_alpha_iq) / kIqOne * bases_.psi_base_wb;
-            est_.psi_beta_wb = static_cast<double>(st_.out.psi_beta_iq) / kIqOne * bases_.psi_base_wb;
-        }
+        status_fresh_ = false; // the status is copied out only when someone asks (see refresh())
     }
 
-    ControllerEstimates estimates() const override { return est_; }
+    ControllerEstimates estimates() const override
+    {
+        refresh();
+        ControllerEstimates e;
+        e.valid = st_.state == APP_STATE_RUN;
+        if (e.valid) {
+            e.te_nm = static_cast<double>(st_.out.te_iq) * te_scale_;
+            e.psi_alpha_wb = static_cast<double>(st_.out.psi_alpha_iq) * psi_scale_;
+            e.psi_beta_wb = static_cast<double>(st_.out.psi_beta_iq) * psi_scale_;
+        }
+        return e;
+    }
     std::string fault() const override
     {
+        refresh();
         return st_.fault == APP_FAULT_NONE ? std::string("none") : std::string(app_fault_name(st_.fault));
     }
     bool has_estimates() const override { return true; }
@@ -146,8 +154,20 @@ private:
     FirmwareSiConfig si_;
     dtc_config_t cfg_{};
     dtc_bases_t bases_{};
-    app_status_t st_{};
-    ControllerEstimates est_{};
+    // app_get_status() copies the whole status under a critical section (hal.h); the run loop
+    // needs it only in the metrics window, for trace rows and for the final fault, so it is read
+    // on demand, at most once per period, with the harness still active (Controller contract).
+    void refresh() const
+    {
+        if (!status_fresh_) {
+            app_get_status(&st_);
+            status_fresh_ = true;
+        }
+    }
+    mutable app_status_t st_{};
+    mutable bool status_fresh_ = false;
+    double te_scale_ = 0.0;  // N*m per IQ count: t_base / 2^24 (a power-of-two scale: exact)
+    double psi_scale_ = 0.0; // Wb per IQ count
 };
 
 } // namespace

@@ -155,13 +155,20 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
     s.ts_s = sc.ts_s;
     const bool est = ctrl->has_estimates();
     const bool legs = sc.inverter.topology != "ideal";
-    auto reserve = [&](std::vector<double>& v) { v.reserve(window_n + 1); };
+    // Sized once for the recorded periods and written by index: no allocation and no capacity
+    // check inside the loop.
+    const auto n_rec = static_cast<std::size_t>(periods - record_from);
     for (auto* v : {&s.ia, &s.ib, &s.ic, &s.te, &s.psi_a, &s.psi_b, &s.speed_rpm, &s.theta_e}) {
-        reserve(*v);
+        v->resize(n_rec);
     }
     if (est) {
         for (auto* v : {&s.te_est, &s.psi_a_est, &s.psi_b_est}) {
-            reserve(*v);
+            v->resize(n_rec);
+        }
+    }
+    if (legs) {
+        for (auto* v : {&s.sa, &s.sb, &s.sc, &s.en}) {
+            v->resize(n_rec);
         }
     }
     const double pole_pairs = static_cast<double>(sc.motor.pole_pairs);
@@ -177,32 +184,41 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
         }
         h->sample();
         ctrl->step(*h);
+        const bool record = k >= record_from;
+        const bool trace_row = writing && opt.write_trace && k % decimate == 0;
+        if (!record && !trace_row) {
+            // Before the metrics window with no trace row: nothing to record, so neither the
+            // full plant state (plant_get_state) nor the controller's estimates are read.
+            h->advance();
+            continue;
+        }
         const plant_state_t& st = h->state();
         const ControllerEstimates e = ctrl->estimates();
         const hal_cmd_t& cmd = h->applied_cmd();
         const bool en = legs ? h->gates_enabled() : !h->trip_latched();
-        if (k >= record_from) {
-            s.ia.push_back(st.i_a);
-            s.ib.push_back(st.i_b);
-            s.ic.push_back(st.i_c);
-            s.te.push_back(st.te_nm);
-            s.psi_a.push_back(st.psi_alpha_wb);
-            s.psi_b.push_back(st.psi_beta_wb);
-            s.speed_rpm.push_back(st.speed_rpm);
-            s.theta_e.push_back(pole_pairs * st.theta_m_rad);
+        if (record) {
+            const auto i = static_cast<std::size_t>(k - record_from);
+            s.ia[i] = st.i_a;
+            s.ib[i] = st.i_b;
+            s.ic[i] = st.i_c;
+            s.te[i] = st.te_nm;
+            s.psi_a[i] = st.psi_alpha_wb;
+            s.psi_b[i] = st.psi_beta_wb;
+            s.speed_rpm[i] = st.speed_rpm;
+            s.theta_e[i] = pole_pairs * st.theta_m_rad;
             if (est) {
-                s.te_est.push_back(e.valid ? e.te_nm : nan);
-                s.psi_a_est.push_back(e.valid ? e.psi_alpha_wb : nan);
-                s.psi_b_est.push_back(e.valid ? e.psi_beta_wb : nan);
+                s.te_est[i] = e.valid ? e.te_nm : nan;
+                s.psi_a_est[i] = e.valid ? e.psi_alpha_wb : nan;
+                s.psi_b_est[i] = e.valid ? e.psi_beta_wb : nan;
             }
             if (legs) {
-                s.sa.push_back(static_cast<std::uint8_t>(cmd.sa != 0u));
-                s.sb.push_back(static_cast<std::uint8_t>(cmd.sb != 0u));
-                s.sc.push_back(static_cast<std::uint8_t>(cmd.sc != 0u));
-                s.en.push_back(static_cast<std::uint8_t>(en));
+                s.sa[i] = static_cast<std::uint8_t>(cmd.sa != 0u);
+                s.sb[i] = static_cast<std::uint8_t>(cmd.sb != 0u);
+                s.sc[i] = static_cast<std::uint8_t>(cmd.sc != 0u);
+                s.en[i] = static_cast<std::uint8_t>(en);
             }
         }
-        if (writing && opt.write_trace && k % decimate == 0) {
+        if (trace_row) {
             TraceRow r{};
             r.t_s = st.t_s;
             r.ia_a = st.i_a;
