@@ -116,10 +116,10 @@ TEST(SilClosedLoop, HoangFindingsFstpVoltageModelImbalanceOrdering)
     // estimated torque above the true torque; simple -> smaller; proposed -> the smallest, close
     // to the current model's; current model balanced. Stiff split link (see the scenarios).
     // Measured (firmware, 1.5 s runs, 0.4 s window), paper values in brackets:
-    //   imbalance %     none 60.8 [26.6]  simple 28.4 [6.8]  proposed 16.3 [4.6]  current 1.9 [3.4]
-    //   est. torque N*m none 0.334 [0.3345] simple 0.307 [0.3046] proposed 0.3025 [0.2989]
+    //   imbalance %     none 61.1 [26.6]  simple 30.0 [6.8]  proposed 16.8 [4.6]  current 2.7 [3.4]
+    //   est. torque N*m none 0.334 [0.3345] simple 0.307 [0.3046] proposed 0.302 [0.2989]
     //                   current 0.300 [0.2973], true torque 0.300 in every run
-    //   none: phase B carries the smallest fundamental, 2.05 A vs 2.95 / 3.29 [2.37 vs 2.97 / 3.00].
+    //   none: phase B carries the smallest fundamental, 2.04 A vs 2.95 / 3.28 [2.37 vs 2.97 / 3.00].
     // The thresholds below keep a margin of about a third around those figures.
     const Outcome none = run("fstp_voltage_none_full.toml");
     const Outcome simple = run("fstp_voltage_simple_full.toml");
@@ -207,8 +207,8 @@ TEST(SilClosedLoop, FixedPointFirmwareAgreesWithTheDoubleReference)
 {
     // model/'s double-precision reference DTC on the same plant and the same measurements
     // (controller_reference.cpp). Measured (FSTP, voltage model, proposed compensation, 1500 rpm,
-    // full load): fundamentals 2.190/2.009/2.337 A vs 2.193/2.016/2.324 A (0.6 %), THD 31.46 vs
-    // 31.42 %, estimated torque 0.3025 vs 0.3025 N*m, imbalance 16.3 vs 15.3 %. Both are chaotic
+    // full load): fundamentals 2.193/2.000/2.335 A vs 2.188/2.011/2.331 A (0.6 %), THD 31.88 vs
+    // 31.63 %, estimated torque 0.3021 vs 0.3022 N*m, imbalance 16.8 vs 15.9 %. Both are chaotic
     // bang-bang loops, so they are compared as envelopes, with about 3x the measured gaps.
 #if DTC_SIL_HAVE_REFERENCE
     register_reference_controller(&make_reference_controller);
