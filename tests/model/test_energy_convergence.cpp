@@ -7,17 +7,6 @@ using namespace mt;
 
 namespace {
 
-// FSTP vector (S_B, S_C) whose direction is nearest to angle a (Hoang Table I: V1 0, V2 90 deg,
-// V3 180 deg, V4 270 deg).
-void fstp_vector_towards(double a, int &sb, int &sc) {
-    double x = std::fmod(a, 2 * kPi);
-    if (x < 0) x += 2 * kPi;
-    const int k = static_cast<int>(std::floor((x + kPi / 4) / (kPi / 2))) % 4;
-    static const int tab[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-    sb = tab[k][0];
-    sc = tab[k][1];
-}
-
 // SSTP vector nearest to angle a (V1..V6 at (k-1) 60 deg).
 void sstp_vector_towards(double a, int leg[3]) {
     double x = std::fmod(a, 2 * kPi);
@@ -107,44 +96,6 @@ TEST(Energy, SstpBalanceTorqueAndSpeedLoads) {
     }
 }
 
-namespace {
-struct Traj {
-    std::vector<double> ia, ib, vlo, w;
-};
-
-// Fixed switching pattern (independent of the state, so every step size sees the same gate
-// sequence): FSTP vectors rotating at 25 Hz with a 3-of-4 duty, one decision per 50 us period.
-Traj run_fixed_pattern(double h) {
-    plant_params_t p;
-    plant_params_default(&p);
-    p.inverter = PLANT_INVERTER_FSTP;
-    plant_params_emf_table_vii(&p);
-    p.speed0_rpm = 1500.0;
-    p.max_step_s = h;
-    auto pl = make(p);
-    Traj tr;
-    for (int k = 0; k < 400; ++k) {  // 20 ms
-        const double ang = 2 * kPi * 25.0 * k * 50e-6 + kPi / 2;
-        int sb, sc;
-        fstp_vector_towards(ang, sb, sc);
-        if (k % 4 == 3) fstp_vector_towards(ang + kPi, sb, sc);
-        plant_set_legs(pl.get(), 0, sb, sc, 1);
-        plant_advance(pl.get(), 50e-6);
-        const plant_state_t s = state(pl);
-        tr.ia.push_back(s.i_a);
-        tr.ib.push_back(s.i_b);
-        tr.vlo.push_back(s.vc_lo_v);
-        tr.w.push_back(s.omega_m_rad_s);
-    }
-    return tr;
-}
-
-double maxdiff(const std::vector<double> &a, const std::vector<double> &b) {
-    double m = 0.0;
-    for (size_t i = 0; i < a.size(); ++i) m = std::max(m, std::fabs(a[i] - b[i]));
-    return m;
-}
-}  // namespace
 
 // Halving the step changes a 20 ms full-fidelity FSTP switching run (sampled every 50 us) by less
 // than 2e-5 A in the phase currents, 2e-5 V in the capacitor voltage and 1e-4 rad/s in speed at the
