@@ -188,7 +188,8 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     const dtc_config_t *cfg = c->cfg;
     clarke_out_t i;
     flux_est_in_t fin;
-    iq_t psi_a, psi_b, mag, te;
+    iq_t psi_a, psi_b, te;
+    uint64_t mag2;
     uint16_t sector, flux_up, vec;
     int16_t tdem;
     swtab_legs_t legs;
@@ -235,9 +236,10 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     psi_a = c->fe.psi_alpha_iq;
     psi_b = c->fe.psi_beta_iq;
 
-    /* 4. Torque (Hoang eq. 10), |psi| (eq. 11), sector. */
+    /* 4. Torque (Hoang eq. 10), |psi|^2 (eq. 11 squared: the flux comparator works on it, so the
+     *    ISR takes no square root), sector. */
     te = torque_eq10(psi_a, psi_b, i.i_alpha_iq, i.i_beta_iq);
-    mag = torque_flux_mag(psi_a, psi_b);
+    mag2 = iq_sumsq_q48(psi_a, psi_b);
     sector = cfg->topology == DTC_TOPO_FSTP ? sector_fstp(psi_a, psi_b) : sector_sstp(psi_a, psi_b);
 
     /* 5. Speed loop every speed_div-th call (the first call of each group). */
@@ -259,7 +261,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     }
 
     /* 6. Hysteresis comparators (Hoang eqs. 13-14, Casadei section 4). */
-    flux_up = hyst2_step(&c->h_flux, iq_sub(c->act.flux_ref_iq, mag));
+    flux_up = hyst2_sq_step(&c->h_flux, c->act.flux_ref_iq, mag2);
     if (cfg->topology == DTC_TOPO_SSTP && cfg->sstp_table == DTC_ST_BASIC) {
         tdem = hyst3_step(&c->h_torque3, iq_sub(c->te_ref_iq, te));
     } else {
@@ -297,7 +299,6 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     o->torque_dem = tdem;
     o->psi_alpha_iq = psi_a;
     o->psi_beta_iq = psi_b;
-    o->psi_mag_iq = mag;
     o->te_iq = te;
     o->te_ref_iq = c->te_ref_iq;
     o->speed_iq = c->speed_iq;

@@ -34,6 +34,7 @@
 #include "speed_meas.h"
 #include "speed_pi.h"
 #include "swtab.h"
+#include "torque.h"
 #include "vcomp.h"
 
 /* Per-unit measurements of one period (the app converts ADC and QEP counts with the
@@ -53,7 +54,7 @@ typedef struct {
     uint16_t flux_up;      /* flux comparator output (1 = increase) */
     int16_t torque_dem;    /* torque comparator output: +1 / 0 / -1 (two-level: +1 / -1) */
     uint16_t speed_tick;   /* 1 when the speed loop ran in this step */
-    iq_t psi_alpha_iq, psi_beta_iq, psi_mag_iq; /* estimated stator flux, pu */
+    iq_t psi_alpha_iq, psi_beta_iq; /* estimated stator flux, pu (|psi|: dtc_out_flux_mag) */
     iq_t te_iq;            /* estimated torque (Hoang eq. 10), pu */
     iq_t te_ref_iq;        /* torque reference in force, pu */
     iq_t speed_iq;         /* measured electrical speed, pu */
@@ -112,6 +113,14 @@ void dtc_reset(dtc_t *c);
 
 /* One control period. */
 void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
+
+/* |psi| of a step's estimate (Hoang eq. 11), IQ pu, rounded to nearest, saturating at 128 pu
+ * (torque.h). For the background and telemetry: dtc_step() itself compares |psi|^2 and takes no
+ * square root (hyst2_sq_step). */
+static inline iq_t dtc_out_flux_mag(const dtc_out_t *o)
+{
+    return torque_flux_mag(o->psi_alpha_iq, o->psi_beta_iq);
+}
 
 /* Background: publish a new parameter set. Returns DTC_OK, or DTC_ERR_REFERENCE / DTC_ERR_PI /
  * DTC_ERR_VARIANT for a set that would be refused (nothing is published then). */

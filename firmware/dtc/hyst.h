@@ -49,6 +49,29 @@ static inline uint16_t hyst2_step(hyst2_t *h, iq_t err_iq)
     return h->out;
 }
 
+/*
+ * The flux comparator (Hoang eq. 13) on the squared magnitude, so the control path needs no square
+ * root for eq. 11. With e = psi* - |psi| and the half band h:
+ *     e >  h  <=>  |psi| < lo = psi* - h  <=>  |psi|^2 < lo^2   (never when lo <= 0)
+ *     e < -h  <=>  |psi| > hi = psi* + h  <=>  |psi|^2 > hi^2   (always when hi < 0)
+ * These are the decisions of hyst2_step on the exact magnitude; hyst2_step on the rounded
+ * iq_mag() can differ from them only when |psi| lies within 0.5 LSB of lo or hi.
+ * Formats: ref_iq IQ pu; mag2_q48 = iq_sumsq_q48(psi_alpha, psi_beta), the exact sum of squares in
+ * Q48 (< 2^64). lo and hi are formed with saturating arithmetic; |lo|, |hi| <= 2^31, so their
+ * squares are exact in 64 bits. No rounding, no overflow.
+ */
+static inline uint16_t hyst2_sq_step(hyst2_t *h, iq_t ref_iq, uint64_t mag2_q48)
+{
+    const iq_t lo = iq_sub(ref_iq, h->half_band_iq);
+    const iq_t hi = iq_add(ref_iq, h->half_band_iq);
+    if (lo > 0 && mag2_q48 < (uint64_t)((int64_t)lo * (int64_t)lo)) {
+        h->out = 1U;
+    } else if (hi < 0 || mag2_q48 > (uint64_t)((int64_t)hi * (int64_t)hi)) {
+        h->out = 0U;
+    }
+    return h->out;
+}
+
 static inline int16_t hyst3_step(hyst3_t *h, iq_t err_iq)
 {
     if (err_iq > h->half_band_iq) {

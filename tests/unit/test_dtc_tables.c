@@ -331,6 +331,75 @@ static void test_hyst2_eqs_13_14(void **state)
     assert_int_equal(hyst2_step(&h, IQ_MIN), 0U);
 }
 
+/* Hoang eq. 13 on |psi|^2 (hyst2_sq_step) against the same comparator on the magnitude of eq. 11
+ * computed in long double from the exact sum of squares (64-bit mantissa: exact for the sums used
+ * here, |psi| <= 2 pu), and against hyst2_step on the rounded iq_mag() away from the thresholds. */
+static int sq_ref_decision(iq_t pa, iq_t pb, iq_t ref, iq_t half, int prev)
+{
+    const long double m = sqrtl((long double)iq_sumsq_q48(pa, pb)); /* |psi| in IQ LSB */
+    const long double e = (long double)ref - m;
+    if (e > (long double)half) return 1;
+    if (e < -(long double)half) return 0;
+    return prev;
+}
+
+static void test_hyst2_sq_flux(void **state)
+{
+    (void)state;
+    hyst2_t h;
+    /* exact thresholds: band 0.02 around 1.0 -> lo = 0.99, hi = 1.01 (psi on the alpha axis) */
+    hyst2_init(&h, IQ(0.02), 0U);
+    const iq_t lo = IQ(1.0) - h.half_band_iq, hi = IQ(1.0) + h.half_band_iq;
+    assert_int_equal(hyst2_sq_step(&h, IQ(1.0), iq_sumsq_q48(lo, 0)), 0U);     /* strict: hold */
+    assert_int_equal(hyst2_sq_step(&h, IQ(1.0), iq_sumsq_q48(lo - 1, 0)), 1U);
+    assert_int_equal(hyst2_sq_step(&h, IQ(1.0), iq_sumsq_q48(hi, 0)), 1U);     /* strict: hold */
+    assert_int_equal(hyst2_sq_step(&h, IQ(1.0), iq_sumsq_q48(0, -hi - 1)), 0U);
+    /* lo <= 0: never "increase"; hi < 0: always "decrease" */
+    hyst2_init(&h, IQ(0.5), 0U);
+    assert_int_equal(hyst2_sq_step(&h, IQ(0.2), 0U), 0U);
+    hyst2_init(&h, 0, 1U);
+    assert_int_equal(hyst2_sq_step(&h, -1, 0U), 0U);
+    assert_int_equal(hyst2_sq_step(&h, IQ_MAX, iq_sumsq_q48(IQ_MAX, IQ_MAX)), 0U); /* 2^63 sum */
+    /* random sweep */
+    uint32_t r = 12345U;
+    long n_diff_rounded = 0, n_near = 0;
+    for (long k = 0; k < 400000; k++) {
+        r = r * 1664525U + 1013904223U;
+        const iq_t pa = (iq_t)((int32_t)r >> 6); /* +-2^25 LSB = +-2 pu */
+        r = r * 1664525U + 1013904223U;
+        const iq_t pb = (iq_t)((int32_t)r >> 6);
+        r = r * 1664525U + 1013904223U;
+        iq_t ref = (iq_t)(r >> 7);                /* 0 .. 2 pu */
+        r = r * 1664525U + 1013904223U;
+        const iq_t band = (k & 3) == 0 ? 0 : (iq_t)(r >> 10); /* 0 .. 0.25 pu, a quarter zero */
+        const uint16_t prev = (uint16_t)(r & 1U);
+        hyst2_t a, b;
+        hyst2_init(&a, band, prev);
+        b = a;
+        if ((k & 7) == 1) { /* |psi| within 2 LSB of lo or hi */
+            const iq_t off = (iq_t)((r >> 8) % 5U) - 2;
+            ref = iq_mag(pa, pb) + ((r & 2U) ? a.half_band_iq : -a.half_band_iq) + off;
+        }
+        const int got = hyst2_sq_step(&a, ref, iq_sumsq_q48(pa, pb));
+        if (got != sq_ref_decision(pa, pb, ref, a.half_band_iq, prev)) {
+            fail_msg("psi (%ld, %ld) ref %ld half %ld prev %u: got %d", (long)pa, (long)pb,
+                     (long)ref, (long)a.half_band_iq, prev, got);
+        }
+        const iq_t mag = iq_mag(pa, pb);
+        const int old = hyst2_step(&b, iq_sub(ref, mag));
+        const iq_t lo_k = ref - a.half_band_iq, hi_k = ref + a.half_band_iq;
+        const int near = (mag >= lo_k - 1 && mag <= lo_k + 1) || (mag >= hi_k - 1 && mag <= hi_k + 1);
+        n_near += near;
+        if (old != got) {
+            n_diff_rounded++;
+            if (!near) fail_msg("differs from hyst2_step(iq_mag) away from the thresholds");
+        }
+    }
+    print_message("MEASURE hyst2_sq_step: 400000 cases, all equal to the exact decision; %ld differ "
+                  "from hyst2_step on the rounded magnitude (all within 1 LSB of a threshold, %ld such cases)\n",
+                  n_diff_rounded, n_near);
+}
+
 static void test_hyst3_casadei(void **state)
 {
     (void)state;
@@ -368,6 +437,7 @@ int main(void)
         cmocka_unit_test(test_sstp_speed_dependent_entries),
         cmocka_unit_test(test_fstp_selected_vectors_act_as_demanded),
         cmocka_unit_test(test_hyst2_eqs_13_14),
+        cmocka_unit_test(test_hyst2_sq_flux),
         cmocka_unit_test(test_hyst3_casadei),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
