@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -133,6 +134,26 @@ TEST(Sweep, SamplesDependOnlyOnSeedRunAndAxis)
     EXPECT_EQ(same, 0);
 }
 
+TEST(Sweep, PerPhaseArraysAreDrawnElementByElement)
+{
+    Spec s;
+    Axis a;
+    std::string e;
+    ASSERT_TRUE(parse_sample_axis("sensors.current_offset_a=uniform:-0.01:0.01", &a, &e)) << e;
+    s.axes = {a};
+    s.n = 3;
+    for (const PlannedRun& p : expand(s)) {
+        double x[3];
+        ASSERT_EQ(std::sscanf(p.values[0].c_str(), "[%lf, %lf, %lf]", &x[0], &x[1], &x[2]), 3) << p.values[0];
+        EXPECT_NE(x[0], x[1]);
+        EXPECT_NE(x[1], x[2]);
+        for (double v : x) {
+            EXPECT_GE(v, -0.01);
+            EXPECT_LE(v, 0.01);
+        }
+    }
+}
+
 TEST(Sweep, NormalAndUniformSamplesHaveTheirMoments)
 {
     Spec s;
@@ -179,7 +200,7 @@ TEST(Sweep, BadSpecificationsAreRefusedBeforeAnyRunNamingTheArgument)
         {{"--sample", "motor.rs_ohm=gauss:1:2", "--n", "3"}, "unknown distribution 'gauss'"},
         {{"--sample", "motor.rs_ohm=normal:1", "--n", "3"}, "expected normal:MEAN:SD"},
         {{"--sample", "motor.rs_ohm=uniform:2:1", "--n", "3"}, "LO <= HI"},
-        {{"--sample", "control.estimator=uniform:0:1", "--n", "3"}, "only number keys can be sampled"},
+        {{"--sample", "control.estimator=uniform:0:1", "--n", "3"}, "only number keys"},
         {{"--sample", "motor.rs_ohm=normal:0.5:0.1"}, "--sample needs --n"},
         {{"--grid", "motor.rs_ohm=0.4", "--n", "3"}, "--n 3"},
         {{"--grid", "motor.rs_ohm=0.4", "--shard", "2/2"}, "--shard 2/2: I must be below N"},

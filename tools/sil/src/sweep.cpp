@@ -161,24 +161,32 @@ double unit_uniform(std::uint64_t seed, std::uint64_t run, std::uint64_t axis, s
 {
     std::uint64_t h = splitmix64(seed);
     h = splitmix64(h ^ run);
-    h = splitmix64(h ^ (axis * 4u + stream));
+    h = splitmix64(h ^ (axis * 16u + stream));
     return (static_cast<double>(h >> 11) + 0.5) * 0x1.0p-53;
 }
 
+double draw(const Spec& spec, const Axis& ax, std::size_t axis_i, std::uint64_t run, std::uint64_t element)
+{
+    if (ax.kind == Axis::Kind::Uniform) {
+        return ax.a + (ax.b - ax.a) * unit_uniform(spec.seed, run, axis_i, 2 * element);
+    }
+    const double u1 = unit_uniform(spec.seed, run, axis_i, 2 * element); // Box-Muller
+    const double u2 = unit_uniform(spec.seed, run, axis_i, 2 * element + 1);
+    return ax.a + ax.b * std::sqrt(-2.0 * std::log(u1)) * std::cos(6.283185307179586 * u2);
+}
+
+// A sampled value as TOML text: a number, a whole number for integer keys, or for a per-phase
+// array key three independent draws.
 std::string sampled_value(const Spec& spec, const Axis& ax, std::size_t axis_i, std::uint64_t run)
 {
-    double x;
-    if (ax.kind == Axis::Kind::Uniform) {
-        x = ax.a + (ax.b - ax.a) * unit_uniform(spec.seed, run, axis_i, 0);
-    } else { // Box-Muller
-        const double u1 = unit_uniform(spec.seed, run, axis_i, 0);
-        const double u2 = unit_uniform(spec.seed, run, axis_i, 1);
-        x = ax.a + ax.b * std::sqrt(-2.0 * std::log(u1)) * std::cos(6.283185307179586 * u2);
-    }
     if (ax.key_type == "integer") {
-        return std::to_string(std::llround(x));
+        return std::to_string(std::llround(draw(spec, ax, axis_i, run, 0)));
     }
-    return shortest(x);
+    if (ax.key_type.rfind("array", 0) == 0) {
+        return "[" + shortest(draw(spec, ax, axis_i, run, 0)) + ", " + shortest(draw(spec, ax, axis_i, run, 1)) + ", " +
+               shortest(draw(spec, ax, axis_i, run, 2)) + "]";
+    }
+    return shortest(draw(spec, ax, axis_i, run, 0));
 }
 
 PlannedRun planned_run(const Spec& spec, std::uint64_t r)
@@ -390,8 +398,9 @@ bool parse_sample_axis(const std::string& arg, Axis* out, std::string* err)
     if (!split_key(arg, "--sample", &a.key, &rest, &a.key_type, err)) {
         return false;
     }
-    if (a.key_type != "number" && a.key_type != "integer") {
-        *err = "--sample " + arg + ": '" + a.key + "' is a " + a.key_type + " key; only number keys can be sampled";
+    if (a.key_type != "number" && a.key_type != "integer" && a.key_type != "array of 3 numbers") {
+        *err = "--sample " + arg + ": '" + a.key + "' is a " + a.key_type +
+               " key; only number keys (and per-phase arrays, drawn element by element) can be sampled";
         return false;
     }
     const auto c1 = rest.find(':');
