@@ -16,6 +16,7 @@ PKGS=(
   libcli11-dev                             # dtc-sil command line
   libfftw3-dev                             # THD / harmonics
   python3-numpy python3-matplotlib         # plots and report
+  python3-distributed                      # dtc-sil sweep --dask (dask.distributed scheduler and workers)
   valgrind                                 # instruction-count budgets
 )
 

@@ -5,13 +5,20 @@
 #include <ostream>
 
 #include "run.hpp"
+#include "sweep.hpp"
 
 namespace sil {
 
 int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::ostream& err)
 {
+    // Sweeps have their own command line (sweep.cpp); listed here for --help.
+    if (args.size() > 1 && (args[1] == "sweep" || args[1] == "sweep-merge" || args[1] == "sweep-exec")) {
+        return sweep::sweep_main(args, out, err);
+    }
     CLI::App app{"dtc-sil: runs the DTC firmware against the plant model (software in the loop)"};
     app.require_subcommand(1);
+    app.add_subcommand("sweep", "many runs over grid / Monte Carlo axes, local cores or Dask (dtc-sil sweep --help)");
+    app.add_subcommand("sweep-merge", "join the shards of one sweep (dtc-sil sweep-merge --help)");
 
     std::string scenario_path, out_dir;
     std::vector<std::string> sets;

@@ -1,0 +1,96 @@
+// sweep.hpp - many runs of one scenario: grid and Monte Carlo axes, executed on local cores (one
+// forked process per run), sliced into shards for batch systems, or sent to a Dask cluster.
+//
+// A sweep is a plan (the scenario text, fixed --set overrides, the axes, n and seed) expanded into
+// a numbered list of runs. The expansion is deterministic: run r's sampled values depend only on
+// (seed, r, axis), so every shard, every resumed sweep and every Dask worker sees the same run r.
+// Each finished run is one JSON row appended to DIR/rows.jsonl as it completes (a killed sweep
+// loses at most the runs in flight); summary.csv and summary.json are written from the rows, sorted
+// by run index, by one writer whatever executed them (local, shards merged, Dask).
+#ifndef DTC_SIL_SWEEP_HPP
+#define DTC_SIL_SWEEP_HPP
+
+#include <cstdint>
+#include <functional>
+#include <iosfwd>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace sil::sweep {
+
+struct Axis {
+    enum class Kind { Grid, Normal, Uniform };
+    Kind kind = Kind::Grid;
+    std::string key;                 // dotted scenario key
+    std::string key_type;            // the schema's type text (number, integer, string, ...)
+    std::vector<std::string> values; // Grid: TOML value texts, as --set takes them
+    double a = 0.0, b = 0.0;         // Normal: mean, sd; Uniform: lo, hi
+};
+
+struct Spec {
+    std::string scenario_path;       // as given (messages, relative paths inside the scenario)
+    std::string scenario_text;       // the file's text, so workers need not read it
+    std::vector<std::string> sets;   // fixed --set overrides, applied before the axes
+    std::vector<Axis> axes;          // grid axes first, then sampled ones, in the order given
+    std::uint64_t n = 1;             // samples per grid point (1 when there is no sampled axis)
+    std::uint64_t seed = 1;
+};
+
+struct PlannedRun {
+    std::uint64_t index = 0;
+    std::vector<std::string> values; // one TOML value text per axis, in Spec::axes order
+};
+
+/// Parses "key=v1,v2,..." (commas inside [] or quotes do not split). String keys may be given
+/// unquoted. Errors name the argument.
+bool parse_grid_axis(const std::string& arg, Axis* out, std::string* err);
+/// Parses "key=normal:MEAN:SD" or "key=uniform:LO:HI" (number keys only).
+bool parse_sample_axis(const std::string& arg, Axis* out, std::string* err);
+
+std::uint64_t run_count(const Spec& spec);
+/// The runs of shard i of n (run r belongs to shard r mod n), expanded.
+std::vector<PlannedRun> expand(const Spec& spec, std::uint64_t shard_i = 0, std::uint64_t shard_n = 1);
+/// A hash of everything that defines the runs (resume and merge refuse a different plan).
+std::string plan_id(const Spec& spec);
+nlohmann::json spec_json(const Spec& spec);
+bool spec_from_json(const nlohmann::json& j, Spec* out, std::string* err);
+
+/// One run's overrides: the spec's --set list followed by "key=value" for each axis.
+std::vector<std::string> run_overrides(const Spec& spec, const PlannedRun& run);
+
+/// Executes runs in forked child processes, at most `jobs` at a time; a run that has not finished
+/// after timeout_s seconds is killed and reported as "timeout"; a child that dies is "crashed".
+/// on_row is called in the parent, in completion order, with the row (see row layout in sweep.cpp).
+struct ExecOptions {
+    unsigned jobs = 1;
+    double timeout_s = 600.0;
+};
+void execute(const Spec& spec, const std::vector<PlannedRun>& runs, const ExecOptions& opt,
+             const std::function<void(const nlohmann::json& row)>& on_row);
+
+/// "metric<8", "speed_mean_rpm>=1485": a metric column of the summary, an operator, a number.
+struct Assertion {
+    std::string text, metric, op;
+    double value = 0.0;
+};
+bool parse_assertion(const std::string& text, Assertion* out, std::string* err);
+/// Every metric column name a row can have (for checking --assert before any run).
+std::vector<std::string> metric_columns();
+
+/// Writes summary.csv and summary.json in dir from the rows (sorted by "run").
+bool write_summary(const std::string& dir, const Spec& spec, std::vector<nlohmann::json> rows, std::string* err);
+
+/// Reads dir/rows.jsonl (a torn last line, from a killed sweep, is ignored).
+std::vector<nlohmann::json> read_rows(const std::string& dir);
+
+/// The `dtc-sil sweep`, `sweep-merge` and `sweep-exec` commands (args[0] is the program, args[1]
+/// the subcommand). Exit status: 0 done, 1 bad specification (nothing run), 2 a run could not be
+/// executed at all or output failed, 3 an --assert was violated.
+int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+
+} // namespace sil::sweep
+
+#endif // DTC_SIL_SWEEP_HPP
