@@ -1,0 +1,95 @@
+/*
+ * im_est.h - stator- and rotor-flux estimation of the induction machine (Casadei et al. 2006,
+ * sections 2 and 10.2, appendix A).
+ *
+ * Per-unit bases as in dtc_base.h (the IM configuration picks V_base, I_base, w_base); T-model
+ * quantities: l_s = L_s/L_base, m = M/L_base, l_r = L_r/L_base, sigma = 1 - m^2/(l_s l_r).
+ * "Rotor flux" is Casadei's T-model rotor flux phi_r = L_r i_r + M i_s (not the Gamma or inverse-
+ * Gamma one; see ../shared/reference/im-facts.md).
+ *
+ * Two stator-flux estimators, chosen by the configuration:
+ *   IM_EST_VOLTAGE  Casadei eq. 1, d phi_s/dt = v_s - R_s i_s, integrated by the same exactly
+ *                   discretised first-order low-pass as the PM drive's voltage model (flux_est_lpf,
+ *                   cut-off w_c) to stop offset drift.
+ *   IM_EST_IMPROVED Casadei eq. 20, the voltage model pulled towards the rotor-flux reference:
+ *                     d phi_s/dt = v_s - R_s i_s + (phi_r* e^{j theta} - phi_r) / tau
+ *                   with phi_r from eq. 21 and theta from eq. 22. Discretised by forward Euler over
+ *                   one period (the correction term changes at the rate 1/tau, Ts/tau <= 0.01 for
+ *                   any sensible tau, so the Euler error of that term is below 0.5 % of it):
+ *                     phi_s[k+1] = phi_s[k] + ts_pu (v - r_s i) + (Ts/tau) (phi_r* c - k_r x)
+ *                   x = phi_s[k] - sigma l_s i[k], c = (cos theta, sin theta), k_r = l_r/m.
+ *                   Timing as in the PM drive (dtc.h): v is the (zero-order held) voltage of the
+                   period that ends at this step and i the current sampled at this step, so the
+                   state after the step is the flux at this instant and eqs. 21-22 pair it with the
+                   current of the same instant.
+ *                   tau may depend on speed (section 10.2): Ts/tau = k_lo below |w| = w_lo, k_hi
+ *                   above w_hi, linear in between (the slope is precomputed: no division here).
+ * Both then give, every period:
+ *   x = phi_s - sigma l_s i                 (eq. 21 without the factor L_r/M)
+ *   theta = arg x                           (eq. 22), |x| by CORDIC (fix_polar)
+ *   |phi_r| = k_r |x|                       (eq. 21)
+ *   phi_r = k_r x                           (eq. 21, vector)
+ * and the torque T = phi_s x i (appendix eq. A10 with T_base = 3/2 p psi_base I_base, the same
+ * form as Hoang eq. 10: torque.h).
+ *
+ * Formats: v, i, phi IQ pu; ts_pu, k_lo, k_hi Q31 in [0, 1); slope Q31 per pu of speed;
+ * theta angle_t.
+ * Scaling and overflow: the flux update ts_pu*e + k*corr is accumulated in 64 bits (each product
+ * < 2^62) and rounded once, then added to the state with saturation (+-128 pu, never wraps). The
+ * products sigma_ls*i and k_r*x are rounded IQ products (<= 0.5 LSB) with saturation.
+ */
+#ifndef IM_EST_H
+#define IM_EST_H
+
+#include <stdint.h>
+
+#include "fixmath.h"
+
+enum im_estimator {
+    IM_EST_VOLTAGE = 0,  /* Casadei eq. 1 through the low-pass of flux_est.h */
+    IM_EST_IMPROVED = 1  /* Casadei eq. 20 */
+};
+
+typedef struct {
+    uint16_t estimator;   /* enum im_estimator */
+    iq_t rs_iq;           /* stator resistance, pu */
+    iq_t sigma_ls_iq;     /* sigma * l_s, pu (stator transient inductance) */
+    iq_t kr_iq;           /* l_r / m */
+    q31_t ts_pu_q31;      /* Ts * w_base */
+    q31_t k_in_q31;       /* IM_EST_VOLTAGE: low-pass input gain (flux_est.h) */
+    q31_t k_leak_q31;     /* IM_EST_VOLTAGE: low-pass leak 1 - exp(-w_c Ts) */
+    q31_t k_lo_q31;       /* IM_EST_IMPROVED: Ts/tau at low speed */
+    q31_t k_hi_q31;       /* IM_EST_IMPROVED: Ts/tau at high speed */
+    iq_t w_lo_iq;         /* |speed| up to which k_lo applies, pu (>= 0) */
+    iq_t w_hi_iq;         /* |speed| from which k_hi applies, pu (>= w_lo) */
+    q31_t k_slope_q31;    /* (k_hi - k_lo) / (w_hi - w_lo) in Q31 per pu; 0 if w_hi = w_lo */
+} im_est_params_t;
+
+typedef struct {
+    const im_est_params_t *p;
+    iq_t psi_alpha_iq, psi_beta_iq;     /* stator flux estimate (state), pu */
+    iq_t psir_alpha_iq, psir_beta_iq;   /* rotor flux (eq. 21), pu */
+    iq_t psir_mag_iq;                   /* |phi_r|, pu */
+    angle_t theta_r;                    /* rotor-flux angle (eq. 22) */
+} im_est_t;
+
+typedef struct {
+    iq_t v_alpha_iq, v_beta_iq;  /* stator voltage applied over the period that ends now, pu */
+    iq_t i_alpha_iq, i_beta_iq;  /* stator current sampled now (the end of that period), pu */
+    iq_t psir_ref_iq;            /* rotor-flux reference magnitude phi_r* (improved estimator) */
+    iq_t speed_iq;               /* electrical speed for a speed-dependent tau, pu */
+} im_est_in_t;
+
+/* Returns 0, or a nonzero code when the parameters are inconsistent (negative resistance,
+ * k_r <= 0, w_hi < w_lo, gains outside [0, 1)). */
+int16_t im_est_check(const im_est_params_t *p);
+void im_est_init(im_est_t *s, const im_est_params_t *p);
+/* Zero flux: the machine is demagnetised at start. */
+void im_est_reset(im_est_t *s);
+/* Integrates one period, then updates rotor flux, its angle and magnitude. */
+void im_est_step(im_est_t *s, const im_est_in_t *in);
+
+/* Ts/tau at electrical speed w (improved estimator; exposed for the tests). */
+q31_t im_est_gain(const im_est_params_t *p, iq_t speed_iq);
+
+#endif /* IM_EST_H */
