@@ -6,8 +6,11 @@
 #   usage: hal/f2812/budget.sh PROJECT_ROOT     (after: cmake --build --preset cross-cm0 / cross-avr)
 #
 # What is counted
-#   firmware   libdtc_firmware.a: all of it is placed in ramfuncs by linker/f2812_*.cmd (.text and
-#              the constant tables), so all of it is ISR path.
+#   firmware   the members of libdtc_firmware.a that the image links (those f2812_main.c and the
+#              HAL reference, directly or not: a linker pulls only referenced archive members, so a
+#              control law the application does not call is not in the image). linker/f2812_*.cmd
+#              places all of them in ramfuncs (.text and the constant tables), so all of them are
+#              ISR path. The members are found by a relocatable link of the proxy objects (ld -r -M).
 #   hal        libhal_f2812.a without the register blocks (RAM on the proxies, peripheral frames on
 #              the DSP); the ISR-path part is the functions marked F2812_RAMFUNC in hal/f2812/*.c.
 #   main       f2812_main.c (main and the ADCINT glue; the glue is a ramfunc).
@@ -62,15 +65,30 @@ reg_bytes() { # $1 = nm tool, $2 = file; prints "data bss"
 
 ramfuncs=$(grep -ho 'F2812_RAMFUNC([a-z0-9_]*)' "$root"/hal/f2812/*.c | sed 's/.*(\(.*\))/\1/' | sort -u | paste -sd'|')
 
-report() { # $1 = label, $2 = size tool, $3 = nm tool, $4 = build dir, $5 = main obj
-  read -r fw_t fw_r fw_d fw_b < <(sum_sections "$2" "$4/firmware/libdtc_firmware.a")
+# The firmware archive's members that a link of main + HAL pulls in, extracted into $tmp/<label>.
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+linked_fw_members() { # $1 = label, $2 = ld tool, $3 = build dir, $4 = main obj; prints object paths
+  local dir="$tmp/$1" ar_tool=${2%ld}ar members
+  mkdir -p "$dir"
+  members=$("$2" -r -M -o "$dir/all.o" "$4" --start-group "$3/hal/f2812/libhal_f2812.a" \
+              "$3/firmware/libdtc_firmware.a" --end-group 2>/dev/null |
+            grep -o 'libdtc_firmware\.a([A-Za-z0-9_.]*)' | sed 's/.*(\(.*\))/\1/' | sort -u)
+  [ -n "$members" ] || { echo "budget: no firmware member linked for $1" >&2; exit 2; }
+  local archive; archive=$(realpath "$3/firmware/libdtc_firmware.a")
+  (cd "$dir" && "$ar_tool" x "$archive" $members)
+  for m in $members; do echo "$dir/$m"; done
+}
+report() { # $1 = label, $2 = size tool, $3 = nm tool, $4 = build dir, $5 = main obj, $6 = ld tool
+  local fw_list; fw_list=$(linked_fw_members "$1" "$6" "$4" "$5") || exit 2
+  mapfile -t fw_objs <<< "$fw_list"
+  read -r fw_t fw_r fw_d fw_b < <(sum_sections "$2" "${fw_objs[@]}")
   read -r hal_t hal_r hal_d hal_b < <(sum_sections "$2" "$4/hal/f2812/libhal_f2812.a")
   read -r reg_d reg_b < <(reg_bytes "$3" "$4/hal/f2812/libhal_f2812.a")
   hal_d=$((hal_d - reg_d)); hal_b=$((hal_b - reg_b))
   read -r mn_t mn_r mn_d mn_b < <(sum_sections "$2" "$5")
   hal_isr=$(sum_symbols "$3" "$ramfuncs" "$4/hal/f2812/libhal_f2812.a" "$5")
   printf '%-9s %-28s %8s %8s %8s %8s\n' "$1" "bytes" ".text" ".rodata" ".data" ".bss"
-  printf '%-9s %-28s %8d %8d %8d %8d\n' "" "libdtc_firmware.a" "$fw_t" "$fw_r" "$fw_d" "$fw_b"
+  printf '%-9s %-28s %8d %8d %8d %8d\n' "" "libdtc_firmware.a (linked)" "$fw_t" "$fw_r" "$fw_d" "$fw_b"
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "libhal_f2812.a (no regs)" "$hal_t" "$hal_r" "$hal_d" "$hal_b"
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "f2812_main.c" "$mn_t" "$mn_r" "$mn_d" "$mn_b"
   printf '%-9s %-28s %8d\n' "" "hal ISR-path functions" "$hal_isr"
@@ -78,11 +96,11 @@ report() { # $1 = label, $2 = size tool, $3 = nm tool, $4 = build dir, $5 = main
 
 echo "== F2812 control-path size budget (proxy builds; see the ESTIMATE note in this script) =="
 echo "hal ramfuncs: ${ramfuncs//|/ }"
-report cross-cm0 arm-none-eabi-size arm-none-eabi-nm "$cm0" "$cm0_main"
+report cross-cm0 arm-none-eabi-size arm-none-eabi-nm "$cm0" "$cm0_main" arm-none-eabi-ld
 isr_code_bytes=$((fw_t + hal_isr))
 isr_table_bytes=$fw_r
 state_bytes=$((fw_d + fw_b + hal_d + hal_b + mn_d + mn_b))
-report cross-avr avr-size avr-nm "$avr" "$avr_main"
+report cross-avr avr-size avr-nm "$avr" "$avr_main" avr-ld
 
 nom=$(( (isr_code_bytes + 1) / 2 ))
 pess=$(( (isr_code_bytes * 3 + 3) / 4 ))
