@@ -16,6 +16,9 @@
 F2812_INTERRUPT void f2812_adcint_isr(void);
 F2812_INTERRUPT void f2812_pdpint_isr(void);
 F2812_INTERRUPT void f2812_unexpected_isr(void);
+/* Timer 1 period match (PIE 2.4): the PWM form's period-match reload (hal.h), body f2812_t1pint(). */
+F2812_INTERRUPT void f2812_t1pint_isr(void);
+void f2812_t1pint(void);
 
 /* End of the ADC ISR, after app_isr(): counts the period, resets SEQ1 to CONV00, clears its
  * interrupt flag and re-arms PIE group 1 (fact sheet 3.3 step 7, 4.1 "ISR exit duties"). */
