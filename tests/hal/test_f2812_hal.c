@@ -21,7 +21,7 @@
 
 /* ---- test doubles and the emulated reset ------------------------------------------------- */
 
-/* The real ADC ISR glue lives in f2812_main.c (target only); hal_init must install this one. */
+/* The real ADC ISR glue lives in target/f2812/f2812_main.c (image only); hal_init must install this one. */
 static uint16_t g_adcint_calls;
 F2812_INTERRUPT void f2812_adcint_isr(void) { g_adcint_calls++; }
 
