@@ -1120,8 +1120,9 @@ void plant_advance(plant_t *pl, double dt_s) {
     pl->last_dt = dt_s;
     // Switching instants inside the advance: an instant at 0 acts at once, one at or beyond
     // dt_s at the end (the leg then holds its last command into the next advance).
+    const bool has_edges = (pl->edge_n[0] | pl->edge_n[1] | pl->edge_n[2]) != 0;
     pl->edges_left = 0;
-    for (int x = 0; x < 3; ++x) {
+    for (int x = 0; has_edges && x < 3; ++x) {
         pl->edge_k[x] = 0;
         for (int k = 0; k < pl->edge_n[x]; ++k) pl->edge_abs[x][k] = pl->t + pl->edge_t[x][k];
         while (pl->edge_k[x] < pl->edge_n[x] && pl->edge_t[x][pl->edge_k[x]] <= 0.0) {
@@ -1181,7 +1182,7 @@ void plant_advance(plant_t *pl, double dt_s) {
         else pl->t += taken;
     }
     // Instants left (at or within eps of the end, or beyond it) set the command held from now.
-    for (int x = 0; x < 3; ++x) {
+    for (int x = 0; has_edges && x < 3; ++x) {
         for (; pl->edge_k[x] < pl->edge_n[x]; ++pl->edge_k[x]) pl->cmd[x] ^= 1;
         pl->edge_n[x] = 0;
     }
