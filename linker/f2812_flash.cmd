@@ -5,7 +5,7 @@
  * COFF ABI (C symbol X is _X here), large memory model (.ebss/.econst).
  *
  * Where things run
- *   codestart   BEGIN 0x3F7FF6: the long branch the boot ROM jumps to (hal/f2812/f2812_codestart.asm)
+ *   codestart   BEGIN 0x3F7FF6: the long branch the boot ROM jumps to (target/f2812/f2812_codestart.asm)
  *   ramfuncs    loaded in flash, copied at start-up by hal_init() into L0+L1 (8K words, zero-wait)
  *               and run there: the ADC ISR glue, hal_read/hal_write/hal_gates_off, the PDPINTA ISR,
  *               the flash wait-state set-up (must not run from flash), and ALL of the control

@@ -223,6 +223,7 @@ uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
     cmd->sb = 0U;
     cmd->sc = 0U;
     cmd->enable = 0U;
+    cmd->form = (uint16_t)HAL_CMD_LEGS; /* leg states for the whole period (hal.h) */
     a->st.tick = m->tick;
 
     if (a->clear_request != 0U) {

@@ -12,8 +12,9 @@
 #              places all of them in ramfuncs (.text and the constant tables), so all of them are
 #              ISR path. The members are found by a relocatable link of the proxy objects (ld -r -M).
 #   hal        libhal_f2812.a without the register blocks (RAM on the proxies, peripheral frames on
-#              the DSP); the ISR-path part is the functions marked F2812_RAMFUNC in hal/f2812/*.c.
-#   main       f2812_main.c (main and the ADCINT glue; the glue is a ramfunc).
+#              the DSP); the ISR-path part is the functions marked F2812_RAMFUNC in hal/f2812/*.c
+#              and target/f2812/*.c.
+#   main       target/f2812/f2812_main.c (main and the ADCINT glue; the glue is a ramfunc).
 #
 # ESTIMATE, clearly: no C28x compiler is available here. C28x and Thumb both have 16-bit base
 # encodings with 32-bit forms; the C28x does 32-bit multiplies/shifts/saturation in one
@@ -36,8 +37,8 @@ RAMFUNCS_RAM_WORDS=8190
 need() { [ -f "$1" ] || { echo "budget: $1 not found (build the cross presets first)" >&2; exit 2; }; }
 for f in "$cm0/firmware/libdtc_firmware.a" "$cm0/hal/f2812/libhal_f2812.a" \
          "$avr/firmware/libdtc_firmware.a" "$avr/hal/f2812/libhal_f2812.a"; do need "$f"; done
-cm0_main=$(find "$cm0/hal/f2812" -name 'f2812_main.c.obj' | head -1)
-avr_main=$(find "$avr/hal/f2812" -name 'f2812_main.c.obj' | head -1)
+cm0_main=$(find "$cm0/target/f2812" -name 'f2812_main.c.obj' | head -1)
+avr_main=$(find "$avr/target/f2812" -name 'f2812_main.c.obj' | head -1)
 need "$cm0_main"; need "$avr_main"
 
 # Sum sections of `size -A` output by kind: text / rodata / data / bss.
@@ -63,7 +64,7 @@ reg_bytes() { # $1 = nm tool, $2 = file; prints "data bss"
     END { printf "%d %d\n", d, b }'
 }
 
-ramfuncs=$(grep -ho 'F2812_RAMFUNC([a-z0-9_]*)' "$root"/hal/f2812/*.c | sed 's/.*(\(.*\))/\1/' | sort -u | paste -sd'|')
+ramfuncs=$(grep -ho 'F2812_RAMFUNC([a-z0-9_]*)' "$root"/hal/f2812/*.c "$root"/target/f2812/*.c | sed 's/.*(\(.*\))/\1/' | sort -u | paste -sd'|')
 
 # The firmware archive's members that a link of main + HAL pulls in, extracted into $tmp/<label>.
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT

@@ -45,6 +45,12 @@ static struct {
     uint16_t fstp;  /* 1: leg A absent (four-switch board) */
     uint16_t rearm; /* 1: outputs are Hi-Z and the all-off state has been written to the shadows */
     uint32_t rearm_tick; /* the period in which it was written */
+    /* PWM form with asymmetric pulses (hal.h): CMPRx also reload at the period match. */
+    uint16_t split;      /* 1: COMCONA.CLD = 01 in force (reload at underflow and period match) */
+    uint16_t next_split; /* what f2812_t1pint() sets CLD to for the next period */
+    uint16_t hook_write; /* 1: f2812_t1pint() writes up[]/actra to the shadows */
+    uint16_t up[3], dn[3]; /* compare values of the last command (CMPR1..3) */
+    uint16_t actra;      /* its ACTRA */
 } s_hal;
 
 /* ------------------------------------------------------------------------- helpers -------- */
@@ -71,6 +77,10 @@ void f2812_memcopy(uint16_t *dst, const uint16_t *begin, const uint16_t *end)
 #define ACTRA_LEG_PAIR(leg)                                                                        \
     ((uint16_t)(F2812_ACTRA_FIELD(2u * (leg) + 1u, F2812_ACT_ACTIVE_HIGH) |                       \
                 F2812_ACTRA_FIELD(2u * (leg) + 2u, F2812_ACT_ACTIVE_LOW)))
+/* PWM form, HAL_PWM_UPPER_ACTIVE_LOW: the pair's polarities swapped (upper off between matches). */
+#define ACTRA_LEG_PAIR_INV(leg)                                                                    \
+    ((uint16_t)(F2812_ACTRA_FIELD(2u * (leg) + 1u, F2812_ACT_ACTIVE_LOW) |                        \
+                F2812_ACTRA_FIELD(2u * (leg) + 2u, F2812_ACT_ACTIVE_HIGH)))
 #define COMCONA_RUN_NO_OUTPUTS                                                                     \
     ((uint16_t)(F2812_COMCONA_CENABLE | F2812_COMCONA_CLD_UF | F2812_COMCONA_ACTRLD_UF))
 #define ADCTRL2_RUN ((uint16_t)(F2812_ADCTRL2_EVA_SOC_SEQ1 | F2812_ADCTRL2_INT_ENA_SEQ1))
@@ -129,6 +139,7 @@ static void init_pie(void)
     }
     f2812_wr_protected_vec(&f2812_pievect.vec[F2812_PIE_INDEX_PDPINTA], f2812_pdpint_isr);
     f2812_wr_protected_vec(&f2812_pievect.vec[F2812_PIE_INDEX_ADCINT], f2812_adcint_isr);
+    f2812_wr_protected_vec(&f2812_pievect.vec[F2812_PIE_INDEX_T1PINT], f2812_t1pint_isr);
     f2812_edis();
     f2812_piectrl.PIECTRL = F2812_PIECTRL_ENPIE;
     f2812_piectrl.PIEACK = F2812_PIEACK_ALL;
@@ -218,6 +229,9 @@ void hal_init(void)
     s_hal.fstp = (uint16_t)F2812_BOARD_FSTP;
     s_hal.rearm = 0u;
     s_hal.rearm_tick = 0u;
+    s_hal.split = 0u;
+    s_hal.next_split = 0u;
+    s_hal.hook_write = 0u;
 
     init_sysctrl();
     f2812_ramfuncs_copy(); /* before the first call into RAM code (fact sheet 1.4) */
@@ -233,7 +247,10 @@ void hal_init(void)
      * until main() calls f2812_interrupts_enable() after app_init() (hal.h: "The ISR is not
      * running yet"). */
     f2812_piectrl.grp[0].IER = (uint16_t)(F2812_PIE_INTX(1u) | F2812_PIE_INTX(6u));
-    f2812_ier_set(F2812_IER_INT1);
+    /* T1PINT (2.4) -> CPU INT2: the period-match reload of the PWM form's asymmetric pulses; its
+     * EV source (EVAIMRA.T1PINT) is enabled only while hal_write() has armed it. */
+    f2812_piectrl.grp[1].IER = F2812_PIE_INTX(4u);
+    f2812_ier_set((uint16_t)(F2812_IER_INT1 | F2812_IER_INT2));
     f2812_eva.T1CON = T1CON_STOPPED;
 }
 
@@ -285,19 +302,60 @@ static inline uint16_t leg_cmpr(uint16_t upper_on)
     return (upper_on != 0u) ? F2812_CMPR_UPPER_ON : F2812_CMPR_UPPER_OFF;
 }
 
-/* The command of period k goes to the shadow registers and becomes active at the next T1
- * underflow (start of period k+1). Outputs that are high-impedance (after init, hal_gates_off or
- * a PDPINTA trip) are re-enabled in two steps so that they can never come back driving a stale
- * state: in period k the all-off state is written to the shadows; in a LATER period (the tick has
- * moved on, so a boundary has loaded it) FCOMPOE is set, the pins drive every switch off, and the
- * command is written, to be applied at the following boundary. A latched trip blocks it all. */
+static inline void write_cmpr(const uint16_t v[3])
+{
+    f2812_eva.CMPR1 = v[0];
+    f2812_eva.CMPR2 = v[1];
+    f2812_eva.CMPR3 = v[2];
+}
+
+/* The period-match interrupt (EVAIMRA.T1PINT) is enabled only while f2812_t1pint() has work. */
+static inline void t1pint_arm(uint16_t on)
+{
+    f2812_eva.EVAIMRA = on != 0u ? (uint16_t)(F2812_EVA_INTA_PDPINTA | F2812_EVA_INTA_T1PINT)
+                                 : F2812_EVA_INTA_PDPINTA;
+}
+
+/* Leaves the period-match reload: nothing is written at the next match any more, and CLD goes
+ * back to underflow-only at that match (so the all-off shadows written now load no later than
+ * the next underflow, or at the match in between while CLD = 01 is still in force). */
+static inline void split_cancel(void)
+{
+    s_hal.hook_write = 0u;
+    s_hal.next_split = 0u;
+    t1pint_arm((uint16_t)(s_hal.split != 0u));
+}
+
+/* Compare value of a half in the PWM form: anything above T1PR is "never matched" (T1PR + 1). */
+static inline uint16_t pwm_cmpr(uint16_t v)
+{
+    return v > F2812_T1PR ? F2812_CMPR_UPPER_OFF : v;
+}
+
+/* The command of period k governs period k+1 (hal.h). Leg states and centred pulses: CMPRx and
+ * ACTRA go to the shadows now and load at the underflow that starts k+1 (CLD = ACTRLD = 00).
+ * Asymmetric pulses: CLD = 01, so a shadow loads at underflow and at period match. hal_write()
+ * of period k first writes the down-count values of the command of period k-1 (they load at the
+ * match in the middle of k, the pulse of k being that command's); the up-count values and ACTRA
+ * of this command are written by f2812_t1pint() after that match (they load at the underflow
+ * that starts k+1), which also sets CLD for k+1. Outputs that are high-impedance (after init,
+ * hal_gates_off or a PDPINTA trip) are re-enabled in two steps so that they can never come back
+ * driving a stale state: in period k the all-off state is written to the shadows; in a LATER
+ * period (the tick has moved on, so a boundary has loaded it) FCOMPOE is set, the pins drive every
+ * switch off, and the command is written, to be applied at the following boundary. A latched trip
+ * blocks it all. */
 F2812_RAMFUNC(hal_write)
 void hal_write(const hal_cmd_t *cmd)
 {
-    uint16_t actra;
+    uint16_t x;
+    uint16_t asym = 0u;
+    if (s_hal.split != 0u) {
+        write_cmpr(s_hal.dn);
+    }
     if ((cmd->enable == 0u) || (f2812_tripped() != 0u)) {
         write_all_off_shadows();
         s_hal.rearm = 0u;
+        split_cancel();
         return;
     }
     if ((f2812_eva.COMCONA & F2812_COMCONA_FCOMPOE) == 0u) {
@@ -305,33 +363,89 @@ void hal_write(const hal_cmd_t *cmd)
             write_all_off_shadows();
             s_hal.rearm = 1u;
             s_hal.rearm_tick = s_hal.tick;
+            split_cancel();
             return;
         }
         f2812_eva.COMCONA = bits_set(f2812_eva.COMCONA, F2812_COMCONA_FCOMPOE);
         s_hal.rearm = 0u;
     }
-    actra = (uint16_t)(ACTRA_LEG_PAIR(1u) | ACTRA_LEG_PAIR(2u));
-    if (s_hal.fstp != 0u) {
-        /* Hoang et al. 2011, Fig. 1(b): phase A on the capacitor mid-point; sa is ignored and
-         * leg A (PWM1/PWM2) stays off. */
-        f2812_eva.CMPR1 = F2812_CMPR_UPPER_OFF;
-    } else {
-        f2812_eva.CMPR1 = leg_cmpr(cmd->sa);
-        actra = (uint16_t)(actra | ACTRA_LEG_PAIR(0u));
+    s_hal.actra = 0u;
+    for (x = 0u; x < 3u; x++) {
+        if (cmd->form == (uint16_t)HAL_CMD_PWM) {
+            s_hal.up[x] = pwm_cmpr(cmd->cmpr_up[x]);
+            s_hal.dn[x] = pwm_cmpr(cmd->cmpr_dn[x]);
+        } else {
+            const uint16_t s = x == 0u ? cmd->sa : (x == 1u ? cmd->sb : cmd->sc);
+            s_hal.up[x] = leg_cmpr(s);
+            s_hal.dn[x] = s_hal.up[x];
+        }
+        if ((x == 0u) && (s_hal.fstp != 0u)) {
+            /* Hoang et al. 2011, Fig. 1(b): phase A on the capacitor mid-point; leg A's
+             * command is ignored and PWM1/PWM2 stay forced low. */
+            s_hal.up[0] = F2812_CMPR_UPPER_OFF;
+            s_hal.dn[0] = F2812_CMPR_UPPER_OFF;
+            continue;
+        }
+        if ((cmd->form == (uint16_t)HAL_CMD_PWM) && (cmd->act[x] == (uint16_t)HAL_PWM_UPPER_ACTIVE_LOW)) {
+            s_hal.actra = (uint16_t)(s_hal.actra | ACTRA_LEG_PAIR_INV(x));
+        } else {
+            s_hal.actra = (uint16_t)(s_hal.actra | ACTRA_LEG_PAIR(x));
+        }
+        if (s_hal.up[x] != s_hal.dn[x]) {
+            asym = 1u;
+        }
     }
-    f2812_eva.CMPR2 = leg_cmpr(cmd->sb);
-    f2812_eva.CMPR3 = leg_cmpr(cmd->sc);
-    f2812_eva.ACTRA = actra;
+    s_hal.next_split = asym;
+    if (s_hal.split == 0u) {
+        write_cmpr(s_hal.up);
+        f2812_eva.ACTRA = s_hal.actra;
+        s_hal.hook_write = 0u;
+    } else {
+        s_hal.hook_write = 1u;
+    }
+    t1pint_arm((uint16_t)((s_hal.split != 0u) || (asym != 0u)));
 }
+
+/* Period match (T1CNT = T1PR) of the PWM form's asymmetric pulses, called from f2812_t1pint_isr:
+ * the up-count values and ACTRA of the command written in this period go to the shadows (they
+ * load at the next underflow), and CLD is set for the next period. It must run after this
+ * period's hal_write() and before the next underflow. */
+void f2812_t1pint(void)
+{
+    if (s_hal.hook_write != 0u) {
+        write_cmpr(s_hal.up);
+        f2812_eva.ACTRA = s_hal.actra;
+        s_hal.hook_write = 0u;
+    }
+    if (s_hal.next_split != s_hal.split) {
+        s_hal.split = s_hal.next_split;
+        f2812_eva.COMCONA = (uint16_t)((f2812_eva.COMCONA & (uint16_t)~F2812_COMCONA_CLD_MASK) |
+                                       (s_hal.split != 0u ? F2812_COMCONA_CLD_UF_PR : F2812_COMCONA_CLD_UF));
+    }
+    t1pint_arm(s_hal.split);
+}
+
+/* In flash, not ramfuncs (the ISR path's zero-wait RAM is full): a few dozen instructions with
+ * the flash wait states still end long before the next underflow, half a period away. */
+F2812_INTERRUPT void f2812_t1pint_isr(void)
+{
+    f2812_t1pint();
+    f2812_eva.EVAIFRA = F2812_EVA_INTA_T1PINT; /* write 1 to clear that flag only (2.8) */
+    f2812_piectrl.PIEACK = F2812_PIEACK_GROUP2;
+}
+
+uint16_t hal_pwm_period(void) { return F2812_T1PR; }
 
 /* Now, not at the boundary: FCOMPOE = 0 makes PWM1-6 high-impedance at once (the same mechanism
  * PDPINTA uses), then the all-off state goes to the shadows so nothing is on when outputs return. */
 F2812_RAMFUNC(hal_gates_off)
 void hal_gates_off(void)
 {
-    f2812_eva.COMCONA = bits_clear(f2812_eva.COMCONA, F2812_COMCONA_FCOMPOE);
+    f2812_eva.COMCONA = bits_clear(f2812_eva.COMCONA, (uint16_t)(F2812_COMCONA_FCOMPOE | F2812_COMCONA_CLD_MASK));
     write_all_off_shadows();
     s_hal.rearm = 0u;
+    s_hal.split = 0u;
+    split_cancel();
 }
 
 /* Clears the latched PDPINTA flag (write 1 to that bit only, fact sheet 2.8). If the pin is still

@@ -1,6 +1,6 @@
 /*
  * f2812_hal.h - F2812-specific entry points beyond hal/include/hal.h, used by the target's
- * start-up (f2812_main.c) and by the register-level tests (tests/hal). The firmware never
+ * start-up (target/f2812/f2812_main.c) and by the register-level tests (tests/hal). The firmware never
  * includes this file: it sees only hal.h.
  */
 #ifndef F2812_HAL_H
@@ -10,12 +10,15 @@
 
 #include "f2812_target.h"
 
-/* ISR glue. f2812_adcint_isr is defined next to main() (f2812_main.c: it calls app_isr) and, in
+/* ISR glue. f2812_adcint_isr is defined next to main() (target/f2812/f2812_main.c: it calls app_isr) and, in
  * the host tests, by the test itself; hal_init installs its address at PIE vector 1.6 (ADCINT).
  * f2812_pdpint_isr (PIE 1.1) and f2812_unexpected_isr (every other vector) are in the binding. */
 F2812_INTERRUPT void f2812_adcint_isr(void);
 F2812_INTERRUPT void f2812_pdpint_isr(void);
 F2812_INTERRUPT void f2812_unexpected_isr(void);
+/* Timer 1 period match (PIE 2.4): the PWM form's period-match reload (hal.h), body f2812_t1pint(). */
+F2812_INTERRUPT void f2812_t1pint_isr(void);
+void f2812_t1pint(void);
 
 /* End of the ADC ISR, after app_isr(): counts the period, resets SEQ1 to CONV00, clears its
  * interrupt flag and re-arms PIE group 1 (fact sheet 3.3 step 7, 4.1 "ISR exit duties"). */

@@ -64,9 +64,11 @@ struct f2812_piectrl_regs {
 };
 #define F2812_PIECTRL_ENPIE 0x0001u
 #define F2812_PIEACK_GROUP1 0x0001u
+#define F2812_PIEACK_GROUP2 0x0002u
 #define F2812_PIEACK_ALL 0x0FFFu
 #define F2812_PIE_INTX(y) ((uint16_t)(1u << ((y)-1u))) /* PIEIERg bit for INTg.y */
 #define F2812_IER_INT1 0x0001u                         /* CPU IER bit (g-1) for PIE group g */
+#define F2812_IER_INT2 0x0002u
 
 /* ----------------------------------------------------- PIE vector table, 0x0D00 (4.1) [P] -- */
 #define F2812_PIE_VECTORS 128u
@@ -75,6 +77,7 @@ struct f2812_piectrl_regs {
 #define F2812_PIE_INDEX(g, y) (32u + 8u * ((g)-1u) + ((y)-1u))
 #define F2812_PIE_INDEX_PDPINTA F2812_PIE_INDEX(1u, 1u) /* 0x0D40 */
 #define F2812_PIE_INDEX_ADCINT F2812_PIE_INDEX(1u, 6u)  /* 0x0D4A */
+#define F2812_PIE_INDEX_T1PINT F2812_PIE_INDEX(2u, 4u)  /* 0x0D56 (fact sheet 4.1 table) */
 struct f2812_pievect_regs {
     f2812_isr_t vec[F2812_PIE_VECTORS]; /* 32-bit entries on the C28x */
 };
@@ -226,6 +229,8 @@ struct f2812_eva_regs {
 /* COMCONA (2.4) */
 #define F2812_COMCONA_CENABLE 0x8000u
 #define F2812_COMCONA_CLD_UF 0x0000u       /* 14:13 = 00 CMPRx shadow -> active at T1CNT = 0 */
+#define F2812_COMCONA_CLD_UF_PR 0x2000u    /* 14:13 = 01 ... at T1CNT = 0 or T1CNT = T1PR */
+#define F2812_COMCONA_CLD_MASK 0x6000u
 #define F2812_COMCONA_ACTRLD_UF 0x0000u    /* 11:10 = 00 ACTRA shadow -> active at T1CNT = 0 */
 #define F2812_COMCONA_FCOMPOE 0x0200u      /* bit 9 (x 8.2 resolved to bit 9): 0 = PWM1-6 Hi-Z */
 #define F2812_COMCONA_PDPINTASTATUS 0x0100u /* read-only pin level */
@@ -250,6 +255,7 @@ struct f2812_eva_regs {
 
 /* EVAIMRA/EVAIFRA (2.8) */
 #define F2812_EVA_INTA_PDPINTA 0x0001u
+#define F2812_EVA_INTA_T1PINT 0x0080u /* bit 7: timer 1 period match (fact sheet 2.8) */
 /* EVAIMRC/EVAIFRC */
 #define F2812_EVA_INTC_CAP3 0x0004u
 

@@ -7,8 +7,9 @@
  *
  * The ISR exchanges data, not many small calls: once per 50 us control period the application
  * (firmware/app) calls hal_read() for one measurement struct, runs the pure control step, and
- * calls hal_write() with one command struct. The command written in period k takes effect at the
- * start of period k+1 (shadowed action/compare registers on the DSP; the host HAL emulates it).
+ * calls hal_write() with one command struct. The command written in period k governs period k+1
+ * (shadowed action/compare registers on the DSP; the host HAL emulates it). The command holds
+ * either leg states for the whole period or, in the EV-A's terms, one pulse per leg (hal_cmd_t).
  *
  * Units here are raw hardware units (ADC counts, encoder counts); firmware/app converts them to
  * per-unit with the calibrated offsets and gains of its configuration.
@@ -42,10 +43,60 @@ typedef struct {
     uint32_t tick;               /* control periods since start (wraps after 2^32 periods) */
 } hal_meas_t;
 
+/* The two forms of a switching command (hal_cmd_t.form). One struct, one hal_write() per period
+ * and one enable/fault path for both: the leg-state form is the PWM form's 0 % / 100 % case
+ * (the F2812 binding writes it as CMPRx = T1PR + 1 / 0), and form = 0 is the zero-initialised
+ * default, so code that fills only sa/sb/sc/enable keeps meaning leg states. */
+enum hal_cmd_form {
+    HAL_CMD_LEGS = 0, /* sa, sb, sc: each leg held in one state for the whole period */
+    HAL_CMD_PWM = 1   /* cmpr_up / cmpr_dn / act: one pulse per leg, from the EV-A compare units */
+};
+
+/* Output polarity of a leg's pair in the PWM form (the EV-A's ACTRA pair: upper output, lower
+ * output; the dead-band unit delays the rising edge of each). */
+enum hal_pwm_act {
+    HAL_PWM_UPPER_ACTIVE_HIGH = 0, /* upper on from the up-count match to the down-count match */
+    HAL_PWM_UPPER_ACTIVE_LOW = 1   /* upper off from the up-count match to the down-count match */
+};
+
+/*
+ * PWM form, in the EV-A's own terms. Timer 1 counts continuously up and down: 0 at the start of
+ * the control period (underflow), T1PR (hal_pwm_period()) at its middle (period match), 0 again
+ * at its end; one count lasts ts / (2 T1PR). For leg x (CMPR1..3 = legs A, B, C):
+ *   - the compare output is active while T1CNT >= the compare value in force: in the up-count
+ *     half from T1CNT = cmpr_up[x] to the period match, in the down-count half from the period
+ *     match to T1CNT = cmpr_dn[x]. So it is active from t_on = cmpr_up ts / (2 T1PR) to
+ *     t_off = ts - cmpr_dn ts / (2 T1PR); a value 0 makes its half wholly active, a value above
+ *     T1PR (never matched) wholly inactive. At most one active interval per period: one pulse.
+ *   - act[x] (enum hal_pwm_act) says whether the active interval turns the upper or the lower
+ *     device on; the other device is on outside it. cmpr_up = cmpr_dn: centred pulse; unequal:
+ *     asymmetric pulse (DSVM's sub-intervals). Duty 0 / 1 of the upper device: cmpr = T1PR + 1
+ *     / 0 with HAL_PWM_UPPER_ACTIVE_HIGH.
+ *   - Hardware note (f2812-facts.md 7, ~): that a half with a value above T1PR has no compare
+ *     edge in it, and the exact output at CMPR = 0, is the fact sheet's reading, not checked on a
+ *     scope; the host binding implements the rule above exactly.
+ * When each value takes effect (shadow registers, COMCONA.CLD / ACTRLD):
+ *   - Every value of the command written in period k governs period k+1 as a whole (the same
+ *     one-period delay as the leg-state form): cmpr_up and act from the underflow that starts
+ *     k+1, cmpr_dn from the period match in the middle of k+1.
+ *   - Centred pulses (cmpr_up = cmpr_dn on every leg) reload at underflow only (CLD = 00).
+ *     Asymmetric ones reload at underflow and period match (CLD = 01): the binding writes
+ *     cmpr_up to the shadows after the period match of k (f2812_t1pint(), the period-match
+ *     interrupt) and cmpr_dn early in period k+1, from hal_write() of period k+1, which must
+ *     therefore run before that period's match (the 50 us ISR ends within its first half).
+ *   - While the period-match reload is in use, a command with enable = 0 (and a trip) is
+ *     loaded at the next period match: the pulse of the period under way ends at its middle,
+ *     half a period sooner than the one-period delay.
+ * The FSTP has no leg A: its cmpr_up[0], cmpr_dn[0] and act[0] are ignored.
+ */
 typedef struct {
     uint16_t sa, sb, sc; /* leg states: 1 = upper switch on, 0 = lower switch on. The FSTP has no
                           * leg A (phase A is tied to the capacitor mid-point): sa is ignored. */
-    uint16_t enable;     /* 0 = every gate off (outputs high-impedance), whatever sa/sb/sc say */
+    uint16_t enable;     /* 0 = every gate off (outputs high-impedance), whatever the rest says */
+    uint16_t form;       /* enum hal_cmd_form */
+    uint16_t cmpr_up[3]; /* HAL_CMD_PWM: compare value in force while T1 counts up (counts) */
+    uint16_t cmpr_dn[3]; /* HAL_CMD_PWM: compare value in force while T1 counts down (counts) */
+    uint16_t act[3];     /* HAL_CMD_PWM: enum hal_pwm_act per leg */
 } hal_cmd_t;
 
 /* Board bring-up (clocks, ADC, PWM, encoder, protection). The ISR is not running yet. */
@@ -54,8 +105,11 @@ void hal_init(void);
 /* Latest sampled measurements of this control period. */
 void hal_read(hal_meas_t *meas);
 
-/* Switching command for the NEXT control period (applied at its boundary). */
+/* Switching command for the NEXT control period (applied at its boundary; see hal_cmd_t). */
 void hal_write(const hal_cmd_t *cmd);
+
+/* Timer 1 period register T1PR of the PWM form: half the control period in counts. */
+uint16_t hal_pwm_period(void);
 
 /* Turn every gate off now (not at the next boundary): the fault path. */
 void hal_gates_off(void);

@@ -2,7 +2,7 @@
  * plant.h - C ABI of the physical plant model (model/, C++17 + Eigen, SI units only).
  *
  * hal/host creates a plant from a parameter struct, applies leg states held for one control
- * period, advances it by exactly one period (sub-stepping inside) and reads the true state. The
+ * period (or per-leg switching instants within it, plant_set_leg_edges), advances it by exactly one period (sub-stepping inside) and reads the true state. The
  * model never includes firmware headers; everything here is SI (suffix gives the unit).
  */
 #ifndef DTC_MODEL_PLANT_H
@@ -125,6 +125,28 @@ void plant_destroy(plant_t *plant);
 
 /* Leg states for the next advance: 1 = upper device on. enable = 0: all gates off. */
 void plant_set_legs(plant_t *plant, int sa, int sb, int sc, int enable);
+/* Switching instants of one leg within the next advance: the leg's command (1 = upper device on)
+ * is state0 at the start and toggles at each t_s[k], seconds from the start of the advance,
+ * non-decreasing. Two instants per leg give one pulse (centred or asymmetric PWM, DSVM's
+ * sub-intervals); none holds the leg for the whole advance (0/100 %, two-phase modulation's
+ * clamped leg). The integrator lands exactly on each instant. Each instant is a command edge:
+ * with dead time the outgoing device turns off at the instant and the incoming one turns on
+ * dead_time_s later, the diodes conducting in between (so the terminal voltage's edge moves by
+ * the dead time when the current flows into the outgoing device's diode, and not otherwise).
+ * An instant at 0 acts at the start; one at or beyond the advance's length acts at its end. */
+#define PLANT_LEG_EDGES_MAX 4
+typedef struct {
+    int state0;
+    int n;                            /* 0..PLANT_LEG_EDGES_MAX */
+    double t_s[PLANT_LEG_EDGES_MAX];
+} plant_leg_edges_t;
+
+/* Commands for the NEXT advance only (after it, each leg holds its last command, as after
+ * plant_set_legs). plant_set_legs(sa, sb, sc, en) is this with n = 0 and state0 = sa, sb, sc.
+ * Returns 0, or -1 (nothing changed) for n out of range or instants negative, not finite or
+ * decreasing. */
+int plant_set_leg_edges(plant_t *plant, const plant_leg_edges_t legs[3], int enable);
+
 /* Ideal inverter only: alpha/beta voltages for the next advance. */
 void plant_set_voltage(plant_t *plant, double v_alpha_v, double v_beta_v);
 /* Change the load while running (load steps). */

@@ -131,6 +131,14 @@ struct plant {
     int gate[3];         // gate state in force now
     int gate_target[3];  // gate state after the dead time
     double dead_end[3];  // absolute time the dead time ends (<= t: none)
+    // Switching instants of the next advance (plant_set_leg_edges): leg x's command toggles at
+    // edge_t[x][k], k < edge_n[x], seconds from the advance's start; during the advance
+    // edge_abs[x][k] are absolute times and edge_k[x] the next one due.
+    int edge_n[3];
+    int edge_k[3];
+    double edge_t[3][PLANT_LEG_EDGES_MAX];
+    double edge_abs[3][PLANT_LEG_EDGES_MAX];
+    int edges_left;      // edges still to apply in this advance (0: plant_set_legs form)
     // Integrator.
     double t;
     Vec y;
@@ -870,36 +878,40 @@ double step(plant_t *pl, double h) {
     return sb_keep * h;
 }
 
-void update_gates_for_command(plant_t *pl) {
+// Gate timeline of leg x after its command (cmd, enable, override) changed at time t: the
+// outgoing device turns off at once, the incoming one after the dead time; in between only the
+// diodes conduct, the current sign picking which (Hoang/inverter practice). Used at the start of an
+// advance and at every switching instant inside it (plant_set_leg_edges).
+void command_leg(plant_t *pl, int x) {
     const plant_params_t &p = pl->p;
-    for (int x = 0; x < 3; ++x) {
-        int want;
-        if (pl->override_mode[x] == PLANT_LEG_DIODE_ONLY) want = GATE_OFF;
-        else if (pl->override_mode[x] == PLANT_LEG_UPPER_ON) want = GATE_UPPER;
-        else if (pl->override_mode[x] == PLANT_LEG_LOWER_ON) want = GATE_LOWER;
-        else if (!pl->enable) want = GATE_OFF;
-        else want = pl->cmd[x] ? GATE_UPPER : GATE_LOWER;
-        // Resolve a dead time still running from the previous command.
-        if (pl->dead_end[x] > pl->t) {
-            // Still off; the new target replaces the old one, dead time keeps running.
-            pl->gate_target[x] = want;
-            if (want == GATE_OFF) pl->dead_end[x] = pl->t;
-            continue;
-        }
-        const int cur = pl->gate[x];
-        if (want == cur) continue;
-        const bool both_on = (cur != GATE_OFF) && (want != GATE_OFF);
-        if (both_on && p.dead_time_enabled && p.dead_time_s > 0.0) {
-            // Hoang/inverter practice: the outgoing device turns off at once, the incoming one
-            // after the dead time; in between only the diodes can conduct.
-            pl->gate[x] = GATE_OFF;
-            pl->gate_target[x] = want;
-            pl->dead_end[x] = pl->t + p.dead_time_s;
-        } else {
-            pl->gate[x] = want;
-            pl->gate_target[x] = want;
-        }
+    int want;
+    if (pl->override_mode[x] == PLANT_LEG_DIODE_ONLY) want = GATE_OFF;
+    else if (pl->override_mode[x] == PLANT_LEG_UPPER_ON) want = GATE_UPPER;
+    else if (pl->override_mode[x] == PLANT_LEG_LOWER_ON) want = GATE_LOWER;
+    else if (!pl->enable) want = GATE_OFF;
+    else want = pl->cmd[x] ? GATE_UPPER : GATE_LOWER;
+    // Resolve a dead time still running from the previous command.
+    if (pl->dead_end[x] > pl->t) {
+        // Still off; the new target replaces the old one, dead time keeps running.
+        pl->gate_target[x] = want;
+        if (want == GATE_OFF) pl->dead_end[x] = pl->t;
+        return;
     }
+    const int cur = pl->gate[x];
+    if (want == cur) return;
+    const bool both_on = (cur != GATE_OFF) && (want != GATE_OFF);
+    if (both_on && p.dead_time_enabled && p.dead_time_s > 0.0) {
+        pl->gate[x] = GATE_OFF;
+        pl->gate_target[x] = want;
+        pl->dead_end[x] = pl->t + p.dead_time_s;
+    } else {
+        pl->gate[x] = want;
+        pl->gate_target[x] = want;
+    }
+}
+
+void update_gates_for_command(plant_t *pl) {
+    for (int x = 0; x < 3; ++x) command_leg(pl, x);
 }
 
 const char *check_params(const plant_params_t *p) {
@@ -1018,10 +1030,12 @@ plant_t *plant_create(const plant_params_t *p, char *err, size_t err_len) {
         pl->cmd[x] = 0;
         pl->gate[x] = pl->gate_target[x] = GATE_OFF;
         pl->dead_end[x] = -1.0;
+        pl->edge_n[x] = pl->edge_k[x] = 0;
         pl->override_mode[x] = PLANT_LEG_NORMAL;
         pl->mode.ph[x] = PH_BLOCKED;
     }
     pl->enable = 0;
+    pl->edges_left = 0;
     pl->v_set_alpha = pl->v_set_beta = 0.0;
     pl->th0 = 0.0;
     pl->c0 = 1.0;
@@ -1036,11 +1050,32 @@ plant_t *plant_create(const plant_params_t *p, char *err, size_t err_len) {
 
 void plant_destroy(plant_t *plant) { delete plant; }
 
+// The 0/100 % case of plant_set_leg_edges: each leg's state at the start, no instant inside.
 void plant_set_legs(plant_t *plant, int sa, int sb, int sc, int enable) {
     plant->cmd[0] = sa ? 1 : 0;
     plant->cmd[1] = sb ? 1 : 0;
     plant->cmd[2] = sc ? 1 : 0;
     plant->enable = enable ? 1 : 0;
+    plant->edge_n[0] = plant->edge_n[1] = plant->edge_n[2] = 0;
+}
+
+int plant_set_leg_edges(plant_t *plant, const plant_leg_edges_t legs[3], int enable) {
+    if (!plant || !legs) return -1;
+    for (int x = 0; x < 3; ++x) {
+        const plant_leg_edges_t &L = legs[x];
+        if (L.n < 0 || L.n > PLANT_LEG_EDGES_MAX) return -1;
+        for (int k = 0; k < L.n; ++k) {
+            if (!std::isfinite(L.t_s[k]) || L.t_s[k] < 0.0) return -1;
+            if (k > 0 && !(L.t_s[k] >= L.t_s[k - 1])) return -1;
+        }
+    }
+    for (int x = 0; x < 3; ++x) {
+        plant->cmd[x] = legs[x].state0 ? 1 : 0;
+        plant->edge_n[x] = legs[x].n;
+        for (int k = 0; k < legs[x].n; ++k) plant->edge_t[x][k] = legs[x].t_s[k];
+    }
+    plant->enable = enable ? 1 : 0;
+    return 0;
 }
 
 void plant_set_voltage(plant_t *plant, double v_alpha_v, double v_beta_v) {
@@ -1083,6 +1118,19 @@ void plant_advance(plant_t *pl, double dt_s) {
     // Terminal-voltage integrals restart every advance (their mean over it is reported).
     pl->y[S_IVA0] = pl->y[S_IVB0] = pl->y[S_IVC0] = 0.0;
     pl->last_dt = dt_s;
+    // Switching instants inside the advance: an instant at 0 acts at once, one at or beyond
+    // dt_s at the end (the leg then holds its last command into the next advance).
+    const bool has_edges = (pl->edge_n[0] | pl->edge_n[1] | pl->edge_n[2]) != 0;
+    pl->edges_left = 0;
+    for (int x = 0; has_edges && x < 3; ++x) {
+        pl->edge_k[x] = 0;
+        for (int k = 0; k < pl->edge_n[x]; ++k) pl->edge_abs[x][k] = pl->t + pl->edge_t[x][k];
+        while (pl->edge_k[x] < pl->edge_n[x] && pl->edge_t[x][pl->edge_k[x]] <= 0.0) {
+            pl->cmd[x] ^= 1;
+            ++pl->edge_k[x];
+        }
+        pl->edges_left += pl->edge_n[x] - pl->edge_k[x];
+    }
     update_gates_for_command(pl);
     const double t_end = pl->t + dt_s;
     const double eps = 1e-12 * (1.0 + std::fabs(t_end));
@@ -1101,17 +1149,44 @@ void plant_advance(plant_t *pl, double dt_s) {
                 }
             }
         }
+        if (pl->edges_left > 0) {
+            // Switching instants reached (the sub-steps land on them exactly, below); the dead
+            // times they start join the candidates for the sub-step's end.
+            for (int x = 0; x < 3; ++x) {
+                while (pl->edge_k[x] < pl->edge_n[x] && pl->edge_abs[x][pl->edge_k[x]] <= pl->t) {
+                    pl->cmd[x] ^= 1;
+                    ++pl->edge_k[x];
+                    --pl->edges_left;
+                    command_leg(pl, x);
+                    changed = true;
+                }
+                if (pl->gate[x] != pl->gate_target[x]) next = std::min(next, pl->dead_end[x]);
+            }
+        }
+        // A sub-step ending at a dead-time end (not at a switching instant): the midpoint-rule case.
+        const double next_dead = next;
+        if (pl->edges_left > 0) {
+            for (int x = 0; x < 3; ++x)
+                if (pl->edge_k[x] < pl->edge_n[x]) next = std::min(next, pl->edge_abs[x][pl->edge_k[x]]);
+        }
         if (changed || guard == 1) build_legs(pl);
         const double h = std::min(pl->p.max_step_s, next - pl->t);
         // A sub-step that ends at a dead-time end and is at most max_step/16 long (default: the
         // 2 us dead-time segment at the 50 us step) uses the midpoint rule: its local error is
         // O(h^3) on a tiny h, well below the RK4 error of the main step (docs/plant.md, section 2).
-        pl->short_seg = next < t_end && h == next - pl->t && h <= pl->p.max_step_s * (1.0 / 16.0);
+        pl->short_seg = next < t_end && next == next_dead && h == next - pl->t &&
+                        h <= pl->p.max_step_s * (1.0 / 16.0);
         const double taken = step(pl, h);
         // Land exactly on breakpoints to avoid drift.
         if (taken == h) pl->t = (h == next - pl->t) ? next : pl->t + h;
         else pl->t += taken;
     }
+    // Instants left (at or within eps of the end, or beyond it) set the command held from now.
+    for (int x = 0; has_edges && x < 3; ++x) {
+        for (; pl->edge_k[x] < pl->edge_n[x]; ++pl->edge_k[x]) pl->cmd[x] ^= 1;
+        pl->edge_n[x] = 0;
+    }
+    pl->edges_left = 0;
     pl->t = t_end;
     if (pl->p.load == PLANT_LOAD_SPEED) pl->y[S_OMEGA] = pl->p.load_speed_rpm * kRpmToRadS;
 }

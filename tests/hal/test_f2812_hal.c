@@ -21,7 +21,7 @@
 
 /* ---- test doubles and the emulated reset ------------------------------------------------- */
 
-/* The real ADC ISR glue lives in f2812_main.c (target only); hal_init must install this one. */
+/* The real ADC ISR glue lives in target/f2812/f2812_main.c (image only); hal_init must install this one. */
 static uint16_t g_adcint_calls;
 F2812_INTERRUPT void f2812_adcint_isr(void) { g_adcint_calls++; }
 
@@ -128,7 +128,7 @@ static void period(const hal_cmd_t *cmd)
 
 static void enable_outputs(void)
 {
-    const hal_cmd_t cmd = {0u, 0u, 0u, 1u};
+    const hal_cmd_t cmd = {0u, 0u, 0u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
     period(&cmd); /* period k: all-off state to the shadows, outputs still Hi-Z */
     period(&cmd); /* period k+1: all-off is now active, FCOMPOE set, command to the shadows */
     assert_true(f2812_eva.COMCONA & FCOMPOE);
@@ -230,9 +230,12 @@ static void test_init_pie_vectors_and_enables(void **state)
      * 2 words per entry (4.1). */
     const unsigned adcint = (0x0D4Au - 0x0D00u) / 2u;
     const unsigned pdpinta = (0x0D40u - 0x0D00u) / 2u;
+    const unsigned t1pint = (0x0D56u - 0x0D00u) / 2u; /* PIE 2.4 (4.1 table) */
     for (unsigned v = 0; v < 128u; v++) {
         if (v == adcint) {
             assert_ptr_equal(f2812_pievect.vec[v], f2812_adcint_isr);
+        } else if (v == t1pint) {
+            assert_ptr_equal(f2812_pievect.vec[v], f2812_t1pint_isr);
         } else if (v == pdpinta) {
             assert_ptr_equal(f2812_pievect.vec[v], f2812_pdpint_isr);
         } else {
@@ -240,12 +243,14 @@ static void test_init_pie_vectors_and_enables(void **state)
         }
     }
     assert_int_equal(f2812_piectrl.PIECTRL & 1u, 1); /* ENPIE */
-    /* PIEIER1: INT1.1 (bit 0) and INT1.6 (bit 5); every other group off. */
+    /* PIEIER1: INT1.1 (bit 0) and INT1.6 (bit 5); PIEIER2: INT2.4 = T1PINT (bit 3), the PWM
+     * form's period-match reload; every other group off. */
     assert_int_equal(f2812_piectrl.grp[0].IER, 0x0021);
-    for (unsigned g = 1; g < 12u; g++) {
+    assert_int_equal(f2812_piectrl.grp[1].IER, 0x0008);
+    for (unsigned g = 2; g < 12u; g++) {
         assert_int_equal(f2812_piectrl.grp[g].IER, 0);
     }
-    assert_int_equal(f2812_host_cpu.ier, 0x0001); /* CPU INT1 = PIE group 1 */
+    assert_int_equal(f2812_host_cpu.ier, 0x0003); /* CPU INT1 = PIE group 1, INT2 = group 2 */
     assert_int_equal(f2812_host_cpu.intm, 1);     /* not enabled until main() says so */
     f2812_interrupts_enable();
     assert_int_equal(f2812_host_cpu.intm, 0);
@@ -362,7 +367,7 @@ static void test_init_qep_timer2(void **state)
 static void test_first_enable_takes_two_periods(void **state)
 {
     (void)state;
-    const hal_cmd_t cmd = {1u, 0u, 1u, 1u};
+    const hal_cmd_t cmd = {1u, 0u, 1u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
     hal_write(&cmd);
     assert_false(f2812_eva.COMCONA & FCOMPOE); /* still high-impedance */
     assert_all_off_next_period();
@@ -383,7 +388,7 @@ static void test_sstp_all_eight_states(void **state)
     enable_outputs();
     for (uint16_t k = 0; k < 8u; k++) {
         const hal_cmd_t cmd = {(uint16_t)((k >> 2) & 1u), (uint16_t)((k >> 1) & 1u),
-                               (uint16_t)(k & 1u), 1u};
+                               (uint16_t)(k & 1u), 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
         const uint16_t comcona = f2812_eva.COMCONA;
         hal_write(&cmd);
         /* ACTRA: every pair upper active-high (10), lower active-low (01): 0x0666 (2.5, DMC). */
@@ -411,7 +416,7 @@ static void test_fstp_all_four_states_leg_a_off(void **state)
     enable_outputs();
     for (uint16_t k = 0; k < 8u; k++) { /* 4 states x sa = 0/1, which must not matter */
         const hal_cmd_t cmd = {(uint16_t)((k >> 2) & 1u), (uint16_t)((k >> 1) & 1u),
-                               (uint16_t)(k & 1u), 1u};
+                               (uint16_t)(k & 1u), 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
         hal_write(&cmd);
         /* Leg A (PWM1/2) forced low = both switches off; legs B, C as in SSTP: 0x0660. */
         assert_int_equal(f2812_eva.ACTRA, 0x0660);
@@ -429,9 +434,9 @@ static void test_enable_zero_is_all_off_next_period(void **state)
 {
     (void)state;
     enable_outputs();
-    const hal_cmd_t on = {1u, 1u, 0u, 1u};
+    const hal_cmd_t on = {1u, 1u, 0u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
     hal_write(&on);
-    const hal_cmd_t off = {1u, 1u, 0u, 0u};
+    const hal_cmd_t off = {1u, 1u, 0u, 0u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
     hal_write(&off);
     assert_all_off_next_period();
     /* A re-enable from a driven all-off state needs no re-arm: outputs are still enabled. */
@@ -443,7 +448,7 @@ static void test_gates_off_is_immediate_and_rearms_in_two_periods(void **state)
 {
     (void)state;
     enable_outputs();
-    const hal_cmd_t on = {1u, 0u, 1u, 1u};
+    const hal_cmd_t on = {1u, 0u, 1u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
     hal_write(&on);
     hal_gates_off();
     assert_false(f2812_eva.COMCONA & FCOMPOE); /* Hi-Z now, not at the boundary */
@@ -479,7 +484,7 @@ static void test_pdpinta_trip_latches_and_blocks_enable(void **state)
     assert_int_equal(m.trip, 1);
     /* The pin comes back: still latched, enable refused. */
     pdpinta_pin(1);
-    const hal_cmd_t on = {1u, 1u, 1u, 1u};
+    const hal_cmd_t on = {1u, 1u, 1u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
     for (int i = 0; i < 3; i++) {
         period(&on);
         assert_false(f2812_eva.COMCONA & FCOMPOE);
@@ -506,7 +511,7 @@ static void test_pin_still_low_keeps_trip(void **state)
     hal_meas_t m;
     hal_read(&m);
     assert_int_equal(m.trip, 1);
-    const hal_cmd_t on = {1u, 1u, 1u, 1u};
+    const hal_cmd_t on = {1u, 1u, 1u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
     period(&on);
     period(&on);
     assert_false(f2812_eva.COMCONA & FCOMPOE);
@@ -638,6 +643,167 @@ static void test_irq_save_restore_nests(void **state)
     assert_int_equal(f2812_host_cpu.intm, 0);
 }
 
+/* ---- PWM form (hal.h): compare values, polarity, reload points ----------------------------
+ * Expected values from the fact sheet: T1PR = 1875 (2.3: 50 us up/down at HSPCLK 75 MHz);
+ * ACTRA pair of a leg, upper output active high (10b) and lower active low (01b) = 0x6, the
+ * swapped pair 0x9, fields of leg x at bit 4x (2.5); COMCONA.CLD bits 14:13, 00 = reload at
+ * underflow, 01 = at underflow and period match (2.4); EVAIMRA bit 7 = T1PINT (2.8). */
+#define T1PR_50US 1875u
+#define CLD_BITS 0x6000u
+#define CLD_UF_AND_PERIOD 0x2000u
+#define EVAIMRA_T1PINT 0x0080u
+
+static hal_cmd_t pwm_cmd(uint16_t up_a, uint16_t dn_a, uint16_t up_b, uint16_t dn_b, uint16_t up_c,
+                         uint16_t dn_c)
+{
+    hal_cmd_t c;
+    memset(&c, 0, sizeof c);
+    c.enable = 1u;
+    c.form = HAL_CMD_PWM;
+    c.cmpr_up[0] = up_a;
+    c.cmpr_dn[0] = dn_a;
+    c.cmpr_up[1] = up_b;
+    c.cmpr_dn[1] = dn_b;
+    c.cmpr_up[2] = up_c;
+    c.cmpr_dn[2] = dn_c;
+    return c;
+}
+
+static void assert_cmpr(uint16_t a, uint16_t b, uint16_t c)
+{
+    assert_int_equal(f2812_eva.CMPR1, a);
+    assert_int_equal(f2812_eva.CMPR2, b);
+    assert_int_equal(f2812_eva.CMPR3, c);
+}
+
+/* Duty 0 (never matched: T1PR + 1 = 1876, and any larger value is written as 1876), duty 1
+ * (CMPR = 0) and mid (CMPR = T1PR / 2 = 937 on both halves: 50 % centred); centred pulses reload
+ * at underflow only (CLD = 00) and need no period-match interrupt. */
+static void test_pwm_duty_zero_one_mid_centred(void **state)
+{
+    (void)state;
+    enable_outputs();
+    hal_cmd_t c = pwm_cmd(T1PR_50US + 1u, T1PR_50US + 1u, 0u, 0u, 937u, 937u);
+    period(&c);
+    assert_cmpr(1876u, 0u, 937u);
+    assert_int_equal(f2812_eva.ACTRA, 0x0666);
+    assert_int_equal(f2812_eva.COMCONA & CLD_BITS, 0);
+    assert_int_equal(f2812_eva.EVAIMRA, 0x0001);
+    c = pwm_cmd(60000u, 60000u, T1PR_50US, T1PR_50US, 1u, 1u);
+    period(&c);
+    assert_cmpr(1876u, T1PR_50US, 1u);
+    assert_int_equal(f2812_eva.COMCONA & CLD_BITS, 0);
+    /* The leg-state form is the same registers at 0 / 100 %. */
+    const hal_cmd_t legs = {1u, 0u, 1u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
+    period(&legs);
+    assert_cmpr(0u, 1876u, 0u);
+    assert_int_equal(f2812_eva.ACTRA, 0x0666);
+}
+
+/* Upper active low on leg B: the pair's polarities swap (PWM3 active low 01b, PWM4 active high
+ * 10b: field 0x9 at bit 4). */
+static void test_pwm_polarity_per_leg(void **state)
+{
+    (void)state;
+    enable_outputs();
+    hal_cmd_t c = pwm_cmd(400u, 400u, 400u, 400u, 400u, 400u);
+    c.act[1] = HAL_PWM_UPPER_ACTIVE_LOW;
+    period(&c);
+    assert_int_equal(f2812_eva.ACTRA, 0x0696);
+}
+
+/* Asymmetric pulses: the command of period k governs period k+1, its up-count values from the
+ * underflow, its down-count values from the period match (hal.h). The test calls f2812_t1pint()
+ * where the period match would raise T1PINT, and reads the shadows (RAM) after each write. */
+static void test_pwm_asymmetric_reload_points(void **state)
+{
+    (void)state;
+    enable_outputs();
+    /* Period k: first asymmetric command (up 500 / down 1200 on leg A). CLD is still 00, so the
+     * up values go to the shadows now (loaded at the underflow that starts k+1) and T1PINT is
+     * armed to switch CLD to 01 at the match of k. */
+    hal_cmd_t c1 = pwm_cmd(500u, 1200u, 937u, 937u, 0u, 1876u);
+    hal_write(&c1);
+    assert_cmpr(500u, 937u, 0u);
+    assert_int_equal(f2812_eva.COMCONA & CLD_BITS, 0);
+    assert_int_equal(f2812_eva.EVAIMRA, 0x0001 | EVAIMRA_T1PINT);
+    f2812_adcint_done();
+    f2812_t1pint(); /* match of k */
+    assert_int_equal(f2812_eva.COMCONA & CLD_BITS, CLD_UF_AND_PERIOD);
+    assert_cmpr(500u, 937u, 0u); /* unchanged: loads at the underflow of k+1 */
+    assert_true(f2812_eva.COMCONA & FCOMPOE);
+    /* Period k+1: hal_write first puts c1's down values in the shadows (they load at the match
+     * of k+1), then keeps c2 for the match. */
+    hal_cmd_t c2 = pwm_cmd(300u, 1500u, 100u, 100u, 1876u, 0u);
+    hal_write(&c2);
+    assert_cmpr(1200u, 937u, 1876u);
+    f2812_adcint_done();
+    f2812_t1pint(); /* match of k+1: c2's up values, loaded at the underflow of k+2 */
+    assert_cmpr(300u, 100u, 1876u);
+    assert_int_equal(f2812_eva.COMCONA & CLD_BITS, CLD_UF_AND_PERIOD);
+    /* Period k+2: a centred command. c2's down values go first; at the match the centred values
+     * follow and CLD returns to 00 (underflow only), the interrupt is disarmed. */
+    hal_cmd_t c3 = pwm_cmd(900u, 900u, 900u, 900u, 900u, 900u);
+    hal_write(&c3);
+    assert_cmpr(1500u, 100u, 0u);
+    f2812_adcint_done();
+    f2812_t1pint();
+    assert_cmpr(900u, 900u, 900u);
+    assert_int_equal(f2812_eva.COMCONA & CLD_BITS, 0);
+    assert_int_equal(f2812_eva.EVAIMRA, 0x0001);
+    assert_true(f2812_eva.COMCONA & FCOMPOE);
+}
+
+/* enable = 0 while the period-match reload is in force: all-off goes to the shadows at once (it
+ * loads at the match: the pulse ends half-way, hal.h), and the match returns CLD to 00. */
+static void test_pwm_asymmetric_then_disable(void **state)
+{
+    (void)state;
+    enable_outputs();
+    hal_cmd_t c1 = pwm_cmd(500u, 1200u, 500u, 1200u, 500u, 1200u);
+    period(&c1);
+    f2812_t1pint();
+    assert_int_equal(f2812_eva.COMCONA & CLD_BITS, CLD_UF_AND_PERIOD);
+    hal_cmd_t off = c1;
+    off.enable = 0u;
+    hal_write(&off);
+    assert_cmpr(1876u, 1876u, 1876u);
+    assert_int_equal(f2812_eva.ACTRA, 0x0000);
+    f2812_adcint_done();
+    f2812_t1pint();
+    assert_int_equal(f2812_eva.COMCONA & CLD_BITS, 0);
+    assert_cmpr(1876u, 1876u, 1876u);
+    assert_int_equal(f2812_eva.EVAIMRA, 0x0001);
+    /* hal_gates_off in split mode: outputs Hi-Z and CLD 00 at once. */
+    enable_outputs();
+    period(&c1);
+    f2812_t1pint();
+    hal_gates_off();
+    assert_false(f2812_eva.COMCONA & FCOMPOE);
+    assert_int_equal(f2812_eva.COMCONA & CLD_BITS, 0);
+    assert_int_equal(f2812_eva.EVAIMRA, 0x0001);
+}
+
+/* FSTP: leg A has no devices, its compare values are ignored (CMPR1 parked, PWM1/2 forced low). */
+static void test_pwm_fstp_leg_a_ignored(void **state)
+{
+    (void)state;
+    f2812_set_fstp(1u);
+    enable_outputs();
+    hal_cmd_t c = pwm_cmd(0u, 0u, 937u, 937u, 100u, 100u);
+    period(&c);
+    assert_cmpr(1876u, 937u, 100u);
+    assert_int_equal(f2812_eva.ACTRA, 0x0660);
+    f2812_set_fstp(0u);
+}
+
+static void test_pwm_period_register(void **state)
+{
+    (void)state;
+    assert_int_equal(hal_pwm_period(), T1PR_50US);
+    assert_int_equal(f2812_eva.T1PR, T1PR_50US);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -670,6 +836,12 @@ int main(void)
         cmocka_unit_test_setup(test_isr_load_figure, setup_initialised),
         cmocka_unit_test(test_memcopy_copies_exactly_the_range),
         cmocka_unit_test_setup(test_irq_save_restore_nests, setup_initialised),
+        cmocka_unit_test_setup(test_pwm_duty_zero_one_mid_centred, setup_initialised),
+        cmocka_unit_test_setup(test_pwm_polarity_per_leg, setup_initialised),
+        cmocka_unit_test_setup(test_pwm_asymmetric_reload_points, setup_initialised),
+        cmocka_unit_test_setup(test_pwm_asymmetric_then_disable, setup_initialised),
+        cmocka_unit_test_setup(test_pwm_fstp_leg_a_ignored, setup_initialised),
+        cmocka_unit_test_setup(test_pwm_period_register, setup_initialised),
     };
     return cmocka_run_group_tests_name("f2812_hal", tests, NULL, NULL);
 }

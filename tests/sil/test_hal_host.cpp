@@ -43,7 +43,7 @@ TEST_F(HalHost, CommandWrittenInPeriodKActsInPeriodKPlus1)
             hal_meas_t m;
             hal_read(&m);
             EXPECT_EQ(m.tick, static_cast<std::uint32_t>(k));
-            const hal_cmd_t c{static_cast<std::uint16_t>(k % 2), static_cast<std::uint16_t>((k / 2) % 2), 1u, 1u};
+            const hal_cmd_t c{static_cast<std::uint16_t>(k % 2), static_cast<std::uint16_t>((k / 2) % 2), 1u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
             hal_write(&c);
         });
     }
@@ -66,7 +66,7 @@ TEST_F(HalHost, CommandWrittenInPeriodKActsInPeriodKPlus1)
 TEST_F(HalHost, ShadowRegisterKeepsTheLastCommandAndGatesOffActsNow)
 {
     auto h = make();
-    const hal_cmd_t on{1u, 0u, 1u, 1u};
+    const hal_cmd_t on{1u, 0u, 1u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
     h->run_period([&] { hal_write(&on); });
     h->run_period([] {});                 // no write: the shadow register keeps the command
     h->run_period([] { hal_gates_off(); }); // fault path: off in this very period
@@ -76,7 +76,7 @@ TEST_F(HalHost, ShadowRegisterKeepsTheLastCommandAndGatesOffActsNow)
     EXPECT_EQ(adv[1].sa, 1);
     EXPECT_EQ(adv[2].enable, 0);
     EXPECT_EQ(adv[3].enable, 0);
-    const hal_cmd_t bad{2u, 0u, 0u, 1u};
+    const hal_cmd_t bad{2u, 0u, 0u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
     h->run_period([&] { hal_write(&bad); });
     EXPECT_EQ(h->invalid_writes(), 1u);
 }
@@ -232,7 +232,7 @@ TEST_F(HalHost, HardwareTripLatchesGatesOffUntilClearedAfterTheFault)
     // Over-current between t = 0.5 ms and 1.0 ms (periods 10..19).
     scripted::set_script([](double t, plant_state_t* s) { s->i_b = (t > 0.49e-3 && t < 0.99e-3) ? -9.0 : 1.0; });
     auto h = make(cfg);
-    const hal_cmd_t on{0u, 1u, 0u, 1u};
+    const hal_cmd_t on{0u, 1u, 0u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
     std::vector<int> trip_flag;
     for (int k = 0; k < 30; ++k) {
         h->run_period([&] {
@@ -287,4 +287,38 @@ TEST_F(HalHost, InvalidPlantOrHarnessConfigurationIsRefused)
     bad = HarnessConfig{};
     bad.ts_s = 0.0;
     EXPECT_FALSE(Harness::create(p, bad, &err));
+}
+
+// PWM form with asymmetric pulses (period-match reload in force, hal.h): an all-off command
+// written in period k loads at the period match of k, so the period is run as two halves, the
+// second with the gates off. A centred command followed by all-off keeps the one-period delay.
+TEST_F(HalHost, AsymmetricPulseThenAllOffTurnsOffAtThePeriodMatch)
+{
+    auto h = make();
+    hal_init();
+    hal_cmd_t asym{};
+    asym.enable = 1u;
+    asym.form = HAL_CMD_PWM;
+    asym.cmpr_up[0] = 500u;
+    asym.cmpr_dn[0] = 1200u;
+    hal_cmd_t centred = asym;
+    centred.cmpr_dn[0] = 500u;
+    hal_cmd_t off{};
+    const hal_cmd_t seq[4] = {asym, off, centred, off};
+    for (const hal_cmd_t& c : seq) {
+        h->run_period([&] { hal_write(&c); });
+    }
+    const auto& adv = scripted::log().advances;
+    // period 0: gates off (nothing written before); period 1: asym, whole period, then cut at
+    // the match (two halves); period 2: off; period 3: centred, whole period.
+    ASSERT_EQ(adv.size(), 5u);
+    EXPECT_DOUBLE_EQ(adv[1].dt_s, 25e-6);
+    EXPECT_EQ(adv[1].enable, 1);
+    EXPECT_DOUBLE_EQ(adv[2].dt_s, 25e-6);
+    EXPECT_EQ(adv[2].enable, 0);
+    EXPECT_DOUBLE_EQ(adv[3].dt_s, 50e-6);
+    EXPECT_EQ(adv[3].enable, 0);
+    EXPECT_DOUBLE_EQ(adv[4].dt_s, 50e-6);
+    EXPECT_EQ(adv[4].enable, 1);
+    EXPECT_EQ(h->invalid_writes(), 0u);
 }

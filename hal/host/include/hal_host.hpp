@@ -53,6 +53,11 @@ struct SensorConfig {
 
 struct HarnessConfig {
     double ts_s = 50e-6; // control period = one ISR = one plant advance
+    // Timer 1 clock of the PWM form (the F2812's HSPCLK, 75 MHz on the board): T1PR =
+    // ts_s * pwm_clock_hz / 2. When that is not a whole number of counts in 1..65534 the PWM form
+    // is unavailable: hal_pwm_period() returns 0 and a PWM-form command is an invalid write that
+    // turns the gates off (the leg-state form works at any ts_s).
+    double pwm_clock_hz = 75e6;
     SensorConfig sensors;
 };
 
@@ -127,6 +132,12 @@ public:
     bool hal_initialised() const { return initialised_; }
     plant_t* plant() { return plant_; }
     const HarnessConfig& config() const { return cfg_; }
+    std::uint16_t pwm_period() const { return t1pr_; } // T1PR of the PWM form (0: unavailable)
+
+    /// Switching instants of leg x over one period for a PWM-form command (hal.h): the EV-A's
+    /// up/down counter rule, t = cmpr * ts / (2 T1PR) on the way up and ts - cmpr * ts / (2 T1PR)
+    /// on the way down. Exposed for tests.
+    plant_leg_edges_t pwm_leg_edges(const hal_cmd_t& cmd, int x) const;
 
     // --- hal.h back-end (the C functions forward here) ------------------------------------------
     void hal_init();
@@ -137,16 +148,19 @@ public:
     void hal_watchdog_service() { ++watchdog_services_; }
     std::uint16_t hal_irq_save();
     void hal_irq_restore(std::uint16_t state);
+    std::uint16_t hal_pwm_period() const { return t1pr_; }
 
 private:
     Harness(plant_t* plant, const HarnessConfig& cfg, const plant_params_t& params);
     bool comparator_active() const;
     void apply_to_plant();
+    static bool pwm_asymmetric(const hal_cmd_t& c);
 
     plant_t* plant_;
     HarnessConfig cfg_;
     plant_inverter_t inverter_;
     int pole_pairs_;
+    std::uint16_t t1pr_ = 0;
     std::array<AnalogChannel, HAL_ADC_COUNT> adc_;
     Encoder encoder_;
     GaussianNoise noise_;

@@ -21,6 +21,18 @@ Harness& active_or_die(const char* fn)
 }
 
 bool finite_nonneg(double x) { return std::isfinite(x) && x >= 0.0; }
+
+// T1PR = ts * f / 2 when that is a whole number of counts in 1..65534 (to 1e-9 relative: 40 us
+// at 75 MHz is 1500.0000000000002 in binary floating point), else 0 (no PWM form).
+std::uint16_t t1pr_counts(double ts_s, double clock_hz)
+{
+    const double n = ts_s * clock_hz * 0.5;
+    const double r = std::nearbyint(n);
+    if (!(std::isfinite(n) && r >= 1.0 && r <= 65534.0 && std::fabs(n - r) <= 1e-9 * r)) {
+        return 0u;
+    }
+    return static_cast<std::uint16_t>(r);
+}
 } // namespace
 
 std::unique_ptr<Harness> Harness::create(const plant_params_t& params, const HarnessConfig& cfg,
@@ -35,6 +47,9 @@ std::unique_ptr<Harness> Harness::create(const plant_params_t& params, const Har
     const SensorConfig& s = cfg.sensors;
     if (!(std::isfinite(cfg.ts_s) && cfg.ts_s > 0.0)) {
         return fail("control period ts_s must be > 0");
+    }
+    if (!(std::isfinite(cfg.pwm_clock_hz) && cfg.pwm_clock_hz > 0.0)) {
+        return fail("pwm_clock_hz must be > 0");
     }
     if (!(std::isfinite(s.current_range_a) && s.current_range_a > 0.0)) {
         return fail("current sensor range must be > 0 A");
@@ -59,6 +74,7 @@ std::unique_ptr<Harness> Harness::create(const plant_params_t& params, const Har
 
 Harness::Harness(plant_t* plant, const HarnessConfig& cfg, const plant_params_t& params)
     : plant_(plant), cfg_(cfg), inverter_(params.inverter), pole_pairs_(params.pole_pairs),
+      t1pr_(t1pr_counts(cfg.ts_s, cfg.pwm_clock_hz)),
       encoder_(cfg.sensors.encoder_lines, cfg.sensors.encoder_offset_rad), noise_(cfg.sensors.noise_seed)
 {
     const SensorConfig& s = cfg.sensors;
@@ -71,7 +87,7 @@ Harness::Harness(plant_t* plant, const HarnessConfig& cfg, const plant_params_t&
     adc_[HAL_ADC_VMID] = voltage_channel(s.voltage_range_v, s.vmid_gain_error, s.vmid_offset_v, s.voltage_noise_v_rms);
     plant_get_sensed(plant_, &sensed_);
     last_turn_ = encoder_.turn(sensed_.theta_m_rad);
-    active_ = hal_cmd_t{0, 0, 0, 0};
+    active_ = hal_cmd_t{};
     pending_ = active_;
 }
 
@@ -144,6 +160,47 @@ void Harness::sample()
 
 bool Harness::gates_enabled() const { return active_.enable != 0u && !trip_latched_; }
 
+plant_leg_edges_t Harness::pwm_leg_edges(const hal_cmd_t& cmd, int x) const
+{
+    const double ts = cfg_.ts_s;
+    const double tick = ts / (2.0 * t1pr_);
+    const std::uint16_t up = cmd.cmpr_up[x], dn = cmd.cmpr_dn[x];
+    // Compare output active while T1CNT >= the value in force (hal.h): from the up-count match
+    // to the down-count match; a value above T1PR leaves its half inactive.
+    const double a = up <= t1pr_ ? up * tick : 0.5 * ts;
+    const double b = dn <= t1pr_ ? ts - dn * tick : 0.5 * ts;
+    const int inv = cmd.act[x] == HAL_PWM_UPPER_ACTIVE_LOW ? 1 : 0;
+    plant_leg_edges_t e{};
+    if (!(a < b)) {
+        e.state0 = inv; // never active
+    } else if (a <= 0.0 && b >= ts) {
+        e.state0 = 1 - inv; // active the whole period
+    } else if (a <= 0.0) {
+        e.state0 = 1 - inv;
+        e.n = 1;
+        e.t_s[0] = b;
+    } else {
+        e.state0 = inv;
+        e.n = b >= ts ? 1 : 2;
+        e.t_s[0] = a;
+        e.t_s[1] = b;
+    }
+    return e;
+}
+
+bool Harness::pwm_asymmetric(const hal_cmd_t& c)
+{
+    if (c.form != HAL_CMD_PWM) {
+        return false;
+    }
+    for (int x = 0; x < 3; ++x) {
+        if (c.cmpr_up[x] != c.cmpr_dn[x]) {
+            return true;
+        }
+    }
+    return false;
+}
+
 void Harness::apply_to_plant()
 {
     if (inverter_ == PLANT_INVERTER_IDEAL) {
@@ -155,6 +212,15 @@ void Harness::apply_to_plant()
         return;
     }
     const int en = gates_enabled() ? 1 : 0;
+    if (active_.form == HAL_CMD_PWM && t1pr_ == 0u) {
+        plant_set_legs(plant_, 0, 0, 0, 0); // no timer period for this ts_s: refused, gates off
+        return;
+    }
+    if (active_.form == HAL_CMD_PWM) {
+        const plant_leg_edges_t e[3] = {pwm_leg_edges(active_, 0), pwm_leg_edges(active_, 1), pwm_leg_edges(active_, 2)};
+        plant_set_leg_edges(plant_, e, en);
+        return;
+    }
     plant_set_legs(plant_, active_.sa != 0u ? 1 : 0, active_.sb != 0u ? 1 : 0, active_.sc != 0u ? 1 : 0, en);
 }
 
@@ -164,7 +230,15 @@ void Harness::advance()
         sample(); // keep the protocol robust when a caller advances without sampling
     }
     apply_to_plant();
-    plant_advance(plant_, cfg_.ts_s);
+    if (inverter_ != PLANT_INVERTER_IDEAL && pwm_asymmetric(active_) && gates_enabled() && pending_.enable == 0u) {
+        // Period-match reload in force (hal.h): the all-off command written in this period loads
+        // at the period match, so the gates go off half-way through.
+        plant_advance(plant_, 0.5 * cfg_.ts_s);
+        plant_set_legs(plant_, 0, 0, 0, 0);
+        plant_advance(plant_, 0.5 * cfg_.ts_s);
+    } else {
+        plant_advance(plant_, cfg_.ts_s);
+    }
     state_valid_ = false;
     ++k_;
     active_ = pending_; // shadow registers load at the period boundary
@@ -180,7 +254,7 @@ void Harness::set_ideal_voltage(double v_alpha_v, double v_beta_v)
 void Harness::hal_init()
 {
     initialised_ = true;
-    active_ = hal_cmd_t{0, 0, 0, 0};
+    active_ = hal_cmd_t{};
     pending_ = active_;
     irq_enabled_ = 1;
 }
@@ -201,7 +275,14 @@ void Harness::hal_write(const hal_cmd_t* cmd)
         return;
     }
     ++writes_;
-    if (cmd->sa > 1u || cmd->sb > 1u || cmd->sc > 1u || cmd->enable > 1u) {
+    bool bad = cmd->sa > 1u || cmd->sb > 1u || cmd->sc > 1u || cmd->enable > 1u || cmd->form > HAL_CMD_PWM;
+    if (cmd->form == HAL_CMD_PWM) {
+        bad = bad || t1pr_ == 0u;
+        for (int x = 0; x < 3; ++x) {
+            bad = bad || cmd->act[x] > HAL_PWM_UPPER_ACTIVE_LOW;
+        }
+    }
+    if (bad) {
         ++invalid_writes_;
     }
     pending_ = *cmd;
@@ -241,6 +322,7 @@ void hal_write(const hal_cmd_t* cmd) { hal_host::active_or_die("hal_write").hal_
 void hal_gates_off(void) { hal_host::active_or_die("hal_gates_off").hal_gates_off(); }
 void hal_trip_clear(void) { hal_host::active_or_die("hal_trip_clear").hal_trip_clear(); }
 void hal_watchdog_service(void) { hal_host::active_or_die("hal_watchdog_service").hal_watchdog_service(); }
+uint16_t hal_pwm_period(void) { return hal_host::active_or_die("hal_pwm_period").hal_pwm_period(); }
 uint16_t hal_irq_save(void) { return hal_host::active_or_die("hal_irq_save").hal_irq_save(); }
 void hal_irq_restore(uint16_t state) { hal_host::active_or_die("hal_irq_restore").hal_irq_restore(state); }
 

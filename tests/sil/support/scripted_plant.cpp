@@ -68,6 +68,16 @@ void plant_set_legs(plant_t* plant, int sa, int sb, int sc, int enable)
     plant->en = enable;
 }
 
+// Records each leg's state at the start of the period (the scripted plant has no instants).
+int plant_set_leg_edges(plant_t* plant, const plant_leg_edges_t legs[3], int enable)
+{
+    plant->sa = legs[0].state0;
+    plant->sb = legs[1].state0;
+    plant->sc = legs[2].state0;
+    plant->en = enable;
+    return 0;
+}
+
 void plant_set_voltage(plant_t* plant, double v_alpha_v, double v_beta_v)
 {
     plant->va = v_alpha_v;
