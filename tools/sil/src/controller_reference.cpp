@@ -122,8 +122,11 @@ public:
             first_ = false;
         }
         const dtc_ref::Out o = ctrl_.step(m);
-        const hal_cmd_t cmd{static_cast<std::uint16_t>(o.sa), static_cast<std::uint16_t>(o.sb),
-                            static_cast<std::uint16_t>(o.sc), 1u};
+        hal_cmd_t cmd{}; // leg-state form (form = HAL_CMD_LEGS = 0)
+        cmd.sa = static_cast<std::uint16_t>(o.sa);
+        cmd.sb = static_cast<std::uint16_t>(o.sb);
+        cmd.sc = static_cast<std::uint16_t>(o.sc);
+        cmd.enable = 1u;
         hal_write(&cmd);
         est_ = ControllerEstimates{true, o.te_nm, o.psi_alpha, o.psi_beta};
     }
