@@ -38,6 +38,9 @@ typedef struct {
     /* Mechanics. */
     double j_kgm2;
     double b_nms;              /* viscous friction, N*m per rad/s */
+    double coulomb_nm;         /* Coulomb (dry) friction of the shaft and coupled load, N*m: opposes
+                                * the motion; at standstill it holds the rotor while the other
+                                * torques sum to at most coulomb_nm (0 = none) */
     /* Inverter. */
     plant_inverter_t inverter;
     double vdc_v;              /* DC source voltage */
@@ -50,6 +53,10 @@ typedef struct {
     int drops_enabled;         /* 0: ideal devices (no V_CE, V_d, R_on) */
     int dead_time_enabled;     /* 0: no dead time */
     int finite_dc_link;        /* 0: stiff DC link (capacitor voltages fixed at vdc/2) */
+    double r_bal_ohm;          /* balancing resistor across each DC-link capacitor (finite link;
+                                * SSTP: across its one capacitor); 0 = not fitted */
+    double esr_ohm;            /* equivalent series resistance of each DC-link capacitor (finite
+                                * link); 0 = ideal capacitor */
     /* Load. */
     plant_load_t load;
     double load_speed_rpm;
@@ -73,7 +80,8 @@ typedef struct {
     double te_nm;                     /* electromagnetic torque */
     double tload_nm;                  /* load torque applied */
     double vdc_v;                     /* DC-link voltage across the capacitor(s) */
-    double vc_lo_v, vc_hi_v;          /* FSTP lower / upper capacitor voltages */
+    double vc_lo_v, vc_hi_v;          /* FSTP lower / upper capacitor voltages (at the terminals:
+                                       * with esr_ohm > 0 they include the ESR drop) */
     double v_alpha_v, v_beta_v;       /* mean applied stator voltage over the last advance */
     /* Energy accounting since creation, J. */
     double e_dc_in_j, e_copper_j, e_device_j, e_friction_j, e_load_j;
@@ -83,6 +91,8 @@ typedef struct {
     double v_a0_v, v_b0_v, v_c0_v;    /* mean terminal-to-negative-rail voltages, last advance */
     int blocked_mask;                 /* bit x set: phase x is held at zero current (all devices
                                        * of that path blocked), at the end of the last advance */
+    double e_link_j;                  /* loss in the DC-link capacitors' ESR and balancing
+                                       * resistors, J (in e_friction_j: Coulomb friction too) */
 } plant_state_t;
 
 /* What a drive's sensors can see (addition): the subset of plant_state_t that hal/host samples

@@ -39,7 +39,7 @@ constexpr double kRpmToRadS = 2.0 * kPi / 60.0;
 // State vector layout.
 enum : int {
     S_IA = 0, S_IB, S_IC, S_THETA, S_OMEGA, S_VCLO, S_VCHI,
-    S_EDC, S_ECU, S_EDEV, S_EFRIC, S_ELOAD, S_ERDC, S_IVA0, S_IVB0, S_IVC0,
+    S_EDC, S_ECU, S_EDEV, S_EFRIC, S_ELOAD, S_ERDC, S_IVA0, S_IVB0, S_IVC0, S_ELINK,
     NS
 };
 // The first ND states are dynamic (they enter the right-hand side); the rest are quadratures
@@ -102,6 +102,32 @@ struct Glob {
     double pdc_s, pdc_st, pdc_src, r_dc;
 };
 
+// Finite DC link with capacitor ESR and/or balancing resistors (docs/plant.md, "DC link"): node
+// analysis of the source, the capacitors (ideal C in series with ESR) and the resistors across
+// them. Constants for dc_link_nodes(); used only when on (otherwise the plain link of Glob).
+struct LinkRC {
+    bool on;        // finite link, switching inverter, r_bal_ohm > 0 or esr_ohm > 0
+    bool fstp;      // two capacitors with the mid-point tied to phase A; else one capacitor
+    bool esr;       // esr_ohm > 0
+    double g_s;     // 1 / r_dc_ohm
+    double g_e;     // 1 / esr_ohm (esr only)
+    double g_b;     // 1 / r_bal_ohm, 0 when not fitted
+    double esr_ohm;
+    // FSTP with ESR: [vP, vM] = inverse of [[a, -c], [c, -2c]] times the right-hand side,
+    // a = g_s + g_e + g_b, c = g_e + g_b (KCL at the plus rail and at the mid-point).
+    double m11, m12, m21, m22;
+    // SSTP with ESR: vP = (g_s vdc - i_plus + g_e v_cap) * inv_gsum.
+    double inv_gsum;
+};
+
+// Link node voltages and capacitor currents for one state.
+struct LinkNodes {
+    double tv_lo, tv_hi;  // terminal voltages across the lower / upper capacitor (SSTP: halves)
+    double i_s;           // DC source current
+    double dv_lo, dv_hi;  // capacitor voltage derivatives (internal, ideal-C voltages)
+    double p_loss;        // ESR + balancing-resistor loss, W
+};
+
 struct Aux {
     double te, tload, vn0;
     double vx0[3];
@@ -146,6 +172,8 @@ struct plant {
     double inv_l, inv_j, inv_c_lo, inv_c_hi, inv_rdc;
     Prep prep;
     Glob g;
+    LinkRC link;
+    bool coulomb_on;  // coulomb_nm > 0
     bool prep_valid;  // prep matches prep_mode and the current legs / source voltages
     Mode prep_mode;
     // Taylor coefficients (in delta = theta_e - th0) of dpsi_pm,x/dtheta_e:
@@ -186,6 +214,25 @@ void derive(plant_t *pl) {
     pl->inv_c_lo = (pl->c_lo > 0.0) ? 1.0 / pl->c_lo : 0.0;
     pl->inv_c_hi = (pl->c_hi > 0.0) ? 1.0 / pl->c_hi : 0.0;
     pl->inv_rdc = (p.r_dc_ohm > 0.0) ? 1.0 / p.r_dc_ohm : 0.0;
+    pl->coulomb_on = p.coulomb_nm > 0.0;
+    LinkRC &lk = pl->link;
+    lk = LinkRC{};
+    lk.on = p.finite_dc_link && p.inverter != PLANT_INVERTER_IDEAL && (p.r_bal_ohm > 0.0 || p.esr_ohm > 0.0);
+    lk.fstp = p.inverter == PLANT_INVERTER_FSTP;
+    lk.esr = p.esr_ohm > 0.0;
+    lk.esr_ohm = p.esr_ohm;
+    lk.g_s = pl->inv_rdc;
+    lk.g_e = lk.esr ? 1.0 / p.esr_ohm : 0.0;
+    lk.g_b = (p.r_bal_ohm > 0.0) ? 1.0 / p.r_bal_ohm : 0.0;
+    if (lk.on && lk.esr) {
+        const double a = lk.g_s + lk.g_e + lk.g_b, c = lk.g_e + lk.g_b;
+        const double det = c * (c - 2.0 * a);  // det [[a, -c], [c, -2c]] = -2ac + c^2
+        lk.m11 = -2.0 * c / det;
+        lk.m12 = c / det;
+        lk.m21 = -c / det;
+        lk.m22 = a / det;
+        lk.inv_gsum = 1.0 / a;
+    }
     pl->has_harm = false;
     for (int x = 0; x < 3; ++x) {
         const double g = p.psi_m_wb * p.emf_gain[x];
@@ -337,10 +384,96 @@ void pm_flux_centre(const plant_t *pl, double theta_e, double dpsi[3], double ps
     }
 }
 
+// Coulomb friction torque (opposing the motion): +-tc while turning; at exactly zero speed the
+// static friction that holds the rotor, i.e. the net driving torque td clamped to [-tc, tc] (the
+// rotor stays stuck while |td| <= tc and breaks away with td - tc sign(td) otherwise).
+inline double coulomb_torque(double tc, double omega, double td) {
+    if (omega > 0.0) return tc;
+    if (omega < 0.0) return -tc;
+    return std::min(tc, std::max(-tc, td));
+}
+
+// DC-link node analysis with ESR and balancing resistors (LinkRC): vc_lo / vc_hi are the ideal
+// capacitor voltages (states), i_plus / i_mid the currents the inverter draws from the plus rail
+// and from the mid-point. KCL at the plus rail P and the mid-point M (negative rail = 0):
+//   g_s (vdc - vP) = i_plus + i_chi + g_b (vP - vM),   i_chi = g_e (vP - vM - vc_hi)
+//   i_chi + g_b (vP - vM) = i_mid + i_clo + g_b vM,      i_clo = g_e (vM - vc_lo)
+// with ESR = 0 the terminals are the capacitor voltages and the capacitor currents follow from
+// the same two equations. SSTP: one capacitor (2 c_dc_f) from P to 0 with ESR and r_bal across it.
+inline void dc_link_nodes(const plant_t *pl, double vlo, double vhi, double i_plus, double i_mid, LinkNodes &n) {
+    const LinkRC &k = pl->link;
+    const double vdc = pl->p.vdc_v;
+    if (k.fstp) {
+        double i_chi, i_clo;
+        if (k.esr) {
+            const double r1 = k.g_s * vdc - i_plus + k.g_e * vhi;
+            const double r2 = i_mid + k.g_e * (vhi - vlo);
+            const double vp = k.m11 * r1 + k.m12 * r2;
+            const double vm = k.m21 * r1 + k.m22 * r2;
+            n.tv_lo = vm;
+            n.tv_hi = vp - vm;
+            n.i_s = k.g_s * (vdc - vp);
+            i_chi = k.g_e * (n.tv_hi - vhi);
+            i_clo = k.g_e * (n.tv_lo - vlo);
+            n.p_loss = k.esr_ohm * (i_chi * i_chi + i_clo * i_clo);
+        } else {
+            n.tv_lo = vlo;
+            n.tv_hi = vhi;
+            n.i_s = k.g_s * (vdc - vlo - vhi);
+            i_chi = n.i_s - i_plus - k.g_b * vhi;
+            i_clo = n.i_s - i_plus - i_mid - k.g_b * vlo;
+            n.p_loss = 0.0;
+        }
+        n.p_loss += k.g_b * (n.tv_lo * n.tv_lo + n.tv_hi * n.tv_hi);
+        n.dv_hi = i_chi * pl->inv_c_hi;
+        n.dv_lo = i_clo * pl->inv_c_lo;
+    } else {
+        const double vcap = vlo + vhi;
+        double vp, i_cap;
+        if (k.esr) {
+            vp = (k.g_s * vdc - i_plus + k.g_e * vcap) * k.inv_gsum;
+            i_cap = k.g_e * (vp - vcap);
+            n.p_loss = k.esr_ohm * i_cap * i_cap;
+        } else {
+            vp = vcap;
+            i_cap = k.g_s * (vdc - vp) - i_plus - k.g_b * vcap;
+            n.p_loss = 0.0;
+        }
+        n.p_loss += k.g_b * vp * vp;
+        n.i_s = k.g_s * (vdc - vp);
+        n.tv_lo = n.tv_hi = 0.5 * vp;
+        n.dv_lo = n.dv_hi = 0.5 * i_cap * pl->inv_c_lo;  // inv_c_lo = 1 / (2 c_dc_f), see derive()
+    }
+}
+
+// Link terminal voltages at state y (the rail currents from the current signs; a zero current
+// draws nothing whatever its path).
+inline void dc_link_terminals(const plant_t *pl, const Vec &y, double &tv_lo, double &tv_hi) {
+    double ip = 0.0, im = 0.0;
+    for (int x = 0; x < 3; ++x) {
+        const double i = y[S_IA + x];
+        if (i == 0.0) continue;
+        const Path &pa = (i > 0.0) ? pl->legs[x]->pos : pl->legs[x]->neg;
+        if (pa.rail == RAIL_PLUS) ip += i;
+        else if (pa.rail == RAIL_MID) im += i;
+    }
+    LinkNodes n;
+    dc_link_nodes(pl, y[S_VCLO], y[S_VCHI], ip, im, n);
+    tv_lo = n.tv_lo;
+    tv_hi = n.tv_hi;
+}
+
 inline void rails(const plant_t *pl, const Vec &y, double rv[4], int x) {
     rv[RAIL_ZERO] = 0.0;
-    rv[RAIL_PLUS] = y[S_VCLO] + y[S_VCHI];
-    rv[RAIL_MID] = y[S_VCLO];
+    if (pl->link.on) {
+        double lo, hi;
+        dc_link_terminals(pl, y, lo, hi);
+        rv[RAIL_PLUS] = lo + hi;
+        rv[RAIL_MID] = lo;
+    } else {
+        rv[RAIL_PLUS] = y[S_VCLO] + y[S_VCHI];
+        rv[RAIL_MID] = y[S_VCLO];
+    }
     rv[RAIL_SRC] = 0.0;
     if (pl->p.inverter == PLANT_INVERTER_IDEAL) {
         // Ideal source: phase voltages from the inverse amplitude-invariant Clarke transform.
@@ -445,11 +578,25 @@ inline void rhs_t(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
     dpsi_fast(pl, pp * y[S_THETA], dpsi);
     const double vlo = y[S_VCLO], vhi = y[S_VCHI];
     const double ix[3] = {y[S_IA], y[S_IB], y[S_IC]};
+    // Rail voltages: the capacitor voltages, or with ESR / balancing resistors the link's node
+    // voltages (LinkRC), which depend on the currents the inverter draws.
+    double tvlo = vlo, tvhi = vhi;
+    LinkNodes ln;
+    if (pl->link.on) {
+        double ip = 0.0, im = 0.0;
+        for (int x = 0; x < 3; ++x) {
+            ip += k[x]->plus * ix[x];
+            im += k[x]->mid * ix[x];
+        }
+        dc_link_nodes(pl, vlo, vhi, ip, im, ln);
+        tvlo = ln.tv_lo;
+        tvhi = ln.tv_hi;
+    }
     double e[3], vp[3], u[3];
 #pragma GCC unroll 3
     for (int x = 0; x < 3; ++x) {
         e[x] = omega_e * dpsi[x];
-        vp[x] = k[x]->a_lo * vlo + k[x]->a_hi * vhi + k[x]->c;
+        vp[x] = k[x]->a_lo * tvlo + k[x]->a_hi * tvhi + k[x]->c;
         u[x] = vp[x] - k[x]->rtot * ix[x] - e[x];  // L di/dt + v_n0 of a conducting phase
     }
     double vn0;
@@ -484,17 +631,37 @@ inline void rhs_t(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
     te *= pp;
     const Glob &g = pl->g;
     const double b = pl->p.b_nms;
-    const double tl = g.ld_c0 + g.ld_cw * omega + g.ld_cte * te;
+    double tl = g.ld_c0 + g.ld_cw * omega + g.ld_cte * te;
     dy[S_THETA] = omega;
-    dy[S_OMEGA] = g.w_on * (te - b * omega - tl) * pl->inv_j;
+    if (!pl->coulomb_on) {
+        dy[S_OMEGA] = g.w_on * (te - b * omega - tl) * pl->inv_j;
+        dy[S_EFRIC] = b * omega * omega;
+    } else {
+        // Coulomb friction tf on top of the viscous term; a held speed (speed load) makes the
+        // dynamometer supply it (ld_cte = 1 there). Its direction is that of the speed at the
+        // start of the step (pl->y: every evaluation within a step starts from it), so a step's
+        // stages never see the jump; integrate() stops the rotor where the speed crosses zero.
+        const double tf = coulomb_torque(pl->p.coulomb_nm, pl->y[S_OMEGA], te - b * omega - tl);
+        tl -= g.ld_cte * tf;
+        dy[S_OMEGA] = g.w_on * (te - b * omega - tl - tf) * pl->inv_j;
+        dy[S_EFRIC] = (b * omega + tf) * omega;
+    }
     // DC link.
-    const double i_s = g.is_g * (pl->p.vdc_v - (vlo + vhi));
-    dy[S_VCHI] = g.hi_s * i_s - g.hi_p * i_plus;
-    dy[S_VCLO] = g.lo_s * i_s - g.lo_p * i_plus - g.lo_m * i_mid;
+    double i_s;
+    if (!pl->link.on) {
+        i_s = g.is_g * (pl->p.vdc_v - (vlo + vhi));
+        dy[S_VCHI] = g.hi_s * i_s - g.hi_p * i_plus;
+        dy[S_VCLO] = g.lo_s * i_s - g.lo_p * i_plus - g.lo_m * i_mid;
+        dy[S_ELINK] = 0.0;
+    } else {
+        i_s = ln.i_s;
+        dy[S_VCHI] = ln.dv_hi;
+        dy[S_VCLO] = ln.dv_lo;
+        dy[S_ELINK] = ln.p_loss;
+    }
     dy[S_EDC] = g.pdc_s * i_s + g.pdc_st * ((vlo + vhi) * i_plus + vlo * i_mid) + g.pdc_src * p_src;
     dy[S_ECU] = pl->p.rs_ohm * p_cu;
     dy[S_EDEV] = p_dev;
-    dy[S_EFRIC] = b * omega * omega;
     dy[S_ELOAD] = tl * omega;
     dy[S_ERDC] = g.r_dc * i_s * i_s;
     dy[S_IVA0] = vx0[0];
@@ -715,9 +882,21 @@ inline void midpoint(plant_t *pl, const Vec &y0, double h, const Vec &k1, Vec &o
 
 // The step's integrator: RK4, or the midpoint rule on a short dead-time segment (plant_advance
 // sets pl->short_seg; docs/plant.md section 2 gives the rule and its error).
+// With Coulomb friction (direction frozen over the step, see rhs_t) a speed that changes sign
+// within the step is set to exactly zero at the step's end; the next step then either holds the
+// rotor or breaks away (coulomb_torque). The kinetic energy removed goes to the friction account, so the
+// energy balance stays closed; the local error is one step's worth of the zero crossing
+// (docs/plant.md, "Mechanics").
 inline void integrate(plant_t *pl, const Vec &y0, double h, const Vec &k1, Vec &out) {
     if (pl->short_seg) midpoint(pl, y0, h, k1, out);
     else rk4(pl, y0, h, k1, out);
+    if (pl->coulomb_on && pl->g.w_on != 0.0) {
+        const double w0 = y0[S_OMEGA], w1 = out[S_OMEGA];
+        if ((w0 > 0.0 && w1 < 0.0) || (w0 < 0.0 && w1 > 0.0)) {
+            out[S_EFRIC] += 0.5 * pl->p.j_kgm2 * w1 * w1;
+            out[S_OMEGA] = 0.0;
+        }
+    }
 }
 
 // Event function: the most negative of (a) dir * i for conducting sign-dependent phases (the
@@ -917,6 +1096,9 @@ const char *check_params(const plant_params_t *p) {
     }
     if (bad(p->j_kgm2) || p->j_kgm2 <= 0.0) return "j_kgm2 must be finite and > 0";
     if (bad(p->b_nms) || p->b_nms < 0.0) return "b_nms must be finite and >= 0";
+    if (bad(p->coulomb_nm) || p->coulomb_nm < 0.0) return "coulomb_nm must be finite and >= 0";
+    if (bad(p->r_bal_ohm) || p->r_bal_ohm < 0.0) return "r_bal_ohm must be finite and >= 0 (0 = not fitted)";
+    if (bad(p->esr_ohm) || p->esr_ohm < 0.0) return "esr_ohm must be finite and >= 0";
     if (p->inverter != PLANT_INVERTER_IDEAL && p->inverter != PLANT_INVERTER_SSTP &&
         p->inverter != PLANT_INVERTER_FSTP)
         return "inverter must be PLANT_INVERTER_IDEAL, _SSTP or _FSTP";
@@ -1119,8 +1301,8 @@ void plant_advance(plant_t *pl, double dt_s) {
 void plant_get_state(const plant_t *plant, plant_state_t *s) {
     plant_t *pl = const_cast<plant_t *>(plant);  // rhs() counts evaluations; the state is unchanged
     // Every field is assigned below (no memset: this runs once per control period).
-    static_assert(offsetof(plant_state_t, blocked_mask) == 31 * sizeof(double) &&
-                      sizeof(plant_state_t) <= 32 * sizeof(double),
+    static_assert(offsetof(plant_state_t, e_link_j) == 32 * sizeof(double) &&
+                      sizeof(plant_state_t) <= 33 * sizeof(double),
                   "plant_state_t changed: assign the new fields");
     const plant_params_t &p = pl->p;
     const Vec &y = pl->y;
@@ -1155,9 +1337,17 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
     for (int x = 0; x < 3; ++x) te += y[S_IA + x] * dpsi[x];
     s->te_nm = pp * te;
     s->tload_nm = pl->g.ld_c0 + pl->g.ld_cw * y[S_OMEGA] + pl->g.ld_cte * s->te_nm;  // as in rhs_t
-    s->vdc_v = y[S_VCLO] + y[S_VCHI];
-    s->vc_lo_v = y[S_VCLO];
-    s->vc_hi_v = y[S_VCHI];
+    if (pl->coulomb_on) {
+        const double w = y[S_OMEGA];
+        s->tload_nm -= pl->g.ld_cte * coulomb_torque(p.coulomb_nm, w, s->te_nm - p.b_nms * w - s->tload_nm);
+    }
+    if (pl->link.on) {
+        dc_link_terminals(pl, y, s->vc_lo_v, s->vc_hi_v);
+    } else {
+        s->vc_lo_v = y[S_VCLO];
+        s->vc_hi_v = y[S_VCHI];
+    }
+    s->vdc_v = s->vc_lo_v + s->vc_hi_v;
     if (pl->last_dt > 0.0) {
         const double inv_dt = 1.0 / pl->last_dt;
         s->v_a0_v = y[S_IVA0] * inv_dt;
@@ -1176,6 +1366,7 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
     s->e_friction_j = y[S_EFRIC];
     s->e_load_j = y[S_ELOAD];
     s->e_rdc_j = y[S_ERDC];
+    s->e_link_j = y[S_ELINK];
     const double ia2 = s->i_alpha_a * s->i_alpha_a + s->i_beta_a * s->i_beta_a;
     s->e_magnetic_j = 0.75 * p.ls_h * ia2;  // (3/2) * (1/2) L_s |i|^2, amplitude-invariant frame
     s->e_kinetic_j = 0.5 * p.j_kgm2 * y[S_OMEGA] * y[S_OMEGA];
@@ -1207,9 +1398,13 @@ void plant_get_sensed(const plant_t *plant, plant_sensed_t *s) {
     s->i_c = y[S_IC];
     s->theta_m_rad = y[S_THETA];
     s->omega_m_rad_s = y[S_OMEGA];
-    s->vdc_v = y[S_VCLO] + y[S_VCHI];
-    s->vc_lo_v = y[S_VCLO];
-    s->vc_hi_v = y[S_VCHI];
+    if (plant->link.on) {
+        dc_link_terminals(plant, y, s->vc_lo_v, s->vc_hi_v);
+    } else {
+        s->vc_lo_v = y[S_VCLO];
+        s->vc_hi_v = y[S_VCHI];
+    }
+    s->vdc_v = s->vc_lo_v + s->vc_hi_v;
 }
 
 int plant_set_phase_currents(plant_t *plant, double i_a, double i_b, double i_c) {

@@ -41,6 +41,8 @@ struct InverterCfg {
     double dead_time_s = 1.0e-6;
     double c_dc_f = 4.7e-3;        // FSTP mid-point ripple at 2.2 A, 25 Hz: +-1.5 V (see docs/sil.md)
     double r_dc_ohm = 0.1;
+    double r_bal_ohm = 0.0;        // balancing resistor across each capacitor; 0 = not fitted
+    double esr_ohm = 0.0;          // capacitor ESR; 0 = ideal capacitor (docs/plant.md gives typical values)
     bool drops = true;
     bool dead_time = true;
     bool finite_dc_link = true;
@@ -52,6 +54,7 @@ struct LoadCfg {
     double torque_nm = 0.0;
     double step_time_s = 0.0;     // 0 = no step
     double step_torque_nm = 0.0;
+    double coulomb_nm = 0.0;      // Coulomb (dry) friction of the coupled load; 0 = none
 };
 
 struct ControlCfg {

@@ -50,6 +50,9 @@ plant_params_t plant_params_from(const Scenario& sc)
     p.vdc_v = sc.inverter.vdc_v;
     p.r_dc_ohm = sc.inverter.r_dc_ohm;
     p.c_dc_f = sc.inverter.c_dc_f;
+    p.r_bal_ohm = sc.inverter.r_bal_ohm;
+    p.esr_ohm = sc.inverter.esr_ohm;
+    p.coulomb_nm = sc.load.coulomb_nm;
     p.v_ce_v = sc.inverter.v_ce_v;
     p.v_d_v = sc.inverter.v_d_v;
     p.r_on_ohm = sc.inverter.r_on_ohm;

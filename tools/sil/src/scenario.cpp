@@ -180,6 +180,14 @@ const std::vector<Spec>& schema()
             ACC(inverter.dead_time_s)),
         num("inverter.c_dc_f", "F", positive(), "each DC-link capacitor (FSTP: two in series)", ACC(inverter.c_dc_f)),
         num("inverter.r_dc_ohm", "ohm", nonneg(), "DC source internal resistance", ACC(inverter.r_dc_ohm)),
+        num("inverter.r_bal_ohm", "ohm", nonneg(),
+            "balancing resistor across each DC-link capacitor (SSTP: across its one capacitor), finite link "
+            "only; 0 = not fitted (docs/plant.md: 3.3 kohm for 2 x 4.7 mF on a 70 V split link)",
+            ACC(inverter.r_bal_ohm)),
+        num("inverter.esr_ohm", "ohm", nonneg(),
+            "equivalent series resistance of each DC-link capacitor, finite link only; 0 = ideal "
+            "(docs/plant.md: 25 mohm for a 4.7 mF / 63 V electrolytic)",
+            ACC(inverter.esr_ohm)),
         boolean("inverter.drops", "device forward drops and R_on (false: ideal devices)", ACC(inverter.drops)),
         boolean("inverter.dead_time", "dead time modelled", ACC(inverter.dead_time)),
         boolean("inverter.finite_dc_link", "capacitor voltages move (false: stiff DC link)",
@@ -194,6 +202,10 @@ const std::vector<Spec>& schema()
         num("load.torque_nm", "N*m", any(), "load torque (torque, generator loads)", ACC(load.torque_nm)),
         num("load.step_time_s", "s", nonneg(), "time of a load-torque step (0 = none)", ACC(load.step_time_s)),
         num("load.step_torque_nm", "N*m", any(), "load.torque_nm after the step", ACC(load.step_torque_nm)),
+        num("load.coulomb_nm", "N*m", nonneg(),
+            "Coulomb (dry) friction of the shaft and coupled load (DC generator brushes and bearings, "
+            "Hoang sec. IV rig), opposes the motion and holds a stopped rotor while the other torques sum to no more; 0 = none",
+            ACC(load.coulomb_nm)),
         // ---- control ----
         choice("control.mode", {"speed", "torque", "open_loop"},
                "speed = speed PI -> torque reference; torque = fixed torque reference; open_loop = "
