@@ -27,14 +27,25 @@ typedef enum {
     PLANT_LOAD_INERTIA = 3    /* inertia and friction only */
 } plant_load_t;
 
+typedef enum {
+    PLANT_MACHINE_PM = 0,     /* surface PM BLAC machine (Hoang eqs. 6-10): rs_ohm, ls_h, psi_m_wb, emf_* */
+    PLANT_MACHINE_IM = 1      /* squirrel-cage induction machine (Casadei eqs. A1-A11): rs_ohm, rr_ohm,
+                               * lls_h, llr_h, lm_h (T model) */
+} plant_machine_t;
+
 typedef struct {
-    /* Surface PM BLAC machine (Hoang eqs. 6-10). */
+    /* Surface PM BLAC machine (Hoang eqs. 6-10); rs_ohm and pole_pairs serve both machines. */
     double rs_ohm;
     double ls_h;
     double psi_m_wb;
     int pole_pairs;
     double emf_gain[3];        /* per-phase back-EMF fundamental scale, 1.0 = psi_m_wb */
     double emf_harm[3][3];     /* [phase][3rd, 5th, 7th] amplitude relative to the fundamental */
+    /* Which machine; the induction machine's T-model parameters (machine = PLANT_MACHINE_IM). */
+    plant_machine_t machine;
+    double rr_ohm;             /* rotor resistance, stator-referred */
+    double lls_h, llr_h;       /* stator / rotor leakage inductance, stator-referred */
+    double lm_h;               /* magnetising inductance */
     /* Mechanics. */
     double j_kgm2;
     double b_nms;              /* viscous friction, N*m per rad/s */
@@ -93,6 +104,9 @@ typedef struct {
                                        * of that path blocked), at the end of the last advance */
     double e_link_j;                  /* loss in the DC-link capacitors' ESR and balancing
                                        * resistors, J (in e_friction_j: Coulomb friction too) */
+    double psi_r_alpha_wb, psi_r_beta_wb; /* induction machine: T-model rotor flux L_r i_r + L_m i_s
+                                       * (Casadei's phi_r), Wb; 0 for the PM machine. e_copper_j
+                                       * includes the rotor copper loss */
 } plant_state_t;
 
 /* What a drive's sensors can see (addition): the subset of plant_state_t that hal/host samples
@@ -127,6 +141,12 @@ typedef struct {
 
 /* Defaults: Hoang Table VIII machine, Table IV devices, 70 V DC link, SSTP. */
 void plant_params_default(plant_params_t *p);
+
+/* Sets the machine fields to the default induction machine (machine = PLANT_MACHINE_IM): 4 kW,
+ * 4 poles, 50 Hz, 220 V, the Modelica Buildings IM_5HP_400V_50Hz set rescaled to 220 V
+ * (docs/plant.md, /work/shared/reference/im-facts.md): R_s 0.4250, R_r 0.4220 ohm, L_ls = L_lr
+ * 1.7663 mH, L_m 52.09 mH, p = 2, J 0.0131 kg*m^2, b 0. Inverter, load and numerics unchanged. */
+void plant_params_im_default(plant_params_t *p);
 
 /* Returns NULL and writes a message into err when a parameter is invalid. */
 typedef struct plant plant_t;

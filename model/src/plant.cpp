@@ -23,6 +23,8 @@
 
 #include <Eigen/Core>
 
+#include "machine_im.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -38,14 +40,14 @@ constexpr double kRpmToRadS = 2.0 * kPi / 60.0;
 
 // State vector layout.
 enum : int {
-    S_IA = 0, S_IB, S_IC, S_THETA, S_OMEGA, S_VCLO, S_VCHI,
+    S_IA = 0, S_IB, S_IC, S_THETA, S_OMEGA, S_VCLO, S_VCHI, S_PSIRA, S_PSIRB,
     S_EDC, S_ECU, S_EDEV, S_EFRIC, S_ELOAD, S_ERDC, S_IVA0, S_IVB0, S_IVC0, S_ELINK,
     NS
 };
 // The first ND states are dynamic (they enter the right-hand side); the rest are quadratures
 // (energy accounts and terminal-voltage integrals) that RK4 integrates with the same weights, so
 // the intermediate stage states only need their first ND entries.
-constexpr int ND = S_VCHI + 1;
+constexpr int ND = S_PSIRB + 1;
 using Vec = Eigen::Matrix<double, NS, 1>;
 
 enum Rail : int { RAIL_ZERO = 0, RAIL_PLUS = 1, RAIL_MID = 2, RAIL_SRC = 3 };
@@ -174,6 +176,11 @@ struct plant {
     Glob g;
     LinkRC link;
     bool coulomb_on;  // coulomb_nm > 0
+    // Machine seen by the per-phase circuit: L di/dt = v - r_ph i - e. PM: L_s, R_s and the
+    // magnet's EMF; IM (machine_im.h): sigma L_s, R_eff and the rotor-flux EMF.
+    bool im;
+    im::Const imc;
+    double r_ph, l_ph;
     bool prep_valid;  // prep matches prep_mode and the current legs / source voltages
     Mode prep_mode;
     // Taylor coefficients (in delta = theta_e - th0) of dpsi_pm,x/dtheta_e:
@@ -202,14 +209,23 @@ void derive(plant_t *pl) {
     const plant_params_t &p = pl->p;
     pl->omega_load_ref = p.load_speed_rpm * kRpmToRadS;
     pl->pp = p.pole_pairs;
-    pl->inv_l_2_3 = (2.0 / 3.0) / p.ls_h;
-    pl->inv_l_1_3 = (1.0 / 3.0) / p.ls_h;
+    pl->im = p.machine == PLANT_MACHINE_IM;
+    if (pl->im) {
+        pl->imc = im::derive(p);
+        pl->r_ph = pl->imc.r_eff;
+        pl->l_ph = pl->imc.l_eff;
+    } else {
+        pl->r_ph = p.rs_ohm;
+        pl->l_ph = p.ls_h;
+    }
+    pl->inv_l_2_3 = (2.0 / 3.0) / pl->l_ph;
+    pl->inv_l_1_3 = (1.0 / 3.0) / pl->l_ph;
     if (p.inverter == PLANT_INVERTER_SSTP) {
         pl->c_lo = pl->c_hi = 2.0 * p.c_dc_f;
     } else {
         pl->c_lo = pl->c_hi = p.c_dc_f;
     }
-    pl->inv_l = 1.0 / p.ls_h;
+    pl->inv_l = 1.0 / pl->l_ph;
     pl->inv_j = 1.0 / p.j_kgm2;
     pl->inv_c_lo = (pl->c_lo > 0.0) ? 1.0 / pl->c_lo : 0.0;
     pl->inv_c_hi = (pl->c_hi > 0.0) ? 1.0 / pl->c_hi : 0.0;
@@ -235,7 +251,7 @@ void derive(plant_t *pl) {
     }
     pl->has_harm = false;
     for (int x = 0; x < 3; ++x) {
-        const double g = p.psi_m_wb * p.emf_gain[x];
+        const double g = pl->im ? 0.0 : p.psi_m_wb * p.emf_gain[x];
         const double h[4] = {1.0, p.emf_harm[x][0], p.emf_harm[x][1], p.emf_harm[x][2]};
         const int n[4] = {1, 3, 5, 7};
         for (int k = 0; k < 4; ++k) {
@@ -384,6 +400,19 @@ void pm_flux_centre(const plant_t *pl, double theta_e, double dpsi[3], double ps
     }
 }
 
+// Phase back-EMF of the configured machine at state y (exact formulas; the step's right-hand side
+// uses the same, with the PM's expansion).
+inline void machine_emf(const plant_t *pl, const Vec &y, double e[3]) {
+    const double omega_e = pl->pp * y[S_OMEGA];
+    if (pl->im) {
+        im::emf_phases(pl->imc, y[S_PSIRA], y[S_PSIRB], omega_e, e);
+        return;
+    }
+    double dpsi[3];
+    pm_flux(pl, pl->pp * y[S_THETA], dpsi, nullptr);
+    for (int x = 0; x < 3; ++x) e[x] = omega_e * dpsi[x];
+}
+
 // Coulomb friction torque (opposing the motion): +-tc while turning; at exactly zero speed the
 // static friction that holds the rotor, i.e. the net driving torque td clamped to [-tc, tc] (the
 // rotor stays stuck while |td| <= tc and breaks away with td - tc sign(td) otherwise).
@@ -501,7 +530,7 @@ PhaseCoef phase_coef(const plant_t *pl, const Leg &L, const Path &pa, bool blk, 
     k.a_hi = (pa.rail == RAIL_PLUS) ? 1.0 : 0.0;
     k.c = ((pa.rail == RAIL_SRC) ? vsrc : 0.0) - pa.d;
     k.r = pa.r;
-    k.rtot = pl->p.rs_ohm + pa.r;
+    k.rtot = pl->r_ph + pa.r;
     k.dev = (L.device && !blk) ? 1.0 : 0.0;
     k.dev_d = pa.d;
     k.plus = (!blk && pa.rail == RAIL_PLUS) ? 1.0 : 0.0;
@@ -574,8 +603,14 @@ inline void rhs_t(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
     const double pp = pl->pp;
     const double omega = y[S_OMEGA];
     const double omega_e = pp * omega;
-    double dpsi[3];
-    dpsi_fast(pl, pp * y[S_THETA], dpsi);
+    double dpsi[3], e[3];
+    if (!pl->im) {
+        dpsi_fast(pl, pp * y[S_THETA], dpsi);
+        for (int x = 0; x < 3; ++x) e[x] = omega_e * dpsi[x];
+    } else {
+        im::emf_phases(pl->imc, y[S_PSIRA], y[S_PSIRB], omega_e, e);
+        dpsi[0] = dpsi[1] = dpsi[2] = 0.0;  // no PM torque term; the IM torque follows the loop
+    }
     const double vlo = y[S_VCLO], vhi = y[S_VCHI];
     const double ix[3] = {y[S_IA], y[S_IB], y[S_IC]};
     // Rail voltages: the capacitor voltages, or with ESR / balancing resistors the link's node
@@ -592,10 +627,9 @@ inline void rhs_t(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
         tvlo = ln.tv_lo;
         tvhi = ln.tv_hi;
     }
-    double e[3], vp[3], u[3];
+    double vp[3], u[3];
 #pragma GCC unroll 3
     for (int x = 0; x < 3; ++x) {
-        e[x] = omega_e * dpsi[x];
         vp[x] = k[x]->a_lo * tvlo + k[x]->a_hi * tvhi + k[x]->c;
         u[x] = vp[x] - k[x]->rtot * ix[x] - e[x];  // L di/dt + v_n0 of a conducting phase
     }
@@ -629,6 +663,15 @@ inline void rhs_t(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
         p_cu += i * i;
     }
     te *= pp;
+    double p_rotor_cu = 0.0;
+    if (!pl->im) {
+        dy[S_PSIRA] = dy[S_PSIRB] = 0.0;
+    } else {
+        const double i_al = (2.0 * ix[0] - ix[1] - ix[2]) * (1.0 / 3.0);
+        const double i_be = (ix[1] - ix[2]) * (1.0 / kSqrt3);
+        im::rotor(pl->imc, pl->p.pole_pairs, i_al, i_be, y[S_PSIRA], y[S_PSIRB], omega_e, dy[S_PSIRA],
+                  dy[S_PSIRB], te, p_rotor_cu);
+    }
     const Glob &g = pl->g;
     const double b = pl->p.b_nms;
     double tl = g.ld_c0 + g.ld_cw * omega + g.ld_cte * te;
@@ -660,7 +703,7 @@ inline void rhs_t(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
         dy[S_ELINK] = ln.p_loss;
     }
     dy[S_EDC] = g.pdc_s * i_s + g.pdc_st * ((vlo + vhi) * i_plus + vlo * i_mid) + g.pdc_src * p_src;
-    dy[S_ECU] = pl->p.rs_ohm * p_cu;
+    dy[S_ECU] = pl->p.rs_ohm * p_cu + p_rotor_cu;
     dy[S_EDEV] = p_dev;
     dy[S_ELOAD] = tl * omega;
     dy[S_ERDC] = g.r_dc * i_s * i_s;
@@ -755,15 +798,9 @@ Mode select_mode(plant_t *pl, const Vec &y) {
     }
     if (nz == 0) return m;
     ++pl->stats.mode_selects;
-    const plant_params_t &p = pl->p;
-    const double pp = p.pole_pairs;
-    double dpsi[3];
-    pm_flux(pl, pp * y[S_THETA], dpsi, nullptr);
     double e[3], rv[3][4];
-    for (int x = 0; x < 3; ++x) {
-        e[x] = pp * y[S_OMEGA] * dpsi[x];
-        rails(pl, y, rv[x], x);
-    }
+    machine_emf(pl, y, e);
+    for (int x = 0; x < 3; ++x) rails(pl, y, rv[x], x);
     int ncand = 1;
     for (int k = 0; k < nz; ++k) ncand *= 3;
     double best_v = 1e300;
@@ -791,7 +828,7 @@ Mode select_mode(plant_t *pl, const Vec &y) {
             const Path &pa = (t.ph[x] == PH_POS) ? pl->legs[x]->pos : pl->legs[x]->neg;
             vp[x] = path_v(pa, rv[x]);
             rr[x] = pa.r;
-            sum += vp[x] - (p.rs_ohm + rr[x]) * y[S_IA + x] - e[x];
+            sum += vp[x] - (pl->r_ph + rr[x]) * y[S_IA + x] - e[x];
             ++nk;
         }
         if (nk == 1) continue;
@@ -813,7 +850,7 @@ Mode select_mode(plant_t *pl, const Vec &y) {
                     const double a = path_v(pl->legs[x]->pos, rv[x]), b = path_v(pl->legs[x]->neg, rv[x]);
                     viol += std::max(0.0, std::min(a, b) - vf) + std::max(0.0, vf - std::max(a, b));
                 } else if (pl->legs[x]->sign_dep) {
-                    const double di = vp[x] - (p.rs_ohm + rr[x]) * y[S_IA + x] - e[x] - vn0;  // L di/dt
+                    const double di = vp[x] - (pl->r_ph + rr[x]) * y[S_IA + x] - e[x] - vn0;  // L di/dt
                     if (t.ph[x] == PH_POS) viol += std::max(0.0, -di);
                     else viol += std::max(0.0, di);
                 }
@@ -1085,8 +1122,19 @@ const char *check_params(const plant_params_t *p) {
     if (!p) return "params: NULL";
     auto bad = [](double v) { return !std::isfinite(v); };
     if (bad(p->rs_ohm) || p->rs_ohm < 0.0) return "rs_ohm must be finite and >= 0";
-    if (bad(p->ls_h) || p->ls_h <= 0.0) return "ls_h must be finite and > 0";
-    if (bad(p->psi_m_wb) || p->psi_m_wb < 0.0) return "psi_m_wb must be finite and >= 0";
+    if (p->machine != PLANT_MACHINE_PM && p->machine != PLANT_MACHINE_IM)
+        return "machine must be PLANT_MACHINE_PM or PLANT_MACHINE_IM";
+    if (p->machine == PLANT_MACHINE_IM) {
+        if (bad(p->rr_ohm) || p->rr_ohm <= 0.0) return "rr_ohm must be finite and > 0";
+        if (bad(p->lm_h) || p->lm_h <= 0.0) return "lm_h must be finite and > 0";
+        if (bad(p->lls_h) || p->lls_h < 0.0) return "lls_h must be finite and >= 0";
+        if (bad(p->llr_h) || p->llr_h < 0.0) return "llr_h must be finite and >= 0";
+        if (p->lls_h + p->llr_h <= 0.0) return "lls_h + llr_h must be > 0 (sigma L_s is the stator's inductance)";
+    }
+    if (p->machine == PLANT_MACHINE_PM) {
+        if (bad(p->ls_h) || p->ls_h <= 0.0) return "ls_h must be finite and > 0";
+        if (bad(p->psi_m_wb) || p->psi_m_wb < 0.0) return "psi_m_wb must be finite and >= 0";
+    }
     if (p->pole_pairs < 1 || p->pole_pairs > 64) return "pole_pairs must be in 1..64";
     for (int x = 0; x < 3; ++x) {
         if (bad(p->emf_gain[x]) || p->emf_gain[x] < 0.0) return "emf_gain[] must be finite and >= 0";
@@ -1161,6 +1209,28 @@ void plant_params_default(plant_params_t *p) {
     p->speed0_rpm = 0.0;
     p->theta_m0_rad = 0.0;
     p->max_step_s = 50e-6;
+}
+
+void plant_params_im_default(plant_params_t *p) {
+    // Modelica Buildings IM_5HP_400V_50Hz (4 kW, 400 V, 50 Hz, 4 poles; R_s 1.405, R_r 1.395 ohm,
+    // L_ls = L_lr 5.839 mH, L_m 172.2 mH, J 0.0131 kg*m^2), every R and L times (220/400)^2 =
+    // 0.3025 for 220 V (per-unit values, power and torque unchanged). docs/plant.md, section 1.
+    const double k = (220.0 / 400.0) * (220.0 / 400.0);
+    p->machine = PLANT_MACHINE_IM;
+    p->rs_ohm = 1.405 * k;
+    p->rr_ohm = 1.395 * k;
+    p->lls_h = 5.839e-3 * k;
+    p->llr_h = 5.839e-3 * k;
+    p->lm_h = 172.2e-3 * k;
+    p->pole_pairs = 2;
+    p->j_kgm2 = 0.0131;
+    p->b_nms = 0.0;
+    p->ls_h = 0.0;
+    p->psi_m_wb = 0.0;
+    for (int x = 0; x < 3; ++x) {
+        p->emf_gain[x] = 1.0;
+        for (int h = 0; h < 3; ++h) p->emf_harm[x][h] = 0.0;
+    }
 }
 
 void plant_params_emf_table_vii(plant_params_t *p) {
@@ -1301,8 +1371,8 @@ void plant_advance(plant_t *pl, double dt_s) {
 void plant_get_state(const plant_t *plant, plant_state_t *s) {
     plant_t *pl = const_cast<plant_t *>(plant);  // rhs() counts evaluations; the state is unchanged
     // Every field is assigned below (no memset: this runs once per control period).
-    static_assert(offsetof(plant_state_t, e_link_j) == 32 * sizeof(double) &&
-                      sizeof(plant_state_t) <= 33 * sizeof(double),
+    static_assert(offsetof(plant_state_t, psi_r_beta_wb) == 34 * sizeof(double) &&
+                      sizeof(plant_state_t) <= 35 * sizeof(double),
                   "plant_state_t changed: assign the new fields");
     const plant_params_t &p = pl->p;
     const Vec &y = pl->y;
@@ -1320,8 +1390,17 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
     s->i_beta_a = (s->i_b - s->i_c) * (1.0 / kSqrt3);
     const double psi_pm_alpha = (2.0 * psi[0] - psi[1] - psi[2]) * (1.0 / 3.0);
     const double psi_pm_beta = (psi[1] - psi[2]) * (1.0 / kSqrt3);
-    s->psi_alpha_wb = p.ls_h * s->i_alpha_a + psi_pm_alpha;  // Hoang eq. (8)
-    s->psi_beta_wb = p.ls_h * s->i_beta_a + psi_pm_beta;     // Hoang eq. (9)
+    if (!pl->im) {
+        s->psi_alpha_wb = p.ls_h * s->i_alpha_a + psi_pm_alpha;  // Hoang eq. (8)
+        s->psi_beta_wb = p.ls_h * s->i_beta_a + psi_pm_beta;     // Hoang eq. (9)
+        s->psi_r_alpha_wb = s->psi_r_beta_wb = 0.0;
+    } else {
+        // psi_s = sigma L_s i_s + (L_m/L_r) psi_r (Casadei A8-A9 with i_r eliminated).
+        s->psi_r_alpha_wb = y[S_PSIRA];
+        s->psi_r_beta_wb = y[S_PSIRB];
+        s->psi_alpha_wb = pl->imc.l_eff * s->i_alpha_a + pl->imc.kr * y[S_PSIRA];
+        s->psi_beta_wb = pl->imc.l_eff * s->i_beta_a + pl->imc.kr * y[S_PSIRB];
+    }
     // Wrap to [0, 2 pi): floor by truncation (|turns| < 2^53 for any finite run).
     const double turns = theta_e * (0.5 / kPi);
     double whole = static_cast<double>(static_cast<long long>(turns));
@@ -1336,6 +1415,10 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
     double te = 0.0;
     for (int x = 0; x < 3; ++x) te += y[S_IA + x] * dpsi[x];
     s->te_nm = pp * te;
+    if (pl->im) {
+        // Casadei eq. (A10): T_e = 1.5 p Im(conj(psi_s) i_s).
+        s->te_nm = 1.5 * pp * (s->psi_alpha_wb * s->i_beta_a - s->psi_beta_wb * s->i_alpha_a);
+    }
     s->tload_nm = pl->g.ld_c0 + pl->g.ld_cw * y[S_OMEGA] + pl->g.ld_cte * s->te_nm;  // as in rhs_t
     if (pl->coulomb_on) {
         const double w = y[S_OMEGA];
@@ -1368,7 +1451,8 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
     s->e_rdc_j = y[S_ERDC];
     s->e_link_j = y[S_ELINK];
     const double ia2 = s->i_alpha_a * s->i_alpha_a + s->i_beta_a * s->i_beta_a;
-    s->e_magnetic_j = 0.75 * p.ls_h * ia2;  // (3/2) * (1/2) L_s |i|^2, amplitude-invariant frame
+    s->e_magnetic_j = pl->im ? im::magnetic_energy(pl->imc, s->i_alpha_a, s->i_beta_a, y[S_PSIRA], y[S_PSIRB])
+                             : 0.75 * p.ls_h * ia2;  // (3/2) * (1/2) L_s |i|^2, amplitude-invariant frame
     s->e_kinetic_j = 0.5 * p.j_kgm2 * y[S_OMEGA] * y[S_OMEGA];
     if (p.inverter == PLANT_INVERTER_SSTP) {
         const double v = y[S_VCLO] + y[S_VCHI];
