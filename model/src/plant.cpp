@@ -1215,7 +1215,7 @@ void plant_params_im_default(plant_params_t *p) {
     // Modelica Buildings IM_5HP_400V_50Hz (4 kW, 400 V, 50 Hz, 4 poles; R_s 1.405, R_r 1.395 ohm,
     // L_ls = L_lr 5.839 mH, L_m 172.2 mH, J 0.0131 kg*m^2), every R and L times (220/400)^2 =
     // 0.3025 for 220 V (per-unit values, power and torque unchanged). docs/plant.md, section 1.
-    const double k = (220.0 / 400.0) * (220.0 / 400.0);
+    const double k = 0.3025;  // (220/400)^2
     p->machine = PLANT_MACHINE_IM;
     p->rs_ohm = 1.405 * k;
     p->rr_ohm = 1.395 * k;
