@@ -258,3 +258,105 @@ TEST(InductionMachine, DefaultParameters) {
     EXPECT_EQ(plant_create(&q, err, sizeof err), nullptr);
     EXPECT_NE(std::string(err).find("rr_ohm"), std::string::npos) << err;
 }
+
+// Free acceleration at rated voltage and frequency against a constant 26.5 N*m load, with a large
+// inertia (1 kg*m^2, ~3 s run-up) so that after the starting transient the machine moves along its
+// steady-state torque-speed curve. Checks: (a) the peak torque during the run-up (after 0.8 s: the
+// starting transient from zero flux swings the torque between 61 and 93 N*m until ~0.6 s)
+// equals the pull-out torque T_M = k_T psi_s^2 of eqs. 29 and 31 at the stator flux the plant has
+// at that instant, within 3 % (the dynamic torque lags the static curve by ~ tau' ds/dt); and it
+// occurs near the pull-out slip of eq. 30 (within 0.05 in slip); (b) the final slip equals the
+// equivalent circuit's rated-torque slip (1436.3 rpm) within 0.5 rpm.
+TEST(InductionMachine, FreeAccelerationPeakTorqueAndFinalSlip) {
+    plant_params_t p = ideal_inverter(PLANT_INVERTER_IDEAL);
+    plant_params_im_default(&p);
+    p.j_kgm2 = 1.0;
+    p.load = PLANT_LOAD_TORQUE;
+    p.load_torque_nm = 26.5;
+    auto pl = make(p);
+    const double ls = p.lls_h + p.lm_h, lr = p.llr_h + p.lm_h, M = p.lm_h;
+    const double sigma = 1.0 - M * M / (ls * lr);
+    const double kT = 0.75 * p.pole_pairs * M * M / (sigma * lr * ls * ls);  // eq. 31
+    const double s_pull = p.rr_ohm / (sigma * lr) / kWs;                      // eq. 30
+    double t_peak = 0.0, te_peak = -1e9, psi_at_peak = 0.0, s_at_peak = 0.0;
+    const int n = static_cast<int>(8.0 / kTs);
+    for (int k = 0; k < n; ++k) {
+        const double th = kWs * (k + 0.5) * kTs;
+        plant_set_voltage(pl.get(), kVrated * std::cos(th), kVrated * std::sin(th));
+        plant_advance(pl.get(), kTs);
+        const double t = (k + 1) * kTs;
+        if (t > 0.8) {
+            const plant_state_t st = state(pl);
+            if (st.te_nm > te_peak) {
+                te_peak = st.te_nm;
+                t_peak = t;
+                psi_at_peak = std::hypot(st.psi_alpha_wb, st.psi_beta_wb);
+                s_at_peak = 1.0 - st.speed_rpm / 1500.0;
+            }
+        }
+    }
+    const plant_state_t fin = state(pl);
+    // Rated-torque speed from the equivalent circuit by bisection.
+    double lo = 1400.0, hi = 1499.0;
+    for (int it = 0; it < 60; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        (circuit(p, kVrated, kWs, 1.0 - mid / 1500.0).te > 26.5 ? lo : hi) = mid;
+    }
+    std::printf("free acceleration: peak %.2f N*m at t = %.3f s, slip %.3f (eq. 30: %.3f); eq. 29 k_T psi_s^2 = "
+                "%.2f N*m; final %.3f rpm (circuit %.3f rpm)\n",
+                te_peak, t_peak, s_at_peak, s_pull, kT * psi_at_peak * psi_at_peak, fin.speed_rpm, 0.5 * (lo + hi));
+    EXPECT_NEAR(te_peak, kT * psi_at_peak * psi_at_peak, 0.03 * te_peak);
+    EXPECT_NEAR(s_at_peak, s_pull, 0.05);
+    EXPECT_NEAR(fin.speed_rpm, 0.5 * (lo + hi), 0.5);
+}
+
+// Energy balance of the IM on switching inverters with device drops, dead time, a finite link,
+// Coulomb friction and a constant load: a 50 Hz six-step vector sequence (every 4th period a null
+// vector) from standstill, 0.3 s. DC input = stator + rotor copper + device + friction + load +
+// R_dc + link losses + change of magnetic (1.5 * 0.5 (psi_s.i_s + psi_r.i_r)), kinetic and
+// capacitor energy, to 1e-6 of the input. SSTP and FSTP (FSTP: phase A on the mid-point).
+TEST(InductionMachine, EnergyBalanceOnSwitchedRuns) {
+    for (plant_inverter_t inv : {PLANT_INVERTER_SSTP, PLANT_INVERTER_FSTP}) {
+        plant_params_t p;
+        plant_params_default(&p);
+        plant_params_im_default(&p);
+        p.inverter = inv;
+        p.vdc_v = (inv == PLANT_INVERTER_FSTP) ? 2.0 * 311.0 : 311.0;
+        p.max_step_s = 40e-6;
+        p.load = PLANT_LOAD_TORQUE;
+        p.load_torque_nm = 5.0;
+        p.coulomb_nm = 0.5;
+        p.esr_ohm = 0.02;
+        p.r_bal_ohm = 10e3;
+        auto pl = make(p);
+        const plant_state_t s0 = state(pl);
+        for (int k = 0; k < 7500; ++k) {
+            const double a = kWs * k * kTs + kPi / 2;
+            if (inv == PLANT_INVERTER_SSTP) {
+                double x = std::fmod(a, 2 * kPi);
+                const int sec = static_cast<int>(std::floor((x + kPi / 6) / (kPi / 3))) % 6;
+                static const int tab[6][3] = {{1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1}, {1, 0, 1}};
+                const bool null = k % 4 == 3;
+                plant_set_legs(pl.get(), null ? 0 : tab[sec][0], null ? 0 : tab[sec][1], null ? 0 : tab[sec][2], 1);
+            } else {
+                int sb, sc;
+                fstp_vector_towards(a, sb, sc);
+                plant_set_legs(pl.get(), 0, sb, sc, 1);
+            }
+            plant_advance(pl.get(), kTs);
+        }
+        const plant_state_t s = state(pl);
+        const double in = s.e_dc_in_j - s0.e_dc_in_j;
+        const double out = (s.e_copper_j - s0.e_copper_j) + (s.e_device_j - s0.e_device_j) +
+                           (s.e_friction_j - s0.e_friction_j) + (s.e_load_j - s0.e_load_j) +
+                           (s.e_rdc_j - s0.e_rdc_j) + (s.e_link_j - s0.e_link_j) +
+                           (s.e_magnetic_j - s0.e_magnetic_j) + (s.e_kinetic_j - s0.e_kinetic_j) +
+                           (s.e_capacitor_j - s0.e_capacitor_j);
+        std::printf("IM energy (%s): in %.4f J, out %.4f J, rel %.3e; copper %.2f device %.2f kinetic %.2f; "
+                    "speed %.1f rpm, |psi_r| %.3f Wb\n",
+                    inv == PLANT_INVERTER_SSTP ? "SSTP" : "FSTP", in, out, std::fabs(in - out) / in, s.e_copper_j,
+                    s.e_device_j, s.e_kinetic_j, s.speed_rpm, std::hypot(s.psi_r_alpha_wb, s.psi_r_beta_wb));
+        EXPECT_GT(s.speed_rpm, 500.0);
+        EXPECT_LT(std::fabs(in - out) / std::fabs(in), 1e-6);
+    }
+}
