@@ -1,4 +1,6 @@
-// plant.cpp - surface PM BLAC machine + SSTP/FSTP inverter + DC link + mechanics (SI units).
+// plant.cpp - surface PM BLAC machine + SSTP/FSTP inverter + DC link + mechanics (SI units); the
+// induction machine (machine_im.h) enters the same per-phase circuit as sigma*L_s, R_eff and a
+// rotor-flux EMF, with its two rotor-flux states (S_PSIRA, S_PSIRB).
 //
 // Physics (docs/plant.md has the derivations and the error analysis):
 //  * Machine: Hoang 2011 eqs. (6)-(10) in the stationary frame, written per phase so that the
