@@ -24,7 +24,9 @@ typedef enum {
     PLANT_LOAD_SPEED = 0,     /* dynamometer holds load_speed_rpm */
     PLANT_LOAD_TORQUE = 1,    /* constant load torque load_torque_nm (opposes positive speed) */
     PLANT_LOAD_GENERATOR = 2, /* DC-generator load: torque = load_torque_nm * speed / load_speed_rpm */
-    PLANT_LOAD_INERTIA = 3    /* inertia and friction only */
+    PLANT_LOAD_INERTIA = 3,   /* inertia and friction only */
+    PLANT_LOAD_FAN = 4        /* quadratic (fan/pump) load: torque = load_torque_nm * (n/load_speed_rpm)^2,
+                               * opposing the motion */
 } plant_load_t;
 
 typedef enum {

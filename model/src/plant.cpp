@@ -102,6 +102,7 @@ struct Prep {
     //   p_dc = pdc_s i_s + pdc_st ((vc_lo + vc_hi) i_plus + vc_lo i_mid) + pdc_src p_src
 struct Glob {
     double ld_c0, ld_cw, ld_cte, w_on;
+    double ld_cq;  // fan load: T_load += ld_cq omega |omega| (used only when fan_on)
     double is_g, hi_s, hi_p, lo_s, lo_p, lo_m;
     double pdc_s, pdc_st, pdc_src, r_dc;
 };
@@ -178,6 +179,7 @@ struct plant {
     Glob g;
     LinkRC link;
     bool coulomb_on;  // coulomb_nm > 0
+    bool fan_on;      // PLANT_LOAD_FAN
     // Machine seen by the per-phase circuit: L di/dt = v - r_ph i - e. PM: L_s, R_s and the
     // magnet's EMF; IM (machine_im.h): sigma L_s, R_eff and the rotor-flux EMF.
     bool im;
@@ -547,8 +549,9 @@ PhaseCoef phase_coef(const plant_t *pl, const Leg &L, const Path &pa, bool blk, 
 void make_glob(plant_t *pl) {
     const plant_params_t &p = pl->p;
     Glob &q = pl->g;
-    q.ld_c0 = q.ld_cw = q.ld_cte = 0.0;
+    q.ld_c0 = q.ld_cw = q.ld_cte = q.ld_cq = 0.0;
     q.w_on = 1.0;
+    pl->fan_on = p.load == PLANT_LOAD_FAN;
     switch (p.load) {
         case PLANT_LOAD_SPEED:  // the dynamometer holds speed: T_load = T_e - b omega
             q.ld_cte = 1.0;
@@ -557,6 +560,7 @@ void make_glob(plant_t *pl) {
             break;
         case PLANT_LOAD_TORQUE: q.ld_c0 = p.load_torque_nm; break;
         case PLANT_LOAD_GENERATOR: q.ld_cw = p.load_torque_nm / pl->omega_load_ref; break;
+        case PLANT_LOAD_FAN: q.ld_cq = p.load_torque_nm / (pl->omega_load_ref * pl->omega_load_ref); break;
         default: break;
     }
     q.is_g = q.hi_s = q.hi_p = q.lo_s = q.lo_p = q.lo_m = 0.0;
@@ -677,6 +681,7 @@ inline void rhs_t(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
     const Glob &g = pl->g;
     const double b = pl->p.b_nms;
     double tl = g.ld_c0 + g.ld_cw * omega + g.ld_cte * te;
+    if (pl->fan_on) tl += g.ld_cq * omega * std::fabs(omega);
     dy[S_THETA] = omega;
     if (!pl->coulomb_on) {
         dy[S_OMEGA] = g.w_on * (te - b * omega - tl) * pl->inv_j;
@@ -1169,11 +1174,13 @@ const char *check_params(const plant_params_t *p) {
             return "max_step_s exceeds r_dc_ohm * C_link (DC source/capacitor time constant): "
                    "reduce max_step_s or raise r_dc_ohm / c_dc_f";
     }
-    if (p->load < PLANT_LOAD_SPEED || p->load > PLANT_LOAD_INERTIA)
-        return "load must be PLANT_LOAD_SPEED, _TORQUE, _GENERATOR or _INERTIA";
+    if (p->load < PLANT_LOAD_SPEED || p->load > PLANT_LOAD_FAN)
+        return "load must be PLANT_LOAD_SPEED, _TORQUE, _GENERATOR, _INERTIA or _FAN";
     if (bad(p->load_speed_rpm) || bad(p->load_torque_nm)) return "load_speed_rpm/load_torque_nm must be finite";
     if (p->load == PLANT_LOAD_GENERATOR && p->load_speed_rpm == 0.0)
         return "load_speed_rpm must be non-zero for PLANT_LOAD_GENERATOR (torque = T * n / n_ref)";
+    if (p->load == PLANT_LOAD_FAN && p->load_speed_rpm == 0.0)
+        return "load_speed_rpm must be non-zero for PLANT_LOAD_FAN (torque = T * (n / n_ref)^2)";
     if (bad(p->speed0_rpm) || bad(p->theta_m0_rad)) return "speed0_rpm/theta_m0_rad must be finite";
     return nullptr;
 }
@@ -1310,7 +1317,8 @@ void plant_set_load(plant_t *plant, plant_load_t load, double speed_rpm, double 
     plant->p.load_torque_nm = torque_nm;
     derive(plant);
     if (load == PLANT_LOAD_SPEED) plant->y[S_OMEGA] = speed_rpm * kRpmToRadS;
-    if (load == PLANT_LOAD_GENERATOR && speed_rpm == 0.0) plant->omega_load_ref = 1e300;  // no load
+    if ((load == PLANT_LOAD_GENERATOR || load == PLANT_LOAD_FAN) && speed_rpm == 0.0)
+        plant->omega_load_ref = 1e300;  // no load
     make_glob(plant);
 }
 
@@ -1422,6 +1430,7 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
         s->te_nm = 1.5 * pp * (s->psi_alpha_wb * s->i_beta_a - s->psi_beta_wb * s->i_alpha_a);
     }
     s->tload_nm = pl->g.ld_c0 + pl->g.ld_cw * y[S_OMEGA] + pl->g.ld_cte * s->te_nm;  // as in rhs_t
+    if (pl->fan_on) s->tload_nm += pl->g.ld_cq * y[S_OMEGA] * std::fabs(y[S_OMEGA]);
     if (pl->coulomb_on) {
         const double w = y[S_OMEGA];
         s->tload_nm -= pl->g.ld_cte * coulomb_torque(p.coulomb_nm, w, s->te_nm - p.b_nms * w - s->tload_nm);

@@ -147,6 +147,33 @@ TEST(Mechanics, CoulombStallBreakawayAndStop) {
     }
 }
 
+// Fan (quadratic) load, no electrical torque, b = 0: J domega/dt = -k omega |omega|, k = T_ref /
+// omega_ref^2, so omega(t) = omega0 / (1 + k omega0 t / J). 1e-9 rad/s (RK4 at 50 us on a 0.2 s
+// time scale); the reported load torque is k omega^2.
+TEST(Mechanics, FanLoadCoastDown) {
+    plant_params_t p = ideal_inverter(PLANT_INVERTER_IDEAL);
+    p.psi_m_wb = 0.0;
+    p.b_nms = 0.0;
+    p.load = PLANT_LOAD_FAN;
+    p.load_speed_rpm = 1500.0;
+    p.load_torque_nm = 0.3;
+    p.speed0_rpm = 3000.0;
+    auto pl = make(p);
+    const double wref = 1500.0 * kRpm, k = p.load_torque_nm / (wref * wref), w0 = 3000.0 * kRpm;
+    double worst = 0.0;
+    for (int n = 1; n <= 20000; ++n) {
+        plant_advance(pl.get(), 50e-6);
+        const double w = w0 / (1.0 + k * w0 * n * 50e-6 / p.j_kgm2);
+        worst = std::max(worst, std::fabs(state(pl).omega_m_rad_s - w));
+    }
+    const plant_state_t s = state(pl);
+    std::printf("fan coast-down: max |omega - closed form| = %.3e rad/s; T_load %.6f N*m at %.2f rpm\n", worst,
+                s.tload_nm, s.speed_rpm);
+    EXPECT_LT(worst, 1e-9);
+    EXPECT_NEAR(s.tload_nm, k * s.omega_m_rad_s * s.omega_m_rad_s, 1e-15);
+    EXPECT_LT(s.speed_rpm, 300.0);
+}
+
 // Energy balance with Coulomb friction, balancing resistors and ESR on: FSTP full fidelity,
 // accelerating into a generator load, then gates off until the rotor has stopped (friction
 // snaps). DC input = copper + device + friction + load + R_dc + link (ESR, R_bal) losses + change

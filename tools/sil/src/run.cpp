@@ -20,6 +20,9 @@ plant_load_t load_kind(const std::string& t)
     if (t == "torque") {
         return PLANT_LOAD_TORQUE;
     }
+    if (t == "fan") {
+        return PLANT_LOAD_FAN;
+    }
     if (t == "generator") {
         return PLANT_LOAD_GENERATOR;
     }

@@ -205,9 +205,10 @@ const std::vector<Spec>& schema()
         boolean("inverter.finite_dc_link", "capacitor voltages move (false: stiff DC link)",
                 ACC(inverter.finite_dc_link)),
         // ---- load ----
-        choice("load.type", {"speed", "torque", "generator", "inertia"},
+        choice("load.type", {"speed", "torque", "generator", "inertia", "fan"},
                "speed = dynamometer holds load.speed_rpm; torque = constant load.torque_nm; generator = "
-               "load.torque_nm * speed / load.speed_rpm (DC generator, Hoang sec. IV); inertia = J and B only",
+               "load.torque_nm * speed / load.speed_rpm (DC generator, Hoang sec. IV); inertia = J and B only; "
+               "fan = load.torque_nm * (speed / load.speed_rpm)^2, opposing the motion (fan or pump)",
                ACC(load.type)),
         num("load.speed_rpm", "rpm", any(), "held speed (speed load) or the speed where the generator gives "
             "load.torque_nm", ACC(load.speed_rpm)),
@@ -677,6 +678,9 @@ void cross_validate(Scenario& s, Diagnostics* d)
     }
     if (s.load.type == "generator" && s.load.speed_rpm == 0.0) {
         err("load.speed_rpm", "the generator load needs a non-zero reference speed");
+    }
+    if (s.load.type == "fan" && s.load.speed_rpm == 0.0) {
+        err("load.speed_rpm", "the fan load needs a non-zero reference speed");
     }
 }
 
