@@ -25,7 +25,9 @@
 
 #include <Eigen/Core>
 
+#include "dc_link.h"
 #include "machine_im.h"
+#include "mechanics.h"
 
 #include <algorithm>
 #include <cmath>
@@ -107,31 +109,6 @@ struct Glob {
     double pdc_s, pdc_st, pdc_src, r_dc;
 };
 
-// Finite DC link with capacitor ESR and/or balancing resistors (docs/plant.md, "DC link"): node
-// analysis of the source, the capacitors (ideal C in series with ESR) and the resistors across
-// them. Constants for dc_link_nodes(); used only when on (otherwise the plain link of Glob).
-struct LinkRC {
-    bool on;        // finite link, switching inverter, r_bal_ohm > 0 or esr_ohm > 0
-    bool fstp;      // two capacitors with the mid-point tied to phase A; else one capacitor
-    bool esr;       // esr_ohm > 0
-    double g_s;     // 1 / r_dc_ohm
-    double g_e;     // 1 / esr_ohm (esr only)
-    double g_b;     // 1 / r_bal_ohm, 0 when not fitted
-    double esr_ohm;
-    // FSTP with ESR: [vP, vM] = inverse of [[a, -c], [c, -2c]] times the right-hand side,
-    // a = g_s + g_e + g_b, c = g_e + g_b (KCL at the plus rail and at the mid-point).
-    double m11, m12, m21, m22;
-    // SSTP with ESR: vP = (g_s vdc - i_plus + g_e v_cap) * inv_gsum.
-    double inv_gsum;
-};
-
-// Link node voltages and capacitor currents for one state.
-struct LinkNodes {
-    double tv_lo, tv_hi;  // terminal voltages across the lower / upper capacitor (SSTP: halves)
-    double i_s;           // DC source current
-    double dv_lo, dv_hi;  // capacitor voltage derivatives (internal, ideal-C voltages)
-    double p_loss;        // ESR + balancing-resistor loss, W
-};
 
 struct Aux {
     double te, tload, vn0;
@@ -177,7 +154,7 @@ struct plant {
     double inv_l, inv_j, inv_c_lo, inv_c_hi, inv_rdc;
     Prep prep;
     Glob g;
-    LinkRC link;
+    dclink::LinkRC link;
     bool coulomb_on;  // coulomb_nm > 0
     bool fan_on;      // PLANT_LOAD_FAN
     // Machine seen by the per-phase circuit: L di/dt = v - r_ph i - e. PM: L_s, R_s and the
@@ -235,12 +212,15 @@ void derive(plant_t *pl) {
     pl->inv_c_hi = (pl->c_hi > 0.0) ? 1.0 / pl->c_hi : 0.0;
     pl->inv_rdc = (p.r_dc_ohm > 0.0) ? 1.0 / p.r_dc_ohm : 0.0;
     pl->coulomb_on = p.coulomb_nm > 0.0;
-    LinkRC &lk = pl->link;
-    lk = LinkRC{};
+    dclink::LinkRC &lk = pl->link;
+    lk = dclink::LinkRC{};
     lk.on = p.finite_dc_link && p.inverter != PLANT_INVERTER_IDEAL && (p.r_bal_ohm > 0.0 || p.esr_ohm > 0.0);
     lk.fstp = p.inverter == PLANT_INVERTER_FSTP;
     lk.esr = p.esr_ohm > 0.0;
     lk.esr_ohm = p.esr_ohm;
+    lk.vdc = p.vdc_v;
+    lk.inv_c_lo = pl->inv_c_lo;
+    lk.inv_c_hi = pl->inv_c_hi;
     lk.g_s = pl->inv_rdc;
     lk.g_e = lk.esr ? 1.0 / p.esr_ohm : 0.0;
     lk.g_b = (p.r_bal_ohm > 0.0) ? 1.0 / p.r_bal_ohm : 0.0;
@@ -417,67 +397,7 @@ inline void machine_emf(const plant_t *pl, const Vec &y, double e[3]) {
     for (int x = 0; x < 3; ++x) e[x] = omega_e * dpsi[x];
 }
 
-// Coulomb friction torque (opposing the motion): +-tc while turning; at exactly zero speed the
-// static friction that holds the rotor, i.e. the net driving torque td clamped to [-tc, tc] (the
-// rotor stays stuck while |td| <= tc and breaks away with td - tc sign(td) otherwise).
-inline double coulomb_torque(double tc, double omega, double td) {
-    if (omega > 0.0) return tc;
-    if (omega < 0.0) return -tc;
-    return std::min(tc, std::max(-tc, td));
-}
 
-// DC-link node analysis with ESR and balancing resistors (LinkRC): vc_lo / vc_hi are the ideal
-// capacitor voltages (states), i_plus / i_mid the currents the inverter draws from the plus rail
-// and from the mid-point. KCL at the plus rail P and the mid-point M (negative rail = 0):
-//   g_s (vdc - vP) = i_plus + i_chi + g_b (vP - vM),   i_chi = g_e (vP - vM - vc_hi)
-//   i_chi + g_b (vP - vM) = i_mid + i_clo + g_b vM,      i_clo = g_e (vM - vc_lo)
-// with ESR = 0 the terminals are the capacitor voltages and the capacitor currents follow from
-// the same two equations. SSTP: one capacitor (2 c_dc_f) from P to 0 with ESR and r_bal across it.
-inline void dc_link_nodes(const plant_t *pl, double vlo, double vhi, double i_plus, double i_mid, LinkNodes &n) {
-    const LinkRC &k = pl->link;
-    const double vdc = pl->p.vdc_v;
-    if (k.fstp) {
-        double i_chi, i_clo;
-        if (k.esr) {
-            const double r1 = k.g_s * vdc - i_plus + k.g_e * vhi;
-            const double r2 = i_mid + k.g_e * (vhi - vlo);
-            const double vp = k.m11 * r1 + k.m12 * r2;
-            const double vm = k.m21 * r1 + k.m22 * r2;
-            n.tv_lo = vm;
-            n.tv_hi = vp - vm;
-            n.i_s = k.g_s * (vdc - vp);
-            i_chi = k.g_e * (n.tv_hi - vhi);
-            i_clo = k.g_e * (n.tv_lo - vlo);
-            n.p_loss = k.esr_ohm * (i_chi * i_chi + i_clo * i_clo);
-        } else {
-            n.tv_lo = vlo;
-            n.tv_hi = vhi;
-            n.i_s = k.g_s * (vdc - vlo - vhi);
-            i_chi = n.i_s - i_plus - k.g_b * vhi;
-            i_clo = n.i_s - i_plus - i_mid - k.g_b * vlo;
-            n.p_loss = 0.0;
-        }
-        n.p_loss += k.g_b * (n.tv_lo * n.tv_lo + n.tv_hi * n.tv_hi);
-        n.dv_hi = i_chi * pl->inv_c_hi;
-        n.dv_lo = i_clo * pl->inv_c_lo;
-    } else {
-        const double vcap = vlo + vhi;
-        double vp, i_cap;
-        if (k.esr) {
-            vp = (k.g_s * vdc - i_plus + k.g_e * vcap) * k.inv_gsum;
-            i_cap = k.g_e * (vp - vcap);
-            n.p_loss = k.esr_ohm * i_cap * i_cap;
-        } else {
-            vp = vcap;
-            i_cap = k.g_s * (vdc - vp) - i_plus - k.g_b * vcap;
-            n.p_loss = 0.0;
-        }
-        n.p_loss += k.g_b * vp * vp;
-        n.i_s = k.g_s * (vdc - vp);
-        n.tv_lo = n.tv_hi = 0.5 * vp;
-        n.dv_lo = n.dv_hi = 0.5 * i_cap * pl->inv_c_lo;  // inv_c_lo = 1 / (2 c_dc_f), see derive()
-    }
-}
 
 // Link terminal voltages at state y (the rail currents from the current signs; a zero current
 // draws nothing whatever its path).
@@ -490,8 +410,8 @@ inline void dc_link_terminals(const plant_t *pl, const Vec &y, double &tv_lo, do
         if (pa.rail == RAIL_PLUS) ip += i;
         else if (pa.rail == RAIL_MID) im += i;
     }
-    LinkNodes n;
-    dc_link_nodes(pl, y[S_VCLO], y[S_VCHI], ip, im, n);
+    dclink::LinkNodes n;
+    dclink::dc_link_nodes(pl->link, y[S_VCLO], y[S_VCHI], ip, im, n);
     tv_lo = n.tv_lo;
     tv_hi = n.tv_hi;
 }
@@ -620,16 +540,16 @@ inline void rhs_t(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
     const double vlo = y[S_VCLO], vhi = y[S_VCHI];
     const double ix[3] = {y[S_IA], y[S_IB], y[S_IC]};
     // Rail voltages: the capacitor voltages, or with ESR / balancing resistors the link's node
-    // voltages (LinkRC), which depend on the currents the inverter draws.
+    // voltages (dclink::LinkRC), which depend on the currents the inverter draws.
     double tvlo = vlo, tvhi = vhi;
-    LinkNodes ln;
+    dclink::LinkNodes ln;
     if (pl->link.on) {
         double ip = 0.0, im = 0.0;
         for (int x = 0; x < 3; ++x) {
             ip += k[x]->plus * ix[x];
             im += k[x]->mid * ix[x];
         }
-        dc_link_nodes(pl, vlo, vhi, ip, im, ln);
+        dclink::dc_link_nodes(pl->link, vlo, vhi, ip, im, ln);
         tvlo = ln.tv_lo;
         tvhi = ln.tv_hi;
     }
@@ -691,7 +611,7 @@ inline void rhs_t(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
         // dynamometer supply it (ld_cte = 1 there). Its direction is that of the speed at the
         // start of the step (pl->y: every evaluation within a step starts from it), so a step's
         // stages never see the jump; integrate() stops the rotor where the speed crosses zero.
-        const double tf = coulomb_torque(pl->p.coulomb_nm, pl->y[S_OMEGA], te - b * omega - tl);
+        const double tf = mech::coulomb_torque(pl->p.coulomb_nm, pl->y[S_OMEGA], te - b * omega - tl);
         tl -= g.ld_cte * tf;
         dy[S_OMEGA] = g.w_on * (te - b * omega - tl - tf) * pl->inv_j;
         dy[S_EFRIC] = (b * omega + tf) * omega;
@@ -928,7 +848,7 @@ inline void midpoint(plant_t *pl, const Vec &y0, double h, const Vec &k1, Vec &o
 // sets pl->short_seg; docs/plant.md section 2 gives the rule and its error).
 // With Coulomb friction (direction frozen over the step, see rhs_t) a speed that changes sign
 // within the step is set to exactly zero at the step's end; the next step then either holds the
-// rotor or breaks away (coulomb_torque). The kinetic energy removed goes to the friction account, so the
+// rotor or breaks away (mech::coulomb_torque). The kinetic energy removed goes to the friction account, so the
 // energy balance stays closed; the local error is one step's worth of the zero crossing
 // (docs/plant.md, "Mechanics").
 inline void integrate(plant_t *pl, const Vec &y0, double h, const Vec &k1, Vec &out) {
@@ -1433,7 +1353,7 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
     if (pl->fan_on) s->tload_nm += pl->g.ld_cq * y[S_OMEGA] * std::fabs(y[S_OMEGA]);
     if (pl->coulomb_on) {
         const double w = y[S_OMEGA];
-        s->tload_nm -= pl->g.ld_cte * coulomb_torque(p.coulomb_nm, w, s->te_nm - p.b_nms * w - s->tload_nm);
+        s->tload_nm -= pl->g.ld_cte * mech::coulomb_torque(p.coulomb_nm, w, s->te_nm - p.b_nms * w - s->tload_nm);
     }
     if (pl->link.on) {
         dc_link_terminals(pl, y, s->vc_lo_v, s->vc_hi_v);
