@@ -24,20 +24,36 @@ typedef enum {
     PLANT_LOAD_SPEED = 0,     /* dynamometer holds load_speed_rpm */
     PLANT_LOAD_TORQUE = 1,    /* constant load torque load_torque_nm (opposes positive speed) */
     PLANT_LOAD_GENERATOR = 2, /* DC-generator load: torque = load_torque_nm * speed / load_speed_rpm */
-    PLANT_LOAD_INERTIA = 3    /* inertia and friction only */
+    PLANT_LOAD_INERTIA = 3,   /* inertia and friction only */
+    PLANT_LOAD_FAN = 4        /* quadratic (fan/pump) load: torque = load_torque_nm * (n/load_speed_rpm)^2,
+                               * opposing the motion */
 } plant_load_t;
 
+typedef enum {
+    PLANT_MACHINE_PM = 0,     /* surface PM BLAC machine (Hoang eqs. 6-10): rs_ohm, ls_h, psi_m_wb, emf_* */
+    PLANT_MACHINE_IM = 1      /* squirrel-cage induction machine (Casadei eqs. A1-A11): rs_ohm, rr_ohm,
+                               * lls_h, llr_h, lm_h (T model) */
+} plant_machine_t;
+
 typedef struct {
-    /* Surface PM BLAC machine (Hoang eqs. 6-10). */
+    /* Surface PM BLAC machine (Hoang eqs. 6-10); rs_ohm and pole_pairs serve both machines. */
     double rs_ohm;
     double ls_h;
     double psi_m_wb;
     int pole_pairs;
     double emf_gain[3];        /* per-phase back-EMF fundamental scale, 1.0 = psi_m_wb */
     double emf_harm[3][3];     /* [phase][3rd, 5th, 7th] amplitude relative to the fundamental */
+    /* Which machine; the induction machine's T-model parameters (machine = PLANT_MACHINE_IM). */
+    plant_machine_t machine;
+    double rr_ohm;             /* rotor resistance, stator-referred */
+    double lls_h, llr_h;       /* stator / rotor leakage inductance, stator-referred */
+    double lm_h;               /* magnetising inductance */
     /* Mechanics. */
     double j_kgm2;
     double b_nms;              /* viscous friction, N*m per rad/s */
+    double coulomb_nm;         /* Coulomb (dry) friction of the shaft and coupled load, N*m: opposes
+                                * the motion; at standstill it holds the rotor while the other
+                                * torques sum to at most coulomb_nm (0 = none) */
     /* Inverter. */
     plant_inverter_t inverter;
     double vdc_v;              /* DC source voltage */
@@ -50,6 +66,10 @@ typedef struct {
     int drops_enabled;         /* 0: ideal devices (no V_CE, V_d, R_on) */
     int dead_time_enabled;     /* 0: no dead time */
     int finite_dc_link;        /* 0: stiff DC link (capacitor voltages fixed at vdc/2) */
+    double r_bal_ohm;          /* balancing resistor across each DC-link capacitor (finite link;
+                                * SSTP: across its one capacitor); 0 = not fitted */
+    double esr_ohm;            /* equivalent series resistance of each DC-link capacitor (finite
+                                * link); 0 = ideal capacitor */
     /* Load. */
     plant_load_t load;
     double load_speed_rpm;
@@ -73,7 +93,8 @@ typedef struct {
     double te_nm;                     /* electromagnetic torque */
     double tload_nm;                  /* load torque applied */
     double vdc_v;                     /* DC-link voltage across the capacitor(s) */
-    double vc_lo_v, vc_hi_v;          /* FSTP lower / upper capacitor voltages */
+    double vc_lo_v, vc_hi_v;          /* FSTP lower / upper capacitor voltages (at the terminals:
+                                       * with esr_ohm > 0 they include the ESR drop) */
     double v_alpha_v, v_beta_v;       /* mean applied stator voltage over the last advance */
     /* Energy accounting since creation, J. */
     double e_dc_in_j, e_copper_j, e_device_j, e_friction_j, e_load_j;
@@ -83,6 +104,11 @@ typedef struct {
     double v_a0_v, v_b0_v, v_c0_v;    /* mean terminal-to-negative-rail voltages, last advance */
     int blocked_mask;                 /* bit x set: phase x is held at zero current (all devices
                                        * of that path blocked), at the end of the last advance */
+    double e_link_j;                  /* loss in the DC-link capacitors' ESR and balancing
+                                       * resistors, J (in e_friction_j: Coulomb friction too) */
+    double psi_r_alpha_wb, psi_r_beta_wb; /* induction machine: T-model rotor flux L_r i_r + L_m i_s
+                                       * (Casadei's phi_r), Wb; 0 for the PM machine. e_copper_j
+                                       * includes the rotor copper loss */
 } plant_state_t;
 
 /* What a drive's sensors can see (addition): the subset of plant_state_t that hal/host samples
@@ -117,6 +143,12 @@ typedef struct {
 
 /* Defaults: Hoang Table VIII machine, Table IV devices, 70 V DC link, SSTP. */
 void plant_params_default(plant_params_t *p);
+
+/* Sets the machine fields to the default induction machine (machine = PLANT_MACHINE_IM): 4 kW,
+ * 4 poles, 50 Hz, 220 V, the Modelica Buildings IM_5HP_400V_50Hz set rescaled to 220 V
+ * (docs/plant.md, /work/shared/reference/im-facts.md): R_s 0.4250, R_r 0.4220 ohm, L_ls = L_lr
+ * 1.7663 mH, L_m 52.09 mH, p = 2, J 0.0131 kg*m^2, b 0. Inverter, load and numerics unchanged. */
+void plant_params_im_default(plant_params_t *p);
 
 /* Returns NULL and writes a message into err when a parameter is invalid. */
 typedef struct plant plant_t;

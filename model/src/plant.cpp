@@ -1,4 +1,6 @@
-// plant.cpp - surface PM BLAC machine + SSTP/FSTP inverter + DC link + mechanics (SI units).
+// plant.cpp - surface PM BLAC machine + SSTP/FSTP inverter + DC link + mechanics (SI units); the
+// induction machine (machine_im.h) enters the same per-phase circuit as sigma*L_s, R_eff and a
+// rotor-flux EMF, with its two rotor-flux states (S_PSIRA, S_PSIRB).
 //
 // Physics (docs/plant.md has the derivations and the error analysis):
 //  * Machine: Hoang 2011 eqs. (6)-(10) in the stationary frame, written per phase so that the
@@ -23,6 +25,10 @@
 
 #include <Eigen/Core>
 
+#include "dc_link.h"
+#include "machine_im.h"
+#include "mechanics.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -38,14 +44,14 @@ constexpr double kRpmToRadS = 2.0 * kPi / 60.0;
 
 // State vector layout.
 enum : int {
-    S_IA = 0, S_IB, S_IC, S_THETA, S_OMEGA, S_VCLO, S_VCHI,
-    S_EDC, S_ECU, S_EDEV, S_EFRIC, S_ELOAD, S_ERDC, S_IVA0, S_IVB0, S_IVC0,
+    S_IA = 0, S_IB, S_IC, S_THETA, S_OMEGA, S_VCLO, S_VCHI, S_PSIRA, S_PSIRB,
+    S_EDC, S_ECU, S_EDEV, S_EFRIC, S_ELOAD, S_ERDC, S_IVA0, S_IVB0, S_IVC0, S_ELINK,
     NS
 };
 // The first ND states are dynamic (they enter the right-hand side); the rest are quadratures
 // (energy accounts and terminal-voltage integrals) that RK4 integrates with the same weights, so
 // the intermediate stage states only need their first ND entries.
-constexpr int ND = S_VCHI + 1;
+constexpr int ND = S_PSIRB + 1;
 using Vec = Eigen::Matrix<double, NS, 1>;
 
 enum Rail : int { RAIL_ZERO = 0, RAIL_PLUS = 1, RAIL_MID = 2, RAIL_SRC = 3 };
@@ -98,9 +104,11 @@ struct Prep {
     //   p_dc = pdc_s i_s + pdc_st ((vc_lo + vc_hi) i_plus + vc_lo i_mid) + pdc_src p_src
 struct Glob {
     double ld_c0, ld_cw, ld_cte, w_on;
+    double ld_cq;  // fan load: T_load += ld_cq omega |omega| (used only when fan_on)
     double is_g, hi_s, hi_p, lo_s, lo_p, lo_m;
     double pdc_s, pdc_st, pdc_src, r_dc;
 };
+
 
 struct Aux {
     double te, tload, vn0;
@@ -154,6 +162,14 @@ struct plant {
     double inv_l, inv_j, inv_c_lo, inv_c_hi, inv_rdc;
     Prep prep;
     Glob g;
+    dclink::LinkRC link;
+    bool coulomb_on;  // coulomb_nm > 0
+    bool fan_on;      // PLANT_LOAD_FAN
+    // Machine seen by the per-phase circuit: L di/dt = v - r_ph i - e. PM: L_s, R_s and the
+    // magnet's EMF; IM (machine_im.h): sigma L_s, R_eff and the rotor-flux EMF.
+    bool im;
+    im::Const imc;
+    double r_ph, l_ph;
     bool prep_valid;  // prep matches prep_mode and the current legs / source voltages
     Mode prep_mode;
     // Taylor coefficients (in delta = theta_e - th0) of dpsi_pm,x/dtheta_e:
@@ -182,21 +198,52 @@ void derive(plant_t *pl) {
     const plant_params_t &p = pl->p;
     pl->omega_load_ref = p.load_speed_rpm * kRpmToRadS;
     pl->pp = p.pole_pairs;
-    pl->inv_l_2_3 = (2.0 / 3.0) / p.ls_h;
-    pl->inv_l_1_3 = (1.0 / 3.0) / p.ls_h;
+    pl->im = p.machine == PLANT_MACHINE_IM;
+    if (pl->im) {
+        pl->imc = im::derive(p);
+        pl->r_ph = pl->imc.r_eff;
+        pl->l_ph = pl->imc.l_eff;
+    } else {
+        pl->r_ph = p.rs_ohm;
+        pl->l_ph = p.ls_h;
+    }
+    pl->inv_l_2_3 = (2.0 / 3.0) / pl->l_ph;
+    pl->inv_l_1_3 = (1.0 / 3.0) / pl->l_ph;
     if (p.inverter == PLANT_INVERTER_SSTP) {
         pl->c_lo = pl->c_hi = 2.0 * p.c_dc_f;
     } else {
         pl->c_lo = pl->c_hi = p.c_dc_f;
     }
-    pl->inv_l = 1.0 / p.ls_h;
+    pl->inv_l = 1.0 / pl->l_ph;
     pl->inv_j = 1.0 / p.j_kgm2;
     pl->inv_c_lo = (pl->c_lo > 0.0) ? 1.0 / pl->c_lo : 0.0;
     pl->inv_c_hi = (pl->c_hi > 0.0) ? 1.0 / pl->c_hi : 0.0;
     pl->inv_rdc = (p.r_dc_ohm > 0.0) ? 1.0 / p.r_dc_ohm : 0.0;
+    pl->coulomb_on = p.coulomb_nm > 0.0;
+    dclink::LinkRC &lk = pl->link;
+    lk = dclink::LinkRC{};
+    lk.on = p.finite_dc_link && p.inverter != PLANT_INVERTER_IDEAL && (p.r_bal_ohm > 0.0 || p.esr_ohm > 0.0);
+    lk.fstp = p.inverter == PLANT_INVERTER_FSTP;
+    lk.esr = p.esr_ohm > 0.0;
+    lk.esr_ohm = p.esr_ohm;
+    lk.vdc = p.vdc_v;
+    lk.inv_c_lo = pl->inv_c_lo;
+    lk.inv_c_hi = pl->inv_c_hi;
+    lk.g_s = pl->inv_rdc;
+    lk.g_e = lk.esr ? 1.0 / p.esr_ohm : 0.0;
+    lk.g_b = (p.r_bal_ohm > 0.0) ? 1.0 / p.r_bal_ohm : 0.0;
+    if (lk.on && lk.esr) {
+        const double a = lk.g_s + lk.g_e + lk.g_b, c = lk.g_e + lk.g_b;
+        const double det = c * (c - 2.0 * a);  // det [[a, -c], [c, -2c]] = -2ac + c^2
+        lk.m11 = -2.0 * c / det;
+        lk.m12 = c / det;
+        lk.m21 = -c / det;
+        lk.m22 = a / det;
+        lk.inv_gsum = 1.0 / a;
+    }
     pl->has_harm = false;
     for (int x = 0; x < 3; ++x) {
-        const double g = p.psi_m_wb * p.emf_gain[x];
+        const double g = pl->im ? 0.0 : p.psi_m_wb * p.emf_gain[x];
         const double h[4] = {1.0, p.emf_harm[x][0], p.emf_harm[x][1], p.emf_harm[x][2]};
         const int n[4] = {1, 3, 5, 7};
         for (int k = 0; k < 4; ++k) {
@@ -345,10 +392,49 @@ void pm_flux_centre(const plant_t *pl, double theta_e, double dpsi[3], double ps
     }
 }
 
+// Phase back-EMF of the configured machine at state y (exact formulas; the step's right-hand side
+// uses the same, with the PM's expansion).
+inline void machine_emf(const plant_t *pl, const Vec &y, double e[3]) {
+    const double omega_e = pl->pp * y[S_OMEGA];
+    if (pl->im) {
+        im::emf_phases(pl->imc, y[S_PSIRA], y[S_PSIRB], omega_e, e);
+        return;
+    }
+    double dpsi[3];
+    pm_flux(pl, pl->pp * y[S_THETA], dpsi, nullptr);
+    for (int x = 0; x < 3; ++x) e[x] = omega_e * dpsi[x];
+}
+
+
+
+// Link terminal voltages at state y (the rail currents from the current signs; a zero current
+// draws nothing whatever its path).
+inline void dc_link_terminals(const plant_t *pl, const Vec &y, double &tv_lo, double &tv_hi) {
+    double ip = 0.0, im = 0.0;
+    for (int x = 0; x < 3; ++x) {
+        const double i = y[S_IA + x];
+        if (i == 0.0) continue;
+        const Path &pa = (i > 0.0) ? pl->legs[x]->pos : pl->legs[x]->neg;
+        if (pa.rail == RAIL_PLUS) ip += i;
+        else if (pa.rail == RAIL_MID) im += i;
+    }
+    dclink::LinkNodes n;
+    dclink::dc_link_nodes(pl->link, y[S_VCLO], y[S_VCHI], ip, im, n);
+    tv_lo = n.tv_lo;
+    tv_hi = n.tv_hi;
+}
+
 inline void rails(const plant_t *pl, const Vec &y, double rv[4], int x) {
     rv[RAIL_ZERO] = 0.0;
-    rv[RAIL_PLUS] = y[S_VCLO] + y[S_VCHI];
-    rv[RAIL_MID] = y[S_VCLO];
+    if (pl->link.on) {
+        double lo, hi;
+        dc_link_terminals(pl, y, lo, hi);
+        rv[RAIL_PLUS] = lo + hi;
+        rv[RAIL_MID] = lo;
+    } else {
+        rv[RAIL_PLUS] = y[S_VCLO] + y[S_VCHI];
+        rv[RAIL_MID] = y[S_VCLO];
+    }
     rv[RAIL_SRC] = 0.0;
     if (pl->p.inverter == PLANT_INVERTER_IDEAL) {
         // Ideal source: phase voltages from the inverse amplitude-invariant Clarke transform.
@@ -376,7 +462,7 @@ PhaseCoef phase_coef(const plant_t *pl, const Leg &L, const Path &pa, bool blk, 
     k.a_hi = (pa.rail == RAIL_PLUS) ? 1.0 : 0.0;
     k.c = ((pa.rail == RAIL_SRC) ? vsrc : 0.0) - pa.d;
     k.r = pa.r;
-    k.rtot = pl->p.rs_ohm + pa.r;
+    k.rtot = pl->r_ph + pa.r;
     k.dev = (L.device && !blk) ? 1.0 : 0.0;
     k.dev_d = pa.d;
     k.plus = (!blk && pa.rail == RAIL_PLUS) ? 1.0 : 0.0;
@@ -391,8 +477,9 @@ PhaseCoef phase_coef(const plant_t *pl, const Leg &L, const Path &pa, bool blk, 
 void make_glob(plant_t *pl) {
     const plant_params_t &p = pl->p;
     Glob &q = pl->g;
-    q.ld_c0 = q.ld_cw = q.ld_cte = 0.0;
+    q.ld_c0 = q.ld_cw = q.ld_cte = q.ld_cq = 0.0;
     q.w_on = 1.0;
+    pl->fan_on = p.load == PLANT_LOAD_FAN;
     switch (p.load) {
         case PLANT_LOAD_SPEED:  // the dynamometer holds speed: T_load = T_e - b omega
             q.ld_cte = 1.0;
@@ -401,6 +488,7 @@ void make_glob(plant_t *pl) {
             break;
         case PLANT_LOAD_TORQUE: q.ld_c0 = p.load_torque_nm; break;
         case PLANT_LOAD_GENERATOR: q.ld_cw = p.load_torque_nm / pl->omega_load_ref; break;
+        case PLANT_LOAD_FAN: q.ld_cq = p.load_torque_nm / (pl->omega_load_ref * pl->omega_load_ref); break;
         default: break;
     }
     q.is_g = q.hi_s = q.hi_p = q.lo_s = q.lo_p = q.lo_m = 0.0;
@@ -449,15 +537,34 @@ inline void rhs_t(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
     const double pp = pl->pp;
     const double omega = y[S_OMEGA];
     const double omega_e = pp * omega;
-    double dpsi[3];
-    dpsi_fast(pl, pp * y[S_THETA], dpsi);
+    double dpsi[3], e[3];
+    if (!pl->im) {
+        dpsi_fast(pl, pp * y[S_THETA], dpsi);
+        for (int x = 0; x < 3; ++x) e[x] = omega_e * dpsi[x];
+    } else {
+        im::emf_phases(pl->imc, y[S_PSIRA], y[S_PSIRB], omega_e, e);
+        dpsi[0] = dpsi[1] = dpsi[2] = 0.0;  // no PM torque term; the IM torque follows the loop
+    }
     const double vlo = y[S_VCLO], vhi = y[S_VCHI];
     const double ix[3] = {y[S_IA], y[S_IB], y[S_IC]};
-    double e[3], vp[3], u[3];
+    // Rail voltages: the capacitor voltages, or with ESR / balancing resistors the link's node
+    // voltages (dclink::LinkRC), which depend on the currents the inverter draws.
+    double tvlo = vlo, tvhi = vhi;
+    dclink::LinkNodes ln;
+    if (pl->link.on) {
+        double ip = 0.0, im = 0.0;
+        for (int x = 0; x < 3; ++x) {
+            ip += k[x]->plus * ix[x];
+            im += k[x]->mid * ix[x];
+        }
+        dclink::dc_link_nodes(pl->link, vlo, vhi, ip, im, ln);
+        tvlo = ln.tv_lo;
+        tvhi = ln.tv_hi;
+    }
+    double vp[3], u[3];
 #pragma GCC unroll 3
     for (int x = 0; x < 3; ++x) {
-        e[x] = omega_e * dpsi[x];
-        vp[x] = k[x]->a_lo * vlo + k[x]->a_hi * vhi + k[x]->c;
+        vp[x] = k[x]->a_lo * tvlo + k[x]->a_hi * tvhi + k[x]->c;
         u[x] = vp[x] - k[x]->rtot * ix[x] - e[x];  // L di/dt + v_n0 of a conducting phase
     }
     double vn0;
@@ -490,19 +597,49 @@ inline void rhs_t(plant_t *pl, const Vec &y, Vec &dy, Aux *aux) {
         p_cu += i * i;
     }
     te *= pp;
+    double p_rotor_cu = 0.0;
+    if (!pl->im) {
+        dy[S_PSIRA] = dy[S_PSIRB] = 0.0;
+    } else {
+        const double i_al = (2.0 * ix[0] - ix[1] - ix[2]) * (1.0 / 3.0);
+        const double i_be = (ix[1] - ix[2]) * (1.0 / kSqrt3);
+        im::rotor(pl->imc, pl->p.pole_pairs, i_al, i_be, y[S_PSIRA], y[S_PSIRB], omega_e, dy[S_PSIRA],
+                  dy[S_PSIRB], te, p_rotor_cu);
+    }
     const Glob &g = pl->g;
     const double b = pl->p.b_nms;
-    const double tl = g.ld_c0 + g.ld_cw * omega + g.ld_cte * te;
+    double tl = g.ld_c0 + g.ld_cw * omega + g.ld_cte * te;
+    if (pl->fan_on) tl += g.ld_cq * omega * std::fabs(omega);
     dy[S_THETA] = omega;
-    dy[S_OMEGA] = g.w_on * (te - b * omega - tl) * pl->inv_j;
+    if (!pl->coulomb_on) {
+        dy[S_OMEGA] = g.w_on * (te - b * omega - tl) * pl->inv_j;
+        dy[S_EFRIC] = b * omega * omega;
+    } else {
+        // Coulomb friction tf on top of the viscous term; a held speed (speed load) makes the
+        // dynamometer supply it (ld_cte = 1 there). Its direction is that of the speed at the
+        // start of the step (pl->y: every evaluation within a step starts from it), so a step's
+        // stages never see the jump; integrate() stops the rotor where the speed crosses zero.
+        const double tf = mech::coulomb_torque(pl->p.coulomb_nm, pl->y[S_OMEGA], te - b * omega - tl);
+        tl -= g.ld_cte * tf;
+        dy[S_OMEGA] = g.w_on * (te - b * omega - tl - tf) * pl->inv_j;
+        dy[S_EFRIC] = (b * omega + tf) * omega;
+    }
     // DC link.
-    const double i_s = g.is_g * (pl->p.vdc_v - (vlo + vhi));
-    dy[S_VCHI] = g.hi_s * i_s - g.hi_p * i_plus;
-    dy[S_VCLO] = g.lo_s * i_s - g.lo_p * i_plus - g.lo_m * i_mid;
+    double i_s;
+    if (!pl->link.on) {
+        i_s = g.is_g * (pl->p.vdc_v - (vlo + vhi));
+        dy[S_VCHI] = g.hi_s * i_s - g.hi_p * i_plus;
+        dy[S_VCLO] = g.lo_s * i_s - g.lo_p * i_plus - g.lo_m * i_mid;
+        dy[S_ELINK] = 0.0;
+    } else {
+        i_s = ln.i_s;
+        dy[S_VCHI] = ln.dv_hi;
+        dy[S_VCLO] = ln.dv_lo;
+        dy[S_ELINK] = ln.p_loss;
+    }
     dy[S_EDC] = g.pdc_s * i_s + g.pdc_st * ((vlo + vhi) * i_plus + vlo * i_mid) + g.pdc_src * p_src;
-    dy[S_ECU] = pl->p.rs_ohm * p_cu;
+    dy[S_ECU] = pl->p.rs_ohm * p_cu + p_rotor_cu;
     dy[S_EDEV] = p_dev;
-    dy[S_EFRIC] = b * omega * omega;
     dy[S_ELOAD] = tl * omega;
     dy[S_ERDC] = g.r_dc * i_s * i_s;
     dy[S_IVA0] = vx0[0];
@@ -596,15 +733,9 @@ Mode select_mode(plant_t *pl, const Vec &y) {
     }
     if (nz == 0) return m;
     ++pl->stats.mode_selects;
-    const plant_params_t &p = pl->p;
-    const double pp = p.pole_pairs;
-    double dpsi[3];
-    pm_flux(pl, pp * y[S_THETA], dpsi, nullptr);
     double e[3], rv[3][4];
-    for (int x = 0; x < 3; ++x) {
-        e[x] = pp * y[S_OMEGA] * dpsi[x];
-        rails(pl, y, rv[x], x);
-    }
+    machine_emf(pl, y, e);
+    for (int x = 0; x < 3; ++x) rails(pl, y, rv[x], x);
     int ncand = 1;
     for (int k = 0; k < nz; ++k) ncand *= 3;
     double best_v = 1e300;
@@ -632,7 +763,7 @@ Mode select_mode(plant_t *pl, const Vec &y) {
             const Path &pa = (t.ph[x] == PH_POS) ? pl->legs[x]->pos : pl->legs[x]->neg;
             vp[x] = path_v(pa, rv[x]);
             rr[x] = pa.r;
-            sum += vp[x] - (p.rs_ohm + rr[x]) * y[S_IA + x] - e[x];
+            sum += vp[x] - (pl->r_ph + rr[x]) * y[S_IA + x] - e[x];
             ++nk;
         }
         if (nk == 1) continue;
@@ -654,7 +785,7 @@ Mode select_mode(plant_t *pl, const Vec &y) {
                     const double a = path_v(pl->legs[x]->pos, rv[x]), b = path_v(pl->legs[x]->neg, rv[x]);
                     viol += std::max(0.0, std::min(a, b) - vf) + std::max(0.0, vf - std::max(a, b));
                 } else if (pl->legs[x]->sign_dep) {
-                    const double di = vp[x] - (p.rs_ohm + rr[x]) * y[S_IA + x] - e[x] - vn0;  // L di/dt
+                    const double di = vp[x] - (pl->r_ph + rr[x]) * y[S_IA + x] - e[x] - vn0;  // L di/dt
                     if (t.ph[x] == PH_POS) viol += std::max(0.0, -di);
                     else viol += std::max(0.0, di);
                 }
@@ -723,9 +854,21 @@ inline void midpoint(plant_t *pl, const Vec &y0, double h, const Vec &k1, Vec &o
 
 // The step's integrator: RK4, or the midpoint rule on a short dead-time segment (plant_advance
 // sets pl->short_seg; docs/plant.md section 2 gives the rule and its error).
+// With Coulomb friction (direction frozen over the step, see rhs_t) a speed that changes sign
+// within the step is set to exactly zero at the step's end; the next step then either holds the
+// rotor or breaks away (mech::coulomb_torque). The kinetic energy removed goes to the friction account, so the
+// energy balance stays closed; the local error is one step's worth of the zero crossing
+// (docs/plant.md, "Mechanics").
 inline void integrate(plant_t *pl, const Vec &y0, double h, const Vec &k1, Vec &out) {
     if (pl->short_seg) midpoint(pl, y0, h, k1, out);
     else rk4(pl, y0, h, k1, out);
+    if (pl->coulomb_on && pl->g.w_on != 0.0) {
+        const double w0 = y0[S_OMEGA], w1 = out[S_OMEGA];
+        if ((w0 > 0.0 && w1 < 0.0) || (w0 < 0.0 && w1 > 0.0)) {
+            out[S_EFRIC] += 0.5 * pl->p.j_kgm2 * w1 * w1;
+            out[S_OMEGA] = 0.0;
+        }
+    }
 }
 
 // Event function: the most negative of (a) dir * i for conducting sign-dependent phases (the
@@ -918,8 +1061,19 @@ const char *check_params(const plant_params_t *p) {
     if (!p) return "params: NULL";
     auto bad = [](double v) { return !std::isfinite(v); };
     if (bad(p->rs_ohm) || p->rs_ohm < 0.0) return "rs_ohm must be finite and >= 0";
-    if (bad(p->ls_h) || p->ls_h <= 0.0) return "ls_h must be finite and > 0";
-    if (bad(p->psi_m_wb) || p->psi_m_wb < 0.0) return "psi_m_wb must be finite and >= 0";
+    if (p->machine != PLANT_MACHINE_PM && p->machine != PLANT_MACHINE_IM)
+        return "machine must be PLANT_MACHINE_PM or PLANT_MACHINE_IM";
+    if (p->machine == PLANT_MACHINE_IM) {
+        if (bad(p->rr_ohm) || p->rr_ohm <= 0.0) return "rr_ohm must be finite and > 0";
+        if (bad(p->lm_h) || p->lm_h <= 0.0) return "lm_h must be finite and > 0";
+        if (bad(p->lls_h) || p->lls_h < 0.0) return "lls_h must be finite and >= 0";
+        if (bad(p->llr_h) || p->llr_h < 0.0) return "llr_h must be finite and >= 0";
+        if (p->lls_h + p->llr_h <= 0.0) return "lls_h + llr_h must be > 0 (sigma L_s is the stator's inductance)";
+    }
+    if (p->machine == PLANT_MACHINE_PM) {
+        if (bad(p->ls_h) || p->ls_h <= 0.0) return "ls_h must be finite and > 0";
+        if (bad(p->psi_m_wb) || p->psi_m_wb < 0.0) return "psi_m_wb must be finite and >= 0";
+    }
     if (p->pole_pairs < 1 || p->pole_pairs > 64) return "pole_pairs must be in 1..64";
     for (int x = 0; x < 3; ++x) {
         if (bad(p->emf_gain[x]) || p->emf_gain[x] < 0.0) return "emf_gain[] must be finite and >= 0";
@@ -929,6 +1083,9 @@ const char *check_params(const plant_params_t *p) {
     }
     if (bad(p->j_kgm2) || p->j_kgm2 <= 0.0) return "j_kgm2 must be finite and > 0";
     if (bad(p->b_nms) || p->b_nms < 0.0) return "b_nms must be finite and >= 0";
+    if (bad(p->coulomb_nm) || p->coulomb_nm < 0.0) return "coulomb_nm must be finite and >= 0";
+    if (bad(p->r_bal_ohm) || p->r_bal_ohm < 0.0) return "r_bal_ohm must be finite and >= 0 (0 = not fitted)";
+    if (bad(p->esr_ohm) || p->esr_ohm < 0.0) return "esr_ohm must be finite and >= 0";
     if (p->inverter != PLANT_INVERTER_IDEAL && p->inverter != PLANT_INVERTER_SSTP &&
         p->inverter != PLANT_INVERTER_FSTP)
         return "inverter must be PLANT_INVERTER_IDEAL, _SSTP or _FSTP";
@@ -949,11 +1106,13 @@ const char *check_params(const plant_params_t *p) {
             return "max_step_s exceeds r_dc_ohm * C_link (DC source/capacitor time constant): "
                    "reduce max_step_s or raise r_dc_ohm / c_dc_f";
     }
-    if (p->load < PLANT_LOAD_SPEED || p->load > PLANT_LOAD_INERTIA)
-        return "load must be PLANT_LOAD_SPEED, _TORQUE, _GENERATOR or _INERTIA";
+    if (p->load < PLANT_LOAD_SPEED || p->load > PLANT_LOAD_FAN)
+        return "load must be PLANT_LOAD_SPEED, _TORQUE, _GENERATOR, _INERTIA or _FAN";
     if (bad(p->load_speed_rpm) || bad(p->load_torque_nm)) return "load_speed_rpm/load_torque_nm must be finite";
     if (p->load == PLANT_LOAD_GENERATOR && p->load_speed_rpm == 0.0)
         return "load_speed_rpm must be non-zero for PLANT_LOAD_GENERATOR (torque = T * n / n_ref)";
+    if (p->load == PLANT_LOAD_FAN && p->load_speed_rpm == 0.0)
+        return "load_speed_rpm must be non-zero for PLANT_LOAD_FAN (torque = T * (n / n_ref)^2)";
     if (bad(p->speed0_rpm) || bad(p->theta_m0_rad)) return "speed0_rpm/theta_m0_rad must be finite";
     return nullptr;
 }
@@ -991,6 +1150,28 @@ void plant_params_default(plant_params_t *p) {
     p->speed0_rpm = 0.0;
     p->theta_m0_rad = 0.0;
     p->max_step_s = 50e-6;
+}
+
+void plant_params_im_default(plant_params_t *p) {
+    // Modelica Buildings IM_5HP_400V_50Hz (4 kW, 400 V, 50 Hz, 4 poles; R_s 1.405, R_r 1.395 ohm,
+    // L_ls = L_lr 5.839 mH, L_m 172.2 mH, J 0.0131 kg*m^2), every R and L times (220/400)^2 =
+    // 0.3025 for 220 V (per-unit values, power and torque unchanged). docs/plant.md, section 1.
+    const double k = 0.3025;  // (220/400)^2
+    p->machine = PLANT_MACHINE_IM;
+    p->rs_ohm = 1.405 * k;
+    p->rr_ohm = 1.395 * k;
+    p->lls_h = 5.839e-3 * k;
+    p->llr_h = 5.839e-3 * k;
+    p->lm_h = 172.2e-3 * k;
+    p->pole_pairs = 2;
+    p->j_kgm2 = 0.0131;
+    p->b_nms = 0.0;
+    p->ls_h = 0.0;
+    p->psi_m_wb = 0.0;
+    for (int x = 0; x < 3; ++x) {
+        p->emf_gain[x] = 1.0;
+        for (int h = 0; h < 3; ++h) p->emf_harm[x][h] = 0.0;
+    }
 }
 
 void plant_params_emf_table_vii(plant_params_t *p) {
@@ -1091,7 +1272,8 @@ void plant_set_load(plant_t *plant, plant_load_t load, double speed_rpm, double 
     plant->p.load_torque_nm = torque_nm;
     derive(plant);
     if (load == PLANT_LOAD_SPEED) plant->y[S_OMEGA] = speed_rpm * kRpmToRadS;
-    if (load == PLANT_LOAD_GENERATOR && speed_rpm == 0.0) plant->omega_load_ref = 1e300;  // no load
+    if ((load == PLANT_LOAD_GENERATOR || load == PLANT_LOAD_FAN) && speed_rpm == 0.0)
+        plant->omega_load_ref = 1e300;  // no load
     make_glob(plant);
 }
 
@@ -1194,8 +1376,8 @@ void plant_advance(plant_t *pl, double dt_s) {
 void plant_get_state(const plant_t *plant, plant_state_t *s) {
     plant_t *pl = const_cast<plant_t *>(plant);  // rhs() counts evaluations; the state is unchanged
     // Every field is assigned below (no memset: this runs once per control period).
-    static_assert(offsetof(plant_state_t, blocked_mask) == 31 * sizeof(double) &&
-                      sizeof(plant_state_t) <= 32 * sizeof(double),
+    static_assert(offsetof(plant_state_t, psi_r_beta_wb) == 34 * sizeof(double) &&
+                      sizeof(plant_state_t) <= 35 * sizeof(double),
                   "plant_state_t changed: assign the new fields");
     const plant_params_t &p = pl->p;
     const Vec &y = pl->y;
@@ -1213,8 +1395,17 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
     s->i_beta_a = (s->i_b - s->i_c) * (1.0 / kSqrt3);
     const double psi_pm_alpha = (2.0 * psi[0] - psi[1] - psi[2]) * (1.0 / 3.0);
     const double psi_pm_beta = (psi[1] - psi[2]) * (1.0 / kSqrt3);
-    s->psi_alpha_wb = p.ls_h * s->i_alpha_a + psi_pm_alpha;  // Hoang eq. (8)
-    s->psi_beta_wb = p.ls_h * s->i_beta_a + psi_pm_beta;     // Hoang eq. (9)
+    if (!pl->im) {
+        s->psi_alpha_wb = p.ls_h * s->i_alpha_a + psi_pm_alpha;  // Hoang eq. (8)
+        s->psi_beta_wb = p.ls_h * s->i_beta_a + psi_pm_beta;     // Hoang eq. (9)
+        s->psi_r_alpha_wb = s->psi_r_beta_wb = 0.0;
+    } else {
+        // psi_s = sigma L_s i_s + (L_m/L_r) psi_r (Casadei A8-A9 with i_r eliminated).
+        s->psi_r_alpha_wb = y[S_PSIRA];
+        s->psi_r_beta_wb = y[S_PSIRB];
+        s->psi_alpha_wb = pl->imc.l_eff * s->i_alpha_a + pl->imc.kr * y[S_PSIRA];
+        s->psi_beta_wb = pl->imc.l_eff * s->i_beta_a + pl->imc.kr * y[S_PSIRB];
+    }
     // Wrap to [0, 2 pi): floor by truncation (|turns| < 2^53 for any finite run).
     const double turns = theta_e * (0.5 / kPi);
     double whole = static_cast<double>(static_cast<long long>(turns));
@@ -1229,10 +1420,23 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
     double te = 0.0;
     for (int x = 0; x < 3; ++x) te += y[S_IA + x] * dpsi[x];
     s->te_nm = pp * te;
+    if (pl->im) {
+        // Casadei eq. (A10): T_e = 1.5 p Im(conj(psi_s) i_s).
+        s->te_nm = 1.5 * pp * (s->psi_alpha_wb * s->i_beta_a - s->psi_beta_wb * s->i_alpha_a);
+    }
     s->tload_nm = pl->g.ld_c0 + pl->g.ld_cw * y[S_OMEGA] + pl->g.ld_cte * s->te_nm;  // as in rhs_t
-    s->vdc_v = y[S_VCLO] + y[S_VCHI];
-    s->vc_lo_v = y[S_VCLO];
-    s->vc_hi_v = y[S_VCHI];
+    if (pl->fan_on) s->tload_nm += pl->g.ld_cq * y[S_OMEGA] * std::fabs(y[S_OMEGA]);
+    if (pl->coulomb_on) {
+        const double w = y[S_OMEGA];
+        s->tload_nm -= pl->g.ld_cte * mech::coulomb_torque(p.coulomb_nm, w, s->te_nm - p.b_nms * w - s->tload_nm);
+    }
+    if (pl->link.on) {
+        dc_link_terminals(pl, y, s->vc_lo_v, s->vc_hi_v);
+    } else {
+        s->vc_lo_v = y[S_VCLO];
+        s->vc_hi_v = y[S_VCHI];
+    }
+    s->vdc_v = s->vc_lo_v + s->vc_hi_v;
     if (pl->last_dt > 0.0) {
         const double inv_dt = 1.0 / pl->last_dt;
         s->v_a0_v = y[S_IVA0] * inv_dt;
@@ -1251,8 +1455,10 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
     s->e_friction_j = y[S_EFRIC];
     s->e_load_j = y[S_ELOAD];
     s->e_rdc_j = y[S_ERDC];
+    s->e_link_j = y[S_ELINK];
     const double ia2 = s->i_alpha_a * s->i_alpha_a + s->i_beta_a * s->i_beta_a;
-    s->e_magnetic_j = 0.75 * p.ls_h * ia2;  // (3/2) * (1/2) L_s |i|^2, amplitude-invariant frame
+    s->e_magnetic_j = pl->im ? im::magnetic_energy(pl->imc, s->i_alpha_a, s->i_beta_a, y[S_PSIRA], y[S_PSIRB])
+                             : 0.75 * p.ls_h * ia2;  // (3/2) * (1/2) L_s |i|^2, amplitude-invariant frame
     s->e_kinetic_j = 0.5 * p.j_kgm2 * y[S_OMEGA] * y[S_OMEGA];
     if (p.inverter == PLANT_INVERTER_SSTP) {
         const double v = y[S_VCLO] + y[S_VCHI];
@@ -1282,9 +1488,13 @@ void plant_get_sensed(const plant_t *plant, plant_sensed_t *s) {
     s->i_c = y[S_IC];
     s->theta_m_rad = y[S_THETA];
     s->omega_m_rad_s = y[S_OMEGA];
-    s->vdc_v = y[S_VCLO] + y[S_VCHI];
-    s->vc_lo_v = y[S_VCLO];
-    s->vc_hi_v = y[S_VCHI];
+    if (plant->link.on) {
+        dc_link_terminals(plant, y, s->vc_lo_v, s->vc_hi_v);
+    } else {
+        s->vc_lo_v = y[S_VCLO];
+        s->vc_hi_v = y[S_VCHI];
+    }
+    s->vdc_v = s->vc_lo_v + s->vc_hi_v;
 }
 
 int plant_set_phase_currents(plant_t *plant, double i_a, double i_b, double i_c) {

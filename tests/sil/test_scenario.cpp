@@ -321,5 +321,5 @@ TEST(Scenario, ShippedScenariosAreValid)
             EXPECT_NEAR(total, expect, 1e-4) << f;
         }
     }
-    EXPECT_EQ(n, 17); // 15 paper operating points, the mid-point study, the open-loop example
+    EXPECT_EQ(n, 18); // 15 paper operating points, the mid-point study, the open-loop example, the IM start
 }

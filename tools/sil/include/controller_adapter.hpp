@@ -86,6 +86,8 @@ std::unique_ptr<Controller> make_controller(const Scenario& sc, std::string* err
 /// Open-loop voltage source: row r applies from t_s[r] until the next row's t_s; each control
 /// period k uses the row in force at its start t_k (zero-order hold, no actuation delay).
 std::unique_ptr<Controller> make_open_loop_controller(std::vector<VoltageRow> rows);
+/// The built-in V/f source (control.vf_*) as a voltage table, one row per control period.
+std::vector<VoltageRow> vf_voltage_rows(const Scenario& sc);
 
 /// True when this build contains the firmware adapter (controller_firmware.cpp).
 bool firmware_controller_available();

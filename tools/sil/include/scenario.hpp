@@ -15,6 +15,24 @@
 
 namespace sil {
 
+/// The default induction machine's values for the shared motor keys (motor.type = "im", keys left
+/// unset): model/'s plant_params_im_default (tests/sil checks they agree; sil_core does not link the
+/// plant). Rated values: Casadei Tables 4-5, 26.5 N*m at 1440 rpm, where this machine draws
+/// 13.6 A rms = 19.2 A peak (docs/plant.md).
+struct ImDefaults {
+    double rs_ohm = 1.405 * 0.3025;   // Modelica Buildings IM_5HP_400V_50Hz x (220/400)^2
+    double rr_ohm = 1.395 * 0.3025;
+    double lls_h = 5.839e-3 * 0.3025;
+    double llr_h = 5.839e-3 * 0.3025;
+    double lm_h = 172.2e-3 * 0.3025;
+    std::int64_t pole_pairs = 2;
+    double j_kgm2 = 0.0131;
+    double b_nms = 0.0;
+    double rated_torque_nm = 26.5;
+    double rated_current_a = 19.2;
+    double rated_speed_rpm = 1440.0;
+};
+
 struct MotorCfg {
     std::string type = "pmsm";
     double rs_ohm = 0.466;      // Hoang Table VIII
@@ -28,6 +46,13 @@ struct MotorCfg {
     std::array<double, 3> emf_harm_b{};
     std::array<double, 3> emf_harm_c{};
     double rated_torque_nm = 0.3;  // Table VIII, the T_rated of eq. 40
+    // Induction machine only (motor.type = "im"): T-model, stator-referred. Defaults: the 220 V
+    // rescaling of Modelica Buildings IM_5HP_400V_50Hz (plant_params_im_default, docs/plant.md);
+    // with motor.type = "im" the shared keys left unset take that machine's values too.
+    double rr_ohm = ImDefaults{}.rr_ohm;
+    double lls_h = ImDefaults{}.lls_h;
+    double llr_h = ImDefaults{}.llr_h;
+    double lm_h = ImDefaults{}.lm_h;
     double rated_current_a = 2.2;
     double rated_speed_rpm = 3000.0;
 };
@@ -41,6 +66,8 @@ struct InverterCfg {
     double dead_time_s = 1.0e-6;
     double c_dc_f = 4.7e-3;        // FSTP mid-point ripple at 2.2 A, 25 Hz: +-1.5 V (see docs/sil.md)
     double r_dc_ohm = 0.1;
+    double r_bal_ohm = 0.0;        // balancing resistor across each capacitor; 0 = not fitted
+    double esr_ohm = 0.0;          // capacitor ESR; 0 = ideal capacitor (docs/plant.md gives typical values)
     bool drops = true;
     bool dead_time = true;
     bool finite_dc_link = true;
@@ -52,6 +79,7 @@ struct LoadCfg {
     double torque_nm = 0.0;
     double step_time_s = 0.0;     // 0 = no step
     double step_torque_nm = 0.0;
+    double coulomb_nm = 0.0;      // Coulomb (dry) friction of the coupled load; 0 = none
 };
 
 struct ControlCfg {
@@ -71,6 +99,10 @@ struct ControlCfg {
     double lpf_cutoff_rad_s = 5.0;       // Hoang sec. IV
     double v_f_v = 0.9;                  // simple compensation V_f (Hoang sec. III-B)
     std::string voltage_csv;             // open_loop: t_s,v_alpha_v,v_beta_v (resolved path)
+    double vf_freq_hz = 0.0;             // open_loop built-in V/f source: final frequency (0 = off)
+    double vf_v_per_hz = 0.0;            // voltage-vector amplitude per Hz
+    double vf_boost_v = 0.0;             // amplitude at 0 Hz (low-speed boost)
+    double vf_ramp_s = 0.0;              // frequency ramp time 0 -> vf_freq_hz (0 = step)
 };
 
 struct SensorsCfg {

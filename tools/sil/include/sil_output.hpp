@@ -25,6 +25,7 @@ struct TraceRow {
     double vdc_v;
     int en;
     double theta_e_rad, vc_lo_v, v_alpha_v, v_beta_v, tload_nm;
+    double psi_r_alpha_wb, psi_r_beta_wb;  // induction machine only (rotor-flux columns)
 };
 
 /// Column names, in order (the first 17 are the ones issue 5 requires).
@@ -39,12 +40,15 @@ public:
     TraceWriter(const TraceWriter&) = delete;
     TraceWriter& operator=(const TraceWriter&) = delete;
     bool open(const std::string& path, std::string* err);
+    /// Induction machine: append the psi_r_alpha_wb, psi_r_beta_wb columns (call before open).
+    void set_rotor_flux_columns(bool on) { rotor_flux_ = on; }
     void write(const TraceRow& r);
     bool close(std::string* err);
 
 private:
     std::FILE* f_ = nullptr;
     std::string buf_;
+    bool rotor_flux_ = false;
 };
 
 struct RunInfo {

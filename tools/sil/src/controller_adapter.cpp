@@ -3,6 +3,8 @@
 
 #include "hal_host.hpp"
 
+#include <cmath>
+
 namespace sil {
 
 #if DTC_SIL_HAVE_FIRMWARE
@@ -100,6 +102,33 @@ private:
 
 } // namespace
 
+std::vector<VoltageRow> vf_voltage_rows(const Scenario& sc)
+{
+    // One row per control period, sampled at the period's middle (the held value's fundamental
+    // then has no phase lag): f(t) = vf_freq_hz * min(t / vf_ramp_s, 1), angle = 2 pi int f dt
+    // (exact for the linear ramp), amplitude = vf_boost_v + vf_v_per_hz * f.
+    const ControlCfg& c = sc.control;
+    const double kTwoPi = 6.28318530717958647692;
+    const auto n = static_cast<std::size_t>(std::ceil(sc.duration_s / sc.ts_s)) + 1u;
+    std::vector<VoltageRow> rows(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        const double t0 = static_cast<double>(k) * sc.ts_s;
+        const double t = t0 + 0.5 * sc.ts_s;
+        double f, angle;
+        if (c.vf_ramp_s > 0.0 && t < c.vf_ramp_s) {
+            f = c.vf_freq_hz * t / c.vf_ramp_s;
+            angle = kTwoPi * 0.5 * f * t;
+        } else {
+            f = c.vf_freq_hz;
+            const double tr = c.vf_ramp_s;
+            angle = kTwoPi * (0.5 * c.vf_freq_hz * tr + c.vf_freq_hz * (t - tr));
+        }
+        const double v = c.vf_boost_v + c.vf_v_per_hz * f;
+        rows[k] = VoltageRow{t0, v * std::cos(angle), v * std::sin(angle)};
+    }
+    return rows;
+}
+
 std::unique_ptr<Controller> make_open_loop_controller(std::vector<VoltageRow> rows)
 {
     return std::make_unique<OpenLoopController>(std::move(rows));
@@ -109,7 +138,9 @@ std::unique_ptr<Controller> make_controller(const Scenario& sc, std::string* err
 {
     if (sc.control.mode == "open_loop") {
         std::vector<VoltageRow> rows;
-        if (!load_voltage_csv(sc.control.voltage_csv, &rows, err)) {
+        if (sc.control.vf_freq_hz > 0.0) {
+            rows = vf_voltage_rows(sc);
+        } else if (!load_voltage_csv(sc.control.voltage_csv, &rows, err)) {
             return nullptr;
         }
         return make_open_loop_controller(std::move(rows));

@@ -20,6 +20,9 @@ plant_load_t load_kind(const std::string& t)
     if (t == "torque") {
         return PLANT_LOAD_TORQUE;
     }
+    if (t == "fan") {
+        return PLANT_LOAD_FAN;
+    }
     if (t == "generator") {
         return PLANT_LOAD_GENERATOR;
     }
@@ -42,6 +45,16 @@ plant_params_t plant_params_from(const Scenario& sc)
             p.emf_harm[ph][h] = (*harm[ph])[static_cast<std::size_t>(h)];
         }
     }
+    if (sc.motor.type == "im") {
+        p.machine = PLANT_MACHINE_IM;  // every IM field below comes from the scenario
+        p.psi_m_wb = 0.0;
+        p.rs_ohm = sc.motor.rs_ohm;
+        p.rr_ohm = sc.motor.rr_ohm;
+        p.lls_h = sc.motor.lls_h;
+        p.llr_h = sc.motor.llr_h;
+        p.lm_h = sc.motor.lm_h;
+        p.pole_pairs = static_cast<int>(sc.motor.pole_pairs);
+    }
     p.j_kgm2 = sc.motor.j_kgm2;
     p.b_nms = sc.motor.b_nms;
     p.inverter = sc.inverter.topology == "fstp"   ? PLANT_INVERTER_FSTP
@@ -50,6 +63,9 @@ plant_params_t plant_params_from(const Scenario& sc)
     p.vdc_v = sc.inverter.vdc_v;
     p.r_dc_ohm = sc.inverter.r_dc_ohm;
     p.c_dc_f = sc.inverter.c_dc_f;
+    p.r_bal_ohm = sc.inverter.r_bal_ohm;
+    p.esr_ohm = sc.inverter.esr_ohm;
+    p.coulomb_nm = sc.load.coulomb_nm;
     p.v_ce_v = sc.inverter.v_ce_v;
     p.v_d_v = sc.inverter.v_d_v;
     p.r_on_ohm = sc.inverter.r_on_ohm;
@@ -139,6 +155,7 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
         if (!out.begin(opt.out_dir, err)) {
             return false;
         }
+        trace.set_rotor_flux_columns(sc.motor.type == "im");
         if (opt.write_trace && !trace.open(out.path("trace.csv"), err)) {
             return false;
         }
@@ -243,6 +260,8 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
             r.v_alpha_v = st.v_alpha_v;
             r.v_beta_v = st.v_beta_v;
             r.tload_nm = st.tload_nm;
+            r.psi_r_alpha_wb = st.psi_r_alpha_wb;
+            r.psi_r_beta_wb = st.psi_r_beta_wb;
             trace.write(r);
         }
         h->advance();

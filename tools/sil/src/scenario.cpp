@@ -145,7 +145,12 @@ const std::vector<Spec>& schema()
         num("initial_speed_rpm", "rpm", any(), "rotor speed at t = 0", ACC(initial_speed_rpm)),
         num("initial_theta_m_rad", "rad", any(), "mechanical rotor angle at t = 0", ACC(initial_theta_m_rad)),
         // ---- motor ----
-        choice("motor.type", {"pmsm"}, "surface PM brushless AC machine (Hoang eqs. 6-10)", ACC(motor.type)),
+        choice("motor.type", {"pmsm", "im"},
+               "pmsm = surface PM brushless AC machine (Hoang eqs. 6-10); im = squirrel-cage induction machine "
+               "(Casadei eqs. A6-A10, open loop only); with \"im\" the shared motor keys left unset take the "
+               "default IM's values (Modelica Buildings IM_5HP_400V_50Hz at 220 V: rs_ohm 0.425, pole_pairs 2, "
+               "j_kgm2 0.0131, b_nms 0, rated 26.5 N*m, 19.2 A peak, 1440 rpm)",
+               ACC(motor.type)),
         num("motor.rs_ohm", "ohm", positive(), "phase resistance (Hoang Table VIII)", ACC(motor.rs_ohm)),
         num("motor.ls_h", "H", positive(), "synchronous inductance, Ld = Lq (Table VIII)", ACC(motor.ls_h)),
         num("motor.psi_m_wb", "Wb", positive(), "PM flux linkage, peak (Table VIII)", ACC(motor.psi_m_wb)),
@@ -167,6 +172,13 @@ const std::vector<Spec>& schema()
             ACC(motor.rated_torque_nm)),
         num("motor.rated_current_a", "A", positive(), "rated current, peak (Table VIII)", ACC(motor.rated_current_a)),
         num("motor.rated_speed_rpm", "rpm", positive(), "rated speed (Table VIII)", ACC(motor.rated_speed_rpm)),
+        num("motor.rr_ohm", "ohm", positive(),
+            "im: rotor resistance, stator-referred T model (Modelica Buildings IM_5HP_400V_50Hz x (220/400)^2)",
+            ACC(motor.rr_ohm)),
+        num("motor.lls_h", "H", nonneg(), "im: stator leakage inductance (same source)", ACC(motor.lls_h)),
+        num("motor.llr_h", "H", nonneg(), "im: rotor leakage inductance, stator-referred (same source)",
+            ACC(motor.llr_h)),
+        num("motor.lm_h", "H", positive(), "im: magnetising inductance (same source)", ACC(motor.lm_h)),
         // ---- inverter ----
         choice("inverter.topology", {"ideal", "sstp", "fstp"},
                "ideal = alpha/beta voltage source (open loop only); sstp = six switches; fstp = four switches, "
@@ -180,20 +192,33 @@ const std::vector<Spec>& schema()
             ACC(inverter.dead_time_s)),
         num("inverter.c_dc_f", "F", positive(), "each DC-link capacitor (FSTP: two in series)", ACC(inverter.c_dc_f)),
         num("inverter.r_dc_ohm", "ohm", nonneg(), "DC source internal resistance", ACC(inverter.r_dc_ohm)),
+        num("inverter.r_bal_ohm", "ohm", nonneg(),
+            "balancing resistor across each DC-link capacitor (SSTP: across its one capacitor), finite link "
+            "only; 0 = not fitted (docs/plant.md: 3.3 kohm for 2 x 4.7 mF on a 70 V split link)",
+            ACC(inverter.r_bal_ohm)),
+        num("inverter.esr_ohm", "ohm", nonneg(),
+            "equivalent series resistance of each DC-link capacitor, finite link only; 0 = ideal "
+            "(docs/plant.md: 25 mohm for a 4.7 mF / 63 V electrolytic)",
+            ACC(inverter.esr_ohm)),
         boolean("inverter.drops", "device forward drops and R_on (false: ideal devices)", ACC(inverter.drops)),
         boolean("inverter.dead_time", "dead time modelled", ACC(inverter.dead_time)),
         boolean("inverter.finite_dc_link", "capacitor voltages move (false: stiff DC link)",
                 ACC(inverter.finite_dc_link)),
         // ---- load ----
-        choice("load.type", {"speed", "torque", "generator", "inertia"},
+        choice("load.type", {"speed", "torque", "generator", "inertia", "fan"},
                "speed = dynamometer holds load.speed_rpm; torque = constant load.torque_nm; generator = "
-               "load.torque_nm * speed / load.speed_rpm (DC generator, Hoang sec. IV); inertia = J and B only",
+               "load.torque_nm * speed / load.speed_rpm (DC generator, Hoang sec. IV); inertia = J and B only; "
+               "fan = load.torque_nm * (speed / load.speed_rpm)^2, opposing the motion (fan or pump)",
                ACC(load.type)),
         num("load.speed_rpm", "rpm", any(), "held speed (speed load) or the speed where the generator gives "
             "load.torque_nm", ACC(load.speed_rpm)),
         num("load.torque_nm", "N*m", any(), "load torque (torque, generator loads)", ACC(load.torque_nm)),
         num("load.step_time_s", "s", nonneg(), "time of a load-torque step (0 = none)", ACC(load.step_time_s)),
         num("load.step_torque_nm", "N*m", any(), "load.torque_nm after the step", ACC(load.step_torque_nm)),
+        num("load.coulomb_nm", "N*m", nonneg(),
+            "Coulomb (dry) friction of the shaft and coupled load (DC generator brushes and bearings, "
+            "Hoang sec. IV rig), opposes the motion and holds a stopped rotor while the other torques sum to no more; 0 = none",
+            ACC(load.coulomb_nm)),
         // ---- control ----
         choice("control.mode", {"speed", "torque", "open_loop"},
                "speed = speed PI -> torque reference; torque = fixed torque reference; open_loop = "
@@ -236,6 +261,16 @@ const std::vector<Spec>& schema()
              "open_loop: CSV with header t_s,v_alpha_v,v_beta_v, held per period (path relative to the "
              "scenario file)",
              ACC(control.voltage_csv)),
+        num("control.vf_freq_hz", "Hz", nonneg(),
+            "open_loop without voltage_csv: built-in V/f source, final stator frequency (0 = not used)",
+            ACC(control.vf_freq_hz)),
+        num("control.vf_v_per_hz", "V/Hz", nonneg(),
+            "V/f source: voltage-vector amplitude (peak phase volts) per Hz (220 V, 50 Hz: 3.592)",
+            ACC(control.vf_v_per_hz)),
+        num("control.vf_boost_v", "V", nonneg(), "V/f source: amplitude at 0 Hz (low-frequency boost)",
+            ACC(control.vf_boost_v)),
+        num("control.vf_ramp_s", "s", nonneg(), "V/f source: frequency ramp time from 0 to vf_freq_hz (0 = step)",
+            ACC(control.vf_ramp_s)),
         // ---- sensors ----
         num("sensors.current_range_a", "A", positive(), "Hall sensor: +-range maps onto the 0..3 V ADC input",
             ACC(sensors.current_range_a)),
@@ -516,6 +551,39 @@ std::string origin_of(const Scenario& s, const std::string& key)
     return it == s.origin.end() ? std::string("(default)") : it->second;
 }
 
+// Machine-type defaults and key ownership: the motor.* defaults of the schema are the PM machine's;
+// with motor.type = "im" every shared key left unset takes the default induction machine's value
+// (ImDefaults), and a key of the other machine is refused by name.
+void apply_machine_defaults(Scenario& s, Diagnostics* d)
+{
+    static const std::vector<std::string> pm_only = {"motor.ls_h",        "motor.psi_m_wb",    "motor.emf_gain",
+                                                     "motor.emf_harm_a", "motor.emf_harm_b", "motor.emf_harm_c"};
+    static const std::vector<std::string> im_only = {"motor.rr_ohm", "motor.lls_h", "motor.llr_h", "motor.lm_h"};
+    const bool im = s.motor.type == "im";
+    for (const std::string& k : im ? pm_only : im_only) {
+        if (s.origin.count(k) != 0) {
+            d->errors.push_back(origin_of(s, k) + ": " + k + ": not a parameter of motor.type = \"" + s.motor.type +
+                                "\" (" + origin_of(s, "motor.type") + ")");
+        }
+    }
+    if (!im) {
+        return;
+    }
+    const ImDefaults q;
+    auto unset = [&](const char* k) { return s.origin.count(k) == 0; };
+    if (unset("motor.rs_ohm")) s.motor.rs_ohm = q.rs_ohm;
+    if (unset("motor.rr_ohm")) s.motor.rr_ohm = q.rr_ohm;
+    if (unset("motor.lls_h")) s.motor.lls_h = q.lls_h;
+    if (unset("motor.llr_h")) s.motor.llr_h = q.llr_h;
+    if (unset("motor.lm_h")) s.motor.lm_h = q.lm_h;
+    if (unset("motor.pole_pairs")) s.motor.pole_pairs = q.pole_pairs;
+    if (unset("motor.j_kgm2")) s.motor.j_kgm2 = q.j_kgm2;
+    if (unset("motor.b_nms")) s.motor.b_nms = q.b_nms;
+    if (unset("motor.rated_torque_nm")) s.motor.rated_torque_nm = q.rated_torque_nm;
+    if (unset("motor.rated_current_a")) s.motor.rated_current_a = q.rated_current_a;
+    if (unset("motor.rated_speed_rpm")) s.motor.rated_speed_rpm = q.rated_speed_rpm;
+}
+
 void cross_validate(Scenario& s, Diagnostics* d)
 {
     auto err = [&](const std::string& key, const std::string& msg) {
@@ -535,7 +603,24 @@ void cross_validate(Scenario& s, Diagnostics* d)
         err("duration_s", "more than 2e9 control periods");
     }
     const bool open_loop = s.control.mode == "open_loop";
-    if (open_loop) {
+    if (s.motor.type == "im" && !open_loop) {
+        err("motor.type", "\"im\" runs with control.mode = \"open_loop\" only (the firmware drives the PM machine); "
+                          "control.mode is \"" + s.control.mode + "\" (" + origin_of(s, "control.mode") + ")");
+    }
+    const bool vf = s.control.vf_freq_hz > 0.0;
+    if (open_loop && vf && !s.control.voltage_csv.empty()) {
+        err("control.vf_freq_hz", "both the V/f source and control.voltage_csv are set: choose one");
+    }
+    if (open_loop && vf) {
+        if (s.control.vf_v_per_hz <= 0.0 && s.control.vf_boost_v <= 0.0) {
+            err("control.vf_v_per_hz", "the V/f source needs control.vf_v_per_hz > 0 (or a boost)");
+        }
+        if (s.inverter.topology != "ideal") {
+            err("inverter.topology", "control.mode = \"open_loop\" applies alpha/beta voltages to the \"ideal\" "
+                                     "inverter; got \"" + s.inverter.topology + "\"");
+        }
+    }
+    if (open_loop && !vf) {
         if (s.inverter.topology != "ideal") {
             err("inverter.topology", "control.mode = \"open_loop\" applies alpha/beta voltages to the \"ideal\" "
                                      "inverter; got \"" + s.inverter.topology + "\"");
@@ -550,7 +635,7 @@ void cross_validate(Scenario& s, Diagnostics* d)
                 err("control.voltage_csv", e);
             }
         }
-    } else {
+    } else if (!open_loop) {
         if (s.inverter.topology == "ideal") {
             err("inverter.topology", "the \"ideal\" inverter takes voltages, not switch states: use it with "
                                      "control.mode = \"open_loop\"");
@@ -593,6 +678,9 @@ void cross_validate(Scenario& s, Diagnostics* d)
     }
     if (s.load.type == "generator" && s.load.speed_rpm == 0.0) {
         err("load.speed_rpm", "the generator load needs a non-zero reference speed");
+    }
+    if (s.load.type == "fan" && s.load.speed_rpm == 0.0) {
+        err("load.speed_rpm", "the fan load needs a non-zero reference speed");
     }
 }
 
@@ -737,6 +825,9 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
         s.origin[name] = loc;
     }
 
+    if (diag->ok()) {
+        apply_machine_defaults(s, diag);
+    }
     if (diag->ok()) {
         cross_validate(s, diag);
     }

@@ -35,6 +35,9 @@ bool TraceWriter::open(const std::string& path, std::string* err)
     }
     buf_.reserve(1 << 20);
     buf_ += trace_header();
+    if (rotor_flux_) {
+        buf_ += ",psi_r_alpha_wb,psi_r_beta_wb";
+    }
     buf_ += '\n';
     return true;
 }
@@ -79,6 +82,12 @@ void TraceWriter::write(const TraceRow& r)
     for (double x : d2) {
         buf_ += ',';
         put(buf_, x);
+    }
+    if (rotor_flux_) {
+        buf_ += ',';
+        put(buf_, r.psi_r_alpha_wb);
+        buf_ += ',';
+        put(buf_, r.psi_r_beta_wb);
     }
     buf_ += '\n';
     if (buf_.size() > (1u << 20) - 512u) {
