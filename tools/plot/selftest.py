@@ -95,6 +95,36 @@ def main():
                                                    "flux_components.png"], outs
     for p in outs:
         check_png(p)
+    # Null metrics (a diverged or tripped run) and a trip: every figure is drawn, the trip marked.
+    tripped = os.path.join(work, "tripped")
+    synthetic_run(tripped)
+    tr = plot_run.load_trace(os.path.join(tripped, "trace.csv"))
+    with open(os.path.join(tripped, "metrics.json"), encoding="utf-8") as f:
+        m = json.load(f)
+    for k in ("fundamental_a", "imbalance_pct", "thd_total_pct", "torque_est_mean_nm", "trf_est_pct",
+              "flux_est_error_rms_pct", "switching_freq_hz", "torque_mean_nm", "trf_pct", "speed_mean_rpm"):
+        m[k] = None
+    m["thd_pct"] = [None, 7.0, None]
+    m["fault"] = "overcurrent"
+    m["fault_detail"] = "synthetic trip"
+    m["fault_time_s"] = None
+    with open(os.path.join(tripped, "metrics.json"), "w", encoding="utf-8") as f:
+        json.dump(m, f)
+    # Gates off from t = 0.3 s on: the trip time comes from the trace's en column.
+    data = np.loadtxt(os.path.join(tripped, "trace.csv"), delimiter=",", skiprows=1)
+    data[data[:, 0] >= 0.3, 17] = 0
+    data[data[:, 0] >= 0.3, 1:4] = 0
+    np.savetxt(os.path.join(tripped, "trace.csv"), data, delimiter=",", header=COLUMNS, comments="", fmt="%.9g")
+    tr = plot_run.load_trace(os.path.join(tripped, "trace.csv"))
+    trip = plot_run.trip_of(tr, m)
+    assert trip is not None and abs(trip[0] - 0.3) < 1e-9 and "TRIPPED: overcurrent" in trip[1], trip
+    sel = plot_run.span(tr, m, None, None)
+    assert abs(tr["t_s"][sel][0] - 0.2) < 1e-6 and abs(tr["t_s"][sel][-1] - 0.32) < 1e-6  # around the trip
+    for p in plot_run.plot_run(tripped):
+        check_png(p)
+    fault_free = dict(m, fault="none")
+    assert plot_run.trip_of(tr, fault_free) is None
+
     # A malformed trace is refused with the file named.
     bad = os.path.join(work, "bad")
     os.makedirs(bad)

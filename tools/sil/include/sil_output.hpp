@@ -52,6 +52,8 @@ struct RunInfo {
     double wall_time_s = 0.0;
     std::uint64_t isr_count = 0;
     std::string fault = "none";
+    std::string fault_detail;  // why, in words (empty when fault is "none")
+    double fault_time_s = -1.0; // when the run noticed the fault (plant divergence), -1: not known
     std::uint64_t invalid_commands = 0;
     bool hw_trip = false;
 };
@@ -68,8 +70,12 @@ public:
     bool begin(const std::string& out_dir, std::string* err);
     std::string path(const std::string& file) const;
     /// Moves every staged file into out_dir (replacing files of the same name) and removes the
-    /// files of `managed` this run did not produce (no stale trace.csv next to a new metrics.json).
-    bool commit(std::string* err, const std::vector<std::string>& managed = {"trace.csv", "metrics.json"});
+    /// files of `managed` this run did not produce (no stale trace.csv next to a new metrics.json,
+    /// no plot_run.py figures of a previous run next to new results).
+    bool commit(std::string* err, const std::vector<std::string>& managed = {"trace.csv", "metrics.json",
+                                                                            "currents.png", "torque.png",
+                                                                            "flux_locus.png",
+                                                                            "flux_components.png"});
     /// Removes the staging directory (also done by the destructor if not committed).
     void abort();
     ~StagedOutput();

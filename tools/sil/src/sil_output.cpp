@@ -129,6 +129,8 @@ nlohmann::json metrics_json(const Scenario& sc, const Metrics& m, const RunInfo&
     j["switching_freq_hz"] = opt(m.switching_freq_hz);
     j["flux_est_error_rms_pct"] = opt(m.flux_est_error_rms_pct);
     j["fault"] = info.fault;
+    j["fault_detail"] = info.fault_detail;
+    j["fault_time_s"] = info.fault_time_s >= 0.0 ? json(info.fault_time_s) : json(nullptr);
     j["hw_trip"] = info.hw_trip;
     j["invalid_commands"] = info.invalid_commands;
     const double t_end = info.sim_time_s;
@@ -164,12 +166,28 @@ std::string summary_text(const Scenario& sc, const Metrics& m, const RunInfo& in
         }
     }
     o << ", " << sc.load.type << " load)\n";
+    if (sc.load.type == "torque" || sc.load.type == "generator") {
+        // The shaft load is the load torque plus the viscous friction B*w of motor.b_nms: at the
+        // speed reference they add up to what the scenario's comment calls the load (Hoang's full
+        // load 0.3 N*m = load.torque_nm 0.225 + friction 0.075 N*m at 1500 rpm with the defaults).
+        const double w = sc.control.speed_ref_rpm * 3.14159265358979323846 / 30.0;
+        const double tl = sc.load.type == "torque" || sc.load.speed_rpm == 0.0
+                              ? sc.load.torque_nm
+                              : sc.load.torque_nm * sc.control.speed_ref_rpm / sc.load.speed_rpm;
+        std::snprintf(line, sizeof line,
+                      "  load       %.4g N*m load + %.4g N*m friction (motor.b_nms) = %.4g N*m at %.0f rpm\n", tl,
+                      sc.motor.b_nms * w, tl + sc.motor.b_nms * w, sc.control.speed_ref_rpm);
+        o << line;
+    }
     std::snprintf(line, sizeof line, "  simulated %.3f s in %.3f s wall (%.0fx real time), %llu ISRs, fault: %s%s\n",
                   info.sim_time_s, info.wall_time_s,
                   info.wall_time_s > 0 ? info.sim_time_s / info.wall_time_s : 0.0,
                   static_cast<unsigned long long>(info.isr_count), info.fault.c_str(),
-                  info.hw_trip ? " (hardware trip latched)" : "");
+                  info.hw_trip && info.fault != "hw_overcurrent" ? " (hardware trip latched too)" : "");
     o << line;
+    if (!info.fault_detail.empty()) {
+        o << "  fault      " << info.fault << ": " << info.fault_detail << "\n";
+    }
     std::snprintf(line, sizeof line, "  window     %.4f s = %d electrical periods (%.2f Hz)\n", m.window_s,
                   m.window.periods, m.f_e_hz);
     o << line;
