@@ -30,8 +30,11 @@ struct TraceRow {
 /// Column names, in order (the first 17 are the ones issue 5 requires).
 const char* trace_header();
 
-/// Buffered CSV writer (std::to_chars, 9 significant digits; estimates without a controller
-/// estimate are written as "nan").
+/// Buffered CSV writer: every double in the shortest form that reads back to the same double
+/// (std::to_chars without a precision: strtod / numpy.loadtxt give the identical value back),
+/// "nan" / "inf" / "-inf" for non-finite values (estimates without a controller estimate are
+/// "nan"). Rows are formatted straight into one fixed 1 MiB buffer, written with fwrite when it
+/// fills: no allocation per row.
 class TraceWriter {
 public:
     TraceWriter() = default;
@@ -41,10 +44,14 @@ public:
     bool open(const std::string& path, std::string* err);
     void write(const TraceRow& r);
     bool close(std::string* err);
+    static constexpr std::size_t kMaxRowBytes = 1024; // 18 doubles x <= 24 chars + 5 ints + commas
 
 private:
+    void flush();
     std::FILE* f_ = nullptr;
-    std::string buf_;
+    std::vector<char> buf_;
+    std::size_t n_ = 0;
+    bool write_failed_ = false;
 };
 
 struct RunInfo {

@@ -3,6 +3,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <sstream>
 #include <system_error>
@@ -33,58 +34,75 @@ bool TraceWriter::open(const std::string& path, std::string* err)
         *err = path + ": cannot create";
         return false;
     }
-    buf_.reserve(1 << 20);
-    buf_ += trace_header();
-    buf_ += '\n';
+    std::setvbuf(f_, nullptr, _IONBF, 0); // buf_ is the buffer
+    buf_.assign(std::size_t{1} << 20, '\0');
+    const std::size_t h = std::strlen(trace_header());
+    std::memcpy(buf_.data(), trace_header(), h);
+    buf_[h] = '\n';
+    n_ = h + 1;
+    write_failed_ = false;
     return true;
 }
 
-namespace {
-void put(std::string& b, double x)
+void TraceWriter::flush()
 {
-    char tmp[32];
-    if (!std::isfinite(x)) {
-        b += std::isnan(x) ? "nan" : (x > 0 ? "inf" : "-inf");
-        return;
+    if (n_ != 0 && std::fwrite(buf_.data(), 1, n_, f_) != n_) {
+        write_failed_ = true;
     }
-    auto r = std::to_chars(tmp, tmp + sizeof tmp, x, std::chars_format::general, 9);
-    b.append(tmp, r.ptr);
+    n_ = 0;
 }
-void put(std::string& b, int x)
+
+namespace {
+// Shortest round-trip form (at most 24 characters), or nan / inf / -inf.
+inline char* put(char* p, double x)
 {
-    char tmp[16];
-    auto r = std::to_chars(tmp, tmp + sizeof tmp, x);
-    b.append(tmp, r.ptr);
+    if (std::isfinite(x)) {
+        return std::to_chars(p, p + 32, x).ptr;
+    }
+    const char* s = std::isnan(x) ? "nan" : (x > 0 ? "inf" : "-inf");
+    const std::size_t n = std::strlen(s);
+    std::memcpy(p, s, n);
+    return p + n;
+}
+inline char* put(char* p, int x)
+{
+    if (x == 0 || x == 1) {
+        *p = static_cast<char>('0' + x);
+        return p + 1;
+    }
+    return std::to_chars(p, p + 16, x).ptr;
 }
 } // namespace
 
 void TraceWriter::write(const TraceRow& r)
 {
+    if (buf_.size() - n_ < kMaxRowBytes) {
+        flush();
+    }
+    char* const b = buf_.data() + n_;
+    char* p = b;
     const double d1[] = {r.t_s, r.ia_a, r.ib_a, r.ic_a, r.i_alpha_a, r.i_beta_a, r.torque_nm, r.torque_est_nm,
                          r.psi_alpha_wb, r.psi_beta_wb, r.psi_alpha_est_wb, r.psi_beta_est_wb, r.speed_rpm};
     for (double x : d1) {
-        put(buf_, x);
-        buf_ += ',';
+        p = put(p, x);
+        *p++ = ',';
     }
-    put(buf_, r.sa);
-    buf_ += ',';
-    put(buf_, r.sb);
-    buf_ += ',';
-    put(buf_, r.sc);
-    buf_ += ',';
-    put(buf_, r.vdc_v);
-    buf_ += ',';
-    put(buf_, r.en);
+    p = put(p, r.sa);
+    *p++ = ',';
+    p = put(p, r.sb);
+    *p++ = ',';
+    p = put(p, r.sc);
+    *p++ = ',';
+    p = put(p, r.vdc_v);
+    *p++ = ',';
+    p = put(p, r.en);
     const double d2[] = {r.theta_e_rad, r.vc_lo_v, r.v_alpha_v, r.v_beta_v, r.tload_nm};
     for (double x : d2) {
-        buf_ += ',';
-        put(buf_, x);
+        *p++ = ',';
+        p = put(p, x);
     }
-    buf_ += '\n';
-    if (buf_.size() > (1u << 20) - 512u) {
-        std::fwrite(buf_.data(), 1, buf_.size(), f_);
-        buf_.clear();
-    }
+    *p++ = '\n';
+    n_ += static_cast<std::size_t>(p - b);
 }
 
 bool TraceWriter::close(std::string* err)
@@ -92,11 +110,10 @@ bool TraceWriter::close(std::string* err)
     if (f_ == nullptr) {
         return true;
     }
-    const bool ok_w = std::fwrite(buf_.data(), 1, buf_.size(), f_) == buf_.size();
-    buf_.clear();
+    flush();
     const bool ok_c = std::fclose(f_) == 0;
     f_ = nullptr;
-    if (!ok_w || !ok_c) {
+    if (write_failed_ || !ok_c) {
         *err = "trace.csv: write failed (disk full?)";
         return false;
     }
