@@ -98,6 +98,10 @@ struct ProtectionCfg {
     bool allow_unsafe = false;    // accept trip settings that let the current exceed 3x rated
 };
 
+struct MetricsCfg {
+    double torque_sensor_hz = 0.0; // trf_filtered_pct: torque transducer bandwidth, 0 = unfiltered
+};
+
 struct Scenario {
     std::string name;            // file stem
     std::string path;            // scenario file as given
@@ -114,6 +118,7 @@ struct Scenario {
     ControlCfg control;
     SensorsCfg sensors;
     ProtectionCfg protection;
+    MetricsCfg metrics;
     std::map<std::string, std::string> origin; // key -> "file:line:col" or "--set"
 };
 

@@ -214,6 +214,8 @@ void drop_undefined(Metrics* m)
     f3(m->fundamental_a);
     f3(m->thd_pct);
     f3(m->thd_harmonic_pct);
+    f3(m->thd40_pct);
+    f1(m->thd40_total_pct);
     f1(m->imbalance_pct);
     f1(m->thd_total_pct);
     f1(m->torque_est_mean_nm);
@@ -224,7 +226,8 @@ void drop_undefined(Metrics* m)
 
 bool metrics_finite(const Metrics& m)
 {
-    return std::isfinite(m.torque_mean_nm) && std::isfinite(m.trf_pct) && std::isfinite(m.speed_mean_rpm);
+    return std::isfinite(m.torque_mean_nm) && std::isfinite(m.trf_pct) && std::isfinite(m.trf_filtered_pct) &&
+           std::isfinite(m.speed_mean_rpm);
 }
 } // namespace
 
@@ -442,6 +445,7 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
     mc.window_s = sc.metrics_window_s;
     mc.rated_torque_nm = sc.motor.rated_torque_nm;
     mc.switched_legs = switched_legs(sc);
+    mc.torque_sensor_hz = sc.metrics.torque_sensor_hz;
     res->info = RunInfo{};
     res->info.sim_time_s = static_cast<double>(done) * sc.ts_s;
     res->info.wall_time_s = std::chrono::duration<double>(t1 - t0).count();
@@ -454,6 +458,7 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
         res->metrics = Metrics{};
         res->metrics.torque_mean_nm = nan;
         res->metrics.trf_pct = nan;
+        res->metrics.trf_filtered_pct = nan;
         res->metrics.speed_mean_rpm = nan;
         res->info.fault = "plant_diverged";
         res->info.fault_time_s = diverged_t;

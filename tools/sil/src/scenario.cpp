@@ -273,6 +273,11 @@ const std::vector<Spec>& schema()
         num("protection.hw_trip_current_a", "A", nonneg(),
             "hardware comparator on each phase-current magnitude (PDPINTA), latching, gates off; 0 = not fitted",
             ACC(protection.hw_trip_current_a)),
+        // ---- metrics ----
+        num("metrics.torque_sensor_hz", "Hz", nonneg(),
+            "trf_filtered_pct: TRF of the plant torque after a first-order low-pass of this cutoff (a torque "
+            "transducer's bandwidth); 0 = unfiltered",
+            ACC(metrics.torque_sensor_hz)),
         boolean("protection.allow_unsafe",
                 "accept trip settings that let the phase current exceed 3x motor.rated_current_a (refused otherwise)",
                 ACC(protection.allow_unsafe)),
@@ -731,7 +736,7 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
         s.origin[name] = loc;
     };
 
-    static const char* const sections[] = {"motor", "inverter", "load", "control", "sensors", "protection"};
+    static const char* const sections[] = {"motor", "inverter", "load", "control", "sensors", "protection", "metrics"};
     for (auto&& [key, node] : root) {
         const std::string k(key.str());
         bool is_section = false;

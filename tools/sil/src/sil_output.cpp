@@ -138,10 +138,14 @@ nlohmann::json metrics_json(const Scenario& sc, const Metrics& m, const RunInfo&
     j["thd_pct"] = opt3(m.thd_pct);
     j["thd_total_pct"] = opt(m.thd_total_pct);
     j["thd_harmonic_pct"] = opt3(m.thd_harmonic_pct);
+    j["thd40_pct"] = opt3(m.thd40_pct);
+    j["thd40_total_pct"] = opt(m.thd40_total_pct);
     j["torque_mean_nm"] = m.torque_mean_nm;
     j["torque_est_mean_nm"] = opt(m.torque_est_mean_nm);
     j["trf_pct"] = m.trf_pct;
     j["trf_est_pct"] = opt(m.trf_est_pct);
+    j["trf_filtered_pct"] = m.trf_filtered_pct;
+    j["torque_sensor_hz"] = sc.metrics.torque_sensor_hz;
     j["speed_mean_rpm"] = m.speed_mean_rpm;
     j["switching_freq_hz"] = opt(m.switching_freq_hz);
     j["flux_est_error_rms_pct"] = opt(m.flux_est_error_rms_pct);
@@ -212,6 +216,11 @@ std::string summary_text(const Scenario& sc, const Metrics& m, const RunInfo& in
     o << line;
     std::snprintf(line, sizeof line, "  torque     mean %.4f N*m, TRF %.1f %%", m.torque_mean_nm, m.trf_pct);
     o << line;
+    if (sc.metrics.torque_sensor_hz > 0.0) {
+        std::snprintf(line, sizeof line, " (%.1f %% through a %g Hz sensor)", m.trf_filtered_pct,
+                      sc.metrics.torque_sensor_hz);
+        o << line;
+    }
     if (m.torque_est_mean_nm) {
         std::snprintf(line, sizeof line, "; estimate %.4f N*m, TRF %.1f %%", *m.torque_est_mean_nm,
                       m.trf_est_pct.value_or(NAN));
@@ -227,6 +236,12 @@ std::string summary_text(const Scenario& sc, const Metrics& m, const RunInfo& in
         std::snprintf(line, sizeof line, "  THD        A/B/C %.2f / %.2f / %.2f %%, total %.2f %%\n", t[0], t[1], t[2],
                       m.thd_total_pct.value_or(NAN));
         o << line;
+        if (m.thd40_pct) {
+            const auto& t40 = *m.thd40_pct;
+            std::snprintf(line, sizeof line, "  THD 2..40  A/B/C %.2f / %.2f / %.2f %%, total %.2f %%\n", t40[0], t40[1],
+                          t40[2], m.thd40_total_pct.value_or(NAN));
+            o << line;
+        }
     } else {
         o << "  currents   no whole electrical period in the window: no spectral metrics\n";
     }
