@@ -2,9 +2,12 @@
 #ifndef DTC_SIL_OUTPUT_HPP
 #define DTC_SIL_OUTPUT_HPP
 
+#include <condition_variable>
 #include <cstdint>
 #include <cstdio>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -33,8 +36,10 @@ const char* trace_header();
 /// Buffered CSV writer: every double in the shortest form that reads back to the same double
 /// (std::to_chars without a precision: strtod / numpy.loadtxt give the identical value back),
 /// "nan" / "inf" / "-inf" for non-finite values (estimates without a controller estimate are
-/// "nan"). Rows are formatted straight into one fixed 1 MiB buffer, written with fwrite when it
-/// fills: no allocation per row.
+/// "nan"). write() only copies the row into a batch of kBatchRows (no allocation); full batches
+/// are formatted and written by a second thread (double buffering), so on a machine with two
+/// cores formatting overlaps the simulation. The worker formats straight into one fixed 1 MiB
+/// buffer and writes it with fwrite when it fills.
 class TraceWriter {
 public:
     TraceWriter() = default;
@@ -42,16 +47,32 @@ public:
     TraceWriter(const TraceWriter&) = delete;
     TraceWriter& operator=(const TraceWriter&) = delete;
     bool open(const std::string& path, std::string* err);
-    void write(const TraceRow& r);
+    void write(const TraceRow& r)
+    {
+        fill_.push_back(r); // within the reserved capacity: no allocation
+        if (fill_.size() == kBatchRows) {
+            hand_over();
+        }
+    }
     bool close(std::string* err);
     static constexpr std::size_t kMaxRowBytes = 1024; // 18 doubles x <= 24 chars + 5 ints + commas
+    static constexpr std::size_t kBatchRows = 4096;
 
 private:
+    void hand_over();
+    void worker();
+    void format(const TraceRow& r);
     void flush();
+    void stop();
     std::FILE* f_ = nullptr;
-    std::vector<char> buf_;
+    std::vector<char> buf_; // worker side (and the header, before it starts)
     std::size_t n_ = 0;
     bool write_failed_ = false;
+    std::vector<TraceRow> fill_, work_;
+    std::thread thread_;
+    std::mutex m_;
+    std::condition_variable cv_;
+    bool has_work_ = false, stop_ = false;
 };
 
 struct RunInfo {

@@ -436,6 +436,10 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
         }
         h->advance();
     }
+    // Closing the trace (the writer thread's last batch) is part of the loop's cost.
+    if (writing && opt.write_trace && !trace.close(err)) {
+        return false;
+    }
     const auto t1 = std::chrono::steady_clock::now();
     if (opt.progress != nullptr && periods > 4096u) {
         *opt.progress << "\r" << std::string(70, ' ') << "\r" << std::flush;
@@ -477,9 +481,6 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
     }
 
     if (writing) {
-        if (opt.write_trace && !trace.close(err)) {
-            return false;
-        }
         std::ofstream mj(out.path("metrics.json"));
         mj << metrics_json(sc, res->metrics, res->info).dump(2) << "\n";
         mj.close();

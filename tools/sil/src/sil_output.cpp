@@ -22,6 +22,7 @@ const char* trace_header()
 
 TraceWriter::~TraceWriter()
 {
+    stop();
     if (f_ != nullptr) {
         std::fclose(f_);
     }
@@ -41,7 +42,56 @@ bool TraceWriter::open(const std::string& path, std::string* err)
     buf_[h] = '\n';
     n_ = h + 1;
     write_failed_ = false;
+    fill_.clear();
+    fill_.reserve(kBatchRows);
+    work_.clear();
+    work_.reserve(kBatchRows);
+    has_work_ = false;
+    stop_ = false;
+    thread_ = std::thread([this] { worker(); });
     return true;
+}
+
+void TraceWriter::hand_over()
+{
+    std::unique_lock<std::mutex> lk(m_);
+    cv_.wait(lk, [this] { return !has_work_; });
+    std::swap(fill_, work_); // fill_ is now the emptied previous batch, capacity kept
+    has_work_ = true;
+    lk.unlock();
+    cv_.notify_all();
+}
+
+void TraceWriter::worker()
+{
+    std::unique_lock<std::mutex> lk(m_);
+    for (;;) {
+        cv_.wait(lk, [this] { return has_work_ || stop_; });
+        if (!has_work_) {
+            return; // stop_ with nothing left
+        }
+        lk.unlock();
+        for (const TraceRow& r : work_) {
+            format(r);
+        }
+        lk.lock();
+        work_.clear();
+        has_work_ = false;
+        cv_.notify_all();
+    }
+}
+
+void TraceWriter::stop()
+{
+    if (!thread_.joinable()) {
+        return;
+    }
+    {
+        std::lock_guard<std::mutex> lk(m_);
+        stop_ = true;
+    }
+    cv_.notify_all();
+    thread_.join();
 }
 
 void TraceWriter::flush()
@@ -74,7 +124,7 @@ inline char* put(char* p, int x)
 }
 } // namespace
 
-void TraceWriter::write(const TraceRow& r)
+void TraceWriter::format(const TraceRow& r)
 {
     if (buf_.size() - n_ < kMaxRowBytes) {
         flush();
@@ -110,6 +160,10 @@ bool TraceWriter::close(std::string* err)
     if (f_ == nullptr) {
         return true;
     }
+    if (!fill_.empty()) {
+        hand_over();
+    }
+    stop(); // the worker finishes the batch it holds, then exits
     flush();
     const bool ok_c = std::fclose(f_) == 0;
     f_ = nullptr;
