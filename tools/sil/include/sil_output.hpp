@@ -84,6 +84,7 @@ struct RunInfo {
     double fault_time_s = -1.0; // when the run noticed the fault (plant divergence), -1: not known
     std::uint64_t invalid_commands = 0;
     bool hw_trip = false;
+    bool traced = false; // trace.csv written (its cost is in wall_time_s)
 };
 
 nlohmann::json metrics_json(const Scenario& sc, const Metrics& m, const RunInfo& info);

@@ -457,6 +457,7 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
     res->info.fault = ctrl->fault();
     res->info.invalid_commands = h->invalid_writes();
     res->info.hw_trip = h->trip_latched();
+    res->info.traced = writing && opt.write_trace;
     if (!diverged.empty()) {
         // The recorded window is incomplete and the state meaningless: no metrics, only why.
         res->metrics = Metrics{};

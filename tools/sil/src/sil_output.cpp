@@ -254,9 +254,9 @@ std::string summary_text(const Scenario& sc, const Metrics& m, const RunInfo& in
                       sc.motor.b_nms * w, tl + sc.motor.b_nms * w, sc.control.speed_ref_rpm);
         o << line;
     }
-    std::snprintf(line, sizeof line, "  simulated %.3f s in %.3f s wall (%.0fx real time), %llu ISRs, fault: %s%s\n",
+    std::snprintf(line, sizeof line, "  simulated %.3f s in %.3f s wall (%.0fx real time, trace %s), %llu ISRs, fault: %s%s\n",
                   info.sim_time_s, info.wall_time_s,
-                  info.wall_time_s > 0 ? info.sim_time_s / info.wall_time_s : 0.0,
+                  info.wall_time_s > 0 ? info.sim_time_s / info.wall_time_s : 0.0, info.traced ? "on" : "off",
                   static_cast<unsigned long long>(info.isr_count), info.fault.c_str(),
                   info.hw_trip && info.fault != "hw_overcurrent" ? " (hardware trip latched too)" : "");
     o << line;
