@@ -369,6 +369,20 @@ TEST(Scenario, FuzzedTomlAndSetNeverCrashOrHang)
                                                "nan", "inf", "-inf",   "9e18",    "-9e18", "0x10",   "",
                                                "\"\"", "[1,2,3]", "[1e308, -1e308, 0]", "true", "1_000"};
     const auto keys = scenario_keys();
+    for (int i = 0; i < 1000; ++i) {
+        // Random bytes as --set, with and without a valid key in front.
+        std::string junk;
+        const std::size_t n = rng() % 40;
+        for (std::size_t k = 0; k < n; ++k) {
+            junk += static_cast<char>(rng() & 0xff);
+        }
+        const std::string o = (i % 2 == 0) ? junk : keys[rng() % keys.size()].name + "=" + junk;
+        Scenario s;
+        Diagnostics d;
+        if (!parse_scenario("ts_s = 50e-6\n", "fuzz.toml", {o}, &s, &d)) {
+            EXPECT_NE(d.text().find("--set #1"), std::string::npos) << d.text();
+        }
+    }
     for (int i = 0; i < 3000; ++i) {
         std::vector<std::string> sets;
         for (int k = 0; k < 3; ++k) {
