@@ -1,6 +1,7 @@
 // cli.cpp - the dtc-sil command line (CLI11).
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <iostream>
@@ -106,6 +107,12 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
             err << "dtc-sil: " << scenario_path << ": " << e << "\n";
             err << "dtc-sil: " << scenario_path << ": scenario rejected\n";
             return 1;
+        }
+        // run's only extra refusal depends on its options: say when a traced run would meet it.
+        const double rows = std::floor(sc.duration_s / sc.ts_s + 0.5);
+        if (rows * kTraceBytesPerRow > opt.max_trace_bytes) {
+            err << "warning: a traced run writes about " << rows * kTraceBytesPerRow / 1e9
+                << " GB of trace.csv: `run` refuses it without --decimate, --no-trace or --force\n";
         }
         out << scenario_path << ": ok\n";
         return 0;
