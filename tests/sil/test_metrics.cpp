@@ -213,3 +213,55 @@ TEST(Metrics, EstimateMetricsOnlyWithEstimates)
     EXPECT_NEAR(*m.torque_est_mean_nm, 0.33, 1e-12);
     EXPECT_NEAR(*m.trf_est_pct, 0.0, 1e-12);
 }
+
+TEST(Metrics, Thd40CountsHarmonicSubgroupsTwoToFortyOnly)
+{
+    // 5 periods of 25 Hz in 0.2 s (bin = 5 Hz): fundamental 1, 5th 0.1, an interharmonic at
+    // 130 Hz (5th's subgroup neighbour, 0.05), the 41st 0.2 and a 3 kHz line 0.3 (switching
+    // ripple). IEC 61000-4-7 subgroups 2..40: sqrt(0.1^2 + 0.05^2) = 11.180 %; the full band adds
+    // 0.2 and 0.3: sqrt(0.01 + 0.0025 + 0.04 + 0.09) = 37.75 %.
+    const std::size_t n = 4000;
+    std::vector<double> x(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        const double t = static_cast<double>(k) * kTs;
+        x[k] = std::cos(2 * kPi * 25 * t) + 0.1 * std::cos(2 * kPi * 125 * t + 0.4) +
+               0.05 * std::cos(2 * kPi * 130 * t) + 0.2 * std::cos(2 * kPi * 1025 * t) +
+               0.3 * std::sin(2 * kPi * 3000 * t);
+    }
+    const Spectrum sp = spectrum(x.data(), n, 5);
+    EXPECT_NEAR(sp.thd40_pct, 100.0 * std::sqrt(0.0125), 1e-8);
+    EXPECT_NEAR(sp.thd_pct, 100.0 * std::sqrt(0.0125 + 0.04 + 0.09), 1e-8);
+    // Through compute_metrics: per phase and total, beside the full-band THD.
+    Series s = three_phase(25.0, 0.2, {2.0, 2.0, 2.0}, 0.04, 0.03);
+    MetricsConfig c;
+    c.window_s = 0.2;
+    const Metrics m = compute_metrics(s, c);
+    ASSERT_TRUE(m.thd40_pct && m.thd40_total_pct);
+    EXPECT_NEAR((*m.thd40_pct)[1], 5.0, 1e-6);
+    EXPECT_NEAR(*m.thd40_total_pct, 5.0, 1e-6);
+}
+
+TEST(Metrics, FilteredTrfIsTheRippleThroughAFirstOrderSensor)
+{
+    // 0.3 N*m + 0.1 N*m ripple at 1 kHz through a 1 kHz first-order sensor: gain 1/sqrt(2)
+    // (the held-input discretisation at 20 kHz changes it by < 0.5 %). TRF = 2 * 0.1 * gain / 0.3.
+    const std::size_t n = 4000;
+    std::vector<double> te(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        te[k] = 0.3 + 0.1 * std::sin(2 * kPi * 1000.0 * static_cast<double>(k) * kTs);
+    }
+    const std::vector<double> y = first_order_filtered(te.data(), n, 1000.0, kTs);
+    EXPECT_NEAR(trf_pct(y.data(), n, 0.3), 100.0 * 0.2 / std::sqrt(2.0) / 0.3, 0.005 * 100.0 * 0.2 / 0.3);
+    EXPECT_NEAR(mean(y.data(), n), 0.3, 1e-4); // unit DC gain, started in steady state
+    const std::vector<double> same = first_order_filtered(te.data(), n, 0.0, kTs);
+    EXPECT_EQ(same, te); // 0 = unfiltered
+    Series s = three_phase(25.0, 0.2, {2.0, 2.0, 2.0});
+    s.te = te;
+    MetricsConfig c;
+    c.window_s = 0.2;
+    c.torque_sensor_hz = 1000.0;
+    const Metrics m = compute_metrics(s, c);
+    EXPECT_NEAR(m.trf_pct, 100.0 * 0.2 / 0.3, 1e-6);
+    EXPECT_LT(m.trf_filtered_pct, 0.72 * m.trf_pct);
+    EXPECT_GT(m.trf_filtered_pct, 0.69 * m.trf_pct);
+}

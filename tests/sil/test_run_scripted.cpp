@@ -119,9 +119,11 @@ TEST_F(RunScripted, OpenLoopRunWritesMetricsOfThePlantSignals)
     EXPECT_DOUBLE_EQ(adv[200].v_beta_v, -3.0);
     EXPECT_DOUBLE_EQ(adv[4999].v_alpha_v, 3.0); // held after the last row
     // Plant parameters come from the scenario (defaults: Hoang Table VIII/IV, ideal inverter here).
-    ASSERT_EQ(scripted::log().created.size(), 1u);
-    EXPECT_EQ(scripted::log().created[0].inverter, PLANT_INVERTER_IDEAL);
-    EXPECT_DOUBLE_EQ(scripted::log().created[0].rs_ohm, 0.466);
+    // Two plants: the validation pass that `check` also runs (refusals before any file exists),
+    // then the run itself; both from the same scenario.
+    ASSERT_EQ(scripted::log().created.size(), 2u);
+    EXPECT_EQ(scripted::log().created[1].inverter, PLANT_INVERTER_IDEAL);
+    EXPECT_DOUBLE_EQ(scripted::log().created[1].rs_ohm, 0.466);
 }
 
 TEST_F(RunScripted, TraceHasTheDocumentedColumnsOneRowPerDecimatedIsr)
@@ -143,7 +145,9 @@ TEST_F(RunScripted, TraceHasTheDocumentedColumnsOneRowPerDecimatedIsr)
         ++rows;
     }
     EXPECT_EQ(rows, 500);
-    EXPECT_EQ(second.substr(0, second.find(',')), "0.0005"); // row 1 = ISR 10 at 0.5 ms
+    // Row 1 = ISR 10 at 0.5 ms: the plant clock's own double (within an ulp or two of 0.0005),
+    // written in its shortest round-trip form.
+    EXPECT_NEAR(std::stod(second.substr(0, second.find(','))), 0.0005, 1e-15);
 }
 
 TEST_F(RunScripted, RerunWithoutTraceLeavesNoStaleTrace)
@@ -195,7 +199,8 @@ TEST_F(RunScripted, FailureAfterValidationLeavesPreviousResultsUntouched)
     const auto before = fs::last_write_time(dir / "res" / "metrics.json");
     scripted::fail_next_create("psi_m_wb out of range");
     std::string err;
-    EXPECT_EQ(cli({"run", (dir / "ol.toml").string(), "--out", (dir / "res").string()}, nullptr, &err), 2);
+    // A plant refusal is found by the validation pass shared with `check`: exit 1, as a bad scenario.
+    EXPECT_EQ(cli({"run", (dir / "ol.toml").string(), "--out", (dir / "res").string()}, nullptr, &err), 1);
     EXPECT_NE(err.find("plant: psi_m_wb out of range"), std::string::npos) << err;
     EXPECT_EQ(fs::last_write_time(dir / "res" / "metrics.json"), before);
     std::size_t entries = 0;

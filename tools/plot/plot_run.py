@@ -9,7 +9,10 @@ Writes into RUN_DIR (or --out):
   flux_locus.png       stator-flux locus in the alpha-beta plane, true and estimated (Fig. 3)
   flux_components.png  estimated (and true) alpha/beta flux components vs time (Figs. 5-8)
 Default time span: the metrics window of metrics.json, at most its last 0.12 s (3 periods at
-1500 rpm, like the paper's scope captures). numpy + matplotlib only (Debian python3-*).
+1500 rpm, like the paper's scope captures); for a run that tripped, the 0.1 s before the trip and
+0.02 s after it, with the trip time and reason marked on every figure. Metrics that are null
+(undefined: no whole electrical period, a diverged plant) are shown as "n/a".
+numpy + matplotlib only (Debian python3-*).
 """
 import argparse
 import json
@@ -48,6 +51,40 @@ def load_metrics(run_dir):
         return json.load(f)
 
 
+def num(x):
+    """A metrics.json number, or NaN for null / missing (printed as "nan")."""
+    return float("nan") if x is None else float(x)
+
+
+def trip_of(tr, m):
+    """(time_s, text) of the run's trip, or None: the fault of metrics.json (fault_time_s when the
+    runner knows it, otherwise the last trace row with the gates enabled)."""
+    fault = m.get("fault", "none")
+    if not fault or fault == "none":
+        return None
+    t = m.get("fault_time_s")
+    if t is None and "en" in tr:
+        on = np.nonzero(tr["en"] > 0.5)[0]
+        if on.size and on[-1] + 1 < tr["en"].size:
+            t = float(tr["t_s"][on[-1] + 1])
+    text = f"TRIPPED: {fault}"
+    if m.get("fault_detail"):
+        text += f"\n{m['fault_detail']}"
+    return (t, text)
+
+
+def mark_trip(ax, trip, t_scale=1e3):
+    """Draws the trip time (if known and inside the axes) and its reason on a time-axis figure."""
+    if trip is None:
+        return
+    t, text = trip
+    if t is not None and t_scale is not None:
+        ax.axvline(t * t_scale, color="red", linewidth=1.2, linestyle="--")
+        text += f"\nat t = {t * 1e3:.2f} ms"
+    ax.text(0.5, 0.97, text, transform=ax.transAxes, fontsize=8, color="red", ha="center", va="top", wrap=True,
+            bbox=dict(facecolor="white", alpha=0.9, edgecolor="red"))
+
+
 def title_of(m, fallback):
     c = m.get("config", {})
     if not c:
@@ -66,6 +103,10 @@ def title_of(m, fallback):
 
 def span(tr, m, t0, t1):
     t = tr["t_s"]
+    trip = trip_of(tr, m)
+    if trip is not None and trip[0] is not None and t0 is None and t1 is None:
+        t1 = min(float(t[-1]), trip[0] + 0.02)
+        t0 = max(float(t[0]), trip[0] - 0.1)
     if t1 is None:
         t1 = m.get("metrics_window", {}).get("t_end_s", t[-1])
     if t0 is None:
@@ -90,13 +131,14 @@ def plot_currents(tr, m, sel, title, out):
     fund = m.get("fundamental_a")
     if fund:
         thd = m.get("thd_pct") or [float("nan")] * 3
-        txt = "fundamental A/B/C: " + " / ".join(f"{x:.2f}" for x in fund) + " A"
-        txt += f",  imbalance {m.get('imbalance_pct', float('nan')):.1f} %"
-        txt += "\nTHD A/B/C: " + " / ".join(f"{x:.1f}" for x in thd) + f" %,  total {m.get('thd_total_pct', float('nan')):.1f} %"
+        txt = "fundamental A/B/C: " + " / ".join(f"{num(x):.2f}" for x in fund) + " A"
+        txt += f",  imbalance {num(m.get('imbalance_pct')):.1f} %"
+        txt += "\nTHD A/B/C: " + " / ".join(f"{num(x):.1f}" for x in thd) + f" %,  total {num(m.get('thd_total_pct')):.1f} %"
         ax.text(0.01, 0.02, txt, transform=ax.transAxes, fontsize=8, va="bottom",
                 bbox=dict(facecolor="white", alpha=0.8, edgecolor="none"))
     ax.set_xlabel("time (ms)")
     ax.set_ylabel("phase current (A)")
+    mark_trip(ax, trip_of(tr, m))
     ax.set_title(title, fontsize=9)
     ax.grid(True, alpha=0.3)
     ax.legend(loc="upper right", ncol=3, fontsize=8)
@@ -112,13 +154,14 @@ def plot_torque(tr, m, sel, title, out):
     if has(tr, "torque_est_nm", sel):
         ax.plot(t_ms, tr["torque_est_nm"][sel], label="estimated (firmware)", color="tab:orange", linewidth=0.8,
                 alpha=0.85)
-    txt = f"mean true {m.get('torque_mean_nm', float('nan')):.4f} N·m, TRF {m.get('trf_pct', float('nan')):.1f} %"
+    txt = f"mean true {num(m.get('torque_mean_nm')):.4f} N·m, TRF {num(m.get('trf_pct')):.1f} %"
     if m.get("torque_est_mean_nm") is not None:
-        txt += f"\nmean estimate {m['torque_est_mean_nm']:.4f} N·m, TRF {m.get('trf_est_pct') or float('nan'):.1f} %"
+        txt += f"\nmean estimate {num(m['torque_est_mean_nm']):.4f} N·m, TRF {num(m.get('trf_est_pct')):.1f} %"
     ax.text(0.01, 0.02, txt, transform=ax.transAxes, fontsize=8, va="bottom",
             bbox=dict(facecolor="white", alpha=0.8, edgecolor="none"))
     ax.set_xlabel("time (ms)")
     ax.set_ylabel("electromagnetic torque (N·m)")
+    mark_trip(ax, trip_of(tr, m))
     ax.set_title(title, fontsize=9)
     ax.grid(True, alpha=0.3)
     ax.legend(loc="upper right", fontsize=8)
@@ -133,7 +176,8 @@ def plot_locus(tr, m, sel, title, out):
     if has(tr, "psi_alpha_est_wb", sel):
         ax.plot(tr["psi_alpha_est_wb"][sel], tr["psi_beta_est_wb"][sel], label="estimated", color="tab:orange",
                 linewidth=0.8, alpha=0.85)
-    r = float(np.nanmax(np.hypot(tr["psi_alpha_wb"][sel], tr["psi_beta_wb"][sel])))
+    rr = np.hypot(tr["psi_alpha_wb"][sel], tr["psi_beta_wb"][sel])
+    r = float(np.max(rr[np.isfinite(rr)])) if np.any(np.isfinite(rr)) else 0.0
     lim = 1.15 * r if r > 0 else 0.1
     # Sector boundaries. FSTP (Hoang Fig. 3, Table II): sector I is 0..90 deg, bounded by the
     # vectors V1 (0 deg) and V2 (90 deg): from Table II, with the flux in sector I, V2 raises both
@@ -158,6 +202,7 @@ def plot_locus(tr, m, sel, title, out):
     ax.set_aspect("equal")
     ax.set_xlabel(r"$\psi_{s\alpha}$ (Wb)")
     ax.set_ylabel(r"$\psi_{s\beta}$ (Wb)")
+    mark_trip(ax, trip_of(tr, m), t_scale=None)
     ax.set_title(title.replace("  (", "\n("), fontsize=8)
     ax.grid(True, alpha=0.3)
     ax.legend(loc="upper right", fontsize=8)
@@ -181,6 +226,7 @@ def plot_components(tr, m, sel, title, out):
                 fontsize=8, va="bottom", bbox=dict(facecolor="white", alpha=0.8, edgecolor="none"))
     ax.set_xlabel("time (ms)")
     ax.set_ylabel("stator flux (Wb)")
+    mark_trip(ax, trip_of(tr, m))
     ax.set_title(title, fontsize=9)
     ax.grid(True, alpha=0.3)
     ax.legend(loc="upper right", ncol=2, fontsize=8)

@@ -51,7 +51,7 @@ def synthetic_run(out_dir, scenario="synthetic_fstp", amp=(2.97, 2.37, 3.00), te
     m = {
         "scenario": scenario, "sim_time_s": n * ts, "wall_time_s": 0.01, "isr_count": n,
         "fundamental_a": list(amp), "imbalance_pct": 100 * (max(amp) / min(amp) - 1),
-        "thd_pct": [7.1, 7.3, 7.2], "thd_total_pct": 7.2, "torque_mean_nm": 0.3,
+        "thd_pct": [7.1, 7.3, 7.2], "thd_total_pct": 7.2, "thd40_total_pct": 6.54, "trf_filtered_pct": 61.5, "torque_mean_nm": 0.3,
         "torque_est_mean_nm": 0.3 + te_est_bias, "trf_pct": 88.0, "trf_est_pct": 90.0,
         "speed_mean_rpm": 1500.0, "switching_freq_hz": 5000.0, "flux_est_error_rms_pct": 5.0, "fault": "none",
         "metrics_window": {"t_start_s": 0.2, "t_end_s": 0.39995, "electrical_periods": 5, "f_e_hz": 25.0},
@@ -95,6 +95,36 @@ def main():
                                                    "flux_components.png"], outs
     for p in outs:
         check_png(p)
+    # Null metrics (a diverged or tripped run) and a trip: every figure is drawn, the trip marked.
+    tripped = os.path.join(work, "tripped")
+    synthetic_run(tripped)
+    tr = plot_run.load_trace(os.path.join(tripped, "trace.csv"))
+    with open(os.path.join(tripped, "metrics.json"), encoding="utf-8") as f:
+        m = json.load(f)
+    for k in ("fundamental_a", "imbalance_pct", "thd_total_pct", "torque_est_mean_nm", "trf_est_pct",
+              "flux_est_error_rms_pct", "switching_freq_hz", "torque_mean_nm", "trf_pct", "speed_mean_rpm"):
+        m[k] = None
+    m["thd_pct"] = [None, 7.0, None]
+    m["fault"] = "overcurrent"
+    m["fault_detail"] = "synthetic trip"
+    m["fault_time_s"] = None
+    with open(os.path.join(tripped, "metrics.json"), "w", encoding="utf-8") as f:
+        json.dump(m, f)
+    # Gates off from t = 0.3 s on: the trip time comes from the trace's en column.
+    data = np.loadtxt(os.path.join(tripped, "trace.csv"), delimiter=",", skiprows=1)
+    data[data[:, 0] >= 0.3, 17] = 0
+    data[data[:, 0] >= 0.3, 1:4] = 0
+    np.savetxt(os.path.join(tripped, "trace.csv"), data, delimiter=",", header=COLUMNS, comments="", fmt="%.9g")
+    tr = plot_run.load_trace(os.path.join(tripped, "trace.csv"))
+    trip = plot_run.trip_of(tr, m)
+    assert trip is not None and abs(trip[0] - 0.3) < 1e-9 and "TRIPPED: overcurrent" in trip[1], trip
+    sel = plot_run.span(tr, m, None, None)
+    assert abs(tr["t_s"][sel][0] - 0.2) < 1e-6 and abs(tr["t_s"][sel][-1] - 0.32) < 1e-6  # around the trip
+    for p in plot_run.plot_run(tripped):
+        check_png(p)
+    fault_free = dict(m, fault="none")
+    assert plot_run.trip_of(tr, fault_free) is None
+
     # A malformed trace is refused with the file named.
     bad = os.path.join(work, "bad")
     os.makedirs(bad)
@@ -118,7 +148,8 @@ def main():
     with open(os.path.join(rep, "report.md"), encoding="utf-8") as f:
         md = f.read()
     # Paper values (Hoang Table IX FSTP voltage model without compensation; Table X proposed).
-    for s in ("2.97 / 2.37 / 3.00", "0.3345", "7.16", "86.27", "fstp_voltage_proposed_full", "2.20 / 2.20 / 2.30"):
+    for s in ("2.97 / 2.37 / 3.00", "0.3345", "7.16", "86.27", "fstp_voltage_proposed_full", "2.20 / 2.20 / 2.30",
+              "| 6.54 |", "| 61.50 |", "1000 Hz sensor", "IEC 61000-4-7"):
         assert s in md, f"report.md lacks {s!r}"
     for stem in ("sstp_current_full", "fstp_voltage_simple_full"):
         for png in ("currents.png", "torque.png", "flux_locus.png", "flux_components.png"):

@@ -13,8 +13,14 @@
 //                     window length; for a periodic signal this equals eq. 39 exactly.
 //                     thd_harmonic_pct counts only the integer harmonics n*f1 (eq. 39 read literally).
 //   thd_total_pct     eq. 39: sqrt((THD_A^2 + THD_B^2 + THD_C^2) / 3).
+//   thd40_pct[x]      harmonics 2..40 only, IEC 61000-4-7 style: the RMS of the harmonic subgroups
+//                     h = 2..40 (the line at h*f1 and, with 2 or more periods in the window, its two
+//                     neighbours at the window's resolution) over the fundamental; switching ripple
+//                     above 40 f1 does not count. thd40_total_pct combines the phases as eq. 39.
 //   imbalance_pct     100 * (max/min - 1) of the three fundamentals.
 //   trf_pct           Hoang eq. 40: (T_max - T_min) / T_rated * 100 % over the window.
+//   trf_filtered_pct  eq. 40 on the plant torque after a first-order low-pass of torque_sensor_hz
+//                     (what a torque transducer of that bandwidth shows; 0 = unfiltered = trf_pct).
 //   switching_freq_hz turn-on events per second per switching device, averaged over the switched
 //                     legs: every leg-state change turns one of the leg's two devices on, and so does
 //                     re-enabling the gates; f = events / (2 * legs * T_window).
@@ -58,6 +64,7 @@ struct Spectrum {
     double fundamental_peak = 0.0; // peak amplitude of the fundamental
     double thd_pct = 0.0;          // all non-DC, non-fundamental lines (see header)
     double thd_harmonic_pct = 0.0; // integer harmonics only
+    double thd40_pct = 0.0;        // harmonic subgroups 2..40 (see header)
 };
 /// DFT of x[0..n) that holds `periods` whole periods (fundamental at bin `periods`).
 Spectrum spectrum(const double* x, std::size_t n, int periods);
@@ -66,6 +73,9 @@ double imbalance_pct(const std::array<double, 3>& amplitudes);
 double thd_total_pct(const std::array<double, 3>& thd);
 double trf_pct(const double* t, std::size_t n, double rated_torque_nm);
 double mean(const double* x, std::size_t n);
+/// x[0..n) through 1 / (1 + s / (2 pi f_c)), sampled every ts_s, started in its periodic steady
+/// state (see metrics.cpp); f_c <= 0 returns x unchanged.
+std::vector<double> first_order_filtered(const double* x, std::size_t n, double f_c_hz, double ts_s);
 /// legs_mask: bit 0 = leg A, bit 1 = B, bit 2 = C.
 double switching_frequency_hz(const Series& s, std::size_t begin, std::size_t n, unsigned legs_mask);
 double flux_error_rms_pct(const Series& s, std::size_t begin, std::size_t n);
@@ -74,15 +84,16 @@ struct MetricsConfig {
     double window_s = 0.2;
     double rated_torque_nm = 0.3;
     unsigned switched_legs = 0x7; // 0 for the ideal inverter
+    double torque_sensor_hz = 0.0; // trf_filtered_pct: first-order cutoff, 0 = unfiltered
 };
 
 struct Metrics {
     Window window;
     double window_s = 0.0;       // trimmed window actually used
     double f_e_hz = 0.0;         // periods / window_s
-    std::optional<std::array<double, 3>> fundamental_a, thd_pct, thd_harmonic_pct;
-    std::optional<double> imbalance_pct, thd_total_pct;
-    double torque_mean_nm = 0.0, trf_pct = 0.0;
+    std::optional<std::array<double, 3>> fundamental_a, thd_pct, thd_harmonic_pct, thd40_pct;
+    std::optional<double> imbalance_pct, thd_total_pct, thd40_total_pct;
+    double torque_mean_nm = 0.0, trf_pct = 0.0, trf_filtered_pct = 0.0;
     std::optional<double> torque_est_mean_nm, trf_est_pct, flux_est_error_rms_pct;
     double speed_mean_rpm = 0.0;
     std::optional<double> switching_freq_hz;

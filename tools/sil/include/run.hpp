@@ -2,6 +2,7 @@
 #ifndef DTC_SIL_RUN_HPP
 #define DTC_SIL_RUN_HPP
 
+#include <csignal>
 #include <iosfwd>
 #include <memory>
 #include <string>
@@ -24,7 +25,30 @@ struct RunOptions {
     std::string out_dir;     // empty: write nothing (benchmarks, tests)
     unsigned decimate = 1;   // trace.csv: every N-th ISR
     bool write_trace = true;
+    bool check_only = false; // build the plant, harness and controller (all refusals), run nothing
+    bool force = false;      // run even when the trace estimate exceeds max_trace_bytes
+    double max_trace_bytes = 1.0e9;
+    std::ostream* progress = nullptr; // progress line with ETA ("\r", for a terminal); nullptr: none
 };
+
+/// Bytes per trace.csv row used for the size estimate (shortest round-trip numbers: 347 on
+/// average over the default scenario's 1.5 s).
+constexpr double kTraceBytesPerRow = 350.0;
+
+/// Physical bounds of the plant state for this scenario; outside them (or non-finite) the run
+/// stops with fault "plant_diverged".
+struct PlantBounds {
+    double current_a = 0.0;   // |i_a|, |i_b|, |i_c|
+    double omega_rad_s = 0.0; // |omega_m|
+    double voltage_v = 0.0;   // |vdc|, |vc_lo|, |vc_hi|
+};
+PlantBounds plant_bounds(const Scenario& sc);
+/// Empty when s is within b; otherwise what is out of bounds ("i_b = nan A").
+std::string plant_out_of_bounds(const plant_sensed_t& s, const PlantBounds& b);
+
+/// Set by a SIGINT/SIGTERM handler (dtc_sil_main installs one during a run): the run loop stops
+/// at its next check (every 4096 periods), fails with "interrupted", and removes its staging folder.
+extern volatile std::sig_atomic_t g_stop_signal;
 
 struct RunResult {
     Metrics metrics;
@@ -36,12 +60,16 @@ struct RunResult {
 /// (nothing is then left in out_dir). A controller fault is a result, not a failure.
 bool run_scenario(const Scenario& sc, const RunOptions& opt, RunResult* res, std::string* err);
 
+/// True when the run finished but its result is not physics (plant_diverged, non_finite_metric).
+bool run_failed_physically(const RunInfo& info);
+
 /// Same with a given control side instead of make_controller(sc) (tests, alternative controllers).
 bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, const RunOptions& opt, RunResult* res,
                        std::string* err);
 
 /// The dtc-sil command line (main() is a one-line call; tests call it directly).
-/// Exit status: 0 done, 1 bad usage or scenario, 2 run failed.
+/// Exit status: 0 done (a firmware trip is a result), 1 bad usage or scenario, 2 run failed,
+/// 3 plant diverged or a metric is not finite, 128 + N interrupted by signal N.
 int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 
 } // namespace sil

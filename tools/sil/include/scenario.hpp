@@ -127,6 +127,11 @@ struct ProtectionCfg {
     double vdc_min_v = 40.0;      // firmware DC-link under-voltage trip
     double vdc_max_v = 90.0;      // firmware DC-link over-voltage trip
     double hw_trip_current_a = 8.0; // hardware comparator (PDPINTA), in hal_host
+    bool allow_unsafe = false;    // accept trip settings that let the current exceed 3x rated
+};
+
+struct MetricsCfg {
+    double torque_sensor_hz = 0.0; // trf_filtered_pct: torque transducer bandwidth, 0 = unfiltered
 };
 
 struct Scenario {
@@ -135,7 +140,8 @@ struct Scenario {
     double duration_s = 0.5;
     double metrics_window_s = 0.2;
     double ts_s = 50e-6;         // control period (Hoang sec. IV: 50 us)
-    double max_step_s = 50e-6;   // plant integration sub-step (RK4 on event-landing steps; docs/sil.md)
+    double max_step_s = 50e-6;   // plant integration sub-step (RK4 on event-landing steps; docs/sil.md);
+                                 // when not set it is min(50 us, ts_s)
     double initial_speed_rpm = 0.0;
     double initial_theta_m_rad = 0.0;
     MotorCfg motor;
@@ -144,6 +150,7 @@ struct Scenario {
     ControlCfg control;
     SensorsCfg sensors;
     ProtectionCfg protection;
+    MetricsCfg metrics;
     std::map<std::string, std::string> origin; // key -> "file:line:col" or "--set"
 };
 
@@ -163,7 +170,9 @@ struct Diagnostics {
     std::vector<std::string> errors;
     std::vector<std::string> warnings;
     bool ok() const { return errors.empty(); }
+    /// The first kMaxShown errors (and warnings), then a count of the rest.
     std::string text() const;
+    static constexpr std::size_t kMaxShown = 50;
 };
 
 /// Loads a scenario file and applies "key=value" overrides. Returns false (and fills diag) when

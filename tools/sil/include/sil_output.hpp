@@ -2,9 +2,12 @@
 #ifndef DTC_SIL_OUTPUT_HPP
 #define DTC_SIL_OUTPUT_HPP
 
+#include <condition_variable>
 #include <cstdint>
 #include <cstdio>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -31,8 +34,13 @@ struct TraceRow {
 /// Column names, in order (the first 17 are the ones issue 5 requires).
 const char* trace_header();
 
-/// Buffered CSV writer (std::to_chars, 9 significant digits; estimates without a controller
-/// estimate are written as "nan").
+/// Buffered CSV writer: every double in the shortest form that reads back to the same double
+/// (std::to_chars without a precision: strtod / numpy.loadtxt give the identical value back),
+/// "nan" / "inf" / "-inf" for non-finite values (estimates without a controller estimate are
+/// "nan"). write() only copies the row into a batch of kBatchRows (no allocation); full batches
+/// are formatted and written by a second thread (double buffering), so on a machine with two
+/// cores formatting overlaps the simulation. The worker formats straight into one fixed 1 MiB
+/// buffer and writes it with fwrite when it fills.
 class TraceWriter {
 public:
     TraceWriter() = default;
@@ -42,12 +50,32 @@ public:
     bool open(const std::string& path, std::string* err);
     /// Induction machine: append the psi_r_alpha_wb, psi_r_beta_wb columns (call before open).
     void set_rotor_flux_columns(bool on) { rotor_flux_ = on; }
-    void write(const TraceRow& r);
+    void write(const TraceRow& r)
+    {
+        fill_.push_back(r); // within the reserved capacity: no allocation
+        if (fill_.size() == kBatchRows) {
+            hand_over();
+        }
+    }
     bool close(std::string* err);
+    static constexpr std::size_t kMaxRowBytes = 1024; // 18 doubles x <= 24 chars + 5 ints + commas
+    static constexpr std::size_t kBatchRows = 4096;
 
 private:
+    void hand_over();
+    void worker();
+    void format(const TraceRow& r);
+    void flush();
+    void stop();
     std::FILE* f_ = nullptr;
-    std::string buf_;
+    std::vector<char> buf_; // worker side (and the header, before it starts)
+    std::size_t n_ = 0;
+    bool write_failed_ = false;
+    std::vector<TraceRow> fill_, work_;
+    std::thread thread_;
+    std::mutex m_;
+    std::condition_variable cv_;
+    bool has_work_ = false, stop_ = false;
     bool rotor_flux_ = false;
 };
 
@@ -56,8 +84,11 @@ struct RunInfo {
     double wall_time_s = 0.0;
     std::uint64_t isr_count = 0;
     std::string fault = "none";
+    std::string fault_detail;  // why, in words (empty when fault is "none")
+    double fault_time_s = -1.0; // when the run noticed the fault (plant divergence), -1: not known
     std::uint64_t invalid_commands = 0;
     bool hw_trip = false;
+    bool traced = false; // trace.csv written (its cost is in wall_time_s)
 };
 
 nlohmann::json metrics_json(const Scenario& sc, const Metrics& m, const RunInfo& info);
@@ -72,8 +103,12 @@ public:
     bool begin(const std::string& out_dir, std::string* err);
     std::string path(const std::string& file) const;
     /// Moves every staged file into out_dir (replacing files of the same name) and removes the
-    /// files of `managed` this run did not produce (no stale trace.csv next to a new metrics.json).
-    bool commit(std::string* err, const std::vector<std::string>& managed = {"trace.csv", "metrics.json"});
+    /// files of `managed` this run did not produce (no stale trace.csv next to a new metrics.json,
+    /// no plot_run.py figures of a previous run next to new results).
+    bool commit(std::string* err, const std::vector<std::string>& managed = {"trace.csv", "metrics.json",
+                                                                            "currents.png", "torque.png",
+                                                                            "flux_locus.png",
+                                                                            "flux_components.png"});
     /// Removes the staging directory (also done by the destructor if not committed).
     void abort();
     ~StagedOutput();

@@ -184,7 +184,7 @@ int main(int argc, char** argv)
         }
         double best = 1e300;
         sil::RunResult r;
-        for (int k = 0; k < (trace != 0 ? 1 : repeat); ++k) {
+        for (int k = 0; k < repeat; ++k) {
             if (!sil::run_scenario(sc, opt, &r, &err)) {
                 std::fprintf(stderr, "run: %s\n", err.c_str());
                 return 1;

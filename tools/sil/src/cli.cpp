@@ -1,13 +1,43 @@
 // cli.cpp - the dtc-sil command line (CLI11).
 #include <CLI/CLI.hpp>
 
+#include <cmath>
+#include <csignal>
 #include <filesystem>
+#include <iostream>
 #include <ostream>
+#include <unistd.h>
 
 #include "run.hpp"
 #include "sweep.hpp"
 
 namespace sil {
+
+namespace {
+extern "C" void on_stop_signal(int sig) { g_stop_signal = sig; }
+
+/// SIGINT/SIGTERM set g_stop_signal for the lifetime of this object (the run loop then stops and
+/// its staging folder is removed); the previous handlers come back afterwards.
+struct StopSignals {
+    struct sigaction old_int {}, old_term {};
+    StopSignals()
+    {
+        g_stop_signal = 0;
+        struct sigaction sa {};
+        sa.sa_handler = on_stop_signal;
+        sigemptyset(&sa.sa_mask);
+        sigaction(SIGINT, &sa, &old_int);
+        sigaction(SIGTERM, &sa, &old_term);
+    }
+    ~StopSignals()
+    {
+        sigaction(SIGINT, &old_int, nullptr);
+        sigaction(SIGTERM, &old_term, nullptr);
+    }
+    StopSignals(const StopSignals&) = delete;
+    StopSignals& operator=(const StopSignals&) = delete;
+};
+} // namespace
 
 int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::ostream& err)
 {
@@ -23,17 +53,21 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
     std::string scenario_path, out_dir;
     std::vector<std::string> sets;
     unsigned decimate = 1;
-    bool no_trace = false, quiet = false;
+    bool no_trace = false, quiet = false, force = false;
 
     CLI::App* run = app.add_subcommand("run", "run a scenario and write DIR/metrics.json and DIR/trace.csv");
     run->add_option("scenario", scenario_path, "scenario TOML file")->required();
     run->add_option("--out,-o", out_dir, "output directory (created; files replaced only when the run succeeds)")
-        ->required();
+        ->required()
+        ->check(CLI::Validator(
+            [](std::string& v) { return v.empty() ? std::string("empty directory name") : std::string(); },
+            "DIR", "non-empty"));
     run->add_option("--set,-s", sets, "override a scenario key: --set load.speed_rpm=700 (repeatable)");
     run->add_option("--decimate", decimate, "write every N-th ISR to trace.csv (default 1)")
         ->check(CLI::Range(1u, 1000000u));
     run->add_flag("--no-trace", no_trace, "do not write trace.csv (metrics only)");
     run->add_flag("--quiet,-q", quiet, "no summary on stdout");
+    run->add_flag("--force", force, "run even when trace.csv would exceed 1 GB");
 
     CLI::App* check = app.add_subcommand("check", "validate a scenario (and --set overrides) without running it");
     check->add_option("scenario", scenario_path, "scenario TOML file")->required();
@@ -65,21 +99,48 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
         err << "dtc-sil: " << scenario_path << ": scenario rejected, nothing run or written\n";
         return 1;
     }
-    if (check->parsed()) {
-        out << scenario_path << ": ok\n";
-        return 0;
-    }
-
     RunOptions opt;
     opt.out_dir = out_dir;
     opt.decimate = decimate;
     opt.write_trace = !no_trace;
+    opt.force = force;
     RunResult res;
     std::string e;
+    if (check->parsed()) {
+        // The same path as run up to the first period: plant, harness and firmware configuration.
+        opt.check_only = true;
+        opt.out_dir.clear();
+        if (!run_scenario(sc, opt, &res, &e)) {
+            err << "dtc-sil: " << scenario_path << ": " << e << "\n";
+            err << "dtc-sil: " << scenario_path << ": scenario rejected\n";
+            return 1;
+        }
+        // run's only extra refusal depends on its options: say when a traced run would meet it.
+        const double rows = std::floor(sc.duration_s / sc.ts_s + 0.5);
+        if (rows * kTraceBytesPerRow > opt.max_trace_bytes) {
+            err << "warning: a traced run writes about " << rows * kTraceBytesPerRow / 1e9
+                << " GB of trace.csv: `run` refuses it without --decimate, --no-trace or --force\n";
+        }
+        out << scenario_path << ": ok\n";
+        return 0;
+    }
+    {
+        opt.check_only = true; // refusals first (exit 1), before anything is created
+        if (!run_scenario(sc, opt, &res, &e)) {
+            err << "dtc-sil: " << scenario_path << ": " << e << "\n";
+            err << "dtc-sil: " << scenario_path << ": scenario rejected, nothing run or written\n";
+            return 1;
+        }
+        opt.check_only = false;
+    }
+    if (&err == &std::cerr && ::isatty(STDERR_FILENO) != 0) {
+        opt.progress = &err;
+    }
+    StopSignals stop_signals;
     if (!run_scenario(sc, opt, &res, &e)) {
         err << "dtc-sil: " << scenario_path << ": " << e << "\n";
         err << "dtc-sil: nothing written to " << out_dir << "\n";
-        return 2;
+        return g_stop_signal != 0 ? 128 + static_cast<int>(g_stop_signal) : 2;
     }
     if (!quiet) {
         out << summary_text(sc, res.metrics, res.info);
@@ -88,6 +149,10 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
             out << ", " << (std::filesystem::path(out_dir) / "trace.csv").string();
         }
         out << "\n";
+    }
+    if (run_failed_physically(res.info)) {
+        err << "dtc-sil: " << scenario_path << ": " << res.info.fault << ": " << res.info.fault_detail << "\n";
+        return 3;
     }
     return 0;
 }

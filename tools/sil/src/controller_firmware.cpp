@@ -97,6 +97,56 @@ void fill_si(const FirmwareSiConfig& c, const Scenario& sc, dtc_config_si_t* si)
     si->vdc_min_v = c.vdc_min_v;
 }
 
+/// The scenario keys a converter field (dtc_config_si_t) is computed from, so that a refusal
+/// names what the user set. Per-unit bases come from the link voltage, rated current and speed.
+std::string keys_of_field(const std::string& msg)
+{
+    static const struct {
+        const char* field;
+        const char* keys;
+    } map[] = {
+        {"v_base_v", "inverter.vdc_v"},
+        {"i_base_a", "motor.rated_current_a"},
+        {"w_base_rad_s", "motor.rated_speed_rpm, motor.pole_pairs"},
+        {"rs_ohm", "motor.rs_ohm (per unit of inverter.vdc_v / motor.rated_current_a)"},
+        {"ls_h", "motor.ls_h (per unit of inverter.vdc_v, motor.rated_current_a, motor.rated_speed_rpm)"},
+        {"psi_m_wb", "motor.psi_m_wb (per unit of inverter.vdc_v / rated electrical speed)"},
+        {"pole_pairs", "motor.pole_pairs"},
+        {"rated_", "motor.rated_speed_rpm, motor.rated_torque_nm, motor.rated_current_a"},
+        {"vdc_v", "inverter.vdc_v"},
+        {"v_ce_v", "inverter.v_ce_v"},
+        {"v_d_v", "inverter.v_d_v"},
+        {"v_f_v", "control.v_f_v"},
+        {"r_on_ohm", "inverter.r_on_ohm"},
+        {"ts_s", "ts_s"},
+        {"speed_div", "control.speed_loop_divider"},
+        {"enc_lines", "sensors.encoder_lines"},
+        {"enc_offset_rad", "sensors.encoder_offset_rad"},
+        {"flux_band_wb", "control.flux_band_wb"},
+        {"torque_band_nm", "control.torque_band_nm"},
+        {"lpf_cutoff_rad_s", "control.lpf_cutoff_rad_s"},
+        {"torque_limit_nm", "control.torque_limit_nm"},
+        {"speed_limit_rpm", "control.speed_ref_rpm"},
+        {"i_trip_a", "protection.overcurrent_a"},
+        {"vdc_min_v", "protection.vdc_min_v, protection.vdc_max_v"},
+        {"flux_ref_wb", "control.flux_ref_wb"},
+        {"speed_ref_rpm", "control.speed_ref_rpm"},
+        {"torque_ref_nm", "control.torque_ref_nm"},
+        {"adc_i_a_per_count", "sensors.current_range_a (per unit of motor.rated_current_a)"},
+        {"adc_vdc_v_per_count", "sensors.voltage_range_v (per unit of inverter.vdc_v)"},
+        {"adc_vmid_v_per_count", "sensors.voltage_range_v (per unit of inverter.vdc_v)"},
+        {"speed_bw_rad_s", "control.speed_bw_hz"},
+        {"inertia_kgm2", "motor.j_kgm2"},
+        {"compensation", "control.compensation"},
+    };
+    for (const auto& m : map) {
+        if (msg.rfind(m.field, 0) == 0) {
+            return m.keys;
+        }
+    }
+    return "";
+}
+
 class FirmwareController final : public Controller {
 public:
     explicit FirmwareController(const Scenario& sc) : sc_(sc), si_(firmware_si_config(sc)) {}
@@ -109,7 +159,9 @@ public:
         char msg[256] = {0};
         const int rc = dtc_config_from_si(&si, &cfg_, msg, sizeof msg);
         if (rc != DTC_SI_OK) {
-            return "firmware configuration refused (" + std::to_string(rc) + "): " + msg;
+            const std::string keys = keys_of_field(msg);
+            return (keys.empty() ? std::string() : keys + ": ") + "firmware configuration refused (" +
+                   std::to_string(rc) + "): " + msg;
         }
         dtc_bases_from_si(&si, &bases_);
         te_scale_ = bases_.t_base_nm / kIqOne;

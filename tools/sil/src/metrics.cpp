@@ -76,8 +76,19 @@ Spectrum spectrum(const double* x, std::size_t n, int periods)
             harm2 += r2;
         }
     }
+    // Harmonic subgroups 2..40 (IEC 61000-4-7 sec. 3.3): the line at h*f1 plus, when the window
+    // holds 2 or more periods, its two neighbours at the window's resolution f1/periods.
+    double sub2 = 0.0;
+    for (std::size_t h = 2; h <= 40; ++h) {
+        const std::size_t c = h * f1;
+        const std::size_t lo = f1 >= 2 ? c - 1 : c, hi = f1 >= 2 ? c + 1 : c;
+        for (std::size_t k = lo; k <= hi && k < nc; ++k) {
+            sub2 += rms2(k);
+        }
+    }
     fftw_destroy_plan(plan);
     fftw_free(spec);
+    out.thd40_pct = fund2 > 0.0 ? 100.0 * std::sqrt(sub2 / fund2) : INFINITY;
     out.fundamental_peak = std::sqrt(2.0 * fund2);
     out.thd_pct = fund2 > 0.0 ? 100.0 * std::sqrt(all2 / fund2) : INFINITY;
     out.thd_harmonic_pct = fund2 > 0.0 ? 100.0 * std::sqrt(harm2 / fund2) : INFINITY;
@@ -103,6 +114,27 @@ double trf_pct(const double* t, std::size_t n, double rated_torque_nm)
     }
     const auto mm = std::minmax_element(t, t + n);
     return 100.0 * (*mm.second - *mm.first) / rated_torque_nm;
+}
+
+std::vector<double> first_order_filtered(const double* x, std::size_t n, double f_c_hz, double ts_s)
+{
+    std::vector<double> y(x, x + n);
+    if (n == 0 || !(f_c_hz > 0.0)) {
+        return y;
+    }
+    // y_k = y_{k-1} + a (x_k - y_{k-1}), a = 1 - exp(-2 pi f_c ts): the first-order lag
+    // 1 / (1 + s / (2 pi f_c)) sampled with the input held over each period (exact at the samples).
+    const double a = 1.0 - std::exp(-2.0 * 3.14159265358979323846 * f_c_hz * ts_s);
+    // The window holds whole electrical periods: a first pass from y = x_0 ends close to the
+    // periodic steady state, which starts the second (reported) pass.
+    double st = x[0];
+    for (int pass = 0; pass < 2; ++pass) {
+        for (std::size_t i = 0; i < n; ++i) {
+            st += a * (x[i] - st);
+            y[i] = st;
+        }
+    }
+    return y;
 }
 
 double mean(const double* x, std::size_t n)
@@ -178,14 +210,17 @@ Metrics compute_metrics(const Series& s, const MetricsConfig& cfg)
     if (w.periods >= 1 && w.n >= 2 * static_cast<std::size_t>(w.periods)) {
         b = w.begin;
         n = w.n;
-        std::array<double, 3> fund{}, thd{}, thdh{};
+        std::array<double, 3> fund{}, thd{}, thdh{}, thd40{};
         const std::vector<double>* ph[3] = {&s.ia, &s.ib, &s.ic};
         for (int p = 0; p < 3; ++p) {
             const Spectrum sp = spectrum(ph[p]->data() + b, n, w.periods);
             fund[static_cast<std::size_t>(p)] = sp.fundamental_peak;
             thd[static_cast<std::size_t>(p)] = sp.thd_pct;
             thdh[static_cast<std::size_t>(p)] = sp.thd_harmonic_pct;
+            thd40[static_cast<std::size_t>(p)] = sp.thd40_pct;
         }
+        m.thd40_pct = thd40;
+        m.thd40_total_pct = thd_total_pct(thd40);
         m.fundamental_a = fund;
         m.thd_pct = thd;
         m.thd_harmonic_pct = thdh;
@@ -199,6 +234,10 @@ Metrics compute_metrics(const Series& s, const MetricsConfig& cfg)
     m.f_e_hz = static_cast<double>(w.periods) / m.window_s;
     m.torque_mean_nm = mean(s.te.data() + b, n);
     m.trf_pct = trf_pct(s.te.data() + b, n, cfg.rated_torque_nm);
+    {
+        const std::vector<double> tf = first_order_filtered(s.te.data() + b, n, cfg.torque_sensor_hz, s.ts_s);
+        m.trf_filtered_pct = trf_pct(tf.data(), n, cfg.rated_torque_nm);
+    }
     m.speed_mean_rpm = mean(s.speed_rpm.data() + b, n);
     if (s.te_est.size() == total) {
         m.torque_est_mean_nm = mean(s.te_est.data() + b, n);

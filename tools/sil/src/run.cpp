@@ -1,13 +1,18 @@
 // run.cpp - the SIL run loop (see run.hpp).
 #include "run.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
+#include <ostream>
 
 #include "controller_adapter.hpp"
 
 namespace sil {
+
+volatile std::sig_atomic_t g_stop_signal = 0;
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
@@ -116,6 +121,134 @@ unsigned switched_legs(const Scenario& sc)
     return 0u;
 }
 
+PlantBounds plant_bounds(const Scenario& sc)
+{
+    // Far beyond anything the machine can do, so only a diverged integration crosses them:
+    // current 100x the larger of rated and the link's short-circuit current V/Rs; speed 100x the
+    // largest speed the scenario names; voltage 100x the link.
+    const double rpm = std::max({sc.motor.rated_speed_rpm, std::fabs(sc.initial_speed_rpm),
+                                 std::fabs(sc.control.speed_ref_rpm), std::fabs(sc.load.speed_rpm)});
+    PlantBounds b;
+    b.current_a = 100.0 * std::max({sc.motor.rated_current_a, sc.inverter.vdc_v / sc.motor.rs_ohm,
+                                    sc.protection.overcurrent_a, sc.protection.hw_trip_current_a});
+    b.omega_rad_s = 100.0 * rpm * kPi / 30.0;
+    b.voltage_v = 100.0 * sc.inverter.vdc_v;
+    return b;
+}
+
+std::string plant_out_of_bounds(const plant_sensed_t& s, const PlantBounds& b)
+{
+    struct Q {
+        const char* name;
+        double v, bound;
+        const char* unit;
+    };
+    const Q q[] = {{"i_a", s.i_a, b.current_a, "A"},         {"i_b", s.i_b, b.current_a, "A"},
+                   {"i_c", s.i_c, b.current_a, "A"},         {"omega_m", s.omega_m_rad_s, b.omega_rad_s, "rad/s"},
+                   {"vdc", s.vdc_v, b.voltage_v, "V"},       {"vc_lo", s.vc_lo_v, b.voltage_v, "V"},
+                   {"vc_hi", s.vc_hi_v, b.voltage_v, "V"}};
+    for (const Q& x : q) {
+        if (!(std::fabs(x.v) <= x.bound)) { // also true for NaN
+            char line[160];
+            std::snprintf(line, sizeof line, "%s = %g %s %s", x.name, x.v, x.unit,
+                          std::isfinite(x.v) ? "beyond the physical bound" : "is not finite");
+            std::string r = line;
+            if (std::isfinite(x.v)) {
+                std::snprintf(line, sizeof line, " %g %s", x.bound, x.unit);
+                r += line;
+            }
+            return r;
+        }
+    }
+    return "";
+}
+
+namespace {
+/// A firmware fault name with what it means in this scenario: the offset calibration runs with
+/// the gates off, and a spinning rotor whose line back-EMF peak exceeds the link conducts through
+/// the diodes (a rectifier), which the calibration sees as an offset.
+void name_fault(const Scenario& sc, RunInfo* info)
+{
+    if (info->fault == "adc_offset") {
+        const double w_e = std::fabs(sc.initial_speed_rpm) * kPi / 30.0 * static_cast<double>(sc.motor.pole_pairs);
+        const double e_line_pk = std::sqrt(3.0) * sc.motor.psi_m_wb * w_e;
+        const double v_link = sc.inverter.topology == "fstp" ? 0.5 * sc.inverter.vdc_v : sc.inverter.vdc_v;
+        if (e_line_pk > v_link) {
+            char line[200];
+            std::snprintf(line, sizeof line,
+                          "rectifier conduction during the gates-off offset calibration: line back-EMF peak "
+                          "%.1f V at initial_speed_rpm = %g exceeds the %.1f V the diodes block (firmware fault "
+                          "adc_offset)",
+                          e_line_pk, sc.initial_speed_rpm, v_link);
+            info->fault = "rectifier_conduction";
+            info->fault_detail = line;
+        } else {
+            info->fault_detail = "current-sensor offset calibration out of range (gates off)";
+        }
+    }
+    if (info->hw_trip && info->fault == "none") {
+        char line[160];
+        std::snprintf(line, sizeof line,
+                      "hardware over-current comparator latched (protection.hw_trip_current_a = %g A): gates off",
+                      sc.protection.hw_trip_current_a);
+        info->fault = "hw_overcurrent";
+        info->fault_detail = line;
+    }
+}
+
+std::string hms(double s)
+{
+    char b[32];
+    if (!(s >= 0.0) || s > 1e7) {
+        return "?";
+    }
+    const auto t = static_cast<long>(s + 0.5);
+    if (t >= 3600) {
+        std::snprintf(b, sizeof b, "%ldh%02ldm", t / 3600, (t / 60) % 60);
+    } else if (t >= 60) {
+        std::snprintf(b, sizeof b, "%ldm%02lds", t / 60, t % 60);
+    } else {
+        std::snprintf(b, sizeof b, "%lds", t);
+    }
+    return b;
+}
+
+/// Metrics that are undefined for this run (a ratio to a zero fundamental after a trip, an
+/// estimate that never became valid) become empty (null in metrics.json) instead of NaN.
+void drop_undefined(Metrics* m)
+{
+    auto f3 = [](std::optional<std::array<double, 3>>& a) {
+        if (a && !(std::isfinite((*a)[0]) && std::isfinite((*a)[1]) && std::isfinite((*a)[2]))) {
+            a.reset();
+        }
+    };
+    auto f1 = [](std::optional<double>& a) {
+        if (a && !std::isfinite(*a)) {
+            a.reset();
+        }
+    };
+    f3(m->fundamental_a);
+    f3(m->thd_pct);
+    f3(m->thd_harmonic_pct);
+    f3(m->thd40_pct);
+    f1(m->thd40_total_pct);
+    f1(m->imbalance_pct);
+    f1(m->thd_total_pct);
+    f1(m->torque_est_mean_nm);
+    f1(m->trf_est_pct);
+    f1(m->flux_est_error_rms_pct);
+    f1(m->switching_freq_hz);
+}
+
+bool metrics_finite(const Metrics& m)
+{
+    return std::isfinite(m.torque_mean_nm) && std::isfinite(m.trf_pct) && std::isfinite(m.trf_filtered_pct) &&
+           std::isfinite(m.speed_mean_rpm);
+}
+} // namespace
+
+bool run_failed_physically(const RunInfo& info) { return info.fault == "plant_diverged" || info.fault == "non_finite_metric"; }
+
 bool run_scenario(const Scenario& sc, const RunOptions& opt, RunResult* res, std::string* err)
 {
     std::unique_ptr<Controller> ctrl = make_controller(sc, err);
@@ -147,10 +280,33 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
         *err = "controller: " + e;
         return false;
     }
+    const auto periods = static_cast<std::uint64_t>(std::llround(sc.duration_s / sc.ts_s));
+    if (periods == 0) {
+        *err = "duration_s = " + std::to_string(sc.duration_s) + " s simulates no full control period";
+        return false;
+    }
+    const unsigned decimate = opt.decimate == 0 ? 1u : opt.decimate;
+    const bool writing = !opt.out_dir.empty();
+    if (writing && opt.write_trace && !opt.force) {
+        const double rows = std::floor(static_cast<double>(periods - 1) / decimate) + 1.0;
+        const double bytes = rows * kTraceBytesPerRow;
+        if (bytes > opt.max_trace_bytes) {
+            char line[400];
+            const double fit = std::ceil(rows * decimate * kTraceBytesPerRow / opt.max_trace_bytes);
+            std::snprintf(line, sizeof line,
+                          "trace.csv would be about %.1f GB (%.0f rows of ~%.0f bytes), above the %.1f GB limit: "
+                          "use --decimate %.0f (or more), --no-trace, or --force",
+                          bytes / 1e9, rows, kTraceBytesPerRow, opt.max_trace_bytes / 1e9, fit);
+            *err = line;
+            return false;
+        }
+    }
+    if (opt.check_only) {
+        return true;
+    }
 
     StagedOutput out;
     TraceWriter trace;
-    const bool writing = !opt.out_dir.empty();
     if (writing) {
         if (!out.begin(opt.out_dir, err)) {
             return false;
@@ -161,7 +317,6 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
         }
     }
 
-    const auto periods = static_cast<std::uint64_t>(std::llround(sc.duration_s / sc.ts_s));
     // The metrics window spans round(window/ts) periods: that many + 1 samples (metrics.cpp).
     const auto window_n =
         std::min<std::uint64_t>(periods, static_cast<std::uint64_t>(std::llround(sc.metrics_window_s / sc.ts_s)) + 1);
@@ -189,17 +344,51 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
         }
     }
     const double pole_pairs = static_cast<double>(sc.motor.pole_pairs);
-    const unsigned decimate = opt.decimate == 0 ? 1u : opt.decimate;
     bool load_stepped = sc.load.step_time_s <= 0.0;
     const double nan = std::nan("");
 
+    const PlantBounds bounds = plant_bounds(sc);
+    std::string diverged;
+    double diverged_t = -1.0;
+    std::uint64_t done = periods;
+
     const auto t0 = std::chrono::steady_clock::now();
+    auto t_progress = t0;
     for (std::uint64_t k = 0; k < periods; ++k) {
+        if ((k & 4095u) == 0u && k != 0u) {
+            if (g_stop_signal != 0) {
+                if (opt.progress != nullptr) {
+                    *opt.progress << "\n";
+                }
+                *err = "interrupted by signal " + std::to_string(static_cast<int>(g_stop_signal)) +
+                       " at t = " + std::to_string(h->time_s()) + " s";
+                return false; // the StagedOutput destructor removes the staging folder
+            }
+            if (opt.progress != nullptr) {
+                const auto now = std::chrono::steady_clock::now();
+                if (std::chrono::duration<double>(now - t_progress).count() >= 0.5) {
+                    t_progress = now;
+                    const double el = std::chrono::duration<double>(now - t0).count();
+                    const double frac = static_cast<double>(k) / static_cast<double>(periods);
+                    char line[160];
+                    std::snprintf(line, sizeof line, "\rdtc-sil: %.3f / %.3f s simulated (%.1f %%), ETA %s   ",
+                                  h->time_s(), static_cast<double>(periods) * sc.ts_s, 100.0 * frac,
+                                  hms(el * (1.0 - frac) / frac).c_str());
+                    *opt.progress << line << std::flush;
+                }
+            }
+        }
         if (!load_stepped && h->time_s() + 0.5 * sc.ts_s >= sc.load.step_time_s) {
             plant_set_load(h->plant(), pp.load, sc.load.speed_rpm, sc.load.step_torque_nm);
             load_stepped = true;
         }
         h->sample();
+        if (std::string why = plant_out_of_bounds(h->sensed(), bounds); !why.empty()) {
+            diverged = why;
+            diverged_t = h->time_s();
+            done = k;
+            break;
+        }
         ctrl->step(*h);
         const bool record = k >= record_from;
         const bool trace_row = writing && opt.write_trace && k % decimate == 0;
@@ -266,24 +455,52 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
         }
         h->advance();
     }
+    // Closing the trace (the writer thread's last batch) is part of the loop's cost.
+    if (writing && opt.write_trace && !trace.close(err)) {
+        return false;
+    }
     const auto t1 = std::chrono::steady_clock::now();
+    if (opt.progress != nullptr && periods > 4096u) {
+        *opt.progress << "\r" << std::string(70, ' ') << "\r" << std::flush;
+    }
 
     MetricsConfig mc;
     mc.window_s = sc.metrics_window_s;
     mc.rated_torque_nm = sc.motor.rated_torque_nm;
     mc.switched_legs = switched_legs(sc);
-    res->metrics = compute_metrics(s, mc);
-    res->info.sim_time_s = static_cast<double>(periods) * sc.ts_s;
+    mc.torque_sensor_hz = sc.metrics.torque_sensor_hz;
+    res->info = RunInfo{};
+    res->info.sim_time_s = static_cast<double>(done) * sc.ts_s;
     res->info.wall_time_s = std::chrono::duration<double>(t1 - t0).count();
-    res->info.isr_count = periods;
+    res->info.isr_count = done;
     res->info.fault = ctrl->fault();
     res->info.invalid_commands = h->invalid_writes();
     res->info.hw_trip = h->trip_latched();
+    res->info.traced = writing && opt.write_trace;
+    if (!diverged.empty()) {
+        // The recorded window is incomplete and the state meaningless: no metrics, only why.
+        res->metrics = Metrics{};
+        res->metrics.torque_mean_nm = nan;
+        res->metrics.trf_pct = nan;
+        res->metrics.trf_filtered_pct = nan;
+        res->metrics.speed_mean_rpm = nan;
+        res->info.fault = "plant_diverged";
+        res->info.fault_time_s = diverged_t;
+        res->info.fault_detail = "plant state at t = " + std::to_string(diverged_t) + " s: " + diverged +
+                                 " (an input drove the model outside physics; no metrics)";
+    } else {
+        res->metrics = compute_metrics(s, mc);
+        drop_undefined(&res->metrics);
+        name_fault(sc, &res->info);
+        if (!metrics_finite(res->metrics)) {
+            res->info.fault_detail = (res->info.fault == "none" ? std::string() : res->info.fault + "; ") +
+                                     "torque, TRF or speed mean not finite although the plant state stayed "
+                                     "within its bounds";
+            res->info.fault = "non_finite_metric";
+        }
+    }
 
     if (writing) {
-        if (opt.write_trace && !trace.close(err)) {
-            return false;
-        }
         std::ofstream mj(out.path("metrics.json"));
         mj << metrics_json(sc, res->metrics, res->info).dump(2) << "\n";
         mj.close();
@@ -295,7 +512,6 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
             return false;
         }
     }
-    (void)kPi;
     return true;
 }
 

@@ -141,7 +141,9 @@ const std::vector<Spec>& schema()
             "metrics use the last metrics_window_s, trimmed to whole electrical periods", ACC(metrics_window_s)),
         num("ts_s", "s", closed(1e-6, 1e-3), "control period = one ISR = one plant advance (Hoang sec. IV: 50 us)",
             ACC(ts_s)),
-        num("max_step_s", "s", positive(), "largest plant integration sub-step (<= ts_s)", ACC(max_step_s)),
+        num("max_step_s", "s", closed(1e-8, 1e-3),
+            "largest plant integration sub-step (<= ts_s, >= ts_s / 10000; not set: min(50 us, ts_s))",
+            ACC(max_step_s)),
         num("initial_speed_rpm", "rpm", any(), "rotor speed at t = 0", ACC(initial_speed_rpm)),
         num("initial_theta_m_rad", "rad", any(), "mechanical rotor angle at t = 0", ACC(initial_theta_m_rad)),
         // ---- motor ----
@@ -154,7 +156,7 @@ const std::vector<Spec>& schema()
         num("motor.rs_ohm", "ohm", positive(), "phase resistance (Hoang Table VIII)", ACC(motor.rs_ohm)),
         num("motor.ls_h", "H", positive(), "synchronous inductance, Ld = Lq (Table VIII)", ACC(motor.ls_h)),
         num("motor.psi_m_wb", "Wb", positive(), "PM flux linkage, peak (Table VIII)", ACC(motor.psi_m_wb)),
-        integer("motor.pole_pairs", "", closed(1, 64), "pole pairs (Table VIII)", ACC(motor.pole_pairs)),
+        integer("motor.pole_pairs", "", closed(1, 16), "pole pairs (Table VIII; the firmware converter's range)", ACC(motor.pole_pairs)),
         num("motor.j_kgm2", "kg*m^2", positive(),
             "rotor + coupled load inertia (not in the paper: small servo motor with a DC generator)", ACC(motor.j_kgm2)),
         num("motor.b_nms", "N*m*s/rad", nonneg(),
@@ -306,6 +308,14 @@ const std::vector<Spec>& schema()
         num("protection.hw_trip_current_a", "A", nonneg(),
             "hardware comparator on each phase-current magnitude (PDPINTA), latching, gates off; 0 = not fitted",
             ACC(protection.hw_trip_current_a)),
+        // ---- metrics ----
+        num("metrics.torque_sensor_hz", "Hz", nonneg(),
+            "trf_filtered_pct: TRF of the plant torque after a first-order low-pass of this cutoff (a torque "
+            "transducer's bandwidth); 0 = unfiltered",
+            ACC(metrics.torque_sensor_hz)),
+        boolean("protection.allow_unsafe",
+                "accept trip settings that let the phase current exceed 3x motor.rated_current_a (refused otherwise)",
+                ACC(protection.allow_unsafe)),
     };
     return specs;
 }
@@ -596,11 +606,26 @@ void cross_validate(Scenario& s, Diagnostics* d)
         err("metrics_window_s", "is " + fmt_double(s.metrics_window_s) + " s, longer than duration_s = " +
                                     fmt_double(s.duration_s) + " s");
     }
+    if (s.origin.count("max_step_s") == 0 && s.max_step_s > s.ts_s) {
+        s.max_step_s = s.ts_s; // the default follows a shorter control period
+    }
     if (s.max_step_s > s.ts_s) {
-        err("max_step_s", "must not exceed the control period ts_s = " + fmt_double(s.ts_s) + " s");
+        err("max_step_s", "must not exceed the control period ts_s = " + fmt_double(s.ts_s) + " s (" +
+                              origin_of(s, "ts_s") + ")");
+    }
+    if (s.ts_s / s.max_step_s > 1.0e4) {
+        err("max_step_s", "is " + fmt_double(s.max_step_s) + " s: more than 10000 sub-steps per control period "
+                              "ts_s = " + fmt_double(s.ts_s) + " s (step-size floor: ts_s / 10000)");
     }
     if (s.duration_s / s.ts_s > 2.0e9) {
         err("duration_s", "more than 2e9 control periods");
+    }
+    if (std::llround(s.duration_s / s.ts_s) < 1) {
+        err("duration_s", "is " + fmt_double(s.duration_s) + " s: shorter than one control period ts_s = " +
+                              fmt_double(s.ts_s) + " s, nothing would be simulated");
+    } else if (std::llround(s.metrics_window_s / s.ts_s) < 1) {
+        err("metrics_window_s", "is " + fmt_double(s.metrics_window_s) +
+                                    " s: shorter than one control period ts_s = " + fmt_double(s.ts_s) + " s");
     }
     const bool open_loop = s.control.mode == "open_loop";
     if (s.motor.type == "im" && !open_loop) {
@@ -659,6 +684,20 @@ void cross_validate(Scenario& s, Diagnostics* d)
         if (s.control.lpf_cutoff_rad_s >= kPi / s.ts_s) {
             err("control.lpf_cutoff_rad_s", "must be below the Nyquist rate pi/ts_s = " +
                                                 fmt_double(kPi / s.ts_s) + " rad/s");
+        }
+    }
+    if (!open_loop && !s.protection.allow_unsafe) {
+        // The current the drive can carry before something trips: the firmware limit, or the
+        // hardware comparator when it is fitted and lower.
+        const bool hw_lower = s.protection.hw_trip_current_a > 0.0 &&
+                              s.protection.hw_trip_current_a < s.protection.overcurrent_a;
+        const double limit = hw_lower ? s.protection.hw_trip_current_a : s.protection.overcurrent_a;
+        const double safe = 3.0 * s.motor.rated_current_a;
+        if (limit > safe) {
+            err(hw_lower ? "protection.hw_trip_current_a" : "protection.overcurrent_a",
+                "lets the phase current reach " + fmt_double(limit) + " A before any trip, more than 3x "
+                "motor.rated_current_a = " + fmt_double(safe) + " A (" + origin_of(s, "motor.rated_current_a") +
+                "); lower it or set protection.allow_unsafe = true");
         }
     }
     if (s.protection.vdc_min_v >= s.protection.vdc_max_v) {
@@ -722,11 +761,18 @@ std::string scenario_keys_markdown()
 std::string Diagnostics::text() const
 {
     std::string t;
-    for (const std::string& e : errors) {
-        t += "error: " + e + "\n";
+    for (std::size_t i = 0; i < errors.size() && i < kMaxShown; ++i) {
+        t += "error: " + errors[i] + "\n";
     }
-    for (const std::string& w : warnings) {
-        t += "warning: " + w + "\n";
+    if (errors.size() > kMaxShown) {
+        t += "error: ... and " + std::to_string(errors.size() - kMaxShown) + " more errors (" +
+             std::to_string(errors.size()) + " in all)\n";
+    }
+    for (std::size_t i = 0; i < warnings.size() && i < kMaxShown; ++i) {
+        t += "warning: " + warnings[i] + "\n";
+    }
+    if (warnings.size() > kMaxShown) {
+        t += "warning: ... and " + std::to_string(warnings.size() - kMaxShown) + " more warnings\n";
     }
     return t;
 }
@@ -743,6 +789,12 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
     } catch (const toml::parse_error& e) {
         diag->errors.push_back(where(source_name, e.source()) + ": TOML syntax error: " +
                                std::string(e.description()));
+        return false;
+    }
+
+    if (root.empty()) {
+        diag->errors.push_back(source_name + ": the scenario sets no key (empty file?); a scenario names at "
+                                             "least the settings it is about, e.g. duration_s");
         return false;
     }
 
@@ -772,7 +824,7 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
         s.origin[name] = loc;
     };
 
-    static const char* const sections[] = {"motor", "inverter", "load", "control", "sensors", "protection"};
+    static const char* const sections[] = {"motor", "inverter", "load", "control", "sensors", "protection", "metrics"};
     for (auto&& [key, node] : root) {
         const std::string k(key.str());
         bool is_section = false;
@@ -841,6 +893,14 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
 bool load_scenario(const std::string& path, const std::vector<std::string>& overrides, Scenario* out,
                    Diagnostics* diag)
 {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) {
+        diag->errors.push_back(path + ": " +
+                               (std::filesystem::exists(path, ec) ? "not a regular file (a directory?)"
+                                                                  : "no such file") +
+                               ": give a scenario TOML file");
+        return false;
+    }
     std::ifstream f(path, std::ios::binary);
     if (!f) {
         diag->errors.push_back(path + ": cannot open the scenario file");

@@ -3,6 +3,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <sstream>
 #include <system_error>
@@ -21,6 +22,7 @@ const char* trace_header()
 
 TraceWriter::~TraceWriter()
 {
+    stop();
     if (f_ != nullptr) {
         std::fclose(f_);
     }
@@ -33,67 +35,133 @@ bool TraceWriter::open(const std::string& path, std::string* err)
         *err = path + ": cannot create";
         return false;
     }
-    buf_.reserve(1 << 20);
-    buf_ += trace_header();
+    std::setvbuf(f_, nullptr, _IONBF, 0); // buf_ is the buffer
+    buf_.assign(std::size_t{1} << 20, '\0');
+    std::string header = trace_header();
     if (rotor_flux_) {
-        buf_ += ",psi_r_alpha_wb,psi_r_beta_wb";
+        header += ",psi_r_alpha_wb,psi_r_beta_wb";
     }
-    buf_ += '\n';
+    std::memcpy(buf_.data(), header.data(), header.size());
+    buf_[header.size()] = '\n';
+    n_ = header.size() + 1;
+    write_failed_ = false;
+    fill_.clear();
+    fill_.reserve(kBatchRows);
+    work_.clear();
+    work_.reserve(kBatchRows);
+    has_work_ = false;
+    stop_ = false;
+    thread_ = std::thread([this] { worker(); });
     return true;
 }
 
-namespace {
-void put(std::string& b, double x)
+void TraceWriter::hand_over()
 {
-    char tmp[32];
-    if (!std::isfinite(x)) {
-        b += std::isnan(x) ? "nan" : (x > 0 ? "inf" : "-inf");
+    std::unique_lock<std::mutex> lk(m_);
+    cv_.wait(lk, [this] { return !has_work_; });
+    std::swap(fill_, work_); // fill_ is now the emptied previous batch, capacity kept
+    has_work_ = true;
+    lk.unlock();
+    cv_.notify_all();
+}
+
+void TraceWriter::worker()
+{
+    std::unique_lock<std::mutex> lk(m_);
+    for (;;) {
+        cv_.wait(lk, [this] { return has_work_ || stop_; });
+        if (!has_work_) {
+            return; // stop_ with nothing left
+        }
+        lk.unlock();
+        for (const TraceRow& r : work_) {
+            format(r);
+        }
+        lk.lock();
+        work_.clear();
+        has_work_ = false;
+        cv_.notify_all();
+    }
+}
+
+void TraceWriter::stop()
+{
+    if (!thread_.joinable()) {
         return;
     }
-    auto r = std::to_chars(tmp, tmp + sizeof tmp, x, std::chars_format::general, 9);
-    b.append(tmp, r.ptr);
+    {
+        std::lock_guard<std::mutex> lk(m_);
+        stop_ = true;
+    }
+    cv_.notify_all();
+    thread_.join();
 }
-void put(std::string& b, int x)
+
+void TraceWriter::flush()
 {
-    char tmp[16];
-    auto r = std::to_chars(tmp, tmp + sizeof tmp, x);
-    b.append(tmp, r.ptr);
+    if (n_ != 0 && std::fwrite(buf_.data(), 1, n_, f_) != n_) {
+        write_failed_ = true;
+    }
+    n_ = 0;
+}
+
+namespace {
+// Shortest round-trip form (at most 24 characters), or nan / inf / -inf.
+inline char* put(char* p, double x)
+{
+    if (std::isfinite(x)) {
+        return std::to_chars(p, p + 32, x).ptr;
+    }
+    const char* s = std::isnan(x) ? "nan" : (x > 0 ? "inf" : "-inf");
+    const std::size_t n = std::strlen(s);
+    std::memcpy(p, s, n);
+    return p + n;
+}
+inline char* put(char* p, int x)
+{
+    if (x == 0 || x == 1) {
+        *p = static_cast<char>('0' + x);
+        return p + 1;
+    }
+    return std::to_chars(p, p + 16, x).ptr;
 }
 } // namespace
 
-void TraceWriter::write(const TraceRow& r)
+void TraceWriter::format(const TraceRow& r)
 {
+    if (buf_.size() - n_ < kMaxRowBytes) {
+        flush();
+    }
+    char* const b = buf_.data() + n_;
+    char* p = b;
     const double d1[] = {r.t_s, r.ia_a, r.ib_a, r.ic_a, r.i_alpha_a, r.i_beta_a, r.torque_nm, r.torque_est_nm,
                          r.psi_alpha_wb, r.psi_beta_wb, r.psi_alpha_est_wb, r.psi_beta_est_wb, r.speed_rpm};
     for (double x : d1) {
-        put(buf_, x);
-        buf_ += ',';
+        p = put(p, x);
+        *p++ = ',';
     }
-    put(buf_, r.sa);
-    buf_ += ',';
-    put(buf_, r.sb);
-    buf_ += ',';
-    put(buf_, r.sc);
-    buf_ += ',';
-    put(buf_, r.vdc_v);
-    buf_ += ',';
-    put(buf_, r.en);
+    p = put(p, r.sa);
+    *p++ = ',';
+    p = put(p, r.sb);
+    *p++ = ',';
+    p = put(p, r.sc);
+    *p++ = ',';
+    p = put(p, r.vdc_v);
+    *p++ = ',';
+    p = put(p, r.en);
     const double d2[] = {r.theta_e_rad, r.vc_lo_v, r.v_alpha_v, r.v_beta_v, r.tload_nm};
     for (double x : d2) {
-        buf_ += ',';
-        put(buf_, x);
+        *p++ = ',';
+        p = put(p, x);
     }
     if (rotor_flux_) {
-        buf_ += ',';
-        put(buf_, r.psi_r_alpha_wb);
-        buf_ += ',';
-        put(buf_, r.psi_r_beta_wb);
+        *p++ = ',';
+        p = put(p, r.psi_r_alpha_wb);
+        *p++ = ',';
+        p = put(p, r.psi_r_beta_wb);
     }
-    buf_ += '\n';
-    if (buf_.size() > (1u << 20) - 512u) {
-        std::fwrite(buf_.data(), 1, buf_.size(), f_);
-        buf_.clear();
-    }
+    *p++ = '\n';
+    n_ += static_cast<std::size_t>(p - b);
 }
 
 bool TraceWriter::close(std::string* err)
@@ -101,11 +169,14 @@ bool TraceWriter::close(std::string* err)
     if (f_ == nullptr) {
         return true;
     }
-    const bool ok_w = std::fwrite(buf_.data(), 1, buf_.size(), f_) == buf_.size();
-    buf_.clear();
+    if (!fill_.empty()) {
+        hand_over();
+    }
+    stop(); // the worker finishes the batch it holds, then exits
+    flush();
     const bool ok_c = std::fclose(f_) == 0;
     f_ = nullptr;
-    if (!ok_w || !ok_c) {
+    if (write_failed_ || !ok_c) {
         *err = "trace.csv: write failed (disk full?)";
         return false;
     }
@@ -130,14 +201,20 @@ nlohmann::json metrics_json(const Scenario& sc, const Metrics& m, const RunInfo&
     j["thd_pct"] = opt3(m.thd_pct);
     j["thd_total_pct"] = opt(m.thd_total_pct);
     j["thd_harmonic_pct"] = opt3(m.thd_harmonic_pct);
+    j["thd40_pct"] = opt3(m.thd40_pct);
+    j["thd40_total_pct"] = opt(m.thd40_total_pct);
     j["torque_mean_nm"] = m.torque_mean_nm;
     j["torque_est_mean_nm"] = opt(m.torque_est_mean_nm);
     j["trf_pct"] = m.trf_pct;
     j["trf_est_pct"] = opt(m.trf_est_pct);
+    j["trf_filtered_pct"] = m.trf_filtered_pct;
+    j["torque_sensor_hz"] = sc.metrics.torque_sensor_hz;
     j["speed_mean_rpm"] = m.speed_mean_rpm;
     j["switching_freq_hz"] = opt(m.switching_freq_hz);
     j["flux_est_error_rms_pct"] = opt(m.flux_est_error_rms_pct);
     j["fault"] = info.fault;
+    j["fault_detail"] = info.fault_detail;
+    j["fault_time_s"] = info.fault_time_s >= 0.0 ? json(info.fault_time_s) : json(nullptr);
     j["hw_trip"] = info.hw_trip;
     j["invalid_commands"] = info.invalid_commands;
     const double t_end = info.sim_time_s;
@@ -173,12 +250,28 @@ std::string summary_text(const Scenario& sc, const Metrics& m, const RunInfo& in
         }
     }
     o << ", " << sc.load.type << " load)\n";
-    std::snprintf(line, sizeof line, "  simulated %.3f s in %.3f s wall (%.0fx real time), %llu ISRs, fault: %s%s\n",
+    if (sc.load.type == "torque" || sc.load.type == "generator") {
+        // The shaft load is the load torque plus the viscous friction B*w of motor.b_nms: at the
+        // speed reference they add up to what the scenario's comment calls the load (Hoang's full
+        // load 0.3 N*m = load.torque_nm 0.225 + friction 0.075 N*m at 1500 rpm with the defaults).
+        const double w = sc.control.speed_ref_rpm * 3.14159265358979323846 / 30.0;
+        const double tl = sc.load.type == "torque" || sc.load.speed_rpm == 0.0
+                              ? sc.load.torque_nm
+                              : sc.load.torque_nm * sc.control.speed_ref_rpm / sc.load.speed_rpm;
+        std::snprintf(line, sizeof line,
+                      "  load       %.4g N*m load + %.4g N*m friction (motor.b_nms) = %.4g N*m at %.0f rpm\n", tl,
+                      sc.motor.b_nms * w, tl + sc.motor.b_nms * w, sc.control.speed_ref_rpm);
+        o << line;
+    }
+    std::snprintf(line, sizeof line, "  simulated %.3f s in %.3f s wall (%.0fx real time, trace %s), %llu ISRs, fault: %s%s\n",
                   info.sim_time_s, info.wall_time_s,
-                  info.wall_time_s > 0 ? info.sim_time_s / info.wall_time_s : 0.0,
+                  info.wall_time_s > 0 ? info.sim_time_s / info.wall_time_s : 0.0, info.traced ? "on" : "off",
                   static_cast<unsigned long long>(info.isr_count), info.fault.c_str(),
-                  info.hw_trip ? " (hardware trip latched)" : "");
+                  info.hw_trip && info.fault != "hw_overcurrent" ? " (hardware trip latched too)" : "");
     o << line;
+    if (!info.fault_detail.empty()) {
+        o << "  fault      " << info.fault << ": " << info.fault_detail << "\n";
+    }
     std::snprintf(line, sizeof line, "  window     %.4f s = %d electrical periods (%.2f Hz)\n", m.window_s,
                   m.window.periods, m.f_e_hz);
     o << line;
@@ -186,6 +279,11 @@ std::string summary_text(const Scenario& sc, const Metrics& m, const RunInfo& in
     o << line;
     std::snprintf(line, sizeof line, "  torque     mean %.4f N*m, TRF %.1f %%", m.torque_mean_nm, m.trf_pct);
     o << line;
+    if (sc.metrics.torque_sensor_hz > 0.0) {
+        std::snprintf(line, sizeof line, " (%.1f %% through a %g Hz sensor)", m.trf_filtered_pct,
+                      sc.metrics.torque_sensor_hz);
+        o << line;
+    }
     if (m.torque_est_mean_nm) {
         std::snprintf(line, sizeof line, "; estimate %.4f N*m, TRF %.1f %%", *m.torque_est_mean_nm,
                       m.trf_est_pct.value_or(NAN));
@@ -201,6 +299,12 @@ std::string summary_text(const Scenario& sc, const Metrics& m, const RunInfo& in
         std::snprintf(line, sizeof line, "  THD        A/B/C %.2f / %.2f / %.2f %%, total %.2f %%\n", t[0], t[1], t[2],
                       m.thd_total_pct.value_or(NAN));
         o << line;
+        if (m.thd40_pct) {
+            const auto& t40 = *m.thd40_pct;
+            std::snprintf(line, sizeof line, "  THD 2..40  A/B/C %.2f / %.2f / %.2f %%, total %.2f %%\n", t40[0], t40[1],
+                          t40[2], m.thd40_total_pct.value_or(NAN));
+            o << line;
+        }
     } else {
         o << "  currents   no whole electrical period in the window: no spectral metrics\n";
     }
