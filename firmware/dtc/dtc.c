@@ -112,6 +112,7 @@ void dtc_reset(dtc_t *c)
     c->vec_1 = cfg->topology == DTC_TOPO_FSTP ? 1U : 0U;
     c->te_ref_iq = c->act.mode == DTC_MODE_TORQUE ? c->act.torque_ref_iq : 0;
     c->speed_iq = 0;
+    c->on_cm = cfg->handover_speed_iq > 0 ? 1U : 0U;
 }
 
 int16_t dtc_shadow_write(dtc_t *c, const dtc_refs_t *r)
@@ -183,6 +184,25 @@ void dtc_torque_trim(dtc_t *c, iq_t te)
                           fix_neg32(cfg->torque_limit_iq), cfg->torque_limit_iq);
 }
 
+/* Hand-over between the current and the voltage model (dtc_config.h), on the measured speed
+ * at the speed-loop rate: up above handover_speed, back below handover_speed - hyst. Speed and
+ * thresholds IQ pu; |speed| saturates (fix_abs32 of INT32_MIN), the difference cannot overflow
+ * (0 <= hyst <= speed, validated). */
+static void dtc_handover(dtc_t *c)
+{
+    const dtc_config_t *cfg = c->cfg;
+    iq_t w = fix_abs32(c->speed_iq);
+    if (cfg->handover_speed_iq <= 0) {
+        c->on_cm = 0U;
+    } else if (c->on_cm != 0U) {
+        if (w > cfg->handover_speed_iq) {
+            c->on_cm = 0U;
+        }
+    } else if (w < iq_sub(cfg->handover_speed_iq, cfg->handover_hyst_iq)) {
+        c->on_cm = 1U;
+    }
+}
+
 void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
 {
     const dtc_config_t *cfg = c->cfg;
@@ -228,8 +248,11 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         fin.v_alpha_iq = fix_add32(fin.v_alpha_iq, vfa);
         fin.v_beta_iq = fix_add32(fin.v_beta_iq, vfb);
     }
-    if (c->speed_primed == 0U && cfg->estimator == DTC_EST_VOLTAGE) {
-        flux_est_seed(&c->fe, &fin); /* first step after a reset: start from eqs. 8-9 */
+    if (cfg->estimator == DTC_EST_VOLTAGE && (c->speed_primed == 0U || c->on_cm != 0U)) {
+        /* First step after a reset, and every step below the hand-over speed: the current model
+         * (eqs. 8-9) drives and is written into the low-pass state, so the voltage model starts
+         * from it when the hand-over comes (dtc_config.h). */
+        flux_est_seed(&c->fe, &fin);
     } else {
         flux_est_step(&c->fe, &fin);
     }
@@ -251,6 +274,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     } else if (c->div_cnt == 0U) {
         o->speed_tick = 1U;
         c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
+        dtc_handover(c);
         if (c->act.mode == DTC_MODE_SPEED) {
             c->te_ref_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
         }
@@ -303,4 +327,5 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     o->te_ref_iq = c->te_ref_iq;
     o->speed_iq = c->speed_iq;
     o->theta_e = c->fe.theta_e;
+    o->on_cm = cfg->estimator == DTC_EST_CURRENT ? 1U : c->on_cm;
 }

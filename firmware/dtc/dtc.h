@@ -59,6 +59,8 @@ typedef struct {
     iq_t te_ref_iq;        /* torque reference in force, pu */
     iq_t speed_iq;         /* measured electrical speed, pu */
     angle_t theta_e;       /* encoder electrical angle */
+    uint16_t on_cm;        /* 1: the flux came from the current model (estimator = current, or
+                            * the voltage model below its hand-over speed) */
 } dtc_out_t;
 
 /* The background-changeable parameter set. */
@@ -100,6 +102,7 @@ typedef struct {
     iq_t te_ref_iq;
     iq_t te_trim_iq;     /* torque mode: mean-torque trim added to the reference */
     iq_t speed_iq;
+    uint16_t on_cm;      /* voltage model with hand-over: 1 while the current model drives */
 } dtc_t;
 
 /* Validates cfg (dtc_config_validate) and initialises c. Returns DTC_OK or an enum dtc_err code;

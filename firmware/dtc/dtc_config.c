@@ -65,5 +65,9 @@ int16_t dtc_config_validate(const dtc_config_t *cfg)
         cfg->vdc_min_iq >= cfg->vdc_max_iq) {
         return DTC_ERR_LIMIT;
     }
+    if (cfg->handover_speed_iq < 0 || cfg->handover_hyst_iq < 0 ||
+        cfg->handover_hyst_iq > cfg->handover_speed_iq) {
+        return DTC_ERR_HANDOVER;
+    }
     return DTC_OK;
 }

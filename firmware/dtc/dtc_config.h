@@ -16,7 +16,7 @@
 #include "fixmath.h"
 
 /* Layout version: bump when a field is added, removed or changes meaning. */
-#define DTC_CONFIG_VERSION 2U
+#define DTC_CONFIG_VERSION 3U
 
 enum dtc_topology {
     DTC_TOPO_SSTP = 0, /* six-switch three-phase inverter (Hoang Fig. 1a, Casadei) */
@@ -66,7 +66,8 @@ enum dtc_err {
     DTC_ERR_DROP = -12,        /* negative device drop or on-resistance */
     DTC_ERR_ADC = -13,         /* zero or negative ADC gain, offset outside 12 bits */
     DTC_ERR_BASE = -14,        /* a base value of zero */
-    DTC_ERR_LIMIT = -15        /* trip/limit levels not positive or not ordered */
+    DTC_ERR_LIMIT = -15,       /* trip/limit levels not positive or not ordered */
+    DTC_ERR_HANDOVER = -16     /* hand-over speed < 0, or its hysteresis < 0 or above it */
 };
 
 /* Speed measurement: ring of encoder positions at the speed-loop rate (see speed_meas.h). */
@@ -100,6 +101,16 @@ struct dtc_config {
      * integrator of Hoang eqs. 15-16: k_leak = 1 - exp(-w_c*Ts), k_in = k_leak / (w_c/w_base). */
     q31_t k_in_q31;
     q31_t k_leak_q31;
+
+    /* Start-up and hand-over (voltage model only; dtc.c step 3). Below handover_speed_iq the
+     * drive runs on the current model (Hoang eqs. 8-9, encoder) and the voltage model's low-pass
+     * state is overwritten with that flux every period; once |measured speed| exceeds
+     * handover_speed_iq the voltage model integrates on from that state (bumpless: the estimate
+     * is continuous at the hand-over); it falls back to the current model when |speed| drops
+     * below handover_speed_iq - handover_hyst_iq. Electrical speed, pu; handover_speed_iq = 0:
+     * no hand-over, the voltage model runs from standstill (seeded once after a reset). */
+    iq_t handover_speed_iq;   /* >= 0 */
+    iq_t handover_hyst_iq;    /* 0 <= hyst <= handover_speed_iq */
 
     /* Current-model estimator (Hoang eqs. 8-9): theta_e = count * enc_gain + enc_offset. */
     uint16_t enc_counts;       /* 4 * lines (quadrature), counts per mechanical turn */

@@ -4,7 +4,7 @@
 #include "dtc_config.h"
 
 const dtc_config_t g_dtc_config = {
-    .version = 2U,
+    .version = 3U,
     .topology = 1U,
     .estimator = 0U,
     .compensation = 3U,
@@ -20,6 +20,8 @@ const dtc_config_t g_dtc_config = {
     .psi_m_iq = 6987466, /* 0.416485429 pu */
     .k_in_q31 = 33728378, /* 0.0157059999183 */
     .k_leak_q31 = 536804, /* 0.000249968841672 */
+    .handover_speed_iq = 2670177, /* 0.159154952 pu */
+    .handover_hyst_iq = 534035, /* 0.0318309665 pu */
     .enc_counts = 8000U,
     .enc_gain_q16 = 536871U,
     .enc_offset = 0U,

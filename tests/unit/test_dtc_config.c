@@ -14,6 +14,10 @@
 #include <stdio.h>
 #include <string.h>
 
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
 #include "dtc.h"
 #include "dtc_config_si.h"
 #include "dtc_ref.h"
@@ -99,6 +103,8 @@ MUT(m_base, s->i_base_a = 0.0)
 MUT(m_vdc_order, s->vdc_min_v = 100.0)
 MUT(m_rs_huge, s->rs_ohm = 1e4)
 MUT(m_band_tiny, s->flux_band_wb = 1e-12)
+MUT(m_handover_neg, { s->handover_auto = 0; s->handover_speed_rpm = -1.0; })
+MUT(m_handover_hyst, s->handover_hyst_frac = 1.5)
 
 static void test_bad_si_configs_refused_with_field(void **state)
 {
@@ -135,6 +141,8 @@ static void test_bad_si_configs_refused_with_field(void **state)
         {m_vdc_order, DTC_SI_ERR_LIMIT, "vdc_min_v"},
         {m_rs_huge, DTC_SI_ERR_RANGE, "rs_ohm"}, /* 314 pu overflows IQ24 */
         {m_band_tiny, DTC_SI_ERR_RANGE, "flux_band_wb"}, /* below one LSB */
+        {m_handover_neg, DTC_SI_ERR_HANDOVER, "handover_speed_rpm"},
+        {m_handover_hyst, DTC_SI_ERR_HANDOVER, "handover_hyst_frac"},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         dtc_config_si_t si;
@@ -185,6 +193,8 @@ FMUT(f_adc, c->adc_i_offset[2] = 4096U)
 FMUT(f_adc_gain, c->adc_vdc_gain_iq = 0)
 FMUT(f_base, c->w_base_mrad_s = 0U)
 FMUT(f_limit, c->vdc_min_iq = c->vdc_max_iq)
+FMUT(f_handover, c->handover_speed_iq = -1)
+FMUT(f_handover_hyst, c->handover_hyst_iq = c->handover_speed_iq + 1)
 
 static void test_dtc_init_refuses_bad_struct(void **state)
 {
@@ -199,7 +209,8 @@ static void test_dtc_init_refuses_bad_struct(void **state)
         {f_sk, DTC_ERR_SPEED}, {f_kp, DTC_ERR_PI}, {f_lim, DTC_ERR_PI},
         {f_fref, DTC_ERR_REFERENCE}, {f_sref, DTC_ERR_REFERENCE}, {f_tref, DTC_ERR_REFERENCE},
         {f_drop, DTC_ERR_DROP}, {f_adc, DTC_ERR_ADC}, {f_adc_gain, DTC_ERR_ADC},
-        {f_base, DTC_ERR_BASE}, {f_limit, DTC_ERR_LIMIT},
+        {f_base, DTC_ERR_BASE}, {f_limit, DTC_ERR_LIMIT}, {f_handover, DTC_ERR_HANDOVER},
+        {f_handover_hyst, DTC_ERR_HANDOVER},
     };
     dtc_config_si_t si;
     dtc_config_t good;
@@ -220,6 +231,30 @@ static void test_dtc_init_refuses_bad_struct(void **state)
     }
     assert_int_equal(dtc_init(&c, NULL), DTC_ERR_NULL);
     assert_int_equal(dtc_init(NULL, &good), DTC_ERR_NULL);
+}
+
+/* The derived hand-over speed (dtc_config_si.h) for Table VIII / Table IV / 5 rad/s:
+ * back-EMF 3x the drop: 3 (1.25 + 0.075 * 2.2) / 0.0928 = 45.74 rad/s; LPF: 10 * 5 = 50 rad/s;
+ * the larger, 50 rad/s electrical, p = 1: 477.46 rpm, i.e. 50 / (2 pi 3000/60) = 0.159155 pu. */
+static void test_handover_default_from_machine(void **state)
+{
+    dtc_config_si_t si;
+    dtc_config_t cfg;
+    (void)state;
+    dtc_config_si_defaults(&si);
+    assert_true(fabs(dtc_handover_default_rpm(&si) - 500.0 * 3.0 / M_PI) < 1e-9);
+    assert_int_equal(dtc_config_from_si(&si, &cfg, NULL, 0), DTC_SI_OK);
+    assert_true(fabs((double)cfg.handover_speed_iq / 16777216.0 - 50.0 / (100.0 * M_PI)) < 1e-7);
+    assert_true(fabs((double)cfg.handover_hyst_iq / 16777216.0 - 0.2 * 50.0 / (100.0 * M_PI)) < 1e-7);
+    /* a weaker magnet: the back-EMF rule takes over, 3 * 1.415 / 0.05 = 84.9 rad/s */
+    si.psi_m_wb = 0.05;
+    si.flux_ref_wb = 0.05;
+    assert_true(fabs(dtc_handover_default_rpm(&si) - 84.9 * 30.0 / M_PI) < 1e-6);
+    /* explicit 0: no hand-over */
+    si.handover_auto = 0;
+    si.handover_speed_rpm = 0.0;
+    assert_int_equal(dtc_config_from_si(&si, &cfg, NULL, 0), DTC_SI_OK);
+    assert_int_equal(cfg.handover_speed_iq, 0);
 }
 
 static void test_every_variant_converts_and_inits(void **state)
@@ -280,6 +315,7 @@ int main(void)
         cmocka_unit_test(test_defaults_convert_to_expected_pu),
         cmocka_unit_test(test_bad_si_configs_refused_with_field),
         cmocka_unit_test(test_dtc_init_refuses_bad_struct),
+        cmocka_unit_test(test_handover_default_from_machine),
         cmocka_unit_test(test_every_variant_converts_and_inits),
         cmocka_unit_test(test_emitter_writes_every_field),
     };

@@ -270,6 +270,8 @@ static void test_voltage_model_uses_legs_from_two_steps_back(void **state)
     dtc_out_t o[6];
     sim_init(&s, DTC_TOPO_SSTP, DTC_EST_VOLTAGE, DTC_COMP_NONE, DTC_ST_D, 0.0);
     s.cfg.rs_iq = 0;
+    s.cfg.handover_speed_iq = 0; /* the voltage model from standstill (no current-model start) */
+    s.cfg.handover_hyst_iq = 0;
     assert_int_equal(dtc_init(&c, &s.cfg), DTC_OK);
     dtc_meas_t me = {0, 0, 0, IQ(1.0), IQ(0.5), 0U};
     for (int k = 0; k < 6; k++) {
@@ -295,6 +297,59 @@ static void test_voltage_model_uses_legs_from_two_steps_back(void **state)
     }
     /* the flux moved away from the seed, so active vectors were applied */
     assert_true(c.fe.psi_alpha_iq != s.cfg.psi_m_iq || c.fe.psi_beta_iq != 0);
+}
+
+/* Start-up on the current model and hand-over (dtc_config.h): from standstill, J = 5e-4 kg m^2,
+ * ideal FSTP, speed reference 1500 rpm. The voltage model takes over once the measured speed
+ * exceeds the derived hand-over speed (477 rpm), with no jump in the flux estimate (it stays
+ * within 2 % of psi_m of the true flux across the switch), and falls back below 80 % of it when
+ * the reference goes to 200 rpm. */
+static void test_handover_up_and_down(void **state)
+{
+    (void)state;
+    sim_t s;
+    dtc_t c;
+    dtc_out_t o;
+    sim_init(&s, DTC_TOPO_FSTP, DTC_EST_VOLTAGE, DTC_COMP_NONE, DTC_ST_BASIC, 0.0);
+    const double rpm_per_pu = s.b.w_base_rad_s * 30.0 / DTC_REF_PI;
+    s.j_kgm2 = 5e-4;
+    assert_int_equal(dtc_init(&c, &s.cfg), DTC_OK);
+    const double h_rpm = fixtest_iq_to_d(s.cfg.handover_speed_iq) * s.b.w_base_rad_s * 30.0 / DTC_REF_PI;
+    const double psi_m = fixtest_iq_to_d(s.cfg.psi_m_iq);
+    assert_true(fabs(h_rpm - 477.46) < 0.1);
+    int up = -1, down = -1;
+    uint16_t prev = 1U;
+    for (int k = 0; k < 40000; k++) {
+        if (k == 20000) {
+            dtc_refs_t r;
+            dtc_refs_get(&c, &r);
+            r.speed_ref_iq = fixtest_d_to_iq(200.0 / rpm_per_pu);
+            assert_int_equal(dtc_shadow_write(&c, &r), DTC_OK);
+        }
+        const double pa = s.m.psi_a, pb = s.m.psi_b; /* the flux the step measures */
+        sim_period(&s, &c, &o);
+        double w_meas = fabs(fixtest_iq_to_d(c.speed_iq)) * rpm_per_pu;
+        if (k < 5) {
+            assert_int_equal(o.on_cm, 1U);
+        }
+        if (prev == 1U && o.on_cm == 0U) {
+            up = k;
+            assert_true(w_meas > h_rpm && w_meas < 1.1 * h_rpm);
+            double ea = fixtest_iq_to_d(o.psi_alpha_iq) - pa;
+            double eb = fixtest_iq_to_d(o.psi_beta_iq) - pb;
+            if (!(sqrt(ea * ea + eb * eb) < 0.02 * psi_m)) {
+                fail_msg("flux error at the hand-over %g pu (psi_m %g pu)", sqrt(ea * ea + eb * eb), psi_m);
+            }
+        }
+        if (prev == 0U && o.on_cm == 1U) {
+            down = k;
+            assert_true(w_meas < 0.8 * h_rpm && w_meas > 0.7 * h_rpm);
+        }
+        prev = o.on_cm;
+    }
+    assert_true(up > 0 && up < 20000);
+    assert_true(down > 20000);
+    assert_int_equal(o.on_cm, 1U);
 }
 
 static void test_shadow_set_and_modes(void **state)
@@ -482,6 +537,7 @@ int main(void)
         cmocka_unit_test(test_voltage_model_start_up_at_speed),
         cmocka_unit_test(test_compensation_on_fstp_with_drops),
         cmocka_unit_test(test_voltage_model_uses_legs_from_two_steps_back),
+        cmocka_unit_test(test_handover_up_and_down),
         cmocka_unit_test(test_shadow_set_and_modes),
         cmocka_unit_test(test_torque_mode_trim),
         cmocka_unit_test(test_outputs_consistent),

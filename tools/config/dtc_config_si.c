@@ -40,6 +40,9 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->flux_band_wb = 0.0;
     si->torque_band_nm = 0.0;
     si->lpf_cutoff_rad_s = 5.0;
+    si->handover_auto = 1;
+    si->handover_speed_rpm = 0.0;
+    si->handover_hyst_frac = 0.2; /* back below 80 %: well clear of the speed ripple */
     si->pi_from_bandwidth = 1;
     si->speed_bw_rad_s = 60.0;
     si->torque_limit_nm = 0.45; /* 1.5 x rated */
@@ -68,6 +71,15 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->v_base_v = 70.0;
     si->i_base_a = 2.2;
     si->w_base_rad_s = 2.0 * M_PI * 3000.0 / 60.0;
+}
+
+double dtc_handover_default_rpm(const dtc_config_si_t *si)
+{
+    double drop = (si->v_ce_v > si->v_d_v ? si->v_ce_v : si->v_d_v) + si->r_on_ohm * si->rated_current_a;
+    double w_emf = 3.0 * drop / si->psi_m_wb;
+    double w_lpf = 10.0 * si->lpf_cutoff_rad_s;
+    double w = w_emf > w_lpf ? w_emf : w_lpf;
+    return w * 30.0 / M_PI / (double)si->pole_pairs;
 }
 
 void dtc_bases_from_si(const dtc_config_si_t *si, dtc_bases_t *b)
@@ -181,6 +193,10 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     if (!(si->lpf_cutoff_rad_s > 0.0)) return fail(&c, DTC_SI_ERR_CUTOFF, "lpf_cutoff_rad_s = %g: must be > 0 (a pure integrator drifts)", si->lpf_cutoff_rad_s);
     if (!(si->lpf_cutoff_rad_s * si->ts_s < M_PI))
         return fail(&c, DTC_SI_ERR_CUTOFF, "lpf_cutoff_rad_s = %g: at or above the Nyquist rate pi/ts_s = %g rad/s", si->lpf_cutoff_rad_s, M_PI / si->ts_s);
+    if (!(si->handover_auto != 0 || si->handover_speed_rpm >= 0.0))
+        return fail(&c, DTC_SI_ERR_HANDOVER, "handover_speed_rpm = %g: must be >= 0 (0 = voltage model from standstill)", si->handover_speed_rpm);
+    if (!(si->handover_hyst_frac >= 0.0 && si->handover_hyst_frac <= 1.0))
+        return fail(&c, DTC_SI_ERR_HANDOVER, "handover_hyst_frac = %g: must be in [0, 1]", si->handover_hyst_frac);
     if (si->estimator != DTC_EST_VOLTAGE && si->estimator != DTC_EST_CURRENT)
         return fail(&c, DTC_SI_ERR_VARIANT, "estimator = %d: must be DTC_EST_VOLTAGE or DTC_EST_CURRENT", si->estimator);
     if (si->compensation < DTC_COMP_NONE || si->compensation > DTC_COMP_FSTP_PROPOSED ||
@@ -253,6 +269,17 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     wc_pu = si->lpf_cutoff_rad_s / b.w_base_rad_s;
     cfg->k_leak_q31 = to_q31(&c, "lpf_cutoff_rad_s (k_leak)", 1.0 - a);
     cfg->k_in_q31 = to_q31(&c, "ts_s (k_in)", (1.0 - a) / wc_pu);
+
+    {
+        double h_rpm = si->handover_auto != 0 ? dtc_handover_default_rpm(si) : si->handover_speed_rpm;
+        double h_pu = h_rpm * M_PI / 30.0 * si->pole_pairs / b.w_base_rad_s;
+        cfg->handover_speed_iq = to_iq(&c, "handover_speed_rpm", h_rpm, h_pu);
+        cfg->handover_hyst_iq = to_iq(&c, "handover_hyst_frac", si->handover_hyst_frac * h_rpm,
+                                      si->handover_hyst_frac * h_pu);
+        if (cfg->handover_hyst_iq > cfg->handover_speed_iq) {
+            cfg->handover_hyst_iq = cfg->handover_speed_iq;
+        }
+    }
 
     if (!(65536.0 * 65536.0 * si->pole_pairs / enc_counts <= 2147483648.0))
         return fail(&c, DTC_SI_ERR_ENCODER, "enc_lines = %d: fewer than two counts per electrical turn with %d pole pairs", si->enc_lines, si->pole_pairs);
@@ -347,6 +374,7 @@ int dtc_config_emit_c(const dtc_config_t *cfg, const char *symbol, FILE *f)
     EU(fstp_vmid_measured); EU(v_base_mv); EU(i_base_ma); EU(w_base_mrad_s); EU(pole_pairs);
     EIQ(rs_iq); EIQ(ls_iq); EIQ(psi_m_iq);
     EQ31(k_in_q31); EQ31(k_leak_q31);
+    EIQ(handover_speed_iq); EIQ(handover_hyst_iq);
     EU(enc_counts); EU(enc_gain_q16); EU(enc_offset);
     EIQ(v_f_iq); EIQ(v_ce_iq); EIQ(v_d_iq); EIQ(r_on_iq);
     EIQ(flux_band_iq); EIQ(torque_band_iq);

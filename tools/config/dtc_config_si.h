@@ -65,6 +65,9 @@ typedef struct {
     double flux_band_wb;    /* Delta psi_s (full width), >= 0 */
     double torque_band_nm;  /* Delta T_e (full width), >= 0 */
     double lpf_cutoff_rad_s;/* voltage-model low-pass cut-off (5 rad/s) */
+    int handover_auto;      /* 1: handover_speed_rpm = dtc_handover_default_rpm(si) */
+    double handover_speed_rpm; /* voltage model: current model below it (0 = none), >= 0 */
+    double handover_hyst_frac; /* back to the current model below (1 - frac) * handover, [0, 1] */
     int pi_from_bandwidth;  /* 1: kp, ki from speed_bw_rad_s and inertia_kgm2 */
     double speed_bw_rad_s;  /* speed-loop crossover; PI zero at bw/4 */
     double kp_nm_s_rad;     /* N.m per (mechanical rad/s) */
@@ -110,10 +113,23 @@ enum dtc_si_err {
     DTC_SI_ERR_VARIANT = -111,   /* variant out of range or not meant for the topology */
     DTC_SI_ERR_ADC = -112,       /* ADC gain <= 0, offset outside 0..4095 */
     DTC_SI_ERR_RANGE = -113,     /* a value overflows its Q format or a non-zero one rounds to 0 */
-    DTC_SI_ERR_FIRMWARE = -114   /* the firmware validation refused the result (a bug) */
+    DTC_SI_ERR_FIRMWARE = -114,  /* the firmware validation refused the result (a bug) */
+    DTC_SI_ERR_HANDOVER = -115   /* hand-over speed < 0, hysteresis fraction outside [0, 1] */
 };
 
 void dtc_config_si_defaults(dtc_config_si_t *si);
+
+/* Default hand-over speed (mechanical rpm) of the voltage model, from the configured machine,
+ * devices and low-pass: the electrical speed above which
+ *   - the back-EMF w*psi_m is at least 3 times the device drop the uncompensated estimator
+ *     integrates as if it were stator voltage, max(V_CE, V_d) + R_on * I_rated (the flux-angle
+ *     error it causes is then below atan(1/3) = 18 deg even with no compensation, and well
+ *     under that with it), and
+ *   - the low-pass is at least 10 times above its cut-off (gain error 0.5 %, phase lead 5.7 deg,
+ *     flux_est.h),
+ * whichever is higher: w_h = max(3 (max(V_CE, V_d) + R_on I_rated) / psi_m, 10 w_c).
+ * Table VIII machine, Table IV devices, 5 rad/s: max(45.7, 50) rad/s = 477 rpm (p = 1). */
+double dtc_handover_default_rpm(const dtc_config_si_t *si);
 
 /* Converts si to cfg. Returns DTC_SI_OK or an enum dtc_si_err code; on error msg (if not null)
  * receives a message naming the offending field, e.g. "ls_h = -0.001: inductance must be > 0". */

@@ -74,6 +74,8 @@ struct FirmwareSiConfig {
     int table;            // 0 basic, 1..4 = ST-A..ST-D (SSTP)
     double speed_ref_rpm, torque_ref_nm, torque_limit_nm, flux_ref_wb;
     double torque_band_nm, flux_band_wb, lpf_cutoff_rad_s;
+    int handover_given; // 0: the converter derives the hand-over speed
+    double handover_rpm, handover_hyst_frac;
     double speed_kp_nm_per_rad_s, speed_ki_nm_per_rad;
     // protection
     double overcurrent_a, vdc_min_v, vdc_max_v;

@@ -59,6 +59,9 @@ FirmwareSiConfig firmware_si_config(const Scenario& sc)
     c.torque_band_nm = sc.control.torque_band_nm;
     c.flux_band_wb = sc.control.flux_band_wb;
     c.lpf_cutoff_rad_s = sc.control.lpf_cutoff_rad_s;
+    c.handover_given = sc.control.handover_given ? 1 : 0;
+    c.handover_rpm = sc.control.handover_rpm;
+    c.handover_hyst_frac = sc.control.handover_hyst_frac;
     const SpeedPiGains g = speed_pi_gains(sc.motor.j_kgm2, sc.control.speed_bw_hz);
     c.speed_kp_nm_per_rad_s = g.kp_nm_per_rad_s;
     c.speed_ki_nm_per_rad = g.ki_nm_per_rad;

@@ -257,6 +257,16 @@ const std::vector<Spec>& schema()
         num("control.lpf_cutoff_rad_s", "rad/s", positive(),
             "voltage-model low-pass cutoff in place of the integrator (Hoang sec. IV: 5 rad/s)",
             ACC(control.lpf_cutoff_rad_s)),
+        Spec{"control.handover_rpm", Kind::Number, "rpm", "voltage model: start on the current model (encoder, "
+             "Hoang eqs. 8-9) and hand over to the voltage model above this speed, bumplessly; 0 = voltage "
+             "model from standstill; not given = derived from the machine (tools/config "
+             "dtc_handover_default_rpm: 477 rpm for Table VIII)", nonneg(), {},
+             [](Scenario& s, const Value& v) { s.control.handover_rpm = v.num; s.control.handover_given = true; },
+             [](const Scenario& s) {
+                 return s.control.handover_given ? fmt_double(s.control.handover_rpm) : std::string("derived");
+             }},
+        num("control.handover_hyst_frac", "", closed(0.0, 1.0),
+            "back to the current model below (1 - frac) * control.handover_rpm", ACC(control.handover_hyst_frac)),
         num("control.v_f_v", "V", nonneg(), "forward drop V_f of the simple compensation (Hoang sec. III-B: 0.9 V)",
             ACC(control.v_f_v)),
         path("control.voltage_csv",
