@@ -11,8 +11,10 @@
  *               the flash wait-state set-up (must not run from flash), and ALL of the control
  *               firmware (libdtc_firmware.a: code and its fixed-point tables), so the 50 us path
  *               never waits on flash (5 wait states at 150 MHz, fact sheet 4.7).
+ *   ramfuncs_h  the same for the fixed-point core (libdtc_fixmath.a), copied into the first 7K
+ *               words of H0: the ISR path has 15K words of zero-wait RAM, not 8K.
  *   .stack      M0+M1 (low 64K: the SP is 16 bits, fact sheet 1.1)
- *   .ebss       H0 (zero-wait, 8K words): controller state
+ *   .ebss       the last 1K words of H0 (zero-wait): controller state
  *   the rest    flash sectors J..C. Sector B is left free for the user's parameter storage;
  *               sector A holds only codestart and the CSM words.
  * The CSM password words (0x3F7FF8..0x3F7FFF) and CSM_RSVD are deliberately NOT written: erased
@@ -22,6 +24,7 @@ MEMORY
 {
 PAGE 0:    /* program */
     RAML0L1   : origin = 0x008000, length = 0x002000   /* L0 + L1 SARAM, zero-wait: ramfuncs run */
+    RAMH0P    : origin = 0x3F8000, length = 0x001C00   /* H0 SARAM (first 7K), zero-wait: ramfuncs_h */
     FLASH_JC  : origin = 0x3D8000, length = 0x01C000   /* sectors J, I, H, G, F, E, D, C */
     FLASHB    : origin = 0x3F4000, length = 0x002000   /* sector B: free (user parameters) */
     FLASHA    : origin = 0x3F6000, length = 0x001F80   /* sector A below the CSM words: free */
@@ -31,7 +34,7 @@ PAGE 0:    /* program */
     RESET     : origin = 0x3FFFC0, length = 0x000002   /* boot ROM's reset vector */
 PAGE 1:    /* data */
     RAMM0M1   : origin = 0x000000, length = 0x000800   /* M0 + M1 SARAM, low 64K */
-    RAMH0     : origin = 0x3F8000, length = 0x002000   /* H0 SARAM, zero-wait */
+    RAMH0D    : origin = 0x3F9C00, length = 0x000400   /* H0 SARAM (last 1K), zero-wait: state */
 }
 
 SECTIONS
@@ -53,6 +56,18 @@ SECTIONS
                 RUN_START(_f2812_ramfuncs_run_start),
                 PAGE = 0
 
+    ramfuncs_h : {
+                    -l=libdtc_fixmath.a (.text)
+                    -l=libdtc_fixmath.a (.econst)
+                    -l=libdtc_fixmath.a (.switch)
+                }
+                LOAD = FLASH_JC,
+                RUN = RAMH0P,
+                LOAD_START(_f2812_ramfuncs_h_load_start),
+                LOAD_END(_f2812_ramfuncs_h_load_end),
+                RUN_START(_f2812_ramfuncs_h_run_start),
+                PAGE = 0
+
     codestart : > BEGIN,    PAGE = 0
     .text     : > FLASH_JC, PAGE = 0
     .cinit    : > FLASH_JC, PAGE = 0
@@ -61,8 +76,8 @@ SECTIONS
     .econst   : > FLASH_JC, PAGE = 0   /* flash, PAGE 0 (TI note for flash programmers) */
 
     .stack    : > RAMM0M1, PAGE = 1
-    .ebss     : > RAMH0,   PAGE = 1
-    .esysmem  : > RAMH0,   PAGE = 1   /* the firmware allocates nothing; heap size 0 */
+    .ebss     : > RAMH0D,  PAGE = 1
+    .esysmem  : > RAMH0D,  PAGE = 1   /* the firmware allocates nothing; heap size 0 */
 
     .reset    : > RESET,   PAGE = 0, TYPE = DSECT   /* the boot ROM owns the reset vector */
 }

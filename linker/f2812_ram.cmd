@@ -5,23 +5,26 @@
  *
  *   codestart  H0 0x3F8000 (the H0 boot entry)
  *   ramfuncs   the rest of H0 (8190 words), LOAD = RUN: hal_init()'s copy finds load == run
- *   .text/.cinit/.econst (start-up code, RTS, constants outside the firmware library)  L0 (4K)
- *   .ebss      L1 (4K words)
+ *   ramfuncs_h the fixed-point core (libdtc_fixmath.a): L1 (4K words), LOAD = RUN
+ *   .text/.cinit/.econst (start-up code, RTS, constants outside the firmware library)  L0 (3K)
+ *   .ebss      the last 1K words of L0
  *   .stack     M0 + M1 (low 64K)
  * Every block is zero-wait SARAM, so timing equals the flash build's ISR timing. The control path
- * (the whole firmware library) gets the largest block, H0, as in the flash build it gets L0+L1:
- * the same ~8K-word budget in both builds (hal/f2812/budget.sh).
+ * (the whole firmware library) gets the largest block, H0, as in the flash build it gets L0+L1,
+ * and the fixed-point core L1 (4K words; 7K in the flash build): hal/f2812/budget.sh checks the
+ * smaller figures.
  */
 MEMORY
 {
 PAGE 0:    /* program */
     BEGINH0   : origin = 0x3F8000, length = 0x000002   /* boot-to-H0 entry */
     RAMH0     : origin = 0x3F8002, length = 0x001FFE   /* H0 SARAM: ramfuncs */
-    RAML0     : origin = 0x008000, length = 0x001000   /* L0 SARAM: start-up code, constants */
+    RAML0     : origin = 0x008000, length = 0x000C00   /* L0 SARAM: start-up code, constants */
+    RAML1     : origin = 0x009000, length = 0x001000   /* L1 SARAM: ramfuncs_h */
     RESET     : origin = 0x3FFFC0, length = 0x000002
 PAGE 1:    /* data */
     RAMM0M1   : origin = 0x000000, length = 0x000800   /* M0 + M1, low 64K: stack */
-    RAML1     : origin = 0x009000, length = 0x001000   /* L1: controller state */
+    RAML0D    : origin = 0x008C00, length = 0x000400   /* L0 (last 1K): controller state */
 }
 
 SECTIONS
@@ -40,6 +43,17 @@ SECTIONS
                 RUN_START(_f2812_ramfuncs_run_start),
                 PAGE = 0
 
+    ramfuncs_h : {
+                    -l=libdtc_fixmath.a (.text)
+                    -l=libdtc_fixmath.a (.econst)
+                    -l=libdtc_fixmath.a (.switch)
+                }
+                > RAML1,
+                LOAD_START(_f2812_ramfuncs_h_load_start),
+                LOAD_END(_f2812_ramfuncs_h_load_end),
+                RUN_START(_f2812_ramfuncs_h_run_start),
+                PAGE = 0
+
     codestart : > BEGINH0, PAGE = 0
     .text     : > RAML0,   PAGE = 0
     .cinit    : > RAML0,   PAGE = 0
@@ -48,8 +62,8 @@ SECTIONS
     .econst   : > RAML0,   PAGE = 0
 
     .stack    : > RAMM0M1, PAGE = 1
-    .ebss     : > RAML1,   PAGE = 1
-    .esysmem  : > RAML1,   PAGE = 1
+    .ebss     : > RAML0D,  PAGE = 1
+    .esysmem  : > RAML0D,  PAGE = 1
 
     .reset    : > RESET,   PAGE = 0, TYPE = DSECT
 }

@@ -6,11 +6,13 @@
 #   usage: hal/f2812/budget.sh PROJECT_ROOT     (after: cmake --build --preset cross-cm0 / cross-avr)
 #
 # What is counted
-#   firmware   the members of libdtc_firmware.a that the image links (those f2812_main.c and the
-#              HAL reference, directly or not: a linker pulls only referenced archive members, so a
-#              control law the application does not call is not in the image). linker/f2812_*.cmd
-#              places all of them in ramfuncs (.text and the constant tables), so all of them are
-#              ISR path. The members are found by a relocatable link of the proxy objects (ld -r -M).
+#   firmware   the members of libdtc_firmware.a and libdtc_fixmath.a that the image links (those
+#              f2812_main.c and the HAL reference, directly or not: a linker pulls only referenced
+#              archive members, so a control law the application does not call is not in the image).
+#              linker/f2812_*.cmd places all of them in zero-wait RAM (.text and the constant
+#              tables): libdtc_firmware.a in ramfuncs (L0+L1; H0 in the RAM build), libdtc_fixmath.a
+#              in ramfuncs_h (7K words of H0; L1 in the RAM build), so all of them are ISR path. The
+#              members are found by a relocatable link of the proxy objects (ld -r -M).
 #   hal        libhal_f2812.a without the register blocks (RAM on the proxies, peripheral frames on
 #              the DSP); the ISR-path part is the functions marked F2812_RAMFUNC in hal/f2812/*.c
 #              and target/f2812/*.c.
@@ -33,10 +35,15 @@ avr=$root/build/cross-avr
 # after the 2-word boot entry).
 RAMFUNCS_FLASH_WORDS=8192
 RAMFUNCS_RAM_WORDS=8190
+# ramfuncs_h (the fixed-point core): H0's first 7K words (flash build), L1 (RAM build).
+RAMFUNCS_H_FLASH_WORDS=7168
+RAMFUNCS_H_RAM_WORDS=4096
 
 need() { [ -f "$1" ] || { echo "budget: $1 not found (build the cross presets first)" >&2; exit 2; }; }
-for f in "$cm0/firmware/libdtc_firmware.a" "$cm0/hal/f2812/libhal_f2812.a" \
-         "$avr/firmware/libdtc_firmware.a" "$avr/hal/f2812/libhal_f2812.a"; do need "$f"; done
+for f in "$cm0/firmware/libdtc_firmware.a" "$cm0/firmware/libdtc_fixmath.a" "$cm0/hal/f2812/libhal_f2812.a" \
+         "$avr/firmware/libdtc_firmware.a" "$avr/firmware/libdtc_fixmath.a" "$avr/hal/f2812/libhal_f2812.a"; do
+  need "$f"
+done
 cm0_main=$(find "$cm0/target/f2812" -name 'f2812_main.c.obj' | head -1)
 avr_main=$(find "$avr/target/f2812" -name 'f2812_main.c.obj' | head -1)
 need "$cm0_main"; need "$avr_main"
@@ -68,21 +75,25 @@ ramfuncs=$(grep -ho 'F2812_RAMFUNC([a-z0-9_]*)' "$root"/hal/f2812/*.c "$root"/ta
 
 # The firmware archive's members that a link of main + HAL pulls in, extracted into $tmp/<label>.
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-linked_fw_members() { # $1 = label, $2 = ld tool, $3 = build dir, $4 = main obj; prints object paths
-  local dir="$tmp/$1" ar_tool=${2%ld}ar members
+linked_members() { # $1 = label, $2 = ld tool, $3 = build dir, $4 = main obj, $5 = archive name
+  local dir="$tmp/$1/$5" ar_tool=${2%ld}ar members
   mkdir -p "$dir"
   members=$("$2" -r -M -o "$dir/all.o" "$4" --start-group "$3/hal/f2812/libhal_f2812.a" \
-              "$3/firmware/libdtc_firmware.a" --end-group 2>/dev/null |
-            grep -o 'libdtc_firmware\.a([A-Za-z0-9_.]*)' | sed 's/.*(\(.*\))/\1/' | sort -u)
-  [ -n "$members" ] || { echo "budget: no firmware member linked for $1" >&2; exit 2; }
-  local archive; archive=$(realpath "$3/firmware/libdtc_firmware.a")
+              "$3/firmware/libdtc_firmware.a" "$3/firmware/libdtc_fixmath.a" --end-group 2>/dev/null |
+            grep -o "$5\\.a([A-Za-z0-9_.]*)" | sed 's/.*(\(.*\))/\1/' | sort -u)
+  [ -n "$members" ] || { echo "budget: no $5 member linked for $1" >&2; exit 2; }
+  local archive; archive=$(realpath "$3/firmware/$5.a")
   (cd "$dir" && "$ar_tool" x "$archive" $members)
   for m in $members; do echo "$dir/$m"; done
 }
 report() { # $1 = label, $2 = size tool, $3 = nm tool, $4 = build dir, $5 = main obj, $6 = ld tool
-  local fw_list; fw_list=$(linked_fw_members "$1" "$6" "$4" "$5") || exit 2
+  local fw_list fx_list
+  fw_list=$(linked_members "$1" "$6" "$4" "$5" libdtc_firmware) || exit 2
+  fx_list=$(linked_members "$1" "$6" "$4" "$5" libdtc_fixmath) || exit 2
   mapfile -t fw_objs <<< "$fw_list"
+  mapfile -t fx_objs <<< "$fx_list"
   read -r fw_t fw_r fw_d fw_b < <(sum_sections "$2" "${fw_objs[@]}")
+  read -r fx_t fx_r fx_d fx_b < <(sum_sections "$2" "${fx_objs[@]}")
   read -r hal_t hal_r hal_d hal_b < <(sum_sections "$2" "$4/hal/f2812/libhal_f2812.a")
   read -r reg_d reg_b < <(reg_bytes "$3" "$4/hal/f2812/libhal_f2812.a")
   hal_d=$((hal_d - reg_d)); hal_b=$((hal_b - reg_b))
@@ -90,6 +101,7 @@ report() { # $1 = label, $2 = size tool, $3 = nm tool, $4 = build dir, $5 = main
   hal_isr=$(sum_symbols "$3" "$ramfuncs" "$4/hal/f2812/libhal_f2812.a" "$5")
   printf '%-9s %-28s %8s %8s %8s %8s\n' "$1" "bytes" ".text" ".rodata" ".data" ".bss"
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "libdtc_firmware.a (linked)" "$fw_t" "$fw_r" "$fw_d" "$fw_b"
+  printf '%-9s %-28s %8d %8d %8d %8d\n' "" "libdtc_fixmath.a (linked)" "$fx_t" "$fx_r" "$fx_d" "$fx_b"
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "libhal_f2812.a (no regs)" "$hal_t" "$hal_r" "$hal_d" "$hal_b"
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "f2812_main.c" "$mn_t" "$mn_r" "$mn_d" "$mn_b"
   printf '%-9s %-28s %8d\n' "" "hal ISR-path functions" "$hal_isr"
@@ -100,29 +112,43 @@ echo "hal ramfuncs: ${ramfuncs//|/ }"
 report cross-cm0 arm-none-eabi-size arm-none-eabi-nm "$cm0" "$cm0_main" arm-none-eabi-ld
 isr_code_bytes=$((fw_t + hal_isr))
 isr_table_bytes=$fw_r
-state_bytes=$((fw_d + fw_b + hal_d + hal_b + mn_d + mn_b))
+fx_code_bytes=$fx_t
+fx_table_bytes=$fx_r
+state_bytes=$((fw_d + fw_b + fx_d + fx_b + hal_d + hal_b + mn_d + mn_b))
 report cross-avr avr-size avr-nm "$avr" "$avr_main" avr-ld
 
-nom=$(( (isr_code_bytes + 1) / 2 ))
-pess=$(( (isr_code_bytes * 3 + 3) / 4 ))
-tables=$(( (isr_table_bytes + 1) / 2 ))
-state=$(( (state_bytes + 1) / 2 ))
+words_nom() { echo $(( ($1 + 1) / 2 )); }
+words_pess() { echo $(( ($1 * 3 + 3) / 4 )); }
+pct() { echo $((100 * $1 / $2)); }
+nom=$(words_nom "$isr_code_bytes"); pess=$(words_pess "$isr_code_bytes"); tables=$(words_nom "$isr_table_bytes")
+fx_nom=$(words_nom "$fx_code_bytes"); fx_pess=$(words_pess "$fx_code_bytes"); fx_tables=$(words_nom "$fx_table_bytes")
+state=$(words_nom "$state_bytes")
 total_pess=$((pess + tables))
+fx_total_pess=$((fx_pess + fx_tables))
 echo
-echo "ISR path in ramfuncs (from cross-cm0; C28x 16-bit words, ESTIMATE):"
-printf '  code   %6d words nominal (Thumb bytes/2), %6d words pessimistic (x1.5)\n' "$nom" "$pess"
-printf '  tables %6d words (constant data of the firmware, copied with the code)\n' "$tables"
-printf '  state  %6d words (.ebss: RAMH0 in the flash build, RAML1 in the RAM build)\n' "$state"
-printf '  ramfuncs pessimistic total %d words: flash build L0+L1 %d words (%d%%), RAM build H0 %d words (%d%%)\n' \
-  "$total_pess" "$RAMFUNCS_FLASH_WORDS" $((100 * total_pess / RAMFUNCS_FLASH_WORDS)) \
-  "$RAMFUNCS_RAM_WORDS" $((100 * total_pess / RAMFUNCS_RAM_WORDS))
+echo "ISR path in zero-wait RAM (from cross-cm0; C28x 16-bit words, ESTIMATE):"
+printf '  ramfuncs   code %6d words nominal (Thumb bytes/2), %6d pessimistic (x1.5); tables %d words\n' \
+  "$nom" "$pess" "$tables"
+printf '             pessimistic total %d words: flash build L0+L1 %d words (%d%%), RAM build H0 %d words (%d%%)\n' \
+  "$total_pess" "$RAMFUNCS_FLASH_WORDS" "$(pct "$total_pess" "$RAMFUNCS_FLASH_WORDS")" \
+  "$RAMFUNCS_RAM_WORDS" "$(pct "$total_pess" "$RAMFUNCS_RAM_WORDS")"
+printf '  ramfuncs_h code %6d words nominal, %6d pessimistic; tables %d words (fixed-point core)\n' \
+  "$fx_nom" "$fx_pess" "$fx_tables"
+printf '             pessimistic total %d words: flash build H0 %d words (%d%%), RAM build L1 %d words (%d%%)\n' \
+  "$fx_total_pess" "$RAMFUNCS_H_FLASH_WORDS" "$(pct "$fx_total_pess" "$RAMFUNCS_H_FLASH_WORDS")" \
+  "$RAMFUNCS_H_RAM_WORDS" "$(pct "$fx_total_pess" "$RAMFUNCS_H_RAM_WORDS")"
+printf '  state      %6d words (.ebss: last 1K words of H0 in the flash build, of L0 in the RAM build)\n' "$state"
 status=0
 if [ "$total_pess" -gt "$RAMFUNCS_RAM_WORDS" ] || [ "$total_pess" -gt "$RAMFUNCS_FLASH_WORDS" ]; then
   echo "budget: the ISR path (pessimistic estimate) does NOT fit the ramfuncs RAM blocks" >&2
   status=1
 fi
-if [ "$state" -gt 4096 ]; then
-  echo "budget: controller state exceeds RAML1 (4096 words) of the RAM build" >&2
+if [ "$fx_total_pess" -gt "$RAMFUNCS_H_RAM_WORDS" ] || [ "$fx_total_pess" -gt "$RAMFUNCS_H_FLASH_WORDS" ]; then
+  echo "budget: the fixed-point core (pessimistic estimate) does NOT fit the ramfuncs_h RAM blocks" >&2
+  status=1
+fi
+if [ "$state" -gt 1024 ]; then
+  echo "budget: controller state exceeds the 1K words .ebss has in either build" >&2
   status=1
 fi
 [ $status -eq 0 ] && echo "budget: fits (estimate; confirm with the cl2000 map file, docs/f2812.md)"

@@ -169,7 +169,11 @@ namespace {
 /// the diodes (a rectifier), which the calibration sees as an offset.
 void name_fault(const Scenario& sc, RunInfo* info)
 {
-    if (info->fault == "adc_offset") {
+    // The firmware sees rectifier current first as an ADC offset, or, when it is large, as a
+    // latched hardware trip or an over-current: whichever it names, the cause is the same.
+    const bool calibration_fault =
+        info->fault == "adc_offset" || info->fault == "hw_trip" || info->fault == "overcurrent";
+    if (calibration_fault) {
         const double w_e = std::fabs(sc.initial_speed_rpm) * kPi / 30.0 * static_cast<double>(sc.motor.pole_pairs);
         const double e_line_pk = std::sqrt(3.0) * sc.motor.psi_m_wb * w_e;
         const double v_link = sc.inverter.topology == "fstp" ? 0.5 * sc.inverter.vdc_v : sc.inverter.vdc_v;
@@ -178,11 +182,11 @@ void name_fault(const Scenario& sc, RunInfo* info)
             std::snprintf(line, sizeof line,
                           "rectifier conduction during the gates-off offset calibration: line back-EMF peak "
                           "%.1f V at initial_speed_rpm = %g exceeds the %.1f V the diodes block (firmware fault "
-                          "adc_offset)",
-                          e_line_pk, sc.initial_speed_rpm, v_link);
+                          "%s)",
+                          e_line_pk, sc.initial_speed_rpm, v_link, info->fault.c_str());
             info->fault = "rectifier_conduction";
             info->fault_detail = line;
-        } else {
+        } else if (info->fault == "adc_offset") {
             info->fault_detail = "current-sensor offset calibration out of range (gates off)";
         }
     }
