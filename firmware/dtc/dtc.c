@@ -67,7 +67,6 @@ int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg)
     c->fe_p.psi_m_iq = cfg->psi_m_iq;
     c->fe_p.enc_gain_q16 = cfg->enc_gain_q16;
     c->fe_p.enc_offset = cfg->enc_offset;
-    c->fe_p.cm_guide = cfg->vm_cm_guide;
     vcomp_init(&c->vc_p, cfg->compensation, cfg->v_f_iq, cfg->v_ce_iq, cfg->v_d_iq, cfg->r_on_iq);
     c->sm_p.enc_counts = cfg->enc_counts;
     c->sm_p.k_speed_iq = cfg->speed_k_iq;

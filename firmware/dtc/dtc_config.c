@@ -27,7 +27,7 @@ int16_t dtc_config_validate(const dtc_config_t *cfg)
     if (cfg->rs_iq < 0 || cfg->ls_iq <= 0 || cfg->psi_m_iq <= 0) {
         return DTC_ERR_MACHINE;
     }
-    if (cfg->k_in_q31 <= 0 || cfg->k_leak_q31 <= 0 || cfg->vm_cm_guide > 1U) {
+    if (cfg->k_in_q31 <= 0 || cfg->k_leak_q31 <= 0) {
         return DTC_ERR_FLUX_EST;
     }
     if (cfg->enc_counts < 4U || cfg->enc_gain_q16 == 0U || cfg->enc_gain_q16 > DTC_ENC_GAIN_MAX ||

@@ -113,8 +113,6 @@ struct dtc_config {
      * no hand-over, the voltage model runs from standstill (seeded once after a reset). */
     iq_t handover_speed_iq;   /* >= 0 */
     iq_t handover_hyst_iq;    /* 0 <= hyst <= handover_speed_iq */
-    uint16_t vm_cm_guide;     /* 1: the voltage model is guided by the current model below w_c
-                               * (flux_est.c flux_est_guided), 0: plain low-pass */
 
     /* Actuation-delay compensation (dtc.c dtc_predict): the vector chosen at step k acts in
      * period k+1, so the comparators and the sector work on the flux and torque predicted for

@@ -52,7 +52,6 @@ typedef struct {
     iq_t psi_m_iq;
     uint32_t enc_gain_q16; /* angle_t LSB per count, unsigned Q16 */
     angle_t enc_offset;
-    uint16_t cm_guide;     /* 1: voltage model guided by the current model (flux_est_step) */
 } flux_est_params_t;
 
 typedef struct {
@@ -60,8 +59,6 @@ typedef struct {
     iq_t psi_alpha_iq; /* 32-bit state: see above */
     iq_t psi_beta_iq;
     angle_t theta_e;   /* last electrical angle (current model; also reported) */
-    iq_t u_alpha_iq;   /* current-model guide: integral state (flux_est_step) */
-    iq_t u_beta_iq;
 } flux_est_t;
 
 /* Input of one step: the voltage applied over the last period (already including the

@@ -26,7 +26,6 @@ const dtc_config_t g_dtc_config = {
     .ts_pu_iq = 263536, /* 0.0157079697 pu */
     .inv_ls_iq = 532665660, /* 31.7493474 pu */
     .deadtime_comp = 1U,
-    .vm_cm_guide = 0U,
     .td_ts_q15 = 655, /* T_d / T_s, Q15 */
     .enc_counts = 8000U,
     .enc_gain_q16 = 536871U,

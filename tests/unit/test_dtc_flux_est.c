@@ -54,7 +54,6 @@ static void params_from_cfg(flux_est_params_t *p, uint16_t est)
     p->psi_m_iq = g_cfg.psi_m_iq;
     p->enc_gain_q16 = g_cfg.enc_gain_q16;
     p->enc_offset = g_cfg.enc_offset;
-    p->cm_guide = 0U;
 }
 
 static void test_current_model_matches_eqs_8_9(void **state)
@@ -255,61 +254,10 @@ static void test_voltage_model_offset_does_not_drift(void **state)
     assert_int_equal(s.psi_alpha_iq, 0);
 }
 
-/* Guided voltage model (flux_est_guided): the same 0.01 pu DC error that settles the low-pass
- * at 0.628 pu above is rejected: with zero current and the encoder at count 0 the estimate
- * settles on the current model's (psi_m, 0), and the integral state at -e/a * k_in, i.e. -b/w_c
- * in flux units: -0.628 pu. At 100 rpm with ideal inputs (e = j w psi_m e^{j w t}) it tracks the
- * true flux with no low-pass gain/phase error (the plain low-pass is 9.8 % / 25.5 deg off). */
-static void test_voltage_model_guided(void **state)
-{
-    (void)state;
-    flux_est_params_t p;
-    flux_est_t s;
-    params_from_cfg(&p, DTC_EST_VOLTAGE);
-    p.rs_iq = 0;
-    p.cm_guide = 1U;
-    flux_est_init(&s, &p);
-    flux_est_in_t in = {IQ(0.01), IQ(-0.01), 0, 0, 0U};
-    for (long k = 0; k < 200000; k++) {
-        flux_est_step(&s, &in);
-    }
-    const double psim = fixtest_iq_to_d(p.psi_m_iq);
-    assert_true(fabs(fixtest_iq_to_d(s.psi_alpha_iq) - psim) < 1e-3);
-    assert_true(fabs(fixtest_iq_to_d(s.psi_beta_iq)) < 1e-3);
-    assert_true(fabs(fixtest_iq_to_d(s.u_alpha_iq) + 0.01 / (5.0 / g_wbase)) < 2e-3);
-
-    /* 100 rpm, ideal: the flux turns at w; e = d psi/dt; the encoder follows the angle. */
-    flux_est_reset(&s);
-    const double w = 100.0 * DTC_REF_PI / 30.0 / g_wbase; /* pu, p = 1 */
-    double worst = 0.0;
-    for (long k = 0; k < 200000; k++) {
-        double th = w * g_tspu * (double)k;
-        double thm = th + 0.5 * w * g_tspu; /* mid-period: the exact mean of the rotating e */
-        flux_est_in_t ik;
-        ik.v_alpha_iq = fixtest_d_to_iq(-w * psim * sin(thm));
-        ik.v_beta_iq = fixtest_d_to_iq(w * psim * cos(thm));
-        ik.i_alpha_iq = 0;
-        ik.i_beta_iq = 0;
-        ik.enc_count = (uint16_t)fmod(floor(th / (2.0 * DTC_REF_PI) * 8000.0), 8000.0);
-        flux_est_step(&s, &ik);
-        if (k > 100000) {
-            double t1 = w * g_tspu * (double)(k + 1);
-            double ea = fixtest_iq_to_d(s.psi_alpha_iq) - psim * cos(t1);
-            double eb = fixtest_iq_to_d(s.psi_beta_iq) - psim * sin(t1);
-            double e = sqrt(ea * ea + eb * eb);
-            worst = e > worst ? e : worst;
-        }
-    }
-    print_message("[ MEASURE  ] guided voltage model at 100 rpm: worst flux error %.4f %% of psi_m\n",
-                  100.0 * worst / psim);
-    assert_true(worst < 0.01 * psim);
-}
-
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_current_model_matches_eqs_8_9),
-        cmocka_unit_test(test_voltage_model_guided),
         cmocka_unit_test(test_encoder_angle),
         cmocka_unit_test(test_lpf_step_lsb_and_saturation),
         cmocka_unit_test(test_voltage_model_1500rpm),

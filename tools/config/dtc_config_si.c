@@ -44,7 +44,6 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->handover_speed_rpm = 0.0;
     si->handover_hyst_frac = 0.2; /* back below 80 %: well clear of the speed ripple */
     si->delay_comp = 1;
-    si->vm_cm_guide = 0;
     si->deadtime_comp = 1;
     si->dead_time_s = 1e-6; /* IRAMY20UP60B module, as the plant (docs/plant.md) */
     si->pi_from_bandwidth = 1;
@@ -199,8 +198,6 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
         return fail(&c, DTC_SI_ERR_CUTOFF, "lpf_cutoff_rad_s = %g: at or above the Nyquist rate pi/ts_s = %g rad/s", si->lpf_cutoff_rad_s, M_PI / si->ts_s);
     if (!(si->handover_auto != 0 || si->handover_speed_rpm >= 0.0))
         return fail(&c, DTC_SI_ERR_HANDOVER, "handover_speed_rpm = %g: must be >= 0 (0 = voltage model from standstill)", si->handover_speed_rpm);
-    if (si->vm_cm_guide != 0 && si->vm_cm_guide != 1)
-        return fail(&c, DTC_SI_ERR_CUTOFF, "vm_cm_guide = %d: must be 0 or 1", si->vm_cm_guide);
     if (si->delay_comp != 0 && si->delay_comp != 1)
         return fail(&c, DTC_SI_ERR_DELAY, "delay_comp = %d: must be 0 or 1", si->delay_comp);
     if (si->deadtime_comp != 0 && si->deadtime_comp != 1)
@@ -294,7 +291,6 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     }
 
     cfg->delay_comp = (uint16_t)si->delay_comp;
-    cfg->vm_cm_guide = (uint16_t)si->vm_cm_guide;
     cfg->deadtime_comp = (uint16_t)si->deadtime_comp;
     cfg->td_ts_q15 = (q15_t)lround(32768.0 * si->dead_time_s / si->ts_s);
     cfg->ts_pu_iq = to_iq(&c, "ts_s", si->ts_s, si->ts_s * b.w_base_rad_s);
@@ -395,7 +391,7 @@ int dtc_config_emit_c(const dtc_config_t *cfg, const char *symbol, FILE *f)
     EQ31(k_in_q31); EQ31(k_leak_q31);
     EIQ(handover_speed_iq); EIQ(handover_hyst_iq);
     EU(delay_comp); EIQ(ts_pu_iq); EIQ(inv_ls_iq);
-    EU(deadtime_comp); EU(vm_cm_guide);
+    EU(deadtime_comp);
     EMIT("    .td_ts_q15 = %d, /* T_d / T_s, Q15 */\n", (int)cfg->td_ts_q15);
     EU(enc_counts); EU(enc_gain_q16); EU(enc_offset);
     EIQ(v_f_iq); EIQ(v_ce_iq); EIQ(v_d_iq); EIQ(r_on_iq);

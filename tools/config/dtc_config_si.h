@@ -69,7 +69,6 @@ typedef struct {
     double handover_speed_rpm; /* voltage model: current model below it (0 = none), >= 0 */
     double handover_hyst_frac; /* back to the current model below (1 - frac) * handover, [0, 1] */
     int delay_comp;         /* 1: actuation-delay compensation (predict k+1), 0: off */
-    int vm_cm_guide;        /* 1: voltage model guided by the current model below the cut-off */
     int deadtime_comp;      /* 1: dead-time compensation of the reconstructed voltage, 0: off */
     double dead_time_s;     /* the inverter's dead time (the gate driver's setting) */
     int pi_from_bandwidth;  /* 1: kp, ki from speed_bw_rad_s and inertia_kgm2 */

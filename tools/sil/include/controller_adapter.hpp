@@ -77,7 +77,6 @@ struct FirmwareSiConfig {
     int handover_given; // 0: the converter derives the hand-over speed
     double handover_rpm, handover_hyst_frac;
     int delay_comp;
-    int cm_guide;
     int deadtime_comp;
     double dead_time_s; // the gate driver's setting (inverter.dead_time_s, also when not modelled)
     double speed_kp_nm_per_rad_s, speed_ki_nm_per_rad;

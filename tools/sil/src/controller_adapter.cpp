@@ -61,7 +61,6 @@ FirmwareSiConfig firmware_si_config(const Scenario& sc)
     c.handover_rpm = sc.control.handover_rpm;
     c.handover_hyst_frac = sc.control.handover_hyst_frac;
     c.delay_comp = sc.control.delay_comp ? 1 : 0;
-    c.cm_guide = sc.control.cm_guide ? 1 : 0;
     c.deadtime_comp = sc.control.deadtime_comp ? 1 : 0;
     c.dead_time_s = sc.inverter.dead_time_s;
     const SpeedPiGains g = speed_pi_gains(sc.motor.j_kgm2, sc.control.speed_bw_hz);

@@ -70,7 +70,6 @@ void fill_si(const FirmwareSiConfig& c, const Scenario& sc, dtc_config_si_t* si)
     si->handover_speed_rpm = c.handover_rpm;
     si->handover_hyst_frac = c.handover_hyst_frac;
     si->delay_comp = c.delay_comp;
-    si->vm_cm_guide = c.cm_guide;
     si->deadtime_comp = c.deadtime_comp;
     si->dead_time_s = c.dead_time_s;
     si->pi_from_bandwidth = 1;

@@ -240,10 +240,6 @@ const std::vector<Spec>& schema()
              }},
         num("control.handover_hyst_frac", "", closed(0.0, 1.0),
             "back to the current model below (1 - frac) * control.handover_rpm", ACC(control.handover_hyst_frac)),
-        boolean("control.cm_guide",
-                 "firmware, voltage model: guided by the current model (encoder) below the low-pass cut-off "
-                 "instead of leaking to zero (no low-pass gain/phase error, DC voltage errors rejected)",
-                 ACC(control.cm_guide)),
         boolean("control.delay_comp",
                  "firmware: actuation-delay compensation, the comparators and the sector work on the flux and "
                  "torque predicted for the period the chosen vector acts in (false: on the estimate)",
