@@ -109,6 +109,7 @@ void dtc_reset(dtc_t *c)
     c->div_cnt = 0U;
     c->legs_1 = off;
     c->legs_2 = off;
+    c->legs_3 = off;
     c->vec_1 = cfg->topology == DTC_TOPO_FSTP ? 1U : 0U;
     c->te_ref_iq = c->act.mode == DTC_MODE_TORQUE ? c->act.torque_ref_iq : 0;
     c->speed_iq = 0;
@@ -165,10 +166,11 @@ void dtc_shadow_adopt(dtc_t *c, uint16_t seq)
  * (as dtc_shadow_adopt): inlined, its 64-bit temporaries would sit in dtc_step's frame on the
  * deepest stack path (budget: tools/bench, <= 256 bytes on the Cortex-M0 proxy).
  *
- * Mean-torque trim. With zero (or small) bands the torque comparator's decision acts one period
- * late (hal.h) and the torque rises and falls at different rates, so the bang-bang loop settles
- * with a mean offset from the reference (about -22 % with the Table VIII machine on the FSTP at
- * 1500 rpm, tests/unit/test_dtc_step.c). In speed mode the speed PI absorbs it; in torque mode a
+ * Mean-torque trim. With zero (or small) bands the torque rises and falls at different rates
+ * within a period, and without the delay compensation the comparator's decision also acts one
+ * period late (hal.h), so the bang-bang loop settles with a mean offset from the reference (Table
+ * VIII machine, FSTP, 1500 rpm, tests/unit/test_dtc_step.c: -22 % without, -12 % with the delay
+ * compensation; the rate asymmetry is what the prediction does not remove). In speed mode the speed PI absorbs it; in torque mode a
  * slow integrator on the estimated-torque error does: trim += k * (T* - T_est), k = Ts/tau,
  * limited to a quarter of the torque limit, reset on every mode change and at reset; the trimmed
  * reference still respects the torque limit.
@@ -201,6 +203,89 @@ static void dtc_handover(dtc_t *c)
     } else if (w < iq_sub(cfg->handover_speed_iq, cfg->handover_hyst_iq)) {
         c->on_cm = 1U;
     }
+}
+
+/* Dead-time error of one leg over one period: the leg changed state at the period's start
+ * (prev -> cur) and for T_d both devices were off, so the phase current's free-wheeling diode
+ * set the leg voltage: turning on the upper device with the current leaving the leg (i > 0), the
+ * lower diode kept the leg at 0 for T_d: -V_dc T_d/T_s on the period's mean; turning it off with
+ * the current entering (i < 0), the upper diode kept it at V_dc: +V_dc T_d/T_s. Otherwise the
+ * current commutates at once and there is no error. The sign of the sampled current decides. */
+static iq_t dtc_leg_dt(uint16_t prev, uint16_t cur, iq_t i, iq_t e)
+{
+    if (prev == 0U && cur != 0U && i > 0) {
+        return fix_neg32(e);
+    }
+    if (prev != 0U && cur == 0U && i < 0) {
+        return e;
+    }
+    return 0;
+}
+
+/* Dead-time compensation (Casadei sec. 10.5): the leg errors of dtc_leg_dt through the same
+ * leg-to-alpha/beta transform as the reconstruction (vrec_from_legs, Hoang eqs. 1-5; FSTP: leg A
+ * is the mid-point and never switches). Phase currents from the two measured ones (clarke.h:
+ * SSTP a, b; FSTP b, c), the third by Kirchhoff. Scaling: e = V_dc * T_d/T_s (IQ x Q15, rounded),
+ * the leg errors are 0 or +-e, vrec_from_legs saturates. */
+void dtc_deadtime(const dtc_t *c, const dtc_meas_t *m, const swtab_legs_t *prev,
+                  const swtab_legs_t *cur, iq_t *dva, iq_t *dvb)
+{
+    const dtc_config_t *cfg = c->cfg;
+    iq_t e = iq_mpy_q15(m->vdc_iq, cfg->td_ts_q15);
+    iq_t ia, ib, ic, ea;
+    if (cfg->topology == DTC_TOPO_FSTP) {
+        ib = m->ib_iq;
+        ic = m->ic_iq;
+        ia = fix_neg32(fix_add32(ib, ic));
+        ea = 0;
+    } else {
+        ia = m->ia_iq;
+        ib = m->ib_iq;
+        ic = fix_neg32(fix_add32(ia, ib));
+        ea = dtc_leg_dt(prev->sa, cur->sa, ia, e);
+    }
+    vrec_from_legs(ea, dtc_leg_dt(prev->sb, cur->sb, ib, e), dtc_leg_dt(prev->sc, cur->sc, ic, e),
+                   dva, dvb);
+}
+
+/* Actuation-delay compensation. The leg states legs_1 (returned by the previous step) act
+ * during the period that starts now, so the vector chosen here acts from k+1 on: the
+ * comparators and the sector must see the machine at k+1. Prediction over one period Ts:
+ *   stator flux (Hoang eqs. 15-16, 37-38 when compensated, over one period with the committed
+ *   vector; dead time as in dtc_deadtime when on): dpsi = Ts (v(legs_1) + v_f - r_s i),
+ *   psi(k+1) = psi + dpsi;
+ *   current (PM machine, Hoang eqs. 6-9 with L_d = L_q: psi = l_s i + psi_r, the rotor flux
+ *   psi_r = psi_m e^{j theta} turning at w): psi_r = psi - l_s i, dpsi_r = w Ts j psi_r,
+ *   i(k+1) = i + (dpsi - dpsi_r) / l_s;
+ *   torque (eq. 10) of psi(k+1), i(k+1).
+ * w is the measured electrical speed (speed-loop rate; it changes little within 500 us).
+ * dtc_step reconstructs v(legs_1) into c->v1_* and the drop (c->v1f_*) and dead-time (c->v1d_*)
+ * compensations in force; dtc_predict does the rest (split for the stack: no call chain holds
+ * two of these frames).
+ * Formats: IQ pu throughout; ts_pu (~0.016) and 1/l_s (~32 pu for Table VIII) from the config.
+ * Scaling and overflow: every product is a rounded iq_mpy (64-bit intermediate), every sum
+ * saturates: |dpsi| <= Ts_pu (|v| + r_s |i|) stays far below 1 pu for any measured input; the
+ * current step (dpsi - dpsi_r)/l_s saturates at +-128 pu in the worst case (no wrap). */
+void dtc_predict(const dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t *te)
+{
+    const dtc_config_t *cfg = c->cfg;
+    iq_t dpa, dpb, wts, ia1, ib1;
+
+    dpa = fix_add32(fix_add32(c->v1_alpha_iq, c->v1f_alpha_iq), c->v1d_alpha_iq);
+    dpb = fix_add32(fix_add32(c->v1_beta_iq, c->v1f_beta_iq), c->v1d_beta_iq);
+    dpa = iq_mpy(cfg->ts_pu_iq, iq_sub(dpa, iq_mpy(cfg->rs_iq, i->i_alpha_iq)));
+    dpb = iq_mpy(cfg->ts_pu_iq, iq_sub(dpb, iq_mpy(cfg->rs_iq, i->i_beta_iq)));
+    wts = iq_mpy(c->speed_iq, cfg->ts_pu_iq);
+    /* psi_r = psi - l_s i;  j psi_r w Ts = (-w Ts psi_rb, w Ts psi_ra) */
+    ia1 = iq_add(i->i_alpha_iq,
+                 iq_mpy(cfg->inv_ls_iq,
+                        fix_add32(dpa, iq_mpy(wts, iq_sub(*psi_b, iq_mpy(cfg->ls_iq, i->i_beta_iq))))));
+    ib1 = iq_add(i->i_beta_iq,
+                 iq_mpy(cfg->inv_ls_iq,
+                        iq_sub(dpb, iq_mpy(wts, iq_sub(*psi_a, iq_mpy(cfg->ls_iq, i->i_alpha_iq))))));
+    *psi_a = fix_add32(*psi_a, dpa);
+    *psi_b = fix_add32(*psi_b, dpb);
+    *te = torque_eq10(*psi_a, *psi_b, ia1, ib1);
 }
 
 void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
@@ -247,6 +332,11 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         vcomp_step(&c->vc_p, c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, &i, &vfa, &vfb);
         fin.v_alpha_iq = fix_add32(fin.v_alpha_iq, vfa);
         fin.v_beta_iq = fix_add32(fin.v_beta_iq, vfb);
+        if (cfg->deadtime_comp != 0U) {
+            dtc_deadtime(c, m, &c->legs_3, &c->legs_2, &vfa, &vfb);
+            fin.v_alpha_iq = fix_add32(fin.v_alpha_iq, vfa);
+            fin.v_beta_iq = fix_add32(fin.v_beta_iq, vfb);
+        }
     }
     if (cfg->estimator == DTC_EST_VOLTAGE && (c->speed_primed == 0U || c->on_cm != 0U)) {
         /* First step after a reset, and every step below the hand-over speed: the current model
@@ -259,11 +349,11 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     psi_a = c->fe.psi_alpha_iq;
     psi_b = c->fe.psi_beta_iq;
 
-    /* 4. Torque (Hoang eq. 10), |psi|^2 (eq. 11 squared: the flux comparator works on it, so the
-     *    ISR takes no square root), sector. */
+    /* 4. Torque (Hoang eq. 10); the estimate at k is reported as it is. */
     te = torque_eq10(psi_a, psi_b, i.i_alpha_iq, i.i_beta_iq);
-    mag2 = iq_sumsq_q48(psi_a, psi_b);
-    sector = cfg->topology == DTC_TOPO_FSTP ? sector_fstp(psi_a, psi_b) : sector_sstp(psi_a, psi_b);
+    o->psi_alpha_iq = psi_a;
+    o->psi_beta_iq = psi_b;
+    o->te_iq = te;
 
     /* 5. Speed loop every speed_div-th call (the first call of each group). */
     o->speed_tick = 0U;
@@ -284,7 +374,29 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         dtc_torque_trim(c, te);
     }
 
-    /* 6. Hysteresis comparators (Hoang eqs. 13-14, Casadei section 4). */
+    /* 6. Flux and torque for the comparators: the prediction for k+1 when the delay
+     *    compensation is on (dtc_predict), else the estimate at k; |psi|^2 (eq. 11 squared: the
+     *    flux comparator works on it, so the ISR takes no square root), sector.
+     *    Hysteresis comparators (Hoang eqs. 13-14, Casadei section 4). */
+    if (cfg->delay_comp != 0U) {
+        if (cfg->topology == DTC_TOPO_FSTP) {
+            vrec_fstp(c->legs_1.sb, c->legs_1.sc, m->vdc_iq, m->vmid_iq, cfg->fstp_vmid_measured,
+                      &c->v1_alpha_iq, &c->v1_beta_iq);
+        } else {
+            vrec_sstp(c->legs_1.sa, c->legs_1.sb, c->legs_1.sc, m->vdc_iq, &c->v1_alpha_iq,
+                      &c->v1_beta_iq);
+        }
+        vcomp_step(&c->vc_p, c->legs_1.sa, c->legs_1.sb, c->legs_1.sc, &i, &c->v1f_alpha_iq,
+                   &c->v1f_beta_iq);
+        c->v1d_alpha_iq = 0;
+        c->v1d_beta_iq = 0;
+        if (cfg->deadtime_comp != 0U) {
+            dtc_deadtime(c, m, &c->legs_2, &c->legs_1, &c->v1d_alpha_iq, &c->v1d_beta_iq);
+        }
+        dtc_predict(c, &i, &psi_a, &psi_b, &te);
+    }
+    mag2 = iq_sumsq_q48(psi_a, psi_b);
+    sector = cfg->topology == DTC_TOPO_FSTP ? sector_fstp(psi_a, psi_b) : sector_sstp(psi_a, psi_b);
     flux_up = hyst2_sq_step(&c->h_flux, c->act.flux_ref_iq, mag2);
     if (cfg->topology == DTC_TOPO_SSTP && cfg->sstp_table == DTC_ST_BASIC) {
         tdem = hyst3_step(&c->h_torque3, iq_sub(c->te_ref_iq, te));
@@ -305,7 +417,10 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         vec = swtab_null_choice(vec, c->vec_1);
         legs = swtab_sstp_legs(vec);
     }
-    c->legs_2.sa = c->legs_1.sa; /* field by field: no struct copy (memcpy) in the ISR */
+    c->legs_3.sa = c->legs_2.sa; /* field by field: no struct copy (memcpy) in the ISR */
+    c->legs_3.sb = c->legs_2.sb;
+    c->legs_3.sc = c->legs_2.sc;
+    c->legs_2.sa = c->legs_1.sa;
     c->legs_2.sb = c->legs_1.sb;
     c->legs_2.sc = c->legs_1.sc;
     c->legs_1.sa = legs.sa;
@@ -321,9 +436,6 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     o->sector = sector;
     o->flux_up = flux_up;
     o->torque_dem = tdem;
-    o->psi_alpha_iq = psi_a;
-    o->psi_beta_iq = psi_b;
-    o->te_iq = te;
     o->te_ref_iq = c->te_ref_iq;
     o->speed_iq = c->speed_iq;
     o->theta_e = c->fe.theta_e;

@@ -27,6 +27,7 @@
 
 #include <stdint.h>
 
+#include "clarke.h"
 #include "dtc_config.h"
 #include "fixmath.h"
 #include "flux_est.h"
@@ -98,11 +99,14 @@ typedef struct {
     uint16_t speed_primed;
     swtab_legs_t legs_1; /* returned by the previous step: applied during this period */
     swtab_legs_t legs_2; /* returned two steps ago: applied during the period just ended */
+    swtab_legs_t legs_3; /* returned three steps ago: applied before legs_2 (dead time) */
     uint16_t vec_1;      /* vector returned by the previous step */
     iq_t te_ref_iq;
     iq_t te_trim_iq;     /* torque mode: mean-torque trim added to the reference */
     iq_t speed_iq;
     uint16_t on_cm;      /* voltage model with hand-over: 1 while the current model drives */
+    /* delay compensation (dtc_predict): voltage of legs_1, its drop and dead-time terms */
+    iq_t v1_alpha_iq, v1_beta_iq, v1f_alpha_iq, v1f_beta_iq, v1d_alpha_iq, v1d_beta_iq;
 } dtc_t;
 
 /* Validates cfg (dtc_config_validate) and initialises c. Returns DTC_OK or an enum dtc_err code;
@@ -132,6 +136,13 @@ int16_t dtc_shadow_write(dtc_t *c, const dtc_refs_t *r);
 /* Used by dtc_step() (ISR side): adopts the shadow set whose (even) sequence number is seq.
  * Not for the background. */
 void dtc_shadow_adopt(dtc_t *c, uint16_t seq);
+/* Internal to dtc_step (dead-time compensation): the error of the reconstructed voltage of a
+ * period whose legs went from prev to cur, alpha/beta, IQ pu. */
+void dtc_deadtime(const dtc_t *c, const dtc_meas_t *m, const swtab_legs_t *prev,
+                  const swtab_legs_t *cur, iq_t *dva, iq_t *dvb);
+/* Internal to dtc_step (actuation-delay compensation); out of line for the stack. On entry
+ * *psi_a, *psi_b, *te hold the estimate at k; on return the prediction for k+1. */
+void dtc_predict(const dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t *te);
 /* Internal to dtc_step (torque mode: reference plus mean-torque trim); out of line for the stack. */
 void dtc_torque_trim(dtc_t *c, iq_t te);
 

@@ -69,5 +69,11 @@ int16_t dtc_config_validate(const dtc_config_t *cfg)
         cfg->handover_hyst_iq > cfg->handover_speed_iq) {
         return DTC_ERR_HANDOVER;
     }
+    if (cfg->delay_comp > 1U || cfg->ts_pu_iq <= 0 || cfg->inv_ls_iq <= 0) {
+        return DTC_ERR_DELAY;
+    }
+    if (cfg->deadtime_comp > 1U || cfg->td_ts_q15 < 0 || cfg->td_ts_q15 >= Q15(0.5)) {
+        return DTC_ERR_DEADTIME;
+    }
     return DTC_OK;
 }

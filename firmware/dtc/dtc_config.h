@@ -67,7 +67,9 @@ enum dtc_err {
     DTC_ERR_ADC = -13,         /* zero or negative ADC gain, offset outside 12 bits */
     DTC_ERR_BASE = -14,        /* a base value of zero */
     DTC_ERR_LIMIT = -15,       /* trip/limit levels not positive or not ordered */
-    DTC_ERR_HANDOVER = -16     /* hand-over speed < 0, or its hysteresis < 0 or above it */
+    DTC_ERR_HANDOVER = -16,    /* hand-over speed < 0, or its hysteresis < 0 or above it */
+    DTC_ERR_DELAY = -17,       /* delay compensation flag not 0/1, ts_pu or 1/l_s not > 0 */
+    DTC_ERR_DEADTIME = -18     /* dead-time compensation flag not 0/1, T_d/T_s outside [0, 1/2) */
 };
 
 /* Speed measurement: ring of encoder positions at the speed-loop rate (see speed_meas.h). */
@@ -111,6 +113,18 @@ struct dtc_config {
      * no hand-over, the voltage model runs from standstill (seeded once after a reset). */
     iq_t handover_speed_iq;   /* >= 0 */
     iq_t handover_hyst_iq;    /* 0 <= hyst <= handover_speed_iq */
+
+    /* Actuation-delay compensation (dtc.c dtc_predict): the vector chosen at step k acts in
+     * period k+1, so the comparators and the sector work on the flux and torque predicted for
+     * the start of period k+1 from the vector already committed for period k. */
+    uint16_t delay_comp;      /* 1: on (default), 0: comparators on the estimate at k */
+    iq_t ts_pu_iq;            /* Ts * w_base (> 0) */
+    iq_t inv_ls_iq;           /* 1 / l_s, pu (> 0; precomputed: no division in the ISR) */
+
+    /* Dead-time compensation of the reconstructed voltage (dtc.c dtc_deadtime; Casadei sec.
+     * 10.5: its drive compensated the dead time). */
+    uint16_t deadtime_comp;   /* 1: on, 0: off */
+    q15_t td_ts_q15;          /* dead time over the control period, T_d / T_s, [0, 0.5) */
 
     /* Current-model estimator (Hoang eqs. 8-9): theta_e = count * enc_gain + enc_offset. */
     uint16_t enc_counts;       /* 4 * lines (quadrature), counts per mechanical turn */

@@ -105,6 +105,9 @@ MUT(m_rs_huge, s->rs_ohm = 1e4)
 MUT(m_band_tiny, s->flux_band_wb = 1e-12)
 MUT(m_handover_neg, { s->handover_auto = 0; s->handover_speed_rpm = -1.0; })
 MUT(m_handover_hyst, s->handover_hyst_frac = 1.5)
+MUT(m_delay, s->delay_comp = 2)
+MUT(m_deadtime, s->deadtime_comp = 3)
+MUT(m_dead_time_long, s->dead_time_s = 30e-6)
 
 static void test_bad_si_configs_refused_with_field(void **state)
 {
@@ -143,6 +146,9 @@ static void test_bad_si_configs_refused_with_field(void **state)
         {m_band_tiny, DTC_SI_ERR_RANGE, "flux_band_wb"}, /* below one LSB */
         {m_handover_neg, DTC_SI_ERR_HANDOVER, "handover_speed_rpm"},
         {m_handover_hyst, DTC_SI_ERR_HANDOVER, "handover_hyst_frac"},
+        {m_delay, DTC_SI_ERR_DELAY, "delay_comp"},
+        {m_deadtime, DTC_SI_ERR_DEADTIME, "deadtime_comp"},
+        {m_dead_time_long, DTC_SI_ERR_DEADTIME, "dead_time_s"},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         dtc_config_si_t si;
@@ -195,6 +201,11 @@ FMUT(f_base, c->w_base_mrad_s = 0U)
 FMUT(f_limit, c->vdc_min_iq = c->vdc_max_iq)
 FMUT(f_handover, c->handover_speed_iq = -1)
 FMUT(f_handover_hyst, c->handover_hyst_iq = c->handover_speed_iq + 1)
+FMUT(f_delay, c->delay_comp = 2U)
+FMUT(f_ts_pu, c->ts_pu_iq = 0)
+FMUT(f_inv_ls, c->inv_ls_iq = -1)
+FMUT(f_deadtime, c->deadtime_comp = 2U)
+FMUT(f_td, c->td_ts_q15 = Q15(0.5))
 
 static void test_dtc_init_refuses_bad_struct(void **state)
 {
@@ -210,7 +221,8 @@ static void test_dtc_init_refuses_bad_struct(void **state)
         {f_fref, DTC_ERR_REFERENCE}, {f_sref, DTC_ERR_REFERENCE}, {f_tref, DTC_ERR_REFERENCE},
         {f_drop, DTC_ERR_DROP}, {f_adc, DTC_ERR_ADC}, {f_adc_gain, DTC_ERR_ADC},
         {f_base, DTC_ERR_BASE}, {f_limit, DTC_ERR_LIMIT}, {f_handover, DTC_ERR_HANDOVER},
-        {f_handover_hyst, DTC_ERR_HANDOVER},
+        {f_handover_hyst, DTC_ERR_HANDOVER}, {f_delay, DTC_ERR_DELAY}, {f_ts_pu, DTC_ERR_DELAY},
+        {f_inv_ls, DTC_ERR_DELAY}, {f_deadtime, DTC_ERR_DEADTIME}, {f_td, DTC_ERR_DEADTIME},
     };
     dtc_config_si_t si;
     dtc_config_t good;

@@ -43,6 +43,9 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->handover_auto = 1;
     si->handover_speed_rpm = 0.0;
     si->handover_hyst_frac = 0.2; /* back below 80 %: well clear of the speed ripple */
+    si->delay_comp = 1;
+    si->deadtime_comp = 1;
+    si->dead_time_s = 1e-6; /* IRAMY20UP60B module, as the plant (docs/plant.md) */
     si->pi_from_bandwidth = 1;
     si->speed_bw_rad_s = 60.0;
     si->torque_limit_nm = 0.45; /* 1.5 x rated */
@@ -195,6 +198,12 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
         return fail(&c, DTC_SI_ERR_CUTOFF, "lpf_cutoff_rad_s = %g: at or above the Nyquist rate pi/ts_s = %g rad/s", si->lpf_cutoff_rad_s, M_PI / si->ts_s);
     if (!(si->handover_auto != 0 || si->handover_speed_rpm >= 0.0))
         return fail(&c, DTC_SI_ERR_HANDOVER, "handover_speed_rpm = %g: must be >= 0 (0 = voltage model from standstill)", si->handover_speed_rpm);
+    if (si->delay_comp != 0 && si->delay_comp != 1)
+        return fail(&c, DTC_SI_ERR_DELAY, "delay_comp = %d: must be 0 or 1", si->delay_comp);
+    if (si->deadtime_comp != 0 && si->deadtime_comp != 1)
+        return fail(&c, DTC_SI_ERR_DEADTIME, "deadtime_comp = %d: must be 0 or 1", si->deadtime_comp);
+    if (!(si->dead_time_s >= 0.0 && si->dead_time_s < 0.5 * si->ts_s))
+        return fail(&c, DTC_SI_ERR_DEADTIME, "dead_time_s = %g: must be in [0, ts_s/2)", si->dead_time_s);
     if (!(si->handover_hyst_frac >= 0.0 && si->handover_hyst_frac <= 1.0))
         return fail(&c, DTC_SI_ERR_HANDOVER, "handover_hyst_frac = %g: must be in [0, 1]", si->handover_hyst_frac);
     if (si->estimator != DTC_EST_VOLTAGE && si->estimator != DTC_EST_CURRENT)
@@ -280,6 +289,12 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
             cfg->handover_hyst_iq = cfg->handover_speed_iq;
         }
     }
+
+    cfg->delay_comp = (uint16_t)si->delay_comp;
+    cfg->deadtime_comp = (uint16_t)si->deadtime_comp;
+    cfg->td_ts_q15 = (q15_t)lround(32768.0 * si->dead_time_s / si->ts_s);
+    cfg->ts_pu_iq = to_iq(&c, "ts_s", si->ts_s, si->ts_s * b.w_base_rad_s);
+    cfg->inv_ls_iq = to_iq(&c, "ls_h (1/l_s)", si->ls_h, b.l_base_h / si->ls_h);
 
     if (!(65536.0 * 65536.0 * si->pole_pairs / enc_counts <= 2147483648.0))
         return fail(&c, DTC_SI_ERR_ENCODER, "enc_lines = %d: fewer than two counts per electrical turn with %d pole pairs", si->enc_lines, si->pole_pairs);
@@ -375,6 +390,9 @@ int dtc_config_emit_c(const dtc_config_t *cfg, const char *symbol, FILE *f)
     EIQ(rs_iq); EIQ(ls_iq); EIQ(psi_m_iq);
     EQ31(k_in_q31); EQ31(k_leak_q31);
     EIQ(handover_speed_iq); EIQ(handover_hyst_iq);
+    EU(delay_comp); EIQ(ts_pu_iq); EIQ(inv_ls_iq);
+    EU(deadtime_comp);
+    EMIT("    .td_ts_q15 = %d, /* T_d / T_s, Q15 */\n", (int)cfg->td_ts_q15);
     EU(enc_counts); EU(enc_gain_q16); EU(enc_offset);
     EIQ(v_f_iq); EIQ(v_ce_iq); EIQ(v_d_iq); EIQ(r_on_iq);
     EIQ(flux_band_iq); EIQ(torque_band_iq);

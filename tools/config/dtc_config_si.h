@@ -68,6 +68,9 @@ typedef struct {
     int handover_auto;      /* 1: handover_speed_rpm = dtc_handover_default_rpm(si) */
     double handover_speed_rpm; /* voltage model: current model below it (0 = none), >= 0 */
     double handover_hyst_frac; /* back to the current model below (1 - frac) * handover, [0, 1] */
+    int delay_comp;         /* 1: actuation-delay compensation (predict k+1), 0: off */
+    int deadtime_comp;      /* 1: dead-time compensation of the reconstructed voltage, 0: off */
+    double dead_time_s;     /* the inverter's dead time (the gate driver's setting) */
     int pi_from_bandwidth;  /* 1: kp, ki from speed_bw_rad_s and inertia_kgm2 */
     double speed_bw_rad_s;  /* speed-loop crossover; PI zero at bw/4 */
     double kp_nm_s_rad;     /* N.m per (mechanical rad/s) */
@@ -114,7 +117,9 @@ enum dtc_si_err {
     DTC_SI_ERR_ADC = -112,       /* ADC gain <= 0, offset outside 0..4095 */
     DTC_SI_ERR_RANGE = -113,     /* a value overflows its Q format or a non-zero one rounds to 0 */
     DTC_SI_ERR_FIRMWARE = -114,  /* the firmware validation refused the result (a bug) */
-    DTC_SI_ERR_HANDOVER = -115   /* hand-over speed < 0, hysteresis fraction outside [0, 1] */
+    DTC_SI_ERR_HANDOVER = -115,  /* hand-over speed < 0, hysteresis fraction outside [0, 1] */
+    DTC_SI_ERR_DELAY = -116,     /* delay_comp not 0 or 1 */
+    DTC_SI_ERR_DEADTIME = -117   /* deadtime_comp not 0 or 1, dead_time_s outside [0, ts_s/2) */
 };
 
 void dtc_config_si_defaults(dtc_config_si_t *si);

@@ -76,6 +76,9 @@ struct FirmwareSiConfig {
     double torque_band_nm, flux_band_wb, lpf_cutoff_rad_s;
     int handover_given; // 0: the converter derives the hand-over speed
     double handover_rpm, handover_hyst_frac;
+    int delay_comp;
+    int deadtime_comp;
+    double dead_time_s; // the gate driver's setting (inverter.dead_time_s, also when not modelled)
     double speed_kp_nm_per_rad_s, speed_ki_nm_per_rad;
     // protection
     double overcurrent_a, vdc_min_v, vdc_max_v;

@@ -62,6 +62,9 @@ FirmwareSiConfig firmware_si_config(const Scenario& sc)
     c.handover_given = sc.control.handover_given ? 1 : 0;
     c.handover_rpm = sc.control.handover_rpm;
     c.handover_hyst_frac = sc.control.handover_hyst_frac;
+    c.delay_comp = sc.control.delay_comp ? 1 : 0;
+    c.deadtime_comp = sc.control.deadtime_comp ? 1 : 0;
+    c.dead_time_s = sc.inverter.dead_time_s;
     const SpeedPiGains g = speed_pi_gains(sc.motor.j_kgm2, sc.control.speed_bw_hz);
     c.speed_kp_nm_per_rad_s = g.kp_nm_per_rad_s;
     c.speed_ki_nm_per_rad = g.ki_nm_per_rad;

@@ -69,6 +69,9 @@ void fill_si(const FirmwareSiConfig& c, const Scenario& sc, dtc_config_si_t* si)
     si->handover_auto = c.handover_given != 0 ? 0 : 1;
     si->handover_speed_rpm = c.handover_rpm;
     si->handover_hyst_frac = c.handover_hyst_frac;
+    si->delay_comp = c.delay_comp;
+    si->deadtime_comp = c.deadtime_comp;
+    si->dead_time_s = c.dead_time_s;
     si->pi_from_bandwidth = 1;
     si->speed_bw_rad_s = 2.0 * kPi * sc.control.speed_bw_hz;
     si->kp_nm_s_rad = c.speed_kp_nm_per_rad_s;

@@ -267,6 +267,14 @@ const std::vector<Spec>& schema()
              }},
         num("control.handover_hyst_frac", "", closed(0.0, 1.0),
             "back to the current model below (1 - frac) * control.handover_rpm", ACC(control.handover_hyst_frac)),
+        boolean("control.delay_comp",
+                 "firmware: actuation-delay compensation, the comparators and the sector work on the flux and "
+                 "torque predicted for the period the chosen vector acts in (false: on the estimate)",
+                 ACC(control.delay_comp)),
+        boolean("control.deadtime_comp",
+                 "firmware: compensate the dead time (inverter.dead_time_s, the gate driver's setting) in the "
+                 "voltage reconstruction (Casadei sec. 10.5)",
+                 ACC(control.deadtime_comp)),
         num("control.v_f_v", "V", nonneg(), "forward drop V_f of the simple compensation (Hoang sec. III-B: 0.9 V)",
             ACC(control.v_f_v)),
         path("control.voltage_csv",
