@@ -80,7 +80,9 @@ TEST_F(Validation, CheckAndRunAcceptAndRefuseTheSameScenarios)
         {{"motor.pole_pairs=17"}, "motor.pole_pairs"},
         {{"inverter.vdc_v=1e6"}, "inverter.vdc_v"},
         {{"inverter.vdc_v=1e-300"}, "inverter.vdc_v"},
-        {{"ts_s=1e-6"}, ""}, // the max_step_s default follows ts_s
+        {{"ts_s=1e-6", "inverter.dead_time_s=1e-7"}, ""}, // the max_step_s default follows ts_s
+        // A dead time of half the period or more leaves no time to apply a vector: refused, named.
+        {{"ts_s=1e-6"}, "dead_time_s"},
         {{"max_step_s=1e-15"}, "max_step_s"},
         {{"ts_s=1e-3", "max_step_s=1e-8"}, "max_step_s"}, // 1e5 sub-steps per period: the floor
         {{"duration_s=1e-300"}, "duration_s"},
