@@ -95,6 +95,29 @@ TEST(Sweep, GridIsTheCartesianProductLastAxisFastest)
     EXPECT_EQ(o[1], "control.estimator=\"voltage\"");
 }
 
+TEST(Sweep, ZipAxesAreCasesCrossedWithTheGrid)
+{
+    Spec s;
+    s.scenario_path = kScenario;
+    s.scenario_text = read(kScenario);
+    Axis g, z1, z2;
+    std::string e;
+    ASSERT_TRUE(parse_grid_axis("control.speed_ref_rpm=700,1500", &g, &e)) << e;
+    ASSERT_TRUE(parse_grid_axis("inverter.topology=sstp,fstp,fstp", &z1, &e, "--zip")) << e;
+    ASSERT_TRUE(parse_grid_axis("control.compensation=simple,simple,proposed", &z2, &e, "--zip")) << e;
+    s.axes = {g, z1, z2};
+    ASSERT_EQ(run_count(s), 6u);
+    const auto runs = expand(s);
+    // Cases slowest, then the grid: (sstp, simple) x {700, 1500}, (fstp, simple) x ..., ...
+    const char* topo[6] = {"\"sstp\"", "\"sstp\"", "\"fstp\"", "\"fstp\"", "\"fstp\"", "\"fstp\""};
+    const char* comp[6] = {"\"simple\"", "\"simple\"", "\"simple\"", "\"simple\"", "\"proposed\"", "\"proposed\""};
+    for (std::size_t r = 0; r < 6; ++r) {
+        EXPECT_EQ(runs[r].values[0], r % 2 == 0 ? "700" : "1500");
+        EXPECT_EQ(runs[r].values[1], topo[r]);
+        EXPECT_EQ(runs[r].values[2], comp[r]);
+    }
+}
+
 TEST(Sweep, GridValuesSplitOnlyAtTopLevelCommas)
 {
     Axis a;
@@ -209,6 +232,13 @@ TEST(Sweep, BadSpecificationsAreRefusedBeforeAnyRunNamingTheArgument)
         {{"--grid", "motor.rs_ohm=0.4", "--assert", "imbalance_pct~3"}, "expected METRIC OP NUMBER"},
         {{"--grid", "motor.rs_ohm=0.4", "--dask", "localhost"}, "--dask localhost"},
         {{}, "nothing to sweep"},
+        {{"--zip", "inverter.topology=sstp,fstp", "--zip", "control.compensation=none"},
+         "--zip control.compensation=none: 1 values, but the other --zip axes have 2"},
+        // Each value is valid alone; the case (SSTP with Hoang's FSTP-only proposed scheme) is not.
+        {{"--zip", "inverter.topology=fstp,sstp", "--zip", "control.compensation=proposed,proposed", "--set",
+          "control.estimator=\"voltage\""},
+         "--zip case 2 (inverter.topology=\"sstp\", control.compensation=\"proposed\") is rejected"},
+        {{"--zip", "inverter.topology=fstp", "--keep-runs", "--dask", "tcp://127.0.0.1:1"}, "--keep-runs with --dask"},
     };
     for (const Case& c : cases) {
         std::vector<std::string> a = {"sweep", kScenario, "--out", d.string()};
@@ -326,6 +356,24 @@ TEST(Sweep, ResumeAfterAKillShardsAndMergeGiveTheSameSummary)
     for (const fs::path& d : {whole, killed, s0, s1, merged, other}) {
         fs::remove_all(d);
     }
+}
+
+TEST(Sweep, KeepRunsWritesEveryRunsOutputs)
+{
+    const fs::path d = fresh_dir("keep");
+    std::string err;
+    ASSERT_EQ(sweep(with_short({"sweep", kScenario, "--out", d.string(), "--keep-runs", "--zip",
+                                "control.speed_ref_rpm=300,600"}),
+                    nullptr, &err),
+              0)
+        << err;
+    for (int r = 0; r < 2; ++r) {
+        const fs::path run = d / "runs" / std::to_string(r);
+        EXPECT_TRUE(fs::is_regular_file(run / "trace.csv")) << run;
+        const json m = json::parse(read(run / "metrics.json"));
+        EXPECT_EQ(m.at("isr_count").get<std::uint64_t>(), 1200u);
+    }
+    fs::remove_all(d);
 }
 
 TEST(Sweep, AssertSetsTheExitCodeAndTimedOutRunsAreRows)

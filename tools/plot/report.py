@@ -11,14 +11,18 @@ OUT/report.md: paper vs simulation for the per-phase fundamental currents and th
 and the TRF (eq. 40) (Table X). Unless --table-only, it also runs the FSTP inertial and half-load
 points and draws OUT/fig12.png, fig15.png, fig16.png, fig17.png: phase currents at inertial, half
 and full load, as Hoang Figs. 12 and 15-17. Exit status 1 if any run failed (its row says why).
+
+The runs go through `dtc-sil sweep` (docs/sweep.md): the scenario files of a series are one sweep
+whose --zip axes are the keys in which the files differ, so the files stay the one source of the
+operating points, and the runs use every core (--jobs) like any other sweep.
 """
 import argparse
-import concurrent.futures
 import datetime
 import json
 import os
 import subprocess
 import sys
+import tomllib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
@@ -92,19 +96,83 @@ def imbalance(a):
     return 100.0 * (max(a) / min(a) - 1.0)
 
 
-def run_one(exe, scen_dir, out_root, stem, sets):
-    scen = os.path.join(scen_dir, stem + ".toml")
-    out = os.path.join(out_root, stem)
-    cmd = [exe, "run", scen, "--out", out, "--quiet"]
-    for s in sets:
-        cmd += ["--set", s]
+def flat_toml(d, prefix=""):
+    """{dotted key: value} of a parsed scenario file."""
+    out = {}
+    for k, v in d.items():
+        if isinstance(v, dict):
+            out.update(flat_toml(v, prefix + k + "."))
+        else:
+            out[prefix + k] = v
+    return out
+
+
+def toml_value(v):
+    """A value as --set takes it (TOML)."""
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        return json.dumps(v)
+    if isinstance(v, list):
+        return "[" + ", ".join(toml_value(x) for x in v) + "]"
+    return repr(v)
+
+
+def key_defaults(exe):
+    """Schema defaults (dtc-sil keys) as TOML text, for keys a scenario file leaves out."""
+    r = subprocess.run([exe, "keys"], capture_output=True, text=True, check=True)
+    out = {}
+    for line in r.stdout.splitlines():
+        cells = [c.strip() for c in line.split("|")]
+        if len(cells) > 5 and cells[1].startswith("`"):
+            out[cells[1].strip("`")] = cells[4]
+    return out
+
+
+def sweep_series(exe, scen_dir, out_root, name, stems, sets, jobs):
+    """Runs the scenario files `stems` as one dtc-sil sweep and moves run i to OUT/<stems[i]>/.
+    Returns {stem: (metrics or None, error or None)} and the command."""
+    flats = []
+    for stem in stems:
+        with open(os.path.join(scen_dir, stem + ".toml"), "rb") as f:
+            flats.append(flat_toml(tomllib.load(f)))
+    keys = sorted(set().union(*flats))
+    differ = [k for k in keys if len({json.dumps(f.get(k), sort_keys=True) for f in flats}) > 1]
+    defaults = key_defaults(exe) if any(k not in f for f in flats for k in differ) else {}
+    cmd = [exe, "sweep", os.path.join(scen_dir, stems[0] + ".toml"), "--out", os.path.join(out_root, name),
+           "--keep-runs", "--jobs", str(jobs), "-q"]
+    for k in differ:
+        vals = []
+        for f in flats:
+            if k in f:
+                vals.append(toml_value(f[k]))
+            elif defaults.get(k, "").strip() not in ("", "(none)", "derived"):
+                vals.append(defaults[k])
+            else:
+                raise SystemExit(f"report: {k} is set in some of {stems} and has no literal default")
+        cmd += ["--zip", k + "=" + ",".join(vals)]
+    for s_ in sets:
+        cmd += ["--set", s_]
+    subprocess.run(["rm", "-rf", os.path.join(out_root, name)], check=True)
     r = subprocess.run(cmd, capture_output=True, text=True, check=False)
-    if r.returncode != 0:
+    if r.returncode not in (0, 3):
         msg = (r.stderr.strip().splitlines() or ["exit status %d" % r.returncode])[-1]
-        return stem, None, msg, " ".join(cmd)
-    with open(os.path.join(out, "metrics.json"), encoding="utf-8") as f:
-        m = json.load(f)
-    return stem, m, None, " ".join(cmd)
+        return {stem: (None, msg) for stem in stems}, cmd
+    with open(os.path.join(out_root, name, "summary.json"), encoding="utf-8") as f:
+        rows = {row["run"]: row for row in json.load(f)["rows"]}
+    results = {}
+    for i, stem in enumerate(stems):
+        row = rows.get(i)
+        run_dir = os.path.join(out_root, name, "runs", str(i))
+        if row is None or not os.path.exists(os.path.join(run_dir, "metrics.json")):
+            results[stem] = (None, (row or {}).get("error") or (row or {}).get("status") or "no row")
+            continue
+        dest = os.path.join(out_root, stem)
+        subprocess.run(["rm", "-rf", dest], check=True)
+        os.replace(run_dir, dest)
+        with open(os.path.join(dest, "metrics.json"), encoding="utf-8") as f:
+            results[stem] = (json.load(f), None)
+    return results, cmd
 
 
 def fmt3(a):
@@ -198,16 +266,14 @@ def main(argv=None):
         return 1
     os.makedirs(a.out, exist_ok=True)
     a.set = [f"metrics.torque_sensor_hz={a.torque_sensor_hz:g}"] + a.set
-    results = {}
     extra = [] if a.table_only else [f"{base}_{load}" for _, _, base in FIGURES for load in ("inertial", "half")]
+    results, cmd = sweep_series(a.exe, a.scenarios, a.out, "sweep_table", [p[0] for p in PAPER], a.set, a.jobs)
     extra_results = {}
-    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as pool:
-        futs = [pool.submit(run_one, a.exe, a.scenarios, a.out, stem, a.set) for stem in
-                [p[0] for p in PAPER] + extra]
-        for fut in concurrent.futures.as_completed(futs):
-            stem, m, err, cmd = fut.result()
-            (extra_results if stem in extra else results)[stem] = (m, err)
-            print(f"{'FAILED' if err else 'ok    '} {stem}" + (f": {err}" if err else ""))
+    if extra:
+        extra_results, _ = sweep_series(a.exe, a.scenarios, a.out, "sweep_loads", extra, a.set, a.jobs)
+    for stem, (m, err) in list(results.items()) + list(extra_results.items()):
+        print(f"{'FAILED' if err else 'ok    '} {stem}" + (f": {err}" if err else ""))
+    print("sweep: " + " ".join(cmd))
     # Figures in this thread only: matplotlib's text layout is not thread-safe.
     for stem, *_ in PAPER:
         m, err = results[stem]

@@ -74,7 +74,28 @@ def check_png(path):
 
 
 def fake_sil(argv):
-    """Stand-in for `dtc-sil run SCENARIO --out DIR [...]`: writes a synthetic run folder."""
+    """Stand-in for `dtc-sil run SCENARIO --out DIR [...]`: writes a synthetic run folder; for
+    `dtc-sil sweep ... --keep-runs --zip K=V1,..` one synthetic run per case in DIR/runs/I and the
+    rows in DIR/summary.json; for `dtc-sil keys` the defaults of the keys a scenario file may omit."""
+    if argv[0] == "keys":
+        print("| key | type | unit | default | allowed | meaning |\n|---|---|---|---|---|---|")
+        for k, d in (("inverter.finite_dc_link", "true"), ("initial_speed_rpm", "0"), ("load.torque_nm", "0"),
+                     ("load.speed_rpm", "1500")):
+            print(f"| `{k}` | x |  | {d} | x | x |")
+        return 0
+    if argv[0] == "sweep":
+        out = argv[argv.index("--out") + 1]
+        zipped = argv[argv.index("--zip") + 1].split("=", 1)[1]
+        n = zipped.count(",") + 1 - zipped.count("[") * 2  # cases (values hold no arrays here)
+        rows = []
+        for i in range(n):
+            synthetic_run(os.path.join(out, "runs", str(i)), scenario=f"case{i}", amp=(2.2, 2.2, 2.3),
+                          te_est_bias=0.0, seed=i + 1)
+            rows.append({"run": i, "status": "ok", "fault": "none", "error": None, "values": {}, "metrics": {}})
+        with open(os.path.join(out, "summary.json"), "w", encoding="utf-8") as f:
+            json.dump({"rows": rows}, f)
+        print(f"fake dtc-sil sweep: {n} runs")
+        return 0
     scen = argv[argv.index("run") + 1]
     out = argv[argv.index("--out") + 1]
     stem = os.path.splitext(os.path.basename(scen))[0]

@@ -22,11 +22,13 @@
 namespace sil::sweep {
 
 struct Axis {
-    enum class Kind { Grid, Normal, Uniform };
+    // Grid: one dimension of the Cartesian product. Zip: all zip axes together form one dimension
+    // (their i-th values go together: a list of cases). Normal, Uniform: drawn per run.
+    enum class Kind { Grid, Zip, Normal, Uniform };
     Kind kind = Kind::Grid;
     std::string key;                 // dotted scenario key
     std::string key_type;            // the schema's type text (number, integer, string, ...)
-    std::vector<std::string> values; // Grid: TOML value texts, as --set takes them
+    std::vector<std::string> values; // Grid, Zip: TOML value texts, as --set takes them
     double a = 0.0, b = 0.0;         // Normal: mean, sd; Uniform: lo, hi
 };
 
@@ -45,8 +47,9 @@ struct PlannedRun {
 };
 
 /// Parses "key=v1,v2,..." (commas inside [] or quotes do not split). String keys may be given
-/// unquoted. Errors name the argument.
-bool parse_grid_axis(const std::string& arg, Axis* out, std::string* err);
+/// unquoted. Errors name the argument. `opt` is the option's name for messages and decides the
+/// kind: "--zip" gives a Zip axis, anything else a Grid axis.
+bool parse_grid_axis(const std::string& arg, Axis* out, std::string* err, const char* opt = "--grid");
 /// Parses "key=normal:MEAN:SD" or "key=uniform:LO:HI" (number keys only).
 bool parse_sample_axis(const std::string& arg, Axis* out, std::string* err);
 
@@ -67,6 +70,7 @@ std::vector<std::string> run_overrides(const Spec& spec, const PlannedRun& run);
 struct ExecOptions {
     unsigned jobs = 1;
     double timeout_s = 600.0;
+    std::string runs_dir; // not empty: each run also writes metrics.json and trace.csv to runs_dir/RUN
 };
 void execute(const Spec& spec, const std::vector<PlannedRun>& runs, const ExecOptions& opt,
              const std::function<void(const nlohmann::json& row)>& on_row);

@@ -189,31 +189,41 @@ std::string sampled_value(const Spec& spec, const Axis& ax, std::size_t axis_i, 
     return shortest(draw(spec, ax, axis_i, run, 0));
 }
 
+std::size_t zip_length(const Spec& spec)
+{
+    for (const Axis& a : spec.axes) {
+        if (a.kind == Axis::Kind::Zip) {
+            return a.values.size();
+        }
+    }
+    return 0;
+}
+
 PlannedRun planned_run(const Spec& spec, std::uint64_t r)
 {
+    // Dimensions of the product, slowest first: the zip cases (if any), then each grid axis in
+    // order, the last varying fastest; the n samples of a point are consecutive runs.
     PlannedRun p;
     p.index = r;
-    std::uint64_t g = r / spec.n; // grid point; the last grid axis varies fastest
-    std::vector<std::string> grid_vals;
-    std::size_t n_grid = 0;
-    for (const Axis& a : spec.axes) {
-        n_grid += a.kind == Axis::Kind::Grid ? 1u : 0u;
-    }
-    grid_vals.resize(n_grid);
-    std::size_t gi = n_grid;
+    std::uint64_t g = r / spec.n;
+    std::vector<std::size_t> pick(spec.axes.size(), 0);
     for (std::size_t i = spec.axes.size(); i-- > 0;) {
         const Axis& a = spec.axes[i];
-        if (a.kind != Axis::Kind::Grid) {
-            continue;
+        if (a.kind == Axis::Kind::Grid) {
+            pick[i] = static_cast<std::size_t>(g % a.values.size());
+            g /= a.values.size();
         }
-        --gi;
-        grid_vals[gi] = a.values[static_cast<std::size_t>(g % a.values.size())];
-        g /= a.values.size();
     }
-    gi = 0;
+    const std::size_t zip_case = static_cast<std::size_t>(g); // < zip_length (or 0 without zips)
     for (std::size_t i = 0; i < spec.axes.size(); ++i) {
         const Axis& a = spec.axes[i];
-        p.values.push_back(a.kind == Axis::Kind::Grid ? grid_vals[gi++] : sampled_value(spec, a, i, r));
+        if (a.kind == Axis::Kind::Grid) {
+            p.values.push_back(a.values[pick[i]]);
+        } else if (a.kind == Axis::Kind::Zip) {
+            p.values.push_back(a.values[zip_case]);
+        } else {
+            p.values.push_back(sampled_value(spec, a, i, r));
+        }
     }
     return p;
 }
@@ -272,7 +282,7 @@ json make_row(std::uint64_t run, const Spec& spec, const PlannedRun& p, const st
 }
 
 // The body of one run's child process: the row as JSON text.
-std::string child_run(const Spec& spec, const PlannedRun& p)
+std::string child_run(const Spec& spec, const PlannedRun& p, const std::string& runs_dir)
 {
     Scenario sc;
     Diagnostics diag;
@@ -283,7 +293,10 @@ std::string child_run(const Spec& spec, const PlannedRun& p)
         }
         return make_row(p.index, spec, p, "refused", nullptr, e, json::object()).dump();
     }
-    RunOptions opt; // no output folder: metrics only
+    RunOptions opt; // no output folder (metrics only), unless the sweep keeps its runs
+    if (!runs_dir.empty()) {
+        opt.out_dir = (fs::path(runs_dir) / std::to_string(p.index)).string();
+    }
     RunResult res;
     std::string e;
     if (!run_scenario(sc, opt, &res, &e)) {
@@ -365,17 +378,17 @@ std::string read_file(const std::string& path, std::string* err)
 
 } // namespace
 
-bool parse_grid_axis(const std::string& arg, Axis* out, std::string* err)
+bool parse_grid_axis(const std::string& arg, Axis* out, std::string* err, const char* opt)
 {
     Axis a;
     std::string rest;
-    if (!split_key(arg, "--grid", &a.key, &rest, &a.key_type, err)) {
+    if (!split_key(arg, opt, &a.key, &rest, &a.key_type, err)) {
         return false;
     }
-    a.kind = Axis::Kind::Grid;
+    a.kind = std::string(opt) == "--zip" ? Axis::Kind::Zip : Axis::Kind::Grid;
     for (std::string v : split_top_level(rest)) {
         if (v.empty()) {
-            *err = "--grid " + arg + ": empty value (the axis needs one or more values, comma-separated)";
+            *err = std::string(opt) + " " + arg + ": empty value (the axis needs one or more values, comma-separated)";
             return false;
         }
         if (is_string_type(a.key_type) && v.front() != '"' && v.front() != '\'') {
@@ -442,7 +455,8 @@ std::uint64_t run_count(const Spec& spec)
             n *= a.values.size();
         }
     }
-    return n;
+    const std::size_t z = zip_length(spec);
+    return z > 0 ? n * z : n;
 }
 
 std::vector<PlannedRun> expand(const Spec& spec, std::uint64_t shard_i, std::uint64_t shard_n)
@@ -460,8 +474,8 @@ json spec_json(const Spec& spec)
     json axes = json::array();
     for (const Axis& a : spec.axes) {
         json j{{"key", a.key}, {"type", a.key_type}};
-        if (a.kind == Axis::Kind::Grid) {
-            j["kind"] = "grid";
+        if (a.kind == Axis::Kind::Grid || a.kind == Axis::Kind::Zip) {
+            j["kind"] = a.kind == Axis::Kind::Grid ? "grid" : "zip";
             j["values"] = a.values;
         } else {
             j["kind"] = a.kind == Axis::Kind::Normal ? "normal" : "uniform";
@@ -488,8 +502,8 @@ bool spec_from_json(const json& j, Spec* out, std::string* err)
             ax.key = a.at("key").get<std::string>();
             ax.key_type = a.at("type").get<std::string>();
             const std::string kind = a.at("kind").get<std::string>();
-            if (kind == "grid") {
-                ax.kind = Axis::Kind::Grid;
+            if (kind == "grid" || kind == "zip") {
+                ax.kind = kind == "grid" ? Axis::Kind::Grid : Axis::Kind::Zip;
                 ax.values = a.at("values").get<std::vector<std::string>>();
                 if (ax.values.empty()) {
                     throw std::runtime_error("empty grid axis " + ax.key);
@@ -503,6 +517,11 @@ bool spec_from_json(const json& j, Spec* out, std::string* err)
         }
         if (s.n == 0) {
             throw std::runtime_error("n = 0");
+        }
+        for (const Axis& ax : s.axes) {
+            if (ax.kind == Axis::Kind::Zip && ax.values.size() != zip_length(s)) {
+                throw std::runtime_error("zip axes of different lengths");
+            }
         }
         *out = s;
         return true;
@@ -599,7 +618,7 @@ void execute(const Spec& spec, const std::vector<PlannedRun>& runs, const ExecOp
                     dup2(devnull, 1);
                     dup2(devnull, 2);
                 }
-                const std::string text = child_run(spec, runs[next]);
+                const std::string text = child_run(spec, runs[next], opt.runs_dir);
                 const char* b = text.data();
                 std::size_t left = text.size();
                 while (left > 0) {
@@ -870,6 +889,22 @@ bool check_axes(const Spec& spec, std::string* err)
         *err = d.text() + "dtc-sil sweep: " + spec.scenario_path + ": the scenario (with --set) is rejected";
         return false;
     }
+    for (std::size_t c = 0; c < zip_length(spec); ++c) { // each case with all its zipped values
+        std::vector<std::string> o = spec.sets;
+        std::string row;
+        for (const Axis& a : spec.axes) {
+            if (a.kind == Axis::Kind::Zip) {
+                o.push_back(a.key + "=" + a.values[c]);
+                row += (row.empty() ? "" : ", ") + a.key + "=" + a.values[c];
+            }
+        }
+        Diagnostics dv;
+        if (!parse_scenario(spec.scenario_text, spec.scenario_path, o, &sc, &dv)) {
+            *err = "--zip case " + std::to_string(c + 1) + " (" + row + ") is rejected: " +
+                   (dv.errors.empty() ? std::string("?") : dv.errors.front());
+            return false;
+        }
+    }
     for (const Axis& a : spec.axes) {
         if (a.kind != Axis::Kind::Grid) {
             continue;
@@ -932,12 +967,12 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
     CLI::App app{"dtc-sil sweeps"};
     app.require_subcommand(1);
     std::string scenario_path, out_dir, shard_text, dask_addr;
-    std::vector<std::string> sets, grids, samples, asserts, merge_dirs;
+    std::vector<std::string> sets, grids, zips, samples, asserts, merge_dirs;
     std::uint64_t n = 0, seed = 1;
     unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
     unsigned chunk = 0, exec_jobs = 1;
     double timeout_s = 600.0;
-    bool resume = false, quiet = false;
+    bool resume = false, quiet = false, keep_runs = false;
 
     CLI::App* sw = app.add_subcommand("sweep", "run a scenario over grid and Monte Carlo axes; write DIR/summary.csv");
     sw->add_option("scenario", scenario_path, "scenario TOML file")->required();
@@ -945,6 +980,9 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
         ->required();
     sw->add_option("--set,-s", sets, "fixed override of a scenario key for every run (repeatable)");
     sw->add_option("--grid", grids, "grid axis KEY=V1,V2,... (repeatable; Cartesian product)");
+    sw->add_option("--zip", zips,
+                   "case axis KEY=V1,V2,... (repeatable): all --zip axes have the same length and their i-th "
+                   "values go together, as one dimension of the product");
     sw->add_option("--sample", samples, "random axis KEY=normal:MEAN:SD or KEY=uniform:LO:HI (repeatable)");
     sw->add_option("--n", n, "samples per grid point (with --sample)");
     sw->add_option("--seed", seed, "seed of the sampled axes (same seed, same runs)");
@@ -958,6 +996,7 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
     sw->add_option("--chunk", chunk, "runs per Dask task (default: about 4 tasks per worker, at most 50 runs)")
         ->check(CLI::Range(1u, 100000u));
     sw->add_flag("--quiet,-q", quiet, "no closing summary line");
+    sw->add_flag("--keep-runs", keep_runs, "also write every run's metrics.json and trace.csv to DIR/runs/RUN");
 
     CLI::App* mg = app.add_subcommand("sweep-merge", "join the shards of one sweep into DIR/summary.csv");
     mg->add_option("--out,-o", out_dir, "output directory")->required();
@@ -1049,6 +1088,20 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
         }
         spec.axes.push_back(a);
     }
+    for (const std::string& z : zips) {
+        Axis a;
+        if (!parse_grid_axis(z, &a, &e, "--zip")) {
+            err << "dtc-sil sweep: " << e << "\n";
+            return 1;
+        }
+        if (!spec.axes.empty() && spec.axes.back().kind == Axis::Kind::Zip &&
+            a.values.size() != spec.axes.back().values.size()) {
+            err << "dtc-sil sweep: --zip " << z << ": " << a.values.size() << " values, but the other --zip axes have "
+                << spec.axes.back().values.size() << " (zipped axes go together value by value)\n";
+            return 1;
+        }
+        spec.axes.push_back(a);
+    }
     for (const std::string& s : samples) {
         Axis a;
         if (!parse_sample_axis(s, &a, &e)) {
@@ -1067,7 +1120,7 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
     }
     spec.n = samples.empty() ? 1 : n;
     if (spec.axes.empty()) {
-        err << "dtc-sil sweep: nothing to sweep: give at least one --grid or --sample axis\n";
+        err << "dtc-sil sweep: nothing to sweep: give at least one --grid, --zip or --sample axis\n";
         return 1;
     }
     std::set<std::string> axis_keys;
@@ -1090,6 +1143,11 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
             return 1;
         }
         checks.push_back(as);
+    }
+    if (keep_runs && !dask_addr.empty()) {
+        err << "dtc-sil sweep: --keep-runs with --dask: the runs would be written on the workers' disks; "
+               "sweep without --keep-runs, or run the cases to keep locally\n";
+        return 1;
     }
     if (!dask_addr.empty() && dask_addr.find("://") == std::string::npos) {
         err << "dtc-sil sweep: --dask " << dask_addr << ": expected a scheduler address like tcp://HOST:PORT\n";
@@ -1194,6 +1252,9 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
         ExecOptions opt;
         opt.jobs = jobs;
         opt.timeout_s = timeout_s;
+        if (keep_runs) {
+            opt.runs_dir = (dir / "runs").string();
+        }
         execute(spec, todo, opt, [&](const json& row) {
             const std::string line = row.dump() + "\n";
             std::fwrite(line.data(), 1, line.size(), rows_f);
