@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -135,6 +136,14 @@ struct ProtectionCfg {
     bool allow_unsafe = false;    // accept trip settings that let the current exceed 3x rated
 };
 
+/// The firmware's own values of machine and inverter parameters (parameter mismatch without code
+/// changes). Unset: the firmware is given the plant's value (motor.*, inverter.*).
+struct FirmwareCfg {
+    std::optional<double> rs_ohm, ls_h, psi_m_wb; // PM machine as the firmware believes it
+    std::optional<double> v_ce_v, v_d_v, r_on_ohm; // device drops its compensation assumes
+    std::optional<double> dead_time_s;             // dead time its compensation assumes
+};
+
 struct MetricsCfg {
     double torque_sensor_hz = 0.0; // trf_filtered_pct: torque transducer bandwidth, 0 = unfiltered
 };
@@ -155,6 +164,7 @@ struct Scenario {
     ControlCfg control;
     SensorsCfg sensors;
     ProtectionCfg protection;
+    FirmwareCfg firmware;
     MetricsCfg metrics;
     std::map<std::string, std::string> origin; // key -> "file:line:col" or "--set"
 };

@@ -23,18 +23,19 @@ void register_reference_controller(ControllerFactory factory) { g_reference_fact
 FirmwareSiConfig firmware_si_config(const Scenario& sc)
 {
     FirmwareSiConfig c{};
-    c.rs_ohm = sc.motor.rs_ohm;
-    c.ls_h = sc.motor.ls_h;
-    c.psi_m_wb = sc.motor.psi_m_wb;
+    // The firmware's own parameter values (firmware.*), the plant's where not given.
+    c.rs_ohm = sc.firmware.rs_ohm.value_or(sc.motor.rs_ohm);
+    c.ls_h = sc.firmware.ls_h.value_or(sc.motor.ls_h);
+    c.psi_m_wb = sc.firmware.psi_m_wb.value_or(sc.motor.psi_m_wb);
     c.pole_pairs = static_cast<int>(sc.motor.pole_pairs);
     c.rated_torque_nm = sc.motor.rated_torque_nm;
     c.rated_current_a = sc.motor.rated_current_a;
     c.rated_speed_rpm = sc.motor.rated_speed_rpm;
     c.topology_fstp = sc.inverter.topology == "fstp" ? 1 : 0;
     c.vdc_nominal_v = sc.inverter.vdc_v;
-    c.v_ce_v = sc.inverter.v_ce_v;
-    c.v_d_v = sc.inverter.v_d_v;
-    c.r_on_ohm = sc.inverter.r_on_ohm;
+    c.v_ce_v = sc.firmware.v_ce_v.value_or(sc.inverter.v_ce_v);
+    c.v_d_v = sc.firmware.v_d_v.value_or(sc.inverter.v_d_v);
+    c.r_on_ohm = sc.firmware.r_on_ohm.value_or(sc.inverter.r_on_ohm);
     c.v_f_v = sc.control.v_f_v;
     c.current_range_a = sc.sensors.current_range_a;
     c.voltage_range_v = sc.sensors.voltage_range_v;
@@ -64,7 +65,7 @@ FirmwareSiConfig firmware_si_config(const Scenario& sc)
     c.handover_hyst_frac = sc.control.handover_hyst_frac;
     c.delay_comp = sc.control.delay_comp ? 1 : 0;
     c.deadtime_comp = sc.control.deadtime_comp ? 1 : 0;
-    c.dead_time_s = sc.inverter.dead_time_s;
+    c.dead_time_s = sc.firmware.dead_time_s.value_or(sc.inverter.dead_time_s);
     const SpeedPiGains g = speed_pi_gains(sc.motor.j_kgm2, sc.control.speed_bw_hz);
     c.speed_kp_nm_per_rad_s = g.kp_nm_per_rad_s;
     c.speed_ki_nm_per_rad = g.ki_nm_per_rad;

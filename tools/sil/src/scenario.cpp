@@ -93,6 +93,17 @@ Spec num(const char* name, const char* unit, Range r, const char* doc, NumAcc ac
                 [acc](Scenario& s, const Value& v) { acc(s) = v.num; },
                 [acc](const Scenario& s) { return fmt_double(acc(const_cast<Scenario&>(s))); }};
 }
+using OptAcc = std::optional<double>& (*)(Scenario&);
+// A number whose absence means "the plant's value" (the firmware.* keys).
+Spec opt_num(const char* name, const char* unit, Range r, const char* doc, OptAcc acc)
+{
+    return Spec{name, Kind::Number, unit, doc, r, {},
+                [acc](Scenario& s, const Value& v) { acc(s) = v.num; },
+                [acc](const Scenario& s) {
+                    const auto& x = acc(const_cast<Scenario&>(s));
+                    return x ? fmt_double(*x) : std::string("the plant's");
+                }};
+}
 Spec integer(const char* name, const char* unit, Range r, const char* doc, IntAcc acc)
 {
     return Spec{name, Kind::Integer, unit, doc, r, {},
@@ -327,6 +338,24 @@ const std::vector<Spec>& schema()
             "hardware comparator on each phase-current magnitude (PDPINTA), latching, gates off; 0 = not fitted",
             ACC(protection.hw_trip_current_a)),
         // ---- metrics ----
+        // ---- firmware: its own parameter values (mismatch studies); unset = the plant's ----
+        opt_num("firmware.rs_ohm", "ohm", positive(),
+                "stator resistance the firmware uses (voltage model, prediction); not given: motor.rs_ohm",
+                ACC(firmware.rs_ohm)),
+        opt_num("firmware.ls_h", "H", positive(),
+                "inductance the firmware uses (current model, prediction); not given: motor.ls_h", ACC(firmware.ls_h)),
+        opt_num("firmware.psi_m_wb", "Wb", positive(),
+                "PM flux linkage the firmware uses (current model, hand-over); not given: motor.psi_m_wb",
+                ACC(firmware.psi_m_wb)),
+        opt_num("firmware.v_ce_v", "V", nonneg(), "transistor drop the compensation assumes; not given: inverter.v_ce_v",
+                ACC(firmware.v_ce_v)),
+        opt_num("firmware.v_d_v", "V", nonneg(), "diode drop the compensation assumes; not given: inverter.v_d_v",
+                ACC(firmware.v_d_v)),
+        opt_num("firmware.r_on_ohm", "ohm", nonneg(),
+                "on-state resistance the compensation assumes; not given: inverter.r_on_ohm", ACC(firmware.r_on_ohm)),
+        opt_num("firmware.dead_time_s", "s", closed(0.0, 1e-5),
+                "dead time the dead-time compensation assumes; not given: inverter.dead_time_s",
+                ACC(firmware.dead_time_s)),
         num("metrics.torque_sensor_hz", "Hz", nonneg(),
             "trf_filtered_pct: TRF of the plant torque after a first-order low-pass of this cutoff (a torque "
             "transducer's bandwidth); 0 = unfiltered",
