@@ -11,8 +11,9 @@
  *               the flash wait-state set-up (must not run from flash), and ALL of the control
  *               firmware (libdtc_firmware.a: code and its fixed-point tables), so the 50 us path
  *               never waits on flash (5 wait states at 150 MHz, fact sheet 4.7).
- *   ramfuncs_h  the same for the fixed-point core (libdtc_fixmath.a), copied into the first 7K
- *               words of H0: the ISR path has 15K words of zero-wait RAM, not 8K.
+ *   ramfuncs_h  the same for the fixed-point core and the application (libdtc_fixmath.a,
+ *               libdtc_app.a), copied into the first 7K words of H0: the ISR path has 15K words of
+ *               zero-wait RAM, not 8K.
  *   .stack      M0+M1 (low 64K: the SP is 16 bits, fact sheet 1.1)
  *   .ebss       the last 1K words of H0 (zero-wait): controller state
  *   the rest    flash sectors J..C. Sector B is left free for the user's parameter storage;
@@ -60,6 +61,9 @@ SECTIONS
                     -l=libdtc_fixmath.a (.text)
                     -l=libdtc_fixmath.a (.econst)
                     -l=libdtc_fixmath.a (.switch)
+                    -l=libdtc_app.a (.text)
+                    -l=libdtc_app.a (.econst)
+                    -l=libdtc_app.a (.switch)
                 }
                 LOAD = FLASH_JC,
                 RUN = RAMH0P,

@@ -49,6 +49,27 @@ static void enter_calibrate(app_core_t *a)
     a->st.state = APP_STATE_CALIBRATE;
 }
 
+/* The largest count change in one control period that is still plausible: N with N * k <= 2 *
+ * speed limit, k = pu speed of one count per control period (speed_k * speed_div), found by
+ * bisection on products (no division), and never below 1: a single count step is quantisation
+ * and cannot be told from a real speed however short the period or coarse the encoder.
+ * Scaling: N < 2^15 counts, N * k formed in 64 bits. */
+static uint16_t enc_jump_counts(const dtc_config_t *cfg)
+{
+    const int64_t k = (int64_t)cfg->speed_k_iq * (int64_t)cfg->speed_div;
+    const int64_t jump = 2 * (int64_t)cfg->speed_limit_iq;
+    uint32_t lo = 0U, hi = (uint32_t)cfg->enc_counts / 2U + 1U; /* lo fits, hi does not (or is max) */
+    while (hi - lo > 1U) {
+        const uint32_t mid = (lo + hi) / 2U;
+        if ((int64_t)mid * k <= jump) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    return (uint16_t)(lo < 1U ? 1U : lo);
+}
+
 int16_t app_core_init(app_core_t *a, const dtc_config_t *cfg)
 {
     int16_t rc;
@@ -79,8 +100,9 @@ int16_t app_core_init(app_core_t *a, const dtc_config_t *cfg)
         a->meas_ch[0] = (uint16_t)HAL_ADC_IA;
         a->meas_ch[1] = (uint16_t)HAL_ADC_IB;
     }
-    a->enc_k_iq = fix_sat32((int64_t)cfg->speed_k_iq * (int64_t)cfg->speed_div);
-    a->enc_jump_iq = fix_add32(cfg->speed_limit_iq, cfg->speed_limit_iq);
+    a->enc_jump_counts = enc_jump_counts(cfg);
+    a->stall_n = 0U;
+    a->stall_err0_iq = 0;
     enter_calibrate(a);
     return 0;
 }
@@ -137,11 +159,12 @@ static uint16_t check_trips(app_core_t *a, const hal_meas_t *m, const dtc_meas_t
 }
 
 /* Encoder plausibility (the current-model estimator and the speed loop rely on it):
- *  1. the count change of one period, read as a speed, must stay below twice the speed limit;
+ *  1. the count change of one period must stay within enc_jump_counts (twice the speed limit,
+ *     at least one count);
  *  2. the counter value latched by each index pulse (hal_meas_t.qep_index_count, the capture unit)
  *     must equal the one latched by the first pulse within APP_INDEX_TOL_COUNTS: lost or extra
  *     counts show up as that difference, at whatever speed.
- * Scaling and overflow: |delta| <= counts/2 (<= 32768), times an IQ gain in 64 bits. */
+ * Scaling and overflow: |delta| <= counts/2 (<= 32768), compared as integers. */
 static uint16_t check_encoder(app_core_t *a, const hal_meas_t *m)
 {
     const uint16_t counts = a->cfg->enc_counts;
@@ -154,7 +177,7 @@ static uint16_t check_encoder(app_core_t *a, const hal_meas_t *m)
     } else {
         d = fold_counts((int32_t)m->qep_count - (int32_t)a->enc_last, counts);
         a->enc_last = m->qep_count;
-        if ((int64_t)fix_abs32(d) * (int64_t)a->enc_k_iq > (int64_t)a->enc_jump_iq) {
+        if (fix_abs32(d) > (int32_t)a->enc_jump_counts) {
             latch_fault(a, APP_FAULT_ENCODER, 1);
             return 1U;
         }
@@ -217,6 +240,36 @@ static void calibrate_step(app_core_t *a, const hal_meas_t *m)
     a->st.state = APP_STATE_RUN;
 }
 
+/* Stall (speed mode): on each speed-loop period, with the torque reference at its limit, a window
+ * of APP_STALL_SPEED_PERIODS is open; it trips when at its end the speed error has not shrunk
+ * since its start. Any period below the limit closes the window. Torque mode has no speed error
+ * to watch and is left alone. Scaling: |speed_ref - speed| saturated difference; compared. */
+static uint16_t check_stall(app_core_t *a)
+{
+    const dtc_out_t *o = &a->st.out;
+    iq_t err;
+    if (a->cfg->mode != (uint16_t)DTC_MODE_SPEED || o->speed_tick == 0U) {
+        return 0U;
+    }
+    if (fix_abs32(o->te_ref_iq) < a->cfg->torque_limit_iq) {
+        a->stall_n = 0U;
+        return 0U;
+    }
+    err = fix_abs32(fix_sub32(a->dtc.act.speed_ref_iq, o->speed_iq));
+    if (a->stall_n == 0U) {
+        a->stall_err0_iq = err;
+    }
+    if (++a->stall_n < APP_STALL_SPEED_PERIODS) {
+        return 0U;
+    }
+    a->stall_n = 0U;
+    if (err >= a->stall_err0_iq) {
+        latch_fault(a, APP_FAULT_STALL, (int16_t)(o->te_ref_iq < 0 ? -1 : 1));
+        return 1U;
+    }
+    return 0U;
+}
+
 uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
 {
     cmd->sa = 0U;
@@ -249,6 +302,9 @@ uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
             return 1U;
         }
         dtc_step(&a->dtc, &a->st.meas, &a->st.out);
+        if (check_stall(a) != 0U) {
+            return 1U;
+        }
         cmd->sa = a->st.out.sa;
         cmd->sb = a->st.out.sb;
         cmd->sc = a->st.out.sc;
@@ -273,6 +329,7 @@ const char *app_fault_name(uint16_t fault)
     case APP_FAULT_ENCODER: return "encoder";
     case APP_FAULT_HW_TRIP: return "hw_trip";
     case APP_FAULT_ADC_OFFSET: return "adc_offset";
+    case APP_FAULT_STALL: return "stall";
     default: return "unknown";
     }
 }

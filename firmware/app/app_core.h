@@ -32,6 +32,11 @@ enum app_state {
     APP_STATE_FAULT = 3      /* latched, gates off */
 };
 
+/* Stall window (APP_FAULT_STALL): 200 speed-loop periods, 0.1 s with Hoang's 50 us and speed loop
+ * at 1/10. A drive at its torque limit whose speed error has not shrunk over the window cannot
+ * reach the reference (a locked rotor or a load above the limit): it is tripped, not left to run. */
+#define APP_STALL_SPEED_PERIODS 200U
+
 /* Fault reasons (stable numbers; app_fault_name() gives the text). */
 enum app_fault {
     APP_FAULT_NONE = 0,
@@ -41,7 +46,10 @@ enum app_fault {
     APP_FAULT_DC_UNDERVOLTAGE = 4,/* V_dc < vdc_min */
     APP_FAULT_ENCODER = 5,        /* implausible count jump (detail 1) or index mismatch (2) */
     APP_FAULT_HW_TRIP = 6,        /* hardware protection input (PDPINTA) */
-    APP_FAULT_ADC_OFFSET = 7      /* calibrated offset too far from nominal (detail: channel) */
+    APP_FAULT_ADC_OFFSET = 7,     /* calibrated offset too far from nominal (detail: channel) */
+    APP_FAULT_STALL = 8           /* speed mode: torque reference at its limit while the speed
+                                   * error did not shrink for APP_STALL_SPEED_PERIODS (detail:
+                                   * the sign of the torque reference) */
 };
 
 /* Calibration: 2^APP_CAL_LOG2 samples averaged per current channel. */
@@ -69,8 +77,10 @@ typedef struct app_core {
     uint32_t cal_sum[3];
     uint16_t cal_n;
     uint16_t meas_ch[2];   /* the two measured current channels (HAL_ADC_IA.. IC) */
-    iq_t enc_k_iq;         /* pu speed per count per CONTROL period (speed_k * speed_div) */
-    iq_t enc_jump_iq;      /* implausible speed: 2 x speed limit, pu */
+    uint16_t enc_jump_counts; /* the largest plausible count change in one control period:
+                               * twice the speed limit, and never below 1 count (quantisation) */
+    uint16_t stall_n;      /* speed periods of the current stall window (0 = none open) */
+    iq_t stall_err0_iq;    /* |speed error| at the start of the window */
     uint16_t enc_last;
     uint16_t enc_primed;
     uint16_t index_ref;    /* count latched by the first index pulse */

@@ -6,12 +6,13 @@
 #   usage: hal/f2812/budget.sh PROJECT_ROOT     (after: cmake --build --preset cross-cm0 / cross-avr)
 #
 # What is counted
-#   firmware   the members of libdtc_firmware.a and libdtc_fixmath.a that the image links (those
+#   firmware   the members of libdtc_firmware.a, libdtc_fixmath.a and libdtc_app.a that the image links (those
 #              f2812_main.c and the HAL reference, directly or not: a linker pulls only referenced
 #              archive members, so a control law the application does not call is not in the image).
 #              linker/f2812_*.cmd places all of them in zero-wait RAM (.text and the constant
 #              tables): libdtc_firmware.a in ramfuncs (L0+L1; H0 in the RAM build), libdtc_fixmath.a
-#              in ramfuncs_h (7K words of H0; L1 in the RAM build), so all of them are ISR path. The
+#              and libdtc_app.a in ramfuncs_h (7K words of H0; L1 in the RAM build), so all of them
+#              are ISR path. The
 #              members are found by a relocatable link of the proxy objects (ld -r -M).
 #   hal        libhal_f2812.a without the register blocks (RAM on the proxies, peripheral frames on
 #              the DSP); the ISR-path part is the functions marked F2812_RAMFUNC in hal/f2812/*.c
@@ -35,13 +36,14 @@ avr=$root/build/cross-avr
 # after the 2-word boot entry).
 RAMFUNCS_FLASH_WORDS=8192
 RAMFUNCS_RAM_WORDS=8190
-# ramfuncs_h (the fixed-point core): H0's first 7K words (flash build), L1 (RAM build).
+# ramfuncs_h (the fixed-point core and the application): H0's first 7K words (flash build), L1 (RAM build).
 RAMFUNCS_H_FLASH_WORDS=7168
 RAMFUNCS_H_RAM_WORDS=4096
 
 need() { [ -f "$1" ] || { echo "budget: $1 not found (build the cross presets first)" >&2; exit 2; }; }
-for f in "$cm0/firmware/libdtc_firmware.a" "$cm0/firmware/libdtc_fixmath.a" "$cm0/hal/f2812/libhal_f2812.a" \
-         "$avr/firmware/libdtc_firmware.a" "$avr/firmware/libdtc_fixmath.a" "$avr/hal/f2812/libhal_f2812.a"; do
+for f in "$cm0/firmware/libdtc_firmware.a" "$cm0/firmware/libdtc_fixmath.a" "$cm0/firmware/libdtc_app.a" \
+         "$cm0/hal/f2812/libhal_f2812.a" "$avr/firmware/libdtc_firmware.a" "$avr/firmware/libdtc_fixmath.a" \
+         "$avr/firmware/libdtc_app.a" "$avr/hal/f2812/libhal_f2812.a"; do
   need "$f"
 done
 cm0_main=$(find "$cm0/target/f2812" -name 'f2812_main.c.obj' | head -1)
@@ -79,7 +81,8 @@ linked_members() { # $1 = label, $2 = ld tool, $3 = build dir, $4 = main obj, $5
   local dir="$tmp/$1/$5" ar_tool=${2%ld}ar members
   mkdir -p "$dir"
   members=$("$2" -r -M -o "$dir/all.o" "$4" --start-group "$3/hal/f2812/libhal_f2812.a" \
-              "$3/firmware/libdtc_firmware.a" "$3/firmware/libdtc_fixmath.a" --end-group 2>/dev/null |
+              "$3/firmware/libdtc_app.a" "$3/firmware/libdtc_firmware.a" "$3/firmware/libdtc_fixmath.a" \
+              --end-group 2>/dev/null |
             grep -o "$5\\.a([A-Za-z0-9_.]*)" | sed 's/.*(\(.*\))/\1/' | sort -u)
   [ -n "$members" ] || { echo "budget: no $5 member linked for $1" >&2; exit 2; }
   local archive; archive=$(realpath "$3/firmware/$5.a")
@@ -87,11 +90,12 @@ linked_members() { # $1 = label, $2 = ld tool, $3 = build dir, $4 = main obj, $5
   for m in $members; do echo "$dir/$m"; done
 }
 report() { # $1 = label, $2 = size tool, $3 = nm tool, $4 = build dir, $5 = main obj, $6 = ld tool
-  local fw_list fx_list
+  local fw_list fx_list app_list
   fw_list=$(linked_members "$1" "$6" "$4" "$5" libdtc_firmware) || exit 2
   fx_list=$(linked_members "$1" "$6" "$4" "$5" libdtc_fixmath) || exit 2
+  app_list=$(linked_members "$1" "$6" "$4" "$5" libdtc_app) || exit 2
   mapfile -t fw_objs <<< "$fw_list"
-  mapfile -t fx_objs <<< "$fx_list"
+  mapfile -t fx_objs < <(printf '%s\n%s\n' "$fx_list" "$app_list")
   read -r fw_t fw_r fw_d fw_b < <(sum_sections "$2" "${fw_objs[@]}")
   read -r fx_t fx_r fx_d fx_b < <(sum_sections "$2" "${fx_objs[@]}")
   read -r hal_t hal_r hal_d hal_b < <(sum_sections "$2" "$4/hal/f2812/libhal_f2812.a")
@@ -101,7 +105,7 @@ report() { # $1 = label, $2 = size tool, $3 = nm tool, $4 = build dir, $5 = main
   hal_isr=$(sum_symbols "$3" "$ramfuncs" "$4/hal/f2812/libhal_f2812.a" "$5")
   printf '%-9s %-28s %8s %8s %8s %8s\n' "$1" "bytes" ".text" ".rodata" ".data" ".bss"
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "libdtc_firmware.a (linked)" "$fw_t" "$fw_r" "$fw_d" "$fw_b"
-  printf '%-9s %-28s %8d %8d %8d %8d\n' "" "libdtc_fixmath.a (linked)" "$fx_t" "$fx_r" "$fx_d" "$fx_b"
+  printf '%-9s %-28s %8d %8d %8d %8d\n' "" "libdtc_fixmath.a + app (linked)" "$fx_t" "$fx_r" "$fx_d" "$fx_b"
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "libhal_f2812.a (no regs)" "$hal_t" "$hal_r" "$hal_d" "$hal_b"
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "f2812_main.c" "$mn_t" "$mn_r" "$mn_d" "$mn_b"
   printf '%-9s %-28s %8d\n' "" "hal ISR-path functions" "$hal_isr"
@@ -132,7 +136,7 @@ printf '  ramfuncs   code %6d words nominal (Thumb bytes/2), %6d pessimistic (x1
 printf '             pessimistic total %d words: flash build L0+L1 %d words (%d%%), RAM build H0 %d words (%d%%)\n' \
   "$total_pess" "$RAMFUNCS_FLASH_WORDS" "$(pct "$total_pess" "$RAMFUNCS_FLASH_WORDS")" \
   "$RAMFUNCS_RAM_WORDS" "$(pct "$total_pess" "$RAMFUNCS_RAM_WORDS")"
-printf '  ramfuncs_h code %6d words nominal, %6d pessimistic; tables %d words (fixed-point core)\n' \
+printf '  ramfuncs_h code %6d words nominal, %6d pessimistic; tables %d words (fixed-point core, app)\n' \
   "$fx_nom" "$fx_pess" "$fx_tables"
 printf '             pessimistic total %d words: flash build H0 %d words (%d%%), RAM build L1 %d words (%d%%)\n' \
   "$fx_total_pess" "$RAMFUNCS_H_FLASH_WORDS" "$(pct "$fx_total_pess" "$RAMFUNCS_H_FLASH_WORDS")" \
@@ -144,7 +148,7 @@ if [ "$total_pess" -gt "$RAMFUNCS_RAM_WORDS" ] || [ "$total_pess" -gt "$RAMFUNCS
   status=1
 fi
 if [ "$fx_total_pess" -gt "$RAMFUNCS_H_RAM_WORDS" ] || [ "$fx_total_pess" -gt "$RAMFUNCS_H_FLASH_WORDS" ]; then
-  echo "budget: the fixed-point core (pessimistic estimate) does NOT fit the ramfuncs_h RAM blocks" >&2
+  echo "budget: the fixed-point core and the application (pessimistic estimate) do NOT fit the ramfuncs_h RAM blocks" >&2
   status=1
 fi
 if [ "$state" -gt 1024 ]; then

@@ -74,7 +74,7 @@ static inline void f2812_delay_cycles(uint32_t min_cycles)
 extern uint16_t f2812_ramfuncs_load_start;
 extern uint16_t f2812_ramfuncs_load_end;
 extern uint16_t f2812_ramfuncs_run_start;
-extern uint16_t f2812_ramfuncs_h_load_start; /* ramfuncs_h: the fixed-point core (libdtc_fixmath.a) */
+extern uint16_t f2812_ramfuncs_h_load_start; /* ramfuncs_h: libdtc_fixmath.a and libdtc_app.a */
 extern uint16_t f2812_ramfuncs_h_load_end;
 extern uint16_t f2812_ramfuncs_h_run_start;
 static inline void f2812_ramfuncs_copy(void)

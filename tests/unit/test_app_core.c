@@ -329,6 +329,97 @@ static void test_encoder_plausibility(void **state)
     assert_int_equal(fx.app.st.fault_detail, 1);
 }
 
+/* The plausible count change per control period: twice the speed limit, never below one count
+ * (a single count step is quantisation: at ts = 1 us one count per period already reads 7500 rpm). */
+static void test_encoder_jump_threshold_scales_with_ts_and_lines(void **state)
+{
+    const double ts_list[3] = {50e-6, 10e-6, 1e-6};
+    (void)state;
+    for (int t = 0; t < 3; ++t) {
+        char msg[200];
+        dtc_config_si_defaults(&fx.si);
+        fx.si.ts_s = ts_list[t];
+        fx.si.dead_time_s = 0.0;
+        fx.si.mode = DTC_MODE_TORQUE;
+        if (dtc_config_from_si(&fx.si, &fx.cfg, msg, sizeof msg) != DTC_SI_OK) {
+            fail_msg("config refused at ts %g: %s", ts_list[t], msg);
+        }
+        assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+        /* Double reference: 2 x speed limit in counts per period. */
+        const double counts = 2.0 * fx.si.speed_limit_rpm / 60.0 * 4.0 * fx.si.enc_lines * ts_list[t];
+        const double want = counts < 1.0 ? 1.0 : floor(counts);
+        printf("MEASURE encoder jump at ts %g s: %u counts (double %.3f)\n", ts_list[t],
+               (unsigned)fx.app.enc_jump_counts, counts);
+        assert_true(fabs((double)fx.app.enc_jump_counts - want) <= 1.0);
+        assert_true(fx.app.enc_jump_counts >= 1U);
+        /* One count per period at 1 us must not trip; the threshold + 1 must. */
+        fx.m.tick = 0U;
+        meas_idle();
+        for (uint16_t k = 0; k < (1U << APP_CAL_LOG2); k++) {
+            (void)step();
+        }
+        assert_int_equal(fx.app.st.state, APP_STATE_RUN);
+        fx.m.qep_count = 100U;
+        assert_int_equal(step(), 0);
+        fx.m.qep_count = 101U;
+        assert_int_equal(step(), 0);
+        fx.m.qep_count = (uint16_t)(101U + fx.app.enc_jump_counts + 1U);
+        assert_int_equal(step(), 1);
+        assert_int_equal(fx.app.st.fault, APP_FAULT_ENCODER);
+    }
+}
+
+/* Stall: speed mode, a locked rotor (encoder still) with the speed reference at 1000 rpm: the PI
+ * drives the torque reference to its limit and the speed error does not shrink: STALL, after the
+ * window and not before. An accelerating rotor at the limit (error shrinking) is not a stall. */
+static void test_stall_is_a_fault_and_acceleration_is_not(void **state)
+{
+    char msg[200];
+    (void)state;
+    for (int accelerate = 0; accelerate < 2; ++accelerate) {
+        dtc_config_si_defaults(&fx.si);
+        fx.si.mode = DTC_MODE_SPEED;
+        fx.si.speed_ref_rpm = 1000.0;
+        if (dtc_config_from_si(&fx.si, &fx.cfg, msg, sizeof msg) != DTC_SI_OK) {
+            fail_msg("config refused: %s", msg);
+        }
+        assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+        fx.m.tick = 0U;
+        meas_idle();
+        for (uint16_t k = 0; k < (1U << APP_CAL_LOG2); k++) {
+            (void)step();
+        }
+        assert_int_equal(fx.app.st.state, APP_STATE_RUN);
+        uint32_t pos = 10000U, adv = 0U, k, tripped_at = 0U, at_limit_since = 0U;
+        for (k = 1; k <= 20000U && tripped_at == 0U; ++k) {
+            if (accelerate != 0 && k % 50U == 0U && adv < 2600U) {
+                adv += 2U; /* +0.02 counts per period every 50 periods: 0 -> about 900 rpm in 1.3 s */
+            }
+            encoder_advance(&pos, adv, 0U);
+            if (step() != 0U) {
+                tripped_at = k;
+            }
+            if (at_limit_since == 0U && fx.app.st.out.te_ref_iq >= fx.cfg.torque_limit_iq) {
+                at_limit_since = k;
+            }
+        }
+        if (accelerate == 0) {
+            printf("MEASURE stall: torque limit reached at period %u, STALL at period %u\n", (unsigned)at_limit_since,
+                   (unsigned)tripped_at);
+            assert_int_equal(fx.app.st.fault, APP_FAULT_STALL);
+            assert_int_equal(fx.app.st.fault_detail, 1);
+            assert_true(at_limit_since > 0U);
+            /* Not before a whole window at the limit, and within two windows of reaching it. */
+            assert_true(tripped_at >= at_limit_since + (APP_STALL_SPEED_PERIODS - 1U) * fx.cfg.speed_div);
+            assert_true(tripped_at <= at_limit_since + 2U * APP_STALL_SPEED_PERIODS * fx.cfg.speed_div);
+        } else {
+            assert_int_equal(tripped_at, 0U);
+            assert_int_equal(fx.app.st.fault, APP_FAULT_NONE);
+            assert_true(at_limit_since > 0U); /* it did accelerate at the limit */
+        }
+    }
+}
+
 /* In RUN the command is exactly what dtc_step decides on the same per-unit measurement. */
 static void test_run_forwards_controller_decision(void **state)
 {
@@ -362,6 +453,7 @@ static void test_fault_names(void **state)
     assert_string_equal(app_fault_name(APP_FAULT_NONE), "none");
     assert_string_equal(app_fault_name(APP_FAULT_OVERCURRENT), "overcurrent");
     assert_string_equal(app_fault_name(APP_FAULT_ENCODER), "encoder");
+    assert_string_equal(app_fault_name(APP_FAULT_STALL), "stall");
     assert_string_equal(app_fault_name(999U), "unknown");
 }
 
@@ -377,6 +469,8 @@ int main(void)
         cmocka_unit_test(test_dc_link_window),
         cmocka_unit_test(test_hw_trip_and_clear),
         cmocka_unit_test(test_encoder_plausibility),
+        cmocka_unit_test(test_encoder_jump_threshold_scales_with_ts_and_lines),
+        cmocka_unit_test(test_stall_is_a_fault_and_acceleration_is_not),
         cmocka_unit_test(test_run_forwards_controller_decision),
         cmocka_unit_test(test_fault_names),
     };
