@@ -241,7 +241,7 @@ static void calibrate_step(app_core_t *a, const hal_meas_t *m)
 }
 
 /* Stall (speed mode): on each speed-loop period, with the torque reference at its limit, a window
- * of APP_STALL_SPEED_PERIODS is open; it trips when at its end the speed error has not shrunk
+ * of cfg->stall_speed_periods is open; it trips when at its end the speed error has not shrunk
  * since its start. Any period below the limit closes the window. Torque mode has no speed error
  * to watch and is left alone. Scaling: |speed_ref - speed| saturated difference; compared. */
 static uint16_t check_stall(app_core_t *a)
@@ -259,7 +259,7 @@ static uint16_t check_stall(app_core_t *a)
     if (a->stall_n == 0U) {
         a->stall_err0_iq = err;
     }
-    if (++a->stall_n < APP_STALL_SPEED_PERIODS) {
+    if (++a->stall_n < a->cfg->stall_speed_periods) {
         return 0U;
     }
     a->stall_n = 0U;

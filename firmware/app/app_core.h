@@ -32,10 +32,9 @@ enum app_state {
     APP_STATE_FAULT = 3      /* latched, gates off */
 };
 
-/* Stall window (APP_FAULT_STALL): 200 speed-loop periods, 0.1 s with Hoang's 50 us and speed loop
- * at 1/10. A drive at its torque limit whose speed error has not shrunk over the window cannot
+/* Stall (APP_FAULT_STALL): a drive at its torque limit whose speed error has not shrunk over
+ * cfg->stall_speed_periods speed-loop periods (the host converts a time, 0.1 s by default) cannot
  * reach the reference (a locked rotor or a load above the limit): it is tripped, not left to run. */
-#define APP_STALL_SPEED_PERIODS 200U
 
 /* Fault reasons (stable numbers; app_fault_name() gives the text). */
 enum app_fault {
@@ -48,7 +47,7 @@ enum app_fault {
     APP_FAULT_HW_TRIP = 6,        /* hardware protection input (PDPINTA) */
     APP_FAULT_ADC_OFFSET = 7,     /* calibrated offset too far from nominal (detail: channel) */
     APP_FAULT_STALL = 8           /* speed mode: torque reference at its limit while the speed
-                                   * error did not shrink for APP_STALL_SPEED_PERIODS (detail:
+                                   * error did not shrink for cfg->stall_speed_periods (detail:
                                    * the sign of the torque reference) */
 };
 

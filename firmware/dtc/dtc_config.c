@@ -37,7 +37,8 @@ int16_t dtc_config_validate(const dtc_config_t *cfg)
     if (cfg->flux_band_iq < 0 || cfg->torque_band_iq < 0) {
         return DTC_ERR_BAND;
     }
-    if (cfg->speed_div == 0U || cfg->speed_k_iq <= 0 || cfg->speed_min_counts == 0U) {
+    if (cfg->speed_div == 0U || cfg->speed_k_iq <= 0 || cfg->speed_min_counts == 0U ||
+        cfg->stall_speed_periods == 0U) {
         return DTC_ERR_SPEED;
     }
     if (cfg->kp_iq < 0 || cfg->ki_ts_iq < 0 || cfg->torque_limit_iq <= 0 ||

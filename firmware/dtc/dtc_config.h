@@ -151,6 +151,8 @@ struct dtc_config {
     q15_t torque_trim_k_q15;      /* torque mode: mean-torque trim gain per control period,
                                    * Ts / tau (0 = off, < 1); see dtc.c step 5 */
     iq_t speed_limit_iq;          /* |speed_ref| limit, pu (> 0) */
+    uint16_t stall_speed_periods; /* app stall window in speed periods (> 0): the host converts
+                                   * the stall time (0.1 s by default) with Ts and speed_div */
 
     /* Initial references (the shadow set replaces them at run time), pu. */
     iq_t flux_ref_iq;

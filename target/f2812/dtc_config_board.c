@@ -39,6 +39,7 @@ const dtc_config_t g_dtc_config = {
     .speed_div = 10U,
     .speed_k_iq = 83886, /* 0.00499999523 pu */
     .speed_min_counts = 100U,
+    .stall_speed_periods = 200U,
     .kp_iq = 86017914, /* 5.12706721 pu */
     .ki_ts_iq = 645134, /* 0.0384529829 pu */
     .torque_limit_iq = 10267632, /* 0.611998558 pu */

@@ -349,3 +349,25 @@ TEST_F(Validation, FuzzedExtremeValuesNeverExitZeroWithANonFiniteMetric)
     EXPECT_GT(runs, 0);
     EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(120));
 }
+
+TEST_F(Validation, AStalledDriveIsANamedFault)
+{
+    // A load step above the torque limit at t = 0.6 s: the speed loop saturates, the speed error
+    // grows, the firmware trips with "stall" (protection.stall_time_s, derived: 0.1 s here) instead of running
+    // backwards with fault "none". The same run without the step ends with no fault.
+    const std::string scen = std::string(DTC_SOURCE_DIR) + "/tools/scenarios/fstp_current_full.toml";
+    for (int step = 0; step < 2; ++step) {
+        std::vector<std::string> sets = {"duration_s=1.2", "metrics_window_s=0.1", "load.type=\"torque\"",
+                                         "load.torque_nm=0.1"};
+        if (step != 0) {
+            sets.push_back("load.step_time_s=0.6");
+            sets.push_back("load.step_torque_nm=2.0");
+        }
+        std::string e;
+        cli(with_sets({"run", scen, "--out", (dir / "stall").string(), "-q", "--no-trace"}, sets), &e);
+        std::ifstream f(dir / "stall" / "metrics.json");
+        ASSERT_TRUE(f.good()) << e;
+        const auto j = nlohmann::json::parse(f);
+        EXPECT_EQ(j["fault"], step != 0 ? "stall" : "none") << e;
+    }
+}

@@ -410,8 +410,8 @@ static void test_stall_is_a_fault_and_acceleration_is_not(void **state)
             assert_int_equal(fx.app.st.fault_detail, 1);
             assert_true(at_limit_since > 0U);
             /* Not before a whole window at the limit, and within two windows of reaching it. */
-            assert_true(tripped_at >= at_limit_since + (APP_STALL_SPEED_PERIODS - 1U) * fx.cfg.speed_div);
-            assert_true(tripped_at <= at_limit_since + 2U * APP_STALL_SPEED_PERIODS * fx.cfg.speed_div);
+            assert_true(tripped_at >= at_limit_since + (fx.cfg.stall_speed_periods - 1U) * fx.cfg.speed_div);
+            assert_true(tripped_at <= at_limit_since + 2U * fx.cfg.stall_speed_periods * fx.cfg.speed_div);
         } else {
             assert_int_equal(tripped_at, 0U);
             assert_int_equal(fx.app.st.fault, APP_FAULT_NONE);

@@ -50,6 +50,8 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->speed_bw_rad_s = 60.0;
     si->torque_limit_nm = 0.45; /* 1.5 x rated */
     si->torque_trim_tau_s = 0.02; /* 400 control periods: slow against the torque ripple */
+    si->stall_time_s = 0.0;       /* derived: max(0.1 s, 20 speed periods), long against the speed
+                                   * measurement's window, short against a locked rotor's heating */
     si->speed_limit_rpm = 3000.0;
     si->flux_ref_wb = 0.0928;
     si->speed_ref_rpm = 1500.0; /* the paper's test speed */
@@ -217,6 +219,9 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     if (si->mode != DTC_MODE_SPEED && si->mode != DTC_MODE_TORQUE)
         return fail(&c, DTC_SI_ERR_VARIANT, "mode = %d: must be DTC_MODE_SPEED or DTC_MODE_TORQUE", si->mode);
     if (!(si->torque_limit_nm > 0.0)) return fail(&c, DTC_SI_ERR_LIMIT, "torque_limit_nm = %g: must be > 0", si->torque_limit_nm);
+    if (!(si->stall_time_s == 0.0 ||
+          (si->stall_time_s >= 20.0 * si->ts_s * si->speed_div && si->stall_time_s / (si->ts_s * si->speed_div) <= 65535.0)))
+        return fail(&c, DTC_SI_ERR_GAIN, "stall_time_s = %g: must be 0 (derived) or span 20 .. 65535 speed periods of %g s", si->stall_time_s, si->ts_s * si->speed_div);
     if (!(si->torque_trim_tau_s == 0.0 || si->torque_trim_tau_s > si->ts_s))
         return fail(&c, DTC_SI_ERR_GAIN, "torque_trim_tau_s = %g: must be 0 (off) or longer than ts_s = %g", si->torque_trim_tau_s, si->ts_s);
     if (!(si->speed_limit_rpm > 0.0)) return fail(&c, DTC_SI_ERR_LIMIT, "speed_limit_rpm = %g: must be > 0", si->speed_limit_rpm);
@@ -318,6 +323,11 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     cfg->speed_k_iq = to_iq(&c, "enc_lines (speed gain)", enc_counts,
                             2.0 * M_PI * si->pole_pairs / (enc_counts * tsp * b.w_base_rad_s));
     cfg->speed_min_counts = (uint16_t)si->speed_min_counts;
+    {
+        const double t_speed = si->ts_s * si->speed_div;
+        const double t_stall = si->stall_time_s != 0.0 ? si->stall_time_s : fmax(0.1, 20.0 * t_speed);
+        cfg->stall_speed_periods = (uint16_t)fmin(65535.0, (double)lround(t_stall / t_speed));
+    }
     /* kp: N.m per mech rad/s -> pu torque per pu speed: w_mech = w_pu w_base / p. */
     cfg->kp_iq = to_iq(&c, "kp_nm_s_rad", kp, kp * b.w_base_rad_s / (si->pole_pairs * b.t_base_nm));
     cfg->ki_ts_iq = to_iq(&c, "ki_nm_rad", ki, ki * tsp * b.w_base_rad_s / (si->pole_pairs * b.t_base_nm));
@@ -396,7 +406,7 @@ int dtc_config_emit_c(const dtc_config_t *cfg, const char *symbol, FILE *f)
     EU(enc_counts); EU(enc_gain_q16); EU(enc_offset);
     EIQ(v_f_iq); EIQ(v_ce_iq); EIQ(v_d_iq); EIQ(r_on_iq);
     EIQ(flux_band_iq); EIQ(torque_band_iq);
-    EU(speed_div); EIQ(speed_k_iq); EU(speed_min_counts);
+    EU(speed_div); EIQ(speed_k_iq); EU(speed_min_counts); EU(stall_speed_periods);
     EIQ(kp_iq); EIQ(ki_ts_iq); EIQ(torque_limit_iq); EIQ(speed_limit_iq);
     EMIT("    .torque_trim_k_q15 = %d, /* Ts / tau of the torque-mode trim, Q15 */\n", (int)cfg->torque_trim_k_q15);
     EIQ(flux_ref_iq); EIQ(speed_ref_iq); EIQ(torque_ref_iq);

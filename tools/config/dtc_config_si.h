@@ -77,6 +77,9 @@ typedef struct {
     double ki_nm_rad;       /* N.m per (mechanical rad/s) per s */
     double torque_limit_nm;
     double torque_trim_tau_s; /* torque mode: mean-torque trim time constant (0 = off) */
+    double stall_time_s;      /* speed mode: torque at its limit with no shrinking speed error
+                               * for this long is a stall fault (app_core); 0 = derived:
+                               * max(0.1 s, 20 speed periods) */
     double speed_limit_rpm;
     double flux_ref_wb;
     double speed_ref_rpm;

@@ -24,7 +24,7 @@ int main(void)
     CHK(fstp_vmid_measured); CHK(v_base_mv); CHK(i_base_ma); CHK(w_base_mrad_s); CHK(pole_pairs);
     CHK(rs_iq); CHK(ls_iq); CHK(psi_m_iq); CHK(k_in_q31); CHK(k_leak_q31); CHK(enc_counts);
     CHK(enc_gain_q16); CHK(enc_offset); CHK(v_f_iq); CHK(v_ce_iq); CHK(v_d_iq); CHK(r_on_iq);
-    CHK(flux_band_iq); CHK(torque_band_iq); CHK(speed_div); CHK(speed_k_iq); CHK(speed_min_counts);
+    CHK(flux_band_iq); CHK(torque_band_iq); CHK(speed_div); CHK(speed_k_iq); CHK(speed_min_counts); CHK(stall_speed_periods);
     CHK(kp_iq); CHK(ki_ts_iq); CHK(torque_limit_iq); CHK(torque_trim_k_q15); CHK(speed_limit_iq); CHK(flux_ref_iq);
     CHK(speed_ref_iq); CHK(torque_ref_iq); CHK(adc_i_gain_iq); CHK(adc_i_offset[0]);
     CHK(adc_i_offset[1]); CHK(adc_i_offset[2]); CHK(adc_vdc_gain_iq); CHK(adc_vdc_offset);

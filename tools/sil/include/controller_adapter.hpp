@@ -81,7 +81,7 @@ struct FirmwareSiConfig {
     double dead_time_s; // the gate driver's setting (inverter.dead_time_s, also when not modelled)
     double speed_kp_nm_per_rad_s, speed_ki_nm_per_rad;
     // protection
-    double overcurrent_a, vdc_min_v, vdc_max_v;
+    double overcurrent_a, vdc_min_v, vdc_max_v, stall_time_s;
 };
 FirmwareSiConfig firmware_si_config(const Scenario& sc);
 

@@ -133,6 +133,7 @@ struct ProtectionCfg {
     double vdc_min_v = 40.0;      // firmware DC-link under-voltage trip
     double vdc_max_v = 90.0;      // firmware DC-link over-voltage trip
     double hw_trip_current_a = 8.0; // hardware comparator (PDPINTA), in hal_host
+    double stall_time_s = 0.0;      // firmware stall fault time; 0 = derived, max(0.1 s, 20 speed periods)
     bool allow_unsafe = false;    // accept trip settings that let the current exceed 3x rated
 };
 

@@ -70,6 +70,7 @@ FirmwareSiConfig firmware_si_config(const Scenario& sc)
     c.speed_kp_nm_per_rad_s = g.kp_nm_per_rad_s;
     c.speed_ki_nm_per_rad = g.ki_nm_per_rad;
     c.overcurrent_a = sc.protection.overcurrent_a;
+    c.stall_time_s = sc.protection.stall_time_s;
     c.vdc_min_v = sc.protection.vdc_min_v;
     c.vdc_max_v = sc.protection.vdc_max_v;
     return c;

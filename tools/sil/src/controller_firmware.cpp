@@ -99,6 +99,7 @@ void fill_si(const FirmwareSiConfig& c, const Scenario& sc, dtc_config_si_t* si)
     si->adc_vmid_v_per_count = c.voltage_range_v / 4095.0;
     si->adc_vmid_offset = 0;
     si->i_trip_a = c.overcurrent_a;
+    si->stall_time_s = c.stall_time_s;
     si->vdc_max_v = c.vdc_max_v;
     si->vdc_min_v = c.vdc_min_v;
 }
@@ -135,6 +136,7 @@ std::string keys_of_field(const std::string& msg)
         {"torque_limit_nm", "control.torque_limit_nm"},
         {"speed_limit_rpm", "control.speed_ref_rpm"},
         {"i_trip_a", "protection.overcurrent_a"},
+        {"stall_time_s", "protection.stall_time_s (with ts_s, control.speed_loop_divider)"},
         {"vdc_min_v", "protection.vdc_min_v, protection.vdc_max_v"},
         {"flux_ref_wb", "control.flux_ref_wb"},
         {"speed_ref_rpm", "control.speed_ref_rpm"},

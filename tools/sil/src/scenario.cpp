@@ -334,6 +334,10 @@ const std::vector<Spec>& schema()
             ACC(protection.overcurrent_a)),
         num("protection.vdc_min_v", "V", nonneg(), "firmware DC-link under-voltage trip", ACC(protection.vdc_min_v)),
         num("protection.vdc_max_v", "V", positive(), "firmware DC-link over-voltage trip", ACC(protection.vdc_max_v)),
+        num("protection.stall_time_s", "s", nonneg(),
+            "firmware stall fault (speed mode): the torque reference at its limit while the speed error does "
+            "not shrink for this long (at least 20 speed-loop periods); 0 = max(0.1 s, 20 speed-loop periods)",
+            ACC(protection.stall_time_s)),
         num("protection.hw_trip_current_a", "A", nonneg(),
             "hardware comparator on each phase-current magnitude (PDPINTA), latching, gates off; 0 = not fitted",
             ACC(protection.hw_trip_current_a)),
