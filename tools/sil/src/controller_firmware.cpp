@@ -147,6 +147,8 @@ std::string keys_of_field(const std::string& msg)
         {"speed_bw_rad_s", "control.speed_bw_hz"},
         {"inertia_kgm2", "motor.j_kgm2"},
         {"compensation", "control.compensation"},
+        {"dead_time_s", "inverter.dead_time_s (or firmware.dead_time_s) against ts_s"},
+        {"handover", "control.handover_rpm, control.handover_hyst_frac"},
     };
     for (const auto& m : map) {
         if (msg.rfind(m.field, 0) == 0) {
