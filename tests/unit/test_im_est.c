@@ -150,6 +150,27 @@ static void test_improved_estimator_magnetises_from_zero_as_eq20_says(void **sta
     assert_int_equal(s.theta_r, 0);
 }
 
+/* The rated-load steady state both steady-state tests use, at 25 Hz: the stator flux 0.95 pu
+ * rotating, the current 0.8 pu leading it by 70 degrees. For step k (the period [k, k+1] in the
+ * firmware's timing: v over the period that ends now, i sampled now) the voltage that makes eq. 1
+ * exact for the estimator's own R_s i term, the current, and |psi_s - sigma l_s i| (eq. 21). */
+#define SS_W 0.5
+#define SS_PSI 0.95
+#define SS_I 0.8
+#define SS_PHI (70.0 * FIXTEST_PI / 180.0)
+static void steady_state_inputs(int k, double v[2], double i[2])
+{
+    const double t = k * kTs, t1 = (k + 1) * kTs;
+    i[0] = SS_I * cos(SS_W * t1 + SS_PHI);
+    i[1] = SS_I * sin(SS_W * t1 + SS_PHI);
+    v[0] = SS_PSI * (cos(SS_W * t1) - cos(SS_W * t)) / kTs + kRs * i[0];
+    v[1] = SS_PSI * (sin(SS_W * t1) - sin(SS_W * t)) / kTs + kRs * i[1];
+}
+static double steady_state_x(void)
+{
+    return hypot(SS_PSI - sigma() * kLs * SS_I * cos(SS_PHI), -sigma() * kLs * SS_I * sin(SS_PHI));
+}
+
 static void test_improved_estimator_tracks_double_reference_in_steady_state(void **state)
 {
     (void)state;
@@ -157,7 +178,6 @@ static void test_improved_estimator_tracks_double_reference_in_steady_state(void
      * by 70 degrees; the voltage is what makes eq. 1 exact for the zero-order-held period. The
      * improved estimator with phi_r* 3 % off the true rotor flux, fixed point against the same
      * discrete equations in double: SNR and worst error. */
-    const double w = 0.5, psi0 = 0.95, i0 = 0.8, phi = 70.0 * FIXTEST_PI / 180.0;
     const double K = 40e-6 / 0.01;
     im_est_params_t p;
     im_est_t s;
@@ -166,18 +186,12 @@ static void test_improved_estimator_tracks_double_reference_in_steady_state(void
     ref_est_t r = {{0, 0}, {0, 0}, 0.0};
     fixtest_acc_t acc;
     fixtest_acc_init(&acc);
+    const double psir_ref = 1.03 * kLr / kLm * steady_state_x();
     for (int k = 0; k < 50000; ++k) {
-        const double t = k * kTs, t1 = (k + 1) * kTs;
-        /* The firmware's timing: v over the period that ends now, [t, t1], and i sampled now, at
-         * t1; v = (psi(t1) - psi(t)) / Ts + R_s i(t1) makes eq. 1 exact for the estimator's own
-         * R_s i term. */
-        const double i[2] = {i0 * cos(w * t1 + phi), i0 * sin(w * t1 + phi)};
-        const double v[2] = {psi0 * (cos(w * t1) - cos(w * t)) / kTs + kRs * i[0],
-                             psi0 * (sin(w * t1) - sin(w * t)) / kTs + kRs * i[1]};
-        const double x_true = hypot(psi0 - sigma() * kLs * i0 * cos(phi), -sigma() * kLs * i0 * sin(phi));
-        const double psir_ref = 1.03 * kLr / kLm * x_true;
+        double v[2], i[2];
+        steady_state_inputs(k, v, i);
         im_est_in_t in = {fixtest_d_to_iq(v[0]), fixtest_d_to_iq(v[1]), fixtest_d_to_iq(i[0]), fixtest_d_to_iq(i[1]),
-                          fixtest_d_to_iq(psir_ref), fixtest_d_to_iq(w)};
+                          fixtest_d_to_iq(psir_ref), fixtest_d_to_iq(SS_W)};
         im_est_step(&s, &in);
         ref_step(&r, K, v, i, psir_ref);
         if (k > 1000) {
@@ -194,25 +208,21 @@ static void test_improved_estimator_tracks_double_reference_in_steady_state(void
  * returns |psi_est - psi_true| in pu for a rotor-flux reference (1 + rel) times the true one. */
 static double improved_steady_error(double rel)
 {
-    const double w = 0.5, psi0 = 0.95, i0 = 0.8, phi = 70.0 * FIXTEST_PI / 180.0;
     const double K = 40e-6 / 0.01;
     im_est_params_t p;
     im_est_t s;
     default_params(&p, IM_EST_IMPROVED, K);
     im_est_init(&s, &p);
-    const double x_true = hypot(psi0 - sigma() * kLs * i0 * cos(phi), -sigma() * kLs * i0 * sin(phi));
     const int n = 50000;
     for (int k = 0; k < n; ++k) {
-        const double t = k * kTs, t1 = (k + 1) * kTs;
-        const double i[2] = {i0 * cos(w * t1 + phi), i0 * sin(w * t1 + phi)};
-        const double v[2] = {psi0 * (cos(w * t1) - cos(w * t)) / kTs + kRs * i[0],
-                             psi0 * (sin(w * t1) - sin(w * t)) / kTs + kRs * i[1]};
+        double v[2], i[2];
+        steady_state_inputs(k, v, i);
         im_est_in_t in = {fixtest_d_to_iq(v[0]), fixtest_d_to_iq(v[1]), fixtest_d_to_iq(i[0]), fixtest_d_to_iq(i[1]),
-                          fixtest_d_to_iq((1.0 + rel) * kLr / kLm * x_true), fixtest_d_to_iq(w)};
+                          fixtest_d_to_iq((1.0 + rel) * kLr / kLm * steady_state_x()), fixtest_d_to_iq(SS_W)};
         im_est_step(&s, &in);
     }
-    return hypot(fixtest_iq_to_d(s.psi_alpha_iq) - psi0 * cos(w * n * kTs),
-                 fixtest_iq_to_d(s.psi_beta_iq) - psi0 * sin(w * n * kTs));
+    return hypot(fixtest_iq_to_d(s.psi_alpha_iq) - SS_PSI * cos(SS_W * n * kTs),
+                 fixtest_iq_to_d(s.psi_beta_iq) - SS_PSI * sin(SS_W * n * kTs));
 }
 
 static void test_improved_estimator_error_against_the_true_flux(void **state)
@@ -227,8 +237,7 @@ static void test_improved_estimator_error_against_the_true_flux(void **state)
      * assertion keeps it within [0.8, 1.3] of it. */
     const double w_tau = 0.5 * TWO_PI * 50.0 * 0.01, kr = kLr / kLm;
     const double e0 = improved_steady_error(0.0), e3 = improved_steady_error(0.03);
-    const double psir = kr * hypot(0.95 - sigma() * kLs * 0.8 * cos(70.0 * FIXTEST_PI / 180.0),
-                                   sigma() * kLs * 0.8 * sin(70.0 * FIXTEST_PI / 180.0));
+    const double psir = kr * steady_state_x();
     const double first_order = 0.03 * psir / hypot(kr, w_tau);
     printf("MEASURE improved estimator vs true flux: phi_r* exact %.2e pu, phi_r* +3 %% %.4f pu (first order %.4f)\n",
            e0, e3, first_order);
