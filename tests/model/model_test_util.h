@@ -64,6 +64,22 @@ inline plant_state_t state(const PlantPtr &pl) {
     return s;
 }
 
+// Energy balance between two states: DC input against every loss (copper, devices, friction,
+// load, source resistance, link ESR and balancing resistors) plus the change of magnetic, kinetic
+// and capacitor energy. rel = |in - out| / |in|.
+struct Balance {
+    double in, out, rel;
+};
+inline Balance balance(const plant_state_t &s0, const plant_state_t &s) {
+    const double in = s.e_dc_in_j - s0.e_dc_in_j;
+    const double out = (s.e_copper_j - s0.e_copper_j) + (s.e_device_j - s0.e_device_j) +
+                       (s.e_friction_j - s0.e_friction_j) + (s.e_load_j - s0.e_load_j) +
+                       (s.e_rdc_j - s0.e_rdc_j) + (s.e_link_j - s0.e_link_j) +
+                       (s.e_magnetic_j - s0.e_magnetic_j) + (s.e_kinetic_j - s0.e_kinetic_j) +
+                       (s.e_capacitor_j - s0.e_capacitor_j);
+    return {in, out, std::fabs(in - out) / std::fabs(in)};
+}
+
 // Ideal devices, no dead time, stiff DC link: isolates the machine and the vector geometry.
 inline plant_params_t ideal_inverter(plant_inverter_t inv) {
     plant_params_t p;

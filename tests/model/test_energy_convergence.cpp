@@ -16,19 +16,6 @@ void sstp_vector_towards(double a, int leg[3]) {
     for (int i = 0; i < 3; ++i) leg[i] = tab[k][i];
 }
 
-struct Balance {
-    double in, out, rel;
-};
-
-Balance balance(const plant_state_t &s0, const plant_state_t &s) {
-    const double in = s.e_dc_in_j - s0.e_dc_in_j;
-    const double out = (s.e_copper_j - s0.e_copper_j) + (s.e_device_j - s0.e_device_j) +
-                       (s.e_friction_j - s0.e_friction_j) + (s.e_load_j - s0.e_load_j) +
-                       (s.e_rdc_j - s0.e_rdc_j) + (s.e_magnetic_j - s0.e_magnetic_j) +
-                       (s.e_kinetic_j - s0.e_kinetic_j) + (s.e_capacitor_j - s0.e_capacitor_j);
-    return {in, out, std::fabs(in - out) / std::fabs(in)};
-}
-
 }  // namespace
 
 // DC input energy = copper + device + friction + load + source-resistance losses + change of

@@ -202,12 +202,8 @@ TEST(Energy, BalanceWithCoulombAndLinkResistors) {
     plant_set_legs(pl.get(), 0, 0, 0, 0);
     for (int k = 0; k < 10000; ++k) plant_advance(pl.get(), 50e-6);
     const plant_state_t s = state(pl);
-    const double in = s.e_dc_in_j - s0.e_dc_in_j;
-    const double out = (s.e_copper_j - s0.e_copper_j) + (s.e_device_j - s0.e_device_j) +
-                       (s.e_friction_j - s0.e_friction_j) + (s.e_load_j - s0.e_load_j) +
-                       (s.e_rdc_j - s0.e_rdc_j) + (s.e_link_j - s0.e_link_j) +
-                       (s.e_magnetic_j - s0.e_magnetic_j) + (s.e_kinetic_j - s0.e_kinetic_j) +
-                       (s.e_capacitor_j - s0.e_capacitor_j);
+    const Balance b = balance(s0, s);
+    const double in = b.in, out = b.out;
     std::printf("energy with Coulomb + R_bal + ESR: in %.6f J, out %.6f J, rel %.3e; link loss %.4f J; "
                 "speed %.1f rpm -> %.3f rpm\n", in, out, std::fabs(in - out) / in, s.e_link_j, w_run, s.speed_rpm);
     EXPECT_GT(w_run, 300.0);

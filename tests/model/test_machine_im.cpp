@@ -101,42 +101,53 @@ Steady run_steady(double s, double seconds) {
     return {te / navg, ia / navg, ps / navg};
 }
 
+// The plant at a fixed speed fed the rated 50 Hz voltage, held per period, from zero, beside the
+// exact per-period solution x(k+1) = e^{A T} x(k) + (int_0^T e^{A t} dt) B v(k) (augmented-matrix
+// exponential, Eigen MatrixFunctions) of the flux form A6-A9 - not the plant's own current/rotor-
+// flux form. Worst differences over n periods: stator current (A), rotor flux, stator flux (Wb).
+struct ExactError {
+    double i_a, psi_r_wb, psi_s_wb;
+};
+ExactError against_exact(const plant_params_t &p, double rpm, int n) {
+    auto pl = make(p);
+    const FluxModel fm(p, p.pole_pairs * rpm * kRpm);
+    Eigen::Matrix<double, 6, 6> M = Eigen::Matrix<double, 6, 6>::Zero();
+    M.topLeftCorner<4, 4>() = fm.A * kTs;
+    M.topRightCorner<4, 2>() = fm.B * kTs;
+    const Eigen::Matrix<double, 6, 6> E = M.exp();
+    Eigen::Vector4d x = Eigen::Vector4d::Zero();
+    ExactError e{0.0, 0.0, 0.0};
+    for (int k = 0; k < n; ++k) {
+        const double th = kWs * (k + 0.5) * kTs;
+        const Eigen::Vector2d v(kVrated * std::cos(th), kVrated * std::sin(th));
+        plant_set_voltage(pl.get(), v[0], v[1]);
+        plant_advance(pl.get(), kTs);
+        x = E.topLeftCorner<4, 4>() * x + E.topRightCorner<4, 2>() * v;
+        const Eigen::Vector2d i = fm.is(x);
+        const plant_state_t st = state(pl);
+        e.i_a = std::max(e.i_a, std::hypot(st.i_alpha_a - i[0], st.i_beta_a - i[1]));
+        e.psi_r_wb = std::max(e.psi_r_wb, std::hypot(st.psi_r_alpha_wb - x[2], st.psi_r_beta_wb - x[3]));
+        e.psi_s_wb = std::max(e.psi_s_wb, std::fabs(st.psi_alpha_wb - x[0]));
+    }
+    return e;
+}
+
 }  // namespace
 
-// Fixed speed, piecewise-constant voltage: the machine is linear, so x(k+1) = e^{A T} x(k) +
-// (int_0^T e^{A t} dt) B v(k) exactly (augmented-matrix exponential, Eigen MatrixFunctions), from
-// the flux form A6-A9 - not the plant's current/rotor-flux form. 0.2 s from zero at 1400 rpm, rated
-// 50 Hz voltage. Bounds: 1e-6 A at max_step = T/8 = 5 us, 1e-3 A at the default step (one 40 us
+// Fixed speed, piecewise-constant voltage: the machine is linear, so the exact solution per period
+// is a matrix exponential (against_exact). 0.2 s from zero at 1400 rpm, rated 50 Hz voltage. Bounds: 1e-6 A at max_step = T/8 = 5 us, 1e-3 A at the default step (one 40 us
 // RK4 step per period).
 TEST(InductionMachine, FixedSpeedMatchesMatrixExponential) {
     const double rpm = 1400.0;
     for (double hmax : {5e-6, 50e-6}) {
         plant_params_t p = im_ideal(rpm);
         p.max_step_s = hmax;
-        auto pl = make(p);
-        const FluxModel fm(p, p.pole_pairs * rpm * kRpm);
-        Eigen::Matrix<double, 6, 6> M = Eigen::Matrix<double, 6, 6>::Zero();
-        M.topLeftCorner<4, 4>() = fm.A * kTs;
-        M.topRightCorner<4, 2>() = fm.B * kTs;
-        const Eigen::Matrix<double, 6, 6> E = M.exp();
-        Eigen::Vector4d x = Eigen::Vector4d::Zero();
-        double worst = 0.0, worst_psir = 0.0;
-        for (int k = 0; k < 5000; ++k) {
-            const double th = kWs * (k + 0.5) * kTs;
-            const Eigen::Vector2d v(kVrated * std::cos(th), kVrated * std::sin(th));
-            plant_set_voltage(pl.get(), v[0], v[1]);
-            plant_advance(pl.get(), kTs);
-            x = E.topLeftCorner<4, 4>() * x + E.topRightCorner<4, 2>() * v;
-            const Eigen::Vector2d i = fm.is(x);
-            const plant_state_t st = state(pl);
-            worst = std::max(worst, std::hypot(st.i_alpha_a - i[0], st.i_beta_a - i[1]));
-            worst_psir = std::max(worst_psir, std::hypot(st.psi_r_alpha_wb - x[2], st.psi_r_beta_wb - x[3]));
-            // Stator flux and A10 torque from the same state.
-            ASSERT_NEAR(st.psi_alpha_wb, x[0], 1e-5);
-        }
+        const ExactError e = against_exact(p, rpm, 5000);
+        // Stator flux and A10 torque come from the same state.
+        ASSERT_LE(e.psi_s_wb, 1e-5);
         std::printf("IM fixed speed, max_step %.0f us: max |i_s - exact| = %.3e A, |psi_r - exact| = %.3e Wb\n",
-                    hmax * 1e6, worst, worst_psir);
-        EXPECT_LT(worst, hmax < 10e-6 ? 1e-6 : 1e-3);
+                    hmax * 1e6, e.i_a, e.psi_r_wb);
+        EXPECT_LT(e.i_a, hmax < 10e-6 ? 1e-6 : 1e-3);
     }
 }
 
@@ -148,24 +159,7 @@ TEST(InductionMachine, StepHalvingShowsFourthOrder) {
     for (int m = 0; m < 3; ++m) {
         plant_params_t p = im_ideal(rpm);
         p.max_step_s = hs[m];
-        auto pl = make(p);
-        const FluxModel fm(p, p.pole_pairs * rpm * kRpm);
-        Eigen::Matrix<double, 6, 6> M = Eigen::Matrix<double, 6, 6>::Zero();
-        M.topLeftCorner<4, 4>() = fm.A * kTs;
-        M.topRightCorner<4, 2>() = fm.B * kTs;
-        const Eigen::Matrix<double, 6, 6> E = M.exp();
-        Eigen::Vector4d x = Eigen::Vector4d::Zero();
-        err[m] = 0.0;
-        for (int k = 0; k < 1000; ++k) {
-            const double th = kWs * (k + 0.5) * kTs;
-            const Eigen::Vector2d v(kVrated * std::cos(th), kVrated * std::sin(th));
-            plant_set_voltage(pl.get(), v[0], v[1]);
-            plant_advance(pl.get(), kTs);
-            x = E.topLeftCorner<4, 4>() * x + E.topRightCorner<4, 2>() * v;
-            const Eigen::Vector2d i = fm.is(x);
-            const plant_state_t st = state(pl);
-            err[m] = std::max(err[m], std::hypot(st.i_alpha_a - i[0], st.i_beta_a - i[1]));
-        }
+        err[m] = against_exact(p, rpm, 1000).i_a;
     }
     std::printf("IM step halving: errors %.3e, %.3e, %.3e A; ratios %.1f, %.1f\n", err[0], err[1], err[2],
                 err[0] / err[1], err[1] / err[2]);
@@ -346,12 +340,8 @@ TEST(InductionMachine, EnergyBalanceOnSwitchedRuns) {
             plant_advance(pl.get(), kTs);
         }
         const plant_state_t s = state(pl);
-        const double in = s.e_dc_in_j - s0.e_dc_in_j;
-        const double out = (s.e_copper_j - s0.e_copper_j) + (s.e_device_j - s0.e_device_j) +
-                           (s.e_friction_j - s0.e_friction_j) + (s.e_load_j - s0.e_load_j) +
-                           (s.e_rdc_j - s0.e_rdc_j) + (s.e_link_j - s0.e_link_j) +
-                           (s.e_magnetic_j - s0.e_magnetic_j) + (s.e_kinetic_j - s0.e_kinetic_j) +
-                           (s.e_capacitor_j - s0.e_capacitor_j);
+        const Balance b = balance(s0, s);
+        const double in = b.in, out = b.out;
         std::printf("IM energy (%s): in %.4f J, out %.4f J, rel %.3e; copper %.2f device %.2f kinetic %.2f; "
                     "speed %.1f rpm, |psi_r| %.3f Wb\n",
                     inv == PLANT_INVERTER_SSTP ? "SSTP" : "FSTP", in, out, std::fabs(in - out) / in, s.e_copper_j,
