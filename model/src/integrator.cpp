@@ -264,19 +264,17 @@ void advance_with(plant_t *pl, M &mach, double dt_s) {
                 if (ls.gate[x] != ls.gate_target[x]) next = std::min(next, ls.dead_end[x]);
             }
         }
-        // A sub-step ending at a dead-time end (not at a switching instant): the midpoint-rule case.
-        const double next_dead = next;
         if (ls.edges_left > 0) {
             for (int x = 0; x < 3; ++x)
                 if (ls.edge_k[x] < ls.edge_n[x]) next = std::min(next, ls.edge_abs[x][ls.edge_k[x]]);
         }
         if (changed || guard == 1) set_legs_in_force(pl);
         const double h = std::min(pl->p.max_step_s, next - pl->t);
-        // A sub-step that ends at a dead-time end and is at most max_step/16 long (default: the
-        // 2 us dead-time segment at the 50 us step) uses the midpoint rule: its local error is
-        // O(h^3) on a tiny h, well below the RK4 error of the main step (docs/plant.md, section 2).
-        pl->short_seg = next < t_end && next == next_dead && h == next - pl->t &&
-                        h <= pl->p.max_step_s * (1.0 / 16.0);
+        // A sub-step that ends at a breakpoint inside the advance (a dead-time end or a switching
+        // instant) and is at most max_step/16 long (default: the 2 us dead-time segment at the
+        // 50 us step, a PWM pulse's short segments) uses the midpoint rule: its local error is
+        // O(h^3) on a tiny h, well below the RK4 error of a full step (docs/plant.md, section 2).
+        pl->short_seg = next < t_end && h == next - pl->t && h <= pl->p.max_step_s * (1.0 / 16.0);
         const double taken = step(pl, mach, h);
         // Land exactly on breakpoints to avoid drift.
         if (taken == h) pl->t = (h == next - pl->t) ? next : pl->t + h;
