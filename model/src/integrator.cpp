@@ -215,7 +215,7 @@ double step(plant_t *pl, M &mach, double h) {
 // max_step_s.
 template <class M>
 void advance_with(plant_t *pl, M &mach, double dt_s) {
-    LegSchedule &ls = pl->legs_cmd;
+    LegSchedule &ls = pl->schedule;
     // Terminal-voltage integrals restart every advance (their mean over it is reported).
     pl->y[S_IVA0] = pl->y[S_IVB0] = pl->y[S_IVC0] = 0.0;
     pl->last_dt = dt_s;

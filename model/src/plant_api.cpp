@@ -85,7 +85,7 @@ plant_t *plant_create(const plant_params_t *p, char *err, size_t err_len) {
     pl->y[S_VCLO] = pl->y[S_VCHI] = 0.5 * p->vdc_v;
     pl->t = 0.0;
     pl->last_dt = 0.0;
-    LegSchedule &ls = pl->legs_cmd;
+    LegSchedule &ls = pl->schedule;
     for (int x = 0; x < 3; ++x) {
         ls.cmd[x] = 0;
         ls.gate[x] = ls.gate_target[x] = GATE_OFF;
@@ -106,7 +106,7 @@ void plant_destroy(plant_t *plant) { delete plant; }
 
 // The 0/100 % case of plant_set_leg_edges: each leg's state at the start, no instant inside.
 void plant_set_legs(plant_t *plant, int sa, int sb, int sc, int enable) {
-    LegSchedule &ls = plant->legs_cmd;
+    LegSchedule &ls = plant->schedule;
     ls.cmd[0] = sa ? 1 : 0;
     ls.cmd[1] = sb ? 1 : 0;
     ls.cmd[2] = sc ? 1 : 0;
@@ -124,7 +124,7 @@ int plant_set_leg_edges(plant_t *plant, const plant_leg_edges_t legs[3], int ena
             if (k > 0 && !(L.t_s[k] >= L.t_s[k - 1])) return -1;
         }
     }
-    LegSchedule &ls = plant->legs_cmd;
+    LegSchedule &ls = plant->schedule;
     for (int x = 0; x < 3; ++x) {
         ls.cmd[x] = legs[x].state0 ? 1 : 0;
         ls.edge_n[x] = legs[x].n;
@@ -152,7 +152,7 @@ void plant_set_load(plant_t *plant, plant_load_t load, double speed_rpm, double 
 
 int plant_set_leg_override(plant_t *plant, int leg, plant_leg_override_t mode) {
     if (!plant || leg < 0 || leg > 2 || mode < PLANT_LEG_NORMAL || mode > PLANT_LEG_LOWER_ON) return -1;
-    plant->legs_cmd.override_mode[leg] = mode;
+    plant->schedule.override_mode[leg] = mode;
     return 0;
 }
 

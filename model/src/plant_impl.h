@@ -36,7 +36,7 @@ struct plant {
     double inv_l, inv_l_2_3, inv_l_1_3;
     double r_ph;
     // Inverter: commands and gate timeline, the ideal inverter's voltages, the leg overrides.
-    plant_model::LegSchedule legs_cmd;
+    plant_model::LegSchedule schedule;
     double v_set_alpha, v_set_beta;
     plant_model::Leg leg_tab[3][3];     // [leg][Gate]: paths and coefficients, built at creation
     const plant_model::Leg *legs[3];    // legs in force: &leg_tab[x][gate[x]]
@@ -60,7 +60,7 @@ namespace plant_model {
 // Legs in force from the gate states.
 inline void set_legs_in_force(plant_t *pl) {
     pl->coefs_valid = false;
-    for (int x = 0; x < 3; ++x) pl->legs[x] = &pl->leg_tab[x][pl->legs_cmd.gate[x]];
+    for (int x = 0; x < 3; ++x) pl->legs[x] = &pl->leg_tab[x][pl->schedule.gate[x]];
 }
 
 // Integrator (integrator.cpp): advances the plant by dt_s (plant_advance).
