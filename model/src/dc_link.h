@@ -1,13 +1,18 @@
-// dc_link.h - DC link with capacitor ESR and balancing resistors (docs/plant.md, "DC link").
+// dc_link.h - the DC link (docs/plant.md, "DC link"): a DC source with internal resistance feeding
+// the capacitor(s) (SSTP: one capacitor of 2 c_dc_f, reported as two equal halves; FSTP: two in
+// series, phase A on their mid-point), optionally with capacitor ESR and balancing resistors; or a
+// stiff link (capacitor voltages fixed at vdc/2); or, for the ideal inverter, none.
 #ifndef DTC_MODEL_DC_LINK_H
 #define DTC_MODEL_DC_LINK_H
+
+#include "plant.h"
 
 namespace dclink {
 
 // Finite DC link with capacitor ESR and/or balancing resistors (docs/plant.md, "DC link"): node
 // analysis of the source, the capacitors (ideal C in series with ESR) and the resistors across
-// them. Constants for dc_link_nodes(); used only when on (otherwise the plain link of plant.cpp's
-// Glob).
+// them. Constants for dc_link_nodes(); used only when on (otherwise the linear forms of
+// LinearLink).
 struct LinkRC {
     bool on;        // finite link, switching inverter, r_bal_ohm > 0 or esr_ohm > 0
     bool fstp;      // two capacitors with the mid-point tied to phase A; else one capacitor
@@ -84,6 +89,46 @@ inline void dc_link_nodes(const LinkRC &k, double vlo, double vhi, double i_plus
         n.dv_lo = n.dv_hi = 0.5 * i_cap * k.inv_c_lo;  // SSTP: inv_c_lo = 1 / (2 c_dc_f)
     }
 }
+
+// The link without ESR or balancing resistors (and the energy drawn by the inverter for every
+// kind) as linear forms of the rail currents, so the right-hand side has no branch on the
+// inverter or link kind:
+//   i_s = is_g (vdc - vc_lo - vc_hi)                                (DC source current)
+//   dvc_hi/dt = hi_s i_s - hi_p i_plus;  dvc_lo/dt = lo_s i_s - lo_p i_plus - lo_m i_mid
+//   p_dc = pdc_s i_s + pdc_st ((vc_lo + vc_hi) i_plus + vc_lo i_mid) + pdc_src p_src
+//   p_rdc = r_dc i_s^2                                               (source resistance loss)
+// i_plus / i_mid: currents the inverter draws from the plus rail / the mid-point; p_src: power of
+// the ideal inverter's sources.
+struct LinearLink {
+    double is_g, hi_s, hi_p, lo_s, lo_p, lo_m;
+    double pdc_s, pdc_st, pdc_src, r_dc;
+};
+
+// The whole link: capacitances and the two forms above.
+struct DcLink {
+    double c_lo, c_hi;          // capacitances (SSTP: one capacitor of 2 c_dc_f, split in the report)
+    double inv_c_lo, inv_c_hi;  // their reciprocals (0 for no capacitor)
+    LinkRC rc;                  // ESR / balancing resistors (rc.on)
+    LinearLink lin;
+};
+
+// Link constants from the parameters.
+void setup(const plant_params_t &p, DcLink &k);
+
+// Capacitor energy 0.5 C v^2 at capacitor voltages (vlo, vhi).
+inline double capacitor_energy(const plant_params_t &p, const DcLink &k, double vlo, double vhi) {
+    if (p.inverter == PLANT_INVERTER_SSTP) {
+        const double v = vlo + vhi;
+        return 0.5 * k.c_lo * v * v;
+    }
+    if (p.inverter == PLANT_INVERTER_FSTP) return 0.5 * k.c_lo * vlo * vlo + 0.5 * k.c_hi * vhi * vhi;
+    return 0.0;
+}
+
+// Parameters of the link (nullptr: valid); the first part is checked before the inverter's,
+// the second (finite link) after the step size, as plant_create reports them.
+const char *check_elements(const plant_params_t &p);
+const char *check_finite(const plant_params_t &p);
 
 }  // namespace dclink
 

@@ -16,11 +16,15 @@
 // so for the plant's per-phase circuit the IM is an inductance sigma L_s, a resistance R_eff and
 // a back-EMF e_s (taken to phase x by the inverse amplitude-invariant Clarke transform), plus two
 // rotor-flux states. psi_s = sigma L_s i_s + k_r psi_r, and T_e = 1.5 p Im(conj(psi_s) i_s) =
-// 1.5 p k_r (psi_r,alpha i_beta - psi_r,beta i_alpha).
+// 1.5 p k_r (psi_r,alpha i_beta - psi_r,beta i_alpha). ImMachine puts this behind the seam of
+// machine.h, the rotor flux in the machine's state slots S_MACH0 / S_MACH1.
 #ifndef DTC_MODEL_MACHINE_IM_H
 #define DTC_MODEL_MACHINE_IM_H
 
+#include <cmath>
+
 #include "plant.h"
+#include "plant_state.h"
 
 namespace im {
 
@@ -50,7 +54,7 @@ inline Const derive(const plant_params_t &p) {
     return c;
 }
 
-constexpr double kSqrt3 = 1.73205080756887729353;
+using plant_model::kSqrt3;
 
 // Back-EMF e_s as phase values (inverse amplitude-invariant Clarke).
 inline void emf_phases(const Const &c, double pra, double prb, double omega_e, double e[3]) {
@@ -80,5 +84,69 @@ inline double magnetic_energy(const Const &c, double i_al, double i_be, double p
 }
 
 }  // namespace im
+
+namespace plant_model {
+
+class ImMachine {
+public:
+    static constexpr plant_machine_t kKind = PLANT_MACHINE_IM;
+    // Parameters only this machine reads (nullptr: valid).
+    static const char *check(const plant_params_t &p) {
+        auto bad = [](double v) { return !std::isfinite(v); };
+        if (bad(p.rr_ohm) || p.rr_ohm <= 0.0) return "rr_ohm must be finite and > 0";
+        if (bad(p.lm_h) || p.lm_h <= 0.0) return "lm_h must be finite and > 0";
+        if (bad(p.lls_h) || p.lls_h < 0.0) return "lls_h must be finite and >= 0";
+        if (bad(p.llr_h) || p.llr_h < 0.0) return "llr_h must be finite and >= 0";
+        if (p.lls_h + p.llr_h <= 0.0) return "lls_h + llr_h must be > 0 (sigma L_s is the stator's inductance)";
+        return nullptr;
+    }
+
+    ImMachine() = default;
+    explicit ImMachine(const plant_params_t &p)
+        : c_(im::derive(p)), pole_pairs_(p.pole_pairs), pp_(p.pole_pairs), rs_(p.rs_ohm) {}
+
+    // The machine in the per-phase circuit: sigma L_s di_x/dt = v_x - v_n - R_eff i_x - e_x.
+    double circuit_inductance() const { return c_.l_eff; }
+    double circuit_resistance() const { return c_.r_eff; }
+    double stator_resistance() const { return rs_; }  // stator copper loss R_s sum i_x^2
+
+    void begin_step(double, double, double) {}
+
+    struct Work {};
+    void emf(const Vec &y, double omega_e, double e[3], Work &) const {
+        im::emf_phases(c_, y[S_MACH0], y[S_MACH1], omega_e, e);
+    }
+    // Torque (A10), rotor-flux derivatives and the rotor copper loss from the phase currents.
+    void torque_and_states(const Vec &y, const double ix[3], double omega_e, const Work &, Vec &dy, double &te,
+                           double &p_internal) const {
+        const double i_al = (2.0 * ix[0] - ix[1] - ix[2]) * (1.0 / 3.0);
+        const double i_be = (ix[1] - ix[2]) * (1.0 / kSqrt3);
+        im::rotor(c_, pole_pairs_, i_al, i_be, y[S_MACH0], y[S_MACH1], omega_e, dy[S_MACH0], dy[S_MACH1], te,
+                  p_internal);
+    }
+
+    void emf_exact(const Vec &y, double e[3]) const {
+        im::emf_phases(c_, y[S_MACH0], y[S_MACH1], pp_ * y[S_OMEGA], e);
+    }
+
+    void report(const Vec &y, double i_alpha, double i_beta, MachineReport &r) const {
+        // psi_s = sigma L_s i_s + (L_m/L_r) psi_r (Casadei A8-A9 with i_r eliminated).
+        r.psi_r_alpha = y[S_MACH0];
+        r.psi_r_beta = y[S_MACH1];
+        r.psi_alpha = c_.l_eff * i_alpha + c_.kr * y[S_MACH0];
+        r.psi_beta = c_.l_eff * i_beta + c_.kr * y[S_MACH1];
+        // Casadei eq. (A10): T_e = 1.5 p Im(conj(psi_s) i_s).
+        r.te = 1.5 * pp_ * (r.psi_alpha * i_beta - r.psi_beta * i_alpha);
+        r.e_magnetic = im::magnetic_energy(c_, i_alpha, i_beta, y[S_MACH0], y[S_MACH1]);
+    }
+
+private:
+    im::Const c_{};
+    int pole_pairs_ = 1;
+    double pp_ = 1.0;
+    double rs_ = 0.0;
+};
+
+}  // namespace plant_model
 
 #endif  // DTC_MODEL_MACHINE_IM_H

@@ -1,0 +1,284 @@
+// circuit.h - the shared per-phase circuit: the plant's right-hand side, assembled from the
+// machine (machine.h), the inverter's conduction paths (inverter.h), the DC link (dc_link.h) and
+// the shaft (mechanics.h), and the choice of conduction mode when a current is exactly zero.
+//
+//   L di_x/dt = v_x0 - v_n0 - (R + r_path) i_x - e_x,  star connection, isolated neutral:
+//   sum(i_x) = 0 and v_n0 follows (Hoang eqs. 1-3). L, R, e_x: the machine's; v_x0 = the
+//   conducting path's voltage (rail - v_f), r_path its resistance (Hoang Table III, eq. 20).
+// A phase whose floating terminal voltage lies inside its leg's zero-current interval stays at
+// exactly zero current (no chatter): a small complementarity problem solved by enumeration
+// whenever a current sits at zero (select_mode). docs/plant.md, section 1.
+#ifndef DTC_MODEL_CIRCUIT_H
+#define DTC_MODEL_CIRCUIT_H
+
+#include <algorithm>
+#include <cmath>
+
+#include "plant_impl.h"
+
+namespace plant_model {
+
+// Quantities of one right-hand-side evaluation beside the derivatives (event function).
+struct RhsOutputs {
+    double te, tload, vn0;
+    double vx0[3];
+    double e[3];
+};
+
+// Link terminal voltages at state y (the rail currents from the current signs; a zero current
+// draws nothing whatever its path).
+inline void dc_link_terminals(const plant_t *pl, const Vec &y, double &tv_lo, double &tv_hi) {
+    double ip = 0.0, im = 0.0;
+    for (int x = 0; x < 3; ++x) {
+        const double i = y[S_IA + x];
+        if (i == 0.0) continue;
+        const Path &pa = (i > 0.0) ? pl->legs[x]->pos : pl->legs[x]->neg;
+        if (pa.rail == RAIL_PLUS) ip += i;
+        else if (pa.rail == RAIL_MID) im += i;
+    }
+    dclink::LinkNodes n;
+    dclink::dc_link_nodes(pl->link.rc, y[S_VCLO], y[S_VCHI], ip, im, n);
+    tv_lo = n.tv_lo;
+    tv_hi = n.tv_hi;
+}
+
+// Voltages of the rails phase x can be tied to, at state y.
+inline void rails(const plant_t *pl, const Vec &y, double rv[4], int x) {
+    rv[RAIL_ZERO] = 0.0;
+    if (pl->link.rc.on) {
+        double lo, hi;
+        dc_link_terminals(pl, y, lo, hi);
+        rv[RAIL_PLUS] = lo + hi;
+        rv[RAIL_MID] = lo;
+    } else {
+        rv[RAIL_PLUS] = y[S_VCLO] + y[S_VCHI];
+        rv[RAIL_MID] = y[S_VCLO];
+    }
+    rv[RAIL_SRC] = 0.0;
+    if (pl->p.inverter == PLANT_INVERTER_IDEAL) {
+        // Ideal source: phase voltages from the inverse amplitude-invariant Clarke transform.
+        const double va = pl->v_set_alpha, vb = pl->v_set_beta;
+        const double v[3] = {va, -0.5 * va + 0.5 * kSqrt3 * vb, -0.5 * va - 0.5 * kSqrt3 * vb};
+        rv[RAIL_SRC] = v[x];
+    }
+}
+
+inline void make_coefs(const plant_t *pl, const ConductionMode &m, ConductionCoefs &q) {
+    q.nk = 0;
+    for (int x = 0; x < 3; ++x) {
+        q.ph[x] = &pl->legs[x]->coef[m.ph[x]];
+        if (m.ph[x] != PH_BLOCKED) ++q.nk;
+    }
+    static const double inv_n[4] = {0.0, 1.0, 0.5, 1.0 / 3.0};
+    q.inv_nk = inv_n[q.nk];
+}
+
+// Neutral voltage when every phase is blocked: centre of the feasible range.
+inline double vn0_all_blocked(const plant_t *pl, const Vec &y, const double e[3]) {
+    double lo = -1e300, hi = 1e300;
+    for (int x = 0; x < 3; ++x) {
+        double rv[4];
+        rails(pl, y, rv, x);
+        const double a = path_v(pl->legs[x]->pos, rv), b = path_v(pl->legs[x]->neg, rv);
+        lo = std::max(lo, std::min(a, b) - e[x]);
+        hi = std::min(hi, std::max(a, b) - e[x]);
+    }
+    return 0.5 * (lo + hi);
+}
+
+// Right-hand side for a fixed conduction mode (pl->coefs must match the mode) with machine m.
+// Only the first ND entries of y are read. Branch-free apart from the all-blocked neutral
+// (ConductionCoefs, dclink::LinearLink and mech::Shaft hold the linear forms of the paths, the DC
+// link and the load). kAll: all three phases conduct (the common case; the blocked-phase terms
+// drop out).
+template <class M, bool kAll>
+inline void rhs_t(plant_t *pl, const M &m, const Vec &y, Vec &dy, RhsOutputs *aux) {
+    ++pl->stats.evals;
+    const ConductionCoefs &q = pl->coefs;
+    const PhaseCoef *const *k = q.ph;
+    const double omega = y[S_OMEGA];
+    const double omega_e = pl->pp * omega;
+    double e[3];
+    typename M::Work work;
+    m.emf(y, omega_e, e, work);
+    const double vlo = y[S_VCLO], vhi = y[S_VCHI];
+    const double ix[3] = {y[S_IA], y[S_IB], y[S_IC]};
+    // Rail voltages: the capacitor voltages, or with ESR / balancing resistors the link's node
+    // voltages (dclink::LinkRC), which depend on the currents the inverter draws.
+    double tvlo = vlo, tvhi = vhi;
+    dclink::LinkNodes ln;
+    if (pl->link.rc.on) {
+        double ip = 0.0, im = 0.0;
+        for (int x = 0; x < 3; ++x) {
+            ip += k[x]->plus * ix[x];
+            im += k[x]->mid * ix[x];
+        }
+        dclink::dc_link_nodes(pl->link.rc, vlo, vhi, ip, im, ln);
+        tvlo = ln.tv_lo;
+        tvhi = ln.tv_hi;
+    }
+    double vp[3], u[3];
+#pragma GCC unroll 3
+    for (int x = 0; x < 3; ++x) {
+        vp[x] = k[x]->a_lo * tvlo + k[x]->a_hi * tvhi + k[x]->c;
+        u[x] = vp[x] - k[x]->rtot * ix[x] - e[x];  // L di/dt + v_n0 of a conducting phase
+    }
+    double vn0;
+    if (kAll) {
+        vn0 = (u[0] + u[1] + u[2]) * (1.0 / 3.0);
+    } else {
+        const double sum = k[0]->cond * u[0] + k[1]->cond * u[1] + k[2]->cond * u[2];
+        vn0 = (q.nk >= 2) ? sum * q.inv_nk : vn0_all_blocked(pl, y, e);
+    }
+    const double inv_l = pl->inv_l;
+    double vx0[3];
+    double p_cu = 0.0, p_dev = 0.0, i_plus = 0.0, i_mid = 0.0, p_src = 0.0;
+#pragma GCC unroll 3
+    for (int x = 0; x < 3; ++x) {
+        const double i = ix[x];
+        const double vc = vp[x] - k[x]->r * i;
+        if (kAll) {
+            // (u_x - vn0) / L with vn0 = mean(u), written so that u_x does not wait for the sum.
+            dy[S_IA + x] = pl->inv_l_2_3 * u[x] - pl->inv_l_1_3 * (u[(x + 1) % 3] + u[(x + 2) % 3]);
+            vx0[x] = vc;
+        } else {
+            dy[S_IA + x] = k[x]->cond * (u[x] - vn0) * inv_l;
+            vx0[x] = k[x]->cond * vc + (1.0 - k[x]->cond) * (vn0 + e[x]);  // blocked: floating terminal
+        }
+        p_dev += (k[x]->pd + k[x]->pr * i) * i;
+        i_plus += k[x]->plus * i;
+        i_mid += k[x]->mid * i;
+        p_src += k[x]->src * vc * i;
+        p_cu += i * i;
+    }
+    double te, p_machine;
+    m.torque_and_states(y, ix, omega_e, work, dy, te, p_machine);
+    double tl, p_fric;
+    dy[S_THETA] = omega;
+    mech::shaft_derivatives(pl->shaft, omega, pl->y[S_OMEGA], te, tl, dy[S_OMEGA], p_fric);
+    dy[S_EFRIC] = p_fric;
+    // DC link.
+    const dclink::LinearLink &g = pl->link.lin;
+    double i_s;
+    if (!pl->link.rc.on) {
+        i_s = g.is_g * (pl->p.vdc_v - (vlo + vhi));
+        dy[S_VCHI] = g.hi_s * i_s - g.hi_p * i_plus;
+        dy[S_VCLO] = g.lo_s * i_s - g.lo_p * i_plus - g.lo_m * i_mid;
+        dy[S_ELINK] = 0.0;
+    } else {
+        i_s = ln.i_s;
+        dy[S_VCHI] = ln.dv_hi;
+        dy[S_VCLO] = ln.dv_lo;
+        dy[S_ELINK] = ln.p_loss;
+    }
+    dy[S_EDC] = g.pdc_s * i_s + g.pdc_st * ((vlo + vhi) * i_plus + vlo * i_mid) + g.pdc_src * p_src;
+    dy[S_ECU] = m.stator_resistance() * p_cu + p_machine;
+    dy[S_EDEV] = p_dev;
+    dy[S_ELOAD] = tl * omega;
+    dy[S_ERDC] = g.r_dc * i_s * i_s;
+    dy[S_IVA0] = vx0[0];
+    dy[S_IVB0] = vx0[1];
+    dy[S_IVC0] = vx0[2];
+    if (aux) {
+        aux->te = te;
+        aux->tload = tl;
+        aux->vn0 = vn0;
+        for (int x = 0; x < 3; ++x) {
+            aux->vx0[x] = vx0[x];
+            aux->e[x] = e[x];
+        }
+    }
+}
+
+template <class M>
+inline void rhs(plant_t *pl, const M &m, const Vec &y, Vec &dy, RhsOutputs *aux) {
+    if (pl->coefs.nk == 3) rhs_t<M, true>(pl, m, y, dy, aux);
+    else rhs_t<M, false>(pl, m, y, dy, aux);
+}
+
+// Conduction mode at state y. Currents that are exactly zero on a sign-dependent leg are resolved
+// by enumerating {blocked, +, -} and keeping the consistent assignment (Filippov / linear
+// complementarity; the leg characteristics are monotone so the consistent one is unique up to
+// ties, which are broken towards "blocked" so a zero current never chatters).
+template <class M>
+ConductionMode select_mode(plant_t *pl, const M &mach, const Vec &y) {
+    ConductionMode m;
+    int zl[3], nz = 0;
+    for (int x = 0; x < 3; ++x) {
+        const double i = y[S_IA + x];
+        if (i > 0.0) m.ph[x] = PH_POS;
+        else if (i < 0.0) m.ph[x] = PH_NEG;
+        else { m.ph[x] = PH_POS; zl[nz++] = x; }
+    }
+    if (nz == 0) return m;
+    ++pl->stats.mode_selects;
+    double e[3], rv[3][4];
+    mach.emf_exact(y, e);
+    for (int x = 0; x < 3; ++x) rails(pl, y, rv[x], x);
+    int ncand = 1;
+    for (int k = 0; k < nz; ++k) ncand *= 3;
+    double best_v = 1e300;
+    ConductionMode best = m;
+    for (int c = 0; c < ncand; ++c) {
+        ConductionMode t = m;
+        int code = c;
+        bool skip = false;
+        for (int k = 0; k < nz; ++k) {
+            const int digit = code % 3;
+            code /= 3;
+            const int x = zl[k];
+            if (digit == 0) t.ph[x] = PH_BLOCKED;
+            else if (digit == 1) t.ph[x] = PH_POS;
+            else {
+                if (!pl->legs[x]->sign_dep) { skip = true; }  // same as PH_POS
+                t.ph[x] = PH_NEG;
+            }
+        }
+        if (skip) continue;
+        int nk = 0;
+        double sum = 0.0, vp[3] = {0, 0, 0}, rr[3] = {0, 0, 0};
+        for (int x = 0; x < 3; ++x) {
+            if (t.ph[x] == PH_BLOCKED) continue;
+            const Path &pa = (t.ph[x] == PH_POS) ? pl->legs[x]->pos : pl->legs[x]->neg;
+            vp[x] = path_v(pa, rv[x]);
+            rr[x] = pa.r;
+            sum += vp[x] - (pl->r_ph + rr[x]) * y[S_IA + x] - e[x];
+            ++nk;
+        }
+        if (nk == 1) continue;
+        double viol = 0.0;
+        if (nk == 0) {
+            double lo = -1e300, hi = 1e300;
+            for (int x = 0; x < 3; ++x) {
+                const double a = path_v(pl->legs[x]->pos, rv[x]), b = path_v(pl->legs[x]->neg, rv[x]);
+                lo = std::max(lo, std::min(a, b) - e[x]);
+                hi = std::min(hi, std::max(a, b) - e[x]);
+            }
+            viol = std::max(0.0, lo - hi);
+        } else {
+            const double vn0 = sum / nk;
+            for (int k = 0; k < nz; ++k) {
+                const int x = zl[k];
+                if (t.ph[x] == PH_BLOCKED) {
+                    const double vf = vn0 + e[x];
+                    const double a = path_v(pl->legs[x]->pos, rv[x]), b = path_v(pl->legs[x]->neg, rv[x]);
+                    viol += std::max(0.0, std::min(a, b) - vf) + std::max(0.0, vf - std::max(a, b));
+                } else if (pl->legs[x]->sign_dep) {
+                    const double di = vp[x] - (pl->r_ph + rr[x]) * y[S_IA + x] - e[x] - vn0;  // L di/dt
+                    if (t.ph[x] == PH_POS) viol += std::max(0.0, -di);
+                    else viol += std::max(0.0, di);
+                }
+            }
+        }
+        if (viol < best_v) {
+            best_v = viol;
+            best = t;
+            if (viol == 0.0) break;
+        }
+    }
+    return best;
+}
+
+}  // namespace plant_model
+
+#endif  // DTC_MODEL_CIRCUIT_H

@@ -1,0 +1,299 @@
+// integrator.cpp - time integration of the plant (docs/plant.md, section 2): classical RK4 on
+// sub-steps that land exactly on every switching instant and dead-time end and on every located
+// current zero crossing / zero-current release (Illinois root finding on the step's own
+// solution); the explicit midpoint rule on a dead-time segment no longer than max_step/16. Between
+// events the right-hand side (circuit.h) is smooth. The functions are templates on the machine
+// (machine.h); advance() picks the instance once per call.
+#include <algorithm>
+#include <cmath>
+#include <variant>
+
+#include "circuit.h"
+
+namespace plant_model {
+namespace {
+
+// Stage state y0 + c k on the ND dynamic entries, as a scalar loop on purpose: the right-hand
+// side stores its outputs one double at a time, and a 16-byte SIMD load spanning two such fresh
+// stores cannot be forwarded from the store buffer (a stall on the critical path of every stage;
+// ~10 ns per period measured).
+#if defined(__GNUC__) && !defined(__clang__)
+#define DTC_NO_AUTOVEC __attribute__((optimize("no-tree-vectorize")))
+#else
+#define DTC_NO_AUTOVEC
+#endif
+DTC_NO_AUTOVEC inline void stage_state(const Vec &y0, double c, const Vec &k, Vec &yt) {
+    for (int j = 0; j < ND; ++j) yt[j] = y0[j] + c * k[j];
+}
+
+// Classical RK4 over h from y0 with k1 = f(y0). The stage states carry only the ND dynamic
+// entries (the quadratures do not enter f); the result is the full RK4 combination.
+template <class M>
+inline void rk4(plant_t *pl, const M &m, const Vec &y0, double h, const Vec &k1, Vec &out) {
+    Vec k2, k3, k4, yt;
+    stage_state(y0, 0.5 * h, k1, yt);
+    rhs(pl, m, yt, k2, nullptr);
+    stage_state(y0, 0.5 * h, k2, yt);
+    rhs(pl, m, yt, k3, nullptr);
+    stage_state(y0, h, k3, yt);
+    rhs(pl, m, yt, k4, nullptr);
+    out.noalias() = y0 + (h / 6.0) * (k1 + 2.0 * (k2 + k3) + k4);
+}
+
+// Explicit midpoint rule (second order, two evaluations) for short dead-time segments; same
+// stage-state convention as rk4().
+template <class M>
+inline void midpoint(plant_t *pl, const M &m, const Vec &y0, double h, const Vec &k1, Vec &out) {
+    Vec k2, yt;
+    stage_state(y0, 0.5 * h, k1, yt);
+    rhs(pl, m, yt, k2, nullptr);
+    out.noalias() = y0 + h * k2;
+}
+
+// The step's integrator: RK4, or the midpoint rule on a short dead-time segment (advance() sets
+// pl->short_seg; docs/plant.md section 2 gives the rule and its error); then the Coulomb stop
+// (mech::stop_at_zero_crossing).
+template <class M>
+inline void integrate(plant_t *pl, const M &m, const Vec &y0, double h, const Vec &k1, Vec &out) {
+    if (pl->short_seg) midpoint(pl, m, y0, h, k1, out);
+    else rk4(pl, m, y0, h, k1, out);
+    mech::stop_at_zero_crossing(pl->shaft, y0[S_OMEGA], out[S_OMEGA], out[S_EFRIC]);
+}
+
+// Event function: the most negative of (a) dir * i for conducting sign-dependent phases (the
+// current must not change sign inside a step with its path fixed) and (b) the margin of a
+// blocked phase's floating voltage inside its zero-current interval (volts, scaled by 1e-3 A/V so
+// the two kinds are of similar size; the root finder needs only sign and continuity).
+template <class M>
+double event_g(plant_t *pl, const M &mach, const Vec &y, const ConductionMode &m, const bool active[3]) {
+    double g = 1e300;
+    bool any_blocked = false;
+    for (int x = 0; x < 3; ++x) {
+        if (!active[x]) continue;
+        if (m.ph[x] == PH_BLOCKED) { any_blocked = true; continue; }
+        const double v = (m.ph[x] == PH_POS) ? y[S_IA + x] : -y[S_IA + x];
+        g = std::min(g, v);
+    }
+    if (any_blocked) {
+        Vec dy;
+        RhsOutputs aux;
+        rhs(pl, mach, y, dy, &aux);
+        for (int x = 0; x < 3; ++x) {
+            if (!active[x] || m.ph[x] != PH_BLOCKED) continue;
+            double rv[4];
+            rails(pl, y, rv, x);
+            const double a = path_v(pl->legs[x]->pos, rv), b = path_v(pl->legs[x]->neg, rv);
+            const double vf = aux.vx0[x];
+            const double margin = std::min(vf - std::min(a, b), std::max(a, b) - vf);
+            g = std::min(g, margin * 1e-3);
+        }
+    }
+    return g;
+}
+
+// After forcing the currents in snapped[] to zero, restore sum(i) = 0 on the others: with one other
+// conducting phase left, it must be zero too; with two, they share the removed amount.
+void snap_currents(Vec &y, bool snapped[3]) {
+    double removed = 0.0;
+    for (int x = 0; x < 3; ++x)
+        if (snapped[x]) { removed += y[S_IA + x]; y[S_IA + x] = 0.0; }
+    int nrest = 0;
+    for (int x = 0; x < 3; ++x)
+        if (!snapped[x] && y[S_IA + x] != 0.0) ++nrest;
+    if (nrest <= 1) {
+        for (int x = 0; x < 3; ++x) y[S_IA + x] = 0.0;
+    } else {
+        for (int x = 0; x < 3; ++x)
+            if (!snapped[x] && y[S_IA + x] != 0.0) y[S_IA + x] += removed / nrest;
+    }
+}
+
+// One step of at most h with mode selection and event location. Returns the time advanced.
+template <class M>
+double step(plant_t *pl, M &mach, double h) {
+    Vec &y = pl->y;
+    mach.begin_step(y[S_THETA], y[S_OMEGA], h);
+    // Fast path: no current exactly zero (the usual case), the mode follows the current signs.
+    const bool nonzero = y[S_IA] != 0.0 && y[S_IB] != 0.0 && y[S_IC] != 0.0;
+    // (Written in place, element by element: a struct copy of the freshly stored ints would stall
+    // on store forwarding.)
+    ConductionMode &m = pl->mode;
+    if (nonzero) {
+        for (int x = 0; x < 3; ++x) m.ph[x] = (y[S_IA + x] > 0.0) ? PH_POS : PH_NEG;
+    } else {
+        const ConductionMode ms = select_mode(pl, mach, y);
+        for (int x = 0; x < 3; ++x) m.ph[x] = ms.ph[x];
+    }
+    if (!pl->coefs_valid || m.ph[0] != pl->coefs_mode.ph[0] || m.ph[1] != pl->coefs_mode.ph[1] ||
+        m.ph[2] != pl->coefs_mode.ph[2]) {
+        make_coefs(pl, m, pl->coefs);
+        for (int x = 0; x < 3; ++x) pl->coefs_mode.ph[x] = m.ph[x];
+        pl->coefs_valid = true;
+    }
+    Vec k1, y1;
+    rhs(pl, mach, y, k1, nullptr);
+    integrate(pl, mach, y, h, k1, y1);
+    ++pl->stats.steps;
+    if (nonzero) {
+        // No blocked phase and none starting at zero: the only events are sign changes of the
+        // currents on sign-dependent legs (event_g's first kind).
+        double g1 = 1e300;
+        for (int x = 0; x < 3; ++x)
+            if (pl->legs[x]->sign_dep) g1 = std::min(g1, (m.ph[x] == PH_POS) ? y1[S_IA + x] : -y1[S_IA + x]);
+        if (g1 >= -1e-12) {
+            y = y1;
+            return h;
+        }
+    }
+    // Which phases can produce an event?
+    bool active[3] = {false, false, false};
+    bool any = false;
+    for (int x = 0; x < 3; ++x) {
+        if (m.ph[x] == PH_BLOCKED) { active[x] = true; any = true; }
+        else if (pl->legs[x]->sign_dep) {
+            const double i0 = (m.ph[x] == PH_POS) ? y[S_IA + x] : -y[S_IA + x];
+            if (i0 > 0.0) { active[x] = true; any = true; }
+        }
+    }
+    if (!any) { y = y1; return h; }
+    // Blocked phases: is the margin >= 0 at the end? (Cheap test first for currents.)
+    double g1 = event_g(pl, mach, y1, m, active);
+    if (g1 >= -1e-12) {
+        // Currents of phases that started exactly at zero and were released may have come back
+        // through zero within the step; snap them (second-order small, see docs/plant.md).
+        bool snapped[3] = {false, false, false};
+        bool any_snap = false;
+        for (int x = 0; x < 3; ++x) {
+            if (m.ph[x] != PH_BLOCKED && pl->legs[x]->sign_dep && y[S_IA + x] == 0.0) {
+                const double v = (m.ph[x] == PH_POS) ? y1[S_IA + x] : -y1[S_IA + x];
+                if (v < 0.0) snapped[x] = any_snap = true;
+            }
+        }
+        if (any_snap) snap_currents(y1, snapped);
+        y = y1;
+        return h;
+    }
+    // Locate the earliest sign change with the Illinois method on s in (0, 1].
+    ++pl->stats.events;
+    double a = 0.0, b = 1.0;
+    double ga = event_g(pl, mach, y, m, active), gb = g1;
+    if (ga < 0.0) ga = 0.0;
+    int side = 0;
+    Vec ys = y1;
+    double sb_keep = 1.0;
+    Vec yb = y1;
+    for (int it = 0; it < 40 && (b - a) * h > 1e-12; ++it) {
+        double s = (a * gb - b * ga) / (gb - ga);
+        if (!(s > a && s < b)) s = 0.5 * (a + b);
+        integrate(pl, mach, y, s * h, k1, ys);
+        const double gs = event_g(pl, mach, ys, m, active);
+        if (gs < 0.0) {
+            b = s; gb = gs; yb = ys; sb_keep = s;
+            if (side == -1) ga *= 0.5;
+            side = -1;
+        } else {
+            a = s; ga = gs;
+            if (side == +1) gb *= 0.5;
+            side = +1;
+        }
+    }
+    y1 = yb;
+    // Snap the currents that crossed zero to exactly zero, keeping sum(i) = 0.
+    bool snapped[3] = {false, false, false};
+    for (int x = 0; x < 3; ++x) {
+        if (!active[x] || m.ph[x] == PH_BLOCKED) continue;
+        const double v = (m.ph[x] == PH_POS) ? y1[S_IA + x] : -y1[S_IA + x];
+        if (v <= 1e-9) snapped[x] = true;
+    }
+    snap_currents(y1, snapped);
+    y = y1;
+    return sb_keep * h;
+}
+
+// One advance of dt_s: sub-steps that end at every switching instant (the legs' commands toggle
+// there and their dead times start), every dead-time end and the advance's end, each at most
+// max_step_s.
+template <class M>
+void advance_with(plant_t *pl, M &mach, double dt_s) {
+    LegSchedule &ls = pl->schedule;
+    // Terminal-voltage integrals restart every advance (their mean over it is reported).
+    pl->y[S_IVA0] = pl->y[S_IVB0] = pl->y[S_IVC0] = 0.0;
+    pl->last_dt = dt_s;
+    // Switching instants inside the advance: an instant at 0 acts at once, one at or beyond
+    // dt_s at the end (the leg then holds its last command into the next advance).
+    const bool has_edges = (ls.edge_n[0] | ls.edge_n[1] | ls.edge_n[2]) != 0;
+    ls.edges_left = 0;
+    for (int x = 0; has_edges && x < 3; ++x) {
+        ls.edge_k[x] = 0;
+        for (int k = 0; k < ls.edge_n[x]; ++k) ls.edge_abs[x][k] = pl->t + ls.edge_t[x][k];
+        while (ls.edge_k[x] < ls.edge_n[x] && ls.edge_t[x][ls.edge_k[x]] <= 0.0) {
+            ls.cmd[x] ^= 1;
+            ++ls.edge_k[x];
+        }
+        ls.edges_left += ls.edge_n[x] - ls.edge_k[x];
+    }
+    for (int x = 0; x < 3; ++x) command_leg(ls, pl->p, pl->t, x);
+    const double t_end = pl->t + dt_s;
+    const double eps = 1e-12 * (1.0 + std::fabs(t_end));
+    int guard = 0;  // a runaway cap (never reached in the tests): 1e6 sub-steps per advance
+    while (pl->t < t_end - eps && guard < 1000000) {
+        ++guard;
+        double next = t_end;
+        bool changed = false;
+        for (int x = 0; x < 3; ++x) {
+            if (ls.gate[x] != ls.gate_target[x]) {
+                if (ls.dead_end[x] <= pl->t + eps) {
+                    ls.gate[x] = ls.gate_target[x];
+                    changed = true;
+                } else {
+                    next = std::min(next, ls.dead_end[x]);
+                }
+            }
+        }
+        if (ls.edges_left > 0) {
+            // Switching instants reached (the sub-steps land on them exactly, below); the dead
+            // times they start join the candidates for the sub-step's end.
+            for (int x = 0; x < 3; ++x) {
+                while (ls.edge_k[x] < ls.edge_n[x] && ls.edge_abs[x][ls.edge_k[x]] <= pl->t) {
+                    ls.cmd[x] ^= 1;
+                    ++ls.edge_k[x];
+                    --ls.edges_left;
+                    command_leg(ls, pl->p, pl->t, x);
+                    changed = true;
+                }
+                if (ls.gate[x] != ls.gate_target[x]) next = std::min(next, ls.dead_end[x]);
+            }
+        }
+        if (ls.edges_left > 0) {
+            for (int x = 0; x < 3; ++x)
+                if (ls.edge_k[x] < ls.edge_n[x]) next = std::min(next, ls.edge_abs[x][ls.edge_k[x]]);
+        }
+        if (changed || guard == 1) set_legs_in_force(pl);
+        const double h = std::min(pl->p.max_step_s, next - pl->t);
+        // A sub-step that ends at a breakpoint inside the advance (a dead-time end or a switching
+        // instant) and is at most max_step/16 long (default: the 2 us dead-time segment at the
+        // 50 us step, a PWM pulse's short segments) uses the midpoint rule: its local error is
+        // O(h^3) on a tiny h, well below the RK4 error of a full step (docs/plant.md, section 2).
+        pl->short_seg = next < t_end && h == next - pl->t && h <= pl->p.max_step_s * (1.0 / 16.0);
+        const double taken = step(pl, mach, h);
+        // Land exactly on breakpoints to avoid drift.
+        if (taken == h) pl->t = (h == next - pl->t) ? next : pl->t + h;
+        else pl->t += taken;
+    }
+    // Instants left (at or within eps of the end, or beyond it) set the command held from now.
+    for (int x = 0; has_edges && x < 3; ++x) {
+        for (; ls.edge_k[x] < ls.edge_n[x]; ++ls.edge_k[x]) ls.cmd[x] ^= 1;
+        ls.edge_n[x] = 0;
+    }
+    ls.edges_left = 0;
+    pl->t = t_end;
+    if (pl->p.load == PLANT_LOAD_SPEED) pl->y[S_OMEGA] = pl->p.load_speed_rpm * kRpmToRadS;
+}
+
+}  // namespace
+
+void advance(plant_t *pl, double dt_s) {
+    std::visit([&](auto &mach) { advance_with(pl, mach, dt_s); }, pl->machine);
+}
+
+}  // namespace plant_model

@@ -1,0 +1,110 @@
+// inverter.h - the inverter's legs: conduction paths per gate state (Hoang Table III, eq. 20), the
+// gate timeline with dead time, and the switching instants within an advance (SSTP: six switches,
+// Casadei eq. 2, Fig. A2; FSTP: four switches, phase A on the capacitor mid-point, Hoang Fig. 1b;
+// ideal: the commanded alpha/beta voltages). SI units.
+//
+// Every conducting path is (rail voltage) - v_f - R_on i with v_f from Hoang Table III chosen by
+// gate state and current sign. During dead time / gates off the current sign picks the diode. At
+// i = 0 a leg's voltage is the whole interval between its two paths; circuit.h resolves which
+// phases conduct (docs/plant.md, "Inverter legs").
+#ifndef DTC_MODEL_INVERTER_H
+#define DTC_MODEL_INVERTER_H
+
+#include "plant.h"
+
+namespace plant_model {
+
+enum Rail : int { RAIL_ZERO = 0, RAIL_PLUS = 1, RAIL_MID = 2, RAIL_SRC = 3 };
+enum Gate : int { GATE_LOWER = 0, GATE_UPPER = 1, GATE_OFF = 2 };
+// How a phase conducts: through the path for positive or negative current, or not at all.
+enum PhaseMode : int { PH_POS = 0, PH_NEG = 1, PH_BLOCKED = 2 };
+
+struct Path {
+    int rail;   // which node the phase terminal is tied to through the conducting device
+    double d;   // forward drop v_f (Hoang Table III sign convention): v_x0 = rail - d - r*i
+    double r;   // on-state resistance in the path
+};
+
+inline double path_v(const Path &p, const double *rail_v) { return rail_v[p.rail] - p.d; }
+
+// Right-hand-side coefficients of one phase in one PhaseMode (built with the legs, so a mode
+// change only copies three pointers).
+struct PhaseCoef {
+    double cond;          // 1 conducting, 0 blocked
+    double a_lo, a_hi, c; // path voltage = a_lo vc_lo + a_hi vc_hi + c (c includes -v_f)
+    double r;             // device resistance in the path
+    double rtot;          // R (machine, circuit_resistance) + r
+    double dev_d;         // v_f of the path, for the device loss term dev (d + r i) i
+    double dev;           // 1 for a conducting device path
+    double plus, mid, src;  // 1 if the conducting path is tied to that node
+    double pd, pr;        // dev * dev_d, dev * r: device loss (pd + pr i) i
+};
+
+// One leg in one gate state.
+struct Leg {
+    Path pos, neg;  // path for i > 0 (out of the leg into the machine) and for i < 0
+    PhaseCoef coef[3];  // per PhaseMode
+    bool sign_dep;  // the two paths differ: the voltage jumps at i = 0
+    bool device;    // a semiconductor path (losses accounted); false for mid-point / ideal source
+};
+
+// Paths and coefficients of every leg in every gate state, [leg][Gate]; r_circuit is the machine's
+// circuit resistance, (v_alpha, v_beta) the ideal inverter's voltages. At creation and whenever
+// the ideal inverter's voltages change.
+void build_leg_table(const plant_params_t &p, double r_circuit, double v_alpha, double v_beta, Leg tab[3][3]);
+
+// Commands, gate states and switching instants of the three legs.
+struct LegSchedule {
+    int cmd[3];          // command, 1 = upper device on
+    int enable;
+    int override_mode[3];  // plant_leg_override_t
+    int gate[3];         // gate state in force now
+    int gate_target[3];  // gate state after the dead time
+    double dead_end[3];  // absolute time the dead time ends (<= t: none)
+    // Switching instants of the next advance (plant_set_leg_edges): leg x's command toggles at
+    // edge_t[x][k], k < edge_n[x], seconds from the advance's start; during the advance
+    // edge_abs[x][k] are absolute times and edge_k[x] the next one due.
+    int edge_n[3];
+    int edge_k[3];
+    double edge_t[3][PLANT_LEG_EDGES_MAX];
+    double edge_abs[3][PLANT_LEG_EDGES_MAX];
+    int edges_left;      // edges still to apply in this advance (0: plant_set_legs form)
+};
+
+// Gate timeline of leg x after its command (cmd, enable, override) changed at time t: the
+// outgoing device turns off at once, the incoming one after the dead time; in between only the
+// diodes conduct, the current sign picking which (Hoang/inverter practice). Used at the start of an
+// advance and at every switching instant inside it (plant_set_leg_edges).
+inline void command_leg(LegSchedule &s, const plant_params_t &p, double t, int x) {
+    int want;
+    if (s.override_mode[x] == PLANT_LEG_DIODE_ONLY) want = GATE_OFF;
+    else if (s.override_mode[x] == PLANT_LEG_UPPER_ON) want = GATE_UPPER;
+    else if (s.override_mode[x] == PLANT_LEG_LOWER_ON) want = GATE_LOWER;
+    else if (!s.enable) want = GATE_OFF;
+    else want = s.cmd[x] ? GATE_UPPER : GATE_LOWER;
+    // Resolve a dead time still running from the previous command.
+    if (s.dead_end[x] > t) {
+        // Still off; the new target replaces the old one, dead time keeps running.
+        s.gate_target[x] = want;
+        if (want == GATE_OFF) s.dead_end[x] = t;
+        return;
+    }
+    const int cur = s.gate[x];
+    if (want == cur) return;
+    const bool both_on = (cur != GATE_OFF) && (want != GATE_OFF);
+    if (both_on && p.dead_time_enabled && p.dead_time_s > 0.0) {
+        s.gate[x] = GATE_OFF;
+        s.gate_target[x] = want;
+        s.dead_end[x] = t + p.dead_time_s;
+    } else {
+        s.gate[x] = want;
+        s.gate_target[x] = want;
+    }
+}
+
+// Parameters of the inverter and its devices (nullptr: valid).
+const char *check_inverter(const plant_params_t &p);
+
+}  // namespace plant_model
+
+#endif  // DTC_MODEL_INVERTER_H

@@ -1,0 +1,75 @@
+// plant_impl.h - the plant object behind the C ABI (plant.h): the parts it is made of (machine,
+// inverter legs, DC link, shaft) and the integrator's state.
+#ifndef DTC_MODEL_PLANT_IMPL_H
+#define DTC_MODEL_PLANT_IMPL_H
+
+#include "dc_link.h"
+#include "inverter.h"
+#include "machine.h"
+#include "mechanics.h"
+#include "plant.h"
+#include "plant_state.h"
+
+namespace plant_model {
+
+// Which phases conduct, and how (PhaseMode per phase).
+struct ConductionMode {
+    int ph[3];
+};
+
+// The right-hand side's coefficients for one conduction mode, so the right-hand side is
+// branch-light.
+struct ConductionCoefs {
+    int nk;             // conducting phases
+    double inv_nk;
+    const PhaseCoef *ph[3];  // into the legs in force (valid until the next set_legs_in_force)
+};
+
+}  // namespace plant_model
+
+struct plant {
+    plant_params_t p;
+    double pp;  // pole pairs as a double
+    // The machine (machine.h) and the per-phase circuit's constants it sets: 1/L, (2/3)/L, (1/3)/L
+    // for L = circuit_inductance(), and R = circuit_resistance().
+    plant_model::Machine machine;
+    double inv_l, inv_l_2_3, inv_l_1_3;
+    double r_ph;
+    // Inverter: commands and gate timeline, the ideal inverter's voltages, the leg overrides.
+    plant_model::LegSchedule schedule;
+    double v_set_alpha, v_set_beta;
+    plant_model::Leg leg_tab[3][3];     // [leg][Gate]: paths and coefficients, built at creation
+    const plant_model::Leg *legs[3];    // legs in force: &leg_tab[x][gate[x]]
+    // DC link and shaft.
+    dclink::DcLink link;
+    mech::Shaft shaft;
+    // Integrator.
+    double t;
+    plant_model::Vec y;
+    double last_dt;
+    plant_model::ConductionMode mode;
+    plant_model::ConductionCoefs coefs;
+    bool coefs_valid;  // coefs match coefs_mode and the legs in force
+    plant_model::ConductionMode coefs_mode;
+    bool short_seg;    // the step being taken is a short dead-time segment (midpoint rule)
+    plant_stats_t stats;
+};
+
+namespace plant_model {
+
+// Legs in force from the gate states.
+inline void set_legs_in_force(plant_t *pl) {
+    pl->coefs_valid = false;
+    for (int x = 0; x < 3; ++x) pl->legs[x] = &pl->leg_tab[x][pl->schedule.gate[x]];
+}
+
+// Integrator (integrator.cpp): advances the plant by dt_s (plant_advance).
+void advance(plant_t *pl, double dt_s);
+// Circuit (circuit.cpp): the phases held at zero current at the present state (bit x: phase x),
+// and the link's terminal voltages.
+int blocked_mask(plant_t *pl);
+void link_terminals(const plant_t *pl, double &tv_lo, double &tv_hi);
+
+}  // namespace plant_model
+
+#endif  // DTC_MODEL_PLANT_IMPL_H
