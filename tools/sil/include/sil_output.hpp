@@ -5,6 +5,8 @@
 #include <condition_variable>
 #include <cstdint>
 #include <cstdio>
+#include <deque>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -37,10 +39,12 @@ const char* trace_header();
 /// Buffered CSV writer: every double in the shortest form that reads back to the same double
 /// (std::to_chars without a precision: strtod / numpy.loadtxt give the identical value back),
 /// "nan" / "inf" / "-inf" for non-finite values (estimates without a controller estimate are
-/// "nan"). write() only copies the row into a batch of kBatchRows (no allocation); full batches
-/// are formatted and written by a second thread (double buffering), so on a machine with two
-/// cores formatting overlaps the simulation. The worker formats straight into one fixed 1 MiB
-/// buffer and writes it with fwrite when it fills.
+/// "nan"). write() only copies the row into a batch of kBatchRows (no allocation). Full batches
+/// go to a small pool of formatting threads (one per core, at most kMaxWorkers): each formats
+/// its batch into the batch's own text buffer, then writes it with one fwrite when every earlier
+/// batch is written, so rows stay in order. Formatting a row costs about twice the simulation of
+/// a period, so one formatting thread would be the bottleneck; with two, the simulation and the
+/// formatting share both cores of a two-core machine. All buffers are allocated at open().
 class TraceWriter {
 public:
     TraceWriter() = default;
@@ -52,30 +56,36 @@ public:
     void set_rotor_flux_columns(bool on) { rotor_flux_ = on; }
     void write(const TraceRow& r)
     {
-        fill_.push_back(r); // within the reserved capacity: no allocation
-        if (fill_.size() == kBatchRows) {
+        fill_->rows.push_back(r); // within the reserved capacity: no allocation
+        if (fill_->rows.size() == kBatchRows) {
             hand_over();
         }
     }
     bool close(std::string* err);
-    static constexpr std::size_t kMaxRowBytes = 1024; // 18 doubles x <= 24 chars + 5 ints + commas
-    static constexpr std::size_t kBatchRows = 4096;
+    static constexpr std::size_t kMaxRowBytes = 1024; // 20 doubles x <= 24 chars + 5 ints + commas
+    static constexpr std::size_t kBatchRows = 2048;
+    static constexpr unsigned kMaxWorkers = 3;
 
 private:
+    struct Batch {
+        std::vector<TraceRow> rows;
+        std::unique_ptr<char[]> text; // kBatchRows * kMaxRowBytes, not zeroed (pages touched when used)
+        std::uint64_t seq = 0;  // position in the file
+    };
     void hand_over();
     void worker();
-    void format(const TraceRow& r);
-    void flush();
+    char* format(const TraceRow& r, char* p) const;
     void stop();
     std::FILE* f_ = nullptr;
-    std::vector<char> buf_; // worker side (and the header, before it starts)
-    std::size_t n_ = 0;
     bool write_failed_ = false;
-    std::vector<TraceRow> fill_, work_;
-    std::thread thread_;
+    std::vector<std::unique_ptr<Batch>> batches_; // owns every batch
+    Batch* fill_ = nullptr;                       // the batch write() fills
+    std::deque<Batch*> queued_, free_;
+    std::uint64_t next_seq_ = 0, next_write_ = 0;
+    std::vector<std::thread> workers_;
     std::mutex m_;
     std::condition_variable cv_;
-    bool has_work_ = false, stop_ = false;
+    bool stop_ = false;
     bool rotor_flux_ = false;
 };
 

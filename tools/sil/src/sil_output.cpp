@@ -1,6 +1,7 @@
 // sil_output.cpp - see sil_output.hpp.
 #include "sil_output.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -35,74 +36,89 @@ bool TraceWriter::open(const std::string& path, std::string* err)
         *err = path + ": cannot create";
         return false;
     }
-    std::setvbuf(f_, nullptr, _IONBF, 0); // buf_ is the buffer
-    buf_.assign(std::size_t{1} << 20, '\0');
+    std::setvbuf(f_, nullptr, _IONBF, 0); // every write is a whole formatted batch
     std::string header = trace_header();
     if (rotor_flux_) {
         header += ",psi_r_alpha_wb,psi_r_beta_wb";
     }
-    std::memcpy(buf_.data(), header.data(), header.size());
-    buf_[header.size()] = '\n';
-    n_ = header.size() + 1;
-    write_failed_ = false;
-    fill_.clear();
-    fill_.reserve(kBatchRows);
-    work_.clear();
-    work_.reserve(kBatchRows);
-    has_work_ = false;
+    header += '\n';
+    write_failed_ = std::fwrite(header.data(), 1, header.size(), f_) != header.size();
+    const unsigned n_workers = std::clamp(std::thread::hardware_concurrency(), 1U, kMaxWorkers);
+    batches_.clear();
+    queued_.clear();
+    free_.clear();
+    for (unsigned k = 0; k < n_workers + 2; ++k) { // one per worker, one filling, one queued
+        auto b = std::make_unique<Batch>();
+        b->rows.reserve(kBatchRows);
+        b->text.reset(new char[kBatchRows * kMaxRowBytes]);
+        free_.push_back(b.get());
+        batches_.push_back(std::move(b));
+    }
+    fill_ = free_.front();
+    free_.pop_front();
+    next_seq_ = 0;
+    next_write_ = 0;
     stop_ = false;
-    thread_ = std::thread([this] { worker(); });
+    workers_.clear();
+    for (unsigned k = 0; k < n_workers; ++k) {
+        workers_.emplace_back([this] { worker(); });
+    }
     return true;
 }
 
 void TraceWriter::hand_over()
 {
     std::unique_lock<std::mutex> lk(m_);
-    cv_.wait(lk, [this] { return !has_work_; });
-    std::swap(fill_, work_); // fill_ is now the emptied previous batch, capacity kept
-    has_work_ = true;
-    lk.unlock();
+    fill_->seq = next_seq_++;
+    queued_.push_back(fill_);
     cv_.notify_all();
+    cv_.wait(lk, [this] { return !free_.empty(); }); // waits only while every batch is busy
+    fill_ = free_.front();
+    free_.pop_front();
 }
 
 void TraceWriter::worker()
 {
     std::unique_lock<std::mutex> lk(m_);
     for (;;) {
-        cv_.wait(lk, [this] { return has_work_ || stop_; });
-        if (!has_work_) {
+        cv_.wait(lk, [this] { return !queued_.empty() || stop_; });
+        if (queued_.empty()) {
             return; // stop_ with nothing left
         }
+        Batch* const b = queued_.front();
+        queued_.pop_front();
         lk.unlock();
-        for (const TraceRow& r : work_) {
-            format(r);
+        char* p = b->text.get();
+        for (const TraceRow& r : b->rows) {
+            p = format(r, p);
         }
+        const auto n = static_cast<std::size_t>(p - b->text.get());
         lk.lock();
-        work_.clear();
-        has_work_ = false;
+        cv_.wait(lk, [this, b] { return next_write_ == b->seq; }); // earlier batches first
+        lk.unlock();
+        const bool ok = std::fwrite(b->text.get(), 1, n, f_) == n; // only this thread writes now
+        lk.lock();
+        write_failed_ = write_failed_ || !ok;
+        ++next_write_;
+        b->rows.clear();
+        free_.push_back(b);
         cv_.notify_all();
     }
 }
 
 void TraceWriter::stop()
 {
-    if (!thread_.joinable()) {
-        return;
-    }
     {
         std::lock_guard<std::mutex> lk(m_);
         stop_ = true;
     }
     cv_.notify_all();
-    thread_.join();
-}
-
-void TraceWriter::flush()
-{
-    if (n_ != 0 && std::fwrite(buf_.data(), 1, n_, f_) != n_) {
-        write_failed_ = true;
+    for (std::thread& t : workers_) {
+        if (t.joinable()) {
+            t.join();
+        }
     }
-    n_ = 0;
+    workers_.clear();
 }
 
 namespace {
@@ -127,13 +143,8 @@ inline char* put(char* p, int x)
 }
 } // namespace
 
-void TraceWriter::format(const TraceRow& r)
+char* TraceWriter::format(const TraceRow& r, char* p) const
 {
-    if (buf_.size() - n_ < kMaxRowBytes) {
-        flush();
-    }
-    char* const b = buf_.data() + n_;
-    char* p = b;
     const double d1[] = {r.t_s, r.ia_a, r.ib_a, r.ic_a, r.i_alpha_a, r.i_beta_a, r.torque_nm, r.torque_est_nm,
                          r.psi_alpha_wb, r.psi_beta_wb, r.psi_alpha_est_wb, r.psi_beta_est_wb, r.speed_rpm};
     for (double x : d1) {
@@ -161,7 +172,7 @@ void TraceWriter::format(const TraceRow& r)
         p = put(p, r.psi_r_beta_wb);
     }
     *p++ = '\n';
-    n_ += static_cast<std::size_t>(p - b);
+    return p;
 }
 
 bool TraceWriter::close(std::string* err)
@@ -169,11 +180,13 @@ bool TraceWriter::close(std::string* err)
     if (f_ == nullptr) {
         return true;
     }
-    if (!fill_.empty()) {
-        hand_over();
+    if (!fill_->rows.empty()) {
+        std::lock_guard<std::mutex> lk(m_);
+        fill_->seq = next_seq_++;
+        queued_.push_back(fill_); // no free batch needed: nothing is filled after this
+        fill_ = nullptr;
     }
-    stop(); // the worker finishes the batch it holds, then exits
-    flush();
+    stop(); // the workers drain the queue, in order, then exit
     const bool ok_c = std::fclose(f_) == 0;
     f_ = nullptr;
     if (write_failed_ || !ok_c) {
