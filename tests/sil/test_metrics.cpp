@@ -8,7 +8,6 @@
 using namespace sil;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kTs = 50e-6;
 
 // Three-phase set with per-phase amplitude, and a common 5th/7th harmonic content.

@@ -17,7 +17,6 @@ namespace fs = std::filesystem;
 using namespace sil;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 const std::string kScenarios = std::string(DTC_SOURCE_DIR) + "/tools/scenarios/";
 
 Scenario load(const std::string& file, const std::vector<std::string>& sets = {})

@@ -15,9 +15,9 @@
 #include "scripted_plant.hpp"
 
 namespace fs = std::filesystem;
+using sil::kPi;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 class RunScripted : public ::testing::Test {
 protected:
@@ -209,18 +209,6 @@ TEST_F(RunScripted, FailureAfterValidationLeavesPreviousResultsUntouched)
         ++entries;
     }
     EXPECT_EQ(entries, 3u); // v.csv, ol.toml, res: no staging directory left behind
-}
-
-TEST_F(RunScripted, ClosedLoopWithoutFirmwareIsRefusedClearly)
-{
-    if (sil::firmware_controller_available()) {
-        GTEST_SKIP() << "this build has the firmware adapter";
-    }
-    std::ofstream(dir / "cl.toml") << "duration_s = 0.1\nmetrics_window_s = 0.05\n";
-    std::string err;
-    EXPECT_EQ(cli({"run", (dir / "cl.toml").string(), "--out", (dir / "res").string()}, nullptr, &err), 2);
-    EXPECT_NE(err.find("needs the firmware"), std::string::npos) << err;
-    EXPECT_FALSE(fs::exists(dir / "res"));
 }
 
 TEST_F(RunScripted, CheckAndKeysSubcommands)

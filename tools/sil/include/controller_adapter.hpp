@@ -3,13 +3,13 @@
 // The run loop (run.hpp) owns a hal_host::Harness and calls, once per control period k:
 //     harness.sample();  controller.step(harness);  record;  harness.advance();
 // Implementations:
-//   * OpenLoopController (always built): control.voltage_csv held per period on the ideal inverter.
-//   * FirmwareController (controller_firmware.cpp, built only when the firmware and the SI config
-//     converter exist, see tools/sil/CMakeLists.txt): app_init(dtc_config_si(...)) at init and
+//   * OpenLoopController: control.voltage_csv (or the V/f source) held per period on the ideal
+//     inverter.
+//   * FirmwareController (controller_firmware.cpp): app_init(dtc_config_si(...)) at init and
 //     app_isr() per period, so the unchanged firmware talks to hal_host through hal.h.
-//   * ReferenceController (controller_reference.cpp, library sil_reference, built when
-//     model/include/ref_dtc.h exists): model/'s double-precision reference DTC on the same
-//     measurements, for the fixed-point vs double comparison (control.implementation = "reference").
+//   * ReferenceController (controller_reference.cpp, library sil_reference): model/'s
+//     double-precision reference DTC on the same measurements, for the fixed-point vs double
+//     comparison (control.implementation = "reference").
 #ifndef DTC_SIL_CONTROLLER_ADAPTER_HPP
 #define DTC_SIL_CONTROLLER_ADAPTER_HPP
 
@@ -94,15 +94,12 @@ std::unique_ptr<Controller> make_open_loop_controller(std::vector<VoltageRow> ro
 /// The built-in V/f source (control.vf_*) as a voltage table, one row per control period.
 std::vector<VoltageRow> vf_voltage_rows(const Scenario& sc);
 
-/// True when this build contains the firmware adapter (controller_firmware.cpp).
-bool firmware_controller_available();
-
 /// control.implementation = "reference": the adapter of model/'s double-precision reference
 /// controller lives in its own library (sil_reference, it needs the plant library), so the
 /// executables that have it register it (dtc-sil's main, the closed-loop tests).
 using ControllerFactory = std::unique_ptr<Controller> (*)(const Scenario& sc, std::string* err);
 void register_reference_controller(ControllerFactory factory);
-/// Defined by sil_reference (controller_reference.cpp) when model/include/ref_dtc.h exists.
+/// Defined by sil_reference (controller_reference.cpp).
 std::unique_ptr<Controller> make_reference_controller(const Scenario& sc, std::string* err);
 
 } // namespace sil

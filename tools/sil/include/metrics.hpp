@@ -34,6 +34,8 @@
 #include <optional>
 #include <vector>
 
+#include "sil_constants.hpp"
+
 namespace sil {
 
 /// Signals sampled once per control period (row k = instant t_k; legs = applied over period k).

@@ -31,7 +31,7 @@ struct TraceRow {
     double psi_r_alpha_wb, psi_r_beta_wb;  // induction machine only (rotor-flux columns)
 };
 
-/// Column names, in order (the first 17 are the ones issue 5 requires).
+/// Column names, in order.
 const char* trace_header();
 
 /// Buffered CSV writer: every double in the shortest form that reads back to the same double

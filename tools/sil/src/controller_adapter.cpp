@@ -7,12 +7,7 @@
 
 namespace sil {
 
-#if DTC_SIL_HAVE_FIRMWARE
 std::unique_ptr<Controller> make_firmware_controller(const Scenario& sc, std::string* err); // controller_firmware.cpp
-bool firmware_controller_available() { return true; }
-#else
-bool firmware_controller_available() { return false; }
-#endif
 
 namespace {
 ControllerFactory g_reference_factory = nullptr;
@@ -116,7 +111,6 @@ std::vector<VoltageRow> vf_voltage_rows(const Scenario& sc)
     // then has no phase lag): f(t) = vf_freq_hz * min(t / vf_ramp_s, 1), angle = 2 pi int f dt
     // (exact for the linear ramp), amplitude = vf_boost_v + vf_v_per_hz * f.
     const ControlCfg& c = sc.control;
-    const double kTwoPi = 6.28318530717958647692;
     const auto n = static_cast<std::size_t>(std::ceil(sc.duration_s / sc.ts_s)) + 1u;
     std::vector<VoltageRow> rows(n);
     for (std::size_t k = 0; k < n; ++k) {
@@ -125,11 +119,11 @@ std::vector<VoltageRow> vf_voltage_rows(const Scenario& sc)
         double f, angle;
         if (c.vf_ramp_s > 0.0 && t < c.vf_ramp_s) {
             f = c.vf_freq_hz * t / c.vf_ramp_s;
-            angle = kTwoPi * 0.5 * f * t;
+            angle = (2.0 * kPi) * 0.5 * f * t;
         } else {
             f = c.vf_freq_hz;
             const double tr = c.vf_ramp_s;
-            angle = kTwoPi * (0.5 * c.vf_freq_hz * tr + c.vf_freq_hz * (t - tr));
+            angle = (2.0 * kPi) * (0.5 * c.vf_freq_hz * tr + c.vf_freq_hz * (t - tr));
         }
         const double v = c.vf_boost_v + c.vf_v_per_hz * f;
         rows[k] = VoltageRow{t0, v * std::cos(angle), v * std::sin(angle)};
@@ -161,14 +155,7 @@ std::unique_ptr<Controller> make_controller(const Scenario& sc, std::string* err
         }
         return g_reference_factory(sc, err);
     }
-#if DTC_SIL_HAVE_FIRMWARE
     return make_firmware_controller(sc, err);
-#else
-    *err = "control.mode = \"" + sc.control.mode +
-           "\" needs the firmware (firmware/dtc, tools/config), which this build does not contain; "
-           "only control.mode = \"open_loop\" runs without it";
-    return nullptr;
-#endif
 }
 
 } // namespace sil

@@ -1,15 +1,10 @@
 // controller_firmware.cpp - the unchanged firmware (firmware/app + firmware/dtc) as the SIL controller.
 //
-// Built only when firmware/dtc/dtc.h and the SI -> Q-format converter target (dtc_config_si,
-// tools/config) exist (tools/sil/CMakeLists.txt; -DDTC_SIL_FIRMWARE_ADAPTER=OFF removes it).
 // The firmware reaches the plant only through hal.h, i.e. the active hal_host::Harness: this
 // adapter converts the scenario's SI values with the firmware's own converter (so SIL and a
 // target build share one conversion), then calls the application's entry points
 // (firmware/app/app.h) once per period, exactly as the DSP's ADC interrupt and background loop
 // would, and reads the application status for the trace.
-//
-// Written against the firmware and converter headers of the app/dtc branches before they were
-// merged: INTEGRATION: re-check the field names below against the merged headers.
 #include <cmath>
 #include <string>
 
@@ -25,7 +20,6 @@ namespace sil {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kIqOne = 16777216.0; // 2^FIX_IQ_Q, fixmath.h (iq_t = Q24)
 
 // The sensing chain of hal_host (hal_host_sensors.hpp) seen from the firmware: ADC counts per

@@ -21,7 +21,6 @@ namespace sil {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 class ReferenceController final : public Controller {
 public:

@@ -11,7 +11,6 @@
 namespace sil {
 
 namespace {
-constexpr double kTwoPi = 6.283185307179586476925286766559;
 }
 
 Window whole_period_window(const std::vector<double>& theta_e, std::size_t window_n)
@@ -25,11 +24,11 @@ Window whole_period_window(const std::vector<double>& theta_e, std::size_t windo
     const std::size_t last = total - 1;
     const std::size_t first = total - window_n;
     const double span = std::fabs(theta_e[last] - theta_e[first]);
-    const int periods = static_cast<int>(std::floor(span / kTwoPi + 1e-9));
+    const int periods = static_cast<int>(std::floor(span / (2.0 * kPi) + 1e-9));
     if (periods < 1) {
         return w;
     }
-    const double target = static_cast<double>(periods) * kTwoPi;
+    const double target = static_cast<double>(periods) * (2.0 * kPi);
     std::size_t best = first;
     double best_err = INFINITY;
     for (std::size_t i = first; i < last; ++i) {

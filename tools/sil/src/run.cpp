@@ -15,7 +15,6 @@ namespace sil {
 volatile std::sig_atomic_t g_stop_signal = 0;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 plant_load_t load_kind(const std::string& t)
 {

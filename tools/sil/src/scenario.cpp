@@ -16,7 +16,6 @@ namespace sil {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kPi = 3.14159265358979323846;
 
 enum class Kind { Number, Integer, Bool, String, Number3, Path };
 
