@@ -20,6 +20,61 @@
 
 namespace sil {
 
+// ---- Variants: parsed once from their key's text (scenario load), enums everywhere after. ----
+enum class MotorType { Pmsm, Im };
+enum class Topology { Ideal, Sstp, Fstp };
+enum class LoadType { Speed, Torque, Generator, Inertia, Fan };
+enum class ControlMode { Speed, Torque, OpenLoop };
+enum class Implementation { Firmware, Reference };
+enum class Estimator { Current, Voltage };
+enum class Compensation { None, Simple, Proposed };
+enum class SwitchingTable { Basic, StA, StB, StC, StD };
+
+/// The one to-string table of each variant: names[i] is the key text of enum value i.
+template <typename E> struct VariantNames;
+template <> struct VariantNames<MotorType> {
+    static constexpr std::array<const char*, 2> names{"pmsm", "im"};
+};
+template <> struct VariantNames<Topology> {
+    static constexpr std::array<const char*, 3> names{"ideal", "sstp", "fstp"};
+};
+template <> struct VariantNames<LoadType> {
+    static constexpr std::array<const char*, 5> names{"speed", "torque", "generator", "inertia", "fan"};
+};
+template <> struct VariantNames<ControlMode> {
+    static constexpr std::array<const char*, 3> names{"speed", "torque", "open_loop"};
+};
+template <> struct VariantNames<Implementation> {
+    static constexpr std::array<const char*, 2> names{"firmware", "reference"};
+};
+template <> struct VariantNames<Estimator> {
+    static constexpr std::array<const char*, 2> names{"current", "voltage"};
+};
+template <> struct VariantNames<Compensation> {
+    static constexpr std::array<const char*, 3> names{"none", "simple", "proposed"};
+};
+template <> struct VariantNames<SwitchingTable> {
+    static constexpr std::array<const char*, 5> names{"basic", "st-a", "st-b", "st-c", "st-d"};
+};
+
+/// The key text of a variant ("fstp", "open_loop", ...).
+template <typename E> std::string to_string(E e)
+{
+    return VariantNames<E>::names[static_cast<std::size_t>(e)];
+}
+/// Parses a variant's key text; false (and *out unchanged) when it names none.
+template <typename E> bool parse_variant(const std::string& text, E* out)
+{
+    const auto& n = VariantNames<E>::names;
+    for (std::size_t i = 0; i < n.size(); ++i) {
+        if (text == n[i]) {
+            *out = static_cast<E>(i);
+            return true;
+        }
+    }
+    return false;
+}
+
 /// The default induction machine's values for the shared motor keys (motor.type = "im", keys left
 /// unset), from plant_defaults.h as plant_params_im_default (tests/sil checks they agree).
 struct ImDefaults {
@@ -37,7 +92,7 @@ struct ImDefaults {
 };
 
 struct MotorCfg {
-    std::string type = "pmsm";
+    MotorType type = MotorType::Pmsm;
     double rs_ohm = PLANT_DEF_PM_RS_OHM;
     double ls_h = PLANT_DEF_PM_LS_H;
     double psi_m_wb = PLANT_DEF_PM_PSI_M_WB;
@@ -60,7 +115,7 @@ struct MotorCfg {
 };
 
 struct InverterCfg {
-    std::string topology = "sstp"; // ideal | sstp | fstp
+    Topology topology = Topology::Sstp;
     double vdc_v = PLANT_DEF_VDC_V;
     double v_ce_v = PLANT_DEF_V_CE_V;
     double v_d_v = PLANT_DEF_V_D_V;
@@ -76,7 +131,7 @@ struct InverterCfg {
 };
 
 struct LoadCfg {
-    std::string type = "inertia"; // speed | torque | generator | inertia
+    LoadType type = LoadType::Inertia;
     double speed_rpm = PLANT_DEF_SPEED_REF_RPM;
     double torque_nm = 0.0;
     double step_time_s = 0.0;     // 0 = no step
@@ -85,11 +140,11 @@ struct LoadCfg {
 };
 
 struct ControlCfg {
-    std::string mode = "speed";          // speed | torque | open_loop
-    std::string implementation = "firmware"; // firmware | reference
-    std::string estimator = "current";   // current | voltage
-    std::string compensation = "none";   // none | simple | proposed
-    std::string table = "basic";         // basic | st-a | st-b | st-c | st-d (SSTP)
+    ControlMode mode = ControlMode::Speed;
+    Implementation implementation = Implementation::Firmware;
+    Estimator estimator = Estimator::Current;
+    Compensation compensation = Compensation::None;
+    SwitchingTable table = SwitchingTable::Basic; // SSTP only
     double speed_ref_rpm = PLANT_DEF_SPEED_REF_RPM;
     double speed_bw_hz = PLANT_DEF_SPEED_BW_HZ;
     std::int64_t speed_loop_divider = PLANT_DEF_SPEED_LOOP_DIVIDER;

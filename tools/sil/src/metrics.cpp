@@ -123,7 +123,7 @@ std::vector<double> first_order_filtered(const double* x, std::size_t n, double 
     }
     // y_k = y_{k-1} + a (x_k - y_{k-1}), a = 1 - exp(-2 pi f_c ts): the first-order lag
     // 1 / (1 + s / (2 pi f_c)) sampled with the input held over each period (exact at the samples).
-    const double a = 1.0 - std::exp(-2.0 * 3.14159265358979323846 * f_c_hz * ts_s);
+    const double a = 1.0 - std::exp(-2.0 * kPi * f_c_hz * ts_s);
     // The window holds whole electrical periods: a first pass from y = x_0 ends close to the
     // periodic steady state, which starts the second (reported) pass.
     double st = x[0];

@@ -16,21 +16,26 @@ volatile std::sig_atomic_t g_stop_signal = 0;
 
 namespace {
 
-plant_load_t load_kind(const std::string& t)
+plant_load_t load_kind(LoadType t)
 {
-    if (t == "speed") {
-        return PLANT_LOAD_SPEED;
-    }
-    if (t == "torque") {
-        return PLANT_LOAD_TORQUE;
-    }
-    if (t == "fan") {
-        return PLANT_LOAD_FAN;
-    }
-    if (t == "generator") {
-        return PLANT_LOAD_GENERATOR;
+    switch (t) {
+    case LoadType::Speed: return PLANT_LOAD_SPEED;
+    case LoadType::Torque: return PLANT_LOAD_TORQUE;
+    case LoadType::Generator: return PLANT_LOAD_GENERATOR;
+    case LoadType::Inertia: return PLANT_LOAD_INERTIA;
+    case LoadType::Fan: return PLANT_LOAD_FAN;
     }
     return PLANT_LOAD_INERTIA;
+}
+
+plant_inverter_t inverter_kind(Topology t)
+{
+    switch (t) {
+    case Topology::Ideal: return PLANT_INVERTER_IDEAL;
+    case Topology::Sstp: return PLANT_INVERTER_SSTP;
+    case Topology::Fstp: return PLANT_INVERTER_FSTP;
+    }
+    return PLANT_INVERTER_IDEAL;
 }
 } // namespace
 
@@ -49,7 +54,7 @@ plant_params_t plant_params_from(const Scenario& sc)
             p.emf_harm[ph][h] = (*harm[ph])[static_cast<std::size_t>(h)];
         }
     }
-    if (sc.motor.type == "im") {
+    if (sc.motor.type == MotorType::Im) {
         p.machine = PLANT_MACHINE_IM;  // every IM field below comes from the scenario
         p.psi_m_wb = 0.0;
         p.rs_ohm = sc.motor.rs_ohm;
@@ -61,9 +66,7 @@ plant_params_t plant_params_from(const Scenario& sc)
     }
     p.j_kgm2 = sc.motor.j_kgm2;
     p.b_nms = sc.motor.b_nms;
-    p.inverter = sc.inverter.topology == "fstp"   ? PLANT_INVERTER_FSTP
-                 : sc.inverter.topology == "sstp" ? PLANT_INVERTER_SSTP
-                                                  : PLANT_INVERTER_IDEAL;
+    p.inverter = inverter_kind(sc.inverter.topology);
     p.vdc_v = sc.inverter.vdc_v;
     p.r_dc_ohm = sc.inverter.r_dc_ohm;
     p.c_dc_f = sc.inverter.c_dc_f;
@@ -111,11 +114,10 @@ hal_host::HarnessConfig harness_config_from(const Scenario& sc)
 
 unsigned switched_legs(const Scenario& sc)
 {
-    if (sc.inverter.topology == "sstp") {
-        return 0x7u;
-    }
-    if (sc.inverter.topology == "fstp") {
-        return 0x6u; // legs B and C; phase A sits on the capacitor mid-point
+    switch (sc.inverter.topology) {
+    case Topology::Sstp: return 0x7u;
+    case Topology::Fstp: return 0x6u; // legs B and C; phase A sits on the capacitor mid-point
+    case Topology::Ideal: return 0u;
     }
     return 0u;
 }
@@ -175,7 +177,7 @@ void name_fault(const Scenario& sc, RunInfo* info)
     if (calibration_fault) {
         const double w_e = std::fabs(sc.initial_speed_rpm) * kPi / 30.0 * static_cast<double>(sc.motor.pole_pairs);
         const double e_line_pk = std::sqrt(3.0) * sc.motor.psi_m_wb * w_e;
-        const double v_link = sc.inverter.topology == "fstp" ? 0.5 * sc.inverter.vdc_v : sc.inverter.vdc_v;
+        const double v_link = sc.inverter.topology == Topology::Fstp ? 0.5 * sc.inverter.vdc_v : sc.inverter.vdc_v;
         if (e_line_pk > v_link) {
             char line[200];
             std::snprintf(line, sizeof line,
@@ -314,7 +316,7 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
         if (!out.begin(opt.out_dir, err)) {
             return false;
         }
-        trace.set_rotor_flux_columns(sc.motor.type == "im");
+        trace.set_rotor_flux_columns(sc.motor.type == MotorType::Im);
         if (opt.write_trace && !trace.open(out.path("trace.csv"), err)) {
             return false;
         }
@@ -329,7 +331,7 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
     s = Series{};
     s.ts_s = sc.ts_s;
     const bool est = ctrl->has_estimates();
-    const bool legs = sc.inverter.topology != "ideal";
+    const bool legs = sc.inverter.topology != Topology::Ideal;
     // Sized once for the recorded periods and written by index: no allocation and no capacity
     // check inside the loop.
     const auto n_rec = static_cast<std::size_t>(periods - record_from);
