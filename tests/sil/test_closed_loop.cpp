@@ -252,9 +252,9 @@ TEST(SilClosedLoop, OverCurrentTripsWithinOneIsrPeriodAndGatesStayOff)
                           out.string());
     EXPECT_NE(o.info.fault, "none");
     const auto tr = read_trace(out / "trace.csv");
-    const auto& ia = tr.at("ia_a");
-    const auto& ib = tr.at("ib_a");
-    const auto& ic = tr.at("ic_a");
+    const auto& ia = tr.at("i_a_a");
+    const auto& ib = tr.at("i_b_a");
+    const auto& ic = tr.at("i_c_a");
     const auto& en = tr.at("en");
     std::size_t first = ia.size();
     for (std::size_t k = 0; k < ia.size(); ++k) {

@@ -132,7 +132,7 @@ TEST_F(RunScripted, TraceHasTheDocumentedColumnsOneRowPerDecimatedIsr)
     std::ifstream f(dir / "res" / "trace.csv");
     std::string header;
     std::getline(f, header);
-    EXPECT_EQ(header.rfind("t_s,ia_a,ib_a,ic_a,i_alpha_a,i_beta_a,torque_nm,torque_est_nm,psi_alpha_wb,psi_beta_wb,"
+    EXPECT_EQ(header.rfind("t_s,i_a_a,i_b_a,i_c_a,i_alpha_a,i_beta_a,torque_nm,torque_est_nm,psi_alpha_wb,psi_beta_wb,"
                            "psi_alpha_est_wb,psi_beta_est_wb,speed_rpm,sa,sb,sc,vdc_v",
                            0),
               0u);

@@ -112,8 +112,8 @@ TEST(Scenario, UnsetKeysGiveTheDocumentedDefaults)
     EXPECT_DOUBLE_EQ(s.control.torque_band_nm, 0.0);
     EXPECT_DOUBLE_EQ(s.control.flux_band_wb, 0.0);
     EXPECT_EQ(s.sensors.encoder_lines, 2000);
-    // b_nms: 25 % of the 0.3 N*m rated torque at 1500 rpm (Hoang sec. IV, inertial load).
-    EXPECT_NEAR(s.motor.b_nms * 1500.0 * 2.0 * 3.14159265358979 / 60.0, 0.075, 1e-5);
+    // b_nm_s_per_rad: 25 % of the 0.3 N*m rated torque at 1500 rpm (Hoang sec. IV, inertial load).
+    EXPECT_NEAR(s.motor.b_nm_s_per_rad * 1500.0 * 2.0 * 3.14159265358979 / 60.0, 0.075, 1e-5);
 }
 
 TEST(Scenario, GoodFileIsReadWithOriginsAndIntegersPromoted)
@@ -332,7 +332,7 @@ TEST(Scenario, ShippedScenariosAreValid)
             EXPECT_DOUBLE_EQ(s.control.flux_band_wb, 0.0);
             EXPECT_DOUBLE_EQ(s.inverter.vdc_v, 70.0);
             // Total load at 1500 rpm: friction + generator = 0.075 + {0, 0.075, 0.225} N*m.
-            const double friction = s.motor.b_nms * 1500.0 * 2.0 * 3.14159265358979 / 60.0;
+            const double friction = s.motor.b_nm_s_per_rad * 1500.0 * 2.0 * 3.14159265358979 / 60.0;
             const double total = friction + (s.load.type == LoadType::Generator ? s.load.torque_nm : 0.0);
             const std::string f = e.path().filename().string();
             const double expect = f.find("_full") != std::string::npos   ? 0.3

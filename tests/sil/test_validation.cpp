@@ -269,7 +269,7 @@ TEST_F(Validation, SummaryExplainsTheFullLoadFigure)
     std::string e, o;
     ASSERT_EQ(cli(with_sets({"run", kDefault, "--out", (dir / "o").string(), "--no-trace"}, kShort), &e, &o), 0);
     // Hoang's full load 0.3 N*m = load.torque_nm 0.225 + B*w = 5e-4... at 1500 rpm (scenario.hpp).
-    EXPECT_NE(o.find("0.225 N*m load + 0.075 N*m friction (motor.b_nms) = 0.3 N*m at 1500 rpm"), std::string::npos)
+    EXPECT_NE(o.find("0.225 N*m load + 0.075 N*m friction (motor.b_nm_s_per_rad) = 0.3 N*m at 1500 rpm"), std::string::npos)
         << o;
 }
 

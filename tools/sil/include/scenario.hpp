@@ -85,7 +85,7 @@ struct ImDefaults {
     double lm_h = PLANT_DEF_IM_LM_H;
     std::int64_t pole_pairs = PLANT_DEF_IM_POLE_PAIRS;
     double j_kgm2 = PLANT_DEF_IM_J_KGM2;
-    double b_nms = PLANT_DEF_IM_B_NM_S_PER_RAD;
+    double b_nm_s_per_rad = PLANT_DEF_IM_B_NM_S_PER_RAD;
     double rated_torque_nm = PLANT_DEF_IM_RATED_TORQUE_NM;
     double rated_current_a = PLANT_DEF_IM_RATED_CURRENT_A;
     double rated_speed_rpm = PLANT_DEF_IM_RATED_SPEED_RPM;
@@ -98,7 +98,7 @@ struct MotorCfg {
     double psi_m_wb = PLANT_DEF_PM_PSI_M_WB;
     std::int64_t pole_pairs = PLANT_DEF_PM_POLE_PAIRS;
     double j_kgm2 = PLANT_DEF_PM_J_KGM2;
-    double b_nms = PLANT_DEF_PM_B_NM_S_PER_RAD;
+    double b_nm_s_per_rad = PLANT_DEF_PM_B_NM_S_PER_RAD;
     std::array<double, 3> emf_gain{1.0, 1.0, 1.0};
     std::array<double, 3> emf_harm_a{}; // 3rd, 5th, 7th relative to the fundamental
     std::array<double, 3> emf_harm_b{};

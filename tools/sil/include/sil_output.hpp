@@ -20,7 +20,7 @@ namespace sil {
 /// One trace row: plant state at t_k, the controller's estimates made from the sample at t_k,
 /// and the leg states applied over [t_k, t_k+1).
 struct TraceRow {
-    double t_s, ia_a, ib_a, ic_a, i_alpha_a, i_beta_a;
+    double t_s, i_a_a, i_b_a, i_c_a, i_alpha_a, i_beta_a;
     double torque_nm, torque_est_nm;
     double psi_alpha_wb, psi_beta_wb, psi_alpha_est_wb, psi_beta_est_wb;
     double speed_rpm;

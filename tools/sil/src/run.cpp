@@ -65,7 +65,7 @@ plant_params_t plant_params_from(const Scenario& sc)
         p.pole_pairs = static_cast<int>(sc.motor.pole_pairs);
     }
     p.j_kgm2 = sc.motor.j_kgm2;
-    p.b_nms = sc.motor.b_nms;
+    p.b_nms = sc.motor.b_nm_s_per_rad;
     p.inverter = inverter_kind(sc.inverter.topology);
     p.vdc_v = sc.inverter.vdc_v;
     p.r_dc_ohm = sc.inverter.r_dc_ohm;
@@ -432,9 +432,9 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
         if (trace_row) {
             TraceRow r{};
             r.t_s = st.t_s;
-            r.ia_a = st.i_a;
-            r.ib_a = st.i_b;
-            r.ic_a = st.i_c;
+            r.i_a_a = st.i_a;
+            r.i_b_a = st.i_b;
+            r.i_c_a = st.i_c;
             r.i_alpha_a = st.i_alpha_a;
             r.i_beta_a = st.i_beta_a;
             r.torque_nm = st.te_nm;

@@ -164,7 +164,7 @@ const std::vector<Spec>& schema()
                "pmsm = surface PM brushless AC machine (Hoang eqs. 6-10); im = squirrel-cage induction machine "
                "(Casadei eqs. A6-A10, open loop only); with \"im\" the shared motor keys left unset take the "
                "default IM's values (Modelica Buildings IM_5HP_400V_50Hz at 220 V: rs_ohm 0.425, pole_pairs 2, "
-               "j_kgm2 0.0131, b_nms 0, rated 26.5 N*m, 19.2 A peak, 1440 rpm)",
+               "j_kgm2 0.0131, b_nm_s_per_rad 0, rated 26.5 N*m, 19.2 A peak, 1440 rpm)",
                ACC(motor.type)),
         num("motor.rs_ohm", "ohm", positive(), "phase resistance (Hoang Table VIII)", ACC(motor.rs_ohm)),
         num("motor.ls_h", "H", positive(), "synchronous inductance, Ld = Lq (Table VIII)", ACC(motor.ls_h)),
@@ -172,9 +172,9 @@ const std::vector<Spec>& schema()
         integer("motor.pole_pairs", "", closed(1, 16), "pole pairs (Table VIII; the firmware converter's range)", ACC(motor.pole_pairs)),
         num("motor.j_kgm2", "kg*m^2", positive(),
             "rotor + coupled load inertia (not in the paper: small servo motor with a DC generator)", ACC(motor.j_kgm2)),
-        num("motor.b_nms", "N*m*s/rad", nonneg(),
+        num("motor.b_nm_s_per_rad", "N*m*s/rad", nonneg(),
             "viscous friction; default gives 0.075 N*m at 1500 rpm = Hoang's inertial load (25 % of 0.3 N*m)",
-            ACC(motor.b_nms)),
+            ACC(motor.b_nm_s_per_rad)),
         num3("motor.emf_gain", "", closed(0.5, 1.5), "per-phase back-EMF scale [A, B, C] (Table VII: measured)",
              ACC(motor.emf_gain)),
         num3("motor.emf_harm_a", "", closed(-0.5, 0.5), "phase A back-EMF 3rd, 5th, 7th / fundamental",
@@ -641,7 +641,7 @@ void apply_machine_defaults(Scenario& s, Diagnostics* d)
     if (unset("motor.lm_h")) s.motor.lm_h = q.lm_h;
     if (unset("motor.pole_pairs")) s.motor.pole_pairs = q.pole_pairs;
     if (unset("motor.j_kgm2")) s.motor.j_kgm2 = q.j_kgm2;
-    if (unset("motor.b_nms")) s.motor.b_nms = q.b_nms;
+    if (unset("motor.b_nm_s_per_rad")) s.motor.b_nm_s_per_rad = q.b_nm_s_per_rad;
     if (unset("motor.rated_torque_nm")) s.motor.rated_torque_nm = q.rated_torque_nm;
     if (unset("motor.rated_current_a")) s.motor.rated_current_a = q.rated_current_a;
     if (unset("motor.rated_speed_rpm")) s.motor.rated_speed_rpm = q.rated_speed_rpm;

@@ -15,7 +15,7 @@ namespace fs = std::filesystem;
 
 const char* trace_header()
 {
-    return "t_s,ia_a,ib_a,ic_a,i_alpha_a,i_beta_a,torque_nm,torque_est_nm,psi_alpha_wb,psi_beta_wb,"
+    return "t_s,i_a_a,i_b_a,i_c_a,i_alpha_a,i_beta_a,torque_nm,torque_est_nm,psi_alpha_wb,psi_beta_wb,"
            "psi_alpha_est_wb,psi_beta_est_wb,speed_rpm,sa,sb,sc,vdc_v,en,theta_e_rad,vc_lo_v,v_alpha_v,"
            "v_beta_v,tload_nm";
 }
@@ -134,7 +134,7 @@ void TraceWriter::format(const TraceRow& r)
     }
     char* const b = buf_.data() + n_;
     char* p = b;
-    const double d1[] = {r.t_s, r.ia_a, r.ib_a, r.ic_a, r.i_alpha_a, r.i_beta_a, r.torque_nm, r.torque_est_nm,
+    const double d1[] = {r.t_s, r.i_a_a, r.i_b_a, r.i_c_a, r.i_alpha_a, r.i_beta_a, r.torque_nm, r.torque_est_nm,
                          r.psi_alpha_wb, r.psi_beta_wb, r.psi_alpha_est_wb, r.psi_beta_est_wb, r.speed_rpm};
     for (double x : d1) {
         p = put(p, x);
@@ -251,7 +251,7 @@ std::string summary_text(const Scenario& sc, const Metrics& m, const RunInfo& in
     }
     o << ", " << to_string(sc.load.type) << " load)\n";
     if (sc.load.type == LoadType::Torque || sc.load.type == LoadType::Generator) {
-        // The shaft load is the load torque plus the viscous friction B*w of motor.b_nms: at the
+        // The shaft load is the load torque plus the viscous friction B*w of motor.b_nm_s_per_rad: at the
         // speed reference they add up to what the scenario's comment calls the load (Hoang's full
         // load 0.3 N*m = load.torque_nm 0.225 + friction 0.075 N*m at 1500 rpm with the defaults).
         const double w = sc.control.speed_ref_rpm * kPi / 30.0;
@@ -259,8 +259,8 @@ std::string summary_text(const Scenario& sc, const Metrics& m, const RunInfo& in
                               ? sc.load.torque_nm
                               : sc.load.torque_nm * sc.control.speed_ref_rpm / sc.load.speed_rpm;
         std::snprintf(line, sizeof line,
-                      "  load       %.4g N*m load + %.4g N*m friction (motor.b_nms) = %.4g N*m at %.0f rpm\n", tl,
-                      sc.motor.b_nms * w, tl + sc.motor.b_nms * w, sc.control.speed_ref_rpm);
+                      "  load       %.4g N*m load + %.4g N*m friction (motor.b_nm_s_per_rad) = %.4g N*m at %.0f rpm\n", tl,
+                      sc.motor.b_nm_s_per_rad * w, tl + sc.motor.b_nm_s_per_rad * w, sc.control.speed_ref_rpm);
         o << line;
     }
     std::snprintf(line, sizeof line, "  simulated %.3f s in %.3f s wall (%.0fx real time, trace %s), %llu ISRs, fault: %s%s\n",
