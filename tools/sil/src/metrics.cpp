@@ -13,17 +13,17 @@ namespace sil {
 namespace {
 }
 
-Window whole_period_window(const std::vector<double>& theta_e, std::size_t window_n)
+Window whole_period_window(const std::vector<double>& theta_fund_rad, std::size_t window_n)
 {
     Window w;
-    const std::size_t total = theta_e.size();
+    const std::size_t total = theta_fund_rad.size();
     if (total < 2 || window_n < 2) {
         return w;
     }
     window_n = std::min(window_n, total);
     const std::size_t last = total - 1;
     const std::size_t first = total - window_n;
-    const double span = std::fabs(theta_e[last] - theta_e[first]);
+    const double span = std::fabs(theta_fund_rad[last] - theta_fund_rad[first]);
     const int periods = static_cast<int>(std::floor(span / (2.0 * kPi) + 1e-9));
     if (periods < 1) {
         return w;
@@ -32,7 +32,7 @@ Window whole_period_window(const std::vector<double>& theta_e, std::size_t windo
     std::size_t best = first;
     double best_err = INFINITY;
     for (std::size_t i = first; i < last; ++i) {
-        const double err = std::fabs(std::fabs(theta_e[last] - theta_e[i]) - target);
+        const double err = std::fabs(std::fabs(theta_fund_rad[last] - theta_fund_rad[i]) - target);
         if (err < best_err) {
             best_err = err;
             best = i;
@@ -204,7 +204,7 @@ Metrics compute_metrics(const Series& s, const MetricsConfig& cfg)
     // window_s spans round(window_s / ts) sample intervals, i.e. one more sample than that.
     auto window_n = static_cast<std::size_t>(std::llround(cfg.window_s / s.ts_s)) + 1;
     window_n = std::clamp<std::size_t>(window_n, 1, total);
-    Window w = whole_period_window(s.theta_e, window_n);
+    Window w = whole_period_window(s.theta_fund_rad, window_n);
     std::size_t b = total - window_n, n = window_n;
     if (w.periods >= 1 && w.n >= 2 * static_cast<std::size_t>(w.periods)) {
         b = w.begin;

@@ -335,7 +335,7 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
     // Sized once for the recorded periods and written by index: no allocation and no capacity
     // check inside the loop.
     const auto n_rec = static_cast<std::size_t>(periods - record_from);
-    for (auto* v : {&s.ia, &s.ib, &s.ic, &s.te, &s.psi_a, &s.psi_b, &s.speed_rpm, &s.theta_e}) {
+    for (auto* v : {&s.ia, &s.ib, &s.ic, &s.te, &s.psi_a, &s.psi_b, &s.speed_rpm, &s.theta_fund_rad}) {
         v->resize(n_rec);
     }
     if (est) {
@@ -349,6 +349,8 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
         }
     }
     const double pole_pairs = static_cast<double>(sc.motor.pole_pairs);
+    const bool im = sc.motor.type == MotorType::Im;
+    double flux_angle_prev = 0.0; // induction machine: stator-flux angle of the last recorded sample
     bool load_stepped = sc.load.step_time_s <= 0.0;
     const double nan = std::nan("");
 
@@ -416,7 +418,15 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
             s.psi_a[i] = st.psi_alpha_wb;
             s.psi_b[i] = st.psi_beta_wb;
             s.speed_rpm[i] = st.speed_rpm;
-            s.theta_e[i] = pole_pairs * st.theta_m_rad;
+            if (im) {
+                // The stator-flux angle, unwrapped sample to sample (it moves by omega_s ts,
+                // far below pi per period).
+                const double a = std::atan2(st.psi_beta_wb, st.psi_alpha_wb);
+                s.theta_fund_rad[i] = i == 0 ? a : s.theta_fund_rad[i - 1] + std::remainder(a - flux_angle_prev, 2.0 * kPi);
+                flux_angle_prev = a;
+            } else {
+                s.theta_fund_rad[i] = pole_pairs * st.theta_m_rad;
+            }
             if (est) {
                 s.te_est[i] = e.valid ? e.te_nm : nan;
                 s.psi_a_est[i] = e.valid ? e.psi_alpha_wb : nan;
