@@ -1,4 +1,4 @@
-// End to end with the real plant (built only when model/ provides dtc_model): dtc-sil's run loop +
+// End to end with the real plant: dtc-sil's run loop +
 // hal_host + plant + metrics, checked against closed-form answers, no firmware involved.
 #include <gtest/gtest.h>
 
@@ -35,8 +35,8 @@ TEST(SilPlant, OpenLoopRatedCurrentMatchesTheSteadyStatePhasor)
     // Tolerances: the zero-order hold of the 100 us table (sampled mid-step) changes the
     // fundamental by sinc(w 50 us) - 1 < 1e-5; the hold ripple near 10 kHz is filtered by Ls
     // (< 0.5 % THD); the L/R = 6.8 ms transient has decayed to e^-7 when the 0.2 s window starts
-    // at 50 ms. Amplitudes to 1 %, torque to 1.5 % (the plant's integration error is its own
-    // issue's business; this checks the chain scenario -> hal_host -> plant -> metrics).
+    // at 50 ms. Amplitudes to 1 %, torque to 1.5 % (tests/model bounds the plant's
+    // integration error; this checks the chain scenario -> hal_host -> plant -> metrics).
     const Scenario sc = load("open_loop_rated_current.toml");
     RunResult r;
     std::string err;
