@@ -141,13 +141,14 @@ typedef struct {
     unsigned long long mode_selects; /* complementarity mode selections with a zero current */
 } plant_stats_t;
 
-/* Defaults: Hoang Table VIII machine, Table IV devices, 70 V DC link, SSTP. */
+/* Defaults (values and sources: plant_defaults.h): Hoang Table VIII machine, Table IV devices,
+ * 70 V DC link, SSTP. */
 void plant_params_default(plant_params_t *p);
 
 /* Sets the machine fields to the default induction machine (machine = PLANT_MACHINE_IM): 4 kW,
  * 4 poles, 50 Hz, 220 V, the Modelica Buildings IM_5HP_400V_50Hz set rescaled to 220 V
- * (docs/plant.md, /work/shared/reference/im-facts.md): R_s 0.4250, R_r 0.4220 ohm, L_ls = L_lr
- * 1.7663 mH, L_m 52.09 mH, p = 2, J 0.0131 kg*m^2, b 0. Inverter, load and numerics unchanged. */
+ * (plant_defaults.h, docs/plant.md, /work/shared/reference/im-facts.md). Inverter, load and
+ * numerics unchanged. */
 void plant_params_im_default(plant_params_t *p);
 
 /* Returns NULL and writes a message into err when a parameter is invalid. */

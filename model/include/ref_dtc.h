@@ -15,6 +15,8 @@
 
 #include <string>
 
+#include "plant_defaults.h"
+
 namespace dtc_ref {
 
 enum class Topology { SSTP, FSTP };
@@ -38,35 +40,38 @@ struct Params {
     DropComp comp = DropComp::NONE;
     SwitchingTable table = SwitchingTable::CASADEI_T1;
     ControlMode mode = ControlMode::SPEED;
-    double ts_s = 50e-6;       // torque/flux loop period (Hoang Sec. IV: 50 us)
-    int speed_divider = 10;    // speed loop every 10th step (Hoang Sec. IV)
-    // Machine (Hoang Table VIII).
-    double rs_ohm = 0.466;
-    double ls_h = 3.19e-3;
-    double psi_m_wb = 0.0928;
-    int pole_pairs = 1;
-    // Inverter model used by the compensation (Hoang Table IV).
-    double v_ce_v = 0.9;
-    double v_d_v = 1.25;
-    double r_on_ohm = 0.075;
-    double v_f_v = 0.9;        // equal-drop value for SSTP_EQUAL / FSTP_SIMPLE (Hoang Sec. III-B)
+    // Defaults: plant_defaults.h (values and sources).
+    double ts_s = PLANT_DEF_TS_S;                       // torque/flux loop period
+    int speed_divider = PLANT_DEF_SPEED_LOOP_DIVIDER;   // speed loop every N-th step
+    // Machine.
+    double rs_ohm = PLANT_DEF_PM_RS_OHM;
+    double ls_h = PLANT_DEF_PM_LS_H;
+    double psi_m_wb = PLANT_DEF_PM_PSI_M_WB;
+    int pole_pairs = PLANT_DEF_PM_POLE_PAIRS;
+    // Inverter model used by the compensation.
+    double v_ce_v = PLANT_DEF_V_CE_V;
+    double v_d_v = PLANT_DEF_V_D_V;
+    double r_on_ohm = PLANT_DEF_R_ON_OHM;
+    double v_f_v = PLANT_DEF_V_F_V;  // equal-drop value for SSTP_EQUAL / FSTP_SIMPLE
     // Sign of the FSTP alpha R_on term. Physics (a passive R_on in legs B and C of a star-connected
     // machine, verified against the plant) gives -R_on i_alpha / 3; Hoang eqs. (26)/(37) print
     // +R_on i_alpha / 3. false = physical sign (default), true = as printed.
     bool ron_alpha_as_printed = false;
     // Voltage-model estimator: first-order low-pass instead of a pure integrator (Hoang Sec. IV).
-    double lpf_wc_rad_s = 5.0;
+    double lpf_wc_rad_s = PLANT_DEF_LPF_CUTOFF_RAD_S;
     // The leg states that drove the period just elapsed were output this many steps ago. With a
     // HAL that applies a command at the next period boundary (hal.h), that is 2.
     int voltage_delay_periods = 2;
     // References and hysteresis bands (Hoang eqs. 13-14; Hoang uses zero bands).
-    double psi_ref_wb = 0.0928;
+    double psi_ref_wb = PLANT_DEF_FLUX_REF_WB;
     double band_psi_wb = 0.0;
     double band_te_nm = 0.0;
-    // Speed PI (mechanical rad/s in, N*m out), limits.
-    double kp_nm_s_rad = 0.01;
-    double ki_nm_rad = 0.2;
-    double te_max_nm = 0.45;
+    // Speed PI (mechanical rad/s in, N*m out), limits. Default gains: the default rig's inertia
+    // and speed bandwidth with the rule of the SIL and the SI converter (Kp = J wc, Ki = Kp wc / 4).
+    double kp_nm_s_rad = PLANT_DEF_PM_J_KGM2 * 2.0 * PLANT_DEF_PI * PLANT_DEF_SPEED_BW_HZ;
+    double ki_nm_rad = PLANT_DEF_PM_J_KGM2 * (2.0 * PLANT_DEF_PI * PLANT_DEF_SPEED_BW_HZ) *
+                       (2.0 * PLANT_DEF_PI * PLANT_DEF_SPEED_BW_HZ) / 4.0;
+    double te_max_nm = PLANT_DEF_TORQUE_LIMIT_NM;
 };
 
 struct Meas {

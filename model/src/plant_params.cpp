@@ -2,6 +2,7 @@
 // VIII machine, Table IV devices), the default induction machine (Casadei's 4 kW test machine) and
 // Hoang's Table VII back-EMF harmonics. docs/plant.md, section 3, gives every value's source.
 #include "plant.h"
+#include "plant_defaults.h"
 
 #include <cstring>
 
@@ -13,50 +14,46 @@ constexpr double kRpmToRadS = 2.0 * kPi / 60.0;
 extern "C" {
 
 void plant_params_default(plant_params_t *p) {
+    // Values and sources: plant_defaults.h.
     std::memset(p, 0, sizeof(*p));
-    // Hoang 2011 Table VIII.
-    p->rs_ohm = 0.466;
-    p->ls_h = 3.19e-3;
-    p->psi_m_wb = 0.0928;
-    p->pole_pairs = 1;
+    p->rs_ohm = PLANT_DEF_PM_RS_OHM;
+    p->ls_h = PLANT_DEF_PM_LS_H;
+    p->psi_m_wb = PLANT_DEF_PM_PSI_M_WB;
+    p->pole_pairs = PLANT_DEF_PM_POLE_PAIRS;
     for (int x = 0; x < 3; ++x) p->emf_gain[x] = 1.0;
-    // Mechanics: docs/plant.md ("Inertia and friction") gives the derivation.
-    p->j_kgm2 = 1.0e-4;
-    p->b_nms = 4.8e-4;
+    p->j_kgm2 = PLANT_DEF_PM_J_KGM2;
+    p->b_nms = PLANT_DEF_PM_B_NM_S_PER_RAD;
     p->inverter = PLANT_INVERTER_SSTP;
-    p->vdc_v = 70.0;
-    p->r_dc_ohm = 0.2;
-    p->c_dc_f = 2200e-6;
-    // Hoang Table IV.
-    p->v_ce_v = 0.9;
-    p->v_d_v = 1.25;
-    p->r_on_ohm = 0.075;
-    p->dead_time_s = 2e-6;
+    p->vdc_v = PLANT_DEF_VDC_V;
+    p->r_dc_ohm = PLANT_DEF_R_DC_OHM;
+    p->c_dc_f = PLANT_DEF_C_DC_F;
+    p->v_ce_v = PLANT_DEF_V_CE_V;
+    p->v_d_v = PLANT_DEF_V_D_V;
+    p->r_on_ohm = PLANT_DEF_R_ON_OHM;
+    p->dead_time_s = PLANT_DEF_DEAD_TIME_S;
     p->drops_enabled = 1;
     p->dead_time_enabled = 1;
     p->finite_dc_link = 1;
     p->load = PLANT_LOAD_INERTIA;
-    p->load_speed_rpm = 1500.0;
-    p->load_torque_nm = 0.3;
+    p->load_speed_rpm = PLANT_DEF_SPEED_REF_RPM;
+    p->load_torque_nm = PLANT_DEF_PM_RATED_TORQUE_NM;
     p->speed0_rpm = 0.0;
     p->theta_m0_rad = 0.0;
-    p->max_step_s = 50e-6;
+    p->max_step_s = PLANT_DEF_MAX_STEP_S;
 }
 
 void plant_params_im_default(plant_params_t *p) {
-    // Modelica Buildings IM_5HP_400V_50Hz (4 kW, 400 V, 50 Hz, 4 poles; R_s 1.405, R_r 1.395 ohm,
-    // L_ls = L_lr 5.839 mH, L_m 172.2 mH, J 0.0131 kg*m^2), every R and L times (220/400)^2 =
-    // 0.3025 for 220 V (per-unit values, power and torque unchanged). docs/plant.md, section 1.
-    const double k = 0.3025;  // (220/400)^2
+    // Values and sources: plant_defaults.h (the 220 V rescaling of Modelica Buildings
+    // IM_5HP_400V_50Hz, docs/plant.md section 1).
     p->machine = PLANT_MACHINE_IM;
-    p->rs_ohm = 1.405 * k;
-    p->rr_ohm = 1.395 * k;
-    p->lls_h = 5.839e-3 * k;
-    p->llr_h = 5.839e-3 * k;
-    p->lm_h = 172.2e-3 * k;
-    p->pole_pairs = 2;
-    p->j_kgm2 = 0.0131;
-    p->b_nms = 0.0;
+    p->rs_ohm = PLANT_DEF_IM_RS_OHM;
+    p->rr_ohm = PLANT_DEF_IM_RR_OHM;
+    p->lls_h = PLANT_DEF_IM_LLS_H;
+    p->llr_h = PLANT_DEF_IM_LLR_H;
+    p->lm_h = PLANT_DEF_IM_LM_H;
+    p->pole_pairs = PLANT_DEF_IM_POLE_PAIRS;
+    p->j_kgm2 = PLANT_DEF_IM_J_KGM2;
+    p->b_nms = PLANT_DEF_IM_B_NM_S_PER_RAD;
     p->ls_h = 0.0;
     p->psi_m_wb = 0.0;
     for (int x = 0; x < 3; ++x) {

@@ -1,5 +1,5 @@
 #!/bin/sh
-# dtc-sil as a shell user meets it (issue 11): exit codes, the message naming the key or cause,
+# dtc-sil as a shell user meets it: exit codes, the message naming the key or cause,
 # and no partial output, through the real binary and real signals.
 #   cli_cases.sh DTC_SIL SOURCE_DIR WORK_DIR
 set -u

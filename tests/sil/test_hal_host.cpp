@@ -6,12 +6,13 @@
 
 #include "hal_host.hpp"
 #include "scripted_plant.hpp"
+#include "sil_constants.hpp"
 
 using hal_host::Harness;
 using hal_host::HarnessConfig;
+using sil::kPi;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 class HalHost : public ::testing::Test {
 protected:

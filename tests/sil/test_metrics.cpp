@@ -8,7 +8,6 @@
 using namespace sil;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kTs = 50e-6;
 
 // Three-phase set with per-phase amplitude, and a common 5th/7th harmonic content.
@@ -31,7 +30,7 @@ Series three_phase(double f_hz, double duration_s, std::array<double, 3> amp, do
         s.ia.push_back(v[0]);
         s.ib.push_back(v[1]);
         s.ic.push_back(v[2]);
-        s.theta_e.push_back(th);
+        s.theta_fund_rad.push_back(th);
         s.te.push_back(0.3);
         s.speed_rpm.push_back(60.0 * f_hz);
         s.psi_a.push_back(0.0928 * std::cos(th));

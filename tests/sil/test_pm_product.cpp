@@ -1,5 +1,5 @@
-// test_pm_product.cpp - issue 10 targets (the PM drive as a product) that this firmware meets,
-// with a margin, on the SIL: start from standstill with the issue's inertia (J = 5e-4 kg m^2,
+// test_pm_product.cpp - the PM drive as a product: the targets this firmware meets, with a
+// margin, on the SIL: start from standstill (J = 5e-4 kg m^2,
 // set in the scenarios), hand-over, delay and dead-time compensation, bad configuration refused.
 // Targets NOT met are not asserted here; docs/firmware-core.md lists them with figures.
 #include <gtest/gtest.h>
@@ -121,7 +121,7 @@ TEST(PmProduct, FirmwareParametersAreSetApartFromThePlantsByKeys)
     // Voltage model, the firmware's R_s 30 % low: the value reaches the firmware (the run differs)
     // and the drive still runs. (Measured with `dtc-sil sweep --grid firmware.rs_ohm=...`: the
     // proposed scheme trips on over-current from standstill outside about -30 % .. +5 % of R_s;
-    // docs/firmware-core.md, issue 10 status.)
+    // docs/firmware-core.md.)
     const Outcome rs_low = run("fstp_voltage_proposed_full.toml", {"firmware.rs_ohm=0.3262"});
     ASSERT_EQ(rs_low.info.fault, "none");
     ASSERT_TRUE(rs_low.m.imbalance_pct);

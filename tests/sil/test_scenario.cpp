@@ -112,17 +112,17 @@ TEST(Scenario, UnsetKeysGiveTheDocumentedDefaults)
     EXPECT_DOUBLE_EQ(s.control.torque_band_nm, 0.0);
     EXPECT_DOUBLE_EQ(s.control.flux_band_wb, 0.0);
     EXPECT_EQ(s.sensors.encoder_lines, 2000);
-    // b_nms: 25 % of the 0.3 N*m rated torque at 1500 rpm (Hoang sec. IV, inertial load).
-    EXPECT_NEAR(s.motor.b_nms * 1500.0 * 2.0 * 3.14159265358979 / 60.0, 0.075, 1e-5);
+    // b_nm_s_per_rad: 25 % of the 0.3 N*m rated torque at 1500 rpm (Hoang sec. IV, inertial load).
+    EXPECT_NEAR(s.motor.b_nm_s_per_rad * 1500.0 * 2.0 * 3.14159265358979 / 60.0, 0.075, 1e-5);
 }
 
 TEST(Scenario, GoodFileIsReadWithOriginsAndIntegersPromoted)
 {
     Scenario s;
     ASSERT_EQ(errors_of(kGood, {}, &s), "");
-    EXPECT_EQ(s.inverter.topology, "fstp");
+    EXPECT_EQ(s.inverter.topology, Topology::Fstp);
     EXPECT_DOUBLE_EQ(s.inverter.vdc_v, 70.0); // TOML integer accepted for a number
-    EXPECT_EQ(s.control.compensation, "proposed");
+    EXPECT_EQ(s.control.compensation, Compensation::Proposed);
     EXPECT_DOUBLE_EQ(s.load.torque_nm, 0.225);
     EXPECT_DOUBLE_EQ(s.motor.emf_gain[2], 1.01112);
     EXPECT_EQ(s.sensors.seed, 7);
@@ -138,11 +138,11 @@ TEST(Scenario, SetOverridesWithDottedNamesAndTypeChecks)
                         &s),
               "");
     EXPECT_DOUBLE_EQ(s.load.speed_rpm, 700.0);
-    EXPECT_EQ(s.control.estimator, "current");
+    EXPECT_EQ(s.control.estimator, Estimator::Current);
     EXPECT_FALSE(s.inverter.drops);
     EXPECT_DOUBLE_EQ(s.motor.emf_gain[0], 1.0);
     EXPECT_EQ(s.sensors.seed, 42);
-    EXPECT_EQ(s.control.mode, "torque");
+    EXPECT_EQ(s.control.mode, ControlMode::Torque);
     EXPECT_NE(s.origin.at("load.speed_rpm").find("--set"), std::string::npos);
 
     expect_error(kGood, "load.speed_rpm", 0, "expected a number", {"load.speed_rpm=fast"});
@@ -303,14 +303,14 @@ TEST(Scenario, FirmwareSiConfigCarriesTheScenario)
 {
     Scenario s;
     ASSERT_EQ(errors_of(kGood, {}, &s), "");
-    const FirmwareSiConfig c = firmware_si_config(s);
-    EXPECT_EQ(c.topology_fstp, 1);
-    EXPECT_EQ(c.estimator_voltage, 1);
-    EXPECT_EQ(c.compensation, 2);
-    EXPECT_EQ(c.mode_torque, 0);
+    const dtc_config_si_t c = firmware_si_config(s);
+    EXPECT_EQ(c.topology, DTC_TOPO_FSTP);
+    EXPECT_EQ(c.estimator, DTC_EST_VOLTAGE);
+    EXPECT_EQ(c.compensation, DTC_COMP_FSTP_PROPOSED);
+    EXPECT_EQ(c.mode, DTC_MODE_SPEED);
     EXPECT_DOUBLE_EQ(c.rs_ohm, 0.466);
     EXPECT_DOUBLE_EQ(c.v_ce_v, 0.9);
-    EXPECT_DOUBLE_EQ(c.speed_kp_nm_per_rad_s, speed_pi_gains(s.motor.j_kgm2, s.control.speed_bw_hz).kp_nm_per_rad_s);
+    EXPECT_DOUBLE_EQ(c.kp_nm_s_rad, speed_pi_gains(s.motor.j_kgm2, s.control.speed_bw_hz).kp_nm_per_rad_s);
 }
 
 TEST(Scenario, ShippedScenariosAreValid)
@@ -325,15 +325,15 @@ TEST(Scenario, ShippedScenariosAreValid)
         Diagnostics d;
         EXPECT_TRUE(load_scenario(e.path().string(), {}, &s, &d)) << d.text();
         EXPECT_TRUE(d.warnings.empty()) << d.text();
-        if (s.control.mode != "open_loop") {
+        if (s.control.mode != ControlMode::OpenLoop) {
             // The paper's operating point: 1500 rpm, Table VIII/IV values, bands zero.
             EXPECT_DOUBLE_EQ(s.control.speed_ref_rpm, 1500.0) << e.path();
             EXPECT_DOUBLE_EQ(s.control.torque_band_nm, 0.0);
             EXPECT_DOUBLE_EQ(s.control.flux_band_wb, 0.0);
             EXPECT_DOUBLE_EQ(s.inverter.vdc_v, 70.0);
             // Total load at 1500 rpm: friction + generator = 0.075 + {0, 0.075, 0.225} N*m.
-            const double friction = s.motor.b_nms * 1500.0 * 2.0 * 3.14159265358979 / 60.0;
-            const double total = friction + (s.load.type == "generator" ? s.load.torque_nm : 0.0);
+            const double friction = s.motor.b_nm_s_per_rad * 1500.0 * 2.0 * 3.14159265358979 / 60.0;
+            const double total = friction + (s.load.type == LoadType::Generator ? s.load.torque_nm : 0.0);
             const std::string f = e.path().filename().string();
             const double expect = f.find("_full") != std::string::npos   ? 0.3
                                   : f.find("_half") != std::string::npos ? 0.15
@@ -403,4 +403,50 @@ TEST(Scenario, FuzzedTomlAndSetNeverCrashOrHang)
         }
     }
     EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(30));
+}
+
+namespace {
+// Every name of a variant's to-string table parses back to the same enum value, and the key's
+// allowed values in `dtc-sil keys` are exactly that table.
+template <typename E> void expect_variant_table(const char* key)
+{
+    const auto& names = VariantNames<E>::names;
+    std::string allowed;
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        E e{};
+        ASSERT_TRUE(parse_variant(names[i], &e)) << names[i];
+        EXPECT_EQ(static_cast<std::size_t>(e), i);
+        EXPECT_EQ(to_string(e), names[i]);
+        allowed += (allowed.empty() ? "" : " \\| ") + ("\"" + std::string(names[i]) + "\"");
+    }
+    E untouched = static_cast<E>(0);
+    EXPECT_FALSE(parse_variant("no-such-variant", &untouched));
+    bool found = false;
+    for (const KeyDoc& k : scenario_keys()) {
+        if (k.name == key) {
+            found = true;
+            EXPECT_EQ(k.range, allowed) << key;
+        }
+    }
+    EXPECT_TRUE(found) << key;
+}
+} // namespace
+
+TEST(Scenario, VariantsHaveOneToStringTable)
+{
+    expect_variant_table<MotorType>("motor.type");
+    expect_variant_table<Topology>("inverter.topology");
+    expect_variant_table<LoadType>("load.type");
+    expect_variant_table<ControlMode>("control.mode");
+    expect_variant_table<Implementation>("control.implementation");
+    expect_variant_table<Estimator>("control.estimator");
+    expect_variant_table<Compensation>("control.compensation");
+    expect_variant_table<SwitchingTable>("control.table");
+    // Parsed once at load, with the key and line named when the text names no variant.
+    Scenario s;
+    const std::string e = errors_of("duration_s = 0.1\n[inverter]\ntopology = \"sixstep\"\n", {}, &s);
+    EXPECT_NE(e.find(":3:"), std::string::npos) << e;
+    EXPECT_NE(e.find("inverter.topology: expected one of \"ideal\", \"sstp\", \"fstp\", got \"sixstep\""),
+              std::string::npos)
+        << e;
 }

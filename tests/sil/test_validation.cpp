@@ -1,4 +1,4 @@
-// Issue 11 with the real plant and the firmware adapter: one validation path for check and run,
+// Scenario validation with the real plant and the firmware: one validation path for check and run,
 // refusals that name the key, named faults for absurd states, guarded long runs. Each case checks
 // the exit code, the message and that nothing partial is left behind.
 #include <gtest/gtest.h>
@@ -213,7 +213,7 @@ TEST_F(Validation, PlantBoundsCatchFiniteButImpossibleStates)
 
 TEST_F(Validation, HardwareTripIsNamedInFaultAndSummary)
 {
-    // Issue 10 item 8: open loop at 2.2 A rated current against a 1 A comparator.
+    // Open loop at 2.2 A rated current against a 1 A comparator.
     std::string e, o;
     EXPECT_EQ(cli({"run", kScenarios + "open_loop_rated_current.toml", "--out", (dir / "o").string(), "--no-trace",
                    "--set", "protection.hw_trip_current_a=1"},
@@ -269,7 +269,7 @@ TEST_F(Validation, SummaryExplainsTheFullLoadFigure)
     std::string e, o;
     ASSERT_EQ(cli(with_sets({"run", kDefault, "--out", (dir / "o").string(), "--no-trace"}, kShort), &e, &o), 0);
     // Hoang's full load 0.3 N*m = load.torque_nm 0.225 + B*w = 5e-4... at 1500 rpm (scenario.hpp).
-    EXPECT_NE(o.find("0.225 N*m load + 0.075 N*m friction (motor.b_nms) = 0.3 N*m at 1500 rpm"), std::string::npos)
+    EXPECT_NE(o.find("0.225 N*m load + 0.075 N*m friction (motor.b_nm_s_per_rad) = 0.3 N*m at 1500 rpm"), std::string::npos)
         << o;
 }
 

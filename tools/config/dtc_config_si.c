@@ -1,6 +1,8 @@
 /* dtc_config_si.c - SI -> per-unit Q-format configuration (see dtc_config_si.h). Host code. */
 #include "dtc_config_si.h"
 
+#include "plant_defaults.h"
+
 #include <math.h>
 #include <stdarg.h>
 #include <stdint.h>
@@ -12,70 +14,70 @@
 
 void dtc_config_si_defaults(dtc_config_si_t *si)
 {
+    /* Values of the rig and sources: plant_defaults.h. */
     memset(si, 0, sizeof *si);
-    /* Hoang Table VIII */
-    si->rs_ohm = 0.466;
-    si->ls_h = 3.19e-3;
-    si->psi_m_wb = 0.0928;
-    si->pole_pairs = 1;
-    si->rated_speed_rpm = 3000.0;
-    si->rated_torque_nm = 0.3;
-    si->rated_current_a = 2.2;
-    si->inertia_kgm2 = 2.0e-4; /* not given in the paper: small BLAC machine + DC generator, assumed */
-    /* Table IV devices, 70 V link; V_f = 0.9 V as in the paper's simple scheme (Fig. 6) */
+    si->rs_ohm = PLANT_DEF_PM_RS_OHM;
+    si->ls_h = PLANT_DEF_PM_LS_H;
+    si->psi_m_wb = PLANT_DEF_PM_PSI_M_WB;
+    si->pole_pairs = PLANT_DEF_PM_POLE_PAIRS;
+    si->rated_speed_rpm = PLANT_DEF_PM_RATED_SPEED_RPM;
+    si->rated_torque_nm = PLANT_DEF_PM_RATED_TORQUE_NM;
+    si->rated_current_a = PLANT_DEF_PM_RATED_CURRENT_A;
+    si->inertia_kgm2 = PLANT_DEF_PM_J_KGM2;
+    /* The F2812 image's variant: Hoang's headline configuration (FSTP, voltage model, Table VI). */
     si->topology = DTC_TOPO_FSTP;
-    si->vdc_v = 70.0;
-    si->v_ce_v = 0.9;
-    si->v_d_v = 1.25;
-    si->v_f_v = 0.9;
-    si->r_on_ohm = 0.075;
+    si->vdc_v = PLANT_DEF_VDC_V;
+    si->v_ce_v = PLANT_DEF_V_CE_V;
+    si->v_d_v = PLANT_DEF_V_D_V;
+    si->v_f_v = PLANT_DEF_V_F_V;
+    si->r_on_ohm = PLANT_DEF_R_ON_OHM;
     si->fstp_vmid_measured = 0;
-    /* Section IV: 50 us, speed loop 10x slower, 2000-line encoder (Fig. 9) */
-    si->ts_s = 50e-6;
-    si->speed_div = 10;
-    si->enc_lines = 2000;
+    si->ts_s = PLANT_DEF_TS_S;
+    si->speed_div = PLANT_DEF_SPEED_LOOP_DIVIDER;
+    si->enc_lines = PLANT_DEF_ENCODER_LINES;
     si->enc_offset_rad = 0.0;
     si->speed_min_counts = 100; /* <= 1 % quantisation wherever a window holds 100 counts */
-    /* Section IV: zero bands, LPF 5 rad/s, |psi*| = psi_m */
+    /* Hoang sec. IV: zero bands */
     si->flux_band_wb = 0.0;
     si->torque_band_nm = 0.0;
-    si->lpf_cutoff_rad_s = 5.0;
+    si->lpf_cutoff_rad_s = PLANT_DEF_LPF_CUTOFF_RAD_S;
     si->handover_auto = 1;
     si->handover_speed_rpm = 0.0;
     si->handover_hyst_frac = 0.2; /* back below 80 %: well clear of the speed ripple */
     si->delay_comp = 1;
     si->deadtime_comp = 1;
-    si->dead_time_s = 1e-6; /* IRAMY20UP60B module, as the plant (docs/plant.md) */
+    si->dead_time_s = PLANT_DEF_DEAD_TIME_S;
     si->pi_from_bandwidth = 1;
-    si->speed_bw_rad_s = 60.0;
-    si->torque_limit_nm = 0.45; /* 1.5 x rated */
+    si->speed_bw_rad_s = 2.0 * M_PI * PLANT_DEF_SPEED_BW_HZ;
+    si->torque_limit_nm = PLANT_DEF_TORQUE_LIMIT_NM;
     si->torque_trim_tau_s = 0.02; /* 400 control periods: slow against the torque ripple */
     si->stall_time_s = 0.0;       /* derived: max(0.1 s, 20 speed periods), long against the speed
                                    * measurement's window, short against a locked rotor's heating */
-    si->speed_limit_rpm = 3000.0;
-    si->flux_ref_wb = 0.0928;
-    si->speed_ref_rpm = 1500.0; /* the paper's test speed */
+    si->speed_limit_rpm = PLANT_DEF_PM_RATED_SPEED_RPM;
+    si->flux_ref_wb = PLANT_DEF_FLUX_REF_WB;
+    si->speed_ref_rpm = PLANT_DEF_SPEED_REF_RPM;
     si->torque_ref_nm = 0.0;
     si->estimator = DTC_EST_VOLTAGE;
     si->compensation = DTC_COMP_FSTP_PROPOSED;
     si->sstp_table = DTC_ST_BASIC;
     si->mode = DTC_MODE_SPEED;
-    /* ADC: +-10 A current sensors on 12 bits (mid-scale offset), 0..100 V dividers */
-    si->adc_i_a_per_count = 20.0 / 4096.0;
+    /* ADC: 12 bits, 0..3 V = codes 0..4095. Currents: -range..+range onto 0..3 V (zero at
+     * mid-scale, 2047.5 rounded to 2048); voltages: 0..range onto 0..3 V. */
+    si->adc_i_a_per_count = 2.0 * PLANT_DEF_CURRENT_RANGE_A / PLANT_DEF_ADC_FULL_SCALE_CODES;
     si->adc_i_offset[0] = 2048;
     si->adc_i_offset[1] = 2048;
     si->adc_i_offset[2] = 2048;
-    si->adc_vdc_v_per_count = 100.0 / 4096.0;
+    si->adc_vdc_v_per_count = PLANT_DEF_VOLTAGE_RANGE_V / PLANT_DEF_ADC_FULL_SCALE_CODES;
     si->adc_vdc_offset = 0;
-    si->adc_vmid_v_per_count = 100.0 / 4096.0;
+    si->adc_vmid_v_per_count = PLANT_DEF_VOLTAGE_RANGE_V / PLANT_DEF_ADC_FULL_SCALE_CODES;
     si->adc_vmid_offset = 0;
-    si->i_trip_a = 6.0;
-    si->vdc_max_v = 90.0;
-    si->vdc_min_v = 40.0;
+    si->i_trip_a = PLANT_DEF_OVERCURRENT_A;
+    si->vdc_max_v = PLANT_DEF_VDC_MAX_V;
+    si->vdc_min_v = PLANT_DEF_VDC_MIN_V;
     /* bases: V_dc, rated peak current, rated electrical speed */
-    si->v_base_v = 70.0;
-    si->i_base_a = 2.2;
-    si->w_base_rad_s = 2.0 * M_PI * 3000.0 / 60.0;
+    si->v_base_v = PLANT_DEF_VDC_V;
+    si->i_base_a = PLANT_DEF_PM_RATED_CURRENT_A;
+    si->w_base_rad_s = 2.0 * M_PI * PLANT_DEF_PM_RATED_SPEED_RPM / 60.0 * PLANT_DEF_PM_POLE_PAIRS;
 }
 
 double dtc_handover_default_rpm(const dtc_config_si_t *si)

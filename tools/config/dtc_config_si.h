@@ -5,7 +5,8 @@
  * Host code (C99, double and libm allowed): it is linked by the SIL runner and the tests, and
  * it is where every reciprocal the firmware needs is precomputed, so the firmware never divides.
  *
- *   dtc_config_si_defaults()  the paper's set-up: Hoang Table VIII machine, Table IV devices,
+ *   dtc_config_si_defaults()  the rig of model/include/plant_defaults.h (Hoang Table VIII
+ *                             machine, Table IV devices,
  *                             70 V DC link, 50 us, speed loop 10x slower, 2000-line encoder,
  *                             LPF 5 rad/s, zero hysteresis bands, FSTP, voltage model with the
  *                             proposed compensation (Table VI).

@@ -26,7 +26,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-REQUIRED = ["t_s", "ia_a", "ib_a", "ic_a", "torque_nm", "torque_est_nm", "psi_alpha_wb", "psi_beta_wb",
+REQUIRED = ["t_s", "i_a_a", "i_b_a", "i_c_a", "torque_nm", "torque_est_nm", "psi_alpha_wb", "psi_beta_wb",
             "psi_alpha_est_wb", "psi_beta_est_wb", "speed_rpm"]
 
 
@@ -125,8 +125,8 @@ def has(tr, name, sel):
 def plot_currents(tr, m, sel, title, out):
     fig, ax = plt.subplots(figsize=(8, 4.2))
     t_ms = 1e3 * tr["t_s"][sel]
-    for name, label, color in (("ia_a", "$i_a$", "tab:blue"), ("ib_a", "$i_b$", "tab:red"),
-                               ("ic_a", "$i_c$", "tab:green")):
+    for name, label, color in (("i_a_a", "$i_a$", "tab:blue"), ("i_b_a", "$i_b$", "tab:red"),
+                               ("i_c_a", "$i_c$", "tab:green")):
         ax.plot(t_ms, tr[name][sel], label=label, color=color, linewidth=0.9)
     fund = m.get("fundamental_a")
     if fund:

@@ -71,7 +71,7 @@ def load_figure(out_root, name, title, base):
             continue
         t_ms = 1e3 * tr["t_s"][sel]
         t_ms = t_ms - t_ms[0]
-        for col, lab, color in (("ia_a", "$i_a$", "tab:blue"), ("ib_a", "$i_b$", "tab:red"), ("ic_a", "$i_c$", "tab:green")):
+        for col, lab, color in (("i_a_a", "$i_a$", "tab:blue"), ("i_b_a", "$i_b$", "tab:red"), ("i_c_a", "$i_c$", "tab:green")):
             ax.plot(t_ms, tr[col][sel], label=lab, color=color, linewidth=0.8)
         fund = m.get("fundamental_a")
         txt = label

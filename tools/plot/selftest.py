@@ -24,7 +24,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 import plot_run  # noqa: E402
 
-COLUMNS = ("t_s,ia_a,ib_a,ic_a,i_alpha_a,i_beta_a,torque_nm,torque_est_nm,psi_alpha_wb,psi_beta_wb,"
+COLUMNS = ("t_s,i_a_a,i_b_a,i_c_a,i_alpha_a,i_beta_a,torque_nm,torque_est_nm,psi_alpha_wb,psi_beta_wb,"
            "psi_alpha_est_wb,psi_beta_est_wb,speed_rpm,sa,sb,sc,vdc_v,en,theta_e_rad,vc_lo_v,v_alpha_v,"
            "v_beta_v,tload_nm")
 
@@ -150,7 +150,7 @@ def main():
     bad = os.path.join(work, "bad")
     os.makedirs(bad)
     with open(os.path.join(bad, "trace.csv"), "w", encoding="ascii") as f:
-        f.write("t_s,ia_a\n0,1\n")
+        f.write("t_s,i_a_a\n0,1\n")
     try:
         plot_run.plot_run(bad)
         raise AssertionError("a trace without the required columns was accepted")

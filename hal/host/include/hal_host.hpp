@@ -29,30 +29,32 @@
 #include "hal.h"
 #include "hal_host_sensors.hpp"
 #include "plant.h"
+#include "plant_defaults.h"
 
 namespace hal_host {
 
-/// Sensor chains, encoder and protection of the emulated board (SI units).
+/// Sensor chains, encoder and protection of the emulated board (SI units; defaults from
+/// plant_defaults.h).
 struct SensorConfig {
-    double current_range_a = 10.0;             // +-range maps onto the 0..3 V ADC input
+    double current_range_a = PLANT_DEF_CURRENT_RANGE_A;    // +-range maps onto the 0..3 V ADC input
     std::array<double, 3> current_offset_a{};  // per phase A, B, C
     std::array<double, 3> current_gain_error{};
     double current_noise_a_rms = 0.0;
-    double voltage_range_v = 100.0;            // 0..range maps onto 0..3 V (dividers)
+    double voltage_range_v = PLANT_DEF_VOLTAGE_RANGE_V;    // 0..range maps onto 0..3 V (dividers)
     double vdc_offset_v = 0.0;
     double vdc_gain_error = 0.0;
     double vmid_offset_v = 0.0;
     double vmid_gain_error = 0.0;
     double voltage_noise_v_rms = 0.0;
     bool vmid_fitted = true;                   // false: HAL_ADC_VMID reads 0
-    std::uint32_t encoder_lines = 2000;        // Hoang Fig. 9(b): 2000 pulse/rev
+    std::uint32_t encoder_lines = PLANT_DEF_ENCODER_LINES; // Hoang Fig. 9(b): 2000 pulse/rev
     double encoder_offset_rad = 0.0;           // mechanical angle of the index pulse is -offset
     double trip_current_a = 0.0;               // PDPINTA comparator level on |i_a|,|i_b|,|i_c|; 0 = off
     std::uint64_t noise_seed = 1;
 };
 
 struct HarnessConfig {
-    double ts_s = 50e-6; // control period = one ISR = one plant advance
+    double ts_s = PLANT_DEF_TS_S; // control period = one ISR = one plant advance
     // Timer 1 clock of the PWM form (the F2812's HSPCLK, 75 MHz on the board): T1PR =
     // ts_s * pwm_clock_hz / 2. When that is not a whole number of counts in 1..65534 the PWM form
     // is unavailable: hal_pwm_period() returns 0 and a PWM-form command is an invalid write that

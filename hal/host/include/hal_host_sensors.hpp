@@ -22,10 +22,12 @@
 
 #include <cstdint>
 
+#include "plant_defaults.h"
+
 namespace hal_host {
 
 constexpr double kAdcFullScaleV = 3.0;
-constexpr double kAdcMaxCode = 4095.0;
+constexpr double kAdcMaxCode = PLANT_DEF_ADC_FULL_SCALE_CODES; // 12 bits
 
 /// 12-bit conversion of an input voltage: round(4095 * v / 3), clamped to 0..4095 (the F2812
 /// ADC saturates at its rails; NaN reads as 0).

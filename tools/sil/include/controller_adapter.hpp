@@ -3,13 +3,13 @@
 // The run loop (run.hpp) owns a hal_host::Harness and calls, once per control period k:
 //     harness.sample();  controller.step(harness);  record;  harness.advance();
 // Implementations:
-//   * OpenLoopController (always built): control.voltage_csv held per period on the ideal inverter.
-//   * FirmwareController (controller_firmware.cpp, built only when the firmware and the SI config
-//     converter exist, see tools/sil/CMakeLists.txt): app_init(dtc_config_si(...)) at init and
+//   * OpenLoopController: control.voltage_csv (or the V/f source) held per period on the ideal
+//     inverter.
+//   * FirmwareController (controller_firmware.cpp): app_init(dtc_config_si(...)) at init and
 //     app_isr() per period, so the unchanged firmware talks to hal_host through hal.h.
-//   * ReferenceController (controller_reference.cpp, library sil_reference, built when
-//     model/include/ref_dtc.h exists): model/'s double-precision reference DTC on the same
-//     measurements, for the fixed-point vs double comparison (control.implementation = "reference").
+//   * ReferenceController (controller_reference.cpp, library sil_reference): model/'s
+//     double-precision reference DTC on the same measurements, for the fixed-point vs double
+//     comparison (control.implementation = "reference").
 #ifndef DTC_SIL_CONTROLLER_ADAPTER_HPP
 #define DTC_SIL_CONTROLLER_ADAPTER_HPP
 
@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "dtc_config_si.h"
 #include "scenario.hpp"
 
 namespace hal_host {
@@ -51,39 +52,11 @@ public:
     virtual bool has_estimates() const = 0;
 };
 
-/// All SI values the firmware's configuration converter (tools/config, dtc_config_si) needs,
-/// gathered from the scenario in one place, with the speed-PI gains already derived.
-struct FirmwareSiConfig {
-    // motor (Hoang Table VIII)
-    double rs_ohm, ls_h, psi_m_wb;
-    int pole_pairs;
-    double rated_torque_nm, rated_current_a, rated_speed_rpm;
-    // inverter (Table IV) and sensing
-    int topology_fstp; // 0 = SSTP, 1 = FSTP
-    double vdc_nominal_v, v_ce_v, v_d_v, r_on_ohm, v_f_v;
-    double current_range_a, voltage_range_v; // ADC full scale (+-A, V)
-    int vmid_fitted;
-    int encoder_lines;
-    double encoder_offset_rad;
-    // control
-    double ts_s;
-    int speed_loop_divider;
-    int mode_torque;      // 1 = torque mode (speed loop bypassed)
-    int estimator_voltage; // 0 = current model, 1 = voltage model
-    int compensation;     // 0 none, 1 simple, 2 proposed
-    int table;            // 0 basic, 1..4 = ST-A..ST-D (SSTP)
-    double speed_ref_rpm, torque_ref_nm, torque_limit_nm, flux_ref_wb;
-    double torque_band_nm, flux_band_wb, lpf_cutoff_rad_s;
-    int handover_given; // 0: the converter derives the hand-over speed
-    double handover_rpm, handover_hyst_frac;
-    int delay_comp;
-    int deadtime_comp;
-    double dead_time_s; // the gate driver's setting (inverter.dead_time_s, also when not modelled)
-    double speed_kp_nm_per_rad_s, speed_ki_nm_per_rad;
-    // protection
-    double overcurrent_a, vdc_min_v, vdc_max_v, stall_time_s;
-};
-FirmwareSiConfig firmware_si_config(const Scenario& sc);
+/// The firmware's SI configuration (tools/config dtc_config_si_t) for a scenario: the scenario's
+/// values and variants (the firmware.* keys where given), the speed-PI gains derived
+/// (speed_pi_gains) and the ADC scaling of hal_host's sensing chain. dtc_config_from_si() turns it
+/// into the firmware's Q-format configuration.
+dtc_config_si_t firmware_si_config(const Scenario& sc);
 
 /// Control side for a scenario, or nullptr with *err set (e.g. firmware not built in).
 std::unique_ptr<Controller> make_controller(const Scenario& sc, std::string* err);
@@ -94,15 +67,12 @@ std::unique_ptr<Controller> make_open_loop_controller(std::vector<VoltageRow> ro
 /// The built-in V/f source (control.vf_*) as a voltage table, one row per control period.
 std::vector<VoltageRow> vf_voltage_rows(const Scenario& sc);
 
-/// True when this build contains the firmware adapter (controller_firmware.cpp).
-bool firmware_controller_available();
-
 /// control.implementation = "reference": the adapter of model/'s double-precision reference
 /// controller lives in its own library (sil_reference, it needs the plant library), so the
 /// executables that have it register it (dtc-sil's main, the closed-loop tests).
 using ControllerFactory = std::unique_ptr<Controller> (*)(const Scenario& sc, std::string* err);
 void register_reference_controller(ControllerFactory factory);
-/// Defined by sil_reference (controller_reference.cpp) when model/include/ref_dtc.h exists.
+/// Defined by sil_reference (controller_reference.cpp).
 std::unique_ptr<Controller> make_reference_controller(const Scenario& sc, std::string* err);
 
 } // namespace sil

@@ -1,8 +1,10 @@
 // metrics.hpp - the SIL metrics of Hoang 2011 Tables IX and X, computed from sampled signals.
 //
-// Window: the last metrics_window_s of the run, trimmed to a whole number of electrical periods
-// using the plant's unwrapped electrical angle (exact under speed ripple; no assumption of a
-// constant frequency). Spectra use FFTW (real-input DFT of the trimmed window, no window function:
+// Window: the last metrics_window_s of the run, trimmed to a whole number of periods of the phase
+// currents' fundamental, using the unwrapped angle of that fundamental (exact under speed ripple;
+// no assumption of a constant frequency): the PM machine's electrical angle p theta_m; for the
+// induction machine, whose currents run at the stator frequency, not at p times the rotor
+// speed, the angle of the plant's stator flux (psi_alpha, psi_beta). Spectra use FFTW (real-input DFT of the trimmed window, no window function:
 // with whole periods the fundamental and its harmonics fall on bins exactly).
 //
 // Definitions:
@@ -34,6 +36,8 @@
 #include <optional>
 #include <vector>
 
+#include "sil_constants.hpp"
+
 namespace sil {
 
 /// Signals sampled once per control period (row k = instant t_k; legs = applied over period k).
@@ -43,22 +47,22 @@ struct Series {
     std::vector<double> te, te_est;                 // te_est may be empty (no estimator)
     std::vector<double> psi_a, psi_b, psi_a_est, psi_b_est; // *_est may be empty
     std::vector<double> speed_rpm;
-    std::vector<double> theta_e;                    // unwrapped electrical angle, rad
+    std::vector<double> theta_fund_rad;             // unwrapped angle of the currents' fundamental, rad
     std::vector<std::uint8_t> sa, sb, sc, en;       // may be empty (ideal inverter)
     std::size_t size() const { return ia.size(); }
 };
 
-/// [begin, begin + n) covers `periods` whole electrical periods; periods == 0 if none fits.
+/// [begin, begin + n) covers `periods` whole periods of the fundamental; periods == 0 if none fits.
 struct Window {
     std::size_t begin = 0;
     std::size_t n = 0;
     int periods = 0;
 };
 
-/// Largest whole number of electrical periods inside the last `window_n` samples.
+/// Largest whole number of periods of the fundamental inside the last `window_n` samples.
 /// The window ends at the last sample; its start is the sample whose angle is closest to
 /// theta_end - periods * 2 pi (the end sample itself begins the next period, so it is excluded).
-Window whole_period_window(const std::vector<double>& theta_e, std::size_t window_n);
+Window whole_period_window(const std::vector<double>& theta_fund_rad, std::size_t window_n);
 
 struct Spectrum {
     double fundamental_peak = 0.0; // peak amplitude of the fundamental

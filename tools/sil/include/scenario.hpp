@@ -2,7 +2,8 @@
 //
 // Every key, its type, unit, default and allowed range lives in one schema table
 // (scenario_schema()); parsing, --set, validation, `dtc-sil keys` and the key table of docs/sil.md
-// all come from it. Defaults: Hoang 2011 Table VIII machine, Table IV devices, 70 V, SSTP.
+// all come from it. Default values: model/include/plant_defaults.h (one table with sources);
+// the variant defaults (SSTP, current model, speed mode) are set here.
 // Errors always name the key and where its value came from ("file:line:col" or "--set").
 #ifndef DTC_SIL_SCENARIO_HPP
 #define DTC_SIL_SCENARIO_HPP
@@ -14,59 +15,114 @@
 #include <string>
 #include <vector>
 
+#include "plant_defaults.h"
+#include "sil_constants.hpp"
+
 namespace sil {
 
+// ---- Variants: parsed once from their key's text (scenario load), enums everywhere after. ----
+enum class MotorType { Pmsm, Im };
+enum class Topology { Ideal, Sstp, Fstp };
+enum class LoadType { Speed, Torque, Generator, Inertia, Fan };
+enum class ControlMode { Speed, Torque, OpenLoop };
+enum class Implementation { Firmware, Reference };
+enum class Estimator { Current, Voltage };
+enum class Compensation { None, Simple, Proposed };
+enum class SwitchingTable { Basic, StA, StB, StC, StD };
+
+/// The one to-string table of each variant: names[i] is the key text of enum value i.
+template <typename E> struct VariantNames;
+template <> struct VariantNames<MotorType> {
+    static constexpr std::array<const char*, 2> names{"pmsm", "im"};
+};
+template <> struct VariantNames<Topology> {
+    static constexpr std::array<const char*, 3> names{"ideal", "sstp", "fstp"};
+};
+template <> struct VariantNames<LoadType> {
+    static constexpr std::array<const char*, 5> names{"speed", "torque", "generator", "inertia", "fan"};
+};
+template <> struct VariantNames<ControlMode> {
+    static constexpr std::array<const char*, 3> names{"speed", "torque", "open_loop"};
+};
+template <> struct VariantNames<Implementation> {
+    static constexpr std::array<const char*, 2> names{"firmware", "reference"};
+};
+template <> struct VariantNames<Estimator> {
+    static constexpr std::array<const char*, 2> names{"current", "voltage"};
+};
+template <> struct VariantNames<Compensation> {
+    static constexpr std::array<const char*, 3> names{"none", "simple", "proposed"};
+};
+template <> struct VariantNames<SwitchingTable> {
+    static constexpr std::array<const char*, 5> names{"basic", "st-a", "st-b", "st-c", "st-d"};
+};
+
+/// The key text of a variant ("fstp", "open_loop", ...).
+template <typename E> std::string to_string(E e)
+{
+    return VariantNames<E>::names[static_cast<std::size_t>(e)];
+}
+/// Parses a variant's key text; false (and *out unchanged) when it names none.
+template <typename E> bool parse_variant(const std::string& text, E* out)
+{
+    const auto& n = VariantNames<E>::names;
+    for (std::size_t i = 0; i < n.size(); ++i) {
+        if (text == n[i]) {
+            *out = static_cast<E>(i);
+            return true;
+        }
+    }
+    return false;
+}
+
 /// The default induction machine's values for the shared motor keys (motor.type = "im", keys left
-/// unset): model/'s plant_params_im_default (tests/sil checks they agree; sil_core does not link the
-/// plant). Rated values: Casadei Tables 4-5, 26.5 N*m at 1440 rpm, where this machine draws
-/// 13.6 A rms = 19.2 A peak (docs/plant.md).
+/// unset), from plant_defaults.h as plant_params_im_default (tests/sil checks they agree).
 struct ImDefaults {
-    double rs_ohm = 1.405 * 0.3025;   // Modelica Buildings IM_5HP_400V_50Hz x (220/400)^2
-    double rr_ohm = 1.395 * 0.3025;
-    double lls_h = 5.839e-3 * 0.3025;
-    double llr_h = 5.839e-3 * 0.3025;
-    double lm_h = 172.2e-3 * 0.3025;
-    std::int64_t pole_pairs = 2;
-    double j_kgm2 = 0.0131;
-    double b_nms = 0.0;
-    double rated_torque_nm = 26.5;
-    double rated_current_a = 19.2;
-    double rated_speed_rpm = 1440.0;
+    double rs_ohm = PLANT_DEF_IM_RS_OHM;
+    double rr_ohm = PLANT_DEF_IM_RR_OHM;
+    double lls_h = PLANT_DEF_IM_LLS_H;
+    double llr_h = PLANT_DEF_IM_LLR_H;
+    double lm_h = PLANT_DEF_IM_LM_H;
+    std::int64_t pole_pairs = PLANT_DEF_IM_POLE_PAIRS;
+    double j_kgm2 = PLANT_DEF_IM_J_KGM2;
+    double b_nm_s_per_rad = PLANT_DEF_IM_B_NM_S_PER_RAD;
+    double rated_torque_nm = PLANT_DEF_IM_RATED_TORQUE_NM;
+    double rated_current_a = PLANT_DEF_IM_RATED_CURRENT_A;
+    double rated_speed_rpm = PLANT_DEF_IM_RATED_SPEED_RPM;
 };
 
 struct MotorCfg {
-    std::string type = "pmsm";
-    double rs_ohm = 0.466;      // Hoang Table VIII
-    double ls_h = 3.19e-3;      // Table VIII (dq inductance, surface PM: Ld = Lq)
-    double psi_m_wb = 0.0928;   // Table VIII
-    std::int64_t pole_pairs = 1;
-    double j_kgm2 = 1.0e-4;     // not in the paper: small servo motor + coupled DC generator
-    double b_nms = 4.7746e-4;   // 0.075 N*m at 1500 rpm: Hoang sec. IV, inertial load = 25 % of 0.3 N*m
+    MotorType type = MotorType::Pmsm;
+    double rs_ohm = PLANT_DEF_PM_RS_OHM;
+    double ls_h = PLANT_DEF_PM_LS_H;
+    double psi_m_wb = PLANT_DEF_PM_PSI_M_WB;
+    std::int64_t pole_pairs = PLANT_DEF_PM_POLE_PAIRS;
+    double j_kgm2 = PLANT_DEF_PM_J_KGM2;
+    double b_nm_s_per_rad = PLANT_DEF_PM_B_NM_S_PER_RAD;
     std::array<double, 3> emf_gain{1.0, 1.0, 1.0};
     std::array<double, 3> emf_harm_a{}; // 3rd, 5th, 7th relative to the fundamental
     std::array<double, 3> emf_harm_b{};
     std::array<double, 3> emf_harm_c{};
-    double rated_torque_nm = 0.3;  // Table VIII, the T_rated of eq. 40
-    // Induction machine only (motor.type = "im"): T-model, stator-referred. Defaults: the 220 V
-    // rescaling of Modelica Buildings IM_5HP_400V_50Hz (plant_params_im_default, docs/plant.md);
-    // with motor.type = "im" the shared keys left unset take that machine's values too.
+    double rated_torque_nm = PLANT_DEF_PM_RATED_TORQUE_NM; // the T_rated of Hoang eq. 40
+    // Induction machine only (motor.type = "im"): T-model, stator-referred; with motor.type = "im"
+    // the shared keys left unset take that machine's values too (ImDefaults).
     double rr_ohm = ImDefaults{}.rr_ohm;
     double lls_h = ImDefaults{}.lls_h;
     double llr_h = ImDefaults{}.llr_h;
     double lm_h = ImDefaults{}.lm_h;
-    double rated_current_a = 2.2;
-    double rated_speed_rpm = 3000.0;
+    double rated_current_a = PLANT_DEF_PM_RATED_CURRENT_A;
+    double rated_speed_rpm = PLANT_DEF_PM_RATED_SPEED_RPM;
 };
 
 struct InverterCfg {
-    std::string topology = "sstp"; // ideal | sstp | fstp
-    double vdc_v = 70.0;           // Table VIII
-    double v_ce_v = 0.9;           // Table IV
-    double v_d_v = 1.25;           // Table IV
-    double r_on_ohm = 0.075;       // Table IV
-    double dead_time_s = 1.0e-6;
-    double c_dc_f = 4.7e-3;        // FSTP mid-point ripple at 2.2 A, 25 Hz: +-1.5 V (see docs/sil.md)
-    double r_dc_ohm = 0.1;
+    Topology topology = Topology::Sstp;
+    double vdc_v = PLANT_DEF_VDC_V;
+    double v_ce_v = PLANT_DEF_V_CE_V;
+    double v_d_v = PLANT_DEF_V_D_V;
+    double r_on_ohm = PLANT_DEF_R_ON_OHM;
+    double dead_time_s = PLANT_DEF_DEAD_TIME_S;
+    double c_dc_f = PLANT_DEF_C_DC_F;
+    double r_dc_ohm = PLANT_DEF_R_DC_OHM;
     double r_bal_ohm = 0.0;        // balancing resistor across each capacitor; 0 = not fitted
     double esr_ohm = 0.0;          // capacitor ESR; 0 = ideal capacitor (docs/plant.md gives typical values)
     bool drops = true;
@@ -75,8 +131,8 @@ struct InverterCfg {
 };
 
 struct LoadCfg {
-    std::string type = "inertia"; // speed | torque | generator | inertia
-    double speed_rpm = 1500.0;
+    LoadType type = LoadType::Inertia;
+    double speed_rpm = PLANT_DEF_SPEED_REF_RPM;
     double torque_nm = 0.0;
     double step_time_s = 0.0;     // 0 = no step
     double step_torque_nm = 0.0;
@@ -84,26 +140,26 @@ struct LoadCfg {
 };
 
 struct ControlCfg {
-    std::string mode = "speed";          // speed | torque | open_loop
-    std::string implementation = "firmware"; // firmware | reference
-    std::string estimator = "current";   // current | voltage
-    std::string compensation = "none";   // none | simple | proposed
-    std::string table = "basic";         // basic | st-a | st-b | st-c | st-d (SSTP)
-    double speed_ref_rpm = 1500.0;
-    double speed_bw_hz = 10.0;
-    std::int64_t speed_loop_divider = 10; // Hoang sec. IV: speed loop 10x slower than 50 us
-    double torque_limit_nm = 0.6;
-    double torque_ref_nm = 0.3;
-    double flux_ref_wb = 0.0928;         // Hoang sec. IV: |psi_s*| = psi_m
+    ControlMode mode = ControlMode::Speed;
+    Implementation implementation = Implementation::Firmware;
+    Estimator estimator = Estimator::Current;
+    Compensation compensation = Compensation::None;
+    SwitchingTable table = SwitchingTable::Basic; // SSTP only
+    double speed_ref_rpm = PLANT_DEF_SPEED_REF_RPM;
+    double speed_bw_hz = PLANT_DEF_SPEED_BW_HZ;
+    std::int64_t speed_loop_divider = PLANT_DEF_SPEED_LOOP_DIVIDER;
+    double torque_limit_nm = PLANT_DEF_TORQUE_LIMIT_NM;
+    double torque_ref_nm = PLANT_DEF_PM_RATED_TORQUE_NM;
+    double flux_ref_wb = PLANT_DEF_FLUX_REF_WB;
     double torque_band_nm = 0.0;         // Hoang sec. IV: bands set to zero
     double flux_band_wb = 0.0;
-    double lpf_cutoff_rad_s = 5.0;       // Hoang sec. IV
+    double lpf_cutoff_rad_s = PLANT_DEF_LPF_CUTOFF_RAD_S;
     double handover_rpm = 0.0;           // voltage model: current model below it; see handover_given
     bool handover_given = false;         // false: derived from the machine (dtc_handover_default_rpm)
     double handover_hyst_frac = 0.2;     // back to the current model below (1 - frac) * handover_rpm
     bool delay_comp = true;              // firmware: comparators on the flux/torque predicted for k+1
     bool deadtime_comp = true;           // firmware: dead time in the voltage reconstruction
-    double v_f_v = 0.9;                  // simple compensation V_f (Hoang sec. III-B)
+    double v_f_v = PLANT_DEF_V_F_V;      // simple compensation V_f (Hoang sec. III-B)
     std::string voltage_csv;             // open_loop: t_s,v_alpha_v,v_beta_v (resolved path)
     double vf_freq_hz = 0.0;             // open_loop built-in V/f source: final frequency (0 = off)
     double vf_v_per_hz = 0.0;            // voltage-vector amplitude per Hz
@@ -112,27 +168,27 @@ struct ControlCfg {
 };
 
 struct SensorsCfg {
-    double current_range_a = 10.0;
+    double current_range_a = PLANT_DEF_CURRENT_RANGE_A;
     std::array<double, 3> current_offset_a{};
     std::array<double, 3> current_gain_error{};
     double current_noise_a_rms = 0.0;
-    double voltage_range_v = 100.0;
+    double voltage_range_v = PLANT_DEF_VOLTAGE_RANGE_V;
     double vdc_offset_v = 0.0;
     double vdc_gain_error = 0.0;
     double vmid_offset_v = 0.0;
     double vmid_gain_error = 0.0;
     double voltage_noise_v_rms = 0.0;
     bool vmid_fitted = true;
-    std::int64_t encoder_lines = 2000;   // Hoang Fig. 9(b)
+    std::int64_t encoder_lines = PLANT_DEF_ENCODER_LINES;
     double encoder_offset_rad = 0.0;
     std::int64_t seed = 1;
 };
 
 struct ProtectionCfg {
-    double overcurrent_a = 6.0;   // firmware trip on any phase current
-    double vdc_min_v = 40.0;      // firmware DC-link under-voltage trip
-    double vdc_max_v = 90.0;      // firmware DC-link over-voltage trip
-    double hw_trip_current_a = 8.0; // hardware comparator (PDPINTA), in hal_host
+    double overcurrent_a = PLANT_DEF_OVERCURRENT_A;         // firmware trip on any phase current
+    double vdc_min_v = PLANT_DEF_VDC_MIN_V;                 // firmware DC-link under-voltage trip
+    double vdc_max_v = PLANT_DEF_VDC_MAX_V;                 // firmware DC-link over-voltage trip
+    double hw_trip_current_a = PLANT_DEF_HW_TRIP_CURRENT_A; // hardware comparator (PDPINTA), in hal_host
     double stall_time_s = 0.0;      // firmware stall fault time; 0 = derived, max(0.1 s, 20 speed periods)
     bool allow_unsafe = false;    // accept trip settings that let the current exceed 3x rated
 };
@@ -154,8 +210,8 @@ struct Scenario {
     std::string path;            // scenario file as given
     double duration_s = 0.5;
     double metrics_window_s = 0.2;
-    double ts_s = 50e-6;         // control period (Hoang sec. IV: 50 us)
-    double max_step_s = 50e-6;   // plant integration sub-step (RK4 on event-landing steps; docs/sil.md);
+    double ts_s = PLANT_DEF_TS_S;             // control period
+    double max_step_s = PLANT_DEF_MAX_STEP_S; // plant integration sub-step (RK4 on event-landing steps; docs/sil.md);
                                  // when not set it is min(50 us, ts_s)
     double initial_speed_rpm = 0.0;
     double initial_theta_m_rad = 0.0;

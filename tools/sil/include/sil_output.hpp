@@ -22,7 +22,7 @@ namespace sil {
 /// One trace row: plant state at t_k, the controller's estimates made from the sample at t_k,
 /// and the leg states applied over [t_k, t_k+1).
 struct TraceRow {
-    double t_s, ia_a, ib_a, ic_a, i_alpha_a, i_beta_a;
+    double t_s, i_a_a, i_b_a, i_c_a, i_alpha_a, i_beta_a;
     double torque_nm, torque_est_nm;
     double psi_alpha_wb, psi_beta_wb, psi_alpha_est_wb, psi_beta_est_wb;
     double speed_rpm;
@@ -33,7 +33,7 @@ struct TraceRow {
     double psi_r_alpha_wb, psi_r_beta_wb;  // induction machine only (rotor-flux columns)
 };
 
-/// Column names, in order (the first 17 are the ones issue 5 requires).
+/// Column names, in order.
 const char* trace_header();
 
 /// Buffered CSV writer: every double in the shortest form that reads back to the same double

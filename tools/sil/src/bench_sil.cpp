@@ -122,7 +122,7 @@ int main(int argc, char** argv)
     // controller on a harness whose plant is never read or advanced.
     std::string err;
     double isr_ns = -1.0;
-    if (sc.control.mode != "open_loop") {
+    if (sc.control.mode != sil::ControlMode::OpenLoop) {
         std::vector<hal_meas_t> rec(static_cast<std::size_t>(periods));
         std::vector<hal_cmd_t> cmds(static_cast<std::size_t>(periods));
         {

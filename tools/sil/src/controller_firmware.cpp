@@ -1,15 +1,10 @@
 // controller_firmware.cpp - the unchanged firmware (firmware/app + firmware/dtc) as the SIL controller.
 //
-// Built only when firmware/dtc/dtc.h and the SI -> Q-format converter target (dtc_config_si,
-// tools/config) exist (tools/sil/CMakeLists.txt; -DDTC_SIL_FIRMWARE_ADAPTER=OFF removes it).
 // The firmware reaches the plant only through hal.h, i.e. the active hal_host::Harness: this
 // adapter converts the scenario's SI values with the firmware's own converter (so SIL and a
 // target build share one conversion), then calls the application's entry points
 // (firmware/app/app.h) once per period, exactly as the DSP's ADC interrupt and background loop
 // would, and reads the application status for the trace.
-//
-// Written against the firmware and converter headers of the app/dtc branches before they were
-// merged: INTEGRATION: re-check the field names below against the merged headers.
 #include <cmath>
 #include <string>
 
@@ -25,84 +20,117 @@ namespace sil {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kIqOne = 16777216.0; // 2^FIX_IQ_Q, fixmath.h (iq_t = Q24)
 
-// The sensing chain of hal_host (hal_host_sensors.hpp) seen from the firmware: ADC counts per
-// ampere / volt and the nominal zero-current code. The firmware calibrates the current offsets
-// itself at start-up with the gates off; these nominal values are its starting point.
-void fill_si(const FirmwareSiConfig& c, const Scenario& sc, dtc_config_si_t* si)
+int topology_of(Topology t)
 {
-    dtc_config_si_defaults(si);
+    return t == Topology::Fstp ? DTC_TOPO_FSTP : DTC_TOPO_SSTP;
+}
+
+int compensation_of(Compensation c, Topology t)
+{
+    switch (c) {
+    case Compensation::None: return DTC_COMP_NONE;
+    case Compensation::Simple: return t == Topology::Fstp ? DTC_COMP_FSTP_SIMPLE : DTC_COMP_SSTP;
+    case Compensation::Proposed: return DTC_COMP_FSTP_PROPOSED;
+    }
+    return DTC_COMP_NONE;
+}
+
+int table_of(SwitchingTable t)
+{
+    switch (t) {
+    case SwitchingTable::Basic: return DTC_ST_BASIC;
+    case SwitchingTable::StA: return DTC_ST_A;
+    case SwitchingTable::StB: return DTC_ST_B;
+    case SwitchingTable::StC: return DTC_ST_C;
+    case SwitchingTable::StD: return DTC_ST_D;
+    }
+    return DTC_ST_BASIC;
+}
+
+} // namespace
+
+dtc_config_si_t firmware_si_config(const Scenario& sc)
+{
+    dtc_config_si_t si;
+    dtc_config_si_defaults(&si);
+    const MotorCfg& m = sc.motor;
+    const InverterCfg& inv = sc.inverter;
+    const ControlCfg& c = sc.control;
     // Per-unit bases (firmware/dtc/dtc_base.h): nominal DC link, rated peak current, rated
     // electrical speed.
-    si->v_base_v = c.vdc_nominal_v;
-    si->i_base_a = c.rated_current_a;
-    si->w_base_rad_s = c.rated_speed_rpm * kPi / 30.0 * c.pole_pairs;
-    // Machine, inverter, timing.
-    si->rs_ohm = c.rs_ohm;
-    si->ls_h = c.ls_h;
-    si->psi_m_wb = c.psi_m_wb;
-    si->pole_pairs = c.pole_pairs;
-    si->rated_speed_rpm = c.rated_speed_rpm;
-    si->rated_torque_nm = c.rated_torque_nm;
-    si->rated_current_a = c.rated_current_a;
-    si->inertia_kgm2 = sc.motor.j_kgm2;
-    si->topology = c.topology_fstp != 0 ? DTC_TOPO_FSTP : DTC_TOPO_SSTP;
-    si->vdc_v = c.vdc_nominal_v;
-    si->v_ce_v = c.v_ce_v;
-    si->v_d_v = c.v_d_v;
-    si->v_f_v = c.v_f_v;
-    si->r_on_ohm = c.r_on_ohm;
-    si->fstp_vmid_measured = c.vmid_fitted;
-    si->ts_s = c.ts_s;
-    si->speed_div = c.speed_loop_divider;
+    si.v_base_v = inv.vdc_v;
+    si.i_base_a = m.rated_current_a;
+    si.w_base_rad_s = m.rated_speed_rpm * kPi / 30.0 * static_cast<double>(m.pole_pairs);
+    // Machine as the firmware believes it (firmware.*), the plant's values where not given.
+    si.rs_ohm = sc.firmware.rs_ohm.value_or(m.rs_ohm);
+    si.ls_h = sc.firmware.ls_h.value_or(m.ls_h);
+    si.psi_m_wb = sc.firmware.psi_m_wb.value_or(m.psi_m_wb);
+    si.pole_pairs = static_cast<int>(m.pole_pairs);
+    si.rated_speed_rpm = m.rated_speed_rpm;
+    si.rated_torque_nm = m.rated_torque_nm;
+    si.rated_current_a = m.rated_current_a;
+    si.inertia_kgm2 = m.j_kgm2;
+    // Inverter, timing.
+    si.topology = topology_of(inv.topology);
+    si.vdc_v = inv.vdc_v;
+    si.v_ce_v = sc.firmware.v_ce_v.value_or(inv.v_ce_v);
+    si.v_d_v = sc.firmware.v_d_v.value_or(inv.v_d_v);
+    si.v_f_v = c.v_f_v;
+    si.r_on_ohm = sc.firmware.r_on_ohm.value_or(inv.r_on_ohm);
+    si.fstp_vmid_measured = sc.sensors.vmid_fitted ? 1 : 0;
+    si.ts_s = sc.ts_s;
+    si.speed_div = static_cast<int>(c.speed_loop_divider);
     // Encoder: hal_host counts 0 where theta_m + offset = 0, i.e. the electrical angle at count 0
     // is -p * offset (the firmware is told the true mounting offset).
-    si->enc_lines = c.encoder_lines;
-    si->enc_offset_rad = -static_cast<double>(c.pole_pairs) * c.encoder_offset_rad;
+    si.enc_lines = static_cast<int>(sc.sensors.encoder_lines);
+    si.enc_offset_rad = -static_cast<double>(m.pole_pairs) * sc.sensors.encoder_offset_rad;
     // Control: the converter designs the PI from the bandwidth with the same rule as
-    // speed_pi_gains() (crossover wc, PI zero at wc/4).
-    si->flux_band_wb = c.flux_band_wb;
-    si->torque_band_nm = c.torque_band_nm;
-    si->lpf_cutoff_rad_s = c.lpf_cutoff_rad_s;
-    si->handover_auto = c.handover_given != 0 ? 0 : 1;
-    si->handover_speed_rpm = c.handover_rpm;
-    si->handover_hyst_frac = c.handover_hyst_frac;
-    si->delay_comp = c.delay_comp;
-    si->deadtime_comp = c.deadtime_comp;
-    si->dead_time_s = c.dead_time_s;
-    si->pi_from_bandwidth = 1;
-    si->speed_bw_rad_s = 2.0 * kPi * sc.control.speed_bw_hz;
-    si->kp_nm_s_rad = c.speed_kp_nm_per_rad_s;
-    si->ki_nm_rad = c.speed_ki_nm_per_rad;
-    si->torque_limit_nm = c.torque_limit_nm;
-    si->speed_limit_rpm = std::fmax(si->speed_limit_rpm, std::fabs(c.speed_ref_rpm));
-    si->flux_ref_wb = c.flux_ref_wb;
-    si->speed_ref_rpm = c.speed_ref_rpm;
-    si->torque_ref_nm = c.torque_ref_nm;
-    si->estimator = c.estimator_voltage != 0 ? DTC_EST_VOLTAGE : DTC_EST_CURRENT;
-    si->compensation = c.compensation == 0   ? DTC_COMP_NONE
-                       : c.compensation == 2 ? DTC_COMP_FSTP_PROPOSED
-                       : c.topology_fstp != 0 ? DTC_COMP_FSTP_SIMPLE
-                                              : DTC_COMP_SSTP;
-    static const int tables[] = {DTC_ST_BASIC, DTC_ST_A, DTC_ST_B, DTC_ST_C, DTC_ST_D};
-    si->sstp_table = tables[c.table >= 0 && c.table <= 4 ? c.table : 0];
-    si->mode = c.mode_torque != 0 ? DTC_MODE_TORQUE : DTC_MODE_SPEED;
-    // ADC (hal_host: code = 4095/3 * (1.5 + 1.5 i / range) for currents, 4095/3 * 3 v / range).
-    si->adc_i_a_per_count = c.current_range_a / 2047.5;
+    // speed_pi_gains() (crossover wc, PI zero at wc/4); the gains are also given explicitly.
+    si.flux_band_wb = c.flux_band_wb;
+    si.torque_band_nm = c.torque_band_nm;
+    si.lpf_cutoff_rad_s = c.lpf_cutoff_rad_s;
+    si.handover_auto = c.handover_given ? 0 : 1;
+    si.handover_speed_rpm = c.handover_rpm;
+    si.handover_hyst_frac = c.handover_hyst_frac;
+    si.delay_comp = c.delay_comp ? 1 : 0;
+    si.deadtime_comp = c.deadtime_comp ? 1 : 0;
+    // The gate driver's setting (inverter.dead_time_s, also when the plant does not model it).
+    si.dead_time_s = sc.firmware.dead_time_s.value_or(inv.dead_time_s);
+    si.pi_from_bandwidth = 1;
+    si.speed_bw_rad_s = 2.0 * kPi * c.speed_bw_hz;
+    const SpeedPiGains g = speed_pi_gains(m.j_kgm2, c.speed_bw_hz);
+    si.kp_nm_s_rad = g.kp_nm_per_rad_s;
+    si.ki_nm_rad = g.ki_nm_per_rad;
+    si.torque_limit_nm = c.torque_limit_nm;
+    si.speed_limit_rpm = std::fmax(si.speed_limit_rpm, std::fabs(c.speed_ref_rpm));
+    si.flux_ref_wb = c.flux_ref_wb;
+    si.speed_ref_rpm = c.speed_ref_rpm;
+    si.torque_ref_nm = c.torque_ref_nm;
+    si.estimator = c.estimator == Estimator::Voltage ? DTC_EST_VOLTAGE : DTC_EST_CURRENT;
+    si.compensation = compensation_of(c.compensation, inv.topology);
+    si.sstp_table = table_of(c.table);
+    si.mode = c.mode == ControlMode::Torque ? DTC_MODE_TORQUE : DTC_MODE_SPEED;
+    // The sensing chain of hal_host (hal_host_sensors.hpp) seen from the firmware: 12-bit codes
+    // over 0..3 V; currents -range..+range around mid-scale, voltages 0..range. The firmware
+    // calibrates the current offsets itself at start-up with the gates off; 2048 is its start.
+    si.adc_i_a_per_count = 2.0 * sc.sensors.current_range_a / PLANT_DEF_ADC_FULL_SCALE_CODES;
     for (int ph = 0; ph < 3; ++ph) {
-        si->adc_i_offset[ph] = 2048;
+        si.adc_i_offset[ph] = 2048;
     }
-    si->adc_vdc_v_per_count = c.voltage_range_v / 4095.0;
-    si->adc_vdc_offset = 0;
-    si->adc_vmid_v_per_count = c.voltage_range_v / 4095.0;
-    si->adc_vmid_offset = 0;
-    si->i_trip_a = c.overcurrent_a;
-    si->stall_time_s = c.stall_time_s;
-    si->vdc_max_v = c.vdc_max_v;
-    si->vdc_min_v = c.vdc_min_v;
+    si.adc_vdc_v_per_count = sc.sensors.voltage_range_v / PLANT_DEF_ADC_FULL_SCALE_CODES;
+    si.adc_vdc_offset = 0;
+    si.adc_vmid_v_per_count = sc.sensors.voltage_range_v / PLANT_DEF_ADC_FULL_SCALE_CODES;
+    si.adc_vmid_offset = 0;
+    si.i_trip_a = sc.protection.overcurrent_a;
+    si.stall_time_s = sc.protection.stall_time_s;
+    si.vdc_max_v = sc.protection.vdc_max_v;
+    si.vdc_min_v = sc.protection.vdc_min_v;
+    return si;
 }
+
+namespace {
 
 /// The scenario keys a converter field (dtc_config_si_t) is computed from, so that a refusal
 /// names what the user set. Per-unit bases come from the link voltage, rated current and speed.
@@ -160,13 +188,12 @@ std::string keys_of_field(const std::string& msg)
 
 class FirmwareController final : public Controller {
 public:
-    explicit FirmwareController(const Scenario& sc) : sc_(sc), si_(firmware_si_config(sc)) {}
+    explicit FirmwareController(const Scenario& sc) : si_(firmware_si_config(sc)) {}
 
     std::string init(hal_host::Harness& h) override
     {
         (void)h;
-        dtc_config_si_t si;
-        fill_si(si_, sc_, &si);
+        const dtc_config_si_t& si = si_;
         char msg[256] = {0};
         const int rc = dtc_config_from_si(&si, &cfg_, msg, sizeof msg);
         if (rc != DTC_SI_OK) {
@@ -213,8 +240,7 @@ public:
     bool has_estimates() const override { return true; }
 
 private:
-    Scenario sc_;
-    FirmwareSiConfig si_;
+    dtc_config_si_t si_;
     dtc_config_t cfg_{};
     dtc_bases_t bases_{};
     // app_get_status() copies the whole status under a critical section (hal.h); the run loop

@@ -21,7 +21,6 @@ namespace sil {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 class ReferenceController final : public Controller {
 public:
@@ -31,31 +30,28 @@ public:
     {
         (void)h;
         dtc_ref::Params p;
-        const bool fstp = sc_.inverter.topology == "fstp";
+        const bool fstp = sc_.inverter.topology == Topology::Fstp;
         p.topology = fstp ? dtc_ref::Topology::FSTP : dtc_ref::Topology::SSTP;
-        p.estimator = sc_.control.estimator == "voltage" ? dtc_ref::FluxEstimator::VOLTAGE_MODEL
-                                                         : dtc_ref::FluxEstimator::CURRENT_MODEL;
-        if (sc_.control.compensation == "none") {
-            p.comp = dtc_ref::DropComp::NONE;
-        } else if (sc_.control.compensation == "proposed") {
-            p.comp = dtc_ref::DropComp::FSTP_PROPOSED;
-        } else {
+        p.estimator = sc_.control.estimator == Estimator::Voltage ? dtc_ref::FluxEstimator::VOLTAGE_MODEL
+                                                                  : dtc_ref::FluxEstimator::CURRENT_MODEL;
+        switch (sc_.control.compensation) {
+        case Compensation::None: p.comp = dtc_ref::DropComp::NONE; break;
+        case Compensation::Simple:
             p.comp = fstp ? dtc_ref::DropComp::FSTP_SIMPLE : dtc_ref::DropComp::SSTP_EQUAL;
+            break;
+        case Compensation::Proposed: p.comp = dtc_ref::DropComp::FSTP_PROPOSED; break;
+        }
+        switch (sc_.control.table) {
+        case SwitchingTable::Basic: p.table = dtc_ref::SwitchingTable::CASADEI_T1; break;
+        case SwitchingTable::StA: p.table = dtc_ref::SwitchingTable::ST_A; break;
+        case SwitchingTable::StB: p.table = dtc_ref::SwitchingTable::ST_B; break;
+        case SwitchingTable::StC: p.table = dtc_ref::SwitchingTable::ST_C; break;
+        case SwitchingTable::StD: p.table = dtc_ref::SwitchingTable::ST_D; break;
         }
         if (fstp) {
             p.table = dtc_ref::SwitchingTable::HOANG_FSTP;
-        } else if (sc_.control.table == "st-a") {
-            p.table = dtc_ref::SwitchingTable::ST_A;
-        } else if (sc_.control.table == "st-b") {
-            p.table = dtc_ref::SwitchingTable::ST_B;
-        } else if (sc_.control.table == "st-c") {
-            p.table = dtc_ref::SwitchingTable::ST_C;
-        } else if (sc_.control.table == "st-d") {
-            p.table = dtc_ref::SwitchingTable::ST_D;
-        } else {
-            p.table = dtc_ref::SwitchingTable::CASADEI_T1;
         }
-        p.mode = sc_.control.mode == "torque" ? dtc_ref::ControlMode::TORQUE : dtc_ref::ControlMode::SPEED;
+        p.mode = sc_.control.mode == ControlMode::Torque ? dtc_ref::ControlMode::TORQUE : dtc_ref::ControlMode::SPEED;
         p.ts_s = sc_.ts_s;
         p.speed_divider = static_cast<int>(sc_.control.speed_loop_divider);
         p.rs_ohm = sc_.motor.rs_ohm;
@@ -112,7 +108,7 @@ public:
         m.i_b = amps(HAL_ADC_IB);
         m.i_c = amps(HAL_ADC_IC);
         m.vdc_v = volts(HAL_ADC_VDC);
-        m.have_vc = sc_.inverter.topology == "fstp" && s.vmid_fitted;
+        m.have_vc = sc_.inverter.topology == Topology::Fstp && s.vmid_fitted;
         m.vc_lo_v = m.have_vc ? volts(HAL_ADC_VMID) : 0.5 * m.vdc_v;
         m.vc_hi_v = m.vdc_v - m.vc_lo_v;
         m.theta_e_rad = std::fmod(static_cast<double>(sc_.motor.pole_pairs) * theta_m, 2.0 * kPi);

@@ -8,9 +8,7 @@
 
 int main(int argc, char** argv)
 {
-#if DTC_SIL_HAVE_REFERENCE
     sil::register_reference_controller(&sil::make_reference_controller);
-#endif
     std::vector<std::string> args(argv, argv + argc);
     return sil::dtc_sil_main(args, std::cout, std::cerr);
 }

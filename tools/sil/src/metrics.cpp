@@ -11,29 +11,28 @@
 namespace sil {
 
 namespace {
-constexpr double kTwoPi = 6.283185307179586476925286766559;
 }
 
-Window whole_period_window(const std::vector<double>& theta_e, std::size_t window_n)
+Window whole_period_window(const std::vector<double>& theta_fund_rad, std::size_t window_n)
 {
     Window w;
-    const std::size_t total = theta_e.size();
+    const std::size_t total = theta_fund_rad.size();
     if (total < 2 || window_n < 2) {
         return w;
     }
     window_n = std::min(window_n, total);
     const std::size_t last = total - 1;
     const std::size_t first = total - window_n;
-    const double span = std::fabs(theta_e[last] - theta_e[first]);
-    const int periods = static_cast<int>(std::floor(span / kTwoPi + 1e-9));
+    const double span = std::fabs(theta_fund_rad[last] - theta_fund_rad[first]);
+    const int periods = static_cast<int>(std::floor(span / (2.0 * kPi) + 1e-9));
     if (periods < 1) {
         return w;
     }
-    const double target = static_cast<double>(periods) * kTwoPi;
+    const double target = static_cast<double>(periods) * (2.0 * kPi);
     std::size_t best = first;
     double best_err = INFINITY;
     for (std::size_t i = first; i < last; ++i) {
-        const double err = std::fabs(std::fabs(theta_e[last] - theta_e[i]) - target);
+        const double err = std::fabs(std::fabs(theta_fund_rad[last] - theta_fund_rad[i]) - target);
         if (err < best_err) {
             best_err = err;
             best = i;
@@ -124,7 +123,7 @@ std::vector<double> first_order_filtered(const double* x, std::size_t n, double 
     }
     // y_k = y_{k-1} + a (x_k - y_{k-1}), a = 1 - exp(-2 pi f_c ts): the first-order lag
     // 1 / (1 + s / (2 pi f_c)) sampled with the input held over each period (exact at the samples).
-    const double a = 1.0 - std::exp(-2.0 * 3.14159265358979323846 * f_c_hz * ts_s);
+    const double a = 1.0 - std::exp(-2.0 * kPi * f_c_hz * ts_s);
     // The window holds whole electrical periods: a first pass from y = x_0 ends close to the
     // periodic steady state, which starts the second (reported) pass.
     double st = x[0];
@@ -205,7 +204,7 @@ Metrics compute_metrics(const Series& s, const MetricsConfig& cfg)
     // window_s spans round(window_s / ts) sample intervals, i.e. one more sample than that.
     auto window_n = static_cast<std::size_t>(std::llround(cfg.window_s / s.ts_s)) + 1;
     window_n = std::clamp<std::size_t>(window_n, 1, total);
-    Window w = whole_period_window(s.theta_e, window_n);
+    Window w = whole_period_window(s.theta_fund_rad, window_n);
     std::size_t b = total - window_n, n = window_n;
     if (w.periods >= 1 && w.n >= 2 * static_cast<std::size_t>(w.periods)) {
         b = w.begin;

@@ -15,23 +15,27 @@ namespace sil {
 volatile std::sig_atomic_t g_stop_signal = 0;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
-plant_load_t load_kind(const std::string& t)
+plant_load_t load_kind(LoadType t)
 {
-    if (t == "speed") {
-        return PLANT_LOAD_SPEED;
-    }
-    if (t == "torque") {
-        return PLANT_LOAD_TORQUE;
-    }
-    if (t == "fan") {
-        return PLANT_LOAD_FAN;
-    }
-    if (t == "generator") {
-        return PLANT_LOAD_GENERATOR;
+    switch (t) {
+    case LoadType::Speed: return PLANT_LOAD_SPEED;
+    case LoadType::Torque: return PLANT_LOAD_TORQUE;
+    case LoadType::Generator: return PLANT_LOAD_GENERATOR;
+    case LoadType::Inertia: return PLANT_LOAD_INERTIA;
+    case LoadType::Fan: return PLANT_LOAD_FAN;
     }
     return PLANT_LOAD_INERTIA;
+}
+
+plant_inverter_t inverter_kind(Topology t)
+{
+    switch (t) {
+    case Topology::Ideal: return PLANT_INVERTER_IDEAL;
+    case Topology::Sstp: return PLANT_INVERTER_SSTP;
+    case Topology::Fstp: return PLANT_INVERTER_FSTP;
+    }
+    return PLANT_INVERTER_IDEAL;
 }
 } // namespace
 
@@ -50,7 +54,7 @@ plant_params_t plant_params_from(const Scenario& sc)
             p.emf_harm[ph][h] = (*harm[ph])[static_cast<std::size_t>(h)];
         }
     }
-    if (sc.motor.type == "im") {
+    if (sc.motor.type == MotorType::Im) {
         p.machine = PLANT_MACHINE_IM;  // every IM field below comes from the scenario
         p.psi_m_wb = 0.0;
         p.rs_ohm = sc.motor.rs_ohm;
@@ -61,10 +65,8 @@ plant_params_t plant_params_from(const Scenario& sc)
         p.pole_pairs = static_cast<int>(sc.motor.pole_pairs);
     }
     p.j_kgm2 = sc.motor.j_kgm2;
-    p.b_nms = sc.motor.b_nms;
-    p.inverter = sc.inverter.topology == "fstp"   ? PLANT_INVERTER_FSTP
-                 : sc.inverter.topology == "sstp" ? PLANT_INVERTER_SSTP
-                                                  : PLANT_INVERTER_IDEAL;
+    p.b_nms = sc.motor.b_nm_s_per_rad;
+    p.inverter = inverter_kind(sc.inverter.topology);
     p.vdc_v = sc.inverter.vdc_v;
     p.r_dc_ohm = sc.inverter.r_dc_ohm;
     p.c_dc_f = sc.inverter.c_dc_f;
@@ -112,11 +114,10 @@ hal_host::HarnessConfig harness_config_from(const Scenario& sc)
 
 unsigned switched_legs(const Scenario& sc)
 {
-    if (sc.inverter.topology == "sstp") {
-        return 0x7u;
-    }
-    if (sc.inverter.topology == "fstp") {
-        return 0x6u; // legs B and C; phase A sits on the capacitor mid-point
+    switch (sc.inverter.topology) {
+    case Topology::Sstp: return 0x7u;
+    case Topology::Fstp: return 0x6u; // legs B and C; phase A sits on the capacitor mid-point
+    case Topology::Ideal: return 0u;
     }
     return 0u;
 }
@@ -176,7 +177,7 @@ void name_fault(const Scenario& sc, RunInfo* info)
     if (calibration_fault) {
         const double w_e = std::fabs(sc.initial_speed_rpm) * kPi / 30.0 * static_cast<double>(sc.motor.pole_pairs);
         const double e_line_pk = std::sqrt(3.0) * sc.motor.psi_m_wb * w_e;
-        const double v_link = sc.inverter.topology == "fstp" ? 0.5 * sc.inverter.vdc_v : sc.inverter.vdc_v;
+        const double v_link = sc.inverter.topology == Topology::Fstp ? 0.5 * sc.inverter.vdc_v : sc.inverter.vdc_v;
         if (e_line_pk > v_link) {
             char line[200];
             std::snprintf(line, sizeof line,
@@ -315,7 +316,7 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
         if (!out.begin(opt.out_dir, err)) {
             return false;
         }
-        trace.set_rotor_flux_columns(sc.motor.type == "im");
+        trace.set_rotor_flux_columns(sc.motor.type == MotorType::Im);
         if (opt.write_trace && !trace.open(out.path("trace.csv"), err)) {
             return false;
         }
@@ -330,11 +331,11 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
     s = Series{};
     s.ts_s = sc.ts_s;
     const bool est = ctrl->has_estimates();
-    const bool legs = sc.inverter.topology != "ideal";
+    const bool legs = sc.inverter.topology != Topology::Ideal;
     // Sized once for the recorded periods and written by index: no allocation and no capacity
     // check inside the loop.
     const auto n_rec = static_cast<std::size_t>(periods - record_from);
-    for (auto* v : {&s.ia, &s.ib, &s.ic, &s.te, &s.psi_a, &s.psi_b, &s.speed_rpm, &s.theta_e}) {
+    for (auto* v : {&s.ia, &s.ib, &s.ic, &s.te, &s.psi_a, &s.psi_b, &s.speed_rpm, &s.theta_fund_rad}) {
         v->resize(n_rec);
     }
     if (est) {
@@ -348,6 +349,8 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
         }
     }
     const double pole_pairs = static_cast<double>(sc.motor.pole_pairs);
+    const bool im = sc.motor.type == MotorType::Im;
+    double flux_angle_prev = 0.0; // induction machine: stator-flux angle of the last recorded sample
     bool load_stepped = sc.load.step_time_s <= 0.0;
     const double nan = std::nan("");
 
@@ -415,7 +418,15 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
             s.psi_a[i] = st.psi_alpha_wb;
             s.psi_b[i] = st.psi_beta_wb;
             s.speed_rpm[i] = st.speed_rpm;
-            s.theta_e[i] = pole_pairs * st.theta_m_rad;
+            if (im) {
+                // The stator-flux angle, unwrapped sample to sample (it moves by omega_s ts,
+                // far below pi per period).
+                const double a = std::atan2(st.psi_beta_wb, st.psi_alpha_wb);
+                s.theta_fund_rad[i] = i == 0 ? a : s.theta_fund_rad[i - 1] + std::remainder(a - flux_angle_prev, 2.0 * kPi);
+                flux_angle_prev = a;
+            } else {
+                s.theta_fund_rad[i] = pole_pairs * st.theta_m_rad;
+            }
             if (est) {
                 s.te_est[i] = e.valid ? e.te_nm : nan;
                 s.psi_a_est[i] = e.valid ? e.psi_alpha_wb : nan;
@@ -431,9 +442,9 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
         if (trace_row) {
             TraceRow r{};
             r.t_s = st.t_s;
-            r.ia_a = st.i_a;
-            r.ib_a = st.i_b;
-            r.ic_a = st.i_c;
+            r.i_a_a = st.i_a;
+            r.i_b_a = st.i_b;
+            r.i_c_a = st.i_c;
             r.i_alpha_a = st.i_alpha_a;
             r.i_beta_a = st.i_beta_a;
             r.torque_nm = st.te_nm;

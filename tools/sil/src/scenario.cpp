@@ -16,7 +16,6 @@ namespace sil {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kPi = 3.14159265358979323846;
 
 enum class Kind { Number, Integer, Bool, String, Number3, Path };
 
@@ -116,11 +115,14 @@ Spec boolean(const char* name, const char* doc, BoolAcc acc)
                 [acc](Scenario& s, const Value& v) { acc(s) = v.boolean; },
                 [acc](const Scenario& s) { return std::string(acc(const_cast<Scenario&>(s)) ? "true" : "false"); }};
 }
-Spec choice(const char* name, std::vector<std::string> choices, const char* doc, StrAcc acc)
+// A variant key: its text is checked against VariantNames<E> (check_value) and parsed into the
+// enum once, here.
+template <typename E> Spec choice(const char* name, const char* doc, E& (*acc)(Scenario&))
 {
+    std::vector<std::string> choices(VariantNames<E>::names.begin(), VariantNames<E>::names.end());
     return Spec{name, Kind::String, "", doc, any(), std::move(choices),
-                [acc](Scenario& s, const Value& v) { acc(s) = v.str; },
-                [acc](const Scenario& s) { return "\"" + acc(const_cast<Scenario&>(s)) + "\""; }};
+                [acc](Scenario& s, const Value& v) { parse_variant(v.str, &acc(s)); },
+                [acc](const Scenario& s) { return "\"" + to_string(acc(const_cast<Scenario&>(s))) + "\""; }};
 }
 Spec path(const char* name, const char* doc, StrAcc acc)
 {
@@ -158,11 +160,11 @@ const std::vector<Spec>& schema()
         num("initial_speed_rpm", "rpm", any(), "rotor speed at t = 0", ACC(initial_speed_rpm)),
         num("initial_theta_m_rad", "rad", any(), "mechanical rotor angle at t = 0", ACC(initial_theta_m_rad)),
         // ---- motor ----
-        choice("motor.type", {"pmsm", "im"},
+        choice<MotorType>("motor.type",
                "pmsm = surface PM brushless AC machine (Hoang eqs. 6-10); im = squirrel-cage induction machine "
                "(Casadei eqs. A6-A10, open loop only); with \"im\" the shared motor keys left unset take the "
                "default IM's values (Modelica Buildings IM_5HP_400V_50Hz at 220 V: rs_ohm 0.425, pole_pairs 2, "
-               "j_kgm2 0.0131, b_nms 0, rated 26.5 N*m, 19.2 A peak, 1440 rpm)",
+               "j_kgm2 0.0131, b_nm_s_per_rad 0, rated 26.5 N*m, 19.2 A peak, 1440 rpm)",
                ACC(motor.type)),
         num("motor.rs_ohm", "ohm", positive(), "phase resistance (Hoang Table VIII)", ACC(motor.rs_ohm)),
         num("motor.ls_h", "H", positive(), "synchronous inductance, Ld = Lq (Table VIII)", ACC(motor.ls_h)),
@@ -170,9 +172,9 @@ const std::vector<Spec>& schema()
         integer("motor.pole_pairs", "", closed(1, 16), "pole pairs (Table VIII; the firmware converter's range)", ACC(motor.pole_pairs)),
         num("motor.j_kgm2", "kg*m^2", positive(),
             "rotor + coupled load inertia (not in the paper: small servo motor with a DC generator)", ACC(motor.j_kgm2)),
-        num("motor.b_nms", "N*m*s/rad", nonneg(),
+        num("motor.b_nm_s_per_rad", "N*m*s/rad", nonneg(),
             "viscous friction; default gives 0.075 N*m at 1500 rpm = Hoang's inertial load (25 % of 0.3 N*m)",
-            ACC(motor.b_nms)),
+            ACC(motor.b_nm_s_per_rad)),
         num3("motor.emf_gain", "", closed(0.5, 1.5), "per-phase back-EMF scale [A, B, C] (Table VII: measured)",
              ACC(motor.emf_gain)),
         num3("motor.emf_harm_a", "", closed(-0.5, 0.5), "phase A back-EMF 3rd, 5th, 7th / fundamental",
@@ -193,7 +195,7 @@ const std::vector<Spec>& schema()
             ACC(motor.llr_h)),
         num("motor.lm_h", "H", positive(), "im: magnetising inductance (same source)", ACC(motor.lm_h)),
         // ---- inverter ----
-        choice("inverter.topology", {"ideal", "sstp", "fstp"},
+        choice<Topology>("inverter.topology",
                "ideal = alpha/beta voltage source (open loop only); sstp = six switches; fstp = four switches, "
                "phase A on the DC-link mid-point (Hoang Fig. 1)",
                ACC(inverter.topology)),
@@ -218,7 +220,7 @@ const std::vector<Spec>& schema()
         boolean("inverter.finite_dc_link", "capacitor voltages move (false: stiff DC link)",
                 ACC(inverter.finite_dc_link)),
         // ---- load ----
-        choice("load.type", {"speed", "torque", "generator", "inertia", "fan"},
+        choice<LoadType>("load.type",
                "speed = dynamometer holds load.speed_rpm; torque = constant load.torque_nm; generator = "
                "load.torque_nm * speed / load.speed_rpm (DC generator, Hoang sec. IV); inertia = J and B only; "
                "fan = load.torque_nm * (speed / load.speed_rpm)^2, opposing the motion (fan or pump)",
@@ -233,22 +235,22 @@ const std::vector<Spec>& schema()
             "Hoang sec. IV rig), opposes the motion and holds a stopped rotor while the other torques sum to no more; 0 = none",
             ACC(load.coulomb_nm)),
         // ---- control ----
-        choice("control.mode", {"speed", "torque", "open_loop"},
+        choice<ControlMode>("control.mode",
                "speed = speed PI -> torque reference; torque = fixed torque reference; open_loop = "
                "control.voltage_csv on the ideal inverter, no firmware",
                ACC(control.mode)),
-        choice("control.implementation", {"firmware", "reference"},
+        choice<Implementation>("control.implementation",
                "firmware = the fixed-point firmware through hal_host; reference = the double-precision "
                "reference controller of model/",
                ACC(control.implementation)),
-        choice("control.estimator", {"current", "voltage"},
+        choice<Estimator>("control.estimator",
                "stator-flux estimator: current model (Hoang eqs. 8-9) or voltage model (eqs. 15-16 with LPF)",
                ACC(control.estimator)),
-        choice("control.compensation", {"none", "simple", "proposed"},
+        choice<Compensation>("control.compensation",
                "voltage-model drop compensation: simple = Hoang Table V (FSTP) / ref. [29] (SSTP); "
                "proposed = Table VI + eqs. 37-38 (FSTP only)",
                ACC(control.compensation)),
-        choice("control.table", {"basic", "st-a", "st-b", "st-c", "st-d"},
+        choice<SwitchingTable>("control.table",
                "SSTP switching table (Casadei Tables 1, 3); the FSTP always uses Hoang Table II",
                ACC(control.table)),
         num("control.speed_ref_rpm", "rpm", any(), "speed reference (speed mode)", ACC(control.speed_ref_rpm)),
@@ -620,10 +622,10 @@ void apply_machine_defaults(Scenario& s, Diagnostics* d)
     static const std::vector<std::string> pm_only = {"motor.ls_h",        "motor.psi_m_wb",    "motor.emf_gain",
                                                      "motor.emf_harm_a", "motor.emf_harm_b", "motor.emf_harm_c"};
     static const std::vector<std::string> im_only = {"motor.rr_ohm", "motor.lls_h", "motor.llr_h", "motor.lm_h"};
-    const bool im = s.motor.type == "im";
+    const bool im = s.motor.type == MotorType::Im;
     for (const std::string& k : im ? pm_only : im_only) {
         if (s.origin.count(k) != 0) {
-            d->errors.push_back(origin_of(s, k) + ": " + k + ": not a parameter of motor.type = \"" + s.motor.type +
+            d->errors.push_back(origin_of(s, k) + ": " + k + ": not a parameter of motor.type = \"" + to_string(s.motor.type) +
                                 "\" (" + origin_of(s, "motor.type") + ")");
         }
     }
@@ -639,7 +641,7 @@ void apply_machine_defaults(Scenario& s, Diagnostics* d)
     if (unset("motor.lm_h")) s.motor.lm_h = q.lm_h;
     if (unset("motor.pole_pairs")) s.motor.pole_pairs = q.pole_pairs;
     if (unset("motor.j_kgm2")) s.motor.j_kgm2 = q.j_kgm2;
-    if (unset("motor.b_nms")) s.motor.b_nms = q.b_nms;
+    if (unset("motor.b_nm_s_per_rad")) s.motor.b_nm_s_per_rad = q.b_nm_s_per_rad;
     if (unset("motor.rated_torque_nm")) s.motor.rated_torque_nm = q.rated_torque_nm;
     if (unset("motor.rated_current_a")) s.motor.rated_current_a = q.rated_current_a;
     if (unset("motor.rated_speed_rpm")) s.motor.rated_speed_rpm = q.rated_speed_rpm;
@@ -678,10 +680,10 @@ void cross_validate(Scenario& s, Diagnostics* d)
         err("metrics_window_s", "is " + fmt_double(s.metrics_window_s) +
                                     " s: shorter than one control period ts_s = " + fmt_double(s.ts_s) + " s");
     }
-    const bool open_loop = s.control.mode == "open_loop";
-    if (s.motor.type == "im" && !open_loop) {
+    const bool open_loop = s.control.mode == ControlMode::OpenLoop;
+    if (s.motor.type == MotorType::Im && !open_loop) {
         err("motor.type", "\"im\" runs with control.mode = \"open_loop\" only (the firmware drives the PM machine); "
-                          "control.mode is \"" + s.control.mode + "\" (" + origin_of(s, "control.mode") + ")");
+                          "control.mode is \"" + to_string(s.control.mode) + "\" (" + origin_of(s, "control.mode") + ")");
     }
     const bool vf = s.control.vf_freq_hz > 0.0;
     if (open_loop && vf && !s.control.voltage_csv.empty()) {
@@ -691,15 +693,15 @@ void cross_validate(Scenario& s, Diagnostics* d)
         if (s.control.vf_v_per_hz <= 0.0 && s.control.vf_boost_v <= 0.0) {
             err("control.vf_v_per_hz", "the V/f source needs control.vf_v_per_hz > 0 (or a boost)");
         }
-        if (s.inverter.topology != "ideal") {
+        if (s.inverter.topology != Topology::Ideal) {
             err("inverter.topology", "control.mode = \"open_loop\" applies alpha/beta voltages to the \"ideal\" "
-                                     "inverter; got \"" + s.inverter.topology + "\"");
+                                     "inverter; got \"" + to_string(s.inverter.topology) + "\"");
         }
     }
     if (open_loop && !vf) {
-        if (s.inverter.topology != "ideal") {
+        if (s.inverter.topology != Topology::Ideal) {
             err("inverter.topology", "control.mode = \"open_loop\" applies alpha/beta voltages to the \"ideal\" "
-                                     "inverter; got \"" + s.inverter.topology + "\"");
+                                     "inverter; got \"" + to_string(s.inverter.topology) + "\"");
         }
         if (s.control.voltage_csv.empty()) {
             err("control.voltage_csv", "missing value: required when control.mode = \"open_loop\" (" +
@@ -712,18 +714,18 @@ void cross_validate(Scenario& s, Diagnostics* d)
             }
         }
     } else if (!open_loop) {
-        if (s.inverter.topology == "ideal") {
+        if (s.inverter.topology == Topology::Ideal) {
             err("inverter.topology", "the \"ideal\" inverter takes voltages, not switch states: use it with "
                                      "control.mode = \"open_loop\"");
         }
-        if (s.control.compensation == "proposed" && s.inverter.topology == "sstp") {
+        if (s.control.compensation == Compensation::Proposed && s.inverter.topology == Topology::Sstp) {
             err("control.compensation", "\"proposed\" (Hoang Table VI) is defined for the FSTP only; use "
                                         "\"simple\" for the SSTP (Hoang ref. [29])");
         }
-        if (s.control.estimator == "current" && s.control.compensation != "none") {
+        if (s.control.estimator == Estimator::Current && s.control.compensation != Compensation::None) {
             warn("control.compensation", "ignored by the current-model estimator");
         }
-        if (s.inverter.topology == "fstp" && s.control.table != "basic") {
+        if (s.inverter.topology == Topology::Fstp && s.control.table != SwitchingTable::Basic) {
             warn("control.table", "ignored: the FSTP always uses Hoang Table II");
         }
         const double f_speed_hz = 1.0 / (s.ts_s * static_cast<double>(s.control.speed_loop_divider));
@@ -766,10 +768,10 @@ void cross_validate(Scenario& s, Diagnostics* d)
     if (s.load.step_time_s > s.duration_s) {
         warn("load.step_time_s", "after the end of the run");
     }
-    if (s.load.type == "generator" && s.load.speed_rpm == 0.0) {
+    if (s.load.type == LoadType::Generator && s.load.speed_rpm == 0.0) {
         err("load.speed_rpm", "the generator load needs a non-zero reference speed");
     }
-    if (s.load.type == "fan" && s.load.speed_rpm == 0.0) {
+    if (s.load.type == LoadType::Fan && s.load.speed_rpm == 0.0) {
         err("load.speed_rpm", "the fan load needs a non-zero reference speed");
     }
 }

@@ -16,7 +16,7 @@ namespace fs = std::filesystem;
 
 const char* trace_header()
 {
-    return "t_s,ia_a,ib_a,ic_a,i_alpha_a,i_beta_a,torque_nm,torque_est_nm,psi_alpha_wb,psi_beta_wb,"
+    return "t_s,i_a_a,i_b_a,i_c_a,i_alpha_a,i_beta_a,torque_nm,torque_est_nm,psi_alpha_wb,psi_beta_wb,"
            "psi_alpha_est_wb,psi_beta_est_wb,speed_rpm,sa,sb,sc,vdc_v,en,theta_e_rad,vc_lo_v,v_alpha_v,"
            "v_beta_v,tload_nm";
 }
@@ -145,7 +145,7 @@ inline char* put(char* p, int x)
 
 char* TraceWriter::format(const TraceRow& r, char* p) const
 {
-    const double d1[] = {r.t_s, r.ia_a, r.ib_a, r.ic_a, r.i_alpha_a, r.i_beta_a, r.torque_nm, r.torque_est_nm,
+    const double d1[] = {r.t_s, r.i_a_a, r.i_b_a, r.i_c_a, r.i_alpha_a, r.i_beta_a, r.torque_nm, r.torque_est_nm,
                          r.psi_alpha_wb, r.psi_beta_wb, r.psi_alpha_est_wb, r.psi_beta_est_wb, r.speed_rpm};
     for (double x : d1) {
         p = put(p, x);
@@ -235,13 +235,13 @@ nlohmann::json metrics_json(const Scenario& sc, const Metrics& m, const RunInfo&
                            {"t_end_s", t_end},
                            {"electrical_periods", m.window.periods},
                            {"f_e_hz", m.f_e_hz}};
-    j["config"] = {{"mode", sc.control.mode},
-                   {"implementation", sc.control.implementation},
-                   {"topology", sc.inverter.topology},
-                   {"estimator", sc.control.estimator},
-                   {"compensation", sc.control.compensation},
-                   {"table", sc.control.table},
-                   {"load", sc.load.type},
+    j["config"] = {{"mode", to_string(sc.control.mode)},
+                   {"implementation", to_string(sc.control.implementation)},
+                   {"topology", to_string(sc.inverter.topology)},
+                   {"estimator", to_string(sc.control.estimator)},
+                   {"compensation", to_string(sc.control.compensation)},
+                   {"table", to_string(sc.control.table)},
+                   {"load", to_string(sc.load.type)},
                    {"load_torque_nm", sc.load.torque_nm},
                    {"speed_ref_rpm", sc.control.speed_ref_rpm},
                    {"rated_torque_nm", sc.motor.rated_torque_nm},
@@ -253,27 +253,27 @@ std::string summary_text(const Scenario& sc, const Metrics& m, const RunInfo& in
 {
     char line[256];
     std::ostringstream o;
-    std::snprintf(line, sizeof line, "dtc-sil: %s  (%s, %s", sc.name.c_str(), sc.inverter.topology.c_str(),
-                  sc.control.mode.c_str());
+    std::snprintf(line, sizeof line, "dtc-sil: %s  (%s, %s", sc.name.c_str(),
+                  to_string(sc.inverter.topology).c_str(), to_string(sc.control.mode).c_str());
     o << line;
-    if (sc.control.mode != "open_loop") {
-        o << ", " << sc.control.estimator << " model";
-        if (sc.control.estimator == "voltage") {
-            o << ", compensation " << sc.control.compensation;
+    if (sc.control.mode != ControlMode::OpenLoop) {
+        o << ", " << to_string(sc.control.estimator) << " model";
+        if (sc.control.estimator == Estimator::Voltage) {
+            o << ", compensation " << to_string(sc.control.compensation);
         }
     }
-    o << ", " << sc.load.type << " load)\n";
-    if (sc.load.type == "torque" || sc.load.type == "generator") {
-        // The shaft load is the load torque plus the viscous friction B*w of motor.b_nms: at the
+    o << ", " << to_string(sc.load.type) << " load)\n";
+    if (sc.load.type == LoadType::Torque || sc.load.type == LoadType::Generator) {
+        // The shaft load is the load torque plus the viscous friction B*w of motor.b_nm_s_per_rad: at the
         // speed reference they add up to what the scenario's comment calls the load (Hoang's full
         // load 0.3 N*m = load.torque_nm 0.225 + friction 0.075 N*m at 1500 rpm with the defaults).
-        const double w = sc.control.speed_ref_rpm * 3.14159265358979323846 / 30.0;
-        const double tl = sc.load.type == "torque" || sc.load.speed_rpm == 0.0
+        const double w = sc.control.speed_ref_rpm * kPi / 30.0;
+        const double tl = sc.load.type == LoadType::Torque || sc.load.speed_rpm == 0.0
                               ? sc.load.torque_nm
                               : sc.load.torque_nm * sc.control.speed_ref_rpm / sc.load.speed_rpm;
         std::snprintf(line, sizeof line,
-                      "  load       %.4g N*m load + %.4g N*m friction (motor.b_nms) = %.4g N*m at %.0f rpm\n", tl,
-                      sc.motor.b_nms * w, tl + sc.motor.b_nms * w, sc.control.speed_ref_rpm);
+                      "  load       %.4g N*m load + %.4g N*m friction (motor.b_nm_s_per_rad) = %.4g N*m at %.0f rpm\n", tl,
+                      sc.motor.b_nm_s_per_rad * w, tl + sc.motor.b_nm_s_per_rad * w, sc.control.speed_ref_rpm);
         o << line;
     }
     std::snprintf(line, sizeof line, "  simulated %.3f s in %.3f s wall (%.0fx real time, trace %s), %llu ISRs, fault: %s%s\n",

@@ -172,7 +172,7 @@ double draw(const Spec& spec, const Axis& ax, std::size_t axis_i, std::uint64_t 
     }
     const double u1 = unit_uniform(spec.seed, run, axis_i, 2 * element); // Box-Muller
     const double u2 = unit_uniform(spec.seed, run, axis_i, 2 * element + 1);
-    return ax.a + ax.b * std::sqrt(-2.0 * std::log(u1)) * std::cos(6.283185307179586 * u2);
+    return ax.a + ax.b * std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
 }
 
 // A sampled value as TOML text: a number, a whole number for integer keys, or for a per-phase
