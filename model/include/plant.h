@@ -50,7 +50,7 @@ typedef struct {
     double lm_h;               /* magnetising inductance */
     /* Mechanics. */
     double j_kgm2;
-    double b_nms;              /* viscous friction, N*m per rad/s */
+    double b_nm_s_per_rad;              /* viscous friction, N*m per rad/s */
     double coulomb_nm;         /* Coulomb (dry) friction of the shaft and coupled load, N*m: opposes
                                 * the motion; at standstill it holds the rotor while the other
                                 * torques sum to at most coulomb_nm (0 = none) */

@@ -11,7 +11,7 @@ void set_load_law(const plant_params_t &p, double omega_ref, Shaft &s) {
     switch (p.load) {
         case PLANT_LOAD_SPEED:  // the dynamometer holds speed: T_load = T_e - b omega
             s.cte = 1.0;
-            s.cw = -p.b_nms;
+            s.cw = -p.b_nm_s_per_rad;
             s.w_on = 0.0;
             break;
         case PLANT_LOAD_TORQUE: s.c0 = p.load_torque_nm; break;
@@ -24,7 +24,7 @@ void set_load_law(const plant_params_t &p, double omega_ref, Shaft &s) {
 const char *check_shaft(const plant_params_t &p) {
     auto bad = [](double v) { return !std::isfinite(v); };
     if (bad(p.j_kgm2) || p.j_kgm2 <= 0.0) return "j_kgm2 must be finite and > 0";
-    if (bad(p.b_nms) || p.b_nms < 0.0) return "b_nms must be finite and >= 0";
+    if (bad(p.b_nm_s_per_rad) || p.b_nm_s_per_rad < 0.0) return "b_nm_s_per_rad must be finite and >= 0";
     if (bad(p.coulomb_nm) || p.coulomb_nm < 0.0) return "coulomb_nm must be finite and >= 0";
     return nullptr;
 }

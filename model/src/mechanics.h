@@ -34,7 +34,7 @@ struct Shaft {
 
 // Inertia and friction from the parameters.
 inline void setup(const plant_params_t &p, Shaft &s) {
-    s.b = p.b_nms;
+    s.b = p.b_nm_s_per_rad;
     s.coulomb_nm = p.coulomb_nm;
     s.coulomb_on = p.coulomb_nm > 0.0;
     s.j = p.j_kgm2;

@@ -22,7 +22,7 @@ void plant_params_default(plant_params_t *p) {
     p->pole_pairs = PLANT_DEF_PM_POLE_PAIRS;
     for (int x = 0; x < 3; ++x) p->emf_gain[x] = 1.0;
     p->j_kgm2 = PLANT_DEF_PM_J_KGM2;
-    p->b_nms = PLANT_DEF_PM_B_NM_S_PER_RAD;
+    p->b_nm_s_per_rad = PLANT_DEF_PM_B_NM_S_PER_RAD;
     p->inverter = PLANT_INVERTER_SSTP;
     p->vdc_v = PLANT_DEF_VDC_V;
     p->r_dc_ohm = PLANT_DEF_R_DC_OHM;
@@ -53,7 +53,7 @@ void plant_params_im_default(plant_params_t *p) {
     p->lm_h = PLANT_DEF_IM_LM_H;
     p->pole_pairs = PLANT_DEF_IM_POLE_PAIRS;
     p->j_kgm2 = PLANT_DEF_IM_J_KGM2;
-    p->b_nms = PLANT_DEF_IM_B_NM_S_PER_RAD;
+    p->b_nm_s_per_rad = PLANT_DEF_IM_B_NM_S_PER_RAD;
     p->ls_h = 0.0;
     p->psi_m_wb = 0.0;
     for (int x = 0; x < 3; ++x) {

@@ -91,8 +91,8 @@ TEST(Mechanics, CoulombStallBreakawayAndStop) {
     base.psi_m_wb = 0.0;
     base.coulomb_nm = 0.05;
     base.j_kgm2 = 1e-4;
-    base.b_nms = 4.8e-4;
-    const double J = base.j_kgm2, b = base.b_nms, tc = base.coulomb_nm;
+    base.b_nm_s_per_rad = 4.8e-4;
+    const double J = base.j_kgm2, b = base.b_nm_s_per_rad, tc = base.coulomb_nm;
     {  // (a) stall
         plant_params_t p = base;
         p.load = PLANT_LOAD_TORQUE;
@@ -153,7 +153,7 @@ TEST(Mechanics, CoulombStallBreakawayAndStop) {
 TEST(Mechanics, FanLoadCoastDown) {
     plant_params_t p = ideal_inverter(PLANT_INVERTER_IDEAL);
     p.psi_m_wb = 0.0;
-    p.b_nms = 0.0;
+    p.b_nm_s_per_rad = 0.0;
     p.load = PLANT_LOAD_FAN;
     p.load_speed_rpm = 1500.0;
     p.load_torque_nm = 0.3;

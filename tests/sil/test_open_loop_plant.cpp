@@ -182,7 +182,7 @@ TEST(SilPlant, InductionMachineScenarioDefaultsAreThePlantsDefaultMachine)
     EXPECT_EQ(p.lm_h, q.lm_h);
     EXPECT_EQ(p.pole_pairs, q.pole_pairs);
     EXPECT_EQ(p.j_kgm2, q.j_kgm2);
-    EXPECT_EQ(p.b_nms, q.b_nms);
+    EXPECT_EQ(p.b_nm_s_per_rad, q.b_nm_s_per_rad);
     EXPECT_EQ(sc.motor.rated_torque_nm, 26.5);
     // A PM key on an IM (and an IM key on the PM machine) is refused by name.
     Scenario s;

@@ -65,7 +65,7 @@ plant_params_t plant_params_from(const Scenario& sc)
         p.pole_pairs = static_cast<int>(sc.motor.pole_pairs);
     }
     p.j_kgm2 = sc.motor.j_kgm2;
-    p.b_nms = sc.motor.b_nm_s_per_rad;
+    p.b_nm_s_per_rad = sc.motor.b_nm_s_per_rad;
     p.inverter = inverter_kind(sc.inverter.topology);
     p.vdc_v = sc.inverter.vdc_v;
     p.r_dc_ohm = sc.inverter.r_dc_ohm;
