@@ -82,7 +82,7 @@ int16_t app_core_init(app_core_t *a, const dtc_config_t *cfg)
     a->st.state = APP_STATE_INIT;
     a->st.fault = APP_FAULT_NONE;
     a->st.fault_detail = 0;
-    rc = dtc_init(&a->dtc, cfg);
+    rc = law_init(&a->law, cfg);
     if (rc != DTC_OK) {
         latch_fault(a, APP_FAULT_CONFIG, rc);
         return rc;
@@ -236,7 +236,7 @@ static void calibrate_step(app_core_t *a, const hal_meas_t *m)
             return;
         }
     }
-    dtc_reset(&a->dtc);
+    law_reset(&a->law);
     a->st.state = APP_STATE_RUN;
 }
 
@@ -255,7 +255,7 @@ static uint16_t check_stall(app_core_t *a)
         a->stall_n = 0U;
         return 0U;
     }
-    err = fix_abs32(fix_sub32(a->dtc.act.speed_ref_iq, o->speed_iq));
+    err = fix_abs32(fix_sub32(law_speed_ref(&a->law), o->speed_iq));
     if (a->stall_n == 0U) {
         a->stall_err0_iq = err;
     }
@@ -301,7 +301,7 @@ uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
         if (check_trips(a, m, &a->st.meas) != 0U || check_encoder(a, m) != 0U) {
             return 1U;
         }
-        dtc_step(&a->dtc, &a->st.meas, &a->st.out);
+        law_step(&a->law, &a->st.meas, &a->st.out);
         if (check_stall(a) != 0U) {
             return 1U;
         }

@@ -30,20 +30,6 @@ static void dtc_adopt(dtc_t *c, const dtc_refs_t *r)
     }
 }
 
-static int16_t dtc_refs_check(const dtc_refs_t *r)
-{
-    if (r->mode > DTC_MODE_TORQUE) {
-        return DTC_ERR_VARIANT;
-    }
-    if (r->kp_iq < 0 || r->ki_ts_iq < 0) {
-        return DTC_ERR_PI;
-    }
-    if (r->flux_ref_iq <= 0) {
-        return DTC_ERR_REFERENCE;
-    }
-    return DTC_OK;
-}
-
 int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg)
 {
     int16_t err;
@@ -56,6 +42,9 @@ int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg)
     err = dtc_config_validate(cfg);
     if (err != DTC_OK) {
         return err;
+    }
+    if (cfg->law != DTC_LAW_PM_DTC) {
+        return DTC_ERR_VARIANT; /* another law's configuration (law.h dispatches) */
     }
     c->cfg = cfg;
 
@@ -84,8 +73,7 @@ int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg)
     c->act.mode = cfg->speed.mode;
     c->te_ref_iq = 0;
     dtc_adopt(c, &r);
-    c->shadow_seq = 0U;
-    c->adopted_seq = 0U;
+    dtc_shadow_init(&c->sh);
 
     flux_est_init(&c->fe, &c->fe_p);
     speed_meas_init(&c->sm, &c->sm_p, 0U);
@@ -118,22 +106,7 @@ void dtc_reset(dtc_t *c)
 
 int16_t dtc_shadow_write(dtc_t *c, const dtc_refs_t *r)
 {
-    int16_t err = dtc_refs_check(r);
-    uint16_t seq;
-
-    if (err != DTC_OK) {
-        return err;
-    }
-    seq = c->shadow_seq;
-    c->shadow_seq = (uint16_t)((seq | 1U) == seq ? seq + 2U : seq + 1U); /* odd: writing */
-    c->sh_speed_ref_iq = r->speed_ref_iq;
-    c->sh_torque_ref_iq = r->torque_ref_iq;
-    c->sh_flux_ref_iq = r->flux_ref_iq;
-    c->sh_kp_iq = r->kp_iq;
-    c->sh_ki_ts_iq = r->ki_ts_iq;
-    c->sh_mode = r->mode;
-    c->shadow_seq = (uint16_t)(c->shadow_seq + 1U); /* even: complete */
-    return DTC_OK;
+    return dtc_shadow_publish(&c->sh, r);
 }
 
 void dtc_refs_get(const dtc_t *c, dtc_refs_t *r)
@@ -152,14 +125,8 @@ void dtc_refs_get(const dtc_t *c, dtc_refs_t *r)
 void dtc_shadow_adopt(dtc_t *c, uint16_t seq)
 {
     dtc_refs_t r;
-    r.speed_ref_iq = c->sh_speed_ref_iq;
-    r.torque_ref_iq = c->sh_torque_ref_iq;
-    r.flux_ref_iq = c->sh_flux_ref_iq;
-    r.kp_iq = c->sh_kp_iq;
-    r.ki_ts_iq = c->sh_ki_ts_iq;
-    r.mode = c->sh_mode;
+    dtc_shadow_take(&c->sh, seq, &r);
     dtc_adopt(c, &r);
-    c->adopted_seq = seq;
 }
 
 /* Torque mode: the reference in force, with the mean-torque trim. External linkage on purpose
@@ -227,10 +194,9 @@ static iq_t dtc_leg_dt(uint16_t prev, uint16_t cur, iq_t i, iq_t e)
  * is the mid-point and never switches). Phase currents from the two measured ones (clarke.h:
  * SSTP a, b; FSTP b, c), the third by Kirchhoff. Scaling: e = V_dc * T_d/T_s (IQ x Q15, rounded),
  * the leg errors are 0 or +-e, vrec_from_legs saturates. */
-void dtc_deadtime(const dtc_t *c, const dtc_meas_t *m, const swtab_legs_t *prev,
+void dtc_deadtime(const dtc_config_t *cfg, const dtc_meas_t *m, const swtab_legs_t *prev,
                   const swtab_legs_t *cur, iq_t *dva, iq_t *dvb)
 {
-    const dtc_config_t *cfg = c->cfg;
     iq_t e = iq_mpy_q15(m->vdc_iq, cfg->board.td_ts_q15);
     iq_t ia, ib, ic, ea;
     if (cfg->board.topology == DTC_TOPO_FSTP) {
@@ -301,8 +267,8 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
 
     /* 1. Shadow set: adopt a complete, not yet adopted set (sequence number even). */
     {
-        uint16_t seq = c->shadow_seq;
-        if ((seq & 1U) == 0U && seq != c->adopted_seq) {
+        uint16_t seq = dtc_shadow_pending(&c->sh);
+        if (seq != 0U) {
             dtc_shadow_adopt(c, seq);
         }
     }
@@ -333,7 +299,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         fin.v_alpha_iq = fix_add32(fin.v_alpha_iq, vfa);
         fin.v_beta_iq = fix_add32(fin.v_beta_iq, vfb);
         if (cfg->est.deadtime_comp != 0U) {
-            dtc_deadtime(c, m, &c->legs_3, &c->legs_2, &vfa, &vfb);
+            dtc_deadtime(cfg, m, &c->legs_3, &c->legs_2, &vfa, &vfb);
             fin.v_alpha_iq = fix_add32(fin.v_alpha_iq, vfa);
             fin.v_beta_iq = fix_add32(fin.v_beta_iq, vfb);
         }
@@ -391,7 +357,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         c->v1d_alpha_iq = 0;
         c->v1d_beta_iq = 0;
         if (cfg->est.deadtime_comp != 0U) {
-            dtc_deadtime(c, m, &c->legs_2, &c->legs_1, &c->v1d_alpha_iq, &c->v1d_beta_iq);
+            dtc_deadtime(cfg, m, &c->legs_2, &c->legs_1, &c->v1d_alpha_iq, &c->v1d_beta_iq);
         }
         dtc_predict(c, &i, &psi_a, &psi_b, &te);
     }
@@ -440,4 +406,6 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     o->speed_iq = c->speed_iq;
     o->theta_e = c->fe.theta_e;
     o->on_cm = cfg->est.estimator == DTC_EST_CURRENT ? 1U : c->on_cm;
+    o->psi_ref_iq = c->act.flux_ref_iq;
+    o->psir_mag_iq = 0;
 }

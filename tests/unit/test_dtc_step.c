@@ -400,7 +400,7 @@ static void test_deadtime_error(void **state)
                     }
                     double wa = (2 * e[0] - e[1] - e[2]) / 3.0, wb = (e[1] - e[2]) / sqrt(3.0);
                     iq_t da, db;
-                    dtc_deadtime(&c, &me, &p, &q, &da, &db);
+                    dtc_deadtime(c.cfg, &me, &p, &q, &da, &db);
                     fixtest_assert_lsb(fixtest_iq_to_d(da), wa, 1.0 / 16777216.0, 3.0, "dead time alpha");
                     fixtest_assert_lsb(fixtest_iq_to_d(db), wb, 1.0 / 16777216.0, 3.0, "dead time beta");
                 }
@@ -476,11 +476,11 @@ static void test_shadow_set_and_modes(void **state)
     assert_int_equal(got.flux_ref_iq, IQ(0.40));
 
     /* a write interrupted half-way (sequence odd) is not adopted */
-    c.shadow_seq = (uint16_t)(c.shadow_seq + 1U);
-    c.sh_torque_ref_iq = IQ(-0.1);
+    c.sh.seq = (uint16_t)(c.sh.seq + 1U);
+    c.sh.torque_ref_iq = IQ(-0.1);
     sim_period(&s, &c, &o);
     fixtest_assert_lsb(fixtest_iq_to_d(o.te_ref_iq), 0.35, 1.0 / 16777216.0, 0.5, "not half");
-    c.shadow_seq = (uint16_t)(c.shadow_seq + 1U); /* the writer completes */
+    c.sh.seq = (uint16_t)(c.sh.seq + 1U); /* the writer completes */
     sim_period(&s, &c, &o);
     dtc_refs_get(&c, &got);
     assert_int_equal(got.torque_ref_iq, IQ(-0.1));
