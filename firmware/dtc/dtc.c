@@ -146,11 +146,8 @@ void dtc_shadow_adopt(dtc_t *c, uint16_t seq)
 void dtc_torque_trim(dtc_t *c, iq_t te)
 {
     const dtc_config_t *cfg = c->cfg;
-    const iq_t lim = fix_rshift_rnd32(cfg->speed.torque_limit_iq, 2U);
-    iq_t d = iq_mpy_q15(iq_sub(c->act.torque_ref_iq, te), cfg->speed.torque_trim_k_q15);
-    c->te_trim_iq = iq_sat(iq_add(c->te_trim_iq, d), fix_neg32(lim), lim);
-    c->te_ref_iq = iq_sat(iq_add(c->act.torque_ref_iq, c->te_trim_iq),
-                          fix_neg32(cfg->speed.torque_limit_iq), cfg->speed.torque_limit_iq);
+    c->te_ref_iq = dtc_trim_step(&c->te_trim_iq, c->act.torque_ref_iq, te,
+                                 cfg->speed.torque_trim_k_q15, cfg->speed.torque_limit_iq);
 }
 
 /* Hand-over between the current and the voltage model (dtc_config.h), on the measured speed

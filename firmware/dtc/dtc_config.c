@@ -146,7 +146,7 @@ static int16_t dtc_speed_check(const dtc_speed_cfg_t *s, uint16_t law, const cha
         DTC_REFUSE(s->inv_psir_sq_iq <= 0, DTC_ERR_REFERENCE, "speed.inv_psir_sq_iq");
         DTC_REFUSE(s->im_gain_w_iq <= 0, DTC_ERR_SPEED, "speed.im_gain_w_iq");
         DTC_REFUSE(s->im_speed_filt_q31 <= 0, DTC_ERR_SPEED, "speed.im_speed_filt_q31");
-        DTC_REFUSE(s->im_magn_frac_q15 <= 0, DTC_ERR_STARTUP, "speed.im_magn_frac_q15");
+        DTC_REFUSE(s->im_magn_periods == 0U, DTC_ERR_STARTUP, "speed.im_magn_periods");
     }
     return DTC_OK;
 }

@@ -251,9 +251,9 @@ typedef struct {
     /* IM sensorless speed (im_ref.h). */
     iq_t im_gain_w_iq;            /* 2 pi / (65536 Ts_pu): pu speed of one angle_t LSB per period */
     q31_t im_speed_filt_q31;      /* 1 - exp(-Ts / T_filter) */
-    /* IM start-up (Casadei Fig. 17b): the torque reference is held at zero until the rotor-flux
-     * estimate reaches this fraction of its reference. */
-    q15_t im_magn_frac_q15;       /* (0, 1) */
+    /* IM start-up (Casadei Fig. 17b): the torque reference is held at zero for this many control
+     * periods after a reset while the machine is magnetised (im_dtc.h). > 0. */
+    uint16_t im_magn_periods;
 } dtc_speed_cfg_t;
 
 struct dtc_config {

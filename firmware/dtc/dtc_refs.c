@@ -42,6 +42,14 @@ int16_t dtc_shadow_publish(dtc_shadow_t *s, const dtc_refs_t *r)
     return DTC_OK;
 }
 
+iq_t dtc_trim_step(iq_t *trim_iq, iq_t ref_iq, iq_t te_iq, q15_t k_q15, iq_t limit_iq)
+{
+    const iq_t lim = fix_rshift_rnd32(limit_iq, 2U);
+    const iq_t d = iq_mpy_q15(iq_sub(ref_iq, te_iq), k_q15);
+    *trim_iq = iq_sat(iq_add(*trim_iq, d), fix_neg32(lim), lim);
+    return iq_sat(iq_add(ref_iq, *trim_iq), fix_neg32(limit_iq), limit_iq);
+}
+
 void dtc_shadow_take(dtc_shadow_t *s, uint16_t seq, dtc_refs_t *r)
 {
     r->speed_ref_iq = s->speed_ref_iq;

@@ -54,4 +54,10 @@ static inline uint16_t dtc_shadow_pending(const dtc_shadow_t *s)
  * adopted. */
 void dtc_shadow_take(dtc_shadow_t *s, uint16_t seq, dtc_refs_t *r);
 
+/* Torque mode, every law: the mean-torque trim (dtc.c dtc_torque_trim explains why it exists).
+ * trim += k (T* - T_est), limited to +-limit/4; returns T* + trim limited to +-limit.
+ * Scaling and overflow: the error is IQ pu, times a Q15 gain < 1; the sums saturate and are
+ * clamped (limit > 0, validated). */
+iq_t dtc_trim_step(iq_t *trim_iq, iq_t ref_iq, iq_t te_iq, q15_t k_q15, iq_t limit_iq);
+
 #endif /* DTC_REFS_H */

@@ -7,7 +7,7 @@
 #include "torque.h"
 #include "vrec.h"
 
-/* The rotor-flux reference of the improved estimator (eq. 20) and of the start-up threshold: the
+/* The rotor-flux reference of the improved estimator (eq. 20): the
  * constant rotor flux of eq. 19 when configured, else the no-load rotor flux of the stator-flux
  * reference, phi_r = (m/l_s) phi_s (the T model at zero slip). Rounded IQ products. */
 void im_dtc_psir_ref(im_dtc_t *c, iq_t psi_s_ref_iq)
@@ -15,7 +15,6 @@ void im_dtc_psir_ref(im_dtc_t *c, iq_t psi_s_ref_iq)
     const dtc_config_t *cfg = c->cfg;
     c->psir_ref_iq = cfg->speed.psir_ref_iq > 0 ? cfg->speed.psir_ref_iq
                                                  : iq_mpy(cfg->machine.im.inv_ks_iq, psi_s_ref_iq);
-    c->psir_on_iq = iq_mpy_q15(c->psir_ref_iq, cfg->speed.im_magn_frac_q15);
 }
 
 /* A reference set in force: references clamped to their limits, speed-PI gains; a change to
@@ -37,6 +36,9 @@ void im_dtc_apply(im_dtc_t *c, const dtc_refs_t *r)
     c->pi_p.ki_ts_iq = r->ki_ts_iq;
     if (old_mode != DTC_MODE_SPEED && r->mode == DTC_MODE_SPEED) {
         speed_pi_reset(&c->pi, c->te_cmd_iq, cfg->speed.torque_limit_iq);
+    }
+    if (old_mode != r->mode) {
+        c->te_trim_iq = 0;
     }
     im_dtc_psir_ref(c, r->flux_ref_iq);
 }
@@ -62,11 +64,13 @@ void im_dtc_reset(im_dtc_t *c)
     c->dsc_on = 0U;
     c->div_cnt = 0U;
     c->magnetised = 0U;
+    c->magn_n = 0U;
     c->legs_1 = off;
     c->legs_2 = off;
     c->legs_3 = off;
     c->vec_1 = 0U;
     c->te_cmd_iq = 0;
+    c->te_trim_iq = 0;
     c->te_ref_iq = 0;
     c->psi_ref_iq = c->act.flux_ref_iq;
     c->speed_iq = 0;
@@ -120,7 +124,9 @@ void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m, const clarke_out_t *i)
 /* Speed: the sensorless estimate runs every period (the rotor-flux angle's per-period change,
  * Casadei eq. 22, minus the slip of eq. 16 with the estimated torque te, im_ref.h); the speed in
  * use and the speed PI change every speed_div-th period, as in the PM law. The PI is held at rest
- * during the start-up magnetisation; in torque mode the command is the reference in force. */
+ * during the start-up magnetisation; in torque mode the command is the reference in force with
+ * the mean-torque trim of the PM law (dtc_trim_step: with the actuation delay and zero bands the
+ * bang-bang torque settles below T* by about half its ripple). */
 void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
 {
     const dtc_config_t *cfg = c->cfg;
@@ -143,12 +149,16 @@ void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
     }
     c->div_cnt = (uint16_t)(c->div_cnt + 1U >= cfg->speed.speed_div ? 0U : c->div_cnt + 1U);
     if (c->act.mode == DTC_MODE_TORQUE) {
-        c->te_cmd_iq = c->act.torque_ref_iq;
+        /* the torque reference with the mean-torque trim (as the PM law), once torque is allowed */
+        c->te_cmd_iq = c->magnetised != 0U
+                           ? dtc_trim_step(&c->te_trim_iq, c->act.torque_ref_iq, te,
+                                           cfg->speed.torque_trim_k_q15, cfg->speed.torque_limit_iq)
+                           : c->act.torque_ref_iq;
     }
 }
 
 /* References in force for this period:
- *   start-up (Fig. 17b): T* = 0 and phi_s* at its no-load value until |phi_r| >= psir_on;
+ *   start-up (Fig. 17b): T* = 0 and phi_s* at its no-load value for im_magn_periods;
  *   flux weakening (section 12, im_fw.h): phi_s* from the null-vector monitor (the vector of the
  *     previous step is the one applied now), T* by eqs. 33-34; the estimator's rotor-flux
  *     reference follows phi_s* (no-load ratio m/l_s);
@@ -160,7 +170,7 @@ void im_dtc_refs(im_dtc_t *c)
     const dtc_im_machine_cfg_t *im = &cfg->machine.im;
     iq_t te = c->te_cmd_iq;
 
-    if (c->magnetised == 0U && c->est.psir_mag_iq >= c->psir_on_iq) {
+    if (c->magnetised == 0U && ++c->magn_n >= cfg->speed.im_magn_periods) {
         c->magnetised = 1U;
     }
     if (c->magnetised == 0U) {

@@ -25,7 +25,11 @@
  *   -> leg states for the next period.
  *
  * Start-up (Casadei section 10.2, Fig. 17b): after a reset the torque reference is held at zero
- * and the speed PI at rest until the estimated rotor flux reaches im_magn_frac of its reference.
+ * and the speed PI at rest for im_magn_periods control periods. The estimate cannot tell when the
+ * machine is magnetised: at DC the improved estimator's correction (eq. 20) pulls the estimated
+ * rotor flux to its reference within tau whatever the machine's, while the machine's rotor flux
+ * rises as 1 - exp(-t/tau_r) (eq. 9 with the estimator's DC error: d phi_r/dt = -(r_r/l_r)
+ * (phi_r - phi_r*)); the host converts the fraction to reach into that time.
  * Meanwhile the flux is built by the radial vector: the active vector V_k of the stator flux's
  * own sector k while the flux comparator asks for more flux, a null vector otherwise. V_k lies
  * within +-30 degrees of the flux: it raises |phi_s| and applies almost no torque, so the phase
@@ -95,10 +99,11 @@ typedef struct {
     swtab_legs_t legs_3;  /* returned three steps ago (dead time) */
     uint16_t vec_1;       /* vector returned by the previous step */
     iq_t te_cmd_iq;       /* torque command: speed PI output or the torque reference */
+    iq_t te_trim_iq;      /* torque mode: mean-torque trim (dtc_trim_step) */
     iq_t te_ref_iq;       /* torque reference in force (after start-up and eqs. 33-34) */
     iq_t psi_ref_iq;      /* stator-flux reference in force (eq. 19, section 12, or the set) */
     iq_t psir_ref_iq;     /* rotor-flux reference of the improved estimator (eq. 20) */
-    iq_t psir_on_iq;      /* start-up: rotor flux at which torque is allowed */
+    uint16_t magn_n;      /* start-up: periods of magnetisation so far */
     iq_t speed_iq;        /* electrical speed in use (encoder or estimated), pu */
 } im_dtc_t;
 

@@ -68,6 +68,7 @@ int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg)
     r.mode = cfg->speed.mode;
     c->act.mode = cfg->speed.mode;
     c->te_cmd_iq = 0;
+    c->te_trim_iq = 0;
     im_dtc_apply(c, &r);
     dtc_shadow_init(&c->sh);
     im_est_init(&c->est, &c->est_p);

@@ -99,6 +99,6 @@ const dtc_config_t g_dtc_config = {
         .inv_psir_sq_iq = 0, /* 0 pu */
         .im_gain_w_iq = 0, /* 0 pu */
         .im_speed_filt_q31 = 0, /* 0 */
-        .im_magn_frac_q15 = 0, /* 0, Q15 */
+        .im_magn_periods = 0U,
     },
 };

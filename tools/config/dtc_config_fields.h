@@ -52,5 +52,5 @@
     Q15(speed, torque_trim_k_q15) IQ(speed, speed_limit_iq) IQ(speed, flux_ref_iq)                 \
     IQ(speed, speed_ref_iq) IQ(speed, torque_ref_iq) IQ(speed, psir_ref_iq)                        \
     IQ(speed, inv_psir_ref_iq) IQ(speed, inv_psir_sq_iq) IQ(speed, im_gain_w_iq)                   \
-    Q31(speed, im_speed_filt_q31) Q15(speed, im_magn_frac_q15)                                     \
+    Q31(speed, im_speed_filt_q31) U(speed, im_magn_periods)                                        \
     END(speed)

@@ -296,7 +296,15 @@ static void im_from_si(conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *
                                       (b->psi_base_wb / psir) * (b->psi_base_wb / psir));
     cfg->speed.im_gain_w_iq = to_iq(c, "ts_s (angle-to-speed gain)", si->ts_s, 2.0 * M_PI / (65536.0 * tsp));
     cfg->speed.im_speed_filt_q31 = to_q31(c, "speed_filter_s", 1.0 - exp(-si->ts_s / si->speed_filter_s));
-    cfg->speed.im_magn_frac_q15 = (q15_t)lround(32768.0 * si->magn_frac);
+    {
+        /* Start-up (im_dtc.h): with the stator flux held by the law and the improved estimator,
+         * the rotor flux rises as 1 - exp(-t/tau_r), tau_r = L_r/R_r (Casadei eq. 9 with the
+         * estimator's error eq. 20 at DC: d phi_r/dt = -(R_r/L_r)(phi_r - phi_r*)). */
+        const double tau_r = lr / si->rr_ohm;
+        const double n = ceil(tau_r * log(1.0 / (1.0 - si->magn_frac)) / si->ts_s);
+        if (!(n >= 1.0 && n <= 65535.0)) { fail(c, DTC_SI_ERR_IM, "magn_frac = %g: the magnetisation time %g s is not 1..65535 periods of ts_s", si->magn_frac, n * si->ts_s); return; }
+        cfg->speed.im_magn_periods = (uint16_t)n;
+    }
 }
 
 int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, size_t msg_len)

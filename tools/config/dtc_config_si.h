@@ -103,7 +103,8 @@ typedef struct {
     double table_speed_rpm; /* DTC_ST_SPEED: ST-D below, ST-A above; 0 = derived
                              * (dtc_table_speed_default_rpm) */
     double speed_filter_s;  /* sensorless speed: filter time constant of the flux angular speed */
-    double magn_frac;       /* start-up: torque allowed once |phi_r| >= magn_frac * its reference */
+    double magn_frac;       /* start-up: torque allowed once the rotor flux has reached this
+                             * fraction of its reference: after tau_r ln(1/(1 - magn_frac)) */
     int flux_weakening;     /* 1: Casadei section 12 */
     int fw_window;          /* N control periods per flux-reference decision (>= 20) */
     double fw_step_frac;    /* flux-reference step per decision, fraction of flux_ref_wb */
