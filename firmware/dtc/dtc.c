@@ -194,8 +194,13 @@ static iq_t dtc_leg_dt(uint16_t prev, uint16_t cur, iq_t i, iq_t e)
 void dtc_deadtime(const dtc_config_t *cfg, const dtc_meas_t *m, const swtab_legs_t *prev,
                   const swtab_legs_t *cur, iq_t *dva, iq_t *dvb)
 {
-    iq_t e = iq_mpy_q15(m->vdc_iq, cfg->board.td_ts_q15);
-    iq_t ia, ib, ic, ea;
+    iq_t e, ia, ib, ic, ea;
+    if (prev->sa == cur->sa && prev->sb == cur->sb && prev->sc == cur->sc) {
+        *dva = 0; /* no leg changed: no dead-time error (most periods; the sum below is 0 then) */
+        *dvb = 0;
+        return;
+    }
+    e = iq_mpy_q15(m->vdc_iq, cfg->board.td_ts_q15);
     if (cfg->board.topology == DTC_TOPO_FSTP) {
         ib = m->ib_iq;
         ic = m->ic_iq;

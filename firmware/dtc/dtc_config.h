@@ -249,8 +249,9 @@ typedef struct {
     iq_t inv_psir_ref_iq;         /* 1 / psir_ref (eq. 19), 0 when psir_ref is 0 */
     iq_t inv_psir_sq_iq;          /* 1 / (rotor-flux reference)^2 (eq. 16 slip), > 0 for the IM */
     /* IM sensorless speed (im_ref.h). */
-    iq_t im_gain_w_iq;            /* 2 pi / (65536 Ts_pu): pu speed of one angle_t LSB per period */
-    q31_t im_speed_filt_q31;      /* 1 - exp(-Ts / T_filter) */
+    iq_t im_gain_w_iq;            /* 2 pi / (65536 T_speed w_base): pu speed of one angle_t LSB
+                                   * per speed period T_speed = speed_div Ts (im_ref.h) */
+    q31_t im_speed_filt_q31;      /* 1 - exp(-T_speed / T_filter) */
     /* IM start-up (Casadei Fig. 17b): the torque reference is held at zero for this many control
      * periods after a reset while the machine is magnetised (im_dtc.h). > 0. */
     uint16_t im_magn_periods;

@@ -65,6 +65,7 @@ void im_dtc_reset(im_dtc_t *c)
     c->div_cnt = 0U;
     c->magnetised = 0U;
     c->magn_n = 0U;
+    c->ref_due = 1U;
     c->legs_1 = off;
     c->legs_2 = off;
     c->legs_3 = off;
@@ -95,35 +96,33 @@ void im_dtc_adopt(im_dtc_t *c, uint16_t seq)
     im_dtc_apply(c, &r);
 }
 
-/* Stator voltage of the period that ends now (legs returned two steps ago, measured V_dc, Casadei
- * eq. 2 / Hoang eqs. 1-5), with the drop (vcomp) and dead-time compensations, then the flux
- * estimator (Casadei eq. 1 or eqs. 20-22, im_est.h) with the rotor-flux reference and the speed
- * for tau. */
-void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m, const clarke_out_t *i)
+/* The estimator's input: the stator voltage of the period that ends now (legs returned two steps
+ * ago, measured V_dc, Casadei eq. 2 / Hoang eqs. 1-5) with the drop (vcomp) and dead-time
+ * compensations, the currents, the rotor-flux reference and the speed for tau. (im_dtc_step then
+ * calls the estimator itself: one call level less on the deepest stack path.) */
+void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m)
 {
     const dtc_config_t *cfg = c->cfg;
-    im_est_in_t in;
-    iq_t va, vb;
+    im_est_in_t *in = &c->ein;
 
-    vrec_sstp(c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, m->vdc_iq, &in.v_alpha_iq, &in.v_beta_iq);
-    vcomp_step(&c->vc_p, c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, i, &va, &vb);
-    in.v_alpha_iq = fix_add32(in.v_alpha_iq, va);
-    in.v_beta_iq = fix_add32(in.v_beta_iq, vb);
+    vrec_sstp(c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, m->vdc_iq, &in->v_alpha_iq, &in->v_beta_iq);
+    vcomp_step(&c->vc_p, c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, &c->i, &c->dva_iq, &c->dvb_iq);
+    in->v_alpha_iq = fix_add32(in->v_alpha_iq, c->dva_iq);
+    in->v_beta_iq = fix_add32(in->v_beta_iq, c->dvb_iq);
     if (cfg->est.deadtime_comp != 0U) {
-        dtc_deadtime(cfg, m, &c->legs_3, &c->legs_2, &va, &vb);
-        in.v_alpha_iq = fix_add32(in.v_alpha_iq, va);
-        in.v_beta_iq = fix_add32(in.v_beta_iq, vb);
+        dtc_deadtime(cfg, m, &c->legs_3, &c->legs_2, &c->dva_iq, &c->dvb_iq);
+        in->v_alpha_iq = fix_add32(in->v_alpha_iq, c->dva_iq);
+        in->v_beta_iq = fix_add32(in->v_beta_iq, c->dvb_iq);
     }
-    in.i_alpha_iq = i->i_alpha_iq;
-    in.i_beta_iq = i->i_beta_iq;
-    in.psir_ref_iq = c->psir_ref_iq;
-    in.speed_iq = c->speed_iq;
-    im_est_step(&c->est, &in);
+    in->i_alpha_iq = c->i.i_alpha_iq;
+    in->i_beta_iq = c->i.i_beta_iq;
+    in->psir_ref_iq = c->psir_ref_iq;
+    in->speed_iq = c->speed_iq;
 }
 
-/* Speed: the sensorless estimate runs every period (the rotor-flux angle's per-period change,
- * Casadei eq. 22, minus the slip of eq. 16 with the estimated torque te, im_ref.h); the speed in
- * use and the speed PI change every speed_div-th period, as in the PM law. The PI is held at rest
+/* Speed every speed_div-th period, as in the PM law: the encoder's, or the sensorless estimate
+ * (the rotor-flux angle's change over the speed period, Casadei eq. 22, minus the slip of eq. 16
+ * with the estimated torque te, im_ref.h), then the speed PI. The PI is held at rest
  * during the start-up magnetisation; in torque mode the command is the reference in force with
  * the mean-torque trim of the PM law (dtc_trim_step: with the actuation delay and zero bands the
  * bang-bang torque settles below T* by about half its ripple). */
@@ -131,9 +130,6 @@ void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
 {
     const dtc_config_t *cfg = c->cfg;
 
-    if (cfg->speed.sensor == DTC_SPEED_NONE) {
-        im_speed_step(&c->isp, &c->isp_p, c->est.theta_r, te, cfg->speed.inv_psir_sq_iq);
-    }
     o->speed_tick = 0U;
     if (c->speed_primed == 0U) {
         speed_meas_reset(&c->sm, m->enc_count);
@@ -141,8 +137,13 @@ void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
         c->div_cnt = 0U;
     } else if (c->div_cnt == 0U) {
         o->speed_tick = 1U;
-        c->speed_iq = cfg->speed.sensor == DTC_SPEED_NONE ? c->isp.speed_iq
-                                                           : speed_meas_step(&c->sm, m->enc_count);
+        if (cfg->speed.sensor == DTC_SPEED_NONE) {
+            im_speed_step(&c->isp, &c->isp_p, c->est.theta_r, te, cfg->speed.inv_psir_sq_iq);
+            c->speed_iq = c->isp.speed_iq;
+        } else {
+            c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
+        }
+        c->ref_due = 1U;
         if (c->act.mode == DTC_MODE_SPEED && c->magnetised != 0U) {
             c->te_cmd_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
         }
@@ -162,7 +163,8 @@ void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
  *   flux weakening (section 12, im_fw.h): phi_s* from the null-vector monitor (the vector of the
  *     previous step is the one applied now), T* by eqs. 33-34; the estimator's rotor-flux
  *     reference follows phi_s* (no-load ratio m/l_s);
- *   constant rotor flux: phi_s* from T* by eq. 19;
+ *   constant rotor flux: phi_s* from T* by eq. 19, evaluated once per speed period (T* changes
+ *     at that rate in speed mode; in torque mode phi_s* lags T* by at most speed_div periods);
  *   otherwise the stator-flux reference of the set in force. */
 void im_dtc_refs(im_dtc_t *c)
 {
@@ -175,17 +177,22 @@ void im_dtc_refs(im_dtc_t *c)
     }
     if (c->magnetised == 0U) {
         te = 0;
-        c->psi_ref_iq = cfg->speed.psir_ref_iq > 0
-                            ? im_ref_stator_flux(im->ks_iq, im->sigma_lr_iq, cfg->speed.psir_ref_iq,
-                                                 cfg->speed.inv_psir_ref_iq, 0)
-                            : c->act.flux_ref_iq;
+        /* eq. 19 at T* = 0: phi_s* = (l_s/m) phi_r* */
+        c->psi_ref_iq = cfg->speed.psir_ref_iq > 0 ? iq_mpy(im->ks_iq, cfg->speed.psir_ref_iq)
+                                                    : c->act.flux_ref_iq;
+        c->ref_due = 1U;
     } else if (cfg->sw.im_fw_on != 0U) {
         te = im_fw_step(&c->fw, &c->fw_p, (uint16_t)(c->vec_1 == 0U || c->vec_1 == 7U ? 1U : 0U), te);
         c->psi_ref_iq = c->fw.psi_ref_iq;
         im_dtc_psir_ref(c, c->psi_ref_iq);
     } else if (cfg->speed.psir_ref_iq > 0) {
-        c->psi_ref_iq = im_ref_stator_flux(im->ks_iq, im->sigma_lr_iq, cfg->speed.psir_ref_iq,
-                                           cfg->speed.inv_psir_ref_iq, te);
+        /* eq. 19 (a square root) once per speed period, on the step after the speed loop's (so
+         * that no step carries both), and on the first step with torque */
+        if (c->ref_due != 0U && c->div_cnt != 1U) {
+            c->psi_ref_iq = im_ref_stator_flux(im->ks_iq, im->sigma_lr_iq, cfg->speed.psir_ref_iq,
+                                               cfg->speed.inv_psir_ref_iq, te);
+            c->ref_due = 0U;
+        }
     } else {
         c->psi_ref_iq = c->act.flux_ref_iq;
     }
@@ -243,7 +250,6 @@ uint16_t im_dtc_select(im_dtc_t *c, iq_t te, dtc_out_t *o)
 
 void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
 {
-    clarke_out_t i;
     swtab_legs_t legs;
     iq_t te;
     uint16_t vec;
@@ -256,11 +262,12 @@ void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         }
     }
     /* 2. Clarke (Hoang eqs. 4-5, the same transform as Casadei's space vectors). */
-    clarke_sstp(m->ia_iq, m->ib_iq, &i);
+    clarke_sstp(m->ia_iq, m->ib_iq, &c->i);
     /* 3. Stator and rotor flux (Casadei eqs. 1, 20-22). */
-    im_dtc_estimate(c, m, &i);
+    im_dtc_estimate(c, m);
+    im_est_step(&c->est, &c->ein);
     /* 4. Torque (Casadei eq. A10 = Hoang eq. 10 in these bases). */
-    te = torque_eq10(c->est.psi_alpha_iq, c->est.psi_beta_iq, i.i_alpha_iq, i.i_beta_iq);
+    te = torque_eq10(c->est.psi_alpha_iq, c->est.psi_beta_iq, c->i.i_alpha_iq, c->i.i_beta_iq);
     /* 5. Speed and speed loop. */
     im_dtc_speed(c, m, te, o);
     /* 6. References: start-up, flux weakening, eq. 19. */

@@ -54,6 +54,7 @@
 
 #include <stdint.h>
 
+#include "clarke.h"
 #include "dsc.h"
 #include "dtc.h"
 #include "dtc_config.h"
@@ -104,7 +105,13 @@ typedef struct {
     iq_t psi_ref_iq;      /* stator-flux reference in force (eq. 19, section 12, or the set) */
     iq_t psir_ref_iq;     /* rotor-flux reference of the improved estimator (eq. 20) */
     uint16_t magn_n;      /* start-up: periods of magnetisation so far */
+    uint16_t ref_due;     /* eq. 19 to be evaluated (im_dtc_refs) */
     iq_t speed_iq;        /* electrical speed in use (encoder or estimated), pu */
+    /* working values of one step, kept here rather than on the stack (budget: <= 256 bytes of
+     * stack on the Cortex-M0 proxy, tools/bench) */
+    clarke_out_t i;       /* currents of this step */
+    im_est_in_t ein;      /* estimator input */
+    iq_t dva_iq, dvb_iq;  /* a compensation term */
 } im_dtc_t;
 
 /* Validates cfg (dtc_config_validate; law DTC_LAW_IM_DTC) and initialises c. Returns DTC_OK or an
@@ -125,7 +132,7 @@ void im_dtc_psir_ref(im_dtc_t *c, iq_t psi_s_ref_iq);
 void im_dtc_apply(im_dtc_t *c, const dtc_refs_t *r);
 /* Internal to im_dtc_step, out of line for the stack (as dtc.c's helpers). */
 void im_dtc_adopt(im_dtc_t *c, uint16_t seq);
-void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m, const clarke_out_t *i);
+void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m);
 void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o);
 void im_dtc_refs(im_dtc_t *c);
 uint16_t im_dtc_select(im_dtc_t *c, iq_t te, dtc_out_t *o);

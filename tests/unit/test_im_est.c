@@ -89,7 +89,7 @@ static void test_polar_against_atan2_and_hypot(void **state)
     }
     printf("MEASURE fix_polar: worst angle error %.3f LSB, worst magnitude error %.3f LSB beyond 6e-8 relative\n",
            worst_a, worst_m);
-    assert_true(worst_a <= 0.58);
+    assert_true(worst_a <= 0.86); /* fixmath.h: residual atan(2^-15) 0.32 + rounding 0.5 + shifts */
     assert_true(worst_m <= 1.0);
     angle_t a = 77U;
     iq_t m = 5;

@@ -241,7 +241,7 @@ static void im_from_si(conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *
     if (!(si->tau_lo_s > si->ts_s && si->tau_hi_s > si->ts_s)) { fail(c, DTC_SI_ERR_IM, "tau_lo_s = %g, tau_hi_s = %g: must be longer than ts_s", si->tau_lo_s, si->tau_hi_s); return; }
     if (!(si->tau_w_lo_rpm >= 0.0 && si->tau_w_hi_rpm >= si->tau_w_lo_rpm)) { fail(c, DTC_SI_ERR_IM, "tau_w_hi_rpm = %g: need 0 <= tau_w_lo_rpm <= tau_w_hi_rpm", si->tau_w_hi_rpm); return; }
     if (!(si->table_speed_rpm >= 0.0)) { fail(c, DTC_SI_ERR_IM, "table_speed_rpm = %g: must be >= 0 (0 = derived)", si->table_speed_rpm); return; }
-    if (!(si->speed_filter_s > si->ts_s)) { fail(c, DTC_SI_ERR_IM, "speed_filter_s = %g: must be longer than ts_s", si->speed_filter_s); return; }
+    if (!(si->speed_filter_s > si->ts_s * si->speed_div)) { fail(c, DTC_SI_ERR_IM, "speed_filter_s = %g: must be longer than the speed period ts_s * speed_div", si->speed_filter_s); return; }
     if (!(si->magn_frac > 0.0 && si->magn_frac < 1.0)) { fail(c, DTC_SI_ERR_IM, "magn_frac = %g: must be in (0, 1)", si->magn_frac); return; }
     if (si->flux_weakening != 0 && si->flux_weakening != 1) { fail(c, DTC_SI_ERR_IM, "flux_weakening = %d: must be 0 or 1", si->flux_weakening); return; }
     if (si->fw_window < 20 || si->fw_window > 65535) { fail(c, DTC_SI_ERR_IM, "fw_window = %d: must be 20..65535 (section 12.3: at most one flux-reference change per 20 periods)", si->fw_window); return; }
@@ -294,8 +294,11 @@ static void im_from_si(conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *
         ? to_iq(c, "psir_ref_wb (1/phi_r*)", si->psir_ref_wb, b->psi_base_wb / si->psir_ref_wb) : 0;
     cfg->speed.inv_psir_sq_iq = to_iq(c, "psir_ref_wb (1/phi_r*^2)", psir,
                                       (b->psi_base_wb / psir) * (b->psi_base_wb / psir));
-    cfg->speed.im_gain_w_iq = to_iq(c, "ts_s (angle-to-speed gain)", si->ts_s, 2.0 * M_PI / (65536.0 * tsp));
-    cfg->speed.im_speed_filt_q31 = to_q31(c, "speed_filter_s", 1.0 - exp(-si->ts_s / si->speed_filter_s));
+    /* sensorless speed once per speed period T_speed = speed_div Ts (im_ref.h) */
+    cfg->speed.im_gain_w_iq = to_iq(c, "ts_s (angle-to-speed gain)", si->ts_s,
+                                    2.0 * M_PI / (65536.0 * tsp * si->speed_div));
+    cfg->speed.im_speed_filt_q31 = to_q31(c, "speed_filter_s",
+                                          1.0 - exp(-si->ts_s * si->speed_div / si->speed_filter_s));
     {
         /* Start-up (im_dtc.h): with the stator flux held by the law and the improved estimator,
          * the rotor flux rises as 1 - exp(-t/tau_r), tau_r = L_r/R_r (Casadei eq. 9 with the
