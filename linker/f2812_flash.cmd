@@ -9,8 +9,8 @@
  *   ramfuncs    loaded in flash, copied at start-up by hal_init() into L0+L1 (8K words, zero-wait)
  *               and run there: the ADC ISR glue, hal_read/hal_write/hal_gates_off, the PDPINTA ISR,
  *               the flash wait-state set-up (must not run from flash), and ALL of the control
- *               firmware's shared blocks and PM law (libdtc_firmware.a: code and its fixed-point
- *               tables), so the 50 us path never waits on flash (5 wait states at 150 MHz, fact
+ *               firmware's shared blocks, PM law and small IM blocks (libdtc_firmware.a: code and
+ *               its fixed-point tables), so the 50 us path never waits on flash (5 wait states at 150 MHz, fact
  *               sheet 4.7). The configuration's validation (libdtc_config.a) runs at init only
  *               and stays in flash (.text).
  *   ramfuncs_h  the same for the fixed-point core, the induction-machine law and the application

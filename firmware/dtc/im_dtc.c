@@ -98,7 +98,8 @@ void im_dtc_adopt(im_dtc_t *c, uint16_t seq)
 
 /* The estimator's input: the stator voltage of the period that ends now (legs returned two steps
  * ago, measured V_dc, Casadei eq. 2 / Hoang eqs. 1-5) with the drop (vcomp) and dead-time
- * compensations, the currents, the rotor-flux reference and the speed for tau. (im_dtc_step then
+ * compensations, the currents, the rotor-flux reference, the speed for tau, and whether the angle
+ * is wanted (speed-loop periods). (im_dtc_step then
  * calls the estimator itself: one call level less on the deepest stack path.) */
 void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m)
 {
@@ -118,6 +119,8 @@ void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m)
     in->i_beta_iq = c->i.i_beta_iq;
     in->psir_ref_iq = c->psir_ref_iq;
     in->speed_iq = c->speed_iq;
+    /* the rotor-flux angle (CORDIC) only where the speed loop runs: sensorless speed, telemetry */
+    in->want_angle = (uint16_t)(c->div_cnt == 0U ? 1U : 0U);
 }
 
 /* Speed every speed_div-th period, as in the PM law: the encoder's, or the sensorless estimate
@@ -296,7 +299,7 @@ void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     o->te_iq = te;
     o->te_ref_iq = c->te_ref_iq;
     o->speed_iq = c->speed_iq;
-    o->theta_e = c->est.theta_r;
+    o->theta_e = c->est.theta_r; /* updated on the speed-loop periods */
     o->on_cm = 0U;
     o->psi_ref_iq = c->psi_ref_iq;
     o->psir_mag_iq = c->est.psir_mag_iq;

@@ -10,8 +10,9 @@
 #              that the image links (those f2812_main.c and the HAL reference, directly or not: a
 #              linker pulls only referenced archive members, so a control law the application does
 #              not call is not in the image). linker/f2812_*.cmd places all of them in zero-wait
-#              RAM (.text and the constant tables): libdtc_firmware.a (shared blocks, PM law) in
-#              ramfuncs (L0+L1; H0 in the RAM build), libdtc_fixmath.a, libdtc_im.a (IM law) and
+#              RAM (.text and the constant tables): libdtc_firmware.a (shared blocks, PM law, the
+#              small IM blocks) in ramfuncs (L0+L1; H0 in the RAM build), libdtc_fixmath.a,
+#              libdtc_im.a (IM law and estimator) and
 #              libdtc_app.a in ramfuncs_h (7K words of H0; L1 in the RAM build), so all of them
 #              are ISR path. libdtc_config.a and libdtc_init.a (the configuration's validation,
 #              the IM law's init: init only) stay in flash and are printed for information. The members are found by a relocatable link

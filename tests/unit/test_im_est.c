@@ -130,7 +130,7 @@ static void test_improved_estimator_magnetises_from_zero_as_eq20_says(void **sta
     im_est_params_t pv = p;
     pv.estimator = IM_EST_VOLTAGE;
     im_est_init(&v, &pv);
-    im_est_in_t in = {0, 0, 0, 0, fixtest_d_to_iq(psir_ref), 0};
+    im_est_in_t in = {0, 0, 0, 0, fixtest_d_to_iq(psir_ref), 0, 0};
     const double kr = kLr / kLm;
     double worst = 0.0;
     for (int k = 1; k <= 2000; ++k) { /* 80 ms = 8 tau / k_r */
@@ -191,7 +191,7 @@ static void test_improved_estimator_tracks_double_reference_in_steady_state(void
         double v[2], i[2];
         steady_state_inputs(k, v, i);
         im_est_in_t in = {fixtest_d_to_iq(v[0]), fixtest_d_to_iq(v[1]), fixtest_d_to_iq(i[0]), fixtest_d_to_iq(i[1]),
-                          fixtest_d_to_iq(psir_ref), fixtest_d_to_iq(SS_W)};
+                          fixtest_d_to_iq(psir_ref), fixtest_d_to_iq(SS_W), 0};
         im_est_step(&s, &in);
         ref_step(&r, K, v, i, psir_ref);
         if (k > 1000) {
@@ -218,7 +218,7 @@ static double improved_steady_error(double rel)
         double v[2], i[2];
         steady_state_inputs(k, v, i);
         im_est_in_t in = {fixtest_d_to_iq(v[0]), fixtest_d_to_iq(v[1]), fixtest_d_to_iq(i[0]), fixtest_d_to_iq(i[1]),
-                          fixtest_d_to_iq((1.0 + rel) * kLr / kLm * steady_state_x()), fixtest_d_to_iq(SS_W)};
+                          fixtest_d_to_iq((1.0 + rel) * kLr / kLm * steady_state_x()), fixtest_d_to_iq(SS_W), 0};
         im_est_step(&s, &in);
     }
     return hypot(fixtest_iq_to_d(s.psi_alpha_iq) - SS_PSI * cos(SS_W * n * kTs),

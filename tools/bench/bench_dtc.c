@@ -13,7 +13,7 @@
  * period), sensorless speed and the speed-dependent table, with the defaults' SSTP drop and
  * dead-time compensation: the variant with the most work per step (the machine is fed by the
  * ideal inverter; the compensation's cost does not depend on that). The start-up magnetisation (cheaper steps) runs through a third wrapper that the script
- * leaves out.
+ * leaves out. `bench_dtc N im ideal`: the same without the drop and dead-time compensation.
  */
 #include <math.h>
 #include <stdio.h>
@@ -63,7 +63,7 @@ __attribute__((noinline)) void bench_im_start(im_dtc_t *c, const dtc_meas_t *m, 
     im_dtc_step(c, m, o);
 }
 
-static int run_im(long n)
+static int run_im(long n, int ideal)
 {
     dtc_config_si_t si;
     dtc_config_t cfg;
@@ -77,6 +77,10 @@ static int run_im(long n)
     double ls, lr, theta = 0.0;
 
     dtc_config_si_im_defaults(&si); /* SSTP drop ([29]) and dead-time compensation on */
+    if (ideal) { /* `bench_dtc N im ideal`: both compensations off */
+        si.compensation = DTC_COMP_NONE;
+        si.deadtime_comp = 0;
+    }
     si.tau_lo_s = 0.01;
     si.tau_hi_s = 0.05;
     si.tau_w_lo_rpm = 100.0;
@@ -138,7 +142,7 @@ int main(int argc, char **argv)
 {
     long n = argc > 1 ? atol(argv[1]) : 20000;
     if (argc > 2 && strcmp(argv[2], "im") == 0) {
-        return run_im(n);
+        return run_im(n, argc > 3 && strcmp(argv[3], "ideal") == 0);
     }
     dtc_config_si_t si;
     dtc_config_t cfg;
