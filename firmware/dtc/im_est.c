@@ -49,10 +49,11 @@ static int64_t im_est_scale(iq_t x_a, iq_t x_b, iq_t r, iq_t *u_a, iq_t *u_b)
     return (int64_t)(iq_sumsq_q48(*u_a, *u_b) >> 18);
 }
 
-/* One Newton step for the inverse square root, r (3 - t) / 2, t in (1/4, 9/4) Q30, r IQ. */
+/* One Newton step for the inverse square root, r (3 - t) / 2, t in (1/4, 9/4) Q30, r IQ:
+ * IQ x Q30 -> Q54, / 2 -> IQ by a rounded shift of 31 (the product < 2^31 * 2^32, saturated). */
 static iq_t im_est_newton(iq_t r, int64_t t_q30)
 {
-    return (iq_t)(((int64_t)r * ((int64_t)3 * ((int64_t)1 << 30) - t_q30)) >> 31);
+    return fix_rshift_rnd64_sat32((int64_t)r * ((int64_t)3 * ((int64_t)1 << 30) - t_q30), 31U);
 }
 
 /* e^{j theta} = x / |x| and |x| (eq. 22) by the tracked reciprocal (im_est.h). Returns |x|, IQ. */

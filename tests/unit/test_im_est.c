@@ -202,6 +202,24 @@ static void test_improved_estimator_tracks_double_reference_in_steady_state(void
     printf("MEASURE improved estimator vs double: SNR %.1f dB, worst %.2e pu\n", fixtest_acc_snr_db(&acc),
            acc.max_abs_err);
     fixtest_assert_snr(&acc, 90.0, "improved estimator vs double reference");
+    /* The direction e^{j theta} = x/|x| (tracked reciprocal) is a unit vector along the rotor
+     * flux (eq. 21: phi_r = k_r x) to 1e-6, and the angle, computed when asked for (eq. 22,
+     * CORDIC), is that of the rotor flux within fix_polar's bound. */
+    {
+        double v[2], i[2], a_ref, da;
+        const double ua = fixtest_iq_to_d(s.u_alpha_iq), ub = fixtest_iq_to_d(s.u_beta_iq);
+        const double pa = fixtest_iq_to_d(s.psir_alpha_iq), pb = fixtest_iq_to_d(s.psir_beta_iq);
+        assert_true(fabs(hypot(ua, ub) - 1.0) < 1e-6);
+        assert_true(fabs(ua * pb - ub * pa) < 1e-6 * hypot(pa, pb));
+        assert_true(fabs(hypot(pa, pb) - fixtest_iq_to_d(s.psir_mag_iq)) < 1e-6);
+        steady_state_inputs(50000, v, i);
+        im_est_in_t in = {fixtest_d_to_iq(v[0]), fixtest_d_to_iq(v[1]), fixtest_d_to_iq(i[0]), fixtest_d_to_iq(i[1]),
+                          fixtest_d_to_iq(psir_ref), fixtest_d_to_iq(SS_W), 1};
+        im_est_step(&s, &in);
+        a_ref = atan2(fixtest_iq_to_d(s.psir_beta_iq), fixtest_iq_to_d(s.psir_alpha_iq)) / TWO_PI * 65536.0;
+        da = wrap_lsb((double)s.theta_r - a_ref);
+        assert_true(fabs(da) <= 1.0); /* fix_polar 0.86 LSB plus the rounding of k_r x */
+    }
 }
 
 /* Error of the improved estimator against the true stator flux at 25 Hz, rated load, after 2 s:
