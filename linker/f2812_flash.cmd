@@ -9,10 +9,13 @@
  *   ramfuncs    loaded in flash, copied at start-up by hal_init() into L0+L1 (8K words, zero-wait)
  *               and run there: the ADC ISR glue, hal_read/hal_write/hal_gates_off, the PDPINTA ISR,
  *               the flash wait-state set-up (must not run from flash), and ALL of the control
- *               firmware (libdtc_firmware.a: code and its fixed-point tables), so the 50 us path
- *               never waits on flash (5 wait states at 150 MHz, fact sheet 4.7).
- *   ramfuncs_h  the same for the fixed-point core and the application (libdtc_fixmath.a,
- *               libdtc_app.a), copied into the first 7K words of H0: the ISR path has 15K words of
+ *               firmware's shared blocks, PM law and small IM blocks (libdtc_firmware.a: code and
+ *               its fixed-point tables), so the 50 us path never waits on flash (5 wait states at 150 MHz, fact
+ *               sheet 4.7). The configuration's validation (libdtc_config.a) runs at init only
+ *               and stays in flash (.text).
+ *   ramfuncs_h  the same for the fixed-point core, the induction-machine law and the application
+ *               (libdtc_fixmath.a, libdtc_im.a, libdtc_app.a), copied into the first 7K words of
+ *               H0: the ISR path has 15K words of
  *               zero-wait RAM, not 8K.
  *   .stack      M0+M1 (low 64K: the SP is 16 bits, fact sheet 1.1)
  *   .ebss       the last 1K words of H0 (zero-wait): controller state
@@ -61,6 +64,9 @@ SECTIONS
                     -l=libdtc_fixmath.a (.text)
                     -l=libdtc_fixmath.a (.econst)
                     -l=libdtc_fixmath.a (.switch)
+                    -l=libdtc_im.a (.text)
+                    -l=libdtc_im.a (.econst)
+                    -l=libdtc_im.a (.switch)
                     -l=libdtc_app.a (.text)
                     -l=libdtc_app.a (.econst)
                     -l=libdtc_app.a (.switch)

@@ -5,8 +5,8 @@
  *
  *   codestart  H0 0x3F8000 (the H0 boot entry)
  *   ramfuncs   the rest of H0 (8190 words), LOAD = RUN: hal_init()'s copy finds load == run
- *   ramfuncs_h the fixed-point core and the application (libdtc_fixmath.a, libdtc_app.a): L1 (4K
- *              words), LOAD = RUN
+ *   ramfuncs_h the fixed-point core, the induction-machine law and the application
+ *              (libdtc_fixmath.a, libdtc_im.a, libdtc_app.a): L1 (4K words), LOAD = RUN
  *   .text/.cinit/.econst (start-up code, RTS, constants outside the firmware library)  L0 (3K)
  *   .ebss      the last 1K words of L0
  *   .stack     M0 + M1 (low 64K)
@@ -48,6 +48,9 @@ SECTIONS
                     -l=libdtc_fixmath.a (.text)
                     -l=libdtc_fixmath.a (.econst)
                     -l=libdtc_fixmath.a (.switch)
+                    -l=libdtc_im.a (.text)
+                    -l=libdtc_im.a (.econst)
+                    -l=libdtc_im.a (.switch)
                     -l=libdtc_app.a (.text)
                     -l=libdtc_app.a (.econst)
                     -l=libdtc_app.a (.switch)

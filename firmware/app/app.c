@@ -49,7 +49,7 @@ int16_t app_set_refs(const dtc_refs_t *r)
     if (g_app.cfg == 0) {
         return DTC_ERR_NULL;
     }
-    return dtc_shadow_write(&g_app.dtc, r);
+    return law_shadow_write(&g_app.law, r);
 }
 
 void app_request_fault_clear(void)

@@ -56,9 +56,9 @@ static void enter_calibrate(app_core_t *a)
  * Scaling: N < 2^15 counts, N * k formed in 64 bits. */
 static uint16_t enc_jump_counts(const dtc_config_t *cfg)
 {
-    const int64_t k = (int64_t)cfg->speed_k_iq * (int64_t)cfg->speed_div;
-    const int64_t jump = 2 * (int64_t)cfg->speed_limit_iq;
-    uint32_t lo = 0U, hi = (uint32_t)cfg->enc_counts / 2U + 1U; /* lo fits, hi does not (or is max) */
+    const int64_t k = (int64_t)cfg->speed.speed_k_iq * (int64_t)cfg->speed.speed_div;
+    const int64_t jump = 2 * (int64_t)cfg->speed.speed_limit_iq;
+    uint32_t lo = 0U, hi = (uint32_t)cfg->board.enc_counts / 2U + 1U; /* lo fits, hi does not (or is max) */
     while (hi - lo > 1U) {
         const uint32_t mid = (lo + hi) / 2U;
         if ((int64_t)mid * k <= jump) {
@@ -82,18 +82,18 @@ int16_t app_core_init(app_core_t *a, const dtc_config_t *cfg)
     a->st.state = APP_STATE_INIT;
     a->st.fault = APP_FAULT_NONE;
     a->st.fault_detail = 0;
-    rc = dtc_init(&a->dtc, cfg);
+    rc = law_init(&a->law, cfg);
     if (rc != DTC_OK) {
         latch_fault(a, APP_FAULT_CONFIG, rc);
         return rc;
     }
     a->cfg = cfg;
     for (k = 0U; k < 3U; k++) {
-        a->offset[k] = cfg->adc_i_offset[k];
+        a->offset[k] = cfg->board.adc_i_offset[k];
     }
     /* Which two currents are measured (clarke.h): SSTP i_a, i_b; FSTP i_b, i_c, the two switched
      * phases whose signs the FSTP compensation tables need (Hoang Tables V-VI). */
-    if (cfg->topology == (uint16_t)DTC_TOPO_FSTP) {
+    if (cfg->board.topology == (uint16_t)DTC_TOPO_FSTP) {
         a->meas_ch[0] = (uint16_t)HAL_ADC_IB;
         a->meas_ch[1] = (uint16_t)HAL_ADC_IC;
     } else {
@@ -114,10 +114,10 @@ void app_core_convert(const app_core_t *a, const hal_meas_t *m, dtc_meas_t *pu)
     uint16_t k;
 
     for (k = 0U; k < 3U; k++) {
-        i[k] = counts_to_pu(m->adc[k], a->offset[k], c->adc_i_gain_iq);
+        i[k] = counts_to_pu(m->adc[k], a->offset[k], c->board.adc_i_gain_iq);
     }
     /* The unmeasured phase from Kirchhoff's current law (isolated star point). */
-    if (c->topology == (uint16_t)DTC_TOPO_FSTP) {
+    if (c->board.topology == (uint16_t)DTC_TOPO_FSTP) {
         i[0] = fix_neg32(fix_add32(i[1], i[2]));
     } else {
         i[2] = fix_neg32(fix_add32(i[0], i[1]));
@@ -125,8 +125,8 @@ void app_core_convert(const app_core_t *a, const hal_meas_t *m, dtc_meas_t *pu)
     pu->ia_iq = i[0];
     pu->ib_iq = i[1];
     pu->ic_iq = i[2];
-    pu->vdc_iq = counts_to_pu(m->adc[HAL_ADC_VDC], c->adc_vdc_offset, c->adc_vdc_gain_iq);
-    pu->vmid_iq = counts_to_pu(m->adc[HAL_ADC_VMID], c->adc_vmid_offset, c->adc_vmid_gain_iq);
+    pu->vdc_iq = counts_to_pu(m->adc[HAL_ADC_VDC], c->board.adc_vdc_offset, c->board.adc_vdc_gain_iq);
+    pu->vmid_iq = counts_to_pu(m->adc[HAL_ADC_VMID], c->board.adc_vmid_offset, c->board.adc_vmid_gain_iq);
     pu->enc_count = m->qep_count;
 }
 
@@ -142,16 +142,16 @@ static uint16_t check_trips(app_core_t *a, const hal_meas_t *m, const dtc_meas_t
         return 1U;
     }
     for (k = 0U; k < 3U; k++) {
-        if (fix_abs32(i[k]) > c->i_trip_iq) {
+        if (fix_abs32(i[k]) > c->prot.i_trip_iq) {
             latch_fault(a, APP_FAULT_OVERCURRENT, (int16_t)k);
             return 1U;
         }
     }
-    if (pu->vdc_iq > c->vdc_max_iq) {
+    if (pu->vdc_iq > c->prot.vdc_max_iq) {
         latch_fault(a, APP_FAULT_DC_OVERVOLTAGE, 0);
         return 1U;
     }
-    if (pu->vdc_iq < c->vdc_min_iq) {
+    if (pu->vdc_iq < c->prot.vdc_min_iq) {
         latch_fault(a, APP_FAULT_DC_UNDERVOLTAGE, 0);
         return 1U;
     }
@@ -167,7 +167,7 @@ static uint16_t check_trips(app_core_t *a, const hal_meas_t *m, const dtc_meas_t
  * Scaling and overflow: |delta| <= counts/2 (<= 32768), compared as integers. */
 static uint16_t check_encoder(app_core_t *a, const hal_meas_t *m)
 {
-    const uint16_t counts = a->cfg->enc_counts;
+    const uint16_t counts = a->cfg->board.enc_counts;
     int32_t d;
 
     if (a->enc_primed == 0U) {
@@ -217,7 +217,7 @@ static void calibrate_step(app_core_t *a, const hal_meas_t *m)
     for (k = 0U; k < 2U; k++) {
         uint16_t ch = a->meas_ch[k];
         uint32_t mean = (a->cal_sum[ch] + ((uint32_t)1U << (APP_CAL_LOG2 - 1U))) >> APP_CAL_LOG2;
-        int32_t dev = (int32_t)mean - (int32_t)a->cfg->adc_i_offset[ch];
+        int32_t dev = (int32_t)mean - (int32_t)a->cfg->board.adc_i_offset[ch];
         if (fix_abs32(dev) > (int32_t)APP_OFFSET_TOL_COUNTS) {
             latch_fault(a, APP_FAULT_ADC_OFFSET, (int16_t)ch);
             return;
@@ -227,39 +227,39 @@ static void calibrate_step(app_core_t *a, const hal_meas_t *m)
     {
         dtc_meas_t pu;
         app_core_convert(a, m, &pu);
-        if (pu.vdc_iq < a->cfg->vdc_min_iq) {
+        if (pu.vdc_iq < a->cfg->prot.vdc_min_iq) {
             latch_fault(a, APP_FAULT_DC_UNDERVOLTAGE, 0);
             return;
         }
-        if (pu.vdc_iq > a->cfg->vdc_max_iq) {
+        if (pu.vdc_iq > a->cfg->prot.vdc_max_iq) {
             latch_fault(a, APP_FAULT_DC_OVERVOLTAGE, 0);
             return;
         }
     }
-    dtc_reset(&a->dtc);
+    law_reset(&a->law);
     a->st.state = APP_STATE_RUN;
 }
 
 /* Stall (speed mode): on each speed-loop period, with the torque reference at its limit, a window
- * of cfg->stall_speed_periods is open; it trips when at its end the speed error has not shrunk
+ * of cfg->prot.stall_speed_periods is open; it trips when at its end the speed error has not shrunk
  * since its start. Any period below the limit closes the window. Torque mode has no speed error
  * to watch and is left alone. Scaling: |speed_ref - speed| saturated difference; compared. */
 static uint16_t check_stall(app_core_t *a)
 {
     const dtc_out_t *o = &a->st.out;
     iq_t err;
-    if (a->cfg->mode != (uint16_t)DTC_MODE_SPEED || o->speed_tick == 0U) {
+    if (a->cfg->speed.mode != (uint16_t)DTC_MODE_SPEED || o->speed_tick == 0U) {
         return 0U;
     }
-    if (fix_abs32(o->te_ref_iq) < a->cfg->torque_limit_iq) {
+    if (fix_abs32(o->te_ref_iq) < a->cfg->speed.torque_limit_iq) {
         a->stall_n = 0U;
         return 0U;
     }
-    err = fix_abs32(fix_sub32(a->dtc.act.speed_ref_iq, o->speed_iq));
+    err = fix_abs32(fix_sub32(law_speed_ref(&a->law), o->speed_iq));
     if (a->stall_n == 0U) {
         a->stall_err0_iq = err;
     }
-    if (++a->stall_n < a->cfg->stall_speed_periods) {
+    if (++a->stall_n < a->cfg->prot.stall_speed_periods) {
         return 0U;
     }
     a->stall_n = 0U;
@@ -301,7 +301,7 @@ uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
         if (check_trips(a, m, &a->st.meas) != 0U || check_encoder(a, m) != 0U) {
             return 1U;
         }
-        dtc_step(&a->dtc, &a->st.meas, &a->st.out);
+        law_step(&a->law, &a->st.meas, &a->st.out);
         if (check_stall(a) != 0U) {
             return 1U;
         }

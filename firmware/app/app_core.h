@@ -10,7 +10,8 @@
  *
  * Per period (app_core_step): raw ADC/encoder counts -> per-unit (calibrated offsets, config
  * gains) -> trip checks on THIS sample (phase over-current on all three currents, DC-link over-
- * and under-voltage, hardware trip input, encoder plausibility) -> dtc_step -> leg command. A
+ * and under-voltage, hardware trip input, encoder plausibility) -> the configured control law
+ * (law_step: PM DTC or IM DTC/DSC) -> leg command. A
  * trip decided here turns the gates off in the same ISR that saw the sample.
  *
  * Formats: per-unit IQ (fixmath.h, dtc_base.h). Scaling and overflow: a count difference is at
@@ -24,6 +25,7 @@
 
 #include "dtc.h"
 #include "hal.h"
+#include "law.h"
 
 enum app_state {
     APP_STATE_INIT = 0,
@@ -39,7 +41,7 @@ enum app_state {
 /* Fault reasons (stable numbers; app_fault_name() gives the text). */
 enum app_fault {
     APP_FAULT_NONE = 0,
-    APP_FAULT_CONFIG = 1,         /* dtc_init refused the configuration (detail: enum dtc_err) */
+    APP_FAULT_CONFIG = 1,         /* law_init refused the configuration (detail: enum dtc_err) */
     APP_FAULT_OVERCURRENT = 2,    /* |i| > i_trip on a phase (detail: phase 0=A, 1=B, 2=C) */
     APP_FAULT_DC_OVERVOLTAGE = 3, /* V_dc > vdc_max */
     APP_FAULT_DC_UNDERVOLTAGE = 4,/* V_dc < vdc_min */
@@ -70,7 +72,7 @@ typedef struct {
 
 typedef struct app_core {
     const dtc_config_t *cfg;
-    dtc_t dtc;
+    law_t law;             /* the configured control law (law.h) */
     app_status_t st;
     uint16_t offset[3];    /* current-sensor offsets in use, counts */
     uint32_t cal_sum[3];
@@ -87,7 +89,7 @@ typedef struct app_core {
     volatile uint16_t clear_request; /* set by the background, adopted by the ISR */
 } app_core_t;
 
-/* Validates the configuration (dtc_init) and enters CALIBRATE. Returns 0 or the dtc_err code;
+/* Validates the configuration (law_init) and enters CALIBRATE. Returns 0 or the dtc_err code;
  * on error the core is in FAULT with APP_FAULT_CONFIG. */
 int16_t app_core_init(app_core_t *a, const dtc_config_t *cfg);
 

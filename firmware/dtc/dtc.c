@@ -12,10 +12,10 @@ static void dtc_adopt(dtc_t *c, const dtc_refs_t *r)
     const dtc_config_t *cfg = c->cfg;
     uint16_t old_mode = c->act.mode;
 
-    c->act.speed_ref_iq = iq_sat(r->speed_ref_iq, fix_neg32(cfg->speed_limit_iq),
-                                 cfg->speed_limit_iq);
-    c->act.torque_ref_iq = iq_sat(r->torque_ref_iq, fix_neg32(cfg->torque_limit_iq),
-                                  cfg->torque_limit_iq);
+    c->act.speed_ref_iq = iq_sat(r->speed_ref_iq, fix_neg32(cfg->speed.speed_limit_iq),
+                                 cfg->speed.speed_limit_iq);
+    c->act.torque_ref_iq = iq_sat(r->torque_ref_iq, fix_neg32(cfg->speed.torque_limit_iq),
+                                  cfg->speed.torque_limit_iq);
     c->act.flux_ref_iq = r->flux_ref_iq;
     c->act.kp_iq = r->kp_iq;
     c->act.ki_ts_iq = r->ki_ts_iq;
@@ -23,25 +23,11 @@ static void dtc_adopt(dtc_t *c, const dtc_refs_t *r)
     c->pi_p.kp_iq = r->kp_iq;
     c->pi_p.ki_ts_iq = r->ki_ts_iq;
     if (old_mode != DTC_MODE_SPEED && r->mode == DTC_MODE_SPEED) {
-        speed_pi_reset(&c->pi, c->te_ref_iq, cfg->torque_limit_iq); /* bumpless */
+        speed_pi_reset(&c->pi, c->te_ref_iq, cfg->speed.torque_limit_iq); /* bumpless */
     }
     if (old_mode != r->mode) {
         c->te_trim_iq = 0;
     }
-}
-
-static int16_t dtc_refs_check(const dtc_refs_t *r)
-{
-    if (r->mode > DTC_MODE_TORQUE) {
-        return DTC_ERR_VARIANT;
-    }
-    if (r->kp_iq < 0 || r->ki_ts_iq < 0) {
-        return DTC_ERR_PI;
-    }
-    if (r->flux_ref_iq <= 0) {
-        return DTC_ERR_REFERENCE;
-    }
-    return DTC_OK;
 }
 
 int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg)
@@ -57,35 +43,37 @@ int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg)
     if (err != DTC_OK) {
         return err;
     }
+    if (cfg->law != DTC_LAW_PM_DTC) {
+        return DTC_ERR_VARIANT; /* another law's configuration (law.h dispatches) */
+    }
     c->cfg = cfg;
 
-    c->fe_p.estimator = cfg->estimator;
-    c->fe_p.k_in_q31 = cfg->k_in_q31;
-    c->fe_p.k_leak_q31 = cfg->k_leak_q31;
-    c->fe_p.rs_iq = cfg->rs_iq;
-    c->fe_p.ls_iq = cfg->ls_iq;
-    c->fe_p.psi_m_iq = cfg->psi_m_iq;
-    c->fe_p.enc_gain_q16 = cfg->enc_gain_q16;
-    c->fe_p.enc_offset = cfg->enc_offset;
-    vcomp_init(&c->vc_p, cfg->compensation, cfg->v_f_iq, cfg->v_ce_iq, cfg->v_d_iq, cfg->r_on_iq);
-    c->sm_p.enc_counts = cfg->enc_counts;
-    c->sm_p.k_speed_iq = cfg->speed_k_iq;
-    c->sm_p.min_counts = cfg->speed_min_counts;
-    c->pi_p.kp_iq = cfg->kp_iq;
-    c->pi_p.ki_ts_iq = cfg->ki_ts_iq;
-    c->pi_p.limit_iq = cfg->torque_limit_iq;
+    c->fe_p.estimator = cfg->est.estimator;
+    c->fe_p.k_in_q31 = cfg->est.k_in_q31;
+    c->fe_p.k_leak_q31 = cfg->est.k_leak_q31;
+    c->fe_p.rs_iq = cfg->machine.rs_iq;
+    c->fe_p.ls_iq = cfg->machine.pm.ls_iq;
+    c->fe_p.psi_m_iq = cfg->machine.pm.psi_m_iq;
+    c->fe_p.enc_gain_q16 = cfg->board.enc_gain_q16;
+    c->fe_p.enc_offset = cfg->board.enc_offset;
+    vcomp_init(&c->vc_p, cfg->est.compensation, cfg->board.v_f_iq, cfg->board.v_ce_iq, cfg->board.v_d_iq, cfg->board.r_on_iq);
+    c->sm_p.enc_counts = cfg->board.enc_counts;
+    c->sm_p.k_speed_iq = cfg->speed.speed_k_iq;
+    c->sm_p.min_counts = cfg->speed.speed_min_counts;
+    c->pi_p.kp_iq = cfg->speed.kp_iq;
+    c->pi_p.ki_ts_iq = cfg->speed.ki_ts_iq;
+    c->pi_p.limit_iq = cfg->speed.torque_limit_iq;
 
-    r.speed_ref_iq = cfg->speed_ref_iq;
-    r.torque_ref_iq = cfg->torque_ref_iq;
-    r.flux_ref_iq = cfg->flux_ref_iq;
-    r.kp_iq = cfg->kp_iq;
-    r.ki_ts_iq = cfg->ki_ts_iq;
-    r.mode = cfg->mode;
-    c->act.mode = cfg->mode;
+    r.speed_ref_iq = cfg->speed.speed_ref_iq;
+    r.torque_ref_iq = cfg->speed.torque_ref_iq;
+    r.flux_ref_iq = cfg->speed.flux_ref_iq;
+    r.kp_iq = cfg->speed.kp_iq;
+    r.ki_ts_iq = cfg->speed.ki_ts_iq;
+    r.mode = cfg->speed.mode;
+    c->act.mode = cfg->speed.mode;
     c->te_ref_iq = 0;
     dtc_adopt(c, &r);
-    c->shadow_seq = 0U;
-    c->adopted_seq = 0U;
+    dtc_shadow_init(&c->sh);
 
     flux_est_init(&c->fe, &c->fe_p);
     speed_meas_init(&c->sm, &c->sm_p, 0U);
@@ -101,39 +89,24 @@ void dtc_reset(dtc_t *c)
     flux_est_reset(&c->fe);
     speed_meas_reset(&c->sm, 0U);
     c->speed_primed = 0U; /* the first step takes the encoder position as the reference */
-    speed_pi_reset(&c->pi, 0, cfg->torque_limit_iq);
+    speed_pi_reset(&c->pi, 0, cfg->speed.torque_limit_iq);
     c->te_trim_iq = 0;
-    hyst2_init(&c->h_flux, cfg->flux_band_iq, 1U);
-    hyst2_init(&c->h_torque2, cfg->torque_band_iq, 1U);
-    hyst3_init(&c->h_torque3, cfg->torque_band_iq);
+    hyst2_init(&c->h_flux, cfg->sw.flux_band_iq, 1U);
+    hyst2_init(&c->h_torque2, cfg->sw.torque_band_iq, 1U);
+    hyst3_init(&c->h_torque3, cfg->sw.torque_band_iq);
     c->div_cnt = 0U;
     c->legs_1 = off;
     c->legs_2 = off;
     c->legs_3 = off;
-    c->vec_1 = cfg->topology == DTC_TOPO_FSTP ? 1U : 0U;
+    c->vec_1 = cfg->board.topology == DTC_TOPO_FSTP ? 1U : 0U;
     c->te_ref_iq = c->act.mode == DTC_MODE_TORQUE ? c->act.torque_ref_iq : 0;
     c->speed_iq = 0;
-    c->on_cm = cfg->handover_speed_iq > 0 ? 1U : 0U;
+    c->on_cm = cfg->est.handover_speed_iq > 0 ? 1U : 0U;
 }
 
 int16_t dtc_shadow_write(dtc_t *c, const dtc_refs_t *r)
 {
-    int16_t err = dtc_refs_check(r);
-    uint16_t seq;
-
-    if (err != DTC_OK) {
-        return err;
-    }
-    seq = c->shadow_seq;
-    c->shadow_seq = (uint16_t)((seq | 1U) == seq ? seq + 2U : seq + 1U); /* odd: writing */
-    c->sh_speed_ref_iq = r->speed_ref_iq;
-    c->sh_torque_ref_iq = r->torque_ref_iq;
-    c->sh_flux_ref_iq = r->flux_ref_iq;
-    c->sh_kp_iq = r->kp_iq;
-    c->sh_ki_ts_iq = r->ki_ts_iq;
-    c->sh_mode = r->mode;
-    c->shadow_seq = (uint16_t)(c->shadow_seq + 1U); /* even: complete */
-    return DTC_OK;
+    return dtc_shadow_publish(&c->sh, r);
 }
 
 void dtc_refs_get(const dtc_t *c, dtc_refs_t *r)
@@ -152,14 +125,8 @@ void dtc_refs_get(const dtc_t *c, dtc_refs_t *r)
 void dtc_shadow_adopt(dtc_t *c, uint16_t seq)
 {
     dtc_refs_t r;
-    r.speed_ref_iq = c->sh_speed_ref_iq;
-    r.torque_ref_iq = c->sh_torque_ref_iq;
-    r.flux_ref_iq = c->sh_flux_ref_iq;
-    r.kp_iq = c->sh_kp_iq;
-    r.ki_ts_iq = c->sh_ki_ts_iq;
-    r.mode = c->sh_mode;
+    dtc_shadow_take(&c->sh, seq, &r);
     dtc_adopt(c, &r);
-    c->adopted_seq = seq;
 }
 
 /* Torque mode: the reference in force, with the mean-torque trim. External linkage on purpose
@@ -179,11 +146,8 @@ void dtc_shadow_adopt(dtc_t *c, uint16_t seq)
 void dtc_torque_trim(dtc_t *c, iq_t te)
 {
     const dtc_config_t *cfg = c->cfg;
-    const iq_t lim = fix_rshift_rnd32(cfg->torque_limit_iq, 2U);
-    iq_t d = iq_mpy_q15(iq_sub(c->act.torque_ref_iq, te), cfg->torque_trim_k_q15);
-    c->te_trim_iq = iq_sat(iq_add(c->te_trim_iq, d), fix_neg32(lim), lim);
-    c->te_ref_iq = iq_sat(iq_add(c->act.torque_ref_iq, c->te_trim_iq),
-                          fix_neg32(cfg->torque_limit_iq), cfg->torque_limit_iq);
+    c->te_ref_iq = dtc_trim_step(&c->te_trim_iq, c->act.torque_ref_iq, te,
+                                 cfg->speed.torque_trim_k_q15, cfg->speed.torque_limit_iq);
 }
 
 /* Hand-over between the current and the voltage model (dtc_config.h), on the measured speed
@@ -194,13 +158,13 @@ static void dtc_handover(dtc_t *c)
 {
     const dtc_config_t *cfg = c->cfg;
     iq_t w = fix_abs32(c->speed_iq);
-    if (cfg->handover_speed_iq <= 0) {
+    if (cfg->est.handover_speed_iq <= 0) {
         c->on_cm = 0U;
     } else if (c->on_cm != 0U) {
-        if (w > cfg->handover_speed_iq) {
+        if (w > cfg->est.handover_speed_iq) {
             c->on_cm = 0U;
         }
-    } else if (w < iq_sub(cfg->handover_speed_iq, cfg->handover_hyst_iq)) {
+    } else if (w < iq_sub(cfg->est.handover_speed_iq, cfg->est.handover_hyst_iq)) {
         c->on_cm = 1U;
     }
 }
@@ -227,13 +191,17 @@ static iq_t dtc_leg_dt(uint16_t prev, uint16_t cur, iq_t i, iq_t e)
  * is the mid-point and never switches). Phase currents from the two measured ones (clarke.h:
  * SSTP a, b; FSTP b, c), the third by Kirchhoff. Scaling: e = V_dc * T_d/T_s (IQ x Q15, rounded),
  * the leg errors are 0 or +-e, vrec_from_legs saturates. */
-void dtc_deadtime(const dtc_t *c, const dtc_meas_t *m, const swtab_legs_t *prev,
+void dtc_deadtime(const dtc_config_t *cfg, const dtc_meas_t *m, const swtab_legs_t *prev,
                   const swtab_legs_t *cur, iq_t *dva, iq_t *dvb)
 {
-    const dtc_config_t *cfg = c->cfg;
-    iq_t e = iq_mpy_q15(m->vdc_iq, cfg->td_ts_q15);
-    iq_t ia, ib, ic, ea;
-    if (cfg->topology == DTC_TOPO_FSTP) {
+    iq_t e, ia, ib, ic, ea;
+    if (prev->sa == cur->sa && prev->sb == cur->sb && prev->sc == cur->sc) {
+        *dva = 0; /* no leg changed: no dead-time error (most periods; the sum below is 0 then) */
+        *dvb = 0;
+        return;
+    }
+    e = iq_mpy_q15(m->vdc_iq, cfg->board.td_ts_q15);
+    if (cfg->board.topology == DTC_TOPO_FSTP) {
         ib = m->ib_iq;
         ic = m->ic_iq;
         ia = fix_neg32(fix_add32(ib, ic));
@@ -273,16 +241,16 @@ void dtc_predict(const dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b
 
     dpa = fix_add32(fix_add32(c->v1_alpha_iq, c->v1f_alpha_iq), c->v1d_alpha_iq);
     dpb = fix_add32(fix_add32(c->v1_beta_iq, c->v1f_beta_iq), c->v1d_beta_iq);
-    dpa = iq_mpy(cfg->ts_pu_iq, iq_sub(dpa, iq_mpy(cfg->rs_iq, i->i_alpha_iq)));
-    dpb = iq_mpy(cfg->ts_pu_iq, iq_sub(dpb, iq_mpy(cfg->rs_iq, i->i_beta_iq)));
-    wts = iq_mpy(c->speed_iq, cfg->ts_pu_iq);
+    dpa = iq_mpy(cfg->board.ts_pu_iq, iq_sub(dpa, iq_mpy(cfg->machine.rs_iq, i->i_alpha_iq)));
+    dpb = iq_mpy(cfg->board.ts_pu_iq, iq_sub(dpb, iq_mpy(cfg->machine.rs_iq, i->i_beta_iq)));
+    wts = iq_mpy(c->speed_iq, cfg->board.ts_pu_iq);
     /* psi_r = psi - l_s i;  j psi_r w Ts = (-w Ts psi_rb, w Ts psi_ra) */
     ia1 = iq_add(i->i_alpha_iq,
-                 iq_mpy(cfg->inv_ls_iq,
-                        fix_add32(dpa, iq_mpy(wts, iq_sub(*psi_b, iq_mpy(cfg->ls_iq, i->i_beta_iq))))));
+                 iq_mpy(cfg->machine.pm.inv_ls_iq,
+                        fix_add32(dpa, iq_mpy(wts, iq_sub(*psi_b, iq_mpy(cfg->machine.pm.ls_iq, i->i_beta_iq))))));
     ib1 = iq_add(i->i_beta_iq,
-                 iq_mpy(cfg->inv_ls_iq,
-                        iq_sub(dpb, iq_mpy(wts, iq_sub(*psi_a, iq_mpy(cfg->ls_iq, i->i_alpha_iq))))));
+                 iq_mpy(cfg->machine.pm.inv_ls_iq,
+                        iq_sub(dpb, iq_mpy(wts, iq_sub(*psi_a, iq_mpy(cfg->machine.pm.ls_iq, i->i_alpha_iq))))));
     *psi_a = fix_add32(*psi_a, dpa);
     *psi_b = fix_add32(*psi_b, dpb);
     *te = torque_eq10(*psi_a, *psi_b, ia1, ib1);
@@ -301,14 +269,14 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
 
     /* 1. Shadow set: adopt a complete, not yet adopted set (sequence number even). */
     {
-        uint16_t seq = c->shadow_seq;
-        if ((seq & 1U) == 0U && seq != c->adopted_seq) {
+        uint16_t seq = dtc_shadow_pending(&c->sh);
+        if (seq != 0U) {
             dtc_shadow_adopt(c, seq);
         }
     }
 
     /* 2. Clarke (Hoang eqs. 4-5) from the two measured currents. */
-    if (cfg->topology == DTC_TOPO_FSTP) {
+    if (cfg->board.topology == DTC_TOPO_FSTP) {
         clarke_fstp(m->ib_iq, m->ic_iq, &i);
     } else {
         clarke_sstp(m->ia_iq, m->ib_iq, &i);
@@ -320,10 +288,10 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     fin.enc_count = m->enc_count;
     fin.v_alpha_iq = 0;
     fin.v_beta_iq = 0;
-    if (cfg->estimator == DTC_EST_VOLTAGE) {
+    if (cfg->est.estimator == DTC_EST_VOLTAGE) {
         iq_t vfa, vfb;
-        if (cfg->topology == DTC_TOPO_FSTP) {
-            vrec_fstp(c->legs_2.sb, c->legs_2.sc, m->vdc_iq, m->vmid_iq, cfg->fstp_vmid_measured,
+        if (cfg->board.topology == DTC_TOPO_FSTP) {
+            vrec_fstp(c->legs_2.sb, c->legs_2.sc, m->vdc_iq, m->vmid_iq, cfg->board.fstp_vmid_measured,
                       &fin.v_alpha_iq, &fin.v_beta_iq);
         } else {
             vrec_sstp(c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, m->vdc_iq, &fin.v_alpha_iq,
@@ -332,13 +300,13 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         vcomp_step(&c->vc_p, c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, &i, &vfa, &vfb);
         fin.v_alpha_iq = fix_add32(fin.v_alpha_iq, vfa);
         fin.v_beta_iq = fix_add32(fin.v_beta_iq, vfb);
-        if (cfg->deadtime_comp != 0U) {
-            dtc_deadtime(c, m, &c->legs_3, &c->legs_2, &vfa, &vfb);
+        if (cfg->est.deadtime_comp != 0U) {
+            dtc_deadtime(cfg, m, &c->legs_3, &c->legs_2, &vfa, &vfb);
             fin.v_alpha_iq = fix_add32(fin.v_alpha_iq, vfa);
             fin.v_beta_iq = fix_add32(fin.v_beta_iq, vfb);
         }
     }
-    if (cfg->estimator == DTC_EST_VOLTAGE && (c->speed_primed == 0U || c->on_cm != 0U)) {
+    if (cfg->est.estimator == DTC_EST_VOLTAGE && (c->speed_primed == 0U || c->on_cm != 0U)) {
         /* First step after a reset, and every step below the hand-over speed: the current model
          * (eqs. 8-9) drives and is written into the low-pass state, so the voltage model starts
          * from it when the hand-over comes (dtc_config.h). */
@@ -369,7 +337,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
             c->te_ref_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
         }
     }
-    c->div_cnt = (uint16_t)(c->div_cnt + 1U >= cfg->speed_div ? 0U : c->div_cnt + 1U);
+    c->div_cnt = (uint16_t)(c->div_cnt + 1U >= cfg->speed.speed_div ? 0U : c->div_cnt + 1U);
     if (c->act.mode == DTC_MODE_TORQUE) {
         dtc_torque_trim(c, te);
     }
@@ -378,9 +346,9 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
      *    compensation is on (dtc_predict), else the estimate at k; |psi|^2 (eq. 11 squared: the
      *    flux comparator works on it, so the ISR takes no square root), sector.
      *    Hysteresis comparators (Hoang eqs. 13-14, Casadei section 4). */
-    if (cfg->delay_comp != 0U) {
-        if (cfg->topology == DTC_TOPO_FSTP) {
-            vrec_fstp(c->legs_1.sb, c->legs_1.sc, m->vdc_iq, m->vmid_iq, cfg->fstp_vmid_measured,
+    if (cfg->est.delay_comp != 0U) {
+        if (cfg->board.topology == DTC_TOPO_FSTP) {
+            vrec_fstp(c->legs_1.sb, c->legs_1.sc, m->vdc_iq, m->vmid_iq, cfg->board.fstp_vmid_measured,
                       &c->v1_alpha_iq, &c->v1_beta_iq);
         } else {
             vrec_sstp(c->legs_1.sa, c->legs_1.sb, c->legs_1.sc, m->vdc_iq, &c->v1_alpha_iq,
@@ -390,29 +358,29 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
                    &c->v1f_beta_iq);
         c->v1d_alpha_iq = 0;
         c->v1d_beta_iq = 0;
-        if (cfg->deadtime_comp != 0U) {
-            dtc_deadtime(c, m, &c->legs_2, &c->legs_1, &c->v1d_alpha_iq, &c->v1d_beta_iq);
+        if (cfg->est.deadtime_comp != 0U) {
+            dtc_deadtime(cfg, m, &c->legs_2, &c->legs_1, &c->v1d_alpha_iq, &c->v1d_beta_iq);
         }
         dtc_predict(c, &i, &psi_a, &psi_b, &te);
     }
     mag2 = iq_sumsq_q48(psi_a, psi_b);
-    sector = cfg->topology == DTC_TOPO_FSTP ? sector_fstp(psi_a, psi_b) : sector_sstp(psi_a, psi_b);
+    sector = cfg->board.topology == DTC_TOPO_FSTP ? sector_fstp(psi_a, psi_b) : sector_sstp(psi_a, psi_b);
     flux_up = hyst2_sq_step(&c->h_flux, c->act.flux_ref_iq, mag2);
-    if (cfg->topology == DTC_TOPO_SSTP && cfg->sstp_table == DTC_ST_BASIC) {
+    if (cfg->board.topology == DTC_TOPO_SSTP && cfg->sw.sstp_table == DTC_ST_BASIC) {
         tdem = hyst3_step(&c->h_torque3, iq_sub(c->te_ref_iq, te));
     } else {
         tdem = hyst2_step(&c->h_torque2, iq_sub(c->te_ref_iq, te)) != 0U ? 1 : -1;
     }
 
     /* 7. Switching table. */
-    if (cfg->topology == DTC_TOPO_FSTP) {
+    if (cfg->board.topology == DTC_TOPO_FSTP) {
         vec = swtab_fstp(sector, flux_up, tdem > 0 ? 1U : 0U);
         legs = swtab_fstp_legs(vec);
     } else {
-        if (cfg->sstp_table == DTC_ST_BASIC) {
+        if (cfg->sw.sstp_table == DTC_ST_BASIC) {
             vec = swtab_sstp_basic(sector, flux_up, tdem);
         } else {
-            vec = swtab_sstp_st(cfg->sstp_table, sector, flux_up, tdem > 0 ? 1U : 0U);
+            vec = swtab_sstp_st(cfg->sw.sstp_table, sector, flux_up, tdem > 0 ? 1U : 0U);
         }
         vec = swtab_null_choice(vec, c->vec_1);
         legs = swtab_sstp_legs(vec);
@@ -439,5 +407,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     o->te_ref_iq = c->te_ref_iq;
     o->speed_iq = c->speed_iq;
     o->theta_e = c->fe.theta_e;
-    o->on_cm = cfg->estimator == DTC_EST_CURRENT ? 1U : c->on_cm;
+    o->on_cm = cfg->est.estimator == DTC_EST_CURRENT ? 1U : c->on_cm;
+    o->psi_ref_iq = c->act.flux_ref_iq;
+    o->psir_mag_iq = 0;
 }

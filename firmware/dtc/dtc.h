@@ -16,11 +16,8 @@
  * dtc_init() must outlive the controller (it is typically const data in flash).
  *
  * Shadow set: the background loop changes references and speed-PI gains with
- * dtc_shadow_write(); dtc_step() adopts a complete set atomically at its top. Protocol (a
- * sequence lock for one writer that the ISR can preempt, on a single core): the writer makes
- * the sequence number odd, writes the fields, makes it even again; the ISR adopts only an even
- * sequence number it has not adopted yet, so it never sees half a set (if it preempts a write it
- * keeps the old set for one more period). All shared fields are volatile.
+ * dtc_shadow_write(); dtc_step() adopts a complete set atomically at its top (dtc_refs.h: the
+ * sequence lock every law shares).
  */
 #ifndef DTC_H
 #define DTC_H
@@ -29,6 +26,7 @@
 
 #include "clarke.h"
 #include "dtc_config.h"
+#include "dtc_refs.h"
 #include "fixmath.h"
 #include "flux_est.h"
 #include "hyst.h"
@@ -62,17 +60,9 @@ typedef struct {
     angle_t theta_e;       /* encoder electrical angle */
     uint16_t on_cm;        /* 1: the flux came from the current model (estimator = current, or
                             * the voltage model below its hand-over speed) */
+    iq_t psi_ref_iq;       /* stator-flux reference in force, pu */
+    iq_t psir_mag_iq;      /* IM law: estimated rotor-flux magnitude (Casadei eq. 21); PM: 0 */
 } dtc_out_t;
-
-/* The background-changeable parameter set. */
-typedef struct {
-    iq_t speed_ref_iq;  /* clamped to +-speed_limit on adoption */
-    iq_t torque_ref_iq; /* torque mode; clamped to +-torque_limit on adoption */
-    iq_t flux_ref_iq;   /* > 0 */
-    iq_t kp_iq;         /* >= 0 */
-    iq_t ki_ts_iq;      /* >= 0 */
-    uint16_t mode;      /* enum dtc_mode */
-} dtc_refs_t;
 
 typedef struct {
     const dtc_config_t *cfg;
@@ -90,10 +80,7 @@ typedef struct {
     hyst3_t h_torque3;
     /* references in force and the shadow set */
     dtc_refs_t act;
-    volatile uint16_t shadow_seq;
-    uint16_t adopted_seq;
-    volatile iq_t sh_speed_ref_iq, sh_torque_ref_iq, sh_flux_ref_iq, sh_kp_iq, sh_ki_ts_iq;
-    volatile uint16_t sh_mode;
+    dtc_shadow_t sh;
     /* timing */
     uint16_t div_cnt;
     uint16_t speed_primed;
@@ -136,9 +123,9 @@ int16_t dtc_shadow_write(dtc_t *c, const dtc_refs_t *r);
 /* Used by dtc_step() (ISR side): adopts the shadow set whose (even) sequence number is seq.
  * Not for the background. */
 void dtc_shadow_adopt(dtc_t *c, uint16_t seq);
-/* Internal to dtc_step (dead-time compensation): the error of the reconstructed voltage of a
- * period whose legs went from prev to cur, alpha/beta, IQ pu. */
-void dtc_deadtime(const dtc_t *c, const dtc_meas_t *m, const swtab_legs_t *prev,
+/* Dead-time compensation, shared by the laws (dtc_step, im_dtc_step): the error of the
+ * reconstructed voltage of a period whose legs went from prev to cur, alpha/beta, IQ pu. */
+void dtc_deadtime(const dtc_config_t *cfg, const dtc_meas_t *m, const swtab_legs_t *prev,
                   const swtab_legs_t *cur, iq_t *dva, iq_t *dvb);
 /* Internal to dtc_step (actuation-delay compensation); out of line for the stack. On entry
  * *psi_a, *psi_b, *te hold the estimate at k; on return the prediction for k+1. */

@@ -13,7 +13,7 @@
  *                   cut-off w_c) to stop offset drift.
  *   IM_EST_IMPROVED Casadei eq. 20, the voltage model pulled towards the rotor-flux reference:
  *                     d phi_s/dt = v_s - R_s i_s + (phi_r* e^{j theta} - phi_r) / tau
- *                   with phi_r from eq. 21 and theta from eq. 22. Discretised by forward Euler over
+ *                   with phi_r from eq. 21 and e^{j theta} = x/|x| from eq. 22. Discretised by forward Euler over
  *                   one period (the correction term changes at the rate 1/tau, Ts/tau <= 0.01 for
  *                   any sensible tau, so the Euler error of that term is below 0.5 % of it):
  *                     phi_s[k+1] = phi_s[k] + ts_pu (v - r_s i) + (Ts/tau) (phi_r* c - k_r x)
@@ -26,7 +26,19 @@
  *                   above w_hi, linear in between (the slope is precomputed: no division here).
  * Both then give, every period:
  *   x = phi_s - sigma l_s i                 (eq. 21 without the factor L_r/M)
- *   theta = arg x                           (eq. 22), |x| by CORDIC (fix_polar)
+ *   e^{j theta} = x / |x|, |x|              (eq. 22) without a division or a square root: the
+ *                                           reciprocal r = 1/|x| is tracked by Newton steps for
+ *                                           the inverse square root, r <- r (3 - t) / 2 with
+ *                                           t = |x r|^2, from the previous period's r until
+ *                                           |t - 1| < 2^-20 (none when |x| holds; one only when
+ *                                           |t - 1| < 2^-6, which leaves it below 2^-12 and
+ *                                           the next periods refine), re-seeded from a power of two when
+ *                                           t leaves (1/4, 9/4) or r exceeds 64; the direction
+ *                                           is taken as alpha (e^{j0}) and |x| as 0 when a
+ *                                           re-seed finds |x| < 2^-6 pu
+ *   theta = arg x                           (eq. 22) by CORDIC (fix_polar), only on the periods
+ *                                           the caller asks for it (want_angle: the sensorless
+ *                                           speed's, at the speed-loop rate)
  *   |phi_r| = k_r |x|                       (eq. 21)
  *   phi_r = k_r x                           (eq. 21, vector)
  * and the torque T = phi_s x i (appendix eq. A10 with T_base = 3/2 p psi_base I_base, the same
@@ -36,7 +48,14 @@
  * theta angle_t.
  * Scaling and overflow: the flux update ts_pu*e + k*corr is accumulated in 64 bits (each product
  * < 2^62) and rounded once, then added to the state with saturation (+-128 pu, never wraps). The
- * products sigma_ls*i and k_r*x are rounded IQ products (<= 0.5 LSB) with saturation.
+ * products sigma_ls*i and k_r*x are rounded IQ products (<= 0.5 LSB) with saturation. Unit
+ * vector: r in IQ (r <= 64 as |x| >= 2^-6 pu), u = x r rounded to IQ (product < 2^62), |u|^2
+ * exact in 64 bits then Q30; the Newton product r (3 - t) is formed only for t in (1/4, 9/4)
+ * (Q30), so < 2^31 * 2^32 = 2^63; |x| = x . u rounded to IQ. The unit vector's length is within
+ * 2^-21 of 1 whenever the loop converged (2^-13 after the single step for a small move of |x|),
+ * which it does within the re-seed and 8 steps from any start
+ * (re-seed plus six steps) for |x| up to 8 pu (beyond, r's IQ resolution limits it to about
+ * 2^-24 / r relative).
  */
 #ifndef IM_EST_H
 #define IM_EST_H
@@ -70,7 +89,9 @@ typedef struct {
     iq_t psi_alpha_iq, psi_beta_iq;     /* stator flux estimate (state), pu */
     iq_t psir_alpha_iq, psir_beta_iq;   /* rotor flux (eq. 21), pu */
     iq_t psir_mag_iq;                   /* |phi_r|, pu */
-    angle_t theta_r;                    /* rotor-flux angle (eq. 22) */
+    angle_t theta_r;                    /* rotor-flux angle (eq. 22), when asked for */
+    iq_t u_alpha_iq, u_beta_iq;         /* e^{j theta} = x/|x| (eq. 22), IQ */
+    iq_t inv_mag_iq;                    /* r = 1/|x|, IQ; 0: not known (re-seed) */
 } im_est_t;
 
 typedef struct {
@@ -78,6 +99,7 @@ typedef struct {
     iq_t i_alpha_iq, i_beta_iq;  /* stator current sampled now (the end of that period), pu */
     iq_t psir_ref_iq;            /* rotor-flux reference magnitude phi_r* (improved estimator) */
     iq_t speed_iq;               /* electrical speed for a speed-dependent tau, pu */
+    uint16_t want_angle;         /* 1: compute theta_r (CORDIC) in this period */
 } im_est_in_t;
 
 /* Returns 0, or a nonzero code when the parameters are inconsistent (negative resistance,
@@ -86,7 +108,8 @@ int16_t im_est_check(const im_est_params_t *p);
 void im_est_init(im_est_t *s, const im_est_params_t *p);
 /* Zero flux: the machine is demagnetised at start. */
 void im_est_reset(im_est_t *s);
-/* Integrates one period, then updates rotor flux, its angle and magnitude. */
+/* Integrates one period, then updates rotor flux, its direction and magnitude (and its angle when
+ * in->want_angle). */
 void im_est_step(im_est_t *s, const im_est_in_t *in);
 
 /* Ts/tau at electrical speed w (improved estimator; exposed for the tests). */

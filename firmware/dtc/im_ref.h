@@ -7,11 +7,12 @@
  * Slip from the torque (Casadei eq. 16, valid also in transients), in pu:
  *     w_slip = r_r T / phi_r^2
  * Sensorless speed: w_r = w_psi - w_slip, w_psi the angular speed of the rotor-flux vector (the
- * per-period change of its angle, eq. 22, times 1/Ts, first-order filtered).
+ * change of its angle, eq. 22, between two calls, times 1/T_call, first-order filtered; the IM law
+ * calls it once per speed period, so |w| < pi / T_call, 25 pu at 10 x 40 us).
  * 1/phi_r* and 1/phi_r*^2 change only when the rotor-flux command does: the host (or the
  * background loop, through the shadow set) computes them, so nothing here divides.
  *
- * Formats: IQ pu; angle_t; filter gain Q31; gain_w_iq in pu of speed per angle_t LSB per period.
+ * Formats: IQ pu; angle_t; filter gain Q31; gain_w_iq in pu of speed per angle_t LSB per call.
  * Scaling and overflow: rounded IQ products with saturation; the speed increment int16 * IQ gain is
  * formed in 64 bits and saturated; the filter update is one rounded Q31 product added with
  * saturation.
@@ -38,8 +39,8 @@ static inline iq_t im_ref_slip(iq_t rr_iq, iq_t te_iq, iq_t inv_psir_sq_iq)
 }
 
 typedef struct {
-    iq_t gain_w_iq;     /* 2 pi / (65536 Ts_pu): pu speed of one angle_t LSB per period */
-    q31_t k_filt_q31;   /* 1 - exp(-Ts / T_filter) */
+    iq_t gain_w_iq;     /* 2 pi / (65536 T_call w_base): pu speed of one angle_t LSB per call */
+    q31_t k_filt_q31;   /* 1 - exp(-T_call / T_filter) */
     iq_t rr_iq;         /* rotor resistance, pu */
 } im_speed_params_t;
 

@@ -5,12 +5,12 @@
 
 void fix_polar(iq_t x, iq_t y, angle_t *angle, iq_t *mag)
 {
-    /* atan(2^-i) / (2 pi) * 2^32, rounded (i = 0 .. 19). */
-    static const uint32_t atan_q32[20] = {
+    /* atan(2^-i) / (2 pi) * 2^32, rounded (i = 0 .. 15). */
+    static const uint32_t atan_q32[16] = {
         536870912UL, 316933406UL, 167458907UL, 85004756UL, 42667331UL, 21354465UL, 10679838UL,
         5340245UL,   2670163UL,   1335087UL,   667544UL,  333772UL,   166886UL,   83443UL,
-        41722UL,     20861UL,     10430UL,     5215UL,    2608UL,     1304UL};
-    const int64_t inv_gain_q24 = 10188014; /* 1/K = 0.60725293500925, K = prod sqrt(1 + 4^-i) */
+        41722UL,     20861UL};
+    const int64_t inv_gain_q24 = 10188014; /* 1/K = 0.60725293510314, K = prod sqrt(1 + 4^-i), i < 16 */
     int64_t xs = (int64_t)x * 64;
     int64_t ys = (int64_t)y * 64;
     uint32_t turn = 0U;
@@ -26,7 +26,7 @@ void fix_polar(iq_t x, iq_t y, angle_t *angle, iq_t *mag)
         ys = -ys;
         turn = 0x80000000UL;
     }
-    for (i = 0U; i < 20U; ++i) {
+    for (i = 0U; i < 16U; ++i) {
         const int64_t dx = ys >> i; /* arithmetic shifts of signed values: allowed in fixmath */
         const int64_t dy = xs >> i;
         if (ys > 0) {

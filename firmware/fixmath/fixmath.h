@@ -279,12 +279,14 @@ uint16_t fix_quadrant(iq_t alpha, iq_t beta);
 
 /* Polar form of (x, y): *angle = atan2(y, x) as angle_t (65536 = one turn) and *mag =
  * sqrt(x^2 + y^2) in the format of x and y (IQ). (0, 0) gives angle 0, magnitude 0.
- * Method: a half-turn pre-rotation puts the vector in the right half plane, then 20 CORDIC
- * micro-rotations by atan(2^-i) drive y to zero; the rotation angles are summed in a 32-bit turn
+ * Method: a half-turn pre-rotation puts the vector in the right half plane, then 16 CORDIC
+ * micro-rotations by atan(2^-i) drive y to zero (16: the residual rotation atan(2^-15) is 0.32
+ * angle_t LSB, below the resolution of the result); the rotation angles are summed in a 32-bit turn
  * accumulator (table of atan(2^-i) in Q32 turns, each rounded to 0.5 of 2^-32 turn) and rounded to
- * angle_t once. Error: angle 0.52 angle LSB (residual rotation atan(2^-19) = 0.02 LSB, table and
- * final rounding) plus 20/(64 |v|) rad from the truncated shifts, so <= 0.58 LSB for |v| >= 2^16 LSB
- * (0.004 pu); magnitude <= 1 LSB + 6e-8 relative (CORDIC gain 1/K in Q24).
+ * angle_t once. Error: angle 0.82 angle LSB (residual rotation 0.32 LSB, table and final rounding
+ * 0.5) plus 16/(64 |v|) rad from the truncated shifts, so <= 0.86 LSB for |v| >= 2^16 LSB
+ * (0.004 pu); magnitude <= 1 LSB + 6e-8 relative (CORDIC gain 1/K in Q24; the residual rotation's
+ * cosine error is 5e-10).
  * Scaling and overflow: the iteration runs on x, y widened to 64 bits and scaled by 2^6, so
  * |x|, |y| < 2^31 grow by at most 1.65 * sqrt(2) to < 2^38.3; the gain product < 2^62. The
  * magnitude saturates to IQ_MAX (only when sqrt(x^2 + y^2) >= 128 pu). */

@@ -85,8 +85,8 @@ static void test_adc_registers_to_per_unit_with_calibration(void **state)
         const double vdc = c * si.adc_vdc_v_per_count / b.v_base_v;
         const double lsb = ldexp(1.0, -FIX_IQ_Q);
         /* The Q24 gain is rounded to 0.5 LSB: the error grows by 0.5 LSB per count. */
-        fixtest_assert_lsb(fixtest_iq_to_d(pu.ia_iq), ia, lsb, 0.5 * fabs(ia / fixtest_iq_to_d(cfg.adc_i_gain_iq)) + 0.5, "ia");
-        fixtest_assert_lsb(fixtest_iq_to_d(pu.ib_iq), ib, lsb, 0.5 * fabs(ib / fixtest_iq_to_d(cfg.adc_i_gain_iq)) + 0.5, "ib");
+        fixtest_assert_lsb(fixtest_iq_to_d(pu.ia_iq), ia, lsb, 0.5 * fabs(ia / fixtest_iq_to_d(cfg.board.adc_i_gain_iq)) + 0.5, "ia");
+        fixtest_assert_lsb(fixtest_iq_to_d(pu.ib_iq), ib, lsb, 0.5 * fabs(ib / fixtest_iq_to_d(cfg.board.adc_i_gain_iq)) + 0.5, "ib");
         fixtest_assert_lsb(fixtest_iq_to_d(pu.vdc_iq), vdc, lsb, 0.5 * c + 0.5, "vdc");
     }
     /* Zero current at the calibrated offsets reads exactly zero. */
@@ -107,8 +107,8 @@ static void test_qep_counts_to_electrical_angle(void **state)
         f2812_eva.T2CNT = c;
         hal_read(&m);
         assert_int_equal(m.qep_count, c);
-        const angle_t th = flux_est_angle(m.qep_count, cfg.enc_gain_q16, cfg.enc_offset);
-        const double ref = fmod(65536.0 * si.pole_pairs * c / 8000.0 + cfg.enc_offset, 65536.0);
+        const angle_t th = flux_est_angle(m.qep_count, cfg.board.enc_gain_q16, cfg.board.enc_offset);
+        const double ref = fmod(65536.0 * si.pole_pairs * c / 8000.0 + cfg.board.enc_offset, 65536.0);
         double err = fabs((double)th - ref);
         err = fmin(err, 65536.0 - err); /* modulo one turn */
         if (err > 1.0) {
@@ -121,7 +121,7 @@ static void test_qep_counts_to_electrical_angle(void **state)
  * and measured by the speed loop's estimator: 0.5 pu with w_base = p * 3000 rpm, within 1 %. */
 static void test_qep_counts_to_speed(void **state)
 {
-    speed_meas_params_t p = {cfg.enc_counts, cfg.speed_k_iq, cfg.speed_min_counts};
+    speed_meas_params_t p = {cfg.board.enc_counts, cfg.speed.speed_k_iq, cfg.speed.speed_min_counts};
     speed_meas_t s;
     hal_meas_t m;
     uint32_t pos = 1234u;

@@ -186,7 +186,7 @@ static void test_overcurrent_trips_on_the_sample(void **state)
     uint16_t k;
     (void)state;
     run_to_state(DTC_TOPO_SSTP, 0);
-    trip_a = fixtest_iq_to_d(fx.cfg.i_trip_iq) * fx.b.i_base_a;
+    trip_a = fixtest_iq_to_d(fx.cfg.prot.i_trip_iq) * fx.b.i_base_a;
     /* Highest count not above the trip level on phase B: no trip. */
     fx.m.adc[HAL_ADC_IB] = (uint16_t)(fx.si.adc_i_offset[1] + (int)floor(trip_a / lsb_a - 1e-9));
     fx.m.adc[HAL_ADC_IA] = (uint16_t)(fx.si.adc_i_offset[0] - (int)floor(trip_a / lsb_a - 1e-9) / 2);
@@ -399,7 +399,7 @@ static void test_stall_is_a_fault_and_acceleration_is_not(void **state)
             if (step() != 0U) {
                 tripped_at = k;
             }
-            if (at_limit_since == 0U && fx.app.st.out.te_ref_iq >= fx.cfg.torque_limit_iq) {
+            if (at_limit_since == 0U && fx.app.st.out.te_ref_iq >= fx.cfg.speed.torque_limit_iq) {
                 at_limit_since = k;
             }
         }
@@ -410,8 +410,8 @@ static void test_stall_is_a_fault_and_acceleration_is_not(void **state)
             assert_int_equal(fx.app.st.fault_detail, 1);
             assert_true(at_limit_since > 0U);
             /* Not before a whole window at the limit, and within two windows of reaching it. */
-            assert_true(tripped_at >= at_limit_since + (fx.cfg.stall_speed_periods - 1U) * fx.cfg.speed_div);
-            assert_true(tripped_at <= at_limit_since + 2U * fx.cfg.stall_speed_periods * fx.cfg.speed_div);
+            assert_true(tripped_at >= at_limit_since + (fx.cfg.prot.stall_speed_periods - 1U) * fx.cfg.speed.speed_div);
+            assert_true(tripped_at <= at_limit_since + 2U * fx.cfg.prot.stall_speed_periods * fx.cfg.speed.speed_div);
         } else {
             assert_int_equal(tripped_at, 0U);
             assert_int_equal(fx.app.st.fault, APP_FAULT_NONE);

@@ -41,27 +41,27 @@ static void test_defaults_convert_to_expected_pu(void **state)
     assert_true(fabs(b.z_base_ohm - 70.0 / 2.2) < 1e-12);
     assert_true(fabs(b.t_base_nm - 1.5 * (70.0 / (100.0 * DTC_REF_PI)) * 2.2) < 1e-12);
     /* Machine in pu, within one IQ24 LSB (0.5 LSB rounding). */
-    fixtest_assert_lsb(fixtest_iq_to_d(cfg.rs_iq), 0.466 / (70.0 / 2.2), 1.0 / 16777216.0, 0.5, "rs");
-    fixtest_assert_lsb(fixtest_iq_to_d(cfg.ls_iq), 3.19e-3 / (70.0 / 2.2 / (100.0 * DTC_REF_PI)),
+    fixtest_assert_lsb(fixtest_iq_to_d(cfg.machine.rs_iq), 0.466 / (70.0 / 2.2), 1.0 / 16777216.0, 0.5, "rs");
+    fixtest_assert_lsb(fixtest_iq_to_d(cfg.machine.pm.ls_iq), 3.19e-3 / (70.0 / 2.2 / (100.0 * DTC_REF_PI)),
                        1.0 / 16777216.0, 0.5, "ls");
-    fixtest_assert_lsb(fixtest_iq_to_d(cfg.psi_m_iq), 0.0928 / (70.0 / (100.0 * DTC_REF_PI)),
+    fixtest_assert_lsb(fixtest_iq_to_d(cfg.machine.pm.psi_m_iq), 0.0928 / (70.0 / (100.0 * DTC_REF_PI)),
                        1.0 / 16777216.0, 0.5, "psi_m");
     /* Rated torque 0.3 N.m with the rated 2.2 A in quadrature: T = psi_m * i (pu) = 0.408. */
     assert_true(fabs(0.3 / b.t_base_nm - 0.0928 / b.psi_base_wb * 1.0) < 0.01);
     /* Low-pass: k_leak = 1 - exp(-5 * 50e-6), k_in -> Ts_pu = 50e-6 * 100 pi. */
-    fixtest_assert_lsb(fixtest_q31_to_d(cfg.k_leak_q31), 1.0 - exp(-2.5e-4), 1.0 / 2147483648.0,
+    fixtest_assert_lsb(fixtest_q31_to_d(cfg.est.k_leak_q31), 1.0 - exp(-2.5e-4), 1.0 / 2147483648.0,
                        0.5, "k_leak");
-    assert_true(fabs(fixtest_q31_to_d(cfg.k_in_q31) - 50e-6 * 100.0 * DTC_REF_PI) < 1e-5);
+    assert_true(fabs(fixtest_q31_to_d(cfg.est.k_in_q31) - 50e-6 * 100.0 * DTC_REF_PI) < 1e-5);
     /* Encoder: 8000 counts, 8.192 electrical LSB per count (p = 1). */
-    assert_int_equal(cfg.enc_counts, 8000);
-    assert_int_equal(cfg.enc_gain_q16, 536871U);
+    assert_int_equal(cfg.board.enc_counts, 8000);
+    assert_int_equal(cfg.board.enc_gain_q16, 536871U);
     /* One count per 500 us = 15 rpm = 0.005 pu of 3000 rpm. */
-    fixtest_assert_lsb(fixtest_iq_to_d(cfg.speed_k_iq), 15.0 / 3000.0, 1.0 / 16777216.0, 0.5,
+    fixtest_assert_lsb(fixtest_iq_to_d(cfg.speed.speed_k_iq), 15.0 / 3000.0, 1.0 / 16777216.0, 0.5,
                        "speed_k");
-    assert_int_equal(cfg.topology, DTC_TOPO_FSTP);
-    assert_int_equal(cfg.compensation, DTC_COMP_FSTP_PROPOSED);
-    assert_int_equal(cfg.flux_band_iq, 0);
-    assert_int_equal(cfg.torque_band_iq, 0);
+    assert_int_equal(cfg.board.topology, DTC_TOPO_FSTP);
+    assert_int_equal(cfg.est.compensation, DTC_COMP_FSTP_PROPOSED);
+    assert_int_equal(cfg.sw.flux_band_iq, 0);
+    assert_int_equal(cfg.sw.torque_band_iq, 0);
 }
 
 typedef void (*mutate_fn)(dtc_config_si_t *);
@@ -169,60 +169,71 @@ typedef void (*fw_mutate_fn)(dtc_config_t *);
 typedef struct {
     fw_mutate_fn fn;
     int16_t code;
+    const char *field; /* dtc_config_check's name of the refused field */
 } fw_case_t;
 #define FMUT(name, stmt) static void name(dtc_config_t *c) { stmt; }
 FMUT(f_version, c->version = 99U)
-FMUT(f_topo, c->topology = 2U)
-FMUT(f_est, c->estimator = 5U)
-FMUT(f_table, c->sstp_table = 5U)
-FMUT(f_mode, c->mode = 2U)
-FMUT(f_vmid, c->fstp_vmid_measured = 2U)
-FMUT(f_comp, c->compensation = 4U)
-FMUT(f_comp_topo, c->compensation = DTC_COMP_SSTP)
-FMUT(f_ls, c->ls_iq = 0)
-FMUT(f_rs, c->rs_iq = -1)
-FMUT(f_psi, c->psi_m_iq = -5)
-FMUT(f_kin, c->k_in_q31 = 0)
-FMUT(f_kleak, c->k_leak_q31 = -3)
-FMUT(f_enc, c->enc_counts = 0U)
-FMUT(f_enc_gain, c->enc_gain_q16 = 0U)
-FMUT(f_band, c->torque_band_iq = -1)
-FMUT(f_div, c->speed_div = 0U)
-FMUT(f_sk, c->speed_k_iq = 0)
-FMUT(f_kp, c->kp_iq = -1)
-FMUT(f_lim, c->torque_limit_iq = 0)
-FMUT(f_fref, c->flux_ref_iq = 0)
-FMUT(f_sref, c->speed_ref_iq = IQ(2.0))
-FMUT(f_tref, c->torque_ref_iq = IQ(-1.0))
-FMUT(f_drop, c->v_d_iq = -1)
-FMUT(f_adc, c->adc_i_offset[2] = 4096U)
-FMUT(f_adc_gain, c->adc_vdc_gain_iq = 0)
-FMUT(f_base, c->w_base_mrad_s = 0U)
-FMUT(f_limit, c->vdc_min_iq = c->vdc_max_iq)
-FMUT(f_handover, c->handover_speed_iq = -1)
-FMUT(f_handover_hyst, c->handover_hyst_iq = c->handover_speed_iq + 1)
-FMUT(f_delay, c->delay_comp = 2U)
-FMUT(f_ts_pu, c->ts_pu_iq = 0)
-FMUT(f_inv_ls, c->inv_ls_iq = -1)
-FMUT(f_deadtime, c->deadtime_comp = 2U)
-FMUT(f_td, c->td_ts_q15 = Q15(0.5))
+FMUT(f_topo, c->board.topology = 2U)
+FMUT(f_est, c->est.estimator = 5U)
+FMUT(f_table, c->sw.sstp_table = 5U)
+FMUT(f_mode, c->speed.mode = 2U)
+FMUT(f_vmid, c->board.fstp_vmid_measured = 2U)
+FMUT(f_comp, c->est.compensation = 4U)
+FMUT(f_comp_topo, c->est.compensation = DTC_COMP_SSTP)
+FMUT(f_ls, c->machine.pm.ls_iq = 0)
+FMUT(f_rs, c->machine.rs_iq = -1)
+FMUT(f_psi, c->machine.pm.psi_m_iq = -5)
+FMUT(f_kin, c->est.k_in_q31 = 0)
+FMUT(f_kleak, c->est.k_leak_q31 = -3)
+FMUT(f_enc, c->board.enc_counts = 0U)
+FMUT(f_enc_gain, c->board.enc_gain_q16 = 0U)
+FMUT(f_band, c->sw.torque_band_iq = -1)
+FMUT(f_div, c->speed.speed_div = 0U)
+FMUT(f_sk, c->speed.speed_k_iq = 0)
+FMUT(f_kp, c->speed.kp_iq = -1)
+FMUT(f_lim, c->speed.torque_limit_iq = 0)
+FMUT(f_fref, c->speed.flux_ref_iq = 0)
+FMUT(f_sref, c->speed.speed_ref_iq = IQ(2.0))
+FMUT(f_tref, c->speed.torque_ref_iq = IQ(-1.0))
+FMUT(f_drop, c->board.v_d_iq = -1)
+FMUT(f_adc, c->board.adc_i_offset[2] = 4096U)
+FMUT(f_adc_gain, c->board.adc_vdc_gain_iq = 0)
+FMUT(f_base, c->board.w_base_mrad_s = 0U)
+FMUT(f_limit, c->prot.vdc_min_iq = c->prot.vdc_max_iq)
+FMUT(f_handover, c->est.handover_speed_iq = -1)
+FMUT(f_handover_hyst, c->est.handover_hyst_iq = c->est.handover_speed_iq + 1)
+FMUT(f_delay, c->est.delay_comp = 2U)
+FMUT(f_ts_pu, c->board.ts_pu_iq = 0)
+FMUT(f_inv_ls, c->machine.pm.inv_ls_iq = -1)
+FMUT(f_deadtime, c->est.deadtime_comp = 2U)
+FMUT(f_td, c->board.td_ts_q15 = Q15(0.5))
+FMUT(f_law, c->law = 2U)
 
 static void test_dtc_init_refuses_bad_struct(void **state)
 {
     (void)state;
     static const fw_case_t cases[] = {
-        {f_version, DTC_ERR_VERSION}, {f_topo, DTC_ERR_VARIANT}, {f_est, DTC_ERR_VARIANT},
-        {f_table, DTC_ERR_VARIANT}, {f_mode, DTC_ERR_VARIANT}, {f_vmid, DTC_ERR_VARIANT},
-        {f_comp, DTC_ERR_COMPENSATION}, {f_comp_topo, DTC_ERR_COMPENSATION},
-        {f_ls, DTC_ERR_MACHINE}, {f_rs, DTC_ERR_MACHINE}, {f_psi, DTC_ERR_MACHINE},
-        {f_kin, DTC_ERR_FLUX_EST}, {f_kleak, DTC_ERR_FLUX_EST}, {f_enc, DTC_ERR_ENCODER},
-        {f_enc_gain, DTC_ERR_ENCODER}, {f_band, DTC_ERR_BAND}, {f_div, DTC_ERR_SPEED},
-        {f_sk, DTC_ERR_SPEED}, {f_kp, DTC_ERR_PI}, {f_lim, DTC_ERR_PI},
-        {f_fref, DTC_ERR_REFERENCE}, {f_sref, DTC_ERR_REFERENCE}, {f_tref, DTC_ERR_REFERENCE},
-        {f_drop, DTC_ERR_DROP}, {f_adc, DTC_ERR_ADC}, {f_adc_gain, DTC_ERR_ADC},
-        {f_base, DTC_ERR_BASE}, {f_limit, DTC_ERR_LIMIT}, {f_handover, DTC_ERR_HANDOVER},
-        {f_handover_hyst, DTC_ERR_HANDOVER}, {f_delay, DTC_ERR_DELAY}, {f_ts_pu, DTC_ERR_DELAY},
-        {f_inv_ls, DTC_ERR_DELAY}, {f_deadtime, DTC_ERR_DEADTIME}, {f_td, DTC_ERR_DEADTIME},
+        {f_version, DTC_ERR_VERSION, "version"}, {f_topo, DTC_ERR_VARIANT, "board.topology"},
+        {f_est, DTC_ERR_VARIANT, "est.estimator"}, {f_table, DTC_ERR_VARIANT, "sw.sstp_table"},
+        {f_mode, DTC_ERR_VARIANT, "speed.mode"}, {f_vmid, DTC_ERR_VARIANT, "board.fstp_vmid_measured"},
+        {f_comp, DTC_ERR_COMPENSATION, "est.compensation"},
+        {f_comp_topo, DTC_ERR_COMPENSATION, "est.compensation"},
+        {f_ls, DTC_ERR_MACHINE, "machine.pm.ls_iq"}, {f_rs, DTC_ERR_MACHINE, "machine.rs_iq"},
+        {f_psi, DTC_ERR_MACHINE, "machine.pm.psi_m_iq"}, {f_kin, DTC_ERR_FLUX_EST, "est.k_in_q31"},
+        {f_kleak, DTC_ERR_FLUX_EST, "est.k_leak_q31"}, {f_enc, DTC_ERR_ENCODER, "board.enc_counts"},
+        {f_enc_gain, DTC_ERR_ENCODER, "board.enc_gain_q16"}, {f_band, DTC_ERR_BAND, "sw.torque_band_iq"},
+        {f_div, DTC_ERR_SPEED, "speed.speed_div"}, {f_sk, DTC_ERR_SPEED, "speed.speed_k_iq"},
+        {f_kp, DTC_ERR_PI, "speed.kp_iq"}, {f_lim, DTC_ERR_PI, "speed.torque_limit_iq"},
+        {f_fref, DTC_ERR_REFERENCE, "speed.flux_ref_iq"}, {f_sref, DTC_ERR_REFERENCE, "speed.speed_ref_iq"},
+        {f_tref, DTC_ERR_REFERENCE, "speed.torque_ref_iq"}, {f_drop, DTC_ERR_DROP, "board.v_d_iq"},
+        {f_adc, DTC_ERR_ADC, "board.adc_i_offset"}, {f_adc_gain, DTC_ERR_ADC, "board.adc_vdc_gain_iq"},
+        {f_base, DTC_ERR_BASE, "board.w_base_mrad_s"}, {f_limit, DTC_ERR_LIMIT, "prot.vdc_min_iq"},
+        {f_handover, DTC_ERR_HANDOVER, "est.handover_speed_iq"},
+        {f_handover_hyst, DTC_ERR_HANDOVER, "est.handover_hyst_iq"},
+        {f_delay, DTC_ERR_DELAY, "est.delay_comp"}, {f_ts_pu, DTC_ERR_DELAY, "board.ts_pu_iq"},
+        {f_inv_ls, DTC_ERR_MACHINE, "machine.pm.inv_ls_iq"},
+        {f_deadtime, DTC_ERR_DEADTIME, "est.deadtime_comp"}, {f_td, DTC_ERR_DEADTIME, "board.td_ts_q15"},
+        {f_law, DTC_ERR_VARIANT, "law"},
     };
     dtc_config_si_t si;
     dtc_config_t good;
@@ -236,8 +247,13 @@ static void test_dtc_init_refuses_bad_struct(void **state)
         dtc_config_t bad = good;
         cases[k].fn(&bad);
         int16_t rc = dtc_init(&c, &bad);
+        const char *field = NULL;
         if (rc != cases[k].code) {
             fail_msg("firmware case %zu: dtc_init returned %d, want %d", k, rc, cases[k].code);
+        }
+        if (dtc_config_check(&bad, &field) != cases[k].code || strcmp(field, cases[k].field) != 0) {
+            fail_msg("firmware case %zu: dtc_config_check names \"%s\", want \"%s\"", k, field,
+                     cases[k].field);
         }
         assert_null(c.cfg);
     }
@@ -256,8 +272,8 @@ static void test_handover_default_from_machine(void **state)
     dtc_config_si_defaults(&si);
     assert_true(fabs(dtc_handover_default_rpm(&si) - 500.0 * 3.0 / M_PI) < 1e-9);
     assert_int_equal(dtc_config_from_si(&si, &cfg, NULL, 0), DTC_SI_OK);
-    assert_true(fabs((double)cfg.handover_speed_iq / 16777216.0 - 50.0 / (100.0 * M_PI)) < 1e-7);
-    assert_true(fabs((double)cfg.handover_hyst_iq / 16777216.0 - 0.2 * 50.0 / (100.0 * M_PI)) < 1e-7);
+    assert_true(fabs((double)cfg.est.handover_speed_iq / 16777216.0 - 50.0 / (100.0 * M_PI)) < 1e-7);
+    assert_true(fabs((double)cfg.est.handover_hyst_iq / 16777216.0 - 0.2 * 50.0 / (100.0 * M_PI)) < 1e-7);
     /* a weaker magnet: the back-EMF rule takes over, 3 * 1.415 / 0.05 = 84.9 rad/s */
     si.psi_m_wb = 0.05;
     si.flux_ref_wb = 0.05;
@@ -266,7 +282,7 @@ static void test_handover_default_from_machine(void **state)
     si.handover_auto = 0;
     si.handover_speed_rpm = 0.0;
     assert_int_equal(dtc_config_from_si(&si, &cfg, NULL, 0), DTC_SI_OK);
-    assert_int_equal(cfg.handover_speed_iq, 0);
+    assert_int_equal(cfg.est.handover_speed_iq, 0);
 }
 
 static void test_every_variant_converts_and_inits(void **state)
@@ -313,9 +329,9 @@ static void test_emitter_writes_every_field(void **state)
     fclose(f);
     assert_non_null(strstr(buf, "const dtc_config_t my_cfg = {"));
     char want[64];
-    snprintf(want, sizeof want, ".psi_m_iq = %ld,", (long)cfg.psi_m_iq);
+    snprintf(want, sizeof want, ".psi_m_iq = %ld,", (long)cfg.machine.pm.psi_m_iq);
     assert_non_null(strstr(buf, want));
-    snprintf(want, sizeof want, ".k_leak_q31 = %ld,", (long)cfg.k_leak_q31);
+    snprintf(want, sizeof want, ".k_leak_q31 = %ld,", (long)cfg.est.k_leak_q31);
     assert_non_null(strstr(buf, want));
     assert_non_null(strstr(buf, ".adc_i_offset = {2048U, 2048U, 2048U},"));
     assert_int_equal(dtc_config_emit_c(&cfg, "x", NULL), -1);

@@ -47,13 +47,13 @@ static int setup(void **state)
 static void params_from_cfg(flux_est_params_t *p, uint16_t est)
 {
     p->estimator = est;
-    p->k_in_q31 = g_cfg.k_in_q31;
-    p->k_leak_q31 = g_cfg.k_leak_q31;
-    p->rs_iq = g_cfg.rs_iq;
-    p->ls_iq = g_cfg.ls_iq;
-    p->psi_m_iq = g_cfg.psi_m_iq;
-    p->enc_gain_q16 = g_cfg.enc_gain_q16;
-    p->enc_offset = g_cfg.enc_offset;
+    p->k_in_q31 = g_cfg.est.k_in_q31;
+    p->k_leak_q31 = g_cfg.est.k_leak_q31;
+    p->rs_iq = g_cfg.machine.rs_iq;
+    p->ls_iq = g_cfg.machine.pm.ls_iq;
+    p->psi_m_iq = g_cfg.machine.pm.psi_m_iq;
+    p->enc_gain_q16 = g_cfg.board.enc_gain_q16;
+    p->enc_offset = g_cfg.board.enc_offset;
 }
 
 static void test_current_model_matches_eqs_8_9(void **state)
@@ -111,16 +111,16 @@ static void test_encoder_angle(void **state)
 {
     (void)state;
     /* count -> angle: 8.192 LSB/count (p = 1); 4000 counts = half a turn; 8000 wraps to 0. */
-    assert_int_equal(flux_est_angle(0U, g_cfg.enc_gain_q16, 0U), 0U);
-    assert_int_equal(flux_est_angle(4000U, g_cfg.enc_gain_q16, 0U), 32768U);
-    assert_int_equal(flux_est_angle(2000U, g_cfg.enc_gain_q16, 100U), 16384U + 100U);
-    assert_int_equal(flux_est_angle(8000U, g_cfg.enc_gain_q16, 0U), 0U);
+    assert_int_equal(flux_est_angle(0U, g_cfg.board.enc_gain_q16, 0U), 0U);
+    assert_int_equal(flux_est_angle(4000U, g_cfg.board.enc_gain_q16, 0U), 32768U);
+    assert_int_equal(flux_est_angle(2000U, g_cfg.board.enc_gain_q16, 100U), 16384U + 100U);
+    assert_int_equal(flux_est_angle(8000U, g_cfg.board.enc_gain_q16, 0U), 0U);
     /* two pole pairs: the electrical angle turns twice per revolution */
     uint32_t g2 = 1073742U; /* 65536*65536*2/8000 = 1073741.8, rounded */
     assert_int_equal(flux_est_angle(2000U, g2, 0U), 32768U);
     for (uint16_t c = 0; c < 8000U; c++) {
         double exact = fmod(c * 8.192, 65536.0);
-        double got = flux_est_angle(c, g_cfg.enc_gain_q16, 0U);
+        double got = flux_est_angle(c, g_cfg.board.enc_gain_q16, 0U);
         /* truncation (< 1 LSB) and the Q16 rounding of the gain (< 0.5/65536 LSB per count) */
         assert_true(got <= exact + c * 0.5 / 65536.0 && got > exact - 1.0 - c * 0.5 / 65536.0);
     }
@@ -129,18 +129,18 @@ static void test_encoder_angle(void **state)
 static void test_lpf_step_lsb_and_saturation(void **state)
 {
     (void)state;
-    const double kin = fixtest_q31_to_d(g_cfg.k_in_q31), kl = fixtest_q31_to_d(g_cfg.k_leak_q31);
+    const double kin = fixtest_q31_to_d(g_cfg.est.k_in_q31), kl = fixtest_q31_to_d(g_cfg.est.k_leak_q31);
     for (int n = 0; n < 5000; n++) {
         double psi = -3.0 + 6.0 * n / 4999.0, e = 2.0 * sin(n * 0.37);
         iq_t pq = fixtest_d_to_iq(psi), eq = fixtest_d_to_iq(e);
         double ref = fixtest_iq_to_d(pq) + kin * fixtest_iq_to_d(eq) - kl * fixtest_iq_to_d(pq);
-        fixtest_assert_lsb(fixtest_iq_to_d(flux_est_lpf(pq, eq, g_cfg.k_in_q31, g_cfg.k_leak_q31)),
+        fixtest_assert_lsb(fixtest_iq_to_d(flux_est_lpf(pq, eq, g_cfg.est.k_in_q31, g_cfg.est.k_leak_q31)),
                            ref, LSB, 0.5, "lpf one step");
     }
     /* saturation at both ends, no wrap */
     assert_int_equal(flux_est_lpf(IQ_MAX, IQ_MAX, Q31_MAX, 1), IQ_MAX);
     assert_int_equal(flux_est_lpf(IQ_MIN, IQ_MIN, Q31_MAX, 1), IQ_MIN);
-    assert_true(flux_est_lpf(IQ_MAX - 5, IQ(10.0), g_cfg.k_in_q31, 0 + 1) == IQ_MAX);
+    assert_true(flux_est_lpf(IQ_MAX - 5, IQ(10.0), g_cfg.est.k_in_q31, 0 + 1) == IQ_MAX);
 }
 
 /* Runs the voltage model on a synthetic steady state at electrical speed w_pu: surface PM with

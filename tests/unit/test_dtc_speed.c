@@ -31,9 +31,9 @@ static int setup(void **state)
 
 static void params(speed_meas_params_t *p)
 {
-    p->enc_counts = g_cfg.enc_counts;
-    p->k_speed_iq = g_cfg.speed_k_iq;
-    p->min_counts = g_cfg.speed_min_counts;
+    p->enc_counts = g_cfg.board.enc_counts;
+    p->k_speed_iq = g_cfg.speed.speed_k_iq;
+    p->min_counts = g_cfg.speed.speed_min_counts;
 }
 
 /* Encoder count at mechanical angle (turns), as the QEP counter shows it: 0..7999. */
@@ -117,9 +117,9 @@ static void test_speed_wraps_and_reset(void **state)
     params(&p);
     /* counter wrapping 7990 -> 10 (+20 counts) and back (-20 counts) */
     speed_meas_init(&s, &p, 7990U);
-    assert_int_equal(speed_meas_step(&s, 10U), 20 * g_cfg.speed_k_iq);
+    assert_int_equal(speed_meas_step(&s, 10U), 20 * g_cfg.speed.speed_k_iq);
     speed_meas_reset(&s, 10U);
-    assert_int_equal(speed_meas_step(&s, 7990U), -20 * g_cfg.speed_k_iq);
+    assert_int_equal(speed_meas_step(&s, 7990U), -20 * g_cfg.speed.speed_k_iq);
     /* standstill reads exactly zero */
     speed_meas_reset(&s, 1234U);
     for (int k = 0; k < 40; k++) {
@@ -137,7 +137,7 @@ static void test_speed_wraps_and_reset(void **state)
 static void test_pi_against_reference(void **state)
 {
     (void)state;
-    speed_pi_params_t p = {g_cfg.kp_iq, g_cfg.ki_ts_iq, g_cfg.torque_limit_iq};
+    speed_pi_params_t p = {g_cfg.speed.kp_iq, g_cfg.speed.ki_ts_iq, g_cfg.speed.torque_limit_iq};
     speed_pi_t s;
     speed_pi_reset(&s, 0, p.limit_iq);
     const double kp = fixtest_iq_to_d(p.kp_iq), ki = fixtest_iq_to_d(p.ki_ts_iq);
@@ -161,7 +161,7 @@ static void test_pi_against_reference(void **state)
 static void test_pi_limit_and_antiwindup(void **state)
 {
     (void)state;
-    speed_pi_params_t p = {g_cfg.kp_iq, g_cfg.ki_ts_iq, g_cfg.torque_limit_iq};
+    speed_pi_params_t p = {g_cfg.speed.kp_iq, g_cfg.speed.ki_ts_iq, g_cfg.speed.torque_limit_iq};
     speed_pi_t s;
     speed_pi_reset(&s, 0, p.limit_iq);
     /* 1 s of a large positive error (speed reference step with the rotor locked) */

@@ -104,8 +104,8 @@ static void torque_run(int topo, int est, int comp, int table, double rpm, doubl
     dtc_t c;
     dtc_out_t o;
     sim_init(&s, topo, est, comp, table, rpm);
-    s.cfg.mode = DTC_MODE_TORQUE;
-    s.cfg.torque_ref_iq = fixtest_d_to_iq(tref_pu);
+    s.cfg.speed.mode = DTC_MODE_TORQUE;
+    s.cfg.speed.torque_ref_iq = fixtest_d_to_iq(tref_pu);
     assert_int_equal(dtc_init(&c, &s.cfg), DTC_OK);
     double ts = 0.0, ps = 0.0, ee = 0.0;
     int n = 0;
@@ -179,7 +179,7 @@ static void test_closed_loop_speed_mode(void **state)
             ws += rpm;
             n++;
         }
-        assert_true(fabs(fixtest_iq_to_d(o.te_ref_iq)) <= fixtest_iq_to_d(s.cfg.torque_limit_iq));
+        assert_true(fabs(fixtest_iq_to_d(o.te_ref_iq)) <= fixtest_iq_to_d(s.cfg.speed.torque_limit_iq));
     }
     print_message("speed mode: mean %.1f rpm over the last 0.1 s (ref 1500), peak %.1f rpm, "
                   "%d speed ticks in 10000 periods\n", ws / n, wmax, ticks);
@@ -235,8 +235,8 @@ static void test_compensation_on_fstp_with_drops(void **state)
         dtc_out_t o;
         sim_init(&s, DTC_TOPO_FSTP, DTC_EST_VOLTAGE, comps[j], 0, 1500.0);
         s.drops = 1;
-        s.cfg.mode = DTC_MODE_TORQUE;
-        s.cfg.torque_ref_iq = IQ(0.3);
+        s.cfg.speed.mode = DTC_MODE_TORQUE;
+        s.cfg.speed.torque_ref_iq = IQ(0.3);
         assert_int_equal(dtc_init(&c, &s.cfg), DTC_OK);
         double e2 = 0.0, amax = 0.0, bmax = 0.0;
         int n = 0;
@@ -271,9 +271,9 @@ static void test_voltage_model_uses_legs_from_two_steps_back(void **state)
     dtc_t c;
     dtc_out_t o[6];
     sim_init(&s, DTC_TOPO_SSTP, DTC_EST_VOLTAGE, DTC_COMP_NONE, DTC_ST_D, 0.0);
-    s.cfg.rs_iq = 0;
-    s.cfg.handover_speed_iq = 0; /* the voltage model from standstill (no current-model start) */
-    s.cfg.handover_hyst_iq = 0;
+    s.cfg.machine.rs_iq = 0;
+    s.cfg.est.handover_speed_iq = 0; /* the voltage model from standstill (no current-model start) */
+    s.cfg.est.handover_hyst_iq = 0;
     assert_int_equal(dtc_init(&c, &s.cfg), DTC_OK);
     dtc_meas_t me = {0, 0, 0, IQ(1.0), IQ(0.5), 0U};
     for (int k = 0; k < 6; k++) {
@@ -283,14 +283,14 @@ static void test_voltage_model_uses_legs_from_two_steps_back(void **state)
         if (k >= 2) {
             dtc_ref_clarke3(o[k - 2].sa, o[k - 2].sb, o[k - 2].sc, &va, &vb);
         }
-        double kin = fixtest_q31_to_d(s.cfg.k_in_q31), kl = fixtest_q31_to_d(s.cfg.k_leak_q31);
+        double kin = fixtest_q31_to_d(s.cfg.est.k_in_q31), kl = fixtest_q31_to_d(s.cfg.est.k_leak_q31);
         double ea = fixtest_iq_to_d(pa) * (1 - kl) + kin * va;
         double eb = fixtest_iq_to_d(pb) * (1 - kl) + kin * vb;
         double tol = 3.0;
         if (k == 0) {
             /* first step after init: seeded from eqs. 8-9 (zero current, angle 0): (psi_m, 0),
              * within psi_m times the sine table's error (fix_cos(0) = 1 - 2^-15) */
-            ea = fixtest_iq_to_d(s.cfg.psi_m_iq);
+            ea = fixtest_iq_to_d(s.cfg.machine.pm.psi_m_iq);
             eb = 0.0;
             tol = 1000.0;
         }
@@ -298,7 +298,7 @@ static void test_voltage_model_uses_legs_from_two_steps_back(void **state)
         fixtest_assert_lsb(fixtest_iq_to_d(c.fe.psi_beta_iq), eb, 1.0 / 16777216.0, tol, "timing b");
     }
     /* the flux moved away from the seed, so active vectors were applied */
-    assert_true(c.fe.psi_alpha_iq != s.cfg.psi_m_iq || c.fe.psi_beta_iq != 0);
+    assert_true(c.fe.psi_alpha_iq != s.cfg.machine.pm.psi_m_iq || c.fe.psi_beta_iq != 0);
 }
 
 /* Start-up on the current model and hand-over (dtc_config.h): from standstill, J = 5e-4 kg m^2,
@@ -316,8 +316,8 @@ static void test_handover_up_and_down(void **state)
     const double rpm_per_pu = s.b.w_base_rad_s * 30.0 / DTC_REF_PI;
     s.j_kgm2 = 5e-4;
     assert_int_equal(dtc_init(&c, &s.cfg), DTC_OK);
-    const double h_rpm = fixtest_iq_to_d(s.cfg.handover_speed_iq) * s.b.w_base_rad_s * 30.0 / DTC_REF_PI;
-    const double psi_m = fixtest_iq_to_d(s.cfg.psi_m_iq);
+    const double h_rpm = fixtest_iq_to_d(s.cfg.est.handover_speed_iq) * s.b.w_base_rad_s * 30.0 / DTC_REF_PI;
+    const double psi_m = fixtest_iq_to_d(s.cfg.machine.pm.psi_m_iq);
     assert_true(fabs(h_rpm - 477.46) < 0.1);
     int up = -1, down = -1;
     uint16_t prev = 1U;
@@ -366,7 +366,7 @@ static void test_deadtime_error(void **state)
         dtc_t c;
         sim_init(&s, topo == 0 ? DTC_TOPO_SSTP : DTC_TOPO_FSTP, DTC_EST_VOLTAGE, DTC_COMP_NONE,
                  DTC_ST_BASIC, 0.0);
-        s.cfg.td_ts_q15 = Q15(0.02);
+        s.cfg.board.td_ts_q15 = Q15(0.02);
         assert_int_equal(dtc_init(&c, &s.cfg), DTC_OK);
         for (int prev = 0; prev < 8; prev++) {
             for (int cur = 0; cur < 8; cur++) {
@@ -394,13 +394,13 @@ static void test_deadtime_error(void **state)
                     double e[3];
                     for (int x = 0; x < 3; x++) {
                         e[x] = 0.0;
-                        const double ed = (double)s.cfg.td_ts_q15 / 32768.0; /* Q15(0.02) */
+                        const double ed = (double)s.cfg.board.td_ts_q15 / 32768.0; /* Q15(0.02) */
                         if (sp[x] == 0 && sq[x] == 1 && il[x] > 0) e[x] = -ed;
                         if (sp[x] == 1 && sq[x] == 0 && il[x] < 0) e[x] = ed;
                     }
                     double wa = (2 * e[0] - e[1] - e[2]) / 3.0, wb = (e[1] - e[2]) / sqrt(3.0);
                     iq_t da, db;
-                    dtc_deadtime(&c, &me, &p, &q, &da, &db);
+                    dtc_deadtime(c.cfg, &me, &p, &q, &da, &db);
                     fixtest_assert_lsb(fixtest_iq_to_d(da), wa, 1.0 / 16777216.0, 3.0, "dead time alpha");
                     fixtest_assert_lsb(fixtest_iq_to_d(db), wb, 1.0 / 16777216.0, 3.0, "dead time beta");
                 }
@@ -459,9 +459,9 @@ static void test_shadow_set_and_modes(void **state)
     dtc_out_t o;
     dtc_refs_t r, got;
     sim_init(&s, DTC_TOPO_FSTP, DTC_EST_CURRENT, DTC_COMP_NONE, 0, 600.0);
-    s.cfg.mode = DTC_MODE_TORQUE;
-    s.cfg.torque_ref_iq = IQ(0.2);
-    s.cfg.torque_trim_k_q15 = 0; /* this test isolates the shadow set: reference = set in force */
+    s.cfg.speed.mode = DTC_MODE_TORQUE;
+    s.cfg.speed.torque_ref_iq = IQ(0.2);
+    s.cfg.speed.torque_trim_k_q15 = 0; /* this test isolates the shadow set: reference = set in force */
     assert_int_equal(dtc_init(&c, &s.cfg), DTC_OK);
     sim_period(&s, &c, &o);
     fixtest_assert_lsb(fixtest_iq_to_d(o.te_ref_iq), 0.2, 1.0 / 16777216.0, 0.5, "initial ref");
@@ -476,11 +476,11 @@ static void test_shadow_set_and_modes(void **state)
     assert_int_equal(got.flux_ref_iq, IQ(0.40));
 
     /* a write interrupted half-way (sequence odd) is not adopted */
-    c.shadow_seq = (uint16_t)(c.shadow_seq + 1U);
-    c.sh_torque_ref_iq = IQ(-0.1);
+    c.sh.seq = (uint16_t)(c.sh.seq + 1U);
+    c.sh.torque_ref_iq = IQ(-0.1);
     sim_period(&s, &c, &o);
     fixtest_assert_lsb(fixtest_iq_to_d(o.te_ref_iq), 0.35, 1.0 / 16777216.0, 0.5, "not half");
-    c.shadow_seq = (uint16_t)(c.shadow_seq + 1U); /* the writer completes */
+    c.sh.seq = (uint16_t)(c.sh.seq + 1U); /* the writer completes */
     sim_period(&s, &c, &o);
     dtc_refs_get(&c, &got);
     assert_int_equal(got.torque_ref_iq, IQ(-0.1));
@@ -489,7 +489,7 @@ static void test_shadow_set_and_modes(void **state)
     r.torque_ref_iq = IQ(5.0);
     assert_int_equal(dtc_shadow_write(&c, &r), DTC_OK);
     sim_period(&s, &c, &o);
-    assert_int_equal(o.te_ref_iq, s.cfg.torque_limit_iq);
+    assert_int_equal(o.te_ref_iq, s.cfg.speed.torque_limit_iq);
     r.flux_ref_iq = 0;
     assert_int_equal(dtc_shadow_write(&c, &r), DTC_ERR_REFERENCE);
     r.flux_ref_iq = IQ(0.4);
@@ -524,9 +524,9 @@ static double torque_mode_mean(q15_t k, double ref_pu, iq_t *ref_max)
     double sum = 0.0;
     int n;
     sim_init(&s, DTC_TOPO_FSTP, DTC_EST_CURRENT, DTC_COMP_NONE, 0, 1500.0);
-    s.cfg.mode = DTC_MODE_TORQUE;
-    s.cfg.torque_ref_iq = fixtest_d_to_iq(ref_pu);
-    s.cfg.torque_trim_k_q15 = k;
+    s.cfg.speed.mode = DTC_MODE_TORQUE;
+    s.cfg.speed.torque_ref_iq = fixtest_d_to_iq(ref_pu);
+    s.cfg.speed.torque_trim_k_q15 = k;
     assert_int_equal(dtc_init(&c, &s.cfg), DTC_OK);
     *ref_max = 0;
     for (n = 0; n < 12000; n++) { /* 0.6 s: 30 trim time constants */
@@ -550,12 +550,12 @@ static void test_torque_mode_trim(void **state)
     sim_init(&s, DTC_TOPO_FSTP, DTC_EST_CURRENT, DTC_COMP_NONE, 0, 1500.0);
     ref = 0.3 / s.b.t_base_nm; /* rated torque, 0.3 N.m */
     off = torque_mode_mean(0, ref, &ref_max);
-    on = torque_mode_mean(s.cfg.torque_trim_k_q15, ref, &ref_max);
+    on = torque_mode_mean(s.cfg.speed.torque_trim_k_q15, ref, &ref_max);
     print_message("[ MEASURE  ] torque mode mean/ref: trim off %.4f, trim on %.4f\n", off / ref, on / ref);
-    assert_true(s.cfg.torque_trim_k_q15 > 0);  /* on by default (tau = 20 ms) */
+    assert_true(s.cfg.speed.torque_trim_k_q15 > 0);  /* on by default (tau = 20 ms) */
     assert_true(fabs(off / ref - 1.0) > 0.03); /* the offset the trim exists for */
     assert_true(fabs(on / ref - 1.0) < 0.01);
-    assert_true(ref_max <= s.cfg.torque_limit_iq);
+    assert_true(ref_max <= s.cfg.speed.torque_limit_iq);
 }
 
 static void test_outputs_consistent(void **state)
@@ -565,7 +565,7 @@ static void test_outputs_consistent(void **state)
     dtc_t c;
     dtc_out_t o;
     sim_init(&s, DTC_TOPO_SSTP, DTC_EST_CURRENT, DTC_COMP_NONE, DTC_ST_BASIC, 900.0);
-    s.cfg.delay_comp = 0U; /* the comparators then work on the reported estimate */
+    s.cfg.est.delay_comp = 0U; /* the comparators then work on the reported estimate */
     assert_int_equal(dtc_init(&c, &s.cfg), DTC_OK);
     for (int k = 0; k < 2000; k++) {
         sim_period(&s, &c, &o);
@@ -574,9 +574,9 @@ static void test_outputs_consistent(void **state)
         assert_true(l.sa == o.sa && l.sb == o.sb && l.sc == o.sc);
         /* flux comparator (eq. 13) against eq. 11's magnitude: outside the band the decision is forced */
         const iq_t mag = dtc_out_flux_mag(&o);
-        if (mag < s.cfg.flux_ref_iq - s.cfg.flux_band_iq / 2 - 1) {
+        if (mag < s.cfg.speed.flux_ref_iq - s.cfg.sw.flux_band_iq / 2 - 1) {
             assert_int_equal(o.flux_up, 1U);
-        } else if (mag > s.cfg.flux_ref_iq + s.cfg.flux_band_iq / 2 + 1) {
+        } else if (mag > s.cfg.speed.flux_ref_iq + s.cfg.sw.flux_band_iq / 2 + 1) {
             assert_int_equal(o.flux_up, 0U);
         }
     }
@@ -623,8 +623,8 @@ static void test_extreme_measurements_all_variants(void **state)
                         }
                         assert_true(o.sector >= 1U);
                         assert_true(o.sa <= 1U && o.sb <= 1U && o.sc <= 1U);
-                        assert_true(o.te_ref_iq <= s.cfg.torque_limit_iq &&
-                                    o.te_ref_iq >= -s.cfg.torque_limit_iq);
+                        assert_true(o.te_ref_iq <= s.cfg.speed.torque_limit_iq &&
+                                    o.te_ref_iq >= -s.cfg.speed.torque_limit_iq);
                     }
                 }
 }

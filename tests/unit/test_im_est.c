@@ -89,7 +89,7 @@ static void test_polar_against_atan2_and_hypot(void **state)
     }
     printf("MEASURE fix_polar: worst angle error %.3f LSB, worst magnitude error %.3f LSB beyond 6e-8 relative\n",
            worst_a, worst_m);
-    assert_true(worst_a <= 0.58);
+    assert_true(worst_a <= 0.86); /* fixmath.h: residual atan(2^-15) 0.32 + rounding 0.5 + shifts */
     assert_true(worst_m <= 1.0);
     angle_t a = 77U;
     iq_t m = 5;
@@ -130,7 +130,7 @@ static void test_improved_estimator_magnetises_from_zero_as_eq20_says(void **sta
     im_est_params_t pv = p;
     pv.estimator = IM_EST_VOLTAGE;
     im_est_init(&v, &pv);
-    im_est_in_t in = {0, 0, 0, 0, fixtest_d_to_iq(psir_ref), 0};
+    im_est_in_t in = {0, 0, 0, 0, fixtest_d_to_iq(psir_ref), 0, 0};
     const double kr = kLr / kLm;
     double worst = 0.0;
     for (int k = 1; k <= 2000; ++k) { /* 80 ms = 8 tau / k_r */
@@ -191,7 +191,7 @@ static void test_improved_estimator_tracks_double_reference_in_steady_state(void
         double v[2], i[2];
         steady_state_inputs(k, v, i);
         im_est_in_t in = {fixtest_d_to_iq(v[0]), fixtest_d_to_iq(v[1]), fixtest_d_to_iq(i[0]), fixtest_d_to_iq(i[1]),
-                          fixtest_d_to_iq(psir_ref), fixtest_d_to_iq(SS_W)};
+                          fixtest_d_to_iq(psir_ref), fixtest_d_to_iq(SS_W), 0};
         im_est_step(&s, &in);
         ref_step(&r, K, v, i, psir_ref);
         if (k > 1000) {
@@ -202,6 +202,24 @@ static void test_improved_estimator_tracks_double_reference_in_steady_state(void
     printf("MEASURE improved estimator vs double: SNR %.1f dB, worst %.2e pu\n", fixtest_acc_snr_db(&acc),
            acc.max_abs_err);
     fixtest_assert_snr(&acc, 90.0, "improved estimator vs double reference");
+    /* The direction e^{j theta} = x/|x| (tracked reciprocal) is a unit vector along the rotor
+     * flux (eq. 21: phi_r = k_r x) to 1e-6, and the angle, computed when asked for (eq. 22,
+     * CORDIC), is that of the rotor flux within fix_polar's bound. */
+    {
+        double v[2], i[2], a_ref, da;
+        const double ua = fixtest_iq_to_d(s.u_alpha_iq), ub = fixtest_iq_to_d(s.u_beta_iq);
+        const double pa = fixtest_iq_to_d(s.psir_alpha_iq), pb = fixtest_iq_to_d(s.psir_beta_iq);
+        assert_true(fabs(hypot(ua, ub) - 1.0) < 1e-6);
+        assert_true(fabs(ua * pb - ub * pa) < 1e-6 * hypot(pa, pb));
+        assert_true(fabs(hypot(pa, pb) - fixtest_iq_to_d(s.psir_mag_iq)) < 1e-6);
+        steady_state_inputs(50000, v, i);
+        im_est_in_t in = {fixtest_d_to_iq(v[0]), fixtest_d_to_iq(v[1]), fixtest_d_to_iq(i[0]), fixtest_d_to_iq(i[1]),
+                          fixtest_d_to_iq(psir_ref), fixtest_d_to_iq(SS_W), 1};
+        im_est_step(&s, &in);
+        a_ref = atan2(fixtest_iq_to_d(s.psir_beta_iq), fixtest_iq_to_d(s.psir_alpha_iq)) / TWO_PI * 65536.0;
+        da = wrap_lsb((double)s.theta_r - a_ref);
+        assert_true(fabs(da) <= 1.0); /* fix_polar 0.86 LSB plus the rounding of k_r x */
+    }
 }
 
 /* Error of the improved estimator against the true stator flux at 25 Hz, rated load, after 2 s:
@@ -218,7 +236,7 @@ static double improved_steady_error(double rel)
         double v[2], i[2];
         steady_state_inputs(k, v, i);
         im_est_in_t in = {fixtest_d_to_iq(v[0]), fixtest_d_to_iq(v[1]), fixtest_d_to_iq(i[0]), fixtest_d_to_iq(i[1]),
-                          fixtest_d_to_iq((1.0 + rel) * kLr / kLm * steady_state_x()), fixtest_d_to_iq(SS_W)};
+                          fixtest_d_to_iq((1.0 + rel) * kLr / kLm * steady_state_x()), fixtest_d_to_iq(SS_W), 0};
         im_est_step(&s, &in);
     }
     return hypot(fixtest_iq_to_d(s.psi_alpha_iq) - SS_PSI * cos(SS_W * n * kTs),

@@ -1,6 +1,7 @@
 /* dtc_config_si.c - SI -> per-unit Q-format configuration (see dtc_config_si.h). Host code. */
 #include "dtc_config_si.h"
 
+#include "dtc_config_fields.h"
 #include "plant_defaults.h"
 
 #include <math.h>
@@ -16,6 +17,7 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
 {
     /* Values of the rig and sources: plant_defaults.h. */
     memset(si, 0, sizeof *si);
+    si->law = DTC_LAW_PM_DTC;
     si->rs_ohm = PLANT_DEF_PM_RS_OHM;
     si->ls_h = PLANT_DEF_PM_LS_H;
     si->psi_m_wb = PLANT_DEF_PM_PSI_M_WB;
@@ -57,6 +59,22 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->flux_ref_wb = PLANT_DEF_FLUX_REF_WB;
     si->speed_ref_rpm = PLANT_DEF_SPEED_REF_RPM;
     si->torque_ref_nm = 0.0;
+    /* Induction-machine law: unused by the PM law, set to the IM defaults' values so that a
+     * switch of law alone keeps them sane. */
+    si->psir_ref_wb = 0.0;
+    si->tau_lo_s = 0.01;
+    si->tau_hi_s = 0.01;
+    si->tau_w_lo_rpm = 0.0;
+    si->tau_w_hi_rpm = 0.0;
+    si->scheme = DTC_SCHEME_DTC;
+    si->speed_sensor = DTC_SPEED_ENCODER;
+    si->table_speed_rpm = 0.0;
+    si->speed_filter_s = 0.005;
+    si->magn_frac = 0.9;
+    si->flux_weakening = 0;
+    si->fw_window = 20;
+    si->fw_step_frac = 0.005;
+    si->fw_psi_min_frac = 0.1;
     si->estimator = DTC_EST_VOLTAGE;
     si->compensation = DTC_COMP_FSTP_PROPOSED;
     si->sstp_table = DTC_ST_BASIC;
@@ -78,6 +96,58 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->v_base_v = PLANT_DEF_VDC_V;
     si->i_base_a = PLANT_DEF_PM_RATED_CURRENT_A;
     si->w_base_rad_s = 2.0 * M_PI * PLANT_DEF_PM_RATED_SPEED_RPM / 60.0 * PLANT_DEF_PM_POLE_PAIRS;
+}
+
+void dtc_config_si_im_defaults(dtc_config_si_t *si)
+{
+    dtc_config_si_defaults(si);
+    si->law = DTC_LAW_IM_DTC;
+    /* The default IM of plant_defaults.h: 4 kW, 4 poles, 50 Hz, 220 V */
+    si->rs_ohm = PLANT_DEF_IM_RS_OHM;
+    si->rr_ohm = PLANT_DEF_IM_RR_OHM;
+    si->lls_h = PLANT_DEF_IM_LLS_H;
+    si->llr_h = PLANT_DEF_IM_LLR_H;
+    si->lm_h = PLANT_DEF_IM_LM_H;
+    si->ls_h = 0.0;
+    si->psi_m_wb = 0.0;
+    si->pole_pairs = PLANT_DEF_IM_POLE_PAIRS;
+    si->rated_speed_rpm = 1500.0;  /* synchronous speed at 50 Hz: the speed base */
+    si->rated_torque_nm = PLANT_DEF_IM_RATED_TORQUE_NM;
+    si->rated_current_a = PLANT_DEF_IM_RATED_CURRENT_A;
+    si->inertia_kgm2 = PLANT_DEF_IM_J_KGM2;
+    /* SSTP on sqrt(2) * 220 V; the plant's devices */
+    si->topology = DTC_TOPO_SSTP;
+    si->vdc_v = 311.0;
+    si->compensation = DTC_COMP_SSTP;
+    si->ts_s = 40e-6;              /* Casadei section 10.5 */
+    si->handover_auto = 0;         /* PM start-up only */
+    si->handover_speed_rpm = 0.0;
+    si->delay_comp = 0;            /* PM law only */
+    si->flux_ref_wb = 0.55;        /* |phi_s| at rated voltage and frequency (im-facts.md) */
+    si->flux_band_wb = 0.0;
+    si->torque_band_nm = 0.0;
+    si->torque_limit_nm = 3.0 * PLANT_DEF_IM_RATED_TORQUE_NM; /* Fig. 14: 300 % steps */
+    si->speed_limit_rpm = 6000.0;     /* Fig. 32: 400 % of base speed */
+    si->speed_ref_rpm = 0.0;
+    si->speed_bw_rad_s = 30.0;
+    si->estimator = DTC_EST_IMPROVED;
+    si->sstp_table = DTC_ST_BASIC;
+    /* ADC: +-200 A sensors, 0..500 V dividers; trip above the 300 % torque current */
+    si->adc_i_a_per_count = 400.0 / PLANT_DEF_ADC_FULL_SCALE_CODES;
+    si->adc_vdc_v_per_count = 500.0 / PLANT_DEF_ADC_FULL_SCALE_CODES;
+    si->adc_vmid_v_per_count = 500.0 / PLANT_DEF_ADC_FULL_SCALE_CODES;
+    si->i_trip_a = 150.0;
+    si->vdc_max_v = 400.0;
+    si->vdc_min_v = 200.0;
+    si->v_base_v = 311.0;
+    si->i_base_a = PLANT_DEF_IM_RATED_CURRENT_A;
+    si->w_base_rad_s = 2.0 * M_PI * 50.0;
+}
+
+double dtc_table_speed_default_rpm(const dtc_config_si_t *si)
+{
+    const double w_el = 0.5 * si->vdc_v / sqrt(3.0) / si->flux_ref_wb;
+    return w_el * 30.0 / M_PI / (double)si->pole_pairs;
 }
 
 double dtc_handover_default_rpm(const dtc_config_si_t *si)
@@ -154,12 +224,100 @@ static uint32_t to_u32_milli(double v) { return (uint32_t)nearbyint(v * 1000.0);
 
 /* ---- conversion ---------------------------------------------------------------------------- */
 
+/* The induction-machine law's fields (Casadei 2006), after the common ones (the speed PI, limits
+ * and references are converted by dtc_config_from_si). T model: L_s = L_ls + M, L_r = L_lr + M,
+ * sigma = 1 - M^2 / (L_s L_r). */
+static void im_from_si(conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *b, dtc_config_t *cfg)
+{
+    const double ls = si->lls_h + si->lm_h, lr = si->llr_h + si->lm_h, m = si->lm_h;
+    const double sigma = 1.0 - m * m / (ls * lr);
+    const double tsp = si->ts_s * b->w_base_rad_s;
+    const double rpm_pu = M_PI / 30.0 * si->pole_pairs / b->w_base_rad_s;
+    /* Rotor-flux reference: the constant one of eq. 19, or the no-load rotor flux of the stator-
+     * flux reference (phi_r = (M/L_s) phi_s at zero torque). */
+    const double psir = si->psir_ref_wb > 0.0 ? si->psir_ref_wb : si->flux_ref_wb * m / ls;
+    dtc_im_machine_cfg_t *im = &cfg->machine.im;
+
+    if (!(si->psir_ref_wb >= 0.0)) { fail(c, DTC_SI_ERR_IM, "psir_ref_wb = %g: must be >= 0 (0 = stator-flux reference)", si->psir_ref_wb); return; }
+    if (!(si->tau_lo_s > si->ts_s && si->tau_hi_s > si->ts_s)) { fail(c, DTC_SI_ERR_IM, "tau_lo_s = %g, tau_hi_s = %g: must be longer than ts_s", si->tau_lo_s, si->tau_hi_s); return; }
+    if (!(si->tau_w_lo_rpm >= 0.0 && si->tau_w_hi_rpm >= si->tau_w_lo_rpm)) { fail(c, DTC_SI_ERR_IM, "tau_w_hi_rpm = %g: need 0 <= tau_w_lo_rpm <= tau_w_hi_rpm", si->tau_w_hi_rpm); return; }
+    if (!(si->table_speed_rpm >= 0.0)) { fail(c, DTC_SI_ERR_IM, "table_speed_rpm = %g: must be >= 0 (0 = derived)", si->table_speed_rpm); return; }
+    if (!(si->speed_filter_s > si->ts_s * si->speed_div)) { fail(c, DTC_SI_ERR_IM, "speed_filter_s = %g: must be longer than the speed period ts_s * speed_div", si->speed_filter_s); return; }
+    if (!(si->magn_frac > 0.0 && si->magn_frac < 1.0)) { fail(c, DTC_SI_ERR_IM, "magn_frac = %g: must be in (0, 1)", si->magn_frac); return; }
+    if (si->flux_weakening != 0 && si->flux_weakening != 1) { fail(c, DTC_SI_ERR_IM, "flux_weakening = %d: must be 0 or 1", si->flux_weakening); return; }
+    if (si->fw_window < 20 || si->fw_window > 65535) { fail(c, DTC_SI_ERR_IM, "fw_window = %d: must be 20..65535 (section 12.3: at most one flux-reference change per 20 periods)", si->fw_window); return; }
+    if (!(si->fw_step_frac > 0.0 && si->fw_step_frac < 1.0)) { fail(c, DTC_SI_ERR_IM, "fw_step_frac = %g: must be in (0, 1)", si->fw_step_frac); return; }
+    if (!(si->fw_psi_min_frac > 0.0 && si->fw_psi_min_frac <= 1.0)) { fail(c, DTC_SI_ERR_IM, "fw_psi_min_frac = %g: must be in (0, 1]", si->fw_psi_min_frac); return; }
+
+    im->rr_iq = to_iq(c, "rr_ohm", si->rr_ohm, si->rr_ohm / b->z_base_ohm);
+    im->sigma_ls_iq = to_iq(c, "lls_h (sigma L_s)", si->lls_h, sigma * ls / b->l_base_h);
+    im->sigma_lr_iq = to_iq(c, "llr_h (sigma L_r)", si->llr_h, sigma * lr / b->l_base_h);
+    im->kr_iq = to_iq(c, "llr_h (L_r/M)", si->llr_h, lr / m);
+    im->ks_iq = to_iq(c, "lls_h (L_s/M)", si->lls_h, ls / m);
+    im->inv_ks_iq = to_iq(c, "lls_h (M/L_s)", si->lls_h, m / ls);
+
+    /* Improved estimator: Ts/tau in Q31, speed-dependent between the two speeds. */
+    cfg->est.im_k_lo_q31 = to_q31(c, "tau_lo_s (Ts/tau)", si->ts_s / si->tau_lo_s);
+    cfg->est.im_k_hi_q31 = to_q31(c, "tau_hi_s (Ts/tau)", si->ts_s / si->tau_hi_s);
+    cfg->est.im_w_lo_iq = to_iq(c, "tau_w_lo_rpm", si->tau_w_lo_rpm, si->tau_w_lo_rpm * rpm_pu);
+    cfg->est.im_w_hi_iq = to_iq(c, "tau_w_hi_rpm", si->tau_w_hi_rpm, si->tau_w_hi_rpm * rpm_pu);
+    if (cfg->est.im_w_hi_iq > cfg->est.im_w_lo_iq) {
+        const double slope = (si->ts_s / si->tau_hi_s - si->ts_s / si->tau_lo_s) /
+                             ((si->tau_w_hi_rpm - si->tau_w_lo_rpm) * rpm_pu);
+        const double r = nearbyint(slope * 2147483648.0);
+        if (!(fabs(r) <= 2147483647.0)) { fail(c, DTC_SI_ERR_IM, "tau_w_hi_rpm = %g: the Ts/tau slope overflows Q31", si->tau_w_hi_rpm); return; }
+        cfg->est.im_k_slope_q31 = (q31_t)r;
+    }
+
+    cfg->sw.scheme = (uint16_t)si->scheme;
+    {
+        const double rpm = si->table_speed_rpm > 0.0 ? si->table_speed_rpm : dtc_table_speed_default_rpm(si);
+        cfg->sw.im_table_speed_iq = to_iq(c, "table_speed_rpm", rpm, rpm * rpm_pu);
+    }
+    cfg->sw.im_fw_on = (uint16_t)si->flux_weakening;
+    cfg->sw.im_fw_window = (uint16_t)si->fw_window;
+    {
+        /* Casadei eq. 31: pull-out torque at stator flux phi_s (R_s neglected):
+         * T_max = (3/2) p (1 - sigma) / (2 sigma L_s) phi_s^2, so k_T = T_max / phi_s^2. In pu
+         * (T_base = 3/2 p psi_base I_base): k_T = (1 - sigma) / (2 sigma l_s). */
+        const double kt_pu = (1.0 - sigma) / (2.0 * sigma * ls / b->l_base_h);
+        const double psi_pu = si->flux_ref_wb / b->psi_base_wb;
+        cfg->sw.im_fw_step_down_iq = to_iq(c, "fw_step_frac", si->fw_step_frac, si->fw_step_frac * psi_pu);
+        cfg->sw.im_fw_step_up_iq = cfg->sw.im_fw_step_down_iq;
+        cfg->sw.im_fw_psi_min_iq = to_iq(c, "fw_psi_min_frac", si->fw_psi_min_frac, si->fw_psi_min_frac * psi_pu);
+        cfg->sw.im_fw_inv_psi_rated_iq = to_iq(c, "flux_ref_wb (1/phi_s,rated)", si->flux_ref_wb, 1.0 / psi_pu);
+        cfg->sw.im_fw_kt_iq = to_iq(c, "lls_h (k_T of eq. 34)", si->lls_h, kt_pu);
+    }
+
+    cfg->speed.sensor = (uint16_t)si->speed_sensor;
+    cfg->speed.psir_ref_iq = to_iq(c, "psir_ref_wb", si->psir_ref_wb, si->psir_ref_wb / b->psi_base_wb);
+    cfg->speed.inv_psir_ref_iq = si->psir_ref_wb > 0.0
+        ? to_iq(c, "psir_ref_wb (1/phi_r*)", si->psir_ref_wb, b->psi_base_wb / si->psir_ref_wb) : 0;
+    cfg->speed.inv_psir_sq_iq = to_iq(c, "psir_ref_wb (1/phi_r*^2)", psir,
+                                      (b->psi_base_wb / psir) * (b->psi_base_wb / psir));
+    /* sensorless speed once per speed period T_speed = speed_div Ts (im_ref.h) */
+    cfg->speed.im_gain_w_iq = to_iq(c, "ts_s (angle-to-speed gain)", si->ts_s,
+                                    2.0 * M_PI / (65536.0 * tsp * si->speed_div));
+    cfg->speed.im_speed_filt_q31 = to_q31(c, "speed_filter_s",
+                                          1.0 - exp(-si->ts_s * si->speed_div / si->speed_filter_s));
+    {
+        /* Start-up (im_dtc.h): with the stator flux held by the law and the improved estimator,
+         * the rotor flux rises as 1 - exp(-t/tau_r), tau_r = L_r/R_r (Casadei eq. 9 with the
+         * estimator's error eq. 20 at DC: d phi_r/dt = -(R_r/L_r)(phi_r - phi_r*)). */
+        const double tau_r = lr / si->rr_ohm;
+        const double n = ceil(tau_r * log(1.0 / (1.0 - si->magn_frac)) / si->ts_s);
+        if (!(n >= 1.0 && n <= 65535.0)) { fail(c, DTC_SI_ERR_IM, "magn_frac = %g: the magnetisation time %g s is not 1..65535 periods of ts_s", si->magn_frac, n * si->ts_s); return; }
+        cfg->speed.im_magn_periods = (uint16_t)n;
+    }
+}
+
 int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, size_t msg_len)
 {
     conv_t c = {msg, msg_len, DTC_SI_OK};
     dtc_bases_t b;
     double tsp, kp, ki, enc_counts, a, wc_pu;
     int fw;
+    const char *fw_field = "";
 
     if (msg != NULL && msg_len > 0U) {
         msg[0] = '\0';
@@ -174,8 +332,17 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     if (!(si->i_base_a > 0.0)) return fail(&c, DTC_SI_ERR_BASE, "i_base_a = %g: must be > 0", si->i_base_a);
     if (!(si->w_base_rad_s > 0.0)) return fail(&c, DTC_SI_ERR_BASE, "w_base_rad_s = %g: must be > 0", si->w_base_rad_s);
     if (!(si->rs_ohm >= 0.0)) return fail(&c, DTC_SI_ERR_MACHINE, "rs_ohm = %g: resistance must be >= 0", si->rs_ohm);
-    if (!(si->ls_h > 0.0)) return fail(&c, DTC_SI_ERR_MACHINE, "ls_h = %g: inductance must be > 0", si->ls_h);
-    if (!(si->psi_m_wb > 0.0)) return fail(&c, DTC_SI_ERR_MACHINE, "psi_m_wb = %g: magnet flux must be > 0", si->psi_m_wb);
+    if (si->law != DTC_LAW_PM_DTC && si->law != DTC_LAW_IM_DTC)
+        return fail(&c, DTC_SI_ERR_VARIANT, "law = %d: must be DTC_LAW_PM_DTC or DTC_LAW_IM_DTC", si->law);
+    if (si->law == DTC_LAW_PM_DTC) {
+        if (!(si->ls_h > 0.0)) return fail(&c, DTC_SI_ERR_MACHINE, "ls_h = %g: inductance must be > 0", si->ls_h);
+        if (!(si->psi_m_wb > 0.0)) return fail(&c, DTC_SI_ERR_MACHINE, "psi_m_wb = %g: magnet flux must be > 0", si->psi_m_wb);
+    } else {
+        if (!(si->rr_ohm > 0.0)) return fail(&c, DTC_SI_ERR_MACHINE, "rr_ohm = %g: rotor resistance must be > 0", si->rr_ohm);
+        if (!(si->lm_h > 0.0)) return fail(&c, DTC_SI_ERR_MACHINE, "lm_h = %g: magnetising inductance must be > 0", si->lm_h);
+        if (!(si->lls_h > 0.0)) return fail(&c, DTC_SI_ERR_MACHINE, "lls_h = %g: leakage inductance must be > 0", si->lls_h);
+        if (!(si->llr_h > 0.0)) return fail(&c, DTC_SI_ERR_MACHINE, "llr_h = %g: leakage inductance must be > 0", si->llr_h);
+    }
     if (si->pole_pairs < 1 || si->pole_pairs > 16) return fail(&c, DTC_SI_ERR_MACHINE, "pole_pairs = %d: must be 1..16", si->pole_pairs);
     if (!(si->rated_speed_rpm > 0.0) || !(si->rated_torque_nm > 0.0) || !(si->rated_current_a > 0.0))
         return fail(&c, DTC_SI_ERR_MACHINE, "rated_speed_rpm/rated_torque_nm/rated_current_a: must be > 0");
@@ -210,14 +377,23 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
         return fail(&c, DTC_SI_ERR_DEADTIME, "dead_time_s = %g: must be in [0, ts_s/2)", si->dead_time_s);
     if (!(si->handover_hyst_frac >= 0.0 && si->handover_hyst_frac <= 1.0))
         return fail(&c, DTC_SI_ERR_HANDOVER, "handover_hyst_frac = %g: must be in [0, 1]", si->handover_hyst_frac);
-    if (si->estimator != DTC_EST_VOLTAGE && si->estimator != DTC_EST_CURRENT)
-        return fail(&c, DTC_SI_ERR_VARIANT, "estimator = %d: must be DTC_EST_VOLTAGE or DTC_EST_CURRENT", si->estimator);
+    if (si->law == DTC_LAW_PM_DTC && si->estimator != DTC_EST_VOLTAGE && si->estimator != DTC_EST_CURRENT)
+        return fail(&c, DTC_SI_ERR_VARIANT, "estimator = %d: the PM law has DTC_EST_VOLTAGE or DTC_EST_CURRENT", si->estimator);
+    if (si->law == DTC_LAW_IM_DTC && si->estimator != DTC_EST_VOLTAGE && si->estimator != DTC_EST_IMPROVED)
+        return fail(&c, DTC_SI_ERR_VARIANT, "estimator = %d: the IM law has DTC_EST_VOLTAGE or DTC_EST_IMPROVED", si->estimator);
+    if (si->law == DTC_LAW_IM_DTC && si->topology != DTC_TOPO_SSTP)
+        return fail(&c, DTC_SI_ERR_VARIANT, "topology = %d: the IM law needs the six-switch inverter (DTC_TOPO_SSTP)", si->topology);
     if (si->compensation < DTC_COMP_NONE || si->compensation > DTC_COMP_FSTP_PROPOSED ||
         (si->topology == DTC_TOPO_SSTP && si->compensation >= DTC_COMP_FSTP_SIMPLE) ||
         (si->topology == DTC_TOPO_FSTP && si->compensation == DTC_COMP_SSTP))
         return fail(&c, DTC_SI_ERR_VARIANT, "compensation = %d: not available for topology %d", si->compensation, si->topology);
-    if (si->sstp_table < DTC_ST_BASIC || si->sstp_table > DTC_ST_D)
-        return fail(&c, DTC_SI_ERR_VARIANT, "sstp_table = %d: must be DTC_ST_BASIC..DTC_ST_D", si->sstp_table);
+    if (si->sstp_table < DTC_ST_BASIC || si->sstp_table > (si->law == DTC_LAW_IM_DTC ? DTC_ST_SPEED : DTC_ST_D))
+        return fail(&c, DTC_SI_ERR_VARIANT, "sstp_table = %d: must be DTC_ST_BASIC..%s", si->sstp_table,
+                    si->law == DTC_LAW_IM_DTC ? "DTC_ST_SPEED" : "DTC_ST_D (DTC_ST_SPEED is IM only)");
+    if (si->scheme != DTC_SCHEME_DTC && !(si->law == DTC_LAW_IM_DTC && si->scheme == DTC_SCHEME_DSC))
+        return fail(&c, DTC_SI_ERR_VARIANT, "scheme = %d: DTC_SCHEME_DTC, or DTC_SCHEME_DSC with the IM law", si->scheme);
+    if (si->speed_sensor != DTC_SPEED_ENCODER && !(si->law == DTC_LAW_IM_DTC && si->speed_sensor == DTC_SPEED_NONE))
+        return fail(&c, DTC_SI_ERR_VARIANT, "speed_sensor = %d: DTC_SPEED_ENCODER, or DTC_SPEED_NONE with the IM law", si->speed_sensor);
     if (si->mode != DTC_MODE_SPEED && si->mode != DTC_MODE_TORQUE)
         return fail(&c, DTC_SI_ERR_VARIANT, "mode = %d: must be DTC_MODE_SPEED or DTC_MODE_TORQUE", si->mode);
     if (!(si->torque_limit_nm > 0.0)) return fail(&c, DTC_SI_ERR_LIMIT, "torque_limit_nm = %g: must be > 0", si->torque_limit_nm);
@@ -265,103 +441,110 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     enc_counts = 4.0 * si->enc_lines;
 
     cfg->version = DTC_CONFIG_VERSION;
-    cfg->topology = (uint16_t)si->topology;
-    cfg->estimator = (uint16_t)si->estimator;
-    cfg->compensation = (uint16_t)si->compensation;
-    cfg->sstp_table = (uint16_t)si->sstp_table;
-    cfg->mode = (uint16_t)si->mode;
-    cfg->fstp_vmid_measured = (uint16_t)si->fstp_vmid_measured;
-    cfg->v_base_mv = to_u32_milli(b.v_base_v);
-    cfg->i_base_ma = to_u32_milli(b.i_base_a);
-    cfg->w_base_mrad_s = to_u32_milli(b.w_base_rad_s);
-    cfg->pole_pairs = (uint16_t)si->pole_pairs;
+    cfg->law = (uint16_t)si->law;
+    cfg->board.topology = (uint16_t)si->topology;
+    cfg->est.estimator = (uint16_t)si->estimator;
+    cfg->est.compensation = (uint16_t)si->compensation;
+    cfg->sw.sstp_table = (uint16_t)si->sstp_table;
+    cfg->speed.mode = (uint16_t)si->mode;
+    cfg->board.fstp_vmid_measured = (uint16_t)si->fstp_vmid_measured;
+    cfg->board.v_base_mv = to_u32_milli(b.v_base_v);
+    cfg->board.i_base_ma = to_u32_milli(b.i_base_a);
+    cfg->board.w_base_mrad_s = to_u32_milli(b.w_base_rad_s);
+    cfg->machine.pole_pairs = (uint16_t)si->pole_pairs;
 
-    cfg->rs_iq = to_iq(&c, "rs_ohm", si->rs_ohm, si->rs_ohm / b.z_base_ohm);
-    cfg->ls_iq = to_iq(&c, "ls_h", si->ls_h, si->ls_h / b.l_base_h);
-    cfg->psi_m_iq = to_iq(&c, "psi_m_wb", si->psi_m_wb, si->psi_m_wb / b.psi_base_wb);
+    cfg->machine.rs_iq = to_iq(&c, "rs_ohm", si->rs_ohm, si->rs_ohm / b.z_base_ohm);
+    if (si->law == DTC_LAW_PM_DTC) {
+        cfg->machine.pm.ls_iq = to_iq(&c, "ls_h", si->ls_h, si->ls_h / b.l_base_h);
+        cfg->machine.pm.psi_m_iq = to_iq(&c, "psi_m_wb", si->psi_m_wb, si->psi_m_wb / b.psi_base_wb);
+        cfg->machine.pm.inv_ls_iq = to_iq(&c, "ls_h (1/l_s)", si->ls_h, b.l_base_h / si->ls_h);
+    }
 
     /* Exact ZOH discretisation of 1/(s + w_c) in pu time. */
     a = exp(-si->lpf_cutoff_rad_s * si->ts_s);
     wc_pu = si->lpf_cutoff_rad_s / b.w_base_rad_s;
-    cfg->k_leak_q31 = to_q31(&c, "lpf_cutoff_rad_s (k_leak)", 1.0 - a);
-    cfg->k_in_q31 = to_q31(&c, "ts_s (k_in)", (1.0 - a) / wc_pu);
+    cfg->est.k_leak_q31 = to_q31(&c, "lpf_cutoff_rad_s (k_leak)", 1.0 - a);
+    cfg->est.k_in_q31 = to_q31(&c, "ts_s (k_in)", (1.0 - a) / wc_pu);
 
     {
-        double h_rpm = si->handover_auto != 0 ? dtc_handover_default_rpm(si) : si->handover_speed_rpm;
+        double h_rpm = si->law != DTC_LAW_PM_DTC ? 0.0 /* PM start-up only */
+                       : si->handover_auto != 0 ? dtc_handover_default_rpm(si) : si->handover_speed_rpm;
         double h_pu = h_rpm * M_PI / 30.0 * si->pole_pairs / b.w_base_rad_s;
-        cfg->handover_speed_iq = to_iq(&c, "handover_speed_rpm", h_rpm, h_pu);
-        cfg->handover_hyst_iq = to_iq(&c, "handover_hyst_frac", si->handover_hyst_frac * h_rpm,
+        cfg->est.handover_speed_iq = to_iq(&c, "handover_speed_rpm", h_rpm, h_pu);
+        cfg->est.handover_hyst_iq = to_iq(&c, "handover_hyst_frac", si->handover_hyst_frac * h_rpm,
                                       si->handover_hyst_frac * h_pu);
-        if (cfg->handover_hyst_iq > cfg->handover_speed_iq) {
-            cfg->handover_hyst_iq = cfg->handover_speed_iq;
+        if (cfg->est.handover_hyst_iq > cfg->est.handover_speed_iq) {
+            cfg->est.handover_hyst_iq = cfg->est.handover_speed_iq;
         }
     }
 
-    cfg->delay_comp = (uint16_t)si->delay_comp;
-    cfg->deadtime_comp = (uint16_t)si->deadtime_comp;
-    cfg->td_ts_q15 = (q15_t)lround(32768.0 * si->dead_time_s / si->ts_s);
-    cfg->ts_pu_iq = to_iq(&c, "ts_s", si->ts_s, si->ts_s * b.w_base_rad_s);
-    cfg->inv_ls_iq = to_iq(&c, "ls_h (1/l_s)", si->ls_h, b.l_base_h / si->ls_h);
+    cfg->est.delay_comp = (uint16_t)si->delay_comp;
+    cfg->est.deadtime_comp = (uint16_t)si->deadtime_comp;
+    cfg->board.td_ts_q15 = (q15_t)lround(32768.0 * si->dead_time_s / si->ts_s);
+    cfg->board.ts_pu_iq = to_iq(&c, "ts_s", si->ts_s, si->ts_s * b.w_base_rad_s);
 
     if (!(65536.0 * 65536.0 * si->pole_pairs / enc_counts <= 2147483648.0))
         return fail(&c, DTC_SI_ERR_ENCODER, "enc_lines = %d: fewer than two counts per electrical turn with %d pole pairs", si->enc_lines, si->pole_pairs);
-    cfg->enc_counts = (uint16_t)enc_counts;
-    cfg->enc_gain_q16 = (uint32_t)nearbyint(65536.0 * 65536.0 * si->pole_pairs / enc_counts);
+    cfg->board.enc_counts = (uint16_t)enc_counts;
+    cfg->board.enc_gain_q16 = (uint32_t)nearbyint(65536.0 * 65536.0 * si->pole_pairs / enc_counts);
     {
         double turns = si->enc_offset_rad / (2.0 * M_PI);
         turns -= floor(turns);
-        cfg->enc_offset = (angle_t)((uint32_t)nearbyint(turns * 65536.0) & 0xFFFFu);
+        cfg->board.enc_offset = (angle_t)((uint32_t)nearbyint(turns * 65536.0) & 0xFFFFu);
     }
 
-    cfg->v_f_iq = to_iq(&c, "v_f_v", si->v_f_v, si->v_f_v / b.v_base_v);
-    cfg->v_ce_iq = to_iq(&c, "v_ce_v", si->v_ce_v, si->v_ce_v / b.v_base_v);
-    cfg->v_d_iq = to_iq(&c, "v_d_v", si->v_d_v, si->v_d_v / b.v_base_v);
-    cfg->r_on_iq = to_iq(&c, "r_on_ohm", si->r_on_ohm, si->r_on_ohm / b.z_base_ohm);
+    cfg->board.v_f_iq = to_iq(&c, "v_f_v", si->v_f_v, si->v_f_v / b.v_base_v);
+    cfg->board.v_ce_iq = to_iq(&c, "v_ce_v", si->v_ce_v, si->v_ce_v / b.v_base_v);
+    cfg->board.v_d_iq = to_iq(&c, "v_d_v", si->v_d_v, si->v_d_v / b.v_base_v);
+    cfg->board.r_on_iq = to_iq(&c, "r_on_ohm", si->r_on_ohm, si->r_on_ohm / b.z_base_ohm);
 
-    cfg->flux_band_iq = to_iq(&c, "flux_band_wb", si->flux_band_wb, si->flux_band_wb / b.psi_base_wb);
-    cfg->torque_band_iq = to_iq(&c, "torque_band_nm", si->torque_band_nm, si->torque_band_nm / b.t_base_nm);
+    cfg->sw.flux_band_iq = to_iq(&c, "flux_band_wb", si->flux_band_wb, si->flux_band_wb / b.psi_base_wb);
+    cfg->sw.torque_band_iq = to_iq(&c, "torque_band_nm", si->torque_band_nm, si->torque_band_nm / b.t_base_nm);
 
-    cfg->speed_div = (uint16_t)si->speed_div;
-    cfg->speed_k_iq = to_iq(&c, "enc_lines (speed gain)", enc_counts,
+    cfg->speed.speed_div = (uint16_t)si->speed_div;
+    cfg->speed.speed_k_iq = to_iq(&c, "enc_lines (speed gain)", enc_counts,
                             2.0 * M_PI * si->pole_pairs / (enc_counts * tsp * b.w_base_rad_s));
-    cfg->speed_min_counts = (uint16_t)si->speed_min_counts;
+    cfg->speed.speed_min_counts = (uint16_t)si->speed_min_counts;
     {
         const double t_speed = si->ts_s * si->speed_div;
         const double t_stall = si->stall_time_s != 0.0 ? si->stall_time_s : fmax(0.1, 20.0 * t_speed);
-        cfg->stall_speed_periods = (uint16_t)fmin(65535.0, (double)lround(t_stall / t_speed));
+        cfg->prot.stall_speed_periods = (uint16_t)fmin(65535.0, (double)lround(t_stall / t_speed));
     }
     /* kp: N.m per mech rad/s -> pu torque per pu speed: w_mech = w_pu w_base / p. */
-    cfg->kp_iq = to_iq(&c, "kp_nm_s_rad", kp, kp * b.w_base_rad_s / (si->pole_pairs * b.t_base_nm));
-    cfg->ki_ts_iq = to_iq(&c, "ki_nm_rad", ki, ki * tsp * b.w_base_rad_s / (si->pole_pairs * b.t_base_nm));
-    cfg->torque_limit_iq = to_iq(&c, "torque_limit_nm", si->torque_limit_nm, si->torque_limit_nm / b.t_base_nm);
-    cfg->torque_trim_k_q15 = si->torque_trim_tau_s == 0.0 ? 0
+    cfg->speed.kp_iq = to_iq(&c, "kp_nm_s_rad", kp, kp * b.w_base_rad_s / (si->pole_pairs * b.t_base_nm));
+    cfg->speed.ki_ts_iq = to_iq(&c, "ki_nm_rad", ki, ki * tsp * b.w_base_rad_s / (si->pole_pairs * b.t_base_nm));
+    cfg->speed.torque_limit_iq = to_iq(&c, "torque_limit_nm", si->torque_limit_nm, si->torque_limit_nm / b.t_base_nm);
+    cfg->speed.torque_trim_k_q15 = si->torque_trim_tau_s == 0.0 ? 0
                              : (q15_t)lround(32768.0 * si->ts_s / si->torque_trim_tau_s);
-    cfg->speed_limit_iq = to_iq(&c, "speed_limit_rpm", si->speed_limit_rpm,
+    cfg->speed.speed_limit_iq = to_iq(&c, "speed_limit_rpm", si->speed_limit_rpm,
                                 si->speed_limit_rpm * M_PI / 30.0 * si->pole_pairs / b.w_base_rad_s);
 
-    cfg->flux_ref_iq = to_iq(&c, "flux_ref_wb", si->flux_ref_wb, si->flux_ref_wb / b.psi_base_wb);
-    cfg->speed_ref_iq = to_iq(&c, "speed_ref_rpm", si->speed_ref_rpm,
+    cfg->speed.flux_ref_iq = to_iq(&c, "flux_ref_wb", si->flux_ref_wb, si->flux_ref_wb / b.psi_base_wb);
+    cfg->speed.speed_ref_iq = to_iq(&c, "speed_ref_rpm", si->speed_ref_rpm,
                               si->speed_ref_rpm * M_PI / 30.0 * si->pole_pairs / b.w_base_rad_s);
-    cfg->torque_ref_iq = to_iq(&c, "torque_ref_nm", si->torque_ref_nm, si->torque_ref_nm / b.t_base_nm);
+    cfg->speed.torque_ref_iq = to_iq(&c, "torque_ref_nm", si->torque_ref_nm, si->torque_ref_nm / b.t_base_nm);
 
-    cfg->adc_i_gain_iq = to_iq(&c, "adc_i_a_per_count", si->adc_i_a_per_count, si->adc_i_a_per_count / b.i_base_a);
+    cfg->board.adc_i_gain_iq = to_iq(&c, "adc_i_a_per_count", si->adc_i_a_per_count, si->adc_i_a_per_count / b.i_base_a);
     for (int k = 0; k < 3; k++) {
-        cfg->adc_i_offset[k] = (uint16_t)si->adc_i_offset[k];
+        cfg->board.adc_i_offset[k] = (uint16_t)si->adc_i_offset[k];
     }
-    cfg->adc_vdc_gain_iq = to_iq(&c, "adc_vdc_v_per_count", si->adc_vdc_v_per_count, si->adc_vdc_v_per_count / b.v_base_v);
-    cfg->adc_vdc_offset = (uint16_t)si->adc_vdc_offset;
-    cfg->adc_vmid_gain_iq = to_iq(&c, "adc_vmid_v_per_count", si->adc_vmid_v_per_count, si->adc_vmid_v_per_count / b.v_base_v);
-    cfg->adc_vmid_offset = (uint16_t)si->adc_vmid_offset;
-    cfg->i_trip_iq = to_iq(&c, "i_trip_a", si->i_trip_a, si->i_trip_a / b.i_base_a);
-    cfg->vdc_max_iq = to_iq(&c, "vdc_max_v", si->vdc_max_v, si->vdc_max_v / b.v_base_v);
-    cfg->vdc_min_iq = to_iq(&c, "vdc_min_v", si->vdc_min_v, si->vdc_min_v / b.v_base_v);
+    cfg->board.adc_vdc_gain_iq = to_iq(&c, "adc_vdc_v_per_count", si->adc_vdc_v_per_count, si->adc_vdc_v_per_count / b.v_base_v);
+    cfg->board.adc_vdc_offset = (uint16_t)si->adc_vdc_offset;
+    cfg->board.adc_vmid_gain_iq = to_iq(&c, "adc_vmid_v_per_count", si->adc_vmid_v_per_count, si->adc_vmid_v_per_count / b.v_base_v);
+    cfg->board.adc_vmid_offset = (uint16_t)si->adc_vmid_offset;
+    cfg->prot.i_trip_iq = to_iq(&c, "i_trip_a", si->i_trip_a, si->i_trip_a / b.i_base_a);
+    cfg->prot.vdc_max_iq = to_iq(&c, "vdc_max_v", si->vdc_max_v, si->vdc_max_v / b.v_base_v);
+    cfg->prot.vdc_min_iq = to_iq(&c, "vdc_min_v", si->vdc_min_v, si->vdc_min_v / b.v_base_v);
 
+    if (si->law == DTC_LAW_IM_DTC && c.code == DTC_SI_OK) {
+        im_from_si(&c, si, &b, cfg);
+    }
     if (c.code != DTC_SI_OK) {
         return c.code;
     }
-    fw = dtc_config_validate(cfg);
+    fw = dtc_config_check(cfg, &fw_field);
     if (fw != DTC_OK) {
-        return fail(&c, DTC_SI_ERR_FIRMWARE, "firmware validation refused the converted configuration (dtc_err %d)", fw);
+        return fail(&c, DTC_SI_ERR_FIRMWARE, "firmware validation refused the converted configuration (dtc_err %d, field %s)", fw, fw_field);
     }
     return DTC_SI_OK;
 }
@@ -378,6 +561,28 @@ static const char *i32(char *buf, size_t n, int32_t v)
     return buf;
 }
 
+/* Indentation of a nested part: one level per dot in its path, plus one. */
+static int part_depth(const char *path)
+{
+    int d = 1;
+    for (; *path != '\0'; path++) {
+        d += *path == '.';
+    }
+    return d;
+}
+
+/* The member name of a part's path (after the last dot). */
+static const char *part_leaf(const char *path)
+{
+    const char *leaf = path;
+    for (; *path != '\0'; path++) {
+        if (*path == '.') {
+            leaf = path + 1;
+        }
+    }
+    return leaf;
+}
+
 int dtc_config_emit_c(const dtc_config_t *cfg, const char *symbol, FILE *f)
 {
     char b[32];
@@ -388,39 +593,32 @@ int dtc_config_emit_c(const dtc_config_t *cfg, const char *symbol, FILE *f)
         return -1;
     }
 #define EMIT(...) do { if (fprintf(f, __VA_ARGS__) < 0) r = -1; } while (0)
-#define EIQ(name) EMIT("    .%s = %s, /* %.9g pu */\n", #name, i32(b, sizeof b, cfg->name), (double)cfg->name / iq)
-#define EQ31(name) EMIT("    .%s = %s, /* %.12g */\n", #name, i32(b, sizeof b, cfg->name), (double)cfg->name / q31)
-#define EU(name) EMIT("    .%s = %luU,\n", #name, (unsigned long)cfg->name)
+#define IND(part) EMIT("%*s", 4 * part_depth(#part), "")
+#define EP(part) do { EMIT("%*s.%s = {\n", 4 * part_depth(#part), "", part_leaf(#part)); } while (0);
+#define EEND(part) do { EMIT("%*s},\n", 4 * part_depth(#part), ""); } while (0);
+#define EU(part, name) do { IND(part); EMIT("    .%s = %luU,\n", #name, (unsigned long)cfg->part.name); } while (0);
+#define EIQ(part, name) do { IND(part); EMIT("    .%s = %s, /* %.9g pu */\n", #name, i32(b, sizeof b, cfg->part.name), (double)cfg->part.name / iq); } while (0);
+#define EQ31(part, name) do { IND(part); EMIT("    .%s = %s, /* %.12g */\n", #name, i32(b, sizeof b, cfg->part.name), (double)cfg->part.name / q31); } while (0);
+#define EQ15(part, name) do { IND(part); EMIT("    .%s = %d, /* %.6g, Q15 */\n", #name, (int)cfg->part.name, (double)cfg->part.name / 32768.0); } while (0);
+#define EARR3(part, name) do { IND(part); EMIT("    .%s = {%uU, %uU, %uU},\n", #name, (unsigned)cfg->part.name[0], (unsigned)cfg->part.name[1], (unsigned)cfg->part.name[2]); } while (0);
     EMIT("/* Generated by dtc_config_emit_c (tools/config): DTC firmware configuration, per-unit\n"
          " * Q formats (firmware/dtc/dtc_config.h, bases in firmware/dtc/dtc_base.h).\n"
          " * Bases: V_base %.3f V, I_base %.3f A, w_base %.3f rad/s. Do not edit by hand. */\n",
-         cfg->v_base_mv / 1000.0, cfg->i_base_ma / 1000.0, cfg->w_base_mrad_s / 1000.0);
+         cfg->board.v_base_mv / 1000.0, cfg->board.i_base_ma / 1000.0, cfg->board.w_base_mrad_s / 1000.0);
     EMIT("#include \"dtc_config.h\"\n\n");
     EMIT("const dtc_config_t %s = {\n", symbol);
-    EU(version); EU(topology); EU(estimator); EU(compensation); EU(sstp_table); EU(mode);
-    EU(fstp_vmid_measured); EU(v_base_mv); EU(i_base_ma); EU(w_base_mrad_s); EU(pole_pairs);
-    EIQ(rs_iq); EIQ(ls_iq); EIQ(psi_m_iq);
-    EQ31(k_in_q31); EQ31(k_leak_q31);
-    EIQ(handover_speed_iq); EIQ(handover_hyst_iq);
-    EU(delay_comp); EIQ(ts_pu_iq); EIQ(inv_ls_iq);
-    EU(deadtime_comp);
-    EMIT("    .td_ts_q15 = %d, /* T_d / T_s, Q15 */\n", (int)cfg->td_ts_q15);
-    EU(enc_counts); EU(enc_gain_q16); EU(enc_offset);
-    EIQ(v_f_iq); EIQ(v_ce_iq); EIQ(v_d_iq); EIQ(r_on_iq);
-    EIQ(flux_band_iq); EIQ(torque_band_iq);
-    EU(speed_div); EIQ(speed_k_iq); EU(speed_min_counts); EU(stall_speed_periods);
-    EIQ(kp_iq); EIQ(ki_ts_iq); EIQ(torque_limit_iq); EIQ(speed_limit_iq);
-    EMIT("    .torque_trim_k_q15 = %d, /* Ts / tau of the torque-mode trim, Q15 */\n", (int)cfg->torque_trim_k_q15);
-    EIQ(flux_ref_iq); EIQ(speed_ref_iq); EIQ(torque_ref_iq);
-    EIQ(adc_i_gain_iq);
-    EMIT("    .adc_i_offset = {%uU, %uU, %uU},\n", (unsigned)cfg->adc_i_offset[0],
-         (unsigned)cfg->adc_i_offset[1], (unsigned)cfg->adc_i_offset[2]);
-    EIQ(adc_vdc_gain_iq); EU(adc_vdc_offset); EIQ(adc_vmid_gain_iq); EU(adc_vmid_offset);
-    EIQ(i_trip_iq); EIQ(vdc_max_iq); EIQ(vdc_min_iq);
+    EMIT("    .version = %luU,\n", (unsigned long)cfg->version);
+    EMIT("    .law = %luU, /* enum dtc_law */\n", (unsigned long)cfg->law);
+    DTC_CONFIG_FIELDS(EP, EU, EIQ, EQ31, EQ15, EARR3, EEND)
     EMIT("};\n");
 #undef EMIT
+#undef IND
+#undef EP
+#undef EEND
+#undef EU
 #undef EIQ
 #undef EQ31
-#undef EU
+#undef EQ15
+#undef EARR3
     return r;
 }

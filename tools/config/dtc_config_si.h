@@ -29,6 +29,8 @@ extern "C" {
 #endif
 
 typedef struct {
+    int law;                /* enum dtc_law: which machine and control law */
+
     /* Per-unit bases. */
     double v_base_v;        /* voltage base (default: nominal DC link) */
     double i_base_a;        /* current base (default: rated peak current) */
@@ -43,6 +45,11 @@ typedef struct {
     double rated_torque_nm;
     double rated_current_a;
     double inertia_kgm2;    /* for the speed-PI design from a bandwidth */
+    /* Induction machine (law DTC_LAW_IM_DTC): Casadei's T model, stator-referred, the plant's
+     * names (model/include/plant.h); ls_h and psi_m_wb are then unused. */
+    double rr_ohm;
+    double lls_h, llr_h;    /* stator / rotor leakage inductance */
+    double lm_h;            /* magnetising inductance M */
 
     /* Inverter (Hoang Table IV). */
     int topology;           /* enum dtc_topology */
@@ -86,6 +93,24 @@ typedef struct {
     double speed_ref_rpm;
     double torque_ref_nm;
 
+    /* Induction-machine law (Casadei 2006). */
+    double psir_ref_wb;     /* > 0: constant rotor flux, phi_s* by eq. 19; 0: flux_ref_wb */
+    double tau_lo_s;        /* improved estimator (eq. 20): tau at low speed ... */
+    double tau_hi_s;        /* ... and at high speed (section 10.2; equal: fixed tau) */
+    double tau_w_lo_rpm;    /* |speed| up to which tau_lo applies */
+    double tau_w_hi_rpm;    /* |speed| from which tau_hi applies (>= tau_w_lo_rpm) */
+    int scheme;             /* enum dtc_scheme */
+    int speed_sensor;       /* enum dtc_speed_sensor */
+    double table_speed_rpm; /* DTC_ST_SPEED: ST-D below, ST-A above; 0 = derived
+                             * (dtc_table_speed_default_rpm) */
+    double speed_filter_s;  /* sensorless speed: filter time constant of the flux angular speed */
+    double magn_frac;       /* start-up: torque allowed once the rotor flux has reached this
+                             * fraction of its reference: after tau_r ln(1/(1 - magn_frac)) */
+    int flux_weakening;     /* 1: Casadei section 12 */
+    int fw_window;          /* N control periods per flux-reference decision (>= 20) */
+    double fw_step_frac;    /* flux-reference step per decision, fraction of flux_ref_wb */
+    double fw_psi_min_frac; /* lowest flux reference, fraction of flux_ref_wb */
+
     /* Variants. */
     int estimator;          /* enum dtc_estimator */
     int compensation;       /* enum dtc_compensation */
@@ -123,10 +148,25 @@ enum dtc_si_err {
     DTC_SI_ERR_FIRMWARE = -114,  /* the firmware validation refused the result (a bug) */
     DTC_SI_ERR_HANDOVER = -115,  /* hand-over speed < 0, hysteresis fraction outside [0, 1] */
     DTC_SI_ERR_DELAY = -116,     /* delay_comp not 0 or 1 */
-    DTC_SI_ERR_DEADTIME = -117   /* deadtime_comp not 0 or 1, dead_time_s outside [0, ts_s/2) */
+    DTC_SI_ERR_DEADTIME = -117,  /* deadtime_comp not 0 or 1, dead_time_s outside [0, ts_s/2) */
+    DTC_SI_ERR_IM = -118         /* induction-machine law: a parameter out of range */
 };
 
 void dtc_config_si_defaults(dtc_config_si_t *si);
+
+/* Induction-machine defaults: the plant's default IM (plant_params_im_default: 4 kW, 4 poles,
+ * 50 Hz, 220 V; R_s 0.4250, R_r 0.4220 ohm, L_ls = L_lr 1.7663 mH, L_m 52.09 mH, J 0.0131),
+ * SSTP on a 311 V link (sqrt(2) 220 V), Casadei's 40 us period, Table 1 with the three-level
+ * comparator, the improved estimator with tau = 0.01 s (section 10.2, Fig. 17), speed mode at
+ * 0 rpm with the encoder, rated stator flux 0.55 Wb. */
+void dtc_config_si_im_defaults(dtc_config_si_t *si);
+
+/* DTC_ST_SPEED hand-over speed (mechanical rpm) from the machine and the link: half the speed at
+ * which the back-EMF w phi_s* reaches V_dc/sqrt(3), the largest sinusoidal stator voltage of the
+ * SSTP. Below it ST-D (Casadei section 8: the active backward vectors give the torque decrease
+ * the null vectors cannot give at low speed), above it ST-A (the null vectors' decrease, which
+ * grows with w phi_s, Casadei eq. 15, is then enough and ripples less). */
+double dtc_table_speed_default_rpm(const dtc_config_si_t *si);
 
 /* Default hand-over speed (mechanical rpm) of the voltage model, from the configured machine,
  * devices and low-pass: the electrical speed above which

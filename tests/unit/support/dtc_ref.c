@@ -124,3 +124,72 @@ void dtc_ref_fstp_inverter(int sb, int sc, double vdc, double ib, double ic, dou
     *va = (2.0 * va0 - vb0 - vc0) / 3.0; /* Hoang eqs. 1-5: v_n0 cancels */
     *vb = (vb0 - vc0) / sqrt(3.0);
 }
+
+void dtc_ref_im_init(dtc_ref_im_t *x, double rs, double rr, double ls, double lr, double m, double w)
+{
+    x->rs = rs;
+    x->rr = rr;
+    x->ls = ls;
+    x->lr = lr;
+    x->m = m;
+    x->w = w;
+    x->psa = x->psb = x->pra = x->prb = 0.0;
+}
+
+static void im_cur(const dtc_ref_im_t *x, double psa, double psb, double pra, double prb,
+                   double *isa, double *isb, double *ira, double *irb)
+{
+    const double d = x->ls * x->lr - x->m * x->m;
+    *isa = (x->lr * psa - x->m * pra) / d;
+    *isb = (x->lr * psb - x->m * prb) / d;
+    *ira = (x->ls * pra - x->m * psa) / d;
+    *irb = (x->ls * prb - x->m * psb) / d;
+}
+
+void dtc_ref_im_currents(const dtc_ref_im_t *x, double *ia, double *ib)
+{
+    double ra, rb;
+    im_cur(x, x->psa, x->psb, x->pra, x->prb, ia, ib, &ra, &rb);
+}
+
+double dtc_ref_im_torque(const dtc_ref_im_t *x)
+{
+    double ia, ib;
+    dtc_ref_im_currents(x, &ia, &ib);
+    return x->psa * ib - x->psb * ia;
+}
+
+static void im_deriv(const dtc_ref_im_t *x, const double s[4], double va, double vb, double d[4])
+{
+    double isa, isb, ira, irb;
+    im_cur(x, s[0], s[1], s[2], s[3], &isa, &isb, &ira, &irb);
+    d[0] = va - x->rs * isa;
+    d[1] = vb - x->rs * isb;
+    d[2] = -x->rr * ira - x->w * s[3];
+    d[3] = -x->rr * irb + x->w * s[2];
+}
+
+void dtc_ref_im_step(dtc_ref_im_t *x, double va, double vb, double dt, int n_sub)
+{
+    const double h = dt / n_sub;
+    for (int k = 0; k < n_sub; k++) {
+        double s0[4] = {x->psa, x->psb, x->pra, x->prb}, s1[4], k1[4], k2[4], k3[4], k4[4];
+        im_deriv(x, s0, va, vb, k1);
+        for (int j = 0; j < 4; j++) s1[j] = s0[j] + 0.5 * h * k1[j];
+        im_deriv(x, s1, va, vb, k2);
+        for (int j = 0; j < 4; j++) s1[j] = s0[j] + 0.5 * h * k2[j];
+        im_deriv(x, s1, va, vb, k3);
+        for (int j = 0; j < 4; j++) s1[j] = s0[j] + h * k3[j];
+        im_deriv(x, s1, va, vb, k4);
+        x->psa = s0[0] + h * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0]) / 6.0;
+        x->psb = s0[1] + h * (k1[1] + 2.0 * k2[1] + 2.0 * k3[1] + k4[1]) / 6.0;
+        x->pra = s0[2] + h * (k1[2] + 2.0 * k2[2] + 2.0 * k3[2] + k4[2]) / 6.0;
+        x->prb = s0[3] + h * (k1[3] + 2.0 * k2[3] + 2.0 * k3[3] + k4[3]) / 6.0;
+    }
+}
+
+void dtc_ref_sstp_ideal(int sa, int sb, int sc, double vdc, double *va, double *vb)
+{
+    *va = vdc * (2.0 * sa - sb - sc) / 3.0;
+    *vb = vdc * (sb - sc) / sqrt(3.0);
+}

@@ -41,4 +41,22 @@ double dtc_ref_pm_torque(const dtc_ref_pm_t *m);
 /* Advance by dt (pu time) with constant (v_alpha, v_beta), n_sub RK4 sub-steps. */
 void dtc_ref_pm_step(dtc_ref_pm_t *m, double va, double vb, double dt, int n_sub);
 
+/* Squirrel-cage induction machine (Casadei eq. 9 and appendix, T model) in per-unit, stator
+ * (alpha-beta) frame, at a constant electrical speed w:
+ *   d psi_s/dt = v - rs i_s,   d psi_r/dt = -rr i_r + j w psi_r,
+ *   i_s = (lr psi_s - m psi_r) / D,   i_r = (ls psi_r - m psi_s) / D,   D = ls lr - m^2,
+ *   T = psi_s x i_s (eq. A10 in the bases of dtc_base.h). Demagnetised at init. */
+typedef struct {
+    double rs, rr, ls, lr, m, w;
+    double psa, psb, pra, prb; /* stator and rotor flux */
+} dtc_ref_im_t;
+void dtc_ref_im_init(dtc_ref_im_t *x, double rs, double rr, double ls, double lr, double m, double w);
+void dtc_ref_im_currents(const dtc_ref_im_t *x, double *ia, double *ib);
+double dtc_ref_im_torque(const dtc_ref_im_t *x);
+/* Advance by dt (pu time) with constant (v_alpha, v_beta), n_sub RK4 sub-steps. */
+void dtc_ref_im_step(dtc_ref_im_t *x, double va, double vb, double dt, int n_sub);
+/* Ideal six-switch inverter: the alpha-beta voltage of leg states sa, sb, sc on link vdc (Casadei
+ * eq. 2 with the amplitude-invariant Clarke transform). */
+void dtc_ref_sstp_ideal(int sa, int sb, int sc, double vdc, double *va, double *vb);
+
 #endif /* DTC_REF_H */

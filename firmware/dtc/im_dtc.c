@@ -1,0 +1,306 @@
+#include "im_dtc.h"
+
+#include <stddef.h>
+
+#include "clarke.h"
+#include "sector.h"
+#include "torque.h"
+#include "vrec.h"
+
+/* The rotor-flux reference of the improved estimator (eq. 20): the
+ * constant rotor flux of eq. 19 when configured, else the no-load rotor flux of the stator-flux
+ * reference, phi_r = (m/l_s) phi_s (the T model at zero slip). Rounded IQ products. */
+void im_dtc_psir_ref(im_dtc_t *c, iq_t psi_s_ref_iq)
+{
+    const dtc_config_t *cfg = c->cfg;
+    c->psir_ref_iq = cfg->speed.psir_ref_iq > 0 ? cfg->speed.psir_ref_iq
+                                                 : iq_mpy(cfg->machine.im.inv_ks_iq, psi_s_ref_iq);
+}
+
+/* A reference set in force: references clamped to their limits, speed-PI gains; a change to
+ * speed mode preloads the PI with the torque command (bumpless). */
+void im_dtc_apply(im_dtc_t *c, const dtc_refs_t *r)
+{
+    const dtc_config_t *cfg = c->cfg;
+    const uint16_t old_mode = c->act.mode;
+
+    c->act.speed_ref_iq = iq_sat(r->speed_ref_iq, fix_neg32(cfg->speed.speed_limit_iq),
+                                 cfg->speed.speed_limit_iq);
+    c->act.torque_ref_iq = iq_sat(r->torque_ref_iq, fix_neg32(cfg->speed.torque_limit_iq),
+                                  cfg->speed.torque_limit_iq);
+    c->act.flux_ref_iq = r->flux_ref_iq;
+    c->act.kp_iq = r->kp_iq;
+    c->act.ki_ts_iq = r->ki_ts_iq;
+    c->act.mode = r->mode;
+    c->pi_p.kp_iq = r->kp_iq;
+    c->pi_p.ki_ts_iq = r->ki_ts_iq;
+    if (old_mode != DTC_MODE_SPEED && r->mode == DTC_MODE_SPEED) {
+        speed_pi_reset(&c->pi, c->te_cmd_iq, cfg->speed.torque_limit_iq);
+    }
+    if (old_mode != r->mode) {
+        c->te_trim_iq = 0;
+    }
+    im_dtc_psir_ref(c, r->flux_ref_iq);
+}
+
+void im_dtc_reset(im_dtc_t *c)
+{
+    static const swtab_legs_t off = {0U, 0U, 0U};
+    const dtc_config_t *cfg = c->cfg;
+
+    im_est_reset(&c->est);
+    im_speed_reset(&c->isp);
+    im_fw_reset(&c->fw, &c->fw_p);
+    speed_meas_reset(&c->sm, 0U);
+    c->speed_primed = 0U;
+    speed_pi_reset(&c->pi, 0, cfg->speed.torque_limit_iq);
+    hyst2_init(&c->h_flux, cfg->sw.flux_band_iq, 1U);
+    hyst2_init(&c->h_torque2, cfg->sw.torque_band_iq, 1U);
+    hyst3_init(&c->h_torque3, cfg->sw.torque_band_iq);
+    c->dsc.s[0] = 0U;
+    c->dsc.s[1] = 0U;
+    c->dsc.s[2] = 0U;
+    c->dsc.ccw = 1U;
+    c->dsc_on = 0U;
+    c->div_cnt = 0U;
+    c->magnetised = 0U;
+    c->magn_n = 0U;
+    c->ref_due = 1U;
+    c->legs_1 = off;
+    c->legs_2 = off;
+    c->legs_3 = off;
+    c->vec_1 = 0U;
+    c->te_cmd_iq = 0;
+    c->te_trim_iq = 0;
+    c->te_ref_iq = 0;
+    c->psi_ref_iq = c->act.flux_ref_iq;
+    c->speed_iq = 0;
+}
+
+int16_t im_dtc_shadow_write(im_dtc_t *c, const dtc_refs_t *r)
+{
+    return dtc_shadow_publish(&c->sh, r);
+}
+
+void im_dtc_refs_get(const im_dtc_t *c, dtc_refs_t *r)
+{
+    *r = c->act;
+}
+
+/* Copies the shadow set and adopts it. External linkage on purpose (dtc.c dtc_shadow_adopt):
+ * inlined, the copy would sit in im_dtc_step's frame. */
+void im_dtc_adopt(im_dtc_t *c, uint16_t seq)
+{
+    dtc_refs_t r;
+    dtc_shadow_take(&c->sh, seq, &r);
+    im_dtc_apply(c, &r);
+}
+
+/* The estimator's input: the stator voltage of the period that ends now (legs returned two steps
+ * ago, measured V_dc, Casadei eq. 2 / Hoang eqs. 1-5) with the drop (vcomp) and dead-time
+ * compensations, the currents, the rotor-flux reference, the speed for tau, and whether the angle
+ * is wanted (speed-loop periods). (im_dtc_step then
+ * calls the estimator itself: one call level less on the deepest stack path.) */
+void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m)
+{
+    const dtc_config_t *cfg = c->cfg;
+    im_est_in_t *in = &c->ein;
+
+    vrec_sstp(c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, m->vdc_iq, &in->v_alpha_iq, &in->v_beta_iq);
+    vcomp_step(&c->vc_p, c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, &c->i, &c->dva_iq, &c->dvb_iq);
+    in->v_alpha_iq = fix_add32(in->v_alpha_iq, c->dva_iq);
+    in->v_beta_iq = fix_add32(in->v_beta_iq, c->dvb_iq);
+    if (cfg->est.deadtime_comp != 0U) {
+        dtc_deadtime(cfg, m, &c->legs_3, &c->legs_2, &c->dva_iq, &c->dvb_iq);
+        in->v_alpha_iq = fix_add32(in->v_alpha_iq, c->dva_iq);
+        in->v_beta_iq = fix_add32(in->v_beta_iq, c->dvb_iq);
+    }
+    in->i_alpha_iq = c->i.i_alpha_iq;
+    in->i_beta_iq = c->i.i_beta_iq;
+    in->psir_ref_iq = c->psir_ref_iq;
+    in->speed_iq = c->speed_iq;
+    /* the rotor-flux angle (CORDIC) only where the speed loop runs: sensorless speed, telemetry */
+    in->want_angle = (uint16_t)(c->div_cnt == 0U ? 1U : 0U);
+}
+
+/* Speed every speed_div-th period, as in the PM law: the encoder's, or the sensorless estimate
+ * (the rotor-flux angle's change over the speed period, Casadei eq. 22, minus the slip of eq. 16
+ * with the estimated torque te, im_ref.h), then the speed PI. The PI is held at rest
+ * during the start-up magnetisation; in torque mode the command is the reference in force with
+ * the mean-torque trim of the PM law (dtc_trim_step: with the actuation delay and zero bands the
+ * bang-bang torque settles below T* by about half its ripple). */
+void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
+{
+    const dtc_config_t *cfg = c->cfg;
+
+    o->speed_tick = 0U;
+    if (c->speed_primed == 0U) {
+        speed_meas_reset(&c->sm, m->enc_count);
+        c->speed_primed = 1U;
+        c->div_cnt = 0U;
+    } else if (c->div_cnt == 0U) {
+        o->speed_tick = 1U;
+        if (cfg->speed.sensor == DTC_SPEED_NONE) {
+            im_speed_step(&c->isp, &c->isp_p, c->est.theta_r, te, cfg->speed.inv_psir_sq_iq);
+            c->speed_iq = c->isp.speed_iq;
+        } else {
+            c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
+        }
+        c->ref_due = 1U;
+        if (c->act.mode == DTC_MODE_SPEED && c->magnetised != 0U) {
+            c->te_cmd_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
+        }
+    }
+    c->div_cnt = (uint16_t)(c->div_cnt + 1U >= cfg->speed.speed_div ? 0U : c->div_cnt + 1U);
+    if (c->act.mode == DTC_MODE_TORQUE) {
+        /* the torque reference with the mean-torque trim (as the PM law), once torque is allowed */
+        c->te_cmd_iq = c->magnetised != 0U
+                           ? dtc_trim_step(&c->te_trim_iq, c->act.torque_ref_iq, te,
+                                           cfg->speed.torque_trim_k_q15, cfg->speed.torque_limit_iq)
+                           : c->act.torque_ref_iq;
+    }
+}
+
+/* References in force for this period:
+ *   start-up (Fig. 17b): T* = 0 and phi_s* at its no-load value for im_magn_periods;
+ *   flux weakening (section 12, im_fw.h): phi_s* from the null-vector monitor (the vector of the
+ *     previous step is the one applied now), T* by eqs. 33-34; the estimator's rotor-flux
+ *     reference follows phi_s* (no-load ratio m/l_s);
+ *   constant rotor flux: phi_s* from T* by eq. 19, evaluated once per speed period (T* changes
+ *     at that rate in speed mode; in torque mode phi_s* lags T* by at most speed_div periods);
+ *   otherwise the stator-flux reference of the set in force. */
+void im_dtc_refs(im_dtc_t *c)
+{
+    const dtc_config_t *cfg = c->cfg;
+    const dtc_im_machine_cfg_t *im = &cfg->machine.im;
+    iq_t te = c->te_cmd_iq;
+
+    if (c->magnetised == 0U && ++c->magn_n >= cfg->speed.im_magn_periods) {
+        c->magnetised = 1U;
+    }
+    if (c->magnetised == 0U) {
+        te = 0;
+        /* eq. 19 at T* = 0: phi_s* = (l_s/m) phi_r* */
+        c->psi_ref_iq = cfg->speed.psir_ref_iq > 0 ? iq_mpy(im->ks_iq, cfg->speed.psir_ref_iq)
+                                                    : c->act.flux_ref_iq;
+        c->ref_due = 1U;
+    } else if (cfg->sw.im_fw_on != 0U) {
+        te = im_fw_step(&c->fw, &c->fw_p, (uint16_t)(c->vec_1 == 0U || c->vec_1 == 7U ? 1U : 0U), te);
+        c->psi_ref_iq = c->fw.psi_ref_iq;
+        im_dtc_psir_ref(c, c->psi_ref_iq);
+    } else if (cfg->speed.psir_ref_iq > 0) {
+        /* eq. 19 (a square root) once per speed period, on the step after the speed loop's (so
+         * that no step carries both), and on the first step with torque */
+        if (c->ref_due != 0U && c->div_cnt != 1U) {
+            c->psi_ref_iq = im_ref_stator_flux(im->ks_iq, im->sigma_lr_iq, cfg->speed.psir_ref_iq,
+                                               cfg->speed.inv_psir_ref_iq, te);
+            c->ref_due = 0U;
+        }
+    } else {
+        c->psi_ref_iq = c->act.flux_ref_iq;
+    }
+    c->te_ref_iq = te;
+}
+
+/* Comparators and vector selection (Casadei sections 4-9). Returns the SSTP vector 0..7. */
+uint16_t im_dtc_select(im_dtc_t *c, iq_t te, dtc_out_t *o)
+{
+    const dtc_config_t *cfg = c->cfg;
+    const iq_t psi_a = c->est.psi_alpha_iq, psi_b = c->est.psi_beta_iq;
+    const iq_t err = iq_sub(c->te_ref_iq, te);
+    const uint16_t flux_up = hyst2_sq_step(&c->h_flux, c->psi_ref_iq, iq_sumsq_q48(psi_a, psi_b));
+    const uint16_t sector = sector_sstp(psi_a, psi_b);
+    uint16_t vec, table = cfg->sw.sstp_table;
+    int16_t tdem;
+
+    if (c->magnetised == 0U) {
+        /* Start-up: the radial vector V_k of the flux's sector while the flux must rise. */
+        tdem = 0;
+        vec = flux_up != 0U ? sector : SWTAB_NULL;
+    } else if (cfg->sw.scheme == DTC_SCHEME_DSC) {
+        /* Section 9. The hexagon turns with the rotor (the sign of the speed; at standstill the
+         * sign of T*): the flux then leads the rotor under the active vectors (torque up in the
+         * sense of rotation) and falls back under the null vectors (torque down). */
+        const uint16_t ccw = (uint16_t)(c->speed_iq > 0 || (c->speed_iq == 0 && c->te_ref_iq >= 0) ? 1U : 0U);
+        const uint16_t up = hyst2_step(&c->h_torque2, err);
+        uint16_t act;
+        if (c->dsc_on == 0U || ccw != c->dsc.ccw) {
+            dsc_reset(&c->dsc, ccw, psi_a, psi_b);
+            c->dsc_on = 1U;
+        }
+        act = dsc_step(&c->dsc, psi_a, psi_b, c->psi_ref_iq);
+        tdem = up != 0U ? 1 : -1;
+        vec = (up != 0U) == (ccw != 0U) ? act : SWTAB_NULL;
+    } else {
+        if (table == DTC_ST_SPEED) {
+            /* Section 8: ST-D at low speed, ST-A at high speed. */
+            table = fix_abs32(c->speed_iq) < cfg->sw.im_table_speed_iq ? DTC_ST_D : DTC_ST_A;
+        }
+        if (table == DTC_ST_BASIC) {
+            tdem = hyst3_step(&c->h_torque3, err);
+            vec = swtab_sstp_basic(sector, flux_up, tdem);
+        } else {
+            const uint16_t up = hyst2_step(&c->h_torque2, err);
+            tdem = up != 0U ? 1 : -1;
+            vec = swtab_sstp_st(table, sector, flux_up, up);
+        }
+    }
+    o->sector = sector;
+    o->flux_up = flux_up;
+    o->torque_dem = tdem;
+    return swtab_null_choice(vec, c->vec_1);
+}
+
+void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
+{
+    swtab_legs_t legs;
+    iq_t te;
+    uint16_t vec;
+
+    /* 1. Shadow set (dtc_refs.h). */
+    {
+        const uint16_t seq = dtc_shadow_pending(&c->sh);
+        if (seq != 0U) {
+            im_dtc_adopt(c, seq);
+        }
+    }
+    /* 2. Clarke (Hoang eqs. 4-5, the same transform as Casadei's space vectors). */
+    clarke_sstp(m->ia_iq, m->ib_iq, &c->i);
+    /* 3. Stator and rotor flux (Casadei eqs. 1, 20-22). */
+    im_dtc_estimate(c, m);
+    im_est_step(&c->est, &c->ein);
+    /* 4. Torque (Casadei eq. A10 = Hoang eq. 10 in these bases). */
+    te = torque_eq10(c->est.psi_alpha_iq, c->est.psi_beta_iq, c->i.i_alpha_iq, c->i.i_beta_iq);
+    /* 5. Speed and speed loop. */
+    im_dtc_speed(c, m, te, o);
+    /* 6. References: start-up, flux weakening, eq. 19. */
+    im_dtc_refs(c);
+    /* 7. Comparators, table or DSC, null-vector choice. */
+    vec = im_dtc_select(c, te, o);
+    legs = swtab_sstp_legs(vec);
+    c->legs_3.sa = c->legs_2.sa; /* field by field: no struct copy (memcpy) in the ISR */
+    c->legs_3.sb = c->legs_2.sb;
+    c->legs_3.sc = c->legs_2.sc;
+    c->legs_2.sa = c->legs_1.sa;
+    c->legs_2.sb = c->legs_1.sb;
+    c->legs_2.sc = c->legs_1.sc;
+    c->legs_1.sa = legs.sa;
+    c->legs_1.sb = legs.sb;
+    c->legs_1.sc = legs.sc;
+    c->vec_1 = vec;
+
+    /* 8. Outputs. */
+    o->sa = legs.sa;
+    o->sb = legs.sb;
+    o->sc = legs.sc;
+    o->vector = vec;
+    o->psi_alpha_iq = c->est.psi_alpha_iq;
+    o->psi_beta_iq = c->est.psi_beta_iq;
+    o->te_iq = te;
+    o->te_ref_iq = c->te_ref_iq;
+    o->speed_iq = c->speed_iq;
+    o->theta_e = c->est.theta_r; /* updated on the speed-loop periods */
+    o->on_cm = 0U;
+    o->psi_ref_iq = c->psi_ref_iq;
+    o->psir_mag_iq = c->est.psir_mag_iq;
+}

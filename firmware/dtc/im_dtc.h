@@ -1,0 +1,140 @@
+/*
+ * im_dtc.h - the induction-machine control law: DTC and DSC of Casadei et al. 2006 (sections 2-9,
+ * 10.1-10.2, 12), one im_dtc_step() per control period, the speed loop every speed_div-th call.
+ * A module beside the PM law (dtc.h), with the same init/reset/step shape; the application
+ * dispatches between them (app/law.h). Shared blocks, not copies: Clarke (clarke.h), voltage
+ * reconstruction (vrec.h) with drop (vcomp.h) and dead-time (dtc_deadtime) compensation, the
+ * hysteresis comparators (hyst.h), the switching tables and the null-vector choice (swtab.h),
+ * the sector (sector.h), speed measurement and PI (speed_meas.h, speed_pi.h), the reference set
+ * and its shadow (dtc_refs.h).
+ *
+ *   Clarke -> v(legs applied over the period that ends now) + drop and dead-time compensation
+ *   -> stator flux: voltage model (Casadei eq. 1, low-pass) or improved estimator (eq. 20, tau
+ *      fixed or speed-dependent, section 10.2)                                        (im_est.h)
+ *   -> rotor flux (eq. 21), its angle (eq. 22) and magnitude; torque (appendix eq. A10, torque.h)
+ *   -> speed: encoder (speed_meas.h) or sensorless, rotor-flux angular speed minus the slip of
+ *      eq. 16 (im_ref.h); speed PI every speed_div-th step (speed mode)
+ *   -> references: start-up (magnetise at zero torque, Fig. 17b), flux weakening (section 12:
+ *      phi_s* from the null-vector monitor, T* by eqs. 33-34, im_fw.h), stator flux from a
+ *      constant rotor flux (eq. 19, im_ref.h) or the stator-flux reference
+ *   -> flux comparator on |phi_s|^2 (hyst2_sq_step), torque comparator three-level (Table 1) or
+ *      two-level (Table 3)
+ *   -> scheme DTC: Table 1 (basic), ST-A..ST-D (Table 3), speed-dependent (section 8: ST-D below
+ *      the configured speed, ST-A above); or DSC (section 9, dsc.h: hexagon by the phase-flux
+ *      comparators, torque by null vectors); the null vector chosen for the fewest commutations
+ *   -> leg states for the next period.
+ *
+ * Start-up (Casadei section 10.2, Fig. 17b): after a reset the torque reference is held at zero
+ * and the speed PI at rest for im_magn_periods control periods. The estimate cannot tell when the
+ * machine is magnetised: at DC the improved estimator's correction (eq. 20) pulls the estimated
+ * rotor flux to its reference within tau whatever the machine's, while the machine's rotor flux
+ * rises as 1 - exp(-t/tau_r) (eq. 9 with the estimator's DC error: d phi_r/dt = -(r_r/l_r)
+ * (phi_r - phi_r*)); the host converts the fraction to reach into that time.
+ * Meanwhile the flux is built by the radial vector: the active vector V_k of the stator flux's
+ * own sector k while the flux comparator asks for more flux, a null vector otherwise. V_k lies
+ * within +-30 degrees of the flux: it raises |phi_s| and applies almost no torque, so the phase
+ * currents settle to the DC magnetising current, as in Fig. 17b. (Table 1 itself cannot start a
+ * demagnetised machine at zero torque: with T* = T = 0 the three-level comparator stays at 0 and
+ * the table gives null vectors only.) With the pure-integrator voltage model the estimate of this
+ * DC flux decays through the low-pass and the machine is over-magnetised instead (the paper's
+ * Fig. 17a statement that the pure integrator cannot magnetise the machine at zero torque); the
+ * improved estimator's correction holds it.
+ *
+ * Timing contract as the PM law (dtc.h): the command of step k acts in period k+1; the voltage
+ * integrated at step k is that of the legs returned at step k-2. The IM law has no actuation-
+ * delay prediction (est.delay_comp is the PM law's): the comparators see the estimate at k.
+ *
+ * Ownership: caller-owned state, no static state; cfg must outlive the controller.
+ * Formats: IQ pu (dtc_base.h bases, chosen for the IM by the host), angle_t, Q15/Q31 gains.
+ * Scaling and overflow: every block documents its own; this file adds only saturating sums and
+ * comparisons.
+ */
+#ifndef IM_DTC_H
+#define IM_DTC_H
+
+#include <stdint.h>
+
+#include "clarke.h"
+#include "dsc.h"
+#include "dtc.h"
+#include "dtc_config.h"
+#include "dtc_refs.h"
+#include "hyst.h"
+#include "im_est.h"
+#include "im_fw.h"
+#include "im_ref.h"
+#include "speed_meas.h"
+#include "speed_pi.h"
+#include "swtab.h"
+#include "vcomp.h"
+
+typedef struct {
+    const dtc_config_t *cfg;
+    /* parameters derived at init */
+    im_est_params_t est_p;
+    vcomp_params_t vc_p;
+    speed_meas_params_t sm_p;
+    speed_pi_params_t pi_p;
+    im_speed_params_t isp_p;
+    im_fw_params_t fw_p;
+    /* block states */
+    im_est_t est;
+    im_speed_t isp;
+    im_fw_t fw;
+    speed_meas_t sm;
+    speed_pi_t pi;
+    hyst2_t h_flux;
+    hyst2_t h_torque2;
+    hyst3_t h_torque3;
+    dsc_t dsc;
+    /* references in force and the shadow set */
+    dtc_refs_t act;
+    dtc_shadow_t sh;
+    /* timing and history */
+    uint16_t div_cnt;
+    uint16_t speed_primed;
+    uint16_t magnetised;  /* 0 during the start-up magnetisation */
+    uint16_t dsc_on;      /* DSC: 1 once the hexagon runs (dsc_reset done) */
+    swtab_legs_t legs_1;  /* returned by the previous step: applied during this period */
+    swtab_legs_t legs_2;  /* returned two steps ago: applied during the period just ended */
+    swtab_legs_t legs_3;  /* returned three steps ago (dead time) */
+    uint16_t vec_1;       /* vector returned by the previous step */
+    iq_t te_cmd_iq;       /* torque command: speed PI output or the torque reference */
+    iq_t te_trim_iq;      /* torque mode: mean-torque trim (dtc_trim_step) */
+    iq_t te_ref_iq;       /* torque reference in force (after start-up and eqs. 33-34) */
+    iq_t psi_ref_iq;      /* stator-flux reference in force (eq. 19, section 12, or the set) */
+    iq_t psir_ref_iq;     /* rotor-flux reference of the improved estimator (eq. 20) */
+    uint16_t magn_n;      /* start-up: periods of magnetisation so far */
+    uint16_t ref_due;     /* eq. 19 to be evaluated (im_dtc_refs) */
+    iq_t speed_iq;        /* electrical speed in use (encoder or estimated), pu */
+    /* working values of one step, kept here rather than on the stack (budget: <= 256 bytes of
+     * stack on the Cortex-M0 proxy, tools/bench) */
+    clarke_out_t i;       /* currents of this step */
+    im_est_in_t ein;      /* estimator input */
+    iq_t dva_iq, dvb_iq;  /* a compensation term */
+} im_dtc_t;
+
+/* Validates cfg (dtc_config_validate; law DTC_LAW_IM_DTC) and initialises c. Returns DTC_OK or an
+ * enum dtc_err code; on error c->cfg = 0 and c must not be stepped. */
+int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg);
+/* Back to the start: demagnetised estimate, start-up magnetisation pending, references kept. */
+void im_dtc_reset(im_dtc_t *c);
+/* One control period (dtc_out_t as the PM law; theta_e is the rotor-flux angle, eq. 22). */
+void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
+/* Background: publish a new reference set (dtc_refs.h). */
+int16_t im_dtc_shadow_write(im_dtc_t *c, const dtc_refs_t *r);
+/* The set in force. */
+void im_dtc_refs_get(const im_dtc_t *c, dtc_refs_t *r);
+
+/* Internal: the rotor-flux reference for a stator-flux reference, and the adoption of a reference
+ * set (shared by im_dtc_init and the shadow set). */
+void im_dtc_psir_ref(im_dtc_t *c, iq_t psi_s_ref_iq);
+void im_dtc_apply(im_dtc_t *c, const dtc_refs_t *r);
+/* Internal to im_dtc_step, out of line for the stack (as dtc.c's helpers). */
+void im_dtc_adopt(im_dtc_t *c, uint16_t seq);
+void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m);
+void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o);
+void im_dtc_refs(im_dtc_t *c);
+uint16_t im_dtc_select(im_dtc_t *c, iq_t te, dtc_out_t *o);
+
+#endif /* IM_DTC_H */

@@ -1,0 +1,79 @@
+/* im_dtc_init.c - initialisation of the IM law (im_dtc.h). Init-only code: its own file so that the
+ * F2812 image keeps it in flash (archive dtc_init, firmware/CMakeLists.txt), out of the zero-wait
+ * RAM the control path needs. */
+#include "im_dtc.h"
+
+#include <stddef.h>
+
+int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg)
+{
+    dtc_refs_t r;
+    int16_t err;
+
+    if (c == NULL) {
+        return DTC_ERR_NULL;
+    }
+    c->cfg = NULL;
+    err = dtc_config_validate(cfg);
+    if (err != DTC_OK) {
+        return err;
+    }
+    if (cfg->law != DTC_LAW_IM_DTC) {
+        return DTC_ERR_VARIANT; /* another law's configuration (law.h dispatches) */
+    }
+
+    c->est_p.estimator = cfg->est.estimator == DTC_EST_IMPROVED ? IM_EST_IMPROVED : IM_EST_VOLTAGE;
+    c->est_p.rs_iq = cfg->machine.rs_iq;
+    c->est_p.sigma_ls_iq = cfg->machine.im.sigma_ls_iq;
+    c->est_p.kr_iq = cfg->machine.im.kr_iq;
+    c->est_p.ts_pu_q31 = q31_from_iq(cfg->board.ts_pu_iq);
+    c->est_p.k_in_q31 = cfg->est.k_in_q31;
+    c->est_p.k_leak_q31 = cfg->est.k_leak_q31;
+    c->est_p.k_lo_q31 = cfg->est.im_k_lo_q31;
+    c->est_p.k_hi_q31 = cfg->est.im_k_hi_q31;
+    c->est_p.w_lo_iq = cfg->est.im_w_lo_iq;
+    c->est_p.w_hi_iq = cfg->est.im_w_hi_iq;
+    c->est_p.k_slope_q31 = cfg->est.im_k_slope_q31;
+    if (im_est_check(&c->est_p) != 0) {
+        return DTC_ERR_FLUX_EST;
+    }
+    vcomp_init(&c->vc_p, cfg->est.compensation, cfg->board.v_f_iq, cfg->board.v_ce_iq,
+               cfg->board.v_d_iq, cfg->board.r_on_iq);
+    c->sm_p.enc_counts = cfg->board.enc_counts;
+    c->sm_p.k_speed_iq = cfg->speed.speed_k_iq;
+    c->sm_p.min_counts = cfg->speed.speed_min_counts;
+    c->pi_p.kp_iq = cfg->speed.kp_iq;
+    c->pi_p.ki_ts_iq = cfg->speed.ki_ts_iq;
+    c->pi_p.limit_iq = cfg->speed.torque_limit_iq;
+    c->isp_p.gain_w_iq = cfg->speed.im_gain_w_iq;
+    c->isp_p.k_filt_q31 = cfg->speed.im_speed_filt_q31;
+    c->isp_p.rr_iq = cfg->machine.im.rr_iq;
+    c->fw_p.window = cfg->sw.im_fw_window;
+    c->fw_p.step_down_iq = cfg->sw.im_fw_step_down_iq;
+    c->fw_p.step_up_iq = cfg->sw.im_fw_step_up_iq;
+    c->fw_p.psi_min_iq = cfg->sw.im_fw_psi_min_iq;
+    c->fw_p.psi_rated_iq = cfg->speed.flux_ref_iq;
+    c->fw_p.inv_psi_rated_iq = cfg->sw.im_fw_inv_psi_rated_iq;
+    c->fw_p.kt_iq = cfg->sw.im_fw_kt_iq;
+    if (cfg->sw.im_fw_on != 0U && im_fw_check(&c->fw_p) != 0) {
+        return DTC_ERR_WEAKENING;
+    }
+    c->cfg = cfg;
+
+    r.speed_ref_iq = cfg->speed.speed_ref_iq;
+    r.torque_ref_iq = cfg->speed.torque_ref_iq;
+    r.flux_ref_iq = cfg->speed.flux_ref_iq;
+    r.kp_iq = cfg->speed.kp_iq;
+    r.ki_ts_iq = cfg->speed.ki_ts_iq;
+    r.mode = cfg->speed.mode;
+    c->act.mode = cfg->speed.mode;
+    c->te_cmd_iq = 0;
+    c->te_trim_iq = 0;
+    im_dtc_apply(c, &r);
+    dtc_shadow_init(&c->sh);
+    im_est_init(&c->est, &c->est_p);
+    speed_meas_init(&c->sm, &c->sm_p, 0U);
+    im_dtc_reset(c);
+    return DTC_OK;
+}
+

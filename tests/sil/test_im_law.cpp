@@ -1,0 +1,216 @@
+// The induction-machine control law (firmware/dtc/im_dtc.h) in closed loop with the plant's
+// default induction machine (plant_params_im_default: 4 kW, 4 poles, 220 V; SSTP on 311 V with
+// the plant's device drops and dead time, 40 us) through hal_host and the unchanged application
+// (app_init / app_isr), the law configured directly in C from the converter's IM defaults (no
+// scenario keys yet). From standstill the machine is magnetised at zero torque, then a rated
+// torque step is commanded (Casadei Fig. 17b, at constant rotor flux, eq. 19); two cases below
+// (rotor held with real parts; rotor free with ideal devices). Assertions are physics on the
+// plant's true quantities:
+//   - during the magnetisation the torque is zero and the phase currents are DC;
+//   - when the torque is allowed the rotor flux is at least magn_frac of its reference, and
+//     0.4 s (3 tau_r) later within 3 % of it;
+//   - after the step the torque reaches 90 % of T* within 5 ms and its mean over the next 30 ms
+//     is within 10 % of T*; in the ideal-device case the rotor-flux magnitude stays within 3 % of
+//     phi_r* (eq. 19);
+//   - no fault.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+extern "C" {
+#include "app.h"
+#include "dtc_config_si.h"
+}
+
+#include "hal_host.hpp"
+#include "plant.h"
+
+namespace {
+
+struct ImRig {
+    plant_params_t p{};
+    dtc_config_si_t si{};
+    dtc_config_t cfg{};
+    std::unique_ptr<hal_host::Harness> h;
+
+    ImRig(bool ideal, bool free_rotor)
+    {
+        plant_params_default(&p);
+        plant_params_im_default(&p);
+        p.vdc_v = 311.0;
+        p.load = PLANT_LOAD_SPEED; // the dynamometer holds the rotor (free_rotor: inertia only)
+        p.load_speed_rpm = 0.0;
+        p.max_step_s = 40e-6;
+        if (ideal) {
+            p.drops_enabled = 0;
+            p.dead_time_enabled = 0;
+        }
+        if (free_rotor) {
+            p.load = PLANT_LOAD_INERTIA;
+        }
+
+        dtc_config_si_im_defaults(&si);
+        si.mode = DTC_MODE_TORQUE;
+        si.torque_ref_nm = 0.0;
+        si.psir_ref_wb = 0.53;     // about the no-load rotor flux of 0.55 Wb stator flux
+        si.v_ce_v = p.v_ce_v;      // the board's devices, as the firmware is told them
+        si.v_d_v = p.v_d_v;
+        si.v_f_v = 0.5 * (p.v_ce_v + p.v_d_v);
+        si.r_on_ohm = p.r_on_ohm;
+        si.dead_time_s = p.dead_time_s;
+        if (ideal) {
+            si.compensation = DTC_COMP_NONE;
+            si.deadtime_comp = 0;
+        }
+
+        hal_host::HarnessConfig hc;
+        hc.ts_s = si.ts_s;
+        hc.sensors.current_range_a = 200.0;
+        hc.sensors.voltage_range_v = 500.0;
+        hc.sensors.encoder_lines = static_cast<std::uint32_t>(si.enc_lines);
+        si.adc_i_a_per_count = hc.sensors.current_range_a / 2047.5; // hal_host's ADC model
+        si.adc_vdc_v_per_count = hc.sensors.voltage_range_v / 4095.0;
+        si.adc_vmid_v_per_count = hc.sensors.voltage_range_v / 4095.0;
+
+        char msg[256] = {0};
+        EXPECT_EQ(dtc_config_from_si(&si, &cfg, msg, sizeof msg), DTC_SI_OK) << msg;
+        std::string err;
+        h = hal_host::Harness::create(p, hc, &err);
+        EXPECT_TRUE(h) << err;
+        h->activate();
+        hal_init();
+        EXPECT_EQ(app_init(&cfg), 0);
+    }
+    ~ImRig() { h->deactivate(); }
+
+    void period()
+    {
+        h->run_period([] {
+            app_isr();
+            app_background();
+        });
+    }
+    app_status_t status() const
+    {
+        app_status_t s;
+        app_get_status(&s);
+        return s;
+    }
+    double psir_wb() const { return std::hypot(h->state().psi_r_alpha_wb, h->state().psi_r_beta_wb); }
+};
+
+// Magnetisation at standstill, then a rated torque step; check_psir: assert the rotor flux's
+// constancy (eq. 19) through the step.
+void run_case(ImRig& r, bool check_psir)
+{
+    ASSERT_TRUE(r.h);
+    const double ts = r.si.ts_s;
+    const double t_rated = r.si.rated_torque_nm;
+    const double psir_ref = r.si.psir_ref_wb;
+    const long n_magn = static_cast<long>(r.cfg.speed.im_magn_periods);
+
+    // Calibration (64 periods, app_core.h), then the magnetisation: T* = 0 whatever is commanded.
+    app_status_t st{};
+    long k = 0;
+    for (; k < 200; ++k) {
+        r.period();
+    }
+    st = r.status();
+    ASSERT_EQ(st.state, APP_STATE_RUN) << app_fault_name(st.fault);
+    dtc_refs_t refs{};
+    ASSERT_EQ(app_set_refs(&refs), DTC_ERR_REFERENCE); // a zero flux reference is refused
+    double worst_te = 0.0, ang0 = 0.0;
+    const long k_end = n_magn + 64 - 5; // a few periods before the torque is allowed
+    for (; k < k_end; ++k) {
+        r.period();
+        worst_te = std::fmax(worst_te, std::fabs(r.h->state().te_nm));
+        if (k == k_end - static_cast<long>(5e-3 / ts)) {
+            ang0 = std::atan2(r.h->state().i_beta_a, r.h->state().i_alpha_a);
+        }
+    }
+    st = r.status();
+    ASSERT_EQ(st.fault, APP_FAULT_NONE) << app_fault_name(st.fault);
+    EXPECT_EQ(st.out.te_ref_iq, 0);
+    EXPECT_LT(worst_te, 0.03 * t_rated); // zero torque while magnetising
+    const double ang1 = std::atan2(r.h->state().i_beta_a, r.h->state().i_alpha_a);
+    EXPECT_LT(std::fabs(ang1 - ang0), 0.02); // DC magnetising current: the vector stands still
+    EXPECT_GE(r.psir_wb(), r.si.magn_frac * psir_ref);
+    EXPECT_LE(r.psir_wb(), 1.03 * psir_ref);
+
+    // Torque allowed (still commanded zero): the rotor flux completes its rise with tau_r
+    // (0.128 s, im_dtc.h); 0.4 s later it is at its reference, as in Figs. 14-15 before the step.
+    for (long j = 0; j < static_cast<long>(0.4 / ts); ++j, ++k) {
+        r.period();
+    }
+    if (check_psir) {
+        EXPECT_LT(std::fabs(r.psir_wb() / psir_ref - 1.0), 0.03);
+    }
+    // Rated torque commanded through the background's shadow set.
+    refs.mode = DTC_MODE_TORQUE;
+    refs.flux_ref_iq = r.cfg.speed.flux_ref_iq;
+    refs.speed_ref_iq = 0;
+    refs.kp_iq = r.cfg.speed.kp_iq;
+    refs.ki_ts_iq = r.cfg.speed.ki_ts_iq;
+    refs.torque_ref_iq = static_cast<iq_t>(std::lround(t_rated / (1.5 * r.si.pole_pairs *
+        (r.si.v_base_v / r.si.w_base_rad_s) * r.si.i_base_a) * 16777216.0));
+    ASSERT_EQ(app_set_refs(&refs), DTC_OK);
+    long reached = -1;
+    double worst_psir = 0.0, te_sum = 0.0;
+    long n_mean = 0;
+    const long n_step = static_cast<long>(40e-3 / ts);
+    for (long j = 0; j < n_step; ++j) {
+        r.period();
+        const double te = r.h->state().te_nm;
+        if (reached < 0 && te >= 0.9 * t_rated) {
+            reached = j;
+        }
+        worst_psir = std::fmax(worst_psir, std::fabs(r.psir_wb() / psir_ref - 1.0));
+        if (j >= static_cast<long>(10e-3 / ts)) {
+            te_sum += te;
+            ++n_mean;
+        }
+    }
+    st = r.status();
+    EXPECT_EQ(st.fault, APP_FAULT_NONE) << app_fault_name(st.fault);
+    ASSERT_GE(reached, 0);
+    EXPECT_LE(reached * ts, 5e-3);
+    EXPECT_LT(std::fabs(te_sum / n_mean / t_rated - 1.0), 0.10);
+    if (check_psir) {
+        EXPECT_LT(worst_psir, 0.03);
+    }
+    ::testing::Test::RecordProperty("torque_rise_ms", std::to_string(reached * ts * 1e3));
+    ::testing::Test::RecordProperty("torque_mean_nm", std::to_string(te_sum / n_mean));
+    ::testing::Test::RecordProperty("psir_worst_pct", std::to_string(100.0 * worst_psir));
+    std::printf("MEASURE rise %.2f ms, mean torque %.2f N*m (T* %.2f), rotor flux worst %.1f %% of %.2f Wb\n",
+                reached * ts * 1e3, te_sum / n_mean, t_rated, 100.0 * worst_psir, psir_ref);
+}
+
+} // namespace
+
+// Realistic parts (the plant's device drops and dead time, the firmware's SSTP drop [29] and
+// dead-time compensation), rotor held at standstill by the dynamometer: zero torque and a DC
+// current while magnetising, the rotor flux built, then the torque step tracked. The rotor flux
+// through the step is measured, not asserted: at standstill under rated torque the stator
+// frequency is the slip frequency (13 rad/s, below 1/tau = 100 rad/s) and the residual error of
+// the drop compensation moves the machine's rotor flux by about 14 % (ideal devices: 3.6 %);
+// a finding reported in docs/firmware-core.md.
+TEST(ImLaw, StandstillRealPartsMagnetisesThenTracksATorqueStep)
+{
+    ImRig r(false, false);
+    ASSERT_TRUE(r.h);
+    run_case(r, false);
+}
+
+// The conditions of Casadei Figs. 14-15 (constant rotor flux through a torque step), the rotor
+// free (inertia only) so that it accelerates from standstill under the step, ideal devices (no
+// drops, no dead time; the firmware's compensation off) so that the law is judged without the
+// inverter's voltage errors, which those figures do not show: the rotor flux stays within 3 % of
+// phi_r* through the step (the paper: 2 %).
+TEST(ImLaw, FreeRotorIdealInverterKeepsRotorFluxThroughATorqueStep)
+{
+    ImRig r(true, true);
+    ASSERT_TRUE(r.h);
+    run_case(r, true);
+}
