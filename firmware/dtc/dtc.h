@@ -61,7 +61,8 @@ typedef struct {
     uint16_t on_cm;        /* 1: the flux came from the current model (estimator = current, or
                             * the voltage model below its hand-over speed) */
     iq_t psi_ref_iq;       /* stator-flux reference in force, pu */
-    iq_t psir_mag_iq;      /* IM law: estimated rotor-flux magnitude (Casadei eq. 21); PM: 0 */
+    iq_t psir_mag_iq;      /* IM law: estimated rotor-flux magnitude (Casadei eq. 21), updated on
+                            * the speed-loop periods; PM: 0 */
 } dtc_out_t;
 
 typedef struct {

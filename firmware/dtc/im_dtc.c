@@ -99,7 +99,7 @@ void im_dtc_adopt(im_dtc_t *c, uint16_t seq)
 /* The estimator's input: the stator voltage of the period that ends now (legs returned two steps
  * ago, measured V_dc, Casadei eq. 2 / Hoang eqs. 1-5) with the drop (vcomp) and dead-time
  * compensations, the currents, the rotor-flux reference, the speed for tau, and whether the angle
- * is wanted (speed-loop periods). (im_dtc_step then
+ * and magnitude are wanted (speed-loop periods). (im_dtc_step then
  * calls the estimator itself: one call level less on the deepest stack path.) */
 void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m)
 {
@@ -110,7 +110,9 @@ void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m)
     vcomp_step(&c->vc_p, c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, &c->i, &c->dva_iq, &c->dvb_iq);
     in->v_alpha_iq = fix_add32(in->v_alpha_iq, c->dva_iq);
     in->v_beta_iq = fix_add32(in->v_beta_iq, c->dvb_iq);
-    if (cfg->est.deadtime_comp != 0U) {
+    if (cfg->est.deadtime_comp != 0U &&
+        (c->legs_3.sa != c->legs_2.sa || c->legs_3.sb != c->legs_2.sb || c->legs_3.sc != c->legs_2.sc)) {
+        /* a leg changed at the start of the period: its dead-time error (none otherwise) */
         dtc_deadtime(cfg, m, &c->legs_3, &c->legs_2, &c->dva_iq, &c->dvb_iq);
         in->v_alpha_iq = fix_add32(in->v_alpha_iq, c->dva_iq);
         in->v_beta_iq = fix_add32(in->v_beta_iq, c->dvb_iq);
@@ -119,8 +121,9 @@ void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m)
     in->i_beta_iq = c->i.i_beta_iq;
     in->psir_ref_iq = c->psir_ref_iq;
     in->speed_iq = c->speed_iq;
-    /* the rotor-flux angle (CORDIC) only where the speed loop runs: sensorless speed, telemetry */
-    in->want_angle = (uint16_t)(c->div_cnt == 0U ? 1U : 0U);
+    /* the rotor-flux angle and magnitude (CORDIC) only where the speed loop runs: sensorless
+     * speed, telemetry */
+    in->want_polar = (uint16_t)(c->div_cnt == 0U ? 1U : 0U);
 }
 
 /* Speed every speed_div-th period, as in the PM law: the encoder's, or the sensorless estimate
@@ -302,5 +305,5 @@ void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     o->theta_e = c->est.theta_r; /* updated on the speed-loop periods */
     o->on_cm = 0U;
     o->psi_ref_iq = c->psi_ref_iq;
-    o->psir_mag_iq = c->est.psir_mag_iq;
+    o->psir_mag_iq = c->est.psir_mag_iq; /* updated on the speed-loop periods */
 }

@@ -36,6 +36,7 @@ void im_est_reset(im_est_t *s)
     s->u_alpha_iq = IQ(1.0);
     s->u_beta_iq = 0;
     s->inv_mag_iq = 0;
+    s->k_valid = 0U;
 }
 
 /* |x| below which the direction is not resolved: 2^-6 pu, |x|^2 = 2^36 in Q48. */
@@ -56,8 +57,8 @@ static iq_t im_est_newton(iq_t r, int64_t t_q30)
     return fix_rshift_rnd64_sat32((int64_t)r * ((int64_t)3 * ((int64_t)1 << 30) - t_q30), 31U);
 }
 
-/* e^{j theta} = x / |x| and |x| (eq. 22) by the tracked reciprocal (im_est.h). Returns |x|, IQ. */
-static iq_t im_est_unit(im_est_t *s, iq_t x_a, iq_t x_b)
+/* e^{j theta} = x / |x| (eq. 22) by the tracked reciprocal (im_est.h). */
+static void im_est_unit(im_est_t *s, iq_t x_a, iq_t x_b)
 {
     const int64_t lo = (int64_t)1 << 28, hi = (int64_t)9 << 28; /* 1/4 and 9/4 in Q30 */
     const int64_t one = (int64_t)1 << 30, tol = (int64_t)1 << 10; /* 1 and 2^-20 in Q30 */
@@ -77,7 +78,7 @@ static iq_t im_est_unit(im_est_t *s, iq_t x_a, iq_t x_b)
             s->u_alpha_iq = IQ(1.0);
             s->u_beta_iq = 0;
             s->inv_mag_iq = 0;
-            return 0;
+            return;
         }
         /* Re-seed: |x| in [2^n, 2^(n+1)) LSB (n >= 18 here), r = 2^(23-n) pu = 2^(47-n) in IQ,
          * so |x r| in [1/2, 1): t in [1/4, 1), from which Newton rises monotonically to 1
@@ -102,10 +103,6 @@ static iq_t im_est_unit(im_est_t *s, iq_t x_a, iq_t x_b)
             break;
         }
     }
-    /* |x| = x . u, Q48 -> IQ */
-    return fix_rshift_rnd64_sat32((int64_t)x_a * (int64_t)s->u_alpha_iq +
-                                      (int64_t)x_b * (int64_t)s->u_beta_iq,
-                                  (uint16_t)FIX_IQ_Q);
 }
 
 q31_t im_est_gain(const im_est_params_t *p, iq_t speed_iq)
@@ -135,7 +132,13 @@ void im_est_step(im_est_t *s, const im_est_in_t *in)
     if (p->estimator == IM_EST_IMPROVED) {
         /* Casadei eq. 20, with the correction phi_r* e^{j theta} - phi_r of the previous
          * instant (eqs. 21-22 evaluated at the end of the previous step; e^{j theta} = x/|x|). */
-        const q31_t k = im_est_gain(p, in->speed_iq);
+        q31_t k;
+        if (s->k_valid == 0U || in->speed_iq != s->k_speed_iq) {
+            s->k_q31 = im_est_gain(p, in->speed_iq); /* the speed changes at the speed-loop rate */
+            s->k_speed_iq = in->speed_iq;
+            s->k_valid = 1U;
+        }
+        k = s->k_q31;
         const iq_t c_a = fix_sub32(iq_mpy(in->psir_ref_iq, s->u_alpha_iq), s->psir_alpha_iq);
         const iq_t c_b = fix_sub32(iq_mpy(in->psir_ref_iq, s->u_beta_iq), s->psir_beta_iq);
         const int64_t d_a = (int64_t)p->ts_pu_q31 * (int64_t)e_a + (int64_t)k * (int64_t)c_a;
@@ -149,10 +152,11 @@ void im_est_step(im_est_t *s, const im_est_in_t *in)
     /* Casadei eqs. 21-22. */
     x_a = fix_sub32(s->psi_alpha_iq, iq_mpy(p->sigma_ls_iq, in->i_alpha_iq));
     x_b = fix_sub32(s->psi_beta_iq, iq_mpy(p->sigma_ls_iq, in->i_beta_iq));
-    s->psir_mag_iq = iq_mpy(p->kr_iq, im_est_unit(s, x_a, x_b));
-    if (in->want_angle != 0U) {
+    im_est_unit(s, x_a, x_b);
+    if (in->want_polar != 0U) {
         iq_t mag;
         fix_polar(x_a, x_b, &s->theta_r, &mag);
+        s->psir_mag_iq = iq_mpy(p->kr_iq, mag);
     }
     s->psir_alpha_iq = iq_mpy(p->kr_iq, x_a);
     s->psir_beta_iq = iq_mpy(p->kr_iq, x_b);

@@ -34,12 +34,13 @@
  *                                           |t - 1| < 2^-6, which leaves it below 2^-12 and
  *                                           the next periods refine), re-seeded from a power of two when
  *                                           t leaves (1/4, 9/4) or r exceeds 64; the direction
- *                                           is taken as alpha (e^{j0}) and |x| as 0 when a
- *                                           re-seed finds |x| < 2^-6 pu
- *   theta = arg x                           (eq. 22) by CORDIC (fix_polar), only on the periods
- *                                           the caller asks for it (want_angle: the sensorless
- *                                           speed's, at the speed-loop rate)
+ *                                           is taken as alpha (e^{j0}) when a re-seed finds
+ *                                           |x| < 2^-6 pu
+ * and, only on the periods the caller asks for them (want_polar: the IM law's speed-loop
+ * periods, for the sensorless speed and the telemetry):
+ *   theta = arg x, |x|                      (eq. 22) by CORDIC (fix_polar)
  *   |phi_r| = k_r |x|                       (eq. 21)
+ * and every period:
  *   phi_r = k_r x                           (eq. 21, vector)
  * and the torque T = phi_s x i (appendix eq. A10 with T_base = 3/2 p psi_base I_base, the same
  * form as Hoang eq. 10: torque.h).
@@ -88,10 +89,13 @@ typedef struct {
     const im_est_params_t *p;
     iq_t psi_alpha_iq, psi_beta_iq;     /* stator flux estimate (state), pu */
     iq_t psir_alpha_iq, psir_beta_iq;   /* rotor flux (eq. 21), pu */
-    iq_t psir_mag_iq;                   /* |phi_r|, pu */
+    iq_t psir_mag_iq;                   /* |phi_r|, pu, when asked for */
     angle_t theta_r;                    /* rotor-flux angle (eq. 22), when asked for */
     iq_t u_alpha_iq, u_beta_iq;         /* e^{j theta} = x/|x| (eq. 22), IQ */
     iq_t inv_mag_iq;                    /* r = 1/|x|, IQ; 0: not known (re-seed) */
+    q31_t k_q31;                        /* Ts/tau in use, for the speed k_speed_iq */
+    iq_t k_speed_iq;
+    uint16_t k_valid;                   /* 0 after a reset */
 } im_est_t;
 
 typedef struct {
@@ -99,7 +103,7 @@ typedef struct {
     iq_t i_alpha_iq, i_beta_iq;  /* stator current sampled now (the end of that period), pu */
     iq_t psir_ref_iq;            /* rotor-flux reference magnitude phi_r* (improved estimator) */
     iq_t speed_iq;               /* electrical speed for a speed-dependent tau, pu */
-    uint16_t want_angle;         /* 1: compute theta_r (CORDIC) in this period */
+    uint16_t want_polar;         /* 1: compute theta_r and |phi_r| (CORDIC) in this period */
 } im_est_in_t;
 
 /* Returns 0, or a nonzero code when the parameters are inconsistent (negative resistance,
@@ -108,8 +112,8 @@ int16_t im_est_check(const im_est_params_t *p);
 void im_est_init(im_est_t *s, const im_est_params_t *p);
 /* Zero flux: the machine is demagnetised at start. */
 void im_est_reset(im_est_t *s);
-/* Integrates one period, then updates rotor flux, its direction and magnitude (and its angle when
- * in->want_angle). */
+/* Integrates one period, then updates the rotor flux and its direction (and its angle and
+ * magnitude when in->want_polar). */
 void im_est_step(im_est_t *s, const im_est_in_t *in);
 
 /* Ts/tau at electrical speed w (improved estimator; exposed for the tests). */

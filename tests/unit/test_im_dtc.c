@@ -10,7 +10,8 @@
  *     then the torque within a few ms; the voltage model with its low-pass cannot hold the flux
  *     at standstill (Fig. 17a's statement);
  *   - constant rotor flux (eq. 19) through a 50 % -> 300 % torque step;
- *   - the speed-dependent table (section 8) picks ST-D below and ST-A above its speed;
+ *   - Table 1 and ST-A..ST-D (Table 3) through the law, with the null-vector choice; the
+ *     speed-dependent table (section 8) picks ST-D below and ST-A above its speed;
  *   - DSC (section 9): the hexagon (vertex / side-centre radius 1/cos 30 deg);
  *   - flux weakening (section 12): phi_s* at most once per window, T* by eqs. 33-34;
  *   - sensorless speed: flux angular speed minus the slip of eq. 16.
@@ -443,6 +444,47 @@ static void test_speed_dependent_table(void **state)
     }
 }
 
+/* Casadei Table 1 (three-level comparator) and Table 3 (ST-A..ST-D, two-level) through the law:
+ * for every sector, flux demand and torque demand the law's vector is the table's, after the
+ * null-vector choice for the fewest commutations from the present vector. */
+static void test_tables_through_the_law(void **state)
+{
+    (void)state;
+    for (int table = DTC_ST_BASIC; table <= DTC_ST_D; table++) {
+        sim_t s;
+        dtc_out_t o;
+        sim_defaults(&s);
+        s.si.sstp_table = table;
+        sim_start(&s, 0.0);
+        im_dtc_t *c = &s.law.u.im;
+        c->magnetised = 1U;
+        for (int sec = 0; sec < 6; sec++) {
+            for (int fu = 0; fu < 2; fu++) {
+                for (int tu = 0; tu < 2; tu++) {
+                    for (uint16_t present = 0U; present < 8U; present++) {
+                        const double ang = sec * FIXTEST_PI / 3.0;
+                        const double mag = fu ? 0.3 : 0.8;
+                        uint16_t got, want;
+                        c->est.psi_alpha_iq = fixtest_d_to_iq(mag * cos(ang));
+                        c->est.psi_beta_iq = fixtest_d_to_iq(mag * sin(ang));
+                        c->psi_ref_iq = s.cfg.speed.flux_ref_iq;
+                        c->te_ref_iq = tu ? IQ(0.5) : IQ(-0.5);
+                        c->vec_1 = present;
+                        got = im_dtc_select(c, 0, &o);
+                        want = table == DTC_ST_BASIC
+                                   ? swtab_sstp_basic((uint16_t)(sec + 1), (uint16_t)fu, (int16_t)(tu ? 1 : -1))
+                                   : swtab_sstp_st((uint16_t)table, (uint16_t)(sec + 1), (uint16_t)fu, (uint16_t)tu);
+                        assert_int_equal(got, swtab_null_choice(want, present));
+                        assert_int_equal(o.torque_dem, tu ? 1 : -1);
+                        assert_int_equal(o.flux_up, fu);
+                        assert_int_equal(o.sector, sec + 1);
+                    }
+                }
+            }
+        }
+    }
+}
+
 /* ---- DSC ------------------------------------------------------------------------------------ */
 
 /* Section 9: with DSC the stator flux runs on a hexagon whose sides lie at phi_s* from the
@@ -565,6 +607,7 @@ int main(void)
         cmocka_unit_test(test_voltage_model_cannot_hold_standstill_flux),
         cmocka_unit_test(test_constant_rotor_flux_torque_step),
         cmocka_unit_test(test_speed_dependent_table),
+        cmocka_unit_test(test_tables_through_the_law),
         cmocka_unit_test(test_dsc_hexagon),
         cmocka_unit_test(test_flux_weakening),
         cmocka_unit_test(test_sensorless_speed),

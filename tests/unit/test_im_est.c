@@ -130,7 +130,7 @@ static void test_improved_estimator_magnetises_from_zero_as_eq20_says(void **sta
     im_est_params_t pv = p;
     pv.estimator = IM_EST_VOLTAGE;
     im_est_init(&v, &pv);
-    im_est_in_t in = {0, 0, 0, 0, fixtest_d_to_iq(psir_ref), 0, 0};
+    im_est_in_t in = {0, 0, 0, 0, fixtest_d_to_iq(psir_ref), 0, 1};
     const double kr = kLr / kLm;
     double worst = 0.0;
     for (int k = 1; k <= 2000; ++k) { /* 80 ms = 8 tau / k_r */
@@ -203,15 +203,14 @@ static void test_improved_estimator_tracks_double_reference_in_steady_state(void
            acc.max_abs_err);
     fixtest_assert_snr(&acc, 90.0, "improved estimator vs double reference");
     /* The direction e^{j theta} = x/|x| (tracked reciprocal) is a unit vector along the rotor
-     * flux (eq. 21: phi_r = k_r x) to 1e-6, and the angle, computed when asked for (eq. 22,
-     * CORDIC), is that of the rotor flux within fix_polar's bound. */
+     * flux (eq. 21: phi_r = k_r x) to 1e-6, and the angle and magnitude, computed when asked for
+     * (eqs. 21-22, CORDIC), are the rotor flux's within fix_polar's bounds. */
     {
         double v[2], i[2], a_ref, da;
         const double ua = fixtest_iq_to_d(s.u_alpha_iq), ub = fixtest_iq_to_d(s.u_beta_iq);
         const double pa = fixtest_iq_to_d(s.psir_alpha_iq), pb = fixtest_iq_to_d(s.psir_beta_iq);
         assert_true(fabs(hypot(ua, ub) - 1.0) < 1e-6);
         assert_true(fabs(ua * pb - ub * pa) < 1e-6 * hypot(pa, pb));
-        assert_true(fabs(hypot(pa, pb) - fixtest_iq_to_d(s.psir_mag_iq)) < 1e-6);
         steady_state_inputs(50000, v, i);
         im_est_in_t in = {fixtest_d_to_iq(v[0]), fixtest_d_to_iq(v[1]), fixtest_d_to_iq(i[0]), fixtest_d_to_iq(i[1]),
                           fixtest_d_to_iq(psir_ref), fixtest_d_to_iq(SS_W), 1};
@@ -219,6 +218,8 @@ static void test_improved_estimator_tracks_double_reference_in_steady_state(void
         a_ref = atan2(fixtest_iq_to_d(s.psir_beta_iq), fixtest_iq_to_d(s.psir_alpha_iq)) / TWO_PI * 65536.0;
         da = wrap_lsb((double)s.theta_r - a_ref);
         assert_true(fabs(da) <= 1.0); /* fix_polar 0.86 LSB plus the rounding of k_r x */
+        assert_true(fabs(hypot(fixtest_iq_to_d(s.psir_alpha_iq), fixtest_iq_to_d(s.psir_beta_iq)) -
+                         fixtest_iq_to_d(s.psir_mag_iq)) < 1e-6);
     }
 }
 
