@@ -3,6 +3,7 @@
 #include <stddef.h>
 
 #include "clarke.h"
+#include "ilim.h"
 #include "sector.h"
 #include "torque.h"
 #include "vrec.h"
@@ -93,6 +94,19 @@ int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg)
     return DTC_OK;
 }
 
+/* Current limit and ripple-robust polarity (ilim.h, dtc_config.h polarity_mid): state at reset. */
+static void dtc_reset_ilim_pol(dtc_t *c)
+{
+    c->i_prev.ia_iq = 0;
+    c->i_prev.ib_iq = 0;
+    c->i_prev.ic_iq = 0;
+    c->i_prev.i_alpha_iq = 0;
+    c->i_prev.i_beta_iq = 0;
+    c->i_mid = c->i_prev;
+    c->i1 = c->i_prev;
+    c->i_limited = 0U;
+}
+
 void dtc_reset(dtc_t *c)
 {
     static const swtab_legs_t off = {0U, 0U, 0U};
@@ -114,6 +128,7 @@ void dtc_reset(dtc_t *c)
     c->te_ref_iq = c->act.mode == DTC_MODE_TORQUE ? c->act.torque_ref_iq : 0;
     c->speed_iq = 0;
     c->on_cm = cfg->handover_speed_iq > 0 ? 1U : 0U;
+    dtc_reset_ilim_pol(c);
 }
 
 int16_t dtc_shadow_write(dtc_t *c, const dtc_refs_t *r)
@@ -230,22 +245,25 @@ static iq_t dtc_leg_dt(uint16_t prev, uint16_t cur, iq_t i, iq_t e)
 void dtc_deadtime(const dtc_t *c, const dtc_meas_t *m, const swtab_legs_t *prev,
                   const swtab_legs_t *cur, iq_t *dva, iq_t *dvb)
 {
-    const dtc_config_t *cfg = c->cfg;
-    iq_t e = iq_mpy_q15(m->vdc_iq, cfg->td_ts_q15);
-    iq_t ia, ib, ic, ea;
-    if (cfg->topology == DTC_TOPO_FSTP) {
-        ib = m->ib_iq;
-        ic = m->ic_iq;
-        ia = fix_neg32(fix_add32(ib, ic));
-        ea = 0;
+    clarke_out_t i;
+    if (c->cfg->topology == DTC_TOPO_FSTP) {
+        clarke_fstp(m->ib_iq, m->ic_iq, &i);
     } else {
-        ia = m->ia_iq;
-        ib = m->ib_iq;
-        ic = fix_neg32(fix_add32(ia, ib));
-        ea = dtc_leg_dt(prev->sa, cur->sa, ia, e);
+        clarke_sstp(m->ia_iq, m->ib_iq, &i);
     }
-    vrec_from_legs(ea, dtc_leg_dt(prev->sb, cur->sb, ib, e), dtc_leg_dt(prev->sc, cur->sc, ic, e),
-                   dva, dvb);
+    dtc_deadtime_i(c, m->vdc_iq, &i, prev, cur, dva, dvb);
+}
+
+/* As dtc_deadtime, with the phase currents at the switching instant given (clarke_out_t: all
+ * three, one reconstructed by Kirchhoff). */
+void dtc_deadtime_i(const dtc_t *c, iq_t vdc_iq, const clarke_out_t *i, const swtab_legs_t *prev,
+                    const swtab_legs_t *cur, iq_t *dva, iq_t *dvb)
+{
+    const dtc_config_t *cfg = c->cfg;
+    iq_t e = iq_mpy_q15(vdc_iq, cfg->td_ts_q15);
+    iq_t ea = cfg->topology == DTC_TOPO_FSTP ? 0 : dtc_leg_dt(prev->sa, cur->sa, i->ia_iq, e);
+    vrec_from_legs(ea, dtc_leg_dt(prev->sb, cur->sb, i->ib_iq, e),
+                   dtc_leg_dt(prev->sc, cur->sc, i->ic_iq, e), dva, dvb);
 }
 
 /* Actuation-delay compensation. The leg states legs_1 (returned by the previous step) act
@@ -266,7 +284,7 @@ void dtc_deadtime(const dtc_t *c, const dtc_meas_t *m, const swtab_legs_t *prev,
  * Scaling and overflow: every product is a rounded iq_mpy (64-bit intermediate), every sum
  * saturates: |dpsi| <= Ts_pu (|v| + r_s |i|) stays far below 1 pu for any measured input; the
  * current step (dpsi - dpsi_r)/l_s saturates at +-128 pu in the worst case (no wrap). */
-void dtc_predict(const dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t *te)
+void dtc_predict(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t *te)
 {
     const dtc_config_t *cfg = c->cfg;
     iq_t dpa, dpb, wts, ia1, ib1;
@@ -286,6 +304,22 @@ void dtc_predict(const dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b
     *psi_a = fix_add32(*psi_a, dpa);
     *psi_b = fix_add32(*psi_b, dpb);
     *te = torque_eq10(*psi_a, *psi_b, ia1, ib1);
+    clarke_inv(ia1, ib1, &c->i1); /* for the current limit (ilim.h) */
+}
+
+/* Ripple-robust polarity (dtc_config.h polarity_mid): the mean current of period [k-1, k],
+ * (i(k-1) + i(k))/2 (the current is piecewise linear within a period: one vector, back-EMF
+ * nearly constant), into c->i_mid for the drop compensation of that period (Hoang Tables V-VI
+ * decide per leg by the current's sign; with 2-3 A pk-pk ripple on a 0.6 A fundamental the sign of
+ * one sample at the period's end is often not the sign the period had). IQ pu; the sum
+ * saturates, the halving rounds. */
+static void dtc_pol_mid(dtc_t *c, const clarke_out_t *i)
+{
+    c->i_mid.ia_iq = fix_rshift_rnd32(fix_add32(c->i_prev.ia_iq, i->ia_iq), 1U);
+    c->i_mid.ib_iq = fix_rshift_rnd32(fix_add32(c->i_prev.ib_iq, i->ib_iq), 1U);
+    c->i_mid.ic_iq = fix_rshift_rnd32(fix_add32(c->i_prev.ic_iq, i->ic_iq), 1U);
+    c->i_mid.i_alpha_iq = fix_rshift_rnd32(fix_add32(c->i_prev.i_alpha_iq, i->i_alpha_iq), 1U);
+    c->i_mid.i_beta_iq = fix_rshift_rnd32(fix_add32(c->i_prev.i_beta_iq, i->i_beta_iq), 1U);
 }
 
 void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
@@ -329,11 +363,16 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
             vrec_sstp(c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, m->vdc_iq, &fin.v_alpha_iq,
                       &fin.v_beta_iq);
         }
-        vcomp_step(&c->vc_p, c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, &i, &vfa, &vfb);
+        if (cfg->polarity_mid != 0U) {
+            dtc_pol_mid(c, &i);
+        }
+        vcomp_step(&c->vc_p, c->legs_2.sa, c->legs_2.sb, c->legs_2.sc,
+                   cfg->polarity_mid != 0U ? &c->i_mid : &i, &vfa, &vfb);
         fin.v_alpha_iq = fix_add32(fin.v_alpha_iq, vfa);
         fin.v_beta_iq = fix_add32(fin.v_beta_iq, vfb);
         if (cfg->deadtime_comp != 0U) {
-            dtc_deadtime(c, m, &c->legs_3, &c->legs_2, &vfa, &vfb);
+            dtc_deadtime_i(c, m->vdc_iq, cfg->polarity_mid != 0U ? &c->i_prev : &i, &c->legs_3,
+                           &c->legs_2, &vfa, &vfb);
             fin.v_alpha_iq = fix_add32(fin.v_alpha_iq, vfa);
             fin.v_beta_iq = fix_add32(fin.v_beta_iq, vfb);
         }
@@ -391,7 +430,8 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         c->v1d_alpha_iq = 0;
         c->v1d_beta_iq = 0;
         if (cfg->deadtime_comp != 0U) {
-            dtc_deadtime(c, m, &c->legs_2, &c->legs_1, &c->v1d_alpha_iq, &c->v1d_beta_iq);
+            dtc_deadtime_i(c, m->vdc_iq, &i, &c->legs_2, &c->legs_1, &c->v1d_alpha_iq,
+                           &c->v1d_beta_iq);
         }
         dtc_predict(c, &i, &psi_a, &psi_b, &te);
     }
@@ -417,6 +457,19 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         vec = swtab_null_choice(vec, c->vec_1);
         legs = swtab_sstp_legs(vec);
     }
+    if (cfg->i_lim_iq > 0) {
+        /* Current limit (ilim.h) on the current predicted for k+1, or on i(k) without the
+         * delay compensation (the host's margin covers the second period then). */
+        vec = ilim_select(cfg, cfg->delay_comp != 0U ? &c->i1 : &i, vec, &c->i_limited);
+        if (c->i_limited != 0U) {
+            legs = cfg->topology == DTC_TOPO_FSTP ? swtab_fstp_legs(vec) : swtab_sstp_legs(vec);
+        }
+    }
+    c->i_prev.ia_iq = i.ia_iq; /* the sample at k is the previous one for the next step */
+    c->i_prev.ib_iq = i.ib_iq;
+    c->i_prev.ic_iq = i.ic_iq;
+    c->i_prev.i_alpha_iq = i.i_alpha_iq;
+    c->i_prev.i_beta_iq = i.i_beta_iq;
     c->legs_3.sa = c->legs_2.sa; /* field by field: no struct copy (memcpy) in the ISR */
     c->legs_3.sb = c->legs_2.sb;
     c->legs_3.sc = c->legs_2.sc;
@@ -440,4 +493,5 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     o->speed_iq = c->speed_iq;
     o->theta_e = c->fe.theta_e;
     o->on_cm = cfg->estimator == DTC_EST_CURRENT ? 1U : c->on_cm;
+    o->i_limited = c->i_limited;
 }

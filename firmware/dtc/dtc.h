@@ -62,6 +62,7 @@ typedef struct {
     angle_t theta_e;       /* encoder electrical angle */
     uint16_t on_cm;        /* 1: the flux came from the current model (estimator = current, or
                             * the voltage model below its hand-over speed) */
+    uint16_t i_limited;    /* 1: the current limit (ilim.h) replaced the table's vector */
 } dtc_out_t;
 
 /* The background-changeable parameter set. */
@@ -107,6 +108,11 @@ typedef struct {
     uint16_t on_cm;      /* voltage model with hand-over: 1 while the current model drives */
     /* delay compensation (dtc_predict): voltage of legs_1, its drop and dead-time terms */
     iq_t v1_alpha_iq, v1_beta_iq, v1f_alpha_iq, v1f_beta_iq, v1d_alpha_iq, v1d_beta_iq;
+    /* current limit (ilim.h): the current predicted for k+1 by dtc_predict */
+    clarke_out_t i1;
+    /* ripple-robust polarity (polarity_mid): the previous sample and the period's mean current */
+    clarke_out_t i_prev, i_mid;
+    uint16_t i_limited;  /* 1: the current limit replaced the table's vector in the last step */
 } dtc_t;
 
 /* Validates cfg (dtc_config_validate) and initialises c. Returns DTC_OK or an enum dtc_err code;
@@ -140,9 +146,13 @@ void dtc_shadow_adopt(dtc_t *c, uint16_t seq);
  * period whose legs went from prev to cur, alpha/beta, IQ pu. */
 void dtc_deadtime(const dtc_t *c, const dtc_meas_t *m, const swtab_legs_t *prev,
                   const swtab_legs_t *cur, iq_t *dva, iq_t *dvb);
+/* As dtc_deadtime with the phase currents at the switching instant given (polarity_mid: the
+ * previous sample for the estimator's period). */
+void dtc_deadtime_i(const dtc_t *c, iq_t vdc_iq, const clarke_out_t *i, const swtab_legs_t *prev,
+                    const swtab_legs_t *cur, iq_t *dva, iq_t *dvb);
 /* Internal to dtc_step (actuation-delay compensation); out of line for the stack. On entry
- * *psi_a, *psi_b, *te hold the estimate at k; on return the prediction for k+1. */
-void dtc_predict(const dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t *te);
+ * *psi_a, *psi_b, *te hold the estimate at k; on return the prediction for k+1; the predicted current goes to c->i1_*. */
+void dtc_predict(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t *te);
 /* Internal to dtc_step (torque mode: reference plus mean-torque trim); out of line for the stack. */
 void dtc_torque_trim(dtc_t *c, iq_t te);
 

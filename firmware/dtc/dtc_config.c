@@ -76,5 +76,11 @@ int16_t dtc_config_validate(const dtc_config_t *cfg)
     if (cfg->deadtime_comp > 1U || cfg->td_ts_q15 < 0 || cfg->td_ts_q15 >= Q15(0.5)) {
         return DTC_ERR_DEADTIME;
     }
+    if (cfg->i_lim_iq < 0 || (cfg->i_lim_iq > 0 && cfg->i_lim_iq >= cfg->i_trip_iq)) {
+        return DTC_ERR_ILIM;
+    }
+    if (cfg->polarity_mid > 1U) {
+        return DTC_ERR_POLARITY;
+    }
     return DTC_OK;
 }

@@ -16,7 +16,7 @@
 #include "fixmath.h"
 
 /* Layout version: bump when a field is added, removed or changes meaning. */
-#define DTC_CONFIG_VERSION 3U
+#define DTC_CONFIG_VERSION 4U
 
 enum dtc_topology {
     DTC_TOPO_SSTP = 0, /* six-switch three-phase inverter (Hoang Fig. 1a, Casadei) */
@@ -69,7 +69,9 @@ enum dtc_err {
     DTC_ERR_LIMIT = -15,       /* trip/limit levels not positive or not ordered */
     DTC_ERR_HANDOVER = -16,    /* hand-over speed < 0, or its hysteresis < 0 or above it */
     DTC_ERR_DELAY = -17,       /* delay compensation flag not 0/1, ts_pu or 1/l_s not > 0 */
-    DTC_ERR_DEADTIME = -18     /* dead-time compensation flag not 0/1, T_d/T_s outside [0, 1/2) */
+    DTC_ERR_DEADTIME = -18,    /* dead-time compensation flag not 0/1, T_d/T_s outside [0, 1/2) */
+    DTC_ERR_ILIM = -19,        /* current limit < 0 or not below the trip level */
+    DTC_ERR_POLARITY = -20     /* polarity_mid flag not 0/1 */
 };
 
 /* Speed measurement: ring of encoder positions at the speed-loop rate (see speed_meas.h). */
@@ -172,6 +174,14 @@ struct dtc_config {
     iq_t i_trip_iq;   /* phase-current trip */
     iq_t vdc_max_iq;  /* DC-link over-voltage */
     iq_t vdc_min_iq;  /* DC-link under-voltage */
+
+    /* ---- Current limit and ripple-robust polarity (issue 10; ilim.h, dtc.c) ---- */
+    iq_t i_lim_iq;          /* current-limit override on |i| (ilim.h), pu; 0 = off, else
+                             * 0 < i_lim < i_trip (derived on the host from the trip level) */
+    uint16_t polarity_mid;  /* 1: the drop compensation of period [k-1, k] takes the current
+                             * polarity from the period's mean current (i(k-1) + i(k))/2 and the
+                             * dead-time compensation from the current at the switching instant
+                             * i(k-1); 0: both from the sample i(k) */
 };
 
 typedef struct dtc_config dtc_config_t;

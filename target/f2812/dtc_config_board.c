@@ -4,7 +4,7 @@
 #include "dtc_config.h"
 
 const dtc_config_t g_dtc_config = {
-    .version = 3U,
+    .version = 4U,
     .topology = 1U,
     .estimator = 0U,
     .compensation = 3U,
@@ -57,4 +57,6 @@ const dtc_config_t g_dtc_config = {
     .i_trip_iq = 45756044, /* 2.72727275 pu */
     .vdc_max_iq = 21570706, /* 1.28571427 pu */
     .vdc_min_iq = 9586981, /* 0.571428597 pu */
+    .i_lim_iq = 37106323, /* 2.2117092 pu */
+    .polarity_mid = 1U,
 };

@@ -108,6 +108,10 @@ MUT(m_handover_hyst, s->handover_hyst_frac = 1.5)
 MUT(m_delay, s->delay_comp = 2)
 MUT(m_deadtime, s->deadtime_comp = 3)
 MUT(m_dead_time_long, s->dead_time_s = 30e-6)
+MUT(m_ilim_neg, { s->current_limit_auto = 0; s->current_limit_a = -1.0; })
+MUT(m_ilim_trip, { s->current_limit_auto = 0; s->current_limit_a = 6.0; })
+MUT(m_ilim_derived, s->i_trip_a = 1.0) /* below one period's current change (1.1 A) */
+MUT(m_polarity, s->polarity_mid = 2)
 
 static void test_bad_si_configs_refused_with_field(void **state)
 {
@@ -149,6 +153,10 @@ static void test_bad_si_configs_refused_with_field(void **state)
         {m_delay, DTC_SI_ERR_DELAY, "delay_comp"},
         {m_deadtime, DTC_SI_ERR_DEADTIME, "deadtime_comp"},
         {m_dead_time_long, DTC_SI_ERR_DEADTIME, "dead_time_s"},
+        {m_ilim_neg, DTC_SI_ERR_ILIM, "current_limit_a"},
+        {m_ilim_trip, DTC_SI_ERR_ILIM, "current_limit_a"},
+        {m_ilim_derived, DTC_SI_ERR_ILIM, "current_limit_a"},
+        {m_polarity, DTC_SI_ERR_ILIM, "polarity_mid"},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         dtc_config_si_t si;
@@ -206,6 +214,9 @@ FMUT(f_ts_pu, c->ts_pu_iq = 0)
 FMUT(f_inv_ls, c->inv_ls_iq = -1)
 FMUT(f_deadtime, c->deadtime_comp = 2U)
 FMUT(f_td, c->td_ts_q15 = Q15(0.5))
+FMUT(f_ilim_neg, c->i_lim_iq = -1)
+FMUT(f_ilim_trip, c->i_lim_iq = c->i_trip_iq)
+FMUT(f_polarity, c->polarity_mid = 2U)
 
 static void test_dtc_init_refuses_bad_struct(void **state)
 {
@@ -223,6 +234,7 @@ static void test_dtc_init_refuses_bad_struct(void **state)
         {f_base, DTC_ERR_BASE}, {f_limit, DTC_ERR_LIMIT}, {f_handover, DTC_ERR_HANDOVER},
         {f_handover_hyst, DTC_ERR_HANDOVER}, {f_delay, DTC_ERR_DELAY}, {f_ts_pu, DTC_ERR_DELAY},
         {f_inv_ls, DTC_ERR_DELAY}, {f_deadtime, DTC_ERR_DEADTIME}, {f_td, DTC_ERR_DEADTIME},
+        {f_ilim_neg, DTC_ERR_ILIM}, {f_ilim_trip, DTC_ERR_ILIM}, {f_polarity, DTC_ERR_POLARITY},
     };
     dtc_config_si_t si;
     dtc_config_t good;

@@ -72,6 +72,9 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->i_trip_a = 6.0;
     si->vdc_max_v = 90.0;
     si->vdc_min_v = 40.0;
+    si->current_limit_auto = 1;
+    si->current_limit_a = 0.0;
+    si->polarity_mid = 1;
     /* bases: V_dc, rated peak current, rated electrical speed */
     si->v_base_v = 70.0;
     si->i_base_a = 2.2;
@@ -85,6 +88,14 @@ double dtc_handover_default_rpm(const dtc_config_si_t *si)
     double w_lpf = 10.0 * si->lpf_cutoff_rad_s;
     double w = w_emf > w_lpf ? w_emf : w_lpf;
     return w * 30.0 / M_PI / (double)si->pole_pairs;
+}
+
+double dtc_ilim_default_a(const dtc_config_si_t *si)
+{
+    double v_max = si->topology == DTC_TOPO_SSTP ? 2.0 * si->vdc_v / 3.0 : si->vdc_v / sqrt(3.0);
+    double w_max = si->speed_limit_rpm * M_PI / 30.0 * (double)si->pole_pairs;
+    double di = si->ts_s * (v_max + w_max * si->psi_m_wb + si->rs_ohm * si->i_trip_a) / si->ls_h;
+    return si->i_trip_a - (si->delay_comp != 0 ? 1.0 : 2.0) * di;
 }
 
 void dtc_bases_from_si(const dtc_config_si_t *si, dtc_bases_t *b)
@@ -226,6 +237,11 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
         return fail(&c, DTC_SI_ERR_GAIN, "torque_trim_tau_s = %g: must be 0 (off) or longer than ts_s = %g", si->torque_trim_tau_s, si->ts_s);
     if (!(si->speed_limit_rpm > 0.0)) return fail(&c, DTC_SI_ERR_LIMIT, "speed_limit_rpm = %g: must be > 0", si->speed_limit_rpm);
     if (!(si->i_trip_a > 0.0)) return fail(&c, DTC_SI_ERR_LIMIT, "i_trip_a = %g: must be > 0", si->i_trip_a);
+    if (si->polarity_mid != 0 && si->polarity_mid != 1)
+        return fail(&c, DTC_SI_ERR_ILIM, "polarity_mid = %d: must be 0 or 1", si->polarity_mid);
+    if (si->current_limit_auto == 0 &&
+        !(si->current_limit_a >= 0.0 && (si->current_limit_a == 0.0 || si->current_limit_a < si->i_trip_a)))
+        return fail(&c, DTC_SI_ERR_ILIM, "current_limit_a = %g: must be 0 (off) or in (0, i_trip_a = %g)", si->current_limit_a, si->i_trip_a);
     if (!(si->vdc_min_v >= 0.0 && si->vdc_max_v > si->vdc_min_v))
         return fail(&c, DTC_SI_ERR_LIMIT, "vdc_min_v = %g, vdc_max_v = %g: need 0 <= min < max", si->vdc_min_v, si->vdc_max_v);
     if (!(si->flux_ref_wb > 0.0)) return fail(&c, DTC_SI_ERR_REFERENCE, "flux_ref_wb = %g: must be > 0", si->flux_ref_wb);
@@ -353,6 +369,16 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     cfg->i_trip_iq = to_iq(&c, "i_trip_a", si->i_trip_a, si->i_trip_a / b.i_base_a);
     cfg->vdc_max_iq = to_iq(&c, "vdc_max_v", si->vdc_max_v, si->vdc_max_v / b.v_base_v);
     cfg->vdc_min_iq = to_iq(&c, "vdc_min_v", si->vdc_min_v, si->vdc_min_v / b.v_base_v);
+    {
+        double ilim = si->current_limit_auto != 0 ? dtc_ilim_default_a(si) : si->current_limit_a;
+        if (!(ilim >= 0.0))
+            fail(&c, DTC_SI_ERR_ILIM, "current_limit_a (derived) = %g: i_trip_a = %g leaves no room for one period's current change; raise the trip or set the limit (0 = off)", ilim, si->i_trip_a);
+        cfg->i_lim_iq = ilim > 0.0 ? to_iq(&c, "current_limit_a", ilim, ilim / b.i_base_a) : 0;
+        if (cfg->i_lim_iq >= cfg->i_trip_iq) {
+            cfg->i_lim_iq = cfg->i_trip_iq - 1; /* below the trip after rounding */
+        }
+    }
+    cfg->polarity_mid = (uint16_t)si->polarity_mid;
 
     if (c.code != DTC_SI_OK) {
         return c.code;
@@ -415,6 +441,7 @@ int dtc_config_emit_c(const dtc_config_t *cfg, const char *symbol, FILE *f)
          (unsigned)cfg->adc_i_offset[1], (unsigned)cfg->adc_i_offset[2]);
     EIQ(adc_vdc_gain_iq); EU(adc_vdc_offset); EIQ(adc_vmid_gain_iq); EU(adc_vmid_offset);
     EIQ(i_trip_iq); EIQ(vdc_max_iq); EIQ(vdc_min_iq);
+    EIQ(i_lim_iq); EU(polarity_mid);
     EMIT("};\n");
 #undef EMIT
 #undef EIQ

@@ -82,6 +82,10 @@ struct FirmwareSiConfig {
     double speed_kp_nm_per_rad_s, speed_ki_nm_per_rad;
     // protection
     double overcurrent_a, vdc_min_v, vdc_max_v, stall_time_s;
+    // current limit and ripple-robust polarity (firmware ilim.h, dtc_config.h polarity_mid)
+    int current_limit_given; // 0: the converter derives the limit from the trip level
+    double current_limit_a;
+    int polarity_mid;
 };
 FirmwareSiConfig firmware_si_config(const Scenario& sc);
 

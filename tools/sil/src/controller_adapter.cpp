@@ -65,6 +65,9 @@ FirmwareSiConfig firmware_si_config(const Scenario& sc)
     c.handover_hyst_frac = sc.control.handover_hyst_frac;
     c.delay_comp = sc.control.delay_comp ? 1 : 0;
     c.deadtime_comp = sc.control.deadtime_comp ? 1 : 0;
+    c.current_limit_given = sc.control.current_limit_given ? 1 : 0;
+    c.current_limit_a = sc.control.current_limit_a;
+    c.polarity_mid = sc.control.polarity_mid ? 1 : 0;
     c.dead_time_s = sc.firmware.dead_time_s.value_or(sc.inverter.dead_time_s);
     const SpeedPiGains g = speed_pi_gains(sc.motor.j_kgm2, sc.control.speed_bw_hz);
     c.speed_kp_nm_per_rad_s = g.kp_nm_per_rad_s;

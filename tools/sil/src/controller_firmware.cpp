@@ -102,6 +102,9 @@ void fill_si(const FirmwareSiConfig& c, const Scenario& sc, dtc_config_si_t* si)
     si->stall_time_s = c.stall_time_s;
     si->vdc_max_v = c.vdc_max_v;
     si->vdc_min_v = c.vdc_min_v;
+    si->current_limit_auto = c.current_limit_given != 0 ? 0 : 1;
+    si->current_limit_a = c.current_limit_a;
+    si->polarity_mid = c.polarity_mid;
 }
 
 /// The scenario keys a converter field (dtc_config_si_t) is computed from, so that a refusal
@@ -149,6 +152,9 @@ std::string keys_of_field(const std::string& msg)
         {"compensation", "control.compensation"},
         {"dead_time_s", "inverter.dead_time_s (or firmware.dead_time_s) against ts_s"},
         {"handover", "control.handover_rpm, control.handover_hyst_frac"},
+        {"current_limit_a", "control.current_limit_a (derived from protection.overcurrent_a, inverter.vdc_v, "
+                            "motor.*, ts_s, control.delay_comp)"},
+        {"polarity_mid", "control.polarity_mid"},
     };
     for (const auto& m : map) {
         if (msg.rfind(m.field, 0) == 0) {

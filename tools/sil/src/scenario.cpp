@@ -286,6 +286,21 @@ const std::vector<Spec>& schema()
                  "firmware: compensate the dead time (inverter.dead_time_s, the gate driver's setting) in the "
                  "voltage reconstruction (Casadei sec. 10.5)",
                  ACC(control.deadtime_comp)),
+        Spec{"control.current_limit_a", Kind::Number, "A", "firmware current limit below the over-current trip: "
+             "when the current predicted for the next period exceeds it, the vector that reduces |i| fastest "
+             "replaces the table's (firmware/dtc/ilim.h); 0 = off; not given = derived from the trip level and "
+             "the machine (tools/config dtc_ilim_default_a: protection.overcurrent_a minus one period's largest "
+             "current change, two without control.delay_comp; 4.87 A for Table VIII, FSTP, 6 A trip)",
+             nonneg(), {},
+             [](Scenario& s, const Value& v) { s.control.current_limit_a = v.num; s.control.current_limit_given = true; },
+             [](const Scenario& s) {
+                 return s.control.current_limit_given ? fmt_double(s.control.current_limit_a) : std::string("derived");
+             }},
+        boolean("control.polarity_mid",
+                 "firmware: the drop compensation of a period takes the current polarity from the period's mean "
+                 "current (previous and present sample) and the dead-time compensation from the current at the "
+                 "switching instant (the previous sample); false: both from the present sample",
+                 ACC(control.polarity_mid)),
         num("control.v_f_v", "V", nonneg(), "forward drop V_f of the simple compensation (Hoang sec. III-B: 0.9 V)",
             ACC(control.v_f_v)),
         path("control.voltage_csv",
