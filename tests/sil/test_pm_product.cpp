@@ -69,8 +69,8 @@ TEST(PmProduct, TableIxOrderingFromStandstillWithTheCompensations)
     // Hoang Table IX/X trends at 1500 rpm full load: imbalance none > simple > proposed, proposed
     // <= 8 % (measured 7.9 %), current model <= 5 % (1.4 %); estimated torque above the true one
     // without compensation (0.330 vs 0.300 N*m) and within 3 % of rated with the proposed scheme
-    // (0.2996). The uncompensated scenario starts at 1500 rpm (it trips from standstill, see
-    // its header).
+    // (0.2996). Every scenario from standstill (the uncompensated one reaches 1500 rpm since the
+    // current limit, ilim.h; measured 63.6 / 21.1 / 7.5 / 1.4 %).
     const Outcome none = run("fstp_voltage_none_full.toml");
     const Outcome simple = run("fstp_voltage_simple_full.toml");
     const Outcome prop = run("fstp_voltage_proposed_full.toml");
@@ -140,4 +140,112 @@ TEST(PmProduct, FirmwareParametersAreSetApartFromThePlantsByKeys)
     Diagnostics d;
     EXPECT_FALSE(load_scenario(kScenarios + "fstp_voltage_proposed_full.toml", {"firmware.rs_ohm=-0.1"}, &sc, &d));
     EXPECT_NE(d.text().find("firmware.rs_ohm"), std::string::npos) << d.text();
+}
+
+TEST(PmProduct, UncompensatedVoltageModelStartsFromStandstillUnderTheCurrentLimit)
+{
+    // Issue 10: the four uncompensated voltage-model scenarios tripped on over-current during the
+    // acceleration (7.1-7.6 A against the 6 A trip). With the current limit below the trip
+    // (firmware/dtc/ilim.h, I_lim derived from the trip level: 4.87 A) they reach 1500 rpm and
+    // hold it within 1 %; with the limit off they still trip (the limit is what fixes it).
+    for (const char* f : {"fstp_voltage_none_full.toml", "fstp_voltage_none_half.toml",
+                          "fstp_voltage_none_inertial.toml", "sstp_voltage_none_full.toml"}) {
+        const Outcome o = run(f);
+        expect_speed_held(o, 1500.0, 0.01, f);
+    }
+    const Outcome t = run("fstp_voltage_none_full.toml", {"load.type=torque", "load.torque_nm=0.3"});
+    expect_speed_held(t, 1500.0, 0.01, "fstp none 0.3 N*m");
+    const Outcome off = run("fstp_voltage_none_full.toml", {"control.current_limit_a=0"});
+    EXPECT_EQ(off.info.fault, "overcurrent");
+}
+
+TEST(PmProduct, LowSpeedQuarterLoadHoldsSpeedProposedBestOfAll)
+{
+    // Hoang Figs. 18-20 operating points, 25 % load (0.075 N*m constant), the voltage model from
+    // 100 rpm on (control.handover_rpm=100): 700 rpm with every compensation, 300 rpm with simple
+    // and proposed, 200 rpm with proposed hold the speed within 2 % with no trip, and the proposed
+    // imbalance is below the simple one. Measured (mean speed, imbalance none / simple /
+    // proposed): 700 rpm 211.7 / 57.0 / 24.2 %, 300 rpm 92.0 / 21.4 %, 200 rpm 65.8 / 13.5 %.
+    // Before the current limit and the ripple-robust polarity the proposed scheme tripped at 700
+    // and 200 rpm. Simple at 200 rpm (not a target) runs but swings 191.8-207.7 rpm.
+    const std::vector<std::string> base = {"load.type=torque", "load.torque_nm=0.075", "control.handover_rpm=100",
+                                           "duration_s=2.5", "metrics_window_s=0.6"};
+    auto at = [&](const char* comp, double rpm, bool target = true) {
+        std::vector<std::string> s = base;
+        s.push_back("control.speed_ref_rpm=" + std::to_string(rpm));
+        const Outcome o = run(std::string("fstp_voltage_") + comp + "_full.toml", s);
+        if (target) {
+            expect_speed_held(o, rpm, 0.02, std::string(comp) + " " + std::to_string(rpm));
+        } else {
+            EXPECT_EQ(o.info.fault, "none") << comp << " " << rpm;
+        }
+        return o;
+    };
+    {
+        const Outcome none = at("none", 700.0);
+        const Outcome simple = at("simple", 700.0);
+        const Outcome prop = at("proposed", 700.0);
+        ASSERT_TRUE(simple.m.imbalance_pct && prop.m.imbalance_pct && none.m.imbalance_pct);
+        EXPECT_LT(*prop.m.imbalance_pct, *simple.m.imbalance_pct);
+    }
+    for (double rpm : {300.0, 200.0}) {
+        const Outcome simple = at("simple", rpm, rpm > 250.0); // 200 rpm: simple is not a target
+        const Outcome prop = at("proposed", rpm);
+        ASSERT_TRUE(simple.m.imbalance_pct && prop.m.imbalance_pct);
+        EXPECT_LT(*prop.m.imbalance_pct, 0.5 * *simple.m.imbalance_pct) << rpm;
+    }
+}
+
+TEST(PmProduct, RippleRobustPolarityHelpsTheProposedScheme)
+{
+    // control.polarity_mid (period-mean current for Table VI, switching-instant current for the
+    // dead time): proposed FSTP, 1500 rpm full load, thd40_total 26.2 -> 11.0 %; 300 rpm 25 %
+    // load imbalance 32.6 -> 21.4 %.
+    const Outcome off = run("fstp_voltage_proposed_full.toml", {"control.polarity_mid=false"});
+    const Outcome on = run("fstp_voltage_proposed_full.toml");
+    ASSERT_TRUE(off.m.thd40_total_pct && on.m.thd40_total_pct);
+    EXPECT_LT(*on.m.thd40_total_pct, 0.6 * *off.m.thd40_total_pct);
+}
+
+TEST(PmProduct, CurrentSensorGainCornersKeepEveryVoltageModelSchemeRunning)
+{
+    // Datasheet-grade current sensors (gain errors +-2 %, alternating signs) from standstill: no
+    // trip, 1500 rpm held within 1 %, for every voltage-model scenario. (The DC-link and
+    // mid-point voltage corners are NOT met on the FSTP: docs/firmware-core.md.)
+    for (const char* f : {"fstp_voltage_none_full.toml", "fstp_voltage_simple_full.toml",
+                          "fstp_voltage_proposed_full.toml", "sstp_voltage_none_full.toml",
+                          "sstp_voltage_simple_full.toml"}) {
+        for (const char* g : {"sensors.current_gain_error=[0.02,-0.02,0.02]",
+                              "sensors.current_gain_error=[-0.02,0.02,-0.02]"}) {
+            expect_speed_held(run(f, {g}), 1500.0, 0.01, std::string(f) + " " + g);
+        }
+    }
+}
+
+TEST(PmProduct, SstpVoltageCornersKeepRunning)
+{
+    // SSTP (none, [29]): DC-link gain +-2 %, offset +-1 V from standstill: no trip, 1500 rpm held.
+    for (const char* f : {"sstp_voltage_none_full.toml", "sstp_voltage_simple_full.toml"}) {
+        for (const char* c : {"sensors.vdc_gain_error=0.02", "sensors.vdc_gain_error=-0.02",
+                              "sensors.vdc_offset_v=1", "sensors.vdc_offset_v=-1"}) {
+            expect_speed_held(run(f, {c}), 1500.0, 0.01, std::string(f) + " " + c);
+        }
+    }
+}
+
+TEST(PmProduct, BadCurrentLimitIsRefusedNamingTheKey)
+{
+    Scenario sc;
+    Diagnostics d;
+    EXPECT_FALSE(load_scenario(kScenarios + "fstp_voltage_proposed_full.toml", {"control.current_limit_a=-1"}, &sc, &d));
+    EXPECT_NE(d.text().find("control.current_limit_a"), std::string::npos) << d.text();
+    // at or above the trip: refused by the converter, naming the key
+    Diagnostics d2;
+    ASSERT_TRUE(load_scenario(kScenarios + "fstp_voltage_proposed_full.toml", {"control.current_limit_a=6"}, &sc, &d2))
+        << d2.text();
+    RunOptions opt;
+    RunResult r;
+    std::string err;
+    EXPECT_FALSE(run_scenario(sc, opt, &r, &err));
+    EXPECT_NE(err.find("control.current_limit_a"), std::string::npos) << err;
 }
