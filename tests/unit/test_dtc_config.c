@@ -110,7 +110,6 @@ MUT(m_deadtime, s->deadtime_comp = 3)
 MUT(m_dead_time_long, s->dead_time_s = 30e-6)
 MUT(m_ilim_neg, { s->current_limit_auto = 0; s->current_limit_a = -1.0; })
 MUT(m_ilim_trip, { s->current_limit_auto = 0; s->current_limit_a = 6.0; })
-MUT(m_ilim_derived, s->i_trip_a = 1.0) /* below one period's current change (1.1 A) */
 MUT(m_polarity, s->polarity_mid = 2)
 
 static void test_bad_si_configs_refused_with_field(void **state)
@@ -155,7 +154,6 @@ static void test_bad_si_configs_refused_with_field(void **state)
         {m_dead_time_long, DTC_SI_ERR_DEADTIME, "dead_time_s"},
         {m_ilim_neg, DTC_SI_ERR_ILIM, "current_limit_a"},
         {m_ilim_trip, DTC_SI_ERR_ILIM, "current_limit_a"},
-        {m_ilim_derived, DTC_SI_ERR_ILIM, "current_limit_a"},
         {m_polarity, DTC_SI_ERR_ILIM, "polarity_mid"},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {

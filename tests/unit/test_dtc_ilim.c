@@ -126,6 +126,18 @@ static void test_ilim_default(void **state)
     si.delay_comp = 1;
     const double di6 = 50e-6 * (2.0 * 70.0 / 3.0 + 2.0 * M_PI * 50.0 * 0.0928 + 0.466 * 6.0) / 3.19e-3;
     assert_true(fabs(dtc_ilim_default_a(&si) - (6.0 - di6)) < 1e-9);
+    /* the back-EMF term stops at V_max (16 pole pairs: 466 V at 3000 rpm) */
+    si.pole_pairs = 16;
+    const double di16 = 50e-6 * (2.0 * 2.0 * 70.0 / 3.0 + 0.466 * 6.0) / 3.19e-3;
+    assert_true(fabs(dtc_ilim_default_a(&si) - (6.0 - di16)) < 1e-9);
+    /* a trip level inside one period's change: no limit (0), the converter accepts it */
+    si.pole_pairs = 1;
+    si.topology = DTC_TOPO_FSTP;
+    si.i_trip_a = 1.0;
+    assert_true(dtc_ilim_default_a(&si) == 0.0);
+    dtc_config_t cfg;
+    assert_int_equal(dtc_config_from_si(&si, &cfg, NULL, 0), 0);
+    assert_int_equal(cfg.i_lim_iq, 0);
 }
 
 int main(void)

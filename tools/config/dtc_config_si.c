@@ -94,8 +94,10 @@ double dtc_ilim_default_a(const dtc_config_si_t *si)
 {
     double v_max = si->topology == DTC_TOPO_SSTP ? 2.0 * si->vdc_v / 3.0 : si->vdc_v / sqrt(3.0);
     double w_max = si->speed_limit_rpm * M_PI / 30.0 * (double)si->pole_pairs;
-    double di = si->ts_s * (v_max + w_max * si->psi_m_wb + si->rs_ohm * si->i_trip_a) / si->ls_h;
-    return si->i_trip_a - (si->delay_comp != 0 ? 1.0 : 2.0) * di;
+    double e_max = fmin(w_max * si->psi_m_wb, v_max);
+    double di = si->ts_s * (v_max + e_max + si->rs_ohm * si->i_trip_a) / si->ls_h;
+    double lim = si->i_trip_a - (si->delay_comp != 0 ? 1.0 : 2.0) * di;
+    return lim > 0.0 ? lim : 0.0;
 }
 
 void dtc_bases_from_si(const dtc_config_si_t *si, dtc_bases_t *b)
@@ -371,8 +373,6 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     cfg->vdc_min_iq = to_iq(&c, "vdc_min_v", si->vdc_min_v, si->vdc_min_v / b.v_base_v);
     {
         double ilim = si->current_limit_auto != 0 ? dtc_ilim_default_a(si) : si->current_limit_a;
-        if (!(ilim >= 0.0))
-            fail(&c, DTC_SI_ERR_ILIM, "current_limit_a (derived) = %g: i_trip_a = %g leaves no room for one period's current change; raise the trip or set the limit (0 = off)", ilim, si->i_trip_a);
         cfg->i_lim_iq = ilim > 0.0 ? to_iq(&c, "current_limit_a", ilim, ilim / b.i_base_a) : 0;
         if (cfg->i_lim_iq >= cfg->i_trip_iq) {
             cfg->i_lim_iq = cfg->i_trip_iq - 1; /* below the trip after rounding */

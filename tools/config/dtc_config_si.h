@@ -151,10 +151,12 @@ double dtc_handover_default_rpm(const dtc_config_si_t *si);
  *   dI = T_s (V_max + w_max psi_m + r_s I_trip) / L_s,
  * the largest change of |i| over one control period (Hoang eqs. 6-9: l_s di/dt = v - r_s i - e):
  * V_max the largest voltage vector at the nominal link voltage (SSTP 2 V_dc / 3, FSTP V_dc /
- * sqrt(3), amplitude-invariant Clarke, Hoang eqs. 1-5), w_max the electrical speed at
- * speed_limit_rpm; n = 1 when the limit acts on the current predicted for k+1 (delay_comp on),
- * n = 2 on the sampled current (the vector chosen at k acts only from k+1 on). The result can
- * be <= 0 (a trip level too close to the ripple): the converter refuses it then.
+ * sqrt(3), amplitude-invariant Clarke, Hoang eqs. 1-5), the back-EMF term w_max psi_m at
+ * speed_limit_rpm, at most V_max (above that speed the inverter cannot control the machine
+ * anyway); n = 1 when the limit acts on the current predicted for k+1 (delay_comp on), n = 2 on
+ * the sampled current (the vector chosen at k acts only from k+1 on). When the trip level leaves
+ * no room for one period's change (slow period, small L_s) the result is 0: no limit, and the
+ * trip is the only protection.
  * Table VIII, Table IV link, 50 us, 3000 rpm, 6 A trip, FSTP: dI = 1.13 A, I_lim = 4.87 A. */
 double dtc_ilim_default_a(const dtc_config_si_t *si);
 

@@ -290,7 +290,8 @@ const std::vector<Spec>& schema()
              "when the current predicted for the next period exceeds it, the vector that reduces |i| fastest "
              "replaces the table's (firmware/dtc/ilim.h); 0 = off; not given = derived from the trip level and "
              "the machine (tools/config dtc_ilim_default_a: protection.overcurrent_a minus one period's largest "
-             "current change, two without control.delay_comp; 4.87 A for Table VIII, FSTP, 6 A trip)",
+             "current change, two without control.delay_comp; 4.87 A for Table VIII, FSTP, 6 A trip; 0 when the trip "
+             "level leaves no room for that change)",
              nonneg(), {},
              [](Scenario& s, const Value& v) { s.control.current_limit_a = v.num; s.control.current_limit_given = true; },
              [](const Scenario& s) {
