@@ -79,7 +79,7 @@ int16_t dtc_config_validate(const dtc_config_t *cfg)
     if (cfg->i_lim_iq < 0 || (cfg->i_lim_iq > 0 && cfg->i_lim_iq >= cfg->i_trip_iq)) {
         return DTC_ERR_ILIM;
     }
-    if (cfg->polarity_mid > 1U) {
+    if (cfg->polarity_mid > 1U || cfg->vmid_cal > 1U) {
         return DTC_ERR_POLARITY;
     }
     return DTC_OK;

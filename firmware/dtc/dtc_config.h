@@ -71,7 +71,7 @@ enum dtc_err {
     DTC_ERR_DELAY = -17,       /* delay compensation flag not 0/1, ts_pu or 1/l_s not > 0 */
     DTC_ERR_DEADTIME = -18,    /* dead-time compensation flag not 0/1, T_d/T_s outside [0, 1/2) */
     DTC_ERR_ILIM = -19,        /* current limit < 0 or not below the trip level */
-    DTC_ERR_POLARITY = -20     /* polarity_mid flag not 0/1 */
+    DTC_ERR_POLARITY = -20     /* polarity_mid or vmid_cal flag not 0/1 */
 };
 
 /* Speed measurement: ring of encoder positions at the speed-loop rate (see speed_meas.h). */
@@ -182,6 +182,9 @@ struct dtc_config {
                              * polarity from the period's mean current (i(k-1) + i(k))/2 and the
                              * dead-time compensation from the current at the switching instant
                              * i(k-1); 0: both from the sample i(k) */
+    uint16_t vmid_cal;      /* FSTP with the mid-point measured: 1 = the app calibrates the
+                             * mid-point sensor against V_dc/2 with the gates off (app_core.c
+                             * calibrate_step), 0 = the mid-point as measured */
 };
 
 typedef struct dtc_config dtc_config_t;

@@ -59,4 +59,5 @@ const dtc_config_t g_dtc_config = {
     .vdc_min_iq = 9586981, /* 0.571428597 pu */
     .i_lim_iq = 37106323, /* 2.2117092 pu */
     .polarity_mid = 1U,
+    .vmid_cal = 0U,
 };

@@ -75,6 +75,7 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->current_limit_auto = 1;
     si->current_limit_a = 0.0;
     si->polarity_mid = 1;
+    si->vmid_cal = 1;
     /* bases: V_dc, rated peak current, rated electrical speed */
     si->v_base_v = 70.0;
     si->i_base_a = 2.2;
@@ -239,6 +240,8 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
         return fail(&c, DTC_SI_ERR_GAIN, "torque_trim_tau_s = %g: must be 0 (off) or longer than ts_s = %g", si->torque_trim_tau_s, si->ts_s);
     if (!(si->speed_limit_rpm > 0.0)) return fail(&c, DTC_SI_ERR_LIMIT, "speed_limit_rpm = %g: must be > 0", si->speed_limit_rpm);
     if (!(si->i_trip_a > 0.0)) return fail(&c, DTC_SI_ERR_LIMIT, "i_trip_a = %g: must be > 0", si->i_trip_a);
+    if (si->vmid_cal != 0 && si->vmid_cal != 1)
+        return fail(&c, DTC_SI_ERR_ILIM, "vmid_cal = %d: must be 0 or 1", si->vmid_cal);
     if (si->polarity_mid != 0 && si->polarity_mid != 1)
         return fail(&c, DTC_SI_ERR_ILIM, "polarity_mid = %d: must be 0 or 1", si->polarity_mid);
     if (si->current_limit_auto == 0 &&
@@ -379,6 +382,8 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
         }
     }
     cfg->polarity_mid = (uint16_t)si->polarity_mid;
+    /* the mid-point calibration only where a mid-point is measured (FSTP) */
+    cfg->vmid_cal = (uint16_t)(si->vmid_cal != 0 && si->topology == DTC_TOPO_FSTP && si->fstp_vmid_measured != 0 ? 1 : 0);
 
     if (c.code != DTC_SI_OK) {
         return c.code;
@@ -441,7 +446,7 @@ int dtc_config_emit_c(const dtc_config_t *cfg, const char *symbol, FILE *f)
          (unsigned)cfg->adc_i_offset[1], (unsigned)cfg->adc_i_offset[2]);
     EIQ(adc_vdc_gain_iq); EU(adc_vdc_offset); EIQ(adc_vmid_gain_iq); EU(adc_vmid_offset);
     EIQ(i_trip_iq); EIQ(vdc_max_iq); EIQ(vdc_min_iq);
-    EIQ(i_lim_iq); EU(polarity_mid);
+    EIQ(i_lim_iq); EU(polarity_mid); EU(vmid_cal);
     EMIT("};\n");
 #undef EMIT
 #undef EIQ

@@ -86,6 +86,7 @@ struct FirmwareSiConfig {
     int current_limit_given; // 0: the converter derives the limit from the trip level
     double current_limit_a;
     int polarity_mid;
+    int vmid_cal;
 };
 FirmwareSiConfig firmware_si_config(const Scenario& sc);
 

@@ -105,6 +105,7 @@ void fill_si(const FirmwareSiConfig& c, const Scenario& sc, dtc_config_si_t* si)
     si->current_limit_auto = c.current_limit_given != 0 ? 0 : 1;
     si->current_limit_a = c.current_limit_a;
     si->polarity_mid = c.polarity_mid;
+    si->vmid_cal = c.vmid_cal;
 }
 
 /// The scenario keys a converter field (dtc_config_si_t) is computed from, so that a refusal
@@ -155,6 +156,7 @@ std::string keys_of_field(const std::string& msg)
         {"current_limit_a", "control.current_limit_a (derived from protection.overcurrent_a, inverter.vdc_v, "
                             "motor.*, ts_s, control.delay_comp)"},
         {"polarity_mid", "control.polarity_mid"},
+        {"vmid_cal", "control.vmid_cal"},
     };
     for (const auto& m : map) {
         if (msg.rfind(m.field, 0) == 0) {

@@ -302,6 +302,12 @@ const std::vector<Spec>& schema()
                  "current (previous and present sample) and the dead-time compensation from the current at the "
                  "switching instant (the previous sample); false: both from the present sample",
                  ACC(control.polarity_mid)),
+        boolean("control.vmid_cal",
+                 "firmware, FSTP with the mid-point measured (sensors.vmid_fitted): during the gates-off "
+                 "calibration the app takes the mean of (mid-point - V_dc/2), which the balancing resistors make "
+                 "zero, as the two voltage sensors' inconsistency and subtracts it from every mid-point sample "
+                 "(firmware/app/app_core.c); false: the mid-point as measured",
+                 ACC(control.vmid_cal)),
         num("control.v_f_v", "V", nonneg(), "forward drop V_f of the simple compensation (Hoang sec. III-B: 0.9 V)",
             ACC(control.v_f_v)),
         path("control.voltage_csv",
