@@ -222,6 +222,24 @@ TEST(PmProduct, CurrentSensorGainCornersKeepEveryVoltageModelSchemeRunning)
     }
 }
 
+TEST(PmProduct, FstpVoltageSensorCornersKeepRunningOnTheStiffLink)
+{
+    // Issue 10 realistic sensors on the FSTP (stiff split link, as the scenarios): DC-link gain
+    // +-2 %, DC-link offset +-1 V, mid-point offset +-0.5 V, from standstill: no trip, 1500 rpm
+    // held within 1 %, for none / simple / proposed. Before: over-current in every corner (then a
+    // stall with the current limit alone); the mid-point calibration (control.vmid_cal) is what
+    // makes them run: with it off the proposed scheme stalls at +2 % link gain.
+    for (const char* f : {"fstp_voltage_none_full.toml", "fstp_voltage_simple_full.toml",
+                          "fstp_voltage_proposed_full.toml"}) {
+        for (const char* c : {"sensors.vdc_gain_error=0.02", "sensors.vdc_gain_error=-0.02", "sensors.vdc_offset_v=1",
+                              "sensors.vdc_offset_v=-1", "sensors.vmid_offset_v=0.5", "sensors.vmid_offset_v=-0.5"}) {
+            expect_speed_held(run(f, {c}), 1500.0, 0.01, std::string(f) + " " + c);
+        }
+    }
+    const Outcome off = run("fstp_voltage_proposed_full.toml", {"sensors.vdc_gain_error=0.02", "control.vmid_cal=false"});
+    EXPECT_NE(off.info.fault, "none");
+}
+
 TEST(PmProduct, SstpVoltageCornersKeepRunning)
 {
     // SSTP (none, [29]): DC-link gain +-2 %, offset +-1 V from standstill: no trip, 1500 rpm held.
