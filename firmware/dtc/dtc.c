@@ -4,6 +4,7 @@
 
 #include "clarke.h"
 #include "ilim.h"
+#include "lpfcorr.h"
 #include "sector.h"
 #include "torque.h"
 #include "vrec.h"
@@ -105,6 +106,8 @@ static void dtc_reset_ilim_pol(dtc_t *c)
     c->i_mid = c->i_prev;
     c->i1 = c->i_prev;
     c->i_limited = 0U;
+    c->lpf_y_iq = 0;
+    c->lpf_r_iq = 0;
 }
 
 void dtc_reset(dtc_t *c)
@@ -205,6 +208,18 @@ void dtc_torque_trim(dtc_t *c, iq_t te)
  * at the speed-loop rate: up above handover_speed, back below handover_speed - hyst. Speed and
  * thresholds IQ pu; |speed| saturates (fix_abs32 of INT32_MIN), the difference cannot overflow
  * (0 <= hyst <= speed, validated). */
+/* Low-pass correction factor r = w_c / w from the measured speed (lpfcorr.h), at the speed-loop
+ * rate. External linkage on purpose (as dtc_shadow_adopt): keeps its temporaries out of
+ * dtc_step's frame. */
+void dtc_lpf_r(dtc_t *c)
+{
+    const dtc_config_t *cfg = c->cfg;
+    iq_t r;
+    c->lpf_y_iq = lpfcorr_recip(c->lpf_y_iq, c->speed_iq, cfg->lpf_wmin_iq);
+    r = iq_mpy(cfg->wc_pu_iq, c->lpf_y_iq);
+    c->lpf_r_iq = c->speed_iq < 0 ? fix_neg32(r) : r;
+}
+
 static void dtc_handover(dtc_t *c)
 {
     const dtc_config_t *cfg = c->cfg;
@@ -382,11 +397,17 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
          * (eqs. 8-9) drives and is written into the low-pass state, so the voltage model starts
          * from it when the hand-over comes (dtc_config.h). */
         flux_est_seed(&c->fe, &fin);
+        if (cfg->lpf_comp != 0U) {
+            lpfcorr_predistort(c->lpf_r_iq, &c->fe.psi_alpha_iq, &c->fe.psi_beta_iq);
+        }
     } else {
         flux_est_step(&c->fe, &fin);
     }
     psi_a = c->fe.psi_alpha_iq;
     psi_b = c->fe.psi_beta_iq;
+    if (cfg->lpf_comp != 0U && cfg->estimator == DTC_EST_VOLTAGE) {
+        lpfcorr_rotate(c->lpf_r_iq, &psi_a, &psi_b); /* low-pass gain/phase undone (lpfcorr.h) */
+    }
 
     /* 4. Torque (Hoang eq. 10); the estimate at k is reported as it is. */
     te = torque_eq10(psi_a, psi_b, i.i_alpha_iq, i.i_beta_iq);
@@ -404,6 +425,9 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         o->speed_tick = 1U;
         c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
         dtc_handover(c);
+        if (cfg->lpf_comp != 0U) {
+            dtc_lpf_r(c);
+        }
         if (c->act.mode == DTC_MODE_SPEED) {
             c->te_ref_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
         }

@@ -113,6 +113,8 @@ typedef struct {
     /* ripple-robust polarity (polarity_mid): the previous sample and the period's mean current */
     clarke_out_t i_prev, i_mid;
     uint16_t i_limited;  /* 1: the current limit replaced the table's vector in the last step */
+    /* low-pass correction (lpfcorr.h): y ~ 1/max(|w|, w_min), r = sign(w) w_c y */
+    iq_t lpf_y_iq, lpf_r_iq;
 } dtc_t;
 
 /* Validates cfg (dtc_config_validate) and initialises c. Returns DTC_OK or an enum dtc_err code;
@@ -155,6 +157,9 @@ void dtc_deadtime_i(const dtc_t *c, iq_t vdc_iq, const clarke_out_t *i, const sw
 void dtc_predict(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t *te);
 /* Internal to dtc_step (torque mode: reference plus mean-torque trim); out of line for the stack. */
 void dtc_torque_trim(dtc_t *c, iq_t te);
+
+/* Internal to dtc_step (low-pass correction factor, lpfcorr.h). */
+void dtc_lpf_r(dtc_t *c);
 
 /* The set in force (for the background's display). */
 void dtc_refs_get(const dtc_t *c, dtc_refs_t *r);

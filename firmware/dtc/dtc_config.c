@@ -82,5 +82,8 @@ int16_t dtc_config_validate(const dtc_config_t *cfg)
     if (cfg->polarity_mid > 1U || cfg->vmid_cal > 1U) {
         return DTC_ERR_POLARITY;
     }
+    if (cfg->lpf_comp > 1U || (cfg->lpf_comp != 0U && (cfg->wc_pu_iq <= 0 || cfg->lpf_wmin_iq <= 0))) {
+        return DTC_ERR_LPFCOMP;
+    }
     return DTC_OK;
 }

@@ -71,7 +71,8 @@ enum dtc_err {
     DTC_ERR_DELAY = -17,       /* delay compensation flag not 0/1, ts_pu or 1/l_s not > 0 */
     DTC_ERR_DEADTIME = -18,    /* dead-time compensation flag not 0/1, T_d/T_s outside [0, 1/2) */
     DTC_ERR_ILIM = -19,        /* current limit < 0 or not below the trip level */
-    DTC_ERR_POLARITY = -20     /* polarity_mid or vmid_cal flag not 0/1 */
+    DTC_ERR_POLARITY = -20,    /* polarity_mid or vmid_cal flag not 0/1 */
+    DTC_ERR_LPFCOMP = -21      /* lpf_comp not 0/1, or w_c / w_min not > 0 with it on */
 };
 
 /* Speed measurement: ring of encoder positions at the speed-loop rate (see speed_meas.h). */
@@ -185,6 +186,10 @@ struct dtc_config {
     uint16_t vmid_cal;      /* FSTP with the mid-point measured: 1 = the app calibrates the
                              * mid-point sensor against V_dc/2 with the gates off (app_core.c
                              * calibrate_step), 0 = the mid-point as measured */
+    uint16_t lpf_comp;      /* voltage model: 1 = gain/phase correction of the low-pass with the
+                             * measured speed (lpfcorr.h), 0 = the low-pass output as it is */
+    iq_t wc_pu_iq;          /* the low-pass cut-off w_c / w_base (> 0 when lpf_comp) */
+    iq_t lpf_wmin_iq;       /* the correction's speed floor, pu (> 0 when lpf_comp; 4 w_c) */
 };
 
 typedef struct dtc_config dtc_config_t;

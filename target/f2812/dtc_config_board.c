@@ -60,4 +60,7 @@ const dtc_config_t g_dtc_config = {
     .i_lim_iq = 37106323, /* 2.2117092 pu */
     .polarity_mid = 1U,
     .vmid_cal = 0U,
+    .lpf_comp = 1U,
+    .wc_pu_iq = 267018, /* 0.015915513 pu */
+    .lpf_wmin_iq = 1068071, /* 0.0636619925 pu */
 };

@@ -106,6 +106,7 @@ typedef struct {
     double current_limit_a;  /* current-limit override on |i|, A; 0 = off, else < i_trip_a */
     int polarity_mid;        /* 1: drop/dead-time polarity from the period-mean / switching-instant
                               * current (dtc_config.h), 0: from the sample */
+    int lpf_comp;            /* voltage model: 1 = low-pass gain/phase correction (lpfcorr.h) */
     int vmid_cal;            /* FSTP, mid-point measured: 1 = the app calibrates it against V_dc/2
                               * with the gates off (firmware app_core.c), 0 = used as measured */
 } dtc_config_si_t;

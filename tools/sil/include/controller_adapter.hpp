@@ -87,6 +87,7 @@ struct FirmwareSiConfig {
     double current_limit_a;
     int polarity_mid;
     int vmid_cal;
+    int lpf_comp;
 };
 FirmwareSiConfig firmware_si_config(const Scenario& sc);
 

@@ -106,6 +106,7 @@ void fill_si(const FirmwareSiConfig& c, const Scenario& sc, dtc_config_si_t* si)
     si->current_limit_a = c.current_limit_a;
     si->polarity_mid = c.polarity_mid;
     si->vmid_cal = c.vmid_cal;
+    si->lpf_comp = c.lpf_comp;
 }
 
 /// The scenario keys a converter field (dtc_config_si_t) is computed from, so that a refusal
@@ -157,6 +158,7 @@ std::string keys_of_field(const std::string& msg)
                             "motor.*, ts_s, control.delay_comp)"},
         {"polarity_mid", "control.polarity_mid"},
         {"vmid_cal", "control.vmid_cal"},
+        {"lpf_comp", "control.lpf_comp"},
     };
     for (const auto& m : map) {
         if (msg.rfind(m.field, 0) == 0) {

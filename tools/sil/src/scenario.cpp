@@ -302,6 +302,11 @@ const std::vector<Spec>& schema()
                  "current (previous and present sample) and the dead-time compensation from the current at the "
                  "switching instant (the previous sample); false: both from the present sample",
                  ACC(control.polarity_mid)),
+        boolean("control.lpf_comp",
+                 "firmware, voltage model: undo the low-pass's gain and phase lead at the measured speed, "
+                 "psi = psi_lpf (1 - j w_c/w) with |w| floored at 4 w_c, and seed the low-pass bumplessly at "
+                 "the hand-over (firmware/dtc/lpfcorr.h); false: the low-pass output as it is",
+                 ACC(control.lpf_comp)),
         boolean("control.vmid_cal",
                  "firmware, FSTP with the mid-point measured (sensors.vmid_fitted): during the gates-off "
                  "calibration the app takes the mean of (mid-point - V_dc/2), which the balancing resistors make "
