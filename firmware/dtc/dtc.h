@@ -115,6 +115,8 @@ typedef struct {
     uint16_t i_limited;  /* 1: the current limit replaced the table's vector in the last step */
     /* low-pass correction (lpfcorr.h): y ~ 1/max(|w|, w_min), r = sign(w) w_c y */
     iq_t lpf_y_iq, lpf_r_iq;
+    /* DC-current suppression (dtc_dcsupp): the flux correction, alpha/beta, Q32 pu */
+    iq_t dcs_alpha_iq, dcs_beta_iq;
 } dtc_t;
 
 /* Validates cfg (dtc_config_validate) and initialises c. Returns DTC_OK or an enum dtc_err code;
@@ -158,6 +160,9 @@ void dtc_predict(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t
 /* Internal to dtc_step (torque mode: reference plus mean-torque trim); out of line for the stack. */
 void dtc_torque_trim(dtc_t *c, iq_t te);
 
+/* Internal to dtc_step (DC-current suppression): updates the correction from the measured
+ * current and adds it to the estimate *psi_a, *psi_b. */
+void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b);
 /* Internal to dtc_step (low-pass correction factor, lpfcorr.h). */
 void dtc_lpf_r(dtc_t *c);
 

@@ -72,7 +72,8 @@ enum dtc_err {
     DTC_ERR_DEADTIME = -18,    /* dead-time compensation flag not 0/1, T_d/T_s outside [0, 1/2) */
     DTC_ERR_ILIM = -19,        /* current limit < 0 or not below the trip level */
     DTC_ERR_POLARITY = -20,    /* polarity_mid or vmid_cal flag not 0/1 */
-    DTC_ERR_LPFCOMP = -21      /* lpf_comp not 0/1, or w_c / w_min not > 0 with it on */
+    DTC_ERR_LPFCOMP = -21,     /* lpf_comp not 0/1, or w_c / w_min not > 0 with it on */
+    DTC_ERR_DCSUPP = -22       /* dc_supp not 0/1, or its gain not > 0 with it on */
 };
 
 /* Speed measurement: ring of encoder positions at the speed-loop rate (see speed_meas.h). */
@@ -190,6 +191,9 @@ struct dtc_config {
                              * measured speed (lpfcorr.h), 0 = the low-pass output as it is */
     iq_t wc_pu_iq;          /* the low-pass cut-off w_c / w_base (> 0 when lpf_comp) */
     iq_t lpf_wmin_iq;       /* the correction's speed floor, pu (> 0 when lpf_comp; 4 w_c) */
+    uint16_t dc_supp;       /* voltage model: 1 = DC-current suppression (dtc.c dtc_dcsupp) */
+    iq_t dcs_k_iq;          /* its gain per period over |w|, Ts l_s / 20 in pu (> 0 when dc_supp):
+                             * w_d = |w| / 20 */
 };
 
 typedef struct dtc_config dtc_config_t;

@@ -63,4 +63,6 @@ const dtc_config_t g_dtc_config = {
     .lpf_comp = 1U,
     .wc_pu_iq = 267018, /* 0.015915513 pu */
     .lpf_wmin_iq = 1068071, /* 0.0636619925 pu */
+    .dc_supp = 1U,
+    .dcs_k_iq = 415, /* 2.47359276e-05 pu */
 };

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -163,11 +164,13 @@ TEST(PmProduct, LowSpeedQuarterLoadHoldsSpeedProposedBestOfAll)
 {
     // Hoang Figs. 18-20 operating points, 25 % load (0.075 N*m constant), the voltage model from
     // 100 rpm on (control.handover_rpm=100): 700 rpm with every compensation, 300 rpm with simple
-    // and proposed, 200 rpm with proposed hold the speed within 2 % with no trip, and the proposed
-    // imbalance is below the simple one. Measured (mean speed, imbalance none / simple /
-    // proposed): 700 rpm 211.7 / 57.0 / 24.2 %, 300 rpm 92.0 / 21.4 %, 200 rpm 65.8 / 13.5 %.
-    // Before the current limit and the ripple-robust polarity the proposed scheme tripped at 700
-    // and 200 rpm. Simple at 200 rpm (not a target) runs but swings 191.8-207.7 rpm.
+    // and proposed, 200 rpm with proposed hold the speed within 2 % with no trip, the proposed
+    // imbalance is below half the simple one, and the proposed scheme's estimated torque is within
+    // 3 % of the true one (the low-pass correction). Measured (imbalance none / simple / proposed):
+    // 700 rpm 202.7 / 55.9 / 12.8 %, 300 rpm 85.5 / 24.5 %, 200 rpm 88.5 / 21.9 % (proposed over
+    // noise seeds 1-3: 20-25 % at 300, 17-30 % at 200 rpm); estimated torque 0.0899 / 0.0848 N*m
+    // against 0.0904 / 0.0854 at 300 / 200 rpm. Before (main): the proposed scheme tripped at 700
+    // and 200 rpm and ran with 21.4 % imbalance at 300 rpm. Simple at 200 rpm (not a target) runs.
     const std::vector<std::string> base = {"load.type=torque", "load.torque_nm=0.075", "control.handover_rpm=100",
                                            "duration_s=2.5", "metrics_window_s=0.6"};
     auto at = [&](const char* comp, double rpm, bool target = true) {
@@ -186,25 +189,67 @@ TEST(PmProduct, LowSpeedQuarterLoadHoldsSpeedProposedBestOfAll)
         const Outcome simple = at("simple", 700.0);
         const Outcome prop = at("proposed", 700.0);
         ASSERT_TRUE(simple.m.imbalance_pct && prop.m.imbalance_pct && none.m.imbalance_pct);
-        EXPECT_LT(*prop.m.imbalance_pct, *simple.m.imbalance_pct);
+        EXPECT_LT(*prop.m.imbalance_pct, 0.5 * *simple.m.imbalance_pct);
+        EXPECT_LT(*simple.m.imbalance_pct, *none.m.imbalance_pct);
     }
     for (double rpm : {300.0, 200.0}) {
-        const Outcome simple = at("simple", rpm, rpm > 250.0); // 200 rpm: simple is not a target
+        const Outcome simple = at("simple", rpm, rpm > 250.0);
         const Outcome prop = at("proposed", rpm);
-        ASSERT_TRUE(simple.m.imbalance_pct && prop.m.imbalance_pct);
+        ASSERT_TRUE(simple.m.imbalance_pct && prop.m.imbalance_pct && prop.m.torque_est_mean_nm);
         EXPECT_LT(*prop.m.imbalance_pct, 0.5 * *simple.m.imbalance_pct) << rpm;
+        EXPECT_NEAR(*prop.m.torque_est_mean_nm, prop.m.torque_mean_nm, 0.03 * prop.m.torque_mean_nm) << rpm;
     }
 }
 
-TEST(PmProduct, RippleRobustPolarityHelpsTheProposedScheme)
+TEST(PmProduct, EachLowSpeedEstimatorFixMeasurablyHelps)
 {
-    // control.polarity_mid (period-mean current for Table VI, switching-instant current for the
-    // dead time): proposed FSTP, 1500 rpm full load, thd40_total 26.2 -> 11.0 %; 300 rpm 25 %
-    // load imbalance 32.6 -> 21.4 %.
-    const Outcome off = run("fstp_voltage_proposed_full.toml", {"control.polarity_mid=false"});
-    const Outcome on = run("fstp_voltage_proposed_full.toml");
-    ASSERT_TRUE(off.m.thd40_total_pct && on.m.thd40_total_pct);
-    EXPECT_LT(*on.m.thd40_total_pct, 0.6 * *off.m.thd40_total_pct);
+    // Each option on/off, proposed FSTP, 25 % load, voltage model from 100 rpm:
+    //   control.polarity_mid (period-mean / switching-instant current): 300 rpm imbalance
+    //     60.4 -> 24.5 %;
+    //   control.lpf_comp (low-pass gain/phase correction): 200 rpm estimated torque 0.0494 ->
+    //     0.0848 N*m (true 0.0854).
+    // (control.dc_supp: Thd40OfTheProposedFstpWithinTheTarget.)
+    const std::vector<std::string> base = {"load.type=torque", "load.torque_nm=0.075", "control.handover_rpm=100",
+                                           "duration_s=2.5", "metrics_window_s=0.6"};
+    auto at = [&](double rpm, const char* extra) {
+        std::vector<std::string> s = base;
+        s.push_back("control.speed_ref_rpm=" + std::to_string(rpm));
+        if (extra != nullptr) {
+            s.push_back(extra);
+        }
+        const Outcome o = run("fstp_voltage_proposed_full.toml", s);
+        EXPECT_EQ(o.info.fault, "none") << rpm << " " << (extra ? extra : "");
+        return o;
+    };
+    const Outcome on300 = at(300.0, nullptr);
+    const Outcome pol_off = at(300.0, "control.polarity_mid=false");
+    ASSERT_TRUE(on300.m.imbalance_pct && pol_off.m.imbalance_pct);
+    EXPECT_LT(*on300.m.imbalance_pct, 0.5 * *pol_off.m.imbalance_pct);
+    const Outcome on200 = at(200.0, nullptr);
+    const Outcome lpf_off = at(200.0, "control.lpf_comp=false");
+    ASSERT_TRUE(on200.m.torque_est_mean_nm && lpf_off.m.torque_est_mean_nm);
+    EXPECT_LT(std::fabs(*on200.m.torque_est_mean_nm - on200.m.torque_mean_nm), 0.03 * on200.m.torque_mean_nm);
+    EXPECT_GT(std::fabs(*lpf_off.m.torque_est_mean_nm - lpf_off.m.torque_mean_nm), 0.2 * lpf_off.m.torque_mean_nm);
+}
+
+TEST(PmProduct, Thd40OfTheProposedFstpWithinTheTarget)
+{
+    // Issue 10: thd40_total_pct <= 10 % for the proposed FSTP at 1500 rpm full load (paper 7.16 %),
+    // from standstill, for three noise seeds. Measured 8.4 / 8.3 / 8.3 % (26.2 % before: no
+    // ripple-robust polarity, no DC-current suppression); with control.dc_supp=false 10.5 / 10.2 /
+    // 9.3 %: the DC-current suppression is what brings it below the target with a margin.
+    double on = 0.0, off = 0.0;
+    for (const char* seed : {"sensors.seed=1", "sensors.seed=2", "sensors.seed=3"}) {
+        const Outcome o = run("fstp_voltage_proposed_full.toml", {seed});
+        expect_speed_held(o, 1500.0, 0.01, seed);
+        ASSERT_TRUE(o.m.thd40_total_pct);
+        EXPECT_LT(*o.m.thd40_total_pct, 9.5) << seed;
+        const Outcome f = run("fstp_voltage_proposed_full.toml", {seed, "control.dc_supp=false"});
+        ASSERT_TRUE(f.m.thd40_total_pct);
+        on += *o.m.thd40_total_pct;
+        off += *f.m.thd40_total_pct;
+    }
+    EXPECT_LT(on, 0.92 * off);
 }
 
 TEST(PmProduct, CurrentSensorGainCornersKeepEveryVoltageModelSchemeRunning)

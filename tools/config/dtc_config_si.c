@@ -77,6 +77,7 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->polarity_mid = 1;
     si->vmid_cal = 1;
     si->lpf_comp = 1;
+    si->dc_supp = 1;
     /* bases: V_dc, rated peak current, rated electrical speed */
     si->v_base_v = 70.0;
     si->i_base_a = 2.2;
@@ -241,6 +242,8 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
         return fail(&c, DTC_SI_ERR_GAIN, "torque_trim_tau_s = %g: must be 0 (off) or longer than ts_s = %g", si->torque_trim_tau_s, si->ts_s);
     if (!(si->speed_limit_rpm > 0.0)) return fail(&c, DTC_SI_ERR_LIMIT, "speed_limit_rpm = %g: must be > 0", si->speed_limit_rpm);
     if (!(si->i_trip_a > 0.0)) return fail(&c, DTC_SI_ERR_LIMIT, "i_trip_a = %g: must be > 0", si->i_trip_a);
+    if (si->dc_supp != 0 && si->dc_supp != 1)
+        return fail(&c, DTC_SI_ERR_CUTOFF, "dc_supp = %d: must be 0 or 1", si->dc_supp);
     if (si->lpf_comp != 0 && si->lpf_comp != 1)
         return fail(&c, DTC_SI_ERR_CUTOFF, "lpf_comp = %d: must be 0 or 1", si->lpf_comp);
     if (si->vmid_cal != 0 && si->vmid_cal != 1)
@@ -387,6 +390,10 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     cfg->polarity_mid = (uint16_t)si->polarity_mid;
     /* the mid-point calibration only where a mid-point is measured (FSTP) */
     cfg->lpf_comp = (uint16_t)si->lpf_comp;
+    cfg->dc_supp = (uint16_t)si->dc_supp;
+    /* Ts l_s / 20 in pu (the firmware multiplies by |w|: w_d = |w| / 20, dtc.c dtc_dcsupp) */
+    cfg->dcs_k_iq = to_iq(&c, "dc_supp (Ts l_s / 20)", si->ls_h,
+                          si->ts_s * b.w_base_rad_s * si->ls_h / b.l_base_h / 20.0);
     cfg->wc_pu_iq = to_iq(&c, "lpf_cutoff_rad_s", si->lpf_cutoff_rad_s, si->lpf_cutoff_rad_s / b.w_base_rad_s);
     cfg->lpf_wmin_iq = to_iq(&c, "lpf_cutoff_rad_s", si->lpf_cutoff_rad_s, 4.0 * si->lpf_cutoff_rad_s / b.w_base_rad_s);
     cfg->vmid_cal = (uint16_t)(si->vmid_cal != 0 && si->topology == DTC_TOPO_FSTP && si->fstp_vmid_measured != 0 ? 1 : 0);
@@ -453,7 +460,7 @@ int dtc_config_emit_c(const dtc_config_t *cfg, const char *symbol, FILE *f)
     EIQ(adc_vdc_gain_iq); EU(adc_vdc_offset); EIQ(adc_vmid_gain_iq); EU(adc_vmid_offset);
     EIQ(i_trip_iq); EIQ(vdc_max_iq); EIQ(vdc_min_iq);
     EIQ(i_lim_iq); EU(polarity_mid); EU(vmid_cal);
-    EU(lpf_comp); EIQ(wc_pu_iq); EIQ(lpf_wmin_iq);
+    EU(lpf_comp); EIQ(wc_pu_iq); EIQ(lpf_wmin_iq); EU(dc_supp); EIQ(dcs_k_iq);
     EMIT("};\n");
 #undef EMIT
 #undef EIQ

@@ -88,6 +88,7 @@ struct FirmwareSiConfig {
     int polarity_mid;
     int vmid_cal;
     int lpf_comp;
+    int dc_supp;
 };
 FirmwareSiConfig firmware_si_config(const Scenario& sc);
 

@@ -106,6 +106,7 @@ struct ControlCfg {
     double current_limit_a = 0.0;        // firmware current limit; see current_limit_given
     bool current_limit_given = false;    // false: derived from the trip level (dtc_ilim_default_a)
     bool polarity_mid = true;            // firmware: ripple-robust polarity of the compensations
+    bool dc_supp = true;                 // firmware: DC-current suppression (voltage model)
     bool lpf_comp = true;                // firmware: low-pass gain/phase correction (voltage model)
     bool vmid_cal = true;                // firmware: FSTP mid-point calibrated against V_dc/2
     double v_f_v = 0.9;                  // simple compensation V_f (Hoang sec. III-B)

@@ -107,6 +107,7 @@ void fill_si(const FirmwareSiConfig& c, const Scenario& sc, dtc_config_si_t* si)
     si->polarity_mid = c.polarity_mid;
     si->vmid_cal = c.vmid_cal;
     si->lpf_comp = c.lpf_comp;
+    si->dc_supp = c.dc_supp;
 }
 
 /// The scenario keys a converter field (dtc_config_si_t) is computed from, so that a refusal
@@ -159,6 +160,7 @@ std::string keys_of_field(const std::string& msg)
         {"polarity_mid", "control.polarity_mid"},
         {"vmid_cal", "control.vmid_cal"},
         {"lpf_comp", "control.lpf_comp"},
+        {"dc_supp", "control.dc_supp"},
     };
     for (const auto& m : map) {
         if (msg.rfind(m.field, 0) == 0) {

@@ -307,6 +307,11 @@ const std::vector<Spec>& schema()
                  "psi = psi_lpf (1 - j w_c/w) with |w| floored at 4 w_c, and seed the low-pass bumplessly at "
                  "the hand-over (firmware/dtc/lpfcorr.h); false: the low-pass output as it is",
                  ACC(control.lpf_comp)),
+        boolean("control.dc_supp",
+                 "firmware, voltage model: DC-current suppression, the estimate is shifted by the integral of "
+                 "(|w|/20) l_s i until the stator currents carry no DC (a DC flux error of the estimate is a DC current "
+                 "in the machine and, on the FSTP, a mid-point drift; firmware/dtc/dtc.c dtc_dcsupp); false: off",
+                 ACC(control.dc_supp)),
         boolean("control.vmid_cal",
                  "firmware, FSTP with the mid-point measured (sensors.vmid_fitted): during the gates-off "
                  "calibration the app takes the mean of (mid-point - V_dc/2), which the balancing resistors make "
