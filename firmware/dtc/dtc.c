@@ -229,7 +229,7 @@ void dtc_torque_trim(dtc_t *c, iq_t te)
  * Formats: k = Ts l_s / 20 (IQ pu, configuration) times |w| (IQ); the state c is kept with 8
  * more fractional bits than IQ (Q32 pu, +-0.5 pu, saturating) because one period's increment
  * k i is below an IQ LSB for |i| < 2.4e-3 pu at 1500 rpm (an IQ state would stop 5 mA short);
- * it is added to the flux rounded back to IQ. */
+ * it is added to the flux rounded back to IQ (fixmath q32_integrate). */
 void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b)
 {
     if (c->on_cm != 0U || c->speed_primed == 0U) {
@@ -238,12 +238,8 @@ void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b)
         return;
     }
     const iq_t k = iq_mpy(c->cfg->dcs_k_iq, fix_abs32(c->speed_iq));
-    c->dcs_alpha_iq = fix_add32(c->dcs_alpha_iq,
-                                fix_rshift_rnd64_sat32((int64_t)k * (int64_t)i->i_alpha_iq, 16U));
-    c->dcs_beta_iq = fix_add32(c->dcs_beta_iq,
-                               fix_rshift_rnd64_sat32((int64_t)k * (int64_t)i->i_beta_iq, 16U));
-    *psi_a = iq_add(*psi_a, fix_rshift_rnd32(c->dcs_alpha_iq, 8U));
-    *psi_b = iq_add(*psi_b, fix_rshift_rnd32(c->dcs_beta_iq, 8U));
+    *psi_a = iq_add(*psi_a, q32_integrate(&c->dcs_alpha_iq, k, i->i_alpha_iq));
+    *psi_b = iq_add(*psi_b, q32_integrate(&c->dcs_beta_iq, k, i->i_beta_iq));
 }
 
 /* Low-pass correction factor r = w_c / w from the measured speed (lpfcorr.h), at the speed-loop
@@ -292,23 +288,9 @@ static iq_t dtc_leg_dt(uint16_t prev, uint16_t cur, iq_t i, iq_t e)
 
 /* Dead-time compensation (Casadei sec. 10.5): the leg errors of dtc_leg_dt through the same
  * leg-to-alpha/beta transform as the reconstruction (vrec_from_legs, Hoang eqs. 1-5; FSTP: leg A
- * is the mid-point and never switches). Phase currents from the two measured ones (clarke.h:
- * SSTP a, b; FSTP b, c), the third by Kirchhoff. Scaling: e = V_dc * T_d/T_s (IQ x Q15, rounded),
+ * is the mid-point and never switches). Phase currents at the switching instant, all three
+ * (clarke_out_t: the two measured, the third by Kirchhoff). Scaling: e = V_dc * T_d/T_s (IQ x Q15, rounded),
  * the leg errors are 0 or +-e, vrec_from_legs saturates. */
-void dtc_deadtime(const dtc_t *c, const dtc_meas_t *m, const swtab_legs_t *prev,
-                  const swtab_legs_t *cur, iq_t *dva, iq_t *dvb)
-{
-    clarke_out_t i;
-    if (c->cfg->topology == DTC_TOPO_FSTP) {
-        clarke_fstp(m->ib_iq, m->ic_iq, &i);
-    } else {
-        clarke_sstp(m->ia_iq, m->ib_iq, &i);
-    }
-    dtc_deadtime_i(c, m->vdc_iq, &i, prev, cur, dva, dvb);
-}
-
-/* As dtc_deadtime, with the phase currents at the switching instant given (clarke_out_t: all
- * three, one reconstructed by Kirchhoff). */
 void dtc_deadtime_i(const dtc_t *c, iq_t vdc_iq, const clarke_out_t *i, const swtab_legs_t *prev,
                     const swtab_legs_t *cur, iq_t *dva, iq_t *dvb)
 {
@@ -323,7 +305,7 @@ void dtc_deadtime_i(const dtc_t *c, iq_t vdc_iq, const clarke_out_t *i, const sw
  * during the period that starts now, so the vector chosen here acts from k+1 on: the
  * comparators and the sector must see the machine at k+1. Prediction over one period Ts:
  *   stator flux (Hoang eqs. 15-16, 37-38 when compensated, over one period with the committed
- *   vector; dead time as in dtc_deadtime when on): dpsi = Ts (v(legs_1) + v_f - r_s i),
+ *   vector; dead time as in dtc_deadtime_i when on): dpsi = Ts (v(legs_1) + v_f - r_s i),
  *   psi(k+1) = psi + dpsi;
  *   current (PM machine, Hoang eqs. 6-9 with L_d = L_q: psi = l_s i + psi_r, the rotor flux
  *   psi_r = psi_m e^{j theta} turning at w): psi_r = psi - l_s i, dpsi_r = w Ts j psi_r,

@@ -147,11 +147,9 @@ int16_t dtc_shadow_write(dtc_t *c, const dtc_refs_t *r);
  * Not for the background. */
 void dtc_shadow_adopt(dtc_t *c, uint16_t seq);
 /* Internal to dtc_step (dead-time compensation): the error of the reconstructed voltage of a
- * period whose legs went from prev to cur, alpha/beta, IQ pu. */
-void dtc_deadtime(const dtc_t *c, const dtc_meas_t *m, const swtab_legs_t *prev,
-                  const swtab_legs_t *cur, iq_t *dva, iq_t *dvb);
-/* As dtc_deadtime with the phase currents at the switching instant given (polarity_mid: the
- * previous sample for the estimator's period). */
+ * period whose legs went from prev to cur, alpha/beta, IQ pu, with the link voltage and the phase
+ * currents at the switching instant (polarity_mid: the previous sample for the estimator's
+ * period). */
 void dtc_deadtime_i(const dtc_t *c, iq_t vdc_iq, const clarke_out_t *i, const swtab_legs_t *prev,
                     const swtab_legs_t *cur, iq_t *dva, iq_t *dvb);
 /* Internal to dtc_step (actuation-delay compensation); out of line for the stack. On entry

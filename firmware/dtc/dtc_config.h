@@ -125,7 +125,7 @@ struct dtc_config {
     iq_t ts_pu_iq;            /* Ts * w_base (> 0) */
     iq_t inv_ls_iq;           /* 1 / l_s, pu (> 0; precomputed: no division in the ISR) */
 
-    /* Dead-time compensation of the reconstructed voltage (dtc.c dtc_deadtime; Casadei sec.
+    /* Dead-time compensation of the reconstructed voltage (dtc.c dtc_deadtime_i; Casadei sec.
      * 10.5: its drive compensated the dead time). */
     uint16_t deadtime_comp;   /* 1: on, 0: off */
     q15_t td_ts_q15;          /* dead time over the control period, T_d / T_s, [0, 0.5) */

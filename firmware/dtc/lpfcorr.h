@@ -25,39 +25,33 @@
 
 #include "fixmath.h"
 
-/* Two Newton steps of y -> 1/w for w = max(|w_iq|, w_min_iq) (> 0). */
+/* y -> 1/w for w = max(|w_iq|, w_min_iq) (> 0): two Newton steps (fixmath iq_recip_newton),
+ * restarted at y = 1/2 pu when w y > 3/2 or y <= 0. */
 static inline iq_t lpfcorr_recip(iq_t y_iq, iq_t w_iq, iq_t w_min_iq)
 {
-    const iq_t two = iq_from_int(2);
     iq_t w = fix_abs32(w_iq);
-    uint16_t k;
     if (w < w_min_iq) {
         w = w_min_iq;
     }
     if (iq_mpy(w, y_iq) > fix_rshift_rnd32(iq_from_int(3), 1U) || y_iq <= 0) {
         y_iq = fix_rshift_rnd32(iq_from_int(1), 1U);
     }
-    for (k = 0U; k < 2U; k++) {
-        y_iq = iq_mpy(y_iq, iq_sub(two, iq_mpy(w, y_iq)));
-    }
-    return y_iq;
+    return iq_recip_newton(y_iq, w);
 }
 
 /* (a + j b)(1 - j r): the corrected flux. */
 static inline void lpfcorr_rotate(iq_t r_iq, iq_t *a, iq_t *b)
 {
-    const iq_t a0 = *a;
-    *a = iq_add(a0, iq_mpy(r_iq, *b));
-    *b = iq_sub(*b, iq_mpy(r_iq, a0));
+    iq_cmul_1jx(fix_neg32(r_iq), a, b);
 }
 
 /* (a + j b)(1 + j r)(1 - r^2): the low-pass state whose corrected output is a + j b. */
 static inline void lpfcorr_predistort(iq_t r_iq, iq_t *a, iq_t *b)
 {
     const iq_t g = iq_sub(iq_from_int(1), iq_mpy(r_iq, r_iq));
-    const iq_t a0 = *a;
-    *a = iq_mpy(g, iq_sub(a0, iq_mpy(r_iq, *b)));
-    *b = iq_mpy(g, iq_add(*b, iq_mpy(r_iq, a0)));
+    iq_cmul_1jx(r_iq, a, b);
+    *a = iq_mpy(g, *a);
+    *b = iq_mpy(g, *b);
 }
 
 #endif /* LPFCORR_H */
