@@ -229,16 +229,28 @@ void dtc_torque_trim(dtc_t *c, iq_t te)
  * Formats: k = Ts l_s / 20 (IQ pu, configuration) times |w| (IQ); the state c is kept with 8
  * more fractional bits than IQ (Q32 pu, +-0.5 pu, saturating) because one period's increment
  * k i is below an IQ LSB for |i| < 2.4e-3 pu at 1500 rpm (an IQ state would stop 5 mA short);
- * it is added to the flux rounded back to IQ (fixmath q32_integrate). */
-void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b)
+ * it is added to the flux rounded back to IQ (fixmath q32_integrate).
+ * FSTP mid-point regulation (vmid_g_iq > 0, the mid-point measured): phase A's current is the
+ * split capacitors' only DC path, dV_lo/dt = -i_a / (2 C), and with balancing resistors alone
+ * a mid-point charged away from V_dc/2 (a low-speed acceleration leaves it 15 V off, SIL,
+ * 4.7 mF) returns only with R_bal C (47 s for 10 kohm). So the suppression's DC target for
+ * phase A is i_a = g (vmid - V_dc/2) instead of zero, g = 2 C w_m, w_m = w_c / 2: the deviation
+ * then decays as exp(-w_m t), slower than the suppression itself at speed (w_d = |w|/20 >= w_m
+ * above 480 rpm; damping sqrt(w_d/w_m)/2 of the cascade). */
+void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, const dtc_meas_t *m, iq_t *psi_a, iq_t *psi_b)
 {
+    iq_t ia = i->i_alpha_iq;
     if (c->on_cm != 0U || c->speed_primed == 0U) {
         c->dcs_alpha_iq = 0;
         c->dcs_beta_iq = 0;
         return;
     }
     const iq_t k = iq_mpy(c->cfg->dcs_k_iq, fix_abs32(c->speed_iq));
-    *psi_a = iq_add(*psi_a, q32_integrate(&c->dcs_alpha_iq, k, i->i_alpha_iq));
+    if (c->cfg->vmid_g_iq > 0) {
+        /* FSTP mid-point regulation: phase A (alpha) is to carry g (vmid - V_dc/2) of DC */
+        ia = iq_sub(ia, iq_mpy(c->cfg->vmid_g_iq, iq_sub(m->vmid_iq, fix_rshift_rnd32(m->vdc_iq, 1U))));
+    }
+    *psi_a = iq_add(*psi_a, q32_integrate(&c->dcs_alpha_iq, k, ia));
     *psi_b = iq_add(*psi_b, q32_integrate(&c->dcs_beta_iq, k, i->i_beta_iq));
 }
 
@@ -429,7 +441,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         lpfcorr_rotate(c->lpf_r_iq, &psi_a, &psi_b); /* low-pass gain/phase undone (lpfcorr.h) */
     }
     if (cfg->dc_supp != 0U && cfg->estimator == DTC_EST_VOLTAGE) {
-        dtc_dcsupp(c, &i, &psi_a, &psi_b);
+        dtc_dcsupp(c, &i, m, &psi_a, &psi_b);
     }
 
     /* 4. Torque (Hoang eq. 10); the estimate at k is reported as it is. */

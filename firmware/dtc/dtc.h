@@ -160,7 +160,7 @@ void dtc_torque_trim(dtc_t *c, iq_t te);
 
 /* Internal to dtc_step (DC-current suppression): updates the correction from the measured
  * current and adds it to the estimate *psi_a, *psi_b. */
-void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b);
+void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, const dtc_meas_t *m, iq_t *psi_a, iq_t *psi_b);
 /* Internal to dtc_step (low-pass correction factor, lpfcorr.h). */
 void dtc_lpf_r(dtc_t *c);
 

@@ -85,7 +85,7 @@ int16_t dtc_config_validate(const dtc_config_t *cfg)
     if (cfg->lpf_comp > 1U || (cfg->lpf_comp != 0U && (cfg->wc_pu_iq <= 0 || cfg->lpf_wmin_iq <= 0))) {
         return DTC_ERR_LPFCOMP;
     }
-    if (cfg->dc_supp > 1U || (cfg->dc_supp != 0U && cfg->dcs_k_iq <= 0)) {
+    if (cfg->dc_supp > 1U || (cfg->dc_supp != 0U && cfg->dcs_k_iq <= 0) || cfg->vmid_g_iq < 0) {
         return DTC_ERR_DCSUPP;
     }
     return DTC_OK;

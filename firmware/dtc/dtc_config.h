@@ -73,7 +73,7 @@ enum dtc_err {
     DTC_ERR_ILIM = -19,        /* current limit < 0 or not below the trip level */
     DTC_ERR_POLARITY = -20,    /* polarity_mid or vmid_cal flag not 0/1 */
     DTC_ERR_LPFCOMP = -21,     /* lpf_comp not 0/1, or w_c / w_min not > 0 with it on */
-    DTC_ERR_DCSUPP = -22       /* dc_supp not 0/1, or its gain not > 0 with it on */
+    DTC_ERR_DCSUPP = -22       /* dc_supp not 0/1, its gain not > 0 with it on, mid-point gain < 0 */
 };
 
 /* Speed measurement: ring of encoder positions at the speed-loop rate (see speed_meas.h). */
@@ -194,6 +194,8 @@ struct dtc_config {
     uint16_t dc_supp;       /* voltage model: 1 = DC-current suppression (dtc.c dtc_dcsupp) */
     iq_t dcs_k_iq;          /* its gain per period over |w|, Ts l_s / 20 in pu (> 0 when dc_supp):
                              * w_d = |w| / 20 */
+    iq_t vmid_g_iq;         /* FSTP mid-point regulation (dtc_dcsupp): phase-A DC current demanded
+                             * per volt of mid-point deviation, 2 C w_m in pu (>= 0; 0 = off) */
 };
 
 typedef struct dtc_config dtc_config_t;

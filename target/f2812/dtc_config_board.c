@@ -65,4 +65,5 @@ const dtc_config_t g_dtc_config = {
     .lpf_wmin_iq = 1068071, /* 0.0636619925 pu */
     .dc_supp = 1U,
     .dcs_k_iq = 415, /* 2.47359276e-05 pu */
+    .vmid_g_iq = 0, /* 0 pu */
 };

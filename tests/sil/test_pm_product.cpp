@@ -204,8 +204,9 @@ TEST(PmProduct, LowSpeedQuarterLoadHoldsSpeedProposedBestOfAll)
 TEST(PmProduct, EachLowSpeedEstimatorFixMeasurablyHelps)
 {
     // Each option on/off, proposed FSTP, 25 % load, voltage model from 100 rpm:
-    //   control.polarity_mid (period-mean / switching-instant current): 300 rpm imbalance
-    //     60.4 -> 24.5 %;
+    //   control.polarity_mid (period-mean / switching-instant current): thd40_total at 700 / 300 /
+    //     200 rpm 45.0 / 63.4 / 111.4 -> 26.2 / 38.5 / 45.8 % (a single speed's imbalance moves
+    //     by several points with the noise seed; the sum over the three speeds does not);
     //   control.lpf_comp (low-pass gain/phase correction): 200 rpm estimated torque 0.0494 ->
     //     0.0848 N*m (true 0.0854).
     // (control.dc_supp: Thd40OfTheProposedFstpWithinTheTarget.)
@@ -221,10 +222,15 @@ TEST(PmProduct, EachLowSpeedEstimatorFixMeasurablyHelps)
         EXPECT_EQ(o.info.fault, "none") << rpm << " " << (extra ? extra : "");
         return o;
     };
-    const Outcome on300 = at(300.0, nullptr);
-    const Outcome pol_off = at(300.0, "control.polarity_mid=false");
-    ASSERT_TRUE(on300.m.imbalance_pct && pol_off.m.imbalance_pct);
-    EXPECT_LT(*on300.m.imbalance_pct, 0.5 * *pol_off.m.imbalance_pct);
+    double thd_on = 0.0, thd_off = 0.0;
+    for (double rpm : {700.0, 300.0, 200.0}) {
+        const Outcome on = at(rpm, nullptr);
+        const Outcome off = at(rpm, "control.polarity_mid=false");
+        ASSERT_TRUE(on.m.thd40_total_pct && off.m.thd40_total_pct);
+        thd_on += *on.m.thd40_total_pct;
+        thd_off += *off.m.thd40_total_pct;
+    }
+    EXPECT_LT(thd_on, 0.7 * thd_off);
     const Outcome on200 = at(200.0, nullptr);
     const Outcome lpf_off = at(200.0, "control.lpf_comp=false");
     ASSERT_TRUE(on200.m.torque_est_mean_nm && lpf_off.m.torque_est_mean_nm);
@@ -283,6 +289,40 @@ TEST(PmProduct, FstpVoltageSensorCornersKeepRunningOnTheStiffLink)
     }
     const Outcome off = run("fstp_voltage_proposed_full.toml", {"sensors.vdc_gain_error=0.02", "control.vmid_cal=false"});
     EXPECT_NE(off.info.fault, "none");
+}
+
+TEST(PmProduct, FiniteSplitLinkKeepsTheTableIxOrdering)
+{
+    // Issue 10 item 5: the FSTP on finite split capacitors (4.7 mF each, 10 kohm balancing
+    // resistors, 25 mohm ESR) from standstill, with the DC-current suppression and the mid-point
+    // regulation (control.dc_supp): no trip, 1500 rpm held, imbalance none > simple > proposed,
+    // proposed <= 8 % and thd40 <= 10 %. Measured 59.2 / 19.0 / 6.7 %, thd40 8.2 %; with
+    // control.dc_supp=false 57.8 / 6.0 / 4.9 %, thd40 13.3 % (simple 46.1 %). The corners that
+    // hold on the finite link: mid-point offset +-0.5 V, DC-link gain +2 %, offset +1 V. NOT met
+    // (docs/firmware-core.md): DC-link gain -2 % and offset -1 V stall every FSTP scheme on it.
+    const std::vector<std::string> fin = {"inverter.finite_dc_link=true", "inverter.r_bal_ohm=10000",
+                                          "inverter.esr_ohm=0.025"};
+    auto with = [&](std::vector<std::string> v, const char* extra) {
+        if (extra != nullptr) {
+            v.push_back(extra);
+        }
+        return v;
+    };
+    const Outcome none = run("fstp_voltage_none_full.toml", fin);
+    const Outcome simple = run("fstp_voltage_simple_full.toml", fin);
+    const Outcome prop = run("fstp_voltage_proposed_full.toml", fin);
+    expect_speed_held(none, 1500.0, 0.01, "none finite");
+    expect_speed_held(simple, 1500.0, 0.01, "simple finite");
+    expect_speed_held(prop, 1500.0, 0.01, "proposed finite");
+    ASSERT_TRUE(none.m.imbalance_pct && simple.m.imbalance_pct && prop.m.imbalance_pct && prop.m.thd40_total_pct);
+    EXPECT_GT(*none.m.imbalance_pct, *simple.m.imbalance_pct);
+    EXPECT_GT(*simple.m.imbalance_pct, *prop.m.imbalance_pct);
+    EXPECT_LE(*prop.m.imbalance_pct, 8.0);
+    EXPECT_LE(*prop.m.thd40_total_pct, 10.0);
+    for (const char* c : {"sensors.vmid_offset_v=0.5", "sensors.vmid_offset_v=-0.5", "sensors.vdc_gain_error=0.02",
+                          "sensors.vdc_offset_v=1"}) {
+        expect_speed_held(run("fstp_voltage_proposed_full.toml", with(fin, c)), 1500.0, 0.01, c);
+    }
 }
 
 TEST(PmProduct, SstpVoltageCornersKeepRunning)

@@ -114,6 +114,7 @@ MUT(m_polarity, s->polarity_mid = 2)
 MUT(m_vmid_cal, s->vmid_cal = 2)
 MUT(m_lpf_comp, s->lpf_comp = 2)
 MUT(m_dc_supp, s->dc_supp = 2)
+MUT(m_c_dc, s->c_dc_f = 0.0)
 
 static void test_bad_si_configs_refused_with_field(void **state)
 {
@@ -161,6 +162,7 @@ static void test_bad_si_configs_refused_with_field(void **state)
         {m_vmid_cal, DTC_SI_ERR_ILIM, "vmid_cal"},
         {m_lpf_comp, DTC_SI_ERR_CUTOFF, "lpf_comp"},
         {m_dc_supp, DTC_SI_ERR_CUTOFF, "dc_supp"},
+        {m_c_dc, DTC_SI_ERR_INVERTER, "c_dc_f"},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         dtc_config_si_t si;
@@ -226,6 +228,7 @@ FMUT(f_lpf_comp, c->lpf_comp = 2U)
 FMUT(f_lpf_wc, c->wc_pu_iq = 0)
 FMUT(f_dcs, c->dc_supp = 2U)
 FMUT(f_dcs_k, c->dcs_k_iq = 0)
+FMUT(f_vmid_g, c->vmid_g_iq = -1)
 
 static void test_dtc_init_refuses_bad_struct(void **state)
 {
@@ -245,7 +248,7 @@ static void test_dtc_init_refuses_bad_struct(void **state)
         {f_inv_ls, DTC_ERR_DELAY}, {f_deadtime, DTC_ERR_DEADTIME}, {f_td, DTC_ERR_DEADTIME},
         {f_ilim_neg, DTC_ERR_ILIM}, {f_ilim_trip, DTC_ERR_ILIM}, {f_polarity, DTC_ERR_POLARITY},
         {f_vmid_cal, DTC_ERR_POLARITY}, {f_lpf_comp, DTC_ERR_LPFCOMP}, {f_lpf_wc, DTC_ERR_LPFCOMP},
-        {f_dcs, DTC_ERR_DCSUPP}, {f_dcs_k, DTC_ERR_DCSUPP},
+        {f_dcs, DTC_ERR_DCSUPP}, {f_dcs_k, DTC_ERR_DCSUPP}, {f_vmid_g, DTC_ERR_DCSUPP},
     };
     dtc_config_si_t si;
     dtc_config_t good;

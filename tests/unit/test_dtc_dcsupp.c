@@ -38,6 +38,7 @@ static void test_dc_error_removed_at_w_over_20(void **state)
     assert_int_equal(dtc_init(&c, &cfg), 0);
     const double ls = d(cfg.ls_iq), ts = si.ts_s * si.w_base_rad_s, w = 0.5; /* 1500 rpm */
     const double da = 0.004, db = -0.002; /* estimate error, pu (~ 4 % of psi_m) */
+    const dtc_meas_t me = {0, 0, 0, q(1.0), q(0.5), 0U}; /* mid-point at V_dc/2: no regulation demand */
     c.speed_primed = 1U;
     c.on_cm = 0U;
     c.speed_iq = q(-w); /* either direction */
@@ -46,7 +47,7 @@ static void test_dc_error_removed_at_w_over_20(void **state)
     for (int k = 1; k <= 6 * n_tau; k++) {
         clarke_out_t i = {0, 0, 0, q((-da - d32(c.dcs_alpha_iq)) / ls), q((-db - d32(c.dcs_beta_iq)) / ls)};
         iq_t pa = 0, pb = 0;
-        dtc_dcsupp(&c, &i, &pa, &pb);
+        dtc_dcsupp(&c, &i, &me, &pa, &pb);
         assert_true(abs(pa - (c.dcs_alpha_iq >> 8)) <= 1);
         if (k == n_tau) {
             const double want = -da * (1.0 - exp(-1.0));
@@ -65,7 +66,7 @@ static void test_dc_error_removed_at_w_over_20(void **state)
         const double th = w * ts * k;
         clarke_out_t i = {0, 0, 0, q(amp * cos(th)), q(amp * sin(th))};
         iq_t pa = 0, pb = 0;
-        dtc_dcsupp(&c, &i, &pa, &pb);
+        dtc_dcsupp(&c, &i, &me, &pa, &pb);
         if (k > (int)lround(2.0 * M_PI / w / ts)) {
             cmax = fmax(cmax, d(pa));
             cmin = fmin(cmin, d(pa));
@@ -79,7 +80,7 @@ static void test_dc_error_removed_at_w_over_20(void **state)
     c.on_cm = 1U;
     clarke_out_t i = {0, 0, 0, q(1.0), q(1.0)};
     iq_t pa = 7, pb = 9;
-    dtc_dcsupp(&c, &i, &pa, &pb);
+    dtc_dcsupp(&c, &i, &me, &pa, &pb);
     assert_int_equal(pa, 7);
     assert_int_equal(pb, 9);
     assert_int_equal(c.dcs_alpha_iq, 0);

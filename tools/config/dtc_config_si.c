@@ -78,6 +78,7 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->vmid_cal = 1;
     si->lpf_comp = 1;
     si->dc_supp = 1;
+    si->c_dc_f = 4.7e-3;
     /* bases: V_dc, rated peak current, rated electrical speed */
     si->v_base_v = 70.0;
     si->i_base_a = 2.2;
@@ -242,6 +243,8 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
         return fail(&c, DTC_SI_ERR_GAIN, "torque_trim_tau_s = %g: must be 0 (off) or longer than ts_s = %g", si->torque_trim_tau_s, si->ts_s);
     if (!(si->speed_limit_rpm > 0.0)) return fail(&c, DTC_SI_ERR_LIMIT, "speed_limit_rpm = %g: must be > 0", si->speed_limit_rpm);
     if (!(si->i_trip_a > 0.0)) return fail(&c, DTC_SI_ERR_LIMIT, "i_trip_a = %g: must be > 0", si->i_trip_a);
+    if (!(si->c_dc_f > 0.0))
+        return fail(&c, DTC_SI_ERR_INVERTER, "c_dc_f = %g: must be > 0", si->c_dc_f);
     if (si->dc_supp != 0 && si->dc_supp != 1)
         return fail(&c, DTC_SI_ERR_CUTOFF, "dc_supp = %d: must be 0 or 1", si->dc_supp);
     if (si->lpf_comp != 0 && si->lpf_comp != 1)
@@ -396,6 +399,11 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
                           si->ts_s * b.w_base_rad_s * si->ls_h / b.l_base_h / 20.0);
     cfg->wc_pu_iq = to_iq(&c, "lpf_cutoff_rad_s", si->lpf_cutoff_rad_s, si->lpf_cutoff_rad_s / b.w_base_rad_s);
     cfg->lpf_wmin_iq = to_iq(&c, "lpf_cutoff_rad_s", si->lpf_cutoff_rad_s, 4.0 * si->lpf_cutoff_rad_s / b.w_base_rad_s);
+    {
+        const int reg = si->dc_supp != 0 && si->topology == DTC_TOPO_FSTP && si->fstp_vmid_measured != 0;
+        const double g = 2.0 * si->c_dc_f * 0.5 * si->lpf_cutoff_rad_s; /* A/V, w_m = w_c / 2 */
+        cfg->vmid_g_iq = reg ? to_iq(&c, "c_dc_f", si->c_dc_f, g * b.z_base_ohm) : 0;
+    }
     cfg->vmid_cal = (uint16_t)(si->vmid_cal != 0 && si->topology == DTC_TOPO_FSTP && si->fstp_vmid_measured != 0 ? 1 : 0);
 
     if (c.code != DTC_SI_OK) {
@@ -460,7 +468,7 @@ int dtc_config_emit_c(const dtc_config_t *cfg, const char *symbol, FILE *f)
     EIQ(adc_vdc_gain_iq); EU(adc_vdc_offset); EIQ(adc_vmid_gain_iq); EU(adc_vmid_offset);
     EIQ(i_trip_iq); EIQ(vdc_max_iq); EIQ(vdc_min_iq);
     EIQ(i_lim_iq); EU(polarity_mid); EU(vmid_cal);
-    EU(lpf_comp); EIQ(wc_pu_iq); EIQ(lpf_wmin_iq); EU(dc_supp); EIQ(dcs_k_iq);
+    EU(lpf_comp); EIQ(wc_pu_iq); EIQ(lpf_wmin_iq); EU(dc_supp); EIQ(dcs_k_iq); EIQ(vmid_g_iq);
     EMIT("};\n");
 #undef EMIT
 #undef EIQ

@@ -108,7 +108,9 @@ typedef struct {
                               * current (dtc_config.h), 0: from the sample */
     int lpf_comp;            /* voltage model: 1 = low-pass gain/phase correction (lpfcorr.h) */
     int dc_supp;             /* voltage model: 1 = DC-current suppression (dtc.c dtc_dcsupp), its
-                              * rate w_d = |w| / 20 */
+                              * rate w_d = |w| / 20; FSTP with the mid-point measured: also the
+                              * mid-point regulation at w_c / 2, with c_dc_f */
+    double c_dc_f;           /* each split DC-link capacitor, F (> 0) */
     int vmid_cal;            /* FSTP, mid-point measured: 1 = the app calibrates it against V_dc/2
                               * with the gates off (firmware app_core.c), 0 = used as measured */
 } dtc_config_si_t;

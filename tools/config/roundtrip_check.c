@@ -29,7 +29,7 @@ int main(void)
     CHK(speed_ref_iq); CHK(torque_ref_iq); CHK(adc_i_gain_iq); CHK(adc_i_offset[0]);
     CHK(adc_i_offset[1]); CHK(adc_i_offset[2]); CHK(adc_vdc_gain_iq); CHK(adc_vdc_offset);
     CHK(adc_vmid_gain_iq); CHK(adc_vmid_offset); CHK(i_trip_iq); CHK(vdc_max_iq); CHK(vdc_min_iq);
-    CHK(i_lim_iq); CHK(polarity_mid); CHK(vmid_cal); CHK(lpf_comp); CHK(wc_pu_iq); CHK(lpf_wmin_iq); CHK(dc_supp); CHK(dcs_k_iq);
+    CHK(i_lim_iq); CHK(polarity_mid); CHK(vmid_cal); CHK(lpf_comp); CHK(wc_pu_iq); CHK(lpf_wmin_iq); CHK(dc_supp); CHK(dcs_k_iq); CHK(vmid_g_iq);
     if (dtc_config_validate(&dtc_config_default) != DTC_OK) {
         fprintf(stderr, "generated configuration refused by dtc_config_validate\n");
         bad = 1;

@@ -89,6 +89,7 @@ struct FirmwareSiConfig {
     int vmid_cal;
     int lpf_comp;
     int dc_supp;
+    double c_dc_f; // each split capacitor (inverter.c_dc_f)
 };
 FirmwareSiConfig firmware_si_config(const Scenario& sc);
 

@@ -71,6 +71,7 @@ FirmwareSiConfig firmware_si_config(const Scenario& sc)
     c.vmid_cal = sc.control.vmid_cal ? 1 : 0;
     c.lpf_comp = sc.control.lpf_comp ? 1 : 0;
     c.dc_supp = sc.control.dc_supp ? 1 : 0;
+    c.c_dc_f = sc.inverter.c_dc_f;
     c.dead_time_s = sc.firmware.dead_time_s.value_or(sc.inverter.dead_time_s);
     const SpeedPiGains g = speed_pi_gains(sc.motor.j_kgm2, sc.control.speed_bw_hz);
     c.speed_kp_nm_per_rad_s = g.kp_nm_per_rad_s;

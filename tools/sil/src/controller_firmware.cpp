@@ -108,6 +108,7 @@ void fill_si(const FirmwareSiConfig& c, const Scenario& sc, dtc_config_si_t* si)
     si->vmid_cal = c.vmid_cal;
     si->lpf_comp = c.lpf_comp;
     si->dc_supp = c.dc_supp;
+    si->c_dc_f = c.c_dc_f;
 }
 
 /// The scenario keys a converter field (dtc_config_si_t) is computed from, so that a refusal
@@ -161,6 +162,7 @@ std::string keys_of_field(const std::string& msg)
         {"vmid_cal", "control.vmid_cal"},
         {"lpf_comp", "control.lpf_comp"},
         {"dc_supp", "control.dc_supp"},
+        {"c_dc_f", "inverter.c_dc_f"},
     };
     for (const auto& m : map) {
         if (msg.rfind(m.field, 0) == 0) {
