@@ -110,6 +110,7 @@ static void dtc_reset_ilim_pol(dtc_t *c)
     c->lpf_r_iq = 0;
     c->dcs_alpha_iq = 0;
     c->dcs_beta_iq = 0;
+    c->dcs_kw_iq = 0;
 }
 
 void dtc_reset(dtc_t *c)
@@ -226,7 +227,8 @@ void dtc_torque_trim(dtc_t *c, iq_t te)
  * follows the measured speed, w_d = |w|/20: 5 % at every speed (a fixed w_d = w_c = 5 rad/s was
  * 24 % at 200 rpm and took the proposed scheme's imbalance there from 21 to 64 %, SIL), and
  * 7.9 rad/s (tau 0.13 s) at 1500 rpm. Off (reset to zero) while the current model drives.
- * Formats: k = Ts l_s / 20 (IQ pu, configuration) times |w| (IQ); the state c is kept with 8
+ * Formats: k = Ts l_s / 20 (IQ pu, configuration) times |w| (IQ; at the speed-loop rate, as |w|
+ * is measured there); the state c is kept with 8
  * more fractional bits than IQ (Q32 pu, +-0.5 pu, saturating) because one period's increment
  * k i is below an IQ LSB for |i| < 2.4e-3 pu at 1500 rpm (an IQ state would stop 5 mA short);
  * it is added to the flux rounded back to IQ (fixmath q32_integrate).
@@ -245,7 +247,7 @@ void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, const dtc_meas_t *m, iq_t *psi_
         c->dcs_beta_iq = 0;
         return;
     }
-    const iq_t k = iq_mpy(c->cfg->dcs_k_iq, fix_abs32(c->speed_iq));
+    const iq_t k = c->dcs_kw_iq;
     if (c->cfg->vmid_g_iq > 0) {
         /* FSTP mid-point regulation: phase A (alpha) is to carry g (vmid - V_dc/2) of DC */
         ia = iq_sub(ia, iq_mpy(c->cfg->vmid_g_iq, iq_sub(m->vmid_iq, fix_rshift_rnd32(m->vdc_iq, 1U))));
@@ -355,18 +357,19 @@ void dtc_predict(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t
 }
 
 /* Ripple-robust polarity (dtc_config.h polarity_mid): the mean current of period [k-1, k],
- * (i(k-1) + i(k))/2 (the current is piecewise linear within a period: one vector, back-EMF
+ * i(k-1)/2 + i(k)/2 (each halved and rounded first: the sum of two halves of IQ values cannot
+ * overflow) (the current is piecewise linear within a period: one vector, back-EMF
  * nearly constant), into c->i_mid for the drop compensation of that period (Hoang Tables V-VI
  * decide per leg by the current's sign; with 2-3 A pk-pk ripple on a 0.6 A fundamental the sign of
  * one sample at the period's end is often not the sign the period had). IQ pu; the sum
  * saturates, the halving rounds. */
 static void dtc_pol_mid(dtc_t *c, const clarke_out_t *i)
 {
-    c->i_mid.ia_iq = fix_rshift_rnd32(fix_add32(c->i_prev.ia_iq, i->ia_iq), 1U);
-    c->i_mid.ib_iq = fix_rshift_rnd32(fix_add32(c->i_prev.ib_iq, i->ib_iq), 1U);
-    c->i_mid.ic_iq = fix_rshift_rnd32(fix_add32(c->i_prev.ic_iq, i->ic_iq), 1U);
-    c->i_mid.i_alpha_iq = fix_rshift_rnd32(fix_add32(c->i_prev.i_alpha_iq, i->i_alpha_iq), 1U);
-    c->i_mid.i_beta_iq = fix_rshift_rnd32(fix_add32(c->i_prev.i_beta_iq, i->i_beta_iq), 1U);
+    c->i_mid.ia_iq = fix_rshift_rnd32(c->i_prev.ia_iq, 1U) + fix_rshift_rnd32(i->ia_iq, 1U);
+    c->i_mid.ib_iq = fix_rshift_rnd32(c->i_prev.ib_iq, 1U) + fix_rshift_rnd32(i->ib_iq, 1U);
+    c->i_mid.ic_iq = fix_rshift_rnd32(c->i_prev.ic_iq, 1U) + fix_rshift_rnd32(i->ic_iq, 1U);
+    c->i_mid.i_alpha_iq = fix_rshift_rnd32(c->i_prev.i_alpha_iq, 1U) + fix_rshift_rnd32(i->i_alpha_iq, 1U);
+    c->i_mid.i_beta_iq = fix_rshift_rnd32(c->i_prev.i_beta_iq, 1U) + fix_rshift_rnd32(i->i_beta_iq, 1U);
 }
 
 void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
@@ -463,6 +466,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         if (cfg->lpf_comp != 0U) {
             dtc_lpf_r(c);
         }
+        c->dcs_kw_iq = iq_mpy(cfg->dcs_k_iq, fix_abs32(c->speed_iq)); /* dtc_dcsupp: Ts l_s |w|/20 */
         if (c->act.mode == DTC_MODE_SPEED) {
             c->te_ref_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
         }

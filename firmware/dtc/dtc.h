@@ -117,6 +117,7 @@ typedef struct {
     iq_t lpf_y_iq, lpf_r_iq;
     /* DC-current suppression (dtc_dcsupp): the flux correction, alpha/beta, Q32 pu */
     iq_t dcs_alpha_iq, dcs_beta_iq;
+    iq_t dcs_kw_iq;      /* its gain Ts l_s |w| / 20, updated at the speed-loop rate */
 } dtc_t;
 
 /* Validates cfg (dtc_config_validate) and initialises c. Returns DTC_OK or an enum dtc_err code;

@@ -42,6 +42,7 @@ static void test_dc_error_removed_at_w_over_20(void **state)
     c.speed_primed = 1U;
     c.on_cm = 0U;
     c.speed_iq = q(-w); /* either direction */
+    c.dcs_kw_iq = (iq_t)lround((double)cfg.dcs_k_iq * w); /* as the speed tick sets it: k |w| */
     const double tau = 20.0 / w; /* pu time */
     const int n_tau = (int)lround(tau / ts);
     for (int k = 1; k <= 6 * n_tau; k++) {
@@ -60,6 +61,7 @@ static void test_dc_error_removed_at_w_over_20(void **state)
     c.dcs_alpha_iq = 0;
     c.dcs_beta_iq = 0;
     c.speed_iq = q(w);
+    c.dcs_kw_iq = (iq_t)lround((double)cfg.dcs_k_iq * w);
     double cmax = -1.0, cmin = 1.0;
     const double amp = 1.0; /* rated current, pu */
     for (int k = 0; k < 4 * (int)lround(2.0 * M_PI / w / ts); k++) {
