@@ -190,7 +190,7 @@ struct dtc_config {
     uint16_t lpf_comp;      /* voltage model: 1 = gain/phase correction of the low-pass with the
                              * measured speed (lpfcorr.h), 0 = the low-pass output as it is */
     iq_t wc_pu_iq;          /* the low-pass cut-off w_c / w_base (> 0 when lpf_comp) */
-    iq_t lpf_wmin_iq;       /* the correction's speed floor, pu (> 0 when lpf_comp; 4 w_c) */
+    iq_t lpf_wmin_iq;       /* the correction's speed floor, pu (> 0 when lpf_comp; 2 w_c) */
     uint16_t dc_supp;       /* voltage model: 1 = DC-current suppression (dtc.c dtc_dcsupp) */
     iq_t dcs_k_iq;          /* its gain per period over |w|, Ts l_s / 20 in pu (> 0 when dc_supp):
                              * w_d = |w| / 20 */

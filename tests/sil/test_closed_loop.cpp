@@ -179,9 +179,9 @@ TEST(SilClosedLoop, FstpMidPointDriftsOnAFiniteLinkWithTheVoltageModel)
     // Not in the paper: on a finite split link (2 x 4.7 mF) the voltage-model FSTP drive with the
     // simple compensation lets the mid-point walk away from vdc/2 (a DC voltage error b gives a
     // flux offset b/w_c and a DC phase-A current, which charges the capacitors); the current-model
-    // drive on the same link keeps the mid-point near vdc/2. Measured: voltage model 17 V off
+    // drive on the same link keeps the mid-point near vdc/2. Measured: voltage model 18 V off
     // after the acceleration (the firmware's current limit keeps it running, its mid-point
-    // regulation pulls the mid-point back slowly: 40.2 V mean in the metrics window); current
+    // regulation pulls the mid-point back slowly: 40.6 V mean in the metrics window); current
     // model: mid-point within 35 +- 4 V once settled.
     const fs::path dir_v = fs::temp_directory_path() / "sil_midpoint_voltage";
     const fs::path dir_c = fs::temp_directory_path() / "sil_midpoint_current";

@@ -3,7 +3,7 @@
  *
  * Against closed forms: the division-free reciprocal against 1/w; predistort followed by the
  * correction returns the input within r^4; and the firmware low-pass (flux_est) driven by the
- * back-EMF of a sinusoidal flux at 300 and 200 rpm, corrected with r = w_c/w, equals the true
+ * back-EMF of a sinusoidal flux at 300, 200 and 100 rpm, corrected with r = w_c/w, equals the true
  * flux (the raw low-pass is 15.8 / 23.4 % off, issue 10 item 3) in steady state.
  */
 #include <setjmp.h>
@@ -28,18 +28,18 @@ static iq_t q(double x) { return (iq_t)lround(x * 16777216.0); }
 static void test_recip_converges(void **state)
 {
     (void)state;
-    const iq_t wmin = q(0.0637);
+    const iq_t wmin = q(0.0318); /* 2 w_c */
     iq_t y = 0;
     /* from a cold start at the floor, then a slow ramp to 1 pu and back, and a negative speed */
     for (int k = 0; k < 6; k++) {
         y = lpfcorr_recip(y, 0, wmin);
     }
-    assert_true(fabs(d(y) * 0.0637 - 1.0) < 1e-5);
-    for (double w = 0.0637; w <= 1.0; w *= 1.01) {
+    assert_true(fabs(d(y) * 0.0318 - 1.0) < 1e-5);
+    for (double w = 0.0318; w <= 1.0; w *= 1.01) {
         y = lpfcorr_recip(y, q(w), wmin);
         assert_true(fabs(d(y) * w - 1.0) < 1e-4);
     }
-    for (double w = 1.0; w >= 0.0637; w /= 1.01) {
+    for (double w = 1.0; w >= 0.0318; w /= 1.01) {
         y = lpfcorr_recip(y, q(-w), wmin);
         assert_true(fabs(d(y) * w - 1.0) < 1e-4);
     }
@@ -54,11 +54,11 @@ static void test_recip_converges(void **state)
 static void test_predistort_then_rotate_is_identity(void **state)
 {
     (void)state;
-    for (double r = -0.25; r <= 0.25; r += 0.01) {
+    for (double r = -0.5; r <= 0.5; r += 0.01) {
         iq_t a = q(0.4), b = q(-0.15);
         lpfcorr_predistort(q(r), &a, &b);
         lpfcorr_rotate(q(r), &a, &b);
-        const double tol = pow(r, 4) * 0.43 + 1e-6;
+        const double tol = pow(r, 6) * 0.43 + 1e-6; /* r^6 relative to |(0.4, -0.15)| */
         assert_true(fabs(d(a) - 0.4) < tol && fabs(d(b) + 0.15) < tol);
     }
 }
@@ -100,7 +100,7 @@ static void run_speed(double rpm)
     const double wc = si.lpf_cutoff_rad_s / (rpm * M_PI / 30.0);
     print_message("LPF correction at %.0f rpm: raw vector error %.2f %% (closed form %.2f %%), corrected %.4f %%\n",
                   rpm, 100.0 * worst_raw, 100.0 * 2.0 * sin(atan(wc) / 2.0), 100.0 * worst);
-    assert_true(fabs(worst_raw - 2.0 * sin(atan(wc) / 2.0)) < 0.01);
+    assert_true(fabs(worst_raw - 2.0 * sin(atan(wc) / 2.0)) < 0.02); /* discrete vs continuous */
     assert_true(worst < 0.002);
 }
 
@@ -109,6 +109,7 @@ static void test_corrected_lowpass_is_the_true_flux(void **state)
     (void)state;
     run_speed(300.0);
     run_speed(200.0);
+    run_speed(100.0); /* r = 0.48, just above the floor 2 w_c */
 }
 
 int main(void)

@@ -398,7 +398,7 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     cfg->dcs_k_iq = to_iq(&c, "dc_supp (Ts l_s / 20)", si->ls_h,
                           si->ts_s * b.w_base_rad_s * si->ls_h / b.l_base_h / 20.0);
     cfg->wc_pu_iq = to_iq(&c, "lpf_cutoff_rad_s", si->lpf_cutoff_rad_s, si->lpf_cutoff_rad_s / b.w_base_rad_s);
-    cfg->lpf_wmin_iq = to_iq(&c, "lpf_cutoff_rad_s", si->lpf_cutoff_rad_s, 4.0 * si->lpf_cutoff_rad_s / b.w_base_rad_s);
+    cfg->lpf_wmin_iq = to_iq(&c, "lpf_cutoff_rad_s", si->lpf_cutoff_rad_s, 2.0 * si->lpf_cutoff_rad_s / b.w_base_rad_s);
     {
         const int reg = si->dc_supp != 0 && si->topology == DTC_TOPO_FSTP && si->fstp_vmid_measured != 0;
         const double g = 2.0 * si->c_dc_f * 0.5 * si->lpf_cutoff_rad_s; /* A/V, w_m = w_c / 2 */

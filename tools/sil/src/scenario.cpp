@@ -304,7 +304,7 @@ const std::vector<Spec>& schema()
                  ACC(control.polarity_mid)),
         boolean("control.lpf_comp",
                  "firmware, voltage model: undo the low-pass's gain and phase lead at the measured speed, "
-                 "psi = psi_lpf (1 - j w_c/w) with |w| floored at 4 w_c, and seed the low-pass bumplessly at "
+                 "psi = psi_lpf (1 - j w_c/w) with |w| floored at 2 w_c, and seed the low-pass bumplessly at "
                  "the hand-over (firmware/dtc/lpfcorr.h); false: the low-pass output as it is",
                  ACC(control.lpf_comp)),
         boolean("control.dc_supp",
