@@ -42,6 +42,8 @@ static void enter_calibrate(app_core_t *a)
         a->cal_sum[k] = 0U;
     }
     a->cal_n = 0U;
+    a->vmid_cal_sum_iq = 0;
+    a->vmid_cal_iq = 0;
     a->enc_primed = 0U;
     a->index_known = 0U;
     a->st.fault = APP_FAULT_NONE;
@@ -126,7 +128,9 @@ void app_core_convert(const app_core_t *a, const hal_meas_t *m, dtc_meas_t *pu)
     pu->ib_iq = i[1];
     pu->ic_iq = i[2];
     pu->vdc_iq = counts_to_pu(m->adc[HAL_ADC_VDC], c->board.adc_vdc_offset, c->board.adc_vdc_gain_iq);
-    pu->vmid_iq = counts_to_pu(m->adc[HAL_ADC_VMID], c->board.adc_vmid_offset, c->board.adc_vmid_gain_iq);
+    pu->vmid_iq = fix_sub32(counts_to_pu(m->adc[HAL_ADC_VMID], c->board.adc_vmid_offset,
+                                         c->board.adc_vmid_gain_iq),
+                            a->vmid_cal_iq);
     pu->enc_count = m->qep_count;
 }
 
@@ -201,17 +205,57 @@ static uint16_t check_encoder(app_core_t *a, const hal_meas_t *m)
     return 0U;
 }
 
+/* Mid-point calibration (dtc_config.h vmid_cal; FSTP with the mid-point measured). With the
+ * gates off the balancing resistors hold the mid-point at V_dc/2 (equal resistors; docs/plant.md),
+ * so the mean of (mid-point - V_dc/2) measured then is the inconsistency of the two voltage
+ * sensors (gain and offset errors of either, at the link voltage): subtracted from every
+ * mid-point sample, the reconstruction (Hoang eqs. 1-5 with phase A on the mid-point, vrec.h)
+ * gets no DC part on v_alpha that the machine does not see. Without it a 2 % link-gain error is
+ * (0.02 * 70 V)/3 = 0.47 V of DC on v_alpha, which the voltage model's low-pass turns into a flux
+ * offset E / w_c (~ psi_m at 5 rad/s) (docs/firmware-core.md, issue 10).
+ * Scaling: the deviation is IQ pu (saturated), 2^APP_VMID_CAL_LOG2 of them sum in 64 bits without
+ * overflow; the mean is a rounded arithmetic shift (no division), saturated to 32 bits. */
+static void app_vmid_cal_add(app_core_t *a, const hal_meas_t *m)
+{
+    const dtc_config_t *c = a->cfg;
+    iq_t vdc = counts_to_pu(m->adc[HAL_ADC_VDC], c->board.adc_vdc_offset, c->board.adc_vdc_gain_iq);
+    iq_t vmid = counts_to_pu(m->adc[HAL_ADC_VMID], c->board.adc_vmid_offset, c->board.adc_vmid_gain_iq);
+    a->vmid_cal_sum_iq += (int64_t)fix_sub32(vmid, fix_rshift_rnd32(vdc, 1U));
+}
+
+/* Ends the mid-point calibration: the mean, checked against V_dc / 2^APP_VMID_TOL_LOG2 (4.4 V at
+ * 70 V: a sensor that far off is broken, not inaccurate). Returns 1 on a fault (latched). */
+static uint16_t app_vmid_cal_set(app_core_t *a, const hal_meas_t *m)
+{
+    const dtc_config_t *c = a->cfg;
+    iq_t vdc = counts_to_pu(m->adc[HAL_ADC_VDC], c->board.adc_vdc_offset, c->board.adc_vdc_gain_iq);
+    iq_t mean = fix_sat32((a->vmid_cal_sum_iq + ((int64_t)1 << (APP_VMID_CAL_LOG2 - 1U))) >>
+                          APP_VMID_CAL_LOG2);
+    if (fix_abs32(mean) > fix_rshift_rnd32(fix_abs32(vdc), APP_VMID_TOL_LOG2)) {
+        latch_fault(a, APP_FAULT_ADC_OFFSET, (int16_t)HAL_ADC_VMID);
+        return 1U;
+    }
+    a->vmid_cal_iq = mean;
+    return 0U;
+}
+
 /* Calibration period: accumulate the measured channels; after 2^APP_CAL_LOG2 samples set the
  * offsets (rounded mean, a shift: no division) and check them and the DC link. */
 static void calibrate_step(app_core_t *a, const hal_meas_t *m)
 {
     uint16_t k;
-    for (k = 0U; k < 2U; k++) {
-        uint16_t ch = a->meas_ch[k];
-        a->cal_sum[ch] += (uint32_t)m->adc[ch];
+    const uint16_t n_cal = (uint16_t)1U << (a->cfg->board.vmid_cal != 0U ? APP_VMID_CAL_LOG2 : APP_CAL_LOG2);
+    if (a->cal_n < ((uint16_t)1U << APP_CAL_LOG2)) {
+        for (k = 0U; k < 2U; k++) {
+            uint16_t ch = a->meas_ch[k];
+            a->cal_sum[ch] += (uint32_t)m->adc[ch];
+        }
+    }
+    if (a->cfg->board.vmid_cal != 0U) {
+        app_vmid_cal_add(a, m);
     }
     a->cal_n++;
-    if (a->cal_n < ((uint16_t)1U << APP_CAL_LOG2)) {
+    if (a->cal_n < n_cal) {
         return;
     }
     for (k = 0U; k < 2U; k++) {
@@ -223,6 +267,9 @@ static void calibrate_step(app_core_t *a, const hal_meas_t *m)
             return;
         }
         a->offset[ch] = (uint16_t)mean;
+    }
+    if (a->cfg->board.vmid_cal != 0U && app_vmid_cal_set(a, m) != 0U) {
+        return;
     }
     {
         dtc_meas_t pu;

@@ -53,7 +53,14 @@ enum app_fault {
                                    * the sign of the torque reference) */
 };
 
-/* Calibration: 2^APP_CAL_LOG2 samples averaged per current channel. */
+/* Calibration: 2^APP_CAL_LOG2 samples averaged per current channel (and for the FSTP mid-point,
+ * dtc_config.h vmid_cal). Largest accepted mid-point inconsistency: V_dc/2^APP_VMID_TOL_LOG2. */
+#define APP_VMID_TOL_LOG2 4U
+/* Mid-point calibration: 2^APP_VMID_CAL_LOG2 samples (51 ms at 50 us; the current offsets use the
+ * first 2^APP_CAL_LOG2 of them). The low-pass of the voltage model turns a DC error E on v_alpha
+ * into a current E / (w_c L_s): 1 mV is 0.04 A for Table VIII at 5 rad/s, so the mean must be
+ * good to about a millivolt: 1024 samples divide the sensors' noise by 32. */
+#define APP_VMID_CAL_LOG2 10U
 #define APP_CAL_LOG2 6U
 /* Largest accepted |calibrated - nominal| current offset, counts (5 % of full scale). */
 #define APP_OFFSET_TOL_COUNTS 205
@@ -77,6 +84,8 @@ typedef struct app_core {
     uint16_t offset[3];    /* current-sensor offsets in use, counts */
     uint32_t cal_sum[3];
     uint16_t cal_n;
+    int64_t vmid_cal_sum_iq; /* calibration: sum of (mid-point - V_dc/2), IQ pu (cfg->vmid_cal) */
+    iq_t vmid_cal_iq;      /* the two voltage sensors' inconsistency, subtracted from vmid, pu */
     uint16_t meas_ch[2];   /* the two measured current channels (HAL_ADC_IA.. IC) */
     uint16_t enc_jump_counts; /* the largest plausible count change in one control period:
                                * twice the speed limit, and never below 1 count (quantisation) */

@@ -2,52 +2,96 @@
 
 #include <stddef.h>
 
+/* The laws linked into this image (firmware/CMakeLists.txt, DTC_LAWS): every law on the host and
+ * in SIL; one on the F2812, whose zero-wait RAM does not hold both (hal/f2812/budget.sh). A
+ * configuration of a law that is not linked is refused at init (DTC_ERR_VARIANT). */
+#ifndef DTC_LAW_PM_LINKED
+#define DTC_LAW_PM_LINKED 1
+#endif
+#ifndef DTC_LAW_IM_LINKED
+#define DTC_LAW_IM_LINKED 1
+#endif
+#if !DTC_LAW_PM_LINKED && !DTC_LAW_IM_LINKED
+#error "DTC_LAWS links no control law"
+#endif
+#if DTC_LAW_PM_LINKED && DTC_LAW_IM_LINKED
+#define LAW_IS_IM(l) ((l)->law == DTC_LAW_IM_DTC)
+#elif DTC_LAW_IM_LINKED
+#define LAW_IS_IM(l) 1
+#else
+#define LAW_IS_IM(l) 0
+#endif
+
 int16_t law_init(law_t *l, const dtc_config_t *cfg)
 {
     if (l == NULL || cfg == NULL) {
         return DTC_ERR_NULL;
     }
     l->law = cfg->law;
+#if DTC_LAW_IM_LINKED
     if (cfg->law == DTC_LAW_IM_DTC) {
         return im_dtc_init(&l->u.im, cfg);
     }
+#endif
+#if DTC_LAW_PM_LINKED
     return dtc_init(&l->u.pm, cfg); /* refuses an unknown law with DTC_ERR_VARIANT */
+#else
+    return DTC_ERR_VARIANT; /* the PM law is not linked into this image */
+#endif
 }
 
 void law_reset(law_t *l)
 {
-    if (l->law == DTC_LAW_IM_DTC) {
+#if DTC_LAW_IM_LINKED
+    if (LAW_IS_IM(l)) {
         im_dtc_reset(&l->u.im);
-    } else {
-        dtc_reset(&l->u.pm);
+        return;
     }
+#endif
+#if DTC_LAW_PM_LINKED
+    dtc_reset(&l->u.pm);
+#endif
 }
 
 void law_step(law_t *l, const dtc_meas_t *m, dtc_out_t *o)
 {
-    if (l->law == DTC_LAW_IM_DTC) {
+#if DTC_LAW_IM_LINKED
+    if (LAW_IS_IM(l)) {
         im_dtc_step(&l->u.im, m, o);
-    } else {
-        dtc_step(&l->u.pm, m, o);
+        return;
     }
+#endif
+#if DTC_LAW_PM_LINKED
+    dtc_step(&l->u.pm, m, o);
+#endif
 }
 
 int16_t law_shadow_write(law_t *l, const dtc_refs_t *r)
 {
-    return l->law == DTC_LAW_IM_DTC ? im_dtc_shadow_write(&l->u.im, r)
-                                    : dtc_shadow_write(&l->u.pm, r);
+#if DTC_LAW_IM_LINKED
+    if (LAW_IS_IM(l)) {
+        return im_dtc_shadow_write(&l->u.im, r);
+    }
+#endif
+#if DTC_LAW_PM_LINKED
+    return dtc_shadow_write(&l->u.pm, r);
+#endif
 }
 
 void law_refs_get(const law_t *l, dtc_refs_t *r)
 {
-    if (l->law == DTC_LAW_IM_DTC) {
+#if DTC_LAW_IM_LINKED
+    if (LAW_IS_IM(l)) {
         im_dtc_refs_get(&l->u.im, r);
-    } else {
-        dtc_refs_get(&l->u.pm, r);
+        return;
     }
+#endif
+#if DTC_LAW_PM_LINKED
+    dtc_refs_get(&l->u.pm, r);
+#endif
 }
 
 iq_t law_speed_ref(const law_t *l)
 {
-    return l->law == DTC_LAW_IM_DTC ? l->u.im.act.speed_ref_iq : l->u.pm.act.speed_ref_iq;
+    return LAW_IS_IM(l) ? l->u.im.act.speed_ref_iq : l->u.pm.act.speed_ref_iq;
 }

@@ -53,4 +53,17 @@ static inline void clarke_fstp(iq_t ib_iq, iq_t ic_iq, clarke_out_t *o)
     o->i_beta_iq = q31_mul(fix_sub32(ib_iq, ic_iq), CLARKE_INV_SQRT3_Q31);
 }
 
+/* Inverse (Hoang eqs. 4-5 solved for the phases with i_a + i_b + i_c = 0): i_a = i_alpha,
+ * i_b = -i_alpha/2 + (sqrt(3)/2) i_beta, i_c = -i_a - i_b (the zero sum holds exactly). IQ pu;
+ * the products round, the sums saturate. */
+#define CLARKE_SQRT3_2_Q31 Q31(0.86602540378443865)
+static inline void clarke_inv(iq_t i_alpha_iq, iq_t i_beta_iq, clarke_out_t *o)
+{
+    o->i_alpha_iq = i_alpha_iq;
+    o->i_beta_iq = i_beta_iq;
+    o->ia_iq = i_alpha_iq;
+    o->ib_iq = fix_sub32(q31_mul(i_beta_iq, CLARKE_SQRT3_2_Q31), fix_rshift_rnd32(i_alpha_iq, 1U));
+    o->ic_iq = fix_neg32(fix_add32(o->ia_iq, o->ib_iq));
+}
+
 #endif /* CLARKE_H */

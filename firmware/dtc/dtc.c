@@ -3,6 +3,8 @@
 #include <stddef.h>
 
 #include "clarke.h"
+#include "ilim.h"
+#include "lpfcorr.h"
 #include "sector.h"
 #include "torque.h"
 #include "vrec.h"
@@ -81,6 +83,24 @@ int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg)
     return DTC_OK;
 }
 
+/* Current limit and ripple-robust polarity (ilim.h, dtc_config.h polarity_mid): state at reset. */
+static void dtc_reset_ilim_pol(dtc_t *c)
+{
+    c->i_prev.ia_iq = 0;
+    c->i_prev.ib_iq = 0;
+    c->i_prev.ic_iq = 0;
+    c->i_prev.i_alpha_iq = 0;
+    c->i_prev.i_beta_iq = 0;
+    c->i_mid = c->i_prev;
+    c->i1 = c->i_prev;
+    c->i_limited = 0U;
+    c->lpf_y_iq = 0;
+    c->lpf_r_iq = 0;
+    c->dcs_alpha_iq = 0;
+    c->dcs_beta_iq = 0;
+    c->dcs_kw_iq = 0;
+}
+
 void dtc_reset(dtc_t *c)
 {
     static const swtab_legs_t off = {0U, 0U, 0U};
@@ -102,6 +122,7 @@ void dtc_reset(dtc_t *c)
     c->te_ref_iq = c->act.mode == DTC_MODE_TORQUE ? c->act.torque_ref_iq : 0;
     c->speed_iq = 0;
     c->on_cm = cfg->est.handover_speed_iq > 0 ? 1U : 0U;
+    dtc_reset_ilim_pol(c);
 }
 
 int16_t dtc_shadow_write(dtc_t *c, const dtc_refs_t *r)
@@ -154,6 +175,63 @@ void dtc_torque_trim(dtc_t *c, iq_t te)
  * at the speed-loop rate: up above handover_speed, back below handover_speed - hyst. Speed and
  * thresholds IQ pu; |speed| saturates (fix_abs32 of INT32_MIN), the difference cannot overflow
  * (0 <= hyst <= speed, validated). */
+/* DC-current suppression (dtc_config.h dc_supp). In steady state the true stator flux of a PM
+ * machine has no DC part in the stationary frame (psi = l_s i + psi_m e^{j theta}, Hoang eqs.
+ * 6-9, with currents that carry none), and the DTC holds the ESTIMATE on a circle centred on the
+ * origin (|psi| regulated, eq. 13). A DC error delta of the estimate (a DC voltage error E
+ * integrated by the low-pass: delta = E / w_c, flux_est.h) therefore moves the TRUE flux circle
+ * by -delta, i.e. the machine carries a DC current -delta / l_s; on the FSTP that DC current is
+ * phase A's and charges the split capacitors (mid-point drift), and with the estimated torque
+ * (eq. 10) it makes the torque ripple at f and the currents at 2f (issue 10: a 3 mWb offset,
+ * 0.5 A of DC and 2f current at 700 rpm). The correction c added to the estimate integrates the
+ * measured current, dc/dt = w_d l_s i: with the estimate plus c held on the circle, the DC
+ * current is (-delta - c)/l_s, so c -> -delta at the rate w_d and the DC current -> 0, which is
+ * the suppression of the DC current (and of the FSTP mid-point's DC charge). The fundamental
+ * (and any negative sequence) passes into c rotated by 90 deg and attenuated by w_d/w, so w_d
+ * follows the measured speed, w_d = |w|/20: 5 % at every speed (a fixed w_d = w_c = 5 rad/s was
+ * 24 % at 200 rpm and took the proposed scheme's imbalance there from 21 to 64 %, SIL), and
+ * 7.9 rad/s (tau 0.13 s) at 1500 rpm. Off (reset to zero) while the current model drives.
+ * Formats: k = Ts l_s / 20 (IQ pu, configuration) times |w| (IQ; at the speed-loop rate, as |w|
+ * is measured there); the state c is kept with 8
+ * more fractional bits than IQ (Q32 pu, +-0.5 pu, saturating) because one period's increment
+ * k i is below an IQ LSB for |i| < 2.4e-3 pu at 1500 rpm (an IQ state would stop 5 mA short);
+ * it is added to the flux rounded back to IQ (fixmath q32_integrate).
+ * FSTP mid-point regulation (vmid_g_iq > 0, the mid-point measured): phase A's current is the
+ * split capacitors' only DC path, dV_lo/dt = -i_a / (2 C), and with balancing resistors alone
+ * a mid-point charged away from V_dc/2 (a low-speed acceleration leaves it 15 V off, SIL,
+ * 4.7 mF) returns only with R_bal C (47 s for 10 kohm). So the suppression's DC target for
+ * phase A is i_a = g (vmid - V_dc/2) instead of zero, g = 2 C w_m, w_m = w_c / 2: the deviation
+ * then decays as exp(-w_m t), slower than the suppression itself at speed (w_d = |w|/20 >= w_m
+ * above 480 rpm; damping sqrt(w_d/w_m)/2 of the cascade). */
+void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, const dtc_meas_t *m, iq_t *psi_a, iq_t *psi_b)
+{
+    iq_t ia = i->i_alpha_iq;
+    if (c->on_cm != 0U || c->speed_primed == 0U) {
+        c->dcs_alpha_iq = 0;
+        c->dcs_beta_iq = 0;
+        return;
+    }
+    const iq_t k = c->dcs_kw_iq;
+    if (c->cfg->est.vmid_g_iq > 0) {
+        /* FSTP mid-point regulation: phase A (alpha) is to carry g (vmid - V_dc/2) of DC */
+        ia = iq_sub(ia, iq_mpy(c->cfg->est.vmid_g_iq, iq_sub(m->vmid_iq, fix_rshift_rnd32(m->vdc_iq, 1U))));
+    }
+    *psi_a = iq_add(*psi_a, q32_integrate(&c->dcs_alpha_iq, k, ia));
+    *psi_b = iq_add(*psi_b, q32_integrate(&c->dcs_beta_iq, k, i->i_beta_iq));
+}
+
+/* Low-pass correction factor r = w_c / w from the measured speed (lpfcorr.h), at the speed-loop
+ * rate. External linkage on purpose (as dtc_shadow_adopt): keeps its temporaries out of
+ * dtc_step's frame. */
+void dtc_lpf_r(dtc_t *c)
+{
+    const dtc_config_t *cfg = c->cfg;
+    iq_t r;
+    c->lpf_y_iq = lpfcorr_recip(c->lpf_y_iq, c->speed_iq, cfg->est.lpf_wmin_iq);
+    r = iq_mpy(cfg->est.wc_pu_iq, c->lpf_y_iq);
+    c->lpf_r_iq = c->speed_iq < 0 ? fix_neg32(r) : r;
+}
+
 static void dtc_handover(dtc_t *c)
 {
     const dtc_config_t *cfg = c->cfg;
@@ -188,39 +266,29 @@ static iq_t dtc_leg_dt(uint16_t prev, uint16_t cur, iq_t i, iq_t e)
 
 /* Dead-time compensation (Casadei sec. 10.5): the leg errors of dtc_leg_dt through the same
  * leg-to-alpha/beta transform as the reconstruction (vrec_from_legs, Hoang eqs. 1-5; FSTP: leg A
- * is the mid-point and never switches). Phase currents from the two measured ones (clarke.h:
- * SSTP a, b; FSTP b, c), the third by Kirchhoff. Scaling: e = V_dc * T_d/T_s (IQ x Q15, rounded),
+ * is the mid-point and never switches). Phase currents at the switching instant, all three
+ * (clarke_out_t: the two measured, the third by Kirchhoff). Scaling: e = V_dc * T_d/T_s (IQ x Q15, rounded),
  * the leg errors are 0 or +-e, vrec_from_legs saturates. */
-void dtc_deadtime(const dtc_config_t *cfg, const dtc_meas_t *m, const swtab_legs_t *prev,
+void dtc_deadtime(const dtc_config_t *cfg, iq_t vdc_iq, const clarke_out_t *i, const swtab_legs_t *prev,
                   const swtab_legs_t *cur, iq_t *dva, iq_t *dvb)
 {
-    iq_t e, ia, ib, ic, ea;
+    iq_t e, ea;
     if (prev->sa == cur->sa && prev->sb == cur->sb && prev->sc == cur->sc) {
         *dva = 0; /* no leg changed: no dead-time error (most periods; the sum below is 0 then) */
         *dvb = 0;
         return;
     }
-    e = iq_mpy_q15(m->vdc_iq, cfg->board.td_ts_q15);
-    if (cfg->board.topology == DTC_TOPO_FSTP) {
-        ib = m->ib_iq;
-        ic = m->ic_iq;
-        ia = fix_neg32(fix_add32(ib, ic));
-        ea = 0;
-    } else {
-        ia = m->ia_iq;
-        ib = m->ib_iq;
-        ic = fix_neg32(fix_add32(ia, ib));
-        ea = dtc_leg_dt(prev->sa, cur->sa, ia, e);
-    }
-    vrec_from_legs(ea, dtc_leg_dt(prev->sb, cur->sb, ib, e), dtc_leg_dt(prev->sc, cur->sc, ic, e),
-                   dva, dvb);
+    e = iq_mpy_q15(vdc_iq, cfg->board.td_ts_q15);
+    ea = cfg->board.topology == DTC_TOPO_FSTP ? 0 : dtc_leg_dt(prev->sa, cur->sa, i->ia_iq, e);
+    vrec_from_legs(ea, dtc_leg_dt(prev->sb, cur->sb, i->ib_iq, e),
+                   dtc_leg_dt(prev->sc, cur->sc, i->ic_iq, e), dva, dvb);
 }
 
 /* Actuation-delay compensation. The leg states legs_1 (returned by the previous step) act
  * during the period that starts now, so the vector chosen here acts from k+1 on: the
  * comparators and the sector must see the machine at k+1. Prediction over one period Ts:
  *   stator flux (Hoang eqs. 15-16, 37-38 when compensated, over one period with the committed
- *   vector; dead time as in dtc_deadtime when on): dpsi = Ts (v(legs_1) + v_f - r_s i),
+ *   vector; dead time as in dtc_deadtime_i when on): dpsi = Ts (v(legs_1) + v_f - r_s i),
  *   psi(k+1) = psi + dpsi;
  *   current (PM machine, Hoang eqs. 6-9 with L_d = L_q: psi = l_s i + psi_r, the rotor flux
  *   psi_r = psi_m e^{j theta} turning at w): psi_r = psi - l_s i, dpsi_r = w Ts j psi_r,
@@ -234,7 +302,7 @@ void dtc_deadtime(const dtc_config_t *cfg, const dtc_meas_t *m, const swtab_legs
  * Scaling and overflow: every product is a rounded iq_mpy (64-bit intermediate), every sum
  * saturates: |dpsi| <= Ts_pu (|v| + r_s |i|) stays far below 1 pu for any measured input; the
  * current step (dpsi - dpsi_r)/l_s saturates at +-128 pu in the worst case (no wrap). */
-void dtc_predict(const dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t *te)
+void dtc_predict(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t *te)
 {
     const dtc_config_t *cfg = c->cfg;
     iq_t dpa, dpb, wts, ia1, ib1;
@@ -254,6 +322,23 @@ void dtc_predict(const dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b
     *psi_a = fix_add32(*psi_a, dpa);
     *psi_b = fix_add32(*psi_b, dpb);
     *te = torque_eq10(*psi_a, *psi_b, ia1, ib1);
+    clarke_inv(ia1, ib1, &c->i1); /* for the current limit (ilim.h) */
+}
+
+/* Ripple-robust polarity (dtc_config.h polarity_mid): the mean current of period [k-1, k],
+ * i(k-1)/2 + i(k)/2 (each halved and rounded first: the sum of two halves of IQ values cannot
+ * overflow) (the current is piecewise linear within a period: one vector, back-EMF
+ * nearly constant), into c->i_mid for the drop compensation of that period (Hoang Tables V-VI
+ * decide per leg by the current's sign; with 2-3 A pk-pk ripple on a 0.6 A fundamental the sign of
+ * one sample at the period's end is often not the sign the period had). IQ pu; the sum
+ * saturates, the halving rounds. */
+static void dtc_pol_mid(dtc_t *c, const clarke_out_t *i)
+{
+    c->i_mid.ia_iq = fix_rshift_rnd32(c->i_prev.ia_iq, 1U) + fix_rshift_rnd32(i->ia_iq, 1U);
+    c->i_mid.ib_iq = fix_rshift_rnd32(c->i_prev.ib_iq, 1U) + fix_rshift_rnd32(i->ib_iq, 1U);
+    c->i_mid.ic_iq = fix_rshift_rnd32(c->i_prev.ic_iq, 1U) + fix_rshift_rnd32(i->ic_iq, 1U);
+    c->i_mid.i_alpha_iq = fix_rshift_rnd32(c->i_prev.i_alpha_iq, 1U) + fix_rshift_rnd32(i->i_alpha_iq, 1U);
+    c->i_mid.i_beta_iq = fix_rshift_rnd32(c->i_prev.i_beta_iq, 1U) + fix_rshift_rnd32(i->i_beta_iq, 1U);
 }
 
 void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
@@ -297,11 +382,16 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
             vrec_sstp(c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, m->vdc_iq, &fin.v_alpha_iq,
                       &fin.v_beta_iq);
         }
-        vcomp_step(&c->vc_p, c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, &i, &vfa, &vfb);
+        if (cfg->est.polarity_mid != 0U) {
+            dtc_pol_mid(c, &i);
+        }
+        vcomp_step(&c->vc_p, c->legs_2.sa, c->legs_2.sb, c->legs_2.sc,
+                   cfg->est.polarity_mid != 0U ? &c->i_mid : &i, &vfa, &vfb);
         fin.v_alpha_iq = fix_add32(fin.v_alpha_iq, vfa);
         fin.v_beta_iq = fix_add32(fin.v_beta_iq, vfb);
         if (cfg->est.deadtime_comp != 0U) {
-            dtc_deadtime(cfg, m, &c->legs_3, &c->legs_2, &vfa, &vfb);
+            dtc_deadtime(cfg, m->vdc_iq, cfg->est.polarity_mid != 0U ? &c->i_prev : &i, &c->legs_3,
+                         &c->legs_2, &vfa, &vfb);
             fin.v_alpha_iq = fix_add32(fin.v_alpha_iq, vfa);
             fin.v_beta_iq = fix_add32(fin.v_beta_iq, vfb);
         }
@@ -311,11 +401,20 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
          * (eqs. 8-9) drives and is written into the low-pass state, so the voltage model starts
          * from it when the hand-over comes (dtc_config.h). */
         flux_est_seed(&c->fe, &fin);
+        if (cfg->est.lpf_comp != 0U) {
+            lpfcorr_predistort(c->lpf_r_iq, &c->fe.psi_alpha_iq, &c->fe.psi_beta_iq);
+        }
     } else {
         flux_est_step(&c->fe, &fin);
     }
     psi_a = c->fe.psi_alpha_iq;
     psi_b = c->fe.psi_beta_iq;
+    if (cfg->est.lpf_comp != 0U && cfg->est.estimator == DTC_EST_VOLTAGE) {
+        lpfcorr_rotate(c->lpf_r_iq, &psi_a, &psi_b); /* low-pass gain/phase undone (lpfcorr.h) */
+    }
+    if (cfg->est.dc_supp != 0U && cfg->est.estimator == DTC_EST_VOLTAGE) {
+        dtc_dcsupp(c, &i, m, &psi_a, &psi_b);
+    }
 
     /* 4. Torque (Hoang eq. 10); the estimate at k is reported as it is. */
     te = torque_eq10(psi_a, psi_b, i.i_alpha_iq, i.i_beta_iq);
@@ -333,6 +432,10 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         o->speed_tick = 1U;
         c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
         dtc_handover(c);
+        if (cfg->est.lpf_comp != 0U) {
+            dtc_lpf_r(c);
+        }
+        c->dcs_kw_iq = iq_mpy(cfg->est.dcs_k_iq, fix_abs32(c->speed_iq)); /* dtc_dcsupp: Ts l_s |w|/20 */
         if (c->act.mode == DTC_MODE_SPEED) {
             c->te_ref_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
         }
@@ -359,7 +462,8 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         c->v1d_alpha_iq = 0;
         c->v1d_beta_iq = 0;
         if (cfg->est.deadtime_comp != 0U) {
-            dtc_deadtime(cfg, m, &c->legs_2, &c->legs_1, &c->v1d_alpha_iq, &c->v1d_beta_iq);
+            dtc_deadtime(cfg, m->vdc_iq, &i, &c->legs_2, &c->legs_1, &c->v1d_alpha_iq,
+                         &c->v1d_beta_iq);
         }
         dtc_predict(c, &i, &psi_a, &psi_b, &te);
     }
@@ -385,6 +489,19 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         vec = swtab_null_choice(vec, c->vec_1);
         legs = swtab_sstp_legs(vec);
     }
+    if (cfg->prot.i_lim_iq > 0) {
+        /* Current limit (ilim.h) on the current predicted for k+1, or on i(k) without the
+         * delay compensation (the host's margin covers the second period then). */
+        vec = ilim_select(cfg, cfg->est.delay_comp != 0U ? &c->i1 : &i, vec, &c->i_limited);
+        if (c->i_limited != 0U) {
+            legs = cfg->board.topology == DTC_TOPO_FSTP ? swtab_fstp_legs(vec) : swtab_sstp_legs(vec);
+        }
+    }
+    c->i_prev.ia_iq = i.ia_iq; /* the sample at k is the previous one for the next step */
+    c->i_prev.ib_iq = i.ib_iq;
+    c->i_prev.ic_iq = i.ic_iq;
+    c->i_prev.i_alpha_iq = i.i_alpha_iq;
+    c->i_prev.i_beta_iq = i.i_beta_iq;
     c->legs_3.sa = c->legs_2.sa; /* field by field: no struct copy (memcpy) in the ISR */
     c->legs_3.sb = c->legs_2.sb;
     c->legs_3.sc = c->legs_2.sc;
@@ -410,4 +527,5 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     o->on_cm = cfg->est.estimator == DTC_EST_CURRENT ? 1U : c->on_cm;
     o->psi_ref_iq = c->act.flux_ref_iq;
     o->psir_mag_iq = 0;
+    o->i_limited = c->i_limited;
 }

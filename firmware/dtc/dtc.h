@@ -63,6 +63,7 @@ typedef struct {
     iq_t psi_ref_iq;       /* stator-flux reference in force, pu */
     iq_t psir_mag_iq;      /* IM law: estimated rotor-flux magnitude (Casadei eq. 21), updated on
                             * the speed-loop periods; PM: 0 */
+    uint16_t i_limited;    /* 1: the current limit (ilim.h) replaced the table's vector */
 } dtc_out_t;
 
 typedef struct {
@@ -95,6 +96,16 @@ typedef struct {
     uint16_t on_cm;      /* voltage model with hand-over: 1 while the current model drives */
     /* delay compensation (dtc_predict): voltage of legs_1, its drop and dead-time terms */
     iq_t v1_alpha_iq, v1_beta_iq, v1f_alpha_iq, v1f_beta_iq, v1d_alpha_iq, v1d_beta_iq;
+    /* current limit (ilim.h): the current predicted for k+1 by dtc_predict */
+    clarke_out_t i1;
+    /* ripple-robust polarity (polarity_mid): the previous sample and the period's mean current */
+    clarke_out_t i_prev, i_mid;
+    uint16_t i_limited;  /* 1: the current limit replaced the table's vector in the last step */
+    /* low-pass correction (lpfcorr.h): y ~ 1/max(|w|, w_min), r = sign(w) w_c y */
+    iq_t lpf_y_iq, lpf_r_iq;
+    /* DC-current suppression (dtc_dcsupp): the flux correction, alpha/beta, Q32 pu */
+    iq_t dcs_alpha_iq, dcs_beta_iq;
+    iq_t dcs_kw_iq;      /* its gain Ts l_s |w| / 20, updated at the speed-loop rate */
 } dtc_t;
 
 /* Validates cfg (dtc_config_validate) and initialises c. Returns DTC_OK or an enum dtc_err code;
@@ -125,14 +136,22 @@ int16_t dtc_shadow_write(dtc_t *c, const dtc_refs_t *r);
  * Not for the background. */
 void dtc_shadow_adopt(dtc_t *c, uint16_t seq);
 /* Dead-time compensation, shared by the laws (dtc_step, im_dtc_step): the error of the
- * reconstructed voltage of a period whose legs went from prev to cur, alpha/beta, IQ pu. */
-void dtc_deadtime(const dtc_config_t *cfg, const dtc_meas_t *m, const swtab_legs_t *prev,
+ * reconstructed voltage of a period whose legs went from prev to cur, alpha/beta, IQ pu, with the
+ * link voltage and the phase currents at the switching instant (PM law with polarity_mid: the
+ * previous sample for the estimator's period). 0 when no leg changed. */
+void dtc_deadtime(const dtc_config_t *cfg, iq_t vdc_iq, const clarke_out_t *i, const swtab_legs_t *prev,
                   const swtab_legs_t *cur, iq_t *dva, iq_t *dvb);
 /* Internal to dtc_step (actuation-delay compensation); out of line for the stack. On entry
- * *psi_a, *psi_b, *te hold the estimate at k; on return the prediction for k+1. */
-void dtc_predict(const dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t *te);
+ * *psi_a, *psi_b, *te hold the estimate at k; on return the prediction for k+1; the predicted current goes to c->i1_*. */
+void dtc_predict(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t *te);
 /* Internal to dtc_step (torque mode: reference plus mean-torque trim); out of line for the stack. */
 void dtc_torque_trim(dtc_t *c, iq_t te);
+
+/* Internal to dtc_step (DC-current suppression): updates the correction from the measured
+ * current and adds it to the estimate *psi_a, *psi_b. */
+void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, const dtc_meas_t *m, iq_t *psi_a, iq_t *psi_b);
+/* Internal to dtc_step (low-pass correction factor, lpfcorr.h). */
+void dtc_lpf_r(dtc_t *c);
 
 /* The set in force (for the background's display). */
 void dtc_refs_get(const dtc_t *c, dtc_refs_t *r);

@@ -39,6 +39,7 @@ static int16_t dtc_board_check(const dtc_board_cfg_t *b, const char **f)
                DTC_ERR_ADC, "board.adc_i_offset");
     DTC_REFUSE(b->adc_vdc_offset > 4095U, DTC_ERR_ADC, "board.adc_vdc_offset");
     DTC_REFUSE(b->adc_vmid_offset > 4095U, DTC_ERR_ADC, "board.adc_vmid_offset");
+    DTC_REFUSE(b->vmid_cal > 1U, DTC_ERR_POLARITY, "board.vmid_cal");
     return DTC_OK;
 }
 
@@ -47,6 +48,8 @@ static int16_t dtc_protect_check(const dtc_protect_cfg_t *p, const char **f)
     DTC_REFUSE(p->i_trip_iq <= 0, DTC_ERR_LIMIT, "prot.i_trip_iq");
     DTC_REFUSE(p->vdc_max_iq <= 0, DTC_ERR_LIMIT, "prot.vdc_max_iq");
     DTC_REFUSE(p->vdc_min_iq < 0 || p->vdc_min_iq >= p->vdc_max_iq, DTC_ERR_LIMIT, "prot.vdc_min_iq");
+    DTC_REFUSE(p->i_lim_iq < 0 || (p->i_lim_iq > 0 && p->i_lim_iq >= p->i_trip_iq), DTC_ERR_ILIM,
+               "prot.i_lim_iq");
     DTC_REFUSE(p->stall_speed_periods == 0U, DTC_ERR_SPEED, "prot.stall_speed_periods");
     return DTC_OK;
 }
@@ -89,6 +92,13 @@ static int16_t dtc_est_check(const dtc_est_cfg_t *e, uint16_t law, uint16_t topo
                DTC_ERR_HANDOVER, "est.handover_hyst_iq");
     DTC_REFUSE(e->delay_comp > 1U, DTC_ERR_DELAY, "est.delay_comp");
     DTC_REFUSE(e->deadtime_comp > 1U, DTC_ERR_DEADTIME, "est.deadtime_comp");
+    DTC_REFUSE(e->polarity_mid > 1U, DTC_ERR_POLARITY, "est.polarity_mid");
+    DTC_REFUSE(e->lpf_comp > 1U, DTC_ERR_LPFCOMP, "est.lpf_comp");
+    DTC_REFUSE(e->lpf_comp != 0U && e->wc_pu_iq <= 0, DTC_ERR_LPFCOMP, "est.wc_pu_iq");
+    DTC_REFUSE(e->lpf_comp != 0U && e->lpf_wmin_iq <= 0, DTC_ERR_LPFCOMP, "est.lpf_wmin_iq");
+    DTC_REFUSE(e->dc_supp > 1U, DTC_ERR_DCSUPP, "est.dc_supp");
+    DTC_REFUSE(e->dc_supp != 0U && e->dcs_k_iq <= 0, DTC_ERR_DCSUPP, "est.dcs_k_iq");
+    DTC_REFUSE(e->vmid_g_iq < 0, DTC_ERR_DCSUPP, "est.vmid_g_iq");
     if (law == DTC_LAW_IM_DTC && e->estimator == DTC_EST_IMPROVED) {
         DTC_REFUSE(e->im_k_lo_q31 <= 0, DTC_ERR_FLUX_EST, "est.im_k_lo_q31");
         DTC_REFUSE(e->im_k_hi_q31 <= 0, DTC_ERR_FLUX_EST, "est.im_k_hi_q31");

@@ -16,7 +16,7 @@
 #include "fixmath.h"
 
 /* Layout version: bump when a field is added, removed or changes meaning. */
-#define DTC_CONFIG_VERSION 4U
+#define DTC_CONFIG_VERSION 5U
 
 /* The control law the application runs (dtc_law.h dispatches on it). */
 enum dtc_law {
@@ -91,7 +91,11 @@ enum dtc_err {
     DTC_ERR_DELAY = -17,       /* delay compensation flag not 0/1, ts_pu or 1/l_s not > 0 */
     DTC_ERR_DEADTIME = -18,    /* dead-time compensation flag not 0/1, T_d/T_s outside [0, 1/2) */
     DTC_ERR_WEAKENING = -19,   /* IM flux-weakening parameters (im_fw.h) inconsistent */
-    DTC_ERR_STARTUP = -20      /* IM magnetisation threshold out of range */
+    DTC_ERR_STARTUP = -20,     /* IM magnetisation threshold out of range */
+    DTC_ERR_ILIM = -21,        /* current limit < 0 or not below the trip level */
+    DTC_ERR_POLARITY = -22,    /* polarity_mid or vmid_cal flag not 0/1 */
+    DTC_ERR_LPFCOMP = -23,     /* lpf_comp not 0/1, or w_c / w_min not > 0 with it on */
+    DTC_ERR_DCSUPP = -24       /* dc_supp not 0/1, its gain not > 0 with it on, mid-point gain < 0 */
 };
 
 /* Speed measurement: ring of encoder positions at the speed-loop rate (see speed_meas.h). */
@@ -130,6 +134,9 @@ typedef struct {
     uint16_t adc_vdc_offset;
     iq_t adc_vmid_gain_iq;    /* pu voltage per count, FSTP mid-point to negative rail */
     uint16_t adc_vmid_offset;
+    uint16_t vmid_cal;        /* FSTP with the mid-point measured: 1 = the app calibrates the
+                               * mid-point sensor against V_dc/2 with the gates off (app_core.c
+                               * calibrate_step), 0 = the mid-point as measured */
 } dtc_board_cfg_t;
 
 /* Protection levels for the app, pu. */
@@ -137,6 +144,8 @@ typedef struct {
     iq_t i_trip_iq;   /* phase-current trip */
     iq_t vdc_max_iq;  /* DC-link over-voltage */
     iq_t vdc_min_iq;  /* DC-link under-voltage */
+    iq_t i_lim_iq;    /* current-limit override on |i| (ilim.h), pu; 0 = off, else
+                       * 0 < i_lim < i_trip (derived on the host from the trip level) */
     uint16_t stall_speed_periods; /* app stall window in speed periods (> 0): the host converts
                                    * the stall time (0.1 s by default) with Ts and speed_div */
 } dtc_protect_cfg_t;
@@ -195,6 +204,19 @@ typedef struct {
     /* Dead-time compensation of the reconstructed voltage (dtc_deadtime; Casadei sec. 10.5: its
      * drive compensated the dead time). */
     uint16_t deadtime_comp;   /* 1: on, 0: off */
+    uint16_t polarity_mid;    /* 1: the drop compensation of period [k-1, k] takes the current
+                               * polarity from the period's mean current (i(k-1) + i(k))/2 and the
+                               * dead-time compensation from the current at the switching instant
+                               * i(k-1); 0: both from the sample i(k) */
+    uint16_t lpf_comp;        /* voltage model: 1 = gain/phase correction of the low-pass with the
+                               * measured speed (lpfcorr.h), 0 = the low-pass output as it is */
+    iq_t wc_pu_iq;            /* the low-pass cut-off w_c / w_base (> 0 when lpf_comp) */
+    iq_t lpf_wmin_iq;         /* the correction's speed floor, pu (> 0 when lpf_comp; 2 w_c) */
+    uint16_t dc_supp;         /* voltage model: 1 = DC-current suppression (dtc.c dtc_dcsupp) */
+    iq_t dcs_k_iq;            /* its gain per period over |w|, Ts l_s / 20 in pu (> 0 when dc_supp):
+                               * w_d = |w| / 20 */
+    iq_t vmid_g_iq;           /* FSTP mid-point regulation (dtc_dcsupp): phase-A DC current demanded
+                               * per volt of mid-point deviation, 2 C w_m in pu (>= 0; 0 = off) */
 
     /* IM improved estimator (Casadei eq. 20, section 10.2): Ts/tau = k_lo below |w| = w_lo,
      * k_hi above w_hi, linear in between with the host's slope (im_est.h). */

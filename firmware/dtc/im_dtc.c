@@ -113,7 +113,7 @@ void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m)
     if (cfg->est.deadtime_comp != 0U &&
         (c->legs_3.sa != c->legs_2.sa || c->legs_3.sb != c->legs_2.sb || c->legs_3.sc != c->legs_2.sc)) {
         /* a leg changed at the start of the period: its dead-time error (none otherwise) */
-        dtc_deadtime(cfg, m, &c->legs_3, &c->legs_2, &c->dva_iq, &c->dvb_iq);
+        dtc_deadtime(cfg, m->vdc_iq, &c->i, &c->legs_3, &c->legs_2, &c->dva_iq, &c->dvb_iq);
         in->v_alpha_iq = fix_add32(in->v_alpha_iq, c->dva_iq);
         in->v_beta_iq = fix_add32(in->v_beta_iq, c->dvb_iq);
     }

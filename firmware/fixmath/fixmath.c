@@ -169,3 +169,23 @@ uint16_t fix_quadrant(iq_t alpha, iq_t beta)
     }
     return 1U; /* origin */
 }
+
+iq_t iq_recip_newton(iq_t y, iq_t x)
+{
+    const iq_t two = iq_from_int(2);
+    y = iq_mpy(y, iq_sub(two, iq_mpy(x, y)));
+    return iq_mpy(y, iq_sub(two, iq_mpy(x, y)));
+}
+
+void iq_cmul_1jx(iq_t x, iq_t *a, iq_t *b)
+{
+    const iq_t a0 = *a;
+    *a = iq_sub(a0, iq_mpy(x, *b));
+    *b = iq_add(*b, iq_mpy(x, a0));
+}
+
+iq_t q32_integrate(int32_t *acc, iq_t k, iq_t x)
+{
+    *acc = fix_add32(*acc, fix_rshift_rnd64_sat32((int64_t)k * (int64_t)x, 16U));
+    return fix_rshift_rnd32(*acc, 8U);
+}

@@ -292,4 +292,20 @@ uint16_t fix_quadrant(iq_t alpha, iq_t beta);
  * magnitude saturates to IQ_MAX (only when sqrt(x^2 + y^2) >= 128 pu). */
 void fix_polar(iq_t x, iq_t y, angle_t *angle, iq_t *mag);
 
+/* ------------------------------------------------------------------------------------------ */
+/* Reciprocal, small complex factors, a high-resolution integrator (fixmath.c)                 */
+
+/* Two Newton steps y <- y (2 - x y) towards 1/x (x > 0, IQ): quadratic convergence for
+ * 0 < y < 2/x (the error e = 1 - x y becomes e^4); the caller keeps y from call to call. IQ
+ * throughout, products rounded; |y| <= 128 pu (saturating). */
+iq_t iq_recip_newton(iq_t y, iq_t x);
+
+/* (a + j b) <- (a + j b)(1 + j x): a - x b, b + x a. IQ, products rounded, sums saturated. */
+void iq_cmul_1jx(iq_t x, iq_t *a, iq_t *b);
+
+/* Integrator with 8 fractional bits below IQ: *acc (Q32 pu, +-0.5 pu, saturating) += k x
+ * (IQ x IQ rounded to Q32); returns *acc rounded to IQ. For increments below one IQ LSB per
+ * step (an IQ state would stop short by 0.5 LSB / k of input). */
+iq_t q32_integrate(int32_t *acc, iq_t k, iq_t x);
+
 #endif /* FIXMATH_H */

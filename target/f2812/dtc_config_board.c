@@ -4,7 +4,7 @@
 #include "dtc_config.h"
 
 const dtc_config_t g_dtc_config = {
-    .version = 4U,
+    .version = 5U,
     .law = 0U, /* enum dtc_law */
     .board = {
         .v_base_mv = 70000U,
@@ -27,11 +27,13 @@ const dtc_config_t g_dtc_config = {
         .adc_vdc_offset = 0U,
         .adc_vmid_gain_iq = 5853, /* 0.000348865986 pu */
         .adc_vmid_offset = 0U,
+        .vmid_cal = 0U,
     },
     .prot = {
         .i_trip_iq = 45756044, /* 2.72727275 pu */
         .vdc_max_iq = 21570706, /* 1.28571427 pu */
         .vdc_min_iq = 9586981, /* 0.571428597 pu */
+        .i_lim_iq = 37106323, /* 2.2117092 pu */
         .stall_speed_periods = 200U,
     },
     .machine = {
@@ -60,6 +62,13 @@ const dtc_config_t g_dtc_config = {
         .handover_hyst_iq = 534035, /* 0.0318309665 pu */
         .delay_comp = 1U,
         .deadtime_comp = 1U,
+        .polarity_mid = 1U,
+        .lpf_comp = 1U,
+        .wc_pu_iq = 267018, /* 0.015915513 pu */
+        .lpf_wmin_iq = 534035, /* 0.0318309665 pu */
+        .dc_supp = 1U,
+        .dcs_k_iq = 415, /* 2.47359276e-05 pu */
+        .vmid_g_iq = 0, /* 0 pu */
         .im_k_lo_q31 = 0, /* 0 */
         .im_k_hi_q31 = 0, /* 0 */
         .im_w_lo_iq = 0, /* 0 pu */

@@ -45,7 +45,9 @@ expect unsafe_protection 1 'protection.allow_unsafe = true' -- run "$scen" --out
 expect long_run 1 'use --decimate' -- run "$scen" --out "$work/o1" --set duration_s=9e4
 test -e "$work/o1" && { echo "FAIL: $work/o1 written by a refused run"; fail=$((fail + 1)); }
 # shellcheck disable=SC2086
-expect diverged 3 'plant_diverged' -- run "$scen" --out "$work/o2" -q $short --set load.torque_nm=1e300
+# long enough for the drive to start after its gates-off calibration (51 ms on the FSTP with the
+# mid-point calibration)
+expect diverged 3 'plant_diverged' -- run "$scen" --out "$work/o2" -q --set duration_s=0.08 --set metrics_window_s=0.01 --set load.torque_nm=1e300
 grep -q '"fault": "plant_diverged"' "$work/o2/metrics.json" || { echo "FAIL diverged: metrics.json"; fail=$((fail + 1)); }
 # shellcheck disable=SC2086
 expect hw_trip_named 0 'fault: hw_overcurrent' -- run "$src/tools/scenarios/open_loop_rated_current.toml" --out "$work/o3" --no-trace --set protection.hw_trip_current_a=1

@@ -176,10 +176,11 @@ TEST(SilClosedLoop, FstpMidPointDriftsOnAFiniteLinkWithTheVoltageModel)
 {
     // Not in the paper: on a finite split link (2 x 4.7 mF) the voltage-model FSTP drive with the
     // simple compensation lets the mid-point walk away from vdc/2 (a DC voltage error b gives a
-    // flux offset b/w_c and a DC phase-A current, which charges the capacitors) until control is
-    // lost; the current-model drive on the same link keeps the mid-point near vdc/2.
-    // Measured: voltage model trips on over-current after the lower capacitor reaches ~50 V;
-    // current model: mid-point within 35 +- 2 V.
+    // flux offset b/w_c and a DC phase-A current, which charges the capacitors); the current-model
+    // drive on the same link keeps the mid-point near vdc/2. Measured: voltage model 18 V off
+    // after the acceleration (the firmware's current limit keeps it running, its mid-point
+    // regulation pulls the mid-point back slowly: 40.6 V mean in the metrics window); current
+    // model: mid-point within 35 +- 4 V once settled.
     const fs::path dir_v = fs::temp_directory_path() / "sil_midpoint_voltage";
     const fs::path dir_c = fs::temp_directory_path() / "sil_midpoint_current";
     const Outcome v = run("fstp_voltage_simple_full_midpoint.toml", {}, dir_v.string());
@@ -245,9 +246,11 @@ TEST(SilClosedLoop, FixedPointFirmwareAgreesWithTheDoubleReference)
 TEST(SilClosedLoop, OverCurrentTripsWithinOneIsrPeriodAndGatesStayOff)
 {
     // A trip level below the running current: the first sample above it must see the gates off
-    // in that very period (trip decided in the ISR that sees the sample) and forever after.
+    // in that very period (trip decided in the ISR that sees the sample) and forever after. The
+    // firmware's current limit (ilim.h) is off here: it exists to keep the current below the
+    // trip, and this test checks the trip itself.
     const fs::path out = tmp("overcurrent");
-    const Outcome o = run("sstp_current_full.toml", {"protection.overcurrent_a=1.5", "duration_s=0.3",
+    const Outcome o = run("sstp_current_full.toml", {"protection.overcurrent_a=1.5", "control.current_limit_a=0", "duration_s=0.3",
                                                      "metrics_window_s=0.1", "initial_speed_rpm=0"},
                           out.string());
     EXPECT_NE(o.info.fault, "none");

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -69,8 +70,8 @@ TEST(PmProduct, TableIxOrderingFromStandstillWithTheCompensations)
     // Hoang Table IX/X trends at 1500 rpm full load: imbalance none > simple > proposed, proposed
     // <= 8 % (measured 7.9 %), current model <= 5 % (1.4 %); estimated torque above the true one
     // without compensation (0.330 vs 0.300 N*m) and within 3 % of rated with the proposed scheme
-    // (0.2996). The uncompensated scenario starts at 1500 rpm (it trips from standstill, see
-    // its header).
+    // (0.2996). Every scenario from standstill (the uncompensated one reaches 1500 rpm since the
+    // current limit, ilim.h; measured 63.6 / 21.1 / 7.5 / 1.4 %).
     const Outcome none = run("fstp_voltage_none_full.toml");
     const Outcome simple = run("fstp_voltage_simple_full.toml");
     const Outcome prop = run("fstp_voltage_proposed_full.toml");
@@ -140,4 +141,214 @@ TEST(PmProduct, FirmwareParametersAreSetApartFromThePlantsByKeys)
     Diagnostics d;
     EXPECT_FALSE(load_scenario(kScenarios + "fstp_voltage_proposed_full.toml", {"firmware.rs_ohm=-0.1"}, &sc, &d));
     EXPECT_NE(d.text().find("firmware.rs_ohm"), std::string::npos) << d.text();
+}
+
+TEST(PmProduct, UncompensatedVoltageModelStartsFromStandstillUnderTheCurrentLimit)
+{
+    // Issue 10: the four uncompensated voltage-model scenarios tripped on over-current during the
+    // acceleration (7.1-7.6 A against the 6 A trip). With the current limit below the trip
+    // (firmware/dtc/ilim.h, I_lim derived from the trip level: 4.87 A) they reach 1500 rpm and
+    // hold it within 1 %; with the limit off they still trip (the limit is what fixes it).
+    for (const char* f : {"fstp_voltage_none_full.toml", "fstp_voltage_none_half.toml",
+                          "fstp_voltage_none_inertial.toml", "sstp_voltage_none_full.toml"}) {
+        const Outcome o = run(f);
+        expect_speed_held(o, 1500.0, 0.01, f);
+    }
+    const Outcome t = run("fstp_voltage_none_full.toml", {"load.type=torque", "load.torque_nm=0.3"});
+    expect_speed_held(t, 1500.0, 0.01, "fstp none 0.3 N*m");
+    const Outcome off = run("fstp_voltage_none_full.toml", {"control.current_limit_a=0"});
+    EXPECT_EQ(off.info.fault, "overcurrent");
+}
+
+TEST(PmProduct, LowSpeedQuarterLoadHoldsSpeedProposedBestOfAll)
+{
+    // Hoang Figs. 18-20 operating points, 25 % load (0.075 N*m constant), the voltage model from
+    // 100 rpm on (control.handover_rpm=100): 700 rpm with every compensation, 300 rpm with simple
+    // and proposed, 200 rpm with proposed hold the speed within 2 % with no trip, the proposed
+    // imbalance is below the simple one (margin: 3/4 of it), and the proposed scheme's estimated
+    // torque is within 3 % of the true one (the low-pass correction). Measured (imbalance none /
+    // simple / proposed, seed 1): 700 rpm 202.5 / 58.7 / 19.8 %, 300 rpm 87.2 / 18.4 %, 200 rpm
+    // 90.2 / 51.9 % (the proposed figure depends on the noise seed: 13-52 % at 200 rpm over seeds
+    // 1-3); estimated torque 0.0898 / 0.0846 N*m against 0.0903 / 0.0853 at 300 / 200 rpm. Before (main): the proposed scheme tripped at 700
+    // and 200 rpm and ran with 21.4 % imbalance at 300 rpm. Simple at 200 rpm (not a target) runs.
+    const std::vector<std::string> base = {"load.type=torque", "load.torque_nm=0.075", "control.handover_rpm=100",
+                                           "duration_s=2.5", "metrics_window_s=0.6"};
+    auto at = [&](const char* comp, double rpm, bool target = true) {
+        std::vector<std::string> s = base;
+        s.push_back("control.speed_ref_rpm=" + std::to_string(rpm));
+        const Outcome o = run(std::string("fstp_voltage_") + comp + "_full.toml", s);
+        if (target) {
+            expect_speed_held(o, rpm, 0.02, std::string(comp) + " " + std::to_string(rpm));
+        } else {
+            EXPECT_EQ(o.info.fault, "none") << comp << " " << rpm;
+        }
+        return o;
+    };
+    {
+        const Outcome none = at("none", 700.0);
+        const Outcome simple = at("simple", 700.0);
+        const Outcome prop = at("proposed", 700.0);
+        ASSERT_TRUE(simple.m.imbalance_pct && prop.m.imbalance_pct && none.m.imbalance_pct);
+        EXPECT_LT(*prop.m.imbalance_pct, 0.5 * *simple.m.imbalance_pct);
+        EXPECT_LT(*simple.m.imbalance_pct, *none.m.imbalance_pct);
+    }
+    for (double rpm : {300.0, 200.0}) {
+        const Outcome simple = at("simple", rpm, rpm > 250.0);
+        const Outcome prop = at("proposed", rpm);
+        ASSERT_TRUE(simple.m.imbalance_pct && prop.m.imbalance_pct && prop.m.torque_est_mean_nm);
+        EXPECT_LT(*prop.m.imbalance_pct, 0.75 * *simple.m.imbalance_pct) << rpm;
+        EXPECT_NEAR(*prop.m.torque_est_mean_nm, prop.m.torque_mean_nm, 0.03 * prop.m.torque_mean_nm) << rpm;
+    }
+}
+
+TEST(PmProduct, EachLowSpeedEstimatorFixMeasurablyHelps)
+{
+    // Each option on/off, proposed FSTP, 25 % load, voltage model from 100 rpm:
+    //   control.polarity_mid (period-mean / switching-instant current): thd40_total at 700 / 300 /
+    //     200 rpm 33.7 / 111.0 / 113.0 -> 33.8 / 41.8 / 45.9 % (a single speed's figure moves
+    //     with the noise seed; the sum over the three speeds much less);
+    //   control.lpf_comp (low-pass gain/phase correction): 200 rpm estimated torque 0.0475 ->
+    //     0.0846 N*m (true 0.0853).
+    // (control.dc_supp: Thd40OfTheProposedFstpWithinTheTarget.)
+    const std::vector<std::string> base = {"load.type=torque", "load.torque_nm=0.075", "control.handover_rpm=100",
+                                           "duration_s=2.5", "metrics_window_s=0.6"};
+    auto at = [&](double rpm, const char* extra) {
+        std::vector<std::string> s = base;
+        s.push_back("control.speed_ref_rpm=" + std::to_string(rpm));
+        if (extra != nullptr) {
+            s.push_back(extra);
+        }
+        const Outcome o = run("fstp_voltage_proposed_full.toml", s);
+        EXPECT_EQ(o.info.fault, "none") << rpm << " " << (extra ? extra : "");
+        return o;
+    };
+    double thd_on = 0.0, thd_off = 0.0;
+    for (double rpm : {700.0, 300.0, 200.0}) {
+        const Outcome on = at(rpm, nullptr);
+        const Outcome off = at(rpm, "control.polarity_mid=false");
+        ASSERT_TRUE(on.m.thd40_total_pct && off.m.thd40_total_pct);
+        thd_on += *on.m.thd40_total_pct;
+        thd_off += *off.m.thd40_total_pct;
+    }
+    EXPECT_LT(thd_on, 0.7 * thd_off);
+    const Outcome on200 = at(200.0, nullptr);
+    const Outcome lpf_off = at(200.0, "control.lpf_comp=false");
+    ASSERT_TRUE(on200.m.torque_est_mean_nm && lpf_off.m.torque_est_mean_nm);
+    EXPECT_LT(std::fabs(*on200.m.torque_est_mean_nm - on200.m.torque_mean_nm), 0.03 * on200.m.torque_mean_nm);
+    EXPECT_GT(std::fabs(*lpf_off.m.torque_est_mean_nm - lpf_off.m.torque_mean_nm), 0.2 * lpf_off.m.torque_mean_nm);
+}
+
+TEST(PmProduct, Thd40OfTheProposedFstpWithinTheTarget)
+{
+    // Issue 10: thd40_total_pct <= 10 % for the proposed FSTP at 1500 rpm full load (paper 7.16 %),
+    // from standstill, for three noise seeds. Measured 8.1 / 8.4 / 8.3 % (26.2 % before: no
+    // ripple-robust polarity, no DC-current suppression); with control.dc_supp=false 10.7 / 10.9 /
+    // 14.9 %: the DC-current suppression is what brings it below the target with a margin.
+    double on = 0.0, off = 0.0;
+    for (const char* seed : {"sensors.seed=1", "sensors.seed=2", "sensors.seed=3"}) {
+        const Outcome o = run("fstp_voltage_proposed_full.toml", {seed});
+        expect_speed_held(o, 1500.0, 0.01, seed);
+        ASSERT_TRUE(o.m.thd40_total_pct);
+        EXPECT_LT(*o.m.thd40_total_pct, 9.5) << seed;
+        const Outcome f = run("fstp_voltage_proposed_full.toml", {seed, "control.dc_supp=false"});
+        ASSERT_TRUE(f.m.thd40_total_pct);
+        on += *o.m.thd40_total_pct;
+        off += *f.m.thd40_total_pct;
+    }
+    EXPECT_LT(on, 0.92 * off);
+}
+
+TEST(PmProduct, CurrentSensorGainCornersKeepEveryVoltageModelSchemeRunning)
+{
+    // Datasheet-grade current sensors (gain errors +-2 %, alternating signs) from standstill: no
+    // trip, 1500 rpm held within 1 %, for every voltage-model scenario. (The DC-link and
+    // mid-point voltage corners are NOT met on the FSTP: docs/firmware-core.md.)
+    for (const char* f : {"fstp_voltage_none_full.toml", "fstp_voltage_simple_full.toml",
+                          "fstp_voltage_proposed_full.toml", "sstp_voltage_none_full.toml",
+                          "sstp_voltage_simple_full.toml"}) {
+        for (const char* g : {"sensors.current_gain_error=[0.02,-0.02,0.02]",
+                              "sensors.current_gain_error=[-0.02,0.02,-0.02]"}) {
+            expect_speed_held(run(f, {g}), 1500.0, 0.01, std::string(f) + " " + g);
+        }
+    }
+}
+
+TEST(PmProduct, FstpVoltageSensorCornersKeepRunningOnTheStiffLink)
+{
+    // Issue 10 realistic sensors on the FSTP (stiff split link, as the scenarios): DC-link gain
+    // +-2 %, DC-link offset +-1 V, mid-point offset +-0.5 V, from standstill: no trip, 1500 rpm
+    // held within 1 %, for none / simple / proposed. Before: over-current in every corner (then a
+    // stall with the current limit alone); the mid-point calibration (control.vmid_cal) is what
+    // makes them run: with it off the proposed scheme stalls at +2 % link gain.
+    for (const char* f : {"fstp_voltage_none_full.toml", "fstp_voltage_simple_full.toml",
+                          "fstp_voltage_proposed_full.toml"}) {
+        for (const char* c : {"sensors.vdc_gain_error=0.02", "sensors.vdc_gain_error=-0.02", "sensors.vdc_offset_v=1",
+                              "sensors.vdc_offset_v=-1", "sensors.vmid_offset_v=0.5", "sensors.vmid_offset_v=-0.5"}) {
+            expect_speed_held(run(f, {c}), 1500.0, 0.01, std::string(f) + " " + c);
+        }
+    }
+    const Outcome off = run("fstp_voltage_proposed_full.toml", {"sensors.vdc_gain_error=0.02", "control.vmid_cal=false"});
+    EXPECT_NE(off.info.fault, "none");
+}
+
+TEST(PmProduct, FiniteSplitLinkKeepsTheTableIxOrdering)
+{
+    // Issue 10 item 5: the FSTP on finite split capacitors (4.7 mF each, 10 kohm balancing
+    // resistors, 25 mohm ESR) from standstill, with the DC-current suppression and the mid-point
+    // regulation (control.dc_supp): no trip, 1500 rpm held, imbalance none > simple > proposed,
+    // proposed <= 8 % and thd40 <= 10 %. Measured (report.py) 59.6 / 18.8 / 7.4 %, thd40 8.4 %;
+    // with control.dc_supp=false 57.2 / 6.7 / 6.6 %, thd40 10.2 % (simple 47.1 %). The corners that
+    // hold on the finite link: mid-point offset +-0.5 V, DC-link gain +2 %, offset +1 V. NOT met
+    // (docs/firmware-core.md): DC-link gain -2 % and offset -1 V stall every FSTP scheme on it.
+    const std::vector<std::string> fin = {"inverter.finite_dc_link=true", "inverter.r_bal_ohm=10000",
+                                          "inverter.esr_ohm=0.025"};
+    auto with = [&](std::vector<std::string> v, const char* extra) {
+        if (extra != nullptr) {
+            v.push_back(extra);
+        }
+        return v;
+    };
+    const Outcome none = run("fstp_voltage_none_full.toml", fin);
+    const Outcome simple = run("fstp_voltage_simple_full.toml", fin);
+    const Outcome prop = run("fstp_voltage_proposed_full.toml", fin);
+    expect_speed_held(none, 1500.0, 0.01, "none finite");
+    expect_speed_held(simple, 1500.0, 0.01, "simple finite");
+    expect_speed_held(prop, 1500.0, 0.01, "proposed finite");
+    ASSERT_TRUE(none.m.imbalance_pct && simple.m.imbalance_pct && prop.m.imbalance_pct && prop.m.thd40_total_pct);
+    EXPECT_GT(*none.m.imbalance_pct, *simple.m.imbalance_pct);
+    EXPECT_GT(*simple.m.imbalance_pct, *prop.m.imbalance_pct);
+    EXPECT_LE(*prop.m.imbalance_pct, 8.0);
+    EXPECT_LE(*prop.m.thd40_total_pct, 10.0);
+    for (const char* c : {"sensors.vmid_offset_v=0.5", "sensors.vmid_offset_v=-0.5", "sensors.vdc_gain_error=0.02",
+                          "sensors.vdc_offset_v=1"}) {
+        expect_speed_held(run("fstp_voltage_proposed_full.toml", with(fin, c)), 1500.0, 0.01, c);
+    }
+}
+
+TEST(PmProduct, SstpVoltageCornersKeepRunning)
+{
+    // SSTP (none, [29]): DC-link gain +-2 %, offset +-1 V from standstill: no trip, 1500 rpm held.
+    for (const char* f : {"sstp_voltage_none_full.toml", "sstp_voltage_simple_full.toml"}) {
+        for (const char* c : {"sensors.vdc_gain_error=0.02", "sensors.vdc_gain_error=-0.02",
+                              "sensors.vdc_offset_v=1", "sensors.vdc_offset_v=-1"}) {
+            expect_speed_held(run(f, {c}), 1500.0, 0.01, std::string(f) + " " + c);
+        }
+    }
+}
+
+TEST(PmProduct, BadCurrentLimitIsRefusedNamingTheKey)
+{
+    Scenario sc;
+    Diagnostics d;
+    EXPECT_FALSE(load_scenario(kScenarios + "fstp_voltage_proposed_full.toml", {"control.current_limit_a=-1"}, &sc, &d));
+    EXPECT_NE(d.text().find("control.current_limit_a"), std::string::npos) << d.text();
+    // at or above the trip: refused by the converter, naming the key
+    Diagnostics d2;
+    ASSERT_TRUE(load_scenario(kScenarios + "fstp_voltage_proposed_full.toml", {"control.current_limit_a=6"}, &sc, &d2))
+        << d2.text();
+    RunOptions opt;
+    RunResult r;
+    std::string err;
+    EXPECT_FALSE(run_scenario(sc, opt, &r, &err));
+    EXPECT_NE(err.find("control.current_limit_a"), std::string::npos) << err;
 }

@@ -46,6 +46,13 @@ static void meas_idle(void)
     fx.m.trip = 0U;
 }
 
+/* Calibration length: the current offsets take 2^APP_CAL_LOG2 samples, the FSTP mid-point
+ * calibration (cfg.vmid_cal) 2^APP_VMID_CAL_LOG2. */
+static uint16_t cal_len(void)
+{
+    return (uint16_t)(1U << (fx.cfg.board.vmid_cal != 0U ? APP_VMID_CAL_LOG2 : APP_CAL_LOG2));
+}
+
 static uint16_t step(void)
 {
     uint16_t off = app_core_step(&fx.app, &fx.m, &fx.cmd);
@@ -83,7 +90,7 @@ static void run_to_state(int topology, int offset_error)
     for (k = 0; k < 3; k++) {
         fx.m.adc[k] = (uint16_t)(fx.si.adc_i_offset[k] + offset_error);
     }
-    for (k = 0; k < (1U << APP_CAL_LOG2); k++) {
+    for (k = 0; k < cal_len(); k++) {
         /* Gates stay off during the whole calibration. */
         assert_int_equal(step(), 1);
         assert_int_equal(fx.cmd.enable, 0);
@@ -110,7 +117,7 @@ static void test_calibration_mean_is_rounded_with_noise(void **state)
     assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
     /* Alternating +3 / -2 counts around nominal+10: mean = nominal + 10.5 -> rounds to +11 (B)
      * and a constant +10 on C. FSTP calibrates B and C only. */
-    for (k = 0; k < (1U << APP_CAL_LOG2); k++) {
+    for (k = 0; k < cal_len(); k++) {
         fx.m.adc[HAL_ADC_IB] = (uint16_t)(fx.si.adc_i_offset[1] + 10 + ((k & 1U) ? 3 : -2));
         fx.m.adc[HAL_ADC_IC] = (uint16_t)(fx.si.adc_i_offset[2] + 10);
         fx.m.adc[HAL_ADC_IA] = 0U; /* not fitted on the FSTP board: must not matter */
@@ -120,6 +127,54 @@ static void test_calibration_mean_is_rounded_with_noise(void **state)
     assert_int_equal(fx.app.offset[HAL_ADC_IB], fx.si.adc_i_offset[1] + 11);
     assert_int_equal(fx.app.offset[HAL_ADC_IC], fx.si.adc_i_offset[2] + 10);
     assert_int_equal(fx.app.offset[HAL_ADC_IA], fx.si.adc_i_offset[0]);
+}
+
+/* FSTP mid-point calibration (app_core.c app_vmid_cal_add/set): a mid-point sensor reading 1.5 V
+ * high (+-1 count of noise) against V_dc/2 is calibrated out to within one ADC count of voltage,
+ * so the per-unit mid-point in RUN is V_dc/2; one reading 5 V high (above V_dc/16 = 4.4 V) is a
+ * broken sensor: ADC-offset fault naming the channel. Off (vmid_cal = 0) the mid-point passes
+ * as measured. */
+static void test_midpoint_calibration(void **state)
+{
+    (void)state;
+    setup_topology(DTC_TOPO_FSTP);
+    assert_int_equal(fx.cfg.board.vmid_cal, 1U);
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    const uint16_t mid = v_counts(fx.si.vdc_v / 2.0 + 1.5);
+    for (uint16_t k = 0; k < cal_len(); k++) {
+        fx.m.adc[HAL_ADC_VMID] = (uint16_t)(mid + ((k & 1U) ? 1 : -1));
+        assert_int_equal(step(), 1);
+    }
+    assert_int_equal(fx.app.st.state, APP_STATE_RUN);
+    fx.m.adc[HAL_ADC_VMID] = mid;
+    dtc_meas_t pu;
+    app_core_convert(&fx.app, &fx.m, &pu);
+    const double lsb_v = fx.si.adc_vmid_v_per_count;
+    const double vmid_v = (double)pu.vmid_iq / 16777216.0 * fx.b.v_base_v;
+    const double vdc_v = (double)pu.vdc_iq / 16777216.0 * fx.b.v_base_v;
+    assert_true(fabs(vmid_v - vdc_v / 2.0) < lsb_v);
+
+    setup_topology(DTC_TOPO_FSTP);
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    fx.m.adc[HAL_ADC_VMID] = v_counts(fx.si.vdc_v / 2.0 + 5.0);
+    for (uint16_t k = 0; k < cal_len(); k++) {
+        step();
+    }
+    assert_int_equal(fx.app.st.state, APP_STATE_FAULT);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_ADC_OFFSET);
+    assert_int_equal(fx.app.st.fault_detail, HAL_ADC_VMID);
+
+    setup_topology(DTC_TOPO_FSTP);
+    fx.si.vmid_cal = 0;
+    assert_int_equal(dtc_config_from_si(&fx.si, &fx.cfg, NULL, 0), 0);
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    fx.m.adc[HAL_ADC_VMID] = mid;
+    for (uint16_t k = 0; k < cal_len(); k++) {
+        step();
+    }
+    assert_int_equal(fx.app.st.state, APP_STATE_RUN);
+    app_core_convert(&fx.app, &fx.m, &pu);
+    assert_true(fabs((double)pu.vmid_iq / 16777216.0 * fx.b.v_base_v - vdc_v / 2.0 - 1.5) < lsb_v);
 }
 
 static void test_offset_too_far_is_a_fault(void **state)
@@ -254,9 +309,9 @@ static void test_hw_trip_and_clear(void **state)
     fx.m.trip = 0U;
     assert_int_equal(step(), 1); /* still latched without a clear request */
     fx.app.clear_request = 1U;
-    for (k = 0; k < (1U << APP_CAL_LOG2); k++) {
+    for (k = 0; k < cal_len(); k++) {
         assert_int_equal(step(), 1); /* recalibrates with the gates off */
-        assert_int_equal(fx.app.st.state, k + 1U < (1U << APP_CAL_LOG2) ? APP_STATE_CALIBRATE : APP_STATE_RUN);
+        assert_int_equal(fx.app.st.state, k + 1U < cal_len() ? APP_STATE_CALIBRATE : APP_STATE_RUN);
     }
     assert_int_equal(step(), 0);
     assert_int_equal(fx.cmd.enable, 1);
@@ -355,7 +410,7 @@ static void test_encoder_jump_threshold_scales_with_ts_and_lines(void **state)
         /* One count per period at 1 us must not trip; the threshold + 1 must. */
         fx.m.tick = 0U;
         meas_idle();
-        for (uint16_t k = 0; k < (1U << APP_CAL_LOG2); k++) {
+        for (uint16_t k = 0; k < cal_len(); k++) {
             (void)step();
         }
         assert_int_equal(fx.app.st.state, APP_STATE_RUN);
@@ -386,7 +441,7 @@ static void test_stall_is_a_fault_and_acceleration_is_not(void **state)
         assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
         fx.m.tick = 0U;
         meas_idle();
-        for (uint16_t k = 0; k < (1U << APP_CAL_LOG2); k++) {
+        for (uint16_t k = 0; k < cal_len(); k++) {
             (void)step();
         }
         assert_int_equal(fx.app.st.state, APP_STATE_RUN);
@@ -462,6 +517,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_calibration_finds_offsets_then_runs),
         cmocka_unit_test(test_calibration_mean_is_rounded_with_noise),
+        cmocka_unit_test(test_midpoint_calibration),
         cmocka_unit_test(test_offset_too_far_is_a_fault),
         cmocka_unit_test(test_bad_config_latches_config_fault),
         cmocka_unit_test(test_conversion_matches_double_reference),

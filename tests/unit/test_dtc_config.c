@@ -108,6 +108,13 @@ MUT(m_handover_hyst, s->handover_hyst_frac = 1.5)
 MUT(m_delay, s->delay_comp = 2)
 MUT(m_deadtime, s->deadtime_comp = 3)
 MUT(m_dead_time_long, s->dead_time_s = 30e-6)
+MUT(m_ilim_neg, { s->current_limit_auto = 0; s->current_limit_a = -1.0; })
+MUT(m_ilim_trip, { s->current_limit_auto = 0; s->current_limit_a = 6.0; })
+MUT(m_polarity, s->polarity_mid = 2)
+MUT(m_vmid_cal, s->vmid_cal = 2)
+MUT(m_lpf_comp, s->lpf_comp = 2)
+MUT(m_dc_supp, s->dc_supp = 2)
+MUT(m_c_dc, s->c_dc_f = 0.0)
 
 static void test_bad_si_configs_refused_with_field(void **state)
 {
@@ -149,6 +156,13 @@ static void test_bad_si_configs_refused_with_field(void **state)
         {m_delay, DTC_SI_ERR_DELAY, "delay_comp"},
         {m_deadtime, DTC_SI_ERR_DEADTIME, "deadtime_comp"},
         {m_dead_time_long, DTC_SI_ERR_DEADTIME, "dead_time_s"},
+        {m_ilim_neg, DTC_SI_ERR_ILIM, "current_limit_a"},
+        {m_ilim_trip, DTC_SI_ERR_ILIM, "current_limit_a"},
+        {m_polarity, DTC_SI_ERR_ILIM, "polarity_mid"},
+        {m_vmid_cal, DTC_SI_ERR_ILIM, "vmid_cal"},
+        {m_lpf_comp, DTC_SI_ERR_CUTOFF, "lpf_comp"},
+        {m_dc_supp, DTC_SI_ERR_CUTOFF, "dc_supp"},
+        {m_c_dc, DTC_SI_ERR_INVERTER, "c_dc_f"},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         dtc_config_si_t si;
@@ -208,6 +222,15 @@ FMUT(f_inv_ls, c->machine.pm.inv_ls_iq = -1)
 FMUT(f_deadtime, c->est.deadtime_comp = 2U)
 FMUT(f_td, c->board.td_ts_q15 = Q15(0.5))
 FMUT(f_law, c->law = 2U)
+FMUT(f_ilim_neg, c->prot.i_lim_iq = -1)
+FMUT(f_ilim_trip, c->prot.i_lim_iq = c->prot.i_trip_iq)
+FMUT(f_polarity, c->est.polarity_mid = 2U)
+FMUT(f_vmid_cal, c->board.vmid_cal = 2U)
+FMUT(f_lpf_comp, c->est.lpf_comp = 2U)
+FMUT(f_lpf_wc, c->est.wc_pu_iq = 0)
+FMUT(f_dcs, c->est.dc_supp = 2U)
+FMUT(f_dcs_k, c->est.dcs_k_iq = 0)
+FMUT(f_vmid_g, c->est.vmid_g_iq = -1)
 
 static void test_dtc_init_refuses_bad_struct(void **state)
 {
@@ -234,6 +257,11 @@ static void test_dtc_init_refuses_bad_struct(void **state)
         {f_inv_ls, DTC_ERR_MACHINE, "machine.pm.inv_ls_iq"},
         {f_deadtime, DTC_ERR_DEADTIME, "est.deadtime_comp"}, {f_td, DTC_ERR_DEADTIME, "board.td_ts_q15"},
         {f_law, DTC_ERR_VARIANT, "law"},
+        {f_ilim_neg, DTC_ERR_ILIM, "prot.i_lim_iq"}, {f_ilim_trip, DTC_ERR_ILIM, "prot.i_lim_iq"},
+        {f_polarity, DTC_ERR_POLARITY, "est.polarity_mid"}, {f_vmid_cal, DTC_ERR_POLARITY, "board.vmid_cal"},
+        {f_lpf_comp, DTC_ERR_LPFCOMP, "est.lpf_comp"}, {f_lpf_wc, DTC_ERR_LPFCOMP, "est.wc_pu_iq"},
+        {f_dcs, DTC_ERR_DCSUPP, "est.dc_supp"}, {f_dcs_k, DTC_ERR_DCSUPP, "est.dcs_k_iq"},
+        {f_vmid_g, DTC_ERR_DCSUPP, "est.vmid_g_iq"},
     };
     dtc_config_si_t si;
     dtc_config_t good;

@@ -19,10 +19,11 @@
     IQ(board, v_ce_iq) IQ(board, v_d_iq) IQ(board, r_on_iq) U(board, enc_counts)                   \
     U(board, enc_gain_q16) U(board, enc_offset) IQ(board, adc_i_gain_iq)                           \
     ARR3(board, adc_i_offset) IQ(board, adc_vdc_gain_iq) U(board, adc_vdc_offset)                   \
-    IQ(board, adc_vmid_gain_iq) U(board, adc_vmid_offset)                                          \
+    IQ(board, adc_vmid_gain_iq) U(board, adc_vmid_offset) U(board, vmid_cal)                       \
     END(board)                                                                                    \
     P(prot)                                                                                       \
-    IQ(prot, i_trip_iq) IQ(prot, vdc_max_iq) IQ(prot, vdc_min_iq) U(prot, stall_speed_periods)     \
+    IQ(prot, i_trip_iq) IQ(prot, vdc_max_iq) IQ(prot, vdc_min_iq) IQ(prot, i_lim_iq)               \
+    U(prot, stall_speed_periods)                                                                  \
     END(prot)                                                                                     \
     P(machine)                                                                                    \
     U(machine, pole_pairs) IQ(machine, rs_iq)                                                      \
@@ -37,6 +38,8 @@
     P(est)                                                                                        \
     U(est, estimator) U(est, compensation) Q31(est, k_in_q31) Q31(est, k_leak_q31)                 \
     IQ(est, handover_speed_iq) IQ(est, handover_hyst_iq) U(est, delay_comp) U(est, deadtime_comp)  \
+    U(est, polarity_mid) U(est, lpf_comp) IQ(est, wc_pu_iq) IQ(est, lpf_wmin_iq) U(est, dc_supp)   \
+    IQ(est, dcs_k_iq) IQ(est, vmid_g_iq)                                                          \
     Q31(est, im_k_lo_q31) Q31(est, im_k_hi_q31) IQ(est, im_w_lo_iq) IQ(est, im_w_hi_iq)           \
     Q31(est, im_k_slope_q31)                                                                      \
     END(est)                                                                                      \

@@ -92,6 +92,13 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->i_trip_a = PLANT_DEF_OVERCURRENT_A;
     si->vdc_max_v = PLANT_DEF_VDC_MAX_V;
     si->vdc_min_v = PLANT_DEF_VDC_MIN_V;
+    si->current_limit_auto = 1;
+    si->current_limit_a = 0.0;
+    si->polarity_mid = 1;
+    si->vmid_cal = 1;
+    si->lpf_comp = 1;
+    si->dc_supp = 1;
+    si->c_dc_f = PLANT_DEF_C_DC_F;
     /* bases: V_dc, rated peak current, rated electrical speed */
     si->v_base_v = PLANT_DEF_VDC_V;
     si->i_base_a = PLANT_DEF_PM_RATED_CURRENT_A;
@@ -157,6 +164,16 @@ double dtc_handover_default_rpm(const dtc_config_si_t *si)
     double w_lpf = 10.0 * si->lpf_cutoff_rad_s;
     double w = w_emf > w_lpf ? w_emf : w_lpf;
     return w * 30.0 / M_PI / (double)si->pole_pairs;
+}
+
+double dtc_ilim_default_a(const dtc_config_si_t *si)
+{
+    double v_max = si->topology == DTC_TOPO_SSTP ? 2.0 * si->vdc_v / 3.0 : si->vdc_v / sqrt(3.0);
+    double w_max = si->speed_limit_rpm * M_PI / 30.0 * (double)si->pole_pairs;
+    double e_max = fmin(w_max * si->psi_m_wb, v_max);
+    double di = si->ts_s * (v_max + e_max + si->rs_ohm * si->i_trip_a) / si->ls_h;
+    double lim = si->i_trip_a - (si->delay_comp != 0 ? 1.0 : 2.0) * di;
+    return lim > 0.0 ? lim : 0.0;
 }
 
 void dtc_bases_from_si(const dtc_config_si_t *si, dtc_bases_t *b)
@@ -404,6 +421,19 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
         return fail(&c, DTC_SI_ERR_GAIN, "torque_trim_tau_s = %g: must be 0 (off) or longer than ts_s = %g", si->torque_trim_tau_s, si->ts_s);
     if (!(si->speed_limit_rpm > 0.0)) return fail(&c, DTC_SI_ERR_LIMIT, "speed_limit_rpm = %g: must be > 0", si->speed_limit_rpm);
     if (!(si->i_trip_a > 0.0)) return fail(&c, DTC_SI_ERR_LIMIT, "i_trip_a = %g: must be > 0", si->i_trip_a);
+    if (!(si->c_dc_f > 0.0))
+        return fail(&c, DTC_SI_ERR_INVERTER, "c_dc_f = %g: must be > 0", si->c_dc_f);
+    if (si->dc_supp != 0 && si->dc_supp != 1)
+        return fail(&c, DTC_SI_ERR_CUTOFF, "dc_supp = %d: must be 0 or 1", si->dc_supp);
+    if (si->lpf_comp != 0 && si->lpf_comp != 1)
+        return fail(&c, DTC_SI_ERR_CUTOFF, "lpf_comp = %d: must be 0 or 1", si->lpf_comp);
+    if (si->vmid_cal != 0 && si->vmid_cal != 1)
+        return fail(&c, DTC_SI_ERR_ILIM, "vmid_cal = %d: must be 0 or 1", si->vmid_cal);
+    if (si->polarity_mid != 0 && si->polarity_mid != 1)
+        return fail(&c, DTC_SI_ERR_ILIM, "polarity_mid = %d: must be 0 or 1", si->polarity_mid);
+    if (si->current_limit_auto == 0 &&
+        !(si->current_limit_a >= 0.0 && (si->current_limit_a == 0.0 || si->current_limit_a < si->i_trip_a)))
+        return fail(&c, DTC_SI_ERR_ILIM, "current_limit_a = %g: must be 0 (off) or in (0, i_trip_a = %g)", si->current_limit_a, si->i_trip_a);
     if (!(si->vdc_min_v >= 0.0 && si->vdc_max_v > si->vdc_min_v))
         return fail(&c, DTC_SI_ERR_LIMIT, "vdc_min_v = %g, vdc_max_v = %g: need 0 <= min < max", si->vdc_min_v, si->vdc_max_v);
     if (!(si->flux_ref_wb > 0.0)) return fail(&c, DTC_SI_ERR_REFERENCE, "flux_ref_wb = %g: must be > 0", si->flux_ref_wb);
@@ -535,6 +565,30 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     cfg->prot.i_trip_iq = to_iq(&c, "i_trip_a", si->i_trip_a, si->i_trip_a / b.i_base_a);
     cfg->prot.vdc_max_iq = to_iq(&c, "vdc_max_v", si->vdc_max_v, si->vdc_max_v / b.v_base_v);
     cfg->prot.vdc_min_iq = to_iq(&c, "vdc_min_v", si->vdc_min_v, si->vdc_min_v / b.v_base_v);
+    if (si->law == DTC_LAW_PM_DTC) {
+        /* PM law only (dtc.c): current limit, ripple-robust polarity, low-pass correction,
+         * DC-current suppression and mid-point regulation; off (0) for the IM law. */
+        double ilim = si->current_limit_auto != 0 ? dtc_ilim_default_a(si) : si->current_limit_a;
+        cfg->prot.i_lim_iq = ilim > 0.0 ? to_iq(&c, "current_limit_a", ilim, ilim / b.i_base_a) : 0;
+        if (cfg->prot.i_lim_iq >= cfg->prot.i_trip_iq) {
+            cfg->prot.i_lim_iq = cfg->prot.i_trip_iq - 1; /* below the trip after rounding */
+        }
+        cfg->est.polarity_mid = (uint16_t)si->polarity_mid;
+        cfg->est.lpf_comp = (uint16_t)si->lpf_comp;
+        cfg->est.dc_supp = (uint16_t)si->dc_supp;
+        /* Ts l_s / 20 in pu (the firmware multiplies by |w|: w_d = |w| / 20, dtc.c dtc_dcsupp) */
+        cfg->est.dcs_k_iq = to_iq(&c, "dc_supp (Ts l_s / 20)", si->ls_h,
+                                  si->ts_s * b.w_base_rad_s * si->ls_h / b.l_base_h / 20.0);
+        cfg->est.wc_pu_iq = to_iq(&c, "lpf_cutoff_rad_s", si->lpf_cutoff_rad_s, si->lpf_cutoff_rad_s / b.w_base_rad_s);
+        cfg->est.lpf_wmin_iq = to_iq(&c, "lpf_cutoff_rad_s", si->lpf_cutoff_rad_s, 2.0 * si->lpf_cutoff_rad_s / b.w_base_rad_s);
+        {
+            const int reg = si->dc_supp != 0 && si->topology == DTC_TOPO_FSTP && si->fstp_vmid_measured != 0;
+            const double g = 2.0 * si->c_dc_f * 0.5 * si->lpf_cutoff_rad_s; /* A/V, w_m = w_c / 2 */
+            cfg->est.vmid_g_iq = reg ? to_iq(&c, "c_dc_f", si->c_dc_f, g * b.z_base_ohm) : 0;
+        }
+    }
+    /* the mid-point calibration only where a mid-point is measured (FSTP) */
+    cfg->board.vmid_cal = (uint16_t)(si->vmid_cal != 0 && si->topology == DTC_TOPO_FSTP && si->fstp_vmid_measured != 0 ? 1 : 0);
 
     if (si->law == DTC_LAW_IM_DTC && c.code == DTC_SI_OK) {
         im_from_si(&c, si, &b, cfg);

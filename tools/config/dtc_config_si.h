@@ -127,6 +127,18 @@ typedef struct {
     double i_trip_a;
     double vdc_max_v;
     double vdc_min_v;
+    /* ---- Current limit and ripple-robust polarity (issue 10; firmware ilim.h) ---- */
+    int current_limit_auto;  /* 1: current_limit_a = dtc_ilim_default_a(si) */
+    double current_limit_a;  /* current-limit override on |i|, A; 0 = off, else < i_trip_a */
+    int polarity_mid;        /* 1: drop/dead-time polarity from the period-mean / switching-instant
+                              * current (dtc_config.h), 0: from the sample */
+    int lpf_comp;            /* voltage model: 1 = low-pass gain/phase correction (lpfcorr.h) */
+    int dc_supp;             /* voltage model: 1 = DC-current suppression (dtc.c dtc_dcsupp), its
+                              * rate w_d = |w| / 20; FSTP with the mid-point measured: also the
+                              * mid-point regulation at w_c / 2, with c_dc_f */
+    double c_dc_f;           /* each split DC-link capacitor, F (> 0) */
+    int vmid_cal;            /* FSTP, mid-point measured: 1 = the app calibrates it against V_dc/2
+                              * with the gates off (firmware app_core.c), 0 = used as measured */
 } dtc_config_si_t;
 
 enum dtc_si_err {
@@ -149,7 +161,9 @@ enum dtc_si_err {
     DTC_SI_ERR_HANDOVER = -115,  /* hand-over speed < 0, hysteresis fraction outside [0, 1] */
     DTC_SI_ERR_DELAY = -116,     /* delay_comp not 0 or 1 */
     DTC_SI_ERR_DEADTIME = -117,  /* deadtime_comp not 0 or 1, dead_time_s outside [0, ts_s/2) */
-    DTC_SI_ERR_IM = -118         /* induction-machine law: a parameter out of range */
+    DTC_SI_ERR_IM = -118,        /* induction-machine law: a parameter out of range */
+    DTC_SI_ERR_ILIM = -119,      /* current_limit_a < 0 or not below i_trip_a, or the derived
+                                  * limit is not positive; polarity_mid not 0 or 1 */
 };
 
 void dtc_config_si_defaults(dtc_config_si_t *si);
@@ -179,6 +193,20 @@ double dtc_table_speed_default_rpm(const dtc_config_si_t *si);
  * whichever is higher: w_h = max(3 (max(V_CE, V_d) + R_on I_rated) / psi_m, 10 w_c).
  * Table VIII machine, Table IV devices, 5 rad/s: max(45.7, 50) rad/s = 477 rpm (p = 1). */
 double dtc_handover_default_rpm(const dtc_config_si_t *si);
+
+/* Default current limit (A, peak) of the firmware's vector override (firmware/dtc/ilim.h), from
+ * the trip level and the configured machine and board: I_lim = I_trip - n dI with
+ *   dI = T_s (V_max + w_max psi_m + r_s I_trip) / L_s,
+ * the largest change of |i| over one control period (Hoang eqs. 6-9: l_s di/dt = v - r_s i - e):
+ * V_max the largest voltage vector at the nominal link voltage (SSTP 2 V_dc / 3, FSTP V_dc /
+ * sqrt(3), amplitude-invariant Clarke, Hoang eqs. 1-5), the back-EMF term w_max psi_m at
+ * speed_limit_rpm, at most V_max (above that speed the inverter cannot control the machine
+ * anyway); n = 1 when the limit acts on the current predicted for k+1 (delay_comp on), n = 2 on
+ * the sampled current (the vector chosen at k acts only from k+1 on). When the trip level leaves
+ * no room for one period's change (slow period, small L_s) the result is 0: no limit, and the
+ * trip is the only protection.
+ * Table VIII, Table IV link, 50 us, 3000 rpm, 6 A trip, FSTP: dI = 1.13 A, I_lim = 4.87 A. */
+double dtc_ilim_default_a(const dtc_config_si_t *si);
 
 /* Converts si to cfg. Returns DTC_SI_OK or an enum dtc_si_err code; on error msg (if not null)
  * receives a message naming the offending field, e.g. "ls_h = -0.001: inductance must be > 0". */

@@ -10,7 +10,9 @@ OUT/report.md: paper vs simulation for the per-phase fundamental currents and th
 (Table IX), the DC component of the predicted (estimated) torque, the total current THD (eq. 39)
 and the TRF (eq. 40) (Table X). Unless --table-only, it also runs the FSTP inertial and half-load
 points and draws OUT/fig12.png, fig15.png, fig16.png, fig17.png: phase currents at inertial, half
-and full load, as Hoang Figs. 12 and 15-17. Exit status 1 if any run failed (its row says why).
+and full load, as Hoang Figs. 12 and 15-17, and adds two issue-10 tables: the FSTP matrix on a
+finite split DC link (runs in OUT/<name>_finite/) and the low-speed points at 700 / 300 / 200 rpm,
+25 % load (OUT/<name>_low<rpm>/). Exit status 1 if any run failed (its row says why).
 
 The runs go through `dtc-sil sweep` (docs/sweep.md): the scenario files of a series are one sweep
 whose --zip axes are the keys in which the files differ, so the files stay the one source of the
@@ -52,6 +54,17 @@ FIGURES = [
     ("fig17", "Fig. 17: voltage-model DTC, FSTP, proposed compensation (Table VI)", "fstp_voltage_proposed"),
 ]
 LOADS = [("inertial", "(a) inertial load"), ("half", "(b) half load"), ("full", "(c) full load (0.3 N·m)")]
+
+# Issue 10: the FSTP matrix again on a finite split link (2 x 4.7 mF, 10 kohm balancing resistors,
+# 25 mohm ESR; docs/plant.md), and the low-speed points of Hoang Figs. 18-20 at 25 % load (0.075 N*m
+# constant, the voltage model from 100 rpm on), each with the schemes the paper runs there.
+FINITE = ["fstp_current_full", "fstp_voltage_none_full", "fstp_voltage_simple_full", "fstp_voltage_proposed_full"]
+FINITE_SETS = ["inverter.finite_dc_link=true", "inverter.r_bal_ohm=10000", "inverter.esr_ohm=0.025"]
+LOW_SPEED = [(700, ["fstp_voltage_none_full", "fstp_voltage_simple_full", "fstp_voltage_proposed_full"]),
+             (300, ["fstp_voltage_simple_full", "fstp_voltage_proposed_full"]),
+             (200, ["fstp_voltage_simple_full", "fstp_voltage_proposed_full"])]
+LOW_SETS = ["load.type=torque", "load.torque_nm=0.075", "control.handover_rpm=100", "duration_s=2.5",
+            "metrics_window_s=0.6"]
 
 
 def load_figure(out_root, name, title, base):
@@ -129,8 +142,8 @@ def key_defaults(exe):
     return out
 
 
-def sweep_series(exe, scen_dir, out_root, name, stems, sets, jobs):
-    """Runs the scenario files `stems` as one dtc-sil sweep and moves run i to OUT/<stems[i]>/.
+def sweep_series(exe, scen_dir, out_root, name, stems, sets, jobs, suffix=""):
+    """Runs the scenario files `stems` as one dtc-sil sweep and moves run i to OUT/<stems[i]><suffix>/.
     Returns {stem: (metrics or None, error or None)} and the command."""
     flats = []
     for stem in stems:
@@ -167,7 +180,7 @@ def sweep_series(exe, scen_dir, out_root, name, stems, sets, jobs):
         if row is None or not os.path.exists(os.path.join(run_dir, "metrics.json")):
             results[stem] = (None, (row or {}).get("error") or (row or {}).get("status") or "no row")
             continue
-        dest = os.path.join(out_root, stem)
+        dest = os.path.join(out_root, stem + suffix)
         subprocess.run(["rm", "-rf", dest], check=True)
         os.replace(run_dir, dest)
         with open(os.path.join(dest, "metrics.json"), encoding="utf-8") as f:
@@ -248,6 +261,41 @@ def write_report(path, results, exe, sets):
         f.write("\n".join(lines))
 
 
+def issue10_tables(finite, low):
+    """Markdown: the FSTP matrix on the finite split link and the low-speed table (issue 10)."""
+    lines = ["", "## FSTP on a finite split DC link (issue 10)", "",
+             "The Table IX/X operating points with `--set " + " --set ".join(FINITE_SETS) + "`, from "
+             "standstill (DC-current suppression with mid-point regulation, `control.dc_supp`, on).", "",
+             "| scheme | fault | speed rpm | sim A / B / C | imbalance % | THD % (2..40) | estimated / true torque N·m |",
+             "|---|---|---|---|---|---|---|"]
+    for stem in FINITE:
+        m, err = finite.get(stem, (None, "not run"))
+        if m is None:
+            lines.append(f"| `{stem}` | run failed: {err} | | | | | |")
+            continue
+        lines.append(f"| `{stem}` | {m.get('fault')} | {num(m.get('speed_mean_rpm'), '{:.1f}')} "
+                     f"| {fmt3(m.get('fundamental_a'))} | {num(m.get('imbalance_pct'), '{:.1f}')} "
+                     f"| {num(m.get('thd40_total_pct'), '{:.1f}')} "
+                     f"| {num(m.get('torque_est_mean_nm'))} / {num(m.get('torque_mean_nm'))} |")
+    lines += ["", "## Low speed, 25 % load (Hoang Figs. 18-20; issue 10)", "",
+              "0.075 N·m constant load, `--set " + " --set ".join(LOW_SETS) + "`; the paper shows "
+              "sinusoidal currents at 700 rpm (all schemes), 300 rpm (simple, proposed) and 200 rpm "
+              "(proposed).", "",
+              "| speed rpm | scheme | fault | mean speed rpm | sim A / B / C | imbalance % | THD % (2..40) "
+              "| estimated / true torque N·m |", "|---|---|---|---|---|---|---|---|"]
+    for rpm, stems in LOW_SPEED:
+        for stem in stems:
+            m, err = low.get((rpm, stem), (None, "not run"))
+            if m is None:
+                lines.append(f"| {rpm} | `{stem}` | run failed: {err} | | | | | |")
+                continue
+            lines.append(f"| {rpm} | `{stem}` | {m.get('fault')} | {num(m.get('speed_mean_rpm'), '{:.1f}')} "
+                         f"| {fmt3(m.get('fundamental_a'))} | {num(m.get('imbalance_pct'), '{:.1f}')} "
+                         f"| {num(m.get('thd40_total_pct'), '{:.1f}')} "
+                         f"| {num(m.get('torque_est_mean_nm'))} / {num(m.get('torque_mean_nm'))} |")
+    return "\n".join(lines) + "\n"
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--exe", default=os.path.join(ROOT, "build", "host", "bin", "dtc-sil"))
@@ -271,6 +319,16 @@ def main(argv=None):
     extra_results = {}
     if extra:
         extra_results, _ = sweep_series(a.exe, a.scenarios, a.out, "sweep_loads", extra, a.set, a.jobs)
+    finite, low = {}, {}
+    if not a.table_only:
+        finite, _ = sweep_series(a.exe, a.scenarios, a.out, "sweep_finite", FINITE, a.set + FINITE_SETS, a.jobs,
+                                 suffix="_finite")
+        for rpm, stems in LOW_SPEED:
+            r, _ = sweep_series(a.exe, a.scenarios, a.out, f"sweep_low{rpm}", stems,
+                                a.set + LOW_SETS + [f"control.speed_ref_rpm={rpm}"], a.jobs, suffix=f"_low{rpm}")
+            low.update({(rpm, k): v for k, v in r.items()})
+        extra_results.update({k + "_finite": v for k, v in finite.items()})
+        extra_results.update({f"{k[1]}_low{k[0]}": v for k, v in low.items()})
     for stem, (m, err) in list(results.items()) + list(extra_results.items()):
         print(f"{'FAILED' if err else 'ok    '} {stem}" + (f": {err}" if err else ""))
     print("sweep: " + " ".join(cmd))
@@ -285,6 +343,9 @@ def main(argv=None):
     figs = [] if a.table_only else [(title, load_figure(a.out, name, title, base)) for name, title, base in FIGURES]
     path = os.path.join(a.out, "report.md")
     write_report(path, results, a.exe, a.set)
+    if not a.table_only:
+        with open(path, "a", encoding="utf-8") as f:
+            f.write(issue10_tables(finite, low))
     if figs:
         with open(path, "a", encoding="utf-8") as f:
             f.write("\n## Load series (Hoang Figs. 12, 15-17)\n\n")

@@ -159,6 +159,12 @@ struct ControlCfg {
     double handover_hyst_frac = 0.2;     // back to the current model below (1 - frac) * handover_rpm
     bool delay_comp = true;              // firmware: comparators on the flux/torque predicted for k+1
     bool deadtime_comp = true;           // firmware: dead time in the voltage reconstruction
+    double current_limit_a = 0.0;        // firmware current limit; see current_limit_given
+    bool current_limit_given = false;    // false: derived from the trip level (dtc_ilim_default_a)
+    bool polarity_mid = true;            // firmware: ripple-robust polarity of the compensations
+    bool dc_supp = true;                 // firmware: DC-current suppression (voltage model)
+    bool lpf_comp = true;                // firmware: low-pass gain/phase correction (voltage model)
+    bool vmid_cal = true;                // firmware: FSTP mid-point calibrated against V_dc/2
     double v_f_v = PLANT_DEF_V_F_V;      // simple compensation V_f (Hoang sec. III-B)
     std::string voltage_csv;             // open_loop: t_s,v_alpha_v,v_beta_v (resolved path)
     double vf_freq_hz = 0.0;             // open_loop built-in V/f source: final frequency (0 = off)

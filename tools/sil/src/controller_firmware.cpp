@@ -127,6 +127,13 @@ dtc_config_si_t firmware_si_config(const Scenario& sc)
     si.stall_time_s = sc.protection.stall_time_s;
     si.vdc_max_v = sc.protection.vdc_max_v;
     si.vdc_min_v = sc.protection.vdc_min_v;
+    si.current_limit_auto = c.current_limit_given ? 0 : 1;
+    si.current_limit_a = c.current_limit_a;
+    si.polarity_mid = c.polarity_mid ? 1 : 0;
+    si.vmid_cal = c.vmid_cal ? 1 : 0;
+    si.lpf_comp = c.lpf_comp ? 1 : 0;
+    si.dc_supp = c.dc_supp ? 1 : 0;
+    si.c_dc_f = inv.c_dc_f;
     return si;
 }
 
@@ -177,6 +184,13 @@ std::string keys_of_field(const std::string& msg)
         {"compensation", "control.compensation"},
         {"dead_time_s", "inverter.dead_time_s (or firmware.dead_time_s) against ts_s"},
         {"handover", "control.handover_rpm, control.handover_hyst_frac"},
+        {"current_limit_a", "control.current_limit_a (derived from protection.overcurrent_a, inverter.vdc_v, "
+                            "motor.*, ts_s, control.delay_comp)"},
+        {"polarity_mid", "control.polarity_mid"},
+        {"vmid_cal", "control.vmid_cal"},
+        {"lpf_comp", "control.lpf_comp"},
+        {"dc_supp", "control.dc_supp"},
+        {"c_dc_f", "inverter.c_dc_f"},
     };
     for (const auto& m : map) {
         if (msg.rfind(m.field, 0) == 0) {

@@ -288,6 +288,38 @@ const std::vector<Spec>& schema()
                  "firmware: compensate the dead time (inverter.dead_time_s, the gate driver's setting) in the "
                  "voltage reconstruction (Casadei sec. 10.5)",
                  ACC(control.deadtime_comp)),
+        Spec{"control.current_limit_a", Kind::Number, "A", "firmware current limit below the over-current trip: "
+             "when the current predicted for the next period exceeds it, the vector that reduces |i| fastest "
+             "replaces the table's (firmware/dtc/ilim.h); 0 = off; not given = derived from the trip level and "
+             "the machine (tools/config dtc_ilim_default_a: protection.overcurrent_a minus one period's largest "
+             "current change, two without control.delay_comp; 4.87 A for Table VIII, FSTP, 6 A trip; 0 when the trip "
+             "level leaves no room for that change)",
+             nonneg(), {},
+             [](Scenario& s, const Value& v) { s.control.current_limit_a = v.num; s.control.current_limit_given = true; },
+             [](const Scenario& s) {
+                 return s.control.current_limit_given ? fmt_double(s.control.current_limit_a) : std::string("derived");
+             }},
+        boolean("control.polarity_mid",
+                 "firmware: the drop compensation of a period takes the current polarity from the period's mean "
+                 "current (previous and present sample) and the dead-time compensation from the current at the "
+                 "switching instant (the previous sample); false: both from the present sample",
+                 ACC(control.polarity_mid)),
+        boolean("control.lpf_comp",
+                 "firmware, voltage model: undo the low-pass's gain and phase lead at the measured speed, "
+                 "psi = psi_lpf (1 - j w_c/w) with |w| floored at 2 w_c, and seed the low-pass bumplessly at "
+                 "the hand-over (firmware/dtc/lpfcorr.h); false: the low-pass output as it is",
+                 ACC(control.lpf_comp)),
+        boolean("control.dc_supp",
+                 "firmware, voltage model: DC-current suppression, the estimate is shifted by the integral of "
+                 "(|w|/20) l_s i until the stator currents carry no DC (a DC flux error of the estimate is a DC current "
+                 "in the machine and, on the FSTP, a mid-point drift; firmware/dtc/dtc.c dtc_dcsupp); false: off",
+                 ACC(control.dc_supp)),
+        boolean("control.vmid_cal",
+                 "firmware, FSTP with the mid-point measured (sensors.vmid_fitted): during the gates-off "
+                 "calibration the app takes the mean of (mid-point - V_dc/2), which the balancing resistors make "
+                 "zero, as the two voltage sensors' inconsistency and subtracts it from every mid-point sample "
+                 "(firmware/app/app_core.c); false: the mid-point as measured",
+                 ACC(control.vmid_cal)),
         num("control.v_f_v", "V", nonneg(), "forward drop V_f of the simple compensation (Hoang sec. III-B: 0.9 V)",
             ACC(control.v_f_v)),
         path("control.voltage_csv",

@@ -1,0 +1,43 @@
+#include "ilim.h"
+
+/* |i| > limit, on the exact squares (unsigned Q48). External linkage on purpose: inlined, its
+ * 64-bit temporaries would sit in ilim_select's frame on the deepest stack path. */
+uint16_t ilim_over(iq_t lim_iq, const clarke_out_t *i)
+{
+    return iq_sumsq_q48(i->i_alpha_iq, i->i_beta_iq) > iq_sumsq_q48(lim_iq, 0) ? 1U : 0U;
+}
+
+uint16_t ilim_select(const dtc_config_t *cfg, const clarke_out_t *i, uint16_t vec,
+                     uint16_t *limited)
+{
+    /* Leg states of the candidates as bits a = 4, b = 2, c = 1 (swtab.h): SSTP V_1..V_6 = 100
+     * 110 010 011 001 101; FSTP V_1..V_4 = 00 10 11 01 (legs b, c). */
+    static const uint16_t sstp_legs[6] = {4U, 6U, 2U, 3U, 1U, 5U};
+    static const uint16_t fstp_legs[4] = {0U, 2U, 3U, 1U};
+    /* Halved phase currents: a sum of up to three halves of in-range IQ values cannot leave
+     * the int32 range, and halving keeps the order of the sums (up to one LSB of rounding). */
+    const iq_t ha = fix_rshift_rnd32(i->ia_iq, 1U);
+    const iq_t hb = fix_rshift_rnd32(i->ib_iq, 1U);
+    const iq_t hc = fix_rshift_rnd32(i->ic_iq, 1U);
+    const uint16_t fstp = cfg->board.topology == DTC_TOPO_FSTP ? 1U : 0U;
+    uint16_t k, best;
+    iq_t best_s = 0;
+
+    *limited = 0U;
+    if (cfg->prot.i_lim_iq <= 0 || ilim_over(cfg->prot.i_lim_iq, i) == 0U) {
+        return vec;
+    }
+    best = vec;
+    for (k = 0U; k < (fstp != 0U ? 4U : 6U); k++) {
+        const uint16_t legs = fstp != 0U ? fstp_legs[k] : sstp_legs[k];
+        iq_t s = (legs & 4U) != 0U ? ha : 0;
+        s += (legs & 2U) != 0U ? hb : 0;
+        s += (legs & 1U) != 0U ? hc : 0;
+        if (k == 0U || s < best_s) {
+            best_s = s;
+            best = (uint16_t)(k + 1U);
+        }
+    }
+    *limited = 1U;
+    return best;
+}

@@ -1,0 +1,97 @@
+/*
+ * test_dtc_dcsupp.c - DC-current suppression of the voltage model (dtc.c dtc_dcsupp).
+ *
+ * Closed loop against the algebra it is derived from: the DTC holds the estimate plus the
+ * correction c on a circle centred on the origin, so an estimate error delta leaves the machine
+ * a DC current i = (-delta - c) / l_s; c must go to -delta at the rate w_d = |w|/20 (first order,
+ * exp(-w_d t)), and a fundamental current I e^{jwt} must enter c only as l_s I / 20.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdlib.h>
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+#include "dtc.h"
+#include "dtc_config_si.h"
+
+static double d(iq_t x) { return (double)x / 16777216.0; }
+static double d32(int32_t x) { return (double)x / 4294967296.0; } /* the Q32 state */
+static iq_t q(double x) { return (iq_t)lround(x * 16777216.0); }
+
+static void test_dc_error_removed_at_w_over_20(void **state)
+{
+    (void)state;
+    dtc_config_si_t si;
+    dtc_config_t cfg;
+    dtc_t c;
+    dtc_config_si_defaults(&si);
+    assert_int_equal(dtc_config_from_si(&si, &cfg, NULL, 0), 0);
+    assert_int_equal(cfg.est.dc_supp, 1U);
+    assert_int_equal(dtc_init(&c, &cfg), 0);
+    const double ls = d(cfg.machine.pm.ls_iq), ts = si.ts_s * si.w_base_rad_s, w = 0.5; /* 1500 rpm */
+    const double da = 0.004, db = -0.002; /* estimate error, pu (~ 4 % of psi_m) */
+    const dtc_meas_t me = {0, 0, 0, q(1.0), q(0.5), 0U}; /* mid-point at V_dc/2: no regulation demand */
+    c.speed_primed = 1U;
+    c.on_cm = 0U;
+    c.speed_iq = q(-w); /* either direction */
+    c.dcs_kw_iq = (iq_t)lround((double)cfg.est.dcs_k_iq * w); /* as the speed tick sets it: k |w| */
+    const double tau = 20.0 / w; /* pu time */
+    const int n_tau = (int)lround(tau / ts);
+    for (int k = 1; k <= 6 * n_tau; k++) {
+        clarke_out_t i = {0, 0, 0, q((-da - d32(c.dcs_alpha_iq)) / ls), q((-db - d32(c.dcs_beta_iq)) / ls)};
+        iq_t pa = 0, pb = 0;
+        dtc_dcsupp(&c, &i, &me, &pa, &pb);
+        assert_true(abs(pa - (c.dcs_alpha_iq >> 8)) <= 1);
+        if (k == n_tau) {
+            const double want = -da * (1.0 - exp(-1.0));
+            assert_true(fabs(d32(c.dcs_alpha_iq) - want) < 0.01 * da);
+        }
+    }
+    assert_true(fabs(d32(c.dcs_alpha_iq) + da) < 0.005 * da);
+    assert_true(fabs(d32(c.dcs_beta_iq) + db) < 0.005 * fabs(db));
+    /* the fundamental: c's ripple is l_s I / 20 */
+    c.dcs_alpha_iq = 0;
+    c.dcs_beta_iq = 0;
+    c.speed_iq = q(w);
+    c.dcs_kw_iq = (iq_t)lround((double)cfg.est.dcs_k_iq * w);
+    double cmax = -1.0, cmin = 1.0;
+    const double amp = 1.0; /* rated current, pu */
+    for (int k = 0; k < 4 * (int)lround(2.0 * M_PI / w / ts); k++) {
+        const double th = w * ts * k;
+        clarke_out_t i = {0, 0, 0, q(amp * cos(th)), q(amp * sin(th))};
+        iq_t pa = 0, pb = 0;
+        dtc_dcsupp(&c, &i, &me, &pa, &pb);
+        if (k > (int)lround(2.0 * M_PI / w / ts)) {
+            cmax = fmax(cmax, d(pa));
+            cmin = fmin(cmin, d(pa));
+        }
+    }
+    /* amplitude of c_alpha over the last periods (the start leaves a DC part decaying at w_d) */
+    const double camp = 0.5 * (cmax - cmin);
+    print_message("DC suppression: fundamental in c %.3g pu, l_s I / 20 = %.3g pu\n", camp, ls * amp / 20.0);
+    assert_true(fabs(camp - ls * amp / 20.0) < 0.1 * ls * amp / 20.0);
+    /* on the current model: reset, nothing added */
+    c.on_cm = 1U;
+    clarke_out_t i = {0, 0, 0, q(1.0), q(1.0)};
+    iq_t pa = 7, pb = 9;
+    dtc_dcsupp(&c, &i, &me, &pa, &pb);
+    assert_int_equal(pa, 7);
+    assert_int_equal(pb, 9);
+    assert_int_equal(c.dcs_alpha_iq, 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_dc_error_removed_at_w_over_20),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
