@@ -35,7 +35,6 @@ namespace {
 
 const std::string kScenario = std::string(DTC_SOURCE_DIR) + "/tools/scenarios/im_dtc_speed.toml";
 constexpr double kIqOne = 16777216.0; // 2^24, iq_t
-constexpr double kPi = 3.14159265358979323846;
 
 // One SIL rig from im_dtc_speed.toml plus overrides, stepped period by period.
 struct Rig {
@@ -272,4 +271,297 @@ TEST(ImCasadei, Fig17ImprovedEstimatorMagnetisesAtZeroTorqueAndTheTorqueFollowsI
     EXPECT_LT(vol_hi.psir_before, 0.8 * psir_ref);
     EXPECT_GT(vol_hi.i_drift, 0.05);
     EXPECT_TRUE(vol_hi.rise_ms < 0.0 || vol_hi.rise_ms > 10.0 * imp.rise_ms) << vol_hi.rise_ms;
+}
+
+// ---- common: magnetised at standstill, then torque mode at a held speed --------------------------
+// Torque mode, T* = 0 while magnetising at standstill; then T* = t0_nm and the dynamometer takes
+// the rotor to rpm in 0.2 s, and 0.2 s of settling (the mean-torque trim, 20 ms).
+static void to_operating_point(Rig& r, double rpm, double t0_nm)
+{
+    r.magnetise(0.2);
+    r.refs(DTC_MODE_TORQUE, t0_nm, 0.0);
+    r.ramp_held_speed(rpm, 0.2);
+    r.run(0.2);
+}
+
+static std::vector<std::string> torque_at_held_speed(std::vector<std::string> extra)
+{
+    std::vector<std::string> s = {"control.mode=torque", "control.torque_ref_nm=0", "load.type=speed",
+                                  "load.speed_rpm=0", "duration_s=5"};
+    s.insert(s.end(), extra.begin(), extra.end());
+    return s;
+}
+
+// ---- Figs. 14-15: 50 % -> 300 % rated torque step at constant rotor flux --------------------------
+// Casadei sec. 10.1: the torque follows in a few ms (rise <= 3 ms), the rotor flux magnitude stays
+// constant (circular locus, within 2 %) and the stator flux rises as eq. 19 demands. The paper
+// gives no speed: 500 rpm held (well above 1/tau of the estimator's DC region) and standstill.
+struct Step14 {
+    double rise_ms = -1.0, psir_worst = 0.0, psis_before = 0.0, psis_after = 0.0, psir_mean = 0.0, i_peak = 0.0;
+    std::string fault;
+};
+static Step14 step_14(double rpm)
+{
+    Rig r(torque_at_held_speed({}));
+    Step14 o;
+    if (!r.ok) {
+        return o;
+    }
+    const double tr = r.sc.motor.rated_torque_nm;
+    to_operating_point(r, rpm, 0.5 * tr);
+    double s = 0.0;
+    long n = 0;
+    r.run(0.02, [&] {
+        s += r.psis();
+        ++n;
+    });
+    o.psis_before = s / static_cast<double>(n);
+    const double psir_ref = r.sc.control.rotor_flux_ref_wb;
+    r.refs(DTC_MODE_TORQUE, 3.0 * tr, 0.0);
+    long k = 0;
+    double sa = 0.0, sr = 0.0;
+    long na = 0;
+    r.run(0.04, [&] {
+        ++k;
+        if (o.rise_ms < 0.0 && r.st().te_nm >= 0.9 * 3.0 * tr) {
+            o.rise_ms = static_cast<double>(k) * r.ts() * 1e3;
+        }
+        o.psir_worst = std::fmax(o.psir_worst, std::fabs(r.psir() / psir_ref - 1.0));
+        o.i_peak = std::fmax(o.i_peak, r.imag());
+        if (k > r.periods(0.01)) {
+            sa += r.psis();
+            sr += r.psir();
+            ++na;
+        }
+    });
+    o.psis_after = sa / static_cast<double>(na);
+    o.psir_mean = sr / static_cast<double>(na);
+    o.fault = r.fault();
+    return o;
+}
+
+TEST(ImCasadei, Fig14And15TorqueStepTo300PercentAtConstantRotorFlux)
+{
+    Scenario sc;
+    Diagnostics d;
+    ASSERT_TRUE(load_scenario(kScenario, {}, &sc, &d)) << d.text();
+    const Machine mc(sc);
+    const double psir_ref = sc.control.rotor_flux_ref_wb, tr = sc.motor.rated_torque_nm;
+    const double eq19_before = mc.stator_flux(psir_ref, 0.5 * tr), eq19_after = mc.stator_flux(psir_ref, 3.0 * tr);
+    for (double rpm : {500.0, 0.0}) {
+        const Step14 o = step_14(rpm);
+        std::printf("MEASURE Fig14-15 at %.0f rpm: rise to 90 %% of 300 %% %.2f ms, rotor flux worst %.2f %% of %.2f Wb "
+                    "(mean after %.3f), stator flux %.3f -> %.3f Wb (eq. 19: %.3f -> %.3f), peak current %.1f A, fault %s\n",
+                    rpm, o.rise_ms, 100.0 * o.psir_worst, psir_ref, o.psir_mean, o.psis_before, o.psis_after,
+                    eq19_before, eq19_after, o.i_peak, o.fault.c_str());
+        if (rpm > 0.0) {
+            EXPECT_EQ(o.fault, "none");
+            ASSERT_GT(o.rise_ms, 0.0);
+            EXPECT_LE(o.rise_ms, 3.0);
+            EXPECT_LT(o.psir_worst, 0.03);
+            EXPECT_NEAR(o.psis_before, eq19_before, 0.03 * eq19_before);
+            EXPECT_NEAR(o.psis_after, eq19_after, 0.03 * eq19_after);
+        }
+    }
+}
+
+// ---- Fig. 5: torque pulse +18 -> -18 N*m for 8.8 ms at a held speed, ST-A against ST-D ----------
+// Casadei sec. 6: at 20 rad/s the response with ST-A (null vectors for the decrease) is sluggish
+// and with ST-D (backward active vectors) quick; at 100 rad/s both are quick and almost equal.
+// Response time: from the -18 N*m command until the plant torque is 90 % of the way down. Before
+// the pulse the drive must hold +18 N*m with its flux estimate on the machine's (a response time
+// of a drive that lost its flux means nothing).
+struct Pulse {
+    double t_ms = -1.0, te_before = 0.0, psi_err = 0.0;
+    std::string fault;
+};
+static Pulse pulse_response(const std::string& table, double w_mech)
+{
+    Rig r(torque_at_held_speed({"control.table=" + table}));
+    Pulse o;
+    if (!r.ok) {
+        return o;
+    }
+    to_operating_point(r, w_mech * 30.0 / kPi, 18.0);
+    const double pb = r.b.psi_base_wb / kIqOne;
+    double s = 0.0, e = 0.0;
+    long n = 0;
+    r.run(0.02, [&] {
+        s += r.st().te_nm;
+        const app_status_t st = r.status();
+        e = std::fmax(e, std::hypot(st.out.psi_alpha_iq * pb - r.st().psi_alpha_wb, st.out.psi_beta_iq * pb - r.st().psi_beta_wb));
+        ++n;
+    });
+    o.te_before = s / static_cast<double>(n);
+    o.psi_err = e / r.sc.control.flux_ref_wb;
+    r.refs(DTC_MODE_TORQUE, -18.0, 0.0);
+    long k = 0;
+    r.run(0.0088, [&] {
+        ++k;
+        if (o.t_ms < 0.0 && r.st().te_nm <= 18.0 - 0.9 * 36.0) {
+            o.t_ms = static_cast<double>(k) * r.ts() * 1e3;
+        }
+    });
+    r.refs(DTC_MODE_TORQUE, 18.0, 0.0);
+    r.run(0.01);
+    o.fault = r.fault();
+    return o;
+}
+
+static void print_pulse(const char* what, const Pulse& p)
+{
+    std::printf("MEASURE Fig5 %s: response %.2f ms (-1 = not within the 8.8 ms pulse), torque before %.2f N*m, "
+                "worst flux-estimate error before %.1f %% of phi_s*, fault %s\n",
+                what, p.t_ms, p.te_before, 100.0 * p.psi_err, p.fault.c_str());
+}
+
+TEST(ImCasadei, Fig5StDTorqueResponseIsQuickAtLowAndHighSpeed)
+{
+    const Pulse d20 = pulse_response("st-d", 20.0), d100 = pulse_response("st-d", 100.0);
+    print_pulse("ST-D 20 rad/s", d20);
+    print_pulse("ST-D 100 rad/s", d100);
+    for (const Pulse* p : {&d20, &d100}) {
+        EXPECT_EQ(p->fault, "none");
+        EXPECT_NEAR(p->te_before, 18.0, 0.1 * 18.0);
+        EXPECT_LT(p->psi_err, 0.10);
+        ASSERT_GT(p->t_ms, 0.0);
+        EXPECT_LT(p->t_ms, 1.0); // quick: a few periods of the 40 us loop
+    }
+}
+
+// Fig. 5's ST-A half. Disabled: a finding. With ST-A (the null vectors V0/V7 for every torque
+// decrease, flux uncontrolled meanwhile) the firmware's flux estimate leaves the machine's: at
+// 100 rad/s held with the rig's parts, before the pulse, estimate |phi_s| 0.54 Wb against the
+// plant's 0.05-0.11 Wb, plant torque -1 N*m for T* = +18 (estimate 15-19 N*m); with ideal devices
+// it loses the flux between about 190 and 570 rpm of a speed ramp and recovers above. ST-B, ST-D
+// and Table 1 hold the flux. The response times then mean nothing (measured 3.96 ms at 20 rad/s,
+// not reached at 100 rad/s). Enable when the IM law holds the flux with ST-A.
+TEST(ImCasadei, DISABLED_Fig5StASluggishAtLowSpeedQuickAtHighSpeed)
+{
+    const Pulse a20 = pulse_response("st-a", 20.0), a100 = pulse_response("st-a", 100.0);
+    const Pulse d20 = pulse_response("st-d", 20.0), d100 = pulse_response("st-d", 100.0);
+    print_pulse("ST-A 20 rad/s", a20);
+    print_pulse("ST-A 100 rad/s", a100);
+    for (const Pulse* p : {&a20, &a100}) {
+        EXPECT_NEAR(p->te_before, 18.0, 0.1 * 18.0);
+        EXPECT_LT(p->psi_err, 0.10);
+    }
+    EXPECT_GT(a20.t_ms / d20.t_ms, 3.0);   // sluggish against quick
+    EXPECT_LT(a100.t_ms / d100.t_ms, 2.0); // both quick, almost identical
+}
+
+// ---- Section 8: the speed-dependent table's torque ripple -----------------------------------------
+// ST-D below the hand-over speed (derived: 779 rpm), ST-A above: the ripple should be lower than
+// ST-A's at low speed and lower than ST-D's at high speed (rated torque held, zero bands).
+struct Ripple {
+    double rms = 0.0, mean = 0.0;
+    std::string fault;
+};
+static Ripple ripple(const std::string& table, double rpm)
+{
+    Rig r(torque_at_held_speed({"control.table=" + table}));
+    Ripple o;
+    if (!r.ok) {
+        return o;
+    }
+    to_operating_point(r, rpm, r.sc.motor.rated_torque_nm);
+    double s = 0.0, s2 = 0.0;
+    long n = 0;
+    r.run(0.1, [&] {
+        s += r.st().te_nm;
+        s2 += r.st().te_nm * r.st().te_nm;
+        ++n;
+    });
+    o.mean = s / static_cast<double>(n);
+    o.rms = std::sqrt(std::fmax(0.0, s2 / static_cast<double>(n) - o.mean * o.mean));
+    o.fault = r.fault();
+    return o;
+}
+
+TEST(ImCasadei, Sec8SpeedDependentTableAgainstStAAndStD)
+{
+    const double lo = 150.0, hi = 1300.0;
+    const Ripple sd_lo = ripple("speed-dependent", lo), a_lo = ripple("st-a", lo), d_lo = ripple("st-d", lo);
+    const Ripple sd_hi = ripple("speed-dependent", hi), a_hi = ripple("st-a", hi), d_hi = ripple("st-d", hi);
+    std::printf("MEASURE Sec8 torque ripple rms / mean (N*m) at %.0f rpm: speed-dependent %.2f / %.2f, ST-A %.2f / %.2f, "
+                "ST-D %.2f / %.2f; at %.0f rpm: speed-dependent %.2f / %.2f, ST-A %.2f / %.2f, ST-D %.2f / %.2f\n",
+                lo, sd_lo.rms, sd_lo.mean, a_lo.rms, a_lo.mean, d_lo.rms, d_lo.mean, hi, sd_hi.rms, sd_hi.mean,
+                a_hi.rms, a_hi.mean, d_hi.rms, d_hi.mean);
+    const double tr = PLANT_DEF_IM_RATED_TORQUE_NM;
+    // The speed-dependent table is ST-D at low speed and ST-A at high speed: it carries the rated
+    // torque at both, and at high speed ripples less than ST-D.
+    for (const Ripple* r : {&sd_lo, &sd_hi, &d_lo, &d_hi}) {
+        EXPECT_EQ(r->fault, "none");
+        EXPECT_NEAR(r->mean, tr, 0.1 * tr);
+    }
+    EXPECT_LT(sd_hi.rms, 0.8 * d_hi.rms);
+    // Not asserted (printed): ST-A at low speed. With zero bands at 40 us the measured ripple of
+    // ST-D (= the speed-dependent table) is not below ST-A's at 150 rpm, and ST-A's flux estimate
+    // is not trustworthy there (the Fig. 5 finding): the paper's low-speed ripple advantage is not
+    // shown by this drive.
+}
+
+// ---- Fig. 13 and section 9: DSC hexagon, fewer commutations than DTC ------------------------------
+// Rated torque at 1000 rpm held. DTC (Table 1) with a flux band of 0.14 phi_s* traces a DSC-like
+// polygon (Fig. 13): |phi_s| spans about cos 30 deg .. 1 of its peak like a hexagon; without the
+// band the locus is a circle. DSC itself: see the disabled test below.
+struct Locus {
+    double ratio = 0.0, comm_per_period = 0.0;
+    std::string fault;
+};
+static Locus locus(const std::vector<std::string>& sets)
+{
+    Rig r(torque_at_held_speed(sets));
+    Locus o;
+    if (!r.ok) {
+        return o;
+    }
+    to_operating_point(r, 1000.0, r.sc.motor.rated_torque_nm);
+    double lo = 1e9, hi = 0.0, ang = 0.0, prev = std::atan2(r.st().psi_beta_wb, r.st().psi_alpha_wb);
+    long comm = 0;
+    hal_cmd_t last = r.h->applied_cmd();
+    r.run(0.1, [&] {
+        lo = std::fmin(lo, r.psis());
+        hi = std::fmax(hi, r.psis());
+        const double a = std::atan2(r.st().psi_beta_wb, r.st().psi_alpha_wb);
+        ang += std::remainder(a - prev, 2.0 * kPi);
+        prev = a;
+        const hal_cmd_t c = r.h->applied_cmd();
+        comm += (c.sa != last.sa) + (c.sb != last.sb) + (c.sc != last.sc);
+        last = c;
+    });
+    o.ratio = lo / hi;
+    o.comm_per_period = static_cast<double>(comm) / std::fmax(std::fabs(ang) / (2.0 * kPi), 1e-9);
+    o.fault = r.fault();
+    return o;
+}
+
+TEST(ImCasadei, Fig13DtcWithWideFluxBandTracesAHexagonLikeLocus)
+{
+    const Locus wide = locus({"control.flux_band_wb=0.077"}); // 0.14 x 0.55 Wb
+    const Locus narrow = locus({});
+    std::printf("MEASURE Fig13 |phi_s| min/max, leg commutations per electrical period: DTC band 0.14 phi_s* %.3f, %.1f; "
+                "DTC band 0 %.3f, %.1f\n",
+                wide.ratio, wide.comm_per_period, narrow.ratio, narrow.comm_per_period);
+    EXPECT_EQ(wide.fault, "none");
+    EXPECT_EQ(narrow.fault, "none");
+    EXPECT_NEAR(wide.ratio, std::cos(kPi / 6.0), 0.06); // a hexagon's inner/outer radius
+    EXPECT_GT(narrow.ratio, 0.93);                      // a circle
+    EXPECT_LT(wide.comm_per_period, narrow.comm_per_period);
+}
+
+// Section 9. Disabled: a finding. DSC trips on over-current the moment the start-up
+// magnetisation ends (0.297 s): the machine magnetised along the alpha axis by V1, DSC applies V4
+// (opposite to the flux) continuously, the stator flux runs through zero (0.52 -> 0.02 Wb in
+// 2.5 ms) and the current reaches the 130 A trip; the same with ideal devices and with T* = rated
+// at that instant. Enable when DSC takes over from the start-up.
+TEST(ImCasadei, DISABLED_Sec9DscHexagonWithFewerCommutationsThanDtc)
+{
+    const Locus dsc = locus({"control.scheme=dsc"});
+    const Locus dtc = locus({});
+    std::printf("MEASURE Sec9 DSC |phi_s| min/max %.3f, commutations per period %.1f (DTC %.1f), fault %s\n", dsc.ratio,
+                dsc.comm_per_period, dtc.comm_per_period, dsc.fault.c_str());
+    EXPECT_EQ(dsc.fault, "none");
+    EXPECT_NEAR(dsc.ratio, std::cos(kPi / 6.0), 0.05);
+    EXPECT_LT(dsc.comm_per_period, dtc.comm_per_period);
 }
