@@ -565,3 +565,75 @@ TEST(ImCasadei, DISABLED_Sec9DscHexagonWithFewerCommutationsThanDtc)
     EXPECT_NEAR(dsc.ratio, std::cos(kPi / 6.0), 0.05);
     EXPECT_LT(dsc.comm_per_period, dtc.comm_per_period);
 }
+
+// ---- Figs. 22-24: parameter errors at omega = 1 rad/s, rated torque, tau = 0.01 s ------------------
+// Casadei sec. 10.8: with the improved estimator the rotor-flux error due to a 10 % low or high
+// stator resistance in the firmware, or a 0.01 A current-sensor offset, settles to a bounded
+// value; with the basic (voltage-model) estimator it grows. Rotor held at 1 rad/s (9.55 rpm) by
+// the dynamometer, rated torque. Error: the plant's |phi_r| against phi_r* over 1.5 s.
+// The voltage-model runs need the start-up current peak out of the way (sensors and trips at
+// 1 kA, as in Fig. 17's voltage case); the improved ones run on the scenario's trips.
+struct Sens {
+    std::vector<double> err; // |phi_r| / phi_r* - 1 at 0.25 s intervals after the torque is applied
+    std::string fault;
+};
+static Sens sensitivity(const std::string& estimator, const std::vector<std::string>& mismatch)
+{
+    std::vector<std::string> sets = {"control.estimator=" + estimator};
+    if (estimator == "voltage") {
+        sets.insert(sets.end(), {"sensors.current_range_a=1000", "protection.overcurrent_a=900",
+                                 "protection.hw_trip_current_a=0"});
+    }
+    sets.insert(sets.end(), mismatch.begin(), mismatch.end());
+    Rig r(torque_at_held_speed(sets));
+    Sens o;
+    if (!r.ok) {
+        return o;
+    }
+    to_operating_point(r, 30.0 / kPi, r.sc.motor.rated_torque_nm);
+    const double ref = r.sc.control.rotor_flux_ref_wb;
+    for (int i = 0; i < 6 && r.fault() == "none"; ++i) {
+        r.run(0.25);
+        o.err.push_back(r.psir() / ref - 1.0);
+    }
+    o.fault = r.fault();
+    return o;
+}
+
+TEST(ImCasadei, Figs22To24ImprovedEstimatorErrorBoundedBasicGrows)
+{
+    const double rs = PLANT_DEF_IM_RS_OHM;
+    const struct {
+        const char* name;
+        std::vector<std::string> sets;
+    } cases[] = {
+        {"no parameter error", {}},
+        {"R_s 10 % low", {"firmware.rs_ohm=" + std::to_string(0.9 * rs)}},
+        {"R_s 10 % high", {"firmware.rs_ohm=" + std::to_string(1.1 * rs)}},
+        {"0.01 A offset", {"sensors.current_offset_a=[0.01, 0, 0]"}},
+    };
+    for (const auto& c : cases) {
+        const Sens imp = sensitivity("improved", c.sets);
+        const Sens vol = sensitivity("voltage", c.sets);
+        std::string a, b;
+        for (double e : imp.err) a += std::to_string(100.0 * e).substr(0, 6) + " ";
+        for (double e : vol.err) b += std::to_string(100.0 * e).substr(0, 6) + " ";
+        std::printf("MEASURE Figs22-24 %s: rotor-flux error %% every 0.25 s: improved [%s] fault %s; voltage [%s] fault %s\n",
+                    c.name, a.c_str(), imp.fault.c_str(), b.c_str(), vol.fault.c_str());
+        auto worst = [](const Sens& x) {
+            double w = 0.0;
+            for (double e : x.err) w = std::fmax(w, std::fabs(e));
+            return w;
+        };
+        // Improved: bounded, of the order of the parameter error (measured: within +-4.5 % with no
+        // error, the residual voltage error of the devices at 1 rad/s; -7..-11 % for R_s 10 % low,
+        // +4..+12 % for 10 % high). The 0.01 A offset is a fifth of an ADC count (+-100 A over 12
+        // bits: 0.049 A) and the firmware calibrates the offsets with the gates off: the run is
+        // the no-error run within a count, so Fig. 24's effect is below this rig's resolution.
+        EXPECT_EQ(imp.fault, "none") << c.name;
+        ASSERT_EQ(imp.err.size(), 6u) << c.name;
+        EXPECT_LT(worst(imp), 0.15) << c.name;
+        // Basic: the error wanders far beyond (the low-pass cannot hold the flux at 1 rad/s).
+        EXPECT_GT(worst(vol), 2.0 * worst(imp)) << c.name;
+    }
+}
