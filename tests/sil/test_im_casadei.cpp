@@ -806,3 +806,41 @@ TEST(ImCasadei, DISABLED_Fig32FluxWeakeningReaches400PercentWithNearlyConstantCu
     ASSERT_GT(o.t_end, 0.0);
     EXPECT_LT((o.i_hi - o.i_lo) / o.i_mean, 0.3); // nearly constant current in the constant-power range
 }
+
+// ---- Fault and input handling of the IM drive ------------------------------------------------------
+// Through dtc-sil's run API: an over-current trips to gates off and says so; a DC link outside
+// the protection window trips; a bad IM configuration is refused naming the scenario key.
+TEST(ImCasadei, FaultsTripTheImDriveAndBadConfigurationIsRefused)
+{
+    auto run = [](const std::vector<std::string>& sets, RunResult* r, std::string* err) {
+        Scenario sc;
+        Diagnostics d;
+        EXPECT_TRUE(load_scenario(kScenario, sets, &sc, &d)) << d.text();
+        return run_scenario(sc, RunOptions{}, r, err);
+    };
+    // Over-current: on the rig's own 55 A trip the drive stops in the start-up current peak
+    // (110 A, the finding of im_dtc_speed.toml).
+    {
+        RunResult r;
+        std::string err;
+        ASSERT_TRUE(run({"duration_s=0.1", "metrics_window_s=0.05", "protection.overcurrent_a=55",
+                         "protection.hw_trip_current_a=57", "protection.allow_unsafe=false"},
+                        &r, &err))
+            << err;
+        EXPECT_EQ(r.info.fault, "overcurrent");
+    }
+    // DC link below the window: 180 V on a 200..400 V window.
+    {
+        RunResult r;
+        std::string err;
+        ASSERT_TRUE(run({"duration_s=0.05", "metrics_window_s=0.02", "inverter.vdc_v=180"}, &r, &err)) << err;
+        EXPECT_EQ(r.info.fault, "dc_undervoltage");
+    }
+    // A configuration the converter cannot represent: refused before any period, key named.
+    {
+        RunResult r;
+        std::string err;
+        EXPECT_FALSE(run({"control.observer_tau_s=1e9"}, &r, &err));
+        EXPECT_NE(err.find("control.observer_tau_s"), std::string::npos) << err;
+    }
+}
