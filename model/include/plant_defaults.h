@@ -51,6 +51,24 @@
 #define PLANT_DEF_IM_RATED_SPEED_RPM 1440.0   /* [C] Tables 4-5 */
 #define PLANT_DEF_IM_RATED_CURRENT_A 19.2     /* peak, this machine at 26.5 N*m (docs/plant.md) */
 
+/* ---- Induction-machine drive rig ([C] sections 10.2, 10.5; the firmware's IM defaults and the
+ * SIL scenario's motor.type = "im" defaults) ---- */
+#define PLANT_DEF_IM_VDC_V 311.0              /* sqrt(2) * 220 V: six-switch inverter on a rectified 220 V */
+#define PLANT_DEF_IM_TS_S 40e-6               /* [C] sec. 10.5: 40 us control period */
+#define PLANT_DEF_IM_FLUX_REF_WB 0.55         /* |phi_s| at rated voltage and frequency (im-facts.md) */
+#define PLANT_DEF_IM_TORQUE_LIMIT_NM (3.0 * PLANT_DEF_IM_RATED_TORQUE_NM) /* [C] Fig. 14: 300 % steps */
+#define PLANT_DEF_IM_OBSERVER_TAU_S 0.01      /* [C] sec. 10.2, Fig. 17: improved estimator tau */
+#define PLANT_DEF_IM_MAGN_FRAC 0.9            /* start-up: torque allowed at 90 % of the rotor flux */
+/* Sensing and protection sized for the 300 % torque current (about 2.5x rated, 48 A peak):
+ * +-100 A Hall sensors, 0..500 V divider, firmware trip at 55 A (below 3x rated = 57.6 A), the
+ * hardware comparator just above it, DC-link window 200..400 V. */
+#define PLANT_DEF_IM_CURRENT_RANGE_A 100.0
+#define PLANT_DEF_IM_VOLTAGE_RANGE_V 500.0
+#define PLANT_DEF_IM_OVERCURRENT_A 55.0
+#define PLANT_DEF_IM_HW_TRIP_CURRENT_A 57.0
+#define PLANT_DEF_IM_VDC_MIN_V 200.0
+#define PLANT_DEF_IM_VDC_MAX_V 400.0
+
 /* ---- Inverter: IRAMY20UP60B IPM ([H] sec. IV), devices [H] Table IV ---- */
 #define PLANT_DEF_VDC_V 70.0                  /* [H] Table VIII */
 #define PLANT_DEF_V_CE_V 0.9                  /* transistor forward drop */

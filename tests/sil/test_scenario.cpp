@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "controller_adapter.hpp"
+#include "run.hpp"
 #include "scenario.hpp"
 
 using namespace sil;
@@ -325,7 +326,12 @@ TEST(Scenario, ShippedScenariosAreValid)
         Diagnostics d;
         EXPECT_TRUE(load_scenario(e.path().string(), {}, &s, &d)) << d.text();
         EXPECT_TRUE(d.warnings.empty()) << d.text();
-        if (s.control.mode != ControlMode::OpenLoop) {
+        if (s.control.mode != ControlMode::OpenLoop && s.motor.type == MotorType::Im) {
+            // The IM drive's rig (plant_defaults.h): 311 V link, 40 us, the improved estimator.
+            EXPECT_DOUBLE_EQ(s.inverter.vdc_v, 311.0) << e.path();
+            EXPECT_DOUBLE_EQ(s.ts_s, 40e-6) << e.path();
+            EXPECT_EQ(s.control.estimator, Estimator::Improved) << e.path();
+        } else if (s.control.mode != ControlMode::OpenLoop) {
             // The paper's operating point: 1500 rpm, Table VIII/IV values, bands zero.
             EXPECT_DOUBLE_EQ(s.control.speed_ref_rpm, 1500.0) << e.path();
             EXPECT_DOUBLE_EQ(s.control.torque_band_nm, 0.0);
@@ -341,7 +347,8 @@ TEST(Scenario, ShippedScenariosAreValid)
             EXPECT_NEAR(total, expect, 1e-4) << f;
         }
     }
-    EXPECT_EQ(n, 18); // 15 paper operating points, the mid-point study, the open-loop example, the IM start
+    EXPECT_EQ(n, 19); // 15 paper operating points, the mid-point study, the open-loop example, the IM
+                      // start (open loop), the IM drive
 }
 
 TEST(Scenario, FuzzedTomlAndSetNeverCrashOrHang)
@@ -442,6 +449,8 @@ TEST(Scenario, VariantsHaveOneToStringTable)
     expect_variant_table<Estimator>("control.estimator");
     expect_variant_table<Compensation>("control.compensation");
     expect_variant_table<SwitchingTable>("control.table");
+    expect_variant_table<Scheme>("control.scheme");
+    expect_variant_table<SpeedSensor>("control.speed_sensor");
     // Parsed once at load, with the key and line named when the text names no variant.
     Scenario s;
     const std::string e = errors_of("duration_s = 0.1\n[inverter]\ntopology = \"sixstep\"\n", {}, &s);
@@ -449,4 +458,77 @@ TEST(Scenario, VariantsHaveOneToStringTable)
     EXPECT_NE(e.find("inverter.topology: expected one of \"ideal\", \"sstp\", \"fstp\", got \"sixstep\""),
               std::string::npos)
         << e;
+}
+
+TEST(Scenario, ImLawKeysSelectTheImLawAndAreRefusedByName)
+{
+    // motor.type = "im" in speed/torque mode selects the IM law with the IM rig's defaults; every
+    // IM-law key reaches the converter's struct.
+    const std::string im = "duration_s = 0.1\nmetrics_window_s = 0.05\n[motor]\ntype = \"im\"\n[control]\nmode = \"torque\"\n";
+    Scenario s;
+    ASSERT_EQ(errors_of(im + "table = \"speed-dependent\"\nscheme = \"dsc\"\nspeed_sensor = \"none\"\n"
+                             "flux_weakening = true\nrotor_flux_ref_wb = 0.5\nobserver_tau_s = 0.02\n"
+                             "observer_tau_high_s = 0.1\nobserver_tau_lo_rpm = 100\nobserver_tau_hi_rpm = 300\n"
+                             "[firmware]\nrs_ohm = 0.5\nrr_ohm = 0.45\nlm_h = 0.05\n",
+                        {}, &s),
+              "");
+    EXPECT_EQ(s.control.estimator, Estimator::Improved); // the IM's default estimator
+    EXPECT_DOUBLE_EQ(s.ts_s, PLANT_DEF_IM_TS_S);
+    EXPECT_DOUBLE_EQ(s.inverter.vdc_v, PLANT_DEF_IM_VDC_V);
+    const dtc_config_si_t c = firmware_si_config(s);
+    EXPECT_EQ(c.law, DTC_LAW_IM_DTC);
+    EXPECT_EQ(c.estimator, DTC_EST_IMPROVED);
+    EXPECT_EQ(c.sstp_table, DTC_ST_SPEED);
+    EXPECT_EQ(c.scheme, DTC_SCHEME_DSC);
+    EXPECT_EQ(c.speed_sensor, DTC_SPEED_NONE);
+    EXPECT_EQ(c.flux_weakening, 1);
+    EXPECT_DOUBLE_EQ(c.psir_ref_wb, 0.5);
+    EXPECT_DOUBLE_EQ(c.tau_lo_s, 0.02);
+    EXPECT_DOUBLE_EQ(c.tau_hi_s, 0.1);
+    EXPECT_DOUBLE_EQ(c.tau_w_lo_rpm, 100.0);
+    EXPECT_DOUBLE_EQ(c.tau_w_hi_rpm, 300.0);
+    EXPECT_DOUBLE_EQ(c.rs_ohm, 0.5);  // firmware.rs_ohm applies to the IM
+    EXPECT_DOUBLE_EQ(c.rr_ohm, 0.45);
+    EXPECT_DOUBLE_EQ(c.lm_h, 0.05);
+    EXPECT_DOUBLE_EQ(c.lls_h, PLANT_DEF_IM_LLS_H); // not given: the plant's
+    dtc_config_t cfg;
+    char msg[256] = {0};
+    EXPECT_EQ(dtc_config_from_si(&c, &cfg, msg, sizeof msg), DTC_SI_OK) << msg;
+    Scenario d;
+    ASSERT_EQ(errors_of(im, {}, &d), "");
+    EXPECT_DOUBLE_EQ(firmware_si_config(d).rs_ohm, PLANT_DEF_IM_RS_OHM);
+    EXPECT_DOUBLE_EQ(firmware_si_config(d).tau_lo_s, PLANT_DEF_IM_OBSERVER_TAU_S);
+
+    // Refusals name the key and the line.
+    expect_error(im + "estimator = \"current\"\n", "control.estimator", 7, "needs a magnet");
+    expect_error(im + "implementation = \"reference\"\n", "control.implementation", 7);
+    expect_error(im + "[inverter]\ntopology = \"fstp\"\n", "inverter.topology", 8, "six-switch");
+    expect_error(im + "table = \"st-e\"\n", "control.table", 7, "expected one of");
+    expect_error(im + "scheme = \"dtcx\"\n", "control.scheme", 7, "expected one of");
+    expect_error(im + "speed_sensor = \"resolver\"\n", "control.speed_sensor", 7, "expected one of");
+    expect_error(im + "observer_tau_s = 1e-5\n", "control.observer_tau_s", 7, "longer than the control period");
+    expect_error(im + "rotor_flux_ref_wb = -0.1\n", "control.rotor_flux_ref_wb", 7, "impossible");
+    expect_error(im + "delay_comp = true\n", "control.delay_comp", 7, "not a setting of the induction-machine");
+    expect_error(im + "[firmware]\nls_h = 0.01\n", "firmware.ls_h", 8, "not a setting");
+    // The IM-law keys are refused for the PM machine.
+    const std::string pm = "duration_s = 0.1\n[control]\n";
+    expect_error(pm + "estimator = \"improved\"\n", "control.estimator", 3, "induction machine");
+    expect_error(pm + "table = \"speed-dependent\"\n", "control.table", 3, "induction-machine table");
+    expect_error(pm + "scheme = \"dsc\"\n", "control.scheme", 3, "not a setting of the PM drive");
+    expect_error(pm + "rotor_flux_ref_wb = 0.5\n", "control.rotor_flux_ref_wb", 3, "not a setting of the PM");
+    expect_error("duration_s = 0.1\n[firmware]\nrr_ohm = 0.5\n", "firmware.rr_ohm", 3, "not a setting of the PM");
+}
+
+TEST(Scenario, BadImFirmwareConfigurationIsRefusedNamingTheKey)
+{
+    // A value the schema accepts but the converter cannot represent: the run refuses it at init
+    // and names the scenario key (keys_of_field).
+    Scenario s;
+    ASSERT_EQ(errors_of("duration_s = 0.01\nmetrics_window_s = 0.005\n[motor]\ntype = \"im\"\n[control]\nmode = \"torque\"\n"
+                        "magnetise_frac = 0.999999999\n", {}, &s), "");
+    RunOptions opt;
+    RunResult r;
+    std::string err;
+    EXPECT_FALSE(run_scenario(s, opt, &r, &err));
+    EXPECT_NE(err.find("control.magnetise_frac"), std::string::npos) << err;
 }

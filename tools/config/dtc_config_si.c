@@ -62,15 +62,15 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     /* Induction-machine law: unused by the PM law, set to the IM defaults' values so that a
      * switch of law alone keeps them sane. */
     si->psir_ref_wb = 0.0;
-    si->tau_lo_s = 0.01;
-    si->tau_hi_s = 0.01;
+    si->tau_lo_s = PLANT_DEF_IM_OBSERVER_TAU_S;
+    si->tau_hi_s = PLANT_DEF_IM_OBSERVER_TAU_S;
     si->tau_w_lo_rpm = 0.0;
     si->tau_w_hi_rpm = 0.0;
     si->scheme = DTC_SCHEME_DTC;
     si->speed_sensor = DTC_SPEED_ENCODER;
     si->table_speed_rpm = 0.0;
     si->speed_filter_s = 0.005;
-    si->magn_frac = 0.9;
+    si->magn_frac = PLANT_DEF_IM_MAGN_FRAC;
     si->flux_weakening = 0;
     si->fw_window = 20;
     si->fw_step_frac = 0.005;
@@ -124,16 +124,16 @@ void dtc_config_si_im_defaults(dtc_config_si_t *si)
     si->inertia_kgm2 = PLANT_DEF_IM_J_KGM2;
     /* SSTP on sqrt(2) * 220 V; the plant's devices */
     si->topology = DTC_TOPO_SSTP;
-    si->vdc_v = 311.0;
+    si->vdc_v = PLANT_DEF_IM_VDC_V;
     si->compensation = DTC_COMP_SSTP;
-    si->ts_s = 40e-6;              /* Casadei section 10.5 */
+    si->ts_s = PLANT_DEF_IM_TS_S;   /* Casadei section 10.5 */
     si->handover_auto = 0;         /* PM start-up only */
     si->handover_speed_rpm = 0.0;
     si->delay_comp = 0;            /* PM law only */
-    si->flux_ref_wb = 0.55;        /* |phi_s| at rated voltage and frequency (im-facts.md) */
+    si->flux_ref_wb = PLANT_DEF_IM_FLUX_REF_WB;
     si->flux_band_wb = 0.0;
     si->torque_band_nm = 0.0;
-    si->torque_limit_nm = 3.0 * PLANT_DEF_IM_RATED_TORQUE_NM; /* Fig. 14: 300 % steps */
+    si->torque_limit_nm = PLANT_DEF_IM_TORQUE_LIMIT_NM;
     si->speed_limit_rpm = 6000.0;     /* Fig. 32: 400 % of base speed */
     si->speed_ref_rpm = 0.0;
     si->speed_bw_rad_s = 30.0;
@@ -146,7 +146,7 @@ void dtc_config_si_im_defaults(dtc_config_si_t *si)
     si->i_trip_a = 150.0;
     si->vdc_max_v = 400.0;
     si->vdc_min_v = 200.0;
-    si->v_base_v = 311.0;
+    si->v_base_v = PLANT_DEF_IM_VDC_V;
     si->i_base_a = PLANT_DEF_IM_RATED_CURRENT_A;
     si->w_base_rad_s = 2.0 * M_PI * 50.0;
 }

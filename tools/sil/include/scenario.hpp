@@ -26,9 +26,11 @@ enum class Topology { Ideal, Sstp, Fstp };
 enum class LoadType { Speed, Torque, Generator, Inertia, Fan };
 enum class ControlMode { Speed, Torque, OpenLoop };
 enum class Implementation { Firmware, Reference };
-enum class Estimator { Current, Voltage };
+enum class Estimator { Current, Voltage, Improved };
 enum class Compensation { None, Simple, Proposed };
-enum class SwitchingTable { Basic, StA, StB, StC, StD };
+enum class SwitchingTable { Basic, StA, StB, StC, StD, SpeedDependent };
+enum class Scheme { Dtc, Dsc };
+enum class SpeedSensor { Encoder, None };
 
 /// The one to-string table of each variant: names[i] is the key text of enum value i.
 template <typename E> struct VariantNames;
@@ -48,13 +50,19 @@ template <> struct VariantNames<Implementation> {
     static constexpr std::array<const char*, 2> names{"firmware", "reference"};
 };
 template <> struct VariantNames<Estimator> {
-    static constexpr std::array<const char*, 2> names{"current", "voltage"};
+    static constexpr std::array<const char*, 3> names{"current", "voltage", "improved"};
 };
 template <> struct VariantNames<Compensation> {
     static constexpr std::array<const char*, 3> names{"none", "simple", "proposed"};
 };
 template <> struct VariantNames<SwitchingTable> {
-    static constexpr std::array<const char*, 5> names{"basic", "st-a", "st-b", "st-c", "st-d"};
+    static constexpr std::array<const char*, 6> names{"basic", "st-a", "st-b", "st-c", "st-d", "speed-dependent"};
+};
+template <> struct VariantNames<Scheme> {
+    static constexpr std::array<const char*, 2> names{"dtc", "dsc"};
+};
+template <> struct VariantNames<SpeedSensor> {
+    static constexpr std::array<const char*, 2> names{"encoder", "none"};
 };
 
 /// The key text of a variant ("fstp", "open_loop", ...).
@@ -171,6 +179,17 @@ struct ControlCfg {
     double vf_v_per_hz = 0.0;            // voltage-vector amplitude per Hz
     double vf_boost_v = 0.0;             // amplitude at 0 Hz (low-speed boost)
     double vf_ramp_s = 0.0;              // frequency ramp time 0 -> vf_freq_hz (0 = step)
+    // Induction-machine law (motor.type = "im", Casadei 2006); refused by name for the PM machine.
+    Scheme scheme = Scheme::Dtc;         // switching table (sections 4-8) or DSC (section 9)
+    SpeedSensor speed_sensor = SpeedSensor::Encoder; // none: speed from the flux speed and eq. 16
+    bool flux_weakening = false;         // section 12
+    double rotor_flux_ref_wb = 0.0;      // > 0: constant rotor flux, phi_s* by eq. 19; 0: flux_ref_wb
+    double observer_tau_s = PLANT_DEF_IM_OBSERVER_TAU_S;  // improved estimator tau (eq. 20), low speed / fixed
+    double observer_tau_high_s = 0.0;    // tau at high speed (section 10.2); 0 = observer_tau_s (fixed)
+    double observer_tau_lo_rpm = 0.0;    // |speed| up to which observer_tau_s applies
+    double observer_tau_hi_rpm = 0.0;    // |speed| from which observer_tau_high_s applies
+    double magnetise_frac = PLANT_DEF_IM_MAGN_FRAC; // start-up: torque allowed at this rotor-flux fraction
+    double table_speed_rpm = 0.0;        // speed-dependent table: ST-D below, ST-A above; 0 = derived
 };
 
 struct SensorsCfg {
@@ -205,6 +224,7 @@ struct FirmwareCfg {
     std::optional<double> rs_ohm, ls_h, psi_m_wb; // PM machine as the firmware believes it
     std::optional<double> v_ce_v, v_d_v, r_on_ohm; // device drops its compensation assumes
     std::optional<double> dead_time_s;             // dead time its compensation assumes
+    std::optional<double> rr_ohm, lls_h, llr_h, lm_h; // induction machine as the firmware believes it
 };
 
 struct MetricsCfg {

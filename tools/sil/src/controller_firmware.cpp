@@ -37,6 +37,16 @@ int compensation_of(Compensation c, Topology t)
     return DTC_COMP_NONE;
 }
 
+int estimator_of(Estimator e)
+{
+    switch (e) {
+    case Estimator::Voltage: return DTC_EST_VOLTAGE;
+    case Estimator::Current: return DTC_EST_CURRENT;
+    case Estimator::Improved: return DTC_EST_IMPROVED;
+    }
+    return DTC_EST_CURRENT;
+}
+
 int table_of(SwitchingTable t)
 {
     switch (t) {
@@ -45,6 +55,7 @@ int table_of(SwitchingTable t)
     case SwitchingTable::StB: return DTC_ST_B;
     case SwitchingTable::StC: return DTC_ST_C;
     case SwitchingTable::StD: return DTC_ST_D;
+    case SwitchingTable::SpeedDependent: return DTC_ST_SPEED;
     }
     return DTC_ST_BASIC;
 }
@@ -108,7 +119,7 @@ dtc_config_si_t firmware_si_config(const Scenario& sc)
     si.flux_ref_wb = c.flux_ref_wb;
     si.speed_ref_rpm = c.speed_ref_rpm;
     si.torque_ref_nm = c.torque_ref_nm;
-    si.estimator = c.estimator == Estimator::Voltage ? DTC_EST_VOLTAGE : DTC_EST_CURRENT;
+    si.estimator = estimator_of(c.estimator);
     si.compensation = compensation_of(c.compensation, inv.topology);
     si.sstp_table = table_of(c.table);
     si.mode = c.mode == ControlMode::Torque ? DTC_MODE_TORQUE : DTC_MODE_SPEED;
@@ -134,6 +145,34 @@ dtc_config_si_t firmware_si_config(const Scenario& sc)
     si.lpf_comp = c.lpf_comp ? 1 : 0;
     si.dc_supp = c.dc_supp ? 1 : 0;
     si.c_dc_f = inv.c_dc_f;
+    if (m.type == MotorType::Im) {
+        // Induction-machine law (Casadei 2006): the machine as the firmware believes it
+        // (firmware.*, else the plant's), no magnet, none of the PM law's start-up hand-over or
+        // actuation-delay prediction (im_dtc.h).
+        si.law = DTC_LAW_IM_DTC;
+        si.rr_ohm = sc.firmware.rr_ohm.value_or(m.rr_ohm);
+        si.lls_h = sc.firmware.lls_h.value_or(m.lls_h);
+        si.llr_h = sc.firmware.llr_h.value_or(m.llr_h);
+        si.lm_h = sc.firmware.lm_h.value_or(m.lm_h);
+        si.ls_h = 0.0;
+        si.psi_m_wb = 0.0;
+        si.handover_auto = 0;
+        si.handover_speed_rpm = 0.0;
+        si.delay_comp = 0;
+        // Flux weakening reaches 400 % of base speed (Casadei Fig. 32): the speed reference's
+        // limit covers it.
+        si.speed_limit_rpm = std::fmax(4.0 * m.rated_speed_rpm, std::fabs(c.speed_ref_rpm));
+        si.scheme = c.scheme == Scheme::Dsc ? DTC_SCHEME_DSC : DTC_SCHEME_DTC;
+        si.speed_sensor = c.speed_sensor == SpeedSensor::None ? DTC_SPEED_NONE : DTC_SPEED_ENCODER;
+        si.flux_weakening = c.flux_weakening ? 1 : 0;
+        si.psir_ref_wb = c.rotor_flux_ref_wb;
+        si.tau_lo_s = c.observer_tau_s;
+        si.tau_hi_s = c.observer_tau_high_s > 0.0 ? c.observer_tau_high_s : c.observer_tau_s;
+        si.tau_w_lo_rpm = c.observer_tau_lo_rpm;
+        si.tau_w_hi_rpm = c.observer_tau_hi_rpm;
+        si.magn_frac = c.magnetise_frac;
+        si.table_speed_rpm = c.table_speed_rpm;
+    }
     return si;
 }
 
@@ -191,6 +230,21 @@ std::string keys_of_field(const std::string& msg)
         {"lpf_comp", "control.lpf_comp"},
         {"dc_supp", "control.dc_supp"},
         {"c_dc_f", "inverter.c_dc_f"},
+        {"rr_ohm", "motor.rr_ohm or firmware.rr_ohm"},
+        {"lls_h", "motor.lls_h or firmware.lls_h"},
+        {"llr_h", "motor.llr_h or firmware.llr_h"},
+        {"lm_h", "motor.lm_h or firmware.lm_h"},
+        {"psir_ref_wb", "control.rotor_flux_ref_wb"},
+        {"tau_lo_s", "control.observer_tau_s"},
+        {"tau_hi_s", "control.observer_tau_high_s"},
+        {"tau_w_", "control.observer_tau_lo_rpm, control.observer_tau_hi_rpm"},
+        {"table_speed_rpm", "control.table_speed_rpm"},
+        {"magn_frac", "control.magnetise_frac (with motor.rr_ohm, motor.llr_h, motor.lm_h, ts_s)"},
+        {"speed_filter_s", "ts_s, control.speed_loop_divider"},
+        {"fw_", "control.flux_weakening"},
+        {"scheme", "control.scheme"},
+        {"speed_sensor", "control.speed_sensor"},
+        {"topology", "inverter.topology"},
     };
     for (const auto& m : map) {
         if (msg.rfind(m.field, 0) == 0) {

@@ -47,6 +47,8 @@ public:
         case SwitchingTable::StB: p.table = dtc_ref::SwitchingTable::ST_B; break;
         case SwitchingTable::StC: p.table = dtc_ref::SwitchingTable::ST_C; break;
         case SwitchingTable::StD: p.table = dtc_ref::SwitchingTable::ST_D; break;
+        case SwitchingTable::SpeedDependent: // IM only: refused for the PM machine at scenario load
+            return "control.table = \"speed-dependent\": not a table of the PM reference controller";
         }
         if (fstp) {
             p.table = dtc_ref::SwitchingTable::HOANG_FSTP;

@@ -162,9 +162,13 @@ const std::vector<Spec>& schema()
         // ---- motor ----
         choice<MotorType>("motor.type",
                "pmsm = surface PM brushless AC machine (Hoang eqs. 6-10); im = squirrel-cage induction machine "
-               "(Casadei eqs. A6-A10, open loop only); with \"im\" the shared motor keys left unset take the "
-               "default IM's values (Modelica Buildings IM_5HP_400V_50Hz at 220 V: rs_ohm 0.425, pole_pairs 2, "
-               "j_kgm2 0.0131, b_nm_s_per_rad 0, rated 26.5 N*m, 19.2 A peak, 1440 rpm)",
+               "(Casadei eqs. A6-A10) driven open loop or by the IM law (Casadei DTC/DSC); with \"im\" the shared "
+               "motor keys left unset take the default IM's values (Modelica Buildings IM_5HP_400V_50Hz at 220 V: "
+               "rs_ohm 0.425, pole_pairs 2, j_kgm2 0.0131, b_nm_s_per_rad 0, rated 26.5 N*m, 19.2 A peak, "
+               "1440 rpm) and these rig keys left unset the IM rig's (plant_defaults.h): ts_s 40 us, "
+               "inverter.vdc_v 311 V, control.flux_ref_wb 0.55 Wb, control.torque_limit_nm and "
+               "control.torque_ref_nm 300 % / 100 % rated, control.estimator \"improved\", sensors ranges "
+               "100 A / 500 V, protection 55 A (hardware 57 A), DC-link window 200..400 V",
                ACC(motor.type)),
         num("motor.rs_ohm", "ohm", positive(), "phase resistance (Hoang Table VIII)", ACC(motor.rs_ohm)),
         num("motor.ls_h", "H", positive(), "synchronous inductance, Ld = Lq (Table VIII)", ACC(motor.ls_h)),
@@ -244,15 +248,54 @@ const std::vector<Spec>& schema()
                "reference controller of model/",
                ACC(control.implementation)),
         choice<Estimator>("control.estimator",
-               "stator-flux estimator: current model (Hoang eqs. 8-9) or voltage model (eqs. 15-16 with LPF)",
+               "stator-flux estimator: current model (PM only, Hoang eqs. 8-9), voltage model (Hoang eqs. 15-16 / "
+               "Casadei eq. 1, with LPF) or improved (IM only, Casadei eqs. 20-22, tau = control.observer_tau_s); "
+               "motor.type = \"im\" not given: improved",
                ACC(control.estimator)),
         choice<Compensation>("control.compensation",
                "voltage-model drop compensation: simple = Hoang Table V (FSTP) / ref. [29] (SSTP); "
                "proposed = Table VI + eqs. 37-38 (FSTP only)",
                ACC(control.compensation)),
         choice<SwitchingTable>("control.table",
-               "SSTP switching table (Casadei Tables 1, 3); the FSTP always uses Hoang Table II",
+               "SSTP switching table (Casadei Tables 1, 3); speed-dependent = Casadei sec. 8, ST-D below "
+               "control.table_speed_rpm and ST-A above (IM only); the FSTP always uses Hoang Table II",
                ACC(control.table)),
+        choice<Scheme>("control.scheme",
+               "IM only: dtc = switching table (Casadei secs. 4-8); dsc = Direct Self Control, hexagonal flux "
+               "locus (sec. 9)",
+               ACC(control.scheme)),
+        choice<SpeedSensor>("control.speed_sensor",
+               "IM only: encoder = speed from the encoder; none = sensorless, the stator-flux angular speed minus "
+               "the slip of Casadei eq. 16",
+               ACC(control.speed_sensor)),
+        boolean("control.flux_weakening",
+                "IM only: Casadei sec. 12 flux weakening (null-vector monitor, T* scaled by eq. 33 and limited by "
+                "eq. 34)",
+                ACC(control.flux_weakening)),
+        num("control.rotor_flux_ref_wb", "Wb", nonneg(),
+            "IM only: > 0 = constant rotor flux, the stator-flux reference follows T* by Casadei eq. 19; 0 = "
+            "the stator-flux reference control.flux_ref_wb",
+            ACC(control.rotor_flux_ref_wb)),
+        num("control.observer_tau_s", "s", positive(),
+            "IM improved estimator (Casadei eq. 20): time constant tau at low speed, or fixed (sec. 10.2, Fig. 17: "
+            "0.01 s); must exceed ts_s",
+            ACC(control.observer_tau_s)),
+        num("control.observer_tau_high_s", "s", nonneg(),
+            "IM improved estimator: tau at high speed (sec. 10.2, speed-dependent tau, linear between "
+            "control.observer_tau_lo_rpm and control.observer_tau_hi_rpm); 0 = control.observer_tau_s (fixed tau)",
+            ACC(control.observer_tau_high_s)),
+        num("control.observer_tau_lo_rpm", "rpm", nonneg(), "IM improved estimator: speed magnitude up to which "
+            "control.observer_tau_s applies", ACC(control.observer_tau_lo_rpm)),
+        num("control.observer_tau_hi_rpm", "rpm", nonneg(), "IM improved estimator: speed magnitude from which "
+            "control.observer_tau_high_s applies (>= control.observer_tau_lo_rpm)", ACC(control.observer_tau_hi_rpm)),
+        num("control.magnetise_frac", "", Range{0.0, 1.0, true, true},
+            "IM start-up (Casadei Fig. 17b): zero torque until the rotor flux has reached this fraction of its "
+            "reference, i.e. for tau_r ln(1/(1 - frac))",
+            ACC(control.magnetise_frac)),
+        num("control.table_speed_rpm", "rpm", nonneg(),
+            "IM speed-dependent table: ST-D below, ST-A above; 0 = derived (half the speed where the back-EMF "
+            "reaches V_dc/sqrt(3))",
+            ACC(control.table_speed_rpm)),
         num("control.speed_ref_rpm", "rpm", any(), "speed reference (speed mode)", ACC(control.speed_ref_rpm)),
         num("control.speed_bw_hz", "Hz", positive(),
             "speed-loop bandwidth; PI gains derived from motor.j_kgm2 (Kp = J*wc, Ki = Kp*wc/4)",
@@ -378,8 +421,19 @@ const std::vector<Spec>& schema()
         // ---- metrics ----
         // ---- firmware: its own parameter values (mismatch studies); unset = the plant's ----
         opt_num("firmware.rs_ohm", "ohm", positive(),
-                "stator resistance the firmware uses (voltage model, prediction); not given: motor.rs_ohm",
+                "stator resistance the firmware uses (PM: voltage model, prediction; IM: both estimators); not "
+                "given: motor.rs_ohm",
                 ACC(firmware.rs_ohm)),
+        opt_num("firmware.rr_ohm", "ohm", positive(),
+                "IM: rotor resistance the firmware uses (improved estimator, eq. 19, slip of eq. 16, start-up "
+                "time); not given: motor.rr_ohm",
+                ACC(firmware.rr_ohm)),
+        opt_num("firmware.lls_h", "H", positive(), "IM: stator leakage inductance the firmware uses; not given: "
+                "motor.lls_h", ACC(firmware.lls_h)),
+        opt_num("firmware.llr_h", "H", positive(), "IM: rotor leakage inductance the firmware uses; not given: "
+                "motor.llr_h", ACC(firmware.llr_h)),
+        opt_num("firmware.lm_h", "H", positive(), "IM: magnetising inductance the firmware uses; not given: "
+                "motor.lm_h", ACC(firmware.lm_h)),
         opt_num("firmware.ls_h", "H", positive(),
                 "inductance the firmware uses (current model, prediction); not given: motor.ls_h", ACC(firmware.ls_h)),
         opt_num("firmware.psi_m_wb", "Wb", positive(),
@@ -677,6 +731,43 @@ void apply_machine_defaults(Scenario& s, Diagnostics* d)
     if (unset("motor.rated_torque_nm")) s.motor.rated_torque_nm = q.rated_torque_nm;
     if (unset("motor.rated_current_a")) s.motor.rated_current_a = q.rated_current_a;
     if (unset("motor.rated_speed_rpm")) s.motor.rated_speed_rpm = q.rated_speed_rpm;
+    // The IM drive rig (plant_defaults.h), closed loop: Casadei's period, a rectified 220 V link,
+    // sensing and protection sized for the 300 % torque steps.
+    if (s.control.mode == ControlMode::OpenLoop) {
+        return;
+    }
+    if (unset("ts_s")) s.ts_s = PLANT_DEF_IM_TS_S;
+    if (unset("inverter.vdc_v")) s.inverter.vdc_v = PLANT_DEF_IM_VDC_V;
+    if (unset("control.flux_ref_wb")) s.control.flux_ref_wb = PLANT_DEF_IM_FLUX_REF_WB;
+    if (unset("control.torque_limit_nm")) s.control.torque_limit_nm = PLANT_DEF_IM_TORQUE_LIMIT_NM;
+    if (unset("control.torque_ref_nm")) s.control.torque_ref_nm = PLANT_DEF_IM_RATED_TORQUE_NM;
+    if (unset("control.estimator")) s.control.estimator = Estimator::Improved;
+    if (unset("sensors.current_range_a")) s.sensors.current_range_a = PLANT_DEF_IM_CURRENT_RANGE_A;
+    if (unset("sensors.voltage_range_v")) s.sensors.voltage_range_v = PLANT_DEF_IM_VOLTAGE_RANGE_V;
+    if (unset("protection.overcurrent_a")) s.protection.overcurrent_a = PLANT_DEF_IM_OVERCURRENT_A;
+    if (unset("protection.hw_trip_current_a")) s.protection.hw_trip_current_a = PLANT_DEF_IM_HW_TRIP_CURRENT_A;
+    if (unset("protection.vdc_min_v")) s.protection.vdc_min_v = PLANT_DEF_IM_VDC_MIN_V;
+    if (unset("protection.vdc_max_v")) s.protection.vdc_max_v = PLANT_DEF_IM_VDC_MAX_V;
+}
+
+// Keys of the IM law and of the PM law: set for the other machine they are refused by name.
+void check_law_keys(const Scenario& s, Diagnostics* d)
+{
+    static const std::vector<std::string> im_law = {
+        "control.scheme", "control.speed_sensor", "control.flux_weakening", "control.rotor_flux_ref_wb",
+        "control.observer_tau_s", "control.observer_tau_high_s", "control.observer_tau_lo_rpm",
+        "control.observer_tau_hi_rpm", "control.magnetise_frac", "control.table_speed_rpm",
+        "firmware.rr_ohm", "firmware.lls_h", "firmware.llr_h", "firmware.lm_h"};
+    static const std::vector<std::string> pm_law = {"firmware.ls_h", "firmware.psi_m_wb", "control.handover_rpm",
+                                                    "control.handover_hyst_frac", "control.delay_comp"};
+    const bool im = s.motor.type == MotorType::Im;
+    for (const std::string& k : im ? pm_law : im_law) {
+        if (s.origin.count(k) != 0) {
+            d->errors.push_back(origin_of(s, k) + ": " + k + ": not a setting of the " +
+                                (im ? "induction-machine" : "PM") + " drive (motor.type = \"" +
+                                to_string(s.motor.type) + "\", " + origin_of(s, "motor.type") + ")");
+        }
+    }
 }
 
 void cross_validate(Scenario& s, Diagnostics* d)
@@ -713,9 +804,45 @@ void cross_validate(Scenario& s, Diagnostics* d)
                                     " s: shorter than one control period ts_s = " + fmt_double(s.ts_s) + " s");
     }
     const bool open_loop = s.control.mode == ControlMode::OpenLoop;
-    if (s.motor.type == MotorType::Im && !open_loop) {
-        err("motor.type", "\"im\" runs with control.mode = \"open_loop\" only (the firmware drives the PM machine); "
-                          "control.mode is \"" + to_string(s.control.mode) + "\" (" + origin_of(s, "control.mode") + ")");
+    const bool im = s.motor.type == MotorType::Im;
+    if (im && !open_loop) {
+        // The IM law (Casadei): firmware only, six switches, voltage or improved estimator.
+        if (s.control.implementation != Implementation::Firmware) {
+            err("control.implementation", "\"" + to_string(s.control.implementation) + "\" has no induction-machine "
+                "law: motor.type = \"im\" (" + origin_of(s, "motor.type") + ") runs on \"firmware\"");
+        }
+        if (s.inverter.topology != Topology::Sstp && s.inverter.topology != Topology::Ideal) {
+            err("inverter.topology", "the induction-machine law needs the six-switch inverter \"sstp\"; got \"" +
+                                         to_string(s.inverter.topology) + "\"");
+        }
+        if (s.control.estimator == Estimator::Current) {
+            err("control.estimator", "\"current\" (Hoang eqs. 8-9) needs a magnet: the PM drive only; the "
+                                     "induction machine takes \"voltage\" or \"improved\"");
+        }
+        const double tau_hi = s.control.observer_tau_high_s > 0.0 ? s.control.observer_tau_high_s
+                                                                  : s.control.observer_tau_s;
+        if (s.control.observer_tau_s <= s.ts_s || tau_hi <= s.ts_s) {
+            err(s.control.observer_tau_s <= s.ts_s ? "control.observer_tau_s" : "control.observer_tau_high_s",
+                "must be longer than the control period ts_s = " + fmt_double(s.ts_s) + " s");
+        }
+        if (s.control.observer_tau_hi_rpm < s.control.observer_tau_lo_rpm) {
+            err("control.observer_tau_hi_rpm", "must not be below control.observer_tau_lo_rpm = " +
+                                                   fmt_double(s.control.observer_tau_lo_rpm));
+        }
+        if (s.control.observer_tau_high_s > 0.0 && s.control.observer_tau_hi_rpm <= 0.0) {
+            err("control.observer_tau_hi_rpm", "a speed-dependent tau (control.observer_tau_high_s, " +
+                                                   origin_of(s, "control.observer_tau_high_s") +
+                                                   ") needs the speed from which it applies (> 0)");
+        }
+    } else if (!open_loop) {
+        if (s.control.estimator == Estimator::Improved) {
+            err("control.estimator", "\"improved\" (Casadei eqs. 20-22) is the induction machine's estimator; "
+                                     "motor.type is \"pmsm\"");
+        }
+        if (s.control.table == SwitchingTable::SpeedDependent) {
+            err("control.table", "\"speed-dependent\" (Casadei sec. 8) is an induction-machine table; "
+                                 "motor.type is \"pmsm\"");
+        }
     }
     const bool vf = s.control.vf_freq_hz > 0.0;
     if (open_loop && vf && !s.control.voltage_csv.empty()) {
@@ -909,7 +1036,8 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
         s.origin[name] = loc;
     };
 
-    static const char* const sections[] = {"motor", "inverter", "load", "control", "sensors", "protection", "metrics"};
+    static const char* const sections[] = {"motor",      "inverter", "load",    "control",
+                                           "sensors",    "protection", "firmware", "metrics"};
     for (auto&& [key, node] : root) {
         const std::string k(key.str());
         bool is_section = false;
@@ -964,6 +1092,7 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
 
     if (diag->ok()) {
         apply_machine_defaults(s, diag);
+        check_law_keys(s, diag);
     }
     if (diag->ok()) {
         cross_validate(s, diag);

@@ -1,0 +1,847 @@
+// test_im_casadei.cpp - the induction-machine drive (Casadei et al. 2006) under the conditions of
+// the paper's figures, through the scenario API: tools/scenarios/im_dtc_speed.toml (the default
+// IM on its rig: SSTP on 311 V with the plant's device drops and dead time, 40 us, improved
+// estimator tau = 0.01 s) with --set overrides, the firmware as dtc-sil runs it
+// (make_controller), the plant's true quantities read every period. References that change
+// during a run (torque pulses and steps, speed profiles) go through the application's shadow set
+// (app_set_refs), as the background loop of the DSP would publish them. Every run starts at
+// standstill and magnetises the machine at zero torque (Fig. 17b) before anything else.
+//
+// Assertions are the papers' statements with a margin, on the plant: never the firmware's own
+// estimate where the plant can say. Each test prints a MEASURE line (the figures of the report).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+extern "C" {
+#include "app.h"
+#include "dtc_config_si.h"
+}
+
+#include "controller_adapter.hpp"
+#include "hal_host.hpp"
+#include "run.hpp"
+#include "scenario.hpp"
+
+using namespace sil;
+
+namespace {
+
+const std::string kScenario = std::string(DTC_SOURCE_DIR) + "/tools/scenarios/im_dtc_speed.toml";
+constexpr double kIqOne = 16777216.0; // 2^24, iq_t
+
+// One SIL rig from im_dtc_speed.toml plus overrides, stepped period by period.
+struct Rig {
+    Scenario sc;
+    dtc_config_si_t si{};
+    dtc_config_t cfg{};
+    dtc_bases_t b{};
+    std::unique_ptr<hal_host::Harness> h;
+    std::unique_ptr<Controller> ctrl;
+    bool ok = false;
+
+    explicit Rig(const std::vector<std::string>& sets)
+    {
+        Diagnostics d;
+        if (!load_scenario(kScenario, sets, &sc, &d)) {
+            ADD_FAILURE() << d.text();
+            return;
+        }
+        si = firmware_si_config(sc);
+        char msg[256] = {0};
+        if (dtc_config_from_si(&si, &cfg, msg, sizeof msg) != DTC_SI_OK) {
+            ADD_FAILURE() << msg;
+            return;
+        }
+        dtc_bases_from_si(&si, &b);
+        std::string err;
+        h = hal_host::Harness::create(plant_params_from(sc), harness_config_from(sc), &err);
+        if (!h) {
+            ADD_FAILURE() << err;
+            return;
+        }
+        h->activate();
+        ctrl = make_controller(sc, &err);
+        if (!ctrl) {
+            ADD_FAILURE() << err;
+            return;
+        }
+        const std::string e = ctrl->init(*h);
+        if (!e.empty()) {
+            ADD_FAILURE() << e;
+            return;
+        }
+        ok = true;
+    }
+    ~Rig()
+    {
+        if (h) {
+            h->deactivate();
+        }
+    }
+    double ts() const { return sc.ts_s; }
+    long periods(double t_s) const { return static_cast<long>(std::llround(t_s / sc.ts_s)); }
+    void period()
+    {
+        h->run_period([this] { ctrl->step(*h); });
+    }
+    // Runs t_s, calling f after every period.
+    void run(double t_s, const std::function<void()>& f = {})
+    {
+        for (long k = 0, n = periods(t_s); k < n; ++k) {
+            period();
+            if (f) {
+                f();
+            }
+        }
+    }
+    const plant_state_t& st() const { return h->state(); }
+    double psir() const { return std::hypot(st().psi_r_alpha_wb, st().psi_r_beta_wb); }
+    double psis() const { return std::hypot(st().psi_alpha_wb, st().psi_beta_wb); }
+    double imag() const { return std::hypot(st().i_alpha_a, st().i_beta_a); }
+    app_status_t status() const
+    {
+        app_status_t s;
+        app_get_status(&s);
+        return s;
+    }
+    std::string fault() const { return ctrl->fault(); }
+    iq_t torque_iq(double nm) const { return static_cast<iq_t>(std::lround(nm / b.t_base_nm * kIqOne)); }
+    iq_t speed_iq(double rpm) const
+    {
+        return static_cast<iq_t>(std::lround(rpm * kPi / 30.0 * static_cast<double>(si.pole_pairs) / b.w_base_rad_s * kIqOne));
+    }
+    double speed_est_rpm() const
+    {
+        return static_cast<double>(status().out.speed_iq) / kIqOne * b.w_base_rad_s * 30.0 / kPi /
+               static_cast<double>(si.pole_pairs);
+    }
+    // Publishes a new reference set through the shadow (app_set_refs).
+    void refs(int mode, double torque_nm, double speed_rpm)
+    {
+        dtc_refs_t r{};
+        r.mode = static_cast<std::uint16_t>(mode);
+        r.flux_ref_iq = cfg.speed.flux_ref_iq;
+        r.kp_iq = cfg.speed.kp_iq;
+        r.ki_ts_iq = cfg.speed.ki_ts_iq;
+        r.torque_ref_iq = torque_iq(torque_nm);
+        r.speed_ref_iq = speed_iq(speed_rpm);
+        EXPECT_EQ(app_set_refs(&r), DTC_OK);
+    }
+    // Start-up: calibration and the magnetisation at zero torque, then settle_s more.
+    void magnetise(double settle_s)
+    {
+        const double t_magn = static_cast<double>(cfg.speed.im_magn_periods) * ts();
+        run(t_magn + 64.0 * ts() + settle_s);
+    }
+    // Moves the dynamometer's held speed linearly to rpm over t_s.
+    void ramp_held_speed(double rpm, double t_s)
+    {
+        const double from = st().speed_rpm;
+        const long n = periods(t_s);
+        for (long k = 1; k <= n; ++k) {
+            plant_set_load(h->plant(), PLANT_LOAD_SPEED, from + (rpm - from) * static_cast<double>(k) / static_cast<double>(n), 0.0);
+            period();
+        }
+    }
+};
+
+// Machine constants of the default IM (the plant's, as the scenario builds it).
+struct Machine {
+    double ls, lr, m, sigma, tau_r;
+    int p;
+    explicit Machine(const Scenario& sc)
+    {
+        m = sc.motor.lm_h;
+        ls = sc.motor.lls_h + m;
+        lr = sc.motor.llr_h + m;
+        sigma = 1.0 - m * m / (ls * lr);
+        tau_r = lr / sc.motor.rr_ohm;
+        p = static_cast<int>(sc.motor.pole_pairs);
+    }
+    // Steady state at constant rotor flux phi_r carrying torque t (rotor-flux frame, Casadei eq. 19):
+    // phi_sd = (L_s/M) phi_r, phi_sq = sigma L_s i_q, T = 3/2 p (M/L_r) phi_r i_q.
+    double stator_flux(double phi_r, double t) const
+    {
+        const double iq = t * lr / (1.5 * p * m * phi_r);
+        return std::hypot(ls / m * phi_r, sigma * ls * iq);
+    }
+};
+
+} // namespace
+
+// ---- Fig. 17: start-up at zero torque, then a rated torque step --------------------------------
+// Casadei sec. 10.2: with a pure integrator the machine cannot be magnetised at zero torque and
+// the torque then rises slowly; with the improved estimator (tau = 0.01 s) the phase current
+// settles to the magnetising current at zero torque and the torque reaches its reference within
+// a few ms. Rotor held at standstill (the dynamometer), torque mode, T* = 0, then rated.
+struct StartUp {
+    double psir_before = 0.0, i_dc = 0.0, i_drift = 0.0, rise_ms = -1.0, te_worst_magn = 0.0;
+    double trip_t = -1.0, psir_at_trip = 0.0, psis_at_trip = 0.0; // first fault: time, plant fluxes
+    std::string fault;
+};
+static StartUp start_up(const std::string& estimator, std::vector<std::string> extra = {})
+{
+    std::vector<std::string> sets = {"control.mode=torque", "control.torque_ref_nm=0", "load.type=speed",
+                                     "load.speed_rpm=0", "control.estimator=" + estimator, "duration_s=2"};
+    sets.insert(sets.end(), extra.begin(), extra.end());
+    Rig r(sets);
+    StartUp o;
+    if (!r.ok) {
+        return o;
+    }
+    const double t_magn = static_cast<double>(r.cfg.speed.im_magn_periods) * r.ts();
+    r.run(64.0 * r.ts() + t_magn, [&] {
+        o.te_worst_magn = std::fmax(o.te_worst_magn, std::fabs(r.st().te_nm));
+        if (o.trip_t < 0.0 && r.fault() != "none") {
+            o.trip_t = r.h->time_s();
+            o.psir_at_trip = r.psir();
+            o.psis_at_trip = r.psis();
+        }
+    });
+    r.run(0.3); // torque allowed, still commanded zero: the rotor flux completes its rise (tau_r)
+    // The 50 ms before the torque step: the mean current-vector magnitude (the DC magnetising
+    // current) and the spread of its 5 ms means (a DC current has none).
+    double sum = 0.0, lo = 1e9, hi = 0.0, part = 0.0;
+    long n = 0;
+    const long n5 = r.periods(0.005);
+    r.run(0.05, [&] {
+        sum += r.imag();
+        part += r.imag();
+        if (++n % n5 == 0) {
+            lo = std::fmin(lo, part / static_cast<double>(n5));
+            hi = std::fmax(hi, part / static_cast<double>(n5));
+            part = 0.0;
+        }
+    });
+    o.i_dc = sum / static_cast<double>(n);
+    o.i_drift = (hi - lo) / std::fmax(o.i_dc, 1e-9);
+    o.psir_before = r.psir();
+    const double t_rated = r.sc.motor.rated_torque_nm;
+    r.refs(DTC_MODE_TORQUE, t_rated, 0.0);
+    long k = 0;
+    r.run(0.1, [&] {
+        ++k;
+        if (o.rise_ms < 0.0 && r.st().te_nm >= 0.9 * t_rated) {
+            o.rise_ms = static_cast<double>(k) * r.ts() * 1e3;
+        }
+    });
+    o.fault = r.fault();
+    return o;
+}
+
+TEST(ImCasadei, Fig17ImprovedEstimatorMagnetisesAtZeroTorqueAndTheTorqueFollowsInMilliseconds)
+{
+    const StartUp imp = start_up("improved");
+    const StartUp vol = start_up("voltage");
+    const StartUp vol_hi = start_up("voltage", {"sensors.current_range_a=1000", "protection.overcurrent_a=900",
+                                                "protection.hw_trip_current_a=0"});
+    std::printf("MEASURE Fig17 voltage, no trip: DC current %.2f A (spread %.2f %%), rotor flux %.3f Wb, rise %.2f ms, fault %s\n",
+                vol_hi.i_dc, 100.0 * vol_hi.i_drift, vol_hi.psir_before, vol_hi.rise_ms, vol_hi.fault.c_str());
+    std::printf("MEASURE Fig17 improved: DC current %.2f A (5 ms means spread %.2f %%), rotor flux %.3f Wb, max |T| "
+                "while magnetising %.2f N*m, rise to 90 %% rated %.2f ms, fault %s\n",
+                imp.i_dc, 100.0 * imp.i_drift, imp.psir_before, imp.te_worst_magn, imp.rise_ms, imp.fault.c_str());
+    std::printf("MEASURE Fig17 voltage: fault %s at %.4f s, plant stator flux then %.3f Wb, rotor flux %.3f Wb\n",
+                vol.fault.c_str(), vol.trip_t, vol.psis_at_trip, vol.psir_at_trip);
+    // Improved estimator: a steady DC current vector, the machine's magnetising current (plant
+    // rotor flux / M), the rotor flux at its reference within 10 % (measured 8 % low: the residual
+    // voltage error at DC, docs/firmware-core.md), no torque; then the rated torque within 5 ms.
+    const double psir_ref = 0.53; // im_dtc_speed.toml control.rotor_flux_ref_wb
+    EXPECT_EQ(imp.fault, "none");
+    EXPECT_NEAR(imp.i_dc, imp.psir_before / PLANT_DEF_IM_LM_H, 0.05 * imp.i_dc);
+    EXPECT_LT(imp.i_drift, 0.05);
+    EXPECT_LT(imp.te_worst_magn, 0.05 * PLANT_DEF_IM_RATED_TORQUE_NM);
+    EXPECT_NEAR(imp.psir_before, psir_ref, 0.10 * psir_ref);
+    ASSERT_GT(imp.rise_ms, 0.0);
+    EXPECT_LE(imp.rise_ms, 5.0);
+    // Voltage model (Casadei eq. 1, a low-pass for the integrator), Fig. 17a. On the rig's trips
+    // it stops on over-current in the start-up current peak (the finding of im_dtc_speed.toml,
+    // printed above, not asserted). With the trips out of the way (sensors and trip at 1 kA) the
+    // estimator's own behaviour shows: the DC flux it is asked to hold decays out of its estimate
+    // (5 rad/s low-pass), so the machine is not magnetised at zero torque (rotor flux below 80 %
+    // of the reference, the current not a steady DC) and the torque then rises far slower than
+    // with the improved estimator (not at 90 % of rated within 10x its rise time).
+    EXPECT_EQ(vol_hi.fault, "none");
+    EXPECT_LT(vol_hi.psir_before, 0.8 * psir_ref);
+    EXPECT_GT(vol_hi.i_drift, 0.05);
+    EXPECT_TRUE(vol_hi.rise_ms < 0.0 || vol_hi.rise_ms > 10.0 * imp.rise_ms) << vol_hi.rise_ms;
+}
+
+// ---- common: magnetised at standstill, then torque mode at a held speed --------------------------
+// Torque mode, T* = 0 while magnetising at standstill; then T* = t0_nm and the dynamometer takes
+// the rotor to rpm in 0.2 s, and 0.2 s of settling (the mean-torque trim, 20 ms).
+static void to_operating_point(Rig& r, double rpm, double t0_nm)
+{
+    r.magnetise(0.2);
+    r.refs(DTC_MODE_TORQUE, t0_nm, 0.0);
+    r.ramp_held_speed(rpm, 0.2);
+    r.run(0.2);
+}
+
+static std::vector<std::string> torque_at_held_speed(std::vector<std::string> extra)
+{
+    std::vector<std::string> s = {"control.mode=torque", "control.torque_ref_nm=0", "load.type=speed",
+                                  "load.speed_rpm=0", "duration_s=5"};
+    s.insert(s.end(), extra.begin(), extra.end());
+    return s;
+}
+
+// ---- Figs. 14-15: 50 % -> 300 % rated torque step at constant rotor flux --------------------------
+// Casadei sec. 10.1: the torque follows in a few ms (rise <= 3 ms), the rotor flux magnitude stays
+// constant (circular locus, within 2 %) and the stator flux rises as eq. 19 demands. The paper
+// gives no speed: 500 rpm held (well above 1/tau of the estimator's DC region) and standstill.
+struct Step14 {
+    double rise_ms = -1.0, psir_worst = 0.0, psis_before = 0.0, psis_after = 0.0, psir_mean = 0.0, i_peak = 0.0;
+    std::string fault;
+};
+static Step14 step_14(double rpm)
+{
+    Rig r(torque_at_held_speed({}));
+    Step14 o;
+    if (!r.ok) {
+        return o;
+    }
+    const double tr = r.sc.motor.rated_torque_nm;
+    to_operating_point(r, rpm, 0.5 * tr);
+    double s = 0.0;
+    long n = 0;
+    r.run(0.02, [&] {
+        s += r.psis();
+        ++n;
+    });
+    o.psis_before = s / static_cast<double>(n);
+    const double psir_ref = r.sc.control.rotor_flux_ref_wb;
+    r.refs(DTC_MODE_TORQUE, 3.0 * tr, 0.0);
+    long k = 0;
+    double sa = 0.0, sr = 0.0;
+    long na = 0;
+    r.run(0.04, [&] {
+        ++k;
+        if (o.rise_ms < 0.0 && r.st().te_nm >= 0.9 * 3.0 * tr) {
+            o.rise_ms = static_cast<double>(k) * r.ts() * 1e3;
+        }
+        o.psir_worst = std::fmax(o.psir_worst, std::fabs(r.psir() / psir_ref - 1.0));
+        o.i_peak = std::fmax(o.i_peak, r.imag());
+        if (k > r.periods(0.01)) {
+            sa += r.psis();
+            sr += r.psir();
+            ++na;
+        }
+    });
+    o.psis_after = sa / static_cast<double>(na);
+    o.psir_mean = sr / static_cast<double>(na);
+    o.fault = r.fault();
+    return o;
+}
+
+TEST(ImCasadei, Fig14And15TorqueStepTo300PercentAtConstantRotorFlux)
+{
+    Scenario sc;
+    Diagnostics d;
+    ASSERT_TRUE(load_scenario(kScenario, {}, &sc, &d)) << d.text();
+    const Machine mc(sc);
+    const double psir_ref = sc.control.rotor_flux_ref_wb, tr = sc.motor.rated_torque_nm;
+    const double eq19_before = mc.stator_flux(psir_ref, 0.5 * tr), eq19_after = mc.stator_flux(psir_ref, 3.0 * tr);
+    for (double rpm : {500.0, 0.0}) {
+        const Step14 o = step_14(rpm);
+        std::printf("MEASURE Fig14-15 at %.0f rpm: rise to 90 %% of 300 %% %.2f ms, rotor flux worst %.2f %% of %.2f Wb "
+                    "(mean after %.3f), stator flux %.3f -> %.3f Wb (eq. 19: %.3f -> %.3f), peak current %.1f A, fault %s\n",
+                    rpm, o.rise_ms, 100.0 * o.psir_worst, psir_ref, o.psir_mean, o.psis_before, o.psis_after,
+                    eq19_before, eq19_after, o.i_peak, o.fault.c_str());
+        if (rpm > 0.0) {
+            EXPECT_EQ(o.fault, "none");
+            ASSERT_GT(o.rise_ms, 0.0);
+            EXPECT_LE(o.rise_ms, 3.0);
+            EXPECT_LT(o.psir_worst, 0.03);
+            EXPECT_NEAR(o.psis_before, eq19_before, 0.03 * eq19_before);
+            EXPECT_NEAR(o.psis_after, eq19_after, 0.03 * eq19_after);
+        }
+    }
+}
+
+// ---- Fig. 5: torque pulse +18 -> -18 N*m for 8.8 ms at a held speed, ST-A against ST-D ----------
+// Casadei sec. 6: at 20 rad/s the response with ST-A (null vectors for the decrease) is sluggish
+// and with ST-D (backward active vectors) quick; at 100 rad/s both are quick and almost equal.
+// Response time: from the -18 N*m command until the plant torque is 90 % of the way down. Before
+// the pulse the drive must hold +18 N*m with its flux estimate on the machine's (a response time
+// of a drive that lost its flux means nothing).
+struct Pulse {
+    double t_ms = -1.0, te_before = 0.0, psi_err = 0.0;
+    std::string fault;
+};
+static Pulse pulse_response(const std::string& table, double w_mech)
+{
+    Rig r(torque_at_held_speed({"control.table=" + table}));
+    Pulse o;
+    if (!r.ok) {
+        return o;
+    }
+    to_operating_point(r, w_mech * 30.0 / kPi, 18.0);
+    const double pb = r.b.psi_base_wb / kIqOne;
+    double s = 0.0, e = 0.0;
+    long n = 0;
+    r.run(0.02, [&] {
+        s += r.st().te_nm;
+        const app_status_t st = r.status();
+        e = std::fmax(e, std::hypot(st.out.psi_alpha_iq * pb - r.st().psi_alpha_wb, st.out.psi_beta_iq * pb - r.st().psi_beta_wb));
+        ++n;
+    });
+    o.te_before = s / static_cast<double>(n);
+    o.psi_err = e / r.sc.control.flux_ref_wb;
+    r.refs(DTC_MODE_TORQUE, -18.0, 0.0);
+    long k = 0;
+    r.run(0.0088, [&] {
+        ++k;
+        if (o.t_ms < 0.0 && r.st().te_nm <= 18.0 - 0.9 * 36.0) {
+            o.t_ms = static_cast<double>(k) * r.ts() * 1e3;
+        }
+    });
+    r.refs(DTC_MODE_TORQUE, 18.0, 0.0);
+    r.run(0.01);
+    o.fault = r.fault();
+    return o;
+}
+
+static void print_pulse(const char* what, const Pulse& p)
+{
+    std::printf("MEASURE Fig5 %s: response %.2f ms (-1 = not within the 8.8 ms pulse), torque before %.2f N*m, "
+                "worst flux-estimate error before %.1f %% of phi_s*, fault %s\n",
+                what, p.t_ms, p.te_before, 100.0 * p.psi_err, p.fault.c_str());
+}
+
+TEST(ImCasadei, Fig5StDTorqueResponseIsQuickAtLowAndHighSpeed)
+{
+    const Pulse d20 = pulse_response("st-d", 20.0), d100 = pulse_response("st-d", 100.0);
+    print_pulse("ST-D 20 rad/s", d20);
+    print_pulse("ST-D 100 rad/s", d100);
+    for (const Pulse* p : {&d20, &d100}) {
+        EXPECT_EQ(p->fault, "none");
+        EXPECT_NEAR(p->te_before, 18.0, 0.1 * 18.0);
+        EXPECT_LT(p->psi_err, 0.10);
+        ASSERT_GT(p->t_ms, 0.0);
+        EXPECT_LT(p->t_ms, 1.0); // quick: a few periods of the 40 us loop
+    }
+}
+
+// Fig. 5's ST-A half. Disabled: a finding. With ST-A (the null vectors V0/V7 for every torque
+// decrease, flux uncontrolled meanwhile) the firmware's flux estimate leaves the machine's: at
+// 100 rad/s held with the rig's parts, before the pulse, estimate |phi_s| 0.54 Wb against the
+// plant's 0.05-0.11 Wb, plant torque -1 N*m for T* = +18 (estimate 15-19 N*m); with ideal devices
+// it loses the flux between about 190 and 570 rpm of a speed ramp and recovers above. ST-B, ST-D
+// and Table 1 hold the flux. The response times then mean nothing (measured 4-6 ms at 20 rad/s
+// with the estimate 33 % off the plant's flux before the pulse; not reached at 100 rad/s, 98 %
+// off). Enable when the IM law holds the flux with ST-A.
+TEST(ImCasadei, DISABLED_Fig5StASluggishAtLowSpeedQuickAtHighSpeed)
+{
+    const Pulse a20 = pulse_response("st-a", 20.0), a100 = pulse_response("st-a", 100.0);
+    const Pulse d20 = pulse_response("st-d", 20.0), d100 = pulse_response("st-d", 100.0);
+    print_pulse("ST-A 20 rad/s", a20);
+    print_pulse("ST-A 100 rad/s", a100);
+    for (const Pulse* p : {&a20, &a100}) {
+        EXPECT_NEAR(p->te_before, 18.0, 0.1 * 18.0);
+        EXPECT_LT(p->psi_err, 0.10);
+    }
+    EXPECT_GT(a20.t_ms / d20.t_ms, 3.0);   // sluggish against quick
+    EXPECT_LT(a100.t_ms / d100.t_ms, 2.0); // both quick, almost identical
+}
+
+// ---- Section 8: the speed-dependent table's torque ripple -----------------------------------------
+// ST-D below the hand-over speed (derived: 779 rpm), ST-A above: the ripple should be lower than
+// ST-A's at low speed and lower than ST-D's at high speed (rated torque held, zero bands).
+struct Ripple {
+    double rms = 0.0, mean = 0.0;
+    std::string fault;
+};
+static Ripple ripple(const std::string& table, double rpm)
+{
+    Rig r(torque_at_held_speed({"control.table=" + table}));
+    Ripple o;
+    if (!r.ok) {
+        return o;
+    }
+    to_operating_point(r, rpm, r.sc.motor.rated_torque_nm);
+    double s = 0.0, s2 = 0.0;
+    long n = 0;
+    r.run(0.1, [&] {
+        s += r.st().te_nm;
+        s2 += r.st().te_nm * r.st().te_nm;
+        ++n;
+    });
+    o.mean = s / static_cast<double>(n);
+    o.rms = std::sqrt(std::fmax(0.0, s2 / static_cast<double>(n) - o.mean * o.mean));
+    o.fault = r.fault();
+    return o;
+}
+
+TEST(ImCasadei, Sec8SpeedDependentTableAgainstStAAndStD)
+{
+    const double lo = 150.0, hi = 1300.0;
+    const Ripple sd_lo = ripple("speed-dependent", lo), a_lo = ripple("st-a", lo), d_lo = ripple("st-d", lo);
+    const Ripple sd_hi = ripple("speed-dependent", hi), a_hi = ripple("st-a", hi), d_hi = ripple("st-d", hi);
+    std::printf("MEASURE Sec8 torque ripple rms / mean (N*m) at %.0f rpm: speed-dependent %.2f / %.2f, ST-A %.2f / %.2f, "
+                "ST-D %.2f / %.2f; at %.0f rpm: speed-dependent %.2f / %.2f, ST-A %.2f / %.2f, ST-D %.2f / %.2f\n",
+                lo, sd_lo.rms, sd_lo.mean, a_lo.rms, a_lo.mean, d_lo.rms, d_lo.mean, hi, sd_hi.rms, sd_hi.mean,
+                a_hi.rms, a_hi.mean, d_hi.rms, d_hi.mean);
+    const double tr = PLANT_DEF_IM_RATED_TORQUE_NM;
+    // The speed-dependent table is ST-D at low speed and ST-A at high speed: it carries the rated
+    // torque at both, and at high speed ripples less than ST-D.
+    for (const Ripple* r : {&sd_lo, &sd_hi, &d_lo, &d_hi}) {
+        EXPECT_EQ(r->fault, "none");
+        EXPECT_NEAR(r->mean, tr, 0.1 * tr);
+    }
+    EXPECT_LT(sd_hi.rms, 0.8 * d_hi.rms);
+    // Not asserted (printed): ST-A at low speed. With zero bands at 40 us the measured ripple of
+    // ST-D (= the speed-dependent table) is not below ST-A's at 150 rpm, and ST-A's flux estimate
+    // is not trustworthy there (the Fig. 5 finding): the paper's low-speed ripple advantage is not
+    // shown by this drive.
+}
+
+// ---- Fig. 13 and section 9: DSC hexagon, fewer commutations than DTC ------------------------------
+// Rated torque at 1000 rpm held. DTC (Table 1) with a flux band of 0.14 phi_s* traces a DSC-like
+// polygon (Fig. 13): |phi_s| spans about cos 30 deg .. 1 of its peak like a hexagon; without the
+// band the locus is a circle. DSC itself: see the disabled test below.
+struct Locus {
+    double ratio = 0.0, comm_per_period = 0.0;
+    std::string fault;
+};
+static Locus locus(const std::vector<std::string>& sets)
+{
+    Rig r(torque_at_held_speed(sets));
+    Locus o;
+    if (!r.ok) {
+        return o;
+    }
+    to_operating_point(r, 1000.0, r.sc.motor.rated_torque_nm);
+    double lo = 1e9, hi = 0.0, ang = 0.0, prev = std::atan2(r.st().psi_beta_wb, r.st().psi_alpha_wb);
+    long comm = 0;
+    hal_cmd_t last = r.h->applied_cmd();
+    r.run(0.1, [&] {
+        lo = std::fmin(lo, r.psis());
+        hi = std::fmax(hi, r.psis());
+        const double a = std::atan2(r.st().psi_beta_wb, r.st().psi_alpha_wb);
+        ang += std::remainder(a - prev, 2.0 * kPi);
+        prev = a;
+        const hal_cmd_t c = r.h->applied_cmd();
+        comm += (c.sa != last.sa) + (c.sb != last.sb) + (c.sc != last.sc);
+        last = c;
+    });
+    o.ratio = lo / hi;
+    o.comm_per_period = static_cast<double>(comm) / std::fmax(std::fabs(ang) / (2.0 * kPi), 1e-9);
+    o.fault = r.fault();
+    return o;
+}
+
+TEST(ImCasadei, Fig13DtcWithWideFluxBandTracesAHexagonLikeLocus)
+{
+    const Locus wide = locus({"control.flux_band_wb=0.077"}); // 0.14 x 0.55 Wb
+    const Locus narrow = locus({});
+    std::printf("MEASURE Fig13 |phi_s| min/max, leg commutations per electrical period: DTC band 0.14 phi_s* %.3f, %.1f; "
+                "DTC band 0 %.3f, %.1f\n",
+                wide.ratio, wide.comm_per_period, narrow.ratio, narrow.comm_per_period);
+    EXPECT_EQ(wide.fault, "none");
+    EXPECT_EQ(narrow.fault, "none");
+    EXPECT_NEAR(wide.ratio, std::cos(kPi / 6.0), 0.06); // a hexagon's inner/outer radius
+    EXPECT_GT(narrow.ratio, 0.93);                      // a circle
+    EXPECT_LT(wide.comm_per_period, narrow.comm_per_period);
+}
+
+// Section 9. Disabled: a finding. DSC trips on over-current the moment the start-up
+// magnetisation ends (0.297 s): the machine magnetised along the alpha axis by V1, DSC applies V4
+// (opposite to the flux) continuously, the stator flux runs through zero (0.52 -> 0.02 Wb in
+// 2.5 ms) and the current reaches the 130 A trip; the same with ideal devices and with T* = rated
+// at that instant. Enable when DSC takes over from the start-up.
+TEST(ImCasadei, DISABLED_Sec9DscHexagonWithFewerCommutationsThanDtc)
+{
+    const Locus dsc = locus({"control.scheme=dsc"});
+    const Locus dtc = locus({});
+    std::printf("MEASURE Sec9 DSC |phi_s| min/max %.3f, commutations per period %.1f (DTC %.1f), fault %s\n", dsc.ratio,
+                dsc.comm_per_period, dtc.comm_per_period, dsc.fault.c_str());
+    EXPECT_EQ(dsc.fault, "none");
+    EXPECT_NEAR(dsc.ratio, std::cos(kPi / 6.0), 0.05);
+    EXPECT_LT(dsc.comm_per_period, dtc.comm_per_period);
+}
+
+// ---- Figs. 22-24: parameter errors at omega = 1 rad/s, rated torque, tau = 0.01 s ------------------
+// Casadei sec. 10.8: with the improved estimator the rotor-flux error due to a 10 % low or high
+// stator resistance in the firmware, or a 0.01 A current-sensor offset, settles to a bounded
+// value; with the basic (voltage-model) estimator it grows. Rotor held at 1 rad/s (9.55 rpm) by
+// the dynamometer, rated torque. Error: the plant's |phi_r| against phi_r* over 1.5 s.
+// The voltage-model runs need the start-up current peak out of the way (sensors and trips at
+// 1 kA, as in Fig. 17's voltage case); the improved ones run on the scenario's trips.
+struct Sens {
+    std::vector<double> err; // |phi_r| / phi_r* - 1 at 0.25 s intervals after the torque is applied
+    std::string fault;
+};
+static Sens sensitivity(const std::string& estimator, const std::vector<std::string>& mismatch)
+{
+    std::vector<std::string> sets = {"control.estimator=" + estimator};
+    if (estimator == "voltage") {
+        sets.insert(sets.end(), {"sensors.current_range_a=1000", "protection.overcurrent_a=900",
+                                 "protection.hw_trip_current_a=0"});
+    }
+    sets.insert(sets.end(), mismatch.begin(), mismatch.end());
+    Rig r(torque_at_held_speed(sets));
+    Sens o;
+    if (!r.ok) {
+        return o;
+    }
+    to_operating_point(r, 30.0 / kPi, r.sc.motor.rated_torque_nm);
+    const double ref = r.sc.control.rotor_flux_ref_wb;
+    for (int i = 0; i < 6 && r.fault() == "none"; ++i) {
+        r.run(0.25);
+        o.err.push_back(r.psir() / ref - 1.0);
+    }
+    o.fault = r.fault();
+    return o;
+}
+
+TEST(ImCasadei, Figs22To24ImprovedEstimatorErrorBoundedBasicGrows)
+{
+    const double rs = PLANT_DEF_IM_RS_OHM;
+    const struct {
+        const char* name;
+        std::vector<std::string> sets;
+    } cases[] = {
+        {"no parameter error", {}},
+        {"R_s 10 % low", {"firmware.rs_ohm=" + std::to_string(0.9 * rs)}},
+        {"R_s 10 % high", {"firmware.rs_ohm=" + std::to_string(1.1 * rs)}},
+        {"0.01 A offset", {"sensors.current_offset_a=[0.01, 0, 0]"}},
+    };
+    for (const auto& c : cases) {
+        const Sens imp = sensitivity("improved", c.sets);
+        const Sens vol = sensitivity("voltage", c.sets);
+        std::string a, b;
+        for (double e : imp.err) a += std::to_string(100.0 * e).substr(0, 6) + " ";
+        for (double e : vol.err) b += std::to_string(100.0 * e).substr(0, 6) + " ";
+        std::printf("MEASURE Figs22-24 %s: rotor-flux error %% every 0.25 s: improved [%s] fault %s; voltage [%s] fault %s\n",
+                    c.name, a.c_str(), imp.fault.c_str(), b.c_str(), vol.fault.c_str());
+        auto worst = [](const Sens& x) {
+            double w = 0.0;
+            for (double e : x.err) w = std::fmax(w, std::fabs(e));
+            return w;
+        };
+        // Improved: bounded, of the order of the parameter error (measured: within +-4.5 % with no
+        // error, the residual voltage error of the devices at 1 rad/s; -7..-11 % for R_s 10 % low,
+        // +4..+12 % for 10 % high). The 0.01 A offset is a fifth of an ADC count (+-100 A over 12
+        // bits: 0.049 A) and the firmware calibrates the offsets with the gates off: the run is
+        // the no-error run within a count, so Fig. 24's effect is below this rig's resolution.
+        EXPECT_EQ(imp.fault, "none") << c.name;
+        ASSERT_EQ(imp.err.size(), 6u) << c.name;
+        EXPECT_LT(worst(imp), 0.15) << c.name;
+        // Basic: the error wanders far beyond (the low-pass cannot hold the flux at 1 rad/s).
+        EXPECT_GT(worst(vol), 2.0 * worst(imp)) << c.name;
+    }
+}
+
+// ---- Fig. 25: sensorless, 50 -> 220 rpm and back to 0 with regenerative braking --------------------
+// Speed mode without an encoder (speed from the stator-flux angular speed minus the slip of
+// eq. 16), the rotor's inertia only. Bound on |estimated - true speed| in steady state (last
+// 0.2 s of each step) and through the transients.
+TEST(ImCasadei, Fig25SensorlessSpeedEstimateFollowsTheSpeed)
+{
+    Rig r({"control.speed_sensor=none", "control.speed_ref_rpm=50", "load.type=inertia", "duration_s=10"});
+    ASSERT_TRUE(r.ok);
+    r.magnetise(0.1);
+    const struct {
+        double rpm, t_s;
+    } steps[] = {{50.0, 0.6}, {220.0, 0.8}, {0.0, 0.8}};
+    double worst_all = 0.0, worst_at = 0.0, worst_speed = 0.0;
+    std::string line;
+    for (const auto& s : steps) {
+        r.refs(DTC_MODE_SPEED, 0.0, s.rpm);
+        double worst_ss = 0.0, mean_true = 0.0;
+        long k = 0, n_ss = 0;
+        const long n = r.periods(s.t_s), n_from = n - r.periods(0.2);
+        r.run(s.t_s, [&] {
+            if (++k % 10 != 0) return; // the speed loop's rate
+            const double e = std::fabs(r.speed_est_rpm() - r.st().speed_rpm);
+            if (e > worst_all) {
+                worst_all = e;
+                worst_at = r.h->time_s();
+                worst_speed = r.st().speed_rpm;
+            }
+            if (k >= n_from) {
+                worst_ss = std::fmax(worst_ss, e);
+                mean_true += r.st().speed_rpm;
+                ++n_ss;
+            }
+        });
+        mean_true /= static_cast<double>(std::max(n_ss, 1L));
+        char b[200];
+        std::snprintf(b, sizeof b, "ref %.0f rpm: true mean %.1f rpm, worst |est - true| last 0.2 s %.1f rpm; ", s.rpm,
+                      mean_true, worst_ss);
+        line += b;
+        EXPECT_EQ(r.fault(), "none") << s.rpm;
+        EXPECT_NEAR(mean_true, s.rpm, 10.0) << s.rpm;  // the drive holds the speed without a sensor
+        EXPECT_LT(worst_ss, 15.0) << s.rpm;             // 1 % of the 1440 rpm rating
+    }
+    std::printf("MEASURE Fig25 %s worst through the transients %.1f rpm at t = %.3f s (true speed %.1f rpm; the "
+                "torque is allowed at %.3f s), fault %s\n", line.c_str(), worst_all, worst_at, worst_speed,
+                static_cast<double>(r.cfg.speed.im_magn_periods + 64) * r.ts(), r.fault().c_str());
+    // Through the transients the estimate lags the true speed by its filter (speed_filter_s,
+    // 5 ms) times the acceleration: at the torque limit on this rotor's inertia alone,
+    // 79.5 N*m / 0.0131 kg m^2 = 6070 rad/s^2, the 220 rpm are braked away in 4 ms. Bound: that
+    // lag, (T_limit / J) tau_filter, plus the steady-state bound.
+    const double lag_rpm = r.sc.control.torque_limit_nm / r.sc.motor.j_kgm2 * r.si.speed_filter_s * 30.0 / kPi;
+    EXPECT_LT(worst_all, lag_rpm + 15.0);
+}
+
+// ---- Fig. 32: flux weakening from standstill to 400 % of the base speed ----------------------------
+// Casadei sec. 12: torque mode (the "gas pedal" T_command = rated), the rotor's inertia only,
+// from standstill at rated flux. Above the base speed the null-vector monitor steps phi_s* down;
+// T* = T_command phi_s* / phi_s,rated (eq. 33), at most k_T phi_s*^2 (eq. 34); the current stays
+// nearly constant in the constant-power range. Checked on the firmware's own references (the
+// figure's traces 2 and 4) and on the plant's current and speed.
+struct Fw {
+    double t_end = -1.0, psi_at_end = 0.0, i_lo = 0.0, i_hi = 0.0, i_mean = 0.0, ref_err = 0.0, eq34 = 0.0;
+    std::string fault;
+};
+static Fw flux_weakening_run()
+{
+    Fw o;
+    Rig r({"control.flux_weakening=true", "control.rotor_flux_ref_wb=0", "control.mode=torque",
+           "control.torque_ref_nm=0", "load.type=inertia", "duration_s=10"});
+    if (!r.ok) {
+        return o;
+    }
+    r.magnetise(0.05);
+    const double t_cmd = r.sc.motor.rated_torque_nm, base = r.sc.motor.rated_speed_rpm;
+    const double psi_rated = r.sc.control.flux_ref_wb, pb = r.b.psi_base_wb / kIqOne;
+    const Machine mc(r.sc);
+    const double kt = 0.75 * mc.p * mc.m * mc.m / (mc.sigma * mc.lr * mc.ls * mc.ls); // eq. 31
+    r.refs(DTC_MODE_TORQUE, t_cmd, 0.0);
+    double next_mark = 0.25;
+    std::string marks;
+    double worst_eq34 = -1e9;
+    double worst_ref_err = 0.0, i_lo = 1e9, i_hi = 0.0, psi_at_end = 0.0, t_end = -1.0, i_sum = 0.0;
+    long k = 0, n_cp = 0, n_i = 0;
+    double i_acc = 0.0;
+    const long n5 = r.periods(0.005);
+    for (; k < r.periods(4.0) && r.fault() == "none"; ++k) {
+        r.period();
+        const double spd = r.st().speed_rpm;
+        i_acc += r.imag();
+        if (++n_i == n5) {
+            const double i5 = i_acc / static_cast<double>(n5);
+            i_acc = 0.0;
+            n_i = 0;
+            if (spd > 1.5 * base && spd < 4.0 * base) { // constant-power range, 5 ms means
+                i_lo = std::fmin(i_lo, i5);
+                i_hi = std::fmax(i_hi, i5);
+                i_sum += i5;
+                ++n_cp;
+            }
+        }
+        if (k % 10 == 0) {
+            const app_status_t st = r.status();
+            const double psi_ref = st.out.psi_ref_iq * pb;
+            const double t_ref = st.out.te_ref_iq / kIqOne * r.b.t_base_nm;
+            if (spd > 0.05 * base) { // the torque allowed and the rotor turning: eqs. 33-34 in force
+                const double expect = std::fmin(t_cmd * psi_ref / psi_rated, kt * psi_ref * psi_ref);
+                worst_ref_err = std::fmax(worst_ref_err, std::fabs(t_ref - expect) / t_cmd);
+                worst_eq34 = std::fmax(worst_eq34, (t_ref - kt * psi_ref * psi_ref) / t_cmd);
+                psi_at_end = psi_ref;
+            }
+            if (spd > next_mark * base) {
+                char b[120];
+                std::snprintf(b, sizeof b, "%.2fx base at %.3f s: phi_s* %.3f Wb, T* %.1f N*m, |i| %.1f A; ", next_mark,
+                              r.h->time_s(), psi_ref, t_ref, r.imag());
+                marks += b;
+                next_mark += next_mark < 1.0 ? 0.25 : 0.5;
+            }
+        }
+        if (spd >= 4.0 * base) {
+            t_end = r.h->time_s();
+            break;
+        }
+    }
+    const double i_mean = i_sum / static_cast<double>(std::max(n_cp, 1L));
+    std::printf("MEASURE Fig32 400 %% base speed (%.0f rpm) reached at %.3f s (-1 = not within 4 s; speed %.0f rpm), "
+                "flux reference there %.3f Wb (rated %.2f), |i| in 150..400 %% base: %.1f..%.1f A (mean %.1f), T* vs "
+                "eqs. 33/34 worst %.1f %% of T_command (k_T %.3f N*m/Wb^2), fault %s\n",
+                4.0 * base, t_end, r.st().speed_rpm, psi_at_end, psi_rated, i_lo, i_hi, i_mean,
+                100.0 * worst_ref_err, kt, r.fault().c_str());
+    std::printf("MEASURE Fig32 trajectory: %s\nMEASURE Fig32 T* above eq. 34's limit by at most %.1f %% of T_command\n",
+                marks.c_str(), 100.0 * worst_eq34);
+    o.t_end = t_end;
+    o.psi_at_end = psi_at_end;
+    o.i_lo = i_lo;
+    o.i_hi = i_hi;
+    o.i_mean = i_mean;
+    o.ref_err = worst_ref_err;
+    o.eq34 = worst_eq34;
+    o.fault = r.fault();
+    return o;
+}
+
+TEST(ImCasadei, Fig32FluxWeakeningTorqueReferenceWithinEq34)
+{
+    // Asserted: the flux reference is weakened and T* never exceeds eq. 34's k_T phi_s*^2 (k_T
+    // from eq. 31 and the plant's machine). Printed, not asserted: T* against eq. 33; measured up
+    // to 29 % of T_command above T_command phi_s*/phi_s,rated at 0.4 s, 600 rpm: the torque
+    // mode's mean-torque trim (dtc_trim_step, 20 ms) adds to the eq. 33 reference while the
+    // machine's torque lags it.
+    const Fw o = flux_weakening_run();
+    EXPECT_EQ(o.fault, "none");
+    EXPECT_LT(o.psi_at_end, 0.55);
+    EXPECT_LT(o.eq34, 0.02);
+}
+
+// Fig. 32's speed and current. Disabled: a finding. The null-vector monitor weakens the flux from
+// the start of the acceleration, far below the base speed: phi_s* 0.30 Wb at 25 % of base speed,
+// 0.19 Wb at 50 %, the minimum 0.055 Wb (fw_psi_min_frac 0.1) from 75 %; T* is then eq. 34's
+// k_T phi_s*^2 = 1.2 N*m and the machine reaches 283 % of base speed in 4 s instead of 400 %,
+// at 8-11 A. (At 40 us with zero bands, windows of N = 20 periods without a null vector occur
+// while the torque is still rising at low speed; section 12.2 assumes they occur near the
+// voltage limit only.) Enable when the monitor holds the rated flux below base speed.
+TEST(ImCasadei, DISABLED_Fig32FluxWeakeningReaches400PercentWithNearlyConstantCurrent)
+{
+    const Fw o = flux_weakening_run();
+    EXPECT_EQ(o.fault, "none");
+    ASSERT_GT(o.t_end, 0.0);
+    EXPECT_LT((o.i_hi - o.i_lo) / o.i_mean, 0.3); // nearly constant current in the constant-power range
+}
+
+// ---- Fault and input handling of the IM drive ------------------------------------------------------
+// Through dtc-sil's run API: an over-current trips to gates off and says so; a DC link outside
+// the protection window trips; a bad IM configuration is refused naming the scenario key.
+TEST(ImCasadei, FaultsTripTheImDriveAndBadConfigurationIsRefused)
+{
+    auto run = [](const std::vector<std::string>& sets, RunResult* r, std::string* err) {
+        Scenario sc;
+        Diagnostics d;
+        EXPECT_TRUE(load_scenario(kScenario, sets, &sc, &d)) << d.text();
+        return run_scenario(sc, RunOptions{}, r, err);
+    };
+    // Over-current: on the rig's own 55 A trip the drive stops in the start-up current peak
+    // (110 A, the finding of im_dtc_speed.toml).
+    {
+        RunResult r;
+        std::string err;
+        ASSERT_TRUE(run({"duration_s=0.1", "metrics_window_s=0.05", "protection.overcurrent_a=55",
+                         "protection.hw_trip_current_a=57", "protection.allow_unsafe=false"},
+                        &r, &err))
+            << err;
+        EXPECT_EQ(r.info.fault, "overcurrent");
+    }
+    // DC link below the window: 180 V on a 200..400 V window.
+    {
+        RunResult r;
+        std::string err;
+        ASSERT_TRUE(run({"duration_s=0.05", "metrics_window_s=0.02", "inverter.vdc_v=180"}, &r, &err)) << err;
+        EXPECT_EQ(r.info.fault, "dc_undervoltage");
+    }
+    // A configuration the converter cannot represent: refused before any period, key named.
+    {
+        RunResult r;
+        std::string err;
+        EXPECT_FALSE(run({"control.observer_tau_s=1e9"}, &r, &err));
+        EXPECT_NE(err.find("control.observer_tau_s"), std::string::npos) << err;
+    }
+}
