@@ -587,8 +587,15 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
             cfg->est.vmid_g_iq = reg ? to_iq(&c, "c_dc_f", si->c_dc_f, g * b.z_base_ohm) : 0;
         }
     }
-    /* the mid-point calibration only where a mid-point is measured (FSTP) */
-    cfg->board.vmid_cal = (uint16_t)(si->vmid_cal != 0 && si->topology == DTC_TOPO_FSTP && si->fstp_vmid_measured != 0 ? 1 : 0);
+    /* the mid-point calibration only where a mid-point is measured (FSTP) and used: by the
+     * voltage model's reconstruction and its mid-point regulation. The current model uses
+     * neither, and the calibration's 51 ms with the gates off let an active load (a hoist, a
+     * constant torque) turn the rotor backwards before the drive starts (0.3 N*m on 5e-4 kg m^2:
+     * -244 rpm at the end of it, SIL) */
+    cfg->board.vmid_cal = (uint16_t)(si->vmid_cal != 0 && si->topology == DTC_TOPO_FSTP && si->fstp_vmid_measured != 0 &&
+                                             si->estimator == DTC_EST_VOLTAGE
+                                         ? 1
+                                         : 0);
 
     if (si->law == DTC_LAW_IM_DTC && c.code == DTC_SI_OK) {
         im_from_si(&c, si, &b, cfg);
