@@ -326,19 +326,21 @@ void dtc_predict(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t
 }
 
 /* Ripple-robust polarity (dtc_config.h polarity_mid): the mean current of period [k-1, k],
- * i(k-1)/2 + i(k)/2 (each halved and rounded first: the sum of two halves of IQ values cannot
- * overflow) (the current is piecewise linear within a period: one vector, back-EMF
+ * i(k-1)/2 + i(k)/2, each halved and rounded first (the halves of two full-scale values round up
+ * to 2^30 each, so the sum saturates) (the current is piecewise linear within a period: one vector, back-EMF
  * nearly constant), into c->i_mid for the drop compensation of that period (Hoang Tables V-VI
  * decide per leg by the current's sign; with 2-3 A pk-pk ripple on a 0.6 A fundamental the sign of
  * one sample at the period's end is often not the sign the period had). IQ pu; the sum
  * saturates, the halving rounds. */
 static void dtc_pol_mid(dtc_t *c, const clarke_out_t *i)
 {
-    c->i_mid.ia_iq = fix_rshift_rnd32(c->i_prev.ia_iq, 1U) + fix_rshift_rnd32(i->ia_iq, 1U);
-    c->i_mid.ib_iq = fix_rshift_rnd32(c->i_prev.ib_iq, 1U) + fix_rshift_rnd32(i->ib_iq, 1U);
-    c->i_mid.ic_iq = fix_rshift_rnd32(c->i_prev.ic_iq, 1U) + fix_rshift_rnd32(i->ic_iq, 1U);
-    c->i_mid.i_alpha_iq = fix_rshift_rnd32(c->i_prev.i_alpha_iq, 1U) + fix_rshift_rnd32(i->i_alpha_iq, 1U);
-    c->i_mid.i_beta_iq = fix_rshift_rnd32(c->i_prev.i_beta_iq, 1U) + fix_rshift_rnd32(i->i_beta_iq, 1U);
+    c->i_mid.ia_iq = fix_add32(fix_rshift_rnd32(c->i_prev.ia_iq, 1U), fix_rshift_rnd32(i->ia_iq, 1U));
+    c->i_mid.ib_iq = fix_add32(fix_rshift_rnd32(c->i_prev.ib_iq, 1U), fix_rshift_rnd32(i->ib_iq, 1U));
+    c->i_mid.ic_iq = fix_add32(fix_rshift_rnd32(c->i_prev.ic_iq, 1U), fix_rshift_rnd32(i->ic_iq, 1U));
+    c->i_mid.i_alpha_iq =
+        fix_add32(fix_rshift_rnd32(c->i_prev.i_alpha_iq, 1U), fix_rshift_rnd32(i->i_alpha_iq, 1U));
+    c->i_mid.i_beta_iq =
+        fix_add32(fix_rshift_rnd32(c->i_prev.i_beta_iq, 1U), fix_rshift_rnd32(i->i_beta_iq, 1U));
 }
 
 void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
