@@ -505,7 +505,7 @@ TEST(ImCasadei, Sec8SpeedDependentTableAgainstStAAndStD)
 // ---- Fig. 13 and section 9: DSC hexagon, fewer commutations than DTC ------------------------------
 // Rated torque at 1000 rpm held. DTC (Table 1) with a flux band of 0.14 phi_s* traces a DSC-like
 // polygon (Fig. 13): |phi_s| spans about cos 30 deg .. 1 of its peak like a hexagon; without the
-// band the locus is a circle. DSC itself: see the disabled test below.
+// band the locus is a circle. DSC itself: the test below.
 struct Locus {
     double ratio = 0.0, comm_per_period = 0.0;
     std::string fault;
@@ -551,12 +551,11 @@ TEST(ImCasadei, Fig13DtcWithWideFluxBandTracesAHexagonLikeLocus)
     EXPECT_LT(wide.comm_per_period, narrow.comm_per_period);
 }
 
-// Section 9. Disabled: a finding. DSC trips on over-current the moment the start-up
-// magnetisation ends (0.297 s): the machine magnetised along the alpha axis by V1, DSC applies V4
-// (opposite to the flux) continuously, the stator flux runs through zero (0.52 -> 0.02 Wb in
-// 2.5 ms) and the current reaches the 130 A trip; the same with ideal devices and with T* = rated
-// at that instant. Enable when DSC takes over from the start-up.
-TEST(ImCasadei, DISABLED_Sec9DscHexagonWithFewerCommutationsThanDtc)
+// Section 9. DSC takes over from the start-up magnetisation (flux on the alpha axis, built by
+// V1) with the leg states of the hexagon at the flux's angle (dsc.h) and traces the hexagon:
+// |phi_s| min/max = cos 30 deg (inner/outer radius), with fewer leg commutations per electrical
+// period than DTC at the same speed and torque.
+TEST(ImCasadei, Sec9DscHexagonWithFewerCommutationsThanDtc)
 {
     const Locus dsc = locus({"control.scheme=dsc"});
     const Locus dtc = locus({});
