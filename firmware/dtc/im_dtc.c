@@ -70,6 +70,7 @@ void im_dtc_reset(im_dtc_t *c)
     c->legs_2 = off;
     c->legs_3 = off;
     c->vec_1 = 0U;
+    c->tdem_1 = 0;
     c->te_cmd_iq = 0;
     c->te_trim_iq = 0;
     c->te_ref_iq = 0;
@@ -156,8 +157,13 @@ void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
     }
     c->div_cnt = (uint16_t)(c->div_cnt + 1U >= cfg->speed.speed_div ? 0U : c->div_cnt + 1U);
     if (c->act.mode == DTC_MODE_TORQUE) {
-        /* the torque reference with the mean-torque trim (as the PM law), once torque is allowed */
-        c->te_cmd_iq = c->magnetised != 0U
+        /* the torque reference with the mean-torque trim (as the PM law), once torque is allowed.
+         * Not with flux weakening: there T_command is scaled by eq. 33 and the torque is at the
+         * voltage limit by design, so a trim towards T_command (or towards eq. 33's T*, which the
+         * machine cannot reach while the flux steps down) winds up to its limit (measured: T*
+         * 29 % of T_command above eq. 33 towards T_command, 54 % towards T*); T* is eqs. 33-34
+         * as in section 12. */
+        c->te_cmd_iq = c->magnetised != 0U && cfg->sw.im_fw_on == 0U
                            ? dtc_trim_step(&c->te_trim_iq, c->act.torque_ref_iq, te,
                                            cfg->speed.torque_trim_k_q15, cfg->speed.torque_limit_iq)
                            : c->act.torque_ref_iq;
@@ -166,8 +172,9 @@ void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
 
 /* References in force for this period:
  *   start-up (Fig. 17b): T* = 0 and phi_s* at its no-load value for im_magn_periods;
- *   flux weakening (section 12, im_fw.h): phi_s* from the null-vector monitor (the vector of the
- *     previous step is the one applied now), T* by eqs. 33-34; the estimator's rotor-flux
+ *   flux weakening (section 12, im_fw.h): phi_s* from the monitor of the torque comparator (the
+ *     previous step's decision is the one acting now), T* by eqs. 33-34 without the mean-torque
+ *     trim (im_dtc_speed); the estimator's rotor-flux
  *     reference follows phi_s* (no-load ratio m/l_s);
  *   constant rotor flux: phi_s* from T* by eq. 19, evaluated once per speed period (T* changes
  *     at that rate in speed mode; in torque mode phi_s* lags T* by at most speed_div periods);
@@ -188,7 +195,13 @@ void im_dtc_refs(im_dtc_t *c)
                                                     : c->act.flux_ref_iq;
         c->ref_due = 1U;
     } else if (cfg->sw.im_fw_on != 0U) {
-        te = im_fw_step(&c->fw, &c->fw_p, (uint16_t)(c->vec_1 == 0U || c->vec_1 == 7U ? 1U : 0U), te);
+        /* Section 12.2 watches the torque comparator: the torque demand was met in a period when
+         * the comparator asked for less torque in the sense of T_command (the previous step's
+         * decision, acting now). With ST-A/ST-B and a band that is the null vector of the text;
+         * with Table 1 and a zero band the comparator goes from +1 straight to -1 (V_{k-1},
+         * V_{k-2}) and never applies a null vector, at any speed. */
+        const uint16_t met = (uint16_t)(te >= 0 ? (c->tdem_1 <= 0 ? 1U : 0U) : (c->tdem_1 >= 0 ? 1U : 0U));
+        te = im_fw_step(&c->fw, &c->fw_p, met, te);
         c->psi_ref_iq = c->fw.psi_ref_iq;
         im_dtc_psir_ref(c, c->psi_ref_iq);
     } else if (cfg->speed.psir_ref_iq > 0) {
@@ -291,6 +304,7 @@ void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     c->legs_1.sb = legs.sb;
     c->legs_1.sc = legs.sc;
     c->vec_1 = vec;
+    c->tdem_1 = o->torque_dem;
 
     /* 8. Outputs. */
     o->sa = legs.sa;

@@ -15,7 +15,7 @@
  *   -> speed: encoder (speed_meas.h) or sensorless, rotor-flux angular speed minus the slip of
  *      eq. 16 (im_ref.h); speed PI every speed_div-th step (speed mode)
  *   -> references: start-up (magnetise at zero torque, Fig. 17b), flux weakening (section 12:
- *      phi_s* from the null-vector monitor, T* by eqs. 33-34, im_fw.h), stator flux from a
+ *      phi_s* from the torque-comparator monitor, T* by eqs. 33-34, im_fw.h), stator flux from a
  *      constant rotor flux (eq. 19, im_ref.h) or the stator-flux reference
  *   -> flux comparator on |phi_s|^2 (hyst2_sq_step), torque comparator three-level (Table 1) or
  *      two-level (Table 3)
@@ -99,6 +99,7 @@ typedef struct {
     swtab_legs_t legs_2;  /* returned two steps ago: applied during the period just ended */
     swtab_legs_t legs_3;  /* returned three steps ago (dead time) */
     uint16_t vec_1;       /* vector returned by the previous step */
+    int16_t tdem_1;       /* torque comparator's demand of the previous step (+1, 0, -1) */
     iq_t te_cmd_iq;       /* torque command: speed PI output or the torque reference */
     iq_t te_trim_iq;      /* torque mode: mean-torque trim (dtc_trim_step) */
     iq_t te_ref_iq;       /* torque reference in force (after start-up and eqs. 33-34) */
