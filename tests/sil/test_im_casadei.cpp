@@ -240,15 +240,11 @@ TEST(ImCasadei, Fig17ImprovedEstimatorMagnetisesAtZeroTorqueAndTheTorqueFollowsI
 {
     const StartUp imp = start_up("improved");
     const StartUp vol = start_up("voltage");
-    const StartUp vol_hi = start_up("voltage", {"sensors.current_range_a=1000", "protection.overcurrent_a=900",
-                                                "protection.hw_trip_current_a=0"});
-    std::printf("MEASURE Fig17 voltage, no trip: DC current %.2f A (spread %.2f %%), rotor flux %.3f Wb, rise %.2f ms, fault %s\n",
-                vol_hi.i_dc, 100.0 * vol_hi.i_drift, vol_hi.psir_before, vol_hi.rise_ms, vol_hi.fault.c_str());
+    std::printf("MEASURE Fig17 voltage: DC current %.2f A (spread %.2f %%), rotor flux %.3f Wb, rise %.2f ms, fault %s\n",
+                vol.i_dc, 100.0 * vol.i_drift, vol.psir_before, vol.rise_ms, vol.fault.c_str());
     std::printf("MEASURE Fig17 improved: DC current %.2f A (5 ms means spread %.2f %%), rotor flux %.3f Wb, max |T| "
                 "while magnetising %.2f N*m, rise to 90 %% rated %.2f ms, fault %s\n",
                 imp.i_dc, 100.0 * imp.i_drift, imp.psir_before, imp.te_worst_magn, imp.rise_ms, imp.fault.c_str());
-    std::printf("MEASURE Fig17 voltage: fault %s at %.4f s, plant stator flux then %.3f Wb, rotor flux %.3f Wb\n",
-                vol.fault.c_str(), vol.trip_t, vol.psis_at_trip, vol.psir_at_trip);
     // Improved estimator: a steady DC current vector, the machine's magnetising current (plant
     // rotor flux / M), the rotor flux at its reference within 10 % (measured 8 % low: the residual
     // voltage error at DC, docs/firmware-core.md), no torque; then the rated torque within 5 ms.
@@ -260,17 +256,16 @@ TEST(ImCasadei, Fig17ImprovedEstimatorMagnetisesAtZeroTorqueAndTheTorqueFollowsI
     EXPECT_NEAR(imp.psir_before, psir_ref, 0.10 * psir_ref);
     ASSERT_GT(imp.rise_ms, 0.0);
     EXPECT_LE(imp.rise_ms, 5.0);
-    // Voltage model (Casadei eq. 1, a low-pass for the integrator), Fig. 17a. On the rig's trips
-    // it stops on over-current in the start-up current peak (the finding of im_dtc_speed.toml,
-    // printed above, not asserted). With the trips out of the way (sensors and trip at 1 kA) the
-    // estimator's own behaviour shows: the DC flux it is asked to hold decays out of its estimate
-    // (5 rad/s low-pass), so the machine is not magnetised at zero torque (rotor flux below 80 %
-    // of the reference, the current not a steady DC) and the torque then rises far slower than
+    // Voltage model (Casadei eq. 1, a low-pass for the integrator), Fig. 17a, on the rig's trips
+    // (the start-up ramp holds the current below rated, im_dtc.h): the DC flux it is asked to
+    // hold drifts in its estimate
+    // (5 rad/s low-pass), so the machine is not magnetised as commanded at zero torque (rotor
+    // flux more than 20 % from its reference, measured 0.77 Wb for 0.53; the current not a steady DC) and the torque then rises far slower than
     // with the improved estimator (not at 90 % of rated within 10x its rise time).
-    EXPECT_EQ(vol_hi.fault, "none");
-    EXPECT_LT(vol_hi.psir_before, 0.8 * psir_ref);
-    EXPECT_GT(vol_hi.i_drift, 0.05);
-    EXPECT_TRUE(vol_hi.rise_ms < 0.0 || vol_hi.rise_ms > 10.0 * imp.rise_ms) << vol_hi.rise_ms;
+    EXPECT_EQ(vol.fault, "none");
+    EXPECT_GT(std::fabs(vol.psir_before / psir_ref - 1.0), 0.2);
+    EXPECT_GT(vol.i_drift, 0.05);
+    EXPECT_TRUE(vol.rise_ms < 0.0 || vol.rise_ms > 10.0 * imp.rise_ms) << vol.rise_ms;
 }
 
 // ---- common: magnetised at standstill, then torque mode at a held speed --------------------------
@@ -571,8 +566,8 @@ TEST(ImCasadei, Sec9DscHexagonWithFewerCommutationsThanDtc)
 // stator resistance in the firmware, or a 0.01 A current-sensor offset, settles to a bounded
 // value; with the basic (voltage-model) estimator it grows. Rotor held at 1 rad/s (9.55 rpm) by
 // the dynamometer, rated torque. Error: the plant's |phi_r| against phi_r* over 1.5 s.
-// The voltage-model runs need the start-up current peak out of the way (sensors and trips at
-// 1 kA, as in Fig. 17's voltage case); the improved ones run on the scenario's trips.
+// The voltage-model runs have their sensors and trips at 1 kA so that their error can grow (on
+// the rig's trips the R_s-high case stops on over-current); the improved ones run on the rig's.
 struct Sens {
     std::vector<double> err; // |phi_r| / phi_r* - 1 at 0.25 s intervals after the torque is applied
     std::string fault;
@@ -582,7 +577,7 @@ static Sens sensitivity(const std::string& estimator, const std::vector<std::str
     std::vector<std::string> sets = {"control.estimator=" + estimator};
     if (estimator == "voltage") {
         sets.insert(sets.end(), {"sensors.current_range_a=1000", "protection.overcurrent_a=900",
-                                 "protection.hw_trip_current_a=0"});
+                                 "protection.hw_trip_current_a=0", "protection.allow_unsafe=true"});
     }
     sets.insert(sets.end(), mismatch.begin(), mismatch.end());
     Rig r(torque_at_held_speed(sets));
@@ -812,13 +807,13 @@ TEST(ImCasadei, FaultsTripTheImDriveAndBadConfigurationIsRefused)
         EXPECT_TRUE(load_scenario(kScenario, sets, &sc, &d)) << d.text();
         return run_scenario(sc, RunOptions{}, r, err);
     };
-    // Over-current: on the rig's own 55 A trip the drive stops in the start-up current peak
-    // (110 A, the finding of im_dtc_speed.toml).
+    // Over-current: a trip set below the magnetising current (about 10 A) stops the drive during
+    // the start-up magnetisation.
     {
         RunResult r;
         std::string err;
-        ASSERT_TRUE(run({"duration_s=0.1", "metrics_window_s=0.05", "protection.overcurrent_a=55",
-                         "protection.hw_trip_current_a=57", "protection.allow_unsafe=false"},
+        ASSERT_TRUE(run({"duration_s=0.3", "metrics_window_s=0.05", "protection.overcurrent_a=5",
+                         "protection.hw_trip_current_a=0"},
                         &r, &err))
             << err;
         EXPECT_EQ(r.info.fault, "overcurrent");
