@@ -1,6 +1,6 @@
 /*
- * im_fw.h - flux weakening of the IM DTC drive by null-vector monitoring (Casadei et al. 2006,
- * section 12): the monitor of the torque comparator.
+ * im_fw.h - flux weakening of the IM DTC drive by monitoring the torque comparator (Casadei et al.
+ * 2006, section 12: the null-vector monitor).
  *
  * Section 12.2: the output of the torque hysteresis comparator is watched for N consecutive
  * control periods. If the torque demand was never met in that window (the text: no null vector
