@@ -26,8 +26,12 @@ void dsc_reset(dsc_t *s, uint16_t ccw, iq_t psi_alpha_iq, iq_t psi_beta_iq)
     uint16_t x;
     s->ccw = ccw != 0U ? 1U : 0U;
     dsc_components(psi_alpha_iq, psi_beta_iq, s->ccw, c);
+    /* Each leg takes the state it has on the hexagon at the flux's angle (dsc.h): counter-
+     * clockwise S_A = [c_c > 0], S_B = [c_a > 0], S_C = [c_b > 0]; clockwise S_A = [c_b > 0],
+     * S_B = [c_c > 0], S_C = [c_a > 0]. */
     for (x = 0U; x < 3U; ++x) {
-        s->s[x] = (uint16_t)(c[x] < 0 ? 1U : 0U);
+        const uint16_t src = s->ccw != 0U ? (uint16_t)(x == 0U ? 2U : x - 1U) : (uint16_t)(x == 2U ? 0U : x + 1U);
+        s->s[x] = (uint16_t)(c[src] > 0 ? 1U : 0U);
     }
 }
 

@@ -20,9 +20,17 @@
  * vertex: six commutations per turn, the fewest a six-switch inverter can make. Counter-clockwise,
  * the flux between the vertices at (k-1) 60 and k 60 degrees is driven by V_{k+2} (V_3 between 0
  * and 60 degrees, V_4 between 60 and 120: the paper's "V_3 before point A, V_4 after it").
- * At a reset the states are set from the signs of the components (S_x = 1 where c_x < 0), the
- * vector the hexagon rule gives for a flux inside it. The machine must be magnetised first (at
- * zero flux every component is 0 and the vector is V_0).
+ * At a reset each leg takes the state it has on the hexagon at the flux's angle theta. Leg x
+ * (comparator axis a_x) is set to 1 at the vertex where c_x reaches -phi* and to 0 at the one
+ * where it reaches +phi*. Counter-clockwise those vertices are a_x + 150 and a_x + 330 degrees,
+ * so S_x = 1 on the half turn centred on a_x + 240 degrees, the axis of the previous leg's
+ * comparator: S_A = [c_c > 0], S_B = [c_a > 0], S_C = [c_b > 0]. Clockwise they are a_x + 210 and
+ * a_x + 30 degrees, the half turn centred on a_x + 120 degrees, the next leg's axis:
+ * S_A = [c_b > 0], S_B = [c_c > 0], S_C = [c_a > 0]. (The signs of the components themselves are
+ * not the states: between 0 and 60 degrees counter-clockwise c_c < 0 while S_C = 0, and setting
+ * S_C = 1 there gives V_4, against the flux.) At a vertex one comparand is 0 and either neighbour
+ * side's vector results, both of which turn the flux forward. The machine must be magnetised
+ * first (at zero flux every state is 0 and the vector is V_0).
  *
  * Formats: psi and phi* IQ pu. Scaling and overflow: each component is +-(sqrt(3)/2) psi_alpha +-
  * psi_beta/2 (or +-psi_beta) with the constants in Q31, formed in 64 bits (< 2^63) and rounded once

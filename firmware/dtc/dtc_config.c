@@ -69,6 +69,7 @@ static int16_t dtc_machine_check(const dtc_machine_cfg_t *m, uint16_t law, const
         DTC_REFUSE(m->im.kr_iq <= 0, DTC_ERR_MACHINE, "machine.im.kr_iq");
         DTC_REFUSE(m->im.ks_iq <= 0, DTC_ERR_MACHINE, "machine.im.ks_iq");
         DTC_REFUSE(m->im.inv_ks_iq <= 0, DTC_ERR_MACHINE, "machine.im.inv_ks_iq");
+        DTC_REFUSE(m->im.m_iq <= 0, DTC_ERR_MACHINE, "machine.im.m_iq");
     }
     return DTC_OK;
 }
@@ -157,6 +158,8 @@ static int16_t dtc_speed_check(const dtc_speed_cfg_t *s, uint16_t law, const cha
         DTC_REFUSE(s->im_gain_w_iq <= 0, DTC_ERR_SPEED, "speed.im_gain_w_iq");
         DTC_REFUSE(s->im_speed_filt_q31 <= 0, DTC_ERR_SPEED, "speed.im_speed_filt_q31");
         DTC_REFUSE(s->im_magn_periods == 0U, DTC_ERR_STARTUP, "speed.im_magn_periods");
+        DTC_REFUSE(s->im_magn_ramp_iq <= 0, DTC_ERR_STARTUP, "speed.im_magn_ramp_iq");
+        DTC_REFUSE(s->im_magn_k_q31 <= 0, DTC_ERR_STARTUP, "speed.im_magn_k_q31");
     }
     return DTC_OK;
 }

@@ -166,6 +166,7 @@ typedef struct {
     iq_t kr_iq;          /* l_r / m (eq. 21), > 0 */
     iq_t ks_iq;          /* l_s / m (eq. 19), > 0 */
     iq_t inv_ks_iq;      /* m / l_s: rotor flux of a stator flux at no load (start-up) */
+    iq_t m_iq;           /* magnetising inductance m, pu (start-up rotor-flux model), > 0 */
 } dtc_im_machine_cfg_t;
 
 typedef struct {
@@ -277,6 +278,11 @@ typedef struct {
     /* IM start-up (Casadei Fig. 17b): the torque reference is held at zero for this many control
      * periods after a reset while the machine is magnetised (im_dtc.h). > 0. */
     uint16_t im_magn_periods;
+    /* IM start-up: stator-flux reference increment per control period of the magnetising ramp
+     * (im_dtc.h), IQ pu, > 0. */
+    iq_t im_magn_ramp_iq;
+    /* IM start-up: Ts / tau_r, tau_r = l_r / r_r (the rotor-flux model of the start-up), Q31. */
+    q31_t im_magn_k_q31;
 } dtc_speed_cfg_t;
 
 struct dtc_config {

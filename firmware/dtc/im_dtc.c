@@ -65,11 +65,13 @@ void im_dtc_reset(im_dtc_t *c)
     c->div_cnt = 0U;
     c->magnetised = 0U;
     c->magn_n = 0U;
+    c->magn_psir_iq = 0;
     c->ref_due = 1U;
     c->legs_1 = off;
     c->legs_2 = off;
     c->legs_3 = off;
     c->vec_1 = 0U;
+    c->tdem_1 = 0;
     c->te_cmd_iq = 0;
     c->te_trim_iq = 0;
     c->te_ref_iq = 0;
@@ -156,8 +158,13 @@ void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
     }
     c->div_cnt = (uint16_t)(c->div_cnt + 1U >= cfg->speed.speed_div ? 0U : c->div_cnt + 1U);
     if (c->act.mode == DTC_MODE_TORQUE) {
-        /* the torque reference with the mean-torque trim (as the PM law), once torque is allowed */
-        c->te_cmd_iq = c->magnetised != 0U
+        /* the torque reference with the mean-torque trim (as the PM law), once torque is allowed.
+         * Not with flux weakening: there T_command is scaled by eq. 33 and the torque is at the
+         * voltage limit by design, so a trim towards T_command (or towards eq. 33's T*, which the
+         * machine cannot reach while the flux steps down) winds up to its limit (measured: T*
+         * 29 % of T_command above eq. 33 towards T_command, 54 % towards T*); T* is eqs. 33-34
+         * as in section 12. */
+        c->te_cmd_iq = c->magnetised != 0U && cfg->sw.im_fw_on == 0U
                            ? dtc_trim_step(&c->te_trim_iq, c->act.torque_ref_iq, te,
                                            cfg->speed.torque_trim_k_q15, cfg->speed.torque_limit_iq)
                            : c->act.torque_ref_iq;
@@ -165,9 +172,10 @@ void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
 }
 
 /* References in force for this period:
- *   start-up (Fig. 17b): T* = 0 and phi_s* at its no-load value for im_magn_periods;
- *   flux weakening (section 12, im_fw.h): phi_s* from the null-vector monitor (the vector of the
- *     previous step is the one applied now), T* by eqs. 33-34; the estimator's rotor-flux
+ *   start-up (Fig. 17b): T* = 0 and phi_s* ramped to its no-load value for im_magn_periods;
+ *   flux weakening (section 12, im_fw.h): phi_s* from the monitor of the torque comparator (the
+ *     previous step's decision is the one acting now), T* by eqs. 33-34 without the mean-torque
+ *     trim (im_dtc_speed); the estimator's rotor-flux
  *     reference follows phi_s* (no-load ratio m/l_s);
  *   constant rotor flux: phi_s* from T* by eq. 19, evaluated once per speed period (T* changes
  *     at that rate in speed mode; in torque mode phi_s* lags T* by at most speed_div periods);
@@ -180,15 +188,38 @@ void im_dtc_refs(im_dtc_t *c)
 
     if (c->magnetised == 0U && ++c->magn_n >= cfg->speed.im_magn_periods) {
         c->magnetised = 1U;
+        im_dtc_psir_ref(c, c->act.flux_ref_iq); /* the estimator's reference of the set in force */
     }
     if (c->magnetised == 0U) {
+        /* eq. 19 at T* = 0: phi_s* = (l_s/m) phi_r*, reached by the magnetising ramp (the host's
+         * increment per period, the current below the rated one: im_dtc.h); the estimator's
+         * rotor-flux reference follows the ramp at the no-load ratio m/l_s (the machine's rotor
+         * flux lags it by sigma tau_r). magn_n <= 65535 times the increment in 64 bits. */
+        const iq_t fin = cfg->speed.psir_ref_iq > 0 ? iq_mpy(im->ks_iq, cfg->speed.psir_ref_iq)
+                                                     : c->act.flux_ref_iq;
+        const int64_t ramp = (int64_t)cfg->speed.im_magn_ramp_iq * (int64_t)c->magn_n;
+        /* The rotor flux the ramp builds, for the estimator's reference (eq. 20): the T model's
+         * rotor equation in rotor-flux coordinates, tau_r d|phi_r|/dt = m i_d - |phi_r| (Casadei
+         * eq. 9 in the frame of phi_r; im-facts.md: the current model of TI's ACI estimator),
+         * i_d the current along the estimated rotor-flux direction e^{j theta} (eq. 22), forward
+         * Euler with Ts/tau_r (< 1e-3). A fixed reference (the final phi_r*) would hold the
+         * estimate there while the machine is still demagnetised. Formats: IQ pu, Ts/tau_r Q31;
+         * rounded products, saturating sums. */
+        const iq_t i_d = iq_add(iq_mpy(c->i.i_alpha_iq, c->est.u_alpha_iq), iq_mpy(c->i.i_beta_iq, c->est.u_beta_iq));
+        c->magn_psir_iq = iq_add(c->magn_psir_iq,
+                                 q31_mul(cfg->speed.im_magn_k_q31, iq_sub(iq_mpy(im->m_iq, i_d), c->magn_psir_iq)));
         te = 0;
-        /* eq. 19 at T* = 0: phi_s* = (l_s/m) phi_r* */
-        c->psi_ref_iq = cfg->speed.psir_ref_iq > 0 ? iq_mpy(im->ks_iq, cfg->speed.psir_ref_iq)
-                                                    : c->act.flux_ref_iq;
+        c->psi_ref_iq = ramp < (int64_t)fin ? (iq_t)ramp : fin;
+        c->psir_ref_iq = c->magn_psir_iq > 0 ? c->magn_psir_iq : 0;
         c->ref_due = 1U;
     } else if (cfg->sw.im_fw_on != 0U) {
-        te = im_fw_step(&c->fw, &c->fw_p, (uint16_t)(c->vec_1 == 0U || c->vec_1 == 7U ? 1U : 0U), te);
+        /* Section 12.2 watches the torque comparator: the torque demand was met in a period when
+         * the comparator asked for less torque in the sense of T_command (the previous step's
+         * decision, acting now). With ST-A/ST-B and a band that is the null vector of the text;
+         * with Table 1 and a zero band the comparator goes from +1 straight to -1 (V_{k-1},
+         * V_{k-2}) and never applies a null vector, at any speed. */
+        const uint16_t met = (uint16_t)(te >= 0 ? (c->tdem_1 <= 0 ? 1U : 0U) : (c->tdem_1 >= 0 ? 1U : 0U));
+        te = im_fw_step(&c->fw, &c->fw_p, met, te);
         c->psi_ref_iq = c->fw.psi_ref_iq;
         im_dtc_psir_ref(c, c->psi_ref_iq);
     } else if (cfg->speed.psir_ref_iq > 0) {
@@ -291,6 +322,7 @@ void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     c->legs_1.sb = legs.sb;
     c->legs_1.sc = legs.sc;
     c->vec_1 = vec;
+    c->tdem_1 = o->torque_dem;
 
     /* 8. Outputs. */
     o->sa = legs.sa;

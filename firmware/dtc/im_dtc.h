@@ -15,7 +15,7 @@
  *   -> speed: encoder (speed_meas.h) or sensorless, rotor-flux angular speed minus the slip of
  *      eq. 16 (im_ref.h); speed PI every speed_div-th step (speed mode)
  *   -> references: start-up (magnetise at zero torque, Fig. 17b), flux weakening (section 12:
- *      phi_s* from the null-vector monitor, T* by eqs. 33-34, im_fw.h), stator flux from a
+ *      phi_s* from the torque-comparator monitor, T* by eqs. 33-34, im_fw.h), stator flux from a
  *      constant rotor flux (eq. 19, im_ref.h) or the stator-flux reference
  *   -> flux comparator on |phi_s|^2 (hyst2_sq_step), torque comparator three-level (Table 1) or
  *      two-level (Table 3)
@@ -25,7 +25,14 @@
  *   -> leg states for the next period.
  *
  * Start-up (Casadei section 10.2, Fig. 17b): after a reset the torque reference is held at zero
- * and the speed PI at rest for im_magn_periods control periods. The estimate cannot tell when the
+ * and the speed PI at rest for im_magn_periods control periods. The stator-flux reference is
+ * ramped from zero to its no-load value by im_magn_ramp_iq per period: at DC (Casadei eqs. 7-9,
+ * w = 0) phi_s = sigma l_s i + (m/l_r) phi_r and d phi_r/dt = (m i - phi_r)/tau_r, so a step of
+ * phi_s* sends the current towards phi_s* / (sigma l_s) (5.7x rated on the default IM), while a ramp
+ * at rho holds it at phi_r/m + tau_r rho/l_s: the host derives rho = (I_n - I_m) l_s/tau_r from the
+ * rated current I_n and the final magnetising current I_m (dtc_config_si.c), so the current
+ * stays below I_n. The estimator's rotor-flux reference is meanwhile the rotor flux of the current
+ * model, tau_r d|phi_r|/dt = m i_d - |phi_r| (exact at DC). After the ramp the estimate cannot tell when the
  * machine is magnetised: at DC the improved estimator's correction (eq. 20) pulls the estimated
  * rotor flux to its reference within tau whatever the machine's, while the machine's rotor flux
  * rises as 1 - exp(-t/tau_r) (eq. 9 with the estimator's DC error: d phi_r/dt = -(r_r/l_r)
@@ -46,8 +53,9 @@
  *
  * Ownership: caller-owned state, no static state; cfg must outlive the controller.
  * Formats: IQ pu (dtc_base.h bases, chosen for the IM by the host), angle_t, Q15/Q31 gains.
- * Scaling and overflow: every block documents its own; this file adds only saturating sums and
- * comparisons.
+ * Scaling and overflow: every block documents its own; this file adds only saturating sums,
+ * comparisons and the ramp (a 64-bit product of the increment and the period count, clamped to
+ * the final reference).
  */
 #ifndef IM_DTC_H
 #define IM_DTC_H
@@ -99,12 +107,14 @@ typedef struct {
     swtab_legs_t legs_2;  /* returned two steps ago: applied during the period just ended */
     swtab_legs_t legs_3;  /* returned three steps ago (dead time) */
     uint16_t vec_1;       /* vector returned by the previous step */
+    int16_t tdem_1;       /* torque comparator's demand of the previous step (+1, 0, -1) */
     iq_t te_cmd_iq;       /* torque command: speed PI output or the torque reference */
     iq_t te_trim_iq;      /* torque mode: mean-torque trim (dtc_trim_step) */
     iq_t te_ref_iq;       /* torque reference in force (after start-up and eqs. 33-34) */
     iq_t psi_ref_iq;      /* stator-flux reference in force (eq. 19, section 12, or the set) */
     iq_t psir_ref_iq;     /* rotor-flux reference of the improved estimator (eq. 20) */
     uint16_t magn_n;      /* start-up: periods of magnetisation so far */
+    iq_t magn_psir_iq;    /* start-up: rotor-flux magnitude of the current model (im_dtc_refs) */
     uint16_t ref_due;     /* eq. 19 to be evaluated (im_dtc_refs) */
     iq_t speed_iq;        /* electrical speed in use (encoder or estimated), pu */
     /* working values of one step, kept here rather than on the stack (budget: <= 256 bytes of

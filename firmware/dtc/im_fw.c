@@ -18,23 +18,23 @@ void im_fw_reset(im_fw_t *s, const im_fw_params_t *p)
 {
     s->psi_ref_iq = p->psi_rated_iq;
     s->count = 0U;
-    s->null_seen = 0U;
+    s->met_seen = 0U;
 }
 
-iq_t im_fw_step(im_fw_t *s, const im_fw_params_t *p, uint16_t null_applied, iq_t t_cmd_iq)
+iq_t im_fw_step(im_fw_t *s, const im_fw_params_t *p, uint16_t demand_met, iq_t t_cmd_iq)
 {
     iq_t t_ref, t_max;
 
-    if (null_applied != 0U) {
-        s->null_seen = 1U;
+    if (demand_met != 0U) {
+        s->met_seen = 1U;
     }
     if (++s->count >= p->window) {
-        /* Section 12.2: no null vector in N periods -> flux too high for the voltage limit. */
-        const iq_t next = s->null_seen != 0U ? fix_add32(s->psi_ref_iq, p->step_up_iq)
+        /* Section 12.2: demand not met in N periods -> flux too high for the voltage limit. */
+        const iq_t next = s->met_seen != 0U ? fix_add32(s->psi_ref_iq, p->step_up_iq)
                                              : fix_sub32(s->psi_ref_iq, p->step_down_iq);
         s->psi_ref_iq = iq_sat(next, p->psi_min_iq, p->psi_rated_iq);
         s->count = 0U;
-        s->null_seen = 0U;
+        s->met_seen = 0U;
     }
     /* Eq. 33, then the limit of eq. 34 on either sign. */
     t_ref = iq_mpy(iq_mpy(t_cmd_iq, s->psi_ref_iq), p->inv_psi_rated_iq);

@@ -1,11 +1,15 @@
 /*
- * im_fw.h - flux weakening of the IM DTC drive by null-vector monitoring (Casadei et al. 2006,
- * section 12).
+ * im_fw.h - flux weakening of the IM DTC drive by monitoring the torque comparator (Casadei et al.
+ * 2006, section 12: the null-vector monitor).
  *
- * Section 12.2: the output of the switching table is watched for N consecutive control periods. If
- * no null vector was applied in that window, the DTC could not hold the torque (the back-EMF is
- * at the voltage limit, eq. 32): the stator-flux reference steps down. If at least one null vector
- * was applied, the torque demand was met: the reference steps up. It stays within [phi_min,
+ * Section 12.2: the output of the torque hysteresis comparator is watched for N consecutive
+ * control periods. If the torque demand was never met in that window (the text: no null vector
+ * applied), the DTC could not hold the torque (the back-EMF is at the voltage limit, eq. 32): the
+ * stator-flux reference steps down. If it was met at least once (at least one null vector), the
+ * reference steps up. The caller says what "met" is for its table (im_dtc.c: the comparator asked
+ * for less torque in the sense of the command; with ST-A that is exactly the null vector, with
+ * Table 1 and a zero band it is V_{k-1}/V_{k-2}, and counting null vectors there would weaken
+ * the flux at any speed). It stays within [phi_min,
  * phi_rated]. Section 12.3: the flux reference may change at most once per 20 control periods,
  * so N >= 20 (im_fw_check refuses less).
  * The torque reference follows the command in proportion to the flux reference (eq. 33),
@@ -28,8 +32,8 @@
 
 typedef struct {
     uint16_t window;          /* N control periods per decision (>= 20, section 12.3) */
-    iq_t step_down_iq;        /* flux-reference decrement per window without a null vector, > 0 */
-    iq_t step_up_iq;          /* increment per window with one, > 0 */
+    iq_t step_down_iq;        /* flux-reference decrement per window with the demand never met, > 0 */
+    iq_t step_up_iq;          /* increment per window with it met, > 0 */
     iq_t psi_min_iq;          /* lower bound, > 0 */
     iq_t psi_rated_iq;        /* rated stator flux, >= psi_min */
     iq_t inv_psi_rated_iq;    /* 1 / psi_rated */
@@ -39,15 +43,15 @@ typedef struct {
 typedef struct {
     iq_t psi_ref_iq;          /* stator-flux reference in force */
     uint16_t count;           /* periods in the current window */
-    uint16_t null_seen;       /* a null vector was applied in this window */
+    uint16_t met_seen;        /* the torque demand was met in this window */
 } im_fw_t;
 
 /* 0, or a nonzero code for inconsistent parameters. */
 int16_t im_fw_check(const im_fw_params_t *p);
 /* Starts at the rated flux. */
 void im_fw_reset(im_fw_t *s, const im_fw_params_t *p);
-/* One control period: `null_applied` is 1 if the vector chosen for this period is V0 or V7.
+/* One control period: `demand_met` is 1 if the torque demand was met in this period (above).
  * Returns the torque reference of eqs. 33-34 for the command t_cmd. */
-iq_t im_fw_step(im_fw_t *s, const im_fw_params_t *p, uint16_t null_applied, iq_t t_cmd_iq);
+iq_t im_fw_step(im_fw_t *s, const im_fw_params_t *p, uint16_t demand_met, iq_t t_cmd_iq);
 
 #endif /* IM_FW_H */

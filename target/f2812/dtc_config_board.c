@@ -51,6 +51,7 @@ const dtc_config_t g_dtc_config = {
             .kr_iq = 0, /* 0 pu */
             .ks_iq = 0, /* 0 pu */
             .inv_ks_iq = 0, /* 0 pu */
+            .m_iq = 0, /* 0 pu */
         },
     },
     .est = {
@@ -109,5 +110,7 @@ const dtc_config_t g_dtc_config = {
         .im_gain_w_iq = 0, /* 0 pu */
         .im_speed_filt_q31 = 0, /* 0 */
         .im_magn_periods = 0U,
+        .im_magn_ramp_iq = 0, /* 0 pu */
+        .im_magn_k_q31 = 0, /* 0 */
     },
 };

@@ -183,7 +183,7 @@ struct Machine {
 // a few ms. Rotor held at standstill (the dynamometer), torque mode, T* = 0, then rated.
 struct StartUp {
     double psir_before = 0.0, i_dc = 0.0, i_drift = 0.0, rise_ms = -1.0, te_worst_magn = 0.0;
-    double trip_t = -1.0, psir_at_trip = 0.0, psis_at_trip = 0.0; // first fault: time, plant fluxes
+    double i_peak_magn = 0.0; // largest current-vector magnitude during the magnetisation
     std::string fault;
 };
 static StartUp start_up(const std::string& estimator, std::vector<std::string> extra = {})
@@ -199,11 +199,7 @@ static StartUp start_up(const std::string& estimator, std::vector<std::string> e
     const double t_magn = static_cast<double>(r.cfg.speed.im_magn_periods) * r.ts();
     r.run(64.0 * r.ts() + t_magn, [&] {
         o.te_worst_magn = std::fmax(o.te_worst_magn, std::fabs(r.st().te_nm));
-        if (o.trip_t < 0.0 && r.fault() != "none") {
-            o.trip_t = r.h->time_s();
-            o.psir_at_trip = r.psir();
-            o.psis_at_trip = r.psis();
-        }
+        o.i_peak_magn = std::fmax(o.i_peak_magn, r.imag());
     });
     r.run(0.3); // torque allowed, still commanded zero: the rotor flux completes its rise (tau_r)
     // The 50 ms before the torque step: the mean current-vector magnitude (the DC magnetising
@@ -240,15 +236,12 @@ TEST(ImCasadei, Fig17ImprovedEstimatorMagnetisesAtZeroTorqueAndTheTorqueFollowsI
 {
     const StartUp imp = start_up("improved");
     const StartUp vol = start_up("voltage");
-    const StartUp vol_hi = start_up("voltage", {"sensors.current_range_a=1000", "protection.overcurrent_a=900",
-                                                "protection.hw_trip_current_a=0"});
-    std::printf("MEASURE Fig17 voltage, no trip: DC current %.2f A (spread %.2f %%), rotor flux %.3f Wb, rise %.2f ms, fault %s\n",
-                vol_hi.i_dc, 100.0 * vol_hi.i_drift, vol_hi.psir_before, vol_hi.rise_ms, vol_hi.fault.c_str());
+    std::printf("MEASURE Fig17 voltage: DC current %.2f A (spread %.2f %%), rotor flux %.3f Wb, rise %.2f ms, fault %s\n",
+                vol.i_dc, 100.0 * vol.i_drift, vol.psir_before, vol.rise_ms, vol.fault.c_str());
     std::printf("MEASURE Fig17 improved: DC current %.2f A (5 ms means spread %.2f %%), rotor flux %.3f Wb, max |T| "
-                "while magnetising %.2f N*m, rise to 90 %% rated %.2f ms, fault %s\n",
-                imp.i_dc, 100.0 * imp.i_drift, imp.psir_before, imp.te_worst_magn, imp.rise_ms, imp.fault.c_str());
-    std::printf("MEASURE Fig17 voltage: fault %s at %.4f s, plant stator flux then %.3f Wb, rotor flux %.3f Wb\n",
-                vol.fault.c_str(), vol.trip_t, vol.psis_at_trip, vol.psir_at_trip);
+                "while magnetising %.2f N*m, peak current %.1f A (rated %.1f), rise to 90 %% rated %.2f ms, fault %s\n",
+                imp.i_dc, 100.0 * imp.i_drift, imp.psir_before, imp.te_worst_magn, imp.i_peak_magn,
+                PLANT_DEF_IM_RATED_CURRENT_A, imp.rise_ms, imp.fault.c_str());
     // Improved estimator: a steady DC current vector, the machine's magnetising current (plant
     // rotor flux / M), the rotor flux at its reference within 10 % (measured 8 % low: the residual
     // voltage error at DC, docs/firmware-core.md), no torque; then the rated torque within 5 ms.
@@ -257,20 +250,23 @@ TEST(ImCasadei, Fig17ImprovedEstimatorMagnetisesAtZeroTorqueAndTheTorqueFollowsI
     EXPECT_NEAR(imp.i_dc, imp.psir_before / PLANT_DEF_IM_LM_H, 0.05 * imp.i_dc);
     EXPECT_LT(imp.i_drift, 0.05);
     EXPECT_LT(imp.te_worst_magn, 0.05 * PLANT_DEF_IM_RATED_TORQUE_NM);
+    // The start-up ramp (im_dtc.h) holds the magnetising current at the rated current, plus the
+    // ripple of the flux comparator on top (a step of phi_s* would head for phi_s*/(sigma L_s),
+    // 5.7x rated).
+    EXPECT_LT(imp.i_peak_magn, 1.25 * PLANT_DEF_IM_RATED_CURRENT_A);
     EXPECT_NEAR(imp.psir_before, psir_ref, 0.10 * psir_ref);
     ASSERT_GT(imp.rise_ms, 0.0);
     EXPECT_LE(imp.rise_ms, 5.0);
-    // Voltage model (Casadei eq. 1, a low-pass for the integrator), Fig. 17a. On the rig's trips
-    // it stops on over-current in the start-up current peak (the finding of im_dtc_speed.toml,
-    // printed above, not asserted). With the trips out of the way (sensors and trip at 1 kA) the
-    // estimator's own behaviour shows: the DC flux it is asked to hold decays out of its estimate
-    // (5 rad/s low-pass), so the machine is not magnetised at zero torque (rotor flux below 80 %
-    // of the reference, the current not a steady DC) and the torque then rises far slower than
+    // Voltage model (Casadei eq. 1, a low-pass for the integrator), Fig. 17a, on the rig's trips
+    // (the start-up ramp holds the current below rated, im_dtc.h): the DC flux it is asked to
+    // hold drifts in its estimate
+    // (5 rad/s low-pass), so the machine is not magnetised as commanded at zero torque (rotor
+    // flux more than 20 % from its reference, measured 0.77 Wb for 0.53; the current not a steady DC) and the torque then rises far slower than
     // with the improved estimator (not at 90 % of rated within 10x its rise time).
-    EXPECT_EQ(vol_hi.fault, "none");
-    EXPECT_LT(vol_hi.psir_before, 0.8 * psir_ref);
-    EXPECT_GT(vol_hi.i_drift, 0.05);
-    EXPECT_TRUE(vol_hi.rise_ms < 0.0 || vol_hi.rise_ms > 10.0 * imp.rise_ms) << vol_hi.rise_ms;
+    EXPECT_EQ(vol.fault, "none");
+    EXPECT_GT(std::fabs(vol.psir_before / psir_ref - 1.0), 0.2);
+    EXPECT_GT(vol.i_drift, 0.05);
+    EXPECT_TRUE(vol.rise_ms < 0.0 || vol.rise_ms > 10.0 * imp.rise_ms) << vol.rise_ms;
 }
 
 // ---- common: magnetised at standstill, then torque mode at a held speed --------------------------
@@ -429,14 +425,20 @@ TEST(ImCasadei, Fig5StDTorqueResponseIsQuickAtLowAndHighSpeed)
     }
 }
 
-// Fig. 5's ST-A half. Disabled: a finding. With ST-A (the null vectors V0/V7 for every torque
-// decrease, flux uncontrolled meanwhile) the firmware's flux estimate leaves the machine's: at
-// 100 rad/s held with the rig's parts, before the pulse, estimate |phi_s| 0.54 Wb against the
-// plant's 0.05-0.11 Wb, plant torque -1 N*m for T* = +18 (estimate 15-19 N*m); with ideal devices
-// it loses the flux between about 190 and 570 rpm of a speed ramp and recovers above. ST-B, ST-D
-// and Table 1 hold the flux. The response times then mean nothing (measured 4-6 ms at 20 rad/s
-// with the estimate 33 % off the plant's flux before the pulse; not reached at 100 rad/s, 98 %
-// off). Enable when the IM law holds the flux with ST-A.
+// Fig. 5's ST-A half. Disabled: a finding. ST-A loses the machine's flux while the operating
+// point is set up: in the 0.2 s at T* = 0 at standstill after the magnetisation (to_operating_point)
+// the plant's |phi_s| falls from 0.547 to 0.19 Wb while the improved estimate stays at 0.547 Wb.
+// ST-A has no vector that raises the flux while the torque comparator asks for less torque (null
+// vectors; the flux decays through R_s), and eq. 20's correction hides the loss below 1/tau: with
+// the estimate error e = phi_s,est - phi_s, de/dt = (phi_r* - phi_r)/tau - (L_r/M) e/tau, which
+// settles at e = (M/L_r)(phi_r* - phi_r), 0.967 of the rotor-flux deficit on this machine, so the
+// flux comparator never asks for flux. At 100 rad/s the drive then trips on over-current in the
+// speed ramp (plant torque -66 N*m at 380 rpm for T* = +18). ST-B (V_k when the torque falls and
+// the flux must rise), ST-D and Table 1 hold the flux. Measured (SIL, this drive) with +18 N*m
+// applied right after the magnetisation instead (no hold at T* = 0): the flux estimate within
+// 2.9 / 1.8 % of the plant's at 20 / 100 rad/s, response 3.68 / 0.76 ms against ST-D's 0.40 /
+// 0.32 ms: sluggish at 20 rad/s as in the paper, quick at 100 rad/s but 2.4x ST-D's. Kept
+// disabled under the figure's procedure.
 TEST(ImCasadei, DISABLED_Fig5StASluggishAtLowSpeedQuickAtHighSpeed)
 {
     const Pulse a20 = pulse_response("st-a", 20.0), a100 = pulse_response("st-a", 100.0);
@@ -505,7 +507,7 @@ TEST(ImCasadei, Sec8SpeedDependentTableAgainstStAAndStD)
 // ---- Fig. 13 and section 9: DSC hexagon, fewer commutations than DTC ------------------------------
 // Rated torque at 1000 rpm held. DTC (Table 1) with a flux band of 0.14 phi_s* traces a DSC-like
 // polygon (Fig. 13): |phi_s| spans about cos 30 deg .. 1 of its peak like a hexagon; without the
-// band the locus is a circle. DSC itself: see the disabled test below.
+// band the locus is a circle. DSC itself: the test below.
 struct Locus {
     double ratio = 0.0, comm_per_period = 0.0;
     std::string fault;
@@ -551,12 +553,11 @@ TEST(ImCasadei, Fig13DtcWithWideFluxBandTracesAHexagonLikeLocus)
     EXPECT_LT(wide.comm_per_period, narrow.comm_per_period);
 }
 
-// Section 9. Disabled: a finding. DSC trips on over-current the moment the start-up
-// magnetisation ends (0.297 s): the machine magnetised along the alpha axis by V1, DSC applies V4
-// (opposite to the flux) continuously, the stator flux runs through zero (0.52 -> 0.02 Wb in
-// 2.5 ms) and the current reaches the 130 A trip; the same with ideal devices and with T* = rated
-// at that instant. Enable when DSC takes over from the start-up.
-TEST(ImCasadei, DISABLED_Sec9DscHexagonWithFewerCommutationsThanDtc)
+// Section 9. DSC takes over from the start-up magnetisation (flux on the alpha axis, built by
+// V1) with the leg states of the hexagon at the flux's angle (dsc.h) and traces the hexagon:
+// |phi_s| min/max = cos 30 deg (inner/outer radius), with fewer leg commutations per electrical
+// period than DTC at the same speed and torque.
+TEST(ImCasadei, Sec9DscHexagonWithFewerCommutationsThanDtc)
 {
     const Locus dsc = locus({"control.scheme=dsc"});
     const Locus dtc = locus({});
@@ -572,8 +573,8 @@ TEST(ImCasadei, DISABLED_Sec9DscHexagonWithFewerCommutationsThanDtc)
 // stator resistance in the firmware, or a 0.01 A current-sensor offset, settles to a bounded
 // value; with the basic (voltage-model) estimator it grows. Rotor held at 1 rad/s (9.55 rpm) by
 // the dynamometer, rated torque. Error: the plant's |phi_r| against phi_r* over 1.5 s.
-// The voltage-model runs need the start-up current peak out of the way (sensors and trips at
-// 1 kA, as in Fig. 17's voltage case); the improved ones run on the scenario's trips.
+// The voltage-model runs have their sensors and trips at 1 kA so that their error can grow (on
+// the rig's trips the R_s-high case stops on over-current); the improved ones run on the rig's.
 struct Sens {
     std::vector<double> err; // |phi_r| / phi_r* - 1 at 0.25 s intervals after the torque is applied
     std::string fault;
@@ -583,7 +584,7 @@ static Sens sensitivity(const std::string& estimator, const std::vector<std::str
     std::vector<std::string> sets = {"control.estimator=" + estimator};
     if (estimator == "voltage") {
         sets.insert(sets.end(), {"sensors.current_range_a=1000", "protection.overcurrent_a=900",
-                                 "protection.hw_trip_current_a=0"});
+                                 "protection.hw_trip_current_a=0", "protection.allow_unsafe=true"});
     }
     sets.insert(sets.end(), mismatch.begin(), mismatch.end());
     Rig r(torque_at_held_speed(sets));
@@ -694,7 +695,7 @@ TEST(ImCasadei, Fig25SensorlessSpeedEstimateFollowsTheSpeed)
 
 // ---- Fig. 32: flux weakening from standstill to 400 % of the base speed ----------------------------
 // Casadei sec. 12: torque mode (the "gas pedal" T_command = rated), the rotor's inertia only,
-// from standstill at rated flux. Above the base speed the null-vector monitor steps phi_s* down;
+// from standstill at rated flux. Above the base speed the torque-comparator monitor (im_fw.h) steps phi_s* down;
 // T* = T_command phi_s* / phi_s,rated (eq. 33), at most k_T phi_s*^2 (eq. 34); the current stays
 // nearly constant in the constant-power range. Checked on the firmware's own references (the
 // figure's traces 2 and 4) and on the plant's current and speed.
@@ -782,25 +783,19 @@ static Fw flux_weakening_run()
 
 TEST(ImCasadei, Fig32FluxWeakeningTorqueReferenceWithinEq34)
 {
-    // Asserted: the flux reference is weakened and T* never exceeds eq. 34's k_T phi_s*^2 (k_T
-    // from eq. 31 and the plant's machine). Printed, not asserted: T* against eq. 33; measured up
-    // to 29 % of T_command above T_command phi_s*/phi_s,rated at 0.4 s, 600 rpm: the torque
-    // mode's mean-torque trim (dtc_trim_step, 20 ms) adds to the eq. 33 reference while the
-    // machine's torque lags it.
+    // The flux reference is weakened, T* follows eq. 33 (T_command phi_s*/phi_s,rated) and never
+    // exceeds eq. 34's k_T phi_s*^2 (k_T from eq. 31 and the plant's machine).
     const Fw o = flux_weakening_run();
     EXPECT_EQ(o.fault, "none");
     EXPECT_LT(o.psi_at_end, 0.55);
     EXPECT_LT(o.eq34, 0.02);
+    EXPECT_LT(o.ref_err, 0.02);
 }
 
-// Fig. 32's speed and current. Disabled: a finding. The null-vector monitor weakens the flux from
-// the start of the acceleration, far below the base speed: phi_s* 0.30 Wb at 25 % of base speed,
-// 0.19 Wb at 50 %, the minimum 0.055 Wb (fw_psi_min_frac 0.1) from 75 %; T* is then eq. 34's
-// k_T phi_s*^2 = 1.2 N*m and the machine reaches 283 % of base speed in 4 s instead of 400 %,
-// at 8-11 A. (At 40 us with zero bands, windows of N = 20 periods without a null vector occur
-// while the torque is still rising at low speed; section 12.2 assumes they occur near the
-// voltage limit only.) Enable when the monitor holds the rated flux below base speed.
-TEST(ImCasadei, DISABLED_Fig32FluxWeakeningReaches400PercentWithNearlyConstantCurrent)
+// Fig. 32's speed and current: the monitor of the torque comparator (im_fw.h) holds the rated
+// flux up to about the base speed (the torque demand is met there) and weakens it above, where
+// the back-EMF reaches the voltage limit (eq. 32); the current is then nearly constant.
+TEST(ImCasadei, Fig32FluxWeakeningReaches400PercentWithNearlyConstantCurrent)
 {
     const Fw o = flux_weakening_run();
     EXPECT_EQ(o.fault, "none");
@@ -819,13 +814,13 @@ TEST(ImCasadei, FaultsTripTheImDriveAndBadConfigurationIsRefused)
         EXPECT_TRUE(load_scenario(kScenario, sets, &sc, &d)) << d.text();
         return run_scenario(sc, RunOptions{}, r, err);
     };
-    // Over-current: on the rig's own 55 A trip the drive stops in the start-up current peak
-    // (110 A, the finding of im_dtc_speed.toml).
+    // Over-current: a trip set below the magnetising current (about 10 A) stops the drive during
+    // the start-up magnetisation.
     {
         RunResult r;
         std::string err;
-        ASSERT_TRUE(run({"duration_s=0.1", "metrics_window_s=0.05", "protection.overcurrent_a=55",
-                         "protection.hw_trip_current_a=57", "protection.allow_unsafe=false"},
+        ASSERT_TRUE(run({"duration_s=0.3", "metrics_window_s=0.05", "protection.overcurrent_a=5",
+                         "protection.hw_trip_current_a=0"},
                         &r, &err))
             << err;
         EXPECT_EQ(r.info.fault, "overcurrent");

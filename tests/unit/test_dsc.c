@@ -94,6 +94,34 @@ static void hexagon(uint16_t ccw)
     assert_true(worst_angle < 0.5);
 }
 
+/* Reset anywhere on the circle (the start-up leaves the flux on a circle of radius phi*): the
+ * states must be the hexagon's at that angle, so the vector turns the flux forward. Counter-
+ * clockwise the side between the vertices at (j-1) 60 and j 60 degrees is run by V_{j+2}, which
+ * lies 60..120 degrees ahead of the flux; clockwise 60..120 degrees behind. */
+static void test_reset_on_the_hexagon(void **state)
+{
+    (void)state;
+    const double ref = 0.8;
+    int checked = 0;
+    for (uint16_t ccw = 0U; ccw < 2U; ++ccw) {
+        for (double deg = 0.5; deg < 360.0; deg += 1.0) {
+            dsc_t s;
+            const iq_t pa = fixtest_d_to_iq(ref * cos(deg * DEG)), pb = fixtest_d_to_iq(ref * sin(deg * DEG));
+            dsc_reset(&s, ccw, pa, pb);
+            /* a reference beyond every component: no comparator fires, the vector is the states' */
+            const uint16_t v = dsc_step(&s, pa, pb, fixtest_d_to_iq(2.0 * ref));
+            assert_true(v >= 1U && v <= 6U);
+            const double ahead = remainder(60.0 * (double)(v - 1U) - deg, 360.0) * (ccw ? 1.0 : -1.0);
+            if (ahead < 60.0 || ahead > 120.0) {
+                printf("reset %s at %.1f deg: V%u is %.1f deg ahead\n", ccw ? "ccw" : "cw", deg, (unsigned)v, ahead);
+            }
+            assert_true(ahead >= 60.0 && ahead <= 120.0);
+            ++checked;
+        }
+    }
+    assert_int_equal(checked, 720);
+}
+
 static void test_hexagon_ccw(void **state)
 {
     (void)state;
@@ -112,6 +140,7 @@ int main(void)
         cmocka_unit_test(test_components),
         cmocka_unit_test(test_hexagon_ccw),
         cmocka_unit_test(test_hexagon_cw),
+        cmocka_unit_test(test_reset_on_the_hexagon),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,5 +1,5 @@
 /*
- * test_im_fw.c - flux weakening by null-vector monitoring (Casadei et al. 2006, section 12):
+ * test_im_fw.c - flux weakening by the torque-comparator monitor (Casadei et al. 2006, section 12):
  * the window rule of 12.2, the update-rate rule of 12.3, and the torque reference of eqs. 33-34
  * against their double-precision values.
  */

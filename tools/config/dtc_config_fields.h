@@ -32,7 +32,7 @@
     END(machine.pm)                                                                               \
     P(machine.im)                                                                                 \
     IQ(machine.im, rr_iq) IQ(machine.im, sigma_ls_iq) IQ(machine.im, sigma_lr_iq)                  \
-    IQ(machine.im, kr_iq) IQ(machine.im, ks_iq) IQ(machine.im, inv_ks_iq)                          \
+    IQ(machine.im, kr_iq) IQ(machine.im, ks_iq) IQ(machine.im, inv_ks_iq) IQ(machine.im, m_iq)     \
     END(machine.im)                                                                               \
     END(machine)                                                                                  \
     P(est)                                                                                        \
@@ -55,5 +55,6 @@
     Q15(speed, torque_trim_k_q15) IQ(speed, speed_limit_iq) IQ(speed, flux_ref_iq)                 \
     IQ(speed, speed_ref_iq) IQ(speed, torque_ref_iq) IQ(speed, psir_ref_iq)                        \
     IQ(speed, inv_psir_ref_iq) IQ(speed, inv_psir_sq_iq) IQ(speed, im_gain_w_iq)                   \
-    Q31(speed, im_speed_filt_q31) U(speed, im_magn_periods)                                        \
+    Q31(speed, im_speed_filt_q31) U(speed, im_magn_periods) IQ(speed, im_magn_ramp_iq)             \
+    Q31(speed, im_magn_k_q31)                                                                      \
     END(speed)

@@ -272,6 +272,7 @@ static void im_from_si(conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *
     im->kr_iq = to_iq(c, "llr_h (L_r/M)", si->llr_h, lr / m);
     im->ks_iq = to_iq(c, "lls_h (L_s/M)", si->lls_h, ls / m);
     im->inv_ks_iq = to_iq(c, "lls_h (M/L_s)", si->lls_h, m / ls);
+    im->m_iq = to_iq(c, "lm_h", si->lm_h, m / b->l_base_h);
 
     /* Improved estimator: Ts/tau in Q31, speed-dependent between the two speeds. */
     cfg->est.im_k_lo_q31 = to_q31(c, "tau_lo_s (Ts/tau)", si->ts_s / si->tau_lo_s);
@@ -318,13 +319,28 @@ static void im_from_si(conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *
     cfg->speed.im_speed_filt_q31 = to_q31(c, "speed_filter_s",
                                           1.0 - exp(-si->ts_s * si->speed_div / si->speed_filter_s));
     {
-        /* Start-up (im_dtc.h): with the stator flux held by the law and the improved estimator,
-         * the rotor flux rises as 1 - exp(-t/tau_r), tau_r = L_r/R_r (Casadei eq. 9 with the
-         * estimator's error eq. 20 at DC: d phi_r/dt = -(R_r/L_r)(phi_r - phi_r*)). */
+        /* Start-up (im_dtc.h). Magnetising ramp: at DC (T model, Casadei eqs. 7-9 at w = 0)
+         * phi_s = sigma L_s i + (M/L_r) phi_r and d phi_r/dt = (M i - phi_r)/tau_r. With phi_s
+         * ramped at rho the current settles (after sigma tau_r) to
+         *     i = phi_r/M + tau_r rho / L_s,   phi_r lagging (M/L_s) phi_s by sigma tau_r,
+         * so it stays below the rated current I_n when rho = (I_n - I_m) L_s / tau_r, I_m =
+         * phi_r* / M the final magnetising current. (A stator-flux step instead drives the current
+         * towards phi_s* / (sigma L_s).) Then the stator flux is held: the improved estimator's
+         * error at DC decays as 1 - exp(-t/tau_r) (eq. 20 at DC: d phi_r/dt = -(R_r/L_r)(phi_r -
+         * phi_r*)), so the torque waits tau_r ln(1/(1 - magn_frac)) more. */
         const double tau_r = lr / si->rr_ohm;
-        const double n = ceil(tau_r * log(1.0 / (1.0 - si->magn_frac)) / si->ts_s);
+        const double psis_final = si->psir_ref_wb > 0.0 ? si->psir_ref_wb * ls / m : si->flux_ref_wb;
+        const double i_m = psir / m;
+        const double rho = (si->rated_current_a - i_m) * ls / tau_r;
+        double n_ramp, n;
+        if (!(si->rated_current_a > i_m)) { fail(c, DTC_SI_ERR_IM, "rated_current_a = %g: must exceed the magnetising current phi_r*/M = %g A", si->rated_current_a, i_m); return; }
+        n_ramp = ceil(psis_final / (rho * si->ts_s));
+        n = n_ramp + ceil(tau_r * log(1.0 / (1.0 - si->magn_frac)) / si->ts_s);
         if (!(n >= 1.0 && n <= 65535.0)) { fail(c, DTC_SI_ERR_IM, "magn_frac = %g: the magnetisation time %g s is not 1..65535 periods of ts_s", si->magn_frac, n * si->ts_s); return; }
         cfg->speed.im_magn_periods = (uint16_t)n;
+        cfg->speed.im_magn_ramp_iq = to_iq(c, "rated_current_a (magnetising ramp)", si->rated_current_a,
+                                           rho * si->ts_s / b->psi_base_wb);
+        cfg->speed.im_magn_k_q31 = to_q31(c, "rr_ohm (Ts/tau_r)", si->ts_s / tau_r);
     }
 }
 

@@ -269,7 +269,7 @@ const std::vector<Spec>& schema()
                "the slip of Casadei eq. 16",
                ACC(control.speed_sensor)),
         boolean("control.flux_weakening",
-                "IM only: Casadei sec. 12 flux weakening (null-vector monitor, T* scaled by eq. 33 and limited by "
+                "IM only: Casadei sec. 12 flux weakening (null-vector monitor on the torque comparator, T* scaled by eq. 33 and limited by "
                 "eq. 34)",
                 ACC(control.flux_weakening)),
         num("control.rotor_flux_ref_wb", "Wb", nonneg(),
@@ -289,8 +289,9 @@ const std::vector<Spec>& schema()
         num("control.observer_tau_hi_rpm", "rpm", nonneg(), "IM improved estimator: speed magnitude from which "
             "control.observer_tau_high_s applies (>= control.observer_tau_lo_rpm)", ACC(control.observer_tau_hi_rpm)),
         num("control.magnetise_frac", "", Range{0.0, 1.0, true, true},
-            "IM start-up (Casadei Fig. 17b): zero torque until the rotor flux has reached this fraction of its "
-            "reference, i.e. for tau_r ln(1/(1 - frac))",
+            "IM start-up (Casadei Fig. 17b): zero torque during the stator-flux ramp (magnetising current below "
+            "motor.rated_current_a) and until the rotor flux has reached this fraction of its reference, "
+            "tau_r ln(1/(1 - frac)) more",
             ACC(control.magnetise_frac)),
         num("control.table_speed_rpm", "rpm", nonneg(),
             "IM speed-dependent table: ST-D below, ST-A above; 0 = derived (half the speed where the back-EMF "
