@@ -11,25 +11,7 @@
 
 static void dtc_adopt(dtc_t *c, const dtc_refs_t *r)
 {
-    const dtc_config_t *cfg = c->cfg;
-    uint16_t old_mode = c->act.mode;
-
-    c->act.speed_ref_iq = iq_sat(r->speed_ref_iq, fix_neg32(cfg->speed.speed_limit_iq),
-                                 cfg->speed.speed_limit_iq);
-    c->act.torque_ref_iq = iq_sat(r->torque_ref_iq, fix_neg32(cfg->speed.torque_limit_iq),
-                                  cfg->speed.torque_limit_iq);
-    c->act.flux_ref_iq = r->flux_ref_iq;
-    c->act.kp_iq = r->kp_iq;
-    c->act.ki_ts_iq = r->ki_ts_iq;
-    c->act.mode = r->mode;
-    c->pi_p.kp_iq = r->kp_iq;
-    c->pi_p.ki_ts_iq = r->ki_ts_iq;
-    if (old_mode != DTC_MODE_SPEED && r->mode == DTC_MODE_SPEED) {
-        speed_pi_reset(&c->pi, c->te_ref_iq, cfg->speed.torque_limit_iq); /* bumpless */
-    }
-    if (old_mode != r->mode) {
-        c->te_trim_iq = 0;
-    }
+    dtc_refs_adopt(&c->act, &c->pi_p, &c->pi, &c->te_trim_iq, c->te_ref_iq, r, c->cfg);
 }
 
 int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg)
@@ -59,19 +41,9 @@ int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg)
     c->fe_p.enc_gain_q16 = cfg->board.enc_gain_q16;
     c->fe_p.enc_offset = cfg->board.enc_offset;
     vcomp_init(&c->vc_p, cfg->est.compensation, cfg->board.v_f_iq, cfg->board.v_ce_iq, cfg->board.v_d_iq, cfg->board.r_on_iq);
-    c->sm_p.enc_counts = cfg->board.enc_counts;
-    c->sm_p.k_speed_iq = cfg->speed.speed_k_iq;
-    c->sm_p.min_counts = cfg->speed.speed_min_counts;
-    c->pi_p.kp_iq = cfg->speed.kp_iq;
-    c->pi_p.ki_ts_iq = cfg->speed.ki_ts_iq;
-    c->pi_p.limit_iq = cfg->speed.torque_limit_iq;
+    dtc_speed_params_from_config(&c->sm_p, &c->pi_p, cfg);
 
-    r.speed_ref_iq = cfg->speed.speed_ref_iq;
-    r.torque_ref_iq = cfg->speed.torque_ref_iq;
-    r.flux_ref_iq = cfg->speed.flux_ref_iq;
-    r.kp_iq = cfg->speed.kp_iq;
-    r.ki_ts_iq = cfg->speed.ki_ts_iq;
-    r.mode = cfg->speed.mode;
+    dtc_refs_from_config(&r, cfg);
     c->act.mode = cfg->speed.mode;
     c->te_ref_iq = 0;
     dtc_adopt(c, &r);
@@ -332,7 +304,7 @@ void dtc_predict(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t
  * decide per leg by the current's sign; with 2-3 A pk-pk ripple on a 0.6 A fundamental the sign of
  * one sample at the period's end is often not the sign the period had). IQ pu; the sum
  * saturates, the halving rounds. */
-static void dtc_pol_mid(dtc_t *c, const clarke_out_t *i)
+void dtc_pol_mid(dtc_t *c, const clarke_out_t *i)
 {
     c->i_mid.ia_iq = fix_add32(fix_rshift_rnd32(c->i_prev.ia_iq, 1U), fix_rshift_rnd32(i->ia_iq, 1U));
     c->i_mid.ib_iq = fix_add32(fix_rshift_rnd32(c->i_prev.ib_iq, 1U), fix_rshift_rnd32(i->ib_iq, 1U));
@@ -504,15 +476,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     c->i_prev.ic_iq = i.ic_iq;
     c->i_prev.i_alpha_iq = i.i_alpha_iq;
     c->i_prev.i_beta_iq = i.i_beta_iq;
-    c->legs_3.sa = c->legs_2.sa; /* field by field: no struct copy (memcpy) in the ISR */
-    c->legs_3.sb = c->legs_2.sb;
-    c->legs_3.sc = c->legs_2.sc;
-    c->legs_2.sa = c->legs_1.sa;
-    c->legs_2.sb = c->legs_1.sb;
-    c->legs_2.sc = c->legs_1.sc;
-    c->legs_1.sa = legs.sa;
-    c->legs_1.sb = legs.sb;
-    c->legs_1.sc = legs.sc;
+    swtab_legs_shift(&c->legs_3, &c->legs_2, &c->legs_1, &legs);
     c->vec_1 = vec;
 
     /* 8. Outputs. */

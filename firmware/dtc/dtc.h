@@ -144,6 +144,9 @@ void dtc_deadtime(const dtc_config_t *cfg, iq_t vdc_iq, const clarke_out_t *i, c
 /* Internal to dtc_step (actuation-delay compensation); out of line for the stack. On entry
  * *psi_a, *psi_b, *te hold the estimate at k; on return the prediction for k+1; the predicted current goes to c->i1_*. */
 void dtc_predict(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t *te);
+/* Internal to dtc_step (ripple-robust polarity: the period-mean current into c->i_mid); out of line
+ * for the stack (inlined, its saturating sums widen dtc_step's frame on the deepest chain). */
+void dtc_pol_mid(dtc_t *c, const clarke_out_t *i);
 /* Internal to dtc_step (torque mode: reference plus mean-torque trim); out of line for the stack. */
 void dtc_torque_trim(dtc_t *c, iq_t te);
 

@@ -60,3 +60,24 @@ void dtc_shadow_take(dtc_shadow_t *s, uint16_t seq, dtc_refs_t *r)
     r->mode = s->mode;
     s->adopted = seq;
 }
+
+void dtc_refs_from_config(dtc_refs_t *r, const dtc_config_t *cfg)
+{
+    r->speed_ref_iq = cfg->speed.speed_ref_iq;
+    r->torque_ref_iq = cfg->speed.torque_ref_iq;
+    r->flux_ref_iq = cfg->speed.flux_ref_iq;
+    r->kp_iq = cfg->speed.kp_iq;
+    r->ki_ts_iq = cfg->speed.ki_ts_iq;
+    r->mode = cfg->speed.mode;
+}
+
+void dtc_speed_params_from_config(speed_meas_params_t *sm_p, speed_pi_params_t *pi_p,
+                                  const dtc_config_t *cfg)
+{
+    sm_p->enc_counts = cfg->board.enc_counts;
+    sm_p->k_speed_iq = cfg->speed.speed_k_iq;
+    sm_p->min_counts = cfg->speed.speed_min_counts;
+    pi_p->kp_iq = cfg->speed.kp_iq;
+    pi_p->ki_ts_iq = cfg->speed.ki_ts_iq;
+    pi_p->limit_iq = cfg->speed.torque_limit_iq;
+}

@@ -13,7 +13,10 @@
 
 #include <stdint.h>
 
+#include "dtc_config.h"
 #include "fixmath.h"
+#include "speed_meas.h"
+#include "speed_pi.h"
 
 /* The background-changeable parameter set. */
 typedef struct {
@@ -59,5 +62,40 @@ void dtc_shadow_take(dtc_shadow_t *s, uint16_t seq, dtc_refs_t *r);
  * Scaling and overflow: the error is IQ pu, times a Q15 gain < 1; the sums saturate and are
  * clamped (limit > 0, validated). */
 iq_t dtc_trim_step(iq_t *trim_iq, iq_t ref_iq, iq_t te_iq, q15_t k_q15, iq_t limit_iq);
+
+/* The reference set a configuration starts with (its initial references, gains and mode). */
+void dtc_refs_from_config(dtc_refs_t *r, const dtc_config_t *cfg);
+
+/* Every law: makes r the set in force (*act): the speed and torque references clamped to the
+ * configured limits, the speed-PI gains into *pi_p; a change to speed mode preloads the PI with
+ * te_now_iq, the torque applied now (bumpless); any change of mode clears the mean-torque trim. */
+/* (Inline: it runs in the ISR on the shadow-adoption path, the deepest stack chain of a step, so
+ * it must not add a call frame there.) */
+static inline void dtc_refs_adopt(dtc_refs_t *act, speed_pi_params_t *pi_p, speed_pi_t *pi, iq_t *trim_iq,
+                    iq_t te_now_iq, const dtc_refs_t *r, const dtc_config_t *cfg)
+{
+    const uint16_t old_mode = act->mode;
+
+    act->speed_ref_iq = iq_sat(r->speed_ref_iq, fix_neg32(cfg->speed.speed_limit_iq),
+                               cfg->speed.speed_limit_iq);
+    act->torque_ref_iq = iq_sat(r->torque_ref_iq, fix_neg32(cfg->speed.torque_limit_iq),
+                                cfg->speed.torque_limit_iq);
+    act->flux_ref_iq = r->flux_ref_iq;
+    act->kp_iq = r->kp_iq;
+    act->ki_ts_iq = r->ki_ts_iq;
+    act->mode = r->mode;
+    pi_p->kp_iq = r->kp_iq;
+    pi_p->ki_ts_iq = r->ki_ts_iq;
+    if (old_mode != DTC_MODE_SPEED && r->mode == DTC_MODE_SPEED) {
+        speed_pi_reset(pi, te_now_iq, cfg->speed.torque_limit_iq); /* bumpless */
+    }
+    if (old_mode != r->mode) {
+        *trim_iq = 0;
+    }
+}
+
+/* Every law: the speed measurement's and the speed PI's parameters from the configuration. */
+void dtc_speed_params_from_config(speed_meas_params_t *sm_p, speed_pi_params_t *pi_p,
+                                  const dtc_config_t *cfg);
 
 #endif /* DTC_REFS_H */

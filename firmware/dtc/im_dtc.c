@@ -21,25 +21,7 @@ void im_dtc_psir_ref(im_dtc_t *c, iq_t psi_s_ref_iq)
  * speed mode preloads the PI with the torque command (bumpless). */
 void im_dtc_apply(im_dtc_t *c, const dtc_refs_t *r)
 {
-    const dtc_config_t *cfg = c->cfg;
-    const uint16_t old_mode = c->act.mode;
-
-    c->act.speed_ref_iq = iq_sat(r->speed_ref_iq, fix_neg32(cfg->speed.speed_limit_iq),
-                                 cfg->speed.speed_limit_iq);
-    c->act.torque_ref_iq = iq_sat(r->torque_ref_iq, fix_neg32(cfg->speed.torque_limit_iq),
-                                  cfg->speed.torque_limit_iq);
-    c->act.flux_ref_iq = r->flux_ref_iq;
-    c->act.kp_iq = r->kp_iq;
-    c->act.ki_ts_iq = r->ki_ts_iq;
-    c->act.mode = r->mode;
-    c->pi_p.kp_iq = r->kp_iq;
-    c->pi_p.ki_ts_iq = r->ki_ts_iq;
-    if (old_mode != DTC_MODE_SPEED && r->mode == DTC_MODE_SPEED) {
-        speed_pi_reset(&c->pi, c->te_cmd_iq, cfg->speed.torque_limit_iq);
-    }
-    if (old_mode != r->mode) {
-        c->te_trim_iq = 0;
-    }
+    dtc_refs_adopt(&c->act, &c->pi_p, &c->pi, &c->te_trim_iq, c->te_cmd_iq, r, c->cfg);
     im_dtc_psir_ref(c, r->flux_ref_iq);
 }
 
@@ -312,15 +294,7 @@ void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     /* 7. Comparators, table or DSC, null-vector choice. */
     vec = im_dtc_select(c, te, o);
     legs = swtab_sstp_legs(vec);
-    c->legs_3.sa = c->legs_2.sa; /* field by field: no struct copy (memcpy) in the ISR */
-    c->legs_3.sb = c->legs_2.sb;
-    c->legs_3.sc = c->legs_2.sc;
-    c->legs_2.sa = c->legs_1.sa;
-    c->legs_2.sb = c->legs_1.sb;
-    c->legs_2.sc = c->legs_1.sc;
-    c->legs_1.sa = legs.sa;
-    c->legs_1.sb = legs.sb;
-    c->legs_1.sc = legs.sc;
+    swtab_legs_shift(&c->legs_3, &c->legs_2, &c->legs_1, &legs);
     c->vec_1 = vec;
     c->tdem_1 = o->torque_dem;
 

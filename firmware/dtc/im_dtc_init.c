@@ -39,12 +39,7 @@ int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg)
     }
     vcomp_init(&c->vc_p, cfg->est.compensation, cfg->board.v_f_iq, cfg->board.v_ce_iq,
                cfg->board.v_d_iq, cfg->board.r_on_iq);
-    c->sm_p.enc_counts = cfg->board.enc_counts;
-    c->sm_p.k_speed_iq = cfg->speed.speed_k_iq;
-    c->sm_p.min_counts = cfg->speed.speed_min_counts;
-    c->pi_p.kp_iq = cfg->speed.kp_iq;
-    c->pi_p.ki_ts_iq = cfg->speed.ki_ts_iq;
-    c->pi_p.limit_iq = cfg->speed.torque_limit_iq;
+    dtc_speed_params_from_config(&c->sm_p, &c->pi_p, cfg);
     c->isp_p.gain_w_iq = cfg->speed.im_gain_w_iq;
     c->isp_p.k_filt_q31 = cfg->speed.im_speed_filt_q31;
     c->isp_p.rr_iq = cfg->machine.im.rr_iq;
@@ -60,12 +55,7 @@ int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg)
     }
     c->cfg = cfg;
 
-    r.speed_ref_iq = cfg->speed.speed_ref_iq;
-    r.torque_ref_iq = cfg->speed.torque_ref_iq;
-    r.flux_ref_iq = cfg->speed.flux_ref_iq;
-    r.kp_iq = cfg->speed.kp_iq;
-    r.ki_ts_iq = cfg->speed.ki_ts_iq;
-    r.mode = cfg->speed.mode;
+    dtc_refs_from_config(&r, cfg);
     c->act.mode = cfg->speed.mode;
     c->te_cmd_iq = 0;
     c->te_trim_iq = 0;

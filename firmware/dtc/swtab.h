@@ -42,6 +42,24 @@ typedef struct {
     uint16_t sa, sb, sc;
 } swtab_legs_t;
 
+/* The leg states of the last three periods, newest first (every law keeps them: the estimator
+ * reconstructs the voltage of the period that just ended, the dead-time compensation needs the
+ * change at its start): l3 <- l2 <- l1 <- now, field by field (no struct copy, i.e. no memcpy,
+ * in the ISR). */
+static inline void swtab_legs_shift(swtab_legs_t *l3, swtab_legs_t *l2, swtab_legs_t *l1,
+                                    const swtab_legs_t *now)
+{
+    l3->sa = l2->sa;
+    l3->sb = l2->sb;
+    l3->sc = l2->sc;
+    l2->sa = l1->sa;
+    l2->sb = l1->sb;
+    l2->sc = l1->sc;
+    l1->sa = now->sa;
+    l1->sb = now->sb;
+    l1->sc = now->sc;
+}
+
 /* Casadei Table 1. sector 1..6, flux_up 1/0 (c_phi = +1/-1), c_t in {+1, 0, -1}.
  * Returns 1..6 or SWTAB_NULL. */
 uint16_t swtab_sstp_basic(uint16_t sector, uint16_t flux_up, int16_t c_t);
