@@ -74,30 +74,24 @@ void record_dtc_pattern(const plant_params_t &p0, int n) {
     plant_destroy(pl);
 }
 
-Result run(const plant_params_t &p, double sim_s) {
+// A plant for the benchmark (exits on a refused parameter set).
+plant_t *make_plant(const plant_params_t &p) {
     char err[256];
     plant_t *pl = plant_create(&p, err, sizeof err);
     if (!pl) {
         std::fprintf(stderr, "plant_create: %s\n", err);
         std::exit(1);
     }
-    const int n = static_cast<int>(sim_s / 50e-6);
-    // Pre-compute the pattern so the timed loop is the plant alone.
-    if (g_pattern == 0) {
-        for (int k = 0; k < n && k < 200000; ++k) {
-            const double ang = 2 * kPi * 25.0 * k * 50e-6 + kPi / 2;
-            vec_towards((k % 4 == 3) ? ang + kPi : ang, pat[0][k], pat[1][k]);
-        }
-    }
-    plant_state_t s;
+    return pl;
+}
+
+// Times n periods of period(k) on pl (wall clock and this thread's CPU time), then destroys pl.
+template <class Period>
+Result timed(plant_t *pl, int n, double sim_s, Period period) {
     timespec c0, c1;
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c0);
     const auto t0 = std::chrono::steady_clock::now();
-    for (int k = 0; k < n; ++k) {
-        plant_set_legs(pl, 0, pat[0][k], pat[1][k], 1);
-        plant_advance(pl, 50e-6);
-        if (!g_skip_state) plant_get_state(pl, &s);  // hal/host reads the state every period
-    }
+    for (int k = 0; k < n; ++k) period(k);
     const auto t1 = std::chrono::steady_clock::now();
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c1);
     const double wall = std::chrono::duration<double>(t1 - t0).count();
@@ -108,16 +102,29 @@ Result run(const plant_params_t &p, double sim_s) {
     return {sim_s / wall, sim_s / cpu, cpu / n * 1e9, double(st.steps) / n, double(st.evals) / n, double(st.events) / n};
 }
 
+Result run(const plant_params_t &p, double sim_s) {
+    plant_t *pl = make_plant(p);
+    const int n = static_cast<int>(sim_s / 50e-6);
+    // Pre-compute the pattern so the timed loop is the plant alone.
+    if (g_pattern == 0) {
+        for (int k = 0; k < n && k < 200000; ++k) {
+            const double ang = 2 * kPi * 25.0 * k * 50e-6 + kPi / 2;
+            vec_towards((k % 4 == 3) ? ang + kPi : ang, pat[0][k], pat[1][k]);
+        }
+    }
+    plant_state_t s;
+    return timed(pl, n, sim_s, [&](int k) {
+        plant_set_legs(pl, 0, pat[0][k], pat[1][k], 1);
+        plant_advance(pl, 50e-6);
+        if (!g_skip_state) plant_get_state(pl, &s);  // hal/host reads the state every period
+    });
+}
+
 // Induction machine on the SSTP (Casadei's inverter): a 50 Hz six-step vector sequence with a null
 // vector every 4th period, so all three legs switch and most periods have dead-time segments, at
 // 40 us periods (Casadei's DTC period), near the rated point (1440 rpm, 26.5 N*m constant load).
 Result run_im(const plant_params_t &p, double sim_s) {
-    char err[256];
-    plant_t *pl = plant_create(&p, err, sizeof err);
-    if (!pl) {
-        std::fprintf(stderr, "plant_create: %s\n", err);
-        std::exit(1);
-    }
+    plant_t *pl = make_plant(p);
     const double ts = 40e-6;
     const int n = static_cast<int>(sim_s / ts);
     static int leg[200000 * 5 / 4][3];
@@ -128,22 +135,11 @@ Result run_im(const plant_params_t &p, double sim_s) {
         for (int x = 0; x < 3; ++x) leg[k][x] = (k % 4 == 3) ? 0 : tab[sec][x];
     }
     plant_state_t s;
-    timespec c0, c1;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c0);
-    const auto t0 = std::chrono::steady_clock::now();
-    for (int k = 0; k < n; ++k) {
+    return timed(pl, n, sim_s, [&](int k) {
         plant_set_legs(pl, leg[k][0], leg[k][1], leg[k][2], 1);
         plant_advance(pl, ts);
         plant_get_state(pl, &s);
-    }
-    const auto t1 = std::chrono::steady_clock::now();
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c1);
-    const double wall = std::chrono::duration<double>(t1 - t0).count();
-    const double cpu = double(c1.tv_sec - c0.tv_sec) + 1e-9 * double(c1.tv_nsec - c0.tv_nsec);
-    plant_stats_t st;
-    plant_get_stats(pl, &st);
-    plant_destroy(pl);
-    return {sim_s / wall, sim_s / cpu, cpu / n * 1e9, double(st.steps) / n, double(st.evals) / n, double(st.events) / n};
+    });
 }
 
 // Induction machine on the SSTP driven with PWM edges (plant_set_leg_edges), 40 us periods:
@@ -153,12 +149,7 @@ Result run_im(const plant_params_t &p, double sim_s) {
 // d_x Ts in the middle of the period, d_x = 1/2 + v_x / vdc, so every leg has two edges (two
 // dead-time segments) per period. 26.5 N*m constant load from 1440 rpm (the rated point).
 Result run_im_pwm(const plant_params_t &p, double sim_s) {
-    char err[256];
-    plant_t *pl = plant_create(&p, err, sizeof err);
-    if (!pl) {
-        std::fprintf(stderr, "plant_create: %s\n", err);
-        std::exit(1);
-    }
+    plant_t *pl = make_plant(p);
     const double ts = 40e-6;
     const int n = static_cast<int>(sim_s / ts);
     static double duty[200000 * 5 / 4][3];
@@ -172,10 +163,7 @@ Result run_im_pwm(const plant_params_t &p, double sim_s) {
     }
     plant_state_t s;
     plant_leg_edges_t e[3];
-    timespec c0, c1;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c0);
-    const auto t0 = std::chrono::steady_clock::now();
-    for (int k = 0; k < n; ++k) {
+    const Result r = timed(pl, n, sim_s, [&](int k) {
         for (int x = 0; x < 3; ++x) {
             e[x].state0 = 0;
             e[x].n = 2;
@@ -185,16 +173,9 @@ Result run_im_pwm(const plant_params_t &p, double sim_s) {
         plant_set_leg_edges(pl, e, 1);
         plant_advance(pl, ts);
         plant_get_state(pl, &s);
-    }
-    const auto t1 = std::chrono::steady_clock::now();
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c1);
-    const double wall = std::chrono::duration<double>(t1 - t0).count();
-    const double cpu = double(c1.tv_sec - c0.tv_sec) + 1e-9 * double(c1.tv_nsec - c0.tv_nsec);
-    plant_stats_t st;
-    plant_get_stats(pl, &st);
+    });
     g_last_speed_rpm = s.speed_rpm;
-    plant_destroy(pl);
-    return {sim_s / wall, sim_s / cpu, cpu / n * 1e9, double(st.steps) / n, double(st.evals) / n, double(st.events) / n};
+    return r;
 }
 
 void line(const char *name, const plant_params_t &p, double sim_s, int im = 0) {
