@@ -23,12 +23,9 @@ int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg)
         return DTC_ERR_NULL;
     }
     c->cfg = NULL;
-    err = dtc_config_validate(cfg);
+    err = dtc_config_validate_for(cfg, DTC_LAW_PM_DTC);
     if (err != DTC_OK) {
         return err;
-    }
-    if (cfg->law != DTC_LAW_PM_DTC) {
-        return DTC_ERR_VARIANT; /* another law's configuration (law.h dispatches) */
     }
     c->cfg = cfg;
 

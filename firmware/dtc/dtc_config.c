@@ -202,3 +202,12 @@ int16_t dtc_config_validate(const dtc_config_t *cfg)
 {
     return dtc_config_check(cfg, NULL);
 }
+
+int16_t dtc_config_validate_for(const dtc_config_t *cfg, uint16_t law)
+{
+    const int16_t err = dtc_config_validate(cfg);
+    if (err != DTC_OK) {
+        return err;
+    }
+    return cfg->law == law ? DTC_OK : DTC_ERR_VARIANT;
+}

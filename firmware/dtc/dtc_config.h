@@ -305,5 +305,8 @@ typedef struct dtc_config dtc_config_t;
 int16_t dtc_config_check(const dtc_config_t *cfg, const char **field);
 /* dtc_config_check without the field name. */
 int16_t dtc_config_validate(const dtc_config_t *cfg);
+/* A law's init: dtc_config_validate, then DTC_ERR_VARIANT when cfg configures another law (law.h
+ * dispatches). DTC_ERR_NULL for a null cfg. */
+int16_t dtc_config_validate_for(const dtc_config_t *cfg, uint16_t law);
 
 #endif /* DTC_CONFIG_H */

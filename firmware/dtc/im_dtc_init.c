@@ -14,12 +14,9 @@ int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg)
         return DTC_ERR_NULL;
     }
     c->cfg = NULL;
-    err = dtc_config_validate(cfg);
+    err = dtc_config_validate_for(cfg, DTC_LAW_IM_DTC);
     if (err != DTC_OK) {
         return err;
-    }
-    if (cfg->law != DTC_LAW_IM_DTC) {
-        return DTC_ERR_VARIANT; /* another law's configuration (law.h dispatches) */
     }
 
     c->est_p.estimator = cfg->est.estimator == DTC_EST_IMPROVED ? IM_EST_IMPROVED : IM_EST_VOLTAGE;
