@@ -139,13 +139,14 @@ void dtc_config_si_im_defaults(dtc_config_si_t *si)
     si->speed_bw_rad_s = 30.0;
     si->estimator = DTC_EST_IMPROVED;
     si->sstp_table = DTC_ST_BASIC;
-    /* ADC: +-200 A sensors, 0..500 V dividers; trip above the 300 % torque current */
-    si->adc_i_a_per_count = 400.0 / PLANT_DEF_ADC_FULL_SCALE_CODES;
-    si->adc_vdc_v_per_count = 500.0 / PLANT_DEF_ADC_FULL_SCALE_CODES;
-    si->adc_vmid_v_per_count = 500.0 / PLANT_DEF_ADC_FULL_SCALE_CODES;
-    si->i_trip_a = 150.0;
-    si->vdc_max_v = 400.0;
-    si->vdc_min_v = 200.0;
+    /* The IM rig's sensors and protection (plant_defaults.h): currents -range..+range over the
+     * 12-bit code range, voltages 0..range. */
+    si->adc_i_a_per_count = 2.0 * PLANT_DEF_IM_CURRENT_RANGE_A / PLANT_DEF_ADC_FULL_SCALE_CODES;
+    si->adc_vdc_v_per_count = PLANT_DEF_IM_VOLTAGE_RANGE_V / PLANT_DEF_ADC_FULL_SCALE_CODES;
+    si->adc_vmid_v_per_count = PLANT_DEF_IM_VOLTAGE_RANGE_V / PLANT_DEF_ADC_FULL_SCALE_CODES;
+    si->i_trip_a = PLANT_DEF_IM_OVERCURRENT_A;
+    si->vdc_max_v = PLANT_DEF_IM_VDC_MAX_V;
+    si->vdc_min_v = PLANT_DEF_IM_VDC_MIN_V;
     si->v_base_v = PLANT_DEF_IM_VDC_V;
     si->i_base_a = PLANT_DEF_IM_RATED_CURRENT_A;
     si->w_base_rad_s = 2.0 * M_PI * 50.0;
