@@ -30,10 +30,11 @@ FIGURES = [
     ("Fig14And15TorqueStepTo300PercentAtConstantRotorFlux", "Figs. 14-15",
      "Torque step 50 % -> 300 % rated at constant rotor flux: fast torque response, circular rotor-flux "
      "locus, stator flux rising as eq. 19."),
-    ("Fig5StDTorqueResponseIsQuickAtLowAndHighSpeed", "Fig. 5 (ST-D)",
-     "Pulse +18 -> -18 N*m for 8.8 ms, speed held: ST-D quick at 20 and 100 rad/s."),
-    ("Fig5StASluggishAtLowSpeedQuickAtHighSpeed", "Fig. 5 (ST-A)",
-     "ST-A sluggish at 20 rad/s (null vectors for the decrease), quick and almost identical to ST-D at 100 rad/s."),
+    ("Fig5StASluggishAtLowSpeedStDQuickBothQuickAtHighSpeed", "Fig. 5",
+     "Pulse +18 -> -18 N*m for 8.8 ms, speed held: ST-A sluggish at 20 rad/s (null vectors for the decrease), "
+     "ST-D quick; at 100 rad/s both quick and almost identical."),
+    ("Sec6StACannotHoldTheFluxAtZeroTorqueAtStandstill", "Section 6 (ST-A at zero torque)",
+     "ST-A (as ST-B, ST-C) is suitable for two-quadrant operation, ST-D for four-quadrant operation."),
     ("Sec8SpeedDependentTableAgainstStAAndStD", "Section 8",
      "A speed-dependent table (ST-D at low speed, ST-A at high) gives a better torque response over the "
      "whole range and a reduction in the torque ripple."),
@@ -57,13 +58,7 @@ FIGURES = [
 
 
 # Why a test is kept disabled, in a sentence (the test's comment has the measurements).
-FINDINGS = {
-    "Fig5StASluggishAtLowSpeedQuickAtHighSpeed":
-        "ST-A loses the machine's flux while the operating point is set up (0.2 s at T* = 0 at standstill: "
-        "null vectors whenever the torque must fall, and eq. 20's correction hides a rotor-flux deficit below "
-        "1/tau, e = (M/L_r)(phi_r* - phi_r)). With the torque applied right after the magnetisation the paper's "
-        "picture appears: 3.68 ms against ST-D's 0.40 ms at 20 rad/s, 0.76 against 0.32 ms at 100 rad/s.",
-}
+FINDINGS = {}
 
 
 def run_tests(build):
