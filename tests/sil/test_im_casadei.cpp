@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <memory>
 #include <string>
@@ -81,6 +82,7 @@ struct Rig {
     }
     ~Rig()
     {
+        stop_record();
         if (h) {
             h->deactivate();
         }
@@ -90,7 +92,49 @@ struct Rig {
     void period()
     {
         h->run_period([this] { ctrl->step(*h); });
+        if (wave && ++wave_k % wave_every == 0) {
+            write_wave_row();
+        }
     }
+    // Waveforms for tools/plot/casadei_report.py's figures: while recording, one row every `every`
+    // periods to $DTC_FIGURE_DIR/NAME.csv (nothing without the variable).
+    void record(const std::string& name, long every = 1)
+    {
+        stop_record();
+        const char* dir = std::getenv("DTC_FIGURE_DIR");
+        if (!dir || !*dir) {
+            return;
+        }
+        wave = std::fopen((std::string(dir) + "/" + name + ".csv").c_str(), "w");
+        if (!wave) {
+            ADD_FAILURE() << "cannot write " << dir << "/" << name << ".csv";
+            return;
+        }
+        wave_every = every;
+        wave_k = 0;
+        std::fprintf(wave, "t_s,speed_rpm,speed_est_rpm,te_nm,te_ref_nm,psi_alpha_wb,psi_beta_wb,psi_r_alpha_wb,"
+                           "psi_r_beta_wb,psi_est_wb,psi_ref_wb,i_a_a,i_mag_a\n");
+        write_wave_row();
+    }
+    void stop_record()
+    {
+        if (wave) {
+            std::fclose(wave);
+            wave = nullptr;
+        }
+    }
+    void write_wave_row()
+    {
+        const app_status_t s = status();
+        const double pb = b.psi_base_wb / kIqOne;
+        std::fprintf(wave, "%.6f,%.3f,%.3f,%.4f,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%.4f\n", h->time_s(),
+                     st().speed_rpm, speed_est_rpm(), st().te_nm, s.out.te_ref_iq / kIqOne * b.t_base_nm, st().psi_alpha_wb,
+                     st().psi_beta_wb, st().psi_r_alpha_wb, st().psi_r_beta_wb,
+                     std::hypot(static_cast<double>(s.out.psi_alpha_iq), static_cast<double>(s.out.psi_beta_iq)) * pb,
+                     s.out.psi_ref_iq * pb, st().i_alpha_a, imag());
+    }
+    std::FILE* wave = nullptr;
+    long wave_every = 1, wave_k = 0;
     // Runs t_s, calling f after every period.
     void run(double t_s, const std::function<void()>& f = {})
     {
@@ -196,6 +240,7 @@ static StartUp start_up(const std::string& estimator, std::vector<std::string> e
     if (!r.ok) {
         return o;
     }
+    r.record("fig17_" + estimator, 2);
     const double t_magn = static_cast<double>(r.cfg.speed.im_magn_periods) * r.ts();
     r.run(64.0 * r.ts() + t_magn, [&] {
         o.te_worst_magn = std::fmax(o.te_worst_magn, std::fabs(r.st().te_nm));
@@ -307,6 +352,7 @@ static Step14 step_14(double rpm)
     }
     const double tr = r.sc.motor.rated_torque_nm;
     to_operating_point(r, rpm, 0.5 * tr);
+    r.record("fig14_" + std::to_string(static_cast<int>(rpm)) + "rpm");
     double s = 0.0;
     long n = 0;
     r.run(0.02, [&] {
@@ -408,6 +454,7 @@ static Pulse pulse_response(const std::string& table, double w_mech)
         return o;
     }
     to_operating_point(r, w_mech * 30.0 / kPi, 18.0);
+    r.record("fig5_" + table + "_" + std::to_string(static_cast<int>(std::lround(w_mech))));
     const double pb = r.b.psi_base_wb / kIqOne;
     double s = 0.0, e = 0.0;
     long n = 0;
@@ -492,6 +539,7 @@ TEST(ImCasadei, Sec6StACannotHoldTheFluxAtZeroTorqueAtStandstill)
         Rig r(torque_at_held_speed({std::string("control.table=") + table}));
         ASSERT_TRUE(r.ok);
         r.magnetise(0.0);
+        r.record(std::string("sec6_") + table, 5);
         const double before = r.psis();
         r.run(0.2);
         const app_status_t st = r.status();
@@ -585,7 +633,7 @@ struct Locus {
     double ratio = 0.0, comm_per_period = 0.0;
     std::string fault;
 };
-static Locus locus(const std::vector<std::string>& sets)
+static Locus locus(const std::string& name, const std::vector<std::string>& sets)
 {
     Rig r(torque_at_held_speed(sets));
     Locus o;
@@ -593,6 +641,7 @@ static Locus locus(const std::vector<std::string>& sets)
         return o;
     }
     to_operating_point(r, 1000.0, r.sc.motor.rated_torque_nm);
+    r.record(name);
     double lo = 1e9, hi = 0.0, ang = 0.0, prev = std::atan2(r.st().psi_beta_wb, r.st().psi_alpha_wb);
     long comm = 0;
     hal_cmd_t last = r.h->applied_cmd();
@@ -614,8 +663,8 @@ static Locus locus(const std::vector<std::string>& sets)
 
 TEST(ImCasadei, Fig13DtcWithWideFluxBandTracesAHexagonLikeLocus)
 {
-    const Locus wide = locus({"control.flux_band_wb=0.077"}); // 0.14 x 0.55 Wb
-    const Locus narrow = locus({});
+    const Locus wide = locus("fig13_dtc_band014", {"control.flux_band_wb=0.077"}); // 0.14 x 0.55 Wb
+    const Locus narrow = locus("fig13_dtc_band0", {});
     std::printf("MEASURE Fig13 |phi_s| min/max, leg commutations per electrical period: DTC band 0.14 phi_s* %.3f, %.1f; "
                 "DTC band 0 %.3f, %.1f\n",
                 wide.ratio, wide.comm_per_period, narrow.ratio, narrow.comm_per_period);
@@ -632,8 +681,8 @@ TEST(ImCasadei, Fig13DtcWithWideFluxBandTracesAHexagonLikeLocus)
 // period than DTC at the same speed and torque.
 TEST(ImCasadei, Sec9DscHexagonWithFewerCommutationsThanDtc)
 {
-    const Locus dsc = locus({"control.scheme=dsc"});
-    const Locus dtc = locus({});
+    const Locus dsc = locus("sec9_dsc", {"control.scheme=dsc"});
+    const Locus dtc = locus("sec9_dtc", {});
     std::printf("MEASURE Sec9 DSC |phi_s| min/max %.3f, commutations per period %.1f (DTC %.1f), fault %s\n", dsc.ratio,
                 dsc.comm_per_period, dtc.comm_per_period, dsc.fault.c_str());
     EXPECT_EQ(dsc.fault, "none");
@@ -652,7 +701,7 @@ struct Sens {
     std::vector<double> err; // |phi_r| / phi_r* - 1 at 0.25 s intervals after the torque is applied
     std::string fault;
 };
-static Sens sensitivity(const std::string& estimator, const std::vector<std::string>& mismatch)
+static Sens sensitivity(const std::string& name, const std::string& estimator, const std::vector<std::string>& mismatch)
 {
     std::vector<std::string> sets = {"control.estimator=" + estimator};
     if (estimator == "voltage") {
@@ -666,6 +715,7 @@ static Sens sensitivity(const std::string& estimator, const std::vector<std::str
         return o;
     }
     to_operating_point(r, 30.0 / kPi, r.sc.motor.rated_torque_nm);
+    r.record("fig22_" + name + "_" + estimator, 10);
     const double ref = r.sc.control.rotor_flux_ref_wb;
     for (int i = 0; i < 6 && r.fault() == "none"; ++i) {
         r.run(0.25);
@@ -680,16 +730,17 @@ TEST(ImCasadei, Figs22To24ImprovedEstimatorErrorBoundedBasicGrows)
     const double rs = PLANT_DEF_IM_RS_OHM;
     const struct {
         const char* name;
+        const char* file;
         std::vector<std::string> sets;
     } cases[] = {
-        {"no parameter error", {}},
-        {"R_s 10 % low", {"firmware.rs_ohm=" + std::to_string(0.9 * rs)}},
-        {"R_s 10 % high", {"firmware.rs_ohm=" + std::to_string(1.1 * rs)}},
-        {"0.01 A offset", {"sensors.current_offset_a=[0.01, 0, 0]"}},
+        {"no parameter error", "none", {}},
+        {"R_s 10 % low", "rs_low", {"firmware.rs_ohm=" + std::to_string(0.9 * rs)}},
+        {"R_s 10 % high", "rs_high", {"firmware.rs_ohm=" + std::to_string(1.1 * rs)}},
+        {"0.01 A offset", "offset", {"sensors.current_offset_a=[0.01, 0, 0]"}},
     };
     for (const auto& c : cases) {
-        const Sens imp = sensitivity("improved", c.sets);
-        const Sens vol = sensitivity("voltage", c.sets);
+        const Sens imp = sensitivity(c.file, "improved", c.sets);
+        const Sens vol = sensitivity(c.file, "voltage", c.sets);
         std::string a, b;
         for (double e : imp.err) a += std::to_string(100.0 * e).substr(0, 6) + " ";
         for (double e : vol.err) b += std::to_string(100.0 * e).substr(0, 6) + " ";
@@ -722,6 +773,7 @@ TEST(ImCasadei, Fig25SensorlessSpeedEstimateFollowsTheSpeed)
     Rig r({"control.speed_sensor=none", "control.speed_ref_rpm=50", "load.type=inertia", "duration_s=10"});
     ASSERT_TRUE(r.ok);
     r.magnetise(0.1);
+    r.record("fig25", 5);
     const struct {
         double rpm, t_s;
     } steps[] = {{50.0, 0.6}, {220.0, 0.8}, {0.0, 0.8}};
@@ -790,6 +842,7 @@ static Fw flux_weakening_run()
     const Machine mc(r.sc);
     const double kt = 0.75 * mc.p * mc.m * mc.m / (mc.sigma * mc.lr * mc.ls * mc.ls); // eq. 31
     r.refs(DTC_MODE_TORQUE, t_cmd, 0.0);
+    r.record("fig32", 10);
     double next_mark = 0.25;
     std::string marks;
     double worst_eq34 = -1e9;

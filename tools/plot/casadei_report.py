@@ -4,11 +4,12 @@
     /usr/bin/python3 tools/plot/casadei_report.py [--build build/host] [--out out/casadei]
 
 Runs build/host/bin/sil_im_casadei (tests/sil/test_im_casadei.cpp: each of Casadei's figures
-under its conditions on the default IM through the scenario API, the disabled findings included)
-and dtc-sil on tools/scenarios/im_dtc_speed.toml, then writes OUT/casadei.md: per figure, the
-paper's statement beside the SIL's measured figures (the tests' MEASURE lines) and the test's
-verdict (passed / failed / a finding kept as a disabled test, run here all the same). Exit status 1
-if a test that is not disabled failed or a run did not complete.
+under its conditions on the default IM through the scenario API, disabled findings included) with
+DTC_FIGURE_DIR=OUT/data, so that the tests write their waveforms there, and dtc-sil on
+tools/scenarios/im_dtc_speed.toml. Writes OUT/casadei.md: per figure, the paper's statement, the
+SIL's figure drawn from those waveforms (OUT/*.png), the measured figures (the tests' MEASURE
+lines) and the test's verdict. Exit status 1 if a test that is not disabled failed, a waveform is
+missing or a run did not complete.
 """
 import argparse
 import datetime
@@ -17,6 +18,13 @@ import os
 import re
 import subprocess
 import sys
+import tomllib
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
@@ -61,9 +69,10 @@ FIGURES = [
 FINDINGS = {}
 
 
-def run_tests(build):
+def run_tests(build, data_dir):
     exe = os.path.join(build, "bin", "sil_im_casadei")
-    p = subprocess.run([exe, "--gtest_also_run_disabled_tests"], capture_output=True, text=True)
+    env = dict(os.environ, DTC_FIGURE_DIR=data_dir)
+    p = subprocess.run([exe, "--gtest_also_run_disabled_tests"], capture_output=True, text=True, env=env)
     out = p.stdout + p.stderr
     verdict = {}
     for m in re.finditer(r"\[\s+(OK|FAILED)\s+\] ImCasadei\.(DISABLED_)?(\w+) \(", out):
@@ -78,6 +87,149 @@ def run_tests(build):
         elif line.startswith("MEASURE ") and current:
             measures.setdefault(current, []).append(line[len("MEASURE "):])
     return verdict, measures, out
+
+
+def load(data_dir, name):
+    return np.genfromtxt(os.path.join(data_dir, name + ".csv"), delimiter=",", names=True)
+
+
+def rel_ms(w, t0=None):
+    return 1e3 * (w["t_s"] - (w["t_s"][0] if t0 is None else t0))
+
+
+def fig5(d, ax_list):
+    for ax, w in zip(ax_list, (20, 100)):
+        for table, style in (("st-a", "-"), ("st-d", "--")):
+            x = load(d, "fig5_%s_%d" % (table, w))
+            t = rel_ms(x, x["t_s"][0] + 0.02)  # the pulse starts 20 ms into the recording
+            ax.plot(t, x["te_nm"], style, lw=0.8, label=table.upper())
+        ax.plot(t, x["te_ref_nm"], ":", lw=0.8, color="k", label="T* (after the trim)")
+        ax.set_title("%d rad/s" % w)
+        ax.set_xlabel("ms from the -18 N*m command")
+        ax.set_ylabel("plant torque, N*m")
+        ax.set_xlim(-3, 12)
+        ax.legend(fontsize=7)
+
+
+def fig14(d, ax_list):
+    x = load(d, "fig14_500rpm")
+    t = rel_ms(x, x["t_s"][0] + 0.02)
+    ax_list[0].plot(t, x["te_nm"], lw=0.7, label="plant torque")
+    ax_list[0].plot(t, x["te_ref_nm"], lw=0.7, label="T*")
+    ax_list[0].set_xlabel("ms from the step")
+    ax_list[0].set_ylabel("N*m")
+    ax_list[0].legend(fontsize=7)
+    ax_list[1].plot(t, np.hypot(x["psi_alpha_wb"], x["psi_beta_wb"]), lw=0.7, label="|phi_s|")
+    ax_list[1].plot(t, np.hypot(x["psi_r_alpha_wb"], x["psi_r_beta_wb"]), lw=0.7, label="|phi_r|")
+    ax_list[1].set_xlabel("ms from the step")
+    ax_list[1].set_ylabel("Wb")
+    ax_list[1].legend(fontsize=7)
+    ax_list[2].plot(x["psi_r_alpha_wb"], x["psi_r_beta_wb"], lw=0.5)
+    ax_list[2].set_aspect("equal")
+    ax_list[2].set_title("rotor-flux locus (500 rpm)")
+
+
+def fig17(d, ax_list):
+    for ax, est in zip(ax_list, ("voltage", "improved")):
+        x = load(d, "fig17_" + est)
+        t = rel_ms(x)
+        ax.plot(t, x["i_a_a"], lw=0.6, label="i_a, A")
+        ax.plot(t, x["te_nm"], lw=0.6, label="torque, N*m")
+        ax.set_title("%s estimator" % est)
+        ax.set_xlabel("ms from the start")
+        ax.legend(fontsize=7)
+
+
+def locus(d, ax_list):
+    for ax, (name, title) in zip(ax_list, (("fig13_dtc_band0", "DTC, flux band 0"),
+                                           ("fig13_dtc_band014", "DTC, flux band 0.14 phi_s*"),
+                                           ("sec9_dsc", "DSC"))):
+        x = load(d, name)
+        ax.plot(x["psi_alpha_wb"], x["psi_beta_wb"], lw=0.4)
+        ax.set_aspect("equal")
+        ax.set_title(title, fontsize=9)
+        ax.set_xlabel("phi_s alpha, Wb")
+
+
+def fig22(d, ax_list):
+    with open(os.path.join(ROOT, "tools", "scenarios", "im_dtc_speed.toml"), "rb") as f:
+        ref = tomllib.load(f)["control"]["rotor_flux_ref_wb"]
+    for ax, est in zip(ax_list, ("improved", "voltage")):
+        for case in ("none", "rs_low", "rs_high", "offset"):
+            x = load(d, "fig22_%s_%s" % (case, est))
+            err = 100.0 * (np.hypot(x["psi_r_alpha_wb"], x["psi_r_beta_wb"]) / ref - 1.0)
+            ax.plot(x["t_s"] - x["t_s"][0], err, lw=0.6, label=case)
+        ax.set_title("%s estimator" % est)
+        ax.set_xlabel("s at 1 rad/s, rated torque")
+        ax.set_ylabel("plant |phi_r| vs phi_r*, %")
+        ax.legend(fontsize=7)
+
+
+def fig25(d, ax_list):
+    x = load(d, "fig25")
+    ax = ax_list[0]
+    ax.plot(x["t_s"], x["speed_rpm"], lw=0.7, label="true speed")
+    ax.plot(x["t_s"], x["speed_est_rpm"], lw=0.7, label="estimated (no sensor)")
+    ax.set_xlabel("s")
+    ax.set_ylabel("rpm")
+    ax.legend(fontsize=7)
+    ax_list[1].plot(x["t_s"], x["te_nm"], lw=0.5)
+    ax_list[1].set_xlabel("s")
+    ax_list[1].set_ylabel("plant torque, N*m")
+
+
+def fig32(d, ax_list):
+    x = load(d, "fig32")
+    ax_list[0].plot(x["t_s"], x["speed_rpm"], lw=0.8)
+    ax_list[0].set_ylabel("speed, rpm")
+    ax_list[1].plot(x["t_s"], x["i_mag_a"], lw=0.5)
+    ax_list[1].set_ylabel("|i_s|, A")
+    ax_list[2].plot(x["t_s"], x["psi_ref_wb"], lw=0.8, label="phi_s*, Wb")
+    ax_list[2].plot(x["t_s"], x["te_ref_nm"] / 50.0, lw=0.8, label="T* / 50 N*m")
+    ax_list[2].legend(fontsize=7)
+    for ax in ax_list:
+        ax.set_xlabel("s")
+
+
+def sec6(d, ax_list):
+    ax = ax_list[0]
+    for table in ("st-a", "st-d"):
+        x = load(d, "sec6_" + table)
+        t = rel_ms(x)
+        ax.plot(t, np.hypot(x["psi_alpha_wb"], x["psi_beta_wb"]), lw=0.8, label="%s plant" % table.upper())
+        ax.plot(t, x["psi_est_wb"], "--", lw=0.8, label="%s estimate" % table.upper())
+    ax.set_xlabel("ms at T* = 0, standstill")
+    ax.set_ylabel("|phi_s|, Wb")
+    ax.legend(fontsize=7)
+
+
+# test name -> (drawing function, number of panels)
+PLOTS = {
+    "Fig5StASluggishAtLowSpeedStDQuickBothQuickAtHighSpeed": (fig5, 2),
+    "Fig14And15TorqueStepTo300PercentAtConstantRotorFlux": (fig14, 3),
+    "Fig17ImprovedEstimatorMagnetisesAtZeroTorqueAndTheTorqueFollowsInMilliseconds": (fig17, 2),
+    "Fig13DtcWithWideFluxBandTracesAHexagonLikeLocus": (locus, 3),
+    "Figs22To24ImprovedEstimatorErrorBoundedBasicGrows": (fig22, 2),
+    "Fig25SensorlessSpeedEstimateFollowsTheSpeed": (fig25, 2),
+    "Fig32FluxWeakeningReaches400PercentWithNearlyConstantCurrent": (fig32, 3),
+    "Sec6StACannotHoldTheFluxAtZeroTorqueAtStandstill": (sec6, 1),
+}
+
+
+def draw(name, data_dir, out_dir):
+    """Draws the test's figure into OUT/NAME.png; returns the file name or an error text."""
+    fn, n = PLOTS[name]
+    fig, axes = plt.subplots(1, n, figsize=(4.2 * n, 3.4), squeeze=False)
+    try:
+        fn(data_dir, list(axes[0]))
+    except OSError as e:
+        plt.close(fig)
+        return None, str(e)
+    fig.tight_layout()
+    png = name + ".png"
+    fig.savefig(os.path.join(out_dir, png), dpi=110)
+    plt.close(fig)
+    return png, ""
 
 
 def run_scenario(build, out_dir):
@@ -97,7 +249,9 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "casadei"))
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
-    verdict, measures, raw = run_tests(a.build)
+    data_dir = os.path.join(a.out, "data")
+    os.makedirs(data_dir, exist_ok=True)
+    verdict, measures, raw = run_tests(a.build, data_dir)
     with open(os.path.join(a.out, "sil_im_casadei.log"), "w") as f:
         f.write(raw)
     metrics, err = run_scenario(a.build, a.out)
@@ -123,6 +277,13 @@ def main():
                ("DISABLED_" if v and v[1] else "", name, status)]
         if name in FINDINGS:
             md.append("- Finding: %s" % FINDINGS[name])
+        if name in PLOTS:
+            png, err = draw(name, data_dir, a.out)
+            if png:
+                md.append("- SIL figure: ![%s](%s)" % (fig, png))
+            else:
+                md.append("- SIL figure missing: %s" % err)
+                bad = True
         for line in measures.get(name, []):
             md.append("- SIL: %s" % line)
         md.append("")
