@@ -109,6 +109,9 @@ typedef struct {
     double psi_r_alpha_wb, psi_r_beta_wb; /* induction machine: T-model rotor flux L_r i_r + L_m i_s
                                        * (Casadei's phi_r), Wb; 0 for the PM machine. e_copper_j
                                        * includes the rotor copper loss */
+    double i2_int_a2s;                /* integral of i_a^2 + i_b^2 + i_c^2 since creation, A^2 s:
+                                       * the continuous currents' mean square over any interval
+                                       * (the sampled currents miss the ripple between samples) */
 } plant_state_t;
 
 /* What a drive's sensors can see (addition): the subset of plant_state_t that hal/host samples

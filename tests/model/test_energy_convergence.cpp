@@ -51,6 +51,10 @@ TEST(Energy, FstpFullFidelityBalance) {
     EXPECT_GT(s.speed_rpm, 300.0);
     EXPECT_GT(s.e_device_j, 0.0);
     EXPECT_LT(b.rel, 1e-6);
+    // The integral of the squared phase currents (the ripple metric's source) is the PM machine's
+    // copper loss over R_s: the same quadrature, so equal to rounding.
+    EXPECT_NEAR(s.i2_int_a2s * p.rs_ohm, s.e_copper_j, 1e-12 * s.e_copper_j);
+    EXPECT_GT(s.i2_int_a2s, 0.0);
 }
 
 // Same balance for the SSTP with a constant-torque load and a stiff link; then a dynamometer

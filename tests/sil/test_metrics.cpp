@@ -264,3 +264,45 @@ TEST(Metrics, FilteredTrfIsTheRippleThroughAFirstOrderSensor)
     EXPECT_LT(m.trf_filtered_pct, 0.72 * m.trf_pct);
     EXPECT_GT(m.trf_filtered_pct, 0.69 * m.trf_pct);
 }
+
+// Casadei Table 5's ripple: a ripple the once-per-period samples never see. Each phase carries
+// B sin(2 pi f_s t) at the sampling frequency f_s = 1/ts (an integer harmonic of the 25 Hz
+// fundamental, 800 f1), which is zero at every sample, plus a 5th harmonic the samples do see.
+// The plant's integral of the squared currents (written here in closed form) carries both, so
+// the metric is sqrt(B^2/2 + (h5 A)^2/2) per phase, where the samples alone would give h5 A / sqrt 2.
+TEST(Metrics, CurrentRippleUsesTheContinuousCurrentsNotTheSamples)
+{
+    const double f1 = 25.0, a = 2.0, h5 = 0.04, bhf = 0.3;
+    Series s = three_phase(f1, 0.2, {a, a, a}, h5, 0.0, 0.0);
+    const double w1 = 2.0 * kPi * f1, ws = 2.0 * kPi / kTs;
+    // The plant's integral of sum_x i_x^2 at each sample instant, by Simpson's rule on a fine grid
+    // (error ~1e-12 of the value here).
+    const double sh[3] = {0.0, -2.0 * kPi / 3.0, 2.0 * kPi / 3.0};
+    auto i2 = [&](double t) {
+        double sum = 0.0;
+        for (double x : sh) {
+            const double th = w1 * t + x;
+            const double i = a * (std::cos(th) + h5 * std::cos(5.0 * th)) + bhf * std::sin(ws * t);
+            sum += i * i;
+        }
+        return sum;
+    };
+    double acc = 0.0;
+    constexpr int kSub = 64; // Simpson sub-intervals per sample interval (ws: one period per interval)
+    for (std::size_t k = 0; k < s.size(); ++k) {
+        s.i2_int.push_back(acc);
+        const double t0 = static_cast<double>(k) * kTs, h = kTs / kSub;
+        double part = i2(t0) + i2(t0 + kTs);
+        for (int j = 1; j < kSub; ++j) {
+            part += (j % 2 ? 4.0 : 2.0) * i2(t0 + j * h);
+        }
+        acc += part * h / 3.0;
+    }
+    const Metrics m = compute_metrics(s, MetricsConfig{});
+    ASSERT_TRUE(m.current_ripple_rms_a);
+    const double expect = std::sqrt(bhf * bhf / 2.0 + (h5 * a) * (h5 * a) / 2.0);
+    EXPECT_NEAR(*m.current_ripple_rms_a, expect, 1e-6 * expect);
+    // Without the integral there is no ripple metric (not a sample-based stand-in).
+    s.i2_int.clear();
+    EXPECT_FALSE(compute_metrics(s, MetricsConfig{}).current_ripple_rms_a);
+}

@@ -48,6 +48,7 @@ struct Series {
     std::vector<double> psi_a, psi_b, psi_a_est, psi_b_est; // *_est may be empty
     std::vector<double> speed_rpm;
     std::vector<double> theta_fund_rad;             // unwrapped angle of the currents' fundamental, rad
+    std::vector<double> i2_int;                     // plant's integral of i_a^2+i_b^2+i_c^2, A^2 s (may be empty)
     std::vector<std::uint8_t> sa, sb, sc, en;       // may be empty (ideal inverter)
     std::size_t size() const { return ia.size(); }
 };
@@ -83,6 +84,11 @@ std::vector<double> first_order_filtered(const double* x, std::size_t n, double 
 /// legs_mask: bit 0 = leg A, bit 1 = B, bit 2 = C.
 double switching_frequency_hz(const Series& s, std::size_t begin, std::size_t n, unsigned legs_mask);
 double flux_error_rms_pct(const Series& s, std::size_t begin, std::size_t n);
+/// Three-phase rms current ripple (Casadei sec. 13, Table 5): sqrt of the mean over the window of
+/// (1/3) sum_x (i_x - i_x,1)^2, i_x,1 the fundamental. The mean square of the continuous currents
+/// comes from the plant's integral (s.i2_int, rows begin and begin + n); the fundamental's share,
+/// sum_x fundamental_peak_x^2 / 2, is orthogonal to the rest over whole periods (Parseval).
+double current_ripple_rms_a(const Series& s, std::size_t begin, std::size_t n, const std::array<double, 3>& fund_peak);
 
 struct MetricsConfig {
     double window_s = 0.2;
@@ -97,6 +103,7 @@ struct Metrics {
     double f_e_hz = 0.0;         // periods / window_s
     std::optional<std::array<double, 3>> fundamental_a, thd_pct, thd_harmonic_pct, thd40_pct;
     std::optional<double> imbalance_pct, thd_total_pct, thd40_total_pct;
+    std::optional<double> current_ripple_rms_a; // current_ripple_rms_a() over the window
     double torque_mean_nm = 0.0, trf_pct = 0.0, trf_filtered_pct = 0.0;
     std::optional<double> torque_est_mean_nm, trf_est_pct, flux_est_error_rms_pct;
     double speed_mean_rpm = 0.0;

@@ -194,6 +194,16 @@ double flux_error_rms_pct(const Series& s, std::size_t begin, std::size_t n)
     return p2 > 0.0 ? 100.0 * std::sqrt(e2 / p2) : INFINITY;
 }
 
+double current_ripple_rms_a(const Series& s, std::size_t begin, std::size_t n, const std::array<double, 3>& fund_peak)
+{
+    if (n == 0 || begin + n >= s.i2_int.size()) {
+        return NAN;
+    }
+    const double mean_sq = (s.i2_int[begin + n] - s.i2_int[begin]) / (static_cast<double>(n) * s.ts_s);
+    const double fund_sq = 0.5 * (fund_peak[0] * fund_peak[0] + fund_peak[1] * fund_peak[1] + fund_peak[2] * fund_peak[2]);
+    return std::sqrt(std::fmax(0.0, mean_sq - fund_sq) / 3.0);
+}
+
 Metrics compute_metrics(const Series& s, const MetricsConfig& cfg)
 {
     Metrics m;
@@ -225,6 +235,9 @@ Metrics compute_metrics(const Series& s, const MetricsConfig& cfg)
         m.thd_harmonic_pct = thdh;
         m.imbalance_pct = imbalance_pct(fund);
         m.thd_total_pct = thd_total_pct(thd);
+        if (s.i2_int.size() == total) {
+            m.current_ripple_rms_a = current_ripple_rms_a(s, b, n, fund);
+        }
     } else {
         w = Window{b, n, 0};
     }

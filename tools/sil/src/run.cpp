@@ -237,6 +237,7 @@ void drop_undefined(Metrics* m)
     f3(m->thd_harmonic_pct);
     f3(m->thd40_pct);
     f1(m->thd40_total_pct);
+    f1(m->current_ripple_rms_a);
     f1(m->imbalance_pct);
     f1(m->thd_total_pct);
     f1(m->torque_est_mean_nm);
@@ -335,7 +336,7 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
     // Sized once for the recorded periods and written by index: no allocation and no capacity
     // check inside the loop.
     const auto n_rec = static_cast<std::size_t>(periods - record_from);
-    for (auto* v : {&s.ia, &s.ib, &s.ic, &s.te, &s.psi_a, &s.psi_b, &s.speed_rpm, &s.theta_fund_rad}) {
+    for (auto* v : {&s.ia, &s.ib, &s.ic, &s.te, &s.psi_a, &s.psi_b, &s.speed_rpm, &s.theta_fund_rad, &s.i2_int}) {
         v->resize(n_rec);
     }
     if (est) {
@@ -414,6 +415,7 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
             s.ia[i] = st.i_a;
             s.ib[i] = st.i_b;
             s.ic[i] = st.i_c;
+            s.i2_int[i] = st.i2_int_a2s;
             s.te[i] = st.te_nm;
             s.psi_a[i] = st.psi_alpha_wb;
             s.psi_b[i] = st.psi_beta_wb;

@@ -226,6 +226,7 @@ nlohmann::json metrics_json(const Scenario& sc, const Metrics& m, const RunInfo&
     j["thd_harmonic_pct"] = opt3(m.thd_harmonic_pct);
     j["thd40_pct"] = opt3(m.thd40_pct);
     j["thd40_total_pct"] = opt(m.thd40_total_pct);
+    j["current_ripple_rms_a"] = opt(m.current_ripple_rms_a);
     j["torque_mean_nm"] = m.torque_mean_nm;
     j["torque_est_mean_nm"] = opt(m.torque_est_mean_nm);
     j["trf_pct"] = m.trf_pct;
