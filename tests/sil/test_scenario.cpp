@@ -156,6 +156,27 @@ TEST(Scenario, SetOverridesWithDottedNamesAndTypeChecks)
     expect_error(kGood, "motor.emf_gain", 0, "3 numbers", {"motor.emf_gain=[1,1]"});
 }
 
+// The dynamometer's speed ramp: held at initial_speed_rpm, then linear to load.speed_rpm.
+TEST(Scenario, DynamometerSpeedRampAndItsValidation)
+{
+    Scenario s;
+    ASSERT_EQ(errors_of(kGood, {"load.type=speed", "load.speed_rpm=1440", "initial_speed_rpm=0",
+                                "load.speed_ramp_start_s=0.5", "load.speed_ramp_s=0.3"},
+                        &s),
+              "");
+    EXPECT_DOUBLE_EQ(dyno_speed_rpm(s, 0.0), 0.0);
+    EXPECT_DOUBLE_EQ(dyno_speed_rpm(s, 0.5), 0.0);
+    EXPECT_NEAR(dyno_speed_rpm(s, 0.65), 720.0, 1e-9);
+    EXPECT_DOUBLE_EQ(dyno_speed_rpm(s, 0.8), 1440.0);
+    EXPECT_DOUBLE_EQ(dyno_speed_rpm(s, 2.0), 1440.0);
+    ASSERT_EQ(errors_of(kGood, {"load.type=speed", "load.speed_rpm=900"}, &s), "");
+    EXPECT_DOUBLE_EQ(dyno_speed_rpm(s, 0.0), 900.0); // no ramp: held from t = 0
+    expect_error(kGood, "load.speed_ramp_s", 0, "needs load.type", {"load.type=torque", "load.speed_ramp_s=0.3"});
+    expect_error(kGood, "load.speed_ramp_start_s", 0, "needs load.speed_ramp_s",
+                 {"load.type=speed", "load.speed_ramp_start_s=0.3"});
+    expect_error(kGood, "load.speed_ramp_s", 0, "impossible", {"load.speed_ramp_s=-1"});
+}
+
 TEST(Scenario, UnknownKeyNamesKeyAndLine)
 {
     expect_error("duration_s = 1.0\n[motor]\nrs_ohm = 0.4\nls_mh = 3.19\n", "motor.ls_mh", 4, "unknown key");

@@ -145,6 +145,8 @@ struct LoadCfg {
     double step_time_s = 0.0;     // 0 = no step
     double step_torque_nm = 0.0;
     double coulomb_nm = 0.0;      // Coulomb (dry) friction of the coupled load; 0 = none
+    double speed_ramp_start_s = 0.0; // speed load: hold initial_speed_rpm until then, ...
+    double speed_ramp_s = 0.0;       // ... then ramp to speed_rpm over this time (0 = hold speed_rpm from t = 0)
 };
 
 struct ControlCfg {
@@ -251,6 +253,10 @@ struct Scenario {
     MetricsCfg metrics;
     std::map<std::string, std::string> origin; // key -> "file:line:col" or "--set"
 };
+
+/// The dynamometer's held speed at time t (speed load): load.speed_rpm, or the ramp from
+/// initial_speed_rpm when load.speed_ramp_s > 0.
+double dyno_speed_rpm(const Scenario& sc, double t_s);
 
 /// One documented scenario key (for the schema table, `dtc-sil keys` and docs/sil.md).
 struct KeyDoc {

@@ -81,7 +81,7 @@ plant_params_t plant_params_from(const Scenario& sc)
     p.dead_time_enabled = sc.inverter.dead_time ? 1 : 0;
     p.finite_dc_link = sc.inverter.finite_dc_link ? 1 : 0;
     p.load = load_kind(sc.load.type);
-    p.load_speed_rpm = sc.load.speed_rpm;
+    p.load_speed_rpm = dyno_speed_rpm(sc, 0.0);
     p.load_torque_nm = sc.load.torque_nm;
     p.speed0_rpm = sc.initial_speed_rpm;
     p.theta_m0_rad = sc.initial_theta_m_rad;
@@ -353,6 +353,7 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
     const bool im = sc.motor.type == MotorType::Im;
     double flux_angle_prev = 0.0; // induction machine: stator-flux angle of the last recorded sample
     bool load_stepped = sc.load.step_time_s <= 0.0;
+    bool dyno_ramp = sc.load.type == LoadType::Speed && sc.load.speed_ramp_s > 0.0;
     const double nan = std::nan("");
 
     const PlantBounds bounds = plant_bounds(sc);
@@ -387,8 +388,15 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
             }
         }
         if (!load_stepped && h->time_s() + 0.5 * sc.ts_s >= sc.load.step_time_s) {
-            plant_set_load(h->plant(), pp.load, sc.load.speed_rpm, sc.load.step_torque_nm);
+            plant_set_load(h->plant(), pp.load, dyno_speed_rpm(sc, h->time_s()), sc.load.step_torque_nm);
             load_stepped = true;
+        }
+        if (dyno_ramp && h->time_s() >= sc.load.speed_ramp_start_s) {
+            // The dynamometer's speed for this period (held over it); the ramp's last value is load.speed_rpm.
+            const double t_end = h->time_s() + sc.ts_s;
+            plant_set_load(h->plant(), pp.load, dyno_speed_rpm(sc, t_end),
+                           load_stepped && sc.load.step_time_s > 0.0 ? sc.load.step_torque_nm : sc.load.torque_nm);
+            dyno_ramp = t_end < sc.load.speed_ramp_start_s + sc.load.speed_ramp_s;
         }
         h->sample();
         if (std::string why = plant_out_of_bounds(h->sensed(), bounds); !why.empty()) {

@@ -3,6 +3,7 @@
 
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
@@ -234,6 +235,13 @@ const std::vector<Spec>& schema()
         num("load.torque_nm", "N*m", any(), "load torque (torque, generator loads)", ACC(load.torque_nm)),
         num("load.step_time_s", "s", nonneg(), "time of a load-torque step (0 = none)", ACC(load.step_time_s)),
         num("load.step_torque_nm", "N*m", any(), "load.torque_nm after the step", ACC(load.step_torque_nm)),
+        num("load.speed_ramp_start_s", "s", nonneg(),
+            "speed load with load.speed_ramp_s > 0: the dynamometer holds initial_speed_rpm until this time",
+            ACC(load.speed_ramp_start_s)),
+        num("load.speed_ramp_s", "s", nonneg(),
+            "speed load: the dynamometer ramps linearly from initial_speed_rpm to load.speed_rpm over this time, "
+            "from load.speed_ramp_start_s (a drive started at standstill, then taken to the test speed); 0 = "
+            "load.speed_rpm held from t = 0", ACC(load.speed_ramp_s)),
         num("load.coulomb_nm", "N*m", nonneg(),
             "Coulomb (dry) friction of the shaft and coupled load (DC generator brushes and bearings, "
             "Hoang sec. IV rig), opposes the motion and holds a stopped rotor while the other torques sum to no more; 0 = none",
@@ -928,6 +936,12 @@ void cross_validate(Scenario& s, Diagnostics* d)
     if (s.load.step_time_s > s.duration_s) {
         warn("load.step_time_s", "after the end of the run");
     }
+    if (s.load.speed_ramp_s > 0.0 && s.load.type != LoadType::Speed) {
+        err("load.speed_ramp_s", "needs load.type = \"speed\" (the dynamometer ramps the held speed)");
+    }
+    if (s.load.speed_ramp_start_s > 0.0 && !(s.load.speed_ramp_s > 0.0)) {
+        err("load.speed_ramp_start_s", "needs load.speed_ramp_s > 0");
+    }
     if (s.load.type == LoadType::Generator && s.load.speed_rpm == 0.0) {
         err("load.speed_rpm", "the generator load needs a non-zero reference speed");
     }
@@ -1210,6 +1224,16 @@ SpeedPiGains speed_pi_gains(double j_kgm2, double bw_hz)
     const double wc = 2.0 * kPi * bw_hz;
     const double kp = j_kgm2 * wc;
     return SpeedPiGains{kp, kp * wc / 4.0};
+}
+
+double dyno_speed_rpm(const Scenario& sc, double t_s)
+{
+    const LoadCfg& l = sc.load;
+    if (!(l.speed_ramp_s > 0.0) || t_s >= l.speed_ramp_start_s + l.speed_ramp_s) {
+        return l.speed_rpm;
+    }
+    const double x = std::max(0.0, t_s - l.speed_ramp_start_s) / l.speed_ramp_s;
+    return sc.initial_speed_rpm + (l.speed_rpm - sc.initial_speed_rpm) * x;
 }
 
 } // namespace sil
