@@ -126,7 +126,7 @@ def replay(target, rec_path, args, work):
         run([exe, rec_path, out])
     elif target == "simavr":
         exe = os.path.join(args.build_host, "bin", "pil-simavr")
-        elf = os.path.join(args.build_avr, "target", "pil", "pil_avr.elf")
+        elf = os.path.join(args.build_avr, "bin", "pil_avr.elf")
         need(exe, "cmake --build --preset host (needs libsimavr-dev)")
         need(elf, "cmake --build --preset cross-avr")
         run([exe, elf, rec_path, out, cyc])
@@ -134,7 +134,7 @@ def replay(target, rec_path, args, work):
         qemu = shutil.which("qemu-system-arm")
         if qemu is None:
             raise SystemExit("pil_compare: qemu-system-arm not found (tools/setup.sh installs it)")
-        elf = os.path.join(args.build_cm, "target", "pil", "pil_cm.elf")
+        elf = os.path.join(args.build_cm, "bin", "pil_cm.elf")
         need(elf, "cmake --build --preset cross-cm0")
         d = os.path.join(work, "qemu")
         os.makedirs(d, exist_ok=True)
