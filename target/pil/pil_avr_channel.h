@@ -12,6 +12,7 @@
 #define PIL_AVR_ISR_BEGIN 1U
 #define PIL_AVR_ISR_END 2U
 #define PIL_AVR_DONE 0x55U
-#define PIL_AVR_ERROR 0xEEU
+#define PIL_AVR_ERROR_HEADER 0xE1U /* not a recording this image can replay */
+#define PIL_AVR_ERROR_INIT 0xE2U   /* app_init() refused the recorded configuration */
 
 #endif /* PIL_AVR_CHANNEL_H */

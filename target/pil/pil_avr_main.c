@@ -10,7 +10,8 @@
  *   GPIOR0 write  the next byte of the output file (one output record per ISR);
  *   GPIOR2 write  a marker: PIL_AVR_ISR_BEGIN / PIL_AVR_ISR_END around app_isr() (the host
  *                 takes simavr's cycle counter at both), PIL_AVR_DONE at the end, or
- *                 PIL_AVR_ERROR followed by the error code on GPIOR0.
+ *                 PIL_AVR_ERROR_HEADER / PIL_AVR_ERROR_INIT followed by the code (enum pil_err,
+ *                 or app_init's enum dtc_err) on GPIOR0.
  * The recording is streamed, so its length is not limited by the AVR's RAM or flash.
  */
 #include <avr/io.h>
@@ -49,9 +50,9 @@ static void put(const uint8_t *b, uint16_t n)
     }
 }
 
-static void fail(int16_t code)
+static void fail(uint8_t kind, int16_t code)
 {
-    GPIOR2 = PIL_AVR_ERROR;
+    GPIOR2 = kind;
     GPIOR0 = (uint8_t)(uint16_t)code;
     for (;;) {
     }
@@ -69,15 +70,15 @@ int main(void)
     get(hb, PIL_HEADER_BYTES);
     rc = pil_header_decode(hb, &h);
     if (rc != PIL_OK) {
-        fail(rc);
+        fail(PIL_AVR_ERROR_HEADER, rc);
     }
     if (h.config_fields > PIL_CONFIG_MAX) {
-        fail(PIL_ERR_LAYOUT);
+        fail(PIL_AVR_ERROR_HEADER, PIL_ERR_LAYOUT);
     }
     get(g_blob, (uint16_t)(4U * h.config_fields));
     rc = pil_replay_init(&h, g_blob);
     if (rc != 0) {
-        fail(rc);
+        fail(PIL_AVR_ERROR_INIT, rc);
     }
     for (k = 0UL; k < h.isr_count; ++k) {
         get(in, PIL_IN_BYTES + PIL_OUT_BYTES);

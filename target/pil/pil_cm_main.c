@@ -12,6 +12,7 @@
 #include "pil_replay.h"
 
 #define SYS_OPEN 0x01U
+#define SYS_WRITE0 0x04U
 #define SYS_CLOSE 0x02U
 #define SYS_WRITE 0x05U
 #define SYS_READ 0x06U
@@ -46,6 +47,12 @@ static void semi_exit(uint32_t reason)
     }
 }
 
+static void semi_fail(const char *why)
+{
+    (void)semi(SYS_WRITE0, why);
+    semi_exit(ADP_STOPPED_RUNTIME_ERROR);
+}
+
 static uint32_t semi_open(const char *name, uint32_t len, uint32_t mode)
 {
     uint32_t a[3];
@@ -63,7 +70,7 @@ static void semi_rw(uint32_t op, uint32_t fd, const void *buf, uint32_t n)
     a[1] = (uint32_t)(uintptr_t)buf;
     a[2] = n;
     if (semi(op, a) != 0U) {
-        semi_exit(ADP_STOPPED_RUNTIME_ERROR);
+        semi_fail("pil_cm: short read or write (recording truncated?)\n");
     }
 }
 
@@ -106,15 +113,16 @@ int main(void)
     fout = semi_open("pil_out.bin", 11U, 5U);   /* "wb" */
     fcyc = semi_open("pil_cycles.bin", 14U, 5U); /* "wb" */
     if (fin == 0xFFFFFFFFUL || fout == 0xFFFFFFFFUL || fcyc == 0xFFFFFFFFUL) {
-        semi_exit(ADP_STOPPED_RUNTIME_ERROR);
+        semi_fail("pil_cm: cannot open pil_in.bin, pil_out.bin or pil_cycles.bin\n");
     }
     semi_rw(SYS_READ, fin, hb, PIL_HEADER_BYTES);
     if (pil_header_decode(hb, &h) != PIL_OK || h.config_fields > PIL_CONFIG_MAX) {
-        semi_exit(ADP_STOPPED_RUNTIME_ERROR);
+        semi_fail("pil_cm: not a recording this image replays\n");
     }
     semi_rw(SYS_READ, fin, g_blob, 4U * h.config_fields);
     if (pil_replay_init(&h, g_blob) != 0) {
-        semi_exit(ADP_STOPPED_RUNTIME_ERROR);
+        semi_fail("pil_cm: app_init() refused the recorded configuration (the cross images link "
+                  "DTC_LAWS = pm only)\n");
     }
     SYST_RVR = 0xFFFFFFUL;
     SYST_CVR = 0U;

@@ -8,6 +8,10 @@ per target, "identical (N ISRs)" or the first differing ISR: index, field, both 
 
   pil_compare.py RECORDING --targets host,simavr,qemu [--build-host DIR] [--build-avr DIR]
                  [--build-cm DIR] [--cycles]
+  pil_compare.py --scenario TOML [--set KEY=VALUE ...] ...
+                 records the scenario first (dtc-sil run --record-isr), then the same
+  pil_compare.py ... --require calibrate,run,speed,handover
+                 fails unless the recording covers these phases (reported either way)
   pil_compare.py RECORDING --outputs FILE       compare an output file written elsewhere
   pil_compare.py RECORDING --corrupt-input K FIELD --targets host
                  negative check: the recording with input FIELD of ISR K changed must differ,
@@ -121,12 +125,12 @@ def replay(target, rec_path, args, work):
     cyc = os.path.join(work, target + ".cycles")
     t0 = time.monotonic()
     if target == "host":
-        exe = os.path.join(args.build_host, "bin", "pil-replay")
+        exe = args.host_replay or os.path.join(args.build_host, "bin", "pil-replay")
         need(exe, "cmake --build --preset host")
         run([exe, rec_path, out])
     elif target == "simavr":
         exe = os.path.join(args.build_host, "bin", "pil-simavr")
-        elf = os.path.join(args.build_avr, "bin", "pil_avr.elf")
+        elf = args.avr_image or os.path.join(args.build_avr, "bin", "pil_avr.elf")
         need(exe, "cmake --build --preset host (needs libsimavr-dev)")
         need(elf, "cmake --build --preset cross-avr")
         run([exe, elf, rec_path, out, cyc])
@@ -174,7 +178,16 @@ def cycle_stats(target, cyc):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("recording")
+    ap.add_argument("recording", nargs="?")
+    ap.add_argument("--scenario", help="record this scenario first (dtc-sil run --record-isr)")
+    ap.add_argument("--set", action="append", default=[], help="scenario override for --scenario")
+    ap.add_argument("--require", default="", help="phases the recording must cover: calibrate,run,speed,handover")
+    ap.add_argument("--host-replay", help="host replay program (default BUILD_HOST/bin/pil-replay)")
+    ap.add_argument("--avr-image", help="AVR image (default BUILD_AVR/bin/pil_avr.elf)")
+    ap.add_argument("--max-seconds", type=float,
+                    help="benchmark: fail if a target's replay takes longer than this (wall clock)")
+    ap.add_argument("--expect-differ", default="",
+                    help="targets that must differ from the recording (negative checks); the others must not")
     ap.add_argument("--targets", default="host,simavr,qemu")
     ap.add_argument("--outputs", help="compare this output file instead of running targets")
     ap.add_argument("--build-host", default=os.path.join(ROOT, "build", "host"))
@@ -184,9 +197,55 @@ def main():
     ap.add_argument("--corrupt-input", nargs=2, metavar=("K", "FIELD"),
                     help="negative check: add 1 to input FIELD of ISR K; the first difference must be at K")
     args = ap.parse_args()
+    with tempfile.TemporaryDirectory(prefix="pil_rec_") as rec_dir:
+        if args.scenario:
+            args.recording = os.path.join(rec_dir, "scenario.rec")
+            exe = os.path.join(args.build_host, "bin", "dtc-sil")
+            need(exe, "cmake --build --preset host")
+            cmd = [exe, "run", args.scenario, "--out", os.path.join(rec_dir, "run"), "--no-trace", "-q",
+                   "--record-isr", args.recording]
+            for kv in args.set:
+                cmd += ["--set", kv]
+            run(cmd)
+            print("recorded %s %s" % (os.path.relpath(args.scenario, ROOT), " ".join("--set " + kv for kv in args.set)))
+        elif not args.recording:
+            ap.error("a RECORDING or --scenario is needed")
+        return compare(args)
+
+
+def coverage(rec, require):
+    """Prints which phases the recording covers; False if a required one is missing."""
+    outs = rec.outputs()
+    states, speed, cm = [], 0, []
+    for k in range(rec.count):
+        d = decode(outs[k * OUT_BYTES:(k + 1) * OUT_BYTES])
+        states.append(d["state"])
+        speed += d["speed_tick"]
+        cm.append(d["on_cm"] if d["state"] == 2 else None)
+    cal = states.count(1)
+    run_at = states.index(2) if 2 in states else None
+    hand = next((k for k in range(1, rec.count) if cm[k - 1] == 1 and cm[k] == 0), None)
+    have = {"calibrate": cal > 0, "run": run_at is not None, "speed": speed > 0, "handover": hand is not None}
+    print("coverage: %d ISRs in CALIBRATE, RUN from ISR %s, %d speed-loop updates, hand-over to the "
+          "voltage model at ISR %s, faults: %s"
+          % (cal, run_at, speed, hand, sorted({decode(outs[k * OUT_BYTES:(k + 1) * OUT_BYTES])["fault"]
+                                              for k in range(rec.count)})))
+    ok = True
+    for r in [x for x in require.split(",") if x]:
+        if r not in have:
+            raise SystemExit("pil_compare: --require: unknown phase %s" % r)
+        if not have[r]:
+            print("coverage: the recording does not cover %s" % r)
+            ok = False
+    return ok
+
+
+def compare(args):
     rec = Recording(args.recording)
     ref = rec.outputs()
     print("%s: %d ISRs, format version %d" % (args.recording, rec.count, rec.version))
+    if not coverage(rec, args.require):
+        return 1
     if args.outputs:
         d = first_difference(ref, open(args.outputs, "rb").read())
         report("outputs", d, rec.count)
@@ -215,11 +274,22 @@ def main():
             got, wall, cyc = replay(t, rec_path, args, work)
             d = first_difference(ref, got)
             report(t, d, rec.count, wall)
+            if args.max_seconds is not None:
+                ok = wall <= args.max_seconds
+                print("  %s: %d ISRs replayed in %.1f s wall clock (limit %.0f s)%s"
+                      % (t, rec.count, wall, args.max_seconds, "" if ok else ": TOO SLOW"))
+                status |= 0 if ok else 1
             if args.cycles:
                 s = cycle_stats(t, cyc)
                 if s:
                     print("  %s" % s)
-            if expect_at is None:
+            if t in args.expect_differ.split(","):
+                if d is None:
+                    print("  %s: expected to differ, but identical" % t)
+                    status = 1
+                else:
+                    print("  %s: differs, as expected" % t)
+            elif expect_at is None:
                 status |= 0 if d is None else 1
             elif d is None or d[0] != expect_at:
                 print("  %s: the change at ISR %d was NOT caught there" % (t, expect_at))

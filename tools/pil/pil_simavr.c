@@ -27,7 +27,7 @@
 static uint8_t *g_in;
 static size_t g_in_len, g_in_pos;
 static FILE *g_out, *g_cyc;
-static int g_done, g_error;
+static int g_done, g_error, g_error_kind;
 static uint64_t g_isr_start;
 static unsigned long g_isrs;
 
@@ -72,7 +72,8 @@ static void on_marker(avr_t *avr, avr_io_addr_t addr, uint8_t v, void *param)
     } else if (v == PIL_AVR_DONE) {
         g_done = 1;
         avr->state = cpu_Done;
-    } else if (v == PIL_AVR_ERROR) {
+    } else if (v == PIL_AVR_ERROR_HEADER || v == PIL_AVR_ERROR_INIT) {
+        g_error_kind = v;
         g_error = -1;
     }
 }
@@ -127,6 +128,7 @@ int main(int argc, char **argv)
     avr_init(avr);
     avr->frequency = 16000000u;
     avr->log = 0;
+    fw.frequency = 16000000u;
     avr_load_firmware(avr, &fw);
     avr_register_io_read(avr, PIL_AVR_ADDR_IN, on_read, NULL);
     avr_register_io_write(avr, PIL_AVR_ADDR_OUT, on_write, NULL);
@@ -141,9 +143,11 @@ int main(int argc, char **argv)
     if (!g_done) {
         if (g_error == 1000) {
             fprintf(stderr, "pil-simavr: the image read past the end of %s after %lu ISRs\n", argv[2], g_isrs);
-        } else if (g_error != 0) {
-            fprintf(stderr, "pil-simavr: the image reported error %d after %lu ISRs "
-                            "(pil_err, or app_init's dtc_err)\n", g_error, g_isrs);
+        } else if (g_error_kind == PIL_AVR_ERROR_HEADER) {
+            fprintf(stderr, "pil-simavr: %s: not a recording this image replays (pil_err %d)\n", argv[2], g_error);
+        } else if (g_error_kind == PIL_AVR_ERROR_INIT) {
+            fprintf(stderr, "pil-simavr: app_init() refused the recorded configuration (dtc_err %d; the cross "
+                            "images link DTC_LAWS = pm only)\n", g_error);
         } else {
             fprintf(stderr, "pil-simavr: the image stopped (state %d) after %lu ISRs\n", state, g_isrs);
         }
