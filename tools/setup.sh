@@ -18,6 +18,8 @@ PKGS=(
   python3-numpy python3-matplotlib         # plots and report
   python3-distributed                      # dtc-sil sweep --dask (dask.distributed scheduler and workers)
   valgrind                                 # instruction-count budgets
+  libsimavr-dev libelf-dev                 # processor-in-the-loop: AVR emulator as a library (tools/pil)
+  qemu-system-arm                          # processor-in-the-loop: Cortex-M emulator (mps2-an385)
 )
 
 missing=()

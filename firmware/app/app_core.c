@@ -9,7 +9,15 @@
  * int32; the product with an IQ gain is formed in 64 bits and saturates at +-128 pu. */
 static iq_t counts_to_pu(uint16_t count, uint16_t offset, iq_t gain_iq)
 {
+#ifdef DTC_TEST_DEFECT_16BIT_INT
+    /* Test-only defect, compiled only into the tests/pil images that prove the emulators catch
+     * it: the difference formed at int width before the widening. The uint16_t operands promote
+     * to int where int has 32 bits (a negative difference), to unsigned int where it has 16 bits
+     * (C28x, AVR: 65536 - |d|, a huge positive current). */
+    int32_t d = (int32_t)(count - offset);
+#else
     int32_t d = (int32_t)count - (int32_t)offset;
+#endif
     return fix_sat32((int64_t)d * (int64_t)gain_iq);
 }
 

@@ -24,7 +24,7 @@
 
 #include "fixmath.h"
 
-#define CLARKE_INV_SQRT3_Q31 Q31(0.57735026918962576)
+#define CLARKE_INV_SQRT3_Q31 FIX_Q31_INV_SQRT3
 
 typedef struct {
     iq_t ia_iq, ib_iq, ic_iq;  /* all three phase currents (one of them reconstructed) */
@@ -56,7 +56,7 @@ static inline void clarke_fstp(iq_t ib_iq, iq_t ic_iq, clarke_out_t *o)
 /* Inverse (Hoang eqs. 4-5 solved for the phases with i_a + i_b + i_c = 0): i_a = i_alpha,
  * i_b = -i_alpha/2 + (sqrt(3)/2) i_beta, i_c = -i_a - i_b (the zero sum holds exactly). IQ pu;
  * the products round, the sums saturate. */
-#define CLARKE_SQRT3_2_Q31 Q31(0.86602540378443865)
+#define CLARKE_SQRT3_2_Q31 FIX_Q31_SQRT3_2
 static inline void clarke_inv(iq_t i_alpha_iq, iq_t i_beta_iq, clarke_out_t *o)
 {
     o->i_alpha_iq = i_alpha_iq;

@@ -21,8 +21,8 @@
 
 #include "fixmath.h"
 
-#define VREC_THIRD_Q31 Q31(0.33333333333333333)
-#define VREC_INV_SQRT3_Q31 Q31(0.57735026918962576)
+#define VREC_THIRD_Q31 FIX_Q31_THIRD
+#define VREC_INV_SQRT3_Q31 FIX_Q31_INV_SQRT3
 
 /* General form from the three leg voltages (IQ pu, referred to the negative rail). */
 static inline void vrec_from_legs(iq_t va0_iq, iq_t vb0_iq, iq_t vc0_iq, iq_t *v_alpha_iq,

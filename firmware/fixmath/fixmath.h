@@ -57,6 +57,14 @@ typedef uint16_t angle_t;
     ((iq_t)((x) >= (2147483647.5 / 16777216.0) ? INT32_MAX                                     \
             : (x) <= -128.0                     ? INT32_MIN                                    \
                                                 : (int32_t)((x) * 16777216.0 + FIX_RND_(x))))
+/* Irrational factors at full Q31 precision, as integers: Q31() is evaluated in the compiler's
+ * double, which is 32 bits on the C28x COFF ABI and on avr-gcc, and would round these to 24
+ * significant bits there (1/sqrt(3): 1239850240 instead of 1239850262), so the same firmware
+ * would compute 1-LSB different results on the DSP and in SIL. Each value is round(x * 2^31)
+ * in 64-bit arithmetic; tests/unit checks them against the double reference. */
+#define FIX_Q31_THIRD ((q31_t)715827883L)       /* 1/3 */
+#define FIX_Q31_INV_SQRT3 ((q31_t)1239850262L)  /* 1/sqrt(3) */
+#define FIX_Q31_SQRT3_2 ((q31_t)1859775393L)    /* sqrt(3)/2 */
 /* Angle in turns (1.0 = 2*pi), rounded to the nearest 1/65536 turn (halves up) and reduced
  * modulo one turn: ANGLE(0.25) = 90 degrees, ANGLE(-0.25) = ANGLE(0.75) = 270 degrees.
  * Valid for |turns| < 32768. The cast truncates towards zero, so FIX_FLOOR_ subtracts 1 where

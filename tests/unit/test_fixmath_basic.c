@@ -580,6 +580,10 @@ static void test_literal_macros(void **state)
     assert_int_equal(IQ(1e12), IQ_MAX);
     assert_int_equal(k_static_q15, 16384);
     assert_int_equal(k_static_iq, -37748736);
+    /* The irrational Q31 factors written as integers: round(x * 2^31) of the double reference. */
+    assert_int_equal(FIX_Q31_THIRD, (q31_t)llround(2147483648.0 / 3.0));
+    assert_int_equal(FIX_Q31_INV_SQRT3, (q31_t)llround(2147483648.0 / sqrt(3.0)));
+    assert_int_equal(FIX_Q31_SQRT3_2, (q31_t)llround(2147483648.0 * sqrt(3.0) / 2.0));
 
     /* ANGLE(): turns over +-3 (several wraps, both signs). The reference is the nearest
      * 1/65536 turn, compared on the circle (distance modulo 65536). */

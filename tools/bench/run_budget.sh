@@ -7,6 +7,9 @@
 #   2. cross-cm0 stack usage of the control path (-fstack-usage per function from the preset's
 #      build, worst call chain from -fcallgraph-info=su)              [<= 256 bytes]
 #   3. cross-cm0 code and data size of the firmware library (arm-none-eabi-size)
+#   4. processor-in-the-loop (docs/pil.md): per app_isr() call, AVR cycles (simavr, ATmega2560)
+#      and Cortex-M0 instructions (qemu -icount), average and worst, on a 20,000-ISR recording of
+#      the same scenario; needs the cross-avr and cross-cm0 builds. Neither is a C28x cycle count.
 # usage: tools/bench/run_budget.sh        (or: cmake --build build/host --target dtc_budget)
 #   DTC_BENCH=path/to/dtc_bench  DTC_BENCH_STEPS=20000
 set -euo pipefail
@@ -101,3 +104,16 @@ for v in dtc_budget_instance:dtc_t dtc_budget_im:im_dtc_t dtc_budget_law:law_t; 
   hex=$(arm-none-eabi-nm -S "$tmp/sz.o" | awk -v s="${v%%:*}" '$4 == s { print $2 }')
   echo "  sizeof(${v##*:}) = $((16#$hex)) bytes of RAM"
 done
+
+echo
+echo "== 4. processor-in-the-loop: per app_isr() call on the emulators (docs/pil.md)"
+echo "  (whole ISR body: ADC conversion, trips, the control law, status; not dtc_step alone as in"
+echo "   section 1. ATmega2560 cycles and Cortex-M0 instructions: NEITHER is a C28x cycle count.)"
+if [ -f "$root/build/cross-avr/bin/pil_avr.elf" ] && [ -f "$root/build/cross-cm0/bin/pil_cm.elf" ]; then
+  "$py" "$root/tools/pil/pil_compare.py" --scenario "$root/tools/scenarios/fstp_voltage_proposed_full.toml" \
+    --set duration_s=1.0 --set metrics_window_s=0.2 --targets simavr,qemu --cycles \
+    --build-host "$(dirname "$(dirname "$bench")")" | sed 's/^/  /'
+else
+  echo "  cross-avr / cross-cm0 images not built (cmake --build --preset cross-avr; --preset cross-cm0)" >&2
+  exit 2
+fi

@@ -1,7 +1,9 @@
 /*
  * dtc_config_fields.h - every field of dtc_config_t (firmware/dtc/dtc_config.h), part by part, as
- * an X-macro list: the C emitter (dtc_config_emit_c) and the round-trip check walk the same list,
- * so a field added to the struct and here is emitted and checked. Host code.
+ * an X-macro list: the C emitter (dtc_config_emit_c), the round-trip check and the ISR
+ * recording's configuration blob (hal/replay/pil_format.c, also built for the PIL targets) walk
+ * the same list, so a field added to the struct and here is emitted, checked and replayed.
+ * Macros only.
  *
  *   DTC_CFG_PART(part)              opens a part (a member struct of dtc_config_t)
  *   DTC_CFG_U(part, name)           unsigned integer

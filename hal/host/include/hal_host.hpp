@@ -129,6 +129,12 @@ public:
     double ts_s() const { return cfg_.ts_s; }
     std::uint64_t watchdog_services() const { return watchdog_services_; }
     std::uint64_t hal_writes() const { return writes_; }
+    /// The last command passed to hal_write(), as passed (pending_cmd() after a later
+    /// hal_gates_off() has enable = 0), and the hal_gates_off() / hal_trip_clear() calls so far:
+    /// what an ISR recording (--record-isr, docs/pil.md) takes from the HAL.
+    const hal_cmd_t& last_written_cmd() const { return written_; }
+    std::uint64_t gates_off_calls() const { return gates_off_calls_; }
+    std::uint64_t trip_clear_calls() const { return trip_clear_calls_; }
     /// hal_write() calls with a leg state or enable other than 0/1 (firmware contract violations).
     std::uint64_t invalid_writes() const { return invalid_writes_; }
     bool hal_initialised() const { return initialised_; }
@@ -173,6 +179,7 @@ private:
     hal_meas_t meas_{};
     hal_cmd_t active_{};  // applied over the current period
     hal_cmd_t pending_{}; // written in the current period, applied from the next boundary
+    hal_cmd_t written_{}; // the last hal_write() argument
     double v_alpha_v_ = 0.0, v_beta_v_ = 0.0;
     std::uint64_t k_ = 0;
     std::int64_t last_turn_ = 0;
@@ -185,6 +192,8 @@ private:
     std::uint16_t irq_enabled_ = 1;
     std::uint64_t watchdog_services_ = 0;
     std::uint64_t writes_ = 0;
+    std::uint64_t gates_off_calls_ = 0;
+    std::uint64_t trip_clear_calls_ = 0;
     std::uint64_t invalid_writes_ = 0;
 };
 

@@ -286,16 +286,19 @@ void Harness::hal_write(const hal_cmd_t* cmd)
         ++invalid_writes_;
     }
     pending_ = *cmd;
+    written_ = *cmd;
 }
 
 void Harness::hal_gates_off()
 {
+    ++gates_off_calls_;
     active_.enable = 0u;
     pending_.enable = 0u;
 }
 
 void Harness::hal_trip_clear()
 {
+    ++trip_clear_calls_;
     if (trip_latched_ && !comparator_active()) {
         trip_latched_ = false;
         trip_cause_ = TripCause::none;

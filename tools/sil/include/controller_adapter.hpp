@@ -50,6 +50,16 @@ public:
     virtual std::string fault() const = 0;
     /// True if the controller produces torque/flux estimates at all (open loop does not).
     virtual bool has_estimates() const = 0;
+    /// ISR recording (dtc-sil run --record-isr, docs/pil.md): only the firmware runs an ISR.
+    virtual bool can_record_isr() const { return false; }
+    /// After init(): start writing the recording to path. "" or why not.
+    virtual std::string start_isr_record(const std::string& path)
+    {
+        (void)path;
+        return "--record-isr: only control.implementation = \"firmware\" runs the firmware's ISR";
+    }
+    /// After the last step(): complete the recording (ISR count in its header). "" or why not.
+    virtual std::string end_isr_record() { return ""; }
 };
 
 /// The firmware's SI configuration (tools/config dtc_config_si_t) for a scenario: the scenario's

@@ -27,6 +27,7 @@ struct RunOptions {
     bool write_trace = true;
     bool check_only = false; // build the plant, harness and controller (all refusals), run nothing
     bool force = false;      // run even when the trace estimate exceeds max_trace_bytes
+    std::string record_isr;  // non-empty: write the ISR recording (docs/pil.md) to this file
     double max_trace_bytes = 1.0e9;
     std::ostream* progress = nullptr; // progress line with ETA ("\r", for a terminal); nullptr: none
 };

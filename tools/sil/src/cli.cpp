@@ -50,7 +50,7 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
     app.add_subcommand("sweep", "many runs over grid / Monte Carlo axes, local cores or Dask (dtc-sil sweep --help)");
     app.add_subcommand("sweep-merge", "join the shards of one sweep (dtc-sil sweep-merge --help)");
 
-    std::string scenario_path, out_dir;
+    std::string scenario_path, out_dir, record_isr;
     std::vector<std::string> sets;
     unsigned decimate = 1;
     bool no_trace = false, quiet = false, force = false;
@@ -68,6 +68,8 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
     run->add_flag("--no-trace", no_trace, "do not write trace.csv (metrics only)");
     run->add_flag("--quiet,-q", quiet, "no summary on stdout");
     run->add_flag("--force", force, "run even when trace.csv would exceed 1 GB");
+    run->add_option("--record-isr", record_isr,
+                    "write what the firmware saw and commanded in every ISR to FILE (docs/pil.md)");
 
     CLI::App* check = app.add_subcommand("check", "validate a scenario (and --set overrides) without running it");
     check->add_option("scenario", scenario_path, "scenario TOML file")->required();
@@ -104,6 +106,7 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
     opt.decimate = decimate;
     opt.write_trace = !no_trace;
     opt.force = force;
+    opt.record_isr = record_isr;
     RunResult res;
     std::string e;
     if (check->parsed()) {

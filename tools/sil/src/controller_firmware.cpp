@@ -6,11 +6,14 @@
 // (firmware/app/app.h) once per period, exactly as the DSP's ADC interrupt and background loop
 // would, and reads the application status for the trace.
 #include <cmath>
+#include <fstream>
 #include <string>
+#include <vector>
 
 extern "C" {
 #include "app.h"
 #include "dtc_config_si.h"
+#include "pil_format.h"
 }
 
 #include "controller_adapter.hpp"
@@ -282,10 +285,50 @@ public:
 
     void step(hal_host::Harness& h) override
     {
-        (void)h;
+        if (rec_.is_open()) {
+            step_recorded(h);
+            return;
+        }
         app_isr();        // hal_read() -> per-unit, trips -> dtc_step() -> hal_write()
         app_background(); // one pass of the background loop per period (watchdog)
         status_fresh_ = false; // the status is copied out only when someone asks (see refresh())
+    }
+
+    bool can_record_isr() const override { return true; }
+
+    std::string start_isr_record(const std::string& path) override
+    {
+        rec_.open(path, std::ios::binary | std::ios::trunc);
+        if (!rec_) {
+            return "--record-isr " + path + ": cannot open for writing";
+        }
+        rec_path_ = path;
+        rec_count_ = 0;
+        hdr_ = pil_header_t{};
+        hdr_.version = PIL_VERSION;
+        hdr_.config_fields = pil_config_fields();
+        hdr_.in_bytes = PIL_IN_BYTES;
+        hdr_.out_bytes = PIL_OUT_BYTES;
+        hdr_.t1pr = hal_pwm_period();
+        std::vector<std::uint8_t> b(PIL_HEADER_BYTES + 4u * hdr_.config_fields);
+        pil_header_encode(&hdr_, b.data());
+        pil_config_encode(&cfg_, b.data() + PIL_HEADER_BYTES);
+        rec_.write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
+        return rec_ ? "" : "--record-isr " + rec_path_ + ": write failed";
+    }
+
+    std::string end_isr_record() override
+    {
+        if (!rec_.is_open()) {
+            return "";
+        }
+        hdr_.isr_count = rec_count_;
+        std::uint8_t b[PIL_HEADER_BYTES];
+        pil_header_encode(&hdr_, b);
+        rec_.seekp(0);
+        rec_.write(reinterpret_cast<const char*>(b), sizeof b);
+        rec_.close();
+        return rec_ ? "" : "--record-isr " + rec_path_ + ": write failed";
     }
 
     ControllerEstimates estimates() const override
@@ -308,6 +351,37 @@ public:
     bool has_estimates() const override { return true; }
 
 private:
+    /// step() with the ISR recorded: what hal_read() returns this period (the harness's sample),
+    /// the ISR and background pass, then what the firmware did to the HAL and its status.
+    void step_recorded(hal_host::Harness& h)
+    {
+        const hal_meas_t in = h.meas();
+        const std::uint64_t w0 = h.hal_writes(), g0 = h.gates_off_calls(), t0 = h.trip_clear_calls();
+        app_isr();
+        app_background();
+        pil_hal_obs_t obs{};
+        auto count16 = [](std::uint64_t n) { return static_cast<std::uint16_t>(n > 0xFFFFu ? 0xFFFFu : n); };
+        obs.writes = count16(h.hal_writes() - w0);
+        obs.gates_off = count16(h.gates_off_calls() - g0);
+        obs.trip_clear = count16(h.trip_clear_calls() - t0);
+        if (obs.writes != 0u) {
+            obs.written = h.last_written_cmd();
+        }
+        app_get_status(&st_);
+        status_fresh_ = true;
+        pil_out_t o;
+        pil_out_fill(&o, &obs, &st_);
+        std::uint8_t b[PIL_IN_BYTES + PIL_OUT_BYTES];
+        pil_in_encode(&in, b);
+        pil_out_encode(&o, b + PIL_IN_BYTES);
+        rec_.write(reinterpret_cast<const char*>(b), sizeof b);
+        ++rec_count_;
+    }
+
+    std::ofstream rec_;
+    std::string rec_path_;
+    pil_header_t hdr_{};
+    std::uint32_t rec_count_ = 0;
     dtc_config_si_t si_;
     dtc_config_t cfg_{};
     dtc_bases_t bases_{};

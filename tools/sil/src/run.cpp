@@ -307,8 +307,18 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
             return false;
         }
     }
+    if (!opt.record_isr.empty() && !ctrl->can_record_isr()) {
+        *err = ctrl->start_isr_record(opt.record_isr);
+        return false;
+    }
     if (opt.check_only) {
         return true;
+    }
+    if (!opt.record_isr.empty()) {
+        if (std::string e = ctrl->start_isr_record(opt.record_isr); !e.empty()) {
+            *err = e;
+            return false;
+        }
     }
 
     StagedOutput out;
@@ -487,6 +497,13 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
     const auto t1 = std::chrono::steady_clock::now();
     if (opt.progress != nullptr && periods > 4096u) {
         *opt.progress << "\r" << std::string(70, ' ') << "\r" << std::flush;
+    }
+
+    if (!opt.record_isr.empty()) {
+        if (std::string e = ctrl->end_isr_record(); !e.empty()) {
+            *err = e;
+            return false;
+        }
     }
 
     MetricsConfig mc;
