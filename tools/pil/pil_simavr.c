@@ -204,8 +204,7 @@ int main(int argc, char **argv)
         } else if (g_error_kind == PIL_AVR_ERROR_HEADER) {
             fprintf(stderr, "pil-simavr: %s: not a recording this image replays (pil_err %d)\n", argv[2], g_error);
         } else if (g_error_kind == PIL_AVR_ERROR_INIT) {
-            fprintf(stderr, "pil-simavr: app_init() refused the recorded configuration (dtc_err %d; the cross "
-                            "images link DTC_LAWS = pm only)\n", g_error);
+            fprintf(stderr, "pil-simavr: app_init() refused the recorded configuration (dtc_err %d)\n", g_error);
         } else {
             fprintf(stderr, "pil-simavr: the image stopped (state %d) after %lu ISRs\n", state, g_isrs);
         }
