@@ -13,11 +13,11 @@ static iq_t counts_to_pu(uint16_t count, uint16_t offset, iq_t gain_iq)
 #ifdef DTC_TEST_DEFECT_16BIT_INT
     /* Test-only defect, compiled only into the tests/pil images that prove the emulators catch
      * it (docs/pil.md): a 16 x 16-bit shortcut with the widening forgotten. A non-negative
-     * deviation of the 12-bit ADC and a gain below 2^16 (the recorded boards' gains are: 5853 for V_dc, 37245 for
-     * the currents on the PM rig) are multiplied as two uint16_t at int width, (iq_t)(du * gu)
-     * instead of (iq_t)du * gu. Where int has 32 bits both promote to int and the product
-     * (< 4096 * 2^16 = 2^28) is exact, the value below; where it has 16 bits (C28x, AVR) they
-     * promote to unsigned int and the product is taken modulo 2^16. */
+     * deviation of the 12-bit ADC and a gain below 2^16 (the recorded boards' gains are 16-bit
+     * numbers: PM rig 37245 for the currents, 5853 for V_dc) are multiplied as two uint16_t at
+     * int width, (iq_t)(du * gu) instead of (iq_t)du * gu. Where int has 32 bits both promote
+     * to int and the product (< 4096 * 2^16 = 2^28) is exact, the value below; where it has 16
+     * bits (C28x, AVR) they promote to unsigned int and the product is taken modulo 2^16. */
     if (d >= 0 && d <= 4095 && gain_iq >= 0 && gain_iq <= 0xFFFF) {
         const uint16_t du = (uint16_t)d;
         const uint16_t gu = (uint16_t)gain_iq;
