@@ -9,14 +9,20 @@
  * int32; the product with an IQ gain is formed in 64 bits and saturates at +-128 pu. */
 static iq_t counts_to_pu(uint16_t count, uint16_t offset, iq_t gain_iq)
 {
+    int32_t d = (int32_t)count - (int32_t)offset;
 #ifdef DTC_TEST_DEFECT_16BIT_INT
     /* Test-only defect, compiled only into the tests/pil images that prove the emulators catch
-     * it: the difference formed at int width before the widening. The uint16_t operands promote
-     * to int where int has 32 bits (a negative difference), to unsigned int where it has 16 bits
-     * (C28x, AVR: 65536 - |d|, a huge positive current). */
-    int32_t d = (int32_t)(count - offset);
-#else
-    int32_t d = (int32_t)count - (int32_t)offset;
+     * it (docs/pil.md): a 16 x 16-bit shortcut with the widening forgotten. A non-negative
+     * deviation of the 12-bit ADC and a gain below 2^16 (the recorded boards' gains are 16-bit
+     * numbers: PM rig 37245 for the currents, 5853 for V_dc) are multiplied as two uint16_t at
+     * int width, (iq_t)(du * gu) instead of (iq_t)du * gu. Where int has 32 bits both promote
+     * to int and the product (< 4096 * 2^16 = 2^28) is exact, the value below; where it has 16
+     * bits (C28x, AVR) they promote to unsigned int and the product is taken modulo 2^16. */
+    if (d >= 0 && d <= 4095 && gain_iq >= 0 && gain_iq <= 0xFFFF) {
+        const uint16_t du = (uint16_t)d;
+        const uint16_t gu = (uint16_t)gain_iq;
+        return (iq_t)(du * gu);
+    }
 #endif
     return fix_sat32((int64_t)d * (int64_t)gain_iq);
 }

@@ -121,8 +121,7 @@ int main(void)
     }
     semi_rw(SYS_READ, fin, g_blob, 4U * h.config_fields);
     if (pil_replay_init(&h, g_blob) != 0) {
-        semi_fail("pil_cm: app_init() refused the recorded configuration (the cross images link "
-                  "DTC_LAWS = pm only)\n");
+        semi_fail("pil_cm: app_init() refused the recorded configuration\n");
     }
     SYST_RVR = 0xFFFFFFUL;
     SYST_CVR = 0U;

@@ -9,7 +9,9 @@
 #   3. cross-cm0 code and data size of the firmware library (arm-none-eabi-size)
 #   4. processor-in-the-loop (docs/pil.md): per app_isr() call, AVR cycles (simavr, ATmega2560)
 #      and Cortex-M0 instructions (qemu -icount), average and worst, on a 20,000-ISR recording of
-#      the same scenario; needs the cross-avr and cross-cm0 builds. Neither is a C28x cycle count.
+#      the PM scenario of 1a and of the shipped IM scenario (im_dtc_speed.toml, 0.8 s: the 0.44 s
+#      magnetisation, then the speed loop), with the AVR's RAM use; needs the cross-avr and
+#      cross-cm0 builds. Neither is a C28x cycle count.
 # usage: tools/bench/run_budget.sh        (or: cmake --build build/host --target dtc_budget)
 #   DTC_BENCH=path/to/dtc_bench  DTC_BENCH_STEPS=20000
 set -euo pipefail
@@ -110,9 +112,14 @@ echo "== 4. processor-in-the-loop: per app_isr() call on the emulators (docs/pil
 echo "  (whole ISR body: ADC conversion, trips, the control law, status; not dtc_step alone as in"
 echo "   section 1. ATmega2560 cycles and Cortex-M0 instructions: NEITHER is a C28x cycle count.)"
 if [ -f "$root/build/cross-avr/bin/pil_avr.elf" ] && [ -f "$root/build/cross-cm0/bin/pil_cm.elf" ]; then
+  echo "  -- PM law: fstp_voltage_proposed_full, 1 s at 50 us"
   "$py" "$root/tools/pil/pil_compare.py" --scenario "$root/tools/scenarios/fstp_voltage_proposed_full.toml" \
     --set duration_s=1.0 --set metrics_window_s=0.2 --targets simavr,qemu --cycles \
     --build-host "$(dirname "$(dirname "$bench")")" | sed 's/^/  /'
+  echo "  -- IM law: im_dtc_speed, 0.8 s at 40 us (10,951 ISRs of magnetisation, then the speed loop)"
+  "$py" "$root/tools/pil/pil_compare.py" --scenario "$root/tools/scenarios/im_dtc_speed.toml" \
+    --set duration_s=0.8 --set metrics_window_s=0.1 --targets simavr,qemu --cycles \
+    --build-host "$(dirname "$(dirname "$bench")")" 2>&1 | grep -v '^warning: ' | sed 's/^/  /'
 else
   echo "  cross-avr / cross-cm0 images not built (cmake --build --preset cross-avr; --preset cross-cm0)" >&2
   exit 2

@@ -10,7 +10,7 @@ per target, "identical (N ISRs)" or the first differing ISR: index, field, both 
                  [--build-cm DIR] [--cycles]
   pil_compare.py --scenario TOML [--set KEY=VALUE ...] ...
                  records the scenario first (dtc-sil run --record-isr), then the same
-  pil_compare.py ... --require calibrate,run,speed,handover
+  pil_compare.py ... --require calibrate,run,magnetise,speed,handover
                  fails unless the recording covers these phases (reported either way)
   pil_compare.py RECORDING --outputs FILE       compare an output file written elsewhere
   pil_compare.py RECORDING --corrupt-input K FIELD --targets host
@@ -49,6 +49,7 @@ IN_FIELDS = fields_of("PIL_IN_FIELDS")
 OUT_BYTES = sum(w for _, w in OUT_FIELDS)
 IN_BYTES = sum(w for _, w in IN_FIELDS)
 HEADER_BYTES = 20
+LAW_IM = 1  # DTC_LAW_IM_DTC (firmware/dtc/dtc_config.h)
 
 
 class Recording:
@@ -62,6 +63,8 @@ class Recording:
                              % (path, inb, outb, IN_BYTES, OUT_BYTES))
         self.data = data
         self.body = HEADER_BYTES + 4 * self.nconf
+        # the configuration starts with version and law (docs/pil.md)
+        self.law = struct.unpack_from("<I", data, HEADER_BYTES + 4)[0] if self.nconf >= 2 else None
         rec = IN_BYTES + OUT_BYTES
         if len(data) != self.body + rec * self.count:
             raise SystemExit("pil_compare: %s: %d bytes, the header says %d ISRs" % (path, len(data), self.count))
@@ -120,10 +123,11 @@ def need(path, what):
 
 
 def replay(target, rec_path, args, work):
-    """Runs one target; returns (output bytes, wall seconds, cycle text or '')."""
+    """Runs one target; returns (output bytes, wall seconds, cycle file, what the program printed)."""
     out = os.path.join(work, target + ".out")
     cyc = os.path.join(work, target + ".cycles")
     t0 = time.monotonic()
+    said = ""
     if target == "host":
         exe = args.host_replay or os.path.join(args.build_host, "bin", "pil-replay")
         need(exe, "cmake --build --preset host")
@@ -133,12 +137,13 @@ def replay(target, rec_path, args, work):
         elf = args.avr_image or os.path.join(args.build_avr, "bin", "pil_avr.elf")
         need(exe, "cmake --build --preset host (needs libsimavr-dev)")
         need(elf, "cmake --build --preset cross-avr")
-        run([exe, elf, rec_path, out, cyc])
+        said = "\n".join(l for l in run([exe, elf, rec_path, out, cyc]).stdout.decode(errors="replace").splitlines()
+                          if l.startswith("ram:"))
     elif target == "qemu":
         qemu = shutil.which("qemu-system-arm")
         if qemu is None:
             raise SystemExit("pil_compare: qemu-system-arm not found (tools/setup.sh installs it)")
-        elf = os.path.join(args.build_cm, "bin", "pil_cm.elf")
+        elf = args.cm_image or os.path.join(args.build_cm, "bin", "pil_cm.elf")
         need(elf, "cmake --build --preset cross-cm0")
         d = os.path.join(work, "qemu")
         os.makedirs(d, exist_ok=True)
@@ -151,7 +156,7 @@ def replay(target, rec_path, args, work):
     else:
         raise SystemExit("pil_compare: unknown target %s" % target)
     wall = time.monotonic() - t0
-    return open(out, "rb").read(), wall, cyc
+    return open(out, "rb").read(), wall, cyc, said
 
 
 # qemu -icount shift=N: every instruction advances the virtual clock by 2^N ns; SysTick counts the
@@ -160,8 +165,9 @@ QEMU_ICOUNT_SHIFT = 6
 QEMU_TICKS_PER_INSN = (1 << QEMU_ICOUNT_SHIFT) * 25e6 / 1e9
 
 
-def cycle_stats(target, cyc):
-    """Per-ISR figures written by the emulator programs: u32 per ISR."""
+def cycle_stats(target, cyc, torque_at=None):
+    """Per-ISR figures written by the emulator programs: u32 per ISR; with torque_at, also from
+    that ISR on (the IM law's magnetisation ISRs are the cheaper ones)."""
     if not os.path.exists(cyc):
         return ""
     raw = open(cyc, "rb").read()
@@ -173,7 +179,11 @@ def cycle_stats(target, cyc):
         unit = "instructions (qemu -icount, Cortex-M0 code on the M3 model)"
     else:
         unit = "cycles (simavr, ATmega2560)"
-    return "app_isr %s: mean %.0f, worst %.0f over %d ISRs" % (unit, sum(vals) / len(vals), max(vals), len(vals))
+    text = "app_isr %s: mean %.0f, worst %.0f over %d ISRs" % (unit, sum(vals) / len(vals), max(vals), len(vals))
+    if torque_at and torque_at < len(vals):
+        tail = vals[torque_at:]
+        text += "; from ISR %d (torque allowed) on: mean %.0f, worst %.0f" % (torque_at, sum(tail) / len(tail), max(tail))
+    return text
 
 
 def main():
@@ -181,13 +191,16 @@ def main():
     ap.add_argument("recording", nargs="?")
     ap.add_argument("--scenario", help="record this scenario first (dtc-sil run --record-isr)")
     ap.add_argument("--set", action="append", default=[], help="scenario override for --scenario")
-    ap.add_argument("--require", default="", help="phases the recording must cover: calibrate,run,speed,handover")
+    ap.add_argument("--require", default="", help="phases the recording must cover: calibrate,run,magnetise,speed,handover")
     ap.add_argument("--host-replay", help="host replay program (default BUILD_HOST/bin/pil-replay)")
     ap.add_argument("--avr-image", help="AVR image (default BUILD_AVR/bin/pil_avr.elf)")
+    ap.add_argument("--cm-image", help="Cortex-M image (default BUILD_CM/bin/pil_cm.elf)")
     ap.add_argument("--max-seconds", type=float,
                     help="benchmark: fail if a target's replay takes longer than this (wall clock)")
     ap.add_argument("--expect-differ", default="",
                     help="targets that must differ from the recording (negative checks); the others must not")
+    ap.add_argument("--expect-differ-at", nargs=2, metavar=("K", "FIELD"),
+                    help="with --expect-differ: the first difference must be at ISR K in output FIELD")
     ap.add_argument("--targets", default="host,simavr,qemu")
     ap.add_argument("--outputs", help="compare this output file instead of running targets")
     ap.add_argument("--build-host", default=os.path.join(ROOT, "build", "host"))
@@ -197,6 +210,9 @@ def main():
     ap.add_argument("--corrupt-input", nargs=2, metavar=("K", "FIELD"),
                     help="negative check: add 1 to input FIELD of ISR K; the first difference must be at K")
     args = ap.parse_args()
+    for a in ("host_replay", "avr_image", "cm_image", "build_host", "build_avr", "build_cm"):
+        if getattr(args, a):
+            setattr(args, a, os.path.abspath(getattr(args, a)))
     with tempfile.TemporaryDirectory(prefix="pil_rec_") as rec_dir:
         if args.scenario:
             args.recording = os.path.join(rec_dir, "scenario.rec")
@@ -214,22 +230,40 @@ def main():
 
 
 def coverage(rec, require):
-    """Prints which phases the recording covers; False if a required one is missing."""
+    """Prints which phases the recording covers. Returns (False if a required one is missing,
+    the IM law's first ISR with torque or None).
+
+    calibrate  ISRs in CALIBRATE (gates off, offsets);
+    run        the first ISR in RUN;
+    magnetise  induction machine: the start-up magnetisation at zero torque (im_dtc.h) and its
+               end, the first RUN ISR with a non-zero torque reference;
+    speed      speed-loop updates once torque is allowed (from the first RUN ISR with a non-zero
+               torque reference; the IM law measures speed during the magnetisation with its PI
+               at rest, which does not count);
+    handover   PM voltage model: the hand-over from the current model."""
     outs = rec.outputs()
-    states, speed, cm = [], 0, []
+    states, ticks, te_ref, cm, faults = [], [], [], [], set()
     for k in range(rec.count):
         d = decode(outs[k * OUT_BYTES:(k + 1) * OUT_BYTES])
         states.append(d["state"])
-        speed += d["speed_tick"]
+        ticks.append(d["speed_tick"])
+        te_ref.append(d["te_ref_iq"])
         cm.append(d["on_cm"] if d["state"] == 2 else None)
+        faults.add(d["fault"])
     cal = states.count(1)
     run_at = states.index(2) if 2 in states else None
+    torque_at = next((k for k in range(rec.count) if states[k] == 2 and te_ref[k] != 0), None)
+    speed = 0 if torque_at is None else sum(ticks[torque_at:])
     hand = next((k for k in range(1, rec.count) if cm[k - 1] == 1 and cm[k] == 0), None)
-    have = {"calibrate": cal > 0, "run": run_at is not None, "speed": speed > 0, "handover": hand is not None}
-    print("coverage: %d ISRs in CALIBRATE, RUN from ISR %s, %d speed-loop updates, hand-over to the "
-          "voltage model at ISR %s, faults: %s"
-          % (cal, run_at, speed, hand, sorted({decode(outs[k * OUT_BYTES:(k + 1) * OUT_BYTES])["fault"]
-                                              for k in range(rec.count)})))
+    magn = rec.law == LAW_IM and run_at is not None and torque_at is not None and torque_at > run_at
+    have = {"calibrate": cal > 0, "run": run_at is not None, "magnetise": magn, "speed": speed > 0,
+            "handover": hand is not None}
+    law = "induction machine" if rec.law == LAW_IM else "PM"
+    print("coverage (%s law): %d ISRs in CALIBRATE, RUN from ISR %s, torque from ISR %s%s, %d speed-loop "
+          "updates with torque, hand-over to the voltage model at ISR %s, faults: %s"
+          % (law, cal, run_at, torque_at,
+             " (magnetisation %d ISRs)" % (torque_at - run_at) if magn else "",
+             speed, hand, sorted(faults)))
     ok = True
     for r in [x for x in require.split(",") if x]:
         if r not in have:
@@ -237,14 +271,15 @@ def coverage(rec, require):
         if not have[r]:
             print("coverage: the recording does not cover %s" % r)
             ok = False
-    return ok
+    return ok, (torque_at if magn else None)
 
 
 def compare(args):
     rec = Recording(args.recording)
     ref = rec.outputs()
     print("%s: %d ISRs, format version %d" % (args.recording, rec.count, rec.version))
-    if not coverage(rec, args.require):
+    ok, torque_at = coverage(rec, args.require)
+    if not ok:
         return 1
     if args.outputs:
         d = first_difference(ref, open(args.outputs, "rb").read())
@@ -271,7 +306,7 @@ def compare(args):
             print("negative check: input %s of ISR %d changed from %d to %d" % (field, k, v, (v + 1) % (1 << (8 * w))))
         status = 0
         for t in [x for x in args.targets.split(",") if x]:
-            got, wall, cyc = replay(t, rec_path, args, work)
+            got, wall, cyc, said = replay(t, rec_path, args, work)
             d = first_difference(ref, got)
             report(t, d, rec.count, wall)
             if args.max_seconds is not None:
@@ -280,12 +315,18 @@ def compare(args):
                       % (t, rec.count, wall, args.max_seconds, "" if ok else ": TOO SLOW"))
                 status |= 0 if ok else 1
             if args.cycles:
-                s = cycle_stats(t, cyc)
+                s = cycle_stats(t, cyc, torque_at)
                 if s:
                     print("  %s" % s)
+                if said:
+                    print("  %s: %s" % (t, said))
             if t in args.expect_differ.split(","):
                 if d is None:
                     print("  %s: expected to differ, but identical" % t)
+                    status = 1
+                elif args.expect_differ_at and (d[0], d[1]) != (int(args.expect_differ_at[0]), args.expect_differ_at[1]):
+                    print("  %s: differs, but not first at ISR %s in field %s as expected"
+                          % (t, args.expect_differ_at[0], args.expect_differ_at[1]))
                     status = 1
                 else:
                     print("  %s: differs, as expected" % t)

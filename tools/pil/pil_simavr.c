@@ -10,6 +10,10 @@
  * and no limit from the AVR's memory. With CYCLES, it writes simavr's cycle count of every
  * app_isr() call (between the image's ISR_BEGIN and ISR_END markers) as u32 little-endian.
  *
+ * RAM: before the run, the RAM between the end of the image's static data (symbol _end) and RAMEND
+ * is painted with PIL_SIMAVR_PAINT; after it, the lowest byte the stack changed gives the peak
+ * stack depth, printed with the static size ("ram: ..." on stdout; docs/pil.md).
+ *
  * Exit 0 when the image ran every ISR; 1 usage or file error; 2 the image reported an error or
  * stopped early.
  */
@@ -78,6 +82,20 @@ static void on_marker(avr_t *avr, avr_io_addr_t addr, uint8_t v, void *param)
     }
 }
 
+#define PIL_SIMAVR_PAINT 0xA5u
+
+/* The first RAM address after the static data (the linker's _end), or 0 if the image has none. */
+static uint16_t static_end(const elf_firmware_t *fw)
+{
+    uint32_t i;
+    for (i = 0; i < fw->symbolcount; ++i) {
+        if (strcmp(fw->symbol[i]->symbol, "_end") == 0) {
+            return (uint16_t)(fw->symbol[i]->addr & 0xFFFFu); /* data addresses carry 0x800000 */
+        }
+    }
+    return 0;
+}
+
 /* The sanitizer build's leak check: libsimavr 1.6 keeps some of its IRQ tables after
  * avr_terminate(); those are simavr's, not this program's (LeakSanitizer's suppression hook). */
 const char *__lsan_default_suppressions(void);
@@ -110,6 +128,7 @@ int main(int argc, char **argv)
     FILE *f;
     long n;
     int state;
+    uint16_t end;
 
     if (argc != 4 && argc != 5) {
         fprintf(stderr, "usage: pil-simavr IMAGE.elf RECORDING OUTPUT [CYCLES]\n");
@@ -155,12 +174,25 @@ int main(int argc, char **argv)
     avr->log = 0;
     fw.frequency = 16000000u;
     avr_load_firmware(avr, &fw);
+    end = static_end(&fw);
+    if (end != 0u && end <= avr->ramend) {
+        memset(avr->data + end, (int)PIL_SIMAVR_PAINT, (size_t)(avr->ramend - end + 1u));
+    }
     avr_register_io_read(avr, PIL_AVR_ADDR_IN, on_read, NULL);
     avr_register_io_write(avr, PIL_AVR_ADDR_OUT, on_write, NULL);
     avr_register_io_write(avr, PIL_AVR_ADDR_MARKER, on_marker, NULL);
     do {
         state = avr_run(avr);
     } while (state != cpu_Done && state != cpu_Crashed);
+    if (end != 0u && end <= avr->ramend) {
+        uint32_t low = end;
+        while (low <= avr->ramend && avr->data[low] == PIL_SIMAVR_PAINT) {
+            ++low;
+        }
+        printf("ram: static %u bytes (0x200..0x%04x), stack peak %u bytes, never used %u of %u bytes\n",
+               (unsigned)(end - 0x200u), (unsigned)end, (unsigned)(avr->ramend + 1u - low),
+               (unsigned)(low - end), (unsigned)(avr->ramend + 1u - 0x200u));
+    }
     release(avr, &fw);
     if (fclose(g_out) != 0 || (g_cyc != NULL && fclose(g_cyc) != 0)) {
         fprintf(stderr, "pil-simavr: write failed\n");
@@ -172,8 +204,7 @@ int main(int argc, char **argv)
         } else if (g_error_kind == PIL_AVR_ERROR_HEADER) {
             fprintf(stderr, "pil-simavr: %s: not a recording this image replays (pil_err %d)\n", argv[2], g_error);
         } else if (g_error_kind == PIL_AVR_ERROR_INIT) {
-            fprintf(stderr, "pil-simavr: app_init() refused the recorded configuration (dtc_err %d; the cross "
-                            "images link DTC_LAWS = pm only)\n", g_error);
+            fprintf(stderr, "pil-simavr: app_init() refused the recorded configuration (dtc_err %d)\n", g_error);
         } else {
             fprintf(stderr, "pil-simavr: the image stopped (state %d) after %lu ISRs\n", state, g_isrs);
         }
