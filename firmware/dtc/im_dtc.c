@@ -59,6 +59,12 @@ void im_dtc_reset(im_dtc_t *c)
     c->te_ref_iq = 0;
     c->psi_ref_iq = c->act.flux_ref_iq;
     c->speed_iq = 0;
+    /* SFVC: the gates were off, no voltage: equal duties on every leg */
+    svm_reset(&c->svm);
+    c->d_eff_1[0] = c->d_eff_1[1] = c->d_eff_1[2] = IQ(0.5);
+    c->d_eff_2[0] = c->d_eff_2[1] = c->d_eff_2[2] = IQ(0.5);
+    c->vs_alpha_iq = 0;
+    c->vs_beta_iq = 0;
 }
 
 int16_t im_dtc_shadow_write(im_dtc_t *c, const dtc_refs_t *r)
@@ -101,13 +107,7 @@ void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m)
         in->v_alpha_iq = fix_add32(in->v_alpha_iq, c->dva_iq);
         in->v_beta_iq = fix_add32(in->v_beta_iq, c->dvb_iq);
     }
-    in->i_alpha_iq = c->i.i_alpha_iq;
-    in->i_beta_iq = c->i.i_beta_iq;
-    in->psir_ref_iq = c->psir_ref_iq;
-    in->speed_iq = c->speed_iq;
-    /* the rotor-flux angle and magnitude (CORDIC) only where the speed loop runs: sensorless
-     * speed, telemetry */
-    in->want_polar = (uint16_t)(c->div_cnt == 0U ? 1U : 0U);
+    im_dtc_ein_common(c);
 }
 
 /* Speed every speed_div-th period, as in the PM law: the encoder's, or the sensorless estimate

@@ -73,6 +73,7 @@
 #include "im_ref.h"
 #include "speed_meas.h"
 #include "speed_pi.h"
+#include "svm.h"
 #include "swtab.h"
 #include "vcomp.h"
 
@@ -122,6 +123,14 @@ typedef struct {
     clarke_out_t i;       /* currents of this step */
     im_est_in_t ein;      /* estimator input */
     iq_t dva_iq, dvb_iq;  /* a compensation term */
+    /* stator-flux vector control (scheme DTC_SCHEME_SFVC, im_sfvc.c) */
+    uint16_t sfvc;        /* 1: the configuration's scheme is SFVC (im_sfvc_step) */
+    svm_params_t svm_p;
+    svm_t svm;
+    svm_out_t svm_o;      /* the modulation of this step */
+    iq_t d_eff_1[3];      /* effective duties returned by the previous step: act in this period */
+    iq_t d_eff_2[3];      /* returned two steps ago: the period that ends now */
+    iq_t vs_alpha_iq, vs_beta_iq; /* stator-voltage reference v_s* of eq. 24 of this step, pu */
 } im_dtc_t;
 
 /* Validates cfg (dtc_config_validate; law DTC_LAW_IM_DTC) and initialises c. Returns DTC_OK or an
@@ -146,5 +155,27 @@ void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m);
 void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o);
 void im_dtc_refs(im_dtc_t *c);
 uint16_t im_dtc_select(im_dtc_t *c, iq_t te, dtc_out_t *o);
+
+/* The scheme DTC_SCHEME_SFVC's control period (im_sfvc.c): the same estimator, speed loop,
+ * start-up and references as im_dtc_step, then the stator-flux regulator of Casadei eqs. 18, 23,
+ * 24 and the SVM (svm.h); the output is the PWM form (dtc_out_t.pwm = 1, duty_iq). law.h calls
+ * it in place of im_dtc_step when c->sfvc. */
+void im_sfvc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
+/* Internal to im_sfvc_step, out of line for the stack. */
+void im_sfvc_estimate(im_dtc_t *c, const dtc_meas_t *m);
+void im_sfvc_regulate(im_dtc_t *c, const dtc_meas_t *m);
+/* The estimator input's part common to both schemes (currents, rotor-flux reference, speed, and
+ * the angle on the speed-loop periods). */
+static inline void im_dtc_ein_common(im_dtc_t *c)
+{
+    im_est_in_t *in = &c->ein;
+    in->i_alpha_iq = c->i.i_alpha_iq;
+    in->i_beta_iq = c->i.i_beta_iq;
+    in->psir_ref_iq = c->psir_ref_iq;
+    in->speed_iq = c->speed_iq;
+    /* the rotor-flux angle and magnitude (CORDIC) only where the speed loop runs: sensorless
+     * speed, telemetry */
+    in->want_polar = (uint16_t)(c->div_cnt == 0U ? 1U : 0U);
+}
 
 #endif /* IM_DTC_H */

@@ -75,6 +75,9 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->fw_window = 20;
     si->fw_step_frac = 0.005;
     si->fw_psi_min_frac = 0.1;
+    si->carrier_hz = 0.0;
+    si->svm_mode = 0;
+    si->sfvc_kp_per_s = 0.0;
     si->estimator = DTC_EST_VOLTAGE;
     si->compensation = DTC_COMP_FSTP_PROPOSED;
     si->sstp_table = DTC_ST_BASIC;
@@ -289,6 +292,18 @@ static void im_from_si(conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *
     }
 
     cfg->sw.scheme = (uint16_t)si->scheme;
+    if (si->scheme == DTC_SCHEME_SFVC) {
+        /* SFVC (im_sfvc.c): one SVM carrier period per control period; the flux regulator's K_p
+         * (eq. 24) in pu voltage per pu flux = K_p / w_base */
+        const double kp = si->sfvc_kp_per_s > 0.0 ? si->sfvc_kp_per_s : 0.5 / si->ts_s;
+        if (!(si->carrier_hz == 0.0 || fabs(si->carrier_hz * si->ts_s - 1.0) < 1e-9)) { fail(c, DTC_SI_ERR_IM, "carrier_hz = %g: the SVM carrier period must equal the control period ts_s = %g s (one PWM period per control period; 0 = 1/ts_s)", si->carrier_hz, si->ts_s); return; }
+        if (si->svm_mode != 0 && si->svm_mode != 1) { fail(c, DTC_SI_ERR_IM, "svm_mode = %d: must be 0 (symmetric) or 1 (two-phase)", si->svm_mode); return; }
+        if (!(si->sfvc_kp_per_s >= 0.0 && si->sfvc_kp_per_s * si->ts_s <= 1.0)) { fail(c, DTC_SI_ERR_IM, "sfvc_kp_per_s = %g: must be in (0, 1/ts_s = %g] (0 = derived)", si->sfvc_kp_per_s, 1.0 / si->ts_s); return; }
+        if (!(si->psir_ref_wb > 0.0)) { fail(c, DTC_SI_ERR_IM, "psir_ref_wb = %g: the stator-flux vector control takes the rotor-flux command (Casadei eq. 18): must be > 0", si->psir_ref_wb); return; }
+        if (si->flux_weakening != 0) { fail(c, DTC_SI_ERR_IM, "flux_weakening = %d: section 12's flux weakening watches the DTC torque comparator; not with the stator-flux vector control", si->flux_weakening); return; }
+        cfg->sw.svm_mode = (uint16_t)si->svm_mode;
+        cfg->sw.sfvc_kp_iq = to_iq(c, "sfvc_kp_per_s", kp, kp / b->w_base_rad_s);
+    }
     {
         const double rpm = si->table_speed_rpm > 0.0 ? si->table_speed_rpm : dtc_table_speed_default_rpm(si);
         cfg->sw.im_table_speed_iq = to_iq(c, "table_speed_rpm", rpm, rpm * rpm_pu);
@@ -424,8 +439,9 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     if (si->sstp_table < DTC_ST_BASIC || si->sstp_table > (si->law == DTC_LAW_IM_DTC ? DTC_ST_SPEED : DTC_ST_D))
         return fail(&c, DTC_SI_ERR_VARIANT, "sstp_table = %d: must be DTC_ST_BASIC..%s", si->sstp_table,
                     si->law == DTC_LAW_IM_DTC ? "DTC_ST_SPEED" : "DTC_ST_D (DTC_ST_SPEED is IM only)");
-    if (si->scheme != DTC_SCHEME_DTC && !(si->law == DTC_LAW_IM_DTC && si->scheme == DTC_SCHEME_DSC))
-        return fail(&c, DTC_SI_ERR_VARIANT, "scheme = %d: DTC_SCHEME_DTC, or DTC_SCHEME_DSC with the IM law", si->scheme);
+    if (si->scheme != DTC_SCHEME_DTC &&
+        !(si->law == DTC_LAW_IM_DTC && (si->scheme == DTC_SCHEME_DSC || si->scheme == DTC_SCHEME_SFVC)))
+        return fail(&c, DTC_SI_ERR_VARIANT, "scheme = %d: DTC_SCHEME_DTC, or DTC_SCHEME_DSC / DTC_SCHEME_SFVC with the IM law", si->scheme);
     if (si->speed_sensor != DTC_SPEED_ENCODER && !(si->law == DTC_LAW_IM_DTC && si->speed_sensor == DTC_SPEED_NONE))
         return fail(&c, DTC_SI_ERR_VARIANT, "speed_sensor = %d: DTC_SPEED_ENCODER, or DTC_SPEED_NONE with the IM law", si->speed_sensor);
     if (si->mode != DTC_MODE_SPEED && si->mode != DTC_MODE_TORQUE)

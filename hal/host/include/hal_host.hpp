@@ -59,7 +59,7 @@ struct HarnessConfig {
     // ts_s * pwm_clock_hz / 2. When that is not a whole number of counts in 1..65534 the PWM form
     // is unavailable: hal_pwm_period() returns 0 and a PWM-form command is an invalid write that
     // turns the gates off (the leg-state form works at any ts_s).
-    double pwm_clock_hz = 75e6;
+    double pwm_clock_hz = PLANT_DEF_PWM_CLOCK_HZ;
     SensorConfig sensors;
 };
 
