@@ -23,6 +23,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -104,6 +105,14 @@ public:
     /// actuation delay: the voltage table already says what is applied when).
     void set_ideal_voltage(double v_alpha_v, double v_beta_v);
 
+    /// Observation inside the period (tests: the current ripple of PWM, its spectrum): with n > 1
+    /// every advance() integrates the period in n equal parts and calls f(plant) after each; the
+    /// switching instants of the command are split among the parts (the plant's dead time is
+    /// kept in absolute time), so the plant sees the same command as in one piece. n = 1 (the
+    /// default) advances in one piece. The period-match gates-off path (hal.h: an asymmetric
+    /// pulse followed by enable = 0) is not split and calls f once, at the period's end.
+    void set_substeps(int n, std::function<void(const plant_t*)> f);
+
     // --- what the runner records -------------------------------------------------------------
     /// The plant's full true state at time_s(): between sample() and advance() the state at t_k
     /// that was sampled. Computed by plant_get_state() on the first call after each sample() or
@@ -156,6 +165,7 @@ private:
     Harness(plant_t* plant, const HarnessConfig& cfg, const plant_params_t& params);
     bool comparator_active() const;
     void apply_to_plant();
+    void advance_plain(); // one period of the active command, in substeps_ parts
     static bool pwm_asymmetric(const hal_cmd_t& c);
 
     plant_t* plant_;
@@ -186,6 +196,8 @@ private:
     std::uint64_t watchdog_services_ = 0;
     std::uint64_t writes_ = 0;
     std::uint64_t invalid_writes_ = 0;
+    int substeps_ = 1;
+    std::function<void(const plant_t*)> substep_fn_;
 };
 
 } // namespace hal_host
