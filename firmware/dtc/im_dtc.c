@@ -59,10 +59,12 @@ void im_dtc_reset(im_dtc_t *c)
     c->te_ref_iq = 0;
     c->psi_ref_iq = c->act.flux_ref_iq;
     c->speed_iq = 0;
-    /* SFVC: the gates were off, no voltage: equal duties on every leg */
+    /* SFVC: the gates were off, no voltage */
     svm_reset(&c->svm);
-    c->d_eff_1[0] = c->d_eff_1[1] = c->d_eff_1[2] = IQ(0.5);
-    c->d_eff_2[0] = c->d_eff_2[1] = c->d_eff_2[2] = IQ(0.5);
+    c->v1_alpha_iq = 0;
+    c->v1_beta_iq = 0;
+    c->v2_alpha_iq = 0;
+    c->v2_beta_iq = 0;
     c->vs_alpha_iq = 0;
     c->vs_beta_iq = 0;
 }

@@ -128,9 +128,14 @@ typedef struct {
     svm_params_t svm_p;
     svm_t svm;
     svm_out_t svm_o;      /* the modulation of this step */
-    iq_t d_eff_1[3];      /* effective duties returned by the previous step: act in this period */
-    iq_t d_eff_2[3];      /* returned two steps ago: the period that ends now */
+    iq_t v1_alpha_iq, v1_beta_iq; /* voltage of the duties returned by the previous step (their
+                                   * d_eff on the link measured then): acts in this period, pu */
+    iq_t v2_alpha_iq, v2_beta_iq; /* returned two steps ago: the period that ends now, pu */
     iq_t vs_alpha_iq, vs_beta_iq; /* stator-voltage reference v_s* of eq. 24 of this step, pu */
+    /* constant products of the configuration (im_dtc_init), eqs. 16, 18, 24 */
+    iq_t sfvc_kpd_iq;     /* K_p (l_s/m) phi_r*: K_p times the d component of eq. 18 */
+    iq_t sfvc_kpq_iq;     /* K_p (l_s/m) sigma l_r / phi_r*: K_p times eq. 18's q component per pu T* */
+    iq_t sfvc_kslip_iq;   /* r_r / phi_r*^2: eq. 16's slip per pu torque */
 } im_dtc_t;
 
 /* Validates cfg (dtc_config_validate; law DTC_LAW_IM_DTC) and initialises c. Returns DTC_OK or an
@@ -163,7 +168,7 @@ uint16_t im_dtc_select(im_dtc_t *c, iq_t te, dtc_out_t *o);
 void im_sfvc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
 /* Internal to im_sfvc_step, out of line for the stack. */
 void im_sfvc_estimate(im_dtc_t *c, const dtc_meas_t *m);
-void im_sfvc_regulate(im_dtc_t *c, const dtc_meas_t *m);
+void im_sfvc_regulate(im_dtc_t *c);
 /* The estimator input's part common to both schemes (currents, rotor-flux reference, speed, and
  * the angle on the speed-loop periods). */
 static inline void im_dtc_ein_common(im_dtc_t *c)

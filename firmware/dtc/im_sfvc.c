@@ -4,7 +4,8 @@
  * per control period, which is also the SVM carrier period (one centred pulse per leg, svm.h).
  *
  *   Clarke -> stator voltage of the period that ends now (the duties returned two steps ago as
- *      the SVM expects them to act, d_eff, on the measured V_dc) + the device-drop compensation
+ *      the SVM expects them to act, d_eff, on the V_dc measured when they were made) + the
+ *      device-drop compensation
  *   -> stator and rotor flux (improved or voltage-model estimator, im_est.h), torque (eq. A10)
  *   -> speed and speed PI, start-up magnetisation, references (shared with im_dtc_step)
  *   -> stator-flux reference vector, Casadei eq. 18 in the rotor-flux frame at constant rotor
@@ -31,78 +32,64 @@
  *
  * Formats: IQ pu (dtc_base.h), the duties IQ in [0, 1]; K_p in pu voltage per pu flux (K_p /
  * w_base), Ts as ts_pu = Ts w_base.
- * Scaling and overflow: rounded IQ products (iq_mpy) and saturating sums; the reference's
+ * Scaling and overflow: rounded IQ products (iq_mpy, and iq_mac2 for the two-term sums of
+ * products, rounded once) and saturating sums; the reference's
  * magnitude is l_s/m |phi_r*| sqrt(1 + (sigma l_r T* / phi_r*^2)^2), a few pu at the torque limit;
  * v_s* is at most R_s |i| + |w_s||phi_s| + K_p |Delta phi_s| (K_p <= 1/ts_pu: 64 pu at 50 us and
  * 50 Hz base), saturating; the SVM clamps it onto its hexagon (svm.h).
  */
 #include "im_dtc.h"
 
-#include "im_ref.h"
 #include "torque.h"
 #include "vrec.h"
 
-/* Voltage of three expected duties on the link: leg voltages d_x V_dc through the reconstruction
- * of Hoang eqs. 1-5 (Casadei eq. 2). IQ x IQ rounded; vrec_from_legs saturates. */
-static void sfvc_duty_voltage(const iq_t d[3], iq_t vdc_iq, iq_t *va, iq_t *vb)
-{
-    vrec_from_legs(iq_mpy(d[0], vdc_iq), iq_mpy(d[1], vdc_iq), iq_mpy(d[2], vdc_iq), va, vb);
-}
-
-/* The estimator's input (as im_dtc_estimate): the duties of the period that ends now plus the
- * SSTP device-drop terms (vcomp.h; with the SSTP's equal drops the leg state does not matter).
- * The dead time is in d_eff already (svm.h). */
+/* The estimator's input (as im_dtc_estimate): the voltage of the period that ends now (kept by
+ * the step two periods ago, d_eff: the dead time is in it, svm.h) plus the SSTP device-drop
+ * terms (vcomp.h; with the SSTP's equal drops the leg state does not matter). */
 void im_sfvc_estimate(im_dtc_t *c, const dtc_meas_t *m)
 {
     im_est_in_t *in = &c->ein;
-    sfvc_duty_voltage(c->d_eff_2, m->vdc_iq, &in->v_alpha_iq, &in->v_beta_iq);
+    (void)m;
     vcomp_step(&c->vc_p, 0U, 0U, 0U, &c->i, &c->dva_iq, &c->dvb_iq);
-    in->v_alpha_iq = fix_add32(in->v_alpha_iq, c->dva_iq);
-    in->v_beta_iq = fix_add32(in->v_beta_iq, c->dvb_iq);
+    in->v_alpha_iq = fix_add32(c->v2_alpha_iq, c->dva_iq);
+    in->v_beta_iq = fix_add32(c->v2_beta_iq, c->dvb_iq);
     im_dtc_ein_common(c);
 }
 
-/* Eqs. 18, 23, 24 (file comment), then the SVM into c->svm_o. */
-void im_sfvc_regulate(im_dtc_t *c, const dtc_meas_t *m)
+/* Eqs. 18, 23, 24 (file comment) into c->vs_alpha_iq, c->vs_beta_iq. Eq. 24 is evaluated with K_p
+ * distributed, v_s* = R_s i + (j w_s - K_p) phi_s + K_p phi_s*, so that K_p phi_s* comes from the
+ * products K_p (l_s/m) phi_r* and K_p (l_s/m) sigma l_r / phi_r* made at init. */
+void im_sfvc_regulate(im_dtc_t *c)
 {
     const dtc_config_t *cfg = c->cfg;
-    const dtc_im_machine_cfg_t *im = &cfg->machine.im;
     const iq_t ts = cfg->board.ts_pu_iq;
-    const iq_t rs = cfg->machine.rs_iq;
-    iq_t pa, pb, ra, rb, ws, x;
+    const iq_t kp = cfg->sw.sfvc_kp_iq;
+    const iq_t ria = iq_mpy(cfg->machine.rs_iq, c->i.i_alpha_iq);
+    const iq_t rib = iq_mpy(cfg->machine.rs_iq, c->i.i_beta_iq);
+    iq_t pa, pb, ra, rb, ws;
 
     /* the flux predicted for k+1: the stator-voltage equation over the period under way */
-    {
-        iq_t v1a, v1b;
-        sfvc_duty_voltage(c->d_eff_1, m->vdc_iq, &v1a, &v1b);
-        pa = iq_add(c->est.psi_alpha_iq,
-                    iq_mpy(ts, iq_sub(iq_add(v1a, c->dva_iq), iq_mpy(rs, c->i.i_alpha_iq))));
-        pb = iq_add(c->est.psi_beta_iq,
-                    iq_mpy(ts, iq_sub(iq_add(v1b, c->dvb_iq), iq_mpy(rs, c->i.i_beta_iq))));
-    }
-    /* eq. 18 in the rotor-flux frame (d along phi_r), then e^{j theta} (eq. 22) */
+    pa = iq_add(c->est.psi_alpha_iq, iq_mpy(ts, iq_sub(iq_add(c->v1_alpha_iq, c->dva_iq), ria)));
+    pb = iq_add(c->est.psi_beta_iq, iq_mpy(ts, iq_sub(iq_add(c->v1_beta_iq, c->dvb_iq), rib)));
+    /* K_p phi_s*: eq. 18 in the rotor-flux frame (d along phi_r), turned by e^{j theta} (eq. 22) */
     {
         iq_t d, q;
         if (c->magnetised == 0U) {
-            d = c->psi_ref_iq; /* the start-up ramp, radial, T* = 0 */
+            d = iq_mpy(kp, c->psi_ref_iq); /* the start-up ramp, radial, T* = 0 */
             q = 0;
         } else {
-            d = iq_mpy(im->ks_iq, cfg->speed.psir_ref_iq);
-            q = iq_mpy(im->ks_iq, iq_mpy(iq_mpy(im->sigma_lr_iq, c->te_ref_iq), cfg->speed.inv_psir_ref_iq));
+            d = c->sfvc_kpd_iq;
+            q = iq_mpy(c->sfvc_kpq_iq, c->te_ref_iq);
         }
-        ra = iq_sub(iq_mpy(d, c->est.u_alpha_iq), iq_mpy(q, c->est.u_beta_iq));
-        rb = iq_add(iq_mpy(d, c->est.u_beta_iq), iq_mpy(q, c->est.u_alpha_iq));
+        ra = iq_mac2(d, c->est.u_alpha_iq, fix_neg32(q), c->est.u_beta_iq);
+        rb = iq_mac2(d, c->est.u_beta_iq, q, c->est.u_alpha_iq);
     }
     /* w_s = w + w_slip (eq. 16), the reference advanced by w_s Ts to k+1 */
-    ws = iq_add(c->speed_iq, im_ref_slip(im->rr_iq, c->te_ref_iq, cfg->speed.inv_psir_sq_iq));
-    x = iq_mpy(ws, ts);
-    iq_cmul_1jx(x, &ra, &rb);
-    /* eq. 23 and eq. 24: v_s* = R_s i + j w_s phi_s + K_p (phi_s* - phi_s) */
-    c->vs_alpha_iq = iq_add(iq_sub(iq_mpy(rs, c->i.i_alpha_iq), iq_mpy(ws, pb)),
-                            iq_mpy(cfg->sw.sfvc_kp_iq, iq_sub(ra, pa)));
-    c->vs_beta_iq = iq_add(iq_add(iq_mpy(rs, c->i.i_beta_iq), iq_mpy(ws, pa)),
-                           iq_mpy(cfg->sw.sfvc_kp_iq, iq_sub(rb, pb)));
-    svm_step(&c->svm, &c->svm_p, c->vs_alpha_iq, c->vs_beta_iq, m->vdc_iq, &c->i, &c->svm_o);
+    ws = iq_add(c->speed_iq, iq_mpy(c->sfvc_kslip_iq, c->te_ref_iq));
+    iq_cmul_1jx(iq_mpy(ws, ts), &ra, &rb);
+    /* eqs. 23-24: v_s* = R_s i + j w_s phi_s + K_p (phi_s* - phi_s) */
+    c->vs_alpha_iq = iq_add(iq_sub(ria, iq_mac2(ws, pb, kp, pa)), ra);
+    c->vs_beta_iq = iq_add(iq_add(rib, iq_mac2(ws, pa, fix_neg32(kp), pb)), rb);
 }
 
 void im_sfvc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
@@ -124,23 +111,34 @@ void im_sfvc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     im_est_step(&c->est, &c->ein);
     /* 4. Torque (Casadei eq. A10). */
     te = torque_eq10(c->est.psi_alpha_iq, c->est.psi_beta_iq, c->i.i_alpha_iq, c->i.i_beta_iq);
-    /* 5. Speed and speed loop; 6. references: start-up, eq. 19 (the stator-flux magnitude, for
-     *    the telemetry and the magnetising ramp). */
+    /* 5. Speed and speed loop; 6. references: start-up (the magnetising ramp), T*. */
     im_dtc_speed(c, m, te, o);
+    c->ref_due = 0U; /* eq. 19's |phi_s*| is not used: eq. 18 gives the vector (im_sfvc_regulate) */
     im_dtc_refs(c);
-    /* 7. Flux regulator (eqs. 18, 23, 24) and SVM. */
-    im_sfvc_regulate(c, m);
+    /* 7. Flux regulator (eqs. 18, 23, 24), then the SVM (called from here: its frame and the
+     *    regulator's are not on one chain, for the stack). */
+    im_sfvc_regulate(c);
+    svm_step(&c->svm, &c->svm_p, c->vs_alpha_iq, c->vs_beta_iq, m->vdc_iq, &c->i, &c->svm_o);
+    /* the voltage the new duties will apply (d_eff, Casadei eq. 2 / Hoang eqs. 1-5 on the link
+     * measured now): (2 d_a - d_b - d_c)/3 V_dc, (d_b - d_c)/sqrt3 V_dc; vrec_from_legs saturates,
+     * IQ products rounded */
+    c->v2_alpha_iq = c->v1_alpha_iq;
+    c->v2_beta_iq = c->v1_beta_iq;
+    {
+        iq_t a, b;
+        vrec_from_legs(c->svm_o.d_eff_iq[0], c->svm_o.d_eff_iq[1], c->svm_o.d_eff_iq[2], &a, &b);
+        c->v1_alpha_iq = iq_mpy(a, m->vdc_iq);
+        c->v1_beta_iq = iq_mpy(b, m->vdc_iq);
+    }
     for (x = 0U; x < 3U; x++) {
-        c->d_eff_2[x] = c->d_eff_1[x];
-        c->d_eff_1[x] = c->svm_o.d_eff_iq[x];
         o->duty_iq[x] = c->svm_o.d_iq[x];
     }
 
     /* 8. Outputs. */
     o->pwm = 1U;
-    o->sa = (uint16_t)(c->svm_o.d_iq[0] > IQ(0.5) ? 1U : 0U);
-    o->sb = (uint16_t)(c->svm_o.d_iq[1] > IQ(0.5) ? 1U : 0U);
-    o->sc = (uint16_t)(c->svm_o.d_iq[2] > IQ(0.5) ? 1U : 0U);
+    o->sa = 0U; /* the PWM form carries the command (duty_iq) */
+    o->sb = 0U;
+    o->sc = 0U;
     o->vector = 0U;
     o->sector = 0U;
     o->flux_up = 0U;
@@ -152,7 +150,7 @@ void im_sfvc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     o->speed_iq = c->speed_iq;
     o->theta_e = c->est.theta_r;
     o->on_cm = 0U;
-    o->psi_ref_iq = c->psi_ref_iq;
+    o->psi_ref_iq = c->psi_ref_iq; /* the start-up ramp, then (l_s/m) phi_r*: eq. 18's d part */
     o->psir_mag_iq = c->est.psir_mag_iq;
     o->i_limited = 0U;
 }

@@ -44,7 +44,7 @@
  * (T_d/T_s <= d_cmd <= 1 - T_d/T_s); a narrower pulse is eaten by the dead band and the error is
  * smaller than modelled (at most T_d/T_s of duty).
  *
- * Formats: voltages IQ pu; duties IQ in [0, IQ(1)]; T_d/T_s Q15 (dtc_board_cfg_t); currents IQ
+ * Formats: voltages IQ pu; duties IQ in [0, IQ(1)]; T_d/T_s IQ; currents IQ
  * pu; compare values timer counts.
  * Scaling and overflow: n_x = v_x (1/V_dc) rounded IQ products, saturating at +-128 (the angle is
  * preserved for |v| < 64 V_dc, where the span cannot saturate); sums and differences saturate;
@@ -69,7 +69,7 @@ enum svm_mode {
 typedef struct {
     uint16_t mode;    /* enum svm_mode */
     uint16_t dt_comp; /* 1: dead-time compensation by the current sign */
-    q15_t td_ts_q15;  /* T_d / T_s, [0, 0.5) (dtc_board_cfg_t) */
+    iq_t td_iq;       /* T_d / T_s, [0, 0.5) (dtc_board_cfg_t td_ts_q15 in IQ) */
 } svm_params_t;
 
 typedef struct {
@@ -89,11 +89,24 @@ void svm_reset(svm_t *s);
 void svm_step(svm_t *s, const svm_params_t *p, iq_t v_alpha_iq, iq_t v_beta_iq, iq_t vdc_iq,
               const clarke_out_t *i, svm_out_t *o);
 
-/* 1/x for x > 0 (IQ): two Newton steps (iq_recip_newton) from y, after a re-seed from the power of
- * two of x (y0 = 0.75 / 2^floor(log2 x), |1 - x y0| <= 1/2, then eight steps: error < 2^-16 ^ ... far
- * below one IQ LSB relative) when |1 - x y| > 1/4 or y <= 0. x <= 0 returns y unchanged.
- * Scaling: IQ products rounded; 1/x for x >= 2^-7 pu (y <= 128) only. */
-iq_t svm_recip(iq_t y, iq_t x);
+#define SVM_ONE_IQ ((iq_t)1 << FIX_IQ_Q)
+
+iq_t svm_recip_slow(iq_t y, iq_t x, iq_t e);
+
+/* 1/x for x > 0 (IQ) by Newton steps from the caller's previous y: with e = 1 - x y, one step
+ * y (1 + e) (= y (2 - x y)) when |e| <= 2^-12, leaving e^2 <= 2^-24 (a slowly varying V_dc takes
+ * this path); else svm_recip_slow: two steps when |e| <= 1/4, a re-seed from the power of two of x
+ * and eight steps otherwise. The result is within a few IQ LSB of 1/x (relative 2^-24) whatever
+ * y was. x <= 0 returns y unchanged. Scaling: IQ products rounded; for x >= 2^-7 pu (1/x <= 128)
+ * only. */
+static inline iq_t svm_recip(iq_t y, iq_t x)
+{
+    const iq_t e = iq_sub(SVM_ONE_IQ, iq_mpy(x, y));
+    if (x > 0 && y > 0 && e <= (SVM_ONE_IQ >> 12) && e >= -(SVM_ONE_IQ >> 12)) {
+        return iq_add(y, iq_mpy(y, e));
+    }
+    return svm_recip_slow(y, x, e);
+}
 
 /* Compare value of a centred pulse of duty d (hal.h, HAL_PWM_UPPER_ACTIVE_HIGH, cmpr_up =
  * cmpr_dn): on-time ts (1 - c/T1PR), so c = round(T1PR (1 - d)); c >= T1PR (a pulse of zero
@@ -101,9 +114,8 @@ iq_t svm_recip(iq_t y, iq_t x);
  * Scaling: d clamped to [0, IQ(1)]; T1PR (1 - d) < 2^16 * 2^24 formed in 64 bits. */
 static inline uint16_t svm_cmpr(iq_t d_iq, uint16_t t1pr)
 {
-    const iq_t one = (iq_t)1 << FIX_IQ_Q;
-    const iq_t d = fix_clamp32(d_iq, 0, one);
-    const int64_t c = ((int64_t)t1pr * (int64_t)(one - d) + ((int64_t)1 << (FIX_IQ_Q - 1))) >> FIX_IQ_Q;
+    const iq_t d = fix_clamp32(d_iq, 0, SVM_ONE_IQ);
+    const int64_t c = ((int64_t)t1pr * (int64_t)(SVM_ONE_IQ - d) + ((int64_t)1 << (FIX_IQ_Q - 1))) >> FIX_IQ_Q;
     return c >= (int64_t)t1pr ? (uint16_t)(t1pr + 1U) : (uint16_t)c;
 }
 

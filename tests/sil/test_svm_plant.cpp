@@ -67,7 +67,7 @@ VsErr run(plant_params_t p, std::uint16_t mode, std::uint16_t dt_comp, double fr
     svm_params_t prm{};
     prm.mode = mode;
     prm.dt_comp = dt_comp;
-    prm.td_ts_q15 = static_cast<q15_t>(std::lround(p.dead_time_s / ts * 32768.0));
+    prm.td_iq = to_iq(p.dead_time_s / ts);
     std::vector<double> cmd_a, cmd_b;
     VsErr e;
     double sum = 0.0;

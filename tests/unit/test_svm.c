@@ -250,8 +250,8 @@ static void test_deadtime_compensation_edges(void **state)
     clarke_out_t i;
     svm_t s;
     svm_out_t o, o0;
-    p.td_ts_q15 = fixtest_d_to_q15(td);
-    const double tdq = fixtest_q15_to_d(p.td_ts_q15);
+    p.td_iq = iq_from_q15(fixtest_d_to_q15(td)); /* the Q15 of the configuration */
+    const double tdq = fixtest_iq_to_d(p.td_iq);
     i.ia_iq = IQ(0.5);
     i.ib_iq = IQ(-0.2);
     i.ic_iq = 0;
