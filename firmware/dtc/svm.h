@@ -46,12 +46,13 @@
  *
  * Formats: voltages IQ pu; duties IQ in [0, IQ(1)]; T_d/T_s IQ; currents IQ
  * pu; compare values timer counts.
- * Scaling and overflow: n_x = v_x (1/V_dc) rounded IQ products, saturating at +-128 (the angle is
- * preserved for |v| < 64 V_dc, where the span cannot saturate); sums and differences saturate;
- * the Newton reciprocal keeps y within (0, 2/x) by re-seeding (svm_recip); duties are clamped to
- * [0, 1]; svm_cmpr forms T1PR (1 - d) in 64 bits and rounds it. V_dc <= 0 gives d = 1/2 on every
- * leg (zero volts) and leaves the reciprocal untouched (the application trips on under-voltage
- * first). No division.
+ * Scaling and overflow: v_alpha/V_dc and v_beta/V_dc are rounded IQ products clamped to +-32
+ * (the angle is preserved for |v| < 32 V_dc); then |n_x| < 60 and every sum (n_x + n_0, the span,
+ * the mid-point) stays below 120 pu, inside int32 without saturation; the Newton reciprocal keeps
+ * y within (0, 2/x) by re-seeding (svm_recip); duties are clamped to [0, 1] and the dead-time sums
+ * stay within (-1/2, 3/2); svm_cmpr forms T1PR (1 - d) in 64 bits and rounds it. V_dc <= 0 gives
+ * d = 1/2 on every leg (zero volts) and leaves the reciprocal untouched (the application trips on
+ * under-voltage first). No division.
  */
 #ifndef SVM_H
 #define SVM_H
@@ -84,8 +85,8 @@ typedef struct {
 
 void svm_reset(svm_t *s);
 
-/* One PWM period: reference (v_alpha, v_beta), DC link vdc, phase currents i (for the dead-time
- * sign; may be null when p->dt_comp is 0 and no d_eff correction is wanted, then d_eff = d). */
+/* One PWM period: reference (v_alpha, v_beta), DC link vdc, phase currents i (the dead-time
+ * sign; null: no dead-time handling at all, d_eff = d, whatever p->dt_comp). */
 void svm_step(svm_t *s, const svm_params_t *p, iq_t v_alpha_iq, iq_t v_beta_iq, iq_t vdc_iq,
               const clarke_out_t *i, svm_out_t *o);
 
