@@ -275,22 +275,8 @@ void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     iq_t te;
     uint16_t vec;
 
-    /* 1. Shadow set (dtc_refs.h). */
-    {
-        const uint16_t seq = dtc_shadow_pending(&c->sh);
-        if (seq != 0U) {
-            im_dtc_adopt(c, seq);
-        }
-    }
-    /* 2. Clarke (Hoang eqs. 4-5, the same transform as Casadei's space vectors). */
-    clarke_sstp(m->ia_iq, m->ib_iq, &c->i);
-    /* 3. Stator and rotor flux (Casadei eqs. 1, 20-22). */
-    im_dtc_estimate(c, m);
-    im_est_step(&c->est, &c->ein);
-    /* 4. Torque (Casadei eq. A10 = Hoang eq. 10 in these bases). */
-    te = torque_eq10(c->est.psi_alpha_iq, c->est.psi_beta_iq, c->i.i_alpha_iq, c->i.i_beta_iq);
-    /* 5. Speed and speed loop. */
-    im_dtc_speed(c, m, te, o);
+    /* 1-5. Shadow set, Clarke, stator and rotor flux, torque, speed and speed loop. */
+    te = im_dtc_front(c, m, o, 0U);
     /* 6. References: start-up, flux weakening, eq. 19. */
     im_dtc_refs(c);
     /* 7. Comparators, table or DSC, null-vector choice. */

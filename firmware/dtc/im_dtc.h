@@ -75,6 +75,7 @@
 #include "speed_pi.h"
 #include "svm.h"
 #include "swtab.h"
+#include "torque.h"
 #include "vcomp.h"
 
 typedef struct {
@@ -169,6 +170,33 @@ void im_sfvc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
 /* Internal to im_sfvc_step, out of line for the stack. */
 void im_sfvc_estimate(im_dtc_t *c, const dtc_meas_t *m);
 void im_sfvc_regulate(im_dtc_t *c);
+/* Steps 1-5 of a control period, common to both schemes: the shadow set (dtc_refs.h), Clarke
+ * (Hoang eqs. 4-5, the same transform as Casadei's space vectors), the stator and rotor flux
+ * (Casadei eqs. 1, 20-22) from the scheme's voltage (pwm = 0: the legs, im_dtc_estimate; 1: the
+ * modulated duties, im_sfvc_estimate), the torque (Casadei eq. A10 = Hoang eq. 10 in these bases),
+ * the speed and the speed loop. Returns the estimated torque. Inline with a constant pwm: each
+ * scheme's step gets its own copy (no call or branch added to the DTC path). */
+static inline iq_t im_dtc_front(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, uint16_t pwm)
+{
+    iq_t te;
+    {
+        const uint16_t seq = dtc_shadow_pending(&c->sh);
+        if (seq != 0U) {
+            im_dtc_adopt(c, seq);
+        }
+    }
+    clarke_sstp(m->ia_iq, m->ib_iq, &c->i);
+    if (pwm != 0U) {
+        im_sfvc_estimate(c, m);
+    } else {
+        im_dtc_estimate(c, m);
+    }
+    im_est_step(&c->est, &c->ein);
+    te = torque_eq10(c->est.psi_alpha_iq, c->est.psi_beta_iq, c->i.i_alpha_iq, c->i.i_beta_iq);
+    im_dtc_speed(c, m, te, o);
+    return te;
+}
+
 /* The estimator input's part common to both schemes (currents, rotor-flux reference, speed, and
  * the angle on the speed-loop periods). */
 static inline void im_dtc_ein_common(im_dtc_t *c)

@@ -40,7 +40,6 @@
  */
 #include "im_dtc.h"
 
-#include "torque.h"
 #include "vrec.h"
 
 /* The estimator's input (as im_dtc_estimate): the voltage of the period that ends now (kept by
@@ -97,22 +96,10 @@ void im_sfvc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     iq_t te;
     uint16_t x;
 
-    /* 1. Shadow set (dtc_refs.h). */
-    {
-        const uint16_t seq = dtc_shadow_pending(&c->sh);
-        if (seq != 0U) {
-            im_dtc_adopt(c, seq);
-        }
-    }
-    /* 2. Clarke (Hoang eqs. 4-5). */
-    clarke_sstp(m->ia_iq, m->ib_iq, &c->i);
-    /* 3. Stator and rotor flux (Casadei eqs. 1, 20-22) from the modulated voltage. */
-    im_sfvc_estimate(c, m);
-    im_est_step(&c->est, &c->ein);
-    /* 4. Torque (Casadei eq. A10). */
-    te = torque_eq10(c->est.psi_alpha_iq, c->est.psi_beta_iq, c->i.i_alpha_iq, c->i.i_beta_iq);
-    /* 5. Speed and speed loop; 6. references: start-up (the magnetising ramp), T*. */
-    im_dtc_speed(c, m, te, o);
+    /* 1-5. Shadow set, Clarke, stator and rotor flux from the modulated voltage, torque, speed
+     *      and speed loop (shared with im_dtc_step). 6. References: start-up (the magnetising
+     *      ramp), T*. */
+    te = im_dtc_front(c, m, o, 1U);
     c->ref_due = 0U; /* eq. 19's |phi_s*| is not used: eq. 18 gives the vector (im_sfvc_regulate) */
     im_dtc_refs(c);
     /* 7. Flux regulator (eqs. 18, 23, 24), then the SVM (called from here: its frame and the
