@@ -55,8 +55,10 @@ enum dtc_sstp_table {
 enum dtc_scheme {
     DTC_SCHEME_DTC = 0, /* switching table (Casadei sections 4-8) */
     DTC_SCHEME_DSC = 1, /* IM only: Direct Self Control (Casadei section 9, dsc.h) */
-    DTC_SCHEME_SFVC = 2 /* IM only: stator-flux vector control with SVM at a constant switching
-                         * frequency (Casadei sections 10.3-10.5, Fig. 18; im_sfvc.c, svm.h) */
+    DTC_SCHEME_SFVC = 2, /* IM only: stator-flux vector control with SVM at a constant switching
+                          * frequency (Casadei sections 10.3-10.5, Fig. 18; im_sfvc.c, svm.h) */
+    DTC_SCHEME_DFOC = 3  /* IM only: direct rotor-flux-oriented control, PI current regulators in
+                          * the rotor-flux frame, SVM (Casadei section 13; im_dfoc.c) */
 };
 
 enum dtc_speed_sensor {
@@ -98,8 +100,8 @@ enum dtc_err {
     DTC_ERR_POLARITY = -22,    /* polarity_mid or vmid_cal flag not 0/1 */
     DTC_ERR_LPFCOMP = -23,     /* lpf_comp not 0/1, or w_c / w_min not > 0 with it on */
     DTC_ERR_DCSUPP = -24,      /* dc_supp not 0/1, its gain not > 0 with it on, mid-point gain < 0 */
-    DTC_ERR_SVM = -25          /* SFVC: modulation out of range, flux-regulator gain K_p not in
-                                * (0, 1/Ts] */
+    DTC_ERR_SVM = -25          /* SFVC / DFOC: modulation out of range, flux-regulator gain K_p
+                                * not in (0, 1/Ts], DFOC current-loop gains or references not > 0 */
 };
 
 /* Speed measurement: ring of encoder positions at the speed-loop rate (see speed_meas.h). */
@@ -256,6 +258,12 @@ typedef struct {
     iq_t sfvc_kp_iq;           /* flux-regulator gain K_p of eq. 24 over w_base (pu voltage per
                                 * pu flux), in (0, 1/ts_pu]: K_p Ts = 1 removes a flux error in
                                 * one period (deadbeat) */
+    /* IM direct rotor-flux-oriented control (scheme DTC_SCHEME_DFOC, Casadei section 13,
+     * im_dfoc.c); svm_mode as above. */
+    iq_t dfoc_kp_iq;           /* current PI proportional gain, pu voltage per pu current (> 0) */
+    iq_t dfoc_ki_ts_iq;        /* its integral gain times Ts, pu voltage per pu current (>= 0) */
+    iq_t dfoc_id_ref_iq;       /* d-axis current reference phi_r* / m, pu (> 0) */
+    iq_t dfoc_iq_per_t_iq;     /* q-axis current per pu torque, l_r / (m phi_r*) (> 0) */
 } dtc_switch_cfg_t;
 
 /* Speed loop, limits and the initial references (the shadow set replaces the references at run

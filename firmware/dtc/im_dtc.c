@@ -67,6 +67,8 @@ void im_dtc_reset(im_dtc_t *c)
     c->v2_beta_iq = 0;
     c->vs_alpha_iq = 0;
     c->vs_beta_iq = 0;
+    c->foc_id_int_iq = 0;
+    c->foc_iq_int_iq = 0;
 }
 
 int16_t im_dtc_shadow_write(im_dtc_t *c, const dtc_refs_t *r)

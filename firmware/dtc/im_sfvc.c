@@ -40,7 +40,6 @@
  */
 #include "im_dtc.h"
 
-#include "vrec.h"
 
 /* The estimator's input (as im_dtc_estimate): the voltage of the period that ends now (kept by
  * the step two periods ago, d_eff: the dead time is in it, svm.h) plus the SSTP device-drop
@@ -94,7 +93,6 @@ void im_sfvc_regulate(im_dtc_t *c)
 void im_sfvc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
 {
     iq_t te;
-    uint16_t x;
 
     /* 1-5. Shadow set, Clarke, stator and rotor flux from the modulated voltage, torque, speed
      *      and speed loop (shared with im_dtc_step). 6. References: start-up (the magnetising
@@ -102,42 +100,9 @@ void im_sfvc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     te = im_dtc_front(c, m, o, 1U);
     c->ref_due = 0U; /* eq. 19's |phi_s*| is not used: eq. 18 gives the vector (im_sfvc_regulate) */
     im_dtc_refs(c);
-    /* 7. Flux regulator (eqs. 18, 23, 24), then the SVM (called from here: its frame and the
-     *    regulator's are not on one chain, for the stack). */
+    /* 7. Flux regulator (eqs. 18, 23, 24); the SVM is called from here, after it, so that its
+     *    frame and the regulator's are not on one chain (stack). */
     im_sfvc_regulate(c);
-    svm_step(&c->svm, &c->svm_p, c->vs_alpha_iq, c->vs_beta_iq, m->vdc_iq, &c->i, &c->svm_o);
-    /* the voltage the new duties will apply (d_eff, Casadei eq. 2 / Hoang eqs. 1-5 on the link
-     * measured now): (2 d_a - d_b - d_c)/3 V_dc, (d_b - d_c)/sqrt3 V_dc; vrec_from_legs saturates,
-     * IQ products rounded */
-    c->v2_alpha_iq = c->v1_alpha_iq;
-    c->v2_beta_iq = c->v1_beta_iq;
-    {
-        iq_t a, b;
-        vrec_from_legs(c->svm_o.d_eff_iq[0], c->svm_o.d_eff_iq[1], c->svm_o.d_eff_iq[2], &a, &b);
-        c->v1_alpha_iq = iq_mpy(a, m->vdc_iq);
-        c->v1_beta_iq = iq_mpy(b, m->vdc_iq);
-    }
-    for (x = 0U; x < 3U; x++) {
-        o->duty_iq[x] = c->svm_o.d_iq[x];
-    }
-
-    /* 8. Outputs. */
-    o->pwm = 1U;
-    o->sa = 0U; /* the PWM form carries the command (duty_iq) */
-    o->sb = 0U;
-    o->sc = 0U;
-    o->vector = 0U;
-    o->sector = 0U;
-    o->flux_up = 0U;
-    o->torque_dem = 0;
-    o->psi_alpha_iq = c->est.psi_alpha_iq;
-    o->psi_beta_iq = c->est.psi_beta_iq;
-    o->te_iq = te;
-    o->te_ref_iq = c->te_ref_iq;
-    o->speed_iq = c->speed_iq;
-    o->theta_e = c->est.theta_r;
-    o->on_cm = 0U;
-    o->psi_ref_iq = c->psi_ref_iq; /* the start-up ramp, then (l_s/m) phi_r*: eq. 18's d part */
-    o->psir_mag_iq = c->est.psir_mag_iq;
-    o->i_limited = 0U;
+    /* 8. SVM and outputs (shared with the DFOC). */
+    im_pwm_out(c, m, o, te);
 }

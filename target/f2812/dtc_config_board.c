@@ -91,6 +91,10 @@ const dtc_config_t g_dtc_config = {
         .im_fw_kt_iq = 0, /* 0 pu */
         .svm_mode = 0U,
         .sfvc_kp_iq = 0, /* 0 pu */
+        .dfoc_kp_iq = 0, /* 0 pu */
+        .dfoc_ki_ts_iq = 0, /* 0 pu */
+        .dfoc_id_ref_iq = 0, /* 0 pu */
+        .dfoc_iq_per_t_iq = 0, /* 0 pu */
     },
     .speed = {
         .mode = 0U,

@@ -15,7 +15,8 @@
  * ideal inverter; the compensation's cost does not depend on that). The start-up magnetisation (cheaper steps) runs through a third wrapper that the script
  * leaves out. `bench_dtc N im ideal`: the same without the drop and dead-time compensation.
  * `bench_dtc N sfvc`: the IM law's stator-flux vector control (im_sfvc_step: eqs. 18, 23, 24 and
- * the SVM with dead-time compensation) in the same conditions, at its 160 us period.
+ * the SVM with dead-time compensation) in the same conditions, at its 160 us period; `bench_dtc N
+ * dfoc`: the rotor-flux-oriented control (im_dfoc_step, two-phase SVM), the same.
  */
 #include <math.h>
 #include <stdio.h>
@@ -78,9 +79,23 @@ __attribute__((noinline)) void bench_sfvc_tick(im_dtc_t *c, const dtc_meas_t *m,
     im_sfvc_step(c, m, o);
 }
 
-/* ideal: no drop or dead-time compensation; sfvc: the stator-flux vector control (im_sfvc_step,
- * symmetric SVM at the default 6.25 kHz carrier = 160 us control period; its start-up steps run
- * unwrapped), the machine fed with the mean voltage of the duties. */
+__attribute__((noinline)) void bench_dfoc_normal(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
+__attribute__((noinline)) void bench_dfoc_tick(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
+
+__attribute__((noinline)) void bench_dfoc_normal(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
+{
+    im_dfoc_step(c, m, o);
+}
+
+__attribute__((noinline)) void bench_dfoc_tick(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
+{
+    im_dfoc_step(c, m, o);
+}
+
+/* ideal: no drop or dead-time compensation; sfvc: 1 the stator-flux vector control (im_sfvc_step,
+ * symmetric SVM), 2 the rotor-flux-oriented control (im_dfoc_step, two-phase SVM), at the default
+ * 6.25 kHz carrier = 160 us control period (their start-up steps run unwrapped), the machine fed
+ * with the mean voltage of the duties. */
 static int run_im(long n, int ideal, int sfvc)
 {
     dtc_config_si_t si;
@@ -109,7 +124,8 @@ static int run_im(long n, int ideal, int sfvc)
     si.sstp_table = DTC_ST_SPEED;
     si.speed_ref_rpm = 750.0;
     if (sfvc) {
-        si.scheme = DTC_SCHEME_SFVC;
+        si.scheme = sfvc == 2 ? DTC_SCHEME_DFOC : DTC_SCHEME_SFVC;
+        si.svm_mode = sfvc == 2 ? 1 : 0;
         si.ts_s = 1.0 / 6250.0;
         si.carrier_hz = 6250.0;
     }
@@ -138,7 +154,9 @@ static int run_im(long n, int ideal, int sfvc)
         double cnt = fmod(floor(theta / (2.0 * M_PI * si.pole_pairs) * 8000.0), 8000.0);
         me.enc_count = (uint16_t)(cnt < 0 ? cnt + 8000.0 : cnt);
         if (c.magnetised == 0U) {
-            if (sfvc) {
+            if (sfvc == 2) {
+                im_dfoc_step(&c, &me, &o);
+            } else if (sfvc) {
                 im_sfvc_step(&c, &me, &o);
             } else {
                 bench_im_start(&c, &me, &o);
@@ -146,7 +164,9 @@ static int run_im(long n, int ideal, int sfvc)
         } else if (c.div_cnt == 0U) {
             /* held at 0.5 pu once magnetised (the machine is magnetised at standstill) */
             x.w = 0.5;
-            if (sfvc) {
+            if (sfvc == 2) {
+                bench_dfoc_tick(&c, &me, &o);
+            } else if (sfvc) {
                 bench_sfvc_tick(&c, &me, &o);
             } else {
                 bench_im_tick(&c, &me, &o);
@@ -154,7 +174,9 @@ static int run_im(long n, int ideal, int sfvc)
             n_tick++;
         } else {
             x.w = 0.5;
-            if (sfvc) {
+            if (sfvc == 2) {
+                bench_dfoc_normal(&c, &me, &o);
+            } else if (sfvc) {
                 bench_sfvc_normal(&c, &me, &o);
             } else {
                 bench_im_normal(&c, &me, &o);
@@ -192,6 +214,9 @@ int main(int argc, char **argv)
     }
     if (argc > 2 && strcmp(argv[2], "sfvc") == 0) {
         return run_im(n, 0, 1);
+    }
+    if (argc > 2 && strcmp(argv[2], "dfoc") == 0) {
+        return run_im(n, 0, 2);
     }
     dtc_config_si_t si;
     dtc_config_t cfg;

@@ -110,7 +110,9 @@ typedef struct {
     int fw_window;          /* N control periods per flux-reference decision (>= 20) */
     double fw_step_frac;    /* flux-reference step per decision, fraction of flux_ref_wb */
     double fw_psi_min_frac; /* lowest flux reference, fraction of flux_ref_wb */
-    /* Stator-flux vector control (scheme DTC_SCHEME_SFVC, Casadei secs. 10.3-10.5). */
+    /* Stator-flux vector control (scheme DTC_SCHEME_SFVC, Casadei secs. 10.3-10.5) and the
+     * rotor-flux-oriented control (DTC_SCHEME_DFOC, sec. 13: its current-loop gains are derived,
+     * dtc_config_from_si). */
     double carrier_hz;      /* SVM carrier: one PWM period per control period, so it must equal
                              * 1 / ts_s; 0 = 1 / ts_s */
     int svm_mode;           /* enum svm_mode (firmware/dtc/svm.h): 0 symmetric, 1 two-phase */

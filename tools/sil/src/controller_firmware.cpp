@@ -162,8 +162,11 @@ dtc_config_si_t firmware_si_config(const Scenario& sc)
         // Flux weakening reaches 400 % of base speed (Casadei Fig. 32): the speed reference's
         // limit covers it.
         si.speed_limit_rpm = std::fmax(4.0 * m.rated_speed_rpm, std::fabs(c.speed_ref_rpm));
-        si.scheme = c.scheme == Scheme::Dsc ? DTC_SCHEME_DSC : c.scheme == Scheme::Sfvc ? DTC_SCHEME_SFVC : DTC_SCHEME_DTC;
-        si.carrier_hz = c.scheme == Scheme::Sfvc ? c.carrier_hz : 0.0;
+        si.scheme = c.scheme == Scheme::Dsc    ? DTC_SCHEME_DSC
+                    : c.scheme == Scheme::Sfvc ? DTC_SCHEME_SFVC
+                    : c.scheme == Scheme::Dfoc ? DTC_SCHEME_DFOC
+                                               : DTC_SCHEME_DTC;
+        si.carrier_hz = c.scheme == Scheme::Sfvc || c.scheme == Scheme::Dfoc ? c.carrier_hz : 0.0;
         si.svm_mode = c.modulation == Modulation::TwoPhase ? 1 : 0;
         si.sfvc_kp_per_s = c.sfvc_kp_per_s;
         si.speed_sensor = c.speed_sensor == SpeedSensor::None ? DTC_SPEED_NONE : DTC_SPEED_ENCODER;

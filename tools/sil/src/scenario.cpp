@@ -263,17 +263,20 @@ const std::vector<Spec>& schema()
         choice<Scheme>("control.scheme",
                "IM only: dtc = switching table (Casadei secs. 4-8); dsc = Direct Self Control, hexagonal flux "
                "locus (sec. 9); sfvc = stator-flux vector control with SVM at the constant switching frequency "
-               "control.carrier_hz (secs. 10.3-10.5, Fig. 18, eqs. 18, 23, 24; needs control.rotor_flux_ref_wb > 0)",
+               "control.carrier_hz (secs. 10.3-10.5, Fig. 18, eqs. 18, 23, 24); dfoc = direct rotor-flux-oriented control, PI current "
+               "regulators in the rotor-flux frame, SVM at control.carrier_hz (sec. 13, the baseline); sfvc and dfoc need "
+               "control.rotor_flux_ref_wb > 0",
                ACC(control.scheme)),
         num("control.carrier_hz", "Hz", positive(),
-            "IM sfvc: SVM carrier frequency; one PWM period per control period, so ts_s = 1 / carrier_hz (ts_s not "
+            "IM sfvc, dfoc: SVM carrier frequency; one PWM period per control period, so ts_s = 1 / carrier_hz (ts_s not "
             "given: set from it; both given: must agree); 75 MHz / (2 carrier_hz) must be a whole number of timer "
             "counts (hal.h T1PR); default: Casadei sec. 13's 160 us cycle",
             ACC(control.carrier_hz)),
         choice<Modulation>("control.modulation",
-               "IM sfvc: symmetric = seven-segment SVM, centred pulses, min-max zero-sequence injection (mean "
+               "IM sfvc, dfoc: symmetric = seven-segment SVM, centred pulses, min-max zero-sequence injection (mean "
                "switching frequency = the carrier); two_phase = discontinuous, the leg of the largest phase voltage "
-               "clamped for 60 deg (2/3 of the carrier) (firmware/dtc/svm.h)",
+               "clamped for 60 deg (2/3 of the carrier) (firmware/dtc/svm.h); not given: symmetric for sfvc, two_phase for "
+               "dfoc (Casadei sec. 13)",
                ACC(control.modulation)),
         num("control.sfvc_kp_per_s", "1/s", nonneg(),
             "IM sfvc: flux-regulator gain K_p of Casadei eq. 24, at most 1/ts_s (deadbeat); 0 = derived, "
@@ -754,7 +757,11 @@ void apply_machine_defaults(Scenario& s, Diagnostics* d)
     }
     if (unset("ts_s")) {
         // the stator-flux vector control runs one control period per SVM carrier period
-        s.ts_s = s.control.scheme == Scheme::Sfvc ? 1.0 / s.control.carrier_hz : PLANT_DEF_IM_TS_S;
+        s.ts_s = s.control.scheme == Scheme::Sfvc || s.control.scheme == Scheme::Dfoc ? 1.0 / s.control.carrier_hz
+                                                                                          : PLANT_DEF_IM_TS_S;
+    }
+    if (unset("control.modulation") && s.control.scheme == Scheme::Dfoc) {
+        s.control.modulation = Modulation::TwoPhase; // Casadei sec. 13's DFOC
     }
     if (unset("inverter.vdc_v")) s.inverter.vdc_v = PLANT_DEF_IM_VDC_V;
     if (unset("control.flux_ref_wb")) s.control.flux_ref_wb = PLANT_DEF_IM_FLUX_REF_WB;
@@ -845,7 +852,8 @@ void cross_validate(Scenario& s, Diagnostics* d)
             err(s.control.observer_tau_s <= s.ts_s ? "control.observer_tau_s" : "control.observer_tau_high_s",
                 "must be longer than the control period ts_s = " + fmt_double(s.ts_s) + " s");
         }
-        if (s.control.scheme == Scheme::Sfvc) {
+        const bool svm = s.control.scheme == Scheme::Sfvc || s.control.scheme == Scheme::Dfoc;
+        if (svm) {
             // One PWM period per control period (firmware/dtc/im_sfvc.c, hal.h): ts_s = 1 / carrier_hz,
             // T1PR = ts_s f_clock / 2 a whole number of counts.
             if (s.origin.count("control.carrier_hz") != 0 && s.origin.count("ts_s") != 0 &&
@@ -862,12 +870,12 @@ void cross_validate(Scenario& s, Diagnostics* d)
                         " counts is not a whole number in 1..65534 (hal.h T1PR)");
             }
             if (!(s.control.rotor_flux_ref_wb > 0.0)) {
-                err("control.rotor_flux_ref_wb", "the stator-flux vector control takes the rotor-flux command "
-                                                 "(Casadei eq. 18): must be > 0");
+                err("control.rotor_flux_ref_wb", "the stator-flux vector control (Casadei eq. 18) and the "
+                                                 "rotor-flux-oriented control take the rotor-flux command: must be > 0");
             }
             if (s.control.flux_weakening) {
                 err("control.flux_weakening", "section 12's flux weakening watches the DTC torque comparator; not "
-                                              "with control.scheme = \"sfvc\"");
+                                              "with control.scheme = \"" + to_string(s.control.scheme) + "\"");
             }
             if (s.control.sfvc_kp_per_s * s.ts_s > 1.0) {
                 err("control.sfvc_kp_per_s", "must be at most 1/ts_s = " + fmt_double(1.0 / s.ts_s) +
