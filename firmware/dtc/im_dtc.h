@@ -23,6 +23,10 @@
  *      the configured speed, ST-A above); or DSC (section 9, dsc.h: hexagon by the phase-flux
  *      comparators, torque by null vectors); the null vector chosen for the fewest commutations
  *   -> leg states for the next period.
+ * The schemes DTC_SCHEME_SFVC and DTC_SCHEME_DFOC (im_sfvc.c, im_dfoc.c) share the estimator,
+ * speed loop, start-up and references (im_dtc_front, im_dtc_refs) and replace the comparators and
+ * the table by a voltage reference applied through the SVM (svm.h): the PWM form for the next
+ * period (im_pwm_out).
  *
  * Start-up (Casadei section 10.2, Fig. 17b): after a reset the torque reference is held at zero
  * and the speed PI at rest for im_magn_periods control periods. The stator-flux reference is
