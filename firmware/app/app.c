@@ -13,8 +13,13 @@ static app_core_t g_app;
 
 int16_t app_init(const struct dtc_config *cfg)
 {
+    int16_t rc;
     hal_gates_off();
-    return app_core_init(&g_app, cfg);
+    rc = app_core_init(&g_app, cfg);
+    if (rc != 0) {
+        return rc;
+    }
+    return app_core_set_pwm_period(&g_app, hal_pwm_period());
 }
 
 void app_isr(void)

@@ -3,6 +3,8 @@
  */
 #include "app_core.h"
 
+#include "svm.h"
+
 #include <stddef.h>
 
 /* Counts -> pu: (count - offset) * gain. Scaling and overflow: |count - offset| <= 4095 fits in
@@ -93,6 +95,8 @@ int16_t app_core_init(app_core_t *a, const dtc_config_t *cfg)
 
     a->cfg = NULL;
     a->clear_request = 0U;
+    a->t1pr = 0U;
+    a->st.out.pwm = 0U; /* the DTC laws never write it (dtc_out_t) */
     a->st.tick = 0U;
     a->st.fault_tick = 0U;
     a->st.state = APP_STATE_INIT;
@@ -338,6 +342,17 @@ static uint16_t check_stall(app_core_t *a)
     return 0U;
 }
 
+int16_t app_core_set_pwm_period(app_core_t *a, uint16_t t1pr)
+{
+    a->t1pr = t1pr;
+    if (a->cfg != NULL && a->cfg->law == (uint16_t)DTC_LAW_IM_DTC &&
+        (a->cfg->sw.scheme == (uint16_t)DTC_SCHEME_SFVC || a->cfg->sw.scheme == (uint16_t)DTC_SCHEME_DFOC) && t1pr == 0U) {
+        latch_fault(a, APP_FAULT_CONFIG, DTC_ERR_SVM);
+        return DTC_ERR_SVM;
+    }
+    return 0;
+}
+
 uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
 {
     cmd->sa = 0U;
@@ -377,6 +392,17 @@ uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
         cmd->sb = a->st.out.sb;
         cmd->sc = a->st.out.sc;
         cmd->enable = 1U;
+        if (a->st.out.pwm != 0U) {
+            /* one centred pulse per leg (hal.h): compare values of the law's duties */
+            uint16_t x;
+            cmd->form = (uint16_t)HAL_CMD_PWM;
+            for (x = 0U; x < 3U; x++) {
+                const uint16_t c = svm_cmpr(a->st.out.duty_iq[x], a->t1pr);
+                cmd->cmpr_up[x] = c;
+                cmd->cmpr_dn[x] = c;
+                cmd->act[x] = (uint16_t)HAL_PWM_UPPER_ACTIVE_HIGH;
+            }
+        }
         return 0U;
 
     case APP_STATE_INIT:

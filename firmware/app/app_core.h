@@ -115,11 +115,18 @@ typedef struct app_core {
     uint16_t index_ref;    /* count latched by the first index pulse */
     uint16_t index_known;
     volatile uint16_t clear_request; /* set by the background, adopted by the ISR */
+    uint16_t t1pr;         /* Timer 1 period of the PWM form (hal_pwm_period()), counts; 0 = none */
 } app_core_t;
 
 /* Validates the configuration (law_init) and enters CALIBRATE. Returns 0 or the dtc_err code;
  * on error the core is in FAULT with APP_FAULT_CONFIG. */
 int16_t app_core_init(app_core_t *a, const dtc_config_t *cfg);
+
+/* The HAL's PWM timer period T1PR (hal_pwm_period(), counts), for a law that commands the PWM
+ * form (IM scheme SFVC: dtc_out_t.pwm). Such a law with t1pr = 0 (the control period is not a
+ * whole number of timer counts; also DFOC) cannot be run: the core latches APP_FAULT_CONFIG with DTC_ERR_SVM
+ * and returns that code; otherwise 0. */
+int16_t app_core_set_pwm_period(app_core_t *a, uint16_t t1pr);
 
 /* One control period: raw measurement in, leg command out. Returns 1 when the gates must be
  * turned off NOW (a trip decided on this sample, or any period outside RUN), else 0. */

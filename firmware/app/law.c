@@ -57,7 +57,15 @@ void law_step(law_t *l, const dtc_meas_t *m, dtc_out_t *o)
 {
 #if DTC_LAW_IM_LINKED
     if (LAW_IS_IM(l)) {
-        im_dtc_step(&l->u.im, m, o);
+        if (l->u.im.pwm_law != 0U) {
+            if (l->u.im.pwm_law == 1U) {
+                im_sfvc_step(&l->u.im, m, o);
+            } else {
+                im_dfoc_step(&l->u.im, m, o);
+            }
+        } else {
+            im_dtc_step(&l->u.im, m, o);
+        }
         return;
     }
 #endif

@@ -64,6 +64,11 @@ typedef struct {
     iq_t psir_mag_iq;      /* IM law: estimated rotor-flux magnitude (Casadei eq. 21), updated on
                             * the speed-loop periods; PM: 0 */
     uint16_t i_limited;    /* 1: the current limit (ilim.h) replaced the table's vector */
+    /* PWM form (IM law, scheme SFVC): pwm = 1 says the command is duty_iq, one centred pulse per
+     * leg (the application writes the compare values, svm_cmpr, hal.h HAL_CMD_PWM); sa/sb/sc are
+     * then 0. The DTC laws never write these fields: the application clears pwm once at init. */
+    uint16_t pwm;
+    iq_t duty_iq[3];       /* upper-device duty of legs A, B, C over the next period, [0, 1] */
 } dtc_out_t;
 
 typedef struct {

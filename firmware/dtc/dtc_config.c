@@ -113,7 +113,7 @@ static int16_t dtc_switch_check(const dtc_switch_cfg_t *s, uint16_t law, const c
 {
     DTC_REFUSE(s->sstp_table > (law == DTC_LAW_IM_DTC ? DTC_ST_SPEED : DTC_ST_D), DTC_ERR_VARIANT,
                "sw.sstp_table");
-    DTC_REFUSE(s->scheme > (law == DTC_LAW_IM_DTC ? DTC_SCHEME_DSC : DTC_SCHEME_DTC),
+    DTC_REFUSE(s->scheme > (law == DTC_LAW_IM_DTC ? DTC_SCHEME_DFOC : DTC_SCHEME_DTC),
                DTC_ERR_VARIANT, "sw.scheme");
     DTC_REFUSE(s->flux_band_iq < 0, DTC_ERR_BAND, "sw.flux_band_iq");
     DTC_REFUSE(s->torque_band_iq < 0, DTC_ERR_BAND, "sw.torque_band_iq");
@@ -127,6 +127,21 @@ static int16_t dtc_switch_check(const dtc_switch_cfg_t *s, uint16_t law, const c
             DTC_REFUSE(s->im_fw_psi_min_iq <= 0, DTC_ERR_WEAKENING, "sw.im_fw_psi_min_iq");
             DTC_REFUSE(s->im_fw_inv_psi_rated_iq <= 0, DTC_ERR_WEAKENING, "sw.im_fw_inv_psi_rated_iq");
             DTC_REFUSE(s->im_fw_kt_iq <= 0, DTC_ERR_WEAKENING, "sw.im_fw_kt_iq");
+        }
+        if (s->scheme == DTC_SCHEME_SFVC || s->scheme == DTC_SCHEME_DFOC) {
+            /* section 12's flux weakening acts on the torque comparator, which SFVC and DFOC have
+             * not */
+            DTC_REFUSE(s->im_fw_on != 0U, DTC_ERR_VARIANT, "sw.im_fw_on");
+            DTC_REFUSE(s->svm_mode > 1U, DTC_ERR_SVM, "sw.svm_mode");
+        }
+        if (s->scheme == DTC_SCHEME_SFVC) {
+            DTC_REFUSE(s->sfvc_kp_iq <= 0, DTC_ERR_SVM, "sw.sfvc_kp_iq");
+        }
+        if (s->scheme == DTC_SCHEME_DFOC) {
+            DTC_REFUSE(s->dfoc_kp_iq <= 0, DTC_ERR_SVM, "sw.dfoc_kp_iq");
+            DTC_REFUSE(s->dfoc_ki_ts_iq < 0, DTC_ERR_SVM, "sw.dfoc_ki_ts_iq");
+            DTC_REFUSE(s->dfoc_id_ref_iq <= 0, DTC_ERR_SVM, "sw.dfoc_id_ref_iq");
+            DTC_REFUSE(s->dfoc_iq_per_t_iq <= 0, DTC_ERR_SVM, "sw.dfoc_iq_per_t_iq");
         }
     }
     return DTC_OK;
@@ -194,6 +209,15 @@ int16_t dtc_config_check(const dtc_config_t *cfg, const char **field)
     }
     if (err == DTC_OK) {
         err = dtc_speed_check(&cfg->speed, cfg->law, f);
+    }
+    if (err == DTC_OK && cfg->law == DTC_LAW_IM_DTC &&
+        (cfg->sw.scheme == DTC_SCHEME_SFVC || cfg->sw.scheme == DTC_SCHEME_DFOC)) {
+        /* SFVC (eq. 18) and DFOC take the rotor-flux command (and its reciprocal) */
+        DTC_REFUSE(cfg->speed.psir_ref_iq <= 0, DTC_ERR_REFERENCE, "speed.psir_ref_iq");
+    }
+    if (err == DTC_OK && cfg->law == DTC_LAW_IM_DTC && cfg->sw.scheme == DTC_SCHEME_SFVC) {
+        /* K_p Ts <= 1 (a larger gain overshoots the flux error every period) */
+        DTC_REFUSE(iq_mpy(cfg->sw.sfvc_kp_iq, cfg->board.ts_pu_iq) > IQ(1.0), DTC_ERR_SVM, "sw.sfvc_kp_iq");
     }
     return err;
 }

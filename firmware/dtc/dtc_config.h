@@ -16,7 +16,7 @@
 #include "fixmath.h"
 
 /* Layout version: bump when a field is added, removed or changes meaning. */
-#define DTC_CONFIG_VERSION 5U
+#define DTC_CONFIG_VERSION 6U
 
 /* The control law the application runs (dtc_law.h dispatches on it). */
 enum dtc_law {
@@ -54,7 +54,11 @@ enum dtc_sstp_table {
 
 enum dtc_scheme {
     DTC_SCHEME_DTC = 0, /* switching table (Casadei sections 4-8) */
-    DTC_SCHEME_DSC = 1  /* IM only: Direct Self Control (Casadei section 9, dsc.h) */
+    DTC_SCHEME_DSC = 1, /* IM only: Direct Self Control (Casadei section 9, dsc.h) */
+    DTC_SCHEME_SFVC = 2, /* IM only: stator-flux vector control with SVM at a constant switching
+                          * frequency (Casadei sections 10.3-10.5, Fig. 18; im_sfvc.c, svm.h) */
+    DTC_SCHEME_DFOC = 3  /* IM only: direct rotor-flux-oriented control, PI current regulators in
+                          * the rotor-flux frame, SVM (Casadei section 13; im_dfoc.c) */
 };
 
 enum dtc_speed_sensor {
@@ -95,7 +99,9 @@ enum dtc_err {
     DTC_ERR_ILIM = -21,        /* current limit < 0 or not below the trip level */
     DTC_ERR_POLARITY = -22,    /* polarity_mid or vmid_cal flag not 0/1 */
     DTC_ERR_LPFCOMP = -23,     /* lpf_comp not 0/1, or w_c / w_min not > 0 with it on */
-    DTC_ERR_DCSUPP = -24       /* dc_supp not 0/1, its gain not > 0 with it on, mid-point gain < 0 */
+    DTC_ERR_DCSUPP = -24,      /* dc_supp not 0/1, its gain not > 0 with it on, mid-point gain < 0 */
+    DTC_ERR_SVM = -25          /* SFVC / DFOC: modulation out of range, flux-regulator gain K_p
+                                * not in (0, 1/Ts], DFOC current-loop gains or references not > 0 */
 };
 
 /* Speed measurement: ring of encoder positions at the speed-loop rate (see speed_meas.h). */
@@ -245,6 +251,19 @@ typedef struct {
     iq_t im_fw_psi_min_iq;
     iq_t im_fw_inv_psi_rated_iq; /* 1 / (the stator-flux reference), pu */
     iq_t im_fw_kt_iq;          /* k_T of eq. 34, pu torque per pu flux squared */
+    /* IM stator-flux vector control (scheme DTC_SCHEME_SFVC, Casadei sections 10.3-10.5). The
+     * SVM carrier period is the control period Ts (one centred pulse per leg per period,
+     * hal.h), so the carrier frequency is 1/Ts. */
+    uint16_t svm_mode;         /* enum svm_mode (svm.h): 0 symmetric, 1 two-phase */
+    iq_t sfvc_kp_iq;           /* flux-regulator gain K_p of eq. 24 over w_base (pu voltage per
+                                * pu flux), in (0, 1/ts_pu]: K_p Ts = 1 removes a flux error in
+                                * one period (deadbeat) */
+    /* IM direct rotor-flux-oriented control (scheme DTC_SCHEME_DFOC, Casadei section 13,
+     * im_dfoc.c); svm_mode as above. */
+    iq_t dfoc_kp_iq;           /* current PI proportional gain, pu voltage per pu current (> 0) */
+    iq_t dfoc_ki_ts_iq;        /* its integral gain times Ts, pu voltage per pu current (>= 0) */
+    iq_t dfoc_id_ref_iq;       /* d-axis current reference phi_r* / m, pu (> 0) */
+    iq_t dfoc_iq_per_t_iq;     /* q-axis current per pu torque, l_r / (m phi_r*) (> 0) */
 } dtc_switch_cfg_t;
 
 /* Speed loop, limits and the initial references (the shadow set replaces the references at run

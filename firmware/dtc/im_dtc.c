@@ -59,6 +59,16 @@ void im_dtc_reset(im_dtc_t *c)
     c->te_ref_iq = 0;
     c->psi_ref_iq = c->act.flux_ref_iq;
     c->speed_iq = 0;
+    /* SFVC: the gates were off, no voltage */
+    svm_reset(&c->svm);
+    c->v1_alpha_iq = 0;
+    c->v1_beta_iq = 0;
+    c->v2_alpha_iq = 0;
+    c->v2_beta_iq = 0;
+    c->vs_alpha_iq = 0;
+    c->vs_beta_iq = 0;
+    c->foc_id_int_iq = 0;
+    c->foc_iq_int_iq = 0;
 }
 
 int16_t im_dtc_shadow_write(im_dtc_t *c, const dtc_refs_t *r)
@@ -101,13 +111,7 @@ void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m)
         in->v_alpha_iq = fix_add32(in->v_alpha_iq, c->dva_iq);
         in->v_beta_iq = fix_add32(in->v_beta_iq, c->dvb_iq);
     }
-    in->i_alpha_iq = c->i.i_alpha_iq;
-    in->i_beta_iq = c->i.i_beta_iq;
-    in->psir_ref_iq = c->psir_ref_iq;
-    in->speed_iq = c->speed_iq;
-    /* the rotor-flux angle and magnitude (CORDIC) only where the speed loop runs: sensorless
-     * speed, telemetry */
-    in->want_polar = (uint16_t)(c->div_cnt == 0U ? 1U : 0U);
+    im_dtc_ein_common(c);
 }
 
 /* Speed every speed_div-th period, as in the PM law: the encoder's, or the sensorless estimate
@@ -273,22 +277,8 @@ void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     iq_t te;
     uint16_t vec;
 
-    /* 1. Shadow set (dtc_refs.h). */
-    {
-        const uint16_t seq = dtc_shadow_pending(&c->sh);
-        if (seq != 0U) {
-            im_dtc_adopt(c, seq);
-        }
-    }
-    /* 2. Clarke (Hoang eqs. 4-5, the same transform as Casadei's space vectors). */
-    clarke_sstp(m->ia_iq, m->ib_iq, &c->i);
-    /* 3. Stator and rotor flux (Casadei eqs. 1, 20-22). */
-    im_dtc_estimate(c, m);
-    im_est_step(&c->est, &c->ein);
-    /* 4. Torque (Casadei eq. A10 = Hoang eq. 10 in these bases). */
-    te = torque_eq10(c->est.psi_alpha_iq, c->est.psi_beta_iq, c->i.i_alpha_iq, c->i.i_beta_iq);
-    /* 5. Speed and speed loop. */
-    im_dtc_speed(c, m, te, o);
+    /* 1-5. Shadow set, Clarke, stator and rotor flux, torque, speed and speed loop. */
+    te = im_dtc_front(c, m, o, 0U);
     /* 6. References: start-up, flux weakening, eq. 19. */
     im_dtc_refs(c);
     /* 7. Comparators, table or DSC, null-vector choice. */

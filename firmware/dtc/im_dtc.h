@@ -23,6 +23,10 @@
  *      the configured speed, ST-A above); or DSC (section 9, dsc.h: hexagon by the phase-flux
  *      comparators, torque by null vectors); the null vector chosen for the fewest commutations
  *   -> leg states for the next period.
+ * The schemes DTC_SCHEME_SFVC and DTC_SCHEME_DFOC (im_sfvc.c, im_dfoc.c) share the estimator,
+ * speed loop, start-up and references (im_dtc_front, im_dtc_refs) and replace the comparators and
+ * the table by a voltage reference applied through the SVM (svm.h): the PWM form for the next
+ * period (im_pwm_out).
  *
  * Start-up (Casadei section 10.2, Fig. 17b): after a reset the torque reference is held at zero
  * and the speed PI at rest for im_magn_periods control periods. The stator-flux reference is
@@ -73,8 +77,11 @@
 #include "im_ref.h"
 #include "speed_meas.h"
 #include "speed_pi.h"
+#include "svm.h"
 #include "swtab.h"
+#include "torque.h"
 #include "vcomp.h"
+#include "vrec.h"
 
 typedef struct {
     const dtc_config_t *cfg;
@@ -122,6 +129,21 @@ typedef struct {
     clarke_out_t i;       /* currents of this step */
     im_est_in_t ein;      /* estimator input */
     iq_t dva_iq, dvb_iq;  /* a compensation term */
+    /* the SVM schemes: stator-flux vector control (DTC_SCHEME_SFVC, im_sfvc.c) and rotor-flux-
+     * oriented control (DTC_SCHEME_DFOC, im_dfoc.c) */
+    uint16_t pwm_law;     /* 0: DTC/DSC (im_dtc_step), 1: SFVC (im_sfvc_step), 2: DFOC (im_dfoc_step) */
+    svm_params_t svm_p;
+    svm_t svm;
+    svm_out_t svm_o;      /* the modulation of this step */
+    iq_t v1_alpha_iq, v1_beta_iq; /* voltage of the duties returned by the previous step (their
+                                   * d_eff on the link measured then): acts in this period, pu */
+    iq_t v2_alpha_iq, v2_beta_iq; /* returned two steps ago: the period that ends now, pu */
+    iq_t vs_alpha_iq, vs_beta_iq; /* stator-voltage reference v_s* of eq. 24 of this step, pu */
+    /* constant products of the configuration (im_dtc_init), eqs. 16, 18, 24 */
+    iq_t sfvc_kpd_iq;     /* K_p (l_s/m) phi_r*: K_p times the d component of eq. 18 */
+    iq_t sfvc_kpq_iq;     /* K_p (l_s/m) sigma l_r / phi_r*: K_p times eq. 18's q component per pu T* */
+    iq_t sfvc_kslip_iq;   /* r_r / phi_r*^2: eq. 16's slip per pu torque */
+    iq_t foc_id_int_iq, foc_iq_int_iq; /* DFOC: the current PIs' integral parts, pu voltage */
 } im_dtc_t;
 
 /* Validates cfg (dtc_config_validate; law DTC_LAW_IM_DTC) and initialises c. Returns DTC_OK or an
@@ -146,5 +168,101 @@ void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m);
 void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o);
 void im_dtc_refs(im_dtc_t *c);
 uint16_t im_dtc_select(im_dtc_t *c, iq_t te, dtc_out_t *o);
+
+/* The scheme DTC_SCHEME_SFVC's control period (im_sfvc.c): the same estimator, speed loop,
+ * start-up and references as im_dtc_step, then the stator-flux regulator of Casadei eqs. 18, 23,
+ * 24 and the SVM (svm.h); the output is the PWM form (dtc_out_t.pwm = 1, duty_iq). law.h calls
+ * it in place of im_dtc_step when c->sfvc. */
+void im_sfvc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
+/* Internal to im_sfvc_step, out of line for the stack. */
+void im_sfvc_estimate(im_dtc_t *c, const dtc_meas_t *m);
+void im_sfvc_regulate(im_dtc_t *c);
+/* The scheme DTC_SCHEME_DFOC's control period (im_dfoc.c): rotor-flux-oriented control of Casadei
+ * section 13 with the same estimator, speed loop, start-up and references, PI current regulators
+ * in the rotor-flux frame, the SVM. law.h calls it in place of im_dtc_step when c->pwm_law = 2. */
+void im_dfoc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
+/* Internal to im_dfoc_step, out of line for the stack. */
+void im_dfoc_regulate(im_dtc_t *c);
+
+/* Steps 1-5 of a control period, common to both schemes: the shadow set (dtc_refs.h), Clarke
+ * (Hoang eqs. 4-5, the same transform as Casadei's space vectors), the stator and rotor flux
+ * (Casadei eqs. 1, 20-22) from the scheme's voltage (pwm = 0: the legs, im_dtc_estimate; 1: the
+ * modulated duties, im_sfvc_estimate), the torque (Casadei eq. A10 = Hoang eq. 10 in these bases),
+ * the speed and the speed loop. Returns the estimated torque. Inline with a constant pwm: each
+ * scheme's step gets its own copy (no call or branch added to the DTC path). */
+static inline iq_t im_dtc_front(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, uint16_t pwm)
+{
+    iq_t te;
+    {
+        const uint16_t seq = dtc_shadow_pending(&c->sh);
+        if (seq != 0U) {
+            im_dtc_adopt(c, seq);
+        }
+    }
+    clarke_sstp(m->ia_iq, m->ib_iq, &c->i);
+    if (pwm != 0U) {
+        im_sfvc_estimate(c, m);
+    } else {
+        im_dtc_estimate(c, m);
+    }
+    im_est_step(&c->est, &c->ein);
+    te = torque_eq10(c->est.psi_alpha_iq, c->est.psi_beta_iq, c->i.i_alpha_iq, c->i.i_beta_iq);
+    im_dtc_speed(c, m, te, o);
+    return te;
+}
+
+/* The end of an SVM scheme's period (SFVC, DFOC): the SVM of c->vs_* on the measured link with
+ * dead-time compensation (svm.h), the voltage the new duties will apply kept for the estimator
+ * and the prediction (d_eff on the link measured now, Casadei eq. 2 / Hoang eqs. 1-5: (2 d_a -
+ * d_b - d_c)/3 V_dc, (d_b - d_c)/sqrt3 V_dc; vrec_from_legs saturates, IQ products rounded),
+ * and the outputs: the PWM form (duty_iq), the estimate, the references. */
+static inline void im_pwm_out(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, iq_t te)
+{
+    uint16_t x;
+    svm_step(&c->svm, &c->svm_p, c->vs_alpha_iq, c->vs_beta_iq, m->vdc_iq, &c->i, &c->svm_o);
+    c->v2_alpha_iq = c->v1_alpha_iq;
+    c->v2_beta_iq = c->v1_beta_iq;
+    {
+        iq_t a, b;
+        vrec_from_legs(c->svm_o.d_eff_iq[0], c->svm_o.d_eff_iq[1], c->svm_o.d_eff_iq[2], &a, &b);
+        c->v1_alpha_iq = iq_mpy(a, m->vdc_iq);
+        c->v1_beta_iq = iq_mpy(b, m->vdc_iq);
+    }
+    for (x = 0U; x < 3U; x++) {
+        o->duty_iq[x] = c->svm_o.d_iq[x];
+    }
+    o->pwm = 1U;
+    o->sa = 0U; /* the PWM form carries the command (duty_iq) */
+    o->sb = 0U;
+    o->sc = 0U;
+    o->vector = 0U;
+    o->sector = 0U;
+    o->flux_up = 0U;
+    o->torque_dem = 0;
+    o->psi_alpha_iq = c->est.psi_alpha_iq;
+    o->psi_beta_iq = c->est.psi_beta_iq;
+    o->te_iq = te;
+    o->te_ref_iq = c->te_ref_iq;
+    o->speed_iq = c->speed_iq;
+    o->theta_e = c->est.theta_r;
+    o->on_cm = 0U;
+    o->psi_ref_iq = c->psi_ref_iq; /* the start-up ramp, then (l_s/m) phi_r*: eq. 18's d part */
+    o->psir_mag_iq = c->est.psir_mag_iq;
+    o->i_limited = 0U;
+}
+
+/* The estimator input's part common to both schemes (currents, rotor-flux reference, speed, and
+ * the angle on the speed-loop periods). */
+static inline void im_dtc_ein_common(im_dtc_t *c)
+{
+    im_est_in_t *in = &c->ein;
+    in->i_alpha_iq = c->i.i_alpha_iq;
+    in->i_beta_iq = c->i.i_beta_iq;
+    in->psir_ref_iq = c->psir_ref_iq;
+    in->speed_iq = c->speed_iq;
+    /* the rotor-flux angle and magnitude (CORDIC) only where the speed loop runs: sensorless
+     * speed, telemetry */
+    in->want_polar = (uint16_t)(c->div_cnt == 0U ? 1U : 0U);
+}
 
 #endif /* IM_DTC_H */

@@ -50,6 +50,16 @@ int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg)
     if (cfg->sw.im_fw_on != 0U && im_fw_check(&c->fw_p) != 0) {
         return DTC_ERR_WEAKENING;
     }
+    c->pwm_law = (uint16_t)(cfg->sw.scheme == DTC_SCHEME_SFVC ? 1U : cfg->sw.scheme == DTC_SCHEME_DFOC ? 2U : 0U);
+    c->svm_p.mode = cfg->sw.svm_mode;
+    c->svm_p.dt_comp = cfg->est.deadtime_comp;
+    c->svm_p.td_iq = iq_from_q15(cfg->board.td_ts_q15);
+    /* im_sfvc.c: eq. 18's components and eq. 16's slip per pu torque, times K_p where eq. 24 has
+     * it (rounded IQ products, here once) */
+    c->sfvc_kpd_iq = iq_mpy(cfg->sw.sfvc_kp_iq, iq_mpy(cfg->machine.im.ks_iq, cfg->speed.psir_ref_iq));
+    c->sfvc_kpq_iq = iq_mpy(cfg->sw.sfvc_kp_iq, iq_mpy(iq_mpy(cfg->machine.im.ks_iq, cfg->machine.im.sigma_lr_iq),
+                                                       cfg->speed.inv_psir_ref_iq));
+    c->sfvc_kslip_iq = iq_mpy(cfg->machine.im.rr_iq, cfg->speed.inv_psir_sq_iq);
     c->cfg = cfg;
 
     dtc_refs_from_config(&r, cfg);

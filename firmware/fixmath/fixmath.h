@@ -202,6 +202,15 @@ static inline iq_t iq_mpy_uq16(iq_t a, uint16_t g)
     return fix_rshift_rnd64_sat32((int64_t)a * (int64_t)g, 16U);
 }
 
+/* a*b + c*d, IQ, rounded once (a two-term dot product; a difference by negating c or d).
+ * Scaling and overflow: each product is exact in 64 bits (|a*b| <= 2^62); their sum is below 2^63
+ * except when all four operands are IQ_MIN (2^62 + 2^62), which the callers' operands (bounded
+ * per-unit quantities) never are; the result saturates to the IQ range. Error <= 0.5 LSB. */
+static inline iq_t iq_mac2(iq_t a, iq_t b, iq_t c, iq_t d)
+{
+    return fix_rshift_rnd64_sat32((int64_t)a * (int64_t)b + (int64_t)c * (int64_t)d, (uint16_t)FIX_IQ_Q);
+}
+
 /* Clamp an IQ value to [lo, hi] (as IQmath's _IQsat, argument order lo, hi). */
 static inline iq_t iq_sat(iq_t x, iq_t lo, iq_t hi) { return fix_clamp32(x, lo, hi); }
 

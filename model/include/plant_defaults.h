@@ -58,6 +58,10 @@
 #define PLANT_DEF_IM_FLUX_REF_WB 0.55         /* |phi_s| at rated voltage and frequency (im-facts.md) */
 #define PLANT_DEF_IM_TORQUE_LIMIT_NM (3.0 * PLANT_DEF_IM_RATED_TORQUE_NM) /* [C] Fig. 14: 300 % steps */
 #define PLANT_DEF_IM_OBSERVER_TAU_S 0.01      /* [C] sec. 10.2, Fig. 17: improved estimator tau */
+#define PLANT_DEF_IM_CARRIER_HZ 6250.0        /* SVM carrier of the stator-flux vector control (control
+                                               * period = carrier period): [C] sec. 13's 160 us cycle of
+                                               * the constant-switching-frequency drive (T1PR 6000) */
+#define PLANT_DEF_PWM_CLOCK_HZ 75e6           /* F2812 HSPCLK, Timer 1 clock of the PWM form (hal.h) */
 #define PLANT_DEF_IM_MAGN_FRAC 0.9            /* start-up: torque allowed at 90 % of the rotor flux */
 /* Sensing and protection sized for the 300 % torque current (about 2.5x rated, 48 A peak):
  * +-100 A Hall sensors, 0..500 V divider, firmware trip at 55 A (below 3x rated = 57.6 A), the

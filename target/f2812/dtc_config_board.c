@@ -4,7 +4,7 @@
 #include "dtc_config.h"
 
 const dtc_config_t g_dtc_config = {
-    .version = 5U,
+    .version = 6U,
     .law = 0U, /* enum dtc_law */
     .board = {
         .v_base_mv = 70000U,
@@ -89,6 +89,12 @@ const dtc_config_t g_dtc_config = {
         .im_fw_psi_min_iq = 0, /* 0 pu */
         .im_fw_inv_psi_rated_iq = 0, /* 0 pu */
         .im_fw_kt_iq = 0, /* 0 pu */
+        .svm_mode = 0U,
+        .sfvc_kp_iq = 0, /* 0 pu */
+        .dfoc_kp_iq = 0, /* 0 pu */
+        .dfoc_ki_ts_iq = 0, /* 0 pu */
+        .dfoc_id_ref_iq = 0, /* 0 pu */
+        .dfoc_iq_per_t_iq = 0, /* 0 pu */
     },
     .speed = {
         .mode = 0U,

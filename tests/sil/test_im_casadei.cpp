@@ -27,6 +27,7 @@ extern "C" {
 
 #include "controller_adapter.hpp"
 #include "hal_host.hpp"
+#include "metrics.hpp"
 #include "run.hpp"
 #include "scenario.hpp"
 
@@ -1000,5 +1001,251 @@ TEST(ImCasadei, FaultsTripTheImDriveAndBadConfigurationIsRefused)
         std::string err;
         EXPECT_FALSE(run({"control.observer_tau_s=1e9"}, &r, &err));
         EXPECT_NE(err.find("control.observer_tau_s"), std::string::npos) << err;
+    }
+}
+
+// ---- Secs. 10.3-10.5: stator-flux vector control (SFVC) with SVM at a constant switching frequency --
+// Fig. 18's scheme (control.scheme = "sfvc", firmware/dtc/im_sfvc.c): the stator-flux reference
+// vector from T* and phi_r* (eq. 18), the flux regulator with R_s and back-EMF feed-forward (eqs.
+// 23-24), symmetric SVM with dead-time compensation at the carrier 1/ts_s. The phase-A current
+// is sampled every 10 us inside the control periods (Harness::set_substeps), with the plant's
+// stator-flux angle for a window of whole fundamental periods (sil::whole_period_window), so the
+// current's switching ripple is seen, not only its value at the period boundaries.
+// Mean switching frequency as Casadei defines it (sec. 13): inverter leg-state changes per second
+// / 6, i.e. turn-on events per device per second; for symmetric SVM every leg switches twice per
+// carrier period, so it is the carrier (two-phase: 2/3 of it).
+struct CurrentRipple {
+    double thd_pct = 0.0;      // sil::spectrum thd_pct of i_a: every line but DC and the fundamental
+    double f1_hz = 0.0;        // fundamental of the window
+    double carrier_frac = 0.0; // share of that ripple energy within +-6 f1 of the multiples of f_c
+    double f_sw_hz = 0.0;      // leg-state changes per second / 6
+    double te_mean = 0.0;      // plant torque over the window
+    double te_ripple = 0.0;    // its rms deviation from the mean
+    double clamped_frac = 0.0; // PWM form: share of the periods with a leg held for the whole period
+    std::string fault;
+};
+
+// Leg-state changes of one period of a command: the PWM form's edges inside the period plus a
+// change at its start when the leg's state there differs from the previous period's end
+// (centred pulse, upper active high: low at both ends unless cmpr = 0, hal.h).
+static int leg_changes(const hal_cmd_t& c, const hal_cmd_t& prev, std::uint16_t t1pr)
+{
+    int n = 0;
+    for (int x = 0; x < 3; ++x) {
+        if (c.form == HAL_CMD_PWM) {
+            const bool high = c.cmpr_up[x] == 0u;
+            const bool prev_high = prev.form == HAL_CMD_PWM ? prev.cmpr_dn[x] == 0u : false;
+            n += (c.cmpr_up[x] > 0u && c.cmpr_up[x] < t1pr) ? 2 : 0;
+            n += high != prev_high ? 1 : 0;
+        } else {
+            const std::uint16_t s[3] = {c.sa, c.sb, c.sc}, p[3] = {prev.sa, prev.sb, prev.sc};
+            n += s[x] != p[x] ? 1 : 0;
+        }
+    }
+    return n;
+}
+
+// One run: magnetised at standstill, T* applied, the dynamometer's speed ramped to rpm, 0.3 s to
+// settle, then a window of window_s sampled every 10 us. f_c: the carrier for the band share.
+static CurrentRipple ripple_run(const std::vector<std::string>& sets, double rpm, double t_nm, double f_c_hz,
+                         double window_s = 0.2)
+{
+    Rig r(torque_at_held_speed(sets));
+    CurrentRipple o;
+    if (!r.ok) {
+        return o;
+    }
+    to_operating_point(r, rpm, t_nm);
+    r.run(0.1);
+    const int sub = static_cast<int>(std::lround(r.ts() / 10e-6));
+    std::vector<double> ia, th;
+    double unwrap = 0.0, last = 0.0;
+    r.h->set_substeps(sub, [&](const plant_t* p) {
+        plant_state_t s;
+        plant_get_state(p, &s);
+        const double a = std::atan2(s.psi_beta_wb, s.psi_alpha_wb);
+        if (!th.empty()) {
+            unwrap += std::remainder(a - last, 2.0 * kPi);
+        } else {
+            unwrap = a;
+        }
+        last = a;
+        ia.push_back(s.i_a);
+        th.push_back(unwrap);
+    });
+    const std::uint16_t t1pr = r.h->hal_pwm_period();
+    hal_cmd_t prev = r.h->applied_cmd();
+    long changes = 0, n = 0, clamped = 0;
+    double ts = 0.0, ts2 = 0.0;
+    r.run(window_s, [&] {
+        const hal_cmd_t c = r.h->applied_cmd();
+        changes += leg_changes(c, prev, t1pr);
+        if (c.form == HAL_CMD_PWM) {
+            bool any = false;
+            for (int x = 0; x < 3; ++x) {
+                any = any || c.cmpr_up[x] == 0u || c.cmpr_up[x] > t1pr;
+            }
+            clamped += any ? 1 : 0;
+        }
+        prev = c;
+        ts += r.st().te_nm;
+        ts2 += r.st().te_nm * r.st().te_nm;
+        ++n;
+    });
+    r.h->set_substeps(1, {});
+    o.fault = r.fault();
+    o.f_sw_hz = static_cast<double>(changes) / (static_cast<double>(n) * r.ts()) / 6.0;
+    o.clamped_frac = static_cast<double>(clamped) / static_cast<double>(n);
+    o.te_mean = ts / static_cast<double>(n);
+    o.te_ripple = std::sqrt(std::fmax(ts2 / static_cast<double>(n) - o.te_mean * o.te_mean, 0.0));
+    const Window w = whole_period_window(th, th.size());
+    if (w.periods < 2) {
+        ADD_FAILURE() << "no whole fundamental periods in the window";
+        return o;
+    }
+    const double dt = r.ts() / sub;
+    const double* x = ia.data() + w.begin;
+    o.thd_pct = spectrum(x, w.n, w.periods).thd_pct;
+    o.f1_hz = w.periods / (static_cast<double>(w.n) * dt);
+    // CurrentRipple energy (Parseval): sum x^2 minus the DC and the fundamental's lines; band energy
+    // from the DFT bins within +-6 f1 of m f_c, m = 1, 2, ... below the Nyquist rate.
+    const std::size_t nn = w.n;
+    auto bin = [&](long k) {
+        const double dw = -2.0 * kPi * static_cast<double>(k) / static_cast<double>(nn);
+        double re = 0.0, im = 0.0, c = 1.0, s = 0.0;
+        const double cw = std::cos(dw), sw = std::sin(dw);
+        for (std::size_t t = 0; t < nn; ++t) {
+            re += x[t] * c;
+            im += x[t] * s;
+            const double c2 = c * cw - s * sw;
+            s = c * sw + s * cw;
+            c = c2;
+        }
+        return re * re + im * im;
+    };
+    double sum2 = 0.0;
+    for (std::size_t t = 0; t < nn; ++t) {
+        sum2 += x[t] * x[t];
+    }
+    const double e_ripple = sum2 - bin(0) / static_cast<double>(nn) - 2.0 * bin(w.periods) / static_cast<double>(nn);
+    const double df = 1.0 / (static_cast<double>(nn) * dt);
+    const long half = static_cast<long>(6.0 * o.f1_hz / df);
+    double e_band = 0.0;
+    for (int m = 1; m * f_c_hz + 6.0 * o.f1_hz < 0.5 / dt; ++m) {
+        const long kc = std::lround(m * f_c_hz / df);
+        for (long k = kc - half; k <= kc + half; ++k) {
+            e_band += 2.0 * bin(k) / static_cast<double>(nn);
+        }
+    }
+    o.carrier_frac = e_band / e_ripple;
+    return o;
+}
+
+static std::vector<std::string> sfvc_sets(double carrier_hz, const char* modulation = "symmetric")
+{
+    return {"control.scheme=sfvc", "control.carrier_hz=" + std::to_string(carrier_hz),
+            std::string("control.modulation=") + modulation};
+}
+
+// Sec. 10.5, Figs. 19-20: the torque follows T* (rated, 26.5 N*m) from a standstill start at the
+// rated 1440 rpm and at 144 rpm (10 %); the default carrier (6.25 kHz). At 144 rpm every leg
+// switches twice per period (f_sw = the carrier). At 1440 rpm the stator voltage eq. 24 asks for,
+// about w_s |phi_s| with eq. 19's 0.60 Wb at rated torque (phi_r* 0.53 Wb) and 50 Hz, 190 V,
+// exceeds the linear range of the 311 V link, V_dc/sqrt3 = 180 V: the SVM clamps the reference
+// onto its hexagon in part of the periods (svm.h) and the switching frequency falls below the
+// carrier; the torque still follows.
+TEST(ImCasadei, Sec10SfvcTorqueFollowsTheReferenceAtRatedAndLowSpeed)
+{
+    for (double rpm : {1440.0, 144.0}) {
+        Rig probe(torque_at_held_speed({"control.scheme=sfvc"}));
+        ASSERT_TRUE(probe.ok);
+        const double f_c = probe.sc.control.carrier_hz;
+        const double tr = probe.sc.motor.rated_torque_nm;
+        // a window of at least three fundamental periods (144 rpm: about 7 Hz)
+        const CurrentRipple o = ripple_run({"control.scheme=sfvc"}, rpm, tr, f_c, rpm < 500.0 ? 0.6 : 0.2);
+        std::printf("MEASURE Sec10 SFVC %.0f rpm: torque %.3f N*m (T* %.1f), rms ripple %.3f N*m, i_a THD %.2f %%, "
+                    "f_sw %.0f Hz (carrier %.0f Hz), periods with a clamped leg %.1f %%, fault %s\n",
+                    rpm, o.te_mean, tr, o.te_ripple, o.thd_pct, o.f_sw_hz, f_c, 100.0 * o.clamped_frac, o.fault.c_str());
+        EXPECT_EQ(o.fault, "none");
+        EXPECT_NEAR(o.te_mean, tr, 0.03 * tr) << rpm;
+        if (rpm < 500.0) {
+            EXPECT_NEAR(o.f_sw_hz, f_c, 0.02 * f_c) << rpm; // symmetric SVM: every leg twice per period
+            EXPECT_EQ(o.clamped_frac, 0.0);
+        } else {
+            EXPECT_LE(o.f_sw_hz, f_c * 1.001);
+            EXPECT_GT(o.clamped_frac, 0.0); // the overmodulation the link forces at rated speed and torque
+        }
+    }
+}
+
+// Sec. 10.3: constant switching frequency. At 720 rpm (Table 5's half speed), rated torque, SFVC
+// with symmetric SVM at a 3 kHz carrier against basic DTC (Table 1, 40 us, the default zero bands)
+// at the same mean switching frequency (Casadei's definition; the DTC's is measured, about 3.06 kHz
+// there, and must be within 5 % of the carrier; zero bands are its highest, the 40 us sampling
+// bounds it): the SFVC current's ripple sits at the carrier's multiples and their sidebands (most
+// of its energy within +-6 f1 of m f_c), the DTC's does not, and the SFVC current's THD is below
+// the DTC's. (At 1440 rpm and rated torque the SFVC needs more than the linear range of the 311 V
+// link: Sec10SfvcTorqueFollowsTheReferenceAtRatedAndLowSpeed.)
+TEST(ImCasadei, Sec10SfvcSwitchesAtTheCarrierWithLowerThdThanDtc)
+{
+    const double f_c = 3000.0; // T1PR = 12500 counts
+    const double tr = PLANT_DEF_IM_RATED_TORQUE_NM;
+    // the speed loop is not used (torque mode); at 333 us per period the default divider's 3.3 ms
+    // speed period is too slow for the default 10 Hz speed bandwidth (tools/config refuses it)
+    std::vector<std::string> sets = sfvc_sets(f_c);
+    sets.push_back("control.speed_loop_divider=5");
+    const CurrentRipple s = ripple_run(sets, 720.0, tr, f_c, 0.4);
+    const CurrentRipple d = ripple_run({}, 720.0, tr, f_c, 0.4);
+    std::printf("MEASURE Sec10 720 rpm rated: SFVC f_sw %.0f Hz, THD %.2f %%, carrier-band share %.3f; DTC f_sw %.0f "
+                "Hz, THD %.2f %%, carrier-band share %.3f\n",
+                s.f_sw_hz, s.thd_pct, s.carrier_frac, d.f_sw_hz, d.thd_pct, d.carrier_frac);
+    EXPECT_EQ(s.fault, "none");
+    EXPECT_EQ(d.fault, "none");
+    EXPECT_NEAR(s.f_sw_hz, f_c, 0.02 * f_c);
+    EXPECT_NEAR(d.f_sw_hz, f_c, 0.05 * f_c);
+    EXPECT_GT(s.carrier_frac, 0.8);
+    EXPECT_LT(d.carrier_frac, 0.5 * s.carrier_frac);
+    EXPECT_LT(s.thd_pct, d.thd_pct);
+}
+
+// ---- Sec. 13: the DFOC baseline on the same SVM ----------------------------------------------------
+// Direct rotor-flux-oriented control (control.scheme = "dfoc", firmware/dtc/im_dfoc.c): PI
+// current regulators in the rotor-flux frame of the same improved estimator, two-phase
+// modulation (the key's default for dfoc) at the 160 us cycle of sec. 13. From a standstill
+// start (magnetised first) to rated torque at 1440 and 720 rpm: the torque follows T*, the
+// plant's rotor flux is held at phi_r* (the d-axis current phi_r*/M), and two-phase SVM switches
+// each leg for 2/3 of the carrier periods (Casadei's 2/3 of the carrier), fewer when the link
+// forces the overmodulation (1440 rpm, as for the SFVC).
+TEST(ImCasadei, Sec13DfocTorqueFollowsWithTwoPhaseModulation)
+{
+    for (double rpm : {1440.0, 720.0}) {
+        Rig probe(torque_at_held_speed({"control.scheme=dfoc"}));
+        ASSERT_TRUE(probe.ok);
+        EXPECT_EQ(probe.sc.control.modulation, Modulation::TwoPhase);
+        const double f_c = probe.sc.control.carrier_hz, tr = probe.sc.motor.rated_torque_nm;
+        const double psir_ref = probe.sc.control.rotor_flux_ref_wb;
+        Rig r(torque_at_held_speed({"control.scheme=dfoc"}));
+        ASSERT_TRUE(r.ok);
+        to_operating_point(r, rpm, tr);
+        r.run(0.1);
+        double psir = 0.0;
+        long n = 0;
+        r.run(0.1, [&] {
+            psir += r.psir();
+            ++n;
+        });
+        const CurrentRipple o = ripple_run({"control.scheme=dfoc"}, rpm, tr, f_c);
+        std::printf("MEASURE Sec13 DFOC %.0f rpm: torque %.3f N*m (T* %.1f), |phi_r| %.4f Wb (phi_r* %.3f), i_a THD %.2f "
+                    "%%, f_sw %.0f Hz (2/3 carrier %.0f Hz), periods with a clamped leg %.1f %%, fault %s\n",
+                    rpm, o.te_mean, tr, psir / n, psir_ref, o.thd_pct, o.f_sw_hz, 2.0 / 3.0 * f_c, 100.0 * o.clamped_frac,
+                    o.fault.c_str());
+        EXPECT_EQ(o.fault, "none");
+        EXPECT_NEAR(o.te_mean, tr, 0.03 * tr) << rpm;
+        EXPECT_NEAR(psir / n, psir_ref, 0.03 * psir_ref) << rpm;
+        if (rpm < 1000.0) {
+            EXPECT_NEAR(o.f_sw_hz, 2.0 / 3.0 * f_c, 0.02 * f_c) << rpm;
+        } else {
+            EXPECT_LE(o.f_sw_hz, 2.0 / 3.0 * f_c * 1.01) << rpm;
+        }
     }
 }

@@ -211,6 +211,32 @@ TEST(Scenario, ImpossibleNumbersNameKeyAndLine)
     expect_error("[protection]\nvdc_min_v = 80\nvdc_max_v = 60\n", "protection.vdc_min_v", 2, "below");
 }
 
+// The stator-flux vector control runs one SVM carrier period per control period (hal.h, one pulse
+// per leg): ts_s follows control.carrier_hz when not given, a disagreement names the carrier key,
+// and so does a carrier whose timer period 75 MHz / (2 f) is not a whole number of counts.
+TEST(Scenario, SfvcCarrierAndControlPeriod)
+{
+    const std::string im = "[motor]\ntype = \"im\"\n[inverter]\ntopology = \"sstp\"\n[control]\nscheme = \"sfvc\"\n"
+                           "rotor_flux_ref_wb = 0.53\n";
+    {
+        Scenario sc;
+        Diagnostics d;
+        ASSERT_TRUE(parse_scenario(im, "case.toml", {}, &sc, &d)) << d.text();
+        EXPECT_DOUBLE_EQ(sc.control.carrier_hz, 6250.0);
+        EXPECT_NEAR(sc.ts_s, 160e-6, 1e-15);
+        ASSERT_TRUE(parse_scenario(im + "carrier_hz = 5000.0\n", "case.toml", {}, &sc, &d)) << d.text();
+        EXPECT_NEAR(sc.ts_s, 200e-6, 1e-15);
+        ASSERT_TRUE(parse_scenario("ts_s = 250e-6\n" + im, "case.toml", {}, &sc, &d)) << d.text();
+        EXPECT_NEAR(sc.control.carrier_hz, 4000.0, 1e-9);
+    }
+    expect_error("ts_s = 50e-6\n" + im + "carrier_hz = 6250.0\n", "control.carrier_hz", 9, "control period");
+    expect_error(im + "carrier_hz = 6100.0\n", "control.carrier_hz", 8, "whole number");
+    expect_error("[motor]\ntype = \"im\"\n[inverter]\ntopology = \"sstp\"\n[control]\nscheme = \"sfvc\"\n",
+                 "control.rotor_flux_ref_wb", 0, "eq. 18");
+    expect_error(im + "sfvc_kp_per_s = 1e5\n", "control.sfvc_kp_per_s", 8, "deadbeat");
+    expect_error("[control]\ncarrier_hz = 5000.0\n", "control.carrier_hz", 2, "not a setting of the PM drive");
+}
+
 TEST(Scenario, TomlSyntaxErrorNamesTheLine)
 {
     expect_error("[motor]\nrs_ohm = 0.466\nls_h = \n", "", 3, "TOML syntax error");

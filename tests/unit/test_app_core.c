@@ -9,9 +9,11 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <cmocka.h>
 
 #include "app_core.h"
+#include "svm.h"
 #include "dtc_config_si.h"
 #include "fixtest.h"
 
@@ -509,6 +511,62 @@ static void test_run_forwards_controller_decision(void **state)
     }
 }
 
+/* The IM stator-flux vector control (scheme SFVC) commands the PWM form: after the calibration
+ * every RUN period writes HAL_CMD_PWM with centred pulses (cmpr_up = cmpr_dn, upper active high)
+ * whose compare values are the law's duties on the timer period the HAL gave (svm_cmpr), the
+ * null time shared equally (symmetric SVM). Without a timer
+ * period (hal_pwm_period() = 0) the configuration cannot run: APP_FAULT_CONFIG, DTC_ERR_SVM. */
+static void test_sfvc_writes_the_pwm_form(void **state)
+{
+    char msg[200];
+    const uint16_t t1pr = 6000U;
+    uint16_t k;
+    (void)state;
+    dtc_config_si_im_defaults(&fx.si);
+    fx.si.scheme = DTC_SCHEME_SFVC;
+    fx.si.ts_s = 160e-6;
+    fx.si.psir_ref_wb = 0.53;
+    fx.si.mode = DTC_MODE_TORQUE;
+    if (dtc_config_from_si(&fx.si, &fx.cfg, msg, sizeof msg) != DTC_SI_OK) {
+        fail_msg("SFVC configuration refused: %s", msg);
+    }
+    fx.m.tick = 0U;
+    meas_idle();
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    assert_int_equal(app_core_set_pwm_period(&fx.app, 0U), DTC_ERR_SVM);
+    assert_int_equal(fx.app.st.state, APP_STATE_FAULT);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_CONFIG);
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    assert_int_equal(app_core_set_pwm_period(&fx.app, t1pr), 0);
+    for (k = 0; k < cal_len(); k++) {
+        assert_int_equal(step(), 1);
+        assert_int_equal(fx.cmd.enable, 0);
+    }
+    assert_int_equal(fx.app.st.state, APP_STATE_RUN);
+    for (k = 0; k < 50U; k++) {
+        uint16_t x;
+        assert_int_equal(step(), 0);
+        assert_int_equal(fx.cmd.enable, 1);
+        assert_int_equal(fx.cmd.form, HAL_CMD_PWM);
+        for (x = 0; x < 3U; x++) {
+            assert_int_equal(fx.cmd.cmpr_up[x], fx.cmd.cmpr_dn[x]);
+            assert_int_equal(fx.cmd.act[x], HAL_PWM_UPPER_ACTIVE_HIGH);
+            assert_int_equal(fx.cmd.cmpr_up[x], svm_cmpr(fx.app.st.out.duty_iq[x], t1pr));
+        }
+        {
+            /* symmetric SVM: the two null vectors share the null time, the largest and smallest
+             * compare values sum to T1PR (seven-segment), within the rounding of two counts */
+            uint16_t mx = fx.cmd.cmpr_up[0], mn = fx.cmd.cmpr_up[0];
+            for (x = 1; x < 3U; x++) {
+                mx = fx.cmd.cmpr_up[x] > mx ? fx.cmd.cmpr_up[x] : mx;
+                mn = fx.cmd.cmpr_up[x] < mn ? fx.cmd.cmpr_up[x] : mn;
+            }
+            assert_true(abs((int)mx + (int)mn - (int)t1pr) <= 2);
+            assert_true(mx > mn); /* the magnetising ramp asks for a voltage from the first period */
+        }
+    }
+}
+
 static void test_fault_names(void **state)
 {
     (void)state;
@@ -535,6 +593,7 @@ int main(void)
         cmocka_unit_test(test_encoder_jump_threshold_scales_with_ts_and_lines),
         cmocka_unit_test(test_stall_is_a_fault_and_acceleration_is_not),
         cmocka_unit_test(test_run_forwards_controller_decision),
+        cmocka_unit_test(test_sfvc_writes_the_pwm_form),
         cmocka_unit_test(test_fault_names),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

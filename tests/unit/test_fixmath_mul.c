@@ -253,6 +253,45 @@ static double ideal_rounding_snr_db(double p, double lsb) { return 10.0 * log10(
 /* Memoryless products of quantised signals: mixing two sines (q15_mul, q31_mul, iq_mpy) and
  * scaling an IQ sine by a Q15 / UQ16 gain ramp. Reference: the double product of the same
  * quantised inputs. Bound: ideal rounding SNR - 0.5 dB. */
+/* iq_mac2: a*b + c*d rounded once, against the exact sum (128-bit on the host) divided by 2^24,
+ * rounded half up and clamped to int32: equal for random operands over the whole IQ range and
+ * over +-4 pu (the per-unit quantities it is used with), and at the edges (saturation, no wrap;
+ * IQ_MIN^4 excluded, as the header says). */
+static void test_iq_mac2_exact(void **state)
+{
+    fixtest_rng_t rng;
+    (void)state;
+    fixtest_rng_seed(&rng, 0x5fc0ffeeULL);
+    for (long k = 0; k < 400000; k++) {
+        const int full = k & 1;
+        int32_t v[4];
+        for (int j = 0; j < 4; j++) {
+            const uint32_t r = (uint32_t)fixtest_rng_u64(&rng);
+            v[j] = full ? (int32_t)r : (int32_t)(r >> 5) - (int32_t)(1 << 26);
+        }
+        if (v[0] == INT32_MIN && v[1] == INT32_MIN && v[2] == INT32_MIN && v[3] == INT32_MIN) {
+            continue;
+        }
+        {
+            const __int128 sum = (__int128)v[0] * v[1] + (__int128)v[2] * v[3];
+            __int128 q = (sum + ((__int128)1 << 23)) >> 24;
+            if (q > INT32_MAX) {
+                q = INT32_MAX;
+            }
+            if (q < INT32_MIN) {
+                q = INT32_MIN;
+            }
+            if (iq_mac2(v[0], v[1], v[2], v[3]) != (int32_t)q) {
+                fail_msg("iq_mac2(%ld, %ld, %ld, %ld) = %ld, want %ld", (long)v[0], (long)v[1], (long)v[2],
+                         (long)v[3], (long)iq_mac2(v[0], v[1], v[2], v[3]), (long)q);
+            }
+        }
+    }
+    assert_int_equal(iq_mac2(IQ_MAX, IQ_MAX, IQ_MAX, IQ_MAX), IQ_MAX);
+    assert_int_equal(iq_mac2(IQ_MIN, IQ_MAX, IQ_MIN, IQ_MAX), IQ_MIN);
+    assert_int_equal(iq_mac2(IQ(1.5), IQ(2.0), IQ(-0.5), IQ(3.0)), IQ(1.5));
+}
+
 static void test_product_trajectories(void **state)
 {
     fixtest_acc_t a15;
@@ -387,6 +426,7 @@ int main(void)
         cmocka_unit_test(test_q15_mul_sweep),
         cmocka_unit_test(test_q31_mul_iq_mpy_sweep),
         cmocka_unit_test(test_iq_mpy_q15_uq16_sweep),
+        cmocka_unit_test(test_iq_mac2_exact),
         cmocka_unit_test(test_product_trajectories),
         cmocka_unit_test(test_lpf_chain_iq_mpy),
         cmocka_unit_test(test_lpf_chain_iq_mpy_uq16),

@@ -155,7 +155,39 @@ FMUT(f_topo, c->board.topology = DTC_TOPO_FSTP)
 FMUT(f_fw_window, { c->sw.im_fw_on = 1U; c->sw.im_fw_window = 19U; })
 FMUT(f_fw_kt, { c->sw.im_fw_on = 1U; c->sw.im_fw_kt_iq = 0; })
 FMUT(f_table, c->sw.sstp_table = DTC_ST_SPEED + 1U)
-FMUT(f_scheme, c->sw.scheme = 2U)
+FMUT(f_scheme, c->sw.scheme = DTC_SCHEME_DFOC + 1U)
+/* a valid SFVC set (constant rotor flux, a gain below 1/ts_pu), then one field broken */
+static void sfvc_ok(dtc_config_t *c)
+{
+    c->sw.scheme = DTC_SCHEME_SFVC;
+    c->sw.svm_mode = 1U;
+    c->sw.sfvc_kp_iq = IQ(1.0);
+    c->speed.psir_ref_iq = IQ(0.5);
+    c->speed.inv_psir_ref_iq = IQ(2.0);
+}
+FMUT(f_svm_mode, { sfvc_ok(c); c->sw.svm_mode = 2U; })
+FMUT(f_sfvc_kp0, { sfvc_ok(c); c->sw.sfvc_kp_iq = 0; })
+/* K_p = 100 pu > 1/ts_pu = 79.6 pu at the defaults' 40 us (K_p Ts = 1.26) */
+FMUT(f_sfvc_kp_big, { sfvc_ok(c); c->sw.sfvc_kp_iq = IQ(100.0); })
+FMUT(f_sfvc_fw, { sfvc_ok(c); c->sw.im_fw_on = 1U; })
+FMUT(f_sfvc_psir, { sfvc_ok(c); c->speed.psir_ref_iq = 0; c->speed.inv_psir_ref_iq = 0; })
+/* a valid DFOC set, then one field broken */
+static void dfoc_ok(dtc_config_t *c)
+{
+    sfvc_ok(c);
+    c->sw.scheme = DTC_SCHEME_DFOC;
+    c->sw.sfvc_kp_iq = 0; /* SFVC's gain is not DFOC's */
+    c->sw.dfoc_kp_iq = IQ(0.5);
+    c->sw.dfoc_ki_ts_iq = IQ(0.001);
+    c->sw.dfoc_id_ref_iq = IQ(0.4);
+    c->sw.dfoc_iq_per_t_iq = IQ(2.0);
+}
+FMUT(f_dfoc_kp, { dfoc_ok(c); c->sw.dfoc_kp_iq = 0; })
+FMUT(f_dfoc_ki, { dfoc_ok(c); c->sw.dfoc_ki_ts_iq = -1; })
+FMUT(f_dfoc_id, { dfoc_ok(c); c->sw.dfoc_id_ref_iq = 0; })
+FMUT(f_dfoc_iqt, { dfoc_ok(c); c->sw.dfoc_iq_per_t_iq = 0; })
+FMUT(f_dfoc_psir, { dfoc_ok(c); c->speed.psir_ref_iq = 0; c->speed.inv_psir_ref_iq = 0; })
+FMUT(f_dfoc_fw, { dfoc_ok(c); c->sw.im_fw_on = 1U; })
 FMUT(f_sensor, c->speed.sensor = 2U)
 FMUT(f_slip, c->speed.inv_psir_sq_iq = 0)
 FMUT(f_magn, c->speed.im_magn_periods = 0U)
@@ -178,6 +210,17 @@ static void test_bad_im_config_refused_with_field(void **state)
         {f_fw_kt, DTC_ERR_WEAKENING, "sw.im_fw_kt_iq"},
         {f_table, DTC_ERR_VARIANT, "sw.sstp_table"},
         {f_scheme, DTC_ERR_VARIANT, "sw.scheme"},
+        {f_svm_mode, DTC_ERR_SVM, "sw.svm_mode"},
+        {f_sfvc_kp0, DTC_ERR_SVM, "sw.sfvc_kp_iq"},
+        {f_sfvc_kp_big, DTC_ERR_SVM, "sw.sfvc_kp_iq"},
+        {f_sfvc_fw, DTC_ERR_VARIANT, "sw.im_fw_on"},
+        {f_sfvc_psir, DTC_ERR_REFERENCE, "speed.psir_ref_iq"},
+        {f_dfoc_kp, DTC_ERR_SVM, "sw.dfoc_kp_iq"},
+        {f_dfoc_ki, DTC_ERR_SVM, "sw.dfoc_ki_ts_iq"},
+        {f_dfoc_id, DTC_ERR_SVM, "sw.dfoc_id_ref_iq"},
+        {f_dfoc_iqt, DTC_ERR_SVM, "sw.dfoc_iq_per_t_iq"},
+        {f_dfoc_psir, DTC_ERR_REFERENCE, "speed.psir_ref_iq"},
+        {f_dfoc_fw, DTC_ERR_VARIANT, "sw.im_fw_on"},
         {f_sensor, DTC_ERR_VARIANT, "speed.sensor"},
         {f_slip, DTC_ERR_REFERENCE, "speed.inv_psir_sq_iq"},
         {f_magn, DTC_ERR_STARTUP, "speed.im_magn_periods"},

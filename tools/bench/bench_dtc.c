@@ -14,6 +14,9 @@
  * dead-time compensation: the variant with the most work per step (the machine is fed by the
  * ideal inverter; the compensation's cost does not depend on that). The start-up magnetisation (cheaper steps) runs through a third wrapper that the script
  * leaves out. `bench_dtc N im ideal`: the same without the drop and dead-time compensation.
+ * `bench_dtc N sfvc`: the IM law's stator-flux vector control (im_sfvc_step: eqs. 18, 23, 24 and
+ * the SVM with dead-time compensation) in the same conditions, at its 160 us period; `bench_dtc N
+ * dfoc`: the rotor-flux-oriented control (im_dfoc_step, two-phase SVM), the same.
  */
 #include <math.h>
 #include <stdio.h>
@@ -63,7 +66,37 @@ __attribute__((noinline)) void bench_im_start(im_dtc_t *c, const dtc_meas_t *m, 
     im_dtc_step(c, m, o);
 }
 
-static int run_im(long n, int ideal)
+__attribute__((noinline)) void bench_sfvc_normal(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
+__attribute__((noinline)) void bench_sfvc_tick(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
+
+__attribute__((noinline)) void bench_sfvc_normal(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
+{
+    im_sfvc_step(c, m, o);
+}
+
+__attribute__((noinline)) void bench_sfvc_tick(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
+{
+    im_sfvc_step(c, m, o);
+}
+
+__attribute__((noinline)) void bench_dfoc_normal(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
+__attribute__((noinline)) void bench_dfoc_tick(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
+
+__attribute__((noinline)) void bench_dfoc_normal(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
+{
+    im_dfoc_step(c, m, o);
+}
+
+__attribute__((noinline)) void bench_dfoc_tick(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
+{
+    im_dfoc_step(c, m, o);
+}
+
+/* ideal: no drop or dead-time compensation; sfvc: 1 the stator-flux vector control (im_sfvc_step,
+ * symmetric SVM), 2 the rotor-flux-oriented control (im_dfoc_step, two-phase SVM), at the default
+ * 6.25 kHz carrier = 160 us control period (their start-up steps run unwrapped), the machine fed
+ * with the mean voltage of the duties. */
+static int run_im(long n, int ideal, int sfvc)
 {
     dtc_config_si_t si;
     dtc_config_t cfg;
@@ -75,6 +108,7 @@ static int run_im(long n, int ideal)
     long n_tick = 0, n_norm = 0;
     int sa = 0, sb = 0, sc = 0;
     double ls, lr, theta = 0.0;
+    double d1[3] = {0.5, 0.5, 0.5}; /* sfvc: the duties returned by the previous step */
 
     dtc_config_si_im_defaults(&si); /* SSTP drop ([29]) and dead-time compensation on */
     if (ideal) { /* `bench_dtc N im ideal`: both compensations off */
@@ -89,6 +123,12 @@ static int run_im(long n, int ideal)
     si.speed_sensor = DTC_SPEED_NONE;
     si.sstp_table = DTC_ST_SPEED;
     si.speed_ref_rpm = 750.0;
+    if (sfvc) {
+        si.scheme = sfvc == 2 ? DTC_SCHEME_DFOC : DTC_SCHEME_SFVC;
+        si.svm_mode = sfvc == 2 ? 1 : 0;
+        si.ts_s = 1.0 / 6250.0;
+        si.carrier_hz = 6250.0;
+    }
     if (dtc_config_from_si(&si, &cfg, msg, sizeof msg) != DTC_SI_OK) {
         fprintf(stderr, "bench: %s\n", msg);
         return 1;
@@ -114,19 +154,47 @@ static int run_im(long n, int ideal)
         double cnt = fmod(floor(theta / (2.0 * M_PI * si.pole_pairs) * 8000.0), 8000.0);
         me.enc_count = (uint16_t)(cnt < 0 ? cnt + 8000.0 : cnt);
         if (c.magnetised == 0U) {
-            bench_im_start(&c, &me, &o);
+            if (sfvc == 2) {
+                im_dfoc_step(&c, &me, &o);
+            } else if (sfvc) {
+                im_sfvc_step(&c, &me, &o);
+            } else {
+                bench_im_start(&c, &me, &o);
+            }
         } else if (c.div_cnt == 0U) {
             /* held at 0.5 pu once magnetised (the machine is magnetised at standstill) */
             x.w = 0.5;
-            bench_im_tick(&c, &me, &o);
+            if (sfvc == 2) {
+                bench_dfoc_tick(&c, &me, &o);
+            } else if (sfvc) {
+                bench_sfvc_tick(&c, &me, &o);
+            } else {
+                bench_im_tick(&c, &me, &o);
+            }
             n_tick++;
         } else {
             x.w = 0.5;
-            bench_im_normal(&c, &me, &o);
+            if (sfvc == 2) {
+                bench_dfoc_normal(&c, &me, &o);
+            } else if (sfvc) {
+                bench_sfvc_normal(&c, &me, &o);
+            } else {
+                bench_im_normal(&c, &me, &o);
+            }
             n_norm++;
         }
-        dtc_ref_sstp_ideal(sa, sb, sc, 1.0, &va, &vb);
-        dtc_ref_im_step(&x, va, vb, tspu, 2);
+        if (sfvc) {
+            /* the mean voltage of the previous step's duties on a 1 pu link (Casadei eq. 2): the
+             * one-period delay of hal.h; the inverter's dead time as the SVM models it (d_eff) */
+            va = (2.0 * d1[0] - d1[1] - d1[2]) / 3.0;
+            vb = (d1[1] - d1[2]) / sqrt(3.0);
+            for (int j = 0; j < 3; j++) {
+                d1[j] = (double)c.svm_o.d_eff_iq[j] / 16777216.0;
+            }
+        } else {
+            dtc_ref_sstp_ideal(sa, sb, sc, 1.0, &va, &vb);
+        }
+        dtc_ref_im_step(&x, va, vb, tspu, sfvc ? 8 : 2); /* the same 20 us sub-step */
         theta += x.w * tspu;
         sa = (int)o.sa;
         sb = (int)o.sb;
@@ -142,7 +210,13 @@ int main(int argc, char **argv)
 {
     long n = argc > 1 ? atol(argv[1]) : 20000;
     if (argc > 2 && strcmp(argv[2], "im") == 0) {
-        return run_im(n, argc > 3 && strcmp(argv[3], "ideal") == 0);
+        return run_im(n, argc > 3 && strcmp(argv[3], "ideal") == 0, 0);
+    }
+    if (argc > 2 && strcmp(argv[2], "sfvc") == 0) {
+        return run_im(n, 0, 1);
+    }
+    if (argc > 2 && strcmp(argv[2], "dfoc") == 0) {
+        return run_im(n, 0, 2);
     }
     dtc_config_si_t si;
     dtc_config_t cfg;

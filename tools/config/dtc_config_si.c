@@ -75,6 +75,9 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->fw_window = 20;
     si->fw_step_frac = 0.005;
     si->fw_psi_min_frac = 0.1;
+    si->carrier_hz = 0.0;
+    si->svm_mode = 0;
+    si->sfvc_kp_per_s = 0.0;
     si->estimator = DTC_EST_VOLTAGE;
     si->compensation = DTC_COMP_FSTP_PROPOSED;
     si->sstp_table = DTC_ST_BASIC;
@@ -289,6 +292,35 @@ static void im_from_si(conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *
     }
 
     cfg->sw.scheme = (uint16_t)si->scheme;
+    if (si->scheme == DTC_SCHEME_SFVC || si->scheme == DTC_SCHEME_DFOC) {
+        /* SVM schemes (im_sfvc.c, im_dfoc.c): one SVM carrier period per control period */
+        if (!(si->carrier_hz == 0.0 || fabs(si->carrier_hz * si->ts_s - 1.0) < 1e-9)) { fail(c, DTC_SI_ERR_IM, "carrier_hz = %g: the SVM carrier period must equal the control period ts_s = %g s (one PWM period per control period; 0 = 1/ts_s)", si->carrier_hz, si->ts_s); return; }
+        if (si->svm_mode != 0 && si->svm_mode != 1) { fail(c, DTC_SI_ERR_IM, "svm_mode = %d: must be 0 (symmetric) or 1 (two-phase)", si->svm_mode); return; }
+        if (!(si->psir_ref_wb > 0.0)) { fail(c, DTC_SI_ERR_IM, "psir_ref_wb = %g: the stator-flux vector control (Casadei eq. 18) and the rotor-flux-oriented control take the rotor-flux command: must be > 0", si->psir_ref_wb); return; }
+        if (si->flux_weakening != 0) { fail(c, DTC_SI_ERR_IM, "flux_weakening = %d: section 12's flux weakening watches the DTC torque comparator; not with SFVC or DFOC", si->flux_weakening); return; }
+        cfg->sw.svm_mode = (uint16_t)si->svm_mode;
+    }
+    if (si->scheme == DTC_SCHEME_SFVC) {
+        /* the flux regulator's K_p (eq. 24) in pu voltage per pu flux = K_p / w_base */
+        const double kp = si->sfvc_kp_per_s > 0.0 ? si->sfvc_kp_per_s : 0.5 / si->ts_s;
+        if (!(si->sfvc_kp_per_s >= 0.0 && si->sfvc_kp_per_s * si->ts_s <= 1.0)) { fail(c, DTC_SI_ERR_IM, "sfvc_kp_per_s = %g: must be in (0, 1/ts_s = %g] (0 = derived)", si->sfvc_kp_per_s, 1.0 / si->ts_s); return; }
+        cfg->sw.sfvc_kp_iq = to_iq(c, "sfvc_kp_per_s", kp, kp / b->w_base_rad_s);
+    }
+    if (si->scheme == DTC_SCHEME_DFOC) {
+        /* Current PI regulators in the rotor-flux frame (Casadei sec. 13, im_dfoc.c). With the
+         * back-EMF j w_s phi_s fed forward, the current sees sigma L_s di/dt = v - R_s i (the
+         * transient inductance): a PI with its zero at R_s / (sigma L_s) and the crossover w_c
+         * makes the loop w_c / (s + w_c): K_p = sigma L_s w_c, K_i = R_s w_c. w_c = 0.2 / Ts: the
+         * loop's delay of about 1.5 Ts (the computation period and the PWM's half period) costs
+         * 0.3 rad (17 deg) of phase there. References (T model, rotor-flux frame): i_d = phi_r* / M,
+         * T = (3/2) p (M/L_r) phi_r i_q, in pu i_q = (l_r/m) T / phi_r*. */
+        const double wc = 0.2 / si->ts_s;
+        const double zpu = si->rs_ohm / b->z_base_ohm;
+        cfg->sw.dfoc_kp_iq = to_iq(c, "lls_h (DFOC K_p = sigma L_s w_c)", si->lls_h, sigma * ls / b->l_base_h * wc / b->w_base_rad_s);
+        cfg->sw.dfoc_ki_ts_iq = zpu > 0.0 ? to_iq(c, "rs_ohm (DFOC K_i Ts = R_s w_c Ts)", si->rs_ohm, zpu * wc * si->ts_s) : 0;
+        cfg->sw.dfoc_id_ref_iq = to_iq(c, "psir_ref_wb (DFOC i_d* = phi_r* / M)", si->psir_ref_wb, si->psir_ref_wb / m / b->i_base_a);
+        cfg->sw.dfoc_iq_per_t_iq = to_iq(c, "psir_ref_wb (DFOC l_r/(m phi_r*))", si->psir_ref_wb, lr / m / (si->psir_ref_wb / b->psi_base_wb));
+    }
     {
         const double rpm = si->table_speed_rpm > 0.0 ? si->table_speed_rpm : dtc_table_speed_default_rpm(si);
         cfg->sw.im_table_speed_iq = to_iq(c, "table_speed_rpm", rpm, rpm * rpm_pu);
@@ -424,8 +456,10 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     if (si->sstp_table < DTC_ST_BASIC || si->sstp_table > (si->law == DTC_LAW_IM_DTC ? DTC_ST_SPEED : DTC_ST_D))
         return fail(&c, DTC_SI_ERR_VARIANT, "sstp_table = %d: must be DTC_ST_BASIC..%s", si->sstp_table,
                     si->law == DTC_LAW_IM_DTC ? "DTC_ST_SPEED" : "DTC_ST_D (DTC_ST_SPEED is IM only)");
-    if (si->scheme != DTC_SCHEME_DTC && !(si->law == DTC_LAW_IM_DTC && si->scheme == DTC_SCHEME_DSC))
-        return fail(&c, DTC_SI_ERR_VARIANT, "scheme = %d: DTC_SCHEME_DTC, or DTC_SCHEME_DSC with the IM law", si->scheme);
+    if (si->scheme != DTC_SCHEME_DTC &&
+        !(si->law == DTC_LAW_IM_DTC && (si->scheme == DTC_SCHEME_DSC || si->scheme == DTC_SCHEME_SFVC ||
+                                        si->scheme == DTC_SCHEME_DFOC)))
+        return fail(&c, DTC_SI_ERR_VARIANT, "scheme = %d: DTC_SCHEME_DTC, or DTC_SCHEME_DSC / SFVC / DFOC with the IM law", si->scheme);
     if (si->speed_sensor != DTC_SPEED_ENCODER && !(si->law == DTC_LAW_IM_DTC && si->speed_sensor == DTC_SPEED_NONE))
         return fail(&c, DTC_SI_ERR_VARIANT, "speed_sensor = %d: DTC_SPEED_ENCODER, or DTC_SPEED_NONE with the IM law", si->speed_sensor);
     if (si->mode != DTC_MODE_SPEED && si->mode != DTC_MODE_TORQUE)

@@ -110,6 +110,16 @@ typedef struct {
     int fw_window;          /* N control periods per flux-reference decision (>= 20) */
     double fw_step_frac;    /* flux-reference step per decision, fraction of flux_ref_wb */
     double fw_psi_min_frac; /* lowest flux reference, fraction of flux_ref_wb */
+    /* Stator-flux vector control (scheme DTC_SCHEME_SFVC, Casadei secs. 10.3-10.5) and the
+     * rotor-flux-oriented control (DTC_SCHEME_DFOC, sec. 13: its current-loop gains are derived,
+     * dtc_config_from_si). */
+    double carrier_hz;      /* SVM carrier: one PWM period per control period, so it must equal
+                             * 1 / ts_s; 0 = 1 / ts_s */
+    int svm_mode;           /* enum svm_mode (firmware/dtc/svm.h): 0 symmetric, 1 two-phase */
+    double sfvc_kp_per_s;   /* flux-regulator gain K_p of eq. 24, 1/s, in (0, 1/ts_s]; 0 = derived:
+                             * 1 / (2 ts_s), half of the flux error removed per period (the
+                             * deadbeat gain 1/ts_s halved as a margin for the one-period
+                             * prediction's model errors) */
 
     /* Variants. */
     int estimator;          /* enum dtc_estimator */

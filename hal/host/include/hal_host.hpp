@@ -23,6 +23,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -59,7 +60,7 @@ struct HarnessConfig {
     // ts_s * pwm_clock_hz / 2. When that is not a whole number of counts in 1..65534 the PWM form
     // is unavailable: hal_pwm_period() returns 0 and a PWM-form command is an invalid write that
     // turns the gates off (the leg-state form works at any ts_s).
-    double pwm_clock_hz = 75e6;
+    double pwm_clock_hz = PLANT_DEF_PWM_CLOCK_HZ;
     SensorConfig sensors;
 };
 
@@ -103,6 +104,14 @@ public:
     /// Ideal inverter only: alpha/beta voltages for the current period (open-loop runs have no
     /// actuation delay: the voltage table already says what is applied when).
     void set_ideal_voltage(double v_alpha_v, double v_beta_v);
+
+    /// Observation inside the period (tests: the current ripple of PWM, its spectrum): with n > 1
+    /// every advance() integrates the period in n equal parts and calls f(plant) after each; the
+    /// switching instants of the command are split among the parts (the plant's dead time is
+    /// kept in absolute time), so the plant sees the same command as in one piece. n = 1 (the
+    /// default) advances in one piece. The period-match gates-off path (hal.h: an asymmetric
+    /// pulse followed by enable = 0) is not split and calls f once, at the period's end.
+    void set_substeps(int n, std::function<void(const plant_t*)> f);
 
     // --- what the runner records -------------------------------------------------------------
     /// The plant's full true state at time_s(): between sample() and advance() the state at t_k
@@ -162,6 +171,7 @@ private:
     Harness(plant_t* plant, const HarnessConfig& cfg, const plant_params_t& params);
     bool comparator_active() const;
     void apply_to_plant();
+    void advance_plain(); // one period of the active command, in substeps_ parts
     static bool pwm_asymmetric(const hal_cmd_t& c);
 
     plant_t* plant_;
@@ -195,6 +205,8 @@ private:
     std::uint64_t gates_off_calls_ = 0;
     std::uint64_t trip_clear_calls_ = 0;
     std::uint64_t invalid_writes_ = 0;
+    int substeps_ = 1;
+    std::function<void(const plant_t*)> substep_fn_;
 };
 
 } // namespace hal_host

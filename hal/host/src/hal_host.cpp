@@ -237,12 +237,64 @@ void Harness::advance()
         plant_set_legs(plant_, 0, 0, 0, 0);
         plant_advance(plant_, 0.5 * cfg_.ts_s);
     } else {
-        plant_advance(plant_, cfg_.ts_s);
+        advance_plain();
+    }
+    if (substeps_ > 1 && substep_fn_ && inverter_ != PLANT_INVERTER_IDEAL && pwm_asymmetric(active_) &&
+        gates_enabled() && pending_.enable == 0u) {
+        substep_fn_(plant_);
     }
     state_valid_ = false;
     ++k_;
     active_ = pending_; // shadow registers load at the period boundary
     sampled_ = false;
+}
+
+void Harness::set_substeps(int n, std::function<void(const plant_t*)> f)
+{
+    substeps_ = n > 1 ? n : 1;
+    substep_fn_ = std::move(f);
+}
+
+void Harness::advance_plain()
+{
+    if (substeps_ <= 1) {
+        plant_advance(plant_, cfg_.ts_s);
+        return;
+    }
+    // The PWM form's instants of the whole period (apply_to_plant set them for one piece), split:
+    // part j starts in the state the earlier instants left and takes those in [t0, t1), shifted
+    // to its start (the last part also those at or beyond its end, which act there).
+    const bool pwm = inverter_ != PLANT_INVERTER_IDEAL && active_.form == HAL_CMD_PWM && t1pr_ != 0u;
+    plant_leg_edges_t e[3]{};
+    if (pwm) {
+        for (int x = 0; x < 3; ++x) {
+            e[x] = pwm_leg_edges(active_, x);
+        }
+    }
+    const int en = gates_enabled() ? 1 : 0;
+    const double h = cfg_.ts_s / substeps_;
+    for (int j = 0; j < substeps_; ++j) {
+        if (pwm) {
+            const double t0 = j * h, t1 = (j + 1) * h;
+            plant_leg_edges_t part[3]{};
+            for (int x = 0; x < 3; ++x) {
+                part[x].state0 = e[x].state0;
+                for (int k = 0; k < e[x].n; ++k) {
+                    const double t = e[x].t_s[k];
+                    if (t < t0) {
+                        part[x].state0 ^= 1;
+                    } else if (j == substeps_ - 1 || t < t1) {
+                        part[x].t_s[part[x].n++] = t - t0;
+                    }
+                }
+            }
+            plant_set_leg_edges(plant_, part, en);
+        }
+        plant_advance(plant_, h);
+        if (substep_fn_) {
+            substep_fn_(plant_);
+        }
+    }
 }
 
 void Harness::set_ideal_voltage(double v_alpha_v, double v_beta_v)

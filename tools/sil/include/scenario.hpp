@@ -29,7 +29,8 @@ enum class Implementation { Firmware, Reference };
 enum class Estimator { Current, Voltage, Improved };
 enum class Compensation { None, Simple, Proposed };
 enum class SwitchingTable { Basic, StA, StB, StC, StD, SpeedDependent };
-enum class Scheme { Dtc, Dsc };
+enum class Scheme { Dtc, Dsc, Sfvc, Dfoc };
+enum class Modulation { Symmetric, TwoPhase };
 enum class SpeedSensor { Encoder, None };
 
 /// The one to-string table of each variant: names[i] is the key text of enum value i.
@@ -59,7 +60,10 @@ template <> struct VariantNames<SwitchingTable> {
     static constexpr std::array<const char*, 6> names{"basic", "st-a", "st-b", "st-c", "st-d", "speed-dependent"};
 };
 template <> struct VariantNames<Scheme> {
-    static constexpr std::array<const char*, 2> names{"dtc", "dsc"};
+    static constexpr std::array<const char*, 4> names{"dtc", "dsc", "sfvc", "dfoc"};
+};
+template <> struct VariantNames<Modulation> {
+    static constexpr std::array<const char*, 2> names{"symmetric", "two_phase"};
 };
 template <> struct VariantNames<SpeedSensor> {
     static constexpr std::array<const char*, 2> names{"encoder", "none"};
@@ -192,6 +196,10 @@ struct ControlCfg {
     double observer_tau_hi_rpm = 0.0;    // |speed| from which observer_tau_high_s applies
     double magnetise_frac = PLANT_DEF_IM_MAGN_FRAC; // start-up: torque allowed at this rotor-flux fraction
     double table_speed_rpm = 0.0;        // speed-dependent table: ST-D below, ST-A above; 0 = derived
+    // Stator-flux vector control (scheme sfvc, Casadei secs. 10.3-10.5).
+    double carrier_hz = PLANT_DEF_IM_CARRIER_HZ; // SVM carrier; the control period ts_s = 1 / carrier_hz
+    Modulation modulation = Modulation::Symmetric; // dfoc with the key unset: two_phase (Casadei sec. 13)
+    double sfvc_kp_per_s = 0.0;          // flux-regulator gain K_p (eq. 24); 0 = derived, 1 / (2 ts_s)
 };
 
 struct SensorsCfg {

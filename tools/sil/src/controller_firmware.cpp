@@ -165,7 +165,13 @@ dtc_config_si_t firmware_si_config(const Scenario& sc)
         // Flux weakening reaches 400 % of base speed (Casadei Fig. 32): the speed reference's
         // limit covers it.
         si.speed_limit_rpm = std::fmax(4.0 * m.rated_speed_rpm, std::fabs(c.speed_ref_rpm));
-        si.scheme = c.scheme == Scheme::Dsc ? DTC_SCHEME_DSC : DTC_SCHEME_DTC;
+        si.scheme = c.scheme == Scheme::Dsc    ? DTC_SCHEME_DSC
+                    : c.scheme == Scheme::Sfvc ? DTC_SCHEME_SFVC
+                    : c.scheme == Scheme::Dfoc ? DTC_SCHEME_DFOC
+                                               : DTC_SCHEME_DTC;
+        si.carrier_hz = c.scheme == Scheme::Sfvc || c.scheme == Scheme::Dfoc ? c.carrier_hz : 0.0;
+        si.svm_mode = c.modulation == Modulation::TwoPhase ? 1 : 0;
+        si.sfvc_kp_per_s = c.sfvc_kp_per_s;
         si.speed_sensor = c.speed_sensor == SpeedSensor::None ? DTC_SPEED_NONE : DTC_SPEED_ENCODER;
         si.flux_weakening = c.flux_weakening ? 1 : 0;
         si.psir_ref_wb = c.rotor_flux_ref_wb;
@@ -246,6 +252,9 @@ std::string keys_of_field(const std::string& msg)
         {"speed_filter_s", "ts_s, control.speed_loop_divider"},
         {"fw_", "control.flux_weakening"},
         {"scheme", "control.scheme"},
+        {"carrier_hz", "control.carrier_hz, ts_s"},
+        {"svm_mode", "control.modulation"},
+        {"sfvc_kp_per_s", "control.sfvc_kp_per_s (with ts_s)"},
         {"speed_sensor", "control.speed_sensor"},
         {"topology", "inverter.topology"},
     };

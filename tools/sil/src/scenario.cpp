@@ -270,8 +270,26 @@ const std::vector<Spec>& schema()
                ACC(control.table)),
         choice<Scheme>("control.scheme",
                "IM only: dtc = switching table (Casadei secs. 4-8); dsc = Direct Self Control, hexagonal flux "
-               "locus (sec. 9)",
+               "locus (sec. 9); sfvc = stator-flux vector control with SVM at the constant switching frequency "
+               "control.carrier_hz (secs. 10.3-10.5, Fig. 18, eqs. 18, 23, 24); dfoc = direct rotor-flux-oriented control, PI current "
+               "regulators in the rotor-flux frame, SVM at control.carrier_hz (sec. 13, the baseline); sfvc and dfoc need "
+               "control.rotor_flux_ref_wb > 0",
                ACC(control.scheme)),
+        num("control.carrier_hz", "Hz", positive(),
+            "IM sfvc, dfoc: SVM carrier frequency; one PWM period per control period, so ts_s = 1 / carrier_hz (ts_s not "
+            "given: set from it; both given: must agree); 75 MHz / (2 carrier_hz) must be a whole number of timer "
+            "counts (hal.h T1PR); default: Casadei sec. 13's 160 us cycle",
+            ACC(control.carrier_hz)),
+        choice<Modulation>("control.modulation",
+               "IM sfvc, dfoc: symmetric = seven-segment SVM, centred pulses, min-max zero-sequence injection (mean "
+               "switching frequency = the carrier); two_phase = discontinuous, the leg of the largest phase voltage "
+               "clamped for 60 deg (2/3 of the carrier) (firmware/dtc/svm.h); not given: symmetric for sfvc, two_phase for "
+               "dfoc (Casadei sec. 13)",
+               ACC(control.modulation)),
+        num("control.sfvc_kp_per_s", "1/s", nonneg(),
+            "IM sfvc: flux-regulator gain K_p of Casadei eq. 24, at most 1/ts_s (deadbeat); 0 = derived, "
+            "1 / (2 ts_s)",
+            ACC(control.sfvc_kp_per_s)),
         choice<SpeedSensor>("control.speed_sensor",
                "IM only: encoder = speed from the encoder; none = sensorless, the stator-flux angular speed minus "
                "the slip of Casadei eq. 16",
@@ -745,7 +763,14 @@ void apply_machine_defaults(Scenario& s, Diagnostics* d)
     if (s.control.mode == ControlMode::OpenLoop) {
         return;
     }
-    if (unset("ts_s")) s.ts_s = PLANT_DEF_IM_TS_S;
+    if (unset("ts_s")) {
+        // the stator-flux vector control runs one control period per SVM carrier period
+        s.ts_s = s.control.scheme == Scheme::Sfvc || s.control.scheme == Scheme::Dfoc ? 1.0 / s.control.carrier_hz
+                                                                                          : PLANT_DEF_IM_TS_S;
+    }
+    if (unset("control.modulation") && s.control.scheme == Scheme::Dfoc) {
+        s.control.modulation = Modulation::TwoPhase; // Casadei sec. 13's DFOC
+    }
     if (unset("inverter.vdc_v")) s.inverter.vdc_v = PLANT_DEF_IM_VDC_V;
     if (unset("control.flux_ref_wb")) s.control.flux_ref_wb = PLANT_DEF_IM_FLUX_REF_WB;
     if (unset("control.torque_limit_nm")) s.control.torque_limit_nm = PLANT_DEF_IM_TORQUE_LIMIT_NM;
@@ -763,7 +788,8 @@ void apply_machine_defaults(Scenario& s, Diagnostics* d)
 void check_law_keys(const Scenario& s, Diagnostics* d)
 {
     static const std::vector<std::string> im_law = {
-        "control.scheme", "control.speed_sensor", "control.flux_weakening", "control.rotor_flux_ref_wb",
+        "control.scheme", "control.carrier_hz", "control.modulation", "control.sfvc_kp_per_s",
+        "control.speed_sensor", "control.flux_weakening", "control.rotor_flux_ref_wb",
         "control.observer_tau_s", "control.observer_tau_high_s", "control.observer_tau_lo_rpm",
         "control.observer_tau_hi_rpm", "control.magnetise_frac", "control.table_speed_rpm",
         "firmware.rr_ohm", "firmware.lls_h", "firmware.llr_h", "firmware.lm_h"};
@@ -833,6 +859,36 @@ void cross_validate(Scenario& s, Diagnostics* d)
         if (s.control.observer_tau_s <= s.ts_s || tau_hi <= s.ts_s) {
             err(s.control.observer_tau_s <= s.ts_s ? "control.observer_tau_s" : "control.observer_tau_high_s",
                 "must be longer than the control period ts_s = " + fmt_double(s.ts_s) + " s");
+        }
+        const bool svm = s.control.scheme == Scheme::Sfvc || s.control.scheme == Scheme::Dfoc;
+        if (svm) {
+            // One PWM period per control period (firmware/dtc/im_sfvc.c, hal.h): ts_s = 1 / carrier_hz,
+            // T1PR = ts_s f_clock / 2 a whole number of counts.
+            if (s.origin.count("control.carrier_hz") != 0 && s.origin.count("ts_s") != 0 &&
+                std::fabs(s.control.carrier_hz * s.ts_s - 1.0) > 1e-9) {
+                err("control.carrier_hz", "is " + fmt_double(s.control.carrier_hz) + " Hz: the SVM carrier period must "
+                    "equal the control period ts_s = " + fmt_double(s.ts_s) + " s (" + origin_of(s, "ts_s") + ")");
+            } else if (s.origin.count("control.carrier_hz") == 0) {
+                s.control.carrier_hz = 1.0 / s.ts_s;
+            }
+            const double n = s.ts_s * PLANT_DEF_PWM_CLOCK_HZ * 0.5;
+            if (!(std::fabs(n - std::nearbyint(n)) <= 1e-9 * n && n >= 1.0 && n <= 65534.0)) {
+                err(s.origin.count("control.carrier_hz") != 0 ? "control.carrier_hz" : "ts_s",
+                    "the PWM timer period 75 MHz / (2 carrier) = " + fmt_double(n) +
+                        " counts is not a whole number in 1..65534 (hal.h T1PR)");
+            }
+            if (!(s.control.rotor_flux_ref_wb > 0.0)) {
+                err("control.rotor_flux_ref_wb", "the stator-flux vector control (Casadei eq. 18) and the "
+                                                 "rotor-flux-oriented control take the rotor-flux command: must be > 0");
+            }
+            if (s.control.flux_weakening) {
+                err("control.flux_weakening", "section 12's flux weakening watches the DTC torque comparator; not "
+                                              "with control.scheme = \"" + to_string(s.control.scheme) + "\"");
+            }
+            if (s.control.sfvc_kp_per_s * s.ts_s > 1.0) {
+                err("control.sfvc_kp_per_s", "must be at most 1/ts_s = " + fmt_double(1.0 / s.ts_s) +
+                                                 " 1/s (the deadbeat gain)");
+            }
         }
         if (s.control.observer_tau_hi_rpm < s.control.observer_tau_lo_rpm) {
             err("control.observer_tau_hi_rpm", "must not be below control.observer_tau_lo_rpm = " +

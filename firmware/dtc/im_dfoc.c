@@ -1,0 +1,70 @@
+/*
+ * im_dfoc.c - direct rotor-flux-oriented control of the induction machine, the baseline of
+ * Casadei et al. 2006 section 13 ("DFOC": PI current regulators in the rotor-flux frame, SVM,
+ * the same flux estimator): the scheme DTC_SCHEME_DFOC of the IM law (im_dtc.h), one
+ * im_dfoc_step() per control period = SVM carrier period (svm.h; the paper's drive: two-phase
+ * modulation, 160 us cycle).
+ *
+ *   estimator, speed loop, start-up and references as the IM law (im_dtc_front, im_dtc_refs)
+ *   -> rotor-flux frame from the estimator's direction e^{j theta} = (u_alpha, u_beta) (Casadei
+ *      eq. 22): i_d = i . e^{j theta}, i_q = e^{j theta} x i (Park)
+ *   -> references (T model in the rotor-flux frame, constant rotor flux, Casadei eqs. 7-9, A10):
+ *        i_d* = phi_r* / m,   T = (m / l_r) phi_r i_q  ->  i_q* = (l_r / (m phi_r*)) T*
+ *      (T* = 0 and i_d* the magnetising current during the start-up magnetisation)
+ *   -> PI per axis, v_dq = K_p e + sum K_i Ts e (the integral clamped to +-1 pu, the nominal
+ *      link: anti-windup), gains from the machine (tools/config: K_p = sigma l_s w_c, K_i = r_s
+ *      w_c, w_c = 0.2 / Ts)
+ *   -> stator frame, plus the back-EMF j w_s phi_s fed forward (Casadei eq. A6 in the steady
+ *      state: v = R_s i + j w_s phi_s; with it the current loops see sigma l_s di/dt = v - R_s i),
+ *      w_s = w + r_r T* / phi_r*^2 (eq. 16 solved for the slip), the whole vector advanced by the
+ *      rotation 1.5 w_s Ts it makes until the middle of the period it acts in, (1 + j 1.5 w_s Ts)
+ *   -> SVM and outputs (im_pwm_out, shared with the SFVC).
+ *
+ * Formats: IQ pu (dtc_base.h); gains IQ (K_i Ts per period).
+ * Scaling and overflow: Park and the inverse rotation are two-term products rounded once
+ * (iq_mac2, each |product| <= 2^62); PI products rounded IQ (iq_mpy), sums saturating, the
+ * integrals clamped to +-1 pu; the feed-forward products rounded and saturating; the SVM clamps
+ * the result onto its hexagon.
+ */
+#include "im_dtc.h"
+
+void im_dfoc_regulate(im_dtc_t *c)
+{
+    const dtc_config_t *cfg = c->cfg;
+    const iq_t ua = c->est.u_alpha_iq, ub = c->est.u_beta_iq;
+    const iq_t kp = cfg->sw.dfoc_kp_iq, ki = cfg->sw.dfoc_ki_ts_iq;
+    const iq_t id = iq_mac2(c->i.i_alpha_iq, ua, c->i.i_beta_iq, ub);
+    const iq_t iq = iq_mac2(c->i.i_beta_iq, ua, fix_neg32(c->i.i_alpha_iq), ub);
+    const iq_t iq_ref = c->magnetised != 0U ? iq_mpy(cfg->sw.dfoc_iq_per_t_iq, c->te_ref_iq) : 0;
+    const iq_t ed = iq_sub(cfg->sw.dfoc_id_ref_iq, id);
+    const iq_t eq = iq_sub(iq_ref, iq);
+    iq_t vd, vq, va, vb, ws;
+
+    c->foc_id_int_iq = fix_clamp32(iq_add(c->foc_id_int_iq, iq_mpy(ki, ed)), -IQ(1.0), IQ(1.0));
+    c->foc_iq_int_iq = fix_clamp32(iq_add(c->foc_iq_int_iq, iq_mpy(ki, eq)), -IQ(1.0), IQ(1.0));
+    vd = iq_add(iq_mpy(kp, ed), c->foc_id_int_iq);
+    vq = iq_add(iq_mpy(kp, eq), c->foc_iq_int_iq);
+    /* w_s = w + w_slip (eq. 16) */
+    ws = iq_add(c->speed_iq, iq_mpy(c->sfvc_kslip_iq, c->te_ref_iq));
+    /* stator frame (inverse Park) plus j w_s phi_s */
+    va = iq_sub(iq_mac2(vd, ua, fix_neg32(vq), ub), iq_mpy(ws, c->est.psi_beta_iq));
+    vb = iq_add(iq_mac2(vd, ub, vq, ua), iq_mpy(ws, c->est.psi_alpha_iq));
+    /* advanced by 1.5 w_s Ts: the flux turns that far until the middle of the next period */
+    iq_cmul_1jx(iq_mpy(ws, iq_add(cfg->board.ts_pu_iq, fix_rshift_rnd32(cfg->board.ts_pu_iq, 1U))), &va, &vb);
+    c->vs_alpha_iq = va;
+    c->vs_beta_iq = vb;
+}
+
+void im_dfoc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
+{
+    /* 1-5. Shadow set, Clarke, stator and rotor flux from the modulated voltage, torque, speed
+     *      and speed loop (shared with im_dtc_step). 6. References: start-up, T* (eq. 19's
+     *      stator flux is not used). */
+    const iq_t te = im_dtc_front(c, m, o, 1U);
+    c->ref_due = 0U;
+    im_dtc_refs(c);
+    /* 7. Current regulators in the rotor-flux frame. */
+    im_dfoc_regulate(c);
+    /* 8. SVM and outputs (shared with the SFVC). */
+    im_pwm_out(c, m, o, te);
+}

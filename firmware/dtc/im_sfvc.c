@@ -1,0 +1,108 @@
+/*
+ * im_sfvc.c - stator-flux vector control of the induction machine (Casadei et al. 2006 sections
+ * 10.3-10.5, Fig. 18): the scheme DTC_SCHEME_SFVC of the IM law (im_dtc.h), one im_sfvc_step()
+ * per control period, which is also the SVM carrier period (one centred pulse per leg, svm.h).
+ *
+ *   Clarke -> stator voltage of the period that ends now (the duties returned two steps ago as
+ *      the SVM expects them to act, d_eff, on the V_dc measured when they were made) + the
+ *      device-drop compensation
+ *   -> stator and rotor flux (improved or voltage-model estimator, im_est.h), torque (eq. A10)
+ *   -> speed and speed PI, start-up magnetisation, references (shared with im_dtc_step)
+ *   -> stator-flux reference vector, Casadei eq. 18 in the rotor-flux frame at constant rotor
+ *      flux (the s sigma tau_r phi_r term is zero):
+ *        phi_s* = (l_s/m) (phi_r* + j sigma l_r T* / phi_r*)                     (eq. 18, pu)
+ *      turned into the stator frame by the rotor-flux direction e^{j theta} of eq. 22 (im_est's
+ *      unit vector); during the start-up magnetisation phi_s* = (ramp) e^{j theta} at T* = 0
+ *   -> the flux regulator, eqs. 23-24:
+ *        Delta phi_s = phi_s* - phi_s                                            (eq. 23)
+ *        v_s* = R_s i_s + j w_s phi_s + K_p Delta phi_s                          (eq. 24)
+ *      made to act in the period the command is applied in (the one-period delay of hal.h):
+ *      phi_s is the estimate predicted for the start of that period, phi_s(k+1) = phi_s(k) +
+ *      Ts (v(k) - R_s i(k)) with v(k) the voltage of the duties returned by the previous step
+ *      (the stator-voltage equation, Casadei eq. A6 / eq. 1, forward Euler over one period), and
+ *      phi_s* is advanced to k+1 by the rotation w_s Ts, (1 + j w_s Ts) phi_s*(k) (iq_cmul_1jx).
+ *      With K_p Ts = 1 the flux error left after the period is zero (deadbeat): phi_s(k+2) =
+ *      phi_s*(k+1) + j w_s Ts phi_s(k+1), the reference two periods on. The back-EMF term uses
+ *      w_s, the stator-flux angular speed, = w + w_slip in the steady state, the slip from eq. 16
+ *      with the references (w_slip = r_r T* / phi_r*^2, im_ref_slip).
+ *   -> SVM (svm.h) of v_s* on the measured V_dc with dead-time compensation by the current
+ *      sign (sec. 10.5), the PWM form in dtc_out_t.
+ * The device drops (vcomp.h) are compensated in the estimator's voltage, not in v_s*: the flux
+ * regulator's proportional term takes up the difference.
+ *
+ * Formats: IQ pu (dtc_base.h), the duties IQ in [0, 1]; K_p in pu voltage per pu flux (K_p /
+ * w_base), Ts as ts_pu = Ts w_base.
+ * Scaling and overflow: rounded IQ products (iq_mpy, and iq_mac2 for the two-term sums of
+ * products, rounded once) and saturating sums; the reference's
+ * magnitude is l_s/m |phi_r*| sqrt(1 + (sigma l_r T* / phi_r*^2)^2), a few pu at the torque limit;
+ * v_s* is at most R_s |i| + |w_s||phi_s| + K_p |Delta phi_s| (K_p <= 1/ts_pu: 64 pu at 50 us and
+ * 50 Hz base), saturating; the SVM clamps it onto its hexagon (svm.h).
+ */
+#include "im_dtc.h"
+
+
+/* The estimator's input (as im_dtc_estimate): the voltage of the period that ends now (kept by
+ * the step two periods ago, d_eff: the dead time is in it, svm.h) plus the SSTP device-drop
+ * terms (vcomp.h; with the SSTP's equal drops the leg state does not matter). */
+void im_sfvc_estimate(im_dtc_t *c, const dtc_meas_t *m)
+{
+    im_est_in_t *in = &c->ein;
+    (void)m;
+    vcomp_step(&c->vc_p, 0U, 0U, 0U, &c->i, &c->dva_iq, &c->dvb_iq);
+    in->v_alpha_iq = fix_add32(c->v2_alpha_iq, c->dva_iq);
+    in->v_beta_iq = fix_add32(c->v2_beta_iq, c->dvb_iq);
+    im_dtc_ein_common(c);
+}
+
+/* Eqs. 18, 23, 24 (file comment) into c->vs_alpha_iq, c->vs_beta_iq. Eq. 24 is evaluated with K_p
+ * distributed, v_s* = R_s i + (j w_s - K_p) phi_s + K_p phi_s*, so that K_p phi_s* comes from the
+ * products K_p (l_s/m) phi_r* and K_p (l_s/m) sigma l_r / phi_r* made at init. */
+void im_sfvc_regulate(im_dtc_t *c)
+{
+    const dtc_config_t *cfg = c->cfg;
+    const iq_t ts = cfg->board.ts_pu_iq;
+    const iq_t kp = cfg->sw.sfvc_kp_iq;
+    const iq_t ria = iq_mpy(cfg->machine.rs_iq, c->i.i_alpha_iq);
+    const iq_t rib = iq_mpy(cfg->machine.rs_iq, c->i.i_beta_iq);
+    iq_t pa, pb, ra, rb, ws;
+
+    /* the flux predicted for k+1: the stator-voltage equation over the period under way */
+    pa = iq_add(c->est.psi_alpha_iq, iq_mpy(ts, iq_sub(iq_add(c->v1_alpha_iq, c->dva_iq), ria)));
+    pb = iq_add(c->est.psi_beta_iq, iq_mpy(ts, iq_sub(iq_add(c->v1_beta_iq, c->dvb_iq), rib)));
+    /* K_p phi_s*: eq. 18 in the rotor-flux frame (d along phi_r), turned by e^{j theta} (eq. 22) */
+    {
+        iq_t d, q;
+        if (c->magnetised == 0U) {
+            d = iq_mpy(kp, c->psi_ref_iq); /* the start-up ramp, radial, T* = 0 */
+            q = 0;
+        } else {
+            d = c->sfvc_kpd_iq;
+            q = iq_mpy(c->sfvc_kpq_iq, c->te_ref_iq);
+        }
+        ra = iq_mac2(d, c->est.u_alpha_iq, fix_neg32(q), c->est.u_beta_iq);
+        rb = iq_mac2(d, c->est.u_beta_iq, q, c->est.u_alpha_iq);
+    }
+    /* w_s = w + w_slip (eq. 16), the reference advanced by w_s Ts to k+1 */
+    ws = iq_add(c->speed_iq, iq_mpy(c->sfvc_kslip_iq, c->te_ref_iq));
+    iq_cmul_1jx(iq_mpy(ws, ts), &ra, &rb);
+    /* eqs. 23-24: v_s* = R_s i + j w_s phi_s + K_p (phi_s* - phi_s) */
+    c->vs_alpha_iq = iq_add(iq_sub(ria, iq_mac2(ws, pb, kp, pa)), ra);
+    c->vs_beta_iq = iq_add(iq_add(rib, iq_mac2(ws, pa, fix_neg32(kp), pb)), rb);
+}
+
+void im_sfvc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
+{
+    iq_t te;
+
+    /* 1-5. Shadow set, Clarke, stator and rotor flux from the modulated voltage, torque, speed
+     *      and speed loop (shared with im_dtc_step). 6. References: start-up (the magnetising
+     *      ramp), T*. */
+    te = im_dtc_front(c, m, o, 1U);
+    c->ref_due = 0U; /* eq. 19's |phi_s*| is not used: eq. 18 gives the vector (im_sfvc_regulate) */
+    im_dtc_refs(c);
+    /* 7. Flux regulator (eqs. 18, 23, 24); the SVM is called from here, after it, so that its
+     *    frame and the regulator's are not on one chain (stack). */
+    im_sfvc_regulate(c);
+    /* 8. SVM and outputs (shared with the DFOC). */
+    im_pwm_out(c, m, o, te);
+}
