@@ -112,6 +112,9 @@ typedef struct {
     double i2_int_a2s;                /* integral of i_a^2 + i_b^2 + i_c^2 since creation, A^2 s:
                                        * the continuous currents' mean square over any interval
                                        * (the sampled currents miss the ripple between samples) */
+    double q_a_as, q_b_as;            /* integrals of i_a and i_b since creation, A s (charge): the
+                                       * mean phase currents over any interval, free of the aliasing
+                                       * that sampling once per period suffers */
 } plant_state_t;
 
 /* What a drive's sensors can see (addition): the subset of plant_state_t that hal/host samples

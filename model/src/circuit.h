@@ -177,6 +177,8 @@ inline void rhs_t(plant_t *pl, const M &m, const Vec &y, Vec &dy, RhsOutputs *au
     dy[S_ELOAD] = tl * omega;
     dy[S_ERDC] = g.r_dc * i_s * i_s;
     dy[S_I2] = p_cu;
+    dy[S_QA] = y[S_IA];
+    dy[S_QB] = y[S_IB];
     dy[S_IVA0] = vx0[0];
     dy[S_IVB0] = vx0[1];
     dy[S_IVC0] = vx0[2];

@@ -176,8 +176,8 @@ void plant_advance(plant_t *pl, double dt_s) {
 void plant_get_state(const plant_t *plant, plant_state_t *s) {
     plant_t *pl = const_cast<plant_t *>(plant);  // mode selection counts; the state is unchanged
     // Every field is assigned below (no memset: this runs once per control period).
-    static_assert(offsetof(plant_state_t, i2_int_a2s) == 35 * sizeof(double) &&
-                      sizeof(plant_state_t) <= 36 * sizeof(double),
+    static_assert(offsetof(plant_state_t, q_b_as) == 37 * sizeof(double) &&
+                      sizeof(plant_state_t) <= 38 * sizeof(double),
                   "plant_state_t changed: assign the new fields");
     const plant_params_t &p = pl->p;
     const Vec &y = pl->y;
@@ -235,6 +235,8 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
     s->e_rdc_j = y[S_ERDC];
     s->e_link_j = y[S_ELINK];
     s->i2_int_a2s = y[S_I2];
+    s->q_a_as = y[S_QA];
+    s->q_b_as = y[S_QB];
     s->e_magnetic_j = r.e_magnetic;
     s->e_kinetic_j = 0.5 * p.j_kgm2 * y[S_OMEGA] * y[S_OMEGA];
     s->e_capacitor_j = dclink::capacitor_energy(p, pl->link, y[S_VCLO], y[S_VCHI]);

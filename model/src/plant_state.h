@@ -15,11 +15,12 @@ constexpr double kRpmToRadS = 2.0 * kPi / 60.0;
 // alpha / beta; unused by the PM machine, held at 0).
 enum : int {
     S_IA = 0, S_IB, S_IC, S_THETA, S_OMEGA, S_VCLO, S_VCHI, S_MACH0, S_MACH1,
-    S_EDC, S_ECU, S_EDEV, S_EFRIC, S_ELOAD, S_ERDC, S_IVA0, S_IVB0, S_IVC0, S_ELINK, S_I2,
+    S_EDC, S_ECU, S_EDEV, S_EFRIC, S_ELOAD, S_ERDC, S_IVA0, S_IVB0, S_IVC0, S_ELINK, S_I2, S_QA, S_QB,
     NS
 };
 // The first ND states are dynamic (they enter the right-hand side); the rest are quadratures
-// (energy accounts, terminal-voltage integrals and the integral of the squared phase currents) that RK4 integrates with the same weights, so
+// (energy accounts, terminal-voltage integrals, the integrals of the phase currents A and B and of
+// the squared phase currents) that RK4 integrates with the same weights, so
 // the intermediate stage states only need their first ND entries.
 constexpr int ND = S_MACH1 + 1;
 constexpr int kMachineStates = S_MACH1 - S_MACH0 + 1;  // state slots a machine may use

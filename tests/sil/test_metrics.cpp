@@ -186,6 +186,29 @@ TEST(Metrics, KnownSwitchingPatternGivesSwitchingFrequency)
     EXPECT_NEAR(switching_frequency_hz(s, 2500, 1000, 0x2), 500.0 / (2.0 * 1000 * kTs), 1e-9);
 }
 
+// The PWM form: a centred pulse on every leg in every period (start low, two changes inside) is one
+// turn-on per device per period, 1 / ts = 20 kHz at 50 us (2 changes per period and leg, 2 devices).
+TEST(Metrics, PwmFormPulsesInsideThePeriodCount)
+{
+    Series s = three_phase(25.0, 0.2, {1.0, 1.0, 1.0});
+    const std::size_t n = s.size();
+    for (std::size_t k = 0; k < n; ++k) {
+        for (auto* v : {&s.sa, &s.sb, &s.sc}) v->push_back(0);
+        for (auto* v : {&s.tog_a, &s.tog_b, &s.tog_c}) v->push_back(2);
+        s.en.push_back(1);
+    }
+    EXPECT_NEAR(switching_frequency_hz(s, 1000, 2000, 0x7), 1.0 / kTs, 1e-9);
+    // Leg A clamped high (state 1, no change inside) every third period: per 3 periods, two
+    // pulses (4 changes) plus the boundary changes into and out of the clamp (2): 6 changes.
+    for (std::size_t k = 0; k < n; ++k) {
+        if (k % 3 == 0) {
+            s.sa[k] = 1;
+            s.tog_a[k] = 0;
+        }
+    }
+    EXPECT_NEAR(switching_frequency_hz(s, 999, 3000, 0x1), 6.0 / 3.0 / (2.0 * kTs), 1e-9);
+}
+
 TEST(Metrics, FluxErrorRmsIsRelativeToTheTrueFluxRms)
 {
     Series s = three_phase(25.0, 0.2, {1.0, 1.0, 1.0});
@@ -265,44 +288,42 @@ TEST(Metrics, FilteredTrfIsTheRippleThroughAFirstOrderSensor)
     EXPECT_GT(m.trf_filtered_pct, 0.69 * m.trf_pct);
 }
 
-// Casadei Table 5's ripple: a ripple the once-per-period samples never see. Each phase carries
-// B sin(2 pi f_s t) at the sampling frequency f_s = 1/ts (an integer harmonic of the 25 Hz
-// fundamental, 800 f1), which is zero at every sample, plus a 5th harmonic the samples do see.
-// The plant's integral of the squared currents (written here in closed form) carries both, so
-// the metric is sqrt(B^2/2 + (h5 A)^2/2) per phase, where the samples alone would give h5 A / sqrt 2.
+// Casadei Table 5's ripple: a ripple the once-per-period samples never see as ripple. Each phase
+// carries B sin(2 pi f_s t - shift_x) at the sampling frequency f_s = 1/ts (800 f1, a balanced set:
+// constant at the samples) plus a 5th harmonic. The plant's integrals of the squared currents and
+// of i_a, i_b (written here by Simpson's rule on a fine grid) carry both, so the metric is
+// sqrt(B^2/2 + (h5 A)^2/2) per phase.
 TEST(Metrics, CurrentRippleUsesTheContinuousCurrentsNotTheSamples)
 {
     const double f1 = 25.0, a = 2.0, h5 = 0.04, bhf = 0.3;
     Series s = three_phase(f1, 0.2, {a, a, a}, h5, 0.0, 0.0);
     const double w1 = 2.0 * kPi * f1, ws = 2.0 * kPi / kTs;
-    // The plant's integral of sum_x i_x^2 at each sample instant, by Simpson's rule on a fine grid
-    // (error ~1e-12 of the value here).
     const double sh[3] = {0.0, -2.0 * kPi / 3.0, 2.0 * kPi / 3.0};
-    auto i2 = [&](double t) {
-        double sum = 0.0;
-        for (double x : sh) {
-            const double th = w1 * t + x;
-            const double i = a * (std::cos(th) + h5 * std::cos(5.0 * th)) + bhf * std::sin(ws * t);
-            sum += i * i;
-        }
-        return sum;
+    auto phase = [&](int x, double t) {
+        const double th = w1 * t + sh[x];
+        return a * (std::cos(th) + h5 * std::cos(5.0 * th)) + bhf * std::sin(ws * t + sh[x]);
     };
-    double acc = 0.0;
-    constexpr int kSub = 64; // Simpson sub-intervals per sample interval (ws: one period per interval)
+    double i2 = 0.0, qa = 0.0, qb = 0.0;
+    constexpr int kSub = 64; // Simpson sub-intervals per sample interval
     for (std::size_t k = 0; k < s.size(); ++k) {
-        s.i2_int.push_back(acc);
+        s.i2_int.push_back(i2);
+        s.q_a.push_back(qa);
+        s.q_b.push_back(qb);
         const double t0 = static_cast<double>(k) * kTs, h = kTs / kSub;
-        double part = i2(t0) + i2(t0 + kTs);
-        for (int j = 1; j < kSub; ++j) {
-            part += (j % 2 ? 4.0 : 2.0) * i2(t0 + j * h);
+        for (int j = 0; j <= kSub; ++j) {
+            const double w = (j == 0 || j == kSub) ? 1.0 : (j % 2 ? 4.0 : 2.0);
+            const double t = t0 + j * h;
+            const double ia = phase(0, t), ib = phase(1, t), ic = phase(2, t);
+            i2 += w * h / 3.0 * (ia * ia + ib * ib + ic * ic);
+            qa += w * h / 3.0 * ia;
+            qb += w * h / 3.0 * ib;
         }
-        acc += part * h / 3.0;
     }
     const Metrics m = compute_metrics(s, MetricsConfig{});
     ASSERT_TRUE(m.current_ripple_rms_a);
     const double expect = std::sqrt(bhf * bhf / 2.0 + (h5 * a) * (h5 * a) / 2.0);
     EXPECT_NEAR(*m.current_ripple_rms_a, expect, 1e-6 * expect);
-    // Without the integral there is no ripple metric (not a sample-based stand-in).
+    // Without the integrals there is no ripple metric (not a sample-based stand-in).
     s.i2_int.clear();
     EXPECT_FALSE(compute_metrics(s, MetricsConfig{}).current_ripple_rms_a);
 }

@@ -49,7 +49,9 @@ struct Series {
     std::vector<double> speed_rpm;
     std::vector<double> theta_fund_rad;             // unwrapped angle of the currents' fundamental, rad
     std::vector<double> i2_int;                     // plant's integral of i_a^2+i_b^2+i_c^2, A^2 s (may be empty)
-    std::vector<std::uint8_t> sa, sb, sc, en;       // may be empty (ideal inverter)
+    std::vector<double> q_a, q_b;                   // plant's integrals of i_a, i_b, A s (empty with i2_int)
+    std::vector<std::uint8_t> sa, sb, sc, en;       // leg states at the period's start; may be empty (ideal inverter)
+    std::vector<std::uint8_t> tog_a, tog_b, tog_c;  // leg-state changes inside the period (PWM form); empty = none
     std::size_t size() const { return ia.size(); }
 };
 
@@ -85,10 +87,15 @@ std::vector<double> first_order_filtered(const double* x, std::size_t n, double 
 double switching_frequency_hz(const Series& s, std::size_t begin, std::size_t n, unsigned legs_mask);
 double flux_error_rms_pct(const Series& s, std::size_t begin, std::size_t n);
 /// Three-phase rms current ripple (Casadei sec. 13, Table 5): sqrt of the mean over the window of
-/// (1/3) sum_x (i_x - i_x,1)^2, i_x,1 the fundamental. The mean square of the continuous currents
-/// comes from the plant's integral (s.i2_int, rows begin and begin + n); the fundamental's share,
-/// sum_x fundamental_peak_x^2 / 2, is orthogonal to the rest over whole periods (Parseval).
-double current_ripple_rms_a(const Series& s, std::size_t begin, std::size_t n, const std::array<double, 3>& fund_peak);
+/// (1/3) sum_x (i_x - i_x,1)^2, i_x,1 the fundamental, for a window of `periods` whole periods.
+/// Everything comes from the plant's integrals at rows begin and begin + n..., never from the
+/// once-per-period samples (they miss the ripple between them, and the ripple at the sampling
+/// frequency +- f1 aliases onto f1): the continuous mean square from s.i2_int; the fundamentals
+/// from the per-period mean currents (differences of s.q_a, s.q_b; i_c = -i_a - i_b), whose DFT
+/// line at f1 is the continuous one times sinc(w1 ts / 2) (divided out); the fundamentals' share
+/// sum_x |I_x,1|^2 / 2 is orthogonal to the rest over whole periods (Parseval). NaN without the
+/// integrals.
+double current_ripple_rms_a(const Series& s, std::size_t begin, std::size_t n, int periods);
 
 struct MetricsConfig {
     double window_s = 0.2;

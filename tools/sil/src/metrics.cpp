@@ -151,6 +151,7 @@ double mean(const double* x, std::size_t n)
 double switching_frequency_hz(const Series& s, std::size_t begin, std::size_t n, unsigned legs_mask)
 {
     const std::vector<std::uint8_t>* legs[3] = {&s.sa, &s.sb, &s.sc};
+    const std::vector<std::uint8_t>* togs[3] = {&s.tog_a, &s.tog_b, &s.tog_c};
     int n_legs = 0;
     double events = 0.0;
     const bool have_en = s.en.size() == s.size();
@@ -165,14 +166,22 @@ double switching_frequency_hz(const Series& s, std::size_t begin, std::size_t n,
         ++n_legs;
         // Boundary before row i, for every row of the window (the first one only if it has a
         // predecessor): each state change turns one device on; re-enabling turns one on as well.
+        // With the PWM form a row also counts the changes inside its period, and the state the
+        // previous period ended in is its start state toggled that many times.
+        const std::vector<std::uint8_t>& tg = *togs[l];
+        const bool have_tog = tg.size() == s.size();
         for (std::size_t i = std::max<std::size_t>(begin, 1); i < begin + n; ++i) {
             const bool en_prev = have_en ? s.en[i - 1] != 0u : true;
             const bool en_now = have_en ? s.en[i] != 0u : true;
             if (!en_now) {
                 continue;
             }
-            if (!en_prev || v[i] != v[i - 1]) {
+            const unsigned prev_end = have_tog ? (v[i - 1] ^ (tg[i - 1] & 1u)) : v[i - 1];
+            if (!en_prev || v[i] != prev_end) {
                 events += 1.0;
+            }
+            if (have_tog) {
+                events += static_cast<double>(tg[i]);
             }
         }
     }
@@ -194,13 +203,28 @@ double flux_error_rms_pct(const Series& s, std::size_t begin, std::size_t n)
     return p2 > 0.0 ? 100.0 * std::sqrt(e2 / p2) : INFINITY;
 }
 
-double current_ripple_rms_a(const Series& s, std::size_t begin, std::size_t n, const std::array<double, 3>& fund_peak)
+double current_ripple_rms_a(const Series& s, std::size_t begin, std::size_t n, int periods)
 {
-    if (n == 0 || begin + n >= s.i2_int.size()) {
+    if (n == 0 || periods < 1 || begin + n >= s.i2_int.size() || begin + n >= s.q_a.size() ||
+        begin + n >= s.q_b.size()) {
         return NAN;
     }
-    const double mean_sq = (s.i2_int[begin + n] - s.i2_int[begin]) / (static_cast<double>(n) * s.ts_s);
-    const double fund_sq = 0.5 * (fund_peak[0] * fund_peak[0] + fund_peak[1] * fund_peak[1] + fund_peak[2] * fund_peak[2]);
+    const double nd = static_cast<double>(n);
+    const double mean_sq = (s.i2_int[begin + n] - s.i2_int[begin]) / (nd * s.ts_s);
+    // Single-line DFT of the per-period means at bin `periods` (period k's mean current stands at
+    // the middle of the period: only the phase of the line depends on it, not its magnitude).
+    std::complex<double> ca{}, cb{};
+    for (std::size_t k = 0; k < n; ++k) {
+        const double ia = (s.q_a[begin + k + 1] - s.q_a[begin + k]) / s.ts_s;
+        const double ib = (s.q_b[begin + k + 1] - s.q_b[begin + k]) / s.ts_s;
+        const std::complex<double> e = std::polar(1.0, -2.0 * kPi * static_cast<double>(periods) * static_cast<double>(k) / nd);
+        ca += ia * e;
+        cb += ib * e;
+    }
+    const double x = kPi * static_cast<double>(periods) / nd; // w1 ts / 2
+    const double g = 2.0 / nd / (std::sin(x) / x);            // DFT line -> peak amplitude, boxcar undone
+    const std::complex<double> fa = g * ca, fb = g * cb, fc = -fa - fb;
+    const double fund_sq = 0.5 * (std::norm(fa) + std::norm(fb) + std::norm(fc));
     return std::sqrt(std::fmax(0.0, mean_sq - fund_sq) / 3.0);
 }
 
@@ -236,7 +260,7 @@ Metrics compute_metrics(const Series& s, const MetricsConfig& cfg)
         m.imbalance_pct = imbalance_pct(fund);
         m.thd_total_pct = thd_total_pct(thd);
         if (s.i2_int.size() == total) {
-            m.current_ripple_rms_a = current_ripple_rms_a(s, b, n, fund);
+            m.current_ripple_rms_a = current_ripple_rms_a(s, b, n, w.periods);
         }
     } else {
         w = Window{b, n, 0};

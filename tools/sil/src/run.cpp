@@ -346,7 +346,7 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
     // Sized once for the recorded periods and written by index: no allocation and no capacity
     // check inside the loop.
     const auto n_rec = static_cast<std::size_t>(periods - record_from);
-    for (auto* v : {&s.ia, &s.ib, &s.ic, &s.te, &s.psi_a, &s.psi_b, &s.speed_rpm, &s.theta_fund_rad, &s.i2_int}) {
+    for (auto* v : {&s.ia, &s.ib, &s.ic, &s.te, &s.psi_a, &s.psi_b, &s.speed_rpm, &s.theta_fund_rad, &s.i2_int, &s.q_a, &s.q_b}) {
         v->resize(n_rec);
     }
     if (est) {
@@ -355,7 +355,7 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
         }
     }
     if (legs) {
-        for (auto* v : {&s.sa, &s.sb, &s.sc, &s.en}) {
+        for (auto* v : {&s.sa, &s.sb, &s.sc, &s.en, &s.tog_a, &s.tog_b, &s.tog_c}) {
             v->resize(n_rec);
         }
     }
@@ -434,6 +434,8 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
             s.ib[i] = st.i_b;
             s.ic[i] = st.i_c;
             s.i2_int[i] = st.i2_int_a2s;
+            s.q_a[i] = st.q_a_as;
+            s.q_b[i] = st.q_b_as;
             s.te[i] = st.te_nm;
             s.psi_a[i] = st.psi_alpha_wb;
             s.psi_b[i] = st.psi_beta_wb;
@@ -453,9 +455,21 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
                 s.psi_b_est[i] = e.valid ? e.psi_beta_wb : nan;
             }
             if (legs) {
-                s.sa[i] = static_cast<std::uint8_t>(cmd.sa != 0u);
-                s.sb[i] = static_cast<std::uint8_t>(cmd.sb != 0u);
-                s.sc[i] = static_cast<std::uint8_t>(cmd.sc != 0u);
+                if (cmd.form == HAL_CMD_PWM) {
+                    // The PWM form: each leg's state at the period's start and its changes inside.
+                    std::uint8_t* st0[3] = {&s.sa[i], &s.sb[i], &s.sc[i]};
+                    std::uint8_t* tog[3] = {&s.tog_a[i], &s.tog_b[i], &s.tog_c[i]};
+                    for (int x = 0; x < 3; ++x) {
+                        const plant_leg_edges_t edges = h->pwm_leg_edges(cmd, x);
+                        *st0[x] = static_cast<std::uint8_t>(edges.state0 != 0);
+                        *tog[x] = static_cast<std::uint8_t>(edges.n);
+                    }
+                } else {
+                    s.sa[i] = static_cast<std::uint8_t>(cmd.sa != 0u);
+                    s.sb[i] = static_cast<std::uint8_t>(cmd.sb != 0u);
+                    s.sc[i] = static_cast<std::uint8_t>(cmd.sc != 0u);
+                    s.tog_a[i] = s.tog_b[i] = s.tog_c[i] = 0u;
+                }
                 s.en[i] = static_cast<std::uint8_t>(en);
             }
         }
