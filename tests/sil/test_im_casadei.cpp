@@ -1048,7 +1048,7 @@ static int leg_changes(const hal_cmd_t& c, const hal_cmd_t& prev, std::uint16_t 
 // One run: magnetised at standstill, T* applied, the dynamometer's speed ramped to rpm, 0.3 s to
 // settle, then a window of window_s sampled every 10 us. f_c: the carrier for the band share.
 static CurrentRipple ripple_run(const std::vector<std::string>& sets, double rpm, double t_nm, double f_c_hz,
-                         double window_s = 0.2)
+                         double window_s = 0.2, const std::string& wave_name = "")
 {
     Rig r(torque_at_held_speed(sets));
     CurrentRipple o;
@@ -1093,6 +1093,16 @@ static CurrentRipple ripple_run(const std::vector<std::string>& sets, double rpm
         ++n;
     });
     r.h->set_substeps(1, {});
+    if (const char* dir = std::getenv("DTC_FIGURE_DIR"); dir && *dir && !wave_name.empty()) {
+        // The 10 us phase-A samples for the report's spectra (tools/plot/casadei_report.py).
+        if (std::FILE* f = std::fopen((std::string(dir) + "/" + wave_name + ".csv").c_str(), "w")) {
+            std::fprintf(f, "dt_s,i_a_a\n");
+            for (double v : ia) {
+                std::fprintf(f, "%.9g,%.6f\n", r.ts() / sub, v);
+            }
+            std::fclose(f);
+        }
+    }
     o.fault = r.fault();
     o.f_sw_hz = static_cast<double>(changes) / (static_cast<double>(n) * r.ts()) / 6.0;
     o.clamped_frac = static_cast<double>(clamped) / static_cast<double>(n);
@@ -1248,4 +1258,115 @@ TEST(ImCasadei, Sec13DfocTorqueFollowsWithTwoPhaseModulation)
             EXPECT_LE(o.f_sw_hz, 2.0 / 3.0 * f_c * 1.01) << rpm;
         }
     }
+}
+
+// ---- Sec. 13, Figs. 33-34: the current spectra of DFOC and DTC at rated speed and torque ---------
+// "the harmonic spectrum of DFOC shows only the harmonic component corresponding to the modulation
+// cycle period, whereas with DTC the spectrum shows a series of harmonics with lower values,
+// distributed all over the frequency range." Measured as the share of the current's ripple energy
+// within +-6 f1 of the multiples of DFOC's carrier (ripple_run, phase A every 10 us), for DFOC
+// and for basic DTC (40 us, zero bands) at the paper's point, 1440 rpm and 26.5 N*m, and at
+// Table 5's 720 rpm, where the DFOC stays in its linear range on this 311 V link.
+TEST(ImCasadei, Figs33And34DfocSpectrumAtTheCarrierDtcSpread)
+{
+    Rig probe(torque_at_held_speed({"control.scheme=dfoc"}));
+    ASSERT_TRUE(probe.ok);
+    const double f_c = probe.sc.control.carrier_hz, tr = probe.sc.motor.rated_torque_nm;
+    for (double rpm : {1440.0, 720.0}) {
+        const CurrentRipple f = ripple_run({"control.scheme=dfoc"}, rpm, tr, f_c, 0.2, "fig33_dfoc_" + std::to_string(static_cast<int>(rpm)));
+        const CurrentRipple d = ripple_run({}, rpm, tr, f_c, 0.2, "fig34_dtc_" + std::to_string(static_cast<int>(rpm)));
+        std::printf("MEASURE Figs33-34 %.0f rpm rated torque: share of the ripple energy at the %.0f Hz carrier's "
+                    "multiples +-6 f1: DFOC %.3f (THD %.2f %%, f_sw %.0f Hz), DTC %.3f (THD %.2f %%, f_sw %.0f Hz)\n",
+                    rpm, f_c, f.carrier_frac, f.thd_pct, f.f_sw_hz, d.carrier_frac, d.thd_pct, d.f_sw_hz);
+        EXPECT_EQ(f.fault, "none");
+        EXPECT_EQ(d.fault, "none");
+        EXPECT_GT(f.carrier_frac, 0.5) << rpm;
+        EXPECT_LT(d.carrier_frac, 0.5 * f.carrier_frac) << rpm;
+    }
+}
+
+// ---- Sec. 13, Figs. 35-36: torque step at 100 rpm, DTC against DFOC ------------------------------
+// "using the DTC scheme a better torque response can be achieved in terms of settling time and
+// maximum overshoot ... due to the PI regulators in the DFOC scheme". The paper gives no step
+// size: 0 -> rated (26.5 N*m) at 100 rpm held by the dynamometer, from a standstill start. On the
+// plant torque averaged over 0.48 ms (12 DTC periods, 3 DFOC periods: the switching ripple out):
+// the settling time (the last entry into the band around the final mean that holds the scheme's
+// own steady ripple, at least +-5 % of T*: DTC's zero-band ripple at 100 rpm leaves its 0.48 ms
+// average +-1.4 N*m around the mean for good, which no response time can remove) and the overshoot
+// (the largest average above that band, % of T*). Final mean and steady ripple from the last
+// 10 ms of a 30 ms record.
+struct Step35 {
+    double settle_ms = -1.0, overshoot_pct = 0.0, rise_ms = -1.0, ripple_ss = 0.0, final_nm = 0.0;
+    std::string fault;
+};
+static Step35 torque_step_100rpm(const std::vector<std::string>& sets, const std::string& name)
+{
+    Rig r(torque_at_held_speed(sets));
+    Step35 o;
+    if (!r.ok) {
+        return o;
+    }
+    const double tr = r.sc.motor.rated_torque_nm;
+    to_operating_point(r, 100.0, 0.0);
+    r.record(name);
+    r.run(0.005);
+    r.refs(DTC_MODE_TORQUE, tr, 0.0);
+    const auto n_avg = static_cast<std::size_t>(std::max(1L, r.periods(0.48e-3)));
+    std::vector<double> te;
+    r.run(0.03, [&] { te.push_back(r.st().te_nm); });
+    std::vector<double> m; // m[k]: mean of te over the n_avg periods ending with period k
+    for (std::size_t k = n_avg; k <= te.size(); ++k) {
+        double a = 0.0;
+        for (std::size_t j = k - n_avg; j < k; ++j) {
+            a += te[j];
+        }
+        m.push_back(a / static_cast<double>(n_avg));
+    }
+    const auto n_ss = static_cast<std::size_t>(r.periods(0.01));
+    double fin = 0.0;
+    for (std::size_t k = m.size() - n_ss; k < m.size(); ++k) {
+        fin += m[k];
+    }
+    fin /= static_cast<double>(n_ss);
+    for (std::size_t k = m.size() - n_ss; k < m.size(); ++k) {
+        o.ripple_ss = std::fmax(o.ripple_ss, std::fabs(m[k] - fin));
+    }
+    const double band = std::fmax(0.05 * tr, o.ripple_ss);
+    auto t_ms = [&](std::size_t k) { return static_cast<double>(k + n_avg) * r.ts() * 1e3; };
+    for (std::size_t k = 0; k < m.size(); ++k) {
+        if (std::fabs(m[k] - fin) > band) {
+            o.settle_ms = t_ms(k);
+        }
+        o.overshoot_pct = std::fmax(o.overshoot_pct, 100.0 * (m[k] - fin - o.ripple_ss) / tr);
+        if (o.rise_ms < 0.0 && m[k] >= 0.9 * fin) {
+            o.rise_ms = t_ms(k);
+        }
+    }
+    o.final_nm = fin;
+    o.fault = r.fault();
+    return o;
+}
+
+TEST(ImCasadei, Figs35And36TorqueStepAt100RpmDtcRisesFasterThanDfoc)
+{
+    const Step35 dtc = torque_step_100rpm({}, "fig36_dtc"), dfoc = torque_step_100rpm({"control.scheme=dfoc"}, "fig35_dfoc");
+    std::printf("MEASURE Figs35-36 0 -> 26.5 N*m at 100 rpm (0.48 ms average of the plant torque): DTC rise to 90 %% "
+                "%.2f ms, settling %.2f ms, overshoot %.1f %% (final %.2f N*m, steady ripple +-%.2f N*m); DFOC rise %.2f "
+                "ms, settling %.2f ms, overshoot %.1f %% (final %.2f N*m, steady ripple +-%.2f N*m); faults %s / %s\n",
+                dtc.rise_ms, dtc.settle_ms, dtc.overshoot_pct, dtc.final_nm, dtc.ripple_ss, dfoc.rise_ms, dfoc.settle_ms,
+                dfoc.overshoot_pct, dfoc.final_nm, dfoc.ripple_ss, dtc.fault.c_str(), dfoc.fault.c_str());
+    EXPECT_EQ(dtc.fault, "none");
+    EXPECT_EQ(dfoc.fault, "none");
+    ASSERT_GT(dtc.rise_ms, 0.0);
+    ASSERT_GT(dfoc.rise_ms, 0.0);
+    // The paper's physical reason, the PI regulators' delay, shows in the rise: DTC is quicker.
+    EXPECT_LT(dtc.rise_ms, 0.6 * dfoc.rise_ms);
+    // Not reproduced (printed; a finding): settling and overshoot. The DFOC's current PIs are
+    // designed from the machine with the zero on the stator pole (K_p = sigma L_s w_c, K_i = R_s w_c,
+    // im_dfoc.c), so each current loop is first order: no overshoot, settled in about 3 / w_c.
+    // DTC's averaged torque keeps its zero-band ripple and slower wander, so its settling into the
+    // +-5 % band comes late. The paper's DFOC overshot (its PI tuning is not printed).
+    EXPECT_LT(dfoc.overshoot_pct, 5.0);
+    EXPECT_NEAR(dtc.final_nm, PLANT_DEF_IM_RATED_TORQUE_NM, 0.05 * PLANT_DEF_IM_RATED_TORQUE_NM);
+    EXPECT_NEAR(dfoc.final_nm, PLANT_DEF_IM_RATED_TORQUE_NM, 0.05 * PLANT_DEF_IM_RATED_TORQUE_NM);
 }

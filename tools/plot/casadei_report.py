@@ -60,6 +60,20 @@ FIGURES = [
     ("Fig32FluxWeakeningReaches400PercentWithNearlyConstantCurrent", "Fig. 32 (speed, current)",
      "Start-up from standstill to about 400 % of base speed with a nearly constant current in the "
      "constant-power range."),
+    ("Sec10SfvcTorqueFollowsTheReferenceAtRatedAndLowSpeed", "Secs. 10.3-10.5 (SFVC)",
+     "Stator-flux vector control with SVM: the torque follows its reference at a constant switching frequency."),
+    ("Sec10SfvcSwitchesAtTheCarrierWithLowerThdThanDtc", "Sec. 10.3 (SFVC against DTC)",
+     "Constant switching frequency: the current's switching content at the carrier; lower distortion than "
+     "DTC at the same switching frequency."),
+    ("Sec13DfocTorqueFollowsWithTwoPhaseModulation", "Sec. 13 (DFOC)",
+     "Direct rotor-flux-oriented control, PI current regulators, two-phase modulation, 160 us cycle: mean "
+     "switching frequency 2/3 of the carrier."),
+    ("Figs33And34DfocSpectrumAtTheCarrierDtcSpread", "Figs. 33-34",
+     "Rated speed and torque: the DFOC current spectrum shows only the component of the modulation cycle; "
+     "the DTC spectrum has lower lines spread over the whole frequency range."),
+    ("Figs35And36TorqueStepAt100RpmDtcRisesFasterThanDfoc", "Figs. 35-36",
+     "Torque step at 100 rpm: DTC gives a better response in settling time and maximum overshoot; the PI "
+     "regulators of DFOC delay the torque response."),
     ("FaultsTripTheImDriveAndBadConfigurationIsRefused", "Faults",
      "(not in the paper) over-current and DC-link trips, bad IM configuration refused naming the key."),
 ]
@@ -203,6 +217,33 @@ def sec6(d, ax_list):
     ax.legend(fontsize=7)
 
 
+def spectra(d, ax_list):
+    for ax, (name, title) in zip(ax_list, (("fig33_dfoc_1440", "DFOC (Fig. 33)"), ("fig34_dtc_1440", "DTC (Fig. 34)"))):
+        x = np.genfromtxt(os.path.join(d, name + ".csv"), delimiter=",", names=True)
+        dt = x["dt_s"][0]
+        i = x["i_a_a"] - np.mean(x["i_a_a"])
+        amp = 2.0 * np.abs(np.fft.rfft(i)) / len(i)
+        f = np.fft.rfftfreq(len(i), dt)
+        ax.semilogy(f / 1e3, np.maximum(amp, 1e-5), lw=0.5)
+        ax.set_xlim(0, 25)
+        ax.set_ylim(1e-4, 50)
+        ax.set_title("%s, 1440 rpm, 26.5 N*m" % title, fontsize=9)
+        ax.set_xlabel("kHz")
+        ax.set_ylabel("i_a line amplitude, A")
+
+
+def steps(d, ax_list):
+    ax = ax_list[0]
+    for name, label in (("fig36_dtc", "DTC (Fig. 36)"), ("fig35_dfoc", "DFOC (Fig. 35)")):
+        x = load(d, name)
+        t = rel_ms(x, x["t_s"][0] + 0.005)  # the step 5 ms into the recording
+        ax.plot(t, x["te_nm"], lw=0.7, label=label)
+    ax.set_xlabel("ms from the 0 -> 26.5 N*m step, 100 rpm")
+    ax.set_ylabel("plant torque, N*m")
+    ax.set_xlim(-2, 25)
+    ax.legend(fontsize=7)
+
+
 # test name -> (drawing function, number of panels)
 PLOTS = {
     "Fig5StASluggishAtLowSpeedStDQuickBothQuickAtHighSpeed": (fig5, 2),
@@ -213,6 +254,8 @@ PLOTS = {
     "Fig25SensorlessSpeedEstimateFollowsTheSpeed": (fig25, 2),
     "Fig32FluxWeakeningReaches400PercentWithNearlyConstantCurrent": (fig32, 3),
     "Sec6StACannotHoldTheFluxAtZeroTorqueAtStandstill": (sec6, 1),
+    "Figs33And34DfocSpectrumAtTheCarrierDtcSpread": (spectra, 2),
+    "Figs35And36TorqueStepAt100RpmDtcRisesFasterThanDfoc": (steps, 1),
 }
 
 
