@@ -49,9 +49,10 @@ char* put_shortest(char* p, double x);
 /// which format each batch into the batch's own text buffer; a formatted batch is written with
 /// one fwrite by whichever thread finds it next in file order, so rows stay in order and no
 /// formatting thread waits for another. The formatting threads run at a lower priority than the
-/// simulation (Linux), which then never waits for a core while it has a free batch to fill.
-/// close() formats the last batches on the calling thread too. All buffers are allocated at
-/// open().
+/// simulation (Linux), which then never waits for a core while it has a free batch to fill; when
+/// no batch is free (the formatting threads got too little core time), write() formats a queued
+/// batch itself, and close() formats the last ones beside the threads. All buffers are allocated
+/// at open().
 class TraceWriter {
 public:
     TraceWriter() = default;

@@ -78,25 +78,34 @@ inline int digit_count(std::uint64_t n)
     return t + (n >= kPow10[t] ? 1 : 0);
 }
 
+// "00" "01" ... "99".
+constexpr char kPairs[] = "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
+                          "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
+                          "8081828384858687888990919293949596979899";
+
+inline std::uint64_t pair(std::uint32_t v) // the two digits of v < 100, the first in the low byte
+{
+    std::uint16_t w;
+    std::memcpy(&w, kPairs + 2 * v, 2);
+    return w;
+}
+
 // The 8 decimal digits of v < 10^8 as ASCII, the first digit in the lowest byte (so storing the
-// word on a little-endian host writes them in order): v splits into two 4-digit halves in the two
-// 32-bit lanes, each into two 2-digit parts (x * 10486 >> 20 = x / 100 for x < 10^4), each into
-// two digits (x * 103 >> 10 = x / 10 for x < 100). Checked for every v < 10^8 by the test.
+// word on a little-endian host writes them in order).
 inline std::uint64_t ascii8(std::uint32_t v)
 {
-    const std::uint64_t halves = v / 10000U | static_cast<std::uint64_t>(v % 10000U) << 32;
-    const std::uint64_t hi2 = ((halves * 10486U) >> 20) & 0x0000007F0000007FULL;
-    const std::uint64_t pairs = ((halves - 100U * hi2) << 16) + hi2;
-    std::uint64_t digits = ((pairs * 103U) >> 10) & 0x000F000F000F000FULL;
-    digits += (pairs - 10U * digits) << 8;
-    return digits | 0x3030303030303030ULL;
+    const std::uint32_t hi = v / 10000U;
+    const std::uint32_t lo = v % 10000U;
+    return pair(hi / 100U) | pair(hi % 100U) << 16 | pair(lo / 100U) << 32 | pair(lo % 100U) << 48;
 }
 
 inline void store8(char* p, std::uint64_t w) { std::memcpy(p, &w, 8); }
-
-constexpr std::uint64_t kZeros8 = 0x3030303030303030ULL; // "00000000"
+inline void store16(char* p, unsigned __int128 w) { std::memcpy(p, &w, 16); }
 
 // std::to_chars(p, p + 32, x) for finite x whose shortest decimal is d (non-finite: nan/inf).
+// The digits are built in registers and only stored (whole 8- and 16-byte words, later stores
+// overwriting the tail of earlier ones), never read back from memory: a load that spans two
+// recent stores waits until both reach the cache, which cost more than the digits themselves.
 inline char* put_decimal(char* p, double x, Decimal d)
 {
     if (d.sig == 0) {
@@ -114,7 +123,7 @@ inline char* put_decimal(char* p, double x, Decimal d)
         *p = '0';
         return p + 1;
     }
-    const int n = digit_count(d.sig);
+    const int n = digit_count(d.sig); // sig < 10^17: n <= 17
     const int e = d.exp;
     const int point = n + e; // x = 0.DIGITS * 10^point
     const int sci_exp = point - 1;
@@ -131,36 +140,40 @@ inline char* put_decimal(char* p, double x, Decimal d)
     if (std::signbit(x)) {
         *p++ = '-';
     }
-    char t[48]; // the digits right-aligned in t[0, 24), then room for 24-byte copies
-    const std::uint64_t hi = d.sig / 100000000U;
-    store8(t, ascii8(static_cast<std::uint32_t>(hi / 100000000U)));
-    store8(t + 8, ascii8(static_cast<std::uint32_t>(hi % 100000000U)));
-    store8(t + 16, ascii8(static_cast<std::uint32_t>(d.sig % 100000000U)));
-    std::memset(t + 24, '0', 24);
-    const char* dg = t + 24 - n; // the n digits (sig < 10^17: n <= 17)
+    // The digits left-aligned in 17 places, zeros after them: L = bytes 0..16 of lo (16) and hi (1).
+    const std::uint64_t s17 = d.sig * kPow10[17 - n];
+    const std::uint64_t rest = s17 % 10000000000000000ULL;
+    const std::uint64_t b8 = ascii8(static_cast<std::uint32_t>(rest / 100000000U));
+    const std::uint64_t a8 = ascii8(static_cast<std::uint32_t>(rest % 100000000U));
+    const std::uint64_t first = 0x30U + s17 / 10000000000000000ULL;
+    const unsigned __int128 lo = first | static_cast<unsigned __int128>(b8) << 8 | static_cast<unsigned __int128>(a8) << 72;
+    const std::uint64_t hi = a8 >> 56;
     if (plain) {
-        if (e >= 0) { // DIGITS then e <= 5 zeros (plain is shorter only up to 5)
-            std::memcpy(p, dg, 24);
-            store8(p + n, kZeros8);
-            return p + n + e;
+        if (e >= 0) { // DIGITS, then e zeros (point = n + e <= 17: the zeros are in L)
+            store16(p, lo);
+            p[16] = static_cast<char>(hi);
+            return p + point;
         }
-        if (point > 0) { // DIG.ITS
-            std::memcpy(p, dg, 24);
-            std::memcpy(p + point + 1, dg + point, 24 - point);
+        if (point > 0) { // DIG.ITS: L, then the digits from `point` on one place further
+            store16(p, lo);
+            p[16] = static_cast<char>(hi);
+            const unsigned sh = 8U * static_cast<unsigned>(point); // 8 .. 128
+            const unsigned __int128 tail =
+                sh < 128U ? (lo >> sh | static_cast<unsigned __int128>(hi) << (128U - sh)) : hi;
+            store16(p + point + 1, tail);
             p[point] = '.';
             return p + n + 1;
         }
         // 0.000DIGITS with -point <= 4 leading zeros (plain is shorter only up to 4).
-        p[0] = '0';
-        p[1] = '.';
-        store8(p + 2, kZeros8);
-        std::memcpy(p + 2 - point, dg, 24);
+        store8(p, 0x303030303030'2e30ULL); // "0.000000"
+        store16(p + 2 - point, lo);
+        p[18 - point] = static_cast<char>(hi);
         return p + 2 - e;
     }
-    p[0] = dg[0];
-    if (n > 1) {
+    p[0] = static_cast<char>(first);
+    if (n > 1) { // d.ddd: the digits after the first one place further
+        store16(p + 2, lo >> 8 | static_cast<unsigned __int128>(hi) << 120);
         p[1] = '.';
-        std::memcpy(p + 2, dg + 1, 24);
         p += n + 1;
     } else {
         p += 1;
@@ -249,7 +262,15 @@ void TraceWriter::hand_over()
     fill_->seq = next_seq_++;
     queued_.push_back(fill_);
     cv_.notify_one();
-    cv_.wait(lk, [this] { return !free_.empty(); }); // waits only while every batch is busy
+    // Every batch busy (the formatting threads got less core time than the simulation produced
+    // rows): this thread formats a queued batch itself rather than wait for them.
+    while (free_.empty()) {
+        if (!queued_.empty()) {
+            format_one(lk);
+        } else {
+            cv_.wait(lk);
+        }
+    }
     fill_ = free_.front();
     free_.pop_front();
 }
