@@ -44,7 +44,8 @@ char* put_shortest(char* p, double x);
 
 /// Buffered CSV writer: every double in the shortest form that reads back to the same double
 /// (put_shortest(): strtod / numpy.loadtxt give the identical value back); the leg states and the
-/// enable are integers. write() only copies the row into a batch of kBatchRows (no allocation).
+/// enable are integers. write() (or next_row() and commit_row()) only fills a row of a batch of
+/// kBatchRows (no allocation).
 /// Full batches go to a small pool of formatting threads (one per core, at most kMaxWorkers),
 /// which format each batch into the batch's own text buffer; a formatted batch is written with
 /// one fwrite by whichever thread finds it next in file order, so rows stay in order and no
@@ -62,12 +63,18 @@ public:
     bool open(const std::string& path, std::string* err);
     /// Induction machine: append the psi_r_alpha_wb, psi_r_beta_wb columns (call before open).
     void set_rotor_flux_columns(bool on) { rotor_flux_ = on; }
-    void write(const TraceRow& r)
+    /// The next row, to be filled in place (no copy) and then committed. Every field must be set.
+    TraceRow& next_row() { return fill_->rows[fill_->n]; }
+    void commit_row()
     {
-        fill_->rows[fill_->n++] = r; // within the batch's fixed size: no allocation
-        if (fill_->n == kBatchRows) {
+        if (++fill_->n == kBatchRows) { // a batch of fixed size: no allocation
             hand_over();
         }
+    }
+    void write(const TraceRow& r)
+    {
+        next_row() = r;
+        commit_row();
     }
     bool close(std::string* err);
     static constexpr std::size_t kMaxRowBytes = 640; // 21 doubles x <= 24 chars + 4 ints + commas + 48 slack
