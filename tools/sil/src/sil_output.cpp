@@ -78,21 +78,24 @@ inline int digit_count(std::uint64_t n)
     return t + (n >= kPow10[t] ? 1 : 0);
 }
 
+// The four ASCII digits of every number below 10^4, the first digit in the lowest byte.
+struct Digits4 {
+    std::uint32_t text[10000];
+    constexpr Digits4() : text()
+    {
+        for (std::uint32_t v = 0; v < 10000U; ++v) {
+            text[v] = (0x30U + v / 1000U) | (0x30U + v / 100U % 10U) << 8 | (0x30U + v / 10U % 10U) << 16 |
+                      (0x30U + v % 10U) << 24;
+        }
+    }
+};
+constexpr Digits4 kDigits4{};
+
 // The 8 decimal digits of v < 10^8 as ASCII, the first digit in the lowest byte (so storing the
-// word on a little-endian host writes them in order), with no table and no division: v splits
-// into two 4-digit halves in the two 32-bit lanes, each into two 2-digit parts in 16-bit lanes
-// (x * 10486 >> 20 = x / 100 for every x < 10^4), each into two digits in 8-bit lanes
-// (x * 103 >> 10 = x / 10 for every x < 100); no lane's product reaches the next lane. Exact for
-// every v < 10^8 (checked exhaustively when written; the test checks every v < 10^6 and random
-// ones through put_shortest()).
+// word on a little-endian host writes them in order): two lookups of 4 digits.
 inline std::uint64_t ascii8(std::uint32_t v)
 {
-    const std::uint64_t halves = v / 10000U | static_cast<std::uint64_t>(v % 10000U) << 32;
-    const std::uint64_t hundreds = ((halves * 10486U) >> 20) & 0x0000007F0000007FULL;
-    const std::uint64_t pairs = ((halves - 100U * hundreds) << 16) + hundreds;
-    std::uint64_t tens = ((pairs * 103U) >> 10) & 0x000F000F000F000FULL;
-    tens += (pairs - 10U * tens) << 8;
-    return tens | 0x3030303030303030ULL;
+    return kDigits4.text[v / 10000U] | static_cast<std::uint64_t>(kDigits4.text[v % 10000U]) << 32;
 }
 
 inline void store8(char* p, std::uint64_t w) { std::memcpy(p, &w, 8); }
