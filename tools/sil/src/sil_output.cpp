@@ -30,10 +30,14 @@ const char* trace_header()
 namespace {
 
 // ---- Shortest round-trip text of a double ------------------------------------------------------
-// Dragonbox ({fmt}'s fmt::detail::dragonbox::to_decimal, Debian libfmt-dev) gives the shortest
-// decimal significand and exponent that reads back to the same double, the same digits as
-// std::to_chars picks; this file then lays the digits out as std::to_chars does, without its
-// general-purpose formatting path (about twice the cost of the digits themselves on this host).
+// Dragonbox ({fmt}'s fmt::detail::dragonbox::to_decimal, Debian libfmt-dev: a function of {fmt}'s
+// detail namespace that its library exports) gives the shortest decimal significand and exponent
+// that reads back to the same double, the digits std::to_chars picks; this file then lays them
+// out as std::to_chars does, without its general-purpose formatting path (std::to_chars 31 ns per
+// trace double on the development host, Dragonbox 14 ns, put_shortest() 25 ns). The test compares
+// put_shortest() with std::to_chars byte for byte, so a {fmt} that changed would be caught.
+static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
+              "the digit words below are stored as little-endian 64-bit words");
 
 // x = +-sig * 10^exp with sig having no trailing zeros; sig = 0: zero or not finite.
 struct Decimal {
