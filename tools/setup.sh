@@ -13,6 +13,7 @@ PKGS=(
   gcc-avr avr-libc                         # cross-avr 16-bit-int proxy
   libtomlplusplus-dev                      # scenario files
   nlohmann-json3-dev                       # metrics.json
+  libfmt-dev                               # trace.csv: Dragonbox shortest round-trip decimals
   libcli11-dev                             # dtc-sil command line
   libfftw3-dev                             # THD / harmonics
   python3-numpy python3-matplotlib         # plots and report

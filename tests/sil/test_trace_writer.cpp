@@ -1,7 +1,9 @@
-// trace.csv: every value reads back (strtod, as numpy.loadtxt) to the identical double.
+// trace.csv: every value reads back (strtod, as numpy.loadtxt) to the identical double, and is
+// the text std::to_chars writes.
 #include <gtest/gtest.h>
 
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -38,7 +40,7 @@ TEST(TraceWriter, EveryValueReadsBackToTheSameDouble)
                               std::nan(""),
                               std::numeric_limits<double>::infinity(),
                               -std::numeric_limits<double>::infinity()};
-    constexpr int n = 20000; // > one 1 MiB buffer: the flush path is exercised
+    constexpr int n = 20000; // many batches, the last one partial
     constexpr std::size_t nd = 20; // 18 columns of every trace + the IM's two rotor-flux columns
     std::vector<std::array<double, nd>> rows(n);
     std::vector<std::array<int, 4>> ints(n);
@@ -104,4 +106,74 @@ TEST(TraceWriter, EveryValueReadsBackToTheSameDouble)
     }
     EXPECT_EQ(k, rows.size());
     std::filesystem::remove(path);
+}
+
+// put_shortest() writes exactly what std::to_chars writes (the shortest round-trip form, plain or
+// scientific, whichever is shorter): every kind of double a trace holds and any bit pattern.
+TEST(TraceWriter, ShortestTextIsTheToCharsText)
+{
+    std::mt19937_64 rng(1812);
+    long checked = 0;
+    auto check = [&checked](double x) {
+        char want[64];
+        char got[128];
+        const char* want_end = std::to_chars(want, want + sizeof want, x).ptr;
+        const char* got_end = put_shortest(got, x);
+        ++checked;
+        const std::string w(static_cast<const char*>(want), want_end);
+        const std::string g(static_cast<const char*>(got), got_end);
+        if (w != g) {
+            ADD_FAILURE() << "to_chars " << w << ", put_shortest " << g;
+            return false;
+        }
+        return true;
+    };
+    // Integers (plain form, the digit blocks of every 6-digit value; above 10^15 to_chars writes
+    // the double's exact value), and every decade from 10^-330 to 10^310.
+    for (int v = 0; v < 1000000; ++v) {
+        ASSERT_TRUE(check(static_cast<double>(v)));
+        ASSERT_TRUE(check(-static_cast<double>(v) * 1e-3));
+    }
+    for (int k = -330; k <= 310; ++k) {
+        const double p10 = std::pow(10.0, k);
+        for (double m : {1.0, 1.5, 9.999999999999999, 123456789012345.0, 3.0000000000000004}) {
+            ASSERT_TRUE(check(m * p10));
+            ASSERT_TRUE(check(std::nextafter(m * p10, 0.0)));
+        }
+    }
+    for (std::uint64_t v = 1; v != 0 && v < (1ULL << 63); v = v * 3 + 1) { // 10^15 .. 10^22 and beyond
+        ASSERT_TRUE(check(static_cast<double>(v)));
+    }
+    // The plant's accumulated time (k * 50 us), random decimals of 1..17 digits at any scale.
+    double t = 0.0;
+    for (int k = 0; k < 100000; ++k) {
+        ASSERT_TRUE(check(t));
+        t += 5e-05;
+    }
+    for (int k = 0; k < 500000; ++k) {
+        const int digits = 1 + static_cast<int>(rng() % 17);
+        const double sig = static_cast<double>(rng() % static_cast<std::uint64_t>(std::pow(10.0, digits)));
+        const double x = sig * std::pow(10.0, static_cast<int>(rng() % 60) - 40);
+        ASSERT_TRUE(check(x));
+        ASSERT_TRUE(check(-x));
+    }
+    // Any bit pattern: subnormals, the extremes, NaN and infinities.
+    for (int k = 0; k < 2000000; ++k) {
+        const std::uint64_t bits = rng();
+        double x;
+        std::memcpy(&x, &bits, sizeof x);
+        if (std::isnan(x)) {
+            char got[64];
+            const char* end = put_shortest(got, x);
+            EXPECT_EQ(std::string(static_cast<const char*>(got), end), "nan");
+            continue;
+        }
+        ASSERT_TRUE(check(x));
+    }
+    for (double x : {std::numeric_limits<double>::denorm_min(), std::numeric_limits<double>::min(),
+                     std::numeric_limits<double>::max(), std::numeric_limits<double>::infinity(),
+                     -std::numeric_limits<double>::infinity(), -0.0, 0.0}) {
+        ASSERT_TRUE(check(x));
+    }
+    EXPECT_GT(checked, 4000000);
 }

@@ -36,17 +36,24 @@ struct TraceRow {
 /// Column names, in order.
 const char* trace_header();
 
+/// Writes x at p in the shortest form that reads back to the same double: for finite x byte for
+/// byte the text of std::to_chars(p, p + 32, x) (plain or scientific, whichever is shorter, plain
+/// on a tie); "nan" (whatever its sign), "inf" or "-inf" otherwise. Needs 48 writable bytes at p (it stores
+/// whole 8- and 24-byte blocks past the end of the text); returns the end of the text.
+char* put_shortest(char* p, double x);
+
 /// Buffered CSV writer: every double in the shortest form that reads back to the same double
-/// (std::to_chars without a precision: strtod / numpy.loadtxt give the identical value back),
-/// "nan" / "inf" / "-inf" for non-finite values (estimates without a controller estimate are
-/// "nan"). write() only copies the row into a batch of kBatchRows (no allocation). Full batches
-/// go to a small pool of formatting threads (one per core, at most kMaxWorkers): each formats
-/// its batch into the batch's own text buffer, then writes it with one fwrite when every earlier
-/// batch is written, so rows stay in order. Formatting a row costs about twice the simulation of
-/// a period, so one formatting thread would be the bottleneck; with two, the simulation and the
-/// formatting share both cores of a two-core machine. The formatting threads run at a lower
-/// priority than the simulation (Linux), which then never waits for a core while it has a free
-/// batch to fill. All buffers are allocated at open().
+/// (put_shortest(): strtod / numpy.loadtxt give the identical value back); the leg states and the
+/// enable are integers. write() (or next_row() and commit_row()) only fills a row of a batch of
+/// kBatchRows (no allocation).
+/// Full batches go to a small pool of formatting threads (one per core, at most kMaxWorkers),
+/// which format each batch into the batch's own text buffer; a formatted batch is written with
+/// one fwrite by whichever thread finds it next in file order, so rows stay in order and no
+/// formatting thread waits for another. The formatting threads run at a lower priority than the
+/// simulation (Linux), which then never waits for a core while it has a free batch to fill; when
+/// no batch is free (the formatting threads got too little core time), write() formats a queued
+/// batch itself, and close() formats the last ones beside the threads. All buffers are allocated
+/// at open().
 class TraceWriter {
 public:
     TraceWriter() = default;
@@ -56,26 +63,38 @@ public:
     bool open(const std::string& path, std::string* err);
     /// Induction machine: append the psi_r_alpha_wb, psi_r_beta_wb columns (call before open).
     void set_rotor_flux_columns(bool on) { rotor_flux_ = on; }
-    void write(const TraceRow& r)
+    /// The next row, to be filled in place (no copy) and then committed. Every field must be set.
+    TraceRow& next_row() { return fill_->rows[fill_->n]; }
+    void commit_row()
     {
-        fill_->rows.push_back(r); // within the reserved capacity: no allocation
-        if (fill_->rows.size() == kBatchRows) {
+        if (++fill_->n == kBatchRows) { // a batch of fixed size: no allocation
             hand_over();
         }
     }
+    void write(const TraceRow& r)
+    {
+        next_row() = r;
+        commit_row();
+    }
     bool close(std::string* err);
-    static constexpr std::size_t kMaxRowBytes = 1024; // 20 doubles x <= 24 chars + 5 ints + commas
-    static constexpr std::size_t kBatchRows = 2048;
+    static constexpr std::size_t kMaxRowBytes = 640; // 21 doubles x <= 24 chars + 4 ints + commas + 48 slack
+    static constexpr std::size_t kBatchRows = 256;
+    static constexpr std::size_t kBatches = 16;      // filling + queued + being formatted + waiting to be written
     static constexpr unsigned kMaxWorkers = 3;
 
 private:
     struct Batch {
-        std::vector<TraceRow> rows;
-        std::unique_ptr<char[]> text; // kBatchRows * kMaxRowBytes, not zeroed (pages touched when used)
-        std::uint64_t seq = 0;  // position in the file
+        std::unique_ptr<TraceRow[]> rows; // kBatchRows
+        std::size_t n = 0;                // rows filled
+        std::unique_ptr<char[]> text;     // kBatchRows * kMaxRowBytes, not zeroed (pages touched when used)
+        std::size_t bytes = 0;            // formatted text
+        std::uint64_t seq = 0;            // position in the file
     };
     void hand_over();
     void worker();
+    /// Takes one queued batch (lk held on entry and exit), formats it with lk released, then
+    /// writes every formatted batch that is next in file order unless another thread is doing so.
+    void format_one(std::unique_lock<std::mutex>& lk);
     char* format(const TraceRow& r, char* p) const;
     void stop();
     std::FILE* f_ = nullptr;
@@ -83,6 +102,8 @@ private:
     std::vector<std::unique_ptr<Batch>> batches_; // owns every batch
     Batch* fill_ = nullptr;                       // the batch write() fills
     std::deque<Batch*> queued_, free_;
+    std::vector<Batch*> formatted_;               // formatted, not yet written
+    bool writing_ = false;                        // a thread is writing formatted batches
     std::uint64_t next_seq_ = 0, next_write_ = 0;
     std::vector<std::thread> workers_;
     std::mutex m_;

@@ -474,7 +474,7 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
             }
         }
         if (trace_row) {
-            TraceRow r{};
+            TraceRow& r = trace.next_row(); // filled in place, every field
             r.t_s = st.t_s;
             r.i_a_a = st.i_a;
             r.i_b_a = st.i_b;
@@ -500,7 +500,7 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
             r.tload_nm = st.tload_nm;
             r.psi_r_alpha_wb = st.psi_r_alpha_wb;
             r.psi_r_beta_wb = st.psi_r_beta_wb;
-            trace.write(r);
+            trace.commit_row();
         }
         h->advance();
     }
