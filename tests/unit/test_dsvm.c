@@ -1,7 +1,8 @@
 /*
  * test_dsvm.c - the DSVM switching tables (firmware/dtc/dsvm.h) recomputed entry by entry from the
  * criterion of docs/firmware-core.md ("DSVM"), in double precision, independently of the firmware:
- *   - vectors: the null and (a V_k + b V_k+1)/3, a + b = 3, |V_k| = 1 at (k-1) 60 deg;
+ *   - vectors: the null and (a V_k + b V_k+1)/3, 1 <= a, 0 <= b, a + b <= 3, |V_k| = 1 at
+ *     (k-1) 60 deg (37 points);
  *   - Casadei eq. 15 with phi_r taken along phi_s (load angle neglected) and the flux along
  *     u = (cos th, sin th): torque change ~ v . j u - e, e = w phi_s / |V_k| (eq. 14's term does
  *     not depend on v and drops out of the ranking); flux-magnitude change ~ v . u (eq. 10 without
@@ -13,6 +14,7 @@
  *   - the torque effect d = v . j u_c - e_c at the cell's centre (th_c, e_c); level +2: the
  *     largest d; +1: the smallest d > 0; 0: the smallest |d|; -1: the largest d < 0; -2: the
  *     smallest d (+-1 fall back to +-2 when no admissible vector has that sign); ties (1e-9) to
+ *     the shorter vector (less voltage, less current ripple for the same torque effect), then
  *     the lower code.
  * Then the vector codes (sub-interval vectors and their mean), the rotation to sectors 2..6, the
  * half sector, the speed range, the five-level comparator and the PWM form of all 8 leg patterns
@@ -39,19 +41,19 @@ static const int kVec[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
 /* The nominal vector of a code, |V_k| = 1. */
 static void ref_vec(int c, double *x, double *y)
 {
-    int k, j;
-    double a0, a1, w1;
+    static const int ab[6][2] = {{1, 0}, {1, 1}, {1, 2}, {2, 0}, {2, 1}, {3, 0}};
+    int k, i;
+    double a0, a1;
     if (c == 0) {
         *x = *y = 0.0;
         return;
     }
-    k = (c - 1) / 3;
-    j = (c - 1) % 3;
+    k = (c - 1) / 6;
+    i = (c - 1) % 6;
     a0 = k * PI / 3.0;
     a1 = (k + 1) * PI / 3.0;
-    w1 = j / 3.0;
-    *x = (1.0 - w1) * cos(a0) + w1 * cos(a1);
-    *y = (1.0 - w1) * sin(a0) + w1 * sin(a1);
+    *x = (ab[i][0] * cos(a0) + ab[i][1] * cos(a1)) / 3.0;
+    *y = (ab[i][0] * sin(a0) + ab[i][1] * sin(a1)) / 3.0;
 }
 
 /* The criterion (file comment): the code for range r, flux demand f, level t. */
@@ -62,12 +64,12 @@ static int ref_table(int r, int f, int t)
     const double el[7][2] = {{-e1, e1}, {e1, e2}, {-e2, -e1}, {e2, e3}, {e2, e3}, {-e3, -e2}, {-e3, -e2}};
     const double tc = 0.5 * (th[r][0] + th[r][1]) * PI / 180.0, ec = 0.5 * (el[r][0] + el[r][1]);
     int pass, best = -1;
-    double bs = 0.0;
+    double bs = 0.0, bm = 0.0;
     for (pass = 0; pass < 2 && best < 0; pass++) {
         const int tt = pass == 0 ? t : (t > 0 ? 2 : (t < 0 ? -2 : 0));
         int c;
-        for (c = 0; c < 19; c++) {
-            double x, y, d, s;
+        for (c = 0; c < 37; c++) {
+            double x, y, d, s, mag;
             int i, ok = 1;
             ref_vec(c, &x, &y);
             for (i = 0; i <= 120; i++) {
@@ -81,6 +83,7 @@ static int ref_table(int r, int f, int t)
                 continue;
             }
             d = -x * sin(tc) + y * cos(tc) - ec;
+            mag = sqrt(x * x + y * y);
             if (tt == 2) {
                 s = d;
             } else if (tt == -2) {
@@ -94,9 +97,10 @@ static int ref_table(int r, int f, int t)
                 if (!(d < -1e-9)) continue;
                 s = d;
             }
-            if (best < 0 || s > bs + 1e-9) {
+            if (best < 0 || s > bs + 1e-9 || (s > bs - 1e-9 && mag < bm - 1e-9)) {
                 best = c;
                 bs = s;
+                bm = mag;
             }
         }
     }
@@ -105,7 +109,7 @@ static int ref_table(int r, int f, int t)
 
 static void every_entry_follows_the_criterion(void **state)
 {
-    int r, f, t, n = 0, used[19] = {0}, nused = 0, i;
+    int r, f, t, n = 0, used[37] = {0}, nused = 0, i;
     (void)state;
     for (r = 0; r < 7; r++) {
         for (f = 0; f < 2; f++) {
@@ -121,11 +125,11 @@ static void every_entry_follows_the_criterion(void **state)
             }
         }
     }
-    for (i = 0; i < 19; i++) {
+    for (i = 0; i < 37; i++) {
         nused += used[i];
     }
     assert_int_equal(n, 70);
-    fprintf(stderr, "70 entries, %d distinct vectors of the 19 in sector 1's tables\n", nused);
+    fprintf(stderr, "70 entries, %d distinct vectors of the 37 in sector 1's tables\n", nused);
 }
 
 /* The paper's high-speed example (sec. 11): ccw, torque increase: flux down -> "333" in 1+ and
@@ -133,34 +137,38 @@ static void every_entry_follows_the_criterion(void **state)
 static void the_papers_high_speed_example(void **state)
 {
     (void)state;
-    assert_int_equal(dsvm_table(DSVM_HIGH_CCW_P, 0U, 2), 7);  /* V3 V3 V3 */
-    assert_int_equal(dsvm_table(DSVM_HIGH_CCW_M, 0U, 2), 6);  /* V3 V3 V2 */
-    assert_int_equal(dsvm_table(DSVM_HIGH_CCW_P, 1U, 2), 5);  /* V2 V2 V3 */
-    assert_int_equal(dsvm_table(DSVM_HIGH_CCW_M, 1U, 2), 4);  /* V2 V2 V2 */
+    assert_int_equal(dsvm_table(DSVM_HIGH_CCW_P, 0U, 2), 18); /* V3 V3 V3 */
+    assert_int_equal(dsvm_table(DSVM_HIGH_CCW_M, 0U, 2), 9);  /* V3 V3 V2 */
+    assert_int_equal(dsvm_table(DSVM_HIGH_CCW_P, 1U, 2), 11); /* V2 V2 V3 */
+    assert_int_equal(dsvm_table(DSVM_HIGH_CCW_M, 1U, 2), 12); /* V2 V2 V2 */
 }
 
 static void codes_are_the_ring_and_the_null(void **state)
 {
     uint16_t c, s;
     (void)state;
-    for (c = 0; c < 19; c++) {
+    for (c = 0; c < 74; c++) {
         uint16_t v[3];
         double x = 0.0, y = 0.0, rx, ry;
-        int n;
-        dsvm_vectors(c, 7U, v);
+        int n, changes = 0;
+        const uint16_t code = (uint16_t)(c % 37), nv = c < 37 ? 7U : 0U;
+        dsvm_vectors(code, nv, v);
         for (n = 0; n < 3; n++) {
             const int *l = kVec[v[n]];
             /* Casadei eq. 2 over 2/3 V_dc: alpha = (2 a - b - c)/2, beta = (b - c) sqrt3/2 */
             x += (2.0 * l[0] - l[1] - l[2]) / 2.0 / 3.0;
             y += (l[1] - l[2]) * sqrt(3.0) / 2.0 / 3.0;
         }
-        ref_vec(c, &rx, &ry);
+        ref_vec(code, &rx, &ry);
         assert_true(fabs(x - rx) < 1e-12 && fabs(y - ry) < 1e-12);
-        if (c > 0) {
-            assert_true(v[0] == v[1]); /* majority first */
+        /* inside the period, one commutation at a time: every leg's states change at most once
+         * (the order of dsvm_vectors) */
+        for (n = 0; n < 3; n++) {
+            changes = (kVec[v[0]][n] != kVec[v[1]][n]) + (kVec[v[1]][n] != kVec[v[2]][n]);
+            assert_true(changes <= 1);
         }
         for (s = 1; s <= 6; s++) {
-            const uint16_t cr = dsvm_rotate(c, s);
+            const uint16_t cr = dsvm_rotate(code, s);
             double x2, y2;
             const double a = (s - 1) * PI / 3.0;
             ref_vec(cr, &x2, &y2);
@@ -247,9 +255,37 @@ static void all_eight_patterns_in_the_pwm_form(void **state)
 
 static void patterns_of_a_code(void **state)
 {
-    uint16_t v[3], pat[3];
+    uint16_t v[3], pat[3], c, nv, prev, p;
     (void)state;
-    dsvm_vectors(6U, 0U, v); /* "332": V3 V3 V2 = 010 010 110 */
+    /* the control path's look-ups against the definitions */
+    for (nv = 0U; nv <= 7U; nv = (uint16_t)(nv + 7U)) {
+        for (c = 0U; c < DSVM_NCODE; c++) {
+            uint16_t q[3];
+            dsvm_vectors(c, nv, v);
+            dsvm_patterns(v, pat);
+            dsvm_code_patterns(c, nv, q);
+            assert_int_equal(q[0], pat[0]);
+            assert_int_equal(q[1], pat[1]);
+            assert_int_equal(q[2], pat[2]);
+        }
+    }
+    for (prev = 0U; prev < 2U; prev++) {
+        for (p = 0U; p < 8U; p++) {
+            const uint16_t e = dsvm_edges(prev, p);
+            int s0 = prev, on = 0, r = 0, f = 0, n;
+            for (n = 0; n < 3; n++) {
+                const int s = (p >> (2 - n)) & 1;
+                on += s;
+                r += s > s0;
+                f += s < s0;
+                s0 = s;
+            }
+            assert_int_equal(e & 3U, on);
+            assert_int_equal((e >> 2) & 3U, r);
+            assert_int_equal((e >> 4) & 3U, f);
+        }
+    }
+    dsvm_vectors(9U, 0U, v); /* "332": V3 V3 V2 = 010 010 110 */
     dsvm_patterns(v, pat);
     assert_int_equal(pat[0], 1); /* leg A 0 0 1 */
     assert_int_equal(pat[1], 7);
