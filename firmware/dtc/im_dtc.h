@@ -23,7 +23,9 @@
  *      the configured speed, ST-A above); or DSC (section 9, dsc.h: hexagon by the phase-flux
  *      comparators, torque by null vectors); the null vector chosen for the fewest commutations
  *   -> leg states for the next period.
- * The schemes DTC_SCHEME_SFVC and DTC_SCHEME_DFOC (im_sfvc.c, im_dfoc.c) share the estimator,
+ * The scheme DTC_SCHEME_DSVM (im_dsvm.c) keeps the comparators with a five-level torque comparator
+ * and the DSVM tables of Casadei section 11 (dsvm.h), three sub-intervals per period in the PWM
+ * form. The schemes DTC_SCHEME_SFVC and DTC_SCHEME_DFOC (im_sfvc.c, im_dfoc.c) share the estimator,
  * speed loop, start-up and references (im_dtc_front, im_dtc_refs) and replace the comparators and
  * the table by a voltage reference applied through the SVM (svm.h): the PWM form for the next
  * period (im_pwm_out).
