@@ -48,7 +48,7 @@ typedef struct {
 
 typedef struct {
     uint16_t sa, sb, sc;   /* leg states for the next period (FSTP: sa = 0, unused) */
-    uint16_t vector;       /* SSTP 0..7, FSTP 1..4 (swtab.h) */
+    uint16_t vector;       /* SSTP 0..7, FSTP 1..4 (swtab.h); IM DSVM: the code 0..36 (dsvm.h) */
     uint16_t sector;       /* SSTP 1..6, FSTP 1..4 */
     uint16_t flux_up;      /* flux comparator output (1 = increase) */
     int16_t torque_dem;    /* torque comparator output: +1 / 0 / -1 (two-level: +1 / -1) */
