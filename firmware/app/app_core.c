@@ -3,6 +3,7 @@
  */
 #include "app_core.h"
 
+#include "dsvm.h"
 #include "svm.h"
 
 #include <stddef.h>
@@ -346,7 +347,8 @@ int16_t app_core_set_pwm_period(app_core_t *a, uint16_t t1pr)
 {
     a->t1pr = t1pr;
     if (a->cfg != NULL && a->cfg->law == (uint16_t)DTC_LAW_IM_DTC &&
-        (a->cfg->sw.scheme == (uint16_t)DTC_SCHEME_SFVC || a->cfg->sw.scheme == (uint16_t)DTC_SCHEME_DFOC) && t1pr == 0U) {
+        (a->cfg->sw.scheme == (uint16_t)DTC_SCHEME_SFVC || a->cfg->sw.scheme == (uint16_t)DTC_SCHEME_DFOC ||
+         a->cfg->sw.scheme == (uint16_t)DTC_SCHEME_DSVM) && t1pr == 0U) {
         latch_fault(a, APP_FAULT_CONFIG, DTC_ERR_SVM);
         return DTC_ERR_SVM;
     }
@@ -392,7 +394,15 @@ uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
         cmd->sb = a->st.out.sb;
         cmd->sc = a->st.out.sc;
         cmd->enable = 1U;
-        if (a->st.out.pwm != 0U) {
+        if (a->st.out.pwm == 2U) {
+            /* DSVM: one pulse per leg holding the three sub-interval states (dsvm.h, hal.h) */
+            const uint16_t c23 = dsvm_c23(a->t1pr);
+            uint16_t x;
+            cmd->form = (uint16_t)HAL_CMD_PWM;
+            for (x = 0U; x < 3U; x++) {
+                dsvm_pwm(a->st.out.thirds[x], a->t1pr, c23, &cmd->cmpr_up[x], &cmd->cmpr_dn[x], &cmd->act[x]);
+            }
+        } else if (a->st.out.pwm != 0U) {
             /* one centred pulse per leg (hal.h): compare values of the law's duties */
             uint16_t x;
             cmd->form = (uint16_t)HAL_CMD_PWM;

@@ -60,6 +60,8 @@ void law_step(law_t *l, const dtc_meas_t *m, dtc_out_t *o)
         if (l->u.im.pwm_law != 0U) {
             if (l->u.im.pwm_law == 1U) {
                 im_sfvc_step(&l->u.im, m, o);
+            } else if (l->u.im.pwm_law == 3U) {
+                im_dsvm_step(&l->u.im, m, o);
             } else {
                 im_dfoc_step(&l->u.im, m, o);
             }

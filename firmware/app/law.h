@@ -4,7 +4,8 @@
  *
  *   DTC_LAW_PM_DTC  PM brushless AC machine, Hoang et al. 2011     firmware/dtc/dtc.h
  *   DTC_LAW_IM_DTC  induction machine, Casadei et al. 2006 DTC/DSC firmware/dtc/im_dtc.h; its SVM
- *                   schemes SFVC (im_sfvc.c) and DFOC (im_dfoc.c), chosen by im_dtc_t.pwm_law
+ *                   schemes SFVC (im_sfvc.c) and DFOC (im_dfoc.c) and the DTC with DSVM
+ *                   (im_dsvm.c), chosen by im_dtc_t.pwm_law
  *
  * Every law has the same shape (init, reset, step, shadow write, refs get) and shares the
  * measurement and output structs (dtc_meas_t, dtc_out_t) and the reference set (dtc_refs.h).

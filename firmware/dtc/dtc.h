@@ -48,7 +48,7 @@ typedef struct {
 
 typedef struct {
     uint16_t sa, sb, sc;   /* leg states for the next period (FSTP: sa = 0, unused) */
-    uint16_t vector;       /* SSTP 0..7, FSTP 1..4 (swtab.h) */
+    uint16_t vector;       /* SSTP 0..7, FSTP 1..4 (swtab.h); IM DSVM: the code 0..36 (dsvm.h) */
     uint16_t sector;       /* SSTP 1..6, FSTP 1..4 */
     uint16_t flux_up;      /* flux comparator output (1 = increase) */
     int16_t torque_dem;    /* torque comparator output: +1 / 0 / -1 (two-level: +1 / -1) */
@@ -64,11 +64,15 @@ typedef struct {
     iq_t psir_mag_iq;      /* IM law: estimated rotor-flux magnitude (Casadei eq. 21), updated on
                             * the speed-loop periods; PM: 0 */
     uint16_t i_limited;    /* 1: the current limit (ilim.h) replaced the table's vector */
-    /* PWM form (IM law, scheme SFVC): pwm = 1 says the command is duty_iq, one centred pulse per
-     * leg (the application writes the compare values, svm_cmpr, hal.h HAL_CMD_PWM); sa/sb/sc are
-     * then 0. The DTC laws never write these fields: the application clears pwm once at init. */
+    /* PWM form (IM law, schemes SFVC, DFOC, DSVM): pwm = 1 says the command is duty_iq, one
+     * centred pulse per leg (the application writes the compare values, svm_cmpr, hal.h
+     * HAL_CMD_PWM); pwm = 2 (DSVM) says it is thirds, the upper device's state in each third of
+     * the period (the application maps them onto one pulse per leg, dsvm_pwm), duty_iq then the
+     * mean; sa/sb/sc are then 0. The DTC laws never write these fields: the application clears
+     * pwm once at init. */
     uint16_t pwm;
     iq_t duty_iq[3];       /* upper-device duty of legs A, B, C over the next period, [0, 1] */
+    uint16_t thirds[3];    /* pwm = 2: legs A, B, C, bit 2 = first third, 1 = upper on */
 } dtc_out_t;
 
 typedef struct {

@@ -113,7 +113,7 @@ static int16_t dtc_switch_check(const dtc_switch_cfg_t *s, uint16_t law, const c
 {
     DTC_REFUSE(s->sstp_table > (law == DTC_LAW_IM_DTC ? DTC_ST_SPEED : DTC_ST_D), DTC_ERR_VARIANT,
                "sw.sstp_table");
-    DTC_REFUSE(s->scheme > (law == DTC_LAW_IM_DTC ? DTC_SCHEME_DFOC : DTC_SCHEME_DTC),
+    DTC_REFUSE(s->scheme > (law == DTC_LAW_IM_DTC ? DTC_SCHEME_DSVM : DTC_SCHEME_DTC),
                DTC_ERR_VARIANT, "sw.scheme");
     DTC_REFUSE(s->flux_band_iq < 0, DTC_ERR_BAND, "sw.flux_band_iq");
     DTC_REFUSE(s->torque_band_iq < 0, DTC_ERR_BAND, "sw.torque_band_iq");
@@ -136,6 +136,11 @@ static int16_t dtc_switch_check(const dtc_switch_cfg_t *s, uint16_t law, const c
         }
         if (s->scheme == DTC_SCHEME_SFVC) {
             DTC_REFUSE(s->sfvc_kp_iq <= 0, DTC_ERR_SVM, "sw.sfvc_kp_iq");
+        }
+        if (s->scheme == DTC_SCHEME_DSVM) {
+            /* the torque comparator is five-level (hyst5_t), not the one section 12 watches */
+            DTC_REFUSE(s->im_fw_on != 0U, DTC_ERR_VARIANT, "sw.im_fw_on");
+            DTC_REFUSE(s->dsvm_torque_band2_iq < s->torque_band_iq, DTC_ERR_BAND, "sw.dsvm_torque_band2_iq");
         }
         if (s->scheme == DTC_SCHEME_DFOC) {
             DTC_REFUSE(s->dfoc_kp_iq <= 0, DTC_ERR_SVM, "sw.dfoc_kp_iq");

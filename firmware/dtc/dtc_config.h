@@ -16,7 +16,7 @@
 #include "fixmath.h"
 
 /* Layout version: bump when a field is added, removed or changes meaning. */
-#define DTC_CONFIG_VERSION 6U
+#define DTC_CONFIG_VERSION 7U
 
 /* The control law the application runs (dtc_law.h dispatches on it). */
 enum dtc_law {
@@ -57,8 +57,10 @@ enum dtc_scheme {
     DTC_SCHEME_DSC = 1, /* IM only: Direct Self Control (Casadei section 9, dsc.h) */
     DTC_SCHEME_SFVC = 2, /* IM only: stator-flux vector control with SVM at a constant switching
                           * frequency (Casadei sections 10.3-10.5, Fig. 18; im_sfvc.c, svm.h) */
-    DTC_SCHEME_DFOC = 3  /* IM only: direct rotor-flux-oriented control, PI current regulators in
+    DTC_SCHEME_DFOC = 3, /* IM only: direct rotor-flux-oriented control, PI current regulators in
                           * the rotor-flux frame, SVM (Casadei section 13; im_dfoc.c) */
+    DTC_SCHEME_DSVM = 4  /* IM only: DTC with Discrete Space Vector Modulation, three equal
+                          * sub-intervals per period (Casadei section 11; dsvm.h, im_dsvm.c) */
 };
 
 enum dtc_speed_sensor {
@@ -264,6 +266,10 @@ typedef struct {
     iq_t dfoc_ki_ts_iq;        /* its integral gain times Ts, pu voltage per pu current (>= 0) */
     iq_t dfoc_id_ref_iq;       /* d-axis current reference phi_r* / m, pu (> 0) */
     iq_t dfoc_iq_per_t_iq;     /* q-axis current per pu torque, l_r / (m phi_r*) (> 0) */
+    /* IM DTC with DSVM (scheme DTC_SCHEME_DSVM, Casadei section 11, dsvm.h): the five-level
+     * torque comparator's outer band (full width, pu, >= torque_band_iq; hyst5_t): beyond
+     * +-band2/2 the tables' levels +-2, between +-torque_band/2 and +-band2/2 the levels +-1. */
+    iq_t dsvm_torque_band2_iq;
 } dtc_switch_cfg_t;
 
 /* Speed loop, limits and the initial references (the shadow set replaces the references at run

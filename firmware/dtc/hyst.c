@@ -14,3 +14,10 @@ void hyst3_init(hyst3_t *h, iq_t band_iq)
     h->half_band_iq = fix_rshift_rnd32(band_iq, 1U);
     h->out = 0;
 }
+
+void hyst5_init(hyst5_t *h, iq_t band_iq, iq_t band2_iq)
+{
+    h->half_band_iq = fix_rshift_rnd32(band_iq, 1U);
+    h->half_band2_iq = fix_rshift_rnd32(band2_iq > band_iq ? band2_iq : band_iq, 1U);
+    h->out = 0;
+}

@@ -35,9 +35,23 @@ typedef struct {
     int16_t out; /* +1, 0, -1 */
 } hyst3_t;
 
+/* Five-level torque comparator of the DSVM (dsvm.h; Casadei section 11: more torque levels than
+ * Table 1 so that the 19 vectors can be graded): inner half band h1, outer h2 >= h1,
+ *     e > h2 -> +2,  h1 < e <= h2 -> +1,  e < -h2 -> -2,  -h2 <= e < -h1 -> -1,
+ *     |e| <= h1: as hyst3 (from + with e < 0 -> 0, from - with e > 0 -> 0, else hold the sign,
+ *     +-2 held as +-1).
+ * Comparisons only. */
+typedef struct {
+    iq_t half_band_iq;  /* h1 */
+    iq_t half_band2_iq; /* h2 */
+    int16_t out;        /* +2 .. -2 */
+} hyst5_t;
+
 /* band_iq is the full width (Delta in eqs. 13-14); out_init the initial output. */
 void hyst2_init(hyst2_t *h, iq_t band_iq, uint16_t out_init);
 void hyst3_init(hyst3_t *h, iq_t band_iq);
+/* band2_iq: the outer full width (taken as band_iq when smaller). */
+void hyst5_init(hyst5_t *h, iq_t band_iq, iq_t band2_iq);
 
 static inline uint16_t hyst2_step(hyst2_t *h, iq_t err_iq)
 {
@@ -80,6 +94,26 @@ static inline int16_t hyst3_step(hyst3_t *h, iq_t err_iq)
         h->out = -1;
     } else if ((h->out > 0 && err_iq < 0) || (h->out < 0 && err_iq > 0)) {
         h->out = 0;
+    }
+    return h->out;
+}
+
+static inline int16_t hyst5_step(hyst5_t *h, iq_t err_iq)
+{
+    if (err_iq > h->half_band2_iq) {
+        h->out = 2;
+    } else if (err_iq < -h->half_band2_iq) {
+        h->out = -2;
+    } else if (err_iq > h->half_band_iq) {
+        h->out = 1;
+    } else if (err_iq < -h->half_band_iq) {
+        h->out = -1;
+    } else if ((h->out > 0 && err_iq < 0) || (h->out < 0 && err_iq > 0)) {
+        h->out = 0;
+    } else if (h->out > 1) {
+        h->out = 1;
+    } else if (h->out < -1) {
+        h->out = -1;
     }
     return h->out;
 }

@@ -39,6 +39,7 @@ void im_dtc_reset(im_dtc_t *c)
     hyst2_init(&c->h_flux, cfg->sw.flux_band_iq, 1U);
     hyst2_init(&c->h_torque2, cfg->sw.torque_band_iq, 1U);
     hyst3_init(&c->h_torque3, cfg->sw.torque_band_iq);
+    hyst5_init(&c->h_torque5, cfg->sw.torque_band_iq, cfg->sw.dsvm_torque_band2_iq);
     c->dsc.s[0] = 0U;
     c->dsc.s[1] = 0U;
     c->dsc.s[2] = 0U;

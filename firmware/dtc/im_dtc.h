@@ -23,7 +23,9 @@
  *      the configured speed, ST-A above); or DSC (section 9, dsc.h: hexagon by the phase-flux
  *      comparators, torque by null vectors); the null vector chosen for the fewest commutations
  *   -> leg states for the next period.
- * The schemes DTC_SCHEME_SFVC and DTC_SCHEME_DFOC (im_sfvc.c, im_dfoc.c) share the estimator,
+ * The scheme DTC_SCHEME_DSVM (im_dsvm.c) keeps the comparators with a five-level torque comparator
+ * and the DSVM tables of Casadei section 11 (dsvm.h), three sub-intervals per period in the PWM
+ * form. The schemes DTC_SCHEME_SFVC and DTC_SCHEME_DFOC (im_sfvc.c, im_dfoc.c) share the estimator,
  * speed loop, start-up and references (im_dtc_front, im_dtc_refs) and replace the comparators and
  * the table by a voltage reference applied through the SVM (svm.h): the PWM form for the next
  * period (im_pwm_out).
@@ -68,6 +70,7 @@
 
 #include "clarke.h"
 #include "dsc.h"
+#include "dsvm.h"
 #include "dtc.h"
 #include "dtc_config.h"
 #include "dtc_refs.h"
@@ -101,6 +104,7 @@ typedef struct {
     hyst2_t h_flux;
     hyst2_t h_torque2;
     hyst3_t h_torque3;
+    hyst5_t h_torque5;    /* DSVM: the five-level torque comparator */
     dsc_t dsc;
     /* references in force and the shadow set */
     dtc_refs_t act;
@@ -131,7 +135,8 @@ typedef struct {
     iq_t dva_iq, dvb_iq;  /* a compensation term */
     /* the SVM schemes: stator-flux vector control (DTC_SCHEME_SFVC, im_sfvc.c) and rotor-flux-
      * oriented control (DTC_SCHEME_DFOC, im_dfoc.c) */
-    uint16_t pwm_law;     /* 0: DTC/DSC (im_dtc_step), 1: SFVC (im_sfvc_step), 2: DFOC (im_dfoc_step) */
+    uint16_t pwm_law;     /* 0: DTC/DSC (im_dtc_step), 1: SFVC (im_sfvc_step), 2: DFOC (im_dfoc_step),
+                           * 3: DSVM (im_dsvm_step) */
     svm_params_t svm_p;
     svm_t svm;
     svm_out_t svm_o;      /* the modulation of this step */
@@ -183,6 +188,14 @@ void im_sfvc_regulate(im_dtc_t *c);
 void im_dfoc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
 /* Internal to im_dfoc_step, out of line for the stack. */
 void im_dfoc_regulate(im_dtc_t *c);
+
+/* The scheme DTC_SCHEME_DSVM's control period (im_dsvm.c): the same estimator, speed loop,
+ * start-up and references as im_dtc_step, then the flux comparator, the five-level torque
+ * comparator and the switching tables of Casadei section 11 (dsvm.h); the output is the three
+ * sub-interval states per leg (dtc_out_t.pwm = 2, thirds). law.h calls it when c->pwm_law = 3. */
+void im_dsvm_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
+/* Internal to im_dsvm_step, out of line for the stack. */
+void im_dsvm_select(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o);
 
 /* Steps 1-5 of a control period, common to both schemes: the shadow set (dtc_refs.h), Clarke
  * (Hoang eqs. 4-5, the same transform as Casadei's space vectors), the stator and rotor flux

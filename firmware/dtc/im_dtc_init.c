@@ -50,7 +50,10 @@ int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg)
     if (cfg->sw.im_fw_on != 0U && im_fw_check(&c->fw_p) != 0) {
         return DTC_ERR_WEAKENING;
     }
-    c->pwm_law = (uint16_t)(cfg->sw.scheme == DTC_SCHEME_SFVC ? 1U : cfg->sw.scheme == DTC_SCHEME_DFOC ? 2U : 0U);
+    c->pwm_law = (uint16_t)(cfg->sw.scheme == DTC_SCHEME_SFVC   ? 1U
+                            : cfg->sw.scheme == DTC_SCHEME_DFOC ? 2U
+                            : cfg->sw.scheme == DTC_SCHEME_DSVM ? 3U
+                                                                : 0U);
     c->svm_p.mode = cfg->sw.svm_mode;
     c->svm_p.dt_comp = cfg->est.deadtime_comp;
     c->svm_p.td_iq = iq_from_q15(cfg->board.td_ts_q15);

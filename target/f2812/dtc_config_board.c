@@ -4,7 +4,7 @@
 #include "dtc_config.h"
 
 const dtc_config_t g_dtc_config = {
-    .version = 6U,
+    .version = 7U,
     .law = 0U, /* enum dtc_law */
     .board = {
         .v_base_mv = 70000U,
@@ -95,6 +95,7 @@ const dtc_config_t g_dtc_config = {
         .dfoc_ki_ts_iq = 0, /* 0 pu */
         .dfoc_id_ref_iq = 0, /* 0 pu */
         .dfoc_iq_per_t_iq = 0, /* 0 pu */
+        .dsvm_torque_band2_iq = 0, /* 0 pu */
     },
     .speed = {
         .mode = 0U,

@@ -155,7 +155,10 @@ FMUT(f_topo, c->board.topology = DTC_TOPO_FSTP)
 FMUT(f_fw_window, { c->sw.im_fw_on = 1U; c->sw.im_fw_window = 19U; })
 FMUT(f_fw_kt, { c->sw.im_fw_on = 1U; c->sw.im_fw_kt_iq = 0; })
 FMUT(f_table, c->sw.sstp_table = DTC_ST_SPEED + 1U)
-FMUT(f_scheme, c->sw.scheme = DTC_SCHEME_DFOC + 1U)
+FMUT(f_scheme, c->sw.scheme = DTC_SCHEME_DSVM + 1U)
+/* DSVM: the outer torque band below the inner one; section 12's weakening */
+FMUT(f_dsvm_band2, { c->sw.scheme = DTC_SCHEME_DSVM; c->sw.torque_band_iq = IQ(0.05); c->sw.dsvm_torque_band2_iq = IQ(0.04); })
+FMUT(f_dsvm_fw, { c->sw.scheme = DTC_SCHEME_DSVM; c->sw.dsvm_torque_band2_iq = IQ(0.5); c->sw.im_fw_on = 1U; })
 /* a valid SFVC set (constant rotor flux, a gain below 1/ts_pu), then one field broken */
 static void sfvc_ok(dtc_config_t *c)
 {
@@ -210,6 +213,8 @@ static void test_bad_im_config_refused_with_field(void **state)
         {f_fw_kt, DTC_ERR_WEAKENING, "sw.im_fw_kt_iq"},
         {f_table, DTC_ERR_VARIANT, "sw.sstp_table"},
         {f_scheme, DTC_ERR_VARIANT, "sw.scheme"},
+        {f_dsvm_band2, DTC_ERR_BAND, "sw.dsvm_torque_band2_iq"},
+        {f_dsvm_fw, DTC_ERR_VARIANT, "sw.im_fw_on"},
         {f_svm_mode, DTC_ERR_SVM, "sw.svm_mode"},
         {f_sfvc_kp0, DTC_ERR_SVM, "sw.sfvc_kp_iq"},
         {f_sfvc_kp_big, DTC_ERR_SVM, "sw.sfvc_kp_iq"},

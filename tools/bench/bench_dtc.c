@@ -92,7 +92,21 @@ __attribute__((noinline)) void bench_dfoc_tick(im_dtc_t *c, const dtc_meas_t *m,
     im_dfoc_step(c, m, o);
 }
 
-/* ideal: no drop or dead-time compensation; sfvc: 1 the stator-flux vector control (im_sfvc_step,
+__attribute__((noinline)) void bench_dsvm_normal(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
+__attribute__((noinline)) void bench_dsvm_tick(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
+
+__attribute__((noinline)) void bench_dsvm_normal(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
+{
+    im_dsvm_step(c, m, o);
+}
+
+__attribute__((noinline)) void bench_dsvm_tick(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
+{
+    im_dsvm_step(c, m, o);
+}
+
+/* ideal: no drop or dead-time compensation; sfvc: 3 the DTC with DSVM (im_dsvm_step, 160 us, the
+ * machine fed with the mean of the three sub-intervals, duty_iq), 1 the stator-flux vector control (im_sfvc_step,
  * symmetric SVM), 2 the rotor-flux-oriented control (im_dfoc_step, two-phase SVM), at the default
  * 6.25 kHz carrier = 160 us control period (their start-up steps run unwrapped), the machine fed
  * with the mean voltage of the duties. */
@@ -124,10 +138,15 @@ static int run_im(long n, int ideal, int sfvc)
     si.sstp_table = DTC_ST_SPEED;
     si.speed_ref_rpm = 750.0;
     if (sfvc) {
-        si.scheme = sfvc == 2 ? DTC_SCHEME_DFOC : DTC_SCHEME_SFVC;
+        si.scheme = sfvc == 3 ? DTC_SCHEME_DSVM : sfvc == 2 ? DTC_SCHEME_DFOC : DTC_SCHEME_SFVC;
         si.svm_mode = sfvc == 2 ? 1 : 0;
         si.ts_s = 1.0 / 6250.0;
-        si.carrier_hz = 6250.0;
+        si.carrier_hz = sfvc == 3 ? 0.0 : 6250.0;
+        if (sfvc == 3) {
+            si.sstp_table = DTC_ST_BASIC;
+            si.torque_band_nm = 0.05 * 26.5;
+            si.flux_band_wb = 0.01;
+        }
     }
     if (dtc_config_from_si(&si, &cfg, msg, sizeof msg) != DTC_SI_OK) {
         fprintf(stderr, "bench: %s\n", msg);
@@ -154,7 +173,9 @@ static int run_im(long n, int ideal, int sfvc)
         double cnt = fmod(floor(theta / (2.0 * M_PI * si.pole_pairs) * 8000.0), 8000.0);
         me.enc_count = (uint16_t)(cnt < 0 ? cnt + 8000.0 : cnt);
         if (c.magnetised == 0U) {
-            if (sfvc == 2) {
+            if (sfvc == 3) {
+                im_dsvm_step(&c, &me, &o);
+            } else if (sfvc == 2) {
                 im_dfoc_step(&c, &me, &o);
             } else if (sfvc) {
                 im_sfvc_step(&c, &me, &o);
@@ -164,7 +185,9 @@ static int run_im(long n, int ideal, int sfvc)
         } else if (c.div_cnt == 0U) {
             /* held at 0.5 pu once magnetised (the machine is magnetised at standstill) */
             x.w = 0.5;
-            if (sfvc == 2) {
+            if (sfvc == 3) {
+                bench_dsvm_tick(&c, &me, &o);
+            } else if (sfvc == 2) {
                 bench_dfoc_tick(&c, &me, &o);
             } else if (sfvc) {
                 bench_sfvc_tick(&c, &me, &o);
@@ -174,7 +197,9 @@ static int run_im(long n, int ideal, int sfvc)
             n_tick++;
         } else {
             x.w = 0.5;
-            if (sfvc == 2) {
+            if (sfvc == 3) {
+                bench_dsvm_normal(&c, &me, &o);
+            } else if (sfvc == 2) {
                 bench_dfoc_normal(&c, &me, &o);
             } else if (sfvc) {
                 bench_sfvc_normal(&c, &me, &o);
@@ -189,7 +214,7 @@ static int run_im(long n, int ideal, int sfvc)
             va = (2.0 * d1[0] - d1[1] - d1[2]) / 3.0;
             vb = (d1[1] - d1[2]) / sqrt(3.0);
             for (int j = 0; j < 3; j++) {
-                d1[j] = (double)c.svm_o.d_eff_iq[j] / 16777216.0;
+                d1[j] = (double)(sfvc == 3 ? o.duty_iq[j] : c.svm_o.d_eff_iq[j]) / 16777216.0;
             }
         } else {
             dtc_ref_sstp_ideal(sa, sb, sc, 1.0, &va, &vb);
@@ -217,6 +242,9 @@ int main(int argc, char **argv)
     }
     if (argc > 2 && strcmp(argv[2], "dfoc") == 0) {
         return run_im(n, 0, 2);
+    }
+    if (argc > 2 && strcmp(argv[2], "dsvm") == 0) {
+        return run_im(n, 0, 3);
     }
     dtc_config_si_t si;
     dtc_config_t cfg;

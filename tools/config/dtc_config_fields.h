@@ -51,6 +51,7 @@
     IQ(sw, im_fw_step_up_iq) IQ(sw, im_fw_psi_min_iq) IQ(sw, im_fw_inv_psi_rated_iq)              \
     IQ(sw, im_fw_kt_iq) U(sw, svm_mode) IQ(sw, sfvc_kp_iq) IQ(sw, dfoc_kp_iq)                     \
     IQ(sw, dfoc_ki_ts_iq) IQ(sw, dfoc_id_ref_iq) IQ(sw, dfoc_iq_per_t_iq)                         \
+    IQ(sw, dsvm_torque_band2_iq)                                                                  \
     END(sw)                                                                                       \
     P(speed)                                                                                      \
     U(speed, mode) U(speed, sensor) U(speed, speed_div) IQ(speed, speed_k_iq)                      \

@@ -78,6 +78,7 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->carrier_hz = 0.0;
     si->svm_mode = 0;
     si->sfvc_kp_per_s = 0.0;
+    si->dsvm_torque_band2_nm = 0.0;
     si->estimator = DTC_EST_VOLTAGE;
     si->compensation = DTC_COMP_FSTP_PROPOSED;
     si->sstp_table = DTC_ST_BASIC;
@@ -321,6 +322,19 @@ static void im_from_si(conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *
         cfg->sw.dfoc_id_ref_iq = to_iq(c, "psir_ref_wb (DFOC i_d* = phi_r* / M)", si->psir_ref_wb, si->psir_ref_wb / m / b->i_base_a);
         cfg->sw.dfoc_iq_per_t_iq = to_iq(c, "psir_ref_wb (DFOC l_r/(m phi_r*))", si->psir_ref_wb, lr / m / (si->psir_ref_wb / b->psi_base_wb));
     }
+    if (si->scheme == DTC_SCHEME_DSVM) {
+        /* The five-level torque comparator (hyst.h hyst5_t): the outer band. Derived (0): the
+         * levels +-2 (a whole active vector) only when the torque error exceeds what a whole
+         * vector changes in one period, Casadei eqs. 12, 15 at standstill with the vector
+         * across the flux: dT = (3/2) p M / (sigma L_s L_r) |V_k| |phi_r| Ts, |V_k| = 2/3 V_dc;
+         * so band2 / 2 = dT (and at least the inner band). */
+        const double dt_full = 1.5 * si->pole_pairs * m / (sigma * ls * lr) * (2.0 / 3.0 * si->vdc_v) * psir * si->ts_s;
+        const double b2 = si->dsvm_torque_band2_nm > 0.0 ? si->dsvm_torque_band2_nm
+                                                         : fmax(2.0 * dt_full, si->torque_band_nm);
+        if (!(si->dsvm_torque_band2_nm == 0.0 || si->dsvm_torque_band2_nm >= si->torque_band_nm)) { fail(c, DTC_SI_ERR_BAND, "dsvm_torque_band2_nm = %g: must be 0 (derived) or >= torque_band_nm = %g", si->dsvm_torque_band2_nm, si->torque_band_nm); return; }
+        if (si->flux_weakening != 0) { fail(c, DTC_SI_ERR_IM, "flux_weakening = %d: section 12's flux weakening watches the three-level torque comparator; not with DSVM", si->flux_weakening); return; }
+        cfg->sw.dsvm_torque_band2_iq = to_iq(c, "dsvm_torque_band2_nm", b2, b2 / b->t_base_nm);
+    }
     {
         const double rpm = si->table_speed_rpm > 0.0 ? si->table_speed_rpm : dtc_table_speed_default_rpm(si);
         cfg->sw.im_table_speed_iq = to_iq(c, "table_speed_rpm", rpm, rpm * rpm_pu);
@@ -458,8 +472,8 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
                     si->law == DTC_LAW_IM_DTC ? "DTC_ST_SPEED" : "DTC_ST_D (DTC_ST_SPEED is IM only)");
     if (si->scheme != DTC_SCHEME_DTC &&
         !(si->law == DTC_LAW_IM_DTC && (si->scheme == DTC_SCHEME_DSC || si->scheme == DTC_SCHEME_SFVC ||
-                                        si->scheme == DTC_SCHEME_DFOC)))
-        return fail(&c, DTC_SI_ERR_VARIANT, "scheme = %d: DTC_SCHEME_DTC, or DTC_SCHEME_DSC / SFVC / DFOC with the IM law", si->scheme);
+                                        si->scheme == DTC_SCHEME_DFOC || si->scheme == DTC_SCHEME_DSVM)))
+        return fail(&c, DTC_SI_ERR_VARIANT, "scheme = %d: DTC_SCHEME_DTC, or DTC_SCHEME_DSC / SFVC / DFOC / DSVM with the IM law", si->scheme);
     if (si->speed_sensor != DTC_SPEED_ENCODER && !(si->law == DTC_LAW_IM_DTC && si->speed_sensor == DTC_SPEED_NONE))
         return fail(&c, DTC_SI_ERR_VARIANT, "speed_sensor = %d: DTC_SPEED_ENCODER, or DTC_SPEED_NONE with the IM law", si->speed_sensor);
     if (si->mode != DTC_MODE_SPEED && si->mode != DTC_MODE_TORQUE)

@@ -121,6 +121,11 @@ typedef struct {
                              * deadbeat gain 1/ts_s halved as a margin for the one-period
                              * prediction's model errors) */
 
+    /* DTC with DSVM (scheme DTC_SCHEME_DSVM, Casadei sec. 11): the five-level torque comparator's
+     * outer band (full width), >= torque_band_nm; 0 = derived: twice the torque a whole active
+     * vector changes in one period at standstill (dtc_config_from_si), at least torque_band_nm. */
+    double dsvm_torque_band2_nm;
+
     /* Variants. */
     int estimator;          /* enum dtc_estimator */
     int compensation;       /* enum dtc_compensation */

@@ -29,7 +29,7 @@ enum class Implementation { Firmware, Reference };
 enum class Estimator { Current, Voltage, Improved };
 enum class Compensation { None, Simple, Proposed };
 enum class SwitchingTable { Basic, StA, StB, StC, StD, SpeedDependent };
-enum class Scheme { Dtc, Dsc, Sfvc, Dfoc };
+enum class Scheme { Dtc, Dsc, Sfvc, Dfoc, Dsvm };
 enum class Modulation { Symmetric, TwoPhase };
 enum class SpeedSensor { Encoder, None };
 
@@ -60,7 +60,7 @@ template <> struct VariantNames<SwitchingTable> {
     static constexpr std::array<const char*, 6> names{"basic", "st-a", "st-b", "st-c", "st-d", "speed-dependent"};
 };
 template <> struct VariantNames<Scheme> {
-    static constexpr std::array<const char*, 4> names{"dtc", "dsc", "sfvc", "dfoc"};
+    static constexpr std::array<const char*, 5> names{"dtc", "dsc", "sfvc", "dfoc", "dsvm"};
 };
 template <> struct VariantNames<Modulation> {
     static constexpr std::array<const char*, 2> names{"symmetric", "two_phase"};
@@ -200,6 +200,7 @@ struct ControlCfg {
     double carrier_hz = PLANT_DEF_IM_CARRIER_HZ; // SVM carrier; the control period ts_s = 1 / carrier_hz
     Modulation modulation = Modulation::Symmetric; // dfoc with the key unset: two_phase (Casadei sec. 13)
     double sfvc_kp_per_s = 0.0;          // flux-regulator gain K_p (eq. 24); 0 = derived, 1 / (2 ts_s)
+    double dsvm_torque_band2_nm = 0.0;   // DSVM five-level torque comparator's outer band; 0 = derived
 };
 
 struct SensorsCfg {

@@ -168,10 +168,12 @@ dtc_config_si_t firmware_si_config(const Scenario& sc)
         si.scheme = c.scheme == Scheme::Dsc    ? DTC_SCHEME_DSC
                     : c.scheme == Scheme::Sfvc ? DTC_SCHEME_SFVC
                     : c.scheme == Scheme::Dfoc ? DTC_SCHEME_DFOC
+                    : c.scheme == Scheme::Dsvm ? DTC_SCHEME_DSVM
                                                : DTC_SCHEME_DTC;
         si.carrier_hz = c.scheme == Scheme::Sfvc || c.scheme == Scheme::Dfoc ? c.carrier_hz : 0.0;
         si.svm_mode = c.modulation == Modulation::TwoPhase ? 1 : 0;
         si.sfvc_kp_per_s = c.sfvc_kp_per_s;
+        si.dsvm_torque_band2_nm = c.dsvm_torque_band2_nm;
         si.speed_sensor = c.speed_sensor == SpeedSensor::None ? DTC_SPEED_NONE : DTC_SPEED_ENCODER;
         si.flux_weakening = c.flux_weakening ? 1 : 0;
         si.psir_ref_wb = c.rotor_flux_ref_wb;
@@ -215,6 +217,7 @@ std::string keys_of_field(const std::string& msg)
         {"enc_offset_rad", "sensors.encoder_offset_rad"},
         {"flux_band_wb", "control.flux_band_wb"},
         {"torque_band_nm", "control.torque_band_nm"},
+        {"dsvm_torque_band2_nm", "control.dsvm_torque_band2_nm"},
         {"lpf_cutoff_rad_s", "control.lpf_cutoff_rad_s"},
         {"torque_limit_nm", "control.torque_limit_nm"},
         {"speed_limit_rpm", "control.speed_ref_rpm"},

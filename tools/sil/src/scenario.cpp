@@ -272,8 +272,9 @@ const std::vector<Spec>& schema()
                "IM only: dtc = switching table (Casadei secs. 4-8); dsc = Direct Self Control, hexagonal flux "
                "locus (sec. 9); sfvc = stator-flux vector control with SVM at the constant switching frequency "
                "control.carrier_hz (secs. 10.3-10.5, Fig. 18, eqs. 18, 23, 24); dfoc = direct rotor-flux-oriented control, PI current "
-               "regulators in the rotor-flux frame, SVM at control.carrier_hz (sec. 13, the baseline); sfvc and dfoc need "
-               "control.rotor_flux_ref_wb > 0",
+               "regulators in the rotor-flux frame, SVM at control.carrier_hz (sec. 13, the baseline); dsvm = DTC with "
+               "discrete space vector modulation, three equal sub-intervals per control period ts_s, switching tables "
+               "derived from sec. 8 (sec. 11, firmware/dtc/dsvm.h); sfvc and dfoc need control.rotor_flux_ref_wb > 0",
                ACC(control.scheme)),
         num("control.carrier_hz", "Hz", positive(),
             "IM sfvc, dfoc: SVM carrier frequency; one PWM period per control period, so ts_s = 1 / carrier_hz (ts_s not "
@@ -290,6 +291,13 @@ const std::vector<Spec>& schema()
             "IM sfvc: flux-regulator gain K_p of Casadei eq. 24, at most 1/ts_s (deadbeat); 0 = derived, "
             "1 / (2 ts_s)",
             ACC(control.sfvc_kp_per_s)),
+        num("control.dsvm_torque_band2_nm", "N*m", nonneg(),
+            "IM dsvm: outer band (full width) of the five-level torque comparator: beyond +-band2/2 the tables' "
+            "levels +-2, between +-control.torque_band_nm/2 and +-band2/2 the levels +-1; at least "
+            "control.torque_band_nm; 0 = derived: twice the torque a whole active vector changes in one period "
+            "at standstill, (3/2) p M / (sigma L_s L_r) (2/3 V_dc) |phi_r| ts_s (Casadei eqs. 12, 15), at least "
+            "control.torque_band_nm",
+            ACC(control.dsvm_torque_band2_nm)),
         choice<SpeedSensor>("control.speed_sensor",
                "IM only: encoder = speed from the encoder; none = sensorless, the stator-flux angular speed minus "
                "the slip of Casadei eq. 16",
@@ -788,7 +796,7 @@ void apply_machine_defaults(Scenario& s, Diagnostics* d)
 void check_law_keys(const Scenario& s, Diagnostics* d)
 {
     static const std::vector<std::string> im_law = {
-        "control.scheme", "control.carrier_hz", "control.modulation", "control.sfvc_kp_per_s",
+        "control.scheme", "control.carrier_hz", "control.modulation", "control.sfvc_kp_per_s", "control.dsvm_torque_band2_nm",
         "control.speed_sensor", "control.flux_weakening", "control.rotor_flux_ref_wb",
         "control.observer_tau_s", "control.observer_tau_high_s", "control.observer_tau_lo_rpm",
         "control.observer_tau_hi_rpm", "control.magnetise_frac", "control.table_speed_rpm",
@@ -861,6 +869,22 @@ void cross_validate(Scenario& s, Diagnostics* d)
                 "must be longer than the control period ts_s = " + fmt_double(s.ts_s) + " s");
         }
         const bool svm = s.control.scheme == Scheme::Sfvc || s.control.scheme == Scheme::Dfoc;
+        if (s.control.scheme == Scheme::Dsvm) {
+            // The PWM form's thirds (firmware/dtc/dsvm.h, hal.h): T1PR = ts_s f_clock / 2 whole counts.
+            const double n = s.ts_s * PLANT_DEF_PWM_CLOCK_HZ * 0.5;
+            if (!(std::fabs(n - std::nearbyint(n)) <= 1e-9 * n && n >= 3.0 && n <= 65534.0)) {
+                err("ts_s", "the PWM timer period 75 MHz ts_s / 2 = " + fmt_double(n) +
+                                " counts is not a whole number in 3..65534 (hal.h T1PR; dsvm's thirds)");
+            }
+            if (s.control.flux_weakening) {
+                err("control.flux_weakening", "section 12's flux weakening watches the three-level torque comparator; "
+                                              "not with control.scheme = \"dsvm\"");
+            }
+            if (s.control.dsvm_torque_band2_nm != 0.0 && s.control.dsvm_torque_band2_nm < s.control.torque_band_nm) {
+                err("control.dsvm_torque_band2_nm", "must be 0 (derived) or at least control.torque_band_nm = " +
+                                                        fmt_double(s.control.torque_band_nm));
+            }
+        }
         if (svm) {
             // One PWM period per control period (firmware/dtc/im_sfvc.c, hal.h): ts_s = 1 / carrier_hz,
             // T1PR = ts_s f_clock / 2 a whole number of counts.

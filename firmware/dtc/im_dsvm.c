@@ -1,0 +1,133 @@
+/*
+ * im_dsvm.c - DTC with Discrete Space Vector Modulation (Casadei et al. 2006 section 11): the
+ * scheme DTC_SCHEME_DSVM of the IM law (im_dtc.h), one im_dsvm_step() per control period, the
+ * period split into three equal sub-intervals (dsvm.h).
+ *
+ *   estimator, speed loop, start-up and references as the IM law (im_dtc_front, im_dtc_refs)
+ *   -> flux comparator on |phi_s|^2 (hyst2_sq_step), five-level torque comparator (hyst5_step)
+ *   -> sector (sector.h) and, at high speed, its half (dsvm_half: twelve sectors, Fig. 28)
+ *   -> speed range from the dynamic EMF w phi_s* against E1, E2 times |V_k| = 2/3 v_dc
+ *      (dsvm_range; Casadei Fig. 27, eq. 15's w_k phi_s,k)
+ *   -> the tables' vector for sector 1 turned to the flux's sector (dsvm_table, dsvm_rotate),
+ *      its three basic vectors (dsvm_vectors; the null as V_0 or V_7, whichever the last
+ *      sub-interval's legs reach with the fewer commutations, as swtab_null_choice)
+ *   -> each leg's three states (dsvm_patterns, by the look-up dsvm_code_patterns): the command
+ *      (dtc_out_t.pwm = 2, thirds)
+ *   -> the mean voltage they will apply, kept for the estimator (as the SVM schemes' v1/v2,
+ *      im_pwm_out): d_x = n_x/3 (n_x the leg's "on" thirds) minus the dead time's loss, Casadei
+ *      eq. 2 / Hoang eqs. 1-5 on the link measured now (vrec_from_legs, rounded IQ products).
+ * Start-up (im_dtc.h): the radial vector V_k of the flux's sector over the whole period while the
+ * flux comparator asks for more flux, the null otherwise.
+ * Dead time (the sign rule of svm.h / dtc_deadtime): a rising edge of the upper command loses T_d
+ * when the phase current leaves the leg (i > 0), a falling edge gains T_d when it enters (i < 0);
+ * the edges counted are those inside the period and the one at its start (the previous period's
+ * last state against this one's first); the current's sign is that sampled now.
+ *
+ * Formats: IQ pu (dtc_base.h), duties IQ in [0, 1] before the dead-time terms (each at most
+ * 3 T_d/T_s, T_d/T_s < 1/2: the sums stay within (-3/2, 5/2)), T_d/T_s IQ (svm_p.td_iq).
+ * Scaling and overflow: comparisons and table look-ups; the sums above without saturation; the
+ * voltage as rounded IQ products (vrec_from_legs saturates).
+ */
+#include "im_dtc.h"
+
+#include "sector.h"
+#include "vrec.h"
+
+/* n/3 in IQ, n = 0..3 */
+static const iq_t dsvm_thirds_iq[4] = {0, IQ(1.0 / 3.0), IQ(2.0 / 3.0), IQ(1.0)};
+
+/* The duty a leg pattern applies (file comment), from its dsvm_edges() over the leg's state in
+ * the last third of the previous period and its pattern; a rising edge loses T_d with the current leaving the leg, a falling edge
+ * gains T_d with the current entering it (at most two of either). */
+static inline iq_t dsvm_leg_duty(uint16_t e, iq_t i_iq, iq_t td_iq)
+{
+    const iq_t d = dsvm_thirds_iq[e & 3U];
+    if (i_iq > 0) {
+        const uint16_t n = (uint16_t)((e >> 2) & 3U);
+        return n == 0U ? d : (n == 1U ? d - td_iq : d - td_iq - td_iq);
+    }
+    if (i_iq < 0) {
+        const uint16_t n = (uint16_t)((e >> 4) & 3U);
+        return n == 0U ? d : (n == 1U ? d + td_iq : d + td_iq + td_iq);
+    }
+    return d;
+}
+
+void im_dsvm_select(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
+{
+    const iq_t psi_a = c->est.psi_alpha_iq, psi_b = c->est.psi_beta_iq;
+    const uint16_t flux_up = hyst2_sq_step(&c->h_flux, c->psi_ref_iq, iq_sumsq_q48(psi_a, psi_b));
+    const uint16_t sector = sector_sstp(psi_a, psi_b);
+    /* the null the previous period's last third reaches with the fewer commutations (swtab.h:
+     * V_7 from two or three upper devices on) */
+    const uint16_t null_vec = (uint16_t)((uint16_t)(c->legs_1.sa + c->legs_1.sb + c->legs_1.sc) >= 2U ? 7U : 0U);
+    uint16_t code, pat[3];
+    int16_t level;
+
+    if (c->magnetised == 0U) {
+        level = 0;
+        code = flux_up != 0U ? dsvm_rotate(6U, sector) : 0U; /* V_k V_k V_k, or the null */
+    } else {
+        const uint16_t range = dsvm_range(c->speed_iq, c->psi_ref_iq, m->vdc_iq, dsvm_half(sector, psi_a, psi_b));
+        level = hyst5_step(&c->h_torque5, iq_sub(c->te_ref_iq, te));
+        code = dsvm_rotate(dsvm_table(range, flux_up, level), sector);
+    }
+    dsvm_code_patterns(code, null_vec, pat);
+    {
+        /* the mean voltage of the three thirds (file comment), for the estimator */
+        const iq_t td = c->svm_p.td_iq;
+        const uint16_t ea = dsvm_edges(c->legs_1.sa, pat[0]);
+        const uint16_t eb = dsvm_edges(c->legs_1.sb, pat[1]);
+        const uint16_t ec = dsvm_edges(c->legs_1.sc, pat[2]);
+        const iq_t da = dsvm_leg_duty(ea, c->i.ia_iq, td);
+        const iq_t db = dsvm_leg_duty(eb, c->i.ib_iq, td);
+        const iq_t dc = dsvm_leg_duty(ec, c->i.ic_iq, td);
+        iq_t a, b;
+        o->duty_iq[0] = dsvm_thirds_iq[ea & 3U];
+        o->duty_iq[1] = dsvm_thirds_iq[eb & 3U];
+        o->duty_iq[2] = dsvm_thirds_iq[ec & 3U];
+        vrec_from_legs(da, db, dc, &a, &b);
+        c->v2_alpha_iq = c->v1_alpha_iq;
+        c->v2_beta_iq = c->v1_beta_iq;
+        c->v1_alpha_iq = iq_mpy(a, m->vdc_iq);
+        c->v1_beta_iq = iq_mpy(b, m->vdc_iq);
+    }
+    /* the leg states of the last third, for the next period's edges and null choice (legs_2 and
+     * legs_3 are the table scheme's, im_dtc_estimate) */
+    c->legs_1.sa = (uint16_t)(pat[0] & 1U);
+    c->legs_1.sb = (uint16_t)(pat[1] & 1U);
+    c->legs_1.sc = (uint16_t)(pat[2] & 1U);
+    o->thirds[0] = pat[0];
+    o->thirds[1] = pat[1];
+    o->thirds[2] = pat[2];
+    o->vector = code;
+    o->sector = sector;
+    o->flux_up = flux_up;
+    o->torque_dem = level;
+}
+
+void im_dsvm_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
+{
+    /* 1-5. Shadow set, Clarke, stator and rotor flux from the mean voltage of the period that
+     *      ends now (v2), torque, speed and speed loop (shared with im_dtc_step). */
+    const iq_t te = im_dtc_front(c, m, o, 1U);
+    /* 6. References: start-up, eq. 19. */
+    im_dtc_refs(c);
+    /* 7. Comparators, tables, the three sub-interval vectors, the voltage they apply. */
+    im_dsvm_select(c, m, te, o);
+    /* 8. Outputs. */
+    o->pwm = 2U;
+    o->sa = 0U; /* the PWM form carries the command (thirds) */
+    o->sb = 0U;
+    o->sc = 0U;
+    o->psi_alpha_iq = c->est.psi_alpha_iq;
+    o->psi_beta_iq = c->est.psi_beta_iq;
+    o->te_iq = te;
+    o->te_ref_iq = c->te_ref_iq;
+    o->speed_iq = c->speed_iq;
+    o->theta_e = c->est.theta_r;
+    o->on_cm = 0U;
+    o->psi_ref_iq = c->psi_ref_iq;
+    o->psir_mag_iq = c->est.psir_mag_iq;
+    o->i_limited = 0U;
+}
