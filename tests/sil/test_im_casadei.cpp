@@ -1025,22 +1025,25 @@ struct CurrentRipple {
     std::string fault;
 };
 
-// Leg-state changes of one period of a command: the PWM form's edges inside the period plus a
-// change at its start when the leg's state there differs from the previous period's end
-// (centred pulse, upper active high: low at both ends unless cmpr = 0, hal.h).
-static int leg_changes(const hal_cmd_t& c, const hal_cmd_t& prev, std::uint16_t t1pr)
+// Leg-state changes of one period of a command: its changes inside the period plus one at its start
+// where the leg's state there differs from the previous period's end. The PWM form's states and
+// instants are the harness's own (Harness::pwm_leg_edges, the EV-A rule of hal.h, checked in
+// test_hal_host_pwm.cpp); the leg-state form holds each leg for the whole period.
+static int leg_changes(const hal_host::Harness& h, const hal_cmd_t& c, const hal_cmd_t& prev)
 {
+    auto edges = [&h](const hal_cmd_t& cmd, int x) {
+        if (cmd.form == HAL_CMD_PWM) {
+            return h.pwm_leg_edges(cmd, x);
+        }
+        const std::uint16_t s[3] = {cmd.sa, cmd.sb, cmd.sc};
+        plant_leg_edges_t e{};
+        e.state0 = s[x] != 0u ? 1 : 0;
+        return e;
+    };
     int n = 0;
     for (int x = 0; x < 3; ++x) {
-        if (c.form == HAL_CMD_PWM) {
-            const bool high = c.cmpr_up[x] == 0u;
-            const bool prev_high = prev.form == HAL_CMD_PWM ? prev.cmpr_dn[x] == 0u : false;
-            n += (c.cmpr_up[x] > 0u && c.cmpr_up[x] < t1pr) ? 2 : 0;
-            n += high != prev_high ? 1 : 0;
-        } else {
-            const std::uint16_t s[3] = {c.sa, c.sb, c.sc}, p[3] = {prev.sa, prev.sb, prev.sc};
-            n += s[x] != p[x] ? 1 : 0;
-        }
+        const plant_leg_edges_t now = edges(c, x), before = edges(prev, x);
+        n += now.n + ((before.state0 ^ (before.n & 1)) != now.state0 ? 1 : 0);
     }
     return n;
 }
@@ -1079,7 +1082,7 @@ static CurrentRipple ripple_run(const std::vector<std::string>& sets, double rpm
     double ts = 0.0, ts2 = 0.0;
     r.run(window_s, [&] {
         const hal_cmd_t c = r.h->applied_cmd();
-        changes += leg_changes(c, prev, t1pr);
+        changes += leg_changes(*r.h, c, prev);
         if (c.form == HAL_CMD_PWM) {
             bool any = false;
             for (int x = 0; x < 3; ++x) {
