@@ -4,6 +4,7 @@
 #include "app_core.h"
 
 #include "dsvm.h"
+#include "flux_est.h"
 #include "svm.h"
 
 #include <stddef.h>
@@ -59,6 +60,8 @@ static void enter_calibrate(app_core_t *a)
         a->cal_sum[k] = 0U;
     }
     a->cal_n = 0U;
+    a->hold_on = 0U;
+    a->hold_count0 = 0U;
     a->vmid_cal_sum_iq = 0;
     a->vmid_cal_iq = 0;
     a->enc_primed = 0U;
@@ -266,12 +269,15 @@ static uint16_t app_vmid_cal_set(app_core_t *a, const hal_meas_t *m)
 }
 
 /* Calibration period: accumulate the measured channels; after 2^APP_CAL_LOG2 samples set the
- * offsets (rounded mean, a shift: no division) and check them and the DC link. */
+ * current offsets (rounded mean, a shift: no division) and check them; with the mid-point
+ * calibration and a hold current, start the rotor hold then (hold_step); at the end of the
+ * calibration check the mid-point and the DC link and enter RUN. */
 static void calibrate_step(app_core_t *a, const hal_meas_t *m)
 {
     uint16_t k;
+    const uint16_t n_off = (uint16_t)1U << APP_CAL_LOG2;
     const uint16_t n_cal = (uint16_t)1U << (a->cfg->board.vmid_cal != 0U ? APP_VMID_CAL_LOG2 : APP_CAL_LOG2);
-    if (a->cal_n < ((uint16_t)1U << APP_CAL_LOG2)) {
+    if (a->cal_n < n_off) {
         for (k = 0U; k < 2U; k++) {
             uint16_t ch = a->meas_ch[k];
             a->cal_sum[ch] += (uint32_t)m->adc[ch];
@@ -281,19 +287,27 @@ static void calibrate_step(app_core_t *a, const hal_meas_t *m)
         app_vmid_cal_add(a, m);
     }
     a->cal_n++;
+    if (a->cal_n == n_off) {
+        for (k = 0U; k < 2U; k++) {
+            uint16_t ch = a->meas_ch[k];
+            uint32_t mean = (a->cal_sum[ch] + ((uint32_t)1U << (APP_CAL_LOG2 - 1U))) >> APP_CAL_LOG2;
+            int32_t dev = (int32_t)mean - (int32_t)a->cfg->board.adc_i_offset[ch];
+            if (fix_abs32(dev) > (int32_t)APP_OFFSET_TOL_COUNTS) {
+                latch_fault(a, APP_FAULT_ADC_OFFSET, (int16_t)ch);
+                return;
+            }
+            a->offset[ch] = (uint16_t)mean;
+        }
+        if (a->cfg->board.vmid_cal != 0U && a->cfg->prot.i_hold_iq > 0 && n_cal > n_off) {
+            a->hold_on = 1U;
+            a->hold_count0 = m->qep_count;
+            a->enc_primed = 0U;
+        }
+    }
     if (a->cal_n < n_cal) {
         return;
     }
-    for (k = 0U; k < 2U; k++) {
-        uint16_t ch = a->meas_ch[k];
-        uint32_t mean = (a->cal_sum[ch] + ((uint32_t)1U << (APP_CAL_LOG2 - 1U))) >> APP_CAL_LOG2;
-        int32_t dev = (int32_t)mean - (int32_t)a->cfg->board.adc_i_offset[ch];
-        if (fix_abs32(dev) > (int32_t)APP_OFFSET_TOL_COUNTS) {
-            latch_fault(a, APP_FAULT_ADC_OFFSET, (int16_t)ch);
-            return;
-        }
-        a->offset[ch] = (uint16_t)mean;
-    }
+    a->hold_on = 0U;
     if (a->cfg->board.vmid_cal != 0U && app_vmid_cal_set(a, m) != 0U) {
         return;
     }
@@ -311,6 +325,54 @@ static void calibrate_step(app_core_t *a, const hal_meas_t *m)
     }
     law_reset(&a->law);
     a->st.state = APP_STATE_RUN;
+}
+
+/* Rotor hold while the FSTP mid-point is calibrated (prot.i_hold_iq > 0). With the gates off an
+ * active load (a hoist, a constant torque) turns the rotor backwards for the whole calibration
+ * (0.3 N*m on 5e-4 kg m^2: -287 rpm after 51 ms), and the reversal that follows can pass more
+ * charge through phase A, on the mid-point, than the split link holds (docs/firmware-core.md).
+ * The hold keeps the rotor where the calibration found it with a current in phases B and C
+ * only, so the mid-point carries none and stays where the balancing resistors hold it, which is
+ * what the calibration measures:
+ *  - legs (S_B, S_C) = (1, 0) or (0, 1) only: v_alpha = 0, v_beta = +-V_dc/sqrt(3) (Hoang Table I,
+ *    vrec.h), so the phase-A voltage is zero and with the rotor at rest (no back-EMF) i_a stays 0;
+ *    the device drops of the two conducting legs are equal and opposite for i_b = -i_c, so they
+ *    add no common-mode voltage either;
+ *  - torque T = 3/2 p psi_m (i_beta cos theta_e - i_alpha sin theta_e) (Hoang eq. 10 with the
+ *    flux of eqs. 8-9) = 3/2 p psi_m i_beta cos theta_e, i_beta = (i_b - i_c)/sqrt(3);
+ *  - position loop: u = -d i_hold / 2^APP_HOLD_ZONE_LOG2 for a deviation of d counts, saturated at
+ *    +-i_hold, times the sign of cos theta_e (so T has the sign of u); where |cos theta_e| is too
+ *    small for the load the rotor turns until it is large enough (at most the angle where
+ *    i_hold |cos theta_e| carries it);
+ *  - current: a two-level comparator on i_b - i_c against 2u (= i_b - i_c when i_b = u = -i_c):
+ *    below it (1, 0), which raises it at V_dc/L_s, else (0, 1). The ripple is one period's rise,
+ *    which the host's bound i_hold <= current limit keeps below the trip.
+ * Scaling: d is within +-enc_counts/2 (int32); d * i_hold is formed in 64 bits and saturated;
+ * u and 2u saturate at +-2^31 (never reached: |u| <= i_hold < i_trip). The angle is the current
+ * model's (flux_est_angle), its cosine's sign a comparison: no trigonometry. */
+static void hold_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
+{
+    const dtc_config_t *c = a->cfg;
+    const iq_t ih = c->prot.i_hold_iq;
+    const int32_t d = fold_counts((int32_t)m->qep_count - (int32_t)a->hold_count0, c->board.enc_counts);
+    const angle_t th = flux_est_angle(m->qep_count, c->board.enc_gain_q16, c->board.enc_offset);
+    iq_t u = fix_sat32((-(int64_t)d * (int64_t)ih) >> APP_HOLD_ZONE_LOG2);
+    if (u > ih) {
+        u = ih;
+    } else if (u < -ih) {
+        u = -ih;
+    }
+    if ((uint16_t)(th + 0x4000U) >= 0x8000U) { /* cos(theta_e) < 0 */
+        u = fix_neg32(u);
+    }
+    if (fix_sub32(a->st.meas.ib_iq, a->st.meas.ic_iq) < fix_add32(u, u)) {
+        cmd->sb = 1U;
+        cmd->sc = 0U;
+    } else {
+        cmd->sb = 0U;
+        cmd->sc = 1U;
+    }
+    cmd->enable = 1U;
 }
 
 /* Stall (speed mode): on each speed-loop period, with the torque reference at its limit, a window
@@ -383,8 +445,25 @@ uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
             latch_fault(a, APP_FAULT_HW_TRIP, 0);
             return 1U;
         }
+        if (a->hold_on != 0U) {
+            /* rotor hold (hold_step): the offsets are set, the protection runs as in RUN */
+            app_core_convert(a, m, &a->st.meas);
+            if (check_trips(a, m, &a->st.meas) != 0U || check_encoder(a, m) != 0U) {
+                a->hold_on = 0U;
+                return 1U;
+            }
+            hold_step(a, m, cmd);
+            calibrate_step(a, m);
+            if (a->st.state == APP_STATE_FAULT) {
+                cmd->sb = 0U;
+                cmd->sc = 0U;
+                cmd->enable = 0U;
+                return 1U;
+            }
+            return 0U; /* this period's hold command; RUN from the next one */
+        }
         calibrate_step(a, m);
-        return 1U; /* gates stay off until RUN */
+        return 1U; /* gates off until RUN (or the hold) */
 
     case APP_STATE_RUN:
         app_core_convert(a, m, &a->st.meas);

@@ -2,7 +2,8 @@
  * app_core.h - the drive's state machine and ISR body as a pure function of its state and one
  * raw measurement (no HAL calls, so unit tests drive it directly; app.c binds it to the HAL).
  *
- *   INIT --app_core_init ok--> CALIBRATE --64 periods, offsets and DC link sane--> RUN
+ *   INIT --app_core_init ok--> CALIBRATE --64 periods (1024 with the FSTP mid-point
+ *                                calibration), offsets and DC link sane--> RUN
  *     |                          |                                                  |
  *     +--bad configuration-------+---------------- any trip ------------------------+--> FAULT
  *   FAULT is latched with every gate off and a reason code; a clear request (background) takes
@@ -29,7 +30,9 @@
 
 enum app_state {
     APP_STATE_INIT = 0,
-    APP_STATE_CALIBRATE = 1, /* gates off, measuring the current-sensor offsets */
+    APP_STATE_CALIBRATE = 1, /* gates off, measuring the current-sensor offsets; then, with the
+                              * FSTP mid-point calibration and prot.i_hold_iq > 0, the rotor
+                              * hold (gates on, phases B and C only) until it ends */
     APP_STATE_RUN = 2,
     APP_STATE_FAULT = 3      /* latched, gates off */
 };
@@ -81,6 +84,12 @@ enum app_fault {
  * regulation's gain is (1 - beta) of its nominal value. */
 #define APP_VMID_BETA_LOG2 4U
 #define APP_CAL_LOG2 6U
+/* Rotor hold during the mid-point calibration (app_core.c hold_step): the hold current reaches
+ * prot.i_hold_iq at a deviation of 2^APP_HOLD_ZONE_LOG2 encoder counts. One count is the
+ * encoder's quantisation: a zone of two keeps the hold from chattering between full positive and
+ * full negative current at rest, and any load the hold can carry moves the rotor by at most that
+ * (plus the angle it needs to find |cos theta_e| large enough, below). */
+#define APP_HOLD_ZONE_LOG2 1U
 /* Largest accepted |calibrated - nominal| current offset, counts (5 % of full scale). */
 #define APP_OFFSET_TOL_COUNTS 205
 /* Index check: accepted difference between latched index counts (edge jitter, direction). */
@@ -103,6 +112,8 @@ typedef struct app_core {
     uint16_t offset[3];    /* current-sensor offsets in use, counts */
     uint32_t cal_sum[3];
     uint16_t cal_n;
+    uint16_t hold_on;      /* 1: the rotor hold runs (CALIBRATE after the current offsets) */
+    uint16_t hold_count0;  /* encoder count the hold keeps the rotor at */
     int64_t vmid_cal_sum_iq; /* calibration: sum of (mid-point - V_dc/2), IQ pu (cfg->vmid_cal) */
     iq_t vmid_cal_iq;      /* the two voltage sensors' inconsistency, subtracted from vmid, pu */
     uint16_t meas_ch[2];   /* the two measured current channels (HAL_ADC_IA.. IC) */

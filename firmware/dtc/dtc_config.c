@@ -51,6 +51,7 @@ static int16_t dtc_protect_check(const dtc_protect_cfg_t *p, const char **f)
     DTC_REFUSE(p->i_lim_iq < 0 || (p->i_lim_iq > 0 && p->i_lim_iq >= p->i_trip_iq), DTC_ERR_ILIM,
                "prot.i_lim_iq");
     DTC_REFUSE(p->stall_speed_periods == 0U, DTC_ERR_SPEED, "prot.stall_speed_periods");
+    DTC_REFUSE(p->i_hold_iq < 0 || p->i_hold_iq >= p->i_trip_iq, DTC_ERR_ILIM, "prot.i_hold_iq");
     return DTC_OK;
 }
 

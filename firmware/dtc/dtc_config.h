@@ -16,7 +16,7 @@
 #include "fixmath.h"
 
 /* Layout version: bump when a field is added, removed or changes meaning. */
-#define DTC_CONFIG_VERSION 7U
+#define DTC_CONFIG_VERSION 8U
 
 /* The control law the application runs (dtc_law.h dispatches on it). */
 enum dtc_law {
@@ -98,7 +98,7 @@ enum dtc_err {
     DTC_ERR_DEADTIME = -18,    /* dead-time compensation flag not 0/1, T_d/T_s outside [0, 1/2) */
     DTC_ERR_WEAKENING = -19,   /* IM flux-weakening parameters (im_fw.h) inconsistent */
     DTC_ERR_STARTUP = -20,     /* IM magnetisation threshold out of range */
-    DTC_ERR_ILIM = -21,        /* current limit < 0 or not below the trip level */
+    DTC_ERR_ILIM = -21,        /* current limit or rotor-hold current < 0 or not below the trip level */
     DTC_ERR_POLARITY = -22,    /* polarity_mid or vmid_cal flag not 0/1 */
     DTC_ERR_LPFCOMP = -23,     /* lpf_comp not 0/1, or w_c / w_min not > 0 with it on */
     DTC_ERR_DCSUPP = -24,      /* dc_supp not 0/1, its gain not > 0 with it on, mid-point gain < 0 */
@@ -156,6 +156,10 @@ typedef struct {
                        * 0 < i_lim < i_trip (derived on the host from the trip level) */
     uint16_t stall_speed_periods; /* app stall window in speed periods (> 0): the host converts
                                    * the stall time (0.1 s by default) with Ts and speed_div */
+    iq_t i_hold_iq;   /* rotor hold while the FSTP mid-point is calibrated (board.vmid_cal; app_core.c
+                       * hold_step), pu: the largest phase-B current the hold may command; 0 = the
+                       * gates stay off for the whole calibration. 0 <= i_hold < i_trip (the host
+                       * derives it from the torque limit and the current limit) */
 } dtc_protect_cfg_t;
 
 /* PM machine (Hoang Table VIII), pu; used by the PM law. */

@@ -4,7 +4,7 @@
 #include "dtc_config.h"
 
 const dtc_config_t g_dtc_config = {
-    .version = 7U,
+    .version = 8U,
     .law = 0U, /* enum dtc_law */
     .board = {
         .v_base_mv = 70000U,
@@ -35,6 +35,7 @@ const dtc_config_t g_dtc_config = {
         .vdc_min_iq = 9586981, /* 0.571428597 pu */
         .i_lim_iq = 37106323, /* 2.2117092 pu */
         .stall_speed_periods = 200U,
+        .i_hold_iq = 0, /* 0 pu */
     },
     .machine = {
         .pole_pairs = 1U,

@@ -13,6 +13,7 @@
 #include <cmocka.h>
 
 #include "app_core.h"
+#include "flux_est.h"
 #include "svm.h"
 #include "dtc_config_si.h"
 #include "fixtest.h"
@@ -93,9 +94,19 @@ static void run_to_state(int topology, int offset_error)
         fx.m.adc[k] = (uint16_t)(fx.si.adc_i_offset[k] + offset_error);
     }
     for (k = 0; k < cal_len(); k++) {
-        /* Gates stay off during the whole calibration. */
-        assert_int_equal(step(), 1);
-        assert_int_equal(fx.cmd.enable, 0);
+        /* Gates off while the current offsets are measured; then, with the FSTP mid-point
+         * calibration and a hold current, the rotor hold: legs B and C only, complementary. */
+        const uint16_t hold = (uint16_t)(k >= (1U << APP_CAL_LOG2) && fx.cfg.prot.i_hold_iq > 0 &&
+                                         fx.cfg.board.vmid_cal != 0U && offset_error == 0);
+        const uint16_t off = step();
+        if (fx.app.st.state == APP_STATE_FAULT) {
+            break;
+        }
+        assert_int_equal(off, hold ? 0U : 1U);
+        assert_int_equal(fx.cmd.enable, hold);
+        if (hold != 0U) {
+            assert_int_equal(fx.cmd.sb + fx.cmd.sc, 1U);
+        }
     }
 }
 
@@ -145,7 +156,7 @@ static void test_midpoint_calibration(void **state)
     const uint16_t mid = v_counts(fx.si.vdc_v / 2.0 + 1.5);
     for (uint16_t k = 0; k < cal_len(); k++) {
         fx.m.adc[HAL_ADC_VMID] = (uint16_t)(mid + ((k & 1U) ? 1 : -1));
-        assert_int_equal(step(), 1);
+        assert_int_equal(step(), k < (1U << APP_CAL_LOG2) ? 1 : 0); /* then the rotor hold */
     }
     assert_int_equal(fx.app.st.state, APP_STATE_RUN);
     fx.m.adc[HAL_ADC_VMID] = mid;
@@ -184,6 +195,85 @@ static void test_midpoint_calibration(void **state)
     assert_int_equal(fx.app.st.state, APP_STATE_RUN);
     app_core_convert(&fx.app, &fx.m, &pu);
     assert_true(fabs((double)pu.vmid_iq / 16777216.0 * fx.b.v_base_v - vdc_v / 2.0 - 1.5) < lsb_v);
+}
+
+/* Count at which the current model's electrical angle (flux_est_angle) is nearest to the given
+ * fraction of a turn. */
+static uint16_t count_at_angle(double turns)
+{
+    uint16_t best = 0U;
+    double best_e = 2.0;
+    for (uint32_t n = 0U; n < fx.cfg.board.enc_counts; n++) {
+        const angle_t a = flux_est_angle((uint16_t)n, fx.cfg.board.enc_gain_q16, fx.cfg.board.enc_offset);
+        double e = fabs((double)a / 65536.0 - turns);
+        e = e > 0.5 ? 1.0 - e : e;
+        if (e < best_e) {
+            best_e = e;
+            best = (uint16_t)n;
+        }
+    }
+    return best;
+}
+
+/* Rotor hold during the FSTP mid-point calibration (app_core.c hold_step), against the physics:
+ * the hold may only use (S_B, S_C) = (1, 0), which raises i_b - i_c (v_beta = +V_dc/sqrt(3)),
+ * or (0, 1); the torque of a phase-B/C current is T = 3/2 p psi_m (i_b - i_c)/sqrt(3) cos theta_e
+ * (Hoang eq. 10 with i_alpha = 0), so the target of i_b - i_c is 2 i_hold (saturated beyond two
+ * counts) with the sign of -deviation * cos theta_e, and the leg pair is the one that moves
+ * i_b - i_c towards it. Cases: deviation 0, +-1, +-5 counts at theta_e = 0 and pi, with i_b - i_c
+ * just below and above the double-precision target. An over-current in the hold trips with the
+ * gates off; cal_hold = 0 keeps the gates off for the whole calibration. */
+static void test_rotor_hold(void **state)
+{
+    (void)state;
+    for (int half = 0; half < 2; half++) {
+        setup_topology(DTC_TOPO_FSTP);
+        assert_true(fx.cfg.prot.i_hold_iq > 0);
+        const double ih_a = (double)fx.cfg.prot.i_hold_iq / 16777216.0 * fx.b.i_base_a;
+        /* the derived hold current: the torque limit's current, 0.6 / (1.5 * 0.0928) = 4.31 A, below the 4.87 A limit */
+        assert_true(fabs(ih_a - fx.si.torque_limit_nm / (1.5 * fx.si.pole_pairs * fx.si.psi_m_wb)) < 1e-3);
+        const uint16_t c0 = count_at_angle(half != 0 ? 0.5 : 0.0);
+        fx.m.qep_count = c0;
+        assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+        for (uint16_t k = 0; k < (1U << APP_CAL_LOG2); k++) {
+            assert_int_equal(step(), 1);
+        }
+        const int devs[] = {0, 1, -1, 5, -5};
+        for (unsigned d = 0; d < sizeof devs / sizeof devs[0]; d++) {
+            const double cos_sign = half != 0 ? -1.0 : 1.0;
+            double u = -(double)devs[d] * ih_a / 2.0;
+            u = u > ih_a ? ih_a : u < -ih_a ? -ih_a : u;
+            const double target = 2.0 * u * cos_sign; /* i_b - i_c, A */
+            for (int side = -1; side <= 1; side += 2) {
+                const double ibc = target + 0.2 * side; /* i_b - i_c, with i_b = -i_c */
+                fx.m.qep_count = (uint16_t)((int)c0 + devs[d] + (int)fx.cfg.board.enc_counts) % fx.cfg.board.enc_counts;
+                fx.m.adc[HAL_ADC_IB] = i_counts(ibc / 2.0, fx.si.adc_i_offset[1]);
+                fx.m.adc[HAL_ADC_IC] = i_counts(-ibc / 2.0, fx.si.adc_i_offset[2]);
+                assert_int_equal(step(), 0);
+                assert_int_equal(fx.app.st.state, APP_STATE_CALIBRATE);
+                assert_int_equal(fx.cmd.enable, 1U);
+                assert_int_equal(fx.cmd.sb, side < 0 ? 1U : 0U);
+                assert_int_equal(fx.cmd.sc, side < 0 ? 0U : 1U);
+            }
+        }
+    }
+    /* an over-current during the hold: trip on the sample, gates off */
+    fx.m.adc[HAL_ADC_IB] = i_counts(fx.si.i_trip_a + 0.5, fx.si.adc_i_offset[1]);
+    fx.m.adc[HAL_ADC_IC] = i_counts(-(fx.si.i_trip_a + 0.5), fx.si.adc_i_offset[2]);
+    assert_int_equal(step(), 1);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_OVERCURRENT);
+    assert_int_equal(fx.cmd.enable, 0U);
+    /* the hold off: gates off for the whole calibration, then RUN */
+    setup_topology(DTC_TOPO_FSTP);
+    fx.si.cal_hold = 0;
+    assert_int_equal(dtc_config_from_si(&fx.si, &fx.cfg, NULL, 0), 0);
+    assert_int_equal(fx.cfg.prot.i_hold_iq, 0);
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    for (uint16_t k = 0; k < cal_len(); k++) {
+        assert_int_equal(step(), 1);
+        assert_int_equal(fx.cmd.enable, 0U);
+    }
+    assert_int_equal(fx.app.st.state, APP_STATE_RUN);
 }
 
 static void test_offset_too_far_is_a_fault(void **state)
@@ -583,6 +673,7 @@ int main(void)
         cmocka_unit_test(test_calibration_finds_offsets_then_runs),
         cmocka_unit_test(test_calibration_mean_is_rounded_with_noise),
         cmocka_unit_test(test_midpoint_calibration),
+        cmocka_unit_test(test_rotor_hold),
         cmocka_unit_test(test_offset_too_far_is_a_fault),
         cmocka_unit_test(test_bad_config_latches_config_fault),
         cmocka_unit_test(test_conversion_matches_double_reference),

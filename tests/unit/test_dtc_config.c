@@ -306,6 +306,41 @@ static void test_handover_default_from_machine(void **state)
     si.psi_m_wb = 0.05;
     si.flux_ref_wb = 0.05;
     assert_true(fabs(dtc_handover_default_rpm(&si) - 84.9 * 30.0 / M_PI) < 1e-6);
+    /* the current-budget rule (dtc_config_si.h), closed form with the Table VIII / IV numbers:
+     * I_lim = 6 - 50e-6 (70/sqrt(3) + 0.0928 * 100 pi + 0.466 * 6) / 3.19e-3 on the FSTP,
+     * I_r = 0.3 / (1.5 * 0.0928), w = (4/pi) k V_r / (L_s sqrt(I_lim^2 - I_r^2)). */
+    si.psi_m_wb = 0.0928;
+    si.flux_ref_wb = 0.0928;
+    {
+        const double i_lim = 6.0 - 50e-6 * (70.0 / sqrt(3.0) + 0.0928 * 100.0 * M_PI + 0.466 * 6.0) / 3.19e-3;
+        const double head = sqrt(i_lim * i_lim - pow(0.3 / (1.5 * 0.0928), 2.0));
+        const double w_none = 4.0 / M_PI * (2.0 / 3.0) * (1.25 + 0.075 * i_lim) / (3.19e-3 * head);
+        si.compensation = DTC_COMP_NONE;
+        assert_true(fabs(dtc_handover_default_rpm(&si) - w_none * 30.0 / M_PI) < 1e-6);
+        assert_true(fabs(w_none * 30.0 / M_PI - 941.0) < 1.0);
+        /* Table V leaves |V_d - V_f| + R_on I = 0.35 + 0.365 V: 43.6 rad/s, below the 50 of the low-pass */
+        si.compensation = DTC_COMP_FSTP_SIMPLE;
+        assert_true(fabs(dtc_handover_default_rpm(&si) - 500.0 * 3.0 / M_PI) < 1e-9);
+        /* an uncompensated dead time adds V_dc T_d / T_s = 1.4 V to the residual */
+        si.deadtime_comp = 0;
+        {
+            const double w = 4.0 / M_PI * (2.0 / 3.0) * (0.35 + 0.075 * i_lim + 1.4) / (3.19e-3 * head);
+            assert_true(fabs(dtc_handover_default_rpm(&si) - w * 30.0 / M_PI) < 1e-6);
+        }
+        si.deadtime_comp = 1;
+    }
+    /* SSTP without compensation: three switched legs (k = 1), I_lim with V_max = 2 V_dc / 3 */
+    si.topology = DTC_TOPO_SSTP;
+    si.compensation = DTC_COMP_NONE;
+    {
+        const double i_lim = 6.0 - 50e-6 * (140.0 / 3.0 + 0.0928 * 100.0 * M_PI + 0.466 * 6.0) / 3.19e-3;
+        const double head = sqrt(i_lim * i_lim - pow(0.3 / (1.5 * 0.0928), 2.0));
+        const double w = 4.0 / M_PI * (1.25 + 0.075 * i_lim) / (3.19e-3 * head);
+        assert_true(fabs(dtc_handover_default_rpm(&si) - w * 30.0 / M_PI) < 1e-6);
+        assert_true(fabs(w * 30.0 / M_PI - 1441.0) < 1.0);
+    }
+    si.topology = DTC_TOPO_FSTP;
+    si.compensation = DTC_COMP_FSTP_PROPOSED;
     /* explicit 0: no hand-over */
     si.handover_auto = 0;
     si.handover_speed_rpm = 0.0;

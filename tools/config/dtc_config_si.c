@@ -100,6 +100,7 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->current_limit_a = 0.0;
     si->polarity_mid = 1;
     si->vmid_cal = 1;
+    si->cal_hold = 1;
     si->lpf_comp = 1;
     si->dc_supp = 1;
     si->c_dc_f = PLANT_DEF_C_DC_F;
@@ -162,12 +163,38 @@ double dtc_table_speed_default_rpm(const dtc_config_si_t *si)
     return w_el * 30.0 / M_PI / (double)si->pole_pairs;
 }
 
+double dtc_handover_residual_v(const dtc_config_si_t *si, double i_a)
+{
+    const double dev = fmax(si->v_ce_v, si->v_d_v);
+    const double off_f = fmax(fabs(si->v_ce_v - si->v_f_v), fabs(si->v_d_v - si->v_f_v));
+    double v;
+    switch (si->compensation) {
+    case DTC_COMP_NONE: v = dev + si->r_on_ohm * i_a; break;
+    case DTC_COMP_SSTP: v = off_f; break;                           /* V_f and R_on (eqs. 24-25) */
+    case DTC_COMP_FSTP_SIMPLE: v = off_f + si->r_on_ohm * i_a; break; /* Table V: V_f only */
+    default: v = 0.0; break;                                        /* Table VI with eqs. 37-38 */
+    }
+    if (si->deadtime_comp == 0) {
+        v += si->dead_time_s / si->ts_s * si->vdc_v;
+    }
+    return v;
+}
+
 double dtc_handover_default_rpm(const dtc_config_si_t *si)
 {
     double drop = (si->v_ce_v > si->v_d_v ? si->v_ce_v : si->v_d_v) + si->r_on_ohm * si->rated_current_a;
     double w_emf = 3.0 * drop / si->psi_m_wb;
     double w_lpf = 10.0 * si->lpf_cutoff_rad_s;
     double w = w_emf > w_lpf ? w_emf : w_lpf;
+    /* current budget of the uncompensated residual (dtc_config_si.h) */
+    const double i_lim = si->current_limit_auto != 0 ? dtc_ilim_default_a(si)
+                         : si->current_limit_a > 0.0 ? si->current_limit_a
+                                                     : si->i_trip_a;
+    const double i_r = si->rated_torque_nm / (1.5 * (double)si->pole_pairs * si->psi_m_wb);
+    const double head = sqrt(fmax(i_lim * i_lim - i_r * i_r, 0.01 * i_lim * i_lim));
+    const double k_topo = si->topology == DTC_TOPO_FSTP ? 2.0 / 3.0 : 1.0;
+    const double w_cur = 4.0 / M_PI * k_topo * dtc_handover_residual_v(si, i_lim) / (si->ls_h * head);
+    w = w_cur > w ? w_cur : w;
     return w * 30.0 / M_PI / (double)si->pole_pairs;
 }
 
@@ -494,6 +521,8 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
         return fail(&c, DTC_SI_ERR_CUTOFF, "lpf_comp = %d: must be 0 or 1", si->lpf_comp);
     if (si->vmid_cal != 0 && si->vmid_cal != 1)
         return fail(&c, DTC_SI_ERR_ILIM, "vmid_cal = %d: must be 0 or 1", si->vmid_cal);
+    if (si->cal_hold != 0 && si->cal_hold != 1)
+        return fail(&c, DTC_SI_ERR_ILIM, "cal_hold = %d: must be 0 or 1", si->cal_hold);
     if (si->polarity_mid != 0 && si->polarity_mid != 1)
         return fail(&c, DTC_SI_ERR_ILIM, "polarity_mid = %d: must be 0 or 1", si->polarity_mid);
     if (si->current_limit_auto == 0 &&
@@ -630,10 +659,11 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     cfg->prot.i_trip_iq = to_iq(&c, "i_trip_a", si->i_trip_a, si->i_trip_a / b.i_base_a);
     cfg->prot.vdc_max_iq = to_iq(&c, "vdc_max_v", si->vdc_max_v, si->vdc_max_v / b.v_base_v);
     cfg->prot.vdc_min_iq = to_iq(&c, "vdc_min_v", si->vdc_min_v, si->vdc_min_v / b.v_base_v);
+    double ilim = 0.0; /* the current limit in use, A (0 = off) */
     if (si->law == DTC_LAW_PM_DTC) {
         /* PM law only (dtc.c): current limit, ripple-robust polarity, low-pass correction,
          * DC-current suppression and mid-point regulation; off (0) for the IM law. */
-        double ilim = si->current_limit_auto != 0 ? dtc_ilim_default_a(si) : si->current_limit_a;
+        ilim = si->current_limit_auto != 0 ? dtc_ilim_default_a(si) : si->current_limit_a;
         cfg->prot.i_lim_iq = ilim > 0.0 ? to_iq(&c, "current_limit_a", ilim, ilim / b.i_base_a) : 0;
         if (cfg->prot.i_lim_iq >= cfg->prot.i_trip_iq) {
             cfg->prot.i_lim_iq = cfg->prot.i_trip_iq - 1; /* below the trip after rounding */
@@ -661,6 +691,21 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
                                              si->estimator == DTC_EST_VOLTAGE
                                          ? 1
                                          : 0);
+    /* Rotor hold during that calibration (app_core.c hold_step), PM law: the hold may command the
+     * current that gives the torque limit on the magnet axis, T = 3/2 p psi_m i_q (Hoang eq. 10),
+     * and never more than the current limit, which leaves a period's current rise below the trip
+     * (dtc_ilim_default_a; the hold's rise, Ts (V_dc/2 + R_s i)/L_s, is smaller). */
+    cfg->prot.i_hold_iq = 0;
+    if (cfg->board.vmid_cal != 0U && si->cal_hold != 0 && si->law == DTC_LAW_PM_DTC && c.code == DTC_SI_OK) {
+        const double i_t = si->torque_limit_nm / (1.5 * (double)si->pole_pairs * si->psi_m_wb);
+        const double i_l = ilim > 0.0 ? ilim : dtc_ilim_default_a(si);
+        const double ih = fmin(i_t, i_l);
+        if (!(ih > 0.0)) {
+            return fail(&c, DTC_SI_ERR_ILIM, "cal_hold: no rotor-hold current fits below i_trip_a = %g A "
+                        "(a period's current rise reaches the trip); set cal_hold to 0", si->i_trip_a);
+        }
+        cfg->prot.i_hold_iq = to_iq(&c, "cal_hold (hold current)", ih, ih / b.i_base_a);
+    }
 
     if (si->law == DTC_LAW_IM_DTC && c.code == DTC_SI_OK) {
         im_from_si(&c, si, &b, cfg);

@@ -153,7 +153,9 @@ typedef struct {
                               * mid-point regulation at w_c / 2, with c_dc_f */
     double c_dc_f;           /* each split DC-link capacitor, F (> 0) */
     int vmid_cal;            /* FSTP, mid-point measured: 1 = the app calibrates it against V_dc/2
-                              * with the gates off (firmware app_core.c), 0 = used as measured */
+                              * before the drive starts (firmware app_core.c), 0 = used as measured */
+    int cal_hold;            /* with vmid_cal: 1 = the rotor is held by a phase-B/C current while the
+                              * mid-point is calibrated (prot.i_hold_iq), 0 = the gates stay off */
 } dtc_config_si_t;
 
 enum dtc_si_err {
@@ -178,7 +180,8 @@ enum dtc_si_err {
     DTC_SI_ERR_DEADTIME = -117,  /* deadtime_comp not 0 or 1, dead_time_s outside [0, ts_s/2) */
     DTC_SI_ERR_IM = -118,        /* induction-machine law: a parameter out of range */
     DTC_SI_ERR_ILIM = -119,      /* current_limit_a < 0 or not below i_trip_a, or the derived
-                                  * limit is not positive; polarity_mid not 0 or 1 */
+                                  * limit is not positive; polarity_mid, vmid_cal, cal_hold not 0
+                                  * or 1; no rotor-hold current fits below the trip */
 };
 
 void dtc_config_si_defaults(dtc_config_si_t *si);
@@ -205,9 +208,29 @@ double dtc_table_speed_default_rpm(const dtc_config_si_t *si);
  *     under that with it), and
  *   - the low-pass is at least 10 times above its cut-off (gain error 0.5 %, phase lead 5.7 deg,
  *     flux_est.h),
- * whichever is higher: w_h = max(3 (max(V_CE, V_d) + R_on I_rated) / psi_m, 10 w_c).
- * Table VIII machine, Table IV devices, 5 rad/s: max(45.7, 50) rad/s = 477 rpm (p = 1). */
+ *   - the flux error of what the configured compensation leaves uncompensated costs no more
+ *     current than the current limit leaves beside rated torque. A leg drop V_r sign(i_x) that
+ *     the estimator integrates as stator voltage is a square wave in phase with the current;
+ *     its fundamental, (4/pi) k V_r (k = 1 for three switched legs, 2/3 on the FSTP, whose
+ *     phase A has no device: amplitude-invariant Clarke of two legs), integrated at w, is a flux
+ *     error (4/pi) k V_r / w along the magnet axis when the current is on the torque axis. The
+ *     DTC holds the estimated flux at psi_m, so the machine carries i_d = -error / L_s: the
+ *     voltage model then needs |i| = sqrt(i_d^2 + I_r^2) <= I_lim, i.e.
+ *     w >= (4/pi) k V_r / (L_s sqrt(I_lim^2 - I_r^2)), I_r = T_rated / (3/2 p psi_m)
+ *     (the headroom floored at I_lim / 10).
+ *     V_r (dtc_handover_residual_v, at I_lim): none max(V_CE, V_d) + R_on I; SSTP [29]
+ *     max(|V_CE - V_f|, |V_d - V_f|); FSTP simple (Table V, no R_on) that + R_on I; proposed 0;
+ *     plus V_dc T_d / T_s when the dead time is not compensated. Below that speed the
+ *     uncompensated SSTP drive under a constant rated load estimated 0.1 N*m above the true
+ *     torque, ran 14 % under-fluxed and stalled (SIL, docs/firmware-core.md).
+ * whichever is highest: w_h = max(3 (max(V_CE, V_d) + R_on I_rated) / psi_m, 10 w_c, w_cur).
+ * Table VIII machine, Table IV devices, 5 rad/s, 6 A trip: proposed and simple max(45.7, 50,
+ * <= 43.6) rad/s = 477 rpm (p = 1); none 941 rpm on the FSTP, 1441 rpm on the SSTP. */
 double dtc_handover_default_rpm(const dtc_config_si_t *si);
+
+/* The leg-drop amplitude, V, that the configured compensation leaves in the voltage model at
+ * current i_a (see dtc_handover_default_rpm). */
+double dtc_handover_residual_v(const dtc_config_si_t *si, double i_a);
 
 /* Default current limit (A, peak) of the firmware's vector override (firmware/dtc/ilim.h), from
  * the trip level and the configured machine and board: I_lim = I_trip - n dI with

@@ -179,6 +179,7 @@ struct ControlCfg {
     bool dc_supp = true;                 // firmware: DC-current suppression (voltage model)
     bool lpf_comp = true;                // firmware: low-pass gain/phase correction (voltage model)
     bool vmid_cal = true;                // firmware: FSTP mid-point calibrated against V_dc/2
+    bool cal_hold = true;                // firmware: rotor held (phases B, C) during that calibration
     double v_f_v = PLANT_DEF_V_F_V;      // simple compensation V_f (Hoang sec. III-B)
     std::string voltage_csv;             // open_loop: t_s,v_alpha_v,v_beta_v (resolved path)
     double vf_freq_hz = 0.0;             // open_loop built-in V/f source: final frequency (0 = off)

@@ -145,6 +145,7 @@ dtc_config_si_t firmware_si_config(const Scenario& sc)
     si.current_limit_a = c.current_limit_a;
     si.polarity_mid = c.polarity_mid ? 1 : 0;
     si.vmid_cal = c.vmid_cal ? 1 : 0;
+    si.cal_hold = c.cal_hold ? 1 : 0;
     si.lpf_comp = c.lpf_comp ? 1 : 0;
     si.dc_supp = c.dc_supp ? 1 : 0;
     si.c_dc_f = inv.c_dc_f;
@@ -239,6 +240,8 @@ std::string keys_of_field(const std::string& msg)
                             "motor.*, ts_s, control.delay_comp)"},
         {"polarity_mid", "control.polarity_mid"},
         {"vmid_cal", "control.vmid_cal"},
+        {"cal_hold", "control.cal_hold (the hold current is derived from control.torque_limit_nm, motor.psi_m_wb "
+                     "and the current limit)"},
         {"lpf_comp", "control.lpf_comp"},
         {"dc_supp", "control.dc_supp"},
         {"c_dc_f", "inverter.c_dc_f"},

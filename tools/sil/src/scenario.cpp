@@ -350,8 +350,9 @@ const std::vector<Spec>& schema()
             ACC(control.lpf_cutoff_rad_s)),
         Spec{"control.handover_rpm", Kind::Number, "rpm", "voltage model: start on the current model (encoder, "
              "Hoang eqs. 8-9) and hand over to the voltage model above this speed, bumplessly; 0 = voltage "
-             "model from standstill; not given = derived from the machine (tools/config "
-             "dtc_handover_default_rpm: 477 rpm for Table VIII)", nonneg(), {},
+             "model from standstill; not given = derived from the machine, the devices and the compensation "
+             "(tools/config dtc_handover_default_rpm; Table VIII: 477 rpm compensated, 941 / 1441 rpm "
+             "uncompensated on the FSTP / SSTP)", nonneg(), {},
              [](Scenario& s, const Value& v) { s.control.handover_rpm = v.num; s.control.handover_given = true; },
              [](const Scenario& s) {
                  return s.control.handover_given ? fmt_double(s.control.handover_rpm) : std::string("derived");
@@ -393,11 +394,18 @@ const std::vector<Spec>& schema()
                  "in the machine and, on the FSTP, a mid-point drift; firmware/dtc/dtc.c dtc_dcsupp); false: off",
                  ACC(control.dc_supp)),
         boolean("control.vmid_cal",
-                 "firmware, FSTP with the mid-point measured (sensors.vmid_fitted): during the gates-off "
-                 "calibration the app takes the mean of (mid-point - V_dc/2), which the balancing resistors make "
+                 "firmware, FSTP with the mid-point measured (sensors.vmid_fitted): during the "
+                 "calibration (gates off, or the rotor hold: control.cal_hold) the app takes the mean of (mid-point - V_dc/2), which the balancing resistors make "
                  "zero, as the two voltage sensors' inconsistency and subtracts it from every mid-point sample "
                  "(firmware/app/app_core.c); false: the mid-point as measured",
                  ACC(control.vmid_cal)),
+        boolean("control.cal_hold",
+                 "firmware, PM law, with control.vmid_cal: after the 3.2 ms gates-off current-offset calibration "
+                 "the app holds the rotor at its position with a current in phases B and C only (none through the "
+                 "mid-point) for the rest of the mid-point calibration, so an active load cannot turn it back "
+                 "before the drive starts (firmware/app/app_core.c hold_step); false: the gates stay off for the "
+                 "whole calibration",
+                 ACC(control.cal_hold)),
         num("control.v_f_v", "V", nonneg(), "forward drop V_f of the simple compensation (Hoang sec. III-B: 0.9 V)",
             ACC(control.v_f_v)),
         path("control.voltage_csv",
