@@ -62,6 +62,9 @@ static void enter_calibrate(app_core_t *a)
     a->cal_n = 0U;
     a->hold_on = 0U;
     a->hold_count0 = 0U;
+    a->hold_prev = 0U;
+    a->hold_extra = 0U;
+    a->hold_v_q16 = 0;
     a->vmid_cal_sum_iq = 0;
     a->vmid_cal_iq = 0;
     a->enc_primed = 0U;
@@ -268,6 +271,29 @@ static uint16_t app_vmid_cal_set(app_core_t *a, const hal_meas_t *m)
     return 0U;
 }
 
+/* End of the calibration: the mid-point and the DC link checked, the law reset, RUN. */
+static void calibrate_finish(app_core_t *a, const hal_meas_t *m)
+{
+    a->hold_on = 0U;
+    if (a->cfg->board.vmid_cal != 0U && app_vmid_cal_set(a, m) != 0U) {
+        return;
+    }
+    {
+        dtc_meas_t pu;
+        app_core_convert(a, m, &pu);
+        if (pu.vdc_iq < a->cfg->prot.vdc_min_iq) {
+            latch_fault(a, APP_FAULT_DC_UNDERVOLTAGE, 0);
+            return;
+        }
+        if (pu.vdc_iq > a->cfg->prot.vdc_max_iq) {
+            latch_fault(a, APP_FAULT_DC_OVERVOLTAGE, 0);
+            return;
+        }
+    }
+    law_reset(&a->law);
+    a->st.state = APP_STATE_RUN;
+}
+
 /* Calibration period: accumulate the measured channels; after 2^APP_CAL_LOG2 samples set the
  * current offsets (rounded mean, a shift: no division) and check them; with the mid-point
  * calibration and a hold current, start the rotor hold then (hold_step); at the end of the
@@ -277,6 +303,15 @@ static void calibrate_step(app_core_t *a, const hal_meas_t *m)
     uint16_t k;
     const uint16_t n_off = (uint16_t)1U << APP_CAL_LOG2;
     const uint16_t n_cal = (uint16_t)1U << (a->cfg->board.vmid_cal != 0U ? APP_VMID_CAL_LOG2 : APP_CAL_LOG2);
+    if (a->cal_n >= n_cal) {
+        /* calibration done, the hold waits for the rotor to settle (APP_HOLD_LEAD_LOG2) */
+        if (fix_abs32(a->hold_v_q16) > ((int32_t)1 << (16U - APP_HOLD_LEAD_LOG2)) &&
+            ++a->hold_extra < ((uint16_t)1U << APP_VMID_CAL_LOG2)) {
+            return;
+        }
+        calibrate_finish(a, m);
+        return;
+    }
     if (a->cal_n < n_off) {
         for (k = 0U; k < 2U; k++) {
             uint16_t ch = a->meas_ch[k];
@@ -301,30 +336,18 @@ static void calibrate_step(app_core_t *a, const hal_meas_t *m)
         if (a->cfg->board.vmid_cal != 0U && a->cfg->prot.i_hold_iq > 0 && n_cal > n_off) {
             a->hold_on = 1U;
             a->hold_count0 = m->qep_count;
+            a->hold_prev = m->qep_count;
+            a->hold_v_q16 = 0;
             a->enc_primed = 0U;
         }
     }
     if (a->cal_n < n_cal) {
         return;
     }
-    a->hold_on = 0U;
-    if (a->cfg->board.vmid_cal != 0U && app_vmid_cal_set(a, m) != 0U) {
-        return;
+    if (a->hold_on != 0U && fix_abs32(a->hold_v_q16) > ((int32_t)1 << (16U - APP_HOLD_LEAD_LOG2))) {
+        return; /* the rotor is still moving: hold on (above) */
     }
-    {
-        dtc_meas_t pu;
-        app_core_convert(a, m, &pu);
-        if (pu.vdc_iq < a->cfg->prot.vdc_min_iq) {
-            latch_fault(a, APP_FAULT_DC_UNDERVOLTAGE, 0);
-            return;
-        }
-        if (pu.vdc_iq > a->cfg->prot.vdc_max_iq) {
-            latch_fault(a, APP_FAULT_DC_OVERVOLTAGE, 0);
-            return;
-        }
-    }
-    law_reset(&a->law);
-    a->st.state = APP_STATE_RUN;
+    calibrate_finish(a, m);
 }
 
 /* Rotor hold while the FSTP mid-point is calibrated (prot.i_hold_iq > 0). With the gates off an
@@ -340,14 +363,18 @@ static void calibrate_step(app_core_t *a, const hal_meas_t *m)
  *    add no common-mode voltage either;
  *  - torque T = 3/2 p psi_m (i_beta cos theta_e - i_alpha sin theta_e) (Hoang eq. 10 with the
  *    flux of eqs. 8-9) = 3/2 p psi_m i_beta cos theta_e, i_beta = (i_b - i_c)/sqrt(3);
- *  - position loop: u = -d i_hold / 2^APP_HOLD_ZONE_LOG2 for a deviation of d counts, saturated at
+ *  - position loop: u = -(d + 2^L v) i_hold / 2^APP_HOLD_ZONE_LOG2 for a deviation of d counts and
+ *    the low-passed speed v (counts per period; L = APP_HOLD_LEAD_LOG2, the damping), saturated at
  *    +-i_hold, times the sign of cos theta_e (so T has the sign of u); where |cos theta_e| is too
  *    small for the load the rotor turns until it is large enough (at most the angle where
  *    i_hold |cos theta_e| carries it);
  *  - current: a two-level comparator on i_b - i_c against 2u (= i_b - i_c when i_b = u = -i_c):
  *    below it (1, 0), which raises it at V_dc/L_s, else (0, 1). The ripple is one period's rise,
  *    which the host's bound i_hold <= current limit keeps below the trip.
- * Scaling: d is within +-enc_counts/2 (int32); d * i_hold is formed in 64 bits and saturated;
+ * Scaling: d and the per-period step are within +-enc_counts/2 (int32; the step, after the
+ * encoder check, within enc_jump_counts); v is Q16, saturated (|step| < 2^15); the predicted
+ * deviation is Q16 in 64 bits, taken to Q8 before the product with i_hold (< 2^31: below 2^62),
+ * which is saturated after the shift;
  * u and 2u saturate at +-2^31 (never reached: |u| <= i_hold < i_trip). The angle is the current
  * model's (flux_est_angle), its cosine's sign a comparison: no trigonometry. */
 static void hold_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
@@ -355,8 +382,18 @@ static void hold_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
     const dtc_config_t *c = a->cfg;
     const iq_t ih = c->prot.i_hold_iq;
     const int32_t d = fold_counts((int32_t)m->qep_count - (int32_t)a->hold_count0, c->board.enc_counts);
+    const int32_t step = fold_counts((int32_t)m->qep_count - (int32_t)a->hold_prev, c->board.enc_counts);
     const angle_t th = flux_est_angle(m->qep_count, c->board.enc_gain_q16, c->board.enc_offset);
-    iq_t u = fix_sat32((-(int64_t)d * (int64_t)ih) >> APP_HOLD_ZONE_LOG2);
+    int64_t d_q16;
+    iq_t u;
+    a->hold_prev = m->qep_count;
+    /* speed, counts per period in Q16, low-passed: v += (step - v) / 2^APP_HOLD_LEAD_LOG2 */
+    a->hold_v_q16 = fix_add32(a->hold_v_q16, fix_rshift_rnd32(fix_sub32(fix_sat32((int64_t)step * 65536),
+                                                                         a->hold_v_q16),
+                                                               APP_HOLD_LEAD_LOG2));
+    /* deviation predicted 2^APP_HOLD_LEAD_LOG2 periods ahead, Q16 counts */
+    d_q16 = (int64_t)d * 65536 + ((int64_t)a->hold_v_q16 << APP_HOLD_LEAD_LOG2);
+    u = fix_sat32((-(d_q16 >> 8) * (int64_t)ih) >> (8U + APP_HOLD_ZONE_LOG2));
     if (u > ih) {
         u = ih;
     } else if (u < -ih) {

@@ -90,6 +90,13 @@ enum app_fault {
  * full negative current at rest, and any load the hold can carry moves the rotor by at most that
  * (plus the angle it needs to find |cos theta_e| large enough, below). */
 #define APP_HOLD_ZONE_LOG2 1U
+/* The hold's damping: the deviation it acts on is predicted 2^APP_HOLD_LEAD_LOG2 periods ahead
+ * (0.8 ms at 50 us) with the speed low-passed over as many periods. Without it the relay-like
+ * loop (current rise over ~8 periods, no friction) oscillates at full torque, and a rotor the
+ * load pushed away from where the hold has torque (|cos theta_e| small) arrives at the start
+ * still moving. A speed below one count per 2^APP_HOLD_LEAD_LOG2 periods counts as settled: the
+ * hold goes on after the calibration until then, at most 2^APP_VMID_CAL_LOG2 periods more. */
+#define APP_HOLD_LEAD_LOG2 4U
 /* Largest accepted |calibrated - nominal| current offset, counts (5 % of full scale). */
 #define APP_OFFSET_TOL_COUNTS 205
 /* Index check: accepted difference between latched index counts (edge jitter, direction). */
@@ -114,6 +121,9 @@ typedef struct app_core {
     uint16_t cal_n;
     uint16_t hold_on;      /* 1: the rotor hold runs (CALIBRATE after the current offsets) */
     uint16_t hold_count0;  /* encoder count the hold keeps the rotor at */
+    uint16_t hold_prev;    /* encoder count of the previous hold period */
+    uint16_t hold_extra;   /* hold periods after the calibration, waiting for the rotor to settle */
+    int32_t hold_v_q16;    /* rotor speed, counts per period, Q16, low-passed over 2^APP_HOLD_LEAD_LOG2 */
     int64_t vmid_cal_sum_iq; /* calibration: sum of (mid-point - V_dc/2), IQ pu (cfg->vmid_cal) */
     iq_t vmid_cal_iq;      /* the two voltage sensors' inconsistency, subtracted from vmid, pu */
     uint16_t meas_ch[2];   /* the two measured current channels (HAL_ADC_IA.. IC) */
