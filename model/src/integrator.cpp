@@ -210,9 +210,89 @@ double step(plant_t *pl, M &mach, double h) {
     return sb_keep * h;
 }
 
+// Leg x's breakpoints (dead-time end, switching instant) due by now, applied in time order, a
+// switching instant at its own time: dead-time ends at or before dead_limit, instants at or
+// before edge_limit (or strictly before both when strict). Returns whether the gate or the command
+// changed.
+bool apply_due(plant_t *pl, int x, double dead_limit, double edge_limit, double eps, bool strict) {
+    LegSchedule &ls = pl->schedule;
+    bool changed = false;
+    for (;;) {
+        const bool dead = ls.gate[x] != ls.gate_target[x];
+        const double td = ls.dead_end[x];
+        const bool edge = ls.edge_k[x] < ls.edge_n[x];
+        const double te = edge ? ls.edge_abs[x][ls.edge_k[x]] : 1e300;
+        const bool dead_due = dead && (strict ? td < dead_limit : td <= dead_limit);
+        const bool edge_due = edge && (strict ? te < edge_limit : te <= edge_limit);
+        // A dead-time end first unless the instant lies clearly (by more than eps) before it.
+        if (dead_due && !(edge_due && te < td - eps)) {
+            ls.gate[x] = ls.gate_target[x];
+            changed = true;
+        } else if (edge_due) {
+            ls.cmd[x] ^= 1;
+            ++ls.edge_k[x];
+            --ls.edges_left;
+            command_leg(ls, pl->p, te, x);
+            changed = true;
+        } else {
+            return changed;
+        }
+    }
+}
+
+// Where the sub-step from now may end when the advance has switching instants and every current
+// is non-zero: at the first breakpoint after which some leg's path for its current's sign differs
+// (Leg::same_as), the breakpoints before it changing nothing in the right-hand side (with drops
+// and dead time half of them: a device turning off while the diode of the same side carries the
+// current, or the dead time ending into the device that was already carrying it). Only legs whose
+// current sign the step watches (sign-dependent now) are looked through; a sign change inside
+// the step ends it there (step()), before the breakpoints that would then matter. `next` is the
+// earliest breakpoint; returns the sub-step's end.
+double first_change(const plant_t *pl, double next, double t_end, double eps) {
+    const LegSchedule &ls = pl->schedule;
+    int gate[3], target[3], cmd[3], k[3], ph[3];
+    double dead_end[3];
+    for (int x = 0; x < 3; ++x) {
+        if (!pl->legs[x]->sign_dep) return next;
+        gate[x] = ls.gate[x];
+        target[x] = ls.gate_target[x];
+        cmd[x] = ls.cmd[x];
+        k[x] = ls.edge_k[x];
+        dead_end[x] = ls.dead_end[x];
+        ph[x] = pl->y[S_IA + x] > 0.0 ? PH_POS : PH_NEG;
+    }
+    const double t_lim = std::min(t_end - eps, pl->t + pl->p.max_step_s);
+    for (;;) {
+        // Earliest breakpoint among the three legs; within a leg the order of apply_due.
+        int xb = -1;
+        bool is_dead = false;
+        double tb = 1e300;
+        for (int x = 0; x < 3; ++x) {
+            const bool dead = gate[x] != target[x];
+            const bool edge = k[x] < ls.edge_n[x];
+            const double te = edge ? ls.edge_abs[x][k[x]] : 1e300;
+            const bool dead_first = dead && !(edge && te < dead_end[x] - eps);
+            const double tx = dead_first ? dead_end[x] : te;
+            if ((dead || edge) && tx < tb) { tb = tx; xb = x; is_dead = dead_first; }
+        }
+        if (xb < 0 || !(tb < t_lim)) return std::min(tb, t_end);
+        const int x = xb;
+        const int g0 = gate[x];
+        if (is_dead) {
+            gate[x] = target[x];
+        } else {
+            cmd[x] ^= 1;
+            ++k[x];
+            gate_timeline(wanted_gate(ls, cmd[x], x), pl->p, tb, gate[x], target[x], dead_end[x]);
+        }
+        if (!pl->leg_tab[x][g0].same_as[gate[x]][ph[x]]) return tb;
+    }
+}
+
 // One advance of dt_s: sub-steps that end at every switching instant (the legs' commands toggle
 // there and their dead times start), every dead-time end and the advance's end, each at most
-// max_step_s.
+// max_step_s - except that with switching instants inside the advance a sub-step runs through
+// the breakpoints that change nothing for the present current signs (first_change).
 template <class M>
 void advance_with(plant_t *pl, M &mach, double dt_s) {
     LegSchedule &ls = pl->schedule;
@@ -240,35 +320,18 @@ void advance_with(plant_t *pl, M &mach, double dt_s) {
         ++guard;
         double next = t_end;
         bool changed = false;
+        // Breakpoints reached (the sub-steps land on them exactly, or ran through them when they
+        // change nothing): dead-time ends and switching instants, the dead times they start.
         for (int x = 0; x < 3; ++x) {
-            if (ls.gate[x] != ls.gate_target[x]) {
-                if (ls.dead_end[x] <= pl->t + eps) {
-                    ls.gate[x] = ls.gate_target[x];
-                    changed = true;
-                } else {
-                    next = std::min(next, ls.dead_end[x]);
-                }
-            }
-        }
-        if (ls.edges_left > 0) {
-            // Switching instants reached (the sub-steps land on them exactly, below); the dead
-            // times they start join the candidates for the sub-step's end.
-            for (int x = 0; x < 3; ++x) {
-                while (ls.edge_k[x] < ls.edge_n[x] && ls.edge_abs[x][ls.edge_k[x]] <= pl->t) {
-                    ls.cmd[x] ^= 1;
-                    ++ls.edge_k[x];
-                    --ls.edges_left;
-                    command_leg(ls, pl->p, pl->t, x);
-                    changed = true;
-                }
-                if (ls.gate[x] != ls.gate_target[x]) next = std::min(next, ls.dead_end[x]);
-            }
-        }
-        if (ls.edges_left > 0) {
-            for (int x = 0; x < 3; ++x)
-                if (ls.edge_k[x] < ls.edge_n[x]) next = std::min(next, ls.edge_abs[x][ls.edge_k[x]]);
+            if (ls.gate[x] != ls.gate_target[x] || ls.edge_k[x] < ls.edge_n[x])
+                changed |= apply_due(pl, x, pl->t + eps, pl->t, eps, false);
+            if (ls.gate[x] != ls.gate_target[x]) next = std::min(next, ls.dead_end[x]);
+            if (ls.edge_k[x] < ls.edge_n[x]) next = std::min(next, ls.edge_abs[x][ls.edge_k[x]]);
         }
         if (changed || guard == 1) set_legs_in_force(pl);
+        if (has_edges && next < t_end && next - pl->t < pl->p.max_step_s && pl->y[S_IA] != 0.0 &&
+            pl->y[S_IB] != 0.0 && pl->y[S_IC] != 0.0)
+            next = first_change(pl, next, t_end, eps);
         const double h = std::min(pl->p.max_step_s, next - pl->t);
         // A sub-step that ends at a breakpoint inside the advance (a dead-time end or a switching
         // instant) and is at most max_step/16 long (default: the 2 us dead-time segment at the
@@ -280,6 +343,8 @@ void advance_with(plant_t *pl, M &mach, double dt_s) {
         if (taken == h) pl->t = (h == next - pl->t) ? next : pl->t + h;
         else pl->t += taken;
     }
+    // Breakpoints a sub-step ran through before the end (only then are any left before t_end - eps).
+    for (int x = 0; has_edges && x < 3; ++x) apply_due(pl, x, t_end - eps, t_end - eps, eps, true);
     // Instants left (at or within eps of the end, or beyond it) set the command held from now.
     for (int x = 0; has_edges && x < 3; ++x) {
         for (; ls.edge_k[x] < ls.edge_n[x]; ++ls.edge_k[x]) ls.cmd[x] ^= 1;
