@@ -322,11 +322,25 @@ void advance_with(plant_t *pl, M &mach, double dt_s) {
         bool changed = false;
         // Breakpoints reached (the sub-steps land on them exactly, or ran through them when they
         // change nothing): dead-time ends and switching instants, the dead times they start.
-        for (int x = 0; x < 3; ++x) {
-            if (ls.gate[x] != ls.gate_target[x] || ls.edge_k[x] < ls.edge_n[x])
-                changed |= apply_due(pl, x, pl->t + eps, pl->t, eps, false);
-            if (ls.gate[x] != ls.gate_target[x]) next = std::min(next, ls.dead_end[x]);
-            if (ls.edge_k[x] < ls.edge_n[x]) next = std::min(next, ls.edge_abs[x][ls.edge_k[x]]);
+        if (!has_edges) {
+            // Leg-state form: only dead-time ends.
+            for (int x = 0; x < 3; ++x) {
+                if (ls.gate[x] != ls.gate_target[x]) {
+                    if (ls.dead_end[x] <= pl->t + eps) {
+                        ls.gate[x] = ls.gate_target[x];
+                        changed = true;
+                    } else {
+                        next = std::min(next, ls.dead_end[x]);
+                    }
+                }
+            }
+        } else {
+            for (int x = 0; x < 3; ++x) {
+                if (ls.gate[x] != ls.gate_target[x] || ls.edge_k[x] < ls.edge_n[x])
+                    changed |= apply_due(pl, x, pl->t + eps, pl->t, eps, false);
+                if (ls.gate[x] != ls.gate_target[x]) next = std::min(next, ls.dead_end[x]);
+                if (ls.edge_k[x] < ls.edge_n[x]) next = std::min(next, ls.edge_abs[x][ls.edge_k[x]]);
+            }
         }
         if (changed || guard == 1) set_legs_in_force(pl);
         if (has_edges && next < t_end && next - pl->t < pl->p.max_step_s && pl->y[S_IA] != 0.0 &&
