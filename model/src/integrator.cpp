@@ -1,14 +1,20 @@
 // integrator.cpp - time integration of the plant (docs/plant.md, section 2): classical RK4 on
-// sub-steps that land exactly on every switching instant and dead-time end and on every located
-// current zero crossing / zero-current release (Illinois root finding on the step's own
-// solution); the explicit midpoint rule on a dead-time segment no longer than max_step/16. Between
-// events the right-hand side (circuit.h) is smooth. The functions are templates on the machine
-// (machine.h); advance() picks the instance once per call.
+// sub-steps that land exactly on every switching instant and dead-time end at which the right-hand
+// side changes (with switching instants, a breakpoint that changes nothing for the present current
+// signs is run through: first_change) and on every located current zero crossing / zero-current
+// release (Illinois root finding on the step's own solution); the explicit midpoint rule on a
+// segment ending at a breakpoint and no longer than max_step/16; with switching instants,
+// Ralston's third-order rule on the other segments up to max_step/2. Between events and changing
+// breakpoints the right-hand side (circuit.h) is smooth. The functions are templates on the
+// machine (machine.h); advance() picks the instance once per call.
 #include <algorithm>
 #include <cmath>
 #include <variant>
 
 #include "circuit.h"
+
+
+
 
 namespace plant_model {
 namespace {
@@ -50,12 +56,26 @@ inline void midpoint(plant_t *pl, const M &m, const Vec &y0, double h, const Vec
     out.noalias() = y0 + h * k2;
 }
 
-// The step's integrator: RK4, or the midpoint rule on a short dead-time segment (advance() sets
-// pl->short_seg; docs/plant.md section 2 gives the rule and its error); then the Coulomb stop
+// Ralston's third-order method (three evaluations, the smallest error bound of the explicit
+// three-stage third-order family); same stage-state convention as rk4().
+template <class M>
+inline void ralston3(plant_t *pl, const M &m, const Vec &y0, double h, const Vec &k1, Vec &out) {
+    Vec k2, k3, yt;
+    stage_state(y0, 0.5 * h, k1, yt);
+    rhs(pl, m, yt, k2, nullptr);
+    stage_state(y0, 0.75 * h, k2, yt);
+    rhs(pl, m, yt, k3, nullptr);
+    out.noalias() = y0 + (h / 9.0) * (2.0 * k1 + 3.0 * k2 + 4.0 * k3);
+}
+
+// The step's integrator: RK4, the midpoint rule on a short segment or Ralston's rule on a
+// medium one with switching instants (advance() sets pl->step_method; docs/plant.md section 2
+// gives the rule and its error); then the Coulomb stop
 // (mech::stop_at_zero_crossing).
 template <class M>
 inline void integrate(plant_t *pl, const M &m, const Vec &y0, double h, const Vec &k1, Vec &out) {
-    if (pl->short_seg) midpoint(pl, m, y0, h, k1, out);
+    if (pl->step_method == STEP_MIDPOINT) midpoint(pl, m, y0, h, k1, out);
+    else if (pl->step_method == STEP_RK3) ralston3(pl, m, y0, h, k1, out);
     else rk4(pl, m, y0, h, k1, out);
     mech::stop_at_zero_crossing(pl->shaft, y0[S_OMEGA], out[S_OMEGA], out[S_EFRIC]);
 }
@@ -350,8 +370,12 @@ void advance_with(plant_t *pl, M &mach, double dt_s) {
         // A sub-step that ends at a breakpoint inside the advance (a dead-time end or a switching
         // instant) and is at most max_step/16 long (default: the 2 us dead-time segment at the
         // 50 us step, a PWM pulse's short segments) uses the midpoint rule: its local error is
-        // O(h^3) on a tiny h, well below the RK4 error of a full step (docs/plant.md, section 2).
-        pl->short_seg = next < t_end && h == next - pl->t && h <= pl->p.max_step_s * (1.0 / 16.0);
+        // O(h^3) on a tiny h, well below the RK4 error of a full step. With switching instants in
+        // the advance, the other sub-steps of at most max_step/2 (the segments between a pulse's
+        // voltage changes) use Ralston's third-order rule (docs/plant.md, section 2).
+        if (next < t_end && h == next - pl->t && h <= pl->p.max_step_s * (1.0 / 16.0)) pl->step_method = STEP_MIDPOINT;
+        else if (has_edges && h <= pl->p.max_step_s * 0.5) pl->step_method = STEP_RK3;
+        else pl->step_method = STEP_RK4;
         const double taken = step(pl, mach, h);
         // Land exactly on breakpoints to avoid drift.
         if (taken == h) pl->t = (h == next - pl->t) ? next : pl->t + h;
