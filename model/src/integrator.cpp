@@ -264,22 +264,24 @@ bool apply_due(plant_t *pl, int x, double dead_limit, double edge_limit, double 
 // is non-zero: at the first breakpoint after which some leg's path for its current's sign differs
 // (Leg::same_as), the breakpoints before it changing nothing in the right-hand side (with drops
 // and dead time half of them: a device turning off while the diode of the same side carries the
-// current, or the dead time ending into the device that was already carrying it). Only legs whose
-// current sign the step watches (sign-dependent now) are looked through; a sign change inside
-// the step ends it there (step()), before the breakpoints that would then matter. `next` is the
-// earliest breakpoint; returns the sub-step's end.
-double first_change(const plant_t *pl, double next, double t_end, double eps) {
+// current, or the dead time ending into the device that was already carrying it). The step watches
+// the sign of every sign-dependent leg's current, and a sign change inside the step ends it there
+// (step()), before the breakpoints that would then matter; a leg that is not sign-dependent now
+// is looked through only where its paths for both signs stay the same (the FSTP's mid-point
+// leg). Returns the sub-step's end.
+double first_change(const plant_t *pl, double t_end, double eps) {
     const LegSchedule &ls = pl->schedule;
     int gate[3], target[3], cmd[3], k[3], ph[3];
     double dead_end[3];
     for (int x = 0; x < 3; ++x) {
-        if (!pl->legs[x]->sign_dep) return next;
         gate[x] = ls.gate[x];
         target[x] = ls.gate_target[x];
         cmd[x] = ls.cmd[x];
         k[x] = ls.edge_k[x];
         dead_end[x] = ls.dead_end[x];
-        ph[x] = pl->y[S_IA + x] > 0.0 ? PH_POS : PH_NEG;
+        // A leg whose paths do not depend on the sign now: its sign is not watched, so only a
+        // breakpoint that changes nothing for either sign is looked through (-1).
+        ph[x] = !pl->legs[x]->sign_dep ? -1 : pl->y[S_IA + x] > 0.0 ? PH_POS : PH_NEG;
     }
     const double t_lim = std::min(t_end - eps, pl->t + pl->p.max_step_s);
     for (;;) {
@@ -305,7 +307,8 @@ double first_change(const plant_t *pl, double next, double t_end, double eps) {
             ++k[x];
             gate_timeline(wanted_gate(ls, cmd[x], x), pl->p, tb, gate[x], target[x], dead_end[x]);
         }
-        if (!pl->leg_tab[x][g0].same_as[gate[x]][ph[x]]) return tb;
+        const bool *same = pl->leg_tab[x][g0].same_as[gate[x]];
+        if (ph[x] < 0 ? !(same[PH_POS] && same[PH_NEG]) : !same[ph[x]]) return tb;
     }
 }
 
@@ -365,7 +368,7 @@ void advance_with(plant_t *pl, M &mach, double dt_s) {
         if (changed || guard == 1) set_legs_in_force(pl);
         if (has_edges && next < t_end && next - pl->t < pl->p.max_step_s && pl->y[S_IA] != 0.0 &&
             pl->y[S_IB] != 0.0 && pl->y[S_IC] != 0.0)
-            next = first_change(pl, next, t_end, eps);
+            next = first_change(pl, t_end, eps);
         const double h = std::min(pl->p.max_step_s, next - pl->t);
         // A sub-step that ends at a breakpoint inside the advance (a dead-time end or a switching
         // instant) and is at most max_step/16 long (default: the 2 us dead-time segment at the

@@ -191,45 +191,56 @@ TEST(Edges, DeadTimeVoltSecondErrorPerPulse) {
 }
 
 // With device drops the path of a leg depends on the current's sign, so with that sign fixed
-// half of a pulse's breakpoints change nothing: for i_a > 0 the lower diode conducts before the
-// rising edge and through its dead time (the voltage steps up at t_on + t_d), for i_a < 0 the
+// half of a pulse's breakpoints change nothing: for i > 0 the lower diode conducts before the
+// rising edge and through its dead time (the voltage steps up at t_on + t_d), for i < 0 the
 // upper diode conducts from the falling edge through its dead time (the voltage steps down at
-// t_off + t_d). Stiff link, locked rotor, 8 A of fixed sign: the volt-seconds of leg A are
-// (rail - v_f) times each path's time minus R_on times the charge (q_a), to 1e-12 V*s, and the
-// advance takes one sub-step per voltage change plus one (3), not one per breakpoint (5).
+// t_off + t_d). Stiff link, locked rotor, 8 A of fixed sign in the pulsed leg (SSTP: leg A; FSTP:
+// leg B, phase A sitting on the capacitor mid-point, whose path never depends on the sign): the
+// volt-seconds of the pulsed leg are (rail - v_f) times each path's time minus R_on times its
+// charge, to 1e-12 V*s, and the advance takes one sub-step per voltage change plus one (3), not
+// one per breakpoint (5).
 TEST(Edges, WithDropsTheSubStepsRunThroughBreakpointsThatChangeNothing) {
-    plant_params_t p = locked(ideal_inverter(PLANT_INVERTER_SSTP));
-    p.drops_enabled = 1;
-    p.dead_time_enabled = 1;
-    p.dead_time_s = 2e-6;
-    ASSERT_GT(p.v_ce_v, 0.0);
-    ASSERT_GT(p.v_d_v, 0.0);
-    ASSERT_NE(p.v_ce_v, p.v_d_v);
-    const double td = p.dead_time_s, vdc = p.vdc_v, t_on = 12e-6, t_off = 33e-6;
-    for (double sign : {+1.0, -1.0}) {
-        auto pl = make(p);
-        plant_set_legs(pl.get(), 0, 0, 0, 1);
-        plant_advance(pl.get(), kTs);
-        ASSERT_EQ(plant_set_phase_currents(pl.get(), 8.0 * sign, -4.0 * sign, -4.0 * sign), 0);
-        const plant_state_t s0 = state(pl);
-        plant_stats_t st0;
-        plant_get_stats(pl.get(), &st0);
-        const plant_leg_edges_t e[3] = {pulse(t_on, t_off), held(0), held(0)};
-        ASSERT_EQ(plant_set_leg_edges(pl.get(), e, 1), 0);
-        plant_advance(pl.get(), kTs);
-        const plant_state_t s = state(pl);
-        plant_stats_t st;
-        plant_get_stats(pl.get(), &st);
-        ASSERT_GT(s.i_a * sign, 0.0);
-        // Upper path: i > 0 through the upper device (Vdc - v_ce), i < 0 through the upper diode
-        // (Vdc + v_d); lower path: i > 0 through the lower diode (-v_d), i < 0 through the lower
-        // device (+v_ce) (Hoang Table III).
-        const double t_up = (sign > 0) ? (t_off - t_on - td) : (t_off + td - t_on);
-        const double v_up = (sign > 0) ? vdc - p.v_ce_v : vdc + p.v_d_v;
-        const double v_lo = (sign > 0) ? -p.v_d_v : p.v_ce_v;
-        const double expect = v_up * t_up + v_lo * (kTs - t_up) - p.r_on_ohm * (s.q_a_as - s0.q_a_as);
-        EXPECT_NEAR(s.v_a0_v * kTs, expect, 1e-12) << "sign " << sign;
-        EXPECT_EQ(st.steps - st0.steps, 3u) << "sign " << sign;
+    for (plant_inverter_t inv : {PLANT_INVERTER_SSTP, PLANT_INVERTER_FSTP}) {
+        plant_params_t p = locked(ideal_inverter(inv));
+        p.drops_enabled = 1;
+        p.dead_time_enabled = 1;
+        p.dead_time_s = 2e-6;
+        ASSERT_GT(p.v_ce_v, 0.0);
+        ASSERT_GT(p.v_d_v, 0.0);
+        ASSERT_NE(p.v_ce_v, p.v_d_v);
+        const double td = p.dead_time_s, vdc = p.vdc_v, t_on = 12e-6, t_off = 33e-6;
+        const int leg = (inv == PLANT_INVERTER_FSTP) ? 1 : 0;
+        for (double sign : {+1.0, -1.0}) {
+            auto pl = make(p);
+            plant_set_legs(pl.get(), 0, 0, 0, 1);
+            plant_advance(pl.get(), kTs);
+            double i0[3] = {-4.0 * sign, -4.0 * sign, -4.0 * sign};
+            i0[leg] = 8.0 * sign;
+            ASSERT_EQ(plant_set_phase_currents(pl.get(), i0[0], i0[1], i0[2]), 0);
+            const plant_state_t s0 = state(pl);
+            plant_stats_t st0;
+            plant_get_stats(pl.get(), &st0);
+            plant_leg_edges_t e[3] = {held(0), held(0), held(0)};
+            e[leg] = pulse(t_on, t_off);
+            ASSERT_EQ(plant_set_leg_edges(pl.get(), e, 1), 0);
+            plant_advance(pl.get(), kTs);
+            const plant_state_t s = state(pl);
+            plant_stats_t st;
+            plant_get_stats(pl.get(), &st);
+            const double i_end = (leg == 0) ? s.i_a : s.i_b;
+            const double dq = (leg == 0) ? s.q_a_as - s0.q_a_as : s.q_b_as - s0.q_b_as;
+            const double v_leg = (leg == 0) ? s.v_a0_v : s.v_b0_v;
+            ASSERT_GT(i_end * sign, 0.0);
+            // Upper path: i > 0 through the upper device (Vdc - v_ce), i < 0 through the upper
+            // diode (Vdc + v_d); lower path: i > 0 through the lower diode (-v_d), i < 0 through the
+            // lower device (+v_ce) (Hoang Table III).
+            const double t_up = (sign > 0) ? (t_off - t_on - td) : (t_off + td - t_on);
+            const double v_up = (sign > 0) ? vdc - p.v_ce_v : vdc + p.v_d_v;
+            const double v_lo = (sign > 0) ? -p.v_d_v : p.v_ce_v;
+            const double expect = v_up * t_up + v_lo * (kTs - t_up) - p.r_on_ohm * dq;
+            EXPECT_NEAR(v_leg * kTs, expect, 1e-12) << "inverter " << inv << " sign " << sign;
+            EXPECT_EQ(st.steps - st0.steps, 3u) << "inverter " << inv << " sign " << sign;
+        }
     }
 }
 
