@@ -251,7 +251,6 @@ bool apply_due(plant_t *pl, int x, double dead_limit, double edge_limit, double 
         } else if (edge_due) {
             ls.cmd[x] ^= 1;
             ++ls.edge_k[x];
-            --ls.edges_left;
             command_leg(ls, pl->p, te, x);
             changed = true;
         } else {
@@ -325,7 +324,6 @@ void advance_with(plant_t *pl, M &mach, double dt_s) {
     // Switching instants inside the advance: an instant at 0 acts at once, one at or beyond
     // dt_s at the end (the leg then holds its last command into the next advance).
     const bool has_edges = (ls.edge_n[0] | ls.edge_n[1] | ls.edge_n[2]) != 0;
-    ls.edges_left = 0;
     for (int x = 0; has_edges && x < 3; ++x) {
         ls.edge_k[x] = 0;
         for (int k = 0; k < ls.edge_n[x]; ++k) ls.edge_abs[x][k] = pl->t + ls.edge_t[x][k];
@@ -333,7 +331,6 @@ void advance_with(plant_t *pl, M &mach, double dt_s) {
             ls.cmd[x] ^= 1;
             ++ls.edge_k[x];
         }
-        ls.edges_left += ls.edge_n[x] - ls.edge_k[x];
     }
     for (int x = 0; x < 3; ++x) command_leg(ls, pl->p, pl->t, x);
     const double t_end = pl->t + dt_s;
@@ -391,7 +388,6 @@ void advance_with(plant_t *pl, M &mach, double dt_s) {
         for (; ls.edge_k[x] < ls.edge_n[x]; ++ls.edge_k[x]) ls.cmd[x] ^= 1;
         ls.edge_n[x] = 0;
     }
-    ls.edges_left = 0;
     pl->t = t_end;
     if (pl->p.load == PLANT_LOAD_SPEED) pl->y[S_OMEGA] = pl->p.load_speed_rpm * kRpmToRadS;
 }

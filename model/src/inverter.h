@@ -72,7 +72,6 @@ struct LegSchedule {
     int edge_k[3];
     double edge_t[3][PLANT_LEG_EDGES_MAX];
     double edge_abs[3][PLANT_LEG_EDGES_MAX];
-    int edges_left;      // edges still to apply in this advance (0: plant_set_legs form)
 };
 
 // The gate state leg x's command asks for (override, enable, command cmd).
