@@ -1,14 +1,20 @@
 // integrator.cpp - time integration of the plant (docs/plant.md, section 2): classical RK4 on
-// sub-steps that land exactly on every switching instant and dead-time end and on every located
-// current zero crossing / zero-current release (Illinois root finding on the step's own
-// solution); the explicit midpoint rule on a dead-time segment no longer than max_step/16. Between
-// events the right-hand side (circuit.h) is smooth. The functions are templates on the machine
-// (machine.h); advance() picks the instance once per call.
+// sub-steps that land exactly on every switching instant and dead-time end at which the right-hand
+// side changes (with switching instants, a breakpoint that changes nothing for the present current
+// signs is run through: first_change) and on every located current zero crossing / zero-current
+// release (Illinois root finding on the step's own solution); the explicit midpoint rule on a
+// segment ending at a breakpoint and no longer than max_step/16; with switching instants,
+// Ralston's third-order rule on the other segments up to max_step/2. Between events and changing
+// breakpoints the right-hand side (circuit.h) is smooth. The functions are templates on the
+// machine (machine.h); advance() picks the instance once per call.
 #include <algorithm>
 #include <cmath>
 #include <variant>
 
 #include "circuit.h"
+
+
+
 
 namespace plant_model {
 namespace {
@@ -50,12 +56,26 @@ inline void midpoint(plant_t *pl, const M &m, const Vec &y0, double h, const Vec
     out.noalias() = y0 + h * k2;
 }
 
-// The step's integrator: RK4, or the midpoint rule on a short dead-time segment (advance() sets
-// pl->short_seg; docs/plant.md section 2 gives the rule and its error); then the Coulomb stop
+// Ralston's third-order method (three evaluations, the smallest error bound of the explicit
+// three-stage third-order family); same stage-state convention as rk4().
+template <class M>
+inline void ralston3(plant_t *pl, const M &m, const Vec &y0, double h, const Vec &k1, Vec &out) {
+    Vec k2, k3, yt;
+    stage_state(y0, 0.5 * h, k1, yt);
+    rhs(pl, m, yt, k2, nullptr);
+    stage_state(y0, 0.75 * h, k2, yt);
+    rhs(pl, m, yt, k3, nullptr);
+    out.noalias() = y0 + (h / 9.0) * (2.0 * k1 + 3.0 * k2 + 4.0 * k3);
+}
+
+// The step's integrator: RK4, the midpoint rule on a short segment or Ralston's rule on a
+// medium one with switching instants (advance() sets pl->step_method; docs/plant.md section 2
+// gives the rule and its error); then the Coulomb stop
 // (mech::stop_at_zero_crossing).
 template <class M>
 inline void integrate(plant_t *pl, const M &m, const Vec &y0, double h, const Vec &k1, Vec &out) {
-    if (pl->short_seg) midpoint(pl, m, y0, h, k1, out);
+    if (pl->step_method == STEP_MIDPOINT) midpoint(pl, m, y0, h, k1, out);
+    else if (pl->step_method == STEP_RK3) ralston3(pl, m, y0, h, k1, out);
     else rk4(pl, m, y0, h, k1, out);
     mech::stop_at_zero_crossing(pl->shaft, y0[S_OMEGA], out[S_OMEGA], out[S_EFRIC]);
 }
@@ -210,9 +230,91 @@ double step(plant_t *pl, M &mach, double h) {
     return sb_keep * h;
 }
 
+// Leg x's breakpoints (dead-time end, switching instant) due by now, applied in time order, a
+// switching instant at its own time: dead-time ends at or before dead_limit, instants at or
+// before edge_limit (or strictly before both when strict). Returns whether the gate or the command
+// changed.
+bool apply_due(plant_t *pl, int x, double dead_limit, double edge_limit, double eps, bool strict) {
+    LegSchedule &ls = pl->schedule;
+    bool changed = false;
+    for (;;) {
+        const bool dead = ls.gate[x] != ls.gate_target[x];
+        const double td = ls.dead_end[x];
+        const bool edge = ls.edge_k[x] < ls.edge_n[x];
+        const double te = edge ? ls.edge_abs[x][ls.edge_k[x]] : 1e300;
+        const bool dead_due = dead && (strict ? td < dead_limit : td <= dead_limit);
+        const bool edge_due = edge && (strict ? te < edge_limit : te <= edge_limit);
+        // A dead-time end first unless the instant lies clearly (by more than eps) before it.
+        if (dead_due && !(edge_due && te < td - eps)) {
+            ls.gate[x] = ls.gate_target[x];
+            changed = true;
+        } else if (edge_due) {
+            ls.cmd[x] ^= 1;
+            ++ls.edge_k[x];
+            command_leg(ls, pl->p, te, x);
+            changed = true;
+        } else {
+            return changed;
+        }
+    }
+}
+
+// Where the sub-step from now may end when the advance has switching instants and every current
+// is non-zero: at the first breakpoint after which some leg's path for its current's sign differs
+// (Leg::same_as), the breakpoints before it changing nothing in the right-hand side (with drops
+// and dead time half of them: a device turning off while the diode of the same side carries the
+// current, or the dead time ending into the device that was already carrying it). The step watches
+// the sign of every sign-dependent leg's current, and a sign change inside the step ends it there
+// (step()), before the breakpoints that would then matter; a leg that is not sign-dependent now
+// is looked through only where its paths for both signs stay the same (the FSTP's mid-point
+// leg). Returns the sub-step's end.
+double first_change(const plant_t *pl, double t_end, double eps) {
+    const LegSchedule &ls = pl->schedule;
+    int gate[3], target[3], cmd[3], k[3], ph[3];
+    double dead_end[3];
+    for (int x = 0; x < 3; ++x) {
+        gate[x] = ls.gate[x];
+        target[x] = ls.gate_target[x];
+        cmd[x] = ls.cmd[x];
+        k[x] = ls.edge_k[x];
+        dead_end[x] = ls.dead_end[x];
+        // A leg whose paths do not depend on the sign now: its sign is not watched, so only a
+        // breakpoint that changes nothing for either sign is looked through (-1).
+        ph[x] = !pl->legs[x]->sign_dep ? -1 : pl->y[S_IA + x] > 0.0 ? PH_POS : PH_NEG;
+    }
+    const double t_lim = std::min(t_end - eps, pl->t + pl->p.max_step_s);
+    for (;;) {
+        // Earliest breakpoint among the three legs; within a leg the order of apply_due.
+        int xb = -1;
+        bool is_dead = false;
+        double tb = 1e300;
+        for (int x = 0; x < 3; ++x) {
+            const bool dead = gate[x] != target[x];
+            const bool edge = k[x] < ls.edge_n[x];
+            const double te = edge ? ls.edge_abs[x][k[x]] : 1e300;
+            const bool dead_first = dead && !(edge && te < dead_end[x] - eps);
+            const double tx = dead_first ? dead_end[x] : te;
+            if ((dead || edge) && tx < tb) { tb = tx; xb = x; is_dead = dead_first; }
+        }
+        if (xb < 0 || !(tb < t_lim)) return std::min(tb, t_end);
+        const int x = xb;
+        const int g0 = gate[x];
+        if (is_dead) {
+            gate[x] = target[x];
+        } else {
+            cmd[x] ^= 1;
+            ++k[x];
+            gate_timeline(wanted_gate(ls, cmd[x], x), pl->p, tb, gate[x], target[x], dead_end[x]);
+        }
+        const bool *same = pl->leg_tab[x][g0].same_as[gate[x]];
+        if (ph[x] < 0 ? !(same[PH_POS] && same[PH_NEG]) : !same[ph[x]]) return tb;
+    }
+}
+
 // One advance of dt_s: sub-steps that end at every switching instant (the legs' commands toggle
 // there and their dead times start), every dead-time end and the advance's end, each at most
-// max_step_s.
+// max_step_s - except that with switching instants inside the advance a sub-step runs through
+// the breakpoints that change nothing for the present current signs (first_change).
 template <class M>
 void advance_with(plant_t *pl, M &mach, double dt_s) {
     LegSchedule &ls = pl->schedule;
@@ -222,7 +324,6 @@ void advance_with(plant_t *pl, M &mach, double dt_s) {
     // Switching instants inside the advance: an instant at 0 acts at once, one at or beyond
     // dt_s at the end (the leg then holds its last command into the next advance).
     const bool has_edges = (ls.edge_n[0] | ls.edge_n[1] | ls.edge_n[2]) != 0;
-    ls.edges_left = 0;
     for (int x = 0; has_edges && x < 3; ++x) {
         ls.edge_k[x] = 0;
         for (int k = 0; k < ls.edge_n[x]; ++k) ls.edge_abs[x][k] = pl->t + ls.edge_t[x][k];
@@ -230,7 +331,6 @@ void advance_with(plant_t *pl, M &mach, double dt_s) {
             ls.cmd[x] ^= 1;
             ++ls.edge_k[x];
         }
-        ls.edges_left += ls.edge_n[x] - ls.edge_k[x];
     }
     for (int x = 0; x < 3; ++x) command_leg(ls, pl->p, pl->t, x);
     const double t_end = pl->t + dt_s;
@@ -240,52 +340,54 @@ void advance_with(plant_t *pl, M &mach, double dt_s) {
         ++guard;
         double next = t_end;
         bool changed = false;
-        for (int x = 0; x < 3; ++x) {
-            if (ls.gate[x] != ls.gate_target[x]) {
-                if (ls.dead_end[x] <= pl->t + eps) {
-                    ls.gate[x] = ls.gate_target[x];
-                    changed = true;
-                } else {
-                    next = std::min(next, ls.dead_end[x]);
-                }
-            }
-        }
-        if (ls.edges_left > 0) {
-            // Switching instants reached (the sub-steps land on them exactly, below); the dead
-            // times they start join the candidates for the sub-step's end.
+        // Breakpoints reached (the sub-steps land on them exactly, or ran through them when they
+        // change nothing): dead-time ends and switching instants, the dead times they start.
+        if (!has_edges) {
+            // Leg-state form: only dead-time ends.
             for (int x = 0; x < 3; ++x) {
-                while (ls.edge_k[x] < ls.edge_n[x] && ls.edge_abs[x][ls.edge_k[x]] <= pl->t) {
-                    ls.cmd[x] ^= 1;
-                    ++ls.edge_k[x];
-                    --ls.edges_left;
-                    command_leg(ls, pl->p, pl->t, x);
-                    changed = true;
+                if (ls.gate[x] != ls.gate_target[x]) {
+                    if (ls.dead_end[x] <= pl->t + eps) {
+                        ls.gate[x] = ls.gate_target[x];
+                        changed = true;
+                    } else {
+                        next = std::min(next, ls.dead_end[x]);
+                    }
                 }
-                if (ls.gate[x] != ls.gate_target[x]) next = std::min(next, ls.dead_end[x]);
             }
-        }
-        if (ls.edges_left > 0) {
-            for (int x = 0; x < 3; ++x)
+        } else {
+            for (int x = 0; x < 3; ++x) {
+                if (ls.gate[x] != ls.gate_target[x] || ls.edge_k[x] < ls.edge_n[x])
+                    changed |= apply_due(pl, x, pl->t + eps, pl->t, eps, false);
+                if (ls.gate[x] != ls.gate_target[x]) next = std::min(next, ls.dead_end[x]);
                 if (ls.edge_k[x] < ls.edge_n[x]) next = std::min(next, ls.edge_abs[x][ls.edge_k[x]]);
+            }
         }
         if (changed || guard == 1) set_legs_in_force(pl);
+        if (has_edges && next < t_end && next - pl->t < pl->p.max_step_s && pl->y[S_IA] != 0.0 &&
+            pl->y[S_IB] != 0.0 && pl->y[S_IC] != 0.0)
+            next = first_change(pl, t_end, eps);
         const double h = std::min(pl->p.max_step_s, next - pl->t);
         // A sub-step that ends at a breakpoint inside the advance (a dead-time end or a switching
         // instant) and is at most max_step/16 long (default: the 2 us dead-time segment at the
         // 50 us step, a PWM pulse's short segments) uses the midpoint rule: its local error is
-        // O(h^3) on a tiny h, well below the RK4 error of a full step (docs/plant.md, section 2).
-        pl->short_seg = next < t_end && h == next - pl->t && h <= pl->p.max_step_s * (1.0 / 16.0);
+        // O(h^3) on a tiny h, well below the RK4 error of a full step. With switching instants in
+        // the advance, the other sub-steps of at most max_step/2 (the segments between a pulse's
+        // voltage changes) use Ralston's third-order rule (docs/plant.md, section 2).
+        if (next < t_end && h == next - pl->t && h <= pl->p.max_step_s * (1.0 / 16.0)) pl->step_method = STEP_MIDPOINT;
+        else if (has_edges && h <= pl->p.max_step_s * 0.5) pl->step_method = STEP_RK3;
+        else pl->step_method = STEP_RK4;
         const double taken = step(pl, mach, h);
         // Land exactly on breakpoints to avoid drift.
         if (taken == h) pl->t = (h == next - pl->t) ? next : pl->t + h;
         else pl->t += taken;
     }
+    // Breakpoints a sub-step ran through before the end (only then are any left before t_end - eps).
+    for (int x = 0; has_edges && x < 3; ++x) apply_due(pl, x, t_end - eps, t_end - eps, eps, true);
     // Instants left (at or within eps of the end, or beyond it) set the command held from now.
     for (int x = 0; has_edges && x < 3; ++x) {
         for (; ls.edge_k[x] < ls.edge_n[x]; ++ls.edge_k[x]) ls.cmd[x] ^= 1;
         ls.edge_n[x] = 0;
     }
-    ls.edges_left = 0;
     pl->t = t_end;
     if (pl->p.load == PLANT_LOAD_SPEED) pl->y[S_OMEGA] = pl->p.load_speed_rpm * kRpmToRadS;
 }

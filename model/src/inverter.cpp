@@ -2,6 +2,7 @@
 #include "inverter.h"
 
 #include <cmath>
+#include <cstring>
 
 #include "plant_state.h"
 
@@ -74,6 +75,12 @@ void build_leg_table(const plant_params_t &p, double r_circuit, double v_alpha, 
         L.coef[PH_NEG] = phase_coef(r_circuit, L, L.neg, false, vsrc[x]);
         L.coef[PH_BLOCKED] = phase_coef(r_circuit, L, L.pos, true, vsrc[x]);
     }
+    for (int x = 0; x < 3; ++x)
+        for (int g = 0; g < 3; ++g)
+            for (int g2 = 0; g2 < 3; ++g2)
+                for (int m = 0; m < 2; ++m)
+                    tab[x][g].same_as[g2][m] =
+                        std::memcmp(&tab[x][g].coef[m], &tab[x][g2].coef[m], sizeof(PhaseCoef)) == 0;
 }
 
 const char *check_inverter(const plant_params_t &p) {

@@ -44,6 +44,10 @@ struct PhaseCoef {
 struct Leg {
     Path pos, neg;  // path for i > 0 (out of the leg into the machine) and for i < 0
     PhaseCoef coef[3];  // per PhaseMode
+    // same_as[g][m]: coef[m] (m = PH_POS, PH_NEG) equals the same leg's coef[m] in gate state g, so
+    // with the current's sign fixed a change to or from g changes nothing in the right-hand side
+    // (e.g. the lower device turning off while its diode carries i > 0).
+    bool same_as[3][2];
     bool sign_dep;  // the two paths differ: the voltage jumps at i = 0
     bool device;    // a semiconductor path (losses accounted); false for mid-point / ideal source
 };
@@ -68,38 +72,47 @@ struct LegSchedule {
     int edge_k[3];
     double edge_t[3][PLANT_LEG_EDGES_MAX];
     double edge_abs[3][PLANT_LEG_EDGES_MAX];
-    int edges_left;      // edges still to apply in this advance (0: plant_set_legs form)
 };
 
-// Gate timeline of leg x after its command (cmd, enable, override) changed at time t: the
-// outgoing device turns off at once, the incoming one after the dead time; in between only the
-// diodes conduct, the current sign picking which (Hoang/inverter practice). Used at the start of an
-// advance and at every switching instant inside it (plant_set_leg_edges).
-inline void command_leg(LegSchedule &s, const plant_params_t &p, double t, int x) {
-    int want;
-    if (s.override_mode[x] == PLANT_LEG_DIODE_ONLY) want = GATE_OFF;
-    else if (s.override_mode[x] == PLANT_LEG_UPPER_ON) want = GATE_UPPER;
-    else if (s.override_mode[x] == PLANT_LEG_LOWER_ON) want = GATE_LOWER;
-    else if (!s.enable) want = GATE_OFF;
-    else want = s.cmd[x] ? GATE_UPPER : GATE_LOWER;
+// The gate state leg x's command asks for (override, enable, command cmd).
+inline int wanted_gate(const LegSchedule &s, int cmd, int x) {
+    if (s.override_mode[x] == PLANT_LEG_DIODE_ONLY) return GATE_OFF;
+    if (s.override_mode[x] == PLANT_LEG_UPPER_ON) return GATE_UPPER;
+    if (s.override_mode[x] == PLANT_LEG_LOWER_ON) return GATE_LOWER;
+    if (!s.enable) return GATE_OFF;
+    return cmd ? GATE_UPPER : GATE_LOWER;
+}
+
+// Gate timeline of one leg (gate in force, target, dead time's end) after its command asks for
+// gate `want` at time t: the outgoing device turns off at once, the incoming one after the dead
+// time; in between only the diodes conduct, the current sign picking which (Hoang/inverter
+// practice).
+inline void gate_timeline(int want, const plant_params_t &p, double t, int &gate, int &gate_target,
+                          double &dead_end) {
     // Resolve a dead time still running from the previous command.
-    if (s.dead_end[x] > t) {
+    if (dead_end > t) {
         // Still off; the new target replaces the old one, dead time keeps running.
-        s.gate_target[x] = want;
-        if (want == GATE_OFF) s.dead_end[x] = t;
+        gate_target = want;
+        if (want == GATE_OFF) dead_end = t;
         return;
     }
-    const int cur = s.gate[x];
+    const int cur = gate;
     if (want == cur) return;
     const bool both_on = (cur != GATE_OFF) && (want != GATE_OFF);
     if (both_on && p.dead_time_enabled && p.dead_time_s > 0.0) {
-        s.gate[x] = GATE_OFF;
-        s.gate_target[x] = want;
-        s.dead_end[x] = t + p.dead_time_s;
+        gate = GATE_OFF;
+        gate_target = want;
+        dead_end = t + p.dead_time_s;
     } else {
-        s.gate[x] = want;
-        s.gate_target[x] = want;
+        gate = want;
+        gate_target = want;
     }
+}
+
+// Gate timeline of leg x after its command (cmd, enable, override) changed at time t. Used at the
+// start of an advance and at every switching instant inside it (plant_set_leg_edges).
+inline void command_leg(LegSchedule &s, const plant_params_t &p, double t, int x) {
+    gate_timeline(wanted_gate(s, s.cmd[x], x), p, t, s.gate[x], s.gate_target[x], s.dead_end[x]);
 }
 
 // Parameters of the inverter and its devices (nullptr: valid).

@@ -35,6 +35,7 @@ struct Const {
     double r_eff;                                // R_s + R_r k_r^2
     double lm_inv_tau_r;                         // L_m / tau_r
     double kr_inv_tau_r;                         // k_r / tau_r
+    double inv_lr;                               // 1 / L_r
 };
 
 inline Const derive(const plant_params_t &p) {
@@ -51,6 +52,7 @@ inline Const derive(const plant_params_t &p) {
     c.r_eff = p.rs_ohm + p.rr_ohm * c.kr * c.kr;
     c.lm_inv_tau_r = p.lm_h * c.inv_tau_r;
     c.kr_inv_tau_r = c.kr * c.inv_tau_r;
+    c.inv_lr = 1.0 / c.lr;
     return c;
 }
 
@@ -72,7 +74,7 @@ inline void rotor(const Const &c, int pole_pairs, double i_al, double i_be, doub
     dpra = c.lm_inv_tau_r * i_al - c.inv_tau_r * pra - omega_e * prb;
     dprb = c.lm_inv_tau_r * i_be - c.inv_tau_r * prb + omega_e * pra;
     te = 1.5 * pole_pairs * c.kr * (pra * i_be - prb * i_al);
-    const double ira = (pra - c.lm * i_al) / c.lr, irb = (prb - c.lm * i_be) / c.lr;  // (A9)
+    const double ira = (pra - c.lm * i_al) * c.inv_lr, irb = (prb - c.lm * i_be) * c.inv_lr;  // (A9)
     p_rotor_cu = 1.5 * c.rr * (ira * ira + irb * irb);
 }
 

@@ -95,7 +95,6 @@ plant_t *plant_create(const plant_params_t *p, char *err, size_t err_len) {
         pl->mode.ph[x] = PH_BLOCKED;
     }
     ls.enable = 0;
-    ls.edges_left = 0;
     pl->v_set_alpha = pl->v_set_beta = 0.0;
     std::memset(&pl->stats, 0, sizeof(pl->stats));
     rebuild_legs(pl);

@@ -12,6 +12,10 @@
 
 namespace plant_model {
 
+// Integrator of one sub-step: classical RK4, the explicit midpoint rule (short segments) or
+// Ralston's third-order rule (medium segments between switching instants).
+enum StepMethod : int { STEP_RK4 = 0, STEP_MIDPOINT = 1, STEP_RK3 = 2 };
+
 // Which phases conduct, and how (PhaseMode per phase).
 struct ConductionMode {
     int ph[3];
@@ -51,7 +55,7 @@ struct plant {
     plant_model::ConductionCoefs coefs;
     bool coefs_valid;  // coefs match coefs_mode and the legs in force
     plant_model::ConductionMode coefs_mode;
-    bool short_seg;    // the step being taken is a short dead-time segment (midpoint rule)
+    plant_model::StepMethod step_method;  // the integrator of the step being taken (integrator.cpp)
     plant_stats_t stats;
 };
 
