@@ -392,7 +392,7 @@ static void hold_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
                                                                          a->hold_v_q16),
                                                                APP_HOLD_LEAD_LOG2));
     /* deviation predicted 2^APP_HOLD_LEAD_LOG2 periods ahead, Q16 counts */
-    d_q16 = (int64_t)d * 65536 + ((int64_t)a->hold_v_q16 << APP_HOLD_LEAD_LOG2);
+    d_q16 = (int64_t)d * 65536 + (int64_t)a->hold_v_q16 * ((int64_t)1 << APP_HOLD_LEAD_LOG2);
     u = fix_sat32((-(d_q16 >> 8) * (int64_t)ih) >> (8U + APP_HOLD_ZONE_LOG2));
     if (u > ih) {
         u = ih;
