@@ -294,6 +294,14 @@ static void calibrate_finish(app_core_t *a, const hal_meas_t *m)
     a->st.state = APP_STATE_RUN;
 }
 
+/* 1 when the calibration may end as far as the hold is concerned: no hold, or the rotor has
+ * settled (speed at most one count per 2^APP_HOLD_LEAD_LOG2 periods, app_core.h). */
+static uint16_t hold_settled(const app_core_t *a)
+{
+    return (uint16_t)(a->hold_on == 0U ||
+                      fix_abs32(a->hold_v_q16) <= ((int32_t)1 << (16U - APP_HOLD_LEAD_LOG2)));
+}
+
 /* Calibration period: accumulate the measured channels; after 2^APP_CAL_LOG2 samples set the
  * current offsets (rounded mean, a shift: no division) and check them; with the mid-point
  * calibration and a hold current, start the rotor hold then (hold_step); at the end of the
@@ -304,9 +312,8 @@ static void calibrate_step(app_core_t *a, const hal_meas_t *m)
     const uint16_t n_off = (uint16_t)1U << APP_CAL_LOG2;
     const uint16_t n_cal = (uint16_t)1U << (a->cfg->board.vmid_cal != 0U ? APP_VMID_CAL_LOG2 : APP_CAL_LOG2);
     if (a->cal_n >= n_cal) {
-        /* calibration done, the hold waits for the rotor to settle (APP_HOLD_LEAD_LOG2) */
-        if (fix_abs32(a->hold_v_q16) > ((int32_t)1 << (16U - APP_HOLD_LEAD_LOG2)) &&
-            ++a->hold_extra < ((uint16_t)1U << APP_VMID_CAL_LOG2)) {
+        /* calibration done, the hold waits for the rotor to settle */
+        if (hold_settled(a) == 0U && ++a->hold_extra < ((uint16_t)1U << APP_VMID_CAL_LOG2)) {
             return;
         }
         calibrate_finish(a, m);
@@ -341,11 +348,8 @@ static void calibrate_step(app_core_t *a, const hal_meas_t *m)
             a->enc_primed = 0U;
         }
     }
-    if (a->cal_n < n_cal) {
-        return;
-    }
-    if (a->hold_on != 0U && fix_abs32(a->hold_v_q16) > ((int32_t)1 << (16U - APP_HOLD_LEAD_LOG2))) {
-        return; /* the rotor is still moving: hold on (above) */
+    if (a->cal_n < n_cal || hold_settled(a) == 0U) {
+        return; /* calibrating, or the rotor still moving: hold on (above) */
     }
     calibrate_finish(a, m);
 }
