@@ -120,14 +120,5 @@ void im_dsvm_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     o->sa = 0U; /* the PWM form carries the command (thirds) */
     o->sb = 0U;
     o->sc = 0U;
-    o->psi_alpha_iq = c->est.psi_alpha_iq;
-    o->psi_beta_iq = c->est.psi_beta_iq;
-    o->te_iq = te;
-    o->te_ref_iq = c->te_ref_iq;
-    o->speed_iq = c->speed_iq;
-    o->theta_e = c->est.theta_r;
-    o->on_cm = 0U;
-    o->psi_ref_iq = c->psi_ref_iq;
-    o->psir_mag_iq = c->est.psir_mag_iq;
-    o->i_limited = 0U;
+    im_out_report(c, o, te);
 }

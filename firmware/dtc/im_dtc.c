@@ -294,13 +294,5 @@ void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     o->sb = legs.sb;
     o->sc = legs.sc;
     o->vector = vec;
-    o->psi_alpha_iq = c->est.psi_alpha_iq;
-    o->psi_beta_iq = c->est.psi_beta_iq;
-    o->te_iq = te;
-    o->te_ref_iq = c->te_ref_iq;
-    o->speed_iq = c->speed_iq;
-    o->theta_e = c->est.theta_r; /* updated on the speed-loop periods */
-    o->on_cm = 0U;
-    o->psi_ref_iq = c->psi_ref_iq;
-    o->psir_mag_iq = c->est.psir_mag_iq; /* updated on the speed-loop periods */
+    im_out_report(c, o, te);
 }

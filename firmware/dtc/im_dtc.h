@@ -224,6 +224,23 @@ static inline iq_t im_dtc_front(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, 
     return te;
 }
 
+/* What every IM scheme reports besides its command: the estimate (flux, torque at k), the
+ * references, the speed and the rotor-flux angle and magnitude (updated on the speed-loop
+ * periods); the IM law has no current model and no current limit. */
+static inline void im_out_report(const im_dtc_t *c, dtc_out_t *o, iq_t te)
+{
+    o->psi_alpha_iq = c->est.psi_alpha_iq;
+    o->psi_beta_iq = c->est.psi_beta_iq;
+    o->te_iq = te;
+    o->te_ref_iq = c->te_ref_iq;
+    o->speed_iq = c->speed_iq;
+    o->theta_e = c->est.theta_r;
+    o->on_cm = 0U;
+    o->psi_ref_iq = c->psi_ref_iq; /* the start-up ramp, then (l_s/m) phi_r*: eq. 18's d part */
+    o->psir_mag_iq = c->est.psir_mag_iq;
+    o->i_limited = 0U;
+}
+
 /* The end of an SVM scheme's period (SFVC, DFOC): the SVM of c->vs_* on the measured link with
  * dead-time compensation (svm.h), the voltage the new duties will apply kept for the estimator
  * and the prediction (d_eff on the link measured now, Casadei eq. 2 / Hoang eqs. 1-5: (2 d_a -
@@ -252,16 +269,7 @@ static inline void im_pwm_out(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, iq
     o->sector = 0U;
     o->flux_up = 0U;
     o->torque_dem = 0;
-    o->psi_alpha_iq = c->est.psi_alpha_iq;
-    o->psi_beta_iq = c->est.psi_beta_iq;
-    o->te_iq = te;
-    o->te_ref_iq = c->te_ref_iq;
-    o->speed_iq = c->speed_iq;
-    o->theta_e = c->est.theta_r;
-    o->on_cm = 0U;
-    o->psi_ref_iq = c->psi_ref_iq; /* the start-up ramp, then (l_s/m) phi_r*: eq. 18's d part */
-    o->psir_mag_iq = c->est.psir_mag_iq;
-    o->i_limited = 0U;
+    im_out_report(c, o, te);
 }
 
 /* The estimator input's part common to both schemes (currents, rotor-flux reference, speed, and
