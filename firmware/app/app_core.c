@@ -109,6 +109,7 @@ int16_t app_core_init(app_core_t *a, const dtc_config_t *cfg)
     a->st.state = APP_STATE_INIT;
     a->st.fault = APP_FAULT_NONE;
     a->st.fault_detail = 0;
+    a->st.reconfigured = 0U;
     rc = law_init(&a->law, cfg);
     if (rc != DTC_OK) {
         latch_fault(a, APP_FAULT_CONFIG, rc);
@@ -559,6 +560,9 @@ const char *app_fault_name(uint16_t fault)
     case APP_FAULT_HW_TRIP: return "hw_trip";
     case APP_FAULT_ADC_OFFSET: return "adc_offset";
     case APP_FAULT_STALL: return "stall";
+    case APP_FAULT_DESAT: return "desat";
+    case APP_FAULT_CURRENT_SENSOR: return "current_sensor";
+    case APP_FAULT_LEG: return "leg";
     default: return "unknown";
     }
 }

@@ -51,9 +51,16 @@ enum app_fault {
     APP_FAULT_ENCODER = 5,        /* implausible count jump (detail 1) or index mismatch (2) */
     APP_FAULT_HW_TRIP = 6,        /* hardware protection input (PDPINTA) */
     APP_FAULT_ADC_OFFSET = 7,     /* calibrated offset too far from nominal (detail: channel) */
-    APP_FAULT_STALL = 8           /* speed mode: torque reference at its limit while the speed
+    APP_FAULT_STALL = 8,          /* speed mode: torque reference at its limit while the speed
                                    * error did not shrink for cfg->stall_speed_periods (detail:
                                    * the sign of the torque reference) */
+    APP_FAULT_DESAT = 9,          /* gate-driver desaturation: a shorted device or shoot-through
+                                   * (detail: leg 0=A, 1=B, 2=C) */
+    APP_FAULT_CURRENT_SENSOR = 10,/* the three measured currents do not sum to zero (a stuck or
+                                   * failed sensor; detail: the channel judged failed) */
+    APP_FAULT_LEG = 11            /* a phase carries no current while the others do (an open
+                                   * leg, phase or device) and no reconfiguration is possible
+                                   * (detail: phase 0=A, 1=B, 2=C) */
 };
 
 /* Calibration: 2^APP_CAL_LOG2 samples averaged per current channel (and for the FSTP mid-point,
@@ -110,6 +117,8 @@ typedef struct {
     uint32_t fault_tick;  /* tick at which the fault latched */
     dtc_meas_t meas;      /* last per-unit measurement (third current derived) */
     dtc_out_t out;        /* last controller output (valid in RUN) */
+    uint16_t reconfigured; /* enum hal_relay: the phase moved onto the mid-point after a leg
+                            * failure (the drive runs as an FSTP since), 0 = none */
 } app_status_t;
 
 typedef struct app_core {

@@ -40,6 +40,9 @@ typedef struct {
     uint16_t qep_index_count;    /* counter value latched by the index pulse (capture unit);
                                   * valid when qep_index_seen = 1 */
     uint16_t trip;               /* 1 if the hardware protection input (PDPINTA) has tripped */
+    uint16_t desat;              /* gate-driver desaturation (shoot-through / shorted device) outputs,
+                                  * bit x = leg x (0 = A); the drivers also pull PDPINTA, so a
+                                  * desaturation sets trip as well: desat says which leg and why */
     uint32_t tick;               /* control periods since start (wraps after 2^32 periods) */
 } hal_meas_t;
 
@@ -97,7 +100,20 @@ typedef struct {
     uint16_t cmpr_up[3]; /* HAL_CMD_PWM: compare value in force while T1 counts up (counts) */
     uint16_t cmpr_dn[3]; /* HAL_CMD_PWM: compare value in force while T1 counts down (counts) */
     uint16_t act[3];     /* HAL_CMD_PWM: enum hal_pwm_act per leg */
+    uint16_t relay;      /* fault-tolerant reconfiguration (enum hal_relay): which phase the
+                          * reconfiguration relay ties to the capacitor mid-point. The relay
+                          * closes after its own delay; hal_gates_off() leaves it as it is (a
+                          * closed relay with every gate off is safe). 0 = all open */
 } hal_cmd_t;
+
+/* hal_cmd_t.relay: the phase a failed leg left, tied to the mid-point (Hoang sec. I, ref. [9]:
+ * the FSTP as the post-fault topology of the SSTP). */
+enum hal_relay {
+    HAL_RELAY_OPEN = 0,
+    HAL_RELAY_A = 1,
+    HAL_RELAY_B = 2,
+    HAL_RELAY_C = 3
+};
 
 /* Board bring-up (clocks, ADC, PWM, encoder, protection). The ISR is not running yet. */
 void hal_init(void);

@@ -128,7 +128,7 @@ static void period(const hal_cmd_t *cmd)
 
 static void enable_outputs(void)
 {
-    const hal_cmd_t cmd = {0u, 0u, 0u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
+    const hal_cmd_t cmd = {0u, 0u, 0u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}, 0u};
     period(&cmd); /* period k: all-off state to the shadows, outputs still Hi-Z */
     period(&cmd); /* period k+1: all-off is now active, FCOMPOE set, command to the shadows */
     assert_true(f2812_eva.COMCONA & FCOMPOE);
@@ -367,7 +367,7 @@ static void test_init_qep_timer2(void **state)
 static void test_first_enable_takes_two_periods(void **state)
 {
     (void)state;
-    const hal_cmd_t cmd = {1u, 0u, 1u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
+    const hal_cmd_t cmd = {1u, 0u, 1u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}, 0u};
     hal_write(&cmd);
     assert_false(f2812_eva.COMCONA & FCOMPOE); /* still high-impedance */
     assert_all_off_next_period();
@@ -388,7 +388,7 @@ static void test_sstp_all_eight_states(void **state)
     enable_outputs();
     for (uint16_t k = 0; k < 8u; k++) {
         const hal_cmd_t cmd = {(uint16_t)((k >> 2) & 1u), (uint16_t)((k >> 1) & 1u),
-                               (uint16_t)(k & 1u), 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
+                               (uint16_t)(k & 1u), 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}, 0u};
         const uint16_t comcona = f2812_eva.COMCONA;
         hal_write(&cmd);
         /* ACTRA: every pair upper active-high (10), lower active-low (01): 0x0666 (2.5, DMC). */
@@ -416,7 +416,7 @@ static void test_fstp_all_four_states_leg_a_off(void **state)
     enable_outputs();
     for (uint16_t k = 0; k < 8u; k++) { /* 4 states x sa = 0/1, which must not matter */
         const hal_cmd_t cmd = {(uint16_t)((k >> 2) & 1u), (uint16_t)((k >> 1) & 1u),
-                               (uint16_t)(k & 1u), 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
+                               (uint16_t)(k & 1u), 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}, 0u};
         hal_write(&cmd);
         /* Leg A (PWM1/2) forced low = both switches off; legs B, C as in SSTP: 0x0660. */
         assert_int_equal(f2812_eva.ACTRA, 0x0660);
@@ -434,9 +434,9 @@ static void test_enable_zero_is_all_off_next_period(void **state)
 {
     (void)state;
     enable_outputs();
-    const hal_cmd_t on = {1u, 1u, 0u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
+    const hal_cmd_t on = {1u, 1u, 0u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}, 0u};
     hal_write(&on);
-    const hal_cmd_t off = {1u, 1u, 0u, 0u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
+    const hal_cmd_t off = {1u, 1u, 0u, 0u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}, 0u};
     hal_write(&off);
     assert_all_off_next_period();
     /* A re-enable from a driven all-off state needs no re-arm: outputs are still enabled. */
@@ -448,7 +448,7 @@ static void test_gates_off_is_immediate_and_rearms_in_two_periods(void **state)
 {
     (void)state;
     enable_outputs();
-    const hal_cmd_t on = {1u, 0u, 1u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
+    const hal_cmd_t on = {1u, 0u, 1u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}, 0u};
     hal_write(&on);
     hal_gates_off();
     assert_false(f2812_eva.COMCONA & FCOMPOE); /* Hi-Z now, not at the boundary */
@@ -484,7 +484,7 @@ static void test_pdpinta_trip_latches_and_blocks_enable(void **state)
     assert_int_equal(m.trip, 1);
     /* The pin comes back: still latched, enable refused. */
     pdpinta_pin(1);
-    const hal_cmd_t on = {1u, 1u, 1u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
+    const hal_cmd_t on = {1u, 1u, 1u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}, 0u};
     for (int i = 0; i < 3; i++) {
         period(&on);
         assert_false(f2812_eva.COMCONA & FCOMPOE);
@@ -511,7 +511,7 @@ static void test_pin_still_low_keeps_trip(void **state)
     hal_meas_t m;
     hal_read(&m);
     assert_int_equal(m.trip, 1);
-    const hal_cmd_t on = {1u, 1u, 1u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
+    const hal_cmd_t on = {1u, 1u, 1u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}, 0u};
     period(&on);
     period(&on);
     assert_false(f2812_eva.COMCONA & FCOMPOE);
@@ -694,7 +694,7 @@ static void test_pwm_duty_zero_one_mid_centred(void **state)
     assert_cmpr(1876u, T1PR_50US, 1u);
     assert_int_equal(f2812_eva.COMCONA & CLD_BITS, 0);
     /* The leg-state form is the same registers at 0 / 100 %. */
-    const hal_cmd_t legs = {1u, 0u, 1u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
+    const hal_cmd_t legs = {1u, 0u, 1u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}, 0u};
     period(&legs);
     assert_cmpr(0u, 1876u, 0u);
     assert_int_equal(f2812_eva.ACTRA, 0x0666);

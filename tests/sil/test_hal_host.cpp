@@ -44,7 +44,7 @@ TEST_F(HalHost, CommandWrittenInPeriodKActsInPeriodKPlus1)
             hal_meas_t m;
             hal_read(&m);
             EXPECT_EQ(m.tick, static_cast<std::uint32_t>(k));
-            const hal_cmd_t c{static_cast<std::uint16_t>(k % 2), static_cast<std::uint16_t>((k / 2) % 2), 1u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
+            const hal_cmd_t c{static_cast<std::uint16_t>(k % 2), static_cast<std::uint16_t>((k / 2) % 2), 1u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}, 0u};
             hal_write(&c);
         });
     }
@@ -67,7 +67,7 @@ TEST_F(HalHost, CommandWrittenInPeriodKActsInPeriodKPlus1)
 TEST_F(HalHost, ShadowRegisterKeepsTheLastCommandAndGatesOffActsNow)
 {
     auto h = make();
-    const hal_cmd_t on{1u, 0u, 1u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
+    const hal_cmd_t on{1u, 0u, 1u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}, 0u};
     h->run_period([&] { hal_write(&on); });
     h->run_period([] {});                 // no write: the shadow register keeps the command
     h->run_period([] { hal_gates_off(); }); // fault path: off in this very period
@@ -77,7 +77,7 @@ TEST_F(HalHost, ShadowRegisterKeepsTheLastCommandAndGatesOffActsNow)
     EXPECT_EQ(adv[1].sa, 1);
     EXPECT_EQ(adv[2].enable, 0);
     EXPECT_EQ(adv[3].enable, 0);
-    const hal_cmd_t bad{2u, 0u, 0u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
+    const hal_cmd_t bad{2u, 0u, 0u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}, 0u};
     h->run_period([&] { hal_write(&bad); });
     EXPECT_EQ(h->invalid_writes(), 1u);
 }
@@ -233,7 +233,7 @@ TEST_F(HalHost, HardwareTripLatchesGatesOffUntilClearedAfterTheFault)
     // Over-current between t = 0.5 ms and 1.0 ms (periods 10..19).
     scripted::set_script([](double t, plant_state_t* s) { s->i_b = (t > 0.49e-3 && t < 0.99e-3) ? -9.0 : 1.0; });
     auto h = make(cfg);
-    const hal_cmd_t on{0u, 1u, 0u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
+    const hal_cmd_t on{0u, 1u, 0u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}, 0u};
     std::vector<int> trip_flag;
     for (int k = 0; k < 30; ++k) {
         h->run_period([&] {

@@ -136,7 +136,7 @@ TEST(SilPlant, LegStatesReachThePlantOnePeriodLaterAsTheTableVectors)
     // (0, Vdc/sqrt 3) (Hoang Table I, V2). Ideal devices: exact up to the plant's arithmetic.
     {
         auto h = ideal_harness(PLANT_INVERTER_SSTP);
-        const hal_cmd_t c{1u, 0u, 0u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
+        const hal_cmd_t c{1u, 0u, 0u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}, 0u};
         h->run_period([&] { hal_write(&c); }); // period 0 runs with the gates off
         h->run_period([] {});
         plant_state_t s;
@@ -146,7 +146,7 @@ TEST(SilPlant, LegStatesReachThePlantOnePeriodLaterAsTheTableVectors)
     }
     {
         auto h = ideal_harness(PLANT_INVERTER_FSTP);
-        const hal_cmd_t c{0u, 1u, 0u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
+        const hal_cmd_t c{0u, 1u, 0u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}, 0u};
         h->run_period([&] { hal_write(&c); });
         h->run_period([] {});
         plant_state_t s;

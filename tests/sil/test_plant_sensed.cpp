@@ -96,7 +96,7 @@ TEST(PlantSensed, HarnessStateOnDemandEqualsADirectRead)
         expect_same(h->sensed(), direct, k);
         int sb = 0, sc = 0;
         legs_for(k, &sb, &sc);
-        const hal_cmd_t cmd{0, static_cast<std::uint16_t>(sb), static_cast<std::uint16_t>(sc), 1, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
+        const hal_cmd_t cmd{0, static_cast<std::uint16_t>(sb), static_cast<std::uint16_t>(sc), 1, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}, 0u};
         h->hal_write(&cmd);
         h->advance();
         // After advance(), state() is the state at the new time_s(), not a stale copy.

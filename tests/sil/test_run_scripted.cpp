@@ -244,7 +244,7 @@ public:
     {
         hal_meas_t m;
         hal_read(&m);
-        const hal_cmd_t c{1u, static_cast<std::uint16_t>(m.tick % 2u), 0u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}};
+        const hal_cmd_t c{1u, static_cast<std::uint16_t>(m.tick % 2u), 0u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}, 0u};
         hal_write(&c);
     }
     sil::ControllerEstimates estimates() const override { return {true, 0.31, 0.0928, 0.0}; }
