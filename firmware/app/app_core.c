@@ -31,6 +31,10 @@ static iq_t counts_to_pu(uint16_t count, uint16_t offset, iq_t gain_iq)
     return fix_sat32((int64_t)d * (int64_t)gain_iq);
 }
 
+/* (p + k) mod 3 for p, k in 0..2 without a division: APP_PH3[p + k] (the law's phase k is the
+ * physical phase (perm + k) mod 3; the physical leg q carries the law's leg (q + 3 - perm) mod 3) */
+static const uint16_t APP_PH3[6] = {0U, 1U, 2U, 0U, 1U, 2U};
+
 /* Folds a counter difference into (-counts/2, counts/2] (counter runs 0 .. counts-1). */
 static int32_t fold_counts(int32_t d, uint16_t counts)
 {
@@ -69,6 +73,12 @@ static void enter_calibrate(app_core_t *a)
     a->vmid_cal_iq = 0;
     a->enc_primed = 0U;
     a->index_known = 0U;
+    a->isum_n = 0U;
+    a->enc_still_n = 0U;
+    for (k = 0U; k < 3U; k++) {
+        a->leg_acc_iq[k] = 0;
+    }
+    a->st.out.speed_iq = 0; /* the encoder-freeze check reads the last reported speed */
     a->st.fault = APP_FAULT_NONE;
     a->st.fault_detail = 0;
     a->st.state = APP_STATE_CALIBRATE;
@@ -101,6 +111,9 @@ int16_t app_core_init(app_core_t *a, const dtc_config_t *cfg)
     uint16_t k;
 
     a->cfg = NULL;
+    a->post = NULL;
+    a->perm = 0U;
+    a->relay_wait = 0U;
     a->clear_request = 0U;
     a->t1pr = 0U;
     a->st.out.pwm = 0U; /* the DTC laws never write it (dtc_out_t) */
@@ -142,10 +155,14 @@ void app_core_convert(const app_core_t *a, const hal_meas_t *m, dtc_meas_t *pu)
     uint16_t k;
 
     for (k = 0U; k < 3U; k++) {
-        i[k] = counts_to_pu(m->adc[k], a->offset[k], c->board.adc_i_gain_iq);
+        /* the law's phase k is the physical phase (perm + k) mod 3 (reconfigure) */
+        const uint16_t ch = APP_PH3[a->perm + k];
+        i[k] = counts_to_pu(m->adc[ch], a->offset[ch], c->board.adc_i_gain_iq);
     }
     /* The unmeasured phase from Kirchhoff's current law (isolated star point). */
-    if (c->board.topology == (uint16_t)DTC_TOPO_FSTP) {
+    if (c->board.i_sensors3 != 0U) {
+        /* all three measured: each as it is (their sum is checked, check_trips) */
+    } else if (c->board.topology == (uint16_t)DTC_TOPO_FSTP) {
         i[0] = fix_neg32(fix_add32(i[1], i[2]));
     } else {
         i[2] = fix_neg32(fix_add32(i[0], i[1]));
@@ -167,6 +184,25 @@ void app_core_convert(const app_core_t *a, const hal_meas_t *m, dtc_meas_t *pu)
     pu->enc_count = m->qep_count;
 }
 
+/* The hardware protection input (PDPINTA) and the gate drivers' desaturation outputs that pull
+ * it: a desaturation is named with its leg (the lowest one flagged), any other trip as the
+ * hardware trip. Latches and returns 1 on a trip. */
+static uint16_t check_hw_trip(app_core_t *a, const hal_meas_t *m)
+{
+    uint16_t x;
+    for (x = 0U; x < 3U; x++) {
+        if ((m->desat & (uint16_t)(1U << x)) != 0U) {
+            latch_fault(a, APP_FAULT_DESAT, (int16_t)x);
+            return 1U;
+        }
+    }
+    if (m->trip != 0U) {
+        latch_fault(a, APP_FAULT_HW_TRIP, 0);
+        return 1U;
+    }
+    return 0U;
+}
+
 /* Trip checks on one per-unit sample; latches and returns 1 on a trip. */
 static uint16_t check_trips(app_core_t *a, const hal_meas_t *m, const dtc_meas_t *pu)
 {
@@ -174,14 +210,34 @@ static uint16_t check_trips(app_core_t *a, const hal_meas_t *m, const dtc_meas_t
     const iq_t i[3] = {pu->ia_iq, pu->ib_iq, pu->ic_iq};
     uint16_t k;
 
-    if (m->trip != 0U) {
-        latch_fault(a, APP_FAULT_HW_TRIP, 0);
+    if (check_hw_trip(a, m) != 0U) {
         return 1U;
     }
     for (k = 0U; k < 3U; k++) {
         if (fix_abs32(i[k]) > c->prot.i_trip_iq) {
-            latch_fault(a, APP_FAULT_OVERCURRENT, (int16_t)k);
+            latch_fault(a, APP_FAULT_OVERCURRENT, (int16_t)APP_PH3[a->perm + k]);
             return 1U;
+        }
+    }
+    /* Failed current sensor (three sensors, prot.i_sum_max_iq): the star point is isolated, so
+     * the three phase currents sum to zero; a sum above the level for APP_ISUM_PERIODS periods
+     * is a sensor that does not measure its current (stuck, lost, wrong gain). The sum alone does
+     * not say which: the detail is the phase reading the least |i|, the signature of a sensor
+     * stuck at its zero (mid-scale), the common case. Sums saturate. */
+    if (c->prot.i_sum_max_iq > 0) {
+        if (fix_abs32(fix_add32(fix_add32(i[0], i[1]), i[2])) > c->prot.i_sum_max_iq) {
+            if (++a->isum_n >= APP_ISUM_PERIODS) {
+                uint16_t lo = 0U;
+                for (k = 1U; k < 3U; k++) {
+                    if (fix_abs32(i[k]) < fix_abs32(i[lo])) {
+                        lo = k;
+                    }
+                }
+                latch_fault(a, APP_FAULT_CURRENT_SENSOR, (int16_t)APP_PH3[a->perm + lo]);
+                return 1U;
+            }
+        } else {
+            a->isum_n = 0U;
         }
     }
     if (pu->vdc_iq > c->prot.vdc_max_iq) {
@@ -200,7 +256,11 @@ static uint16_t check_trips(app_core_t *a, const hal_meas_t *m, const dtc_meas_t
  *     at least one count);
  *  2. the counter value latched by each index pulse (hal_meas_t.qep_index_count, the capture unit)
  *     must equal the one latched by the first pulse within APP_INDEX_TOL_COUNTS: lost or extra
- *     counts show up as that difference, at whatever speed.
+ *     counts show up as that difference, at whatever speed;
+ *  3. a lost signal (cable, supply: the counter stops) is a count that does not move for
+ *     APP_ENC_FREEZE_PERIODS while the last measured speed is above prot.enc_freeze_speed_iq,
+ *     which the host sets where the rotor turns several counts in that time even at the drive's
+ *     largest deceleration: physically impossible, so the signal is gone (detail 3).
  * Scaling and overflow: |delta| <= counts/2 (<= 32768), compared as integers. */
 static uint16_t check_encoder(app_core_t *a, const hal_meas_t *m)
 {
@@ -216,6 +276,16 @@ static uint16_t check_encoder(app_core_t *a, const hal_meas_t *m)
         a->enc_last = m->qep_count;
         if (fix_abs32(d) > (int32_t)a->enc_jump_counts) {
             latch_fault(a, APP_FAULT_ENCODER, 1);
+            return 1U;
+        }
+        if (d != 0) {
+            a->enc_still_n = 0U;
+        } else if (a->enc_still_n < 0xFFFFU) {
+            a->enc_still_n++;
+        }
+        if (a->cfg->prot.enc_freeze_speed_iq > 0 && a->enc_still_n >= APP_ENC_FREEZE_PERIODS &&
+            fix_abs32(a->st.out.speed_iq) > a->cfg->prot.enc_freeze_speed_iq) {
+            latch_fault(a, APP_FAULT_ENCODER, 3);
             return 1U;
         }
     }
@@ -312,6 +382,7 @@ static void calibrate_step(app_core_t *a, const hal_meas_t *m)
     uint16_t k;
     const uint16_t n_off = (uint16_t)1U << APP_CAL_LOG2;
     const uint16_t n_cal = (uint16_t)1U << (a->cfg->board.vmid_cal != 0U ? APP_VMID_CAL_LOG2 : APP_CAL_LOG2);
+    const uint16_t n_ch = a->cfg->board.i_sensors3 != 0U ? 3U : 2U; /* channels with a sensor */
     if (a->cal_n >= n_cal) {
         /* calibration done, the hold waits for the rotor to settle */
         if (hold_settled(a) == 0U && ++a->hold_extra < ((uint16_t)1U << APP_VMID_CAL_LOG2)) {
@@ -321,8 +392,8 @@ static void calibrate_step(app_core_t *a, const hal_meas_t *m)
         return;
     }
     if (a->cal_n < n_off) {
-        for (k = 0U; k < 2U; k++) {
-            uint16_t ch = a->meas_ch[k];
+        for (k = 0U; k < n_ch; k++) {
+            uint16_t ch = n_ch == 3U ? k : a->meas_ch[k];
             a->cal_sum[ch] += (uint32_t)m->adc[ch];
         }
     }
@@ -331,8 +402,8 @@ static void calibrate_step(app_core_t *a, const hal_meas_t *m)
     }
     a->cal_n++;
     if (a->cal_n == n_off) {
-        for (k = 0U; k < 2U; k++) {
-            uint16_t ch = a->meas_ch[k];
+        for (k = 0U; k < n_ch; k++) {
+            uint16_t ch = n_ch == 3U ? k : a->meas_ch[k];
             uint32_t mean = (a->cal_sum[ch] + ((uint32_t)1U << (APP_CAL_LOG2 - 1U))) >> APP_CAL_LOG2;
             int32_t dev = (int32_t)mean - (int32_t)a->cfg->board.adc_i_offset[ch];
             if (fix_abs32(dev) > (int32_t)APP_OFFSET_TOL_COUNTS) {
@@ -417,6 +488,130 @@ static void hold_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
     cmd->enable = 1U;
 }
 
+/* Reconfiguration after leg x failed (app_core_set_reconfig, dtc.h dtc_reconfigure): the law
+ * goes on as the FSTP with phase A' = x; from now on the currents come in and the legs go out
+ * through the permutation perm = x; the relay command ties phase x to the mid-point (hal_cmd_t
+ * relay; the HAL keeps leg x off while it is set) and the open-phase check waits until it has
+ * closed. Returns 1 when the law refused (the core then trips). */
+static uint16_t reconfigure(app_core_t *a, uint16_t x)
+{
+    uint16_t k;
+    if (law_reconfigure(&a->law, a->post, x) != DTC_OK) {
+        latch_fault(a, APP_FAULT_LEG, (int16_t)x);
+        return 1U;
+    }
+    a->cfg = a->post;
+    a->perm = x;
+    a->st.reconfigured = (uint16_t)(x + 1U);
+    a->meas_ch[0] = APP_PH3[x + 1U];
+    a->meas_ch[1] = APP_PH3[x + 2U];
+    a->relay_wait = a->post->prot.relay_periods;
+    a->stall_n = 0U;
+    for (k = 0U; k < 3U; k++) {
+        a->leg_acc_iq[k] = 0;
+    }
+    return 0U;
+}
+
+/* Open phase (prot.leg_i_min_iq > 0): a leg that no longer switches its phase (leg or phase open)
+ * leaves that phase's current at zero, and one open device leaves it at zero for every half-wave
+ * the device should carry, while the other two phases carry the machine's current. Per phase k:
+ * while |i_k| stays inside the zero band leg_i_min / 2^APP_LEG_ZERO_LOG2 and |i| > leg_i_min
+ * (|i| the Clarke magnitude, |i|^2 = (2/3) sum i_k^2 for an isolated star), the electrical
+ * angle w Ts the machine turns is summed, and a sum above APP_LEG_ANGLE_IQ (60 deg) is an open
+ * phase (detection time pi / (3 w): 6.7 ms at 25 Hz). A healthy phase crosses the band: its
+ * switching ripple alone moves it by several times the band every period or two (Table VIII,
+ * 70 V: 0.1-0.5 A per period against 0.14 A), and even a phase current with a large DC part
+ * (the uncompensated FSTP just after its hand-over: i_a ~ 4.5 A DC, phase B within |i|/4 for
+ * 135 deg, SIL) keeps that ripple. A relative criterion (|i_k| < |i|/4) tripped there; the band
+ * does not. A sum of the three measured currents of |i|/4 or more is a sensor, not a leg
+ * (check_trips names it once it lasts), and stops the sums. Found: reconfigure when a post-fault
+ * configuration is set and the drive is not yet reconfigured, else trip (APP_FAULT_LEG). At
+ * standstill no angle accumulates: a phase open at rest is found once the machine turns.
+ * Scaling and overflow: currents are bounded by the trip level (check_trips ran), at most 128 pu
+ * (2^31 IQ); squares are formed in 64 bits and shifted right by 5 (<= 2^57), so 24 x^2 and the
+ * sum of three stay below 2^63; 3 i_min^2 likewise; the angle sum saturates. */
+static uint16_t check_open_phase(app_core_t *a)
+{
+    const dtc_config_t *c = a->cfg;
+    const iq_t i[3] = {a->st.meas.ia_iq, a->st.meas.ib_iq, a->st.meas.ic_iq};
+    const iq_t s = fix_add32(fix_add32(i[0], i[1]), i[2]);
+    const iq_t zero = fix_rshift_rnd32(c->prot.leg_i_min_iq, APP_LEG_ZERO_LOG2);
+    uint64_t sq[3], tot, s2, imin2;
+    iq_t dth;
+    uint16_t k;
+
+    if (c->prot.leg_i_min_iq <= 0) {
+        return 0U;
+    }
+    for (k = 0U; k < 3U; k++) {
+        sq[k] = (uint64_t)((int64_t)i[k] * (int64_t)i[k]) >> 5;
+    }
+    tot = sq[0] + sq[1] + sq[2];
+    s2 = (uint64_t)((int64_t)s * (int64_t)s) >> 5;
+    imin2 = (uint64_t)((int64_t)c->prot.leg_i_min_iq * (int64_t)c->prot.leg_i_min_iq) >> 5;
+    if (a->relay_wait > 0U || 2U * tot <= 3U * imin2 || 24U * s2 >= tot) {
+        if (a->relay_wait > 0U) {
+            a->relay_wait--;
+        }
+        for (k = 0U; k < 3U; k++) {
+            a->leg_acc_iq[k] = 0;
+        }
+        return 0U;
+    }
+    dth = iq_mpy(fix_abs32(a->st.out.speed_iq), c->board.ts_pu_iq);
+    for (k = 0U; k < 3U; k++) {
+        if (fix_abs32(i[k]) >= zero) {
+            a->leg_acc_iq[k] = 0;
+            continue;
+        }
+        a->leg_acc_iq[k] = fix_add32(a->leg_acc_iq[k], dth);
+        if (a->leg_acc_iq[k] > APP_LEG_ANGLE_IQ) {
+            const uint16_t x = APP_PH3[a->perm + k];
+            if (a->post != NULL && a->st.reconfigured == 0U && a->st.out.pwm == 0U) {
+                return reconfigure(a, x);
+            }
+            latch_fault(a, APP_FAULT_LEG, (int16_t)x);
+            return 1U;
+        }
+    }
+    return 0U;
+}
+
+int16_t app_core_set_reconfig(app_core_t *a, const dtc_config_t *post)
+{
+    const dtc_config_t *c = a->cfg;
+    uint16_t k, same_adc = 1U;
+    if (post == NULL) {
+        a->post = NULL;
+        return 0;
+    }
+    if (c != NULL) {
+        for (k = 0U; k < 3U; k++) {
+            if (post->board.adc_i_offset[k] != c->board.adc_i_offset[k]) {
+                same_adc = 0U;
+            }
+        }
+    }
+    if (c == NULL || a->st.reconfigured != 0U || dtc_config_validate(post) != DTC_OK ||
+        c->law != (uint16_t)DTC_LAW_PM_DTC || post->law != (uint16_t)DTC_LAW_PM_DTC ||
+        c->board.topology != (uint16_t)DTC_TOPO_SSTP || post->board.topology != (uint16_t)DTC_TOPO_FSTP ||
+        c->board.i_sensors3 == 0U || post->board.i_sensors3 == 0U || c->prot.leg_i_min_iq <= 0 ||
+        post->board.vmid_cal != 0U || post->prot.relay_periods == 0U ||
+        post->est.estimator != c->est.estimator || same_adc == 0U ||
+        post->board.enc_counts != c->board.enc_counts || post->board.enc_gain_q16 != c->board.enc_gain_q16 ||
+        post->board.enc_offset != c->board.enc_offset || post->board.adc_i_gain_iq != c->board.adc_i_gain_iq ||
+        post->board.adc_vdc_gain_iq != c->board.adc_vdc_gain_iq ||
+        post->board.adc_vdc_offset != c->board.adc_vdc_offset || post->board.ts_pu_iq != c->board.ts_pu_iq ||
+        post->speed.speed_div != c->speed.speed_div) {
+        a->post = NULL;
+        latch_fault(a, APP_FAULT_CONFIG, DTC_ERR_RECONFIG);
+        return DTC_ERR_RECONFIG;
+    }
+    a->post = post;
+    return 0;
+}
+
 /* Stall (speed mode): on each speed-loop period, with the torque reference at its limit, a window
  * of cfg->prot.stall_speed_periods is open; it trips when at its end the speed error has not shrunk
  * since its start. Any period below the limit closes the window. Torque mode has no speed error
@@ -471,6 +666,7 @@ uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
         cmd->cmpr_dn[x] = 0U;
         cmd->act[x] = (uint16_t)HAL_PWM_UPPER_ACTIVE_HIGH;
     }
+    cmd->relay = a->st.reconfigured; /* a closed relay stays closed (leg failed for good) */
     a->st.tick = m->tick;
 
     if (a->clear_request != 0U) {
@@ -483,8 +679,7 @@ uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
     switch (a->st.state) {
     case APP_STATE_CALIBRATE:
         /* Hardware trip still counts while calibrating. */
-        if (m->trip != 0U) {
-            latch_fault(a, APP_FAULT_HW_TRIP, 0);
+        if (check_hw_trip(a, m) != 0U) {
             return 1U;
         }
         if (a->hold_on != 0U) {
@@ -513,12 +708,28 @@ uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
             return 1U;
         }
         law_step(&a->law, &a->st.meas, &a->st.out);
-        if (check_stall(a) != 0U) {
-            return 1U;
+        {
+            const uint16_t before = a->st.reconfigured;
+            if (check_open_phase(a) != 0U || check_stall(a) != 0U) {
+                return 1U;
+            }
+            if (a->st.reconfigured != before) {
+                /* this period's legs were chosen by the six-switch law: leg x is off (relay set) */
+                cmd->relay = a->st.reconfigured;
+                cmd->sa = a->perm == 0U ? 0U : a->st.out.sa;
+                cmd->sb = a->perm == 1U ? 0U : a->st.out.sb;
+                cmd->sc = a->perm == 2U ? 0U : a->st.out.sc;
+                cmd->enable = 1U;
+                return 0U;
+            }
         }
-        cmd->sa = a->st.out.sa;
-        cmd->sb = a->st.out.sb;
-        cmd->sc = a->st.out.sc;
+        {
+            /* the law's legs (a', b', c') onto the physical legs: leg (perm + k) mod 3 = law leg k */
+            const uint16_t s3[3] = {a->st.out.sa, a->st.out.sb, a->st.out.sc};
+            cmd->sa = s3[APP_PH3[3U - a->perm]];
+            cmd->sb = s3[APP_PH3[4U - a->perm]];
+            cmd->sc = s3[APP_PH3[5U - a->perm]];
+        }
         cmd->enable = 1U;
         if (a->st.out.pwm == 2U) {
             /* DSVM: one pulse per leg holding the three sub-interval states (dsvm.h, hal.h) */

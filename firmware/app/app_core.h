@@ -104,6 +104,19 @@ enum app_fault {
  * still moving. A speed below one count per 2^APP_HOLD_LEAD_LOG2 periods counts as settled: the
  * hold goes on after the calibration until then, at most 2^APP_VMID_CAL_LOG2 periods more. */
 #define APP_HOLD_LEAD_LOG2 4U
+/* Fault detection (app_core.c; issue 16). A current sum above prot.i_sum_max_iq for this many
+ * consecutive periods is a failed sensor (a few periods: noise and the sampling skew of the three
+ * channels never last that long at that level). */
+#define APP_ISUM_PERIODS 8U
+/* Open phase: the electrical angle, IQ rad (pi/3), over which a phase must stay inside the zero
+ * band (prot.leg_i_min_iq / 2^APP_LEG_ZERO_LOG2) while |i| is above prot.leg_i_min_iq to be taken
+ * for open: 6.7 ms at 1500 rpm for Table VIII (p = 1; within the 20 ms of issue 16). A healthy
+ * sinusoidal phase is within |i|/4 of zero for only 29 deg around a crossing, and its ripple
+ * takes it out of the much narrower band within a period or two. */
+#define APP_LEG_ANGLE_IQ ((iq_t)17568813) /* pi/3 * 2^24 */
+#define APP_LEG_ZERO_LOG2 2U
+/* Lost encoder signal: periods without a count change (prot.enc_freeze_speed_iq). */
+#define APP_ENC_FREEZE_PERIODS 32U
 /* Largest accepted |calibrated - nominal| current offset, counts (5 % of full scale). */
 #define APP_OFFSET_TOL_COUNTS 205
 /* Index check: accepted difference between latched index counts (edge jitter, direction). */
@@ -146,6 +159,14 @@ typedef struct app_core {
     uint16_t index_known;
     volatile uint16_t clear_request; /* set by the background, adopted by the ISR */
     uint16_t t1pr;         /* Timer 1 period of the PWM form (hal_pwm_period()), counts; 0 = none */
+    /* Fault tolerance (issue 16; check_faults, reconfigure in app_core.c). */
+    const dtc_config_t *post; /* the post-fault FSTP configuration (app_core_set_reconfig) or NULL */
+    uint16_t perm;         /* the law's phase k is the physical phase (perm + k) mod 3: 0 before a
+                            * reconfiguration, the failed phase after it */
+    uint16_t relay_wait;   /* periods left until the relay is surely closed */
+    uint16_t isum_n;       /* consecutive periods with |i_a + i_b + i_c| > prot.i_sum_max_iq */
+    uint16_t enc_still_n;  /* consecutive periods without an encoder count change */
+    iq_t leg_acc_iq[3];    /* electrical angle, IQ rad, over which phase k (law's order) looked open */
 } app_core_t;
 
 /* Validates the configuration (law_init) and enters CALIBRATE. Returns 0 or the dtc_err code;
@@ -157,6 +178,19 @@ int16_t app_core_init(app_core_t *a, const dtc_config_t *cfg);
  * whole number of timer counts; also DFOC) cannot be run: the core latches APP_FAULT_CONFIG with DTC_ERR_SVM
  * and returns that code; otherwise 0. */
 int16_t app_core_set_pwm_period(app_core_t *a, uint16_t t1pr);
+
+/* Fault tolerance (issue 16): post is the FSTP configuration of the same PM drive that the
+ * application switches to when a leg fails (check_faults: a phase carries no current while the
+ * others do), with the failed phase on the capacitor mid-point through the relay (hal_cmd_t
+ * relay). It must pass dtc_config_validate, be the PM law on the FSTP, with the same encoder and
+ * ADC scaling, three current sensors (board.i_sensors3: only the sum of three measured currents
+ * tells a failed sensor from a failed leg), no mid-point calibration (the drive does not stop for
+ * it), prot.relay_periods > 0; the running configuration must be the PM law on the SSTP with
+ * three sensors and the open-phase check on. Otherwise the core latches APP_FAULT_CONFIG with
+ * DTC_ERR_RECONFIG and returns it. post = NULL (the default): no relay fitted, a failed leg
+ * trips (APP_FAULT_LEG). Call after app_core_init, before the first step; post must outlive the
+ * core. */
+int16_t app_core_set_reconfig(app_core_t *a, const dtc_config_t *post);
 
 /* One control period: raw measurement in, leg command out. Returns 1 when the gates must be
  * turned off NOW (a trip decided on this sample, or any period outside RUN), else 0. */

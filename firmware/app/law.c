@@ -101,6 +101,14 @@ void law_refs_get(const law_t *l, dtc_refs_t *r)
 #endif
 }
 
+int16_t law_reconfigure(law_t *l, const dtc_config_t *post, uint16_t phase)
+{
+    if (l->law != (uint16_t)DTC_LAW_PM_DTC) {
+        return DTC_ERR_RECONFIG;
+    }
+    return dtc_reconfigure(&l->u.pm, post, phase);
+}
+
 iq_t law_speed_ref(const law_t *l)
 {
     return LAW_IS_IM(l) ? l->u.im.act.speed_ref_iq : l->u.pm.act.speed_ref_iq;

@@ -34,6 +34,10 @@ void law_reset(law_t *l);
 void law_step(law_t *l, const dtc_meas_t *m, dtc_out_t *o);
 int16_t law_shadow_write(law_t *l, const dtc_refs_t *r);
 void law_refs_get(const law_t *l, dtc_refs_t *r);
+/* Live SSTP -> FSTP reconfiguration after leg `phase` failed (dtc.h dtc_reconfigure): the PM
+ * law only; DTC_ERR_RECONFIG for the IM law (Casadei's tables are six-switch ones) and for a
+ * post that dtc_reconfigure refuses. */
+int16_t law_reconfigure(law_t *l, const dtc_config_t *post, uint16_t phase);
 /* The speed reference in force (the app's stall check). */
 iq_t law_speed_ref(const law_t *l);
 

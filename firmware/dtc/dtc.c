@@ -201,7 +201,7 @@ void dtc_lpf_r(dtc_t *c)
     c->lpf_r_iq = c->speed_iq < 0 ? fix_neg32(r) : r;
 }
 
-static void dtc_handover(dtc_t *c)
+void dtc_handover(dtc_t *c)
 {
     const dtc_config_t *cfg = c->cfg;
     iq_t w = fix_abs32(c->speed_iq);

@@ -129,6 +129,15 @@ void dtc_reset(dtc_t *c);
 /* One control period. */
 void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
 
+/* Live reconfiguration of an SSTP drive whose leg `phase` (0 = A, 1 = B, 2 = C) failed into the
+ * FSTP of post (Hoang sec. I and ref. [9]: the phase goes onto the capacitor mid-point, the other
+ * two legs switch). The FSTP law then runs in the frame whose phase A' is the failed phase,
+ * (a', b', c') = (x, x+1, x+2) cyclically: the caller permutes the currents in and the legs out
+ * (app_core.c). post must be the FSTP configuration of the same PM drive (the app checks it,
+ * app_core_set_reconfig). Returns DTC_OK, or DTC_ERR_RECONFIG for a phase above 2 or a post
+ * that is not an FSTP PM configuration (nothing changed then). */
+int16_t dtc_reconfigure(dtc_t *c, const dtc_config_t *post, uint16_t phase);
+
 /* |psi| of a step's estimate (Hoang eq. 11), IQ pu, rounded to nearest, saturating at 128 pu
  * (torque.h). For the background and telemetry: dtc_step() itself compares |psi|^2 and takes no
  * square root (hyst2_sq_step). */
@@ -162,6 +171,8 @@ void dtc_torque_trim(dtc_t *c, iq_t te);
 /* Internal to dtc_step (DC-current suppression): updates the correction from the measured
  * current and adds it to the estimate *psi_a, *psi_b. */
 void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, const dtc_meas_t *m, iq_t *psi_a, iq_t *psi_b);
+/* Internal to dtc_step and dtc_reconfigure: the hand-over decision on c->speed_iq (dtc.c). */
+void dtc_handover(dtc_t *c);
 /* Internal to dtc_step (low-pass correction factor, lpfcorr.h). */
 void dtc_lpf_r(dtc_t *c);
 

@@ -40,6 +40,7 @@ static int16_t dtc_board_check(const dtc_board_cfg_t *b, const char **f)
     DTC_REFUSE(b->adc_vdc_offset > 4095U, DTC_ERR_ADC, "board.adc_vdc_offset");
     DTC_REFUSE(b->adc_vmid_offset > 4095U, DTC_ERR_ADC, "board.adc_vmid_offset");
     DTC_REFUSE(b->vmid_cal > 1U, DTC_ERR_POLARITY, "board.vmid_cal");
+    DTC_REFUSE(b->i_sensors3 > 1U, DTC_ERR_FAULTDET, "board.i_sensors3");
     return DTC_OK;
 }
 
@@ -52,6 +53,9 @@ static int16_t dtc_protect_check(const dtc_protect_cfg_t *p, const char **f)
                "prot.i_lim_iq");
     DTC_REFUSE(p->stall_speed_periods == 0U, DTC_ERR_SPEED, "prot.stall_speed_periods");
     DTC_REFUSE(p->i_hold_iq < 0 || p->i_hold_iq >= p->i_trip_iq, DTC_ERR_ILIM, "prot.i_hold_iq");
+    DTC_REFUSE(p->i_sum_max_iq < 0, DTC_ERR_FAULTDET, "prot.i_sum_max_iq");
+    DTC_REFUSE(p->leg_i_min_iq < 0, DTC_ERR_FAULTDET, "prot.leg_i_min_iq");
+    DTC_REFUSE(p->enc_freeze_speed_iq < 0, DTC_ERR_FAULTDET, "prot.enc_freeze_speed_iq");
     return DTC_OK;
 }
 
@@ -203,6 +207,10 @@ int16_t dtc_config_check(const dtc_config_t *cfg, const char **field)
     err = dtc_board_check(&cfg->board, f);
     if (err == DTC_OK) {
         err = dtc_protect_check(&cfg->prot, f);
+    }
+    if (err == DTC_OK && cfg->prot.i_sum_max_iq > 0 && cfg->board.i_sensors3 == 0U) {
+        *f = "prot.i_sum_max_iq"; /* the sum of two measured and one derived current is 0 */
+        err = DTC_ERR_FAULTDET;
     }
     if (err == DTC_OK) {
         err = dtc_machine_check(&cfg->machine, cfg->law, f);

@@ -16,7 +16,7 @@
 #include "fixmath.h"
 
 /* Layout version: bump when a field is added, removed or changes meaning. */
-#define DTC_CONFIG_VERSION 8U
+#define DTC_CONFIG_VERSION 9U
 
 /* The control law the application runs (dtc_law.h dispatches on it). */
 enum dtc_law {
@@ -102,8 +102,12 @@ enum dtc_err {
     DTC_ERR_POLARITY = -22,    /* polarity_mid or vmid_cal flag not 0/1 */
     DTC_ERR_LPFCOMP = -23,     /* lpf_comp not 0/1, or w_c / w_min not > 0 with it on */
     DTC_ERR_DCSUPP = -24,      /* dc_supp not 0/1, its gain not > 0 with it on, mid-point gain < 0 */
-    DTC_ERR_SVM = -25          /* SFVC / DFOC: modulation out of range, flux-regulator gain K_p
+    DTC_ERR_SVM = -25,         /* SFVC / DFOC: modulation out of range, flux-regulator gain K_p
                                 * not in (0, 1/Ts], DFOC current-loop gains or references not > 0 */
+    DTC_ERR_FAULTDET = -26,    /* fault detection: a level < 0, the current-sum check without
+                                * three current sensors */
+    DTC_ERR_RECONFIG = -27     /* post-fault configuration (app_core_set_reconfig) not the FSTP
+                                * of the same PM drive, or the drive cannot be reconfigured */
 };
 
 /* Speed measurement: ring of encoder positions at the speed-loop rate (see speed_meas.h). */
@@ -145,6 +149,9 @@ typedef struct {
     uint16_t vmid_cal;        /* FSTP with the mid-point measured: 1 = the app calibrates the
                                * mid-point sensor against V_dc/2 with the gates off (app_core.c
                                * calibrate_step), 0 = the mid-point as measured */
+    uint16_t i_sensors3;      /* 1: all three phase currents are measured (the app calibrates the
+                               * three offsets and checks their sum, prot.i_sum_max_iq); 0: two
+                               * (the SSTP's A and B, the FSTP's B and C), the third derived */
 } dtc_board_cfg_t;
 
 /* Protection levels for the app, pu. */
@@ -160,6 +167,20 @@ typedef struct {
                        * hold_step), pu: the largest phase-B current the hold may command; 0 = the
                        * gates stay off for the whole calibration. 0 <= i_hold < i_trip (the host
                        * derives it from the torque limit and the current limit) */
+    /* Fault detection (app_core.c check_faults; issue 16), each 0 = off. */
+    iq_t i_sum_max_iq;  /* three sensors: |i_a + i_b + i_c| above it for APP_ISUM_PERIODS periods
+                         * is a failed current sensor (the star point is isolated), pu; > 0 needs
+                         * board.i_sensors3 */
+    iq_t leg_i_min_iq;  /* open phase: the least |i| (Clarke magnitude) at which a phase that
+                         * stays below |i|/4 over APP_LEG_ANGLE of electrical angle is taken for
+                         * an open leg, phase or device, pu */
+    iq_t enc_freeze_speed_iq; /* lost encoder signal: a count that does not move for
+                               * APP_ENC_FREEZE_PERIODS while the measured speed is above this
+                               * electrical speed, pu (the host derives it from the encoder
+                               * resolution and the drive's largest deceleration) */
+    uint16_t relay_periods;   /* reconfiguration: control periods from the relay command until
+                               * the phase is on the mid-point (the relay's closing time with a
+                               * margin); the open-phase check waits that long */
 } dtc_protect_cfg_t;
 
 /* PM machine (Hoang Table VIII), pu; used by the PM law. */

@@ -145,7 +145,9 @@ void pil_in_encode(const hal_meas_t *m, uint8_t b[PIL_IN_BYTES])
 
 void pil_in_decode(const uint8_t b[PIL_IN_BYTES], hal_meas_t *m)
 {
+    static const hal_meas_t zero = {{0U, 0U, 0U, 0U, 0U}, 0U, 0U, 0U, 0U, 0U, 0U};
     const uint8_t *p = b;
+    *m = zero; /* a field the record does not carry reads 0 (never a stack leftover) */
 #define D16(n, mem) m->mem = get16(&p);
 #define D32(n, mem) m->mem = get32(&p);
     PIL_IN_FIELDS(D16, D32)

@@ -4,7 +4,7 @@
 #include "dtc_config.h"
 
 const dtc_config_t g_dtc_config = {
-    .version = 8U,
+    .version = 9U,
     .law = 0U, /* enum dtc_law */
     .board = {
         .v_base_mv = 70000U,
@@ -28,6 +28,7 @@ const dtc_config_t g_dtc_config = {
         .adc_vmid_gain_iq = 5853, /* 0.000348865986 pu */
         .adc_vmid_offset = 0U,
         .vmid_cal = 0U,
+        .i_sensors3 = 0U,
     },
     .prot = {
         .i_trip_iq = 45756044, /* 2.72727275 pu */
@@ -36,6 +37,10 @@ const dtc_config_t g_dtc_config = {
         .i_lim_iq = 37106323, /* 2.2117092 pu */
         .stall_speed_periods = 200U,
         .i_hold_iq = 0, /* 0 pu */
+        .i_sum_max_iq = 0, /* 0 pu */
+        .leg_i_min_iq = 4194304, /* 0.25 pu */
+        .enc_freeze_speed_iq = 4101392, /* 0.244462013 pu */
+        .relay_periods = 0U,
     },
     .machine = {
         .pole_pairs = 1U,

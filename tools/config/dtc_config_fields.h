@@ -21,11 +21,12 @@
     IQ(board, v_ce_iq) IQ(board, v_d_iq) IQ(board, r_on_iq) U(board, enc_counts)                   \
     U(board, enc_gain_q16) U(board, enc_offset) IQ(board, adc_i_gain_iq)                           \
     ARR3(board, adc_i_offset) IQ(board, adc_vdc_gain_iq) U(board, adc_vdc_offset)                   \
-    IQ(board, adc_vmid_gain_iq) U(board, adc_vmid_offset) U(board, vmid_cal)                       \
+    IQ(board, adc_vmid_gain_iq) U(board, adc_vmid_offset) U(board, vmid_cal) U(board, i_sensors3)  \
     END(board)                                                                                    \
     P(prot)                                                                                       \
     IQ(prot, i_trip_iq) IQ(prot, vdc_max_iq) IQ(prot, vdc_min_iq) IQ(prot, i_lim_iq)               \
-    U(prot, stall_speed_periods) IQ(prot, i_hold_iq)                                              \
+    U(prot, stall_speed_periods) IQ(prot, i_hold_iq) IQ(prot, i_sum_max_iq) IQ(prot, leg_i_min_iq) \
+    IQ(prot, enc_freeze_speed_iq) U(prot, relay_periods)                                          \
     END(prot)                                                                                     \
     P(machine)                                                                                    \
     U(machine, pole_pairs) IQ(machine, rs_iq)                                                      \

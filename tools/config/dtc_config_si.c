@@ -1,6 +1,7 @@
 /* dtc_config_si.c - SI -> per-unit Q-format configuration (see dtc_config_si.h). Host code. */
 #include "dtc_config_si.h"
 
+#include "app_core.h"
 #include "dtc_config_fields.h"
 #include "plant_defaults.h"
 
@@ -101,6 +102,10 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->polarity_mid = 1;
     si->vmid_cal = 1;
     si->cal_hold = 1;
+    si->i_sensors3 = 0;
+    si->fault_detect = 1;
+    si->reconfig_relay = 0;
+    si->relay_delay_s = 0.0;
     si->lpf_comp = 1;
     si->dc_supp = 1;
     si->c_dc_f = PLANT_DEF_C_DC_F;
@@ -206,6 +211,19 @@ double dtc_ilim_default_a(const dtc_config_si_t *si)
     double di = si->ts_s * (v_max + e_max + si->rs_ohm * si->i_trip_a) / si->ls_h;
     double lim = si->i_trip_a - (si->delay_comp != 0 ? 1.0 : 2.0) * di;
     return lim > 0.0 ? lim : 0.0;
+}
+
+int dtc_config_post_fault_si(const dtc_config_si_t *si, dtc_config_si_t *post)
+{
+    if (si->law != DTC_LAW_PM_DTC || si->topology != DTC_TOPO_SSTP || si->reconfig_relay != 1) {
+        return DTC_SI_ERR_VARIANT;
+    }
+    *post = *si;
+    post->topology = DTC_TOPO_FSTP;
+    post->compensation = si->compensation == DTC_COMP_SSTP ? DTC_COMP_FSTP_SIMPLE : si->compensation;
+    post->vmid_cal = 0;
+    post->cal_hold = 0;
+    return DTC_SI_OK;
 }
 
 void dtc_bases_from_si(const dtc_config_si_t *si, dtc_bases_t *b)
@@ -415,6 +433,47 @@ static void im_from_si(conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *
         cfg->speed.im_magn_ramp_iq = to_iq(c, "rated_current_a (magnetising ramp)", si->rated_current_a,
                                            rho * si->ts_s / b->psi_base_wb);
         cfg->speed.im_magn_k_q31 = to_q31(c, "rr_ohm (Ts/tau_r)", si->ts_s / tau_r);
+    }
+}
+
+/* Fault-detection levels (firmware app_core.c; issue 16), from the configured machine, board and
+ * drive:
+ *  - current sum (three sensors): a quarter of the rated current. A healthy sum is the sensors'
+ *    gain and offset errors times the current plus noise (2 % gain errors at the 6 A trip level:
+ *    0.24 A, below 0.55 A for Table VIII); a sensor stuck at its zero makes the sum its phase's
+ *    current, which passes the level for most of each half-wave at a quarter of rated current;
+ *  - open phase: the least |i| a quarter of the rated current (at lighter load a failed leg is
+ *    found when the load comes);
+ *  - lost encoder: the electrical speed above which a count cannot stand still for N =
+ *    APP_ENC_FREEZE_PERIODS periods: the rotor then turns at least 8 counts in N Ts (2 pi 8 /
+ *    (counts N Ts)), and at least 4 times the speed the drive's largest deceleration, a = 2
+ *    T_lim / J (the torque limit plus as much load), takes away in N Ts; 0 (off) without an
+ *    encoder speed or without an inertia;
+ *  - relay: 1.5 times its closing time (coil tolerance and bounce) plus one period. */
+static void dtc_fault_levels(conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *b, dtc_config_t *cfg)
+{
+    const double n_ts = (double)APP_ENC_FREEZE_PERIODS * si->ts_s;
+    cfg->prot.i_sum_max_iq = 0;
+    cfg->prot.leg_i_min_iq = 0;
+    cfg->prot.enc_freeze_speed_iq = 0;
+    cfg->prot.relay_periods = 0U;
+    if (si->fault_detect == 0) {
+        return;
+    }
+    if (si->i_sensors3 != 0) {
+        cfg->prot.i_sum_max_iq = to_iq(c, "rated_current_a (current-sum level)", si->rated_current_a,
+                                       0.25 * si->rated_current_a / b->i_base_a);
+    }
+    cfg->prot.leg_i_min_iq = to_iq(c, "rated_current_a (open-phase level)", si->rated_current_a,
+                                   0.25 * si->rated_current_a / b->i_base_a);
+    if (si->speed_sensor == DTC_SPEED_ENCODER && si->inertia_kgm2 > 0.0) {
+        const double w_counts = 2.0 * M_PI * 8.0 / (4.0 * si->enc_lines * n_ts);
+        const double w_decel = 4.0 * (2.0 * si->torque_limit_nm / si->inertia_kgm2) * n_ts;
+        const double w_e = fmax(w_counts, w_decel) * si->pole_pairs;
+        cfg->prot.enc_freeze_speed_iq = to_iq(c, "enc_lines (lost-encoder speed)", w_e, w_e / b->w_base_rad_s);
+    }
+    if (si->reconfig_relay == 1) {
+        cfg->prot.relay_periods = (uint16_t)fmin(65535.0, ceil(1.5 * si->relay_delay_s / si->ts_s) + 1.0);
     }
 }
 
@@ -706,6 +765,22 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
         }
         cfg->prot.i_hold_iq = to_iq(&c, "cal_hold (hold current)", ih, ih / b.i_base_a);
     }
+
+    if (si->i_sensors3 != 0 && si->i_sensors3 != 1) {
+        return fail(&c, DTC_SI_ERR_LIMIT, "i_sensors3 = %d: must be 0 or 1", si->i_sensors3);
+    }
+    if (si->fault_detect != 0 && si->fault_detect != 1) {
+        return fail(&c, DTC_SI_ERR_LIMIT, "fault_detect = %d: must be 0 or 1", si->fault_detect);
+    }
+    if (si->reconfig_relay != 0 && si->reconfig_relay != 1) {
+        return fail(&c, DTC_SI_ERR_LIMIT, "reconfig_relay = %d: must be 0 or 1", si->reconfig_relay);
+    }
+    if (si->reconfig_relay == 1 && !(si->relay_delay_s > 0.0 && si->relay_delay_s < 1.0)) {
+        return fail(&c, DTC_SI_ERR_LIMIT, "relay_delay_s = %g: must be in (0, 1) s with a relay fitted",
+                    si->relay_delay_s);
+    }
+    cfg->board.i_sensors3 = (uint16_t)si->i_sensors3;
+    dtc_fault_levels(&c, si, &b, cfg);
 
     if (si->law == DTC_LAW_IM_DTC && c.code == DTC_SI_OK) {
         im_from_si(&c, si, &b, cfg);

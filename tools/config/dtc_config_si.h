@@ -156,6 +156,13 @@ typedef struct {
                               * before the drive starts (firmware app_core.c), 0 = used as measured */
     int cal_hold;            /* with vmid_cal: 1 = the rotor is held by a phase-B/C current while the
                               * mid-point is calibrated (prot.i_hold_iq), 0 = the gates stay off */
+    /* ---- Fault detection and tolerance (issue 16; firmware app_core.c) ---- */
+    int i_sensors3;          /* 1: all three phase currents measured (their sum is checked) */
+    int fault_detect;        /* 1: open-phase and lost-encoder detection on (levels derived:
+                              * dtc_fault_levels), 0: off */
+    int reconfig_relay;      /* 1: a relay per phase ties a failed leg's phase to the mid-point
+                              * (the post-fault FSTP configuration: dtc_config_post_fault_si) */
+    double relay_delay_s;    /* its closing time, s (> 0 with reconfig_relay) */
 } dtc_config_si_t;
 
 enum dtc_si_err {
@@ -245,6 +252,15 @@ double dtc_handover_residual_v(const dtc_config_si_t *si, double i_a);
  * trip is the only protection.
  * Table VIII, Table IV link, 50 us, 3000 rpm, 6 A trip, FSTP: dI = 1.13 A, I_lim = 4.87 A. */
 double dtc_ilim_default_a(const dtc_config_si_t *si);
+
+/* The post-fault configuration of an SSTP PM drive with reconfiguration relays: the same drive as
+ * an FSTP whose phase A is the failed one (firmware dtc.h dtc_reconfigure). Changed from si:
+ * topology FSTP; the compensation for the same device model (none stays none, the SSTP's equal
+ * drop [29] becomes the FSTP's equal-drop Table V, "simple"); no mid-point calibration and no
+ * rotor hold (the drive does not stop for them); the derived hand-over speed and current limit
+ * are derived again for the FSTP. Returns DTC_SI_OK, or DTC_SI_ERR_VARIANT when si is not an
+ * SSTP PM drive with reconfig_relay = 1. */
+int dtc_config_post_fault_si(const dtc_config_si_t *si, dtc_config_si_t *post);
 
 /* Converts si to cfg. Returns DTC_SI_OK or an enum dtc_si_err code; on error msg (if not null)
  * receives a message naming the offending field, e.g. "ls_h = -0.001: inductance must be > 0". */
