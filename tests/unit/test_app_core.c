@@ -47,6 +47,7 @@ static void meas_idle(void)
     fx.m.qep_count = 100U;
     fx.m.qep_index_seen = 0U;
     fx.m.trip = 0U;
+    fx.m.desat = 0U;
 }
 
 /* Calibration length: the current offsets take 2^APP_CAL_LOG2 samples, the FSTP mid-point
@@ -696,6 +697,330 @@ static void test_sfvc_writes_the_pwm_form(void **state)
     }
 }
 
+/* ---- fault detection and reconfiguration (issue 16) ---------------------------------------- */
+
+/* A gate driver's desaturation output trips at once with every gate off and names its leg, in RUN
+ * and while calibrating; a plain PDPINTA trip stays a hardware trip. */
+static void test_desat_names_the_leg(void **state)
+{
+    (void)state;
+    run_to_state(DTC_TOPO_SSTP, 0);
+    assert_int_equal(step(), 0);
+    fx.m.desat = 1U << 2;
+    fx.m.trip = 1U;
+    assert_int_equal(step(), 1);
+    assert_int_equal(fx.cmd.enable, 0);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_DESAT);
+    assert_int_equal(fx.app.st.fault_detail, 2);
+    assert_string_equal(app_fault_name(APP_FAULT_DESAT), "desat");
+    fx.m.desat = 0U;
+    fx.m.trip = 0U;
+    setup_topology(DTC_TOPO_SSTP);
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    fx.m.desat = 1U;
+    fx.m.trip = 1U;
+    assert_int_equal(step(), 1);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_DESAT);
+    assert_int_equal(fx.app.st.fault_detail, 0);
+    fx.m.desat = 0U;
+    fx.m.trip = 0U;
+}
+
+/* Three sensors: currents that sum to zero run; a sensor stuck at its zero (phase A reads 0 A
+ * while B and C carry -0.5 A each, so the sum is 1 A, above a quarter of the 2.2 A rated current)
+ * trips on the APP_ISUM_PERIODS-th sample, naming phase A; a sum just below the level never does. */
+static void test_current_sum_finds_a_stuck_sensor(void **state)
+{
+    char msg[200];
+    const double level = 0.25 * fx.si.rated_current_a;
+    uint16_t k;
+    (void)state;
+    setup_topology(DTC_TOPO_SSTP);
+    fx.si.i_sensors3 = 1;
+    assert_int_equal(dtc_config_from_si(&fx.si, &fx.cfg, msg, sizeof msg), DTC_SI_OK);
+    assert_true(fabs(fx.cfg.prot.i_sum_max_iq / 16777216.0 * fx.b.i_base_a - 0.25 * 2.2) < 1e-6);
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    for (k = 0; k < cal_len(); k++) {
+        step();
+    }
+    assert_int_equal(fx.app.st.state, APP_STATE_RUN);
+    fx.m.adc[HAL_ADC_IA] = i_counts(1.0, fx.si.adc_i_offset[0]);
+    fx.m.adc[HAL_ADC_IB] = i_counts(-0.5, fx.si.adc_i_offset[1]);
+    fx.m.adc[HAL_ADC_IC] = i_counts(-0.5, fx.si.adc_i_offset[2]);
+    for (k = 0; k < 100; k++) {
+        assert_int_equal(step(), 0);
+    }
+    /* a sum 3 % below the level, forever: no trip */
+    fx.m.adc[HAL_ADC_IA] = i_counts(1.0 - 0.97 * level, fx.si.adc_i_offset[0]);
+    for (k = 0; k < 100; k++) {
+        assert_int_equal(step(), 0);
+    }
+    fx.m.adc[HAL_ADC_IA] = (uint16_t)fx.si.adc_i_offset[0]; /* stuck at mid-scale */
+    for (k = 1; k < APP_ISUM_PERIODS; k++) {
+        assert_int_equal(step(), 0);
+    }
+    assert_int_equal(step(), 1);
+    assert_int_equal(fx.cmd.enable, 0);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_CURRENT_SENSOR);
+    assert_int_equal(fx.app.st.fault_detail, 0);
+    /* with two sensors the check cannot exist: a configuration asking for it is refused */
+    fx.cfg.board.i_sensors3 = 0U;
+    {
+        const char *field = "";
+        assert_int_equal(dtc_config_check(&fx.cfg, &field), DTC_ERR_FAULTDET);
+        assert_string_equal(field, "prot.i_sum_max_iq");
+    }
+}
+
+/* Lost encoder signal: at 1500 rpm (10 counts per period) a counter that stops trips on the
+ * APP_ENC_FREEZE_PERIODS-th unchanged sample (detail 3); turning at half the derived speed, where
+ * a count may stand still that long, it runs on with the counter stopped. The derived speed is
+ * the physics of dtc_fault_levels: 8 counts in N Ts, and 4 times what the largest deceleration
+ * 2 T_lim / J takes away in N Ts. */
+static void test_lost_encoder_at_speed_trips(void **state)
+{
+    const double n_ts = APP_ENC_FREEZE_PERIODS * fx.si.ts_s;
+    uint32_t pos = 0U, k;
+    (void)state;
+    run_to_state(DTC_TOPO_SSTP, 0);
+    {
+        const double w_f = fmax(2.0 * FIXTEST_PI * 8.0 / (8000.0 * n_ts),
+                                4.0 * 2.0 * fx.si.torque_limit_nm / fx.si.inertia_kgm2 * n_ts);
+        assert_true(fabs(fx.cfg.prot.enc_freeze_speed_iq / 16777216.0 * fx.b.w_base_rad_s - w_f) < 1e-4 * w_f);
+    }
+    for (k = 0; k < 4000U; k++) { /* 1500 rpm: 10 counts per 50 us */
+        fx.m.qep_count = (uint16_t)((pos += 10U) % 8000U);
+        assert_int_equal(step(), 0);
+    }
+    for (k = 1; k < APP_ENC_FREEZE_PERIODS; k++) {
+        assert_int_equal(step(), 0);
+    }
+    assert_int_equal(step(), 1);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_ENCODER);
+    assert_int_equal(fx.app.st.fault_detail, 3);
+
+    run_to_state(DTC_TOPO_SSTP, 0);
+    {
+        /* half the derived speed, in 1/1000 counts per period */
+        const double w_f = fx.cfg.prot.enc_freeze_speed_iq / 16777216.0 * fx.b.w_base_rad_s;
+        const uint32_t adv = (uint32_t)(0.5 * w_f / (2.0 * FIXTEST_PI) * 8000.0 * fx.si.ts_s * 1000.0);
+        pos = 0U;
+        for (k = 0; k < 4000U; k++) {
+            pos += adv;
+            fx.m.qep_count = (uint16_t)((pos / 1000U) % 8000U);
+            assert_int_equal(step(), 0);
+        }
+        for (k = 0; k < 10U * APP_ENC_FREEZE_PERIODS; k++) {
+            assert_int_equal(step(), 0);
+        }
+    }
+}
+
+/* Currents of a machine turning at 1500 rpm (p = 1, 10 counts per period: 400 periods per
+ * electrical turn), amplitude amp, with phase `open` (0..2) carrying none (the other two -+ each
+ * other), or all three healthy for open = 3. The encoder follows the same angle. */
+static void drive_currents(uint32_t k, double amp, int open)
+{
+    const double th = 2.0 * FIXTEST_PI * k / 400.0;
+    double i[3];
+    int x;
+    for (x = 0; x < 3; x++) {
+        i[x] = amp * cos(th - 2.0 * FIXTEST_PI * x / 3.0);
+    }
+    if (open < 3) {
+        const int y = (open + 1) % 3, z = (open + 2) % 3;
+        const double d = 0.5 * (i[y] - i[z]) * 2.0 / sqrt(3.0) * 1.5; /* the pair's current */
+        i[open] = 0.0;
+        i[y] = d;
+        i[z] = -d;
+    }
+    for (x = 0; x < 3; x++) {
+        fx.m.adc[x] = i_counts(i[x], fx.si.adc_i_offset[x]);
+    }
+    fx.m.qep_count = (uint16_t)((k * 10U) % 8000U);
+}
+
+static dtc_config_t post_cfg;
+
+/* SSTP with three sensors and, if relay, the reconfiguration relays and the post-fault FSTP. */
+static void setup_reconfig(int relay)
+{
+    char msg[200];
+    dtc_config_si_t post_si;
+    uint16_t k;
+    setup_topology(DTC_TOPO_SSTP);
+    fx.si.i_sensors3 = 1;
+    fx.si.reconfig_relay = relay;
+    fx.si.relay_delay_s = 5e-3;
+    assert_int_equal(dtc_config_from_si(&fx.si, &fx.cfg, msg, sizeof msg), DTC_SI_OK);
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    if (relay != 0) {
+        assert_int_equal(dtc_config_post_fault_si(&fx.si, &post_si), DTC_SI_OK);
+        assert_int_equal(dtc_config_from_si(&post_si, &post_cfg, msg, sizeof msg), DTC_SI_OK);
+        assert_int_equal(app_core_set_reconfig(&fx.app, &post_cfg), 0);
+        /* 1.5 x 5 ms + one period */
+        assert_int_equal(post_cfg.prot.relay_periods, 151);
+    }
+    for (k = 0; k < cal_len(); k++) {
+        step();
+    }
+    assert_int_equal(fx.app.st.state, APP_STATE_RUN);
+}
+
+/* Open phase: five healthy electrical turns never look open; then phase x opens. Without a relay
+ * the drive trips (APP_FAULT_LEG, phase x); with one it reconfigures: the relay command names x,
+ * leg x stays off from that period on, the law runs the FSTP. Found after at least 60 deg (133
+ * periods of continuous zero current with |i| above a quarter of rated) and within one turn. */
+static void test_open_phase_trips_or_reconfigures(void **state)
+{
+    int x, relay;
+    (void)state;
+    for (relay = 0; relay < 2; relay++) {
+        for (x = 0; x < 3; x++) {
+            uint32_t k, found = 0U;
+            setup_reconfig(relay);
+            for (k = 0; k < 2000U; k++) {
+                drive_currents(k, 2.0, 3);
+                assert_int_equal(step(), 0);
+            }
+            for (k = 2000U; k < 2400U && found == 0U; k++) {
+                drive_currents(k, 2.0, x);
+                if (step() != 0U || fx.app.st.reconfigured != 0U) {
+                    found = k - 2000U + 1U;
+                }
+            }
+            assert_true(found >= 133U && found <= 400U);
+            if (relay == 0) {
+                assert_int_equal(fx.app.st.fault, APP_FAULT_LEG);
+                assert_int_equal(fx.app.st.fault_detail, x);
+                assert_int_equal(fx.cmd.enable, 0);
+                continue;
+            }
+            assert_int_equal(fx.app.st.state, APP_STATE_RUN);
+            assert_int_equal(fx.app.st.reconfigured, x + 1);
+            assert_int_equal(fx.app.law.u.pm.cfg->board.topology, DTC_TOPO_FSTP);
+            for (; k < 3000U; k++) {
+                const uint16_t legs[3] = {fx.cmd.sa, fx.cmd.sb, fx.cmd.sc};
+                assert_int_equal(fx.cmd.relay, x + 1);
+                assert_int_equal(fx.cmd.enable, 1);
+                assert_int_equal(legs[x], 0);
+                drive_currents(k, 2.0, 3); /* the relay closed: three currents again */
+                assert_int_equal(step(), 0);
+            }
+            /* the law's legs b', c' are the physical legs x+1, x+2 */
+            {
+                const uint16_t legs[3] = {fx.cmd.sa, fx.cmd.sb, fx.cmd.sc};
+                assert_int_equal(legs[(x + 1) % 3], fx.app.st.out.sb);
+                assert_int_equal(legs[(x + 2) % 3], fx.app.st.out.sc);
+            }
+            /* a trip after the reconfiguration keeps the relay closed */
+            fx.m.trip = 1U;
+            assert_int_equal(step(), 1);
+            assert_int_equal(fx.cmd.relay, x + 1);
+            fx.m.trip = 0U;
+        }
+    }
+}
+
+/* The post-fault configuration must be the same drive as an FSTP with three sensors; anything
+ * else is refused at set-up with DTC_ERR_RECONFIG (config fault, gates off). */
+static void test_bad_post_fault_config_is_refused(void **state)
+{
+    char msg[200];
+    dtc_config_si_t post_si;
+    dtc_config_t bad;
+    (void)state;
+    setup_topology(DTC_TOPO_SSTP);
+    fx.si.i_sensors3 = 1;
+    fx.si.reconfig_relay = 1;
+    fx.si.relay_delay_s = 5e-3;
+    assert_int_equal(dtc_config_from_si(&fx.si, &fx.cfg, msg, sizeof msg), DTC_SI_OK);
+    assert_int_equal(dtc_config_post_fault_si(&fx.si, &post_si), DTC_SI_OK);
+    assert_int_equal(post_si.compensation, DTC_COMP_FSTP_SIMPLE); /* [29]'s equal drop: Table V */
+    assert_int_equal(dtc_config_from_si(&post_si, &post_cfg, msg, sizeof msg), DTC_SI_OK);
+    bad = fx.cfg; /* an SSTP is not a post-fault configuration */
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    assert_int_equal(app_core_set_reconfig(&fx.app, &bad), DTC_ERR_RECONFIG);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_CONFIG);
+    assert_int_equal(step(), 1);
+    bad = post_cfg;
+    bad.board.enc_offset = (angle_t)(bad.board.enc_offset + 1U); /* another encoder */
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    assert_int_equal(app_core_set_reconfig(&fx.app, &bad), DTC_ERR_RECONFIG);
+    fx.cfg.board.i_sensors3 = 0U; /* two sensors cannot tell a sensor from a leg */
+    fx.cfg.prot.i_sum_max_iq = 0;
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    assert_int_equal(app_core_set_reconfig(&fx.app, &post_cfg), DTC_ERR_RECONFIG);
+    assert_int_equal(app_core_set_reconfig(&fx.app, NULL), 0);
+}
+
+/* The frame change keeps the flux: the current model (Hoang eqs. 8-9) after dtc_reconfigure, fed
+ * the permuted currents and the same encoder count, gives the physical flux turned by -x 120 deg
+ * (the space vector in the frame whose phase A' is x), against a double reference; and a voltage-
+ * model state is turned by the same angle. */
+static void test_reconfigure_turns_the_flux_into_the_new_frame(void **state)
+{
+    char msg[200];
+    dtc_config_si_t post_si;
+    int x;
+    (void)state;
+    for (x = 0; x < 3; x++) {
+        dtc_t c;
+        dtc_meas_t m;
+        dtc_out_t o;
+        const double th_m = 0.7; /* rad, mechanical = electrical (p = 1) */
+        const double amp = 1.5, ph = 0.4;
+        double i[3], ref_a, ref_b, psi_a, psi_b;
+        const double L = fx.si.ls_h, pm = fx.si.psi_m_wb, enc_off = fx.si.enc_offset_rad;
+        int k;
+        setup_topology(DTC_TOPO_SSTP);
+        fx.si.estimator = DTC_EST_CURRENT;
+        fx.si.i_sensors3 = 1;
+        fx.si.reconfig_relay = 1;
+        fx.si.relay_delay_s = 5e-3;
+        assert_int_equal(dtc_config_from_si(&fx.si, &fx.cfg, msg, sizeof msg), DTC_SI_OK);
+        assert_int_equal(dtc_config_post_fault_si(&fx.si, &post_si), DTC_SI_OK);
+        assert_int_equal(dtc_config_from_si(&post_si, &post_cfg, msg, sizeof msg), DTC_SI_OK);
+        assert_int_equal(dtc_init(&c, &fx.cfg), DTC_OK);
+        for (k = 0; k < 3; k++) {
+            i[k] = amp * cos(th_m + enc_off + ph - 2.0 * FIXTEST_PI * k / 3.0);
+        }
+        /* physical flux: L i + psi_m e^{j theta}, theta = count angle + offset */
+        ref_a = L * i[0] + pm * cos(th_m + enc_off);
+        ref_b = L * (i[1] - i[2]) / sqrt(3.0) + pm * sin(th_m + enc_off);
+        {
+            const double r = -2.0 * FIXTEST_PI * x / 3.0;
+            const double ra = cos(r) * ref_a - sin(r) * ref_b, rb = sin(r) * ref_a + cos(r) * ref_b;
+            ref_a = ra;
+            ref_b = rb;
+        }
+        assert_int_equal(dtc_reconfigure(&c, &post_cfg, (uint16_t)x), DTC_OK);
+        m.ia_iq = IQ(i[x] / fx.b.i_base_a);
+        m.ib_iq = IQ(i[(x + 1) % 3] / fx.b.i_base_a);
+        m.ic_iq = IQ(i[(x + 2) % 3] / fx.b.i_base_a);
+        m.vdc_iq = IQ(1.0);
+        m.vmid_iq = IQ(0.5);
+        m.enc_count = (uint16_t)lround(th_m / (2.0 * FIXTEST_PI) * 8000.0);
+        dtc_step(&c, &m, &o);
+        psi_a = o.psi_alpha_iq / 16777216.0 * fx.b.psi_base_wb;
+        psi_b = o.psi_beta_iq / 16777216.0 * fx.b.psi_base_wb;
+        /* the count's quantisation (1/8000 turn) moves psi_m by 0.8 mrad */
+        assert_true(fabs(psi_a - ref_a) < 2e-4 && fabs(psi_b - ref_b) < 2e-4);
+
+        /* voltage-model state: turned by -x 120 deg */
+        assert_int_equal(dtc_init(&c, &fx.cfg), DTC_OK);
+        c.fe.psi_alpha_iq = IQ(0.6);
+        c.fe.psi_beta_iq = IQ(-0.3);
+        assert_int_equal(dtc_reconfigure(&c, &post_cfg, (uint16_t)x), DTC_OK);
+        {
+            const double r = -2.0 * FIXTEST_PI * x / 3.0;
+            assert_true(fabs(c.fe.psi_alpha_iq / 16777216.0 - (0.6 * cos(r) + 0.3 * sin(r))) < 1e-4);
+            assert_true(fabs(c.fe.psi_beta_iq / 16777216.0 - (0.6 * sin(r) - 0.3 * cos(r))) < 1e-4);
+        }
+        assert_int_equal(dtc_reconfigure(&c, &post_cfg, 3U), DTC_ERR_RECONFIG);
+    }
+}
+
 static void test_fault_names(void **state)
 {
     (void)state;
@@ -725,6 +1050,12 @@ int main(void)
         cmocka_unit_test(test_run_forwards_controller_decision),
         cmocka_unit_test(test_sfvc_writes_the_pwm_form),
         cmocka_unit_test(test_fault_names),
+        cmocka_unit_test(test_desat_names_the_leg),
+        cmocka_unit_test(test_current_sum_finds_a_stuck_sensor),
+        cmocka_unit_test(test_lost_encoder_at_speed_trips),
+        cmocka_unit_test(test_open_phase_trips_or_reconfigures),
+        cmocka_unit_test(test_bad_post_fault_config_is_refused),
+        cmocka_unit_test(test_reconfigure_turns_the_flux_into_the_new_frame),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
