@@ -122,6 +122,14 @@ struct RunInfo {
     std::uint64_t invalid_commands = 0;
     bool hw_trip = false;
     bool traced = false; // trace.csv written (its cost is in wall_time_s)
+    // Injected faults ([faults], issue 16): when they occurred (-1: none configured), the phase
+    // the firmware moved onto the mid-point ("" = none or the controller has no such status), and
+    // the speed's response after the fault (speed mode; NaN = not defined, see docs/sil.md).
+    double injected_fault_time_s = -1.0;
+    std::string reconfigured;
+    double speed_dip_rpm = -1.0;  // largest drop below control.speed_ref_rpm after the fault; -1: n/a
+    double recovery_s = -1.0;     // fault until the speed is back within 1 % of the reference for
+                                  // good; -1: n/a or never
 };
 
 nlohmann::json metrics_json(const Scenario& sc, const Metrics& m, const RunInfo& info);

@@ -471,6 +471,10 @@ nlohmann::json metrics_json(const Scenario& sc, const Metrics& m, const RunInfo&
     j["fault_detail"] = info.fault_detail;
     j["fault_time_s"] = info.fault_time_s >= 0.0 ? json(info.fault_time_s) : json(nullptr);
     j["hw_trip"] = info.hw_trip;
+    j["injected_fault_time_s"] = info.injected_fault_time_s >= 0.0 ? json(info.injected_fault_time_s) : json(nullptr);
+    j["reconfigured"] = info.reconfigured.empty() ? json(nullptr) : json(info.reconfigured);
+    j["speed_dip_rpm"] = info.speed_dip_rpm >= 0.0 ? json(info.speed_dip_rpm) : json(nullptr);
+    j["recovery_s"] = info.recovery_s >= 0.0 ? json(info.recovery_s) : json(nullptr);
     j["invalid_commands"] = info.invalid_commands;
     const double t_end = info.sim_time_s;
     j["metrics_window"] = {{"t_start_s", t_end - m.window_s},
