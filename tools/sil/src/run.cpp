@@ -360,6 +360,7 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
             return false;
         }
         trace.set_rotor_flux_columns(sc.motor.type == MotorType::Im);
+        trace.set_fault_columns(sc.faults.any() || sc.inverter.reconfig_relay);
         if (opt.write_trace && !trace.open(out.path("trace.csv"), err)) {
             return false;
         }
@@ -553,6 +554,10 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
             r.tload_nm = st.tload_nm;
             r.psi_r_alpha_wb = st.psi_r_alpha_wb;
             r.psi_r_beta_wb = st.psi_r_beta_wb;
+            const plant_fault_state_t fs = h->fault_state();
+            r.relay = h->relay_cmd();
+            r.relay_closed = fs.relay_closed;
+            r.desat = h->meas().desat;
             trace.commit_row();
         }
         h->advance();

@@ -257,6 +257,9 @@ bool TraceWriter::open(const std::string& path, std::string* err)
     if (rotor_flux_) {
         header += ",psi_r_alpha_wb,psi_r_beta_wb";
     }
+    if (fault_cols_) {
+        header += ",relay,relay_closed,desat";
+    }
     header += '\n';
     write_failed_ = std::fwrite(header.data(), 1, header.size(), f_) != header.size();
     const unsigned n_workers = std::clamp(std::thread::hardware_concurrency(), 1U, kMaxWorkers);
@@ -405,6 +408,12 @@ char* TraceWriter::format(const TraceRow& r, char* p) const
     for (int i = 14; i < nx; ++i) { // theta_e_rad .. tload_nm (, psi_r_alpha_wb, psi_r_beta_wb)
         *p++ = ',';
         p = put_decimal(p, x[i], d[i]);
+    }
+    if (fault_cols_) {
+        for (const int v : {r.relay, r.relay_closed, r.desat}) {
+            *p++ = ',';
+            p = put_int(p, v);
+        }
     }
     *p++ = '\n';
     return p;
