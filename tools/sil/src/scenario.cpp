@@ -450,7 +450,7 @@ const std::vector<Spec>& schema()
             ACC(sensors.vmid_gain_error)),
         num("sensors.voltage_noise_v_rms", "V", nonneg(), "white Gaussian noise on both voltage channels",
             ACC(sensors.voltage_noise_v_rms)),
-        boolean("sensors.vmid_fitted", "FSTP mid-point voltage sensor fitted (false: channel reads 0)",
+        boolean("sensors.vmid_fitted", "mid-point voltage sensor fitted, FSTP or SSTP with inverter.reconfig_relay (false: channel reads 0)",
                 ACC(sensors.vmid_fitted)),
         integer("sensors.encoder_lines", "", closed(1, 16383), "encoder lines; 4x quadrature counts (Fig. 9(b))",
                 ACC(sensors.encoder_lines)),
