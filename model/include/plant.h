@@ -256,7 +256,9 @@ int plant_set_leg_open(plant_t *plant, int leg, int open);
  * phase tied to the mid-point conducts as the FSTP's phase A (no device, no drop); its leg's
  * devices should be off: if a gate of that leg is on while the relay is closed (the capacitor half
  * shorted through the device), the desaturation trip latches as for a shoot-through. Returns 0, or
- * -1 if no relay is fitted (reconfig_relay = 0) or phase is out of 0..3. */
+ * -1 if no relay is fitted (reconfig_relay = 0) or phase is out of 0..3. The contacts move inside
+ * an advance, at its start at the earliest (relay_delay_s = 0: at the next advance's start, after
+ * that advance's gate commands). */
 int plant_set_relay(plant_t *plant, int phase);
 
 /* DC source voltage from now on (a sag: a fraction of vdc_v). The capacitors follow through the

@@ -309,13 +309,11 @@ int plant_set_relay(plant_t *plant, int phase) {
     if (phase == plant->relay_cmd) return 0;
     plant->relay_cmd = phase;
     plant->any_fault = true;
+    // The contacts move in the advance (integrator.cpp), at its start at the earliest: after the
+    // gate commands of that advance, so a leg gated off together with the coil command is off
+    // when a zero-delay relay closes.
     plant->relay_due = plant->t + plant->p.relay_delay_s;
     plant->relay_pending = true;
-    if (plant->p.relay_delay_s <= 0.0) {
-        plant->relay_pending = false;
-        plant->faults.relay_closed = phase;
-        rebuild_legs(plant);
-    }
     return 0;
 }
 

@@ -214,6 +214,35 @@ TEST(Faults, DcSourceSagFollowsTheLinkRc) {
     EXPECT_EQ(plant_set_source_voltage(pl.get(), -1.0), -1);
 }
 
+TEST(Faults, RelayClosingOnAGatedLegTripsAndOnAGatedOffLegDoesNot) {
+    plant_params_t p;
+    plant_params_default(&p);
+    p.reconfig_relay = 1;
+    p.relay_delay_s = 0.0;
+    // Leg B upper on and the coil energised with the leg left on: the capacitor half through the
+    // device: desaturation at the closing instant (the next advance's start).
+    PlantPtr a = mt::make(p);
+    plant_set_legs(a.get(), 0, 1, 0, 1);
+    plant_advance(a.get(), 50e-6);
+    ASSERT_EQ(plant_set_relay(a.get(), 2), 0);
+    plant_advance(a.get(), 50e-6);
+    plant_fault_state_t fs;
+    plant_get_fault_state(a.get(), &fs);
+    EXPECT_EQ(fs.relay_closed, 2);
+    EXPECT_EQ(fs.desat_mask, 2);
+    EXPECT_NEAR(fs.desat_t_s, 50e-6, 1e-15);
+    // The same with leg B gated off by the same period's command (hal_host's order): no trip.
+    PlantPtr b = mt::make(p);
+    plant_set_legs(b.get(), 0, 1, 0, 1);
+    plant_advance(b.get(), 50e-6);
+    ASSERT_EQ(plant_set_relay(b.get(), 2), 0);
+    ASSERT_EQ(plant_set_leg_override(b.get(), 1, PLANT_LEG_DIODE_ONLY), 0);
+    plant_advance(b.get(), 50e-6);
+    plant_get_fault_state(b.get(), &fs);
+    EXPECT_EQ(fs.relay_closed, 2);
+    EXPECT_EQ(fs.desat_mask, 0);
+}
+
 TEST(Faults, BadArgumentsAreRefused) {
     plant_params_t p;
     plant_params_default(&p);
