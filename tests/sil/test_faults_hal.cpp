@@ -1,11 +1,16 @@
-// hal_host with the real plant under the faults of issue 16: the desaturation latch reaches
+// hal_host with the real plant under the faults of issue 16, and the runner's fault metrics: the desaturation latch reaches
 // meas.desat and the trip, the relay command reaches the plant (coil at once, contacts after the
 // delay, the named leg gated off), the encoder freezes, a current channel sticks at its code.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
 
 #include "hal_host.hpp"
+#include "run.hpp"
 
 using hal_host::Harness;
 using hal_host::HarnessConfig;
@@ -166,4 +171,95 @@ TEST(HalHostFaults, StuckCurrentSensorReadsItsCodeWithoutNoiseAndTheOthersKeepTh
         changes += ref[k].adc[HAL_ADC_IA] != ref[k - 1].adc[HAL_ADC_IA] ? 1 : 0;
     }
     EXPECT_GT(changes, 10);
+}
+
+// ---- the runner's fault metrics against the trace they summarise ----------------------------
+namespace {
+
+std::map<std::string, std::vector<double>> read_trace(const std::filesystem::path& p)
+{
+    std::ifstream f(p);
+    std::string line;
+    std::getline(f, line);
+    std::vector<std::string> names;
+    std::stringstream hs(line);
+    for (std::string c; std::getline(hs, c, ',');) {
+        names.push_back(c);
+    }
+    std::map<std::string, std::vector<double>> cols;
+    while (std::getline(f, line)) {
+        std::stringstream ls(line);
+        std::size_t i = 0;
+        for (std::string c; std::getline(ls, c, ','); ++i) {
+            cols[names.at(i)].push_back(std::strtod(c.c_str(), nullptr));
+        }
+    }
+    return cols;
+}
+
+sil::RunResult run_sstp(const std::vector<std::string>& sets, const std::string& out_dir)
+{
+    sil::Scenario sc;
+    sil::Diagnostics d;
+    EXPECT_TRUE(sil::load_scenario(std::string(DTC_SOURCE_DIR) + "/tools/scenarios/sstp_current_full.toml", sets, &sc,
+                                   &d))
+        << d.text();
+    sil::RunOptions opt;
+    opt.out_dir = out_dir;
+    sil::RunResult r;
+    std::string err;
+    EXPECT_TRUE(sil::run_scenario(sc, opt, &r, &err)) << err;
+    return r;
+}
+
+} // namespace
+
+TEST(SilFaults, SpeedDipAndRecoveryAreTheTracesAfterTheFault)
+{
+    const auto dir = std::filesystem::temp_directory_path() / "dtc_sil_fault_metrics";
+    std::filesystem::remove_all(dir);
+    // A stuck-open upper switch at 0.4 s: the drive runs on with a speed dip (firmware without
+    // reconfiguration: the dip and its recovery are what the plant and the firmware make of it).
+    const sil::RunResult r = run_sstp({"duration_s=0.7", "metrics_window_s=0.1", "faults.time_s=0.4",
+                                       "faults.switch_open=\"a_upper\""},
+                                      dir.string());
+    EXPECT_DOUBLE_EQ(r.info.injected_fault_time_s, 0.4);
+    EXPECT_EQ(r.info.reconfigured, "");  // the firmware did not reconfigure
+    const auto tr = read_trace(dir / "trace.csv");
+    ASSERT_TRUE(tr.count("relay") && tr.count("desat"));
+    const auto& t = tr.at("t_s");
+    const auto& n = tr.at("speed_rpm");
+    const double ref = 1500.0, band = 0.01 * ref;
+    double dip = 0.0;
+    std::ptrdiff_t last_out = -1, first = -1;
+    for (std::size_t k = 0; k < t.size(); ++k) {
+        if (t[k] < 0.4 - 1e-9) {
+            continue;
+        }
+        if (first < 0) {
+            first = static_cast<std::ptrdiff_t>(k);
+        }
+        dip = std::max(dip, ref - n[k]);
+        if (std::fabs(n[k] - ref) > band) {
+            last_out = static_cast<std::ptrdiff_t>(k);
+        }
+    }
+    ASSERT_GE(first, 0);
+    EXPECT_GT(dip, 5.0);  // the fault is visible
+    EXPECT_NEAR(r.info.speed_dip_rpm, dip, 1e-9);
+    const bool recovered = last_out + 1 < static_cast<std::ptrdiff_t>(t.size());
+    if (!recovered) {
+        EXPECT_LT(r.info.recovery_s, 0.0);
+    } else if (last_out < 0) {
+        EXPECT_DOUBLE_EQ(r.info.recovery_s, 0.0);
+    } else {
+        EXPECT_NEAR(r.info.recovery_s, t[static_cast<std::size_t>(last_out) + 1] - 0.4, 1e-9);
+    }
+    std::filesystem::remove_all(dir);
+
+    // No fault: none of it.
+    const sil::RunResult c = run_sstp({"duration_s=0.1", "metrics_window_s=0.05"}, "");
+    EXPECT_LT(c.info.injected_fault_time_s, 0.0);
+    EXPECT_LT(c.info.speed_dip_rpm, 0.0);
+    EXPECT_LT(c.info.recovery_s, 0.0);
 }
