@@ -16,6 +16,7 @@ PAGE 1:
     REG_PIEVECT : origin = 0x000D00, length = 0x000100   /* PF0 PIE vector table (EALLOW) */
     REG_SYSCTRL : origin = 0x007010, length = 0x000020   /* PF2 system control (EALLOW) */
     REG_GPIOMUX : origin = 0x0070C0, length = 0x000020   /* PF2 GPIO mux (EALLOW) */
+    REG_GPIODAT : origin = 0x0070E0, length = 0x000020   /* PF2 GPIO data */
     REG_ADC     : origin = 0x007100, length = 0x000020   /* PF2 ADC */
     REG_EVA     : origin = 0x007400, length = 0x000040   /* PF2 Event Manager A */
 }
@@ -27,6 +28,7 @@ SECTIONS
     f2812_pievect_regs : > REG_PIEVECT, PAGE = 1
     f2812_sysctrl_regs : > REG_SYSCTRL, PAGE = 1
     f2812_gpiomux_regs : > REG_GPIOMUX, PAGE = 1
+    f2812_gpiodata_regs : > REG_GPIODAT, PAGE = 1
     f2812_adc_regs     : > REG_ADC,     PAGE = 1
     f2812_eva_regs     : > REG_EVA,     PAGE = 1
 }

@@ -126,6 +126,23 @@
 #define F2812_QEP_REVERSED 0
 #endif
 
+/* ------------------------------------------- fault tolerance: relay and desaturation (issue 16) */
+/* Port B is EV-B's (PWM7-12, T3/T4, CAP4-6); the drive uses EV-A only, so its pins are free of
+ * EV-A, ADC and QEP use and of the boot-mode pins (GPIOF2/3/4/12, fact sheet 1.5). The peripheral
+ * names of the port-B pins are by analogy with port A's table (fact sheet 4.8 lists GPAMUX only: ~);
+ * used as GPIOs (MUX bit 0, the reset value) only the bit -> GPIOBx numbering matters (✔).
+ *   GPIOB0..2 (PWM7-9 when muxed): outputs, relay coil drivers for phases A, B, C; 1 = coil on.
+ *   GPIOB8..10 (CAP4-6 when muxed): inputs, the gate drivers' desaturation FAULT outputs of legs
+ *   A, B, C, open-drain and active low with pull-ups (as HCPL-316J / ACPL-332J style drivers;
+ *   the board's choice, F2812_DESAT_ACTIVE_LOW). The same FAULT lines pull PDPINTA (wired-OR). */
+#define F2812_RELAY_GPB_SHIFT 0u
+#define F2812_RELAY_GPB_MASK ((uint16_t)(7u << F2812_RELAY_GPB_SHIFT))
+#define F2812_DESAT_GPB_SHIFT 8u
+#define F2812_DESAT_GPB_MASK ((uint16_t)(7u << F2812_DESAT_GPB_SHIFT))
+#ifndef F2812_DESAT_ACTIVE_LOW
+#define F2812_DESAT_ACTIVE_LOW 1
+#endif
+
 /* ---------------------------------------------------------------------------- watchdog ----- */
 /* WDCLK = OSCCLK / 512 = 58.6 kHz, 8-bit counter; WDPS = 1 (/1): timeout 256 / 58.6 kHz = 4.4 ms
  * (fact sheet 4.4, ~ layout; the 0x0068 disable value is ✔). The background loop must service

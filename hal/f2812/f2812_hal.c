@@ -51,6 +51,7 @@ static struct {
     uint16_t hook_write; /* 1: f2812_t1pint() writes up[]/actra to the shadows */
     uint16_t up[3], dn[3]; /* compare values of the last command (CMPR1..3) */
     uint16_t actra;      /* its ACTRA */
+    uint16_t relay;      /* enum hal_relay in force on GPIOB0..2 */
 } s_hal;
 
 /* ------------------------------------------------------------------------- helpers -------- */
@@ -212,13 +213,32 @@ static void init_eva_qep(void)
 }
 
 /* Pins to their peripheral functions, after the EV has made PWM1-6 high-impedance. */
+/* The relay outputs' latches are cleared (coils off) before the pins become outputs, so they
+ * never drive a stale latch; the desaturation inputs stay inputs (f2812_board.h). */
 static void init_gpio(void)
 {
+    f2812_gpiodata.B.CLEAR = F2812_RELAY_GPB_MASK;
     f2812_eallow();
     f2812_wr_protected(&f2812_gpiomux.GPAMUX,
                        bits_set(f2812_gpiomux.GPAMUX, (uint16_t)(F2812_GPAMUX_PWM1_6 | F2812_GPAMUX_QEP)));
     f2812_wr_protected(&f2812_gpiomux.GPDMUX, bits_set(f2812_gpiomux.GPDMUX, F2812_GPDMUX_PDPINTA));
+    f2812_wr_protected(&f2812_gpiomux.GPBMUX,
+                       bits_clear(f2812_gpiomux.GPBMUX, (uint16_t)(F2812_RELAY_GPB_MASK | F2812_DESAT_GPB_MASK)));
+    f2812_wr_protected(&f2812_gpiomux.GPBDIR,
+                       (uint16_t)((f2812_gpiomux.GPBDIR | F2812_RELAY_GPB_MASK) & (uint16_t)~F2812_DESAT_GPB_MASK));
     f2812_edis();
+}
+
+/* Relay coils for enum hal_relay r (1..3: that phase's coil alone; anything else: all off), then
+ * the set one (a GPIO write acts at once, not at the period boundary). */
+static inline void write_relay(uint16_t r)
+{
+    const uint16_t on = (r >= (uint16_t)HAL_RELAY_A && r <= (uint16_t)HAL_RELAY_C)
+                            ? (uint16_t)(1u << (F2812_RELAY_GPB_SHIFT + r - 1u))
+                            : 0u;
+    f2812_gpiodata.B.CLEAR = (uint16_t)(F2812_RELAY_GPB_MASK & (uint16_t)~on);
+    f2812_gpiodata.B.SET = on;
+    s_hal.relay = on != 0u ? r : (uint16_t)HAL_RELAY_OPEN;
 }
 
 /* ----------------------------------------------------------------------- hal.h ------------ */
@@ -232,6 +252,7 @@ void hal_init(void)
     s_hal.split = 0u;
     s_hal.next_split = 0u;
     s_hal.hook_write = 0u;
+    s_hal.relay = (uint16_t)HAL_RELAY_OPEN;
 
     init_sysctrl();
     f2812_ramfuncs_copy(); /* before the first call into RAM code (fact sheet 1.4) */
@@ -285,6 +306,14 @@ void hal_read(hal_meas_t *meas)
         meas->qep_index_seen = 0u;
     }
     meas->trip = f2812_tripped();
+    {
+        const uint16_t pins = (uint16_t)(f2812_gpiodata.B.DAT & F2812_DESAT_GPB_MASK);
+#if F2812_DESAT_ACTIVE_LOW
+        meas->desat = (uint16_t)((uint16_t)(pins ^ F2812_DESAT_GPB_MASK) >> F2812_DESAT_GPB_SHIFT);
+#else
+        meas->desat = (uint16_t)(pins >> F2812_DESAT_GPB_SHIFT);
+#endif
+    }
     meas->tick = s_hal.tick;
 }
 
@@ -352,6 +381,9 @@ void hal_write(const hal_cmd_t *cmd)
     if (s_hal.split != 0u) {
         write_cmpr(s_hal.dn);
     }
+    if (cmd->relay != s_hal.relay) {
+        write_relay(cmd->relay); /* whatever the enable and trip: the relay is not a gate */
+    }
     if ((cmd->enable == 0u) || (f2812_tripped() != 0u)) {
         write_all_off_shadows();
         s_hal.rearm = 0u;
@@ -379,11 +411,12 @@ void hal_write(const hal_cmd_t *cmd)
             s_hal.up[x] = leg_cmpr(s);
             s_hal.dn[x] = s_hal.up[x];
         }
-        if ((x == 0u) && (s_hal.fstp != 0u)) {
+        if (((x == 0u) && (s_hal.fstp != 0u)) || (s_hal.relay == (uint16_t)(x + 1u))) {
             /* Hoang et al. 2011, Fig. 1(b): phase A on the capacitor mid-point; leg A's
-             * command is ignored and PWM1/PWM2 stay forced low. */
-            s_hal.up[0] = F2812_CMPR_UPPER_OFF;
-            s_hal.dn[0] = F2812_CMPR_UPPER_OFF;
+             * command is ignored and PWM1/PWM2 stay forced low. A phase the relay ties to the
+             * mid-point (issue 16): its leg likewise, both switches off. */
+            s_hal.up[x] = F2812_CMPR_UPPER_OFF;
+            s_hal.dn[x] = F2812_CMPR_UPPER_OFF;
             continue;
         }
         if ((cmd->form == (uint16_t)HAL_CMD_PWM) && (cmd->act[x] == (uint16_t)HAL_PWM_UPPER_ACTIVE_LOW)) {

@@ -18,6 +18,8 @@ F2812_REGBLOCK(f2812_sysctrl, "f2812_sysctrl_regs")
 volatile struct f2812_sysctrl_regs f2812_sysctrl;
 F2812_REGBLOCK(f2812_gpiomux, "f2812_gpiomux_regs")
 volatile struct f2812_gpiomux_regs f2812_gpiomux;
+F2812_REGBLOCK(f2812_gpiodata, "f2812_gpiodata_regs")
+volatile struct f2812_gpiodata_regs f2812_gpiodata;
 F2812_REGBLOCK(f2812_adc, "f2812_adc_regs")
 volatile struct f2812_adc_regs f2812_adc;
 F2812_REGBLOCK(f2812_eva, "f2812_eva_regs")
@@ -60,6 +62,15 @@ F2812_AT(f2812_gpiomux_regs, GPFMUX, 0x70D4u, F2812_GPIOMUX_BASE);
 F2812_AT(f2812_gpiomux_regs, GPGMUX, 0x70D8u, F2812_GPIOMUX_BASE);
 F2812_AT(f2812_gpiomux_regs, GPGDIR, 0x70D9u, F2812_GPIOMUX_BASE);
 F2812_CHECK(gpiomux_size, sizeof(struct f2812_gpiomux_regs) == 0x20u * sizeof(uint16_t));
+F2812_CHECK(gpiodata_A_DAT, F2812_WORD_OFFSET(struct f2812_gpiodata_regs, A.DAT) == (0x70E0u - F2812_GPIODATA_BASE));
+F2812_CHECK(gpiodata_B_DAT, F2812_WORD_OFFSET(struct f2812_gpiodata_regs, B.DAT) == (0x70E4u - F2812_GPIODATA_BASE));
+F2812_CHECK(gpiodata_B_SET, F2812_WORD_OFFSET(struct f2812_gpiodata_regs, B.SET) == (0x70E5u - F2812_GPIODATA_BASE));
+F2812_CHECK(gpiodata_B_CLEAR, F2812_WORD_OFFSET(struct f2812_gpiodata_regs, B.CLEAR) == (0x70E6u - F2812_GPIODATA_BASE));
+F2812_CHECK(gpiodata_D_DAT, F2812_WORD_OFFSET(struct f2812_gpiodata_regs, D.DAT) == (0x70ECu - F2812_GPIODATA_BASE));
+F2812_CHECK(gpiodata_E_DAT, F2812_WORD_OFFSET(struct f2812_gpiodata_regs, E.DAT) == (0x70F0u - F2812_GPIODATA_BASE));
+F2812_CHECK(gpiodata_F_DAT, F2812_WORD_OFFSET(struct f2812_gpiodata_regs, F.DAT) == (0x70F4u - F2812_GPIODATA_BASE));
+F2812_CHECK(gpiodata_G_DAT, F2812_WORD_OFFSET(struct f2812_gpiodata_regs, G.DAT) == (0x70F8u - F2812_GPIODATA_BASE));
+F2812_CHECK(gpiodata_size, sizeof(struct f2812_gpiodata_regs) == 0x20u * sizeof(uint16_t));
 
 F2812_AT(f2812_adc_regs, ADCTRL2, 0x7101u, F2812_ADC_BASE);
 F2812_AT(f2812_adc_regs, ADCMAXCONV, 0x7102u, F2812_ADC_BASE);

@@ -34,6 +34,7 @@
 #define F2812_PIEVECT_BASE 0x0D00u  /* PF0, EALLOW protected */
 #define F2812_SYSCTRL_BASE 0x7010u  /* PF2, EALLOW protected */
 #define F2812_GPIOMUX_BASE 0x70C0u  /* PF2, EALLOW protected */
+#define F2812_GPIODATA_BASE 0x70E0u /* PF2, not protected */
 #define F2812_ADC_BASE 0x7100u      /* PF2 */
 #define F2812_EVA_BASE 0x7400u      /* PF2 */
 
@@ -137,6 +138,28 @@ struct f2812_gpiomux_regs {
 #define F2812_GPAMUX_PWM1_6 0x003Fu     /* bits 0-5: PWM1..PWM6 */
 #define F2812_GPAMUX_QEP 0x0700u        /* bits 8-10: CAP1_QEP1, CAP2_QEP2, CAP3_QEPI1 */
 #define F2812_GPDMUX_PDPINTA 0x0001u    /* bit 0: T1CTRIP_PDPINTA */
+/* MUX bit x = 0: pin GPIOxx is a GPIO; GPxDIR bit x = 1: output (4.8, HDR ✔). */
+
+/* ------------------------------------------------------- GPIO data, 0x70E0 (4.8) ----------- */
+/* Per port DAT (read: pin levels; write: output latch), SET / CLEAR / TOGGLE (write 1 to set /
+ * clear / toggle that output's latch, 0 leaves it; HDR ✔ for the addresses, the write-1 semantics
+ * ~ (TI's usual GPxSET/GPxCLEAR convention, not re-read here)). Bit x = pin GPIOxx. */
+struct f2812_gpio_port {
+    uint16_t DAT;
+    uint16_t SET;
+    uint16_t CLEAR;
+    uint16_t TOGGLE;
+};
+struct f2812_gpiodata_regs {
+    struct f2812_gpio_port A; /* 0x70E0 */
+    struct f2812_gpio_port B; /* 0x70E4 */
+    uint16_t rsvd1[4];        /* 0x70E8..0x70EB (no port C) */
+    struct f2812_gpio_port D; /* 0x70EC */
+    struct f2812_gpio_port E; /* 0x70F0 */
+    struct f2812_gpio_port F; /* 0x70F4 */
+    struct f2812_gpio_port G; /* 0x70F8 */
+    uint16_t rsvd2[4];        /* 0x70FC..0x70FF */
+};
 
 /* ---------------------------------------------------------------- ADC, 0x7100 (3.1) -------- */
 struct f2812_adc_regs {
@@ -273,6 +296,7 @@ extern volatile struct f2812_piectrl_regs f2812_piectrl;
 extern volatile struct f2812_pievect_regs f2812_pievect;
 extern volatile struct f2812_sysctrl_regs f2812_sysctrl;
 extern volatile struct f2812_gpiomux_regs f2812_gpiomux;
+extern volatile struct f2812_gpiodata_regs f2812_gpiodata;
 extern volatile struct f2812_adc_regs f2812_adc;
 extern volatile struct f2812_eva_regs f2812_eva;
 

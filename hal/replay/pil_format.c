@@ -186,6 +186,7 @@ void pil_out_fill(pil_out_t *o, const pil_hal_obs_t *obs, const app_status_t *st
         o->act1 = 0U;
         o->act2 = 0U;
     }
+    o->relay = c->relay; /* a GPIO output in either form (hal.h) */
     o->writes = obs->writes;
     o->gates_off = obs->gates_off;
     o->trip_clear = obs->trip_clear;
@@ -194,6 +195,7 @@ void pil_out_fill(pil_out_t *o, const pil_hal_obs_t *obs, const app_status_t *st
     o->fault_detail = (uint16_t)st->fault_detail;
     o->st_tick = st->tick;
     o->fault_tick = st->fault_tick;
+    o->reconfigured = st->reconfigured;
     o->ia_iq = (uint32_t)st->meas.ia_iq;
     o->ib_iq = (uint32_t)st->meas.ib_iq;
     o->ic_iq = (uint32_t)st->meas.ic_iq;

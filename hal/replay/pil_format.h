@@ -35,7 +35,7 @@
 #include "dtc_config.h"
 #include "hal.h"
 
-#define PIL_VERSION 1U
+#define PIL_VERSION 2U /* 2: desat in, relay and reconfigured out (issue 16) */
 #define PIL_HEADER_BYTES 20U
 
 /* Input record: hal_meas_t, field by field. PIL_IN_U16(name, member) / PIL_IN_U32(...). */
@@ -43,22 +43,22 @@
     U16(adc_ia, adc[HAL_ADC_IA]) U16(adc_ib, adc[HAL_ADC_IB]) U16(adc_ic, adc[HAL_ADC_IC])        \
     U16(adc_vdc, adc[HAL_ADC_VDC]) U16(adc_vmid, adc[HAL_ADC_VMID]) U16(qep_count, qep_count)     \
     U16(qep_index_seen, qep_index_seen) U16(qep_index_count, qep_index_count) U16(trip, trip)     \
-    U32(tick, tick)
-#define PIL_IN_BYTES 22U
+    U16(desat, desat) U32(tick, tick)
+#define PIL_IN_BYTES 24U
 
 /* Output record, in file order. U16(name) / U32(name): the members of pil_out_t. */
 #define PIL_OUT_FIELDS(U16, U32)                                                                  \
     U16(sa) U16(sb) U16(sc) U16(enable) U16(form)                                                 \
     U16(cmpr_up0) U16(cmpr_up1) U16(cmpr_up2) U16(cmpr_dn0) U16(cmpr_dn1) U16(cmpr_dn2)           \
-    U16(act0) U16(act1) U16(act2)                                                                 \
+    U16(act0) U16(act1) U16(act2) U16(relay)                                                      \
     U16(writes) U16(gates_off) U16(trip_clear)                                                    \
     U16(state) U16(fault) U16(fault_detail) U32(st_tick) U32(fault_tick)                          \
     U32(ia_iq) U32(ib_iq) U32(ic_iq) U32(vdc_iq) U32(vmid_iq) U16(enc_count)                      \
     U16(vector) U16(sector) U16(flux_up) U16(torque_dem) U16(speed_tick) U16(on_cm)              \
     U16(i_limited) U16(theta_e)                                                                   \
     U32(psi_alpha_iq) U32(psi_beta_iq) U32(te_iq) U32(te_ref_iq) U32(speed_iq) U32(psi_ref_iq)   \
-    U32(psir_mag_iq)
-#define PIL_OUT_BYTES 114U
+    U32(psir_mag_iq) U16(reconfigured)
+#define PIL_OUT_BYTES 118U
 
 /* One output record as numbers (signed quantities as their two's-complement bit pattern). */
 typedef struct {

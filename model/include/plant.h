@@ -79,6 +79,12 @@ typedef struct {
     double theta_m0_rad;
     /* Numerics. */
     double max_step_s;         /* largest integration sub-step */
+    /* ---- Additions: fault-tolerant reconfiguration hardware (issue 16). ---- */
+    int reconfig_relay;        /* 1: a relay per phase ties that phase to the DC link's capacitor
+                                * mid-point (plant_set_relay). The SSTP's link is then the split bank
+                                * of the FSTP: two c_dc_f in series with the mid-point brought out */
+    double relay_delay_s;      /* the relay's contacts follow its coil command after this delay
+                                * (closing and opening alike) */
 } plant_params_t;
 
 typedef struct {
@@ -218,6 +224,58 @@ void plant_get_sensed(const plant_t *plant, plant_sensed_t *s);
  * Returns -1 unless |i_a + i_b + i_c| <= 1e-12 * (|i_a| + |i_b| + |i_c|) (isolated neutral).
  * The stored magnetic energy changes with it (energy accounting starts from the new state). */
 int plant_set_phase_currents(plant_t *plant, double i_a, double i_b, double i_c);
+
+/* ---- Faults (issue 16). Each acts from the moment it is set (the plant's present time) on. ---- */
+
+typedef enum {
+    PLANT_SWITCH_OK = 0,
+    PLANT_SWITCH_OPEN = 1,    /* the device never conducts (gate forced off); its anti-parallel diode
+                               * still does */
+    PLANT_SWITCH_SHORT = 2    /* the device conducts whatever its gate says. When the complementary
+                               * device of the leg turns on (shoot-through) the gate driver's
+                               * desaturation detection turns every gate of the inverter off: the
+                               * plant latches that at the instant the complement's gate turns on
+                               * (the ~1 us shoot-through current pulse itself is not integrated) and
+                               * reports it (plant_fault_state_t.desat_mask). The shorted device goes
+                               * on conducting with every gate off */
+} plant_switch_fault_t;
+
+/* Device `upper` (1: upper, 0: lower) of leg `leg` (0..2) fails as `mode`. Returns 0, or -1 for a
+ * bad argument, the ideal inverter, or the FSTP's leg A (which has no devices). */
+int plant_set_switch_fault(plant_t *plant, int leg, int upper, plant_switch_fault_t mode);
+
+/* Leg `leg` (0..2) disconnected from its phase (open = 1): no device and no diode conducts into
+ * that phase; its current is zero unless the relay ties the phase to the mid-point. A non-zero
+ * current of that phase is cut to zero at once (the two other phases keep their sum at zero; the
+ * phase's magnetic energy leaves the accounts, as in the arc of a real open circuit). Returns 0,
+ * or -1 for a bad leg, the ideal inverter or the FSTP's leg A. */
+int plant_set_leg_open(plant_t *plant, int leg, int open);
+
+/* Coil command of the reconfiguration relay: 0 = open, 1..3 = tie phase A..C to the capacitor
+ * mid-point. The contacts follow relay_delay_s later (the integrator lands on that instant). A
+ * phase tied to the mid-point conducts as the FSTP's phase A (no device, no drop); its leg's
+ * devices should be off: if a gate of that leg is on while the relay is closed (the capacitor half
+ * shorted through the device), the desaturation trip latches as for a shoot-through. Returns 0, or
+ * -1 if no relay is fitted (reconfig_relay = 0) or phase is out of 0..3. The contacts move inside
+ * an advance, at its start at the earliest (relay_delay_s = 0: at the next advance's start, after
+ * that advance's gate commands). */
+int plant_set_relay(plant_t *plant, int phase);
+
+/* DC source voltage from now on (a sag: a fraction of vdc_v). The capacitors follow through the
+ * link's own dynamics (source resistance, capacitance); a stiff link (finite_dc_link = 0) steps
+ * at once. Returns 0, or -1 unless vdc_v is finite and > 0. */
+int plant_set_source_voltage(plant_t *plant, double vdc_v);
+
+/* Reset of the gate drivers' desaturation latch (the gates may be commanded again). */
+void plant_clear_desat(plant_t *plant);
+
+typedef struct {
+    int desat_mask;           /* bit x: leg x's gate driver saw desaturation (latched) */
+    double desat_t_s;         /* plant time at which the first desaturation latched (-1: none) */
+    int relay_cmd;            /* coil command, 0..3 */
+    int relay_closed;         /* phase the contacts tie to the mid-point now, 0 = open */
+} plant_fault_state_t;
+void plant_get_fault_state(const plant_t *plant, plant_fault_state_t *f);
 
 #ifdef __cplusplus
 }

@@ -85,6 +85,10 @@
  * i_a / (omega_e 2C) = +-1.5 V at 2.2 A, 25 Hz (docs/sil.md). */
 #define PLANT_DEF_C_DC_F 4.7e-3
 #define PLANT_DEF_R_DC_OHM 0.1                /* bench supply + leads */
+/* Reconfiguration relay (issue 16): contact delay after a coil command. A PCB power relay's
+ * operate time, Omron G2RG datasheet: "Operate time 15 ms max., Release time 5 ms max."; the
+ * plant uses the operate time (the worst case) for both directions. */
+#define PLANT_DEF_RELAY_DELAY_S 15e-3
 
 /* ---- Control settings of [H] sec. IV ---- */
 #define PLANT_DEF_TS_S 50e-6                  /* torque/flux loop period */

@@ -6,7 +6,7 @@
 namespace dclink {
 
 void setup(const plant_params_t &p, DcLink &k) {
-    if (p.inverter == PLANT_INVERTER_SSTP) {
+    if (p.inverter == PLANT_INVERTER_SSTP && !split_link(p)) {
         k.c_lo = k.c_hi = 2.0 * p.c_dc_f;
     } else {
         k.c_lo = k.c_hi = p.c_dc_f;
@@ -17,7 +17,7 @@ void setup(const plant_params_t &p, DcLink &k) {
     LinkRC &lk = k.rc;
     lk = LinkRC{};
     lk.on = p.finite_dc_link && p.inverter != PLANT_INVERTER_IDEAL && (p.r_bal_ohm > 0.0 || p.esr_ohm > 0.0);
-    lk.fstp = p.inverter == PLANT_INVERTER_FSTP;
+    lk.fstp = split_link(p);
     lk.esr = p.esr_ohm > 0.0;
     lk.esr_ohm = p.esr_ohm;
     lk.vdc = p.vdc_v;
@@ -46,7 +46,7 @@ void setup(const plant_params_t &p, DcLink &k) {
         q.is_g = inv_rdc;
         q.pdc_s = p.vdc_v;
         q.r_dc = p.r_dc_ohm;
-        if (p.inverter == PLANT_INVERTER_FSTP) {
+        if (split_link(p)) {
             q.hi_s = q.hi_p = k.inv_c_hi;
             q.lo_s = q.lo_p = q.lo_m = k.inv_c_lo;
         } else {
@@ -69,7 +69,7 @@ const char *check_finite(const plant_params_t &p) {
         if (bad(p.c_dc_f) || p.c_dc_f <= 0.0) return "c_dc_f must be > 0 with finite_dc_link";
         if (bad(p.r_dc_ohm) || p.r_dc_ohm <= 0.0) return "r_dc_ohm must be > 0 with finite_dc_link";
         // RK4 accuracy/stability on the source-capacitor mode: lambda * h <= 1.
-        const double c_eff = (p.inverter == PLANT_INVERTER_FSTP) ? 0.5 * p.c_dc_f : 2.0 * p.c_dc_f;
+        const double c_eff = split_link(p) ? 0.5 * p.c_dc_f : 2.0 * p.c_dc_f;
         if (p.max_step_s > p.r_dc_ohm * c_eff)
             return "max_step_s exceeds r_dc_ohm * C_link (DC source/capacitor time constant): "
                    "reduce max_step_s or raise r_dc_ohm / c_dc_f";

@@ -9,6 +9,13 @@
 
 namespace dclink {
 
+// Two capacitors in series with the mid-point brought out: the FSTP's link, and the SSTP's when
+// the reconfiguration relay is fitted (it ties a phase to that mid-point); otherwise the SSTP has
+// one capacitor of 2 c_dc_f.
+inline bool split_link(const plant_params_t &p) {
+    return p.inverter == PLANT_INVERTER_FSTP || (p.inverter == PLANT_INVERTER_SSTP && p.reconfig_relay);
+}
+
 // Finite DC link with capacitor ESR and/or balancing resistors (docs/plant.md, "DC link"): node
 // analysis of the source, the capacitors (ideal C in series with ESR) and the resistors across
 // them. Constants for dc_link_nodes(); used only when on (otherwise the linear forms of
@@ -117,11 +124,11 @@ void setup(const plant_params_t &p, DcLink &k);
 
 // Capacitor energy 0.5 C v^2 at capacitor voltages (vlo, vhi).
 inline double capacitor_energy(const plant_params_t &p, const DcLink &k, double vlo, double vhi) {
-    if (p.inverter == PLANT_INVERTER_SSTP) {
+    if (p.inverter == PLANT_INVERTER_SSTP && !split_link(p)) {
         const double v = vlo + vhi;
         return 0.5 * k.c_lo * v * v;
     }
-    if (p.inverter == PLANT_INVERTER_FSTP) return 0.5 * k.c_lo * vlo * vlo + 0.5 * k.c_hi * vhi * vhi;
+    if (split_link(p)) return 0.5 * k.c_lo * vlo * vlo + 0.5 * k.c_hi * vhi * vhi;
     return 0.0;
 }
 

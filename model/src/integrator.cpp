@@ -311,6 +311,14 @@ double first_change(const plant_t *pl, double t_end, double eps) {
     }
 }
 
+// The reconfiguration relay's contacts reach the coil command (plant_set_relay): the legs' paths
+// change (the caller puts them in force).
+void relay_contacts_move(plant_t *pl) {
+    pl->relay_pending = false;
+    pl->faults.relay_closed = pl->relay_cmd;
+    build_leg_table(pl->p, pl->r_ph, pl->v_set_alpha, pl->v_set_beta, &pl->faults, pl->leg_tab);
+}
+
 // One advance of dt_s: sub-steps that end at every switching instant (the legs' commands toggle
 // there and their dead times start), every dead-time end and the advance's end, each at most
 // max_step_s - except that with switching instants inside the advance a sub-step runs through
@@ -362,10 +370,20 @@ void advance_with(plant_t *pl, M &mach, double dt_s) {
                 if (ls.edge_k[x] < ls.edge_n[x]) next = std::min(next, ls.edge_abs[x][ls.edge_k[x]]);
             }
         }
+        if (pl->relay_pending) {
+            // The relay's contacts move at relay_due: a breakpoint like a switching instant.
+            if (pl->relay_due <= pl->t + eps) {
+                relay_contacts_move(pl);
+                changed = true;
+            } else {
+                next = std::min(next, pl->relay_due);
+            }
+        }
         if (changed || guard == 1) set_legs_in_force(pl);
         if (has_edges && next < t_end && next - pl->t < pl->p.max_step_s && pl->y[S_IA] != 0.0 &&
             pl->y[S_IB] != 0.0 && pl->y[S_IC] != 0.0)
             next = first_change(pl, t_end, eps);
+        if (pl->relay_pending) next = std::min(next, pl->relay_due);
         const double h = std::min(pl->p.max_step_s, next - pl->t);
         // A sub-step that ends at a breakpoint inside the advance (a dead-time end or a switching
         // instant) and is at most max_step/16 long (default: the 2 us dead-time segment at the
@@ -389,6 +407,11 @@ void advance_with(plant_t *pl, M &mach, double dt_s) {
         ls.edge_n[x] = 0;
     }
     pl->t = t_end;
+    if (pl->relay_pending && pl->relay_due <= t_end + eps) {
+        // Contacts due at the advance's end: closed in the state reported at t_end.
+        relay_contacts_move(pl);
+        set_legs_in_force(pl);
+    }
     if (pl->p.load == PLANT_LOAD_SPEED) pl->y[S_OMEGA] = pl->p.load_speed_rpm * kRpmToRadS;
 }
 

@@ -30,7 +30,8 @@ PhaseCoef phase_coef(double r_circuit, const Leg &L, const Path &pa, bool blk, d
 
 }  // namespace
 
-void build_leg_table(const plant_params_t &p, double r_circuit, double v_alpha, double v_beta, Leg tab[3][3]) {
+void build_leg_table(const plant_params_t &p, double r_circuit, double v_alpha, double v_beta, const LegFaults *f,
+                     Leg tab[3][3]) {
     const double vce = p.drops_enabled ? p.v_ce_v : 0.0;
     const double vd = p.drops_enabled ? p.v_d_v : 0.0;
     const double ron = p.drops_enabled ? p.r_on_ohm : 0.0;
@@ -49,13 +50,22 @@ void build_leg_table(const plant_params_t &p, double r_circuit, double v_alpha, 
             L.pos = L.neg = Path{RAIL_SRC, 0.0, 0.0};
             L.sign_dep = false;
             L.device = false;
-        } else if (p.inverter == PLANT_INVERTER_FSTP && x == 0) {
-            L.pos = L.neg = Path{RAIL_MID, 0.0, 0.0};  // Hoang Fig. 1(b): no device in phase A
+        } else if ((p.inverter == PLANT_INVERTER_FSTP && x == 0) || (f && f->relay_closed == x + 1)) {
+            // Hoang Fig. 1(b): no device in phase A; a phase the relay ties to the mid-point is the
+            // same circuit (the relay's contact resistance is neglected).
+            L.pos = L.neg = Path{RAIL_MID, 0.0, 0.0};
             L.sign_dep = false;
+            L.device = false;
+        } else if (f && f->open[x]) {
+            // Disconnected: at zero current the terminal may float anywhere (circuit.h keeps the
+            // phase blocked); no path conducts.
+            L.pos = Path{RAIL_ZERO, kOpenPathV, 0.0};
+            L.neg = Path{RAIL_ZERO, -kOpenPathV, 0.0};
+            L.sign_dep = true;
             L.device = false;
         } else {
             L.device = true;
-            switch (gate) {
+            switch (f ? effective_gate(*f, x, gate) : gate) {
                 case GATE_UPPER:  // Table III state 1: + -> V_CE, - -> -V_d
                     L.pos = Path{RAIL_PLUS, vce, ron};
                     L.neg = Path{RAIL_PLUS, -vd, ron};

@@ -52,10 +52,44 @@ struct Leg {
     bool device;    // a semiconductor path (losses accounted); false for mid-point / ideal source
 };
 
+// Faults of the legs and the reconfiguration relay's contacts (plant.h, issue 16): what the leg
+// table is built from beside the parameters.
+struct LegFaults {
+    int sw[3][2];      // [leg][upper]: plant_switch_fault_t
+    int open[3];       // leg disconnected from its phase
+    int relay_closed;  // phase on the mid-point through the relay (1..3), 0 = none
+};
+
+// Large enough that the zero-current interval of a disconnected phase contains every voltage the
+// circuit can reach, small enough that 0 * it stays 0 (not NaN as with infinity).
+constexpr double kOpenPathV = 1e30;
+
+// Gate state the devices of leg x act as, for a commanded gate state g with switch faults: an open
+// device never turns on (its gate as off), a shorted one is on whatever its gate says. A shorted
+// device with its complement commanded on (shoot-through) keeps g: the plant trips at that
+// instant (shoot_through()).
+inline int effective_gate(const LegFaults &f, int x, int g) {
+    const int up = f.sw[x][1], lo = f.sw[x][0];
+    if (up == PLANT_SWITCH_OPEN && g == GATE_UPPER) return GATE_OFF;
+    if (lo == PLANT_SWITCH_OPEN && g == GATE_LOWER) return GATE_OFF;
+    if (up == PLANT_SWITCH_SHORT && g == GATE_OFF) return GATE_UPPER;
+    if (lo == PLANT_SWITCH_SHORT && g == GATE_OFF) return GATE_LOWER;
+    return g;
+}
+
+// Shoot-through in leg x at gate state g: a shorted device while the complement's gate is on.
+inline bool shoot_through(const LegFaults &f, int x, int g) {
+    return (f.sw[x][1] == PLANT_SWITCH_SHORT && g == GATE_LOWER) ||
+           (f.sw[x][0] == PLANT_SWITCH_SHORT && g == GATE_UPPER);
+}
+
 // Paths and coefficients of every leg in every gate state, [leg][Gate]; r_circuit is the machine's
-// circuit resistance, (v_alpha, v_beta) the ideal inverter's voltages. At creation and whenever
-// the ideal inverter's voltages change.
-void build_leg_table(const plant_params_t &p, double r_circuit, double v_alpha, double v_beta, Leg tab[3][3]);
+// circuit resistance, (v_alpha, v_beta) the ideal inverter's voltages, f the faults (nullptr: none).
+// Each phase is on its leg (through the devices the faults leave), on the capacitor mid-point (the
+// FSTP's phase A; a phase the relay ties there) or disconnected (an open leg). At creation,
+// whenever the ideal inverter's voltages change and whenever a fault or the relay changes.
+void build_leg_table(const plant_params_t &p, double r_circuit, double v_alpha, double v_beta, const LegFaults *f,
+                     Leg tab[3][3]);
 
 // Commands, gate states and switching instants of the three legs.
 struct LegSchedule {
@@ -70,12 +104,14 @@ struct LegSchedule {
     // edge_abs[x][k] are absolute times and edge_k[x] the next one due.
     int edge_n[3];
     int edge_k[3];
+    int hw_off;          // the gate drivers' desaturation latch holds every gate off
     double edge_t[3][PLANT_LEG_EDGES_MAX];
     double edge_abs[3][PLANT_LEG_EDGES_MAX];
 };
 
 // The gate state leg x's command asks for (override, enable, command cmd).
 inline int wanted_gate(const LegSchedule &s, int cmd, int x) {
+    if (s.hw_off) return GATE_OFF;
     if (s.override_mode[x] == PLANT_LEG_DIODE_ONLY) return GATE_OFF;
     if (s.override_mode[x] == PLANT_LEG_UPPER_ON) return GATE_UPPER;
     if (s.override_mode[x] == PLANT_LEG_LOWER_ON) return GATE_LOWER;

@@ -39,13 +39,19 @@ const char *check_params(const plant_params_t *p) {
         return "max_step_s must be in (0, 100e-6]";
     if (const char *m = dclink::check_finite(*p)) return m;
     if (const char *m = mech::check_load(*p)) return m;
+    if (p->reconfig_relay != 0 && p->reconfig_relay != 1) return "reconfig_relay must be 0 or 1";
+    if (p->reconfig_relay && p->inverter != PLANT_INVERTER_SSTP)
+        return "reconfig_relay: the relay reconfigures the six-switch inverter (PLANT_INVERTER_SSTP) only";
+    if (bad(p->relay_delay_s) || p->relay_delay_s < 0.0 || p->relay_delay_s > 1.0)
+        return "relay_delay_s must be in [0, 1]";
     if (bad(p->speed0_rpm) || bad(p->theta_m0_rad)) return "speed0_rpm/theta_m0_rad must be finite";
     return nullptr;
 }
 
 // The ideal inverter's voltages live in the leg coefficients: rebuild them.
 void rebuild_legs(plant_t *pl) {
-    build_leg_table(pl->p, pl->r_ph, pl->v_set_alpha, pl->v_set_beta, pl->leg_tab);
+    build_leg_table(pl->p, pl->r_ph, pl->v_set_alpha, pl->v_set_beta, pl->any_fault ? &pl->faults : nullptr,
+                    pl->leg_tab);
     set_legs_in_force(pl);
 }
 
@@ -95,6 +101,14 @@ plant_t *plant_create(const plant_params_t *p, char *err, size_t err_len) {
         pl->mode.ph[x] = PH_BLOCKED;
     }
     ls.enable = 0;
+    ls.hw_off = 0;
+    std::memset(&pl->faults, 0, sizeof(pl->faults));
+    pl->any_fault = false;
+    pl->relay_cmd = 0;
+    pl->relay_due = 0.0;
+    pl->relay_pending = false;
+    pl->desat_mask = 0;
+    pl->desat_t = -1.0;
     pl->v_set_alpha = pl->v_set_beta = 0.0;
     std::memset(&pl->stats, 0, sizeof(pl->stats));
     rebuild_legs(pl);
@@ -260,6 +274,69 @@ void plant_get_sensed(const plant_t *plant, plant_sensed_t *s) {
         s->vc_hi_v = y[S_VCHI];
     }
     s->vdc_v = s->vc_lo_v + s->vc_hi_v;
+}
+
+int plant_set_switch_fault(plant_t *plant, int leg, int upper, plant_switch_fault_t mode) {
+    if (!plant || leg < 0 || leg > 2 || (upper != 0 && upper != 1) || mode < PLANT_SWITCH_OK ||
+        mode > PLANT_SWITCH_SHORT || plant->p.inverter == PLANT_INVERTER_IDEAL ||
+        (plant->p.inverter == PLANT_INVERTER_FSTP && leg == 0))
+        return -1;
+    plant->faults.sw[leg][upper] = mode;
+    plant->any_fault = true;
+    rebuild_legs(plant);
+    return 0;
+}
+
+int plant_set_leg_open(plant_t *plant, int leg, int open) {
+    if (!plant || leg < 0 || leg > 2 || plant->p.inverter == PLANT_INVERTER_IDEAL ||
+        (plant->p.inverter == PLANT_INVERTER_FSTP && leg == 0))
+        return -1;
+    plant->faults.open[leg] = open ? 1 : 0;
+    plant->any_fault = true;
+    if (open && plant->faults.relay_closed != leg + 1 && plant->y[S_IA + leg] != 0.0) {
+        // The phase's current is cut; the other two keep sum(i) = 0.
+        const double i = plant->y[S_IA + leg];
+        plant->y[S_IA + leg] = 0.0;
+        plant->y[S_IA + (leg + 1) % 3] += 0.5 * i;
+        plant->y[S_IA + (leg + 2) % 3] += 0.5 * i;
+    }
+    rebuild_legs(plant);
+    return 0;
+}
+
+int plant_set_relay(plant_t *plant, int phase) {
+    if (!plant || !plant->p.reconfig_relay || phase < 0 || phase > 3) return -1;
+    if (phase == plant->relay_cmd) return 0;
+    plant->relay_cmd = phase;
+    plant->any_fault = true;
+    // The contacts move in the advance (integrator.cpp), at its start at the earliest: after the
+    // gate commands of that advance, so a leg gated off together with the coil command is off
+    // when a zero-delay relay closes.
+    plant->relay_due = plant->t + plant->p.relay_delay_s;
+    plant->relay_pending = true;
+    return 0;
+}
+
+int plant_set_source_voltage(plant_t *plant, double vdc_v) {
+    if (!plant || !std::isfinite(vdc_v) || vdc_v <= 0.0) return -1;
+    plant->p.vdc_v = vdc_v;
+    dclink::setup(plant->p, plant->link);
+    if (!plant->p.finite_dc_link || plant->p.inverter == PLANT_INVERTER_IDEAL)
+        plant->y[S_VCLO] = plant->y[S_VCHI] = 0.5 * vdc_v;
+    return 0;
+}
+
+void plant_clear_desat(plant_t *plant) {
+    plant->desat_mask = 0;
+    plant->desat_t = -1.0;
+    plant->schedule.hw_off = 0;
+}
+
+void plant_get_fault_state(const plant_t *plant, plant_fault_state_t *f) {
+    f->desat_mask = plant->desat_mask;
+    f->desat_t_s = plant->desat_t;
+    f->relay_cmd = plant->relay_cmd;
+    f->relay_closed = plant->faults.relay_closed;
 }
 
 int plant_set_phase_currents(plant_t *plant, double i_a, double i_b, double i_c) {

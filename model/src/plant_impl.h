@@ -57,13 +57,46 @@ struct plant {
     plant_model::ConductionMode coefs_mode;
     plant_model::StepMethod step_method;  // the integrator of the step being taken (integrator.cpp)
     plant_stats_t stats;
+    // Faults and the reconfiguration relay (plant.h, issue 16). any_fault: a switch fault, an open
+    // leg, a relay command or a desaturation latch exists (without one the fault checks are skipped).
+    plant_model::LegFaults faults;
+    bool any_fault;
+    int relay_cmd;            // coil command 0..3
+    double relay_due;         // absolute time the contacts reach relay_cmd (relay_pending)
+    bool relay_pending;
+    int desat_mask;
+    double desat_t;
 };
 
 namespace plant_model {
 
-// Legs in force from the gate states.
+// The gate drivers' desaturation detection (plant.h, PLANT_SWITCH_SHORT): latched on leg x at the
+// present time; every gate off at once, whatever dead time was running.
+inline void latch_desat(plant_t *pl, int x) {
+    if (pl->desat_mask == 0) pl->desat_t = pl->t;
+    pl->desat_mask |= 1 << x;
+    LegSchedule &ls = pl->schedule;
+    ls.hw_off = 1;
+    for (int j = 0; j < 3; ++j) {
+        ls.gate[j] = ls.gate_target[j] = GATE_OFF;
+        ls.dead_end[j] = pl->t;
+    }
+}
+
+// Legs in force from the gate states. With faults: a shoot-through (a shorted device with its
+// complement's gate on) or a gated device in a leg whose phase the relay ties to the mid-point
+// latches the desaturation trip first, at this instant (the gate states change only at the
+// breakpoints the integrator lands on, so this is the instant the complement turns on).
 inline void set_legs_in_force(plant_t *pl) {
     pl->coefs_valid = false;
+    if (pl->any_fault) {
+        const LegSchedule &ls = pl->schedule;
+        for (int x = 0; x < 3; ++x) {
+            const bool relay_short = pl->faults.relay_closed == x + 1 && ls.gate[x] != GATE_OFF &&
+                                     !(pl->p.inverter == PLANT_INVERTER_FSTP && x == 0);
+            if (shoot_through(pl->faults, x, ls.gate[x]) || relay_short) latch_desat(pl, x);
+        }
+    }
     for (int x = 0; x < 3; ++x) pl->legs[x] = &pl->leg_tab[x][pl->schedule.gate[x]];
 }
 

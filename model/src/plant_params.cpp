@@ -40,6 +40,8 @@ void plant_params_default(plant_params_t *p) {
     p->speed0_rpm = 0.0;
     p->theta_m0_rad = 0.0;
     p->max_step_s = PLANT_DEF_MAX_STEP_S;
+    p->reconfig_relay = 0;
+    p->relay_delay_s = PLANT_DEF_RELAY_DELAY_S;
 }
 
 void plant_params_im_default(plant_params_t *p) {

@@ -35,6 +35,7 @@ static void reset_device(void)
     memset((void *)&f2812_pievect, 0, sizeof f2812_pievect);
     memset((void *)&f2812_sysctrl, 0, sizeof f2812_sysctrl);
     memset((void *)&f2812_gpiomux, 0, sizeof f2812_gpiomux);
+    memset((void *)&f2812_gpiodata, 0, sizeof f2812_gpiodata);
     memset((void *)&f2812_adc, 0, sizeof f2812_adc);
     memset((void *)&f2812_eva, 0, sizeof f2812_eva);
     memset(&f2812_host_cpu, 0, sizeof f2812_host_cpu);
@@ -361,6 +362,102 @@ static void test_init_qep_timer2(void **state)
     /* CAPCONA: CAPRES=1 (no reset), CAP12EN = 11 QEP, CAP3EN, CAP3EDGE rising, CAP3 on T2. */
     assert_int_equal(f2812_eva.CAPCONA, 0xF004);
     assert_int_equal(f2812_eva.EVAIMRC, 0x0000); /* index flag polled, no interrupt */
+}
+
+
+/* ---- fault tolerance: relay outputs and desaturation inputs (issue 16, f2812_board.h) ------
+ * Relay coils on GPIOB0, B1, B2 (phase A, B, C), desaturation FAULT inputs on GPIOB8, B9, B10
+ * (legs A, B, C, active low). Port B register addresses: fact sheet 4.8 (GPBMUX 0x70C4, GPBDIR
+ * 0x70C5 [P]; GPBDAT/SET/CLEAR 0x70E4..0x70E6). RAM cannot emulate write-1-to-set/clear, so the
+ * tests read what was written to SET and CLEAR. */
+static void test_init_relay_and_desat_pins(void **state)
+{
+    (void)state;
+    reset_device();
+    f2812_gpiomux.GPBMUX = 0xFFFFu; /* every port-B pin muxed before: must become GPIO */
+    f2812_gpiomux.GPBDIR = 0x0300u; /* B8, B9 outputs before: must become inputs */
+    hal_init();
+    /* Bits 0..2 and 8..10 cleared (GPIO), the others as they were. */
+    assert_int_equal(f2812_gpiomux.GPBMUX, 0xF8F8u);
+    /* B0..B2 outputs, B8..B10 inputs. */
+    assert_int_equal(f2812_gpiomux.GPBDIR, 0x0007u);
+    /* Coils off before the pins drive: B0..B2 latches cleared. */
+    assert_int_equal(f2812_gpiodata.B.CLEAR, 0x0007u);
+    assert_int_equal(f2812_gpiodata.B.SET, 0x0000u);
+    /* GPAMUX, GPDMUX unchanged by this (the EV-A/QEP/PDPINTA pins, 4.8). */
+    assert_int_equal(f2812_gpiomux.GPAMUX, 0x073Fu);
+    assert_int_equal(f2812_gpiomux.GPDMUX, 0x0001u);
+}
+
+static void test_relay_phase_a_b_c_and_open(void **state)
+{
+    (void)state;
+    enable_outputs();
+    for (uint16_t r = 1u; r <= 3u; r++) {
+        const hal_cmd_t cmd = {1u, 1u, 1u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}, r};
+        f2812_gpiodata.B.SET = 0u;
+        f2812_gpiodata.B.CLEAR = 0u;
+        hal_write(&cmd);
+        /* The named phase's coil alone: B(r-1) set, the two others cleared. */
+        assert_int_equal(f2812_gpiodata.B.SET, (uint16_t)(1u << (r - 1u)));
+        assert_int_equal(f2812_gpiodata.B.CLEAR, (uint16_t)(0x0007u & ~(1u << (r - 1u))));
+        /* That leg both switches off, the two others upper on as commanded. */
+        for (uint16_t x = 0u; x < 3u; x++) {
+            assert_int_equal(leg_state(x).upper, x == r - 1u ? 0 : 1);
+            assert_int_equal(leg_state(x).lower, 0);
+        }
+    }
+    const hal_cmd_t open = {0u, 1u, 0u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}, 0u};
+    f2812_gpiodata.B.SET = 0u;
+    f2812_gpiodata.B.CLEAR = 0u;
+    hal_write(&open);
+    assert_int_equal(f2812_gpiodata.B.SET, 0x0000u);
+    assert_int_equal(f2812_gpiodata.B.CLEAR, 0x0007u);
+    assert_int_equal(leg_state(0).lower, 1); /* leg C's relay gone: every leg as commanded */
+    assert_int_equal(leg_state(1).upper, 1);
+    assert_int_equal(leg_state(2).lower, 1);
+}
+
+static void test_gates_off_and_disable_leave_the_relay(void **state)
+{
+    (void)state;
+    enable_outputs();
+    const hal_cmd_t b = {0u, 0u, 0u, 1u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}, 2u};
+    hal_write(&b);
+    assert_int_equal(f2812_gpiodata.B.SET, 0x0002u);
+    f2812_gpiodata.B.SET = 0u;
+    f2812_gpiodata.B.CLEAR = 0u;
+    hal_gates_off();
+    /* No port-B write: the coil stays on. */
+    assert_int_equal(f2812_gpiodata.B.SET, 0u);
+    assert_int_equal(f2812_gpiodata.B.CLEAR, 0u);
+    /* A disabled command carrying the same relay writes nothing to it either. */
+    const hal_cmd_t off = {0u, 0u, 0u, 0u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}, 2u};
+    hal_write(&off);
+    assert_int_equal(f2812_gpiodata.B.SET, 0u);
+    assert_int_equal(f2812_gpiodata.B.CLEAR, 0u);
+    /* A disabled command that opens it does open it (the relay is not a gate). */
+    const hal_cmd_t off_open = {0u, 0u, 0u, 0u, HAL_CMD_LEGS, {0u, 0u, 0u}, {0u, 0u, 0u}, {0u, 0u, 0u}, 0u};
+    hal_write(&off_open);
+    assert_int_equal(f2812_gpiodata.B.CLEAR, 0x0007u);
+}
+
+static void test_desat_inputs_active_low(void **state)
+{
+    (void)state;
+    hal_meas_t m;
+    f2812_gpiodata.B.DAT = 0xFFFFu; /* every FAULT line high (pulled up): no desaturation */
+    hal_read(&m);
+    assert_int_equal(m.desat, 0u);
+    f2812_gpiodata.B.DAT = (uint16_t)(0xFFFFu & ~0x0200u); /* B9 low: leg B */
+    hal_read(&m);
+    assert_int_equal(m.desat, 2u);
+    f2812_gpiodata.B.DAT = 0x08FFu; /* B8..B10 low, other port-B pins anything */
+    hal_read(&m);
+    assert_int_equal(m.desat, 7u);
+    f2812_gpiodata.B.DAT = 0x0500u; /* B9 low only; B8, B10 high */
+    hal_read(&m);
+    assert_int_equal(m.desat, 2u);
 }
 
 /* ---- switching states -------------------------------------------------------------------- */
@@ -842,6 +939,10 @@ int main(void)
         cmocka_unit_test_setup(test_pwm_asymmetric_then_disable, setup_initialised),
         cmocka_unit_test_setup(test_pwm_fstp_leg_a_ignored, setup_initialised),
         cmocka_unit_test_setup(test_pwm_period_register, setup_initialised),
+        cmocka_unit_test(test_init_relay_and_desat_pins),
+        cmocka_unit_test_setup(test_relay_phase_a_b_c_and_open, setup_initialised),
+        cmocka_unit_test_setup(test_gates_off_and_disable_leave_the_relay, setup_initialised),
+        cmocka_unit_test_setup(test_desat_inputs_active_low, setup_initialised),
     };
     return cmocka_run_group_tests_name("f2812_hal", tests, NULL, NULL);
 }

@@ -579,3 +579,46 @@ TEST(Scenario, BadImFirmwareConfigurationIsRefusedNamingTheKey)
     EXPECT_FALSE(run_scenario(s, opt, &r, &err));
     EXPECT_NE(err.find("control.magnetise_frac"), std::string::npos) << err;
 }
+
+TEST(Scenario, FaultKeysAreParsedAndBadValuesNameKeyAndLine)
+{
+    Scenario s;
+    EXPECT_EQ(errors_of("ts_s = 50e-6\n[inverter]\nreconfig_relay = true\nrelay_delay_s = 0.01\n[faults]\n"
+                        "time_s = 0.3\nleg_open = \"b\"\nswitch_short = \"c_lower\"\nencoder_lost = true\n"
+                        "current_sensor_stuck = \"a\"\ncurrent_sensor_code = 100\ndc_sag = 0.5\n",
+                        {}, &s),
+              "");
+    EXPECT_TRUE(s.inverter.reconfig_relay);
+    EXPECT_DOUBLE_EQ(s.inverter.relay_delay_s, 0.01);
+    EXPECT_DOUBLE_EQ(s.faults.time_s, 0.3);
+    EXPECT_EQ(s.faults.leg_open, sil::FaultPhase::B);
+    EXPECT_EQ(s.faults.switch_short, sil::FaultSwitch::CLower);
+    EXPECT_TRUE(s.faults.encoder_lost);
+    EXPECT_EQ(s.faults.current_sensor_stuck, sil::FaultPhase::A);
+    EXPECT_EQ(s.faults.current_sensor_code, 100);
+    EXPECT_DOUBLE_EQ(s.faults.dc_sag, 0.5);
+    EXPECT_TRUE(s.faults.any());
+    // Defaults: no fault, the relay not fitted, its delay the datasheet's operate time.
+    Scenario d;
+    EXPECT_EQ(errors_of("ts_s = 50e-6\n", {}, &d), "");
+    EXPECT_FALSE(d.faults.any());
+    EXPECT_FALSE(d.inverter.reconfig_relay);
+    EXPECT_DOUBLE_EQ(d.inverter.relay_delay_s, 15e-3);
+    EXPECT_EQ(d.faults.current_sensor_code, 2048);
+
+    expect_error("ts_s = 50e-6\n[faults]\ntime_s = 0.3\nleg_open = \"d\"\n", "faults.leg_open", 4);
+    expect_error("ts_s = 50e-6\n[faults]\ntime_s = 0.3\nswitch_open = \"a_middle\"\n", "faults.switch_open", 4);
+    expect_error("ts_s = 50e-6\n[faults]\ntime_s = 0.3\ncurrent_sensor_stuck = \"a\"\ncurrent_sensor_code = 4096\n",
+                 "faults.current_sensor_code", 5);
+    expect_error("ts_s = 50e-6\n[faults]\ntime_s = 0.3\ndc_sag = 0\n", "faults.dc_sag", 4);
+    expect_error("ts_s = 50e-6\n[faults]\ntime_s = -1\nencoder_lost = true\n", "faults.time_s", 3);
+    expect_error("ts_s = 50e-6\n[faults]\nencoder_lost = 1\n", "faults.encoder_lost", 3);
+    expect_error("ts_s = 50e-6\n[faults]\nencoder_lost = true\n", "faults.time_s", 0, "missing value");
+    expect_error("ts_s = 50e-6\n[inverter]\nrelay_delay_s = 2\n", "inverter.relay_delay_s", 3);
+    expect_error("ts_s = 50e-6\n[inverter]\ntopology = \"fstp\"\nreconfig_relay = true\n", "inverter.reconfig_relay",
+                 4, "six-switch");
+    expect_error("ts_s = 50e-6\n[inverter]\ntopology = \"fstp\"\n[faults]\ntime_s = 0.2\nswitch_short = \"a_upper\"\n",
+                 "faults.switch_short", 6, "no leg A");
+    expect_error("ts_s = 50e-6\n[faults]\ntime_s = 0.2\nswitch_short = \"a_upper\"\nswitch_open = \"b_upper\"\n",
+                 "faults.switch_short", 4, "one switch fault");
+}

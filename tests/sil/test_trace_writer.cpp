@@ -42,10 +42,12 @@ TEST(TraceWriter, EveryValueReadsBackToTheSameDouble)
                               -std::numeric_limits<double>::infinity()};
     constexpr int n = 20000; // many batches, the last one partial
     constexpr std::size_t nd = 20; // 18 columns of every trace + the IM's two rotor-flux columns
+                                   // (then the three integer fault columns)
     std::vector<std::array<double, nd>> rows(n);
-    std::vector<std::array<int, 4>> ints(n);
+    std::vector<std::array<int, 7>> ints(n);
     TraceWriter w;
     w.set_rotor_flux_columns(true);
+    w.set_fault_columns(true);
     std::string err;
     ASSERT_TRUE(w.open(path, &err)) << err;
     for (std::size_t k = 0; k < rows.size(); ++k) {
@@ -64,11 +66,12 @@ TEST(TraceWriter, EveryValueReadsBackToTheSameDouble)
             }
         }
         ints[k] = {static_cast<int>(rng() % 2), static_cast<int>(rng() % 2), static_cast<int>(rng() % 2),
-                   static_cast<int>(rng() % 2)};
+                   static_cast<int>(rng() % 2), static_cast<int>(rng() % 4), static_cast<int>(rng() % 4),
+                   static_cast<int>(rng() % 8)};
         const auto& i = ints[k];
         const TraceRow r{v[0],  v[1],  v[2],  v[3],  v[4],  v[5],  v[6],  v[7],  v[8],  v[9],  v[10], v[11],
                          v[12], i[0],  i[1],  i[2],  v[13], i[3],  v[14], v[15], v[16], v[17], v[0],
-                         v[18], v[19]};
+                         v[18], v[19], i[4], i[5], i[6]};
         w.write(r);
     }
     ASSERT_TRUE(w.close(&err)) << err;
@@ -76,13 +79,14 @@ TEST(TraceWriter, EveryValueReadsBackToTheSameDouble)
     std::ifstream f(path);
     std::string line;
     ASSERT_TRUE(std::getline(f, line));
-    EXPECT_EQ(line, std::string(trace_header()) + ",psi_r_alpha_wb,psi_r_beta_wb");
+    EXPECT_EQ(line, std::string(trace_header()) + ",psi_r_alpha_wb,psi_r_beta_wb,relay,relay_closed,desat");
     std::size_t k = 0;
-    const int order[25] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, -1, -2, -3, 13, -4, 14, 15, 16, 17, 0, 18, 19};
+    const int order[28] = {0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 11, 12, -1,
+                           -2, -3, 13, -4, 14, 15, 16, 17, 0,  18, 19, -5, -6, -7};
     while (std::getline(f, line)) {
         ASSERT_LT(k, rows.size());
         const char* p = line.c_str();
-        for (int c = 0; c < 25; ++c) {
+        for (int c = 0; c < 28; ++c) {
             char* end = nullptr;
             const double got = std::strtod(p, &end);
             ASSERT_NE(end, p) << "row " << k << " column " << c << ": " << line;
@@ -99,7 +103,7 @@ TEST(TraceWriter, EveryValueReadsBackToTheSameDouble)
                 }
             }
             p = end;
-            ASSERT_EQ(*p, c < 24 ? ',' : '\0') << line;
+            ASSERT_EQ(*p, c < 27 ? ',' : '\0') << line;
             ++p;
         }
         ++k;

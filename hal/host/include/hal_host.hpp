@@ -15,6 +15,11 @@
 //   3. advance(): the plant runs over [t_k, t_k+1) with the command written in period k-1 (the
 //                 DSP's shadowed action registers load at the period boundary), then the pending
 //                 command becomes the active one.
+// Fault tolerance (issue 16): hal_cmd_t.relay energises the plant's reconfiguration relay at once
+// (a GPIO output, not shadowed; its contacts follow after their own delay) and, from that command
+// on, holds the named leg's two gates off (the leg must not drive a phase the relay ties to the
+// mid-point); relay = 0 gives the leg back. The gate drivers' desaturation outputs (the plant's
+// latch) appear in hal_meas_t.desat and latch the trip like PDPINTA; hal_trip_clear() resets them.
 // hal_gates_off() acts on the current period at once (the fault path), like forcing the PWM
 // outputs to high impedance. A latched trip keeps every gate off until hal_trip_clear() succeeds,
 // which it does only once the comparator condition has gone (PDPINTA behaviour, f2812-facts 2.11).
@@ -65,7 +70,7 @@ struct HarnessConfig {
 };
 
 /// Why the gates are off (for the runner's log).
-enum class TripCause { none, overcurrent };
+enum class TripCause { none, overcurrent, desat };
 
 class Harness {
 public:
@@ -112,6 +117,31 @@ public:
     /// default) advances in one piece. The period-match gates-off path (hal.h: an asymmetric
     /// pulse followed by enable = 0) is not split and calls f once, at the period's end.
     void set_substeps(int n, std::function<void(const plant_t*)> f);
+
+    // --- sensor faults (issue 16) ----------------------------------------------------------------
+    // They live here, not in the plant: the plant models the power circuit and the machine, and
+    // what a sensor reports is this emulation's business (the plant has no sensors).
+    /// Encoder signal lost from the next sample(): the QEP count holds its last value and no index
+    /// pulse is seen (lost = false: the encoder reads the shaft again).
+    void set_encoder_lost(bool lost) { encoder_lost_ = lost; }
+    /// Phase `phase` (0..2; -1 = none) current sensor stuck from the next sample(): its ADC channel
+    /// reads `code`. The noise is the sensor's (hal_host_sensors.hpp: referred to the measured
+    /// current), so a stuck output has none; the draw is still made, so the other channels'
+    /// noise is the same sequence as without the fault.
+    void set_current_sensor_stuck(int phase, std::uint16_t code)
+    {
+        stuck_phase_ = phase;
+        stuck_code_ = code;
+    }
+    /// Reconfiguration relay (hal_cmd_t.relay): the coil command in force, 0..3.
+    std::uint16_t relay_cmd() const { return relay_; }
+    /// The plant's fault state (relay contacts, desaturation latch) at time_s().
+    plant_fault_state_t fault_state() const
+    {
+        plant_fault_state_t f;
+        plant_get_fault_state(plant_, &f);
+        return f;
+    }
 
     // --- what the runner records -------------------------------------------------------------
     /// The plant's full true state at time_s(): between sample() and advance() the state at t_k
@@ -207,6 +237,11 @@ private:
     std::uint64_t invalid_writes_ = 0;
     int substeps_ = 1;
     std::function<void(const plant_t*)> substep_fn_;
+    bool encoder_lost_ = false;
+    int stuck_phase_ = -1;
+    std::uint16_t stuck_code_ = 2048u;
+    std::uint16_t relay_ = 0u;
+    bool relay_fitted_ = false;
 };
 
 } // namespace hal_host

@@ -87,6 +87,7 @@ Harness::Harness(plant_t* plant, const HarnessConfig& cfg, const plant_params_t&
     adc_[HAL_ADC_VMID] = voltage_channel(s.voltage_range_v, s.vmid_gain_error, s.vmid_offset_v, s.voltage_noise_v_rms);
     plant_get_sensed(plant_, &sensed_);
     last_turn_ = encoder_.turn(sensed_.theta_m_rad);
+    relay_fitted_ = params.reconfig_relay != 0;
     active_ = hal_cmd_t{};
     pending_ = active_;
 }
@@ -127,10 +128,22 @@ void Harness::sample()
         trip_latched_ = true;
         trip_cause_ = TripCause::overcurrent;
     }
+    // Gate-driver desaturation (the plant latched it at the shoot-through's instant and turned
+    // every gate off there): the drivers pull PDPINTA too.
+    plant_fault_state_t fs;
+    plant_get_fault_state(plant_, &fs);
+    meas_.desat = static_cast<std::uint16_t>(fs.desat_mask);
+    if (fs.desat_mask != 0 && !trip_latched_) {
+        trip_latched_ = true;
+        trip_cause_ = TripCause::desat;
+    }
 
-    // Encoder: index pulse whenever the shaft crossed the index position since the last sample.
-    std::int64_t turn = 0;
-    meas_.qep_count = encoder_.read(sensed_.theta_m_rad, &turn);
+    // Encoder: index pulse whenever the shaft crossed the index position since the last sample;
+    // a lost signal leaves the counter and the index flag as they were.
+    std::int64_t turn = last_turn_;
+    if (!encoder_lost_) {
+        meas_.qep_count = encoder_.read(sensed_.theta_m_rad, &turn);
+    }
     if (turn != last_turn_) {
         // The capture unit latches the counter at the pulse edge: the index position is count 0
         // when crossing forward, and the count just below it (4*lines - 1) when crossing backward.
@@ -148,7 +161,10 @@ void Harness::sample()
         const double n = a.noise_rms > 0.0 ? noise_.next() : 0.0;
         meas_.adc[ch] = a.code(x[ch], n);
     }
-    if (!cfg_.sensors.vmid_fitted || inverter_ != PLANT_INVERTER_FSTP) {
+    if (stuck_phase_ >= 0 && stuck_phase_ < 3) {
+        meas_.adc[stuck_phase_] = stuck_code_;
+    }
+    if (!cfg_.sensors.vmid_fitted || (inverter_ != PLANT_INVERTER_FSTP && !relay_fitted_)) {
         meas_.adc[HAL_ADC_VMID] = 0u;
     }
     meas_.qep_index_seen = index_seen_ ? 1u : 0u;
@@ -334,11 +350,23 @@ void Harness::hal_write(const hal_cmd_t* cmd)
             bad = bad || cmd->act[x] > HAL_PWM_UPPER_ACTIVE_LOW;
         }
     }
+    bad = bad || cmd->relay > HAL_RELAY_C;
     if (bad) {
         ++invalid_writes_;
     }
     pending_ = *cmd;
     written_ = *cmd;
+    if (cmd->relay != relay_ && cmd->relay <= HAL_RELAY_C && relay_fitted_ && inverter_ == PLANT_INVERTER_SSTP) {
+        // The coil at once (GPIO); the leg it names off from now (both its gates).
+        if (relay_ != HAL_RELAY_OPEN) {
+            plant_set_leg_override(plant_, relay_ - 1, PLANT_LEG_NORMAL);
+        }
+        relay_ = cmd->relay;
+        plant_set_relay(plant_, relay_);
+        if (relay_ != HAL_RELAY_OPEN) {
+            plant_set_leg_override(plant_, relay_ - 1, PLANT_LEG_DIODE_ONLY);
+        }
+    }
 }
 
 void Harness::hal_gates_off()
@@ -354,6 +382,7 @@ void Harness::hal_trip_clear()
     if (trip_latched_ && !comparator_active()) {
         trip_latched_ = false;
         trip_cause_ = TripCause::none;
+        plant_clear_desat(plant_);
     }
 }
 

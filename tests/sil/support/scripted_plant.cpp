@@ -131,3 +131,23 @@ void plant_get_sensed(const plant_t* plant, plant_sensed_t* s)
 }
 
 } // extern "C"
+
+// Faults (plant.h, issue 16): the scripted plant has no circuit; the commands are accepted and
+// change nothing, and no desaturation ever latches.
+extern "C" {
+
+int plant_set_switch_fault(plant_t*, int, int, plant_switch_fault_t) { return 0; }
+int plant_set_leg_open(plant_t*, int, int) { return 0; }
+int plant_set_relay(plant_t*, int) { return 0; }
+int plant_set_source_voltage(plant_t*, double) { return 0; }
+int plant_set_leg_override(plant_t*, int, plant_leg_override_t) { return 0; }
+void plant_clear_desat(plant_t*) {}
+void plant_get_fault_state(const plant_t*, plant_fault_state_t* f)
+{
+    f->desat_mask = 0;
+    f->desat_t_s = -1.0;
+    f->relay_cmd = 0;
+    f->relay_closed = 0;
+}
+
+} // extern "C"

@@ -48,6 +48,10 @@ public:
     virtual ControllerEstimates estimates() const = 0;
     /// "none" or the controller's fault reason code (called after the last step, harness active).
     virtual std::string fault() const = 0;
+    /// The phase the controller moved onto the capacitor mid-point after a leg failure (enum
+    /// hal_relay: 1..3 = A..C), 0 = none, -1 = the controller has no such status (called after
+    /// the last step, harness active).
+    virtual int reconfigured() const { return -1; }
     /// True if the controller produces torque/flux estimates at all (open loop does not).
     virtual bool has_estimates() const = 0;
     /// ISR recording (dtc-sil run --record-isr, docs/pil.md): only the firmware runs an ISR.

@@ -32,6 +32,8 @@ enum class SwitchingTable { Basic, StA, StB, StC, StD, SpeedDependent };
 enum class Scheme { Dtc, Dsc, Sfvc, Dfoc, Dsvm };
 enum class Modulation { Symmetric, TwoPhase };
 enum class SpeedSensor { Encoder, None };
+enum class FaultPhase { None, A, B, C };
+enum class FaultSwitch { None, AUpper, ALower, BUpper, BLower, CUpper, CLower };
 
 /// The one to-string table of each variant: names[i] is the key text of enum value i.
 template <typename E> struct VariantNames;
@@ -67,6 +69,14 @@ template <> struct VariantNames<Modulation> {
 };
 template <> struct VariantNames<SpeedSensor> {
     static constexpr std::array<const char*, 2> names{"encoder", "none"};
+};
+
+template <> struct VariantNames<FaultPhase> {
+    static constexpr std::array<const char*, 4> names{"none", "a", "b", "c"};
+};
+template <> struct VariantNames<FaultSwitch> {
+    static constexpr std::array<const char*, 7> names{"none", "a_upper", "a_lower", "b_upper", "b_lower",
+                                                      "c_upper", "c_lower"};
 };
 
 /// The key text of a variant ("fstp", "open_loop", ...).
@@ -140,6 +150,8 @@ struct InverterCfg {
     bool drops = true;
     bool dead_time = true;
     bool finite_dc_link = true;
+    bool reconfig_relay = false;   // a relay per phase ties it to the capacitor mid-point (issue 16)
+    double relay_delay_s = PLANT_DEF_RELAY_DELAY_S; // relay contact delay after a coil command
 };
 
 struct LoadCfg {
@@ -239,6 +251,25 @@ struct FirmwareCfg {
     std::optional<double> rr_ohm, lls_h, llr_h, lm_h; // induction machine as the firmware believes it
 };
 
+/// Faults injected from faults.time_s on (issue 16; docs/sil.md). Each is off by default.
+struct FaultsCfg {
+    double time_s = 0.0;                       // when every configured fault occurs
+    FaultPhase leg_open = FaultPhase::None;    // leg disconnected from its phase
+    FaultSwitch switch_open = FaultSwitch::None;  // device never conducts (its diode does)
+    FaultSwitch switch_short = FaultSwitch::None; // device always conducts
+    bool encoder_lost = false;                 // QEP count frozen, no index pulses
+    FaultPhase current_sensor_stuck = FaultPhase::None; // that phase's ADC channel stuck at a code
+    std::int64_t current_sensor_code = 2048;   // the stuck code (mid-scale: zero current)
+    double dc_sag = 1.0;                       // DC source voltage becomes this fraction of inverter.vdc_v
+    /// True if any fault is configured.
+    bool any() const
+    {
+        return leg_open != FaultPhase::None || switch_open != FaultSwitch::None ||
+               switch_short != FaultSwitch::None || encoder_lost || current_sensor_stuck != FaultPhase::None ||
+               dc_sag != 1.0;
+    }
+};
+
 struct MetricsCfg {
     double torque_sensor_hz = 0.0; // trf_filtered_pct: torque transducer bandwidth, 0 = unfiltered
 };
@@ -260,6 +291,7 @@ struct Scenario {
     SensorsCfg sensors;
     ProtectionCfg protection;
     FirmwareCfg firmware;
+    FaultsCfg faults;
     MetricsCfg metrics;
     std::map<std::string, std::string> origin; // key -> "file:line:col" or "--set"
 };

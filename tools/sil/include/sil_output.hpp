@@ -31,6 +31,8 @@ struct TraceRow {
     int en;
     double theta_e_rad, vc_lo_v, v_alpha_v, v_beta_v, tload_nm;
     double psi_r_alpha_wb, psi_r_beta_wb;  // induction machine only (rotor-flux columns)
+    int relay, relay_closed, desat;        // fault columns only (issue 16): the relay's coil command
+                                           // (hal_cmd_t.relay), its contacts, meas.desat
 };
 
 /// Column names, in order.
@@ -63,6 +65,9 @@ public:
     bool open(const std::string& path, std::string* err);
     /// Induction machine: append the psi_r_alpha_wb, psi_r_beta_wb columns (call before open).
     void set_rotor_flux_columns(bool on) { rotor_flux_ = on; }
+    /// Faults or the reconfiguration relay configured: append the relay, relay_closed, desat
+    /// columns (call before open).
+    void set_fault_columns(bool on) { fault_cols_ = on; }
     /// The next row, to be filled in place (no copy) and then committed. Every field must be set.
     TraceRow& next_row() { return fill_->rows[fill_->n]; }
     void commit_row()
@@ -110,6 +115,7 @@ private:
     std::condition_variable cv_;
     bool stop_ = false;
     bool rotor_flux_ = false;
+    bool fault_cols_ = false;
 };
 
 struct RunInfo {
@@ -122,6 +128,14 @@ struct RunInfo {
     std::uint64_t invalid_commands = 0;
     bool hw_trip = false;
     bool traced = false; // trace.csv written (its cost is in wall_time_s)
+    // Injected faults ([faults], issue 16): when they occurred (-1: none configured), the phase
+    // the firmware moved onto the mid-point ("" = none or the controller has no such status), and
+    // the speed's response after the fault (speed mode; NaN = not defined, see docs/sil.md).
+    double injected_fault_time_s = -1.0;
+    std::string reconfigured;
+    double speed_dip_rpm = -1.0;  // largest drop below control.speed_ref_rpm after the fault; -1: n/a
+    double recovery_s = -1.0;     // fault until the speed is back within 1 % of the reference for
+                                  // good; -1: n/a or never
 };
 
 nlohmann::json metrics_json(const Scenario& sc, const Metrics& m, const RunInfo& info);

@@ -363,6 +363,11 @@ public:
         refresh();
         return st_.fault == APP_FAULT_NONE ? std::string("none") : std::string(app_fault_name(st_.fault));
     }
+    int reconfigured() const override
+    {
+        refresh();
+        return static_cast<int>(st_.reconfigured);
+    }
     bool has_estimates() const override { return true; }
 
 private:

@@ -86,7 +86,39 @@ plant_params_t plant_params_from(const Scenario& sc)
     p.speed0_rpm = sc.initial_speed_rpm;
     p.theta_m0_rad = sc.initial_theta_m_rad;
     p.max_step_s = sc.max_step_s;
+    p.reconfig_relay = sc.inverter.reconfig_relay ? 1 : 0;
+    p.relay_delay_s = sc.inverter.relay_delay_s;
     return p;
+}
+
+// The [faults] table (issue 16) applied to the plant and the sensing emulation, at the start of
+// the first control period at or after faults.time_s.
+void inject_faults(const Scenario& sc, hal_host::Harness& h)
+{
+    const FaultsCfg& f = sc.faults;
+    plant_t* pl = h.plant();
+    if (f.leg_open != FaultPhase::None) {
+        plant_set_leg_open(pl, static_cast<int>(f.leg_open) - 1, 1);
+    }
+    // FaultSwitch: none, a_upper, a_lower, b_upper, ...: leg (v - 1) / 2, upper when (v - 1) even.
+    auto sw = [pl](FaultSwitch s, plant_switch_fault_t mode) {
+        if (s != FaultSwitch::None) {
+            const int v = static_cast<int>(s) - 1;
+            plant_set_switch_fault(pl, v / 2, (v % 2) == 0 ? 1 : 0, mode);
+        }
+    };
+    sw(f.switch_open, PLANT_SWITCH_OPEN);
+    sw(f.switch_short, PLANT_SWITCH_SHORT);
+    if (f.dc_sag != 1.0) {
+        plant_set_source_voltage(pl, f.dc_sag * sc.inverter.vdc_v);
+    }
+    if (f.encoder_lost) {
+        h.set_encoder_lost(true);
+    }
+    if (f.current_sensor_stuck != FaultPhase::None) {
+        h.set_current_sensor_stuck(static_cast<int>(f.current_sensor_stuck) - 1,
+                                   static_cast<std::uint16_t>(f.current_sensor_code));
+    }
 }
 
 hal_host::HarnessConfig harness_config_from(const Scenario& sc)
@@ -328,6 +360,7 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
             return false;
         }
         trace.set_rotor_flux_columns(sc.motor.type == MotorType::Im);
+        trace.set_fault_columns(sc.faults.any() || sc.inverter.reconfig_relay);
         if (opt.write_trace && !trace.open(out.path("trace.csv"), err)) {
             return false;
         }
@@ -366,6 +399,13 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
     bool dyno_ramp = sc.load.type == LoadType::Speed && sc.load.speed_ramp_s > 0.0;
     const double nan = std::nan("");
 
+    // Injected faults: when, and the speed's response after them (speed mode).
+    bool faults_pending = sc.faults.any();
+    double fault_t = -1.0;
+    const bool speed_mode = sc.control.mode == ControlMode::Speed;
+    const double band_rpm = 0.01 * std::fabs(sc.control.speed_ref_rpm);
+    double dip_rpm = 0.0, last_out_t = -1.0, last_t = -1.0;
+    bool last_in = false;
     const PlantBounds bounds = plant_bounds(sc);
     std::string diverged;
     double diverged_t = -1.0;
@@ -408,7 +448,21 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
                            load_stepped && sc.load.step_time_s > 0.0 ? sc.load.step_torque_nm : sc.load.torque_nm);
             dyno_ramp = t_end < sc.load.speed_ramp_start_s + sc.load.speed_ramp_s;
         }
+        if (faults_pending && h->time_s() + 0.5 * sc.ts_s >= sc.faults.time_s) {
+            inject_faults(sc, *h);
+            faults_pending = false;
+            fault_t = h->time_s();
+        }
         h->sample();
+        if (fault_t >= 0.0 && speed_mode) {
+            const double n = h->sensed().omega_m_rad_s * (30.0 / kPi);
+            dip_rpm = std::max(dip_rpm, sc.control.speed_ref_rpm - n);
+            last_in = std::fabs(n - sc.control.speed_ref_rpm) <= band_rpm;
+            last_t = h->time_s();
+            if (!last_in) {
+                last_out_t = last_t;
+            }
+        }
         if (std::string why = plant_out_of_bounds(h->sensed(), bounds); !why.empty()) {
             diverged = why;
             diverged_t = h->time_s();
@@ -500,6 +554,10 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
             r.tload_nm = st.tload_nm;
             r.psi_r_alpha_wb = st.psi_r_alpha_wb;
             r.psi_r_beta_wb = st.psi_r_beta_wb;
+            const plant_fault_state_t fs = h->fault_state();
+            r.relay = h->relay_cmd();
+            r.relay_closed = fs.relay_closed;
+            r.desat = h->meas().desat;
             trace.commit_row();
         }
         h->advance();
@@ -533,6 +591,17 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
     res->info.invalid_commands = h->invalid_writes();
     res->info.hw_trip = h->trip_latched();
     res->info.traced = writing && opt.write_trace;
+    res->info.injected_fault_time_s = fault_t;
+    if (const int r = ctrl->reconfigured(); r >= 1 && r <= 3) {
+        res->info.reconfigured = std::string(1, static_cast<char>('a' + r - 1));
+    }
+    if (fault_t >= 0.0 && speed_mode) {
+        res->info.speed_dip_rpm = dip_rpm;
+        // Back within the band for good: from the first sample after the last one outside it.
+        if (last_in) {
+            res->info.recovery_s = last_out_t < 0.0 ? 0.0 : last_out_t + sc.ts_s - fault_t;
+        }
+    }
     if (!diverged.empty()) {
         // The recorded window is incomplete and the state meaningless: no metrics, only why.
         res->metrics = Metrics{};

@@ -224,6 +224,15 @@ const std::vector<Spec>& schema()
         boolean("inverter.dead_time", "dead time modelled", ACC(inverter.dead_time)),
         boolean("inverter.finite_dc_link", "capacitor voltages move (false: stiff DC link)",
                 ACC(inverter.finite_dc_link)),
+        boolean("inverter.reconfig_relay",
+                "sstp: a relay per phase ties that phase to the DC link's capacitor mid-point (the four-switch "
+                "topology after a leg failure, Hoang sec. I ref. [9]); the link is then two inverter.c_dc_f in "
+                "series with the mid-point brought out (the FSTP's), and the mid-point sensor is read",
+                ACC(inverter.reconfig_relay)),
+        num("inverter.relay_delay_s", "s", closed(0.0, 1.0),
+            "relay contact delay after a coil command, closing and opening (default: the operate time of a PCB "
+            "power relay, Omron G2RG datasheet, 15 ms max.)",
+            ACC(inverter.relay_delay_s)),
         // ---- load ----
         choice<LoadType>("load.type",
                "speed = dynamometer holds load.speed_rpm; torque = constant load.torque_nm; generator = "
@@ -441,7 +450,7 @@ const std::vector<Spec>& schema()
             ACC(sensors.vmid_gain_error)),
         num("sensors.voltage_noise_v_rms", "V", nonneg(), "white Gaussian noise on both voltage channels",
             ACC(sensors.voltage_noise_v_rms)),
-        boolean("sensors.vmid_fitted", "FSTP mid-point voltage sensor fitted (false: channel reads 0)",
+        boolean("sensors.vmid_fitted", "mid-point voltage sensor fitted, FSTP or SSTP with inverter.reconfig_relay (false: channel reads 0)",
                 ACC(sensors.vmid_fitted)),
         integer("sensors.encoder_lines", "", closed(1, 16383), "encoder lines; 4x quadrature counts (Fig. 9(b))",
                 ACC(sensors.encoder_lines)),
@@ -491,6 +500,30 @@ const std::vector<Spec>& schema()
         opt_num("firmware.dead_time_s", "s", closed(0.0, 1e-5),
                 "dead time the dead-time compensation assumes; not given: inverter.dead_time_s",
                 ACC(firmware.dead_time_s)),
+        // ---- faults (issue 16): every one configured occurs at faults.time_s ----
+        num("faults.time_s", "s", positive(), "when the configured faults occur (first control period at or after it)",
+            ACC(faults.time_s)),
+        choice<FaultPhase>("faults.leg_open",
+                           "leg disconnected from its phase: no device or diode conducts into it (its current is "
+                           "cut to zero) unless the relay ties the phase to the mid-point",
+                           ACC(faults.leg_open)),
+        choice<FaultSwitch>("faults.switch_open",
+                            "device stuck open: its gate forced off, its anti-parallel diode still conducts",
+                            ACC(faults.switch_open)),
+        choice<FaultSwitch>("faults.switch_short",
+                            "device shorted: conducts whatever its gate says; when its complement turns on the gate "
+                            "drivers' desaturation detection turns every gate off and raises desat for the leg and "
+                            "the hardware trip",
+                            ACC(faults.switch_short)),
+        boolean("faults.encoder_lost", "encoder signal lost: the QEP count freezes, no index pulses",
+                ACC(faults.encoder_lost)),
+        choice<FaultPhase>("faults.current_sensor_stuck",
+                           "that phase's current-sensor ADC channel reads faults.current_sensor_code, without noise",
+                           ACC(faults.current_sensor_stuck)),
+        integer("faults.current_sensor_code", "", closed(0, 4095),
+                "the stuck sensor's ADC code (2048 = mid-scale, zero current)", ACC(faults.current_sensor_code)),
+        num("faults.dc_sag", "", Range{0.0, 1.0, true, false},
+            "DC source voltage steps to this fraction of inverter.vdc_v (1 = no sag)", ACC(faults.dc_sag)),
         num("metrics.torque_sensor_hz", "Hz", nonneg(),
             "trf_filtered_pct: TRF of the plant torque after a first-order low-pass of this cutoff (a torque "
             "transducer's bandwidth); 0 = unfiltered",
@@ -821,6 +854,53 @@ void check_law_keys(const Scenario& s, Diagnostics* d)
     }
 }
 
+// The [faults] table and the relay (issue 16).
+template <typename Err, typename Warn> void check_faults(const Scenario& s, Err err, Warn warn)
+{
+    const FaultsCfg& f = s.faults;
+    if (s.inverter.reconfig_relay && s.inverter.topology != Topology::Sstp) {
+        err("inverter.reconfig_relay", "the relay reconfigures the six-switch inverter \"sstp\"; got \"" +
+                                           to_string(s.inverter.topology) + "\"");
+    }
+    if (!f.any()) {
+        for (const char* k : {"faults.time_s", "faults.current_sensor_code"}) {
+            if (s.origin.count(k) != 0) {
+                warn(k, "no fault is configured: ignored");
+            }
+        }
+        return;
+    }
+    if (s.origin.count("faults.time_s") == 0) {
+        err("faults.time_s", "missing value: required when a fault is configured");
+    } else if (f.time_s >= s.duration_s) {
+        warn("faults.time_s", "at or after the end of the run (duration_s = " + fmt_double(s.duration_s) + " s)");
+    }
+    if (f.switch_open != FaultSwitch::None && f.switch_short != FaultSwitch::None) {
+        err("faults.switch_short", "one switch fault at a time: faults.switch_open is \"" + to_string(f.switch_open) +
+                                       "\" (" + origin_of(s, "faults.switch_open") + ")");
+    }
+    const bool inverter_fault = f.leg_open != FaultPhase::None || f.switch_open != FaultSwitch::None ||
+                                f.switch_short != FaultSwitch::None;
+    if (inverter_fault && s.inverter.topology == Topology::Ideal) {
+        const char* k = f.leg_open != FaultPhase::None ? "faults.leg_open"
+                        : f.switch_open != FaultSwitch::None ? "faults.switch_open" : "faults.switch_short";
+        err(k, "the \"ideal\" inverter has no legs");
+    }
+    if (s.inverter.topology == Topology::Fstp) {
+        if (f.leg_open == FaultPhase::A) {
+            err("faults.leg_open", "the FSTP has no leg A (phase A is on the capacitor mid-point)");
+        }
+        for (auto [k, v] : {std::pair{"faults.switch_open", f.switch_open}, std::pair{"faults.switch_short", f.switch_short}}) {
+            if (v == FaultSwitch::AUpper || v == FaultSwitch::ALower) {
+                err(k, "the FSTP has no leg A (phase A is on the capacitor mid-point)");
+            }
+        }
+    }
+    if (f.dc_sag != 1.0 && s.inverter.topology == Topology::Ideal) {
+        err("faults.dc_sag", "the \"ideal\" inverter has no DC link");
+    }
+}
+
 void cross_validate(Scenario& s, Diagnostics* d)
 {
     auto err = [&](const std::string& key, const std::string& msg) {
@@ -1036,6 +1116,7 @@ void cross_validate(Scenario& s, Diagnostics* d)
     if (s.load.type == LoadType::Fan && s.load.speed_rpm == 0.0) {
         err("load.speed_rpm", "the fan load needs a non-zero reference speed");
     }
+    check_faults(s, err, warn);
 }
 
 } // namespace
@@ -1140,7 +1221,7 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
     };
 
     static const char* const sections[] = {"motor",      "inverter", "load",    "control",
-                                           "sensors",    "protection", "firmware", "metrics"};
+                                           "sensors",    "protection", "firmware", "metrics", "faults"};
     for (auto&& [key, node] : root) {
         const std::string k(key.str());
         bool is_section = false;

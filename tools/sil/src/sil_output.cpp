@@ -257,6 +257,9 @@ bool TraceWriter::open(const std::string& path, std::string* err)
     if (rotor_flux_) {
         header += ",psi_r_alpha_wb,psi_r_beta_wb";
     }
+    if (fault_cols_) {
+        header += ",relay,relay_closed,desat";
+    }
     header += '\n';
     write_failed_ = std::fwrite(header.data(), 1, header.size(), f_) != header.size();
     const unsigned n_workers = std::clamp(std::thread::hardware_concurrency(), 1U, kMaxWorkers);
@@ -406,6 +409,12 @@ char* TraceWriter::format(const TraceRow& r, char* p) const
         *p++ = ',';
         p = put_decimal(p, x[i], d[i]);
     }
+    if (fault_cols_) {
+        for (const int v : {r.relay, r.relay_closed, r.desat}) {
+            *p++ = ',';
+            p = put_int(p, v);
+        }
+    }
     *p++ = '\n';
     return p;
 }
@@ -471,6 +480,10 @@ nlohmann::json metrics_json(const Scenario& sc, const Metrics& m, const RunInfo&
     j["fault_detail"] = info.fault_detail;
     j["fault_time_s"] = info.fault_time_s >= 0.0 ? json(info.fault_time_s) : json(nullptr);
     j["hw_trip"] = info.hw_trip;
+    j["injected_fault_time_s"] = info.injected_fault_time_s >= 0.0 ? json(info.injected_fault_time_s) : json(nullptr);
+    j["reconfigured"] = info.reconfigured.empty() ? json(nullptr) : json(info.reconfigured);
+    j["speed_dip_rpm"] = info.speed_dip_rpm >= 0.0 ? json(info.speed_dip_rpm) : json(nullptr);
+    j["recovery_s"] = info.recovery_s >= 0.0 ? json(info.recovery_s) : json(nullptr);
     j["invalid_commands"] = info.invalid_commands;
     const double t_end = info.sim_time_s;
     j["metrics_window"] = {{"t_start_s", t_end - m.window_s},
