@@ -22,6 +22,11 @@ int16_t app_init(const struct dtc_config *cfg)
     return app_core_set_pwm_period(&g_app, hal_pwm_period());
 }
 
+int16_t app_set_reconfig(const struct dtc_config *post)
+{
+    return app_core_set_reconfig(&g_app, post);
+}
+
 void app_isr(void)
 {
     hal_meas_t m;

@@ -21,6 +21,11 @@ int16_t app_init(const struct dtc_config *cfg);
 /* The 50 us control ISR body. */
 void app_isr(void);
 
+/* The post-fault FSTP configuration (app_core_set_reconfig) of a drive with reconfiguration
+ * relays; after app_init, before the ISR is enabled. Returns 0 or DTC_ERR_RECONFIG (the drive is
+ * then in its configuration fault). */
+int16_t app_set_reconfig(const struct dtc_config *post);
+
 /* Background loop work: watchdog service. */
 void app_background(void);
 

@@ -516,10 +516,12 @@ static uint16_t reconfigure(app_core_t *a, uint16_t x)
 /* Open phase (prot.leg_i_min_iq > 0): a leg that no longer switches its phase (leg or phase open)
  * leaves that phase's current at zero, and one open device leaves it at zero for every half-wave
  * the device should carry, while the other two phases carry the machine's current. Per phase k:
- * while |i_k| stays inside the zero band leg_i_min / 2^APP_LEG_ZERO_LOG2 and |i| > leg_i_min
- * (|i| the Clarke magnitude, |i|^2 = (2/3) sum i_k^2 for an isolated star), the electrical
- * angle w Ts the machine turns is summed, and a sum above APP_LEG_ANGLE_IQ (60 deg) is an open
- * phase (detection time pi / (3 w): 6.7 ms at 25 Hz). A healthy phase crosses the band: its
+ * while |i_k| stays inside the zero band leg_i_min / 2^APP_LEG_ZERO_LOG2, the electrical angle
+ * w Ts the machine turns is summed over the periods with |i| > leg_i_min (|i| the Clarke
+ * magnitude, |i|^2 = (2/3) sum i_k^2 for an isolated star; below it the sum waits: the current
+ * of the two remaining phases of an open one passes zero twice a turn), and a sum above
+ * APP_LEG_ANGLE_IQ (60 deg) is an open phase (detection time pi / (3 w): 6.7 ms at 25 Hz, more
+ * where the current dips). A healthy phase crosses the band: its
  * switching ripple alone moves it by several times the band every period or two (Table VIII,
  * 70 V: 0.1-0.5 A per period against 0.14 A), and even a phase current with a large DC part
  * (the uncompensated FSTP just after its hand-over: i_a ~ 4.5 A DC, phase B within |i|/4 for
@@ -550,7 +552,7 @@ static uint16_t check_open_phase(app_core_t *a)
     tot = sq[0] + sq[1] + sq[2];
     s2 = (uint64_t)((int64_t)s * (int64_t)s) >> 5;
     imin2 = (uint64_t)((int64_t)c->prot.leg_i_min_iq * (int64_t)c->prot.leg_i_min_iq) >> 5;
-    if (a->relay_wait > 0U || 2U * tot <= 3U * imin2 || 24U * s2 >= tot) {
+    if (a->relay_wait > 0U || 24U * s2 >= tot) {
         if (a->relay_wait > 0U) {
             a->relay_wait--;
         }
@@ -558,6 +560,10 @@ static uint16_t check_open_phase(app_core_t *a)
             a->leg_acc_iq[k] = 0;
         }
         return 0U;
+    }
+    if (2U * tot <= 3U * imin2) {
+        return 0U; /* too little current to judge: the sums wait (a healthy phase leaves the band,
+                    * which resets its sum, as soon as there is current again) */
     }
     dth = iq_mpy(fix_abs32(a->st.out.speed_iq), c->board.ts_pu_iq);
     for (k = 0U; k < 3U; k++) {
@@ -661,13 +667,12 @@ uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
     cmd->sc = 0U;
     cmd->enable = 0U;
     cmd->form = (uint16_t)HAL_CMD_LEGS; /* leg states for the whole period (hal.h) */
-    cmd->relay = a->st.reconfigured;    /* hal.h: the relay holds the phase moved onto the mid-point */
+    cmd->relay = a->st.reconfigured;    /* hal.h: a closed relay stays closed (the leg failed for good) */
     for (uint16_t x = 0U; x < 3U; x++) { /* the PWM fields: defined even where the form ignores them */
         cmd->cmpr_up[x] = 0U;
         cmd->cmpr_dn[x] = 0U;
         cmd->act[x] = (uint16_t)HAL_PWM_UPPER_ACTIVE_HIGH;
     }
-    cmd->relay = a->st.reconfigured; /* a closed relay stays closed (leg failed for good) */
     a->st.tick = m->tick;
 
     if (a->clear_request != 0U) {

@@ -91,6 +91,7 @@ void dtc_reset(dtc_t *c)
     c->te_ref_iq = c->act.mode == DTC_MODE_TORQUE ? c->act.torque_ref_iq : 0;
     c->speed_iq = 0;
     c->on_cm = cfg->est.handover_speed_iq > 0 ? 1U : 0U;
+    c->cm_hold = 0U;
     dtc_reset_ilim_pol(c);
 }
 
@@ -366,6 +367,10 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
             fin.v_alpha_iq = fix_add32(fin.v_alpha_iq, vfa);
             fin.v_beta_iq = fix_add32(fin.v_beta_iq, vfb);
         }
+    }
+    if (c->cm_hold != 0U) {
+        c->cm_hold--; /* after a reconfiguration (dtc_reconfigure): the current model drives */
+        c->on_cm = 1U;
     }
     if (cfg->est.estimator == DTC_EST_VOLTAGE && (c->speed_primed == 0U || c->on_cm != 0U)) {
         /* First step after a reset, and every step below the hand-over speed: the current model

@@ -103,6 +103,8 @@ typedef struct {
     iq_t te_trim_iq;     /* torque mode: mean-torque trim added to the reference */
     iq_t speed_iq;
     uint16_t on_cm;      /* voltage model with hand-over: 1 while the current model drives */
+    uint16_t cm_hold;    /* periods the current model still drives after a reconfiguration
+                          * (dtc_reconfigure), whatever the speed */
     /* delay compensation (dtc_predict): voltage of legs_1, its drop and dead-time terms */
     iq_t v1_alpha_iq, v1_beta_iq, v1f_alpha_iq, v1f_beta_iq, v1d_alpha_iq, v1d_beta_iq;
     /* current limit (ilim.h): the current predicted for k+1 by dtc_predict */

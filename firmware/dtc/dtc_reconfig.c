@@ -32,7 +32,8 @@ static void dtc_rot_phase(iq_t *a, iq_t *b, uint16_t x)
  * -x 120 deg (the same angle: theta_e' = theta_e - x 120 deg), so the current model and the
  * voltage model go on from the same flux; the leg history is taken into the new frame (b', c' =
  * the legs x+1, x+2; leg x is off); the comparators restart in the FSTP's state; the drop
- * compensation takes the FSTP's parameters; the hand-over re-decides with post's speeds. */
+ * compensation takes the FSTP's parameters; the hand-over re-decides with post's speeds; the
+ * current model drives for a while (below). */
 int16_t dtc_reconfigure(dtc_t *c, const dtc_config_t *post, uint16_t phase)
 {
     uint16_t l1[3], l2[3], l3[3];
@@ -70,6 +71,13 @@ int16_t dtc_reconfigure(dtc_t *c, const dtc_config_t *post, uint16_t phase)
     c->i1 = c->i_prev;
     c->i_limited = 0U;
     dtc_handover(c);
+    /* The voltage model integrated the failed leg's voltage as if it reached the machine since
+     * the failure, and until the relay has closed the FSTP's phase A' is not on the mid-point its
+     * reconstruction assumes: the current model (encoder) drives, and seeds the low-pass every
+     * period, for twice the relay's closing time (prot.relay_periods: the wait, and as long again
+     * for the currents to settle on the FSTP); the voltage model then takes over from that flux
+     * as at the start-up hand-over. A drive without the relay is not reconfigured. */
+    c->cm_hold = (uint16_t)(post->prot.relay_periods > 0x7FFFU ? 0xFFFFU : 2U * post->prot.relay_periods);
     return DTC_OK;
 }
 

@@ -102,8 +102,11 @@ typedef struct {
     uint16_t act[3];     /* HAL_CMD_PWM: enum hal_pwm_act per leg */
     uint16_t relay;      /* fault-tolerant reconfiguration (enum hal_relay): which phase the
                           * reconfiguration relay ties to the capacitor mid-point. The relay
-                          * closes after its own delay; hal_gates_off() leaves it as it is (a
-                          * closed relay with every gate off is safe). 0 = all open */
+                          * closes after its own delay; while it is commanded the HAL holds
+                          * both devices of that phase's leg off, whatever sa/sb/sc say (as the
+                          * FSTP's leg A: a switching leg would short a capacitor through the
+                          * relay); hal_gates_off() leaves it as it is (a closed relay with every
+                          * gate off is safe). 0 = all open */
 } hal_cmd_t;
 
 /* hal_cmd_t.relay: the phase a failed leg left, tied to the mid-point (Hoang sec. I, ref. [9]:

@@ -38,7 +38,7 @@ const dtc_config_t g_dtc_config = {
         .stall_speed_periods = 200U,
         .i_hold_iq = 0, /* 0 pu */
         .i_sum_max_iq = 0, /* 0 pu */
-        .leg_i_min_iq = 4194304, /* 0.25 pu */
+        .leg_i_min_iq = 2097152, /* 0.125 pu */
         .enc_freeze_speed_iq = 4101392, /* 0.244462013 pu */
         .relay_periods = 0U,
     },

@@ -46,8 +46,10 @@ static int setup(void **state)
     }
     dtc_bases_from_si(&si, &b);
     hal_init();
-    /* What RAM cannot do by itself: the flags hal_init cleared by writing 1s read 0, and the
-     * PDPINTA pin reads high (power stage healthy). */
+    /* What RAM cannot do by itself: the flags hal_init cleared by writing 1s read 0, the
+     * PDPINTA pin and the gate drivers' FAULT lines (GPIOB8..10, active low) read high (power
+     * stage healthy). */
+    f2812_gpiodata.B.DAT = 0xFFFFu;
     f2812_eva.EVAIFRA = 0u;
     f2812_eva.EVAIFRC = 0u;
     f2812_eva.COMCONA = (uint16_t)(f2812_eva.COMCONA | F2812_COMCONA_PDPINTASTATUS);

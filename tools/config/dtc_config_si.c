@@ -442,8 +442,12 @@ static void im_from_si(conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *
  *    gain and offset errors times the current plus noise (2 % gain errors at the 6 A trip level:
  *    0.24 A, below 0.55 A for Table VIII); a sensor stuck at its zero makes the sum its phase's
  *    current, which passes the level for most of each half-wave at a quarter of rated current;
- *  - open phase: the least |i| a quarter of the rated current (at lighter load a failed leg is
- *    found when the load comes);
+ *  - open phase: the least |i| an eighth of the rated current, and at least 32 ADC counts so that
+ *    the zero band (a quarter of it, firmware app_core.c) is at least 8 counts, above the sensors'
+ *    noise (at lighter load a failed leg is found when the load comes). An eighth, not more: a
+ *    phase of Table VIII's machine opened at 1500 rpm, full load, leaves the other two carrying
+ *    0.2-0.6 A for up to 14 ms at some angles, and a quarter (0.55 A) let the detection take
+ *    20.6 ms (SIL, 36 fault instants);
  *  - lost encoder: the electrical speed above which a count cannot stand still for N =
  *    APP_ENC_FREEZE_PERIODS periods: the rotor then turns at least 8 counts in N Ts (2 pi 8 /
  *    (counts N Ts)), and at least 4 times the speed the drive's largest deceleration, a = 2
@@ -464,8 +468,11 @@ static void dtc_fault_levels(conv_t *c, const dtc_config_si_t *si, const dtc_bas
         cfg->prot.i_sum_max_iq = to_iq(c, "rated_current_a (current-sum level)", si->rated_current_a,
                                        0.25 * si->rated_current_a / b->i_base_a);
     }
-    cfg->prot.leg_i_min_iq = to_iq(c, "rated_current_a (open-phase level)", si->rated_current_a,
-                                   0.25 * si->rated_current_a / b->i_base_a);
+    {
+        /* the zero band (leg_i_min / 4, firmware) at least 8 ADC counts: above the sensors' noise */
+        const double i_min = fmax(si->rated_current_a / 8.0, 32.0 * si->adc_i_a_per_count);
+        cfg->prot.leg_i_min_iq = to_iq(c, "rated_current_a (open-phase level)", i_min, i_min / b->i_base_a);
+    }
     if (si->speed_sensor == DTC_SPEED_ENCODER && si->inertia_kgm2 > 0.0) {
         const double w_counts = 2.0 * M_PI * 8.0 / (4.0 * si->enc_lines * n_ts);
         const double w_decel = 4.0 * (2.0 * si->torque_limit_nm / si->inertia_kgm2) * n_ts;

@@ -192,6 +192,7 @@ struct ControlCfg {
     bool lpf_comp = true;                // firmware: low-pass gain/phase correction (voltage model)
     bool vmid_cal = true;                // firmware: FSTP mid-point calibrated against V_dc/2
     bool cal_hold = true;                // firmware: rotor held (phases B, C) during that calibration
+    bool fault_detect = true;            // firmware: open-phase and lost-encoder detection (issue 16)
     double v_f_v = PLANT_DEF_V_F_V;      // simple compensation V_f (Hoang sec. III-B)
     std::string voltage_csv;             // open_loop: t_s,v_alpha_v,v_beta_v (resolved path)
     double vf_freq_hz = 0.0;             // open_loop built-in V/f source: final frequency (0 = off)
@@ -231,6 +232,7 @@ struct SensorsCfg {
     std::int64_t encoder_lines = PLANT_DEF_ENCODER_LINES;
     double encoder_offset_rad = 0.0;
     std::int64_t seed = 1;
+    std::int64_t current_sensors = 2;    // 2: the firmware derives the third phase; 3: all measured
 };
 
 struct ProtectionCfg {

@@ -146,6 +146,10 @@ dtc_config_si_t firmware_si_config(const Scenario& sc)
     si.polarity_mid = c.polarity_mid ? 1 : 0;
     si.vmid_cal = c.vmid_cal ? 1 : 0;
     si.cal_hold = c.cal_hold ? 1 : 0;
+    si.fault_detect = c.fault_detect ? 1 : 0;
+    si.i_sensors3 = sc.sensors.current_sensors == 3 ? 1 : 0;
+    si.reconfig_relay = inv.reconfig_relay ? 1 : 0;
+    si.relay_delay_s = inv.relay_delay_s;
     si.lpf_comp = c.lpf_comp ? 1 : 0;
     si.dc_supp = c.dc_supp ? 1 : 0;
     si.c_dc_f = inv.c_dc_f;
@@ -295,6 +299,23 @@ public:
         if (init_rc != 0) {
             return "app_init() refused the configuration (dtc_err " + std::to_string(init_rc) + ")";
         }
+        if (si.reconfig_relay != 0) {
+            // the same drive as an FSTP with the failed phase on the mid-point (issue 16)
+            dtc_config_si_t post_si;
+            if (dtc_config_post_fault_si(&si, &post_si) != DTC_SI_OK) {
+                return "inverter.reconfig_relay: the post-fault configuration needs the PM law on the SSTP";
+            }
+            const int prc = dtc_config_from_si(&post_si, &post_cfg_, msg, sizeof msg);
+            if (prc != DTC_SI_OK) {
+                return "inverter.reconfig_relay: post-fault (FSTP) configuration refused (" + std::to_string(prc) +
+                       "): " + msg;
+            }
+            const int16_t rrc = app_set_reconfig(&post_cfg_);
+            if (rrc != 0) {
+                return "inverter.reconfig_relay: app_set_reconfig() refused the post-fault configuration (dtc_err " +
+                       std::to_string(rrc) + ")";
+            }
+        }
         return "";
     }
 
@@ -404,6 +425,7 @@ private:
     std::uint32_t rec_count_ = 0;
     dtc_config_si_t si_;
     dtc_config_t cfg_{};
+    dtc_config_t post_cfg_{}; // the post-fault FSTP configuration (inverter.reconfig_relay)
     dtc_bases_t bases_{};
     // app_get_status() copies the whole status under a critical section (hal.h); the run loop
     // needs it only in the metrics window, for trace rows and for the final fault, so it is read

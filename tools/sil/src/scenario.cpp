@@ -415,6 +415,12 @@ const std::vector<Spec>& schema()
                  "before the drive starts (firmware/app/app_core.c hold_step); false: the gates stay off for the "
                  "whole calibration",
                  ACC(control.cal_hold)),
+        boolean("control.fault_detect",
+                 "firmware: the open-phase check (a phase inside a zero band of a quarter of a quarter of "
+                 "motor.rated_current_a over 60 deg of electrical angle while |i| is above a quarter of it: an open "
+                 "leg, phase or device) and the lost-encoder check (the count still for 32 periods above a speed "
+                 "derived from the encoder, control.torque_limit_nm and motor.j_kgm2); firmware/app/app_core.c",
+                 ACC(control.fault_detect)),
         num("control.v_f_v", "V", nonneg(), "forward drop V_f of the simple compensation (Hoang sec. III-B: 0.9 V)",
             ACC(control.v_f_v)),
         path("control.voltage_csv",
@@ -458,6 +464,11 @@ const std::vector<Spec>& schema()
             ACC(sensors.encoder_offset_rad)),
         integer("sensors.seed", "", closed(0, 9.0e18), "noise generator seed (same seed, same run)",
                 ACC(sensors.seed)),
+        integer("sensors.current_sensors", "", closed(2, 3),
+                "phase-current sensors the firmware reads: 2 (SSTP A and B, FSTP B and C; the third phase "
+                "derived) or 3 (all measured: the firmware checks their sum, which tells a failed sensor from an "
+                "open phase; needed by inverter.reconfig_relay). Default 2, 3 with inverter.reconfig_relay",
+                ACC(sensors.current_sensors)),
         // ---- protection ----
         num("protection.overcurrent_a", "A", positive(), "firmware phase over-current trip",
             ACC(protection.overcurrent_a)),
@@ -791,6 +802,9 @@ void apply_machine_defaults(Scenario& s, Diagnostics* d)
                                 "\" (" + origin_of(s, "motor.type") + ")");
         }
     }
+    if (s.origin.count("sensors.current_sensors") == 0 && s.inverter.reconfig_relay) {
+        s.sensors.current_sensors = 3; // a board built for reconfiguration measures every phase
+    }
     if (!im) {
         return;
     }
@@ -861,6 +875,11 @@ template <typename Err, typename Warn> void check_faults(const Scenario& s, Err 
     if (s.inverter.reconfig_relay && s.inverter.topology != Topology::Sstp) {
         err("inverter.reconfig_relay", "the relay reconfigures the six-switch inverter \"sstp\"; got \"" +
                                            to_string(s.inverter.topology) + "\"");
+    }
+    if (s.inverter.reconfig_relay && s.control.implementation == Implementation::Firmware && s.sensors.current_sensors != 3) {
+        err("inverter.reconfig_relay", "the firmware reconfigures only with sensors.current_sensors = 3 (with two "
+                                       "sensors a sensor stuck at zero and an open phase read the same); got " +
+                                           std::to_string(s.sensors.current_sensors));
     }
     if (!f.any()) {
         for (const char* k : {"faults.time_s", "faults.current_sensor_code"}) {
