@@ -48,6 +48,8 @@ public:
     virtual ControllerEstimates estimates() const = 0;
     /// "none" or the controller's fault reason code (called after the last step, harness active).
     virtual std::string fault() const = 0;
+    /// What the fault means, in words, with when it latched ("" without a fault or a meaning).
+    virtual std::string fault_detail() const { return ""; }
     /// The phase the controller moved onto the capacitor mid-point after a leg failure (enum
     /// hal_relay: 1..3 = A..C), 0 = none, -1 = the controller has no such status (called after
     /// the last step, harness active).

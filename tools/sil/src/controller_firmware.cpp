@@ -5,6 +5,7 @@
 // target build share one conversion), then calls the application's entry points
 // (firmware/app/app.h) once per period, exactly as the DSP's ADC interrupt and background loop
 // would, and reads the application status for the trace.
+#include <cstdio>
 #include <cmath>
 #include <fstream>
 #include <string>
@@ -383,6 +384,41 @@ public:
     {
         refresh();
         return st_.fault == APP_FAULT_NONE ? std::string("none") : std::string(app_fault_name(st_.fault));
+    }
+    std::string fault_detail() const override
+    {
+        refresh();
+        if (st_.fault == APP_FAULT_NONE) {
+            return "";
+        }
+        const int d = st_.fault_detail;
+        const std::string ph = d >= 0 && d <= 2 ? std::string(1, static_cast<char>('A' + d)) : "?";
+        std::string w;
+        switch (st_.fault) {
+        case APP_FAULT_OVERCURRENT: w = "phase " + ph + " current above protection.overcurrent_a"; break;
+        case APP_FAULT_DESAT:
+            w = "gate-driver desaturation on leg " + ph + " (a shorted device or shoot-through): every gate off";
+            break;
+        case APP_FAULT_CURRENT_SENSOR:
+            w = "the three measured phase currents do not sum to zero: a failed current sensor (phase " + ph +
+                " reads the least)";
+            break;
+        case APP_FAULT_LEG:
+            w = "phase " + ph + " carries no current while the others do (an open leg, phase or device) and the "
+                "drive cannot be reconfigured (no relay fitted, a second failure, or a law without it)";
+            break;
+        case APP_FAULT_ENCODER:
+            w = d == 1   ? "implausible encoder count change"
+                : d == 2 ? "encoder index pulse at another count (lost or extra counts)"
+                : d == 3 ? "encoder signal lost: the count stood still at a speed where that is impossible"
+                         : "encoder";
+            break;
+        case APP_FAULT_STALL: w = "torque reference at its limit while the speed error did not shrink"; break;
+        default: return "";
+        }
+        char t[64];
+        std::snprintf(t, sizeof t, " (latched at ISR %lu)", static_cast<unsigned long>(st_.fault_tick));
+        return w + t;
     }
     int reconfigured() const override
     {

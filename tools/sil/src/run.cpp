@@ -588,6 +588,7 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
     res->info.wall_time_s = std::chrono::duration<double>(t1 - t0).count();
     res->info.isr_count = done;
     res->info.fault = ctrl->fault();
+    res->info.fault_detail = ctrl->fault_detail();
     res->info.invalid_commands = h->invalid_writes();
     res->info.hw_trip = h->trip_latched();
     res->info.traced = writing && opt.write_trace;
