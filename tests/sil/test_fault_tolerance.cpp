@@ -1,0 +1,297 @@
+// test_fault_tolerance.cpp - issue 16 on the SIL: a failed leg of the six-switch drive is found
+// from its current signature and the drive goes on as the four-switch inverter with that phase on
+// the capacitor mid-point (Hoang sec. I, ref. [9]); faults that cannot be ridden through trip to
+// every gate off with their reason. Every run starts from standstill on the shipped scenarios
+// (J = 5e-4 kg m^2, finite split link, generator load: full load at 1500 rpm) with the fault at
+// t = 1 s, and is judged from its trace: when the relay command came (detection), the largest
+// phase current after the fault, the gates, the speed.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "run.hpp"
+#include "scenario.hpp"
+
+using namespace sil;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kScenarios = std::string(DTC_SOURCE_DIR) + "/tools/scenarios/";
+constexpr double kFaultT = 1.0;
+
+struct Trace {
+    std::vector<double> t, ia, ib, ic, speed;
+    std::vector<int> en, relay;
+};
+
+struct Outcome {
+    RunInfo info;
+    Trace tr;
+    double trip_a = 0.0;
+};
+
+Trace read_trace(const fs::path& p)
+{
+    Trace tr;
+    std::ifstream f(p);
+    std::string line;
+    std::getline(f, line);
+    std::map<std::string, std::size_t> col;
+    {
+        std::stringstream ss(line);
+        std::string c;
+        for (std::size_t k = 0; std::getline(ss, c, ','); ++k) {
+            col[c] = k;
+        }
+    }
+    for (const char* c : {"t_s", "i_a_a", "i_b_a", "i_c_a", "speed_rpm", "en", "relay"}) {
+        EXPECT_EQ(col.count(c), 1u) << "trace column " << c;
+    }
+    std::vector<std::string> v;
+    while (std::getline(f, line)) {
+        v.clear();
+        std::stringstream ss(line);
+        std::string c;
+        while (std::getline(ss, c, ',')) {
+            v.push_back(c);
+        }
+        tr.t.push_back(std::stod(v[col["t_s"]]));
+        tr.ia.push_back(std::stod(v[col["i_a_a"]]));
+        tr.ib.push_back(std::stod(v[col["i_b_a"]]));
+        tr.ic.push_back(std::stod(v[col["i_c_a"]]));
+        tr.speed.push_back(std::stod(v[col["speed_rpm"]]));
+        tr.en.push_back(std::stoi(v[col["en"]]));
+        tr.relay.push_back(std::stoi(v[col["relay"]]));
+    }
+    return tr;
+}
+
+Outcome run(const std::string& file, const std::vector<std::string>& sets, const std::string& tag)
+{
+    Scenario sc;
+    Diagnostics d;
+    std::vector<std::string> all = {"duration_s=1.6", "faults.time_s=" + std::to_string(kFaultT)};
+    all.insert(all.end(), sets.begin(), sets.end());
+    EXPECT_TRUE(load_scenario(kScenarios + file, all, &sc, &d)) << d.text();
+    const fs::path dir = fs::temp_directory_path() / ("dtc_fault_tolerance_" + tag);
+    fs::remove_all(dir);
+    RunOptions opt;
+    opt.out_dir = dir.string();
+    RunResult r;
+    std::string err;
+    EXPECT_TRUE(run_scenario(sc, opt, &r, &err)) << err;
+    Outcome o{r.info, read_trace(dir / "trace.csv"), sc.protection.overcurrent_a};
+    fs::remove_all(dir);
+    return o;
+}
+
+// First sample at or after t.
+std::size_t at(const Trace& tr, double t)
+{
+    return static_cast<std::size_t>(std::lower_bound(tr.t.begin(), tr.t.end(), t - 1e-12) - tr.t.begin());
+}
+
+double peak_current(const Trace& tr, std::size_t from, std::size_t to)
+{
+    double m = 0.0;
+    for (std::size_t k = from; k < to && k < tr.t.size(); ++k) {
+        m = std::max({m, std::fabs(tr.ia[k]), std::fabs(tr.ib[k]), std::fabs(tr.ic[k])});
+    }
+    return m;
+}
+
+struct RideThrough {
+    double detect_s = -1.0, dip_rpm = 0.0, late_dev_rpm = 0.0, peak_a = 0.0;
+};
+
+// A leg opened at kFaultT: the relay command names the phase, the drive runs on without a fault.
+RideThrough expect_reconfigured(const Outcome& o, char phase, const std::string& what)
+{
+    RideThrough r;
+    EXPECT_EQ(o.info.fault, "none") << what << ": " << o.info.fault_detail;
+    EXPECT_EQ(o.info.reconfigured, std::string(1, phase)) << what;
+    const std::size_t k0 = at(o.tr, kFaultT);
+    for (std::size_t k = k0; k < o.tr.t.size(); ++k) {
+        if (o.tr.relay[k] != 0) {
+            r.detect_s = o.tr.t[k] - kFaultT;
+            EXPECT_EQ(o.tr.relay[k], phase - 'a' + 1) << what;
+            break;
+        }
+    }
+    for (std::size_t k = k0; k < o.tr.t.size(); ++k) {
+        r.dip_rpm = std::max(r.dip_rpm, 1500.0 - o.tr.speed[k]);
+    }
+    for (std::size_t k = at(o.tr, kFaultT + 0.4); k < o.tr.t.size(); ++k) {
+        r.late_dev_rpm = std::max(r.late_dev_rpm, std::fabs(o.tr.speed[k] - 1500.0));
+    }
+    r.peak_a = peak_current(o.tr, k0, o.tr.t.size());
+    std::printf("MEASURE %s: detected %.1f ms, speed dip %.1f rpm (%.1f %%), recovery %.3f s, |i| peak %.2f A "
+                "(trip %.1f A), last 0.2 s within %.1f rpm\n",
+                what.c_str(), 1e3 * r.detect_s, r.dip_rpm, r.dip_rpm / 15.0, o.info.recovery_s, r.peak_a, o.trip_a,
+                r.late_dev_rpm);
+    EXPECT_GT(r.detect_s, 0.0) << what;
+    EXPECT_LE(r.detect_s, 0.020) << what;          // issue 16: detected within 20 ms
+    EXPECT_LT(r.peak_a, 0.9 * o.trip_a) << what;    // current below the trip level
+    EXPECT_LT(r.late_dev_rpm, 0.01 * 1500.0) << what; // back on speed: within 1 % after 0.4 s
+    return r;
+}
+
+// Gates off from the first sample after the trip and for good.
+void expect_tripped(const Outcome& o, const std::string& fault, double within_s, const std::string& what)
+{
+    EXPECT_EQ(o.info.fault, fault) << what << ": " << o.info.fault_detail;
+    const std::size_t k0 = at(o.tr, kFaultT);
+    std::size_t off = o.tr.t.size();
+    for (std::size_t k = k0; k < o.tr.t.size(); ++k) {
+        if (o.tr.en[k] == 0) {
+            off = k;
+            break;
+        }
+    }
+    ASSERT_LT(off, o.tr.t.size()) << what << ": the gates never went off";
+    for (std::size_t k = off; k < o.tr.t.size(); ++k) {
+        ASSERT_EQ(o.tr.en[k], 0) << what << ": gates on again at t = " << o.tr.t[k];
+    }
+    const double dt = o.tr.t[off] - kFaultT;
+    std::printf("MEASURE %s: %s, gates off %.2f ms after the fault, |i| peak before %.2f A (trip %.1f A)\n",
+                what.c_str(), fault.c_str(), 1e3 * dt, peak_current(o.tr, k0, off), o.trip_a);
+    EXPECT_LE(dt, within_s) << what;
+}
+
+const char* const kLegs[3] = {"a", "b", "c"};
+
+} // namespace
+
+// Issue 16's ride-through: SSTP at 1500 rpm, full load, leg A (then B, then C) opens at t = 1 s;
+// current model and voltage model ([29] compensation; the FSTP goes on with Table V). With a TRIAC
+// (gate-triggered: 0.1 ms here) the dip stays within 5 % of the speed; with the default 15 ms
+// relay the drive makes no useful torque from the failure until the relay closes (6.6-19 ms to
+// detect plus 15 ms), so the dip is the load's deceleration over that time, 0.3 N*m / 5e-4 kg m^2
+// = 600 rad/s^2: up to 8 % here, asserted below 10 %.
+TEST(FaultTolerance, OpenLegIsFoundAndTheDriveGoesOnAsAnFstp)
+{
+    for (const char* scn : {"sstp_current_full.toml", "sstp_voltage_simple_full.toml"}) {
+        for (int x = 0; x < 3; ++x) {
+            for (const bool triac : {true, false}) {
+                const std::string what = std::string(scn) + " leg " + kLegs[x] + (triac ? " triac" : " relay 15 ms");
+                std::vector<std::string> sets = {"inverter.reconfig_relay=true",
+                                                 std::string("faults.leg_open=\"") + kLegs[x] + "\""};
+                if (triac) {
+                    sets.push_back("inverter.relay_delay_s=1e-4");
+                }
+                const Outcome o = run(scn, sets, std::string("leg_") + kLegs[x]);
+                const RideThrough r = expect_reconfigured(o, kLegs[x][0], what);
+                EXPECT_LT(r.dip_rpm, (triac ? 0.05 : 0.10) * 1500.0) << what;
+            }
+        }
+    }
+}
+
+// One device stuck open: its phase carries no current for the half-waves that device should
+// carry, which the same check finds, and the drive reconfigures. Found later than an open leg
+// (39 and 288 ms here, not within issue 16's 20 ms, which is asserted for the open leg): the
+// drive runs on with the half-waves it still has, and the phase current is zero only while the
+// current wants the failed device's direction (after a while the DTC shifts the current so that
+// it rarely does). Asserted: found, ridden through, within 0.5 s.
+TEST(FaultTolerance, AnOpenDeviceIsFoundAsAnOpenPhase)
+{
+    for (const char* sw : {"a_upper", "c_lower"}) {
+        const Outcome o = run("sstp_current_full.toml",
+                              {"inverter.reconfig_relay=true", std::string("faults.switch_open=\"") + sw + "\""},
+                              std::string("sw_") + sw);
+        EXPECT_EQ(o.info.fault, "none") << sw << ": " << o.info.fault_detail;
+        EXPECT_EQ(o.info.reconfigured, std::string(1, sw[0])) << sw;
+        std::size_t k = at(o.tr, kFaultT);
+        while (k < o.tr.t.size() && o.tr.relay[k] == 0) {
+            ++k;
+        }
+        ASSERT_LT(k, o.tr.t.size()) << sw;
+        const double dip = 1500.0 - *std::min_element(o.tr.speed.begin() + static_cast<long>(at(o.tr, kFaultT)),
+                                                      o.tr.speed.end());
+        std::printf("MEASURE switch open %s: detected %.1f ms, speed dip %.1f rpm, recovery %.3f s, |i| peak %.2f A\n",
+                    sw, 1e3 * (o.tr.t[k] - kFaultT), dip, o.info.recovery_s,
+                    peak_current(o.tr, at(o.tr, kFaultT), o.tr.t.size()));
+        EXPECT_LE(o.tr.t[k] - kFaultT, 0.5) << sw;
+        EXPECT_LT(peak_current(o.tr, at(o.tr, kFaultT), o.tr.t.size()), 0.9 * o.trip_a) << sw;
+        EXPECT_LT(dip, 0.10 * 1500.0) << sw;
+    }
+}
+
+// Without the relay, an open leg trips (fault "leg"), it does not run on two legs.
+TEST(FaultTolerance, WithoutTheRelayAnOpenLegTrips)
+{
+    const Outcome o = run("sstp_current_full.toml", {"faults.leg_open=\"b\""}, "norelay");
+    expect_tripped(o, "leg", 0.020, "leg b open, no relay");
+    EXPECT_EQ(o.info.reconfigured, "") << "no relay";
+}
+
+// A shorted device: the shoot-through when its complement is gated on is caught by the gate
+// driver's desaturation detection, which turns every gate off in hardware; the firmware names it
+// (fault "desat", the leg) in the ISR that sees it and keeps every gate off: no reconfiguration
+// (the phase stays tied to a rail), with or without the relay.
+TEST(FaultTolerance, AShortedSwitchTripsWithinOneIsr)
+{
+    for (const char* sw : {"a_upper", "b_lower"}) {
+        const Outcome o = run("sstp_current_full.toml",
+                              {"inverter.reconfig_relay=true", std::string("faults.switch_short=\"") + sw + "\""},
+                              std::string("short_") + sw);
+        // the complement turns on within a few periods of the fault; the gates are off from the
+        // period that follows the latch (the trace shows each period's start)
+        expect_tripped(o, "desat", 0.005, std::string("switch short ") + sw);
+        {
+            // the firmware latched it in the ISR that sampled the desaturation: at most one period
+            // after the gates went off in hardware (the trace's first period with en = 0)
+            const std::size_t pos = o.info.fault_detail.find("latched at ISR ");
+            ASSERT_NE(pos, std::string::npos) << o.info.fault_detail;
+            const long isr = std::stol(o.info.fault_detail.substr(pos + 15));
+            std::size_t off = at(o.tr, kFaultT);
+            while (off < o.tr.t.size() && o.tr.en[off] != 0) {
+                ++off;
+            }
+            const long off_isr = std::lround(o.tr.t[off] / 50e-6);
+            EXPECT_GE(isr, off_isr - 1) << sw;
+            EXPECT_LE(isr, off_isr + 1) << sw;
+        }
+        EXPECT_NE(o.info.fault_detail.find(std::string("leg ") + static_cast<char>(sw[0] - 'a' + 'A')),
+                  std::string::npos)
+            << o.info.fault_detail;
+    }
+}
+
+// Encoder signal lost at 1500 rpm on the current model: the count stands still where that is
+// impossible; the drive trips (fault "encoder") after 32 periods, 1.6 ms. A trip, not a hand-over
+// to the voltage model: the PM law measures its speed with the encoder alone, so the speed loop
+// would run blind.
+TEST(FaultTolerance, LostEncoderTrips)
+{
+    for (const char* scn : {"sstp_current_full.toml", "sstp_voltage_simple_full.toml"}) {
+        const Outcome o = run(scn, {"faults.encoder_lost=true"}, "enc");
+        expect_tripped(o, "encoder", 0.002, std::string(scn) + " encoder lost");
+    }
+}
+
+// A current sensor stuck at mid-scale (reads zero): with three sensors their sum is not zero and
+// the drive trips (fault "current_sensor") within 8 periods, before the current it cannot see
+// reaches the trip level; with two, the drive cannot see it and the hardware comparator is what
+// stops it (a finding, docs/firmware-core.md): it trips either way, it never runs on.
+TEST(FaultTolerance, AStuckCurrentSensorTrips)
+{
+    for (int x = 0; x < 3; ++x) {
+        const Outcome o = run("sstp_current_full.toml",
+                              {"sensors.current_sensors=3", std::string("faults.current_sensor_stuck=\"") + kLegs[x] + "\""},
+                              std::string("stuck_") + kLegs[x]);
+        expect_tripped(o, "current_sensor", 0.001, std::string("sensor ") + kLegs[x] + " stuck, three sensors");
+        EXPECT_LT(peak_current(o.tr, at(o.tr, kFaultT), o.tr.t.size()), o.trip_a) << kLegs[x];
+    }
+    const Outcome o = run("sstp_current_full.toml", {"faults.current_sensor_stuck=\"b\""}, "stuck2");
+    EXPECT_NE(o.info.fault, "none") << "two sensors";
+}
