@@ -233,9 +233,10 @@ static void init_gpio(void)
  * the set one (a GPIO write acts at once, not at the period boundary). */
 static inline void write_relay(uint16_t r)
 {
-    const uint16_t on = (r >= (uint16_t)HAL_RELAY_A && r <= (uint16_t)HAL_RELAY_C)
-                            ? (uint16_t)(1u << (F2812_RELAY_GPB_SHIFT + r - 1u))
-                            : 0u;
+    uint16_t on = 0u;
+    if (r >= (uint16_t)HAL_RELAY_A && r <= (uint16_t)HAL_RELAY_C) {
+        on = (uint16_t)(1u << (F2812_RELAY_GPB_SHIFT + r - 1u));
+    }
     f2812_gpiodata.B.CLEAR = (uint16_t)(F2812_RELAY_GPB_MASK & (uint16_t)~on);
     f2812_gpiodata.B.SET = on;
     s_hal.relay = on != 0u ? r : (uint16_t)HAL_RELAY_OPEN;
