@@ -127,3 +127,6 @@ const dtc_config_t g_dtc_config = {
         .im_magn_k_q31 = 0, /* 0 */
     },
 };
+
+/* no reconfiguration relays: a failed leg trips (app_set_reconfig) */
+const struct dtc_config *const g_dtc_config_post = 0;
