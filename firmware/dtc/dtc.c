@@ -52,8 +52,7 @@ int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg)
     return DTC_OK;
 }
 
-/* Current limit and ripple-robust polarity (ilim.h, dtc_config.h polarity_mid): state at reset. */
-static void dtc_reset_ilim_pol(dtc_t *c)
+void dtc_reset_currents(dtc_t *c)
 {
     c->i_prev.ia_iq = 0;
     c->i_prev.ib_iq = 0;
@@ -63,6 +62,12 @@ static void dtc_reset_ilim_pol(dtc_t *c)
     c->i_mid = c->i_prev;
     c->i1 = c->i_prev;
     c->i_limited = 0U;
+}
+
+/* Current limit and ripple-robust polarity (ilim.h, dtc_config.h polarity_mid): state at reset. */
+static void dtc_reset_ilim_pol(dtc_t *c)
+{
+    dtc_reset_currents(c);
     c->lpf_y_iq = 0;
     c->lpf_r_iq = 0;
     c->dcs_alpha_iq = 0;

@@ -173,6 +173,9 @@ void dtc_torque_trim(dtc_t *c, iq_t te);
 /* Internal to dtc_step (DC-current suppression): updates the correction from the measured
  * current and adds it to the estimate *psi_a, *psi_b. */
 void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, const dtc_meas_t *m, iq_t *psi_a, iq_t *psi_b);
+/* Internal to dtc_reset and dtc_reconfigure: the currents kept from earlier periods (previous
+ * sample, period mean, prediction) and the current-limit flag back to zero. */
+void dtc_reset_currents(dtc_t *c);
 /* Internal to dtc_step and dtc_reconfigure: the hand-over decision on c->speed_iq (dtc.c). */
 void dtc_handover(dtc_t *c);
 /* Internal to dtc_step (low-pass correction factor, lpfcorr.h). */

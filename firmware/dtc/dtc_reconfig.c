@@ -62,14 +62,7 @@ int16_t dtc_reconfigure(dtc_t *c, const dtc_config_t *post, uint16_t phase)
     hyst2_init(&c->h_flux, post->sw.flux_band_iq, 1U);
     hyst2_init(&c->h_torque2, post->sw.torque_band_iq, 1U);
     c->vec_1 = 1U;
-    c->i_prev.ia_iq = 0;
-    c->i_prev.ib_iq = 0;
-    c->i_prev.ic_iq = 0;
-    c->i_prev.i_alpha_iq = 0;
-    c->i_prev.i_beta_iq = 0;
-    c->i_mid = c->i_prev;
-    c->i1 = c->i_prev;
-    c->i_limited = 0U;
+    dtc_reset_currents(c);
     dtc_handover(c);
     /* The voltage model integrated the failed leg's voltage as if it reached the machine since
      * the failure, and until the relay has closed the FSTP's phase A' is not on the mid-point its

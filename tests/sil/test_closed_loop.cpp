@@ -15,6 +15,7 @@
 
 #include "controller_adapter.hpp"
 #include "run.hpp"
+#include "trace_csv.hpp"
 
 namespace fs = std::filesystem;
 using namespace sil;
@@ -42,26 +43,7 @@ Outcome run(const std::string& file, const std::vector<std::string>& sets = {}, 
 }
 
 // trace.csv as columns.
-std::map<std::string, std::vector<double>> read_trace(const fs::path& p)
-{
-    std::ifstream f(p);
-    std::string line;
-    std::getline(f, line);
-    std::vector<std::string> names;
-    std::stringstream hs(line);
-    for (std::string c; std::getline(hs, c, ',');) {
-        names.push_back(c);
-    }
-    std::map<std::string, std::vector<double>> cols;
-    while (std::getline(f, line)) {
-        std::stringstream ls(line);
-        std::size_t i = 0;
-        for (std::string c; std::getline(ls, c, ','); ++i) {
-            cols[names.at(i)].push_back(std::strtod(c.c_str(), nullptr));
-        }
-    }
-    return cols;
-}
+using sil_test::read_trace;
 
 fs::path tmp(const std::string& name)
 {

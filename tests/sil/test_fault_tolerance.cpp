@@ -19,6 +19,7 @@
 
 #include "run.hpp"
 #include "scenario.hpp"
+#include "trace_csv.hpp"
 
 using namespace sil;
 namespace fs = std::filesystem;
@@ -29,8 +30,7 @@ const std::string kScenarios = std::string(DTC_SOURCE_DIR) + "/tools/scenarios/"
 constexpr double kFaultT = 1.0;
 
 struct Trace {
-    std::vector<double> t, ia, ib, ic, speed;
-    std::vector<int> en, relay;
+    std::vector<double> t, ia, ib, ic, speed, en, relay;
 };
 
 struct Outcome {
@@ -41,38 +41,11 @@ struct Outcome {
 
 Trace read_trace(const fs::path& p)
 {
-    Trace tr;
-    std::ifstream f(p);
-    std::string line;
-    std::getline(f, line);
-    std::map<std::string, std::size_t> col;
-    {
-        std::stringstream ss(line);
-        std::string c;
-        for (std::size_t k = 0; std::getline(ss, c, ','); ++k) {
-            col[c] = k;
-        }
+    auto c = sil_test::read_trace(p);
+    for (const char* k : {"t_s", "i_a_a", "i_b_a", "i_c_a", "speed_rpm", "en", "relay"}) {
+        EXPECT_EQ(c.count(k), 1u) << "trace column " << k;
     }
-    for (const char* c : {"t_s", "i_a_a", "i_b_a", "i_c_a", "speed_rpm", "en", "relay"}) {
-        EXPECT_EQ(col.count(c), 1u) << "trace column " << c;
-    }
-    std::vector<std::string> v;
-    while (std::getline(f, line)) {
-        v.clear();
-        std::stringstream ss(line);
-        std::string c;
-        while (std::getline(ss, c, ',')) {
-            v.push_back(c);
-        }
-        tr.t.push_back(std::stod(v[col["t_s"]]));
-        tr.ia.push_back(std::stod(v[col["i_a_a"]]));
-        tr.ib.push_back(std::stod(v[col["i_b_a"]]));
-        tr.ic.push_back(std::stod(v[col["i_c_a"]]));
-        tr.speed.push_back(std::stod(v[col["speed_rpm"]]));
-        tr.en.push_back(std::stoi(v[col["en"]]));
-        tr.relay.push_back(std::stoi(v[col["relay"]]));
-    }
-    return tr;
+    return Trace{c["t_s"], c["i_a_a"], c["i_b_a"], c["i_c_a"], c["speed_rpm"], c["en"], c["relay"]};
 }
 
 Outcome run(const std::string& file, const std::vector<std::string>& sets, const std::string& tag)
@@ -121,9 +94,9 @@ RideThrough expect_reconfigured(const Outcome& o, char phase, const std::string&
     EXPECT_EQ(o.info.reconfigured, std::string(1, phase)) << what;
     const std::size_t k0 = at(o.tr, kFaultT);
     for (std::size_t k = k0; k < o.tr.t.size(); ++k) {
-        if (o.tr.relay[k] != 0) {
+        if (o.tr.relay[k] != 0.0) {
             r.detect_s = o.tr.t[k] - kFaultT;
-            EXPECT_EQ(o.tr.relay[k], phase - 'a' + 1) << what;
+            EXPECT_EQ(o.tr.relay[k], static_cast<double>(phase - 'a' + 1)) << what;
             break;
         }
     }
@@ -152,14 +125,14 @@ void expect_tripped(const Outcome& o, const std::string& fault, double within_s,
     const std::size_t k0 = at(o.tr, kFaultT);
     std::size_t off = o.tr.t.size();
     for (std::size_t k = k0; k < o.tr.t.size(); ++k) {
-        if (o.tr.en[k] == 0) {
+        if (o.tr.en[k] == 0.0) {
             off = k;
             break;
         }
     }
     ASSERT_LT(off, o.tr.t.size()) << what << ": the gates never went off";
     for (std::size_t k = off; k < o.tr.t.size(); ++k) {
-        ASSERT_EQ(o.tr.en[k], 0) << what << ": gates on again at t = " << o.tr.t[k];
+        ASSERT_EQ(o.tr.en[k], 0.0) << what << ": gates on again at t = " << o.tr.t[k];
     }
     const double dt = o.tr.t[off] - kFaultT;
     std::printf("MEASURE %s: %s, gates off %.2f ms after the fault, |i| peak before %.2f A (trip %.1f A)\n",
@@ -211,7 +184,7 @@ TEST(FaultTolerance, AnOpenDeviceIsFoundAsAnOpenPhase)
         EXPECT_EQ(o.info.fault, "none") << sw << ": " << o.info.fault_detail;
         EXPECT_EQ(o.info.reconfigured, std::string(1, sw[0])) << sw;
         std::size_t k = at(o.tr, kFaultT);
-        while (k < o.tr.t.size() && o.tr.relay[k] == 0) {
+        while (k < o.tr.t.size() && o.tr.relay[k] == 0.0) {
             ++k;
         }
         ASSERT_LT(k, o.tr.t.size()) << sw;
@@ -254,7 +227,7 @@ TEST(FaultTolerance, AShortedSwitchTripsWithinOneIsr)
             ASSERT_NE(pos, std::string::npos) << o.info.fault_detail;
             const long isr = std::stol(o.info.fault_detail.substr(pos + 15));
             std::size_t off = at(o.tr, kFaultT);
-            while (off < o.tr.t.size() && o.tr.en[off] != 0) {
+            while (off < o.tr.t.size() && o.tr.en[off] != 0.0) {
                 ++off;
             }
             const long off_isr = std::lround(o.tr.t[off] / 50e-6);

@@ -11,6 +11,7 @@
 
 #include "hal_host.hpp"
 #include "run.hpp"
+#include "trace_csv.hpp"
 
 using hal_host::Harness;
 using hal_host::HarnessConfig;
@@ -176,26 +177,7 @@ TEST(HalHostFaults, StuckCurrentSensorReadsItsCodeWithoutNoiseAndTheOthersKeepTh
 // ---- the runner's fault metrics against the trace they summarise ----------------------------
 namespace {
 
-std::map<std::string, std::vector<double>> read_trace(const std::filesystem::path& p)
-{
-    std::ifstream f(p);
-    std::string line;
-    std::getline(f, line);
-    std::vector<std::string> names;
-    std::stringstream hs(line);
-    for (std::string c; std::getline(hs, c, ',');) {
-        names.push_back(c);
-    }
-    std::map<std::string, std::vector<double>> cols;
-    while (std::getline(f, line)) {
-        std::stringstream ls(line);
-        std::size_t i = 0;
-        for (std::string c; std::getline(ls, c, ','); ++i) {
-            cols[names.at(i)].push_back(std::strtod(c.c_str(), nullptr));
-        }
-    }
-    return cols;
-}
+using sil_test::read_trace;
 
 sil::RunResult run_sstp(const std::vector<std::string>& sets, const std::string& out_dir)
 {
