@@ -466,6 +466,7 @@ uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
     cmd->sc = 0U;
     cmd->enable = 0U;
     cmd->form = (uint16_t)HAL_CMD_LEGS; /* leg states for the whole period (hal.h) */
+    cmd->relay = a->st.reconfigured;    /* the relay as the reconfiguration left it, gates on or off */
     for (uint16_t x = 0U; x < 3U; x++) { /* the PWM fields: defined even where the form ignores them */
         cmd->cmpr_up[x] = 0U;
         cmd->cmpr_dn[x] = 0U;
