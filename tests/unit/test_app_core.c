@@ -666,6 +666,15 @@ static void test_sfvc_writes_the_pwm_form(void **state)
     assert_int_equal(app_core_set_pwm_period(&fx.app, 0U), DTC_ERR_SVM);
     assert_int_equal(fx.app.st.state, APP_STATE_FAULT);
     assert_int_equal(fx.app.st.fault, APP_FAULT_CONFIG);
+    /* T1PR = 0xFFFF leaves no compare value above it (hal.h: duty 0 is T1PR + 1), so a zero duty
+     * would wrap to 0, a whole period on (found by the fuzzer, tests/fuzz) */
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    assert_int_equal(app_core_set_pwm_period(&fx.app, 0xFFFFU), DTC_ERR_SVM);
+    assert_int_equal(fx.app.st.state, APP_STATE_FAULT);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_CONFIG);
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    assert_int_equal(app_core_set_pwm_period(&fx.app, 0xFFFEU), 0);
+    assert_int_equal(fx.app.st.state, APP_STATE_CALIBRATE);
     assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
     assert_int_equal(app_core_set_pwm_period(&fx.app, t1pr), 0);
     for (k = 0; k < cal_len(); k++) {
