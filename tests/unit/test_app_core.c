@@ -675,6 +675,21 @@ static void test_sfvc_writes_the_pwm_form(void **state)
     assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
     assert_int_equal(app_core_set_pwm_period(&fx.app, 0xFFFEU), 0);
     assert_int_equal(fx.app.st.state, APP_STATE_CALIBRATE);
+    /* A period refused while a trip is latched replaces the trip's reason: the clear request
+     * that would end the trip must not start a law that cannot run (found by the fuzzer) */
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    assert_int_equal(app_core_set_pwm_period(&fx.app, t1pr), 0);
+    fx.m.trip = 1U;
+    assert_int_equal(step(), 1U);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_HW_TRIP);
+    fx.m.trip = 0U;
+    assert_int_equal(app_core_set_pwm_period(&fx.app, 0U), DTC_ERR_SVM);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_CONFIG);
+    assert_int_equal(fx.app.st.fault_detail, DTC_ERR_SVM);
+    fx.app.clear_request = 1U;
+    assert_int_equal(step(), 1U);
+    assert_int_equal(fx.app.st.state, APP_STATE_FAULT);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_CONFIG);
     assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
     assert_int_equal(app_core_set_pwm_period(&fx.app, t1pr), 0);
     for (k = 0; k < cal_len(); k++) {
