@@ -403,6 +403,29 @@ static void check_conversion(const fuzz_t *z)
     FUZZ_CHECK(pu->enc_count == z->m.qep_count, "encoder count");
 }
 
+/* The PWM form does what the law asked: the upper device's duty of each leg, read from the compare
+ * values by hal.h's rule (Timer 1 counts 0 -> T1PR -> 0; the output is active from the up-count
+ * match at cmpr_up to the down-count match at cmpr_dn, a value above T1PR never matches; act
+ * says whether active means the upper or the lower device), equals the law's duty (dtc_out_t
+ * duty_iq, clamped to [0, 1]; DSVM: the mean of its thirds) within one timer count, 1/T1PR. */
+static void check_pwm_duty(const fuzz_t *z, const hal_cmd_t *cmd)
+{
+    const double t1pr = (double)z->app.t1pr;
+    uint16_t x;
+    FUZZ_CHECK(z->app.t1pr > 0U, "PWM form without a timer period");
+    for (x = 0U; x < 3U; x++) {
+        const double up = cmd->cmpr_up[x] > z->app.t1pr ? 0.0 : (t1pr - cmd->cmpr_up[x]) / (2.0 * t1pr);
+        const double dn = cmd->cmpr_dn[x] > z->app.t1pr ? 0.0 : (t1pr - cmd->cmpr_dn[x]) / (2.0 * t1pr);
+        const double active = up + dn;
+        const double upper = cmd->act[x] == HAL_PWM_UPPER_ACTIVE_HIGH ? active : 1.0 - active;
+        double want = (double)z->app.st.out.duty_iq[x] / 16777216.0;
+        want = want < 0.0 ? 0.0 : want > 1.0 ? 1.0 : want;
+        FUZZ_CHECK(upper - want <= 1.0 / t1pr + 1e-9 && want - upper <= 1.0 / t1pr + 1e-9,
+                   "leg %u: compare %u/%u act %u with T1PR %u is duty %.6f, the law asked %.6f", x,
+                   cmd->cmpr_up[x], cmd->cmpr_dn[x], cmd->act[x], z->app.t1pr, upper, want);
+    }
+}
+
 /* The command of one step against the state it leaves (see docs/fuzzing.md for the rules). */
 static void check_command(const fuzz_t *z, uint16_t off, const hal_cmd_t *cmd, uint16_t state_before)
 {
@@ -474,6 +497,7 @@ static void check_command(const fuzz_t *z, uint16_t off, const hal_cmd_t *cmd, u
     } else {
         FUZZ_CHECK(cmd->form == HAL_CMD_PWM, "SVM law wrote leg states");
         FUZZ_CHECK(cmd->sa == 0U && cmd->sb == 0U && cmd->sc == 0U, "SVM law with leg states");
+        check_pwm_duty(z, cmd);
         if (z->cfg.sw.scheme == DTC_SCHEME_DSVM) {
             FUZZ_CHECK(s->out.vector <= 36U, "DSVM code %u", s->out.vector);
             FUZZ_CHECK(s->out.sector >= 1U && s->out.sector <= 6U, "DSVM sector %u", s->out.sector);
