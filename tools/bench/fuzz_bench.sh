@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # The ISR fuzzer's benchmark (docs/fuzzing.md): builds the `fuzz` preset and runs the libFuzzer
 # harness of the application ISR (tests/fuzz/fuzz_app_core.c) for RUNS inputs (10^7 unless set)
-# from an empty in-memory corpus with a fixed seed, then prints the count, libFuzzer's coverage
-# (cov: instrumented edges reached, ft: features), the wall time and how many steps each state
-# and law variant received. Any invariant failure or sanitizer report stops it with a non-zero
-# exit and leaves the input in $OUT. Not part of the test run (the ctest slice fuzz.slice is).
+# from an empty corpus ($OUT/corpus, emptied first) with a fixed seed, then prints the count,
+# libFuzzer's coverage (cov: instrumented edges reached, ft: features; harness and host converter
+# included), the wall time and how many steps each state and law variant received; then the
+# source coverage of firmware/ by the corpus it grew (tools/bench/fuzz_coverage.sh). Any
+# invariant failure or sanitizer report stops it with a non-zero exit and leaves the input in
+# $OUT. Not part of the test run (the ctest slice fuzz.slice is).
 #   RUNS=10000000 SEED=1 OUT=build/fuzz/bench tools/bench/fuzz_bench.sh
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -13,13 +15,14 @@ SEED=${SEED:-1}
 OUT=${OUT:-build/fuzz/bench}
 env --unset=CC --unset=CXX cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz
-mkdir -p "$OUT"
+rm -rf "$OUT/corpus"
+mkdir -p "$OUT/corpus"
 log="$OUT/fuzz_bench.log"
 echo "fuzz_bench: $RUNS inputs, seed $SEED, log $log"
 start=$(date +%s)
 set +e
 FUZZ_APP_STATS=1 build/fuzz/bin/fuzz_app_core -seed="$SEED" -runs="$RUNS" -print_final_stats=1 \
-    -artifact_prefix="$OUT/" >"$log" 2>&1
+    -artifact_prefix="$OUT/" "$OUT/corpus" >"$log" 2>&1
 rc=$?
 set -e
 secs=$(( $(date +%s) - start ))
@@ -34,3 +37,4 @@ if [ "$rc" -ne 0 ] || grep -qE 'runtime error|ERROR: (AddressSanitizer|libFuzzer
   exit 1
 fi
 echo "fuzz_bench: no sanitizer report, no invariant failure"
+tools/bench/fuzz_coverage.sh "$OUT/corpus" "$OUT/coverage"
