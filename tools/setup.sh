@@ -21,6 +21,7 @@ PKGS=(
   valgrind                                 # instruction-count budgets
   libsimavr-dev libelf-dev                 # processor-in-the-loop: AVR emulator as a library (tools/pil)
   qemu-system-arm                          # processor-in-the-loop: Cortex-M emulator (mps2-an385)
+  clang libclang-rt-14-dev llvm-14         # fuzz preset: libFuzzer + ASan/UBSan runtimes, llvm-cov (tests/fuzz)
 )
 
 missing=()

@@ -653,8 +653,11 @@ int16_t app_core_set_pwm_period(app_core_t *a, uint16_t t1pr)
     a->t1pr = t1pr;
     if (a->cfg != NULL && a->cfg->law == (uint16_t)DTC_LAW_IM_DTC &&
         (a->cfg->sw.scheme == (uint16_t)DTC_SCHEME_SFVC || a->cfg->sw.scheme == (uint16_t)DTC_SCHEME_DFOC ||
-         a->cfg->sw.scheme == (uint16_t)DTC_SCHEME_DSVM) && t1pr == 0U) {
+         a->cfg->sw.scheme == (uint16_t)DTC_SCHEME_DSVM) && (t1pr == 0U || t1pr == 0xFFFFU)) {
         latch_fault(a, APP_FAULT_CONFIG, DTC_ERR_SVM);
+        /* also over a fault latched before: a clear request ends that one, this one it must not */
+        a->st.fault = APP_FAULT_CONFIG;
+        a->st.fault_detail = DTC_ERR_SVM;
         return DTC_ERR_SVM;
     }
     return 0;

@@ -175,8 +175,10 @@ int16_t app_core_init(app_core_t *a, const dtc_config_t *cfg);
 
 /* The HAL's PWM timer period T1PR (hal_pwm_period(), counts), for a law that commands the PWM
  * form (IM scheme SFVC: dtc_out_t.pwm). Such a law with t1pr = 0 (the control period is not a
- * whole number of timer counts; also DFOC) cannot be run: the core latches APP_FAULT_CONFIG with DTC_ERR_SVM
- * and returns that code; otherwise 0. */
+ * whole number of timer counts; also DFOC) or t1pr = 0xFFFF (no 16-bit compare value above it, so
+ * a duty of 0 or 1 cannot be written: hal.h, T1PR + 1) cannot be run: the core latches
+ * APP_FAULT_CONFIG with DTC_ERR_SVM (in place of any fault latched before, which a clear request
+ * would end) and returns that code; otherwise 0. */
 int16_t app_core_set_pwm_period(app_core_t *a, uint16_t t1pr);
 
 /* Fault tolerance (issue 16): post is the FSTP configuration of the same PM drive that the

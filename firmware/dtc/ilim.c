@@ -14,11 +14,13 @@ uint16_t ilim_select(const dtc_config_t *cfg, const clarke_out_t *i, uint16_t ve
      * 110 010 011 001 101; FSTP V_1..V_4 = 00 10 11 01 (legs b, c). */
     static const uint16_t sstp_legs[6] = {4U, 6U, 2U, 3U, 1U, 5U};
     static const uint16_t fstp_legs[4] = {0U, 2U, 3U, 1U};
-    /* Halved phase currents: a sum of up to three halves of in-range IQ values cannot leave
-     * the int32 range, and halving keeps the order of the sums (up to one LSB of rounding). */
-    const iq_t ha = fix_rshift_rnd32(i->ia_iq, 1U);
-    const iq_t hb = fix_rshift_rnd32(i->ib_iq, 1U);
-    const iq_t hc = fix_rshift_rnd32(i->ic_iq, 1U);
+    /* Quartered phase currents: a sum of up to three quarters of int32 values stays within
+     * +-3 * 2^29 < 2^31 (halves would not: two phases at the +128 pu rail of the saturated
+     * conversion sum to 2^31), and quartering keeps the order of the sums (up to two LSB of
+     * rounding). */
+    const iq_t ha = fix_rshift_rnd32(i->ia_iq, 2U);
+    const iq_t hb = fix_rshift_rnd32(i->ib_iq, 2U);
+    const iq_t hc = fix_rshift_rnd32(i->ic_iq, 2U);
     const uint16_t fstp = cfg->board.topology == DTC_TOPO_FSTP ? 1U : 0U;
     uint16_t k, best;
     iq_t best_s = 0;

@@ -10,6 +10,7 @@
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <cmocka.h>
 
 #include "app_core.h"
@@ -666,6 +667,30 @@ static void test_sfvc_writes_the_pwm_form(void **state)
     assert_int_equal(app_core_set_pwm_period(&fx.app, 0U), DTC_ERR_SVM);
     assert_int_equal(fx.app.st.state, APP_STATE_FAULT);
     assert_int_equal(fx.app.st.fault, APP_FAULT_CONFIG);
+    /* T1PR = 0xFFFF leaves no compare value above it (hal.h: duty 0 is T1PR + 1), so a zero duty
+     * would wrap to 0, a whole period on (found by the fuzzer, tests/fuzz) */
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    assert_int_equal(app_core_set_pwm_period(&fx.app, 0xFFFFU), DTC_ERR_SVM);
+    assert_int_equal(fx.app.st.state, APP_STATE_FAULT);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_CONFIG);
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    assert_int_equal(app_core_set_pwm_period(&fx.app, 0xFFFEU), 0);
+    assert_int_equal(fx.app.st.state, APP_STATE_CALIBRATE);
+    /* A period refused while a trip is latched replaces the trip's reason: the clear request
+     * that would end the trip must not start a law that cannot run (found by the fuzzer) */
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    assert_int_equal(app_core_set_pwm_period(&fx.app, t1pr), 0);
+    fx.m.trip = 1U;
+    assert_int_equal(step(), 1U);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_HW_TRIP);
+    fx.m.trip = 0U;
+    assert_int_equal(app_core_set_pwm_period(&fx.app, 0U), DTC_ERR_SVM);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_CONFIG);
+    assert_int_equal(fx.app.st.fault_detail, DTC_ERR_SVM);
+    fx.app.clear_request = 1U;
+    assert_int_equal(step(), 1U);
+    assert_int_equal(fx.app.st.state, APP_STATE_FAULT);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_CONFIG);
     assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
     assert_int_equal(app_core_set_pwm_period(&fx.app, t1pr), 0);
     for (k = 0; k < cal_len(); k++) {
@@ -1031,10 +1056,47 @@ static void test_fault_names(void **state)
     assert_string_equal(app_fault_name(999U), "unknown");
 }
 
+/* Every step writes the whole command, the relay included: app.c hands hal_write() a local
+ * hal_cmd_t that only app_core_step fills, so a field it skips carries whatever the stack held
+ * (found by the fuzzer, tests/fuzz). Without a reconfiguration the relay is open (enum hal_relay)
+ * in every state: calibration, the rotor hold, RUN, a trip, a refused configuration. */
+static uint16_t step_dirty(void)
+{
+    memset(&fx.cmd, 0xA5, sizeof fx.cmd);
+    return step();
+}
+
+static void test_every_step_writes_the_relay(void **state)
+{
+    uint16_t k, hold_seen = 0U;
+    (void)state;
+    setup_topology(DTC_TOPO_FSTP);
+    assert_true(fx.cfg.board.vmid_cal != 0U && fx.cfg.prot.i_hold_iq > 0);
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    for (k = 0; k < 4U * cal_len() && fx.app.st.state != APP_STATE_RUN; k++) {
+        hold_seen = (uint16_t)(hold_seen | (step_dirty() == 0U));
+        assert_int_equal(fx.cmd.relay, HAL_RELAY_OPEN);
+    }
+    assert_int_equal(hold_seen, 1U);
+    assert_int_equal(fx.app.st.state, APP_STATE_RUN);
+    assert_int_equal(step_dirty(), 0U);
+    assert_int_equal(fx.cmd.enable, 1U);
+    assert_int_equal(fx.cmd.relay, HAL_RELAY_OPEN);
+    fx.m.trip = 1U;
+    assert_int_equal(step_dirty(), 1U);
+    assert_int_equal(fx.app.st.state, APP_STATE_FAULT);
+    assert_int_equal(fx.cmd.relay, HAL_RELAY_OPEN);
+    fx.cfg.version = 0U; /* refused at init */
+    assert_int_not_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    assert_int_equal(step_dirty(), 1U);
+    assert_int_equal(fx.cmd.relay, HAL_RELAY_OPEN);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_calibration_finds_offsets_then_runs),
+        cmocka_unit_test(test_every_step_writes_the_relay),
         cmocka_unit_test(test_calibration_mean_is_rounded_with_noise),
         cmocka_unit_test(test_midpoint_calibration),
         cmocka_unit_test(test_rotor_hold),

@@ -140,11 +140,35 @@ static void test_ilim_default(void **state)
     assert_int_equal(cfg.prot.i_lim_iq, 0);
 }
 
+/* Currents at the rail of the saturated conversion (+-128 pu: a configuration whose trip level is
+ * that high passes them to the law): SSTP i_a = i_b = +max, i_c = -max (clarke_sstp). Per vector
+ * the limit sums S_x i_x: V_2 (110) has the largest, +2 max, V_5 (001) the least, -max, so V_5
+ * is the choice. The sum must not overflow (found by the fuzzer, tests/fuzz: halved currents
+ * summed to 2^31, wrapped to the least value and picked V_2, the vector that drives both large
+ * currents further up). */
+static void test_ilim_currents_at_the_rail(void **state)
+{
+    dtc_config_si_t si;
+    dtc_config_t cfg;
+    clarke_out_t ci;
+    uint16_t limited = 9U;
+    (void)state;
+    dtc_config_si_defaults(&si);
+    si.topology = DTC_TOPO_SSTP;
+    si.compensation = DTC_COMP_SSTP;
+    assert_int_equal(dtc_config_from_si(&si, &cfg, NULL, 0), 0);
+    clarke_sstp(INT32_MAX, INT32_MAX, &ci);
+    assert_int_equal(ci.ic_iq, -INT32_MAX);
+    assert_int_equal(ilim_select(&cfg, &ci, 3U, &limited), 5U);
+    assert_int_equal(limited, 1U);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_ilim_fstp),
         cmocka_unit_test(test_ilim_sstp),
+        cmocka_unit_test(test_ilim_currents_at_the_rail),
         cmocka_unit_test(test_ilim_default),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
