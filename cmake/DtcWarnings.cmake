@@ -4,12 +4,6 @@
 set(DTC_FIRMWARE_WARNINGS
   -Wall -Wextra -Wconversion -Wsign-conversion -Wshadow -Wdouble-promotion
   -Wstrict-prototypes -Wmissing-prototypes -Werror)
-if(DTC_FUZZ)
-  # The fuzz preset compiles the firmware with clang, whose -Wconversion also flags int results of
-  # uint16_t shifts (-Wimplicit-int-conversion) that the standard's compilers (gcc, arm-none-eabi,
-  # avr-gcc) accept: reported there, not errors; the host and cross builds keep -Werror.
-  list(REMOVE_ITEM DTC_FIRMWARE_WARNINGS -Werror)
-endif()
 if(CMAKE_C_COMPILER_ID STREQUAL "TI")
   # cl2000 (f2812 preset) spells it differently and rejects the gcc flags.
   set(DTC_FIRMWARE_WARNINGS --emit_warnings_as_errors)

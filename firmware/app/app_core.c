@@ -380,8 +380,8 @@ static uint16_t hold_settled(const app_core_t *a)
 static void calibrate_step(app_core_t *a, const hal_meas_t *m)
 {
     uint16_t k;
-    const uint16_t n_off = (uint16_t)1U << APP_CAL_LOG2;
-    const uint16_t n_cal = (uint16_t)1U << (a->cfg->board.vmid_cal != 0U ? APP_VMID_CAL_LOG2 : APP_CAL_LOG2);
+    const uint16_t n_off = (uint16_t)(1U << APP_CAL_LOG2);
+    const uint16_t n_cal = (uint16_t)(1U << (a->cfg->board.vmid_cal != 0U ? APP_VMID_CAL_LOG2 : APP_CAL_LOG2));
     const uint16_t n_ch = a->cfg->board.i_sensors3 != 0U ? 3U : 2U; /* channels with a sensor */
     if (a->cal_n >= n_cal) {
         /* calibration done, the hold waits for the rotor to settle */

@@ -339,7 +339,7 @@ static void background(fuzz_t *z, rd_t *r, uint8_t op)
             refs.mode = (sel & 64U) != 0U ? rd_u16(r) : (uint16_t)(refs.mode ^ 1U);
         }
         rc = law_shadow_write(&a->law, &refs);
-        FUZZ_CHECK(rc <= 0 && rc >= DTC_ERR_SVM, "shadow write returned %d", rc);
+        FUZZ_CHECK(rc <= 0 && rc >= DTC_ERR_RECONFIG, "shadow write returned %d", rc);
     }
     if ((op & 4U) != 0U) {
         const uint16_t t1pr = rd_u16(r);
@@ -377,10 +377,10 @@ static void check_status(const fuzz_t *z)
         FUZZ_CHECK(s->fault_detail == 0, "fault %u detail %d", s->fault, s->fault_detail);
         break;
     case APP_FAULT_CONFIG:
-        FUZZ_CHECK(s->fault_detail < 0 && s->fault_detail >= DTC_ERR_SVM, "config detail %d", s->fault_detail);
+        FUZZ_CHECK(s->fault_detail < 0 && s->fault_detail >= DTC_ERR_RECONFIG, "config detail %d", s->fault_detail);
         break;
     case APP_FAULT_ENCODER:
-        FUZZ_CHECK(s->fault_detail == 1 || s->fault_detail == 2, "encoder detail %d", s->fault_detail);
+        FUZZ_CHECK(s->fault_detail >= 1 && s->fault_detail <= 3, "encoder detail %d", s->fault_detail);
         break;
     case APP_FAULT_ADC_OFFSET:
         FUZZ_CHECK(s->fault_detail >= 0 && s->fault_detail < HAL_ADC_COUNT, "adc detail %d", s->fault_detail);
@@ -560,7 +560,7 @@ static void check_command(const fuzz_t *z, uint16_t off, const hal_cmd_t *cmd, u
 
 /* With FUZZ_APP_STATS set in the environment the harness prints at exit how many steps each
  * state and, in RUN, each law variant received (which parts of the ISR the inputs reach). */
-static uint64_t stat_state[4], stat_run[2][2][5], stat_inputs, stat_refused;
+static uint64_t stat_state[4], stat_run[2][2][5], stat_inputs, stat_refused, stat_reconf_run;
 
 static void stats_print(void)
 {
@@ -576,6 +576,8 @@ static void stats_print(void)
     for (k = 0U; k < 5U; k++) {
         fprintf(stderr, "fuzz_app_core: RUN steps IM %s %llu\n", scheme[k], (unsigned long long)stat_run[1][0][k]);
     }
+    fprintf(stderr, "fuzz_app_core: RUN steps PM reconfigured (post-fault FSTP) %llu\n",
+            (unsigned long long)stat_reconf_run);
 }
 
 static void stats_step(const fuzz_t *z)
@@ -591,6 +593,7 @@ static void stats_step(const fuzz_t *z)
         return;
     }
     stat_state[z->app.st.state & 3U]++;
+    stat_reconf_run += z->app.st.state == APP_STATE_RUN && z->app.st.reconfigured != 0U;
     if (z->app.st.state == APP_STATE_RUN) {
         stat_run[z->cfg.law & 1U][z->cfg.board.topology & 1U][z->cfg.law != 0U ? z->cfg.sw.scheme % 5U : 0U]++;
     }
@@ -663,7 +666,8 @@ static int run_record(fuzz_t *z, rd_t *r)
         check_status(z);
         check_command(z, off, &cmd, before, reconf_before);
         FUZZ_CHECK(reconf_before == 0U || a->st.reconfigured == reconf_before, "reconfigured twice");
-        if ((before == APP_STATE_RUN || (before == APP_STATE_CALIBRATE && hold_before != 0U && z->m.trip == 0U)) &&
+        if ((before == APP_STATE_RUN ||
+             (before == APP_STATE_CALIBRATE && hold_before != 0U && z->m.trip == 0U && (z->m.desat & 7U) == 0U)) &&
             a->st.reconfigured == reconf_before) { /* the step that reconfigures converted in the old frame */
             check_conversion(z);
         }

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The ISR fuzzer's benchmark (docs/fuzzing.md): builds the `fuzz` preset and runs the libFuzzer
 # harness of the application ISR (tests/fuzz/fuzz_app_core.c) for RUNS inputs (10^7 unless set)
-# from an empty corpus ($OUT/corpus, emptied first) with a fixed seed, then prints the count,
+# from a corpus holding only tests/fuzz/seeds.py's seeds ($OUT/corpus, emptied first) with a fixed
+# seed, then prints the count,
 # libFuzzer's coverage (cov: instrumented edges reached, ft: features; harness and host converter
 # included), the wall time and how many steps each state and law variant received; then the
 # source coverage of firmware/ by the corpus it grew (tools/bench/fuzz_coverage.sh). Any
@@ -15,8 +16,7 @@ SEED=${SEED:-1}
 OUT=${OUT:-build/fuzz/bench}
 env --unset=CC --unset=CXX cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz
-rm -rf "$OUT/corpus"
-mkdir -p "$OUT/corpus"
+python3 tests/fuzz/seeds.py "$OUT/corpus"
 log="$OUT/fuzz_bench.log"
 echo "fuzz_bench: $RUNS inputs, seed $SEED, log $log"
 start=$(date +%s)
