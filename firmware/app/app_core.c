@@ -574,7 +574,7 @@ static uint16_t check_open_phase(app_core_t *a)
         a->leg_acc_iq[k] = fix_add32(a->leg_acc_iq[k], dth);
         if (a->leg_acc_iq[k] > APP_LEG_ANGLE_IQ) {
             const uint16_t x = APP_PH3[a->perm + k];
-            if (a->post != NULL && a->st.reconfigured == 0U && a->st.out.pwm == 0U) {
+            if (a->post != NULL && a->st.reconfigured == 0U) { /* post is a PM leg-form law (set_reconfig) */
                 return reconfigure(a, x);
             }
             latch_fault(a, APP_FAULT_LEG, (int16_t)x);
