@@ -174,13 +174,6 @@ void app_core_convert(const app_core_t *a, const hal_meas_t *m, dtc_meas_t *pu)
     pu->vmid_iq = fix_sub32(counts_to_pu(m->adc[HAL_ADC_VMID], c->board.adc_vmid_offset,
                                          c->board.adc_vmid_gain_iq),
                             a->vmid_cal_iq);
-    if (c->board.vmid_cal != 0U) {
-        /* Restoring mid-point reconstruction (app_core.h APP_VMID_BETA_LOG2): the deviation
-         * from V_dc/2 enters at (1 - beta), beta = 2^-APP_VMID_BETA_LOG2. Shift rounded, sums
-         * saturate. */
-        const iq_t dev = fix_sub32(pu->vmid_iq, fix_rshift_rnd32(pu->vdc_iq, 1U));
-        pu->vmid_iq = fix_sub32(pu->vmid_iq, fix_rshift_rnd32(dev, APP_VMID_BETA_LOG2));
-    }
     pu->enc_count = m->qep_count;
 }
 

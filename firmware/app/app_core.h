@@ -71,25 +71,6 @@ enum app_fault {
  * into a current E / (w_c L_s): 1 mV is 0.04 A for Table VIII at 5 rad/s, so the mean must be
  * good to about a millivolt: 1024 samples divide the sensors' noise by 32. */
 #define APP_VMID_CAL_LOG2 10U
-/* Restoring mid-point reconstruction (FSTP, voltage model, mid-point measured and calibrated).
- * The calibration makes the two voltage sensors agree at vmid = V_dc/2 only: with a remaining
- * link error g_eff = g + o/V_dc (gain g, offset o of the link sensor, as the calibration leaves
- * them) the reconstruction (vrec.h, Hoang eqs. 1-5 with phase A on the mid-point; the legs'
- * mean (S_b + S_c)/2 is vmid/V_dc) carries E = -(2/3) g_eff (vmid - V_dc/2) of DC on v_alpha.
- * That closes a loop: E -> flux offset of the low-pass (1/(s + w_c)) -> DC current of phase A
- * -> mid-point (dvmid/dt = -i_a/(2 C)). For g_eff < 0 (link read low) the loop is unstable:
- * linearised with the DC suppression (w_d = |w|/20) and the mid-point regulation (dtc.c
- * dtc_dcsupp), Table VIII, 2 x 4.7 mF, g_eff = -2 %: a real pole at +14 rad/s at 1500 rpm
- * (+17 rad/s at the hand-over), which the SIL shows as the mid-point running away and a
- * stall; for g_eff >= 0 every pole is in the left half-plane. So the mid-point deviation is fed
- * to the reconstruction scaled by (1 - beta): the DC error becomes -(2/3)(g_eff + beta)(vmid -
- * V_dc/2), which restores the mid-point for every g_eff > -beta. beta = 1/16 covers the
- * datasheet-grade link sensor of issue 10 (|g| <= 2 %, |o| <= 1 V at 70 V: |g_eff| <= 3.4 %);
- * linearised, g_eff + beta from 2.8 to 9.7 % gives poles at -0.03..-0.2 and -3.7..-6.4 +- j
- * 19..47 rad/s. The price: while the mid-point is off by d the estimator sees beta (2/3) d of
- * DC (0.6 V for d = 15 V), which the DC suppression removes as d returns; the mid-point
- * regulation's gain is (1 - beta) of its nominal value. */
-#define APP_VMID_BETA_LOG2 4U
 #define APP_CAL_LOG2 6U
 /* Rotor hold during the mid-point calibration (app_core.c hold_step): the hold current reaches
  * prot.i_hold_iq at a deviation of 2^APP_HOLD_ZONE_LOG2 encoder counts. One count is the

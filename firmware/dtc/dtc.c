@@ -73,6 +73,8 @@ static void dtc_reset_ilim_pol(dtc_t *c)
     c->dcs_alpha_iq = 0;
     c->dcs_beta_iq = 0;
     c->dcs_kw_iq = 0;
+    c->vmid_beta_iq = 0;
+    c->vmid_dev_iq = 0;
 }
 
 void dtc_reset(dtc_t *c)
@@ -178,7 +180,7 @@ void dtc_torque_trim(dtc_t *c, iq_t te)
  * phase A is i_a = g (vmid - V_dc/2) instead of zero, g = 2 C w_m, w_m = w_c / 2: the deviation
  * then decays as exp(-w_m t), slower than the suppression itself at speed (w_d = |w|/20 >= w_m
  * above 480 rpm; damping sqrt(w_d/w_m)/2 of the cascade). */
-void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, const dtc_meas_t *m, iq_t *psi_a, iq_t *psi_b)
+void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b)
 {
     iq_t ia = i->i_alpha_iq;
     if (c->on_cm != 0U || c->speed_primed == 0U) {
@@ -189,10 +191,48 @@ void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, const dtc_meas_t *m, iq_t *psi_
     const iq_t k = c->dcs_kw_iq;
     if (c->cfg->est.vmid_g_iq > 0) {
         /* FSTP mid-point regulation: phase A (alpha) is to carry g (vmid - V_dc/2) of DC */
-        ia = iq_sub(ia, iq_mpy(c->cfg->est.vmid_g_iq, iq_sub(m->vmid_iq, fix_rshift_rnd32(m->vdc_iq, 1U))));
+        ia = iq_sub(ia, iq_mpy(c->cfg->est.vmid_g_iq, c->vmid_dev_iq));
     }
     *psi_a = iq_add(*psi_a, q32_integrate(&c->dcs_alpha_iq, k, ia));
     *psi_b = iq_add(*psi_b, q32_integrate(&c->dcs_beta_iq, k, i->i_beta_iq));
+}
+
+/* Restoring mid-point reconstruction (FSTP, voltage model, mid-point measured and calibrated:
+ * est.vmid_beta_s_iq > 0). The calibration (app_core.c app_vmid_cal_set) makes the two voltage
+ * sensors agree at vmid = V_dc/2 only: with a remaining link error g_eff = g + o/V_dc (gain g,
+ * offset o of the link sensor, as the calibration leaves them) the reconstruction (vrec.h, Hoang
+ * eqs. 1-5 with phase A on the mid-point; the legs' mean (S_b + S_c)/2 is vmid/V_dc) carries
+ * E = -(2/3) g_eff d of DC on v_alpha, d = vmid - V_dc/2. That closes a loop: E -> flux offset of
+ * the low-pass (1/(s + w_c)) -> DC current of phase A (-offset / l_s) -> mid-point
+ * (dd/dt = -i_a/(2 C)), i.e. d'' + w_c d' + K g_eff d = 0 with K = (2/3)/(2 C l_s) (22 000 s^-2
+ * for Table VIII, 2 x 4.7 mF). For g_eff < 0 (link read low) it is unstable (a real pole near
+ * sqrt(K |g_eff|): +19 rad/s at -2 %; with the DC suppression, dtc_dcsupp, +14 rad/s at
+ * 1500 rpm), which the SIL shows as the mid-point running away and a stall. So d reaches the
+ * reconstruction scaled by (1 - beta): the DC error becomes -(2/3)(g_eff + beta) d, which
+ * restores the mid-point for every g_eff > -beta. beta_max = 1/16 covers the datasheet-grade
+ * link sensor of issue 10 (|g| <= 2 %, |o| <= 1 V at 70 V: |g_eff| <= 3.4 %).
+ * The price is the mid-point's own swing: phase A's fundamental I at w moves the mid-point by
+ * d = I / (2 C w), which beta turns into a flux error (2/3) beta d / w = beta I / (3 C w^2) in
+ * quadrature with i_a. At 1500 rpm that is small (0.4 % of psi_m at rated current with 1/16);
+ * at 200 rpm it is 6 % at a quarter of the rated current and 50 % while the speed loop
+ * accelerates at its limit, and with K (g_eff + beta) it forms a lightly damped resonance
+ * (37 rad/s, damping w_c / 74 at g_eff = 0) next to the electrical frequency: a fixed 1/16 made
+ * the proposed FSTP limit-cycle between 40 and 240 rpm around a 200 rpm reference (SIL, issue 10).
+ * So beta follows the speed: beta = min(1/16, k w^2), with k = 3 eps C psi_ref / I_rated from the
+ * host (tools/config dtc_vmid_beta_k), which holds that flux error to eps = 1/32 of the flux
+ * reference at the rated current at every speed. Below sqrt(|g_eff| / k) the mid-point is then
+ * not restored against a link-sensor error; the derived hand-over speed stays above that speed
+ * for the datasheet tolerance (dtc_handover_default_rpm), so only a hand-over set lower by hand
+ * (issue 10's low-speed runs) takes the voltage model there.
+ * Formats: IQ pu; the configuration holds s = sqrt(k) (pu: k w_base^2 would overflow IQ for a
+ * many-pole machine, its root does not), beta = (s |w|)^2; products rounded and saturating
+ * (iq_mpy: a large s |w| saturates and the square with it, beyond the cap), beta in [0, 1/16]. */
+void dtc_vmid_beta(dtc_t *c)
+{
+    const iq_t bmax = fix_rshift_rnd32(iq_from_int(1), DTC_VMID_BETA_MAX_LOG2);
+    const iq_t sw = iq_mpy(c->cfg->est.vmid_beta_s_iq, fix_abs32(c->speed_iq));
+    const iq_t b = iq_mpy(sw, sw);
+    c->vmid_beta_iq = b > bmax ? bmax : b;
 }
 
 /* Low-pass correction factor r = w_c / w from the measured speed (lpfcorr.h), at the speed-loop
@@ -328,6 +368,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     uint16_t sector, flux_up, vec;
     int16_t tdem;
     swtab_legs_t legs;
+    iq_t vmid_r; /* the mid-point the reconstruction takes (dtc_vmid_dev) */
 
     /* 1. Shadow set: adopt a complete, not yet adopted set (sequence number even). */
     {
@@ -335,6 +376,12 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         if (seq != 0U) {
             dtc_shadow_adopt(c, seq);
         }
+    }
+
+    vmid_r = m->vmid_iq;
+    if (cfg->board.fstp_vmid_measured != 0U && cfg->est.estimator == DTC_EST_VOLTAGE) {
+        c->vmid_dev_iq = dtc_vmid_dev(c, m);
+        vmid_r = iq_add(fix_rshift_rnd32(m->vdc_iq, 1U), c->vmid_dev_iq);
     }
 
     /* 2. Clarke (Hoang eqs. 4-5) from the two measured currents. */
@@ -350,10 +397,11 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     fin.enc_count = m->enc_count;
     fin.v_alpha_iq = 0;
     fin.v_beta_iq = 0;
+    fin.r_iq = c->lpf_r_iq; /* 0 unless lpf_comp (dtc_lpf_r) */
     if (cfg->est.estimator == DTC_EST_VOLTAGE) {
         iq_t vfa, vfb;
         if (cfg->board.topology == DTC_TOPO_FSTP) {
-            vrec_fstp(c->legs_2.sb, c->legs_2.sc, m->vdc_iq, m->vmid_iq, cfg->board.fstp_vmid_measured,
+            vrec_fstp(c->legs_2.sb, c->legs_2.sc, m->vdc_iq, vmid_r, cfg->board.fstp_vmid_measured,
                       &fin.v_alpha_iq, &fin.v_beta_iq);
         } else {
             vrec_sstp(c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, m->vdc_iq, &fin.v_alpha_iq,
@@ -382,19 +430,13 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
          * (eqs. 8-9) drives and is written into the low-pass state, so the voltage model starts
          * from it when the hand-over comes (dtc_config.h). */
         flux_est_seed(&c->fe, &fin);
-        if (cfg->est.lpf_comp != 0U) {
-            lpfcorr_predistort(c->lpf_r_iq, &c->fe.psi_alpha_iq, &c->fe.psi_beta_iq);
-        }
     } else {
-        flux_est_step(&c->fe, &fin);
+        flux_est_step(&c->fe, &fin); /* the low-pass correction on its input: lpfcorr.h */
     }
     psi_a = c->fe.psi_alpha_iq;
     psi_b = c->fe.psi_beta_iq;
-    if (cfg->est.lpf_comp != 0U && cfg->est.estimator == DTC_EST_VOLTAGE) {
-        lpfcorr_rotate(c->lpf_r_iq, &psi_a, &psi_b); /* low-pass gain/phase undone (lpfcorr.h) */
-    }
     if (cfg->est.dc_supp != 0U && cfg->est.estimator == DTC_EST_VOLTAGE) {
-        dtc_dcsupp(c, &i, m, &psi_a, &psi_b);
+        dtc_dcsupp(c, &i, &psi_a, &psi_b);
     }
 
     /* 4. Torque (Hoang eq. 10); the estimate at k is reported as it is. */
@@ -417,6 +459,9 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
             dtc_lpf_r(c);
         }
         c->dcs_kw_iq = iq_mpy(cfg->est.dcs_k_iq, fix_abs32(c->speed_iq)); /* dtc_dcsupp: Ts l_s |w|/20 */
+        if (cfg->est.vmid_beta_s_iq > 0) {
+            dtc_vmid_beta(c);
+        }
         if (c->act.mode == DTC_MODE_SPEED) {
             c->te_ref_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
         }
@@ -432,7 +477,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
      *    Hysteresis comparators (Hoang eqs. 13-14, Casadei section 4). */
     if (cfg->est.delay_comp != 0U) {
         if (cfg->board.topology == DTC_TOPO_FSTP) {
-            vrec_fstp(c->legs_1.sb, c->legs_1.sc, m->vdc_iq, m->vmid_iq, cfg->board.fstp_vmid_measured,
+            vrec_fstp(c->legs_1.sb, c->legs_1.sc, m->vdc_iq, vmid_r, cfg->board.fstp_vmid_measured,
                       &c->v1_alpha_iq, &c->v1_beta_iq);
         } else {
             vrec_sstp(c->legs_1.sa, c->legs_1.sb, c->legs_1.sc, m->vdc_iq, &c->v1_alpha_iq,

@@ -117,7 +117,13 @@ typedef struct {
     /* DC-current suppression (dtc_dcsupp): the flux correction, alpha/beta, Q32 pu */
     iq_t dcs_alpha_iq, dcs_beta_iq;
     iq_t dcs_kw_iq;      /* its gain Ts l_s |w| / 20, updated at the speed-loop rate */
+    iq_t vmid_beta_iq;   /* restoring mid-point reconstruction (dtc_vmid_dev): beta at the
+                          * measured speed, updated at the speed-loop rate */
+    iq_t vmid_dev_iq;    /* FSTP voltage model: (1 - beta)(vmid - V_dc/2) of this step */
 } dtc_t;
+
+/* Largest beta of the restoring mid-point reconstruction (dtc.c dtc_vmid_dev): 2^-4. */
+#define DTC_VMID_BETA_MAX_LOG2 4U
 
 /* Validates cfg (dtc_config_validate) and initialises c. Returns DTC_OK or an enum dtc_err code;
  * on error c is left unusable (c->cfg = 0) and must not be stepped. */
@@ -171,8 +177,19 @@ void dtc_pol_mid(dtc_t *c, const clarke_out_t *i);
 void dtc_torque_trim(dtc_t *c, iq_t te);
 
 /* Internal to dtc_step (DC-current suppression): updates the correction from the measured
- * current and adds it to the estimate *psi_a, *psi_b. */
-void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, const dtc_meas_t *m, iq_t *psi_a, iq_t *psi_b);
+ * current (and, FSTP, the mid-point deviation c->vmid_dev_iq of this step) and adds it to the
+ * estimate *psi_a, *psi_b. */
+void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b);
+/* Internal to dtc_step and dtc_dcsupp (restoring mid-point reconstruction, dtc.c dtc_vmid_beta):
+ * the mid-point's deviation from V_dc/2 as the law uses it, (1 - beta)(vmid - V_dc/2), IQ pu;
+ * the shift rounds, the product rounds and saturates, the differences saturate. */
+static inline iq_t dtc_vmid_dev(const dtc_t *c, const dtc_meas_t *m)
+{
+    const iq_t d = iq_sub(m->vmid_iq, fix_rshift_rnd32(m->vdc_iq, 1U));
+    return iq_sub(d, iq_mpy(c->vmid_beta_iq, d));
+}
+/* Internal to dtc_step: beta = min(2^-DTC_VMID_BETA_MAX_LOG2, (s w)^2) at the measured speed. */
+void dtc_vmid_beta(dtc_t *c);
 /* Internal to dtc_reset and dtc_reconfigure: the currents kept from earlier periods (previous
  * sample, period mean, prediction) and the current-limit flag back to zero. */
 void dtc_reset_currents(dtc_t *c);

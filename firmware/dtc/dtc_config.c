@@ -105,6 +105,7 @@ static int16_t dtc_est_check(const dtc_est_cfg_t *e, uint16_t law, uint16_t topo
     DTC_REFUSE(e->dc_supp > 1U, DTC_ERR_DCSUPP, "est.dc_supp");
     DTC_REFUSE(e->dc_supp != 0U && e->dcs_k_iq <= 0, DTC_ERR_DCSUPP, "est.dcs_k_iq");
     DTC_REFUSE(e->vmid_g_iq < 0, DTC_ERR_DCSUPP, "est.vmid_g_iq");
+    DTC_REFUSE(e->vmid_beta_s_iq < 0, DTC_ERR_DCSUPP, "est.vmid_beta_s_iq");
     if (law == DTC_LAW_IM_DTC && e->estimator == DTC_EST_IMPROVED) {
         DTC_REFUSE(e->im_k_lo_q31 <= 0, DTC_ERR_FLUX_EST, "est.im_k_lo_q31");
         DTC_REFUSE(e->im_k_hi_q31 <= 0, DTC_ERR_FLUX_EST, "est.im_k_hi_q31");

@@ -16,7 +16,7 @@
 #include "fixmath.h"
 
 /* Layout version: bump when a field is added, removed or changes meaning. */
-#define DTC_CONFIG_VERSION 9U
+#define DTC_CONFIG_VERSION 10U
 
 /* The control law the application runs (dtc_law.h dispatches on it). */
 enum dtc_law {
@@ -101,7 +101,7 @@ enum dtc_err {
     DTC_ERR_ILIM = -21,        /* current limit or rotor-hold current < 0 or not below the trip level */
     DTC_ERR_POLARITY = -22,    /* polarity_mid or vmid_cal flag not 0/1 */
     DTC_ERR_LPFCOMP = -23,     /* lpf_comp not 0/1, or w_c / w_min not > 0 with it on */
-    DTC_ERR_DCSUPP = -24,      /* dc_supp not 0/1, its gain not > 0 with it on, mid-point gain < 0 */
+    DTC_ERR_DCSUPP = -24,      /* dc_supp not 0/1, its gain not > 0 with it on, mid-point gains < 0 */
     DTC_ERR_SVM = -25,         /* SFVC / DFOC: modulation out of range, flux-regulator gain K_p
                                 * not in (0, 1/Ts], DFOC current-loop gains or references not > 0 */
     DTC_ERR_FAULTDET = -26,    /* fault detection: a level < 0, the current-sum check without
@@ -251,6 +251,9 @@ typedef struct {
                                * w_d = |w| / 20 */
     iq_t vmid_g_iq;           /* FSTP mid-point regulation (dtc_dcsupp): phase-A DC current demanded
                                * per volt of mid-point deviation, 2 C w_m in pu (>= 0; 0 = off) */
+    iq_t vmid_beta_s_iq;      /* FSTP restoring mid-point reconstruction (dtc.c dtc_vmid_beta):
+                               * beta = min(2^-DTC_VMID_BETA_MAX_LOG2, (s w)^2), w the measured
+                               * electrical speed in pu; s = sqrt(k) in pu (>= 0; 0 = off) */
 
     /* IM improved estimator (Casadei eq. 20, section 10.2): Ts/tau = k_lo below |w| = w_lo,
      * k_hi above w_hi, linear in between with the host's slope (im_est.h). */

@@ -26,6 +26,10 @@
  *   equilibrium (test_dtc_flux_est measures it); with a moving input the rounding averages out
  *   (1e-6 relative at 100 and 1500 rpm).
  *
+ *   With the gain/phase correction (lpfcorr.h, in->r_iq = r = w_c / w) the filtered input is
+ *   e (1 - j r) instead of e: psi(s) = (1 - j r) e(s) / (s + w_c), whose state is the flux itself
+ *   at the speed w, not the low-passed one.
+ *
  * Current model (Hoang eqs. 8-9), surface PM (L_d = L_q = L_s):
  *     psi_alpha = l_s i_alpha + psi_m cos(theta_e),  psi_beta = l_s i_beta + psi_m sin(theta_e)
  *   theta_e from the encoder count: theta_e = count * enc_gain + enc_offset (angle_t).
@@ -33,7 +37,8 @@
  * Formats: v, i, psi IQ pu; k_in, k_leak Q31 in (0, 1); theta angle_t.
  * Scaling and overflow: voltage model: k_in*e - k_leak*psi is accumulated in 64 bits (each
  * product < 2^62) and rounded ONCE (fix_rshift_rnd64_sat32), then added with saturation, so the
- * state saturates at +-128 pu and never wraps. Current model: two rounded IQ products (<= 0.5 LSB
+ * state saturates at +-128 pu and never wraps. The correction e (1 - j r) is two rounded products
+ * and saturated sums (iq_cmul_1jx); |r| <= 1/2 (the host's speed floor) keeps it within 1.12 |e|. Current model: two rounded IQ products (<= 0.5 LSB
  * each) and fix_sin/fix_cos (<= 2 Q15 LSB), summed with saturation.
  */
 #ifndef FLUX_EST_H
@@ -62,11 +67,14 @@ typedef struct {
 } flux_est_t;
 
 /* Input of one step: the voltage applied over the last period (already including the
- * compensation v_f), the stator currents, and the encoder count for the current model. */
+ * compensation v_f), the stator currents, the encoder count for the current model, and the
+ * low-pass correction r = w_c / w (lpfcorr.h; 0 = none): the voltage model then filters
+ * e (1 - j r) instead of e, which makes the low-pass output the flux itself at the speed w. */
 typedef struct {
     iq_t v_alpha_iq, v_beta_iq;
     iq_t i_alpha_iq, i_beta_iq;
     uint16_t enc_count;
+    iq_t r_iq;
 } flux_est_in_t;
 
 void flux_est_init(flux_est_t *s, const flux_est_params_t *p);

@@ -4,21 +4,30 @@
  * The voltage model integrates with 1/(s + w_c) instead of 1/s (flux_est.h), so in sinusoidal
  * steady state at electrical speed w its output is psi_l = psi jw / (jw + w_c) = psi / (1 - j r),
  * r = w_c / w: a gain w/sqrt(w^2 + w_c^2) and a lead atan(r) (issue 10: 6.8 / 15.8 / 23.4 % vector
- * error at 700 / 300 / 200 rpm for 5 rad/s). Undone on the output with the measured speed:
- *     psi = psi_l (1 - j r):  psi_a = psi_la + r psi_lb,  psi_b = psi_lb - r psi_la,
- * while the low-pass itself stays what bounds a DC error (E / w_c, flux_est.h). At the hand-over
- * the low-pass state must be the filter's steady state of the current-model flux psi_cm, so that
- * the corrected output starts at psi_cm (bumpless):
- *     state = psi_cm / (1 - j r) = psi_cm (1 + j r) / (1 + r^2) ~ psi_cm (1 + j r)(1 - r^2 + r^4)
- * (relative error r^6: 1.6 % at the floor r = 1/2, 4e-6 at r = 0.125).
+ * error at 700 / 300 / 200 rpm for 5 rad/s). The correction multiplies the low-pass's INPUT by
+ * (1 - j r), with the measured speed:
+ *     d psi/dt = (1 - j r) e - w_c psi,   e = v - r_s i  (Hoang eqs. 15-16),
+ *   so a DC error E of e still ends as a bounded flux offset (1 - j r) E / w_c, while for the
+ * flux the machine has, psi_t = |psi| e^{j theta} with d theta/dt = w (e = j w psi_t), the error
+ * eps = psi - psi_t obeys
+ *     d eps/dt = (1 - j r) j w psi_t - j w psi_t - w_c psi_t - w_c eps = -w_c eps    (r w = w_c),
+ * at every instant, whatever the speed does: the estimate converges on the true flux at w_c and
+ * stays there through an acceleration. The alternative, undoing the filter on its output
+ * (psi = psi_l (1 - j r)), is exact only in steady state: the filter's state stores the flux
+ * predistorted by the r of the past, and a changing speed (d r/dt = -w_c (dw/dt) / w^2) leaves an
+ * error of about |psi| times the change of r over 1/w_c, in the stationary frame, i.e. a DC flux
+ * error that the DTC turns into a DC current (SIL, issue 10, proposed FSTP accelerating at the
+ * torque limit to 200 rpm through a 100 rpm hand-over: 17 % of the flux 0.1 s after the start; on
+ * the FSTP that DC current is phase A's and drains the split link's mid-point). At the hand-over
+ * the state is simply the current-model flux (bumpless).
  * r from the measured speed without a division: y ~ 1/max(|w|, w_min) by Newton's iteration
  * y <- y (2 - w y) (quadratic convergence for 0 < y < 2/w; two iterations per speed period from
  * the previous value track any physical speed change; restarted at y = 1/2 pu if w y > 3/2),
  * r = sign(w) w_c y. Below w_min the correction stays at its value for w_min (continuous, no
  * switching bump); w_min = 2 w_c (r <= 1/2, the corrected magnitude at most 1.12 times the
- * low-pass's) is set by the host. Measured (SIL, proposed FSTP, 0.075 N*m, voltage model from
- * standstill): with the floor at 4 w_c the estimated torque was 10 % low at 150 rpm and 81 % low
- * at 100 rpm; at 2 w_c it is within 1.2 % and 1.4 %.
+ * low-pass's) is set by the host. Measured with the output form (SIL, proposed FSTP, 0.075 N*m,
+ * voltage model from standstill): with the floor at 4 w_c the estimated torque was 10 % low at
+ * 150 rpm and 81 % low at 100 rpm; at 2 w_c within 1.2 % and 1.4 %.
  *
  * Formats: IQ pu (w, w_c, y, r, fluxes); products rounded (iq_mpy), sums saturated; y <= 1/w_min
  * (~16 pu for 5 rad/s and w_base = 314 rad/s) stays far inside the IQ range.
@@ -42,20 +51,10 @@ static inline iq_t lpfcorr_recip(iq_t y_iq, iq_t w_iq, iq_t w_min_iq)
     return iq_recip_newton(y_iq, w);
 }
 
-/* (a + j b)(1 - j r): the corrected flux. */
+/* (a + j b)(1 - j r): the corrected low-pass input (flux_est.c). */
 static inline void lpfcorr_rotate(iq_t r_iq, iq_t *a, iq_t *b)
 {
     iq_cmul_1jx(fix_neg32(r_iq), a, b);
-}
-
-/* (a + j b)(1 + j r)(1 - r^2 + r^4): the low-pass state whose corrected output is a + j b. */
-static inline void lpfcorr_predistort(iq_t r_iq, iq_t *a, iq_t *b)
-{
-    const iq_t r2 = iq_mpy(r_iq, r_iq);
-    const iq_t g = iq_add(iq_sub(iq_from_int(1), r2), iq_mpy(r2, r2));
-    iq_cmul_1jx(r_iq, a, b);
-    *a = iq_mpy(g, *a);
-    *b = iq_mpy(g, *b);
 }
 
 #endif /* LPFCORR_H */

@@ -4,7 +4,7 @@
 #include "dtc_config.h"
 
 const dtc_config_t g_dtc_config = {
-    .version = 9U,
+    .version = 10U,
     .law = 0U, /* enum dtc_law */
     .board = {
         .v_base_mv = 70000U,
@@ -76,6 +76,7 @@ const dtc_config_t g_dtc_config = {
         .dc_supp = 1U,
         .dcs_k_iq = 415, /* 2.47359276e-05 pu */
         .vmid_g_iq = 0, /* 0 pu */
+        .vmid_beta_s_iq = 0, /* 0 pu */
         .im_k_lo_q31 = 0, /* 0 */
         .im_k_hi_q31 = 0, /* 0 */
         .im_w_lo_iq = 0, /* 0 pu */

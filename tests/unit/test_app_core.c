@@ -168,13 +168,14 @@ static void test_midpoint_calibration(void **state)
     const double vmid_v = (double)pu.vmid_iq / 16777216.0 * fx.b.v_base_v;
     const double vdc_v = (double)pu.vdc_iq / 16777216.0 * fx.b.v_base_v;
     assert_true(fabs(vmid_v - vdc_v / 2.0) < lsb_v);
-    /* restoring reconstruction (app_core.h APP_VMID_BETA_LOG2): a mid-point 12 V above V_dc/2
-     * (plus the 1.5 V the calibration removes) reaches the law (1 - 1/16) 12 = 11.25 V above */
+    /* a mid-point 12 V above V_dc/2 (plus the 1.5 V the calibration removes) reaches the law
+     * 12 V above: the conversion only calibrates (the restoring reconstruction is the law's,
+     * dtc.c dtc_vmid_dev) */
     fx.m.adc[HAL_ADC_VMID] = v_counts(fx.si.vdc_v / 2.0 + 1.5 + 12.0);
     app_core_convert(&fx.app, &fx.m, &pu);
     const double dev_v = (double)pu.vmid_iq / 16777216.0 * fx.b.v_base_v -
                          (double)pu.vdc_iq / 16777216.0 * fx.b.v_base_v / 2.0;
-    assert_true(fabs(dev_v - 12.0 * (1.0 - 1.0 / 16.0)) < 2.0 * lsb_v);
+    assert_true(fabs(dev_v - 12.0) < 2.0 * lsb_v);
 
     setup_topology(DTC_TOPO_FSTP);
     assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);

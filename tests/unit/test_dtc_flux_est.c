@@ -71,7 +71,7 @@ static void test_current_model_matches_eqs_8_9(void **state)
         flux_est_init(&s, &p);
         for (uint16_t count = 0; count < 8000U; count += 7U) {
             double ia = 2.5 * sin(count * 0.013), ib = -1.7 * cos(count * 0.021);
-            flux_est_in_t in = {0, 0, fixtest_d_to_iq(ia), fixtest_d_to_iq(ib), count};
+            flux_est_in_t in = {0, 0, fixtest_d_to_iq(ia), fixtest_d_to_iq(ib), count, 0};
             flux_est_step(&s, &in);
             /* exact electrical angle of the count (p = 1, 8000 counts/turn) plus the offset */
             double th = 2.0 * DTC_REF_PI * (count / 8000.0 + p.enc_offset / 65536.0);
@@ -170,7 +170,7 @@ static void run_vm(double w_pu, double iq_pu, double *err_filtered, double *err_
         double complex rot = cexp(I * th);
         double complex v = (rs * Icur + I * w_pu * Psi) * rot, i = Icur * rot;
         flux_est_in_t in = {fixtest_d_to_iq(creal(v)), fixtest_d_to_iq(cimag(v)),
-                            fixtest_d_to_iq(creal(i)), fixtest_d_to_iq(cimag(i)), 0U};
+                            fixtest_d_to_iq(creal(i)), fixtest_d_to_iq(cimag(i)), 0U, 0};
         flux_est_step(&s, &in);
         if (k >= n_settle) {
             /* the state after step k holds psi[k+1] */
@@ -239,7 +239,7 @@ static void test_voltage_model_offset_does_not_drift(void **state)
     params_from_cfg(&p, DTC_EST_VOLTAGE);
     p.rs_iq = 0;
     flux_est_init(&s, &p);
-    flux_est_in_t in = {IQ(0.01), IQ(-0.01), 0, 0, 0U};
+    flux_est_in_t in = {IQ(0.01), IQ(-0.01), 0, 0, 0U, 0};
     for (long k = 0; k < 200000; k++) { /* 10 s = 50 time constants */
         flux_est_step(&s, &in);
     }

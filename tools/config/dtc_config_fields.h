@@ -42,7 +42,7 @@
     U(est, estimator) U(est, compensation) Q31(est, k_in_q31) Q31(est, k_leak_q31)                 \
     IQ(est, handover_speed_iq) IQ(est, handover_hyst_iq) U(est, delay_comp) U(est, deadtime_comp)  \
     U(est, polarity_mid) U(est, lpf_comp) IQ(est, wc_pu_iq) IQ(est, lpf_wmin_iq) U(est, dc_supp)   \
-    IQ(est, dcs_k_iq) IQ(est, vmid_g_iq)                                                          \
+    IQ(est, dcs_k_iq) IQ(est, vmid_g_iq) IQ(est, vmid_beta_s_iq)                                  \
     Q31(est, im_k_lo_q31) Q31(est, im_k_hi_q31) IQ(est, im_w_lo_iq) IQ(est, im_w_hi_iq)           \
     Q31(est, im_k_slope_q31)                                                                      \
     END(est)                                                                                      \

@@ -185,6 +185,21 @@ double dtc_handover_residual_v(const dtc_config_si_t *si, double i_a)
     return v;
 }
 
+double dtc_vmid_beta_k(const dtc_config_si_t *si)
+{
+    const int on = si->vmid_cal != 0 && si->topology == DTC_TOPO_FSTP && si->fstp_vmid_measured != 0 &&
+                   si->estimator == DTC_EST_VOLTAGE && si->law == DTC_LAW_PM_DTC;
+    if (!on || !(si->rated_current_a > 0.0)) {
+        return 0.0;
+    }
+    return 3.0 / 32.0 * si->c_dc_f * si->flux_ref_wb / si->rated_current_a;
+}
+
+double dtc_vmid_gain_tol(const dtc_config_si_t *si)
+{
+    return 0.02 + 1.0 / si->vdc_v;
+}
+
 double dtc_handover_default_rpm(const dtc_config_si_t *si)
 {
     double drop = (si->v_ce_v > si->v_d_v ? si->v_ce_v : si->v_d_v) + si->r_on_ohm * si->rated_current_a;
@@ -200,6 +215,11 @@ double dtc_handover_default_rpm(const dtc_config_si_t *si)
     const double k_topo = si->topology == DTC_TOPO_FSTP ? 2.0 / 3.0 : 1.0;
     const double w_cur = 4.0 / M_PI * k_topo * dtc_handover_residual_v(si, i_lim) / (si->ls_h * head);
     w = w_cur > w ? w_cur : w;
+    {
+        const double k = dtc_vmid_beta_k(si);
+        const double w_beta = k > 0.0 ? sqrt(dtc_vmid_gain_tol(si) / k) : 0.0;
+        w = w_beta > w ? w_beta : w;
+    }
     return w * 30.0 / M_PI / (double)si->pole_pairs;
 }
 
@@ -747,6 +767,8 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
             const double g = 2.0 * si->c_dc_f * 0.5 * si->lpf_cutoff_rad_s; /* A/V, w_m = w_c / 2 */
             cfg->est.vmid_g_iq = reg ? to_iq(&c, "c_dc_f", si->c_dc_f, g * b.z_base_ohm) : 0;
         }
+        /* restoring mid-point reconstruction: beta = min(1/16, (s w)^2), s = sqrt(k) w_base */
+        cfg->est.vmid_beta_s_iq = to_iq(&c, "c_dc_f", si->c_dc_f, sqrt(dtc_vmid_beta_k(si)) * b.w_base_rad_s);
     }
     /* the mid-point calibration only where a mid-point is measured (FSTP) and used: by the
      * voltage model's reconstruction and its mid-point regulation. The current model uses

@@ -230,10 +230,26 @@ double dtc_table_speed_default_rpm(const dtc_config_si_t *si);
  *     plus V_dc T_d / T_s when the dead time is not compensated. Below that speed the
  *     uncompensated SSTP drive under a constant rated load estimated 0.1 N*m above the true
  *     torque, ran 14 % under-fluxed and stalled (SIL, docs/firmware-core.md).
- * whichever is highest: w_h = max(3 (max(V_CE, V_d) + R_on I_rated) / psi_m, 10 w_c, w_cur).
- * Table VIII machine, Table IV devices, 5 rad/s, 6 A trip: proposed and simple max(45.7, 50,
- * <= 43.6) rad/s = 477 rpm (p = 1); none 941 rpm on the FSTP, 1441 rpm on the SSTP. */
+ * - on the FSTP voltage model with the restoring mid-point reconstruction: where its beta(w)
+ *   covers the link sensor's tolerance, w_beta = sqrt(dtc_vmid_gain_tol / dtc_vmid_beta_k);
+ *   below it a link read low lets the mid-point run away (firmware/dtc/dtc.c dtc_vmid_dev).
+ * whichever is highest: w_h = max(3 (max(V_CE, V_d) + R_on I_rated) / psi_m, 10 w_c, w_cur, w_beta).
+ * Table VIII machine, Table IV devices, 5 rad/s, 6 A trip, 2 x 4.7 mF: proposed and simple
+ * max(45.7, 50, <= 43.6, 43.6) rad/s = 477 rpm (p = 1); none 941 rpm on the FSTP, 1441 rpm on the SSTP. */
 double dtc_handover_default_rpm(const dtc_config_si_t *si);
+
+/* Restoring mid-point reconstruction of the FSTP voltage model (firmware/dtc/dtc.c dtc_vmid_dev):
+ * beta = min(1/16, k w^2), k in s^2 (w the electrical speed in rad/s),
+ *     k = 3 eps C psi_ref / I_rated,  eps = 1/32,
+ * so that the flux error beta I / (3 C w^2) that beta makes of the mid-point's swing
+ * I / (2 C w) (C each capacitor) stays below eps psi_ref at the rated current at every speed.
+ * 0 where the firmware reconstructs no mid-point (not an FSTP voltage model with the mid-point
+ * measured and calibrated). Table VIII, 2 x 4.7 mF: 1.86e-5 s^2 (beta = 1/16 above 556 rpm). */
+double dtc_vmid_beta_k(const dtc_config_si_t *si);
+/* The link-sensor error the restoring term must cover, relative: 2 % gain plus a 1 V offset at
+ * the link voltage (issue 10's datasheet-grade sensor). The derived hand-over speed stays at or
+ * above sqrt(dtc_vmid_gain_tol / k), where beta(w) reaches it (dtc_handover_default_rpm). */
+double dtc_vmid_gain_tol(const dtc_config_si_t *si);
 
 /* The leg-drop amplitude, V, that the configured compensation leaves in the voltage model at
  * current i_a (see dtc_handover_default_rpm). */

@@ -393,9 +393,10 @@ const std::vector<Spec>& schema()
                  "switching instant (the previous sample); false: both from the present sample",
                  ACC(control.polarity_mid)),
         boolean("control.lpf_comp",
-                 "firmware, voltage model: undo the low-pass's gain and phase lead at the measured speed, "
-                 "psi = psi_lpf (1 - j w_c/w) with |w| floored at 2 w_c, and seed the low-pass bumplessly at "
-                 "the hand-over (firmware/dtc/lpfcorr.h); false: the low-pass output as it is",
+                 "firmware, voltage model: undo the low-pass's gain and phase lead at the measured speed by "
+                 "filtering (1 - j w_c/w)(v - r_s i) instead of v - r_s i, |w| floored at 2 w_c: the estimate "
+                 "is then the flux at every speed and through speed changes (firmware/dtc/lpfcorr.h); false: "
+                 "the plain low-pass",
                  ACC(control.lpf_comp)),
         boolean("control.dc_supp",
                  "firmware, voltage model: DC-current suppression, the estimate is shifted by the integral of "
