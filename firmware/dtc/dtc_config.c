@@ -44,6 +44,26 @@ static int16_t dtc_board_check(const dtc_board_cfg_t *b, const char **f)
     return DTC_OK;
 }
 
+/* Trip levels the ADC can see: a current trip above the largest current the converter reads
+ * (gain x the smaller side of the least centred offset, in counts, of the three channels) or an
+ * over-voltage trip above its full scale would never fire: the reading saturates first. Init
+ * only; 64-bit products of a gain (IQ) and a count (< 2^12) cannot overflow. */
+static int16_t dtc_range_check(const dtc_config_t *c, const char **f)
+{
+    const dtc_board_cfg_t *b = &c->board;
+    uint16_t k;
+    int64_t head = 4095;
+    for (k = 0U; k < 3U; k++) {
+        const int64_t lo = (int64_t)b->adc_i_offset[k], hi = 4095 - (int64_t)b->adc_i_offset[k];
+        head = lo < head ? lo : head;
+        head = hi < head ? hi : head;
+    }
+    DTC_REFUSE((int64_t)c->prot.i_trip_iq > (int64_t)b->adc_i_gain_iq * head, DTC_ERR_LIMIT, "prot.i_trip_iq");
+    DTC_REFUSE((int64_t)c->prot.vdc_max_iq > (int64_t)b->adc_vdc_gain_iq * (4095 - (int64_t)b->adc_vdc_offset),
+               DTC_ERR_LIMIT, "prot.vdc_max_iq");
+    return DTC_OK;
+}
+
 static int16_t dtc_protect_check(const dtc_protect_cfg_t *p, const char **f)
 {
     DTC_REFUSE(p->i_trip_iq <= 0, DTC_ERR_LIMIT, "prot.i_trip_iq");
@@ -208,6 +228,9 @@ int16_t dtc_config_check(const dtc_config_t *cfg, const char **field)
     err = dtc_board_check(&cfg->board, f);
     if (err == DTC_OK) {
         err = dtc_protect_check(&cfg->prot, f);
+    }
+    if (err == DTC_OK) {
+        err = dtc_range_check(cfg, f);
     }
     if (err == DTC_OK && cfg->prot.i_sum_max_iq > 0 && cfg->board.i_sensors3 == 0U) {
         *f = "prot.i_sum_max_iq"; /* the sum of two measured and one derived current is 0 */

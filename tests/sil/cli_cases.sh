@@ -53,7 +53,7 @@ grep -q '"fault": "plant_diverged"' "$work/o2/metrics.json" || { echo "FAIL dive
 expect hw_trip_named 0 'fault: hw_overcurrent' -- run "$src/tools/scenarios/open_loop_rated_current.toml" --out "$work/o3" --no-trace --set protection.hw_trip_current_a=1
 # Started at 4000 rpm with the gates off for the offset calibration: the line back-EMF (67 V peak)
 # exceeds what the FSTP's diodes block (35 V), the calibration sees rectifier current: named so.
-expect rectifier_named 0 'fault: rectifier_conduction' -- run "$scen" --out "$work/o6" --no-trace --set initial_speed_rpm=4000 --set control.speed_ref_rpm=4000 --set duration_s=0.1 --set metrics_window_s=0.05 --set protection.vdc_max_v=200
+expect rectifier_named 0 'fault: rectifier_conduction' -- run "$scen" --out "$work/o6" --no-trace --set initial_speed_rpm=4000 --set control.speed_ref_rpm=4000 --set duration_s=0.1 --set metrics_window_s=0.05 --set protection.vdc_max_v=200 --set sensors.voltage_range_v=250
 # No progress line when stderr is not a terminal.
 if grep -q 'ETA' "$work/log"; then echo "FAIL: progress line on a pipe"; fail=$((fail + 1)); fi
 

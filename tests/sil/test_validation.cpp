@@ -86,8 +86,12 @@ TEST_F(Validation, CheckAndRunAcceptAndRefuseTheSameScenarios)
         {{"max_step_s=1e-15"}, "max_step_s"},
         {{"ts_s=1e-3", "max_step_s=1e-8"}, "max_step_s"}, // 1e5 sub-steps per period: the floor
         {{"duration_s=1e-300"}, "duration_s"},
-        {{"protection.overcurrent_a=100", "protection.hw_trip_current_a=0"}, "protection.overcurrent_a"},
-        {{"protection.overcurrent_a=100", "protection.hw_trip_current_a=0", "protection.allow_unsafe=true"}, ""},
+        {{"protection.overcurrent_a=9", "protection.hw_trip_current_a=0"}, "protection.overcurrent_a"},
+        {{"protection.overcurrent_a=9", "protection.hw_trip_current_a=0", "protection.allow_unsafe=true"}, ""},
+        // a trip the ADC cannot see (beyond the sensor range) never fires: refused even when unsafe
+        {{"protection.overcurrent_a=100", "protection.hw_trip_current_a=0", "protection.allow_unsafe=true"},
+         "protection.overcurrent_a"},
+        {{"protection.vdc_max_v=150"}, "protection.vdc_max_v"},
         {{"protection.overcurrent_a=5", "protection.hw_trip_current_a=30"}, ""}, // firmware trips first
         {{"protection.overcurrent_a=30", "protection.hw_trip_current_a=8"}, "protection.hw_trip_current_a"},
     };

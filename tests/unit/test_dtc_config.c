@@ -292,6 +292,43 @@ static void test_dtc_init_refuses_bad_struct(void **state)
 /* The derived hand-over speed (dtc_config_si.h) for Table VIII / Table IV / 5 rad/s:
  * back-EMF 3x the drop: 3 (1.25 + 0.075 * 2.2) / 0.0928 = 45.74 rad/s; LPF: 10 * 5 = 50 rad/s;
  * the larger, 50 rad/s electrical, p = 1: 477.46 rpm, i.e. 50 / (2 pi 3000/60) = 0.159155 pu. */
+/* A trip level the ADC cannot see never fires: the current trip above the largest current the
+ * converter reads (gain x 2047 counts from the 2048 offset), the over-voltage trip above the
+ * divider's full scale. Refused with the field; at the edge accepted. */
+static void test_trips_beyond_the_adc_range_refused(void **state)
+{
+    (void)state;
+    dtc_config_si_t si;
+    dtc_config_t cfg, bad;
+    const char *field = "";
+    dtc_config_si_defaults(&si);
+    assert_int_equal(dtc_config_from_si(&si, &cfg, NULL, 0), DTC_SI_OK);
+    const int64_t i_full = (int64_t)cfg.board.adc_i_gain_iq * 2047;
+    const int64_t v_full = (int64_t)cfg.board.adc_vdc_gain_iq * 4095;
+    bad = cfg;
+    bad.prot.i_trip_iq = (iq_t)i_full;
+    assert_int_equal(dtc_config_check(&bad, &field), DTC_OK);
+    bad.prot.i_trip_iq = (iq_t)(i_full + 1);
+    assert_int_equal(dtc_config_check(&bad, &field), DTC_ERR_LIMIT);
+    assert_string_equal(field, "prot.i_trip_iq");
+    bad = cfg;
+    bad.board.adc_i_offset[1] = 3000; /* off-centre: 1095 counts above it are left */
+    bad.prot.i_trip_iq = (iq_t)((int64_t)cfg.board.adc_i_gain_iq * 1096);
+    assert_int_equal(dtc_config_check(&bad, &field), DTC_ERR_LIMIT);
+    assert_string_equal(field, "prot.i_trip_iq");
+    bad = cfg;
+    bad.prot.vdc_max_iq = (iq_t)v_full;
+    assert_int_equal(dtc_config_check(&bad, &field), DTC_OK);
+    bad.prot.vdc_max_iq = (iq_t)(v_full + 1);
+    assert_int_equal(dtc_config_check(&bad, &field), DTC_ERR_LIMIT);
+    assert_string_equal(field, "prot.vdc_max_iq");
+    /* the SI side: 12 A on the 10 A sensor range is refused by the firmware's check */
+    char msg[256];
+    si.i_trip_a = 12.0;
+    assert_int_not_equal(dtc_config_from_si(&si, &cfg, msg, sizeof msg), DTC_SI_OK);
+    assert_non_null(strstr(msg, "prot.i_trip_iq"));
+}
+
 static void test_handover_default_from_machine(void **state)
 {
     dtc_config_si_t si;
@@ -406,6 +443,7 @@ int main(void)
         cmocka_unit_test(test_defaults_convert_to_expected_pu),
         cmocka_unit_test(test_bad_si_configs_refused_with_field),
         cmocka_unit_test(test_dtc_init_refuses_bad_struct),
+        cmocka_unit_test(test_trips_beyond_the_adc_range_refused),
         cmocka_unit_test(test_handover_default_from_machine),
         cmocka_unit_test(test_every_variant_converts_and_inits),
         cmocka_unit_test(test_emitter_writes_every_field),

@@ -1118,8 +1118,16 @@ void cross_validate(Scenario& s, Diagnostics* d)
     if (s.inverter.vdc_v * (1.0 + s.sensors.vdc_gain_error) + s.sensors.vdc_offset_v >= s.sensors.voltage_range_v) {
         warn("sensors.voltage_range_v", "the DC-link voltage is at or above the divider's full scale; the ADC clamps");
     }
-    if (s.protection.overcurrent_a >= s.sensors.current_range_a) {
-        warn("protection.overcurrent_a", "at or above the current sensor range: the ADC clamps before it trips");
+    if (!open_loop && s.protection.overcurrent_a >= s.sensors.current_range_a) {
+        // the firmware refuses it too (dtc_config.c dtc_range_check): the trip could never fire
+        err("protection.overcurrent_a", "at or above the current sensor range sensors.current_range_a = " +
+                                            fmt_double(s.sensors.current_range_a) +
+                                            " A: the ADC clamps before the firmware could trip");
+    }
+    if (!open_loop && s.protection.vdc_max_v > s.sensors.voltage_range_v) {
+        err("protection.vdc_max_v", "above the DC-link divider's full scale sensors.voltage_range_v = " +
+                                        fmt_double(s.sensors.voltage_range_v) +
+                                        " V: the ADC clamps before the firmware could trip");
     }
     if (s.load.step_time_s > s.duration_s) {
         warn("load.step_time_s", "after the end of the run");
