@@ -104,7 +104,10 @@ public:
     }
 
     ImMachine() = default;
-    explicit ImMachine(const plant_params_t &p)
+    // noexcept: std::variant::emplace then builds the machine in place (without it libstdc++ builds a
+    // temporary variant and move-assigns it, which GCC 12 with the sanitizers reports as a
+    // maybe-uninitialized read of the inactive alternative)
+    explicit ImMachine(const plant_params_t &p) noexcept
         : c_(im::derive(p)), pole_pairs_(p.pole_pairs), pp_(p.pole_pairs), rs_(p.rs_ohm) {}
 
     // The machine in the per-phase circuit: sigma L_s di_x/dt = v_x - v_n - R_eff i_x - e_x.

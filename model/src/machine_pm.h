@@ -31,7 +31,7 @@ public:
     }
 
     PmMachine() = default;
-    explicit PmMachine(const plant_params_t &p) : pole_pairs_(p.pole_pairs), pp_(p.pole_pairs), rs_(p.rs_ohm), ls_(p.ls_h) {
+    explicit PmMachine(const plant_params_t &p) noexcept : pole_pairs_(p.pole_pairs), pp_(p.pole_pairs), rs_(p.rs_ohm), ls_(p.ls_h) {
         has_harm_ = false;
         for (int x = 0; x < 3; ++x) {
             const double g = p.psi_m_wb * p.emf_gain[x];
