@@ -268,3 +268,19 @@ TEST(FaultTolerance, AStuckCurrentSensorTrips)
     const Outcome o = run("sstp_current_full.toml", {"faults.current_sensor_stuck=\"b\""}, "stuck2");
     EXPECT_NE(o.info.fault, "none") << "two sensors";
 }
+
+TEST(FaultTolerance, ASpeedDipIsMeasuredFromTheSpeedTheDriveHadAtTheFault)
+{
+    // A DC sag to 85 % while the PM drive is still accelerating (0.1 s after the start, far below
+    // 1500 rpm; 85 % still leaves the FSTP the voltage for 1500 rpm): the dip is what the speed
+    // lost after the fault, not the distance to the reference it had not yet reached (measured
+    // against the reference it read 616 rpm: the speed was 884 rpm at the fault). With the sag the acceleration only slows, so nothing is lost beyond a few rpm.
+    const Outcome o = run("fstp_current_full.toml", {"faults.dc_sag=0.85", "faults.time_s=0.1"}, "early_sag");
+    ASSERT_EQ(o.info.fault, "none");
+    const std::size_t k = at(o.tr, 0.1);
+    ASSERT_LT(k, o.tr.speed.size());
+    const double n_fault = o.tr.speed[k];
+    EXPECT_LT(n_fault, 1000.0); // the start is under way, not finished
+    ASSERT_GE(o.info.speed_dip_rpm, 0.0);
+    EXPECT_LT(o.info.speed_dip_rpm, 10.0) << "speed at the fault " << n_fault;
+}

@@ -133,7 +133,8 @@ struct RunInfo {
     // the speed's response after the fault (speed mode; NaN = not defined, see docs/sil.md).
     double injected_fault_time_s = -1.0;
     std::string reconfigured;
-    double speed_dip_rpm = -1.0;  // largest drop below control.speed_ref_rpm after the fault; -1: n/a
+    double speed_dip_rpm = -1.0;  // largest drop after the fault below the speed at the fault (capped at
+                                  // control.speed_ref_rpm); -1: n/a
     double recovery_s = -1.0;     // fault until the speed is back within 1 % of the reference for
                                   // good; -1: n/a or never
 };

@@ -405,6 +405,7 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
     const bool speed_mode = sc.control.mode == ControlMode::Speed;
     const double band_rpm = 0.01 * std::fabs(sc.control.speed_ref_rpm);
     double dip_rpm = 0.0, last_out_t = -1.0, last_t = -1.0;
+    double dip_base_rpm = 0.0; // the speed the dip is measured from (set at the fault)
     bool last_in = false;
     const PlantBounds bounds = plant_bounds(sc);
     std::string diverged;
@@ -456,7 +457,13 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
         h->sample();
         if (fault_t >= 0.0 && speed_mode) {
             const double n = h->sensed().omega_m_rad_s * (30.0 / kPi);
-            dip_rpm = std::max(dip_rpm, sc.control.speed_ref_rpm - n);
+            if (last_t < 0.0) {
+                // from the speed the drive had when the fault came, capped at the reference: a
+                // fault during the start is measured from where the start had got to
+                dip_base_rpm = sc.control.speed_ref_rpm >= 0.0 ? std::min(n, sc.control.speed_ref_rpm)
+                                                               : std::max(n, sc.control.speed_ref_rpm);
+            }
+            dip_rpm = std::max(dip_rpm, sc.control.speed_ref_rpm >= 0.0 ? dip_base_rpm - n : n - dip_base_rpm);
             last_in = std::fabs(n - sc.control.speed_ref_rpm) <= band_rpm;
             last_t = h->time_s();
             if (!last_in) {
