@@ -274,7 +274,8 @@ TEST(FaultTolerance, ASpeedDipIsMeasuredFromTheSpeedTheDriveHadAtTheFault)
     // A DC sag to 85 % while the PM drive is still accelerating (0.1 s after the start, far below
     // 1500 rpm; 85 % still leaves the FSTP the voltage for 1500 rpm): the dip is what the speed
     // lost after the fault, not the distance to the reference it had not yet reached (measured
-    // against the reference it read 616 rpm: the speed was 884 rpm at the fault). With the sag the acceleration only slows, so nothing is lost beyond a few rpm.
+    // against the reference it read 616 rpm: the speed was 884 rpm at the fault). With the sag
+    // the acceleration only slows, so nothing is lost beyond a few rpm.
     const Outcome o = run("fstp_current_full.toml", {"faults.dc_sag=0.85", "faults.time_s=0.1"}, "early_sag");
     ASSERT_EQ(o.info.fault, "none");
     const std::size_t k = at(o.tr, 0.1);
