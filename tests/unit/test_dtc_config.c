@@ -295,6 +295,19 @@ static void test_dtc_init_refuses_bad_struct(void **state)
 /* A trip level the ADC cannot see never fires: the current trip above the largest current the
  * converter reads (gain x 2047 counts from the 2048 offset), the over-voltage trip above the
  * divider's full scale. Refused with the field; at the edge accepted. */
+/* The trip level `which` (0 current, 1 over-voltage) at `full` accepted, one LSB above refused. */
+static void expect_trip_edge(const dtc_config_t *base, int which, int64_t full, const char *name)
+{
+    dtc_config_t c = *base;
+    const char *field = "";
+    iq_t *level = which != 0 ? &c.prot.vdc_max_iq : &c.prot.i_trip_iq;
+    *level = (iq_t)full;
+    assert_int_equal(dtc_config_check(&c, &field), DTC_OK);
+    *level = (iq_t)(full + 1);
+    assert_int_equal(dtc_config_check(&c, &field), DTC_ERR_LIMIT);
+    assert_string_equal(field, name);
+}
+
 static void test_trips_beyond_the_adc_range_refused(void **state)
 {
     (void)state;
@@ -303,25 +316,13 @@ static void test_trips_beyond_the_adc_range_refused(void **state)
     const char *field = "";
     dtc_config_si_defaults(&si);
     assert_int_equal(dtc_config_from_si(&si, &cfg, NULL, 0), DTC_SI_OK);
-    const int64_t i_full = (int64_t)cfg.board.adc_i_gain_iq * 2047;
-    const int64_t v_full = (int64_t)cfg.board.adc_vdc_gain_iq * 4095;
-    bad = cfg;
-    bad.prot.i_trip_iq = (iq_t)i_full;
-    assert_int_equal(dtc_config_check(&bad, &field), DTC_OK);
-    bad.prot.i_trip_iq = (iq_t)(i_full + 1);
-    assert_int_equal(dtc_config_check(&bad, &field), DTC_ERR_LIMIT);
-    assert_string_equal(field, "prot.i_trip_iq");
+    expect_trip_edge(&cfg, 0, (int64_t)cfg.board.adc_i_gain_iq * 2047, "prot.i_trip_iq");
+    expect_trip_edge(&cfg, 1, (int64_t)cfg.board.adc_vdc_gain_iq * 4095, "prot.vdc_max_iq");
     bad = cfg;
     bad.board.adc_i_offset[1] = 3000; /* off-centre: 1095 counts above it are left */
     bad.prot.i_trip_iq = (iq_t)((int64_t)cfg.board.adc_i_gain_iq * 1096);
     assert_int_equal(dtc_config_check(&bad, &field), DTC_ERR_LIMIT);
     assert_string_equal(field, "prot.i_trip_iq");
-    bad = cfg;
-    bad.prot.vdc_max_iq = (iq_t)v_full;
-    assert_int_equal(dtc_config_check(&bad, &field), DTC_OK);
-    bad.prot.vdc_max_iq = (iq_t)(v_full + 1);
-    assert_int_equal(dtc_config_check(&bad, &field), DTC_ERR_LIMIT);
-    assert_string_equal(field, "prot.vdc_max_iq");
     /* the SI side: 12 A on the 10 A sensor range is refused by the firmware's check */
     char msg[256];
     si.i_trip_a = 12.0;

@@ -54,14 +54,23 @@ static void test_recip_converges(void **state)
     assert_true(fabs(d(y) - 1.0) < 1e-5);
 }
 
+/* The default drive (Table VIII, 50 us, 5 rad/s) and its voltage-model estimator parameters. */
+static void setup(dtc_config_si_t *si, dtc_config_t *cfg, flux_est_params_t *p)
+{
+    dtc_config_si_defaults(si);
+    assert_int_equal(dtc_config_from_si(si, cfg, NULL, 0), 0);
+    const flux_est_params_t v = {DTC_EST_VOLTAGE, cfg->est.k_in_q31, cfg->est.k_leak_q31, cfg->machine.rs_iq,
+                                 cfg->machine.pm.ls_iq, cfg->machine.pm.psi_m_iq, cfg->board.enc_gain_q16,
+                                 cfg->board.enc_offset};
+    *p = v;
+}
+
 static void run_speed(double rpm)
 {
     dtc_config_si_t si;
     dtc_config_t cfg;
-    dtc_config_si_defaults(&si);
-    assert_int_equal(dtc_config_from_si(&si, &cfg, NULL, 0), 0);
-    flux_est_params_t p = {DTC_EST_VOLTAGE, cfg.est.k_in_q31, cfg.est.k_leak_q31, cfg.machine.rs_iq, cfg.machine.pm.ls_iq,
-                           cfg.machine.pm.psi_m_iq, cfg.board.enc_gain_q16, cfg.board.enc_offset};
+    flux_est_params_t p;
+    setup(&si, &cfg, &p);
     flux_est_t s, raw;
     flux_est_init(&s, &p);
     flux_est_reset(&s);
@@ -114,10 +123,8 @@ static void accelerate(double alpha_rad_s2)
 {
     dtc_config_si_t si;
     dtc_config_t cfg;
-    dtc_config_si_defaults(&si);
-    assert_int_equal(dtc_config_from_si(&si, &cfg, NULL, 0), 0);
-    flux_est_params_t p = {DTC_EST_VOLTAGE, cfg.est.k_in_q31, cfg.est.k_leak_q31, cfg.machine.rs_iq, cfg.machine.pm.ls_iq,
-                           cfg.machine.pm.psi_m_iq, cfg.board.enc_gain_q16, cfg.board.enc_offset};
+    flux_est_params_t p;
+    setup(&si, &cfg, &p);
     flux_est_t s;
     flux_est_init(&s, &p);
     const double wb = si.w_base_rad_s, ts = si.ts_s, wc = si.lpf_cutoff_rad_s, psi = d(cfg.machine.pm.psi_m_iq);
