@@ -221,7 +221,8 @@ TEST(SilFaults, SpeedDipAndRecoveryAreTheTracesAfterTheFault)
         if (first < 0) {
             first = static_cast<std::ptrdiff_t>(k);
         }
-        dip = std::max(dip, ref - n[k]);
+        // from the speed at the fault, capped at the reference
+        dip = std::max(dip, std::min(n[static_cast<std::size_t>(first)], ref) - n[k]);
         if (std::fabs(n[k] - ref) > band) {
             last_out = static_cast<std::ptrdiff_t>(k);
         }
