@@ -399,7 +399,7 @@ static void calibrate_step(app_core_t *a, const hal_meas_t *m)
             uint16_t ch = n_ch == 3U ? k : a->meas_ch[k];
             uint32_t mean = (a->cal_sum[ch] + ((uint32_t)1U << (APP_CAL_LOG2 - 1U))) >> APP_CAL_LOG2;
             int32_t dev = (int32_t)mean - (int32_t)a->cfg->board.adc_i_offset[ch];
-            if (fix_abs32(dev) > (int32_t)APP_OFFSET_TOL_COUNTS) {
+            if (fix_abs32(dev) > (int32_t)DTC_ADC_OFFSET_TOL_COUNTS) {
                 latch_fault(a, APP_FAULT_ADC_OFFSET, (int16_t)ch);
                 return;
             }

@@ -98,8 +98,6 @@ enum app_fault {
 #define APP_LEG_ZERO_LOG2 2U
 /* Lost encoder signal: periods without a count change (prot.enc_freeze_speed_iq). */
 #define APP_ENC_FREEZE_PERIODS 32U
-/* Largest accepted |calibrated - nominal| current offset, counts (5 % of full scale). */
-#define APP_OFFSET_TOL_COUNTS 205
 /* Index check: accepted difference between latched index counts (edge jitter, direction). */
 #define APP_INDEX_TOL_COUNTS 4
 

@@ -212,18 +212,22 @@ void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b)
  * restores the mid-point for every g_eff > -beta. beta_max = 1/16 covers the datasheet-grade
  * link sensor of issue 10 (|g| <= 2 %, |o| <= 1 V at 70 V: |g_eff| <= 3.4 %).
  * The price is the mid-point's own swing: phase A's fundamental I at w moves the mid-point by
- * d = I / (2 C w), which beta turns into a flux error (2/3) beta d / w = beta I / (3 C w^2) in
- * quadrature with i_a. At 1500 rpm that is small (0.4 % of psi_m at rated current with 1/16);
- * at 200 rpm it is 6 % at a quarter of the rated current and 50 % while the speed loop
- * accelerates at its limit, and with K (g_eff + beta) it forms a lightly damped resonance
- * (37 rad/s, damping w_c / 74 at g_eff = 0) next to the electrical frequency: a fixed 1/16 made
- * the proposed FSTP limit-cycle between 40 and 240 rpm around a 200 rpm reference (SIL, issue 10).
- * So beta follows the speed: beta = min(1/16, k w^2), with k = 3 eps C psi_ref / I_rated from the
- * host (tools/config dtc_vmid_beta_k), which holds that flux error to eps = 1/32 of the flux
- * reference at the rated current at every speed. Below sqrt(|g_eff| / k) the mid-point is then
- * not restored against a link-sensor error; the derived hand-over speed stays above that speed
- * for the datasheet tolerance (dtc_handover_default_rpm), so only a hand-over set lower by hand
- * (issue 10's low-speed runs) takes the voltage model there.
+ * d = I / (2 C w) (dd/dt = -i_a/(2 C)), which beta turns into a flux error -beta i_a / (3 C w^2)
+ * on phase A, in phase opposition to i_a: an inductance error beta / (3 C w^2) on that phase. At
+ * 1500 rpm that is small (0.4 % of psi_m at rated current with 1/16); at 200 rpm it is 6 % at a
+ * quarter of the rated current and 50 % while the speed loop accelerates at its limit, and
+ * K (g_eff + beta) puts a lightly damped resonance (37 rad/s, damping w_c / 74 at g_eff = 0) next
+ * to the electrical frequency: a fixed 1/16 made the proposed FSTP limit-cycle between 40 and
+ * 240 rpm around a 200 rpm reference (SIL, issue 10). So beta follows the speed: beta =
+ * min(1/16, k w^2), k = 3 eps C psi_ref / I_rated from the host (tools/config dtc_vmid_beta_k):
+ * the open-loop flux error stays within eps = 1/32 of the flux reference at the rated current at
+ * every speed (the equivalent inductance error is k / (3 C), 1.32 mH or 41 % of L_s for Table
+ * VIII, below 554 rpm; the loop's own resonance then sits at sqrt(K k) |w| = 0.64 |w|, below the
+ * electrical frequency, which it amplifies by about 1 / (1 - 0.41) = 1.7: an estimate from the
+ * linear loop, not measured). Below sqrt(|g_eff| / k) the mid-point is not restored against a
+ * link-sensor error; the derived hand-over keeps the voltage model above that speed for the
+ * datasheet tolerance down to its hand-back speed (dtc_handover_default_rpm), so only a
+ * hand-over set lower by hand (issue 10's low-speed runs) takes the voltage model there.
  * Formats: IQ pu; the configuration holds s = sqrt(k) (pu: k w_base^2 would overflow IQ for a
  * many-pole machine, its root does not), beta = (s |w|)^2; products rounded and saturating
  * (iq_mpy: a large s |w| saturates and the square with it, beyond the cap), beta in [0, 1/16]. */

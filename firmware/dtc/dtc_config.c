@@ -44,10 +44,13 @@ static int16_t dtc_board_check(const dtc_board_cfg_t *b, const char **f)
     return DTC_OK;
 }
 
-/* Trip levels the ADC can see: a current trip above the largest current the converter reads
- * (gain x the smaller side of the least centred offset, in counts, of the three channels) or an
- * over-voltage trip above its full scale would never fire: the reading saturates first. Init
- * only; 64-bit products of a gain (IQ) and a count (< 2^12) cannot overflow. */
+/* Trip levels the ADC can see. The trips fire on a reading strictly above the level (app_core.c),
+ * so a level at or above the largest reading never fires: the reading clamps first. Current:
+ * the largest |i| a measured channel reads is its gain times the smaller side of its offset, in
+ * counts, less the calibration's tolerance DTC_ADC_OFFSET_TOL_COUNTS (the calibrated offset may
+ * sit that far off nominal); the channels are the measured ones (all three, or SSTP A and B,
+ * FSTP B and C). DC link: the gain times the counts above its offset. Init only; 64-bit products
+ * of a gain (IQ) and a count (< 2^12) cannot overflow. */
 static int16_t dtc_range_check(const dtc_config_t *c, const char **f)
 {
     const dtc_board_cfg_t *b = &c->board;
@@ -55,11 +58,16 @@ static int16_t dtc_range_check(const dtc_config_t *c, const char **f)
     int64_t head = 4095;
     for (k = 0U; k < 3U; k++) {
         const int64_t lo = (int64_t)b->adc_i_offset[k], hi = 4095 - (int64_t)b->adc_i_offset[k];
-        head = lo < head ? lo : head;
-        head = hi < head ? hi : head;
+        const uint16_t measured =
+            (uint16_t)(b->i_sensors3 != 0U || (b->topology == DTC_TOPO_FSTP ? k != 0U : k != 2U));
+        if (measured != 0U) {
+            head = lo < head ? lo : head;
+            head = hi < head ? hi : head;
+        }
     }
-    DTC_REFUSE((int64_t)c->prot.i_trip_iq > (int64_t)b->adc_i_gain_iq * head, DTC_ERR_LIMIT, "prot.i_trip_iq");
-    DTC_REFUSE((int64_t)c->prot.vdc_max_iq > (int64_t)b->adc_vdc_gain_iq * (4095 - (int64_t)b->adc_vdc_offset),
+    head -= DTC_ADC_OFFSET_TOL_COUNTS;
+    DTC_REFUSE((int64_t)c->prot.i_trip_iq >= (int64_t)b->adc_i_gain_iq * head, DTC_ERR_LIMIT, "prot.i_trip_iq");
+    DTC_REFUSE((int64_t)c->prot.vdc_max_iq >= (int64_t)b->adc_vdc_gain_iq * (4095 - (int64_t)b->adc_vdc_offset),
                DTC_ERR_LIMIT, "prot.vdc_max_iq");
     return DTC_OK;
 }
@@ -231,6 +239,19 @@ int16_t dtc_config_check(const dtc_config_t *cfg, const char **field)
     }
     if (err == DTC_OK) {
         err = dtc_range_check(cfg, f);
+    }
+    if (err == DTC_OK) {
+        /* the mid-point terms need a measured FSTP mid-point; the restoring term also the voltage
+         * model and the mid-point calibration it corrects for (dtc.c dtc_vmid_beta) */
+        const uint16_t mid = (uint16_t)(cfg->board.topology == DTC_TOPO_FSTP && cfg->board.fstp_vmid_measured != 0U);
+        if (cfg->est.vmid_g_iq > 0 && mid == 0U) {
+            *f = "est.vmid_g_iq";
+            err = DTC_ERR_DCSUPP;
+        } else if (cfg->est.vmid_beta_s_iq > 0 &&
+                   (mid == 0U || cfg->est.estimator != DTC_EST_VOLTAGE || cfg->board.vmid_cal == 0U)) {
+            *f = "est.vmid_beta_s_iq";
+            err = DTC_ERR_DCSUPP;
+        }
     }
     if (err == DTC_OK && cfg->prot.i_sum_max_iq > 0 && cfg->board.i_sensors3 == 0U) {
         *f = "prot.i_sum_max_iq"; /* the sum of two measured and one derived current is 0 */

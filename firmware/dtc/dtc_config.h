@@ -18,6 +18,11 @@
 /* Layout version: bump when a field is added, removed or changes meaning. */
 #define DTC_CONFIG_VERSION 10U
 
+/* Largest accepted |calibrated - nominal| current offset, ADC counts (5 % of full scale): the
+ * app's gates-off calibration (app_core.c) trips beyond it, and the trip level must stay visible
+ * with the offset anywhere inside it (dtc_config.c dtc_range_check). */
+#define DTC_ADC_OFFSET_TOL_COUNTS 205
+
 /* The control law the application runs (dtc_law.h dispatches on it). */
 enum dtc_law {
     DTC_LAW_PM_DTC = 0, /* PM brushless AC machine, Hoang et al. 2011 (dtc.h) */

@@ -38,8 +38,9 @@
  * Scaling and overflow: voltage model: k_in*e - k_leak*psi is accumulated in 64 bits (each
  * product < 2^62) and rounded ONCE (fix_rshift_rnd64_sat32), then added with saturation, so the
  * state saturates at +-128 pu and never wraps. The correction e (1 - j r) is two rounded products
- * and saturated sums (iq_cmul_1jx); |r| <= 1/2 (the host's speed floor) keeps it within 1.12 |e|. Current model: two rounded IQ products (<= 0.5 LSB
- * each) and fix_sin/fix_cos (<= 2 Q15 LSB), summed with saturation.
+ * and saturated sums (iq_cmul_1jx); |r| <= 1/2 (the host's speed floor) keeps it within 1.12 |e|.
+ * Current model: two rounded IQ products (<= 0.5 LSB each) and fix_sin/fix_cos (<= 2 Q15 LSB),
+ * summed with saturation.
  */
 #ifndef FLUX_EST_H
 #define FLUX_EST_H

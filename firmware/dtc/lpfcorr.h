@@ -11,8 +11,11 @@
  * flux the machine has, psi_t = |psi| e^{j theta} with d theta/dt = w (e = j w psi_t), the error
  * eps = psi - psi_t obeys
  *     d eps/dt = (1 - j r) j w psi_t - j w psi_t - w_c psi_t - w_c eps = -w_c eps    (r w = w_c),
- * at every instant, whatever the speed does: the estimate converges on the true flux at w_c and
- * stays there through an acceleration. The alternative, undoing the filter on its output
+ * at every instant, however the speed changes, as long as r is that of the present speed (it is
+ * recomputed every speed-loop period from the measured speed, which lags by its window) and
+ * |w| >= w_min (below, r w < w_c): the estimate converges on the true flux at w_c and stays there
+ * through an acceleration. What does not turn at w is not covered: the radial part of the
+ * hysteresis ripple is turned by (1 - j r) into an error of r times that ripple. The alternative, undoing the filter on its output
  * (psi = psi_l (1 - j r)), is exact only in steady state: the filter's state stores the flux
  * predistorted by the r of the past, and a changing speed (d r/dt = -w_c (dw/dt) / w^2) leaves an
  * error of about |psi| times the change of r over 1/w_c, in the stationary frame, i.e. a DC flux
@@ -30,7 +33,7 @@
  * 150 rpm and 81 % low at 100 rpm; at 2 w_c within 1.2 % and 1.4 %.
  *
  * Formats: IQ pu (w, w_c, y, r, fluxes); products rounded (iq_mpy), sums saturated; y <= 1/w_min
- * (~16 pu for 5 rad/s and w_base = 314 rad/s) stays far inside the IQ range.
+ * (~31 pu for 2 w_c = 10 rad/s and w_base = 314 rad/s) stays far inside the IQ range.
  */
 #ifndef LPFCORR_H
 #define LPFCORR_H

@@ -707,7 +707,7 @@ static Sens sensitivity(const std::string& name, const std::string& estimator, c
 {
     std::vector<std::string> sets = {"control.estimator=" + estimator};
     if (estimator == "voltage") {
-        sets.insert(sets.end(), {"sensors.current_range_a=1000", "protection.overcurrent_a=900",
+        sets.insert(sets.end(), {"sensors.current_range_a=1000", "protection.overcurrent_a=850",
                                  "protection.hw_trip_current_a=0", "protection.allow_unsafe=true"});
     }
     sets.insert(sets.end(), mismatch.begin(), mismatch.end());

@@ -86,8 +86,12 @@ TEST_F(Validation, CheckAndRunAcceptAndRefuseTheSameScenarios)
         {{"max_step_s=1e-15"}, "max_step_s"},
         {{"ts_s=1e-3", "max_step_s=1e-8"}, "max_step_s"}, // 1e5 sub-steps per period: the floor
         {{"duration_s=1e-300"}, "duration_s"},
-        {{"protection.overcurrent_a=9", "protection.hw_trip_current_a=0"}, "protection.overcurrent_a"},
-        {{"protection.overcurrent_a=9", "protection.hw_trip_current_a=0", "protection.allow_unsafe=true"}, ""},
+        {{"protection.overcurrent_a=8.5", "protection.hw_trip_current_a=0"}, "protection.overcurrent_a"},
+        {{"protection.overcurrent_a=8.5", "protection.hw_trip_current_a=0", "protection.allow_unsafe=true"}, ""},
+        // the firmware's own limit: (2047 - 205) counts of 20 A / 4095 = 8.996 A on the 10 A sensor
+        {{"protection.overcurrent_a=8.997", "protection.hw_trip_current_a=0", "protection.allow_unsafe=true"},
+         "protection.overcurrent_a"},
+        {{"protection.vdc_max_v=100"}, "protection.vdc_max_v"},
         // a trip the ADC cannot see (beyond the sensor range) never fires: refused even when unsafe
         {{"protection.overcurrent_a=100", "protection.hw_trip_current_a=0", "protection.allow_unsafe=true"},
          "protection.overcurrent_a"},

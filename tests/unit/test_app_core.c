@@ -321,10 +321,10 @@ static void test_rotor_hold(void **state)
 static void test_offset_too_far_is_a_fault(void **state)
 {
     (void)state;
-    run_to_state(DTC_TOPO_SSTP, APP_OFFSET_TOL_COUNTS + 1);
+    run_to_state(DTC_TOPO_SSTP, DTC_ADC_OFFSET_TOL_COUNTS + 1);
     assert_int_equal(fx.app.st.state, APP_STATE_FAULT);
     assert_int_equal(fx.app.st.fault, APP_FAULT_ADC_OFFSET);
-    run_to_state(DTC_TOPO_SSTP, -APP_OFFSET_TOL_COUNTS);
+    run_to_state(DTC_TOPO_SSTP, -DTC_ADC_OFFSET_TOL_COUNTS);
     assert_int_equal(fx.app.st.state, APP_STATE_RUN);
 }
 

@@ -231,6 +231,10 @@ FMUT(f_lpf_wc, c->est.wc_pu_iq = 0)
 FMUT(f_dcs, c->est.dc_supp = 2U)
 FMUT(f_dcs_k, c->est.dcs_k_iq = 0)
 FMUT(f_vmid_g, c->est.vmid_g_iq = -1)
+/* the defaults measure no mid-point: neither mid-point term may be on */
+FMUT(f_vmid_g_nomid, c->est.vmid_g_iq = 1)
+FMUT(f_vmid_beta_nomid, c->est.vmid_beta_s_iq = 1)
+FMUT(f_vmid_beta_neg, c->est.vmid_beta_s_iq = -1)
 
 static void test_dtc_init_refuses_bad_struct(void **state)
 {
@@ -261,7 +265,9 @@ static void test_dtc_init_refuses_bad_struct(void **state)
         {f_polarity, DTC_ERR_POLARITY, "est.polarity_mid"}, {f_vmid_cal, DTC_ERR_POLARITY, "board.vmid_cal"},
         {f_lpf_comp, DTC_ERR_LPFCOMP, "est.lpf_comp"}, {f_lpf_wc, DTC_ERR_LPFCOMP, "est.wc_pu_iq"},
         {f_dcs, DTC_ERR_DCSUPP, "est.dc_supp"}, {f_dcs_k, DTC_ERR_DCSUPP, "est.dcs_k_iq"},
-        {f_vmid_g, DTC_ERR_DCSUPP, "est.vmid_g_iq"},
+        {f_vmid_g, DTC_ERR_DCSUPP, "est.vmid_g_iq"}, {f_vmid_g_nomid, DTC_ERR_DCSUPP, "est.vmid_g_iq"},
+        {f_vmid_beta_nomid, DTC_ERR_DCSUPP, "est.vmid_beta_s_iq"},
+        {f_vmid_beta_neg, DTC_ERR_DCSUPP, "est.vmid_beta_s_iq"},
     };
     dtc_config_si_t si;
     dtc_config_t good;
@@ -289,25 +295,23 @@ static void test_dtc_init_refuses_bad_struct(void **state)
     assert_int_equal(dtc_init(NULL, &good), DTC_ERR_NULL);
 }
 
-/* The derived hand-over speed (dtc_config_si.h) for Table VIII / Table IV / 5 rad/s:
- * back-EMF 3x the drop: 3 (1.25 + 0.075 * 2.2) / 0.0928 = 45.74 rad/s; LPF: 10 * 5 = 50 rad/s;
- * the larger, 50 rad/s electrical, p = 1: 477.46 rpm, i.e. 50 / (2 pi 3000/60) = 0.159155 pu. */
-/* A trip level the ADC cannot see never fires: the current trip above the largest current the
- * converter reads (gain x 2047 counts from the 2048 offset), the over-voltage trip above the
- * divider's full scale. Refused with the field; at the edge accepted. */
-/* The trip level `which` (0 current, 1 over-voltage) at `full` accepted, one LSB above refused. */
+/* The trip level `which` (0 current, 1 over-voltage): one LSB below the largest reading `full`
+ * accepted, at it refused (a trip fires above its level, so at the reading it never fires). */
 static void expect_trip_edge(const dtc_config_t *base, int which, int64_t full, const char *name)
 {
     dtc_config_t c = *base;
     const char *field = "";
     iq_t *level = which != 0 ? &c.prot.vdc_max_iq : &c.prot.i_trip_iq;
-    *level = (iq_t)full;
+    *level = (iq_t)(full - 1);
     assert_int_equal(dtc_config_check(&c, &field), DTC_OK);
-    *level = (iq_t)(full + 1);
+    *level = (iq_t)full;
     assert_int_equal(dtc_config_check(&c, &field), DTC_ERR_LIMIT);
     assert_string_equal(field, name);
 }
 
+/* A trip level the ADC cannot see never fires: the current trip at or above the largest current
+ * a measured channel reads (gain x (2047 - the offset tolerance) counts from the 2048 offset),
+ * the over-voltage trip at or above the divider's full scale. Refused with the field. */
 static void test_trips_beyond_the_adc_range_refused(void **state)
 {
     (void)state;
@@ -316,13 +320,19 @@ static void test_trips_beyond_the_adc_range_refused(void **state)
     const char *field = "";
     dtc_config_si_defaults(&si);
     assert_int_equal(dtc_config_from_si(&si, &cfg, NULL, 0), DTC_SI_OK);
-    expect_trip_edge(&cfg, 0, (int64_t)cfg.board.adc_i_gain_iq * 2047, "prot.i_trip_iq");
+    /* current: 2047 counts from the 2048 offset, less the calibration's tolerance */
+    expect_trip_edge(&cfg, 0, (int64_t)cfg.board.adc_i_gain_iq * (2047 - DTC_ADC_OFFSET_TOL_COUNTS), "prot.i_trip_iq");
     expect_trip_edge(&cfg, 1, (int64_t)cfg.board.adc_vdc_gain_iq * 4095, "prot.vdc_max_iq");
     bad = cfg;
-    bad.board.adc_i_offset[1] = 3000; /* off-centre: 1095 counts above it are left */
-    bad.prot.i_trip_iq = (iq_t)((int64_t)cfg.board.adc_i_gain_iq * 1096);
+    bad.board.adc_i_offset[1] = 3000; /* B, measured on the FSTP, off-centre: 1095 counts above it */
+    bad.prot.i_trip_iq = (iq_t)((int64_t)cfg.board.adc_i_gain_iq * (1095 - DTC_ADC_OFFSET_TOL_COUNTS));
+    bad.prot.i_lim_iq = 0; /* the current limit and the hold below the trip are checked first */
+    bad.prot.i_hold_iq = 0;
     assert_int_equal(dtc_config_check(&bad, &field), DTC_ERR_LIMIT);
     assert_string_equal(field, "prot.i_trip_iq");
+    bad.board.adc_i_offset[1] = 2048;
+    bad.board.adc_i_offset[0] = 3000; /* A is not measured on the FSTP with two sensors: no effect */
+    assert_int_equal(dtc_config_check(&bad, &field), DTC_OK);
     /* the SI side: 12 A on the 10 A sensor range is refused by the firmware's check */
     char msg[256];
     si.i_trip_a = 12.0;
@@ -330,6 +340,9 @@ static void test_trips_beyond_the_adc_range_refused(void **state)
     assert_non_null(strstr(msg, "prot.i_trip_iq"));
 }
 
+/* The derived hand-over speed (dtc_config_si.h) for Table VIII / Table IV / 5 rad/s:
+ * back-EMF 3x the drop: 3 (1.25 + 0.075 * 2.2) / 0.0928 = 45.74 rad/s; LPF: 10 * 5 = 50 rad/s;
+ * the larger, 50 rad/s electrical, p = 1: 477.46 rpm, i.e. 50 / (2 pi 3000/60) = 0.159155 pu. */
 static void test_handover_default_from_machine(void **state)
 {
     dtc_config_si_t si;

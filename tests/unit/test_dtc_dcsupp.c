@@ -128,9 +128,10 @@ static void test_restoring_beta_follows_the_speed(void **state)
             assert_true(beta > 0.005 && beta < 0.02);
         }
     }
-    /* the derived hand-over speed is where beta covers the link sensor's tolerance */
-    const double wh = dtc_handover_default_rpm(&si) * M_PI / 30.0 * (double)si.pole_pairs;
-    assert_true(fmin(1.0 / 16.0, dtc_vmid_beta_k(&si) * wh * wh) >= 0.02 + 1.0 / si.vdc_v - 1e-9);
+    /* the derived hand-over keeps the voltage model where beta covers the link sensor's
+     * tolerance, down to the speed it hands back at, (1 - hysteresis) of it */
+    const double wb2 = (1.0 - si.handover_hyst_frac) * dtc_handover_default_rpm(&si) * M_PI / 30.0 * (double)si.pole_pairs;
+    assert_true(fmin(1.0 / 16.0, dtc_vmid_beta_k(&si) * wb2 * wb2) >= 0.02 + 1.0 / si.vdc_v - 1e-9);
     /* no restoring term off the FSTP voltage model */
     si.estimator = DTC_EST_CURRENT;
     assert_int_equal(dtc_config_from_si(&si, &cfg, NULL, 0), 0);

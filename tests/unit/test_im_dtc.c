@@ -382,7 +382,7 @@ static void test_voltage_model_cannot_hold_standstill_flux(void **state)
 
     sim_defaults(&s);
     s.si.estimator = DTC_EST_VOLTAGE;
-    s.si.i_trip_a = 2040.0 * s.si.adc_i_a_per_count; /* near the largest trip the ADC can see (the law alone) */
+    s.si.i_trip_a = 1800.0 * s.si.adc_i_a_per_count; /* near the largest trip the ADC can see (the law alone) */
     sim_start(&s, 0.0);
     ref = wb_to_pu(&s, s.si.flux_ref_wb);
     for (long k = 0; k < (long)periods(&s, 0.3); k++) {

@@ -217,7 +217,10 @@ double dtc_handover_default_rpm(const dtc_config_si_t *si)
     w = w_cur > w ? w_cur : w;
     {
         const double k = dtc_vmid_beta_k(si);
-        const double w_beta = k > 0.0 ? sqrt(dtc_vmid_gain_tol(si) / k) : 0.0;
+        /* the voltage model runs down to (1 - hyst) w_h, the hand-back speed: beta must cover the
+         * tolerance there */
+        const double back = 1.0 - si->handover_hyst_frac;
+        const double w_beta = k > 0.0 && back > 0.0 ? sqrt(dtc_vmid_gain_tol(si) / k) / back : 0.0;
         w = w_beta > w ? w_beta : w;
     }
     return w * 30.0 / M_PI / (double)si->pole_pairs;

@@ -231,11 +231,12 @@ double dtc_table_speed_default_rpm(const dtc_config_si_t *si);
  *     uncompensated SSTP drive under a constant rated load estimated 0.1 N*m above the true
  *     torque, ran 14 % under-fluxed and stalled (SIL, docs/firmware-core.md).
  * - on the FSTP voltage model with the restoring mid-point reconstruction: where its beta(w)
- *   covers the link sensor's tolerance, w_beta = sqrt(dtc_vmid_gain_tol / dtc_vmid_beta_k);
- *   below it a link read low lets the mid-point run away (firmware/dtc/dtc.c dtc_vmid_dev).
+ *   covers the link sensor's tolerance down to the hand-back speed (1 - handover_hyst_frac) w_h,
+ *   w_beta = sqrt(dtc_vmid_gain_tol / dtc_vmid_beta_k) / (1 - handover_hyst_frac); below that a
+ *   link read low lets the mid-point run away (firmware/dtc/dtc.c dtc_vmid_dev).
  * whichever is highest: w_h = max(3 (max(V_CE, V_d) + R_on I_rated) / psi_m, 10 w_c, w_cur, w_beta).
- * Table VIII machine, Table IV devices, 5 rad/s, 6 A trip, 2 x 4.7 mF: proposed and simple
- * max(45.7, 50, <= 43.6, 43.6) rad/s = 477 rpm (p = 1); none 941 rpm on the FSTP, 1441 rpm on the SSTP. */
+ * Table VIII machine, Table IV devices, 5 rad/s, 6 A trip, 2 x 4.7 mF, hysteresis 0.2: proposed
+ * and simple max(45.7, 50, <= 43.6, 42.95 / 0.8 = 53.7) rad/s = 513 rpm (p = 1); none 941 rpm on the FSTP, 1441 rpm on the SSTP. */
 double dtc_handover_default_rpm(const dtc_config_si_t *si);
 
 /* Restoring mid-point reconstruction of the FSTP voltage model (firmware/dtc/dtc.c dtc_vmid_dev):
@@ -244,7 +245,7 @@ double dtc_handover_default_rpm(const dtc_config_si_t *si);
  * so that the flux error beta I / (3 C w^2) that beta makes of the mid-point's swing
  * I / (2 C w) (C each capacitor) stays below eps psi_ref at the rated current at every speed.
  * 0 where the firmware reconstructs no mid-point (not an FSTP voltage model with the mid-point
- * measured and calibrated). Table VIII, 2 x 4.7 mF: 1.86e-5 s^2 (beta = 1/16 above 556 rpm). */
+ * measured and calibrated). Table VIII, 2 x 4.7 mF: 1.86e-5 s^2 (beta = 1/16 above 554 rpm). */
 double dtc_vmid_beta_k(const dtc_config_si_t *si);
 /* The link-sensor error the restoring term must cover, relative: 2 % gain plus a 1 V offset at
  * the link voltage (issue 10's datasheet-grade sensor). The derived hand-over speed stays at or

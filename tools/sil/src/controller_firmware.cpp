@@ -18,7 +18,10 @@ extern "C" {
 }
 
 #include "controller_adapter.hpp"
+#include "sil_constants.hpp"
 #include "hal_host.hpp"
+
+static_assert(sil::kAdcOffsetTolCounts == DTC_ADC_OFFSET_TOL_COUNTS, "sil_constants.hpp follows dtc_config.h");
 
 namespace sil {
 

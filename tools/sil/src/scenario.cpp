@@ -1118,16 +1118,23 @@ void cross_validate(Scenario& s, Diagnostics* d)
     if (s.inverter.vdc_v * (1.0 + s.sensors.vdc_gain_error) + s.sensors.vdc_offset_v >= s.sensors.voltage_range_v) {
         warn("sensors.voltage_range_v", "the DC-link voltage is at or above the divider's full scale; the ADC clamps");
     }
-    if (!open_loop && s.protection.overcurrent_a >= s.sensors.current_range_a) {
-        // the firmware refuses it too (dtc_config.c dtc_range_check): the trip could never fire
-        err("protection.overcurrent_a", "at or above the current sensor range sensors.current_range_a = " +
-                                            fmt_double(s.sensors.current_range_a) +
-                                            " A: the ADC clamps before the firmware could trip");
-    }
-    if (!open_loop && s.protection.vdc_max_v > s.sensors.voltage_range_v) {
-        err("protection.vdc_max_v", "above the DC-link divider's full scale sensors.voltage_range_v = " +
-                                        fmt_double(s.sensors.voltage_range_v) +
-                                        " V: the ADC clamps before the firmware could trip");
+    if (!open_loop) {
+        // The trips the firmware refuses because the ADC cannot see them (dtc_config.c
+        // dtc_range_check): the largest current reading is 2047 counts from the mid-scale offset,
+        // less the offset calibration's tolerance, at 2 range / 4095 per count; the link's is the
+        // full scale. A trip fires above its level, so the level must stay below the reading.
+        const double i_max = (2047.0 - kAdcOffsetTolCounts) * 2.0 * s.sensors.current_range_a /
+                             PLANT_DEF_ADC_FULL_SCALE_CODES;
+        if (s.protection.overcurrent_a >= i_max) {
+            err("protection.overcurrent_a", "must be below " + fmt_double(i_max) +
+                                                " A, the largest current the ADC reads with sensors.current_range_a = " +
+                                                fmt_double(s.sensors.current_range_a) +
+                                                " A (offset tolerance included): the trip could never fire");
+        }
+        if (s.protection.vdc_max_v >= s.sensors.voltage_range_v) {
+            err("protection.vdc_max_v", "must be below the DC-link divider's full scale sensors.voltage_range_v = " +
+                                            fmt_double(s.sensors.voltage_range_v) + " V: the trip could never fire");
+        }
     }
     if (s.load.step_time_s > s.duration_s) {
         warn("load.step_time_s", "after the end of the run");
