@@ -138,11 +138,53 @@ static void test_restoring_beta_follows_the_speed(void **state)
     assert_int_equal(cfg.est.vmid_beta_s_iq, 0);
 }
 
+/* The law's reconstruction takes the mid-point as V_dc/2 + (1 - beta) d (dtc_step): two laws in
+ * the same state, one step with the mid-point d above V_dc/2 and one at V_dc/2, differ in the
+ * estimated flux by the low-pass's input gain times the FSTP reconstruction of that difference,
+ * (2/3)(1 - beta) d on v_alpha (Hoang eqs. 1-5 with phase A on the mid-point), turned by the
+ * low-pass correction (1 - j r) (lpfcorr.h). At 1500 rpm beta = 1/16. */
+static void test_reconstruction_takes_the_restored_mid_point(void **state)
+{
+    (void)state;
+    dtc_config_si_t si;
+    dtc_config_t cfg;
+    dtc_t c1, c2;
+    dtc_out_t o1, o2;
+    dtc_config_si_defaults(&si);
+    si.fstp_vmid_measured = 1;
+    si.vmid_cal = 1;
+    assert_int_equal(dtc_config_from_si(&si, &cfg, NULL, 0), 0);
+    assert_true(cfg.est.vmid_beta_s_iq > 0);
+    assert_int_equal(dtc_init(&c1, &cfg), 0);
+    const double vb = si.v_base_v, d_v = 10.0;
+    dtc_meas_t m = {0, q(0.2), q(-0.2), q(si.vdc_v / vb), q(0.5 * si.vdc_v / vb), 0U};
+    dtc_step(&c1, &m, &o1); /* primes the speed measurement, seeds the estimator */
+    c1.on_cm = 0U;
+    c1.speed_iq = q(1500.0 * M_PI / 30.0 / si.w_base_rad_s);
+    dtc_vmid_beta(&c1);
+    dtc_lpf_r(&c1);
+    c1.div_cnt = 1U; /* no speed tick in the compared step */
+    c2 = c1;
+    dtc_step(&c1, &m, &o1);
+    m.vmid_iq = q((0.5 * si.vdc_v + d_v) / vb);
+    dtc_step(&c2, &m, &o2);
+    const double beta = d(c1.vmid_beta_iq), r = d(c1.lpf_r_iq);
+    const double k_in = (double)cfg.est.k_in_q31 / 2147483648.0;
+    const double dva = (2.0 / 3.0) * (1.0 - beta) * d_v / vb;
+    const double da = d(o2.psi_alpha_iq) - d(o1.psi_alpha_iq), db = d(o2.psi_beta_iq) - d(o1.psi_beta_iq);
+    print_message("mid-point 10 V up at 1500 rpm: beta %.4f, flux step %.3e / %.3e pu (expected %.3e / %.3e)\n",
+                  beta, da, db, k_in * dva, -k_in * r * dva);
+    assert_true(fabs(beta - 1.0 / 16.0) < 1e-6);
+    assert_true(fabs(da - k_in * dva) < 0.01 * k_in * dva);
+    assert_true(fabs(db + k_in * r * dva) < 0.01 * k_in * dva + 4.0 / 16777216.0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_dc_error_removed_at_w_over_20),
         cmocka_unit_test(test_restoring_beta_follows_the_speed),
+        cmocka_unit_test(test_reconstruction_takes_the_restored_mid_point),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
