@@ -328,9 +328,19 @@ TEST(Scenario, EveryKeyIsDocumented)
     const std::string doc = ss.str();
     const auto keys = scenario_keys();
     EXPECT_GT(keys.size(), 60u);
-    // The table is the output of `dtc-sil keys`, verbatim (units, defaults and ranges included).
-    EXPECT_NE(doc.find(scenario_keys_markdown()), std::string::npos)
+    // The table is the output of `dtc-sil keys`, verbatim (units, defaults and ranges included),
+    // and so is every other copy of it in the file (found by its header line).
+    const std::string md = scenario_keys_markdown();
+    EXPECT_NE(doc.find(md), std::string::npos)
         << "docs/sil.md section 4 is out of date: paste the output of `dtc-sil keys`";
+    const std::string header = md.substr(0, md.find('\n') + 1);
+    int copies = 0;
+    for (std::size_t at = doc.find(header); at != std::string::npos; at = doc.find(header, at + 1)) {
+        ++copies;
+        EXPECT_EQ(doc.compare(at, md.size(), md), 0)
+            << "the key table at offset " << at << " of docs/sil.md is out of date: paste `dtc-sil keys`";
+    }
+    EXPECT_GE(copies, 1);
     for (const KeyDoc& k : keys) {
         EXPECT_NE(doc.find("`" + k.name + "`"), std::string::npos) << k.name << " missing from docs/sil.md";
     }
