@@ -219,12 +219,12 @@ void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b)
  * K (g_eff + beta) puts a lightly damped resonance (37 rad/s, damping w_c / 74 at g_eff = 0) next
  * to the electrical frequency: a fixed 1/16 made the proposed FSTP limit-cycle between 40 and
  * 240 rpm around a 200 rpm reference (SIL, issue 10). So beta follows the speed: beta =
- * min(1/16, k w^2), k = 3 eps C psi_ref / I_rated from the host (tools/config dtc_vmid_beta_k):
- * the open-loop flux error stays within eps = 1/32 of the flux reference at the rated current at
- * every speed (the equivalent inductance error is k / (3 C), 1.32 mH or 41 % of L_s for Table
- * VIII, below 554 rpm; the loop's own resonance then sits at sqrt(K k) |w| = 0.64 |w|, below the
- * electrical frequency, which it amplifies by about 1 / (1 - 0.41) = 1.7: an estimate from the
- * linear loop, not measured). Below sqrt(|g_eff| / k) the mid-point is not restored against a
+ * min(1/16, k w^2), k = 3 C l_s / 8 from the host (tools/config dtc_vmid_beta_k): the inductance
+ * error stays within l_s / 8 at every speed (Table VIII: 5.62e-6 s^2, the cap from 1007 rpm up;
+ * the loop's own resonance then sits at sqrt(K k) |w| = 0.35 |w|, below the electrical
+ * frequency). An allowance of l_s / 2.4 instead (k three times larger) left the proposed FSTP's
+ * imbalance at 200 rpm between 27 and 104 % over six noise seeds, l_s / 8 between 25 and 89 %
+ * (SIL, issue 10). Below sqrt(|g_eff| / k) the mid-point is not restored against a
  * link-sensor error; the derived hand-over keeps the voltage model above that speed for the
  * datasheet tolerance down to its hand-back speed (dtc_handover_default_rpm), so only a
  * hand-over set lower by hand (issue 10's low-speed runs) takes the voltage model there.

@@ -226,9 +226,10 @@ TEST(PmProduct, LowSpeedQuarterLoadHoldsSpeedProposedBestOfAll)
     // 25 mOhm), from standstill: 700 rpm with every compensation, 300 rpm with simple and proposed,
     // 200 rpm with proposed hold the speed within 2 % with no trip, the proposed imbalance is below
     // the simple one (margin: 3/4 of it), and the proposed scheme's estimated torque is within 3 %
-    // of the true one. Measured (seed 1; imbalance none / simple / proposed): 700 rpm 186.8 / 60.5 /
-    // 27.3 %, 300 rpm 82.6 / 33.7 %, 200 rpm 84.7 / 27.4 %; estimated torque 0.0902 / 0.0853 N*m
-    // against 0.0902 / 0.0856 at 300 / 200 rpm. What makes the finite link pass: the low-pass
+    // of the true one. Measured (seed 1; imbalance none / simple / proposed): 700 rpm 193.6 / 56.9 /
+    // 21.6 %, 300 rpm 85.8 / 23.0 %, 200 rpm 89.7 / 65.1 %; estimated torque 0.0898 / 0.0842 N*m
+    // against 0.0903 / 0.0850 at 300 / 200 rpm (seeds 1-6: docs/firmware-core.md; at 200 rpm the
+    // proposed imbalance moves between 25 and 89 % with the seed). What makes the finite link pass: the low-pass
     // correction on the estimator's input (lpfcorr.h; on its output it left a DC flux error after
     // every speed change) and the restoring mid-point term scaled down with the speed (dtc.c
     // dtc_vmid_dev; a fixed 1/16 made 200 rpm limit-cycle between 40 and 240 rpm). Before both,

@@ -189,10 +189,10 @@ double dtc_vmid_beta_k(const dtc_config_si_t *si)
 {
     const int on = si->vmid_cal != 0 && si->topology == DTC_TOPO_FSTP && si->fstp_vmid_measured != 0 &&
                    si->estimator == DTC_EST_VOLTAGE && si->law == DTC_LAW_PM_DTC;
-    if (!on || !(si->rated_current_a > 0.0)) {
+    if (!on) {
         return 0.0;
     }
-    return 3.0 / 32.0 * si->c_dc_f * si->flux_ref_wb / si->rated_current_a;
+    return 3.0 / 8.0 * si->c_dc_f * si->ls_h; /* beta / (3 C w^2) <= l_s / 8 */
 }
 
 double dtc_vmid_gain_tol(const dtc_config_si_t *si)

@@ -236,16 +236,18 @@ double dtc_table_speed_default_rpm(const dtc_config_si_t *si);
  *   link read low lets the mid-point run away (firmware/dtc/dtc.c dtc_vmid_dev).
  * whichever is highest: w_h = max(3 (max(V_CE, V_d) + R_on I_rated) / psi_m, 10 w_c, w_cur, w_beta).
  * Table VIII machine, Table IV devices, 5 rad/s, 6 A trip, 2 x 4.7 mF, hysteresis 0.2: proposed
- * and simple max(45.7, 50, <= 43.6, 42.95 / 0.8 = 53.7) rad/s = 513 rpm (p = 1); none 941 rpm on the FSTP, 1441 rpm on the SSTP. */
+ * and simple with the mid-point measured max(45.7, 50, <= 43.6, 78.1 / 0.8 = 97.7) rad/s =
+ * 933 rpm, without it 477 rpm (p = 1); none 941 rpm on the FSTP, 1441 rpm on the SSTP. */
 double dtc_handover_default_rpm(const dtc_config_si_t *si);
 
 /* Restoring mid-point reconstruction of the FSTP voltage model (firmware/dtc/dtc.c dtc_vmid_dev):
  * beta = min(1/16, k w^2), k in s^2 (w the electrical speed in rad/s),
- *     k = 3 eps C psi_ref / I_rated,  eps = 1/32,
- * so that the flux error beta I / (3 C w^2) that beta makes of the mid-point's swing
- * I / (2 C w) (C each capacitor) stays below eps psi_ref at the rated current at every speed.
- * 0 where the firmware reconstructs no mid-point (not an FSTP voltage model with the mid-point
- * measured and calibrated). Table VIII, 2 x 4.7 mF: 1.86e-5 s^2 (beta = 1/16 above 554 rpm). */
+ *     k = 3 C l_s / 8,
+ * so that the error beta makes of the mid-point's swing i_a / (2 C w) (C each capacitor), a flux
+ * error -beta i_a / (3 C w^2) on phase A, i.e. an inductance error beta / (3 C w^2) on that one
+ * phase, stays within l_s / 8 at every speed (l_s the firmware's). 0 where the firmware
+ * reconstructs no mid-point (not an FSTP voltage model with the mid-point measured and
+ * calibrated). Table VIII, 2 x 4.7 mF: 5.62e-6 s^2 (beta = 1/16 above 1007 rpm). */
 double dtc_vmid_beta_k(const dtc_config_si_t *si);
 /* The link-sensor error the restoring term must cover, relative: 2 % gain plus a 1 V offset at
  * the link voltage (issue 10's datasheet-grade sensor). The derived hand-over speed stays at or
