@@ -180,7 +180,8 @@ void dtc_torque_trim(dtc_t *c, iq_t te);
  * current (and, FSTP, the mid-point deviation c->vmid_dev_iq of this step) and adds it to the
  * estimate *psi_a, *psi_b. */
 void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b);
-/* Internal to dtc_step and dtc_dcsupp (restoring mid-point reconstruction, dtc.c dtc_vmid_beta):
+/* Internal to dtc_step (restoring mid-point reconstruction, dtc.c dtc_vmid_beta; dtc_dcsupp reads
+ * the step's value from c->vmid_dev_iq):
  * the mid-point's deviation from V_dc/2 as the law uses it, (1 - beta)(vmid - V_dc/2), IQ pu;
  * the shift rounds, the product rounds and saturates, the differences saturate. */
 static inline iq_t dtc_vmid_dev(const dtc_t *c, const dtc_meas_t *m)
