@@ -65,8 +65,9 @@ void im_dsvm_select(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
     int16_t level;
 
     if (c->magnetised == 0U) {
-        level = 0;
-        code = flux_up != 0U ? dsvm_rotate(6U, sector) : 0U; /* V_k V_k V_k, or the null */
+        /* the start-up's vector in all three thirds (code 6 of sector m: V_m V_m V_m), or the null */
+        const uint16_t v = im_magn_vector(c, sector, flux_up, iq_sub(c->te_ref_iq, te), &level);
+        code = v == SWTAB_NULL ? 0U : dsvm_rotate(6U, v);
     } else {
         const uint16_t range = dsvm_range(c->speed_iq, c->psi_ref_iq, m->vdc_iq, dsvm_half(sector, psi_a, psi_b));
         level = hyst5_step(&c->h_torque5, iq_sub(c->te_ref_iq, te));

@@ -235,9 +235,7 @@ uint16_t im_dtc_select(im_dtc_t *c, iq_t te, dtc_out_t *o)
     int16_t tdem;
 
     if (c->magnetised == 0U) {
-        /* Start-up: the radial vector V_k of the flux's sector while the flux must rise. */
-        tdem = 0;
-        vec = flux_up != 0U ? sector : SWTAB_NULL;
+        vec = im_magn_vector(c, sector, flux_up, err, &tdem);
     } else if (cfg->sw.scheme == DTC_SCHEME_DSC) {
         /* Section 9. The hexagon turns with the rotor (the sign of the speed; at standstill the
          * sign of T*): the flux then leads the rotor under the active vectors (torque up in the

@@ -43,7 +43,8 @@
  * rotor flux to its reference within tau whatever the machine's, while the machine's rotor flux
  * rises as 1 - exp(-t/tau_r) (eq. 9 with the estimator's DC error: d phi_r/dt = -(r_r/l_r)
  * (phi_r - phi_r*)); the host converts the fraction to reach into that time.
- * Meanwhile the flux is built by the radial vector: the active vector V_k of the stator flux's
+ * Meanwhile, with the rotor at rest (a turning rotor: im_magn_vector), the flux is built by the
+ * radial vector: the active vector V_k of the stator flux's
  * own sector k while the flux comparator asks for more flux, a null vector otherwise. V_k lies
  * within +-30 degrees of the flux: it raises |phi_s| and applies almost no torque, so the phase
  * currents settle to the DC magnetising current, as in Fig. 17b. (Table 1 itself cannot start a
@@ -222,6 +223,33 @@ static inline iq_t im_dtc_front(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, 
     te = torque_eq10(c->est.psi_alpha_iq, c->est.psi_beta_iq, c->i.i_alpha_iq, c->i.i_beta_iq);
     im_dtc_speed(c, m, te, o);
     return te;
+}
+
+/* The start-up's vector (SSTP 1..6 or SWTAB_NULL) for the flux in sector 1..6, the flux
+ * comparator's flux_up and the torque error err = T* - T, T* = 0 (im_dtc_refs).
+ *   Rotor at rest (the encoder's speed 0): the radial vector V_k while the flux must rise, a null
+ *     otherwise (Fig. 17b; file comment).
+ *   Rotor turning (a flying start): a stationary flux would brake it (DC injection: the slip is
+ *     the rotor's own speed, Casadei eq. 16), and the machine's rotor flux would not follow the
+ *     magnetising ramp the estimator's reference assumes, so the estimate would settle on a
+ *     flux the machine does not have. Instead ST-D's vectors under a two-level torque
+ *     comparator held at T* = 0 (Casadei Table 3: V_k+1 / V_k-1 while the flux must rise,
+ *     V_k+2 / V_k-2 while it must fall) turn the flux with the rotor in either sense, at a
+ *     small mean torque against the motion (the zero band with the period's actuation delay;
+ *     docs/sil.md gives the figures). At rest they would alternate about the radial direction
+ *     with a torque ripple of about a quarter of the rated torque, hence the radial vector there.
+ * Without an encoder the speed is not known before the flux is: the radial vector always, and a
+ * start into a turning rotor is not supported (docs/sil.md). */
+static inline uint16_t im_magn_vector(im_dtc_t *c, uint16_t sector, uint16_t flux_up, iq_t err, int16_t *tdem)
+{
+    uint16_t up;
+    if (c->cfg->speed.sensor == DTC_SPEED_NONE || c->speed_iq == 0) {
+        *tdem = 0;
+        return flux_up != 0U ? sector : SWTAB_NULL;
+    }
+    up = hyst2_step(&c->h_torque2, err);
+    *tdem = up != 0U ? 1 : -1;
+    return swtab_sstp_st(DTC_ST_D, sector, flux_up, up);
 }
 
 /* What every IM scheme reports besides its command: the estimate (flux, torque at k), the
