@@ -44,8 +44,8 @@
  * rises as 1 - exp(-t/tau_r) (eq. 9 with the estimator's DC error: d phi_r/dt = -(r_r/l_r)
  * (phi_r - phi_r*)); the host converts the fraction to reach into that time.
  * Meanwhile, with the rotor at rest (a turning rotor: im_magn_vector), the flux is built by the
- * radial vector: the active vector V_k of the stator flux's
- * own sector k while the flux comparator asks for more flux, a null vector otherwise. V_k lies
+ * radial vector: the active vector V_k of the stator flux's own sector k while the flux
+ * comparator asks for more flux, a null vector otherwise. V_k lies
  * within +-30 degrees of the flux: it raises |phi_s| and applies almost no torque, so the phase
  * currents settle to the DC magnetising current, as in Fig. 17b. (Table 1 itself cannot start a
  * demagnetised machine at zero torque: with T* = T = 0 the three-level comparator stays at 0 and

@@ -36,8 +36,8 @@ struct ImRig {
     dtc_config_t cfg{};
     std::unique_ptr<hal_host::Harness> h;
 
-    // held_rpm: the speed at which the dynamometer holds the rotor from the start (free_rotor:
-    // inertia only, from standstill)
+    // held_rpm: the rotor's speed at the start, at which the dynamometer holds it (free_rotor:
+    // inertia only, no dynamometer)
     ImRig(bool ideal, bool free_rotor, double held_rpm = 0.0, int scheme = DTC_SCHEME_DTC)
     {
         plant_params_default(&p);
