@@ -497,7 +497,7 @@ static void check_command(const fuzz_t *z, uint16_t off, const hal_cmd_t *cmd, u
     }
 
     if (state_before == APP_STATE_CALIBRATE && s->state != APP_STATE_RUN) {
-        /* the rotor hold (app_core.c hold_step): FSTP with the mid-point calibration, legs B and
+        /* the rotor hold (app_hold.c app_hold_step): FSTP with the mid-point calibration, legs B and
          * C in opposite states, leg A (the mid-point) never */
         FUZZ_CHECK(z->cfg.board.topology == DTC_TOPO_FSTP && z->cfg.board.vmid_cal != 0U && z->cfg.prot.i_hold_iq > 0,
                    "gates on while calibrating without the hold");
@@ -652,7 +652,7 @@ static int run_record(fuzz_t *z, rd_t *r)
         hal_cmd_t cmd;
         const uint16_t before = a->st.state;
         const uint16_t fault_before = a->st.fault;
-        const uint16_t hold_before = a->hold_on;
+        const uint16_t hold_before = a->hold.on;
         const uint16_t reconf_before = a->st.reconfigured;
         uint16_t off;
         const uint16_t counts = enc_counts(z);

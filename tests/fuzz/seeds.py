@@ -3,7 +3,7 @@
 
 The fuzzer alone does not reach the issue-16 reconfiguration within the slice: it needs a
 six-switch board with relays, a turning encoder and one phase at zero current while the other
-two carry current for 60 electrical degrees (app_core.c check_open_phase). One seed starts there;
+two carry current for 60 electrical degrees (app_fault.c app_fault_open_phase). One seed starts there;
 the fuzzer mutates it like any other input. Byte layout: tests/fuzz/fuzz_app_core.c
 (base_config, fuzz_config_and_init, run_record).
 

@@ -218,7 +218,7 @@ static uint16_t count_at_angle(double turns)
     return best;
 }
 
-/* Rotor hold during the FSTP mid-point calibration (app_core.c hold_step), against the physics:
+/* Rotor hold during the FSTP mid-point calibration (app_hold.c app_hold_step), against the physics:
  * the hold may only use (S_B, S_C) = (1, 0), which raises i_b - i_c (v_beta = +V_dc/sqrt(3)),
  * or (0, 1); the torque of a phase-B/C current is T = 3/2 p psi_m (i_b - i_c)/sqrt(3) cos theta_e
  * (Hoang eq. 10 with i_alpha = 0), so the target of i_b - i_c is 2 i_hold (saturated beyond two
@@ -545,9 +545,9 @@ static void test_encoder_jump_threshold_scales_with_ts_and_lines(void **state)
         const double counts = 2.0 * fx.si.speed_limit_rpm / 60.0 * 4.0 * fx.si.enc_lines * ts_list[t];
         const double want = counts < 1.0 ? 1.0 : floor(counts);
         printf("MEASURE encoder jump at ts %g s: %u counts (double %.3f)\n", ts_list[t],
-               (unsigned)fx.app.enc_jump_counts, counts);
-        assert_true(fabs((double)fx.app.enc_jump_counts - want) <= 1.0);
-        assert_true(fx.app.enc_jump_counts >= 1U);
+               (unsigned)fx.app.enc.jump_counts, counts);
+        assert_true(fabs((double)fx.app.enc.jump_counts - want) <= 1.0);
+        assert_true(fx.app.enc.jump_counts >= 1U);
         /* One count per period at 1 us must not trip; the threshold + 1 must. */
         fx.m.tick = 0U;
         meas_idle();
@@ -559,7 +559,7 @@ static void test_encoder_jump_threshold_scales_with_ts_and_lines(void **state)
         assert_int_equal(step(), 0);
         fx.m.qep_count = 101U;
         assert_int_equal(step(), 0);
-        fx.m.qep_count = (uint16_t)(101U + fx.app.enc_jump_counts + 1U);
+        fx.m.qep_count = (uint16_t)(101U + fx.app.enc.jump_counts + 1U);
         assert_int_equal(step(), 1);
         assert_int_equal(fx.app.st.fault, APP_FAULT_ENCODER);
     }

@@ -13,7 +13,7 @@ LLVM_COV=${LLVM_COV:-llvm-cov-14}
 LLVM_PROFDATA=${LLVM_PROFDATA:-llvm-profdata-14}
 mkdir -p "$OUT"
 rm -f "$OUT"/*.profraw
-srcs=(firmware/fixmath/*.c firmware/dtc/*.c firmware/app/app_core.c firmware/app/law.c
+srcs=(firmware/fixmath/*.c firmware/dtc/*.c firmware/app/*.c
       tools/config/dtc_config_si.c tests/fuzz/fuzz_app_core.c)
 clang -std=c99 -O1 -g -fprofile-instr-generate -fcoverage-mapping -fsanitize=fuzzer \
     -Ifirmware/dtc -Ifirmware/app -Ifirmware/fixmath -Ihal/include -Itools/config -Imodel/include \

@@ -1,5 +1,6 @@
 // hal_host.cpp - Harness (see hal_host.hpp) and the C functions of hal.h forwarding to it.
 #include "hal_host.hpp"
+#include "hal_host_pwm.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -22,17 +23,6 @@ Harness& active_or_die(const char* fn)
 
 bool finite_nonneg(double x) { return std::isfinite(x) && x >= 0.0; }
 
-// T1PR = ts * f / 2 when that is a whole number of counts in 1..65534 (to 1e-9 relative: 40 us
-// at 75 MHz is 1500.0000000000002 in binary floating point), else 0 (no PWM form).
-std::uint16_t t1pr_counts(double ts_s, double clock_hz)
-{
-    const double n = ts_s * clock_hz * 0.5;
-    const double r = std::nearbyint(n);
-    if (!(std::isfinite(n) && r >= 1.0 && r <= 65534.0 && std::fabs(n - r) <= 1e-9 * r)) {
-        return 0u;
-    }
-    return static_cast<std::uint16_t>(r);
-}
 } // namespace
 
 std::unique_ptr<Harness> Harness::create(const plant_params_t& params, const HarnessConfig& cfg,

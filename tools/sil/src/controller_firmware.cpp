@@ -67,6 +67,48 @@ int table_of(SwitchingTable t)
     return DTC_ST_BASIC;
 }
 
+/// A latched fault's one-line description from the firmware's table (app_fault.h APP_FAULT_LIST,
+/// APP_ENC_DETAIL_LIST): the meaning with the detail decoded as its kind says (the phase letter
+/// for "%c", the encoder check's own text); "" where the table has none.
+std::string app_fault_meaning(std::uint16_t fault, int detail)
+{
+    struct Row {
+        unsigned id;
+        int kind;
+        const char* meaning;
+    };
+#define SIL_FAULT_ROW_(id, num, name, kind, meaning) {num, kind, meaning},
+    static const Row kFaults[] = {APP_FAULT_LIST(SIL_FAULT_ROW_)};
+#undef SIL_FAULT_ROW_
+    struct EncRow {
+        int detail;
+        const char* meaning;
+    };
+#define SIL_ENC_ROW_(num, meaning) {num, meaning},
+    static const EncRow kEncoder[] = {APP_ENC_DETAIL_LIST(SIL_ENC_ROW_)};
+#undef SIL_ENC_ROW_
+    for (const Row& r : kFaults) {
+        if (r.id != fault) {
+            continue;
+        }
+        std::string w = r.meaning;
+        if (r.kind == APP_DETAIL_ENCODER) {
+            for (const EncRow& e : kEncoder) {
+                if (e.detail == detail) {
+                    w = e.meaning;
+                }
+            }
+        } else if (r.kind == APP_DETAIL_PHASE) {
+            const std::string::size_type at = w.find("%c");
+            if (at != std::string::npos) {
+                w.replace(at, 2, detail >= 0 && detail <= 2 ? std::string(1, static_cast<char>('A' + detail)) : "?");
+            }
+        }
+        return w;
+    }
+    return "";
+}
+
 } // namespace
 
 dtc_config_si_t firmware_si_config(const Scenario& sc)
@@ -386,7 +428,7 @@ public:
     std::string fault() const override
     {
         refresh();
-        return st_.fault == APP_FAULT_NONE ? std::string("none") : std::string(app_fault_name(st_.fault));
+        return app_fault_name(st_.fault);
     }
     std::string fault_detail() const override
     {
@@ -394,30 +436,9 @@ public:
         if (st_.fault == APP_FAULT_NONE) {
             return "";
         }
-        const int d = st_.fault_detail;
-        const std::string ph = d >= 0 && d <= 2 ? std::string(1, static_cast<char>('A' + d)) : "?";
-        std::string w;
-        switch (st_.fault) {
-        case APP_FAULT_OVERCURRENT: w = "phase " + ph + " current above protection.overcurrent_a"; break;
-        case APP_FAULT_DESAT:
-            w = "gate-driver desaturation on leg " + ph + " (a shorted device or shoot-through): every gate off";
-            break;
-        case APP_FAULT_CURRENT_SENSOR:
-            w = "the three measured phase currents do not sum to zero: a failed current sensor (phase " + ph +
-                " reads the least)";
-            break;
-        case APP_FAULT_LEG:
-            w = "phase " + ph + " carries no current while the others do (an open leg, phase or device) and the "
-                "drive cannot be reconfigured (no relay fitted, a second failure, or a law without it)";
-            break;
-        case APP_FAULT_ENCODER:
-            w = d == 1   ? "implausible encoder count change"
-                : d == 2 ? "encoder index pulse at another count (lost or extra counts)"
-                : d == 3 ? "encoder signal lost: the count stood still at a speed where that is impossible"
-                         : "encoder";
-            break;
-        case APP_FAULT_STALL: w = "torque reference at its limit while the speed error did not shrink"; break;
-        default: return "";
+        const std::string w = app_fault_meaning(st_.fault, st_.fault_detail);
+        if (w.empty()) {
+            return "";
         }
         char t[64];
         std::snprintf(t, sizeof t, " (latched at ISR %lu)", static_cast<unsigned long>(st_.fault_tick));

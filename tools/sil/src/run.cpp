@@ -8,6 +8,10 @@
 #include <fstream>
 #include <ostream>
 
+extern "C" {
+#include "app_fault.h"
+}
+
 #include "controller_adapter.hpp"
 
 namespace sil {
@@ -204,8 +208,9 @@ void name_fault(const Scenario& sc, RunInfo* info)
 {
     // The firmware sees rectifier current first as an ADC offset, or, when it is large, as a
     // latched hardware trip or an over-current: whichever it names, the cause is the same.
-    const bool calibration_fault =
-        info->fault == "adc_offset" || info->fault == "hw_trip" || info->fault == "overcurrent";
+    const std::string adc_offset = app_fault_name(APP_FAULT_ADC_OFFSET);
+    const bool calibration_fault = info->fault == adc_offset || info->fault == app_fault_name(APP_FAULT_HW_TRIP) ||
+                                   info->fault == app_fault_name(APP_FAULT_OVERCURRENT);
     if (calibration_fault) {
         const double w_e = std::fabs(sc.initial_speed_rpm) * kPi / 30.0 * static_cast<double>(sc.motor.pole_pairs);
         const double e_line_pk = std::sqrt(3.0) * sc.motor.psi_m_wb * w_e;
@@ -219,7 +224,7 @@ void name_fault(const Scenario& sc, RunInfo* info)
                           e_line_pk, sc.initial_speed_rpm, v_link, info->fault.c_str());
             info->fault = "rectifier_conduction";
             info->fault_detail = line;
-        } else if (info->fault == "adc_offset") {
+        } else if (info->fault == adc_offset) {
             info->fault_detail = "current-sensor offset calibration out of range (gates off)";
         }
     }

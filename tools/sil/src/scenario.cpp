@@ -12,6 +12,8 @@
 #include <limits>
 #include <sstream>
 
+#include "hal_host_pwm.hpp"
+
 namespace sil {
 
 namespace {
@@ -413,14 +415,14 @@ const std::vector<Spec>& schema()
                  "firmware, PM law, with control.vmid_cal: after the 3.2 ms gates-off current-offset calibration "
                  "the app holds the rotor at its position with a current in phases B and C only (none through the "
                  "mid-point) for the rest of the mid-point calibration, so an active load cannot turn it back "
-                 "before the drive starts (firmware/app/app_core.c hold_step); false: the gates stay off for the "
+                 "before the drive starts (firmware/app/app_hold.c app_hold_step); false: the gates stay off for the "
                  "whole calibration",
                  ACC(control.cal_hold)),
         boolean("control.fault_detect",
                  "firmware: the open-phase check (a phase inside a zero band of a quarter of a quarter of "
                  "motor.rated_current_a over 60 deg of electrical angle while |i| is above a quarter of it: an open "
                  "leg, phase or device) and the lost-encoder check (the count still for 32 periods above a speed "
-                 "derived from the encoder, control.torque_limit_nm and motor.j_kgm2); firmware/app/app_core.c",
+                 "derived from the encoder, control.torque_limit_nm and motor.j_kgm2); firmware/app/app_fault.c, app_enc.c",
                  ACC(control.fault_detect)),
         num("control.v_f_v", "V", nonneg(), "forward drop V_f of the simple compensation (Hoang sec. III-B: 0.9 V)",
             ACC(control.v_f_v)),
@@ -978,9 +980,9 @@ void cross_validate(Scenario& s, Diagnostics* d)
         }
         const bool svm = s.control.scheme == Scheme::Sfvc || s.control.scheme == Scheme::Dfoc;
         if (s.control.scheme == Scheme::Dsvm) {
-            // The PWM form's thirds (firmware/dtc/dsvm.h, hal.h): T1PR = ts_s f_clock / 2 whole counts.
+            // The PWM form's thirds (firmware/dtc/dsvm.h, hal.h): T1PR whole counts, at least 3.
             const double n = s.ts_s * PLANT_DEF_PWM_CLOCK_HZ * 0.5;
-            if (!(std::fabs(n - std::nearbyint(n)) <= 1e-9 * n && n >= 3.0 && n <= 65534.0)) {
+            if (hal_host::t1pr_counts(s.ts_s, PLANT_DEF_PWM_CLOCK_HZ) < 3u) {
                 err("ts_s", "the PWM timer period 75 MHz ts_s / 2 = " + fmt_double(n) +
                                 " counts is not a whole number in 3..65534 (hal.h T1PR; dsvm's thirds)");
             }
@@ -995,7 +997,7 @@ void cross_validate(Scenario& s, Diagnostics* d)
         }
         if (svm) {
             // One PWM period per control period (firmware/dtc/im_sfvc.c, hal.h): ts_s = 1 / carrier_hz,
-            // T1PR = ts_s f_clock / 2 a whole number of counts.
+            // T1PR = ts_s f_clock / 2 a whole number of counts (hal_host::t1pr_counts).
             if (s.origin.count("control.carrier_hz") != 0 && s.origin.count("ts_s") != 0 &&
                 std::fabs(s.control.carrier_hz * s.ts_s - 1.0) > 1e-9) {
                 err("control.carrier_hz", "is " + fmt_double(s.control.carrier_hz) + " Hz: the SVM carrier period must "
@@ -1004,7 +1006,7 @@ void cross_validate(Scenario& s, Diagnostics* d)
                 s.control.carrier_hz = 1.0 / s.ts_s;
             }
             const double n = s.ts_s * PLANT_DEF_PWM_CLOCK_HZ * 0.5;
-            if (!(std::fabs(n - std::nearbyint(n)) <= 1e-9 * n && n >= 1.0 && n <= 65534.0)) {
+            if (hal_host::t1pr_counts(s.ts_s, PLANT_DEF_PWM_CLOCK_HZ) == 0u) {
                 err(s.origin.count("control.carrier_hz") != 0 ? "control.carrier_hz" : "ts_s",
                     "the PWM timer period 75 MHz / (2 carrier) = " + fmt_double(n) +
                         " counts is not a whole number in 1..65534 (hal.h T1PR)");

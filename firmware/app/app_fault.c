@@ -1,0 +1,179 @@
+/*
+ * app_fault.c - fault names and the application core's fault detection (see app_fault.h).
+ */
+#include "app_fault.h"
+
+#include <stddef.h>
+
+const char *app_fault_name(uint16_t fault)
+{
+    switch (fault) {
+#define APP_FAULT_NAME_(id, num, name, detail, meaning)                                            \
+    case APP_FAULT_##id: return name;
+        APP_FAULT_LIST(APP_FAULT_NAME_)
+#undef APP_FAULT_NAME_
+    default: return "unknown";
+    }
+}
+
+uint16_t app_fault_trips(app_fault_t *f, const dtc_config_t *c, const dtc_meas_t *pu, uint16_t perm,
+                         int16_t *detail)
+{
+    const iq_t i[3] = {pu->ia_iq, pu->ib_iq, pu->ic_iq};
+    uint16_t k;
+
+    *detail = 0;
+    for (k = 0U; k < 3U; k++) {
+        if (fix_abs32(i[k]) > c->prot.i_trip_iq) {
+            *detail = (int16_t)app_fault_phase(perm, k);
+            return APP_FAULT_OVERCURRENT;
+        }
+    }
+    /* Failed current sensor (three sensors, prot.i_sum_max_iq): the star point is isolated, so
+     * the three phase currents sum to zero; a sum above the level for APP_ISUM_PERIODS periods
+     * is a sensor that does not measure its current (stuck, lost, wrong gain). The sum alone does
+     * not say which: the detail is the phase reading the least |i|, the signature of a sensor
+     * stuck at its zero (mid-scale), the common case. Sums saturate. */
+    if (c->prot.i_sum_max_iq > 0) {
+        if (fix_abs32(fix_add32(fix_add32(i[0], i[1]), i[2])) > c->prot.i_sum_max_iq) {
+            if (++f->isum_n >= APP_ISUM_PERIODS) {
+                uint16_t lo = 0U;
+                for (k = 1U; k < 3U; k++) {
+                    if (fix_abs32(i[k]) < fix_abs32(i[lo])) {
+                        lo = k;
+                    }
+                }
+                *detail = (int16_t)app_fault_phase(perm, lo);
+                return APP_FAULT_CURRENT_SENSOR;
+            }
+        } else {
+            f->isum_n = 0U;
+        }
+    }
+    if (pu->vdc_iq > c->prot.vdc_max_iq) {
+        return APP_FAULT_DC_OVERVOLTAGE;
+    }
+    if (pu->vdc_iq < c->prot.vdc_min_iq) {
+        return APP_FAULT_DC_UNDERVOLTAGE;
+    }
+    return APP_FAULT_NONE;
+}
+
+/* Open phase (prot.leg_i_min_iq > 0): a leg that no longer switches its phase (leg or phase open)
+ * leaves that phase's current at zero, and one open device leaves it at zero for every half-wave
+ * the device should carry, while the other two phases carry the machine's current. Per phase k:
+ * while |i_k| stays inside the zero band leg_i_min / 2^APP_LEG_ZERO_LOG2, the electrical angle
+ * w Ts the machine turns is summed over the periods with |i| > leg_i_min (|i| the Clarke
+ * magnitude, |i|^2 = (2/3) sum i_k^2 for an isolated star; below it the sum waits: the current
+ * of the two remaining phases of an open one passes zero twice a turn), and a sum above
+ * APP_LEG_ANGLE_IQ (60 deg) is an open phase (detection time pi / (3 w): 6.7 ms at 25 Hz, more
+ * where the current dips). A healthy phase crosses the band: its
+ * switching ripple alone moves it by several times the band every period or two (Table VIII,
+ * 70 V: 0.1-0.5 A per period against 0.14 A), and even a phase current with a large DC part
+ * (the uncompensated FSTP just after its hand-over: i_a ~ 4.5 A DC, phase B within |i|/4 for
+ * 135 deg, SIL) keeps that ripple. A relative criterion (|i_k| < |i|/4) tripped there; the band
+ * does not. A sum of the three measured currents of |i|/4 or more is a sensor, not a leg
+ * (app_fault_trips names it once it lasts), and stops the sums. Found: the core reconfigures
+ * when a post-fault configuration is set and the drive is not yet reconfigured, else trips
+ * (APP_FAULT_LEG). At standstill no angle accumulates: a phase open at rest is found once the
+ * machine turns. While relay_wait counts down (a reconfiguration's relay closing) the sums stay
+ * at zero. Scaling and overflow: currents are bounded by the trip level (app_fault_trips ran), at
+ * most 128 pu (2^31 IQ); squares are formed in 64 bits and shifted right by 5 (<= 2^57), so 24 x^2 and the
+ * sum of three stay below 2^63; 3 i_min^2 likewise; the angle sum saturates. */
+uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_meas_t *pu, iq_t speed_iq,
+                              uint16_t perm, uint16_t *phase)
+{
+    const iq_t i[3] = {pu->ia_iq, pu->ib_iq, pu->ic_iq};
+    const iq_t s = fix_add32(fix_add32(i[0], i[1]), i[2]);
+    const iq_t zero = fix_rshift_rnd32(c->prot.leg_i_min_iq, APP_LEG_ZERO_LOG2);
+    uint64_t sq[3], tot, s2, imin2;
+    iq_t dth;
+    uint16_t k;
+
+    if (c->prot.leg_i_min_iq <= 0) {
+        return 0U;
+    }
+    for (k = 0U; k < 3U; k++) {
+        sq[k] = (uint64_t)((int64_t)i[k] * (int64_t)i[k]) >> 5;
+    }
+    tot = sq[0] + sq[1] + sq[2];
+    s2 = (uint64_t)((int64_t)s * (int64_t)s) >> 5;
+    imin2 = (uint64_t)((int64_t)c->prot.leg_i_min_iq * (int64_t)c->prot.leg_i_min_iq) >> 5;
+    if (f->relay_wait > 0U || 24U * s2 >= tot) {
+        if (f->relay_wait > 0U) {
+            f->relay_wait--;
+        }
+        for (k = 0U; k < 3U; k++) {
+            f->leg_acc_iq[k] = 0;
+        }
+        return 0U;
+    }
+    if (2U * tot <= 3U * imin2) {
+        return 0U; /* too little current to judge: the sums wait (a healthy phase leaves the band,
+                    * which resets its sum, as soon as there is current again) */
+    }
+    dth = iq_mpy(fix_abs32(speed_iq), c->board.ts_pu_iq);
+    for (k = 0U; k < 3U; k++) {
+        if (fix_abs32(i[k]) >= zero) {
+            f->leg_acc_iq[k] = 0;
+            continue;
+        }
+        f->leg_acc_iq[k] = fix_add32(f->leg_acc_iq[k], dth);
+        if (f->leg_acc_iq[k] > APP_LEG_ANGLE_IQ) {
+            *phase = app_fault_phase(perm, k);
+            return 1U;
+        }
+    }
+    return 0U;
+}
+
+/* Stall (speed mode): on each speed-loop period, with the torque reference at its limit, a window
+ * of c->prot.stall_speed_periods is open; it trips when at its end the speed error has not shrunk
+ * since its start. Any period below the limit closes the window. Torque mode has no speed error
+ * to watch and is left alone. Scaling: |speed_ref - speed| saturated difference; compared. */
+uint16_t app_fault_stall(app_fault_t *f, const dtc_config_t *c, const dtc_out_t *o, iq_t speed_ref_iq,
+                         int16_t *detail)
+{
+    iq_t err;
+    if (c->speed.mode != (uint16_t)DTC_MODE_SPEED || o->speed_tick == 0U) {
+        return APP_FAULT_NONE;
+    }
+    if (fix_abs32(o->te_ref_iq) < c->speed.torque_limit_iq) {
+        f->stall_n = 0U;
+        return APP_FAULT_NONE;
+    }
+    err = fix_abs32(fix_sub32(speed_ref_iq, o->speed_iq));
+    if (f->stall_n == 0U) {
+        f->stall_err0_iq = err;
+    }
+    if (++f->stall_n < c->prot.stall_speed_periods) {
+        return APP_FAULT_NONE;
+    }
+    f->stall_n = 0U;
+    if (err >= f->stall_err0_iq) {
+        *detail = (int16_t)(o->te_ref_iq < 0 ? -1 : 1);
+        return APP_FAULT_STALL;
+    }
+    return APP_FAULT_NONE;
+}
+
+uint16_t app_fault_post_ok(const dtc_config_t *c, const dtc_config_t *post)
+{
+    uint16_t k, same_adc = 1U;
+    for (k = 0U; k < 3U; k++) {
+        if (post->board.adc_i_offset[k] != c->board.adc_i_offset[k]) {
+            same_adc = 0U;
+        }
+    }
+    return (uint16_t)!(dtc_config_validate(post) != DTC_OK ||
+        c->law != (uint16_t)DTC_LAW_PM_DTC || post->law != (uint16_t)DTC_LAW_PM_DTC ||
+        c->board.topology != (uint16_t)DTC_TOPO_SSTP || post->board.topology != (uint16_t)DTC_TOPO_FSTP ||
+        c->board.i_sensors3 == 0U || post->board.i_sensors3 == 0U || c->prot.leg_i_min_iq <= 0 ||
+        post->board.vmid_cal != 0U || post->prot.relay_periods == 0U ||
+        post->est.estimator != c->est.estimator || same_adc == 0U ||
+        post->board.enc_counts != c->board.enc_counts || post->board.enc_gain_q16 != c->board.enc_gain_q16 ||
+        post->board.enc_offset != c->board.enc_offset || post->board.adc_i_gain_iq != c->board.adc_i_gain_iq ||
+        post->board.adc_vdc_gain_iq != c->board.adc_vdc_gain_iq ||
+        post->board.adc_vdc_offset != c->board.adc_vdc_offset || post->board.ts_pu_iq != c->board.ts_pu_iq ||
+        post->speed.speed_div != c->speed.speed_div);
+}

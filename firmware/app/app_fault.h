@@ -1,0 +1,180 @@
+/*
+ * app_fault.h - the drive's fault reasons (one table: number, name, what the detail means) and
+ * the fault detection of the application core (app_core.h) on the per-unit sample: phase
+ * over-current, the current sum of three sensors, DC-link over- and under-voltage, the hardware
+ * trip and desaturation inputs, an open phase, a stall; and the check of a post-fault
+ * configuration. The functions only detect: each returns the fault found (enum app_fault) with
+ * its detail, and the core latches it. The encoder's checks are app_enc.h.
+ *
+ * State: app_fault_t, owned by the caller (the core), no static state.
+ */
+#ifndef APP_FAULT_H
+#define APP_FAULT_H
+
+#include <stdint.h>
+
+#include "dtc.h"
+#include "hal.h"
+
+/* What a fault's detail (app_status_t.fault_detail) means. */
+enum app_fault_detail {
+    APP_DETAIL_NONE = 0,    /* 0 */
+    APP_DETAIL_DTC_ERR = 1, /* enum dtc_err */
+    APP_DETAIL_PHASE = 2,   /* physical phase or leg 0 = A, 1 = B, 2 = C */
+    APP_DETAIL_CHANNEL = 3, /* ADC channel (enum hal_adc_channel) */
+    APP_DETAIL_ENCODER = 4, /* the encoder check that failed (APP_ENC_DETAIL_LIST) */
+    APP_DETAIL_SIGN = 5     /* the sign of the torque reference, -1 or 1 */
+};
+
+/* The fault reasons: X(ID, number, name, detail, meaning). The number is stable (it is the
+ * status's fault code), the name is the text app_fault_name() gives and the host reports; the
+ * meaning is the host's one-line description of a latched fault, "%c" standing for the phase
+ * letter of an APP_DETAIL_PHASE detail ("" where the name says it all). Only the host expands
+ * the meaning: the firmware image carries the names.
+ *  - CONFIG: law_init (or app_core_set_pwm_period, app_core_set_reconfig) refused the configuration.
+ *  - OVERCURRENT: |i| > prot.i_trip_iq on a phase.
+ *  - DC_OVERVOLTAGE, DC_UNDERVOLTAGE: V_dc above prot.vdc_max_iq, below prot.vdc_min_iq.
+ *  - ENCODER: app_enc.h.
+ *  - HW_TRIP: the hardware protection input (PDPINTA).
+ *  - ADC_OFFSET: a calibrated offset too far from nominal.
+ *  - STALL: speed mode, the torque reference at its limit while the speed error did not shrink
+ *    for prot.stall_speed_periods speed-loop periods (the host converts a time, 0.1 s by
+ *    default): a locked rotor or a load above the limit cannot reach the reference; it is
+ *    tripped, not left to run.
+ *  - DESAT: a gate driver's desaturation output: a shorted device or shoot-through.
+ *  - CURRENT_SENSOR: the three measured currents do not sum to zero (a stuck or failed sensor;
+ *    the detail is the phase judged failed).
+ *  - LEG: a phase carries no current while the others do (an open leg, phase or device) and no
+ *    reconfiguration is possible. */
+#define APP_FAULT_LIST(X)                                                                          \
+    X(NONE, 0, "none", APP_DETAIL_NONE, "")                                                        \
+    X(CONFIG, 1, "config", APP_DETAIL_DTC_ERR, "")                                                 \
+    X(OVERCURRENT, 2, "overcurrent", APP_DETAIL_PHASE, "phase %c current above protection.overcurrent_a") \
+    X(DC_OVERVOLTAGE, 3, "dc_overvoltage", APP_DETAIL_NONE, "")                                    \
+    X(DC_UNDERVOLTAGE, 4, "dc_undervoltage", APP_DETAIL_NONE, "")                                  \
+    X(ENCODER, 5, "encoder", APP_DETAIL_ENCODER, "encoder")                                        \
+    X(HW_TRIP, 6, "hw_trip", APP_DETAIL_NONE, "")                                                  \
+    X(ADC_OFFSET, 7, "adc_offset", APP_DETAIL_CHANNEL, "")                                         \
+    X(STALL, 8, "stall", APP_DETAIL_SIGN,                                                          \
+      "torque reference at its limit while the speed error did not shrink")                        \
+    X(DESAT, 9, "desat", APP_DETAIL_PHASE,                                                         \
+      "gate-driver desaturation on leg %c (a shorted device or shoot-through): every gate off")    \
+    X(CURRENT_SENSOR, 10, "current_sensor", APP_DETAIL_PHASE,                                      \
+      "the three measured phase currents do not sum to zero: a failed current sensor (phase %c "   \
+      "reads the least)")                                                                          \
+    X(LEG, 11, "leg", APP_DETAIL_PHASE,                                                            \
+      "phase %c carries no current while the others do (an open leg, phase or device) and the "    \
+      "drive cannot be reconfigured (no relay fitted, a second failure, or a law without it)")
+
+/* The encoder fault's details: X(number, meaning) (app_enc.h). */
+#define APP_ENC_DETAIL_LIST(X)                                                                     \
+    X(1, "implausible encoder count change")                                                       \
+    X(2, "encoder index pulse at another count (lost or extra counts)")                            \
+    X(3, "encoder signal lost: the count stood still at a speed where that is impossible")
+
+#define APP_FAULT_ENUM_(id, num, name, detail, meaning) APP_FAULT_##id = num,
+enum app_fault { APP_FAULT_LIST(APP_FAULT_ENUM_) APP_FAULT_COUNT_ };
+#undef APP_FAULT_ENUM_
+
+/* Short text of a fault reason, APP_FAULT_LIST's name (never NULL; "unknown" for any other number). */
+const char *app_fault_name(uint16_t fault);
+
+/* Fault detection: a current sum above prot.i_sum_max_iq for this many consecutive periods is a
+ * failed sensor (a few periods: noise and the sampling skew of the three channels never last
+ * that long at that level). */
+#define APP_ISUM_PERIODS 8U
+/* Open phase: the electrical angle, IQ rad (pi/3), over which a phase must stay inside the zero
+ * band (prot.leg_i_min_iq / 2^APP_LEG_ZERO_LOG2) while |i| is above prot.leg_i_min_iq to be taken
+ * for open: 6.7 ms at 1500 rpm for Table VIII (p = 1; within 20 ms). A healthy sinusoidal phase
+ * is within |i|/4 of zero for only 29 deg around a crossing, and its ripple takes it out of the
+ * much narrower band within a period or two. */
+#define APP_LEG_ANGLE_IQ ((iq_t)17568813) /* pi/3 * 2^24 */
+#define APP_LEG_ZERO_LOG2 2U
+
+typedef struct {
+    uint16_t isum_n;       /* consecutive periods with |i_a + i_b + i_c| > prot.i_sum_max_iq */
+    iq_t leg_acc_iq[3];    /* electrical angle, IQ rad, over which phase k (law's order) looked open */
+    uint16_t relay_wait;   /* periods left until the relay is surely closed */
+    uint16_t stall_n;      /* speed periods of the current stall window (0 = none open) */
+    iq_t stall_err0_iq;    /* |speed error| at the start of the window */
+} app_fault_t;
+
+/* (p + k) mod 3 for p + k in 0..5, without a division: the physical phase of the law's phase k
+ * when the law's phase 0 is the physical phase p (app_core_t.perm). */
+static inline uint16_t app_fault_phase(uint16_t p, uint16_t k)
+{
+    const uint16_t s = (uint16_t)(p + k);
+    return s >= 3U ? (uint16_t)(s - 3U) : s;
+}
+
+/* Zeroes the current-sum count and the open-phase angles (entering the calibration). */
+static inline void app_fault_reset(app_fault_t *f)
+{
+    uint16_t k;
+    f->isum_n = 0U;
+    for (k = 0U; k < 3U; k++) {
+        f->leg_acc_iq[k] = 0;
+    }
+}
+
+/* Every counter zero, the relay settled and no stall window open (init). */
+static inline void app_fault_init(app_fault_t *f)
+{
+    f->relay_wait = 0U;
+    f->stall_n = 0U;
+    f->stall_err0_iq = 0;
+    app_fault_reset(f);
+}
+
+/* After a reconfiguration: the open-phase check waits relay_periods periods for the relay to
+ * close, with its angles and the stall window cleared. */
+static inline void app_fault_reconfigured(app_fault_t *f, uint16_t relay_periods)
+{
+    uint16_t k;
+    f->relay_wait = relay_periods;
+    f->stall_n = 0U;
+    for (k = 0U; k < 3U; k++) {
+        f->leg_acc_iq[k] = 0;
+    }
+}
+
+/* The hardware protection input (PDPINTA) and the gate drivers' desaturation outputs that pull
+ * it: a desaturation is named with its leg (the lowest one flagged), any other trip as the
+ * hardware trip. Returns the fault (APP_FAULT_NONE: none) and sets *detail. */
+static inline uint16_t app_fault_hw(const hal_meas_t *m, int16_t *detail)
+{
+    uint16_t x;
+    for (x = 0U; x < 3U; x++) {
+        if ((m->desat & (uint16_t)(1U << x)) != 0U) {
+            *detail = (int16_t)x;
+            return APP_FAULT_DESAT;
+        }
+    }
+    if (m->trip != 0U) {
+        *detail = 0;
+        return APP_FAULT_HW_TRIP;
+    }
+    return APP_FAULT_NONE;
+}
+
+/* Trip checks on one per-unit sample pu (law's phase order; its phase k is the physical phase
+ * app_fault_phase(perm, k)) after app_fault_hw: over-current, the current sum, the DC link.
+ * Returns the fault (APP_FAULT_NONE: none) and sets *detail. */
+uint16_t app_fault_trips(app_fault_t *f, const dtc_config_t *c, const dtc_meas_t *pu, uint16_t perm,
+                         int16_t *detail);
+
+/* Open phase (prot.leg_i_min_iq > 0) on the sample pu at the reported speed speed_iq (app_fault.c).
+ * Returns 1 with *phase the physical phase found open, else 0. */
+uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_meas_t *pu, iq_t speed_iq,
+                              uint16_t perm, uint16_t *phase);
+
+/* Stall (speed mode) on the law's output o with the speed reference speed_ref_iq (app_fault.c).
+ * Returns APP_FAULT_STALL (detail: the sign of the torque reference) or APP_FAULT_NONE. */
+uint16_t app_fault_stall(app_fault_t *f, const dtc_config_t *c, const dtc_out_t *o, iq_t speed_ref_iq,
+                         int16_t *detail);
+
+/* 1 when post may be the post-fault configuration of the running configuration c
+ * (app_core_set_reconfig, app_core.h), else 0. */
+uint16_t app_fault_post_ok(const dtc_config_t *c, const dtc_config_t *post);
+
+#endif /* APP_FAULT_H */
