@@ -49,7 +49,8 @@ enum app_fault_detail {
 #define APP_FAULT_LIST(X)                                                                          \
     X(NONE, 0, "none", APP_DETAIL_NONE, "")                                                        \
     X(CONFIG, 1, "config", APP_DETAIL_DTC_ERR, "")                                                 \
-    X(OVERCURRENT, 2, "overcurrent", APP_DETAIL_PHASE, "phase %c current above protection.overcurrent_a") \
+    X(OVERCURRENT, 2, "overcurrent", APP_DETAIL_PHASE,                                             \
+      "phase %c current above protection.overcurrent_a")                                           \
     X(DC_OVERVOLTAGE, 3, "dc_overvoltage", APP_DETAIL_NONE, "")                                    \
     X(DC_UNDERVOLTAGE, 4, "dc_undervoltage", APP_DETAIL_NONE, "")                                  \
     X(ENCODER, 5, "encoder", APP_DETAIL_ENCODER, "encoder")                                        \
