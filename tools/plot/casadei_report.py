@@ -88,6 +88,13 @@ def run_tests(build, data_dir):
     env = dict(os.environ, DTC_FIGURE_DIR=data_dir)
     p = subprocess.run([exe, "--gtest_also_run_disabled_tests"], capture_output=True, text=True, env=env)
     out = p.stdout + p.stderr
+    verdict, measures = parse_output(out)
+    return verdict, measures, out
+
+
+def parse_output(out):
+    """{test: (passed|failed, disabled)} and {test: [MEASURE lines]} of sil_im_casadei's output
+    (OUT/sil_im_casadei.log)."""
     verdict = {}
     for m in re.finditer(r"\[\s+(OK|FAILED)\s+\] ImCasadei\.(DISABLED_)?(\w+) \(", out):
         verdict[m.group(3)] = ("passed" if m.group(1) == "OK" else "failed", m.group(2) is not None)
@@ -100,7 +107,7 @@ def run_tests(build, data_dir):
             current = m.group(1)
         elif line.startswith("MEASURE ") and current:
             measures.setdefault(current, []).append(line[len("MEASURE "):])
-    return verdict, measures, out
+    return verdict, measures
 
 
 def load(data_dir, name):
@@ -286,11 +293,11 @@ def run_scenario(build, out_dir):
         return json.load(f), ""
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--build", default=os.path.join(ROOT, "build", "host"))
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "casadei"))
-    a = ap.parse_args()
+    a = ap.parse_args(argv)
     os.makedirs(a.out, exist_ok=True)
     data_dir = os.path.join(a.out, "data")
     os.makedirs(data_dir, exist_ok=True)

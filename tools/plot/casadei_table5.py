@@ -94,13 +94,13 @@ def dfoc_available(exe):
     return p.returncode == 0
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--exe", default=os.path.join(ROOT, "build", "host", "bin", "dtc-sil"))
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "table5"))
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     ap.add_argument("--target-hz", type=float, default=2.0 / 3.0 * 6250.0)
-    a = ap.parse_args()
+    a = ap.parse_args(argv)
     os.makedirs(a.out, exist_ok=True)
     dfoc = dfoc_available(a.exe)
     cells = [(rpm, t) for t in TORQUES for rpm in SPEEDS]

@@ -1,0 +1,47 @@
+#!/usr/bin/python3
+"""ctest sil.papers_report: runs tools/report/papers.py --short and checks DIR/status.json.
+
+    test_papers_report.py DTC_SIL OUT_DIR
+
+Fails when status.json misses a numbered result figure or table of either paper (papers.py's
+CASADEI_ITEMS, hoang_items.ITEMS), when an entry's status is not one of the three, when a
+"deviates" entry has no reason, or when one of the Hoang figures this project reproduces is no
+longer "reproduced" (each one's check, with its margin, is in tools/report/hoang_items.py).
+"""
+import json
+import os
+import subprocess
+import sys
+
+ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
+sys.path.insert(0, os.path.join(ROOT, "tools", "report"))
+import papers  # noqa: E402
+
+# Hoang figures reproduced on the shipped scenarios, each by the paper's statement with a margin.
+REPRODUCED = ["Fig. 5 (b)", "Fig. 6 (b)", "Fig. 7 (b)", "Fig. 8 (b)", "Fig. 11", "Fig. 12", "Fig. 13", "Fig. 14",
+              "Fig. 15", "Fig. 16"]
+
+
+def main():
+    exe, out = sys.argv[1], sys.argv[2]
+    rc = subprocess.run([sys.executable, os.path.join(ROOT, "tools", "report", "papers.py"), "--short", "--out", out,
+                         "--exe", exe]).returncode
+    with open(os.path.join(out, "status.json")) as f:
+        entries = json.load(f)
+    problems = papers.check(entries)
+    got = {e["item"]: e for e in entries if e["paper"] == "hoang"}
+    for item in REPRODUCED:
+        e = got.get(item)
+        if e is None or e["status"] != "reproduced":
+            problems.append("hoang %s: %s (%s)" % (item, e and e["status"], e and e["reason"]))
+    if not os.path.getsize(os.path.join(out, "index.html")):
+        problems.append("index.html empty")
+    for p in problems:
+        print("FAIL: " + p)
+    n = {s: sum(e["status"] == s for e in entries) for s in papers.STATUSES}
+    print("status.json: %d entries, %s; papers.py exit %d" % (len(entries), n, rc))
+    return 1 if problems or rc != 0 else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

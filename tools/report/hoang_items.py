@@ -1,0 +1,653 @@
+"""Hoang, Zhu, Foster 2011 (IEEE TPEL 26(8)) on the SIL: one status.json entry per numbered figure
+and table of the paper that shows a result, for tools/report/papers.py.
+
+    items(ctx) -> list of {"paper": "hoang", "item", "status", "measured", "paper_values", "reason",
+                           optional "figure" (PNG path relative to ctx.out_dir)}
+
+ctx: out_dir, short (bool), dtc_sil (binary path), jobs, progress(msg) (papers.py Ctx).
+
+Every run goes through `dtc-sil sweep` (docs/sweep.md) on every core: the scenario files of
+tools/scenarios/ through tools/plot/report.py's sweep_series (the files stay the one source of the
+operating points), and the variants of a study (Fig. 14's four cases, the bare algorithm's switches,
+the light-load causes) as --zip axes on one scenario. Each figure's status is decided by the
+paper's statement about it, checked with a stated margin (the CHECKS below); a figure that fails
+its check is "deviates" with the measured cause where one was measured.
+
+Figs. 5-8 (a) are the ITC (indirect torque control) half of the flux figures: they need the ITC law
+(issue 31 depends on the law-seam issue for it). itc_sets() is the hook: it returns the --set
+overrides that select the ITC law once dtc-sil accepts one of ITC_CANDIDATES, and None until then.
+"""
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
+sys.path.insert(0, os.path.join(ROOT, "tools", "plot"))
+import plot_run  # noqa: E402
+import report  # noqa: E402  (tools/plot/report.py: Table IX/X data, sweep_series, load_figure)
+
+SCEN = os.path.join(ROOT, "tools", "scenarios")
+
+# Every numbered figure and table of the paper that shows a result (Figs. 1-4 and Tables I-VI, VIII
+# are topologies, block diagrams, switching tables and parameters). Figs. 5-8 are split into (a)
+# ITC and (b) DTC because the two halves need different control laws.
+ITEMS = ["Fig. 5 (a)", "Fig. 5 (b)", "Fig. 6 (a)", "Fig. 6 (b)", "Fig. 7 (a)", "Fig. 7 (b)",
+         "Fig. 8 (a)", "Fig. 8 (b)", "Fig. 9 (c)", "Fig. 10", "Fig. 11", "Fig. 12", "Fig. 13", "Fig. 14",
+         "Fig. 15", "Fig. 16", "Fig. 17", "Fig. 18", "Fig. 19", "Fig. 20", "Table VII", "Table IX", "Table X"]
+
+# Table VII, V peak at 1500 rpm: fundamental, 3rd, 5th, 7th of phases A, B, C.
+TABLE_VII = {"A": (14.0868, 0.0488, 0.2385, 0.2274), "B": (14.2880, 0.0321, 0.2483, 0.2375),
+             "C": (14.4254, 0.0364, 0.2209, 0.2472)}
+BALANCED_EMF = {"motor.emf_gain": "[1, 1, 1]", "motor.emf_harm_a": "[0, 0, 0]",
+                "motor.emf_harm_b": "[0, 0, 0]", "motor.emf_harm_c": "[0, 0, 0]"}
+
+# Every addition of this project to the paper's voltage-model DTC switched off (docs/sil.md keys),
+# on the stiff link the paper's analysis assumes. The start on the current model stays (the paper
+# does not say how its drive starts; the bare voltage model does not start from standstill) with
+# the hand-over at 941 rpm, the value derived for the uncompensated FSTP, for all three schemes.
+BARE = ["control.delay_comp=false", "control.deadtime_comp=false", "control.polarity_mid=false",
+        "control.lpf_comp=false", "control.dc_supp=false", "control.vmid_cal=false", "control.cal_hold=false",
+        "sensors.vmid_fitted=false", "inverter.finite_dc_link=false", "control.handover_rpm=941"]
+# One thing at a time against the bare run: (label, what it changes, overrides).
+BARE_STEPS = [
+    ("bare", "the paper's algorithm as printed", {}),
+    ("delay_comp", "one-period actuation delay compensated (prediction)", {"control.delay_comp": "true"}),
+    ("ts_25us", "sampling period halved (25 us)", {"ts_s": "2.5e-05"}),
+    ("polarity_mid", "compensation polarity from the period's mean current (sampling instant)",
+     {"control.polarity_mid": "true"}),
+    ("dead_time_0", "no dead time in the plant (1 us otherwise)", {"inverter.dead_time_s": "0"}),
+    ("deadtime_comp", "the plant's dead time compensated", {"control.deadtime_comp": "true"}),
+    ("finite_link", "finite split DC link (2 x 4.7 mF, 3.3 kOhm, 25 mOhm)", {"inverter.finite_dc_link": "true"}),
+    ("balanced_emf", "balanced sinusoidal back-EMF instead of Table VII", dict(BALANCED_EMF)),
+    ("no_noise", "no sensor noise", {"sensors.current_noise_a_rms": "0", "sensors.voltage_noise_v_rms": "0"}),
+    ("ideal_devices", "no device drops (R_on, V_CE, V_d = 0)", {"inverter.drops": "false"}),
+    ("dead_time_0+balanced_emf", "no dead time and balanced back-EMF",
+     dict(BALANCED_EMF, **{"inverter.dead_time_s": "0"})),
+]
+PAPER_IMB = {"none": 26.6, "simple": 6.8, "proposed": 4.6}  # Table IX, 100 (max/min - 1)
+
+# Fig. 14's four simulated cases (the paper's MATLAB model: stiff link, devices of Table IV only).
+FIG14 = [("(a)", "balanced back-EMFs, ideal switches", True, False),
+         ("(b)", "unbalanced back-EMFs (Table VII), ideal switches", False, False),
+         ("(c)", "balanced back-EMFs, non-ideal switches (Table IV)", True, True),
+         ("(d)", "unbalanced back-EMFs, non-ideal switches", False, True)]
+FIG14_SETS = ["inverter.finite_dc_link=false", "inverter.dead_time_s=0"]
+
+LOAD_FIGS = {"Fig. 12": "fstp_current", "Fig. 15": "fstp_voltage_none", "Fig. 16": "fstp_voltage_simple",
+             "Fig. 17": "fstp_voltage_proposed"}
+FLUX_FIGS = {"Fig. 5": ("fstp_voltage_none_full", "no compensation"),
+             "Fig. 6": ("fstp_voltage_simple_full", "simple compensation (Table V)"),
+             "Fig. 7": ("fstp_voltage_proposed_full", "proposed compensation (Table VI)"),
+             "Fig. 8": ("fstp_current_full", "current model")}
+ITC_CANDIDATES = [["control.law=itc"], ["control.scheme=itc"], ["control.scheme=\"itc\""]]
+
+BALANCED_PCT = 10.0  # a phase-current set whose fundamentals differ by less than this is "balanced"
+
+
+def r(x, nd=2):
+    return None if x is None or (isinstance(x, float) and not np.isfinite(x)) else round(float(x), nd)
+
+
+def imb(f):
+    return 100.0 * (max(f) / min(f) - 1.0) if f and min(f) > 0 else None
+
+
+def fund3(row):
+    """Per-phase fundamentals from a sweep summary row or a metrics.json."""
+    if "fundamental_a" in row:
+        return row["fundamental_a"]
+    v = [row.get("fundamental_a[%s]" % p) for p in "ABC"]
+    return None if None in v else v
+
+
+def zip_sweep(ctx, name, stem, cases, sets=(), keep=False):
+    """One dtc-sil sweep of tools/scenarios/<stem>.toml over `cases` (dicts key -> TOML value, all
+    with the same keys) as --zip axes, on ctx.jobs cores. Returns the summary rows in case order
+    (each with "run_dir" when keep)."""
+    out = os.path.join(ctx.out_dir, "hoang", name)
+    subprocess.run(["rm", "-rf", out], check=True)
+    cmd = [ctx.dtc_sil, "sweep", os.path.join(SCEN, stem + ".toml"), "--out", out, "--jobs", str(ctx.jobs), "-q"]
+    if keep:
+        cmd.append("--keep-runs")
+    for k in cases[0]:
+        cmd += ["--zip", k + "=" + ",".join(c[k] for c in cases)]
+    for s in sets:
+        cmd += ["--set", s]
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode not in (0, 3):
+        raise RuntimeError("%s: %s" % (" ".join(cmd), (p.stderr.strip().splitlines() or ["exit %d" % p.returncode])[-1]))
+    with open(os.path.join(out, "summary.json"), encoding="utf-8") as f:
+        rows = sorted(json.load(f)["rows"], key=lambda x: x["run"])
+    flat = []
+    for row in rows:
+        f = dict(row.get("metrics") or {})
+        f.update({k: row.get(k) for k in ("run", "status", "fault", "error")})
+        f["run_dir"] = os.path.join(out, "runs", str(row["run"]))
+        flat.append(f)
+    return flat, cmd
+
+
+def row_summary(row):
+    f = fund3(row)
+    return {"fault": row.get("fault"), "fundamental_a": [r(x, 3) for x in f] if f else None,
+            "imbalance_pct": r(imb(f), 1) if f else None, "thd40_total_pct": r(row.get("thd40_total_pct"), 1),
+            "torque_est_nm": r(row.get("torque_est_mean_nm"), 4), "torque_nm": r(row.get("torque_mean_nm"), 4)}
+
+
+def cmdline(cmd):
+    return " ".join(os.path.relpath(c, ROOT) if os.path.isabs(c) and c.startswith(ROOT) else c for c in cmd)
+
+
+# ---------------------------------------------------------------------------------------------
+def flux_fundamentals(run_dir, f_e=25.0):
+    """Fundamental amplitudes (mWb) and peaks of the estimated alpha/beta stator flux over the last
+    whole electrical periods of the trace (Hoang Figs. 5-8), and the alpha/beta imbalance."""
+    tr = plot_run.load_trace(os.path.join(run_dir, "trace.csv"))
+    m = plot_run.load_metrics(run_dir)
+    t = tr["t_s"]
+    win = float((m.get("metrics_window") or {}).get("duration_s") or 0.4)
+    n_per = max(1, int(win * f_e))
+    sel = t >= t[-1] - n_per / f_e
+    out = {}
+    for comp in ("alpha", "beta"):
+        x = tr["psi_%s_est_wb" % comp][sel]
+        ph = np.exp(-2j * np.pi * f_e * t[sel])
+        a1 = 2.0 * abs(np.mean(x * ph))
+        rest = np.sqrt(max(np.mean((x - np.mean(x)) ** 2) - a1 ** 2 / 2.0, 0.0))
+        out[comp] = {"fundamental_mwb": 1e3 * a1, "peak_mwb": 1e3 * float(np.max(np.abs(x))),
+                     "harmonics_rms_mwb": 1e3 * rest}
+    a, b = out["alpha"]["fundamental_mwb"], out["beta"]["fundamental_mwb"]
+    return {"psi_alpha_fund_mwb": r(a, 2), "psi_beta_fund_mwb": r(b, 2),
+            "psi_alpha_peak_mwb": r(out["alpha"]["peak_mwb"], 2), "psi_beta_peak_mwb": r(out["beta"]["peak_mwb"], 2),
+            "alpha_beta_fund_imbalance_pct": r(100.0 * (max(a, b) / min(a, b) - 1.0), 2),
+            "alpha_beta_harm_ratio": r(out["alpha"]["harmonics_rms_mwb"] / max(out["beta"]["harmonics_rms_mwb"], 1e-9), 2)}
+
+
+def flux_figure(ctx, name, title, run_dir):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    tr = plot_run.load_trace(os.path.join(run_dir, "trace.csv"))
+    sel = tr["t_s"] >= tr["t_s"][-1] - 0.12
+    t = 1e3 * (tr["t_s"][sel] - tr["t_s"][sel][0])
+    fig, ax = plt.subplots(figsize=(7, 3))
+    ax.plot(t, 1e3 * tr["psi_alpha_est_wb"][sel], lw=0.8, label=r"$\psi_{s\alpha}$ estimated")
+    ax.plot(t, 1e3 * tr["psi_beta_est_wb"][sel], lw=0.8, label=r"$\psi_{s\beta}$ estimated")
+    ax.set_xlabel("time (ms)")
+    ax.set_ylabel("mWb")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=7, loc="upper right")
+    ax.set_title(title, fontsize=8, loc="left")
+    fig.tight_layout()
+    rel = os.path.join("hoang", name + ".png")
+    fig.savefig(os.path.join(ctx.out_dir, rel), dpi=100)
+    plt.close(fig)
+    return rel
+
+
+def currents_figure(ctx, name, title, panels):
+    """Stacked phase-current panels [(label, run_dir)], as the paper's scope captures."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(len(panels), 1, figsize=(7, 2.2 * len(panels)), squeeze=False)
+    for ax, (label, run_dir) in zip(axes[:, 0], panels):
+        try:
+            tr = plot_run.load_trace(os.path.join(run_dir, "trace.csv"))
+            m = plot_run.load_metrics(run_dir)
+        except (OSError, ValueError) as e:
+            ax.text(0.5, 0.5, "%s: no run (%s)" % (label, e), transform=ax.transAxes, ha="center", fontsize=7)
+            continue
+        sel = plot_run.span(tr, m, None, None)
+        t = 1e3 * (tr["t_s"][sel] - tr["t_s"][sel][0])
+        for col, lab in (("i_a_a", "$i_a$"), ("i_b_a", "$i_b$"), ("i_c_a", "$i_c$")):
+            ax.plot(t, tr[col][sel], lw=0.7, label=lab)
+        f = m.get("fundamental_a")
+        txt = label + ("  fundamental " + " / ".join("%.2f" % x for x in f) + " A (%.1f %%)" % imb(f) if f else "")
+        if m.get("fault", "none") != "none":
+            txt += "  FAULT: " + m["fault"]
+        ax.set_title(txt, fontsize=7, loc="left")
+        ax.set_ylabel("A")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=6, ncol=3, loc="upper right")
+    axes[-1, 0].set_xlabel("time (ms)")
+    fig.suptitle(title, fontsize=9)
+    fig.tight_layout()
+    rel = os.path.join("hoang", name + ".png")
+    fig.savefig(os.path.join(ctx.out_dir, rel), dpi=100)
+    plt.close(fig)
+    return rel
+
+
+def itc_sets(ctx):
+    """HOOK for Figs. 5-8 (a): the --set overrides that select the ITC law, or None while dtc-sil has
+    none (the law-seam issue builds it). Probes `dtc-sil check` with each of ITC_CANDIDATES."""
+    for sets in ITC_CANDIDATES:
+        cmd = [ctx.dtc_sil, "check", os.path.join(SCEN, "fstp_voltage_none_full.toml")]
+        for s in sets:
+            cmd += ["--set", s]
+        if subprocess.run(cmd, capture_output=True, text=True).returncode == 0:
+            return sets
+    return None
+
+
+# ---------------------------------------------------------------------------------------------
+def entry(item, status, measured, paper_values, reason, figure=None):
+    e = {"paper": "hoang", "item": item, "status": status, "measured": measured, "paper_values": paper_values,
+         "reason": reason}
+    if figure:
+        e["figure"] = figure
+    return e
+
+
+def items(ctx):
+    os.makedirs(os.path.join(ctx.out_dir, "hoang"), exist_ok=True)
+    out = []
+    hdir = os.path.join(ctx.out_dir, "hoang")
+    sets = ["metrics.torque_sensor_hz=1000"]
+    seeds = ["1"] if ctx.short else ["1", "2", "3"]
+
+    # -- Tables IX/X, Figs. 11, 13 and the full-load panels: the seven scenario files.
+    ctx.progress("hoang: Table IX/X matrix (7 runs)")
+    stems = [p[0] for p in report.PAPER]
+    table, table_cmd = report.sweep_series(ctx.dtc_sil, SCEN, hdir, "sweep_table", stems, sets, ctx.jobs)
+    ctx.progress("hoang: inertial and half load (8 runs)")
+    load_stems = ["%s_%s" % (b, ld) for b in LOAD_FIGS.values() for ld in ("inertial", "half")]
+    loads, loads_cmd = report.sweep_series(ctx.dtc_sil, SCEN, hdir, "sweep_loads", load_stems, sets, ctx.jobs)
+    allm = dict(table)
+    allm.update(loads)
+
+    def met(stem):
+        return allm.get(stem, (None, "not run"))[0]
+
+    # Table IX
+    paper_ix, ours_ix, ranks_ok = {}, {}, True
+    for stem, label, ix, _ in report.PAPER:
+        m = met(stem)
+        paper_ix[label] = "%s A (%.1f %%)" % (report.fmt3(ix), imb(ix))
+        ours_ix[label] = ("%s A (%.1f %%)" % (report.fmt3(m["fundamental_a"]), imb(m["fundamental_a"]))
+                          if m and m.get("fundamental_a") else "run failed: %s" % allm.get(stem, (0, "?"))[1])
+    fi = {c: imb((met("fstp_voltage_%s_full" % c) or {}).get("fundamental_a")) or float("nan")
+          for c in ("none", "simple", "proposed")}
+    fi_cur = imb((met("fstp_current_full") or {}).get("fundamental_a"))
+    ranks_ok = fi["none"] > fi["simple"] > fi["proposed"] and fi_cur is not None and fi_cur < 5
+    # The bare algorithm, one thing at a time (not in --short beyond the bare row and two causes).
+    steps = BARE_STEPS if not ctx.short else [s for s in BARE_STEPS if s[0] in ("bare", "dead_time_0", "balanced_emf")]
+    bare = {}
+    keys = sorted({k for _, _, d in steps for k in d})
+    for comp in ("none", "simple", "proposed"):
+        ctx.progress("hoang: bare paper algorithm, %s compensation (%d runs)" % (comp, len(steps)))
+        stem = "fstp_voltage_%s_full" % comp
+        base = scenario_values(ctx, stem, keys, BARE)
+        cases = [dict(base, **d) for _, _, d in steps]
+        rows, bare_cmd = zip_sweep(ctx, "bare_" + comp, stem, cases, BARE + sets)
+        bare[comp] = {lab: row_summary(row) for (lab, _, _), row in zip(steps, rows)}
+    bare_tab = {lab + " (" + what + ")": " / ".join(
+        "%s" % (bare[c][lab]["imbalance_pct"] if bare[c][lab]["imbalance_pct"] is not None
+                else "trip: %s" % bare[c][lab]["fault"]) for c in ("none", "simple", "proposed"))
+        for lab, what, _ in steps}
+    ours_ix["bare algorithm, imbalance % none / simple / proposed, one change at a time"] = bare_tab
+    paper_ix["bare algorithm, imbalance % none / simple / proposed"] = "%.1f / %.1f / %.1f" % (
+        PAPER_IMB["none"], PAPER_IMB["simple"], PAPER_IMB["proposed"])
+    ix_ok = ranks_ok and all(abs(fi[c] - PAPER_IMB[c]) <= 10.0 for c in fi)
+    ours_ix["commands"] = {"matrix": cmdline(table_cmd), "bare (proposed; none and simple alike)": cmdline(bare_cmd)}
+    reason_ix = ("ranking none > simple > proposed FSTP and a balanced current model: %s; FSTP imbalance "
+                 "none / simple / proposed %.1f / %.1f / %.1f %% against the paper's 26.6 / 6.8 / 4.6 %% "
+                 "(margin 10 points). " % ("holds" if ranks_ok else "does NOT hold", fi["none"] or -1,
+                                            fi["simple"] or -1, fi["proposed"] or -1)) + BARE_FINDING
+    out.append(entry("Table IX", "reproduced" if ix_ok else "deviates", ours_ix, paper_ix, reason_ix))
+
+    # Table X
+    out.append(table_x(allm))
+
+    # Fig. 11 (SSTP current model) and Fig. 13 (SSTP voltage model without / with compensation)
+    m11 = met("sstp_current_full")
+    ok11 = bool(m11) and imb(m11["fundamental_a"]) < 5.0 and abs(m11["torque_est_mean_nm"] / 0.3 - 1) < 0.03
+    fig11 = currents_figure(ctx, "fig11", "Fig. 11: current-model DTC, SSTP, 1500 rpm, full load",
+                            [("full load", os.path.join(hdir, "sstp_current_full"))])
+    out.append(entry("Fig. 11", "reproduced" if ok11 else "deviates",
+                     {"fundamental_a": m11 and [r(x, 3) for x in m11["fundamental_a"]],
+                      "imbalance_pct": m11 and r(imb(m11["fundamental_a"]), 1),
+                      "torque_est_nm": m11 and r(m11["torque_est_mean_nm"], 4)},
+                     {"description": "sinusoidal, balanced phase currents; Table IX 2.22 / 2.20 / 2.29 A",
+                      "torque_est_nm": 0.3034},
+                     "checked: imbalance below 5 % and estimated torque within 3 % of 0.3 N*m", fig11))
+    a, b = met("sstp_voltage_none_full"), met("sstp_voltage_simple_full")
+    ok13 = bool(a and b) and a["torque_est_mean_nm"] > 1.05 * 0.3 and abs(b["torque_est_mean_nm"] / 0.3 - 1) < 0.03 \
+        and imb(a["fundamental_a"]) < BALANCED_PCT and imb(b["fundamental_a"]) < BALANCED_PCT \
+        and min(b["fundamental_a"]) < min(a["fundamental_a"])
+    fig13 = currents_figure(ctx, "fig13", "Fig. 13: voltage-model DTC, SSTP, 1500 rpm, full load",
+                            [("(a) without compensation", os.path.join(hdir, "sstp_voltage_none_full")),
+                             ("(b) with compensation [29]", os.path.join(hdir, "sstp_voltage_simple_full"))])
+    out.append(entry("Fig. 13", "reproduced" if ok13 else "deviates",
+                     {"(a) torque_est_nm": a and r(a["torque_est_mean_nm"], 4), "(a) fundamental_a": a and [r(x, 3) for x in a["fundamental_a"]],
+                      "(b) torque_est_nm": b and r(b["torque_est_mean_nm"], 4), "(b) fundamental_a": b and [r(x, 3) for x in b["fundamental_a"]]},
+                     {"description": "(a) estimated torque above 0.3 N*m, currents higher than demanded but "
+                      "sinusoidal (the SSTP's drops are balanced); (b) compensation improves it",
+                      "(a) torque_est_nm": 0.3296, "(b) torque_est_nm": 0.2984},
+                     "checked: (a) estimate > 1.05 x 0.3 N*m, (b) within 3 %, both balanced (< 10 %), (b) smaller currents",
+                     fig13))
+
+    # Figs. 12, 15-17: inertial, half, full load
+    for fig, base in LOAD_FIGS.items():
+        out.append(load_entry(ctx, fig, base, met, hdir))
+
+    # Light load: the measured cause of Fig. 17 (a)/(b)'s imbalance
+    ctx.progress("hoang: light-load causes (%d runs)" % (8 * len(seeds)))
+    light = light_load_study(ctx, seeds, sets)
+    for e in out:
+        if e["item"] == "Fig. 17":
+            e["measured"]["light-load causes (imbalance %, mean over seeds)"] = light
+            if e["status"] == "deviates":
+                e["reason"] += " " + LIGHT_FINDING
+
+    # Fig. 14: the four simulated cases
+    ctx.progress("hoang: Fig. 14 (4 runs)")
+    out.append(fig14(ctx, sets))
+
+    # Figs. 5-8: estimated alpha/beta flux under DTC (b); ITC (a) through the hook
+    out += flux_entries(ctx, hdir)
+
+    # Figs. 18-20: low speed, 25 % load
+    ctx.progress("hoang: low speed, Figs. 18-20 (7 runs)")
+    low_entries, low = low_speed_entries(ctx, hdir, sets)
+    out += low_entries
+
+    # report.py's report.md beside the runs: Tables IX/X, the stiff-link comparison, the low-speed table
+    ctx.progress("hoang: stiff-link comparison (4 runs) and report.md")
+    stiff, _ = report.sweep_series(ctx.dtc_sil, SCEN, hdir, "sweep_stiff", report.FINITE, sets + report.STIFF_SETS,
+                                   ctx.jobs, suffix="_stiff")
+    md = os.path.join(hdir, "report.md")
+    report.write_report(md, table, ctx.dtc_sil, sets)
+    with open(md, "a", encoding="utf-8") as f:
+        f.write(report.issue10_tables(stiff, {(rpm, k): v for rpm, res in low.items() for k, v in res.items()}))
+    if not ctx.short:
+        for stem in stems:
+            if table[stem][0] is not None:
+                plot_run.plot_run(os.path.join(hdir, stem))
+
+    # The prototype's own measurements
+    out.append(entry("Fig. 9 (c)", "not applicable", {"plant_emf": "Table VII's harmonics and per-phase "
+                     "amplitudes (normalised to their mean) are the plant's input (motor.emf_gain, motor.emf_harm_*)"},
+                     {"description": "measured back-EMF waveforms of the prototype at 1500 rpm (photograph of the rig)"},
+                     "a measurement of the paper's prototype machine; the plant takes it as input (Table VII)"))
+    mean = np.mean([v[0] for v in TABLE_VII.values()])
+    gains = {p: TABLE_VII[p][0] / mean for p in "ABC"}
+    out.append(entry("Table VII", "not applicable",
+                     dict({"motor.emf_gain": [r(gains[p], 5) for p in "ABC"]},
+                          **{"motor.emf_harm_%s" % p.lower(): [r(h / TABLE_VII[p][0], 5) for h in TABLE_VII[p][1:]]
+                             for p in "ABC"}),
+                     {p: list(v) for p, v in TABLE_VII.items()},
+                     "the prototype's measured back-EMF harmonics (V peak, fundamental / 3rd / 5th / 7th): an input of "
+                     "the plant (the scenarios' motor.emf_gain and motor.emf_harm_*, amplitudes normalised to their "
+                     "mean, harmonics relative to each fundamental), not a result to reproduce"))
+    out.append(entry("Fig. 10", "not applicable", {},
+                     {"description": "IPM case temperature over one hour, T1-T4 for the four FSTP schemes"},
+                     "thermal measurement of the inverter module; the plant has no thermal model"))
+    return out
+
+
+_KEY_DEFAULTS = {}
+
+
+def scenario_values(ctx, stem, keys, sets=()):
+    """{key: TOML value} of `keys` as the run of tools/scenarios/<stem>.toml with `sets` has them:
+    the --set overrides, else the file, else the schema default (`dtc-sil keys`), so that a study's
+    "unchanged" case is the scenario itself."""
+    import tomllib
+    with open(os.path.join(SCEN, stem + ".toml"), "rb") as f:
+        flat = report.flat_toml(tomllib.load(f))
+    over = dict(s.split("=", 1) for s in sets)
+    if not _KEY_DEFAULTS:
+        _KEY_DEFAULTS.update(report.key_defaults(ctx.dtc_sil))
+    out = {}
+    for k in keys:
+        if k in over:
+            out[k] = over[k]
+        elif k in flat:
+            out[k] = report.toml_value(flat[k])
+        else:
+            out[k] = _KEY_DEFAULTS[k].replace(" ", "")
+    return out
+
+
+BARE_FINDING = (
+    "Why the bare algorithm (every addition off, stiff link) does worse here than on the paper's rig, "
+    "measured one switch at a time (measured, 'bare algorithm' rows): the two causes are the plant's "
+    "Table VII back-EMF imbalance (the voltage model estimates the true flux, whose PM part is unbalanced, "
+    "and the DTC forces that estimate circular, so the PM flux's negative sequence appears in the current) "
+    "and the uncompensated 1 us dead time (a drop the Table VI compensation does not contain); without both "
+    "the bare rows come to the paper's size for the compensated schemes. The one-period delay is not a cause: "
+    "compensating it (prediction) or halving the sampling period makes the imbalance larger, because the loop "
+    "then holds the wrongly estimated flux more tightly; the compensation's sampling instant (polarity_mid), "
+    "the sensor noise and the link (stiff is the favourable case; the finite link trips the bare algorithm "
+    "through the mid-point drift) change it by little or make it worse. The paper's dead time, sampling "
+    "instant and sensor bandwidth are not stated.")
+
+LIGHT_FINDING = (
+    "Measured cause (measured, 'light-load causes'): Table VII's back-EMF imbalance. The voltage model "
+    "estimates the machine's true flux, whose PM part is unbalanced, and the DTC holds that estimate on a "
+    "circle at constant torque, so the PM flux's negative sequence is carried by the current: a current of "
+    "nearly fixed size, so the imbalance grows as the load falls (full / half / inertial). With balanced "
+    "back-EMF the proposed scheme is within 10 % at half load and, at 10 us sampling, at both loads; the "
+    "remaining part at 50 us is the FSTP's own: its beta vectors are sqrt(3) times its alpha vectors, so the "
+    "torque steps per 50 us period differ by sector (the SSTP under the same conditions is balanced), and it "
+    "shrinks with the period. The current model (Fig. 12) is balanced because its flux model uses a balanced "
+    "psi_m. The paper attributes its own full-load imbalance to Table VII's back-EMF (sec. IV, 4.6 %); a "
+    "negative-sequence current of fixed size that gives that at 2.2 A gives about four times as much at the "
+    "inertial load's 0.55 A, so a balanced Fig. 17 (a) is not what Table VII's machine gives under the voltage "
+    "model. A firmware fix would suppress the current's negative sequence as dc_supp suppresses its "
+    "DC (not made: it trades the imbalance for a 2 f torque ripple and touches firmware/dtc/dtc.c, which another "
+    "helper is restructuring).")
+
+
+def light_load_study(ctx, seeds, sets):
+    """Proposed FSTP at inertial and half load: as shipped, balanced back-EMF, 10 us sampling, both;
+    mean imbalance over the seeds."""
+    variants = [("as shipped", {}), ("balanced back-EMF", dict(BALANCED_EMF)), ("ts 10 us", {"ts_s": "1e-05"}),
+                ("balanced back-EMF, ts 10 us", dict(BALANCED_EMF, ts_s="1e-05"))]
+    keys = sorted({k for _, d in variants for k in d})
+    res = {}
+    for ld in ("inertial", "half"):
+        base = scenario_values(ctx, "fstp_voltage_proposed_" + ld, keys, sets)
+        cases = [dict(base, **d, **{"sensors.seed": s}) for _, d in variants for s in seeds]
+        rows, _ = zip_sweep(ctx, "light_" + ld, "fstp_voltage_proposed_" + ld, cases, sets)
+        for i, (lab, _) in enumerate(variants):
+            vals = [imb(fund3(row)) for row in rows[i * len(seeds):(i + 1) * len(seeds)] if fund3(row)]
+            res["%s, %s" % (ld, lab)] = r(np.mean(vals), 1) if vals else None
+    for ld in ("inertial", "half"):
+        rows, _ = zip_sweep(ctx, "light_current_" + ld, "fstp_current_" + ld,
+                            [dict(BALANCED_EMF, **{"sensors.seed": s}) for s in seeds], sets)
+        vals = [imb(fund3(row)) for row in rows if fund3(row)]
+        res["%s, current model, balanced back-EMF" % ld] = r(np.mean(vals), 1) if vals else None
+    return res
+
+
+def load_entry(ctx, fig, base, met, hdir):
+    panels = [(lab, os.path.join(hdir, "%s_%s" % (base, ld))) for ld, lab in report.LOADS]
+    name = "fig" + fig.split()[1]
+    title = {n: t for n, t, _ in report.FIGURES}.get(name, fig) + ", 1500 rpm"
+    png = currents_figure(ctx, name, title, panels)
+    meas = {}
+    imbs = {}
+    for ld, _ in report.LOADS:
+        m = met("%s_%s" % (base, ld))
+        if m and m.get("fundamental_a"):
+            imbs[ld] = imb(m["fundamental_a"])
+            meas[ld] = {"fundamental_a": [r(x, 3) for x in m["fundamental_a"]], "imbalance_pct": r(imbs[ld], 1),
+                        "thd40_total_pct": r(m.get("thd40_total_pct"), 1), "fault": m.get("fault")}
+        else:
+            meas[ld] = "run failed"
+    full = len(imbs) == 3
+    if fig in ("Fig. 12", "Fig. 17"):
+        ok = full and all(v <= BALANCED_PCT for v in imbs.values())
+        desc = ("sinusoidal, balanced currents at every load; the current model is not affected by the drop imbalance"
+                if fig == "Fig. 12" else
+                "satisfactory sinusoidal shapes and balanced magnitudes even at inertial and half load")
+        crit = "every load balanced: imbalance <= %.0f %%" % BALANCED_PCT
+    elif fig == "Fig. 15":
+        none_thd = [met("%s_%s" % (base, ld)) for ld, _ in report.LOADS]
+        prop = [met("fstp_voltage_proposed_%s" % ld) for ld, _ in report.LOADS]
+        ok = full and all(v > 15.0 for v in imbs.values()) and all(
+            a and b and a["thd40_total_pct"] > b["thd40_total_pct"] for a, b in zip(none_thd, prop))
+        desc = "very non-sinusoidal and unbalanced currents at every load, full load included"
+        crit = "every load: imbalance > 15 % and THD 2..40 above the proposed scheme's"
+    else:
+        none = [met("fstp_voltage_none_%s" % ld) for ld, _ in report.LOADS]
+        ok = full and all(a and a.get("fundamental_a") and imbs[ld] < imb(a["fundamental_a"])
+                          for (ld, _), a in zip(report.LOADS, none))
+        desc = "enhanced against no compensation, but currents still above the demand (Table IX 2.53 / 2.37 / 2.41 A)"
+        crit = "every load: imbalance below the uncompensated scheme's"
+    return entry(fig, "reproduced" if ok else "deviates", meas, {"description": desc},
+                 "checked: " + crit + ("" if ok else "; fails at " + ", ".join(
+                     "%s (%.1f %%)" % (k, v) for k, v in imbs.items() if fig in ("Fig. 12", "Fig. 17") and v > BALANCED_PCT)),
+                 png)
+
+
+def table_x(allm):
+    """Table X in full, and the paper's conclusion "the FSTP with the proposed compensation performs like
+    the SSTP" (it states: THD and TRF lower than the SSTP with compensation [29]) per metric."""
+    paper, ours, tol_ok, off = {}, {}, True, []
+    for stem, label, _, x in report.PAPER:
+        m = allm.get(stem, (None, ""))[0]
+        paper[label] = "torque %.4f N*m, THD %.2f %%, TRF %.2f %%" % x
+        if not m:
+            ours[label] = "run failed"
+            tol_ok = False
+            continue
+        ours[label] = ("torque %.4f N*m (true %.4f), THD %.2f %% (2..40: %.2f %%), TRF %.1f %% (1 kHz sensor %.1f %%, "
+                       "estimate %.1f %%)" % (m["torque_est_mean_nm"], m["torque_mean_nm"], m["thd_total_pct"],
+                                              m["thd40_total_pct"], m["trf_pct"], m["trf_filtered_pct"], m["trf_est_pct"]))
+        if abs(m["torque_est_mean_nm"] / x[0] - 1.0) > 0.05:
+            tol_ok = False
+            off.append("%s %.4f against %.4f" % (label, m["torque_est_mean_nm"], x[0]))
+    p, s = allm.get("fstp_voltage_proposed_full", (None,))[0], allm.get("sstp_voltage_simple_full", (None,))[0]
+    concl = {}
+    if p and s:
+        for key, lab in (("thd_total_pct", "THD full band"), ("thd40_total_pct", "THD 2..40"), ("trf_pct", "TRF true"),
+                         ("trf_filtered_pct", "TRF 1 kHz sensor"), ("trf_est_pct", "TRF estimate")):
+            concl[lab] = "FSTP proposed %.2f vs SSTP [29] %.2f: %s" % (
+                p[key], s[key], "holds (lower)" if p[key] <= s[key] else
+                ("like (within 10 %%)" if p[key] <= 1.1 * s[key] else "does NOT hold"))
+        e_p, e_s = abs(p["torque_est_mean_nm"] / 0.3 - 1), abs(s["torque_est_mean_nm"] / 0.3 - 1)
+        concl["torque estimate error"] = "FSTP proposed %.1f %% vs SSTP [29] %.1f %%: %s" % (
+            100 * e_p, 100 * e_s, "holds" if e_p <= e_s + 0.01 else "does NOT hold")
+        ip, is_ = imb(p["fundamental_a"]), imb(s["fundamental_a"])
+        concl["current imbalance"] = "FSTP proposed %.1f %% vs SSTP [29] %.1f %%: %s" % (
+            ip, is_, "holds" if ip <= is_ + 2.0 else "does NOT hold")
+    ours["conclusion: FSTP proposed performs like the SSTP, per metric"] = concl
+    paper["conclusion"] = ("FSTP with the proposed compensation: THD 7.16 % and TRF 86.27 % lower than the SSTP "
+                           "with compensation [29] (8.99 %, 89.15 %)")
+    held = [k for k, v in concl.items() if "NOT" not in v]
+    ok = tol_ok and len(held) == len(concl) and concl
+    reason = ("checked: every predicted torque within 5 %% of the paper's (%s); the conclusion holds for %s%s. "
+              "Full-band THD counts the switching ripple the paper's figure leaves out (its definition, eq. 39, "
+              "sums to infinity but its analyser's band is not stated); TRF depends on the torque sensor's "
+              "bandwidth, not stated." % ("yes" if tol_ok else "no: " + "; ".join(off), ", ".join(held) or "no metric",
+                                          "; not for " + ", ".join(k for k in concl if k not in held)
+                                          if len(held) < len(concl) else ""))
+    return entry("Table X", "reproduced" if ok else "deviates", ours, paper, reason)
+
+
+def fig14(ctx, sets):
+    cases = []
+    for _, _, bal, nonideal in FIG14:
+        c = dict(BALANCED_EMF) if bal else scenario_values(ctx, "fstp_voltage_none_full", list(BALANCED_EMF))
+        c["inverter.drops"] = "true" if nonideal else "false"
+        cases.append(c)
+    rows, cmd = zip_sweep(ctx, "fig14", "fstp_voltage_none_full", cases, FIG14_SETS + list(sets), keep=True)
+    meas = {}
+    for (tag, what, _, _), row in zip(FIG14, rows):
+        meas["%s %s" % (tag, what)] = row_summary(row)
+    v = [row_summary(row) for row in rows]
+    ok = all(x["imbalance_pct"] is not None for x in v) and v[0]["imbalance_pct"] <= 5.0 \
+        and v[1]["imbalance_pct"] > v[0]["imbalance_pct"] and v[2]["thd40_total_pct"] > 2 * v[0]["thd40_total_pct"] \
+        and v[3]["imbalance_pct"] > v[2]["imbalance_pct"] and v[3]["thd40_total_pct"] >= v[2]["thd40_total_pct"]
+    png = currents_figure(ctx, "fig14", "Fig. 14: voltage-model DTC, FSTP, no compensation, 1500 rpm, full load "
+                          "(stiff link, no dead time)", [("%s %s" % (t, w), row["run_dir"]) for (t, w, _, _), row in zip(FIG14, rows)])
+    return entry("Fig. 14", "reproduced" if ok else "deviates", meas,
+                 {"description": "(a) sinusoidal; (b) unbalanced in magnitude; (c) distorted; (d) more severe distortion"},
+                 "checked: (a) imbalance <= 5 %; (b) more unbalanced than (a); (c) THD 2..40 more than twice (a)'s; "
+                 "(d) more unbalanced and at least as distorted as (c). Command: " + cmdline(cmd), png)
+
+
+def flux_entries(ctx, hdir):
+    out = []
+    res = {}
+    for fig, (stem, what) in FLUX_FIGS.items():
+        run = os.path.join(hdir, stem)
+        try:
+            res[fig] = flux_fundamentals(run)
+            png = flux_figure(ctx, fig.replace(". ", "").lower() + "b", "%s (b): DTC, FSTP, %s, 1500 rpm, full load"
+                              % (fig, what), run)
+        except (OSError, ValueError) as e:
+            res[fig], png = {"error": str(e)}, None
+        res[fig]["figure"] = png
+    u = {f: v.get("alpha_beta_fund_imbalance_pct") for f, v in res.items()}
+    paper = {"Fig. 5": "alpha and beta peaks forced equal by the DTC, fundamentals and harmonics clearly different",
+             "Fig. 6": "still a considerable difference between alpha and beta (fundamental and harmonics)",
+             "Fig. 7": "imbalance between alpha and beta significantly reduced",
+             "Fig. 8": "natural balance between alpha and beta"}
+    have = None not in u.values()
+    checks = {"Fig. 5": have and u["Fig. 5"] > 2 * u["Fig. 7"] and u["Fig. 5"] > 3.0,
+              "Fig. 6": have and u["Fig. 6"] > u["Fig. 7"] and u["Fig. 6"] < u["Fig. 5"],
+              "Fig. 7": have and u["Fig. 7"] < 0.5 * u["Fig. 5"],
+              "Fig. 8": have and u["Fig. 8"] < 2.0}
+    crit = {"Fig. 5": "alpha/beta fundamental imbalance above 3 % and above twice the proposed scheme's",
+            "Fig. 6": "between the proposed scheme's and the uncompensated one's",
+            "Fig. 7": "below half the uncompensated scheme's",
+            "Fig. 8": "below 2 %"}
+    itc = itc_sets(ctx)
+    for fig in FLUX_FIGS:
+        png = res[fig].pop("figure", None)
+        out.append(entry(fig + " (b)", "reproduced" if checks[fig] else "deviates", res[fig],
+                         {"description": paper[fig]}, "checked: %s (estimated flux, last 0.4 s)" % crit[fig], png))
+        # HOOK (law-seam issue): Figs. 5-8 (a) run the same scenarios under ITC once itc_sets() finds it.
+        if itc is None:
+            out.append(entry(fig + " (a)", "deviates", {}, {"description": paper[fig] + " (under ITC)"},
+                             "not run: needs the ITC law (law-seam issue); hoang_items.itc_sets() is the hook"))
+        else:
+            out.append(entry(fig + " (a)", "deviates", {"itc_sets": itc}, {"description": paper[fig] + " (under ITC)"},
+                             "ITC law found (%s) but its runs are not wired yet: hoang_items.flux_entries" % " ".join(itc)))
+    return out
+
+
+def low_speed_entries(ctx, hdir, sets):
+    out = []
+    low = {}
+    for rpm, stems in report.LOW_SPEED:
+        res, _ = report.sweep_series(ctx.dtc_sil, SCEN, hdir, "sweep_low%d" % rpm, stems,
+                                     sets + report.LOW_SETS + ["control.speed_ref_rpm=%d" % rpm], ctx.jobs,
+                                     suffix="_low%d" % rpm)
+        low[rpm] = res
+    desc = {700: "sinusoidal with both compensations, clearly better than without (a); proposed (c) lower "
+                 "magnitudes than simple (b)",
+            300: "simple (a) and proposed (b) run; the uncompensated drive cannot run below 700 rpm",
+            200: "proposed compensation: sinusoidal currents at 200 rpm"}
+    for fig, rpm in (("Fig. 18", 700), ("Fig. 19", 300), ("Fig. 20", 200)):
+        meas, panels = {}, []
+        for stem in dict(report.LOW_SPEED)[rpm]:
+            m, err = low[rpm].get(stem, (None, "not run"))
+            label = stem.replace("fstp_voltage_", "").replace("_full", "")
+            panels.append((label, os.path.join(hdir, "%s_low%d" % (stem, rpm))))
+            meas[label] = ({"fundamental_a": [r(x, 3) for x in m["fundamental_a"]], "imbalance_pct": r(imb(m["fundamental_a"]), 1),
+                            "speed_mean_rpm": r(m["speed_mean_rpm"], 1), "thd40_total_pct": r(m.get("thd40_total_pct"), 1),
+                            "fault": m["fault"]} if m and m.get("fundamental_a") else "run failed: %s" % err)
+        prop = meas.get("proposed")
+        ok = isinstance(prop, dict) and prop["fault"] == "none" and prop["imbalance_pct"] <= BALANCED_PCT \
+            and abs(prop["speed_mean_rpm"] / rpm - 1) < 0.01
+        if rpm == 700:
+            nn = meas.get("none")
+            ok = ok and isinstance(nn, dict) and nn["imbalance_pct"] > prop["imbalance_pct"]
+        png = currents_figure(ctx, "fig%s" % fig.split()[1].strip("."), "%s: voltage-model DTC, FSTP, %d rpm, 25 %% load"
+                              % (fig, rpm), panels)
+        out.append(entry(fig, "reproduced" if ok else "deviates", meas, {"description": desc[rpm]},
+                         "checked: proposed scheme without fault, mean speed within 1 %%, imbalance <= %.0f %%%s. %s"
+                         % (BALANCED_PCT, " and below the uncompensated one's" if rpm == 700 else "",
+                            "" if ok else "The load is the inertial one (25 %): the same back-EMF cause as Fig. 17 (a)."),
+                         png))
+    return out, low
