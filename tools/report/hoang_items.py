@@ -172,6 +172,19 @@ def flux_fundamentals(run_dir, f_e=25.0):
             "alpha_beta_harm_ratio": r(out["alpha"]["harmonics_rms_mwb"] / max(out["beta"]["harmonics_rms_mwb"], 1e-9), 2)}
 
 
+def sequences(run_dir, window_s=0.4):
+    """Positive- and negative-sequence amplitudes (A) of the stator current over the last window_s:
+    i_alpha + j i_beta demodulated with the plant's electrical angle, e^(-j theta) and e^(+j theta).
+    A negative sequence of fixed size at every load is what an unbalanced PM flux under a circular
+    flux estimate gives; a drop error grows with the current."""
+    tr = plot_run.load_trace(os.path.join(run_dir, "trace.csv"))
+    t = tr["t_s"]
+    sel = t >= t[-1] - window_s
+    i = tr["i_alpha_a"][sel] + 1j * tr["i_beta_a"][sel]
+    th = tr["theta_e_rad"][sel]
+    return r(abs(np.mean(i * np.exp(-1j * th))), 3), r(abs(np.mean(i * np.exp(1j * th))), 3)
+
+
 def flux_figure(ctx, name, title, run_dir):
     import matplotlib
     matplotlib.use("Agg")
@@ -441,7 +454,8 @@ LIGHT_FINDING = (
     "Measured cause (measured, 'light-load causes'): Table VII's back-EMF imbalance. The voltage model "
     "estimates the machine's true flux, whose PM part is unbalanced, and the DTC holds that estimate on a "
     "circle at constant torque, so the PM flux's negative sequence is carried by the current: a current of "
-    "nearly fixed size, so the imbalance grows as the load falls (full / half / inertial). With balanced "
+    "nearly fixed size (i_neg per load above; the current model's, Fig. 12, is a fraction of it), so the "
+    "imbalance grows as the load falls (full / half / inertial). With balanced "
     "back-EMF the proposed scheme is within 10 % at half load and, at 10 us sampling, at both loads; the "
     "remaining part at 50 us is the FSTP's own: its beta vectors are sqrt(3) times its alpha vectors, so the "
     "torque steps per 50 us period differ by sector (the SSTP under the same conditions is balanced), and it "
@@ -489,6 +503,10 @@ def load_entry(ctx, fig, base, met, hdir):
             imbs[ld] = imb(m["fundamental_a"])
             meas[ld] = {"fundamental_a": [r(x, 3) for x in m["fundamental_a"]], "imbalance_pct": r(imbs[ld], 1),
                         "thd40_total_pct": r(m.get("thd40_total_pct"), 1), "fault": m.get("fault")}
+            try:
+                meas[ld]["i_pos_a"], meas[ld]["i_neg_a"] = sequences(os.path.join(hdir, "%s_%s" % (base, ld)))
+            except (OSError, ValueError, KeyError):
+                pass
         else:
             meas[ld] = "run failed"
     full = len(imbs) == 3
