@@ -14,7 +14,7 @@ paper's statement about it, checked with a stated margin (the CHECKS below); a f
 its check is "deviates" with the measured cause where one was measured.
 
 Figs. 5-8 (a) are the ITC (indirect torque control) half of the flux figures: they need the ITC law
-(issue 31 depends on the law-seam issue for it). itc_sets() is the hook: it returns the --set
+(control.scheme = "itc"). itc_sets() is the hook: it returns the --set
 overrides that select the ITC law once dtc-sil accepts one of ITC_CANDIDATES, and None until then.
 """
 import json
@@ -243,7 +243,7 @@ def currents_figure(ctx, name, title, panels):
 
 def itc_sets(ctx):
     """HOOK for Figs. 5-8 (a): the --set overrides that select the ITC law, or None while dtc-sil has
-    none (the law-seam issue builds it). Probes `dtc-sil check` with each of ITC_CANDIDATES."""
+    none. Probes `dtc-sil check` with each of ITC_CANDIDATES."""
     for sets in ITC_CANDIDATES:
         cmd = [ctx.dtc_sil, "check", os.path.join(SCEN, "fstp_voltage_none_full.toml")]
         for s in sets:
@@ -659,10 +659,10 @@ def flux_entries(ctx, hdir):
         png = res[fig].pop("figure", None)
         out.append(entry(fig + " (b)", "reproduced" if checks[fig] else "deviates", res[fig],
                          {"description": paper[fig]}, "checked: %s (estimated flux, last 0.4 s)" % crit[fig], png))
-        # HOOK (law-seam issue): Figs. 5-8 (a) run when itc_sets() finds the ITC law in dtc-sil.
+        # HOOK: Figs. 5-8 (a) run when itc_sets() finds the ITC law in dtc-sil.
         if itc is None:
             out.append(entry(fig + " (a)", "deviates", {}, {"description": paper[fig] + " (under ITC)"},
-                             "not run: needs the ITC law (control.scheme = \"itc\", law-seam issue), which this "
+                             "not run: needs the ITC law (control.scheme = \"itc\"), which this "
                              "dtc-sil refuses; hoang_items.itc_sets() is the hook and runs it once it is there"))
         else:
             r_ = dict(itc_res[fig])

@@ -172,7 +172,7 @@ def casadei_fallback(ctx):
             if fig is None and os.path.exists(png):
                 fig = os.path.relpath(png, ctx.out_dir)
         if not tests:
-            status, reason = "deviates", "no run in this project yet (issue 31 items 1-3)"
+            status, reason = "deviates", "no run of this figure in the project yet"
         elif all(r_ == "passed" for r_ in results) and not caveat:
             status, reason = "reproduced", "the figure test%s passed: %s" % ("s" if len(tests) > 1 else "", ", ".join(tests))
             if DSVM_TEST in tests:
