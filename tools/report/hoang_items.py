@@ -458,8 +458,8 @@ LIGHT_FINDING = (
     "imbalance grows as the load falls (full / half / inertial). With balanced "
     "back-EMF the proposed scheme is within 10 % at half load and, at 10 us sampling, at both loads; the "
     "remaining part at 50 us is the FSTP's own: its beta vectors are sqrt(3) times its alpha vectors, so the "
-    "torque steps per 50 us period differ by sector (the SSTP under the same conditions is balanced), and it "
-    "shrinks with the period. The current model (Fig. 12) is balanced because its flux model uses a balanced "
+    "torque steps per 50 us period differ by sector; on an ideal plant with the current model the FSTP is "
+    "unbalanced at 50 us, much less at 10 us, and the SSTP is balanced ('ideal plant' rows). The current model (Fig. 12) is balanced because its flux model uses a balanced "
     "psi_m. The paper attributes its own full-load imbalance to Table VII's back-EMF (sec. IV, 4.6 %); a "
     "negative-sequence current of fixed size that gives that at 2.2 A gives about four times as much at the "
     "inertial load's 0.55 A, so a balanced Fig. 17 (a) is not what Table VII's machine gives under the voltage "
@@ -487,6 +487,18 @@ def light_load_study(ctx, seeds, sets):
                             [dict(BALANCED_EMF, **{"sensors.seed": s}) for s in seeds], sets)
         vals = [imb(fund3(row)) for row in rows if fund3(row)]
         res["%s, current model, balanced back-EMF" % ld] = r(np.mean(vals), 1) if vals else None
+    # The FSTP's own part: the current model on an ideal plant (balanced back-EMF, ideal devices, no
+    # dead time, stiff link, no noise) at inertial load, FSTP at 50 and 10 us against the SSTP at 50 us.
+    ideal = ["inverter.drops=false", "inverter.dead_time_s=0", "inverter.finite_dc_link=false",
+             "sensors.current_noise_a_rms=0", "sensors.voltage_noise_v_rms=0"] + \
+        ["%s=%s" % kv for kv in BALANCED_EMF.items()]
+    cases = [{"inverter.topology": "fstp", "ts_s": "5e-05"}, {"inverter.topology": "fstp", "ts_s": "1e-05"},
+             {"inverter.topology": "sstp", "ts_s": "5e-05"}]
+    rows, _ = zip_sweep(ctx, "light_sectors", "fstp_current_inertial", cases, sets + ideal)
+    for c, row in zip(cases, rows):
+        f = fund3(row)
+        res["inertial, current model, ideal plant, %s at %g us" % (c["inverter.topology"].upper(),
+                                                                    1e6 * float(c["ts_s"]))] = r(imb(f), 1) if f else None
     return res
 
 
