@@ -12,9 +12,10 @@ shows a result (CASADEI_ITEMS below, hoang_items.ITEMS), each
      "measured": {...}, "paper_values": {...}, "reason": "...", "figure": "relative/path.png" (optional)}
 
 The items come from tools/report/hoang_items.py and tools/report/casadei_items.py, each exposing
-items(ctx) -> list[dict] with ctx = Ctx below. Until casadei_items.py exists, the Casadei entries
-are made here from CASADEI_ITEMS with the status of the existing tools/plot/casadei_report.py
-(sil_im_casadei's figure tests) and tools/plot/casadei_table5.py where they cover an item. Hoang's
+items(ctx) -> list[dict] with ctx = Ctx below. The Casadei items that casadei_items.py does not
+give (all of them while it does not exist) are made here from CASADEI_ITEMS with the status of the
+existing tools/plot/casadei_report.py (sil_im_casadei's figure tests), sil_dsvm's figure test and
+tools/plot/casadei_table5.py where they cover an item. Hoang's
 Table IX/X runs are tools/plot/report.py's (its sweep_series; report.md is written beside them).
 
 A progress line per step on stderr. Exit status 1 if status.json misses an item of either list, an
@@ -293,12 +294,13 @@ def main(argv=None):
     except ImportError:
         casadei_items = None
     try:
-        if casadei_items is not None:
-            entries += casadei_items.items(ctx)
-        else:
-            ce, rc = casadei_fallback(ctx)
-            entries += ce
+        ce = casadei_items.items(ctx) if casadei_items is not None else []
+        have = {x for e in ce for x in expand_item(e.get("item", ""))}
+        if any(item not in have for item, *_ in CASADEI_ITEMS):
+            fb, _ = casadei_fallback(ctx)
+            ce += [e for e in fb if e["item"] not in have]
             links += ["casadei/casadei.md", "casadei_table5/table5.md"]
+        entries += ce
     except (RuntimeError, OSError, KeyError, ValueError) as e:
         failed.append("casadei: %s" % e)
     problems = check(entries) + failed
