@@ -114,7 +114,7 @@ struct Rig {
         wave_every = every;
         wave_k = 0;
         std::fprintf(wave, "t_s,speed_rpm,speed_est_rpm,te_nm,te_ref_nm,psi_alpha_wb,psi_beta_wb,psi_r_alpha_wb,"
-                           "psi_r_beta_wb,psi_est_wb,psi_ref_wb,i_a_a,i_mag_a\n");
+                           "psi_r_beta_wb,psi_est_wb,psi_ref_wb,i_a_a,i_mag_a,vdc_v\n");
         write_wave_row();
     }
     void stop_record()
@@ -128,11 +128,11 @@ struct Rig {
     {
         const app_status_t s = status();
         const double pb = b.psi_base_wb / kIqOne;
-        std::fprintf(wave, "%.6f,%.3f,%.3f,%.4f,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%.4f\n", h->time_s(),
+        std::fprintf(wave, "%.6f,%.3f,%.3f,%.4f,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%.4f,%.3f\n", h->time_s(),
                      st().speed_rpm, speed_est_rpm(), st().te_nm, s.out.te_ref_iq / kIqOne * b.t_base_nm, st().psi_alpha_wb,
                      st().psi_beta_wb, st().psi_r_alpha_wb, st().psi_r_beta_wb,
                      std::hypot(static_cast<double>(s.out.psi_alpha_iq), static_cast<double>(s.out.psi_beta_iq)) * pb,
-                     s.out.psi_ref_iq * pb, st().i_alpha_a, imag());
+                     s.out.psi_ref_iq * pb, st().i_alpha_a, imag(), st().vdc_v);
     }
     std::FILE* wave = nullptr;
     long wave_every = 1, wave_k = 0;
@@ -694,8 +694,9 @@ TEST(ImCasadei, Sec9DscHexagonWithFewerCommutationsThanDtc)
 // ---- Figs. 22-24: parameter errors at omega = 1 rad/s, rated torque, tau = 0.01 s ------------------
 // Casadei sec. 10.8: with the improved estimator the rotor-flux error due to a 10 % low or high
 // stator resistance in the firmware, or a 0.01 A current-sensor offset, settles to a bounded
-// value; with the basic (voltage-model) estimator it grows. Rotor held at 1 rad/s (9.55 rpm) by
-// the dynamometer, rated torque. Error: the plant's |phi_r| against phi_r* over 1.5 s.
+// value; with the basic (voltage-model) estimator it grows. Rotor held at the paper's omega = 1
+// rad/s, electrical (Casadei's omega is electrical: 4.77 rpm on the 4-pole IM), by the
+// dynamometer, rated torque. Error: the plant's |phi_r| against phi_r* over 1.5 s.
 // The voltage-model runs have their sensors and trips at 1 kA so that their error can grow (on
 // the rig's trips the R_s-high case stops on over-current); the improved ones run on the rig's.
 struct Sens {
@@ -716,7 +717,7 @@ static Sens sensitivity(const std::string& name, const std::string& estimator, c
     if (!r.ok) {
         return o;
     }
-    to_operating_point(r, 30.0 / kPi, r.sc.motor.rated_torque_nm);
+    to_operating_point(r, 30.0 / kPi / static_cast<double>(r.sc.motor.pole_pairs), r.sc.motor.rated_torque_nm);
     r.record("fig22_" + name + "_" + estimator, 10);
     const double ref = r.sc.control.rotor_flux_ref_wb;
     double sum = 0.0;
@@ -761,7 +762,7 @@ TEST(ImCasadei, Figs22To24ImprovedEstimatorErrorBoundedBasicGrows)
     const Machine mc(sc0);
     const double phr = sc0.control.rotor_flux_ref_wb, tq = sc0.motor.rated_torque_nm;
     const double isq = tq * mc.lr / (1.5 * mc.p * mc.m * phr);
-    const double ws = mc.p * 1.0 + mc.m / mc.tau_r * isq / phr;
+    const double ws = 1.0 + mc.m / mc.tau_r * isq / phr; // omega = 1 rad/s electrical plus the slip
     const double theory_per_dr = mc.lr / mc.m * isq / ws / phr; // relative rotor-flux error per ohm of dR_s
     double mean_none = 0.0;
     for (const auto& c : cases) {
@@ -803,11 +804,19 @@ TEST(ImCasadei, Figs22To24ImprovedEstimatorErrorBoundedBasicGrows)
 
 // ---- Fig. 25: sensorless, 50 -> 220 rpm and back to 0 with regenerative braking --------------------
 // Speed mode without an encoder (speed from the stator-flux angular speed minus the slip of
-// eq. 16), the rotor's inertia only. Bound on |estimated - true speed| in steady state (last
-// 0.2 s of each step) and through the transients.
+// eq. 16), the rotor's inertia only, under the paper's conditions: the firmware's stator
+// resistance 10 % below the machine's (Delta R_s = -10 %, eq. 25), tau = 0.01 s. Bound on
+// |estimated - true speed| in steady state (last 0.2 s of each step) and through the transients.
+// The braking from 220 rpm to 0 is regenerative at the shaft: the machine takes the rotor's
+// kinetic energy as a generator (the integral of T omega over the braking is negative). On the DC
+// link it is measured and printed, not asserted: braking at the torque limit on the rotor's own
+// inertia takes a few ms, and the copper and device losses at that current exceed the 3.5 J of
+// kinetic energy, so the source keeps delivering and the link voltage does not rise (the paper's
+// rig, with its unprinted inertia, braked over a longer time).
 TEST(ImCasadei, Fig25SensorlessSpeedEstimateFollowsTheSpeed)
 {
-    Rig r({"control.speed_sensor=none", "control.speed_ref_rpm=50", "load.type=inertia", "duration_s=10"});
+    Rig r({"control.speed_sensor=none", "control.speed_ref_rpm=50", "load.type=inertia", "duration_s=10",
+           "firmware.rs_ohm=" + std::to_string(0.9 * PLANT_DEF_IM_RS_OHM)});
     ASSERT_TRUE(r.ok);
     r.magnetise(0.1);
     r.record("fig25", 5);
@@ -816,12 +825,28 @@ TEST(ImCasadei, Fig25SensorlessSpeedEstimateFollowsTheSpeed)
     } steps[] = {{50.0, 0.6}, {220.0, 0.8}, {0.0, 0.8}};
     double worst_all = 0.0, worst_at = 0.0, worst_speed = 0.0;
     std::string line;
+    double e_in_brake_start = 0.0, e_in_brake_min = 0.0, vdc_brake_max = 0.0, e_kin_220 = 0.0, e_shaft = 0.0;
+    double e_loss_start = 0.0, e_loss_brake = 0.0;
     for (const auto& s : steps) {
         r.refs(DTC_MODE_SPEED, 0.0, s.rpm);
         double worst_ss = 0.0, mean_true = 0.0;
         long k = 0, n_ss = 0;
         const long n = r.periods(s.t_s), n_from = n - r.periods(0.2);
+        const bool braking = s.rpm == 0.0;
+        if (braking) {
+            e_in_brake_start = e_in_brake_min = r.st().e_dc_in_j;
+            e_kin_220 = r.st().e_kinetic_j;
+            e_loss_start = r.st().e_copper_j + r.st().e_device_j;
+        }
         r.run(s.t_s, [&] {
+            if (braking) {
+                e_in_brake_min = std::fmin(e_in_brake_min, r.st().e_dc_in_j);
+                vdc_brake_max = std::fmax(vdc_brake_max, r.st().vdc_v);
+                e_shaft += r.st().te_nm * r.st().omega_m_rad_s * r.ts();
+                if (r.st().speed_rpm > 1.0) {
+                    e_loss_brake = r.st().e_copper_j + r.st().e_device_j - e_loss_start;
+                }
+            }
             if (++k % 10 != 0) return; // the speed loop's rate
             const double e = std::fabs(r.speed_est_rpm() - r.st().speed_rpm);
             if (e > worst_all) {
@@ -853,6 +878,13 @@ TEST(ImCasadei, Fig25SensorlessSpeedEstimateFollowsTheSpeed)
     // lag, (T_limit / J) tau_filter, plus the steady-state bound.
     const double lag_rpm = r.sc.control.torque_limit_nm / r.sc.motor.j_kgm2 * r.si.speed_filter_s * 30.0 / kPi;
     EXPECT_LT(worst_all, lag_rpm + 15.0);
+    // Regenerative braking at the shaft: the machine absorbs the rotor's kinetic energy (within 10 %).
+    const double returned = e_in_brake_start - e_in_brake_min;
+    std::printf("MEASURE Fig25 braking 220 -> 0 rpm (Delta R_s = -10 %%): shaft energy into the machine %.2f J (the "
+                "rotor's kinetic energy %.2f J), copper and device losses until standstill %.2f J, energy returned "
+                "to the DC source %.2f J, DC link up to %.2f V (source %.1f V)\n",
+                -e_shaft, e_kin_220, e_loss_brake, returned, vdc_brake_max, r.sc.inverter.vdc_v);
+    EXPECT_NEAR(-e_shaft, e_kin_220, 0.1 * e_kin_220);
 }
 
 // ---- Fig. 32: flux weakening from standstill to 400 % of the base speed ----------------------------
