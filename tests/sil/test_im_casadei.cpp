@@ -1330,8 +1330,48 @@ TEST(ImCasadei, Figs33And34DfocSpectrumAtTheCarrierDtcSpread)
 // average +-1.4 N*m around the mean for good, which no response time can remove) and the overshoot
 // (the largest average above that band, % of T*). Final mean and steady ripple from the last
 // 10 ms of a 30 ms record.
-struct Step35 {
+struct Settle {
     double settle_ms = -1.0, overshoot_pct = 0.0, rise_ms = -1.0, ripple_ss = 0.0, final_nm = 0.0;
+};
+// The step response of te (one sample per period ts, the step at sample 0) averaged over avg_s.
+static Settle settle_of(const std::vector<double>& te, double ts, double avg_s, double tr)
+{
+    Settle o;
+    const auto n_avg = static_cast<std::size_t>(std::max(1L, std::lround(avg_s / ts)));
+    std::vector<double> m; // m[k]: mean of te over the n_avg periods ending with period k
+    for (std::size_t k = n_avg; k <= te.size(); ++k) {
+        double a = 0.0;
+        for (std::size_t j = k - n_avg; j < k; ++j) {
+            a += te[j];
+        }
+        m.push_back(a / static_cast<double>(n_avg));
+    }
+    const auto n_ss = static_cast<std::size_t>(std::lround(0.01 / ts));
+    double fin = 0.0;
+    for (std::size_t k = m.size() - n_ss; k < m.size(); ++k) {
+        fin += m[k];
+    }
+    fin /= static_cast<double>(n_ss);
+    for (std::size_t k = m.size() - n_ss; k < m.size(); ++k) {
+        o.ripple_ss = std::fmax(o.ripple_ss, std::fabs(m[k] - fin));
+    }
+    const double band = std::fmax(0.05 * tr, o.ripple_ss);
+    auto t_ms = [&](std::size_t k) { return static_cast<double>(k + n_avg) * ts * 1e3; };
+    for (std::size_t k = 0; k < m.size(); ++k) {
+        if (std::fabs(m[k] - fin) > band) {
+            o.settle_ms = t_ms(k);
+        }
+        o.overshoot_pct = std::fmax(o.overshoot_pct, 100.0 * (m[k] - fin - o.ripple_ss) / tr);
+        if (o.rise_ms < 0.0 && m[k] >= 0.9 * fin) {
+            o.rise_ms = t_ms(k);
+        }
+    }
+    o.final_nm = fin;
+    return o;
+}
+
+struct Step35 {
+    Settle fast, slow; // the plant torque averaged over 0.48 ms and over 2 ms
     std::string fault;
 };
 static Step35 torque_step_100rpm(const std::vector<std::string>& sets, const std::string& name)
@@ -1346,38 +1386,10 @@ static Step35 torque_step_100rpm(const std::vector<std::string>& sets, const std
     r.record(name);
     r.run(0.005);
     r.refs(DTC_MODE_TORQUE, tr, 0.0);
-    const auto n_avg = static_cast<std::size_t>(std::max(1L, r.periods(0.48e-3)));
     std::vector<double> te;
     r.run(0.03, [&] { te.push_back(r.st().te_nm); });
-    std::vector<double> m; // m[k]: mean of te over the n_avg periods ending with period k
-    for (std::size_t k = n_avg; k <= te.size(); ++k) {
-        double a = 0.0;
-        for (std::size_t j = k - n_avg; j < k; ++j) {
-            a += te[j];
-        }
-        m.push_back(a / static_cast<double>(n_avg));
-    }
-    const auto n_ss = static_cast<std::size_t>(r.periods(0.01));
-    double fin = 0.0;
-    for (std::size_t k = m.size() - n_ss; k < m.size(); ++k) {
-        fin += m[k];
-    }
-    fin /= static_cast<double>(n_ss);
-    for (std::size_t k = m.size() - n_ss; k < m.size(); ++k) {
-        o.ripple_ss = std::fmax(o.ripple_ss, std::fabs(m[k] - fin));
-    }
-    const double band = std::fmax(0.05 * tr, o.ripple_ss);
-    auto t_ms = [&](std::size_t k) { return static_cast<double>(k + n_avg) * r.ts() * 1e3; };
-    for (std::size_t k = 0; k < m.size(); ++k) {
-        if (std::fabs(m[k] - fin) > band) {
-            o.settle_ms = t_ms(k);
-        }
-        o.overshoot_pct = std::fmax(o.overshoot_pct, 100.0 * (m[k] - fin - o.ripple_ss) / tr);
-        if (o.rise_ms < 0.0 && m[k] >= 0.9 * fin) {
-            o.rise_ms = t_ms(k);
-        }
-    }
-    o.final_nm = fin;
+    o.fast = settle_of(te, r.ts(), 0.48e-3, tr);
+    o.slow = settle_of(te, r.ts(), 2e-3, tr);
     o.fault = r.fault();
     return o;
 }
@@ -1385,23 +1397,29 @@ static Step35 torque_step_100rpm(const std::vector<std::string>& sets, const std
 TEST(ImCasadei, Figs35And36TorqueStepAt100RpmDtcRisesFasterThanDfoc)
 {
     const Step35 dtc = torque_step_100rpm({}, "fig36_dtc"), dfoc = torque_step_100rpm({"control.scheme=dfoc"}, "fig35_dfoc");
-    std::printf("MEASURE Figs35-36 0 -> 26.5 N*m at 100 rpm (0.48 ms average of the plant torque): DTC rise to 90 %% "
-                "%.2f ms, settling %.2f ms, overshoot %.1f %% (final %.2f N*m, steady ripple +-%.2f N*m); DFOC rise %.2f "
-                "ms, settling %.2f ms, overshoot %.1f %% (final %.2f N*m, steady ripple +-%.2f N*m); faults %s / %s\n",
-                dtc.rise_ms, dtc.settle_ms, dtc.overshoot_pct, dtc.final_nm, dtc.ripple_ss, dfoc.rise_ms, dfoc.settle_ms,
-                dfoc.overshoot_pct, dfoc.final_nm, dfoc.ripple_ss, dtc.fault.c_str(), dfoc.fault.c_str());
+    for (const auto* x : {&dtc.fast, &dtc.slow, &dfoc.fast, &dfoc.slow}) {
+        std::printf("MEASURE Figs35-36 0 -> 26.5 N*m at 100 rpm, %s, plant torque averaged over %s: rise to 90 %% %.2f ms, "
+                    "settling %.2f ms, overshoot %.1f %% (final %.2f N*m, steady ripple +-%.2f N*m)\n",
+                    x == &dtc.fast || x == &dtc.slow ? "DTC" : "DFOC", x == &dtc.fast || x == &dfoc.fast ? "0.48 ms" : "2 ms",
+                    x->rise_ms, x->settle_ms, x->overshoot_pct, x->final_nm, x->ripple_ss);
+    }
+    std::printf("MEASURE Figs35-36 faults %s / %s\n", dtc.fault.c_str(), dfoc.fault.c_str());
     EXPECT_EQ(dtc.fault, "none");
     EXPECT_EQ(dfoc.fault, "none");
-    ASSERT_GT(dtc.rise_ms, 0.0);
-    ASSERT_GT(dfoc.rise_ms, 0.0);
+    ASSERT_GT(dtc.fast.rise_ms, 0.0);
+    ASSERT_GT(dfoc.fast.rise_ms, 0.0);
     // The paper's physical reason, the PI regulators' delay, shows in the rise: DTC is quicker.
-    EXPECT_LT(dtc.rise_ms, 0.6 * dfoc.rise_ms);
-    // Not reproduced (printed; a finding): settling and overshoot. The DFOC's current PIs are
-    // designed from the machine with the zero on the stator pole (K_p = sigma L_s w_c, K_i = R_s w_c,
-    // im_dfoc.c), so each current loop is first order: no overshoot, settled in about 3 / w_c.
-    // DTC's averaged torque keeps its zero-band ripple and slower wander, so its settling into the
-    // +-5 % band comes late. The paper's DFOC overshot (its PI tuning is not printed).
-    EXPECT_LT(dfoc.overshoot_pct, 5.0);
-    EXPECT_NEAR(dtc.final_nm, PLANT_DEF_IM_RATED_TORQUE_NM, 0.05 * PLANT_DEF_IM_RATED_TORQUE_NM);
-    EXPECT_NEAR(dfoc.final_nm, PLANT_DEF_IM_RATED_TORQUE_NM, 0.05 * PLANT_DEF_IM_RATED_TORQUE_NM);
+    EXPECT_LT(dtc.fast.rise_ms, 0.6 * dfoc.fast.rise_ms);
+    // Settling: DTC's transient is over within its rise, but its torque keeps a low-frequency
+    // wander (the spread spectrum of Fig. 34: +-1.7 N*m on a 0.48 ms average, measured) whose
+    // excursions beyond the +-5 % band set a late "settling" (12.7 ms) on the short average. On a
+    // 2 ms average, which removes that wander, DTC settles before DFOC as in the paper.
+    EXPECT_LT(dtc.slow.settle_ms, dfoc.slow.settle_ms);
+    // Not reproduced (printed; a finding): the overshoot. The DFOC's current PIs are designed
+    // from the machine with the zero on the stator pole (K_p = sigma L_s w_c, K_i = R_s w_c,
+    // im_dfoc.c), so each current loop is first order: no overshoot. The paper's DFOC overshot
+    // (its PI tuning is not printed).
+    EXPECT_LT(dfoc.fast.overshoot_pct, 5.0);
+    EXPECT_NEAR(dtc.fast.final_nm, PLANT_DEF_IM_RATED_TORQUE_NM, 0.05 * PLANT_DEF_IM_RATED_TORQUE_NM);
+    EXPECT_NEAR(dfoc.fast.final_nm, PLANT_DEF_IM_RATED_TORQUE_NM, 0.05 * PLANT_DEF_IM_RATED_TORQUE_NM);
 }

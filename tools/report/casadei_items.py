@@ -365,19 +365,39 @@ def fig25(ctx):
 
 def figs35_36(ctx):
     ok, meas, _ = _gtest(ctx, "Figs35And36TorqueStepAt100RpmDtcRisesFasterThanDfoc")
-    m = " | ".join(meas)
+    sc = _toml(SCN)
+    rated = sc["motor"].get("rated_torque_nm", 26.5)
+    # sec. 13.1: the same mean switching frequency; at 100 rpm, rated torque
+    fsw = {}
+    for scheme in ("dtc", "dfoc"):
+        m, _ = _run(ctx, SCN, _held_sets(100.0, rated, {"control.scheme": scheme}, window=0.3), "fsw35_" + scheme)
+        fsw[scheme] = m.get("switching_freq_hz") or 0.0
+    m = " | ".join(meas) + " | mean switching frequency at 100 rpm, rated torque: DTC (zero bands) %.0f Hz, DFOC %.0f Hz" % (
+        fsw["dtc"], fsw["dfoc"])
     says = "torque step at 100 rpm: DTC better in settling time and maximum overshoot; the PI regulators of DFOC delay it"
-    dtc_settle = dfoc_settle = None
+    val = {}
     for ln in meas:
-        a = re.search(r"DTC rise to 90 % ([\d.]+) ms, settling ([\d.-]+) ms, overshoot ([\d.-]+) %.*DFOC rise ([\d.]+) "
-                      r"ms, settling ([\d.-]+) ms, overshoot ([\d.-]+) %", ln)
+        a = re.search(r"(DTC|DFOC), plant torque averaged over ([\d.]+) ms: rise to 90 % ([\d.]+) ms, settling ([\d.-]+) "
+                      r"ms, overshoot ([\d.-]+) %", ln)
         if a:
-            dtc_settle, dfoc_settle = float(a.group(2)), float(a.group(5))
-    reproduced = ok and dtc_settle is not None and dtc_settle < dfoc_settle
+            val[(a.group(1), a.group(2))] = (float(a.group(3)), float(a.group(4)), float(a.group(5)))
+    try:
+        rise_ok = val[("DTC", "0.48")][0] < val[("DFOC", "0.48")][0]
+        settle_ok = val[("DTC", "2")][1] < val[("DFOC", "2")][1]
+        over_ok = val[("DTC", "0.48")][2] <= val[("DFOC", "0.48")][2]
+    except KeyError:
+        rise_ok = settle_ok = over_ok = False
+    reproduced = ok and rise_ok and settle_ok and over_ok
     reason = "" if reproduced else (
-        "DTC rises faster (the paper's reason, DFOC's PI delay, shows in the rise), but settles later: the DFOC's "
-        "current PIs are designed with the zero on the stator pole, first-order loops without overshoot, and the "
-        "DTC's 0.48 ms-averaged torque keeps its zero-band ripple; the paper's DFOC tuning is not printed")
+        "DTC rises faster (the paper's reason, the DFOC's PI delay, shows in the rise: %s) and, on the torque averaged "
+        "over 2 ms, settles first (%s); on a 0.48 ms average its settling is late because its torque keeps a "
+        "low-frequency wander (the spread spectrum of Fig. 34) whose excursions leave the 5 %% band, not a slow "
+        "transient (the trimmed reference is steady from the step on). Overshoot not reproduced: the DFOC's current "
+        "PIs have their zero on the stator pole (K_p = sigma L_s w_c, K_i = R_s w_c, w_c = 0.2/Ts, im_dfoc.c), "
+        "first-order loops that cannot overshoot; the paper prints no DFOC tuning, and no scenario key sets it. "
+        "Equal switching frequency (sec. 13.1) is approached, not met: at 100 rpm the DTC switches at %.0f Hz with "
+        "zero bands against the DFOC's %.0f Hz (2/3 of its 6.25 kHz carrier); the 40 us period bounds the DTC, "
+        "wider bands only lower it" % ("yes" if rise_ok else "no", "yes" if settle_ok else "no", fsw["dtc"], fsw["dfoc"]))
     res = []
     for item in ("Fig. 35", "Fig. 36"):
         res.append(_entry(item, "reproduced" if reproduced else "deviates", m, says, reason, None,
