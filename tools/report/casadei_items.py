@@ -414,15 +414,33 @@ def table5(ctx):
             cells = json.load(f)
     except OSError:
         cells = []
-    meas = "; ".join("%s %g rpm %g N*m: %s A at %s Hz" % (c["scheme"], c["speed_rpm"], c["torque_nm"],
-                                                          "%.2f" % c["current_ripple_rms_a"] if c["current_ripple_rms_a"] else "n/a",
-                                                          "%.0f" % c["switching_freq_hz"] if c["switching_freq_hz"] else "n/a")
-                     for c in cells)
-    return [_entry("Table 5", "reproduced" if p.returncode == 0 else "deviates", meas,
+
+    def fmt(c):
+        r, f = c.get("current_ripple_rms_a"), c.get("switching_freq_hz")
+        return "%s %g rpm %g N*m: %s at %s" % (c["scheme"], c["speed_rpm"], c["torque_nm"],
+                                               "%.2f A" % r if r is not None else "n/a",
+                                               "%.0f Hz" % f if f is not None else "n/a")
+
+    ratio = {}
+    for c in cells:
+        r = c.get("current_ripple_rms_a")
+        if r is None or c["scheme"] not in ("dtc", "dfoc"):
+            continue
+        i = [1440.0, 720.0, 144.0].index(c["speed_rpm"])
+        ref = {"dtc": {26.5: (1.10, 1.57, 1.46), 13.25: (1.09, 1.56, 1.27), 0.0: (1.18, 1.46, 1.21)},
+               "dfoc": {26.5: (0.64, 0.63, 0.58), 13.25: (0.64, 0.94, 0.47), 0.0: (0.65, 0.93, 0.34)}}
+        ratio.setdefault(c["scheme"], []).append(r / ref[c["scheme"]][c["torque_nm"]][i])
+    span = "; ".join("%s/paper %.2f..%.2f" % (k.upper(), min(v), max(v)) for k, v in sorted(ratio.items()))
+    return [_entry("Table 5", "deviates", "; ".join(fmt(c) for c in cells) + "; " + span,
                    "three-phase rms current ripple, DFOC 0.34..0.94 A, DTC 1.09..1.57 A, DFOC lower in every cell, "
                    "equal mean switching frequency (4.1 kHz)",
-                   "" if p.returncode == 0 else "tools/plot/casadei_table5.py: " + p.stdout.strip()[-600:], None,
-                   "Casadei Table 5")]
+                   ("the paper's finding holds: DFOC below DTC in every cell, also with both at the same switching "
+                    "frequency (the DFOC's carrier lowered to the DTC's where the DTC, bounded by its 40 us period, "
+                    "cannot reach the DFOC's 4.17 kHz: every cell, 1.1 kHz at 1440 rpm to 4.1 kHz at 144 rpm, as "
+                    "the paper notes for high speed). The magnitudes differ (%s): the machine is a substitute for "
+                    "the paper's unprinted one (docs/plant.md), whose leakage inductance sets both ripples"
+                    % span) if p.returncode == 0 else "tools/plot/casadei_table5.py: " + p.stdout.strip()[-600:],
+                   None, "Casadei Table 5")]
 
 
 def items(ctx):
