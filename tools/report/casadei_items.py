@@ -11,6 +11,7 @@ progress(msg). Each entry: paper, item, status ("reproduced" | "deviates" | "not
 measured, paper_says, reason, figure (relative to out_dir), paper_figure_note.
 
 Standalone: /usr/bin/python3 tools/report/casadei_items.py --out DIR [--short] [--exe build/host/bin/dtc-sil]
+writes DIR/casadei_items.json; exit status 1 when an item's run failed or its figure is missing.
 """
 import argparse
 import csv
@@ -482,9 +483,16 @@ def main():
         res = items(ctx)
     with open(os.path.join(a.out, "casadei_items.json"), "w") as f:
         json.dump(res, f, indent=1)
+    bad = 0
     for e in res:
         print("%-8s %-10s %s" % (e["item"], e["status"], e["measured"][:300]))
-    return 0
+        if e["status"] not in ("reproduced", "deviates", "not applicable") or e["reason"].startswith("the run failed"):
+            print("  FAILED: %s" % e["reason"])
+            bad = 1
+        if e.get("figure") and not os.path.isfile(os.path.join(a.out, e["figure"])):
+            print("  FAILED: figure %s missing" % e["figure"])
+            bad = 1
+    return bad
 
 
 if __name__ == "__main__":
