@@ -114,7 +114,7 @@ struct Rig {
         wave_every = every;
         wave_k = 0;
         std::fprintf(wave, "t_s,speed_rpm,speed_est_rpm,te_nm,te_ref_nm,psi_alpha_wb,psi_beta_wb,psi_r_alpha_wb,"
-                           "psi_r_beta_wb,psi_est_wb,psi_ref_wb,i_a_a,i_mag_a\n");
+                           "psi_r_beta_wb,psi_est_wb,psi_ref_wb,i_a_a,i_mag_a,vdc_v\n");
         write_wave_row();
     }
     void stop_record()
@@ -128,11 +128,11 @@ struct Rig {
     {
         const app_status_t s = status();
         const double pb = b.psi_base_wb / kIqOne;
-        std::fprintf(wave, "%.6f,%.3f,%.3f,%.4f,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%.4f\n", h->time_s(),
+        std::fprintf(wave, "%.6f,%.3f,%.3f,%.4f,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%.4f,%.3f\n", h->time_s(),
                      st().speed_rpm, speed_est_rpm(), st().te_nm, s.out.te_ref_iq / kIqOne * b.t_base_nm, st().psi_alpha_wb,
                      st().psi_beta_wb, st().psi_r_alpha_wb, st().psi_r_beta_wb,
                      std::hypot(static_cast<double>(s.out.psi_alpha_iq), static_cast<double>(s.out.psi_beta_iq)) * pb,
-                     s.out.psi_ref_iq * pb, st().i_alpha_a, imag());
+                     s.out.psi_ref_iq * pb, st().i_alpha_a, imag(), st().vdc_v);
     }
     std::FILE* wave = nullptr;
     long wave_every = 1, wave_k = 0;
@@ -694,16 +694,21 @@ TEST(ImCasadei, Sec9DscHexagonWithFewerCommutationsThanDtc)
 // ---- Figs. 22-24: parameter errors at omega = 1 rad/s, rated torque, tau = 0.01 s ------------------
 // Casadei sec. 10.8: with the improved estimator the rotor-flux error due to a 10 % low or high
 // stator resistance in the firmware, or a 0.01 A current-sensor offset, settles to a bounded
-// value; with the basic (voltage-model) estimator it grows. Rotor held at 1 rad/s (9.55 rpm) by
-// the dynamometer, rated torque. Error: the plant's |phi_r| against phi_r* over 1.5 s.
+// value; with the basic (voltage-model) estimator it grows. Rotor held at the paper's omega = 1
+// rad/s, electrical (Casadei's omega is electrical: 4.77 rpm on the 4-pole IM), by the
+// dynamometer, rated torque. Error: the plant's |phi_r| against phi_r* over 1.5 s.
 // The voltage-model runs have their sensors and trips at 1 kA so that their error can grow (on
 // the rig's trips the R_s-high case stops on over-current); the improved ones run on the rig's.
 struct Sens {
     std::vector<double> err; // |phi_r| / phi_r* - 1 at 0.25 s intervals after the torque is applied
     double mean = 0.0;       // its mean over the 1.5 s, every period
+    double osc_ws = 0.0;     // amplitude of its component at the stator frequency w_s (whole periods)
     std::string fault;
 };
-static Sens sensitivity(const std::string& name, const std::string& estimator, const std::vector<std::string>& mismatch)
+// drift_a: a phase-A current-sensor offset that appears once the drive is at its operating point
+// (after the start-up calibration, which would remove it).
+static Sens sensitivity(const std::string& name, const std::string& estimator, const std::vector<std::string>& mismatch,
+                        double drift_a = 0.0, double ws = 0.0)
 {
     std::vector<std::string> sets = {"control.estimator=" + estimator};
     if (estimator == "voltage") {
@@ -716,19 +721,34 @@ static Sens sensitivity(const std::string& name, const std::string& estimator, c
     if (!r.ok) {
         return o;
     }
-    to_operating_point(r, 30.0 / kPi, r.sc.motor.rated_torque_nm);
+    to_operating_point(r, 30.0 / kPi / static_cast<double>(r.sc.motor.pole_pairs), r.sc.motor.rated_torque_nm);
+    r.h->set_current_offset(0, drift_a);
     r.record("fig22_" + name + "_" + estimator, 10);
     const double ref = r.sc.control.rotor_flux_ref_wb;
     double sum = 0.0;
     long n = 0;
+    std::vector<double> e;
     for (int i = 0; i < 6 && r.fault() == "none"; ++i) {
         r.run(0.25, [&] {
-            sum += r.psir() / ref - 1.0;
+            e.push_back(r.psir() / ref - 1.0);
+            sum += e.back();
             ++n;
         });
         o.err.push_back(r.psir() / ref - 1.0);
     }
     o.mean = sum / static_cast<double>(std::max(n, 1L));
+    if (ws > 0.0) {
+        // one DFT line at w_s over the whole periods of w_s that fit
+        const auto per = static_cast<std::size_t>(2.0 * kPi / ws / r.ts());
+        const std::size_t len = per > 0 ? e.size() / per * per : 0;
+        double c = 0.0, sn = 0.0;
+        for (std::size_t k = 0; k < len; ++k) {
+            const double ph = ws * static_cast<double>(k) * r.ts();
+            c += e[k] * std::cos(ph);
+            sn += e[k] * std::sin(ph);
+        }
+        o.osc_ws = len > 0 ? 2.0 * std::hypot(c, sn) / static_cast<double>(len) : 0.0;
+    }
     o.fault = r.fault();
     return o;
 }
@@ -761,7 +781,7 @@ TEST(ImCasadei, Figs22To24ImprovedEstimatorErrorBoundedBasicGrows)
     const Machine mc(sc0);
     const double phr = sc0.control.rotor_flux_ref_wb, tq = sc0.motor.rated_torque_nm;
     const double isq = tq * mc.lr / (1.5 * mc.p * mc.m * phr);
-    const double ws = mc.p * 1.0 + mc.m / mc.tau_r * isq / phr;
+    const double ws = 1.0 + mc.m / mc.tau_r * isq / phr; // omega = 1 rad/s electrical plus the slip
     const double theory_per_dr = mc.lr / mc.m * isq / ws / phr; // relative rotor-flux error per ohm of dR_s
     double mean_none = 0.0;
     for (const auto& c : cases) {
@@ -799,15 +819,40 @@ TEST(ImCasadei, Figs22To24ImprovedEstimatorErrorBoundedBasicGrows)
         // Basic: the error wanders far beyond (the low-pass cannot hold the flux at 1 rad/s).
         EXPECT_GT(worst(vol), 2.0 * worst(imp)) << c.name;
     }
+    // Fig. 24 with an offset the ADC resolves and the calibration cannot remove: 0.25 A (five
+    // counts, 1.3 % of the rated current) on phase A, appearing once the drive is at its point (a
+    // drift). A DC offset in the stationary frame is a disturbance at the stator frequency w_s in
+    // the rotor-flux frame (eq. 28's cos/sin of the flux angle): the improved estimator's
+    // rotor-flux error oscillates at w_s around its no-offset value, bounded (sec. 10.8). The
+    // amplitude eq. 26 predicts is not compared (eq. 28's [B] is not reproduced in the tools).
+    const double drift = 0.25;
+    const Sens base = sensitivity("none_ws", "improved", {}, 0.0, ws);
+    const Sens drf = sensitivity("drift", "improved", {}, drift, ws);
+    std::printf("MEASURE Fig24 %.2f A offset after the calibration, improved estimator: rotor-flux error at w_s = %.1f "
+                "rad/s %.2f %% (without the offset %.2f %%), mean %.2f %% (%.2f %%), fault %s\n",
+                drift, ws, 100.0 * drf.osc_ws, 100.0 * base.osc_ws, 100.0 * drf.mean, 100.0 * base.mean, drf.fault.c_str());
+    EXPECT_EQ(drf.fault, "none");
+    EXPECT_GT(drf.osc_ws, 3.0 * base.osc_ws); // the oscillation at w_s is the offset's
+    for (double e : drf.err) {
+        EXPECT_LT(std::fabs(e), 0.15); // bounded
+    }
 }
 
 // ---- Fig. 25: sensorless, 50 -> 220 rpm and back to 0 with regenerative braking --------------------
 // Speed mode without an encoder (speed from the stator-flux angular speed minus the slip of
-// eq. 16), the rotor's inertia only. Bound on |estimated - true speed| in steady state (last
-// 0.2 s of each step) and through the transients.
+// eq. 16), the rotor's inertia only, under the paper's conditions: the firmware's stator
+// resistance 10 % below the machine's (Delta R_s = -10 %, eq. 25), tau = 0.01 s. Bound on
+// |estimated - true speed| in steady state (last 0.2 s of each step) and through the transients.
+// The braking from 220 rpm to 0 is regenerative at the shaft: the machine takes the rotor's
+// kinetic energy as a generator (the integral of T omega over the braking is negative). On the DC
+// link it is measured and printed, not asserted: braking at the torque limit on the rotor's own
+// inertia takes a few ms, and the copper and device losses at that current exceed the 3.5 J of
+// kinetic energy, so the source keeps delivering and the link voltage does not rise (the paper's
+// rig, with its unprinted inertia, braked over a longer time).
 TEST(ImCasadei, Fig25SensorlessSpeedEstimateFollowsTheSpeed)
 {
-    Rig r({"control.speed_sensor=none", "control.speed_ref_rpm=50", "load.type=inertia", "duration_s=10"});
+    Rig r({"control.speed_sensor=none", "control.speed_ref_rpm=50", "load.type=inertia", "duration_s=10",
+           "firmware.rs_ohm=" + std::to_string(0.9 * PLANT_DEF_IM_RS_OHM)});
     ASSERT_TRUE(r.ok);
     r.magnetise(0.1);
     r.record("fig25", 5);
@@ -816,12 +861,28 @@ TEST(ImCasadei, Fig25SensorlessSpeedEstimateFollowsTheSpeed)
     } steps[] = {{50.0, 0.6}, {220.0, 0.8}, {0.0, 0.8}};
     double worst_all = 0.0, worst_at = 0.0, worst_speed = 0.0;
     std::string line;
+    double e_in_brake_start = 0.0, e_in_brake_min = 0.0, vdc_brake_max = 0.0, e_kin_220 = 0.0, e_shaft = 0.0;
+    double e_loss_start = 0.0, e_loss_brake = 0.0;
     for (const auto& s : steps) {
         r.refs(DTC_MODE_SPEED, 0.0, s.rpm);
         double worst_ss = 0.0, mean_true = 0.0;
         long k = 0, n_ss = 0;
         const long n = r.periods(s.t_s), n_from = n - r.periods(0.2);
+        const bool braking = s.rpm == 0.0;
+        if (braking) {
+            e_in_brake_start = e_in_brake_min = r.st().e_dc_in_j;
+            e_kin_220 = r.st().e_kinetic_j;
+            e_loss_start = r.st().e_copper_j + r.st().e_device_j;
+        }
         r.run(s.t_s, [&] {
+            if (braking) {
+                e_in_brake_min = std::fmin(e_in_brake_min, r.st().e_dc_in_j);
+                vdc_brake_max = std::fmax(vdc_brake_max, r.st().vdc_v);
+                e_shaft += r.st().te_nm * r.st().omega_m_rad_s * r.ts();
+                if (r.st().speed_rpm > 1.0) {
+                    e_loss_brake = r.st().e_copper_j + r.st().e_device_j - e_loss_start;
+                }
+            }
             if (++k % 10 != 0) return; // the speed loop's rate
             const double e = std::fabs(r.speed_est_rpm() - r.st().speed_rpm);
             if (e > worst_all) {
@@ -853,6 +914,13 @@ TEST(ImCasadei, Fig25SensorlessSpeedEstimateFollowsTheSpeed)
     // lag, (T_limit / J) tau_filter, plus the steady-state bound.
     const double lag_rpm = r.sc.control.torque_limit_nm / r.sc.motor.j_kgm2 * r.si.speed_filter_s * 30.0 / kPi;
     EXPECT_LT(worst_all, lag_rpm + 15.0);
+    // Regenerative braking at the shaft: the machine absorbs the rotor's kinetic energy (within 10 %).
+    const double returned = e_in_brake_start - e_in_brake_min;
+    std::printf("MEASURE Fig25 braking 220 -> 0 rpm (Delta R_s = -10 %%): shaft energy into the machine %.2f J (the "
+                "rotor's kinetic energy %.2f J), copper and device losses until standstill %.2f J, energy returned "
+                "to the DC source %.2f J, DC link up to %.2f V (source %.1f V)\n",
+                -e_shaft, e_kin_220, e_loss_brake, returned, vdc_brake_max, r.sc.inverter.vdc_v);
+    EXPECT_NEAR(-e_shaft, e_kin_220, 0.1 * e_kin_220);
 }
 
 // ---- Fig. 32: flux weakening from standstill to 400 % of the base speed ----------------------------
@@ -1298,8 +1366,48 @@ TEST(ImCasadei, Figs33And34DfocSpectrumAtTheCarrierDtcSpread)
 // average +-1.4 N*m around the mean for good, which no response time can remove) and the overshoot
 // (the largest average above that band, % of T*). Final mean and steady ripple from the last
 // 10 ms of a 30 ms record.
-struct Step35 {
+struct Settle {
     double settle_ms = -1.0, overshoot_pct = 0.0, rise_ms = -1.0, ripple_ss = 0.0, final_nm = 0.0;
+};
+// The step response of te (one sample per period ts, the step at sample 0) averaged over avg_s.
+static Settle settle_of(const std::vector<double>& te, double ts, double avg_s, double tr)
+{
+    Settle o;
+    const auto n_avg = static_cast<std::size_t>(std::max(1L, std::lround(avg_s / ts)));
+    std::vector<double> m; // m[k]: mean of te over the n_avg periods ending with period k
+    for (std::size_t k = n_avg; k <= te.size(); ++k) {
+        double a = 0.0;
+        for (std::size_t j = k - n_avg; j < k; ++j) {
+            a += te[j];
+        }
+        m.push_back(a / static_cast<double>(n_avg));
+    }
+    const auto n_ss = static_cast<std::size_t>(std::lround(0.01 / ts));
+    double fin = 0.0;
+    for (std::size_t k = m.size() - n_ss; k < m.size(); ++k) {
+        fin += m[k];
+    }
+    fin /= static_cast<double>(n_ss);
+    for (std::size_t k = m.size() - n_ss; k < m.size(); ++k) {
+        o.ripple_ss = std::fmax(o.ripple_ss, std::fabs(m[k] - fin));
+    }
+    const double band = std::fmax(0.05 * tr, o.ripple_ss);
+    auto t_ms = [&](std::size_t k) { return static_cast<double>(k + n_avg) * ts * 1e3; };
+    for (std::size_t k = 0; k < m.size(); ++k) {
+        if (std::fabs(m[k] - fin) > band) {
+            o.settle_ms = t_ms(k);
+        }
+        o.overshoot_pct = std::fmax(o.overshoot_pct, 100.0 * (m[k] - fin - o.ripple_ss) / tr);
+        if (o.rise_ms < 0.0 && m[k] >= 0.9 * fin) {
+            o.rise_ms = t_ms(k);
+        }
+    }
+    o.final_nm = fin;
+    return o;
+}
+
+struct Step35 {
+    Settle fast, slow; // the plant torque averaged over 0.48 ms and over 2 ms
     std::string fault;
 };
 static Step35 torque_step_100rpm(const std::vector<std::string>& sets, const std::string& name)
@@ -1314,38 +1422,10 @@ static Step35 torque_step_100rpm(const std::vector<std::string>& sets, const std
     r.record(name);
     r.run(0.005);
     r.refs(DTC_MODE_TORQUE, tr, 0.0);
-    const auto n_avg = static_cast<std::size_t>(std::max(1L, r.periods(0.48e-3)));
     std::vector<double> te;
     r.run(0.03, [&] { te.push_back(r.st().te_nm); });
-    std::vector<double> m; // m[k]: mean of te over the n_avg periods ending with period k
-    for (std::size_t k = n_avg; k <= te.size(); ++k) {
-        double a = 0.0;
-        for (std::size_t j = k - n_avg; j < k; ++j) {
-            a += te[j];
-        }
-        m.push_back(a / static_cast<double>(n_avg));
-    }
-    const auto n_ss = static_cast<std::size_t>(r.periods(0.01));
-    double fin = 0.0;
-    for (std::size_t k = m.size() - n_ss; k < m.size(); ++k) {
-        fin += m[k];
-    }
-    fin /= static_cast<double>(n_ss);
-    for (std::size_t k = m.size() - n_ss; k < m.size(); ++k) {
-        o.ripple_ss = std::fmax(o.ripple_ss, std::fabs(m[k] - fin));
-    }
-    const double band = std::fmax(0.05 * tr, o.ripple_ss);
-    auto t_ms = [&](std::size_t k) { return static_cast<double>(k + n_avg) * r.ts() * 1e3; };
-    for (std::size_t k = 0; k < m.size(); ++k) {
-        if (std::fabs(m[k] - fin) > band) {
-            o.settle_ms = t_ms(k);
-        }
-        o.overshoot_pct = std::fmax(o.overshoot_pct, 100.0 * (m[k] - fin - o.ripple_ss) / tr);
-        if (o.rise_ms < 0.0 && m[k] >= 0.9 * fin) {
-            o.rise_ms = t_ms(k);
-        }
-    }
-    o.final_nm = fin;
+    o.fast = settle_of(te, r.ts(), 0.48e-3, tr);
+    o.slow = settle_of(te, r.ts(), 2e-3, tr);
     o.fault = r.fault();
     return o;
 }
@@ -1353,23 +1433,29 @@ static Step35 torque_step_100rpm(const std::vector<std::string>& sets, const std
 TEST(ImCasadei, Figs35And36TorqueStepAt100RpmDtcRisesFasterThanDfoc)
 {
     const Step35 dtc = torque_step_100rpm({}, "fig36_dtc"), dfoc = torque_step_100rpm({"control.scheme=dfoc"}, "fig35_dfoc");
-    std::printf("MEASURE Figs35-36 0 -> 26.5 N*m at 100 rpm (0.48 ms average of the plant torque): DTC rise to 90 %% "
-                "%.2f ms, settling %.2f ms, overshoot %.1f %% (final %.2f N*m, steady ripple +-%.2f N*m); DFOC rise %.2f "
-                "ms, settling %.2f ms, overshoot %.1f %% (final %.2f N*m, steady ripple +-%.2f N*m); faults %s / %s\n",
-                dtc.rise_ms, dtc.settle_ms, dtc.overshoot_pct, dtc.final_nm, dtc.ripple_ss, dfoc.rise_ms, dfoc.settle_ms,
-                dfoc.overshoot_pct, dfoc.final_nm, dfoc.ripple_ss, dtc.fault.c_str(), dfoc.fault.c_str());
+    for (const auto* x : {&dtc.fast, &dtc.slow, &dfoc.fast, &dfoc.slow}) {
+        std::printf("MEASURE Figs35-36 0 -> 26.5 N*m at 100 rpm, %s, plant torque averaged over %s: rise to 90 %% %.2f ms, "
+                    "settling %.2f ms, overshoot %.1f %% (final %.2f N*m, steady ripple +-%.2f N*m)\n",
+                    x == &dtc.fast || x == &dtc.slow ? "DTC" : "DFOC", x == &dtc.fast || x == &dfoc.fast ? "0.48 ms" : "2 ms",
+                    x->rise_ms, x->settle_ms, x->overshoot_pct, x->final_nm, x->ripple_ss);
+    }
+    std::printf("MEASURE Figs35-36 faults %s / %s\n", dtc.fault.c_str(), dfoc.fault.c_str());
     EXPECT_EQ(dtc.fault, "none");
     EXPECT_EQ(dfoc.fault, "none");
-    ASSERT_GT(dtc.rise_ms, 0.0);
-    ASSERT_GT(dfoc.rise_ms, 0.0);
+    ASSERT_GT(dtc.fast.rise_ms, 0.0);
+    ASSERT_GT(dfoc.fast.rise_ms, 0.0);
     // The paper's physical reason, the PI regulators' delay, shows in the rise: DTC is quicker.
-    EXPECT_LT(dtc.rise_ms, 0.6 * dfoc.rise_ms);
-    // Not reproduced (printed; a finding): settling and overshoot. The DFOC's current PIs are
-    // designed from the machine with the zero on the stator pole (K_p = sigma L_s w_c, K_i = R_s w_c,
-    // im_dfoc.c), so each current loop is first order: no overshoot, settled in about 3 / w_c.
-    // DTC's averaged torque keeps its zero-band ripple and slower wander, so its settling into the
-    // +-5 % band comes late. The paper's DFOC overshot (its PI tuning is not printed).
-    EXPECT_LT(dfoc.overshoot_pct, 5.0);
-    EXPECT_NEAR(dtc.final_nm, PLANT_DEF_IM_RATED_TORQUE_NM, 0.05 * PLANT_DEF_IM_RATED_TORQUE_NM);
-    EXPECT_NEAR(dfoc.final_nm, PLANT_DEF_IM_RATED_TORQUE_NM, 0.05 * PLANT_DEF_IM_RATED_TORQUE_NM);
+    EXPECT_LT(dtc.fast.rise_ms, 0.6 * dfoc.fast.rise_ms);
+    // Settling: DTC's transient is over within its rise, but its torque keeps a low-frequency
+    // wander (the spread spectrum of Fig. 34: +-1.7 N*m on a 0.48 ms average, measured) whose
+    // excursions beyond the +-5 % band set a late "settling" (12.7 ms) on the short average. On a
+    // 2 ms average, which removes that wander, DTC settles before DFOC as in the paper.
+    EXPECT_LT(dtc.slow.settle_ms, dfoc.slow.settle_ms);
+    // Not reproduced (printed; a finding): the overshoot. The DFOC's current PIs are designed
+    // from the machine with the zero on the stator pole (K_p = sigma L_s w_c, K_i = R_s w_c,
+    // im_dfoc.c), so each current loop is first order: no overshoot. The paper's DFOC overshot
+    // (its PI tuning is not printed).
+    EXPECT_LT(dfoc.fast.overshoot_pct, 5.0);
+    EXPECT_NEAR(dtc.fast.final_nm, PLANT_DEF_IM_RATED_TORQUE_NM, 0.05 * PLANT_DEF_IM_RATED_TORQUE_NM);
+    EXPECT_NEAR(dfoc.fast.final_nm, PLANT_DEF_IM_RATED_TORQUE_NM, 0.05 * PLANT_DEF_IM_RATED_TORQUE_NM);
 }

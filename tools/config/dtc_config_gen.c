@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "dtc_config_si.h"
+#include "im_tau_check.h"
 #include "f2812_board.h"
 
 int main(int argc, char **argv)
@@ -64,6 +65,13 @@ int main(int argc, char **argv)
     if (rc != DTC_SI_OK) {
         fprintf(stderr, "dtc_config_gen: configuration refused (%d): %s\n", rc, msg);
         return 1;
+    }
+    {
+        im_tau_report_t tau_report;
+        char tau_msg[600];
+        if (im_tau_check(&si, &tau_report, tau_msg, sizeof tau_msg)) {
+            fprintf(stderr, "dtc_config_gen: warning: %s\n", tau_msg);
+        }
     }
     f = fopen(argv[1], "w");
     if (f == NULL) {

@@ -133,6 +133,10 @@ public:
         stuck_phase_ = phase;
         stuck_code_ = code;
     }
+    /// Phase `phase` (0..2) current sensor's offset from the next sample(), A: a drift after the
+    /// firmware's start-up calibration, which measures the offset present with the gates off and
+    /// removes only that one.
+    void set_current_offset(int phase, double offset_a) { adc_[static_cast<std::size_t>(phase)].offset = offset_a; }
     /// Reconfiguration relay (hal_cmd_t.relay): the coil command in force, 0..3.
     std::uint16_t relay_cmd() const { return relay_; }
     /// The plant's fault state (relay contacts, desaturation latch) at time_s().

@@ -8,6 +8,8 @@
 #include <ostream>
 #include <unistd.h>
 
+#include "controller_adapter.hpp"
+#include "im_tau_check.h"
 #include "run.hpp"
 #include "sweep.hpp"
 
@@ -123,6 +125,13 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
         if (rows * kTraceBytesPerRow > opt.max_trace_bytes) {
             err << "warning: a traced run writes about " << rows * kTraceBytesPerRow / 1e9
                 << " GB of trace.csv: `run` refuses it without --decimate, --no-trace or --force\n";
+        }
+        // Casadei eqs. 26-28: the configured improved-estimator tau against the operating range.
+        const dtc_config_si_t tau_si = firmware_si_config(sc);
+        im_tau_report_t tau_report;
+        char tau_msg[600];
+        if (im_tau_check(&tau_si, &tau_report, tau_msg, sizeof tau_msg) != 0) {
+            err << "warning: control.observer_tau_s: " << tau_msg << "\n";
         }
         out << scenario_path << ": ok\n";
         return 0;

@@ -1,0 +1,191 @@
+#!/usr/bin/python3
+"""Casadei sec. 10.6-10.7: the linearised sensorless stator-flux vector control with the improved
+estimator (eqs. 26-28), its eigenvalues, the Fig. 21 stability map and the check of a tau schedule.
+
+The machine comes from a scenario file (motor.* keys, the default IM of model/include/plant_defaults.h
+for the keys left unset) or from explicit values; nothing of Casadei's unprinted machine is assumed.
+
+Derivation (states in the estimated rotor-flux frame, rotating at the estimated stator frequency
+w_s = w0 + w_sl; the flux regulator holds the estimated stator flux at eq. 18's reference): with
+e = phi_s - phi_s^ the estimator error, eq. 21 gives phi_r^ = phi_r - (L_r/M) e, and eq. 20 with
+exact R_s and currents gives de/dt = -(phi_r* - |phi_r^|) e^{j theta} / tau. The rotor equation
+(A7-A9) and the frame's speed (the angle of phi_r^, eq. 22) then linearise to eq. 27:
+
+    [A] = [ -1/tau_r   w_s - w0   -k          ]     k = M^2 / (sigma L_s L_r tau_r)
+          [ -w_s       0           w_s        ]
+          [ -1/tau_r   -w0        -k - g/tau  ]     g = L_r / M
+
+eq. 27 prints 1/tau for g/tau (equal when L_r = M; 3 % apart on the default IM). The C twin is
+tools/config/im_tau_check.c; tests/unit/test_im_linear.py holds the two together.
+
+    /usr/bin/python3 tools/report/im_linear.py [--scenario FILE] [--slip 5] [--out fig21.png]
+"""
+import argparse
+import math
+import os
+import re
+import sys
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
+
+
+def plant_defaults():
+    """The PLANT_DEF_IM_* constants of model/include/plant_defaults.h, evaluated."""
+    path = os.path.join(ROOT, "model", "include", "plant_defaults.h")
+    env = {}
+    with open(path) as f:
+        for line in f:
+            m = re.match(r"#define\s+(PLANT_DEF_\w+)\s+(.+?)\s*(/\*.*)?$", line)
+            if not m:
+                continue
+            expr = m.group(2)
+            try:
+                env[m.group(1)] = eval(expr, {"__builtins__": {}}, env)  # numbers and the names above
+            except Exception:
+                pass
+    return env
+
+
+class Machine:
+    """T-model induction machine, stator-referred (the plant's names: docs/sil.md motor.*)."""
+
+    def __init__(self, rr_ohm, lls_h, llr_h, lm_h, pole_pairs=2, rs_ohm=None):
+        self.rr, self.lls, self.llr, self.m, self.p, self.rs = rr_ohm, lls_h, llr_h, lm_h, pole_pairs, rs_ohm
+        self.ls, self.lr = lls_h + lm_h, llr_h + lm_h
+        self.sigma = 1.0 - lm_h * lm_h / (self.ls * self.lr)
+        self.tau_r = self.lr / rr_ohm
+        self.k = lm_h * lm_h / (self.sigma * self.ls * self.lr * self.tau_r)
+        self.g = self.lr / lm_h
+
+    @classmethod
+    def default_im(cls):
+        d = plant_defaults()
+        return cls(d["PLANT_DEF_IM_RR_OHM"], d["PLANT_DEF_IM_LLS_H"], d["PLANT_DEF_IM_LLR_H"], d["PLANT_DEF_IM_LM_H"],
+                   d["PLANT_DEF_IM_POLE_PAIRS"], d["PLANT_DEF_IM_RS_OHM"])
+
+    @classmethod
+    def from_scenario(cls, path, sets=None):
+        """motor.* of a scenario TOML (the firmware's firmware.* values where given, as
+        controller_firmware.cpp does), the default IM's for the keys left unset."""
+        import tomllib
+        with open(path, "rb") as f:
+            sc = tomllib.load(f)
+        flat = {}
+        for sect, v in sc.items():
+            if isinstance(v, dict):
+                for k, x in v.items():
+                    flat["%s.%s" % (sect, k)] = x
+        for s in sets or []:
+            k, v = s.split("=", 1)
+            flat[k] = float(v) if re.match(r"^[-+0-9.eE]+$", v) else v
+        d = cls.default_im()
+
+        def get(key, dflt):
+            return float(flat.get("firmware." + key, flat.get("motor." + key, dflt)))
+
+        return cls(get("rr_ohm", d.rr), get("lls_h", d.lls), get("llr_h", d.llr), get("lm_h", d.m),
+                   int(flat.get("motor.pole_pairs", d.p)), get("rs_ohm", d.rs))
+
+    def A(self, w0, w_sl, tau):
+        """Casadei eq. 27 at rotor speed w0 and slip w_sl (electrical rad/s), estimator tau (s)."""
+        ws = w0 + w_sl
+        return np.array([[-1.0 / self.tau_r, w_sl, -self.k],
+                         [-ws, 0.0, ws],
+                         [-1.0 / self.tau_r, -w0, -self.k - self.g / tau]])
+
+    def dominant_re(self, w0, w_sl, tau):
+        return float(np.max(np.linalg.eigvals(self.A(w0, w_sl, tau)).real))
+
+    def slip_for_torque(self, torque_nm, psir_wb):
+        """Casadei eq. 16 at constant rotor flux (amplitude-invariant): T = 3/2 p phi_r^2 w_sl / R_r."""
+        return torque_nm * self.rr / (1.5 * self.p * psir_wb * psir_wb)
+
+
+def fig21_map(mach, w_sl=5.0, ws=None, taus=None):
+    """Real part of the dominant pole over (w_s, tau) at a fixed slip (Fig. 21): (ws, taus, re[tau, ws])."""
+    ws = np.linspace(-40.0, 40.0, 321) if ws is None else ws
+    taus = np.logspace(-3.5, 0, 120) if taus is None else taus
+    re = np.array([[mach.dominant_re(w - w_sl, w_sl, t) for w in ws] for t in taus])
+    return ws, taus, re
+
+
+def tau_at(tau_lo, tau_hi, w_lo_rpm, w_hi_rpm, ts, w_rad_s, p):
+    """The firmware's tau at electrical speed w (firmware/dtc/im_est.c im_est_gain: Ts/tau linear)."""
+    rpm = abs(w_rad_s) * 30.0 / math.pi / p
+    if rpm <= w_lo_rpm:
+        return tau_lo
+    if rpm >= w_hi_rpm:
+        return tau_hi
+    k_lo, k_hi = ts / tau_lo, ts / tau_hi
+    return ts / (k_lo + (k_hi - k_lo) * (rpm - w_lo_rpm) / (w_hi_rpm - w_lo_rpm))
+
+
+def tau_check(mach, psir, torque_limit, speed_limit_rpm, tau_lo, tau_hi, w_lo_rpm=0.0, w_hi_rpm=0.0, ts=40e-6,
+              n_torque=24, n_speed=800):
+    """The scan of tools/config/im_tau_check.c (same grid): dict of the worst point and the unstable range."""
+    p = mach.p
+    w_max = speed_limit_rpm * math.pi / 30.0 * p
+    out = dict(unstable=False, worst_re=-math.inf, worst_rpm=0.0, worst_torque_nm=0.0, rpm_lo=math.inf,
+               rpm_hi=-math.inf, torque_min_nm=math.inf, points=0)
+    for j in range(1, n_torque + 1):
+        t = torque_limit * j / n_torque
+        w_sl = mach.slip_for_torque(t, psir)
+        for i in range(-n_speed, n_speed + 1):
+            x = i / n_speed
+            ws = w_max * x * x * x
+            w0 = ws - w_sl
+            if abs(w0) > w_max:
+                continue
+            tau = tau_at(tau_lo, tau_hi, w_lo_rpm, w_hi_rpm, ts, w0, p)
+            re = mach.dominant_re(w0, w_sl, tau)
+            out["points"] += 1
+            rpm = w0 * 30.0 / math.pi / p
+            if re > out["worst_re"]:
+                out.update(worst_re=re, worst_rpm=rpm, worst_torque_nm=t)
+            if re > 1e-9 * (1.0 / tau + w_max):
+                out["unstable"] = True
+                out["rpm_lo"] = min(out["rpm_lo"], rpm)
+                out["rpm_hi"] = max(out["rpm_hi"], rpm)
+                out["torque_min_nm"] = min(out["torque_min_nm"], t)
+    return out
+
+
+def plot_fig21(mach, path, w_sl=5.0, points=None, title=""):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    ws, taus, re = fig21_map(mach, w_sl)
+    fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    cs = ax.contour(ws, taus, re, levels=[-20, -10, -5, -2, -1, -0.5, -0.2, 0.0, 0.5, 1, 2, 5, 10], colors="k",
+                    linewidths=0.6)
+    ax.clabel(cs, fontsize=6, fmt="%g")
+    ax.contourf(ws, taus, re, levels=[0.0, max(1e-9, float(re.max()))], hatches=["//"], colors="none")
+    ax.contour(ws, taus, re, levels=[0.0], colors="r", linewidths=1.2)
+    for w, t, stable_sil, label in points or []:
+        ax.plot([w], [t], "o" if stable_sil else "x", color="b" if stable_sil else "r", ms=7, mew=2)
+    ax.set_yscale("log")
+    ax.set_xlabel("estimated stator angular frequency w_s, rad/s (electrical)")
+    ax.set_ylabel("estimator time constant tau, s")
+    ax.set_title(title or "Re of the dominant pole, slip %g rad/s (hatched: unstable)" % w_sl, fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--scenario", help="scenario TOML (motor.*); default: the default IM")
+    ap.add_argument("--slip", type=float, default=5.0, help="slip angular frequency, rad/s (Fig. 21: 5)")
+    ap.add_argument("--out", default="fig21.png")
+    a = ap.parse_args()
+    mach = Machine.from_scenario(a.scenario) if a.scenario else Machine.default_im()
+    plot_fig21(mach, a.out, a.slip)
+    print("wrote %s (sigma %.4f, tau_r %.4f s)" % (a.out, mach.sigma, mach.tau_r))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
