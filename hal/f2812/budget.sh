@@ -72,7 +72,7 @@ sum_symbols() { # $1 = nm tool, $2 = regex of names, rest = files
 
 # Bytes of the register blocks and the host CPU emulation, by kind (data, bss): RAM on the proxies,
 # peripheral frames (not RAM) on the DSP, so they are subtracted.
-REGS='f2812_(flash|piectrl|pievect|sysctrl|gpiomux|adc|eva|host_cpu)'
+REGS='f2812_(flash|piectrl|pievect|sysctrl|gpiomux|adc|eva|spia|scia|host_cpu)'
 reg_bytes() { # $1 = nm tool, $2 = file; prints "data bss"
   "$1" -S -t d "$2" 2>/dev/null | awk -v re="^${REGS}$" '
     NF == 4 && $4 ~ re { if ($3 ~ /[Dd]/) d += $2; else if ($3 ~ /[BbCc]/) b += $2 }
