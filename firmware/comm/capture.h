@@ -17,11 +17,13 @@
  *     per `decim` periods into a ring, and a trigger test.
  *
  * Buffer. CAPTURE_BUF_WORDS32 int32 values shared by the channels: count * samples <= it. The
- * default, 1024 values, is 2048 16-bit words of C28x RAM (4 KiB), e.g. 4 channels x 256 samples
- * (12.8 ms at the 50 us ISR rate, decim 1), or 1 channel x 1024. On the F2812 the flash image has
- * about 4K words of H0 free beside the fixed-point core and the application (docs/f2812.md: H0
- * 42 % of 7K words with the PM law), where the buffer goes. Override with -DCAPTURE_BUF_WORDS32=N
- * (at most 16384: indices are 16 bits).
+ * default, 512 values, is 1024 16-bit words of C28x RAM (2 KiB): 4 channels x 128 samples (6.4 ms
+ * at the 50 us ISR rate, decim 1; decimate for longer windows), or 1 channel x 512. Why 512: on
+ * the F2812 the only zero-wait RAM left beside the PM image is the part of H0 that the fixed-point
+ * core and the application leave free, about 2000 words by the pessimistic size estimate
+ * (hal/f2812/budget.sh prints it), and the frame decoder (about 390 words) and the fault log
+ * (about 230) need a place there too; .ebss (1K words) is half full with the controller state.
+ * Override with -DCAPTURE_BUF_WORDS32=N (at most 16384: indices are 16 bits).
  *
  * Formats. A channel holds its quantity's raw firmware value: per-unit IQ (int32, FIX_IQ_Q = 24,
  * fixmath.h) for currents, fluxes, torques, speeds and voltages; a plain integer for the sector
@@ -34,7 +36,7 @@
 
 #define CAPTURE_CHANNELS 4u
 #ifndef CAPTURE_BUF_WORDS32
-#define CAPTURE_BUF_WORDS32 1024u
+#define CAPTURE_BUF_WORDS32 512u
 #endif
 #if CAPTURE_BUF_WORDS32 < CAPTURE_CHANNELS || CAPTURE_BUF_WORDS32 > 16384u
 #error "CAPTURE_BUF_WORDS32 must be in 4..16384"

@@ -119,7 +119,7 @@ static capture_setup_t base(void)
     s.quantity[1] = CAPTURE_Q_PSI_ALPHA_EST;
     s.quantity[2] = CAPTURE_Q_TORQUE_EST;
     s.quantity[3] = CAPTURE_Q_SECTOR;
-    s.samples = 256u;
+    s.samples = (uint16_t)(CAPTURE_BUF_WORDS32 / 4u);
     s.pre = 0u;
     s.decim = 1u;
     s.trigger = CAPTURE_TRIG_NOW;
