@@ -51,7 +51,7 @@ enum proto_cmd {
 
     /* STATUS: the drive's state.
      *   request: empty
-     *   response: 0 u16 state (enum app_state)  2 u16 armed (0/1)  4 u16 fault (enum app_fault)
+     *   response: 0 u16 state (enum app_state)  2 u16 armed (0/1)  4 u16 fault (enum app_fault, app_fault.h)
      *             6 i16 fault_detail  8 u32 tick (ISR count)
      *            12 iq speed  16 iq speed_ref  20 iq te_est  24 iq te_ref
      *            28 iq psi_mag_est  32 iq vdc  36 iq vmid
