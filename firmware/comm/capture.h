@@ -20,7 +20,7 @@
  * default, 512 values, is 1024 16-bit words of C28x RAM (2 KiB): 4 channels x 128 samples (6.4 ms
  * at the 50 us ISR rate, decim 1; decimate for longer windows), or 1 channel x 512. Why 512: on
  * the F2812 the only zero-wait RAM left beside the PM image is the part of H0 that the fixed-point
- * core and the application leave free, about 2000 words by the pessimistic size estimate
+ * core and the application leave free, about 1800 words by the pessimistic size estimate
  * (hal/f2812/budget.sh prints it), and the frame decoder (about 390 words) and the fault log
  * (about 230) need a place there too; .ebss (1K words) is half full with the controller state.
  * Override with -DCAPTURE_BUF_WORDS32=N (at most 16384: indices are 16 bits).
