@@ -15,6 +15,8 @@ PAGE 1:
     REG_PIECTRL : origin = 0x000CE0, length = 0x000020   /* PF0 PIE control */
     REG_PIEVECT : origin = 0x000D00, length = 0x000100   /* PF0 PIE vector table (EALLOW) */
     REG_SYSCTRL : origin = 0x007010, length = 0x000020   /* PF2 system control (EALLOW) */
+    REG_SPIA    : origin = 0x007040, length = 0x000010   /* PF2 SPI-A */
+    REG_SCIA    : origin = 0x007050, length = 0x000010   /* PF2 SCI-A */
     REG_GPIOMUX : origin = 0x0070C0, length = 0x000020   /* PF2 GPIO mux (EALLOW) */
     REG_GPIODAT : origin = 0x0070E0, length = 0x000020   /* PF2 GPIO data */
     REG_ADC     : origin = 0x007100, length = 0x000020   /* PF2 ADC */
@@ -27,6 +29,8 @@ SECTIONS
     f2812_piectrl_regs : > REG_PIECTRL, PAGE = 1
     f2812_pievect_regs : > REG_PIEVECT, PAGE = 1
     f2812_sysctrl_regs : > REG_SYSCTRL, PAGE = 1
+    f2812_spia_regs    : > REG_SPIA,    PAGE = 1
+    f2812_scia_regs    : > REG_SCIA,    PAGE = 1
     f2812_gpiomux_regs : > REG_GPIOMUX, PAGE = 1
     f2812_gpiodata_regs : > REG_GPIODAT, PAGE = 1
     f2812_adc_regs     : > REG_ADC,     PAGE = 1

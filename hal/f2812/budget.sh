@@ -72,7 +72,7 @@ sum_symbols() { # $1 = nm tool, $2 = regex of names, rest = files
 
 # Bytes of the register blocks and the host CPU emulation, by kind (data, bss): RAM on the proxies,
 # peripheral frames (not RAM) on the DSP, so they are subtracted.
-REGS='f2812_(flash|piectrl|pievect|sysctrl|gpiomux|adc|eva|host_cpu)'
+REGS='f2812_(flash|piectrl|pievect|sysctrl|gpiomux|adc|eva|spia|scia|host_cpu)'
 reg_bytes() { # $1 = nm tool, $2 = file; prints "data bss"
   "$1" -S -t d "$2" 2>/dev/null | awk -v re="^${REGS}$" '
     NF == 4 && $4 ~ re { if ($3 ~ /[Dd]/) d += $2; else if ($3 ~ /[BbCc]/) b += $2 }
@@ -164,6 +164,22 @@ printf '             pessimistic total %d words: flash build H0 %d words (%d%%),
   "$fx_total_pess" "$RAMFUNCS_H_FLASH_WORDS" "$(pct "$fx_total_pess" "$RAMFUNCS_H_FLASH_WORDS")" \
   "$RAMFUNCS_H_RAM_WORDS" "$(pct "$fx_total_pess" "$RAMFUNCS_H_RAM_WORDS")"
 printf '  state      %6d words (.ebss: last 1K words of H0 in the flash build, of L0 in the RAM build)\n' "$state"
+# The operation layer (firmware/comm: frames, capture, fault log, parameter store; docs/operate.md)
+# is not linked by the image yet: printed for information, not checked. The capture buffer is
+# CAPTURE_BUF_WORDS32 int32 values = twice that in 16-bit words, meant for the part of H0 that
+# ramfuncs_h leaves free in the flash build.
+comm_lib=$cm0/firmware/libdtc_comm.a
+if [ -f "$comm_lib" ]; then
+  read -r cm_t cm_r cm_d cm_b < <(sum_sections arm-none-eabi-size "$comm_lib")
+  cap_words=$(( 2 * $(sed -n 's/^#define CAPTURE_BUF_WORDS32 \([0-9]*\)u$/\1/p' "$root/firmware/comm/capture.h") ))
+  h0_free=$((RAMFUNCS_H_FLASH_WORDS - fx_total_pess))
+  echo
+  echo "Operation layer (libdtc_comm.a, not linked by the image yet; cross-cm0, ESTIMATE):"
+  printf '  code       %6d words nominal, %6d pessimistic (frames, capture, fault log, store)\n' \
+    "$(words_nom "$cm_t")" "$(words_pess "$cm_t")"
+  printf '  capture    %6d words of buffer (CAPTURE_BUF_WORDS32 int32); H0 left free by ramfuncs_h: %d words (pessimistic)\n' \
+    "$cap_words" "$h0_free"
+fi
 status=0
 # The flash build is the product and must fit. The RAM build is a debugging image (linker/
 # f2812_ram.cmd): with both control laws linked its pessimistic total exceeds L1 (4K words) for

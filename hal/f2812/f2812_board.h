@@ -9,7 +9,8 @@
  *     150 MHz: the drive only applies 0 %/100 % duty per period (see f2812_hal.c), so the finer PWM
  *     resolution of 150 MHz buys nothing, while 75 MHz is TI's own default (HDR InitSysCtrl ✔),
  *     halves EV/ADC clock power and lets the ADC reach 12.5 MHz with CPS = 0.
- *   LOSPCP = 2: LSPCLK = 37.5 MHz (SCI/SPI, unused by the control path).
+ *   LOSPCP = 2: LSPCLK = 37.5 MHz (SCI-A: the serial line; SPI-A: the parameter EEPROM; unused by
+ *     the control path).
  *
  * Control period (fact sheet 2.3, EVG ✔: continuous up/down period = 2 * TxPR * T_clk):
  *   T1PR = 50 us * 75 MHz / 2 = 1875. Underflow (T1CNT = 0) once per period starts the ADC and is
@@ -27,6 +28,7 @@
 #define F2812_HISPCP 1
 #define F2812_HSPCLK_HZ (F2812_SYSCLK_HZ / (2 * F2812_HISPCP))
 #define F2812_LOSPCP 2
+#define F2812_LSPCLK_HZ (F2812_SYSCLK_HZ / (2 * F2812_LOSPCP))
 
 #if F2812_SYSCLK_HZ != 150000000L
 #error "SYSCLKOUT must be 150 MHz (30 MHz crystal, PLLCR = 10)"
@@ -142,6 +144,52 @@
 #ifndef F2812_DESAT_ACTIVE_LOW
 #define F2812_DESAT_ACTIVE_LOW 1
 #endif
+
+/* ------------------------------------------------------------- serial line, SCI-A --------- */
+/* 8N1 at F2812_SCI_BAUD. Baud = LSPCLK / ((BRR + 1) * 8) for BRR >= 1 (fact sheet 9.1, FAM ✔), so
+ * BRR = LSPCLK / (8 baud) - 1, rounded to the nearest: 115200 baud -> BRR = 40, 114329 baud
+ * (-0.76 %, the fact sheet's table). The preprocessor refuses a rate more than 2 % off (a UART
+ * receiver samples mid-bit: the two ends together tolerate about 4 % over a 10-bit character). */
+#ifndef F2812_SCI_BAUD
+#define F2812_SCI_BAUD 115200L
+#endif
+#define F2812_SCI_BRR ((F2812_LSPCLK_HZ + 4L * F2812_SCI_BAUD) / (8L * F2812_SCI_BAUD) - 1L)
+#if F2812_SCI_BRR < 1L || F2812_SCI_BRR > 65535L
+#error "F2812_SCI_BAUD outside what SCI-A reaches from LSPCLK (BRR 1..65535)"
+#endif
+#define F2812_SCI_BAUD_ACTUAL (F2812_LSPCLK_HZ / ((F2812_SCI_BRR + 1L) * 8L))
+#if (F2812_SCI_BAUD_ACTUAL - F2812_SCI_BAUD) * 50L > F2812_SCI_BAUD || \
+    (F2812_SCI_BAUD - F2812_SCI_BAUD_ACTUAL) * 50L > F2812_SCI_BAUD
+#error "F2812_SCI_BAUD is more than 2 % off what SCI-A can make from LSPCLK"
+#endif
+
+/* ----------------------------------------------------- parameter EEPROM, SPI-A ------------- */
+/* A 25LC256-class SPI EEPROM (32 KiB: 16384 16-bit words, 64-octet pages, 5 ms write cycle; fact
+ * sheet 9.2, EE ✔) on SPISIMOA/SPISOMIA/SPICLKA, chip select on GPIOF3 driven as a GPIO.
+ * SPICLK = LSPCLK / (SPIBRR + 1): SPIBRR = 7 -> 4.69 MHz, inside the part's ~5 MHz at 3.3 V
+ * (fact sheet 9.2, ~). Mode 0 (data latched on the rising clock edge, the part's mode 0 or 3):
+ * CLKPOLARITY = 0 with CLK_PHASE = 1, the reading of fact sheet 9.5 #1 (x: scope it on the bench;
+ * F2812_SPI_CLKPOL / F2812_SPI_PHASE are the single place to swap). */
+#ifndef F2812_EEPROM_WORDS
+#define F2812_EEPROM_WORDS 16384u
+#endif
+#define F2812_EEPROM_PAGE_OCTETS 64u
+#ifndef F2812_SPIBRR
+#define F2812_SPIBRR 7u
+#endif
+#ifndef F2812_SPI_CLKPOL
+#define F2812_SPI_CLKPOL 0u
+#endif
+#ifndef F2812_SPI_PHASE
+#define F2812_SPI_PHASE 1u
+#endif
+/* Write cycle: 5 ms max (EE ✔). The status register is read (RDSR, two characters, about 4 us at
+ * 4.69 MHz) at most F2812_EEPROM_WIP_POLLS times, about 80 ms, servicing the watchdog between
+ * reads. A character's done flag is polled at most F2812_SPI_CHAR_POLLS times (a character takes
+ * 1.7 us = 256 CPU cycles; every poll is several cycles): a missing part or clock ends in
+ * HAL_STORE_ERR_DEVICE, never in a hang. */
+#define F2812_EEPROM_WIP_POLLS 20000u
+#define F2812_SPI_CHAR_POLLS 2000u
 
 /* ---------------------------------------------------------------------------- watchdog ----- */
 /* WDCLK = OSCCLK / 512 = 58.6 kHz, 8-bit counter; WDPS = 1 (/1): timeout 256 / 58.6 kHz = 4.4 ms

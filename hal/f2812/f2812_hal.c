@@ -263,6 +263,8 @@ void hal_init(void)
     init_eva_pwm();
     init_eva_qep();
     init_gpio();
+    f2812_sci_init();
+    f2812_spi_init();
 
     /* Interrupt sources: PDPINTA (1.1) and ADCINT (1.6) in PIE group 1 -> CPU INT1. Timer 1 is
      * configured but not counting, and INTM stays set: no conversion is started and no ISR runs

@@ -51,4 +51,22 @@ void f2812_interrupts_enable(void);
  * below 3750, or the switching state of period k is applied a period late. */
 uint16_t f2812_isr_ticks_max(void);
 
+/* SCI-A, the serial line of hal.h (f2812_sci.c). hal_init calls f2812_sci_init: clock, pins,
+ * 8N1 at F2812_SCI_BAUD, FIFOs on, no interrupts. */
+void f2812_sci_init(void);
+typedef struct {
+    uint16_t rx_char_errors; /* characters received with a framing or parity error */
+    uint16_t rx_resets;      /* receiver errors cleared by a software reset */
+    uint16_t rx_overflows;   /* receive FIFO overflows (octets lost) */
+} f2812_sci_stats_t;
+const f2812_sci_stats_t *f2812_sci_stats(void);
+
+/* SPI-A master for the parameter EEPROM (f2812_spi.c); the storage medium of hal.h on it is
+ * f2812_eeprom.c. hal_init calls f2812_spi_init. f2812_spi_cs(1) drives the chip select low
+ * (active), (0) high. f2812_spi_xfer sends the octet tx and stores the octet received meanwhile
+ * in *rx; returns 1, or 0 when the character never completed (bounded wait). */
+void f2812_spi_init(void);
+void f2812_spi_cs(uint16_t active);
+uint16_t f2812_spi_xfer(uint16_t tx, uint16_t *rx);
+
 #endif /* F2812_HAL_H */

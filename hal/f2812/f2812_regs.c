@@ -24,6 +24,10 @@ F2812_REGBLOCK(f2812_adc, "f2812_adc_regs")
 volatile struct f2812_adc_regs f2812_adc;
 F2812_REGBLOCK(f2812_eva, "f2812_eva_regs")
 volatile struct f2812_eva_regs f2812_eva;
+F2812_REGBLOCK(f2812_spia, "f2812_spia_regs")
+volatile struct f2812_spi_regs f2812_spia;
+F2812_REGBLOCK(f2812_scia, "f2812_scia_regs")
+volatile struct f2812_sci_regs f2812_scia;
 
 #if !F2812_ON_TARGET
 struct f2812_host_cpu f2812_host_cpu = {0u, 1u, 0u, 0u, 0u, 0u, 0u}; /* INTM = 1 after reset */
@@ -102,6 +106,28 @@ F2812_AT(f2812_eva_regs, EVAIMRC, 0x742Eu, F2812_EVA_BASE);
 F2812_AT(f2812_eva_regs, EVAIFRA, 0x742Fu, F2812_EVA_BASE);
 F2812_AT(f2812_eva_regs, EVAIFRC, 0x7431u, F2812_EVA_BASE);
 F2812_CHECK(eva_size, sizeof(struct f2812_eva_regs) == 0x40u * sizeof(uint16_t));
+
+F2812_AT(f2812_spi_regs, SPISTS, 0x7042u, F2812_SPIA_BASE);
+F2812_AT(f2812_spi_regs, SPIBRR, 0x7044u, F2812_SPIA_BASE);
+F2812_AT(f2812_spi_regs, SPIRXBUF, 0x7047u, F2812_SPIA_BASE);
+F2812_AT(f2812_spi_regs, SPITXBUF, 0x7048u, F2812_SPIA_BASE);
+F2812_AT(f2812_spi_regs, SPIDAT, 0x7049u, F2812_SPIA_BASE);
+F2812_AT(f2812_spi_regs, SPIFFTX, 0x704Au, F2812_SPIA_BASE);
+F2812_AT(f2812_spi_regs, SPIPRI, 0x704Fu, F2812_SPIA_BASE);
+F2812_CHECK(spia_size, sizeof(struct f2812_spi_regs) == 0x10u * sizeof(uint16_t));
+
+F2812_AT(f2812_sci_regs, SCICTL1, 0x7051u, F2812_SCIA_BASE);
+F2812_AT(f2812_sci_regs, SCIHBAUD, 0x7052u, F2812_SCIA_BASE);
+F2812_AT(f2812_sci_regs, SCILBAUD, 0x7053u, F2812_SCIA_BASE);
+F2812_AT(f2812_sci_regs, SCICTL2, 0x7054u, F2812_SCIA_BASE);
+F2812_AT(f2812_sci_regs, SCIRXST, 0x7055u, F2812_SCIA_BASE);
+F2812_AT(f2812_sci_regs, SCIRXBUF, 0x7057u, F2812_SCIA_BASE);
+F2812_AT(f2812_sci_regs, SCITXBUF, 0x7059u, F2812_SCIA_BASE);
+F2812_AT(f2812_sci_regs, SCIFFTX, 0x705Au, F2812_SCIA_BASE);
+F2812_AT(f2812_sci_regs, SCIFFRX, 0x705Bu, F2812_SCIA_BASE);
+F2812_AT(f2812_sci_regs, SCIFFCT, 0x705Cu, F2812_SCIA_BASE);
+F2812_AT(f2812_sci_regs, SCIPRI, 0x705Fu, F2812_SCIA_BASE);
+F2812_CHECK(scia_size, sizeof(struct f2812_sci_regs) == 0x10u * sizeof(uint16_t));
 
 #if F2812_ON_TARGET
 /* A PIE vector is a 32-bit code address: 2 words, 128 entries = 0x100 words (fact sheet 4.1). */

@@ -33,6 +33,8 @@
 #define F2812_PIECTRL_BASE 0x0CE0u  /* PF0 */
 #define F2812_PIEVECT_BASE 0x0D00u  /* PF0, EALLOW protected */
 #define F2812_SYSCTRL_BASE 0x7010u  /* PF2, EALLOW protected */
+#define F2812_SPIA_BASE 0x7040u     /* PF2, not protected (fact sheet 9.2) */
+#define F2812_SCIA_BASE 0x7050u     /* PF2, not protected (fact sheet 9.1) */
 #define F2812_GPIOMUX_BASE 0x70C0u  /* PF2, EALLOW protected */
 #define F2812_GPIODATA_BASE 0x70E0u /* PF2, not protected */
 #define F2812_ADC_BASE 0x7100u      /* PF2 */
@@ -104,6 +106,8 @@ struct f2812_sysctrl_regs {
 };
 #define F2812_PCLKCR_EVAENCLK 0x0001u
 #define F2812_PCLKCR_ADCENCLK 0x0008u
+#define F2812_PCLKCR_SPIENCLK 0x0100u   /* bit 8 (4.3, HDR ✔) */
+#define F2812_PCLKCR_SCIAENCLK 0x0400u  /* bit 10 (4.3, HDR ✔) */
 #define F2812_WDCR_WDDIS 0x0040u
 #define F2812_WDCR_WDCHK 0x0028u /* 101b in bits 5:3: every WDCR write must carry it */
 #define F2812_WDCR_WDPS(p) ((uint16_t)((p)&7u))
@@ -138,6 +142,9 @@ struct f2812_gpiomux_regs {
 #define F2812_GPAMUX_PWM1_6 0x003Fu     /* bits 0-5: PWM1..PWM6 */
 #define F2812_GPAMUX_QEP 0x0700u        /* bits 8-10: CAP1_QEP1, CAP2_QEP2, CAP3_QEPI1 */
 #define F2812_GPDMUX_PDPINTA 0x0001u    /* bit 0: T1CTRIP_PDPINTA */
+#define F2812_GPFMUX_SCIA 0x0030u       /* bits 4, 5: SCITXDA (GPIOF4), SCIRXDA (GPIOF5) (9.1, HDR ✔) */
+#define F2812_GPFMUX_SPIA 0x0007u       /* bits 0-2: SPISIMOA, SPISOMIA, SPICLKA (9.2, HDR ✔) */
+#define F2812_GPF_SPISTE 0x0008u        /* bit 3: GPIOF3, the EEPROM's chip select driven as a GPIO */
 /* MUX bit x = 0: pin GPIOxx is a GPIO; GPxDIR bit x = 1: output (4.8, HDR ✔). */
 
 /* ------------------------------------------------------- GPIO data, 0x70E0 (4.8) ----------- */
@@ -290,6 +297,77 @@ struct f2812_eva_regs {
 #define F2812_CAPCONA_CAP3EDGE_RISE 0x0004u /* 3:2 = 01 */
 #define F2812_CAPFIFOA_CAP3FIFO 0x3000u    /* 13:12: CAP3 FIFO status (~) */
 
+/* ---------------------------------------------------------- SPI-A, 0x7040 (9.2) ------------ */
+/* Control registers use bits 7:0; TX data is left-justified for characters under 16 bits, RX data
+ * right-justified (9.2, ~ for the alignment: TI example comments and community drivers). */
+struct f2812_spi_regs {
+    uint16_t SPICCR;   /* 0x7040 SPICHAR 3:0 (bits - 1), SPILBK 4, CLKPOLARITY 6, SPISWRESET 7 */
+    uint16_t SPICTL;   /* 0x7041 SPIINTENA 0, TALK 1, MASTER_SLAVE 2, CLK_PHASE 3, OVERRUNINTENA 4 */
+    uint16_t SPISTS;   /* 0x7042 BUFFULL_FLAG 5, INT_FLAG 6 (character done), OVERRUN_FLAG 7 */
+    uint16_t rsvd1;    /* 0x7043 */
+    uint16_t SPIBRR;   /* 0x7044 SPICLK = LSPCLK / (SPIBRR + 1), SPIBRR 3..127 */
+    uint16_t rsvd2;    /* 0x7045 */
+    uint16_t SPIRXEMU; /* 0x7046 */
+    uint16_t SPIRXBUF; /* 0x7047 received character, right-justified; reading clears INT_FLAG */
+    uint16_t SPITXBUF; /* 0x7048 */
+    uint16_t SPIDAT;   /* 0x7049 shift register: a write starts a transfer (master) */
+    uint16_t SPIFFTX;  /* 0x704A SPIRST 15, SPIFFENA 14, TXFIFO reset 13 */
+    uint16_t SPIFFRX;  /* 0x704B */
+    uint16_t SPIFFCT;  /* 0x704C */
+    uint16_t rsvd3[2]; /* 0x704D..0x704E */
+    uint16_t SPIPRI;   /* 0x704F FREE 4, SOFT 5 */
+};
+#define F2812_SPICCR_SWRESET 0x0080u
+#define F2812_SPICCR_CLKPOL 0x0040u
+#define F2812_SPICCR_CHAR(bits) ((uint16_t)(((bits)-1u) & 15u))
+#define F2812_SPICTL_TALK 0x0002u
+#define F2812_SPICTL_MASTER 0x0004u
+#define F2812_SPICTL_PHASE 0x0008u
+#define F2812_SPISTS_INT_FLAG 0x0040u
+#define F2812_SPISTS_OVERRUN 0x0080u
+#define F2812_SPIPRI_FREE 0x0010u
+
+/* ---------------------------------------------------------- SCI-A, 0x7050 (9.1) ------------ */
+/* Control registers use bits 7:0; the FIFO registers all 16 (9.1). One character per access. */
+struct f2812_sci_regs {
+    uint16_t SCICCR;   /* 0x7050 SCICHAR 2:0, ADDRIDLE 3, LOOPBKENA 4, PARITYENA 5, PARITY 6, STOPBITS 7 */
+    uint16_t SCICTL1;  /* 0x7051 RXENA 0, TXENA 1, SLEEP 2, TXWAKE 3, SWRESET 5, RXERRINTENA 6 */
+    uint16_t SCIHBAUD; /* 0x7052 BRR 15:8 */
+    uint16_t SCILBAUD; /* 0x7053 BRR 7:0 */
+    uint16_t SCICTL2;  /* 0x7054 TXINTENA 0, RXBKINTENA 1, TXEMPTY 6, TXRDY 7 */
+    uint16_t SCIRXST;  /* 0x7055 PE 2, OE 3, FE 4, BRKDT 5, RXRDY 6, RXERROR 7 */
+    uint16_t SCIRXEMU; /* 0x7056 */
+    uint16_t SCIRXBUF; /* 0x7057 RXDT 7:0; FIFO mode: SCIFFPE 14, SCIFFFE 15 of that character */
+    uint16_t rsvd1;    /* 0x7058 */
+    uint16_t SCITXBUF; /* 0x7059 TX character, bits 7:0 */
+    uint16_t SCIFFTX;  /* 0x705A TXFFIL 4:0, TXFFIENA 5, TXINTCLR 6, TXFFINT 7, TXFFST 12:8,
+                        *        TXFIFOXRESET 13, SCIFFENA 14, SCIRST 15 */
+    uint16_t SCIFFRX;  /* 0x705B RXFFIL 4:0, RXFFIENA 5, RXFFINTCLR 6, RXFFINT 7, RXFFST 12:8,
+                        *        RXFIFORESET 13, RXFFOVRCLR 14, RXFFOVF 15 */
+    uint16_t SCIFFCT;  /* 0x705C FFTXDLY 7:0, CDC 13, ABDCLR 14, ABD 15 */
+    uint16_t rsvd2[2]; /* 0x705D..0x705E */
+    uint16_t SCIPRI;   /* 0x705F FREE 3, SOFT 4 (x 9.5 #4 resolved: bits 4:3) */
+};
+#define F2812_SCICCR_8N1 0x0007u            /* 8 data bits, no parity, 1 stop, idle-line mode */
+#define F2812_SCICTL1_RXENA 0x0001u
+#define F2812_SCICTL1_TXENA 0x0002u
+#define F2812_SCICTL1_SWRESET 0x0020u       /* 0 = SCI logic and flags held in reset */
+#define F2812_SCIRXST_RXERROR 0x0080u
+#define F2812_SCIRXBUF_DATA 0x00FFu
+#define F2812_SCIRXBUF_FFPE 0x4000u
+#define F2812_SCIRXBUF_FFFE 0x8000u
+#define F2812_SCIFFTX_SCIRST 0x8000u
+#define F2812_SCIFFTX_SCIFFENA 0x4000u
+#define F2812_SCIFFTX_TXFIFOXRESET 0x2000u
+#define F2812_SCIFFTX_TXINTCLR 0x0040u
+#define F2812_SCIFFRX_RXFFOVF 0x8000u
+#define F2812_SCIFFRX_RXFFOVRCLR 0x4000u
+#define F2812_SCIFFRX_RXFIFORESET 0x2000u
+#define F2812_SCIFFRX_RXFFINTCLR 0x0040u
+#define F2812_SCIFF_ST(reg) ((uint16_t)(((reg) >> 8) & 0x1Fu)) /* TXFFST / RXFFST: words held */
+#define F2812_SCI_FIFO_DEPTH 16u
+#define F2812_SCIPRI_FREE 0x0018u           /* run free when the emulator halts the CPU */
+
 /* ------------------------------------------------------------------- the block instances ---- */
 extern volatile struct f2812_flash_regs f2812_flash;
 extern volatile struct f2812_piectrl_regs f2812_piectrl;
@@ -299,5 +377,7 @@ extern volatile struct f2812_gpiomux_regs f2812_gpiomux;
 extern volatile struct f2812_gpiodata_regs f2812_gpiodata;
 extern volatile struct f2812_adc_regs f2812_adc;
 extern volatile struct f2812_eva_regs f2812_eva;
+extern volatile struct f2812_spi_regs f2812_spia;
+extern volatile struct f2812_sci_regs f2812_scia;
 
 #endif /* F2812_REGS_H */

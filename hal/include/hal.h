@@ -143,6 +143,47 @@ void hal_watchdog_service(void);
 uint16_t hal_irq_save(void);
 void hal_irq_restore(uint16_t state);
 
+/*
+ * Serial line (background loop only; never called from the ISR). A non-blocking byte stream,
+ * 8 data bits, no parity, one stop bit, at the binding's baud rate (F2812: SCI-A; host: the SIL's
+ * line; PIL: the emulator's UART). One octet per uint16_t, in bits 7:0 (the C28x has no 8-bit
+ * type); bits 15:8 of what is written are ignored, of what is read are 0. Neither call waits:
+ * each moves what the line's buffers hold or accept now, and returns the count.
+ */
+/* Octets received since the last call, at most max, into buf. Returns how many (0..max). */
+uint16_t hal_serial_read(uint16_t *buf, uint16_t max);
+/* Queues up to n octets of buf for sending. Returns how many were accepted (0..n); the caller
+ * keeps the rest and offers them again. */
+uint16_t hal_serial_write(const uint16_t *buf, uint16_t n);
+
+/*
+ * Parameter storage medium (background loop only, drive disarmed: a write or an erase may take
+ * milliseconds (F2812: an SPI EEPROM; host: a file or RAM). The bindings service the watchdog
+ * while they wait). hal_store_words() 16-bit words, addressed 0..words-1.
+ *   erase: prepares [addr, addr + n) for writing; what those words read afterwards is undefined
+ *          until written (a flash binding erases its sectors to 0xFFFF; an EEPROM binding, whose
+ *          words can be rewritten in place, need do nothing). addr and n are multiples of
+ *          hal_store_erase_words().
+ *   write: programs words; any word may be written with 0x0000 at any time (a flash binding
+ *          can always clear bits), any other value only once after an erase.
+ *   read:  reads words back.
+ * A power cut during a write or an erase leaves the words of that call undefined, and only
+ * those: the stored-parameter layer (firmware/comm/store.h) is built on exactly that.
+ */
+enum hal_store_status {
+    HAL_STORE_OK = 0,
+    HAL_STORE_ERR_RANGE = 1,  /* outside 0..words-1, or erase not on erase-unit boundaries */
+    HAL_STORE_ERR_DEVICE = 2, /* the medium did not answer or reported a failure */
+    HAL_STORE_ERR_NONE = 3    /* no medium fitted */
+};
+/* Size of the medium in 16-bit words (0: no medium). */
+uint16_t hal_store_words(void);
+/* Erase unit in words (a power of two that divides hal_store_words()). */
+uint16_t hal_store_erase_words(void);
+uint16_t hal_store_read(uint16_t addr, uint16_t *buf, uint16_t n);
+uint16_t hal_store_write(uint16_t addr, const uint16_t *buf, uint16_t n);
+uint16_t hal_store_erase(uint16_t addr, uint16_t n);
+
 #ifdef __cplusplus
 }
 #endif

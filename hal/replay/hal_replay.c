@@ -81,3 +81,51 @@ void hal_irq_restore(uint16_t state)
 {
     g_irq_enabled = state;
 }
+
+/* The replay images have no serial line and no storage medium: a replayed ISR never reaches the
+ * background loop's protocol. The line is unplugged (nothing read, every octet dropped). */
+uint16_t hal_serial_read(uint16_t *buf, uint16_t max)
+{
+    (void)buf;
+    (void)max;
+    return 0U;
+}
+
+uint16_t hal_serial_write(const uint16_t *buf, uint16_t n)
+{
+    (void)buf;
+    return n;
+}
+
+uint16_t hal_store_words(void)
+{
+    return 0U;
+}
+
+uint16_t hal_store_erase_words(void)
+{
+    return 1U;
+}
+
+uint16_t hal_store_read(uint16_t addr, uint16_t *buf, uint16_t n)
+{
+    (void)addr;
+    (void)buf;
+    (void)n;
+    return HAL_STORE_ERR_NONE;
+}
+
+uint16_t hal_store_write(uint16_t addr, const uint16_t *buf, uint16_t n)
+{
+    (void)addr;
+    (void)buf;
+    (void)n;
+    return HAL_STORE_ERR_NONE;
+}
+
+uint16_t hal_store_erase(uint16_t addr, uint16_t n)
+{
+    (void)addr;
+    (void)n;
+    return HAL_STORE_ERR_NONE;
+}

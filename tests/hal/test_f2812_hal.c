@@ -38,6 +38,8 @@ static void reset_device(void)
     memset((void *)&f2812_gpiodata, 0, sizeof f2812_gpiodata);
     memset((void *)&f2812_adc, 0, sizeof f2812_adc);
     memset((void *)&f2812_eva, 0, sizeof f2812_eva);
+    memset((void *)&f2812_spia, 0, sizeof f2812_spia);
+    memset((void *)&f2812_scia, 0, sizeof f2812_scia);
     memset(&f2812_host_cpu, 0, sizeof f2812_host_cpu);
     f2812_host_cpu.intm = 1u; /* INTM is set after reset */
     g_adcint_calls = 0u;
@@ -145,8 +147,9 @@ static void test_init_clocks_pll_and_peripheral_clocks(void **state)
     /* HSPCLK = 150 MHz / (2 * 1) = 75 MHz, LSPCLK = 150 / (2 * 2) = 37.5 MHz (4.3). */
     assert_int_equal(f2812_sysctrl.HISPCP, 0x0001);
     assert_int_equal(f2812_sysctrl.LOSPCP, 0x0002);
-    /* PCLKCR: EVAENCLK bit 0, ADCENCLK bit 3, nothing else (4.3). */
-    assert_int_equal(f2812_sysctrl.PCLKCR, 0x0009);
+    /* PCLKCR: EVAENCLK bit 0, ADCENCLK bit 3, SPIENCLK bit 8 (parameter EEPROM), SCIAENCLK
+     * bit 10 (serial line), nothing else (4.3). */
+    assert_int_equal(f2812_sysctrl.PCLKCR, 0x0509);
     /* Watchdog stays disabled through hal_init: 0x0068 = WDDIS | WDCHK 101b (4.4, HDR ✔). */
     assert_int_equal(f2812_sysctrl.WDCR, 0x0068);
     /* Every protected write happened under EALLOW, and EALLOW was closed again (4.2). */
