@@ -30,6 +30,7 @@ static void enter_calibrate(app_core_t *a)
     a->vmid_cal_iq = 0;
     app_enc_reset(&a->enc);
     app_fault_reset(&a->flt);
+    app_plaus_reset(&a->plaus);
     a->st.out.speed_iq = 0; /* the encoder-freeze check reads the last reported speed */
     a->st.fault = APP_FAULT_NONE;
     a->st.fault_detail = 0;
@@ -72,6 +73,9 @@ int16_t app_core_init(app_core_t *a, const dtc_config_t *cfg)
         a->meas_ch[0] = (uint16_t)HAL_ADC_IA;
         a->meas_ch[1] = (uint16_t)HAL_ADC_IB;
     }
+    a->meas_mask = cfg->board.i_sensors3 != 0U ? 7U
+                   : (cfg->board.topology == (uint16_t)DTC_TOPO_FSTP ? 6U : 3U);
+    app_plaus_init(&a->plaus_p, cfg->board.adc_i_gain_iq);
     app_enc_init(&a->enc, cfg);
     enter_calibrate(a);
     return 0;
@@ -264,6 +268,8 @@ static uint16_t reconfigure(app_core_t *a, uint16_t x)
     a->meas_ch[0] = app_fault_phase(x, 1U);
     a->meas_ch[1] = app_fault_phase(x, 2U);
     app_fault_reconfigured(&a->flt, a->post->prot.relay_periods);
+    a->meas_mask = 7U; /* the post-fault configuration has three sensors (app_fault_post_ok) */
+    app_plaus_reset(&a->plaus);
     return 0U;
 }
 
@@ -297,13 +303,45 @@ int16_t app_core_set_reconfig(app_core_t *a, const dtc_config_t *post)
     return 0;
 }
 
-/* Stall (app_fault_stall); latches and returns 1 on a trip. */
-static uint16_t check_stall(app_core_t *a)
+/* Stall (app_fault_stall) and overspeed (app_fault_overspeed); latches and returns 1 on a trip. */
+static uint16_t check_speed(app_core_t *a)
 {
     int16_t detail = 0;
     const iq_t ref = law_speed_ref(&a->law);
-    if (app_fault_stall(&a->flt, a->cfg, &a->st.out, ref, &detail) != (uint16_t)APP_FAULT_NONE) {
-        latch_fault(a, APP_FAULT_STALL, detail);
+    uint16_t f = app_fault_overspeed(a->cfg, &a->st.out, &detail);
+    if (f == (uint16_t)APP_FAULT_NONE) {
+        f = app_fault_stall(&a->flt, a->cfg, &a->st.out, ref, &detail);
+    }
+    if (f != (uint16_t)APP_FAULT_NONE) {
+        latch_fault(a, f, detail);
+        return 1U;
+    }
+    return 0U;
+}
+
+/* Current-sensor plausibility (app_plaus.h) on a two-sensor board, with the fault detection on
+ * (prot.leg_i_min_iq > 0): a measured channel that does not follow the current the law predicted
+ * from the voltage it applied trips APP_FAULT_CURRENT_SENSOR (APP_SENSOR_DETAIL_LIST 0), or, when
+ * it reads zero (inside the open-phase zero band), with check 2: a sensor stuck at zero and an
+ * open phase look the same to two sensors (the phase reads zero while the law drives current into
+ * it), and either must turn the gates off before the unseen current runs away. With three sensors
+ * their sum tells a sensor from a phase (app_fault_trips, app_fault_open_phase), and this check
+ * stays out of the way of the open-phase reconfiguration. Returns 1 on a trip. */
+static uint16_t check_sensors(app_core_t *a)
+{
+    const iq_t i[3] = {a->st.meas.ia_iq, a->st.meas.ib_iq, a->st.meas.ic_iq};
+    iq_t i1[3];
+    int16_t bad;
+    if (a->cfg->prot.leg_i_min_iq <= 0 || a->cfg->board.i_sensors3 != 0U) {
+        return 0U;
+    }
+    bad = app_plaus_step(&a->plaus, &a->plaus_p, i, law_i_pred(&a->law, i1) != 0U ? i1 : NULL,
+                         a->meas_mask);
+    if (bad >= 0) {
+        const uint16_t zero =
+            (uint16_t)(fix_abs32(i[bad]) < fix_rshift_rnd32(a->cfg->prot.leg_i_min_iq, APP_LEG_ZERO_LOG2));
+        latch_fault(a, APP_FAULT_CURRENT_SENSOR,
+                    (int16_t)((zero != 0U ? 6U : 0U) + app_fault_phase(a->perm, (uint16_t)bad)));
         return 1U;
     }
     return 0U;
@@ -376,9 +414,12 @@ uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
             return 1U;
         }
         law_step(&a->law, &a->st.meas, &a->st.out);
+        if (check_sensors(a) != 0U) {
+            return 1U;
+        }
         {
             const uint16_t before = a->st.reconfigured;
-            if (check_open_phase(a) != 0U || check_stall(a) != 0U) {
+            if (check_open_phase(a) != 0U || check_speed(a) != 0U) {
                 return 1U;
             }
             if (a->st.reconfigured != before) {

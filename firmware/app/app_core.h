@@ -32,6 +32,7 @@
 #include "app_enc.h"
 #include "app_fault.h"
 #include "app_hold.h"
+#include "app_plaus.h"
 #include "dtc.h"
 #include "hal.h"
 #include "law.h"
@@ -86,6 +87,9 @@ typedef struct app_core {
     uint16_t perm;         /* the law's phase k is the physical phase (perm + k) mod 3: 0 before a
                             * reconfiguration, the failed phase after it */
     app_fault_t flt;       /* fault detection (app_fault.h) */
+    app_plaus_params_t plaus_p; /* current-sensor plausibility, two sensors (app_plaus.h) */
+    app_plaus_t plaus;
+    uint16_t meas_mask;    /* bit k: the law's phase k is measured, not derived */
 } app_core_t;
 
 /* Validates the configuration (law_init) and enters CALIBRATE. Returns 0 or the dtc_err code;

@@ -43,7 +43,7 @@ uint16_t app_fault_trips(app_fault_t *f, const dtc_config_t *c, const dtc_meas_t
                         lo = k;
                     }
                 }
-                *detail = (int16_t)app_fault_phase(perm, lo);
+                *detail = (int16_t)(3U + app_fault_phase(perm, lo)); /* APP_SENSOR_DETAIL_LIST 1 */
                 return APP_FAULT_CURRENT_SENSOR;
             }
         } else {

@@ -23,7 +23,9 @@ enum app_fault_detail {
     APP_DETAIL_PHASE = 2,   /* physical phase or leg 0 = A, 1 = B, 2 = C */
     APP_DETAIL_CHANNEL = 3, /* ADC channel (enum hal_adc_channel) */
     APP_DETAIL_ENCODER = 4, /* the encoder check that failed (APP_ENC_DETAIL_LIST) */
-    APP_DETAIL_SIGN = 5     /* the sign of the torque reference, -1 or 1 */
+    APP_DETAIL_SIGN = 5,    /* the sign of the torque reference (or speed), -1 or 1 */
+    APP_DETAIL_SENSOR = 6   /* current sensor: 3 * (the check that found it, APP_SENSOR_DETAIL_LIST)
+                             * + the physical phase 0 = A, 1 = B, 2 = C */
 };
 
 /* The fault reasons: X(ID, number, name, detail, meaning). The number is stable (it is the
@@ -42,8 +44,7 @@ enum app_fault_detail {
  *    default): a locked rotor or a load above the limit cannot reach the reference; it is
  *    tripped, not left to run.
  *  - DESAT: a gate driver's desaturation output: a shorted device or shoot-through.
- *  - CURRENT_SENSOR: the three measured currents do not sum to zero (a stuck or failed sensor;
- *    the detail is the phase judged failed).
+ *  - CURRENT_SENSOR: a stuck or failed current sensor (APP_SENSOR_DETAIL_LIST).
  *  - LEG: a phase carries no current while the others do (an open leg, phase or device) and no
  *    reconfiguration is possible. */
 #define APP_FAULT_LIST(X)                                                                          \
@@ -60,12 +61,27 @@ enum app_fault_detail {
       "torque reference at its limit while the speed error did not shrink")                        \
     X(DESAT, 9, "desat", APP_DETAIL_PHASE,                                                         \
       "gate-driver desaturation on leg %c (a shorted device or shoot-through): every gate off")    \
-    X(CURRENT_SENSOR, 10, "current_sensor", APP_DETAIL_PHASE,                                      \
-      "the three measured phase currents do not sum to zero: a failed current sensor (phase %c "   \
-      "reads the least)")                                                                          \
+    X(CURRENT_SENSOR, 10, "current_sensor", APP_DETAIL_SENSOR, "current sensor")                   \
     X(LEG, 11, "leg", APP_DETAIL_PHASE,                                                            \
       "phase %c carries no current while the others do (an open leg, phase or device) and the "    \
-      "drive cannot be reconfigured (no relay fitted, a second failure, or a law without it)")
+      "drive cannot be reconfigured (no relay fitted, a second failure, or a law without it)")    \
+    X(OVERSPEED, 12, "overspeed", APP_DETAIL_SIGN,                                                 \
+      "measured speed beyond protection.overspeed_rpm")
+
+/* The current-sensor fault's details: X(check, meaning); the detail is 3 * check + the physical
+ * phase, "%c" its letter.
+ *  0: two sensors, the channel does not follow the current the law predicts from the voltage it
+ *     applied (app_plaus.h);
+ *  1: three sensors whose sum is not zero (the phase reading the least is named);
+ *  2: two sensors, the channel reads zero while the law drives current into it: its sensor stuck
+ *     at zero or the phase open, which two sensors cannot tell apart. */
+#define APP_SENSOR_DETAIL_LIST(X)                                                                  \
+    X(0, "phase %c's current sensor does not follow the current the law predicts from the voltage " \
+         "it applied: a stuck or failed sensor")                                                   \
+    X(1, "the three measured phase currents do not sum to zero: a failed current sensor (phase %c " \
+         "reads the least)")                                                                       \
+    X(2, "phase %c reads zero while the law drives current into it: its current sensor stuck at "  \
+         "zero, or the phase open (two sensors cannot tell which; a third sensor can)")
 
 /* The encoder fault's details: X(number, meaning) (app_enc.h). */
 #define APP_ENC_DETAIL_LIST(X)                                                                     \
@@ -173,6 +189,19 @@ uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_m
  * Returns APP_FAULT_STALL (detail: the sign of the torque reference) or APP_FAULT_NONE. */
 uint16_t app_fault_stall(app_fault_t *f, const dtc_config_t *c, const dtc_out_t *o, iq_t speed_ref_iq,
                          int16_t *detail);
+
+/* Overspeed (prot.overspeed_iq > 0): on a speed-loop period of the law's output o, the measured
+ * speed above the level the host derives from the rated speed and the speed limit, either
+ * direction (torque mode with no load, an active load driving the machine). Returns
+ * APP_FAULT_OVERSPEED (detail: the speed's sign) or APP_FAULT_NONE. */
+static inline uint16_t app_fault_overspeed(const dtc_config_t *c, const dtc_out_t *o, int16_t *detail)
+{
+    if (c->prot.overspeed_iq > 0 && o->speed_tick != 0U && fix_abs32(o->speed_iq) > c->prot.overspeed_iq) {
+        *detail = (int16_t)(o->speed_iq < 0 ? -1 : 1);
+        return APP_FAULT_OVERSPEED;
+    }
+    return APP_FAULT_NONE;
+}
 
 /* 1 when post may be the post-fault configuration of the running configuration c
  * (app_core_set_reconfig, app_core.h), else 0. */

@@ -109,6 +109,22 @@ int16_t law_reconfigure(law_t *l, const dtc_config_t *post, uint16_t phase)
     return dtc_reconfigure(&l->u.pm, post, phase);
 }
 
+uint16_t law_i_pred(const law_t *l, iq_t i1[3])
+{
+#if DTC_LAW_PM_LINKED
+    if (!LAW_IS_IM(l) && l->u.pm.cfg->est.delay_comp != 0U) {
+        i1[0] = l->u.pm.i1.ia_iq;
+        i1[1] = l->u.pm.i1.ib_iq;
+        i1[2] = l->u.pm.i1.ic_iq;
+        return 1U;
+    }
+#else
+    (void)l;
+#endif
+    (void)i1;
+    return 0U;
+}
+
 iq_t law_speed_ref(const law_t *l)
 {
     return LAW_IS_IM(l) ? l->u.im.act.speed_ref_iq : l->u.pm.act.speed_ref_iq;

@@ -38,6 +38,11 @@ void law_refs_get(const law_t *l, dtc_refs_t *r);
  * law only; DTC_ERR_RECONFIG for the IM law (Casadei's tables are six-switch ones) and for a
  * post that dtc_reconfigure refuses. */
 int16_t law_reconfigure(law_t *l, const dtc_config_t *post, uint16_t phase);
+/* The phase currents (IQ pu, the law's phase order) the law predicts for the next sample from the
+ * voltage it committed for the coming period (PM law with the actuation-delay compensation:
+ * dtc.c dtc_predict). Returns 1 and fills i1[0..2], or 0 where the law makes no prediction (the
+ * app's sensor plausibility, app_plaus.h, then rests). */
+uint16_t law_i_pred(const law_t *l, iq_t i1[3]);
 /* The speed reference in force (the app's stall check). */
 iq_t law_speed_ref(const law_t *l);
 

@@ -84,6 +84,7 @@ static int16_t dtc_protect_check(const dtc_protect_cfg_t *p, const char **f)
     DTC_REFUSE(p->i_sum_max_iq < 0, DTC_ERR_FAULTDET, "prot.i_sum_max_iq");
     DTC_REFUSE(p->leg_i_min_iq < 0, DTC_ERR_FAULTDET, "prot.leg_i_min_iq");
     DTC_REFUSE(p->enc_freeze_speed_iq < 0, DTC_ERR_FAULTDET, "prot.enc_freeze_speed_iq");
+    DTC_REFUSE(p->overspeed_iq < 0, DTC_ERR_LIMIT, "prot.overspeed_iq");
     return DTC_OK;
 }
 
@@ -252,6 +253,10 @@ int16_t dtc_config_check(const dtc_config_t *cfg, const char **field)
             *f = "est.vmid_beta_s_iq";
             err = DTC_ERR_DCSUPP;
         }
+    }
+    if (err == DTC_OK && cfg->prot.overspeed_iq > 0 && cfg->prot.overspeed_iq <= cfg->speed.speed_limit_iq) {
+        *f = "prot.overspeed_iq"; /* at or below the speed limit a permitted reference would trip */
+        err = DTC_ERR_LIMIT;
     }
     if (err == DTC_OK && cfg->prot.i_sum_max_iq > 0 && cfg->board.i_sensors3 == 0U) {
         *f = "prot.i_sum_max_iq"; /* the sum of two measured and one derived current is 0 */

@@ -16,7 +16,7 @@
 #include "fixmath.h"
 
 /* Layout version: bump when a field is added, removed or changes meaning. */
-#define DTC_CONFIG_VERSION 10U
+#define DTC_CONFIG_VERSION 11U
 
 /* Largest accepted |calibrated - nominal| current offset, ADC counts (5 % of full scale): the
  * app's gates-off calibration (app_core.c) trips beyond it, and the trip level must stay visible
@@ -186,6 +186,8 @@ typedef struct {
     uint16_t relay_periods;   /* reconfiguration: control periods from the relay command until
                                * the phase is on the mid-point (the relay's closing time with a
                                * margin); the open-phase check waits that long */
+    iq_t overspeed_iq;        /* overspeed trip: |measured electrical speed| above it, pu (> the
+                               * speed limit; 0 = off; the host derives it from the rated speed) */
 } dtc_protect_cfg_t;
 
 /* PM machine (Hoang Table VIII), pu; used by the PM law. */

@@ -162,6 +162,11 @@ void dtc_config_si_im_defaults(dtc_config_si_t *si)
     si->w_base_rad_s = 2.0 * M_PI * 50.0;
 }
 
+double dtc_overspeed_default_rpm(const dtc_config_si_t *si)
+{
+    return 1.1 * fmax(si->rated_speed_rpm, si->speed_limit_rpm);
+}
+
 double dtc_table_speed_default_rpm(const dtc_config_si_t *si)
 {
     const double w_el = 0.5 * si->vdc_v / sqrt(3.0) / si->flux_ref_wb;
@@ -601,6 +606,9 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     if (!(si->torque_trim_tau_s == 0.0 || si->torque_trim_tau_s > si->ts_s))
         return fail(&c, DTC_SI_ERR_GAIN, "torque_trim_tau_s = %g: must be 0 (off) or longer than ts_s = %g", si->torque_trim_tau_s, si->ts_s);
     if (!(si->speed_limit_rpm > 0.0)) return fail(&c, DTC_SI_ERR_LIMIT, "speed_limit_rpm = %g: must be > 0", si->speed_limit_rpm);
+    if (!(si->overspeed_rpm <= 0.0 || si->overspeed_rpm > si->speed_limit_rpm))
+        return fail(&c, DTC_SI_ERR_LIMIT, "overspeed_rpm = %g: must be above speed_limit_rpm = %g (0 = derived, < 0 = off)",
+                    si->overspeed_rpm, si->speed_limit_rpm);
     if (!(si->i_trip_a > 0.0)) return fail(&c, DTC_SI_ERR_LIMIT, "i_trip_a = %g: must be > 0", si->i_trip_a);
     if (!(si->c_dc_f > 0.0))
         return fail(&c, DTC_SI_ERR_INVERTER, "c_dc_f = %g: must be > 0", si->c_dc_f);
@@ -722,6 +730,11 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
         const double t_speed = si->ts_s * si->speed_div;
         const double t_stall = si->stall_time_s != 0.0 ? si->stall_time_s : fmax(0.1, 20.0 * t_speed);
         cfg->prot.stall_speed_periods = (uint16_t)fmin(65535.0, (double)lround(t_stall / t_speed));
+    }
+    {
+        const double n_os = si->overspeed_rpm == 0.0 ? dtc_overspeed_default_rpm(si) : si->overspeed_rpm;
+        cfg->prot.overspeed_iq = n_os < 0.0 ? 0
+                                 : to_iq(&c, "overspeed_rpm", n_os, n_os * M_PI / 30.0 * si->pole_pairs / b.w_base_rad_s);
     }
     /* kp: N.m per mech rad/s -> pu torque per pu speed: w_mech = w_pu w_base / p. */
     cfg->speed.kp_iq = to_iq(&c, "kp_nm_s_rad", kp, kp * b.w_base_rad_s / (si->pole_pairs * b.t_base_nm));

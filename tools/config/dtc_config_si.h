@@ -163,6 +163,8 @@ typedef struct {
     int reconfig_relay;      /* 1: a relay per phase ties a failed leg's phase to the mid-point
                               * (the post-fault FSTP configuration: dtc_config_post_fault_si) */
     double relay_delay_s;    /* its closing time, s (> 0 with reconfig_relay) */
+    double overspeed_rpm;    /* overspeed trip, mechanical rpm, above speed_limit_rpm; 0 = derived:
+                              * dtc_overspeed_default_rpm; < 0 = off */
 } dtc_config_si_t;
 
 enum dtc_si_err {
@@ -257,6 +259,11 @@ double dtc_vmid_gain_tol(const dtc_config_si_t *si);
 /* The leg-drop amplitude, V, that the configured compensation leaves in the voltage model at
  * current i_a (see dtc_handover_default_rpm). */
 double dtc_handover_residual_v(const dtc_config_si_t *si, double i_a);
+
+/* Default overspeed trip (mechanical rpm): 10 % above the larger of the rated speed and the speed
+ * limit, the fastest the drive is ever asked to turn. Table VIII (3000 rpm rated and limit): 3300 rpm;
+ * the 4 kW IM with its 6000 rpm flux-weakening limit: 6600 rpm. */
+double dtc_overspeed_default_rpm(const dtc_config_si_t *si);
 
 /* Default current limit (A, peak) of the firmware's vector override (firmware/dtc/ilim.h), from
  * the trip level and the configured machine and board: I_lim = I_trip - n dI with

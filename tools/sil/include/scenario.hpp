@@ -240,6 +240,7 @@ struct ProtectionCfg {
     double vdc_min_v = PLANT_DEF_VDC_MIN_V;                 // firmware DC-link under-voltage trip
     double vdc_max_v = PLANT_DEF_VDC_MAX_V;                 // firmware DC-link over-voltage trip
     double hw_trip_current_a = PLANT_DEF_HW_TRIP_CURRENT_A; // hardware comparator (PDPINTA), in hal_host
+    double overspeed_rpm = 0.0;     // firmware overspeed trip; 0 = derived (10 % above rated / limit), < 0 = off
     double stall_time_s = 0.0;      // firmware stall fault time; 0 = derived, max(0.1 s, 20 speed periods)
     bool allow_unsafe = false;    // accept trip settings that let the current exceed 3x rated
 };

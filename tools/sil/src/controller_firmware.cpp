@@ -86,7 +86,15 @@ std::string app_fault_meaning(std::uint16_t fault, int detail)
     };
 #define SIL_ENC_ROW_(num, meaning) {num, meaning},
     static const EncRow kEncoder[] = {APP_ENC_DETAIL_LIST(SIL_ENC_ROW_)};
+    static const EncRow kSensor[] = {APP_SENSOR_DETAIL_LIST(SIL_ENC_ROW_)};
 #undef SIL_ENC_ROW_
+    const auto phase_letter = [](std::string w, int ph) {
+        const std::string::size_type at = w.find("%c");
+        if (at != std::string::npos) {
+            w.replace(at, 2, ph >= 0 && ph <= 2 ? std::string(1, static_cast<char>('A' + ph)) : "?");
+        }
+        return w;
+    };
     for (const Row& r : kFaults) {
         if (r.id != fault) {
             continue;
@@ -98,11 +106,16 @@ std::string app_fault_meaning(std::uint16_t fault, int detail)
                     w = e.meaning;
                 }
             }
-        } else if (r.kind == APP_DETAIL_PHASE) {
-            const std::string::size_type at = w.find("%c");
-            if (at != std::string::npos) {
-                w.replace(at, 2, detail >= 0 && detail <= 2 ? std::string(1, static_cast<char>('A' + detail)) : "?");
+        } else if (r.kind == APP_DETAIL_SENSOR) {
+            for (const EncRow& e : kSensor) {
+                if (detail >= 0 && e.detail == detail / 3) {
+                    w = phase_letter(e.meaning, detail % 3);
+                }
             }
+        } else if (r.kind == APP_DETAIL_PHASE) {
+            w = phase_letter(w, detail);
+        } else if (r.kind == APP_DETAIL_SIGN && r.id == APP_FAULT_OVERSPEED && detail < 0) {
+            w += " (reverse)";
         }
         return w;
     }

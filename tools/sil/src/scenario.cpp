@@ -481,6 +481,11 @@ const std::vector<Spec>& schema()
             "firmware stall fault (speed mode): the torque reference at its limit while the speed error does "
             "not shrink for this long (at least 20 speed-loop periods); 0 = max(0.1 s, 20 speed-loop periods)",
             ACC(protection.stall_time_s)),
+        num("protection.overspeed_rpm", "rpm", any(),
+            "firmware overspeed trip on the measured speed (either direction), above control.speed_limit_rpm; "
+            "0 = derived: 10 % above the larger of motor.rated_speed_rpm and control.speed_limit_rpm "
+            "(tools/config dtc_overspeed_default_rpm; 3300 rpm for Table VIII); negative = off",
+            ACC(protection.overspeed_rpm)),
         num("protection.hw_trip_current_a", "A", nonneg(),
             "hardware comparator on each phase-current magnitude (PDPINTA), latching, gates off; 0 = not fitted",
             ACC(protection.hw_trip_current_a)),
