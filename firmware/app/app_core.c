@@ -31,6 +31,7 @@ static void enter_calibrate(app_core_t *a)
     app_enc_reset(&a->enc);
     app_fault_reset(&a->flt);
     app_plaus_reset(&a->plaus);
+    a->plaus_win = 0U;
     a->st.out.speed_iq = 0; /* the encoder-freeze check reads the last reported speed */
     a->st.fault = APP_FAULT_NONE;
     a->st.fault_detail = 0;
@@ -319,32 +320,63 @@ static uint16_t check_speed(app_core_t *a)
     return 0U;
 }
 
-/* Current-sensor plausibility (app_plaus.h) on a two-sensor board, with the fault detection on
- * (prot.leg_i_min_iq > 0): a measured channel that does not follow the current the law predicted
- * from the voltage it applied trips APP_FAULT_CURRENT_SENSOR (APP_SENSOR_DETAIL_LIST 0), or, when
- * it reads zero (inside the open-phase zero band), with check 2: a sensor stuck at zero and an
- * open phase look the same to two sensors (the phase reads zero while the law drives current into
- * it), and either must turn the gates off before the unseen current runs away. With three sensors
- * their sum tells a sensor from a phase (app_fault_trips, app_fault_open_phase), and this check
- * stays out of the way of the open-phase reconfiguration. Returns 1 on a trip. */
+/* Current-sensor plausibility (app_plaus.h, prot.i_plaus; with the fault detection):
+ * measured channels that did not follow the current the law predicted from the voltage it
+ * applied. An open phase does that too (its phase reads zero and the others no longer follow a
+ * three-phase model), so:
+ *  - three sensors: a sensor where their sum disagreed as well (|sum| > prot.i_sum_max_iq on a
+ *    sample of the window), or where no phase read zero (inside the open-phase zero band) in the
+ *    window; a phase at zero with the sum at zero is an open phase or device, left to the
+ *    open-phase check and its reconfiguration (app_fault_open_phase). The sum alone (app_fault_trips) needs it for
+ *    APP_ISUM_PERIODS periods in a row, which a sensor stuck near the current's own range may take
+ *    milliseconds to give;
+ *  - two sensors: a channel that reads zero (inside the open-phase zero band) while the law drives
+ *    current into it is named as such (a sensor stuck at zero and an open phase look the same to two
+ *    sensors, APP_SENSOR_DETAIL_LIST 2); either must turn the gates off before the unseen current
+ *    runs away. Otherwise the first channel that failed (APP_SENSOR_DETAIL_LIST 0).
+ * Returns 1 on a trip. */
 static uint16_t check_sensors(app_core_t *a)
 {
+    const dtc_config_t *c = a->cfg;
     const iq_t i[3] = {a->st.meas.ia_iq, a->st.meas.ib_iq, a->st.meas.ic_iq};
+    const iq_t zero = fix_rshift_rnd32(c->prot.leg_i_min_iq, APP_LEG_ZERO_LOG2);
     iq_t i1[3];
-    int16_t bad;
-    if (a->cfg->prot.leg_i_min_iq <= 0 || a->cfg->board.i_sensors3 != 0U) {
+    uint16_t bad, k, pick = 3U, kind = 0U, win;
+    if (c->prot.i_plaus == 0U) {
         return 0U;
     }
-    bad = app_plaus_step(&a->plaus, &a->plaus_p, i, law_i_pred(&a->law, i1) != 0U ? i1 : NULL,
-                         a->meas_mask);
-    if (bad >= 0) {
-        const uint16_t zero =
-            (uint16_t)(fix_abs32(i[bad]) < fix_rshift_rnd32(a->cfg->prot.leg_i_min_iq, APP_LEG_ZERO_LOG2));
-        latch_fault(a, APP_FAULT_CURRENT_SENSOR,
-                    (int16_t)((zero != 0U ? 6U : 0U) + app_fault_phase(a->perm, (uint16_t)bad)));
-        return 1U;
+    if (c->board.i_sensors3 != 0U) {
+        if (fix_abs32(fix_add32(fix_add32(i[0], i[1]), i[2])) > c->prot.i_sum_max_iq) {
+            a->plaus_win |= 1U;
+        }
+        for (k = 0U; k < 3U; k++) {
+            if (fix_abs32(i[k]) < zero) {
+                a->plaus_win |= 2U;
+            }
+        }
     }
-    return 0U;
+    bad = app_plaus_step(&a->plaus, &a->plaus_p, i, law_i_pred(&a->law, i1) != 0U ? i1 : NULL, a->meas_mask);
+    win = a->plaus_win;
+    if (a->plaus.n == 0U) { /* a window ended (or the block rests): the next one starts afresh */
+        a->plaus_win = 0U;
+    }
+    if (bad == 0U || win == 2U) {
+        return 0U; /* three sensors, a phase at zero and the sum at zero: an open phase's signature */
+    }
+    for (k = 0U; k < 3U; k++) {
+        if ((bad & (uint16_t)(1U << k)) != 0U) {
+            if (c->board.i_sensors3 == 0U && fix_abs32(i[k]) < zero) {
+                pick = k;
+                kind = 2U;
+                break;
+            }
+            if (pick == 3U) {
+                pick = k;
+            }
+        }
+    }
+    latch_fault(a, APP_FAULT_CURRENT_SENSOR, (int16_t)(3U * kind + app_fault_phase(a->perm, pick)));
+    return 1U;
 }
 
 int16_t app_core_set_pwm_period(app_core_t *a, uint16_t t1pr)

@@ -90,6 +90,8 @@ typedef struct app_core {
     app_plaus_params_t plaus_p; /* current-sensor plausibility, two sensors (app_plaus.h) */
     app_plaus_t plaus;
     uint16_t meas_mask;    /* bit k: the law's phase k is measured, not derived */
+    uint16_t plaus_win;    /* three sensors, this window: bit 0 their sum was above prot.i_sum_max_iq,
+                            * bit 1 a phase read zero (check_sensors) */
 } app_core_t;
 
 /* Validates the configuration (law_init) and enters CALIBRATE. Returns 0 or the dtc_err code;

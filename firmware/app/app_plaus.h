@@ -5,26 +5,43 @@
  *
  * The law (law.h law_i_pred) predicts at step k the phase currents of sample k+1 from the
  * voltage vector committed for period [k, k+1] and the machine model, l_s di/dt = v - r_s i - e
- * (Hoang eqs. 6-9). Per measured channel x the block correlates, over a window of
- * 2^APP_PLAUS_WIN_LOG2 periods, the measured change d_m = i_x(k+1) - i_x(k) with the predicted
- * change d_p = i1_x(k) - i_x(k):
- *     ratio = sum(d_m d_p) / sum(d_p^2).
- * A healthy sensor follows the model: the ratio is l_s(firmware) / l_s(machine) times the sensor's
- * gain, about 1 (0.7 .. 1.4 for a 30 % inductance error). A sensor that no longer measures its
- * current (stuck at any code, lost, reading noise) has d_m ~ 0 whatever the vector: the ratio is
- * about 0. The channel trips when the ratio is below 1/4 over a window in which the current was
- * predicted to move (sum(d_p^2) above the floor: APP_PLAUS_FLOOR_COUNTS ADC counts per period on
- * average), so a drive at rest or with null vectors only never trips on it. The criterion does not
- * depend on the machine's inductance, speed or load, only on the sign and rough size of the
- * model's prediction.
+ * (Hoang eqs. 6-9). Per measured channel x the block compares, over a window of
+ * N = 2^APP_PLAUS_WIN_LOG2 periods, the measured change d_m = i_x(k+1) - i_x(k) with the
+ * predicted change d_p = i1_x(k) - i_x(k):
+ *  - the ratio sum(d_m d_p) / sum(d_p^2): a healthy sensor follows the prediction, the ratio is
+ *    l_s(firmware) / l_s(machine) times the sensor's gain, about 1 (0.7 .. 1.4 for a 30 %
+ *    inductance error); a sensor that no longer measures its current (stuck at any code, lost,
+ *    reading noise) has d_m ~ 0 whatever the vector, the ratio is about 0. Below 1/4, over a window
+ *    in which the predicted change was large enough (its mean square above APP_PLAUS_FLOOR_COUNTS
+ *    ADC counts squared), the channel is suspect. This catches the dangerous case: a law misled by
+ *    a stuck reading drives the true current one way, period after period, and the prediction is a
+ *    steady ramp the reading never follows;
+ *  - the regression slope cov(d_m, d_p) / var(d_p) with the window's means taken out: a model
+ *    error the firmware makes slowly (a back-EMF or flux linkage a few per cent off, the
+ *    resistance, the devices' drops: each a bias nearly constant over a window) shifts d_p but not
+ *    its response to the switching. A suspect channel whose slope is 1/4 or more, over a window in
+ *    which the predicted change varied (standard deviation above the same floor), does follow the
+ *    switching: it is healthy and the model is off. A stuck one does not (slope ~0), nor can a
+ *    steady ramp show it does (its variance is below the floor).
+ * Before both, the prediction's bias is taken out: the mean of d_p - d_m, learnt with a leak of
+ * 2^-APP_PLAUS_BIAS_LOG2 per period (3.2 ms). Within one window a steady model error looks exactly
+ * like a stuck reading (the vector nearly balances the back-EMF, the true current stands still
+ * while a back-EMF 10 % off predicts a ramp: SIL, current model, psi_m 10 % high); over the
+ * milliseconds before it, a healthy sensor has shown what the bias is, and a sensor that sticks now
+ * is judged against what it did until now.
+ * A channel is reported when it is suspect and does not follow the switching. A drive at rest or
+ * on null vectors only is never reported. Neither test depends on the machine's inductance, speed
+ * or load, only on the sign and rough size of the model's response to the vectors.
  *
- * The window is 0.8 ms at 50 us: a stuck sensor is found before the law, misled by it, can drive
+ * The window is 0.4 ms at 50 us: a stuck sensor is found before the law, misled by it, can drive
  * the true current far past the trip level (the over-current trip reads the stuck value too).
  *
  * Formats: currents IQ pu (dtc_base.h). Scaling and overflow: each change is a saturated
  * difference of two values below the trip level (<= 128 pu), shifted right by 8 (rounded) to IQ16
- * before the products, so |d| < 2^24 and each product < 2^48; 2^4 of them sum below 2^52 in
- * int64_t. The floor is formed the same way at init.
+ * before the products, so |d| < 2^24 (the bias, a mean of two such, < 2^25; their difference
+ * saturates) and each product < 2^50; N = 2^3 of them sum below 2^51, the
+ * sums of changes below 2^27; N times a sum of products and a product of two sums stay below
+ * 2^54 in int64_t, and 4 cov below 2^57. The floor is formed the same way at init.
  */
 #ifndef APP_PLAUS_H
 #define APP_PLAUS_H
@@ -38,9 +55,12 @@
 /* Least mean predicted change per period that makes a window count: 8 ADC counts (a few times
  * the sensors' noise and quantisation). */
 #define APP_PLAUS_FLOOR_COUNTS 8
+/* The prediction's bias is learnt over 2^6 = 64 periods. */
+#define APP_PLAUS_BIAS_LOG2 6U
 
 typedef struct {
-    int64_t floor_q32; /* 2^APP_PLAUS_WIN_LOG2 (8 counts in pu, IQ16)^2: least sum(d_p^2) */
+    int64_t floor_raw; /* N (APP_PLAUS_FLOOR_COUNTS counts in pu, IQ16)^2: least sum(d_p^2) */
+    int64_t floor_var; /* N^2 (the same)^2: least N^2 var(d_p) */
 } app_plaus_params_t;
 
 typedef struct {
@@ -48,6 +68,9 @@ typedef struct {
     iq_t i1_prev[3];   /* the law's prediction made then for this sample */
     uint16_t primed;   /* 1: i_prev and i1_prev hold a valid pair */
     uint16_t n;        /* periods in the current window */
+    int32_t bias[3];   /* the prediction's bias, mean of d_p - d_m, IQ16 pu per period */
+    int32_t s_m[3];    /* sum of d_m, IQ16 */
+    int32_t s_p[3];    /* sum of d_p, IQ16 */
     int64_t s_mp[3];   /* sum of d_m d_p, IQ32 */
     int64_t s_pp[3];   /* sum of d_p^2, IQ32 */
 } app_plaus_t;
@@ -59,9 +82,9 @@ void app_plaus_reset(app_plaus_t *s);
 /* One period, after the law's step. i: this sample's phase currents (law order); i1: the law's
  * prediction for the next sample, or NULL where the law has none (the block then rests and
  * restarts its window when a prediction comes back); measured: bit k set when phase k (law order)
- * is measured, not derived. Returns the phase (law order) 0..2 of a sensor that does not follow
- * the predicted current, or -1. */
-int16_t app_plaus_step(app_plaus_t *s, const app_plaus_params_t *p, const iq_t i[3], const iq_t *i1,
-                       uint16_t measured);
+ * is measured, not derived. Returns the set of measured phases (bit k: law phase k) that did not
+ * follow the predicted current over the window that ended now, 0 when none (or no window ended). */
+uint16_t app_plaus_step(app_plaus_t *s, const app_plaus_params_t *p, const iq_t i[3], const iq_t *i1,
+                        uint16_t measured);
 
 #endif /* APP_PLAUS_H */

@@ -85,6 +85,7 @@ static int16_t dtc_protect_check(const dtc_protect_cfg_t *p, const char **f)
     DTC_REFUSE(p->leg_i_min_iq < 0, DTC_ERR_FAULTDET, "prot.leg_i_min_iq");
     DTC_REFUSE(p->enc_freeze_speed_iq < 0, DTC_ERR_FAULTDET, "prot.enc_freeze_speed_iq");
     DTC_REFUSE(p->overspeed_iq < 0, DTC_ERR_LIMIT, "prot.overspeed_iq");
+    DTC_REFUSE(p->i_plaus > 1U || (p->i_plaus != 0U && p->leg_i_min_iq <= 0), DTC_ERR_FAULTDET, "prot.i_plaus");
     return DTC_OK;
 }
 

@@ -186,6 +186,8 @@ typedef struct {
     uint16_t relay_periods;   /* reconfiguration: control periods from the relay command until
                                * the phase is on the mid-point (the relay's closing time with a
                                * margin); the open-phase check waits that long */
+    uint16_t i_plaus;         /* 1: the measured currents are checked against the law's prediction
+                               * (app_plaus.h; needs leg_i_min_iq > 0 for its zero band), 0: off */
     iq_t overspeed_iq;        /* overspeed trip: |measured electrical speed| above it, pu (> the
                                * speed limit; 0 = off; the host derives it from the rated speed) */
 } dtc_protect_cfg_t;

@@ -4,7 +4,7 @@
 #include "dtc_config.h"
 
 const dtc_config_t g_dtc_config = {
-    .version = 10U,
+    .version = 11U,
     .law = 0U, /* enum dtc_law */
     .board = {
         .v_base_mv = 70000U,
@@ -41,6 +41,8 @@ const dtc_config_t g_dtc_config = {
         .leg_i_min_iq = 2097152, /* 0.125 pu */
         .enc_freeze_speed_iq = 4101392, /* 0.244462013 pu */
         .relay_periods = 0U,
+        .i_plaus = 1U,
+        .overspeed_iq = 18454938, /* 1.10000002 pu */
     },
     .machine = {
         .pole_pairs = 1U,

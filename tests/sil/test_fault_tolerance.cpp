@@ -308,3 +308,34 @@ TEST(FaultTolerance, ASpeedDipIsMeasuredFromTheSpeedTheDriveHadAtTheFault)
     ASSERT_GE(o.info.speed_dip_rpm, 0.0);
     EXPECT_LT(o.info.speed_dip_rpm, 10.0) << "speed at the fault " << n_fault;
 }
+
+// Overspeed: the six-switch drive in torque mode with no load but its inertia accelerates past
+// its rated speed (the FSTP's half link holds it near 2260 rpm); the firmware trips "overspeed"
+// at the derived level, 10 % above the rated speed (tools/config dtc_overspeed_default_rpm), and
+// the speed never reaches 115 % of rated. Without the trip it ran to 4135 rpm.
+TEST(FaultTolerance, OverspeedTripsBelow115PercentOfRated)
+{
+    Scenario sc;
+    Diagnostics d;
+    ASSERT_TRUE(load_scenario(kScenarios + "sstp_current_full.toml",
+                              {"control.mode=\"torque\"", "load.type=\"inertia\"", "duration_s=1.6"}, &sc, &d))
+        << d.text();
+    const fs::path dir = fs::temp_directory_path() / "dtc_fault_tolerance_overspeed";
+    fs::remove_all(dir);
+    RunOptions opt;
+    opt.out_dir = dir.string();
+    RunResult r;
+    std::string err;
+    ASSERT_TRUE(run_scenario(sc, opt, &r, &err)) << err;
+    auto c = sil_test::read_trace(dir / "trace.csv");
+    fs::remove_all(dir);
+    EXPECT_EQ(r.info.fault, "overspeed") << r.info.fault_detail;
+    double n_max = 0.0;
+    for (double n : c["speed_rpm"]) {
+        n_max = std::max(n_max, std::fabs(n));
+    }
+    std::printf("MEASURE overspeed: largest speed %.0f rpm, rated %.0f rpm (%.1f %%)\n", n_max,
+                sc.motor.rated_speed_rpm, 100.0 * n_max / sc.motor.rated_speed_rpm);
+    EXPECT_GT(n_max, sc.motor.rated_speed_rpm) << "the drive must have been above rated to trip";
+    EXPECT_LT(n_max, 1.15 * sc.motor.rated_speed_rpm);
+}

@@ -66,11 +66,11 @@ static uint16_t step(void)
 }
 
 /* This test's currents are scripted, not a machine's: they do not follow the voltage the law
- * applies, which the two-sensor plausibility check (app_plaus.h) rightly trips on; the fault
- * detection is off for it (prot.leg_i_min_iq = 0; the app reads the configuration live). */
+ * applies, which the current-sensor plausibility check (app_plaus.h) rightly trips on; it is off
+ * for the test (prot.i_plaus = 0; the app reads the configuration live). */
 static void static_currents(void)
 {
-    fx.cfg.prot.leg_i_min_iq = 0;
+    fx.cfg.prot.i_plaus = 0U;
 }
 
 static void setup_topology(int topology)
@@ -98,6 +98,7 @@ static void run_to_state(int topology, int offset_error)
 {
     uint16_t k;
     setup_topology(topology);
+    static_currents();
     assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
     assert_int_equal(fx.app.st.state, APP_STATE_CALIBRATE);
     for (k = 0; k < 3; k++) {
@@ -278,6 +279,7 @@ static void test_rotor_hold(void **state)
      * is released 2^APP_VMID_CAL_LOG2 periods later */
     for (int stops = 1; stops >= 0; stops--) {
         setup_topology(DTC_TOPO_FSTP);
+        static_currents();
         fx.m.qep_count = 1000U;
         assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
         uint32_t k = 0U;
@@ -495,7 +497,6 @@ static void test_encoder_plausibility(void **state)
     uint32_t k, pulses = 0U;
     (void)state;
     run_to_state(DTC_TOPO_SSTP, 0);
-    static_currents();
     for (k = 0; k < 20000U; k++) { /* 48 turns */
         encoder_advance(&pos, adv, 0U);
         pulses += fx.m.qep_index_seen;
@@ -634,7 +635,6 @@ static void test_run_forwards_controller_decision(void **state)
     uint16_t k;
     (void)state;
     run_to_state(DTC_TOPO_SSTP, 0);
-    static_currents();
     assert_int_equal(dtc_init(&ref, &fx.cfg), DTC_OK);
     dtc_reset(&ref);
     for (k = 0; k < 500; k++) {
@@ -777,6 +777,7 @@ static void test_current_sum_finds_a_stuck_sensor(void **state)
     fx.si.i_sensors3 = 1;
     assert_int_equal(dtc_config_from_si(&fx.si, &fx.cfg, msg, sizeof msg), DTC_SI_OK);
     assert_true(fabs(fx.cfg.prot.i_sum_max_iq / 16777216.0 * fx.b.i_base_a - 0.25 * 2.2) < 1e-6);
+    static_currents();
     assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
     for (k = 0; k < cal_len(); k++) {
         step();
@@ -891,10 +892,12 @@ static void setup_reconfig(int relay)
     fx.si.reconfig_relay = relay;
     fx.si.relay_delay_s = 5e-3;
     assert_int_equal(dtc_config_from_si(&fx.si, &fx.cfg, msg, sizeof msg), DTC_SI_OK);
+    static_currents();
     assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
     if (relay != 0) {
         assert_int_equal(dtc_config_post_fault_si(&fx.si, &post_si), DTC_SI_OK);
         assert_int_equal(dtc_config_from_si(&post_si, &post_cfg, msg, sizeof msg), DTC_SI_OK);
+        post_cfg.prot.i_plaus = 0U; /* scripted currents, as static_currents() */
         assert_int_equal(app_core_set_reconfig(&fx.app, &post_cfg), 0);
         /* 1.5 x 5 ms + one period */
         assert_int_equal(post_cfg.prot.relay_periods, 151);

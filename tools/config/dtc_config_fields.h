@@ -26,7 +26,7 @@
     P(prot)                                                                                       \
     IQ(prot, i_trip_iq) IQ(prot, vdc_max_iq) IQ(prot, vdc_min_iq) IQ(prot, i_lim_iq)               \
     U(prot, stall_speed_periods) IQ(prot, i_hold_iq) IQ(prot, i_sum_max_iq) IQ(prot, leg_i_min_iq) \
-    IQ(prot, enc_freeze_speed_iq) U(prot, relay_periods)                                          \
+    IQ(prot, enc_freeze_speed_iq) U(prot, relay_periods) U(prot, i_plaus) IQ(prot, overspeed_iq)   \
     END(prot)                                                                                     \
     P(machine)                                                                                    \
     U(machine, pole_pairs) IQ(machine, rs_iq)                                                      \

@@ -489,9 +489,11 @@ static void dtc_fault_levels(conv_t *c, const dtc_config_si_t *si, const dtc_bas
     cfg->prot.leg_i_min_iq = 0;
     cfg->prot.enc_freeze_speed_iq = 0;
     cfg->prot.relay_periods = 0U;
+    cfg->prot.i_plaus = 0U;
     if (si->fault_detect == 0) {
         return;
     }
+    cfg->prot.i_plaus = 1U;
     if (si->i_sensors3 != 0) {
         cfg->prot.i_sum_max_iq = to_iq(c, "rated_current_a (current-sum level)", si->rated_current_a,
                                        0.25 * si->rated_current_a / b->i_base_a);
