@@ -548,7 +548,9 @@ const std::vector<Spec>& schema()
             "transducer's bandwidth); 0 = unfiltered",
             ACC(metrics.torque_sensor_hz)),
         boolean("protection.allow_unsafe",
-                "accept trip settings that let the phase current exceed 3x motor.rated_current_a (refused otherwise)",
+                "accept trip settings that let the phase current exceed 3x motor.rated_current_a, or a board whose "
+                "over-current only the firmware can see without a way to find a failed current sensor (refused "
+                "otherwise)",
                 ACC(protection.allow_unsafe)),
     };
     return specs;
@@ -897,6 +899,15 @@ template <typename Err, typename Warn> void check_faults(const Scenario& s, Err 
         }
         return;
     }
+    if (f.current_sensor_stuck != FaultPhase::None && s.control.implementation == Implementation::Firmware &&
+        s.sensors.current_sensors == 2) {
+        const FaultPhase derived = s.inverter.topology == Topology::Fstp ? FaultPhase::A : FaultPhase::C;
+        if (f.current_sensor_stuck == derived) {
+            warn("faults.current_sensor_stuck", "phase " + to_string(derived) +
+                                                    " has no sensor the firmware reads (two sensors: it derives that "
+                                                    "phase from the other two): the fault changes nothing");
+        }
+    }
     if (s.origin.count("faults.time_s") == 0) {
         err("faults.time_s", "missing value: required when a fault is configured");
     } else if (f.time_s >= s.duration_s) {
@@ -1100,6 +1111,22 @@ void cross_validate(Scenario& s, Diagnostics* d)
         if (s.control.lpf_cutoff_rad_s >= kPi / s.ts_s) {
             err("control.lpf_cutoff_rad_s", "must be below the Nyquist rate pi/ts_s = " +
                                                 fmt_double(kPi / s.ts_s) + " rad/s");
+        }
+    }
+    if (!open_loop && !s.protection.allow_unsafe && s.control.implementation == Implementation::Firmware &&
+        s.protection.hw_trip_current_a == 0.0) {
+        // Without the hardware comparator only the firmware can see an over-current, and it sees
+        // it through the current sensors: a failed sensor must be found, by the current sum of
+        // three sensors or by the plausibility against the law's prediction (the PM law with
+        // the delay compensation; firmware/app/app_plaus.h), both with the fault detection on.
+        const bool sum = s.sensors.current_sensors == 3;
+        const bool pred = s.motor.type == MotorType::Pmsm && s.control.delay_comp;
+        if (!s.control.fault_detect || !(sum || pred)) {
+            err("protection.hw_trip_current_a",
+                "0 (no hardware comparator) needs a firmware path that sees a failed current sensor: "
+                "control.fault_detect = true with sensors.current_sensors = 3, or the PM law with "
+                "control.delay_comp = true; otherwise a stuck sensor hides an over-current. Fit the comparator "
+                "or set protection.allow_unsafe = true");
         }
     }
     if (!open_loop && !s.protection.allow_unsafe) {
