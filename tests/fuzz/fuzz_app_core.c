@@ -366,7 +366,7 @@ static void check_status(const fuzz_t *z)
     FUZZ_CHECK(s->state == APP_STATE_CALIBRATE || s->state == APP_STATE_RUN || s->state == APP_STATE_FAULT,
                "state %u", s->state);
     FUZZ_CHECK((s->state == APP_STATE_FAULT) == (s->fault != APP_FAULT_NONE), "state %u fault %u", s->state, s->fault);
-    FUZZ_CHECK(s->fault <= APP_FAULT_LEG, "fault %u", s->fault);
+    FUZZ_CHECK(s->fault < APP_FAULT_COUNT_, "fault %u", s->fault);
     FUZZ_CHECK(strcmp(app_fault_name(s->fault), "unknown") != 0, "fault %u has no name", s->fault);
     FUZZ_CHECK(s->reconfigured <= HAL_RELAY_C, "reconfigured %u", s->reconfigured);
     switch (s->fault) {
@@ -387,6 +387,12 @@ static void check_status(const fuzz_t *z)
         break;
     case APP_FAULT_STALL:
         FUZZ_CHECK(s->fault_detail == 1 || s->fault_detail == -1, "stall detail %d", s->fault_detail);
+        break;
+    case APP_FAULT_CURRENT_SENSOR: /* 3 * check + phase (app_fault.h APP_SENSOR_DETAIL_LIST) */
+        FUZZ_CHECK(s->fault_detail >= 0 && s->fault_detail <= 8, "current_sensor detail %d", s->fault_detail);
+        break;
+    case APP_FAULT_OVERSPEED:
+        FUZZ_CHECK(s->fault_detail == 1 || s->fault_detail == -1, "overspeed detail %d", s->fault_detail);
         break;
     default: /* per phase / leg / channel */
         FUZZ_CHECK(s->fault_detail >= 0 && s->fault_detail <= 2, "fault %u detail %d", s->fault, s->fault_detail);
