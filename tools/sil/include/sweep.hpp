@@ -66,7 +66,7 @@ std::vector<std::string> run_overrides(const Spec& spec, const PlannedRun& run);
 
 /// Executes runs in forked child processes, at most `jobs` at a time; a run that has not finished
 /// after timeout_s seconds is killed and reported as "timeout"; a child that dies is "crashed".
-/// on_row is called in the parent, in completion order, with the row (see row layout in sweep.cpp).
+/// on_row is called in the parent, in completion order, with the row (see the row layout in sweep_rows.cpp).
 struct ExecOptions {
     unsigned jobs = 1;
     double timeout_s = 600.0;
