@@ -32,9 +32,10 @@ struct RunOptions {
     std::ostream* progress = nullptr; // progress line with ETA ("\r", for a terminal); nullptr: none
 };
 
-/// Bytes per trace.csv row used for the size estimate (shortest round-trip numbers: 347 on
-/// average over the default scenario's 1.5 s).
-constexpr double kTraceBytesPerRow = 350.0;
+/// Bytes per trace.csv row used for the estimate before the run (rows take 371-376 bytes on the
+/// shipped scenarios). During the run the guard measures the rows written and stops a run whose
+/// trace would exceed RunOptions::max_trace_bytes.
+constexpr double kTraceBytesPerRow = 380.0;
 
 /// Physical bounds of the plant state for this scenario; outside them (or non-finite) the run
 /// stops with fault "plant_diverged".
@@ -55,6 +56,7 @@ struct RunResult {
     Metrics metrics;
     RunInfo info;
     Series series;           // the metrics window's samples (plus nothing before it)
+    bool output_touched = false; // a failed run changed out_dir after all (see StagedOutput::commit)
 };
 
 /// Runs the scenario. Returns false with *err when anything fails before the results are complete

@@ -151,7 +151,10 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
     StopSignals stop_signals;
     if (!run_scenario(sc, opt, &res, &e)) {
         err << "dtc-sil: " << scenario_path << ": " << e << "\n";
-        err << "dtc-sil: nothing written to " << out_dir << "\n";
+        if (!res.output_touched) {
+            err << "dtc-sil: nothing written to " << out_dir
+                << (record_isr.empty() ? std::string() : " or " + record_isr) << "\n";
+        }
         return g_stop_signal != 0 ? 128 + static_cast<int>(g_stop_signal) : 2;
     }
     if (!quiet) {

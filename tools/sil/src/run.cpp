@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <new>
 #include <ostream>
 
 extern "C" {
@@ -314,8 +315,26 @@ bool run_scenario(const Scenario& sc, const RunOptions& opt, RunResult* res, std
     return run_scenario_with(sc, std::move(ctrl), opt, res, err);
 }
 
+namespace {
+bool run_once(const Scenario& sc, std::unique_ptr<Controller> ctrl, const RunOptions& opt, RunResult* res,
+              std::string* err);
+} // namespace
+
 bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, const RunOptions& opt, RunResult* res,
                        std::string* err)
+{
+    try {
+        return run_once(sc, std::move(ctrl), opt, res, err);
+    } catch (const std::bad_alloc&) {
+        // The staging folder and recording are removed on the way out (their destructors).
+        *err = "out of memory (a scenario size the checks let through: please report it)";
+        return false;
+    }
+}
+
+namespace {
+bool run_once(const Scenario& sc, std::unique_ptr<Controller> ctrl, const RunOptions& opt, RunResult* res,
+              std::string* err)
 {
     // Everything that can be refused is refused before the first period and before any file exists.
     if (!ctrl) {
@@ -357,6 +376,14 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
             return false;
         }
     }
+    // The metrics window spans round(window/ts) periods: that many + 1 samples (metrics.cpp).
+    const auto window_n =
+        std::min<std::uint64_t>(periods, static_cast<std::uint64_t>(std::llround(sc.metrics_window_s / sc.ts_s)) + 1);
+    if (window_n > kMaxWindowSamples) {
+        *err = "metrics_window_s = " + std::to_string(sc.metrics_window_s) + " s holds " + std::to_string(window_n) +
+               " samples, above the " + std::to_string(kMaxWindowSamples) + " the metrics window may hold";
+        return false;
+    }
     if (!opt.record_isr.empty() && !ctrl->can_record_isr()) {
         *err = ctrl->start_isr_record(opt.record_isr);
         return false;
@@ -364,16 +391,16 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
     if (opt.check_only) {
         return true;
     }
+    // The recording is written under a staging name and renamed only when the run completed: an
+    // interrupted or failed run leaves no truncated recording under the name asked for.
+    StagedFile record(opt.record_isr);
     if (!opt.record_isr.empty()) {
-        if (std::string e = ctrl->start_isr_record(opt.record_isr); !e.empty()) {
+        if (std::string e = ctrl->start_isr_record(record.path()); !e.empty()) {
             *err = e;
             return false;
         }
     }
 
-    // The metrics window spans round(window/ts) periods: that many + 1 samples (metrics.cpp).
-    const auto window_n =
-        std::min<std::uint64_t>(periods, static_cast<std::uint64_t>(std::llround(sc.metrics_window_s / sc.ts_s)) + 1);
     StagedOutput out;
     Recorder rec(sc, periods, window_n, ctrl->has_estimates(), writing && opt.write_trace, decimate, &res->series);
     if (writing) {
@@ -381,6 +408,8 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
             return false;
         }
     }
+    const bool guard_trace = writing && opt.write_trace && !opt.force;
+    const double trace_rows = std::floor(static_cast<double>(periods - 1) / decimate) + 1.0;
     RunEvents events(sc, pp.load);
     const PlantBounds bounds = plant_bounds(sc);
     Divergence div;
@@ -410,6 +439,24 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
                     *opt.progress << line << std::flush;
                 }
             }
+            if (guard_trace && rec.trace_rows() > 0) {
+                // The trace's size measured on the rows written so far, projected to the run's end.
+                const double per_row = static_cast<double>(rec.trace_bytes()) / static_cast<double>(rec.trace_rows());
+                const double bytes = static_cast<double>(rec.trace_bytes()) +
+                                     per_row * std::max(0.0, trace_rows - static_cast<double>(rec.trace_rows()));
+                if (bytes > opt.max_trace_bytes) {
+                    char line[400];
+                    std::snprintf(line, sizeof line,
+                                  "trace.csv would be about %.2f GB (%.0f rows of %.0f bytes, measured on the first "
+                                  "%llu), above the %.1f GB limit: use --decimate %.0f (or more), --no-trace, or "
+                                  "--force",
+                                  bytes / 1e9, trace_rows, per_row,
+                                  static_cast<unsigned long long>(rec.trace_rows()), opt.max_trace_bytes / 1e9,
+                                  std::ceil(decimate * bytes / opt.max_trace_bytes));
+                    *err = line;
+                    return false;
+                }
+            }
         }
         events.before_sample(*h);
         h->sample();
@@ -419,6 +466,7 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
             break;
         }
         ctrl->step(*h);
+        events.after_step(*h, *ctrl);
         if (rec.wants(k)) {
             rec.record(k, *h, *ctrl);
         }
@@ -465,10 +513,15 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
             return false;
         }
         if (!out.commit(err)) {
+            res->output_touched = out.touched();
             return false;
         }
     }
+    if (!record.commit(err)) {
+        return false;
+    }
     return true;
 }
+} // namespace
 
 } // namespace sil

@@ -46,7 +46,8 @@ RunEvents::RunEvents(const Scenario& sc, plant_load_t load)
       dyno_ramp_(sc.load.type == LoadType::Speed && sc.load.speed_ramp_s > 0.0),
       faults_pending_(sc.faults.any()),
       speed_mode_(sc.control.mode == ControlMode::Speed),
-      band_rpm_(0.01 * std::fabs(sc.control.speed_ref_rpm))
+      band_rpm_(0.01 * std::fabs(sc.control.speed_ref_rpm)),
+      legs_(sc.inverter.topology != Topology::Ideal)
 {
 }
 
@@ -91,8 +92,31 @@ void RunEvents::after_sample(const hal_host::Harness& h)
     }
 }
 
+void RunEvents::after_step(const hal_host::Harness& h, const Controller& ctrl)
+{
+    if (trip_t_ >= 0.0) {
+        return;
+    }
+    if (hw_trip_t_ < 0.0 && h.trip_latched()) {
+        hw_trip_t_ = h.time_s();
+    }
+    // A trip turns the gates off: the controller is asked only when they go off (and in the
+    // gates-off start, where a calibration fault latches), not in every period.
+    const bool en = legs_ ? h.gates_enabled() : !h.trip_latched();
+    if (!en && (prev_enabled_ || !ever_enabled_) && ctrl.fault() != "none") {
+        trip_t_ = h.time_s();
+    }
+    prev_enabled_ = en;
+    ever_enabled_ = ever_enabled_ || en;
+}
+
 void RunEvents::report(RunInfo* info) const
 {
+    if (info->fault != "none" && trip_t_ >= 0.0) {
+        info->fault_time_s = trip_t_;
+    } else if (info->hw_trip && hw_trip_t_ >= 0.0) {
+        info->fault_time_s = hw_trip_t_;
+    }
     info->injected_fault_time_s = fault_t_;
     if (fault_t_ >= 0.0 && speed_mode_) {
         info->speed_dip_rpm = dip_rpm_;

@@ -27,7 +27,10 @@ public:
     void before_sample(hal_host::Harness& h);
     /// After the sample: the speed dip and the time back in the 1 % band after a fault (speed mode).
     void after_sample(const hal_host::Harness& h);
-    /// The injected fault's time, speed dip and recovery into info.
+    /// After the controller's step: the time of the trip (the first period with the gates off
+    /// and a controller fault, or the hardware comparator latched).
+    void after_step(const hal_host::Harness& h, const Controller& ctrl);
+    /// The injected fault's time, speed dip and recovery, and the trip's time, into info.
     void report(RunInfo* info) const;
 
 private:
@@ -39,6 +42,9 @@ private:
     double dip_rpm_ = 0.0, last_out_t_ = -1.0, last_t_ = -1.0;
     double dip_base_rpm_ = 0.0; // the speed the dip is measured from (set at the fault)
     bool last_in_ = false;
+    bool legs_;
+    bool ever_enabled_ = false, prev_enabled_ = false;
+    double trip_t_ = -1.0, hw_trip_t_ = -1.0;
 };
 
 /// The metrics window's samples (Series, sized once: no allocation in the loop) and trace.csv's rows.
@@ -50,6 +56,8 @@ public:
              unsigned decimate, Series* s);
     bool open_trace(const std::string& path, std::string* err);
     bool close_trace(std::string* err);
+    std::uint64_t trace_bytes() const { return trace_.bytes_written(); }
+    std::uint64_t trace_rows() const { return trace_.rows_written(); }
     /// True when period k is recorded or traced (otherwise neither the plant state nor the
     /// controller's estimates need be read).
     bool wants(std::uint64_t k) const { return k >= record_from_ || (trace_on_ && k % decimate_ == 0); }
