@@ -52,6 +52,19 @@ std::string plant_out_of_bounds(const plant_sensed_t& s, const PlantBounds& b);
 /// at its next check (every 4096 periods), fails with "interrupted", and removes its staging folder.
 extern volatile std::sig_atomic_t g_stop_signal;
 
+/// SIGINT/SIGTERM set g_stop_signal for the lifetime of this object (a run then stops and removes
+/// its staging folder; a sweep kills its runs in flight); the previous handlers come back afterwards.
+class StopSignals {
+public:
+    StopSignals();
+    ~StopSignals();
+    StopSignals(const StopSignals&) = delete;
+    StopSignals& operator=(const StopSignals&) = delete;
+
+private:
+    struct sigaction old_int_ {}, old_term_ {};
+};
+
 struct RunResult {
     Metrics metrics;
     RunInfo info;

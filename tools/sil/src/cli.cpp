@@ -17,29 +17,23 @@ namespace sil {
 
 namespace {
 extern "C" void on_stop_signal(int sig) { g_stop_signal = sig; }
-
-/// SIGINT/SIGTERM set g_stop_signal for the lifetime of this object (the run loop then stops and
-/// its staging folder is removed); the previous handlers come back afterwards.
-struct StopSignals {
-    struct sigaction old_int {}, old_term {};
-    StopSignals()
-    {
-        g_stop_signal = 0;
-        struct sigaction sa {};
-        sa.sa_handler = on_stop_signal;
-        sigemptyset(&sa.sa_mask);
-        sigaction(SIGINT, &sa, &old_int);
-        sigaction(SIGTERM, &sa, &old_term);
-    }
-    ~StopSignals()
-    {
-        sigaction(SIGINT, &old_int, nullptr);
-        sigaction(SIGTERM, &old_term, nullptr);
-    }
-    StopSignals(const StopSignals&) = delete;
-    StopSignals& operator=(const StopSignals&) = delete;
-};
 } // namespace
+
+StopSignals::StopSignals()
+{
+    g_stop_signal = 0;
+    struct sigaction sa {};
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, &old_int_);
+    sigaction(SIGTERM, &sa, &old_term_);
+}
+
+StopSignals::~StopSignals()
+{
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+}
 
 int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::ostream& err)
 {

@@ -18,7 +18,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "run.hpp"
 #include "sweep_detail.hpp"
+#include "toml_limits.hpp"
 
 
 namespace sil::sweep {
@@ -103,6 +105,11 @@ int cmd_merge(const std::vector<std::string>& dirs, const std::string& out_dir, 
         out << " (" << total - all.size() << " missing: run the missing shards, or --resume them)";
     }
     out << "; wrote " << (fs::path(out_dir) / "summary.csv").string() << "\n";
+    if (all.size() < total) {
+        err << "dtc-sil sweep-merge: " << total - all.size() << " of " << total
+            << " runs have no row (a shard missing or incomplete)\n";
+        return 2;
+    }
     return 0;
 }
 
@@ -118,7 +125,7 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
     unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
     unsigned chunk = 0, exec_jobs = 1;
     double timeout_s = 600.0;
-    bool resume = false, quiet = false, keep_runs = false;
+    bool resume = false, quiet = false, keep_runs = false, allow_failed = false;
 
     CLI::App* sw = app.add_subcommand("sweep", "run a scenario over grid and Monte Carlo axes; write DIR/summary.csv");
     sw->add_option("scenario", scenario_path, "scenario TOML file")->required();
@@ -134,7 +141,15 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
     sw->add_option("--seed", seed, "seed of the sampled axes (same seed, same runs)");
     sw->add_option("--jobs,-j", jobs, "runs at once (default: the cores present)")->check(CLI::Range(1u, 4096u));
     sw->add_option("--timeout-s", timeout_s, "per-run wall-clock limit; a run over it is killed and reported")
-        ->check(CLI::Range(0.001, 1e7));
+        ->check(CLI::Validator(
+            [](std::string& v) {
+                // CLI::Range lets NaN through (every comparison with it is false).
+                double x = 0.0;
+                return parse_double(v, &x) && x >= 0.001 && x <= 1e7 ? std::string()
+                                                                      : "--timeout-s " + echo(v) +
+                                                                            ": expected a number in [0.001, 1e7] s";
+            },
+            "SECONDS", "finite, 0.001 to 1e7"));
     sw->add_flag("--resume", resume, "continue the sweep in DIR: skip the runs it already has");
     sw->add_option("--shard", shard_text, "run only shard I of N (runs r with r mod N = I), e.g. 0/4");
     sw->add_option("--assert", asserts, "envelope METRIC OP NUMBER every run must meet, e.g. imbalance_pct<8");
@@ -142,6 +157,9 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
     sw->add_option("--chunk", chunk, "runs per Dask task (default: about 4 tasks per worker, at most 50 runs)")
         ->check(CLI::Range(1u, 100000u));
     sw->add_flag("--quiet,-q", quiet, "no closing summary line");
+    sw->add_flag("--allow-failed-runs", allow_failed,
+                 "exit 0 even when runs crashed, timed out, diverged or could not be completed (their rows "
+                 "say so)");
     sw->add_flag("--keep-runs", keep_runs, "also write every run's metrics.json and trace.csv to DIR/runs/RUN");
 
     CLI::App* mg = app.add_subcommand("sweep-merge", "join the shards of one sweep into DIR/summary.csv");
@@ -223,6 +241,10 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
     spec.n = samples.empty() ? 1 : n;
     if (spec.axes.empty()) {
         err << "dtc-sil sweep: nothing to sweep: give at least one --grid, --zip or --sample axis\n";
+        return 1;
+    }
+    if (!check_plan_size(spec, &e)) {
+        err << "dtc-sil sweep: " << (samples.empty() ? "" : "--n " + std::to_string(n) + ": ") << e << "\n";
         return 1;
     }
     std::set<std::string> axis_keys;
@@ -338,6 +360,7 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
         if (keep_runs) {
             opt.runs_dir = (dir / "runs").string();
         }
+        StopSignals stop_signals;
         execute(spec, todo, opt, [&](const json& row) {
             const std::string line = row.dump() + "\n";
             std::fwrite(line.data(), 1, line.size(), rows_f);
@@ -348,6 +371,12 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
         });
         std::fclose(rows_f);
         prog.tick(err, true);
+        if (g_stop_signal != 0) {
+            err << "dtc-sil sweep: interrupted by signal " << static_cast<int>(g_stop_signal)
+                << ": the runs in flight were killed; the " << prog.done << " rows so far are kept in "
+                << (dir / "rows.jsonl").string() << " (--resume continues)\n";
+            return 128 + static_cast<int>(g_stop_signal);
+        }
     }
 
     // Summary of this shard's runs (rows of other plans or shards cannot be in this folder).
@@ -364,9 +393,15 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
         }
     }
     std::map<std::string, std::uint64_t> status_count;
-    std::vector<std::string> violations;
+    std::vector<std::string> violations, failed;
     for (auto& [k, r] : by_run) {
-        ++status_count[r.at("status").get<std::string>()];
+        const std::string status = r.at("status").is_string() ? r.at("status").get<std::string>() : "?";
+        ++status_count[status];
+        if (status == "crashed" || status == "timeout" || status == "diverged" || status == "error") {
+            const json& why = r.at("error");
+            failed.push_back("run " + std::to_string(k) + ": " + status +
+                             (why.is_string() ? ": " + echo(why.get<std::string>()) : std::string()));
+        }
         for (const Assertion& a : checks) {
             const std::string v = violation(a, r);
             if (!v.empty()) {
@@ -389,6 +424,22 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
     if (rows.size() < all.size()) {
         err << "dtc-sil sweep: " << all.size() - rows.size() << " runs have no row\n";
         return 2;
+    }
+    auto list = [&err](const std::vector<std::string>& lines, const char* what) {
+        const std::size_t shown = std::min<std::size_t>(lines.size(), 50);
+        for (std::size_t i = 0; i < shown; ++i) {
+            err << "dtc-sil sweep: " << lines[i] << "\n";
+        }
+        if (shown < lines.size()) {
+            err << "dtc-sil sweep: ... and " << lines.size() - shown << " more " << what << "\n";
+        }
+    };
+    if (!failed.empty() && !allow_failed) {
+        list(failed, "failed runs");
+        err << "dtc-sil sweep: " << failed.size() << " of " << rows.size()
+            << " runs crashed, timed out, diverged or could not be completed (--allow-failed-runs accepts "
+               "that)\n";
+        return 4;
     }
     if (!violations.empty()) {
         const std::size_t shown = std::min<std::size_t>(violations.size(), 50);

@@ -16,6 +16,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -23,6 +24,7 @@
 #include "scenario.hpp"
 #include "sil_output.hpp"
 #include "sweep_detail.hpp"
+#include "toml_limits.hpp"
 
 #ifndef DTC_SWEEP_DASK_SCRIPT
 #define DTC_SWEEP_DASK_SCRIPT ""
@@ -59,7 +61,11 @@ std::string child_run(const Spec& spec, const PlannedRun& p, const std::string& 
     }
     const json mj = metrics_json(sc, res.metrics, res.info);
     const std::string fault = res.info.fault;
-    return make_row(p.index, spec, p, fault == "none" ? "ok" : "fault", fault, nullptr, metrics_row(mj)).dump();
+    // A plant that left physics (or a metric that is not finite) is not a drive trip.
+    const char* status = run_failed_physically(res.info) ? "diverged" : fault == "none" ? "ok" : "fault";
+    return make_row(p.index, spec, p, status, fault, run_failed_physically(res.info) ? json(res.info.fault_detail) : json(nullptr),
+                    metrics_row(mj))
+        .dump();
 }
 
 std::string signal_text(int sig)
@@ -119,6 +125,18 @@ void execute(const Spec& spec, const std::vector<PlannedRun>& runs, const ExecOp
     std::cerr.flush();
     std::fflush(nullptr);
     while (next < runs.size() || !active.empty()) {
+        if (g_stop_signal != 0) {
+            // Interrupted: the runs in flight are killed and have no row (--resume runs them).
+            for (Child& c : active) {
+                kill(c.pid, SIGKILL);
+                int status = 0;
+                while (waitpid(c.pid, &status, 0) < 0 && errno == EINTR) {
+                }
+                close(c.fd);
+            }
+            active.clear();
+            return;
+        }
         while (active.size() < jobs && next < runs.size()) {
             int fds[2];
             if (pipe(fds) != 0) {
@@ -127,8 +145,18 @@ void execute(const Spec& spec, const std::vector<PlannedRun>& runs, const ExecOp
                                 json::object()));
                 continue;
             }
+            const pid_t parent = getpid();
             const pid_t pid = fork();
             if (pid == 0) {
+                // The child stays in the parent's process group (a terminal's ^C reaches it), dies
+                // on SIGINT/SIGTERM instead of finishing its run, and is killed when the parent
+                // dies, whatever kills it.
+                std::signal(SIGINT, SIG_DFL);
+                std::signal(SIGTERM, SIG_DFL);
+                prctl(PR_SET_PDEATHSIG, SIGKILL);
+                if (getppid() != parent) {
+                    _exit(4); // the parent died before the line above
+                }
                 close(fds[0]);
                 for (const Child& c : active) {
                     close(c.fd);
@@ -230,7 +258,15 @@ int cmd_exec(std::istream& in, std::ostream& out, std::ostream& err, unsigned jo
     }
     std::vector<PlannedRun> runs;
     const std::uint64_t total = run_count(spec);
+    if (!j.at("runs").is_array()) {
+        err << "dtc-sil sweep-exec: \"runs\" is not an array of run numbers\n";
+        return 1;
+    }
     for (const json& r : j.at("runs")) {
+        if (!r.is_number_unsigned()) {
+            err << "dtc-sil sweep-exec: run " << echo(r.dump()) << " is not a run number\n";
+            return 1;
+        }
         const std::uint64_t idx = r.get<std::uint64_t>();
         if (idx >= total) {
             err << "dtc-sil sweep-exec: run " << idx << " is not in the plan (" << total << " runs)\n";
@@ -241,7 +277,11 @@ int cmd_exec(std::istream& in, std::ostream& out, std::ostream& err, unsigned jo
     ExecOptions opt;
     opt.jobs = jobs;
     if (j.contains("timeout_s")) {
-        opt.timeout_s = j.at("timeout_s").get<double>();
+        opt.timeout_s = j.at("timeout_s").is_number() ? j.at("timeout_s").get<double>() : 0.0;
+        if (!(opt.timeout_s > 0.0 && opt.timeout_s <= 1e7)) { // also false for NaN
+            err << "dtc-sil sweep-exec: timeout_s must be a number in (0, 1e7]\n";
+            return 1;
+        }
     }
     execute(spec, runs, opt, [&](const json& row) { out << row.dump() << "\n" << std::flush; });
     return 0;

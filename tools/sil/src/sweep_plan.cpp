@@ -289,6 +289,33 @@ std::uint64_t run_count(const Spec& spec)
     return z > 0 ? n * z : n;
 }
 
+bool check_plan_size(const Spec& spec, std::string* err)
+{
+    // The product is formed in floating point: it cannot wrap, and any value above the limit is
+    // refused whatever its size.
+    double n = static_cast<double>(spec.n);
+    std::string how = std::to_string(spec.n) + (spec.n == 1 ? " sample" : " samples");
+    for (const Axis& a : spec.axes) {
+        if (a.kind == Axis::Kind::Grid) {
+            n *= static_cast<double>(a.values.size());
+            how += " x " + std::to_string(a.values.size()) + " (" + a.key + ")";
+        }
+    }
+    if (const std::size_t z = zip_length(spec); z > 0) {
+        n *= static_cast<double>(z);
+        how += " x " + std::to_string(z) + " zip cases";
+    }
+    if (n > static_cast<double>(kMaxPlanRuns)) {
+        char total[32];
+        std::snprintf(total, sizeof total, "%.4g", n);
+        *err = "the plan has " + std::string(total) + " runs (" + how + "), above the " +
+               std::to_string(kMaxPlanRuns) +
+               " a sweep may hold: sweep fewer points, or split the samples into sweeps with different --seed";
+        return false;
+    }
+    return true;
+}
+
 std::vector<PlannedRun> expand(const Spec& spec, std::uint64_t shard_i, std::uint64_t shard_n)
 {
     std::vector<PlannedRun> runs;
@@ -347,6 +374,10 @@ bool spec_from_json(const json& j, Spec* out, std::string* err)
         }
         if (s.n == 0) {
             throw std::runtime_error("n = 0");
+        }
+        std::string why;
+        if (!check_plan_size(s, &why)) {
+            throw std::runtime_error(why);
         }
         for (const Axis& ax : s.axes) {
             if (ax.kind == Axis::Kind::Zip && ax.values.size() != zip_length(s)) {

@@ -24,6 +24,7 @@
 #include "run.hpp"
 #include "sil_output.hpp"
 #include "sweep_detail.hpp"
+#include "toml_limits.hpp"
 
 namespace sil::sweep {
 
@@ -181,25 +182,33 @@ bool parse_assertion(const std::string& text, Assertion* out, std::string* err)
         a.op = op;
         a.metric = trim(text.substr(0, at));
         if (!parse_double(text.substr(at + std::strlen(op)), &a.value)) {
-            *err = "--assert " + text + ": the right-hand side must be a finite number";
+            *err = "--assert " + echo(text) + ": the right-hand side must be a finite number";
             return false;
         }
         const std::vector<std::string> cols = metric_columns();
         const std::string base = a.metric.substr(0, a.metric.find('['));
-        const bool known = std::find(cols.begin(), cols.end(), a.metric) != cols.end() ||
-                           (base != a.metric && std::find(cols.begin(), cols.end(), base) != cols.end());
+        const std::string index = base == a.metric ? std::string() : a.metric.substr(base.size());
+        // A per-phase metric (null in the record) is asserted on one phase: [A], [B] or [C].
+        const bool per_phase = std::find(cols.begin(), cols.end(), base) != cols.end() &&
+                               (index == "[A]" || index == "[B]" || index == "[C]");
+        const bool known = std::find(cols.begin(), cols.end(), a.metric) != cols.end() || per_phase;
+        if (!known && base != a.metric && std::find(cols.begin(), cols.end(), base) != cols.end()) {
+            *err = "--assert " + echo(text) + ": " + echo(base) + " has no element " + echo(index) +
+                   " (a per-phase metric: " + base + "[A], " + base + "[B] or " + base + "[C])";
+            return false;
+        }
         if (!known) {
             std::string list;
             for (const std::string& c : cols) {
                 list += (list.empty() ? "" : ", ") + c;
             }
-            *err = "--assert " + text + ": unknown metric '" + a.metric + "' (one of: " + list + ")";
+            *err = "--assert " + echo(text) + ": unknown metric '" + echo(a.metric) + "' (one of: " + list + ")";
             return false;
         }
         *out = a;
         return true;
     }
-    *err = "--assert " + text + ": expected METRIC OP NUMBER with OP one of < <= > >= == !=";
+    *err = "--assert " + echo(text) + ": expected METRIC OP NUMBER with OP one of < <= > >= == !=";
     return false;
 }
 
@@ -298,7 +307,9 @@ std::vector<json> read_rows(const std::string& dir)
     std::string line;
     while (std::getline(f, line)) {
         json r = json::parse(line, nullptr, false);
-        if (!r.is_discarded() && r.is_object() && r.contains("run") && r.contains("metrics")) {
+        if (!r.is_discarded() && r.is_object() && r.contains("run") && r.at("run").is_number_unsigned() &&
+            r.contains("metrics") && r.at("metrics").is_object() && r.contains("status") && r.contains("error") &&
+            r.contains("fault") && r.contains("values")) {
             rows.push_back(std::move(r));
         }
     }
