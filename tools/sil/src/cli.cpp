@@ -130,6 +130,10 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
         out << scenario_path << ": ok\n";
         return 0;
     }
+    if (std::error_code ec; std::filesystem::exists(out_dir, ec) && !std::filesystem::is_directory(out_dir, ec)) {
+        err << "dtc-sil: --out " << out_dir << ": exists and is not a directory; nothing run or written\n";
+        return 1;
+    }
     {
         opt.check_only = true; // refusals first (exit 1), before anything is created
         if (!run_scenario(sc, opt, &res, &e)) {
