@@ -104,6 +104,10 @@ void execute(const Spec& spec, const std::vector<PlannedRun>& runs, const ExecOp
                             "killed after the per-run limit of " + shortest(opt.timeout_s) + " s", json::object()));
             return;
         }
+        if (WIFSIGNALED(status) && g_stop_signal != 0 &&
+            (WTERMSIG(status) == SIGINT || WTERMSIG(status) == SIGTERM)) {
+            return; // the sweep's interruption reached the run too: no row, --resume runs it
+        }
         if (WIFSIGNALED(status)) {
             on_row(make_row(p.index, spec, p, "crashed", nullptr, "run process died: " + signal_text(WTERMSIG(status)),
                             json::object()));
