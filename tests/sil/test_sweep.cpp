@@ -393,9 +393,18 @@ TEST(Sweep, AssertSetsTheExitCodeAndTimedOutRunsAreRows)
               3);
     EXPECT_NE(err.find("run 0: isr_count<1000 violated: isr_count = 1200"), std::string::npos) << err;
     fs::remove_all(d);
-    // A run longer than the per-run limit is killed and becomes a "timeout" row.
+    // A run longer than the per-run limit is killed and becomes a "timeout" row; the sweep exits 4
+    // naming each, or 0 with --allow-failed-runs.
     EXPECT_EQ(sweep({"sweep", kScenario, "--out", d.string(), "--grid", "control.speed_ref_rpm=100,200", "--set",
                      "duration_s=30", "--timeout-s", "0.05"},
+                    nullptr, &err),
+              4)
+        << err;
+    EXPECT_NE(err.find("run 0: timeout"), std::string::npos) << err;
+    EXPECT_NE(err.find("run 1: timeout"), std::string::npos) << err;
+    fs::remove_all(d);
+    EXPECT_EQ(sweep({"sweep", kScenario, "--out", d.string(), "--grid", "control.speed_ref_rpm=100,200", "--set",
+                     "duration_s=30", "--timeout-s", "0.05", "--allow-failed-runs"},
                     nullptr, &err),
               0)
         << err;

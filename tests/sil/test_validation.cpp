@@ -240,9 +240,9 @@ TEST_F(Validation, LongRunsAreRefusedUnlessDecimatedUntracedOrForced)
     const std::vector<std::string> base = {"run", kDefault, "--out", (dir / "o").string()};
     std::string e;
     EXPECT_EQ(cli(with_sets(base, {"duration_s=9e4"}), &e), 1);
-    // 1.8e9 rows of ~350 bytes.
-    EXPECT_NE(e.find("trace.csv would be about 630.0 GB"), std::string::npos) << e;
-    EXPECT_NE(e.find("--decimate 630 (or more), --no-trace, or --force"), std::string::npos) << e;
+    // 1.8e9 rows of 380 bytes (kTraceBytesPerRow: rows take 371-376 bytes).
+    EXPECT_NE(e.find("trace.csv would be about 684.0 GB"), std::string::npos) << e;
+    EXPECT_NE(e.find("--decimate 684 (or more), --no-trace, or --force"), std::string::npos) << e;
     expect_nothing_written("o");
     // The refusal is made before the run: check each escape with check_only (nothing run).
     Scenario sc;

@@ -32,9 +32,10 @@ struct RunOptions {
     std::ostream* progress = nullptr; // progress line with ETA ("\r", for a terminal); nullptr: none
 };
 
-/// Bytes per trace.csv row used for the size estimate (shortest round-trip numbers: 347 on
-/// average over the default scenario's 1.5 s).
-constexpr double kTraceBytesPerRow = 350.0;
+/// Bytes per trace.csv row used for the estimate before the run (rows take 371-376 bytes on the
+/// shipped scenarios). During the run the guard measures the rows written and stops a run whose
+/// trace would exceed RunOptions::max_trace_bytes.
+constexpr double kTraceBytesPerRow = 380.0;
 
 /// Physical bounds of the plant state for this scenario; outside them (or non-finite) the run
 /// stops with fault "plant_diverged".
@@ -51,10 +52,24 @@ std::string plant_out_of_bounds(const plant_sensed_t& s, const PlantBounds& b);
 /// at its next check (every 4096 periods), fails with "interrupted", and removes its staging folder.
 extern volatile std::sig_atomic_t g_stop_signal;
 
+/// SIGINT/SIGTERM set g_stop_signal for the lifetime of this object (a run then stops and removes
+/// its staging folder; a sweep kills its runs in flight); the previous handlers come back afterwards.
+class StopSignals {
+public:
+    StopSignals();
+    ~StopSignals();
+    StopSignals(const StopSignals&) = delete;
+    StopSignals& operator=(const StopSignals&) = delete;
+
+private:
+    struct sigaction old_int_ {}, old_term_ {};
+};
+
 struct RunResult {
     Metrics metrics;
     RunInfo info;
     Series series;           // the metrics window's samples (plus nothing before it)
+    bool output_touched = false; // a failed run changed out_dir after all (see StagedOutput::commit)
 };
 
 /// Runs the scenario. Returns false with *err when anything fails before the results are complete

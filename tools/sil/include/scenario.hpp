@@ -277,6 +277,10 @@ struct MetricsCfg {
     double torque_sensor_hz = 0.0; // trf_filtered_pct: torque transducer bandwidth, 0 = unfiltered
 };
 
+/// The most samples the metrics window may hold (metrics_window_s / ts_s + 1): its series take
+/// about 120 bytes a sample, so 2e7 samples (1000 s at 50 us) are 2.4 GB.
+inline constexpr std::uint64_t kMaxWindowSamples = 20000000;
+
 struct Scenario {
     std::string name;            // file stem
     std::string path;            // scenario file as given

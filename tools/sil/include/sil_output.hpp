@@ -2,6 +2,7 @@
 #ifndef DTC_SIL_OUTPUT_HPP
 #define DTC_SIL_OUTPUT_HPP
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <cstdio>
@@ -82,6 +83,9 @@ public:
         commit_row();
     }
     bool close(std::string* err);
+    /// Bytes and rows in the file so far (the header's bytes excluded): measured, for the size guard.
+    std::uint64_t bytes_written() const { return bytes_written_.load(std::memory_order_relaxed); }
+    std::uint64_t rows_written() const { return rows_written_.load(std::memory_order_relaxed); }
     static constexpr std::size_t kMaxRowBytes = 640; // 21 doubles x <= 24 chars + 4 ints + commas + 48 slack
     static constexpr std::size_t kBatchRows = 256;
     static constexpr std::size_t kBatches = 16;      // filling + queued + being formatted + waiting to be written
@@ -116,6 +120,7 @@ private:
     bool stop_ = false;
     bool rotor_flux_ = false;
     bool fault_cols_ = false;
+    std::atomic<std::uint64_t> bytes_written_{0}, rows_written_{0};
 };
 
 struct RunInfo {
@@ -157,6 +162,9 @@ public:
                                                                             "currents.png", "torque.png",
                                                                             "flux_locus.png",
                                                                             "flux_components.png"});
+    /// All or nothing: when it fails, every file moved so far is moved back and out_dir is as it
+    /// was; touched() is true only when that rollback failed too (err then says what is left).
+    bool touched() const { return touched_; }
     /// Removes the staging directory (also done by the destructor if not committed).
     void abort();
     ~StagedOutput();
@@ -164,6 +172,23 @@ public:
 private:
     std::string out_dir_, stage_dir_;
     bool active_ = false;
+    bool touched_ = false;
+};
+
+/// One file written under a staging name (PATH.partial-PID) and renamed to PATH by commit();
+/// removed by the destructor if not committed. An empty PATH stages nothing.
+class StagedFile {
+public:
+    explicit StagedFile(std::string final_path);
+    const std::string& path() const { return stage_; }
+    bool commit(std::string* err);
+    ~StagedFile();
+    StagedFile(const StagedFile&) = delete;
+    StagedFile& operator=(const StagedFile&) = delete;
+
+private:
+    std::string final_, stage_;
+    bool done_ = false;
 };
 
 } // namespace sil

@@ -53,7 +53,13 @@ bool parse_grid_axis(const std::string& arg, Axis* out, std::string* err, const 
 /// Parses "key=normal:MEAN:SD" or "key=uniform:LO:HI" (number keys only).
 bool parse_sample_axis(const std::string& arg, Axis* out, std::string* err);
 
+/// The most runs a plan may have: the plan is expanded in memory (a few hundred bytes a run) and
+/// its summary holds a row per run.
+inline constexpr std::uint64_t kMaxPlanRuns = 1000000;
+/// The number of runs (call check_plan_size first: the product is not checked here).
 std::uint64_t run_count(const Spec& spec);
+/// False, with why, when the plan has more than kMaxPlanRuns runs.
+bool check_plan_size(const Spec& spec, std::string* err);
 /// The runs of shard i of n (run r belongs to shard r mod n), expanded.
 std::vector<PlannedRun> expand(const Spec& spec, std::uint64_t shard_i = 0, std::uint64_t shard_n = 1);
 /// A hash of everything that defines the runs (resume and merge refuse a different plan).
@@ -66,7 +72,7 @@ std::vector<std::string> run_overrides(const Spec& spec, const PlannedRun& run);
 
 /// Executes runs in forked child processes, at most `jobs` at a time; a run that has not finished
 /// after timeout_s seconds is killed and reported as "timeout"; a child that dies is "crashed".
-/// on_row is called in the parent, in completion order, with the row (see row layout in sweep.cpp).
+/// on_row is called in the parent, in completion order, with the row (see the row layout in sweep_rows.cpp).
 struct ExecOptions {
     unsigned jobs = 1;
     double timeout_s = 600.0;
@@ -92,7 +98,9 @@ std::vector<nlohmann::json> read_rows(const std::string& dir);
 
 /// The `dtc-sil sweep`, `sweep-merge` and `sweep-exec` commands (args[0] is the program, args[1]
 /// the subcommand). Exit status: 0 done, 1 bad specification (nothing run), 2 a run could not be
-/// executed at all or output failed, 3 an --assert was violated.
+/// executed at all, output failed or runs have no row (sweep-merge: a shard is missing), 3 an
+/// --assert was violated, 4 a run crashed, timed out, diverged or could not be completed (0 with
+/// --allow-failed-runs), 128 + N interrupted by signal N (the rows so far are kept).
 int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 
 } // namespace sil::sweep

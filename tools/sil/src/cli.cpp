@@ -17,29 +17,23 @@ namespace sil {
 
 namespace {
 extern "C" void on_stop_signal(int sig) { g_stop_signal = sig; }
-
-/// SIGINT/SIGTERM set g_stop_signal for the lifetime of this object (the run loop then stops and
-/// its staging folder is removed); the previous handlers come back afterwards.
-struct StopSignals {
-    struct sigaction old_int {}, old_term {};
-    StopSignals()
-    {
-        g_stop_signal = 0;
-        struct sigaction sa {};
-        sa.sa_handler = on_stop_signal;
-        sigemptyset(&sa.sa_mask);
-        sigaction(SIGINT, &sa, &old_int);
-        sigaction(SIGTERM, &sa, &old_term);
-    }
-    ~StopSignals()
-    {
-        sigaction(SIGINT, &old_int, nullptr);
-        sigaction(SIGTERM, &old_term, nullptr);
-    }
-    StopSignals(const StopSignals&) = delete;
-    StopSignals& operator=(const StopSignals&) = delete;
-};
 } // namespace
+
+StopSignals::StopSignals()
+{
+    g_stop_signal = 0;
+    struct sigaction sa {};
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, &old_int_);
+    sigaction(SIGTERM, &sa, &old_term_);
+}
+
+StopSignals::~StopSignals()
+{
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+}
 
 int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::ostream& err)
 {
@@ -136,6 +130,10 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
         out << scenario_path << ": ok\n";
         return 0;
     }
+    if (std::error_code ec; std::filesystem::exists(out_dir, ec) && !std::filesystem::is_directory(out_dir, ec)) {
+        err << "dtc-sil: --out " << out_dir << ": exists and is not a directory; nothing run or written\n";
+        return 1;
+    }
     {
         opt.check_only = true; // refusals first (exit 1), before anything is created
         if (!run_scenario(sc, opt, &res, &e)) {
@@ -151,7 +149,10 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
     StopSignals stop_signals;
     if (!run_scenario(sc, opt, &res, &e)) {
         err << "dtc-sil: " << scenario_path << ": " << e << "\n";
-        err << "dtc-sil: nothing written to " << out_dir << "\n";
+        if (!res.output_touched) {
+            err << "dtc-sil: nothing written to " << out_dir
+                << (record_isr.empty() ? std::string() : " or " + record_isr) << "\n";
+        }
         return g_stop_signal != 0 ? 128 + static_cast<int>(g_stop_signal) : 2;
     }
     if (!quiet) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <new>
 #include <ostream>
 
 extern "C" {
@@ -13,6 +14,7 @@ extern "C" {
 }
 
 #include "controller_adapter.hpp"
+#include "run_parts.hpp"
 
 namespace sil {
 
@@ -93,36 +95,6 @@ plant_params_t plant_params_from(const Scenario& sc)
     p.reconfig_relay = sc.inverter.reconfig_relay ? 1 : 0;
     p.relay_delay_s = sc.inverter.relay_delay_s;
     return p;
-}
-
-// The [faults] table (issue 16) applied to the plant and the sensing emulation, at the start of
-// the first control period at or after faults.time_s.
-void inject_faults(const Scenario& sc, hal_host::Harness& h)
-{
-    const FaultsCfg& f = sc.faults;
-    plant_t* pl = h.plant();
-    if (f.leg_open != FaultPhase::None) {
-        plant_set_leg_open(pl, static_cast<int>(f.leg_open) - 1, 1);
-    }
-    // FaultSwitch: none, a_upper, a_lower, b_upper, ...: leg (v - 1) / 2, upper when (v - 1) even.
-    auto sw = [pl](FaultSwitch s, plant_switch_fault_t mode) {
-        if (s != FaultSwitch::None) {
-            const int v = static_cast<int>(s) - 1;
-            plant_set_switch_fault(pl, v / 2, (v % 2) == 0 ? 1 : 0, mode);
-        }
-    };
-    sw(f.switch_open, PLANT_SWITCH_OPEN);
-    sw(f.switch_short, PLANT_SWITCH_SHORT);
-    if (f.dc_sag != 1.0) {
-        plant_set_source_voltage(pl, f.dc_sag * sc.inverter.vdc_v);
-    }
-    if (f.encoder_lost) {
-        h.set_encoder_lost(true);
-    }
-    if (f.current_sensor_stuck != FaultPhase::None) {
-        h.set_current_sensor_stuck(static_cast<int>(f.current_sensor_stuck) - 1,
-                                   static_cast<std::uint16_t>(f.current_sensor_code));
-    }
 }
 
 hal_host::HarnessConfig harness_config_from(const Scenario& sc)
@@ -288,6 +260,48 @@ bool metrics_finite(const Metrics& m)
     return std::isfinite(m.torque_mean_nm) && std::isfinite(m.trf_pct) && std::isfinite(m.trf_filtered_pct) &&
            std::isfinite(m.speed_mean_rpm);
 }
+
+/// Where the plant left physics (empty `why`: it did not).
+struct Divergence {
+    std::string why;
+    double t_s = -1.0;
+    std::uint64_t period = 0; // the period whose sample left the bounds (the run's length)
+};
+
+/// The run's metrics from its series and its fault's name: a diverged plant has no metrics, only
+/// why; otherwise the metrics, the firmware fault named for this scenario, and a metric that is
+/// not finite reported as such.
+void fault_metrics(const Scenario& sc, const Divergence& div, RunResult* res)
+{
+    if (!div.why.empty()) {
+        // The recorded window is incomplete and the state meaningless: no metrics, only why.
+        const double nan = std::nan("");
+        res->metrics = Metrics{};
+        res->metrics.torque_mean_nm = nan;
+        res->metrics.trf_pct = nan;
+        res->metrics.trf_filtered_pct = nan;
+        res->metrics.speed_mean_rpm = nan;
+        res->info.fault = "plant_diverged";
+        res->info.fault_time_s = div.t_s;
+        res->info.fault_detail = "plant state at t = " + std::to_string(div.t_s) + " s: " + div.why +
+                                 " (an input drove the model outside physics; no metrics)";
+        return;
+    }
+    MetricsConfig mc;
+    mc.window_s = sc.metrics_window_s;
+    mc.rated_torque_nm = sc.motor.rated_torque_nm;
+    mc.switched_legs = switched_legs(sc);
+    mc.torque_sensor_hz = sc.metrics.torque_sensor_hz;
+    res->metrics = compute_metrics(res->series, mc);
+    drop_undefined(&res->metrics);
+    name_fault(sc, &res->info);
+    if (!metrics_finite(res->metrics)) {
+        res->info.fault_detail = (res->info.fault == "none" ? std::string() : res->info.fault + "; ") +
+                                 "torque, TRF or speed mean not finite although the plant state stayed "
+                                 "within its bounds";
+        res->info.fault = "non_finite_metric";
+    }
+}
 } // namespace
 
 bool run_failed_physically(const RunInfo& info) { return info.fault == "plant_diverged" || info.fault == "non_finite_metric"; }
@@ -301,8 +315,26 @@ bool run_scenario(const Scenario& sc, const RunOptions& opt, RunResult* res, std
     return run_scenario_with(sc, std::move(ctrl), opt, res, err);
 }
 
+namespace {
+bool run_once(const Scenario& sc, std::unique_ptr<Controller> ctrl, const RunOptions& opt, RunResult* res,
+              std::string* err);
+} // namespace
+
 bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, const RunOptions& opt, RunResult* res,
                        std::string* err)
+{
+    try {
+        return run_once(sc, std::move(ctrl), opt, res, err);
+    } catch (const std::bad_alloc&) {
+        // The staging folder and recording are removed on the way out (their destructors).
+        *err = "out of memory (a scenario size the checks let through: please report it)";
+        return false;
+    }
+}
+
+namespace {
+bool run_once(const Scenario& sc, std::unique_ptr<Controller> ctrl, const RunOptions& opt, RunResult* res,
+              std::string* err)
 {
     // Everything that can be refused is refused before the first period and before any file exists.
     if (!ctrl) {
@@ -344,6 +376,14 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
             return false;
         }
     }
+    // The metrics window spans round(window/ts) periods: that many + 1 samples (metrics.cpp).
+    const auto window_n =
+        std::min<std::uint64_t>(periods, static_cast<std::uint64_t>(std::llround(sc.metrics_window_s / sc.ts_s)) + 1);
+    if (window_n > kMaxWindowSamples) {
+        *err = "metrics_window_s = " + std::to_string(sc.metrics_window_s) + " s holds " + std::to_string(window_n) +
+               " samples, above the " + std::to_string(kMaxWindowSamples) + " the metrics window may hold";
+        return false;
+    }
     if (!opt.record_isr.empty() && !ctrl->can_record_isr()) {
         *err = ctrl->start_isr_record(opt.record_isr);
         return false;
@@ -351,71 +391,28 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
     if (opt.check_only) {
         return true;
     }
+    // The recording is written under a staging name and renamed only when the run completed: an
+    // interrupted or failed run leaves no truncated recording under the name asked for.
+    StagedFile record(opt.record_isr);
     if (!opt.record_isr.empty()) {
-        if (std::string e = ctrl->start_isr_record(opt.record_isr); !e.empty()) {
+        if (std::string e = ctrl->start_isr_record(record.path()); !e.empty()) {
             *err = e;
             return false;
         }
     }
 
     StagedOutput out;
-    TraceWriter trace;
+    Recorder rec(sc, periods, window_n, ctrl->has_estimates(), writing && opt.write_trace, decimate, &res->series);
     if (writing) {
-        if (!out.begin(opt.out_dir, err)) {
-            return false;
-        }
-        trace.set_rotor_flux_columns(sc.motor.type == MotorType::Im);
-        trace.set_fault_columns(sc.faults.any() || sc.inverter.reconfig_relay);
-        if (opt.write_trace && !trace.open(out.path("trace.csv"), err)) {
+        if (!out.begin(opt.out_dir, err) || !rec.open_trace(out.path("trace.csv"), err)) {
             return false;
         }
     }
-
-    // The metrics window spans round(window/ts) periods: that many + 1 samples (metrics.cpp).
-    const auto window_n =
-        std::min<std::uint64_t>(periods, static_cast<std::uint64_t>(std::llround(sc.metrics_window_s / sc.ts_s)) + 1);
-    // One sample more before the window: the switching count needs the leg state before its start.
-    const std::uint64_t record_from = periods - std::min<std::uint64_t>(periods, window_n + 1);
-    Series& s = res->series;
-    s = Series{};
-    s.ts_s = sc.ts_s;
-    const bool est = ctrl->has_estimates();
-    const bool legs = sc.inverter.topology != Topology::Ideal;
-    // Sized once for the recorded periods and written by index: no allocation and no capacity
-    // check inside the loop.
-    const auto n_rec = static_cast<std::size_t>(periods - record_from);
-    for (auto* v : {&s.ia, &s.ib, &s.ic, &s.te, &s.psi_a, &s.psi_b, &s.speed_rpm, &s.theta_fund_rad, &s.i2_int, &s.q_a, &s.q_b}) {
-        v->resize(n_rec);
-    }
-    if (est) {
-        for (auto* v : {&s.te_est, &s.psi_a_est, &s.psi_b_est}) {
-            v->resize(n_rec);
-        }
-    }
-    if (legs) {
-        for (auto* v : {&s.sa, &s.sb, &s.sc, &s.en, &s.tog_a, &s.tog_b, &s.tog_c}) {
-            v->resize(n_rec);
-        }
-    }
-    const double pole_pairs = static_cast<double>(sc.motor.pole_pairs);
-    const bool im = sc.motor.type == MotorType::Im;
-    double flux_angle_prev = 0.0; // induction machine: stator-flux angle of the last recorded sample
-    bool load_stepped = sc.load.step_time_s <= 0.0;
-    bool dyno_ramp = sc.load.type == LoadType::Speed && sc.load.speed_ramp_s > 0.0;
-    const double nan = std::nan("");
-
-    // Injected faults: when, and the speed's response after them (speed mode).
-    bool faults_pending = sc.faults.any();
-    double fault_t = -1.0;
-    const bool speed_mode = sc.control.mode == ControlMode::Speed;
-    const double band_rpm = 0.01 * std::fabs(sc.control.speed_ref_rpm);
-    double dip_rpm = 0.0, last_out_t = -1.0, last_t = -1.0;
-    double dip_base_rpm = 0.0; // the speed the dip is measured from (set at the fault)
-    bool last_in = false;
+    const bool guard_trace = writing && opt.write_trace && !opt.force;
+    const double trace_rows = std::floor(static_cast<double>(periods - 1) / decimate) + 1.0;
+    RunEvents events(sc, pp.load);
     const PlantBounds bounds = plant_bounds(sc);
-    std::string diverged;
-    double diverged_t = -1.0;
-    std::uint64_t done = periods;
+    Divergence div;
 
     const auto t0 = std::chrono::steady_clock::now();
     auto t_progress = t0;
@@ -442,140 +439,41 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
                     *opt.progress << line << std::flush;
                 }
             }
+            if (guard_trace && rec.trace_rows() > 0) {
+                // The trace's size measured on the rows written so far, projected to the run's end.
+                const double per_row = static_cast<double>(rec.trace_bytes()) / static_cast<double>(rec.trace_rows());
+                const double bytes = static_cast<double>(rec.trace_bytes()) +
+                                     per_row * std::max(0.0, trace_rows - static_cast<double>(rec.trace_rows()));
+                if (bytes > opt.max_trace_bytes) {
+                    char line[400];
+                    std::snprintf(line, sizeof line,
+                                  "trace.csv would be about %.2f GB (%.0f rows of %.0f bytes, measured on the first "
+                                  "%llu), above the %.1f GB limit: use --decimate %.0f (or more), --no-trace, or "
+                                  "--force",
+                                  bytes / 1e9, trace_rows, per_row,
+                                  static_cast<unsigned long long>(rec.trace_rows()), opt.max_trace_bytes / 1e9,
+                                  std::ceil(decimate * bytes / opt.max_trace_bytes));
+                    *err = line;
+                    return false;
+                }
+            }
         }
-        if (!load_stepped && h->time_s() + 0.5 * sc.ts_s >= sc.load.step_time_s) {
-            plant_set_load(h->plant(), pp.load, dyno_speed_rpm(sc, h->time_s()), sc.load.step_torque_nm);
-            load_stepped = true;
-        }
-        if (dyno_ramp && h->time_s() >= sc.load.speed_ramp_start_s) {
-            // The dynamometer's speed for this period (held over it); the ramp's last value is load.speed_rpm.
-            const double t_end = h->time_s() + sc.ts_s;
-            plant_set_load(h->plant(), pp.load, dyno_speed_rpm(sc, t_end),
-                           load_stepped && sc.load.step_time_s > 0.0 ? sc.load.step_torque_nm : sc.load.torque_nm);
-            dyno_ramp = t_end < sc.load.speed_ramp_start_s + sc.load.speed_ramp_s;
-        }
-        if (faults_pending && h->time_s() + 0.5 * sc.ts_s >= sc.faults.time_s) {
-            inject_faults(sc, *h);
-            faults_pending = false;
-            fault_t = h->time_s();
-        }
+        events.before_sample(*h);
         h->sample();
-        if (fault_t >= 0.0 && speed_mode) {
-            const double n = h->sensed().omega_m_rad_s * (30.0 / kPi);
-            if (last_t < 0.0) {
-                // from the speed the drive had when the fault came, capped at the reference: a
-                // fault during the start is measured from where the start had got to
-                dip_base_rpm = sc.control.speed_ref_rpm >= 0.0 ? std::min(n, sc.control.speed_ref_rpm)
-                                                               : std::max(n, sc.control.speed_ref_rpm);
-            }
-            dip_rpm = std::max(dip_rpm, sc.control.speed_ref_rpm >= 0.0 ? dip_base_rpm - n : n - dip_base_rpm);
-            last_in = std::fabs(n - sc.control.speed_ref_rpm) <= band_rpm;
-            last_t = h->time_s();
-            if (!last_in) {
-                last_out_t = last_t;
-            }
-        }
+        events.after_sample(*h);
         if (std::string why = plant_out_of_bounds(h->sensed(), bounds); !why.empty()) {
-            diverged = why;
-            diverged_t = h->time_s();
-            done = k;
+            div = Divergence{why, h->time_s(), k};
             break;
         }
         ctrl->step(*h);
-        const bool record = k >= record_from;
-        const bool trace_row = writing && opt.write_trace && k % decimate == 0;
-        if (!record && !trace_row) {
-            // Before the metrics window with no trace row: nothing to record, so neither the
-            // full plant state (plant_get_state) nor the controller's estimates are read.
-            h->advance();
-            continue;
-        }
-        const plant_state_t& st = h->state();
-        const ControllerEstimates e = ctrl->estimates();
-        const hal_cmd_t& cmd = h->applied_cmd();
-        const bool en = legs ? h->gates_enabled() : !h->trip_latched();
-        if (record) {
-            const auto i = static_cast<std::size_t>(k - record_from);
-            s.ia[i] = st.i_a;
-            s.ib[i] = st.i_b;
-            s.ic[i] = st.i_c;
-            s.i2_int[i] = st.i2_int_a2s;
-            s.q_a[i] = st.q_a_as;
-            s.q_b[i] = st.q_b_as;
-            s.te[i] = st.te_nm;
-            s.psi_a[i] = st.psi_alpha_wb;
-            s.psi_b[i] = st.psi_beta_wb;
-            s.speed_rpm[i] = st.speed_rpm;
-            if (im) {
-                // The stator-flux angle, unwrapped sample to sample (it moves by omega_s ts,
-                // far below pi per period).
-                const double a = std::atan2(st.psi_beta_wb, st.psi_alpha_wb);
-                s.theta_fund_rad[i] = i == 0 ? a : s.theta_fund_rad[i - 1] + std::remainder(a - flux_angle_prev, 2.0 * kPi);
-                flux_angle_prev = a;
-            } else {
-                s.theta_fund_rad[i] = pole_pairs * st.theta_m_rad;
-            }
-            if (est) {
-                s.te_est[i] = e.valid ? e.te_nm : nan;
-                s.psi_a_est[i] = e.valid ? e.psi_alpha_wb : nan;
-                s.psi_b_est[i] = e.valid ? e.psi_beta_wb : nan;
-            }
-            if (legs) {
-                if (cmd.form == HAL_CMD_PWM) {
-                    // The PWM form: each leg's state at the period's start and its changes inside.
-                    std::uint8_t* st0[3] = {&s.sa[i], &s.sb[i], &s.sc[i]};
-                    std::uint8_t* tog[3] = {&s.tog_a[i], &s.tog_b[i], &s.tog_c[i]};
-                    for (int x = 0; x < 3; ++x) {
-                        const plant_leg_edges_t edges = h->pwm_leg_edges(cmd, x);
-                        *st0[x] = static_cast<std::uint8_t>(edges.state0 != 0);
-                        *tog[x] = static_cast<std::uint8_t>(edges.n);
-                    }
-                } else {
-                    s.sa[i] = static_cast<std::uint8_t>(cmd.sa != 0u);
-                    s.sb[i] = static_cast<std::uint8_t>(cmd.sb != 0u);
-                    s.sc[i] = static_cast<std::uint8_t>(cmd.sc != 0u);
-                    s.tog_a[i] = s.tog_b[i] = s.tog_c[i] = 0u;
-                }
-                s.en[i] = static_cast<std::uint8_t>(en);
-            }
-        }
-        if (trace_row) {
-            TraceRow& r = trace.next_row(); // filled in place, every field
-            r.t_s = st.t_s;
-            r.i_a_a = st.i_a;
-            r.i_b_a = st.i_b;
-            r.i_c_a = st.i_c;
-            r.i_alpha_a = st.i_alpha_a;
-            r.i_beta_a = st.i_beta_a;
-            r.torque_nm = st.te_nm;
-            r.torque_est_nm = e.valid ? e.te_nm : nan;
-            r.psi_alpha_wb = st.psi_alpha_wb;
-            r.psi_beta_wb = st.psi_beta_wb;
-            r.psi_alpha_est_wb = e.valid ? e.psi_alpha_wb : nan;
-            r.psi_beta_est_wb = e.valid ? e.psi_beta_wb : nan;
-            r.speed_rpm = st.speed_rpm;
-            r.sa = legs ? static_cast<int>(cmd.sa != 0u) : 0;
-            r.sb = legs ? static_cast<int>(cmd.sb != 0u) : 0;
-            r.sc = legs ? static_cast<int>(cmd.sc != 0u) : 0;
-            r.vdc_v = st.vdc_v;
-            r.en = en ? 1 : 0;
-            r.theta_e_rad = st.theta_e_rad;
-            r.vc_lo_v = st.vc_lo_v;
-            r.v_alpha_v = st.v_alpha_v;
-            r.v_beta_v = st.v_beta_v;
-            r.tload_nm = st.tload_nm;
-            r.psi_r_alpha_wb = st.psi_r_alpha_wb;
-            r.psi_r_beta_wb = st.psi_r_beta_wb;
-            const plant_fault_state_t fs = h->fault_state();
-            r.relay = h->relay_cmd();
-            r.relay_closed = fs.relay_closed;
-            r.desat = h->meas().desat;
-            trace.commit_row();
+        events.after_step(*h, *ctrl);
+        if (rec.wants(k)) {
+            rec.record(k, *h, *ctrl);
         }
         h->advance();
     }
     // Closing the trace (the writer thread's last batch) is part of the loop's cost.
-    if (writing && opt.write_trace && !trace.close(err)) {
+    if (writing && !rec.close_trace(err)) {
         return false;
     }
     const auto t1 = std::chrono::steady_clock::now();
@@ -590,12 +488,8 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
         }
     }
 
-    MetricsConfig mc;
-    mc.window_s = sc.metrics_window_s;
-    mc.rated_torque_nm = sc.motor.rated_torque_nm;
-    mc.switched_legs = switched_legs(sc);
-    mc.torque_sensor_hz = sc.metrics.torque_sensor_hz;
     res->info = RunInfo{};
+    const std::uint64_t done = div.why.empty() ? periods : div.period;
     res->info.sim_time_s = static_cast<double>(done) * sc.ts_s;
     res->info.wall_time_s = std::chrono::duration<double>(t1 - t0).count();
     res->info.isr_count = done;
@@ -604,39 +498,11 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
     res->info.invalid_commands = h->invalid_writes();
     res->info.hw_trip = h->trip_latched();
     res->info.traced = writing && opt.write_trace;
-    res->info.injected_fault_time_s = fault_t;
     if (const int r = ctrl->reconfigured(); r >= 1 && r <= 3) {
         res->info.reconfigured = std::string(1, static_cast<char>('a' + r - 1));
     }
-    if (fault_t >= 0.0 && speed_mode) {
-        res->info.speed_dip_rpm = dip_rpm;
-        // Back within the band for good: from the first sample after the last one outside it.
-        if (last_in) {
-            res->info.recovery_s = last_out_t < 0.0 ? 0.0 : last_out_t + sc.ts_s - fault_t;
-        }
-    }
-    if (!diverged.empty()) {
-        // The recorded window is incomplete and the state meaningless: no metrics, only why.
-        res->metrics = Metrics{};
-        res->metrics.torque_mean_nm = nan;
-        res->metrics.trf_pct = nan;
-        res->metrics.trf_filtered_pct = nan;
-        res->metrics.speed_mean_rpm = nan;
-        res->info.fault = "plant_diverged";
-        res->info.fault_time_s = diverged_t;
-        res->info.fault_detail = "plant state at t = " + std::to_string(diverged_t) + " s: " + diverged +
-                                 " (an input drove the model outside physics; no metrics)";
-    } else {
-        res->metrics = compute_metrics(s, mc);
-        drop_undefined(&res->metrics);
-        name_fault(sc, &res->info);
-        if (!metrics_finite(res->metrics)) {
-            res->info.fault_detail = (res->info.fault == "none" ? std::string() : res->info.fault + "; ") +
-                                     "torque, TRF or speed mean not finite although the plant state stayed "
-                                     "within its bounds";
-            res->info.fault = "non_finite_metric";
-        }
-    }
+    events.report(&res->info);
+    fault_metrics(sc, div, res);
 
     if (writing) {
         std::ofstream mj(out.path("metrics.json"));
@@ -647,10 +513,15 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
             return false;
         }
         if (!out.commit(err)) {
+            res->output_touched = out.touched();
             return false;
         }
     }
+    if (!record.commit(err)) {
+        return false;
+    }
     return true;
 }
+} // namespace
 
 } // namespace sil

@@ -1,5 +1,6 @@
 // scenario.cpp - schema-driven scenario parsing and validation (toml++), see scenario.hpp.
 #include "scenario.hpp"
+#include "toml_limits.hpp"
 
 #include <toml++/toml.h>
 
@@ -692,14 +693,14 @@ std::string from_text(const Spec& spec, const std::string& text, Value* v)
     switch (spec.kind) {
     case Kind::Number:
         if (!parse_double(text, &v->num)) {
-            return "expected a number, got '" + text + "'";
+            return "expected a number, got '" + echo(text) + "'";
         }
         return "";
     case Kind::Integer: {
         double d = 0.0;
         if (!parse_double(text, &d) || d != std::floor(d) || std::fabs(d) > 9.0e18 ||
             text.find_first_of(".eE") != std::string::npos) {
-            return "expected an integer, got '" + text + "'";
+            return "expected an integer, got '" + echo(text) + "'";
         }
         v->integer = static_cast<std::int64_t>(d);
         v->num = d;
@@ -710,7 +711,7 @@ std::string from_text(const Spec& spec, const std::string& text, Value* v)
             v->boolean = text == "true";
             return "";
         }
-        return "expected true or false, got '" + text + "'";
+        return "expected true or false, got '" + echo(text) + "'";
     case Kind::String:
     case Kind::Path: {
         std::string t = text;
@@ -723,7 +724,7 @@ std::string from_text(const Spec& spec, const std::string& text, Value* v)
     case Kind::Number3: {
         std::string t = text;
         if (t.size() < 2 || t.front() != '[' || t.back() != ']') {
-            return "expected [x, y, z], got '" + text + "'";
+            return "expected [x, y, z], got '" + echo(text) + "'";
         }
         t = t.substr(1, t.size() - 2);
         std::vector<std::string> parts;
@@ -738,11 +739,11 @@ std::string from_text(const Spec& spec, const std::string& text, Value* v)
         }
         parts.push_back(cur);
         if (parts.size() != 3) {
-            return "expected [x, y, z] with 3 numbers, got '" + text + "'";
+            return "expected [x, y, z] with 3 numbers, got '" + echo(text) + "'";
         }
         for (std::size_t i = 0; i < 3; ++i) {
             if (!parse_double(parts[i], &v->arr[i])) {
-                return "expected [x, y, z] with 3 numbers, got '" + text + "'";
+                return "expected [x, y, z] with 3 numbers, got '" + echo(text) + "'";
             }
         }
         return "";
@@ -779,7 +780,7 @@ std::string check_value(const Spec& spec, const Value& v)
         for (const std::string& c : spec.choices) {
             list += (list.empty() ? "" : ", ") + ("\"" + c + "\"");
         }
-        return "expected one of " + list + ", got \"" + v.str + "\"";
+        return "expected one of " + list + ", got \"" + echo(v.str) + "\"";
     }
     case Kind::Path:
         if (v.str.empty()) {
@@ -789,6 +790,15 @@ std::string check_value(const Spec& spec, const Value& v)
     case Kind::Bool: return "";
     }
     return "";
+}
+
+// An angle is kept as its remainder in one turn, [-pi, pi]: the plant and the encoder emulation
+// integrate from it, and a large value would lose the precision of every later angle.
+void reduce_angle(const Spec& spec, Value* v)
+{
+    if (spec.kind == Kind::Number && spec.unit == "rad" && std::isfinite(v->num)) {
+        v->num = std::remainder(v->num, 2.0 * kPi);
+    }
 }
 
 std::string origin_of(const Scenario& s, const std::string& key)
@@ -1242,12 +1252,31 @@ std::string Diagnostics::text() const
     return t;
 }
 
+namespace {
+// Numbers that become sizes: the metrics window is held in memory sample by sample.
+void check_sizes(const Scenario& s, Diagnostics* d)
+{
+    const double window_n = std::floor(s.metrics_window_s / s.ts_s + 0.5) + 1.0;
+    if (window_n > static_cast<double>(kMaxWindowSamples)) {
+        d->errors.push_back(origin_of(s, "metrics_window_s") + ": metrics_window_s: is " +
+                            fmt_double(s.metrics_window_s) + " s, " + fmt_double(window_n) +
+                            " samples of ts_s = " + fmt_double(s.ts_s) + " s; the metrics window holds at most " +
+                            std::to_string(kMaxWindowSamples) + " (" + fmt_double(kMaxWindowSamples * s.ts_s) +
+                            " s): shorten it (the metrics need a few electrical periods)");
+    }
+}
+} // namespace
+
 bool parse_scenario(const std::string& toml_text, const std::string& source_name,
                     const std::vector<std::string>& overrides, Scenario* out, Diagnostics* diag)
 {
     Scenario s;
     s.path = source_name;
     s.name = std::filesystem::path(source_name).stem().string();
+    if (std::string why = check_toml_limits(toml_text, source_name); !why.empty()) {
+        diag->errors.push_back(why + "; refused before parsing");
+        return false;
+    }
     toml::table root;
     try {
         root = toml::parse(toml_text, source_name);
@@ -1263,11 +1292,21 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
         return false;
     }
 
-    auto apply_node = [&](const std::string& name, const toml::node& n, const toml::source_region& key_src) {
-        const Spec* spec = find_spec(name);
+    // part: one TOML key as written (a quoted key is one key, whatever it holds); name: the dotted
+    // scenario key it makes under its table.
+    auto apply_node = [&](const std::string& name, const std::string& part, const toml::node& n,
+                          const toml::source_region& key_src) {
+        const Spec* spec = part.find('.') == std::string::npos ? find_spec(name) : nullptr;
         const std::string loc = where(source_name, n.source().begin.line != 0 ? n.source() : key_src);
         if (spec == nullptr) {
-            diag->errors.push_back(where(source_name, key_src) + ": " + name + ": unknown key");
+            std::string shown = echo(name) + ": unknown key";
+            if (part.find('.') != std::string::npos) {
+                // TOML: "a.b" = 1 is one key named a.b, not the key b of table a.
+                shown = (name == part ? "" : echo(name.substr(0, name.size() - part.size()))) + "\"" + echo(part) +
+                        "\": unknown key (quoted, it is one TOML key whose name holds a dot, not a dotted key; "
+                        "write " + echo(part) + " without the quotes)";
+            }
+            diag->errors.push_back(where(source_name, key_src) + ": " + shown);
             return;
         }
         Value v;
@@ -1279,6 +1318,7 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
                     v.str = (std::filesystem::path(source_name).parent_path() / p).lexically_normal().string();
                 }
             }
+            reduce_angle(*spec, &v);
             why = check_value(*spec, v);
         }
         if (!why.empty()) {
@@ -1289,6 +1329,7 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
         s.origin[name] = loc;
     };
 
+    std::vector<std::string> empty_tables;
     static const char* const sections[] = {"motor",      "inverter", "load",    "control",
                                            "sensors",    "protection", "firmware", "metrics", "faults"};
     for (auto&& [key, node] : root) {
@@ -1304,20 +1345,38 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
                                        "], got " + node_type_name(node));
                 continue;
             }
+            if (t->empty()) {
+                empty_tables.push_back(where(source_name, key.source()) + ": [" + k + "]");
+            }
             for (auto&& [sub, sn] : *t) {
-                apply_node(k + "." + std::string(sub.str()), sn, sub.source());
+                apply_node(k + "." + std::string(sub.str()), std::string(sub.str()), sn, sub.source());
             }
         } else if (node.is_table()) {
-            diag->errors.push_back(where(source_name, key.source()) + ": [" + k + "]: unknown table");
+            diag->errors.push_back(where(source_name, key.source()) + ": [" + echo(k) + "]: unknown table");
         } else {
-            apply_node(k, node, key.source());
+            apply_node(k, k, node, key.source());
         }
+    }
+    if (s.origin.empty() && diag->ok()) {
+        // Only empty tables: a file that sets nothing is not a scenario (the defaults would run
+        // under its name).
+        std::string tables;
+        for (const std::string& t : empty_tables) {
+            tables += (tables.empty() ? "" : ", ") + t;
+        }
+        diag->errors.push_back(source_name + ": the scenario sets no key (" + tables +
+                               " empty); a scenario names at least the settings it is about, e.g. duration_s "
+                               "and the [motor] keys");
+        return false;
+    }
+    for (const std::string& t : empty_tables) {
+        diag->warnings.push_back(t + ": empty table: sets nothing");
     }
 
     int n_set = 0;
     for (const std::string& o : overrides) {
         ++n_set;
-        const std::string loc = "--set #" + std::to_string(n_set) + " '" + o + "'";
+        const std::string loc = "--set #" + std::to_string(n_set) + " '" + echo(o) + "'";
         const auto eq = o.find('=');
         if (eq == std::string::npos || eq == 0) {
             diag->errors.push_back(loc + ": expected key=value");
@@ -1327,12 +1386,13 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
         const std::string text = o.substr(eq + 1);
         const Spec* spec = find_spec(name);
         if (spec == nullptr) {
-            diag->errors.push_back(loc + ": " + name + ": unknown key");
+            diag->errors.push_back(loc + ": " + echo(name) + ": unknown key");
             continue;
         }
         Value v;
         std::string why = from_text(*spec, text, &v);
         if (why.empty()) {
+            reduce_angle(*spec, &v);
             why = check_value(*spec, v); // relative paths on the command line are relative to the cwd
         }
         if (!why.empty()) {
@@ -1349,6 +1409,9 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
     }
     if (diag->ok()) {
         cross_validate(s, diag);
+    }
+    if (diag->ok()) {
+        check_sizes(s, diag);
     }
     if (!diag->ok()) {
         return false;

@@ -335,6 +335,8 @@ void TraceWriter::format_one(std::unique_lock<std::mutex>& lk)
         const bool ok = std::fwrite(w->text.get(), 1, w->bytes, f_) == w->bytes; // only this thread writes
         lk.lock();
         write_failed_ = write_failed_ || !ok;
+        bytes_written_ += w->bytes;
+        rows_written_ += w->n;
         ++next_write_;
         w->n = 0;
         free_.push_back(w);
@@ -625,7 +627,7 @@ bool StagedOutput::commit(std::string* err, const std::vector<std::string>& mana
 {
     std::error_code ec;
     if (!fs::exists(out_dir_, ec)) {
-        fs::rename(stage_dir_, out_dir_, ec);
+        fs::rename(stage_dir_, out_dir_, ec); // one rename: all or nothing
         if (ec) {
             *err = out_dir_ + ": cannot move the results in place (" + ec.message() + ")";
             return false;
@@ -633,21 +635,63 @@ bool StagedOutput::commit(std::string* err, const std::vector<std::string>& mana
         active_ = false;
         return true;
     }
-    for (const std::string& name : managed) {
-        if (!fs::exists(fs::path(stage_dir_) / name, ec)) {
-            fs::remove(fs::path(out_dir_) / name, ec);
+    // out_dir exists: each file it has of the staged or managed names is first moved aside into
+    // the staging folder (NAME.previous), then the staged file moved in. On a failure every step
+    // done is undone in reverse order.
+    struct Step {
+        fs::path from, to;
+    };
+    std::vector<Step> done;
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(stage_dir_, ec)) {
+        names.push_back(e.path().filename().string());
+    }
+    for (const std::string& m : managed) {
+        if (std::find(names.begin(), names.end(), m) == names.end()) {
+            names.push_back(m);
         }
     }
-    for (const auto& e : fs::directory_iterator(stage_dir_)) {
-        fs::rename(e.path(), fs::path(out_dir_) / e.path().filename(), ec);
+    const fs::path out(out_dir_), stage(stage_dir_);
+    std::string failure;
+    for (const std::string& name : names) {
+        const fs::path old = out / name;
+        if (fs::exists(fs::symlink_status(old, ec))) {
+            fs::rename(old, stage / (name + ".previous"), ec);
+            if (ec) {
+                failure = "cannot move the previous " + name + " aside (" + ec.message() + ")";
+                break;
+            }
+            done.push_back({old, stage / (name + ".previous")});
+        }
+        if (fs::exists(stage / name, ec)) {
+            fs::rename(stage / name, old, ec);
+            if (ec) {
+                failure = "cannot move " + name + " in place (" + ec.message() + ")";
+                break;
+            }
+            done.push_back({stage / name, old});
+        }
+    }
+    if (failure.empty()) {
+        fs::remove_all(stage_dir_, ec);
+        active_ = false;
+        return true;
+    }
+    std::string left;
+    for (auto it = done.rbegin(); it != done.rend(); ++it) {
+        fs::rename(it->to, it->from, ec);
         if (ec) {
-            *err = out_dir_ + ": cannot move " + e.path().filename().string() + " in place (" + ec.message() + ")";
-            return false;
+            left += (left.empty() ? "" : ", ") + it->to.string();
         }
     }
-    fs::remove_all(stage_dir_, ec);
-    active_ = false;
-    return true;
+    *err = out_dir_ + ": " + failure;
+    if (!left.empty()) {
+        touched_ = true;
+        *err += "; undoing the files moved so far failed too, left as they are: " + left + " (staging folder " +
+                stage_dir_ + " kept)";
+        active_ = false; // keep what could not be moved back
+    }
+    return false;
 }
 
 void StagedOutput::abort()
@@ -660,5 +704,35 @@ void StagedOutput::abort()
 }
 
 StagedOutput::~StagedOutput() { abort(); }
+
+StagedFile::StagedFile(std::string final_path) : final_(std::move(final_path))
+{
+    if (!final_.empty()) {
+        stage_ = final_ + ".partial-" + std::to_string(static_cast<long>(::getpid()));
+    }
+}
+
+bool StagedFile::commit(std::string* err)
+{
+    if (stage_.empty() || done_) {
+        return true;
+    }
+    std::error_code ec;
+    fs::rename(stage_, final_, ec);
+    if (ec) {
+        *err = final_ + ": cannot move the recording in place (" + ec.message() + ")";
+        return false;
+    }
+    done_ = true;
+    return true;
+}
+
+StagedFile::~StagedFile()
+{
+    if (!stage_.empty() && !done_) {
+        std::error_code ec;
+        fs::remove(stage_, ec);
+    }
+}
 
 } // namespace sil
