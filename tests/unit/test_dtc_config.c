@@ -184,7 +184,7 @@ typedef void (*fw_mutate_fn)(dtc_config_t *);
 typedef struct {
     fw_mutate_fn fn;
     int16_t code;
-    const char *field; /* dtc_config_check's name of the refused field */
+    const char *field; /* law_check's name of the refused field */
 } fw_case_t;
 #define FMUT(name, stmt) static void name(dtc_config_t *c) { stmt; }
 FMUT(f_version, c->version = 99U)
@@ -293,7 +293,7 @@ static void test_dtc_init_refuses_bad_struct(void **state)
         }
         assert_true(dtc_init(&c, &bad) != DTC_OK); /* the PM law's own init refuses it too */
         if (law_check(&bad, &field) != cases[k].code || strcmp(field, cases[k].field) != 0) {
-            fail_msg("firmware case %zu: dtc_config_check names \"%s\", want \"%s\"", k, field,
+            fail_msg("firmware case %zu: law_check names \"%s\", want \"%s\"", k, field,
                      cases[k].field);
         }
         assert_null(c.cfg);

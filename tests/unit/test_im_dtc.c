@@ -258,7 +258,7 @@ static void test_bad_im_config_refused_with_field(void **state)
         }
         assert_int_equal(law_check(&bad, &field), cases[k].code);
         if (strcmp(field, cases[k].field) != 0) {
-            fail_msg("case %s: dtc_config_check named \"%s\"", cases[k].field, field);
+            fail_msg("case %s: law_check named \"%s\"", cases[k].field, field);
         }
     }
     /* each law refuses the other's configuration; the PM one still needs its magnet */
