@@ -44,8 +44,6 @@ typedef struct {
     /* parameters derived at init */
     flux_est_params_t fe_p;
     vcomp_params_t vc_p;
-    deadtime_params_t dt_p;
-    ilim_params_t il_p;
     speed_meas_params_t sm_p;
     speed_pi_params_t pi_p;
     /* block states */
@@ -86,6 +84,9 @@ typedef struct {
     iq_t vmid_beta_iq;   /* restoring mid-point reconstruction (dtc_vmid_dev): beta at the
                           * measured speed, updated at the speed-loop rate */
     iq_t vmid_dev_iq;    /* FSTP voltage model: (1 - beta)(vmid - V_dc/2) of this step */
+    /* shared blocks' parameters derived at init (last: the members above keep their offsets) */
+    deadtime_params_t dt_p;
+    ilim_params_t il_p;
 } dtc_t;
 
 /* The law's configuration check (dtc_check.c): the common part, then the law DTC_LAW_PM_DTC and

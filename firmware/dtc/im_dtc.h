@@ -92,7 +92,6 @@ typedef struct {
     /* parameters derived at init */
     im_est_params_t est_p;
     vcomp_params_t vc_p;
-    deadtime_params_t dt_p;
     speed_meas_params_t sm_p;
     speed_pi_params_t pi_p;
     im_speed_params_t isp_p;
@@ -149,6 +148,7 @@ typedef struct {
     iq_t sfvc_kpq_iq;     /* K_p (l_s/m) sigma l_r / phi_r*: K_p times eq. 18's q component per pu T* */
     iq_t sfvc_kslip_iq;   /* r_r / phi_r*^2: eq. 16's slip per pu torque */
     iq_t foc_id_int_iq, foc_iq_int_iq; /* DFOC: the current PIs' integral parts, pu voltage */
+    deadtime_params_t dt_p; /* dead-time block's parameters (vrec.h), derived at init */
 } im_dtc_t;
 
 /* The IM laws' configuration check (im_dtc_check.c): the common part, then one of the laws
