@@ -43,12 +43,5 @@ static int16_t dtc_pm_part_check(const dtc_config_t *cfg, const char **f)
 
 int16_t dtc_check(const dtc_config_t *cfg, const char **field)
 {
-    const char *dummy = "";
-    const char **f = field != NULL ? field : &dummy;
-    int16_t err = dtc_config_check_common(cfg, f);
-    if (err != DTC_OK) {
-        return err;
-    }
-    DTC_REFUSE(cfg->law != DTC_LAW_PM_DTC, DTC_ERR_VARIANT, "law");
-    return dtc_pm_part_check(cfg, f);
+    return dtc_config_check_law(cfg, DTC_LAW_PM_DTC, DTC_LAW_PM_DTC, dtc_pm_part_check, field);
 }

@@ -152,3 +152,16 @@ int16_t dtc_config_check_common(const dtc_config_t *cfg, const char **field)
     }
     return err;
 }
+
+int16_t dtc_config_check_law(const dtc_config_t *cfg, uint16_t first, uint16_t last,
+                             int16_t (*part)(const dtc_config_t *cfg, const char **f), const char **field)
+{
+    const char *dummy = "";
+    const char **f = field != NULL ? field : &dummy;
+    const int16_t err = dtc_config_check_common(cfg, f);
+    if (err != DTC_OK) {
+        return err;
+    }
+    DTC_REFUSE(cfg->law < first || cfg->law > last, DTC_ERR_VARIANT, "law");
+    return part(cfg, f);
+}

@@ -61,5 +61,10 @@ typedef struct dtc_config dtc_config_t;
  * (if not null) then names the offending field as "part.field" (a string constant), "" on
  * DTC_OK. Pure, init only. Each law's check calls it first, then checks its own part. */
 int16_t dtc_config_check_common(const dtc_config_t *cfg, const char **field);
+/* A law's check: dtc_config_check_common, then DTC_ERR_VARIANT ("law") unless first <= cfg->law <=
+ * last (the laws of the checking module), then part(cfg) (the law's part, DTC_REFUSE style).
+ * *field as above. */
+int16_t dtc_config_check_law(const dtc_config_t *cfg, uint16_t first, uint16_t last,
+                             int16_t (*part)(const dtc_config_t *cfg, const char **f), const char **field);
 
 #endif /* DTC_CONFIG_H */

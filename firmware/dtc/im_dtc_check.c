@@ -79,12 +79,5 @@ static int16_t im_part_check(const dtc_config_t *cfg, const char **f)
 
 int16_t im_dtc_check(const dtc_config_t *cfg, const char **field)
 {
-    const char *dummy = "";
-    const char **f = field != NULL ? field : &dummy;
-    int16_t err = dtc_config_check_common(cfg, f);
-    if (err != DTC_OK) {
-        return err;
-    }
-    DTC_REFUSE(dtc_law_is_im(cfg->law) == 0U, DTC_ERR_VARIANT, "law");
-    return im_part_check(cfg, f);
+    return dtc_config_check_law(cfg, DTC_LAW_IM_DTC, DTC_LAW_IM_DSVM, im_part_check, field);
 }

@@ -71,57 +71,27 @@ static void field_set(void *f, uint16_t size, uint32_t bits)
                          PIL_CFG_ARR3, PIL_CFG_NOP)
 
 /* Numbers of fields of the lists. */
-static uint16_t pil_count_common(void)
-{
-    uint16_t n = 0U;
-    const dtc_config_t *c = 0;
-    (void)c;
-#define F(x) n++;
-    PIL_CONFIG_COMMON
+#define F(x) +1
+enum { PIL_N_COMMON = 0 PIL_CONFIG_COMMON, PIL_N_PM_DTC = 0 PIL_CONFIG_PM_DTC, PIL_N_IM = 0 PIL_CONFIG_IM };
 #undef F
-    return n;
-}
-
-static uint16_t pil_count_pm(void)
-{
-    uint16_t n = 0U;
-    const dtc_config_t *c = 0;
-    (void)c;
-#define F(x) n++;
-    PIL_CONFIG_PM_DTC
-#undef F
-    return n;
-}
-
-static uint16_t pil_count_im(void)
-{
-    uint16_t n = 0U;
-    const dtc_config_t *c = 0;
-    (void)c;
-#define F(x) n++;
-    PIL_CONFIG_IM
-#undef F
-    return n;
-}
 
 uint16_t pil_config_fields(void)
 {
-    const uint16_t pm = pil_count_pm(), im = pil_count_im();
-    return (uint16_t)(pil_count_common() + (pm > im ? pm : im));
+    return (uint16_t)(PIL_N_COMMON + (PIL_N_PM_DTC > PIL_N_IM ? PIL_N_PM_DTC : PIL_N_IM));
 }
 
 void pil_config_encode(const dtc_config_t *c, uint8_t *blob)
 {
     uint8_t *p = blob;
-    uint16_t n = pil_count_common();
+    uint16_t n = PIL_N_COMMON;
 #define F(x) put32(&p, field_bits(&(x), (uint16_t)sizeof(x)));
     PIL_CONFIG_COMMON
     if (dtc_law_is_im(c->law) != 0U) {
         PIL_CONFIG_IM
-        n = (uint16_t)(n + pil_count_im());
+        n = (uint16_t)(n + PIL_N_IM);
     } else {
         PIL_CONFIG_PM_DTC
-        n = (uint16_t)(n + pil_count_pm());
+        n = (uint16_t)(n + PIL_N_PM_DTC);
     }
 #undef F
     for (; n < pil_config_fields(); n++) {
