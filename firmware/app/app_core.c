@@ -49,7 +49,6 @@ int16_t app_core_init(app_core_t *a, const dtc_config_t *cfg)
     app_fault_init(&a->flt);
     a->clear_request = 0U;
     a->t1pr = 0U;
-    a->st.out.pwm = 0U; /* the DTC laws never write it (dtc_out_t) */
     a->st.tick = 0U;
     a->st.fault_tick = 0U;
     a->st.state = APP_STATE_INIT;
@@ -382,7 +381,7 @@ static uint16_t check_sensors(app_core_t *a)
 int16_t app_core_set_pwm_period(app_core_t *a, uint16_t t1pr)
 {
     a->t1pr = t1pr;
-    if (a->cfg != NULL && app_pwm_period_check(a->cfg, t1pr) != 0) {
+    if (a->cfg != NULL && app_pwm_period_check(law_out_form(&a->law), t1pr) != 0) {
         latch_fault(a, APP_FAULT_CONFIG, DTC_ERR_SVM);
         /* also over a fault latched before: a clear request ends that one, this one it must not */
         a->st.fault = APP_FAULT_CONFIG;
@@ -472,7 +471,7 @@ uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
             cmd->sc = s3[app_fault_phase(3U - a->perm, 2U)];
         }
         cmd->enable = 1U;
-        app_pwm_encode(&a->st.out, a->t1pr, cmd);
+        app_pwm_encode(law_out_form(&a->law), &a->st.out, a->t1pr, cmd);
         return 0U;
 
     case APP_STATE_INIT:

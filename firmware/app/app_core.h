@@ -33,7 +33,6 @@
 #include "app_fault.h"
 #include "app_hold.h"
 #include "app_plaus.h"
-#include "dtc.h"
 #include "hal.h"
 #include "law.h"
 
@@ -99,7 +98,7 @@ typedef struct app_core {
 int16_t app_core_init(app_core_t *a, const dtc_config_t *cfg);
 
 /* The HAL's PWM timer period T1PR (hal_pwm_period(), counts), for a law that commands the PWM
- * form (dtc_out_t.pwm; app_pwm.h). Where the law cannot run at it (app_pwm_period_check: t1pr = 0
+ * form (law.h law_out_form; app_pwm.h). Where the law cannot run at it (app_pwm_period_check: t1pr = 0
  * or 0xFFFF for the IM schemes SFVC, DFOC, DSVM) the core latches
  * APP_FAULT_CONFIG with DTC_ERR_SVM (in place of any fault latched before, which a clear request
  * would end) and returns that code; otherwise 0. */
@@ -108,7 +107,7 @@ int16_t app_core_set_pwm_period(app_core_t *a, uint16_t t1pr);
 /* Fault tolerance: post is the FSTP configuration of the same PM drive that the
  * application switches to when a leg fails (app_fault_open_phase: a phase carries no current while the
  * others do; app_fault_open_phase), with the failed phase on the capacitor mid-point through the relay (hal_cmd_t
- * relay). It must pass dtc_config_validate, be the PM law on the FSTP, with the same encoder and
+ * relay). It must pass the PM law's check (law_check_reconfig), be the PM law on the FSTP, with the same encoder and
  * ADC scaling, three current sensors (board.i_sensors3: only the sum of three measured currents
  * tells a failed sensor from a failed leg), no mid-point calibration (the drive does not stop for
  * it), prot.relay_periods > 0; the running configuration must be the PM law on the SSTP with

@@ -11,8 +11,8 @@
 
 #include <stdint.h>
 
-#include "dtc.h"
 #include "hal.h"
+#include "law.h"
 
 /* Lost encoder signal: periods without a count change (prot.enc_freeze_speed_iq). */
 #define APP_ENC_FREEZE_PERIODS 32U

@@ -165,7 +165,7 @@ uint16_t app_fault_post_ok(const dtc_config_t *c, const dtc_config_t *post)
             same_adc = 0U;
         }
     }
-    return (uint16_t)!(dtc_config_validate(post) != DTC_OK ||
+    return (uint16_t)!(law_check_reconfig(post) != DTC_OK ||
         c->law != (uint16_t)DTC_LAW_PM_DTC || post->law != (uint16_t)DTC_LAW_PM_DTC ||
         c->board.topology != (uint16_t)DTC_TOPO_SSTP || post->board.topology != (uint16_t)DTC_TOPO_FSTP ||
         c->board.i_sensors3 == 0U || post->board.i_sensors3 == 0U || c->prot.leg_i_min_iq <= 0 ||

@@ -13,8 +13,8 @@
 
 #include <stdint.h>
 
-#include "dtc.h"
 #include "hal.h"
+#include "law.h"
 
 /* What a fault's detail (app_status_t.fault_detail) means. */
 enum app_fault_detail {

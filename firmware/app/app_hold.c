@@ -4,7 +4,7 @@
 #include "app_hold.h"
 
 #include "app_enc.h"
-#include "flux_est.h"
+#include "law.h"
 
 /* Rotor hold while the FSTP mid-point is calibrated (prot.i_hold_iq > 0). With the gates off an
  * active load (a hoist, a constant torque) turns the rotor backwards for the whole calibration
@@ -32,14 +32,14 @@
  * deviation is Q16 in 64 bits, taken to Q8 before the product with i_hold (< 2^31: below 2^62),
  * which is saturated after the shift;
  * u and 2u saturate at +-2^31 (never reached: |u| <= i_hold < i_trip). The angle is the current
- * model's (flux_est_angle), its cosine's sign a comparison: no trigonometry. */
+ * model's (law_enc_angle), its cosine's sign a comparison: no trigonometry. */
 void app_hold_step(app_hold_t *h, const dtc_config_t *c, const dtc_meas_t *pu, const hal_meas_t *m,
                    hal_cmd_t *cmd)
 {
     const iq_t ih = c->prot.i_hold_iq;
     const int32_t d = app_enc_fold((int32_t)m->qep_count - (int32_t)h->count0, c->board.enc_counts);
     const int32_t step = app_enc_fold((int32_t)m->qep_count - (int32_t)h->prev, c->board.enc_counts);
-    const angle_t th = flux_est_angle(m->qep_count, c->board.enc_gain_q16, c->board.enc_offset);
+    const angle_t th = law_enc_angle(c, m->qep_count);
     int64_t d_q16;
     iq_t u;
     h->prev = m->qep_count;

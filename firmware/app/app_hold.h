@@ -10,8 +10,8 @@
 
 #include <stdint.h>
 
-#include "dtc.h"
 #include "hal.h"
+#include "law.h"
 
 /* Rotor hold during the mid-point calibration (app_hold_step): the hold current reaches
  * prot.i_hold_iq at a deviation of 2^APP_HOLD_ZONE_LOG2 encoder counts. One count is the

@@ -1,41 +1,71 @@
 /*
- * law.h - the application's one control-law entry point: the configuration's law (enum dtc_law)
- * chosen at init, one switch per call in the ISR path (DESIGN.md section 4).
+ * law.h - the application's one entry to the control laws: the configuration's law (enum
+ * dtc_law) chosen at init, one switch per call (DESIGN.md section 4). The application reaches a
+ * law only through this header.
  *
- *   DTC_LAW_PM_DTC  PM brushless AC machine, Hoang et al. 2011     firmware/dtc/dtc.h
- *   DTC_LAW_IM_DTC  induction machine, Casadei et al. 2006 DTC/DSC firmware/dtc/im_dtc.h; its SVM
- *                   schemes SFVC (im_sfvc.c) and DFOC (im_dfoc.c) and the DTC with DSVM
- *                   (im_dsvm.c), chosen by im_dtc_t.pwm_law
+ *   DTC_LAW_PM_DTC   PM brushless AC machine, DTC of Hoang et al. 2011   firmware/dtc/dtc.h
+ *   DTC_LAW_IM_DTC   induction machine, Casadei et al. 2006: DTC          firmware/dtc/im_dtc.h
+ *   DTC_LAW_IM_DSC   DSC (section 9)                                      im_dtc.c, dsc.h
+ *   DTC_LAW_IM_SFVC  stator-flux vector control with SVM (10.3-10.5)      im_sfvc.c
+ *   DTC_LAW_IM_DFOC  rotor-flux-oriented control (section 13)             im_dfoc.c
+ *   DTC_LAW_IM_DSVM  DTC with discrete SVM (section 11)                   im_dsvm.c
  *
- * Every law has the same shape (init, reset, step, shadow write, refs get) and shares the
- * measurement and output structs (dtc_meas_t, dtc_out_t) and the reference set (dtc_refs.h).
- * The laws' states share storage (a union): only the configured one is ever used.
+ * Every law has the same shape: a check of its configuration part (error codes naming the field),
+ * init, reset, step, shadow write, refs get, and the form of its command (enum law_out_form),
+ * fixed at init: a table of them per law (law.c), chosen once by law_init. The laws share the
+ * measurement and output structs (law_io.h) and the reference set (dtc_refs.h). Their states share storage (a union): only the configured one is used. Only
+ * the laws linked into the image (firmware/CMakeLists.txt DTC_LAWS: DTC_LAW_PM_LINKED,
+ * DTC_LAW_IM_LINKED) exist here; a configuration of another is refused with DTC_ERR_VARIANT.
+ *
+ * Adding a law: its value in enum dtc_law, its configuration part (a header like pm_dtc_cfg.h)
+ * in dtc_config_t.u, its module with the functions above, its table and one case in law.c; on
+ * the host its converter part and scenario keys (docs/firmware-core.md, "Adding a control law").
  */
 #ifndef LAW_H
 #define LAW_H
 
 #include <stdint.h>
 
+#include "dtc_config.h"
+#include "dtc_refs.h"
+#include "law_io.h"
+#if DTC_LAW_PM_LINKED
 #include "dtc.h"
+#endif
+#if DTC_LAW_IM_LINKED
 #include "im_dtc.h"
+#endif
+
+typedef struct law_ops law_ops_t; /* a law's functions (law.c) */
 
 typedef struct {
-    uint16_t law; /* enum dtc_law, from the configuration */
+    uint16_t law;          /* enum dtc_law, from the configuration */
+    const law_ops_t *ops;  /* the law's functions, chosen by law_init */
     union {
+#if DTC_LAW_PM_LINKED
         dtc_t pm;
+#endif
+#if DTC_LAW_IM_LINKED
         im_dtc_t im;
+#endif
     } u;
 } law_t;
 
-/* Validates cfg and initialises its law. Returns DTC_OK or an enum dtc_err code; on error the
+/* The check of cfg by its law's module (the common part, then the law's part): DTC_OK or an enum
+ * dtc_err code, *field (if not null) naming the field ("" on DTC_OK). DTC_ERR_VARIANT ("law")
+ * for a law not linked into the image. Pure, init only. */
+int16_t law_check(const dtc_config_t *cfg, const char **field);
+/* Checks cfg and initialises its law. Returns DTC_OK or an enum dtc_err code; on error the
  * controller must not be stepped. */
 int16_t law_init(law_t *l, const dtc_config_t *cfg);
 void law_reset(law_t *l);
 void law_step(law_t *l, const dtc_meas_t *m, dtc_out_t *o);
 int16_t law_shadow_write(law_t *l, const dtc_refs_t *r);
 void law_refs_get(const law_t *l, dtc_refs_t *r);
+/* The form of the law's command (enum law_out_form), the law's from law_init on. */
+uint16_t law_out_form(const law_t *l);
 /* Live SSTP -> FSTP reconfiguration after leg `phase` failed (dtc.h dtc_reconfigure): the PM
- * law only; DTC_ERR_RECONFIG for the IM law (Casadei's tables are six-switch ones) and for a
+ * law only; DTC_ERR_RECONFIG for the IM laws (Casadei's tables are six-switch ones) and for a
  * post that dtc_reconfigure refuses. */
 int16_t law_reconfigure(law_t *l, const dtc_config_t *post, uint16_t phase);
 /* The phase currents (IQ pu, the law's phase order) the law predicts for the next sample from the
@@ -43,7 +73,17 @@ int16_t law_reconfigure(law_t *l, const dtc_config_t *post, uint16_t phase);
  * dtc.c dtc_predict). Returns 1 and fills i1[0..2], or 0 where the law makes no prediction (the
  * app's sensor plausibility, app_plaus.h, then rests). */
 uint16_t law_i_pred(const law_t *l, iq_t i1[3]);
+/* The check of a post-fault configuration for law_reconfigure (the PM law's check). */
+int16_t law_check_reconfig(const dtc_config_t *post);
 /* The speed reference in force (the app's stall check). */
 iq_t law_speed_ref(const law_t *l);
+/* Encoder count -> electrical angle with the configuration's encoder gain and offset (flux_est.h
+ * flux_est_angle), for the application's rotor hold. */
+angle_t law_enc_angle(const dtc_config_t *cfg, uint16_t count);
+/* The compare values and polarity of the three legs (hal.h HAL_CMD_PWM: cmpr_up, cmpr_dn, act)
+ * for a command o of the PWM form `form` (LAW_OUT_DUTY: svm.h svm_cmpr; LAW_OUT_THIRDS: dsvm.h
+ * dsvm_pwm) at the PWM period t1pr. */
+void law_pwm(uint16_t form, const dtc_out_t *o, uint16_t t1pr, uint16_t cmpr_up[3], uint16_t cmpr_dn[3],
+             uint16_t act[3]);
 
 #endif /* LAW_H */

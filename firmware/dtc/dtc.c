@@ -3,6 +3,7 @@
 #include <stddef.h>
 
 #include "clarke.h"
+#include "dtc_internal.h"
 #include "ilim.h"
 #include "lpfcorr.h"
 #include "sector.h"
@@ -23,7 +24,7 @@ int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg)
         return DTC_ERR_NULL;
     }
     c->cfg = NULL;
-    err = dtc_config_validate_for(cfg, DTC_LAW_PM_DTC);
+    err = dtc_check(cfg, NULL);
     if (err != DTC_OK) {
         return err;
     }
@@ -33,11 +34,12 @@ int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg)
     c->fe_p.k_in_q31 = cfg->est.k_in_q31;
     c->fe_p.k_leak_q31 = cfg->est.k_leak_q31;
     c->fe_p.rs_iq = cfg->machine.rs_iq;
-    c->fe_p.ls_iq = cfg->machine.pm.ls_iq;
-    c->fe_p.psi_m_iq = cfg->machine.pm.psi_m_iq;
+    c->fe_p.ls_iq = cfg->u.pm_dtc.machine.ls_iq;
+    c->fe_p.psi_m_iq = cfg->u.pm_dtc.machine.psi_m_iq;
     c->fe_p.enc_gain_q16 = cfg->board.enc_gain_q16;
     c->fe_p.enc_offset = cfg->board.enc_offset;
     vcomp_init(&c->vc_p, cfg->est.compensation, cfg->board.v_f_iq, cfg->board.v_ce_iq, cfg->board.v_d_iq, cfg->board.r_on_iq);
+    dtc_block_params(c, cfg);
     dtc_speed_params_from_config(&c->sm_p, &c->pi_p, cfg);
 
     dtc_refs_from_config(&r, cfg);
@@ -87,9 +89,9 @@ void dtc_reset(dtc_t *c)
     c->speed_primed = 0U; /* the first step takes the encoder position as the reference */
     speed_pi_reset(&c->pi, 0, cfg->speed.torque_limit_iq);
     c->te_trim_iq = 0;
-    hyst2_init(&c->h_flux, cfg->sw.flux_band_iq, 1U);
-    hyst2_init(&c->h_torque2, cfg->sw.torque_band_iq, 1U);
-    hyst3_init(&c->h_torque3, cfg->sw.torque_band_iq);
+    hyst2_init(&c->h_flux, cfg->u.pm_dtc.sw.flux_band_iq, 1U);
+    hyst2_init(&c->h_torque2, cfg->u.pm_dtc.sw.torque_band_iq, 1U);
+    hyst3_init(&c->h_torque3, cfg->u.pm_dtc.sw.torque_band_iq);
     c->div_cnt = 0U;
     c->legs_1 = off;
     c->legs_2 = off;
@@ -97,7 +99,7 @@ void dtc_reset(dtc_t *c)
     c->vec_1 = cfg->board.topology == DTC_TOPO_FSTP ? 1U : 0U;
     c->te_ref_iq = c->act.mode == DTC_MODE_TORQUE ? c->act.torque_ref_iq : 0;
     c->speed_iq = 0;
-    c->on_cm = cfg->est.handover_speed_iq > 0 ? 1U : 0U;
+    c->on_cm = cfg->u.pm_dtc.est.handover_speed_iq > 0 ? 1U : 0U;
     c->cm_hold = 0U;
     dtc_reset_ilim_pol(c);
 }
@@ -189,16 +191,16 @@ void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b)
         return;
     }
     const iq_t k = c->dcs_kw_iq;
-    if (c->cfg->est.vmid_g_iq > 0) {
+    if (c->cfg->u.pm_dtc.est.vmid_g_iq > 0) {
         /* FSTP mid-point regulation: phase A (alpha) is to carry g (vmid - V_dc/2) of DC */
-        ia = iq_sub(ia, iq_mpy(c->cfg->est.vmid_g_iq, c->vmid_dev_iq));
+        ia = iq_sub(ia, iq_mpy(c->cfg->u.pm_dtc.est.vmid_g_iq, c->vmid_dev_iq));
     }
     *psi_a = iq_add(*psi_a, q32_integrate(&c->dcs_alpha_iq, k, ia));
     *psi_b = iq_add(*psi_b, q32_integrate(&c->dcs_beta_iq, k, i->i_beta_iq));
 }
 
 /* Restoring mid-point reconstruction (FSTP, voltage model, mid-point measured and calibrated:
- * est.vmid_beta_s_iq > 0). The calibration (app_core.c app_vmid_cal_set) makes the two voltage
+ * u.pm_dtc.est.vmid_beta_s_iq > 0). The calibration (app_core.c app_vmid_cal_set) makes the two voltage
  * sensors agree at vmid = V_dc/2 only: with a remaining link error g_eff = g + o/V_dc (gain g,
  * offset o of the link sensor, as the calibration leaves them) the reconstruction (vrec.h, Hoang
  * eqs. 1-5 with phase A on the mid-point; the legs' mean (S_b + S_c)/2 is vmid/V_dc) carries
@@ -234,7 +236,7 @@ void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b)
 void dtc_vmid_beta(dtc_t *c)
 {
     const iq_t bmax = fix_rshift_rnd32(iq_from_int(1), DTC_VMID_BETA_MAX_LOG2);
-    const iq_t sw = iq_mpy(c->cfg->est.vmid_beta_s_iq, fix_abs32(c->speed_iq));
+    const iq_t sw = iq_mpy(c->cfg->u.pm_dtc.est.vmid_beta_s_iq, fix_abs32(c->speed_iq));
     const iq_t b = iq_mpy(sw, sw);
     c->vmid_beta_iq = b > bmax ? bmax : b;
 }
@@ -246,8 +248,8 @@ void dtc_lpf_r(dtc_t *c)
 {
     const dtc_config_t *cfg = c->cfg;
     iq_t r;
-    c->lpf_y_iq = lpfcorr_recip(c->lpf_y_iq, c->speed_iq, cfg->est.lpf_wmin_iq);
-    r = iq_mpy(cfg->est.wc_pu_iq, c->lpf_y_iq);
+    c->lpf_y_iq = lpfcorr_recip(c->lpf_y_iq, c->speed_iq, cfg->u.pm_dtc.est.lpf_wmin_iq);
+    r = iq_mpy(cfg->u.pm_dtc.est.wc_pu_iq, c->lpf_y_iq);
     c->lpf_r_iq = c->speed_iq < 0 ? fix_neg32(r) : r;
 }
 
@@ -255,59 +257,22 @@ void dtc_handover(dtc_t *c)
 {
     const dtc_config_t *cfg = c->cfg;
     iq_t w = fix_abs32(c->speed_iq);
-    if (cfg->est.handover_speed_iq <= 0) {
+    if (cfg->u.pm_dtc.est.handover_speed_iq <= 0) {
         c->on_cm = 0U;
     } else if (c->on_cm != 0U) {
-        if (w > cfg->est.handover_speed_iq) {
+        if (w > cfg->u.pm_dtc.est.handover_speed_iq) {
             c->on_cm = 0U;
         }
-    } else if (w < iq_sub(cfg->est.handover_speed_iq, cfg->est.handover_hyst_iq)) {
+    } else if (w < iq_sub(cfg->u.pm_dtc.est.handover_speed_iq, cfg->u.pm_dtc.est.handover_hyst_iq)) {
         c->on_cm = 1U;
     }
-}
-
-/* Dead-time error of one leg over one period: the leg changed state at the period's start
- * (prev -> cur) and for T_d both devices were off, so the phase current's free-wheeling diode
- * set the leg voltage: turning on the upper device with the current leaving the leg (i > 0), the
- * lower diode kept the leg at 0 for T_d: -V_dc T_d/T_s on the period's mean; turning it off with
- * the current entering (i < 0), the upper diode kept it at V_dc: +V_dc T_d/T_s. Otherwise the
- * current commutates at once and there is no error. The sign of the sampled current decides. */
-static iq_t dtc_leg_dt(uint16_t prev, uint16_t cur, iq_t i, iq_t e)
-{
-    if (prev == 0U && cur != 0U && i > 0) {
-        return fix_neg32(e);
-    }
-    if (prev != 0U && cur == 0U && i < 0) {
-        return e;
-    }
-    return 0;
-}
-
-/* Dead-time compensation (Casadei sec. 10.5): the leg errors of dtc_leg_dt through the same
- * leg-to-alpha/beta transform as the reconstruction (vrec_from_legs, Hoang eqs. 1-5; FSTP: leg A
- * is the mid-point and never switches). Phase currents at the switching instant, all three
- * (clarke_out_t: the two measured, the third by Kirchhoff). Scaling: e = V_dc * T_d/T_s (IQ x Q15, rounded),
- * the leg errors are 0 or +-e, vrec_from_legs saturates. */
-void dtc_deadtime(const dtc_config_t *cfg, iq_t vdc_iq, const clarke_out_t *i, const swtab_legs_t *prev,
-                  const swtab_legs_t *cur, iq_t *dva, iq_t *dvb)
-{
-    iq_t e, ea;
-    if (prev->sa == cur->sa && prev->sb == cur->sb && prev->sc == cur->sc) {
-        *dva = 0; /* no leg changed: no dead-time error (most periods; the sum below is 0 then) */
-        *dvb = 0;
-        return;
-    }
-    e = iq_mpy_q15(vdc_iq, cfg->board.td_ts_q15);
-    ea = cfg->board.topology == DTC_TOPO_FSTP ? 0 : dtc_leg_dt(prev->sa, cur->sa, i->ia_iq, e);
-    vrec_from_legs(ea, dtc_leg_dt(prev->sb, cur->sb, i->ib_iq, e),
-                   dtc_leg_dt(prev->sc, cur->sc, i->ic_iq, e), dva, dvb);
 }
 
 /* Actuation-delay compensation. The leg states legs_1 (returned by the previous step) act
  * during the period that starts now, so the vector chosen here acts from k+1 on: the
  * comparators and the sector must see the machine at k+1. Prediction over one period Ts:
  *   stator flux (Hoang eqs. 15-16, 37-38 when compensated, over one period with the committed
- *   vector; dead time as in dtc_deadtime_i when on): dpsi = Ts (v(legs_1) + v_f - r_s i),
+ *   vector; dead time as in deadtime_error when on): dpsi = Ts (v(legs_1) + v_f - r_s i),
  *   psi(k+1) = psi + dpsi;
  *   current (PM machine, Hoang eqs. 6-9 with L_d = L_q: psi = l_s i + psi_r, the rotor flux
  *   psi_r = psi_m e^{j theta} turning at w): psi_r = psi - l_s i, dpsi_r = w Ts j psi_r,
@@ -333,11 +298,11 @@ void dtc_predict(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t
     wts = iq_mpy(c->speed_iq, cfg->board.ts_pu_iq);
     /* psi_r = psi - l_s i;  j psi_r w Ts = (-w Ts psi_rb, w Ts psi_ra) */
     ia1 = iq_add(i->i_alpha_iq,
-                 iq_mpy(cfg->machine.pm.inv_ls_iq,
-                        fix_add32(dpa, iq_mpy(wts, iq_sub(*psi_b, iq_mpy(cfg->machine.pm.ls_iq, i->i_beta_iq))))));
+                 iq_mpy(cfg->u.pm_dtc.machine.inv_ls_iq,
+                        fix_add32(dpa, iq_mpy(wts, iq_sub(*psi_b, iq_mpy(cfg->u.pm_dtc.machine.ls_iq, i->i_beta_iq))))));
     ib1 = iq_add(i->i_beta_iq,
-                 iq_mpy(cfg->machine.pm.inv_ls_iq,
-                        iq_sub(dpb, iq_mpy(wts, iq_sub(*psi_a, iq_mpy(cfg->machine.pm.ls_iq, i->i_alpha_iq))))));
+                 iq_mpy(cfg->u.pm_dtc.machine.inv_ls_iq,
+                        iq_sub(dpb, iq_mpy(wts, iq_sub(*psi_a, iq_mpy(cfg->u.pm_dtc.machine.ls_iq, i->i_alpha_iq))))));
     *psi_a = fix_add32(*psi_a, dpa);
     *psi_b = fix_add32(*psi_b, dpb);
     *te = torque_eq10(*psi_a, *psi_b, ia1, ib1);
@@ -411,15 +376,15 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
             vrec_sstp(c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, m->vdc_iq, &fin.v_alpha_iq,
                       &fin.v_beta_iq);
         }
-        if (cfg->est.polarity_mid != 0U) {
+        if (cfg->u.pm_dtc.est.polarity_mid != 0U) {
             dtc_pol_mid(c, &i);
         }
         vcomp_step(&c->vc_p, c->legs_2.sa, c->legs_2.sb, c->legs_2.sc,
-                   cfg->est.polarity_mid != 0U ? &c->i_mid : &i, &vfa, &vfb);
+                   cfg->u.pm_dtc.est.polarity_mid != 0U ? &c->i_mid : &i, &vfa, &vfb);
         fin.v_alpha_iq = fix_add32(fin.v_alpha_iq, vfa);
         fin.v_beta_iq = fix_add32(fin.v_beta_iq, vfb);
         if (cfg->est.deadtime_comp != 0U) {
-            dtc_deadtime(cfg, m->vdc_iq, cfg->est.polarity_mid != 0U ? &c->i_prev : &i, &c->legs_3,
+            deadtime_error(&c->dt_p, m->vdc_iq, cfg->u.pm_dtc.est.polarity_mid != 0U ? &c->i_prev : &i, &c->legs_3,
                          &c->legs_2, &vfa, &vfb);
             fin.v_alpha_iq = fix_add32(fin.v_alpha_iq, vfa);
             fin.v_beta_iq = fix_add32(fin.v_beta_iq, vfb);
@@ -439,7 +404,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     }
     psi_a = c->fe.psi_alpha_iq;
     psi_b = c->fe.psi_beta_iq;
-    if (cfg->est.dc_supp != 0U && cfg->est.estimator == DTC_EST_VOLTAGE) {
+    if (cfg->u.pm_dtc.est.dc_supp != 0U && cfg->est.estimator == DTC_EST_VOLTAGE) {
         dtc_dcsupp(c, &i, &psi_a, &psi_b);
     }
 
@@ -459,11 +424,11 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         o->speed_tick = 1U;
         c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
         dtc_handover(c);
-        if (cfg->est.lpf_comp != 0U) {
+        if (cfg->u.pm_dtc.est.lpf_comp != 0U) {
             dtc_lpf_r(c);
         }
-        c->dcs_kw_iq = iq_mpy(cfg->est.dcs_k_iq, fix_abs32(c->speed_iq)); /* dtc_dcsupp: Ts l_s |w|/20 */
-        if (cfg->est.vmid_beta_s_iq > 0) {
+        c->dcs_kw_iq = iq_mpy(cfg->u.pm_dtc.est.dcs_k_iq, fix_abs32(c->speed_iq)); /* dtc_dcsupp: Ts l_s |w|/20 */
+        if (cfg->u.pm_dtc.est.vmid_beta_s_iq > 0) {
             dtc_vmid_beta(c);
         }
         if (c->act.mode == DTC_MODE_SPEED) {
@@ -479,7 +444,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
      *    compensation is on (dtc_predict), else the estimate at k; |psi|^2 (eq. 11 squared: the
      *    flux comparator works on it, so the ISR takes no square root), sector.
      *    Hysteresis comparators (Hoang eqs. 13-14, Casadei section 4). */
-    if (cfg->est.delay_comp != 0U) {
+    if (cfg->u.pm_dtc.est.delay_comp != 0U) {
         if (cfg->board.topology == DTC_TOPO_FSTP) {
             vrec_fstp(c->legs_1.sb, c->legs_1.sc, m->vdc_iq, vmid_r, cfg->board.fstp_vmid_measured,
                       &c->v1_alpha_iq, &c->v1_beta_iq);
@@ -492,7 +457,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         c->v1d_alpha_iq = 0;
         c->v1d_beta_iq = 0;
         if (cfg->est.deadtime_comp != 0U) {
-            dtc_deadtime(cfg, m->vdc_iq, &i, &c->legs_2, &c->legs_1, &c->v1d_alpha_iq,
+            deadtime_error(&c->dt_p, m->vdc_iq, &i, &c->legs_2, &c->legs_1, &c->v1d_alpha_iq,
                          &c->v1d_beta_iq);
         }
         dtc_predict(c, &i, &psi_a, &psi_b, &te);
@@ -500,7 +465,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     mag2 = iq_sumsq_q48(psi_a, psi_b);
     sector = cfg->board.topology == DTC_TOPO_FSTP ? sector_fstp(psi_a, psi_b) : sector_sstp(psi_a, psi_b);
     flux_up = hyst2_sq_step(&c->h_flux, c->act.flux_ref_iq, mag2);
-    if (cfg->board.topology == DTC_TOPO_SSTP && cfg->sw.sstp_table == DTC_ST_BASIC) {
+    if (cfg->board.topology == DTC_TOPO_SSTP && cfg->u.pm_dtc.sw.sstp_table == DTC_ST_BASIC) {
         tdem = hyst3_step(&c->h_torque3, iq_sub(c->te_ref_iq, te));
     } else {
         tdem = hyst2_step(&c->h_torque2, iq_sub(c->te_ref_iq, te)) != 0U ? 1 : -1;
@@ -511,10 +476,10 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         vec = swtab_fstp(sector, flux_up, tdem > 0 ? 1U : 0U);
         legs = swtab_fstp_legs(vec);
     } else {
-        if (cfg->sw.sstp_table == DTC_ST_BASIC) {
+        if (cfg->u.pm_dtc.sw.sstp_table == DTC_ST_BASIC) {
             vec = swtab_sstp_basic(sector, flux_up, tdem);
         } else {
-            vec = swtab_sstp_st(cfg->sw.sstp_table, sector, flux_up, tdem > 0 ? 1U : 0U);
+            vec = swtab_sstp_st(cfg->u.pm_dtc.sw.sstp_table, sector, flux_up, tdem > 0 ? 1U : 0U);
         }
         vec = swtab_null_choice(vec, c->vec_1);
         legs = swtab_sstp_legs(vec);
@@ -522,7 +487,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     if (cfg->prot.i_lim_iq > 0) {
         /* Current limit (ilim.h) on the current predicted for k+1, or on i(k) without the
          * delay compensation (the host's margin covers the second period then). */
-        vec = ilim_select(cfg, cfg->est.delay_comp != 0U ? &c->i1 : &i, vec, &c->i_limited);
+        vec = ilim_select(&c->il_p, cfg->u.pm_dtc.est.delay_comp != 0U ? &c->i1 : &i, vec, &c->i_limited);
         if (c->i_limited != 0U) {
             legs = cfg->board.topology == DTC_TOPO_FSTP ? swtab_fstp_legs(vec) : swtab_sstp_legs(vec);
         }

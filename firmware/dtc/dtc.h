@@ -26,54 +26,18 @@
 
 #include "clarke.h"
 #include "dtc_config.h"
+#include "vrec.h"
 #include "dtc_refs.h"
 #include "fixmath.h"
 #include "flux_est.h"
 #include "hyst.h"
+#include "ilim.h"
+#include "law_io.h"
 #include "speed_meas.h"
 #include "speed_pi.h"
 #include "swtab.h"
 #include "torque.h"
 #include "vcomp.h"
-
-/* Per-unit measurements of one period (the app converts ADC and QEP counts with the
- * configuration's ADC scaling). Which currents are read (clarke.h): SSTP i_a, i_b; FSTP i_b, i_c;
- * the third field is ignored. */
-typedef struct {
-    iq_t ia_iq, ib_iq, ic_iq; /* phase currents, pu */
-    iq_t vdc_iq;              /* DC-link voltage, pu */
-    iq_t vmid_iq;             /* FSTP: lower capacitor (mid-point to negative rail), pu */
-    uint16_t enc_count;       /* quadrature counter 0 .. 4*lines - 1 */
-} dtc_meas_t;
-
-typedef struct {
-    uint16_t sa, sb, sc;   /* leg states for the next period (FSTP: sa = 0, unused) */
-    uint16_t vector;       /* SSTP 0..7, FSTP 1..4 (swtab.h); IM DSVM: the code 0..36 (dsvm.h) */
-    uint16_t sector;       /* SSTP 1..6, FSTP 1..4 */
-    uint16_t flux_up;      /* flux comparator output (1 = increase) */
-    int16_t torque_dem;    /* torque comparator output: +1 / 0 / -1 (two-level: +1 / -1) */
-    uint16_t speed_tick;   /* 1 when the speed loop ran in this step */
-    iq_t psi_alpha_iq, psi_beta_iq; /* estimated stator flux, pu (|psi|: dtc_out_flux_mag) */
-    iq_t te_iq;            /* estimated torque (Hoang eq. 10), pu */
-    iq_t te_ref_iq;        /* torque reference in force, pu */
-    iq_t speed_iq;         /* measured electrical speed, pu */
-    angle_t theta_e;       /* encoder electrical angle */
-    uint16_t on_cm;        /* 1: the flux came from the current model (estimator = current, or
-                            * the voltage model below its hand-over speed) */
-    iq_t psi_ref_iq;       /* stator-flux reference in force, pu */
-    iq_t psir_mag_iq;      /* IM law: estimated rotor-flux magnitude (Casadei eq. 21), updated on
-                            * the speed-loop periods; PM: 0 */
-    uint16_t i_limited;    /* 1: the current limit (ilim.h) replaced the table's vector */
-    /* PWM form (IM law, schemes SFVC, DFOC, DSVM): pwm = 1 says the command is duty_iq, one
-     * centred pulse per leg (the application writes the compare values, svm_cmpr, hal.h
-     * HAL_CMD_PWM); pwm = 2 (DSVM) says it is thirds, the upper device's state in each third of
-     * the period (the application maps them onto one pulse per leg, dsvm_pwm), duty_iq then the
-     * mean; sa/sb/sc are then 0. The DTC laws never write these fields: the application clears
-     * pwm once at init. */
-    uint16_t pwm;
-    iq_t duty_iq[3];       /* upper-device duty of legs A, B, C over the next period, [0, 1] */
-    uint16_t thirds[3];    /* pwm = 2: legs A, B, C, bit 2 = first third, 1 = upper on */
-} dtc_out_t;
 
 typedef struct {
     const dtc_config_t *cfg;
@@ -120,13 +84,18 @@ typedef struct {
     iq_t vmid_beta_iq;   /* restoring mid-point reconstruction (dtc_vmid_dev): beta at the
                           * measured speed, updated at the speed-loop rate */
     iq_t vmid_dev_iq;    /* FSTP voltage model: (1 - beta)(vmid - V_dc/2) of this step */
+    /* shared blocks' parameters derived at init (last: the members above keep their offsets) */
+    deadtime_params_t dt_p;
+    ilim_params_t il_p;
 } dtc_t;
 
-/* Largest beta of the restoring mid-point reconstruction (dtc.c dtc_vmid_dev): 2^-4. */
-#define DTC_VMID_BETA_MAX_LOG2 4U
+/* The law's configuration check (dtc_check.c): the common part, then the law DTC_LAW_PM_DTC and
+ * its part u.pm_dtc. Returns DTC_OK or the first enum dtc_err code; *field (if not null) names
+ * the field ("u.pm_dtc.machine.ls_iq"), "" on DTC_OK. Pure, init only. */
+int16_t dtc_check(const dtc_config_t *cfg, const char **field);
 
-/* Validates cfg (dtc_config_validate) and initialises c. Returns DTC_OK or an enum dtc_err code;
- * on error c is left unusable (c->cfg = 0) and must not be stepped. */
+/* Checks cfg (dtc_check) and initialises c. Returns DTC_OK or an enum dtc_err code; on error c is
+ * left unusable (c->cfg = 0) and must not be stepped. */
 int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg);
 
 /* Back to the initial state (speed unknown, integrator at zero, references kept). The first
@@ -157,47 +126,6 @@ static inline iq_t dtc_out_flux_mag(const dtc_out_t *o)
 /* Background: publish a new parameter set. Returns DTC_OK, or DTC_ERR_REFERENCE / DTC_ERR_PI /
  * DTC_ERR_VARIANT for a set that would be refused (nothing is published then). */
 int16_t dtc_shadow_write(dtc_t *c, const dtc_refs_t *r);
-
-/* Used by dtc_step() (ISR side): adopts the shadow set whose (even) sequence number is seq.
- * Not for the background. */
-void dtc_shadow_adopt(dtc_t *c, uint16_t seq);
-/* Dead-time compensation, shared by the laws (dtc_step, im_dtc_step): the error of the
- * reconstructed voltage of a period whose legs went from prev to cur, alpha/beta, IQ pu, with the
- * link voltage and the phase currents at the switching instant (PM law with polarity_mid: the
- * previous sample for the estimator's period). 0 when no leg changed. */
-void dtc_deadtime(const dtc_config_t *cfg, iq_t vdc_iq, const clarke_out_t *i, const swtab_legs_t *prev,
-                  const swtab_legs_t *cur, iq_t *dva, iq_t *dvb);
-/* Internal to dtc_step (actuation-delay compensation); out of line for the stack. On entry
- * *psi_a, *psi_b, *te hold the estimate at k; on return the prediction for k+1; the predicted current goes to c->i1_*. */
-void dtc_predict(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t *te);
-/* Internal to dtc_step (ripple-robust polarity: the period-mean current into c->i_mid); out of line
- * for the stack (inlined, its saturating sums widen dtc_step's frame on the deepest chain). */
-void dtc_pol_mid(dtc_t *c, const clarke_out_t *i);
-/* Internal to dtc_step (torque mode: reference plus mean-torque trim); out of line for the stack. */
-void dtc_torque_trim(dtc_t *c, iq_t te);
-
-/* Internal to dtc_step (DC-current suppression): updates the correction from the measured
- * current (and, FSTP, the mid-point deviation c->vmid_dev_iq of this step) and adds it to the
- * estimate *psi_a, *psi_b. */
-void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b);
-/* Internal to dtc_step (restoring mid-point reconstruction, dtc.c dtc_vmid_beta; dtc_dcsupp reads
- * the step's value from c->vmid_dev_iq):
- * the mid-point's deviation from V_dc/2 as the law uses it, (1 - beta)(vmid - V_dc/2), IQ pu;
- * the shift rounds, the product rounds and saturates, the differences saturate. */
-static inline iq_t dtc_vmid_dev(const dtc_t *c, const dtc_meas_t *m)
-{
-    const iq_t d = iq_sub(m->vmid_iq, fix_rshift_rnd32(m->vdc_iq, 1U));
-    return iq_sub(d, iq_mpy(c->vmid_beta_iq, d));
-}
-/* Internal to dtc_step: beta = min(2^-DTC_VMID_BETA_MAX_LOG2, (s w)^2) at the measured speed. */
-void dtc_vmid_beta(dtc_t *c);
-/* Internal to dtc_reset and dtc_reconfigure: the currents kept from earlier periods (previous
- * sample, period mean, prediction) and the current-limit flag back to zero. */
-void dtc_reset_currents(dtc_t *c);
-/* Internal to dtc_step and dtc_reconfigure: the hand-over decision on c->speed_iq (dtc.c). */
-void dtc_handover(dtc_t *c);
-/* Internal to dtc_step (low-pass correction factor, lpfcorr.h). */
-void dtc_lpf_r(dtc_t *c);
 
 /* The set in force (for the background's display). */
 void dtc_refs_get(const dtc_t *c, dtc_refs_t *r);

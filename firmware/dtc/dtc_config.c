@@ -6,15 +6,6 @@
  * aliases the electrical angle (fewer than two counts per electrical turn). */
 #define DTC_ENC_GAIN_MAX ((uint32_t)1U << 31)
 
-/* Each part's check returns DTC_OK or the code, and points *f at the field's name. */
-#define DTC_REFUSE(cond, code, name) \
-    do {                             \
-        if (cond) {                  \
-            *f = (name);             \
-            return (code);           \
-        }                            \
-    } while (0)
-
 static int16_t dtc_board_check(const dtc_board_cfg_t *b, const char **f)
 {
     DTC_REFUSE(b->v_base_mv == 0U, DTC_ERR_BASE, "board.v_base_mv");
@@ -89,110 +80,30 @@ static int16_t dtc_protect_check(const dtc_protect_cfg_t *p, const char **f)
     return DTC_OK;
 }
 
-static int16_t dtc_machine_check(const dtc_machine_cfg_t *m, uint16_t law, const char **f)
+static int16_t dtc_machine_check(const dtc_machine_cfg_t *m, const char **f)
 {
     DTC_REFUSE(m->pole_pairs == 0U, DTC_ERR_ENCODER, "machine.pole_pairs");
     DTC_REFUSE(m->rs_iq < 0, DTC_ERR_MACHINE, "machine.rs_iq");
-    if (law == DTC_LAW_PM_DTC) {
-        DTC_REFUSE(m->pm.ls_iq <= 0, DTC_ERR_MACHINE, "machine.pm.ls_iq");
-        DTC_REFUSE(m->pm.psi_m_iq <= 0, DTC_ERR_MACHINE, "machine.pm.psi_m_iq");
-        DTC_REFUSE(m->pm.inv_ls_iq <= 0, DTC_ERR_MACHINE, "machine.pm.inv_ls_iq");
-    } else {
-        DTC_REFUSE(m->im.rr_iq <= 0, DTC_ERR_MACHINE, "machine.im.rr_iq");
-        DTC_REFUSE(m->im.sigma_ls_iq <= 0, DTC_ERR_MACHINE, "machine.im.sigma_ls_iq");
-        DTC_REFUSE(m->im.sigma_lr_iq <= 0, DTC_ERR_MACHINE, "machine.im.sigma_lr_iq");
-        DTC_REFUSE(m->im.kr_iq <= 0, DTC_ERR_MACHINE, "machine.im.kr_iq");
-        DTC_REFUSE(m->im.ks_iq <= 0, DTC_ERR_MACHINE, "machine.im.ks_iq");
-        DTC_REFUSE(m->im.inv_ks_iq <= 0, DTC_ERR_MACHINE, "machine.im.inv_ks_iq");
-        DTC_REFUSE(m->im.m_iq <= 0, DTC_ERR_MACHINE, "machine.im.m_iq");
-    }
     return DTC_OK;
 }
 
-static int16_t dtc_est_check(const dtc_est_cfg_t *e, uint16_t law, uint16_t topology, const char **f)
+static int16_t dtc_est_check(const dtc_est_cfg_t *e, uint16_t topology, const char **f)
 {
-    if (law == DTC_LAW_PM_DTC) {
-        DTC_REFUSE(e->estimator > DTC_EST_CURRENT, DTC_ERR_VARIANT, "est.estimator");
-    } else {
-        DTC_REFUSE(e->estimator != DTC_EST_VOLTAGE && e->estimator != DTC_EST_IMPROVED,
-                   DTC_ERR_VARIANT, "est.estimator");
-    }
+    DTC_REFUSE(e->estimator > DTC_EST_IMPROVED, DTC_ERR_VARIANT, "est.estimator");
     DTC_REFUSE(e->compensation > DTC_COMP_FSTP_PROPOSED ||
                    (topology == DTC_TOPO_SSTP && e->compensation >= DTC_COMP_FSTP_SIMPLE) ||
                    (topology == DTC_TOPO_FSTP && e->compensation == DTC_COMP_SSTP),
                DTC_ERR_COMPENSATION, "est.compensation");
     DTC_REFUSE(e->k_in_q31 <= 0, DTC_ERR_FLUX_EST, "est.k_in_q31");
     DTC_REFUSE(e->k_leak_q31 <= 0, DTC_ERR_FLUX_EST, "est.k_leak_q31");
-    DTC_REFUSE(e->handover_speed_iq < 0, DTC_ERR_HANDOVER, "est.handover_speed_iq");
-    DTC_REFUSE(e->handover_hyst_iq < 0 || e->handover_hyst_iq > e->handover_speed_iq,
-               DTC_ERR_HANDOVER, "est.handover_hyst_iq");
-    DTC_REFUSE(e->delay_comp > 1U, DTC_ERR_DELAY, "est.delay_comp");
     DTC_REFUSE(e->deadtime_comp > 1U, DTC_ERR_DEADTIME, "est.deadtime_comp");
-    DTC_REFUSE(e->polarity_mid > 1U, DTC_ERR_POLARITY, "est.polarity_mid");
-    DTC_REFUSE(e->lpf_comp > 1U, DTC_ERR_LPFCOMP, "est.lpf_comp");
-    DTC_REFUSE(e->lpf_comp != 0U && e->wc_pu_iq <= 0, DTC_ERR_LPFCOMP, "est.wc_pu_iq");
-    DTC_REFUSE(e->lpf_comp != 0U && e->lpf_wmin_iq <= 0, DTC_ERR_LPFCOMP, "est.lpf_wmin_iq");
-    DTC_REFUSE(e->dc_supp > 1U, DTC_ERR_DCSUPP, "est.dc_supp");
-    DTC_REFUSE(e->dc_supp != 0U && e->dcs_k_iq <= 0, DTC_ERR_DCSUPP, "est.dcs_k_iq");
-    DTC_REFUSE(e->vmid_g_iq < 0, DTC_ERR_DCSUPP, "est.vmid_g_iq");
-    DTC_REFUSE(e->vmid_beta_s_iq < 0, DTC_ERR_DCSUPP, "est.vmid_beta_s_iq");
-    if (law == DTC_LAW_IM_DTC && e->estimator == DTC_EST_IMPROVED) {
-        DTC_REFUSE(e->im_k_lo_q31 <= 0, DTC_ERR_FLUX_EST, "est.im_k_lo_q31");
-        DTC_REFUSE(e->im_k_hi_q31 <= 0, DTC_ERR_FLUX_EST, "est.im_k_hi_q31");
-        DTC_REFUSE(e->im_w_lo_iq < 0, DTC_ERR_FLUX_EST, "est.im_w_lo_iq");
-        DTC_REFUSE(e->im_w_hi_iq < e->im_w_lo_iq, DTC_ERR_FLUX_EST, "est.im_w_hi_iq");
-    }
     return DTC_OK;
 }
 
-static int16_t dtc_switch_check(const dtc_switch_cfg_t *s, uint16_t law, const char **f)
-{
-    DTC_REFUSE(s->sstp_table > (law == DTC_LAW_IM_DTC ? DTC_ST_SPEED : DTC_ST_D), DTC_ERR_VARIANT,
-               "sw.sstp_table");
-    DTC_REFUSE(s->scheme > (law == DTC_LAW_IM_DTC ? DTC_SCHEME_DSVM : DTC_SCHEME_DTC),
-               DTC_ERR_VARIANT, "sw.scheme");
-    DTC_REFUSE(s->flux_band_iq < 0, DTC_ERR_BAND, "sw.flux_band_iq");
-    DTC_REFUSE(s->torque_band_iq < 0, DTC_ERR_BAND, "sw.torque_band_iq");
-    if (law == DTC_LAW_IM_DTC) {
-        DTC_REFUSE(s->im_table_speed_iq < 0, DTC_ERR_VARIANT, "sw.im_table_speed_iq");
-        DTC_REFUSE(s->im_fw_on > 1U, DTC_ERR_WEAKENING, "sw.im_fw_on");
-        if (s->im_fw_on != 0U) {
-            DTC_REFUSE(s->im_fw_window < 20U, DTC_ERR_WEAKENING, "sw.im_fw_window");
-            DTC_REFUSE(s->im_fw_step_down_iq <= 0, DTC_ERR_WEAKENING, "sw.im_fw_step_down_iq");
-            DTC_REFUSE(s->im_fw_step_up_iq <= 0, DTC_ERR_WEAKENING, "sw.im_fw_step_up_iq");
-            DTC_REFUSE(s->im_fw_psi_min_iq <= 0, DTC_ERR_WEAKENING, "sw.im_fw_psi_min_iq");
-            DTC_REFUSE(s->im_fw_inv_psi_rated_iq <= 0, DTC_ERR_WEAKENING, "sw.im_fw_inv_psi_rated_iq");
-            DTC_REFUSE(s->im_fw_kt_iq <= 0, DTC_ERR_WEAKENING, "sw.im_fw_kt_iq");
-        }
-        if (s->scheme == DTC_SCHEME_SFVC || s->scheme == DTC_SCHEME_DFOC) {
-            /* section 12's flux weakening acts on the torque comparator, which SFVC and DFOC have
-             * not */
-            DTC_REFUSE(s->im_fw_on != 0U, DTC_ERR_VARIANT, "sw.im_fw_on");
-            DTC_REFUSE(s->svm_mode > 1U, DTC_ERR_SVM, "sw.svm_mode");
-        }
-        if (s->scheme == DTC_SCHEME_SFVC) {
-            DTC_REFUSE(s->sfvc_kp_iq <= 0, DTC_ERR_SVM, "sw.sfvc_kp_iq");
-        }
-        if (s->scheme == DTC_SCHEME_DSVM) {
-            /* the torque comparator is five-level (hyst5_t), not the one section 12 watches */
-            DTC_REFUSE(s->im_fw_on != 0U, DTC_ERR_VARIANT, "sw.im_fw_on");
-            DTC_REFUSE(s->dsvm_torque_band2_iq < s->torque_band_iq, DTC_ERR_BAND, "sw.dsvm_torque_band2_iq");
-        }
-        if (s->scheme == DTC_SCHEME_DFOC) {
-            DTC_REFUSE(s->dfoc_kp_iq <= 0, DTC_ERR_SVM, "sw.dfoc_kp_iq");
-            DTC_REFUSE(s->dfoc_ki_ts_iq < 0, DTC_ERR_SVM, "sw.dfoc_ki_ts_iq");
-            DTC_REFUSE(s->dfoc_id_ref_iq <= 0, DTC_ERR_SVM, "sw.dfoc_id_ref_iq");
-            DTC_REFUSE(s->dfoc_iq_per_t_iq <= 0, DTC_ERR_SVM, "sw.dfoc_iq_per_t_iq");
-        }
-    }
-    return DTC_OK;
-}
-
-static int16_t dtc_speed_check(const dtc_speed_cfg_t *s, uint16_t law, const char **f)
+static int16_t dtc_speed_check(const dtc_speed_cfg_t *s, const char **f)
 {
     DTC_REFUSE(s->mode > DTC_MODE_TORQUE, DTC_ERR_VARIANT, "speed.mode");
-    DTC_REFUSE(s->sensor > (law == DTC_LAW_IM_DTC ? DTC_SPEED_NONE : DTC_SPEED_ENCODER),
-               DTC_ERR_VARIANT, "speed.sensor");
+    DTC_REFUSE(s->sensor > DTC_SPEED_NONE, DTC_ERR_VARIANT, "speed.sensor");
     DTC_REFUSE(s->speed_div == 0U, DTC_ERR_SPEED, "speed.speed_div");
     DTC_REFUSE(s->speed_k_iq <= 0, DTC_ERR_SPEED, "speed.speed_k_iq");
     DTC_REFUSE(s->speed_min_counts == 0U, DTC_ERR_SPEED, "speed.speed_min_counts");
@@ -206,21 +117,10 @@ static int16_t dtc_speed_check(const dtc_speed_cfg_t *s, uint16_t law, const cha
                DTC_ERR_REFERENCE, "speed.speed_ref_iq");
     DTC_REFUSE(s->torque_ref_iq > s->torque_limit_iq || s->torque_ref_iq < -s->torque_limit_iq,
                DTC_ERR_REFERENCE, "speed.torque_ref_iq");
-    if (law == DTC_LAW_IM_DTC) {
-        DTC_REFUSE(s->psir_ref_iq < 0, DTC_ERR_REFERENCE, "speed.psir_ref_iq");
-        DTC_REFUSE(s->psir_ref_iq > 0 && s->inv_psir_ref_iq <= 0, DTC_ERR_REFERENCE,
-                   "speed.inv_psir_ref_iq");
-        DTC_REFUSE(s->inv_psir_sq_iq <= 0, DTC_ERR_REFERENCE, "speed.inv_psir_sq_iq");
-        DTC_REFUSE(s->im_gain_w_iq <= 0, DTC_ERR_SPEED, "speed.im_gain_w_iq");
-        DTC_REFUSE(s->im_speed_filt_q31 <= 0, DTC_ERR_SPEED, "speed.im_speed_filt_q31");
-        DTC_REFUSE(s->im_magn_periods == 0U, DTC_ERR_STARTUP, "speed.im_magn_periods");
-        DTC_REFUSE(s->im_magn_ramp_iq <= 0, DTC_ERR_STARTUP, "speed.im_magn_ramp_iq");
-        DTC_REFUSE(s->im_magn_k_q31 <= 0, DTC_ERR_STARTUP, "speed.im_magn_k_q31");
-    }
     return DTC_OK;
 }
 
-int16_t dtc_config_check(const dtc_config_t *cfg, const char **field)
+int16_t dtc_config_check_common(const dtc_config_t *cfg, const char **field)
 {
     const char *dummy = "";
     const char **f = field != NULL ? field : &dummy;
@@ -231,29 +131,13 @@ int16_t dtc_config_check(const dtc_config_t *cfg, const char **field)
         return DTC_ERR_NULL;
     }
     DTC_REFUSE(cfg->version != DTC_CONFIG_VERSION, DTC_ERR_VERSION, "version");
-    DTC_REFUSE(cfg->law > DTC_LAW_IM_DTC, DTC_ERR_VARIANT, "law");
-    /* Casadei's tables, DSC and the IM estimators are written for the six-switch inverter. */
-    DTC_REFUSE(cfg->law == DTC_LAW_IM_DTC && cfg->board.topology != DTC_TOPO_SSTP, DTC_ERR_VARIANT,
-               "board.topology");
+    DTC_REFUSE(cfg->law >= DTC_LAW_COUNT, DTC_ERR_VARIANT, "law");
     err = dtc_board_check(&cfg->board, f);
     if (err == DTC_OK) {
         err = dtc_protect_check(&cfg->prot, f);
     }
     if (err == DTC_OK) {
         err = dtc_range_check(cfg, f);
-    }
-    if (err == DTC_OK) {
-        /* the mid-point terms need a measured FSTP mid-point; the restoring term also the voltage
-         * model and the mid-point calibration it corrects for (dtc.c dtc_vmid_beta) */
-        const uint16_t mid = (uint16_t)(cfg->board.topology == DTC_TOPO_FSTP && cfg->board.fstp_vmid_measured != 0U);
-        if (cfg->est.vmid_g_iq > 0 && mid == 0U) {
-            *f = "est.vmid_g_iq";
-            err = DTC_ERR_DCSUPP;
-        } else if (cfg->est.vmid_beta_s_iq > 0 &&
-                   (mid == 0U || cfg->est.estimator != DTC_EST_VOLTAGE || cfg->board.vmid_cal == 0U)) {
-            *f = "est.vmid_beta_s_iq";
-            err = DTC_ERR_DCSUPP;
-        }
     }
     if (err == DTC_OK && cfg->prot.overspeed_iq > 0 && cfg->prot.overspeed_iq <= cfg->speed.speed_limit_iq) {
         *f = "prot.overspeed_iq"; /* at or below the speed limit a permitted reference would trip */
@@ -264,39 +148,26 @@ int16_t dtc_config_check(const dtc_config_t *cfg, const char **field)
         err = DTC_ERR_FAULTDET;
     }
     if (err == DTC_OK) {
-        err = dtc_machine_check(&cfg->machine, cfg->law, f);
+        err = dtc_machine_check(&cfg->machine, f);
     }
     if (err == DTC_OK) {
-        err = dtc_est_check(&cfg->est, cfg->law, cfg->board.topology, f);
+        err = dtc_est_check(&cfg->est, cfg->board.topology, f);
     }
     if (err == DTC_OK) {
-        err = dtc_switch_check(&cfg->sw, cfg->law, f);
-    }
-    if (err == DTC_OK) {
-        err = dtc_speed_check(&cfg->speed, cfg->law, f);
-    }
-    if (err == DTC_OK && cfg->law == DTC_LAW_IM_DTC &&
-        (cfg->sw.scheme == DTC_SCHEME_SFVC || cfg->sw.scheme == DTC_SCHEME_DFOC)) {
-        /* SFVC (eq. 18) and DFOC take the rotor-flux command (and its reciprocal) */
-        DTC_REFUSE(cfg->speed.psir_ref_iq <= 0, DTC_ERR_REFERENCE, "speed.psir_ref_iq");
-    }
-    if (err == DTC_OK && cfg->law == DTC_LAW_IM_DTC && cfg->sw.scheme == DTC_SCHEME_SFVC) {
-        /* K_p Ts <= 1 (a larger gain overshoots the flux error every period) */
-        DTC_REFUSE(iq_mpy(cfg->sw.sfvc_kp_iq, cfg->board.ts_pu_iq) > IQ(1.0), DTC_ERR_SVM, "sw.sfvc_kp_iq");
+        err = dtc_speed_check(&cfg->speed, f);
     }
     return err;
 }
 
-int16_t dtc_config_validate(const dtc_config_t *cfg)
+int16_t dtc_config_check_law(const dtc_config_t *cfg, uint16_t first, uint16_t last,
+                             int16_t (*part)(const dtc_config_t *cfg, const char **f), const char **field)
 {
-    return dtc_config_check(cfg, NULL);
-}
-
-int16_t dtc_config_validate_for(const dtc_config_t *cfg, uint16_t law)
-{
-    const int16_t err = dtc_config_validate(cfg);
+    const char *dummy = "";
+    const char **f = field != NULL ? field : &dummy;
+    const int16_t err = dtc_config_check_common(cfg, f);
     if (err != DTC_OK) {
         return err;
     }
-    return cfg->law == law ? DTC_OK : DTC_ERR_VARIANT;
+    DTC_REFUSE(cfg->law < first || cfg->law > last, DTC_ERR_VARIANT, "law");
+    return part(cfg, f);
 }

@@ -5,6 +5,7 @@
  * it costs no zero-wait RAM; that one ISR runs it with the flash wait states.
  */
 #include "dtc.h"
+#include "dtc_internal.h"
 
 #include <stddef.h>
 
@@ -40,7 +41,7 @@ int16_t dtc_reconfigure(dtc_t *c, const dtc_config_t *post, uint16_t phase)
     const uint16_t y = phase == 2U ? 0U : (uint16_t)(phase + 1U); /* (phase + 1) mod 3 */
     const uint16_t z = phase == 0U ? 2U : (uint16_t)(phase - 1U); /* (phase + 2) mod 3 */
     if (phase > 2U || post == NULL || post->law != DTC_LAW_PM_DTC || post->board.topology != DTC_TOPO_FSTP ||
-        dtc_config_validate(post) != DTC_OK) {
+        dtc_check(post, NULL) != DTC_OK) {
         return DTC_ERR_RECONFIG;
     }
     l1[0] = c->legs_1.sa; l1[1] = c->legs_1.sb; l1[2] = c->legs_1.sc;
@@ -59,8 +60,9 @@ int16_t dtc_reconfigure(dtc_t *c, const dtc_config_t *post, uint16_t phase)
     dtc_rot_phase(&c->dcs_alpha_iq, &c->dcs_beta_iq, phase);
     vcomp_init(&c->vc_p, post->est.compensation, post->board.v_f_iq, post->board.v_ce_iq, post->board.v_d_iq,
                post->board.r_on_iq);
-    hyst2_init(&c->h_flux, post->sw.flux_band_iq, 1U);
-    hyst2_init(&c->h_torque2, post->sw.torque_band_iq, 1U);
+    dtc_block_params(c, post);
+    hyst2_init(&c->h_flux, post->u.pm_dtc.sw.flux_band_iq, 1U);
+    hyst2_init(&c->h_torque2, post->u.pm_dtc.sw.torque_band_iq, 1U);
     c->vec_1 = 1U;
     dtc_reset_currents(c);
     dtc_handover(c);

@@ -35,14 +35,17 @@
 #include <stdint.h>
 
 #include "clarke.h"
-#include "dtc_config.h"
 #include "fixmath.h"
 
+typedef struct {
+    iq_t i_lim_iq;  /* the limit I_lim, pu (prot.i_lim_iq); 0 = off */
+    uint16_t fstp;  /* 1: four-switch inverter (Table I's four vectors), 0: six-switch */
+} ilim_params_t;
+
 /* vec: the table's vector (SSTP 0..7, FSTP 1..4). i: the current the limit acts on (all five
- * fields: phases and alpha/beta). Returns vec when |i| <= cfg->prot.i_lim_iq (or the limit is off,
+ * fields: phases and alpha/beta). Returns vec when |i| <= p->i_lim_iq (or the limit is off,
  * i_lim_iq = 0), else the vector of least v . i; *limited = 1 when the vector was replaced. */
-uint16_t ilim_select(const dtc_config_t *cfg, const clarke_out_t *i, uint16_t vec,
-                     uint16_t *limited);
+uint16_t ilim_select(const ilim_params_t *p, const clarke_out_t *i, uint16_t vec, uint16_t *limited);
 
 /* Internal to ilim_select: 1 when |i| > lim_iq (exact squares), else 0. */
 uint16_t ilim_over(iq_t lim_iq, const clarke_out_t *i);

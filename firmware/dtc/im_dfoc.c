@@ -1,7 +1,7 @@
 /*
  * im_dfoc.c - direct rotor-flux-oriented control of the induction machine, the baseline of
  * Casadei et al. 2006 section 13 ("DFOC": PI current regulators in the rotor-flux frame, SVM,
- * the same flux estimator): the scheme DTC_SCHEME_DFOC of the IM law (im_dtc.h), one
+ * the same flux estimator): the law DTC_LAW_IM_DFOC of the IM module (im_dtc.h), one
  * im_dfoc_step() per control period = SVM carrier period (svm.h; the paper's drive: two-phase
  * modulation, 160 us cycle).
  *
@@ -26,17 +26,17 @@
  * integrals clamped to +-1 pu; the feed-forward products rounded and saturating; the SVM clamps
  * the result onto its hexagon.
  */
-#include "im_dtc.h"
+#include "im_dtc_internal.h"
 
 void im_dfoc_regulate(im_dtc_t *c)
 {
     const dtc_config_t *cfg = c->cfg;
     const iq_t ua = c->est.u_alpha_iq, ub = c->est.u_beta_iq;
-    const iq_t kp = cfg->sw.dfoc_kp_iq, ki = cfg->sw.dfoc_ki_ts_iq;
+    const iq_t kp = cfg->u.im.dfoc.kp_iq, ki = cfg->u.im.dfoc.ki_ts_iq;
     const iq_t id = iq_mac2(c->i.i_alpha_iq, ua, c->i.i_beta_iq, ub);
     const iq_t iq = iq_mac2(c->i.i_beta_iq, ua, fix_neg32(c->i.i_alpha_iq), ub);
-    const iq_t iq_ref = c->magnetised != 0U ? iq_mpy(cfg->sw.dfoc_iq_per_t_iq, c->te_ref_iq) : 0;
-    const iq_t ed = iq_sub(cfg->sw.dfoc_id_ref_iq, id);
+    const iq_t iq_ref = c->magnetised != 0U ? iq_mpy(cfg->u.im.dfoc.iq_per_t_iq, c->te_ref_iq) : 0;
+    const iq_t ed = iq_sub(cfg->u.im.dfoc.id_ref_iq, id);
     const iq_t eq = iq_sub(iq_ref, iq);
     iq_t vd, vq, va, vb, ws;
 

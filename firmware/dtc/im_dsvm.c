@@ -1,6 +1,6 @@
 /*
  * im_dsvm.c - DTC with Discrete Space Vector Modulation (Casadei et al. 2006 section 11): the
- * scheme DTC_SCHEME_DSVM of the IM law (im_dtc.h), one im_dsvm_step() per control period, the
+ * law DTC_LAW_IM_DSVM of the IM module (im_dtc.h), one im_dsvm_step() per control period, the
  * period split into three equal sub-intervals (dsvm.h).
  *
  *   estimator, speed loop, start-up and references as the IM law (im_dtc_front, im_dtc_refs)
@@ -12,13 +12,13 @@
  *      its three basic vectors (dsvm_vectors; the null as V_0 or V_7, whichever the last
  *      sub-interval's legs reach with the fewer commutations, as swtab_null_choice)
  *   -> each leg's three states (dsvm_patterns, by the look-up dsvm_code_patterns): the command
- *      (dtc_out_t.pwm = 2, thirds)
+ *      (LAW_OUT_THIRDS, thirds)
  *   -> the mean voltage they will apply, kept for the estimator (as the SVM schemes' v1/v2,
  *      im_pwm_out): d_x = n_x/3 (n_x the leg's "on" thirds) minus the dead time's loss, Casadei
  *      eq. 2 / Hoang eqs. 1-5 on the link measured now (vrec_from_legs, rounded IQ products).
  * Start-up (im_dtc.h): the radial vector V_k of the flux's sector over the whole period while the
  * flux comparator asks for more flux, the null otherwise.
- * Dead time (the sign rule of svm.h / dtc_deadtime): a rising edge of the upper command loses T_d
+ * Dead time (the sign rule of svm.h / vrec.h deadtime_error): a rising edge of the upper command loses T_d
  * when the phase current leaves the leg (i > 0), a falling edge gains T_d when it enters (i < 0);
  * the edges counted are those inside the period and the one at its start (the previous period's
  * last state against this one's first); the current's sign is that sampled now.
@@ -28,7 +28,7 @@
  * Scaling and overflow: comparisons and table look-ups; the sums above without saturation; the
  * voltage as rounded IQ products (vrec_from_legs saturates).
  */
-#include "im_dtc.h"
+#include "im_dtc_internal.h"
 
 #include "sector.h"
 #include "vrec.h"
@@ -117,7 +117,6 @@ void im_dsvm_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     /* 7. Comparators, tables, the three sub-interval vectors, the voltage they apply. */
     im_dsvm_select(c, m, te, o);
     /* 8. Outputs. */
-    o->pwm = 2U;
     o->sa = 0U; /* the PWM form carries the command (thirds) */
     o->sb = 0U;
     o->sc = 0U;

@@ -1,4 +1,4 @@
-#include "im_dtc.h"
+#include "im_dtc_internal.h"
 
 #include <stddef.h>
 
@@ -13,8 +13,8 @@
 void im_dtc_psir_ref(im_dtc_t *c, iq_t psi_s_ref_iq)
 {
     const dtc_config_t *cfg = c->cfg;
-    c->psir_ref_iq = cfg->speed.psir_ref_iq > 0 ? cfg->speed.psir_ref_iq
-                                                 : iq_mpy(cfg->machine.im.inv_ks_iq, psi_s_ref_iq);
+    c->psir_ref_iq = cfg->u.im.ref.psir_ref_iq > 0 ? cfg->u.im.ref.psir_ref_iq
+                                                 : iq_mpy(cfg->u.im.machine.inv_ks_iq, psi_s_ref_iq);
 }
 
 /* A reference set in force: references clamped to their limits, speed-PI gains; a change to
@@ -36,10 +36,10 @@ void im_dtc_reset(im_dtc_t *c)
     speed_meas_reset(&c->sm, 0U);
     c->speed_primed = 0U;
     speed_pi_reset(&c->pi, 0, cfg->speed.torque_limit_iq);
-    hyst2_init(&c->h_flux, cfg->sw.flux_band_iq, 1U);
-    hyst2_init(&c->h_torque2, cfg->sw.torque_band_iq, 1U);
-    hyst3_init(&c->h_torque3, cfg->sw.torque_band_iq);
-    hyst5_init(&c->h_torque5, cfg->sw.torque_band_iq, cfg->sw.dsvm_torque_band2_iq);
+    hyst2_init(&c->h_flux, cfg->u.im.sw.flux_band_iq, 1U);
+    hyst2_init(&c->h_torque2, cfg->u.im.sw.torque_band_iq, 1U);
+    hyst3_init(&c->h_torque3, cfg->u.im.sw.torque_band_iq);
+    hyst5_init(&c->h_torque5, cfg->u.im.sw.torque_band_iq, cfg->u.im.dsvm.torque_band2_iq);
     c->dsc.s[0] = 0U;
     c->dsc.s[1] = 0U;
     c->dsc.s[2] = 0U;
@@ -108,7 +108,7 @@ void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m)
     if (cfg->est.deadtime_comp != 0U &&
         (c->legs_3.sa != c->legs_2.sa || c->legs_3.sb != c->legs_2.sb || c->legs_3.sc != c->legs_2.sc)) {
         /* a leg changed at the start of the period: its dead-time error (none otherwise) */
-        dtc_deadtime(cfg, m->vdc_iq, &c->i, &c->legs_3, &c->legs_2, &c->dva_iq, &c->dvb_iq);
+        deadtime_error(&c->dt_p, m->vdc_iq, &c->i, &c->legs_3, &c->legs_2, &c->dva_iq, &c->dvb_iq);
         in->v_alpha_iq = fix_add32(in->v_alpha_iq, c->dva_iq);
         in->v_beta_iq = fix_add32(in->v_beta_iq, c->dvb_iq);
     }
@@ -133,7 +133,7 @@ void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
     } else if (c->div_cnt == 0U) {
         o->speed_tick = 1U;
         if (cfg->speed.sensor == DTC_SPEED_NONE) {
-            im_speed_step(&c->isp, &c->isp_p, c->est.theta_r, te, cfg->speed.inv_psir_sq_iq);
+            im_speed_step(&c->isp, &c->isp_p, c->est.theta_r, te, cfg->u.im.ref.inv_psir_sq_iq);
             c->speed_iq = c->isp.speed_iq;
         } else {
             c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
@@ -151,7 +151,7 @@ void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
          * machine cannot reach while the flux steps down) winds up to its limit (measured: T*
          * 29 % of T_command above eq. 33 towards T_command, 54 % towards T*); T* is eqs. 33-34
          * as in section 12. */
-        c->te_cmd_iq = c->magnetised != 0U && cfg->sw.im_fw_on == 0U
+        c->te_cmd_iq = c->magnetised != 0U && cfg->u.im.fw.on == 0U
                            ? dtc_trim_step(&c->te_trim_iq, c->act.torque_ref_iq, te,
                                            cfg->speed.torque_trim_k_q15, cfg->speed.torque_limit_iq)
                            : c->act.torque_ref_iq;
@@ -170,10 +170,10 @@ void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
 void im_dtc_refs(im_dtc_t *c)
 {
     const dtc_config_t *cfg = c->cfg;
-    const dtc_im_machine_cfg_t *im = &cfg->machine.im;
+    const dtc_im_machine_cfg_t *im = &cfg->u.im.machine;
     iq_t te = c->te_cmd_iq;
 
-    if (c->magnetised == 0U && ++c->magn_n >= cfg->speed.im_magn_periods) {
+    if (c->magnetised == 0U && ++c->magn_n >= cfg->u.im.ref.magn_periods) {
         c->magnetised = 1U;
         im_dtc_psir_ref(c, c->act.flux_ref_iq); /* the estimator's reference of the set in force */
     }
@@ -182,9 +182,9 @@ void im_dtc_refs(im_dtc_t *c)
          * increment per period, the current below the rated one: im_dtc.h); the estimator's
          * rotor-flux reference follows the ramp at the no-load ratio m/l_s (the machine's rotor
          * flux lags it by sigma tau_r). magn_n <= 65535 times the increment in 64 bits. */
-        const iq_t fin = cfg->speed.psir_ref_iq > 0 ? iq_mpy(im->ks_iq, cfg->speed.psir_ref_iq)
+        const iq_t fin = cfg->u.im.ref.psir_ref_iq > 0 ? iq_mpy(im->ks_iq, cfg->u.im.ref.psir_ref_iq)
                                                      : c->act.flux_ref_iq;
-        const int64_t ramp = (int64_t)cfg->speed.im_magn_ramp_iq * (int64_t)c->magn_n;
+        const int64_t ramp = (int64_t)cfg->u.im.ref.magn_ramp_iq * (int64_t)c->magn_n;
         /* The rotor flux the ramp builds, for the estimator's reference (eq. 20): the T model's
          * rotor equation in rotor-flux coordinates, tau_r d|phi_r|/dt = m i_d - |phi_r| (Casadei
          * eq. 9 in the frame of phi_r; im-facts.md: the current model of TI's ACI estimator),
@@ -194,12 +194,12 @@ void im_dtc_refs(im_dtc_t *c)
          * rounded products, saturating sums. */
         const iq_t i_d = iq_add(iq_mpy(c->i.i_alpha_iq, c->est.u_alpha_iq), iq_mpy(c->i.i_beta_iq, c->est.u_beta_iq));
         c->magn_psir_iq = iq_add(c->magn_psir_iq,
-                                 q31_mul(cfg->speed.im_magn_k_q31, iq_sub(iq_mpy(im->m_iq, i_d), c->magn_psir_iq)));
+                                 q31_mul(cfg->u.im.ref.magn_k_q31, iq_sub(iq_mpy(im->m_iq, i_d), c->magn_psir_iq)));
         te = 0;
         c->psi_ref_iq = ramp < (int64_t)fin ? (iq_t)ramp : fin;
         c->psir_ref_iq = c->magn_psir_iq > 0 ? c->magn_psir_iq : 0;
         c->ref_due = 1U;
-    } else if (cfg->sw.im_fw_on != 0U) {
+    } else if (cfg->u.im.fw.on != 0U) {
         /* Section 12.2 watches the torque comparator: the torque demand was met in a period when
          * the comparator asked for less torque in the sense of T_command (the previous step's
          * decision, acting now). With ST-A/ST-B and a band that is the null vector of the text;
@@ -209,12 +209,12 @@ void im_dtc_refs(im_dtc_t *c)
         te = im_fw_step(&c->fw, &c->fw_p, met, te);
         c->psi_ref_iq = c->fw.psi_ref_iq;
         im_dtc_psir_ref(c, c->psi_ref_iq);
-    } else if (cfg->speed.psir_ref_iq > 0) {
+    } else if (cfg->u.im.ref.psir_ref_iq > 0) {
         /* eq. 19 (a square root) once per speed period, on the step after the speed loop's (so
          * that no step carries both), and on the first step with torque */
         if (c->ref_due != 0U && c->div_cnt != 1U) {
-            c->psi_ref_iq = im_ref_stator_flux(im->ks_iq, im->sigma_lr_iq, cfg->speed.psir_ref_iq,
-                                               cfg->speed.inv_psir_ref_iq, te);
+            c->psi_ref_iq = im_ref_stator_flux(im->ks_iq, im->sigma_lr_iq, cfg->u.im.ref.psir_ref_iq,
+                                               cfg->u.im.ref.inv_psir_ref_iq, te);
             c->ref_due = 0U;
         }
     } else {
@@ -231,12 +231,12 @@ uint16_t im_dtc_select(im_dtc_t *c, iq_t te, dtc_out_t *o)
     const iq_t err = iq_sub(c->te_ref_iq, te);
     const uint16_t flux_up = hyst2_sq_step(&c->h_flux, c->psi_ref_iq, iq_sumsq_q48(psi_a, psi_b));
     const uint16_t sector = sector_sstp(psi_a, psi_b);
-    uint16_t vec, table = cfg->sw.sstp_table;
+    uint16_t vec, table = cfg->u.im.sw.sstp_table;
     int16_t tdem;
 
     if (c->magnetised == 0U) {
         vec = im_magn_vector(c, sector, flux_up, err, &tdem);
-    } else if (cfg->sw.scheme == DTC_SCHEME_DSC) {
+    } else if (cfg->law == DTC_LAW_IM_DSC) {
         /* Section 9. The hexagon turns with the rotor (the sign of the speed; at standstill the
          * sign of T*): the flux then leads the rotor under the active vectors (torque up in the
          * sense of rotation) and falls back under the null vectors (torque down). */
@@ -253,7 +253,7 @@ uint16_t im_dtc_select(im_dtc_t *c, iq_t te, dtc_out_t *o)
     } else {
         if (table == DTC_ST_SPEED) {
             /* Section 8: ST-D at low speed, ST-A at high speed. */
-            table = fix_abs32(c->speed_iq) < cfg->sw.im_table_speed_iq ? DTC_ST_D : DTC_ST_A;
+            table = fix_abs32(c->speed_iq) < cfg->u.im.table_speed_iq ? DTC_ST_D : DTC_ST_A;
         }
         if (table == DTC_ST_BASIC) {
             tdem = hyst3_step(&c->h_torque3, err);

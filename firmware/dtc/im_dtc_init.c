@@ -1,7 +1,7 @@
 /* im_dtc_init.c - initialisation of the IM law (im_dtc.h). Init-only code: its own file so that the
  * F2812 image keeps it in flash (archive dtc_init, firmware/CMakeLists.txt), out of the zero-wait
  * RAM the control path needs. */
-#include "im_dtc.h"
+#include "im_dtc_internal.h"
 
 #include <stddef.h>
 
@@ -14,55 +14,53 @@ int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg)
         return DTC_ERR_NULL;
     }
     c->cfg = NULL;
-    err = dtc_config_validate_for(cfg, DTC_LAW_IM_DTC);
+    err = im_dtc_check(cfg, NULL);
     if (err != DTC_OK) {
         return err;
     }
 
     c->est_p.estimator = cfg->est.estimator == DTC_EST_IMPROVED ? IM_EST_IMPROVED : IM_EST_VOLTAGE;
     c->est_p.rs_iq = cfg->machine.rs_iq;
-    c->est_p.sigma_ls_iq = cfg->machine.im.sigma_ls_iq;
-    c->est_p.kr_iq = cfg->machine.im.kr_iq;
+    c->est_p.sigma_ls_iq = cfg->u.im.machine.sigma_ls_iq;
+    c->est_p.kr_iq = cfg->u.im.machine.kr_iq;
     c->est_p.ts_pu_q31 = q31_from_iq(cfg->board.ts_pu_iq);
     c->est_p.k_in_q31 = cfg->est.k_in_q31;
     c->est_p.k_leak_q31 = cfg->est.k_leak_q31;
-    c->est_p.k_lo_q31 = cfg->est.im_k_lo_q31;
-    c->est_p.k_hi_q31 = cfg->est.im_k_hi_q31;
-    c->est_p.w_lo_iq = cfg->est.im_w_lo_iq;
-    c->est_p.w_hi_iq = cfg->est.im_w_hi_iq;
-    c->est_p.k_slope_q31 = cfg->est.im_k_slope_q31;
+    c->est_p.k_lo_q31 = cfg->u.im.est.k_lo_q31;
+    c->est_p.k_hi_q31 = cfg->u.im.est.k_hi_q31;
+    c->est_p.w_lo_iq = cfg->u.im.est.w_lo_iq;
+    c->est_p.w_hi_iq = cfg->u.im.est.w_hi_iq;
+    c->est_p.k_slope_q31 = cfg->u.im.est.k_slope_q31;
     if (im_est_check(&c->est_p) != 0) {
         return DTC_ERR_FLUX_EST;
     }
+    c->dt_p.td_ts_q15 = cfg->board.td_ts_q15;
+    c->dt_p.fstp = 0U; /* the IM laws run the six-switch inverter (im_dtc_check) */
     vcomp_init(&c->vc_p, cfg->est.compensation, cfg->board.v_f_iq, cfg->board.v_ce_iq,
                cfg->board.v_d_iq, cfg->board.r_on_iq);
     dtc_speed_params_from_config(&c->sm_p, &c->pi_p, cfg);
-    c->isp_p.gain_w_iq = cfg->speed.im_gain_w_iq;
-    c->isp_p.k_filt_q31 = cfg->speed.im_speed_filt_q31;
-    c->isp_p.rr_iq = cfg->machine.im.rr_iq;
-    c->fw_p.window = cfg->sw.im_fw_window;
-    c->fw_p.step_down_iq = cfg->sw.im_fw_step_down_iq;
-    c->fw_p.step_up_iq = cfg->sw.im_fw_step_up_iq;
-    c->fw_p.psi_min_iq = cfg->sw.im_fw_psi_min_iq;
+    c->isp_p.gain_w_iq = cfg->u.im.ref.gain_w_iq;
+    c->isp_p.k_filt_q31 = cfg->u.im.ref.speed_filt_q31;
+    c->isp_p.rr_iq = cfg->u.im.machine.rr_iq;
+    c->fw_p.window = cfg->u.im.fw.window;
+    c->fw_p.step_down_iq = cfg->u.im.fw.step_down_iq;
+    c->fw_p.step_up_iq = cfg->u.im.fw.step_up_iq;
+    c->fw_p.psi_min_iq = cfg->u.im.fw.psi_min_iq;
     c->fw_p.psi_rated_iq = cfg->speed.flux_ref_iq;
-    c->fw_p.inv_psi_rated_iq = cfg->sw.im_fw_inv_psi_rated_iq;
-    c->fw_p.kt_iq = cfg->sw.im_fw_kt_iq;
-    if (cfg->sw.im_fw_on != 0U && im_fw_check(&c->fw_p) != 0) {
+    c->fw_p.inv_psi_rated_iq = cfg->u.im.fw.inv_psi_rated_iq;
+    c->fw_p.kt_iq = cfg->u.im.fw.kt_iq;
+    if (cfg->u.im.fw.on != 0U && im_fw_check(&c->fw_p) != 0) {
         return DTC_ERR_WEAKENING;
     }
-    c->pwm_law = (uint16_t)(cfg->sw.scheme == DTC_SCHEME_SFVC   ? 1U
-                            : cfg->sw.scheme == DTC_SCHEME_DFOC ? 2U
-                            : cfg->sw.scheme == DTC_SCHEME_DSVM ? 3U
-                                                                : 0U);
-    c->svm_p.mode = cfg->sw.svm_mode;
+    c->svm_p.mode = cfg->u.im.svm_mode;
     c->svm_p.dt_comp = cfg->est.deadtime_comp;
     c->svm_p.td_iq = iq_from_q15(cfg->board.td_ts_q15);
     /* im_sfvc.c: eq. 18's components and eq. 16's slip per pu torque, times K_p where eq. 24 has
      * it (rounded IQ products, here once) */
-    c->sfvc_kpd_iq = iq_mpy(cfg->sw.sfvc_kp_iq, iq_mpy(cfg->machine.im.ks_iq, cfg->speed.psir_ref_iq));
-    c->sfvc_kpq_iq = iq_mpy(cfg->sw.sfvc_kp_iq, iq_mpy(iq_mpy(cfg->machine.im.ks_iq, cfg->machine.im.sigma_lr_iq),
-                                                       cfg->speed.inv_psir_ref_iq));
-    c->sfvc_kslip_iq = iq_mpy(cfg->machine.im.rr_iq, cfg->speed.inv_psir_sq_iq);
+    c->sfvc_kpd_iq = iq_mpy(cfg->u.im.sfvc.kp_iq, iq_mpy(cfg->u.im.machine.ks_iq, cfg->u.im.ref.psir_ref_iq));
+    c->sfvc_kpq_iq = iq_mpy(cfg->u.im.sfvc.kp_iq, iq_mpy(iq_mpy(cfg->u.im.machine.ks_iq, cfg->u.im.machine.sigma_lr_iq),
+                                                       cfg->u.im.ref.inv_psir_ref_iq));
+    c->sfvc_kslip_iq = iq_mpy(cfg->u.im.machine.rr_iq, cfg->u.im.ref.inv_psir_sq_iq);
     c->cfg = cfg;
 
     dtc_refs_from_config(&r, cfg);

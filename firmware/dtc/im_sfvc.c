@@ -1,6 +1,6 @@
 /*
  * im_sfvc.c - stator-flux vector control of the induction machine (Casadei et al. 2006 sections
- * 10.3-10.5, Fig. 18): the scheme DTC_SCHEME_SFVC of the IM law (im_dtc.h), one im_sfvc_step()
+ * 10.3-10.5, Fig. 18): the law DTC_LAW_IM_SFVC of the IM module (im_dtc.h), one im_sfvc_step()
  * per control period, which is also the SVM carrier period (one centred pulse per leg, svm.h).
  *
  *   Clarke -> stator voltage of the period that ends now (the duties returned two steps ago as
@@ -38,7 +38,7 @@
  * v_s* is at most R_s |i| + |w_s||phi_s| + K_p |Delta phi_s| (K_p <= 1/ts_pu: 64 pu at 50 us and
  * 50 Hz base), saturating; the SVM clamps it onto its hexagon (svm.h).
  */
-#include "im_dtc.h"
+#include "im_dtc_internal.h"
 
 
 /* The estimator's input (as im_dtc_estimate): the voltage of the period that ends now (kept by
@@ -61,7 +61,7 @@ void im_sfvc_regulate(im_dtc_t *c)
 {
     const dtc_config_t *cfg = c->cfg;
     const iq_t ts = cfg->board.ts_pu_iq;
-    const iq_t kp = cfg->sw.sfvc_kp_iq;
+    const iq_t kp = cfg->u.im.sfvc.kp_iq;
     const iq_t ria = iq_mpy(cfg->machine.rs_iq, c->i.i_alpha_iq);
     const iq_t rib = iq_mpy(cfg->machine.rs_iq, c->i.i_beta_iq);
     iq_t pa, pb, ra, rb, ws;

@@ -31,7 +31,7 @@
  * vector, the same duties in both modes. (Not the inscribed circle: the hexagon gives up to
  * 2/sqrt3 = 1.155 times more voltage between the active vectors.) The flag overmod says it
  * happened. 1/s by Newton steps from a power-of-two seed.
- * Dead-time compensation (Casadei sec. 10.5; the sign rule of dtc_deadtime): a leg that switches
+ * Dead-time compensation (Casadei sec. 10.5; the sign rule of vrec.h deadtime_error): a leg that switches
  * in the period (0 < d < 1) loses T_d/T_s of duty when its current leaves the leg (i > 0: the
  * upper device's turn-on is delayed by T_d while the lower diode conducts) and gains T_d/T_s when
  * it enters (i < 0: the upper diode holds the leg high for T_d after the upper turn-off), one edge

@@ -15,3 +15,40 @@ void vrec_fstp(uint16_t sb, uint16_t sc, iq_t vdc_iq, iq_t vmid_iq, uint16_t vmi
     iq_t va0_iq = vmid_measured != 0U ? vmid_iq : fix_rshift_rnd32(vdc_iq, 1U);
     vrec_from_legs(va0_iq, sb != 0U ? vdc_iq : 0, sc != 0U ? vdc_iq : 0, v_alpha_iq, v_beta_iq);
 }
+
+/* Dead-time error of one leg over one period: the leg changed state at the period's start
+ * (prev -> cur) and for T_d both devices were off, so the phase current's free-wheeling diode
+ * set the leg voltage: turning on the upper device with the current leaving the leg (i > 0), the
+ * lower diode kept the leg at 0 for T_d: -V_dc T_d/T_s on the period's mean; turning it off with
+ * the current entering (i < 0), the upper diode kept it at V_dc: +V_dc T_d/T_s. Otherwise the
+ * current commutates at once and there is no error. The sign of the sampled current decides. */
+static iq_t deadtime_leg(uint16_t prev, uint16_t cur, iq_t i, iq_t e)
+{
+    if (prev == 0U && cur != 0U && i > 0) {
+        return fix_neg32(e);
+    }
+    if (prev != 0U && cur == 0U && i < 0) {
+        return e;
+    }
+    return 0;
+}
+
+/* Dead-time compensation (Casadei sec. 10.5): the leg errors of deadtime_leg through the same
+ * leg-to-alpha/beta transform as the reconstruction (vrec_from_legs, Hoang eqs. 1-5; FSTP: leg A
+ * is the mid-point and never switches). Phase currents at the switching instant, all three
+ * (clarke_out_t: the two measured, the third by Kirchhoff). Scaling: e = V_dc * T_d/T_s (IQ x Q15, rounded),
+ * the leg errors are 0 or +-e, vrec_from_legs saturates. */
+void deadtime_error(const deadtime_params_t *p, iq_t vdc_iq, const clarke_out_t *i, const swtab_legs_t *prev,
+                    const swtab_legs_t *cur, iq_t *dva, iq_t *dvb)
+{
+    iq_t e, ea;
+    if (prev->sa == cur->sa && prev->sb == cur->sb && prev->sc == cur->sc) {
+        *dva = 0; /* no leg changed: no dead-time error (most periods; the sum below is 0 then) */
+        *dvb = 0;
+        return;
+    }
+    e = iq_mpy_q15(vdc_iq, p->td_ts_q15);
+    ea = p->fstp != 0U ? 0 : deadtime_leg(prev->sa, cur->sa, i->ia_iq, e);
+    vrec_from_legs(ea, deadtime_leg(prev->sb, cur->sb, i->ib_iq, e),
+                   deadtime_leg(prev->sc, cur->sc, i->ic_iq, e), dva, dvb);
+}

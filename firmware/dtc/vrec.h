@@ -19,7 +19,9 @@
 
 #include <stdint.h>
 
+#include "clarke.h"
 #include "fixmath.h"
+#include "swtab.h"
 
 #define VREC_THIRD_Q31 FIX_Q31_THIRD
 #define VREC_INV_SQRT3_Q31 FIX_Q31_INV_SQRT3
@@ -41,5 +43,19 @@ void vrec_sstp(uint16_t sa, uint16_t sb, uint16_t sc, iq_t vdc_iq, iq_t *v_alpha
  * 1 uses the measured mid-point (lower capacitor) voltage vmid_iq. */
 void vrec_fstp(uint16_t sb, uint16_t sc, iq_t vdc_iq, iq_t vmid_iq, uint16_t vmid_measured,
                iq_t *v_alpha_iq, iq_t *v_beta_iq);
+
+/* Dead-time compensation of the reconstructed voltage (Casadei sec. 10.5), shared by the laws that
+ * reconstruct the voltage from leg states (the PM DTC law, dtc.c, and the IM laws' table schemes,
+ * im_dtc.c): the error of the voltage reconstructed from the legs of a period whose legs went from
+ * prev to cur, alpha/beta, IQ pu, with the link voltage and the phase currents at the switching
+ * instant; 0 when no leg changed. Formats: e = V_dc * T_d/T_s (IQ x Q15, rounded), the leg errors
+ * are 0 or +-e, vrec_from_legs saturates. Pure function, no state. */
+typedef struct {
+    q15_t td_ts_q15; /* dead time over the control period, T_d / T_s, [0, 0.5) (board.td_ts_q15) */
+    uint16_t fstp;   /* 1: four-switch inverter, leg A on the mid-point never switches */
+} deadtime_params_t;
+
+void deadtime_error(const deadtime_params_t *p, iq_t vdc_iq, const clarke_out_t *i, const swtab_legs_t *prev,
+                    const swtab_legs_t *cur, iq_t *dva, iq_t *dvb);
 
 #endif /* VREC_H */

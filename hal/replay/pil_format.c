@@ -53,39 +53,62 @@ static void field_set(void *f, uint16_t size, uint32_t bits)
     }
 }
 
-/* Every configuration field in file order: F(lvalue) for each. */
+/* Every configuration field in file order: F(lvalue) for each. The common part, then the part of
+ * the configuration's law (dtc_config_fields.h), then zero fields up to the longest law's list, so
+ * that every blob has pil_config_fields() fields whatever its law. */
 #define PIL_CFG_NOP(part)
 #define PIL_CFG_ARR3(part, name) F(c->part.name[0]) F(c->part.name[1]) F(c->part.name[2])
 #define PIL_CFG_ONE(part, name) F(c->part.name)
-#define PIL_CONFIG_LIST                                                                           \
+#define PIL_CONFIG_COMMON                                                                         \
     F(c->version) F(c->law)                                                                      \
-    DTC_CONFIG_FIELDS(PIL_CFG_NOP, PIL_CFG_ONE, PIL_CFG_ONE, PIL_CFG_ONE, PIL_CFG_ONE, PIL_CFG_ARR3, \
-                      PIL_CFG_NOP)
+    DTC_CONFIG_COMMON_FIELDS(PIL_CFG_NOP, PIL_CFG_ONE, PIL_CFG_ONE, PIL_CFG_ONE, PIL_CFG_ONE,      \
+                             PIL_CFG_ARR3, PIL_CFG_NOP)
+#define PIL_CONFIG_PM_DTC                                                                         \
+    DTC_CONFIG_PM_DTC_FIELDS(PIL_CFG_NOP, PIL_CFG_ONE, PIL_CFG_ONE, PIL_CFG_ONE, PIL_CFG_ONE,      \
+                             PIL_CFG_ARR3, PIL_CFG_NOP)
+#define PIL_CONFIG_IM                                                                             \
+    DTC_CONFIG_IM_FIELDS(PIL_CFG_NOP, PIL_CFG_ONE, PIL_CFG_ONE, PIL_CFG_ONE, PIL_CFG_ONE,          \
+                         PIL_CFG_ARR3, PIL_CFG_NOP)
+
+/* Numbers of fields of the lists. */
+#define F(x) +1
+enum { PIL_N_COMMON = 0 PIL_CONFIG_COMMON, PIL_N_PM_DTC = 0 PIL_CONFIG_PM_DTC, PIL_N_IM = 0 PIL_CONFIG_IM };
+#undef F
 
 uint16_t pil_config_fields(void)
 {
-    uint16_t n = 0U;
-    const dtc_config_t *c = 0;
-    (void)c;
-#define F(x) n++;
-    PIL_CONFIG_LIST
-#undef F
-    return n;
+    return (uint16_t)(PIL_N_COMMON + (PIL_N_PM_DTC > PIL_N_IM ? PIL_N_PM_DTC : PIL_N_IM));
 }
 
 void pil_config_encode(const dtc_config_t *c, uint8_t *blob)
 {
     uint8_t *p = blob;
+    uint16_t n = PIL_N_COMMON;
 #define F(x) put32(&p, field_bits(&(x), (uint16_t)sizeof(x)));
-    PIL_CONFIG_LIST
+    PIL_CONFIG_COMMON
+    if (dtc_law_is_im(c->law) != 0U) {
+        PIL_CONFIG_IM
+        n = (uint16_t)(n + PIL_N_IM);
+    } else {
+        PIL_CONFIG_PM_DTC
+        n = (uint16_t)(n + PIL_N_PM_DTC);
+    }
 #undef F
+    for (; n < pil_config_fields(); n++) {
+        put32(&p, 0U);
+    }
 }
 
 void pil_config_decode(const uint8_t *blob, dtc_config_t *c)
 {
     const uint8_t *p = blob;
 #define F(x) field_set(&(x), (uint16_t)sizeof(x), get32(&p));
-    PIL_CONFIG_LIST
+    PIL_CONFIG_COMMON
+    if (dtc_law_is_im(c->law) != 0U) {
+        PIL_CONFIG_IM
+    } else {
+        PIL_CONFIG_PM_DTC
+    }
 #undef F
 }
 

@@ -13,8 +13,9 @@
  *             12  u16 T1PR, what hal_pwm_period() returned when recording
  *             14  u16 reserved, 0
  *             16  u32 number of ISRs recorded
- *   config   n x u32: every field of dtc_config_t in the order of PIL_CONFIG_LIST (version, law,
- *            then tools/config/dtc_config_fields.h), the field's bits zero-extended to 32 bits
+ *   config   n x u32: the fields of dtc_config_t in the order of pil_format.c (version, law,
+ *            the common part, then the part of the law, zero-padded to n; tools/config/
+ *            dtc_config_fields.h), the field's bits zero-extended to 32 bits
  *            (a 16-bit signed field is stored as its 16-bit pattern). Enough to rebuild the
  *            firmware configuration exactly, with no knowledge of the target's struct layout.
  *   records  per ISR: an input record (PIL_IN_FIELDS, what hal_read() returned) followed by an
@@ -35,7 +36,7 @@
 #include "dtc_config.h"
 #include "hal.h"
 
-#define PIL_VERSION 2U /* 2: desat in, relay and reconfigured out (issue 16) */
+#define PIL_VERSION 3U /* 3: the configuration as the common part plus the law's part */
 #define PIL_HEADER_BYTES 20U
 
 /* Input record: hal_meas_t, field by field. PIL_IN_U16(name, member) / PIL_IN_U32(...). */
@@ -93,7 +94,7 @@ enum pil_err {
     PIL_ERR_LAYOUT = -3   /* field count or record sizes differ from this build's */
 };
 
-/* Number of u32 configuration fields (version, law and DTC_CONFIG_FIELDS). */
+/* Number of u32 configuration fields (version, law, the common part and the longest law part). */
 uint16_t pil_config_fields(void);
 
 void pil_header_encode(const pil_header_t *h, uint8_t b[PIL_HEADER_BYTES]);

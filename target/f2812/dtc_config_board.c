@@ -4,7 +4,7 @@
 #include "dtc_config.h"
 
 const dtc_config_t g_dtc_config = {
-    .version = 11U,
+    .version = 12U,
     .law = 0U, /* enum dtc_law */
     .board = {
         .v_base_mv = 70000U,
@@ -47,64 +47,13 @@ const dtc_config_t g_dtc_config = {
     .machine = {
         .pole_pairs = 1U,
         .rs_iq = 245714, /* 0.0146456957 pu */
-        .pm = {
-            .ls_iq = 528427, /* 0.0314967036 pu */
-            .psi_m_iq = 6987466, /* 0.416485429 pu */
-            .inv_ls_iq = 532665660, /* 31.7493474 pu */
-        },
-        .im = {
-            .rr_iq = 0, /* 0 pu */
-            .sigma_ls_iq = 0, /* 0 pu */
-            .sigma_lr_iq = 0, /* 0 pu */
-            .kr_iq = 0, /* 0 pu */
-            .ks_iq = 0, /* 0 pu */
-            .inv_ks_iq = 0, /* 0 pu */
-            .m_iq = 0, /* 0 pu */
-        },
     },
     .est = {
         .estimator = 0U,
         .compensation = 3U,
         .k_in_q31 = 33728378, /* 0.0157059999183 */
         .k_leak_q31 = 536804, /* 0.000249968841672 */
-        .handover_speed_iq = 2670177, /* 0.159154952 pu */
-        .handover_hyst_iq = 534035, /* 0.0318309665 pu */
-        .delay_comp = 1U,
         .deadtime_comp = 1U,
-        .polarity_mid = 1U,
-        .lpf_comp = 1U,
-        .wc_pu_iq = 267018, /* 0.015915513 pu */
-        .lpf_wmin_iq = 534035, /* 0.0318309665 pu */
-        .dc_supp = 1U,
-        .dcs_k_iq = 415, /* 2.47359276e-05 pu */
-        .vmid_g_iq = 0, /* 0 pu */
-        .vmid_beta_s_iq = 0, /* 0 pu */
-        .im_k_lo_q31 = 0, /* 0 */
-        .im_k_hi_q31 = 0, /* 0 */
-        .im_w_lo_iq = 0, /* 0 pu */
-        .im_w_hi_iq = 0, /* 0 pu */
-        .im_k_slope_q31 = 0, /* 0 */
-    },
-    .sw = {
-        .sstp_table = 0U,
-        .scheme = 0U,
-        .flux_band_iq = 0, /* 0 pu */
-        .torque_band_iq = 0, /* 0 pu */
-        .im_table_speed_iq = 0, /* 0 pu */
-        .im_fw_on = 0U,
-        .im_fw_window = 0U,
-        .im_fw_step_down_iq = 0, /* 0 pu */
-        .im_fw_step_up_iq = 0, /* 0 pu */
-        .im_fw_psi_min_iq = 0, /* 0 pu */
-        .im_fw_inv_psi_rated_iq = 0, /* 0 pu */
-        .im_fw_kt_iq = 0, /* 0 pu */
-        .svm_mode = 0U,
-        .sfvc_kp_iq = 0, /* 0 pu */
-        .dfoc_kp_iq = 0, /* 0 pu */
-        .dfoc_ki_ts_iq = 0, /* 0 pu */
-        .dfoc_id_ref_iq = 0, /* 0 pu */
-        .dfoc_iq_per_t_iq = 0, /* 0 pu */
-        .dsvm_torque_band2_iq = 0, /* 0 pu */
     },
     .speed = {
         .mode = 0U,
@@ -120,14 +69,34 @@ const dtc_config_t g_dtc_config = {
         .flux_ref_iq = 6987466, /* 0.416485429 pu */
         .speed_ref_iq = 8388608, /* 0.5 pu */
         .torque_ref_iq = 0, /* 0 pu */
-        .psir_ref_iq = 0, /* 0 pu */
-        .inv_psir_ref_iq = 0, /* 0 pu */
-        .inv_psir_sq_iq = 0, /* 0 pu */
-        .im_gain_w_iq = 0, /* 0 pu */
-        .im_speed_filt_q31 = 0, /* 0 */
-        .im_magn_periods = 0U,
-        .im_magn_ramp_iq = 0, /* 0 pu */
-        .im_magn_k_q31 = 0, /* 0 */
+    },
+    .u = {
+        .pm_dtc = {
+            .part = 20548U,
+            .sw = {
+                .sstp_table = 0U,
+                .flux_band_iq = 0, /* 0 pu */
+                .torque_band_iq = 0, /* 0 pu */
+            },
+            .est = {
+                .delay_comp = 1U,
+                .polarity_mid = 1U,
+                .lpf_comp = 1U,
+                .dc_supp = 1U,
+                .handover_speed_iq = 2670177, /* 0.159154952 pu */
+                .handover_hyst_iq = 534035, /* 0.0318309665 pu */
+                .wc_pu_iq = 267018, /* 0.015915513 pu */
+                .lpf_wmin_iq = 534035, /* 0.0318309665 pu */
+                .dcs_k_iq = 415, /* 2.47359276e-05 pu */
+                .vmid_g_iq = 0, /* 0 pu */
+                .vmid_beta_s_iq = 0, /* 0 pu */
+            },
+            .machine = {
+                .ls_iq = 528427, /* 0.0314967036 pu */
+                .psi_m_iq = 6987466, /* 0.416485429 pu */
+                .inv_ls_iq = 532665660, /* 31.7493474 pu */
+            },
+        },
     },
 };
 

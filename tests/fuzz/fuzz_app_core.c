@@ -91,7 +91,9 @@ typedef struct {
 static const fuzz_field_t fuzz_fields[] = {
     {offsetof(dtc_config_t, version), sizeof(uint16_t)},
     {offsetof(dtc_config_t, law), sizeof(uint16_t)},
-    DTC_CONFIG_FIELDS(F_P, F_ONE, F_ONE, F_ONE, F_ONE, F_ARR3, F_END)};
+    DTC_CONFIG_COMMON_FIELDS(F_P, F_ONE, F_ONE, F_ONE, F_ONE, F_ARR3, F_END)
+    DTC_CONFIG_PM_DTC_FIELDS(F_P, F_ONE, F_ONE, F_ONE, F_ONE, F_ARR3, F_END)
+    DTC_CONFIG_IM_FIELDS(F_P, F_ONE, F_ONE, F_ONE, F_ONE, F_ARR3, F_END)};
 #define FUZZ_NFIELDS (sizeof fuzz_fields / sizeof fuzz_fields[0])
 
 /* Reads a field as a signed 64-bit value (its stored type's width and signedness do not matter
@@ -154,16 +156,16 @@ static void base_config(rd_t *r, dtc_config_t *cfg, dtc_config_t *post, uint16_t
 
     if (im) {
         dtc_config_si_im_defaults(&si);
-        si.scheme = (b0 >> 1) % 5;                 /* DTC, DSC, SFVC, DFOC, DSVM */
+        si.law = DTC_LAW_IM_DTC + (b0 >> 1) % 5;   /* DTC, DSC, SFVC, DFOC, DSVM */
         si.estimator = (b0 & 0x10U) != 0U ? DTC_EST_VOLTAGE : DTC_EST_IMPROVED;
         si.sstp_table = (b0 >> 5) % 6;             /* BASIC .. ST_SPEED */
         si.speed_sensor = (b1 & 1U) != 0U ? DTC_SPEED_NONE : DTC_SPEED_ENCODER;
         si.flux_weakening = (b1 >> 1) & 1;
         si.svm_mode = (b1 >> 2) & 1;
-        if (si.scheme == DTC_SCHEME_SFVC || si.scheme == DTC_SCHEME_DFOC || (b1 & 8U) != 0U) {
+        if (si.law == DTC_LAW_IM_SFVC || si.law == DTC_LAW_IM_DFOC || (b1 & 8U) != 0U) {
             si.psir_ref_wb = 0.53;
         }
-        if (si.scheme == DTC_SCHEME_SFVC || si.scheme == DTC_SCHEME_DFOC) {
+        if (si.law == DTC_LAW_IM_SFVC || si.law == DTC_LAW_IM_DFOC) {
             si.ts_s = 160e-6;
             si.flux_weakening = 0;
         }
@@ -339,7 +341,7 @@ static void background(fuzz_t *z, rd_t *r, uint8_t op)
             refs.mode = (sel & 64U) != 0U ? rd_u16(r) : (uint16_t)(refs.mode ^ 1U);
         }
         rc = law_shadow_write(&a->law, &refs);
-        FUZZ_CHECK(rc <= 0 && rc >= DTC_ERR_RECONFIG, "shadow write returned %d", rc);
+        FUZZ_CHECK(rc <= 0 && rc >= DTC_ERR_PART, "shadow write returned %d", rc);
     }
     if ((op & 4U) != 0U) {
         const uint16_t t1pr = rd_u16(r);
@@ -356,8 +358,7 @@ static void background(fuzz_t *z, rd_t *r, uint8_t op)
 
 static int law_is_pwm(const dtc_config_t *c)
 {
-    return c->law == DTC_LAW_IM_DTC &&
-           (c->sw.scheme == DTC_SCHEME_SFVC || c->sw.scheme == DTC_SCHEME_DFOC || c->sw.scheme == DTC_SCHEME_DSVM);
+    return c->law == DTC_LAW_IM_SFVC || c->law == DTC_LAW_IM_DFOC || c->law == DTC_LAW_IM_DSVM;
 }
 
 static void check_status(const fuzz_t *z)
@@ -377,7 +378,7 @@ static void check_status(const fuzz_t *z)
         FUZZ_CHECK(s->fault_detail == 0, "fault %u detail %d", s->fault, s->fault_detail);
         break;
     case APP_FAULT_CONFIG:
-        FUZZ_CHECK(s->fault_detail < 0 && s->fault_detail >= DTC_ERR_RECONFIG, "config detail %d", s->fault_detail);
+        FUZZ_CHECK(s->fault_detail < 0 && s->fault_detail >= DTC_ERR_PART, "config detail %d", s->fault_detail);
         break;
     case APP_FAULT_ENCODER:
         FUZZ_CHECK(s->fault_detail >= 1 && s->fault_detail <= 3, "encoder detail %d", s->fault_detail);
@@ -550,7 +551,7 @@ static void check_command(const fuzz_t *z, uint16_t off, const hal_cmd_t *cmd, u
         FUZZ_CHECK(cmd->form == HAL_CMD_PWM, "SVM law wrote leg states");
         FUZZ_CHECK(cmd->sa == 0U && cmd->sb == 0U && cmd->sc == 0U, "SVM law with leg states");
         check_pwm_duty(z, cmd);
-        if (z->cfg.sw.scheme == DTC_SCHEME_DSVM) {
+        if (z->cfg.law == DTC_LAW_IM_DSVM) {
             FUZZ_CHECK(s->out.vector <= 36U, "DSVM code %u", s->out.vector);
             FUZZ_CHECK(s->out.sector >= 1U && s->out.sector <= 6U, "DSVM sector %u", s->out.sector);
         } else {
@@ -601,7 +602,7 @@ static void stats_step(const fuzz_t *z)
     stat_state[z->app.st.state & 3U]++;
     stat_reconf_run += z->app.st.state == APP_STATE_RUN && z->app.st.reconfigured != 0U;
     if (z->app.st.state == APP_STATE_RUN) {
-        stat_run[z->cfg.law & 1U][z->cfg.board.topology & 1U][z->cfg.law != 0U ? z->cfg.sw.scheme % 5U : 0U]++;
+        stat_run[dtc_law_is_im(z->cfg.law)][z->cfg.board.topology & 1U][dtc_law_is_im(z->cfg.law) != 0U ? (z->cfg.law - DTC_LAW_IM_DTC) % 5U : 0U]++;
     }
 }
 

@@ -182,7 +182,7 @@ struct Rig {
     // Start-up: calibration and the magnetisation at zero torque, then settle_s more.
     void magnetise(double settle_s)
     {
-        const double t_magn = static_cast<double>(cfg.speed.im_magn_periods) * ts();
+        const double t_magn = static_cast<double>(cfg.u.im.ref.magn_periods) * ts();
         run(t_magn + 64.0 * ts() + settle_s);
     }
     // Moves the dynamometer's held speed linearly to rpm over t_s.
@@ -242,7 +242,7 @@ static StartUp start_up(const std::string& estimator, std::vector<std::string> e
         return o;
     }
     r.record("fig17_" + estimator, 2);
-    const double t_magn = static_cast<double>(r.cfg.speed.im_magn_periods) * r.ts();
+    const double t_magn = static_cast<double>(r.cfg.u.im.ref.magn_periods) * r.ts();
     r.run(64.0 * r.ts() + t_magn, [&] {
         o.te_worst_magn = std::fmax(o.te_worst_magn, std::fabs(r.st().te_nm));
         o.i_peak_magn = std::fmax(o.i_peak_magn, r.imag());
@@ -907,7 +907,7 @@ TEST(ImCasadei, Fig25SensorlessSpeedEstimateFollowsTheSpeed)
     }
     std::printf("MEASURE Fig25 %s worst through the transients %.1f rpm at t = %.3f s (true speed %.1f rpm; the "
                 "torque is allowed at %.3f s), fault %s\n", line.c_str(), worst_all, worst_at, worst_speed,
-                static_cast<double>(r.cfg.speed.im_magn_periods + 64) * r.ts(), r.fault().c_str());
+                static_cast<double>(r.cfg.u.im.ref.magn_periods + 64) * r.ts(), r.fault().c_str());
     // Through the transients the estimate lags the true speed by its filter (speed_filter_s,
     // 5 ms) times the acceleration: at the torque limit on this rotor's inertia alone,
     // 79.5 N*m / 0.0131 kg m^2 = 6070 rad/s^2, the 220 rpm are braked away in 4 ms. Bound: that

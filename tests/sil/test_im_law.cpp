@@ -38,7 +38,7 @@ struct ImRig {
 
     // held_rpm: the rotor's speed at the start, at which the dynamometer holds it (free_rotor:
     // inertia only, no dynamometer)
-    ImRig(bool ideal, bool free_rotor, double held_rpm = 0.0, int scheme = DTC_SCHEME_DTC)
+    ImRig(bool ideal, bool free_rotor, double held_rpm = 0.0, int law = DTC_LAW_IM_DTC)
     {
         plant_params_default(&p);
         plant_params_im_default(&p);
@@ -59,7 +59,7 @@ struct ImRig {
         si.mode = DTC_MODE_TORQUE;
         si.torque_ref_nm = 0.0;
         si.psir_ref_wb = 0.53;     // about the no-load rotor flux of 0.55 Wb stator flux
-        si.scheme = scheme;
+        si.law = law;
         si.v_ce_v = p.v_ce_v;      // the board's devices, as the firmware is told them
         si.v_d_v = p.v_d_v;
         si.v_f_v = 0.5 * (p.v_ce_v + p.v_d_v);
@@ -128,7 +128,7 @@ void run_case(ImRig& r, bool check_psir)
     const double ts = r.si.ts_s;
     const double t_rated = r.si.rated_torque_nm;
     const double psir_ref = r.si.psir_ref_wb;
-    const long n_magn = static_cast<long>(r.cfg.speed.im_magn_periods);
+    const long n_magn = static_cast<long>(r.cfg.u.im.ref.magn_periods);
 
     // Calibration (64 periods, app_core.h), then the magnetisation: T* = 0 whatever is commanded.
     app_status_t st{};
@@ -246,7 +246,7 @@ void run_flying(double held_rpm, int scheme)
     const double ts = r.si.ts_s;
     const double t_rated = r.si.rated_torque_nm;
     const double psir_ref = r.si.psir_ref_wb;
-    const long n_on = static_cast<long>(r.cfg.speed.im_magn_periods) + 64; // calibration + magnetisation
+    const long n_on = static_cast<long>(r.cfg.u.im.ref.magn_periods) + 64; // calibration + magnetisation
     double te_sum = 0.0;
     long n = 0;
     for (long k = 0; k < n_on + static_cast<long>(0.4 / ts); ++k) {
@@ -287,7 +287,7 @@ TEST(ImLaw, FlyingStartIntoATurningRotorBuildsTheFluxThenTracksTorque)
 {
     // the switching-table DTC both ways, and DSVM (its own start-up code, im_dsvm.c)
     const struct { double rpm; int scheme; } cases[] = {
-        {300.0, DTC_SCHEME_DTC}, {-1440.0, DTC_SCHEME_DTC}, {1440.0, DTC_SCHEME_DSVM}};
+        {300.0, DTC_LAW_IM_DTC}, {-1440.0, DTC_LAW_IM_DTC}, {1440.0, DTC_LAW_IM_DSVM}};
     for (const auto& c : cases) {
         SCOPED_TRACE(c.rpm);
         SCOPED_TRACE(c.scheme);

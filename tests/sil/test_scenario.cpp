@@ -535,10 +535,9 @@ TEST(Scenario, ImLawKeysSelectTheImLawAndAreRefusedByName)
     EXPECT_DOUBLE_EQ(s.ts_s, PLANT_DEF_IM_TS_S);
     EXPECT_DOUBLE_EQ(s.inverter.vdc_v, PLANT_DEF_IM_VDC_V);
     const dtc_config_si_t c = firmware_si_config(s);
-    EXPECT_EQ(c.law, DTC_LAW_IM_DTC);
+    EXPECT_EQ(c.law, DTC_LAW_IM_DSC); // motor.type = "im" with control.scheme = "dsc"
     EXPECT_EQ(c.estimator, DTC_EST_IMPROVED);
     EXPECT_EQ(c.sstp_table, DTC_ST_SPEED);
-    EXPECT_EQ(c.scheme, DTC_SCHEME_DSC);
     EXPECT_EQ(c.speed_sensor, DTC_SPEED_NONE);
     EXPECT_EQ(c.flux_weakening, 1);
     EXPECT_DOUBLE_EQ(c.psir_ref_wb, 0.5);

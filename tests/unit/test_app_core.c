@@ -14,6 +14,7 @@
 #include <cmocka.h>
 
 #include "app_core.h"
+#include "law.h"
 #include "flux_est.h"
 #include "svm.h"
 #include "dtc_config_si.h"
@@ -667,7 +668,7 @@ static void test_sfvc_writes_the_pwm_form(void **state)
     uint16_t k;
     (void)state;
     dtc_config_si_im_defaults(&fx.si);
-    fx.si.scheme = DTC_SCHEME_SFVC;
+    fx.si.law = DTC_LAW_IM_SFVC;
     fx.si.ts_s = 160e-6;
     fx.si.psir_ref_wb = 0.53;
     fx.si.mode = DTC_MODE_TORQUE;
@@ -806,7 +807,7 @@ static void test_current_sum_finds_a_stuck_sensor(void **state)
     fx.cfg.board.i_sensors3 = 0U;
     {
         const char *field = "";
-        assert_int_equal(dtc_config_check(&fx.cfg, &field), DTC_ERR_FAULTDET);
+        assert_int_equal(law_check(&fx.cfg, &field), DTC_ERR_FAULTDET);
         assert_string_equal(field, "prot.i_sum_max_iq");
     }
 }

@@ -19,6 +19,7 @@
 #endif
 
 #include "dtc.h"
+#include "law.h"
 #include "dtc_config_si.h"
 #include "dtc_ref.h"
 #include "fixtest.h"
@@ -33,7 +34,7 @@ static void test_defaults_convert_to_expected_pu(void **state)
 
     dtc_config_si_defaults(&si);
     assert_int_equal(dtc_config_from_si(&si, &cfg, msg, sizeof msg), DTC_SI_OK);
-    assert_int_equal(dtc_config_validate(&cfg), DTC_OK);
+    assert_int_equal(law_check(&cfg, NULL), DTC_OK);
     dtc_bases_from_si(&si, &b);
 
     /* Bases of dtc_base.h, computed by hand from Hoang Table VIII and the 70 V link. */
@@ -42,9 +43,9 @@ static void test_defaults_convert_to_expected_pu(void **state)
     assert_true(fabs(b.t_base_nm - 1.5 * (70.0 / (100.0 * DTC_REF_PI)) * 2.2) < 1e-12);
     /* Machine in pu, within one IQ24 LSB (0.5 LSB rounding). */
     fixtest_assert_lsb(fixtest_iq_to_d(cfg.machine.rs_iq), 0.466 / (70.0 / 2.2), 1.0 / 16777216.0, 0.5, "rs");
-    fixtest_assert_lsb(fixtest_iq_to_d(cfg.machine.pm.ls_iq), 3.19e-3 / (70.0 / 2.2 / (100.0 * DTC_REF_PI)),
+    fixtest_assert_lsb(fixtest_iq_to_d(cfg.u.pm_dtc.machine.ls_iq), 3.19e-3 / (70.0 / 2.2 / (100.0 * DTC_REF_PI)),
                        1.0 / 16777216.0, 0.5, "ls");
-    fixtest_assert_lsb(fixtest_iq_to_d(cfg.machine.pm.psi_m_iq), 0.0928 / (70.0 / (100.0 * DTC_REF_PI)),
+    fixtest_assert_lsb(fixtest_iq_to_d(cfg.u.pm_dtc.machine.psi_m_iq), 0.0928 / (70.0 / (100.0 * DTC_REF_PI)),
                        1.0 / 16777216.0, 0.5, "psi_m");
     /* Rated torque 0.3 N.m with the rated 2.2 A in quadrature: T = psi_m * i (pu) = 0.408. */
     assert_true(fabs(0.3 / b.t_base_nm - 0.0928 / b.psi_base_wb * 1.0) < 0.01);
@@ -60,8 +61,8 @@ static void test_defaults_convert_to_expected_pu(void **state)
                        "speed_k");
     assert_int_equal(cfg.board.topology, DTC_TOPO_FSTP);
     assert_int_equal(cfg.est.compensation, DTC_COMP_FSTP_PROPOSED);
-    assert_int_equal(cfg.sw.flux_band_iq, 0);
-    assert_int_equal(cfg.sw.torque_band_iq, 0);
+    assert_int_equal(cfg.u.pm_dtc.sw.flux_band_iq, 0);
+    assert_int_equal(cfg.u.pm_dtc.sw.torque_band_iq, 0);
 }
 
 typedef void (*mutate_fn)(dtc_config_si_t *);
@@ -183,25 +184,25 @@ typedef void (*fw_mutate_fn)(dtc_config_t *);
 typedef struct {
     fw_mutate_fn fn;
     int16_t code;
-    const char *field; /* dtc_config_check's name of the refused field */
+    const char *field; /* law_check's name of the refused field */
 } fw_case_t;
 #define FMUT(name, stmt) static void name(dtc_config_t *c) { stmt; }
 FMUT(f_version, c->version = 99U)
 FMUT(f_topo, c->board.topology = 2U)
 FMUT(f_est, c->est.estimator = 5U)
-FMUT(f_table, c->sw.sstp_table = 5U)
+FMUT(f_table, c->u.pm_dtc.sw.sstp_table = 5U)
 FMUT(f_mode, c->speed.mode = 2U)
 FMUT(f_vmid, c->board.fstp_vmid_measured = 2U)
 FMUT(f_comp, c->est.compensation = 4U)
 FMUT(f_comp_topo, c->est.compensation = DTC_COMP_SSTP)
-FMUT(f_ls, c->machine.pm.ls_iq = 0)
+FMUT(f_ls, c->u.pm_dtc.machine.ls_iq = 0)
 FMUT(f_rs, c->machine.rs_iq = -1)
-FMUT(f_psi, c->machine.pm.psi_m_iq = -5)
+FMUT(f_psi, c->u.pm_dtc.machine.psi_m_iq = -5)
 FMUT(f_kin, c->est.k_in_q31 = 0)
 FMUT(f_kleak, c->est.k_leak_q31 = -3)
 FMUT(f_enc, c->board.enc_counts = 0U)
 FMUT(f_enc_gain, c->board.enc_gain_q16 = 0U)
-FMUT(f_band, c->sw.torque_band_iq = -1)
+FMUT(f_band, c->u.pm_dtc.sw.torque_band_iq = -1)
 FMUT(f_div, c->speed.speed_div = 0U)
 FMUT(f_sk, c->speed.speed_k_iq = 0)
 FMUT(f_kp, c->speed.kp_iq = -1)
@@ -214,60 +215,64 @@ FMUT(f_adc, c->board.adc_i_offset[2] = 4096U)
 FMUT(f_adc_gain, c->board.adc_vdc_gain_iq = 0)
 FMUT(f_base, c->board.w_base_mrad_s = 0U)
 FMUT(f_limit, c->prot.vdc_min_iq = c->prot.vdc_max_iq)
-FMUT(f_handover, c->est.handover_speed_iq = -1)
-FMUT(f_handover_hyst, c->est.handover_hyst_iq = c->est.handover_speed_iq + 1)
-FMUT(f_delay, c->est.delay_comp = 2U)
+FMUT(f_handover, c->u.pm_dtc.est.handover_speed_iq = -1)
+FMUT(f_handover_hyst, c->u.pm_dtc.est.handover_hyst_iq = c->u.pm_dtc.est.handover_speed_iq + 1)
+FMUT(f_delay, c->u.pm_dtc.est.delay_comp = 2U)
 FMUT(f_ts_pu, c->board.ts_pu_iq = 0)
-FMUT(f_inv_ls, c->machine.pm.inv_ls_iq = -1)
+FMUT(f_inv_ls, c->u.pm_dtc.machine.inv_ls_iq = -1)
 FMUT(f_deadtime, c->est.deadtime_comp = 2U)
 FMUT(f_td, c->board.td_ts_q15 = Q15(0.5))
-FMUT(f_law, c->law = 2U)
+FMUT(f_law, c->law = DTC_LAW_COUNT)
+/* the IM law on the PM law's part: its tag is not the IM part's */
+FMUT(f_law_part, c->law = DTC_LAW_IM_DSC)
+FMUT(f_part, c->u.pm_dtc.part = DTC_PART_IM)
 FMUT(f_ilim_neg, c->prot.i_lim_iq = -1)
 FMUT(f_ilim_trip, c->prot.i_lim_iq = c->prot.i_trip_iq)
-FMUT(f_polarity, c->est.polarity_mid = 2U)
+FMUT(f_polarity, c->u.pm_dtc.est.polarity_mid = 2U)
 FMUT(f_vmid_cal, c->board.vmid_cal = 2U)
-FMUT(f_lpf_comp, c->est.lpf_comp = 2U)
-FMUT(f_lpf_wc, c->est.wc_pu_iq = 0)
-FMUT(f_dcs, c->est.dc_supp = 2U)
-FMUT(f_dcs_k, c->est.dcs_k_iq = 0)
-FMUT(f_vmid_g, c->est.vmid_g_iq = -1)
+FMUT(f_lpf_comp, c->u.pm_dtc.est.lpf_comp = 2U)
+FMUT(f_lpf_wc, c->u.pm_dtc.est.wc_pu_iq = 0)
+FMUT(f_dcs, c->u.pm_dtc.est.dc_supp = 2U)
+FMUT(f_dcs_k, c->u.pm_dtc.est.dcs_k_iq = 0)
+FMUT(f_vmid_g, c->u.pm_dtc.est.vmid_g_iq = -1)
 /* the defaults measure no mid-point: neither mid-point term may be on */
-FMUT(f_vmid_g_nomid, c->est.vmid_g_iq = 1)
-FMUT(f_vmid_beta_nomid, c->est.vmid_beta_s_iq = 1)
-FMUT(f_vmid_beta_neg, c->est.vmid_beta_s_iq = -1)
+FMUT(f_vmid_g_nomid, c->u.pm_dtc.est.vmid_g_iq = 1)
+FMUT(f_vmid_beta_nomid, c->u.pm_dtc.est.vmid_beta_s_iq = 1)
+FMUT(f_vmid_beta_neg, c->u.pm_dtc.est.vmid_beta_s_iq = -1)
 
 static void test_dtc_init_refuses_bad_struct(void **state)
 {
     (void)state;
     static const fw_case_t cases[] = {
         {f_version, DTC_ERR_VERSION, "version"}, {f_topo, DTC_ERR_VARIANT, "board.topology"},
-        {f_est, DTC_ERR_VARIANT, "est.estimator"}, {f_table, DTC_ERR_VARIANT, "sw.sstp_table"},
+        {f_est, DTC_ERR_VARIANT, "est.estimator"}, {f_table, DTC_ERR_VARIANT, "u.pm_dtc.sw.sstp_table"},
         {f_mode, DTC_ERR_VARIANT, "speed.mode"}, {f_vmid, DTC_ERR_VARIANT, "board.fstp_vmid_measured"},
         {f_comp, DTC_ERR_COMPENSATION, "est.compensation"},
         {f_comp_topo, DTC_ERR_COMPENSATION, "est.compensation"},
-        {f_ls, DTC_ERR_MACHINE, "machine.pm.ls_iq"}, {f_rs, DTC_ERR_MACHINE, "machine.rs_iq"},
-        {f_psi, DTC_ERR_MACHINE, "machine.pm.psi_m_iq"}, {f_kin, DTC_ERR_FLUX_EST, "est.k_in_q31"},
+        {f_ls, DTC_ERR_MACHINE, "u.pm_dtc.machine.ls_iq"}, {f_rs, DTC_ERR_MACHINE, "machine.rs_iq"},
+        {f_psi, DTC_ERR_MACHINE, "u.pm_dtc.machine.psi_m_iq"}, {f_kin, DTC_ERR_FLUX_EST, "est.k_in_q31"},
         {f_kleak, DTC_ERR_FLUX_EST, "est.k_leak_q31"}, {f_enc, DTC_ERR_ENCODER, "board.enc_counts"},
-        {f_enc_gain, DTC_ERR_ENCODER, "board.enc_gain_q16"}, {f_band, DTC_ERR_BAND, "sw.torque_band_iq"},
+        {f_enc_gain, DTC_ERR_ENCODER, "board.enc_gain_q16"}, {f_band, DTC_ERR_BAND, "u.pm_dtc.sw.torque_band_iq"},
         {f_div, DTC_ERR_SPEED, "speed.speed_div"}, {f_sk, DTC_ERR_SPEED, "speed.speed_k_iq"},
         {f_kp, DTC_ERR_PI, "speed.kp_iq"}, {f_lim, DTC_ERR_PI, "speed.torque_limit_iq"},
         {f_fref, DTC_ERR_REFERENCE, "speed.flux_ref_iq"}, {f_sref, DTC_ERR_REFERENCE, "speed.speed_ref_iq"},
         {f_tref, DTC_ERR_REFERENCE, "speed.torque_ref_iq"}, {f_drop, DTC_ERR_DROP, "board.v_d_iq"},
         {f_adc, DTC_ERR_ADC, "board.adc_i_offset"}, {f_adc_gain, DTC_ERR_ADC, "board.adc_vdc_gain_iq"},
         {f_base, DTC_ERR_BASE, "board.w_base_mrad_s"}, {f_limit, DTC_ERR_LIMIT, "prot.vdc_min_iq"},
-        {f_handover, DTC_ERR_HANDOVER, "est.handover_speed_iq"},
-        {f_handover_hyst, DTC_ERR_HANDOVER, "est.handover_hyst_iq"},
-        {f_delay, DTC_ERR_DELAY, "est.delay_comp"}, {f_ts_pu, DTC_ERR_DELAY, "board.ts_pu_iq"},
-        {f_inv_ls, DTC_ERR_MACHINE, "machine.pm.inv_ls_iq"},
+        {f_handover, DTC_ERR_HANDOVER, "u.pm_dtc.est.handover_speed_iq"},
+        {f_handover_hyst, DTC_ERR_HANDOVER, "u.pm_dtc.est.handover_hyst_iq"},
+        {f_delay, DTC_ERR_DELAY, "u.pm_dtc.est.delay_comp"}, {f_ts_pu, DTC_ERR_DELAY, "board.ts_pu_iq"},
+        {f_inv_ls, DTC_ERR_MACHINE, "u.pm_dtc.machine.inv_ls_iq"},
         {f_deadtime, DTC_ERR_DEADTIME, "est.deadtime_comp"}, {f_td, DTC_ERR_DEADTIME, "board.td_ts_q15"},
-        {f_law, DTC_ERR_VARIANT, "law"},
+        {f_law, DTC_ERR_VARIANT, "law"}, {f_law_part, DTC_ERR_PART, "u.im.part"},
+        {f_part, DTC_ERR_PART, "u.pm_dtc.part"},
         {f_ilim_neg, DTC_ERR_ILIM, "prot.i_lim_iq"}, {f_ilim_trip, DTC_ERR_ILIM, "prot.i_lim_iq"},
-        {f_polarity, DTC_ERR_POLARITY, "est.polarity_mid"}, {f_vmid_cal, DTC_ERR_POLARITY, "board.vmid_cal"},
-        {f_lpf_comp, DTC_ERR_LPFCOMP, "est.lpf_comp"}, {f_lpf_wc, DTC_ERR_LPFCOMP, "est.wc_pu_iq"},
-        {f_dcs, DTC_ERR_DCSUPP, "est.dc_supp"}, {f_dcs_k, DTC_ERR_DCSUPP, "est.dcs_k_iq"},
-        {f_vmid_g, DTC_ERR_DCSUPP, "est.vmid_g_iq"}, {f_vmid_g_nomid, DTC_ERR_DCSUPP, "est.vmid_g_iq"},
-        {f_vmid_beta_nomid, DTC_ERR_DCSUPP, "est.vmid_beta_s_iq"},
-        {f_vmid_beta_neg, DTC_ERR_DCSUPP, "est.vmid_beta_s_iq"},
+        {f_polarity, DTC_ERR_POLARITY, "u.pm_dtc.est.polarity_mid"}, {f_vmid_cal, DTC_ERR_POLARITY, "board.vmid_cal"},
+        {f_lpf_comp, DTC_ERR_LPFCOMP, "u.pm_dtc.est.lpf_comp"}, {f_lpf_wc, DTC_ERR_LPFCOMP, "u.pm_dtc.est.wc_pu_iq"},
+        {f_dcs, DTC_ERR_DCSUPP, "u.pm_dtc.est.dc_supp"}, {f_dcs_k, DTC_ERR_DCSUPP, "u.pm_dtc.est.dcs_k_iq"},
+        {f_vmid_g, DTC_ERR_DCSUPP, "u.pm_dtc.est.vmid_g_iq"}, {f_vmid_g_nomid, DTC_ERR_DCSUPP, "u.pm_dtc.est.vmid_g_iq"},
+        {f_vmid_beta_nomid, DTC_ERR_DCSUPP, "u.pm_dtc.est.vmid_beta_s_iq"},
+        {f_vmid_beta_neg, DTC_ERR_DCSUPP, "u.pm_dtc.est.vmid_beta_s_iq"},
     };
     dtc_config_si_t si;
     dtc_config_t good;
@@ -280,13 +285,15 @@ static void test_dtc_init_refuses_bad_struct(void **state)
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         dtc_config_t bad = good;
         cases[k].fn(&bad);
-        int16_t rc = dtc_init(&c, &bad);
+        law_t l;
+        int16_t rc = law_init(&l, &bad);
         const char *field = NULL;
         if (rc != cases[k].code) {
-            fail_msg("firmware case %zu: dtc_init returned %d, want %d", k, rc, cases[k].code);
+            fail_msg("firmware case %zu: law_init returned %d, want %d", k, rc, cases[k].code);
         }
-        if (dtc_config_check(&bad, &field) != cases[k].code || strcmp(field, cases[k].field) != 0) {
-            fail_msg("firmware case %zu: dtc_config_check names \"%s\", want \"%s\"", k, field,
+        assert_true(dtc_init(&c, &bad) != DTC_OK); /* the PM law's own init refuses it too */
+        if (law_check(&bad, &field) != cases[k].code || strcmp(field, cases[k].field) != 0) {
+            fail_msg("firmware case %zu: law_check names \"%s\", want \"%s\"", k, field,
                      cases[k].field);
         }
         assert_null(c.cfg);
@@ -303,9 +310,9 @@ static void expect_trip_edge(const dtc_config_t *base, int which, int64_t full, 
     const char *field = "";
     iq_t *level = which != 0 ? &c.prot.vdc_max_iq : &c.prot.i_trip_iq;
     *level = (iq_t)(full - 1);
-    assert_int_equal(dtc_config_check(&c, &field), DTC_OK);
+    assert_int_equal(law_check(&c, &field), DTC_OK);
     *level = (iq_t)full;
-    assert_int_equal(dtc_config_check(&c, &field), DTC_ERR_LIMIT);
+    assert_int_equal(law_check(&c, &field), DTC_ERR_LIMIT);
     assert_string_equal(field, name);
 }
 
@@ -328,11 +335,11 @@ static void test_trips_beyond_the_adc_range_refused(void **state)
     bad.prot.i_trip_iq = (iq_t)((int64_t)cfg.board.adc_i_gain_iq * (1095 - DTC_ADC_OFFSET_TOL_COUNTS));
     bad.prot.i_lim_iq = 0; /* the current limit and the hold below the trip are checked first */
     bad.prot.i_hold_iq = 0;
-    assert_int_equal(dtc_config_check(&bad, &field), DTC_ERR_LIMIT);
+    assert_int_equal(law_check(&bad, &field), DTC_ERR_LIMIT);
     assert_string_equal(field, "prot.i_trip_iq");
     bad.board.adc_i_offset[1] = 2048;
     bad.board.adc_i_offset[0] = 3000; /* A is not measured on the FSTP with two sensors: no effect */
-    assert_int_equal(dtc_config_check(&bad, &field), DTC_OK);
+    assert_int_equal(law_check(&bad, &field), DTC_OK);
     /* the SI side: 12 A on the 10 A sensor range is refused by the firmware's check */
     char msg[256];
     si.i_trip_a = 12.0;
@@ -351,8 +358,8 @@ static void test_handover_default_from_machine(void **state)
     dtc_config_si_defaults(&si);
     assert_true(fabs(dtc_handover_default_rpm(&si) - 500.0 * 3.0 / M_PI) < 1e-9);
     assert_int_equal(dtc_config_from_si(&si, &cfg, NULL, 0), DTC_SI_OK);
-    assert_true(fabs((double)cfg.est.handover_speed_iq / 16777216.0 - 50.0 / (100.0 * M_PI)) < 1e-7);
-    assert_true(fabs((double)cfg.est.handover_hyst_iq / 16777216.0 - 0.2 * 50.0 / (100.0 * M_PI)) < 1e-7);
+    assert_true(fabs((double)cfg.u.pm_dtc.est.handover_speed_iq / 16777216.0 - 50.0 / (100.0 * M_PI)) < 1e-7);
+    assert_true(fabs((double)cfg.u.pm_dtc.est.handover_hyst_iq / 16777216.0 - 0.2 * 50.0 / (100.0 * M_PI)) < 1e-7);
     /* a weaker magnet: the back-EMF rule takes over, 3 * 1.415 / 0.05 = 84.9 rad/s */
     si.psi_m_wb = 0.05;
     si.flux_ref_wb = 0.05;
@@ -396,7 +403,7 @@ static void test_handover_default_from_machine(void **state)
     si.handover_auto = 0;
     si.handover_speed_rpm = 0.0;
     assert_int_equal(dtc_config_from_si(&si, &cfg, NULL, 0), DTC_SI_OK);
-    assert_int_equal(cfg.est.handover_speed_iq, 0);
+    assert_int_equal(cfg.u.pm_dtc.est.handover_speed_iq, 0);
 }
 
 static void test_every_variant_converts_and_inits(void **state)
@@ -443,7 +450,7 @@ static void test_emitter_writes_every_field(void **state)
     fclose(f);
     assert_non_null(strstr(buf, "const dtc_config_t my_cfg = {"));
     char want[64];
-    snprintf(want, sizeof want, ".psi_m_iq = %ld,", (long)cfg.machine.pm.psi_m_iq);
+    snprintf(want, sizeof want, ".psi_m_iq = %ld,", (long)cfg.u.pm_dtc.machine.psi_m_iq);
     assert_non_null(strstr(buf, want));
     snprintf(want, sizeof want, ".k_leak_q31 = %ld,", (long)cfg.est.k_leak_q31);
     assert_non_null(strstr(buf, want));

@@ -20,6 +20,7 @@
 #endif
 
 #include "dtc.h"
+#include "dtc_internal.h"
 #include "dtc_config_si.h"
 
 static double d(iq_t x) { return (double)x / 16777216.0; }
@@ -34,15 +35,15 @@ static void test_dc_error_removed_at_w_over_20(void **state)
     dtc_t c;
     dtc_config_si_defaults(&si);
     assert_int_equal(dtc_config_from_si(&si, &cfg, NULL, 0), 0);
-    assert_int_equal(cfg.est.dc_supp, 1U);
+    assert_int_equal(cfg.u.pm_dtc.est.dc_supp, 1U);
     assert_int_equal(dtc_init(&c, &cfg), 0);
-    const double ls = d(cfg.machine.pm.ls_iq), ts = si.ts_s * si.w_base_rad_s, w = 0.5; /* 1500 rpm */
+    const double ls = d(cfg.u.pm_dtc.machine.ls_iq), ts = si.ts_s * si.w_base_rad_s, w = 0.5; /* 1500 rpm */
     const double da = 0.004, db = -0.002; /* estimate error, pu (~ 4 % of psi_m) */
     c.vmid_dev_iq = 0; /* mid-point at V_dc/2: no regulation demand */
     c.speed_primed = 1U;
     c.on_cm = 0U;
     c.speed_iq = q(-w); /* either direction */
-    c.dcs_kw_iq = (iq_t)lround((double)cfg.est.dcs_k_iq * w); /* as the speed tick sets it: k |w| */
+    c.dcs_kw_iq = (iq_t)lround((double)cfg.u.pm_dtc.est.dcs_k_iq * w); /* as the speed tick sets it: k |w| */
     const double tau = 20.0 / w; /* pu time */
     const int n_tau = (int)lround(tau / ts);
     for (int k = 1; k <= 6 * n_tau; k++) {
@@ -61,7 +62,7 @@ static void test_dc_error_removed_at_w_over_20(void **state)
     c.dcs_alpha_iq = 0;
     c.dcs_beta_iq = 0;
     c.speed_iq = q(w);
-    c.dcs_kw_iq = (iq_t)lround((double)cfg.est.dcs_k_iq * w);
+    c.dcs_kw_iq = (iq_t)lround((double)cfg.u.pm_dtc.est.dcs_k_iq * w);
     double cmax = -1.0, cmin = 1.0;
     const double amp = 1.0; /* rated current, pu */
     for (int k = 0; k < 4 * (int)lround(2.0 * M_PI / w / ts); k++) {
@@ -107,7 +108,7 @@ static void test_restoring_beta_follows_the_speed(void **state)
     si.fstp_vmid_measured = 1;
     si.vmid_cal = 1;
     assert_int_equal(dtc_config_from_si(&si, &cfg, NULL, 0), 0);
-    assert_true(cfg.est.vmid_beta_s_iq > 0);
+    assert_true(cfg.u.pm_dtc.est.vmid_beta_s_iq > 0);
     assert_int_equal(dtc_init(&c, &cfg), 0);
     const double vb = si.v_base_v, wb = si.w_base_rad_s, dv = 10.0; /* a 10 V deviation */
     const dtc_meas_t me = {0, 0, 0, q(si.vdc_v / vb), q((0.5 * si.vdc_v + dv) / vb), 0U};
@@ -140,7 +141,7 @@ static void test_restoring_beta_follows_the_speed(void **state)
     /* no restoring term off the FSTP voltage model */
     si.estimator = DTC_EST_CURRENT;
     assert_int_equal(dtc_config_from_si(&si, &cfg, NULL, 0), 0);
-    assert_int_equal(cfg.est.vmid_beta_s_iq, 0);
+    assert_int_equal(cfg.u.pm_dtc.est.vmid_beta_s_iq, 0);
 }
 
 /* The law's reconstruction takes the mid-point as V_dc/2 + (1 - beta) d (dtc_step): two laws in
@@ -159,7 +160,7 @@ static void test_reconstruction_takes_the_restored_mid_point(void **state)
     si.fstp_vmid_measured = 1;
     si.vmid_cal = 1;
     assert_int_equal(dtc_config_from_si(&si, &cfg, NULL, 0), 0);
-    assert_true(cfg.est.vmid_beta_s_iq > 0);
+    assert_true(cfg.u.pm_dtc.est.vmid_beta_s_iq > 0);
     assert_int_equal(dtc_init(&c1, &cfg), 0);
     const double vb = si.v_base_v, d_v = 10.0;
     dtc_meas_t m = {0, q(0.2), q(-0.2), q(si.vdc_v / vb), q(0.5 * si.vdc_v / vb), 0U};

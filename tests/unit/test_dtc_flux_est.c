@@ -50,8 +50,8 @@ static void params_from_cfg(flux_est_params_t *p, uint16_t est)
     p->k_in_q31 = g_cfg.est.k_in_q31;
     p->k_leak_q31 = g_cfg.est.k_leak_q31;
     p->rs_iq = g_cfg.machine.rs_iq;
-    p->ls_iq = g_cfg.machine.pm.ls_iq;
-    p->psi_m_iq = g_cfg.machine.pm.psi_m_iq;
+    p->ls_iq = g_cfg.u.pm_dtc.machine.ls_iq;
+    p->psi_m_iq = g_cfg.u.pm_dtc.machine.psi_m_iq;
     p->enc_gain_q16 = g_cfg.board.enc_gain_q16;
     p->enc_offset = g_cfg.board.enc_offset;
 }

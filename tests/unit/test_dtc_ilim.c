@@ -20,6 +20,13 @@
 static double iq_d(iq_t x) { return (double)x / 16777216.0; }
 static iq_t d_iq(double x) { return (iq_t)lround(x * 16777216.0); }
 
+/* ilim_select with the parameters the PM law takes from cfg (dtc.c dtc_block_params). */
+static uint16_t ilim_select_cfg(const dtc_config_t *c, const clarke_out_t *i, uint16_t vec, uint16_t *limited)
+{
+    const ilim_params_t p = {c->prot.i_lim_iq, c->board.topology == DTC_TOPO_FSTP ? 1U : 0U};
+    return ilim_select(&p, i, vec, limited);
+}
+
 /* Amplitude-invariant space vector of leg voltages (Hoang eqs. 1-5), V_dc = 1 pu. */
 static void vec_d(int fstp, unsigned k, double vmid, double *va, double *vb)
 {
@@ -61,7 +68,7 @@ static void run_topology(int fstp)
             const uint16_t table_vec = fstp ? 2U : 3U;
             clarke_out_t ci;
             clarke_inv(d_iq(ia), d_iq(ib), &ci);
-            uint16_t v = ilim_select(&cfg, &ci, table_vec, &limited);
+            uint16_t v = ilim_select_cfg(&cfg, &ci, table_vec, &limited);
             if (r == 0) {
                 assert_int_equal(v, table_vec);
                 assert_int_equal(limited, 0U);
@@ -94,7 +101,7 @@ static void run_topology(int fstp)
     uint16_t limited = 9U;
     clarke_out_t big;
     clarke_inv(d_iq(50.0), 0, &big);
-    assert_int_equal(ilim_select(&cfg, &big, 2U, &limited), 2U);
+    assert_int_equal(ilim_select_cfg(&cfg, &big, 2U, &limited), 2U);
     assert_int_equal(limited, 0U);
 }
 
@@ -159,7 +166,7 @@ static void test_ilim_currents_at_the_rail(void **state)
     assert_int_equal(dtc_config_from_si(&si, &cfg, NULL, 0), 0);
     clarke_sstp(INT32_MAX, INT32_MAX, &ci);
     assert_int_equal(ci.ic_iq, -INT32_MAX);
-    assert_int_equal(ilim_select(&cfg, &ci, 3U, &limited), 5U);
+    assert_int_equal(ilim_select_cfg(&cfg, &ci, 3U, &limited), 5U);
     assert_int_equal(limited, 1U);
 }
 

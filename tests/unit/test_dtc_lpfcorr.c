@@ -60,7 +60,7 @@ static void setup(dtc_config_si_t *si, dtc_config_t *cfg, flux_est_params_t *p)
     dtc_config_si_defaults(si);
     assert_int_equal(dtc_config_from_si(si, cfg, NULL, 0), 0);
     const flux_est_params_t v = {DTC_EST_VOLTAGE, cfg->est.k_in_q31, cfg->est.k_leak_q31, cfg->machine.rs_iq,
-                                 cfg->machine.pm.ls_iq, cfg->machine.pm.psi_m_iq, cfg->board.enc_gain_q16,
+                                 cfg->u.pm_dtc.machine.ls_iq, cfg->u.pm_dtc.machine.psi_m_iq, cfg->board.enc_gain_q16,
                                  cfg->board.enc_offset};
     *p = v;
 }
@@ -77,12 +77,12 @@ static void run_speed(double rpm)
     flux_est_init(&raw, &p);
     flux_est_reset(&raw);
     const double w = rpm * M_PI / 30.0 / si.w_base_rad_s; /* pu, p = 1 */
-    const double ts = si.ts_s * si.w_base_rad_s, psi = d(cfg.machine.pm.psi_m_iq);
+    const double ts = si.ts_s * si.w_base_rad_s, psi = d(cfg.u.pm_dtc.machine.psi_m_iq);
     iq_t y = 0;
     for (int k = 0; k < 20; k++) {
-        y = lpfcorr_recip(y, q(w), cfg.est.lpf_wmin_iq);
+        y = lpfcorr_recip(y, q(w), cfg.u.pm_dtc.est.lpf_wmin_iq);
     }
-    const iq_t r = q(d(cfg.est.wc_pu_iq) * d(y));
+    const iq_t r = q(d(cfg.u.pm_dtc.est.wc_pu_iq) * d(y));
     double worst_raw = 0.0, worst = 0.0;
     const int n = (int)(3.0 / si.ts_s); /* 3 s = 15 time constants of the low-pass */
     for (int k = 0; k < n; k++) {
@@ -127,23 +127,23 @@ static void accelerate(double alpha_rad_s2)
     setup(&si, &cfg, &p);
     flux_est_t s;
     flux_est_init(&s, &p);
-    const double wb = si.w_base_rad_s, ts = si.ts_s, wc = si.lpf_cutoff_rad_s, psi = d(cfg.machine.pm.psi_m_iq);
+    const double wb = si.w_base_rad_s, ts = si.ts_s, wc = si.lpf_cutoff_rad_s, psi = d(cfg.u.pm_dtc.machine.psi_m_iq);
     const double w0 = 100.0 * M_PI / 30.0, w1 = 300.0 * M_PI / 30.0; /* rad/s */
     const int n = (int)((w1 - w0) / alpha_rad_s2 / ts);
     double th = 0.0, w = w0;
     iq_t y = 0, r = 0;
     for (int k = 0; k < 20; k++) {
-        y = lpfcorr_recip(y, q(w0 / wb), cfg.est.lpf_wmin_iq);
+        y = lpfcorr_recip(y, q(w0 / wb), cfg.u.pm_dtc.est.lpf_wmin_iq);
     }
-    r = q(d(cfg.est.wc_pu_iq) * d(y));
+    r = q(d(cfg.u.pm_dtc.est.wc_pu_iq) * d(y));
     s.psi_alpha_iq = q(psi);
     s.psi_beta_iq = 0;
     double complex lp = psi / (1.0 - I * d(r)); /* output form: predistorted seed */
     double worst = 0.0, worst_out = 0.0;
     for (int k = 0; k < n; k++) {
         if (k % 10 == 0) {
-            y = lpfcorr_recip(y, q(w / wb), cfg.est.lpf_wmin_iq);
-            r = q(d(cfg.est.wc_pu_iq) * d(y));
+            y = lpfcorr_recip(y, q(w / wb), cfg.u.pm_dtc.est.lpf_wmin_iq);
+            r = q(d(cfg.u.pm_dtc.est.wc_pu_iq) * d(y));
         }
         /* back-EMF of psi e^{j theta}: the exact period mean */
         const double th1 = th + w * ts + 0.5 * alpha_rad_s2 * ts * ts;

@@ -13,6 +13,7 @@
 #include <math.h>
 
 #include "dtc.h"
+#include "dtc_internal.h"
 #include "vrec.h"
 #include "dtc_config_si.h"
 #include "dtc_ref.h"
@@ -272,8 +273,8 @@ static void test_voltage_model_uses_legs_from_two_steps_back(void **state)
     dtc_out_t o[6];
     sim_init(&s, DTC_TOPO_SSTP, DTC_EST_VOLTAGE, DTC_COMP_NONE, DTC_ST_D, 0.0);
     s.cfg.machine.rs_iq = 0;
-    s.cfg.est.handover_speed_iq = 0; /* the voltage model from standstill (no current-model start) */
-    s.cfg.est.handover_hyst_iq = 0;
+    s.cfg.u.pm_dtc.est.handover_speed_iq = 0; /* the voltage model from standstill (no current-model start) */
+    s.cfg.u.pm_dtc.est.handover_hyst_iq = 0;
     assert_int_equal(dtc_init(&c, &s.cfg), DTC_OK);
     dtc_meas_t me = {0, 0, 0, IQ(1.0), IQ(0.5), 0U};
     for (int k = 0; k < 6; k++) {
@@ -290,7 +291,7 @@ static void test_voltage_model_uses_legs_from_two_steps_back(void **state)
         if (k == 0) {
             /* first step after init: seeded from eqs. 8-9 (zero current, angle 0): (psi_m, 0),
              * within psi_m times the sine table's error (fix_cos(0) = 1 - 2^-15) */
-            ea = fixtest_iq_to_d(s.cfg.machine.pm.psi_m_iq);
+            ea = fixtest_iq_to_d(s.cfg.u.pm_dtc.machine.psi_m_iq);
             eb = 0.0;
             tol = 1000.0;
         }
@@ -298,7 +299,7 @@ static void test_voltage_model_uses_legs_from_two_steps_back(void **state)
         fixtest_assert_lsb(fixtest_iq_to_d(c.fe.psi_beta_iq), eb, 1.0 / 16777216.0, tol, "timing b");
     }
     /* the flux moved away from the seed, so active vectors were applied */
-    assert_true(c.fe.psi_alpha_iq != s.cfg.machine.pm.psi_m_iq || c.fe.psi_beta_iq != 0);
+    assert_true(c.fe.psi_alpha_iq != s.cfg.u.pm_dtc.machine.psi_m_iq || c.fe.psi_beta_iq != 0);
 }
 
 /* Start-up on the current model and hand-over (dtc_config.h): from standstill, J = 5e-4 kg m^2,
@@ -316,8 +317,8 @@ static void test_handover_up_and_down(void **state)
     const double rpm_per_pu = s.b.w_base_rad_s * 30.0 / DTC_REF_PI;
     s.j_kgm2 = 5e-4;
     assert_int_equal(dtc_init(&c, &s.cfg), DTC_OK);
-    const double h_rpm = fixtest_iq_to_d(s.cfg.est.handover_speed_iq) * s.b.w_base_rad_s * 30.0 / DTC_REF_PI;
-    const double psi_m = fixtest_iq_to_d(s.cfg.machine.pm.psi_m_iq);
+    const double h_rpm = fixtest_iq_to_d(s.cfg.u.pm_dtc.est.handover_speed_iq) * s.b.w_base_rad_s * 30.0 / DTC_REF_PI;
+    const double psi_m = fixtest_iq_to_d(s.cfg.u.pm_dtc.machine.psi_m_iq);
     assert_true(fabs(h_rpm - dtc_handover_default_rpm(&s.si)) < 0.1); /* 941 rpm: uncompensated */
     int up = -1, down = -1;
     uint16_t prev = 1U;
@@ -406,7 +407,7 @@ static void test_deadtime_error(void **state)
                     } else {
                         clarke_fstp(me.ib_iq, me.ic_iq, &ci);
                     }
-                    dtc_deadtime(c.cfg, me.vdc_iq, &ci, &p, &q, &da, &db);
+                    deadtime_error(&c.dt_p, me.vdc_iq, &ci, &p, &q, &da, &db);
                     fixtest_assert_lsb(fixtest_iq_to_d(da), wa, 1.0 / 16777216.0, 3.0, "dead time alpha");
                     fixtest_assert_lsb(fixtest_iq_to_d(db), wb, 1.0 / 16777216.0, 3.0, "dead time beta");
                 }
@@ -571,7 +572,7 @@ static void test_outputs_consistent(void **state)
     dtc_t c;
     dtc_out_t o;
     sim_init(&s, DTC_TOPO_SSTP, DTC_EST_CURRENT, DTC_COMP_NONE, DTC_ST_BASIC, 900.0);
-    s.cfg.est.delay_comp = 0U; /* the comparators then work on the reported estimate */
+    s.cfg.u.pm_dtc.est.delay_comp = 0U; /* the comparators then work on the reported estimate */
     assert_int_equal(dtc_init(&c, &s.cfg), DTC_OK);
     for (int k = 0; k < 2000; k++) {
         sim_period(&s, &c, &o);
@@ -580,9 +581,9 @@ static void test_outputs_consistent(void **state)
         assert_true(l.sa == o.sa && l.sb == o.sb && l.sc == o.sc);
         /* flux comparator (eq. 13) against eq. 11's magnitude: outside the band the decision is forced */
         const iq_t mag = dtc_out_flux_mag(&o);
-        if (mag < s.cfg.speed.flux_ref_iq - s.cfg.sw.flux_band_iq / 2 - 1) {
+        if (mag < s.cfg.speed.flux_ref_iq - s.cfg.u.pm_dtc.sw.flux_band_iq / 2 - 1) {
             assert_int_equal(o.flux_up, 1U);
-        } else if (mag > s.cfg.speed.flux_ref_iq + s.cfg.sw.flux_band_iq / 2 + 1) {
+        } else if (mag > s.cfg.speed.flux_ref_iq + s.cfg.u.pm_dtc.sw.flux_band_iq / 2 + 1) {
             assert_int_equal(o.flux_up, 0U);
         }
     }

@@ -29,6 +29,7 @@
 #include "dtc_config_si.h"
 #include "dtc_ref.h"
 #include "fixtest.h"
+#include "im_dtc_internal.h"
 #include "law.h"
 
 typedef struct {
@@ -134,7 +135,7 @@ static long run_magnetise(sim_t *s, long n, dtc_out_t *o)
  * holds the machine at electrical speed w and lets the law settle for t_settle seconds. */
 static void sim_magnetise_at(sim_t *s, double w, double t_settle, dtc_out_t *o)
 {
-    assert_true(run_magnetise(s, s->cfg.speed.im_magn_periods + 10L, o) > 0);
+    assert_true(run_magnetise(s, s->cfg.u.im.ref.magn_periods + 10L, o) > 0);
     s->x.w = w;
     for (long k = 0; k < (long)periods(s, t_settle); k++) {
         sim_period(s, o);
@@ -145,55 +146,58 @@ static void sim_magnetise_at(sim_t *s, double w, double t_settle, dtc_out_t *o)
 
 typedef void (*fmut_fn)(dtc_config_t *);
 #define FMUT(name, stmt) static void name(dtc_config_t *c) { stmt; }
-FMUT(f_kr, c->machine.im.kr_iq = 0)
-FMUT(f_sigma_ls, c->machine.im.sigma_ls_iq = -1)
-FMUT(f_rr, c->machine.im.rr_iq = 0)
-FMUT(f_klo, c->est.im_k_lo_q31 = 0)
-FMUT(f_whi, c->est.im_w_hi_iq = c->est.im_w_lo_iq - 1)
+FMUT(f_kr, c->u.im.machine.kr_iq = 0)
+FMUT(f_sigma_ls, c->u.im.machine.sigma_ls_iq = -1)
+FMUT(f_rr, c->u.im.machine.rr_iq = 0)
+FMUT(f_klo, c->u.im.est.k_lo_q31 = 0)
+FMUT(f_whi, c->u.im.est.w_hi_iq = c->u.im.est.w_lo_iq - 1)
 FMUT(f_est, c->est.estimator = DTC_EST_CURRENT)
-FMUT(f_topo, c->board.topology = DTC_TOPO_FSTP)
-FMUT(f_fw_window, { c->sw.im_fw_on = 1U; c->sw.im_fw_window = 19U; })
-FMUT(f_fw_kt, { c->sw.im_fw_on = 1U; c->sw.im_fw_kt_iq = 0; })
-FMUT(f_table, c->sw.sstp_table = DTC_ST_SPEED + 1U)
-FMUT(f_scheme, c->sw.scheme = DTC_SCHEME_DSVM + 1U)
+FMUT(f_topo, { c->board.topology = DTC_TOPO_FSTP; c->est.compensation = DTC_COMP_NONE; })
+FMUT(f_fw_window, { c->u.im.fw.on = 1U; c->u.im.fw.window = 19U; })
+FMUT(f_fw_kt, { c->u.im.fw.on = 1U; c->u.im.fw.kt_iq = 0; })
+FMUT(f_table, c->u.im.sw.sstp_table = DTC_ST_SPEED + 1U)
+FMUT(f_scheme, c->law = DTC_LAW_COUNT)
+/* the PM law on the IM part, and an IM part without its tag */
+FMUT(f_pm_law, c->law = DTC_LAW_PM_DTC)
+FMUT(f_part, c->u.im.part = 0U)
 /* DSVM: the outer torque band below the inner one; section 12's weakening */
-FMUT(f_dsvm_band2, { c->sw.scheme = DTC_SCHEME_DSVM; c->sw.torque_band_iq = IQ(0.05); c->sw.dsvm_torque_band2_iq = IQ(0.04); })
-FMUT(f_dsvm_fw, { c->sw.scheme = DTC_SCHEME_DSVM; c->sw.dsvm_torque_band2_iq = IQ(0.5); c->sw.im_fw_on = 1U; })
+FMUT(f_dsvm_band2, { c->law = DTC_LAW_IM_DSVM; c->u.im.sw.torque_band_iq = IQ(0.05); c->u.im.dsvm.torque_band2_iq = IQ(0.04); })
+FMUT(f_dsvm_fw, { c->law = DTC_LAW_IM_DSVM; c->u.im.dsvm.torque_band2_iq = IQ(0.5); c->u.im.fw.on = 1U; })
 /* a valid SFVC set (constant rotor flux, a gain below 1/ts_pu), then one field broken */
 static void sfvc_ok(dtc_config_t *c)
 {
-    c->sw.scheme = DTC_SCHEME_SFVC;
-    c->sw.svm_mode = 1U;
-    c->sw.sfvc_kp_iq = IQ(1.0);
-    c->speed.psir_ref_iq = IQ(0.5);
-    c->speed.inv_psir_ref_iq = IQ(2.0);
+    c->law = DTC_LAW_IM_SFVC;
+    c->u.im.svm_mode = 1U;
+    c->u.im.sfvc.kp_iq = IQ(1.0);
+    c->u.im.ref.psir_ref_iq = IQ(0.5);
+    c->u.im.ref.inv_psir_ref_iq = IQ(2.0);
 }
-FMUT(f_svm_mode, { sfvc_ok(c); c->sw.svm_mode = 2U; })
-FMUT(f_sfvc_kp0, { sfvc_ok(c); c->sw.sfvc_kp_iq = 0; })
+FMUT(f_svm_mode, { sfvc_ok(c); c->u.im.svm_mode = 2U; })
+FMUT(f_sfvc_kp0, { sfvc_ok(c); c->u.im.sfvc.kp_iq = 0; })
 /* K_p = 100 pu > 1/ts_pu = 79.6 pu at the defaults' 40 us (K_p Ts = 1.26) */
-FMUT(f_sfvc_kp_big, { sfvc_ok(c); c->sw.sfvc_kp_iq = IQ(100.0); })
-FMUT(f_sfvc_fw, { sfvc_ok(c); c->sw.im_fw_on = 1U; })
-FMUT(f_sfvc_psir, { sfvc_ok(c); c->speed.psir_ref_iq = 0; c->speed.inv_psir_ref_iq = 0; })
+FMUT(f_sfvc_kp_big, { sfvc_ok(c); c->u.im.sfvc.kp_iq = IQ(100.0); })
+FMUT(f_sfvc_fw, { sfvc_ok(c); c->u.im.fw.on = 1U; })
+FMUT(f_sfvc_psir, { sfvc_ok(c); c->u.im.ref.psir_ref_iq = 0; c->u.im.ref.inv_psir_ref_iq = 0; })
 /* a valid DFOC set, then one field broken */
 static void dfoc_ok(dtc_config_t *c)
 {
     sfvc_ok(c);
-    c->sw.scheme = DTC_SCHEME_DFOC;
-    c->sw.sfvc_kp_iq = 0; /* SFVC's gain is not DFOC's */
-    c->sw.dfoc_kp_iq = IQ(0.5);
-    c->sw.dfoc_ki_ts_iq = IQ(0.001);
-    c->sw.dfoc_id_ref_iq = IQ(0.4);
-    c->sw.dfoc_iq_per_t_iq = IQ(2.0);
+    c->law = DTC_LAW_IM_DFOC;
+    c->u.im.sfvc.kp_iq = 0; /* SFVC's gain is not DFOC's */
+    c->u.im.dfoc.kp_iq = IQ(0.5);
+    c->u.im.dfoc.ki_ts_iq = IQ(0.001);
+    c->u.im.dfoc.id_ref_iq = IQ(0.4);
+    c->u.im.dfoc.iq_per_t_iq = IQ(2.0);
 }
-FMUT(f_dfoc_kp, { dfoc_ok(c); c->sw.dfoc_kp_iq = 0; })
-FMUT(f_dfoc_ki, { dfoc_ok(c); c->sw.dfoc_ki_ts_iq = -1; })
-FMUT(f_dfoc_id, { dfoc_ok(c); c->sw.dfoc_id_ref_iq = 0; })
-FMUT(f_dfoc_iqt, { dfoc_ok(c); c->sw.dfoc_iq_per_t_iq = 0; })
-FMUT(f_dfoc_psir, { dfoc_ok(c); c->speed.psir_ref_iq = 0; c->speed.inv_psir_ref_iq = 0; })
-FMUT(f_dfoc_fw, { dfoc_ok(c); c->sw.im_fw_on = 1U; })
+FMUT(f_dfoc_kp, { dfoc_ok(c); c->u.im.dfoc.kp_iq = 0; })
+FMUT(f_dfoc_ki, { dfoc_ok(c); c->u.im.dfoc.ki_ts_iq = -1; })
+FMUT(f_dfoc_id, { dfoc_ok(c); c->u.im.dfoc.id_ref_iq = 0; })
+FMUT(f_dfoc_iqt, { dfoc_ok(c); c->u.im.dfoc.iq_per_t_iq = 0; })
+FMUT(f_dfoc_psir, { dfoc_ok(c); c->u.im.ref.psir_ref_iq = 0; c->u.im.ref.inv_psir_ref_iq = 0; })
+FMUT(f_dfoc_fw, { dfoc_ok(c); c->u.im.fw.on = 1U; })
 FMUT(f_sensor, c->speed.sensor = 2U)
-FMUT(f_slip, c->speed.inv_psir_sq_iq = 0)
-FMUT(f_magn, c->speed.im_magn_periods = 0U)
+FMUT(f_slip, c->u.im.ref.inv_psir_sq_iq = 0)
+FMUT(f_magn, c->u.im.ref.magn_periods = 0U)
 
 static void test_bad_im_config_refused_with_field(void **state)
 {
@@ -202,33 +206,35 @@ static void test_bad_im_config_refused_with_field(void **state)
         int16_t code;
         const char *field;
     } cases[] = {
-        {f_kr, DTC_ERR_MACHINE, "machine.im.kr_iq"},
-        {f_sigma_ls, DTC_ERR_MACHINE, "machine.im.sigma_ls_iq"},
-        {f_rr, DTC_ERR_MACHINE, "machine.im.rr_iq"},
-        {f_klo, DTC_ERR_FLUX_EST, "est.im_k_lo_q31"},
-        {f_whi, DTC_ERR_FLUX_EST, "est.im_w_hi_iq"},
+        {f_kr, DTC_ERR_MACHINE, "u.im.machine.kr_iq"},
+        {f_sigma_ls, DTC_ERR_MACHINE, "u.im.machine.sigma_ls_iq"},
+        {f_rr, DTC_ERR_MACHINE, "u.im.machine.rr_iq"},
+        {f_klo, DTC_ERR_FLUX_EST, "u.im.est.k_lo_q31"},
+        {f_whi, DTC_ERR_FLUX_EST, "u.im.est.w_hi_iq"},
         {f_est, DTC_ERR_VARIANT, "est.estimator"},
         {f_topo, DTC_ERR_VARIANT, "board.topology"},
-        {f_fw_window, DTC_ERR_WEAKENING, "sw.im_fw_window"},
-        {f_fw_kt, DTC_ERR_WEAKENING, "sw.im_fw_kt_iq"},
-        {f_table, DTC_ERR_VARIANT, "sw.sstp_table"},
-        {f_scheme, DTC_ERR_VARIANT, "sw.scheme"},
-        {f_dsvm_band2, DTC_ERR_BAND, "sw.dsvm_torque_band2_iq"},
-        {f_dsvm_fw, DTC_ERR_VARIANT, "sw.im_fw_on"},
-        {f_svm_mode, DTC_ERR_SVM, "sw.svm_mode"},
-        {f_sfvc_kp0, DTC_ERR_SVM, "sw.sfvc_kp_iq"},
-        {f_sfvc_kp_big, DTC_ERR_SVM, "sw.sfvc_kp_iq"},
-        {f_sfvc_fw, DTC_ERR_VARIANT, "sw.im_fw_on"},
-        {f_sfvc_psir, DTC_ERR_REFERENCE, "speed.psir_ref_iq"},
-        {f_dfoc_kp, DTC_ERR_SVM, "sw.dfoc_kp_iq"},
-        {f_dfoc_ki, DTC_ERR_SVM, "sw.dfoc_ki_ts_iq"},
-        {f_dfoc_id, DTC_ERR_SVM, "sw.dfoc_id_ref_iq"},
-        {f_dfoc_iqt, DTC_ERR_SVM, "sw.dfoc_iq_per_t_iq"},
-        {f_dfoc_psir, DTC_ERR_REFERENCE, "speed.psir_ref_iq"},
-        {f_dfoc_fw, DTC_ERR_VARIANT, "sw.im_fw_on"},
+        {f_fw_window, DTC_ERR_WEAKENING, "u.im.fw.window"},
+        {f_fw_kt, DTC_ERR_WEAKENING, "u.im.fw.kt_iq"},
+        {f_table, DTC_ERR_VARIANT, "u.im.sw.sstp_table"},
+        {f_scheme, DTC_ERR_VARIANT, "law"},
+        {f_pm_law, DTC_ERR_PART, "u.pm_dtc.part"},
+        {f_part, DTC_ERR_PART, "u.im.part"},
+        {f_dsvm_band2, DTC_ERR_BAND, "u.im.dsvm.torque_band2_iq"},
+        {f_dsvm_fw, DTC_ERR_VARIANT, "u.im.fw.on"},
+        {f_svm_mode, DTC_ERR_SVM, "u.im.svm_mode"},
+        {f_sfvc_kp0, DTC_ERR_SVM, "u.im.sfvc.kp_iq"},
+        {f_sfvc_kp_big, DTC_ERR_SVM, "u.im.sfvc.kp_iq"},
+        {f_sfvc_fw, DTC_ERR_VARIANT, "u.im.fw.on"},
+        {f_sfvc_psir, DTC_ERR_REFERENCE, "u.im.ref.psir_ref_iq"},
+        {f_dfoc_kp, DTC_ERR_SVM, "u.im.dfoc.kp_iq"},
+        {f_dfoc_ki, DTC_ERR_SVM, "u.im.dfoc.ki_ts_iq"},
+        {f_dfoc_id, DTC_ERR_SVM, "u.im.dfoc.id_ref_iq"},
+        {f_dfoc_iqt, DTC_ERR_SVM, "u.im.dfoc.iq_per_t_iq"},
+        {f_dfoc_psir, DTC_ERR_REFERENCE, "u.im.ref.psir_ref_iq"},
+        {f_dfoc_fw, DTC_ERR_VARIANT, "u.im.fw.on"},
         {f_sensor, DTC_ERR_VARIANT, "speed.sensor"},
-        {f_slip, DTC_ERR_REFERENCE, "speed.inv_psir_sq_iq"},
-        {f_magn, DTC_ERR_STARTUP, "speed.im_magn_periods"},
+        {f_slip, DTC_ERR_REFERENCE, "u.im.ref.inv_psir_sq_iq"},
+        {f_magn, DTC_ERR_STARTUP, "u.im.ref.magn_periods"},
     };
     dtc_config_si_t si;
     dtc_config_t good, pm;
@@ -241,7 +247,6 @@ static void test_bad_im_config_refused_with_field(void **state)
     dtc_config_si_im_defaults(&si);
     assert_int_equal(dtc_config_from_si(&si, &good, msg, sizeof msg), DTC_SI_OK);
     assert_int_equal(good.law, DTC_LAW_IM_DTC);
-    assert_int_equal(good.machine.pm.psi_m_iq, 0); /* an IM has no magnet: accepted */
     assert_int_equal(law_init(&l, &good), DTC_OK);
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         dtc_config_t bad = good;
@@ -251,9 +256,9 @@ static void test_bad_im_config_refused_with_field(void **state)
             fail_msg("case %s: law_init returned %d, want %d", cases[k].field, law_init(&l, &bad),
                      cases[k].code);
         }
-        assert_int_equal(dtc_config_check(&bad, &field), cases[k].code);
+        assert_int_equal(law_check(&bad, &field), cases[k].code);
         if (strcmp(field, cases[k].field) != 0) {
-            fail_msg("case %s: dtc_config_check named \"%s\"", cases[k].field, field);
+            fail_msg("case %s: law_check named \"%s\"", cases[k].field, field);
         }
     }
     /* each law refuses the other's configuration; the PM one still needs its magnet */
@@ -261,7 +266,7 @@ static void test_bad_im_config_refused_with_field(void **state)
     assert_int_equal(dtc_config_from_si(&si, &pm, NULL, 0), DTC_SI_OK);
     assert_int_equal(im_dtc_init(&im, &pm), DTC_ERR_VARIANT);
     assert_int_equal(dtc_init(&d, &good), DTC_ERR_VARIANT);
-    pm.machine.pm.psi_m_iq = 0;
+    pm.u.pm_dtc.machine.psi_m_iq = 0;
     assert_int_equal(law_init(&l, &pm), DTC_ERR_MACHINE);
     /* the host converter names the SI field */
     dtc_config_si_im_defaults(&si);
@@ -277,6 +282,14 @@ static void test_bad_im_config_refused_with_field(void **state)
     si.fw_window = 10;
     assert_int_equal(dtc_config_from_si(&si, &good, msg, sizeof msg), DTC_SI_ERR_IM);
     assert_non_null(strstr(msg, "fw_window"));
+    dtc_config_si_im_defaults(&si); /* a PM machine's field with the IM law: the key named */
+    si.psi_m_wb = 0.1;
+    assert_int_equal(dtc_config_from_si(&si, &good, msg, sizeof msg), DTC_SI_ERR_VARIANT);
+    assert_non_null(strstr(msg, "psi_m_wb"));
+    dtc_config_si_defaults(&si); /* and the reverse */
+    si.lm_h = 0.2;
+    assert_int_equal(dtc_config_from_si(&si, &good, msg, sizeof msg), DTC_SI_ERR_VARIANT);
+    assert_non_null(strstr(msg, "lm_h"));
     dtc_config_si_im_defaults(&si);
     si.estimator = DTC_EST_CURRENT;
     assert_int_equal(dtc_config_from_si(&si, &good, msg, sizeof msg), DTC_SI_ERR_VARIANT);
@@ -351,7 +364,7 @@ static void test_startup_current_is_dc(void **state)
     s.si.magn_frac = 0.95;
     sim_start(&s, 0.0);
     psir_target = s.m / s.ls * wb_to_pu(&s, s.si.flux_ref_wb);
-    n = (long)s.cfg.speed.im_magn_periods - 2L;
+    n = (long)s.cfg.u.im.ref.magn_periods - 2L;
     for (long k = 0; k < n; k++) {
         sim_period(&s, &o);
         if (k == n - (long)periods(&s, 2e-3)) {
@@ -395,9 +408,9 @@ static void test_voltage_model_cannot_hold_standstill_flux(void **state)
 
     sim_defaults(&s);
     sim_start(&s, 0.0);
-    for (long k = 0; k < (long)s.cfg.speed.im_magn_periods + (long)periods(&s, 0.4); k++) {
+    for (long k = 0; k < (long)s.cfg.u.im.ref.magn_periods + (long)periods(&s, 0.4); k++) {
         sim_period(&s, &o);
-        if (k > (long)s.cfg.speed.im_magn_periods + (long)periods(&s, 0.3)) {
+        if (k > (long)s.cfg.u.im.ref.magn_periods + (long)periods(&s, 0.3)) {
             worst_i = fmax(worst_i, fabs(psis_mag(&s) / ref - 1.0));
             mean_i += psis_mag(&s) / ref;
             n_i++;
@@ -470,7 +483,7 @@ static void test_speed_dependent_table(void **state)
     sim_start(&s, 0.0);
     {
         im_dtc_t *c = &s.law.u.im;
-        const iq_t w_sd = s.cfg.sw.im_table_speed_iq;
+        const iq_t w_sd = s.cfg.u.im.table_speed_iq;
         assert_true(w_sd > 0);
         c->magnetised = 1U;
         for (int sp = 0; sp < 2; sp++) {
@@ -554,7 +567,7 @@ static void test_dsc_hexagon(void **state)
     (void)state;
 
     sim_defaults(&s);
-    s.si.scheme = DTC_SCHEME_DSC;
+    s.si.law = DTC_LAW_IM_DSC;
     s.si.torque_ref_nm = 0.5 * s.si.rated_torque_nm;
     sim_start(&s, 0.0);
     ref = wb_to_pu(&s, s.si.flux_ref_wb);
@@ -613,11 +626,11 @@ static void test_flux_weakening(void **state)
             const double psi = fixtest_iq_to_d(o.psi_ref_iq);
             const double rated = fixtest_iq_to_d(s.cfg.speed.flux_ref_iq);
             const double tcmd = nm_to_pu(&s, s.si.torque_ref_nm);
-            const double kt = fixtest_iq_to_d(s.cfg.sw.im_fw_kt_iq);
+            const double kt = fixtest_iq_to_d(s.cfg.u.im.fw.kt_iq);
             const double want = fmin(tcmd * psi / rated, kt * psi * psi); /* eqs. 33-34 */
             assert_true(fabs(fixtest_iq_to_d(o.te_ref_iq) - want) < 1e-4);
             assert_true(psi <= rated + 1e-6);
-            assert_true(psi >= fixtest_iq_to_d(s.cfg.sw.im_fw_psi_min_iq) - 1e-6);
+            assert_true(psi >= fixtest_iq_to_d(s.cfg.u.im.fw.psi_min_iq) - 1e-6);
         }
         if (k >= n - (long)periods(&s, 0.02)) {
             tsum += dtc_ref_im_torque(&s.x);

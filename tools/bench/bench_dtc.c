@@ -138,7 +138,7 @@ static int run_im(long n, int ideal, int sfvc)
     si.sstp_table = DTC_ST_SPEED;
     si.speed_ref_rpm = 750.0;
     if (sfvc) {
-        si.scheme = sfvc == 3 ? DTC_SCHEME_DSVM : sfvc == 2 ? DTC_SCHEME_DFOC : DTC_SCHEME_SFVC;
+        si.law = sfvc == 3 ? DTC_LAW_IM_DSVM : sfvc == 2 ? DTC_LAW_IM_DFOC : DTC_LAW_IM_SFVC;
         si.svm_mode = sfvc == 2 ? 1 : 0;
         si.ts_s = 1.0 / 6250.0;
         si.carrier_hz = sfvc == 3 ? 0.0 : 6250.0;
@@ -161,7 +161,7 @@ static int run_im(long n, int ideal, int sfvc)
     dtc_ref_im_init(&x, si.rs_ohm / b.z_base_ohm, si.rr_ohm / b.z_base_ohm, ls, lr,
                     si.lm_h / b.l_base_h, 0.0);
     const double tspu = si.ts_s * b.w_base_rad_s;
-    for (long k = 0; k < n + (long)cfg.speed.im_magn_periods; k++) {
+    for (long k = 0; k < n + (long)cfg.u.im.ref.magn_periods; k++) {
         dtc_meas_t me;
         double ia, ib, va, vb;
         dtc_ref_im_currents(&x, &ia, &ib);

@@ -1,9 +1,11 @@
 /*
  * dtc_config_fields.h - every field of dtc_config_t (firmware/dtc/dtc_config.h), part by part, as
- * an X-macro list: the C emitter (dtc_config_emit_c), the round-trip check and the ISR
- * recording's configuration blob (hal/replay/pil_format.c, also built for the PIL targets) walk
- * the same list, so a field added to the struct and here is emitted, checked and replayed.
- * Macros only.
+ * X-macro lists: the common part (DTC_CONFIG_COMMON_FIELDS) and one list per law's part of the
+ * union u (DTC_CONFIG_PM_DTC_FIELDS for u.pm_dtc, DTC_CONFIG_IM_FIELDS for u.im). The C emitter
+ * (dtc_config_emit_c), the round-trip check and the ISR recording's configuration blob
+ * (hal/replay/pil_format.c, also built for the PIL targets) walk the common list and the list of
+ * the configuration's law, so a field added to the struct and here is emitted, checked and
+ * replayed. Macros only.
  *
  *   DTC_CFG_PART(part)              opens a part (a member struct of dtc_config_t)
  *   DTC_CFG_U(part, name)           unsigned integer
@@ -12,9 +14,9 @@
  *   DTC_CFG_Q15(part, name)         q15_t
  *   DTC_CFG_ARR3(part, name)        uint16_t[3]
  *   DTC_CFG_END(part)               closes it
- * Nested parts use a dotted path (machine.pm); the emitter opens and closes them by name.
+ * Nested parts use a dotted path (u.pm_dtc.machine); the emitter opens and closes them by name.
  */
-#define DTC_CONFIG_FIELDS(P, U, IQ, Q31, Q15, ARR3, END)                                           \
+#define DTC_CONFIG_COMMON_FIELDS(P, U, IQ, Q31, Q15, ARR3, END)                                    \
     P(board)                                                                                      \
     U(board, v_base_mv) U(board, i_base_ma) U(board, w_base_mrad_s) U(board, topology)             \
     U(board, fstp_vmid_measured) IQ(board, ts_pu_iq) Q15(board, td_ts_q15) IQ(board, v_f_iq)      \
@@ -30,36 +32,66 @@
     END(prot)                                                                                     \
     P(machine)                                                                                    \
     U(machine, pole_pairs) IQ(machine, rs_iq)                                                      \
-    P(machine.pm)                                                                                 \
-    IQ(machine.pm, ls_iq) IQ(machine.pm, psi_m_iq) IQ(machine.pm, inv_ls_iq)                       \
-    END(machine.pm)                                                                               \
-    P(machine.im)                                                                                 \
-    IQ(machine.im, rr_iq) IQ(machine.im, sigma_ls_iq) IQ(machine.im, sigma_lr_iq)                  \
-    IQ(machine.im, kr_iq) IQ(machine.im, ks_iq) IQ(machine.im, inv_ks_iq) IQ(machine.im, m_iq)     \
-    END(machine.im)                                                                               \
     END(machine)                                                                                  \
     P(est)                                                                                        \
     U(est, estimator) U(est, compensation) Q31(est, k_in_q31) Q31(est, k_leak_q31)                 \
-    IQ(est, handover_speed_iq) IQ(est, handover_hyst_iq) U(est, delay_comp) U(est, deadtime_comp)  \
-    U(est, polarity_mid) U(est, lpf_comp) IQ(est, wc_pu_iq) IQ(est, lpf_wmin_iq) U(est, dc_supp)   \
-    IQ(est, dcs_k_iq) IQ(est, vmid_g_iq) IQ(est, vmid_beta_s_iq)                                  \
-    Q31(est, im_k_lo_q31) Q31(est, im_k_hi_q31) IQ(est, im_w_lo_iq) IQ(est, im_w_hi_iq)           \
-    Q31(est, im_k_slope_q31)                                                                      \
+    U(est, deadtime_comp)                                                                         \
     END(est)                                                                                      \
-    P(sw)                                                                                         \
-    U(sw, sstp_table) U(sw, scheme) IQ(sw, flux_band_iq) IQ(sw, torque_band_iq)                    \
-    IQ(sw, im_table_speed_iq) U(sw, im_fw_on) U(sw, im_fw_window) IQ(sw, im_fw_step_down_iq)       \
-    IQ(sw, im_fw_step_up_iq) IQ(sw, im_fw_psi_min_iq) IQ(sw, im_fw_inv_psi_rated_iq)              \
-    IQ(sw, im_fw_kt_iq) U(sw, svm_mode) IQ(sw, sfvc_kp_iq) IQ(sw, dfoc_kp_iq)                     \
-    IQ(sw, dfoc_ki_ts_iq) IQ(sw, dfoc_id_ref_iq) IQ(sw, dfoc_iq_per_t_iq)                         \
-    IQ(sw, dsvm_torque_band2_iq)                                                                  \
-    END(sw)                                                                                       \
     P(speed)                                                                                      \
     U(speed, mode) U(speed, sensor) U(speed, speed_div) IQ(speed, speed_k_iq)                      \
     U(speed, speed_min_counts) IQ(speed, kp_iq) IQ(speed, ki_ts_iq) IQ(speed, torque_limit_iq)     \
     Q15(speed, torque_trim_k_q15) IQ(speed, speed_limit_iq) IQ(speed, flux_ref_iq)                 \
-    IQ(speed, speed_ref_iq) IQ(speed, torque_ref_iq) IQ(speed, psir_ref_iq)                        \
-    IQ(speed, inv_psir_ref_iq) IQ(speed, inv_psir_sq_iq) IQ(speed, im_gain_w_iq)                   \
-    Q31(speed, im_speed_filt_q31) U(speed, im_magn_periods) IQ(speed, im_magn_ramp_iq)             \
-    Q31(speed, im_magn_k_q31)                                                                      \
+    IQ(speed, speed_ref_iq) IQ(speed, torque_ref_iq)                                               \
     END(speed)
+
+/* u.pm_dtc (law DTC_LAW_PM_DTC). */
+#define DTC_CONFIG_PM_DTC_FIELDS(P, U, IQ, Q31, Q15, ARR3, END)                                    \
+    U(u.pm_dtc, part)                                                                             \
+    P(u.pm_dtc.sw)                                                                                \
+    U(u.pm_dtc.sw, sstp_table) IQ(u.pm_dtc.sw, flux_band_iq) IQ(u.pm_dtc.sw, torque_band_iq)       \
+    END(u.pm_dtc.sw)                                                                              \
+    P(u.pm_dtc.est)                                                                               \
+    U(u.pm_dtc.est, delay_comp) U(u.pm_dtc.est, polarity_mid) U(u.pm_dtc.est, lpf_comp)            \
+    U(u.pm_dtc.est, dc_supp) IQ(u.pm_dtc.est, handover_speed_iq) IQ(u.pm_dtc.est, handover_hyst_iq) \
+    IQ(u.pm_dtc.est, wc_pu_iq) IQ(u.pm_dtc.est, lpf_wmin_iq) IQ(u.pm_dtc.est, dcs_k_iq)            \
+    IQ(u.pm_dtc.est, vmid_g_iq) IQ(u.pm_dtc.est, vmid_beta_s_iq)                                  \
+    END(u.pm_dtc.est)                                                                             \
+    P(u.pm_dtc.machine)                                                                           \
+    IQ(u.pm_dtc.machine, ls_iq) IQ(u.pm_dtc.machine, psi_m_iq) IQ(u.pm_dtc.machine, inv_ls_iq)     \
+    END(u.pm_dtc.machine)
+
+/* u.im (laws DTC_LAW_IM_DTC .. DTC_LAW_IM_DSVM). */
+#define DTC_CONFIG_IM_FIELDS(P, U, IQ, Q31, Q15, ARR3, END)                                        \
+    U(u.im, part)                                                                                 \
+    P(u.im.machine)                                                                               \
+    IQ(u.im.machine, rr_iq) IQ(u.im.machine, sigma_ls_iq) IQ(u.im.machine, sigma_lr_iq)            \
+    IQ(u.im.machine, kr_iq) IQ(u.im.machine, ks_iq) IQ(u.im.machine, inv_ks_iq)                    \
+    IQ(u.im.machine, m_iq)                                                                        \
+    END(u.im.machine)                                                                             \
+    P(u.im.est)                                                                                   \
+    Q31(u.im.est, k_lo_q31) Q31(u.im.est, k_hi_q31) IQ(u.im.est, w_lo_iq) IQ(u.im.est, w_hi_iq)    \
+    Q31(u.im.est, k_slope_q31)                                                                    \
+    END(u.im.est)                                                                                 \
+    P(u.im.sw)                                                                                    \
+    U(u.im.sw, sstp_table) IQ(u.im.sw, flux_band_iq) IQ(u.im.sw, torque_band_iq)                   \
+    END(u.im.sw)                                                                                  \
+    IQ(u.im, table_speed_iq)                                                                      \
+    P(u.im.fw)                                                                                    \
+    U(u.im.fw, on) U(u.im.fw, window) IQ(u.im.fw, step_down_iq) IQ(u.im.fw, step_up_iq)            \
+    IQ(u.im.fw, psi_min_iq) IQ(u.im.fw, inv_psi_rated_iq) IQ(u.im.fw, kt_iq)                       \
+    END(u.im.fw)                                                                                  \
+    P(u.im.ref)                                                                                   \
+    IQ(u.im.ref, psir_ref_iq) IQ(u.im.ref, inv_psir_ref_iq) IQ(u.im.ref, inv_psir_sq_iq)           \
+    IQ(u.im.ref, gain_w_iq) Q31(u.im.ref, speed_filt_q31) U(u.im.ref, magn_periods)               \
+    IQ(u.im.ref, magn_ramp_iq) Q31(u.im.ref, magn_k_q31)                                          \
+    END(u.im.ref)                                                                                 \
+    U(u.im, svm_mode)                                                                             \
+    P(u.im.sfvc)                                                                                  \
+    IQ(u.im.sfvc, kp_iq)                                                                          \
+    END(u.im.sfvc)                                                                                \
+    P(u.im.dfoc)                                                                                  \
+    IQ(u.im.dfoc, kp_iq) IQ(u.im.dfoc, ki_ts_iq) IQ(u.im.dfoc, id_ref_iq) IQ(u.im.dfoc, iq_per_t_iq) \
+    END(u.im.dfoc)                                                                                \
+    P(u.im.dsvm)                                                                                  \
+    IQ(u.im.dsvm, torque_band2_iq)                                                                \
+    END(u.im.dsvm)

@@ -1,7 +1,9 @@
 /* dtc_config_si.c - SI -> per-unit Q-format configuration (see dtc_config_si.h). Host code. */
 #include "dtc_config_si.h"
+#include "dtc_config_si_conv.h"
 
 #include "app_core.h"
+#include "law.h"
 #include "dtc_config_fields.h"
 #include "plant_defaults.h"
 
@@ -9,10 +11,6 @@
 #include <stdarg.h>
 #include <stdint.h>
 #include <string.h>
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
 
 void dtc_config_si_defaults(dtc_config_si_t *si)
 {
@@ -67,7 +65,6 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->tau_hi_s = PLANT_DEF_IM_OBSERVER_TAU_S;
     si->tau_w_lo_rpm = 0.0;
     si->tau_w_hi_rpm = 0.0;
-    si->scheme = DTC_SCHEME_DTC;
     si->speed_sensor = DTC_SPEED_ENCODER;
     si->table_speed_rpm = 0.0;
     si->speed_filter_s = 0.005;
@@ -115,143 +112,9 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->w_base_rad_s = 2.0 * M_PI * PLANT_DEF_PM_RATED_SPEED_RPM / 60.0 * PLANT_DEF_PM_POLE_PAIRS;
 }
 
-void dtc_config_si_im_defaults(dtc_config_si_t *si)
-{
-    dtc_config_si_defaults(si);
-    si->law = DTC_LAW_IM_DTC;
-    /* The default IM of plant_defaults.h: 4 kW, 4 poles, 50 Hz, 220 V */
-    si->rs_ohm = PLANT_DEF_IM_RS_OHM;
-    si->rr_ohm = PLANT_DEF_IM_RR_OHM;
-    si->lls_h = PLANT_DEF_IM_LLS_H;
-    si->llr_h = PLANT_DEF_IM_LLR_H;
-    si->lm_h = PLANT_DEF_IM_LM_H;
-    si->ls_h = 0.0;
-    si->psi_m_wb = 0.0;
-    si->pole_pairs = PLANT_DEF_IM_POLE_PAIRS;
-    si->rated_speed_rpm = 1500.0;  /* synchronous speed at 50 Hz: the speed base */
-    si->rated_torque_nm = PLANT_DEF_IM_RATED_TORQUE_NM;
-    si->rated_current_a = PLANT_DEF_IM_RATED_CURRENT_A;
-    si->inertia_kgm2 = PLANT_DEF_IM_J_KGM2;
-    /* SSTP on sqrt(2) * 220 V; the plant's devices */
-    si->topology = DTC_TOPO_SSTP;
-    si->vdc_v = PLANT_DEF_IM_VDC_V;
-    si->compensation = DTC_COMP_SSTP;
-    si->ts_s = PLANT_DEF_IM_TS_S;   /* Casadei section 10.5 */
-    si->handover_auto = 0;         /* PM start-up only */
-    si->handover_speed_rpm = 0.0;
-    si->delay_comp = 0;            /* PM law only */
-    si->flux_ref_wb = PLANT_DEF_IM_FLUX_REF_WB;
-    si->flux_band_wb = 0.0;
-    si->torque_band_nm = 0.0;
-    si->torque_limit_nm = PLANT_DEF_IM_TORQUE_LIMIT_NM;
-    si->speed_limit_rpm = 6000.0;     /* Fig. 32: 400 % of base speed */
-    si->speed_ref_rpm = 0.0;
-    si->speed_bw_rad_s = 30.0;
-    si->estimator = DTC_EST_IMPROVED;
-    si->sstp_table = DTC_ST_BASIC;
-    /* The IM rig's sensors and protection (plant_defaults.h): currents -range..+range over the
-     * 12-bit code range, voltages 0..range. */
-    si->adc_i_a_per_count = 2.0 * PLANT_DEF_IM_CURRENT_RANGE_A / PLANT_DEF_ADC_FULL_SCALE_CODES;
-    si->adc_vdc_v_per_count = PLANT_DEF_IM_VOLTAGE_RANGE_V / PLANT_DEF_ADC_FULL_SCALE_CODES;
-    si->adc_vmid_v_per_count = PLANT_DEF_IM_VOLTAGE_RANGE_V / PLANT_DEF_ADC_FULL_SCALE_CODES;
-    si->i_trip_a = PLANT_DEF_IM_OVERCURRENT_A;
-    si->vdc_max_v = PLANT_DEF_IM_VDC_MAX_V;
-    si->vdc_min_v = PLANT_DEF_IM_VDC_MIN_V;
-    si->v_base_v = PLANT_DEF_IM_VDC_V;
-    si->i_base_a = PLANT_DEF_IM_RATED_CURRENT_A;
-    si->w_base_rad_s = 2.0 * M_PI * 50.0;
-}
-
 double dtc_overspeed_default_rpm(const dtc_config_si_t *si)
 {
     return 1.1 * fmax(si->rated_speed_rpm, si->speed_limit_rpm);
-}
-
-double dtc_table_speed_default_rpm(const dtc_config_si_t *si)
-{
-    const double w_el = 0.5 * si->vdc_v / sqrt(3.0) / si->flux_ref_wb;
-    return w_el * 30.0 / M_PI / (double)si->pole_pairs;
-}
-
-double dtc_handover_residual_v(const dtc_config_si_t *si, double i_a)
-{
-    const double dev = fmax(si->v_ce_v, si->v_d_v);
-    const double off_f = fmax(fabs(si->v_ce_v - si->v_f_v), fabs(si->v_d_v - si->v_f_v));
-    double v;
-    switch (si->compensation) {
-    case DTC_COMP_NONE: v = dev + si->r_on_ohm * i_a; break;
-    case DTC_COMP_SSTP: v = off_f; break;                           /* V_f and R_on (eqs. 24-25) */
-    case DTC_COMP_FSTP_SIMPLE: v = off_f + si->r_on_ohm * i_a; break; /* Table V: V_f only */
-    default: v = 0.0; break;                                        /* Table VI with eqs. 37-38 */
-    }
-    if (si->deadtime_comp == 0) {
-        v += si->dead_time_s / si->ts_s * si->vdc_v;
-    }
-    return v;
-}
-
-double dtc_vmid_beta_k(const dtc_config_si_t *si)
-{
-    const int on = si->vmid_cal != 0 && si->topology == DTC_TOPO_FSTP && si->fstp_vmid_measured != 0 &&
-                   si->estimator == DTC_EST_VOLTAGE && si->law == DTC_LAW_PM_DTC;
-    if (!on) {
-        return 0.0;
-    }
-    return 3.0 / 8.0 * si->c_dc_f * si->ls_h; /* beta / (3 C w^2) <= l_s / 8 */
-}
-
-double dtc_vmid_gain_tol(const dtc_config_si_t *si)
-{
-    return 0.02 + 1.0 / si->vdc_v;
-}
-
-double dtc_handover_default_rpm(const dtc_config_si_t *si)
-{
-    double drop = (si->v_ce_v > si->v_d_v ? si->v_ce_v : si->v_d_v) + si->r_on_ohm * si->rated_current_a;
-    double w_emf = 3.0 * drop / si->psi_m_wb;
-    double w_lpf = 10.0 * si->lpf_cutoff_rad_s;
-    double w = w_emf > w_lpf ? w_emf : w_lpf;
-    /* current budget of the uncompensated residual (dtc_config_si.h) */
-    const double i_lim = si->current_limit_auto != 0 ? dtc_ilim_default_a(si)
-                         : si->current_limit_a > 0.0 ? si->current_limit_a
-                                                     : si->i_trip_a;
-    const double i_r = si->rated_torque_nm / (1.5 * (double)si->pole_pairs * si->psi_m_wb);
-    const double head = sqrt(fmax(i_lim * i_lim - i_r * i_r, 0.01 * i_lim * i_lim));
-    const double k_topo = si->topology == DTC_TOPO_FSTP ? 2.0 / 3.0 : 1.0;
-    const double w_cur = 4.0 / M_PI * k_topo * dtc_handover_residual_v(si, i_lim) / (si->ls_h * head);
-    w = w_cur > w ? w_cur : w;
-    {
-        const double k = dtc_vmid_beta_k(si);
-        /* the voltage model runs down to (1 - hyst) w_h, the hand-back speed: beta must cover the
-         * tolerance there */
-        const double back = 1.0 - si->handover_hyst_frac;
-        const double w_beta = k > 0.0 && back > 0.0 ? sqrt(dtc_vmid_gain_tol(si) / k) / back : 0.0;
-        w = w_beta > w ? w_beta : w;
-    }
-    return w * 30.0 / M_PI / (double)si->pole_pairs;
-}
-
-double dtc_ilim_default_a(const dtc_config_si_t *si)
-{
-    double v_max = si->topology == DTC_TOPO_SSTP ? 2.0 * si->vdc_v / 3.0 : si->vdc_v / sqrt(3.0);
-    double w_max = si->speed_limit_rpm * M_PI / 30.0 * (double)si->pole_pairs;
-    double e_max = fmin(w_max * si->psi_m_wb, v_max);
-    double di = si->ts_s * (v_max + e_max + si->rs_ohm * si->i_trip_a) / si->ls_h;
-    double lim = si->i_trip_a - (si->delay_comp != 0 ? 1.0 : 2.0) * di;
-    return lim > 0.0 ? lim : 0.0;
-}
-
-int dtc_config_post_fault_si(const dtc_config_si_t *si, dtc_config_si_t *post)
-{
-    if (si->law != DTC_LAW_PM_DTC || si->topology != DTC_TOPO_SSTP || si->reconfig_relay != 1) {
-        return DTC_SI_ERR_VARIANT;
-    }
-    *post = *si;
-    post->topology = DTC_TOPO_FSTP;
-    post->compensation = si->compensation == DTC_COMP_SSTP ? DTC_COMP_FSTP_SIMPLE : si->compensation;
-    post->vmid_cal = 0;
-    post->cal_hold = 0;
-    return DTC_SI_OK;
 }
 
 void dtc_bases_from_si(const dtc_config_si_t *si, dtc_bases_t *b)
@@ -268,13 +131,7 @@ void dtc_bases_from_si(const dtc_config_si_t *si, dtc_bases_t *b)
 
 /* ---- error reporting ---------------------------------------------------------------------- */
 
-typedef struct {
-    char *msg;
-    size_t len;
-    int code;
-} conv_t;
-
-static int fail(conv_t *c, int code, const char *fmt, ...)
+int dtc_si_fail(dtc_si_conv_t *c, int code, const char *fmt, ...)
 {
     if (c->code == DTC_SI_OK) {
         c->code = code;
@@ -289,26 +146,26 @@ static int fail(conv_t *c, int code, const char *fmt, ...)
 }
 
 /* value (in pu) -> IQ, refusing overflow and a non-zero value that rounds to zero. */
-static iq_t to_iq(conv_t *c, const char *field, double si_value, double pu)
+iq_t dtc_si_to_iq(dtc_si_conv_t *c, const char *field, double si_value, double pu)
 {
     double r = nearbyint(pu * 16777216.0);
     if (!(r <= 2147483647.0 && r >= -2147483648.0) || !isfinite(pu)) {
-        fail(c, DTC_SI_ERR_RANGE, "%s = %g: %g pu overflows the IQ24 range (+-128 pu)", field,
+        dtc_si_fail(c, DTC_SI_ERR_RANGE, "%s = %g: %g pu overflows the IQ24 range (+-128 pu)", field,
              si_value, pu);
         return 0;
     }
     if (r == 0.0 && pu != 0.0) {
-        fail(c, DTC_SI_ERR_RANGE, "%s = %g: %g pu is below one IQ24 LSB (rounds to zero)", field,
+        dtc_si_fail(c, DTC_SI_ERR_RANGE, "%s = %g: %g pu is below one IQ24 LSB (rounds to zero)", field,
              si_value, pu);
     }
     return (iq_t)r;
 }
 
-static q31_t to_q31(conv_t *c, const char *field, double v)
+q31_t dtc_si_to_q31(dtc_si_conv_t *c, const char *field, double v)
 {
     double r = nearbyint(v * 2147483648.0);
     if (!(r <= 2147483647.0 && r >= 1.0) || !isfinite(v)) {
-        fail(c, DTC_SI_ERR_RANGE, "%s = %g: not representable in Q31 as a gain in (0, 1)", field,
+        dtc_si_fail(c, DTC_SI_ERR_RANGE, "%s = %g: not representable in Q31 as a gain in (0, 1)", field,
              v);
         return 0;
     }
@@ -318,151 +175,6 @@ static q31_t to_q31(conv_t *c, const char *field, double v)
 static uint32_t to_u32_milli(double v) { return (uint32_t)nearbyint(v * 1000.0); }
 
 /* ---- conversion ---------------------------------------------------------------------------- */
-
-/* The induction-machine law's fields (Casadei 2006), after the common ones (the speed PI, limits
- * and references are converted by dtc_config_from_si). T model: L_s = L_ls + M, L_r = L_lr + M,
- * sigma = 1 - M^2 / (L_s L_r). */
-static void im_from_si(conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *b, dtc_config_t *cfg)
-{
-    const double ls = si->lls_h + si->lm_h, lr = si->llr_h + si->lm_h, m = si->lm_h;
-    const double sigma = 1.0 - m * m / (ls * lr);
-    const double tsp = si->ts_s * b->w_base_rad_s;
-    const double rpm_pu = M_PI / 30.0 * si->pole_pairs / b->w_base_rad_s;
-    /* Rotor-flux reference: the constant one of eq. 19, or the no-load rotor flux of the stator-
-     * flux reference (phi_r = (M/L_s) phi_s at zero torque). */
-    const double psir = si->psir_ref_wb > 0.0 ? si->psir_ref_wb : si->flux_ref_wb * m / ls;
-    dtc_im_machine_cfg_t *im = &cfg->machine.im;
-
-    if (!(si->psir_ref_wb >= 0.0)) { fail(c, DTC_SI_ERR_IM, "psir_ref_wb = %g: must be >= 0 (0 = stator-flux reference)", si->psir_ref_wb); return; }
-    if (!(si->tau_lo_s > si->ts_s && si->tau_hi_s > si->ts_s)) { fail(c, DTC_SI_ERR_IM, "tau_lo_s = %g, tau_hi_s = %g: must be longer than ts_s", si->tau_lo_s, si->tau_hi_s); return; }
-    if (!(si->tau_w_lo_rpm >= 0.0 && si->tau_w_hi_rpm >= si->tau_w_lo_rpm)) { fail(c, DTC_SI_ERR_IM, "tau_w_hi_rpm = %g: need 0 <= tau_w_lo_rpm <= tau_w_hi_rpm", si->tau_w_hi_rpm); return; }
-    if (!(si->table_speed_rpm >= 0.0)) { fail(c, DTC_SI_ERR_IM, "table_speed_rpm = %g: must be >= 0 (0 = derived)", si->table_speed_rpm); return; }
-    if (!(si->speed_filter_s > si->ts_s * si->speed_div)) { fail(c, DTC_SI_ERR_IM, "speed_filter_s = %g: must be longer than the speed period ts_s * speed_div", si->speed_filter_s); return; }
-    if (!(si->magn_frac > 0.0 && si->magn_frac < 1.0)) { fail(c, DTC_SI_ERR_IM, "magn_frac = %g: must be in (0, 1)", si->magn_frac); return; }
-    if (si->flux_weakening != 0 && si->flux_weakening != 1) { fail(c, DTC_SI_ERR_IM, "flux_weakening = %d: must be 0 or 1", si->flux_weakening); return; }
-    if (si->fw_window < 20 || si->fw_window > 65535) { fail(c, DTC_SI_ERR_IM, "fw_window = %d: must be 20..65535 (section 12.3: at most one flux-reference change per 20 periods)", si->fw_window); return; }
-    if (!(si->fw_step_frac > 0.0 && si->fw_step_frac < 1.0)) { fail(c, DTC_SI_ERR_IM, "fw_step_frac = %g: must be in (0, 1)", si->fw_step_frac); return; }
-    if (!(si->fw_psi_min_frac > 0.0 && si->fw_psi_min_frac <= 1.0)) { fail(c, DTC_SI_ERR_IM, "fw_psi_min_frac = %g: must be in (0, 1]", si->fw_psi_min_frac); return; }
-
-    im->rr_iq = to_iq(c, "rr_ohm", si->rr_ohm, si->rr_ohm / b->z_base_ohm);
-    im->sigma_ls_iq = to_iq(c, "lls_h (sigma L_s)", si->lls_h, sigma * ls / b->l_base_h);
-    im->sigma_lr_iq = to_iq(c, "llr_h (sigma L_r)", si->llr_h, sigma * lr / b->l_base_h);
-    im->kr_iq = to_iq(c, "llr_h (L_r/M)", si->llr_h, lr / m);
-    im->ks_iq = to_iq(c, "lls_h (L_s/M)", si->lls_h, ls / m);
-    im->inv_ks_iq = to_iq(c, "lls_h (M/L_s)", si->lls_h, m / ls);
-    im->m_iq = to_iq(c, "lm_h", si->lm_h, m / b->l_base_h);
-
-    /* Improved estimator: Ts/tau in Q31, speed-dependent between the two speeds. */
-    cfg->est.im_k_lo_q31 = to_q31(c, "tau_lo_s (Ts/tau)", si->ts_s / si->tau_lo_s);
-    cfg->est.im_k_hi_q31 = to_q31(c, "tau_hi_s (Ts/tau)", si->ts_s / si->tau_hi_s);
-    cfg->est.im_w_lo_iq = to_iq(c, "tau_w_lo_rpm", si->tau_w_lo_rpm, si->tau_w_lo_rpm * rpm_pu);
-    cfg->est.im_w_hi_iq = to_iq(c, "tau_w_hi_rpm", si->tau_w_hi_rpm, si->tau_w_hi_rpm * rpm_pu);
-    if (cfg->est.im_w_hi_iq > cfg->est.im_w_lo_iq) {
-        const double slope = (si->ts_s / si->tau_hi_s - si->ts_s / si->tau_lo_s) /
-                             ((si->tau_w_hi_rpm - si->tau_w_lo_rpm) * rpm_pu);
-        const double r = nearbyint(slope * 2147483648.0);
-        if (!(fabs(r) <= 2147483647.0)) { fail(c, DTC_SI_ERR_IM, "tau_w_hi_rpm = %g: the Ts/tau slope overflows Q31", si->tau_w_hi_rpm); return; }
-        cfg->est.im_k_slope_q31 = (q31_t)r;
-    }
-
-    cfg->sw.scheme = (uint16_t)si->scheme;
-    if (si->scheme == DTC_SCHEME_SFVC || si->scheme == DTC_SCHEME_DFOC) {
-        /* SVM schemes (im_sfvc.c, im_dfoc.c): one SVM carrier period per control period */
-        if (!(si->carrier_hz == 0.0 || fabs(si->carrier_hz * si->ts_s - 1.0) < 1e-9)) { fail(c, DTC_SI_ERR_IM, "carrier_hz = %g: the SVM carrier period must equal the control period ts_s = %g s (one PWM period per control period; 0 = 1/ts_s)", si->carrier_hz, si->ts_s); return; }
-        if (si->svm_mode != 0 && si->svm_mode != 1) { fail(c, DTC_SI_ERR_IM, "svm_mode = %d: must be 0 (symmetric) or 1 (two-phase)", si->svm_mode); return; }
-        if (!(si->psir_ref_wb > 0.0)) { fail(c, DTC_SI_ERR_IM, "psir_ref_wb = %g: the stator-flux vector control (Casadei eq. 18) and the rotor-flux-oriented control take the rotor-flux command: must be > 0", si->psir_ref_wb); return; }
-        if (si->flux_weakening != 0) { fail(c, DTC_SI_ERR_IM, "flux_weakening = %d: section 12's flux weakening watches the DTC torque comparator; not with SFVC or DFOC", si->flux_weakening); return; }
-        cfg->sw.svm_mode = (uint16_t)si->svm_mode;
-    }
-    if (si->scheme == DTC_SCHEME_SFVC) {
-        /* the flux regulator's K_p (eq. 24) in pu voltage per pu flux = K_p / w_base */
-        const double kp = si->sfvc_kp_per_s > 0.0 ? si->sfvc_kp_per_s : 0.5 / si->ts_s;
-        if (!(si->sfvc_kp_per_s >= 0.0 && si->sfvc_kp_per_s * si->ts_s <= 1.0)) { fail(c, DTC_SI_ERR_IM, "sfvc_kp_per_s = %g: must be in (0, 1/ts_s = %g] (0 = derived)", si->sfvc_kp_per_s, 1.0 / si->ts_s); return; }
-        cfg->sw.sfvc_kp_iq = to_iq(c, "sfvc_kp_per_s", kp, kp / b->w_base_rad_s);
-    }
-    if (si->scheme == DTC_SCHEME_DFOC) {
-        /* Current PI regulators in the rotor-flux frame (Casadei sec. 13, im_dfoc.c). With the
-         * back-EMF j w_s phi_s fed forward, the current sees sigma L_s di/dt = v - R_s i (the
-         * transient inductance): a PI with its zero at R_s / (sigma L_s) and the crossover w_c
-         * makes the loop w_c / (s + w_c): K_p = sigma L_s w_c, K_i = R_s w_c. w_c = 0.2 / Ts: the
-         * loop's delay of about 1.5 Ts (the computation period and the PWM's half period) costs
-         * 0.3 rad (17 deg) of phase there. References (T model, rotor-flux frame): i_d = phi_r* / M,
-         * T = (3/2) p (M/L_r) phi_r i_q, in pu i_q = (l_r/m) T / phi_r*. */
-        const double wc = 0.2 / si->ts_s;
-        const double zpu = si->rs_ohm / b->z_base_ohm;
-        cfg->sw.dfoc_kp_iq = to_iq(c, "lls_h (DFOC K_p = sigma L_s w_c)", si->lls_h, sigma * ls / b->l_base_h * wc / b->w_base_rad_s);
-        cfg->sw.dfoc_ki_ts_iq = zpu > 0.0 ? to_iq(c, "rs_ohm (DFOC K_i Ts = R_s w_c Ts)", si->rs_ohm, zpu * wc * si->ts_s) : 0;
-        cfg->sw.dfoc_id_ref_iq = to_iq(c, "psir_ref_wb (DFOC i_d* = phi_r* / M)", si->psir_ref_wb, si->psir_ref_wb / m / b->i_base_a);
-        cfg->sw.dfoc_iq_per_t_iq = to_iq(c, "psir_ref_wb (DFOC l_r/(m phi_r*))", si->psir_ref_wb, lr / m / (si->psir_ref_wb / b->psi_base_wb));
-    }
-    if (si->scheme == DTC_SCHEME_DSVM) {
-        /* The five-level torque comparator (hyst.h hyst5_t): the outer band. Derived (0): the
-         * levels +-2 (a whole active vector) only when the torque error exceeds what a whole
-         * vector changes in one period, Casadei eqs. 12, 15 at standstill with the vector
-         * across the flux: dT = (3/2) p M / (sigma L_s L_r) |V_k| |phi_r| Ts, |V_k| = 2/3 V_dc;
-         * so band2 / 2 = dT (and at least the inner band). */
-        const double dt_full = 1.5 * si->pole_pairs * m / (sigma * ls * lr) * (2.0 / 3.0 * si->vdc_v) * psir * si->ts_s;
-        const double b2 = si->dsvm_torque_band2_nm > 0.0 ? si->dsvm_torque_band2_nm
-                                                         : fmax(2.0 * dt_full, si->torque_band_nm);
-        if (!(si->dsvm_torque_band2_nm == 0.0 || si->dsvm_torque_band2_nm >= si->torque_band_nm)) { fail(c, DTC_SI_ERR_BAND, "dsvm_torque_band2_nm = %g: must be 0 (derived) or >= torque_band_nm = %g", si->dsvm_torque_band2_nm, si->torque_band_nm); return; }
-        if (si->flux_weakening != 0) { fail(c, DTC_SI_ERR_IM, "flux_weakening = %d: section 12's flux weakening watches the three-level torque comparator; not with DSVM", si->flux_weakening); return; }
-        cfg->sw.dsvm_torque_band2_iq = to_iq(c, "dsvm_torque_band2_nm", b2, b2 / b->t_base_nm);
-    }
-    {
-        const double rpm = si->table_speed_rpm > 0.0 ? si->table_speed_rpm : dtc_table_speed_default_rpm(si);
-        cfg->sw.im_table_speed_iq = to_iq(c, "table_speed_rpm", rpm, rpm * rpm_pu);
-    }
-    cfg->sw.im_fw_on = (uint16_t)si->flux_weakening;
-    cfg->sw.im_fw_window = (uint16_t)si->fw_window;
-    {
-        /* Casadei eq. 31: pull-out torque at stator flux phi_s (R_s neglected):
-         * T_max = (3/2) p (1 - sigma) / (2 sigma L_s) phi_s^2, so k_T = T_max / phi_s^2. In pu
-         * (T_base = 3/2 p psi_base I_base): k_T = (1 - sigma) / (2 sigma l_s). */
-        const double kt_pu = (1.0 - sigma) / (2.0 * sigma * ls / b->l_base_h);
-        const double psi_pu = si->flux_ref_wb / b->psi_base_wb;
-        cfg->sw.im_fw_step_down_iq = to_iq(c, "fw_step_frac", si->fw_step_frac, si->fw_step_frac * psi_pu);
-        cfg->sw.im_fw_step_up_iq = cfg->sw.im_fw_step_down_iq;
-        cfg->sw.im_fw_psi_min_iq = to_iq(c, "fw_psi_min_frac", si->fw_psi_min_frac, si->fw_psi_min_frac * psi_pu);
-        cfg->sw.im_fw_inv_psi_rated_iq = to_iq(c, "flux_ref_wb (1/phi_s,rated)", si->flux_ref_wb, 1.0 / psi_pu);
-        cfg->sw.im_fw_kt_iq = to_iq(c, "lls_h (k_T of eq. 34)", si->lls_h, kt_pu);
-    }
-
-    cfg->speed.sensor = (uint16_t)si->speed_sensor;
-    cfg->speed.psir_ref_iq = to_iq(c, "psir_ref_wb", si->psir_ref_wb, si->psir_ref_wb / b->psi_base_wb);
-    cfg->speed.inv_psir_ref_iq = si->psir_ref_wb > 0.0
-        ? to_iq(c, "psir_ref_wb (1/phi_r*)", si->psir_ref_wb, b->psi_base_wb / si->psir_ref_wb) : 0;
-    cfg->speed.inv_psir_sq_iq = to_iq(c, "psir_ref_wb (1/phi_r*^2)", psir,
-                                      (b->psi_base_wb / psir) * (b->psi_base_wb / psir));
-    /* sensorless speed once per speed period T_speed = speed_div Ts (im_ref.h) */
-    cfg->speed.im_gain_w_iq = to_iq(c, "ts_s (angle-to-speed gain)", si->ts_s,
-                                    2.0 * M_PI / (65536.0 * tsp * si->speed_div));
-    cfg->speed.im_speed_filt_q31 = to_q31(c, "speed_filter_s",
-                                          1.0 - exp(-si->ts_s * si->speed_div / si->speed_filter_s));
-    {
-        /* Start-up (im_dtc.h). Magnetising ramp: at DC (T model, Casadei eqs. 7-9 at w = 0)
-         * phi_s = sigma L_s i + (M/L_r) phi_r and d phi_r/dt = (M i - phi_r)/tau_r. With phi_s
-         * ramped at rho the current settles (after sigma tau_r) to
-         *     i = phi_r/M + tau_r rho / L_s,   phi_r lagging (M/L_s) phi_s by sigma tau_r,
-         * so it stays below the rated current I_n when rho = (I_n - I_m) L_s / tau_r, I_m =
-         * phi_r* / M the final magnetising current. (A stator-flux step instead drives the current
-         * towards phi_s* / (sigma L_s).) Then the stator flux is held: the improved estimator's
-         * error at DC decays as 1 - exp(-t/tau_r) (eq. 20 at DC: d phi_r/dt = -(R_r/L_r)(phi_r -
-         * phi_r*)), so the torque waits tau_r ln(1/(1 - magn_frac)) more. */
-        const double tau_r = lr / si->rr_ohm;
-        const double psis_final = si->psir_ref_wb > 0.0 ? si->psir_ref_wb * ls / m : si->flux_ref_wb;
-        const double i_m = psir / m;
-        const double rho = (si->rated_current_a - i_m) * ls / tau_r;
-        double n_ramp, n;
-        if (!(si->rated_current_a > i_m)) { fail(c, DTC_SI_ERR_IM, "rated_current_a = %g: must exceed the magnetising current phi_r*/M = %g A", si->rated_current_a, i_m); return; }
-        n_ramp = ceil(psis_final / (rho * si->ts_s));
-        n = n_ramp + ceil(tau_r * log(1.0 / (1.0 - si->magn_frac)) / si->ts_s);
-        if (!(n >= 1.0 && n <= 65535.0)) { fail(c, DTC_SI_ERR_IM, "magn_frac = %g: the magnetisation time %g s is not 1..65535 periods of ts_s", si->magn_frac, n * si->ts_s); return; }
-        cfg->speed.im_magn_periods = (uint16_t)n;
-        cfg->speed.im_magn_ramp_iq = to_iq(c, "rated_current_a (magnetising ramp)", si->rated_current_a,
-                                           rho * si->ts_s / b->psi_base_wb);
-        cfg->speed.im_magn_k_q31 = to_q31(c, "rr_ohm (Ts/tau_r)", si->ts_s / tau_r);
-    }
-}
 
 /* Fault-detection levels (firmware app_core.c; issue 16), from the configured machine, board and
  * drive:
@@ -482,7 +194,7 @@ static void im_from_si(conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *
  *    T_lim / J (the torque limit plus as much load), takes away in N Ts; 0 (off) without an
  *    encoder speed or without an inertia;
  *  - relay: 1.5 times its closing time (coil tolerance and bounce) plus one period. */
-static void dtc_fault_levels(conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *b, dtc_config_t *cfg)
+static void dtc_fault_levels(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *b, dtc_config_t *cfg)
 {
     const double n_ts = (double)APP_ENC_FREEZE_PERIODS * si->ts_s;
     cfg->prot.i_sum_max_iq = 0;
@@ -495,19 +207,19 @@ static void dtc_fault_levels(conv_t *c, const dtc_config_si_t *si, const dtc_bas
     }
     cfg->prot.i_plaus = 1U;
     if (si->i_sensors3 != 0) {
-        cfg->prot.i_sum_max_iq = to_iq(c, "rated_current_a (current-sum level)", si->rated_current_a,
+        cfg->prot.i_sum_max_iq = dtc_si_to_iq(c, "rated_current_a (current-sum level)", si->rated_current_a,
                                        0.25 * si->rated_current_a / b->i_base_a);
     }
     {
         /* the zero band (leg_i_min / 4, firmware) at least 8 ADC counts: above the sensors' noise */
         const double i_min = fmax(si->rated_current_a / 8.0, 32.0 * si->adc_i_a_per_count);
-        cfg->prot.leg_i_min_iq = to_iq(c, "rated_current_a (open-phase level)", i_min, i_min / b->i_base_a);
+        cfg->prot.leg_i_min_iq = dtc_si_to_iq(c, "rated_current_a (open-phase level)", i_min, i_min / b->i_base_a);
     }
     if (si->speed_sensor == DTC_SPEED_ENCODER && si->inertia_kgm2 > 0.0) {
         const double w_counts = 2.0 * M_PI * 8.0 / (4.0 * si->enc_lines * n_ts);
         const double w_decel = 4.0 * (2.0 * si->torque_limit_nm / si->inertia_kgm2) * n_ts;
         const double w_e = fmax(w_counts, w_decel) * si->pole_pairs;
-        cfg->prot.enc_freeze_speed_iq = to_iq(c, "enc_lines (lost-encoder speed)", w_e, w_e / b->w_base_rad_s);
+        cfg->prot.enc_freeze_speed_iq = dtc_si_to_iq(c, "enc_lines (lost-encoder speed)", w_e, w_e / b->w_base_rad_s);
     }
     if (si->reconfig_relay == 1) {
         cfg->prot.relay_periods = (uint16_t)fmin(65535.0, ceil(1.5 * si->relay_delay_s / si->ts_s) + 1.0);
@@ -516,7 +228,7 @@ static void dtc_fault_levels(conv_t *c, const dtc_config_si_t *si, const dtc_bas
 
 int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, size_t msg_len)
 {
-    conv_t c = {msg, msg_len, DTC_SI_OK};
+    dtc_si_conv_t c = {msg, msg_len, DTC_SI_OK};
     dtc_bases_t b;
     double tsp, kp, ki, enc_counts, a, wc_pu;
     int fw;
@@ -526,136 +238,114 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
         msg[0] = '\0';
     }
     if (si == NULL || cfg == NULL) {
-        return fail(&c, DTC_SI_ERR_NULL, "null argument");
+        return dtc_si_fail(&c, DTC_SI_ERR_NULL, "null argument");
     }
     memset(cfg, 0, sizeof *cfg);
 
     /* Plain range checks, field by field (first failure wins). */
-    if (!(si->v_base_v > 0.0)) return fail(&c, DTC_SI_ERR_BASE, "v_base_v = %g: must be > 0", si->v_base_v);
-    if (!(si->i_base_a > 0.0)) return fail(&c, DTC_SI_ERR_BASE, "i_base_a = %g: must be > 0", si->i_base_a);
-    if (!(si->w_base_rad_s > 0.0)) return fail(&c, DTC_SI_ERR_BASE, "w_base_rad_s = %g: must be > 0", si->w_base_rad_s);
-    if (!(si->rs_ohm >= 0.0)) return fail(&c, DTC_SI_ERR_MACHINE, "rs_ohm = %g: resistance must be >= 0", si->rs_ohm);
-    if (si->law != DTC_LAW_PM_DTC && si->law != DTC_LAW_IM_DTC)
-        return fail(&c, DTC_SI_ERR_VARIANT, "law = %d: must be DTC_LAW_PM_DTC or DTC_LAW_IM_DTC", si->law);
-    if (si->law == DTC_LAW_PM_DTC) {
-        if (!(si->ls_h > 0.0)) return fail(&c, DTC_SI_ERR_MACHINE, "ls_h = %g: inductance must be > 0", si->ls_h);
-        if (!(si->psi_m_wb > 0.0)) return fail(&c, DTC_SI_ERR_MACHINE, "psi_m_wb = %g: magnet flux must be > 0", si->psi_m_wb);
-    } else {
-        if (!(si->rr_ohm > 0.0)) return fail(&c, DTC_SI_ERR_MACHINE, "rr_ohm = %g: rotor resistance must be > 0", si->rr_ohm);
-        if (!(si->lm_h > 0.0)) return fail(&c, DTC_SI_ERR_MACHINE, "lm_h = %g: magnetising inductance must be > 0", si->lm_h);
-        if (!(si->lls_h > 0.0)) return fail(&c, DTC_SI_ERR_MACHINE, "lls_h = %g: leakage inductance must be > 0", si->lls_h);
-        if (!(si->llr_h > 0.0)) return fail(&c, DTC_SI_ERR_MACHINE, "llr_h = %g: leakage inductance must be > 0", si->llr_h);
-    }
-    if (si->pole_pairs < 1 || si->pole_pairs > 16) return fail(&c, DTC_SI_ERR_MACHINE, "pole_pairs = %d: must be 1..16", si->pole_pairs);
+    if (!(si->v_base_v > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_BASE, "v_base_v = %g: must be > 0", si->v_base_v);
+    if (!(si->i_base_a > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_BASE, "i_base_a = %g: must be > 0", si->i_base_a);
+    if (!(si->w_base_rad_s > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_BASE, "w_base_rad_s = %g: must be > 0", si->w_base_rad_s);
+    if (!(si->rs_ohm >= 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_MACHINE, "rs_ohm = %g: resistance must be >= 0", si->rs_ohm);
+    if (si->law < 0 || si->law >= DTC_LAW_COUNT)
+        return dtc_si_fail(&c, DTC_SI_ERR_VARIANT, "law = %d: not an enum dtc_law (0..%d)", si->law, DTC_LAW_COUNT - 1);
+    if ((dtc_law_is_im((uint16_t)si->law) != 0U ? dtc_si_im_check(&c, si) : dtc_si_pm_dtc_check(&c, si)) != DTC_SI_OK)
+        return c.code;
+    if (si->pole_pairs < 1 || si->pole_pairs > 16) return dtc_si_fail(&c, DTC_SI_ERR_MACHINE, "pole_pairs = %d: must be 1..16", si->pole_pairs);
     if (!(si->rated_speed_rpm > 0.0) || !(si->rated_torque_nm > 0.0) || !(si->rated_current_a > 0.0))
-        return fail(&c, DTC_SI_ERR_MACHINE, "rated_speed_rpm/rated_torque_nm/rated_current_a: must be > 0");
+        return dtc_si_fail(&c, DTC_SI_ERR_MACHINE, "rated_speed_rpm/rated_torque_nm/rated_current_a: must be > 0");
     if (si->topology != DTC_TOPO_SSTP && si->topology != DTC_TOPO_FSTP)
-        return fail(&c, DTC_SI_ERR_VARIANT, "topology = %d: must be DTC_TOPO_SSTP or DTC_TOPO_FSTP", si->topology);
-    if (!(si->vdc_v > 0.0)) return fail(&c, DTC_SI_ERR_INVERTER, "vdc_v = %g: must be > 0", si->vdc_v);
-    if (!(si->v_ce_v >= 0.0)) return fail(&c, DTC_SI_ERR_INVERTER, "v_ce_v = %g: must be >= 0", si->v_ce_v);
-    if (!(si->v_d_v >= 0.0)) return fail(&c, DTC_SI_ERR_INVERTER, "v_d_v = %g: must be >= 0", si->v_d_v);
-    if (!(si->v_f_v >= 0.0)) return fail(&c, DTC_SI_ERR_INVERTER, "v_f_v = %g: must be >= 0", si->v_f_v);
-    if (!(si->r_on_ohm >= 0.0)) return fail(&c, DTC_SI_ERR_INVERTER, "r_on_ohm = %g: must be >= 0", si->r_on_ohm);
+        return dtc_si_fail(&c, DTC_SI_ERR_VARIANT, "topology = %d: must be DTC_TOPO_SSTP or DTC_TOPO_FSTP", si->topology);
+    if (!(si->vdc_v > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_INVERTER, "vdc_v = %g: must be > 0", si->vdc_v);
+    if (!(si->v_ce_v >= 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_INVERTER, "v_ce_v = %g: must be >= 0", si->v_ce_v);
+    if (!(si->v_d_v >= 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_INVERTER, "v_d_v = %g: must be >= 0", si->v_d_v);
+    if (!(si->v_f_v >= 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_INVERTER, "v_f_v = %g: must be >= 0", si->v_f_v);
+    if (!(si->r_on_ohm >= 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_INVERTER, "r_on_ohm = %g: must be >= 0", si->r_on_ohm);
     if (si->fstp_vmid_measured != 0 && si->fstp_vmid_measured != 1)
-        return fail(&c, DTC_SI_ERR_VARIANT, "fstp_vmid_measured = %d: must be 0 or 1", si->fstp_vmid_measured);
-    if (!(si->ts_s > 0.0)) return fail(&c, DTC_SI_ERR_TIMING, "ts_s = %g: must be > 0", si->ts_s);
-    if (si->speed_div < 1 || si->speed_div > 1000) return fail(&c, DTC_SI_ERR_TIMING, "speed_div = %d: must be 1..1000", si->speed_div);
+        return dtc_si_fail(&c, DTC_SI_ERR_VARIANT, "fstp_vmid_measured = %d: must be 0 or 1", si->fstp_vmid_measured);
+    if (!(si->ts_s > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_TIMING, "ts_s = %g: must be > 0", si->ts_s);
+    if (si->speed_div < 1 || si->speed_div > 1000) return dtc_si_fail(&c, DTC_SI_ERR_TIMING, "speed_div = %d: must be 1..1000", si->speed_div);
     if (!(si->ts_s * si->w_base_rad_s < 1.0))
-        return fail(&c, DTC_SI_ERR_BASE, "ts_s = %g: ts * w_base_rad_s = %g must be < 1 (one sample shorter than the time base)", si->ts_s, si->ts_s * si->w_base_rad_s);
-    if (si->enc_lines < 1 || si->enc_lines > 16383) return fail(&c, DTC_SI_ERR_ENCODER, "enc_lines = %d: 4*lines must fit 16 bits (1..16383)", si->enc_lines);
-    if (si->speed_min_counts < 1 || si->speed_min_counts > 16000) return fail(&c, DTC_SI_ERR_ENCODER, "speed_min_counts = %d: must be 1..16000", si->speed_min_counts);
-    if (!isfinite(si->enc_offset_rad)) return fail(&c, DTC_SI_ERR_ENCODER, "enc_offset_rad: not finite");
-    if (!(si->flux_band_wb >= 0.0)) return fail(&c, DTC_SI_ERR_BAND, "flux_band_wb = %g: must be >= 0", si->flux_band_wb);
-    if (!(si->torque_band_nm >= 0.0)) return fail(&c, DTC_SI_ERR_BAND, "torque_band_nm = %g: must be >= 0", si->torque_band_nm);
-    if (!(si->lpf_cutoff_rad_s > 0.0)) return fail(&c, DTC_SI_ERR_CUTOFF, "lpf_cutoff_rad_s = %g: must be > 0 (a pure integrator drifts)", si->lpf_cutoff_rad_s);
+        return dtc_si_fail(&c, DTC_SI_ERR_BASE, "ts_s = %g: ts * w_base_rad_s = %g must be < 1 (one sample shorter than the time base)", si->ts_s, si->ts_s * si->w_base_rad_s);
+    if (si->enc_lines < 1 || si->enc_lines > 16383) return dtc_si_fail(&c, DTC_SI_ERR_ENCODER, "enc_lines = %d: 4*lines must fit 16 bits (1..16383)", si->enc_lines);
+    if (si->speed_min_counts < 1 || si->speed_min_counts > 16000) return dtc_si_fail(&c, DTC_SI_ERR_ENCODER, "speed_min_counts = %d: must be 1..16000", si->speed_min_counts);
+    if (!isfinite(si->enc_offset_rad)) return dtc_si_fail(&c, DTC_SI_ERR_ENCODER, "enc_offset_rad: not finite");
+    if (!(si->flux_band_wb >= 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_BAND, "flux_band_wb = %g: must be >= 0", si->flux_band_wb);
+    if (!(si->torque_band_nm >= 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_BAND, "torque_band_nm = %g: must be >= 0", si->torque_band_nm);
+    if (!(si->lpf_cutoff_rad_s > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_CUTOFF, "lpf_cutoff_rad_s = %g: must be > 0 (a pure integrator drifts)", si->lpf_cutoff_rad_s);
     if (!(si->lpf_cutoff_rad_s * si->ts_s < M_PI))
-        return fail(&c, DTC_SI_ERR_CUTOFF, "lpf_cutoff_rad_s = %g: at or above the Nyquist rate pi/ts_s = %g rad/s", si->lpf_cutoff_rad_s, M_PI / si->ts_s);
+        return dtc_si_fail(&c, DTC_SI_ERR_CUTOFF, "lpf_cutoff_rad_s = %g: at or above the Nyquist rate pi/ts_s = %g rad/s", si->lpf_cutoff_rad_s, M_PI / si->ts_s);
     if (!(si->handover_auto != 0 || si->handover_speed_rpm >= 0.0))
-        return fail(&c, DTC_SI_ERR_HANDOVER, "handover_speed_rpm = %g: must be >= 0 (0 = voltage model from standstill)", si->handover_speed_rpm);
+        return dtc_si_fail(&c, DTC_SI_ERR_HANDOVER, "handover_speed_rpm = %g: must be >= 0 (0 = voltage model from standstill)", si->handover_speed_rpm);
     if (si->delay_comp != 0 && si->delay_comp != 1)
-        return fail(&c, DTC_SI_ERR_DELAY, "delay_comp = %d: must be 0 or 1", si->delay_comp);
+        return dtc_si_fail(&c, DTC_SI_ERR_DELAY, "delay_comp = %d: must be 0 or 1", si->delay_comp);
     if (si->deadtime_comp != 0 && si->deadtime_comp != 1)
-        return fail(&c, DTC_SI_ERR_DEADTIME, "deadtime_comp = %d: must be 0 or 1", si->deadtime_comp);
+        return dtc_si_fail(&c, DTC_SI_ERR_DEADTIME, "deadtime_comp = %d: must be 0 or 1", si->deadtime_comp);
     if (!(si->dead_time_s >= 0.0 && si->dead_time_s < 0.5 * si->ts_s))
-        return fail(&c, DTC_SI_ERR_DEADTIME, "dead_time_s = %g: must be in [0, ts_s/2)", si->dead_time_s);
+        return dtc_si_fail(&c, DTC_SI_ERR_DEADTIME, "dead_time_s = %g: must be in [0, ts_s/2)", si->dead_time_s);
     if (!(si->handover_hyst_frac >= 0.0 && si->handover_hyst_frac <= 1.0))
-        return fail(&c, DTC_SI_ERR_HANDOVER, "handover_hyst_frac = %g: must be in [0, 1]", si->handover_hyst_frac);
-    if (si->law == DTC_LAW_PM_DTC && si->estimator != DTC_EST_VOLTAGE && si->estimator != DTC_EST_CURRENT)
-        return fail(&c, DTC_SI_ERR_VARIANT, "estimator = %d: the PM law has DTC_EST_VOLTAGE or DTC_EST_CURRENT", si->estimator);
-    if (si->law == DTC_LAW_IM_DTC && si->estimator != DTC_EST_VOLTAGE && si->estimator != DTC_EST_IMPROVED)
-        return fail(&c, DTC_SI_ERR_VARIANT, "estimator = %d: the IM law has DTC_EST_VOLTAGE or DTC_EST_IMPROVED", si->estimator);
-    if (si->law == DTC_LAW_IM_DTC && si->topology != DTC_TOPO_SSTP)
-        return fail(&c, DTC_SI_ERR_VARIANT, "topology = %d: the IM law needs the six-switch inverter (DTC_TOPO_SSTP)", si->topology);
+        return dtc_si_fail(&c, DTC_SI_ERR_HANDOVER, "handover_hyst_frac = %g: must be in [0, 1]", si->handover_hyst_frac);
     if (si->compensation < DTC_COMP_NONE || si->compensation > DTC_COMP_FSTP_PROPOSED ||
         (si->topology == DTC_TOPO_SSTP && si->compensation >= DTC_COMP_FSTP_SIMPLE) ||
         (si->topology == DTC_TOPO_FSTP && si->compensation == DTC_COMP_SSTP))
-        return fail(&c, DTC_SI_ERR_VARIANT, "compensation = %d: not available for topology %d", si->compensation, si->topology);
-    if (si->sstp_table < DTC_ST_BASIC || si->sstp_table > (si->law == DTC_LAW_IM_DTC ? DTC_ST_SPEED : DTC_ST_D))
-        return fail(&c, DTC_SI_ERR_VARIANT, "sstp_table = %d: must be DTC_ST_BASIC..%s", si->sstp_table,
-                    si->law == DTC_LAW_IM_DTC ? "DTC_ST_SPEED" : "DTC_ST_D (DTC_ST_SPEED is IM only)");
-    if (si->scheme != DTC_SCHEME_DTC &&
-        !(si->law == DTC_LAW_IM_DTC && (si->scheme == DTC_SCHEME_DSC || si->scheme == DTC_SCHEME_SFVC ||
-                                        si->scheme == DTC_SCHEME_DFOC || si->scheme == DTC_SCHEME_DSVM)))
-        return fail(&c, DTC_SI_ERR_VARIANT, "scheme = %d: DTC_SCHEME_DTC, or DTC_SCHEME_DSC / SFVC / DFOC / DSVM with the IM law", si->scheme);
-    if (si->speed_sensor != DTC_SPEED_ENCODER && !(si->law == DTC_LAW_IM_DTC && si->speed_sensor == DTC_SPEED_NONE))
-        return fail(&c, DTC_SI_ERR_VARIANT, "speed_sensor = %d: DTC_SPEED_ENCODER, or DTC_SPEED_NONE with the IM law", si->speed_sensor);
+        return dtc_si_fail(&c, DTC_SI_ERR_VARIANT, "compensation = %d: not available for topology %d", si->compensation, si->topology);
     if (si->mode != DTC_MODE_SPEED && si->mode != DTC_MODE_TORQUE)
-        return fail(&c, DTC_SI_ERR_VARIANT, "mode = %d: must be DTC_MODE_SPEED or DTC_MODE_TORQUE", si->mode);
-    if (!(si->torque_limit_nm > 0.0)) return fail(&c, DTC_SI_ERR_LIMIT, "torque_limit_nm = %g: must be > 0", si->torque_limit_nm);
+        return dtc_si_fail(&c, DTC_SI_ERR_VARIANT, "mode = %d: must be DTC_MODE_SPEED or DTC_MODE_TORQUE", si->mode);
+    if (!(si->torque_limit_nm > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_LIMIT, "torque_limit_nm = %g: must be > 0", si->torque_limit_nm);
     if (!(si->stall_time_s == 0.0 ||
           (si->stall_time_s >= 20.0 * si->ts_s * si->speed_div && si->stall_time_s / (si->ts_s * si->speed_div) <= 65535.0)))
-        return fail(&c, DTC_SI_ERR_GAIN, "stall_time_s = %g: must be 0 (derived) or span 20 .. 65535 speed periods of %g s", si->stall_time_s, si->ts_s * si->speed_div);
+        return dtc_si_fail(&c, DTC_SI_ERR_GAIN, "stall_time_s = %g: must be 0 (derived) or span 20 .. 65535 speed periods of %g s", si->stall_time_s, si->ts_s * si->speed_div);
     if (!(si->torque_trim_tau_s == 0.0 || si->torque_trim_tau_s > si->ts_s))
-        return fail(&c, DTC_SI_ERR_GAIN, "torque_trim_tau_s = %g: must be 0 (off) or longer than ts_s = %g", si->torque_trim_tau_s, si->ts_s);
-    if (!(si->speed_limit_rpm > 0.0)) return fail(&c, DTC_SI_ERR_LIMIT, "speed_limit_rpm = %g: must be > 0", si->speed_limit_rpm);
+        return dtc_si_fail(&c, DTC_SI_ERR_GAIN, "torque_trim_tau_s = %g: must be 0 (off) or longer than ts_s = %g", si->torque_trim_tau_s, si->ts_s);
+    if (!(si->speed_limit_rpm > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_LIMIT, "speed_limit_rpm = %g: must be > 0", si->speed_limit_rpm);
     if (!(si->overspeed_rpm <= 0.0 || si->overspeed_rpm > si->speed_limit_rpm))
-        return fail(&c, DTC_SI_ERR_LIMIT, "overspeed_rpm = %g: must be above speed_limit_rpm = %g (0 = derived, < 0 = off)",
-                    si->overspeed_rpm, si->speed_limit_rpm);
-    if (!(si->i_trip_a > 0.0)) return fail(&c, DTC_SI_ERR_LIMIT, "i_trip_a = %g: must be > 0", si->i_trip_a);
+        return dtc_si_fail(&c, DTC_SI_ERR_LIMIT, "overspeed_rpm = %g: must be above speed_limit_rpm = %g (0 = derived, < 0 = off)",
+                           si->overspeed_rpm, si->speed_limit_rpm);
+    if (!(si->i_trip_a > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_LIMIT, "i_trip_a = %g: must be > 0", si->i_trip_a);
     if (!(si->c_dc_f > 0.0))
-        return fail(&c, DTC_SI_ERR_INVERTER, "c_dc_f = %g: must be > 0", si->c_dc_f);
+        return dtc_si_fail(&c, DTC_SI_ERR_INVERTER, "c_dc_f = %g: must be > 0", si->c_dc_f);
     if (si->dc_supp != 0 && si->dc_supp != 1)
-        return fail(&c, DTC_SI_ERR_CUTOFF, "dc_supp = %d: must be 0 or 1", si->dc_supp);
+        return dtc_si_fail(&c, DTC_SI_ERR_CUTOFF, "dc_supp = %d: must be 0 or 1", si->dc_supp);
     if (si->lpf_comp != 0 && si->lpf_comp != 1)
-        return fail(&c, DTC_SI_ERR_CUTOFF, "lpf_comp = %d: must be 0 or 1", si->lpf_comp);
+        return dtc_si_fail(&c, DTC_SI_ERR_CUTOFF, "lpf_comp = %d: must be 0 or 1", si->lpf_comp);
     if (si->vmid_cal != 0 && si->vmid_cal != 1)
-        return fail(&c, DTC_SI_ERR_ILIM, "vmid_cal = %d: must be 0 or 1", si->vmid_cal);
+        return dtc_si_fail(&c, DTC_SI_ERR_ILIM, "vmid_cal = %d: must be 0 or 1", si->vmid_cal);
     if (si->cal_hold != 0 && si->cal_hold != 1)
-        return fail(&c, DTC_SI_ERR_ILIM, "cal_hold = %d: must be 0 or 1", si->cal_hold);
+        return dtc_si_fail(&c, DTC_SI_ERR_ILIM, "cal_hold = %d: must be 0 or 1", si->cal_hold);
     if (si->polarity_mid != 0 && si->polarity_mid != 1)
-        return fail(&c, DTC_SI_ERR_ILIM, "polarity_mid = %d: must be 0 or 1", si->polarity_mid);
+        return dtc_si_fail(&c, DTC_SI_ERR_ILIM, "polarity_mid = %d: must be 0 or 1", si->polarity_mid);
     if (si->current_limit_auto == 0 &&
         !(si->current_limit_a >= 0.0 && (si->current_limit_a == 0.0 || si->current_limit_a < si->i_trip_a)))
-        return fail(&c, DTC_SI_ERR_ILIM, "current_limit_a = %g: must be 0 (off) or in (0, i_trip_a = %g)", si->current_limit_a, si->i_trip_a);
+        return dtc_si_fail(&c, DTC_SI_ERR_ILIM, "current_limit_a = %g: must be 0 (off) or in (0, i_trip_a = %g)", si->current_limit_a, si->i_trip_a);
     if (!(si->vdc_min_v >= 0.0 && si->vdc_max_v > si->vdc_min_v))
-        return fail(&c, DTC_SI_ERR_LIMIT, "vdc_min_v = %g, vdc_max_v = %g: need 0 <= min < max", si->vdc_min_v, si->vdc_max_v);
-    if (!(si->flux_ref_wb > 0.0)) return fail(&c, DTC_SI_ERR_REFERENCE, "flux_ref_wb = %g: must be > 0", si->flux_ref_wb);
-    if (!(fabs(si->speed_ref_rpm) <= si->speed_limit_rpm)) return fail(&c, DTC_SI_ERR_REFERENCE, "speed_ref_rpm = %g: beyond speed_limit_rpm = %g", si->speed_ref_rpm, si->speed_limit_rpm);
-    if (!(fabs(si->torque_ref_nm) <= si->torque_limit_nm)) return fail(&c, DTC_SI_ERR_REFERENCE, "torque_ref_nm = %g: beyond torque_limit_nm = %g", si->torque_ref_nm, si->torque_limit_nm);
-    if (!(si->adc_i_a_per_count > 0.0)) return fail(&c, DTC_SI_ERR_ADC, "adc_i_a_per_count = %g: must be > 0", si->adc_i_a_per_count);
-    if (!(si->adc_vdc_v_per_count > 0.0)) return fail(&c, DTC_SI_ERR_ADC, "adc_vdc_v_per_count = %g: must be > 0", si->adc_vdc_v_per_count);
-    if (!(si->adc_vmid_v_per_count > 0.0)) return fail(&c, DTC_SI_ERR_ADC, "adc_vmid_v_per_count = %g: must be > 0", si->adc_vmid_v_per_count);
+        return dtc_si_fail(&c, DTC_SI_ERR_LIMIT, "vdc_min_v = %g, vdc_max_v = %g: need 0 <= min < max", si->vdc_min_v, si->vdc_max_v);
+    if (!(si->flux_ref_wb > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_REFERENCE, "flux_ref_wb = %g: must be > 0", si->flux_ref_wb);
+    if (!(fabs(si->speed_ref_rpm) <= si->speed_limit_rpm)) return dtc_si_fail(&c, DTC_SI_ERR_REFERENCE, "speed_ref_rpm = %g: beyond speed_limit_rpm = %g", si->speed_ref_rpm, si->speed_limit_rpm);
+    if (!(fabs(si->torque_ref_nm) <= si->torque_limit_nm)) return dtc_si_fail(&c, DTC_SI_ERR_REFERENCE, "torque_ref_nm = %g: beyond torque_limit_nm = %g", si->torque_ref_nm, si->torque_limit_nm);
+    if (!(si->adc_i_a_per_count > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_ADC, "adc_i_a_per_count = %g: must be > 0", si->adc_i_a_per_count);
+    if (!(si->adc_vdc_v_per_count > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_ADC, "adc_vdc_v_per_count = %g: must be > 0", si->adc_vdc_v_per_count);
+    if (!(si->adc_vmid_v_per_count > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_ADC, "adc_vmid_v_per_count = %g: must be > 0", si->adc_vmid_v_per_count);
     for (int k = 0; k < 3; k++) {
         if (si->adc_i_offset[k] < 0 || si->adc_i_offset[k] > 4095)
-            return fail(&c, DTC_SI_ERR_ADC, "adc_i_offset[%d] = %d: must be 0..4095", k, si->adc_i_offset[k]);
+            return dtc_si_fail(&c, DTC_SI_ERR_ADC, "adc_i_offset[%d] = %d: must be 0..4095", k, si->adc_i_offset[k]);
     }
-    if (si->adc_vdc_offset < 0 || si->adc_vdc_offset > 4095) return fail(&c, DTC_SI_ERR_ADC, "adc_vdc_offset = %d: must be 0..4095", si->adc_vdc_offset);
-    if (si->adc_vmid_offset < 0 || si->adc_vmid_offset > 4095) return fail(&c, DTC_SI_ERR_ADC, "adc_vmid_offset = %d: must be 0..4095", si->adc_vmid_offset);
+    if (si->adc_vdc_offset < 0 || si->adc_vdc_offset > 4095) return dtc_si_fail(&c, DTC_SI_ERR_ADC, "adc_vdc_offset = %d: must be 0..4095", si->adc_vdc_offset);
+    if (si->adc_vmid_offset < 0 || si->adc_vmid_offset > 4095) return dtc_si_fail(&c, DTC_SI_ERR_ADC, "adc_vmid_offset = %d: must be 0..4095", si->adc_vmid_offset);
 
     /* Speed PI, SI. */
     if (si->pi_from_bandwidth) {
-        if (!(si->speed_bw_rad_s > 0.0)) return fail(&c, DTC_SI_ERR_GAIN, "speed_bw_rad_s = %g: must be > 0", si->speed_bw_rad_s);
-        if (!(si->inertia_kgm2 > 0.0)) return fail(&c, DTC_SI_ERR_GAIN, "inertia_kgm2 = %g: must be > 0", si->inertia_kgm2);
+        if (!(si->speed_bw_rad_s > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_GAIN, "speed_bw_rad_s = %g: must be > 0", si->speed_bw_rad_s);
+        if (!(si->inertia_kgm2 > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_GAIN, "inertia_kgm2 = %g: must be > 0", si->inertia_kgm2);
         if (!(si->speed_bw_rad_s * si->ts_s * si->speed_div < 0.2))
-            return fail(&c, DTC_SI_ERR_GAIN, "speed_bw_rad_s = %g: too fast for the speed period %g s (bw * T < 0.2)", si->speed_bw_rad_s, si->ts_s * si->speed_div);
+            return dtc_si_fail(&c, DTC_SI_ERR_GAIN, "speed_bw_rad_s = %g: too fast for the speed period %g s (bw * T < 0.2)", si->speed_bw_rad_s, si->ts_s * si->speed_div);
         /* Crossover at bw with the plant 1/(J s): kp = J bw; PI zero a quarter below: ki = kp bw/4. */
         kp = si->inertia_kgm2 * si->speed_bw_rad_s;
         ki = kp * si->speed_bw_rad_s / 4.0;
     } else {
         kp = si->kp_nm_s_rad;
         ki = si->ki_nm_rad;
-        if (!(kp >= 0.0)) return fail(&c, DTC_SI_ERR_GAIN, "kp_nm_s_rad = %g: must be >= 0", kp);
-        if (!(ki >= 0.0)) return fail(&c, DTC_SI_ERR_GAIN, "ki_nm_rad = %g: must be >= 0", ki);
+        if (!(kp >= 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_GAIN, "kp_nm_s_rad = %g: must be >= 0", kp);
+        if (!(ki >= 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_GAIN, "ki_nm_rad = %g: must be >= 0", ki);
     }
 
     /* Conversion. */
@@ -668,7 +358,6 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     cfg->board.topology = (uint16_t)si->topology;
     cfg->est.estimator = (uint16_t)si->estimator;
     cfg->est.compensation = (uint16_t)si->compensation;
-    cfg->sw.sstp_table = (uint16_t)si->sstp_table;
     cfg->speed.mode = (uint16_t)si->mode;
     cfg->board.fstp_vmid_measured = (uint16_t)si->fstp_vmid_measured;
     cfg->board.v_base_mv = to_u32_milli(b.v_base_v);
@@ -676,38 +365,20 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     cfg->board.w_base_mrad_s = to_u32_milli(b.w_base_rad_s);
     cfg->machine.pole_pairs = (uint16_t)si->pole_pairs;
 
-    cfg->machine.rs_iq = to_iq(&c, "rs_ohm", si->rs_ohm, si->rs_ohm / b.z_base_ohm);
-    if (si->law == DTC_LAW_PM_DTC) {
-        cfg->machine.pm.ls_iq = to_iq(&c, "ls_h", si->ls_h, si->ls_h / b.l_base_h);
-        cfg->machine.pm.psi_m_iq = to_iq(&c, "psi_m_wb", si->psi_m_wb, si->psi_m_wb / b.psi_base_wb);
-        cfg->machine.pm.inv_ls_iq = to_iq(&c, "ls_h (1/l_s)", si->ls_h, b.l_base_h / si->ls_h);
-    }
+    cfg->machine.rs_iq = dtc_si_to_iq(&c, "rs_ohm", si->rs_ohm, si->rs_ohm / b.z_base_ohm);
 
     /* Exact ZOH discretisation of 1/(s + w_c) in pu time. */
     a = exp(-si->lpf_cutoff_rad_s * si->ts_s);
     wc_pu = si->lpf_cutoff_rad_s / b.w_base_rad_s;
-    cfg->est.k_leak_q31 = to_q31(&c, "lpf_cutoff_rad_s (k_leak)", 1.0 - a);
-    cfg->est.k_in_q31 = to_q31(&c, "ts_s (k_in)", (1.0 - a) / wc_pu);
+    cfg->est.k_leak_q31 = dtc_si_to_q31(&c, "lpf_cutoff_rad_s (k_leak)", 1.0 - a);
+    cfg->est.k_in_q31 = dtc_si_to_q31(&c, "ts_s (k_in)", (1.0 - a) / wc_pu);
 
-    {
-        double h_rpm = si->law != DTC_LAW_PM_DTC ? 0.0 /* PM start-up only */
-                       : si->handover_auto != 0 ? dtc_handover_default_rpm(si) : si->handover_speed_rpm;
-        double h_pu = h_rpm * M_PI / 30.0 * si->pole_pairs / b.w_base_rad_s;
-        cfg->est.handover_speed_iq = to_iq(&c, "handover_speed_rpm", h_rpm, h_pu);
-        cfg->est.handover_hyst_iq = to_iq(&c, "handover_hyst_frac", si->handover_hyst_frac * h_rpm,
-                                      si->handover_hyst_frac * h_pu);
-        if (cfg->est.handover_hyst_iq > cfg->est.handover_speed_iq) {
-            cfg->est.handover_hyst_iq = cfg->est.handover_speed_iq;
-        }
-    }
-
-    cfg->est.delay_comp = (uint16_t)si->delay_comp;
     cfg->est.deadtime_comp = (uint16_t)si->deadtime_comp;
     cfg->board.td_ts_q15 = (q15_t)lround(32768.0 * si->dead_time_s / si->ts_s);
-    cfg->board.ts_pu_iq = to_iq(&c, "ts_s", si->ts_s, si->ts_s * b.w_base_rad_s);
+    cfg->board.ts_pu_iq = dtc_si_to_iq(&c, "ts_s", si->ts_s, si->ts_s * b.w_base_rad_s);
 
     if (!(65536.0 * 65536.0 * si->pole_pairs / enc_counts <= 2147483648.0))
-        return fail(&c, DTC_SI_ERR_ENCODER, "enc_lines = %d: fewer than two counts per electrical turn with %d pole pairs", si->enc_lines, si->pole_pairs);
+        return dtc_si_fail(&c, DTC_SI_ERR_ENCODER, "enc_lines = %d: fewer than two counts per electrical turn with %d pole pairs", si->enc_lines, si->pole_pairs);
     cfg->board.enc_counts = (uint16_t)enc_counts;
     cfg->board.enc_gain_q16 = (uint32_t)nearbyint(65536.0 * 65536.0 * si->pole_pairs / enc_counts);
     {
@@ -716,16 +387,21 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
         cfg->board.enc_offset = (angle_t)((uint32_t)nearbyint(turns * 65536.0) & 0xFFFFu);
     }
 
-    cfg->board.v_f_iq = to_iq(&c, "v_f_v", si->v_f_v, si->v_f_v / b.v_base_v);
-    cfg->board.v_ce_iq = to_iq(&c, "v_ce_v", si->v_ce_v, si->v_ce_v / b.v_base_v);
-    cfg->board.v_d_iq = to_iq(&c, "v_d_v", si->v_d_v, si->v_d_v / b.v_base_v);
-    cfg->board.r_on_iq = to_iq(&c, "r_on_ohm", si->r_on_ohm, si->r_on_ohm / b.z_base_ohm);
+    cfg->board.v_f_iq = dtc_si_to_iq(&c, "v_f_v", si->v_f_v, si->v_f_v / b.v_base_v);
+    cfg->board.v_ce_iq = dtc_si_to_iq(&c, "v_ce_v", si->v_ce_v, si->v_ce_v / b.v_base_v);
+    cfg->board.v_d_iq = dtc_si_to_iq(&c, "v_d_v", si->v_d_v, si->v_d_v / b.v_base_v);
+    cfg->board.r_on_iq = dtc_si_to_iq(&c, "r_on_ohm", si->r_on_ohm, si->r_on_ohm / b.z_base_ohm);
 
-    cfg->sw.flux_band_iq = to_iq(&c, "flux_band_wb", si->flux_band_wb, si->flux_band_wb / b.psi_base_wb);
-    cfg->sw.torque_band_iq = to_iq(&c, "torque_band_nm", si->torque_band_nm, si->torque_band_nm / b.t_base_nm);
+    {
+        /* the switching table and comparators of the table-driven laws (every law so far) */
+        dtc_table_cfg_t *tab = dtc_law_is_im((uint16_t)si->law) != 0U ? &cfg->u.im.sw : &cfg->u.pm_dtc.sw;
+        tab->sstp_table = (uint16_t)si->sstp_table;
+        tab->flux_band_iq = dtc_si_to_iq(&c, "flux_band_wb", si->flux_band_wb, si->flux_band_wb / b.psi_base_wb);
+        tab->torque_band_iq = dtc_si_to_iq(&c, "torque_band_nm", si->torque_band_nm, si->torque_band_nm / b.t_base_nm);
+    }
 
     cfg->speed.speed_div = (uint16_t)si->speed_div;
-    cfg->speed.speed_k_iq = to_iq(&c, "enc_lines (speed gain)", enc_counts,
+    cfg->speed.speed_k_iq = dtc_si_to_iq(&c, "enc_lines (speed gain)", enc_counts,
                             2.0 * M_PI * si->pole_pairs / (enc_counts * tsp * b.w_base_rad_s));
     cfg->speed.speed_min_counts = (uint16_t)si->speed_min_counts;
     {
@@ -736,58 +412,33 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     {
         const double n_os = si->overspeed_rpm == 0.0 ? dtc_overspeed_default_rpm(si) : si->overspeed_rpm;
         cfg->prot.overspeed_iq = n_os < 0.0 ? 0
-                                 : to_iq(&c, "overspeed_rpm", n_os, n_os * M_PI / 30.0 * si->pole_pairs / b.w_base_rad_s);
+                                 : dtc_si_to_iq(&c, "overspeed_rpm", n_os, n_os * M_PI / 30.0 * si->pole_pairs / b.w_base_rad_s);
     }
     /* kp: N.m per mech rad/s -> pu torque per pu speed: w_mech = w_pu w_base / p. */
-    cfg->speed.kp_iq = to_iq(&c, "kp_nm_s_rad", kp, kp * b.w_base_rad_s / (si->pole_pairs * b.t_base_nm));
-    cfg->speed.ki_ts_iq = to_iq(&c, "ki_nm_rad", ki, ki * tsp * b.w_base_rad_s / (si->pole_pairs * b.t_base_nm));
-    cfg->speed.torque_limit_iq = to_iq(&c, "torque_limit_nm", si->torque_limit_nm, si->torque_limit_nm / b.t_base_nm);
+    cfg->speed.kp_iq = dtc_si_to_iq(&c, "kp_nm_s_rad", kp, kp * b.w_base_rad_s / (si->pole_pairs * b.t_base_nm));
+    cfg->speed.ki_ts_iq = dtc_si_to_iq(&c, "ki_nm_rad", ki, ki * tsp * b.w_base_rad_s / (si->pole_pairs * b.t_base_nm));
+    cfg->speed.torque_limit_iq = dtc_si_to_iq(&c, "torque_limit_nm", si->torque_limit_nm, si->torque_limit_nm / b.t_base_nm);
     cfg->speed.torque_trim_k_q15 = si->torque_trim_tau_s == 0.0 ? 0
                              : (q15_t)lround(32768.0 * si->ts_s / si->torque_trim_tau_s);
-    cfg->speed.speed_limit_iq = to_iq(&c, "speed_limit_rpm", si->speed_limit_rpm,
+    cfg->speed.speed_limit_iq = dtc_si_to_iq(&c, "speed_limit_rpm", si->speed_limit_rpm,
                                 si->speed_limit_rpm * M_PI / 30.0 * si->pole_pairs / b.w_base_rad_s);
 
-    cfg->speed.flux_ref_iq = to_iq(&c, "flux_ref_wb", si->flux_ref_wb, si->flux_ref_wb / b.psi_base_wb);
-    cfg->speed.speed_ref_iq = to_iq(&c, "speed_ref_rpm", si->speed_ref_rpm,
+    cfg->speed.flux_ref_iq = dtc_si_to_iq(&c, "flux_ref_wb", si->flux_ref_wb, si->flux_ref_wb / b.psi_base_wb);
+    cfg->speed.speed_ref_iq = dtc_si_to_iq(&c, "speed_ref_rpm", si->speed_ref_rpm,
                               si->speed_ref_rpm * M_PI / 30.0 * si->pole_pairs / b.w_base_rad_s);
-    cfg->speed.torque_ref_iq = to_iq(&c, "torque_ref_nm", si->torque_ref_nm, si->torque_ref_nm / b.t_base_nm);
+    cfg->speed.torque_ref_iq = dtc_si_to_iq(&c, "torque_ref_nm", si->torque_ref_nm, si->torque_ref_nm / b.t_base_nm);
 
-    cfg->board.adc_i_gain_iq = to_iq(&c, "adc_i_a_per_count", si->adc_i_a_per_count, si->adc_i_a_per_count / b.i_base_a);
+    cfg->board.adc_i_gain_iq = dtc_si_to_iq(&c, "adc_i_a_per_count", si->adc_i_a_per_count, si->adc_i_a_per_count / b.i_base_a);
     for (int k = 0; k < 3; k++) {
         cfg->board.adc_i_offset[k] = (uint16_t)si->adc_i_offset[k];
     }
-    cfg->board.adc_vdc_gain_iq = to_iq(&c, "adc_vdc_v_per_count", si->adc_vdc_v_per_count, si->adc_vdc_v_per_count / b.v_base_v);
+    cfg->board.adc_vdc_gain_iq = dtc_si_to_iq(&c, "adc_vdc_v_per_count", si->adc_vdc_v_per_count, si->adc_vdc_v_per_count / b.v_base_v);
     cfg->board.adc_vdc_offset = (uint16_t)si->adc_vdc_offset;
-    cfg->board.adc_vmid_gain_iq = to_iq(&c, "adc_vmid_v_per_count", si->adc_vmid_v_per_count, si->adc_vmid_v_per_count / b.v_base_v);
+    cfg->board.adc_vmid_gain_iq = dtc_si_to_iq(&c, "adc_vmid_v_per_count", si->adc_vmid_v_per_count, si->adc_vmid_v_per_count / b.v_base_v);
     cfg->board.adc_vmid_offset = (uint16_t)si->adc_vmid_offset;
-    cfg->prot.i_trip_iq = to_iq(&c, "i_trip_a", si->i_trip_a, si->i_trip_a / b.i_base_a);
-    cfg->prot.vdc_max_iq = to_iq(&c, "vdc_max_v", si->vdc_max_v, si->vdc_max_v / b.v_base_v);
-    cfg->prot.vdc_min_iq = to_iq(&c, "vdc_min_v", si->vdc_min_v, si->vdc_min_v / b.v_base_v);
-    double ilim = 0.0; /* the current limit in use, A (0 = off) */
-    if (si->law == DTC_LAW_PM_DTC) {
-        /* PM law only (dtc.c): current limit, ripple-robust polarity, low-pass correction,
-         * DC-current suppression and mid-point regulation; off (0) for the IM law. */
-        ilim = si->current_limit_auto != 0 ? dtc_ilim_default_a(si) : si->current_limit_a;
-        cfg->prot.i_lim_iq = ilim > 0.0 ? to_iq(&c, "current_limit_a", ilim, ilim / b.i_base_a) : 0;
-        if (cfg->prot.i_lim_iq >= cfg->prot.i_trip_iq) {
-            cfg->prot.i_lim_iq = cfg->prot.i_trip_iq - 1; /* below the trip after rounding */
-        }
-        cfg->est.polarity_mid = (uint16_t)si->polarity_mid;
-        cfg->est.lpf_comp = (uint16_t)si->lpf_comp;
-        cfg->est.dc_supp = (uint16_t)si->dc_supp;
-        /* Ts l_s / 20 in pu (the firmware multiplies by |w|: w_d = |w| / 20, dtc.c dtc_dcsupp) */
-        cfg->est.dcs_k_iq = to_iq(&c, "dc_supp (Ts l_s / 20)", si->ls_h,
-                                  si->ts_s * b.w_base_rad_s * si->ls_h / b.l_base_h / 20.0);
-        cfg->est.wc_pu_iq = to_iq(&c, "lpf_cutoff_rad_s", si->lpf_cutoff_rad_s, si->lpf_cutoff_rad_s / b.w_base_rad_s);
-        cfg->est.lpf_wmin_iq = to_iq(&c, "lpf_cutoff_rad_s", si->lpf_cutoff_rad_s, 2.0 * si->lpf_cutoff_rad_s / b.w_base_rad_s);
-        {
-            const int reg = si->dc_supp != 0 && si->topology == DTC_TOPO_FSTP && si->fstp_vmid_measured != 0;
-            const double g = 2.0 * si->c_dc_f * 0.5 * si->lpf_cutoff_rad_s; /* A/V, w_m = w_c / 2 */
-            cfg->est.vmid_g_iq = reg ? to_iq(&c, "c_dc_f", si->c_dc_f, g * b.z_base_ohm) : 0;
-        }
-        /* restoring mid-point reconstruction: beta = min(1/16, (s w)^2), s = sqrt(k) w_base */
-        cfg->est.vmid_beta_s_iq = to_iq(&c, "c_dc_f", si->c_dc_f, sqrt(dtc_vmid_beta_k(si)) * b.w_base_rad_s);
-    }
+    cfg->prot.i_trip_iq = dtc_si_to_iq(&c, "i_trip_a", si->i_trip_a, si->i_trip_a / b.i_base_a);
+    cfg->prot.vdc_max_iq = dtc_si_to_iq(&c, "vdc_max_v", si->vdc_max_v, si->vdc_max_v / b.v_base_v);
+    cfg->prot.vdc_min_iq = dtc_si_to_iq(&c, "vdc_min_v", si->vdc_min_v, si->vdc_min_v / b.v_base_v);
     /* the mid-point calibration only where a mid-point is measured (FSTP) and used: by the
      * voltage model's reconstruction and its mid-point regulation. The current model uses
      * neither, and the calibration's 51 ms with the gates off let an active load (a hoist, a
@@ -797,47 +448,38 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
                                              si->estimator == DTC_EST_VOLTAGE
                                          ? 1
                                          : 0);
-    /* Rotor hold during that calibration (app_core.c hold_step), PM law: the hold may command the
-     * current that gives the torque limit on the magnet axis, T = 3/2 p psi_m i_q (Hoang eq. 10),
-     * and never more than the current limit, which leaves a period's current rise below the trip
-     * (dtc_ilim_default_a; the hold's rise, Ts (V_dc/2 + R_s i)/L_s, is smaller). */
-    cfg->prot.i_hold_iq = 0;
-    if (cfg->board.vmid_cal != 0U && si->cal_hold != 0 && si->law == DTC_LAW_PM_DTC && c.code == DTC_SI_OK) {
-        const double i_t = si->torque_limit_nm / (1.5 * (double)si->pole_pairs * si->psi_m_wb);
-        const double i_l = ilim > 0.0 ? ilim : dtc_ilim_default_a(si);
-        const double ih = fmin(i_t, i_l);
-        if (!(ih > 0.0)) {
-            return fail(&c, DTC_SI_ERR_ILIM, "cal_hold: no rotor-hold current fits below i_trip_a = %g A "
-                        "(a period's current rise reaches the trip); set cal_hold to 0", si->i_trip_a);
-        }
-        cfg->prot.i_hold_iq = to_iq(&c, "cal_hold (hold current)", ih, ih / b.i_base_a);
+    if (si->law == DTC_LAW_PM_DTC && c.code == DTC_SI_OK) {
+        dtc_si_pm_dtc_convert(&c, si, &b, cfg);
+    }
+    if (c.code != DTC_SI_OK) {
+        return c.code;
     }
 
     if (si->i_sensors3 != 0 && si->i_sensors3 != 1) {
-        return fail(&c, DTC_SI_ERR_LIMIT, "i_sensors3 = %d: must be 0 or 1", si->i_sensors3);
+        return dtc_si_fail(&c, DTC_SI_ERR_LIMIT, "i_sensors3 = %d: must be 0 or 1", si->i_sensors3);
     }
     if (si->fault_detect != 0 && si->fault_detect != 1) {
-        return fail(&c, DTC_SI_ERR_LIMIT, "fault_detect = %d: must be 0 or 1", si->fault_detect);
+        return dtc_si_fail(&c, DTC_SI_ERR_LIMIT, "fault_detect = %d: must be 0 or 1", si->fault_detect);
     }
     if (si->reconfig_relay != 0 && si->reconfig_relay != 1) {
-        return fail(&c, DTC_SI_ERR_LIMIT, "reconfig_relay = %d: must be 0 or 1", si->reconfig_relay);
+        return dtc_si_fail(&c, DTC_SI_ERR_LIMIT, "reconfig_relay = %d: must be 0 or 1", si->reconfig_relay);
     }
     if (si->reconfig_relay == 1 && !(si->relay_delay_s > 0.0 && si->relay_delay_s < 1.0)) {
-        return fail(&c, DTC_SI_ERR_LIMIT, "relay_delay_s = %g: must be in (0, 1) s with a relay fitted",
+        return dtc_si_fail(&c, DTC_SI_ERR_LIMIT, "relay_delay_s = %g: must be in (0, 1) s with a relay fitted",
                     si->relay_delay_s);
     }
     cfg->board.i_sensors3 = (uint16_t)si->i_sensors3;
     dtc_fault_levels(&c, si, &b, cfg);
 
-    if (si->law == DTC_LAW_IM_DTC && c.code == DTC_SI_OK) {
-        im_from_si(&c, si, &b, cfg);
+    if (dtc_law_is_im((uint16_t)si->law) != 0U && c.code == DTC_SI_OK) {
+        dtc_si_im_convert(&c, si, &b, cfg);
     }
     if (c.code != DTC_SI_OK) {
         return c.code;
     }
-    fw = dtc_config_check(cfg, &fw_field);
+    fw = law_check(cfg, &fw_field);
     if (fw != DTC_OK) {
-        return fail(&c, DTC_SI_ERR_FIRMWARE, "firmware validation refused the converted configuration (dtc_err %d, field %s)", fw, fw_field);
+        return dtc_si_fail(&c, DTC_SI_ERR_FIRMWARE, "firmware validation refused the converted configuration (dtc_err %d, field %s)", fw, fw_field);
     }
     return DTC_SI_OK;
 }
@@ -902,7 +544,17 @@ int dtc_config_emit_c(const dtc_config_t *cfg, const char *symbol, FILE *f)
     EMIT("const dtc_config_t %s = {\n", symbol);
     EMIT("    .version = %luU,\n", (unsigned long)cfg->version);
     EMIT("    .law = %luU, /* enum dtc_law */\n", (unsigned long)cfg->law);
-    DTC_CONFIG_FIELDS(EP, EU, EIQ, EQ31, EQ15, EARR3, EEND)
+    DTC_CONFIG_COMMON_FIELDS(EP, EU, EIQ, EQ31, EQ15, EARR3, EEND)
+    /* the law's part only: designated initialisers of its member of the union */
+    EMIT("    .u = {\n");
+    if (dtc_law_is_im(cfg->law) != 0U) {
+        EMIT("        .im = {\n");
+        DTC_CONFIG_IM_FIELDS(EP, EU, EIQ, EQ31, EQ15, EARR3, EEND)
+    } else {
+        EMIT("        .pm_dtc = {\n");
+        DTC_CONFIG_PM_DTC_FIELDS(EP, EU, EIQ, EQ31, EQ15, EARR3, EEND)
+    }
+    EMIT("        },\n    },\n");
     EMIT("};\n");
 #undef EMIT
 #undef IND

@@ -29,7 +29,7 @@ extern "C" {
 #endif
 
 typedef struct {
-    int law;                /* enum dtc_law: which machine and control law */
+    int law;                /* enum dtc_law: which machine, control law and scheme */
 
     /* Per-unit bases. */
     double v_base_v;        /* voltage base (default: nominal DC link) */
@@ -45,7 +45,7 @@ typedef struct {
     double rated_torque_nm;
     double rated_current_a;
     double inertia_kgm2;    /* for the speed-PI design from a bandwidth */
-    /* Induction machine (law DTC_LAW_IM_DTC): Casadei's T model, stator-referred, the plant's
+    /* Induction machine (the laws DTC_LAW_IM_*): Casadei's T model, stator-referred, the plant's
      * names (model/include/plant.h); ls_h and psi_m_wb are then unused. */
     double rr_ohm;
     double lls_h, llr_h;    /* stator / rotor leakage inductance */
@@ -99,7 +99,6 @@ typedef struct {
     double tau_hi_s;        /* ... and at high speed (section 10.2; equal: fixed tau) */
     double tau_w_lo_rpm;    /* |speed| up to which tau_lo applies */
     double tau_w_hi_rpm;    /* |speed| from which tau_hi applies (>= tau_w_lo_rpm) */
-    int scheme;             /* enum dtc_scheme */
     int speed_sensor;       /* enum dtc_speed_sensor */
     double table_speed_rpm; /* DTC_ST_SPEED: ST-D below, ST-A above; 0 = derived
                              * (dtc_table_speed_default_rpm) */
@@ -110,8 +109,8 @@ typedef struct {
     int fw_window;          /* N control periods per flux-reference decision (>= 20) */
     double fw_step_frac;    /* flux-reference step per decision, fraction of flux_ref_wb */
     double fw_psi_min_frac; /* lowest flux reference, fraction of flux_ref_wb */
-    /* Stator-flux vector control (scheme DTC_SCHEME_SFVC, Casadei secs. 10.3-10.5) and the
-     * rotor-flux-oriented control (DTC_SCHEME_DFOC, sec. 13: its current-loop gains are derived,
+    /* Stator-flux vector control (law DTC_LAW_IM_SFVC, Casadei secs. 10.3-10.5) and the
+     * rotor-flux-oriented control (DTC_LAW_IM_DFOC, sec. 13: its current-loop gains are derived,
      * dtc_config_from_si). */
     double carrier_hz;      /* SVM carrier: one PWM period per control period, so it must equal
                              * 1 / ts_s; 0 = 1 / ts_s */
@@ -121,7 +120,7 @@ typedef struct {
                              * deadbeat gain 1/ts_s halved as a margin for the one-period
                              * prediction's model errors) */
 
-    /* DTC with DSVM (scheme DTC_SCHEME_DSVM, Casadei sec. 11): the five-level torque comparator's
+    /* DTC with DSVM (law DTC_LAW_IM_DSVM, Casadei sec. 11): the five-level torque comparator's
      * outer band (full width), >= torque_band_nm; 0 = derived: twice the torque a whole active
      * vector changes in one period at standstill (dtc_config_from_si), at least torque_band_nm. */
     double dsvm_torque_band2_nm;

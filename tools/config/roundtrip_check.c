@@ -5,6 +5,7 @@
 
 #include "dtc_config_si.h"
 #include "dtc_config_fields.h"
+#include "law.h"
 
 extern const dtc_config_t dtc_config_default;
 
@@ -25,9 +26,14 @@ int main(void)
 #define CHKF(part, name) CHK(part.name)
 #define CHKA(part, name) CHK(part.name[0]) CHK(part.name[1]) CHK(part.name[2])
     CHK(version) CHK(law)
-    DTC_CONFIG_FIELDS(NOP, CHKF, CHKF, CHKF, CHKF, CHKA, NOP)
-    if (dtc_config_validate(&dtc_config_default) != DTC_OK) {
-        fprintf(stderr, "generated configuration refused by dtc_config_validate\n");
+    DTC_CONFIG_COMMON_FIELDS(NOP, CHKF, CHKF, CHKF, CHKF, CHKA, NOP)
+    if (dtc_law_is_im(cfg.law) != 0U) {
+        DTC_CONFIG_IM_FIELDS(NOP, CHKF, CHKF, CHKF, CHKF, CHKA, NOP)
+    } else {
+        DTC_CONFIG_PM_DTC_FIELDS(NOP, CHKF, CHKF, CHKF, CHKF, CHKA, NOP)
+    }
+    if (law_check(&dtc_config_default, NULL) != DTC_OK) {
+        fprintf(stderr, "generated configuration refused by law_check\n");
         bad = 1;
     }
     if (!bad) {

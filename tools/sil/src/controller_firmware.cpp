@@ -216,7 +216,6 @@ dtc_config_si_t firmware_si_config(const Scenario& sc)
         // Induction-machine law (Casadei 2006): the machine as the firmware believes it
         // (firmware.*, else the plant's), no magnet, none of the PM law's start-up hand-over or
         // actuation-delay prediction (im_dtc.h).
-        si.law = DTC_LAW_IM_DTC;
         si.rr_ohm = sc.firmware.rr_ohm.value_or(m.rr_ohm);
         si.lls_h = sc.firmware.lls_h.value_or(m.lls_h);
         si.llr_h = sc.firmware.llr_h.value_or(m.llr_h);
@@ -229,11 +228,12 @@ dtc_config_si_t firmware_si_config(const Scenario& sc)
         // Flux weakening reaches 400 % of base speed (Casadei Fig. 32): the speed reference's
         // limit covers it.
         si.speed_limit_rpm = std::fmax(4.0 * m.rated_speed_rpm, std::fabs(c.speed_ref_rpm));
-        si.scheme = c.scheme == Scheme::Dsc    ? DTC_SCHEME_DSC
-                    : c.scheme == Scheme::Sfvc ? DTC_SCHEME_SFVC
-                    : c.scheme == Scheme::Dfoc ? DTC_SCHEME_DFOC
-                    : c.scheme == Scheme::Dsvm ? DTC_SCHEME_DSVM
-                                               : DTC_SCHEME_DTC;
+        // control.scheme with the motor type is the one enum dtc_law
+        si.law = c.scheme == Scheme::Dsc    ? DTC_LAW_IM_DSC
+                 : c.scheme == Scheme::Sfvc ? DTC_LAW_IM_SFVC
+                 : c.scheme == Scheme::Dfoc ? DTC_LAW_IM_DFOC
+                 : c.scheme == Scheme::Dsvm ? DTC_LAW_IM_DSVM
+                                            : DTC_LAW_IM_DTC;
         si.carrier_hz = c.scheme == Scheme::Sfvc || c.scheme == Scheme::Dfoc ? c.carrier_hz : 0.0;
         si.svm_mode = c.modulation == Modulation::TwoPhase ? 1 : 0;
         si.sfvc_kp_per_s = c.sfvc_kp_per_s;

@@ -1,0 +1,109 @@
+/*
+ * im_cfg.h - the induction-machine laws' part of the configuration (dtc_config_t.u.im, laws
+ * DTC_LAW_IM_DTC, _DSC, _SFVC, _DFOC, _DSVM; the law: im_dtc.h): the machine model, the improved
+ * estimator, the switching table and comparators, the flux weakening, the rotor-flux reference
+ * and start-up, and each scheme's own settings in its sub-struct. Per-unit Q formats
+ * (dtc_base.h); checked by im_dtc_check (im_dtc_check.c).
+ */
+#ifndef IM_CFG_H
+#define IM_CFG_H
+
+#include <stdint.h>
+
+#include "dtc_config_common.h"
+
+/* Induction machine (Casadei appendix, T model), pu. Every ratio the law needs is precomputed by
+ * the host (no division in the ISR). */
+typedef struct {
+    iq_t rr_iq;          /* rotor resistance r_r (Casadei eq. 16) */
+    iq_t sigma_ls_iq;    /* sigma l_s (Casadei eq. 21) */
+    iq_t sigma_lr_iq;    /* sigma l_r (Casadei eq. 19) */
+    iq_t kr_iq;          /* l_r / m (Casadei eq. 21), > 0 */
+    iq_t ks_iq;          /* l_s / m (Casadei eq. 19), > 0 */
+    iq_t inv_ks_iq;      /* m / l_s: rotor flux of a stator flux at no load (start-up) */
+    iq_t m_iq;           /* magnetising inductance m, pu (start-up rotor-flux model), > 0 */
+} dtc_im_machine_cfg_t;
+
+/* Improved estimator (Casadei eq. 20, section 10.2): Ts/tau = k_lo below |w| = w_lo, k_hi above
+ * w_hi, linear in between with the host's slope (im_est.h). */
+typedef struct {
+    q31_t k_lo_q31;
+    q31_t k_hi_q31;
+    iq_t w_lo_iq;
+    iq_t w_hi_iq;
+    q31_t k_slope_q31;
+} dtc_im_est_cfg_t;
+
+/* Flux weakening (Casadei section 12, im_fw.h). */
+typedef struct {
+    uint16_t on;             /* 1: on */
+    uint16_t window;         /* N control periods per decision, >= 20 (section 12.3) */
+    iq_t step_down_iq;
+    iq_t step_up_iq;
+    iq_t psi_min_iq;
+    iq_t inv_psi_rated_iq;   /* 1 / (the stator-flux reference), pu */
+    iq_t kt_iq;              /* k_T of Casadei eq. 34, pu torque per pu flux squared */
+} dtc_im_fw_cfg_t;
+
+/* Rotor-flux reference, sensorless speed and start-up. */
+typedef struct {
+    /* Constant rotor flux (Casadei eq. 19). psir_ref_iq > 0: the stator-flux reference follows
+     * the torque reference by eq. 19 for this rotor flux; 0: speed.flux_ref_iq is used. The
+     * rotor-flux reference of the improved estimator (eq. 20) is psir_ref_iq, or
+     * m/l_s flux_ref_iq when it is 0. */
+    iq_t psir_ref_iq;
+    iq_t inv_psir_ref_iq;    /* 1 / psir_ref (Casadei eq. 19), 0 when psir_ref is 0 */
+    iq_t inv_psir_sq_iq;     /* 1 / (rotor-flux reference)^2 (Casadei eq. 16 slip), > 0 */
+    /* Sensorless speed (im_ref.h). */
+    iq_t gain_w_iq;          /* 2 pi / (65536 T_speed w_base): pu speed of one angle_t LSB per
+                              * speed period T_speed = speed_div Ts (im_ref.h) */
+    q31_t speed_filt_q31;    /* 1 - exp(-T_speed / T_filter) */
+    /* Start-up (Casadei Fig. 17b): the torque reference is held at zero for this many control
+     * periods after a reset while the machine is magnetised (im_dtc.h). > 0. */
+    uint16_t magn_periods;
+    /* Start-up: stator-flux reference increment per control period of the magnetising ramp
+     * (im_dtc.h), IQ pu, > 0. */
+    iq_t magn_ramp_iq;
+    /* Start-up: Ts / tau_r, tau_r = l_r / r_r (the rotor-flux model of the start-up), Q31. */
+    q31_t magn_k_q31;
+} dtc_im_ref_cfg_t;
+
+/* Stator-flux vector control (DTC_LAW_IM_SFVC, Casadei sections 10.3-10.5). The SVM carrier
+ * period is the control period Ts (one centred pulse per leg per period, hal.h), so the carrier
+ * frequency is 1/Ts. */
+typedef struct {
+    iq_t kp_iq;              /* flux-regulator gain K_p of Casadei eq. 24 over w_base (pu voltage
+                              * per pu flux), in (0, 1/ts_pu]: K_p Ts = 1 removes a flux error in
+                              * one period (deadbeat) */
+} dtc_im_sfvc_cfg_t;
+
+/* Direct rotor-flux-oriented control (DTC_LAW_IM_DFOC, Casadei section 13, im_dfoc.c). */
+typedef struct {
+    iq_t kp_iq;              /* current PI proportional gain, pu voltage per pu current (> 0) */
+    iq_t ki_ts_iq;           /* its integral gain times Ts, pu voltage per pu current (>= 0) */
+    iq_t id_ref_iq;          /* d-axis current reference phi_r* / m, pu (> 0) */
+    iq_t iq_per_t_iq;        /* q-axis current per pu torque, l_r / (m phi_r*) (> 0) */
+} dtc_im_dfoc_cfg_t;
+
+/* DTC with DSVM (DTC_LAW_IM_DSVM, Casadei section 11, dsvm.h). */
+typedef struct {
+    iq_t torque_band2_iq;    /* the five-level torque comparator's outer band (full width, pu,
+                              * >= sw.torque_band_iq; hyst5_t): beyond +-band2/2 the tables'
+                              * levels +-2, between +-torque_band/2 and +-band2/2 the levels +-1 */
+} dtc_im_dsvm_cfg_t;
+
+typedef struct {
+    uint16_t part;               /* DTC_PART_IM */
+    dtc_im_machine_cfg_t machine;
+    dtc_im_est_cfg_t est;        /* with est.estimator = DTC_EST_IMPROVED */
+    dtc_table_cfg_t sw;          /* sstp_table up to DTC_ST_SPEED */
+    iq_t table_speed_iq;         /* DTC_ST_SPEED: |speed| at which ST-D hands over to ST-A, pu */
+    dtc_im_fw_cfg_t fw;
+    dtc_im_ref_cfg_t ref;
+    uint16_t svm_mode;           /* SFVC, DFOC: enum svm_mode (svm.h), 0 symmetric, 1 two-phase */
+    dtc_im_sfvc_cfg_t sfvc;
+    dtc_im_dfoc_cfg_t dfoc;
+    dtc_im_dsvm_cfg_t dsvm;
+} dtc_im_cfg_t;
+
+#endif /* IM_CFG_H */

@@ -1,0 +1,149 @@
+/*
+ * im_dtc_internal.h - the IM laws' functions internal to their own files (im_dtc.c,
+ * im_dtc_init.c, im_sfvc.c, im_dfoc.c, im_dsvm.c) and their white-box tests: the steps kept out of
+ * line for the stack (as dtc_internal.h) and the inline pieces every IM scheme's step shares. Not
+ * for the application, which reaches the law through app/law.h.
+ */
+#ifndef IM_DTC_INTERNAL_H
+#define IM_DTC_INTERNAL_H
+
+#include <stdint.h>
+
+#include "im_dtc.h"
+
+/* Internal: the rotor-flux reference for a stator-flux reference, and the adoption of a reference
+ * set (shared by im_dtc_init and the shadow set). */
+void im_dtc_psir_ref(im_dtc_t *c, iq_t psi_s_ref_iq);
+void im_dtc_apply(im_dtc_t *c, const dtc_refs_t *r);
+/* Internal to im_dtc_step, out of line for the stack (as dtc.c's helpers). */
+void im_dtc_adopt(im_dtc_t *c, uint16_t seq);
+void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m);
+void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o);
+void im_dtc_refs(im_dtc_t *c);
+uint16_t im_dtc_select(im_dtc_t *c, iq_t te, dtc_out_t *o);
+
+/* Internal to im_sfvc_step, out of line for the stack. */
+void im_sfvc_estimate(im_dtc_t *c, const dtc_meas_t *m);
+void im_sfvc_regulate(im_dtc_t *c);
+/* Internal to im_dfoc_step, out of line for the stack. */
+void im_dfoc_regulate(im_dtc_t *c);
+
+/* Internal to im_dsvm_step, out of line for the stack. */
+void im_dsvm_select(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o);
+
+/* Steps 1-5 of a control period, common to both schemes: the shadow set (dtc_refs.h), Clarke
+ * (Hoang eqs. 4-5, the same transform as Casadei's space vectors), the stator and rotor flux
+ * (Casadei eqs. 1, 20-22) from the scheme's voltage (pwm = 0: the legs, im_dtc_estimate; 1: the
+ * modulated duties, im_sfvc_estimate), the torque (Casadei eq. A10 = Hoang eq. 10 in these bases),
+ * the speed and the speed loop. Returns the estimated torque. Inline with a constant pwm: each
+ * scheme's step gets its own copy (no call or branch added to the DTC path). */
+static inline iq_t im_dtc_front(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, uint16_t pwm)
+{
+    iq_t te;
+    {
+        const uint16_t seq = dtc_shadow_pending(&c->sh);
+        if (seq != 0U) {
+            im_dtc_adopt(c, seq);
+        }
+    }
+    clarke_sstp(m->ia_iq, m->ib_iq, &c->i);
+    if (pwm != 0U) {
+        im_sfvc_estimate(c, m);
+    } else {
+        im_dtc_estimate(c, m);
+    }
+    im_est_step(&c->est, &c->ein);
+    te = torque_eq10(c->est.psi_alpha_iq, c->est.psi_beta_iq, c->i.i_alpha_iq, c->i.i_beta_iq);
+    im_dtc_speed(c, m, te, o);
+    return te;
+}
+
+/* The start-up's vector (SSTP 1..6 or SWTAB_NULL) for the flux in sector 1..6, the flux
+ * comparator's flux_up and the torque error err = T* - T, T* = 0 (im_dtc_refs).
+ *   Rotor at rest (the encoder's speed 0): the radial vector V_k while the flux must rise, a null
+ *     otherwise (Fig. 17b; file comment).
+ *   Rotor turning (a flying start): a stationary flux would brake it (DC injection: the slip is
+ *     the rotor's own speed, Casadei eq. 16), and the machine's rotor flux would not follow the
+ *     magnetising ramp the estimator's reference assumes, so the estimate would settle on a
+ *     flux the machine does not have. Instead ST-D's vectors under a two-level torque
+ *     comparator held at T* = 0 (Casadei Table 3: V_k+1 / V_k-1 while the flux must rise,
+ *     V_k+2 / V_k-2 while it must fall) turn the flux with the rotor in either sense, at a
+ *     small mean torque against the motion (the zero band with the period's actuation delay;
+ *     docs/sil.md gives the figures). At rest they would alternate about the radial direction
+ *     with a torque ripple of about a quarter of the rated torque, hence the radial vector there.
+ * Without an encoder the speed is not known before the flux is: the radial vector always, and a
+ * start into a turning rotor is not supported (docs/sil.md). */
+static inline uint16_t im_magn_vector(im_dtc_t *c, uint16_t sector, uint16_t flux_up, iq_t err, int16_t *tdem)
+{
+    uint16_t up;
+    if (c->cfg->speed.sensor == DTC_SPEED_NONE || c->speed_iq == 0) {
+        *tdem = 0;
+        return flux_up != 0U ? sector : SWTAB_NULL;
+    }
+    up = hyst2_step(&c->h_torque2, err);
+    *tdem = up != 0U ? 1 : -1;
+    return swtab_sstp_st(DTC_ST_D, sector, flux_up, up);
+}
+
+/* What every IM scheme reports besides its command: the estimate (flux, torque at k), the
+ * references, the speed and the rotor-flux angle and magnitude (updated on the speed-loop
+ * periods); the IM law has no current model and no current limit. */
+static inline void im_out_report(const im_dtc_t *c, dtc_out_t *o, iq_t te)
+{
+    o->psi_alpha_iq = c->est.psi_alpha_iq;
+    o->psi_beta_iq = c->est.psi_beta_iq;
+    o->te_iq = te;
+    o->te_ref_iq = c->te_ref_iq;
+    o->speed_iq = c->speed_iq;
+    o->theta_e = c->est.theta_r;
+    o->on_cm = 0U;
+    o->psi_ref_iq = c->psi_ref_iq; /* the start-up ramp, then (l_s/m) phi_r*: eq. 18's d part */
+    o->psir_mag_iq = c->est.psir_mag_iq;
+    o->i_limited = 0U;
+}
+
+/* The end of an SVM scheme's period (SFVC, DFOC): the SVM of c->vs_* on the measured link with
+ * dead-time compensation (svm.h), the voltage the new duties will apply kept for the estimator
+ * and the prediction (d_eff on the link measured now, Casadei eq. 2 / Hoang eqs. 1-5: (2 d_a -
+ * d_b - d_c)/3 V_dc, (d_b - d_c)/sqrt3 V_dc; vrec_from_legs saturates, IQ products rounded),
+ * and the outputs: the PWM form (duty_iq), the estimate, the references. */
+static inline void im_pwm_out(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, iq_t te)
+{
+    uint16_t x;
+    svm_step(&c->svm, &c->svm_p, c->vs_alpha_iq, c->vs_beta_iq, m->vdc_iq, &c->i, &c->svm_o);
+    c->v2_alpha_iq = c->v1_alpha_iq;
+    c->v2_beta_iq = c->v1_beta_iq;
+    {
+        iq_t a, b;
+        vrec_from_legs(c->svm_o.d_eff_iq[0], c->svm_o.d_eff_iq[1], c->svm_o.d_eff_iq[2], &a, &b);
+        c->v1_alpha_iq = iq_mpy(a, m->vdc_iq);
+        c->v1_beta_iq = iq_mpy(b, m->vdc_iq);
+    }
+    for (x = 0U; x < 3U; x++) {
+        o->duty_iq[x] = c->svm_o.d_iq[x];
+    }
+    o->sa = 0U; /* the PWM form carries the command (duty_iq) */
+    o->sb = 0U;
+    o->sc = 0U;
+    o->vector = 0U;
+    o->sector = 0U;
+    o->flux_up = 0U;
+    o->torque_dem = 0;
+    im_out_report(c, o, te);
+}
+
+/* The estimator input's part common to both schemes (currents, rotor-flux reference, speed, and
+ * the angle on the speed-loop periods). */
+static inline void im_dtc_ein_common(im_dtc_t *c)
+{
+    im_est_in_t *in = &c->ein;
+    in->i_alpha_iq = c->i.i_alpha_iq;
+    in->i_beta_iq = c->i.i_beta_iq;
+    in->psir_ref_iq = c->psir_ref_iq;
+    in->speed_iq = c->speed_iq;
+    /* the rotor-flux angle and magnitude (CORDIC) only where the speed loop runs: sensorless
+     * speed, telemetry */
+    in->want_polar = (uint16_t)(c->div_cnt == 0U ? 1U : 0U);
+}
+
+#endif /* IM_DTC_INTERNAL_H */

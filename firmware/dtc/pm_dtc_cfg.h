@@ -1,0 +1,66 @@
+/*
+ * pm_dtc_cfg.h - the PM DTC law's part of the configuration (dtc_config_t.u.pm_dtc, law
+ * DTC_LAW_PM_DTC; the law: dtc.h): the machine model, the voltage model's start-up hand-over and
+ * corrections the PM law adds, the switching table and comparators. Per-unit Q formats
+ * (dtc_base.h); checked by dtc_check (dtc_check.c).
+ */
+#ifndef PM_DTC_CFG_H
+#define PM_DTC_CFG_H
+
+#include <stdint.h>
+
+#include "dtc_config_common.h"
+
+/* PM machine (Hoang Table VIII), pu. */
+typedef struct {
+    iq_t ls_iq;     /* synchronous inductance l_s (surface PM: L_d = L_q) */
+    iq_t psi_m_iq;  /* magnet flux linkage psi_m */
+    iq_t inv_ls_iq; /* 1 / l_s (> 0; precomputed: no division in the ISR) */
+} dtc_pm_machine_cfg_t;
+
+/* The PM law's estimator settings beside the common ones (dtc_est_cfg_t); the flags first (the
+ * step reads them every period: small offsets). */
+typedef struct {
+    /* Actuation-delay compensation (dtc.c dtc_predict): the vector chosen at step k acts in
+     * period k+1, so the comparators and the sector work on the flux and torque predicted for
+     * the start of period k+1 from the vector already committed for period k. */
+    uint16_t delay_comp;      /* 1: on (default), 0: comparators on the estimate at k */
+    uint16_t polarity_mid;    /* 1: the drop compensation of period [k-1, k] takes the current
+                               * polarity from the period's mean current (i(k-1) + i(k))/2 and the
+                               * dead-time compensation from the current at the switching instant
+                               * i(k-1); 0: both from the sample i(k) */
+    uint16_t lpf_comp;        /* voltage model: 1 = gain/phase correction of the low-pass with the
+                               * measured speed (lpfcorr.h), 0 = the low-pass output as it is */
+    uint16_t dc_supp;         /* voltage model: 1 = DC-current suppression (dtc.c dtc_dcsupp) */
+
+    /* Start-up and hand-over (voltage model only; dtc.c step 3). Below handover_speed_iq the
+     * drive runs on the current model (Hoang eqs. 8-9, encoder) and the voltage model's low-pass
+     * state is overwritten with that flux every period; once |measured speed| exceeds
+     * handover_speed_iq the voltage model integrates on from that state (bumpless: the estimate
+     * is continuous at the hand-over); it falls back to the current model when |speed| drops
+     * below handover_speed_iq - handover_hyst_iq. Electrical speed, pu; handover_speed_iq = 0:
+     * no hand-over, the voltage model runs from standstill (seeded once after a reset). */
+    iq_t handover_speed_iq;   /* >= 0 */
+    iq_t handover_hyst_iq;    /* 0 <= hyst <= handover_speed_iq */
+
+    iq_t wc_pu_iq;            /* the low-pass cut-off w_c / w_base (> 0 when lpf_comp) */
+    iq_t lpf_wmin_iq;         /* the correction's speed floor, pu (> 0 when lpf_comp; 2 w_c) */
+    iq_t dcs_k_iq;            /* its gain per period over |w|, Ts l_s / 20 in pu (> 0 when dc_supp):
+                               * w_d = |w| / 20 */
+    iq_t vmid_g_iq;           /* FSTP mid-point regulation (dtc_dcsupp): phase-A DC current demanded
+                               * per volt of mid-point deviation, 2 C w_m in pu (>= 0; 0 = off) */
+    iq_t vmid_beta_s_iq;      /* FSTP restoring mid-point reconstruction (dtc.c dtc_vmid_beta):
+                               * beta = min(2^-DTC_VMID_BETA_MAX_LOG2, (s w)^2), w the measured
+                               * electrical speed in pu; s = sqrt(k) in pu (>= 0; 0 = off) */
+} dtc_pm_est_cfg_t;
+
+/* The part; the members the step reads every period first (small offsets from the configuration's
+ * start on the 16-bit-offset loads of the proxies and the C28x). */
+typedef struct {
+    uint16_t part;            /* DTC_PART_PM_DTC */
+    dtc_table_cfg_t sw;       /* sstp_table up to DTC_ST_D */
+    dtc_pm_est_cfg_t est;
+    dtc_pm_machine_cfg_t machine;
+} dtc_pm_dtc_cfg_t;
+
+#endif /* PM_DTC_CFG_H */

@@ -1,0 +1,43 @@
+/*
+ * dtc_config_si_conv.h - the converter's internals shared by its common part (dtc_config_si.c)
+ * and the laws' parts (law_pm_dtc_si.c, law_im_si.c): the error state of one conversion, the
+ * pu-to-Q conversions that refuse what does not fit, and each law part's entry points. Host code,
+ * not for the converter's users (dtc_config_si.h).
+ */
+#ifndef DTC_CONFIG_SI_CONV_H
+#define DTC_CONFIG_SI_CONV_H
+
+#include <stddef.h>
+
+#include "dtc_config_si.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+/* One conversion's error state: the first failure's code and message win. */
+typedef struct {
+    char *msg;
+    size_t len;
+    int code;
+} dtc_si_conv_t;
+
+/* Records the failure (the first one only) and returns code. */
+int dtc_si_fail(dtc_si_conv_t *c, int code, const char *fmt, ...);
+/* value (in pu) -> IQ, refusing overflow and a non-zero value that rounds to zero (field names
+ * the SI field, si_value its SI value, for the message). */
+iq_t dtc_si_to_iq(dtc_si_conv_t *c, const char *field, double si_value, double pu);
+/* A gain in (0, 1) -> Q31, refusing what is not representable. */
+q31_t dtc_si_to_q31(dtc_si_conv_t *c, const char *field, double v);
+
+/* The PM DTC law's part (law_pm_dtc_si.c): its range checks of the SI fields it reads (returns
+ * the first failure's code, or DTC_SI_OK), and its conversion into cfg->u.pm_dtc plus the
+ * protection levels only this law uses (the current limit, the rotor-hold current; board.vmid_cal
+ * and the common part already converted). */
+int dtc_si_pm_dtc_check(dtc_si_conv_t *c, const dtc_config_si_t *si);
+void dtc_si_pm_dtc_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *b, dtc_config_t *cfg);
+/* The IM laws' part (law_im_si.c): as above, into cfg->u.im. */
+int dtc_si_im_check(dtc_si_conv_t *c, const dtc_config_si_t *si);
+void dtc_si_im_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *b, dtc_config_t *cfg);
+
+#endif /* DTC_CONFIG_SI_CONV_H */

@@ -1,0 +1,226 @@
+/* law_im_si.c - the induction-machine laws' part of the SI -> per-unit converter
+ * (dtc_config_si.h, dtc_config_si_conv.h): the IM rig's defaults, the derived table speed, the
+ * range checks of the IM fields and the conversion into dtc_config_t.u.im. Host code. */
+#include "dtc_config_si.h"
+#include "dtc_config_si_conv.h"
+#include "plant_defaults.h"
+
+#include <math.h>
+
+void dtc_config_si_im_defaults(dtc_config_si_t *si)
+{
+    dtc_config_si_defaults(si);
+    si->law = DTC_LAW_IM_DTC;
+    /* The default IM of plant_defaults.h: 4 kW, 4 poles, 50 Hz, 220 V */
+    si->rs_ohm = PLANT_DEF_IM_RS_OHM;
+    si->rr_ohm = PLANT_DEF_IM_RR_OHM;
+    si->lls_h = PLANT_DEF_IM_LLS_H;
+    si->llr_h = PLANT_DEF_IM_LLR_H;
+    si->lm_h = PLANT_DEF_IM_LM_H;
+    si->ls_h = 0.0;
+    si->psi_m_wb = 0.0;
+    si->pole_pairs = PLANT_DEF_IM_POLE_PAIRS;
+    si->rated_speed_rpm = 1500.0;  /* synchronous speed at 50 Hz: the speed base */
+    si->rated_torque_nm = PLANT_DEF_IM_RATED_TORQUE_NM;
+    si->rated_current_a = PLANT_DEF_IM_RATED_CURRENT_A;
+    si->inertia_kgm2 = PLANT_DEF_IM_J_KGM2;
+    /* SSTP on sqrt(2) * 220 V; the plant's devices */
+    si->topology = DTC_TOPO_SSTP;
+    si->vdc_v = PLANT_DEF_IM_VDC_V;
+    si->compensation = DTC_COMP_SSTP;
+    si->ts_s = PLANT_DEF_IM_TS_S;   /* Casadei section 10.5 */
+    si->handover_auto = 0;         /* PM start-up only */
+    si->handover_speed_rpm = 0.0;
+    si->delay_comp = 0;            /* PM law only */
+    si->flux_ref_wb = PLANT_DEF_IM_FLUX_REF_WB;
+    si->flux_band_wb = 0.0;
+    si->torque_band_nm = 0.0;
+    si->torque_limit_nm = PLANT_DEF_IM_TORQUE_LIMIT_NM;
+    si->speed_limit_rpm = 6000.0;     /* Fig. 32: 400 % of base speed */
+    si->speed_ref_rpm = 0.0;
+    si->speed_bw_rad_s = 30.0;
+    si->estimator = DTC_EST_IMPROVED;
+    si->sstp_table = DTC_ST_BASIC;
+    /* The IM rig's sensors and protection (plant_defaults.h): currents -range..+range over the
+     * 12-bit code range, voltages 0..range. */
+    si->adc_i_a_per_count = 2.0 * PLANT_DEF_IM_CURRENT_RANGE_A / PLANT_DEF_ADC_FULL_SCALE_CODES;
+    si->adc_vdc_v_per_count = PLANT_DEF_IM_VOLTAGE_RANGE_V / PLANT_DEF_ADC_FULL_SCALE_CODES;
+    si->adc_vmid_v_per_count = PLANT_DEF_IM_VOLTAGE_RANGE_V / PLANT_DEF_ADC_FULL_SCALE_CODES;
+    si->i_trip_a = PLANT_DEF_IM_OVERCURRENT_A;
+    si->vdc_max_v = PLANT_DEF_IM_VDC_MAX_V;
+    si->vdc_min_v = PLANT_DEF_IM_VDC_MIN_V;
+    si->v_base_v = PLANT_DEF_IM_VDC_V;
+    si->i_base_a = PLANT_DEF_IM_RATED_CURRENT_A;
+    si->w_base_rad_s = 2.0 * M_PI * 50.0;
+}
+
+double dtc_table_speed_default_rpm(const dtc_config_si_t *si)
+{
+    const double w_el = 0.5 * si->vdc_v / sqrt(3.0) / si->flux_ref_wb;
+    return w_el * 30.0 / M_PI / (double)si->pole_pairs;
+}
+
+int dtc_si_im_check(dtc_si_conv_t *c, const dtc_config_si_t *si)
+{
+    /* the PM law's machine fields are not this law's (its machine: rr_ohm, lls_h, llr_h, lm_h) */
+    if (si->ls_h != 0.0) return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "ls_h = %g: a PM machine's field, not one of the IM law's (rr_ohm, lls_h, llr_h, lm_h); must be 0", si->ls_h);
+    if (si->psi_m_wb != 0.0) return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "psi_m_wb = %g: a PM machine's field, not one of the IM law's (rr_ohm, lls_h, llr_h, lm_h); must be 0", si->psi_m_wb);
+    if (!(si->rr_ohm > 0.0)) return dtc_si_fail(c, DTC_SI_ERR_MACHINE, "rr_ohm = %g: rotor resistance must be > 0", si->rr_ohm);
+    if (!(si->lm_h > 0.0)) return dtc_si_fail(c, DTC_SI_ERR_MACHINE, "lm_h = %g: magnetising inductance must be > 0", si->lm_h);
+    if (!(si->lls_h > 0.0)) return dtc_si_fail(c, DTC_SI_ERR_MACHINE, "lls_h = %g: leakage inductance must be > 0", si->lls_h);
+    if (!(si->llr_h > 0.0)) return dtc_si_fail(c, DTC_SI_ERR_MACHINE, "llr_h = %g: leakage inductance must be > 0", si->llr_h);
+    if (si->estimator != DTC_EST_VOLTAGE && si->estimator != DTC_EST_IMPROVED)
+        return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "estimator = %d: the IM law has DTC_EST_VOLTAGE or DTC_EST_IMPROVED", si->estimator);
+    if (si->topology != DTC_TOPO_SSTP)
+        return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "topology = %d: the IM law needs the six-switch inverter (DTC_TOPO_SSTP)", si->topology);
+    if (si->sstp_table < DTC_ST_BASIC || si->sstp_table > DTC_ST_SPEED)
+        return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "sstp_table = %d: must be DTC_ST_BASIC..DTC_ST_SPEED", si->sstp_table);
+    if (si->speed_sensor != DTC_SPEED_ENCODER && si->speed_sensor != DTC_SPEED_NONE)
+        return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "speed_sensor = %d: DTC_SPEED_ENCODER, or DTC_SPEED_NONE with the IM law", si->speed_sensor);
+    return DTC_SI_OK;
+}
+
+/* The induction-machine laws' part u.im (Casadei 2006), after the common part (the speed PI,
+ * limits and references are converted by dtc_config_from_si). T model: L_s = L_ls + M, L_r = L_lr + M,
+ * sigma = 1 - M^2 / (L_s L_r). */
+void dtc_si_im_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *b, dtc_config_t *cfg)
+{
+    const double ls = si->lls_h + si->lm_h, lr = si->llr_h + si->lm_h, m = si->lm_h;
+    const double sigma = 1.0 - m * m / (ls * lr);
+    const double tsp = si->ts_s * b->w_base_rad_s;
+    const double rpm_pu = M_PI / 30.0 * si->pole_pairs / b->w_base_rad_s;
+    /* Rotor-flux reference: the constant one of eq. 19, or the no-load rotor flux of the stator-
+     * flux reference (phi_r = (M/L_s) phi_s at zero torque). */
+    const double psir = si->psir_ref_wb > 0.0 ? si->psir_ref_wb : si->flux_ref_wb * m / ls;
+    dtc_im_machine_cfg_t *im = &cfg->u.im.machine;
+
+    cfg->u.im.part = DTC_PART_IM;
+    if (!(si->psir_ref_wb >= 0.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "psir_ref_wb = %g: must be >= 0 (0 = stator-flux reference)", si->psir_ref_wb); return; }
+    if (!(si->tau_lo_s > si->ts_s && si->tau_hi_s > si->ts_s)) { dtc_si_fail(c, DTC_SI_ERR_IM, "tau_lo_s = %g, tau_hi_s = %g: must be longer than ts_s", si->tau_lo_s, si->tau_hi_s); return; }
+    if (!(si->tau_w_lo_rpm >= 0.0 && si->tau_w_hi_rpm >= si->tau_w_lo_rpm)) { dtc_si_fail(c, DTC_SI_ERR_IM, "tau_w_hi_rpm = %g: need 0 <= tau_w_lo_rpm <= tau_w_hi_rpm", si->tau_w_hi_rpm); return; }
+    if (!(si->table_speed_rpm >= 0.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "table_speed_rpm = %g: must be >= 0 (0 = derived)", si->table_speed_rpm); return; }
+    if (!(si->speed_filter_s > si->ts_s * si->speed_div)) { dtc_si_fail(c, DTC_SI_ERR_IM, "speed_filter_s = %g: must be longer than the speed period ts_s * speed_div", si->speed_filter_s); return; }
+    if (!(si->magn_frac > 0.0 && si->magn_frac < 1.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "magn_frac = %g: must be in (0, 1)", si->magn_frac); return; }
+    if (si->flux_weakening != 0 && si->flux_weakening != 1) { dtc_si_fail(c, DTC_SI_ERR_IM, "flux_weakening = %d: must be 0 or 1", si->flux_weakening); return; }
+    if (si->fw_window < 20 || si->fw_window > 65535) { dtc_si_fail(c, DTC_SI_ERR_IM, "fw_window = %d: must be 20..65535 (section 12.3: at most one flux-reference change per 20 periods)", si->fw_window); return; }
+    if (!(si->fw_step_frac > 0.0 && si->fw_step_frac < 1.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "fw_step_frac = %g: must be in (0, 1)", si->fw_step_frac); return; }
+    if (!(si->fw_psi_min_frac > 0.0 && si->fw_psi_min_frac <= 1.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "fw_psi_min_frac = %g: must be in (0, 1]", si->fw_psi_min_frac); return; }
+
+    im->rr_iq = dtc_si_to_iq(c, "rr_ohm", si->rr_ohm, si->rr_ohm / b->z_base_ohm);
+    im->sigma_ls_iq = dtc_si_to_iq(c, "lls_h (sigma L_s)", si->lls_h, sigma * ls / b->l_base_h);
+    im->sigma_lr_iq = dtc_si_to_iq(c, "llr_h (sigma L_r)", si->llr_h, sigma * lr / b->l_base_h);
+    im->kr_iq = dtc_si_to_iq(c, "llr_h (L_r/M)", si->llr_h, lr / m);
+    im->ks_iq = dtc_si_to_iq(c, "lls_h (L_s/M)", si->lls_h, ls / m);
+    im->inv_ks_iq = dtc_si_to_iq(c, "lls_h (M/L_s)", si->lls_h, m / ls);
+    im->m_iq = dtc_si_to_iq(c, "lm_h", si->lm_h, m / b->l_base_h);
+
+    /* Improved estimator: Ts/tau in Q31, speed-dependent between the two speeds. */
+    cfg->u.im.est.k_lo_q31 = dtc_si_to_q31(c, "tau_lo_s (Ts/tau)", si->ts_s / si->tau_lo_s);
+    cfg->u.im.est.k_hi_q31 = dtc_si_to_q31(c, "tau_hi_s (Ts/tau)", si->ts_s / si->tau_hi_s);
+    cfg->u.im.est.w_lo_iq = dtc_si_to_iq(c, "tau_w_lo_rpm", si->tau_w_lo_rpm, si->tau_w_lo_rpm * rpm_pu);
+    cfg->u.im.est.w_hi_iq = dtc_si_to_iq(c, "tau_w_hi_rpm", si->tau_w_hi_rpm, si->tau_w_hi_rpm * rpm_pu);
+    if (cfg->u.im.est.w_hi_iq > cfg->u.im.est.w_lo_iq) {
+        const double slope = (si->ts_s / si->tau_hi_s - si->ts_s / si->tau_lo_s) /
+                             ((si->tau_w_hi_rpm - si->tau_w_lo_rpm) * rpm_pu);
+        const double r = nearbyint(slope * 2147483648.0);
+        if (!(fabs(r) <= 2147483647.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "tau_w_hi_rpm = %g: the Ts/tau slope overflows Q31", si->tau_w_hi_rpm); return; }
+        cfg->u.im.est.k_slope_q31 = (q31_t)r;
+    }
+
+    if (si->law == DTC_LAW_IM_SFVC || si->law == DTC_LAW_IM_DFOC) {
+        /* SVM schemes (im_sfvc.c, im_dfoc.c): one SVM carrier period per control period */
+        if (!(si->carrier_hz == 0.0 || fabs(si->carrier_hz * si->ts_s - 1.0) < 1e-9)) { dtc_si_fail(c, DTC_SI_ERR_IM, "carrier_hz = %g: the SVM carrier period must equal the control period ts_s = %g s (one PWM period per control period; 0 = 1/ts_s)", si->carrier_hz, si->ts_s); return; }
+        if (si->svm_mode != 0 && si->svm_mode != 1) { dtc_si_fail(c, DTC_SI_ERR_IM, "svm_mode = %d: must be 0 (symmetric) or 1 (two-phase)", si->svm_mode); return; }
+        if (!(si->psir_ref_wb > 0.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "psir_ref_wb = %g: the stator-flux vector control (Casadei eq. 18) and the rotor-flux-oriented control take the rotor-flux command: must be > 0", si->psir_ref_wb); return; }
+        if (si->flux_weakening != 0) { dtc_si_fail(c, DTC_SI_ERR_IM, "flux_weakening = %d: section 12's flux weakening watches the DTC torque comparator; not with SFVC or DFOC", si->flux_weakening); return; }
+        cfg->u.im.svm_mode = (uint16_t)si->svm_mode;
+    }
+    if (si->law == DTC_LAW_IM_SFVC) {
+        /* the flux regulator's K_p (eq. 24) in pu voltage per pu flux = K_p / w_base */
+        const double kp = si->sfvc_kp_per_s > 0.0 ? si->sfvc_kp_per_s : 0.5 / si->ts_s;
+        if (!(si->sfvc_kp_per_s >= 0.0 && si->sfvc_kp_per_s * si->ts_s <= 1.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "sfvc_kp_per_s = %g: must be in (0, 1/ts_s = %g] (0 = derived)", si->sfvc_kp_per_s, 1.0 / si->ts_s); return; }
+        cfg->u.im.sfvc.kp_iq = dtc_si_to_iq(c, "sfvc_kp_per_s", kp, kp / b->w_base_rad_s);
+    }
+    if (si->law == DTC_LAW_IM_DFOC) {
+        /* Current PI regulators in the rotor-flux frame (Casadei sec. 13, im_dfoc.c). With the
+         * back-EMF j w_s phi_s fed forward, the current sees sigma L_s di/dt = v - R_s i (the
+         * transient inductance): a PI with its zero at R_s / (sigma L_s) and the crossover w_c
+         * makes the loop w_c / (s + w_c): K_p = sigma L_s w_c, K_i = R_s w_c. w_c = 0.2 / Ts: the
+         * loop's delay of about 1.5 Ts (the computation period and the PWM's half period) costs
+         * 0.3 rad (17 deg) of phase there. References (T model, rotor-flux frame): i_d = phi_r* / M,
+         * T = (3/2) p (M/L_r) phi_r i_q, in pu i_q = (l_r/m) T / phi_r*. */
+        const double wc = 0.2 / si->ts_s;
+        const double zpu = si->rs_ohm / b->z_base_ohm;
+        cfg->u.im.dfoc.kp_iq = dtc_si_to_iq(c, "lls_h (DFOC K_p = sigma L_s w_c)", si->lls_h, sigma * ls / b->l_base_h * wc / b->w_base_rad_s);
+        cfg->u.im.dfoc.ki_ts_iq = zpu > 0.0 ? dtc_si_to_iq(c, "rs_ohm (DFOC K_i Ts = R_s w_c Ts)", si->rs_ohm, zpu * wc * si->ts_s) : 0;
+        cfg->u.im.dfoc.id_ref_iq = dtc_si_to_iq(c, "psir_ref_wb (DFOC i_d* = phi_r* / M)", si->psir_ref_wb, si->psir_ref_wb / m / b->i_base_a);
+        cfg->u.im.dfoc.iq_per_t_iq = dtc_si_to_iq(c, "psir_ref_wb (DFOC l_r/(m phi_r*))", si->psir_ref_wb, lr / m / (si->psir_ref_wb / b->psi_base_wb));
+    }
+    if (si->law == DTC_LAW_IM_DSVM) {
+        /* The five-level torque comparator (hyst.h hyst5_t): the outer band. Derived (0): the
+         * levels +-2 (a whole active vector) only when the torque error exceeds what a whole
+         * vector changes in one period, Casadei eqs. 12, 15 at standstill with the vector
+         * across the flux: dT = (3/2) p M / (sigma L_s L_r) |V_k| |phi_r| Ts, |V_k| = 2/3 V_dc;
+         * so band2 / 2 = dT (and at least the inner band). */
+        const double dt_full = 1.5 * si->pole_pairs * m / (sigma * ls * lr) * (2.0 / 3.0 * si->vdc_v) * psir * si->ts_s;
+        const double b2 = si->dsvm_torque_band2_nm > 0.0 ? si->dsvm_torque_band2_nm
+                                                         : fmax(2.0 * dt_full, si->torque_band_nm);
+        if (!(si->dsvm_torque_band2_nm == 0.0 || si->dsvm_torque_band2_nm >= si->torque_band_nm)) { dtc_si_fail(c, DTC_SI_ERR_BAND, "dsvm_torque_band2_nm = %g: must be 0 (derived) or >= torque_band_nm = %g", si->dsvm_torque_band2_nm, si->torque_band_nm); return; }
+        if (si->flux_weakening != 0) { dtc_si_fail(c, DTC_SI_ERR_IM, "flux_weakening = %d: section 12's flux weakening watches the three-level torque comparator; not with DSVM", si->flux_weakening); return; }
+        cfg->u.im.dsvm.torque_band2_iq = dtc_si_to_iq(c, "dsvm_torque_band2_nm", b2, b2 / b->t_base_nm);
+    }
+    {
+        const double rpm = si->table_speed_rpm > 0.0 ? si->table_speed_rpm : dtc_table_speed_default_rpm(si);
+        cfg->u.im.table_speed_iq = dtc_si_to_iq(c, "table_speed_rpm", rpm, rpm * rpm_pu);
+    }
+    cfg->u.im.fw.on = (uint16_t)si->flux_weakening;
+    cfg->u.im.fw.window = (uint16_t)si->fw_window;
+    {
+        /* Casadei eq. 31: pull-out torque at stator flux phi_s (R_s neglected):
+         * T_max = (3/2) p (1 - sigma) / (2 sigma L_s) phi_s^2, so k_T = T_max / phi_s^2. In pu
+         * (T_base = 3/2 p psi_base I_base): k_T = (1 - sigma) / (2 sigma l_s). */
+        const double kt_pu = (1.0 - sigma) / (2.0 * sigma * ls / b->l_base_h);
+        const double psi_pu = si->flux_ref_wb / b->psi_base_wb;
+        cfg->u.im.fw.step_down_iq = dtc_si_to_iq(c, "fw_step_frac", si->fw_step_frac, si->fw_step_frac * psi_pu);
+        cfg->u.im.fw.step_up_iq = cfg->u.im.fw.step_down_iq;
+        cfg->u.im.fw.psi_min_iq = dtc_si_to_iq(c, "fw_psi_min_frac", si->fw_psi_min_frac, si->fw_psi_min_frac * psi_pu);
+        cfg->u.im.fw.inv_psi_rated_iq = dtc_si_to_iq(c, "flux_ref_wb (1/phi_s,rated)", si->flux_ref_wb, 1.0 / psi_pu);
+        cfg->u.im.fw.kt_iq = dtc_si_to_iq(c, "lls_h (k_T of eq. 34)", si->lls_h, kt_pu);
+    }
+
+    cfg->speed.sensor = (uint16_t)si->speed_sensor;
+    cfg->u.im.ref.psir_ref_iq = dtc_si_to_iq(c, "psir_ref_wb", si->psir_ref_wb, si->psir_ref_wb / b->psi_base_wb);
+    cfg->u.im.ref.inv_psir_ref_iq = si->psir_ref_wb > 0.0
+        ? dtc_si_to_iq(c, "psir_ref_wb (1/phi_r*)", si->psir_ref_wb, b->psi_base_wb / si->psir_ref_wb) : 0;
+    cfg->u.im.ref.inv_psir_sq_iq = dtc_si_to_iq(c, "psir_ref_wb (1/phi_r*^2)", psir,
+                                      (b->psi_base_wb / psir) * (b->psi_base_wb / psir));
+    /* sensorless speed once per speed period T_speed = speed_div Ts (im_ref.h) */
+    cfg->u.im.ref.gain_w_iq = dtc_si_to_iq(c, "ts_s (angle-to-speed gain)", si->ts_s,
+                                    2.0 * M_PI / (65536.0 * tsp * si->speed_div));
+    cfg->u.im.ref.speed_filt_q31 = dtc_si_to_q31(c, "speed_filter_s",
+                                          1.0 - exp(-si->ts_s * si->speed_div / si->speed_filter_s));
+    {
+        /* Start-up (im_dtc.h). Magnetising ramp: at DC (T model, Casadei eqs. 7-9 at w = 0)
+         * phi_s = sigma L_s i + (M/L_r) phi_r and d phi_r/dt = (M i - phi_r)/tau_r. With phi_s
+         * ramped at rho the current settles (after sigma tau_r) to
+         *     i = phi_r/M + tau_r rho / L_s,   phi_r lagging (M/L_s) phi_s by sigma tau_r,
+         * so it stays below the rated current I_n when rho = (I_n - I_m) L_s / tau_r, I_m =
+         * phi_r* / M the final magnetising current. (A stator-flux step instead drives the current
+         * towards phi_s* / (sigma L_s).) Then the stator flux is held: the improved estimator's
+         * error at DC decays as 1 - exp(-t/tau_r) (eq. 20 at DC: d phi_r/dt = -(R_r/L_r)(phi_r -
+         * phi_r*)), so the torque waits tau_r ln(1/(1 - magn_frac)) more. */
+        const double tau_r = lr / si->rr_ohm;
+        const double psis_final = si->psir_ref_wb > 0.0 ? si->psir_ref_wb * ls / m : si->flux_ref_wb;
+        const double i_m = psir / m;
+        const double rho = (si->rated_current_a - i_m) * ls / tau_r;
+        double n_ramp, n;
+        if (!(si->rated_current_a > i_m)) { dtc_si_fail(c, DTC_SI_ERR_IM, "rated_current_a = %g: must exceed the magnetising current phi_r*/M = %g A", si->rated_current_a, i_m); return; }
+        n_ramp = ceil(psis_final / (rho * si->ts_s));
+        n = n_ramp + ceil(tau_r * log(1.0 / (1.0 - si->magn_frac)) / si->ts_s);
+        if (!(n >= 1.0 && n <= 65535.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "magn_frac = %g: the magnetisation time %g s is not 1..65535 periods of ts_s", si->magn_frac, n * si->ts_s); return; }
+        cfg->u.im.ref.magn_periods = (uint16_t)n;
+        cfg->u.im.ref.magn_ramp_iq = dtc_si_to_iq(c, "rated_current_a (magnetising ramp)", si->rated_current_a,
+                                           rho * si->ts_s / b->psi_base_wb);
+        cfg->u.im.ref.magn_k_q31 = dtc_si_to_q31(c, "rr_ohm (Ts/tau_r)", si->ts_s / tau_r);
+    }
+}
