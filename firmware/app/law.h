@@ -12,13 +12,14 @@
  *
  * Every law has the same shape: a check of its configuration part (error codes naming the field),
  * init, reset, step, shadow write, refs get, and the form of its command (enum law_out_form),
- * fixed at init: a table of them per law (law.c), chosen once by law_init. The laws share the
+ * fixed by the law; law.c dispatches each call with one switch on the law law_init accepted
+ * (DESIGN.md section 4: at most a switch in the ISR path, no function pointers there). The laws share the
  * measurement and output structs (law_io.h) and the reference set (dtc_refs.h). Their states share storage (a union): only the configured one is used. Only
  * the laws linked into the image (firmware/CMakeLists.txt DTC_LAWS: DTC_LAW_PM_LINKED,
  * DTC_LAW_IM_LINKED) exist here; a configuration of another is refused with DTC_ERR_VARIANT.
  *
  * Adding a law: its value in enum dtc_law, its configuration part (a header like pm_dtc_cfg.h)
- * in dtc_config_t.u, its module with the functions above, its table and one case in law.c; on
+ * in dtc_config_t.u, its module with the functions above, its case in each switch of law.c; on
  * the host its converter part and scenario keys (docs/firmware-core.md, "Adding a control law").
  */
 #ifndef LAW_H
@@ -36,11 +37,9 @@
 #include "im_dtc.h"
 #endif
 
-typedef struct law_ops law_ops_t; /* a law's functions (law.c) */
-
 typedef struct {
-    uint16_t law;          /* enum dtc_law, from the configuration */
-    const law_ops_t *ops;  /* the law's functions, chosen by law_init */
+    uint16_t law;          /* enum dtc_law, from the configuration once law_init accepted it
+                            * (0xFFFF after a refused one: no law runs) */
     union {
 #if DTC_LAW_PM_LINKED
         dtc_t pm;
