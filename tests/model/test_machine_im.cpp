@@ -176,9 +176,9 @@ TEST(InductionMachine, TorqueSlipMatchesEquivalentCircuitAndCasadeiEq17) {
     plant_params_t p = im_ideal(0.0);
     const double ls = p.lls_h + p.lm_h, lr = p.llr_h + p.lm_h, M = p.lm_h;
     const double sigma = 1.0 - M * M / (ls * lr);
-    const double wr_pull = p.rr_ohm / (sigma * lr);  // eq. 30
+    const double wr_pull = p.rr_ohm / (sigma * lr);  // Casadei eq. 30
     const double s_pull = wr_pull / kWs;
-    const double kT = 0.75 * p.pole_pairs * M * M / (sigma * lr * ls * ls);  // eq. 31
+    const double kT = 0.75 * p.pole_pairs * M * M / (sigma * lr * ls * ls);  // Casadei eq. 31
     const double slips[12] = {0.005, 0.01, 0.02, 0.0427, 0.06, 0.1, s_pull, 0.2, 0.3, 0.5, 0.8, 1.0};
     for (double s : slips) {
         const Steady st = run_steady(s, 2.0);
@@ -257,7 +257,7 @@ TEST(InductionMachine, DefaultParameters) {
 // inertia (1 kg*m^2, ~3 s run-up) so that after the starting transient the machine moves along its
 // steady-state torque-speed curve. Checks: (a) the peak torque during the run-up (after 0.8 s: the
 // starting transient from zero flux swings the torque between 61 and 93 N*m until ~0.6 s)
-// equals the pull-out torque T_M = k_T psi_s^2 of eqs. 29 and 31 at the stator flux the plant has
+// equals the pull-out torque T_M = k_T psi_s^2 of Casadei eqs. 29 and 31 at the stator flux the plant has
 // at that instant, within 3 % (the dynamic torque lags the static curve by ~ tau' ds/dt); and it
 // occurs near the pull-out slip of eq. 30 (within 0.05 in slip); (b) the final slip equals the
 // equivalent circuit's rated-torque slip (1436.3 rpm) within 0.5 rpm.
@@ -270,8 +270,8 @@ TEST(InductionMachine, FreeAccelerationPeakTorqueAndFinalSlip) {
     auto pl = make(p);
     const double ls = p.lls_h + p.lm_h, lr = p.llr_h + p.lm_h, M = p.lm_h;
     const double sigma = 1.0 - M * M / (ls * lr);
-    const double kT = 0.75 * p.pole_pairs * M * M / (sigma * lr * ls * ls);  // eq. 31
-    const double s_pull = p.rr_ohm / (sigma * lr) / kWs;                      // eq. 30
+    const double kT = 0.75 * p.pole_pairs * M * M / (sigma * lr * ls * ls);  // Casadei eq. 31
+    const double s_pull = p.rr_ohm / (sigma * lr) / kWs;                      // Casadei eq. 30
     double t_peak = 0.0, te_peak = -1e9, psi_at_peak = 0.0, s_at_peak = 0.0;
     const int n = static_cast<int>(8.0 / kTs);
     for (int k = 0; k < n; ++k) {
