@@ -168,7 +168,7 @@ TEST(InductionMachine, StepHalvingShowsFourthOrder) {
 }
 
 // Steady state vs the equivalent circuit at 12 slips including Casadei's pull-out slip (eq. 30,
-// omega_r = R_r / (sigma L_r)): torque vs T = 1.5 p |I_r|^2 R_r/(s omega_s), and vs eq. 17 with the
+// omega_r = R_r / (sigma L_r)): torque vs T = 1.5 p |I_r|^2 R_r/(s omega_s), and vs Casadei eq. 17 with the
 // plant's own |psi_s|; at the pull-out slip also eq. 29 T_M = k_T psi_s^2 with k_T from eq. 31.
 // Tolerance 2e-4 relative: the held voltage's fundamental is sinc(omega T/2) = 1 - 6.6e-6 of the
 // continuous one (torque -1.3e-5), and after 2 s the slowest transient (tau ~ 0.13 s) is ~1e-7.
@@ -218,7 +218,7 @@ TEST(InductionMachine, NoLoadAndLockedRotorCurrents) {
 }
 
 // The default machine (Modelica Buildings IM_5HP_400V_50Hz rescaled to 220 V) gives Casadei's
-// rated torque 26.5 N*m (Tables 4-5) at about 1436 rpm on rated voltage and frequency; at
+// rated torque 26.5 N*m (Casadei Table 5) at about 1436 rpm on rated voltage and frequency; at
 // Casadei's comparison speed 1440 rpm the circuit gives ~25.1 N*m. Checked on the plant's steady
 // state (bisection on the speed to 0.1 rpm).
 TEST(InductionMachine, DefaultMachineRatedTorqueAtRatedSlip) {

@@ -4,7 +4,7 @@
     /usr/bin/python3 tools/plot/report.py [--exe build/host/bin/dtc-sil] [--out out/report]
                                           [--jobs 2] [--set key=value ...]
 
-For each of the seven operating points of Tables IX and X (1500 rpm, full load 0.3 N*m) it runs
+For each of the seven operating points of Hoang Tables IX and X (1500 rpm, full load 0.3 N*m) it runs
 tools/scenarios/<name>.toml into OUT/<name>/, draws that run's figures (plot_run.py), and writes
 OUT/report.md: paper vs simulation for the per-phase fundamental currents and their imbalance
 (Hoang Table IX), the DC component of the predicted (estimated) torque, the total current THD (eq. 39)
