@@ -61,7 +61,8 @@
 #define PLANT_DEF_IM_OBSERVER_TAU_S 0.01      /* Casadei sec. 10.2, Fig. 17: improved estimator tau */
 #define PLANT_DEF_IM_CARRIER_HZ 6250.0        /* SVM carrier of the stator-flux vector control (control
                                                * period = carrier period): the 160 us DFOC cycle of
-                                               * Casadei Table 4, for the constant-switching-frequency drive (T1PR 6000) */
+                                               * Casadei Table 4, for the constant-switching-
+                                               * frequency drive (T1PR 6000) */
 #define PLANT_DEF_PWM_CLOCK_HZ 75e6           /* F2812 HSPCLK, Timer 1 clock of the PWM form (hal.h) */
 #define PLANT_DEF_IM_MAGN_FRAC 0.9            /* start-up: torque allowed at 90 % of the rotor flux */
 /* Sensing and protection sized for the 300 % torque current (about 2.5x rated, 48 A peak):

@@ -1,7 +1,7 @@
 // machine_im.h - squirrel-cage induction machine for the plant (SI units, stationary frame).
 //
-// Casadei et al. 2006, appendix (Casadei eqs. A1-A10): space vectors by the amplitude-invariant transform (A1)-(A5), and
-// with T-model parameters R_s, R_r, L_ls, L_lr, L_m (= Casadei's M), p:
+// Casadei et al. 2006, appendix (Casadei eqs. A1-A10): space vectors by the amplitude-invariant
+// transform (A1)-(A5), and with T-model parameters R_s, R_r, L_ls, L_lr, L_m (= Casadei's M), p:
 //   (A6) v_s = R_s i_s + dpsi_s/dt,  (A7) 0 = R_r i_r + dpsi_r/dt - j omega_e psi_r,
 //   (A8) psi_s = L_s i_s + L_m i_r,  (A9) psi_r = L_r i_r + L_m i_s,
 //   L_s = L_ls + L_m, L_r = L_lr + L_m, sigma = 1 - L_m^2/(L_s L_r), tau_r = L_r/R_r,
@@ -67,7 +67,7 @@ inline void emf_phases(const Const &c, double pra, double prb, double omega_e, d
     e[2] = -0.5 * ea - 0.5 * kSqrt3 * eb;
 }
 
-// Rotor-flux derivative, torque (Casadei eq. A10) and rotor copper loss 1.5 R_r |i_r|^2 for stator current
+// Rotor-flux derivative, torque (Casadei eq. A10), rotor copper loss 1.5 R_r |i_r|^2 for stator current
 // (ia, ib in alpha/beta) and rotor flux (pra, prb).
 inline void rotor(const Const &c, int pole_pairs, double i_al, double i_be, double pra, double prb,
                   double omega_e, double &dpra, double &dprb, double &te, double &p_rotor_cu) {

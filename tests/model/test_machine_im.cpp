@@ -1,4 +1,4 @@
-// Induction machine (Casadei 2006 appendix A6-A10) against closed forms: exact per-period matrix
+// Induction machine (Casadei eqs. A6-A10, the appendix) against closed forms: exact per-period matrix
 // exponential at fixed speed, the steady-state equivalent circuit (torque-slip incl. pull-out, eqs.
 // 17 and 29-31; no-load and locked-rotor currents), the default machine's rated point, free
 // acceleration, and the energy balance on a switched run.
@@ -28,7 +28,7 @@ plant_params_t im_ideal(double speed_rpm) {
     return p;
 }
 
-// Independent model: flux states (psi_s, psi_r) straight from A6-A9, x = [psi_s_a, psi_s_b,
+// Independent model: flux states (psi_s, psi_r) from Casadei eqs. A6-A9, x = [psi_s_a, psi_s_b,
 // psi_r_a, psi_r_b], dx/dt = A x + B v; currents [i_s; i_r] = inv([[L_s, M], [M, L_r]]) [psi_s; psi_r].
 struct FluxModel {
     Eigen::Matrix4d A;
@@ -143,7 +143,7 @@ TEST(InductionMachine, FixedSpeedMatchesMatrixExponential) {
         plant_params_t p = im_ideal(rpm);
         p.max_step_s = hmax;
         const ExactError e = against_exact(p, rpm, 5000);
-        // Stator flux and A10 torque come from the same state.
+        // Stator flux and Casadei eq. A10 torque come from the same state.
         ASSERT_LE(e.psi_s_wb, 1e-5);
         std::printf("IM fixed speed, max_step %.0f us: max |i_s - exact| = %.3e A, |psi_r - exact| = %.3e Wb\n",
                     hmax * 1e6, e.i_a, e.psi_r_wb);

@@ -288,7 +288,7 @@ int main(int argc, char **argv)
             bench_step_normal(&c, &me, &o);
             n_norm++;
         }
-        /* FSTP with the Hoang Table IV device drops (Hoang Table III + eq. 20), which the compensation is for */
+        /* FSTP with Hoang Table IV device drops (Table III + eq. 20), which the compensation is for */
         dtc_ref_fstp_inverter((int)sb, (int)sc, 1.0, -0.5 * ia + 0.5 * sqrt(3.0) * ib,
                               -0.5 * ia - 0.5 * sqrt(3.0) * ib, si.v_ce_v / b.v_base_v,
                               si.v_d_v / b.v_base_v, si.r_on_ohm / b.z_base_ohm, &va, &vb);

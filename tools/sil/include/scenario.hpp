@@ -204,7 +204,7 @@ struct ControlCfg {
     SpeedSensor speed_sensor = SpeedSensor::Encoder; // none: speed from the flux speed and Casadei eq. 16
     bool flux_weakening = false;         // section 12
     double rotor_flux_ref_wb = 0.0;      // > 0: constant rotor flux, phi_s* by Casadei eq. 19; 0: flux_ref_wb
-    double observer_tau_s = PLANT_DEF_IM_OBSERVER_TAU_S;  // improved estimator tau (Casadei eq. 20), low speed / fixed
+    double observer_tau_s = PLANT_DEF_IM_OBSERVER_TAU_S;  // Casadei eq. 20's tau, low speed / fixed
     double observer_tau_high_s = 0.0;    // tau at high speed (section 10.2); 0 = observer_tau_s (fixed)
     double observer_tau_lo_rpm = 0.0;    // |speed| up to which observer_tau_s applies
     double observer_tau_hi_rpm = 0.0;    // |speed| from which observer_tau_high_s applies
