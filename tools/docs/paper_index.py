@@ -248,9 +248,8 @@ def py_functions(lines):
     return result
 
 
-def scan(root):
-    """{(paper, kind, item): {"impl": set of 'file:function', "test": set of files}}"""
-    index = {}
+def source_files(root):
+    """(path relative to root, file name, lines) of every scanned source file, in a fixed order."""
     for top in SCAN_DIRS:
         for dirpath, dirnames, filenames in os.walk(os.path.join(root, top)):
             dirnames[:] = sorted(d for d in dirnames if not d.startswith((".", "__pycache__")))
@@ -263,25 +262,31 @@ def scan(root):
                     continue
                 try:
                     with open(path, encoding="utf-8") as f:
-                        lines = f.read().split("\n")
+                        yield rel, fn, f.read().split("\n")
                 except (UnicodeDecodeError, OSError):
                     continue
-                hits = [(i, c) for i, l in enumerate(lines) for c in citations(l)]
-                if not hits:
-                    continue
-                if fn.endswith(".py"):
-                    funcs = py_functions(lines)
-                elif fn.endswith((".c", ".h", ".cpp", ".hpp")):
-                    funcs = c_functions(lines)
-                else:
-                    funcs = [""] * len(lines)
-                test = rel.startswith("tests/")
-                for i, c in hits:
-                    e = index.setdefault(c, {"impl": set(), "test": set()})
-                    if test:
-                        e["test"].add(rel)
-                    else:
-                        e["impl"].add("%s: %s" % (rel, funcs[i]) if funcs[i] else rel)
+
+
+def scan(root):
+    """{(paper, kind, item): {"impl": set of 'file:function', "test": set of files}}"""
+    index = {}
+    for rel, fn, lines in source_files(root):
+        hits = [(i, c) for i, l in enumerate(lines) for c in citations(l)]
+        if not hits:
+            continue
+        if fn.endswith(".py"):
+            funcs = py_functions(lines)
+        elif fn.endswith((".c", ".h", ".cpp", ".hpp")):
+            funcs = c_functions(lines)
+        else:
+            funcs = [""] * len(lines)
+        test = rel.startswith("tests/")
+        for i, c in hits:
+            e = index.setdefault(c, {"impl": set(), "test": set()})
+            if test:
+                e["test"].add(rel)
+            else:
+                e["impl"].add("%s: %s" % (rel, funcs[i]) if funcs[i] else rel)
     return index
 
 
@@ -293,27 +298,13 @@ def bare(root):
     """'file:line: text' for every line with an equation, table or figure number and no paper name
     before it on the line (a line continuing a sentence that named the paper is listed too)."""
     out = []
-    for top in SCAN_DIRS:
-        for dirpath, dirnames, filenames in os.walk(os.path.join(root, top)):
-            dirnames[:] = sorted(d for d in dirnames if not d.startswith((".", "__pycache__")))
-            for fn in sorted(filenames):
-                if not (fn.endswith(SCAN_EXT) or fn == "CMakeLists.txt"):
+    for rel, fn, lines in source_files(root):
+        for i, l in enumerate(lines):
+            for m in BARE.finditer(l):
+                if not re.search(r"\d|\b[IVX]+\b", m.group(2)) or PAPER_NAME.search(l[:m.start()]):
                     continue
-                path = os.path.join(dirpath, fn)
-                rel = os.path.relpath(path, root).replace(os.sep, "/")
-                if rel == SELF.replace(os.sep, "/"):
-                    continue
-                try:
-                    with open(path, encoding="utf-8") as f:
-                        lines = f.read().split("\n")
-                except (UnicodeDecodeError, OSError):
-                    continue
-                for i, l in enumerate(lines):
-                    for m in BARE.finditer(l):
-                        if not re.search(r"\d|\b[IVX]+\b", m.group(2)) or PAPER_NAME.search(l[:m.start()]):
-                            continue
-                        out.append("%s:%d: %s" % (rel, i + 1, l.strip()))
-                        break
+                out.append("%s:%d: %s" % (rel, i + 1, l.strip()))
+                break
     return out
 
 
