@@ -172,17 +172,19 @@ def citations(line):
     return found
 
 
-C_KEYWORDS = {"if", "for", "while", "switch", "return", "sizeof", "defined", "do", "else", "case"}
+C_KEYWORDS = {"if", "for", "while", "switch", "return", "sizeof", "defined", "do", "else", "case",
+              "static_assert", "_Static_assert"}
 C_DEF = re.compile(r"^(?:[A-Za-z_][\w:<>,\*&\s]*?[\s\*&:])?([A-Za-z_][\w:~]*)\s*\(")
 ATTR = re.compile(r"__attribute__\s*\(\(.*?\)\)\s*|\b[A-Z][A-Z0-9_]*_RAMFUNC\b\s*")
 GTEST = re.compile(r"^(?:TEST|TEST_F|TEST_P)\s*\(\s*(\w+)\s*,\s*(\w+)\s*\)")
+NAMESPACE = re.compile(r"^\s*(?:namespace\b[^{]*|extern\s*)\{")
 PY_DEF = re.compile(r"^(\s*)(?:async\s+)?(?:def|class)\s+(\w+)")
 
 
 def c_functions(lines):
     """Per line: the name of the function whose body holds it, or of the next top-level declaration
     (a comment above a function or a prototype describes it), or ''."""
-    depth, names, defs = 0, [None] * len(lines), []
+    braces, names, defs = [], [None] * len(lines), []
     in_comment, cur = False, None
     for i, raw in enumerate(lines):
         s = raw
@@ -209,7 +211,8 @@ def c_functions(lines):
                 out.append(s[j])
                 j += 1
         code = ATTR.sub("", "".join(out))
-        if depth == 0 and code.strip() and not code.startswith((" ", "\t", "#", "}")):
+        depth = sum(1 for b in braces if b)
+        if depth == 0 and code.strip() and not code.startswith((" ", "\t", "#", "}", "{")):
             g = GTEST.match(code)
             m = C_DEF.match(code)
             if g:
@@ -218,17 +221,37 @@ def c_functions(lines):
             elif m and m.group(1) not in C_KEYWORDS and "=" not in code.split("(")[0]:
                 defs.append((i, m.group(1)))
                 cur = m.group(1)
+            elif "{" in code or ";" in code:
+                cur = None  # a type, a variable or a prototype: outside any function body
         names[i] = (depth, cur)
-        depth = max(0, depth + code.count("{") - code.count("}"))
+        # Namespace and extern "C" braces do not open a body: what they hold is at top level.
+        scope = bool(NAMESPACE.match(code))
+        for ch in code:
+            if ch == "{":
+                braces.append(not scope)
+                scope = False
+            elif ch == "}" and braces:
+                braces.pop()
     result = []
     for i in range(len(lines)):
         d, cur = names[i]
         if d > 0 and cur:
             result.append(cur)
             continue
-        nxt = next((n for (l, n) in defs if i <= l <= i + 40), "")
-        result.append(nxt)
+        result.append(attached(lines, i, dict(defs)))
     return result
+
+
+def attached(lines, i, defs, comment=("//", "/*", "*", "#")):
+    """The definition a comment at line i documents: the one starting on the first line after the
+    comment block, with no blank line in between (else '')."""
+    j = i
+    while j < len(lines) and j not in defs:
+        t = lines[j].strip()
+        if not t or (j > i and not t.startswith(comment) and not lines[j - 1].rstrip().endswith("\\")):
+            return ""
+        j += 1
+    return defs.get(j, "")
 
 
 def py_functions(lines):
@@ -244,7 +267,7 @@ def py_functions(lines):
         if stack and stack[-1][0] != i:
             result.append(stack[-1][2])
         else:
-            result.append(next((n for (l2, _, n) in defs if i <= l2 <= i + 40), ""))
+            result.append(attached(lines, i, {l2: n for (l2, _, n) in defs}))
     return result
 
 
