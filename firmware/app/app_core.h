@@ -50,7 +50,7 @@ enum app_state {
 #define APP_VMID_TOL_LOG2 4U
 /* Mid-point calibration: 2^APP_VMID_CAL_LOG2 samples (51 ms at 50 us; the current offsets use the
  * first 2^APP_CAL_LOG2 of them). The low-pass of the voltage model turns a DC error E on v_alpha
- * into a current E / (w_c L_s): 1 mV is 0.04 A for Table VIII at 5 rad/s, so the mean must be
+ * into a current E / (w_c L_s): 1 mV is 0.04 A for Hoang Table VIII at 5 rad/s, so the mean must be
  * good to about a millivolt: 1024 samples divide the sensors' noise by 32. */
 #define APP_VMID_CAL_LOG2 10U
 #define APP_CAL_LOG2 6U

@@ -68,7 +68,7 @@ uint16_t app_fault_trips(app_fault_t *f, const dtc_config_t *c, const dtc_meas_t
  * of the two remaining phases of an open one passes zero twice a turn), and a sum above
  * APP_LEG_ANGLE_IQ (60 deg) is an open phase (detection time pi / (3 w): 6.7 ms at 25 Hz, more
  * where the current dips). A healthy phase crosses the band: its
- * switching ripple alone moves it by several times the band every period or two (Table VIII,
+ * switching ripple alone moves it by several times the band every period or two (Hoang Table VIII,
  * 70 V: 0.1-0.5 A per period against 0.14 A), and even a phase current with a large DC part
  * (the uncompensated FSTP just after its hand-over: i_a ~ 4.5 A DC, phase B within |i|/4 for
  * 135 deg, SIL) keeps that ripple. A relative criterion (|i_k| < |i|/4) tripped there; the band

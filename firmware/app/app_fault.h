@@ -102,7 +102,7 @@ const char *app_fault_name(uint16_t fault);
 #define APP_ISUM_PERIODS 8U
 /* Open phase: the electrical angle, IQ rad (pi/3), over which a phase must stay inside the zero
  * band (prot.leg_i_min_iq / 2^APP_LEG_ZERO_LOG2) while |i| is above prot.leg_i_min_iq to be taken
- * for open: 6.7 ms at 1500 rpm for Table VIII (p = 1; within 20 ms). A healthy sinusoidal phase
+ * for open: 6.7 ms at 1500 rpm for Hoang Table VIII (p = 1; within 20 ms). A healthy sinusoidal phase
  * is within |i|/4 of zero for only 29 deg around a crossing, and its ripple takes it out of the
  * much narrower band within a period or two. */
 #define APP_LEG_ANGLE_IQ ((iq_t)17568813) /* pi/3 * 2^24 */

@@ -128,7 +128,7 @@
 #define F2812_QEP_REVERSED 0
 #endif
 
-/* ------------------------------------------- fault tolerance: relay and desaturation (issue 16) */
+/* ------------------------------------------- fault tolerance: relay and desaturation pins */
 /* Port B is EV-B's (PWM7-12, T3/T4, CAP4-6); the drive uses EV-A only, so its pins are free of
  * EV-A, ADC and QEP use and of the boot-mode pins (GPIOF2/3/4/12, fact sheet 1.5). The peripheral
  * names of the port-B pins are by analogy with port A's table (fact sheet 4.8 lists GPAMUX only: ~);

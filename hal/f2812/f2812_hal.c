@@ -417,7 +417,7 @@ void hal_write(const hal_cmd_t *cmd)
         if (((x == 0u) && (s_hal.fstp != 0u)) || (s_hal.relay == (uint16_t)(x + 1u))) {
             /* Hoang et al. 2011, Fig. 1(b): phase A on the capacitor mid-point; leg A's
              * command is ignored and PWM1/PWM2 stay forced low. A phase the relay ties to the
-             * mid-point (issue 16): its leg likewise, both switches off. */
+             * mid-point after a reconfiguration: its leg likewise, both switches off. */
             s_hal.up[x] = F2812_CMPR_UPPER_OFF;
             s_hal.dn[x] = F2812_CMPR_UPPER_OFF;
             continue;

@@ -79,7 +79,7 @@ typedef struct {
     double theta_m0_rad;
     /* Numerics. */
     double max_step_s;         /* largest integration sub-step */
-    /* ---- Additions: fault-tolerant reconfiguration hardware (issue 16). ---- */
+    /* ---- Fault-tolerant reconfiguration hardware. ---- */
     int reconfig_relay;        /* 1: a relay per phase ties that phase to the DC link's capacitor
                                 * mid-point (plant_set_relay). The SSTP's link is then the split bank
                                 * of the FSTP: two c_dc_f in series with the mid-point brought out */
@@ -225,7 +225,7 @@ void plant_get_sensed(const plant_t *plant, plant_sensed_t *s);
  * The stored magnetic energy changes with it (energy accounting starts from the new state). */
 int plant_set_phase_currents(plant_t *plant, double i_a, double i_b, double i_c);
 
-/* ---- Faults (issue 16). Each acts from the moment it is set (the plant's present time) on. ---- */
+/* ---- Faults. Each acts from the moment it is set (the plant's present time) on. ---- */
 
 typedef enum {
     PLANT_SWITCH_OK = 0,

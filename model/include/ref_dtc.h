@@ -88,7 +88,7 @@ struct Out {
     int vector = 0;              // SSTP 0..7, FSTP 1..4
     int sector = 1;              // SSTP 1..6, FSTP 1..4
     int c_psi = 1;               // flux demand: 1 increase, 0 decrease (Hoang eq. 13)
-    int c_te = 1;                // torque demand: 1 / 0 (eq. 14) or +1 / 0 / -1 (Casadei T1)
+    int c_te = 1;                // torque demand: 1 / 0 (Hoang eq. 14) or +1 / 0 / -1 (Casadei Table 1)
     double i_alpha = 0, i_beta = 0;
     double v_alpha = 0, v_beta = 0;  // compensated voltage used by the voltage model (last period)
     double psi_alpha = 0, psi_beta = 0, psi_mag = 0;
@@ -106,7 +106,7 @@ void sstp_phase_voltages(int sa, int sb, int sc, double vdc, double vn[3]);
 // FSTP ideal phase voltages from leg states, Hoang eqs. (17)-(19) (S_A = 1/2).
 void fstp_phase_voltages(int sb, int sc, double vdc, double vn[3]);
 // FSTP phase voltages with measured capacitor voltages: v_a0 = vc_lo, v_x0 = S_x (vc_lo + vc_hi),
-// then Hoang eqs. (1)-(3). Equal to eqs. (17)-(19) when vc_lo = vc_hi.
+// then Hoang eqs. (1)-(3). Equal to Hoang eqs. (17)-(19) when vc_lo = vc_hi.
 void fstp_phase_voltages_mid(int sb, int sc, double vc_lo, double vc_hi, double vn[3]);
 // Hoang Table III: forward drop v_f of one leg for switch state s and current i (i >= 0: "+").
 double leg_forward_drop(int s, double i, double v_ce, double v_d);
@@ -115,7 +115,7 @@ void fstp_drop_simple(double i_b, double i_c, double v_f, double &vf_alpha, doub
 // Hoang Table VI: Table III per leg, then eqs. (33)-(34).
 void fstp_drop_proposed(int sb, int sc, double i_b, double i_c, double v_ce, double v_d,
                         double &vf_alpha, double &vf_beta);
-// SSTP equal-drop compensation: v_f sign(i_x) per leg, through eqs. (1)-(5) (Hoang ref. [29]).
+// SSTP equal-drop compensation: v_f sign(i_x) per leg, through Hoang eqs. (1)-(5) (Hoang ref. [29]).
 void sstp_drop_equal(double i_a, double i_b, double i_c, double v_f, double &vf_alpha, double &vf_beta);
 // Sector of the flux angle: SSTP 1..6 with sector k centred on V_k (Casadei Table 1); FSTP 1..4
 // quadrants, sector I = [0, 90) deg (Hoang Fig. 3 / Table II).

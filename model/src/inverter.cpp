@@ -66,11 +66,11 @@ void build_leg_table(const plant_params_t &p, double r_circuit, double v_alpha, 
         } else {
             L.device = true;
             switch (f ? effective_gate(*f, x, gate) : gate) {
-                case GATE_UPPER:  // Table III state 1: + -> V_CE, - -> -V_d
+                case GATE_UPPER:  // Hoang Table III state 1: + -> V_CE, - -> -V_d
                     L.pos = Path{RAIL_PLUS, vce, ron};
                     L.neg = Path{RAIL_PLUS, -vd, ron};
                     break;
-                case GATE_LOWER:  // Table III state 0: + -> V_d, - -> -V_CE
+                case GATE_LOWER:  // Hoang Table III state 0: + -> V_d, - -> -V_CE
                     L.pos = Path{RAIL_ZERO, vd, ron};
                     L.neg = Path{RAIL_ZERO, -vce, ron};
                     break;

@@ -52,7 +52,7 @@ struct Leg {
     bool device;    // a semiconductor path (losses accounted); false for mid-point / ideal source
 };
 
-// Faults of the legs and the reconfiguration relay's contacts (plant.h, issue 16): what the leg
+// Faults of the legs and the reconfiguration relay's contacts (plant.h): what the leg
 // table is built from beside the parameters.
 struct LegFaults {
     int sw[3][2];      // [leg][upper]: plant_switch_fault_t

@@ -1,7 +1,7 @@
 // machine_im.h - squirrel-cage induction machine for the plant (SI units, stationary frame).
 //
-// Casadei et al. 2006, appendix: space vectors by the amplitude-invariant transform (A1)-(A5), and
-// with T-model parameters R_s, R_r, L_ls, L_lr, L_m (= Casadei's M), p:
+// Casadei et al. 2006, appendix (Casadei eqs. A1-A10): space vectors by the amplitude-invariant
+// transform (A1)-(A5), and with T-model parameters R_s, R_r, L_ls, L_lr, L_m (= Casadei's M), p:
 //   (A6) v_s = R_s i_s + dpsi_s/dt,  (A7) 0 = R_r i_r + dpsi_r/dt - j omega_e psi_r,
 //   (A8) psi_s = L_s i_s + L_m i_r,  (A9) psi_r = L_r i_r + L_m i_s,
 //   L_s = L_ls + L_m, L_r = L_lr + L_m, sigma = 1 - L_m^2/(L_s L_r), tau_r = L_r/R_r,
@@ -67,14 +67,14 @@ inline void emf_phases(const Const &c, double pra, double prb, double omega_e, d
     e[2] = -0.5 * ea - 0.5 * kSqrt3 * eb;
 }
 
-// Rotor-flux derivative, torque (A10) and rotor copper loss 1.5 R_r |i_r|^2 for stator current
+// Rotor-flux derivative, torque (Casadei eq. A10), rotor copper loss 1.5 R_r |i_r|^2 for stator current
 // (ia, ib in alpha/beta) and rotor flux (pra, prb).
 inline void rotor(const Const &c, int pole_pairs, double i_al, double i_be, double pra, double prb,
                   double omega_e, double &dpra, double &dprb, double &te, double &p_rotor_cu) {
     dpra = c.lm_inv_tau_r * i_al - c.inv_tau_r * pra - omega_e * prb;
     dprb = c.lm_inv_tau_r * i_be - c.inv_tau_r * prb + omega_e * pra;
     te = 1.5 * pole_pairs * c.kr * (pra * i_be - prb * i_al);
-    const double ira = (pra - c.lm * i_al) * c.inv_lr, irb = (prb - c.lm * i_be) * c.inv_lr;  // (A9)
+    const double ira = (pra - c.lm * i_al) * c.inv_lr, irb = (prb - c.lm * i_be) * c.inv_lr;  // Casadei eq. A9
     p_rotor_cu = 1.5 * c.rr * (ira * ira + irb * irb);
 }
 
@@ -121,7 +121,7 @@ public:
     void emf(const Vec &y, double omega_e, double e[3], Work &) const {
         im::emf_phases(c_, y[S_MACH0], y[S_MACH1], omega_e, e);
     }
-    // Torque (A10), rotor-flux derivatives and the rotor copper loss from the phase currents.
+    // Torque (Casadei eq. A10), rotor-flux derivatives and the rotor copper loss from the phase currents.
     void torque_and_states(const Vec &y, const double ix[3], double omega_e, const Work &, Vec &dy, double &te,
                            double &p_internal) const {
         const double i_al = (2.0 * ix[0] - ix[1] - ix[2]) * (1.0 / 3.0);

@@ -69,8 +69,8 @@ void fstp_drop_proposed(int sb, int sc, double i_b, double i_c, double v_ce, dou
 }
 
 void sstp_drop_equal(double i_a, double i_b, double i_c, double v_f, double &vf_alpha, double &vf_beta) {
-    // Each leg drops v_f sign(i_x); the phase-to-zero voltages lose it, eqs. (1)-(5) carry it to
-    // alpha-beta; the terms to ADD to the ideal voltage (same convention as eqs. 31-34).
+    // Each leg drops v_f sign(i_x); the phase-to-zero voltages lose it, Hoang eqs. (1)-(5) carry it to
+    // alpha-beta; the terms to ADD to the ideal voltage (same convention as Hoang eqs. 31-34).
     const double d[3] = {v_f * sgn(i_a), v_f * sgn(i_b), v_f * sgn(i_c)};
     vf_alpha = -(2.0 * d[0] - d[1] - d[2]) / 3.0;
     vf_beta = -(d[1] - d[2]) / kSqrt3;
@@ -239,8 +239,8 @@ Out Controller::step(const Meas &m) {
             case DropComp::FSTP_PROPOSED:
                 if (p.comp == DropComp::FSTP_SIMPLE) fstp_drop_simple(im[1], im[2], p.v_f_v, fa, fb);
                 else fstp_drop_proposed(lg[1], lg[2], im[1], im[2], p.v_ce_v, p.v_d_v, fa, fb);
-                fa += (p.ron_alpha_as_printed ? 1.0 : -1.0) * p.r_on_ohm * ia / 3.0;  // eq. (37)
-                fb -= p.r_on_ohm * ib;                                                // eq. (38)
+                fa += (p.ron_alpha_as_printed ? 1.0 : -1.0) * p.r_on_ohm * ia / 3.0;  // Hoang eq. (37)
+                fb -= p.r_on_ohm * ib;                                                // Hoang eq. (38)
                 break;
         }
         o.v_alpha = va + fa;
@@ -260,8 +260,8 @@ Out Controller::step(const Meas &m) {
     }
     o.psi_alpha = psi_a_;
     o.psi_beta = psi_b_;
-    o.psi_mag = std::sqrt(psi_a_ * psi_a_ + psi_b_ * psi_b_);                        // eq. (11)
-    o.te_nm = 1.5 * p.pole_pairs * (psi_a_ * o.i_beta - psi_b_ * o.i_alpha);         // eq. (10)
+    o.psi_mag = std::sqrt(psi_a_ * psi_a_ + psi_b_ * psi_b_);                        // Hoang eq. (11)
+    o.te_nm = 1.5 * p.pole_pairs * (psi_a_ * o.i_beta - psi_b_ * o.i_alpha);         // Hoang eq. (10)
     // ---- Speed loop at 1/speed_divider of the rate (Hoang Sec. IV), or torque mode ----
     if (p.mode == ControlMode::SPEED) {
         if (div_count_ == 0) {
@@ -290,11 +290,11 @@ Out Controller::step(const Meas &m) {
     }
     o.te_ref_nm = te_ref_;
     // ---- Comparators, sector, switching table ----
-    c_psi_ = hysteresis2(p.psi_ref_wb - o.psi_mag, p.band_psi_wb, c_psi_);  // eq. (13)
+    c_psi_ = hysteresis2(p.psi_ref_wb - o.psi_mag, p.band_psi_wb, c_psi_);  // Hoang eq. (13)
     const int *prev = hist_[0];
     int legs[3] = {0, 0, 0};
     if (p.topology == Topology::FSTP) {
-        c_te_ = hysteresis2(te_ref_ - o.te_nm, p.band_te_nm, c_te_ > 0 ? 1 : 0);  // eq. (14)
+        c_te_ = hysteresis2(te_ref_ - o.te_nm, p.band_te_nm, c_te_ > 0 ? 1 : 0);  // Hoang eq. (14)
         o.sector = sector_fstp(psi_a_, psi_b_);
         o.vector = table_hoang2(o.sector, c_psi_, c_te_);
         fstp_vector_legs(o.vector, legs[1], legs[2]);

@@ -151,7 +151,7 @@ static void base_config(rd_t *r, dtc_config_t *cfg, dtc_config_t *post, uint16_t
     static const double rpm_frac[4] = {0.0, 0.5, -1.0, 1.1};
     dtc_config_si_t si;
     const uint8_t b0 = rd_u8(r), b1 = rd_u8(r), b2 = rd_u8(r), b3 = rd_u8(r), b4 = rd_u8(r);
-    const uint8_t b5 = rd_u8(r); /* fault detection and tolerance (issue 16) */
+    const uint8_t b5 = rd_u8(r); /* fault detection and tolerance */
     const int im = (b0 & 1U) != 0U;
 
     if (im) {

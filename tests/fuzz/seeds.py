@@ -29,7 +29,7 @@ def record(periods, dev, scale=0, enc_vel=None):
 
 
 def open_phase_reconfig():
-    cfg = [0x04,  # PM, SSTP, current model, no compensation, Table 1
+    cfg = [0x04,  # PM, SSTP, current model, no compensation, Casadei Table 1
            0x01,  # delay compensation
            0x08,  # torque mode
            0x48,  # speed loop every 10th period, 2000 lines

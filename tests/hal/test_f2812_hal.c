@@ -368,7 +368,7 @@ static void test_init_qep_timer2(void **state)
 }
 
 
-/* ---- fault tolerance: relay outputs and desaturation inputs (issue 16, f2812_board.h) ------
+/* ---- fault tolerance: relay outputs and desaturation inputs (f2812_board.h) ---------------
  * Relay coils on GPIOB0, B1, B2 (phase A, B, C), desaturation FAULT inputs on GPIOB8, B9, B10
  * (legs A, B, C, active low). Port B register addresses: fact sheet 4.8 (GPBMUX 0x70C4, GPBDIR
  * 0x70C5 [P]; GPBDAT/SET/CLEAR 0x70E4..0x70E6). RAM cannot emulate write-1-to-set/clear, so the

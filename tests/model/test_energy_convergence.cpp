@@ -19,7 +19,7 @@ void sstp_vector_towards(double a, int leg[3]) {
 }  // namespace
 
 // DC input energy = copper + device + friction + load + source-resistance losses + change of
-// magnetic, kinetic and capacitor energy. FSTP, full fidelity (Table IV drops, 2 us dead time,
+// magnetic, kinetic and capacitor energy. FSTP, full fidelity (Hoang Table IV drops, 2 us dead time,
 // finite capacitors, Table VII back-EMF), accelerating from rest into a generator load under
 // angle-commutated switching at 50 us, then gates off (freewheel into the link) for 20 ms.
 // Tolerance 1e-6 of the input energy (RK4 integrates the power terms with the state).

@@ -1,4 +1,4 @@
-// Inverter and DC-link faults of the plant (plant.h, issue 16) against closed forms: an open leg
+// Inverter and DC-link faults of the plant (plant.h) against closed forms: an open leg
 // (series R-L of the two remaining phases), the relay tying a phase to the capacitor mid-point (the
 // FSTP plant; the mid-point's charge balance), a shorted switch (desaturation trip at the instant
 // its complement turns on, then the phase on the rail), an open switch (the diode's voltage) and a

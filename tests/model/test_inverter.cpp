@@ -48,8 +48,8 @@ TEST(Inverter, FstpFourVectorsHoangTableI) {
     for (const Row &r : rows) {
         const plant_state_t s = apply(pl, 1 /* ignored: no leg A */, r.sb, r.sc, 20e-6);
         const double van = (2 * s.v_a0_v - s.v_b0_v - s.v_c0_v) / 3;  // Hoang eq. (1)
-        const double vbn = (2 * s.v_b0_v - s.v_a0_v - s.v_c0_v) / 3;  // eq. (2)
-        const double vcn = (2 * s.v_c0_v - s.v_a0_v - s.v_b0_v) / 3;  // eq. (3)
+        const double vbn = (2 * s.v_b0_v - s.v_a0_v - s.v_c0_v) / 3;  // Hoang eq. (2)
+        const double vcn = (2 * s.v_c0_v - s.v_a0_v - s.v_b0_v) / 3;  // Hoang eq. (3)
         EXPECT_NEAR(s.v_a0_v, V / 2, 1e-12);
         EXPECT_NEAR(van, r.van, 1e-12) << r.sb << r.sc;
         EXPECT_NEAR(vbn, r.vbn, 1e-12) << r.sb << r.sc;

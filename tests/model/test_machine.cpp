@@ -81,7 +81,7 @@ TEST(Machine, SinusoidalSteadyStateMatchesPhasor) {
 
 // Open-circuit (zero current) back-EMF with Hoang Table VII data: at 1500 rpm the phase flux
 // derivative reproduces the table's fundamental and harmonic amplitudes. The plant reports the
-// stator flux (eqs. 8-9 generalised), so psi - L_s i must equal the Clarke transform of the
+// stator flux (Hoang eqs. 8-9 generalised), so psi - L_s i must equal the Clarke transform of the
 // per-phase PM flux at the reported angle; the dynamometer keeps speed exactly. Tol. 1e-12 Wb.
 TEST(Machine, TableVIIEmfData) {
     plant_params_t p = ideal_inverter(PLANT_INVERTER_IDEAL);

@@ -1,4 +1,4 @@
-// Induction machine (Casadei 2006 appendix A6-A10) against closed forms: exact per-period matrix
+// Induction machine (Casadei eqs. A6-A10, the appendix) against closed forms: exact per-period matrix
 // exponential at fixed speed, the steady-state equivalent circuit (torque-slip incl. pull-out, eqs.
 // 17 and 29-31; no-load and locked-rotor currents), the default machine's rated point, free
 // acceleration, and the energy balance on a switched run.
@@ -28,7 +28,7 @@ plant_params_t im_ideal(double speed_rpm) {
     return p;
 }
 
-// Independent model: flux states (psi_s, psi_r) straight from A6-A9, x = [psi_s_a, psi_s_b,
+// Independent model: flux states (psi_s, psi_r) from Casadei eqs. A6-A9, x = [psi_s_a, psi_s_b,
 // psi_r_a, psi_r_b], dx/dt = A x + B v; currents [i_s; i_r] = inv([[L_s, M], [M, L_r]]) [psi_s; psi_r].
 struct FluxModel {
     Eigen::Matrix4d A;
@@ -143,7 +143,7 @@ TEST(InductionMachine, FixedSpeedMatchesMatrixExponential) {
         plant_params_t p = im_ideal(rpm);
         p.max_step_s = hmax;
         const ExactError e = against_exact(p, rpm, 5000);
-        // Stator flux and A10 torque come from the same state.
+        // Stator flux and Casadei eq. A10 torque come from the same state.
         ASSERT_LE(e.psi_s_wb, 1e-5);
         std::printf("IM fixed speed, max_step %.0f us: max |i_s - exact| = %.3e A, |psi_r - exact| = %.3e Wb\n",
                     hmax * 1e6, e.i_a, e.psi_r_wb);
@@ -168,7 +168,7 @@ TEST(InductionMachine, StepHalvingShowsFourthOrder) {
 }
 
 // Steady state vs the equivalent circuit at 12 slips including Casadei's pull-out slip (eq. 30,
-// omega_r = R_r / (sigma L_r)): torque vs T = 1.5 p |I_r|^2 R_r/(s omega_s), and vs eq. 17 with the
+// omega_r = R_r / (sigma L_r)): torque vs T = 1.5 p |I_r|^2 R_r/(s omega_s), and vs Casadei eq. 17 with the
 // plant's own |psi_s|; at the pull-out slip also eq. 29 T_M = k_T psi_s^2 with k_T from eq. 31.
 // Tolerance 2e-4 relative: the held voltage's fundamental is sinc(omega T/2) = 1 - 6.6e-6 of the
 // continuous one (torque -1.3e-5), and after 2 s the slowest transient (tau ~ 0.13 s) is ~1e-7.
@@ -176,9 +176,9 @@ TEST(InductionMachine, TorqueSlipMatchesEquivalentCircuitAndCasadeiEq17) {
     plant_params_t p = im_ideal(0.0);
     const double ls = p.lls_h + p.lm_h, lr = p.llr_h + p.lm_h, M = p.lm_h;
     const double sigma = 1.0 - M * M / (ls * lr);
-    const double wr_pull = p.rr_ohm / (sigma * lr);  // eq. 30
+    const double wr_pull = p.rr_ohm / (sigma * lr);  // Casadei eq. 30
     const double s_pull = wr_pull / kWs;
-    const double kT = 0.75 * p.pole_pairs * M * M / (sigma * lr * ls * ls);  // eq. 31
+    const double kT = 0.75 * p.pole_pairs * M * M / (sigma * lr * ls * ls);  // Casadei eq. 31
     const double slips[12] = {0.005, 0.01, 0.02, 0.0427, 0.06, 0.1, s_pull, 0.2, 0.3, 0.5, 0.8, 1.0};
     for (double s : slips) {
         const Steady st = run_steady(s, 2.0);
@@ -218,7 +218,7 @@ TEST(InductionMachine, NoLoadAndLockedRotorCurrents) {
 }
 
 // The default machine (Modelica Buildings IM_5HP_400V_50Hz rescaled to 220 V) gives Casadei's
-// rated torque 26.5 N*m (Tables 4-5) at about 1436 rpm on rated voltage and frequency; at
+// rated torque 26.5 N*m (Casadei Table 5) at about 1436 rpm on rated voltage and frequency; at
 // Casadei's comparison speed 1440 rpm the circuit gives ~25.1 N*m. Checked on the plant's steady
 // state (bisection on the speed to 0.1 rpm).
 TEST(InductionMachine, DefaultMachineRatedTorqueAtRatedSlip) {
@@ -257,7 +257,7 @@ TEST(InductionMachine, DefaultParameters) {
 // inertia (1 kg*m^2, ~3 s run-up) so that after the starting transient the machine moves along its
 // steady-state torque-speed curve. Checks: (a) the peak torque during the run-up (after 0.8 s: the
 // starting transient from zero flux swings the torque between 61 and 93 N*m until ~0.6 s)
-// equals the pull-out torque T_M = k_T psi_s^2 of eqs. 29 and 31 at the stator flux the plant has
+// equals the pull-out torque T_M = k_T psi_s^2 of Casadei eqs. 29 and 31 at the stator flux the plant has
 // at that instant, within 3 % (the dynamic torque lags the static curve by ~ tau' ds/dt); and it
 // occurs near the pull-out slip of eq. 30 (within 0.05 in slip); (b) the final slip equals the
 // equivalent circuit's rated-torque slip (1436.3 rpm) within 0.5 rpm.
@@ -270,8 +270,8 @@ TEST(InductionMachine, FreeAccelerationPeakTorqueAndFinalSlip) {
     auto pl = make(p);
     const double ls = p.lls_h + p.lm_h, lr = p.llr_h + p.lm_h, M = p.lm_h;
     const double sigma = 1.0 - M * M / (ls * lr);
-    const double kT = 0.75 * p.pole_pairs * M * M / (sigma * lr * ls * ls);  // eq. 31
-    const double s_pull = p.rr_ohm / (sigma * lr) / kWs;                      // eq. 30
+    const double kT = 0.75 * p.pole_pairs * M * M / (sigma * lr * ls * ls);  // Casadei eq. 31
+    const double s_pull = p.rr_ohm / (sigma * lr) / kWs;                      // Casadei eq. 30
     double t_peak = 0.0, te_peak = -1e9, psi_at_peak = 0.0, s_at_peak = 0.0;
     const int n = static_cast<int>(8.0 / kTs);
     for (int k = 0; k < n; ++k) {

@@ -13,7 +13,7 @@ const double Vce = 0.9, Vd = 1.25;
 }
 
 // Hoang Table I through eqs. (17)-(19) and (4)-(5); exact (1e-12 V). The measured-capacitor form
-// equals eqs. (17)-(19) with equal capacitor voltages.
+// equals Hoang eqs. (17)-(19) with equal capacitor voltages.
 TEST(RefTables, HoangTableIReconstruction) {
     const double V = 70.0;
     struct Row { int sb, sc; double van, vbn, vcn, va, vb; };
@@ -57,7 +57,7 @@ TEST(RefTables, HoangTableII) {
     const int dps[4] = {1, 1, 0, 0}, dts[4] = {1, 0, 1, 0};
     for (int r = 0; r < 4; ++r)
         for (int s = 1; s <= 4; ++s) EXPECT_EQ(table_hoang2(s, dps[r], dts[r]), expect[r][s - 1]) << r << s;
-    // Vector -> (S_B, S_C) of Table I.
+    // Vector -> (S_B, S_C) of Hoang Table I.
     const int sbsc[5][2] = {{0, 0}, {0, 0}, {1, 0}, {1, 1}, {0, 1}};
     for (int v = 1; v <= 4; ++v) {
         int sb, sc;
@@ -96,7 +96,7 @@ TEST(RefTables, HoangTableVI) {
         EXPECT_NEAR(fa, r.fa, 1e-15) << r.sb << r.sc << r.sign_ib << r.sign_ic;
         EXPECT_NEAR(fb, r.fb, 1e-15) << r.sb << r.sc << r.sign_ib << r.sign_ic;
     }
-    // With V_CE = V_d the proposed scheme reduces to the simple one (Table V).
+    // With V_CE = V_d the proposed scheme reduces to the simple one (Hoang Table V).
     for (const HoangTableVIRow &r : rows) {
         double fa, fb, sa, sbb;
         fstp_drop_proposed(r.sb, r.sc, r.sign_ib, r.sign_ic, 1.0, 1.0, fa, fb);
@@ -192,12 +192,12 @@ Meas meas_from(const plant_state_t &s) {
 }  // namespace
 
 // The reconstructed, compensated voltage of the reference equals the plant's true mean applied
-// voltage: FSTP with Table IV drops (no dead time), proposed compensation (Table VI + R_on with
+// voltage: FSTP with Hoang Table IV drops (no dead time), proposed compensation (Table VI + R_on with
 // the physical sign), measured capacitor voltages, closed loop at 1500 rpm. Tolerance 5e-3 V: the
 // reference can only average the link voltage between samples (trapezoid), and the link voltage
 // bends inside a period after every switching edge (source/capacitor time constant R_dc C / 2 =
 // 220 us): error ~ T^2/12 * dI/(C tau) ~ 1e-3..3e-3 V. Periods with a current zero crossing are
-// excluded (the sign is ambiguous there). With the sign of eq. (37) as printed the error is larger
+// excluded (the sign is ambiguous there). With the sign of Hoang eq. (37) as printed the error is larger
 // by (2/3) R_on |i_alpha|, i.e. > 10x.
 TEST(RefController, FstpProposedCompensationMatchesPlantVoltage) {
     plant_params_t pp;
@@ -285,7 +285,7 @@ TEST(RefController, LowPassEstimatorStepResponse) {
     EXPECT_NEAR(g * (1 - std::pow(a, 100)) / (1 - a), (1 - std::exp(-rp.lpf_wc_rad_s * 100 * rp.ts_s)) / rp.lpf_wc_rad_s, 1e-15);
 }
 
-// Current model (eqs. 8-9) equals the plant's true flux for a sinusoidal-EMF machine; torque eq. 10
+// Current model (Hoang eqs. 8-9) equals the plant's true flux for a sinusoidal-EMF machine; torque eq. 10
 // equals the plant's torque. Tolerance 1e-12.
 TEST(RefController, CurrentModelEqualsPlantFlux) {
     plant_params_t pp;
@@ -361,7 +361,7 @@ TEST(RefController, RejectsBadConfig) {
 // mode at 1500 rpm (dynamometer) holds the mean true torque within half of the largest torque
 // change one 50 us period can make, 1.5 p psi_m (2/3 Vdc + E) / L_s * Ts / 2 = 0.067 N*m, of
 // 0.3 N*m; FSTP DTC in speed mode reaches 1000 rpm from rest against a generator load and holds it
-// within 3 % (current model with the finite split link; voltage model + Table VI with a stiff link;
+// within 3 % (current model with the finite split link; voltage model + Hoang Table VI with a stiff link;
 // the band is the speed ripple that the zero-band DTC torque ripple makes on the 1e-4 kg m^2 shaft).
 // The voltage model with the finite split link loses synchronism after ~0.35 s: see docs/plant.md.
 TEST(RefController, ClosedLoopWithPlant) {

@@ -9,12 +9,12 @@
  *
  * `bench_dtc N im` drives the induction-machine law (im_dtc_step) instead, against the double
  * T-model machine of the unit tests at a held speed (0.5 pu, rated torque, speed mode): the
- * improved estimator with a speed-dependent tau, constant rotor flux (eq. 19, a square root per
+ * improved estimator with a speed-dependent tau, constant rotor flux (Casadei eq. 19, a square root per
  * period), sensorless speed and the speed-dependent table, with the defaults' SSTP drop and
  * dead-time compensation: the variant with the most work per step (the machine is fed by the
  * ideal inverter; the compensation's cost does not depend on that). The start-up magnetisation (cheaper steps) runs through a third wrapper that the script
  * leaves out. `bench_dtc N im ideal`: the same without the drop and dead-time compensation.
- * `bench_dtc N sfvc`: the IM law's stator-flux vector control (im_sfvc_step: eqs. 18, 23, 24 and
+ * `bench_dtc N sfvc`: the IM law's stator-flux vector control (im_sfvc_step: Casadei eqs. 18, 23, 24 and
  * the SVM with dead-time compensation) in the same conditions, at its 160 us period; `bench_dtc N
  * dfoc`: the rotor-flux-oriented control (im_dfoc_step, two-phase SVM), the same.
  */
@@ -256,7 +256,7 @@ int main(int argc, char **argv)
     long n_tick = 0, n_norm = 0;
     unsigned sa = 0, sb = 0, sc = 0;
 
-    dtc_config_si_defaults(&si); /* FSTP, voltage model, Table VI compensation, speed mode */
+    dtc_config_si_defaults(&si); /* FSTP, voltage model, Hoang Table VI compensation, speed mode */
     if (dtc_config_from_si(&si, &cfg, msg, sizeof msg) != DTC_SI_OK) {
         fprintf(stderr, "bench: %s\n", msg);
         return 1;
@@ -288,7 +288,7 @@ int main(int argc, char **argv)
             bench_step_normal(&c, &me, &o);
             n_norm++;
         }
-        /* FSTP with the Table IV device drops (Table III + eq. 20), which the compensation is for */
+        /* FSTP with Hoang Table IV device drops (Table III + eq. 20), which the compensation is for */
         dtc_ref_fstp_inverter((int)sb, (int)sc, 1.0, -0.5 * ia + 0.5 * sqrt(3.0) * ib,
                               -0.5 * ia - 0.5 * sqrt(3.0) * ib, si.v_ce_v / b.v_base_v,
                               si.v_d_v / b.v_base_v, si.r_on_ohm / b.z_base_ohm, &va, &vb);

@@ -2,9 +2,9 @@
 # DTC budget report: prints the figures, does not judge them (targets in brackets).
 #   1. host instructions per control-law step (valgrind --tool=callgrind, host preset build of
 #      tools/bench/bench_dtc.c), average and the speed-loop steps (the worst path):
-#      1a. PM law dtc_step: FSTP, voltage model, Table VI compensation   [avg <= 1500, worst <= 2500]
-#      1b. IM law im_dtc_step: improved estimator, eq. 19, sensorless   [avg <= 1000, worst <= 1500]
-#      1c. IM law im_sfvc_step: SFVC (eqs. 18, 23, 24) + SVM, same       [avg <= 1200, worst <= 1700]
+#      1a. PM law dtc_step: FSTP, voltage model, Hoang Table VI compensation [avg <= 1500, worst <= 2500]
+#      1b. IM law im_dtc_step: improved estimator, Casadei eq. 19, sensorless [avg <= 1000, worst <= 1500]
+#      1c. IM law im_sfvc_step: SFVC (Casadei eqs. 18, 23, 24) + SVM, same [avg <= 1200, worst <= 1700]
 #      1d. IM law im_dfoc_step: DFOC (sec. 13) + two-phase SVM, same    [avg <= 1200, worst <= 1700]
 #      1e. IM law im_dsvm_step: DTC with DSVM (sec. 11), 160 us          [avg <= 1000, worst <= 1500]
 #   2. cross-cm0 stack usage of the control path (-fstack-usage per function from the preset's
@@ -70,20 +70,20 @@ PY
   echo
 }
 
-# PM law (FSTP, voltage model, Table VI compensation, speed loop on): the existing targets.
+# PM law (FSTP, voltage model, Hoang Table VI compensation, speed loop on): the existing targets.
 instr a "" dtc_step bench_step_normal bench_step_tick 1500 2500 \
   flux_est_step vcomp_step iq_mag fix_isqrt64 speed_meas_step speed_pi_step
-# IM law (improved estimator, speed-dependent tau, eq. 19, sensorless, speed-dependent table), at
-# 40 us (issue 13: avg <= 1000, worst <= 1500).
+# IM law (improved estimator, speed-dependent tau, Casadei eq. 19, sensorless, speed-dependent table), at
+# 40 us (budget target: avg <= 1000, worst <= 1500).
 instr b im im_dtc_step bench_im_normal bench_im_tick 1000 1500 \
   im_est_step fix_polar im_speed_step iq_mag fix_isqrt64 im_dtc_select im_dtc_estimate speed_pi_step
-# IM law, stator-flux vector control with SVM (issue 14: SVM + SFVC avg <= 1200), 160 us.
+# IM law, stator-flux vector control with SVM (budget target: SVM + SFVC avg <= 1200), 160 us.
 instr c sfvc im_sfvc_step bench_sfvc_normal bench_sfvc_tick 1200 1700 \
   im_est_step fix_polar im_speed_step iq_mag fix_isqrt64 im_sfvc_regulate svm_step im_sfvc_estimate speed_pi_step
-# IM law, rotor-flux-oriented control with two-phase SVM (issue 14: DFOC avg <= 1200), 160 us.
+# IM law, rotor-flux-oriented control with two-phase SVM (budget target: DFOC avg <= 1200), 160 us.
 instr d dfoc im_dfoc_step bench_dfoc_normal bench_dfoc_tick 1200 1700 \
   im_est_step fix_polar im_speed_step im_dfoc_regulate svm_step im_sfvc_estimate speed_pi_step
-# IM law, DTC with DSVM (issue 14: DSVM avg <= 1000), 160 us.
+# IM law, DTC with DSVM (budget target: DSVM avg <= 1000), 160 us.
 instr e dsvm im_dsvm_step bench_dsvm_normal bench_dsvm_tick 1000 1500 \
   im_est_step fix_polar im_speed_step im_dsvm_select dsvm_table dsvm_vectors dsvm_patterns im_sfvc_estimate speed_pi_step
 echo

@@ -5,9 +5,9 @@
 
 Writes into RUN_DIR (or --out):
   currents.png         three phase currents over the last electrical periods (Hoang Figs. 11-17)
-  torque.png           estimated vs true electromagnetic torque, with the means (Table X)
-  flux_locus.png       stator-flux locus in the alpha-beta plane, true and estimated (Fig. 3)
-  flux_components.png  estimated (and true) alpha/beta flux components vs time (Figs. 5-8)
+  torque.png           estimated vs true electromagnetic torque, with the means (Hoang Table X)
+  flux_locus.png       stator-flux locus in the alpha-beta plane, true and estimated (Hoang Fig. 3)
+  flux_components.png  estimated (and true) alpha/beta flux components vs time (Hoang Figs. 5-8)
 Default time span: the metrics window of metrics.json, at most its last 0.12 s (3 periods at
 1500 rpm, like the paper's scope captures); for a run that tripped, the 0.1 s before the trip and
 0.02 s after it, with the trip time and reason marked on every figure. Metrics that are null

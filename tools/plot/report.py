@@ -4,13 +4,13 @@
     /usr/bin/python3 tools/plot/report.py [--exe build/host/bin/dtc-sil] [--out out/report]
                                           [--jobs 2] [--set key=value ...]
 
-For each of the seven operating points of Tables IX and X (1500 rpm, full load 0.3 N*m) it runs
+For each of the seven operating points of Hoang Tables IX and X (1500 rpm, full load 0.3 N*m) it runs
 tools/scenarios/<name>.toml into OUT/<name>/, draws that run's figures (plot_run.py), and writes
 OUT/report.md: paper vs simulation for the per-phase fundamental currents and their imbalance
-(Table IX), the DC component of the predicted (estimated) torque, the total current THD (eq. 39)
+(Hoang Table IX), the DC component of the predicted (estimated) torque, the total current THD (eq. 39)
 and the TRF (eq. 40) (Table X). Unless --table-only, it also runs the FSTP inertial and half-load
 points and draws OUT/fig12.png, fig15.png, fig16.png, fig17.png: phase currents at inertial, half
-and full load, as Hoang Figs. 12 and 15-17, and adds two issue-10 tables: the FSTP matrix on a
+and full load, as Hoang Figs. 12 and 15-17, and adds two tables: the FSTP matrix on a
 stiff split DC link for comparison (runs in OUT/<name>_stiff/; the scenarios themselves run on
 the finite split link with balancing resistors and ESR) and the low-speed points at 700 / 300 / 200 rpm,
 25 % load (OUT/<name>_low<rpm>/). Exit status 1 if any run failed (its row says why).
@@ -56,7 +56,7 @@ FIGURES = [
 ]
 LOADS = [("inertial", "(a) inertial load"), ("half", "(b) half load"), ("full", "(c) full load (0.3 N·m)")]
 
-# Issue 10: the scenarios run on the finite split link (2 x 4.7 mF, 3.3 kohm balancing resistors,
+# The scenarios run on the finite split link (2 x 4.7 mF, 3.3 kohm balancing resistors,
 # 25 mohm ESR; docs/plant.md); the FSTP matrix again on a stiff link for comparison, and the
 # low-speed points of Hoang Figs. 18-20 at 25 % load (0.075 N*m
 # constant, the voltage model from 100 rpm on), each with the schemes the paper runs there.
@@ -264,8 +264,8 @@ def write_report(path, results, exe, sets):
 
 
 def issue10_tables(finite, low):
-    """Markdown: the FSTP matrix on a stiff link (comparison) and the low-speed table (issue 10)."""
-    lines = ["", "## FSTP on a stiff split DC link, for comparison (issue 10)", "",
+    """Markdown: the FSTP matrix on a stiff link (comparison) and the low-speed table."""
+    lines = ["", "## FSTP on a stiff split DC link, for comparison", "",
              "The tables above run on the scenarios' finite split link (2 x 4.7 mF, 3.3 kOhm balancing "
              "resistors, 25 mOhm ESR). Here the Table IX/X operating points with `--set "
              + " --set ".join(STIFF_SETS) + "` (capacitor voltages held at V_dc/2), from "
@@ -281,7 +281,7 @@ def issue10_tables(finite, low):
                      f"| {fmt3(m.get('fundamental_a'))} | {num(m.get('imbalance_pct'), '{:.1f}')} "
                      f"| {num(m.get('thd40_total_pct'), '{:.1f}')} "
                      f"| {num(m.get('torque_est_mean_nm'))} / {num(m.get('torque_mean_nm'))} |")
-    lines += ["", "## Low speed, 25 % load (Hoang Figs. 18-20; issue 10)", "",
+    lines += ["", "## Low speed, 25 % load (Hoang Figs. 18-20)", "",
               "0.075 N·m constant load, `--set " + " --set ".join(LOW_SETS) + "`; the paper shows "
               "sinusoidal currents at 700 rpm (all schemes), 300 rpm (simple, proposed) and 200 rpm "
               "(proposed).", "",

@@ -7,7 +7,7 @@
    25 Hz currents with switching ripple and an imbalance, torque with ripple, an estimated flux
    with an alpha/beta imbalance like Hoang Fig. 5(b); runs plot_run and checks every PNG.
 2. Runs report.py with a stand-in for dtc-sil (this script, --fake-sil) that writes such folders,
-   and checks the markdown table carries the paper's Table IX/X values next to the simulated ones.
+   and checks the markdown table carries the paper's (Hoang) Table IX/X values next to the simulated ones.
 Exit status 0 = pass. Registered with ctest as sil.plot_selftest.
 """
 import json

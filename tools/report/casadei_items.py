@@ -94,9 +94,9 @@ def _sweep(ctx, scenario, sets, grids, name):
         return list(csv.DictReader(f))
 
 
-# ---- Fig. 21 ------------------------------------------------------------------------------------------
+# ---- Casadei Fig. 21 ----------------------------------------------------------------------------------
 # The SIL points of tests/sil/test_im_stability.cpp: (w_s rad/s, tau s), slip 5 rad/s, SFVC, ideal
-# devices (eqs. 26-28 assume no mismatch).
+# devices (Casadei eqs. 26-28 assume no mismatch).
 FIG21_POINTS = [(-40.0, 0.003), (-40.0, 0.0005), (-30.0, 0.002), (-30.0, 0.001), (-20.0, 0.01), (-20.0, 0.001),
                 (-10.0, 0.01), (-10.0, 0.002), (20.0, 0.001)]
 
@@ -143,7 +143,7 @@ def fig21(ctx):
                    png, "Casadei Fig. 21: contour lines over (w_s, tau), hatched unstable area at negative w_s")]
 
 
-# ---- Figs. 6-7 ----------------------------------------------------------------------------------------
+# ---- Casadei Figs. 6-7 --------------------------------------------------------------------------------
 def figs6_7(ctx):
     out = []
     png = os.path.join("casadei", "figs6_7.png")
@@ -201,7 +201,7 @@ def figs6_7(ctx):
                    "Casadei Fig. 7: switching-frequency surface over the two bands")]
 
 
-# ---- Figs. 9-10 ---------------------------------------------------------------------------------------
+# ---- Casadei Figs. 9-10 -------------------------------------------------------------------------------
 def figs9_10(ctx):
     """Casadei eqs. 13-15 with the configured machine at rated torque and eq. 19's rotor flux."""
     sc = _toml(SCN)
@@ -214,19 +214,19 @@ def figs9_10(ctx):
     ts = sc.get("ts_s", d["PLANT_DEF_IM_TS_S"])
     psir = sc["control"]["rotor_flux_ref_wb"]
     iq = torque * m.lr / (1.5 * m.p * m.m * psir)
-    phis = complex(m.ls / m.m * psir, m.sigma * m.ls * iq)  # eq. 19, rotor-flux frame
-    rot = np.exp(-1j * np.angle(phis))  # Fig. 8: phi_s on the d axis
+    phis = complex(m.ls / m.m * psir, m.sigma * m.ls * iq)  # Casadei eq. 19, rotor-flux frame
+    rot = np.exp(-1j * np.angle(phis))  # Casadei Fig. 8: phi_s on the d axis
     phis, phir = phis * rot, psir * rot
     v_amp = 2.0 / 3.0 * vdc  # an active vector of the six-switch inverter
     ang = np.radians(np.arange(0, 360, 15))
     kk = m.m / (m.sigma * m.ls * m.lr)
     res = {}
     for w_label, w in (("zero speed", 0.0), ("rated speed", rated_rpm * math.pi / 30 * m.p)):
-        dt1 = -torque * (rs / m.ls + m.rr / m.lr) * ts / m.sigma  # eq. 14
+        dt1 = -torque * (rs / m.ls + m.rr / m.lr) * ts / m.sigma  # Casadei eq. 14
         v = v_amp * np.exp(1j * ang)
         a = v - 1j * w * phis
         b = 1j * phir
-        # eq. 15 with eq. 12's 3/2 p (amplitude-invariant; eq. 15 prints p); "." the scalar product
+        # Casadei eq. 15 with eq. 12's 3/2 p (amplitude-invariant; eq. 15 prints p); "." the scalar product
         dt2 = 1.5 * m.p * kk * (a.real * b.real + a.imag * b.imag) * ts
         res[w_label] = dt1 + dt2
     png = os.path.join("casadei", "figs9_10.png")
@@ -258,7 +258,7 @@ def figs9_10(ctx):
                    "Casadei Fig. 10: the same at rated speed")]
 
 
-# ---- Figs. 19-20 --------------------------------------------------------------------------------------
+# ---- Casadei Figs. 19-20 ------------------------------------------------------------------------------
 def figs19_20(ctx):
     sc = _toml(SCN)
     rated = sc["motor"].get("rated_torque_nm", 26.5)

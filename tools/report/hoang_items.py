@@ -8,12 +8,12 @@ ctx: out_dir, short (bool), dtc_sil (binary path), jobs, progress(msg) (papers.p
 
 Every run goes through `dtc-sil sweep` (docs/sweep.md) on every core: the scenario files of
 tools/scenarios/ through tools/plot/report.py's sweep_series (the files stay the one source of the
-operating points), and the variants of a study (Fig. 14's four cases, the bare algorithm's switches,
+operating points), and the variants of a study (Hoang Fig. 14's four cases, the bare algorithm's switches,
 the light-load causes) as --zip axes on one scenario. Each figure's status is decided by the
 paper's statement about it, checked with a stated margin (the CHECKS below); a figure that fails
 its check is "deviates" with the measured cause where one was measured.
 
-Figs. 5-8 (a) are the ITC (indirect torque control) half of the flux figures: they need the ITC law
+Hoang Figs. 5-8 (a) are the ITC (indirect torque control) half of the flux figures: they need the ITC law
 (control.scheme = "itc"). itc_sets() is the hook: it returns the --set
 overrides that select the ITC law once dtc-sil accepts one of ITC_CANDIDATES, and None until then.
 """
@@ -28,7 +28,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
 sys.path.insert(0, os.path.join(ROOT, "tools", "plot"))
 import plot_run  # noqa: E402
-import report  # noqa: E402  (tools/plot/report.py: Table IX/X data, sweep_series, load_figure)
+import report  # noqa: E402  (tools/plot/report.py: Hoang Table IX/X data, sweep_series, load_figure)
 
 SCEN = os.path.join(ROOT, "tools", "scenarios")
 
@@ -39,7 +39,7 @@ ITEMS = ["Fig. 5 (a)", "Fig. 5 (b)", "Fig. 6 (a)", "Fig. 6 (b)", "Fig. 7 (a)", "
          "Fig. 8 (a)", "Fig. 8 (b)", "Fig. 9 (c)", "Fig. 10", "Fig. 11", "Fig. 12", "Fig. 13", "Fig. 14",
          "Fig. 15", "Fig. 16", "Fig. 17", "Fig. 18", "Fig. 19", "Fig. 20", "Table VII", "Table IX", "Table X"]
 
-# Table VII, V peak at 1500 rpm: fundamental, 3rd, 5th, 7th of phases A, B, C.
+# Hoang Table VII, V peak at 1500 rpm: fundamental, 3rd, 5th, 7th of phases A, B, C.
 TABLE_VII = {"A": (14.0868, 0.0488, 0.2385, 0.2274), "B": (14.2880, 0.0321, 0.2483, 0.2375),
              "C": (14.4254, 0.0364, 0.2209, 0.2472)}
 BALANCED_EMF = {"motor.emf_gain": "[1, 1, 1]", "motor.emf_harm_a": "[0, 0, 0]",
@@ -71,9 +71,9 @@ BARE_STEPS = [
      dict(BALANCED_EMF, **{"inverter.dead_time_s": "0", "inverter.v_ce_v": "0.45", "inverter.v_d_v": "0.625",
                            "inverter.r_on_ohm": "0.0375"})),
 ]
-PAPER_IMB = {"none": 26.6, "simple": 6.8, "proposed": 4.6}  # Table IX, 100 (max/min - 1)
+PAPER_IMB = {"none": 26.6, "simple": 6.8, "proposed": 4.6}  # Hoang Table IX, 100 (max/min - 1)
 
-# Fig. 14's four simulated cases (the paper's MATLAB model: stiff link, devices of Table IV only).
+# Hoang Fig. 14's four simulated cases (the paper's MATLAB model: stiff link, devices of Table IV only).
 FIG14 = [("(a)", "balanced back-EMFs, ideal switches", True, False),
          ("(b)", "unbalanced back-EMFs (Table VII), ideal switches", False, False),
          ("(c)", "balanced back-EMFs, non-ideal switches (Table IV)", True, True),
@@ -269,7 +269,7 @@ def items(ctx):
     sets = ["metrics.torque_sensor_hz=1000"]
     seeds = ["1"] if ctx.short else ["1", "2", "3"]
 
-    # -- Tables IX/X, Figs. 11, 13 and the full-load panels: the seven scenario files.
+    # -- Hoang Tables IX/X, Figs. 11, 13 and the full-load panels: the seven scenario files.
     ctx.progress("hoang: Table IX/X matrix (7 runs)")
     stems = [p[0] for p in report.PAPER]
     table, table_cmd = report.sweep_series(ctx.dtc_sil, SCEN, hdir, "sweep_table", stems, sets, ctx.jobs)
@@ -282,7 +282,7 @@ def items(ctx):
     def met(stem):
         return allm.get(stem, (None, "not run"))[0]
 
-    # Table IX
+    # Hoang Table IX
     paper_ix, ours_ix, ranks_ok = {}, {}, True
     for stem, label, ix, _ in report.PAPER:
         m = met(stem)
@@ -319,10 +319,10 @@ def items(ctx):
                                             fi["simple"] or -1, fi["proposed"] or -1)) + BARE_FINDING
     out.append(entry("Table IX", "reproduced" if ix_ok else "deviates", ours_ix, paper_ix, reason_ix))
 
-    # Table X
+    # Hoang Table X
     out.append(table_x(allm))
 
-    # Fig. 11 (SSTP current model) and Fig. 13 (SSTP voltage model without / with compensation)
+    # Hoang Fig. 11 (SSTP current model) and Fig. 13 (SSTP voltage model without / with compensation)
     m11 = met("sstp_current_full")
     ok11 = bool(m11) and imb(m11["fundamental_a"]) < 5.0 and abs(m11["torque_est_mean_nm"] / 0.3 - 1) < 0.03
     fig11 = currents_figure(ctx, "fig11", "Fig. 11: current-model DTC, SSTP, 1500 rpm, full load",
@@ -350,11 +350,11 @@ def items(ctx):
                      "checked: (a) estimate > 1.05 x 0.3 N*m, (b) within 3 %, both balanced (< 10 %), (b) smaller currents",
                      fig13))
 
-    # Figs. 12, 15-17: inertial, half, full load
+    # Hoang Figs. 12, 15-17: inertial, half, full load
     for fig, base in LOAD_FIGS.items():
         out.append(load_entry(ctx, fig, base, met, hdir))
 
-    # Light load: the measured cause of Fig. 17 (a)/(b)'s imbalance
+    # Light load: the measured cause of Hoang Fig. 17 (a)/(b)'s imbalance
     ctx.progress("hoang: light-load causes (%d runs)" % (8 * len(seeds)))
     light = light_load_study(ctx, seeds, sets)
     for e in out:
@@ -363,19 +363,19 @@ def items(ctx):
             if e["status"] == "deviates":
                 e["reason"] += " " + LIGHT_FINDING
 
-    # Fig. 14: the four simulated cases
+    # Hoang Fig. 14: the four simulated cases
     ctx.progress("hoang: Fig. 14 (4 runs)")
     out.append(fig14(ctx, sets))
 
-    # Figs. 5-8: estimated alpha/beta flux under DTC (b); ITC (a) through the hook
+    # Hoang Figs. 5-8: estimated alpha/beta flux under DTC (b); ITC (a) through the hook
     out += flux_entries(ctx, hdir)
 
-    # Figs. 18-20: low speed, 25 % load
+    # Hoang Figs. 18-20: low speed, 25 % load
     ctx.progress("hoang: low speed, Figs. 18-20 (7 runs)")
     low_entries, low = low_speed_entries(ctx, hdir, sets)
     out += low_entries
 
-    # report.py's report.md beside the runs: Tables IX/X, the stiff-link comparison, the low-speed table
+    # report.py's report.md beside the runs: Hoang Tables IX/X, the stiff-link comparison, the low-speed table
     ctx.progress("hoang: stiff-link comparison (4 runs) and report.md")
     stiff, _ = report.sweep_series(ctx.dtc_sil, SCEN, hdir, "sweep_stiff", report.FINITE, sets + report.STIFF_SETS,
                                    ctx.jobs, suffix="_stiff")
@@ -647,7 +647,7 @@ def flux_entries(ctx, hdir):
     itc = itc_sets(ctx)
     itc_res = {}
     if itc is not None:
-        # Figs. 5-8 (a): the same four full-load scenarios under ITC, the estimator running as an observer.
+        # Hoang Figs. 5-8 (a): the same four full-load scenarios under ITC, the estimator running as an observer.
         ctx.progress("hoang: Figs. 5-8 (a) under ITC (4 runs)")
         stems = [v[0] for v in FLUX_FIGS.values()]
         runs, _ = report.sweep_series(ctx.dtc_sil, SCEN, hdir, "sweep_itc", stems, list(itc), ctx.jobs, suffix="_itc")
@@ -671,7 +671,7 @@ def flux_entries(ctx, hdir):
         png = res[fig].pop("figure", None)
         out.append(entry(fig + " (b)", "reproduced" if checks[fig] else "deviates", res[fig],
                          {"description": paper[fig]}, "checked: %s (estimated flux, last 0.4 s)" % crit[fig], png))
-        # HOOK: Figs. 5-8 (a) run when itc_sets() finds the ITC law in dtc-sil.
+        # HOOK: Hoang Figs. 5-8 (a) run when itc_sets() finds the ITC law in dtc-sil.
         if itc is None:
             out.append(entry(fig + " (a)", "deviates", {}, {"description": paper[fig] + " (under ITC)"},
                              "not run: needs the ITC law (control.scheme = \"itc\"), which this "

@@ -1,12 +1,12 @@
 #!/usr/bin/python3
 """Casadei sec. 10.6-10.7: the linearised sensorless stator-flux vector control with the improved
-estimator (eqs. 26-28), its eigenvalues, the Fig. 21 stability map and the check of a tau schedule.
+estimator (Casadei eqs. 26-28), its eigenvalues, the Fig. 21 stability map and the check of a tau schedule.
 
 The machine comes from a scenario file (motor.* keys, the default IM of model/include/plant_defaults.h
 for the keys left unset) or from explicit values; nothing of Casadei's unprinted machine is assumed.
 
 Derivation (states in the estimated rotor-flux frame, rotating at the estimated stator frequency
-w_s = w0 + w_sl; the flux regulator holds the estimated stator flux at eq. 18's reference): with
+w_s = w0 + w_sl; the flux regulator holds the estimated stator flux at Casadei eq. 18's reference): with
 e = phi_s - phi_s^ the estimator error, eq. 21 gives phi_r^ = phi_r - (L_r/M) e, and eq. 20 with
 exact R_s and currents gives de/dt = -(phi_r* - |phi_r^|) e^{j theta} / tau. The rotor equation
 (A7-A9) and the frame's speed (the angle of phi_r^, eq. 22) then linearise to eq. 27:
@@ -15,7 +15,7 @@ exact R_s and currents gives de/dt = -(phi_r* - |phi_r^|) e^{j theta} / tau. The
           [ -w_s       0           w_s        ]
           [ -1/tau_r   -w0        -k - g/tau  ]     g = L_r / M
 
-eq. 27 prints 1/tau for g/tau (equal when L_r = M; 3 % apart on the default IM). The C twin is
+Casadei eq. 27 prints 1/tau for g/tau (equal when L_r = M; 3 % apart on the default IM). The C twin is
 tools/config/im_tau_check.c; tests/unit/test_im_linear.py holds the two together.
 
     /usr/bin/python3 tools/report/im_linear.py [--scenario FILE] [--slip 5] [--out fig21.png]
@@ -105,7 +105,7 @@ class Machine:
 
 
 def fig21_map(mach, w_sl=5.0, ws=None, taus=None):
-    """Real part of the dominant pole over (w_s, tau) at a fixed slip (Fig. 21): (ws, taus, re[tau, ws])."""
+    """Real part of the dominant pole over (w_s, tau) at a fixed slip (Casadei Fig. 21): (ws, taus, re[tau, ws])."""
     ws = np.linspace(-40.0, 40.0, 321) if ws is None else ws
     taus = np.logspace(-3.5, 0, 120) if taus is None else taus
     re = np.array([[mach.dominant_re(w - w_sl, w_sl, t) for w in ws] for t in taus])

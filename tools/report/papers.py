@@ -55,6 +55,7 @@ class Ctx:
 
 # Casadei et al. 2006: every numbered figure and table that shows a result (Figs. 2-4, 8, 11, 12,
 # 16, 18, 26-28 are diagrams and block diagrams; Tables 1-3 switching tables, Table 4 parameters).
+# The items: Casadei Figs. 1, 5-7, 9-10, 13-15, 17, 19-25, 29-36, Table 5.
 # (item, the paper's statement, casadei_report.py tests that cover it, the audit's reason why a
 # passing test there is not yet the paper's figure, or None)
 # tests/sil/test_dsvm.cpp: basic DTC at 80 us against DSVM at 160 us, 100 rpm, rated torque, at equal

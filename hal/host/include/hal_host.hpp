@@ -15,7 +15,7 @@
 //   3. advance(): the plant runs over [t_k, t_k+1) with the command written in period k-1 (the
 //                 DSP's shadowed action registers load at the period boundary), then the pending
 //                 command becomes the active one.
-// Fault tolerance (issue 16): hal_cmd_t.relay energises the plant's reconfiguration relay at once
+// Fault tolerance: hal_cmd_t.relay energises the plant's reconfiguration relay at once
 // (a GPIO output, not shadowed; its contacts follow after their own delay) and, from that command
 // on, holds the named leg's two gates off (the leg must not drive a phase the relay ties to the
 // mid-point); relay = 0 gives the leg back. The gate drivers' desaturation outputs (the plant's
@@ -118,7 +118,7 @@ public:
     /// pulse followed by enable = 0) is not split and calls f once, at the period's end.
     void set_substeps(int n, std::function<void(const plant_t*)> f);
 
-    // --- sensor faults (issue 16) ----------------------------------------------------------------
+    // --- sensor faults ----------------------------------------------------------------------------
     // They live here, not in the plant: the plant models the power circuit and the machine, and
     // what a sensor reports is this emulation's business (the plant has no sensors).
     /// Encoder signal lost from the next sample(): the QEP count holds its last value and no index

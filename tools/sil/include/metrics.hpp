@@ -14,14 +14,14 @@
 //                     not locked to the fundamental counts too and the result does not depend on the
 //                     window length; for a periodic signal this equals eq. 39 exactly.
 //                     thd_harmonic_pct counts only the integer harmonics n*f1 (eq. 39 read literally).
-//   thd_total_pct     eq. 39: sqrt((THD_A^2 + THD_B^2 + THD_C^2) / 3).
+//   thd_total_pct     Hoang eq. 39: sqrt((THD_A^2 + THD_B^2 + THD_C^2) / 3).
 //   thd40_pct[x]      harmonics 2..40 only, IEC 61000-4-7 style: the RMS of the harmonic subgroups
 //                     h = 2..40 (the line at h*f1 and, with 2 or more periods in the window, its two
 //                     neighbours at the window's resolution) over the fundamental; switching ripple
-//                     above 40 f1 does not count. thd40_total_pct combines the phases as eq. 39.
+//                     above 40 f1 does not count. thd40_total_pct combines the phases as Hoang eq. 39.
 //   imbalance_pct     100 * (max/min - 1) of the three fundamentals.
 //   trf_pct           Hoang eq. 40: (T_max - T_min) / T_rated * 100 % over the window.
-//   trf_filtered_pct  eq. 40 on the plant torque after a first-order low-pass of torque_sensor_hz
+//   trf_filtered_pct  Hoang eq. 40 on the plant torque after a first-order low-pass of torque_sensor_hz
 //                     (what a torque transducer of that bandwidth shows; 0 = unfiltered = trf_pct).
 //   switching_freq_hz turn-on events per second per switching device, averaged over the switched
 //                     legs: every leg-state change turns one of the leg's two devices on, and so does

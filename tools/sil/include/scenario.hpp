@@ -150,7 +150,7 @@ struct InverterCfg {
     bool drops = true;
     bool dead_time = true;
     bool finite_dc_link = true;
-    bool reconfig_relay = false;   // a relay per phase ties it to the capacitor mid-point (issue 16)
+    bool reconfig_relay = false;   // a relay per phase ties it to the capacitor mid-point (fault tolerance)
     double relay_delay_s = PLANT_DEF_RELAY_DELAY_S; // relay contact delay after a coil command
 };
 
@@ -192,7 +192,7 @@ struct ControlCfg {
     bool lpf_comp = true;                // firmware: low-pass gain/phase correction (voltage model)
     bool vmid_cal = true;                // firmware: FSTP mid-point calibrated against V_dc/2
     bool cal_hold = true;                // firmware: rotor held (phases B, C) during that calibration
-    bool fault_detect = true;            // firmware: open-phase and lost-encoder detection (issue 16)
+    bool fault_detect = true;            // firmware: open-phase and lost-encoder detection
     double v_f_v = PLANT_DEF_V_F_V;      // simple compensation V_f (Hoang sec. III-B)
     std::string voltage_csv;             // open_loop: t_s,v_alpha_v,v_beta_v (resolved path)
     double vf_freq_hz = 0.0;             // open_loop built-in V/f source: final frequency (0 = off)
@@ -201,10 +201,10 @@ struct ControlCfg {
     double vf_ramp_s = 0.0;              // frequency ramp time 0 -> vf_freq_hz (0 = step)
     // Induction-machine law (motor.type = "im", Casadei 2006); refused by name for the PM machine.
     Scheme scheme = Scheme::Dtc;         // switching table (sections 4-8) or DSC (section 9)
-    SpeedSensor speed_sensor = SpeedSensor::Encoder; // none: speed from the flux speed and eq. 16
+    SpeedSensor speed_sensor = SpeedSensor::Encoder; // none: speed from the flux speed and Casadei eq. 16
     bool flux_weakening = false;         // section 12
-    double rotor_flux_ref_wb = 0.0;      // > 0: constant rotor flux, phi_s* by eq. 19; 0: flux_ref_wb
-    double observer_tau_s = PLANT_DEF_IM_OBSERVER_TAU_S;  // improved estimator tau (eq. 20), low speed / fixed
+    double rotor_flux_ref_wb = 0.0;      // > 0: constant rotor flux, phi_s* by Casadei eq. 19; 0: flux_ref_wb
+    double observer_tau_s = PLANT_DEF_IM_OBSERVER_TAU_S;  // Casadei eq. 20's tau, low speed / fixed
     double observer_tau_high_s = 0.0;    // tau at high speed (section 10.2); 0 = observer_tau_s (fixed)
     double observer_tau_lo_rpm = 0.0;    // |speed| up to which observer_tau_s applies
     double observer_tau_hi_rpm = 0.0;    // |speed| from which observer_tau_high_s applies
@@ -213,7 +213,7 @@ struct ControlCfg {
     // Stator-flux vector control (scheme sfvc, Casadei secs. 10.3-10.5).
     double carrier_hz = PLANT_DEF_IM_CARRIER_HZ; // SVM carrier; the control period ts_s = 1 / carrier_hz
     Modulation modulation = Modulation::Symmetric; // dfoc with the key unset: two_phase (Casadei sec. 13)
-    double sfvc_kp_per_s = 0.0;          // flux-regulator gain K_p (eq. 24); 0 = derived, 1 / (2 ts_s)
+    double sfvc_kp_per_s = 0.0;          // flux-regulator gain K_p (Casadei eq. 24); 0 = derived, 1 / (2 ts_s)
     double dsvm_torque_band2_nm = 0.0;   // DSVM five-level torque comparator's outer band; 0 = derived
 };
 
@@ -254,7 +254,7 @@ struct FirmwareCfg {
     std::optional<double> rr_ohm, lls_h, llr_h, lm_h; // induction machine as the firmware believes it
 };
 
-/// Faults injected from faults.time_s on (issue 16; docs/sil.md). Each is off by default.
+/// Faults injected from faults.time_s on (docs/sil.md). Each is off by default.
 struct FaultsCfg {
     double time_s = 0.0;                       // when every configured fault occurs
     FaultPhase leg_open = FaultPhase::None;    // leg disconnected from its phase

@@ -32,7 +32,7 @@ struct TraceRow {
     int en;
     double theta_e_rad, vc_lo_v, v_alpha_v, v_beta_v, tload_nm;
     double psi_r_alpha_wb, psi_r_beta_wb;  // induction machine only (rotor-flux columns)
-    int relay, relay_closed, desat;        // fault columns only (issue 16): the relay's coil command
+    int relay, relay_closed, desat;        // fault columns only: the relay's coil command
                                            // (hal_cmd_t.relay), its contacts, meas.desat
 };
 
@@ -133,7 +133,7 @@ struct RunInfo {
     std::uint64_t invalid_commands = 0;
     bool hw_trip = false;
     bool traced = false; // trace.csv written (its cost is in wall_time_s)
-    // Injected faults ([faults], issue 16): when they occurred (-1: none configured), the phase
+    // Injected faults ([faults]): when they occurred (-1: none configured), the phase
     // the firmware moved onto the mid-point ("" = none or the controller has no such status), and
     // the speed's response after the fault (speed mode; NaN = not defined, see docs/sil.md).
     double injected_fault_time_s = -1.0;
