@@ -161,14 +161,14 @@ void dtc_torque_trim(dtc_t *c, iq_t te)
  * integrated by the low-pass: delta = E / w_c, flux_est.h) therefore moves the TRUE flux circle
  * by -delta, i.e. the machine carries a DC current -delta / l_s; on the FSTP that DC current is
  * phase A's and charges the split capacitors (mid-point drift), and with the estimated torque
- * (eq. 10) it makes the torque ripple at f and the currents at 2f (issue 10: a 3 mWb offset,
+ * (eq. 10) it makes the torque ripple at f and the currents at 2f (SIL: a 3 mWb offset,
  * 0.5 A of DC and 2f current at 700 rpm). The correction c added to the estimate integrates the
  * measured current, dc/dt = w_d l_s i: with the estimate plus c held on the circle, the DC
  * current is (-delta - c)/l_s, so c -> -delta at the rate w_d and the DC current -> 0, which is
  * the suppression of the DC current (and of the FSTP mid-point's DC charge). The fundamental
  * (and any negative sequence) passes into c rotated by 90 deg and attenuated by w_d/w, so w_d
- * follows the measured speed, w_d = |w|/20: 5 % at every speed (a fixed w_d = w_c = 5 rad/s was
- * 24 % at 200 rpm and took the proposed scheme's imbalance there from 21 to 64 %, SIL), and
+ * follows the measured speed, w_d = |w|/20: 5 % at every speed (a fixed w_d = w_c = 5 rad/s is
+ * 24 % at 200 rpm and takes the proposed scheme's imbalance there from 21 to 64 %, SIL), and
  * 7.9 rad/s (tau 0.13 s) at 1500 rpm. Off (reset to zero) while the current model drives.
  * Formats: k = Ts l_s / 20 (IQ pu, configuration) times |w| (IQ; at the speed-loop rate, as |w|
  * is measured there); the state c is kept with 8
@@ -212,24 +212,24 @@ void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b)
  * 1500 rpm), which the SIL shows as the mid-point running away and a stall. So d reaches the
  * reconstruction scaled by (1 - beta): the DC error becomes -(2/3)(g_eff + beta) d, which
  * restores the mid-point for every g_eff > -beta. beta_max = 1/16 covers the datasheet-grade
- * link sensor of issue 10 (|g| <= 2 %, |o| <= 1 V at 70 V: |g_eff| <= 3.4 %).
+ * link sensor (|g| <= 2 %, |o| <= 1 V at 70 V: |g_eff| <= 3.4 %).
  * The price is the mid-point's own swing: phase A's fundamental I at w moves the mid-point by
  * d = I / (2 C w) (dd/dt = -i_a/(2 C)), which beta turns into a flux error -beta i_a / (3 C w^2)
  * on phase A, in phase opposition to i_a: an inductance error beta / (3 C w^2) on that phase. At
  * 1500 rpm that is small (0.4 % of psi_m at rated current with 1/16); at 200 rpm it is 6 % at a
  * quarter of the rated current and 50 % while the speed loop accelerates at its limit, and
  * K (g_eff + beta) puts a lightly damped resonance (37 rad/s, damping w_c / 74 at g_eff = 0) next
- * to the electrical frequency: a fixed 1/16 made the proposed FSTP limit-cycle between 40 and
- * 240 rpm around a 200 rpm reference (SIL, issue 10). So beta follows the speed: beta =
+ * to the electrical frequency: a fixed 1/16 makes the proposed FSTP limit-cycle between 40 and
+ * 240 rpm around a 200 rpm reference (SIL). So beta follows the speed: beta =
  * min(1/16, k w^2), k = 3 C l_s / 8 from the host (tools/config dtc_vmid_beta_k): the inductance
  * error stays within l_s / 8 at every speed (Table VIII: 5.62e-6 s^2, the cap from 1007 rpm up;
  * the loop's own resonance then sits at sqrt(K k) |w| = 0.35 |w|, below the electrical
- * frequency). An allowance of l_s / 2.4 instead (k three times larger) left the proposed FSTP's
+ * frequency). An allowance of l_s / 2.4 instead (k three times larger) leaves the proposed FSTP's
  * imbalance at 200 rpm between 27 and 104 % over six noise seeds, l_s / 8 between 25 and 89 %
- * (SIL, issue 10). Below sqrt(|g_eff| / k) the mid-point is not restored against a
+ * (SIL). Below sqrt(|g_eff| / k) the mid-point is not restored against a
  * link-sensor error; the derived hand-over keeps the voltage model above that speed for the
  * datasheet tolerance down to its hand-back speed (dtc_handover_default_rpm), so only a
- * hand-over set lower by hand (issue 10's low-speed runs) takes the voltage model there.
+ * hand-over set lower by hand (control.handover_rpm) takes the voltage model there.
  * Formats: IQ pu; the configuration holds s = sqrt(k) (pu: k w_base^2 would overflow IQ for a
  * many-pole machine, its root does not), beta = (s |w|)^2; products rounded and saturating
  * (iq_mpy: a large s |w| saturates and the square with it, beyond the cap), beta in [0, 1/16]. */

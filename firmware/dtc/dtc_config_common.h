@@ -184,7 +184,7 @@ typedef struct {
                        * hold_step), pu: the largest phase-B current the hold may command; 0 = the
                        * gates stay off for the whole calibration. 0 <= i_hold < i_trip (the host
                        * derives it from the torque limit and the current limit) */
-    /* Fault detection (app_core.c check_faults; issue 16), each 0 = off. */
+    /* Fault detection (app_core.c check_faults), each 0 = off. */
     iq_t i_sum_max_iq;  /* three sensors: |i_a + i_b + i_c| above it for APP_ISUM_PERIODS periods
                          * is a failed current sensor (the star point is isolated), pu; > 0 needs
                          * board.i_sensors3 */

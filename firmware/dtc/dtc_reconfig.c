@@ -1,6 +1,6 @@
 /*
  * dtc_reconfig.c - live reconfiguration of the PM law from the SSTP to the FSTP after a leg failure
- * (dtc.h dtc_reconfigure; issue 16). Runs once, in the ISR that found the failure: built into the
+ * (dtc.h dtc_reconfigure). Runs once, in the ISR that found the failure: built into the
  * init-only archive dtc_init, which the F2812 image keeps in flash (firmware/CMakeLists.txt), so
  * it costs no zero-wait RAM; that one ISR runs it with the flash wait states.
  */

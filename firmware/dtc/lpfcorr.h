@@ -3,7 +3,7 @@
  *
  * The voltage model integrates with 1/(s + w_c) instead of 1/s (flux_est.h), so in sinusoidal
  * steady state at electrical speed w its output is psi_l = psi jw / (jw + w_c) = psi / (1 - j r),
- * r = w_c / w: a gain w/sqrt(w^2 + w_c^2) and a lead atan(r) (issue 10: 6.8 / 15.8 / 23.4 % vector
+ * r = w_c / w: a gain w/sqrt(w^2 + w_c^2) and a lead atan(r) (6.8 / 15.8 / 23.4 % vector
  * error at 700 / 300 / 200 rpm for 5 rad/s). The correction multiplies the low-pass's INPUT by
  * (1 - j r), with the measured speed:
  *     d psi/dt = (1 - j r) e - w_c psi,   e = v - r_s i  (Hoang eqs. 15-16),
@@ -19,7 +19,7 @@
  * (psi = psi_l (1 - j r)), is exact only in steady state: the filter's state stores the flux
  * predistorted by the r of the past, and a changing speed (d r/dt = -w_c (dw/dt) / w^2) leaves an
  * error of about |psi| times the change of r over 1/w_c, in the stationary frame, i.e. a DC flux
- * error that the DTC turns into a DC current (SIL, issue 10, proposed FSTP accelerating at the
+ * error that the DTC turns into a DC current (SIL, proposed FSTP accelerating at the
  * torque limit to 200 rpm through a 100 rpm hand-over: 17 % of the flux 0.1 s after the start; on
  * the FSTP that DC current is phase A's and drains the split link's mid-point). At the hand-over
  * the state is simply the current-model flux (bumpless).
@@ -29,7 +29,7 @@
  * r = sign(w) w_c y. Below w_min the correction stays at its value for w_min (continuous, no
  * switching bump); w_min = 2 w_c (r <= 1/2, the corrected magnitude at most 1.12 times the
  * low-pass's) is set by the host. Measured with the output form (SIL, proposed FSTP, 0.075 N*m,
- * voltage model from standstill): with the floor at 4 w_c the estimated torque was 10 % low at
+ * voltage model from standstill): with the floor at 4 w_c the estimated torque is 10 % low at
  * 150 rpm and 81 % low at 100 rpm; at 2 w_c within 1.2 % and 1.4 %.
  *
  * Formats: IQ pu (w, w_c, y, r, fluxes); products rounded (iq_mpy), sums saturated; y <= 1/w_min

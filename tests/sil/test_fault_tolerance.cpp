@@ -1,4 +1,4 @@
-// test_fault_tolerance.cpp - issue 16 on the SIL: a failed leg of the six-switch drive is found
+// test_fault_tolerance.cpp - fault tolerance on the SIL: a failed leg of the six-switch drive is found
 // from its current signature and the drive goes on as the four-switch inverter with that phase on
 // the capacitor mid-point (Hoang sec. I, ref. [9]); faults that cannot be ridden through trip to
 // every gate off with their reason. Every run starts from standstill on the shipped scenarios
@@ -112,7 +112,7 @@ RideThrough expect_reconfigured(const Outcome& o, char phase, const std::string&
                 what.c_str(), 1e3 * r.detect_s, r.dip_rpm, r.dip_rpm / 15.0, o.info.recovery_s, r.peak_a, o.trip_a,
                 r.late_dev_rpm);
     EXPECT_GT(r.detect_s, 0.0) << what;
-    EXPECT_LE(r.detect_s, 0.020) << what;          // issue 16: detected within 20 ms
+    EXPECT_LE(r.detect_s, 0.020) << what;          // required: detected within 20 ms
     EXPECT_LT(r.peak_a, 0.9 * o.trip_a) << what;    // current below the trip level
     EXPECT_LT(r.late_dev_rpm, 0.01 * 1500.0) << what; // back on speed: within 1 % after 0.4 s
     return r;
@@ -144,7 +144,7 @@ const char* const kLegs[3] = {"a", "b", "c"};
 
 } // namespace
 
-// Issue 16's ride-through: SSTP at 1500 rpm, full load, leg A (then B, then C) opens at t = 1 s;
+// Ride-through: SSTP at 1500 rpm, full load, leg A (then B, then C) opens at t = 1 s;
 // current model and voltage model ([29] compensation; the FSTP goes on with Table V). With a TRIAC
 // (gate-triggered: 0.1 ms here) the dip stays within 5 % of the speed; with the default 15 ms
 // relay the drive makes no useful torque from the failure until the relay closes (6.6-19 ms to
@@ -171,7 +171,7 @@ TEST(FaultTolerance, OpenLegIsFoundAndTheDriveGoesOnAsAnFstp)
 
 // One device stuck open: its phase carries no current for the half-waves that device should
 // carry, which the same check finds, and the drive reconfigures. Found later than an open leg
-// (39 and 288 ms here, not within issue 16's 20 ms, which is asserted for the open leg): the
+// (39 and 288 ms here, not within the required 20 ms, which is asserted for the open leg): the
 // drive runs on with the half-waves it still has, and the phase current is zero only while the
 // current wants the failed device's direction (after a while the DTC shifts the current so that
 // it rarely does). Asserted: found, ridden through, within 0.5 s.

@@ -1,4 +1,4 @@
-// hal_host with the real plant under the faults of issue 16, and the runner's fault metrics: the desaturation latch reaches
+// hal_host with the real plant under the faults of plant.h, and the runner's fault metrics: the desaturation latch reaches
 // meas.desat and the trip, the relay command reaches the plant (coil at once, contacts after the
 // delay, the named leg gated off), the encoder freezes, a current channel sticks at its code.
 #include <gtest/gtest.h>

@@ -203,8 +203,8 @@ TEST(PmProduct, FirmwareParametersAreSetApartFromThePlantsByKeys)
 
 TEST(PmProduct, UncompensatedVoltageModelStartsFromStandstillUnderTheCurrentLimit)
 {
-    // Issue 10: the four uncompensated voltage-model scenarios tripped on over-current during the
-    // acceleration (7.1-7.6 A against the 6 A trip). With the current limit below the trip
+    // Without a current limit the four uncompensated voltage-model scenarios trip on over-current
+    // during the acceleration (7.1-7.6 A against the 6 A trip). With the current limit below the trip
     // (firmware/dtc/ilim.h, I_lim derived from the trip level: 4.87 A) they reach 1500 rpm and
     // hold it within 1 %; with the limit off they still trip (the limit is what fixes it).
     for (const char* f : {"fstp_voltage_none_full.toml", "fstp_voltage_none_half.toml",
@@ -309,9 +309,9 @@ TEST(PmProduct, EachLowSpeedEstimatorFixMeasurablyHelps)
 
 TEST(PmProduct, Thd40OfTheProposedFstpWithinTheTarget)
 {
-    // Issue 10: thd40_total_pct <= 10 % for the proposed FSTP at 1500 rpm full load (paper 7.16 %),
-    // from standstill, for three noise seeds. Measured 8.1 / 8.4 / 8.3 % (26.2 % before: no
-    // ripple-robust polarity, no DC-current suppression); with control.dc_supp=false 10.7 / 10.9 /
+    // Target: thd40_total_pct <= 10 % for the proposed FSTP at 1500 rpm full load (paper 7.16 %),
+    // from standstill, for three noise seeds. Measured 8.1 / 8.4 / 8.3 % (26.2 % without the
+    // ripple-robust polarity and the DC-current suppression); with control.dc_supp=false 10.7 / 10.9 /
     // 14.9 %: the DC-current suppression is what brings it below the target with a margin.
     double on = 0.0, off = 0.0;
     for (const char* seed : {"sensors.seed=1", "sensors.seed=2", "sensors.seed=3"}) {
@@ -344,11 +344,11 @@ TEST(PmProduct, CurrentSensorGainCornersKeepEveryVoltageModelSchemeRunning)
 
 TEST(PmProduct, FstpVoltageSensorCornersKeepRunningOnTheStiffLink)
 {
-    // Issue 10 realistic sensors on the FSTP (stiff split link; the shipped scenarios' finite link
+    // Realistic sensors on the FSTP (stiff split link; the shipped scenarios' finite link
     // below, FiniteSplitLinkKeepsTheTableIxOrdering): DC-link gain
     // +-2 %, DC-link offset +-1 V, mid-point offset +-0.5 V, from standstill: no trip, 1500 rpm
-    // held within 1 %, for none / simple / proposed. Before: over-current in every corner (then a
-    // stall with the current limit alone); the mid-point calibration (control.vmid_cal) is what
+    // held within 1 %, for none / simple / proposed. Without the limit and the calibration: over-current in every
+    // corner (a stall with the current limit alone); the mid-point calibration (control.vmid_cal) is what
     // makes them run: with it off the proposed scheme stalls at +2 % link gain.
     for (const char* f : {"fstp_voltage_none_full.toml", "fstp_voltage_simple_full.toml",
                           "fstp_voltage_proposed_full.toml"}) {
@@ -364,7 +364,7 @@ TEST(PmProduct, FstpVoltageSensorCornersKeepRunningOnTheStiffLink)
 
 TEST(PmProduct, FiniteSplitLinkKeepsTheTableIxOrdering)
 {
-    // Issue 10 item 5: the shipped FSTP scenarios run on finite split capacitors (4.7 mF each,
+    // The shipped FSTP scenarios run on finite split capacitors (4.7 mF each,
     // 3.3 kohm balancing resistors, 25 mohm ESR: docs/plant.md) from standstill, with the
     // DC-current suppression and the mid-point regulation (control.dc_supp): no trip, 1500 rpm
     // held, imbalance none > simple > proposed, proposed <= 8 % and thd40 <= 10 %. Measured

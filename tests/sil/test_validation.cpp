@@ -365,7 +365,7 @@ TEST_F(Validation, AStalledDriveIsANamedFault)
     // grows, the firmware trips with "stall" (protection.stall_time_s, derived: 0.1 s here) instead of running
     // backwards with fault "none". The same run without the step ends with no fault. On the stiff
     // link: on the shipped finite split link the over-current protection trips first (measured;
-    // docs/firmware-core.md, issue 10 status).
+    // docs/firmware-core.md, "Low speed, finite link, parameter mismatch: status").
     const std::string scen = std::string(DTC_SOURCE_DIR) + "/tools/scenarios/fstp_current_full.toml";
     for (int step = 0; step < 2; ++step) {
         std::vector<std::string> sets = {"duration_s=1.2", "metrics_window_s=0.1", "load.type=\"torque\"",

@@ -736,7 +736,7 @@ static void test_sfvc_writes_the_pwm_form(void **state)
     }
 }
 
-/* ---- fault detection and reconfiguration (issue 16) ---------------------------------------- */
+/* ---- fault detection and reconfiguration --------------------------------------------------- */
 
 /* A gate driver's desaturation output trips at once with every gate off and names its leg, in RUN
  * and while calibrating; a plain PDPINTA trip stays a hardware trip. */

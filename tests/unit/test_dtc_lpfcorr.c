@@ -3,7 +3,7 @@
  *
  * Against closed forms: the division-free reciprocal against 1/w; the firmware low-pass (flux_est)
  * driven by the back-EMF of a sinusoidal flux at 300, 200 and 100 rpm with the correction on its
- * input (r = w_c/w) holds the true flux (the raw low-pass is 15.8 / 23.4 % off, issue 10 item 3)
+ * input (r = w_c/w) holds the true flux (the raw low-pass is 15.8 / 23.4 % off at 300 / 200 rpm)
  * in steady state; and through an acceleration, started on the true flux as at the hand-over, it
  * stays on it (the error obeys d eps/dt = -w_c eps, lpfcorr.h), where the output-form correction
  * (a double model of it) drifts off.

@@ -176,7 +176,7 @@ static uint32_t to_u32_milli(double v) { return (uint32_t)nearbyint(v * 1000.0);
 
 /* ---- conversion ---------------------------------------------------------------------------- */
 
-/* Fault-detection levels (firmware app_core.c; issue 16), from the configured machine, board and
+/* Fault-detection levels (firmware app_core.c), from the configured machine, board and
  * drive:
  *  - current sum (three sensors): a quarter of the rated current. A healthy sum is the sensors'
  *    gain and offset errors times the current plus noise (2 % gain errors at the 6 A trip level:

@@ -141,7 +141,7 @@ typedef struct {
     double i_trip_a;
     double vdc_max_v;
     double vdc_min_v;
-    /* ---- Current limit and ripple-robust polarity (issue 10; firmware ilim.h) ---- */
+    /* ---- Current limit and ripple-robust polarity (firmware ilim.h) ---- */
     int current_limit_auto;  /* 1: current_limit_a = dtc_ilim_default_a(si) */
     double current_limit_a;  /* current-limit override on |i|, A; 0 = off, else < i_trip_a */
     int polarity_mid;        /* 1: drop/dead-time polarity from the period-mean / switching-instant
@@ -155,7 +155,7 @@ typedef struct {
                               * before the drive starts (firmware app_core.c), 0 = used as measured */
     int cal_hold;            /* with vmid_cal: 1 = the rotor is held by a phase-B/C current while the
                               * mid-point is calibrated (prot.i_hold_iq), 0 = the gates stay off */
-    /* ---- Fault detection and tolerance (issue 16; firmware app_core.c) ---- */
+    /* ---- Fault detection and tolerance (firmware app_core.c) ---- */
     int i_sensors3;          /* 1: all three phase currents measured (their sum is checked) */
     int fault_detect;        /* 1: open-phase and lost-encoder detection on (levels derived:
                               * dtc_fault_levels), 0: off */
@@ -251,7 +251,7 @@ double dtc_handover_default_rpm(const dtc_config_si_t *si);
  * calibrated). Table VIII, 2 x 4.7 mF: 5.62e-6 s^2 (beta = 1/16 above 1007 rpm). */
 double dtc_vmid_beta_k(const dtc_config_si_t *si);
 /* The link-sensor error the restoring term must cover, relative: 2 % gain plus a 1 V offset at
- * the link voltage (issue 10's datasheet-grade sensor). The derived hand-over speed stays at or
+ * the link voltage (a datasheet-grade sensor). The derived hand-over speed stays at or
  * above sqrt(dtc_vmid_gain_tol / k), where beta(w) reaches it (dtc_handover_default_rpm). */
 double dtc_vmid_gain_tol(const dtc_config_si_t *si);
 

@@ -132,7 +132,7 @@ void plant_get_sensed(const plant_t* plant, plant_sensed_t* s)
 
 } // extern "C"
 
-// Faults (plant.h, issue 16): the scripted plant has no circuit; the commands are accepted and
+// Faults (plant.h): the scripted plant has no circuit; the commands are accepted and
 // change nothing, and no desaturation ever latches.
 extern "C" {
 

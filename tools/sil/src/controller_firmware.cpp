@@ -359,7 +359,7 @@ public:
             return "app_init() refused the configuration (dtc_err " + std::to_string(init_rc) + ")";
         }
         if (si.reconfig_relay != 0) {
-            // the same drive as an FSTP with the failed phase on the mid-point (issue 16)
+            // the same drive as an FSTP with the failed phase on the mid-point (dtc_config_post_fault_si)
             dtc_config_si_t post_si;
             if (dtc_config_post_fault_si(&si, &post_si) != DTC_SI_OK) {
                 return "inverter.reconfig_relay: the post-fault configuration needs the PM law on the SSTP";

@@ -520,7 +520,7 @@ const std::vector<Spec>& schema()
         opt_num("firmware.dead_time_s", "s", closed(0.0, 1e-5),
                 "dead time the dead-time compensation assumes; not given: inverter.dead_time_s",
                 ACC(firmware.dead_time_s)),
-        // ---- faults (issue 16): every one configured occurs at faults.time_s ----
+        // ---- faults: every one configured occurs at faults.time_s ----
         num("faults.time_s", "s", positive(), "when the configured faults occur (first control period at or after it)",
             ACC(faults.time_s)),
         choice<FaultPhase>("faults.leg_open",
@@ -888,7 +888,7 @@ void check_law_keys(const Scenario& s, Diagnostics* d)
     }
 }
 
-// The [faults] table and the relay (issue 16).
+// The [faults] table and the relay (inverter.reconfig_relay).
 template <typename Err, typename Warn> void check_faults(const Scenario& s, Err err, Warn warn)
 {
     const FaultsCfg& f = s.faults;
