@@ -8,7 +8,7 @@
  *   estimator, speed loop, start-up and references as the IM law (im_dtc_front, im_dtc_refs)
  *   -> rotor-flux frame from the estimator's direction e^{j theta} = (u_alpha, u_beta) (Casadei
  *      eq. 22): i_d = i . e^{j theta}, i_q = e^{j theta} x i (Park)
- *   -> references (T model in the rotor-flux frame, constant rotor flux, Casadei eqs. 7-9, A10):
+ *   -> references (T model in the rotor-flux frame, constant rotor flux, Casadei eqs. A7-A10):
  *        i_d* = phi_r* / m,   T = (m / l_r) phi_r i_q  ->  i_q* = (l_r / (m phi_r*)) T*
  *      (T* = 0 and i_d* the magnetising current during the start-up magnetisation)
  *   -> PI per axis, v_dq = K_p e + sum K_i Ts e (the integral clamped to +-1 pu, the nominal

@@ -32,7 +32,7 @@
  *
  * Start-up (Casadei section 10.2, Fig. 17b): after a reset the torque reference is held at zero
  * and the speed PI at rest for im_magn_periods control periods. The stator-flux reference is
- * ramped from zero to its no-load value by im_magn_ramp_iq per period: at DC (Casadei eqs. 7-9,
+ * ramped from zero to its no-load value by im_magn_ramp_iq per period: at DC (Casadei eqs. A7-A9,
  * w = 0) phi_s = sigma l_s i + (m/l_r) phi_r and d phi_r/dt = (m i - phi_r)/tau_r, so a step of
  * phi_s* sends the current towards phi_s* / (sigma l_s) (5.7x rated on the default IM), while a ramp
  * at rho holds it at phi_r/m + tau_r rho/l_s: the host derives rho = (I_n - I_m) l_s/tau_r from the

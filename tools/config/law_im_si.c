@@ -200,7 +200,7 @@ void dtc_si_im_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_ba
     cfg->u.im.ref.speed_filt_q31 = dtc_si_to_q31(c, "speed_filter_s",
                                           1.0 - exp(-si->ts_s * si->speed_div / si->speed_filter_s));
     {
-        /* Start-up (im_dtc.h). Magnetising ramp: at DC (T model, Casadei eqs. 7-9 at w = 0)
+        /* Start-up (im_dtc.h). Magnetising ramp: at DC (T model, Casadei eqs. A7-A9 at w = 0)
          * phi_s = sigma L_s i + (M/L_r) phi_r and d phi_r/dt = (M i - phi_r)/tau_r. With phi_s
          * ramped at rho the current settles (after sigma tau_r) to
          *     i = phi_r/M + tau_r rho / L_s,   phi_r lagging (M/L_s) phi_s by sigma tau_r,
