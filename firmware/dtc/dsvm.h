@@ -1,6 +1,6 @@
 /*
  * dsvm.h - Discrete Space Vector Modulation for the induction-machine DTC (Casadei et al. 2006
- * section 11, Figs. 26-28; the selection criteria of section 8, eqs. 13-15). The derivation of
+ * section 11, Figs. 26-28; the selection criteria of section 8, Casadei eqs. 13-15). The derivation of
  * the tables is written out in docs/firmware-core.md ("DSVM"); tests/unit/test_dsvm.c recomputes
  * every entry from it in double precision.
  *
@@ -8,7 +8,7 @@
  * inverter vector V_0..V_7 (swtab.h numbering, V_k at (k-1) 60 deg, |V_k| = 2/3 V_dc, Casadei
  * eq. 2). The mean over the period is (a V_k + b V_k+1)/3 with a + b <= 3 (the rest of the
  * period null): the 37 points of the hexagonal lattice of step |V_k|/3, the union of the text's
- * outer ring (labels "333", "332", "223", "222" of the high-speed example, Fig. 28) and the
+ * outer ring (labels "333", "332", "223", "222" of the high-speed example, Casadei Fig. 28) and the
  * shorter vectors with null sub-intervals that the low speed range needs (docs/firmware-core.md,
  * "DSVM", on the paper's count of 19). Coded
  *     0                   the null (V_0 or V_7 in all three sub-intervals, swtab_null_choice)
@@ -22,7 +22,7 @@
  *     DSVM_LOW         |e| <  E1                       (one table, either sense of rotation)
  *     DSVM_MED_CCW/CW  E1 <= |e| < E2, e > 0 / e < 0
  *     DSVM_HIGH_*      E2 <= |e|, e > 0 / e < 0, each with the half sector 1- (flux behind V_k,
- *                      [-30, 0) deg) and 1+ ([0, 30) deg): twelve sectors at high speed (Fig. 28)
+ *                      [-30, 0) deg) and 1+ ([0, 30) deg): twelve sectors at high speed (Casadei Fig. 28)
  *   with E1 = 0.2, E2 = 0.5 (the design ranges of the derivation; E3 = sqrt3/2, the largest EMF the
  *   hexagon sustains in steady state, bounds the high range), the flux comparator (up / down) and
  *   the five-level torque comparator (hyst5_step, hyst.h: +2, +1, 0, -1, -2). Other sectors: the

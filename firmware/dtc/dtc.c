@@ -161,7 +161,7 @@ void dtc_torque_trim(dtc_t *c, iq_t te)
  * integrated by the low-pass: delta = E / w_c, flux_est.h) therefore moves the TRUE flux circle
  * by -delta, i.e. the machine carries a DC current -delta / l_s; on the FSTP that DC current is
  * phase A's and charges the split capacitors (mid-point drift), and with the estimated torque
- * (eq. 10) it makes the torque ripple at f and the currents at 2f (SIL: a 3 mWb offset,
+ * (Hoang eq. 10) it makes the torque ripple at f and the currents at 2f (SIL: a 3 mWb offset,
  * 0.5 A of DC and 2f current at 700 rpm). The correction c added to the estimate integrates the
  * measured current, dc/dt = w_d l_s i: with the estimate plus c held on the circle, the DC
  * current is (-delta - c)/l_s, so c -> -delta at the rate w_d and the DC current -> 0, which is
@@ -207,7 +207,7 @@ void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b)
  * E = -(2/3) g_eff d of DC on v_alpha, d = vmid - V_dc/2. That closes a loop: E -> flux offset of
  * the low-pass (1/(s + w_c)) -> DC current of phase A (-offset / l_s) -> mid-point
  * (dd/dt = -i_a/(2 C)), i.e. d'' + w_c d' + K g_eff d = 0 with K = (2/3)/(2 C l_s) (22 000 s^-2
- * for Table VIII, 2 x 4.7 mF). For g_eff < 0 (link read low) it is unstable (a real pole near
+ * for Hoang Table VIII, 2 x 4.7 mF). For g_eff < 0 (link read low) it is unstable (a real pole near
  * sqrt(K |g_eff|): +19 rad/s at -2 %; with the DC suppression, dtc_dcsupp, +14 rad/s at
  * 1500 rpm), which the SIL shows as the mid-point running away and a stall. So d reaches the
  * reconstruction scaled by (1 - beta): the DC error becomes -(2/3)(g_eff + beta) d, which
@@ -222,7 +222,7 @@ void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b)
  * to the electrical frequency: a fixed 1/16 makes the proposed FSTP limit-cycle between 40 and
  * 240 rpm around a 200 rpm reference (SIL). So beta follows the speed: beta =
  * min(1/16, k w^2), k = 3 C l_s / 8 from the host (tools/config dtc_vmid_beta_k): the inductance
- * error stays within l_s / 8 at every speed (Table VIII: 5.62e-6 s^2, the cap from 1007 rpm up;
+ * error stays within l_s / 8 at every speed (Hoang Table VIII: 5.62e-6 s^2, the cap from 1007 rpm up;
  * the loop's own resonance then sits at sqrt(K k) |w| = 0.35 |w|, below the electrical
  * frequency). An allowance of l_s / 2.4 instead (k three times larger) leaves the proposed FSTP's
  * imbalance at 200 rpm between 27 and 104 % over six noise seeds, l_s / 8 between 25 and 89 %
@@ -277,12 +277,12 @@ void dtc_handover(dtc_t *c)
  *   current (PM machine, Hoang eqs. 6-9 with L_d = L_q: psi = l_s i + psi_r, the rotor flux
  *   psi_r = psi_m e^{j theta} turning at w): psi_r = psi - l_s i, dpsi_r = w Ts j psi_r,
  *   i(k+1) = i + (dpsi - dpsi_r) / l_s;
- *   torque (eq. 10) of psi(k+1), i(k+1).
+ *   torque (Hoang eq. 10) of psi(k+1), i(k+1).
  * w is the measured electrical speed (speed-loop rate; it changes little within 500 us).
  * dtc_step reconstructs v(legs_1) into c->v1_* and the drop (c->v1f_*) and dead-time (c->v1d_*)
  * compensations in force; dtc_predict does the rest (split for the stack: no call chain holds
  * two of these frames).
- * Formats: IQ pu throughout; ts_pu (~0.016) and 1/l_s (~32 pu for Table VIII) from the config.
+ * Formats: IQ pu throughout; ts_pu (~0.016) and 1/l_s (~32 pu for Hoang Table VIII) from the config.
  * Scaling and overflow: every product is a rounded iq_mpy (64-bit intermediate), every sum
  * saturates: |dpsi| <= Ts_pu (|v| + r_s |i|) stays far below 1 pu for any measured input; the
  * current step (dpsi - dpsi_r)/l_s saturates at +-128 pu in the worst case (no wrap). */
@@ -396,7 +396,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     }
     if (cfg->est.estimator == DTC_EST_VOLTAGE && (c->speed_primed == 0U || c->on_cm != 0U)) {
         /* First step after a reset, and every step below the hand-over speed: the current model
-         * (eqs. 8-9) drives and is written into the low-pass state, so the voltage model starts
+         * (Hoang eqs. 8-9) drives and is written into the low-pass state, so the voltage model starts
          * from it when the hand-over comes (dtc_config.h). */
         flux_est_seed(&c->fe, &fin);
     } else {
@@ -441,7 +441,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     }
 
     /* 6. Flux and torque for the comparators: the prediction for k+1 when the delay
-     *    compensation is on (dtc_predict), else the estimate at k; |psi|^2 (eq. 11 squared: the
+     *    compensation is on (dtc_predict), else the estimate at k; |psi|^2 (Hoang eq. 11 squared: the
      *    flux comparator works on it, so the ISR takes no square root), sector.
      *    Hysteresis comparators (Hoang eqs. 13-14, Casadei section 4). */
     if (cfg->u.pm_dtc.est.delay_comp != 0U) {

@@ -52,7 +52,7 @@ static inline uint16_t dtc_law_is_im(uint16_t law)
 
 enum dtc_topology {
     DTC_TOPO_SSTP = 0, /* six-switch three-phase inverter (Hoang Fig. 1a, Casadei) */
-    DTC_TOPO_FSTP = 1  /* four-switch three-phase: phase A on the capacitor mid-point (Fig. 1b) */
+    DTC_TOPO_FSTP = 1  /* four-switch three-phase: phase A on the capacitor mid-point (Hoang Fig. 1b) */
 };
 
 enum dtc_estimator {
@@ -145,10 +145,10 @@ typedef struct {
     q15_t td_ts_q15;             /* dead time over the control period, T_d / T_s, [0, 0.5) */
 
     /* Inverter voltage drops (Hoang Tables III-VI, eqs. 20, 24-25, 37-38), pu. */
-    iq_t v_f_iq;   /* equal device/diode drop V_f (SSTP [29] and Table V) */
-    iq_t v_ce_iq;  /* switching-device forward drop V_CE (Table VI) */
-    iq_t v_d_iq;   /* free-wheeling diode forward drop V_d (Table VI) */
-    iq_t r_on_iq;  /* on-state resistance R_on (eqs. 20, 24-25, 37-38) */
+    iq_t v_f_iq;   /* equal device/diode drop V_f (SSTP [29] and Hoang Table V) */
+    iq_t v_ce_iq;  /* switching-device forward drop V_CE (Hoang Table VI) */
+    iq_t v_d_iq;   /* free-wheeling diode forward drop V_d (Hoang Table VI) */
+    iq_t r_on_iq;  /* on-state resistance R_on (Hoang eqs. 20, 24-25, 37-38) */
 
     /* Encoder: theta_e = count * enc_gain + enc_offset. */
     uint16_t enc_counts;       /* 4 * lines (quadrature), counts per mechanical turn */

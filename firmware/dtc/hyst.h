@@ -36,7 +36,7 @@ typedef struct {
 } hyst3_t;
 
 /* Five-level torque comparator of the DSVM (dsvm.h; Casadei section 11: more torque levels than
- * Table 1 so that the 19 vectors can be graded): inner half band h1, outer h2 >= h1,
+ * Casadei Table 1 so that the 19 vectors can be graded): inner half band h1, outer h2 >= h1,
  *     e > h2 -> +2,  h1 < e <= h2 -> +1,  e < -h2 -> -2,  -h2 <= e < -h1 -> -1,
  *     |e| <= h1: as hyst3 (from + with e < 0 -> 0, from - with e > 0 -> 0, else hold the sign,
  *     +-2 held as +-1).
@@ -47,7 +47,7 @@ typedef struct {
     int16_t out;        /* +2 .. -2 */
 } hyst5_t;
 
-/* band_iq is the full width (Delta in eqs. 13-14); out_init the initial output. */
+/* band_iq is the full width (Delta in Hoang eqs. 13-14); out_init the initial output. */
 void hyst2_init(hyst2_t *h, iq_t band_iq, uint16_t out_init);
 void hyst3_init(hyst3_t *h, iq_t band_iq);
 /* band2_iq: the outer full width (taken as band_iq when smaller). */

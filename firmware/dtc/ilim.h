@@ -7,7 +7,7 @@
  * predicted for the start of the next period exceeds the configured limit I_lim, the vector
  * chosen by the table is replaced by the one that reduces |i| fastest.
  *
- * Which vector: with psi = l_s i + psi_r (eqs. 6-9), d|i|^2/dt = 2 i . (v - r_s i - e) / l_s, and
+ * Which vector: with psi = l_s i + psi_r (Hoang eqs. 6-9), d|i|^2/dt = 2 i . (v - r_s i - e) / l_s, and
  * r_s i and the back-EMF e are the same whichever vector is applied, so the vector minimising
  * v . i reduces |i| fastest (or raises it slowest). With the amplitude-invariant transform of
  * Hoang eqs. 1-5 and i_a + i_b + i_c = 0, v . i = (2/3) sum_x v_x0 i_x, v_x0 the leg voltages:
@@ -15,7 +15,7 @@
  *         candidates the six active vectors (a null vector gives 0, never below the best active
  *         one, whose v . i <= -|v||i| cos 30 deg < 0);
  *   FSTP: leg A sits on the mid-point whatever the vector (its term is common to all four), so
- *         minimise S_b i_b + S_c i_c over Table I's four vectors (exact also with a mid-point
+ *         minimise S_b i_b + S_c i_c over Hoang Table I's four vectors (exact also with a mid-point
  *         off centre).
  * Only sums of currents: no products, no dependence on the link voltage.
  *
@@ -39,7 +39,7 @@
 
 typedef struct {
     iq_t i_lim_iq;  /* the limit I_lim, pu (prot.i_lim_iq); 0 = off */
-    uint16_t fstp;  /* 1: four-switch inverter (Table I's four vectors), 0: six-switch */
+    uint16_t fstp;  /* 1: four-switch inverter (Hoang Table I's four vectors), 0: six-switch */
 } ilim_params_t;
 
 /* vec: the table's vector (SSTP 0..7, FSTP 1..4). i: the current the limit acts on (all five

@@ -48,8 +48,8 @@ typedef struct {
 /* Rotor-flux reference, sensorless speed and start-up. */
 typedef struct {
     /* Constant rotor flux (Casadei eq. 19). psir_ref_iq > 0: the stator-flux reference follows
-     * the torque reference by eq. 19 for this rotor flux; 0: speed.flux_ref_iq is used. The
-     * rotor-flux reference of the improved estimator (eq. 20) is psir_ref_iq, or
+     * the torque reference by Casadei eq. 19 for this rotor flux; 0: speed.flux_ref_iq is used. The
+     * rotor-flux reference of the improved estimator (Casadei eq. 20) is psir_ref_iq, or
      * m/l_s flux_ref_iq when it is 0. */
     iq_t psir_ref_iq;
     iq_t inv_psir_ref_iq;    /* 1 / psir_ref (Casadei eq. 19), 0 when psir_ref is 0 */

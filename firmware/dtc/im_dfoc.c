@@ -16,7 +16,7 @@
  *      w_c, w_c = 0.2 / Ts)
  *   -> stator frame, plus the back-EMF j w_s phi_s fed forward (Casadei eq. A6 in the steady
  *      state: v = R_s i + j w_s phi_s; with it the current loops see sigma l_s di/dt = v - R_s i),
- *      w_s = w + r_r T* / phi_r*^2 (eq. 16 solved for the slip), the whole vector advanced by the
+ *      w_s = w + r_r T* / phi_r*^2 (Casadei eq. 16 solved for the slip), the whole vector advanced by the
  *      rotation 1.5 w_s Ts it makes until the middle of the period it acts in, (1 + j 1.5 w_s Ts)
  *   -> SVM and outputs (im_pwm_out, shared with the SFVC).
  *
@@ -44,7 +44,7 @@ void im_dfoc_regulate(im_dtc_t *c)
     c->foc_iq_int_iq = fix_clamp32(iq_add(c->foc_iq_int_iq, iq_mpy(ki, eq)), -IQ(1.0), IQ(1.0));
     vd = iq_add(iq_mpy(kp, ed), c->foc_id_int_iq);
     vq = iq_add(iq_mpy(kp, eq), c->foc_iq_int_iq);
-    /* w_s = w + w_slip (eq. 16) */
+    /* w_s = w + w_slip (Casadei eq. 16) */
     ws = iq_add(c->speed_iq, iq_mpy(c->sfvc_kslip_iq, c->te_ref_iq));
     /* stator frame (inverse Park) plus j w_s phi_s */
     va = iq_sub(iq_mac2(vd, ua, fix_neg32(vq), ub), iq_mpy(ws, c->est.psi_beta_iq));
@@ -58,7 +58,7 @@ void im_dfoc_regulate(im_dtc_t *c)
 void im_dfoc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
 {
     /* 1-5. Shadow set, Clarke, stator and rotor flux from the modulated voltage, torque, speed
-     *      and speed loop (shared with im_dtc_step). 6. References: start-up, T* (eq. 19's
+     *      and speed loop (shared with im_dtc_step). 6. References: start-up, T* (Casadei eq. 19's
      *      stator flux is not used). */
     const iq_t te = im_dtc_front(c, m, o, 1U);
     c->ref_due = 0U;

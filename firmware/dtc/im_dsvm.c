@@ -5,7 +5,7 @@
  *
  *   estimator, speed loop, start-up and references as the IM law (im_dtc_front, im_dtc_refs)
  *   -> flux comparator on |phi_s|^2 (hyst2_sq_step), five-level torque comparator (hyst5_step)
- *   -> sector (sector.h) and, at high speed, its half (dsvm_half: twelve sectors, Fig. 28)
+ *   -> sector (sector.h) and, at high speed, its half (dsvm_half: twelve sectors, Casadei Fig. 28)
  *   -> speed range from the dynamic EMF w phi_s* against E1, E2 times |V_k| = 2/3 v_dc
  *      (dsvm_range; Casadei Fig. 27, eq. 15's w_k phi_s,k)
  *   -> the tables' vector for sector 1 turned to the flux's sector (dsvm_table, dsvm_rotate),
@@ -112,7 +112,7 @@ void im_dsvm_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     /* 1-5. Shadow set, Clarke, stator and rotor flux from the mean voltage of the period that
      *      ends now (v2), torque, speed and speed loop (shared with im_dtc_step). */
     const iq_t te = im_dtc_front(c, m, o, 1U);
-    /* 6. References: start-up, eq. 19. */
+    /* 6. References: start-up, Casadei eq. 19. */
     im_dtc_refs(c);
     /* 7. Comparators, tables, the three sub-interval vectors, the voltage they apply. */
     im_dsvm_select(c, m, te, o);

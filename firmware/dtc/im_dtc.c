@@ -7,8 +7,8 @@
 #include "torque.h"
 #include "vrec.h"
 
-/* The rotor-flux reference of the improved estimator (eq. 20): the
- * constant rotor flux of eq. 19 when configured, else the no-load rotor flux of the stator-flux
+/* The rotor-flux reference of the improved estimator (Casadei eq. 20): the
+ * constant rotor flux of Casadei eq. 19 when configured, else the no-load rotor flux of the stator-flux
  * reference, phi_r = (m/l_s) phi_s (the T model at zero slip). Rounded IQ products. */
 void im_dtc_psir_ref(im_dtc_t *c, iq_t psi_s_ref_iq)
 {
@@ -146,10 +146,10 @@ void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
     c->div_cnt = (uint16_t)(c->div_cnt + 1U >= cfg->speed.speed_div ? 0U : c->div_cnt + 1U);
     if (c->act.mode == DTC_MODE_TORQUE) {
         /* the torque reference with the mean-torque trim (as the PM law), once torque is allowed.
-         * Not with flux weakening: there T_command is scaled by eq. 33 and the torque is at the
+         * Not with flux weakening: there T_command is scaled by Casadei eq. 33 and the torque is at the
          * voltage limit by design, so a trim towards T_command (or towards eq. 33's T*, which the
          * machine cannot reach while the flux steps down) winds up to its limit (measured: T*
-         * 29 % of T_command above eq. 33 towards T_command, 54 % towards T*); T* is eqs. 33-34
+         * 29 % of T_command above Casadei eq. 33 towards T_command, 54 % towards T*); T* is eqs. 33-34
          * as in section 12. */
         c->te_cmd_iq = c->magnetised != 0U && cfg->u.im.fw.on == 0U
                            ? dtc_trim_step(&c->te_trim_iq, c->act.torque_ref_iq, te,
@@ -159,12 +159,12 @@ void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
 }
 
 /* References in force for this period:
- *   start-up (Fig. 17b): T* = 0 and phi_s* ramped to its no-load value for im_magn_periods;
+ *   start-up (Casadei Fig. 17b): T* = 0 and phi_s* ramped to its no-load value for im_magn_periods;
  *   flux weakening (section 12, im_fw.h): phi_s* from the monitor of the torque comparator (the
- *     previous step's decision is the one acting now), T* by eqs. 33-34 without the mean-torque
+ *     previous step's decision is the one acting now), T* by Casadei eqs. 33-34 without the mean-torque
  *     trim (im_dtc_speed); the estimator's rotor-flux
  *     reference follows phi_s* (no-load ratio m/l_s);
- *   constant rotor flux: phi_s* from T* by eq. 19, evaluated once per speed period (T* changes
+ *   constant rotor flux: phi_s* from T* by Casadei eq. 19, evaluated once per speed period (T* changes
  *     at that rate in speed mode; in torque mode phi_s* lags T* by at most speed_div periods);
  *   otherwise the stator-flux reference of the set in force. */
 void im_dtc_refs(im_dtc_t *c)
@@ -178,17 +178,17 @@ void im_dtc_refs(im_dtc_t *c)
         im_dtc_psir_ref(c, c->act.flux_ref_iq); /* the estimator's reference of the set in force */
     }
     if (c->magnetised == 0U) {
-        /* eq. 19 at T* = 0: phi_s* = (l_s/m) phi_r*, reached by the magnetising ramp (the host's
+        /* Casadei eq. 19 at T* = 0: phi_s* = (l_s/m) phi_r*, reached by the magnetising ramp (the host's
          * increment per period, the current below the rated one: im_dtc.h); the estimator's
          * rotor-flux reference follows the ramp at the no-load ratio m/l_s (the machine's rotor
          * flux lags it by sigma tau_r). magn_n <= 65535 times the increment in 64 bits. */
         const iq_t fin = cfg->u.im.ref.psir_ref_iq > 0 ? iq_mpy(im->ks_iq, cfg->u.im.ref.psir_ref_iq)
                                                      : c->act.flux_ref_iq;
         const int64_t ramp = (int64_t)cfg->u.im.ref.magn_ramp_iq * (int64_t)c->magn_n;
-        /* The rotor flux the ramp builds, for the estimator's reference (eq. 20): the T model's
-         * rotor equation in rotor-flux coordinates, tau_r d|phi_r|/dt = m i_d - |phi_r| (Casadei
-         * eq. 9 in the frame of phi_r; im-facts.md: the current model of TI's ACI estimator),
-         * i_d the current along the estimated rotor-flux direction e^{j theta} (eq. 22), forward
+        /* The rotor flux the ramp builds, for the estimator's reference (Casadei eq. 20): the T model's
+         * rotor equation in rotor-flux coordinates, tau_r d|phi_r|/dt = m i_d - |phi_r|
+         * (Casadei eqs. A7, A9 in the frame of phi_r; im-facts.md: the current model of TI's ACI estimator),
+         * i_d the current along the estimated rotor-flux direction e^{j theta} (Casadei eq. 22), forward
          * Euler with Ts/tau_r (< 1e-3). A fixed reference (the final phi_r*) would hold the
          * estimate there while the machine is still demagnetised. Formats: IQ pu, Ts/tau_r Q31;
          * rounded products, saturating sums. */
@@ -203,14 +203,14 @@ void im_dtc_refs(im_dtc_t *c)
         /* Section 12.2 watches the torque comparator: the torque demand was met in a period when
          * the comparator asked for less torque in the sense of T_command (the previous step's
          * decision, acting now). With ST-A/ST-B and a band that is the null vector of the text;
-         * with Table 1 and a zero band the comparator goes from +1 straight to -1 (V_{k-1},
+         * with Casadei Table 1 and a zero band the comparator goes from +1 straight to -1 (V_{k-1},
          * V_{k-2}) and never applies a null vector, at any speed. */
         const uint16_t met = (uint16_t)(te >= 0 ? (c->tdem_1 <= 0 ? 1U : 0U) : (c->tdem_1 >= 0 ? 1U : 0U));
         te = im_fw_step(&c->fw, &c->fw_p, met, te);
         c->psi_ref_iq = c->fw.psi_ref_iq;
         im_dtc_psir_ref(c, c->psi_ref_iq);
     } else if (cfg->u.im.ref.psir_ref_iq > 0) {
-        /* eq. 19 (a square root) once per speed period, on the step after the speed loop's (so
+        /* Casadei eq. 19 (a square root) once per speed period, on the step after the speed loop's (so
          * that no step carries both), and on the first step with torque */
         if (c->ref_due != 0U && c->div_cnt != 1U) {
             c->psi_ref_iq = im_ref_stator_flux(im->ks_iq, im->sigma_lr_iq, cfg->u.im.ref.psir_ref_iq,
@@ -278,7 +278,7 @@ void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
 
     /* 1-5. Shadow set, Clarke, stator and rotor flux, torque, speed and speed loop. */
     te = im_dtc_front(c, m, o, 0U);
-    /* 6. References: start-up, flux weakening, eq. 19. */
+    /* 6. References: start-up, flux weakening, Casadei eq. 19. */
     im_dtc_refs(c);
     /* 7. Comparators, table or DSC, null-vector choice. */
     vec = im_dtc_select(c, te, o);

@@ -11,15 +11,15 @@
  *   Clarke -> v(legs applied over the period that ends now) + drop and dead-time compensation
  *   -> stator flux: voltage model (Casadei eq. 1, low-pass) or improved estimator (eq. 20, tau
  *      fixed or speed-dependent, section 10.2)                                        (im_est.h)
- *   -> rotor flux (eq. 21), its angle (eq. 22) and magnitude; torque (appendix eq. A10, torque.h)
+ *   -> rotor flux (eq. 21), its angle (eq. 22) and magnitude; torque (appendix Casadei eq. A10, torque.h)
  *   -> speed: encoder (speed_meas.h) or sensorless, rotor-flux angular speed minus the slip of
- *      eq. 16 (im_ref.h); speed PI every speed_div-th step (speed mode)
- *   -> references: start-up (magnetise at zero torque, Fig. 17b), flux weakening (section 12:
- *      phi_s* from the torque-comparator monitor, T* by eqs. 33-34, im_fw.h), stator flux from a
+ *      Casadei eq. 16 (im_ref.h); speed PI every speed_div-th step (speed mode)
+ *   -> references: start-up (magnetise at zero torque, Casadei Fig. 17b), flux weakening (section 12:
+ *      phi_s* from the torque-comparator monitor, T* by Casadei eqs. 33-34, im_fw.h), stator flux from a
  *      constant rotor flux (eq. 19, im_ref.h) or the stator-flux reference
  *   -> flux comparator on |phi_s|^2 (hyst2_sq_step), torque comparator three-level (Table 1) or
  *      two-level (Table 3)
- *   -> scheme DTC: Table 1 (basic), ST-A..ST-D (Table 3), speed-dependent (section 8: ST-D below
+ *   -> scheme DTC: Casadei Table 1 (basic), ST-A..ST-D (Table 3), speed-dependent (section 8: ST-D below
  *      the configured speed, ST-A above); or DSC (section 9, dsc.h: hexagon by the phase-flux
  *      comparators, torque by null vectors); the null vector chosen for the fewest commutations
  *   -> leg states for the next period.
@@ -39,7 +39,7 @@
  * rated current I_n and the final magnetising current I_m (dtc_config_si.c), so the current
  * stays below I_n. The estimator's rotor-flux reference is meanwhile the rotor flux of the current
  * model, tau_r d|phi_r|/dt = m i_d - |phi_r| (exact at DC). After the ramp the estimate cannot tell when the
- * machine is magnetised: at DC the improved estimator's correction (eq. 20) pulls the estimated
+ * machine is magnetised: at DC the improved estimator's correction (Casadei eq. 20) pulls the estimated
  * rotor flux to its reference within tau whatever the machine's, while the machine's rotor flux
  * rises as 1 - exp(-t/tau_r) (eq. 9 with the estimator's DC error: d phi_r/dt = -(r_r/l_r)
  * (phi_r - phi_r*)); the host converts the fraction to reach into that time.
@@ -47,11 +47,11 @@
  * radial vector: the active vector V_k of the stator flux's own sector k while the flux
  * comparator asks for more flux, a null vector otherwise. V_k lies
  * within +-30 degrees of the flux: it raises |phi_s| and applies almost no torque, so the phase
- * currents settle to the DC magnetising current, as in Fig. 17b. (Table 1 itself cannot start a
+ * currents settle to the DC magnetising current, as in Casadei Fig. 17b. (Table 1 itself cannot start a
  * demagnetised machine at zero torque: with T* = T = 0 the three-level comparator stays at 0 and
  * the table gives null vectors only.) With the pure-integrator voltage model the estimate of this
  * DC flux decays through the low-pass and the machine is over-magnetised instead (the paper's
- * Fig. 17a statement that the pure integrator cannot magnetise the machine at zero torque); the
+ * Casadei Fig. 17a statement that the pure integrator cannot magnetise the machine at zero torque); the
  * improved estimator's correction holds it.
  *
  * Timing contract as the PM law (dtc.h): the command of step k acts in period k+1; the voltage
@@ -122,12 +122,12 @@ typedef struct {
     int16_t tdem_1;       /* torque comparator's demand of the previous step (+1, 0, -1) */
     iq_t te_cmd_iq;       /* torque command: speed PI output or the torque reference */
     iq_t te_trim_iq;      /* torque mode: mean-torque trim (dtc_trim_step) */
-    iq_t te_ref_iq;       /* torque reference in force (after start-up and eqs. 33-34) */
-    iq_t psi_ref_iq;      /* stator-flux reference in force (eq. 19, section 12, or the set) */
-    iq_t psir_ref_iq;     /* rotor-flux reference of the improved estimator (eq. 20) */
+    iq_t te_ref_iq;       /* torque reference in force (after start-up and Casadei eqs. 33-34) */
+    iq_t psi_ref_iq;      /* stator-flux reference in force (Casadei eq. 19, section 12, or the set) */
+    iq_t psir_ref_iq;     /* rotor-flux reference of the improved estimator (Casadei eq. 20) */
     uint16_t magn_n;      /* start-up: periods of magnetisation so far */
     iq_t magn_psir_iq;    /* start-up: rotor-flux magnitude of the current model (im_dtc_refs) */
-    uint16_t ref_due;     /* eq. 19 to be evaluated (im_dtc_refs) */
+    uint16_t ref_due;     /* Casadei eq. 19 to be evaluated (im_dtc_refs) */
     iq_t speed_iq;        /* electrical speed in use (encoder or estimated), pu */
     /* working values of one step, kept here rather than on the stack (budget: <= 256 bytes of
      * stack on the Cortex-M0 proxy, tools/bench) */
@@ -142,11 +142,11 @@ typedef struct {
     iq_t v1_alpha_iq, v1_beta_iq; /* voltage of the duties returned by the previous step (their
                                    * d_eff on the link measured then): acts in this period, pu */
     iq_t v2_alpha_iq, v2_beta_iq; /* returned two steps ago: the period that ends now, pu */
-    iq_t vs_alpha_iq, vs_beta_iq; /* stator-voltage reference v_s* of eq. 24 of this step, pu */
-    /* constant products of the configuration (im_dtc_init), eqs. 16, 18, 24 */
-    iq_t sfvc_kpd_iq;     /* K_p (l_s/m) phi_r*: K_p times the d component of eq. 18 */
-    iq_t sfvc_kpq_iq;     /* K_p (l_s/m) sigma l_r / phi_r*: K_p times eq. 18's q component per pu T* */
-    iq_t sfvc_kslip_iq;   /* r_r / phi_r*^2: eq. 16's slip per pu torque */
+    iq_t vs_alpha_iq, vs_beta_iq; /* stator-voltage reference v_s* of Casadei eq. 24 of this step, pu */
+    /* constant products of the configuration (im_dtc_init), Casadei eqs. 16, 18, 24 */
+    iq_t sfvc_kpd_iq;     /* K_p (l_s/m) phi_r*: K_p times the d component of Casadei eq. 18 */
+    iq_t sfvc_kpq_iq;     /* K_p (l_s/m) sigma l_r / phi_r*: K_p times Casadei eq. 18's q component per pu T* */
+    iq_t sfvc_kslip_iq;   /* r_r / phi_r*^2: Casadei eq. 16's slip per pu torque */
     iq_t foc_id_int_iq, foc_iq_int_iq; /* DFOC: the current PIs' integral parts, pu voltage */
     deadtime_params_t dt_p; /* dead-time block's parameters (vrec.h), derived at init */
 } im_dtc_t;
@@ -161,7 +161,7 @@ int16_t im_dtc_check(const dtc_config_t *cfg, const char **field);
 int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg);
 /* Back to the start: demagnetised estimate, start-up magnetisation pending, references kept. */
 void im_dtc_reset(im_dtc_t *c);
-/* One control period (dtc_out_t as the PM law; theta_e is the rotor-flux angle, eq. 22). */
+/* One control period (dtc_out_t as the PM law; theta_e is the rotor-flux angle, Casadei eq. 22). */
 void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
 /* Background: publish a new reference set (dtc_refs.h). */
 int16_t im_dtc_shadow_write(im_dtc_t *c, const dtc_refs_t *r);

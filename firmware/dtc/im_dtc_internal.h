@@ -61,7 +61,7 @@ static inline iq_t im_dtc_front(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, 
 /* The start-up's vector (SSTP 1..6 or SWTAB_NULL) for the flux in sector 1..6, the flux
  * comparator's flux_up and the torque error err = T* - T, T* = 0 (im_dtc_refs).
  *   Rotor at rest (the encoder's speed 0): the radial vector V_k while the flux must rise, a null
- *     otherwise (Fig. 17b; file comment).
+ *     otherwise (Casadei Fig. 17b; file comment).
  *   Rotor turning (a flying start): a stationary flux would brake it (DC injection: the slip is
  *     the rotor's own speed, Casadei eq. 16), and the machine's rotor flux would not follow the
  *     magnetising ramp the estimator's reference assumes, so the estimate would settle on a
@@ -97,7 +97,7 @@ static inline void im_out_report(const im_dtc_t *c, dtc_out_t *o, iq_t te)
     o->speed_iq = c->speed_iq;
     o->theta_e = c->est.theta_r;
     o->on_cm = 0U;
-    o->psi_ref_iq = c->psi_ref_iq; /* the start-up ramp, then (l_s/m) phi_r*: eq. 18's d part */
+    o->psi_ref_iq = c->psi_ref_iq; /* the start-up ramp, then (l_s/m) phi_r*: Casadei eq. 18's d part */
     o->psir_mag_iq = c->est.psir_mag_iq;
     o->i_limited = 0U;
 }

@@ -57,7 +57,7 @@ static iq_t im_est_newton(iq_t r, int64_t t_q30)
     return fix_rshift_rnd64_sat32((int64_t)r * ((int64_t)3 * ((int64_t)1 << 30) - t_q30), 31U);
 }
 
-/* e^{j theta} = x / |x| (eq. 22) by the tracked reciprocal (im_est.h). */
+/* e^{j theta} = x / |x| (Casadei eq. 22) by the tracked reciprocal (im_est.h). */
 static void im_est_unit(im_est_t *s, iq_t x_a, iq_t x_b)
 {
     const int64_t lo = (int64_t)1 << 28, hi = (int64_t)9 << 28; /* 1/4 and 9/4 in Q30 */

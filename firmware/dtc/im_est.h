@@ -13,19 +13,19 @@
  *                   cut-off w_c) to stop offset drift.
  *   IM_EST_IMPROVED Casadei eq. 20, the voltage model pulled towards the rotor-flux reference:
  *                     d phi_s/dt = v_s - R_s i_s + (phi_r* e^{j theta} - phi_r) / tau
- *                   with phi_r from eq. 21 and e^{j theta} = x/|x| from eq. 22. Discretised by forward Euler over
+ *                   with phi_r from Casadei eq. 21 and e^{j theta} = x/|x| from eq. 22. Discretised by forward Euler over
  *                   one period (the correction term changes at the rate 1/tau, Ts/tau <= 0.01 for
  *                   any sensible tau, so the Euler error of that term is below 0.5 % of it):
  *                     phi_s[k+1] = phi_s[k] + ts_pu (v - r_s i) + (Ts/tau) (phi_r* c - k_r x)
  *                   x = phi_s[k] - sigma l_s i[k], c = (cos theta, sin theta), k_r = l_r/m.
  *                   Timing as in the PM drive (dtc.h): v is the (zero-order held) voltage of the
                    period that ends at this step and i the current sampled at this step, so the
-                   state after the step is the flux at this instant and eqs. 21-22 pair it with the
+                   state after the step is the flux at this instant and Casadei eqs. 21-22 pair it with the
                    current of the same instant.
  *                   tau may depend on speed (section 10.2): Ts/tau = k_lo below |w| = w_lo, k_hi
  *                   above w_hi, linear in between (the slope is precomputed: no division here).
  * Both then give, every period:
- *   x = phi_s - sigma l_s i                 (eq. 21 without the factor L_r/M)
+ *   x = phi_s - sigma l_s i                 (Casadei eq. 21 without the factor L_r/M)
  *   e^{j theta} = x / |x|, |x|              (eq. 22) without a division or a square root: the
  *                                           reciprocal r = 1/|x| is tracked by Newton steps for
  *                                           the inverse square root, r <- r (3 - t) / 2 with
@@ -38,10 +38,10 @@
  *                                           |x| < 2^-6 pu
  * and, only on the periods the caller asks for them (want_polar: the IM law's speed-loop
  * periods, for the sensorless speed and the telemetry):
- *   theta = arg x, |x|                      (eq. 22) by CORDIC (fix_polar)
+ *   theta = arg x, |x|                      (Casadei eq. 22) by CORDIC (fix_polar)
  *   |phi_r| = k_r |x|                       (eq. 21)
  * and every period:
- *   phi_r = k_r x                           (eq. 21, vector)
+ *   phi_r = k_r x                           (Casadei eq. 21, vector)
  * and the torque T = phi_s x i (appendix eq. A10 with T_base = 3/2 p psi_base I_base, the same
  * form as Hoang eq. 10: torque.h).
  *
@@ -88,10 +88,10 @@ typedef struct {
 typedef struct {
     const im_est_params_t *p;
     iq_t psi_alpha_iq, psi_beta_iq;     /* stator flux estimate (state), pu */
-    iq_t psir_alpha_iq, psir_beta_iq;   /* rotor flux (eq. 21), pu */
+    iq_t psir_alpha_iq, psir_beta_iq;   /* rotor flux (Casadei eq. 21), pu */
     iq_t psir_mag_iq;                   /* |phi_r|, pu, when asked for */
-    angle_t theta_r;                    /* rotor-flux angle (eq. 22), when asked for */
-    iq_t u_alpha_iq, u_beta_iq;         /* e^{j theta} = x/|x| (eq. 22), IQ */
+    angle_t theta_r;                    /* rotor-flux angle (Casadei eq. 22), when asked for */
+    iq_t u_alpha_iq, u_beta_iq;         /* e^{j theta} = x/|x| (Casadei eq. 22), IQ */
     iq_t inv_mag_iq;                    /* r = 1/|x|, IQ; 0: not known (re-seed) */
     q31_t k_q31;                        /* Ts/tau in use, for the speed k_speed_iq */
     iq_t k_speed_iq;

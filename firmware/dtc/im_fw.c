@@ -36,7 +36,7 @@ iq_t im_fw_step(im_fw_t *s, const im_fw_params_t *p, uint16_t demand_met, iq_t t
         s->count = 0U;
         s->met_seen = 0U;
     }
-    /* Eq. 33, then the limit of eq. 34 on either sign. */
+    /* Casadei Eq. 33, then the limit of eq. 34 on either sign. */
     t_ref = iq_mpy(iq_mpy(t_cmd_iq, s->psi_ref_iq), p->inv_psi_rated_iq);
     t_max = iq_mpy(p->kt_iq, iq_mpy(s->psi_ref_iq, s->psi_ref_iq));
     return iq_sat(t_ref, fix_neg32(t_max), t_max);

@@ -4,15 +4,15 @@
  *
  * Section 12.2: the output of the torque hysteresis comparator is watched for N consecutive
  * control periods. If the torque demand was never met in that window (the text: no null vector
- * applied), the DTC could not hold the torque (the back-EMF is at the voltage limit, eq. 32): the
+ * applied), the DTC could not hold the torque (the back-EMF is at the voltage limit, Casadei eq. 32): the
  * stator-flux reference steps down. If it was met at least once (at least one null vector), the
  * reference steps up. The caller says what "met" is for its table (im_dtc.c: the comparator asked
  * for less torque in the sense of the command; with ST-A that is exactly the null vector, with
- * Table 1 and a zero band it is V_{k-1}/V_{k-2}, and counting null vectors there would weaken
+ * Casadei Table 1 and a zero band it is V_{k-1}/V_{k-2}, and counting null vectors there would weaken
  * the flux at any speed). It stays within [phi_min,
  * phi_rated]. Section 12.3: the flux reference may change at most once per 20 control periods,
  * so N >= 20 (im_fw_check refuses less).
- * The torque reference follows the command in proportion to the flux reference (eq. 33),
+ * The torque reference follows the command in proportion to the flux reference (Casadei eq. 33),
  *     T* = T_command phi_s* / phi_s,rated,
  * limited by the pull-out torque at that flux (eqs. 29, 34),
  *     |T*| <= k_T (phi_s*)^2,
@@ -37,7 +37,7 @@ typedef struct {
     iq_t psi_min_iq;          /* lower bound, > 0 */
     iq_t psi_rated_iq;        /* rated stator flux, >= psi_min */
     iq_t inv_psi_rated_iq;    /* 1 / psi_rated */
-    iq_t kt_iq;               /* k_T of eq. 34, > 0 */
+    iq_t kt_iq;               /* k_T of Casadei eq. 34, > 0 */
 } im_fw_params_t;
 
 typedef struct {
@@ -51,7 +51,7 @@ int16_t im_fw_check(const im_fw_params_t *p);
 /* Starts at the rated flux. */
 void im_fw_reset(im_fw_t *s, const im_fw_params_t *p);
 /* One control period: `demand_met` is 1 if the torque demand was met in this period (above).
- * Returns the torque reference of eqs. 33-34 for the command t_cmd. */
+ * Returns the torque reference of Casadei eqs. 33-34 for the command t_cmd. */
 iq_t im_fw_step(im_fw_t *s, const im_fw_params_t *p, uint16_t demand_met, iq_t t_cmd_iq);
 
 #endif /* IM_FW_H */

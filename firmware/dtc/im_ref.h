@@ -7,7 +7,7 @@
  * Slip from the torque (Casadei eq. 16, valid also in transients), in pu:
  *     w_slip = r_r T / phi_r^2
  * Sensorless speed: w_r = w_psi - w_slip, w_psi the angular speed of the rotor-flux vector (the
- * change of its angle, eq. 22, between two calls, times 1/T_call, first-order filtered; the IM law
+ * change of its angle, Casadei eq. 22, between two calls, times 1/T_call, first-order filtered; the IM law
  * calls it once per speed period, so |w| < pi / T_call, 25 pu at 10 x 40 us).
  * 1/phi_r* and 1/phi_r*^2 change only when the rotor-flux command does: the host (or the
  * background loop, through the shadow set) computes them, so nothing here divides.
@@ -53,7 +53,7 @@ typedef struct {
 } im_speed_t;
 
 void im_speed_reset(im_speed_t *s);
-/* One period: the rotor-flux angle (eq. 22), the estimated torque, and 1/phi_r*^2. */
+/* One period: the rotor-flux angle (Casadei eq. 22), the estimated torque, and 1/phi_r*^2. */
 void im_speed_step(im_speed_t *s, const im_speed_params_t *p, angle_t theta_r, iq_t te_iq, iq_t inv_psir_sq_iq);
 
 #endif /* IM_REF_H */

@@ -6,15 +6,15 @@
  *   Clarke -> stator voltage of the period that ends now (the duties returned two steps ago as
  *      the SVM expects them to act, d_eff, on the V_dc measured when they were made) + the
  *      device-drop compensation
- *   -> stator and rotor flux (improved or voltage-model estimator, im_est.h), torque (eq. A10)
+ *   -> stator and rotor flux (improved or voltage-model estimator, im_est.h), torque (Casadei eq. A10)
  *   -> speed and speed PI, start-up magnetisation, references (shared with im_dtc_step)
  *   -> stator-flux reference vector, Casadei eq. 18 in the rotor-flux frame at constant rotor
  *      flux (the s sigma tau_r phi_r term is zero):
- *        phi_s* = (l_s/m) (phi_r* + j sigma l_r T* / phi_r*)                     (eq. 18, pu)
+ *        phi_s* = (l_s/m) (phi_r* + j sigma l_r T* / phi_r*)                     (Casadei eq. 18, pu)
  *      turned into the stator frame by the rotor-flux direction e^{j theta} of eq. 22 (im_est's
  *      unit vector); during the start-up magnetisation phi_s* = (ramp) e^{j theta} at T* = 0
- *   -> the flux regulator, eqs. 23-24:
- *        Delta phi_s = phi_s* - phi_s                                            (eq. 23)
+ *   -> the flux regulator, Casadei eqs. 23-24:
+ *        Delta phi_s = phi_s* - phi_s                                            (Casadei eq. 23)
  *        v_s* = R_s i_s + j w_s phi_s + K_p Delta phi_s                          (eq. 24)
  *      made to act in the period the command is applied in (the one-period delay of hal.h):
  *      phi_s is the estimate predicted for the start of that period, phi_s(k+1) = phi_s(k) +
@@ -23,7 +23,7 @@
  *      phi_s* is advanced to k+1 by the rotation w_s Ts, (1 + j w_s Ts) phi_s*(k) (iq_cmul_1jx).
  *      With K_p Ts = 1 the flux error left after the period is zero (deadbeat): phi_s(k+2) =
  *      phi_s*(k+1) + j w_s Ts phi_s(k+1), the reference two periods on. The back-EMF term uses
- *      w_s, the stator-flux angular speed, = w + w_slip in the steady state, the slip from eq. 16
+ *      w_s, the stator-flux angular speed, = w + w_slip in the steady state, the slip from Casadei eq. 16
  *      with the references (w_slip = r_r T* / phi_r*^2, im_ref_slip).
  *   -> SVM (svm.h) of v_s* on the measured V_dc with dead-time compensation by the current
  *      sign (sec. 10.5), the PWM form in dtc_out_t.
@@ -54,7 +54,7 @@ void im_sfvc_estimate(im_dtc_t *c, const dtc_meas_t *m)
     im_dtc_ein_common(c);
 }
 
-/* Eqs. 18, 23, 24 (file comment) into c->vs_alpha_iq, c->vs_beta_iq. Eq. 24 is evaluated with K_p
+/* Casadei Eqs. 18, 23, 24 (file comment) into c->vs_alpha_iq, c->vs_beta_iq. Eq. 24 is evaluated with K_p
  * distributed, v_s* = R_s i + (j w_s - K_p) phi_s + K_p phi_s*, so that K_p phi_s* comes from the
  * products K_p (l_s/m) phi_r* and K_p (l_s/m) sigma l_r / phi_r* made at init. */
 void im_sfvc_regulate(im_dtc_t *c)
@@ -69,7 +69,7 @@ void im_sfvc_regulate(im_dtc_t *c)
     /* the flux predicted for k+1: the stator-voltage equation over the period under way */
     pa = iq_add(c->est.psi_alpha_iq, iq_mpy(ts, iq_sub(iq_add(c->v1_alpha_iq, c->dva_iq), ria)));
     pb = iq_add(c->est.psi_beta_iq, iq_mpy(ts, iq_sub(iq_add(c->v1_beta_iq, c->dvb_iq), rib)));
-    /* K_p phi_s*: eq. 18 in the rotor-flux frame (d along phi_r), turned by e^{j theta} (eq. 22) */
+    /* K_p phi_s*: Casadei eq. 18 in the rotor-flux frame (d along phi_r), turned by e^{j theta} (eq. 22) */
     {
         iq_t d, q;
         if (c->magnetised == 0U) {
@@ -82,10 +82,10 @@ void im_sfvc_regulate(im_dtc_t *c)
         ra = iq_mac2(d, c->est.u_alpha_iq, fix_neg32(q), c->est.u_beta_iq);
         rb = iq_mac2(d, c->est.u_beta_iq, q, c->est.u_alpha_iq);
     }
-    /* w_s = w + w_slip (eq. 16), the reference advanced by w_s Ts to k+1 */
+    /* w_s = w + w_slip (Casadei eq. 16), the reference advanced by w_s Ts to k+1 */
     ws = iq_add(c->speed_iq, iq_mpy(c->sfvc_kslip_iq, c->te_ref_iq));
     iq_cmul_1jx(iq_mpy(ws, ts), &ra, &rb);
-    /* eqs. 23-24: v_s* = R_s i + j w_s phi_s + K_p (phi_s* - phi_s) */
+    /* Casadei eqs. 23-24: v_s* = R_s i + j w_s phi_s + K_p (phi_s* - phi_s) */
     c->vs_alpha_iq = iq_add(iq_sub(ria, iq_mac2(ws, pb, kp, pa)), ra);
     c->vs_beta_iq = iq_add(iq_add(rib, iq_mac2(ws, pa, fix_neg32(kp), pb)), rb);
 }
@@ -98,9 +98,9 @@ void im_sfvc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
      *      and speed loop (shared with im_dtc_step). 6. References: start-up (the magnetising
      *      ramp), T*. */
     te = im_dtc_front(c, m, o, 1U);
-    c->ref_due = 0U; /* eq. 19's |phi_s*| is not used: eq. 18 gives the vector (im_sfvc_regulate) */
+    c->ref_due = 0U; /* Casadei eq. 19's |phi_s*| is not used: eq. 18 gives the vector (im_sfvc_regulate) */
     im_dtc_refs(c);
-    /* 7. Flux regulator (eqs. 18, 23, 24); the SVM is called from here, after it, so that its
+    /* 7. Flux regulator (Casadei eqs. 18, 23, 24); the SVM is called from here, after it, so that its
      *    frame and the regulator's are not on one chain (stack). */
     im_sfvc_regulate(c);
     /* 8. SVM and outputs (shared with the DFOC). */

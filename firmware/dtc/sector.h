@@ -5,10 +5,10 @@
  *   V_1 = (100) at 0 deg, V_2 = (110) 60, V_3 = (010) 120, V_4 = (011) 180, V_5 = (001) 240,
  *   V_6 = (101) 300 deg; sector k spans [(k-1)*60 - 30, (k-1)*60 + 30) deg (fix_sector6).
  * FSTP: four sectors (Hoang Table II, Fig. 3). Derivation from Tables I-II: V_1..V_4 point to
- *   0, 90, 180, 270 deg (Table I: V_1 = (V_dc/3, 0), V_2 = (0, V_dc/sqrt3), V_3 = (-V_dc/3, 0),
+ *   0, 90, 180, 270 deg (Hoang Table I: V_1 = (V_dc/3, 0), V_2 = (0, V_dc/sqrt3), V_3 = (-V_dc/3, 0),
  *   V_4 = (0, -V_dc/sqrt3)). A vector at angle phi raises |psi| when cos(phi - theta) > 0 and
  *   raises the torque (turns psi counter-clockwise, theta increasing) when sin(phi - theta) > 0.
- *   In sector I Table II selects V_2 (90 deg) for (dpsi, dT) = (1, 1): needs theta in (0, 90);
+ *   In sector I Hoang Table II selects V_2 (90 deg) for (dpsi, dT) = (1, 1): needs theta in (0, 90);
  *   V_1 (0 deg) for (1, 0): cos(theta) > 0 and sin(-theta) < 0, theta in (0, 90); V_3 (180 deg)
  *   for (0, 1): theta in (0, 90); V_4 (270 deg) for (0, 0): theta in (0, 90). Every entry of the
  *   column holds exactly on (0, 90) deg, so sector I is the first quadrant, and by the 90-degree

@@ -1,6 +1,6 @@
 /*
  * svm.h - space-vector modulation in fixed point (Casadei et al. 2006 sections 10.3-10.5: the SFVC
- * scheme of Fig. 18 applies the stator-voltage reference v_s* of eq. 24 through SVM at a constant
+ * scheme of Casadei Fig. 18 applies the stator-voltage reference v_s* of eq. 24 through SVM at a constant
  * switching frequency; section 13's DFOC uses two-phase modulation).
  *
  * Input: the stator-voltage reference (v_alpha, v_beta), pu of the configuration's voltage base,

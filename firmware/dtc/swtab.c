@@ -42,7 +42,7 @@ uint16_t swtab_sstp_st(uint16_t strategy, uint16_t sector, uint16_t flux_up, uin
 
 uint16_t swtab_fstp(uint16_t sector, uint16_t flux_up, uint16_t torque_up)
 {
-    /* Table II rows in the order (1,1), (1,0), (0,1), (0,0); columns sector I..IV. */
+    /* Hoang Table II rows in the order (1,1), (1,0), (0,1), (0,0); columns sector I..IV. */
     static const uint16_t table[4][4] = {
         {2U, 3U, 4U, 1U},
         {1U, 2U, 3U, 4U},

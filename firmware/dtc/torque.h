@@ -1,7 +1,7 @@
 /*
  * torque.h - electromagnetic torque (Hoang eq. 10) and stator-flux magnitude (Hoang eq. 11).
  *
- * With the bases of dtc_base.h (T_base = 3/2 p psi_base I_base) eq. 10 reads
+ * With the bases of dtc_base.h (T_base = 3/2 p psi_base I_base) Hoang eq. 10 reads
  *     T_e = psi_alpha i_beta - psi_beta i_alpha        [pu]
  * and eq. 11 |psi_s| = sqrt(psi_alpha^2 + psi_beta^2) [pu].
  *

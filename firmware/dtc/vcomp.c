@@ -21,8 +21,8 @@ void vcomp_step(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t sc,
 
     switch (p->mode) {
     case DTC_COMP_SSTP:
-        /* Leg drops V_f*sign(i_x) (Table III with V_CE = V_d = V_f); minus their Clarke
-         * transform, then the on-resistance terms of eqs. 24-25. */
+        /* Leg drops V_f*sign(i_x) (Hoang Table III with V_CE = V_d = V_f); minus their Clarke
+         * transform, then the on-resistance terms of Hoang eqs. 24-25. */
         da = vcomp_leg_drop(sa, i->ia_iq, p->v_f_iq, p->v_f_iq);
         db = vcomp_leg_drop(sb, i->ib_iq, p->v_f_iq, p->v_f_iq);
         dc = vcomp_leg_drop(sc, i->ic_iq, p->v_f_iq, p->v_f_iq);
@@ -31,19 +31,19 @@ void vcomp_step(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t sc,
         *v_f_beta_iq = fix_sub32(fix_neg32(fb), iq_mpy(p->r_on_iq, i->i_beta_iq));
         break;
     case DTC_COMP_FSTP_SIMPLE:
-        /* Table V = eqs. 35-36: legs B and C, V_f, no leg-A device. */
+        /* Hoang Table V = eqs. 35-36: legs B and C, V_f, no leg-A device. */
         db = vcomp_leg_drop(sb, i->ib_iq, p->v_f_iq, p->v_f_iq);
         dc = vcomp_leg_drop(sc, i->ic_iq, p->v_f_iq, p->v_f_iq);
-        *v_f_alpha_iq = q31_mul(fix_add32(db, dc), VREC_THIRD_Q31);          /* eq. 33 */
-        *v_f_beta_iq = q31_mul(fix_sub32(dc, db), VREC_INV_SQRT3_Q31);       /* eq. 34 */
+        *v_f_alpha_iq = q31_mul(fix_add32(db, dc), VREC_THIRD_Q31);          /* Hoang eq. 33 */
+        *v_f_beta_iq = q31_mul(fix_sub32(dc, db), VREC_INV_SQRT3_Q31);       /* Hoang eq. 34 */
         break;
     case DTC_COMP_FSTP_PROPOSED:
-        /* Table VI = Table III per leg + eqs. 33-34, plus the R_on terms (eqs. 37-38; see the
+        /* Hoang Table VI = Table III per leg + eqs. 33-34, plus the R_on terms (eqs. 37-38; see the
          * header for the sign of the alpha term). */
         db = vcomp_leg_drop(sb, i->ib_iq, p->v_ce_iq, p->v_d_iq);
         dc = vcomp_leg_drop(sc, i->ic_iq, p->v_ce_iq, p->v_d_iq);
-        fa = q31_mul(fix_add32(db, dc), VREC_THIRD_Q31);                     /* eq. 33 */
-        fb = q31_mul(fix_sub32(dc, db), VREC_INV_SQRT3_Q31);                 /* eq. 34 */
+        fa = q31_mul(fix_add32(db, dc), VREC_THIRD_Q31);                     /* Hoang eq. 33 */
+        fb = q31_mul(fix_sub32(dc, db), VREC_INV_SQRT3_Q31);                 /* Hoang eq. 34 */
         *v_f_alpha_iq = fix_sub32(fa, iq_mpy(p->r_on_third_iq, i->i_alpha_iq));
         *v_f_beta_iq = fix_sub32(fb, iq_mpy(p->r_on_iq, i->i_beta_iq));
         break;

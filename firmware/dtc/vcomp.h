@@ -4,36 +4,36 @@
  *
  * Sign convention (Hoang eqs. 31-34): the returned (v_f_alpha, v_f_beta) is ADDED to the
  * reconstructed (v_alpha, v_beta), so that v + v_f is the voltage the machine really sees. Each
- * switched leg loses, in the direction of its current, a forward drop v_fx (Table III) plus
- * R_on*i_x (eq. 20); the compensation is minus the Clarke transform (eqs. 4-5) of those leg drops.
+ * switched leg loses, in the direction of its current, a forward drop v_fx (Hoang Table III) plus
+ * R_on*i_x (eq. 20); the compensation is minus the Clarke transform (Hoang eqs. 4-5) of those leg drops.
  *
  * Variants (enum dtc_compensation):
  *  NONE           (0, 0): Hoang eqs. 15-16.
  *  SSTP           Hoang ref. [29] as described in the text: device and diode drops equal (V_f), so a
- *                 leg drop is V_f*sign(i_x) whatever the state (Table III with V_CE = V_d = V_f), in
- *                 all three legs; plus the on-resistance terms -R_on*i_alpha, -R_on*i_beta (eqs. 24-25).
+ *                 leg drop is V_f*sign(i_x) whatever the state (Hoang Table III with V_CE = V_d = V_f), in
+ *                 all three legs; plus the on-resistance terms -R_on*i_alpha, -R_on*i_beta (Hoang eqs. 24-25).
  *                 v_f_alpha = -V_f (2 sgn i_a - sgn i_b - sgn i_c)/3, v_f_beta = -V_f (sgn i_b - sgn i_c)/sqrt(3).
  *  FSTP_SIMPLE    Hoang Table V (eqs. 35-36): legs B and C only, V_f, indexed by sign(i_b), sign(i_c).
- *                 No R_on term (Table V is the forward drop alone).
+ *                 No R_on term (Hoang Table V is the forward drop alone).
  *  FSTP_PROPOSED  Hoang Table VI: per leg Table III (state 0: +V_d for i > 0, -V_CE for i < 0;
- *                 state 1: +V_CE for i > 0, -V_d for i < 0), combined by eqs. 33-34
+ *                 state 1: +V_CE for i > 0, -V_d for i < 0), combined by Hoang eqs. 33-34
  *                 v_f_alpha = (v_fb + v_fc)/3, v_f_beta = -(v_fb - v_fc)/sqrt(3);
- *                 plus the R_on terms of eqs. 37-38.
+ *                 plus the R_on terms of Hoang eqs. 37-38.
  *
- * R_on in the FSTP (eqs. 26-27, 37-38). The paper prints +R_on*i_alpha/3 in eqs. 26 and 37 and
- * -R_on*i_beta in eqs. 27 and 38. Deriving the terms the way the paper describes (eq. 20 applied
+ * R_on in the FSTP (Hoang eqs. 26-27, 37-38). The paper prints +R_on*i_alpha/3 in eqs. 26 and 37 and
+ * -R_on*i_beta in Hoang eqs. 27 and 38. Deriving the terms the way the paper describes (eq. 20 applied
  * to legs B and C only, phase A on the mid-point has no device) gives minus the Clarke transform
  * of (0, R_on i_b, R_on i_c):
  *   alpha: -(0 - R_on i_b - R_on i_c)/3 = -R_on i_a/3 = -R_on i_alpha/3
  *   beta:  -(R_on i_b - R_on i_c)/sqrt(3) = -R_on i_beta
- * The beta term agrees with eq. 38; the alpha term has the opposite sign to the printed eq. 37.
- * The same derivation reproduces every row of Tables V and VI (for the forward drops) and eqs.
+ * The beta term agrees with Hoang eq. 38; the alpha term has the opposite sign to the printed eq. 37.
+ * The same derivation reproduces every row of Hoang Tables V and VI (for the forward drops) and eqs.
  * 24-25 (for the SSTP R_on terms), and puts the resistive and forward drops of a leg on the same
  * side, as they physically are; so this module uses -R_on*i_alpha/3, and the unit test
- * test_dtc_vcomp shows the derivation. (With the Table IV R_on = 0.075 Ohm at 2.2 A the term is
+ * test_dtc_vcomp shows the derivation. (With the Hoang Table IV R_on = 0.075 Ohm at 2.2 A the term is
  * 0.055 V against a 14 V back-emf at 1500 rpm.)
  *
- * sign(0) is taken as positive (Tables III, V, VI only list + and -).
+ * sign(0) is taken as positive (Hoang Tables III, V, VI only list + and -).
  *
  * Formats: currents and all outputs IQ pu; drops and R_on IQ pu from the configuration.
  * Scaling and overflow: the drop sums are at most 2*max(V_CE, V_d) and are formed with
@@ -50,11 +50,11 @@
 
 typedef struct {
     uint16_t mode;      /* enum dtc_compensation */
-    iq_t v_f_iq;        /* SSTP [29] and Table V */
-    iq_t v_ce_iq;       /* Table VI */
-    iq_t v_d_iq;        /* Table VI */
-    iq_t r_on_iq;       /* eqs. 20, 24-25, 37-38 (SSTP and FSTP proposed) */
-    iq_t r_on_third_iq; /* R_on/3 (precomputed at init, eq. 37) */
+    iq_t v_f_iq;        /* SSTP [29] and Hoang Table V */
+    iq_t v_ce_iq;       /* Hoang Table VI */
+    iq_t v_d_iq;        /* Hoang Table VI */
+    iq_t r_on_iq;       /* Hoang eqs. 20, 24-25, 37-38 (SSTP and FSTP proposed) */
+    iq_t r_on_third_iq; /* R_on/3 (precomputed at init, Hoang eq. 37) */
 } vcomp_params_t;
 
 /* Fills the parameters (mode checked by dtc_config_validate). */

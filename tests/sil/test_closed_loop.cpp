@@ -2,7 +2,7 @@
 //
 // Assertions are envelopes over the metrics window (never single samples) and the orderings
 // Hoang 2011 reports for physical reasons. Thresholds marked "measured:" are measured values
-// with a margin; README.md compares them with Tables IX/X.
+// with a margin; README.md compares them with Hoang Tables IX/X.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -118,7 +118,7 @@ TEST(SilClosedLoop, HoangFindingsFstpVoltageModelImbalanceOrdering)
     EXPECT_GT(*proposed.m.imbalance_pct, *current.m.imbalance_pct);
     EXPECT_LT(*proposed.m.imbalance_pct, 25.0);
     EXPECT_LT(*current.m.imbalance_pct, 5.0);
-    // Without compensation the mid-point phase's neighbour B is the smallest (Table IX).
+    // Without compensation the mid-point phase's neighbour B is the smallest (Hoang Table IX).
     const auto& fn = *none.m.fundamental_a;
     EXPECT_LT(fn[1], fn[0]);
     EXPECT_LT(fn[1], fn[2]);

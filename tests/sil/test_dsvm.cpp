@@ -1,13 +1,13 @@
 // DTC with Discrete Space Vector Modulation against basic DTC (Casadei et al. 2006 sec. 11, Figs.
 // 29-30): the default IM at 100 rpm and rated torque, from standstill (the drive magnetises the
 // machine at zero torque, then the dynamometer ramps the rotor to 100 rpm: load.type = "speed",
-// as tools/plot/casadei_table5.py), basic DTC (Table 1) at 80 us against DSVM
+// as tools/plot/casadei_table5.py), basic DTC (Casadei Table 1) at 80 us against DSVM
 // (control.scheme = "dsvm", firmware/dtc/im_dsvm.c) at 160 us, at about the same mean switching
 // frequency (metric switching_freq_hz: turn-on events per device per second, the PWM form's
 // pulses inside the period counted). The paper's 2450 Hz is above what basic DTC reaches on this
 // rig at 80 us (zero bands: about 1.9 kHz, printed), so DTC runs with zero bands and DSVM's torque
 // band is tuned by bisection until its frequency is within 3 % of DTC's (flux band 1 % of the
-// reference, Fig. 30's ratio to Fig. 29's 2 %). Then: DSVM's three-phase rms current ripple
+// reference, Casadei Fig. 30's ratio to Fig. 29's 2 %). Then: DSVM's three-phase rms current ripple
 // (current_ripple_rms_a) below basic DTC's by at least 10 %, both follow T* (mean within 3 %), no
 // trip. The window: three electrical periods of the 100 rpm fundamental.
 #include <gtest/gtest.h>

@@ -145,7 +145,7 @@ const char* const kLegs[3] = {"a", "b", "c"};
 } // namespace
 
 // Ride-through: SSTP at 1500 rpm, full load, leg A (then B, then C) opens at t = 1 s;
-// current model and voltage model ([29] compensation; the FSTP goes on with Table V). With a TRIAC
+// current model and voltage model ([29] compensation; the FSTP goes on with Hoang Table V). With a TRIAC
 // (gate-triggered: 0.1 ms here) the dip stays within 5 % of the speed; with the default 15 ms
 // relay the drive makes no useful torque from the failure until the relay closes (6.6-19 ms to
 // detect plus 15 ms), so the dip is the load's deceleration over that time, 0.3 N*m / 5e-4 kg m^2

@@ -5,7 +5,7 @@
 // (make_controller), the plant's true quantities read every period. References that change
 // during a run (torque pulses and steps, speed profiles) go through the application's shadow set
 // (app_set_refs), as the background loop of the DSP would publish them. Every run starts at
-// standstill and magnetises the machine at zero torque (Fig. 17b) before anything else.
+// standstill and magnetises the machine at zero torque (Casadei Fig. 17b) before anything else.
 //
 // Assertions are the papers' statements with a margin, on the plant: never the firmware's own
 // estimate where the plant can say. Each test prints a MEASURE line (the figures of the report).
@@ -221,7 +221,7 @@ struct Machine {
 
 } // namespace
 
-// ---- Fig. 17: start-up at zero torque, then a rated torque step --------------------------------
+// ---- Casadei Fig. 17: start-up at zero torque, then a rated torque step ------------------------
 // Casadei sec. 10.2: with a pure integrator the machine cannot be magnetised at zero torque and
 // the torque then rises slowly; with the improved estimator (tau = 0.01 s) the phase current
 // settles to the magnetising current at zero torque and the torque reaches its reference within
@@ -316,7 +316,7 @@ TEST(ImCasadei, Fig17ImprovedEstimatorMagnetisesAtZeroTorqueAndTheTorqueFollowsI
 }
 
 // ---- common: magnetised at standstill, then torque mode at a held speed --------------------------
-// Torque mode: the firmware magnetises at zero torque at standstill (Fig. 17b); T* = t0_nm as soon
+// Torque mode: the firmware magnetises at zero torque at standstill (Casadei Fig. 17b); T* = t0_nm as soon
 // as torque is allowed, the dynamometer takes the rotor to rpm in 0.2 s, and 0.2 s of settling (the
 // mean-torque trim, 20 ms). No hold at T* = 0 after the magnetisation: ST-A cannot hold the flux
 // there (test Sec6StACannotHoldTheFluxAtZeroTorqueAtStandstill).
@@ -336,9 +336,9 @@ static std::vector<std::string> torque_at_held_speed(std::vector<std::string> ex
     return s;
 }
 
-// ---- Figs. 14-15: 50 % -> 300 % rated torque step at constant rotor flux --------------------------
+// ---- Casadei Figs. 14-15: 50 % -> 300 % rated torque step at constant rotor flux ------------------
 // Casadei sec. 10.1: the torque follows in a few ms (rise <= 3 ms), the rotor flux magnitude stays
-// constant (circular locus, within 2 %) and the stator flux rises as eq. 19 demands. The paper
+// constant (circular locus, within 2 %) and the stator flux rises as Casadei eq. 19 demands. The paper
 // gives no speed: 500 rpm held (well above 1/tau of the estimator's DC region) and standstill.
 struct Step14 {
     double rise_ms = -1.0, psir_worst = 0.0, psis_before = 0.0, psis_after = 0.0, psir_mean = 0.0, i_peak = 0.0;
@@ -410,7 +410,7 @@ TEST(ImCasadei, Fig14And15TorqueStepTo300PercentAtConstantRotorFlux)
     }
 }
 
-// ---- Fig. 5: torque pulse +18 -> -18 N*m for 8.8 ms at a held speed, ST-A against ST-D ----------
+// ---- Casadei Fig. 5: torque pulse +18 -> -18 N*m for 8.8 ms at a held speed, ST-A against ST-D ----------
 // Casadei sec. 6: at 20 rad/s the response with ST-A (null vectors for the decrease) is sluggish
 // and with ST-D (backward active vectors) quick; at 100 rad/s both are quick and almost equal.
 // Response time: from the -18 N*m command until the plant torque is 90 % of the way down. Before
@@ -423,11 +423,11 @@ struct Pulse {
 };
 
 // Closed-form response times from Casadei eqs. 14-15 on the plant's state at the pulse. With the
-// rotor flux constant over a few ms, dT/dt = -a T - b, a = (R_s/L_s + R_r/L_r)/sigma (eq. 14) and
+// rotor flux constant over a few ms, dT/dt = -a T - b, a = (R_s/L_s + R_r/L_r)/sigma (Casadei eq. 14) and
 // b from eq. 15: the back-EMF term k w |phi_s||phi_r| cos(delta) for a null vector, plus the voltage
 // term k |v| |phi_r| 0.866 cos(theta) for ST-D's backward vectors V_k-1 / V_k-2 (their mean, theta
 // = the stator-flux angle from its sector's centre), with k = 3/2 p M / (sigma L_s L_r) (the 3/2 of
-// the plant's torque A10, which eq. 15 leaves in its scaling). So T(t) = (T0 + b/a) e^-at - b/a
+// the plant's torque A10, which Casadei eq. 15 leaves in its scaling). So T(t) = (T0 + b/a) e^-at - b/a
 // and the time to T1 is ln((T0 + b/a)/(T1 + b/a)) / a.
 static void predict_pulse(const Rig& r, double t0, double t1, Pulse* o)
 {
@@ -491,7 +491,7 @@ static void print_pulse(const char* what, const Pulse& p)
 
 // The paper: at 20 rad/s ST-A's response (null vectors for the decrease) is
 // sluggish against ST-D's; at 100 rad/s both are quick "and almost identical". The physical reason
-// is eq. 15: a null vector lowers the torque only through the back-EMF term, which grows with the
+// is Casadei eq. 15: a null vector lowers the torque only through the back-EMF term, which grows with the
 // speed, while ST-D's backward vectors add the full inverter voltage. Asserted: each response
 // time within 25 % + 2 periods of that closed form (predict_pulse), sluggish against quick at
 // 20 rad/s (ratio > 3), quick at 100 rad/s (ST-A < 1 ms, a ninth of the pulse) with a ratio at
@@ -531,7 +531,7 @@ TEST(ImCasadei, Fig5StASluggishAtLowSpeedStDQuickBothQuickAtHighSpeed)
 // null vector takes the torque to zero without ever crossing the lower band, so the comparator
 // stays at "decrease" and the inverter applies nothing while the flux decays through R_s (Casadei
 // sec. 6: ST-A is a two-quadrant table). The improved estimator does not see it: with e = phi_s,est -
-// phi_s, eq. 20 gives de/dt = (phi_r* - phi_r)/tau - (L_r/M) e/tau, so e settles at (M/L_r)(phi_r* -
+// phi_s, Casadei eq. 20 gives de/dt = (phi_r* - phi_r)/tau - (L_r/M) e/tau, so e settles at (M/L_r)(phi_r* -
 // phi_r) and the estimate stays near the reference. A drive that must hold zero torque at
 // standstill uses ST-D or the speed-dependent table (ST-D there); both hold the flux.
 TEST(ImCasadei, Sec6StACannotHoldTheFluxAtZeroTorqueAtStandstill)
@@ -561,12 +561,12 @@ TEST(ImCasadei, Sec6StACannotHoldTheFluxAtZeroTorqueAtStandstill)
 // ---- Section 8: the speed-dependent table -----------------------------------------------------
 // ST-D below the hand-over speed (derived: 779 rpm), ST-A above. Casadei sec. 8: "a better torque
 // response over the whole speed range and a reduction in the torque ripple". Asserted as the
-// physics of eqs. 14-15 gives them: at low speed the table's response is ST-D's (quick, Fig. 5)
+// physics of Casadei eqs. 14-15 gives them: at low speed the table's response is ST-D's (quick, Fig. 5)
 // where ST-A's is sluggish; at high speed its ripple is ST-A's, lower than ST-D's, whose backward
 // vectors take a large torque step in every 40 us period (rated torque held, zero bands). Not a
 // claim of this drive: a lower ripple than ST-A at low speed. With a comparator sampled every
 // 40 us the ripple follows the per-period torque steps, and ST-A's null vectors lower the torque
-// slowly at low speed (the same eq. 15 term that makes its response sluggish), so ST-A ripples
+// slowly at low speed (the same Casadei eq. 15 term that makes its response sluggish), so ST-A ripples
 // less there; the test asserts that ordering and prints the figures.
 struct Ripple {
     double rms = 0.0, mean = 0.0;
@@ -626,8 +626,8 @@ TEST(ImCasadei, Sec8SpeedDependentTableAgainstStAAndStD)
     EXPECT_LT(a_lo.rms, d_lo.rms);
 }
 
-// ---- Fig. 13 and section 9: DSC hexagon, fewer commutations than DTC ------------------------------
-// Rated torque at 1000 rpm held. DTC (Table 1) with a flux band of 0.14 phi_s* traces a DSC-like
+// ---- Casadei Fig. 13 and section 9: DSC hexagon, fewer commutations than DTC ----------------------
+// Rated torque at 1000 rpm held. DTC (Casadei Table 1) with a flux band of 0.14 phi_s* traces a DSC-like
 // polygon (Fig. 13): |phi_s| spans about cos 30 deg .. 1 of its peak like a hexagon; without the
 // band the locus is a circle. DSC itself: the test below.
 struct Locus {
@@ -691,7 +691,7 @@ TEST(ImCasadei, Sec9DscHexagonWithFewerCommutationsThanDtc)
     EXPECT_LT(dsc.comm_per_period, dtc.comm_per_period);
 }
 
-// ---- Figs. 22-24: parameter errors at omega = 1 rad/s, rated torque, tau = 0.01 s ------------------
+// ---- Casadei Figs. 22-24: parameter errors at omega = 1 rad/s, rated torque, tau = 0.01 s ----------
 // Casadei sec. 10.8: with the improved estimator the rotor-flux error due to a 10 % low or high
 // stator resistance in the firmware, or a 0.01 A current-sensor offset, settles to a bounded
 // value; with the basic (voltage-model) estimator it grows. Rotor held at the paper's omega = 1
@@ -766,11 +766,11 @@ TEST(ImCasadei, Figs22To24ImprovedEstimatorErrorBoundedBasicGrows)
         {"R_s 10 % high", "rs_high", {"firmware.rs_ohm=" + std::to_string(1.1 * rs)}},
         {"0.01 A offset", "offset", {"sensors.current_offset_a=[0.01, 0, 0]"}},
     };
-    // Steady state with the R_s error alone (eqs. 25-26 at steady state, first order): the drive
-    // holds the estimated rotor flux at phi_r*, so eq. 20's correction is idle and the estimate
+    // Steady state with the R_s error alone (Casadei eqs. 25-26 at steady state, first order): the drive
+    // holds the estimated rotor flux at phi_r*, so Casadei eq. 20's correction is idle and the estimate
     // error e = phi_s,est - phi_s obeys j w_s e = -dR_s i_s; the rotor flux is then off by
     // -(L_r/M) e, whose component along phi_r is (L_r/M) dR_s i_sq / w_s, independent of tau as
-    // sec. 10.8 says. i_sq and the stator frequency w_s = p w + slip (eq. 16) from the machine at
+    // sec. 10.8 says. i_sq and the stator frequency w_s = p w + slip (Casadei eq. 16) from the machine at
     // rated torque and phi_r*.
     const Scenario sc0 = [] {
         Scenario x;
@@ -812,19 +812,19 @@ TEST(ImCasadei, Figs22To24ImprovedEstimatorErrorBoundedBasicGrows)
         // error, the residual voltage error of the devices at 1 rad/s; -7..-11 % for R_s 10 % low,
         // +4..+12 % for 10 % high). The 0.01 A offset is a fifth of an ADC count (+-100 A over 12
         // bits: 0.049 A) and the firmware calibrates the offsets with the gates off: the run is
-        // the no-error run within a count, so Fig. 24's effect is below this rig's resolution.
+        // the no-error run within a count, so Casadei Fig. 24's effect is below this rig's resolution.
         EXPECT_EQ(imp.fault, "none") << c.name;
         ASSERT_EQ(imp.err.size(), 6u) << c.name;
         EXPECT_LT(worst(imp), 0.15) << c.name;
         // Basic: the error wanders far beyond (the low-pass cannot hold the flux at 1 rad/s).
         EXPECT_GT(worst(vol), 2.0 * worst(imp)) << c.name;
     }
-    // Fig. 24 with an offset the ADC resolves and the calibration cannot remove: 0.25 A (five
+    // Casadei Fig. 24 with an offset the ADC resolves and the calibration cannot remove: 0.25 A (five
     // counts, 1.3 % of the rated current) on phase A, appearing once the drive is at its point (a
     // drift). A DC offset in the stationary frame is a disturbance at the stator frequency w_s in
-    // the rotor-flux frame (eq. 28's cos/sin of the flux angle): the improved estimator's
+    // the rotor-flux frame (Casadei eq. 28's cos/sin of the flux angle): the improved estimator's
     // rotor-flux error oscillates at w_s around its no-offset value, bounded (sec. 10.8). The
-    // amplitude eq. 26 predicts is not compared (eq. 28's [B] is not reproduced in the tools).
+    // amplitude Casadei eq. 26 predicts is not compared (eq. 28's [B] is not reproduced in the tools).
     const double drift = 0.25;
     const Sens base = sensitivity("none_ws", "improved", {}, 0.0, ws);
     const Sens drf = sensitivity("drift", "improved", {}, drift, ws);
@@ -838,10 +838,10 @@ TEST(ImCasadei, Figs22To24ImprovedEstimatorErrorBoundedBasicGrows)
     }
 }
 
-// ---- Fig. 25: sensorless, 50 -> 220 rpm and back to 0 with regenerative braking --------------------
+// ---- Casadei Fig. 25: sensorless, 50 -> 220 rpm and back to 0 with regenerative braking ------------
 // Speed mode without an encoder (speed from the stator-flux angular speed minus the slip of
-// eq. 16), the rotor's inertia only, under the paper's conditions: the firmware's stator
-// resistance 10 % below the machine's (Delta R_s = -10 %, eq. 25), tau = 0.01 s. Bound on
+// Casadei eq. 16), the rotor's inertia only, under the paper's conditions: the firmware's stator
+// resistance 10 % below the machine's (Delta R_s = -10 %, Casadei eq. 25), tau = 0.01 s. Bound on
 // |estimated - true speed| in steady state (last 0.2 s of each step) and through the transients.
 // The braking from 220 rpm to 0 is regenerative at the shaft: the machine takes the rotor's
 // kinetic energy as a generator (the integral of T omega over the braking is negative). On the DC
@@ -923,10 +923,10 @@ TEST(ImCasadei, Fig25SensorlessSpeedEstimateFollowsTheSpeed)
     EXPECT_NEAR(-e_shaft, e_kin_220, 0.1 * e_kin_220);
 }
 
-// ---- Fig. 32: flux weakening from standstill to 400 % of the base speed ----------------------------
+// ---- Casadei Fig. 32: flux weakening from standstill to 400 % of the base speed --------------------
 // Casadei sec. 12: torque mode (the "gas pedal" T_command = rated), the rotor's inertia only,
 // from standstill at rated flux. Above the base speed the torque-comparator monitor (im_fw.h) steps phi_s* down;
-// T* = T_command phi_s* / phi_s,rated (eq. 33), at most k_T phi_s*^2 (eq. 34); the current stays
+// T* = T_command phi_s* / phi_s,rated (Casadei eq. 33), at most k_T phi_s*^2 (eq. 34); the current stays
 // nearly constant in the constant-power range. Checked on the firmware's own references (the
 // figure's traces 2 and 4) and on the plant's current and speed.
 struct Fw {
@@ -945,7 +945,7 @@ static Fw flux_weakening_run()
     const double t_cmd = r.sc.motor.rated_torque_nm, base = r.sc.motor.rated_speed_rpm;
     const double psi_rated = r.sc.control.flux_ref_wb, pb = r.b.psi_base_wb / kIqOne;
     const Machine mc(r.sc);
-    const double kt = 0.75 * mc.p * mc.m * mc.m / (mc.sigma * mc.lr * mc.ls * mc.ls); // eq. 31
+    const double kt = 0.75 * mc.p * mc.m * mc.m / (mc.sigma * mc.lr * mc.ls * mc.ls); // Casadei eq. 31
     r.refs(DTC_MODE_TORQUE, t_cmd, 0.0);
     r.record("fig32", 10);
     double next_mark = 0.25;
@@ -974,7 +974,7 @@ static Fw flux_weakening_run()
             const app_status_t st = r.status();
             const double psi_ref = st.out.psi_ref_iq * pb;
             const double t_ref = st.out.te_ref_iq / kIqOne * r.b.t_base_nm;
-            if (spd > 0.05 * base) { // the torque allowed and the rotor turning: eqs. 33-34 in force
+            if (spd > 0.05 * base) { // the torque allowed and the rotor turning: Casadei eqs. 33-34 in force
                 const double expect = std::fmin(t_cmd * psi_ref / psi_rated, kt * psi_ref * psi_ref);
                 worst_ref_err = std::fmax(worst_ref_err, std::fabs(t_ref - expect) / t_cmd);
                 worst_eq34 = std::fmax(worst_eq34, (t_ref - kt * psi_ref * psi_ref) / t_cmd);
@@ -1014,8 +1014,8 @@ static Fw flux_weakening_run()
 
 TEST(ImCasadei, Fig32FluxWeakeningTorqueReferenceWithinEq34)
 {
-    // The flux reference is weakened, T* follows eq. 33 (T_command phi_s*/phi_s,rated) and never
-    // exceeds eq. 34's k_T phi_s*^2 (k_T from eq. 31 and the plant's machine).
+    // The flux reference is weakened, T* follows Casadei eq. 33 (T_command phi_s*/phi_s,rated) and never
+    // exceeds Casadei eq. 34's k_T phi_s*^2 (k_T from eq. 31 and the plant's machine).
     const Fw o = flux_weakening_run();
     EXPECT_EQ(o.fault, "none");
     EXPECT_LT(o.psi_at_end, 0.55);
@@ -1023,9 +1023,9 @@ TEST(ImCasadei, Fig32FluxWeakeningTorqueReferenceWithinEq34)
     EXPECT_LT(o.ref_err, 0.02);
 }
 
-// Fig. 32's speed and current: the monitor of the torque comparator (im_fw.h) holds the rated
+// Casadei Fig. 32's speed and current: the monitor of the torque comparator (im_fw.h) holds the rated
 // flux up to about the base speed (the torque demand is met there) and weakens it above, where
-// the back-EMF reaches the voltage limit (eq. 32); the current is then nearly constant.
+// the back-EMF reaches the voltage limit (Casadei eq. 32); the current is then nearly constant.
 TEST(ImCasadei, Fig32FluxWeakeningReaches400PercentWithNearlyConstantCurrent)
 {
     const Fw o = flux_weakening_run();
@@ -1075,8 +1075,8 @@ TEST(ImCasadei, FaultsTripTheImDriveAndBadConfigurationIsRefused)
 }
 
 // ---- Secs. 10.3-10.5: stator-flux vector control (SFVC) with SVM at a constant switching frequency --
-// Fig. 18's scheme (control.scheme = "sfvc", firmware/dtc/im_sfvc.c): the stator-flux reference
-// vector from T* and phi_r* (eq. 18), the flux regulator with R_s and back-EMF feed-forward (eqs.
+// Casadei Fig. 18's scheme (control.scheme = "sfvc", firmware/dtc/im_sfvc.c): the stator-flux reference
+// vector from T* and phi_r* (Casadei eq. 18), the flux regulator with R_s and back-EMF feed-forward (eqs.
 // 23-24), symmetric SVM with dead-time compensation at the carrier 1/ts_s. The phase-A current
 // is sampled every 10 us inside the control periods (Harness::set_substeps), with the plant's
 // stator-flux angle for a window of whole fundamental periods (sil::whole_period_window), so the
@@ -1230,9 +1230,9 @@ static std::vector<std::string> sfvc_sets(double carrier_hz, const char* modulat
             std::string("control.modulation=") + modulation};
 }
 
-// Sec. 10.5, Figs. 19-20: the torque follows T* (rated, 26.5 N*m) from a standstill start at the
+// Sec. 10.5, Casadei Figs. 19-20: the torque follows T* (rated, 26.5 N*m) from a standstill start at the
 // rated 1440 rpm and at 144 rpm (10 %); the default carrier (6.25 kHz). At 144 rpm every leg
-// switches twice per period (f_sw = the carrier). At 1440 rpm the stator voltage eq. 24 asks for,
+// switches twice per period (f_sw = the carrier). At 1440 rpm the stator voltage Casadei eq. 24 asks for,
 // about w_s |phi_s| with eq. 19's 0.60 Wb at rated torque (phi_r* 0.53 Wb) and 50 Hz, 190 V,
 // exceeds the linear range of the 311 V link, V_dc/sqrt3 = 180 V: the SVM clamps the reference
 // onto its hexagon in part of the periods (svm.h) and the switching frequency falls below the
@@ -1261,7 +1261,7 @@ TEST(ImCasadei, Sec10SfvcTorqueFollowsTheReferenceAtRatedAndLowSpeed)
     }
 }
 
-// Sec. 10.3: constant switching frequency. At 720 rpm (Table 5's half speed), rated torque, SFVC
+// Sec. 10.3: constant switching frequency. At 720 rpm (Casadei Table 5's half speed), rated torque, SFVC
 // with symmetric SVM at a 3 kHz carrier against basic DTC (Table 1, 40 us, the default zero bands)
 // at the same mean switching frequency (Casadei's definition; the DTC's is measured, about 3.06 kHz
 // there, and must be within 5 % of the carrier; zero bands are its highest, the 40 us sampling
@@ -1333,13 +1333,13 @@ TEST(ImCasadei, Sec13DfocTorqueFollowsWithTwoPhaseModulation)
     }
 }
 
-// ---- Sec. 13, Figs. 33-34: the current spectra of DFOC and DTC at rated speed and torque ---------
+// ---- Sec. 13, Casadei Figs. 33-34: the current spectra of DFOC and DTC at rated speed and torque ---------
 // "the harmonic spectrum of DFOC shows only the harmonic component corresponding to the modulation
 // cycle period, whereas with DTC the spectrum shows a series of harmonics with lower values,
 // distributed all over the frequency range." Measured as the share of the current's ripple energy
 // within +-6 f1 of the multiples of DFOC's carrier (ripple_run, phase A every 10 us), for DFOC
 // and for basic DTC (40 us, zero bands) at the paper's point, 1440 rpm and 26.5 N*m, and at
-// Table 5's 720 rpm, where the DFOC stays in its linear range on this 311 V link.
+// Casadei Table 5's 720 rpm, where the DFOC stays in its linear range on this 311 V link.
 TEST(ImCasadei, Figs33And34DfocSpectrumAtTheCarrierDtcSpread)
 {
     Rig probe(torque_at_held_speed({"control.scheme=dfoc"}));
@@ -1358,7 +1358,7 @@ TEST(ImCasadei, Figs33And34DfocSpectrumAtTheCarrierDtcSpread)
     }
 }
 
-// ---- Sec. 13, Figs. 35-36: torque step at 100 rpm, DTC against DFOC ------------------------------
+// ---- Sec. 13, Casadei Figs. 35-36: torque step at 100 rpm, DTC against DFOC ----------------------
 // "using the DTC scheme a better torque response can be achieved in terms of settling time and
 // maximum overshoot ... due to the PI regulators in the DFOC scheme". The paper gives no step
 // size: 0 -> rated (26.5 N*m) at 100 rpm held by the dynamometer, from a standstill start. On the
@@ -1449,7 +1449,7 @@ TEST(ImCasadei, Figs35And36TorqueStepAt100RpmDtcRisesFasterThanDfoc)
     // The paper's physical reason, the PI regulators' delay, shows in the rise: DTC is quicker.
     EXPECT_LT(dtc.fast.rise_ms, 0.6 * dfoc.fast.rise_ms);
     // Settling: DTC's transient is over within its rise, but its torque keeps a low-frequency
-    // wander (the spread spectrum of Fig. 34: +-1.7 N*m on a 0.48 ms average, measured) whose
+    // wander (the spread spectrum of Casadei Fig. 34: +-1.7 N*m on a 0.48 ms average, measured) whose
     // excursions beyond the +-5 % band set a late "settling" (12.7 ms) on the short average. On a
     // 2 ms average, which removes that wander, DTC settles before DFOC as in the paper.
     EXPECT_LT(dtc.slow.settle_ms, dfoc.slow.settle_ms);

@@ -1,9 +1,9 @@
 // test_im_casadei_runs.cpp - Casadei's figures measured through whole scenario runs (run_scenario,
-// as dtc-sil runs them): Fig. 21, Figs. 6-7, Figs. 19-20.
+// as dtc-sil runs them): Casadei Fig. 21, Figs. 6-7, Figs. 19-20.
 //
-// Fig. 21 (sec. 10.7) in the SIL: the sensorless stator-flux vector
+// Casadei Fig. 21 (sec. 10.7) in the SIL: the sensorless stator-flux vector
 // control with the improved estimator (control.scheme = "sfvc", tools/scenarios/im_dtc_speed.toml:
-// the default IM on its rig) at a slip of 5 rad/s (Fig. 21's), speed held by the dynamometer,
+// the default IM on its rig) at a slip of 5 rad/s (Casadei Fig. 21's), speed held by the dynamometer,
 // against the linearised model of eqs. 26-28 (tools/config/im_tau_check.h, computed here from the
 // scenario's machine). Every run starts at standstill, magnetises at zero torque, takes the
 // torque, and the dynamometer then takes the rotor to the point's speed (0.6 s to 0.9 s).
@@ -40,7 +40,7 @@ namespace {
 const std::string kScenario = std::string(DTC_SOURCE_DIR) + "/tools/scenarios/im_dtc_speed.toml";
 const std::string kScenario2 = std::string(DTC_SOURCE_DIR) + "/tools/scenarios/im_second_machine.toml";
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kSlip = 5.0;   // rad/s, Fig. 21
+constexpr double kSlip = 5.0;   // rad/s, Casadei Fig. 21
 constexpr double kWindowS = 2.0; // from 1.1 s (the held speed reached at 0.9 s) to the end
 
 struct Point {
@@ -183,7 +183,7 @@ TEST(ImCasadeiRuns, Fig21MapStablePointsHoldUnstablePointsLoseTheOperatingPoint)
 }
 
 
-// ---- Figs. 6-7: THD and switching frequency against the two hysteresis bands, ST-A ----------------
+// ---- Casadei Figs. 6-7: THD and switching frequency against the two hysteresis bands, ST-A --------
 // Casadei sec. 7: the flux band mainly sets the stator current's THD (a significant increase when
 // enlarging it), the torque band mainly the switching frequency. Both bands at 0 and at a wide
 // value (flux 10 % of phi_s*, torque 20 % of rated), ST-A at rated torque and half the rated
@@ -229,10 +229,10 @@ TEST(ImCasadeiRuns, Figs6And7NarrowerBandsLowerThdAndRaiseTheSwitchingFrequency)
     }
 }
 
-// ---- Figs. 19-20: SFVC locked rotor and 1120 rpm at rated current ---------------------------------
+// ---- Casadei Figs. 19-20: SFVC locked rotor and 1120 rpm at rated current -------------------------
 // Casadei sec. 10.5: the current practically sinusoidal, the estimated torque matching the measured
-// and the reference. Rated torque (26.5 N*m) with the rotor held at 0 (Fig. 19; a window of 1 s,
-// the slip frequency's 2.4 Hz) and at 1120 rpm (Fig. 20, where rated torque takes the rated
+// and the reference. Rated torque (26.5 N*m) with the rotor held at 0 (Casadei Fig. 19; a window of 1 s,
+// the slip frequency's 2.4 Hz) and at 1120 rpm (Casadei Fig. 20, where rated torque takes the rated
 // current): the plant's mean torque within 5 % of T*, the firmware's estimate within 5 % of the
 // plant's (measured 2.8 % at standstill: the device drops' voltage residual at 2.4 Hz; 0.03 % at
 // 1120 rpm), the current's THD below 3 % and the current magnitude within 10 % of rated.

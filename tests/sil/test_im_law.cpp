@@ -12,7 +12,7 @@
 //     0.4 s (3 tau_r) later within 3 % of it;
 //   - after the step the torque reaches 90 % of T* within 5 ms and its mean over the next 30 ms
 //     is within 10 % of T*; in the ideal-device case the rotor-flux magnitude stays within 3 % of
-//     phi_r* (eq. 19);
+//     phi_r* (Casadei eq. 19);
 //   - no fault.
 #include <gtest/gtest.h>
 
@@ -121,7 +121,7 @@ int command_torque(const ImRig& r, double t_nm)
 }
 
 // Magnetisation at standstill, then a rated torque step; check_psir: assert the rotor flux's
-// constancy (eq. 19) through the step.
+// constancy (Casadei eq. 19) through the step.
 void run_case(ImRig& r, bool check_psir)
 {
     ASSERT_TRUE(r.h);
@@ -159,7 +159,7 @@ void run_case(ImRig& r, bool check_psir)
     EXPECT_LE(r.psir_wb(), 1.03 * psir_ref);
 
     // Torque allowed (still commanded zero): the rotor flux completes its rise with tau_r
-    // (0.128 s, im_dtc.h); 0.4 s later it is at its reference, as in Figs. 14-15 before the step.
+    // (0.128 s, im_dtc.h); 0.4 s later it is at its reference, as in Casadei Figs. 14-15 before the step.
     for (long j = 0; j < static_cast<long>(0.4 / ts); ++j, ++k) {
         r.period();
     }

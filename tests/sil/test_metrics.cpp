@@ -87,7 +87,7 @@ TEST(Metrics, UnbalancedThreePhaseSetGivesKnownImbalanceAndTotalThd)
     EXPECT_NEAR((*m.fundamental_a)[1], 2.37, 1e-6);
     EXPECT_NEAR((*m.fundamental_a)[2], 3.00, 1e-6);
     EXPECT_NEAR(*m.imbalance_pct, 100.0 * (3.00 / 2.37 - 1.0), 1e-4); // 26.58 %
-    // eq. 39 total: every phase has 5 % -> total 5 %.
+    // Hoang eq. 39 total: every phase has 5 % -> total 5 %.
     EXPECT_NEAR(*m.thd_total_pct, 5.0, 1e-6);
     EXPECT_NEAR(thd_total_pct({3.0, 4.0, 12.0}), std::sqrt((9.0 + 16.0 + 144.0) / 3.0), 1e-12);
 }

@@ -31,7 +31,7 @@ Scenario load(const std::string& file, const std::vector<std::string>& sets = {}
 TEST(SilPlant, OpenLoopRatedCurrentMatchesTheSteadyStatePhasor)
 {
     // Hoang eqs. 6-9 in the rotor frame at w = 2 pi 25 rad/s with v_d = -w Ls i_q,
-    // v_q = Rs i_q + w psi_m (the shipped CSV): i_d = 0, i_q = 2.2 A; eq. 10: Te = 1.5 p psi_m i_q.
+    // v_q = Rs i_q + w psi_m (the shipped CSV): i_d = 0, i_q = 2.2 A; Hoang eq. 10: Te = 1.5 p psi_m i_q.
     // Tolerances: the zero-order hold of the 100 us table (sampled mid-step) changes the
     // fundamental by sinc(w 50 us) - 1 < 1e-5; the hold ripple near 10 kHz is filtered by Ls
     // (< 0.5 % THD); the L/R = 6.8 ms transient has decayed to e^-7 when the 0.2 s window starts

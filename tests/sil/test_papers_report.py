@@ -34,7 +34,7 @@ def main():
         e = got.get(item)
         if e is None or e["status"] != "reproduced":
             problems.append("hoang %s: %s (%s)" % (item, e and e["status"], e and e["reason"]))
-    # Figs. 5-8 (a) run once dtc-sil has the ITC law (hoang_items.itc_sets()); then they are checked too.
+    # Hoang Figs. 5-8 (a) run once dtc-sil has the ITC law (hoang_items.itc_sets()); then they are checked too.
     for item, e in got.items():
         if item.endswith("(a)") and e["measured"] and e["status"] != "reproduced":
             problems.append("hoang %s (ITC): %s (%s)" % (item, e["status"], e["reason"]))

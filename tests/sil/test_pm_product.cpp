@@ -186,7 +186,7 @@ TEST(PmProduct, FirmwareParametersAreSetApartFromThePlantsByKeys)
     ASSERT_TRUE(rs_low.m.imbalance_pct);
     EXPECT_NE(*rs_low.m.imbalance_pct, *base.m.imbalance_pct);
     // Current model (Hoang eqs. 8-9), the firmware's psi_m 10 % high: the estimated flux and hence
-    // the estimated torque (eq. 10) are high against the true ones by about that much on the
+    // the estimated torque (Hoang eq. 10) are high against the true ones by about that much on the
     // torque-producing part.
     const Outcome cm = run("fstp_current_full.toml");
     const Outcome cm_psi = run("fstp_current_full.toml", {"firmware.psi_m_wb=0.10208"});

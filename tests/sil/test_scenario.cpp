@@ -391,7 +391,7 @@ TEST(Scenario, ShippedScenariosAreValid)
             EXPECT_DOUBLE_EQ(s.ts_s, 40e-6) << e.path();
             EXPECT_EQ(s.control.estimator, Estimator::Improved) << e.path();
         } else if (s.control.mode != ControlMode::OpenLoop) {
-            // The paper's operating point: 1500 rpm, Table VIII/IV values, bands zero.
+            // The paper's operating point: 1500 rpm, Hoang Table VIII/IV values, bands zero.
             EXPECT_DOUBLE_EQ(s.control.speed_ref_rpm, 1500.0) << e.path();
             EXPECT_DOUBLE_EQ(s.control.torque_band_nm, 0.0);
             EXPECT_DOUBLE_EQ(s.control.flux_band_wb, 0.0);

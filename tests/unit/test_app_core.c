@@ -978,7 +978,7 @@ static void test_bad_post_fault_config_is_refused(void **state)
     fx.si.relay_delay_s = 5e-3;
     assert_int_equal(dtc_config_from_si(&fx.si, &fx.cfg, msg, sizeof msg), DTC_SI_OK);
     assert_int_equal(dtc_config_post_fault_si(&fx.si, &post_si), DTC_SI_OK);
-    assert_int_equal(post_si.compensation, DTC_COMP_FSTP_SIMPLE); /* [29]'s equal drop: Table V */
+    assert_int_equal(post_si.compensation, DTC_COMP_FSTP_SIMPLE); /* [29]'s equal drop: Hoang Table V */
     assert_int_equal(dtc_config_from_si(&post_si, &post_cfg, msg, sizeof msg), DTC_SI_OK);
     bad = fx.cfg; /* an SSTP is not a post-fault configuration */
     assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);

@@ -49,7 +49,7 @@ static void test_components(void **state)
 /* Runs DSC on the kinematic flux model for `turns` turns from a flux inside the hexagon. */
 static void hexagon(uint16_t ccw)
 {
-    const double ref = 0.8, dt = 0.002, step = 2.0 / 3.0 * dt; /* |V| = 2/3 pu (eq. 2) */
+    const double ref = 0.8, dt = 0.002, step = 2.0 / 3.0 * dt; /* |V| = 2/3 pu (Casadei eq. 2) */
     double pa = 0.5, pb = 0.1, turned = 0.0, prev = atan2(pb, pa);
     dsc_t s;
     dsc_reset(&s, ccw, fixtest_d_to_iq(pa), fixtest_d_to_iq(pb));

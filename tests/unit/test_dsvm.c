@@ -4,8 +4,8 @@
  *   - vectors: the null and (a V_k + b V_k+1)/3, 1 <= a, 0 <= b, a + b <= 3, |V_k| = 1 at
  *     (k-1) 60 deg (37 points);
  *   - Casadei eq. 15 with phi_r taken along phi_s (load angle neglected) and the flux along
- *     u = (cos th, sin th): torque change ~ v . j u - e, e = w phi_s / |V_k| (eq. 14's term does
- *     not depend on v and drops out of the ranking); flux-magnitude change ~ v . u (eq. 10 without
+ *     u = (cos th, sin th): torque change ~ v . j u - e, e = w phi_s / |V_k| (Casadei eq. 14's term does
+ *     not depend on v and drops out of the ranking); flux-magnitude change ~ v . u (Casadei eq. 10 without
  *     the resistive term);
  *   - a cell: the half-open sector interval of th (60 deg, or the 30-deg half sectors 1-, 1+ at
  *     high speed) and the EMF range (low |e| < E1; medium E1..E2; high E2..sqrt3/2, each sense);

@@ -87,7 +87,7 @@ static void test_hoang_table_i_reproduced(void **state)
         vrec_fstp(sbsc[v - 1][0], sbsc[v - 1][1], IQ(1.0), 0, 0U, &va, &vb);
         fixtest_assert_lsb(fixtest_iq_to_d(va), t[3], LSB, 1.0, "Table I v_alpha");
         fixtest_assert_lsb(fixtest_iq_to_d(vb), t[4], LSB, 1.0, "Table I v_beta");
-        /* Eqs. 17-19 give the phase voltages of Table I, and eqs. 4-5 map them to alpha-beta. */
+        /* Hoang Eqs. 17-19 give the phase voltages of Table I, and eqs. 4-5 map them to alpha-beta. */
         double sb = sbsc[v - 1][0], sc = sbsc[v - 1][1], ra, rb;
         assert_true(fabs((1.0 - sb - sc) / 3.0 - t[0]) < 1e-15);
         assert_true(fabs((4.0 * sb - 2.0 * sc - 1.0) / 6.0 - t[1]) < 1e-15);
@@ -126,7 +126,7 @@ static void test_fstp_measured_midpoint_drift(void **state)
 {
     (void)state;
     /* Mid-point drifted to 0.45 V_dc: leg A at 0.45, the vectors shift along alpha by
-     * 2*(0.45 - 0.5)/3 V_dc (eq. 4 with v_a0 = V_mid), beta unchanged. Sweep V_dc and V_mid. */
+     * 2*(0.45 - 0.5)/3 V_dc (Hoang eq. 4 with v_a0 = V_mid), beta unchanged. Sweep V_dc and V_mid. */
     for (int n = 0; n < 400; n++) {
         double vdc = 0.5 + n * 0.0025, vmid = vdc * (0.4 + 0.2 * (n % 21) / 20.0);
         for (int s = 0; s < 4; s++) {
@@ -135,7 +135,7 @@ static void test_fstp_measured_midpoint_drift(void **state)
             double ra, rb;
             vrec_fstp((uint16_t)sb, (uint16_t)sc, fixtest_d_to_iq(vdc), fixtest_d_to_iq(vmid), 1U,
                       &va, &vb);
-            /* reference from the leg voltages with the neutral eliminated (eqs. 1-5) */
+            /* reference from the leg voltages with the neutral eliminated (Hoang eqs. 1-5) */
             double va0 = vmid, vb0 = sb * vdc, vc0 = sc * vdc, vn0 = (va0 + vb0 + vc0) / 3.0;
             dtc_ref_clarke3(va0 - vn0, vb0 - vn0, vc0 - vn0, &ra, &rb);
             fixtest_assert_lsb(fixtest_iq_to_d(va), ra, LSB, 2.0, "vmid v_alpha");

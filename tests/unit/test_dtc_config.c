@@ -347,7 +347,7 @@ static void test_trips_beyond_the_adc_range_refused(void **state)
     assert_non_null(strstr(msg, "prot.i_trip_iq"));
 }
 
-/* The derived hand-over speed (dtc_config_si.h) for Table VIII / Table IV / 5 rad/s:
+/* The derived hand-over speed (dtc_config_si.h) for Hoang Table VIII / Table IV / 5 rad/s:
  * back-EMF 3x the drop: 3 (1.25 + 0.075 * 2.2) / 0.0928 = 45.74 rad/s; LPF: 10 * 5 = 50 rad/s;
  * the larger, 50 rad/s electrical, p = 1: 477.46 rpm, i.e. 50 / (2 pi 3000/60) = 0.159155 pu. */
 static void test_handover_default_from_machine(void **state)
@@ -364,7 +364,7 @@ static void test_handover_default_from_machine(void **state)
     si.psi_m_wb = 0.05;
     si.flux_ref_wb = 0.05;
     assert_true(fabs(dtc_handover_default_rpm(&si) - 84.9 * 30.0 / M_PI) < 1e-6);
-    /* the current-budget rule (dtc_config_si.h), closed form with the Table VIII / IV numbers:
+    /* the current-budget rule (dtc_config_si.h), closed form with the Hoang Table VIII / IV numbers:
      * I_lim = 6 - 50e-6 (70/sqrt(3) + 0.0928 * 100 pi + 0.466 * 6) / 3.19e-3 on the FSTP,
      * I_r = 0.3 / (1.5 * 0.0928), w = (4/pi) k V_r / (L_s sqrt(I_lim^2 - I_r^2)). */
     si.psi_m_wb = 0.0928;
@@ -376,7 +376,7 @@ static void test_handover_default_from_machine(void **state)
         si.compensation = DTC_COMP_NONE;
         assert_true(fabs(dtc_handover_default_rpm(&si) - w_none * 30.0 / M_PI) < 1e-6);
         assert_true(fabs(w_none * 30.0 / M_PI - 941.0) < 1.0);
-        /* Table V leaves |V_d - V_f| + R_on I = 0.35 + 0.365 V: 43.6 rad/s, below the 50 of the low-pass */
+        /* Hoang Table V leaves |V_d - V_f| + R_on I = 0.35 + 0.365 V: 43.6 rad/s, below the 50 of the low-pass */
         si.compensation = DTC_COMP_FSTP_SIMPLE;
         assert_true(fabs(dtc_handover_default_rpm(&si) - 500.0 * 3.0 / M_PI) < 1e-9);
         /* an uncompensated dead time adds V_dc T_d / T_s = 1.4 V to the residual */

@@ -1,7 +1,7 @@
 /*
  * test_dtc_flux_est.c - stator-flux estimators (Hoang eqs. 8-9 and 15-16 with the low-pass).
  *
- * Current model: matches eqs. 8-9 to the LSB level over angle and current sweeps.
+ * Current model: matches Hoang eqs. 8-9 to the LSB level over angle and current sweeps.
  * Voltage model: one step against the double recursion (LSB), trajectories (SNR), and tracking
  * of the analytic flux of a synthetic sinusoidal steady state at 1500 rpm and 100 rpm. The
  * low-pass in place of the integrator has a KNOWN error at electrical speed w:

@@ -87,7 +87,7 @@ static void run_topology(int fstp)
             }
             vec_d(fstp, v, vmid, &va, &vb);
             assert_true(va * ia + vb * ib <= best + 1e-6);
-            /* one period with that vector against the back-EMF of the rated speed (Table VIII:
+            /* one period with that vector against the back-EMF of the rated speed (Hoang Table VIII:
              * psi_m = 0.416 pu, w = 1 pu) reduces |i|: di = Ts (v - e) / l_s, Ts = 0.0157 pu,
              * l_s = 0.0315 pu, e perpendicular to the magnet flux (worst case: along i). */
             const double ts = 0.0157, ls = 0.0315, e = 0.416;
@@ -117,7 +117,7 @@ static void test_ilim_sstp(void **state)
     run_topology(0);
 }
 
-/* The derived limit (tools/config dtc_ilim_default_a) from its formula: Table VIII, 70 V FSTP,
+/* The derived limit (tools/config dtc_ilim_default_a) from its formula: Hoang Table VIII, 70 V FSTP,
  * 50 us, 3000 rpm, 6 A trip: dI = 50e-6 (70/sqrt(3) + 314.16 * 0.0928 + 0.466 * 6) / 3.19e-3. */
 static void test_ilim_default(void **state)
 {

@@ -54,7 +54,7 @@ static void test_recip_converges(void **state)
     assert_true(fabs(d(y) - 1.0) < 1e-5);
 }
 
-/* The default drive (Table VIII, 50 us, 5 rad/s) and its voltage-model estimator parameters. */
+/* The default drive (Hoang Table VIII, 50 us, 5 rad/s) and its voltage-model estimator parameters. */
 static void setup(dtc_config_si_t *si, dtc_config_t *cfg, flux_est_params_t *p)
 {
     dtc_config_si_defaults(si);
@@ -167,7 +167,7 @@ static void test_correction_holds_through_an_acceleration(void **state)
 {
     (void)state;
     accelerate(200.0);
-    accelerate(1200.0); /* the Table VIII drive at its 0.6 N*m limit on 5e-4 kg m^2 */
+    accelerate(1200.0); /* the Hoang Table VIII drive at its 0.6 N*m limit on 5e-4 kg m^2 */
 }
 
 int main(void)

@@ -28,7 +28,7 @@ typedef struct {
     double j_kgm2;    /* 0: constant speed */
     double load_nm;
     double tspu;
-    int drops;            /* 1: the FSTP inverter has the Table III/IV drops and R_on */
+    int drops;            /* 1: the FSTP inverter has the Hoang Table III/IV drops and R_on */
     swtab_legs_t applied; /* legs in force during the current period */
 } sim_t;
 
@@ -199,7 +199,7 @@ static void test_voltage_model_start_up_at_speed(void **state)
     dtc_t c;
     dtc_out_t o;
     sim_init(&s, DTC_TOPO_FSTP, DTC_EST_VOLTAGE, DTC_COMP_FSTP_PROPOSED, 0, 1450.0);
-    s.drops = 1; /* the inverter the compensation is for: Table IV devices */
+    s.drops = 1; /* the inverter the compensation is for: Hoang Table IV devices */
     s.j_kgm2 = s.si.inertia_kgm2;
     s.load_nm = 0.1;
     assert_int_equal(dtc_init(&c, &s.cfg), DTC_OK);
@@ -225,9 +225,9 @@ static void test_compensation_on_fstp_with_drops(void **state)
     (void)state;
     /* Hoang section III: an FSTP with real device drops (Table IV) run in torque mode at
      * 1500 rpm with the voltage model; the rms error of the estimated flux against the plant's
-     * (sampled at the same instants) for no / simple (Table V) / proposed (Table VI + R_on)
+     * (sampled at the same instants) for no / simple (Hoang Table V) / proposed (Table VI + R_on)
      * compensation. Part of the error is the LPF's known 3.2 % at 1500 rpm (common to all);
-     * the drops add to it unless compensated, and Table VI removes more than Table V. */
+     * the drops add to it unless compensated, and Hoang Table VI removes more than Table V. */
     const int comps[3] = {DTC_COMP_NONE, DTC_COMP_FSTP_SIMPLE, DTC_COMP_FSTP_PROPOSED};
     double rms[3], imb[3];
     for (int j = 0; j < 3; j++) {
@@ -289,7 +289,7 @@ static void test_voltage_model_uses_legs_from_two_steps_back(void **state)
         double eb = fixtest_iq_to_d(pb) * (1 - kl) + kin * vb;
         double tol = 3.0;
         if (k == 0) {
-            /* first step after init: seeded from eqs. 8-9 (zero current, angle 0): (psi_m, 0),
+            /* first step after init: seeded from Hoang eqs. 8-9 (zero current, angle 0): (psi_m, 0),
              * within psi_m times the sine table's error (fix_cos(0) = 1 - 2^-15) */
             ea = fixtest_iq_to_d(s.cfg.u.pm_dtc.machine.psi_m_iq);
             eb = 0.0;
@@ -579,7 +579,7 @@ static void test_outputs_consistent(void **state)
         swtab_legs_t l = swtab_sstp_legs(o.vector);
         assert_true(o.vector <= 7U && o.sector >= 1U && o.sector <= 6U);
         assert_true(l.sa == o.sa && l.sb == o.sb && l.sc == o.sc);
-        /* flux comparator (eq. 13) against eq. 11's magnitude: outside the band the decision is forced */
+        /* flux comparator (Hoang eq. 13) against eq. 11's magnitude: outside the band the decision is forced */
         const iq_t mag = dtc_out_flux_mag(&o);
         if (mag < s.cfg.speed.flux_ref_iq - s.cfg.u.pm_dtc.sw.flux_band_iq / 2 - 1) {
             assert_int_equal(o.flux_up, 1U);

@@ -127,8 +127,8 @@ static void test_sstp_sectors_against_atan2(void **state)
 static void test_fstp_sectors_derived_from_tables_i_ii(void **state)
 {
     (void)state;
-    /* Directions of V_1..V_4 from Table I (v_alpha, v_beta in units of V_dc). For every column
-     * of Table II, keep the flux angles at which EVERY entry of the column acts as its row
+    /* Directions of V_1..V_4 from Hoang Table I (v_alpha, v_beta in units of V_dc). For every column
+     * of Hoang Table II, keep the flux angles at which EVERY entry of the column acts as its row
      * demands: radial component sign = dpsi, tangential (counter-clockwise) sign = dT. */
     for (int sec = 1; sec <= 4; sec++) {
         double lo = 1e9, hi = -1e9;
@@ -202,7 +202,7 @@ static void test_sstp_selected_vectors_act_as_table2(void **state)
      * torque only through the rotor motion ("in accordance with the motor speed", Casadei
      * section 6), which dominates only while their tangential component is small: checked
      * within +-5 deg (at -25 deg V_k turns the flux at 0.28/0.42 = 0.67 pu > 0.5 pu and the
-     * torque rises: Table 2 describes the sector centre). */
+     * torque rises: Casadei Table 2 describes the sector centre). */
     int checked = 0;
     for (int k = 1; k <= 6; k++)
         for (double rel = -25.0; rel <= 25.0; rel += 2.5) {
@@ -225,7 +225,7 @@ static void test_sstp_selected_vectors_act_as_table2(void **state)
                         if ((off == 0 || off == 3 || off == 100) && fabs(rel) > 5.0) {
                             continue;
                         }
-                        /* expected signs of Table 2 for w > 0 */
+                        /* expected signs of Casadei Table 2 for w > 0 */
                         int e_phi, e_t;
                         switch (off) {
                         case 1: e_phi = 1; e_t = 1; break;    /* V_{k+1} */
@@ -260,7 +260,7 @@ static void test_sstp_selected_vectors_act_as_table2(void **state)
 static void test_sstp_speed_dependent_entries(void **state)
 {
     (void)state;
-    /* Table 2, w < 0: V_k, V_{k+3} and the nulls raise the torque; V_{k+1}, V_{k+2} still raise
+    /* Casadei Table 2, w < 0: V_k, V_{k+3} and the nulls raise the torque; V_{k+1}, V_{k+2} still raise
      * it and V_{k-1}, V_{k-2} still lower it (irrespective of the speed direction). */
     for (int k = 1; k <= 6; k++)
         for (double rel = -25.0; rel <= 25.0; rel += 2.5) {
@@ -285,9 +285,9 @@ static void test_fstp_selected_vectors_act_as_demanded(void **state)
 {
     (void)state;
     /* Hoang Table II at 150 rpm (0.05 pu), flux angles 20..70 deg inside each quadrant. Near a
-     * boundary one component of the selected vector vanishes (Fig. 3): at 10 deg V_3 turns the
+     * boundary one component of the selected vector vanishes (Hoang Fig. 3): at 10 deg V_3 turns the
      * flux at only 0.058/0.42 pu while shrinking it at 0.33/0.42 pu, and the torque (which is
-     * proportional to |psi| sin(delta)) falls slightly. The interior is where Table II's
+     * proportional to |psi| sin(delta)) falls slightly. The interior is where Hoang Table II's
      * claims are meant to hold; the sector derivation above shows the boundaries themselves. */
     for (int sec = 1; sec <= 4; sec++)
         for (double rel = 20.0; rel <= 70.0; rel += 2.5) {

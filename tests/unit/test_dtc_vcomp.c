@@ -18,7 +18,7 @@
 #include "vcomp.h"
 
 #define LSB (1.0 / 16777216.0)
-/* Table IV devices in pu of the default 70 V base: V_CE = 0.9 V, V_d = 1.25 V, R_on = 0.075 Ohm
+/* Hoang Table IV devices in pu of the default 70 V base: V_CE = 0.9 V, V_d = 1.25 V, R_on = 0.075 Ohm
  * on Z_base = 70/2.2 Ohm. */
 #define VCE (0.9 / 70.0)
 #define VD (1.25 / 70.0)
@@ -40,7 +40,7 @@ static void test_hoang_table_v_every_row(void **state)
         int sgn_b = row < 2 ? -1 : 1, sgn_c = (row & 1) ? 1 : -1;
         double ra, rb;
         dtc_ref_table_v(sgn_b, sgn_c, vf, &ra, &rb);
-        /* Table V depends on the current signs only: every switching state gives the row. */
+        /* Hoang Table V depends on the current signs only: every switching state gives the row. */
         for (int s = 0; s < 4; s++) {
             clarke_out_t i;
             iq_t fa, fb;
@@ -75,7 +75,7 @@ static void test_hoang_table_vi_every_row(void **state)
         }
     }
     assert_int_equal(rows, 16);
-    /* With V_CE = V_d = V_f, Table VI collapses to Table V (eqs. 35-36). */
+    /* With V_CE = V_d = V_f, Hoang Table VI collapses to Table V (eqs. 35-36). */
     vcomp_init(&p, DTC_COMP_FSTP_PROPOSED, 0, fixtest_d_to_iq(VCE), fixtest_d_to_iq(VCE), 0);
     for (int sg = 0; sg < 4; sg++) {
         int sgn_b = sg < 2 ? -1 : 1, sgn_c = (sg & 1) ? 1 : -1;
@@ -93,8 +93,8 @@ static void test_hoang_table_vi_every_row(void **state)
 static void test_table_vi_follows_from_table_iii_and_eqs_33_34(void **state)
 {
     (void)state;
-    /* Table III per leg (state 0: + -> V_d, - -> -V_CE; state 1: + -> V_CE, - -> -V_d) and eqs.
-     * 33-34 generate all 16 rows of Table VI in double: the paper is self-consistent, which is
+    /* Hoang Table III per leg (state 0: + -> V_d, - -> -V_CE; state 1: + -> V_CE, - -> -V_d) and eqs.
+     * 33-34 generate all 16 rows of Hoang Table VI in double: the paper is self-consistent, which is
      * the derivation the firmware implements. */
     for (int sg = 0; sg < 4; sg++)
         for (int st = 0; st < 4; st++) {
@@ -111,10 +111,10 @@ static void test_table_vi_follows_from_table_iii_and_eqs_33_34(void **state)
 static void test_r_on_terms_from_eq20(void **state)
 {
     (void)state;
-    /* Eq. 20 leg by leg: each switched leg loses R_on * i_x. The compensation is minus the
-     * Clarke transform (eqs. 4-5) of the leg drops:
-     *   SSTP (all legs):  (-R_on i_alpha, -R_on i_beta)              = eqs. 24-25
-     *   FSTP (B, C only): (-R_on i_alpha / 3, -R_on i_beta)          eq. 38; eq. 37 printed with +
+    /* Hoang Eq. 20 leg by leg: each switched leg loses R_on * i_x. The compensation is minus the
+     * Clarke transform (Hoang eqs. 4-5) of the leg drops:
+     *   SSTP (all legs):  (-R_on i_alpha, -R_on i_beta)              = Hoang eqs. 24-25
+     *   FSTP (B, C only): (-R_on i_alpha / 3, -R_on i_beta)          Hoang eq. 38; eq. 37 printed with +
      * With V_CE = V_d = 0 only the R_on terms remain. */
     vcomp_params_t pf, ps;
     vcomp_init(&pf, DTC_COMP_FSTP_PROPOSED, 0, 0, 0, fixtest_d_to_iq(RON));

@@ -6,15 +6,15 @@
  * (dtc_config_si_im_defaults: the plant's default 4 kW machine); the assertions are the papers'
  * statements and closed forms, computed here in double from the machine's parameters:
  *   - a bad IM configuration is refused at init with the field named;
- *   - start-up (Fig. 17b): zero torque until the rotor flux is built, DC magnetising current,
+ *   - start-up (Casadei Fig. 17b): zero torque until the rotor flux is built, DC magnetising current,
  *     then the torque within a few ms; the voltage model with its low-pass cannot hold the flux
- *     at standstill (Fig. 17a's statement);
- *   - constant rotor flux (eq. 19) through a 50 % -> 300 % torque step;
- *   - Table 1 and ST-A..ST-D (Table 3) through the law, with the null-vector choice; the
+ *     at standstill (Casadei Fig. 17a's statement);
+ *   - constant rotor flux (Casadei eq. 19) through a 50 % -> 300 % torque step;
+ *   - Casadei Table 1 and ST-A..ST-D (Table 3) through the law, with the null-vector choice; the
  *     speed-dependent table (section 8) picks ST-D below and ST-A above its speed;
  *   - DSC (section 9): the hexagon (vertex / side-centre radius 1/cos 30 deg);
- *   - flux weakening (section 12): phi_s* at most once per window, T* by eqs. 33-34;
- *   - sensorless speed: flux angular speed minus the slip of eq. 16.
+ *   - flux weakening (section 12): phi_s* at most once per window, T* by Casadei eqs. 33-34;
+ *   - sensorless speed: flux angular speed minus the slip of Casadei eq. 16.
  */
 #include <math.h>
 #include <setjmp.h>
@@ -298,7 +298,7 @@ static void test_bad_im_config_refused_with_field(void **state)
 
 /* ---- start-up ------------------------------------------------------------------------------- */
 
-/* Fig. 17b with the improved estimator (tau = 0.01 s): at standstill and with the rated torque
+/* Casadei Fig. 17b with the improved estimator (tau = 0.01 s): at standstill and with the rated torque
  * commanded from the start, the law holds T* = 0 while it magnetises, the phase current a DC
  * magnetising current (test_startup_current_is_dc). The stator-flux reference is ramped at
  * rho = (I_n - I_m) L_s / tau_r (im_dtc.h), then held; the torque is allowed after the ramp and
@@ -379,7 +379,7 @@ static void test_startup_current_is_dc(void **state)
     assert_true(fabs(hypot(ia, ib) / (psir_target / s.m) - 1.0) < 0.10);
 }
 
-/* Fig. 17a: with the voltage model (its low-pass at 5 rad/s instead of the pure integrator) the
+/* Casadei Fig. 17a: with the voltage model (its low-pass at 5 rad/s instead of the pure integrator) the
  * estimate of a DC flux decays, so at standstill the law keeps raising the machine's flux: the
  * machine is over-magnetised (the real stator flux beyond 130 % of phi_s* within 0.3 s), where
  * with the improved estimator it converges with tau_r (im_dtc.h): from 0.3 s (2.3 tau_r) after the
@@ -420,10 +420,10 @@ static void test_voltage_model_cannot_hold_standstill_flux(void **state)
     assert_true(worst_i < 0.05);
 }
 
-/* ---- constant rotor flux (eq. 19) ----------------------------------------------------------- */
+/* ---- constant rotor flux (Casadei eq. 19) --------------------------------------------------- */
 
-/* Figs. 14-15 conditions in the unit loop: phi_r* constant (rotor_flux_ref), torque step from
- * 50 % to 300 % of rated at a held speed (0.5 pu). The law's stator-flux reference is eq. 19 in
+/* Casadei Figs. 14-15 conditions in the unit loop: phi_r* constant (rotor_flux_ref), torque step from
+ * 50 % to 300 % of rated at a held speed (0.5 pu). The law's stator-flux reference is Casadei eq. 19 in
  * double within 1e-4 pu for the T* of the step that evaluated it (once per speed period); the machine's rotor flux stays within 3 % of phi_r* through the step;
  * the mean torque over the last 10 ms follows T* within 5 %. */
 static void test_constant_rotor_flux_torque_step(void **state)
@@ -449,7 +449,7 @@ static void test_constant_rotor_flux_torque_step(void **state)
             const iq_t psi_ref_before = o.psi_ref_iq;
             sim_period(&s, &o);
             if (o.psi_ref_iq != psi_ref_before) {
-                /* eq. 19 for the T* in force at the step that evaluated it */
+                /* Casadei eq. 19 for the T* in force at the step that evaluated it */
                 const double q = s.sigma * s.lr * fixtest_iq_to_d(o.te_ref_iq) / psir;
                 const double want = s.ls / s.m * sqrt(psir * psir + q * q);
                 assert_true(fabs(fixtest_iq_to_d(o.psi_ref_iq) - want) < 1e-4);
@@ -465,13 +465,13 @@ static void test_constant_rotor_flux_torque_step(void **state)
         assert_true(fabs(tsum / nm / tref - 1.0) < 0.05);
     }
     assert_true(worst < 0.03);
-    assert_true(n_eval > 10); /* eq. 19 re-evaluated (once per speed period) */
+    assert_true(n_eval > 10); /* Casadei eq. 19 re-evaluated (once per speed period) */
 }
 
 /* ---- tables --------------------------------------------------------------------------------- */
 
 /* Section 8: the speed-dependent table is ST-D below im_table_speed and ST-A above, for every
- * sector and comparator state (compared with Table 3 directly, after the null-vector choice). */
+ * sector and comparator state (compared with Casadei Table 3 directly, after the null-vector choice). */
 static void test_speed_dependent_table(void **state)
 {
     sim_t s;
@@ -590,9 +590,9 @@ static void test_dsc_hexagon(void **state)
 
 /* Section 12 at twice the base speed with the rated torque commanded: phi_s* falls below its
  * rated value (the torque demand not met at the voltage limit), changes at most once per window of
- * N >= 20 periods (section 12.3), stays within [phi_min, rated]; T* is eq. 33 limited by eq. 34
+ * N >= 20 periods (section 12.3), stays within [phi_min, rated]; T* is Casadei eq. 33 limited by eq. 34
  * (double, from the law's phi_s*, within 1e-4 pu). The reference settles at the voltage limit:
- * below eq. 32's bound with the six-step fundamental and above 0.6 of it (not at the minimum;
+ * below Casadei eq. 32's bound with the six-step fundamental and above 0.6 of it (not at the minimum;
  * measured 0.79). The machine's mean torque is below T* there (measured 0.79 of it): one period
  * with the demand met per window of N suffices for a step up, so the flux hovers where T* is just
  * reached now and then. */
@@ -607,7 +607,7 @@ static void test_flux_weakening(void **state)
 
     sim_defaults(&s);
     s.si.flux_weakening = 1;
-    s.si.torque_trim_tau_s = 0.0; /* T* from the command by eqs. 33-34 only */
+    s.si.torque_trim_tau_s = 0.0; /* T* from the command by Casadei eqs. 33-34 only */
     s.si.torque_ref_nm = s.si.rated_torque_nm;
     sim_start(&s, 0.0);
     sim_magnetise_at(&s, 2.0, 0.0, &o);
@@ -627,7 +627,7 @@ static void test_flux_weakening(void **state)
             const double rated = fixtest_iq_to_d(s.cfg.speed.flux_ref_iq);
             const double tcmd = nm_to_pu(&s, s.si.torque_ref_nm);
             const double kt = fixtest_iq_to_d(s.cfg.u.im.fw.kt_iq);
-            const double want = fmin(tcmd * psi / rated, kt * psi * psi); /* eqs. 33-34 */
+            const double want = fmin(tcmd * psi / rated, kt * psi * psi); /* Casadei eqs. 33-34 */
             assert_true(fabs(fixtest_iq_to_d(o.te_ref_iq) - want) < 1e-4);
             assert_true(psi <= rated + 1e-6);
             assert_true(psi >= fixtest_iq_to_d(s.cfg.u.im.fw.psi_min_iq) - 1e-6);
@@ -640,7 +640,7 @@ static void test_flux_weakening(void **state)
     assert_true(fixtest_iq_to_d(o.psi_ref_iq) < 0.9 * fixtest_iq_to_d(s.cfg.speed.flux_ref_iq));
     assert_true(min_gap >= 20);
     {
-        /* Eq. 32 with the inverter's largest fundamental, the six-step 2/pi V_dc (V_base = V_dc),
+        /* Casadei Eq. 32 with the inverter's largest fundamental, the six-step 2/pi V_dc (V_base = V_dc),
          * at the stator frequency 2 pu + slip: |phi_s| <= (2/pi) / w_s (R_s I_s neglected). */
         const double psi = fixtest_iq_to_d(o.psi_ref_iq);
         const double limit = (2.0 / FIXTEST_PI) / 2.0;
@@ -656,8 +656,8 @@ static void test_flux_weakening(void **state)
 /* ---- sensorless speed ----------------------------------------------------------------------- */
 
 /* Held speed 0.5 pu, rated torque, no encoder: the estimated speed (rotor-flux angular speed
- * minus the slip of eq. 16) is within 1 % of the speed; the slip it removes is the machine's
- * (w_slip = r_r T / phi_r^2, eq. 16), so the flux speed alone would be off by that. */
+ * minus the slip of Casadei eq. 16) is within 1 % of the speed; the slip it removes is the machine's
+ * (w_slip = r_r T / phi_r^2, Casadei eq. 16), so the flux speed alone would be off by that. */
 static void test_sensorless_speed(void **state)
 {
     sim_t s;
@@ -677,7 +677,7 @@ static void test_sensorless_speed(void **state)
         sum += fixtest_iq_to_d(o.speed_iq);
     }
     slip = s.x.rr * dtc_ref_im_torque(&s.x) / (psir_mag(&s) * psir_mag(&s));
-    assert_true(slip > 0.01); /* the check below would pass without eq. 16 otherwise */
+    assert_true(slip > 0.01); /* the check below would pass without Casadei eq. 16 otherwise */
     assert_true(fabs(sum / n - 0.5) < 0.005);
 }
 

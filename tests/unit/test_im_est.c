@@ -118,7 +118,7 @@ static void ref_step(ref_est_t *r, double k, const double v[2], const double i[2
 static void test_improved_estimator_magnetises_from_zero_as_eq20_says(void **state)
 {
     (void)state;
-    /* Standstill, zero current, zero voltage: eq. 20 reduces to d psi_s/dt = (phi_r* - k_r psi_s)/tau
+    /* Standstill, zero current, zero voltage: Casadei eq. 20 reduces to d psi_s/dt = (phi_r* - k_r psi_s)/tau
      * along the rotor-flux direction (alpha, since the machine starts demagnetised), so
      * psi_s[k] = (phi_r* / k_r) (1 - (1 - K k_r)^k), K = Ts/tau. The pure-integrator voltage model
      * stays at zero: with a zero torque command it cannot magnetise the machine (Casadei Fig. 17a). */
@@ -152,7 +152,7 @@ static void test_improved_estimator_magnetises_from_zero_as_eq20_says(void **sta
 
 /* The rated-load steady state both steady-state tests use, at 25 Hz: the stator flux 0.95 pu
  * rotating, the current 0.8 pu leading it by 70 degrees. For step k (the period [k, k+1] in the
- * firmware's timing: v over the period that ends now, i sampled now) the voltage that makes eq. 1
+ * firmware's timing: v over the period that ends now, i sampled now) the voltage that makes Casadei eq. 1
  * exact for the estimator's own R_s i term, the current, and |psi_s - sigma l_s i| (eq. 21). */
 #define SS_W 0.5
 #define SS_PSI 0.95
@@ -175,7 +175,7 @@ static void test_improved_estimator_tracks_double_reference_in_steady_state(void
 {
     (void)state;
     /* A rated-load steady state at 25 Hz: the stator flux 0.95 pu rotating, the current leading it
-     * by 70 degrees; the voltage is what makes eq. 1 exact for the zero-order-held period. The
+     * by 70 degrees; the voltage is what makes Casadei eq. 1 exact for the zero-order-held period. The
      * improved estimator with phi_r* 3 % off the true rotor flux, fixed point against the same
      * discrete equations in double: SNR and worst error. */
     const double K = 40e-6 / 0.01;
@@ -203,8 +203,8 @@ static void test_improved_estimator_tracks_double_reference_in_steady_state(void
            acc.max_abs_err);
     fixtest_assert_snr(&acc, 90.0, "improved estimator vs double reference");
     /* The direction e^{j theta} = x/|x| (tracked reciprocal) is a unit vector along the rotor
-     * flux (eq. 21: phi_r = k_r x) to 1e-6, and the angle and magnitude, computed when asked for
-     * (eqs. 21-22, CORDIC), are the rotor flux's within fix_polar's bounds. */
+     * flux (Casadei eq. 21: phi_r = k_r x) to 1e-6, and the angle and magnitude, computed when asked for
+     * (Casadei eqs. 21-22, CORDIC), are the rotor flux's within fix_polar's bounds. */
     {
         double v[2], i[2], a_ref, da;
         const double ua = fixtest_iq_to_d(s.u_alpha_iq), ub = fixtest_iq_to_d(s.u_beta_iq);
@@ -248,7 +248,7 @@ static void test_improved_estimator_error_against_the_true_flux(void **state)
 {
     (void)state;
     /* Started demagnetised (the voltage model alone would keep that integration constant for ever),
-     * eq. 20's correction removes the start error with time constant tau / k_r. With phi_r* equal
+     * Casadei eq. 20's correction removes the start error with time constant tau / k_r. With phi_r* equal
      * to the true rotor flux nothing else is left; with phi_r* off by d, the correction is a
      * rotating forcing (d phi_r / tau) c through the error dynamics de/dt = -(k_r / tau) e + ...;
      * to first order |e| = d phi_r / |k_r + j w tau| (w tau = 1.57 here). The first-order figure
@@ -305,7 +305,7 @@ static void test_eq19_and_eq16(void **state)
     }
     printf("MEASURE eq. 19 stator-flux reference: worst %.2f LSB\n", worst);
     assert_true(worst <= 8.0);
-    /* Eq. 16: at rated torque 1 pu and rotor flux 0.9 pu the slip is r_r / 0.81. */
+    /* Casadei Eq. 16: at rated torque 1 pu and rotor flux 0.9 pu the slip is r_r / 0.81. */
     fixtest_assert_lsb(fixtest_iq_to_d(im_ref_slip(fixtest_d_to_iq(kRr), fixtest_d_to_iq(1.0),
                                                    fixtest_d_to_iq(1.0 / 0.81))),
                        kRr / 0.81, IQ_LSB, 4.0, "eq. 16 slip");
@@ -315,7 +315,7 @@ static void test_sensorless_speed(void **state)
 {
     (void)state;
     /* Rotor flux rotating at w_psi (through the angle wrap many times), torque T, flux 0.9 pu:
-     * the estimate settles at w_psi - r_r T / 0.81 (eq. 16), backwards too. */
+     * the estimate settles at w_psi - r_r T / 0.81 (Casadei eq. 16), backwards too. */
     const double ts_filter = 0.005;
     im_speed_params_t p = {fixtest_d_to_iq(TWO_PI / (65536.0 * kTs)),
                            fixtest_d_to_q31(1.0 - exp(-40e-6 / ts_filter)), fixtest_d_to_iq(kRr)};

@@ -1,6 +1,6 @@
 /*
  * test_im_fw.c - flux weakening by the torque-comparator monitor (Casadei et al. 2006, section 12):
- * the window rule of 12.2, the update-rate rule of 12.3, and the torque reference of eqs. 33-34
+ * the window rule of 12.2, the update-rate rule of 12.3, and the torque reference of Casadei eqs. 33-34
  * against their double-precision values.
  */
 #include <math.h>
@@ -76,8 +76,8 @@ static void test_torque_reference_eqs_33_34(void **state)
         for (double tc = -3.0; tc <= 3.0; tc += 0.5) {
             im_fw_t s = {fixtest_d_to_iq(psi), 0U, 0U};
             const iq_t t = im_fw_step(&s, &p, 1U, fixtest_d_to_iq(tc));
-            double ref = tc * psi / 0.95;                 /* eq. 33 */
-            const double tmax = kt * psi * psi;           /* eq. 34 */
+            double ref = tc * psi / 0.95;                 /* Casadei eq. 33 */
+            const double tmax = kt * psi * psi;           /* Casadei eq. 34 */
             if (fabs(ref) > tmax) {
                 ref = ref > 0 ? tmax : -tmax;
                 ++limited;

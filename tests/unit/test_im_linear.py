@@ -67,7 +67,7 @@ def main():
             check(abs(c_lo - py["rpm_lo"]) < 1e-6 and abs(c_hi - py["rpm_hi"]) < 1e-6, "check %d: range differs" % k)
     # Physics (Casadei sec. 10.7, Fig. 21 at 5 rad/s slip), on both machines: stable for every
     # positive w_s; an unstable region at small negative w_s for a short tau, which a long enough
-    # tau removes; the pole at w_s = 0 is at the origin for every tau (eq. 27's second row).
+    # tau removes; the pole at w_s = 0 is at the origin for every tau (Casadei eq. 27's second row).
     for m in machines:
         ws, taus, re = im_linear.fig21_map(m, 5.0, np.linspace(-40, 40, 81), np.logspace(-3, 0, 13))
         check(np.all(re[:, ws > 0.1] < 0.0), "a positive w_s is unstable")

@@ -180,12 +180,12 @@ static uint32_t to_u32_milli(double v) { return (uint32_t)nearbyint(v * 1000.0);
  * drive:
  *  - current sum (three sensors): a quarter of the rated current. A healthy sum is the sensors'
  *    gain and offset errors times the current plus noise (2 % gain errors at the 6 A trip level:
- *    0.24 A, below 0.55 A for Table VIII); a sensor stuck at its zero makes the sum its phase's
+ *    0.24 A, below 0.55 A for Hoang Table VIII); a sensor stuck at its zero makes the sum its phase's
  *    current, which passes the level for most of each half-wave at a quarter of rated current;
  *  - open phase: the least |i| an eighth of the rated current, and at least 32 ADC counts so that
  *    the zero band (a quarter of it, firmware app_core.c) is at least 8 counts, above the sensors'
  *    noise (at lighter load a failed leg is found when the load comes). An eighth, not more: a
- *    phase of Table VIII's machine opened at 1500 rpm, full load, leaves the other two carrying
+ *    phase of Hoang Table VIII's machine opened at 1500 rpm, full load, leaves the other two carrying
  *    0.2-0.6 A for up to 14 ms at some angles, and a quarter (0.55 A) let the detection take
  *    20.6 ms (SIL, 36 fault instants);
  *  - lost encoder: the electrical speed above which a count cannot stand still for N =

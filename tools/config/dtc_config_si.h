@@ -56,7 +56,7 @@ typedef struct {
     double vdc_v;           /* nominal DC link */
     double v_ce_v;          /* device forward drop */
     double v_d_v;           /* diode forward drop */
-    double v_f_v;           /* equal drop of the simple schemes (SSTP [29], Table V) */
+    double v_f_v;           /* equal drop of the simple schemes (SSTP [29], Hoang Table V) */
     double r_on_ohm;
     int fstp_vmid_measured; /* 1: the mid-point voltage is measured */
 
@@ -94,8 +94,8 @@ typedef struct {
     double torque_ref_nm;
 
     /* Induction-machine law (Casadei 2006). */
-    double psir_ref_wb;     /* > 0: constant rotor flux, phi_s* by eq. 19; 0: flux_ref_wb */
-    double tau_lo_s;        /* improved estimator (eq. 20): tau at low speed ... */
+    double psir_ref_wb;     /* > 0: constant rotor flux, phi_s* by Casadei eq. 19; 0: flux_ref_wb */
+    double tau_lo_s;        /* improved estimator (Casadei eq. 20): tau at low speed ... */
     double tau_hi_s;        /* ... and at high speed (section 10.2; equal: fixed tau) */
     double tau_w_lo_rpm;    /* |speed| up to which tau_lo applies */
     double tau_w_hi_rpm;    /* |speed| from which tau_hi applies (>= tau_w_lo_rpm) */
@@ -115,7 +115,7 @@ typedef struct {
     double carrier_hz;      /* SVM carrier: one PWM period per control period, so it must equal
                              * 1 / ts_s; 0 = 1 / ts_s */
     int svm_mode;           /* enum svm_mode (firmware/dtc/svm.h): 0 symmetric, 1 two-phase */
-    double sfvc_kp_per_s;   /* flux-regulator gain K_p of eq. 24, 1/s, in (0, 1/ts_s]; 0 = derived:
+    double sfvc_kp_per_s;   /* flux-regulator gain K_p of Casadei eq. 24, 1/s, in (0, 1/ts_s]; 0 = derived:
                              * 1 / (2 ts_s), half of the flux error removed per period (the
                              * deadbeat gain 1/ts_s halved as a margin for the one-period
                              * prediction's model errors) */
@@ -227,7 +227,7 @@ double dtc_table_speed_default_rpm(const dtc_config_si_t *si);
  *     w >= (4/pi) k V_r / (L_s sqrt(I_lim^2 - I_r^2)), I_r = T_rated / (3/2 p psi_m)
  *     (the headroom floored at I_lim / 10).
  *     V_r (dtc_handover_residual_v, at I_lim): none max(V_CE, V_d) + R_on I; SSTP [29]
- *     max(|V_CE - V_f|, |V_d - V_f|); FSTP simple (Table V, no R_on) that + R_on I; proposed 0;
+ *     max(|V_CE - V_f|, |V_d - V_f|); FSTP simple (Hoang Table V, no R_on) that + R_on I; proposed 0;
  *     plus V_dc T_d / T_s when the dead time is not compensated. Below that speed the
  *     uncompensated SSTP drive under a constant rated load estimated 0.1 N*m above the true
  *     torque, ran 14 % under-fluxed and stalled (SIL, docs/firmware-core.md).
@@ -236,7 +236,7 @@ double dtc_table_speed_default_rpm(const dtc_config_si_t *si);
  *   w_beta = sqrt(dtc_vmid_gain_tol / dtc_vmid_beta_k) / (1 - handover_hyst_frac); below that a
  *   link read low lets the mid-point run away (firmware/dtc/dtc.c dtc_vmid_dev).
  * whichever is highest: w_h = max(3 (max(V_CE, V_d) + R_on I_rated) / psi_m, 10 w_c, w_cur, w_beta).
- * Table VIII machine, Table IV devices, 5 rad/s, 6 A trip, 2 x 4.7 mF, hysteresis 0.2: proposed
+ * Hoang Table VIII machine, Table IV devices, 5 rad/s, 6 A trip, 2 x 4.7 mF, hysteresis 0.2: proposed
  * and simple with the mid-point measured max(45.7, 50, <= 43.6, 78.1 / 0.8 = 97.7) rad/s =
  * 933 rpm, without it 477 rpm (p = 1); none 941 rpm on the FSTP, 1441 rpm on the SSTP. */
 double dtc_handover_default_rpm(const dtc_config_si_t *si);
@@ -248,7 +248,7 @@ double dtc_handover_default_rpm(const dtc_config_si_t *si);
  * error -beta i_a / (3 C w^2) on phase A, i.e. an inductance error beta / (3 C w^2) on that one
  * phase, stays within l_s / 8 at every speed (l_s the firmware's). 0 where the firmware
  * reconstructs no mid-point (not an FSTP voltage model with the mid-point measured and
- * calibrated). Table VIII, 2 x 4.7 mF: 5.62e-6 s^2 (beta = 1/16 above 1007 rpm). */
+ * calibrated). Hoang Table VIII, 2 x 4.7 mF: 5.62e-6 s^2 (beta = 1/16 above 1007 rpm). */
 double dtc_vmid_beta_k(const dtc_config_si_t *si);
 /* The link-sensor error the restoring term must cover, relative: 2 % gain plus a 1 V offset at
  * the link voltage (a datasheet-grade sensor). The derived hand-over speed stays at or
@@ -260,7 +260,7 @@ double dtc_vmid_gain_tol(const dtc_config_si_t *si);
 double dtc_handover_residual_v(const dtc_config_si_t *si, double i_a);
 
 /* Default overspeed trip (mechanical rpm): 10 % above the larger of the rated speed and the speed
- * limit, the fastest the drive is ever asked to turn. Table VIII (3000 rpm rated and limit): 3300 rpm;
+ * limit, the fastest the drive is ever asked to turn. Hoang Table VIII (3000 rpm rated and limit): 3300 rpm;
  * the 4 kW IM with its 6000 rpm flux-weakening limit: 6600 rpm. */
 double dtc_overspeed_default_rpm(const dtc_config_si_t *si);
 
@@ -275,13 +275,13 @@ double dtc_overspeed_default_rpm(const dtc_config_si_t *si);
  * the sampled current (the vector chosen at k acts only from k+1 on). When the trip level leaves
  * no room for one period's change (slow period, small L_s) the result is 0: no limit, and the
  * trip is the only protection.
- * Table VIII, Table IV link, 50 us, 3000 rpm, 6 A trip, FSTP: dI = 1.13 A, I_lim = 4.87 A. */
+ * Hoang Table VIII, Table IV link, 50 us, 3000 rpm, 6 A trip, FSTP: dI = 1.13 A, I_lim = 4.87 A. */
 double dtc_ilim_default_a(const dtc_config_si_t *si);
 
 /* The post-fault configuration of an SSTP PM drive with reconfiguration relays: the same drive as
  * an FSTP whose phase A is the failed one (firmware dtc.h dtc_reconfigure). Changed from si:
  * topology FSTP; the compensation for the same device model (none stays none, the SSTP's equal
- * drop [29] becomes the FSTP's equal-drop Table V, "simple"); no mid-point calibration and no
+ * drop [29] becomes the FSTP's equal-drop Hoang Table V, "simple"); no mid-point calibration and no
  * rotor hold (the drive does not stop for them); the derived hand-over speed and current limit
  * are derived again for the FSTP. Returns DTC_SI_OK, or DTC_SI_ERR_VARIANT when si is not an
  * SSTP PM drive with reconfig_relay = 1. */

@@ -68,7 +68,7 @@ double im_tau_at(const dtc_config_si_t *si, double w_rad_s)
 }
 
 /* Operating points: N_TORQUE torque magnitudes up to the limit, and stator frequencies w_s
- * = +-w_max (i/N_SPEED)^3, dense at low speed where the unstable region lies (Fig. 21). Positive
+ * = +-w_max (i/N_SPEED)^3, dense at low speed where the unstable region lies (Casadei Fig. 21). Positive
  * slip only: (w0, w_sl) -> (-w0, -w_sl) is the similarity diag(1, -1, 1) of [A] and tau depends
  * on |w0|, so the negative torques repeat the positive ones mirrored. */
 #define N_TORQUE 24
@@ -118,8 +118,8 @@ int im_tau_check(const dtc_config_si_t *si, im_tau_report_t *r, char *msg, size_
                 r->worst_torque_nm = t;
                 r->worst_tau_s = tau;
             }
-            /* w_s = 0 is a pole at the origin for every tau (eq. 27's second row vanishes): the
-             * marginal line of Fig. 21, not an unstable range */
+            /* w_s = 0 is a pole at the origin for every tau (Casadei eq. 27's second row vanishes): the
+             * marginal line of Casadei Fig. 21, not an unstable range */
             if (re > 1e-9 * (1.0 / tau + w_max)) {
                 r->unstable = 1;
                 r->rpm_lo = fmin(r->rpm_lo, rpm);

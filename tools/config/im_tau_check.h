@@ -33,8 +33,8 @@ typedef struct {
 
 /* Casadei eq. 27 at rotor speed w0_rad_s and slip w_sl_rad_s (both electrical; the estimated
  * stator-flux frequency is w0 + w_sl) and estimator time constant tau_s > 0: the largest real part
- * of the eigenvalues of [A], 1/s. The estimator row carries (L_r/M)/tau where eq. 27 prints 1/tau:
- * eqs. 20-21 give d phi_r^/dt a correction (L_r/M)(phi_r* e^{j theta} - phi_r^)/tau (the two agree
+ * of the eigenvalues of [A], 1/s. The estimator row carries (L_r/M)/tau where Casadei eq. 27 prints 1/tau:
+ * Casadei eqs. 20-21 give d phi_r^/dt a correction (L_r/M)(phi_r* e^{j theta} - phi_r^)/tau (the two agree
  * when L_r = M). */
 double im_lin_dominant_re(const im_lin_machine_t *m, double w0_rad_s, double w_sl_rad_s, double tau_s);
 

@@ -36,7 +36,7 @@ void dtc_config_si_im_defaults(dtc_config_si_t *si)
     si->flux_band_wb = 0.0;
     si->torque_band_nm = 0.0;
     si->torque_limit_nm = PLANT_DEF_IM_TORQUE_LIMIT_NM;
-    si->speed_limit_rpm = 6000.0;     /* Fig. 32: 400 % of base speed */
+    si->speed_limit_rpm = 6000.0;     /* Casadei Fig. 32: 400 % of base speed */
     si->speed_ref_rpm = 0.0;
     si->speed_bw_rad_s = 30.0;
     si->estimator = DTC_EST_IMPROVED;
@@ -89,7 +89,7 @@ void dtc_si_im_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_ba
     const double sigma = 1.0 - m * m / (ls * lr);
     const double tsp = si->ts_s * b->w_base_rad_s;
     const double rpm_pu = M_PI / 30.0 * si->pole_pairs / b->w_base_rad_s;
-    /* Rotor-flux reference: the constant one of eq. 19, or the no-load rotor flux of the stator-
+    /* Rotor-flux reference: the constant one of Casadei eq. 19, or the no-load rotor flux of the stator-
      * flux reference (phi_r = (M/L_s) phi_s at zero torque). */
     const double psir = si->psir_ref_wb > 0.0 ? si->psir_ref_wb : si->flux_ref_wb * m / ls;
     dtc_im_machine_cfg_t *im = &cfg->u.im.machine;
@@ -136,7 +136,7 @@ void dtc_si_im_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_ba
         cfg->u.im.svm_mode = (uint16_t)si->svm_mode;
     }
     if (si->law == DTC_LAW_IM_SFVC) {
-        /* the flux regulator's K_p (eq. 24) in pu voltage per pu flux = K_p / w_base */
+        /* the flux regulator's K_p (Casadei eq. 24) in pu voltage per pu flux = K_p / w_base */
         const double kp = si->sfvc_kp_per_s > 0.0 ? si->sfvc_kp_per_s : 0.5 / si->ts_s;
         if (!(si->sfvc_kp_per_s >= 0.0 && si->sfvc_kp_per_s * si->ts_s <= 1.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "sfvc_kp_per_s = %g: must be in (0, 1/ts_s = %g] (0 = derived)", si->sfvc_kp_per_s, 1.0 / si->ts_s); return; }
         cfg->u.im.sfvc.kp_iq = dtc_si_to_iq(c, "sfvc_kp_per_s", kp, kp / b->w_base_rad_s);
@@ -207,7 +207,7 @@ void dtc_si_im_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_ba
          * so it stays below the rated current I_n when rho = (I_n - I_m) L_s / tau_r, I_m =
          * phi_r* / M the final magnetising current. (A stator-flux step instead drives the current
          * towards phi_s* / (sigma L_s).) Then the stator flux is held: the improved estimator's
-         * error at DC decays as 1 - exp(-t/tau_r) (eq. 20 at DC: d phi_r/dt = -(R_r/L_r)(phi_r -
+         * error at DC decays as 1 - exp(-t/tau_r) (Casadei eq. 20 at DC: d phi_r/dt = -(R_r/L_r)(phi_r -
          * phi_r*)), so the torque waits tau_r ln(1/(1 - magn_frac)) more. */
         const double tau_r = lr / si->rr_ohm;
         const double psis_final = si->psir_ref_wb > 0.0 ? si->psir_ref_wb * ls / m : si->flux_ref_wb;

@@ -13,9 +13,9 @@ double dtc_handover_residual_v(const dtc_config_si_t *si, double i_a)
     double v;
     switch (si->compensation) {
     case DTC_COMP_NONE: v = dev + si->r_on_ohm * i_a; break;
-    case DTC_COMP_SSTP: v = off_f; break;                           /* V_f and R_on (eqs. 24-25) */
-    case DTC_COMP_FSTP_SIMPLE: v = off_f + si->r_on_ohm * i_a; break; /* Table V: V_f only */
-    default: v = 0.0; break;                                        /* Table VI with eqs. 37-38 */
+    case DTC_COMP_SSTP: v = off_f; break;                           /* V_f and R_on (Hoang eqs. 24-25) */
+    case DTC_COMP_FSTP_SIMPLE: v = off_f + si->r_on_ohm * i_a; break; /* Hoang Table V: V_f only */
+    default: v = 0.0; break;                                        /* Hoang Table VI with eqs. 37-38 */
     }
     if (si->deadtime_comp == 0) {
         v += si->dead_time_s / si->ts_s * si->vdc_v;

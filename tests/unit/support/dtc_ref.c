@@ -111,8 +111,8 @@ void dtc_ref_pm_step(dtc_ref_pm_t *m, double va, double vb, double dt, int n_sub
 
 static double leg_drop(int state, double i, double vce, double vd, double ron)
 {
-    double vf = state == 0 ? (i >= 0 ? vd : -vce) : (i >= 0 ? vce : -vd); /* Table III */
-    return vf + ron * i;                                                  /* eq. 20 */
+    double vf = state == 0 ? (i >= 0 ? vd : -vce) : (i >= 0 ? vce : -vd); /* Hoang Table III */
+    return vf + ron * i;                                                  /* Hoang eq. 20 */
 }
 
 void dtc_ref_fstp_inverter(int sb, int sc, double vdc, double ib, double ic, double vce,

@@ -45,7 +45,7 @@ void dtc_ref_pm_step(dtc_ref_pm_t *m, double va, double vb, double dt, int n_sub
  * (alpha-beta) frame, at a constant electrical speed w:
  *   d psi_s/dt = v - rs i_s,   d psi_r/dt = -rr i_r + j w psi_r,
  *   i_s = (lr psi_s - m psi_r) / D,   i_r = (ls psi_r - m psi_s) / D,   D = ls lr - m^2,
- *   T = psi_s x i_s (eq. A10 in the bases of dtc_base.h). Demagnetised at init. */
+ *   T = psi_s x i_s (Casadei eq. A10 in the bases of dtc_base.h). Demagnetised at init. */
 typedef struct {
     double rs, rr, ls, lr, m, w;
     double psa, psb, pra, prb; /* stator and rotor flux */
