@@ -56,10 +56,10 @@ TEST(PmProduct, EveryEstimatorAndCompensationStartsFromStandstillAndHolds1500rpm
     // none / [29] on the SSTP), from standstill (the scenarios' initial_speed_rpm = 0, J = 5e-4)
     // on the shipped finite split link (2 x 4.7 mF, 3.3 kOhm, 25 mOhm), with the generator load
     // and with a constant (active) 0.3 N*m: no trip, mean speed within 1 %. What makes the
-    // constant load pass: the rotor hold during the FSTP mid-point calibration (before it the load
-    // turned the rotor back to -287 rpm and the reversal emptied a capacitor: all three FSTP
-    // voltage schemes stalled) and, without compensation, the hand-over derived from the
-    // current the uncompensated drop costs (941 rpm FSTP, 1441 rpm SSTP; at 477 rpm both stalled).
+    // constant load pass: the rotor hold during the FSTP mid-point calibration (without it the load
+    // turns the rotor back to -287 rpm and the reversal empties a capacitor: all three FSTP
+    // voltage schemes stall) and, without compensation, the hand-over derived from the
+    // current the uncompensated drop costs (941 rpm FSTP, 1441 rpm SSTP; at 477 rpm both stall).
     // Measured: 1499.5-1499.9 rpm.
     for (const char* f : {"fstp_current_full.toml", "sstp_current_full.toml", "fstp_voltage_none_full.toml",
                           "fstp_voltage_simple_full.toml", "fstp_voltage_proposed_full.toml",
