@@ -233,7 +233,8 @@ namespace {
 // (realistic parts, the encoder). Magnetising with a stationary flux would be DC injection into a
 // turning rotor: the machine's rotor flux would stay far below the ramp the estimator's
 // reference assumes, and the estimate would settle on a flux the machine does not have (with a
-// stationary magnetising flux at 300 rpm the machine gives -7.3 N*m for T* = 26.5 while the estimate reads 26.5).
+// stationary magnetising flux at 300 rpm the machine gives -7.3 N*m for T* = 26.5 while the
+// estimate reads 26.5).
 // Asserted on the plant's true quantities: no fault; the mean torque while magnetising is against
 // the motion and below 20 % of rated (the zero band with the period's delay leaves the bang-bang
 // torque below T* = 0 by part of its ripple, which grows with the speed: measured 2 % of rated at
