@@ -497,8 +497,8 @@ const std::vector<Spec>& schema()
                 "given: motor.rs_ohm",
                 ACC(firmware.rs_ohm)),
         opt_num("firmware.rr_ohm", "ohm", positive(),
-                "IM: rotor resistance the firmware uses (improved estimator, eq. 19, slip of eq. 16, start-up "
-                "time); not given: motor.rr_ohm",
+                "IM: rotor resistance the firmware uses (the slip of Casadei eq. 16: sensorless speed, SFVC; the "
+                "start-up's rotor time constant); not given: motor.rr_ohm",
                 ACC(firmware.rr_ohm)),
         opt_num("firmware.lls_h", "H", positive(), "IM: stator leakage inductance the firmware uses; not given: "
                 "motor.lls_h", ACC(firmware.lls_h)),
