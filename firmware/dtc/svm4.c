@@ -1,5 +1,7 @@
 #include "svm4.h"
 
+#include <stddef.h>
+
 #define SVM4_HALF_IQ ((iq_t)1 << (FIX_IQ_Q - 1))
 
 void svm4_reset(svm4_t *s)
@@ -13,7 +15,8 @@ static iq_t svm4_room(iq_t n, iq_t m)
     return n > 0 ? SVM_ONE_IQ - m : m;
 }
 
-void svm4_step(svm4_t *s, iq_t v_alpha_iq, iq_t v_beta_iq, iq_t vdc_iq, iq_t vlo_iq, svm_out_t *o)
+void svm4_step(svm4_t *s, const svm4_params_t *p, iq_t v_alpha_iq, iq_t v_beta_iq, iq_t vdc_iq, iq_t vlo_iq,
+               const clarke_out_t *i, svm_out_t *o)
 {
     iq_t m, nb, nc;
 
@@ -51,9 +54,12 @@ void svm4_step(svm4_t *s, iq_t v_alpha_iq, iq_t v_beta_iq, iq_t vdc_iq, iq_t vlo
         }
     }
     o->d_iq[0] = m;
-    o->d_iq[1] = fix_clamp32(m + nb, 0, SVM_ONE_IQ);
-    o->d_iq[2] = fix_clamp32(m + nc, 0, SVM_ONE_IQ);
-    o->d_eff_iq[0] = o->d_iq[0];
-    o->d_eff_iq[1] = o->d_iq[1];
-    o->d_eff_iq[2] = o->d_iq[2];
+    o->d_eff_iq[0] = m;
+    {
+        const uint16_t comp = i != NULL ? p->dt_comp : 0U;
+        svm_leg_dt(comp, fix_clamp32(m + nb, 0, SVM_ONE_IQ), i != NULL ? i->ib_iq : 0, p->td_iq, &o->d_iq[1],
+                   &o->d_eff_iq[1]);
+        svm_leg_dt(comp, fix_clamp32(m + nc, 0, SVM_ONE_IQ), i != NULL ? i->ic_iq : 0, p->td_iq, &o->d_iq[2],
+                   &o->d_eff_iq[2]);
+    }
 }

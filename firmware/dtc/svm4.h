@@ -29,8 +29,11 @@
  * d_iq[0] = m, the mean of phase A's terminal over V_dc (no device: the application ignores the
  * FSTP's leg A, hal.h), so that the mean vector of d_iq[0..2] by the six-switch formula
  * (v_alpha = V_dc (2 d_A - d_B - d_C)/3, v_beta = V_dc (d_B - d_C)/sqrt3) is the one applied.
- * d_eff_iq = d_iq (no dead-time model: the current loop that feeds this modulator corrects the
- * dead-time error as any other disturbance).
+ * Dead time (legs B and C; the rule of svm.h, svm_leg_dt): with compensation on, a switching leg
+ * is commanded d + sgn(i) T_d/T_s; d_eff_iq is the duty the leg is expected to produce (the
+ * command less the dead time's loss), d_eff_iq[0] = m. Phase A has no devices and no dead time,
+ * so an uncompensated dead time is an error on two phases of three: an unbalanced disturbance
+ * (SIL, Table VIII at 1500 rpm: 2 points of current imbalance).
  *
  * Formats: voltages IQ pu; duties IQ in [0, IQ(1)].
  * Scaling and overflow: 1/V_dc by Newton steps (svm_recip, relative 2^-24); v/V_dc rounded and
@@ -49,13 +52,20 @@
 #include "svm.h"
 
 typedef struct {
+    uint16_t dt_comp; /* 1: dead-time compensation by the current sign */
+    iq_t td_iq;       /* T_d / T_s, [0, 0.5) */
+} svm4_params_t;
+
+typedef struct {
     iq_t inv_vdc_iq; /* 1 / V_dc, Newton state (0: not known, re-seeded) */
 } svm4_t;
 
 void svm4_reset(svm4_t *s);
 
 /* One PWM period: reference (v_alpha, v_beta), DC link vdc, lower-capacitor (mid-point to the
- * negative rail) voltage vlo, all measured at the period's sample. */
-void svm4_step(svm4_t *s, iq_t v_alpha_iq, iq_t v_beta_iq, iq_t vdc_iq, iq_t vlo_iq, svm_out_t *o);
+ * negative rail) voltage vlo, all measured at the period's sample; phase currents i (the dead
+ * time's sign; null: no dead-time handling, d_eff = d, whatever p->dt_comp). */
+void svm4_step(svm4_t *s, const svm4_params_t *p, iq_t v_alpha_iq, iq_t v_beta_iq, iq_t vdc_iq, iq_t vlo_iq,
+               const clarke_out_t *i, svm_out_t *o);
 
 #endif /* SVM4_H */

@@ -86,11 +86,13 @@ static int ref_svm4(double va, double vb, double vdc, double vlo, double d[2])
     return 1;
 }
 
+static const svm4_params_t kNoDt = {0U, 0};
+
 static void run(double va, double vb, double vdc, double vlo, svm_out_t *o)
 {
     svm4_t s;
     svm4_reset(&s);
-    svm4_step(&s, fixtest_d_to_iq(va), fixtest_d_to_iq(vb), fixtest_d_to_iq(vdc), fixtest_d_to_iq(vlo), o);
+    svm4_step(&s, &kNoDt, fixtest_d_to_iq(va), fixtest_d_to_iq(vb), fixtest_d_to_iq(vdc), fixtest_d_to_iq(vlo), NULL, o);
 }
 
 /* Every direction (0.5 deg steps), magnitudes from 0 through the inscribed circle to 20x outside,
@@ -203,7 +205,7 @@ static void test_no_link_and_moving_link(void **state)
     svm4_t s;
     svm_out_t o;
     svm4_reset(&s);
-    svm4_step(&s, IQ(0.1), IQ(0.1), 0, 0, &o);
+    svm4_step(&s, &kNoDt, IQ(0.1), IQ(0.1), 0, 0, NULL, &o);
     for (int x = 0; x < 3; x++) {
         assert_int_equal(o.d_iq[x], IQ(0.5));
     }
@@ -212,10 +214,35 @@ static void test_no_link_and_moving_link(void **state)
         const double va = 0.2 * cos(n * 0.1), vb = 0.2 * sin(n * 0.1);
         double d[2] = {0.0, 0.0};
         ref_svm4(va, vb, vdc, vlo, d);
-        svm4_step(&s, fixtest_d_to_iq(va), fixtest_d_to_iq(vb), fixtest_d_to_iq(vdc), fixtest_d_to_iq(vlo), &o);
+        svm4_step(&s, &kNoDt, fixtest_d_to_iq(va), fixtest_d_to_iq(vb), fixtest_d_to_iq(vdc), fixtest_d_to_iq(vlo), NULL, &o);
         fixtest_assert_lsb(fixtest_iq_to_d(o.d_iq[1]), d[0], LSB, 4.0, "leg B, moving link");
         fixtest_assert_lsb(fixtest_iq_to_d(o.d_iq[2]), d[1], LSB, 4.0, "leg C, moving link");
     }
+}
+
+/* Dead-time compensation on legs B and C (svm.h's rule): a switching leg whose current leaves it
+ * (i > 0) is commanded T_d/T_s more, one whose current enters (i < 0) T_d/T_s less, and the
+ * effective duties are the uncompensated ones; phase A (no devices) stays at m; without currents
+ * nothing is compensated. */
+static void test_dead_time_on_the_switched_legs(void **state)
+{
+    (void)state;
+    const svm4_params_t p = {1U, IQ(0.02)};
+    clarke_out_t i;
+    svm4_t s;
+    svm_out_t o, o0;
+    svm4_reset(&s);
+    clarke_inv(IQ(0.0), IQ(0.5), &i); /* i_b > 0, i_c < 0 */
+    svm4_step(&s, &p, IQ(0.05), IQ(0.1), IQ(1.0), IQ(0.45), &i, &o);
+    svm4_step(&s, &kNoDt, IQ(0.05), IQ(0.1), IQ(1.0), IQ(0.45), NULL, &o0);
+    assert_true(i.ib_iq > 0 && i.ic_iq < 0);
+    fixtest_assert_lsb(fixtest_iq_to_d(o.d_iq[1]), fixtest_iq_to_d(o0.d_iq[1]) + 0.02, LSB, 1.0, "leg B + T_d/T_s");
+    fixtest_assert_lsb(fixtest_iq_to_d(o.d_iq[2]), fixtest_iq_to_d(o0.d_iq[2]) - 0.02, LSB, 1.0, "leg C - T_d/T_s");
+    assert_int_equal(o.d_eff_iq[1], o0.d_iq[1]);
+    assert_int_equal(o.d_eff_iq[2], o0.d_iq[2]);
+    assert_int_equal(o.d_iq[0], o0.d_iq[0]);
+    svm4_step(&s, &p, IQ(0.05), IQ(0.1), IQ(1.0), IQ(0.45), NULL, &o);
+    assert_int_equal(o.d_iq[1], o0.d_iq[1]);
 }
 
 int main(void)
@@ -225,6 +252,7 @@ int main(void)
         cmocka_unit_test(test_overmodulation_keeps_angle_on_unbalanced_link),
         cmocka_unit_test(test_vertices_are_the_switching_states),
         cmocka_unit_test(test_no_link_and_moving_link),
+        cmocka_unit_test(test_dead_time_on_the_switched_legs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
