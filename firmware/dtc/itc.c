@@ -283,13 +283,7 @@ void itc_step(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     o->duty_iq[2] = c->svm_o.d_iq[2];
 
     /* 6. Outputs. */
-    o->sa = 0U;
-    o->sb = 0U;
-    o->sc = 0U;
-    o->vector = 0U;
-    o->sector = 0U;
-    o->flux_up = 0U;
-    o->torque_dem = 0;
+    law_out_duty_only(o);
     o->psi_alpha_iq = c->fe.psi_alpha_iq;
     o->psi_beta_iq = c->fe.psi_beta_iq;
     o->te_iq = te;
