@@ -87,7 +87,7 @@ instr d dfoc im_dfoc_step bench_dfoc_normal bench_dfoc_tick 1200 1700 \
 # IM law, DTC with DSVM (budget target: DSVM avg <= 1000), 160 us.
 instr e dsvm im_dsvm_step bench_dsvm_normal bench_dsvm_tick 1000 1500 \
   im_est_step fix_polar im_speed_step im_dsvm_select dsvm_table dsvm_vectors dsvm_patterns im_sfvc_estimate speed_pi_step
-# PM indirect torque control (issue 28: <= 1,200 host instructions per step), FSTP, 50 us.
+# PM indirect torque control (<= 1,200 host instructions per step), FSTP, 50 us.
 instr f itc itc_step bench_itc_normal bench_itc_tick 1200 1700 \
   dqpi_step svm4_step flux_est_step vcomp_step fix_sin speed_meas_step speed_pi_step
 echo
