@@ -130,9 +130,9 @@ void itc_refs_get(const itc_t *c, dtc_refs_t *r)
  * spends d of the period in state 1 and 1 - d in state 0, and the compensation is a sum of
  * per-leg terms (minus the Clarke transform of the leg drops, Hoang eqs. 31-34), so its period
  * mean is F(0) + sum_x d_x (F(e_x) - F(0)), F(s) the value for the leg states s, e_x leg x alone
- * on. Table III's drop of a leg in state 1 less that in state 0 is V_CE - V_d for either current
+ * on. Hoang Table III's drop of a leg in state 1 less that in state 0 is V_CE - V_d for either current
  * sign, so F(e_x) - F(0) is a constant of the configuration (c->vcd_*, itc_init); SSTP [29] and
- * Table V do not depend on the states (their constants are 0). IQ pu; products rounded, sums
+ * Hoang Table V do not depend on the states (their constants are 0). IQ pu; products rounded, sums
  * saturated. */
 static void itc_vcomp(const itc_t *c, const clarke_out_t *i, const iq_t d[2], iq_t *va, iq_t *vb)
 {
@@ -161,7 +161,7 @@ static iq_t itc_observe(itc_t *c, const dtc_meas_t *m, const clarke_out_t *i)
         fin.v_beta_iq = fix_add32(fin.v_beta_iq, vfb);
     }
     if (cfg->est.estimator == DTC_EST_VOLTAGE && c->speed_primed == 0U) {
-        flux_est_seed(&c->fe, &fin); /* the first step: the current model's flux (eqs. 8-9) */
+        flux_est_seed(&c->fe, &fin); /* the first step: the current model's flux (Hoang eqs. 8-9) */
     } else {
         flux_est_step(&c->fe, &fin);
     }

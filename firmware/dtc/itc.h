@@ -25,7 +25,7 @@
  * Observer (not in the control path): the configured stator-flux estimator (flux_est.h, voltage
  * model with its compensation, Hoang eqs. 15-16, 31-38, Tables V-VI, or the current model eqs. 8-9)
  * runs on the voltage the duties applied over the period just ended, with the low-pass correction
- * when configured, and gives psi_alpha/beta and the torque (eq. 10) in dtc_out_t, so that the flux
+ * when configured, and gives psi_alpha/beta and the torque (Hoang eq. 10) in dtc_out_t, so that the flux
  * the estimator sees under ITC can be set beside the one under DTC (Hoang Figs. 5-8). The drop
  * compensation of a PWM period is the duty-weighted mean of the tables' per-state values
  * (itc_vcomp).

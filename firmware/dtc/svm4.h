@@ -33,7 +33,7 @@
  * is commanded d + sgn(i) T_d/T_s; d_eff_iq is the duty the leg is expected to produce (the
  * command less the dead time's loss), d_eff_iq[0] = m. Phase A has no devices and no dead time,
  * so an uncompensated dead time is an error on two phases of three: an unbalanced disturbance
- * (SIL, Table VIII at 1500 rpm: 2 points of current imbalance).
+ * (SIL, Hoang Table VIII at 1500 rpm: 2 points of current imbalance).
  *
  * Formats: voltages IQ pu; duties IQ in [0, IQ(1)].
  * Scaling and overflow: 1/V_dc by Newton steps (svm_recip, relative 2^-24); v/V_dc rounded and

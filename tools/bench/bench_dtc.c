@@ -18,7 +18,7 @@
  * the SVM with dead-time compensation) in the same conditions, at its 160 us period; `bench_dtc N
  * dfoc`: the rotor-flux-oriented control (im_dfoc_step, two-phase SVM), the same.
  * `bench_dtc N itc`: the PM indirect torque control (itc_step: rotor-frame current PI, FSTP SVM
- * with the measured mid-point and its regulation, the voltage-model observer with the Table VI
+ * with the measured mid-point and its regulation, the voltage-model observer with Hoang's Table VI
  * compensation) on the defaults' FSTP, 50 us, against the same PM machine fed by the mean voltage
  * of the duties (vrec of the effective duties on the 1 pu link).
  */
@@ -53,7 +53,7 @@ __attribute__((noinline)) void bench_step_tick(dtc_t *c, const dtc_meas_t *m, dt
 
 static iq_t to_iq(double x) { return (iq_t)lrint(x * 16777216.0); }
 
-/* The PM rig of the benches: the defaults' SI configuration (FSTP, voltage model, Table VI
+/* The PM rig of the benches: the defaults' SI configuration (FSTP, voltage model, Hoang Table VI
  * compensation, speed mode) for the law, converted; the double-precision PM machine at 1450 rpm. */
 static int pm_rig(int law, dtc_config_si_t *si, dtc_config_t *cfg, dtc_bases_t *b, dtc_ref_pm_t *m, double *w_mech)
 {
