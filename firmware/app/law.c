@@ -7,9 +7,9 @@
 #include "hal.h"
 #include "svm.h"
 
-/* The laws linked into this image (dtc_config.h: DTC_LAW_PM_LINKED, DTC_LAW_IM_LINKED from
- * DTC_LAWS): every law on the host and in SIL; one on the F2812, whose zero-wait RAM does not
- * hold both (hal/f2812/budget.sh). Only their tables exist below; a configuration of a law that
+/* The laws linked into this image (dtc_config.h: DTC_LAW_PM_LINKED, DTC_LAW_IM_LINKED,
+ * DTC_LAW_ITC_LINKED, from DTC_LAWS): every law on the host and in SIL; one on the F2812, whose
+ * zero-wait RAM does not hold both (hal/f2812/budget.sh). Only their tables exist below; a configuration of a law that
  * is not linked never gets past law_init (DTC_ERR_VARIANT). */
 
 /* The dispatch: one switch on the law chosen at init per call (DESIGN.md section 4: a variant
@@ -41,6 +41,9 @@ int16_t law_init(law_t *l, const dtc_config_t *cfg)
     case DTC_LAW_IM_DFOC:
     case DTC_LAW_IM_DSVM: err = im_dtc_init(&l->u.im, cfg); break;
 #endif
+#if DTC_LAW_ITC_LINKED
+    case DTC_LAW_PM_ITC: err = itc_init(&l->u.itc, cfg); break;
+#endif
     default: err = none_init(cfg); break;
     }
     l->law = err == DTC_OK ? cfg->law : (uint16_t)LAW_NONE;
@@ -60,6 +63,9 @@ void law_reset(law_t *l)
     case DTC_LAW_IM_DFOC:
     case DTC_LAW_IM_DSVM: im_dtc_reset(&l->u.im); break;
 #endif
+#if DTC_LAW_ITC_LINKED
+    case DTC_LAW_PM_ITC: itc_reset(&l->u.itc); break;
+#endif
     default: break;
     }
 }
@@ -76,6 +82,9 @@ void law_step(law_t *l, const dtc_meas_t *m, dtc_out_t *o)
     case DTC_LAW_IM_SFVC: im_sfvc_step(&l->u.im, m, o); break;
     case DTC_LAW_IM_DFOC: im_dfoc_step(&l->u.im, m, o); break;
     case DTC_LAW_IM_DSVM: im_dsvm_step(&l->u.im, m, o); break;
+#endif
+#if DTC_LAW_ITC_LINKED
+    case DTC_LAW_PM_ITC: itc_step(&l->u.itc, m, o); break;
 #endif
     default: break;
     }
@@ -94,6 +103,9 @@ int16_t law_shadow_write(law_t *l, const dtc_refs_t *r)
     case DTC_LAW_IM_DFOC:
     case DTC_LAW_IM_DSVM: return im_dtc_shadow_write(&l->u.im, r);
 #endif
+#if DTC_LAW_ITC_LINKED
+    case DTC_LAW_PM_ITC: return itc_shadow_write(&l->u.itc, r);
+#endif
     default: (void)r; return DTC_ERR_VARIANT;
     }
 }
@@ -110,6 +122,9 @@ void law_refs_get(const law_t *l, dtc_refs_t *r)
     case DTC_LAW_IM_SFVC:
     case DTC_LAW_IM_DFOC:
     case DTC_LAW_IM_DSVM: im_dtc_refs_get(&l->u.im, r); break;
+#endif
+#if DTC_LAW_ITC_LINKED
+    case DTC_LAW_PM_ITC: itc_refs_get(&l->u.itc, r); break;
 #endif
     default: (void)r; break;
     }
@@ -144,6 +159,9 @@ iq_t law_speed_ref(const law_t *l)
     case DTC_LAW_IM_DFOC:
     case DTC_LAW_IM_DSVM: return l->u.im.act.speed_ref_iq;
 #endif
+#if DTC_LAW_ITC_LINKED
+    case DTC_LAW_PM_ITC: return l->u.itc.act.speed_ref_iq;
+#endif
     default: return 0;
     }
 }
@@ -152,7 +170,8 @@ uint16_t law_out_form(const law_t *l)
 {
     switch (l->law) {
     case DTC_LAW_IM_SFVC:
-    case DTC_LAW_IM_DFOC: return LAW_OUT_DUTY;
+    case DTC_LAW_IM_DFOC:
+    case DTC_LAW_PM_ITC: return LAW_OUT_DUTY;
     case DTC_LAW_IM_DSVM: return LAW_OUT_THIRDS;
     default: return LAW_OUT_LEGS;
     }

@@ -9,6 +9,7 @@
  *   DTC_LAW_IM_SFVC  stator-flux vector control with SVM (10.3-10.5)      im_sfvc.c
  *   DTC_LAW_IM_DFOC  rotor-flux-oriented control (section 13)             im_dfoc.c
  *   DTC_LAW_IM_DSVM  DTC with discrete SVM (section 11)                   im_dsvm.c
+ *   DTC_LAW_PM_ITC   PM indirect torque control (Hoang Figs. 5-8 (a))     firmware/dtc/itc.h
  *
  * Every law has the same shape: a check of its configuration part (error codes naming the field),
  * init, reset, step, shadow write, refs get, and the form of its command (enum law_out_form),
@@ -16,7 +17,8 @@
  * (DESIGN.md section 4: at most a switch in the ISR path, no function pointers there). The laws share the
  * measurement and output structs (law_io.h) and the reference set (dtc_refs.h). Their states share storage (a union): only the configured one is used. Only
  * the laws linked into the image (firmware/CMakeLists.txt DTC_LAWS: DTC_LAW_PM_LINKED,
- * DTC_LAW_IM_LINKED) exist here; a configuration of another is refused with DTC_ERR_VARIANT.
+ * DTC_LAW_IM_LINKED, DTC_LAW_ITC_LINKED) exist here; a configuration of another is refused with
+ * DTC_ERR_VARIANT.
  *
  * Adding a law: its value in enum dtc_law, its configuration part (a header like pm_dtc_cfg.h)
  * in dtc_config_t.u, its module with the functions above, its case in each switch of law.c; on
@@ -36,6 +38,9 @@
 #if DTC_LAW_IM_LINKED
 #include "im_dtc.h"
 #endif
+#if DTC_LAW_ITC_LINKED
+#include "itc.h"
+#endif
 
 typedef struct {
     uint16_t law;          /* enum dtc_law, from the configuration once law_init accepted it
@@ -46,6 +51,9 @@ typedef struct {
 #endif
 #if DTC_LAW_IM_LINKED
         im_dtc_t im;
+#endif
+#if DTC_LAW_ITC_LINKED
+        itc_t itc;
 #endif
     } u;
 } law_t;

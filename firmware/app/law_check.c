@@ -26,6 +26,10 @@ int16_t law_check(const dtc_config_t *cfg, const char **field)
     case DTC_LAW_IM_DSVM:
         return im_dtc_check(cfg, f);
 #endif
+#if DTC_LAW_ITC_LINKED
+    case DTC_LAW_PM_ITC:
+        return itc_check(cfg, f);
+#endif
     default:
         break;
     }

@@ -30,15 +30,7 @@ int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg)
     }
     c->cfg = cfg;
 
-    c->fe_p.estimator = cfg->est.estimator;
-    c->fe_p.k_in_q31 = cfg->est.k_in_q31;
-    c->fe_p.k_leak_q31 = cfg->est.k_leak_q31;
-    c->fe_p.rs_iq = cfg->machine.rs_iq;
-    c->fe_p.ls_iq = cfg->u.pm_dtc.machine.ls_iq;
-    c->fe_p.psi_m_iq = cfg->u.pm_dtc.machine.psi_m_iq;
-    c->fe_p.enc_gain_q16 = cfg->board.enc_gain_q16;
-    c->fe_p.enc_offset = cfg->board.enc_offset;
-    vcomp_init(&c->vc_p, cfg->est.compensation, cfg->board.v_f_iq, cfg->board.v_ce_iq, cfg->board.v_d_iq, cfg->board.r_on_iq);
+    dtc_pm_est_params_from_config(&c->fe_p, &c->vc_p, cfg, &cfg->u.pm_dtc.machine);
     dtc_block_params(c, cfg);
     dtc_speed_params_from_config(&c->sm_p, &c->pi_p, cfg);
 

@@ -11,7 +11,7 @@
  * corrupted or hand-edited struct is refused with a code from enum dtc_err.
  *
  * The laws' parts exist only for the laws linked into the image (DTC_LAW_PM_LINKED,
- * DTC_LAW_IM_LINKED from DTC_LAWS, firmware/CMakeLists.txt; both when not defined): a PM image
+ * DTC_LAW_IM_LINKED, DTC_LAW_ITC_LINKED from DTC_LAWS, firmware/CMakeLists.txt; all when not defined): a PM image
  * carries no IM field and the reverse. The union is the struct's last member, so each law's part
  * sits at the same offset whichever laws a translation unit sees, and a law's code reads its part
  * only after law.c has checked that the configuration is that law's and that the law is linked.
@@ -24,6 +24,7 @@
 #include "dtc_config_common.h"
 #include "im_cfg.h"
 #include "pm_dtc_cfg.h"
+#include "pm_itc_cfg.h"
 
 #ifndef DTC_LAW_PM_LINKED
 #define DTC_LAW_PM_LINKED 1
@@ -31,7 +32,10 @@
 #ifndef DTC_LAW_IM_LINKED
 #define DTC_LAW_IM_LINKED 1
 #endif
-#if !DTC_LAW_PM_LINKED && !DTC_LAW_IM_LINKED
+#ifndef DTC_LAW_ITC_LINKED
+#define DTC_LAW_ITC_LINKED 1
+#endif
+#if !DTC_LAW_PM_LINKED && !DTC_LAW_IM_LINKED && !DTC_LAW_ITC_LINKED
 #error "DTC_LAWS links no control law"
 #endif
 
@@ -49,6 +53,9 @@ struct dtc_config {
 #endif
 #if DTC_LAW_IM_LINKED
         dtc_im_cfg_t im;         /* DTC_LAW_IM_DTC .. DTC_LAW_IM_DSVM */
+#endif
+#if DTC_LAW_ITC_LINKED
+        dtc_pm_itc_cfg_t pm_itc; /* DTC_LAW_PM_ITC */
 #endif
     } u;
 };

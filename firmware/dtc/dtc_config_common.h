@@ -34,8 +34,9 @@ enum dtc_law {
                           * rotor-flux frame, SVM (Casadei section 13; im_dfoc.c; u.im) */
     DTC_LAW_IM_DSVM = 5, /* IM: DTC with Discrete Space Vector Modulation, three equal
                           * sub-intervals per period (Casadei section 11; dsvm.h, im_dsvm.c; u.im) */
-    DTC_LAW_COUNT = 6    /* the next value, 6, is reserved for DTC_LAW_PM_ITC (Hoang's indirect
-                          * torque control, Figs. 5-8 (a)) */
+    DTC_LAW_PM_ITC = 6,  /* PM machine: indirect torque control, the current-controlled drive Hoang
+                          * et al. set beside DTC (Figs. 5-8 (a)); itc.h; u.pm_itc */
+    DTC_LAW_COUNT = 7
 };
 
 /* The tag each law's part of the configuration (dtc_config_t.u) starts with: the law's check
@@ -43,6 +44,7 @@ enum dtc_law {
  * written for another law (or not at all) never reaches the law. Arbitrary constants, none 0. */
 #define DTC_PART_PM_DTC 0x5044U /* "PD": dtc_pm_dtc_cfg_t */
 #define DTC_PART_IM 0x494DU     /* "IM": dtc_im_cfg_t */
+#define DTC_PART_PM_ITC 0x5049U /* "PI": dtc_pm_itc_cfg_t */
 
 /* 1 for the induction-machine laws (their part is u.im). */
 static inline uint16_t dtc_law_is_im(uint16_t law)
@@ -116,9 +118,11 @@ enum dtc_err {
     DTC_ERR_ILIM = -21,        /* current limit or rotor-hold current < 0 or not below the trip level */
     DTC_ERR_POLARITY = -22,    /* polarity_mid or vmid_cal flag not 0/1 */
     DTC_ERR_LPFCOMP = -23,     /* lpf_comp not 0/1, or w_c / w_min not > 0 with it on */
-    DTC_ERR_DCSUPP = -24,      /* dc_supp not 0/1, its gain not > 0 with it on, mid-point gains < 0 */
+    DTC_ERR_DCSUPP = -24,      /* dc_supp not 0/1, its gain not > 0 with it on, mid-point gains < 0
+                                * (ITC: the mid-point filter gain not in (0, 1) with its gain on) */
     DTC_ERR_SVM = -25,         /* SFVC / DFOC: modulation out of range, flux-regulator gain K_p
-                                * not in (0, 1/Ts], DFOC current-loop gains or references not > 0 */
+                                * not in (0, 1/Ts], DFOC current-loop gains or references not > 0;
+                                * ITC: current-regulator gains or 1/psi_m not > 0 */
     DTC_ERR_FAULTDET = -26,    /* fault detection: a level < 0, the current-sum check without
                                 * three current sensors */
     DTC_ERR_RECONFIG = -27,    /* post-fault configuration (app_core_set_reconfig) not the FSTP

@@ -15,8 +15,10 @@
 
 #include "dtc_config.h"
 #include "fixmath.h"
+#include "flux_est.h"
 #include "speed_meas.h"
 #include "speed_pi.h"
+#include "vcomp.h"
 
 /* The background-changeable parameter set. */
 typedef struct {
@@ -97,5 +99,10 @@ static inline void dtc_refs_adopt(dtc_refs_t *act, speed_pi_params_t *pi_p, spee
 /* Every law: the speed measurement's and the speed PI's parameters from the configuration. */
 void dtc_speed_params_from_config(speed_meas_params_t *sm_p, speed_pi_params_t *pi_p,
                                   const dtc_config_t *cfg);
+
+/* The PM laws (DTC, ITC): the stator-flux estimator's and the drop compensation's parameters from
+ * the common part of cfg and the law's machine model mach (its part's l_s and psi_m). */
+void dtc_pm_est_params_from_config(flux_est_params_t *fe_p, vcomp_params_t *vc_p, const dtc_config_t *cfg,
+                                   const dtc_pm_machine_cfg_t *mach);
 
 #endif /* DTC_REFS_H */

@@ -122,13 +122,7 @@ static inline void im_pwm_out(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, iq
     for (x = 0U; x < 3U; x++) {
         o->duty_iq[x] = c->svm_o.d_iq[x];
     }
-    o->sa = 0U; /* the PWM form carries the command (duty_iq) */
-    o->sb = 0U;
-    o->sc = 0U;
-    o->vector = 0U;
-    o->sector = 0U;
-    o->flux_up = 0U;
-    o->torque_dem = 0;
+    law_out_duty_only(o); /* the PWM form carries the command (duty_iq) */
     im_out_report(c, o, te);
 }
 

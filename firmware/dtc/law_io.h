@@ -56,4 +56,17 @@ typedef struct {
     uint16_t thirds[3];    /* THIRDS: legs A, B, C, bit 2 = first third, 1 = upper on */
 } dtc_out_t;
 
+/* The duty-form laws (SVM: IM SFVC, DFOC; PM ITC): the table laws' fields of o at 0 (leg states,
+ * vector, sector, comparator outputs); the command is duty_iq. */
+static inline void law_out_duty_only(dtc_out_t *o)
+{
+    o->sa = 0U;
+    o->sb = 0U;
+    o->sc = 0U;
+    o->vector = 0U;
+    o->sector = 0U;
+    o->flux_up = 0U;
+    o->torque_dem = 0;
+}
+
 #endif /* LAW_IO_H */

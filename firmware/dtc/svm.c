@@ -41,19 +41,6 @@ iq_t svm_recip_slow(iq_t y, iq_t x, iq_t e)
     return iq_recip_newton(y, x);
 }
 
-/* Dead time of one leg (svm.h): the command and the expected effective duty. d in [0, 1], td in
- * [0, 1/2): the sums stay within (-1/2, 3/2), no overflow. */
-static void svm_leg_dt(uint16_t comp, iq_t d, iq_t i, iq_t td, iq_t *d_cmd, iq_t *d_eff)
-{
-    const iq_t sgn_td = i > 0 ? td : (i < 0 ? -td : 0);
-    iq_t c = d;
-    if (comp != 0U && d > 0 && d < SVM_ONE_IQ) {
-        c = fix_clamp32(d + sgn_td, 0, SVM_ONE_IQ);
-    }
-    *d_cmd = c;
-    *d_eff = (c > 0 && c < SVM_ONE_IQ) ? c - sgn_td : c;
-}
-
 void svm_step(svm_t *s, const svm_params_t *p, iq_t v_alpha_iq, iq_t v_beta_iq, iq_t vdc_iq,
               const clarke_out_t *i, svm_out_t *o)
 {

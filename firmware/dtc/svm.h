@@ -92,6 +92,21 @@ void svm_step(svm_t *s, const svm_params_t *p, iq_t v_alpha_iq, iq_t v_beta_iq, 
 
 #define SVM_ONE_IQ ((iq_t)1 << FIX_IQ_Q)
 
+/* Dead time of one leg (the rule above, shared with svm4.h): the command *d_cmd and the duty the
+ * leg is expected to produce *d_eff for the duty d, the leg's current i and td = T_d/T_s; comp = 0
+ * leaves the command at d. d in [0, 1], td in [0, 1/2): the sums stay within (-1/2, 3/2), no
+ * overflow. */
+static inline void svm_leg_dt(uint16_t comp, iq_t d, iq_t i, iq_t td, iq_t *d_cmd, iq_t *d_eff)
+{
+    const iq_t sgn_td = i > 0 ? td : (i < 0 ? -td : 0);
+    iq_t c = d;
+    if (comp != 0U && d > 0 && d < SVM_ONE_IQ) {
+        c = fix_clamp32(d + sgn_td, 0, SVM_ONE_IQ);
+    }
+    *d_cmd = c;
+    *d_eff = (c > 0 && c < SVM_ONE_IQ) ? c - sgn_td : c;
+}
+
 iq_t svm_recip_slow(iq_t y, iq_t x, iq_t e);
 
 /* 1/x for x > 0 (IQ) by Newton steps from the caller's previous y: with e = 1 - x y, one step

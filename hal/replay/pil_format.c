@@ -66,13 +66,19 @@ static void field_set(void *f, uint16_t size, uint32_t bits)
 #define PIL_CONFIG_PM_DTC                                                                         \
     DTC_CONFIG_PM_DTC_FIELDS(PIL_CFG_NOP, PIL_CFG_ONE, PIL_CFG_ONE, PIL_CFG_ONE, PIL_CFG_ONE,      \
                              PIL_CFG_ARR3, PIL_CFG_NOP)
+#define PIL_CONFIG_PM_ITC                                                                         \
+    DTC_CONFIG_PM_ITC_FIELDS(PIL_CFG_NOP, PIL_CFG_ONE, PIL_CFG_ONE, PIL_CFG_ONE, PIL_CFG_ONE,      \
+                             PIL_CFG_ARR3, PIL_CFG_NOP)
 #define PIL_CONFIG_IM                                                                             \
     DTC_CONFIG_IM_FIELDS(PIL_CFG_NOP, PIL_CFG_ONE, PIL_CFG_ONE, PIL_CFG_ONE, PIL_CFG_ONE,          \
                          PIL_CFG_ARR3, PIL_CFG_NOP)
 
 /* Numbers of fields of the lists. */
 #define F(x) +1
-enum { PIL_N_COMMON = 0 PIL_CONFIG_COMMON, PIL_N_PM_DTC = 0 PIL_CONFIG_PM_DTC, PIL_N_IM = 0 PIL_CONFIG_IM };
+enum { PIL_N_COMMON = 0 PIL_CONFIG_COMMON, PIL_N_PM_DTC = 0 PIL_CONFIG_PM_DTC, PIL_N_IM = 0 PIL_CONFIG_IM,
+       PIL_N_PM_ITC = 0 PIL_CONFIG_PM_ITC };
+/* the ITC's part is shorter than the IM laws': the blob's length does not depend on it */
+typedef char pil_itc_fits[PIL_N_PM_ITC <= PIL_N_IM ? 1 : -1];
 #undef F
 
 uint16_t pil_config_fields(void)
@@ -89,6 +95,11 @@ void pil_config_encode(const dtc_config_t *c, uint8_t *blob)
     if (dtc_law_is_im(c->law) != 0U) {
         PIL_CONFIG_IM
         n = (uint16_t)(n + PIL_N_IM);
+#if DTC_LAW_ITC_LINKED
+    } else if (c->law == DTC_LAW_PM_ITC) {
+        PIL_CONFIG_PM_ITC
+        n = (uint16_t)(n + PIL_N_PM_ITC);
+#endif
     } else {
         PIL_CONFIG_PM_DTC
         n = (uint16_t)(n + PIL_N_PM_DTC);
@@ -106,6 +117,10 @@ void pil_config_decode(const uint8_t *blob, dtc_config_t *c)
     PIL_CONFIG_COMMON
     if (dtc_law_is_im(c->law) != 0U) {
         PIL_CONFIG_IM
+#if DTC_LAW_ITC_LINKED
+    } else if (c->law == DTC_LAW_PM_ITC) {
+        PIL_CONFIG_PM_ITC
+#endif
     } else {
         PIL_CONFIG_PM_DTC
     }

@@ -187,6 +187,9 @@ static void base_config(rd_t *r, dtc_config_t *cfg, dtc_config_t *post, uint16_t
             si.cal_hold = si.vmid_cal != 0 ? (b0 >> 7) & 1 : 0;
         }
         si.delay_comp = b1 & 1;
+        if ((b1 & 2U) != 0U && !((b5 & 4U) != 0U && si.topology == DTC_TOPO_SSTP)) {
+            si.law = DTC_LAW_PM_ITC; /* the indirect torque control (itc.h); no reconfiguration */
+        }
         si.handover_auto = (b1 >> 3) & 1;
         si.handover_speed_rpm = si.handover_auto != 0 ? 0.0 : ((b1 >> 4) & 1) * 300.0;
     }
@@ -358,7 +361,8 @@ static void background(fuzz_t *z, rd_t *r, uint8_t op)
 
 static int law_is_pwm(const dtc_config_t *c)
 {
-    return c->law == DTC_LAW_IM_SFVC || c->law == DTC_LAW_IM_DFOC || c->law == DTC_LAW_IM_DSVM;
+    return c->law == DTC_LAW_IM_SFVC || c->law == DTC_LAW_IM_DFOC || c->law == DTC_LAW_IM_DSVM ||
+           c->law == DTC_LAW_PM_ITC;
 }
 
 static void check_status(const fuzz_t *z)
@@ -536,7 +540,7 @@ static void check_command(const fuzz_t *z, uint16_t off, const hal_cmd_t *cmd, u
         }
         return;
     }
-    if (z->cfg.board.topology == DTC_TOPO_FSTP) {
+    if (z->cfg.board.topology == DTC_TOPO_FSTP && !law_is_pwm(&z->cfg)) {
         /* Hoang Table II: V_1..V_4 on legs B and C; leg A is the mid-point */
         FUZZ_CHECK(cmd->form == HAL_CMD_LEGS && cmd->sa == 0U, "FSTP command uses leg A or PWM");
         FUZZ_CHECK(s->out.vector >= 1U && s->out.vector <= 4U, "FSTP vector %u", s->out.vector);
@@ -550,7 +554,7 @@ static void check_command(const fuzz_t *z, uint16_t off, const hal_cmd_t *cmd, u
     } else {
         FUZZ_CHECK(cmd->form == HAL_CMD_PWM, "SVM law wrote leg states");
         FUZZ_CHECK(cmd->sa == 0U && cmd->sb == 0U && cmd->sc == 0U, "SVM law with leg states");
-        check_pwm_duty(z, cmd);
+        check_pwm_duty(z, cmd); /* FSTP (ITC): leg A's compare value is the mid-point's, ignored (hal.h) */
         if (z->cfg.law == DTC_LAW_IM_DSVM) {
             FUZZ_CHECK(s->out.vector <= 36U, "DSVM code %u", s->out.vector);
             FUZZ_CHECK(s->out.sector >= 1U && s->out.sector <= 6U, "DSVM sector %u", s->out.sector);
@@ -567,7 +571,7 @@ static void check_command(const fuzz_t *z, uint16_t off, const hal_cmd_t *cmd, u
 
 /* With FUZZ_APP_STATS set in the environment the harness prints at exit how many steps each
  * state and, in RUN, each law variant received (which parts of the ISR the inputs reach). */
-static uint64_t stat_state[4], stat_run[2][2][5], stat_inputs, stat_refused, stat_reconf_run;
+static uint64_t stat_state[4], stat_run[2][2][5], stat_itc_run[2], stat_inputs, stat_refused, stat_reconf_run;
 
 static void stats_print(void)
 {
@@ -583,6 +587,8 @@ static void stats_print(void)
     for (k = 0U; k < 5U; k++) {
         fprintf(stderr, "fuzz_app_core: RUN steps IM %s %llu\n", scheme[k], (unsigned long long)stat_run[1][0][k]);
     }
+    fprintf(stderr, "fuzz_app_core: RUN steps PM ITC sstp %llu, fstp %llu\n", (unsigned long long)stat_itc_run[0],
+            (unsigned long long)stat_itc_run[1]);
     fprintf(stderr, "fuzz_app_core: RUN steps PM reconfigured (post-fault FSTP) %llu\n",
             (unsigned long long)stat_reconf_run);
 }
@@ -601,7 +607,9 @@ static void stats_step(const fuzz_t *z)
     }
     stat_state[z->app.st.state & 3U]++;
     stat_reconf_run += z->app.st.state == APP_STATE_RUN && z->app.st.reconfigured != 0U;
-    if (z->app.st.state == APP_STATE_RUN) {
+    if (z->app.st.state == APP_STATE_RUN && z->cfg.law == (uint16_t)DTC_LAW_PM_ITC) {
+        stat_itc_run[z->cfg.board.topology & 1U]++;
+    } else if (z->app.st.state == APP_STATE_RUN) {
         stat_run[dtc_law_is_im(z->cfg.law)][z->cfg.board.topology & 1U][dtc_law_is_im(z->cfg.law) != 0U ? (z->cfg.law - DTC_LAW_IM_DTC) % 5U : 0U]++;
     }
 }

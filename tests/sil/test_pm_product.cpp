@@ -11,29 +11,17 @@
 
 #include "run.hpp"
 #include "scenario.hpp"
+#include "scenario_outcome.hpp"
 
 using namespace sil;
 
 namespace {
 
-const std::string kScenarios = std::string(DTC_SOURCE_DIR) + "/tools/scenarios/";
-
-struct Outcome {
-    Metrics m;
-    RunInfo info;
-    Series series;
-};
+using sil_test::Outcome;
 
 Outcome run(const std::string& file, const std::vector<std::string>& sets = {})
 {
-    Scenario sc;
-    Diagnostics d;
-    EXPECT_TRUE(load_scenario(kScenarios + file, sets, &sc, &d)) << d.text();
-    RunOptions opt;
-    RunResult r;
-    std::string err;
-    EXPECT_TRUE(run_scenario(sc, opt, &r, &err)) << err;
-    return Outcome{r.metrics, r.info, r.series};
+    return sil_test::run_shipped(file, sets);
 }
 
 // Speed held within tol over the metrics window (instantaneous samples of the last 0.4 s).
@@ -163,7 +151,7 @@ TEST(PmProduct, NegativeHandOverSpeedIsRefusedNamingTheKey)
 {
     Scenario sc;
     Diagnostics d;
-    EXPECT_FALSE(load_scenario(kScenarios + "fstp_voltage_proposed_full.toml", {"control.handover_rpm=-1"}, &sc, &d));
+    EXPECT_FALSE(load_scenario(sil_test::scenarios_dir() + "fstp_voltage_proposed_full.toml", {"control.handover_rpm=-1"}, &sc, &d));
     EXPECT_NE(d.text().find("control.handover_rpm"), std::string::npos) << d.text();
 }
 
@@ -197,7 +185,7 @@ TEST(PmProduct, FirmwareParametersAreSetApartFromThePlantsByKeys)
     // A negative resistance is refused, naming the key.
     Scenario sc;
     Diagnostics d;
-    EXPECT_FALSE(load_scenario(kScenarios + "fstp_voltage_proposed_full.toml", {"firmware.rs_ohm=-0.1"}, &sc, &d));
+    EXPECT_FALSE(load_scenario(sil_test::scenarios_dir() + "fstp_voltage_proposed_full.toml", {"firmware.rs_ohm=-0.1"}, &sc, &d));
     EXPECT_NE(d.text().find("firmware.rs_ohm"), std::string::npos) << d.text();
 }
 
@@ -416,11 +404,11 @@ TEST(PmProduct, BadCurrentLimitIsRefusedNamingTheKey)
 {
     Scenario sc;
     Diagnostics d;
-    EXPECT_FALSE(load_scenario(kScenarios + "fstp_voltage_proposed_full.toml", {"control.current_limit_a=-1"}, &sc, &d));
+    EXPECT_FALSE(load_scenario(sil_test::scenarios_dir() + "fstp_voltage_proposed_full.toml", {"control.current_limit_a=-1"}, &sc, &d));
     EXPECT_NE(d.text().find("control.current_limit_a"), std::string::npos) << d.text();
     // at or above the trip: refused by the converter, naming the key
     Diagnostics d2;
-    ASSERT_TRUE(load_scenario(kScenarios + "fstp_voltage_proposed_full.toml", {"control.current_limit_a=6"}, &sc, &d2))
+    ASSERT_TRUE(load_scenario(sil_test::scenarios_dir() + "fstp_voltage_proposed_full.toml", {"control.current_limit_a=6"}, &sc, &d2))
         << d2.text();
     RunOptions opt;
     RunResult r;

@@ -406,8 +406,9 @@ TEST(Scenario, ShippedScenariosAreValid)
             EXPECT_NEAR(total, expect, 1e-4) << f;
         }
     }
-    EXPECT_EQ(n, 20); // 15 paper operating points, the mid-point study, the open-loop example, the IM
-                      // start (open loop), the IM drive, the second IM
+    EXPECT_EQ(n, 22); // 15 paper operating points, the mid-point study, the open-loop example, the IM
+                      // start (open loop), the IM drive, the second IM, the PM indirect torque control
+                      // on both inverters
 }
 
 TEST(Scenario, FuzzedTomlAndSetNeverCrashOrHang)
@@ -572,7 +573,9 @@ TEST(Scenario, ImLawKeysSelectTheImLawAndAreRefusedByName)
     const std::string pm = "duration_s = 0.1\n[control]\n";
     expect_error(pm + "estimator = \"improved\"\n", "control.estimator", 3, "induction machine");
     expect_error(pm + "table = \"speed-dependent\"\n", "control.table", 3, "induction-machine table");
-    expect_error(pm + "scheme = \"dsc\"\n", "control.scheme", 3, "not a setting of the PM drive");
+    expect_error(pm + "scheme = \"dsc\"\n", "control.scheme", 3, "is an induction-machine scheme");
+    // and the PM machine's indirect torque control for the IM
+    expect_error(im + "scheme = \"itc\"\n", "control.scheme", 7, "PM machine's indirect torque control");
     expect_error(pm + "rotor_flux_ref_wb = 0.5\n", "control.rotor_flux_ref_wb", 3, "not a setting of the PM");
     expect_error("duration_s = 0.1\n[firmware]\nrr_ohm = 0.5\n", "firmware.rr_ohm", 3, "not a setting of the PM");
 }

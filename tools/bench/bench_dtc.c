@@ -17,6 +17,10 @@
  * `bench_dtc N sfvc`: the IM law's stator-flux vector control (im_sfvc_step: Casadei eqs. 18, 23, 24 and
  * the SVM with dead-time compensation) in the same conditions, at its 160 us period; `bench_dtc N
  * dfoc`: the rotor-flux-oriented control (im_dfoc_step, two-phase SVM), the same.
+ * `bench_dtc N itc`: the PM indirect torque control (itc_step: rotor-frame current PI, FSTP SVM
+ * with the measured mid-point and its regulation, the voltage-model observer with Hoang's Table VI
+ * compensation) on the defaults' FSTP, 50 us, against the same PM machine fed by the mean voltage
+ * of the duties (vrec of the effective duties on the 1 pu link).
  */
 #include <math.h>
 #include <stdio.h>
@@ -25,6 +29,8 @@
 
 #include "dtc.h"
 #include "im_dtc.h"
+#include "itc.h"
+#include "vrec.h"
 #include "dtc_config_si.h"
 #include "dtc_ref.h"
 
@@ -46,6 +52,95 @@ __attribute__((noinline)) void bench_step_tick(dtc_t *c, const dtc_meas_t *m, dt
 }
 
 static iq_t to_iq(double x) { return (iq_t)lrint(x * 16777216.0); }
+
+/* The PM rig of the benches: the defaults' SI configuration (FSTP, voltage model, Hoang Table VI
+ * compensation, speed mode) for the law, converted; the double-precision PM machine at 1450 rpm. */
+static int pm_rig(int law, dtc_config_si_t *si, dtc_config_t *cfg, dtc_bases_t *b, dtc_ref_pm_t *m, double *w_mech)
+{
+    char msg[256];
+    dtc_config_si_defaults(si);
+    si->law = law;
+    if (dtc_config_from_si(si, cfg, msg, sizeof msg) != DTC_SI_OK) {
+        fprintf(stderr, "bench: %s\n", msg);
+        return 1;
+    }
+    dtc_bases_from_si(si, b);
+    *w_mech = 1450.0 * M_PI / 30.0;
+    dtc_ref_pm_init(m, si->rs_ohm / b->z_base_ohm, si->ls_h / b->l_base_h, si->psi_m_wb / b->psi_base_wb,
+                    *w_mech / b->w_base_rad_s, 0.0, 0.0, 0.0);
+    return 0;
+}
+
+/* The measurements of one period from the PM machine: its currents (ia, ib: alpha/beta, pu), the
+ * phase currents, a 1 pu link at its mid-point, the 8000-count encoder. */
+static void pm_meas(const dtc_ref_pm_t *m, dtc_meas_t *me, double *ia, double *ib)
+{
+    dtc_ref_pm_currents(m, ia, ib);
+    me->ia_iq = to_iq(*ia);
+    me->ib_iq = to_iq(-0.5 * *ia + 0.5 * sqrt(3.0) * *ib);
+    me->ic_iq = to_iq(-0.5 * *ia - 0.5 * sqrt(3.0) * *ib);
+    me->vdc_iq = to_iq(1.0);
+    me->vmid_iq = to_iq(0.5);
+    {
+        const double cnt = fmod(floor(m->theta / (2.0 * M_PI) * 8000.0), 8000.0);
+        me->enc_count = (uint16_t)(cnt < 0 ? cnt + 8000.0 : cnt);
+    }
+}
+
+__attribute__((noinline)) void bench_itc_normal(itc_t *c, const dtc_meas_t *m, dtc_out_t *o);
+__attribute__((noinline)) void bench_itc_tick(itc_t *c, const dtc_meas_t *m, dtc_out_t *o);
+
+__attribute__((noinline)) void bench_itc_normal(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
+{
+    itc_step(c, m, o);
+}
+
+__attribute__((noinline)) void bench_itc_tick(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
+{
+    itc_step(c, m, o);
+}
+
+/* The PM ITC in closed loop (see the header comment). */
+static int run_itc(long n)
+{
+    dtc_config_si_t si;
+    dtc_config_t cfg;
+    dtc_bases_t b;
+    itc_t c;
+    dtc_out_t o;
+    dtc_ref_pm_t m;
+    long n_tick = 0, n_norm = 0;
+    double va = 0.0, vb = 0.0;
+    double w_mech;
+    if (pm_rig(DTC_LAW_PM_ITC, &si, &cfg, &b, &m, &w_mech) != 0 || itc_init(&c, &cfg) != DTC_OK) {
+        return 1;
+    }
+    const double tspu = si.ts_s * b.w_base_rad_s;
+    for (long k = 0; k < n; k++) {
+        dtc_meas_t me;
+        double ia, ib;
+        iq_t a, bb;
+        pm_meas(&m, &me, &ia, &ib);
+        if (c.speed_primed != 0U && c.div_cnt == 0U) {
+            bench_itc_tick(&c, &me, &o);
+            n_tick++;
+        } else {
+            bench_itc_normal(&c, &me, &o);
+            n_norm++;
+        }
+        /* the machine gets the mean voltage of the previous step's duties (one period's delay) */
+        dtc_ref_pm_step(&m, va, vb, tspu, 2);
+        vrec_from_legs(c.svm_o.d_eff_iq[0], c.svm_o.d_eff_iq[1], c.svm_o.d_eff_iq[2], &a, &bb);
+        va = (double)a / 16777216.0;
+        vb = (double)bb / 16777216.0;
+        double t_nm = dtc_ref_pm_torque(&m) * b.t_base_nm;
+        w_mech += (t_nm - 0.1) / si.inertia_kgm2 * si.ts_s;
+        m.w = w_mech / b.w_base_rad_s;
+    }
+    printf("calls normal %ld tick %ld\n", n_norm, n_tick);
+    printf("final speed %.1f rpm (ref 1500)\n", w_mech * 30.0 / M_PI);
+    return 0;
+}
 
 __attribute__((noinline)) void bench_im_normal(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
 __attribute__((noinline)) void bench_im_tick(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
@@ -246,40 +341,27 @@ int main(int argc, char **argv)
     if (argc > 2 && strcmp(argv[2], "dsvm") == 0) {
         return run_im(n, 0, 3);
     }
+    if (argc > 2 && strcmp(argv[2], "itc") == 0) {
+        return run_itc(n);
+    }
     dtc_config_si_t si;
     dtc_config_t cfg;
     dtc_bases_t b;
     dtc_t c;
     dtc_out_t o;
     dtc_ref_pm_t m;
-    char msg[256];
     long n_tick = 0, n_norm = 0;
     unsigned sa = 0, sb = 0, sc = 0;
 
-    dtc_config_si_defaults(&si); /* FSTP, voltage model, Hoang Table VI compensation, speed mode */
-    if (dtc_config_from_si(&si, &cfg, msg, sizeof msg) != DTC_SI_OK) {
-        fprintf(stderr, "bench: %s\n", msg);
+    double w_mech;
+    if (pm_rig(DTC_LAW_PM_DTC, &si, &cfg, &b, &m, &w_mech) != 0 || dtc_init(&c, &cfg) != DTC_OK) {
         return 1;
     }
-    if (dtc_init(&c, &cfg) != DTC_OK) {
-        return 1;
-    }
-    dtc_bases_from_si(&si, &b);
-    double w_mech = 1450.0 * M_PI / 30.0;
-    dtc_ref_pm_init(&m, si.rs_ohm / b.z_base_ohm, si.ls_h / b.l_base_h, si.psi_m_wb / b.psi_base_wb,
-                    w_mech / b.w_base_rad_s, 0.0, 0.0, 0.0);
     const double tspu = si.ts_s * b.w_base_rad_s;
     for (long k = 0; k < n; k++) {
         dtc_meas_t me;
         double ia, ib, va, vb;
-        dtc_ref_pm_currents(&m, &ia, &ib);
-        me.ia_iq = to_iq(ia);
-        me.ib_iq = to_iq(-0.5 * ia + 0.5 * sqrt(3.0) * ib);
-        me.ic_iq = to_iq(-0.5 * ia - 0.5 * sqrt(3.0) * ib);
-        me.vdc_iq = to_iq(1.0);
-        me.vmid_iq = to_iq(0.5);
-        double cnt = fmod(floor(m.theta / (2.0 * M_PI) * 8000.0), 8000.0);
-        me.enc_count = (uint16_t)(cnt < 0 ? cnt + 8000.0 : cnt);
+        pm_meas(&m, &me, &ia, &ib);
         /* the next call is a speed-loop step when the divider is at zero (after priming) */
         if (c.speed_primed != 0U && c.div_cnt == 0U) {
             bench_step_tick(&c, &me, &o);

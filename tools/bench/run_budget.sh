@@ -7,6 +7,7 @@
 #      1c. IM law im_sfvc_step: SFVC (Casadei eqs. 18, 23, 24) + SVM, same [avg <= 1200, worst <= 1700]
 #      1d. IM law im_dfoc_step: DFOC (sec. 13) + two-phase SVM, same    [avg <= 1200, worst <= 1700]
 #      1e. IM law im_dsvm_step: DTC with DSVM (sec. 11), 160 us          [avg <= 1000, worst <= 1500]
+#      1f. PM law itc_step: ITC, FSTP SVM, voltage-model observer (VI)   [avg <= 1200]
 #   2. cross-cm0 stack usage of the control path (-fstack-usage per function from the preset's
 #      build, worst call chain from -fcallgraph-info=su)              [<= 256 bytes]
 #   3. cross-cm0 code and data size of the firmware library (arm-none-eabi-size)
@@ -86,12 +87,15 @@ instr d dfoc im_dfoc_step bench_dfoc_normal bench_dfoc_tick 1200 1700 \
 # IM law, DTC with DSVM (budget target: DSVM avg <= 1000), 160 us.
 instr e dsvm im_dsvm_step bench_dsvm_normal bench_dsvm_tick 1000 1500 \
   im_est_step fix_polar im_speed_step im_dsvm_select dsvm_table dsvm_vectors dsvm_patterns im_sfvc_estimate speed_pi_step
+# PM indirect torque control (<= 1,200 host instructions per step), FSTP, 50 us.
+instr f itc itc_step bench_itc_normal bench_itc_tick 1200 1700 \
+  dqpi_step svm4_step flux_est_step vcomp_step fix_sin speed_meas_step speed_pi_step
 echo
 echo "== 2. cross-cm0 stack usage of the control path"
 (cd "$root" && env -u CC -u CXX cmake --preset cross-cm0 >/dev/null && cmake --build --preset cross-cm0 >/dev/null)
 echo "  -fstack-usage of the cross-cm0 build (build/cross-cm0, MinSizeRel):"
 find "$root/build/cross-cm0/firmware" -name '*.su' -print0 | xargs -0 cat |
-  grep -E ':(dtc_step|im_dtc_[a-z_]+|im_sfvc_[a-z_]+|im_dfoc_[a-z_]+|im_dsvm_[a-z_]+|dsvm_[a-z_]+|svm_[a-z_]+|im_est_step|im_speed_step|im_fw_step|dsc_[a-z]+|fix_polar|law_step|dtc_shadow_adopt|flux_est_[a-z_]+|vcomp_step|vrec_[a-z]+|speed_meas_step|speed_pi_step|swtab_[a-z_0-9]+|fix_isqrt64|iq_mag|fix_sin|fix_cos|fix_sector6|fix_quadrant|dtc_adopt)\s' |
+  grep -E ':(dtc_step|itc_[a-z_]+|dqpi_[a-z_]+|svm4_[a-z_]+|im_dtc_[a-z_]+|im_sfvc_[a-z_]+|im_dfoc_[a-z_]+|im_dsvm_[a-z_]+|dsvm_[a-z_]+|svm_[a-z_]+|im_est_step|im_speed_step|im_fw_step|dsc_[a-z]+|fix_polar|law_step|dtc_shadow_adopt|flux_est_[a-z_]+|vcomp_step|vrec_[a-z]+|speed_meas_step|speed_pi_step|swtab_[a-z_0-9]+|fix_isqrt64|iq_mag|fix_sin|fix_cos|fix_sector6|fix_quadrant|dtc_adopt)\s' |
   sed -E 's#^.*/##' | awk -F'\t' '{ printf "    %-44s %5s bytes %s\n", $1, $2, $3 }'
 # The call graph: the same sources, flags as the preset (toolchain-arm-none-eabi-cm0 + MinSizeRel).
 for f in "$root"/firmware/dtc/*.c "$root"/firmware/fixmath/*.c "$root"/firmware/app/law.c; do
@@ -99,7 +103,7 @@ for f in "$root"/firmware/dtc/*.c "$root"/firmware/fixmath/*.c "$root"/firmware/
     -fdata-sections -Os -DNDEBUG -fstack-usage -fcallgraph-info=su \
     -I"$root/firmware/dtc" -I"$root/firmware/fixmath" -I"$root/firmware/app" -c "$f" -o "$tmp/$(basename "$f" .c).o"
 done
-for fn in dtc_step im_dtc_step im_sfvc_step im_dfoc_step im_dsvm_step law_step; do
+for fn in dtc_step im_dtc_step im_sfvc_step im_dfoc_step im_dsvm_step itc_step law_step; do
   echo "  -- $fn"
   "$py" "$root/tools/bench/stack_report.py" $fn "$tmp" "$(arm-none-eabi-gcc -mcpu=cortex-m0 -mthumb -print-libgcc-file-name)"
 done

@@ -1,7 +1,8 @@
 /*
  * dtc_config_fields.h - every field of dtc_config_t (firmware/dtc/dtc_config.h), part by part, as
  * X-macro lists: the common part (DTC_CONFIG_COMMON_FIELDS) and one list per law's part of the
- * union u (DTC_CONFIG_PM_DTC_FIELDS for u.pm_dtc, DTC_CONFIG_IM_FIELDS for u.im). The C emitter
+ * union u (DTC_CONFIG_PM_DTC_FIELDS for u.pm_dtc, DTC_CONFIG_IM_FIELDS for u.im,
+ * DTC_CONFIG_PM_ITC_FIELDS for u.pm_itc). The C emitter
  * (dtc_config_emit_c), the round-trip check and the ISR recording's configuration blob
  * (hal/replay/pil_format.c, also built for the PIL targets) walk the common list and the list of
  * the configuration's law, so a field added to the struct and here is emitted, checked and
@@ -95,3 +96,19 @@
     P(u.im.dsvm)                                                                                  \
     IQ(u.im.dsvm, torque_band2_iq)                                                                \
     END(u.im.dsvm)
+
+/* u.pm_itc (law DTC_LAW_PM_ITC). */
+#define DTC_CONFIG_PM_ITC_FIELDS(P, U, IQ, Q31, Q15, ARR3, END)                                    \
+    U(u.pm_itc, part)                                                                             \
+    P(u.pm_itc.cc)                                                                                \
+    IQ(u.pm_itc.cc, kp_iq) IQ(u.pm_itc.cc, ki_ts_iq) IQ(u.pm_itc.cc, iq_per_t_iq)                  \
+    END(u.pm_itc.cc)                                                                              \
+    P(u.pm_itc.mid)                                                                               \
+    IQ(u.pm_itc.mid, g_iq) IQ(u.pm_itc.mid, kf_iq)                                                 \
+    END(u.pm_itc.mid)                                                                             \
+    P(u.pm_itc.est)                                                                               \
+    U(u.pm_itc.est, lpf_comp) IQ(u.pm_itc.est, wc_pu_iq) IQ(u.pm_itc.est, lpf_wmin_iq)             \
+    END(u.pm_itc.est)                                                                             \
+    P(u.pm_itc.machine)                                                                           \
+    IQ(u.pm_itc.machine, ls_iq) IQ(u.pm_itc.machine, psi_m_iq) IQ(u.pm_itc.machine, inv_ls_iq)     \
+    END(u.pm_itc.machine)

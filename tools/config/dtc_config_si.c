@@ -249,7 +249,9 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     if (!(si->rs_ohm >= 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_MACHINE, "rs_ohm = %g: resistance must be >= 0", si->rs_ohm);
     if (si->law < 0 || si->law >= DTC_LAW_COUNT)
         return dtc_si_fail(&c, DTC_SI_ERR_VARIANT, "law = %d: not an enum dtc_law (0..%d)", si->law, DTC_LAW_COUNT - 1);
-    if ((dtc_law_is_im((uint16_t)si->law) != 0U ? dtc_si_im_check(&c, si) : dtc_si_pm_dtc_check(&c, si)) != DTC_SI_OK)
+    if ((dtc_law_is_im((uint16_t)si->law) != 0U ? dtc_si_im_check(&c, si)
+         : si->law == DTC_LAW_PM_ITC           ? dtc_si_pm_itc_check(&c, si)
+                                               : dtc_si_pm_dtc_check(&c, si)) != DTC_SI_OK)
         return c.code;
     if (si->pole_pairs < 1 || si->pole_pairs > 16) return dtc_si_fail(&c, DTC_SI_ERR_MACHINE, "pole_pairs = %d: must be 1..16", si->pole_pairs);
     if (!(si->rated_speed_rpm > 0.0) || !(si->rated_torque_nm > 0.0) || !(si->rated_current_a > 0.0))
@@ -392,8 +394,8 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     cfg->board.v_d_iq = dtc_si_to_iq(&c, "v_d_v", si->v_d_v, si->v_d_v / b.v_base_v);
     cfg->board.r_on_iq = dtc_si_to_iq(&c, "r_on_ohm", si->r_on_ohm, si->r_on_ohm / b.z_base_ohm);
 
-    {
-        /* the switching table and comparators of the table-driven laws (every law so far) */
+    if (si->law != DTC_LAW_PM_ITC) {
+        /* the switching table and comparators of the table-driven laws (all but the ITC) */
         dtc_table_cfg_t *tab = dtc_law_is_im((uint16_t)si->law) != 0U ? &cfg->u.im.sw : &cfg->u.pm_dtc.sw;
         tab->sstp_table = (uint16_t)si->sstp_table;
         tab->flux_band_iq = dtc_si_to_iq(&c, "flux_band_wb", si->flux_band_wb, si->flux_band_wb / b.psi_base_wb);
@@ -450,6 +452,9 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
                                          : 0);
     if (si->law == DTC_LAW_PM_DTC && c.code == DTC_SI_OK) {
         dtc_si_pm_dtc_convert(&c, si, &b, cfg);
+    }
+    if (si->law == DTC_LAW_PM_ITC && c.code == DTC_SI_OK) {
+        dtc_si_pm_itc_convert(&c, si, &b, cfg);
     }
     if (c.code != DTC_SI_OK) {
         return c.code;
@@ -550,6 +555,9 @@ int dtc_config_emit_c(const dtc_config_t *cfg, const char *symbol, FILE *f)
     if (dtc_law_is_im(cfg->law) != 0U) {
         EMIT("        .im = {\n");
         DTC_CONFIG_IM_FIELDS(EP, EU, EIQ, EQ31, EQ15, EARR3, EEND)
+    } else if (cfg->law == DTC_LAW_PM_ITC) {
+        EMIT("        .pm_itc = {\n");
+        DTC_CONFIG_PM_ITC_FIELDS(EP, EU, EIQ, EQ31, EQ15, EARR3, EEND)
     } else {
         EMIT("        .pm_dtc = {\n");
         DTC_CONFIG_PM_DTC_FIELDS(EP, EU, EIQ, EQ31, EQ15, EARR3, EEND)

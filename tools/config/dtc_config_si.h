@@ -278,6 +278,13 @@ double dtc_overspeed_default_rpm(const dtc_config_si_t *si);
  * Hoang Table VIII, Table IV link, 50 us, 3000 rpm, 6 A trip, FSTP: dI = 1.13 A, I_lim = 4.87 A. */
 double dtc_ilim_default_a(const dtc_config_si_t *si);
 
+/* The PM indirect torque control's current-loop crossover w_c, rad/s (law_pm_itc_si.c): 60 deg of
+ * phase margin against the 1.5 Ts loop delay, pi / (9 Ts). */
+double dtc_itc_wc_rad_s(const dtc_config_si_t *si);
+/* Its FSTP mid-point regulation's rate w_m, rad/s: the electrical speed at half the rated speed
+ * over 20 (law_pm_itc_si.c). */
+double dtc_itc_vmid_wm_rad_s(const dtc_config_si_t *si);
+
 /* The post-fault configuration of an SSTP PM drive with reconfiguration relays: the same drive as
  * an FSTP whose phase A is the failed one (firmware dtc.h dtc_reconfigure). Changed from si:
  * topology FSTP; the compensation for the same device model (none stays none, the SSTP's equal

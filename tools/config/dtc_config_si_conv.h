@@ -1,6 +1,6 @@
 /*
  * dtc_config_si_conv.h - the converter's internals shared by its common part (dtc_config_si.c)
- * and the laws' parts (law_pm_dtc_si.c, law_im_si.c): the error state of one conversion, the
+ * and the laws' parts (law_pm_dtc_si.c, law_pm_itc_si.c, law_im_si.c): the error state of one conversion, the
  * pu-to-Q conversions that refuse what does not fit, and each law part's entry points. Host code,
  * not for the converter's users (dtc_config_si.h).
  */
@@ -36,6 +36,13 @@ q31_t dtc_si_to_q31(dtc_si_conv_t *c, const char *field, double v);
  * and the common part already converted). */
 int dtc_si_pm_dtc_check(dtc_si_conv_t *c, const dtc_config_si_t *si);
 void dtc_si_pm_dtc_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *b, dtc_config_t *cfg);
+/* The PM DTC law's protection levels (law_pm_dtc_si.c), shared with the ITC, which drives the
+ * same machine on the same board: the current limit prot.i_lim_iq and the rotor-hold current
+ * prot.i_hold_iq. */
+void dtc_si_pm_prot_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *b, dtc_config_t *cfg);
+/* The PM ITC's part (law_pm_itc_si.c): as above, into cfg->u.pm_itc. */
+int dtc_si_pm_itc_check(dtc_si_conv_t *c, const dtc_config_si_t *si);
+void dtc_si_pm_itc_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *b, dtc_config_t *cfg);
 /* The IM laws' part (law_im_si.c): as above, into cfg->u.im. */
 int dtc_si_im_check(dtc_si_conv_t *c, const dtc_config_si_t *si);
 void dtc_si_im_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *b, dtc_config_t *cfg);

@@ -1,6 +1,7 @@
 /* law_pm_dtc_si.c - the PM DTC law's part of the SI -> per-unit converter (dtc_config_si.h,
  * dtc_config_si_conv.h): its defaults' derivations (hand-over speed, current limit, mid-point
- * reconstruction), its range checks and its conversion into dtc_config_t.u.pm_dtc. Host code. */
+ * reconstruction), its range checks and its conversion into dtc_config_t.u.pm_dtc; the PM
+ * machine's protection levels the ITC shares (dtc_si_pm_prot_convert). Host code. */
 #include "dtc_config_si.h"
 #include "dtc_config_si_conv.h"
 
@@ -107,7 +108,6 @@ int dtc_si_pm_dtc_check(dtc_si_conv_t *c, const dtc_config_si_t *si)
 
 void dtc_si_pm_dtc_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *b, dtc_config_t *cfg)
 {
-    double ilim; /* the current limit in use, A (0 = off) */
     cfg->u.pm_dtc.part = DTC_PART_PM_DTC;
     cfg->u.pm_dtc.machine.ls_iq = dtc_si_to_iq(c, "ls_h", si->ls_h, si->ls_h / b->l_base_h);
     cfg->u.pm_dtc.machine.psi_m_iq = dtc_si_to_iq(c, "psi_m_wb", si->psi_m_wb, si->psi_m_wb / b->psi_base_wb);
@@ -125,13 +125,9 @@ void dtc_si_pm_dtc_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dt
 
     cfg->u.pm_dtc.est.delay_comp = (uint16_t)si->delay_comp;
     {
-        /* current limit, ripple-robust polarity, low-pass correction, DC-current suppression
-         * and mid-point regulation (dtc.c) */
-        ilim = si->current_limit_auto != 0 ? dtc_ilim_default_a(si) : si->current_limit_a;
-        cfg->prot.i_lim_iq = ilim > 0.0 ? dtc_si_to_iq(c, "current_limit_a", ilim, ilim / b->i_base_a) : 0;
-        if (cfg->prot.i_lim_iq >= cfg->prot.i_trip_iq) {
-            cfg->prot.i_lim_iq = cfg->prot.i_trip_iq - 1; /* below the trip after rounding */
-        }
+        /* current limit and rotor hold (dtc_si_pm_prot_convert), ripple-robust polarity,
+         * low-pass correction, DC-current suppression and mid-point regulation (dtc.c) */
+        dtc_si_pm_prot_convert(c, si, b, cfg);
         cfg->u.pm_dtc.est.polarity_mid = (uint16_t)si->polarity_mid;
         cfg->u.pm_dtc.est.lpf_comp = (uint16_t)si->lpf_comp;
         cfg->u.pm_dtc.est.dc_supp = (uint16_t)si->dc_supp;
@@ -148,7 +144,17 @@ void dtc_si_pm_dtc_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dt
         /* restoring mid-point reconstruction: beta = min(1/16, (s w)^2), s = sqrt(k) w_base */
         cfg->u.pm_dtc.est.vmid_beta_s_iq = dtc_si_to_iq(c, "c_dc_f", si->c_dc_f, sqrt(dtc_vmid_beta_k(si)) * b->w_base_rad_s);
     }
-    /* Rotor hold during that calibration (app_core.c hold_step), PM law: the hold may command the
+}
+
+void dtc_si_pm_prot_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *b, dtc_config_t *cfg)
+{
+    /* the current limit in use, A (0 = off) */
+    const double ilim = si->current_limit_auto != 0 ? dtc_ilim_default_a(si) : si->current_limit_a;
+    cfg->prot.i_lim_iq = ilim > 0.0 ? dtc_si_to_iq(c, "current_limit_a", ilim, ilim / b->i_base_a) : 0;
+    if (cfg->prot.i_lim_iq >= cfg->prot.i_trip_iq) {
+        cfg->prot.i_lim_iq = cfg->prot.i_trip_iq - 1; /* below the trip after rounding */
+    }
+    /* Rotor hold during the FSTP mid-point calibration (app_hold.c), PM laws: the hold may command the
      * current that gives the torque limit on the magnet axis, T = 3/2 p psi_m i_q (Hoang eq. 10),
      * and never more than the current limit, which leaves a period's current rise below the trip
      * (dtc_ilim_default_a; the hold's rise, Ts (V_dc/2 + R_s i)/L_s, is smaller). */
@@ -164,5 +170,4 @@ void dtc_si_pm_dtc_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dt
         }
         cfg->prot.i_hold_iq = dtc_si_to_iq(c, "cal_hold (hold current)", ih, ih / b->i_base_a);
     }
-
 }

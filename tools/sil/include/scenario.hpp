@@ -29,7 +29,7 @@ enum class Implementation { Firmware, Reference };
 enum class Estimator { Current, Voltage, Improved };
 enum class Compensation { None, Simple, Proposed };
 enum class SwitchingTable { Basic, StA, StB, StC, StD, SpeedDependent };
-enum class Scheme { Dtc, Dsc, Sfvc, Dfoc, Dsvm };
+enum class Scheme { Dtc, Dsc, Sfvc, Dfoc, Dsvm, Itc };
 enum class Modulation { Symmetric, TwoPhase };
 enum class SpeedSensor { Encoder, None };
 enum class FaultPhase { None, A, B, C };
@@ -62,7 +62,7 @@ template <> struct VariantNames<SwitchingTable> {
     static constexpr std::array<const char*, 6> names{"basic", "st-a", "st-b", "st-c", "st-d", "speed-dependent"};
 };
 template <> struct VariantNames<Scheme> {
-    static constexpr std::array<const char*, 5> names{"dtc", "dsc", "sfvc", "dfoc", "dsvm"};
+    static constexpr std::array<const char*, 6> names{"dtc", "dsc", "sfvc", "dfoc", "dsvm", "itc"};
 };
 template <> struct VariantNames<Modulation> {
     static constexpr std::array<const char*, 2> names{"symmetric", "two_phase"};
@@ -200,7 +200,7 @@ struct ControlCfg {
     double vf_boost_v = 0.0;             // amplitude at 0 Hz (low-speed boost)
     double vf_ramp_s = 0.0;              // frequency ramp time 0 -> vf_freq_hz (0 = step)
     // Induction-machine law (motor.type = "im", Casadei 2006); refused by name for the PM machine.
-    Scheme scheme = Scheme::Dtc;         // switching table (sections 4-8) or DSC (section 9)
+    Scheme scheme = Scheme::Dtc;         // switching table (sections 4-8) or DSC (section 9); PM: dtc or itc
     SpeedSensor speed_sensor = SpeedSensor::Encoder; // none: speed from the flux speed and Casadei eq. 16
     bool flux_weakening = false;         // section 12
     double rotor_flux_ref_wb = 0.0;      // > 0: constant rotor flux, phi_s* by Casadei eq. 19; 0: flux_ref_wb

@@ -212,6 +212,9 @@ dtc_config_si_t firmware_si_config(const Scenario& sc)
     si.lpf_comp = c.lpf_comp ? 1 : 0;
     si.dc_supp = c.dc_supp ? 1 : 0;
     si.c_dc_f = inv.c_dc_f;
+    if (m.type != MotorType::Im && c.scheme == Scheme::Itc) {
+        si.law = DTC_LAW_PM_ITC; // indirect torque control (firmware/dtc/itc.h); gains from the machine
+    }
     if (m.type == MotorType::Im) {
         // Induction-machine law (Casadei 2006): the machine as the firmware believes it
         // (firmware.*, else the plant's), no magnet, none of the PM law's start-up hand-over or

@@ -281,7 +281,11 @@ const std::vector<Spec>& schema()
                "control.table_speed_rpm and ST-A above (IM only); the FSTP always uses Hoang Table II",
                ACC(control.table)),
         choice<Scheme>("control.scheme",
-               "IM only: dtc = switching table (Casadei secs. 4-8); dsc = Direct Self Control, hexagonal flux "
+               "control law. PM machine: dtc = Hoang's switching-table DTC; itc = indirect torque control, the "
+               "current-controlled drive Hoang et al. set beside DTC (Figs. 5-8 (a)): rotor-frame PI current "
+               "regulators (i_d* = 0, i_q* from the speed loop, gains derived from the machine) and SVM of the "
+               "six- or four-switch inverter at one carrier period per control period ts_s, the configured "
+               "estimator running as an observer (firmware/dtc/itc.h). IM machine: dtc = switching table (Casadei secs. 4-8); dsc = Direct Self Control, hexagonal flux "
                "locus (sec. 9); sfvc = stator-flux vector control with SVM at the constant switching frequency "
                "control.carrier_hz (secs. 10.3-10.5, Fig. 18, eqs. 18, 23, 24); dfoc = direct rotor-flux-oriented control, PI current "
                "regulators in the rotor-flux frame, SVM at control.carrier_hz (sec. 13, the baseline); dsvm = DTC with "
@@ -871,7 +875,7 @@ void apply_machine_defaults(Scenario& s, Diagnostics* d)
 void check_law_keys(const Scenario& s, Diagnostics* d)
 {
     static const std::vector<std::string> im_law = {
-        "control.scheme", "control.carrier_hz", "control.modulation", "control.sfvc_kp_per_s", "control.dsvm_torque_band2_nm",
+        "control.carrier_hz", "control.modulation", "control.sfvc_kp_per_s", "control.dsvm_torque_band2_nm",
         "control.speed_sensor", "control.flux_weakening", "control.rotor_flux_ref_wb",
         "control.observer_tau_s", "control.observer_tau_high_s", "control.observer_tau_lo_rpm",
         "control.observer_tau_hi_rpm", "control.magnetise_frac", "control.table_speed_rpm",
@@ -1004,6 +1008,9 @@ void cross_validate(Scenario& s, Diagnostics* d)
             err(s.control.observer_tau_s <= s.ts_s ? "control.observer_tau_s" : "control.observer_tau_high_s",
                 "must be longer than the control period ts_s = " + fmt_double(s.ts_s) + " s");
         }
+        if (s.control.scheme == Scheme::Itc) {
+            err("control.scheme", "\"itc\" is the PM machine's indirect torque control; motor.type is \"im\"");
+        }
         const bool svm = s.control.scheme == Scheme::Sfvc || s.control.scheme == Scheme::Dfoc;
         if (s.control.scheme == Scheme::Dsvm) {
             // The PWM form's thirds (firmware/dtc/dsvm.h, hal.h): T1PR whole counts, at least 3.
@@ -1067,6 +1074,23 @@ void cross_validate(Scenario& s, Diagnostics* d)
         if (s.control.table == SwitchingTable::SpeedDependent) {
             err("control.table", "\"speed-dependent\" (Casadei sec. 8) is an induction-machine table; "
                                  "motor.type is \"pmsm\"");
+        }
+        if (s.control.scheme != Scheme::Dtc && s.control.scheme != Scheme::Itc) {
+            err("control.scheme", "\"" + to_string(s.control.scheme) + "\" is an induction-machine scheme; the PM "
+                                  "machine takes \"dtc\" or \"itc\"");
+        }
+        if (s.control.scheme == Scheme::Itc) {
+            if (s.control.implementation != Implementation::Firmware) {
+                err("control.implementation", "\"" + to_string(s.control.implementation) + "\" has no indirect "
+                    "torque control: control.scheme = \"itc\" (" + origin_of(s, "control.scheme") + ") runs on \"firmware\"");
+            }
+            // One PWM period per control period (firmware/dtc/itc.h, hal.h): T1PR = ts_s f_clock / 2
+            // a whole number of counts (hal_host::t1pr_counts).
+            const double n = s.ts_s * PLANT_DEF_PWM_CLOCK_HZ * 0.5;
+            if (hal_host::t1pr_counts(s.ts_s, PLANT_DEF_PWM_CLOCK_HZ) == 0u) {
+                err("ts_s", "the PWM timer period 75 MHz ts_s / 2 = " + fmt_double(n) +
+                                " counts is not a whole number in 1..65534 (hal.h T1PR; control.scheme = \"itc\")");
+            }
         }
     }
     const bool vf = s.control.vf_freq_hz > 0.0;

@@ -1,0 +1,297 @@
+/*
+ * itc.c - indirect torque control of the PM machine (itc.h).
+ */
+#include "itc.h"
+
+#include <stddef.h>
+
+#include "lpfcorr.h"
+#include "park.h"
+#include "torque.h"
+#include "vrec.h"
+
+static void itc_adopt(itc_t *c, const dtc_refs_t *r)
+{
+    dtc_refs_adopt(&c->act, &c->pi_p, &c->pi, &c->te_trim_iq, c->te_ref_iq, r, c->cfg);
+}
+
+int16_t itc_init(itc_t *c, const dtc_config_t *cfg)
+{
+    int16_t err;
+    dtc_refs_t r;
+
+    if (c == NULL) {
+        return DTC_ERR_NULL;
+    }
+    c->cfg = NULL;
+    err = itc_check(cfg, NULL);
+    if (err != DTC_OK) {
+        return err;
+    }
+    c->cfg = cfg;
+
+    dtc_pm_est_params_from_config(&c->fe_p, &c->vc_p, cfg, &cfg->u.pm_itc.machine);
+    dtc_speed_params_from_config(&c->sm_p, &c->pi_p, cfg);
+    {
+        /* itc_vcomp's constants: F(e_B) - F(0), F(e_C) - F(0) (any current: they do not depend
+         * on it) */
+        static const clarke_out_t i0 = {0, 0, 0, 0, 0};
+        iq_t a0, b0, a1, b1;
+        uint16_t x;
+        vcomp_step(&c->vc_p, 0U, 0U, 0U, &i0, &a0, &b0);
+        for (x = 0U; x < 2U; x++) {
+            vcomp_step(&c->vc_p, 0U, x == 0U ? 1U : 0U, x == 1U ? 1U : 0U, &i0, &a1, &b1);
+            c->vcd_alpha_iq[x] = iq_sub(a1, a0);
+            c->vcd_beta_iq[x] = iq_sub(b1, b0);
+        }
+    }
+    c->cc_p.kp_iq = cfg->u.pm_itc.cc.kp_iq;
+    c->cc_p.ki_ts_iq = cfg->u.pm_itc.cc.ki_ts_iq;
+    c->cc_p.int_max_iq = iq_from_int(2); /* above any V_max: the link's 2/3 V_dc is < 2 pu */
+    c->svm_p.mode = (uint16_t)SVM_SYMMETRIC;
+    c->svm_p.dt_comp = cfg->est.deadtime_comp;
+    c->svm_p.td_iq = iq_from_q15(cfg->board.td_ts_q15);
+    {
+        /* the mid-point current's bound: half the room the torque limit's current leaves below
+         * the trip level (itc.h) */
+        const iq_t room = iq_sub(cfg->prot.i_trip_iq, iq_mpy(cfg->speed.torque_limit_iq, cfg->u.pm_itc.cc.iq_per_t_iq));
+        c->vmid_imax_iq = room > 0 ? fix_rshift_rnd32(room, 1U) : 0;
+    }
+    c->ts15_iq = iq_add(cfg->board.ts_pu_iq, fix_rshift_rnd32(cfg->board.ts_pu_iq, 1U)); /* 1.5 Ts, pu */
+    c->svm4_p.dt_comp = c->svm_p.dt_comp;
+    c->svm4_p.td_iq = c->svm_p.td_iq;
+
+    dtc_refs_from_config(&r, cfg);
+    c->act.mode = cfg->speed.mode;
+    c->te_ref_iq = 0;
+    itc_adopt(c, &r);
+    dtc_shadow_init(&c->sh);
+
+    flux_est_init(&c->fe, &c->fe_p);
+    speed_meas_init(&c->sm, &c->sm_p, 0U);
+    itc_reset(c);
+    return DTC_OK;
+}
+
+void itc_reset(itc_t *c)
+{
+    const dtc_config_t *cfg = c->cfg;
+    uint16_t x;
+
+    flux_est_reset(&c->fe);
+    speed_meas_reset(&c->sm, 0U);
+    c->speed_primed = 0U;
+    speed_pi_reset(&c->pi, 0, cfg->speed.torque_limit_iq);
+    dqpi_reset(&c->cc, 0, 0);
+    svm_reset(&c->svm);
+    svm4_reset(&c->svm4);
+    c->te_trim_iq = 0;
+    c->div_cnt = 0U;
+    c->te_ref_iq = c->act.mode == DTC_MODE_TORQUE ? c->act.torque_ref_iq : 0;
+    c->speed_iq = 0;
+    c->wls_iq = 0;
+    c->wpsi_iq = 0;
+    c->adv_iq = 0;
+    c->v1_alpha_iq = 0;
+    c->v1_beta_iq = 0;
+    c->v2_alpha_iq = 0;
+    c->v2_beta_iq = 0;
+    for (x = 0U; x < 2U; x++) {
+        c->d1_iq[x] = 0;
+        c->d2_iq[x] = 0;
+    }
+    c->lpf_y_iq = 0;
+    c->lpf_r_iq = 0;
+    c->vmid_y_iq = 0;
+    c->id_iq = 0;
+    c->iq_iq = 0;
+    c->iq_ref_iq = 0;
+}
+
+/* Copies the shadow set whose (even) sequence number is seq and adopts it. */
+static void itc_shadow_adopt(itc_t *c, uint16_t seq)
+{
+    dtc_refs_t r;
+    dtc_shadow_take(&c->sh, seq, &r);
+    itc_adopt(c, &r);
+}
+
+int16_t itc_shadow_write(itc_t *c, const dtc_refs_t *r)
+{
+    return dtc_shadow_publish(&c->sh, r);
+}
+
+void itc_refs_get(const itc_t *c, dtc_refs_t *r)
+{
+    *r = c->act;
+}
+
+/* Drop compensation of a PWM period (vcomp.h) with the effective duties d of the legs: each leg
+ * spends d of the period in state 1 and 1 - d in state 0, and the compensation is a sum of
+ * per-leg terms (minus the Clarke transform of the leg drops, Hoang eqs. 31-34), so its period
+ * mean is F(0) + sum_x d_x (F(e_x) - F(0)), F(s) the value for the leg states s, e_x leg x alone
+ * on. Hoang Table III's drop of a leg in state 1 less that in state 0 is V_CE - V_d for either current
+ * sign, so F(e_x) - F(0) is a constant of the configuration (c->vcd_*, itc_init); SSTP [29] and
+ * Hoang Table V do not depend on the states (their constants are 0). IQ pu; products rounded, sums
+ * saturated. */
+static void itc_vcomp(const itc_t *c, const clarke_out_t *i, const iq_t d[2], iq_t *va, iq_t *vb)
+{
+    iq_t a0, b0;
+    vcomp_step(&c->vc_p, 0U, 0U, 0U, i, &a0, &b0);
+    *va = iq_add(a0, iq_add(iq_mpy(d[0], c->vcd_alpha_iq[0]), iq_mpy(d[1], c->vcd_alpha_iq[1])));
+    *vb = iq_add(b0, iq_add(iq_mpy(d[0], c->vcd_beta_iq[0]), iq_mpy(d[1], c->vcd_beta_iq[1])));
+}
+
+/* Observer (itc.h): the estimator on the voltage of the period just ended; returns the torque of
+ * Hoang eq. 10 from its flux. Out of line: its temporaries stay out of itc_step's frame. */
+static iq_t itc_observe(itc_t *c, const dtc_meas_t *m, const clarke_out_t *i)
+{
+    const dtc_config_t *cfg = c->cfg;
+    flux_est_in_t fin;
+    fin.i_alpha_iq = i->i_alpha_iq;
+    fin.i_beta_iq = i->i_beta_iq;
+    fin.enc_count = m->enc_count;
+    fin.v_alpha_iq = c->v2_alpha_iq;
+    fin.v_beta_iq = c->v2_beta_iq;
+    fin.r_iq = c->lpf_r_iq;
+    if (cfg->est.estimator == DTC_EST_VOLTAGE && c->vc_p.mode != (uint16_t)DTC_COMP_NONE) {
+        iq_t vfa, vfb;
+        itc_vcomp(c, i, c->d2_iq, &vfa, &vfb);
+        fin.v_alpha_iq = fix_add32(fin.v_alpha_iq, vfa);
+        fin.v_beta_iq = fix_add32(fin.v_beta_iq, vfb);
+    }
+    if (cfg->est.estimator == DTC_EST_VOLTAGE && c->speed_primed == 0U) {
+        flux_est_seed(&c->fe, &fin); /* the first step: the current model's flux (Hoang eqs. 8-9) */
+    } else {
+        flux_est_step(&c->fe, &fin);
+    }
+    return torque_eq10(c->fe.psi_alpha_iq, c->fe.psi_beta_iq, i->i_alpha_iq, i->i_beta_iq);
+}
+
+/* Speed loop (every speed_div-th step, as dtc_step): measured speed, the low-pass correction
+ * factor, and T* in speed mode. */
+static void itc_speed(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
+{
+    const dtc_config_t *cfg = c->cfg;
+    o->speed_tick = 0U;
+    if (c->speed_primed == 0U) {
+        speed_meas_reset(&c->sm, m->enc_count);
+        c->speed_primed = 1U;
+        c->div_cnt = 0U;
+    } else if (c->div_cnt == 0U) {
+        o->speed_tick = 1U;
+        c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
+        /* the speed's products of the step (itc_step): w l_s, w psi_m, 1.5 w Ts */
+        c->wls_iq = iq_mpy(c->speed_iq, cfg->u.pm_itc.machine.ls_iq);
+        c->wpsi_iq = iq_mpy(c->speed_iq, cfg->u.pm_itc.machine.psi_m_iq);
+        c->adv_iq = iq_mpy(c->speed_iq, c->ts15_iq);
+        if (cfg->u.pm_itc.est.lpf_comp != 0U) {
+            const iq_t r = iq_mpy(cfg->u.pm_itc.est.wc_pu_iq,
+                                  c->lpf_y_iq = lpfcorr_recip(c->lpf_y_iq, c->speed_iq, cfg->u.pm_itc.est.lpf_wmin_iq));
+            c->lpf_r_iq = c->speed_iq < 0 ? fix_neg32(r) : r;
+        }
+        if (c->act.mode == DTC_MODE_SPEED) {
+            c->te_ref_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
+        }
+    }
+    c->div_cnt = (uint16_t)(c->div_cnt + 1U >= cfg->speed.speed_div ? 0U : c->div_cnt + 1U);
+    if (c->act.mode == DTC_MODE_TORQUE) {
+        c->te_ref_iq = c->act.torque_ref_iq;
+    }
+}
+
+void itc_step(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
+{
+    const dtc_config_t *cfg = c->cfg;
+    const uint16_t fstp = cfg->board.topology == (uint16_t)DTC_TOPO_FSTP ? 1U : 0U;
+    clarke_out_t i;
+    park_sc_t sc;
+    dqpi_in_t in;
+    dqpi_out_t v;
+    angle_t th;
+    iq_t vlo, te, va, vb;
+
+    /* 1. Shadow set: adopt a complete, not yet adopted set (dtc_refs.h). */
+    {
+        const uint16_t seq = dtc_shadow_pending(&c->sh);
+        if (seq != 0U) {
+            itc_shadow_adopt(c, seq);
+        }
+    }
+    /* 2. Clarke (Hoang eqs. 4-5), the observer, the speed loop. */
+    if (fstp != 0U) {
+        clarke_fstp(m->ib_iq, m->ic_iq, &i);
+    } else {
+        clarke_sstp(m->ia_iq, m->ib_iq, &i);
+    }
+    te = itc_observe(c, m, &i);
+    itc_speed(c, m, o);
+
+    /* 3. Rotor frame (the encoder's electrical angle), references, current PI (dqpi.h) on the
+     *    decoupling and back-EMF feed-forward, the voltage limit of the inverter. */
+    th = c->fe.theta_e; /* the encoder's electrical angle of this step (flux_est_angle, set by the observer) */
+    park_sincos(th, &sc);
+    park_fwd(&sc, i.i_alpha_iq, i.i_beta_iq, &c->id_iq, &c->iq_iq);
+    c->iq_ref_iq = iq_mpy(cfg->u.pm_itc.cc.iq_per_t_iq, c->te_ref_iq);
+    vlo = cfg->board.fstp_vmid_measured != 0U ? m->vmid_iq : fix_rshift_rnd32(m->vdc_iq, 1U);
+    in.ref_d_iq = 0;
+    in.ref_q_iq = c->iq_ref_iq;
+    if (fstp != 0U && cfg->u.pm_itc.mid.g_iq > 0) {
+        /* mid-point regulation: i_a* = g y, y += k_f (d - y) (itc.h), into the rotor frame */
+        const iq_t d = iq_sub(vlo, fix_rshift_rnd32(m->vdc_iq, 1U));
+        c->vmid_y_iq = iq_add(c->vmid_y_iq, iq_mpy(cfg->u.pm_itc.mid.kf_iq, iq_sub(d, c->vmid_y_iq)));
+        const iq_t ia0 = fix_clamp32(iq_mpy(cfg->u.pm_itc.mid.g_iq, c->vmid_y_iq), -c->vmid_imax_iq, c->vmid_imax_iq);
+        in.ref_d_iq = iq_mpy_q15(ia0, sc.cos_q15); /* park.h of (i_a*, 0) */
+        in.ref_q_iq = iq_sub(in.ref_q_iq, iq_mpy_q15(ia0, sc.sin_q15));
+    }
+    in.meas_d_iq = c->id_iq;
+    in.meas_q_iq = c->iq_iq;
+    in.ff_d_iq = fix_neg32(iq_mpy(c->wls_iq, c->iq_iq));
+    in.ff_q_iq = iq_add(iq_mpy(c->wls_iq, c->id_iq), c->wpsi_iq);
+    if (fstp != 0U) {
+        const iq_t hi = iq_sub(m->vdc_iq, vlo);
+        in.vmax_iq = q31_mul(vlo < hi ? vlo : hi, FIX_Q31_INV_SQRT3);
+    } else {
+        in.vmax_iq = q31_mul(m->vdc_iq, FIX_Q31_INV_SQRT3);
+    }
+    dqpi_step(&c->cc, &c->cc_p, &in, &v);
+
+    /* 4. Stator frame, advanced by the 1.5 w Ts the rotor turns until the middle of the period the
+     *    command acts in: (1 + j 1.5 w Ts) (as im_dfoc.c; the magnitude error (1 + x^2)^(1/2) - 1
+     *    is 7e-5 at 1500 rpm, x = 0.012 rad). */
+    park_inv(&sc, v.v_d_iq, v.v_q_iq, &va, &vb);
+    iq_cmul_1jx(c->adv_iq, &va, &vb);
+
+    /* 5. SVM of the inverter (svm.h six switches, svm4.h four), the voltage it will apply kept
+     *    for the observer (vrec_from_legs of the effective duties on the link measured now). */
+    if (fstp != 0U) {
+        svm4_step(&c->svm4, &c->svm4_p, va, vb, m->vdc_iq, vlo, &i, &c->svm_o);
+    } else {
+        svm_step(&c->svm, &c->svm_p, va, vb, m->vdc_iq, &i, &c->svm_o);
+    }
+    c->v2_alpha_iq = c->v1_alpha_iq;
+    c->v2_beta_iq = c->v1_beta_iq;
+    vrec_from_legs(c->svm_o.d_eff_iq[0], c->svm_o.d_eff_iq[1], c->svm_o.d_eff_iq[2], &va, &vb);
+    c->v1_alpha_iq = iq_mpy(va, m->vdc_iq);
+    c->v1_beta_iq = iq_mpy(vb, m->vdc_iq);
+    c->d2_iq[0] = c->d1_iq[0]; /* legs B and C: what itc_vcomp weighs */
+    c->d2_iq[1] = c->d1_iq[1];
+    c->d1_iq[0] = c->svm_o.d_eff_iq[1];
+    c->d1_iq[1] = c->svm_o.d_eff_iq[2];
+    o->duty_iq[0] = c->svm_o.d_iq[0];
+    o->duty_iq[1] = c->svm_o.d_iq[1];
+    o->duty_iq[2] = c->svm_o.d_iq[2];
+
+    /* 6. Outputs. */
+    law_out_duty_only(o);
+    o->psi_alpha_iq = c->fe.psi_alpha_iq;
+    o->psi_beta_iq = c->fe.psi_beta_iq;
+    o->te_iq = te;
+    o->te_ref_iq = c->te_ref_iq;
+    o->speed_iq = c->speed_iq;
+    o->theta_e = th;
+    o->on_cm = cfg->est.estimator == DTC_EST_CURRENT ? 1U : 0U;
+    o->psi_ref_iq = c->act.flux_ref_iq;
+    o->psir_mag_iq = 0;
+    o->i_limited = 0U; /* the voltage limit is dqpi's (v.limited), not the current limit's */
+}

@@ -1,0 +1,65 @@
+#include "svm4.h"
+
+#include <stddef.h>
+
+#define SVM4_HALF_IQ ((iq_t)1 << (FIX_IQ_Q - 1))
+
+void svm4_reset(svm4_t *s)
+{
+    s->inv_vdc_iq = 0;
+}
+
+/* Headroom of a leg towards the rail its n points at (svm4.h): 1 - m up, m down. */
+static iq_t svm4_room(iq_t n, iq_t m)
+{
+    return n > 0 ? SVM_ONE_IQ - m : m;
+}
+
+void svm4_step(svm4_t *s, const svm4_params_t *p, iq_t v_alpha_iq, iq_t v_beta_iq, iq_t vdc_iq, iq_t vlo_iq,
+               const clarke_out_t *i, svm_out_t *o)
+{
+    iq_t m, nb, nc;
+
+    o->overmod = 0U;
+    if (vdc_iq <= 0) {
+        o->d_iq[0] = o->d_iq[1] = o->d_iq[2] = SVM4_HALF_IQ;
+        o->d_eff_iq[0] = o->d_eff_iq[1] = o->d_eff_iq[2] = SVM4_HALF_IQ;
+        return;
+    }
+    s->inv_vdc_iq = svm_recip(s->inv_vdc_iq, vdc_iq);
+    m = fix_clamp32(iq_mpy(vlo_iq, s->inv_vdc_iq), 0, SVM_ONE_IQ);
+    {
+        /* line-to-A references over V_dc (inverse Clarke, Hoang eqs. 4-5) */
+        const iq_t a = fix_clamp32(iq_mpy(v_alpha_iq, s->inv_vdc_iq), -SVM_ONE_IQ * 32, SVM_ONE_IQ * 32);
+        const iq_t b = fix_clamp32(iq_mpy(v_beta_iq, s->inv_vdc_iq), -SVM_ONE_IQ * 32, SVM_ONE_IQ * 32);
+        const iq_t a15 = a + fix_rshift_rnd32(a, 1U);
+        const iq_t sb = q31_mul(b, FIX_Q31_SQRT3_2);
+        nb = sb - a15;
+        nc = -sb - a15;
+    }
+    {
+        const iq_t hb = svm4_room(nb, m), hc = svm4_room(nc, m);
+        const iq_t ab = nb < 0 ? -nb : nb, ac = nc < 0 ? -nc : nc;
+        if (ab > hb || ac > hc) {
+            /* onto the parallelogram along the same angle, k = min(h_B/|n_B|, h_C/|n_C|): the
+             * binding leg lands on its rail exactly, the other is n_o k = (n_o / |n_s|) h_s */
+            const int use_b = (int64_t)hb * ac <= (int64_t)hc * ab;
+            const iq_t h = use_b ? hb : hc;
+            const iq_t r = iq_mpy(use_b ? nc : nb, svm_recip(0, use_b ? ab : ac));
+            const iq_t n_o = iq_mpy(r, h);
+            const iq_t n_s = (use_b ? nb : nc) > 0 ? h : -h;
+            nb = use_b ? n_s : n_o;
+            nc = use_b ? n_o : n_s;
+            o->overmod = 1U;
+        }
+    }
+    o->d_iq[0] = m;
+    o->d_eff_iq[0] = m;
+    {
+        const uint16_t comp = i != NULL ? p->dt_comp : 0U;
+        svm_leg_dt(comp, fix_clamp32(m + nb, 0, SVM_ONE_IQ), i != NULL ? i->ib_iq : 0, p->td_iq, &o->d_iq[1],
+                   &o->d_eff_iq[1]);
+        svm_leg_dt(comp, fix_clamp32(m + nc, 0, SVM_ONE_IQ), i != NULL ? i->ic_iq : 0, p->td_iq, &o->d_iq[2],
+                   &o->d_eff_iq[2]);
+    }
+}
