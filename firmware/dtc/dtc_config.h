@@ -22,6 +22,7 @@
 #include <stdint.h>
 
 #include "dtc_config_common.h"
+#include "dtc_param.h"
 #include "im_cfg.h"
 #include "pm_dtc_cfg.h"
 #include "pm_itc_cfg.h"

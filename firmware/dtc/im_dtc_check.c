@@ -4,37 +4,32 @@
  * the F2812 image keeps in flash (firmware/CMakeLists.txt). */
 #include "im_dtc.h"
 
+#include <limits.h>
 #include <stddef.h>
+
+/* The part's parameter rows (DTC_PARAMS_IM, dtc_param.h). */
+#define DTC_PARAMS_IM_ROW(...) DTC_PARAM_ROW(DTC_PP_IM, __VA_ARGS__)
+DTC_PARAM_TABLE(dtc_params_im, DTC_PARAMS_IM, DTC_PARAMS_IM_ROW);
 
 static int16_t im_part_check(const dtc_config_t *cfg, const char **f)
 {
     const dtc_im_cfg_t *p = &cfg->u.im;
     const uint16_t law = cfg->law;
     const uint16_t svm = (uint16_t)(law == DTC_LAW_IM_SFVC || law == DTC_LAW_IM_DFOC);
+    const int16_t err = dtc_param_check_rows(cfg, &dtc_params_im, f); /* the part's tag first */
 
-    DTC_REFUSE(p->part != DTC_PART_IM, DTC_ERR_PART, "u.im.part");
+    if (err != DTC_OK) {
+        return err;
+    }
     /* Casadei's tables, DSC and the IM estimators are written for the six-switch inverter. */
     DTC_REFUSE(cfg->board.topology != DTC_TOPO_SSTP, DTC_ERR_VARIANT, "board.topology");
     DTC_REFUSE(cfg->est.estimator != DTC_EST_VOLTAGE && cfg->est.estimator != DTC_EST_IMPROVED,
                DTC_ERR_VARIANT, "est.estimator");
-    DTC_REFUSE(p->machine.rr_iq <= 0, DTC_ERR_MACHINE, "u.im.machine.rr_iq");
-    DTC_REFUSE(p->machine.sigma_ls_iq <= 0, DTC_ERR_MACHINE, "u.im.machine.sigma_ls_iq");
-    DTC_REFUSE(p->machine.sigma_lr_iq <= 0, DTC_ERR_MACHINE, "u.im.machine.sigma_lr_iq");
-    DTC_REFUSE(p->machine.kr_iq <= 0, DTC_ERR_MACHINE, "u.im.machine.kr_iq");
-    DTC_REFUSE(p->machine.ks_iq <= 0, DTC_ERR_MACHINE, "u.im.machine.ks_iq");
-    DTC_REFUSE(p->machine.inv_ks_iq <= 0, DTC_ERR_MACHINE, "u.im.machine.inv_ks_iq");
-    DTC_REFUSE(p->machine.m_iq <= 0, DTC_ERR_MACHINE, "u.im.machine.m_iq");
     if (cfg->est.estimator == DTC_EST_IMPROVED) {
         DTC_REFUSE(p->est.k_lo_q31 <= 0, DTC_ERR_FLUX_EST, "u.im.est.k_lo_q31");
         DTC_REFUSE(p->est.k_hi_q31 <= 0, DTC_ERR_FLUX_EST, "u.im.est.k_hi_q31");
-        DTC_REFUSE(p->est.w_lo_iq < 0, DTC_ERR_FLUX_EST, "u.im.est.w_lo_iq");
         DTC_REFUSE(p->est.w_hi_iq < p->est.w_lo_iq, DTC_ERR_FLUX_EST, "u.im.est.w_hi_iq");
     }
-    DTC_REFUSE(p->sw.sstp_table > DTC_ST_SPEED, DTC_ERR_VARIANT, "u.im.sw.sstp_table");
-    DTC_REFUSE(p->sw.flux_band_iq < 0, DTC_ERR_BAND, "u.im.sw.flux_band_iq");
-    DTC_REFUSE(p->sw.torque_band_iq < 0, DTC_ERR_BAND, "u.im.sw.torque_band_iq");
-    DTC_REFUSE(p->table_speed_iq < 0, DTC_ERR_VARIANT, "u.im.table_speed_iq");
-    DTC_REFUSE(p->fw.on > 1U, DTC_ERR_WEAKENING, "u.im.fw.on");
     if (p->fw.on != 0U) {
         /* Casadei section 12's flux weakening watches the three-level torque comparator, which
          * SFVC and DFOC have not and DSVM replaces by a five-level one (hyst5_t) */
@@ -46,20 +41,10 @@ static int16_t im_part_check(const dtc_config_t *cfg, const char **f)
         DTC_REFUSE(p->fw.inv_psi_rated_iq <= 0, DTC_ERR_WEAKENING, "u.im.fw.inv_psi_rated_iq");
         DTC_REFUSE(p->fw.kt_iq <= 0, DTC_ERR_WEAKENING, "u.im.fw.kt_iq");
     }
-    DTC_REFUSE(p->ref.psir_ref_iq < 0, DTC_ERR_REFERENCE, "u.im.ref.psir_ref_iq");
     /* SFVC (Casadei eq. 18) and DFOC take the rotor-flux command (and its reciprocal) */
     DTC_REFUSE(svm != 0U && p->ref.psir_ref_iq <= 0, DTC_ERR_REFERENCE, "u.im.ref.psir_ref_iq");
     DTC_REFUSE(p->ref.psir_ref_iq > 0 && p->ref.inv_psir_ref_iq <= 0, DTC_ERR_REFERENCE,
                "u.im.ref.inv_psir_ref_iq");
-    DTC_REFUSE(p->ref.inv_psir_sq_iq <= 0, DTC_ERR_REFERENCE, "u.im.ref.inv_psir_sq_iq");
-    DTC_REFUSE(p->ref.gain_w_iq <= 0, DTC_ERR_SPEED, "u.im.ref.gain_w_iq");
-    DTC_REFUSE(p->ref.speed_filt_q31 <= 0, DTC_ERR_SPEED, "u.im.ref.speed_filt_q31");
-    DTC_REFUSE(p->ref.magn_periods == 0U, DTC_ERR_STARTUP, "u.im.ref.magn_periods");
-    DTC_REFUSE(p->ref.magn_ramp_iq <= 0, DTC_ERR_STARTUP, "u.im.ref.magn_ramp_iq");
-    DTC_REFUSE(p->ref.magn_k_q31 <= 0, DTC_ERR_STARTUP, "u.im.ref.magn_k_q31");
-    if (svm != 0U) {
-        DTC_REFUSE(p->svm_mode > 1U, DTC_ERR_SVM, "u.im.svm_mode");
-    }
     if (law == DTC_LAW_IM_SFVC) {
         /* 0 < K_p Ts <= 1 (a larger gain overshoots the flux error every period) */
         DTC_REFUSE(p->sfvc.kp_iq <= 0 || iq_mpy(p->sfvc.kp_iq, cfg->board.ts_pu_iq) > IQ(1.0), DTC_ERR_SVM,
@@ -67,7 +52,6 @@ static int16_t im_part_check(const dtc_config_t *cfg, const char **f)
     }
     if (law == DTC_LAW_IM_DFOC) {
         DTC_REFUSE(p->dfoc.kp_iq <= 0, DTC_ERR_SVM, "u.im.dfoc.kp_iq");
-        DTC_REFUSE(p->dfoc.ki_ts_iq < 0, DTC_ERR_SVM, "u.im.dfoc.ki_ts_iq");
         DTC_REFUSE(p->dfoc.id_ref_iq <= 0, DTC_ERR_SVM, "u.im.dfoc.id_ref_iq");
         DTC_REFUSE(p->dfoc.iq_per_t_iq <= 0, DTC_ERR_SVM, "u.im.dfoc.iq_per_t_iq");
     }

@@ -63,4 +63,41 @@ typedef struct {
     dtc_pm_machine_cfg_t machine;
 } dtc_pm_dtc_cfg_t;
 
+/* The PM DTC part's parameters, once (dtc_param.h). */
+#define DTC_PARAMS_PM_DTC(X)                                                                                  \
+    X(100, u.pm_dtc.part, U16, NONE, DTC_PART_PM_DTC, DTC_PART_PM_DTC, DTC_ERR_PART, DTC_PARAM_RO,            \
+      "tag of the PM DTC part (DTC_PART_PM_DTC)")                                                             \
+    X(101, u.pm_dtc.sw.sstp_table, U16, NONE, 0, DTC_ST_D, DTC_ERR_VARIANT, 0U,                               \
+      "SSTP switching table: 0 Casadei Table 1, 1..4 ST-A..ST-D")                                             \
+    X(102, u.pm_dtc.sw.flux_band_iq, IQ, PSI, 0, DTC_I32_MAX, DTC_ERR_BAND, DTC_PARAM_LIVE,                   \
+      "flux hysteresis band, full width (Hoang eq. 13)")                                                      \
+    X(103, u.pm_dtc.sw.torque_band_iq, IQ, T, 0, DTC_I32_MAX, DTC_ERR_BAND, DTC_PARAM_LIVE,                   \
+      "torque hysteresis band, full width (Hoang eq. 14)")                                                    \
+    X(104, u.pm_dtc.est.delay_comp, U16, NONE, 0, 1, DTC_ERR_DELAY, 0U,                                       \
+      "1: the comparators act on the estimate predicted for k+1")                                             \
+    X(105, u.pm_dtc.est.polarity_mid, U16, NONE, 0, 1, DTC_ERR_POLARITY, 0U,                                  \
+      "1: the drop polarity from the period-mean current, 0: from the sample")                               \
+    X(106, u.pm_dtc.est.lpf_comp, U16, NONE, 0, 1, DTC_ERR_LPFCOMP, 0U,                                       \
+      "voltage model: 1 = gain and phase correction of the low-pass")                                        \
+    X(107, u.pm_dtc.est.dc_supp, U16, NONE, 0, 1, DTC_ERR_DCSUPP, 0U,                                         \
+      "voltage model: 1 = DC-current suppression")                                                            \
+    X(108, u.pm_dtc.est.handover_speed_iq, IQ, W, 0, DTC_I32_MAX, DTC_ERR_HANDOVER, 0U,                       \
+      "voltage model: current model below this electrical speed; 0 = none")                                   \
+    X(109, u.pm_dtc.est.handover_hyst_iq, IQ, W, 0, DTC_I32_MAX, DTC_ERR_HANDOVER, 0U,                        \
+      "hysteresis of the hand-over, at most the hand-over speed")                                             \
+    X(110, u.pm_dtc.est.wc_pu_iq, IQ, W, 0, DTC_I32_MAX, DTC_ERR_LPFCOMP, DTC_PARAM_RO,                       \
+      "the low-pass cut-off w_c (> 0 with lpf_comp)")                                                         \
+    X(111, u.pm_dtc.est.lpf_wmin_iq, IQ, W, 0, DTC_I32_MAX, DTC_ERR_LPFCOMP, 0U,                              \
+      "the low-pass correction's speed floor (> 0 with lpf_comp)")                                            \
+    X(112, u.pm_dtc.est.dcs_k_iq, IQ, PU, 0, DTC_I32_MAX, DTC_ERR_DCSUPP, DTC_PARAM_RO,                       \
+      "DC-current suppression gain per period over |w| (> 0 with dc_supp)")                                   \
+    X(113, u.pm_dtc.est.vmid_g_iq, IQ, PU, 0, DTC_I32_MAX, DTC_ERR_DCSUPP, DTC_PARAM_RO,                      \
+      "FSTP mid-point regulation gain; 0 = off")                                                              \
+    X(114, u.pm_dtc.est.vmid_beta_s_iq, IQ, PU, 0, DTC_I32_MAX, DTC_ERR_DCSUPP, DTC_PARAM_RO,                 \
+      "FSTP restoring mid-point reconstruction gain; 0 = off")                                                \
+    X(115, u.pm_dtc.machine.ls_iq, IQ, L, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO,                      \
+      "synchronous inductance L_s (1/L_s is derived with it)")                                                \
+    X(116, u.pm_dtc.machine.psi_m_iq, IQ, PSI, 1, DTC_I32_MAX, DTC_ERR_MACHINE, 0U, "magnet flux linkage psi_m") \
+    X(117, u.pm_dtc.machine.inv_ls_iq, IQ, INV_L, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO, "1 / L_s")
+
 #endif /* PM_DTC_CFG_H */

@@ -47,4 +47,30 @@ typedef struct {
     dtc_pm_machine_cfg_t machine; /* l_s, psi_m, 1/l_s (> 0 each) */
 } dtc_pm_itc_cfg_t;
 
+/* The PM ITC part's parameters, once (dtc_param.h). */
+#define DTC_PARAMS_PM_ITC(X)                                                                                  \
+    X(300, u.pm_itc.part, U16, NONE, DTC_PART_PM_ITC, DTC_PART_PM_ITC, DTC_ERR_PART, DTC_PARAM_RO,            \
+      "tag of the PM ITC part (DTC_PART_PM_ITC)")                                                             \
+    X(301, u.pm_itc.cc.kp_iq, IQ, Z, 1, DTC_I32_MAX, DTC_ERR_SVM, 0U,                                         \
+      "current PI proportional gain K_p = L_s w_c")                                                           \
+    X(302, u.pm_itc.cc.ki_ts_iq, IQ, Z, 1, DTC_I32_MAX, DTC_ERR_SVM, 0U,                                      \
+      "current PI integral gain times T_s, R_s w_c T_s")                                                      \
+    X(303, u.pm_itc.cc.iq_per_t_iq, IQ, PU, 1, DTC_I32_MAX, DTC_ERR_SVM, DTC_PARAM_RO,                        \
+      "q-axis current per unit torque, 1 / psi_m")                                                            \
+    X(304, u.pm_itc.mid.g_iq, IQ, PU, 0, DTC_I32_MAX, DTC_ERR_DCSUPP, DTC_PARAM_RO,                           \
+      "FSTP mid-point regulation gain 2 C w_m; 0 = off")                                                      \
+    X(305, u.pm_itc.mid.kf_iq, IQ, RATIO, 0, 16777215L, DTC_ERR_DCSUPP, DTC_PARAM_RO,                         \
+      "mid-point regulation's filter gain per period, in (0, 1) with it on")                                  \
+    X(306, u.pm_itc.est.lpf_comp, U16, NONE, 0, 1, DTC_ERR_LPFCOMP, 0U,                                       \
+      "observer voltage model: 1 = gain and phase correction of the low-pass")                                \
+    X(307, u.pm_itc.est.wc_pu_iq, IQ, W, 0, DTC_I32_MAX, DTC_ERR_LPFCOMP, DTC_PARAM_RO,                       \
+      "the low-pass cut-off w_c (> 0 with lpf_comp)")                                                         \
+    X(308, u.pm_itc.est.lpf_wmin_iq, IQ, W, 0, DTC_I32_MAX, DTC_ERR_LPFCOMP, 0U,                              \
+      "the low-pass correction's speed floor (> 0 with lpf_comp)")                                            \
+    X(310, u.pm_itc.machine.ls_iq, IQ, L, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO,                      \
+      "synchronous inductance L_s (1/L_s is derived with it)")                                                \
+    X(311, u.pm_itc.machine.psi_m_iq, IQ, PSI, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO,                 \
+      "magnet flux linkage psi_m (1/psi_m is derived with it)")                                               \
+    X(312, u.pm_itc.machine.inv_ls_iq, IQ, INV_L, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO, "1 / L_s")
+
 #endif /* PM_ITC_CFG_H */

@@ -4,7 +4,6 @@
  */
 #include "pil_format.h"
 
-#include "dtc_config_fields.h"
 
 static void put16(uint8_t **p, uint16_t v)
 {
@@ -53,58 +52,42 @@ static void field_set(void *f, uint16_t size, uint32_t bits)
     }
 }
 
-/* Every configuration field in file order: F(lvalue) for each. The common part, then the part of
- * the configuration's law (dtc_config_fields.h), then zero fields up to the longest law's list, so
- * that every blob has pil_config_fields() fields whatever its law. */
-#define PIL_CFG_NOP(part)
-#define PIL_CFG_ARR3(part, name) F(c->part.name[0]) F(c->part.name[1]) F(c->part.name[2])
-#define PIL_CFG_ONE(part, name) F(c->part.name)
-#define PIL_CONFIG_COMMON                                                                         \
-    F(c->version) F(c->law)                                                                      \
-    DTC_CONFIG_COMMON_FIELDS(PIL_CFG_NOP, PIL_CFG_ONE, PIL_CFG_ONE, PIL_CFG_ONE, PIL_CFG_ONE,      \
-                             PIL_CFG_ARR3, PIL_CFG_NOP)
-#define PIL_CONFIG_PM_DTC                                                                         \
-    DTC_CONFIG_PM_DTC_FIELDS(PIL_CFG_NOP, PIL_CFG_ONE, PIL_CFG_ONE, PIL_CFG_ONE, PIL_CFG_ONE,      \
-                             PIL_CFG_ARR3, PIL_CFG_NOP)
-#define PIL_CONFIG_PM_ITC                                                                         \
-    DTC_CONFIG_PM_ITC_FIELDS(PIL_CFG_NOP, PIL_CFG_ONE, PIL_CFG_ONE, PIL_CFG_ONE, PIL_CFG_ONE,      \
-                             PIL_CFG_ARR3, PIL_CFG_NOP)
-#define PIL_CONFIG_IM                                                                             \
-    DTC_CONFIG_IM_FIELDS(PIL_CFG_NOP, PIL_CFG_ONE, PIL_CFG_ONE, PIL_CFG_ONE, PIL_CFG_ONE,          \
-                         PIL_CFG_ARR3, PIL_CFG_NOP)
-
-/* Numbers of fields of the lists. */
-#define F(x) +1
-enum { PIL_N_COMMON = 0 PIL_CONFIG_COMMON, PIL_N_PM_DTC = 0 PIL_CONFIG_PM_DTC, PIL_N_IM = 0 PIL_CONFIG_IM,
-       PIL_N_PM_ITC = 0 PIL_CONFIG_PM_ITC };
-/* the ITC's part is shorter than the IM laws': the blob's length does not depend on it */
-typedef char pil_itc_fits[PIL_N_PM_ITC <= PIL_N_IM ? 1 : -1];
-#undef F
+/* The blob holds every configuration field in the order of the parameter rows (dtc_param.h): the
+ * common part's, then the part of the configuration's law, then zero fields up to the longest
+ * law's part, so that every blob has pil_config_fields() fields whatever its law. */
+static const dtc_param_list_t *pil_law_rows(uint16_t law)
+{
+#if DTC_LAW_ITC_LINKED
+    if (law == DTC_LAW_PM_ITC) {
+        return &dtc_params_pm_itc;
+    }
+#endif
+    return dtc_law_is_im(law) != 0U ? &dtc_params_im : &dtc_params_pm_dtc;
+}
 
 uint16_t pil_config_fields(void)
 {
-    return (uint16_t)(PIL_N_COMMON + (PIL_N_PM_DTC > PIL_N_IM ? PIL_N_PM_DTC : PIL_N_IM));
+    /* the ITC's part is shorter than the IM laws' (unit test test_dtc_param): it does not set the length */
+    return (uint16_t)(dtc_params_common.n + (dtc_params_pm_dtc.n > dtc_params_im.n ? dtc_params_pm_dtc.n
+                                                                                      : dtc_params_im.n));
+}
+
+/* A row's field as stored: 2 or 4 bytes. */
+static uint16_t pil_row_size(const dtc_param_t *r)
+{
+    return (uint16_t)(r->fmt == DTC_PF_U16 || r->fmt == DTC_PF_Q15 || r->fmt == DTC_PF_ANGLE ? 2U : 4U);
 }
 
 void pil_config_encode(const dtc_config_t *c, uint8_t *blob)
 {
+    const dtc_param_list_t *lists[2] = {&dtc_params_common, pil_law_rows(c->law)};
     uint8_t *p = blob;
-    uint16_t n = PIL_N_COMMON;
-#define F(x) put32(&p, field_bits(&(x), (uint16_t)sizeof(x)));
-    PIL_CONFIG_COMMON
-    if (dtc_law_is_im(c->law) != 0U) {
-        PIL_CONFIG_IM
-        n = (uint16_t)(n + PIL_N_IM);
-#if DTC_LAW_ITC_LINKED
-    } else if (c->law == DTC_LAW_PM_ITC) {
-        PIL_CONFIG_PM_ITC
-        n = (uint16_t)(n + PIL_N_PM_ITC);
-#endif
-    } else {
-        PIL_CONFIG_PM_DTC
-        n = (uint16_t)(n + PIL_N_PM_DTC);
+    uint16_t n = 0U, l, k;
+    for (l = 0U; l < 2U; l++) {
+        for (k = 0U; k < lists[l]->n; k++, n++) {
+            put32(&p, field_bits((const char *)c + lists[l]->rows[k].offset, pil_row_size(&lists[l]->rows[k])));
+        }
     }
-#undef F
     for (; n < pil_config_fields(); n++) {
         put32(&p, 0U);
     }
@@ -113,18 +96,14 @@ void pil_config_encode(const dtc_config_t *c, uint8_t *blob)
 void pil_config_decode(const uint8_t *blob, dtc_config_t *c)
 {
     const uint8_t *p = blob;
-#define F(x) field_set(&(x), (uint16_t)sizeof(x), get32(&p));
-    PIL_CONFIG_COMMON
-    if (dtc_law_is_im(c->law) != 0U) {
-        PIL_CONFIG_IM
-#if DTC_LAW_ITC_LINKED
-    } else if (c->law == DTC_LAW_PM_ITC) {
-        PIL_CONFIG_PM_ITC
-#endif
-    } else {
-        PIL_CONFIG_PM_DTC
+    uint16_t l, k;
+    for (l = 0U; l < 2U; l++) {
+        /* the common part first: it holds the law, which selects the second list */
+        const dtc_param_list_t *rows = l == 0U ? &dtc_params_common : pil_law_rows(c->law);
+        for (k = 0U; k < rows->n; k++) {
+            field_set((char *)c + rows->rows[k].offset, pil_row_size(&rows->rows[k]), get32(&p));
+        }
     }
-#undef F
 }
 
 static const uint8_t k_magic[4] = {0x44U, 0x50U, 0x49U, 0x4CU}; /* "DPIL" */

@@ -13,9 +13,9 @@
  *             12  u16 T1PR, what hal_pwm_period() returned when recording
  *             14  u16 reserved, 0
  *             16  u32 number of ISRs recorded
- *   config   n x u32: the fields of dtc_config_t in the order of pil_format.c (version, law,
- *            the common part, then the part of the law, zero-padded to n; tools/config/
- *            dtc_config_fields.h), the field's bits zero-extended to 32 bits
+ *   config   n x u32: the fields of dtc_config_t in the order of their parameter rows
+ *            (firmware/dtc/dtc_param.h: the common part from version and law on, then the part
+ *            of the law, zero-padded to n), the field's bits zero-extended to 32 bits
  *            (a 16-bit signed field is stored as its 16-bit pattern). Enough to rebuild the
  *            firmware configuration exactly, with no knowledge of the target's struct layout.
  *   records  per ISR: an input record (PIL_IN_FIELDS, what hal_read() returned) followed by an

@@ -11,7 +11,7 @@
  *   config   fuzz_config(): 6 bytes choose a base configuration from the host converter
  *            (tools/config dtc_config_from_si: law, topology, estimator, compensation, table,
  *            scheme, flags, references), then a patch count and that many raw field writes into
- *            the resulting dtc_config_t (field from the X-macro list dtc_config_fields.h).
+ *            the resulting dtc_config_t (field from the parameter rows, firmware/dtc/dtc_param.h).
  *   session  1 byte: bit 0 ADC codes may take any 16-bit value (else the HAL's 12-bit contract),
  *            bit 1 encoder counts may take any 16-bit value (else 0..counts-1), bit 2 the timer
  *            period T1PR from 2 bytes (else 3750, the F2812 at 150 MHz and 50 us), bit 3 the
@@ -25,7 +25,6 @@
 #include <string.h>
 
 #include "app_core.h"
-#include "dtc_config_fields.h"
 #include "dtc_config_si.h"
 #include "hal.h"
 #include "law.h"
@@ -81,20 +80,29 @@ typedef struct {
     size_t off, size;
 } fuzz_field_t;
 
-#define F_P(part)
-#define F_END(part)
-#define F_ONE(part, name) {offsetof(dtc_config_t, part.name), sizeof(((dtc_config_t *)0)->part.name)},
-#define F_ARR3(part, name)                                                                         \
-    {offsetof(dtc_config_t, part.name[0]), sizeof(uint16_t)},                                      \
-    {offsetof(dtc_config_t, part.name[1]), sizeof(uint16_t)},                                      \
-    {offsetof(dtc_config_t, part.name[2]), sizeof(uint16_t)},
-static const fuzz_field_t fuzz_fields[] = {
-    {offsetof(dtc_config_t, version), sizeof(uint16_t)},
-    {offsetof(dtc_config_t, law), sizeof(uint16_t)},
-    DTC_CONFIG_COMMON_FIELDS(F_P, F_ONE, F_ONE, F_ONE, F_ONE, F_ARR3, F_END)
-    DTC_CONFIG_PM_DTC_FIELDS(F_P, F_ONE, F_ONE, F_ONE, F_ONE, F_ARR3, F_END)
-    DTC_CONFIG_IM_FIELDS(F_P, F_ONE, F_ONE, F_ONE, F_ONE, F_ARR3, F_END)};
-#define FUZZ_NFIELDS (sizeof fuzz_fields / sizeof fuzz_fields[0])
+/* Every configuration field, of every law's part (the parameter rows, dtc_param.h), filled in
+ * from the rows at the first run. */
+static fuzz_field_t fuzz_fields[256];
+static size_t fuzz_nfields;
+
+static void fuzz_fields_init(void)
+{
+    const dtc_param_list_t *lists[4] = {&dtc_params_common, &dtc_params_pm_dtc, &dtc_params_im, &dtc_params_pm_itc};
+    size_t l, k;
+    if (fuzz_nfields != 0U) {
+        return;
+    }
+    for (l = 0U; l < 4U; l++) {
+        for (k = 0U; k < lists[l]->n && fuzz_nfields < sizeof fuzz_fields / sizeof fuzz_fields[0]; k++) {
+            const dtc_param_t *p = &lists[l]->rows[k];
+            fuzz_fields[fuzz_nfields].off = p->offset;
+            fuzz_fields[fuzz_nfields].size =
+                p->fmt == DTC_PF_U16 || p->fmt == DTC_PF_Q15 || p->fmt == DTC_PF_ANGLE ? 2U : 4U;
+            fuzz_nfields++;
+        }
+    }
+}
+#define FUZZ_NFIELDS fuzz_nfields
 
 /* Reads a field as a signed 64-bit value (its stored type's width and signedness do not matter
  * for the patch modes below, which write back the low bytes). */
@@ -711,6 +719,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     uint8_t sess;
 
     memset(&z, 0, sizeof z);
+    fuzz_fields_init();
     /* the session byte comes after the configuration bytes, but the period is needed at init:
      * take it from the last two bytes of the input when asked (bit 2 of the session byte) */
     z.t1pr = 3750U;

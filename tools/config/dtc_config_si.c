@@ -4,7 +4,7 @@
 
 #include "app_core.h"
 #include "law.h"
-#include "dtc_config_fields.h"
+#include "dtc_params.h"
 #include "plant_defaults.h"
 
 #include <math.h>
@@ -379,8 +379,8 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     cfg->board.td_ts_q15 = (q15_t)lround(32768.0 * si->dead_time_s / si->ts_s);
     cfg->board.ts_pu_iq = dtc_si_to_iq(&c, "ts_s", si->ts_s, si->ts_s * b.w_base_rad_s);
 
-    if (!(65536.0 * 65536.0 * si->pole_pairs / enc_counts <= 2147483648.0))
-        return dtc_si_fail(&c, DTC_SI_ERR_ENCODER, "enc_lines = %d: fewer than two counts per electrical turn with %d pole pairs", si->enc_lines, si->pole_pairs);
+    if (!(65536.0 * 65536.0 * si->pole_pairs / enc_counts < 2147483647.5)) /* board.enc_gain_q16's range */
+        return dtc_si_fail(&c, DTC_SI_ERR_ENCODER, "enc_lines = %d: two or fewer counts per electrical turn with %d pole pairs (the electrical angle aliases)", si->enc_lines, si->pole_pairs);
     cfg->board.enc_counts = (uint16_t)enc_counts;
     cfg->board.enc_gain_q16 = (uint32_t)nearbyint(65536.0 * 65536.0 * si->pole_pairs / enc_counts);
     {
@@ -501,77 +501,92 @@ static const char *i32(char *buf, size_t n, int32_t v)
     return buf;
 }
 
-/* Indentation of a nested part: one level per dot in its path, plus one. */
-static int part_depth(const char *path)
+double dtc_param_value(const dtc_config_t *cfg, const dtc_param_t *p)
 {
-    int d = 1;
-    for (; *path != '\0'; path++) {
-        d += *path == '.';
+    const double raw = (double)dtc_param_raw(cfg, p);
+    switch (p->fmt) {
+    case DTC_PF_Q15: return raw / 32768.0;
+    case DTC_PF_IQ: return raw / 16777216.0;
+    case DTC_PF_Q31: return raw / 2147483648.0;
+    default: return raw;
     }
-    return d;
 }
 
-/* The member name of a part's path (after the last dot). */
-static const char *part_leaf(const char *path)
+double dtc_param_si_scale(const dtc_config_t *cfg, uint16_t qty)
 {
-    const char *leaf = path;
-    for (; *path != '\0'; path++) {
-        if (*path == '.') {
-            leaf = path + 1;
-        }
+    const double vb = cfg->board.v_base_mv / 1000.0, ib = cfg->board.i_base_ma / 1000.0,
+                 wb = cfg->board.w_base_mrad_s / 1000.0;
+    const double psib = vb / wb, zb = vb / ib, lb = zb / wb, tb = 1.5 * cfg->machine.pole_pairs * psib * ib;
+    switch (qty) {
+    case DTC_PQ_V: case DTC_PQ_V_COUNT: return vb;
+    case DTC_PQ_A: case DTC_PQ_A_COUNT: return ib;
+    case DTC_PQ_W: return wb;
+    case DTC_PQ_PSI: return psib;
+    case DTC_PQ_T: return tb;
+    case DTC_PQ_Z: return zb;
+    case DTC_PQ_L: return lb;
+    case DTC_PQ_INV_L: return 1.0 / lb;
+    case DTC_PQ_INV_PSI: return 1.0 / psib;
+    case DTC_PQ_TIME: return 1.0 / wb;
+    case DTC_PQ_ANGLE: return 2.0 * M_PI / 65536.0;
+    case DTC_PQ_T_W: return tb / wb;
+    default: return 1.0;
     }
-    return leaf;
+}
+
+/* One row as a designated initialiser, with the value in pu and SI where it has them. */
+static int emit_row(FILE *f, const dtc_config_t *cfg, const dtc_param_t *p)
+{
+    char b[32];
+    const int64_t raw = dtc_param_raw(cfg, p);
+    const double v = dtc_param_value(cfg, p), si = v * dtc_param_si_scale(cfg, p->qty);
+    const char *unit = dtc_param_unit(p->qty);
+    int r;
+    if (p->fmt == DTC_PF_U16 || p->fmt == DTC_PF_U32 || p->fmt == DTC_PF_ANGLE) {
+        r = fprintf(f, "    .%s = %lluU, /* #%u", p->name, (unsigned long long)raw, (unsigned)p->id);
+    } else {
+        r = fprintf(f, "    .%s = %s, /* #%u %.9g", p->name, i32(b, sizeof b, (int32_t)raw), (unsigned)p->id, v);
+    }
+    if (r >= 0 && unit[0] != '\0') {
+        r = fprintf(f, " = %.6g %s", si, unit);
+    }
+    if (r >= 0) {
+        r = fprintf(f, " */\n");
+    }
+    return r < 0 ? -1 : 0;
 }
 
 int dtc_config_emit_c(const dtc_config_t *cfg, const char *symbol, FILE *f)
 {
-    char b[32];
-    const double iq = 16777216.0, q31 = 2147483648.0;
+    const dtc_param_list_t *law;
+    uint16_t k;
     int r = 0;
 
     if (cfg == NULL || symbol == NULL || f == NULL) {
         return -1;
     }
-#define EMIT(...) do { if (fprintf(f, __VA_ARGS__) < 0) r = -1; } while (0)
-#define IND(part) EMIT("%*s", 4 * part_depth(#part), "")
-#define EP(part) do { EMIT("%*s.%s = {\n", 4 * part_depth(#part), "", part_leaf(#part)); } while (0);
-#define EEND(part) do { EMIT("%*s},\n", 4 * part_depth(#part), ""); } while (0);
-#define EU(part, name) do { IND(part); EMIT("    .%s = %luU,\n", #name, (unsigned long)cfg->part.name); } while (0);
-#define EIQ(part, name) do { IND(part); EMIT("    .%s = %s, /* %.9g pu */\n", #name, i32(b, sizeof b, cfg->part.name), (double)cfg->part.name / iq); } while (0);
-#define EQ31(part, name) do { IND(part); EMIT("    .%s = %s, /* %.12g */\n", #name, i32(b, sizeof b, cfg->part.name), (double)cfg->part.name / q31); } while (0);
-#define EQ15(part, name) do { IND(part); EMIT("    .%s = %d, /* %.6g, Q15 */\n", #name, (int)cfg->part.name, (double)cfg->part.name / 32768.0); } while (0);
-#define EARR3(part, name) do { IND(part); EMIT("    .%s = {%uU, %uU, %uU},\n", #name, (unsigned)cfg->part.name[0], (unsigned)cfg->part.name[1], (unsigned)cfg->part.name[2]); } while (0);
-    EMIT("/* Generated by dtc_config_emit_c (tools/config): DTC firmware configuration, per-unit\n"
-         " * Q formats (firmware/dtc/dtc_config.h, bases in firmware/dtc/dtc_base.h).\n"
-         " * Bases: V_base %.3f V, I_base %.3f A, w_base %.3f rad/s. Do not edit by hand. */\n",
-         cfg->board.v_base_mv / 1000.0, cfg->board.i_base_ma / 1000.0, cfg->board.w_base_mrad_s / 1000.0);
-    EMIT("#include \"dtc_config.h\"\n\n");
-    EMIT("const dtc_config_t %s = {\n", symbol);
-    EMIT("    .version = %luU,\n", (unsigned long)cfg->version);
-    EMIT("    .law = %luU, /* enum dtc_law */\n", (unsigned long)cfg->law);
-    DTC_CONFIG_COMMON_FIELDS(EP, EU, EIQ, EQ31, EQ15, EARR3, EEND)
-    /* the law's part only: designated initialisers of its member of the union */
-    EMIT("    .u = {\n");
-    if (dtc_law_is_im(cfg->law) != 0U) {
-        EMIT("        .im = {\n");
-        DTC_CONFIG_IM_FIELDS(EP, EU, EIQ, EQ31, EQ15, EARR3, EEND)
-    } else if (cfg->law == DTC_LAW_PM_ITC) {
-        EMIT("        .pm_itc = {\n");
-        DTC_CONFIG_PM_ITC_FIELDS(EP, EU, EIQ, EQ31, EQ15, EARR3, EEND)
-    } else {
-        EMIT("        .pm_dtc = {\n");
-        DTC_CONFIG_PM_DTC_FIELDS(EP, EU, EIQ, EQ31, EQ15, EARR3, EEND)
+    law = dtc_param_law_list(cfg->law);
+    if (law == NULL) {
+        return -1;
     }
-    EMIT("        },\n    },\n");
-    EMIT("};\n");
-#undef EMIT
-#undef IND
-#undef EP
-#undef EEND
-#undef EU
-#undef EIQ
-#undef EQ31
-#undef EQ15
-#undef EARR3
+    if (fprintf(f, "/* Generated by dtc_config_emit_c (tools/config): DTC firmware configuration, per-unit\n"
+                   " * Q formats (firmware/dtc/dtc_config.h, bases in firmware/dtc/dtc_base.h), one line per\n"
+                   " * parameter (#id: firmware/dtc/dtc_param.h).\n"
+                   " * Bases: V_base %.3f V, I_base %.3f A, w_base %.3f rad/s. Do not edit by hand. */\n"
+                   "#include \"dtc_config.h\"\n\nconst dtc_config_t %s = {\n",
+                cfg->board.v_base_mv / 1000.0, cfg->board.i_base_ma / 1000.0, cfg->board.w_base_mrad_s / 1000.0,
+                symbol) < 0) {
+        return -1;
+    }
+    /* the common part, then the law's part only: designated initialisers of its union member */
+    for (k = 0U; k < dtc_params_common.n && r == 0; k++) {
+        r = emit_row(f, cfg, &dtc_params_common.rows[k]);
+    }
+    for (k = 0U; k < law->n && r == 0; k++) {
+        r = emit_row(f, cfg, &law->rows[k]);
+    }
+    if (r == 0 && fprintf(f, "};\n") < 0) {
+        r = -1;
+    }
     return r;
 }

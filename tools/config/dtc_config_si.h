@@ -302,6 +302,12 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
  * field's value and meaning. Returns 0, or -1 on an I/O error. */
 int dtc_config_emit_c(const dtc_config_t *cfg, const char *symbol, FILE *f);
 
+/* A configuration field's stored value as a number in its Q format (raw / 2^Q; integers as they
+ * are), and the factor that turns such a value of quantity qty (enum dtc_param_qty) into SI from
+ * cfg's bases (1 for NONE, RATIO, PU). */
+double dtc_param_value(const dtc_config_t *cfg, const dtc_param_t *p);
+double dtc_param_si_scale(const dtc_config_t *cfg, uint16_t qty);
+
 /* Per-unit bases derived from si (for tests and tools converting logs back to SI). */
 typedef struct {
     double v_base_v, i_base_a, w_base_rad_s, psi_base_wb, z_base_ohm, l_base_h, t_base_nm,

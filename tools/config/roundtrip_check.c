@@ -4,7 +4,7 @@
 #include <string.h>
 
 #include "dtc_config_si.h"
-#include "dtc_config_fields.h"
+#include "dtc_params.h"
 #include "law.h"
 
 extern const dtc_config_t dtc_config_default;
@@ -21,16 +21,23 @@ int main(void)
         fprintf(stderr, "defaults refused: %s\n", msg);
         return 1;
     }
-#define CHK(f) do { if (cfg.f != dtc_config_default.f) { fprintf(stderr, "field %s differs\n", #f); bad = 1; } } while (0);
-#define NOP(part)
-#define CHKF(part, name) CHK(part.name)
-#define CHKA(part, name) CHK(part.name[0]) CHK(part.name[1]) CHK(part.name[2])
-    CHK(version) CHK(law)
-    DTC_CONFIG_COMMON_FIELDS(NOP, CHKF, CHKF, CHKF, CHKF, CHKA, NOP)
-    if (dtc_law_is_im(cfg.law) != 0U) {
-        DTC_CONFIG_IM_FIELDS(NOP, CHKF, CHKF, CHKF, CHKF, CHKA, NOP)
-    } else {
-        DTC_CONFIG_PM_DTC_FIELDS(NOP, CHKF, CHKF, CHKF, CHKF, CHKA, NOP)
+    {
+        /* every row of the common part and of the law's part (dtc_param.h) */
+        const dtc_param_list_t *lists[2] = {&dtc_params_common, dtc_param_law_list(cfg.law)};
+        uint16_t l, k;
+        for (l = 0U; l < 2U; l++) {
+            for (k = 0U; lists[l] != NULL && k < lists[l]->n; k++) {
+                const dtc_param_t *p = &lists[l]->rows[k];
+                if (dtc_param_raw(&cfg, p) != dtc_param_raw(&dtc_config_default, p)) {
+                    fprintf(stderr, "field %s (#%u) differs\n", p->name, (unsigned)p->id);
+                    bad = 1;
+                }
+            }
+        }
+        if (lists[1] == NULL) {
+            fprintf(stderr, "law %u has no linked part\n", (unsigned)cfg.law);
+            bad = 1;
+        }
     }
     if (law_check(&dtc_config_default, NULL) != DTC_OK) {
         fprintf(stderr, "generated configuration refused by law_check\n");
