@@ -16,6 +16,12 @@
 #      the PM scenario of 1a and of the shipped IM scenario (im_dtc_speed.toml, 0.8 s: the 0.44 s
 #      magnetisation, then the speed loop), with the AVR's RAM use; needs the cross-avr and
 #      cross-cm0 builds. Neither is a C28x cycle count.
+#   5. C28x cycle ESTIMATE per PM ISR (tools/pil/pil_profile.py; method in docs/f2812.md, "C28x cycle
+#      estimate"): the Cortex-M0 PIL image's instructions per function from qemu's block log, the
+#      64-bit helpers, IQ products and saturating adds re-weighted as the C28x's single
+#      instructions, every block charged the C28x's branch cost; mean and worst ISR, beside the M0
+#      figures, on the first 0.3 s of the PM scenario of 4 (start-up, hand-over, speed loop)
+#                                                                    [worst <= 50 % of 7,500]
 # usage: tools/bench/run_budget.sh        (or: cmake --build build/host --target dtc_budget)
 #   DTC_BENCH=path/to/dtc_bench  DTC_BENCH_STEPS=20000
 set -euo pipefail
@@ -140,3 +146,12 @@ else
   echo "  cross-avr / cross-cm0 images not built (cmake --build --preset cross-avr; --preset cross-cm0)" >&2
   exit 2
 fi
+
+echo
+echo "== 5. C28x cycle ESTIMATE per app_isr() call, PM law (docs/f2812.md, \"C28x cycle estimate\")"
+sil="$(dirname "$(dirname "$bench")")/bin/dtc-sil"
+[ -x "$sil" ] || { echo "run_budget: $sil not built (cmake --build build/host --target dtc-sil)" >&2; exit 2; }
+"$sil" run "$root/tools/scenarios/fstp_voltage_proposed_full.toml" --set duration_s=0.3 --set metrics_window_s=0.1 \
+  --out "$tmp/c28run" --record-isr "$tmp/c28.rec" >/dev/null
+"$py" "$root/tools/pil/pil_profile.py" "$tmp/c28.rec" --cm-image "$root/build/cross-cm0/bin/pil_cm.elf" --top 15
+echo "  [target: worst <= 50 % of the period, 3,750 cycles; an ESTIMATE, not a C28x measurement]"
