@@ -10,8 +10,10 @@ PIL image, as pil_compare.py does) with qemu's translation-block log: every tran
 instructions (-d in_asm) and every block executed (-d exec, with chaining off so that each
 execution is logged). Each executed block's instruction count is charged to the function its
 first address lies in (the image's symbol table), so the figures are dynamic instruction counts
-per function over the whole replay, harness included; the per-ISR figures divide by the ISRs the
-recording holds. A function's calls are the executions of its entry block.
+per function over the whole replay; the listing leaves out the replay harness (HARNESS) and
+divides by the app_isr() calls. Each ISR's own figures are the blocks between two entries of
+app_isr(), harness excluded; "ISRs that ran the control law" are those that entered law_step. A
+function's calls are the executions of its entry block.
 
 The C28x estimate (ESTIMATE: no C28x compiler or simulator is available) re-weights that mix:
   - the libgcc 64-bit helpers (__aeabi_lmul/__muldi3, __aeabi_lasr/__ashrdi3, __aeabi_llsl/
