@@ -38,7 +38,12 @@ uint16_t app_plaus_step(app_plaus_t *s, const app_plaus_params_t *p, const iq_t 
     uint16_t k;
 
     if (s->primed != 0U) {
+        /* Only the measured channels are judged, so only they accumulate: an unmeasured channel's
+         * sums stay zero (app_plaus_reset; a change of the mask comes with a reset). */
         for (k = 0U; k < 3U; k++) {
+            if ((measured & (uint16_t)(1U << k)) == 0U) {
+                continue;
+            }
             const int32_t dm = to_q16(fix_sub32(i[k], s->i_prev[k]));
             /* the predicted change less the model's bias learnt so far (app_plaus.h) */
             const int32_t dp0 = to_q16(fix_sub32(s->i1_prev[k], s->i_prev[k]));
@@ -52,12 +57,15 @@ uint16_t app_plaus_step(app_plaus_t *s, const app_plaus_params_t *p, const iq_t 
         }
         if (++s->n >= (uint16_t)(1U << APP_PLAUS_WIN_LOG2)) {
             for (k = 0U; k < 3U; k++) {
+                if ((measured & (uint16_t)(1U << k)) == 0U) {
+                    continue;
+                }
                 /* N^2 cov(d_m, d_p) and N^2 var(d_p), N = 2^APP_PLAUS_WIN_LOG2 */
                 const int64_t cov = s->s_mp[k] * (int64_t)(1U << APP_PLAUS_WIN_LOG2) - (int64_t)s->s_m[k] * s->s_p[k];
                 const int64_t var = s->s_pp[k] * (int64_t)(1U << APP_PLAUS_WIN_LOG2) - (int64_t)s->s_p[k] * s->s_p[k];
                 const uint16_t raw_bad = (uint16_t)(s->s_pp[k] > p->floor_raw && 4 * s->s_mp[k] < s->s_pp[k]);
                 const uint16_t follows = (uint16_t)(var > p->floor_var && 4 * cov >= var);
-                if ((measured & (uint16_t)(1U << k)) != 0U && raw_bad != 0U && follows == 0U) {
+                if (raw_bad != 0U && follows == 0U) {
                     bad |= (uint16_t)(1U << k);
                 }
                 s->s_m[k] = 0;

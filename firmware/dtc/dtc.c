@@ -91,6 +91,7 @@ void dtc_reset(dtc_t *c)
     c->vec_1 = cfg->board.topology == DTC_TOPO_FSTP ? 1U : 0U;
     c->te_ref_iq = c->act.mode == DTC_MODE_TORQUE ? c->act.torque_ref_iq : 0;
     c->speed_iq = 0;
+    c->wts_iq = 0;
     c->on_cm = cfg->u.pm_dtc.est.handover_speed_iq > 0 ? 1U : 0U;
     c->cm_hold = 0U;
     dtc_reset_ilim_pol(c);
@@ -281,13 +282,13 @@ void dtc_handover(dtc_t *c)
 void dtc_predict(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t *te)
 {
     const dtc_config_t *cfg = c->cfg;
-    iq_t dpa, dpb, wts, ia1, ib1;
+    const iq_t wts = c->wts_iq; /* w Ts: at the speed-loop rate, as w (dtc_step) */
+    iq_t dpa, dpb, ia1, ib1;
 
     dpa = fix_add32(fix_add32(c->v1_alpha_iq, c->v1f_alpha_iq), c->v1d_alpha_iq);
     dpb = fix_add32(fix_add32(c->v1_beta_iq, c->v1f_beta_iq), c->v1d_beta_iq);
     dpa = iq_mpy(cfg->board.ts_pu_iq, iq_sub(dpa, iq_mpy(cfg->machine.rs_iq, i->i_alpha_iq)));
     dpb = iq_mpy(cfg->board.ts_pu_iq, iq_sub(dpb, iq_mpy(cfg->machine.rs_iq, i->i_beta_iq)));
-    wts = iq_mpy(c->speed_iq, cfg->board.ts_pu_iq);
     /* psi_r = psi - l_s i;  j psi_r w Ts = (-w Ts psi_rb, w Ts psi_ra) */
     ia1 = iq_add(i->i_alpha_iq,
                  iq_mpy(cfg->u.pm_dtc.machine.inv_ls_iq,
@@ -415,6 +416,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     } else if (c->div_cnt == 0U) {
         o->speed_tick = 1U;
         c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
+        c->wts_iq = iq_mpy(c->speed_iq, cfg->board.ts_pu_iq); /* dtc_predict's rotation per period */
         dtc_handover(c);
         if (cfg->u.pm_dtc.est.lpf_comp != 0U) {
             dtc_lpf_r(c);

@@ -87,6 +87,8 @@ typedef struct {
     /* shared blocks' parameters derived at init (last: the members above keep their offsets) */
     deadtime_params_t dt_p;
     ilim_params_t il_p;
+    iq_t wts_iq;         /* delay compensation (dtc_predict): w Ts of the measured speed, IQ pu,
+                          * updated with the speed at the speed-loop rate */
 } dtc_t;
 
 /* The law's configuration check (dtc_check.c): the common part, then the law DTC_LAW_PM_DTC and

@@ -51,6 +51,7 @@ int16_t dtc_reconfigure(dtc_t *c, const dtc_config_t *post, uint16_t phase)
     c->legs_2.sa = 0U; c->legs_2.sb = l2[y]; c->legs_2.sc = l2[z];
     c->legs_3.sa = 0U; c->legs_3.sb = l3[y]; c->legs_3.sc = l3[z];
     c->cfg = post;
+    c->wts_iq = iq_mpy(c->speed_iq, post->board.ts_pu_iq); /* dtc_predict: w Ts of the new period */
     c->fe_p.estimator = post->est.estimator;
     c->fe_p.k_in_q31 = post->est.k_in_q31;
     c->fe_p.k_leak_q31 = post->est.k_leak_q31;

@@ -4,6 +4,11 @@
 # zero-wait RAM the linker command files reserve for it (section "ramfuncs").
 #
 #   usage: hal/f2812/budget.sh PROJECT_ROOT     (after: cmake --build --preset cross-cm0 / cross-avr)
+#          hal/f2812/budget.sh PROJECT_ROOT --members [CM0_BUILD_DIR]
+#              only the firmware archives' members the image links (default build/cross-cm0), one
+#              line per archive: which control law's code an image of that build's DTC_LAWS holds
+#              (an IM-only build: cmake -B build/cross-cm0-im with the cross-cm0 toolchain and
+#              -DDTC_LAWS=im, then its targets dtc_app dtc_init hal_f2812 f2812_main).
 #
 # What is counted
 #   firmware   the members of libdtc_firmware.a, libdtc_fixmath.a, libdtc_im.a and libdtc_app.a
@@ -31,7 +36,23 @@
 # the C28x has no 8-bit type). AVR figures are printed for information only (8-bit code is not
 # comparable). The real figures come from the map file of the f2812 preset (cl2000).
 set -euo pipefail
-root=${1:?usage: budget.sh PROJECT_ROOT}
+root=${1:?usage: budget.sh PROJECT_ROOT [--members [CM0_BUILD_DIR]]}
+if [ "${2:-}" = --members ]; then
+  dir=${3:-$root/build/cross-cm0}
+  main=$(find "$dir/target/f2812" -name 'f2812_main.c.obj' | head -1)
+  [ -n "$main" ] || { echo "budget: no f2812_main object under $dir" >&2; exit 2; }
+  laws=$(sed -n 's/^DTC_LAWS:STRING=//p' "$dir/CMakeCache.txt")
+  echo "== archive members linked by an image of $dir (DTC_LAWS=$laws), cross-cm0 ld -r -M"
+  map=$(arm-none-eabi-ld -r -M -o /dev/null "$main" --start-group "$dir/hal/f2812/libhal_f2812.a" \
+          "$dir/firmware/libdtc_app.a" "$dir/firmware/libdtc_init.a" "$dir/firmware/libdtc_im.a" \
+          "$dir/firmware/libdtc_firmware.a" "$dir/firmware/libdtc_config.a" \
+          "$dir/firmware/libdtc_fixmath.a" --end-group 2>/dev/null)
+  for a in libdtc_app libdtc_firmware libdtc_im libdtc_init libdtc_config libdtc_fixmath; do
+    printf '  %-17s %s\n' "$a.a:" "$(printf '%s\n' "$map" | grep -o "$a\\.a([A-Za-z0-9_.]*)" |
+      sed 's/.*(\(.*\))/\1/; s/\.c\.obj$//' | sort -u | paste -sd' ')"
+  done
+  exit 0
+fi
 cm0=$root/build/cross-cm0
 avr=$root/build/cross-avr
 

@@ -1,13 +1,16 @@
 #!/usr/bin/env bash
-# DTC budget report: prints the figures, does not judge them (targets in brackets).
+# DTC budget report: prints the figures, does not judge them (targets in brackets). The host
+# targets are the figures reached (rounded up to 10 instructions) where they were below the
+# earlier targets, so that a change that adds to a step shows; where a figure is above its
+# target (1c and 1f worst call, the stack chains) the target stays and the figure is a finding.
 #   1. host instructions per control-law step (valgrind --tool=callgrind, host preset build of
 #      tools/bench/bench_dtc.c), average and the speed-loop steps (the worst path):
-#      1a. PM law dtc_step: FSTP, voltage model, Hoang Table VI compensation [avg <= 1500, worst <= 2500]
-#      1b. IM law im_dtc_step: improved estimator, Casadei eq. 19, sensorless [avg <= 1000, worst <= 1500]
-#      1c. IM law im_sfvc_step: SFVC (Casadei eqs. 18, 23, 24) + SVM, same [avg <= 1200, worst <= 1700]
-#      1d. IM law im_dfoc_step: DFOC (sec. 13) + two-phase SVM, same    [avg <= 1200, worst <= 1700]
-#      1e. IM law im_dsvm_step: DTC with DSVM (sec. 11), 160 us          [avg <= 1000, worst <= 1500]
-#      1f. PM law itc_step: ITC, FSTP SVM, voltage-model observer (VI)   [avg <= 1200]
+#      1a. PM law dtc_step: FSTP, voltage model, Hoang Table VI compensation [avg <= 1500, worst <= 1880]
+#      1b. IM law im_dtc_step: improved estimator, Casadei eq. 19, sensorless [avg <= 990, worst <= 1380]
+#      1c. IM law im_sfvc_step: SFVC (Casadei eqs. 18, 23, 24) + SVM, same [avg <= 1190, worst <= 1700]
+#      1d. IM law im_dfoc_step: DFOC (sec. 13) + two-phase SVM, same    [avg <= 1200, worst <= 1540]
+#      1e. IM law im_dsvm_step: DTC with DSVM (sec. 11), 160 us          [avg <= 1000, worst <= 1320]
+#      1f. PM law itc_step: ITC, FSTP SVM, voltage-model observer (VI)   [avg <= 1200, worst <= 1700]
 #   2. cross-cm0 stack usage of the control path (-fstack-usage per function from the preset's
 #      build, worst call chain from -fcallgraph-info=su)              [<= 256 bytes]
 #   3. cross-cm0 code and data size of the firmware library (arm-none-eabi-size)
@@ -16,6 +19,12 @@
 #      the PM scenario of 1a and of the shipped IM scenario (im_dtc_speed.toml, 0.8 s: the 0.44 s
 #      magnetisation, then the speed loop), with the AVR's RAM use; needs the cross-avr and
 #      cross-cm0 builds. Neither is a C28x cycle count.
+#   5. C28x cycle ESTIMATE per PM ISR (tools/pil/pil_profile.py; method in docs/f2812.md, "C28x cycle
+#      estimate"): the Cortex-M0 PIL image's instructions per function from qemu's block log, the
+#      64-bit helpers, IQ products and saturating adds re-weighted as the C28x's single
+#      instructions, every block charged the C28x's branch cost; mean and worst ISR, beside the M0
+#      figures, on the first 0.3 s of the PM scenario of 4 (start-up, hand-over, speed loop)
+#                                                                    [worst <= 50 % of 7,500]
 # usage: tools/bench/run_budget.sh        (or: cmake --build build/host --target dtc_budget)
 #   DTC_BENCH=path/to/dtc_bench  DTC_BENCH_STEPS=20000
 set -euo pipefail
@@ -71,21 +80,21 @@ PY
   echo
 }
 
-# PM law (FSTP, voltage model, Hoang Table VI compensation, speed loop on): the existing targets.
-instr a "" dtc_step bench_step_normal bench_step_tick 1500 2500 \
+# PM law (FSTP, voltage model, Hoang Table VI compensation, speed loop on).
+instr a "" dtc_step bench_step_normal bench_step_tick 1500 1880 \
   flux_est_step vcomp_step iq_mag fix_isqrt64 speed_meas_step speed_pi_step
 # IM law (improved estimator, speed-dependent tau, Casadei eq. 19, sensorless, speed-dependent table), at
-# 40 us (budget target: avg <= 1000, worst <= 1500).
-instr b im im_dtc_step bench_im_normal bench_im_tick 1000 1500 \
+# 40 us.
+instr b im im_dtc_step bench_im_normal bench_im_tick 990 1380 \
   im_est_step fix_polar im_speed_step iq_mag fix_isqrt64 im_dtc_select im_dtc_estimate speed_pi_step
-# IM law, stator-flux vector control with SVM (budget target: SVM + SFVC avg <= 1200), 160 us.
-instr c sfvc im_sfvc_step bench_sfvc_normal bench_sfvc_tick 1200 1700 \
+# IM law, stator-flux vector control with SVM, 160 us.
+instr c sfvc im_sfvc_step bench_sfvc_normal bench_sfvc_tick 1190 1700 \
   im_est_step fix_polar im_speed_step iq_mag fix_isqrt64 im_sfvc_regulate svm_step im_sfvc_estimate speed_pi_step
-# IM law, rotor-flux-oriented control with two-phase SVM (budget target: DFOC avg <= 1200), 160 us.
-instr d dfoc im_dfoc_step bench_dfoc_normal bench_dfoc_tick 1200 1700 \
+# IM law, rotor-flux-oriented control with two-phase SVM, 160 us.
+instr d dfoc im_dfoc_step bench_dfoc_normal bench_dfoc_tick 1200 1540 \
   im_est_step fix_polar im_speed_step im_dfoc_regulate svm_step im_sfvc_estimate speed_pi_step
-# IM law, DTC with DSVM (budget target: DSVM avg <= 1000), 160 us.
-instr e dsvm im_dsvm_step bench_dsvm_normal bench_dsvm_tick 1000 1500 \
+# IM law, DTC with DSVM, 160 us.
+instr e dsvm im_dsvm_step bench_dsvm_normal bench_dsvm_tick 1000 1320 \
   im_est_step fix_polar im_speed_step im_dsvm_select dsvm_table dsvm_vectors dsvm_patterns im_sfvc_estimate speed_pi_step
 # PM indirect torque control (<= 1,200 host instructions per step), FSTP, 50 us.
 instr f itc itc_step bench_itc_normal bench_itc_tick 1200 1700 \
@@ -97,11 +106,13 @@ echo "  -fstack-usage of the cross-cm0 build (build/cross-cm0, MinSizeRel):"
 find "$root/build/cross-cm0/firmware" -name '*.su' -print0 | xargs -0 cat |
   grep -E ':(dtc_step|itc_[a-z_]+|dqpi_[a-z_]+|svm4_[a-z_]+|im_dtc_[a-z_]+|im_sfvc_[a-z_]+|im_dfoc_[a-z_]+|im_dsvm_[a-z_]+|dsvm_[a-z_]+|svm_[a-z_]+|im_est_step|im_speed_step|im_fw_step|dsc_[a-z]+|fix_polar|law_step|dtc_shadow_adopt|flux_est_[a-z_]+|vcomp_step|vrec_[a-z]+|speed_meas_step|speed_pi_step|swtab_[a-z_0-9]+|fix_isqrt64|iq_mag|fix_sin|fix_cos|fix_sector6|fix_quadrant|dtc_adopt)\s' |
   sed -E 's#^.*/##' | awk -F'\t' '{ printf "    %-44s %5s bytes %s\n", $1, $2, $3 }'
-# The call graph: the same sources, flags as the preset (toolchain-arm-none-eabi-cm0 + MinSizeRel).
+# The call graph: the same sources, flags as the preset (toolchain-arm-none-eabi-cm0 + MinSizeRel),
+# with every law linked (law.h: the laws' states and law_step's dispatch exist only for those).
+lawdefs="-DDTC_LAW_PM_LINKED=1 -DDTC_LAW_IM_LINKED=1 -DDTC_LAW_ITC_LINKED=1"
 for f in "$root"/firmware/dtc/*.c "$root"/firmware/fixmath/*.c "$root"/firmware/app/law.c; do
   arm-none-eabi-gcc -std=c99 -mcpu=cortex-m0 -mthumb -ffreestanding -fno-common -ffunction-sections \
     -fdata-sections -Os -DNDEBUG -fstack-usage -fcallgraph-info=su \
-    -I"$root/firmware/dtc" -I"$root/firmware/fixmath" -I"$root/firmware/app" -c "$f" -o "$tmp/$(basename "$f" .c).o"
+    -I"$root/firmware/dtc" -I"$root/firmware/fixmath" -I"$root/firmware/app" -I"$root/hal/include" $lawdefs -c "$f" -o "$tmp/$(basename "$f" .c).o"
 done
 for fn in dtc_step im_dtc_step im_sfvc_step im_dfoc_step im_dsvm_step itc_step law_step; do
   echo "  -- $fn"
@@ -117,7 +128,8 @@ echo "  (text = code + constant tables in flash; data + bss = RAM: none, the mod
 echo "   static state. The controller state dtc_t is caller-owned; its size on the target:)"
 printf '#include "law.h"\ndtc_t dtc_budget_instance;\nim_dtc_t dtc_budget_im;\nlaw_t dtc_budget_law;\n' >"$tmp/sz.c"
 arm-none-eabi-gcc -std=c99 -mcpu=cortex-m0 -mthumb -ffreestanding -fno-common -Os \
-  -I"$root/firmware/dtc" -I"$root/firmware/fixmath" -I"$root/firmware/app" -c "$tmp/sz.c" -o "$tmp/sz.o"
+  -I"$root/firmware/dtc" -I"$root/firmware/fixmath" -I"$root/firmware/app" -I"$root/hal/include" $lawdefs \
+  -c "$tmp/sz.c" -o "$tmp/sz.o"
 for v in dtc_budget_instance:dtc_t dtc_budget_im:im_dtc_t dtc_budget_law:law_t; do
   hex=$(arm-none-eabi-nm -S "$tmp/sz.o" | awk -v s="${v%%:*}" '$4 == s { print $2 }')
   echo "  sizeof(${v##*:}) = $((16#$hex)) bytes of RAM"
@@ -140,3 +152,12 @@ else
   echo "  cross-avr / cross-cm0 images not built (cmake --build --preset cross-avr; --preset cross-cm0)" >&2
   exit 2
 fi
+
+echo
+echo "== 5. C28x cycle ESTIMATE per app_isr() call, PM law (docs/f2812.md, \"C28x cycle estimate\")"
+sil="$(dirname "$(dirname "$bench")")/bin/dtc-sil"
+[ -x "$sil" ] || { echo "run_budget: $sil not built (cmake --build build/host --target dtc-sil)" >&2; exit 2; }
+"$sil" run "$root/tools/scenarios/fstp_voltage_proposed_full.toml" --set duration_s=0.3 --set metrics_window_s=0.1 \
+  --out "$tmp/c28run" --record-isr "$tmp/c28.rec" >/dev/null
+"$py" "$root/tools/pil/pil_profile.py" "$tmp/c28.rec" --cm-image "$root/build/cross-cm0/bin/pil_cm.elf" --top 15
+echo "  [target: worst <= 50 % of the period, 3,750 cycles; an ESTIMATE, not a C28x measurement]"

@@ -1,0 +1,184 @@
+#!/usr/bin/env python3
+"""pil_profile.py - where the Cortex-M0 instructions of the processor-in-the-loop ISR go, per
+function, and the C28x cycle estimate made from that instruction mix (docs/f2812.md, "C28x cycle
+estimate").
+
+  pil_profile.py RECORDING [--cm-image ELF] [--top N] [--json OUT]
+
+Replays RECORDING (dtc-sil run --record-isr FILE) on qemu-system-arm (mps2-an385, the cross-cm0
+PIL image, as pil_compare.py does) with qemu's translation-block log: every translated block's
+instructions (-d in_asm) and every block executed (-d exec, with chaining off so that each
+execution is logged). Each executed block's instruction count is charged to the function its
+first address lies in (the image's symbol table), so the figures are dynamic instruction counts
+per function over the whole replay; the listing leaves out the replay harness (HARNESS) and
+divides by the app_isr() calls. Each ISR's own figures are the blocks between two entries of
+app_isr(), harness excluded; "ISRs that ran the control law" are those that entered law_step. A
+function's calls are the executions of its entry block.
+
+The C28x estimate (ESTIMATE: no C28x compiler or simulator is available) re-weights that mix:
+  - the libgcc 64-bit helpers (__aeabi_lmul/__muldi3, __aeabi_lasr/__ashrdi3, __aeabi_llsl/
+    __ashldi3, __aeabi_llsr/__lshrdi3): Thumb-1 has no 32x32->64 multiply and no 64-bit shift, a
+    product takes ~40 instructions; the C28x does the 64-bit product in IMPYL + QMPYL and the
+    shift in one LSL64/ASR64: each call is charged C28X_HELPER_CYCLES;
+  - the out-of-line IQ helpers the M0 build keeps (iq_mpy: product, rounding, shift and 32-bit
+    saturation; fix_add32/fix_sub32: the saturating sum): one C28x sequence of IQ_MPY_CYCLES /
+    FIX_SAT_CYCLES cycles per call (MOVL XT, IMPYL P, QMPYL ACC, ADD with carry, LSL64, SAT64;
+    MOVL ACC, ADDL with OVM set, MOVL), so their body, the helpers they call and their
+    call/return on the M0 are replaced by that;
+  - every other M0 instruction is charged C28X_CYCLES_PER_INSN cycles: both are single-issue
+    in-order machines with a one-cycle ALU path; the M0 pays more for 32-bit work in 8 registers
+    (spills, MOVS/LSLS sequences for constants, two instructions per 64-bit add), which the C28x
+    does in one, so 1.0 per M0 instruction is pessimistic for the arithmetic;
+  - every executed block (a straight run of M0 code ending in a branch, a call or a return) is
+    charged C28X_BRANCH_EXTRA more cycles: the C28x's 8-stage pipeline makes a conditional branch
+    cost 4 cycles taken or not (7 for the short form taken) and a call or return 4, against the
+    one counted for its M0 instruction.
+  The weights are printed with the figure so that the reader can scale them.
+"""
+import argparse
+import bisect
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
+
+HELPERS = {"__aeabi_lmul", "__muldi3", "__aeabi_lasr", "__ashrdi3", "__aeabi_llsl", "__ashldi3",
+           "__aeabi_llsr", "__lshrdi3"}
+IQ_MPY = {"iq_mpy"}
+FIX_SAT = {"fix_add32", "fix_sub32"}
+HARNESS = re.compile(r"^(main|pil_|semi_|put(16|32)|get(16|32)|flush_|hal_replay_|_|memset|memcpy|Reset_Handler|SysTick)")
+C28X_CYCLES_PER_INSN = 1.0
+C28X_BRANCH_EXTRA = 3
+C28X_HELPER_CYCLES = 4
+IQ_MPY_CYCLES = 8
+FIX_SAT_CYCLES = 4
+
+
+def symbols(elf):
+    """Sorted (address, name) of the image's functions (Thumb bit cleared)."""
+    out = subprocess.run(["arm-none-eabi-nm", "-n", elf], capture_output=True, text=True, check=True).stdout
+    syms = []
+    for line in out.splitlines():
+        p = line.split()
+        if len(p) == 3 and p[1] in "tTwW":
+            syms.append((int(p[0], 16) & ~1, p[2]))
+    syms.sort()
+    return syms
+
+
+def block_cycles(name, n, is_entry):
+    """C28x cycles charged for one executed M0 block of n instructions in function name."""
+    if name in HELPERS:
+        return C28X_HELPER_CYCLES if is_entry else 0
+    if name in IQ_MPY:  # its __aeabi_lmul call is charged as a helper call
+        return IQ_MPY_CYCLES - C28X_HELPER_CYCLES if is_entry else 0
+    if name in FIX_SAT:
+        return FIX_SAT_CYCLES if is_entry else 0
+    return n * C28X_CYCLES_PER_INSN + C28X_BRANCH_EXTRA
+
+
+def profile(rec, elf):
+    """{function: [instructions, calls, blocks]} over the replay, and per ISR (split at each entry
+    of app_isr) the ISR path's M0 instructions and C28x cycles (harness excluded)."""
+    qemu = shutil.which("qemu-system-arm")
+    if qemu is None:
+        raise SystemExit("pil_profile: qemu-system-arm not found (tools/setup.sh installs it)")
+    syms = symbols(elf)
+    addrs = [a for a, _ in syms]
+    entry = {a for a, _ in syms}
+    tb_len = {}
+    per = {}
+    isr_m0, isr_c28, isr_law = [], [], []
+    with tempfile.TemporaryDirectory() as d:
+        shutil.copyfile(rec, os.path.join(d, "pil_in.bin"))
+        fifo = os.path.join(d, "log")
+        os.mkfifo(fifo)
+        p = subprocess.Popen([qemu, "-M", "mps2-an385", "-nographic", "-monitor", "none", "-serial", "none",
+                              "-d", "in_asm,exec,nochain", "-D", fifo,
+                              "-semihosting-config", "enable=on,target=native", "-kernel", elf], cwd=d)
+        cur_pc, cur_n = None, 0
+        with open(fifo, errors="replace") as f:
+            for line in f:
+                if line.startswith("Trace "):
+                    m = re.search(r"\[[0-9a-f]+/([0-9a-f]+)/", line)
+                    if not m:
+                        continue
+                    pc = int(m.group(1), 16)
+                    n = tb_len.get(pc, 0)
+                    i = bisect.bisect_right(addrs, pc) - 1
+                    name = syms[i][1] if i >= 0 else "?"
+                    e = per.setdefault(name, [0, 0, 0])
+                    e[0] += n
+                    e[2] += 1
+                    if pc in entry:
+                        e[1] += 1
+                        if name == "app_isr":
+                            isr_m0.append(0)
+                            isr_c28.append(0.0)
+                            isr_law.append(False)
+                        elif name == "law_step" and isr_law:
+                            isr_law[-1] = True
+                    if isr_m0 and (not HARNESS.match(name) or name in HELPERS):
+                        isr_m0[-1] += n
+                        isr_c28[-1] += block_cycles(name, n, pc in entry)
+                elif line.startswith("IN:"):
+                    cur_pc, cur_n = None, 0
+                elif line.startswith("0x"):
+                    m = re.match(r"0x([0-9a-f]+):", line)
+                    if m:
+                        if cur_pc is None:
+                            cur_pc = int(m.group(1), 16)
+                        cur_n += 1
+                        tb_len[cur_pc] = cur_n
+        if p.wait() != 0:
+            raise SystemExit("pil_profile: qemu failed")
+    return per, isr_m0, isr_c28, isr_law
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("recording")
+    ap.add_argument("--cm-image", default=os.path.join(ROOT, "build", "cross-cm0", "bin", "pil_cm.elf"))
+    ap.add_argument("--top", type=int, default=25)
+    ap.add_argument("--json")
+    a = ap.parse_args()
+    per, isr_m0, isr_c28, isr_law = profile(a.recording, a.cm_image)
+    count = len(isr_m0)
+    if count == 0:
+        raise SystemExit("pil_profile: no app_isr call in the replay")
+    rows = sorted(((v[0], v[1], v[2], k) for k, v in per.items() if not HARNESS.match(k) or k in HELPERS),
+                  reverse=True)
+    print("  Cortex-M0 instructions per ISR by function (qemu block log, %d ISRs; self, not inclusive):" % count)
+    for n, calls, _, k in rows[:a.top]:
+        print("    %-26s %8.1f instr/ISR %6.2f calls/ISR" % (k, n / count, calls / count))
+    m0_mean, c28_mean = sum(isr_m0) / count, sum(isr_c28) / count
+    w = max(range(count), key=lambda k: isr_c28[k])
+    print("  ISR path (replay harness excluded), Cortex-M0 instructions: mean %.0f, worst %d" % (m0_mean, max(isr_m0)))
+    print("  C28x ESTIMATE, cycles (weights: %.1f per M0 instruction, +%d per block, %d per 64-bit helper call,"
+          % (C28X_CYCLES_PER_INSN, C28X_BRANCH_EXTRA, C28X_HELPER_CYCLES))
+    print("    %d per iq_mpy, %d per saturating add; docs/f2812.md): mean %.0f, worst %.0f (ISR %d) = %.0f %% of"
+          " the 7,500-cycle 50 us period; %.2f C28x cycles per M0 instruction"
+          % (IQ_MPY_CYCLES, FIX_SAT_CYCLES, c28_mean, isr_c28[w], w, 100.0 * isr_c28[w] / 7500.0,
+             c28_mean / m0_mean if m0_mean else 0.0))
+    run = [k for k in range(count) if isr_law[k]]
+    if run:
+        wr = max(run, key=lambda k: isr_c28[k])
+        print("    ISRs that ran the control law (%d): M0 mean %.0f, worst %d; C28x mean %.0f, worst %.0f (ISR %d) = %.0f %%"
+              % (len(run), sum(isr_m0[k] for k in run) / len(run), max(isr_m0[k] for k in run),
+                 sum(isr_c28[k] for k in run) / len(run), isr_c28[wr], wr, 100.0 * isr_c28[wr] / 7500.0))
+    if a.json:
+        with open(a.json, "w") as f:
+            json.dump({"isrs": count, "m0_mean": m0_mean, "m0_worst": max(isr_m0), "c28x_mean": c28_mean,
+                       "c28x_worst": isr_c28[w], "isr_m0": isr_m0, "isr_c28x": isr_c28, "isr_law": isr_law,
+                       "functions": per}, f, indent=1)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
