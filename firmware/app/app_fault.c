@@ -86,7 +86,7 @@ uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_m
     const iq_t i[3] = {pu->ia_iq, pu->ib_iq, pu->ic_iq};
     const iq_t s = fix_add32(fix_add32(i[0], i[1]), i[2]);
     const iq_t zero = fix_rshift_rnd32(c->prot.leg_i_min_iq, APP_LEG_ZERO_LOG2);
-    uint64_t sq[3], tot, s2, imin2;
+    uint64_t sq[3], tot, s2;
     iq_t dth;
     uint16_t k;
 
@@ -98,7 +98,10 @@ uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_m
     }
     tot = sq[0] + sq[1] + sq[2];
     s2 = (uint64_t)((int64_t)s * (int64_t)s) >> 5;
-    imin2 = (uint64_t)((int64_t)c->prot.leg_i_min_iq * (int64_t)c->prot.leg_i_min_iq) >> 5;
+    if (f->imin_iq != c->prot.leg_i_min_iq) { /* a configuration constant: squared once per change */
+        f->imin_iq = c->prot.leg_i_min_iq;
+        f->imin2 = (uint64_t)((int64_t)f->imin_iq * (int64_t)f->imin_iq) >> 5;
+    }
     if (f->relay_wait > 0U || 24U * s2 >= tot) {
         if (f->relay_wait > 0U) {
             f->relay_wait--;
@@ -108,7 +111,7 @@ uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_m
         }
         return 0U;
     }
-    if (2U * tot <= 3U * imin2) {
+    if (2U * tot <= 3U * f->imin2) {
         return 0U; /* too little current to judge: the sums wait (a healthy phase leaves the band,
                     * which resets its sum, as soon as there is current again) */
     }

@@ -273,7 +273,8 @@ void dtc_handover(dtc_t *c)
  *   torque (Hoang eq. 10) of psi(k+1), i(k+1).
  * w is the measured electrical speed (speed-loop rate; it changes little within 500 us).
  * dtc_step reconstructs v(legs_1) into c->v1_* and the drop (c->v1f_*) and dead-time (c->v1d_*)
- * compensations in force; dtc_predict does the rest (split for the stack: no call chain holds
+ * compensations in force, and forms r_s i (c->ri_*) once for the estimator and this prediction;
+ * dtc_predict does the rest (split for the stack: no call chain holds
  * two of these frames).
  * Formats: IQ pu throughout; ts_pu (~0.016) and 1/l_s (~32 pu for Hoang Table VIII) from the config.
  * Scaling and overflow: every product is a rounded iq_mpy (64-bit intermediate), every sum
@@ -287,8 +288,8 @@ void dtc_predict(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t
 
     dpa = fix_add32(fix_add32(c->v1_alpha_iq, c->v1f_alpha_iq), c->v1d_alpha_iq);
     dpb = fix_add32(fix_add32(c->v1_beta_iq, c->v1f_beta_iq), c->v1d_beta_iq);
-    dpa = iq_mpy(cfg->board.ts_pu_iq, iq_sub(dpa, iq_mpy(cfg->machine.rs_iq, i->i_alpha_iq)));
-    dpb = iq_mpy(cfg->board.ts_pu_iq, iq_sub(dpb, iq_mpy(cfg->machine.rs_iq, i->i_beta_iq)));
+    dpa = iq_mpy(cfg->board.ts_pu_iq, iq_sub(dpa, c->ri_alpha_iq));
+    dpb = iq_mpy(cfg->board.ts_pu_iq, iq_sub(dpb, c->ri_beta_iq));
     /* psi_r = psi - l_s i;  j psi_r w Ts = (-w Ts psi_rb, w Ts psi_ra) */
     ia1 = iq_add(i->i_alpha_iq,
                  iq_mpy(cfg->u.pm_dtc.machine.inv_ls_iq,
@@ -327,7 +328,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     flux_est_in_t fin;
     iq_t psi_a, psi_b, te;
     uint64_t mag2;
-    uint16_t sector, flux_up, vec;
+    uint16_t sector, flux_up, vec, vm;
     int16_t tdem;
     swtab_legs_t legs;
     iq_t vmid_r; /* the mid-point the reconstruction takes (dtc_vmid_dev) */
@@ -387,13 +388,21 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         c->cm_hold--; /* after a reconfiguration (dtc_reconfigure): the current model drives */
         c->on_cm = 1U;
     }
-    if (cfg->est.estimator == DTC_EST_VOLTAGE && (c->speed_primed == 0U || c->on_cm != 0U)) {
+    vm = cfg->est.estimator == DTC_EST_VOLTAGE && c->speed_primed != 0U && c->on_cm == 0U ? 1U : 0U;
+    if (vm != 0U || cfg->u.pm_dtc.est.delay_comp != 0U) {
+        /* r_s i (Hoang eqs. 15-16): one product for the voltage model and the prediction */
+        c->ri_alpha_iq = iq_mpy(cfg->machine.rs_iq, i.i_alpha_iq);
+        c->ri_beta_iq = iq_mpy(cfg->machine.rs_iq, i.i_beta_iq);
+    }
+    if (vm != 0U) {
+        flux_est_vm_step(&c->fe, &fin, c->ri_alpha_iq, c->ri_beta_iq); /* low-pass correction: lpfcorr.h */
+    } else if (cfg->est.estimator == DTC_EST_VOLTAGE) {
         /* First step after a reset, and every step below the hand-over speed: the current model
          * (Hoang eqs. 8-9) drives and is written into the low-pass state, so the voltage model starts
          * from it when the hand-over comes (dtc_config.h). */
         flux_est_seed(&c->fe, &fin);
     } else {
-        flux_est_step(&c->fe, &fin); /* the low-pass correction on its input: lpfcorr.h */
+        flux_est_step(&c->fe, &fin); /* the current model (Hoang eqs. 8-9) */
     }
     psi_a = c->fe.psi_alpha_iq;
     psi_b = c->fe.psi_beta_iq;

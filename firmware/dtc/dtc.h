@@ -89,6 +89,8 @@ typedef struct {
     ilim_params_t il_p;
     iq_t wts_iq;         /* delay compensation (dtc_predict): w Ts of the measured speed, IQ pu,
                           * updated with the speed at the speed-loop rate */
+    iq_t ri_alpha_iq, ri_beta_iq; /* r_s i of this step, IQ pu (dtc_step: the voltage model and
+                                   * dtc_predict take the same product) */
 } dtc_t;
 
 /* The law's configuration check (dtc_check.c): the common part, then the law DTC_LAW_PM_DTC and

@@ -89,6 +89,11 @@ void flux_est_reset(flux_est_t *s);
 void flux_est_seed(flux_est_t *s, const flux_est_in_t *in);
 /* One 50 us step; the estimate is in s->psi_alpha_iq, s->psi_beta_iq afterwards. */
 void flux_est_step(flux_est_t *s, const flux_est_in_t *in);
+/* The voltage model's step (Hoang eqs. 15-16) with the resistive drop r_s i (IQ pu, alpha/beta)
+ * formed by the caller, for a caller that needs the same product elsewhere in the period
+ * (dtc.c: the delay compensation). flux_est_step(s, in) of a voltage-model estimator is
+ * flux_est_vm_step(s, in, iq_mpy(rs, i_alpha), iq_mpy(rs, i_beta)), bit for bit. */
+void flux_est_vm_step(flux_est_t *s, const flux_est_in_t *in, iq_t ri_alpha_iq, iq_t ri_beta_iq);
 
 /* Encoder count -> electrical angle (modulo one turn by design). Exact 64-bit product of the
  * count and the Q16 gain, truncated; the error is < 1 angle LSB + count * 0.5/65536 LSB. */
