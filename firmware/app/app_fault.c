@@ -93,15 +93,15 @@ uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_m
     if (c->prot.leg_i_min_iq <= 0) {
         return 0U;
     }
+    if (f->imin_iq != c->prot.leg_i_min_iq) { /* a configuration constant: squared once per change */
+        f->imin_iq = c->prot.leg_i_min_iq;
+        f->imin2_3 = 3U * ((uint64_t)((int64_t)f->imin_iq * (int64_t)f->imin_iq) >> 5);
+    }
     for (k = 0U; k < 3U; k++) {
         sq[k] = (uint64_t)((int64_t)i[k] * (int64_t)i[k]) >> 5;
     }
     tot = sq[0] + sq[1] + sq[2];
     s2 = (uint64_t)((int64_t)s * (int64_t)s) >> 5;
-    if (f->imin_iq != c->prot.leg_i_min_iq) { /* a configuration constant: squared once per change */
-        f->imin_iq = c->prot.leg_i_min_iq;
-        f->imin2 = (uint64_t)((int64_t)f->imin_iq * (int64_t)f->imin_iq) >> 5;
-    }
     if (f->relay_wait > 0U || 24U * s2 >= tot) {
         if (f->relay_wait > 0U) {
             f->relay_wait--;
@@ -111,7 +111,7 @@ uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_m
         }
         return 0U;
     }
-    if (2U * tot <= 3U * f->imin2) {
+    if (2U * tot <= f->imin2_3) {
         return 0U; /* too little current to judge: the sums wait (a healthy phase leaves the band,
                     * which resets its sum, as soon as there is current again) */
     }

@@ -114,8 +114,8 @@ typedef struct {
     uint16_t relay_wait;   /* periods left until the relay is surely closed */
     uint16_t stall_n;      /* speed periods of the current stall window (0 = none open) */
     iq_t stall_err0_iq;    /* |speed error| at the start of the window */
-    iq_t imin_iq;          /* open phase: the leg_i_min_iq that imin2 was formed from */
-    uint64_t imin2;        /* (imin_iq^2) >> 5, IQ pu^2 / 2^5 (app_fault_open_phase): formed when
+    iq_t imin_iq;          /* open phase: the leg_i_min_iq that imin2_3 was formed from */
+    uint64_t imin2_3;      /* 3 ((imin_iq^2) >> 5), IQ pu^2 / 2^5 (app_fault_open_phase): formed when
                             * the configuration's leg_i_min_iq differs from imin_iq, not per period */
 } app_fault_t;
 
@@ -144,7 +144,7 @@ static inline void app_fault_init(app_fault_t *f)
     f->stall_n = 0U;
     f->stall_err0_iq = 0;
     f->imin_iq = 0;
-    f->imin2 = 0U; /* (0^2) >> 5 */
+    f->imin2_3 = 0U; /* 3 ((0^2) >> 5) */
     app_fault_reset(f);
 }
 
