@@ -33,38 +33,30 @@ void flux_est_seed(flux_est_t *s, const flux_est_in_t *in)
     flux_est_current_model(s, in);
 }
 
-/* The voltage model (Hoang eqs. 15-16, 31-32, 37-38 with the compensation already in v), low-pass,
- * with the gain/phase correction on its input (lpfcorr.h), given the drop r_s i; the caller sets
- * the angle. Shared by the two entries below (one body, inlined in each). */
-static inline void flux_est_vm(flux_est_t *s, const flux_est_params_t *p, const flux_est_in_t *in,
-                               iq_t ri_alpha_iq, iq_t ri_beta_iq)
-{
-    iq_t e_a = fix_sub32(in->v_alpha_iq, ri_alpha_iq);
-    iq_t e_b = fix_sub32(in->v_beta_iq, ri_beta_iq);
-
-    lpfcorr_rotate(in->r_iq, &e_a, &e_b); /* r = 0: unchanged */
-    s->psi_alpha_iq = flux_est_lpf(s->psi_alpha_iq, e_a, p->k_in_q31, p->k_leak_q31);
-    s->psi_beta_iq = flux_est_lpf(s->psi_beta_iq, e_b, p->k_in_q31, p->k_leak_q31);
-}
-
 void flux_est_step(flux_est_t *s, const flux_est_in_t *in)
 {
     const flux_est_params_t *p = s->p;
 
-    s->theta_e = flux_est_angle(in->enc_count, p->enc_gain_q16, p->enc_offset);
     if (p->estimator == DTC_EST_CURRENT) {
+        s->theta_e = flux_est_angle(in->enc_count, p->enc_gain_q16, p->enc_offset);
         flux_est_current_model(s, in);
     } else {
-        flux_est_vm(s, p, in, iq_mpy(p->rs_iq, in->i_alpha_iq), iq_mpy(p->rs_iq, in->i_beta_iq));
+        flux_est_vm_step(s, in, iq_mpy(p->rs_iq, in->i_alpha_iq), iq_mpy(p->rs_iq, in->i_beta_iq));
     }
 }
 
 void flux_est_vm_step(flux_est_t *s, const flux_est_in_t *in, iq_t ri_alpha_iq, iq_t ri_beta_iq)
 {
     const flux_est_params_t *p = s->p;
+    /* Hoang eqs. 15-16 (31-32, 37-38 with the compensation already in v), low-pass; the
+     * gain/phase correction on its input (lpfcorr.h). */
+    iq_t e_a = fix_sub32(in->v_alpha_iq, ri_alpha_iq);
+    iq_t e_b = fix_sub32(in->v_beta_iq, ri_beta_iq);
 
     s->theta_e = flux_est_angle(in->enc_count, p->enc_gain_q16, p->enc_offset);
-    flux_est_vm(s, p, in, ri_alpha_iq, ri_beta_iq);
+    lpfcorr_rotate(in->r_iq, &e_a, &e_b); /* r = 0: unchanged */
+    s->psi_alpha_iq = flux_est_lpf(s->psi_alpha_iq, e_a, p->k_in_q31, p->k_leak_q31);
+    s->psi_beta_iq = flux_est_lpf(s->psi_beta_iq, e_b, p->k_in_q31, p->k_leak_q31);
 }
 
 void dtc_pm_est_params_from_config(flux_est_params_t *fe_p, vcomp_params_t *vc_p, const dtc_config_t *cfg,
