@@ -396,13 +396,12 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     }
     if (vm != 0U) {
         flux_est_vm_step(&c->fe, &fin, c->ri_alpha_iq, c->ri_beta_iq); /* low-pass correction: lpfcorr.h */
-    } else if (cfg->est.estimator == DTC_EST_VOLTAGE) {
-        /* First step after a reset, and every step below the hand-over speed: the current model
-         * (Hoang eqs. 8-9) drives and is written into the low-pass state, so the voltage model starts
-         * from it when the hand-over comes (dtc_config.h). */
-        flux_est_seed(&c->fe, &fin);
     } else {
-        flux_est_step(&c->fe, &fin); /* the current model (Hoang eqs. 8-9) */
+        /* The current model (Hoang eqs. 8-9): the estimator, or with the voltage model the first
+         * step after a reset and every step below the hand-over speed, written into the low-pass
+         * state so that the voltage model starts from it when the hand-over comes (dtc_config.h).
+         * flux_est_seed is flux_est_step of a current-model estimator. */
+        flux_est_seed(&c->fe, &fin);
     }
     psi_a = c->fe.psi_alpha_iq;
     psi_b = c->fe.psi_beta_iq;

@@ -160,12 +160,12 @@ static iq_t itc_observe(itc_t *c, const dtc_meas_t *m, const clarke_out_t *i)
         fin.v_alpha_iq = fix_add32(fin.v_alpha_iq, vfa);
         fin.v_beta_iq = fix_add32(fin.v_beta_iq, vfb);
     }
-    if (cfg->est.estimator != DTC_EST_VOLTAGE) {
-        flux_est_step(&c->fe, &fin);
-    } else if (c->speed_primed == 0U) {
-        flux_est_seed(&c->fe, &fin); /* the first step: the current model's flux (Hoang eqs. 8-9) */
+    if (cfg->est.estimator != DTC_EST_VOLTAGE || c->speed_primed == 0U) {
+        /* the current model (Hoang eqs. 8-9): the estimator, or the voltage model's first step;
+         * flux_est_seed is flux_est_step of a current-model estimator */
+        flux_est_seed(&c->fe, &fin);
     } else {
-        /* the voltage model entered directly: flux_est_step would add a frame to this chain */
+        /* the voltage model entered directly: through flux_est_step its frame would add to this chain */
         flux_est_vm_step(&c->fe, &fin, iq_mpy(cfg->machine.rs_iq, i->i_alpha_iq),
                          iq_mpy(cfg->machine.rs_iq, i->i_beta_iq));
     }
