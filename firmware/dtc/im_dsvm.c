@@ -73,6 +73,14 @@ void im_dsvm_select(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
         level = hyst5_step(&c->h_torque5, iq_sub(c->te_ref_iq, te));
         code = dsvm_rotate(dsvm_table(range, flux_up, level), sector);
     }
+    {
+        /* the current limit (im_ilim): its vector over the whole period (code 6 of sector v: V_v
+         * V_v V_v) */
+        const uint16_t v = im_ilim(c, 0U);
+        if (c->i_limited != 0U) {
+            code = dsvm_rotate(6U, v);
+        }
+    }
     dsvm_code_patterns(code, null_vec, pat);
     {
         /* the mean voltage of the three thirds (file comment), for the estimator */
