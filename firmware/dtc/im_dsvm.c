@@ -18,6 +18,8 @@
  *      eq. 2 / Hoang eqs. 1-5 on the link measured now (vrec_from_legs, rounded IQ products).
  * Start-up (im_dtc.h): the radial vector V_k of the flux's sector over the whole period while the
  * flux comparator asks for more flux, the null otherwise.
+ * Current limit (im_ilim, ilim.h): when the sampled current passes prot.i_lim_iq, the vector that
+ * reduces |i| fastest over the whole period in place of the tables' three.
  * Dead time (the sign rule of svm.h / vrec.h deadtime_error): a rising edge of the upper command loses T_d
  * when the phase current leaves the leg (i > 0), a falling edge gains T_d when it enters (i < 0);
  * the edges counted are those inside the period and the one at its start (the previous period's

@@ -153,6 +153,7 @@ typedef struct {
     /* the current limit of the switching-table laws (DTC, DSC, DSVM; ilim.h): its parameters
      * (prot.i_lim_iq, six-switch) and whether it replaced this step's vector */
     ilim_params_t il_p;
+    iq_t il_box_iq;       /* I_lim / sqrt2: the square inside the limit's circle (im_ilim) */
     uint16_t i_limited;
 } im_dtc_t;
 

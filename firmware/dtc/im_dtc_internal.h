@@ -89,12 +89,14 @@ static inline uint16_t im_magn_vector(im_dtc_t *c, uint16_t sector, uint16_t flu
  * when the sampled current exceeds prot.i_lim_iq, the vector that reduces |i| fastest
  * (ilim_select; the host leaves two periods' largest rise between the limit and the trip, the
  * vector chosen now acting from the next period on: tools/config dtc_ilim_default_a with the
- * transient inductance sigma L_s). |i_alpha| + |i_beta| >= |i|, so below the limit that sum
- * decides without the exact squares (saturating sum; limit off: i_lim_iq = 0, ilim_select
- * returns vec). Sets c->i_limited. */
+ * transient inductance sigma L_s). Inside the square |i_alpha|, |i_beta| <= h = I_lim / sqrt2
+ * (il_box_iq, from init) |i| <= I_lim, so there the exact squares are not needed: |x| <= h as
+ * the unsigned x + h <= 2 h (modulo 2^32, exact for every int32 x, 0 <= h < 2^30). Limit off
+ * (i_lim_iq = 0): h = 0, ilim_select returns vec. Sets c->i_limited. */
 static inline uint16_t im_ilim(im_dtc_t *c, uint16_t vec)
 {
-    if (fix_add32(fix_abs32(c->i.i_alpha_iq), fix_abs32(c->i.i_beta_iq)) <= c->il_p.i_lim_iq) {
+    const uint32_t h = (uint32_t)c->il_box_iq;
+    if ((uint32_t)c->i.i_alpha_iq + h <= h + h && (uint32_t)c->i.i_beta_iq + h <= h + h) {
         c->i_limited = 0U;
         return vec;
     }
