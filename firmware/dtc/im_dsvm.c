@@ -18,6 +18,8 @@
  *      eq. 2 / Hoang eqs. 1-5 on the link measured now (vrec_from_legs, rounded IQ products).
  * Start-up (im_dtc.h): the radial vector V_k of the flux's sector over the whole period while the
  * flux comparator asks for more flux, the null otherwise.
+ * Current limit (im_ilim, ilim.h): when the sampled current passes prot.i_lim_iq, the vector that
+ * reduces |i| fastest over the whole period in place of the tables' three.
  * Dead time (the sign rule of svm.h / vrec.h deadtime_error): a rising edge of the upper command loses T_d
  * when the phase current leaves the leg (i > 0), a falling edge gains T_d when it enters (i < 0);
  * the edges counted are those inside the period and the one at its start (the previous period's
@@ -72,6 +74,14 @@ void im_dsvm_select(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
         const uint16_t range = dsvm_range(c->speed_iq, c->psi_ref_iq, m->vdc_iq, dsvm_half(sector, psi_a, psi_b));
         level = hyst5_step(&c->h_torque5, iq_sub(c->te_ref_iq, te));
         code = dsvm_rotate(dsvm_table(range, flux_up, level), sector);
+    }
+    {
+        /* the current limit (im_ilim): its vector over the whole period (code 6 of sector v: V_v
+         * V_v V_v) */
+        const uint16_t v = im_ilim(c, 0U);
+        if (c->i_limited != 0U) {
+            code = dsvm_rotate(6U, v);
+        }
     }
     dsvm_code_patterns(code, null_vec, pat);
     {

@@ -70,6 +70,7 @@ void im_dtc_reset(im_dtc_t *c)
     c->vs_beta_iq = 0;
     c->foc_id_int_iq = 0;
     c->foc_iq_int_iq = 0;
+    c->i_limited = 0U;
 }
 
 int16_t im_dtc_shadow_write(im_dtc_t *c, const dtc_refs_t *r)
@@ -223,7 +224,8 @@ void im_dtc_refs(im_dtc_t *c)
     c->te_ref_iq = te;
 }
 
-/* Comparators and vector selection (Casadei sections 4-9). Returns the SSTP vector 0..7. */
+/* Comparators and vector selection (Casadei sections 4-9), then the current limit (im_ilim).
+ * Returns the SSTP vector 0..7. */
 uint16_t im_dtc_select(im_dtc_t *c, iq_t te, dtc_out_t *o)
 {
     const dtc_config_t *cfg = c->cfg;
@@ -267,7 +269,7 @@ uint16_t im_dtc_select(im_dtc_t *c, iq_t te, dtc_out_t *o)
     o->sector = sector;
     o->flux_up = flux_up;
     o->torque_dem = tdem;
-    return swtab_null_choice(vec, c->vec_1);
+    return im_ilim(c, swtab_null_choice(vec, c->vec_1));
 }
 
 void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)

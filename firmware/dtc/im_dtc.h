@@ -75,6 +75,7 @@
 #include "dtc_config.h"
 #include "dtc_refs.h"
 #include "hyst.h"
+#include "ilim.h"
 #include "im_est.h"
 #include "im_fw.h"
 #include "im_ref.h"
@@ -149,6 +150,11 @@ typedef struct {
     iq_t sfvc_kslip_iq;   /* r_r / phi_r*^2: Casadei eq. 16's slip per pu torque */
     iq_t foc_id_int_iq, foc_iq_int_iq; /* DFOC: the current PIs' integral parts, pu voltage */
     deadtime_params_t dt_p; /* dead-time block's parameters (vrec.h), derived at init */
+    /* the current limit of the switching-table laws (DTC, DSC, DSVM; ilim.h): its parameters
+     * (prot.i_lim_iq, six-switch) and whether it replaced this step's vector */
+    ilim_params_t il_p;
+    iq_t il_box_iq;       /* I_lim / sqrt2: the square inside the limit's circle (im_ilim) */
+    uint16_t i_limited;
 } im_dtc_t;
 
 /* The IM laws' configuration check (im_dtc_check.c): the common part, then one of the laws

@@ -85,9 +85,27 @@ static inline uint16_t im_magn_vector(im_dtc_t *c, uint16_t sector, uint16_t flu
     return swtab_sstp_st(DTC_ST_D, sector, flux_up, up);
 }
 
+/* The current limit of the switching-table laws (DTC, DSC, DSVM): the table's vector vec, or,
+ * when the sampled current exceeds prot.i_lim_iq, the vector that reduces |i| fastest
+ * (ilim_select; the host leaves two periods' largest rise between the limit and the trip, the
+ * vector chosen now acting from the next period on: tools/config dtc_ilim_default_a with the
+ * transient inductance sigma L_s). Inside the square |i_alpha|, |i_beta| <= h = I_lim / sqrt2
+ * (il_box_iq, from init) |i| <= I_lim, so there the exact squares are not needed: |x| <= h as
+ * the unsigned x + h <= 2 h (modulo 2^32, exact for every int32 x, 0 <= h < 2^30). Limit off
+ * (i_lim_iq = 0): h = 0, ilim_select returns vec. Sets c->i_limited. */
+static inline uint16_t im_ilim(im_dtc_t *c, uint16_t vec)
+{
+    const uint32_t h = (uint32_t)c->il_box_iq;
+    if ((uint32_t)c->i.i_alpha_iq + h <= h + h && (uint32_t)c->i.i_beta_iq + h <= h + h) {
+        c->i_limited = 0U;
+        return vec;
+    }
+    return ilim_select(&c->il_p, &c->i, vec, &c->i_limited);
+}
+
 /* What every IM scheme reports besides its command: the estimate (flux, torque at k), the
  * references, the speed and the rotor-flux angle and magnitude (updated on the speed-loop
- * periods); the IM law has no current model and no current limit. */
+ * periods), whether the current limit replaced the vector; the IM law has no current model. */
 static inline void im_out_report(const im_dtc_t *c, dtc_out_t *o, iq_t te)
 {
     o->psi_alpha_iq = c->est.psi_alpha_iq;
@@ -99,7 +117,7 @@ static inline void im_out_report(const im_dtc_t *c, dtc_out_t *o, iq_t te)
     o->on_cm = 0U;
     o->psi_ref_iq = c->psi_ref_iq; /* the start-up ramp, then (l_s/m) phi_r*: Casadei eq. 18's d part */
     o->psir_mag_iq = c->est.psir_mag_iq;
-    o->i_limited = 0U;
+    o->i_limited = c->i_limited;
 }
 
 /* The end of an SVM scheme's period (SFVC, DFOC): the SVM of c->vs_* on the measured link with

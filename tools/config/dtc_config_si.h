@@ -275,8 +275,32 @@ double dtc_overspeed_default_rpm(const dtc_config_si_t *si);
  * the sampled current (the vector chosen at k acts only from k+1 on). When the trip level leaves
  * no room for one period's change (slow period, small L_s) the result is 0: no limit, and the
  * trip is the only protection.
- * Hoang Table VIII, Table IV link, 50 us, 3000 rpm, 6 A trip, FSTP: dI = 1.13 A, I_lim = 4.87 A. */
+ * Hoang Table VIII, Table IV link, 50 us, 3000 rpm, 6 A trip, FSTP: dI = 1.13 A, I_lim = 4.87 A.
+ * The induction machine (laws DTC_LAW_IM_*): L_s is its transient inductance sigma L_s and psi_m
+ * the rotor flux seen from the stator, (M/L_r) phi_r* (dtc_im_transient_si). The 4 kW IM, 40 us,
+ * 6000 rpm, 55 A trip: dI = 5.0 A, I_lim = 45.0 A. Its modulated laws (SFVC, DFOC: the SVM with
+ * the back-EMF fed forward; DSVM: the speed ranges of Casadei eq. 15) make the period's mean
+ * voltage against the back-EMF: dI = T_s (V_max + r_s I_trip) / (sigma L_s) (40 us: 2.6 A,
+ * I_lim = 49.7 A; 160 us: 10.6 A, I_lim = 33.8 A). */
 double dtc_ilim_default_a(const dtc_config_si_t *si);
+/* Its dI, A: the largest change of |i| over one control period. */
+double dtc_ilim_step_a(const dtc_config_si_t *si);
+
+/* The induction machine's current dynamics in the form of a PM machine's (Casadei eqs. A6-A9, T
+ * model, stator frame): sigma L_s di/dt = v - R_s i - (M/L_r) d phi_r/dt, the rotor-flux term a
+ * back-EMF of amplitude w (M/L_r) |phi_r|. *l_h = sigma L_s, *psi_wb = (M/L_r) phi_r*, phi_r* =
+ * psir_ref_wb or the no-load rotor flux of flux_ref_wb, (M/L_s) phi_s*. */
+void dtc_im_transient_si(const dtc_config_si_t *si, double *l_h, double *psi_wb);
+
+/* The steady-state torque (N*m) of the induction machine at the stator-current amplitude i_a (A,
+ * peak), T model in the rotor-flux frame (Casadei eqs. A7-A10 at constant flux: phi_r = M i_d, phi_s
+ * = L_s i_d + j sigma L_s i_q, T = 3/2 p (M^2/L_r) i_d i_q):
+ *   constant rotor flux (psir_ref_wb > 0, Casadei eq. 19, SFVC, DFOC): i_d = phi_r* / M;
+ *   constant stator flux flux_ref_wb: i_d^2 = (phi_s^2 - (sigma L_s i)^2) / (L_s^2 (1 - sigma^2)).
+ * 0 when i_a is at or below the magnetising current; HUGE_VAL when the stator flux cannot carry
+ * i_a (phi_s < sigma L_s i: the pull-out torque, Casadei eq. 31, limits first).
+ * The 4 kW IM, phi_s* = 0.55 Wb, 40 A: 57.9 N*m (218 % of rated). */
+double dtc_im_torque_at_current_nm(const dtc_config_si_t *si, double i_a);
 
 /* The PM indirect torque control's current-loop crossover w_c, rad/s (law_pm_itc_si.c): 60 deg of
  * phase margin against the 1.5 Ts loop delay, pi / (9 Ts). */

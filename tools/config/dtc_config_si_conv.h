@@ -39,6 +39,9 @@ void dtc_si_pm_dtc_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dt
 /* The PM DTC law's protection levels (law_pm_dtc_si.c), shared with the ITC, which drives the
  * same machine on the same board: the current limit prot.i_lim_iq and the rotor-hold current
  * prot.i_hold_iq. */
+/* The current limit's conversion (prot.i_lim_iq: current_limit_a, or dtc_ilim_default_a when
+ * derived), every law. Returns the limit in use, A (0 = off). */
+double dtc_si_ilim_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *b, dtc_config_t *cfg);
 void dtc_si_pm_prot_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *b, dtc_config_t *cfg);
 /* The PM ITC's part (law_pm_itc_si.c): as above, into cfg->u.pm_itc. */
 int dtc_si_pm_itc_check(dtc_si_conv_t *c, const dtc_config_si_t *si);

@@ -60,6 +60,34 @@ double dtc_table_speed_default_rpm(const dtc_config_si_t *si)
     return w_el * 30.0 / M_PI / (double)si->pole_pairs;
 }
 
+void dtc_im_transient_si(const dtc_config_si_t *si, double *l_h, double *psi_wb)
+{
+    const double ls = si->lls_h + si->lm_h, lr = si->llr_h + si->lm_h, m = si->lm_h;
+    const double psir = si->psir_ref_wb > 0.0 ? si->psir_ref_wb : si->flux_ref_wb * m / ls;
+    *l_h = (1.0 - m * m / (ls * lr)) * ls;
+    *psi_wb = m / lr * psir;
+}
+
+double dtc_im_torque_at_current_nm(const dtc_config_si_t *si, double i_a)
+{
+    const double ls = si->lls_h + si->lm_h, lr = si->llr_h + si->lm_h, m = si->lm_h;
+    const double sigma = 1.0 - m * m / (ls * lr);
+    double id2;
+    if (si->psir_ref_wb > 0.0) {
+        id2 = (si->psir_ref_wb / m) * (si->psir_ref_wb / m);
+    } else {
+        const double phi = si->flux_ref_wb, sli = sigma * ls * i_a;
+        if (phi <= sli) {
+            return HUGE_VAL;
+        }
+        id2 = (phi * phi - sli * sli) / (ls * ls * (1.0 - sigma * sigma));
+    }
+    if (!(i_a * i_a > id2)) {
+        return 0.0;
+    }
+    return 1.5 * (double)si->pole_pairs * m * m / lr * sqrt(id2) * sqrt(i_a * i_a - id2);
+}
+
 int dtc_si_im_check(dtc_si_conv_t *c, const dtc_config_si_t *si)
 {
     /* the PM law's machine fields are not this law's (its machine: rr_ohm, lls_h, llr_h, lm_h) */
@@ -95,6 +123,23 @@ void dtc_si_im_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_ba
     dtc_im_machine_cfg_t *im = &cfg->u.im.machine;
 
     cfg->u.im.part = DTC_PART_IM;
+    {
+        /* The current limit (the switching-table laws' vector override, firmware/dtc/ilim.h) and
+         * the torque the current allows: the steady-state torque at I_lim - dI, so that one
+         * period's ripple (dI, dtc_ilim_step_a) stays below the limit. The torque limit in force
+         * (references, speed PI) is the smaller of torque_limit_nm and that torque. */
+        const double ilim = dtc_si_ilim_convert(c, si, b, cfg);
+        if (ilim > 0.0) {
+            const double t_i = dtc_im_torque_at_current_nm(si, ilim - dtc_ilim_step_a(si));
+            if (!(t_i > 0.0)) { dtc_si_fail(c, DTC_SI_ERR_ILIM, "i_trip_a = %g: the current limit %g A less one period's rise %g A leaves no torque above the magnetising current", si->i_trip_a, ilim, dtc_ilim_step_a(si)); return; }
+            if (t_i < si->torque_limit_nm) {
+                /* a larger request is held at the limit, as the firmware clamps a reference set */
+                cfg->speed.torque_limit_iq = dtc_si_to_iq(c, "torque_limit_nm (the current limit's torque)", t_i, t_i / b->t_base_nm);
+                cfg->speed.torque_ref_iq = fix_clamp32(cfg->speed.torque_ref_iq, -cfg->speed.torque_limit_iq,
+                                                       cfg->speed.torque_limit_iq);
+            }
+        }
+    }
     if (!(si->psir_ref_wb >= 0.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "psir_ref_wb = %g: must be >= 0 (0 = stator-flux reference)", si->psir_ref_wb); return; }
     if (!(si->tau_lo_s > si->ts_s && si->tau_hi_s > si->ts_s)) { dtc_si_fail(c, DTC_SI_ERR_IM, "tau_lo_s = %g, tau_hi_s = %g: must be longer than ts_s", si->tau_lo_s, si->tau_hi_s); return; }
     if (!(si->tau_w_lo_rpm >= 0.0 && si->tau_w_hi_rpm >= si->tau_w_lo_rpm)) { dtc_si_fail(c, DTC_SI_ERR_IM, "tau_w_hi_rpm = %g: need 0 <= tau_w_lo_rpm <= tau_w_hi_rpm", si->tau_w_hi_rpm); return; }

@@ -65,12 +65,29 @@ double dtc_handover_default_rpm(const dtc_config_si_t *si)
     return w * 30.0 / M_PI / (double)si->pole_pairs;
 }
 
-double dtc_ilim_default_a(const dtc_config_si_t *si)
+double dtc_ilim_step_a(const dtc_config_si_t *si)
 {
     double v_max = si->topology == DTC_TOPO_SSTP ? 2.0 * si->vdc_v / 3.0 : si->vdc_v / sqrt(3.0);
     double w_max = si->speed_limit_rpm * M_PI / 30.0 * (double)si->pole_pairs;
-    double e_max = fmin(w_max * si->psi_m_wb, v_max);
-    double di = si->ts_s * (v_max + e_max + si->rs_ohm * si->i_trip_a) / si->ls_h;
+    double l = si->ls_h, psi = si->psi_m_wb;
+    double e_max;
+    if (dtc_law_is_im((uint16_t)si->law) != 0U) {
+        dtc_im_transient_si(si, &l, &psi);
+        if (si->law == DTC_LAW_IM_SFVC || si->law == DTC_LAW_IM_DFOC || si->law == DTC_LAW_IM_DSVM) {
+            /* modulated laws: the period's mean voltage is made against the back-EMF (the SVM
+             * laws' feed-forward, DSVM's speed ranges, Casadei eq. 15); the current changes by
+             * what the applied voltage's difference from the back-EMF, at most V_max, drives
+             * over one period */
+            return si->ts_s * (v_max + si->rs_ohm * si->i_trip_a) / l;
+        }
+    }
+    e_max = fmin(w_max * psi, v_max);
+    return si->ts_s * (v_max + e_max + si->rs_ohm * si->i_trip_a) / l;
+}
+
+double dtc_ilim_default_a(const dtc_config_si_t *si)
+{
+    double di = dtc_ilim_step_a(si);
     double lim = si->i_trip_a - (si->delay_comp != 0 ? 1.0 : 2.0) * di;
     return lim > 0.0 ? lim : 0.0;
 }
@@ -146,7 +163,7 @@ void dtc_si_pm_dtc_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dt
     }
 }
 
-void dtc_si_pm_prot_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *b, dtc_config_t *cfg)
+double dtc_si_ilim_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *b, dtc_config_t *cfg)
 {
     /* the current limit in use, A (0 = off) */
     const double ilim = si->current_limit_auto != 0 ? dtc_ilim_default_a(si) : si->current_limit_a;
@@ -154,6 +171,12 @@ void dtc_si_pm_prot_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const d
     if (cfg->prot.i_lim_iq >= cfg->prot.i_trip_iq) {
         cfg->prot.i_lim_iq = cfg->prot.i_trip_iq - 1; /* below the trip after rounding */
     }
+    return ilim;
+}
+
+void dtc_si_pm_prot_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_bases_t *b, dtc_config_t *cfg)
+{
+    const double ilim = dtc_si_ilim_convert(c, si, b, cfg);
     /* Rotor hold during the FSTP mid-point calibration (app_hold.c), PM laws: the hold may command the
      * current that gives the torque limit on the magnet axis, T = 3/2 p psi_m i_q (Hoang eq. 10),
      * and never more than the current limit, which leaves a period's current rise below the trip

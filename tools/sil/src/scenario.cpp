@@ -388,7 +388,9 @@ const std::vector<Spec>& schema()
              "replaces the table's (firmware/dtc/ilim.h); 0 = off; not given = derived from the trip level and "
              "the machine (tools/config dtc_ilim_default_a: protection.overcurrent_a minus one period's largest "
              "current change, two without control.delay_comp; 4.87 A for Table VIII, FSTP, 6 A trip; 0 when the trip "
-             "level leaves no room for that change)",
+             "level leaves no room for that change; the induction machine: its transient inductance, 45 A for the "
+             "4 kW IM's table laws at 40 us, 55 A trip, and the IM laws' torque limit is held at the torque this "
+             "current allows, tools/config dtc_im_torque_at_current_nm)",
              nonneg(), {},
              [](Scenario& s, const Value& v) { s.control.current_limit_a = v.num; s.control.current_limit_given = true; },
              [](const Scenario& s) {
