@@ -119,6 +119,9 @@ typedef struct {
                              * 1 / (2 ts_s), half of the flux error removed per period (the
                              * deadbeat gain 1/ts_s halved as a margin for the one-period
                              * prediction's model errors) */
+    double dfoc_bw_hz;      /* DFOC current-loop crossover w_c / (2 pi), Hz, below 1 / (6 ts_s) (the
+                             * loop's 1.5 ts_s delay takes the whole 90 deg phase margin there);
+                             * 0 = derived: w_c = 0.2 / ts_s (17 deg of that margin, no overshoot) */
 
     /* DTC with DSVM (law DTC_LAW_IM_DSVM, Casadei sec. 11): the five-level torque comparator's
      * outer band (full width), >= torque_band_nm; 0 = derived: twice the torque a whole active
