@@ -178,6 +178,42 @@ def offset_oscillation(mach, w0, torque, psir, tau, di_ab, law="sfvc"):
     return abs(x[0]) / psir, ws
 
 
+def offset_oscillation_simulated(mach, w0, torque, psir, tau, di_ab, h=2e-4, t_run=8.0, t_from=5.0):
+    """The same answer from the drive's reduced model written in the stationary frame and simulated
+    (RK4, step h) without linearising, SFVC (eq. 18's stator flux on the estimated rotor flux's
+    angle): states phi_r and e = phi_s - phi_s^. The rotor-flux magnitude's line at w_s over
+    [t_from, t_run] of the run with the offset less the run without. Relative amplitude."""
+    g, sls = mach.g, mach.sigma * mach.ls
+    ps_f = complex(mach.ls / mach.m * psir, mach.ls / mach.m * mach.sigma * mach.lr * 2.0 / 3.0 * torque / (mach.p * psir))
+
+    def f(y, d):
+        pr, e = y
+        prh = pr - g * e - g * sls * d  # Casadei eq. 21 with the measured current
+        th = prh / abs(prh)
+        i = (ps_f * th + e - pr / g) / sls
+        return np.array([mach.m / mach.tau_r * i - pr / mach.tau_r + 1j * w0 * pr,
+                         mach.rs * d - (psir * th - prh) / tau])  # eqs. A7-A9; eq. 20's error
+
+    def run(d, y, n):
+        out = np.empty(n)
+        for k in range(n):
+            k1 = f(y, d)
+            k2 = f(y + 0.5 * h * k1, d)
+            k3 = f(y + 0.5 * h * k2, d)
+            k4 = f(y + h * k3, d)
+            y = y + h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+            out[k] = abs(y[0]) / psir
+        return out
+    _, _, ws, x0 = linearised(mach, w0, torque, psir, tau, "sfvc")
+    y0 = np.array([complex(x0[0], x0[1]), complex(x0[2], (x0[1]) / g)])
+    n = int(round(t_run / h))
+    diff = run(di_ab, y0, n) - run(0.0, y0, n)
+    tail = diff[int(round(t_from / h)):]
+    per = int(round(2 * math.pi / ws / h))
+    m = len(tail) // per * per
+    return 2.0 * abs(np.sum(tail[:m] * np.exp(-1j * ws * h * np.arange(m)))) / m
+
+
 def fig21_map(mach, w_sl=5.0, ws=None, taus=None):
     """Real part of the dominant pole over (w_s, tau) at a fixed slip (Casadei Fig. 21): (ws, taus, re[tau, ws])."""
     ws = np.linspace(-40.0, 40.0, 321) if ws is None else ws
