@@ -841,10 +841,16 @@ TEST(ImCasadei, Figs22To24ImprovedEstimatorErrorBoundedBasicGrows)
     // steady amplitude. Under the basic DTC and under the SFVC, the scheme of Casadei eqs. 26-28;
     // tools/report/casadei_items.py sets the amplitude beside eq. 26's prediction.
     const double drift = 0.25;
-    for (const std::string scheme : {"dtc", "dtc_ideal", "sfvc", "sfvc_ideal"}) {
+    // The SFVC with ideal devices also at half and twice the estimator's tau: eq. 26's amplitude
+    // goes with tau (the casadei_items comparison holds each against its own prediction).
+    for (const std::string scheme :
+         {"dtc", "dtc_ideal", "sfvc", "sfvc_ideal", "sfvc_ideal_tau0.005", "sfvc_ideal_tau0.02"}) {
         std::vector<std::string> sets = {"control.scheme=" + scheme.substr(0, scheme.find('_'))};
         if (scheme.find("_ideal") != std::string::npos) { // eqs. 26-28 know no device drops: the plant's and the compensation off
             sets.insert(sets.end(), {"inverter.drops=false", "control.compensation=none"});
+        }
+        if (scheme.find("_tau") != std::string::npos) {
+            sets.push_back("control.observer_tau_s=" + scheme.substr(scheme.find("_tau") + 4));
         }
         const Sens base = sensitivity("none_ws_" + scheme, "improved", sets, 0.0, ws, 20);
         const Sens drf = sensitivity("drift_" + scheme, "improved", sets, drift, ws, 20);
@@ -871,8 +877,9 @@ TEST(ImCasadei, Figs22To24ImprovedEstimatorErrorBoundedBasicGrows)
         EXPECT_EQ(drf.fault, "none") << scheme;
         EXPECT_GT(osc, 3.0 * base.osc_ws) << scheme; // the oscillation at w_s is the offset's
         EXPECT_NEAR(w_pk, ws, 0.1 * ws) << scheme;   // at the stator frequency (Casadei sec. 10.8)
+        const bool long_tau = scheme.find("_tau0.02") != std::string::npos; // eq. 26: twice the amplitude
         for (double e : drf.err) {
-            EXPECT_LT(std::fabs(e), 0.15) << scheme; // bounded
+            EXPECT_LT(std::fabs(e), long_tau ? 0.3 : 0.15) << scheme; // bounded
         }
     }
 }

@@ -350,9 +350,11 @@ def fig24(f24, ok):
         if not a:
             continue
         law = "sfvc" if a.group(1).startswith("sfvc") else "dtc"
+        t = re.search(r"_tau([\d.]+)$", a.group(1))
         di = float(a.group(2)) * complex(1.0, 1.0 / math.sqrt(3.0))  # phase A: i_alpha = i_a, i_beta = (i_a + 2 i_b)/sqrt(3)
-        pred, ws = im_linear.offset_oscillation(mach, 1.0, torque, psir, tau, di, law)
-        got[a.group(1)] = dict(amp=float(a.group(3)) / 100.0, w_pk=float(a.group(5)), pred=pred, ws=ws)
+        pred, ws = im_linear.offset_oscillation(mach, 1.0, torque, psir, float(t.group(1)) if t else tau, di, law)
+        got[a.group(1)] = dict(amp=float(a.group(3)) / 100.0, w_pk=float(a.group(5)), pred=pred, ws=ws,
+                               tau=float(t.group(1)) if t else tau)
     if not got:
         return _entry("Fig. 24", "deviates", " | ".join(f24), says, "sil.ImCasadei.Figs22To24 printed no Fig. 24 figures")
     A, _, ws, _ = im_linear.linearised(mach, 1.0, torque, psir, tau, "sfvc")
@@ -360,27 +362,30 @@ def fig24(f24, ok):
     rel = {k: g["amp"] / g["pred"] - 1.0 for k, g in got.items()}
     freq_ok = ok and all(abs(g["w_pk"] / g["ws"] - 1.0) <= 0.1 for g in got.values())
     amp_ok = ok and abs(rel.get("sfvc_ideal", 1e9)) <= F24_AMP_MARGIN
-    rows = "; ".join("%s: SIL %.2f %% at %.2f rad/s, eq. 26 %.2f %% at %.2f rad/s (%+.0f %%)" % (
-        k.replace("_ideal", " (ideal devices)").upper(), 100 * g["amp"], g["w_pk"], 100 * g["pred"], g["ws"],
-        100 * rel[k]) for k, g in got.items())
+    rows = "; ".join("%s, tau %g s: SIL %.2f %% at %.2f rad/s, eq. 26 %.2f %% at %.2f rad/s (%+.0f %%)" % (
+        re.sub(r"_tau.*$", "", k).replace("_ideal", " (ideal devices)").upper(), g["tau"], 100 * g["amp"], g["w_pk"],
+        100 * g["pred"], g["ws"], 100 * rel[k]) for k, g in got.items())
     meas = ("0.25 A phase-A offset appearing after the calibration (five ADC counts: the paper's 0.01 A is a fifth of "
             "one, and the start-up calibration removes a constant offset), rotor at 1 rad/s electrical, rated torque, "
             "tau = %g s; the offset's own rotor-flux oscillation in steady state (the run less the same run without it, "
             "last 3 s of 5 s): %s. Eq. 27's dominant poles %.2f +- j%.2f 1/s, w_s = %.2f rad/s" %
             (tau, rows, lam.real, abs(lam.imag), ws))
-    g = got.get("sfvc_ideal")
     reason = "" if amp_ok and freq_ok else (
         "the frequency is %s; the amplitude exceeds eq. 26's (%s). Eq. 26 is right for its model: linearised "
         "numerically its eigenvalues are eq. 27's to 1e-8, and the same reduced drive simulated without "
         "linearising gives the same amplitude within 0.2 %% (tests/unit/test_im_linear.py). Its dominant pole pair "
-        "lies %.2f rad/s from w_s with a damping of %.2f 1/s, so the forced amplitude goes as 1/|j w_s - lambda|: "
-        "the SFVC's measured amplitude needs a damping near %.1f 1/s, a loss of damping that eq. 26's continuous, "
-        "ideal regulator and estimator do not have. It is not a discretisation error that a shorter period removes: "
-        "the SFVC at 40 us instead of 160 us (ideal devices, measured by hand) oscillates by 29 %% with the offset "
-        "and by 9.7 %% at w_s without it. Not isolated further" %
-        ("the theory's (w_s) for every scheme" if freq_ok else "NOT w_s in every scheme",
+        "lies %.2f rad/s from w_s with a damping of %.2f 1/s (near resonance). The drive follows eq. 26's "
+        "structure: with ideal devices its amplitude goes with tau as eq. 26's does (tau 5 / 10 / 20 ms above), at a "
+        "ratio of %s: a gain on the offset's way in, not a detuned resonance (a lost damping would raise the ratio "
+        "most at the longest tau, where the pair is least damped; the ratio falls there). The flux regulator is not "
+        "it (sfvc_kp_per_s 1000 or 6000 1/s instead of 3125: 11.5 / 10.0 %%, by hand), nor a discretisation error that "
+        "a shorter period removes (the SFVC at 40 us, ideal devices, by hand: 29 %%, and 9.7 %% at w_s without the "
+        "offset). Which path multiplies the offset by about 1.5 is not isolated" %
+        ("the theory's (w_s) for every scheme" if freq_ok else "NOT w_s in every scheme" if ok else
+         "not checked: sil.ImCasadei.Figs22To24 failed",
          ", ".join("%s %+.0f %%" % (k, 100 * v) for k, v in rel.items()), abs(abs(lam.imag) - ws), -lam.real,
-         -lam.real * g["pred"] / g["amp"] if g else float("nan")))
+         " / ".join("%.2f" % (got[k]["amp"] / got[k]["pred"]) for k in
+                    ("sfvc_ideal_tau0.005", "sfvc_ideal", "sfvc_ideal_tau0.02") if k in got)))
     e = _entry("Fig. 24", "reproduced" if amp_ok and freq_ok else "deviates", meas, says, reason, None,
                "Casadei Fig. 24: rotor-flux error with a 0.01 A offset")
     e["measured"]["eq26"] = {k: {"sil_pct": round(100 * g["amp"], 3), "sil_w_rad_s": g["w_pk"],
