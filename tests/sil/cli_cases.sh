@@ -40,6 +40,9 @@ expect empty_out 1 'empty directory name' -- run "$scen" --out ""
 expect no_period 1 "duration_s: is 1e-300 s: shorter than one control period" -- run "$scen" --out "$work/o1" --set duration_s=1e-300
 expect pole_pairs_check 1 'motor.pole_pairs: value 64 is impossible' -- check "$scen" --set motor.pole_pairs=64
 expect vdc_names_key 1 'inverter.vdc_v' -- check "$scen" --set inverter.vdc_v=1e6
+imscen="$src/tools/scenarios/im_dtc_speed.toml"
+expect dfoc_bw_named 1 'control.dfoc_bw_hz.*1/(6 ts_s)' -- check "$imscen" --set control.scheme=dfoc --set control.dfoc_bw_hz=1100
+expect dfoc_zeta_named 1 'control.dfoc_zeta.*K_p = 2 zeta w_c sigma L_s - R_s > 0' -- check "$imscen" --set control.scheme=dfoc --set control.dfoc_zeta=0.04
 expect step_floor 1 'max_step_s: value 1e-15 is impossible' -- check "$scen" --set max_step_s=1e-15
 expect unsafe_protection 1 'protection.allow_unsafe = true' -- run "$scen" --out "$work/o1" --set protection.overcurrent_a=100 --set protection.hw_trip_current_a=0
 expect long_run 1 'use --decimate' -- run "$scen" --out "$work/o1" --set duration_s=9e4

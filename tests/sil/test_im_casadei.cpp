@@ -710,15 +710,31 @@ TEST(ImCasadei, Sec9DscHexagonWithFewerCommutationsThanDtc)
 // The voltage-model runs have their sensors and trips at 1 kA so that their error can grow (on
 // the rig's trips the R_s-high case stops on over-current); the improved ones run on the rig's.
 struct Sens {
-    std::vector<double> err; // |phi_r| / phi_r* - 1 at 0.25 s intervals after the torque is applied
-    double mean = 0.0;       // its mean over the 1.5 s, every period
-    double osc_ws = 0.0;     // amplitude of its component at the stator frequency w_s (whole periods)
+    std::vector<double> err;    // |phi_r| / phi_r* - 1 at 0.25 s intervals after the torque is applied
+    std::vector<double> series; // the same every period over the 1.5 s
+    double mean = 0.0;          // its mean over the 1.5 s, every period
+    double osc_ws = 0.0;        // amplitude of its component at the stator frequency w_s (whole periods)
+    double ts = 0.0;
     std::string fault;
 };
+// Amplitude of the component of x (one sample per ts) at w rad/s: one DFT line over the whole
+// periods of w that fit.
+static double line_at(const std::vector<double>& x, double w, double ts)
+{
+    const auto per = static_cast<std::size_t>(2.0 * kPi / w / ts);
+    const std::size_t len = per > 0 ? x.size() / per * per : 0;
+    double c = 0.0, sn = 0.0;
+    for (std::size_t k = 0; k < len; ++k) {
+        const double ph = w * static_cast<double>(k) * ts;
+        c += x[k] * std::cos(ph);
+        sn += x[k] * std::sin(ph);
+    }
+    return len > 0 ? 2.0 * std::hypot(c, sn) / static_cast<double>(len) : 0.0;
+}
 // drift_a: a phase-A current-sensor offset that appears once the drive is at its operating point
 // (after the start-up calibration, which would remove it).
 static Sens sensitivity(const std::string& name, const std::string& estimator, const std::vector<std::string>& mismatch,
-                        double drift_a = 0.0, double ws = 0.0)
+                        double drift_a = 0.0, double ws = 0.0, int quarters = 6)
 {
     std::vector<std::string> sets = {"control.estimator=" + estimator};
     if (estimator == "voltage") {
@@ -738,7 +754,7 @@ static Sens sensitivity(const std::string& name, const std::string& estimator, c
     double sum = 0.0;
     long n = 0;
     std::vector<double> e;
-    for (int i = 0; i < 6 && r.fault() == "none"; ++i) {
+    for (int i = 0; i < quarters && r.fault() == "none"; ++i) {
         r.run(0.25, [&] {
             e.push_back(r.psir() / ref - 1.0);
             sum += e.back();
@@ -748,17 +764,10 @@ static Sens sensitivity(const std::string& name, const std::string& estimator, c
     }
     o.mean = sum / static_cast<double>(std::max(n, 1L));
     if (ws > 0.0) {
-        // one DFT line at w_s over the whole periods of w_s that fit
-        const auto per = static_cast<std::size_t>(2.0 * kPi / ws / r.ts());
-        const std::size_t len = per > 0 ? e.size() / per * per : 0;
-        double c = 0.0, sn = 0.0;
-        for (std::size_t k = 0; k < len; ++k) {
-            const double ph = ws * static_cast<double>(k) * r.ts();
-            c += e[k] * std::cos(ph);
-            sn += e[k] * std::sin(ph);
-        }
-        o.osc_ws = len > 0 ? 2.0 * std::hypot(c, sn) / static_cast<double>(len) : 0.0;
+        o.osc_ws = line_at(e, ws, r.ts());
     }
+    o.series = e;
+    o.ts = r.ts();
     o.fault = r.fault();
     return o;
 }
@@ -835,16 +844,53 @@ TEST(ImCasadei, Figs22To24ImprovedEstimatorErrorBoundedBasicGrows)
     // the rotor-flux frame (Casadei eq. 28's cos/sin of the flux angle): the improved estimator's
     // rotor-flux error oscillates at w_s around its no-offset value, bounded (sec. 10.8). The
     // amplitude Casadei eq. 26 predicts is not compared (eq. 28's [B] is not reproduced in the tools).
+    // The offset's own oscillation: the run with the offset less the run without (the two are the
+    // same run until the offset appears), over 5 s, its line at w_s and the frequency of its largest
+    // line between w_s / 2 and 2 w_s over the last 3 s: eq. 27's dominant poles lie near w_s with
+    // a time constant of about 0.5 s on this machine, so the oscillation takes seconds to reach its
+    // steady amplitude. Under the basic DTC and under the SFVC, the scheme of Casadei eqs. 26-28;
+    // tools/report/casadei_items.py sets the amplitude beside eq. 26's prediction.
     const double drift = 0.25;
-    const Sens base = sensitivity("none_ws", "improved", {}, 0.0, ws);
-    const Sens drf = sensitivity("drift", "improved", {}, drift, ws);
-    std::printf("MEASURE Fig24 %.2f A offset after the calibration, improved estimator: rotor-flux error at w_s = %.1f "
-                "rad/s %.2f %% (without the offset %.2f %%), mean %.2f %% (%.2f %%), fault %s\n",
-                drift, ws, 100.0 * drf.osc_ws, 100.0 * base.osc_ws, 100.0 * drf.mean, 100.0 * base.mean, drf.fault.c_str());
-    EXPECT_EQ(drf.fault, "none");
-    EXPECT_GT(drf.osc_ws, 3.0 * base.osc_ws); // the oscillation at w_s is the offset's
-    for (double e : drf.err) {
-        EXPECT_LT(std::fabs(e), 0.15); // bounded
+    // The SFVC with ideal devices also at half and twice the estimator's tau: eq. 26's amplitude
+    // goes with tau (the casadei_items comparison holds each against its own prediction).
+    for (const std::string scheme :
+         {"dtc", "dtc_ideal", "sfvc", "sfvc_ideal", "sfvc_ideal_tau0.005", "sfvc_ideal_tau0.02"}) {
+        std::vector<std::string> sets = {"control.scheme=" + scheme.substr(0, scheme.find('_'))};
+        if (scheme.find("_ideal") != std::string::npos) { // eqs. 26-28 know no device drops: the plant's and the compensation off
+            sets.insert(sets.end(), {"inverter.drops=false", "control.compensation=none"});
+        }
+        if (scheme.find("_tau") != std::string::npos) {
+            sets.push_back("control.observer_tau_s=" + scheme.substr(scheme.find("_tau") + 4));
+        }
+        const Sens base = sensitivity("none_ws_" + scheme, "improved", sets, 0.0, ws, 20);
+        const Sens drf = sensitivity("drift_" + scheme, "improved", sets, drift, ws, 20);
+        const std::size_t n_all = std::min(base.series.size(), drf.series.size());
+        const auto n_tail = std::min(n_all, static_cast<std::size_t>(3.0 / drf.ts));
+        std::vector<double> d(n_tail);
+        for (std::size_t k = 0; k < n_tail; ++k) {
+            d[k] = drf.series[n_all - n_tail + k] - base.series[n_all - n_tail + k];
+        }
+        double w_pk = 0.0, a_pk = 0.0;
+        for (double w = 0.5 * ws; w <= 2.0 * ws; w += 0.01 * ws) {
+            const double a = line_at(d, w, drf.ts);
+            if (a > a_pk) {
+                a_pk = a;
+                w_pk = w;
+            }
+        }
+        const double osc = line_at(d, ws, drf.ts);
+        std::printf("MEASURE Fig24 %s %.2f A offset after the calibration, improved estimator: rotor-flux error at w_s = %.2f "
+                    "rad/s %.2f %% (without the offset %.2f %%), the offset's own %.2f %%, its largest line %.2f %% at %.2f "
+                    "rad/s, mean %.2f %% (%.2f %%), fault %s\n",
+                    scheme.c_str(), drift, ws, 100.0 * drf.osc_ws, 100.0 * base.osc_ws, 100.0 * osc, 100.0 * a_pk, w_pk,
+                    100.0 * drf.mean, 100.0 * base.mean, drf.fault.c_str());
+        EXPECT_EQ(drf.fault, "none") << scheme;
+        EXPECT_GT(osc, 3.0 * base.osc_ws) << scheme; // the oscillation at w_s is the offset's
+        EXPECT_NEAR(w_pk, ws, 0.1 * ws) << scheme;   // at the stator frequency (Casadei sec. 10.8)
+        const bool long_tau = scheme.find("_tau0.02") != std::string::npos; // eq. 26: twice the amplitude
+        for (double e : drf.err) {
+            EXPECT_LT(std::fabs(e), long_tau ? 0.3 : 0.15) << scheme; // bounded
+        }
     }
 }
 
@@ -1470,4 +1516,70 @@ TEST(ImCasadei, Figs35And36TorqueStepAt100RpmDtcRisesFasterThanDfoc)
     EXPECT_LT(dfoc.fast.overshoot_pct, 5.0);
     EXPECT_NEAR(dtc.fast.final_nm, PLANT_DEF_IM_RATED_TORQUE_NM, 0.05 * PLANT_DEF_IM_RATED_TORQUE_NM);
     EXPECT_NEAR(dfoc.fast.final_nm, PLANT_DEF_IM_RATED_TORQUE_NM, 0.05 * PLANT_DEF_IM_RATED_TORQUE_NM);
+}
+
+// Casadei sec. 13.1's criteria on the step of Figs. 35-36: the same mean switching frequency (the
+// basic DTC at zero bands switches at 100 rpm below the DFOC's 2/3 of its 6.25 kHz carrier, so the
+// DFOC's carrier is lowered to 3/2 of the DTC's measured frequency, a whole number of timer counts)
+// and the DFOC's current loops at the tunings control.dfoc_bw_hz offers (the paper prints none):
+// the zero on the stator pole with the derived w_c = 0.2 / Ts, the modulus optimum 1 / (3 Ts) (the
+// loop delay 1.5 Ts) and 0.5 / Ts; and both closed-loop poles at the derived w_c with damping 0.7
+// (control.dfoc_zeta). With the zero on the stator pole the paper's "maximum overshoot" of the DFOC
+// appears only once w_c reaches 0.5 / Ts (phase margin 90 - 1.5 x 0.5 rad = 47 deg), and its
+// settling is then as quick as the DTC's (printed; tools/report/casadei_items.py reports it). The
+// placed poles reproduce all of the paper's statement: the PI's zero K_i / K_p, near w_c, overshoots
+// and the pair's envelope settles later than the DTC.
+TEST(ImCasadei, Figs35And36AtEqualSwitchingFrequencyDfocWithPlacedPolesOvershootsAndSettlesLater)
+{
+    Rig probe(torque_at_held_speed({}));
+    ASSERT_TRUE(probe.ok);
+    const double tr = probe.sc.motor.rated_torque_nm;
+    const CurrentRipple d = ripple_run({}, 100.0, tr, PLANT_DEF_IM_CARRIER_HZ, 0.65); // two periods of 3.3 Hz
+    ASSERT_GT(d.f_sw_hz, 0.0);
+    ASSERT_LT(d.f_sw_hz, 2.0 / 3.0 * PLANT_DEF_IM_CARRIER_HZ); // the DTC cannot reach the DFOC's
+    const double t1pr = std::round(PLANT_DEF_PWM_CLOCK_HZ / (2.0 * 1.5 * d.f_sw_hz));
+    const double f_c = PLANT_DEF_PWM_CLOCK_HZ / (2.0 * t1pr), ts_c = 1.0 / f_c;
+    char carrier[64];
+    std::snprintf(carrier, sizeof carrier, "control.carrier_hz=%.10g", f_c);
+    const std::vector<std::string> eq = {"control.scheme=dfoc", carrier, "control.speed_loop_divider=1"};
+    const CurrentRipple f = ripple_run(eq, 100.0, tr, f_c, 0.65);
+    const Step35 dtc = torque_step_100rpm({}, "fig36_dtc_eq");
+    std::printf("MEASURE Figs35-36 equal f_sw: DTC %.0f Hz (zero bands), DFOC %.0f Hz (carrier %.1f Hz); DTC rise %.2f ms, "
+                "settling %.2f / %.2f ms, overshoot %.1f %%\n", d.f_sw_hz, f.f_sw_hz, f_c, dtc.fast.rise_ms,
+                dtc.fast.settle_ms, dtc.slow.settle_ms, dtc.fast.overshoot_pct);
+    EXPECT_NEAR(f.f_sw_hz, d.f_sw_hz, 0.03 * d.f_sw_hz);
+    const struct {
+        const char* name;
+        double wc_ts; // w_c Ts; 0: the derived key value
+        double zeta;  // control.dfoc_zeta
+    } tunings[] = {{"derived", 0.0, 0.0}, {"modulus optimum", 1.0 / 3.0, 0.0}, {"0.5/Ts", 0.5, 0.0},
+                   {"poles at w_c, zeta 0.7", 0.0, 0.7}};
+    for (const auto& t : tunings) {
+        std::vector<std::string> sets = eq;
+        char bw[64];
+        std::snprintf(bw, sizeof bw, "control.dfoc_bw_hz=%.10g", t.wc_ts / ts_c / (2.0 * kPi));
+        sets.push_back(bw);
+        sets.push_back("control.dfoc_zeta=" + std::to_string(t.zeta));
+        const Step35 x = torque_step_100rpm(sets, std::string("fig35_dfoc_eq_") + (t.wc_ts > 0.0 ? bw + 19 : "derived"));
+        std::printf("MEASURE Figs35-36 equal f_sw DFOC %s (w_c Ts %.3f): rise %.2f ms, settling %.2f / %.2f ms (0.48 / 2 ms "
+                    "average), overshoot %.1f %%, final %.2f N*m, fault %s\n", t.name, t.wc_ts > 0.0 ? t.wc_ts : 0.2,
+                    x.fast.rise_ms, x.fast.settle_ms, x.slow.settle_ms, x.fast.overshoot_pct, x.fast.final_nm, x.fault.c_str());
+        EXPECT_EQ(x.fault, "none") << t.name;
+        EXPECT_NEAR(x.fast.final_nm, tr, 0.05 * tr) << t.name;
+        EXPECT_LT(dtc.fast.rise_ms, x.fast.rise_ms) << t.name; // the PIs delay the DFOC at every tuning
+        if (t.wc_ts >= 0.5 || t.zeta > 0.0) {
+            // the paper's overshoot: well above the DTC's and above 10 % of T*
+            EXPECT_GT(x.fast.overshoot_pct, 10.0) << t.name;
+            EXPECT_GT(x.fast.overshoot_pct, 3.0 * dtc.fast.overshoot_pct) << t.name;
+        } else {
+            EXPECT_LT(x.fast.overshoot_pct, 5.0) << t.name;
+        }
+        if (t.zeta > 0.0) {
+            // placed poles: all three of the paper's statements on the 2 ms average (the DTC's 0.48 ms
+            // average wanders, Figs35And36TorqueStepAt100RpmDtcRisesFasterThanDfoc): the DTC rises
+            // faster, settles first and overshoots less
+            EXPECT_LT(dtc.fast.rise_ms, 0.8 * x.fast.rise_ms);
+            EXPECT_LT(dtc.slow.settle_ms, 0.8 * x.slow.settle_ms);
+        }
+    }
 }

@@ -6,7 +6,8 @@
 Fails when status.json misses a numbered result figure or table of either paper (papers.py's
 CASADEI_ITEMS, hoang_items.ITEMS), when an entry's status is not one of the three, when a
 "deviates" entry has no reason, or when one of the Hoang figures this project reproduces is no
-longer "reproduced" (each one's check, with its margin, is in tools/report/hoang_items.py).
+longer "reproduced" (each one's check, with its margin, is in tools/report/hoang_items.py), or when
+Casadei Figs. 35-36 are no longer "reproduced" (tools/report/casadei_items.py).
 """
 import json
 import os
@@ -18,6 +19,8 @@ sys.path.insert(0, os.path.join(ROOT, "tools", "report"))
 import papers  # noqa: E402
 
 # Hoang figures reproduced on the shipped scenarios, each by the paper's statement with a margin.
+# Casadei figures reproduced by this report's checks (each one's margin in tools/report/casadei_items.py).
+CASADEI_REPRODUCED = ["Fig. 35", "Fig. 36"]
 REPRODUCED = ["Fig. 5 (b)", "Fig. 6 (b)", "Fig. 7 (b)", "Fig. 8 (b)", "Fig. 11", "Fig. 12", "Fig. 13", "Fig. 14",
               "Fig. 15", "Fig. 16"]
 
@@ -34,6 +37,11 @@ def main():
         e = got.get(item)
         if e is None or e["status"] != "reproduced":
             problems.append("hoang %s: %s (%s)" % (item, e and e["status"], e and e["reason"]))
+    cas = {e["item"]: e for e in entries if e["paper"] == "casadei"}
+    for item in CASADEI_REPRODUCED:
+        e = cas.get(item)
+        if e is None or e["status"] != "reproduced":
+            problems.append("casadei %s: %s (%s)" % (item, e and e["status"], e and e["reason"]))
     # Hoang Figs. 5-8 (a) run once dtc-sil has the ITC law (hoang_items.itc_sets()); then they are checked too.
     for item, e in got.items():
         if item.endswith("(a)") and e["measured"] and e["status"] != "reproduced":

@@ -76,6 +76,8 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->carrier_hz = 0.0;
     si->svm_mode = 0;
     si->sfvc_kp_per_s = 0.0;
+    si->dfoc_bw_hz = 0.0;
+    si->dfoc_zeta = 0.0;
     si->dsvm_torque_band2_nm = 0.0;
     si->estimator = DTC_EST_VOLTAGE;
     si->compensation = DTC_COMP_FSTP_PROPOSED;

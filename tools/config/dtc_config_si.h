@@ -119,6 +119,13 @@ typedef struct {
                              * 1 / (2 ts_s), half of the flux error removed per period (the
                              * deadbeat gain 1/ts_s halved as a margin for the one-period
                              * prediction's model errors) */
+    double dfoc_bw_hz;      /* DFOC current-loop crossover w_c / (2 pi), Hz, below 1 / (6 ts_s) (the
+                             * loop's 1.5 ts_s delay takes the whole 90 deg phase margin there);
+                             * 0 = derived: w_c = 0.2 / ts_s (17 deg of that margin, no overshoot) */
+    double dfoc_zeta;       /* DFOC current-PI placement: 0 = the zero on the stator transient pole
+                             * (K_p = sigma L_s w_c, K_i = R_s w_c: first-order loops); > 0 = both
+                             * closed-loop poles at w_c with this damping (K_p = 2 zeta w_c sigma L_s
+                             * - R_s, K_i = sigma L_s w_c^2: the PI's zero near w_c overshoots) */
 
     /* DTC with DSVM (law DTC_LAW_IM_DSVM, Casadei sec. 11): the five-level torque comparator's
      * outer band (full width), >= torque_band_nm; 0 = derived: twice the torque a whole active

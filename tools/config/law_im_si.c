@@ -190,14 +190,30 @@ void dtc_si_im_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_ba
         /* Current PI regulators in the rotor-flux frame (Casadei sec. 13, im_dfoc.c). With the
          * back-EMF j w_s phi_s fed forward, the current sees sigma L_s di/dt = v - R_s i (the
          * transient inductance): a PI with its zero at R_s / (sigma L_s) and the crossover w_c
-         * makes the loop w_c / (s + w_c): K_p = sigma L_s w_c, K_i = R_s w_c. w_c = 0.2 / Ts: the
-         * loop's delay of about 1.5 Ts (the computation period and the PWM's half period) costs
-         * 0.3 rad (17 deg) of phase there. References (T model, rotor-flux frame): i_d = phi_r* / M,
-         * T = (3/2) p (M/L_r) phi_r i_q, in pu i_q = (l_r/m) T / phi_r*. */
-        const double wc = 0.2 / si->ts_s;
-        const double zpu = si->rs_ohm / b->z_base_ohm;
-        cfg->u.im.dfoc.kp_iq = dtc_si_to_iq(c, "lls_h (DFOC K_p = sigma L_s w_c)", si->lls_h, sigma * ls / b->l_base_h * wc / b->w_base_rad_s);
-        cfg->u.im.dfoc.ki_ts_iq = zpu > 0.0 ? dtc_si_to_iq(c, "rs_ohm (DFOC K_i Ts = R_s w_c Ts)", si->rs_ohm, zpu * wc * si->ts_s) : 0;
+         * makes the loop w_c / (s + w_c): K_p = sigma L_s w_c, K_i = R_s w_c. The loop's delay of
+         * about 1.5 Ts (the computation period and the PWM's half period) costs 1.5 w_c Ts of
+         * phase at w_c: derived w_c = 0.2 / Ts, 0.3 rad (17 deg), a first-order response without
+         * overshoot; dfoc_bw_hz sets w_c / (2 pi) instead, below 1 / (6 Ts) where the delay takes
+         * the whole 90 deg (a faster loop overshoots: the modulus optimum w_c = 1 / (3 Ts), 4 %).
+         * dfoc_zeta > 0 places the PI instead as textbooks of field-oriented control do, both poles
+         * of sigma L_s s^2 + (R_s + K_p) s + K_i at w_c with damping zeta: K_p = 2 zeta w_c sigma L_s
+         * - R_s, K_i = sigma L_s w_c^2; its zero K_i / K_p, near w_c, makes the step overshoot.
+         * References (T model, rotor-flux frame): i_d = phi_r* / M, T = (3/2) p (M/L_r) phi_r i_q,
+         * in pu i_q = (l_r/m) T / phi_r*. */
+        const double wc = si->dfoc_bw_hz > 0.0 ? 2.0 * M_PI * si->dfoc_bw_hz : 0.2 / si->ts_s;
+        const double sls = sigma * ls;
+        const double kp_ohm = si->dfoc_zeta > 0.0 ? 2.0 * si->dfoc_zeta * wc * sls - si->rs_ohm : sls * wc;
+        const double ki_ohm_per_s = sls * wc * wc;
+        if (!(si->dfoc_bw_hz >= 0.0 && si->dfoc_bw_hz * 6.0 * si->ts_s < 1.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "dfoc_bw_hz = %g: must be 0 (derived) or below 1/(6 ts_s) = %g Hz, where the loop's 1.5 ts_s delay leaves no phase margin", si->dfoc_bw_hz, 1.0 / (6.0 * si->ts_s)); return; }
+        if (!(si->dfoc_zeta >= 0.0 && si->dfoc_zeta <= 10.0 && kp_ohm > 0.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "dfoc_zeta = %g: must be 0 (the zero on the stator pole) or in (0, 10] with K_p = 2 zeta w_c sigma L_s - R_s > 0 (here %g ohm)", si->dfoc_zeta, kp_ohm); return; }
+        if (si->dfoc_zeta > 0.0) {
+            cfg->u.im.dfoc.kp_iq = dtc_si_to_iq(c, "lls_h (DFOC K_p = 2 zeta w_c sigma L_s - R_s)", si->lls_h, kp_ohm / b->z_base_ohm);
+            cfg->u.im.dfoc.ki_ts_iq = dtc_si_to_iq(c, "lls_h (DFOC K_i Ts = sigma L_s w_c^2 Ts)", si->lls_h, ki_ohm_per_s / b->z_base_ohm * si->ts_s);
+        } else {
+            const double zpu = si->rs_ohm / b->z_base_ohm;
+            cfg->u.im.dfoc.kp_iq = dtc_si_to_iq(c, "lls_h (DFOC K_p = sigma L_s w_c)", si->lls_h, sigma * ls / b->l_base_h * wc / b->w_base_rad_s);
+            cfg->u.im.dfoc.ki_ts_iq = zpu > 0.0 ? dtc_si_to_iq(c, "rs_ohm (DFOC K_i Ts = R_s w_c Ts)", si->rs_ohm, zpu * wc * si->ts_s) : 0;
+        }
         cfg->u.im.dfoc.id_ref_iq = dtc_si_to_iq(c, "psir_ref_wb (DFOC i_d* = phi_r* / M)", si->psir_ref_wb, si->psir_ref_wb / m / b->i_base_a);
         cfg->u.im.dfoc.iq_per_t_iq = dtc_si_to_iq(c, "psir_ref_wb (DFOC l_r/(m phi_r*))", si->psir_ref_wb, lr / m / (si->psir_ref_wb / b->psi_base_wb));
     }

@@ -49,8 +49,8 @@ RAMP_START_S, RAMP_S, SETTLE_S = 0.6, 0.3, 0.2
 POLE_PAIRS = 2  # the default IM (plant_defaults.h); only sizes the metrics window
 
 
-def run(exe, out_dir, rpm, torque, extra):
-    """One cell; returns metrics.json as a dict, or {"error": text}."""
+def run(exe, out_dir, rpm, torque, extra, scenario=SCENARIO):
+    """One cell of scenario; returns metrics.json as a dict, or {"error": text}."""
     f_e = POLE_PAIRS * rpm / 60.0
     window = max(0.2, 3.0 / f_e)
     sets = {"control.mode": "torque", "control.torque_ref_nm": torque, "load.type": "speed",
@@ -58,7 +58,7 @@ def run(exe, out_dir, rpm, torque, extra):
             "load.step_time_s": 0, "metrics_window_s": window,
             "duration_s": RAMP_START_S + RAMP_S + SETTLE_S + window}
     sets.update(extra)
-    cmd = [exe, "run", SCENARIO, "--no-trace", "--quiet", "--out", out_dir]
+    cmd = [exe, "run", scenario, "--no-trace", "--quiet", "--out", out_dir]
     for k, v in sets.items():
         cmd += ["--set", "%s=%s" % (k, v)]
     shutil.rmtree(out_dir, ignore_errors=True)
@@ -71,17 +71,19 @@ def run(exe, out_dir, rpm, torque, extra):
     return m
 
 
-def dtc_cell(exe, out, rpm, torque, target_hz):
-    """Bisection on the torque band until the switching frequency is within 2 % of the target."""
+def dtc_cell(exe, out, rpm, torque, target_hz, scenario=SCENARIO, extra=None):
+    """Bisection on the torque band until the switching frequency is within 2 % of the target
+    (extra: further settings of the cell)."""
     d = os.path.join(out, "dtc_%d_%g" % (rpm, torque))
     lo, hi = 0.0, 0.3 * 26.5
-    m = run(exe, d, rpm, torque, {"control.torque_band_nm": 0.0})
+    extra = dict(extra or {})
+    m = run(exe, d, rpm, torque, dict(extra, **{"control.torque_band_nm": 0.0}), scenario)
     if "error" in m or m["fault"] != "none" or (m.get("switching_freq_hz") or 0.0) <= target_hz:
         m["tuning"] = "zero band: %.0f Hz <= target" % (m.get("switching_freq_hz") or 0.0) if "error" not in m else ""
         return m
     for _ in range(14):
         band = 0.5 * (lo + hi)
-        m = run(exe, d, rpm, torque, {"control.torque_band_nm": round(band, 5)})
+        m = run(exe, d, rpm, torque, dict(extra, **{"control.torque_band_nm": round(band, 5)}), scenario)
         if "error" in m or m["fault"] != "none":
             return m
         f = m["switching_freq_hz"]
@@ -92,11 +94,12 @@ def dtc_cell(exe, out, rpm, torque, target_hz):
     return m
 
 
-def dfoc_at(exe, out, rpm, torque, f_sw_hz):
+def dfoc_at(exe, out, rpm, torque, f_sw_hz, scenario=SCENARIO):
     """DFOC at the mean switching frequency f_sw_hz: two-phase SVM switches 2/3 of the carrier."""
     t1pr = round(75e6 / (2.0 * 1.5 * f_sw_hz))  # hal.h: T1PR = 75 MHz / (2 carrier)
     return run(exe, os.path.join(out, "dfoc_eq_%d_%g" % (rpm, torque)), rpm, torque,
-               {"control.scheme": "dfoc", "control.carrier_hz": 75e6 / (2.0 * t1pr), "control.speed_loop_divider": 1})
+               {"control.scheme": "dfoc", "control.carrier_hz": 75e6 / (2.0 * t1pr), "control.speed_loop_divider": 1},
+               scenario)
 
 
 def dfoc_available(exe):

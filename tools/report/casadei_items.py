@@ -323,18 +323,75 @@ def figs22_24(ctx):
                           "" if ok else "sil.ImCasadei.Figs22To24 failed", None,
                           "Casadei %s: rotor-flux error traces of the improved and the basic estimator" % item))
     f24 = [x for x in meas if x.startswith("Fig24")]
-    m24 = re.search(r"at w_s = ([\d.]+) rad/s ([\d.]+) % \(without the offset ([\d.]+) %\)", f24[0]) if f24 else None
-    res.append(_entry("Fig. 24", "reproduced" if ok and m24 else "deviates", " | ".join(f24) or m, says,
-                      "with 0.25 A (five ADC counts) appearing after the start-up calibration: the paper's 0.01 A is a "
-                      "fifth of one count on this rig (+-100 A over 12 bits: 0.049 A), and the firmware measures and "
-                      "removes any offset present at start-up with the gates off, so a constant 0.01 A is invisible "
-                      "here; scaled linearly from the measured %s %% at 0.25 A, 0.01 A would add about %s %% at w_s, "
-                      "below the %s %% the drive shows without an offset. The amplitude eq. 26 predicts is not "
-                      "compared (eq. 28's [B] is not in the tools)" %
-                      ((m24.group(2), "%.2f" % ((float(m24.group(2)) - float(m24.group(3))) * 0.04), m24.group(3))
-                       if m24 else ("?", "?", "?")), None,
-                      "Casadei Fig. 24: rotor-flux error with a 0.01 A offset"))
+    res.append(fig24(f24, ok))
     return res
+
+
+# Fig. 24: the amplitude the linearised model (Casadei eq. 26, im_linear.offset_oscillation) predicts
+# for the SIL's offset, beside the oscillation the SIL measures (sil.ImCasadei.Figs22To24's
+# "offset's own" line at w_s, steady state). The paper: "both the amplitude and the frequency of the
+# oscillation are equal to that predicted by the theory". Margins: the frequency within 10 %, the
+# amplitude within 25 % (the dominant pole pair of eq. 27 lies within 0.3 rad/s of w_s here, so the
+# forced amplitude is near-resonant: 1 / |j w_s - lambda| with Re(lambda) about -1.9 1/s).
+F24_AMP_MARGIN = 0.25
+
+
+def fig24(f24, ok):
+    says = ("0.01 A offset, w = 1 rad/s, tau = 0.01 s, rated torque: the improved estimator's rotor-flux magnitude "
+            "oscillates around the reference; amplitude and frequency equal to the theory's (eq. 26)")
+    mach = im_linear.Machine.from_scenario(SCN)
+    sc = _toml(SCN)
+    psir, torque = sc["control"]["rotor_flux_ref_wb"], sc["motor"].get("rated_torque_nm", 26.5)
+    tau = sc["control"].get("observer_tau_s", 0.01)
+    got = {}
+    for ln in f24:
+        a = re.search(r"Fig24 (\S+) ([\d.]+) A offset.*the offset's own ([\d.]+) %, its largest line ([\d.]+) % at "
+                      r"([\d.]+) rad/s", ln)
+        if not a:
+            continue
+        law = "sfvc" if a.group(1).startswith("sfvc") else "dtc"
+        t = re.search(r"_tau([\d.]+)$", a.group(1))
+        di = float(a.group(2)) * complex(1.0, 1.0 / math.sqrt(3.0))  # phase A: i_alpha = i_a, i_beta = (i_a + 2 i_b)/sqrt(3)
+        pred, ws = im_linear.offset_oscillation(mach, 1.0, torque, psir, float(t.group(1)) if t else tau, di, law)
+        got[a.group(1)] = dict(amp=float(a.group(3)) / 100.0, w_pk=float(a.group(5)), pred=pred, ws=ws,
+                               tau=float(t.group(1)) if t else tau)
+    if not got:
+        return _entry("Fig. 24", "deviates", " | ".join(f24), says, "sil.ImCasadei.Figs22To24 printed no Fig. 24 figures")
+    A, _, ws, _ = im_linear.linearised(mach, 1.0, torque, psir, tau, "sfvc")
+    lam = max(np.linalg.eigvals(A), key=lambda z: z.real)
+    rel = {k: g["amp"] / g["pred"] - 1.0 for k, g in got.items()}
+    freq_ok = ok and all(abs(g["w_pk"] / g["ws"] - 1.0) <= 0.1 for g in got.values())
+    amp_ok = ok and abs(rel.get("sfvc_ideal", 1e9)) <= F24_AMP_MARGIN
+    rows = "; ".join("%s, tau %g s: SIL %.2f %% at %.2f rad/s, eq. 26 %.2f %% at %.2f rad/s (%+.0f %%)" % (
+        re.sub(r"_tau.*$", "", k).replace("_ideal", " (ideal devices)").upper(), g["tau"], 100 * g["amp"], g["w_pk"],
+        100 * g["pred"], g["ws"], 100 * rel[k]) for k, g in got.items())
+    meas = ("0.25 A phase-A offset appearing after the calibration (five ADC counts: the paper's 0.01 A is a fifth of "
+            "one, and the start-up calibration removes a constant offset), rotor at 1 rad/s electrical, rated torque, "
+            "tau = %g s; the offset's own rotor-flux oscillation in steady state (the run less the same run without it, "
+            "last 3 s of 5 s): %s. Eq. 27's dominant poles %.2f +- j%.2f 1/s, w_s = %.2f rad/s" %
+            (tau, rows, lam.real, abs(lam.imag), ws))
+    reason = "" if amp_ok and freq_ok else (
+        "the frequency is %s; the amplitude exceeds eq. 26's (%s). Eq. 26 is right for its model: linearised "
+        "numerically its eigenvalues are eq. 27's to 1e-8, and the same reduced drive simulated without "
+        "linearising gives the same amplitude within 0.2 %% (tests/unit/test_im_linear.py). Its dominant pole pair "
+        "lies %.2f rad/s from w_s with a damping of %.2f 1/s (near resonance). The drive follows eq. 26's "
+        "structure: with ideal devices its amplitude goes with tau as eq. 26's does (tau 5 / 10 / 20 ms above), at a "
+        "ratio of %s: a gain on the offset's way in, not a detuned resonance (a lost damping would raise the ratio "
+        "most at the longest tau, where the pair is least damped; the ratio falls there). The flux regulator is not "
+        "it (sfvc_kp_per_s 1000 or 6000 1/s instead of 3125: 11.5 / 10.0 %%, by hand), nor a discretisation error that "
+        "a shorter period removes (the SFVC at 40 us, ideal devices, by hand: 29 %%, and 9.7 %% at w_s without the "
+        "offset). Which path multiplies the offset by about 1.5 is not isolated" %
+        ("the theory's (w_s) for every scheme" if freq_ok else "NOT w_s in every scheme" if ok else
+         "not checked: sil.ImCasadei.Figs22To24 failed",
+         ", ".join("%s %+.0f %%" % (k, 100 * v) for k, v in rel.items()), abs(abs(lam.imag) - ws), -lam.real,
+         " / ".join("%.2f" % (got[k]["amp"] / got[k]["pred"]) for k in
+                    ("sfvc_ideal_tau0.005", "sfvc_ideal", "sfvc_ideal_tau0.02") if k in got)))
+    e = _entry("Fig. 24", "reproduced" if amp_ok and freq_ok else "deviates", meas, says, reason, None,
+               "Casadei Fig. 24: rotor-flux error with a 0.01 A offset")
+    e["measured"]["eq26"] = {k: {"sil_pct": round(100 * g["amp"], 3), "sil_w_rad_s": g["w_pk"],
+                                 "eq26_pct": round(100 * g["pred"], 3), "eq26_w_rad_s": round(g["ws"], 3)}
+                             for k, g in got.items()}
+    return e
 
 
 def fig25(ctx):
@@ -371,45 +428,146 @@ def fig25(ctx):
 
 
 def figs35_36(ctx):
-    ok, meas, _ = _gtest(ctx, "Figs35And36TorqueStepAt100RpmDtcRisesFasterThanDfoc")
-    sc = _toml(SCN)
-    rated = sc["motor"].get("rated_torque_nm", 26.5)
-    # sec. 13.1: the same mean switching frequency; at 100 rpm, rated torque
-    fsw = {}
-    for scheme in ("dtc", "dfoc"):
-        m, _ = _run(ctx, SCN, _held_sets(100.0, rated, {"control.scheme": scheme}, window=0.3), "fsw35_" + scheme)
-        fsw[scheme] = m.get("switching_freq_hz") or 0.0
-    m = " | ".join(meas) + " | mean switching frequency at 100 rpm, rated torque: DTC (zero bands) %.0f Hz, DFOC %.0f Hz" % (
-        fsw["dtc"], fsw["dfoc"])
-    says = "torque step at 100 rpm: DTC better in settling time and maximum overshoot; the PI regulators of DFOC delay it"
-    val = {}
+    """Casadei sec. 13.1's criteria on the step of Figs. 35-36 (sil.ImCasadei.Figs35And36*): equal mean
+    switching frequency (the DFOC's carrier lowered to 3/2 of the DTC's zero-band frequency at 100 rpm)
+    and the DFOC's current PIs at the tunings control.dfoc_bw_hz / control.dfoc_zeta offer."""
+    ok0, meas0, _ = _gtest(ctx, "Figs35And36TorqueStepAt100RpmDtcRisesFasterThanDfoc")
+    ok, meas, _ = _gtest(ctx, "Figs35And36AtEqualSwitchingFrequencyDfocWithPlacedPolesOvershootsAndSettlesLater")
+    says = ("torque step at 100 rpm: DTC better in settling time and maximum overshoot; the PI regulators of DFOC delay "
+            "it (sec. 13.1: same mean switching frequency; the paper prints no DFOC tuning)")
+    eq = re.search(r"equal f_sw: DTC (\d+) Hz \(zero bands\), DFOC (\d+) Hz.*DTC rise ([\d.]+) ms, settling ([\d.]+) / "
+                   r"([\d.]+) ms, overshoot ([\d.]+) %", " ".join(meas))
+    tun = {}
     for ln in meas:
-        a = re.search(r"(DTC|DFOC), plant torque averaged over ([\d.]+) ms: rise to 90 % ([\d.]+) ms, settling ([\d.-]+) "
-                      r"ms, overshoot ([\d.-]+) %", ln)
+        a = re.search(r"equal f_sw DFOC (.+?) \(w_c Ts [\d.]+\): rise ([\d.]+) ms, settling ([\d.]+) / ([\d.]+) ms .*"
+                      r"overshoot ([\d.]+) %", ln)
         if a:
-            val[(a.group(1), a.group(2))] = (float(a.group(3)), float(a.group(4)), float(a.group(5)))
-    try:
-        rise_ok = val[("DTC", "0.48")][0] < val[("DFOC", "0.48")][0]
-        settle_ok = val[("DTC", "2")][1] < val[("DFOC", "2")][1]
-        over_ok = val[("DTC", "0.48")][2] <= val[("DFOC", "0.48")][2]
-    except KeyError:
-        rise_ok = settle_ok = over_ok = False
-    reproduced = ok and rise_ok and settle_ok and over_ok
-    reason = "" if reproduced else (
-        "DTC rises faster (the paper's reason, the DFOC's PI delay, shows in the rise: %s) and, on the torque averaged "
-        "over 2 ms, settles first (%s); on a 0.48 ms average its settling is late because its torque keeps a "
-        "low-frequency wander (the spread spectrum of Fig. 34) whose excursions leave the 5 %% band, not a slow "
-        "transient (the trimmed reference is steady from the step on). Overshoot not reproduced: the DFOC's current "
-        "PIs have their zero on the stator pole (K_p = sigma L_s w_c, K_i = R_s w_c, w_c = 0.2/Ts, im_dfoc.c), "
-        "first-order loops that cannot overshoot; the paper prints no DFOC tuning, and no scenario key sets it. "
-        "Equal switching frequency (sec. 13.1) is approached, not met: at 100 rpm the DTC switches at %.0f Hz with "
-        "zero bands against the DFOC's %.0f Hz (2/3 of its 6.25 kHz carrier); the 40 us period bounds the DTC, "
-        "wider bands only lower it" % ("yes" if rise_ok else "no", "yes" if settle_ok else "no", fsw["dtc"], fsw["dfoc"]))
+            tun[a.group(1)] = tuple(float(a.group(k)) for k in range(2, 6))
+    placed = tun.get("poles at w_c, zeta 0.7")
+    reproduced = bool(ok and eq and placed)
+    if eq and placed:
+        d_rise, d_set, d_ov = float(eq.group(3)), float(eq.group(5)), float(eq.group(6))
+        rows = "; ".join("DFOC %s: rise %.2f ms, settling %.2f ms, overshoot %.1f %%" % (k, v[0], v[2], v[3])
+                         for k, v in tun.items())
+        m = ("equal mean switching frequency at 100 rpm, rated torque: DTC %s Hz at zero bands, DFOC %s Hz (carrier "
+             "lowered); plant torque averaged over 2 ms: DTC rise %.2f ms (0.48 ms average), settling %.2f ms, overshoot "
+             "%.1f %%; %s" % (eq.group(1), eq.group(2), d_rise, d_set, d_ov, rows))
+    else:
+        m = " | ".join(meas0 + meas)
+    reason = "" if reproduced else "sil.ImCasadei.Figs35And36 failed or printed no figures"
+    note = ("reproduced with the DFOC's PIs placing both closed-loop poles at the derived w_c = 0.2/Ts with damping 0.7 "
+            "(control.dfoc_zeta = 0.7; the paper prints no tuning, this common placement reproduces its statement): "
+            "the PI's zero near w_c gives the overshoot and the pole pair's envelope the later settling. The default "
+            "tuning (the zero on the stator pole, K_p = sigma L_s w_c, K_i = R_s w_c) makes first-order loops: slower "
+            "rise, later settling, but no overshoot; with it the overshoot appears only from w_c = 0.5/Ts "
+            "(control.dfoc_bw_hz, phase margin 47 deg), where the DFOC then settles as fast as the DTC. Settling is "
+            "compared on the 2 ms average: on 0.48 ms the DTC's torque keeps a low-frequency wander (the spread "
+            "spectrum of Fig. 34, +-1.7 N*m) whose excursions leave the 5 % band until 12.7 ms")
     res = []
     for item in ("Fig. 35", "Fig. 36"):
-        res.append(_entry(item, "reproduced" if reproduced else "deviates", m, says, reason, None,
-                          "Casadei %s: %s torque step response" % (item, "DFOC" if item == "Fig. 35" else "DTC")))
+        e = _entry(item, "reproduced" if reproduced else "deviates", m, says, reason, None,
+                   "Casadei %s: %s torque step response" % (item, "DFOC" if item == "Fig. 35" else "DTC"))
+        e["measured"]["tuning"] = note
+        res.append(e)
     return res
+
+
+# ---- Casadei Table 5: what its figures depend on -------------------------------------------------------
+# One cell (720 rpm, rated torque: the DFOC in its linear range, the DTC below the DFOC's switching
+# frequency at zero bands) varied one quantity at a time: the leakage inductance (both leakages
+# doubled, the firmware's following the plant's), the DC link (x 1.5, trips and sensor ranges
+# widened with it), the DTC's sampling period (40 -> 20 us), and the second machine
+# (im_second_machine.toml, 400 V, its rated torque). DTC at zero bands, DFOC on its 6.25 kHz
+# carrier; the rig's devices and dead time as in Table 5's runs.
+T5_VARIANTS = [
+    ("default IM", SCN, {}),
+    ("leakages x 2", SCN, {"motor.lls_h": 2.0, "motor.llr_h": 2.0}),  # factors of the scenario's machine
+    ("DC link x 1.5", SCN, {"inverter.vdc_v": 1.5, "protection.vdc_max_v": 1.5, "sensors.voltage_range_v": 1.6}),
+    ("DTC ts 20 us", SCN, {"ts_s": 20e-6}),
+    ("second machine", SCN2, {}),
+]
+
+
+def _vdc(scn):
+    return _toml(scn).get("inverter", {}).get("vdc_v", im_linear.plant_defaults()["PLANT_DEF_IM_VDC_V"])
+
+
+def _t5_cell(ctx, scn, extra, scheme, rpm, torque, name):
+    f_e = 2 * rpm / 60.0
+    window = max(0.2, 3.0 / f_e)
+    sets = _held_sets(rpm, torque, dict(extra, **{"control.scheme": scheme, "control.torque_band_nm": 0,
+                                                  "control.flux_band_wb": 0}), window=window)
+    if scheme == "dfoc":
+        sets.pop("control.torque_band_nm")
+        sets.pop("control.flux_band_wb")
+        sets.pop("ts_s", None)
+    m, _ = _run(ctx, scn, sets, name)
+    return m
+
+
+def table5_causes(ctx):
+    """[(label, dtc metrics, dfoc metrics)] at 720 rpm, rated torque, for T5_VARIANTS."""
+    out = []
+    for k, (label, scn, extra) in enumerate(T5_VARIANTS):
+        mach = im_linear.Machine.from_scenario(scn)
+        base = {"motor.lls_h": mach.lls, "motor.llr_h": mach.llr, "inverter.vdc_v": _vdc(scn),
+                "protection.vdc_max_v": _toml(scn).get("protection", {}).get(
+                    "vdc_max_v", im_linear.plant_defaults()["PLANT_DEF_IM_VDC_MAX_V"]),
+                "sensors.voltage_range_v": _toml(scn).get("sensors", {}).get(
+                    "voltage_range_v", im_linear.plant_defaults()["PLANT_DEF_IM_VOLTAGE_RANGE_V"])}
+        extra = {key: v * base[key] if key in base else v for key, v in extra.items()}
+        rated = _toml(scn)["motor"].get("rated_torque_nm", 26.5)
+        d = _t5_cell(ctx, scn, extra, "dtc", 720.0, rated, "t5c_dtc_%d" % k)
+        f = _t5_cell(ctx, scn, extra, "dfoc", 720.0, rated, "t5c_dfoc_%d" % k) if "ts_s" not in extra else None
+        out.append((label, d, f))
+    return out
+
+
+def table5_equal(ctx):
+    """Sec. 13.1's equal switching frequency reached from the DTC's side on the default IM (its period
+    halved to 20 us, so that its zero-band frequency exceeds the DFOC's 4167 Hz and its torque band
+    is tuned down to it), and Table 5's rated-torque row on the second machine (DTC tuned to the DFOC's
+    frequency where it can, else the DFOC's carrier lowered to the DTC's). {(machine, rpm):
+    (dtc metrics, dfoc metrics, dfoc at the DTC's frequency or None)}."""
+    import concurrent.futures
+    sys.path.insert(0, os.path.join(ROOT, "tools", "plot"))
+    import casadei_table5 as t5
+    target = 2.0 / 3.0 * 6250.0
+    jobs = {}
+    out = os.path.join(ctx.work, "t5eq")
+    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, ctx.jobs)) as ex:
+        for rpm in t5.SPEEDS:
+            jobs[ex.submit(t5.dtc_cell, ctx.dtc_sil, os.path.join(out, "im20"), rpm, 26.5, target, SCN,
+                           {"ts_s": 20e-6})] = ("default IM, DTC 20 us", rpm, "dtc")
+            jobs[ex.submit(t5.run, ctx.dtc_sil, os.path.join(out, "im20", "dfoc_%d" % rpm), rpm, 26.5,
+                           {"control.scheme": "dfoc"}, SCN)] = ("default IM, DTC 20 us", rpm, "dfoc")
+            t2 = _toml(SCN2)["motor"]["rated_torque_nm"]
+            jobs[ex.submit(t5.dtc_cell, ctx.dtc_sil, os.path.join(out, "m2"), rpm, t2, target, SCN2)] = (
+                "second machine", rpm, "dtc")
+            jobs[ex.submit(t5.run, ctx.dtc_sil, os.path.join(out, "m2", "dfoc_%d" % rpm), rpm, t2,
+                           {"control.scheme": "dfoc"}, SCN2)] = ("second machine", rpm, "dfoc")
+        res = {}
+        for f in concurrent.futures.as_completed(jobs):
+            res[jobs[f]] = f.result()
+        eq = {}
+        for (mach, rpm, kind), m in list(res.items()):
+            f_dtc = m.get("switching_freq_hz") or 0.0
+            if kind == "dtc" and "error" not in m and 0.0 < f_dtc < 0.98 * target:
+                scn = SCN2 if mach == "second machine" else SCN
+                t = _toml(SCN2)["motor"]["rated_torque_nm"] if scn == SCN2 else 26.5
+                eq[ex.submit(t5.dfoc_at, ctx.dtc_sil, os.path.join(out, "m2" if scn == SCN2 else "im20"), rpm, t,
+                             f_dtc, scn)] = (mach, rpm, "dfoc_eq")
+        for f in concurrent.futures.as_completed(eq):
+            res[eq[f]] = f.result()
+    return res
+
+
+def _t5_fmt(m):
+    if m is None:
+        return "-"
+    if "error" in m or m.get("fault") != "none":
+        return "failed (%s)" % (m.get("error") or m.get("fault"))
+    return "%.2f A at %.0f Hz" % (m.get("current_ripple_rms_a") or float("nan"), m.get("switching_freq_hz") or 0.0)
 
 
 def table5(ctx):
@@ -438,16 +596,58 @@ def table5(ctx):
                "dfoc": {26.5: (0.64, 0.63, 0.58), 13.25: (0.64, 0.94, 0.47), 0.0: (0.65, 0.93, 0.34)}}
         ratio.setdefault(c["scheme"], []).append(r / ref[c["scheme"]][c["torque_nm"]][i])
     span = "; ".join("%s/paper %.2f..%.2f" % (k.upper(), min(v), max(v)) for k, v in sorted(ratio.items()))
-    return [_entry("Table 5", "deviates", "; ".join(fmt(c) for c in cells) + "; " + span,
+    causes, cause_txt = table5_causes(ctx), []
+    r = lambda m: (m or {}).get("current_ripple_rms_a") or float("nan")  # noqa: E731
+    fs = lambda m: (m or {}).get("switching_freq_hz") or float("nan")  # noqa: E731
+    base = causes[0]
+    for label, d, f in causes:
+        cause_txt.append("%s: DTC %s, DFOC %s%s" % (
+            label, _t5_fmt(d), _t5_fmt(f),
+            "" if label == base[0] else " (x %.2f / %s)" % (r(d) / r(base[1]), "x %.2f" % (r(f) / r(base[2])) if f
+                                                           else "-")))
+    m2 = _toml(SCN2)["motor"]
+    mi = im_linear.Machine.from_scenario(SCN)
+    m2i = im_linear.Machine.from_scenario(SCN2)
+    vl = (_vdc(SCN2) / (m2i.sigma * m2i.ls)) / (_vdc(SCN) / (mi.sigma * mi.ls))
+    meas = ("%s; %s. What the ripples depend on, one quantity at a time at 720 rpm and rated torque (DTC at zero bands, "
+            "DFOC on its carrier): %s; V_dc / (sigma L_s) of the second machine (%g V, %s rated %g N*m) is x %.3f of "
+            "the default's" % ("; ".join(fmt(c) for c in cells), span, "; ".join(cause_txt),
+                               _vdc(SCN2), os.path.basename(SCN2), m2["rated_torque_nm"], vl))
+    eq_txt = ""
+    if not ctx.short:
+        eqr = table5_equal(ctx)
+        pd = {1440.0: (1.10, 0.64), 720.0: (1.57, 0.63), 144.0: (1.46, 0.58)}
+        rows = []
+        for mach in ("default IM, DTC 20 us", "second machine"):
+            for rpm in (1440.0, 720.0, 144.0):
+                d, f, q = eqr.get((mach, rpm, "dtc")), eqr.get((mach, rpm, "dfoc")), eqr.get((mach, rpm, "dfoc_eq"))
+                ref = q if q is not None else f
+                rows.append("%s %g rpm: DTC %s (%s), DFOC %s%s; DTC/DFOC at equal f_sw %.2f (paper %.2f)" % (
+                    mach, rpm, _t5_fmt(d), (d or {}).get("tuning", ""), _t5_fmt(f),
+                    ", at the DTC's frequency %s" % _t5_fmt(q) if q is not None else "", r(d) / r(ref),
+                    pd[rpm][0] / pd[rpm][1]))
+        eq_txt = ("; sec. 13.1's equal switching frequency at rated torque: " + "; ".join(rows))
+        meas += eq_txt
+    reason = ("the paper's finding holds: DFOC below DTC in every cell, also with both at the same switching frequency "
+              "(the DFOC's carrier lowered to the DTC's where the DTC, bounded by its 40 us period, cannot reach the "
+              "DFOC's 4.17 kHz: every cell here, 1.1 kHz at 1440 rpm to 4.1 kHz at 144 rpm), and on the second machine. "
+              "The magnitudes differ (%s), measured: (1) both ripples go as V_dc / (sigma L_s): doubling both leakages "
+              "halves them and leaves the DTC's frequency, the second machine (V_dc / sigma L_s x %.2f) scales them by "
+              "%.2f / %.2f; the paper's rig (machine and link unprinted) would need about x %.2f of ours for its DFOC "
+              "at 720 rpm but x %.2f for its DTC, so no one machine explains both columns; (2) the DTC/DFOC ratio: "
+              "the zero-band DTC's frequency is set by its period and by the link against the back-EMF, not by the "
+              "leakage (x 1.5 link: %.0f Hz, 20 us: %.0f Hz, against %.0f Hz); at 40 us it stays below the DFOC's "
+              "4.17 kHz at 720 rpm (the paper notes it below 4.1 kHz in the high-speed range only); with 20 us and its band tuned to 4.1 kHz (the "
+              "criterion met from the DTC's side) its ripple at 720 rpm halves%s; (3) not explained by any of these: "
+              "the paper's DFOC at 720 rpm rises from 0.63 A at rated torque to 0.94 / 0.93 A at half / no load, ours "
+              "stays flat (a load dependence, not a scale factor)" % (
+                  span, vl, r(causes[4][1]) / r(base[1]), r(causes[4][2]) / r(base[2]), 0.63 / r(base[2]),
+                  1.57 / r(base[1]), fs(causes[2][1]), fs(causes[3][1]), fs(base[1]),
+                  "" if ctx.short else " (ratios above)")) if p.returncode == 0 else (
+        "tools/plot/casadei_table5.py: " + p.stdout.strip()[-600:])
+    return [_entry("Table 5", "deviates", meas,
                    "three-phase rms current ripple, DFOC 0.34..0.94 A, DTC 1.09..1.57 A, DFOC lower in every cell, "
-                   "equal mean switching frequency (4.1 kHz)",
-                   ("the paper's finding holds: DFOC below DTC in every cell, also with both at the same switching "
-                    "frequency (the DFOC's carrier lowered to the DTC's where the DTC, bounded by its 40 us period, "
-                    "cannot reach the DFOC's 4.17 kHz: every cell, 1.1 kHz at 1440 rpm to 4.1 kHz at 144 rpm, as "
-                    "the paper notes for high speed). The magnitudes differ (%s): the machine is a substitute for "
-                    "the paper's unprinted one (docs/plant.md), whose leakage inductance sets both ripples"
-                    % span) if p.returncode == 0 else "tools/plot/casadei_table5.py: " + p.stdout.strip()[-600:],
-                   None, "Casadei Table 5")]
+                   "equal mean switching frequency (4.1 kHz)", reason, None, "Casadei Table 5")]
 
 
 def items(ctx):

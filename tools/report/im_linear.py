@@ -104,6 +104,116 @@ class Machine:
         return torque_nm * self.rr / (1.5 * self.p * psir_wb * psir_wb)
 
 
+def _reduced(mach, x, u, w0, torque, psir, tau, law):
+    """The drive of Casadei sec. 10.6 reduced to its slow states, in the frame of the estimated rotor
+    flux (the angle of eq. 21's phi_r^): x = (phi_rd, phi_rq, e_d) with phi_r the machine's rotor
+    flux and e = phi_s - phi_s^ the estimator's error; u = (dR_s, di_d, di_q), eq. 25's mismatch
+    (the current error di in this frame). Returns (dx/dt, w_f) with w_f the frame's speed.
+
+    The regulator holds the estimated stator flux at its reference exactly: law "sfvc" the vector of
+    Casadei eq. 18 at constant rotor flux; law "dtc" its magnitude, eq. 19, and the estimated torque
+    (3/2) p phi_s^ x i^ = T*. Eq. 21 with i^ = i + di gives phi_r^ = phi_r - g e - g sigma L_s di,
+    whose q part is zero in this frame: it fixes e_q. The machine: Casadei eqs. A7-A9 (rotor flux
+    from the stator current, speed w0). The estimator error from eq. 20: de/dt = dR_s i + R_s di -
+    (phi_r* - |phi_r^|)/tau - j w_f e. The frame's speed w_f keeps phi_r^ on its axis, the offset
+    turning backwards at w_f in it."""
+    g, sls = mach.g, mach.sigma * mach.ls
+    xd, xq, ed = x
+    dr, dd, dq = u
+    eq = (xq - g * sls * dq) / g
+    pr = xd - g * ed - g * sls * dd
+    if law == "sfvc":
+        ps = complex(mach.ls / mach.m * psir, mach.ls / mach.m * mach.sigma * mach.lr * 2.0 / 3.0 * torque /
+                     (mach.p * psir))
+    else:
+        mag = mach.ls / mach.m * math.hypot(psir, 2.0 / 3.0 * mach.sigma * mach.lr / mach.p * torque / psir)
+        ps = mag * np.exp(1j * math.asin(torque * g * sls / (1.5 * mach.p * pr * mag)))
+    e = complex(ed, eq)
+    i = (ps + e - complex(xd, xq) / g) / sls
+    tr = mach.tau_r
+    wf = (mach.m / tr * i.imag - xq / tr + w0 * xd - g * dr * i.imag - g * mach.rs * dq) / pr
+    dxd = mach.m / tr * i.real - xd / tr + (wf - w0) * xq
+    dxq = mach.m / tr * i.imag - xq / tr - (wf - w0) * xd
+    ded = wf * eq + dr * i.real + mach.rs * dd - (psir - pr) / tau
+    return np.array([dxd, dxq, ded]), wf
+
+
+def linearised(mach, w0, torque, psir, tau, law="sfvc"):
+    """Casadei eq. 26 by numerical linearisation of _reduced at its operating point without mismatch:
+    (A, B, w_s, x0); A's eigenvalues are eq. 27's (tests/unit/test_im_linear.py), B is eq. 28's
+    in this model's states."""
+    x = np.array([psir, 0.0, 0.0])
+    u0 = np.zeros(3)
+    for _ in range(50):  # Newton on the equilibrium (the DTC's stator-flux angle depends on the state)
+        f0, _ = _reduced(mach, x, u0, w0, torque, psir, tau, law)
+        J = np.empty((3, 3))
+        for k in range(3):
+            d = np.zeros(3)
+            d[k] = 1e-7
+            J[:, k] = (_reduced(mach, x + d, u0, w0, torque, psir, tau, law)[0] - f0) / 1e-7
+        step = np.linalg.solve(J, -f0)
+        x = x + step
+        if np.max(np.abs(step)) < 1e-13:
+            break
+    h = 1e-7
+    A, B = np.empty((3, 3)), np.empty((3, 3))
+    f0, ws = _reduced(mach, x, u0, w0, torque, psir, tau, law)
+    for k in range(3):
+        d = np.zeros(3)
+        d[k] = h
+        A[:, k] = (_reduced(mach, x + d, u0, w0, torque, psir, tau, law)[0] -
+                   _reduced(mach, x - d, u0, w0, torque, psir, tau, law)[0]) / (2 * h)
+        B[:, k] = (_reduced(mach, x, d, w0, torque, psir, tau, law)[0] -
+                   _reduced(mach, x, -d, w0, torque, psir, tau, law)[0]) / (2 * h)
+    return A, B, ws, x
+
+
+def offset_oscillation(mach, w0, torque, psir, tau, di_ab, law="sfvc"):
+    """Casadei eq. 26's answer to a constant current-sensor offset di_ab (complex, A, stationary frame):
+    in the rotor-flux frame it turns at -w_s, so the rotor-flux magnitude oscillates at w_s with
+    amplitude |(j w_s - A)^-1 B (0, 1, j)| |di_ab| (first row). Returns (relative amplitude of
+    |phi_r| / phi_r*, w_s rad/s)."""
+    A, B, ws, _ = linearised(mach, w0, torque, psir, tau, law)
+    x = np.linalg.solve(1j * ws * np.eye(3) - A, B @ np.array([0.0, 1.0, 1j]) * abs(di_ab))
+    return abs(x[0]) / psir, ws
+
+
+def offset_oscillation_simulated(mach, w0, torque, psir, tau, di_ab, h=2e-4, t_run=8.0, t_from=5.0):
+    """The same answer from the drive's reduced model written in the stationary frame and simulated
+    (RK4, step h) without linearising, SFVC (eq. 18's stator flux on the estimated rotor flux's
+    angle): states phi_r and e = phi_s - phi_s^. The rotor-flux magnitude's line at w_s over
+    [t_from, t_run] of the run with the offset less the run without. Relative amplitude."""
+    g, sls = mach.g, mach.sigma * mach.ls
+    ps_f = complex(mach.ls / mach.m * psir, mach.ls / mach.m * mach.sigma * mach.lr * 2.0 / 3.0 * torque / (mach.p * psir))
+
+    def f(y, d):
+        pr, e = y
+        prh = pr - g * e - g * sls * d  # Casadei eq. 21 with the measured current
+        th = prh / abs(prh)
+        i = (ps_f * th + e - pr / g) / sls
+        return np.array([mach.m / mach.tau_r * i - pr / mach.tau_r + 1j * w0 * pr,
+                         mach.rs * d - (psir * th - prh) / tau])  # eqs. A7-A9; eq. 20's error
+
+    def run(d, y, n):
+        out = np.empty(n)
+        for k in range(n):
+            k1 = f(y, d)
+            k2 = f(y + 0.5 * h * k1, d)
+            k3 = f(y + 0.5 * h * k2, d)
+            k4 = f(y + h * k3, d)
+            y = y + h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+            out[k] = abs(y[0]) / psir
+        return out
+    _, _, ws, x0 = linearised(mach, w0, torque, psir, tau, "sfvc")
+    y0 = np.array([complex(x0[0], x0[1]), complex(x0[2], (x0[1]) / g)])
+    n = int(round(t_run / h))
+    diff = run(di_ab, y0, n) - run(0.0, y0, n)
+    tail = diff[int(round(t_from / h)):]
+    per = int(round(2 * math.pi / ws / h))
+    m = len(tail) // per * per
+    return 2.0 * abs(np.sum(tail[:m] * np.exp(-1j * ws * h * np.arange(m)))) / m
+
+
 def fig21_map(mach, w_sl=5.0, ws=None, taus=None):
     """Real part of the dominant pole over (w_s, tau) at a fixed slip (Casadei Fig. 21): (ws, taus, re[tau, ws])."""
     ws = np.linspace(-40.0, 40.0, 321) if ws is None else ws

@@ -214,6 +214,8 @@ struct ControlCfg {
     double carrier_hz = PLANT_DEF_IM_CARRIER_HZ; // SVM carrier; the control period ts_s = 1 / carrier_hz
     Modulation modulation = Modulation::Symmetric; // dfoc with the key unset: two_phase (Casadei sec. 13)
     double sfvc_kp_per_s = 0.0;          // flux-regulator gain K_p (Casadei eq. 24); 0 = derived, 1 / (2 ts_s)
+    double dfoc_bw_hz = 0.0;             // DFOC current-loop crossover, Hz; 0 = derived, 0.2 / (2 pi ts_s)
+    double dfoc_zeta = 0.0;              // DFOC PI placement: 0 = zero on the stator pole; > 0 = poles at w_c, damping
     double dsvm_torque_band2_nm = 0.0;   // DSVM five-level torque comparator's outer band; 0 = derived
 };
 

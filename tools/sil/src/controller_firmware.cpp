@@ -240,6 +240,8 @@ dtc_config_si_t firmware_si_config(const Scenario& sc)
         si.carrier_hz = c.scheme == Scheme::Sfvc || c.scheme == Scheme::Dfoc ? c.carrier_hz : 0.0;
         si.svm_mode = c.modulation == Modulation::TwoPhase ? 1 : 0;
         si.sfvc_kp_per_s = c.sfvc_kp_per_s;
+        si.dfoc_bw_hz = c.dfoc_bw_hz;
+        si.dfoc_zeta = c.dfoc_zeta;
         si.dsvm_torque_band2_nm = c.dsvm_torque_band2_nm;
         si.speed_sensor = c.speed_sensor == SpeedSensor::None ? DTC_SPEED_NONE : DTC_SPEED_ENCODER;
         si.flux_weakening = c.flux_weakening ? 1 : 0;
@@ -327,6 +329,8 @@ std::string keys_of_field(const std::string& msg)
         {"carrier_hz", "control.carrier_hz, ts_s"},
         {"svm_mode", "control.modulation"},
         {"sfvc_kp_per_s", "control.sfvc_kp_per_s (with ts_s)"},
+        {"dfoc_bw_hz", "control.dfoc_bw_hz (with ts_s)"},
+        {"dfoc_zeta", "control.dfoc_zeta (with control.dfoc_bw_hz, motor.rs_ohm)"},
         {"speed_sensor", "control.speed_sensor"},
         {"topology", "inverter.topology"},
     };

@@ -307,6 +307,16 @@ const std::vector<Spec>& schema()
             "IM sfvc: flux-regulator gain K_p of Casadei eq. 24, at most 1/ts_s (deadbeat); 0 = derived, "
             "1 / (2 ts_s)",
             ACC(control.sfvc_kp_per_s)),
+        num("control.dfoc_bw_hz", "Hz", nonneg(),
+            "IM dfoc: crossover of the rotor-flux-frame current PIs (K_p = sigma L_s w_c, K_i = R_s w_c, the zero on "
+            "the stator transient pole), below 1 / (6 ts_s) where the loop's 1.5 ts_s delay leaves no phase margin; "
+            "0 = derived, w_c = 0.2 / ts_s (199 Hz at 160 us: no overshoot)",
+            ACC(control.dfoc_bw_hz)),
+        num("control.dfoc_zeta", "", nonneg(),
+            "IM dfoc: placement of the current PIs; 0 = the zero on the stator transient pole (first-order loops, no "
+            "overshoot); > 0 = both closed-loop poles at w_c with this damping, K_p = 2 zeta w_c sigma L_s - R_s, K_i = "
+            "sigma L_s w_c^2 (the PI's zero near w_c: the step overshoots), at most 10",
+            ACC(control.dfoc_zeta)),
         num("control.dsvm_torque_band2_nm", "N*m", nonneg(),
             "IM dsvm: outer band (full width) of the five-level torque comparator: beyond +-band2/2 the tables' "
             "levels +-2, between +-control.torque_band_nm/2 and +-band2/2 the levels +-1; at least "
@@ -877,7 +887,8 @@ void apply_machine_defaults(Scenario& s, Diagnostics* d)
 void check_law_keys(const Scenario& s, Diagnostics* d)
 {
     static const std::vector<std::string> im_law = {
-        "control.carrier_hz", "control.modulation", "control.sfvc_kp_per_s", "control.dsvm_torque_band2_nm",
+        "control.carrier_hz", "control.modulation", "control.sfvc_kp_per_s", "control.dfoc_bw_hz", "control.dfoc_zeta",
+        "control.dsvm_torque_band2_nm",
         "control.speed_sensor", "control.flux_weakening", "control.rotor_flux_ref_wb",
         "control.observer_tau_s", "control.observer_tau_high_s", "control.observer_tau_lo_rpm",
         "control.observer_tau_hi_rpm", "control.magnetise_frac", "control.table_speed_rpm",
