@@ -46,7 +46,10 @@ enum app_fault_detail {
  *  - DESAT: a gate driver's desaturation output: a shorted device or shoot-through.
  *  - CURRENT_SENSOR: a stuck or failed current sensor (APP_SENSOR_DETAIL_LIST).
  *  - LEG: a phase carries no current while the others do (an open leg, phase or device) and no
- *    reconfiguration is possible. */
+ *    reconfiguration is possible.
+ *  - OVERSPEED: app_fault_overspeed.
+ *  - ENCODER_SPEED: the IM laws with the encoder: the encoder's speed against the estimated flux's
+ *    (app_enc.h app_enc_flux_check); detail the sign of (flux speed - encoder speed). */
 #define APP_FAULT_LIST(X)                                                                          \
     X(NONE, 0, "none", APP_DETAIL_NONE, "")                                                        \
     X(CONFIG, 1, "config", APP_DETAIL_DTC_ERR, "")                                                 \
@@ -66,7 +69,11 @@ enum app_fault_detail {
       "phase %c carries no current while the others do (an open leg, phase or device) and the "    \
       "drive cannot be reconfigured (no relay fitted, a second failure, or a law without it)")    \
     X(OVERSPEED, 12, "overspeed", APP_DETAIL_SIGN,                                                 \
-      "measured speed beyond protection.overspeed_rpm")
+      "measured speed beyond protection.overspeed_rpm")                                            \
+    X(ENCODER_SPEED, 13, "encoder_speed", APP_DETAIL_SIGN,                                         \
+      "the encoder's speed disagrees with the speed of the estimated rotor flux less its slip "     \
+      "(Casadei eqs. 16, 22) by more than the slip at the torque limit allows: encoder lost, "     \
+      "slipping or wired to another shaft")
 
 /* The current-sensor fault's details: X(check, meaning); the detail is 3 * check + the physical
  * phase, "%c" its letter.

@@ -537,6 +537,31 @@ static void test_encoder_plausibility(void **state)
     assert_int_equal(fx.app.st.fault_detail, 1);
 }
 
+/* The encoder against the flux speed (app_enc_flux_check): a difference beyond the tolerance trips
+ * on the APP_ENC_FLUX_PERIODS-th compared period in a row, with the sign of (flux - encoder); one
+ * period back inside restarts the count; a difference at the tolerance itself is credible. */
+static void test_encoder_flux_check_counts_periods_in_a_row(void **state)
+{
+    const iq_t tol = IQ(0.2);
+    app_enc_t e;
+    uint16_t k;
+    (void)state;
+    app_enc_reset(&e);
+    for (k = 1U; k < APP_ENC_FLUX_PERIODS; k++) {
+        assert_int_equal(app_enc_flux_check(&e, tol + 1, tol), 0);
+    }
+    assert_int_equal(app_enc_flux_check(&e, tol, tol), 0); /* back inside: the count restarts */
+    for (k = 1U; k < APP_ENC_FLUX_PERIODS; k++) {
+        assert_int_equal(app_enc_flux_check(&e, -tol - 1, tol), 0);
+    }
+    assert_int_equal(app_enc_flux_check(&e, -tol - 1, tol), -1);
+    app_enc_reset(&e);
+    for (k = 1U; k < APP_ENC_FLUX_PERIODS; k++) {
+        assert_int_equal(app_enc_flux_check(&e, IQ(5.0), tol), 0);
+    }
+    assert_int_equal(app_enc_flux_check(&e, IQ(5.0), tol), 1);
+}
+
 /* The plausible count change per control period: twice the speed limit, never below one count
  * (a single count step is quantisation: at ts = 1 us one count per period already reads 7500 rpm). */
 static void test_encoder_jump_threshold_scales_with_ts_and_lines(void **state)
@@ -1069,7 +1094,8 @@ static void test_fault_names(void **state)
 {
     static const char *const want[] = {"none", "config", "overcurrent", "dc_overvoltage",
                                        "dc_undervoltage", "encoder", "hw_trip", "adc_offset",
-                                       "stall", "desat", "current_sensor", "leg", "overspeed"};
+                                       "stall", "desat", "current_sensor", "leg", "overspeed",
+                                       "encoder_speed"};
     const uint16_t n = (uint16_t)(sizeof want / sizeof want[0]);
     uint16_t k;
     (void)state;
@@ -1133,6 +1159,7 @@ int main(void)
         cmocka_unit_test(test_dc_link_window),
         cmocka_unit_test(test_hw_trip_and_clear),
         cmocka_unit_test(test_encoder_plausibility),
+        cmocka_unit_test(test_encoder_flux_check_counts_periods_in_a_row),
         cmocka_unit_test(test_encoder_jump_threshold_scales_with_ts_and_lines),
         cmocka_unit_test(test_stall_is_a_fault_and_acceleration_is_not),
         cmocka_unit_test(test_run_forwards_controller_decision),
