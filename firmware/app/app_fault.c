@@ -88,7 +88,7 @@ uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_m
     const iq_t zero = fix_rshift_rnd32(c->prot.leg_i_min_iq, APP_LEG_ZERO_LOG2);
     uint64_t sq[3], tot, s2;
     iq_t dth;
-    uint16_t k;
+    uint16_t k, sign;
 
     if (c->prot.leg_i_min_iq <= 0) {
         return 0U;
@@ -106,9 +106,7 @@ uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_m
         if (f->relay_wait > 0U) {
             f->relay_wait--;
         }
-        for (k = 0U; k < 3U; k++) {
-            f->leg_acc_iq[k] = 0;
-        }
+        app_fault_leg_clear(f);
         return 0U;
     }
     if (2U * tot <= f->imin2_3) {
@@ -116,13 +114,18 @@ uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_m
                     * which resets its sum, as soon as there is current again) */
     }
     dth = iq_mpy(fix_abs32(speed_iq), c->board.ts_pu_iq);
+    sign = dtc_law_is_im(c->law) == 0U ? 1U : 0U;
     for (k = 0U; k < 3U; k++) {
+        /* one direction only (an open device): the angle since each direction was last seen */
+        f->pos_acc_iq[k] = i[k] > zero ? 0 : fix_add32(f->pos_acc_iq[k], dth);
+        f->neg_acc_iq[k] = i[k] < -zero ? 0 : fix_add32(f->neg_acc_iq[k], dth);
         if (fix_abs32(i[k]) >= zero) {
             f->leg_acc_iq[k] = 0;
-            continue;
+        } else {
+            f->leg_acc_iq[k] = fix_add32(f->leg_acc_iq[k], dth);
         }
-        f->leg_acc_iq[k] = fix_add32(f->leg_acc_iq[k], dth);
-        if (f->leg_acc_iq[k] > APP_LEG_ANGLE_IQ) {
+        if (f->leg_acc_iq[k] > APP_LEG_ANGLE_IQ ||
+            (sign != 0U && (f->pos_acc_iq[k] > APP_LEG_SIGN_ANGLE_IQ || f->neg_acc_iq[k] > APP_LEG_SIGN_ANGLE_IQ))) {
             *phase = app_fault_phase(perm, k);
             return 1U;
         }

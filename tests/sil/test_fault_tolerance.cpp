@@ -199,6 +199,44 @@ TEST(FaultTolerance, AnOpenDeviceIsFoundAsAnOpenPhase)
     }
 }
 
+// One device stuck open on the voltage model ([29] compensation, three sensors, the relay): the
+// law's flux integrates the voltage the open device did not apply, and the DTC then keeps that
+// phase's current small in the one direction it can still flow (-0.2 .. -0.4 A for A upper)
+// instead of at zero, so the zero-band signature never lasts 60 deg. The phase's current has one
+// direction only, which a synchronous machine's phase current never keeps for more than a turn
+// (app_fault.h APP_LEG_SIGN_ANGLE_IQ): found, reconfigured to the FSTP, and back on the reference.
+// Without that signature the speed fell to 146-330 rpm and the drive tripped "stall".
+TEST(FaultTolerance, AnOpenDeviceOnTheVoltageModelIsReconfigured)
+{
+    for (const char* sw : {"a_upper", "b_upper", "c_lower"}) {
+        const Outcome o = run("sstp_voltage_simple_full.toml",
+                              {"inverter.reconfig_relay=true", "sensors.current_sensors=3",
+                               std::string("faults.switch_open=\"") + sw + "\""},
+                              std::string("vm_sw_") + sw);
+        EXPECT_EQ(o.info.fault, "none") << sw << ": " << o.info.fault_detail;
+        EXPECT_EQ(o.info.reconfigured, std::string(1, sw[0])) << sw;
+        std::size_t k = at(o.tr, kFaultT);
+        while (k < o.tr.t.size() && o.tr.relay[k] == 0.0) {
+            ++k;
+        }
+        ASSERT_LT(k, o.tr.t.size()) << sw << ": never reconfigured";
+        const std::size_t k0 = at(o.tr, kFaultT);
+        const double n_min = *std::min_element(o.tr.speed.begin() + static_cast<long>(k0), o.tr.speed.end());
+        double late = 0.0;
+        for (std::size_t j = at(o.tr, kFaultT + 0.4); j < o.tr.t.size(); ++j) {
+            late = std::max(late, std::fabs(o.tr.speed[j] - 1500.0));
+        }
+        const double peak = peak_current(o.tr, k0, o.tr.t.size());
+        std::printf("MEASURE voltage model, switch open %s: detected %.1f ms, lowest speed %.0f rpm, recovery %.3f s, "
+                    "|i| peak %.2f A, last 0.2 s within %.1f rpm\n",
+                    sw, 1e3 * (o.tr.t[k] - kFaultT), n_min, o.info.recovery_s, peak, late);
+        EXPECT_LE(o.tr.t[k] - kFaultT, 0.2) << sw;
+        EXPECT_LT(peak, o.trip_a) << sw; // measured 5.4-5.7 A before the FSTP takes over: below the trip
+        EXPECT_GT(n_min, 0.5 * 1500.0) << sw << ": the drive kept running";
+        EXPECT_LT(late, 0.01 * 1500.0) << sw << ": back on speed within 1 % after 0.4 s";
+    }
+}
+
 // Without the relay, an open leg trips (fault "leg"), it does not run on two legs.
 TEST(FaultTolerance, WithoutTheRelayAnOpenLegTrips)
 {
