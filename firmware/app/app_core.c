@@ -350,6 +350,14 @@ static uint16_t check_sensors(app_core_t *a)
     if (c->prot.i_plaus == 0U) {
         return 0U;
     }
+    if (a->flt.relay_wait > 0U) {
+        /* reconfigured, the relay not yet closed: the failed leg's diodes still carry its phase's
+         * current (an open device), which the FSTP law cannot predict; the check starts afresh
+         * once the phase is on the mid-point */
+        app_plaus_reset(&a->plaus);
+        a->plaus_win = 0U;
+        return 0U;
+    }
     if (c->board.i_sensors3 != 0U) {
         if (fix_abs32(fix_add32(fix_add32(i[0], i[1]), i[2])) > c->prot.i_sum_max_iq) {
             a->plaus_win |= 1U;

@@ -116,16 +116,22 @@ const char *app_fault_name(uint16_t fault);
 #define APP_LEG_ZERO_LOG2 2U
 /* Open device, PM laws: the electrical angle, IQ rad (7 pi/3), over which a phase must never read
  * beyond the zero band in one direction while the machine carries current (|i| above
- * prot.leg_i_min_iq) to be taken for open. One open device of a leg (the other and both diodes
- * still conduct) lets its phase carry current in one direction only: a half-wave that sits inside
- * the zero band for the other half-period where the law's flux follows the machine (the current
- * model), but with the voltage model's flux integrating the voltage the open leg did not apply,
- * the law keeps that phase's current small in the one direction, outside the zero band (measured:
- * -0.2 .. -0.4 A where the band is 0.07 A). A synchronous machine's phase current changes sign
- * every half electrical turn; a torque reversal that lands on a zero crossing extends one sign to
- * at most a whole turn (2 pi), hence 2 pi plus the zero band's pi/3. Not for the IM laws, whose
- * stator frequency is not the rotor's electrical speed (at a large slip the phase current keeps
- * its sign for more rotor angle). */
+ * prot.leg_i_min_iq), and both other phases have read beyond it in both directions, to be taken
+ * for open.
+ * One open device of a leg (the other and both diodes still conduct) lets its phase carry current
+ * in one direction only: a half-wave that sits inside the zero band for the other half-period
+ * where the law's flux follows the machine (the current model), but with the voltage model's
+ * flux integrating the voltage the open leg did not apply, the law keeps that phase's current
+ * small in the one direction and leaves the band every few periods (measured: -0.2 .. -0.4 A
+ * where the band is 0.07 A), so the band alone never lasts pi/3. A synchronous machine's phase
+ * current changes sign every half electrical turn; a torque reversal that lands on a zero
+ * crossing extends one sign to at most a whole turn (2 pi), hence 2 pi plus the band's pi/3. The
+ * other phases' alternation tells the open phase from a healthy one that the voltage model's wrong
+ * flux holds at a current of one sign for as long (measured: -4 A on A and +4 A on C while
+ * the open B upper device kept B at -2.8 .. 0 A; elsewhere B at -5 .. 0 A, the largest current,
+ * while A and C alternated). Not for
+ * the IM laws, whose stator frequency is not the rotor's electrical speed (at a large slip the
+ * phase current keeps its sign for more rotor angle). */
 #define APP_LEG_SIGN_ANGLE_IQ ((iq_t)122981693) /* 7 pi/3 * 2^24 */
 
 typedef struct {
@@ -214,7 +220,7 @@ uint16_t app_fault_trips(app_fault_t *f, const dtc_config_t *c, const dtc_meas_t
 
 /* Open phase (prot.leg_i_min_iq > 0) on the sample pu at the reported speed speed_iq (app_fault.c):
  * a phase inside the zero band over APP_LEG_ANGLE_IQ, or (PM laws) never beyond it in one
- * direction over APP_LEG_SIGN_ANGLE_IQ. Returns 1 with *phase the physical phase found open, else 0. */
+ * direction over APP_LEG_SIGN_ANGLE_IQ while the other two alternate. Returns 1 with *phase the physical phase found open, else 0. */
 uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_meas_t *pu, iq_t speed_iq,
                               uint16_t perm, uint16_t *phase);
 
