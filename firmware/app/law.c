@@ -148,19 +148,18 @@ uint16_t law_i_pred(const law_t *l, iq_t i1[3])
 
 uint16_t law_enc_plaus(const law_t *l, iq_t *err_iq, iq_t *tol_iq)
 {
-    switch (l->law) {
 #if DTC_LAW_IM_LINKED
-    case DTC_LAW_IM_DTC:
-    case DTC_LAW_IM_DSC:
-    case DTC_LAW_IM_SFVC:
-    case DTC_LAW_IM_DFOC:
-    case DTC_LAW_IM_DSVM:
+    if (dtc_law_is_im(l->law) != 0U) {
         *err_iq = l->u.im.plaus_err_iq;
         *tol_iq = l->u.im.cfg->u.im.ref.enc_plaus_iq;
         return l->u.im.plaus_on;
-#endif
-    default: (void)err_iq; (void)tol_iq; return 0U;
     }
+#else
+    (void)l;
+#endif
+    (void)err_iq;
+    (void)tol_iq;
+    return 0U;
 }
 
 iq_t law_speed_ref(const law_t *l)

@@ -82,6 +82,31 @@ double peak_current(const Trace& tr, std::size_t from, std::size_t to)
     return m;
 }
 
+// A scenario run as given (no fault time imposed): its scenario, result and trace columns.
+struct Columns {
+    Scenario sc;
+    RunInfo info;
+    std::map<std::string, std::vector<double>> c;
+};
+
+Columns run_columns(const std::string& file, const std::vector<std::string>& sets, const std::string& tag)
+{
+    Columns out;
+    Diagnostics d;
+    EXPECT_TRUE(load_scenario(kScenarios + file, sets, &out.sc, &d)) << d.text();
+    const fs::path dir = fs::temp_directory_path() / ("dtc_fault_tolerance_" + tag);
+    fs::remove_all(dir);
+    RunOptions opt;
+    opt.out_dir = dir.string();
+    RunResult r;
+    std::string err;
+    EXPECT_TRUE(run_scenario(out.sc, opt, &r, &err)) << err;
+    out.info = r.info;
+    out.c = sil_test::read_trace(dir / "trace.csv");
+    fs::remove_all(dir);
+    return out;
+}
+
 struct RideThrough {
     double detect_s = -1.0, dip_rpm = 0.0, late_dev_rpm = 0.0, peak_a = 0.0;
 };
@@ -356,21 +381,11 @@ TEST(FaultTolerance, ASpeedDipIsMeasuredFromTheSpeedTheDriveHadAtTheFault)
 // the speed never reaches 115 % of rated. Without the trip it ran to 4135 rpm.
 TEST(FaultTolerance, OverspeedTripsBelow115PercentOfRated)
 {
-    Scenario sc;
-    Diagnostics d;
-    ASSERT_TRUE(load_scenario(kScenarios + "sstp_current_full.toml",
-                              {"control.mode=\"torque\"", "load.type=\"inertia\"", "duration_s=1.6"}, &sc, &d))
-        << d.text();
-    const fs::path dir = fs::temp_directory_path() / "dtc_fault_tolerance_overspeed";
-    fs::remove_all(dir);
-    RunOptions opt;
-    opt.out_dir = dir.string();
-    RunResult r;
-    std::string err;
-    ASSERT_TRUE(run_scenario(sc, opt, &r, &err)) << err;
-    auto c = sil_test::read_trace(dir / "trace.csv");
-    fs::remove_all(dir);
-    EXPECT_EQ(r.info.fault, "overspeed") << r.info.fault_detail;
+    Columns o = run_columns("sstp_current_full.toml",
+                            {"control.mode=\"torque\"", "load.type=\"inertia\"", "duration_s=1.6"}, "overspeed");
+    const Scenario& sc = o.sc;
+    auto& c = o.c;
+    EXPECT_EQ(o.info.fault, "overspeed") << o.info.fault_detail;
     double n_max = 0.0;
     for (double n : c["speed_rpm"]) {
         n_max = std::max(n_max, std::fabs(n));
@@ -392,22 +407,12 @@ TEST(FaultTolerance, OverspeedTripsBelow115PercentOfRated)
 // at 54 A and tripped "stall" 0.1 s later.
 TEST(FaultTolerance, ImEncoderLostDuringMagnetisationTripsOnTheFluxSpeed)
 {
-    Scenario sc;
-    Diagnostics d;
-    ASSERT_TRUE(load_scenario(kScenarios + "im_dtc_speed.toml",
-                              {"duration_s=0.8", "faults.time_s=0.2", "faults.encoder_lost=true"}, &sc, &d))
-        << d.text();
-    const fs::path dir = fs::temp_directory_path() / "dtc_fault_tolerance_im_encoder";
-    fs::remove_all(dir);
-    RunOptions opt;
-    opt.out_dir = dir.string();
-    RunResult r;
-    std::string err;
-    ASSERT_TRUE(run_scenario(sc, opt, &r, &err)) << err;
-    auto c = sil_test::read_trace(dir / "trace.csv");
-    fs::remove_all(dir);
-    EXPECT_EQ(r.info.fault, "encoder_speed") << r.info.fault_detail;
-    ASSERT_GT(r.info.fault_time_s, 0.0) << "a firmware trip carries its time";
+    Columns o = run_columns("im_dtc_speed.toml", {"duration_s=0.8", "faults.time_s=0.2", "faults.encoder_lost=true"},
+                            "im_encoder");
+    const Scenario& sc = o.sc;
+    auto& c = o.c;
+    EXPECT_EQ(o.info.fault, "encoder_speed") << o.info.fault_detail;
+    ASSERT_GT(o.info.fault_time_s, 0.0) << "a firmware trip carries its time";
     const std::vector<double>& t = c["t_s"];
     const std::vector<double>& te = c["torque_nm"];
     const std::vector<double>& n = c["speed_rpm"];
@@ -419,7 +424,7 @@ TEST(FaultTolerance, ImEncoderLostDuringMagnetisationTripsOnTheFluxSpeed)
         n_max = std::max(n_max, std::fabs(n[k]));
     }
     ASSERT_GT(t_torque, 0.2) << "the speed loop never applied torque";
-    const double t_trip = r.info.fault_time_s;
+    const double t_trip = o.info.fault_time_s;
     std::printf("MEASURE im encoder lost: first torque %.4f s, trip %.4f s (%.1f ms later), largest speed %.0f rpm\n",
                 t_torque, t_trip, 1e3 * (t_trip - t_torque), n_max);
     EXPECT_GT(t_trip, t_torque) << "a trip before any torque is a false trip: the rotor was at rest";
