@@ -131,13 +131,15 @@ uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_m
         return 0U;
     }
     dth = iq_mpy(fix_abs32(speed_iq), c->board.ts_pu_iq);
+    sign = dtc_law_is_im(c->law) == 0U ? 1U : 0U;
     for (k = 0U; k < 3U; k++) {
-        /* the angle since each direction was last seen (an open device: one direction only) */
-        f->pos_acc_iq[k] = i[k] > zero ? 0 : fix_add32(f->pos_acc_iq[k], dth);
-        f->neg_acc_iq[k] = i[k] < -zero ? 0 : fix_add32(f->neg_acc_iq[k], dth);
+        if (sign != 0U) {
+            /* the angle since each direction was last seen (an open device: one direction only) */
+            f->pos_acc_iq[k] = i[k] > zero ? 0 : fix_add32(f->pos_acc_iq[k], dth);
+            f->neg_acc_iq[k] = i[k] < -zero ? 0 : fix_add32(f->neg_acc_iq[k], dth);
+        }
         f->leg_acc_iq[k] = fix_abs32(i[k]) < zero ? fix_add32(f->leg_acc_iq[k], dth) : 0;
     }
-    sign = dtc_law_is_im(c->law) == 0U ? 1U : 0U;
     for (k = 0U; k < 3U; k++) {
         if (f->leg_acc_iq[k] > APP_LEG_ANGLE_IQ ||
             (sign != 0U && (app_fault_one_way(f, k, f->pos_acc_iq[k]) != 0U ||

@@ -39,47 +39,12 @@ struct Outcome {
     double trip_a = 0.0;
 };
 
-Trace read_trace(const fs::path& p)
+Trace to_trace(std::map<std::string, std::vector<double>>& c)
 {
-    auto c = sil_test::read_trace(p);
     for (const char* k : {"t_s", "i_a_a", "i_b_a", "i_c_a", "speed_rpm", "en", "relay"}) {
         EXPECT_EQ(c.count(k), 1u) << "trace column " << k;
     }
     return Trace{c["t_s"], c["i_a_a"], c["i_b_a"], c["i_c_a"], c["speed_rpm"], c["en"], c["relay"]};
-}
-
-Outcome run(const std::string& file, const std::vector<std::string>& sets, const std::string& tag)
-{
-    Scenario sc;
-    Diagnostics d;
-    std::vector<std::string> all = {"duration_s=1.6", "faults.time_s=" + std::to_string(kFaultT)};
-    all.insert(all.end(), sets.begin(), sets.end());
-    EXPECT_TRUE(load_scenario(kScenarios + file, all, &sc, &d)) << d.text();
-    const fs::path dir = fs::temp_directory_path() / ("dtc_fault_tolerance_" + tag);
-    fs::remove_all(dir);
-    RunOptions opt;
-    opt.out_dir = dir.string();
-    RunResult r;
-    std::string err;
-    EXPECT_TRUE(run_scenario(sc, opt, &r, &err)) << err;
-    Outcome o{r.info, read_trace(dir / "trace.csv"), sc.protection.overcurrent_a};
-    fs::remove_all(dir);
-    return o;
-}
-
-// First sample at or after t.
-std::size_t at(const Trace& tr, double t)
-{
-    return static_cast<std::size_t>(std::lower_bound(tr.t.begin(), tr.t.end(), t - 1e-12) - tr.t.begin());
-}
-
-double peak_current(const Trace& tr, std::size_t from, std::size_t to)
-{
-    double m = 0.0;
-    for (std::size_t k = from; k < to && k < tr.t.size(); ++k) {
-        m = std::max({m, std::fabs(tr.ia[k]), std::fabs(tr.ib[k]), std::fabs(tr.ic[k])});
-    }
-    return m;
 }
 
 // A scenario run as given (no fault time imposed): its scenario, result and trace columns.
@@ -105,6 +70,29 @@ Columns run_columns(const std::string& file, const std::vector<std::string>& set
     out.c = sil_test::read_trace(dir / "trace.csv");
     fs::remove_all(dir);
     return out;
+}
+
+Outcome run(const std::string& file, const std::vector<std::string>& sets, const std::string& tag)
+{
+    std::vector<std::string> all = {"duration_s=1.6", "faults.time_s=" + std::to_string(kFaultT)};
+    all.insert(all.end(), sets.begin(), sets.end());
+    Columns c = run_columns(file, all, tag);
+    return Outcome{c.info, to_trace(c.c), c.sc.protection.overcurrent_a};
+}
+
+// First sample at or after t.
+std::size_t at(const Trace& tr, double t)
+{
+    return static_cast<std::size_t>(std::lower_bound(tr.t.begin(), tr.t.end(), t - 1e-12) - tr.t.begin());
+}
+
+double peak_current(const Trace& tr, std::size_t from, std::size_t to)
+{
+    double m = 0.0;
+    for (std::size_t k = from; k < to && k < tr.t.size(); ++k) {
+        m = std::max({m, std::fabs(tr.ia[k]), std::fabs(tr.ib[k]), std::fabs(tr.ic[k])});
+    }
+    return m;
 }
 
 struct RideThrough {
