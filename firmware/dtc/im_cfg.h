@@ -171,7 +171,7 @@ typedef struct {
     X(247, u.im.ref.magn_k_q31, Q31, RATIO, 1, DTC_I32_MAX, DTC_ERR_STARTUP, DTC_PARAM_RO,                    \
       "start-up rotor-flux model's gain per period, T_s / tau_r")                                             \
     X(248, u.im.ref.enc_plaus_iq, IQ, W, 0, DTC_I32_MAX, DTC_ERR_SPEED, DTC_PARAM_RO,                         \
-      "encoder plausibility: largest credible |sensorless - encoder speed| (Casadei eqs. 16, 22); 0 = off")   \
+      "encoder plausibility: largest credible sensorless - encoder speed difference (Casadei eqs. 16, 22); 0 = off") \
     X(250, u.im.svm_mode, U16, NONE, 0, 1, DTC_ERR_SVM, 0U, "SFVC, DFOC: 0 symmetric SVM, 1 two-phase")      \
     X(251, u.im.sfvc.kp_iq, IQ, PU, 0, DTC_I32_MAX, DTC_ERR_SVM, 0U,                                          \
       "SFVC flux-regulator gain K_p of Casadei eq. 24 over w_b, in (0, 1/T_s]")                               \
