@@ -303,12 +303,18 @@ int16_t app_core_set_reconfig(app_core_t *a, const dtc_config_t *post)
     return 0;
 }
 
-/* Stall (app_fault_stall) and overspeed (app_fault_overspeed); latches and returns 1 on a trip. */
+/* Overspeed (app_fault_overspeed), the encoder against the flux speed (app_enc_flux_check, on the
+ * steps the law compared them) and stall (app_fault_stall); latches and returns 1 on a trip. */
 static uint16_t check_speed(app_core_t *a)
 {
     int16_t detail = 0;
     const iq_t ref = law_speed_ref(&a->law);
+    iq_t err = 0, tol = 0;
     uint16_t f = app_fault_overspeed(a->cfg, &a->st.out, &detail);
+    if (f == (uint16_t)APP_FAULT_NONE && law_enc_plaus(&a->law, &err, &tol) != 0U) {
+        detail = app_enc_flux_check(&a->enc, err, tol);
+        f = detail != 0 ? (uint16_t)APP_FAULT_ENCODER_SPEED : (uint16_t)APP_FAULT_NONE;
+    }
     if (f == (uint16_t)APP_FAULT_NONE) {
         f = app_fault_stall(&a->flt, a->cfg, &a->st.out, ref, &detail);
     }
@@ -342,6 +348,14 @@ static uint16_t check_sensors(app_core_t *a)
     iq_t i1[3];
     uint16_t bad, k, pick = 3U, kind = 0U, win;
     if (c->prot.i_plaus == 0U) {
+        return 0U;
+    }
+    if (a->flt.relay_wait > 0U) {
+        /* reconfigured, the relay not yet closed: the failed leg's diodes still carry its phase's
+         * current (an open device), which the FSTP law cannot predict; the check starts afresh
+         * once the phase is on the mid-point */
+        app_plaus_reset(&a->plaus);
+        a->plaus_win = 0U;
         return 0U;
     }
     if (c->board.i_sensors3 != 0U) {

@@ -84,3 +84,15 @@ int16_t app_enc_check(app_enc_t *e, const dtc_config_t *cfg, const hal_meas_t *m
     }
     return 0;
 }
+
+int16_t app_enc_flux_check(app_enc_t *e, iq_t err_iq, iq_t tol_iq)
+{
+    if (fix_abs32(err_iq) <= tol_iq) {
+        e->flux_n = 0U;
+        return 0;
+    }
+    if (++e->flux_n < APP_ENC_FLUX_PERIODS) {
+        return 0;
+    }
+    return (int16_t)(err_iq < 0 ? -1 : 1);
+}

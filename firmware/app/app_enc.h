@@ -16,6 +16,9 @@
 
 /* Lost encoder signal: periods without a count change (prot.enc_freeze_speed_iq). */
 #define APP_ENC_FREEZE_PERIODS 32U
+/* Encoder against the flux speed: consecutive speed-loop periods over the tolerance before the
+ * trip (the sensorless speed's ripple never holds that long beyond it). */
+#define APP_ENC_FLUX_PERIODS 4U
 /* Index check: accepted difference between latched index counts (edge jitter, direction). */
 #define APP_INDEX_TOL_COUNTS 4
 
@@ -27,6 +30,7 @@ typedef struct {
     uint16_t index_ref;   /* count latched by the first index pulse */
     uint16_t index_known;
     uint16_t still_n;     /* consecutive periods without a count change */
+    uint16_t flux_n;      /* consecutive compared speed periods over the flux-speed tolerance */
 } app_enc_t;
 
 /* Folds a counter difference into (-counts/2, counts/2] (counter runs 0 .. counts-1).
@@ -51,10 +55,22 @@ static inline void app_enc_reset(app_enc_t *e)
     e->primed = 0U;
     e->index_known = 0U;
     e->still_n = 0U;
+    e->flux_n = 0U;
 }
 
 /* Checks the sample m against the previous ones, at the last reported speed speed_iq.
  * Returns 0 or the encoder fault's detail (1 jump, 2 index, 3 lost signal: app_enc.c). */
 int16_t app_enc_check(app_enc_t *e, const dtc_config_t *cfg, const hal_meas_t *m, iq_t speed_iq);
+
+/* The encoder against the speed of the estimated flux (IM laws: law.h law_enc_plaus, im_dtc.h):
+ * on each compared speed-loop period, err_iq the sensorless speed (the rotor-flux angular speed
+ * less the slip of Casadei eq. 16) minus the encoder's speed through the same filter, tol_iq the
+ * largest credible difference the host derived from the machine (the slip at the torque limit,
+ * the speed period's delay at the largest acceleration). A difference beyond it for
+ * APP_ENC_FLUX_PERIODS compared periods in a row is a failed encoder: lost during the
+ * magnetisation (the count stands still at zero, where the freeze check cannot see it, while the
+ * speed loop accelerates the rotor), slipping, or reading another shaft. Returns 0, or the sign of
+ * err_iq (-1, 1) on a trip. Scaling: |err_iq| compared as a saturated int32. */
+int16_t app_enc_flux_check(app_enc_t *e, iq_t err_iq, iq_t tol_iq);
 
 #endif /* APP_ENC_H */

@@ -59,6 +59,17 @@ uint16_t app_fault_trips(app_fault_t *f, const dtc_config_t *c, const dtc_meas_t
     return APP_FAULT_NONE;
 }
 
+/* 1 when phase k has not been seen in one direction for acc > APP_LEG_SIGN_ANGLE_IQ while both
+ * other phases were seen in both directions since (their angles since either below acc). */
+static uint16_t app_fault_one_way(const app_fault_t *f, uint16_t k, iq_t acc)
+{
+    const uint16_t j1 = app_fault_phase(k, 1U), j2 = app_fault_phase(k, 2U);
+    return (uint16_t)(acc > APP_LEG_SIGN_ANGLE_IQ && f->pos_acc_iq[j1] < acc && f->neg_acc_iq[j1] < acc &&
+                              f->pos_acc_iq[j2] < acc && f->neg_acc_iq[j2] < acc
+                          ? 1U
+                          : 0U);
+}
+
 /* Open phase (prot.leg_i_min_iq > 0): a leg that no longer switches its phase (leg or phase open)
  * leaves that phase's current at zero, and one open device leaves it at zero for every half-wave
  * the device should carry, while the other two phases carry the machine's current. Per phase k:
@@ -77,7 +88,10 @@ uint16_t app_fault_trips(app_fault_t *f, const dtc_config_t *c, const dtc_meas_t
  * when a post-fault configuration is set and the drive is not yet reconfigured, else trips
  * (APP_FAULT_LEG). At standstill no angle accumulates: a phase open at rest is found once the
  * machine turns. While relay_wait counts down (a reconfiguration's relay closing) the sums stay
- * at zero. Scaling and overflow: currents are bounded by the trip level (app_fault_trips ran), at
+ * at zero. PM laws, an open device: per phase the angle since it was last seen beyond the band in
+ * each direction; a phase not seen in one direction over APP_LEG_SIGN_ANGLE_IQ (7 pi/3) while
+ * both others were seen in both directions is open (app_fault.h: the voltage model keeps the
+ * open device's phase outside the band). Scaling and overflow: currents are bounded by the trip level (app_fault_trips ran), at
  * most 128 pu (2^31 IQ); squares are formed in 64 bits and shifted right by 5 (<= 2^57), so 24 x^2 and the
  * sum of three stay below 2^63; 3 i_min^2 likewise; the angle sum saturates. */
 uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_meas_t *pu, iq_t speed_iq,
@@ -88,7 +102,7 @@ uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_m
     const iq_t zero = fix_rshift_rnd32(c->prot.leg_i_min_iq, APP_LEG_ZERO_LOG2);
     uint64_t sq[3], tot, s2;
     iq_t dth;
-    uint16_t k;
+    uint16_t k, sign;
 
     if (c->prot.leg_i_min_iq <= 0) {
         return 0U;
@@ -102,27 +116,34 @@ uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_m
     }
     tot = sq[0] + sq[1] + sq[2];
     s2 = (uint64_t)((int64_t)s * (int64_t)s) >> 5;
-    if (f->relay_wait > 0U || 24U * s2 >= tot) {
-        if (f->relay_wait > 0U) {
-            f->relay_wait--;
-        }
-        for (k = 0U; k < 3U; k++) {
-            f->leg_acc_iq[k] = 0;
-        }
+    if (f->relay_wait > 0U) {
+        f->relay_wait--;
+        app_fault_leg_clear(f);
         return 0U;
     }
     if (2U * tot <= f->imin2_3) {
         return 0U; /* too little current to judge: the sums wait (a healthy phase leaves the band,
-                    * which resets its sum, as soon as there is current again) */
+                    * which resets its sum, as soon as there is current again); the current sum is
+                    * not judged either (near zero the sensors' noise alone reaches tot / 24) */
+    }
+    if (24U * s2 >= tot) {
+        app_fault_leg_clear(f); /* the sum says a sensor is wrong: no phase is judged */
+        return 0U;
     }
     dth = iq_mpy(fix_abs32(speed_iq), c->board.ts_pu_iq);
+    sign = dtc_law_is_im(c->law) == 0U ? 1U : 0U;
     for (k = 0U; k < 3U; k++) {
-        if (fix_abs32(i[k]) >= zero) {
-            f->leg_acc_iq[k] = 0;
-            continue;
+        if (sign != 0U) {
+            /* the angle since each direction was last seen (an open device: one direction only) */
+            f->pos_acc_iq[k] = i[k] > zero ? 0 : fix_add32(f->pos_acc_iq[k], dth);
+            f->neg_acc_iq[k] = i[k] < -zero ? 0 : fix_add32(f->neg_acc_iq[k], dth);
         }
-        f->leg_acc_iq[k] = fix_add32(f->leg_acc_iq[k], dth);
-        if (f->leg_acc_iq[k] > APP_LEG_ANGLE_IQ) {
+        f->leg_acc_iq[k] = fix_abs32(i[k]) < zero ? fix_add32(f->leg_acc_iq[k], dth) : 0;
+    }
+    for (k = 0U; k < 3U; k++) {
+        if (f->leg_acc_iq[k] > APP_LEG_ANGLE_IQ ||
+            (sign != 0U && (app_fault_one_way(f, k, f->pos_acc_iq[k]) != 0U ||
+                            app_fault_one_way(f, k, f->neg_acc_iq[k]) != 0U))) {
             *phase = app_fault_phase(perm, k);
             return 1U;
         }

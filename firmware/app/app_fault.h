@@ -46,7 +46,10 @@ enum app_fault_detail {
  *  - DESAT: a gate driver's desaturation output: a shorted device or shoot-through.
  *  - CURRENT_SENSOR: a stuck or failed current sensor (APP_SENSOR_DETAIL_LIST).
  *  - LEG: a phase carries no current while the others do (an open leg, phase or device) and no
- *    reconfiguration is possible. */
+ *    reconfiguration is possible.
+ *  - OVERSPEED: app_fault_overspeed.
+ *  - ENCODER_SPEED: the IM laws with the encoder: the encoder's speed against the estimated flux's
+ *    (app_enc.h app_enc_flux_check); detail the sign of (flux speed - encoder speed). */
 #define APP_FAULT_LIST(X)                                                                          \
     X(NONE, 0, "none", APP_DETAIL_NONE, "")                                                        \
     X(CONFIG, 1, "config", APP_DETAIL_DTC_ERR, "")                                                 \
@@ -66,7 +69,11 @@ enum app_fault_detail {
       "phase %c carries no current while the others do (an open leg, phase or device) and the "    \
       "drive cannot be reconfigured (no relay fitted, a second failure, or a law without it)")    \
     X(OVERSPEED, 12, "overspeed", APP_DETAIL_SIGN,                                                 \
-      "measured speed beyond protection.overspeed_rpm")
+      "measured speed beyond protection.overspeed_rpm")                                            \
+    X(ENCODER_SPEED, 13, "encoder_speed", APP_DETAIL_SIGN,                                         \
+      "the encoder's speed disagrees with the speed of the estimated rotor flux less its slip "     \
+      "(Casadei eqs. 16, 22) by more than the slip at the torque limit allows: encoder lost, "     \
+      "slipping or wired to another shaft")
 
 /* The current-sensor fault's details: X(check, meaning); the detail is 3 * check + the physical
  * phase, "%c" its letter.
@@ -107,10 +114,31 @@ const char *app_fault_name(uint16_t fault);
  * much narrower band within a period or two. */
 #define APP_LEG_ANGLE_IQ ((iq_t)17568813) /* pi/3 * 2^24 */
 #define APP_LEG_ZERO_LOG2 2U
+/* Open device, PM laws: the electrical angle, IQ rad (7 pi/3), over which a phase must never read
+ * beyond the zero band in one direction while the machine carries current (|i| above
+ * prot.leg_i_min_iq), and both other phases have read beyond it in both directions, to be taken
+ * for open.
+ * One open device of a leg (the other and both diodes still conduct) lets its phase carry current
+ * in one direction only: a half-wave that sits inside the zero band for the other half-period
+ * where the law's flux follows the machine (the current model), but with the voltage model's
+ * flux integrating the voltage the open leg did not apply, the law keeps that phase's current
+ * small in the one direction and leaves the band every few periods (measured: -0.2 .. -0.4 A
+ * where the band is 0.07 A), so the band alone never lasts pi/3. A synchronous machine's phase
+ * current changes sign every half electrical turn; a torque reversal that lands on a zero
+ * crossing extends one sign to at most a whole turn (2 pi), hence 2 pi plus the band's pi/3. The
+ * other phases' alternation tells the open phase from a healthy one that the voltage model's wrong
+ * flux holds at a current of one sign for as long (measured: -4 A on A and +4 A on C while
+ * the open B upper device kept B at -2.8 .. 0 A; elsewhere B at -5 .. 0 A, the largest current,
+ * while A and C alternated). Not for
+ * the IM laws, whose stator frequency is not the rotor's electrical speed (at a large slip the
+ * phase current keeps its sign for more rotor angle). */
+#define APP_LEG_SIGN_ANGLE_IQ ((iq_t)122981693) /* 7 pi/3 * 2^24 */
 
 typedef struct {
     uint16_t isum_n;       /* consecutive periods with |i_a + i_b + i_c| > prot.i_sum_max_iq */
     iq_t leg_acc_iq[3];    /* electrical angle, IQ rad, over which phase k (law's order) looked open */
+    iq_t pos_acc_iq[3];    /* electrical angle, IQ rad, since phase k last read above the zero band */
+    iq_t neg_acc_iq[3];    /* electrical angle, IQ rad, since phase k last read below the zero band */
     uint16_t relay_wait;   /* periods left until the relay is surely closed */
     uint16_t stall_n;      /* speed periods of the current stall window (0 = none open) */
     iq_t stall_err0_iq;    /* |speed error| at the start of the window */
@@ -127,14 +155,22 @@ static inline uint16_t app_fault_phase(uint16_t p, uint16_t k)
     return s >= 3U ? (uint16_t)(s - 3U) : s;
 }
 
+/* Zeroes the open-phase angles. */
+static inline void app_fault_leg_clear(app_fault_t *f)
+{
+    uint16_t k;
+    for (k = 0U; k < 3U; k++) {
+        f->leg_acc_iq[k] = 0;
+        f->pos_acc_iq[k] = 0;
+        f->neg_acc_iq[k] = 0;
+    }
+}
+
 /* Zeroes the current-sum count and the open-phase angles (entering the calibration). */
 static inline void app_fault_reset(app_fault_t *f)
 {
-    uint16_t k;
     f->isum_n = 0U;
-    for (k = 0U; k < 3U; k++) {
-        f->leg_acc_iq[k] = 0;
-    }
+    app_fault_leg_clear(f);
 }
 
 /* Every counter zero, the relay settled and no stall window open (init). */
@@ -152,12 +188,9 @@ static inline void app_fault_init(app_fault_t *f)
  * close, with its angles and the stall window cleared. */
 static inline void app_fault_reconfigured(app_fault_t *f, uint16_t relay_periods)
 {
-    uint16_t k;
     f->relay_wait = relay_periods;
     f->stall_n = 0U;
-    for (k = 0U; k < 3U; k++) {
-        f->leg_acc_iq[k] = 0;
-    }
+    app_fault_leg_clear(f);
 }
 
 /* The hardware protection input (PDPINTA) and the gate drivers' desaturation outputs that pull
@@ -185,8 +218,9 @@ static inline uint16_t app_fault_hw(const hal_meas_t *m, int16_t *detail)
 uint16_t app_fault_trips(app_fault_t *f, const dtc_config_t *c, const dtc_meas_t *pu, uint16_t perm,
                          int16_t *detail);
 
-/* Open phase (prot.leg_i_min_iq > 0) on the sample pu at the reported speed speed_iq (app_fault.c).
- * Returns 1 with *phase the physical phase found open, else 0. */
+/* Open phase (prot.leg_i_min_iq > 0) on the sample pu at the reported speed speed_iq (app_fault.c):
+ * a phase inside the zero band over APP_LEG_ANGLE_IQ, or (PM laws) never beyond it in one
+ * direction over APP_LEG_SIGN_ANGLE_IQ while the other two alternate. Returns 1 with *phase the physical phase found open, else 0. */
 uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_meas_t *pu, iq_t speed_iq,
                               uint16_t perm, uint16_t *phase);
 

@@ -146,6 +146,22 @@ uint16_t law_i_pred(const law_t *l, iq_t i1[3])
     return 0U;
 }
 
+uint16_t law_enc_plaus(const law_t *l, iq_t *err_iq, iq_t *tol_iq)
+{
+#if DTC_LAW_IM_LINKED
+    if (dtc_law_is_im(l->law) != 0U) {
+        *err_iq = l->u.im.plaus_err_iq;
+        *tol_iq = l->u.im.cfg->u.im.ref.enc_plaus_iq;
+        return l->u.im.plaus_on;
+    }
+#else
+    (void)l;
+#endif
+    (void)err_iq;
+    (void)tol_iq;
+    return 0U;
+}
+
 iq_t law_speed_ref(const law_t *l)
 {
     switch (l->law) {

@@ -80,6 +80,12 @@ int16_t law_reconfigure(law_t *l, const dtc_config_t *post, uint16_t phase);
  * dtc.c dtc_predict). Returns 1 and fills i1[0..2], or 0 where the law makes no prediction (the
  * app's sensor plausibility, app_plaus.h, then rests). */
 uint16_t law_i_pred(const law_t *l, iq_t i1[3]);
+/* The encoder plausibility's comparison of this step (IM laws with the encoder and
+ * u.im.ref.enc_plaus_iq > 0, im_dtc.h): returns 1 on a speed-loop step where the rotor flux is
+ * built, with *err_iq the sensorless speed (Casadei eqs. 16, 22) less the encoder's speed through
+ * the same filter and *tol_iq the largest credible difference (pu electrical speed); 0 where the
+ * law compares nothing (PM laws, sensorless, off, other steps). */
+uint16_t law_enc_plaus(const law_t *l, iq_t *err_iq, iq_t *tol_iq);
 /* The check of a post-fault configuration for law_reconfigure (the PM law's check). */
 int16_t law_check_reconfig(const dtc_config_t *post);
 /* The speed reference in force (the app's stall check). */

@@ -14,7 +14,7 @@
 #include "fixmath.h"
 
 /* Layout version: bump when a field is added, removed or changes meaning. */
-#define DTC_CONFIG_VERSION 12U
+#define DTC_CONFIG_VERSION 13U
 
 /* Largest accepted |calibrated - nominal| current offset, ADC counts (5 % of full scale): the
  * app's gates-off calibration (app_core.c) trips beyond it, and the trip level must stay visible

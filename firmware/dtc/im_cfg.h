@@ -66,6 +66,12 @@ typedef struct {
     iq_t magn_ramp_iq;
     /* Start-up: Ts / tau_r, tau_r = l_r / r_r (the rotor-flux model of the start-up), Q31. */
     q31_t magn_k_q31;
+    /* Encoder plausibility (speed.sensor = DTC_SPEED_ENCODER, im_dtc.h): the largest credible
+     * difference, pu electrical speed, between the sensorless speed (the rotor-flux angular speed
+     * minus the slip of Casadei eq. 16) and the encoder's speed through the same filter; the host
+     * derives it from the slip at the torque limit and the speed period's delay at the largest
+     * acceleration. 0 = off; >= 0. */
+    iq_t enc_plaus_iq;
 } dtc_im_ref_cfg_t;
 
 /* Stator-flux vector control (DTC_LAW_IM_SFVC, Casadei sections 10.3-10.5). The SVM carrier
@@ -164,6 +170,8 @@ typedef struct {
       "start-up: flux-reference ramp per period")                                                             \
     X(247, u.im.ref.magn_k_q31, Q31, RATIO, 1, DTC_I32_MAX, DTC_ERR_STARTUP, DTC_PARAM_RO,                    \
       "start-up rotor-flux model's gain per period, T_s / tau_r")                                             \
+    X(248, u.im.ref.enc_plaus_iq, IQ, W, 0, DTC_I32_MAX, DTC_ERR_SPEED, DTC_PARAM_RO,                         \
+      "encoder plausibility: largest credible sensorless - encoder speed difference (Casadei eqs. 16, 22); 0 = off") \
     X(250, u.im.svm_mode, U16, NONE, 0, 1, DTC_ERR_SVM, 0U, "SFVC, DFOC: 0 symmetric SVM, 1 two-phase")      \
     X(251, u.im.sfvc.kp_iq, IQ, PU, 0, DTC_I32_MAX, DTC_ERR_SVM, 0U,                                          \
       "SFVC flux-regulator gain K_p of Casadei eq. 24 over w_b, in (0, 1/T_s]")                               \

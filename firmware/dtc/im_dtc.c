@@ -60,6 +60,9 @@ void im_dtc_reset(im_dtc_t *c)
     c->te_ref_iq = 0;
     c->psi_ref_iq = c->act.flux_ref_iq;
     c->speed_iq = 0;
+    c->enc_filt_iq = 0;
+    c->plaus_err_iq = 0;
+    c->plaus_on = 0U;
     /* SFVC: the gates were off, no voltage */
     svm_reset(&c->svm);
     c->v1_alpha_iq = 0;
@@ -116,6 +119,24 @@ void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m)
     im_dtc_ein_common(c);
 }
 
+/* The encoder plausibility's comparison on a speed-loop period (im_dtc.h): the sensorless speed
+ * (Casadei eqs. 16, 22: im_speed_step on this period's rotor-flux angle and torque), the encoder's
+ * speed through the same filter, their difference; before the rotor flux reaches
+ * plaus_psir_iq the filtered encoder speed is set to the sensorless one and nothing is compared.
+ * Formats IQ pu; the difference saturates. */
+void im_dtc_enc_plaus(im_dtc_t *c, iq_t te)
+{
+    im_speed_step(&c->isp, &c->isp_p, c->est.theta_r, te, c->cfg->u.im.ref.inv_psir_sq_iq);
+    if (c->est.psir_mag_iq < c->plaus_psir_iq || c->isp.primed == 0U) {
+        c->enc_filt_iq = c->isp.speed_iq;
+        c->plaus_on = 0U;
+        return;
+    }
+    c->enc_filt_iq = im_speed_lpf(c->enc_filt_iq, c->speed_iq, c->isp_p.k_filt_q31);
+    c->plaus_err_iq = fix_sub32(c->isp.speed_iq, c->enc_filt_iq);
+    c->plaus_on = 1U;
+}
+
 /* Speed every speed_div-th period, as in the PM law: the encoder's, or the sensorless estimate
  * (the rotor-flux angle's change over the speed period, Casadei eq. 22, minus the slip of eq. 16
  * with the estimated torque te, im_ref.h), then the speed PI. The PI is held at rest
@@ -127,6 +148,7 @@ void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
     const dtc_config_t *cfg = c->cfg;
 
     o->speed_tick = 0U;
+    c->plaus_on = 0U;
     if (c->speed_primed == 0U) {
         speed_meas_reset(&c->sm, m->enc_count);
         c->speed_primed = 1U;
@@ -138,6 +160,9 @@ void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
             c->speed_iq = c->isp.speed_iq;
         } else {
             c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
+            if (cfg->u.im.ref.enc_plaus_iq > 0) {
+                im_dtc_enc_plaus(c, te);
+            }
         }
         c->ref_due = 1U;
         if (c->act.mode == DTC_MODE_SPEED && c->magnetised != 0U) {

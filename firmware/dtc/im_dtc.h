@@ -54,6 +54,15 @@
  * Casadei Fig. 17a statement that the pure integrator cannot magnetise the machine at zero torque); the
  * improved estimator's correction holds it.
  *
+ * Encoder plausibility (speed.sensor = DTC_SPEED_ENCODER and u.im.ref.enc_plaus_iq > 0): on every
+ * speed-loop period the sensorless speed (the rotor-flux angular speed minus the slip of Casadei
+ * eq. 16, im_ref.h) is formed as well, and the encoder's speed is passed through the same
+ * first-order filter, so that a change of speed delays both alike; their difference is the
+ * application's to judge (app/law.h law_enc_plaus, app_enc.h). The check holds while the estimated
+ * rotor flux is below phi_r* / 16 (its angle is not yet defined: the start of the magnetisation),
+ * the filtered encoder speed following the sensorless one meanwhile, so both filters leave the
+ * same state. It costs one im_speed_step and one filter step per speed period.
+ *
  * Timing contract as the PM law (dtc.h): the command of step k acts in period k+1; the voltage
  * integrated at step k is that of the legs returned at step k-2. The IM law has no actuation-
  * delay prediction (u.pm_dtc.est.delay_comp is the PM law's): the comparators see the estimate at k.
@@ -130,6 +139,11 @@ typedef struct {
     iq_t magn_psir_iq;    /* start-up: rotor-flux magnitude of the current model (im_dtc_refs) */
     uint16_t ref_due;     /* Casadei eq. 19 to be evaluated (im_dtc_refs) */
     iq_t speed_iq;        /* electrical speed in use (encoder or estimated), pu */
+    /* encoder plausibility (u.im.ref.enc_plaus_iq > 0 with the encoder; im_dtc_speed) */
+    iq_t enc_filt_iq;     /* the encoder's speed through the sensorless speed's filter, pu */
+    iq_t plaus_err_iq;    /* sensorless speed - enc_filt_iq of the last speed period, pu */
+    uint16_t plaus_on;    /* 1: plaus_err_iq compared in this step (a speed-loop step, flux built) */
+    iq_t plaus_psir_iq;   /* |phi_r| from which the flux angle is trusted: phi_r* / 16, pu */
     /* working values of one step, kept here rather than on the stack (budget: <= 256 bytes of
      * stack on the Cortex-M0 proxy, tools/bench) */
     clarke_out_t i;       /* currents of this step */

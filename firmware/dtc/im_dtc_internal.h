@@ -19,6 +19,7 @@ void im_dtc_apply(im_dtc_t *c, const dtc_refs_t *r);
 void im_dtc_adopt(im_dtc_t *c, uint16_t seq);
 void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m);
 void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o);
+void im_dtc_enc_plaus(im_dtc_t *c, iq_t te);
 void im_dtc_refs(im_dtc_t *c);
 uint16_t im_dtc_select(im_dtc_t *c, iq_t te, dtc_out_t *o);
 

@@ -9,12 +9,6 @@ void im_speed_reset(im_speed_t *s)
     s->speed_iq = 0;
 }
 
-/* x += k (u - x), one rounded Q31 product, saturated. */
-static iq_t im_speed_lpf(iq_t x, iq_t u, q31_t k)
-{
-    return fix_add32(x, fix_rshift_rnd64_sat32((int64_t)fix_sub32(u, x) * (int64_t)k, 31U));
-}
-
 void im_speed_step(im_speed_t *s, const im_speed_params_t *p, angle_t theta_r, iq_t te_iq, iq_t inv_psir_sq_iq)
 {
     /* The angle difference modulo one turn, as a signed number of LSB: exact through the wrap. */

@@ -52,6 +52,13 @@ typedef struct {
     iq_t speed_iq;      /* estimated electrical rotor speed w_psi - w_slip, pu */
 } im_speed_t;
 
+/* x += k (u - x): the first-order filter of the sensorless speed (one rounded Q31 product,
+ * saturated), also applied to the encoder's speed for the plausibility (im_dtc.h). */
+static inline iq_t im_speed_lpf(iq_t x, iq_t u, q31_t k)
+{
+    return fix_add32(x, fix_rshift_rnd64_sat32((int64_t)fix_sub32(u, x) * (int64_t)k, 31U));
+}
+
 void im_speed_reset(im_speed_t *s);
 /* One period: the rotor-flux angle (Casadei eq. 22), the estimated torque, and 1/phi_r*^2. */
 void im_speed_step(im_speed_t *s, const im_speed_params_t *p, angle_t theta_r, iq_t te_iq, iq_t inv_psir_sq_iq);

@@ -5,7 +5,7 @@
 #include "dtc_config.h"
 
 const dtc_config_t g_dtc_config = {
-    .version = 12U, /* #1 */
+    .version = 13U, /* #1 */
     .law = 0U, /* #2 */
     .board.v_base_mv = 70000U, /* #3 */
     .board.i_base_ma = 2200U, /* #4 */

@@ -407,6 +407,9 @@ static void check_status(const fuzz_t *z)
     case APP_FAULT_OVERSPEED:
         FUZZ_CHECK(s->fault_detail == 1 || s->fault_detail == -1, "overspeed detail %d", s->fault_detail);
         break;
+    case APP_FAULT_ENCODER_SPEED:
+        FUZZ_CHECK(s->fault_detail == 1 || s->fault_detail == -1, "encoder_speed detail %d", s->fault_detail);
+        break;
     default: /* per phase / leg / channel */
         FUZZ_CHECK(s->fault_detail >= 0 && s->fault_detail <= 2, "fault %u detail %d", s->fault, s->fault_detail);
         break;

@@ -39,32 +39,45 @@ struct Outcome {
     double trip_a = 0.0;
 };
 
-Trace read_trace(const fs::path& p)
+Trace to_trace(std::map<std::string, std::vector<double>>& c)
 {
-    auto c = sil_test::read_trace(p);
     for (const char* k : {"t_s", "i_a_a", "i_b_a", "i_c_a", "speed_rpm", "en", "relay"}) {
         EXPECT_EQ(c.count(k), 1u) << "trace column " << k;
     }
     return Trace{c["t_s"], c["i_a_a"], c["i_b_a"], c["i_c_a"], c["speed_rpm"], c["en"], c["relay"]};
 }
 
-Outcome run(const std::string& file, const std::vector<std::string>& sets, const std::string& tag)
-{
+// A scenario run as given (no fault time imposed): its scenario, result and trace columns.
+struct Columns {
     Scenario sc;
+    RunInfo info;
+    std::map<std::string, std::vector<double>> c;
+};
+
+Columns run_columns(const std::string& file, const std::vector<std::string>& sets, const std::string& tag)
+{
+    Columns out;
     Diagnostics d;
-    std::vector<std::string> all = {"duration_s=1.6", "faults.time_s=" + std::to_string(kFaultT)};
-    all.insert(all.end(), sets.begin(), sets.end());
-    EXPECT_TRUE(load_scenario(kScenarios + file, all, &sc, &d)) << d.text();
+    EXPECT_TRUE(load_scenario(kScenarios + file, sets, &out.sc, &d)) << d.text();
     const fs::path dir = fs::temp_directory_path() / ("dtc_fault_tolerance_" + tag);
     fs::remove_all(dir);
     RunOptions opt;
     opt.out_dir = dir.string();
     RunResult r;
     std::string err;
-    EXPECT_TRUE(run_scenario(sc, opt, &r, &err)) << err;
-    Outcome o{r.info, read_trace(dir / "trace.csv"), sc.protection.overcurrent_a};
+    EXPECT_TRUE(run_scenario(out.sc, opt, &r, &err)) << err;
+    out.info = r.info;
+    out.c = sil_test::read_trace(dir / "trace.csv");
     fs::remove_all(dir);
-    return o;
+    return out;
+}
+
+Outcome run(const std::string& file, const std::vector<std::string>& sets, const std::string& tag)
+{
+    std::vector<std::string> all = {"duration_s=1.6", "faults.time_s=" + std::to_string(kFaultT)};
+    all.insert(all.end(), sets.begin(), sets.end());
+    Columns c = run_columns(file, all, tag);
+    return Outcome{c.info, to_trace(c.c), c.sc.protection.overcurrent_a};
 }
 
 // First sample at or after t.
@@ -170,11 +183,10 @@ TEST(FaultTolerance, OpenLegIsFoundAndTheDriveGoesOnAsAnFstp)
 }
 
 // One device stuck open: its phase carries no current for the half-waves that device should
-// carry, which the same check finds, and the drive reconfigures. Found later than an open leg
-// (39 and 288 ms here, not within the required 20 ms, which is asserted for the open leg): the
-// drive runs on with the half-waves it still has, and the phase current is zero only while the
-// current wants the failed device's direction (after a while the DTC shifts the current so that
-// it rarely does). Asserted: found, ridden through, within 0.5 s.
+// carry, which the same check finds (the zero band, or the current's one direction while the
+// other phases alternate), and the drive reconfigures. Found later than an open leg (39 and 10
+// ms here; not asserted within the required 20 ms, which is for the open leg): the drive runs on
+// with the half-waves it still has. Asserted: found, ridden through, within 0.5 s.
 TEST(FaultTolerance, AnOpenDeviceIsFoundAsAnOpenPhase)
 {
     for (const char* sw : {"a_upper", "c_lower"}) {
@@ -196,6 +208,48 @@ TEST(FaultTolerance, AnOpenDeviceIsFoundAsAnOpenPhase)
         EXPECT_LE(o.tr.t[k] - kFaultT, 0.5) << sw;
         EXPECT_LT(peak_current(o.tr, at(o.tr, kFaultT), o.tr.t.size()), 0.9 * o.trip_a) << sw;
         EXPECT_LT(dip, 0.10 * 1500.0) << sw;
+    }
+}
+
+// One device stuck open on the voltage model ([29] compensation, three sensors, the relay): the
+// law's flux integrates the voltage the open device did not apply, and the DTC then keeps that
+// phase's current small in the one direction it can still flow (-0.2 .. -0.4 A for A upper)
+// instead of at zero, so the zero-band signature never lasts 60 deg. The phase's current has one
+// direction only, which a synchronous machine's phase current never keeps for more than a turn
+// while the other two alternate (app_fault.h APP_LEG_SIGN_ANGLE_IQ): found, reconfigured to the
+// FSTP on the right phase, and back on the reference. Without that signature the speed fell to
+// 146-330 rpm and the drive tripped "stall".
+TEST(FaultTolerance, AnOpenDeviceOnTheVoltageModelIsReconfigured)
+{
+    for (const char* sw : {"a_upper", "b_upper", "c_lower"}) {
+        const Outcome o = run("sstp_voltage_simple_full.toml",
+                              {"inverter.reconfig_relay=true", "sensors.current_sensors=3",
+                               std::string("faults.switch_open=\"") + sw + "\""},
+                              std::string("vm_sw_") + sw);
+        EXPECT_EQ(o.info.fault, "none") << sw << ": " << o.info.fault_detail;
+        EXPECT_EQ(o.info.reconfigured, std::string(1, sw[0])) << sw;
+        std::size_t k = at(o.tr, kFaultT);
+        while (k < o.tr.t.size() && o.tr.relay[k] == 0.0) {
+            ++k;
+        }
+        ASSERT_LT(k, o.tr.t.size()) << sw << ": never reconfigured";
+        const std::size_t k0 = at(o.tr, kFaultT);
+        const double n_min = *std::min_element(o.tr.speed.begin() + static_cast<long>(k0), o.tr.speed.end());
+        double late = 0.0;
+        for (std::size_t j = at(o.tr, kFaultT + 0.4); j < o.tr.t.size(); ++j) {
+            late = std::max(late, std::fabs(o.tr.speed[j] - 1500.0));
+        }
+        const double peak = peak_current(o.tr, k0, o.tr.t.size());
+        std::printf("MEASURE voltage model, switch open %s: detected %.1f ms, lowest speed %.0f rpm, recovery %.3f s, "
+                    "|i| peak %.2f A, last 0.2 s within %.1f rpm\n",
+                    sw, 1e3 * (o.tr.t[k] - kFaultT), n_min, o.info.recovery_s, peak, late);
+        EXPECT_LE(o.tr.t[k] - kFaultT, 0.2) << sw;
+        EXPECT_LT(peak, o.trip_a) << sw; // measured 5.4-5.7 A before the FSTP takes over: below the trip
+        EXPECT_GT(n_min, 0.5 * 1500.0) << sw << ": the drive kept running";
+        // back on speed after 0.4 s: within 2 %, not the open leg's 1 % (measured 2-22 rpm: the split
+        // link's lower capacitor comes out of the faulty period 5-9 V below V_dc / 2 and the FSTP
+        // runs on with a speed ripple of that size; docs/reliability.md)
+        EXPECT_LT(late, 0.02 * 1500.0) << sw << ": back on speed within 2 % after 0.4 s";
     }
 }
 
@@ -315,21 +369,11 @@ TEST(FaultTolerance, ASpeedDipIsMeasuredFromTheSpeedTheDriveHadAtTheFault)
 // the speed never reaches 115 % of rated. Without the trip it ran to 4135 rpm.
 TEST(FaultTolerance, OverspeedTripsBelow115PercentOfRated)
 {
-    Scenario sc;
-    Diagnostics d;
-    ASSERT_TRUE(load_scenario(kScenarios + "sstp_current_full.toml",
-                              {"control.mode=\"torque\"", "load.type=\"inertia\"", "duration_s=1.6"}, &sc, &d))
-        << d.text();
-    const fs::path dir = fs::temp_directory_path() / "dtc_fault_tolerance_overspeed";
-    fs::remove_all(dir);
-    RunOptions opt;
-    opt.out_dir = dir.string();
-    RunResult r;
-    std::string err;
-    ASSERT_TRUE(run_scenario(sc, opt, &r, &err)) << err;
-    auto c = sil_test::read_trace(dir / "trace.csv");
-    fs::remove_all(dir);
-    EXPECT_EQ(r.info.fault, "overspeed") << r.info.fault_detail;
+    Columns o = run_columns("sstp_current_full.toml",
+                            {"control.mode=\"torque\"", "load.type=\"inertia\"", "duration_s=1.6"}, "overspeed");
+    const Scenario& sc = o.sc;
+    auto& c = o.c;
+    EXPECT_EQ(o.info.fault, "overspeed") << o.info.fault_detail;
     double n_max = 0.0;
     for (double n : c["speed_rpm"]) {
         n_max = std::max(n_max, std::fabs(n));
@@ -338,4 +382,40 @@ TEST(FaultTolerance, OverspeedTripsBelow115PercentOfRated)
                 sc.motor.rated_speed_rpm, 100.0 * n_max / sc.motor.rated_speed_rpm);
     EXPECT_GT(n_max, sc.motor.rated_speed_rpm) << "the drive must have been above rated to trip";
     EXPECT_LT(n_max, 1.15 * sc.motor.rated_speed_rpm);
+}
+
+// The induction machine's encoder lost during the magnetisation (im_dtc_speed: the count stands
+// still at zero from 0.2 s, while the rotor is still at rest): when the magnetisation ends the
+// speed loop sees 0 rpm and commands the torque limit. The lost-signal check cannot see a count
+// that stands still at a measured speed of zero; the plausibility against the speed of the
+// estimated rotor flux less its slip (Casadei eqs. 16, 22) does: the rotor accelerates at about
+// p T_lim / J while the encoder reads nothing. Trips "encoder_speed" within 20 ms of the first
+// torque (the sensorless speed's 5 ms filter, the derived tolerance of about 320 rpm at 58,000
+// rpm/s, four speed periods), below the 1000 rpm reference; without it the drive ran to 1421 rpm
+// at 54 A and tripped "stall" 0.1 s later.
+TEST(FaultTolerance, ImEncoderLostDuringMagnetisationTripsOnTheFluxSpeed)
+{
+    Columns o = run_columns("im_dtc_speed.toml", {"duration_s=0.8", "faults.time_s=0.2", "faults.encoder_lost=true"},
+                            "im_encoder");
+    const Scenario& sc = o.sc;
+    auto& c = o.c;
+    EXPECT_EQ(o.info.fault, "encoder_speed") << o.info.fault_detail;
+    ASSERT_GT(o.info.fault_time_s, 0.0) << "a firmware trip carries its time";
+    const std::vector<double>& t = c["t_s"];
+    const std::vector<double>& te = c["torque_nm"];
+    const std::vector<double>& n = c["speed_rpm"];
+    double t_torque = -1.0, n_max = 0.0;
+    for (std::size_t k = 0; k < t.size(); ++k) {
+        if (t_torque < 0.0 && t[k] > 0.2 && std::fabs(te[k]) > 0.1 * sc.motor.rated_torque_nm) {
+            t_torque = t[k];
+        }
+        n_max = std::max(n_max, std::fabs(n[k]));
+    }
+    ASSERT_GT(t_torque, 0.2) << "the speed loop never applied torque";
+    const double t_trip = o.info.fault_time_s;
+    std::printf("MEASURE im encoder lost: first torque %.4f s, trip %.4f s (%.1f ms later), largest speed %.0f rpm\n",
+                t_torque, t_trip, 1e3 * (t_trip - t_torque), n_max);
+    EXPECT_GT(t_trip, t_torque) << "a trip before any torque is a false trip: the rotor was at rest";
+    EXPECT_LT(t_trip - t_torque, 0.020);
+    EXPECT_LT(n_max, sc.control.speed_ref_rpm);
 }

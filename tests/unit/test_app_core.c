@@ -537,6 +537,31 @@ static void test_encoder_plausibility(void **state)
     assert_int_equal(fx.app.st.fault_detail, 1);
 }
 
+/* The encoder against the flux speed (app_enc_flux_check): a difference beyond the tolerance trips
+ * on the APP_ENC_FLUX_PERIODS-th compared period in a row, with the sign of (flux - encoder); one
+ * period back inside restarts the count; a difference at the tolerance itself is credible. */
+static void test_encoder_flux_check_counts_periods_in_a_row(void **state)
+{
+    const iq_t tol = IQ(0.2);
+    app_enc_t e;
+    uint16_t k;
+    (void)state;
+    app_enc_reset(&e);
+    for (k = 1U; k < APP_ENC_FLUX_PERIODS; k++) {
+        assert_int_equal(app_enc_flux_check(&e, tol + 1, tol), 0);
+    }
+    assert_int_equal(app_enc_flux_check(&e, tol, tol), 0); /* back inside: the count restarts */
+    for (k = 1U; k < APP_ENC_FLUX_PERIODS; k++) {
+        assert_int_equal(app_enc_flux_check(&e, -tol - 1, tol), 0);
+    }
+    assert_int_equal(app_enc_flux_check(&e, -tol - 1, tol), -1);
+    app_enc_reset(&e);
+    for (k = 1U; k < APP_ENC_FLUX_PERIODS; k++) {
+        assert_int_equal(app_enc_flux_check(&e, IQ(5.0), tol), 0);
+    }
+    assert_int_equal(app_enc_flux_check(&e, IQ(5.0), tol), 1);
+}
+
 /* The plausible count change per control period: twice the speed limit, never below one count
  * (a single count step is quantisation: at ts = 1 us one count per period already reads 7500 rpm). */
 static void test_encoder_jump_threshold_scales_with_ts_and_lines(void **state)
@@ -964,6 +989,93 @@ static void test_open_phase_trips_or_reconfigures(void **state)
     }
 }
 
+/* Feeds app_fault_open_phase n periods of three phase currents of amplitude amp (pu) at the angle
+ * step dth (rad per period) from angle th0: shape 0 healthy; 1 the current phasor reversed once,
+ * at the first downward zero crossing of phase A (a torque reversal that extends A's positive
+ * half-wave by a whole half-turn); 2 phase A's current never positive: where it would be, it reads
+ * -2 zero bands (outside the band, one direction: an open upper device under the voltage model),
+ * the difference shared by B and C (an isolated star). Returns the period (1..n) the check found
+ * a phase open in, 0 if none, the phase in *ph, and in *waits the periods with too little current
+ * to judge (2 sum i^2 <= 3 leg_i_min^2, app_fault.c: there the angle waits). */
+
+static uint32_t feed_open_phase(app_fault_t *f, iq_t speed_iq, double dth, double amp, int shape, uint32_t n,
+                                uint16_t *ph, uint32_t *waits)
+{
+    const double imin = (double)fx.cfg.prot.leg_i_min_iq / 16777216.0;
+    const double zero = (double)fx.cfg.prot.leg_i_min_iq / 16777216.0 / 4.0;
+    double sgn = 1.0;
+    uint32_t k;
+    for (k = 0U; k < n; k++) {
+        const double th = dth * k;
+        double i[3];
+        int x;
+        dtc_meas_t pu;
+        for (x = 0; x < 3; x++) {
+            i[x] = sgn * amp * sin(th - 2.0 * FIXTEST_PI * x / 3.0);
+        }
+        if (shape == 1 && sgn > 0.0 && i[0] < 0.0 && sin(th - dth) > 0.0) {
+            sgn = -1.0;
+            for (x = 0; x < 3; x++) {
+                i[x] = -i[x];
+            }
+        }
+        if (shape == 2 && i[0] > -2.0 * zero) {
+            const double d = i[0] + 2.0 * zero;
+            i[0] -= d;
+            i[1] += d / 2.0;
+            i[2] += d / 2.0;
+        }
+        if (2.0 * (i[0] * i[0] + i[1] * i[1] + i[2] * i[2]) <= 3.0 * imin * imin) {
+            ++*waits;
+        }
+        pu.ia_iq = IQ(i[0]);
+        pu.ib_iq = IQ(i[1]);
+        pu.ic_iq = IQ(i[2]);
+        pu.vdc_iq = fx.cfg.prot.vdc_min_iq;
+        if (app_fault_open_phase(f, &fx.cfg, &pu, speed_iq, 0U, ph) != 0U) {
+            return k + 1U;
+        }
+    }
+    return 0U;
+}
+
+/* Open device (PM laws): a phase whose current keeps one direction over 7 pi/3 of electrical angle
+ * while the others alternate is open, found in the period the angle passes 7 pi/3; a healthy set
+ * over ten turns is not, nor one whose phasor reverses on a zero crossing of A (A then keeps its
+ * sign for a whole turn, 2 pi < 7 pi/3). 400 periods per turn at 8 times the open-phase level (the
+ * rated current). */
+static void test_open_device_keeps_one_direction(void **state)
+{
+    const double dth = 2.0 * FIXTEST_PI / 400.0;
+    iq_t speed_iq;
+    double amp;
+    app_fault_t f;
+    uint16_t ph = 9U;
+    uint32_t found, waits = 0U;
+    (void)state;
+    setup_topology(DTC_TOPO_SSTP);
+    amp = 8.0 * (double)fx.cfg.prot.leg_i_min_iq / 16777216.0; /* never below the level to judge */
+    speed_iq = IQ(dth / ((double)fx.cfg.board.ts_pu_iq / 16777216.0));
+    app_fault_init(&f);
+    assert_int_equal(feed_open_phase(&f, speed_iq, dth, amp, 0, 4000U, &ph, &waits), 0U);
+    app_fault_init(&f);
+    assert_int_equal(feed_open_phase(&f, speed_iq, dth, amp, 1, 4000U, &ph, &waits), 0U);
+    app_fault_init(&f);
+    waits = 0U;
+    found = feed_open_phase(&f, speed_iq, dth, amp, 2, 4000U, &ph, &waits);
+    assert_int_equal(ph, 0U);
+    /* the angle the firmware sums is iq_mpy(speed, ts_pu) per judged period: 7 pi/3 of it (where
+     * the open phase takes the others' current to near zero with it, the periods wait), within
+     * two periods for the roundings */
+    {
+        const double step = (double)iq_mpy(speed_iq, fx.cfg.board.ts_pu_iq) / 16777216.0;
+        const double want = 7.0 * FIXTEST_PI / 3.0 / step + (double)waits;
+        if (!(fabs((double)found - want) <= 2.0)) {
+            fail_msg("found in period %u, 7 pi/3 at %.1f", (unsigned)found, want);
+        }
+    }
+}
+
 /* The post-fault configuration must be the same drive as an FSTP with three sensors; anything
  * else is refused at set-up with DTC_ERR_RECONFIG (config fault, gates off). */
 static void test_bad_post_fault_config_is_refused(void **state)
@@ -1069,7 +1181,8 @@ static void test_fault_names(void **state)
 {
     static const char *const want[] = {"none", "config", "overcurrent", "dc_overvoltage",
                                        "dc_undervoltage", "encoder", "hw_trip", "adc_offset",
-                                       "stall", "desat", "current_sensor", "leg", "overspeed"};
+                                       "stall", "desat", "current_sensor", "leg", "overspeed",
+                                       "encoder_speed"};
     const uint16_t n = (uint16_t)(sizeof want / sizeof want[0]);
     uint16_t k;
     (void)state;
@@ -1133,6 +1246,7 @@ int main(void)
         cmocka_unit_test(test_dc_link_window),
         cmocka_unit_test(test_hw_trip_and_clear),
         cmocka_unit_test(test_encoder_plausibility),
+        cmocka_unit_test(test_encoder_flux_check_counts_periods_in_a_row),
         cmocka_unit_test(test_encoder_jump_threshold_scales_with_ts_and_lines),
         cmocka_unit_test(test_stall_is_a_fault_and_acceleration_is_not),
         cmocka_unit_test(test_run_forwards_controller_decision),
@@ -1142,6 +1256,7 @@ int main(void)
         cmocka_unit_test(test_current_sum_finds_a_stuck_sensor),
         cmocka_unit_test(test_lost_encoder_at_speed_trips),
         cmocka_unit_test(test_open_phase_trips_or_reconfigures),
+        cmocka_unit_test(test_open_device_keeps_one_direction),
         cmocka_unit_test(test_bad_post_fault_config_is_refused),
         cmocka_unit_test(test_reconfigure_turns_the_flux_into_the_new_frame),
     };

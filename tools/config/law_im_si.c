@@ -260,6 +260,33 @@ void dtc_si_im_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_ba
                                     2.0 * M_PI / (65536.0 * tsp * si->speed_div));
     cfg->u.im.ref.speed_filt_q31 = dtc_si_to_q31(c, "speed_filter_s",
                                           1.0 - exp(-si->ts_s * si->speed_div / si->speed_filter_s));
+    cfg->u.im.ref.enc_plaus_iq = 0;
+    if (si->fault_detect == 1 && si->speed_sensor == DTC_SPEED_ENCODER && si->inertia_kgm2 > 0.0) {
+        /* Encoder plausibility (im_dtc.h, app_enc.h app_enc_flux_check): the sensorless speed
+         * (Casadei eq. 22's angular speed less eq. 16's slip r_r T / phi_r*^2) and the encoder's
+         * speed through the same filter differ, on a sound encoder, by the error of the slip
+         * term and by the delay of one speed period at the largest acceleration. The slip error is
+         * at most the true slip, w_slip = R_r T / (3/2 p phi_r^2) (eq. 16 in SI): at the torque
+         * limit with phi_r*; with the flux weakening (section 12) phi_r falls to (M/L_s)
+         * fw_psi_min_frac phi_s,rated while the torque stays below the pull-out torque k_T
+         * phi_s^2 (eq. 31), so the slip at min(T_lim, k_T phi_s^2) over that range. A factor 1.5
+         * covers a warm rotor (copper R_r +40 % at 120 C) and the flux 10 % short at the end of
+         * the magnetisation (magn_frac 0.9: the slip 23 % above eq. 16's at phi_r*). Largest
+         * acceleration p T_lim / J (electrical), delay the speed period ts_s * speed_div. */
+        double slip = si->rr_ohm * si->torque_limit_nm / (1.5 * si->pole_pairs * psir * psir);
+        if (si->flux_weakening != 0) {
+            const double kt = 1.5 * si->pole_pairs * (1.0 - sigma) / (2.0 * sigma * ls);
+            const double psir_min = m / ls * si->fw_psi_min_frac * si->flux_ref_wb;
+            slip = fmax(slip, si->rr_ohm * fmin(si->torque_limit_nm, kt * (psir_min * ls / m) * (psir_min * ls / m)) /
+                                  (1.5 * si->pole_pairs * psir_min * psir_min));
+        }
+        {
+            const double acc = si->pole_pairs * si->torque_limit_nm / si->inertia_kgm2;
+            const double tol = 1.5 * slip + acc * si->ts_s * si->speed_div;
+            cfg->u.im.ref.enc_plaus_iq = dtc_si_to_iq(c, "rr_ohm (encoder plausibility tolerance)", si->rr_ohm,
+                                                      tol / b->w_base_rad_s);
+        }
+    }
     {
         /* Start-up (im_dtc.h). Magnetising ramp: at DC (T model, Casadei eqs. A7-A9 at w = 0)
          * phi_s = sigma L_s i + (M/L_r) phi_r and d phi_r/dt = (M i - phi_r)/tau_r. With phi_s

@@ -438,8 +438,11 @@ const std::vector<Spec>& schema()
         boolean("control.fault_detect",
                  "firmware: the open-phase check (a phase inside a zero band of a quarter of a quarter of "
                  "motor.rated_current_a over 60 deg of electrical angle while |i| is above a quarter of it: an open "
-                 "leg, phase or device) and the lost-encoder check (the count still for 32 periods above a speed "
-                 "derived from the encoder, control.torque_limit_nm and motor.j_kgm2); firmware/app/app_fault.c, app_enc.c",
+                 "leg, phase or device; PM laws also a phase whose current keeps one direction over 420 deg while the "
+                 "other two alternate: an open device), the lost-encoder check (the count still for 32 periods above a "
+                 "speed derived from the encoder, control.torque_limit_nm and motor.j_kgm2) and, IM laws with the "
+                 "encoder, the encoder's speed against the estimated rotor flux's less its slip (tolerance from the "
+                 "slip at control.torque_limit_nm: trip encoder_speed); firmware/app/app_fault.c, app_enc.c",
                  ACC(control.fault_detect)),
         num("control.v_f_v", "V", nonneg(), "forward drop V_f of the simple compensation (Hoang sec. III-B: 0.9 V)",
             ACC(control.v_f_v)),
