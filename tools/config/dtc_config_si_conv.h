@@ -31,8 +31,8 @@ int dtc_si_fail(dtc_si_conv_t *c, int code, const char *field, const char *fmt, 
 int dtc_si_params_check(dtc_si_conv_t *c, const dtc_config_si_t *si);
 /* value (in pu) -> IQ, refusing overflow and a non-zero value that rounds to zero (field: the
  * SI member the value comes from, optionally followed by what was derived from it, "ls_h (1/l_s)";
- * si_value its SI value, for the message). */
-iq_t dtc_si_to_iq(dtc_si_conv_t *c, const char *field, double si_value, double pu);
+ * value its SI value, for the message). */
+iq_t dtc_si_to_iq(dtc_si_conv_t *c, const char *field, double value, double pu);
 /* A gain in (0, 1) -> Q31, refusing what is not representable. */
 q31_t dtc_si_to_q31(dtc_si_conv_t *c, const char *field, double v);
 

@@ -117,9 +117,9 @@ int dtc_si_params_check(dtc_si_conv_t *c, const dtc_config_si_t *si)
             }
             dtc_si_param_range_text(p, range, sizeof range);
             if (n > 1) {
-                return dtc_si_fail(c, p->err, p->name, "%s[%d] = %g: must be %s", p->name, k, v, range);
+                return dtc_si_fail(c, p->err, p->name, "%s[%d] = %g: must be %s%s", p->name, k, v, range[0] == '(' || range[0] == '[' ? "in " : "", range);
             }
-            return dtc_si_fail(c, p->err, p->name, "%s = %g: must be %s", p->name, v, range);
+            return dtc_si_fail(c, p->err, p->name, "%s = %g: must be %s%s", p->name, v, range[0] == '(' || range[0] == '[' ? "in " : "", range);
         }
     }
     return DTC_SI_OK;

@@ -185,7 +185,7 @@ enum dtc_sip_when {
     X(tau_w_lo_rpm, DTC_SIP_DOUBLE, "rpm", 0, DTC_SIP_INF, DTC_SIP_HI_OPEN, DTC_SIP_IM, DTC_SIP_ALWAYS, DTC_SI_ERR_IM, \
       "control.observer_tau_lo_rpm, control.observer_tau_hi_rpm", NULL, "IM: |speed| up to which tau_lo_s applies") \
     X(tau_w_hi_rpm, DTC_SIP_DOUBLE, "rpm", 0, DTC_SIP_INF, DTC_SIP_HI_OPEN, DTC_SIP_IM, DTC_SIP_ALWAYS, DTC_SI_ERR_IM, \
-      "control.observer_tau_lo_rpm, control.observer_tau_hi_rpm", NULL, \
+      "control.observer_tau_hi_rpm, control.observer_tau_lo_rpm", NULL, \
       "IM: |speed| from which tau_hi_s applies, at least tau_w_lo_rpm") \
     X(speed_sensor, DTC_SIP_INT, "", DTC_SPEED_ENCODER, DTC_SPEED_NONE, DTC_SIP_ENUM, DTC_SIP_ALL, DTC_SIP_ALWAYS, \
       DTC_SI_ERR_VARIANT, "control.speed_sensor", NULL, "enum dtc_speed_sensor (encoder; none: IM only)") \
@@ -236,7 +236,7 @@ enum dtc_sip_when {
     X(i_trip_a, DTC_SIP_DOUBLE, "A", 0, DTC_SIP_INF, DTC_SIP_OPEN, DTC_SIP_ALL, DTC_SIP_ALWAYS, DTC_SI_ERR_LIMIT, \
       "protection.overcurrent_a", NULL, "firmware over-current trip on |i|") \
     X(vdc_max_v, DTC_SIP_DOUBLE, "V", 0, DTC_SIP_INF, DTC_SIP_OPEN, DTC_SIP_ALL, DTC_SIP_ALWAYS, DTC_SI_ERR_LIMIT, \
-      "protection.vdc_min_v, protection.vdc_max_v", NULL, "DC-link over-voltage trip, above vdc_min_v") \
+      "protection.vdc_max_v, protection.vdc_min_v", NULL, "DC-link over-voltage trip, above vdc_min_v") \
     X(vdc_min_v, DTC_SIP_DOUBLE, "V", 0, DTC_SIP_INF, DTC_SIP_HI_OPEN, DTC_SIP_ALL, DTC_SIP_ALWAYS, DTC_SI_ERR_LIMIT, \
       "protection.vdc_min_v, protection.vdc_max_v", NULL, "DC-link under-voltage trip") \
     X(current_limit_auto, DTC_SIP_INT, "", 0, 1, DTC_SIP_FLAG, DTC_SIP_ALL, DTC_SIP_ALWAYS, DTC_SI_ERR_ILIM, \

@@ -2,6 +2,7 @@
 // defaults and key ownership, the rules about the scenario, the plant and the harness, and the
 // firmware configuration the scenario makes, refused by the converter's and the firmware's own
 // checks (dtc_config_from_si_err) with the scenario key named.
+#include "firmware_si.hpp"
 #include "scenario_schema.hpp"
 #include "sil_constants.hpp"
 
@@ -156,6 +157,38 @@ template <typename Err, typename Warn> void check_faults(const Scenario& s, Err 
     }
 }
 
+// The firmware configuration the scenario makes (firmware_si_config, as the run hands it to the
+// converter), refused by the converter's and the firmware's own checks: the refused member's
+// scenario key (dtc_si_params.h: the first of its keys the scenario sets, else the first) named
+// with where it was set.
+void check_firmware_config(const Scenario& s, Diagnostics* d)
+{
+    const dtc_config_si_t si = firmware_si_config(s);
+    dtc_config_t cfg;
+    dtc_si_error_t e;
+    if (dtc_config_from_si_err(&si, &cfg, &e) == DTC_SI_OK) {
+        return;
+    }
+    const std::string keys = keys_of_refusal(e);
+    std::string key;
+    std::string word;
+    for (const char ch : keys + " ") {
+        if ((ch >= 'a' && ch <= 'z') || (ch >= '0' && ch <= '9') || ch == '_' || ch == '.') {
+            word += ch;
+            continue;
+        }
+        if (find_spec(word) != nullptr && (key.empty() || (s.origin.count(key) == 0 && s.origin.count(word) != 0))) {
+            key = word;
+        }
+        word.clear();
+    }
+    const std::string what = std::string(e.msg) + " (firmware configuration refused, " +
+                             (e.field[0] != '\0' ? std::string("converter field ") + e.field + ", " : "") +
+                             "error " + std::to_string(e.code) + ")";
+    d->errors.push_back(key.empty() ? s.path + ": firmware configuration: " + what
+                                    : origin_of(s, key) + ": " + key + ": " + what);
+}
+
 void cross_validate(Scenario& s, Diagnostics* d)
 {
     auto err = [&](const std::string& key, const std::string& msg) {
@@ -191,78 +224,35 @@ void cross_validate(Scenario& s, Diagnostics* d)
     }
     const bool open_loop = s.control.mode == ControlMode::OpenLoop;
     const bool im = s.motor.type == MotorType::Im;
+    // The PWM form's timer period (hal.h T1PR = ts_s f_clock / 2, hal_host::t1pr_counts) for the
+    // laws that place edges within the period: whole counts, at least min_counts.
+    auto check_t1pr = [&](const char* key, unsigned min_counts, const std::string& law) {
+        if (hal_host::t1pr_counts(s.ts_s, PLANT_DEF_PWM_CLOCK_HZ) < min_counts) {
+            err(key, "the PWM timer period 75 MHz ts_s / 2 = " + fmt_double(s.ts_s * PLANT_DEF_PWM_CLOCK_HZ * 0.5) +
+                         " counts is not a whole number in " + std::to_string(min_counts) + "..65534 (hal.h T1PR; " +
+                         law + ")");
+        }
+    };
+    // The machine type, the law and the implementation that runs it; the values of the law's
+    // part are the converter's to check (check_firmware_config).
     if (im && !open_loop) {
-        // The IM law (Casadei): firmware only, six switches, voltage or improved estimator.
         if (s.control.implementation != Implementation::Firmware) {
             err("control.implementation", "\"" + to_string(s.control.implementation) + "\" has no induction-machine "
                 "law: motor.type = \"im\" (" + origin_of(s, "motor.type") + ") runs on \"firmware\"");
         }
-        if (s.inverter.topology != Topology::Sstp && s.inverter.topology != Topology::Ideal) {
-            err("inverter.topology", "the induction-machine law needs the six-switch inverter \"sstp\"; got \"" +
-                                         to_string(s.inverter.topology) + "\"");
-        }
-        if (s.control.estimator == Estimator::Current) {
-            err("control.estimator", "\"current\" (Hoang eqs. 8-9) needs a magnet: the PM drive only; the "
-                                     "induction machine takes \"voltage\" or \"improved\"");
-        }
-        const double tau_hi = s.control.observer_tau_high_s > 0.0 ? s.control.observer_tau_high_s
-                                                                  : s.control.observer_tau_s;
-        if (s.control.observer_tau_s <= s.ts_s || tau_hi <= s.ts_s) {
-            err(s.control.observer_tau_s <= s.ts_s ? "control.observer_tau_s" : "control.observer_tau_high_s",
-                "must be longer than the control period ts_s = " + fmt_double(s.ts_s) + " s");
-        }
         if (s.control.scheme == Scheme::Itc) {
             err("control.scheme", "\"itc\" is the PM machine's indirect torque control; motor.type is \"im\"");
         }
-        const bool svm = s.control.scheme == Scheme::Sfvc || s.control.scheme == Scheme::Dfoc;
         if (s.control.scheme == Scheme::Dsvm) {
-            // The PWM form's thirds (firmware/dtc/dsvm.h, hal.h): T1PR whole counts, at least 3.
-            const double n = s.ts_s * PLANT_DEF_PWM_CLOCK_HZ * 0.5;
-            if (hal_host::t1pr_counts(s.ts_s, PLANT_DEF_PWM_CLOCK_HZ) < 3u) {
-                err("ts_s", "the PWM timer period 75 MHz ts_s / 2 = " + fmt_double(n) +
-                                " counts is not a whole number in 3..65534 (hal.h T1PR; dsvm's thirds)");
-            }
-            if (s.control.flux_weakening) {
-                err("control.flux_weakening", "section 12's flux weakening watches the three-level torque comparator; "
-                                              "not with control.scheme = \"dsvm\"");
-            }
-            if (s.control.dsvm_torque_band2_nm != 0.0 && s.control.dsvm_torque_band2_nm < s.control.torque_band_nm) {
-                err("control.dsvm_torque_band2_nm", "must be 0 (derived) or at least control.torque_band_nm = " +
-                                                        fmt_double(s.control.torque_band_nm));
-            }
+            check_t1pr("ts_s", 3u, "dsvm's thirds, firmware/dtc/dsvm.h");
         }
-        if (svm) {
-            // One PWM period per control period (firmware/dtc/im_sfvc.c, hal.h): ts_s = 1 / carrier_hz,
-            // T1PR = ts_s f_clock / 2 a whole number of counts (hal_host::t1pr_counts).
-            if (s.origin.count("control.carrier_hz") != 0 && s.origin.count("ts_s") != 0 &&
-                std::fabs(s.control.carrier_hz * s.ts_s - 1.0) > 1e-9) {
-                err("control.carrier_hz", "is " + fmt_double(s.control.carrier_hz) + " Hz: the SVM carrier period must "
-                    "equal the control period ts_s = " + fmt_double(s.ts_s) + " s (" + origin_of(s, "ts_s") + ")");
-            } else if (s.origin.count("control.carrier_hz") == 0) {
+        if (s.control.scheme == Scheme::Sfvc || s.control.scheme == Scheme::Dfoc) {
+            // One SVM carrier period per control period (firmware/dtc/im_sfvc.c, hal.h).
+            if (s.origin.count("control.carrier_hz") == 0) {
                 s.control.carrier_hz = 1.0 / s.ts_s;
             }
-            const double n = s.ts_s * PLANT_DEF_PWM_CLOCK_HZ * 0.5;
-            if (hal_host::t1pr_counts(s.ts_s, PLANT_DEF_PWM_CLOCK_HZ) == 0u) {
-                err(s.origin.count("control.carrier_hz") != 0 ? "control.carrier_hz" : "ts_s",
-                    "the PWM timer period 75 MHz / (2 carrier) = " + fmt_double(n) +
-                        " counts is not a whole number in 1..65534 (hal.h T1PR)");
-            }
-            if (!(s.control.rotor_flux_ref_wb > 0.0)) {
-                err("control.rotor_flux_ref_wb", "the stator-flux vector control (Casadei eq. 18) and the "
-                                                 "rotor-flux-oriented control take the rotor-flux command: must be > 0");
-            }
-            if (s.control.flux_weakening) {
-                err("control.flux_weakening", "section 12's flux weakening watches the DTC torque comparator; not "
-                                              "with control.scheme = \"" + to_string(s.control.scheme) + "\"");
-            }
-            if (s.control.sfvc_kp_per_s * s.ts_s > 1.0) {
-                err("control.sfvc_kp_per_s", "must be at most 1/ts_s = " + fmt_double(1.0 / s.ts_s) +
-                                                 " 1/s (the deadbeat gain)");
-            }
-        }
-        if (s.control.observer_tau_hi_rpm < s.control.observer_tau_lo_rpm) {
-            err("control.observer_tau_hi_rpm", "must not be below control.observer_tau_lo_rpm = " +
-                                                   fmt_double(s.control.observer_tau_lo_rpm));
+            check_t1pr(s.origin.count("control.carrier_hz") != 0 ? "control.carrier_hz" : "ts_s", 1u,
+                       "one SVM carrier period per control period");
         }
         if (s.control.observer_tau_high_s > 0.0 && s.control.observer_tau_hi_rpm <= 0.0) {
             err("control.observer_tau_hi_rpm", "a speed-dependent tau (control.observer_tau_high_s, " +
@@ -270,14 +260,6 @@ void cross_validate(Scenario& s, Diagnostics* d)
                                                    ") needs the speed from which it applies (> 0)");
         }
     } else if (!open_loop) {
-        if (s.control.estimator == Estimator::Improved) {
-            err("control.estimator", "\"improved\" (Casadei eqs. 20-22) is the induction machine's estimator; "
-                                     "motor.type is \"pmsm\"");
-        }
-        if (s.control.table == SwitchingTable::SpeedDependent) {
-            err("control.table", "\"speed-dependent\" (Casadei sec. 8) is an induction-machine table; "
-                                 "motor.type is \"pmsm\"");
-        }
         if (s.control.scheme != Scheme::Dtc && s.control.scheme != Scheme::Itc) {
             err("control.scheme", "\"" + to_string(s.control.scheme) + "\" is an induction-machine scheme; the PM "
                                   "machine takes \"dtc\" or \"itc\"");
@@ -287,13 +269,7 @@ void cross_validate(Scenario& s, Diagnostics* d)
                 err("control.implementation", "\"" + to_string(s.control.implementation) + "\" has no indirect "
                     "torque control: control.scheme = \"itc\" (" + origin_of(s, "control.scheme") + ") runs on \"firmware\"");
             }
-            // One PWM period per control period (firmware/dtc/itc.h, hal.h): T1PR = ts_s f_clock / 2
-            // a whole number of counts (hal_host::t1pr_counts).
-            const double n = s.ts_s * PLANT_DEF_PWM_CLOCK_HZ * 0.5;
-            if (hal_host::t1pr_counts(s.ts_s, PLANT_DEF_PWM_CLOCK_HZ) == 0u) {
-                err("ts_s", "the PWM timer period 75 MHz ts_s / 2 = " + fmt_double(n) +
-                                " counts is not a whole number in 1..65534 (hal.h T1PR; control.scheme = \"itc\")");
-            }
+            check_t1pr("ts_s", 1u, "control.scheme = \"itc\", firmware/dtc/itc.h");
         }
     }
     const bool vf = s.control.vf_freq_hz > 0.0;
@@ -329,25 +305,11 @@ void cross_validate(Scenario& s, Diagnostics* d)
             err("inverter.topology", "the \"ideal\" inverter takes voltages, not switch states: use it with "
                                      "control.mode = \"open_loop\"");
         }
-        if (s.control.compensation == Compensation::Proposed && s.inverter.topology == Topology::Sstp) {
-            err("control.compensation", "\"proposed\" (Hoang Table VI) is defined for the FSTP only; use "
-                                        "\"simple\" for the SSTP (Hoang ref. [29])");
-        }
         if (s.control.estimator == Estimator::Current && s.control.compensation != Compensation::None) {
             warn("control.compensation", "ignored by the current-model estimator");
         }
         if (s.inverter.topology == Topology::Fstp && s.control.table != SwitchingTable::Basic) {
             warn("control.table", "ignored: the FSTP always uses Hoang Table II");
-        }
-        const double f_speed_hz = 1.0 / (s.ts_s * static_cast<double>(s.control.speed_loop_divider));
-        if (s.control.speed_bw_hz > f_speed_hz / 20.0) {
-            err("control.speed_bw_hz", "is " + fmt_double(s.control.speed_bw_hz) +
-                                           " Hz; must be <= 1/20 of the speed-loop rate (" +
-                                           fmt_double(f_speed_hz / 20.0) + " Hz)");
-        }
-        if (s.control.lpf_cutoff_rad_s >= kPi / s.ts_s) {
-            err("control.lpf_cutoff_rad_s", "must be below the Nyquist rate pi/ts_s = " +
-                                                fmt_double(kPi / s.ts_s) + " rad/s");
         }
     }
     if (!open_loop && !s.protection.allow_unsafe && s.control.implementation == Implementation::Firmware &&
@@ -379,9 +341,6 @@ void cross_validate(Scenario& s, Diagnostics* d)
                 "motor.rated_current_a = " + fmt_double(safe) + " A (" + origin_of(s, "motor.rated_current_a") +
                 "); lower it or set protection.allow_unsafe = true");
         }
-    }
-    if (s.protection.vdc_min_v >= s.protection.vdc_max_v) {
-        err("protection.vdc_min_v", "must be below protection.vdc_max_v = " + fmt_double(s.protection.vdc_max_v));
     }
     if (!open_loop && (s.inverter.vdc_v <= s.protection.vdc_min_v || s.inverter.vdc_v >= s.protection.vdc_max_v)) {
         warn("inverter.vdc_v", "outside the protection window [vdc_min_v, vdc_max_v]: the firmware will trip");
@@ -423,6 +382,9 @@ void cross_validate(Scenario& s, Diagnostics* d)
         err("load.speed_rpm", "the fan load needs a non-zero reference speed");
     }
     check_faults(s, err, warn);
+    if (!open_loop) {
+        check_firmware_config(s, d);
+    }
 }
 
 
