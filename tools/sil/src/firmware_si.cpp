@@ -41,18 +41,12 @@ int estimator_of(Estimator e)
     return DTC_EST_CURRENT;
 }
 
-int table_of(SwitchingTable t)
-{
-    switch (t) {
-    case SwitchingTable::Basic: return DTC_ST_BASIC;
-    case SwitchingTable::StA: return DTC_ST_A;
-    case SwitchingTable::StB: return DTC_ST_B;
-    case SwitchingTable::StC: return DTC_ST_C;
-    case SwitchingTable::StD: return DTC_ST_D;
-    case SwitchingTable::SpeedDependent: return DTC_ST_SPEED;
-    }
-    return DTC_ST_BASIC;
-}
+// SwitchingTable lists the tables in the order of enum dtc_sstp_table.
+static_assert(static_cast<int>(SwitchingTable::Basic) == DTC_ST_BASIC && static_cast<int>(SwitchingTable::StA) == DTC_ST_A &&
+                  static_cast<int>(SwitchingTable::StB) == DTC_ST_B && static_cast<int>(SwitchingTable::StC) == DTC_ST_C &&
+                  static_cast<int>(SwitchingTable::StD) == DTC_ST_D &&
+                  static_cast<int>(SwitchingTable::SpeedDependent) == DTC_ST_SPEED,
+              "SwitchingTable follows enum dtc_sstp_table");
 
 } // namespace
 
@@ -116,7 +110,7 @@ dtc_config_si_t firmware_si_config(const Scenario& sc)
     si.torque_ref_nm = c.torque_ref_nm;
     si.estimator = estimator_of(c.estimator);
     si.compensation = compensation_of(c.compensation, inv.topology);
-    si.sstp_table = table_of(c.table);
+    si.sstp_table = static_cast<int>(c.table);
     si.mode = c.mode == ControlMode::Torque ? DTC_MODE_TORQUE : DTC_MODE_SPEED;
     // The sensing chain of hal_host (hal_host_sensors.hpp) seen from the firmware: 12-bit codes
     // over 0..3 V; currents -range..+range around mid-scale, voltages 0..range. The firmware

@@ -15,7 +15,6 @@
 #include <limits>
 #include <sstream>
 
-#include "hal_host_pwm.hpp"
 
 namespace sil {
 
