@@ -4,18 +4,15 @@
 #ifndef DTC_TESTS_SIL_IDEAL_PLANT_HPP
 #define DTC_TESTS_SIL_IDEAL_PLANT_HPP
 
+#include "model_test_util.h" // tests/model: the plant tests' presets
 #include "plant.h"
 
 namespace sil_test {
 
+/// The default plant's six-switch inverter, ideal (mt::ideal_inverter), the rotor held at speed_rpm.
 inline plant_params_t ideal_plant_held_at(double speed_rpm)
 {
-    plant_params_t p;
-    plant_params_default(&p);
-    p.drops_enabled = 0;
-    p.dead_time_enabled = 0;
-    p.finite_dc_link = 0;
-    p.load = PLANT_LOAD_SPEED;
+    plant_params_t p = mt::locked(mt::ideal_inverter(PLANT_INVERTER_SSTP));
     p.load_speed_rpm = speed_rpm;
     return p;
 }
