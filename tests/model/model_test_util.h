@@ -18,6 +18,19 @@ namespace mt {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kSqrt3 = 1.73205080756887729353;
 
+// Hoang Table I, transcribed once: the FSTP's four vectors (S_B, S_C), their phase voltages and
+// their alpha/beta components for the link voltage V split equally about the mid-point.
+struct HoangTableIRow {
+    int sb, sc;
+    double van, vbn, vcn, va, vb;
+};
+inline std::array<HoangTableIRow, 4> hoang_table_i(double V) {
+    return {{{0, 0, V / 3, -V / 6, -V / 6, V / 3, 0.0},
+             {1, 0, 0.0, V / 2, -V / 2, 0.0, V / kSqrt3},
+             {1, 1, -V / 3, V / 6, V / 6, -V / 3, 0.0},
+             {0, 1, 0.0, -V / 2, V / 2, 0.0, -V / kSqrt3}}};
+}
+
 // Hoang Table VI (proposed FSTP drop compensation), transcribed once, row by row: S_B, S_C,
 // sign(i_b), sign(i_c), v_f_alpha, v_f_beta, for device drops V_CE and V_d.
 struct HoangTableVIRow {

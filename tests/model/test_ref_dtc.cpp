@@ -16,12 +16,7 @@ const double Vce = 0.9, Vd = 1.25;
 // equals Hoang eqs. (17)-(19) with equal capacitor voltages.
 TEST(RefTables, HoangTableIReconstruction) {
     const double V = 70.0;
-    struct Row { int sb, sc; double van, vbn, vcn, va, vb; };
-    const Row rows[4] = {{0, 0, V / 3, -V / 6, -V / 6, V / 3, 0.0},
-                         {1, 0, 0.0, V / 2, -V / 2, 0.0, V / kSqrt3},
-                         {1, 1, -V / 3, V / 6, V / 6, -V / 3, 0.0},
-                         {0, 1, 0.0, -V / 2, V / 2, 0.0, -V / kSqrt3}};
-    for (const Row &r : rows) {
+    for (const HoangTableIRow &r : hoang_table_i(V)) {
         double vn[3], vm[3], a, b;
         fstp_phase_voltages(r.sb, r.sc, V, vn);
         fstp_phase_voltages_mid(r.sb, r.sc, V / 2, V / 2, vm);
