@@ -104,6 +104,20 @@ inline plant_params_t ideal_inverter(plant_inverter_t inv) {
     return p;
 }
 
+// The full-fidelity FSTP of the energy balances: the default plant (Hoang Table IV drops, dead
+// time, finite split link) with Table VII's back-EMF, into a generator load of torque_nm that
+// reaches it at 1500 rpm.
+inline plant_params_t fstp_generator(double torque_nm) {
+    plant_params_t p;
+    plant_params_default(&p);
+    p.inverter = PLANT_INVERTER_FSTP;
+    plant_params_emf_table_vii(&p);
+    p.load = PLANT_LOAD_GENERATOR;
+    p.load_speed_rpm = 1500.0;
+    p.load_torque_nm = torque_nm;
+    return p;
+}
+
 inline plant_params_t locked(plant_params_t p) {
     p.load = PLANT_LOAD_SPEED;
     p.load_speed_rpm = 0.0;
