@@ -118,9 +118,17 @@ inline plant_params_t fstp_generator(double torque_nm) {
     return p;
 }
 
-inline plant_params_t locked(plant_params_t p) {
+// p with the rotor held at speed_rpm by the dynamometer (the speed load).
+inline plant_params_t held_at(plant_params_t p, double speed_rpm) {
     p.load = PLANT_LOAD_SPEED;
-    p.load_speed_rpm = 0.0;
+    p.load_speed_rpm = speed_rpm;
+    return p;
+}
+inline plant_params_t locked(plant_params_t p) { return held_at(p, 0.0); }
+// The default plant (plant_params_default).
+inline plant_params_t default_plant() {
+    plant_params_t p;
+    plant_params_default(&p);
     return p;
 }
 

@@ -283,11 +283,7 @@ TEST(RefController, LowPassEstimatorStepResponse) {
 // Current model (Hoang eqs. 8-9) equals the plant's true flux for a sinusoidal-EMF machine; torque eq. 10
 // equals the plant's torque. Tolerance 1e-12.
 TEST(RefController, CurrentModelEqualsPlantFlux) {
-    plant_params_t pp;
-    plant_params_default(&pp);
-    pp.load = PLANT_LOAD_SPEED;
-    pp.load_speed_rpm = 1500.0;
-    auto pl = make(pp);
+    auto pl = make(held_at(default_plant(), 1500.0));
     Params rp;
     rp.mode = ControlMode::TORQUE;
     Controller c;
@@ -361,10 +357,7 @@ TEST(RefController, RejectsBadConfig) {
 // The voltage model with the finite split link loses synchronism after ~0.35 s: see docs/plant.md.
 TEST(RefController, ClosedLoopWithPlant) {
     {
-        plant_params_t pp;
-        plant_params_default(&pp);
-        pp.load = PLANT_LOAD_SPEED;
-        pp.load_speed_rpm = 1500.0;
+        const plant_params_t pp = held_at(default_plant(), 1500.0);
         auto pl = make(pp);
         Params rp;
         rp.mode = ControlMode::TORQUE;

@@ -12,9 +12,7 @@ namespace sil_test {
 /// The default plant's six-switch inverter, ideal (mt::ideal_inverter), the rotor held at speed_rpm.
 inline plant_params_t ideal_plant_held_at(double speed_rpm)
 {
-    plant_params_t p = mt::locked(mt::ideal_inverter(PLANT_INVERTER_SSTP));
-    p.load_speed_rpm = speed_rpm;
-    return p;
+    return mt::held_at(mt::ideal_inverter(PLANT_INVERTER_SSTP), speed_rpm);
 }
 
 } // namespace sil_test
