@@ -229,15 +229,6 @@ static void dtc_fault_levels(dtc_si_conv_t *c, const dtc_config_si_t *si, const 
     }
 }
 
-int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, size_t msg_len)
-{
-    dtc_si_error_t e;
-    const int rc = dtc_config_from_si_err(si, cfg, &e);
-    if (msg != NULL && msg_len > 0U) {
-        snprintf(msg, msg_len, "%s", e.msg);
-    }
-    return rc;
-}
 
 /* The conversion (dtc_config_from_si_err), its error state in *c. */
 static int convert(const dtc_config_si_t *si, dtc_config_t *cfg, dtc_si_conv_t *c)
@@ -420,6 +411,15 @@ static int convert(const dtc_config_si_t *si, dtc_config_t *cfg, dtc_si_conv_t *
         return dtc_si_fail(c, DTC_SI_ERR_FIRMWARE, "", "firmware validation refused the converted configuration (dtc_err %d, field %s)", fw, fw_field);
     }
     return DTC_SI_OK;
+}
+
+int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, size_t msg_len)
+{
+    dtc_si_conv_t c = {msg, msg_len, DTC_SI_OK, ""}; /* no message formatted without msg */
+    if (msg != NULL && msg_len > 0U) {
+        msg[0] = '\0';
+    }
+    return convert(si, cfg, &c);
 }
 
 int dtc_config_from_si_err(const dtc_config_si_t *si, dtc_config_t *cfg, dtc_si_error_t *err)
