@@ -18,6 +18,19 @@ namespace mt {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kSqrt3 = 1.73205080756887729353;
 
+// Hoang Table I, transcribed once: the FSTP's four vectors (S_B, S_C), their phase voltages and
+// their alpha/beta components for the link voltage V split equally about the mid-point.
+struct HoangTableIRow {
+    int sb, sc;
+    double van, vbn, vcn, va, vb;
+};
+inline std::array<HoangTableIRow, 4> hoang_table_i(double V) {
+    return {{{0, 0, V / 3, -V / 6, -V / 6, V / 3, 0.0},
+             {1, 0, 0.0, V / 2, -V / 2, 0.0, V / kSqrt3},
+             {1, 1, -V / 3, V / 6, V / 6, -V / 3, 0.0},
+             {0, 1, 0.0, -V / 2, V / 2, 0.0, -V / kSqrt3}}};
+}
+
 // Hoang Table VI (proposed FSTP drop compensation), transcribed once, row by row: S_B, S_C,
 // sign(i_b), sign(i_c), v_f_alpha, v_f_beta, for device drops V_CE and V_d.
 struct HoangTableVIRow {
@@ -91,9 +104,31 @@ inline plant_params_t ideal_inverter(plant_inverter_t inv) {
     return p;
 }
 
-inline plant_params_t locked(plant_params_t p) {
+// The full-fidelity FSTP of the energy balances: the default plant (Hoang Table IV drops, dead
+// time, finite split link) with Table VII's back-EMF, into a generator load of torque_nm that
+// reaches it at 1500 rpm.
+inline plant_params_t fstp_generator(double torque_nm) {
+    plant_params_t p;
+    plant_params_default(&p);
+    p.inverter = PLANT_INVERTER_FSTP;
+    plant_params_emf_table_vii(&p);
+    p.load = PLANT_LOAD_GENERATOR;
+    p.load_speed_rpm = 1500.0;
+    p.load_torque_nm = torque_nm;
+    return p;
+}
+
+// p with the rotor held at speed_rpm by the dynamometer (the speed load).
+inline plant_params_t held_at(plant_params_t p, double speed_rpm) {
     p.load = PLANT_LOAD_SPEED;
-    p.load_speed_rpm = 0.0;
+    p.load_speed_rpm = speed_rpm;
+    return p;
+}
+inline plant_params_t locked(plant_params_t p) { return held_at(p, 0.0); }
+// The default plant (plant_params_default).
+inline plant_params_t default_plant() {
+    plant_params_t p;
+    plant_params_default(&p);
     return p;
 }
 

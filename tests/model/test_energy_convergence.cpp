@@ -24,13 +24,7 @@ void sstp_vector_towards(double a, int leg[3]) {
 // angle-commutated switching at 50 us, then gates off (freewheel into the link) for 20 ms.
 // Tolerance 1e-6 of the input energy (RK4 integrates the power terms with the state).
 TEST(Energy, FstpFullFidelityBalance) {
-    plant_params_t p;
-    plant_params_default(&p);
-    p.inverter = PLANT_INVERTER_FSTP;
-    plant_params_emf_table_vii(&p);
-    p.load = PLANT_LOAD_GENERATOR;
-    p.load_speed_rpm = 1500.0;
-    p.load_torque_nm = 0.15;
+    plant_params_t p = fstp_generator(0.15);
     auto pl = make(p);
     const plant_state_t s0 = state(pl);
     for (int k = 0; k < 6000; ++k) {  // 0.3 s

@@ -40,12 +40,7 @@ TEST(Inverter, FstpFourVectorsHoangTableI) {
     plant_params_t p = locked(ideal_inverter(PLANT_INVERTER_FSTP));
     auto pl = make(p);
     const double V = p.vdc_v;
-    struct Row { int sb, sc; double van, vbn, vcn, va, vb; };
-    const Row rows[4] = {{0, 0, V / 3, -V / 6, -V / 6, V / 3, 0.0},
-                         {1, 0, 0.0, V / 2, -V / 2, 0.0, V / kSqrt3},
-                         {1, 1, -V / 3, V / 6, V / 6, -V / 3, 0.0},
-                         {0, 1, 0.0, -V / 2, V / 2, 0.0, -V / kSqrt3}};
-    for (const Row &r : rows) {
+    for (const HoangTableIRow &r : hoang_table_i(V)) {
         const plant_state_t s = apply(pl, 1 /* ignored: no leg A */, r.sb, r.sc, 20e-6);
         const double van = (2 * s.v_a0_v - s.v_b0_v - s.v_c0_v) / 3;  // Hoang eq. (1)
         const double vbn = (2 * s.v_b0_v - s.v_a0_v - s.v_c0_v) / 3;  // Hoang eq. (2)

@@ -179,13 +179,7 @@ TEST(Mechanics, FanLoadCoastDown) {
 // snaps). DC input = copper + device + friction + load + R_dc + link (ESR, R_bal) losses + change
 // of magnetic, kinetic and capacitor energy, to 1e-6 of the input.
 TEST(Energy, BalanceWithCoulombAndLinkResistors) {
-    plant_params_t p;
-    plant_params_default(&p);
-    p.inverter = PLANT_INVERTER_FSTP;
-    plant_params_emf_table_vii(&p);
-    p.load = PLANT_LOAD_GENERATOR;
-    p.load_speed_rpm = 1500.0;
-    p.load_torque_nm = 0.1;
+    plant_params_t p = fstp_generator(0.1);
     p.coulomb_nm = 0.05;
     p.r_bal_ohm = 100.0;
     p.esr_ohm = 0.02;

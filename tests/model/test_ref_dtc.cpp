@@ -16,12 +16,7 @@ const double Vce = 0.9, Vd = 1.25;
 // equals Hoang eqs. (17)-(19) with equal capacitor voltages.
 TEST(RefTables, HoangTableIReconstruction) {
     const double V = 70.0;
-    struct Row { int sb, sc; double van, vbn, vcn, va, vb; };
-    const Row rows[4] = {{0, 0, V / 3, -V / 6, -V / 6, V / 3, 0.0},
-                         {1, 0, 0.0, V / 2, -V / 2, 0.0, V / kSqrt3},
-                         {1, 1, -V / 3, V / 6, V / 6, -V / 3, 0.0},
-                         {0, 1, 0.0, -V / 2, V / 2, 0.0, -V / kSqrt3}};
-    for (const Row &r : rows) {
+    for (const HoangTableIRow &r : hoang_table_i(V)) {
         double vn[3], vm[3], a, b;
         fstp_phase_voltages(r.sb, r.sc, V, vn);
         fstp_phase_voltages_mid(r.sb, r.sc, V / 2, V / 2, vm);
@@ -288,11 +283,7 @@ TEST(RefController, LowPassEstimatorStepResponse) {
 // Current model (Hoang eqs. 8-9) equals the plant's true flux for a sinusoidal-EMF machine; torque eq. 10
 // equals the plant's torque. Tolerance 1e-12.
 TEST(RefController, CurrentModelEqualsPlantFlux) {
-    plant_params_t pp;
-    plant_params_default(&pp);
-    pp.load = PLANT_LOAD_SPEED;
-    pp.load_speed_rpm = 1500.0;
-    auto pl = make(pp);
+    auto pl = make(held_at(default_plant(), 1500.0));
     Params rp;
     rp.mode = ControlMode::TORQUE;
     Controller c;
@@ -366,10 +357,7 @@ TEST(RefController, RejectsBadConfig) {
 // The voltage model with the finite split link loses synchronism after ~0.35 s: see docs/plant.md.
 TEST(RefController, ClosedLoopWithPlant) {
     {
-        plant_params_t pp;
-        plant_params_default(&pp);
-        pp.load = PLANT_LOAD_SPEED;
-        pp.load_speed_rpm = 1500.0;
+        const plant_params_t pp = held_at(default_plant(), 1500.0);
         auto pl = make(pp);
         Params rp;
         rp.mode = ControlMode::TORQUE;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "hal_host.hpp"
+#include "ideal_plant.hpp"
 #include "plant.h"
 
 using hal_host::Harness;
@@ -59,13 +60,7 @@ std::unique_ptr<Harness> make(const plant_params_t& p)
 // legs and DSVM's thirds (1250 counts = ts / 3 from either end).
 TEST(HalHostPwm, CompareValuesGiveTheCommandedVoltSecondsOnePeriodLater)
 {
-    plant_params_t p;
-    plant_params_default(&p);
-    p.drops_enabled = 0;
-    p.dead_time_enabled = 0;
-    p.finite_dc_link = 0;
-    p.load = PLANT_LOAD_SPEED;
-    p.load_speed_rpm = 1500.0;
+    plant_params_t p = sil_test::ideal_plant_held_at(1500.0);
     auto h = make(p);
     ASSERT_EQ(h->pwm_period(), kT1pr);
     hal_init();
@@ -163,13 +158,7 @@ TEST(HalHostPwm, LegStateFormEqualsPwmFormAtZeroAndFullDuty)
 // Casadei's 40 us DTC period is 1500 counts.
 TEST(HalHostPwm, PeriodThatIsNotAWholeNumberOfCountsHasNoPwmForm)
 {
-    plant_params_t p;
-    plant_params_default(&p);
-    p.drops_enabled = 0;
-    p.dead_time_enabled = 0;
-    p.finite_dc_link = 0;
-    p.load = PLANT_LOAD_SPEED;
-    p.load_speed_rpm = 0.0;
+    plant_params_t p = sil_test::ideal_plant_held_at(0.0);
     HarnessConfig cfg;
     cfg.ts_s = 50.01e-6; // 1875.375 counts
     std::string err;

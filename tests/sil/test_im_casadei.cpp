@@ -1121,12 +1121,15 @@ TEST(ImCasadei, FaultsTripTheImDriveAndBadConfigurationIsRefused)
         ASSERT_TRUE(run({"duration_s=0.05", "metrics_window_s=0.02", "inverter.vdc_v=180"}, &r, &err)) << err;
         EXPECT_EQ(r.info.fault, "dc_undervoltage");
     }
-    // A configuration the converter cannot represent: refused before any period, key named.
+    // A configuration the converter cannot represent (Ts/tau below one Q31 LSB): refused by the
+    // scenario check, which runs the converter, before any period; key and origin named.
     {
-        RunResult r;
-        std::string err;
-        EXPECT_FALSE(run({"control.observer_tau_s=1e9"}, &r, &err));
-        EXPECT_NE(err.find("control.observer_tau_s"), std::string::npos) << err;
+        Scenario sc;
+        Diagnostics d;
+        EXPECT_FALSE(load_scenario(kScenario, {"control.observer_tau_s=1e9"}, &sc, &d));
+        EXPECT_NE(d.text().find("'control.observer_tau_s=1e9': control.observer_tau_s: tau_lo_s (Ts/tau)"),
+                  std::string::npos)
+            << d.text();
     }
 }
 

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hal_host.hpp"
+#include "model_test_util.h" // tests/model: the plant tests' presets
 #include "run.hpp"
 
 namespace fs = std::filesystem;
@@ -112,15 +113,8 @@ namespace {
 // Plant with ideal devices and a stiff DC link, rotor held at standstill, driven through hal_host.
 std::unique_ptr<hal_host::Harness> ideal_harness(plant_inverter_t inv)
 {
-    plant_params_t p;
-    plant_params_default(&p);
-    p.inverter = inv;
-    p.drops_enabled = 0;
-    p.dead_time_enabled = 0;
-    p.finite_dc_link = 0;
+    plant_params_t p = mt::locked(mt::ideal_inverter(inv));
     p.vdc_v = 70.0;
-    p.load = PLANT_LOAD_SPEED;
-    p.load_speed_rpm = 0.0;
     p.speed0_rpm = 0.0;
     std::string err;
     auto h = hal_host::Harness::create(p, hal_host::HarnessConfig{}, &err);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "hal_host.hpp"
+#include "ideal_plant.hpp"
 #include "plant.h"
 
 extern "C" {
@@ -109,17 +110,7 @@ VsErr run(plant_params_t p, std::uint16_t mode, std::uint16_t dt_comp, double fr
     return e;
 }
 
-plant_params_t ideal_params()
-{
-    plant_params_t p;
-    plant_params_default(&p);
-    p.drops_enabled = 0;
-    p.dead_time_enabled = 0;
-    p.finite_dc_link = 0;
-    p.load = PLANT_LOAD_SPEED;
-    p.load_speed_rpm = 600.0;
-    return p;
-}
+plant_params_t ideal_params() { return sil_test::ideal_plant_held_at(600.0); }
 
 } // namespace
 

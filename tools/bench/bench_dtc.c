@@ -38,18 +38,14 @@
 #define M_PI DTC_REF_PI
 #endif
 
-__attribute__((noinline)) void bench_step_normal(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
-__attribute__((noinline)) void bench_step_tick(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
-
-__attribute__((noinline)) void bench_step_normal(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
-{
-    dtc_step(c, m, o);
-}
-
-__attribute__((noinline)) void bench_step_tick(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
-{
-    dtc_step(c, m, o);
-}
+/* One named, never-inlined call of a law's step per phase of the run (steady state, the speed
+ * tick, start-up), so that the instruction count of each (run_budget.sh, callgrind) is found by
+ * its symbol. */
+#define BENCH_STEP(type, name, step)                                                                 \
+    __attribute__((noinline)) void name(type *c, const dtc_meas_t *m, dtc_out_t *o);               \
+    __attribute__((noinline)) void name(type *c, const dtc_meas_t *m, dtc_out_t *o) { step(c, m, o); }
+BENCH_STEP(dtc_t, bench_step_normal, dtc_step)
+BENCH_STEP(dtc_t, bench_step_tick, dtc_step)
 
 static iq_t to_iq(double x) { return (iq_t)lrint(x * 16777216.0); }
 
@@ -87,18 +83,8 @@ static void pm_meas(const dtc_ref_pm_t *m, dtc_meas_t *me, double *ia, double *i
     }
 }
 
-__attribute__((noinline)) void bench_itc_normal(itc_t *c, const dtc_meas_t *m, dtc_out_t *o);
-__attribute__((noinline)) void bench_itc_tick(itc_t *c, const dtc_meas_t *m, dtc_out_t *o);
-
-__attribute__((noinline)) void bench_itc_normal(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
-{
-    itc_step(c, m, o);
-}
-
-__attribute__((noinline)) void bench_itc_tick(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
-{
-    itc_step(c, m, o);
-}
+BENCH_STEP(itc_t, bench_itc_normal, itc_step)
+BENCH_STEP(itc_t, bench_itc_tick, itc_step)
 
 /* The PM ITC in closed loop (see the header comment). */
 static int run_itc(long n)
@@ -142,63 +128,15 @@ static int run_itc(long n)
     return 0;
 }
 
-__attribute__((noinline)) void bench_im_normal(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
-__attribute__((noinline)) void bench_im_tick(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
-__attribute__((noinline)) void bench_im_start(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
-
-__attribute__((noinline)) void bench_im_normal(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
-{
-    im_dtc_step(c, m, o);
-}
-
-__attribute__((noinline)) void bench_im_tick(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
-{
-    im_dtc_step(c, m, o);
-}
-
-__attribute__((noinline)) void bench_im_start(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
-{
-    im_dtc_step(c, m, o);
-}
-
-__attribute__((noinline)) void bench_sfvc_normal(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
-__attribute__((noinline)) void bench_sfvc_tick(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
-
-__attribute__((noinline)) void bench_sfvc_normal(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
-{
-    im_sfvc_step(c, m, o);
-}
-
-__attribute__((noinline)) void bench_sfvc_tick(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
-{
-    im_sfvc_step(c, m, o);
-}
-
-__attribute__((noinline)) void bench_dfoc_normal(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
-__attribute__((noinline)) void bench_dfoc_tick(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
-
-__attribute__((noinline)) void bench_dfoc_normal(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
-{
-    im_dfoc_step(c, m, o);
-}
-
-__attribute__((noinline)) void bench_dfoc_tick(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
-{
-    im_dfoc_step(c, m, o);
-}
-
-__attribute__((noinline)) void bench_dsvm_normal(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
-__attribute__((noinline)) void bench_dsvm_tick(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
-
-__attribute__((noinline)) void bench_dsvm_normal(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
-{
-    im_dsvm_step(c, m, o);
-}
-
-__attribute__((noinline)) void bench_dsvm_tick(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
-{
-    im_dsvm_step(c, m, o);
-}
+BENCH_STEP(im_dtc_t, bench_im_normal, im_dtc_step)
+BENCH_STEP(im_dtc_t, bench_im_tick, im_dtc_step)
+BENCH_STEP(im_dtc_t, bench_im_start, im_dtc_step)
+BENCH_STEP(im_dtc_t, bench_sfvc_normal, im_sfvc_step)
+BENCH_STEP(im_dtc_t, bench_sfvc_tick, im_sfvc_step)
+BENCH_STEP(im_dtc_t, bench_dfoc_normal, im_dfoc_step)
+BENCH_STEP(im_dtc_t, bench_dfoc_tick, im_dfoc_step)
+BENCH_STEP(im_dtc_t, bench_dsvm_normal, im_dsvm_step)
+BENCH_STEP(im_dtc_t, bench_dsvm_tick, im_dsvm_step)
 
 /* ideal: no drop or dead-time compensation; sfvc: 3 the DTC with DSVM (im_dsvm_step, 160 us, the
  * machine fed with the mean of the three sub-intervals, duty_iq), 1 the stator-flux vector control (im_sfvc_step,

@@ -5,6 +5,7 @@
 #include "app_core.h"
 #include "law.h"
 #include "dtc_params.h"
+#include "dtc_si_params.h"
 #include "plant_defaults.h"
 
 #include <math.h>
@@ -133,10 +134,12 @@ void dtc_bases_from_si(const dtc_config_si_t *si, dtc_bases_t *b)
 
 /* ---- error reporting ---------------------------------------------------------------------- */
 
-int dtc_si_fail(dtc_si_conv_t *c, int code, const char *fmt, ...)
+int dtc_si_fail(dtc_si_conv_t *c, int code, const char *field, const char *fmt, ...)
 {
     if (c->code == DTC_SI_OK) {
+        const dtc_si_param_t *p = dtc_si_param_of_label(field);
         c->code = code;
+        c->field = p != NULL ? p->name : "";
         if (c->msg != NULL && c->len > 0U) {
             va_list ap;
             va_start(ap, fmt);
@@ -152,12 +155,12 @@ iq_t dtc_si_to_iq(dtc_si_conv_t *c, const char *field, double si_value, double p
 {
     double r = nearbyint(pu * 16777216.0);
     if (!(r <= 2147483647.0 && r >= -2147483648.0) || !isfinite(pu)) {
-        dtc_si_fail(c, DTC_SI_ERR_RANGE, "%s = %g: %g pu overflows the IQ24 range (+-128 pu)", field,
+        dtc_si_fail(c, DTC_SI_ERR_RANGE, field, "%s = %g: %g pu overflows the IQ24 range (+-128 pu)", field,
              si_value, pu);
         return 0;
     }
     if (r == 0.0 && pu != 0.0) {
-        dtc_si_fail(c, DTC_SI_ERR_RANGE, "%s = %g: %g pu is below one IQ24 LSB (rounds to zero)", field,
+        dtc_si_fail(c, DTC_SI_ERR_RANGE, field, "%s = %g: %g pu is below one IQ24 LSB (rounds to zero)", field,
              si_value, pu);
     }
     return (iq_t)r;
@@ -167,7 +170,7 @@ q31_t dtc_si_to_q31(dtc_si_conv_t *c, const char *field, double v)
 {
     double r = nearbyint(v * 2147483648.0);
     if (!(r <= 2147483647.0 && r >= 1.0) || !isfinite(v)) {
-        dtc_si_fail(c, DTC_SI_ERR_RANGE, "%s = %g: not representable in Q31 as a gain in (0, 1)", field,
+        dtc_si_fail(c, DTC_SI_ERR_RANGE, field, "%s = %g: not representable in Q31 as a gain in (0, 1)", field,
              v);
         return 0;
     }
@@ -228,128 +231,62 @@ static void dtc_fault_levels(dtc_si_conv_t *c, const dtc_config_si_t *si, const 
     }
 }
 
-int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, size_t msg_len)
+
+/* The conversion (dtc_config_from_si_err), its error state in *c. */
+static int convert(const dtc_config_si_t *si, dtc_config_t *cfg, dtc_si_conv_t *c)
 {
-    dtc_si_conv_t c = {msg, msg_len, DTC_SI_OK};
     dtc_bases_t b;
     double tsp, kp, ki, enc_counts, a, wc_pu;
     int fw;
     const char *fw_field = "";
 
-    if (msg != NULL && msg_len > 0U) {
-        msg[0] = '\0';
-    }
     if (si == NULL || cfg == NULL) {
-        return dtc_si_fail(&c, DTC_SI_ERR_NULL, "null argument");
+        return dtc_si_fail(c, DTC_SI_ERR_NULL, "", "null argument");
     }
     memset(cfg, 0, sizeof *cfg);
 
-    /* Plain range checks, field by field (first failure wins). */
-    if (!(si->v_base_v > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_BASE, "v_base_v = %g: must be > 0", si->v_base_v);
-    if (!(si->i_base_a > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_BASE, "i_base_a = %g: must be > 0", si->i_base_a);
-    if (!(si->w_base_rad_s > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_BASE, "w_base_rad_s = %g: must be > 0", si->w_base_rad_s);
-    if (!(si->rs_ohm >= 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_MACHINE, "rs_ohm = %g: resistance must be >= 0", si->rs_ohm);
-    if (si->law < 0 || si->law >= DTC_LAW_COUNT)
-        return dtc_si_fail(&c, DTC_SI_ERR_VARIANT, "law = %d: not an enum dtc_law (0..%d)", si->law, DTC_LAW_COUNT - 1);
-    if ((dtc_law_is_im((uint16_t)si->law) != 0U ? dtc_si_im_check(&c, si)
-         : si->law == DTC_LAW_PM_ITC           ? dtc_si_pm_itc_check(&c, si)
-                                               : dtc_si_pm_dtc_check(&c, si)) != DTC_SI_OK)
-        return c.code;
-    if (si->pole_pairs < 1 || si->pole_pairs > 16) return dtc_si_fail(&c, DTC_SI_ERR_MACHINE, "pole_pairs = %d: must be 1..16", si->pole_pairs);
-    if (!(si->rated_speed_rpm > 0.0) || !(si->rated_torque_nm > 0.0) || !(si->rated_current_a > 0.0))
-        return dtc_si_fail(&c, DTC_SI_ERR_MACHINE, "rated_speed_rpm/rated_torque_nm/rated_current_a: must be > 0");
-    if (si->topology != DTC_TOPO_SSTP && si->topology != DTC_TOPO_FSTP)
-        return dtc_si_fail(&c, DTC_SI_ERR_VARIANT, "topology = %d: must be DTC_TOPO_SSTP or DTC_TOPO_FSTP", si->topology);
-    if (!(si->vdc_v > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_INVERTER, "vdc_v = %g: must be > 0", si->vdc_v);
-    if (!(si->v_ce_v >= 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_INVERTER, "v_ce_v = %g: must be >= 0", si->v_ce_v);
-    if (!(si->v_d_v >= 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_INVERTER, "v_d_v = %g: must be >= 0", si->v_d_v);
-    if (!(si->v_f_v >= 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_INVERTER, "v_f_v = %g: must be >= 0", si->v_f_v);
-    if (!(si->r_on_ohm >= 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_INVERTER, "r_on_ohm = %g: must be >= 0", si->r_on_ohm);
-    if (si->fstp_vmid_measured != 0 && si->fstp_vmid_measured != 1)
-        return dtc_si_fail(&c, DTC_SI_ERR_VARIANT, "fstp_vmid_measured = %d: must be 0 or 1", si->fstp_vmid_measured);
-    if (!(si->ts_s > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_TIMING, "ts_s = %g: must be > 0", si->ts_s);
-    if (si->speed_div < 1 || si->speed_div > 1000) return dtc_si_fail(&c, DTC_SI_ERR_TIMING, "speed_div = %d: must be 1..1000", si->speed_div);
+    /* Plain range checks, one per row of dtc_si_params.h (first failure wins), then the law's own
+     * checks and the relations between fields. */
+    if (dtc_si_params_check(c, si) != DTC_SI_OK)
+        return c->code;
+    if ((dtc_law_is_im((uint16_t)si->law) != 0U ? dtc_si_im_check(c, si)
+         : si->law == DTC_LAW_PM_ITC           ? dtc_si_pm_itc_check(c, si)
+                                               : dtc_si_pm_dtc_check(c, si)) != DTC_SI_OK)
+        return c->code;
     if (!(si->ts_s * si->w_base_rad_s < 1.0))
-        return dtc_si_fail(&c, DTC_SI_ERR_BASE, "ts_s = %g: ts * w_base_rad_s = %g must be < 1 (one sample shorter than the time base)", si->ts_s, si->ts_s * si->w_base_rad_s);
-    if (si->enc_lines < 1 || si->enc_lines > 16383) return dtc_si_fail(&c, DTC_SI_ERR_ENCODER, "enc_lines = %d: 4*lines must fit 16 bits (1..16383)", si->enc_lines);
-    if (si->speed_min_counts < 1 || si->speed_min_counts > 16000) return dtc_si_fail(&c, DTC_SI_ERR_ENCODER, "speed_min_counts = %d: must be 1..16000", si->speed_min_counts);
-    if (!isfinite(si->enc_offset_rad)) return dtc_si_fail(&c, DTC_SI_ERR_ENCODER, "enc_offset_rad: not finite");
-    if (!(si->flux_band_wb >= 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_BAND, "flux_band_wb = %g: must be >= 0", si->flux_band_wb);
-    if (!(si->torque_band_nm >= 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_BAND, "torque_band_nm = %g: must be >= 0", si->torque_band_nm);
-    if (!(si->lpf_cutoff_rad_s > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_CUTOFF, "lpf_cutoff_rad_s = %g: must be > 0 (a pure integrator drifts)", si->lpf_cutoff_rad_s);
+        return dtc_si_fail(c, DTC_SI_ERR_BASE, "ts_s", "ts_s = %g: ts * w_base_rad_s = %g must be < 1 (one sample shorter than the time base)", si->ts_s, si->ts_s * si->w_base_rad_s);
     if (!(si->lpf_cutoff_rad_s * si->ts_s < M_PI))
-        return dtc_si_fail(&c, DTC_SI_ERR_CUTOFF, "lpf_cutoff_rad_s = %g: at or above the Nyquist rate pi/ts_s = %g rad/s", si->lpf_cutoff_rad_s, M_PI / si->ts_s);
-    if (!(si->handover_auto != 0 || si->handover_speed_rpm >= 0.0))
-        return dtc_si_fail(&c, DTC_SI_ERR_HANDOVER, "handover_speed_rpm = %g: must be >= 0 (0 = voltage model from standstill)", si->handover_speed_rpm);
-    if (si->delay_comp != 0 && si->delay_comp != 1)
-        return dtc_si_fail(&c, DTC_SI_ERR_DELAY, "delay_comp = %d: must be 0 or 1", si->delay_comp);
-    if (si->deadtime_comp != 0 && si->deadtime_comp != 1)
-        return dtc_si_fail(&c, DTC_SI_ERR_DEADTIME, "deadtime_comp = %d: must be 0 or 1", si->deadtime_comp);
-    if (!(si->dead_time_s >= 0.0 && si->dead_time_s < 0.5 * si->ts_s))
-        return dtc_si_fail(&c, DTC_SI_ERR_DEADTIME, "dead_time_s = %g: must be in [0, ts_s/2)", si->dead_time_s);
-    if (!(si->handover_hyst_frac >= 0.0 && si->handover_hyst_frac <= 1.0))
-        return dtc_si_fail(&c, DTC_SI_ERR_HANDOVER, "handover_hyst_frac = %g: must be in [0, 1]", si->handover_hyst_frac);
-    if (si->compensation < DTC_COMP_NONE || si->compensation > DTC_COMP_FSTP_PROPOSED ||
-        (si->topology == DTC_TOPO_SSTP && si->compensation >= DTC_COMP_FSTP_SIMPLE) ||
+        return dtc_si_fail(c, DTC_SI_ERR_CUTOFF, "lpf_cutoff_rad_s", "lpf_cutoff_rad_s = %g: at or above the Nyquist rate pi/ts_s = %g rad/s", si->lpf_cutoff_rad_s, M_PI / si->ts_s);
+    if (!(si->dead_time_s < 0.5 * si->ts_s))
+        return dtc_si_fail(c, DTC_SI_ERR_DEADTIME, "dead_time_s", "dead_time_s = %g: must be in [0, ts_s/2)", si->dead_time_s);
+    if ((si->topology == DTC_TOPO_SSTP && si->compensation >= DTC_COMP_FSTP_SIMPLE) ||
         (si->topology == DTC_TOPO_FSTP && si->compensation == DTC_COMP_SSTP))
-        return dtc_si_fail(&c, DTC_SI_ERR_VARIANT, "compensation = %d: not available for topology %d", si->compensation, si->topology);
-    if (si->mode != DTC_MODE_SPEED && si->mode != DTC_MODE_TORQUE)
-        return dtc_si_fail(&c, DTC_SI_ERR_VARIANT, "mode = %d: must be DTC_MODE_SPEED or DTC_MODE_TORQUE", si->mode);
-    if (!(si->torque_limit_nm > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_LIMIT, "torque_limit_nm = %g: must be > 0", si->torque_limit_nm);
+        return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "compensation", "compensation = %d: not available for topology %d (the SSTP takes DTC_COMP_NONE or DTC_COMP_SSTP, the FSTP DTC_COMP_NONE or the FSTP ones, Hoang Tables V-VI)", si->compensation, si->topology);
     if (!(si->stall_time_s == 0.0 ||
           (si->stall_time_s >= 20.0 * si->ts_s * si->speed_div && si->stall_time_s / (si->ts_s * si->speed_div) <= 65535.0)))
-        return dtc_si_fail(&c, DTC_SI_ERR_GAIN, "stall_time_s = %g: must be 0 (derived) or span 20 .. 65535 speed periods of %g s", si->stall_time_s, si->ts_s * si->speed_div);
+        return dtc_si_fail(c, DTC_SI_ERR_GAIN, "stall_time_s", "stall_time_s = %g: must be 0 (derived) or span 20 .. 65535 speed periods of %g s", si->stall_time_s, si->ts_s * si->speed_div);
     if (!(si->torque_trim_tau_s == 0.0 || si->torque_trim_tau_s > si->ts_s))
-        return dtc_si_fail(&c, DTC_SI_ERR_GAIN, "torque_trim_tau_s = %g: must be 0 (off) or longer than ts_s = %g", si->torque_trim_tau_s, si->ts_s);
-    if (!(si->speed_limit_rpm > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_LIMIT, "speed_limit_rpm = %g: must be > 0", si->speed_limit_rpm);
+        return dtc_si_fail(c, DTC_SI_ERR_GAIN, "torque_trim_tau_s", "torque_trim_tau_s = %g: must be 0 (off) or longer than ts_s = %g", si->torque_trim_tau_s, si->ts_s);
     if (!(si->overspeed_rpm <= 0.0 || si->overspeed_rpm > si->speed_limit_rpm))
-        return dtc_si_fail(&c, DTC_SI_ERR_LIMIT, "overspeed_rpm = %g: must be above speed_limit_rpm = %g (0 = derived, < 0 = off)",
+        return dtc_si_fail(c, DTC_SI_ERR_LIMIT, "overspeed_rpm", "overspeed_rpm = %g: must be above speed_limit_rpm = %g (0 = derived, < 0 = off)",
                            si->overspeed_rpm, si->speed_limit_rpm);
-    if (!(si->i_trip_a > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_LIMIT, "i_trip_a = %g: must be > 0", si->i_trip_a);
-    if (!(si->c_dc_f > 0.0))
-        return dtc_si_fail(&c, DTC_SI_ERR_INVERTER, "c_dc_f = %g: must be > 0", si->c_dc_f);
-    if (si->dc_supp != 0 && si->dc_supp != 1)
-        return dtc_si_fail(&c, DTC_SI_ERR_CUTOFF, "dc_supp = %d: must be 0 or 1", si->dc_supp);
-    if (si->lpf_comp != 0 && si->lpf_comp != 1)
-        return dtc_si_fail(&c, DTC_SI_ERR_CUTOFF, "lpf_comp = %d: must be 0 or 1", si->lpf_comp);
-    if (si->vmid_cal != 0 && si->vmid_cal != 1)
-        return dtc_si_fail(&c, DTC_SI_ERR_ILIM, "vmid_cal = %d: must be 0 or 1", si->vmid_cal);
-    if (si->cal_hold != 0 && si->cal_hold != 1)
-        return dtc_si_fail(&c, DTC_SI_ERR_ILIM, "cal_hold = %d: must be 0 or 1", si->cal_hold);
-    if (si->polarity_mid != 0 && si->polarity_mid != 1)
-        return dtc_si_fail(&c, DTC_SI_ERR_ILIM, "polarity_mid = %d: must be 0 or 1", si->polarity_mid);
-    if (si->current_limit_auto == 0 &&
-        !(si->current_limit_a >= 0.0 && (si->current_limit_a == 0.0 || si->current_limit_a < si->i_trip_a)))
-        return dtc_si_fail(&c, DTC_SI_ERR_ILIM, "current_limit_a = %g: must be 0 (off) or in (0, i_trip_a = %g)", si->current_limit_a, si->i_trip_a);
-    if (!(si->vdc_min_v >= 0.0 && si->vdc_max_v > si->vdc_min_v))
-        return dtc_si_fail(&c, DTC_SI_ERR_LIMIT, "vdc_min_v = %g, vdc_max_v = %g: need 0 <= min < max", si->vdc_min_v, si->vdc_max_v);
-    if (!(si->flux_ref_wb > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_REFERENCE, "flux_ref_wb = %g: must be > 0", si->flux_ref_wb);
-    if (!(fabs(si->speed_ref_rpm) <= si->speed_limit_rpm)) return dtc_si_fail(&c, DTC_SI_ERR_REFERENCE, "speed_ref_rpm = %g: beyond speed_limit_rpm = %g", si->speed_ref_rpm, si->speed_limit_rpm);
-    if (!(fabs(si->torque_ref_nm) <= si->torque_limit_nm)) return dtc_si_fail(&c, DTC_SI_ERR_REFERENCE, "torque_ref_nm = %g: beyond torque_limit_nm = %g", si->torque_ref_nm, si->torque_limit_nm);
-    if (!(si->adc_i_a_per_count > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_ADC, "adc_i_a_per_count = %g: must be > 0", si->adc_i_a_per_count);
-    if (!(si->adc_vdc_v_per_count > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_ADC, "adc_vdc_v_per_count = %g: must be > 0", si->adc_vdc_v_per_count);
-    if (!(si->adc_vmid_v_per_count > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_ADC, "adc_vmid_v_per_count = %g: must be > 0", si->adc_vmid_v_per_count);
-    for (int k = 0; k < 3; k++) {
-        if (si->adc_i_offset[k] < 0 || si->adc_i_offset[k] > 4095)
-            return dtc_si_fail(&c, DTC_SI_ERR_ADC, "adc_i_offset[%d] = %d: must be 0..4095", k, si->adc_i_offset[k]);
-    }
-    if (si->adc_vdc_offset < 0 || si->adc_vdc_offset > 4095) return dtc_si_fail(&c, DTC_SI_ERR_ADC, "adc_vdc_offset = %d: must be 0..4095", si->adc_vdc_offset);
-    if (si->adc_vmid_offset < 0 || si->adc_vmid_offset > 4095) return dtc_si_fail(&c, DTC_SI_ERR_ADC, "adc_vmid_offset = %d: must be 0..4095", si->adc_vmid_offset);
+    if (si->current_limit_auto == 0 && !(si->current_limit_a == 0.0 || si->current_limit_a < si->i_trip_a))
+        return dtc_si_fail(c, DTC_SI_ERR_ILIM, "current_limit_a", "current_limit_a = %g: must be 0 (off) or in (0, i_trip_a = %g)", si->current_limit_a, si->i_trip_a);
+    if (!(si->vdc_max_v > si->vdc_min_v))
+        return dtc_si_fail(c, DTC_SI_ERR_LIMIT, "vdc_min_v", "vdc_min_v = %g: must be below vdc_max_v = %g", si->vdc_min_v, si->vdc_max_v);
+    if (!(fabs(si->speed_ref_rpm) <= si->speed_limit_rpm)) return dtc_si_fail(c, DTC_SI_ERR_REFERENCE, "speed_ref_rpm", "speed_ref_rpm = %g: beyond speed_limit_rpm = %g", si->speed_ref_rpm, si->speed_limit_rpm);
+    if (!(fabs(si->torque_ref_nm) <= si->torque_limit_nm)) return dtc_si_fail(c, DTC_SI_ERR_REFERENCE, "torque_ref_nm", "torque_ref_nm = %g: beyond torque_limit_nm = %g", si->torque_ref_nm, si->torque_limit_nm);
 
     /* Speed PI, SI. */
     if (si->pi_from_bandwidth) {
-        if (!(si->speed_bw_rad_s > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_GAIN, "speed_bw_rad_s = %g: must be > 0", si->speed_bw_rad_s);
-        if (!(si->inertia_kgm2 > 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_GAIN, "inertia_kgm2 = %g: must be > 0", si->inertia_kgm2);
         if (!(si->speed_bw_rad_s * si->ts_s * si->speed_div < 0.2))
-            return dtc_si_fail(&c, DTC_SI_ERR_GAIN, "speed_bw_rad_s = %g: too fast for the speed period %g s (bw * T < 0.2)", si->speed_bw_rad_s, si->ts_s * si->speed_div);
+            return dtc_si_fail(c, DTC_SI_ERR_GAIN, "speed_bw_rad_s", "speed_bw_rad_s = %g: too fast for the speed period %g s (bw * T < 0.2)", si->speed_bw_rad_s, si->ts_s * si->speed_div);
         /* Crossover at bw with the plant 1/(J s): kp = J bw; PI zero a quarter below: ki = kp bw/4. */
         kp = si->inertia_kgm2 * si->speed_bw_rad_s;
         ki = kp * si->speed_bw_rad_s / 4.0;
     } else {
         kp = si->kp_nm_s_rad;
         ki = si->ki_nm_rad;
-        if (!(kp >= 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_GAIN, "kp_nm_s_rad = %g: must be >= 0", kp);
-        if (!(ki >= 0.0)) return dtc_si_fail(&c, DTC_SI_ERR_GAIN, "ki_nm_rad = %g: must be >= 0", ki);
     }
 
     /* Conversion. */
@@ -369,20 +306,20 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     cfg->board.w_base_mrad_s = to_u32_milli(b.w_base_rad_s);
     cfg->machine.pole_pairs = (uint16_t)si->pole_pairs;
 
-    cfg->machine.rs_iq = dtc_si_to_iq(&c, "rs_ohm", si->rs_ohm, si->rs_ohm / b.z_base_ohm);
+    cfg->machine.rs_iq = dtc_si_to_iq(c, "rs_ohm", si->rs_ohm, si->rs_ohm / b.z_base_ohm);
 
     /* Exact ZOH discretisation of 1/(s + w_c) in pu time. */
     a = exp(-si->lpf_cutoff_rad_s * si->ts_s);
     wc_pu = si->lpf_cutoff_rad_s / b.w_base_rad_s;
-    cfg->est.k_leak_q31 = dtc_si_to_q31(&c, "lpf_cutoff_rad_s (k_leak)", 1.0 - a);
-    cfg->est.k_in_q31 = dtc_si_to_q31(&c, "ts_s (k_in)", (1.0 - a) / wc_pu);
+    cfg->est.k_leak_q31 = dtc_si_to_q31(c, "lpf_cutoff_rad_s (k_leak)", 1.0 - a);
+    cfg->est.k_in_q31 = dtc_si_to_q31(c, "ts_s (k_in)", (1.0 - a) / wc_pu);
 
     cfg->est.deadtime_comp = (uint16_t)si->deadtime_comp;
     cfg->board.td_ts_q15 = (q15_t)lround(32768.0 * si->dead_time_s / si->ts_s);
-    cfg->board.ts_pu_iq = dtc_si_to_iq(&c, "ts_s", si->ts_s, si->ts_s * b.w_base_rad_s);
+    cfg->board.ts_pu_iq = dtc_si_to_iq(c, "ts_s", si->ts_s, si->ts_s * b.w_base_rad_s);
 
     if (!(65536.0 * 65536.0 * si->pole_pairs / enc_counts < 2147483647.5)) /* board.enc_gain_q16's range */
-        return dtc_si_fail(&c, DTC_SI_ERR_ENCODER, "enc_lines = %d: two or fewer counts per electrical turn with %d pole pairs (the electrical angle aliases)", si->enc_lines, si->pole_pairs);
+        return dtc_si_fail(c, DTC_SI_ERR_ENCODER, "enc_lines", "enc_lines = %d: two or fewer counts per electrical turn with %d pole pairs (the electrical angle aliases)", si->enc_lines, si->pole_pairs);
     cfg->board.enc_counts = (uint16_t)enc_counts;
     cfg->board.enc_gain_q16 = (uint32_t)nearbyint(65536.0 * 65536.0 * si->pole_pairs / enc_counts);
     {
@@ -391,21 +328,21 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
         cfg->board.enc_offset = (angle_t)((uint32_t)nearbyint(turns * 65536.0) & 0xFFFFu);
     }
 
-    cfg->board.v_f_iq = dtc_si_to_iq(&c, "v_f_v", si->v_f_v, si->v_f_v / b.v_base_v);
-    cfg->board.v_ce_iq = dtc_si_to_iq(&c, "v_ce_v", si->v_ce_v, si->v_ce_v / b.v_base_v);
-    cfg->board.v_d_iq = dtc_si_to_iq(&c, "v_d_v", si->v_d_v, si->v_d_v / b.v_base_v);
-    cfg->board.r_on_iq = dtc_si_to_iq(&c, "r_on_ohm", si->r_on_ohm, si->r_on_ohm / b.z_base_ohm);
+    cfg->board.v_f_iq = dtc_si_to_iq(c, "v_f_v", si->v_f_v, si->v_f_v / b.v_base_v);
+    cfg->board.v_ce_iq = dtc_si_to_iq(c, "v_ce_v", si->v_ce_v, si->v_ce_v / b.v_base_v);
+    cfg->board.v_d_iq = dtc_si_to_iq(c, "v_d_v", si->v_d_v, si->v_d_v / b.v_base_v);
+    cfg->board.r_on_iq = dtc_si_to_iq(c, "r_on_ohm", si->r_on_ohm, si->r_on_ohm / b.z_base_ohm);
 
     if (si->law != DTC_LAW_PM_ITC) {
         /* the switching table and comparators of the table-driven laws (all but the ITC) */
         dtc_table_cfg_t *tab = dtc_law_is_im((uint16_t)si->law) != 0U ? &cfg->u.im.sw : &cfg->u.pm_dtc.sw;
         tab->sstp_table = (uint16_t)si->sstp_table;
-        tab->flux_band_iq = dtc_si_to_iq(&c, "flux_band_wb", si->flux_band_wb, si->flux_band_wb / b.psi_base_wb);
-        tab->torque_band_iq = dtc_si_to_iq(&c, "torque_band_nm", si->torque_band_nm, si->torque_band_nm / b.t_base_nm);
+        tab->flux_band_iq = dtc_si_to_iq(c, "flux_band_wb", si->flux_band_wb, si->flux_band_wb / b.psi_base_wb);
+        tab->torque_band_iq = dtc_si_to_iq(c, "torque_band_nm", si->torque_band_nm, si->torque_band_nm / b.t_base_nm);
     }
 
     cfg->speed.speed_div = (uint16_t)si->speed_div;
-    cfg->speed.speed_k_iq = dtc_si_to_iq(&c, "enc_lines (speed gain)", enc_counts,
+    cfg->speed.speed_k_iq = dtc_si_to_iq(c, "enc_lines (speed gain)", enc_counts,
                             2.0 * M_PI * si->pole_pairs / (enc_counts * tsp * b.w_base_rad_s));
     cfg->speed.speed_min_counts = (uint16_t)si->speed_min_counts;
     {
@@ -416,33 +353,33 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
     {
         const double n_os = si->overspeed_rpm == 0.0 ? dtc_overspeed_default_rpm(si) : si->overspeed_rpm;
         cfg->prot.overspeed_iq = n_os < 0.0 ? 0
-                                 : dtc_si_to_iq(&c, "overspeed_rpm", n_os, n_os * M_PI / 30.0 * si->pole_pairs / b.w_base_rad_s);
+                                 : dtc_si_to_iq(c, "overspeed_rpm", n_os, n_os * M_PI / 30.0 * si->pole_pairs / b.w_base_rad_s);
     }
     /* kp: N.m per mech rad/s -> pu torque per pu speed: w_mech = w_pu w_base / p. */
-    cfg->speed.kp_iq = dtc_si_to_iq(&c, "kp_nm_s_rad", kp, kp * b.w_base_rad_s / (si->pole_pairs * b.t_base_nm));
-    cfg->speed.ki_ts_iq = dtc_si_to_iq(&c, "ki_nm_rad", ki, ki * tsp * b.w_base_rad_s / (si->pole_pairs * b.t_base_nm));
-    cfg->speed.torque_limit_iq = dtc_si_to_iq(&c, "torque_limit_nm", si->torque_limit_nm, si->torque_limit_nm / b.t_base_nm);
+    cfg->speed.kp_iq = dtc_si_to_iq(c, "kp_nm_s_rad", kp, kp * b.w_base_rad_s / (si->pole_pairs * b.t_base_nm));
+    cfg->speed.ki_ts_iq = dtc_si_to_iq(c, "ki_nm_rad", ki, ki * tsp * b.w_base_rad_s / (si->pole_pairs * b.t_base_nm));
+    cfg->speed.torque_limit_iq = dtc_si_to_iq(c, "torque_limit_nm", si->torque_limit_nm, si->torque_limit_nm / b.t_base_nm);
     cfg->speed.torque_trim_k_q15 = si->torque_trim_tau_s == 0.0 ? 0
                              : (q15_t)lround(32768.0 * si->ts_s / si->torque_trim_tau_s);
-    cfg->speed.speed_limit_iq = dtc_si_to_iq(&c, "speed_limit_rpm", si->speed_limit_rpm,
+    cfg->speed.speed_limit_iq = dtc_si_to_iq(c, "speed_limit_rpm", si->speed_limit_rpm,
                                 si->speed_limit_rpm * M_PI / 30.0 * si->pole_pairs / b.w_base_rad_s);
 
-    cfg->speed.flux_ref_iq = dtc_si_to_iq(&c, "flux_ref_wb", si->flux_ref_wb, si->flux_ref_wb / b.psi_base_wb);
-    cfg->speed.speed_ref_iq = dtc_si_to_iq(&c, "speed_ref_rpm", si->speed_ref_rpm,
+    cfg->speed.flux_ref_iq = dtc_si_to_iq(c, "flux_ref_wb", si->flux_ref_wb, si->flux_ref_wb / b.psi_base_wb);
+    cfg->speed.speed_ref_iq = dtc_si_to_iq(c, "speed_ref_rpm", si->speed_ref_rpm,
                               si->speed_ref_rpm * M_PI / 30.0 * si->pole_pairs / b.w_base_rad_s);
-    cfg->speed.torque_ref_iq = dtc_si_to_iq(&c, "torque_ref_nm", si->torque_ref_nm, si->torque_ref_nm / b.t_base_nm);
+    cfg->speed.torque_ref_iq = dtc_si_to_iq(c, "torque_ref_nm", si->torque_ref_nm, si->torque_ref_nm / b.t_base_nm);
 
-    cfg->board.adc_i_gain_iq = dtc_si_to_iq(&c, "adc_i_a_per_count", si->adc_i_a_per_count, si->adc_i_a_per_count / b.i_base_a);
+    cfg->board.adc_i_gain_iq = dtc_si_to_iq(c, "adc_i_a_per_count", si->adc_i_a_per_count, si->adc_i_a_per_count / b.i_base_a);
     for (int k = 0; k < 3; k++) {
         cfg->board.adc_i_offset[k] = (uint16_t)si->adc_i_offset[k];
     }
-    cfg->board.adc_vdc_gain_iq = dtc_si_to_iq(&c, "adc_vdc_v_per_count", si->adc_vdc_v_per_count, si->adc_vdc_v_per_count / b.v_base_v);
+    cfg->board.adc_vdc_gain_iq = dtc_si_to_iq(c, "adc_vdc_v_per_count", si->adc_vdc_v_per_count, si->adc_vdc_v_per_count / b.v_base_v);
     cfg->board.adc_vdc_offset = (uint16_t)si->adc_vdc_offset;
-    cfg->board.adc_vmid_gain_iq = dtc_si_to_iq(&c, "adc_vmid_v_per_count", si->adc_vmid_v_per_count, si->adc_vmid_v_per_count / b.v_base_v);
+    cfg->board.adc_vmid_gain_iq = dtc_si_to_iq(c, "adc_vmid_v_per_count", si->adc_vmid_v_per_count, si->adc_vmid_v_per_count / b.v_base_v);
     cfg->board.adc_vmid_offset = (uint16_t)si->adc_vmid_offset;
-    cfg->prot.i_trip_iq = dtc_si_to_iq(&c, "i_trip_a", si->i_trip_a, si->i_trip_a / b.i_base_a);
-    cfg->prot.vdc_max_iq = dtc_si_to_iq(&c, "vdc_max_v", si->vdc_max_v, si->vdc_max_v / b.v_base_v);
-    cfg->prot.vdc_min_iq = dtc_si_to_iq(&c, "vdc_min_v", si->vdc_min_v, si->vdc_min_v / b.v_base_v);
+    cfg->prot.i_trip_iq = dtc_si_to_iq(c, "i_trip_a", si->i_trip_a, si->i_trip_a / b.i_base_a);
+    cfg->prot.vdc_max_iq = dtc_si_to_iq(c, "vdc_max_v", si->vdc_max_v, si->vdc_max_v / b.v_base_v);
+    cfg->prot.vdc_min_iq = dtc_si_to_iq(c, "vdc_min_v", si->vdc_min_v, si->vdc_min_v / b.v_base_v);
     /* the mid-point calibration only where a mid-point is measured (FSTP) and used: by the
      * voltage model's reconstruction and its mid-point regulation. The current model uses
      * neither, and the calibration's 51 ms with the gates off let an active load (a hoist, a
@@ -452,43 +389,48 @@ int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, 
                                              si->estimator == DTC_EST_VOLTAGE
                                          ? 1
                                          : 0);
-    if (si->law == DTC_LAW_PM_DTC && c.code == DTC_SI_OK) {
-        dtc_si_pm_dtc_convert(&c, si, &b, cfg);
+    if (si->law == DTC_LAW_PM_DTC && c->code == DTC_SI_OK) {
+        dtc_si_pm_dtc_convert(c, si, &b, cfg);
     }
-    if (si->law == DTC_LAW_PM_ITC && c.code == DTC_SI_OK) {
-        dtc_si_pm_itc_convert(&c, si, &b, cfg);
+    if (si->law == DTC_LAW_PM_ITC && c->code == DTC_SI_OK) {
+        dtc_si_pm_itc_convert(c, si, &b, cfg);
     }
-    if (c.code != DTC_SI_OK) {
-        return c.code;
+    if (c->code != DTC_SI_OK) {
+        return c->code;
     }
 
-    if (si->i_sensors3 != 0 && si->i_sensors3 != 1) {
-        return dtc_si_fail(&c, DTC_SI_ERR_LIMIT, "i_sensors3 = %d: must be 0 or 1", si->i_sensors3);
-    }
-    if (si->fault_detect != 0 && si->fault_detect != 1) {
-        return dtc_si_fail(&c, DTC_SI_ERR_LIMIT, "fault_detect = %d: must be 0 or 1", si->fault_detect);
-    }
-    if (si->reconfig_relay != 0 && si->reconfig_relay != 1) {
-        return dtc_si_fail(&c, DTC_SI_ERR_LIMIT, "reconfig_relay = %d: must be 0 or 1", si->reconfig_relay);
-    }
-    if (si->reconfig_relay == 1 && !(si->relay_delay_s > 0.0 && si->relay_delay_s < 1.0)) {
-        return dtc_si_fail(&c, DTC_SI_ERR_LIMIT, "relay_delay_s = %g: must be in (0, 1) s with a relay fitted",
-                    si->relay_delay_s);
-    }
     cfg->board.i_sensors3 = (uint16_t)si->i_sensors3;
-    dtc_fault_levels(&c, si, &b, cfg);
+    dtc_fault_levels(c, si, &b, cfg);
 
-    if (dtc_law_is_im((uint16_t)si->law) != 0U && c.code == DTC_SI_OK) {
-        dtc_si_im_convert(&c, si, &b, cfg);
+    if (dtc_law_is_im((uint16_t)si->law) != 0U && c->code == DTC_SI_OK) {
+        dtc_si_im_convert(c, si, &b, cfg);
     }
-    if (c.code != DTC_SI_OK) {
-        return c.code;
+    if (c->code != DTC_SI_OK) {
+        return c->code;
     }
     fw = law_check(cfg, &fw_field);
     if (fw != DTC_OK) {
-        return dtc_si_fail(&c, DTC_SI_ERR_FIRMWARE, "firmware validation refused the converted configuration (dtc_err %d, field %s)", fw, fw_field);
+        return dtc_si_fail(c, DTC_SI_ERR_FIRMWARE, "", "firmware validation refused the converted configuration (dtc_err %d, field %s)", fw, fw_field);
     }
     return DTC_SI_OK;
+}
+
+int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, size_t msg_len)
+{
+    dtc_si_conv_t c = {msg, msg_len, DTC_SI_OK, ""}; /* no message formatted without msg */
+    if (msg != NULL && msg_len > 0U) {
+        msg[0] = '\0';
+    }
+    return convert(si, cfg, &c);
+}
+
+int dtc_config_from_si_err(const dtc_config_si_t *si, dtc_config_t *cfg, dtc_si_error_t *err)
+{
+    dtc_si_conv_t c = {err->msg, sizeof err->msg, DTC_SI_OK, ""};
+    err->msg[0] = '\0';
+    err->code = convert(si, cfg, &c);
+    err->field = c.field;
+    return err->code;
 }
 
 /* ---- C emitter ----------------------------------------------------------------------------- */

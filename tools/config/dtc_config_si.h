@@ -11,7 +11,9 @@
  *                             LPF 5 rad/s, zero hysteresis bands, FSTP, voltage model with the
  *                             proposed compensation (Table VI).
  *   dtc_config_from_si()      SI -> dtc_config_t; refuses what cannot be represented with an
- *                             enum dtc_si_err code AND a message naming the field.
+ *                             enum dtc_si_err code, the refused member (dtc_config_from_si_err)
+ *                             and a message naming it. The members, their units and plain
+ *                             ranges are described once in dtc_si_params.h.
  *   dtc_config_emit_c()       writes a dtc_config_t as a C source file for a target build.
  *
  * Per-unit bases: see firmware/dtc/dtc_base.h (V_base, I_base, w_base chosen here).
@@ -325,8 +327,18 @@ double dtc_itc_vmid_wm_rad_s(const dtc_config_si_t *si);
  * SSTP PM drive with reconfig_relay = 1. */
 int dtc_config_post_fault_si(const dtc_config_si_t *si, dtc_config_si_t *post);
 
-/* Converts si to cfg. Returns DTC_SI_OK or an enum dtc_si_err code; on error msg (if not null)
- * receives a message naming the offending field, e.g. "ls_h = -0.001: inductance must be > 0". */
+/* A refusal of the converter: the code, the refused member and the message. */
+typedef struct {
+    int code;          /* enum dtc_si_err; DTC_SI_OK when converted */
+    const char *field; /* the refused dtc_config_si_t member, exactly a row name of dtc_si_params.h
+                        * (static storage: look its keys, unit and range up there); "" when no
+                        * one member is at fault (a null argument, the firmware's own check) */
+    char msg[256];     /* a message naming the field, e.g. "ls_h = -0.001: must be > 0" */
+} dtc_si_error_t;
+
+/* Converts si to cfg. Returns DTC_SI_OK or an enum dtc_si_err code, and fills *err (not null). */
+int dtc_config_from_si_err(const dtc_config_si_t *si, dtc_config_t *cfg, dtc_si_error_t *err);
+/* The same with the message only: msg (if not null) receives it. */
 int dtc_config_from_si(const dtc_config_si_t *si, dtc_config_t *cfg, char *msg, size_t msg_len);
 
 /* Writes cfg as a C source file defining `const dtc_config_t <symbol> = {...};` with each

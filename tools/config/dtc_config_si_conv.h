@@ -15,18 +15,24 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-/* One conversion's error state: the first failure's code and message win. */
+/* One conversion's error state: the first failure's code, field and message win. */
 typedef struct {
     char *msg;
     size_t len;
     int code;
+    const char *field; /* the refused member (a row name of dtc_si_params.h), "" if none */
 } dtc_si_conv_t;
 
-/* Records the failure (the first one only) and returns code. */
-int dtc_si_fail(dtc_si_conv_t *c, int code, const char *fmt, ...);
-/* value (in pu) -> IQ, refusing overflow and a non-zero value that rounds to zero (field names
- * the SI field, si_value its SI value, for the message). */
-iq_t dtc_si_to_iq(dtc_si_conv_t *c, const char *field, double si_value, double pu);
+/* Records the failure (the first one only) of the dtc_config_si_t member field (its row of
+ * dtc_si_params.h names it in the error; "" when no one member is at fault) and returns code. */
+int dtc_si_fail(dtc_si_conv_t *c, int code, const char *field, const char *fmt, ...);
+/* The plain range checks of every row of dtc_si_params.h that applies to si's law and switches,
+ * in row order (dtc_si_params.c); returns the first failure's code, or DTC_SI_OK. */
+int dtc_si_params_check(dtc_si_conv_t *c, const dtc_config_si_t *si);
+/* value (in pu) -> IQ, refusing overflow and a non-zero value that rounds to zero (field: the
+ * SI member the value comes from, optionally followed by what was derived from it, "ls_h (1/l_s)";
+ * value its SI value, for the message). */
+iq_t dtc_si_to_iq(dtc_si_conv_t *c, const char *field, double value, double pu);
 /* A gain in (0, 1) -> Q31, refusing what is not representable. */
 q31_t dtc_si_to_q31(dtc_si_conv_t *c, const char *field, double v);
 

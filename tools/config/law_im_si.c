@@ -91,20 +91,16 @@ double dtc_im_torque_at_current_nm(const dtc_config_si_t *si, double i_a)
 int dtc_si_im_check(dtc_si_conv_t *c, const dtc_config_si_t *si)
 {
     /* the PM law's machine fields are not this law's (its machine: rr_ohm, lls_h, llr_h, lm_h) */
-    if (si->ls_h != 0.0) return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "ls_h = %g: a PM machine's field, not one of the IM law's (rr_ohm, lls_h, llr_h, lm_h); must be 0", si->ls_h);
-    if (si->psi_m_wb != 0.0) return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "psi_m_wb = %g: a PM machine's field, not one of the IM law's (rr_ohm, lls_h, llr_h, lm_h); must be 0", si->psi_m_wb);
-    if (!(si->rr_ohm > 0.0)) return dtc_si_fail(c, DTC_SI_ERR_MACHINE, "rr_ohm = %g: rotor resistance must be > 0", si->rr_ohm);
-    if (!(si->lm_h > 0.0)) return dtc_si_fail(c, DTC_SI_ERR_MACHINE, "lm_h = %g: magnetising inductance must be > 0", si->lm_h);
-    if (!(si->lls_h > 0.0)) return dtc_si_fail(c, DTC_SI_ERR_MACHINE, "lls_h = %g: leakage inductance must be > 0", si->lls_h);
-    if (!(si->llr_h > 0.0)) return dtc_si_fail(c, DTC_SI_ERR_MACHINE, "llr_h = %g: leakage inductance must be > 0", si->llr_h);
+    if (si->ls_h != 0.0) return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "ls_h", "ls_h = %g: a PM machine's field, not one of the IM law's (rr_ohm, lls_h, llr_h, lm_h); must be 0", si->ls_h);
+    if (si->psi_m_wb != 0.0) return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "psi_m_wb", "psi_m_wb = %g: a PM machine's field, not one of the IM law's (rr_ohm, lls_h, llr_h, lm_h); must be 0", si->psi_m_wb);
     if (si->estimator != DTC_EST_VOLTAGE && si->estimator != DTC_EST_IMPROVED)
-        return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "estimator = %d: the IM law has DTC_EST_VOLTAGE or DTC_EST_IMPROVED", si->estimator);
+        return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "estimator", "estimator = %d: the IM law has DTC_EST_VOLTAGE or DTC_EST_IMPROVED (DTC_EST_CURRENT, Hoang eqs. 8-9, needs a magnet)", si->estimator);
     if (si->topology != DTC_TOPO_SSTP)
-        return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "topology = %d: the IM law needs the six-switch inverter (DTC_TOPO_SSTP)", si->topology);
+        return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "topology", "topology = %d: the IM law needs the six-switch inverter (DTC_TOPO_SSTP)", si->topology);
     if (si->sstp_table < DTC_ST_BASIC || si->sstp_table > DTC_ST_SPEED)
-        return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "sstp_table = %d: must be DTC_ST_BASIC..DTC_ST_SPEED", si->sstp_table);
+        return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "sstp_table", "sstp_table = %d: must be DTC_ST_BASIC..DTC_ST_SPEED", si->sstp_table);
     if (si->speed_sensor != DTC_SPEED_ENCODER && si->speed_sensor != DTC_SPEED_NONE)
-        return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "speed_sensor = %d: DTC_SPEED_ENCODER, or DTC_SPEED_NONE with the IM law", si->speed_sensor);
+        return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "speed_sensor", "speed_sensor = %d: DTC_SPEED_ENCODER, or DTC_SPEED_NONE with the IM law", si->speed_sensor);
     return DTC_SI_OK;
 }
 
@@ -131,7 +127,7 @@ void dtc_si_im_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_ba
         const double ilim = dtc_si_ilim_convert(c, si, b, cfg);
         if (ilim > 0.0) {
             const double t_i = dtc_im_torque_at_current_nm(si, ilim - dtc_ilim_step_a(si));
-            if (!(t_i > 0.0)) { dtc_si_fail(c, DTC_SI_ERR_ILIM, "i_trip_a = %g: the current limit %g A less one period's rise %g A leaves no torque above the magnetising current", si->i_trip_a, ilim, dtc_ilim_step_a(si)); return; }
+            if (!(t_i > 0.0)) { dtc_si_fail(c, DTC_SI_ERR_ILIM, "i_trip_a", "i_trip_a = %g: the current limit %g A less one period's rise %g A leaves no torque above the magnetising current", si->i_trip_a, ilim, dtc_ilim_step_a(si)); return; }
             if (t_i < si->torque_limit_nm) {
                 /* a larger request is held at the limit, as the firmware clamps a reference set */
                 cfg->speed.torque_limit_iq = dtc_si_to_iq(c, "torque_limit_nm (the current limit's torque)", t_i, t_i / b->t_base_nm);
@@ -140,16 +136,10 @@ void dtc_si_im_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_ba
             }
         }
     }
-    if (!(si->psir_ref_wb >= 0.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "psir_ref_wb = %g: must be >= 0 (0 = stator-flux reference)", si->psir_ref_wb); return; }
-    if (!(si->tau_lo_s > si->ts_s && si->tau_hi_s > si->ts_s)) { dtc_si_fail(c, DTC_SI_ERR_IM, "tau_lo_s = %g, tau_hi_s = %g: must be longer than ts_s", si->tau_lo_s, si->tau_hi_s); return; }
-    if (!(si->tau_w_lo_rpm >= 0.0 && si->tau_w_hi_rpm >= si->tau_w_lo_rpm)) { dtc_si_fail(c, DTC_SI_ERR_IM, "tau_w_hi_rpm = %g: need 0 <= tau_w_lo_rpm <= tau_w_hi_rpm", si->tau_w_hi_rpm); return; }
-    if (!(si->table_speed_rpm >= 0.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "table_speed_rpm = %g: must be >= 0 (0 = derived)", si->table_speed_rpm); return; }
-    if (!(si->speed_filter_s > si->ts_s * si->speed_div)) { dtc_si_fail(c, DTC_SI_ERR_IM, "speed_filter_s = %g: must be longer than the speed period ts_s * speed_div", si->speed_filter_s); return; }
-    if (!(si->magn_frac > 0.0 && si->magn_frac < 1.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "magn_frac = %g: must be in (0, 1)", si->magn_frac); return; }
-    if (si->flux_weakening != 0 && si->flux_weakening != 1) { dtc_si_fail(c, DTC_SI_ERR_IM, "flux_weakening = %d: must be 0 or 1", si->flux_weakening); return; }
-    if (si->fw_window < 20 || si->fw_window > 65535) { dtc_si_fail(c, DTC_SI_ERR_IM, "fw_window = %d: must be 20..65535 (section 12.3: at most one flux-reference change per 20 periods)", si->fw_window); return; }
-    if (!(si->fw_step_frac > 0.0 && si->fw_step_frac < 1.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "fw_step_frac = %g: must be in (0, 1)", si->fw_step_frac); return; }
-    if (!(si->fw_psi_min_frac > 0.0 && si->fw_psi_min_frac <= 1.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "fw_psi_min_frac = %g: must be in (0, 1]", si->fw_psi_min_frac); return; }
+    if (!(si->tau_lo_s > si->ts_s)) { dtc_si_fail(c, DTC_SI_ERR_IM, "tau_lo_s", "tau_lo_s = %g: must be longer than the control period ts_s = %g s", si->tau_lo_s, si->ts_s); return; }
+    if (!(si->tau_hi_s > si->ts_s)) { dtc_si_fail(c, DTC_SI_ERR_IM, "tau_hi_s", "tau_hi_s = %g: must be longer than the control period ts_s = %g s", si->tau_hi_s, si->ts_s); return; }
+    if (!(si->tau_w_hi_rpm >= si->tau_w_lo_rpm)) { dtc_si_fail(c, DTC_SI_ERR_IM, "tau_w_hi_rpm", "tau_w_hi_rpm = %g: must not be below tau_w_lo_rpm = %g", si->tau_w_hi_rpm, si->tau_w_lo_rpm); return; }
+    if (!(si->speed_filter_s > si->ts_s * si->speed_div)) { dtc_si_fail(c, DTC_SI_ERR_IM, "speed_filter_s", "speed_filter_s = %g: must be longer than the speed period ts_s * speed_div", si->speed_filter_s); return; }
 
     im->rr_iq = dtc_si_to_iq(c, "rr_ohm", si->rr_ohm, si->rr_ohm / b->z_base_ohm);
     im->sigma_ls_iq = dtc_si_to_iq(c, "lls_h (sigma L_s)", si->lls_h, sigma * ls / b->l_base_h);
@@ -168,22 +158,21 @@ void dtc_si_im_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_ba
         const double slope = (si->ts_s / si->tau_hi_s - si->ts_s / si->tau_lo_s) /
                              ((si->tau_w_hi_rpm - si->tau_w_lo_rpm) * rpm_pu);
         const double r = nearbyint(slope * 2147483648.0);
-        if (!(fabs(r) <= 2147483647.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "tau_w_hi_rpm = %g: the Ts/tau slope overflows Q31", si->tau_w_hi_rpm); return; }
+        if (!(fabs(r) <= 2147483647.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "tau_w_hi_rpm", "tau_w_hi_rpm = %g: the Ts/tau slope overflows Q31", si->tau_w_hi_rpm); return; }
         cfg->u.im.est.k_slope_q31 = (q31_t)r;
     }
 
     if (si->law == DTC_LAW_IM_SFVC || si->law == DTC_LAW_IM_DFOC) {
         /* SVM schemes (im_sfvc.c, im_dfoc.c): one SVM carrier period per control period */
-        if (!(si->carrier_hz == 0.0 || fabs(si->carrier_hz * si->ts_s - 1.0) < 1e-9)) { dtc_si_fail(c, DTC_SI_ERR_IM, "carrier_hz = %g: the SVM carrier period must equal the control period ts_s = %g s (one PWM period per control period; 0 = 1/ts_s)", si->carrier_hz, si->ts_s); return; }
-        if (si->svm_mode != 0 && si->svm_mode != 1) { dtc_si_fail(c, DTC_SI_ERR_IM, "svm_mode = %d: must be 0 (symmetric) or 1 (two-phase)", si->svm_mode); return; }
-        if (!(si->psir_ref_wb > 0.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "psir_ref_wb = %g: the stator-flux vector control (Casadei eq. 18) and the rotor-flux-oriented control take the rotor-flux command: must be > 0", si->psir_ref_wb); return; }
-        if (si->flux_weakening != 0) { dtc_si_fail(c, DTC_SI_ERR_IM, "flux_weakening = %d: section 12's flux weakening watches the DTC torque comparator; not with SFVC or DFOC", si->flux_weakening); return; }
+        if (!(si->carrier_hz == 0.0 || fabs(si->carrier_hz * si->ts_s - 1.0) < 1e-9)) { dtc_si_fail(c, DTC_SI_ERR_IM, "carrier_hz", "carrier_hz = %g: the SVM carrier period must equal the control period ts_s = %g s (one PWM period per control period; 0 = 1/ts_s)", si->carrier_hz, si->ts_s); return; }
+        if (!(si->psir_ref_wb > 0.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "psir_ref_wb", "psir_ref_wb = %g: the stator-flux vector control (Casadei eq. 18) and the rotor-flux-oriented control take the rotor-flux command: must be > 0", si->psir_ref_wb); return; }
+        if (si->flux_weakening != 0) { dtc_si_fail(c, DTC_SI_ERR_IM, "flux_weakening", "flux_weakening = %d: section 12's flux weakening watches the DTC torque comparator; not with SFVC or DFOC", si->flux_weakening); return; }
         cfg->u.im.svm_mode = (uint16_t)si->svm_mode;
     }
     if (si->law == DTC_LAW_IM_SFVC) {
         /* the flux regulator's K_p (Casadei eq. 24) in pu voltage per pu flux = K_p / w_base */
         const double kp = si->sfvc_kp_per_s > 0.0 ? si->sfvc_kp_per_s : 0.5 / si->ts_s;
-        if (!(si->sfvc_kp_per_s >= 0.0 && si->sfvc_kp_per_s * si->ts_s <= 1.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "sfvc_kp_per_s = %g: must be in (0, 1/ts_s = %g] (0 = derived)", si->sfvc_kp_per_s, 1.0 / si->ts_s); return; }
+        if (!(si->sfvc_kp_per_s * si->ts_s <= 1.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "sfvc_kp_per_s", "sfvc_kp_per_s = %g: must be at most 1/ts_s = %g 1/s, the deadbeat gain (0 = derived)", si->sfvc_kp_per_s, 1.0 / si->ts_s); return; }
         cfg->u.im.sfvc.kp_iq = dtc_si_to_iq(c, "sfvc_kp_per_s", kp, kp / b->w_base_rad_s);
     }
     if (si->law == DTC_LAW_IM_DFOC) {
@@ -204,8 +193,8 @@ void dtc_si_im_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_ba
         const double sls = sigma * ls;
         const double kp_ohm = si->dfoc_zeta > 0.0 ? 2.0 * si->dfoc_zeta * wc * sls - si->rs_ohm : sls * wc;
         const double ki_ohm_per_s = sls * wc * wc;
-        if (!(si->dfoc_bw_hz >= 0.0 && si->dfoc_bw_hz * 6.0 * si->ts_s < 1.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "dfoc_bw_hz = %g: must be 0 (derived) or below 1/(6 ts_s) = %g Hz, where the loop's 1.5 ts_s delay leaves no phase margin", si->dfoc_bw_hz, 1.0 / (6.0 * si->ts_s)); return; }
-        if (!(si->dfoc_zeta >= 0.0 && si->dfoc_zeta <= 10.0 && kp_ohm > 0.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "dfoc_zeta = %g: must be 0 (the zero on the stator pole) or in (0, 10] with K_p = 2 zeta w_c sigma L_s - R_s > 0 (here %g ohm)", si->dfoc_zeta, kp_ohm); return; }
+        if (!(si->dfoc_bw_hz >= 0.0 && si->dfoc_bw_hz * 6.0 * si->ts_s < 1.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "dfoc_bw_hz", "dfoc_bw_hz = %g: must be 0 (derived) or below 1/(6 ts_s) = %g Hz, where the loop's 1.5 ts_s delay leaves no phase margin", si->dfoc_bw_hz, 1.0 / (6.0 * si->ts_s)); return; }
+        if (!(si->dfoc_zeta >= 0.0 && si->dfoc_zeta <= 10.0 && kp_ohm > 0.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "dfoc_zeta", "dfoc_zeta = %g: must be 0 (the zero on the stator pole) or in (0, 10] with K_p = 2 zeta w_c sigma L_s - R_s > 0 (here %g ohm)", si->dfoc_zeta, kp_ohm); return; }
         if (si->dfoc_zeta > 0.0) {
             cfg->u.im.dfoc.kp_iq = dtc_si_to_iq(c, "lls_h (DFOC K_p = 2 zeta w_c sigma L_s - R_s)", si->lls_h, kp_ohm / b->z_base_ohm);
             cfg->u.im.dfoc.ki_ts_iq = dtc_si_to_iq(c, "lls_h (DFOC K_i Ts = sigma L_s w_c^2 Ts)", si->lls_h, ki_ohm_per_s / b->z_base_ohm * si->ts_s);
@@ -226,8 +215,8 @@ void dtc_si_im_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_ba
         const double dt_full = 1.5 * si->pole_pairs * m / (sigma * ls * lr) * (2.0 / 3.0 * si->vdc_v) * psir * si->ts_s;
         const double b2 = si->dsvm_torque_band2_nm > 0.0 ? si->dsvm_torque_band2_nm
                                                          : fmax(2.0 * dt_full, si->torque_band_nm);
-        if (!(si->dsvm_torque_band2_nm == 0.0 || si->dsvm_torque_band2_nm >= si->torque_band_nm)) { dtc_si_fail(c, DTC_SI_ERR_BAND, "dsvm_torque_band2_nm = %g: must be 0 (derived) or >= torque_band_nm = %g", si->dsvm_torque_band2_nm, si->torque_band_nm); return; }
-        if (si->flux_weakening != 0) { dtc_si_fail(c, DTC_SI_ERR_IM, "flux_weakening = %d: section 12's flux weakening watches the three-level torque comparator; not with DSVM", si->flux_weakening); return; }
+        if (!(si->dsvm_torque_band2_nm == 0.0 || si->dsvm_torque_band2_nm >= si->torque_band_nm)) { dtc_si_fail(c, DTC_SI_ERR_BAND, "dsvm_torque_band2_nm", "dsvm_torque_band2_nm = %g: must be 0 (derived) or >= torque_band_nm = %g", si->dsvm_torque_band2_nm, si->torque_band_nm); return; }
+        if (si->flux_weakening != 0) { dtc_si_fail(c, DTC_SI_ERR_IM, "flux_weakening", "flux_weakening = %d: section 12's flux weakening watches the three-level torque comparator; not with DSVM", si->flux_weakening); return; }
         cfg->u.im.dsvm.torque_band2_iq = dtc_si_to_iq(c, "dsvm_torque_band2_nm", b2, b2 / b->t_base_nm);
     }
     {
@@ -302,10 +291,10 @@ void dtc_si_im_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_ba
         const double i_m = psir / m;
         const double rho = (si->rated_current_a - i_m) * ls / tau_r;
         double n_ramp, n;
-        if (!(si->rated_current_a > i_m)) { dtc_si_fail(c, DTC_SI_ERR_IM, "rated_current_a = %g: must exceed the magnetising current phi_r*/M = %g A", si->rated_current_a, i_m); return; }
+        if (!(si->rated_current_a > i_m)) { dtc_si_fail(c, DTC_SI_ERR_IM, "rated_current_a", "rated_current_a = %g: must exceed the magnetising current phi_r*/M = %g A", si->rated_current_a, i_m); return; }
         n_ramp = ceil(psis_final / (rho * si->ts_s));
         n = n_ramp + ceil(tau_r * log(1.0 / (1.0 - si->magn_frac)) / si->ts_s);
-        if (!(n >= 1.0 && n <= 65535.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "magn_frac = %g: the magnetisation time %g s is not 1..65535 periods of ts_s", si->magn_frac, n * si->ts_s); return; }
+        if (!(n >= 1.0 && n <= 65535.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "magn_frac", "magn_frac = %g: the magnetisation time %g s is not 1..65535 periods of ts_s", si->magn_frac, n * si->ts_s); return; }
         cfg->u.im.ref.magn_periods = (uint16_t)n;
         cfg->u.im.ref.magn_ramp_iq = dtc_si_to_iq(c, "rated_current_a (magnetising ramp)", si->rated_current_a,
                                            rho * si->ts_s / b->psi_base_wb);

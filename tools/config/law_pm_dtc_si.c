@@ -108,18 +108,16 @@ int dtc_config_post_fault_si(const dtc_config_si_t *si, dtc_config_si_t *post)
 int dtc_si_pm_dtc_check(dtc_si_conv_t *c, const dtc_config_si_t *si)
 {
     /* the induction machine's fields are not this law's (its machine: ls_h, psi_m_wb) */
-    if (si->rr_ohm != 0.0) return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "rr_ohm = %g: an induction machine's field, not one of the PM law's (ls_h, psi_m_wb); must be 0", si->rr_ohm);
-    if (si->lls_h != 0.0) return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "lls_h = %g: an induction machine's field, not one of the PM law's (ls_h, psi_m_wb); must be 0", si->lls_h);
-    if (si->llr_h != 0.0) return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "llr_h = %g: an induction machine's field, not one of the PM law's (ls_h, psi_m_wb); must be 0", si->llr_h);
-    if (si->lm_h != 0.0) return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "lm_h = %g: an induction machine's field, not one of the PM law's (ls_h, psi_m_wb); must be 0", si->lm_h);
-    if (!(si->ls_h > 0.0)) return dtc_si_fail(c, DTC_SI_ERR_MACHINE, "ls_h = %g: inductance must be > 0", si->ls_h);
-    if (!(si->psi_m_wb > 0.0)) return dtc_si_fail(c, DTC_SI_ERR_MACHINE, "psi_m_wb = %g: magnet flux must be > 0", si->psi_m_wb);
+    if (si->rr_ohm != 0.0) return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "rr_ohm", "rr_ohm = %g: an induction machine's field, not one of the PM law's (ls_h, psi_m_wb); must be 0", si->rr_ohm);
+    if (si->lls_h != 0.0) return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "lls_h", "lls_h = %g: an induction machine's field, not one of the PM law's (ls_h, psi_m_wb); must be 0", si->lls_h);
+    if (si->llr_h != 0.0) return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "llr_h", "llr_h = %g: an induction machine's field, not one of the PM law's (ls_h, psi_m_wb); must be 0", si->llr_h);
+    if (si->lm_h != 0.0) return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "lm_h", "lm_h = %g: an induction machine's field, not one of the PM law's (ls_h, psi_m_wb); must be 0", si->lm_h);
     if (si->estimator != DTC_EST_VOLTAGE && si->estimator != DTC_EST_CURRENT)
-        return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "estimator = %d: the PM law has DTC_EST_VOLTAGE or DTC_EST_CURRENT", si->estimator);
+        return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "estimator", "estimator = %d: the PM law has DTC_EST_VOLTAGE or DTC_EST_CURRENT (DTC_EST_IMPROVED, Casadei eqs. 20-22, is the induction machine's)", si->estimator);
     if (si->sstp_table < DTC_ST_BASIC || si->sstp_table > DTC_ST_D)
-        return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "sstp_table = %d: must be DTC_ST_BASIC..DTC_ST_D (DTC_ST_SPEED is IM only)", si->sstp_table);
+        return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "sstp_table", "sstp_table = %d: must be DTC_ST_BASIC..DTC_ST_D (DTC_ST_SPEED, Casadei sec. 8, is an induction-machine table)", si->sstp_table);
     if (si->speed_sensor != DTC_SPEED_ENCODER)
-        return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "speed_sensor = %d: DTC_SPEED_ENCODER, or DTC_SPEED_NONE with the IM law", si->speed_sensor);
+        return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "speed_sensor", "speed_sensor = %d: DTC_SPEED_ENCODER, or DTC_SPEED_NONE with the IM law", si->speed_sensor);
     return DTC_SI_OK;
 }
 
@@ -187,7 +185,7 @@ void dtc_si_pm_prot_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const d
         const double i_l = ilim > 0.0 ? ilim : dtc_ilim_default_a(si);
         const double ih = fmin(i_t, i_l);
         if (!(ih > 0.0)) {
-            dtc_si_fail(c, DTC_SI_ERR_ILIM, "cal_hold: no rotor-hold current fits below i_trip_a = %g A "
+            dtc_si_fail(c, DTC_SI_ERR_ILIM, "cal_hold", "cal_hold: no rotor-hold current fits below i_trip_a = %g A "
                         "(a period's current rise reaches the trip); set cal_hold to 0", si->i_trip_a);
             return;
         }

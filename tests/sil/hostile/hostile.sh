@@ -146,9 +146,9 @@ emf_gain = [1.0, "a", 1.0]
 '
 expect array3_element 1 'k_arr_type.toml:2:[0-9]+: motor.emf_gain: expected an array of 3 numbers, element 1 is string' -- "$exe" check "$work/in/k_arr_type.toml"
 file k_fw '[firmware]
-rs_ohm = 0.0
+rs_ohm = -0.1
 '
-expect firmware_key 1 'k_fw.toml:2:[0-9]+: firmware.rs_ohm: value 0 is impossible' -- "$exe" check "$work/in/k_fw.toml"
+expect firmware_key 1 'k_fw.toml:2:[0-9]+: firmware.rs_ohm: value -0.1 is impossible' -- "$exe" check "$work/in/k_fw.toml"
 file k_fault '[faults]
 current_sensor_code = 5000
 '

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "dtc_config_si.h"
+#include "firmware_si.hpp"
 #include "scenario.hpp"
 
 namespace hal_host {
@@ -67,12 +68,6 @@ public:
     /// After the last step(): complete the recording (ISR count in its header). "" or why not.
     virtual std::string end_isr_record() { return ""; }
 };
-
-/// The firmware's SI configuration (tools/config dtc_config_si_t) for a scenario: the scenario's
-/// values and variants (the firmware.* keys where given), the speed-PI gains derived
-/// (speed_pi_gains) and the ADC scaling of hal_host's sensing chain. dtc_config_from_si() turns it
-/// into the firmware's Q-format configuration.
-dtc_config_si_t firmware_si_config(const Scenario& sc);
 
 /// Control side for a scenario, or nullptr with *err set (e.g. firmware not built in).
 std::unique_ptr<Controller> make_controller(const Scenario& sc, std::string* err);

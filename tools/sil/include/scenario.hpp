@@ -250,10 +250,9 @@ struct ProtectionCfg {
 /// The firmware's own values of machine and inverter parameters (parameter mismatch without code
 /// changes). Unset: the firmware is given the plant's value (motor.*, inverter.*).
 struct FirmwareCfg {
-    std::optional<double> rs_ohm, ls_h, psi_m_wb; // PM machine as the firmware believes it
-    std::optional<double> v_ce_v, v_d_v, r_on_ohm; // device drops its compensation assumes
-    std::optional<double> dead_time_s;             // dead time its compensation assumes
-    std::optional<double> rr_ohm, lls_h, llr_h, lm_h; // induction machine as the firmware believes it
+    /// The firmware.* keys given, by converter member (rs_ohm, ls_h, ...: the belief rows of
+    /// tools/config/dtc_si_params.h); a member not given takes the plant's value.
+    std::map<std::string, double> value;
 };
 
 /// Faults injected from faults.time_s on (docs/sil.md). Each is off by default.
