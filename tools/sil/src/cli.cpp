@@ -47,7 +47,7 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
     app.add_subcommand("sweep-merge", "join the shards of one sweep (dtc-sil sweep-merge --help)");
 
     std::string scenario_path, out_dir, record_isr;
-    std::vector<std::string> sets;
+    std::vector<std::string> sets, overlays;
     unsigned decimate = 1;
     bool no_trace = false, quiet = false, force = false;
 
@@ -59,6 +59,8 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
             [](std::string& v) { return v.empty() ? std::string("empty directory name") : std::string(); },
             "DIR", "non-empty"));
     run->add_option("--set,-s", sets, "override a scenario key: --set load.speed_rpm=700 (repeatable)");
+    run->add_option("--overlay", overlays,
+                    "TOML fragment applied over the scenario before --set, e.g. identified.toml (repeatable)");
     run->add_option("--decimate", decimate, "write every N-th ISR to trace.csv (default 1)")
         ->check(CLI::Range(1u, 1000000u));
     run->add_flag("--no-trace", no_trace, "do not write trace.csv (metrics only)");
@@ -70,6 +72,7 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
     CLI::App* check = app.add_subcommand("check", "validate a scenario (and --set overrides) without running it");
     check->add_option("scenario", scenario_path, "scenario TOML file")->required();
     check->add_option("--set,-s", sets, "override a scenario key (repeatable)");
+    check->add_option("--overlay", overlays, "TOML fragment applied over the scenario before --set (repeatable)");
 
     CLI::App* keys = app.add_subcommand("keys", "print every scenario key with unit, default and range (markdown)");
 
@@ -91,7 +94,7 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
 
     Scenario sc;
     Diagnostics diag;
-    const bool ok = load_scenario(scenario_path, sets, &sc, &diag);
+    const bool ok = load_scenario(scenario_path, sets, &sc, &diag, overlays);
     err << diag.text();
     if (!ok) {
         err << "dtc-sil: " << scenario_path << ": scenario rejected, nothing run or written\n";
