@@ -254,6 +254,9 @@ struct FirmwareCfg {
     std::optional<double> v_ce_v, v_d_v, r_on_ohm; // device drops its compensation assumes
     std::optional<double> dead_time_s;             // dead time its compensation assumes
     std::optional<double> rr_ohm, lls_h, llr_h, lm_h; // induction machine as the firmware believes it
+    std::optional<std::int64_t> pole_pairs;        // the machine's sensors as the firmware believes them
+    std::optional<double> encoder_offset_rad;
+    bool encoder_reversed = false;
 };
 
 /// Faults injected from faults.time_s on (docs/sil.md). Each is off by default.

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "controller_adapter.hpp"
+#include "identify.hpp"
 #include "im_tau_check.h"
 #include "run.hpp"
 #include "sweep.hpp"
@@ -74,6 +75,17 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
     check->add_option("--set,-s", sets, "override a scenario key (repeatable)");
     check->add_option("--overlay", overlays, "TOML fragment applied over the scenario before --set (repeatable)");
 
+    double ident_max_s = 10.0;
+    CLI::App* ident = app.add_subcommand(
+        "identify", "self-commissioning on the scenario's rig: writes DIR/identified.toml ([firmware] overlay) and "
+                    "DIR/identification.json (docs/commissioning.md)");
+    ident->add_option("scenario", scenario_path, "scenario TOML file")->required();
+    ident->add_option("--out,-o", out_dir, "output directory (created)")->required();
+    ident->add_option("--set,-s", sets, "override a scenario key (repeatable)");
+    ident->add_option("--overlay", overlays, "TOML fragment applied over the scenario before --set (repeatable)");
+    ident->add_option("--max-time", ident_max_s, "simulated time limit of the whole sequence, s (default 10)")
+        ->check(CLI::Range(0.01, 1000.0));
+
     CLI::App* keys = app.add_subcommand("keys", "print every scenario key with unit, default and range (markdown)");
 
     std::vector<std::string> argv_rev(args.rbegin(), args.rend()); // CLI11 parses a reversed vector
@@ -99,6 +111,24 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
     if (!ok) {
         err << "dtc-sil: " << scenario_path << ": scenario rejected, nothing run or written\n";
         return 1;
+    }
+    if (ident->parsed()) {
+        IdentifyReport rep;
+        rep.max_time_s = ident_max_s;
+        std::string e;
+        if (!identify(sc, out_dir, &rep, &e)) {
+            err << "dtc-sil: " << scenario_path << ": " << e << "\n";
+            return 2;
+        }
+        out << "identify " << scenario_path << ": " << (rep.ok ? "ok" : "FAILED") << " after " << rep.duration_s
+            << " s; wrote " << (std::filesystem::path(out_dir) / "identified.toml").string() << ", "
+            << (std::filesystem::path(out_dir) / "identification.json").string() << "\n";
+        if (!rep.ok) {
+            err << "dtc-sil: " << scenario_path << ": identification failed in step " << rep.failed_step << ": "
+                << rep.reason << "\n";
+            return 3;
+        }
+        return 0;
     }
     RunOptions opt;
     opt.out_dir = out_dir;

@@ -536,6 +536,21 @@ const std::vector<Spec>& schema()
         opt_num("firmware.dead_time_s", "s", closed(0.0, 1e-5),
                 "dead time the dead-time compensation assumes; not given: inverter.dead_time_s",
                 ACC(firmware.dead_time_s)),
+        // ---- firmware: the machine's sensors as the firmware believes them (dtc-sil identify writes them) ----
+        Spec{"firmware.pole_pairs", Kind::Integer, "", "pole pairs the firmware uses (encoder angle, per-unit speed "
+             "base); not given: motor.pole_pairs", closed(1, 16), {},
+             [](Scenario& s, const Value& v) { s.firmware.pole_pairs = v.integer; },
+             [](const Scenario& s) {
+                 return s.firmware.pole_pairs ? std::to_string(*s.firmware.pole_pairs) : std::string("the plant's");
+             }},
+        opt_num("firmware.encoder_offset_rad", "rad", any(),
+                "encoder mounting offset the firmware assumes, in sensors.encoder_offset_rad's sense (mechanical; "
+                "the electrical angle at count 0 is -pole_pairs times it); not given: sensors.encoder_offset_rad",
+                ACC(firmware.encoder_offset_rad)),
+        Spec{"firmware.encoder_reversed", Kind::Bool, "", "true: the encoder counts down for positive rotation; the "
+             "firmware has no reversed count, so true is refused (swap the encoder's A and B)", any(), {},
+             [](Scenario& s, const Value& v) { s.firmware.encoder_reversed = v.boolean; },
+             [](const Scenario& s) { return std::string(s.firmware.encoder_reversed ? "true" : "false"); }},
         // ---- faults: every one configured occurs at faults.time_s ----
         num("faults.time_s", "s", positive(), "when the configured faults occur (first control period at or after it)",
             ACC(faults.time_s)),
@@ -974,6 +989,10 @@ void cross_validate(Scenario& s, Diagnostics* d)
     auto warn = [&](const std::string& key, const std::string& msg) {
         d->warnings.push_back(origin_of(s, key) + ": " + key + ": " + msg);
     };
+    if (s.firmware.encoder_reversed) {
+        err("firmware.encoder_reversed", "true: the firmware has no reversed count (dtc_board_cfg_t); swap the "
+                                         "encoder's A and B channels so that it counts up for positive rotation");
+    }
     if (s.metrics_window_s > s.duration_s) {
         err("metrics_window_s", "is " + fmt_double(s.metrics_window_s) + " s, longer than duration_s = " +
                                     fmt_double(s.duration_s) + " s");
@@ -1332,10 +1351,10 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
 
     // part: one TOML key as written (a quoted key is one key, whatever it holds); name: the dotted
     // scenario key it makes under its table.
-    auto apply_node = [&](const std::string& source_name, const std::string& name, const std::string& part,
+    auto apply_node = [&](const std::string& file, const std::string& name, const std::string& part,
                           const toml::node& n, const toml::source_region& key_src) {
         const Spec* spec = part.find('.') == std::string::npos ? find_spec(name) : nullptr;
-        const std::string loc = where(source_name, n.source().begin.line != 0 ? n.source() : key_src);
+        const std::string loc = where(file, n.source().begin.line != 0 ? n.source() : key_src);
         if (spec == nullptr) {
             std::string shown = echo(name) + ": unknown key";
             if (part.find('.') != std::string::npos) {
@@ -1344,7 +1363,7 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
                         "\": unknown key (quoted, it is one TOML key whose name holds a dot, not a dotted key; "
                         "write " + echo(part) + " without the quotes)";
             }
-            diag->errors.push_back(where(source_name, key_src) + ": " + shown);
+            diag->errors.push_back(where(file, key_src) + ": " + shown);
             return;
         }
         Value v;
@@ -1353,7 +1372,7 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
             if (spec->kind == Kind::Path && !v.str.empty()) {
                 std::filesystem::path p(v.str);
                 if (p.is_relative()) {
-                    v.str = (std::filesystem::path(source_name).parent_path() / p).lexically_normal().string();
+                    v.str = (std::filesystem::path(file).parent_path() / p).lexically_normal().string();
                 }
             }
             reduce_angle(*spec, &v);
@@ -1371,7 +1390,7 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
     static const char* const sections[] = {"motor",      "inverter", "load",    "control",
                                            "sensors",    "protection", "firmware", "metrics", "faults"};
     // The scenario's tables, then each overlay's over them (dtc-sil --overlay), key by key.
-    auto apply_table = [&](const toml::table& doc, const std::string& source_name) {
+    auto apply_table = [&](const toml::table& doc, const std::string& file) {
         for (auto&& [key, node] : doc) {
             const std::string k(key.str());
             bool is_section = false;
@@ -1381,20 +1400,20 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
             if (is_section) {
                 const toml::table* t = node.as_table();
                 if (t == nullptr) {
-                    diag->errors.push_back(where(source_name, key.source()) + ": " + k + ": expected a table [" + k +
+                    diag->errors.push_back(where(file, key.source()) + ": " + k + ": expected a table [" + k +
                                            "], got " + node_type_name(node));
                     continue;
                 }
                 if (t->empty()) {
-                    empty_tables.push_back(where(source_name, key.source()) + ": [" + k + "]");
+                    empty_tables.push_back(where(file, key.source()) + ": [" + k + "]");
                 }
                 for (auto&& [sub, sn] : *t) {
-                    apply_node(source_name, k + "." + std::string(sub.str()), std::string(sub.str()), sn, sub.source());
+                    apply_node(file, k + "." + std::string(sub.str()), std::string(sub.str()), sn, sub.source());
                 }
             } else if (node.is_table()) {
-                diag->errors.push_back(where(source_name, key.source()) + ": [" + echo(k) + "]: unknown table");
+                diag->errors.push_back(where(file, key.source()) + ": [" + echo(k) + "]: unknown table");
             } else {
-                apply_node(source_name, k, k, node, key.source());
+                apply_node(file, k, k, node, key.source());
             }
         }
     };
