@@ -29,6 +29,25 @@
 #define ID_TH0_FSTP ANGLE(0.25)
 #define ID_TH0_SSTP ANGLE(0.0)
 
+/* Background only: num / den rounded toward zero, for den > 0 and |num| < 2^63, by restoring
+ * binary long division (64 shift-and-subtract steps): the firmware calls no division helper
+ * (the C28x has no 64-bit divide; tests/rules checks the libraries for helpers). */
+static int64_t div64(int64_t num, int64_t den)
+{
+    const uint64_t n = num < 0 ? (uint64_t)0 - (uint64_t)num : (uint64_t)num;
+    const uint64_t dd = (uint64_t)den;
+    uint64_t q = 0U, r = 0U;
+    int16_t b;
+    for (b = 63; b >= 0; b--) {
+        r = (r << 1) | ((n >> (uint16_t)b) & 1U);
+        if (r >= dd) {
+            r -= dd;
+            q |= (uint64_t)1 << (uint16_t)b;
+        }
+    }
+    return num < 0 ? -(int64_t)q : (int64_t)q;
+}
+
 static void fail(app_ident_t *d, uint16_t why, int16_t detail)
 {
     if (d->step != (uint16_t)APP_IDENT_FAILED && d->step != (uint16_t)APP_IDENT_DONE) {
@@ -111,7 +130,7 @@ void app_ident_start(app_ident_t *d, const dtc_config_t *cfg, uint16_t qep_count
     d->res.l_ts_iq = 0;
     d->res.counts_per_turn = 0;
     /* 1 / V_dc (background: a division), for the duties. */
-    d->inv_vdc_iq = vdc_iq > IQ(1.0 / 16.0) ? (iq_t)(((int64_t)1 << 48) / (int64_t)vdc_iq) : IQ(1.0);
+    d->inv_vdc_iq = vdc_iq > IQ(1.0 / 16.0) ? fix_sat32(div64((int64_t)1 << 48, (int64_t)vdc_iq)) : IQ(1.0);
     d->step = (uint16_t)APP_IDENT_RS;
     d->sub = 0U;
     /* The rotor swings onto the axis under the slow regulator (regulate), at half rated: the
@@ -218,10 +237,11 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
     {
         /* unwrapped count: the per-period change folded into (-N/2, N/2] */
         const int32_t n_c = (int32_t)cfg->board.enc_counts;
+        const int32_t half = (int32_t)(cfg->board.enc_counts >> 1U);
         int32_t dc = (int32_t)pu->enc_count - (int32_t)d->last_count;
-        if (dc > n_c / 2) {
+        if (dc > half) {
             dc -= n_c;
-        } else if (dc <= -(n_c / 2)) {
+        } else if (dc <= -half) {
             dc += n_c;
         }
         d->pos += dc;
@@ -352,8 +372,8 @@ static void fit_line(app_ident_t *d)
         mx += d->res.level_i_iq[k];
         my += d->res.level_v_iq[k];
     }
-    mx /= (int64_t)APP_IDENT_R_LEVELS;
-    my /= (int64_t)APP_IDENT_R_LEVELS;
+    mx = div64(mx, (int64_t)APP_IDENT_R_LEVELS);
+    my = div64(my, (int64_t)APP_IDENT_R_LEVELS);
     for (k = 0U; k < APP_IDENT_R_LEVELS; k++) {
         const int64_t dx = (int64_t)d->res.level_i_iq[k] - mx;
         const int64_t dy = (int64_t)d->res.level_v_iq[k] - my;
@@ -361,9 +381,13 @@ static void fit_line(app_ident_t *d)
         sxy += dx * dy;
     }
     sxx >>= 24;
-    d->res.r_iq = sxx > 0 ? fix_sat32(sxy / sxx) : 0;
+    d->res.r_iq = sxx > 0 ? fix_sat32(div64(sxy, sxx)) : 0;
     d->res.v0_iq = fix_sub32(fix_sat32(my), iq_mpy(d->res.r_iq, fix_sat32(mx)));
 }
+
+/* One move of the encoder step: a turn over the dwells per turn, angle_t LSB (three: 21845, one
+ * LSB short of a third, so the last dwell is 3 LSB = 0.02 degree short of a full turn). */
+static uint32_t span_of(const app_ident_t *d) { return d->n_dwell == 2U ? 32768UL : 21845UL; }
 
 /* Encoder results from the dwell positions (background; app_ident.h). */
 static void encoder_results(app_ident_t *d, const dtc_config_t *cfg)
@@ -375,28 +399,29 @@ static void encoder_results(app_ident_t *d, const dtc_config_t *cfg)
     int32_t acc = 0;
     angle_t off0 = 0U;
     uint16_t j;
-    d->res.counts_per_turn = (int32_t)(delta >> 8);
-    if (ad < n_q8 / 64) {
-        fail(d, (uint16_t)APP_IDENT_FAIL_ENC_NOT_COUNTING, (int16_t)(delta >> 8));
+    d->res.counts_per_turn = fix_sat32(div64(delta, 256));
+    if (ad < (n_q8 >> 6)) {
+        fail(d, (uint16_t)APP_IDENT_FAIL_ENC_NOT_COUNTING, (int16_t)d->res.counts_per_turn);
         return;
     }
     d->res.enc_reversed = delta < 0 ? 1U : 0U;
-    p = (n_q8 + ad / 2) / ad;
+    p = div64(n_q8 + (ad >> 1), ad);
     if (p < 1 || p > 16) {
         fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_POLE_PAIRS);
         return;
     }
     {
         const int64_t err = p * ad - n_q8;
-        if ((err < 0 ? -err : err) > n_q8 / 20) {
-            fail(d, (uint16_t)APP_IDENT_FAIL_ENC_LINES, (int16_t)(delta >> 8));
+        if ((err < 0 ? -err : err) > div64(n_q8, 20)) {
+            fail(d, (uint16_t)APP_IDENT_FAIL_ENC_LINES, (int16_t)d->res.counts_per_turn);
             return;
         }
     }
     d->res.pole_pairs = (uint16_t)p;
     for (j = 0U; j < d->n_dwell; j++) {
         /* the raw count at the dwell (Q8), in [0, N) */
-        int64_t cq8 = (((int64_t)d->count0 << 8) + (int64_t)d->dwell_pos_q8[j]) % n_q8;
+        const int64_t raw = ((int64_t)d->count0 << 8) + (int64_t)d->dwell_pos_q8[j];
+        int64_t cq8 = raw - div64(raw, n_q8) * n_q8;
         int64_t th;
         angle_t th_vec, off;
         if (cq8 < 0) {
@@ -405,15 +430,15 @@ static void encoder_results(app_ident_t *d, const dtc_config_t *cfg)
         if (d->res.enc_reversed != 0U) {
             cq8 = -cq8;
         }
-        th = ((cq8 * p) << 16) / n_q8;            /* electrical angle of the count, angle_t units */
-        th_vec = (angle_t)(d->res.axis + (angle_t)((65536UL / d->n_dwell) * j));
-        off = (angle_t)((uint32_t)th_vec - (uint32_t)(th & 0xFFFF));
+        th = div64(cq8 * p * 65536, n_q8);       /* electrical angle of the count, angle_t units */
+        th_vec = (angle_t)(d->res.axis + (angle_t)(span_of(d) * j));
+        off = (angle_t)((uint32_t)th_vec - (uint32_t)(uint16_t)(uint64_t)th); /* modulo one turn */
         if (j == 0U) {
             off0 = off;
         }
         acc += (int32_t)(int16_t)(uint16_t)(off - off0);
     }
-    d->res.enc_offset = (angle_t)(off0 + (angle_t)(acc / (int32_t)d->n_dwell));
+    d->res.enc_offset = (angle_t)(off0 + (angle_t)(int16_t)div64(acc, (int64_t)d->n_dwell));
 }
 
 /* The encoder step's current: half rated; a quarter on the FSTP, where the moves between its two
@@ -442,8 +467,8 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
     switch (d->step) {
     case APP_IDENT_RS:
         if (d->sub > 0U) { /* segment 0 aligned the rotor; 1.. are the levels */
-            d->res.level_i_iq[d->sub - 1U] = fix_sat32(d->sum_i / (int64_t)d->n_meas);
-            d->res.level_v_iq[d->sub - 1U] = fix_sat32(d->sum_v / (int64_t)d->n_meas);
+            d->res.level_i_iq[d->sub - 1U] = fix_sat32(div64(d->sum_i, (int64_t)d->n_meas));
+            d->res.level_v_iq[d->sub - 1U] = fix_sat32(div64(d->sum_v, (int64_t)d->n_meas));
         }
         d->sub++;
         if (d->sub <= APP_IDENT_R_LEVELS) {
@@ -469,9 +494,9 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
             /* a step ended: its volt-periods less the resistive part (trapezoid of the rise)
              * over its current rise, Hoang eq. 28's L di/dt = v - R i on the step axis */
             const iq_t rise = fix_sub32(d->i_last, d->i_first);
-            const int64_t trap = d->sum_i + (int64_t)(rise / 2);
+            const int64_t trap = d->sum_i + (int64_t)fix_rshift_rnd32(rise, 1U);
             d->pulse_num += (int64_t)d->dv_iq * (int64_t)d->n -
-                            (((int64_t)d->res.r_iq * trap) >> 24);
+                            (int64_t)fix_rshift_rnd64_sat32((int64_t)d->res.r_iq * trap, 24U);
             d->pulse_den += (int64_t)rise;
         }
         d->sub++;
@@ -483,7 +508,7 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
             }
             return;
         }
-        d->res.l_ts_iq = d->pulse_den > 0 ? fix_sat32((d->pulse_num << 24) / d->pulse_den) : 0;
+        d->res.l_ts_iq = d->pulse_den > 0 ? fix_sat32(div64(d->pulse_num * 16777216, d->pulse_den)) : 0;
         /* Bounds: L / (Z_b Ts) between 1/16 and 4096 (5 uH .. 6.5 H for Z_b = 31.8 ohm at 50 us). */
         if (d->res.l_ts_iq < IQ(1.0 / 16.0) || d->res.l_ts_iq > IQ(4096.0 - 1.0)) {
             fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_LS);
@@ -494,11 +519,11 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
         return;
     case APP_IDENT_ENCODER: {
         const uint32_t move = d->n_dwell == 2U ? ID_ENC_MOVE_FSTP : ID_ENC_MOVE_SSTP;
-        const uint32_t span = 65536UL / d->n_dwell;
-        d->dwell_pos_q8[d->sub] = (int32_t)((d->sum_pos * 256) / (int64_t)d->n_meas);
+        const uint32_t span = span_of(d);
+        d->dwell_pos_q8[d->sub] = fix_sat32(div64(d->sum_pos * 256, (int64_t)d->n_meas));
         d->sub++;
         if (d->sub <= d->n_dwell) {
-            post_hold(d, span << 16, (span << 16) / move, enc_level(d), (iq_t)(IQ(1.0) / ID_LEVEL_RAMP),
+            post_hold(d, span << 16, (uint32_t)div64((int64_t)span << 16, (int64_t)move), enc_level(d), (iq_t)(IQ(1.0) / ID_LEVEL_RAMP),
                       ID_ENC_SETTLE, ID_ENC_MEAS, 1U);
             return;
         }
