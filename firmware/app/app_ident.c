@@ -16,10 +16,14 @@
 #define ID_PULSE_MAX 2000U      /* longest voltage step (100 ms) */
 #define ID_PULSES 4U
 #define ID_ENC_MOVE_SSTP 3000U  /* periods for one 120-degree move of the vector (SSTP) */
-#define ID_ENC_MOVE_FSTP 4000U  /* one 180-degree move (FSTP) */
-#define ID_ENC_SETTLE 6000U
+#define ID_ENC_MOVE_FSTP 3000U  /* one 180-degree move (FSTP) */
+#define ID_ENC_LEVEL_FSTP 0.5
+#define ID_ENC_SETTLE 3000U    /* encoder dwell: the least settling; the quadrature trim from its half */
 #define ID_ENC_MEAS 1024U
 #define ID_OPEN_PERIODS 400U    /* regulator saturated with little current this long: open phase */
+#define ID_TRIM_LOG2 4U         /* slow regulator: the quadrature trim's integral gain ki / 2^4 */
+#define ID_STILL 2000U          /* encoder dwell: periods with the count within +-1 before the sums */
+#define ID_SETTLE_MAX 40000U    /* encoder dwell: the longest wait for the rotor to come to rest (2 s) */
 
 /* The injection axis (res.axis). FSTP: beta (90 degrees), current from leg B into leg C, so that
  * phase A (the capacitor mid-point) carries none and the mid-point does not drift. SSTP: alpha
@@ -64,7 +68,8 @@ static void post_hold(app_ident_t *d, uint32_t th_move_q16, uint32_t th_rate_q16
                       uint16_t n_settle, uint16_t n_meas, uint16_t slow)
 {
     d->seg = (uint16_t)APP_IDENT_SEG_HOLD;
-    d->slow = slow;
+    d->slow = slow != 0U ? 1U : 0U;
+    d->still = slow == 2U ? 1U : 0U;
     d->th_left_q16 = th_move_q16;
     d->th_rate_q16 = th_rate_q16;
     d->i_target = i_target;
@@ -212,7 +217,11 @@ static uint16_t ramps(app_ident_t *d)
 static void regulate(app_ident_t *d, iq_t i_par, iq_t i_perp, q15_t c, q15_t s)
 {
     const iq_t e[2] = {fix_sub32(d->i_ref, i_par), fix_neg32(i_perp)};
-    const iq_t ki[2] = {d->ki_iq, d->slow != 0U ? 0 : d->ki_iq};
+    /* slow: the quadrature integral off while the rotor swings (moves, first half of the settling),
+     * then at ki / 2^ID_TRIM_LOG2: the static quadrature voltage error (the mid-point sensor's on
+     * the FSTP) is taken out slower than the rotor's swing, so the rotor follows without swinging */
+    const uint16_t trim = (uint16_t)(d->phase == 2U || (d->phase == 1U && d->n >= (d->n_settle >> 1)));
+    const iq_t ki[2] = {d->ki_iq, d->slow == 0U ? d->ki_iq : (trim != 0U ? fix_rshift_rnd32(d->ki_iq, ID_TRIM_LOG2) : 0)};
     iq_t v[2];
     uint16_t k;
     for (k = 0U; k < 2U; k++) {
@@ -267,6 +276,8 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
         d->sum_v = 0;
         d->sum_pos = 0;
         d->sat_n = 0U;
+        d->still_n = 0U;
+        d->still_ref = d->pos;
         d->phase = d->seg == (uint16_t)APP_IDENT_SEG_PULSE ? 6U : 0U;
         if (d->seg == (uint16_t)APP_IDENT_SEG_PULSE) {
             d->v_hold = d->v_ab[0]; /* the regulated voltage before the step, both axes */
@@ -328,7 +339,24 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
             d->phase = 1U;
             d->n = 0U;
         } else if (d->phase == 1U) {
-            if (++d->n >= d->n_settle) {
+            ++d->n;
+            if (d->still != 0U) {
+                /* the encoder step: after n_settle, wait until the count stays within +-1 of one
+                 * value for ID_STILL periods; a rotor not at rest by ID_SETTLE_MAX is a coupled
+                 * load, a blocked or a far too heavy rotor: named, not measured */
+                const int32_t dev = d->pos - d->still_ref;
+                if (dev > 1 || dev < -1) {
+                    d->still_ref = d->pos;
+                    d->still_n = 0U;
+                } else if (d->still_n < ID_STILL) {
+                    d->still_n++;
+                }
+                if (d->n >= ID_SETTLE_MAX) {
+                    fail(d, (uint16_t)APP_IDENT_FAIL_NOT_AT_REST, 0);
+                    return 1U;
+                }
+            }
+            if (d->n >= d->n_settle && (d->still == 0U || d->still_n >= ID_STILL)) {
                 d->phase = 2U;
                 d->n = 0U;
             }
@@ -444,7 +472,7 @@ static void encoder_results(app_ident_t *d, const dtc_config_t *cfg)
 /* The encoder step's current: half rated; a quarter on the FSTP, where the moves between its two
  * vectors pass phase A's current through the capacitor mid-point (0.55 A over a 0.2 s half turn
  * moves it by about 7 V on 2 x 4.7 mF). */
-static iq_t enc_level(const app_ident_t *d) { return d->n_dwell == 2U ? IQ(0.25) : IQ(0.5); }
+static iq_t enc_level(const app_ident_t *d) { return d->n_dwell == 2U ? IQ(ID_ENC_LEVEL_FSTP) : IQ(0.75); }
 
 static void next_step(app_ident_t *d, uint16_t step)
 {
@@ -515,7 +543,7 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
             return;
         }
         next_step(d, (uint16_t)APP_IDENT_ENCODER);
-        post_hold(d, 0U, 0U, enc_level(d), (iq_t)(IQ(1.0) / ID_LEVEL_RAMP), ID_ENC_SETTLE, ID_ENC_MEAS, 1U);
+        post_hold(d, 0U, 0U, enc_level(d), (iq_t)(IQ(1.0) / ID_LEVEL_RAMP), ID_ENC_SETTLE, ID_ENC_MEAS, 2U);
         return;
     case APP_IDENT_ENCODER: {
         const uint32_t move = d->n_dwell == 2U ? ID_ENC_MOVE_FSTP : ID_ENC_MOVE_SSTP;
@@ -524,7 +552,7 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
         d->sub++;
         if (d->sub <= d->n_dwell) {
             post_hold(d, span << 16, (uint32_t)div64((int64_t)span << 16, (int64_t)move), enc_level(d), (iq_t)(IQ(1.0) / ID_LEVEL_RAMP),
-                      ID_ENC_SETTLE, ID_ENC_MEAS, 1U);
+                      ID_ENC_SETTLE, ID_ENC_MEAS, 2U);
             return;
         }
         encoder_results(d, cfg);

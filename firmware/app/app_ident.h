@@ -60,7 +60,9 @@ enum app_ident_fail {
     APP_IDENT_FAIL_ENC_LINES = 4,      /* the counts per electrical turn are no whole fraction of the
                                         * encoder's counts per turn (wrong line count) */
     APP_IDENT_FAIL_OVERCURRENT = 5,    /* a phase above 1.25 x rated */
-    APP_IDENT_FAIL_TRIP = 6            /* the drive's protection tripped (app fault latched) */
+    APP_IDENT_FAIL_TRIP = 6,           /* the drive's protection tripped (app fault latched) */
+    APP_IDENT_FAIL_NOT_AT_REST = 7     /* encoder step: the rotor did not come to rest on a DC vector
+                                        * within 2 s (a coupled load, a blocked or too heavy rotor) */
 };
 
 /* fail_detail of APP_IDENT_FAIL_BOUNDS: the quantity out of bounds. */
@@ -110,6 +112,7 @@ typedef struct {
     iq_t di_stop_iq;         /* PULSE: the rise that ends it */
     iq_t inv_vdc_iq;         /* 1 / V_dc measured, pu (background) */
     uint16_t slow;           /* HOLD: 1 = the slow regulator (app_ident.c regulate: the rotor settles) */
+    uint16_t still;          /* HOLD: 1 = the sums wait for the rotor at rest (encoder step) */
     volatile uint16_t go;    /* background sets it when the segment is ready */
     volatile uint16_t done;  /* the ISR sets it when the segment's sums are complete */
     /* ISR state */
@@ -122,6 +125,8 @@ typedef struct {
                               * PULSE: 6 first step command, 5 start sample, 2 step on, 3 end sample */
     uint16_t n;              /* periods in the current phase */
     uint16_t sat_n;          /* periods at the voltage limit with little current (open phase) */
+    uint16_t still_n;        /* encoder dwell: periods the count stayed within +-1 of still_ref */
+    int32_t still_ref;
     int64_t sum_i, sum_v, sum_pos;
     iq_t i_first, i_last;    /* PULSE: the current at its start and end */
     uint16_t last_count;

@@ -5,7 +5,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -57,6 +56,9 @@ std::string fail_text(const app_ident_t& d)
                " counts per electrical turn, no whole fraction of the configured counts per turn (wrong line count?)";
     case APP_IDENT_FAIL_OVERCURRENT: return "overcurrent: a phase above 1.25 x rated current";
     case APP_IDENT_FAIL_TRIP: return "trip: the drive's protection tripped";
+    case APP_IDENT_FAIL_NOT_AT_REST:
+        return "not_at_rest: the rotor did not come to rest on a DC vector within 2 s (a coupled load, a blocked or "
+               "a far too heavy rotor)";
     default: return "unknown";
     }
 }
@@ -135,14 +137,6 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
         app_isr();
         app_background();
         h->advance();
-        if (std::getenv("DTC_IDENT_DEBUG") != nullptr && (k % 10u == 0u || k < 1100)) {
-            app_get_ident(&d);
-            app_get_status(&st);
-            std::fprintf(stderr, "%llu st=%u step=%u seg=%u ph=%u ia=%.3f ib=%.3f ic=%.3f v=%.4f %.4f iref=%.3f pos=%d vdc=%.3f vmid=%.3f\n",
-                         (unsigned long long)k, st.state, d.step, d.seg, d.phase, st.meas.ia_iq / kIqOne,
-                         st.meas.ib_iq / kIqOne, st.meas.ic_iq / kIqOne, d.v_ab[0] / kIqOne, d.v_ab[1] / kIqOne,
-                         d.i_ref / kIqOne, d.pos, st.meas.vdc_iq / kIqOne, st.meas.vmid_iq / kIqOne);
-        }
         if ((k & 63u) == 0u) {
             app_get_ident(&d);
             app_get_status(&st);
@@ -274,7 +268,7 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
         t << "# FAILED in step " << rep->failed_step << ": " << rep->reason << "\n";
     }
     t << "# Not identified (the firmware keeps the scenario's): psi_m_wb, j_kgm2; v_ce_v, v_d_v, r_on_ohm are the\n"
-      << "# board's datasheet values (not separable by DC injection), rs_ohm = slope - r_on_ohm.\n"
+      << "# board's datasheet values (not separable by DC injection), rs_ohm is the slope less r_on_ohm.\n"
       << "[firmware]\n";
     if (ok || failed_step > APP_IDENT_RS) {
         t << "rs_ohm = " << fmt(rs) << "\n";
