@@ -189,6 +189,29 @@ TEST_F(Identify, DriveRunsOnIdentifiedValuesFromStandstillTo1500RpmUnderFullLoad
     EXPECT_LE(m["imbalance_pct"].get<double>(), 8.0); // the FSTP proposed compensation's target
 }
 
+TEST_F(Identify, SweepAppliesTheOverlayToEveryRun)
+{
+    // 0.01 s = 200 periods of 50 us: the overlay's duration, over the scenario's 1.5 s
+    std::ofstream(dir / "short.toml") << "duration_s = 0.01\nmetrics_window_s = 0.005\n";
+    std::string err;
+    ASSERT_EQ(cli({"sweep", kFstp, "--overlay", (dir / "short.toml").string(), "--out", (dir / "sw").string(),
+                   "--grid", "control.speed_ref_rpm=500,1000", "--jobs", "1", "-q"},
+                  &err),
+              0)
+        << err;
+    std::ifstream f(dir / "sw" / "summary.json");
+    const nlohmann::json j = nlohmann::json::parse(f);
+    ASSERT_EQ(j["rows"].size(), 2u);
+    for (const auto& r : j["rows"]) {
+        EXPECT_EQ(r["metrics"]["isr_count"], 200) << r.dump();
+    }
+    EXPECT_EQ(cli({"sweep", kFstp, "--overlay", (dir / "none.toml").string(), "--out", (dir / "sw2").string(),
+                   "--grid", "control.speed_ref_rpm=500", "-q"},
+                  &err),
+              1);
+    EXPECT_NE(err.find("none.toml: --overlay: no such file"), std::string::npos) << err;
+}
+
 TEST_F(Identify, OverlayKeysAreRefusedWithTheirLine)
 {
     std::ofstream(dir / "bad.toml") << "[firmware]\npole_pairs = 0\nencoder_reversed = true\n";
