@@ -111,15 +111,11 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
         return false;
     }
     const plant_params_t pp = plant_params_from(sc);
-    std::unique_ptr<hal_host::Harness> h = hal_host::Harness::create(pp, harness_config_from(sc), err);
-    if (!h) {
+    ActiveHarness active;
+    if (!active.open(pp, sc, err)) {
         return false;
     }
-    h->activate();
-    struct Deactivate {
-        hal_host::Harness* h;
-        ~Deactivate() { h->deactivate(); }
-    } guard{h.get()};
+    hal_host::Harness* const h = active.get();
     hal_init();
     if (const int16_t rc = app_init(&cfg); rc != 0) {
         *err = "identify: app_init() refused the configuration (dtc_err " + std::to_string(rc) + ")";

@@ -1498,25 +1498,35 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
     return true;
 }
 
-bool read_overlay(const std::string& path, OverlayText* out, Diagnostics* diag)
+namespace {
+// A whole file's text; false with an error "PATH: TAG..." that says what to give instead.
+bool read_toml_text(const std::string& path, const std::string& tag, const std::string& give,
+                    const std::string& unreadable, std::string* text, Diagnostics* diag)
 {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) {
-        diag->errors.push_back(path + ": --overlay: " +
+        diag->errors.push_back(path + ": " + tag +
                                (std::filesystem::exists(path, ec) ? "not a regular file (a directory?)"
                                                                   : "no such file") +
-                               ": give a TOML fragment (e.g. identified.toml of dtc-sil identify)");
+                               ": give " + give);
         return false;
     }
     std::ifstream f(path, std::ios::binary);
     std::ostringstream ss;
     if (!f || !(ss << f.rdbuf())) {
-        diag->errors.push_back(path + ": --overlay: cannot read the file");
+        diag->errors.push_back(path + ": " + tag + unreadable);
         return false;
     }
-    out->path = path;
-    out->text = ss.str();
+    *text = ss.str();
     return true;
+}
+} // namespace
+
+bool read_overlay(const std::string& path, OverlayText* out, Diagnostics* diag)
+{
+    out->path = path;
+    return read_toml_text(path, "--overlay: ", "a TOML fragment (e.g. identified.toml of dtc-sil identify)",
+                          "cannot read the file", &out->text, diag);
 }
 
 bool load_scenario(const std::string& path, const std::vector<std::string>& overrides, Scenario* out,
@@ -1530,22 +1540,11 @@ bool load_scenario(const std::string& path, const std::vector<std::string>& over
     if (!overlays_ok) {
         return false;
     }
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) {
-        diag->errors.push_back(path + ": " +
-                               (std::filesystem::exists(path, ec) ? "not a regular file (a directory?)"
-                                                                  : "no such file") +
-                               ": give a scenario TOML file");
+    std::string text;
+    if (!read_toml_text(path, "", "a scenario TOML file", "cannot open the scenario file", &text, diag)) {
         return false;
     }
-    std::ifstream f(path, std::ios::binary);
-    if (!f) {
-        diag->errors.push_back(path + ": cannot open the scenario file");
-        return false;
-    }
-    std::ostringstream ss;
-    ss << f.rdbuf();
-    return parse_scenario(ss.str(), path, overrides, out, diag, overlays);
+    return parse_scenario(text, path, overrides, out, diag, overlays);
 }
 
 bool load_voltage_csv(const std::string& path, std::vector<VoltageRow>* rows, std::string* err)
