@@ -1512,11 +1512,12 @@ bool read_toml_text(const std::string& path, const std::string& tag, const std::
         return false;
     }
     std::ifstream f(path, std::ios::binary);
-    std::ostringstream ss;
-    if (!f || !(ss << f.rdbuf())) {
+    if (!f) {
         diag->errors.push_back(path + ": " + tag + unreadable);
         return false;
     }
+    std::ostringstream ss;
+    ss << f.rdbuf(); // an empty file sets ss's failbit: its text is "" (refused or warned by the parser)
     *text = ss.str();
     return true;
 }
