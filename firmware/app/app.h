@@ -37,6 +37,13 @@ void app_get_status(app_status_t *s);
  * (dtc_shadow_write). Returns 0 or an enum dtc_err code (nothing published then). */
 int16_t app_set_refs(const dtc_refs_t *r);
 
+/* Background: identify the machine (app_ident.h) at the end of the start-up calibration instead of
+ * running; call after app_init, before the calibration ends. */
+void app_request_ident(void);
+
+/* Background / host: a copy of the identification's state and results, interrupts masked. */
+void app_get_ident(app_ident_t *d);
+
 /* Background: ask the ISR to leave FAULT (back to CALIBRATE). Ignored for a configuration fault. */
 void app_request_fault_clear(void);
 

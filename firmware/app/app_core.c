@@ -55,6 +55,8 @@ int16_t app_core_init(app_core_t *a, const dtc_config_t *cfg)
     a->st.fault = APP_FAULT_NONE;
     a->st.fault_detail = 0;
     a->st.reconfigured = 0U;
+    a->ident_request = 0U;
+    a->ident.step = (uint16_t)APP_IDENT_IDLE;
     rc = law_init(&a->law, cfg);
     if (rc != DTC_OK) {
         latch_fault(a, APP_FAULT_CONFIG, rc);
@@ -197,8 +199,24 @@ static void calibrate_finish(app_core_t *a, const hal_meas_t *m)
             return;
         }
     }
+    if (a->ident_request != 0U) {
+        dtc_meas_t pu;
+        app_core_convert(a, m, &pu);
+        app_ident_start(&a->ident, a->cfg, m->qep_count, pu.vdc_iq);
+        a->st.state = APP_STATE_IDENT;
+        return;
+    }
     law_reset(&a->law);
     a->st.state = APP_STATE_RUN;
+}
+
+void app_core_request_ident(app_core_t *a) { a->ident_request = 1U; }
+
+void app_core_ident_service(app_core_t *a)
+{
+    if (a->cfg != NULL && a->st.state == APP_STATE_IDENT) {
+        app_ident_service(&a->ident, a->cfg);
+    }
 }
 
 /* Calibration period: accumulate the measured channels; after 2^APP_CAL_LOG2 samples set the
@@ -487,6 +505,25 @@ uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
         cmd->enable = 1U;
         app_pwm_encode(law_out_form(&a->law), &a->st.out, a->t1pr, cmd);
         return 0U;
+
+    case APP_STATE_IDENT: {
+        /* self-commissioning: the hardware trip, the phase over-current and the DC link trip
+         * as in RUN; the identification limits the current itself (app_ident.h) */
+        int16_t detail = 0;
+        uint16_t f;
+        app_core_convert(a, m, &a->st.meas);
+        if (check_hw_trip(a, m) != 0U) {
+            app_ident_abort(&a->ident);
+            return 1U;
+        }
+        f = app_fault_trips(&a->flt, a->cfg, &a->st.meas, a->perm, &detail);
+        if (f != (uint16_t)APP_FAULT_NONE) {
+            latch_fault(a, f, detail);
+            app_ident_abort(&a->ident);
+            return 1U;
+        }
+        return app_ident_isr(&a->ident, a->cfg, &a->st.meas, a->t1pr, cmd);
+    }
 
     case APP_STATE_INIT:
     case APP_STATE_FAULT:

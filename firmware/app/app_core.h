@@ -32,6 +32,7 @@
 #include "app_enc.h"
 #include "app_fault.h"
 #include "app_hold.h"
+#include "app_ident.h"
 #include "app_plaus.h"
 #include "hal.h"
 #include "law.h"
@@ -42,7 +43,10 @@ enum app_state {
                               * FSTP mid-point calibration and prot.i_hold_iq > 0, the rotor
                               * hold (gates on, phases B and C only) until it ends */
     APP_STATE_RUN = 2,
-    APP_STATE_FAULT = 3      /* latched, gates off */
+    APP_STATE_FAULT = 3,     /* latched, gates off */
+    APP_STATE_IDENT = 4      /* self-commissioning (app_ident.h), entered from CALIBRATE instead
+                              * of RUN when requested (app_core_request_ident); stays there with
+                              * the gates off once it ended (ident.step DONE or FAILED) */
 };
 
 /* Calibration: 2^APP_CAL_LOG2 samples averaged per current channel (and for the FSTP mid-point,
@@ -89,6 +93,8 @@ typedef struct app_core {
     app_plaus_params_t plaus_p; /* current-sensor plausibility, two sensors (app_plaus.h) */
     app_plaus_t plaus;
     uint16_t meas_mask;    /* bit k: the law's phase k is measured, not derived */
+    app_ident_t ident;     /* self-commissioning (APP_STATE_IDENT) */
+    volatile uint16_t ident_request; /* set by the background: identify instead of RUN */
     uint16_t plaus_win;    /* three sensors, this window: bit 0 their sum was above prot.i_sum_max_iq,
                             * bit 1 a phase read zero (check_sensors) */
 } app_core_t;
@@ -120,6 +126,13 @@ int16_t app_core_set_reconfig(app_core_t *a, const dtc_config_t *post);
 /* One control period: raw measurement in, leg command out. Returns 1 when the gates must be
  * turned off NOW (a trip decided on this sample, or any period outside RUN), else 0. */
 uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd);
+
+/* Background: identify the machine (app_ident.h) once the calibration ends, instead of entering
+ * RUN. Call before the calibration ends (after app_core_init). */
+void app_core_request_ident(app_core_t *a);
+
+/* Background: one pass of the identification's background work (fits, next segment). */
+void app_core_ident_service(app_core_t *a);
 
 /* Raw counts -> per-unit with the offsets in use (the derived third current included).
  * Pure; also used by the HAL register tests. */

@@ -638,3 +638,40 @@ TEST(Scenario, FaultKeysAreParsedAndBadValuesNameKeyAndLine)
     expect_error("ts_s = 50e-6\n[faults]\ntime_s = 0.2\nswitch_short = \"a_upper\"\nswitch_open = \"b_upper\"\n",
                  "faults.switch_short", 4, "one switch fault");
 }
+
+// --overlay: a TOML fragment over the scenario, before --set; its errors name the overlay's line.
+TEST(Scenario, OverlayAppliesOverTheScenarioAndUnderSet)
+{
+    const std::string base = "duration_s = 0.5\n[firmware]\nrs_ohm = 0.4\nls_h = 3e-3\n";
+    const OverlayText ov{"identified.toml", "[firmware]\n# identified\nrs_ohm = 0.47\npsi_m_wb = 0.09\n"};
+    Scenario s;
+    Diagnostics d;
+    ASSERT_TRUE(parse_scenario(base, "case.toml", {}, &s, &d, {ov})) << d.text();
+    EXPECT_EQ(s.firmware.value.at("rs_ohm"), 0.47);      // overlay over the scenario
+    EXPECT_EQ(s.firmware.value.at("ls_h"), 3e-3);      // the scenario's where the overlay says nothing
+    EXPECT_EQ(s.firmware.value.at("psi_m_wb"), 0.09);
+    EXPECT_EQ(s.origin.at("firmware.rs_ohm"), "identified.toml:3:10");
+    Scenario s2;
+    Diagnostics d2;
+    ASSERT_TRUE(parse_scenario(base, "case.toml", {"firmware.rs_ohm=0.5"}, &s2, &d2, {ov})) << d2.text();
+    EXPECT_EQ(s2.firmware.value.at("rs_ohm"), 0.5);    // --set last
+}
+
+TEST(Scenario, OverlayErrorsNameTheOverlayFileAndLine)
+{
+    const std::string base = "duration_s = 0.1\n";
+    auto errs = [&](const std::string& text) {
+        Scenario s;
+        Diagnostics d;
+        EXPECT_FALSE(parse_scenario(base, "case.toml", {}, &s, &d, {OverlayText{"ov.toml", text}}));
+        return d.text();
+    };
+    EXPECT_NE(errs("[firmware]\n\nbogus_key = 1\n").find("ov.toml:3:1: firmware.bogus_key: unknown key"),
+              std::string::npos);
+    EXPECT_NE(errs("[firmware]\nrs_ohm = -1\n").find("ov.toml:2:10: firmware.rs_ohm"), std::string::npos);
+    EXPECT_NE(errs("[firmware\n").find("ov.toml:1:"), std::string::npos);
+    Diagnostics d;
+    OverlayText o;
+    EXPECT_FALSE(read_overlay("/nonexistent/identified.toml", &o, &d));
+    EXPECT_NE(d.text().find("/nonexistent/identified.toml: --overlay: no such file"), std::string::npos);
+}

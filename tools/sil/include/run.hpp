@@ -21,6 +21,19 @@ plant_params_t plant_params_from(const Scenario& sc);
 hal_host::HarnessConfig harness_config_from(const Scenario& sc);
 unsigned switched_legs(const Scenario& sc); // bit mask of the legs the topology switches
 
+/// The scenario's plant and sensing chain (plant_params_from, harness_config_from), created and
+/// made the active harness of hal.h; deactivated when this object goes.
+class ActiveHarness {
+public:
+    /// False with *err when the plant or harness refuses the scenario.
+    bool open(const plant_params_t& pp, const Scenario& sc, std::string* err);
+    hal_host::Harness* get() const { return h_.get(); }
+    ~ActiveHarness();
+
+private:
+    std::unique_ptr<hal_host::Harness> h_;
+};
+
 struct RunOptions {
     std::string out_dir;     // empty: write nothing (benchmarks, tests)
     unsigned decimate = 1;   // trace.csv: every N-th ISR

@@ -253,6 +253,11 @@ struct FirmwareCfg {
     /// The firmware.* keys given, by converter member (rs_ohm, ls_h, ...: the belief rows of
     /// tools/config/dtc_si_params.h); a member not given takes the plant's value.
     std::map<std::string, double> value;
+    /// The machine's sensors as the firmware believes them (dtc-sil identify writes them); unset:
+    /// the plant's (motor.pole_pairs, sensors.encoder_offset_rad).
+    std::optional<std::int64_t> pole_pairs;
+    std::optional<double> encoder_offset_rad;
+    bool encoder_reversed = false;
 };
 
 /// Faults injected from faults.time_s on (docs/sil.md). Each is off by default.
@@ -329,14 +334,25 @@ struct Diagnostics {
     static constexpr std::size_t kMaxShown = 50;
 };
 
+/// A TOML fragment applied over a scenario (dtc-sil --overlay FILE): its keys are scenario keys,
+/// checked and reported (file:line:col) as the scenario's are, applied after the scenario's own
+/// and before --set.
+struct OverlayText {
+    std::string path; // as given; names the overlay in messages and resolves its relative paths
+    std::string text;
+};
+/// Reads an overlay file; false (and an error naming it) when it is not a readable regular file.
+bool read_overlay(const std::string& path, OverlayText* out, Diagnostics* diag);
+
 /// Loads a scenario file and applies "key=value" overrides. Returns false (and fills diag) when
 /// the file cannot be read or parsed, a key is unknown, a type is wrong, a value is impossible or
 /// required values are missing. Nothing is run or written by this function.
 bool load_scenario(const std::string& path, const std::vector<std::string>& overrides, Scenario* out,
-                   Diagnostics* diag);
+                   Diagnostics* diag, const std::vector<std::string>& overlay_paths = {});
 /// Same, from TOML text (source_name is used in messages and to resolve relative paths).
 bool parse_scenario(const std::string& toml_text, const std::string& source_name,
-                    const std::vector<std::string>& overrides, Scenario* out, Diagnostics* diag);
+                    const std::vector<std::string>& overrides, Scenario* out, Diagnostics* diag,
+                    const std::vector<OverlayText>& overlays = {});
 
 /// Markdown table of every key (the text of `dtc-sil keys`).
 std::string scenario_keys_markdown();

@@ -19,6 +19,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "scenario.hpp"
+
 namespace sil::sweep {
 
 struct Axis {
@@ -35,6 +37,7 @@ struct Axis {
 struct Spec {
     std::string scenario_path;       // as given (messages, relative paths inside the scenario)
     std::string scenario_text;       // the file's text, so workers need not read it
+    std::vector<OverlayText> overlays; // --overlay fragments, applied over the scenario before the sets
     std::vector<std::string> sets;   // fixed --set overrides, applied before the axes
     std::vector<Axis> axes;          // grid axes first, then sampled ones, in the order given
     std::uint64_t n = 1;             // samples per grid point (1 when there is no sampled axis)

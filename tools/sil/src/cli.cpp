@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "controller_adapter.hpp"
+#include "identify.hpp"
 #include "im_tau_check.h"
 #include "run.hpp"
 #include "sweep.hpp"
@@ -47,7 +48,7 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
     app.add_subcommand("sweep-merge", "join the shards of one sweep (dtc-sil sweep-merge --help)");
 
     std::string scenario_path, out_dir, record_isr;
-    std::vector<std::string> sets;
+    std::vector<std::string> sets, overlays;
     unsigned decimate = 1;
     bool no_trace = false, quiet = false, force = false;
 
@@ -59,6 +60,8 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
             [](std::string& v) { return v.empty() ? std::string("empty directory name") : std::string(); },
             "DIR", "non-empty"));
     run->add_option("--set,-s", sets, "override a scenario key: --set load.speed_rpm=700 (repeatable)");
+    run->add_option("--overlay", overlays,
+                    "TOML fragment applied over the scenario before --set, e.g. identified.toml (repeatable)");
     run->add_option("--decimate", decimate, "write every N-th ISR to trace.csv (default 1)")
         ->check(CLI::Range(1u, 1000000u));
     run->add_flag("--no-trace", no_trace, "do not write trace.csv (metrics only)");
@@ -70,6 +73,18 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
     CLI::App* check = app.add_subcommand("check", "validate a scenario (and --set overrides) without running it");
     check->add_option("scenario", scenario_path, "scenario TOML file")->required();
     check->add_option("--set,-s", sets, "override a scenario key (repeatable)");
+    check->add_option("--overlay", overlays, "TOML fragment applied over the scenario before --set (repeatable)");
+
+    double ident_max_s = 10.0;
+    CLI::App* ident = app.add_subcommand(
+        "identify", "self-commissioning on the scenario's rig: writes DIR/identified.toml ([firmware] overlay) and "
+                    "DIR/identification.json (docs/commissioning.md)");
+    ident->add_option("scenario", scenario_path, "scenario TOML file")->required();
+    ident->add_option("--out,-o", out_dir, "output directory (created)")->required();
+    ident->add_option("--set,-s", sets, "override a scenario key (repeatable)");
+    ident->add_option("--overlay", overlays, "TOML fragment applied over the scenario before --set (repeatable)");
+    ident->add_option("--max-time", ident_max_s, "simulated time limit of the whole sequence, s (default 10)")
+        ->check(CLI::Range(0.01, 1000.0));
 
     CLI::App* keys = app.add_subcommand("keys", "print every scenario key with unit, default and range (markdown)");
 
@@ -91,11 +106,29 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
 
     Scenario sc;
     Diagnostics diag;
-    const bool ok = load_scenario(scenario_path, sets, &sc, &diag);
+    const bool ok = load_scenario(scenario_path, sets, &sc, &diag, overlays);
     err << diag.text();
     if (!ok) {
         err << "dtc-sil: " << scenario_path << ": scenario rejected, nothing run or written\n";
         return 1;
+    }
+    if (ident->parsed()) {
+        IdentifyReport rep;
+        rep.max_time_s = ident_max_s;
+        std::string e;
+        if (!identify(sc, out_dir, &rep, &e)) {
+            err << "dtc-sil: " << scenario_path << ": " << e << "\n";
+            return 2;
+        }
+        out << "identify " << scenario_path << ": " << (rep.ok ? "ok" : "FAILED") << " after " << rep.duration_s
+            << " s; wrote " << (std::filesystem::path(out_dir) / "identified.toml").string() << ", "
+            << (std::filesystem::path(out_dir) / "identification.json").string() << "\n";
+        if (!rep.ok) {
+            err << "dtc-sil: " << scenario_path << ": identification failed in step " << rep.failed_step << ": "
+                << rep.reason << "\n";
+            return 3;
+        }
+        return 0;
     }
     RunOptions opt;
     opt.out_dir = out_dir;

@@ -61,13 +61,15 @@ dtc_config_si_t firmware_si_config(const Scenario& sc)
     // electrical speed.
     si.v_base_v = inv.vdc_v;
     si.i_base_a = m.rated_current_a;
-    si.w_base_rad_s = m.rated_speed_rpm * kPi / 30.0 * static_cast<double>(m.pole_pairs);
+    // The pole pairs and the encoder offset as the firmware believes them (firmware.*, dtc-sil identify).
+    const std::int64_t pole_pairs = sc.firmware.pole_pairs.value_or(m.pole_pairs);
+    si.w_base_rad_s = m.rated_speed_rpm * kPi / 30.0 * static_cast<double>(pole_pairs);
     // Machine and inverter as the firmware believes them: the plant's values here, the
     // firmware.* keys given override them at the end.
     si.rs_ohm = m.rs_ohm;
     si.ls_h = m.ls_h;
     si.psi_m_wb = m.psi_m_wb;
-    si.pole_pairs = static_cast<int>(m.pole_pairs);
+    si.pole_pairs = static_cast<int>(pole_pairs);
     si.rated_speed_rpm = m.rated_speed_rpm;
     si.rated_torque_nm = m.rated_torque_nm;
     si.rated_current_a = m.rated_current_a;
@@ -85,7 +87,8 @@ dtc_config_si_t firmware_si_config(const Scenario& sc)
     // Encoder: hal_host counts 0 where theta_m + offset = 0, i.e. the electrical angle at count 0
     // is -p * offset (the firmware is told the true mounting offset).
     si.enc_lines = static_cast<int>(sc.sensors.encoder_lines);
-    si.enc_offset_rad = -static_cast<double>(m.pole_pairs) * sc.sensors.encoder_offset_rad;
+    si.enc_offset_rad =
+        -static_cast<double>(pole_pairs) * sc.firmware.encoder_offset_rad.value_or(sc.sensors.encoder_offset_rad);
     // Control: the converter designs the PI from the bandwidth with the same rule as
     // speed_pi_gains() (crossover wc, PI zero at wc/4); the gains are also given explicitly.
     si.flux_band_wb = c.flux_band_wb;

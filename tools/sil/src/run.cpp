@@ -120,6 +120,23 @@ hal_host::HarnessConfig harness_config_from(const Scenario& sc)
     return c;
 }
 
+bool ActiveHarness::open(const plant_params_t& pp, const Scenario& sc, std::string* err)
+{
+    h_ = hal_host::Harness::create(pp, harness_config_from(sc), err);
+    if (!h_) {
+        return false;
+    }
+    h_->activate();
+    return true;
+}
+
+ActiveHarness::~ActiveHarness()
+{
+    if (h_) {
+        h_->deactivate();
+    }
+}
+
 unsigned switched_legs(const Scenario& sc)
 {
     switch (sc.inverter.topology) {
@@ -342,15 +359,11 @@ bool run_once(const Scenario& sc, std::unique_ptr<Controller> ctrl, const RunOpt
         return false;
     }
     const plant_params_t pp = plant_params_from(sc);
-    std::unique_ptr<hal_host::Harness> h = hal_host::Harness::create(pp, harness_config_from(sc), err);
-    if (!h) {
+    ActiveHarness active;
+    if (!active.open(pp, sc, err)) {
         return false;
     }
-    h->activate();
-    struct Deactivate {
-        hal_host::Harness* h;
-        ~Deactivate() { h->deactivate(); }
-    } deactivate_guard{h.get()};
+    hal_host::Harness* const h = active.get();
     if (std::string e = ctrl->init(*h); !e.empty()) {
         *err = "controller: " + e;
         return false;

@@ -217,7 +217,8 @@ std::string Diagnostics::text() const
 
 
 bool parse_scenario(const std::string& toml_text, const std::string& source_name,
-                    const std::vector<std::string>& overrides, Scenario* out, Diagnostics* diag)
+                    const std::vector<std::string>& overrides, Scenario* out, Diagnostics* diag,
+                    const std::vector<OverlayText>& overlays)
 {
     Scenario s;
     s.path = source_name;
@@ -243,10 +244,10 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
 
     // part: one TOML key as written (a quoted key is one key, whatever it holds); name: the dotted
     // scenario key it makes under its table.
-    auto apply_node = [&](const std::string& name, const std::string& part, const toml::node& n,
-                          const toml::source_region& key_src) {
+    auto apply_node = [&](const std::string& file, const std::string& name, const std::string& part,
+                          const toml::node& n, const toml::source_region& key_src) {
         const Spec* spec = part.find('.') == std::string::npos ? find_spec(name) : nullptr;
-        const std::string loc = where(source_name, n.source().begin.line != 0 ? n.source() : key_src);
+        const std::string loc = where(file, n.source().begin.line != 0 ? n.source() : key_src);
         if (spec == nullptr) {
             std::string shown = echo(name) + ": unknown key";
             if (part.find('.') != std::string::npos) {
@@ -255,7 +256,7 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
                         "\": unknown key (quoted, it is one TOML key whose name holds a dot, not a dotted key; "
                         "write " + echo(part) + " without the quotes)";
             }
-            diag->errors.push_back(where(source_name, key_src) + ": " + shown);
+            diag->errors.push_back(where(file, key_src) + ": " + shown);
             return;
         }
         Value v;
@@ -264,7 +265,7 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
             if (spec->kind == Kind::Path && !v.str.empty()) {
                 std::filesystem::path p(v.str);
                 if (p.is_relative()) {
-                    v.str = (std::filesystem::path(source_name).parent_path() / p).lexically_normal().string();
+                    v.str = (std::filesystem::path(file).parent_path() / p).lexically_normal().string();
                 }
             }
             reduce_angle(*spec, &v);
@@ -281,31 +282,35 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
     std::vector<std::string> empty_tables;
     static const char* const sections[] = {"motor",      "inverter", "load",    "control",
                                            "sensors",    "protection", "firmware", "metrics", "faults"};
-    for (auto&& [key, node] : root) {
-        const std::string k(key.str());
-        bool is_section = false;
-        for (const char* sec : sections) {
-            is_section = is_section || k == sec;
+    // The scenario's tables, then each overlay's over them (dtc-sil --overlay), key by key.
+    auto apply_table = [&](const toml::table& doc, const std::string& file) {
+        for (auto&& [key, node] : doc) {
+            const std::string k(key.str());
+            bool is_section = false;
+            for (const char* sec : sections) {
+                is_section = is_section || k == sec;
+            }
+            if (is_section) {
+                const toml::table* t = node.as_table();
+                if (t == nullptr) {
+                    diag->errors.push_back(where(file, key.source()) + ": " + k + ": expected a table [" + k +
+                                           "], got " + node_type_name(node));
+                    continue;
+                }
+                if (t->empty()) {
+                    empty_tables.push_back(where(file, key.source()) + ": [" + k + "]");
+                }
+                for (auto&& [sub, sn] : *t) {
+                    apply_node(file, k + "." + std::string(sub.str()), std::string(sub.str()), sn, sub.source());
+                }
+            } else if (node.is_table()) {
+                diag->errors.push_back(where(file, key.source()) + ": [" + echo(k) + "]: unknown table");
+            } else {
+                apply_node(file, k, k, node, key.source());
+            }
         }
-        if (is_section) {
-            const toml::table* t = node.as_table();
-            if (t == nullptr) {
-                diag->errors.push_back(where(source_name, key.source()) + ": " + k + ": expected a table [" + k +
-                                       "], got " + node_type_name(node));
-                continue;
-            }
-            if (t->empty()) {
-                empty_tables.push_back(where(source_name, key.source()) + ": [" + k + "]");
-            }
-            for (auto&& [sub, sn] : *t) {
-                apply_node(k + "." + std::string(sub.str()), std::string(sub.str()), sn, sub.source());
-            }
-        } else if (node.is_table()) {
-            diag->errors.push_back(where(source_name, key.source()) + ": [" + echo(k) + "]: unknown table");
-        } else {
-            apply_node(k, k, node, key.source());
-        }
-    }
+    };
+    apply_table(root, source_name);
     if (s.origin.empty() && diag->ok()) {
         // Only empty tables: a file that sets nothing is not a scenario (the defaults would run
         // under its name).
@@ -320,6 +325,23 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
     }
     for (const std::string& t : empty_tables) {
         diag->warnings.push_back(t + ": empty table: sets nothing");
+    }
+
+    for (const OverlayText& ov : overlays) {
+        if (std::string why = check_toml_limits(ov.text, ov.path); !why.empty()) {
+            diag->errors.push_back(why + "; overlay refused before parsing");
+            continue;
+        }
+        try {
+            const toml::table doc = toml::parse(ov.text, ov.path);
+            if (doc.empty()) {
+                diag->warnings.push_back(ov.path + ": the overlay sets no key");
+            }
+            apply_table(doc, ov.path);
+        } catch (const toml::parse_error& e) {
+            diag->errors.push_back(where(ov.path, e.source()) + ": TOML syntax error: " +
+                                   std::string(e.description()));
+        }
     }
 
     int n_set = 0;
@@ -369,25 +391,54 @@ bool parse_scenario(const std::string& toml_text, const std::string& source_name
     return true;
 }
 
-bool load_scenario(const std::string& path, const std::vector<std::string>& overrides, Scenario* out,
-                   Diagnostics* diag)
+namespace {
+// A whole file's text; false with an error "PATH: TAG..." that says what to give instead.
+bool read_toml_text(const std::string& path, const std::string& tag, const std::string& give,
+                    const std::string& unreadable, std::string* text, Diagnostics* diag)
 {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) {
-        diag->errors.push_back(path + ": " +
+        diag->errors.push_back(path + ": " + tag +
                                (std::filesystem::exists(path, ec) ? "not a regular file (a directory?)"
                                                                   : "no such file") +
-                               ": give a scenario TOML file");
+                               ": give " + give);
         return false;
     }
     std::ifstream f(path, std::ios::binary);
     if (!f) {
-        diag->errors.push_back(path + ": cannot open the scenario file");
+        diag->errors.push_back(path + ": " + tag + unreadable);
         return false;
     }
     std::ostringstream ss;
-    ss << f.rdbuf();
-    return parse_scenario(ss.str(), path, overrides, out, diag);
+    ss << f.rdbuf(); // an empty file sets ss's failbit: its text is "" (refused or warned by the parser)
+    *text = ss.str();
+    return true;
+}
+} // namespace
+
+bool read_overlay(const std::string& path, OverlayText* out, Diagnostics* diag)
+{
+    out->path = path;
+    return read_toml_text(path, "--overlay: ", "a TOML fragment (e.g. identified.toml of dtc-sil identify)",
+                          "cannot read the file", &out->text, diag);
+}
+
+bool load_scenario(const std::string& path, const std::vector<std::string>& overrides, Scenario* out,
+                   Diagnostics* diag, const std::vector<std::string>& overlay_paths)
+{
+    std::vector<OverlayText> overlays(overlay_paths.size());
+    bool overlays_ok = true;
+    for (std::size_t i = 0; i < overlay_paths.size(); ++i) {
+        overlays_ok = read_overlay(overlay_paths[i], &overlays[i], diag) && overlays_ok;
+    }
+    if (!overlays_ok) {
+        return false;
+    }
+    std::string text;
+    if (!read_toml_text(path, "", "a scenario TOML file", "cannot open the scenario file", &text, diag)) {
+        return false;
+    }
+    return parse_scenario(text, path, overrides, out, diag, overlays);
 }
 
 bool load_voltage_csv(const std::string& path, std::vector<VoltageRow>* rows, std::string* err)

@@ -198,6 +198,10 @@ void cross_validate(Scenario& s, Diagnostics* d)
     auto warn = [&](const std::string& key, const std::string& msg) {
         d->warnings.push_back(origin_of(s, key) + ": " + key + ": " + msg);
     };
+    if (s.firmware.encoder_reversed) {
+        err("firmware.encoder_reversed", "true: the firmware has no reversed count (dtc_board_cfg_t); swap the "
+                                         "encoder's A and B channels so that it counts up for positive rotation");
+    }
     if (s.metrics_window_s > s.duration_s) {
         err("metrics_window_s", "is " + fmt_double(s.metrics_window_s) + " s, longer than duration_s = " +
                                     fmt_double(s.duration_s) + " s");

@@ -465,6 +465,25 @@ const std::vector<Spec>& schema()
         // belief rows of tools/config/dtc_si_params.h (belief_specs) ----
     };
     static const std::vector<Spec> after_beliefs = {
+        // ---- firmware: the machine's sensors as the firmware believes them (dtc-sil identify writes them) ----
+        Spec{"firmware.pole_pairs", Kind::Integer, "", "pole pairs the firmware uses (encoder angle, per-unit speed "
+             "base); not given: motor.pole_pairs", closed(1, 16), {},
+             [](Scenario& s, const Value& v) { s.firmware.pole_pairs = v.integer; },
+             [](const Scenario& s) {
+                 return s.firmware.pole_pairs ? std::to_string(*s.firmware.pole_pairs) : std::string("the plant's");
+             }},
+        Spec{"firmware.encoder_offset_rad", Kind::Number, "rad",
+             "encoder mounting offset the firmware assumes, in sensors.encoder_offset_rad's sense (mechanical; the "
+             "electrical angle at count 0 is -pole_pairs times it); not given: sensors.encoder_offset_rad",
+             any(), {}, [](Scenario& s, const Value& v) { s.firmware.encoder_offset_rad = v.num; },
+             [](const Scenario& s) {
+                 return s.firmware.encoder_offset_rad ? fmt_double(*s.firmware.encoder_offset_rad)
+                                                      : std::string("the plant's");
+             }},
+        Spec{"firmware.encoder_reversed", Kind::Bool, "", "true: the encoder counts down for positive rotation; the "
+             "firmware has no reversed count, so true is refused (swap the encoder's A and B)", any(), {},
+             [](Scenario& s, const Value& v) { s.firmware.encoder_reversed = v.boolean; },
+             [](const Scenario& s) { return std::string(s.firmware.encoder_reversed ? "true" : "false"); }},
         // ---- faults: every one configured occurs at faults.time_s ----
         num("faults.time_s", "s", positive(), "when the configured faults occur (first control period at or after it)",
             ACC(faults.time_s)),

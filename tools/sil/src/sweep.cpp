@@ -120,7 +120,7 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
     CLI::App app{"dtc-sil sweeps"};
     app.require_subcommand(1);
     std::string scenario_path, out_dir, shard_text, dask_addr;
-    std::vector<std::string> sets, grids, zips, samples, asserts, merge_dirs;
+    std::vector<std::string> sets, overlays, grids, zips, samples, asserts, merge_dirs;
     std::uint64_t n = 0, seed = 1;
     unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
     unsigned chunk = 0, exec_jobs = 1;
@@ -132,6 +132,9 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
     sw->add_option("--out,-o", out_dir, "output directory (summary.csv, summary.json, rows.jsonl, plan.json)")
         ->required();
     sw->add_option("--set,-s", sets, "fixed override of a scenario key for every run (repeatable)");
+    sw->add_option("--overlay", overlays,
+                   "TOML fragment applied over the scenario before --set for every run, e.g. identified.toml "
+                   "(repeatable)");
     sw->add_option("--grid", grids, "grid axis KEY=V1,V2,... (repeatable; Cartesian product)");
     sw->add_option("--zip", zips,
                    "case axis KEY=V1,V2,... (repeatable): all --zip axes have the same length and their i-th "
@@ -197,6 +200,15 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
     if (!e.empty()) {
         err << "dtc-sil sweep: " << e << "\n";
         return 1;
+    }
+    for (const std::string& o : overlays) {
+        Diagnostics od;
+        OverlayText ot;
+        if (!read_overlay(o, &ot, &od)) {
+            err << "dtc-sil sweep: " << od.text();
+            return 1;
+        }
+        spec.overlays.push_back(ot);
     }
     spec.sets = sets;
     spec.seed = seed;

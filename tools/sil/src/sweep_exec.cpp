@@ -43,7 +43,7 @@ std::string child_run(const Spec& spec, const PlannedRun& p, const std::string& 
 {
     Scenario sc;
     Diagnostics diag;
-    if (!parse_scenario(spec.scenario_text, spec.scenario_path, run_overrides(spec, p), &sc, &diag)) {
+    if (!parse_scenario(spec.scenario_text, spec.scenario_path, run_overrides(spec, p), &sc, &diag, spec.overlays)) {
         std::string e;
         for (const std::string& s : diag.errors) {
             e += (e.empty() ? "" : "; ") + s;

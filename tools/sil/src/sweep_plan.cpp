@@ -341,8 +341,13 @@ json spec_json(const Spec& spec)
         }
         axes.push_back(j);
     }
-    return json{{"scenario_path", spec.scenario_path}, {"scenario_text", spec.scenario_text}, {"sets", spec.sets},
-                {"axes", axes}, {"n", spec.n}, {"seed", spec.seed}};
+    json j{{"scenario_path", spec.scenario_path}, {"scenario_text", spec.scenario_text}, {"sets", spec.sets},
+           {"axes", axes}, {"n", spec.n}, {"seed", spec.seed}};
+    // only when given: a plan without overlays keeps its text (and plan id) as before
+    for (const OverlayText& o : spec.overlays) {
+        j["overlays"].push_back(json{{"path", o.path}, {"text", o.text}});
+    }
+    return j;
 }
 
 bool spec_from_json(const json& j, Spec* out, std::string* err)
@@ -352,6 +357,11 @@ bool spec_from_json(const json& j, Spec* out, std::string* err)
         s.scenario_path = j.at("scenario_path").get<std::string>();
         s.scenario_text = j.at("scenario_text").get<std::string>();
         s.sets = j.at("sets").get<std::vector<std::string>>();
+        if (j.contains("overlays")) {
+            for (const json& o : j.at("overlays")) {
+                s.overlays.push_back(OverlayText{o.at("path").get<std::string>(), o.at("text").get<std::string>()});
+            }
+        }
         s.n = j.at("n").get<std::uint64_t>();
         s.seed = j.at("seed").get<std::uint64_t>();
         for (const json& a : j.at("axes")) {
@@ -437,7 +447,7 @@ bool check_axes(const Spec& spec, std::string* err)
 {
     Scenario sc;
     Diagnostics d;
-    if (!parse_scenario(spec.scenario_text, spec.scenario_path, spec.sets, &sc, &d)) {
+    if (!parse_scenario(spec.scenario_text, spec.scenario_path, spec.sets, &sc, &d, spec.overlays)) {
         *err = d.text() + "dtc-sil sweep: " + spec.scenario_path + ": the scenario (with --set) is rejected";
         return false;
     }
@@ -451,7 +461,7 @@ bool check_axes(const Spec& spec, std::string* err)
             }
         }
         Diagnostics dv;
-        if (!parse_scenario(spec.scenario_text, spec.scenario_path, o, &sc, &dv)) {
+        if (!parse_scenario(spec.scenario_text, spec.scenario_path, o, &sc, &dv, spec.overlays)) {
             *err = "--zip case " + std::to_string(c + 1) + " (" + row + ") is rejected: " +
                    (dv.errors.empty() ? std::string("?") : dv.errors.front());
             return false;
@@ -465,7 +475,7 @@ bool check_axes(const Spec& spec, std::string* err)
             std::vector<std::string> o = spec.sets;
             o.push_back(a.key + "=" + v);
             Diagnostics dv;
-            if (!parse_scenario(spec.scenario_text, spec.scenario_path, o, &sc, &dv)) {
+            if (!parse_scenario(spec.scenario_text, spec.scenario_path, o, &sc, &dv, spec.overlays)) {
                 *err = "--grid " + a.key + ": value " + v + " is rejected: " +
                        (dv.errors.empty() ? std::string("?") : dv.errors.front());
                 return false;

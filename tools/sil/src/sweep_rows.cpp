@@ -296,6 +296,11 @@ bool write_summary(const std::string& dir, const Spec& spec, std::vector<json> r
     }
     json sj{{"plan", spec_json(spec)}, {"plan_id", plan_id(spec)}, {"runs_planned", run_count(spec)}, {"rows", rows}};
     sj["plan"].erase("scenario_text");
+    if (sj["plan"].contains("overlays")) {
+        for (json& o : sj["plan"]["overlays"]) {
+            o.erase("text");
+        }
+    }
     return write_text_file(fs::path(dir) / "summary.csv", csv.str(), err) &&
            write_text_file(fs::path(dir) / "summary.json", sj.dump(1) + "\n", err);
 }

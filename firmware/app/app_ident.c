@@ -1,0 +1,569 @@
+/*
+ * app_ident.c - standstill self-commissioning of a PM machine (see app_ident.h,
+ * docs/commissioning.md).
+ */
+#include "app_ident.h"
+
+#include <stddef.h>
+
+/* Segment timing, control periods (50 us: 6000 = 0.3 s). */
+#define ID_ALIGN_RAMP 2000      /* first ramp to rated current: the rotor swings into alignment */
+#define ID_ALIGN_SETTLE 6000U
+#define ID_LEVEL_RAMP 400       /* later level changes: a full-rated change over 400 periods */
+#define ID_LEVEL_SETTLE 1500U   /* > 10 closed-loop time constants of the regulator */
+#define ID_MEAS 1024U
+#define ID_PULSE_GAP 600U       /* regulated hold between two voltage steps */
+#define ID_PULSE_MAX 2000U      /* longest voltage step (100 ms) */
+#define ID_PULSES 4U
+#define ID_ENC_MOVE_SSTP 3000U  /* periods for one 120-degree move of the vector (SSTP) */
+#define ID_ENC_MOVE_FSTP 3000U  /* one 180-degree move (FSTP) */
+#define ID_ENC_LEVEL_FSTP 0.5
+#define ID_ENC_SETTLE 3000U    /* encoder dwell: the least settling; the quadrature trim from its half */
+#define ID_ENC_MEAS 1024U
+#define ID_OPEN_PERIODS 400U    /* regulator saturated with little current this long: open phase */
+#define ID_TRIM_LOG2 4U         /* slow regulator: the quadrature trim's integral gain ki / 2^4 */
+#define ID_STILL 2000U          /* encoder dwell: periods with the count within +-1 before the sums */
+#define ID_SETTLE_MAX 40000U    /* encoder dwell: the longest wait for the rotor to come to rest (2 s) */
+
+/* The injection axis (res.axis). FSTP: beta (90 degrees), current from leg B into leg C, so that
+ * phase A (the capacitor mid-point) carries none and the mid-point does not drift. SSTP: alpha
+ * (0 degrees), i_a = I, i_b = i_c = -I/2: every phase carries current, so no leg sits in the
+ * dead time's zero-current clamp, which would block the quadrature current that brakes the
+ * rotor's swing (regulate). */
+#define ID_TH0_FSTP ANGLE(0.25)
+#define ID_TH0_SSTP ANGLE(0.0)
+
+/* Background only: num / den rounded toward zero, for den > 0 and |num| < 2^63, by restoring
+ * binary long division (64 shift-and-subtract steps): the firmware calls no division helper
+ * (the C28x has no 64-bit divide; tests/rules checks the libraries for helpers). */
+static int64_t div64(int64_t num, int64_t den)
+{
+    const uint64_t n = num < 0 ? (uint64_t)0 - (uint64_t)num : (uint64_t)num;
+    const uint64_t dd = (uint64_t)den;
+    uint64_t q = 0U, r = 0U;
+    int16_t b;
+    for (b = 63; b >= 0; b--) {
+        r = (r << 1) | ((n >> (uint16_t)b) & 1U);
+        if (r >= dd) {
+            r -= dd;
+            q |= (uint64_t)1 << (uint16_t)b;
+        }
+    }
+    return num < 0 ? -(int64_t)q : (int64_t)q;
+}
+
+static void fail(app_ident_t *d, uint16_t why, int16_t detail)
+{
+    if (d->step != (uint16_t)APP_IDENT_FAILED && d->step != (uint16_t)APP_IDENT_DONE) {
+        d->fail = why;
+        d->fail_step = d->step;
+        d->fail_detail = detail;
+        d->step = (uint16_t)APP_IDENT_FAILED;
+        d->seg = (uint16_t)APP_IDENT_SEG_OFF;
+    }
+}
+
+/* Background: hands the ISR a regulated-current segment. */
+static void post_hold(app_ident_t *d, uint32_t th_move_q16, uint32_t th_rate_q16, iq_t i_target, iq_t i_rate,
+                      uint16_t n_settle, uint16_t n_meas, uint16_t slow)
+{
+    d->seg = (uint16_t)APP_IDENT_SEG_HOLD;
+    d->slow = slow != 0U ? 1U : 0U;
+    d->still = slow == 2U ? 1U : 0U;
+    d->th_left_q16 = th_move_q16;
+    d->th_rate_q16 = th_rate_q16;
+    d->i_target = i_target;
+    d->i_rate = i_rate;
+    d->n_settle = n_settle;
+    d->n_meas = n_meas;
+    d->done = 0U;
+    d->go = 1U;
+}
+
+static void post_pulse(app_ident_t *d)
+{
+    d->seg = (uint16_t)APP_IDENT_SEG_PULSE;
+    d->dv_iq = IQ(1.0 / 32.0);       /* 2.2 V on a 70 V link */
+    d->di_stop_iq = IQ(0.4);         /* from the half-rated hold: at most 0.9 x rated */
+    d->n_meas = ID_PULSE_MAX;
+    d->done = 0U;
+    d->go = 1U;
+}
+
+void app_ident_start(app_ident_t *d, const dtc_config_t *cfg, uint16_t qep_count, iq_t vdc_iq)
+{
+    uint16_t k;
+    d->go = 0U;
+    d->done = 0U;
+    d->res.axis = cfg->board.topology == (uint16_t)DTC_TOPO_FSTP ? ID_TH0_FSTP : ID_TH0_SSTP;
+    d->th_q16 = (uint32_t)d->res.axis << 16;
+    d->i_ref = 0;
+    d->integ[0] = 0;
+    d->integ[1] = 0;
+    d->v_ab[0] = 0;
+    d->v_ab[1] = 0;
+    d->phase = 0U;
+    d->n = 0U;
+    d->sat_n = 0U;
+    d->sum_i = 0;
+    d->sum_v = 0;
+    d->sum_pos = 0;
+    d->last_count = qep_count;
+    d->count0 = qep_count;
+    d->pos = 0;
+    d->vdc_iq = vdc_iq;
+    /* Regulator gains from the base impedance Z_b = V_b / I_b = 1 pu (app_ident.h). */
+    d->kp_iq = IQ(1.0 / 64.0);
+    d->ki_iq = IQ(1.0 / 4096.0);     /* per period: Z_b * 4.9 rad/s at 50 us */
+    d->v_lim_iq = IQ(0.25);
+    d->fail = (uint16_t)APP_IDENT_OK;
+    d->fail_step = 0U;
+    d->fail_detail = 0;
+    d->n_dwell = cfg->board.topology == (uint16_t)DTC_TOPO_FSTP ? 2U : 3U;
+    d->pulse_num = 0;
+    d->pulse_den = 0;
+    d->tick = 0U;
+    d->step_tick = 0U;
+    for (k = 0U; k < 4U; k++) {
+        d->res.ticks[k] = 0U;
+    }
+    d->res.pole_pairs = 0U;
+    d->res.enc_reversed = 0U;
+    d->res.enc_offset = 0U;
+    d->res.r_iq = 0;
+    d->res.v0_iq = 0;
+    d->res.l_ts_iq = 0;
+    d->res.counts_per_turn = 0;
+    /* 1 / V_dc (background: a division), for the duties. */
+    d->inv_vdc_iq = vdc_iq > IQ(1.0 / 16.0) ? fix_sat32(div64((int64_t)1 << 48, (int64_t)vdc_iq)) : IQ(1.0);
+    d->step = (uint16_t)APP_IDENT_RS;
+    d->sub = 0U;
+    /* The rotor swings onto the axis under the slow regulator (regulate), at half rated: the
+     * braking quadrature current is at most the aligning current (overdamped, the braking torque
+     * balances the magnet's pull 1.5 p psi_m I sin(delta)), so |i| stays below 0.71 x rated. Then
+     * the levels. */
+    post_hold(d, 0U, 0U, IQ(0.5), (iq_t)(IQ(0.5) / ID_ALIGN_RAMP), ID_ALIGN_SETTLE, 16U, 1U);
+}
+
+void app_ident_abort(app_ident_t *d) { fail(d, (uint16_t)APP_IDENT_FAIL_TRIP, 0); }
+
+/* The voltage (v_alpha, v_beta) as one centred pulse per leg (app_ident.h: SSTP d_x = 1/2 +
+ * v_x / V_dc; FSTP d_x = (v_mid + v_x - v_a) / V_dc, legs B and C). Inverse Clarke, amplitude
+ * invariant: v_a = v_alpha, v_b,c = -v_alpha / 2 +- sqrt(3)/2 v_beta. Duties clamp to [1/16, 15/16];
+ * compare value T1PR (1 - d) (hal.h: upper on from the up-count match to the down-count match).
+ * Scaling: |v| <= v_lim = 0.25 pu, the sums stay below 2 pu; duty x T1PR < 2^40 in 64 bits. */
+static void ident_pwm(const app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t *pu, uint16_t t1pr,
+                      hal_cmd_t *cmd)
+{
+    const iq_t va = d->v_ab[0];
+    const iq_t half_a = fix_neg32(fix_rshift_rnd32(va, 1U));
+    const iq_t sb = fix_rshift_rnd64_sat32((int64_t)d->v_ab[1] * (int64_t)FIX_Q31_SQRT3_2, 31U);
+    const iq_t v[3] = {va, fix_add32(half_a, sb), fix_sub32(half_a, sb)};
+    iq_t base = fix_rshift_rnd32(d->vdc_iq, 1U);
+    uint16_t x;
+    const uint16_t fstp = cfg->board.topology == (uint16_t)DTC_TOPO_FSTP ? 1U : 0U;
+    if (fstp != 0U && cfg->board.fstp_vmid_measured != 0U) {
+        base = pu->vmid_iq;
+    }
+    cmd->form = (uint16_t)HAL_CMD_PWM;
+    for (x = 0U; x < 3U; x++) {
+        iq_t u = fix_add32(base, v[x]);
+        iq_t duty;
+        if (fstp != 0U) {
+            u = fix_sub32(u, va); /* leg voltage to the negative rail: v_mid + v_x - v_a */
+        }
+        duty = iq_sat(iq_mpy(u, d->inv_vdc_iq), IQ(1.0 / 16.0), IQ(15.0 / 16.0));
+        cmd->cmpr_up[x] = (uint16_t)((uint32_t)t1pr -
+                                     (uint32_t)(((int64_t)duty * (int64_t)t1pr + ((int64_t)1 << 23)) >> 24));
+        cmd->cmpr_dn[x] = cmd->cmpr_up[x];
+        cmd->act[x] = (uint16_t)HAL_PWM_UPPER_ACTIVE_HIGH;
+    }
+    cmd->enable = 1U;
+}
+
+/* The angle and current ramps of a HOLD segment; returns 1 while either is moving. The angle
+ * only moves forward (the encoder step turns the vector in the positive direction); th_q16 wraps
+ * modulo one turn by design (angle_t in its upper 16 bits). */
+static uint16_t ramps(app_ident_t *d)
+{
+    uint16_t moving = 0U;
+    if (d->th_left_q16 != 0U) {
+        const uint32_t st = d->th_left_q16 < d->th_rate_q16 || d->th_rate_q16 == 0U ? d->th_left_q16 : d->th_rate_q16;
+        d->th_q16 += st;
+        d->th_left_q16 -= st;
+        moving = 1U;
+    }
+    if (d->i_ref != d->i_target) {
+        const iq_t diff = fix_sub32(d->i_target, d->i_ref);
+        if (fix_abs32(diff) <= d->i_rate || d->i_rate <= 0) {
+            d->i_ref = d->i_target;
+        } else {
+            d->i_ref = diff > 0 ? fix_add32(d->i_ref, d->i_rate) : fix_sub32(d->i_ref, d->i_rate);
+            moving = 1U;
+        }
+    }
+    return moving;
+}
+
+/* PI in the reference frame (the axis at th and its quadrature): the parallel current to i_ref,
+ * the quadrature current to zero; v_alpha,beta = the two outputs turned by th. Integrators and
+ * outputs clamped to +-v_lim. In the reference frame a turning th needs no integrator to follow
+ * it. d->slow: no integral action on the quadrature axis, only kp: there the machine is
+ * voltage-fed through R_s + kp, so a swing of the rotor about the axis (whose back-EMF is in
+ * quadrature to the current once aligned) drives a quadrature current that brakes it, about
+ * 1.5 p^2 psi_m^2 / (R_s + kp) of damping (0.013 N.m.s/rad for Hoang Table VIII: critically damped
+ * at a quarter of rated current, where the friction alone takes seconds); at rest no quadrature
+ * voltage is left to pull the rotor off the axis. */
+static void regulate(app_ident_t *d, iq_t i_par, iq_t i_perp, q15_t c, q15_t s)
+{
+    const iq_t e[2] = {fix_sub32(d->i_ref, i_par), fix_neg32(i_perp)};
+    /* slow: the quadrature integral off while the rotor swings (moves, first half of the settling),
+     * then at ki / 2^ID_TRIM_LOG2: the static quadrature voltage error (the mid-point sensor's on
+     * the FSTP) is taken out slower than the rotor's swing, so the rotor follows without swinging */
+    const uint16_t trim = (uint16_t)(d->phase == 2U || (d->phase == 1U && d->n >= (d->n_settle >> 1)));
+    const iq_t ki[2] = {d->ki_iq, d->slow == 0U ? d->ki_iq : (trim != 0U ? fix_rshift_rnd32(d->ki_iq, ID_TRIM_LOG2) : 0)};
+    iq_t v[2];
+    uint16_t k;
+    for (k = 0U; k < 2U; k++) {
+        d->integ[k] = iq_sat(fix_add32(d->integ[k], iq_mpy(ki[k], e[k])), fix_neg32(d->v_lim_iq), d->v_lim_iq);
+        v[k] = iq_sat(fix_add32(d->integ[k], iq_mpy(d->kp_iq, e[k])), fix_neg32(d->v_lim_iq), d->v_lim_iq);
+    }
+    d->v_ab[0] = fix_sub32(iq_mpy_q15(v[0], c), iq_mpy_q15(v[1], s));
+    d->v_ab[1] = fix_add32(iq_mpy_q15(v[0], s), iq_mpy_q15(v[1], c));
+}
+
+uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t *pu, uint16_t t1pr,
+                       hal_cmd_t *cmd)
+{
+    const iq_t iph[3] = {pu->ia_iq, pu->ib_iq, pu->ic_iq};
+    iq_t i_ab[2];
+    iq_t i_par, i_perp, v_par;
+    q15_t c, s;
+    uint16_t k;
+
+    d->tick++;
+    d->vdc_iq = pu->vdc_iq;
+    {
+        /* unwrapped count: the per-period change folded into (-N/2, N/2] */
+        const int32_t n_c = (int32_t)cfg->board.enc_counts;
+        const int32_t half = (int32_t)(cfg->board.enc_counts >> 1U);
+        int32_t dc = (int32_t)pu->enc_count - (int32_t)d->last_count;
+        if (dc > half) {
+            dc -= n_c;
+        } else if (dc <= -half) {
+            dc += n_c;
+        }
+        d->pos += dc;
+        d->last_count = pu->enc_count;
+    }
+    if (d->step == (uint16_t)APP_IDENT_DONE || d->step == (uint16_t)APP_IDENT_FAILED ||
+        d->step == (uint16_t)APP_IDENT_IDLE) {
+        return 1U;
+    }
+    for (k = 0U; k < 3U; k++) {
+        if (fix_abs32(iph[k]) > IQ(1.25)) {
+            fail(d, (uint16_t)APP_IDENT_FAIL_OVERCURRENT, (int16_t)k);
+            return 1U;
+        }
+    }
+    /* Clarke, amplitude invariant: i_beta = (i_b - i_c) / sqrt(3) */
+    i_ab[0] = iph[0];
+    i_ab[1] = fix_rshift_rnd64_sat32((int64_t)fix_sub32(iph[1], iph[2]) * (int64_t)FIX_Q31_INV_SQRT3, 31U);
+    if (d->go != 0U) {
+        d->go = 0U;
+        d->n = 0U;
+        d->sum_i = 0;
+        d->sum_v = 0;
+        d->sum_pos = 0;
+        d->sat_n = 0U;
+        d->still_n = 0U;
+        d->still_ref = d->pos;
+        d->phase = d->seg == (uint16_t)APP_IDENT_SEG_PULSE ? 6U : 0U;
+        if (d->seg == (uint16_t)APP_IDENT_SEG_PULSE) {
+            d->v_hold = d->v_ab[0]; /* the regulated voltage before the step, both axes */
+            d->v_hold_b = d->v_ab[1];
+        }
+    }
+    {
+        const angle_t th = (angle_t)(d->th_q16 >> 16);
+        c = fix_cos(th);
+        s = fix_sin(th);
+    }
+    i_par = fix_add32(iq_mpy_q15(i_ab[0], c), iq_mpy_q15(i_ab[1], s));
+    i_perp = fix_sub32(iq_mpy_q15(i_ab[1], c), iq_mpy_q15(i_ab[0], s));
+
+    if (d->seg == (uint16_t)APP_IDENT_SEG_PULSE) {
+        const iq_t dva = iq_mpy_q15(d->dv_iq, c);
+        const iq_t dvb = iq_mpy_q15(d->dv_iq, s);
+        /* n counts the step commands written; the command of period k governs period k + 1
+         * (hal.h), so the step acts from the sample after the first command to the sample
+         * after the last one: those two samples are its start and end current. */
+        uint16_t on = 1U;
+        if (d->phase == 6U) {
+            d->phase = 5U;
+            d->n = 1U;
+        } else if (d->phase == 5U) { /* the step's start sample */
+            d->i_first = i_par;
+            d->phase = 2U;
+            d->n = 2U;
+        } else if (d->phase == 2U) {
+            const iq_t rise = fix_sub32(i_par, d->i_first);
+            d->sum_i += (int64_t)rise;
+            if (rise >= d->di_stop_iq || d->n >= d->n_meas) {
+                on = 0U;
+                d->phase = 3U; /* the next sample is the step's end */
+            } else {
+                d->n++;
+            }
+        } else if (d->phase == 3U) {
+            d->i_last = i_par;
+            on = 0U;
+            d->phase = 4U;
+            d->seg = (uint16_t)APP_IDENT_SEG_HOLD; /* regulated again, integrators as before */
+            d->done = 1U;
+        } else {
+            on = 0U;
+        }
+        if (on != 0U) {
+            d->v_ab[0] = fix_add32(d->v_hold, dva);
+            d->v_ab[1] = fix_add32(d->v_hold_b, dvb);
+        } else {
+            d->v_ab[0] = d->v_hold;
+            d->v_ab[1] = d->v_hold_b;
+        }
+    } else if (d->seg == (uint16_t)APP_IDENT_SEG_HOLD) {
+        const uint16_t moving = ramps(d);
+        regulate(d, i_par, i_perp, c, s);
+        v_par = fix_add32(iq_mpy_q15(d->v_ab[0], c), iq_mpy_q15(d->v_ab[1], s));
+        if (d->phase == 0U && moving == 0U) {
+            d->phase = 1U;
+            d->n = 0U;
+        } else if (d->phase == 1U) {
+            ++d->n;
+            if (d->still != 0U) {
+                /* the encoder step: after n_settle, wait until the count stays within +-1 of one
+                 * value for ID_STILL periods; a rotor not at rest by ID_SETTLE_MAX is a coupled
+                 * load, a blocked or a far too heavy rotor: named, not measured */
+                const int32_t dev = d->pos - d->still_ref;
+                if (dev > 1 || dev < -1) {
+                    d->still_ref = d->pos;
+                    d->still_n = 0U;
+                } else if (d->still_n < ID_STILL) {
+                    d->still_n++;
+                }
+                if (d->n >= ID_SETTLE_MAX) {
+                    fail(d, (uint16_t)APP_IDENT_FAIL_NOT_AT_REST, 0);
+                    return 1U;
+                }
+            }
+            if (d->n >= d->n_settle && (d->still == 0U || d->still_n >= ID_STILL)) {
+                d->phase = 2U;
+                d->n = 0U;
+            }
+        } else if (d->phase == 2U) {
+            d->sum_i += (int64_t)i_par;
+            d->sum_v += (int64_t)v_par;
+            d->sum_pos += (int64_t)d->pos;
+            if (++d->n >= d->n_meas) {
+                d->phase = 4U;
+                d->done = 1U;
+            }
+        } else {
+            /* 4: done, regulating until the next segment */
+        }
+        /* Open phase: the regulator at its limit while the current stays below a quarter of a
+         * reference of at least a quarter of rated. */
+        if (fix_abs32(v_par) >= fix_sub32(d->v_lim_iq, IQ(1.0 / 256.0)) && d->i_ref >= IQ(0.25) &&
+            fix_abs32(i_par) < fix_rshift_rnd32(d->i_ref, 2U)) {
+            if (++d->sat_n >= ID_OPEN_PERIODS) {
+                fail(d, (uint16_t)APP_IDENT_FAIL_OPEN_PHASE, 0);
+                return 1U;
+            }
+        } else {
+            d->sat_n = 0U;
+        }
+    } else {
+        return 1U;
+    }
+    ident_pwm(d, cfg, pu, t1pr, cmd);
+    return 0U;
+}
+
+/* Least-squares line through the level means (background): R = S_xy / S_xx on deviations
+ * from the means, V_0 = mean_v - R mean_i. Scaling: deviations |dx| < 2 pu (2^25), products
+ * < 2^50, four of them < 2^52 in 64 bits; S_xx >> 24 is S_xx in IQ. */
+static void fit_line(app_ident_t *d)
+{
+    int64_t mx = 0, my = 0, sxx = 0, sxy = 0;
+    uint16_t k;
+    for (k = 0U; k < APP_IDENT_R_LEVELS; k++) {
+        mx += d->res.level_i_iq[k];
+        my += d->res.level_v_iq[k];
+    }
+    mx = div64(mx, (int64_t)APP_IDENT_R_LEVELS);
+    my = div64(my, (int64_t)APP_IDENT_R_LEVELS);
+    for (k = 0U; k < APP_IDENT_R_LEVELS; k++) {
+        const int64_t dx = (int64_t)d->res.level_i_iq[k] - mx;
+        const int64_t dy = (int64_t)d->res.level_v_iq[k] - my;
+        sxx += dx * dx;
+        sxy += dx * dy;
+    }
+    sxx >>= 24;
+    d->res.r_iq = sxx > 0 ? fix_sat32(div64(sxy, sxx)) : 0;
+    d->res.v0_iq = fix_sub32(fix_sat32(my), iq_mpy(d->res.r_iq, fix_sat32(mx)));
+}
+
+/* One move of the encoder step: a turn over the dwells per turn, angle_t LSB (three: 21845, one
+ * LSB short of a third, so the last dwell is 3 LSB = 0.02 degree short of a full turn). */
+static uint32_t span_of(const app_ident_t *d) { return d->n_dwell == 2U ? 32768UL : 21845UL; }
+
+/* Encoder results from the dwell positions (background; app_ident.h). */
+static void encoder_results(app_ident_t *d, const dtc_config_t *cfg)
+{
+    const int64_t n_q8 = (int64_t)cfg->board.enc_counts << 8;
+    const int64_t delta = (int64_t)d->dwell_pos_q8[d->n_dwell] - (int64_t)d->dwell_pos_q8[0];
+    const int64_t ad = delta < 0 ? -delta : delta;
+    int64_t p;
+    int32_t acc = 0;
+    angle_t off0 = 0U;
+    uint16_t j;
+    d->res.counts_per_turn = fix_sat32(div64(delta, 256));
+    if (ad < (n_q8 >> 6)) {
+        fail(d, (uint16_t)APP_IDENT_FAIL_ENC_NOT_COUNTING, (int16_t)d->res.counts_per_turn);
+        return;
+    }
+    d->res.enc_reversed = delta < 0 ? 1U : 0U;
+    p = div64(n_q8 + (ad >> 1), ad);
+    if (p < 1 || p > 16) {
+        fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_POLE_PAIRS);
+        return;
+    }
+    {
+        const int64_t err = p * ad - n_q8;
+        if ((err < 0 ? -err : err) > div64(n_q8, 20)) {
+            fail(d, (uint16_t)APP_IDENT_FAIL_ENC_LINES, (int16_t)d->res.counts_per_turn);
+            return;
+        }
+    }
+    d->res.pole_pairs = (uint16_t)p;
+    for (j = 0U; j < d->n_dwell; j++) {
+        /* the raw count at the dwell (Q8), in [0, N) */
+        const int64_t raw = ((int64_t)d->count0 << 8) + (int64_t)d->dwell_pos_q8[j];
+        int64_t cq8 = raw - div64(raw, n_q8) * n_q8;
+        int64_t th;
+        angle_t th_vec, off;
+        if (cq8 < 0) {
+            cq8 += n_q8;
+        }
+        if (d->res.enc_reversed != 0U) {
+            cq8 = -cq8;
+        }
+        th = div64(cq8 * p * 65536, n_q8);       /* electrical angle of the count, angle_t units */
+        th_vec = (angle_t)(d->res.axis + (angle_t)(span_of(d) * j));
+        off = (angle_t)((uint32_t)th_vec - (uint32_t)(uint16_t)(uint64_t)th); /* modulo one turn */
+        if (j == 0U) {
+            off0 = off;
+        }
+        acc += (int32_t)(int16_t)(uint16_t)(off - off0);
+    }
+    d->res.enc_offset = (angle_t)(off0 + (angle_t)(int16_t)div64(acc, (int64_t)d->n_dwell));
+}
+
+/* The encoder step's current: half rated; a quarter on the FSTP, where the moves between its two
+ * vectors pass phase A's current through the capacitor mid-point (0.55 A over a 0.2 s half turn
+ * moves it by about 7 V on 2 x 4.7 mF). */
+static iq_t enc_level(const app_ident_t *d) { return d->n_dwell == 2U ? IQ(ID_ENC_LEVEL_FSTP) : IQ(0.75); }
+
+static void next_step(app_ident_t *d, uint16_t step)
+{
+    d->res.ticks[d->step] = d->tick - d->step_tick;
+    d->step_tick = d->tick;
+    d->step = step;
+    d->sub = 0U;
+}
+
+void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
+{
+    static const iq_t levels[APP_IDENT_R_LEVELS] = {IQ(1.0), IQ(0.75), IQ(0.5), IQ(0.25)};
+    if (d->step != (uint16_t)APP_IDENT_RS && d->step != (uint16_t)APP_IDENT_LS &&
+        d->step != (uint16_t)APP_IDENT_ENCODER) {
+        return;
+    }
+    if (d->go != 0U || d->done == 0U) {
+        return; /* the ISR is in a segment */
+    }
+    switch (d->step) {
+    case APP_IDENT_RS:
+        if (d->sub > 0U) { /* segment 0 aligned the rotor; 1.. are the levels */
+            d->res.level_i_iq[d->sub - 1U] = fix_sat32(div64(d->sum_i, (int64_t)d->n_meas));
+            d->res.level_v_iq[d->sub - 1U] = fix_sat32(div64(d->sum_v, (int64_t)d->n_meas));
+        }
+        d->sub++;
+        if (d->sub <= APP_IDENT_R_LEVELS) {
+            post_hold(d, 0U, 0U, levels[d->sub - 1U], (iq_t)(IQ(1.0) / ID_LEVEL_RAMP), ID_LEVEL_SETTLE, ID_MEAS, 0U);
+            return;
+        }
+        fit_line(d);
+        /* Bounds: R between 1/4096 and 1/2 of Z_b; V_0 from -V_b/256 (a drop-free inverter's
+         * measurement noise) to V_b/10 (7 V on 70 V). */
+        if (d->res.r_iq < IQ(1.0 / 4096.0) || d->res.r_iq > IQ(0.5)) {
+            fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_RS);
+            return;
+        }
+        if (d->res.v0_iq < -IQ(1.0 / 256.0) || d->res.v0_iq > IQ(0.1)) {
+            fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_V0);
+            return;
+        }
+        next_step(d, (uint16_t)APP_IDENT_LS);
+        post_hold(d, 0U, 0U, IQ(0.5), (iq_t)(IQ(1.0) / ID_LEVEL_RAMP), ID_LEVEL_SETTLE, 16U, 0U);
+        return;
+    case APP_IDENT_LS:
+        if ((d->sub & 1U) != 0U) {
+            /* a step ended: its volt-periods less the resistive part (trapezoid of the rise)
+             * over its current rise, Hoang eq. 28's L di/dt = v - R i on the step axis */
+            const iq_t rise = fix_sub32(d->i_last, d->i_first);
+            const int64_t trap = d->sum_i + (int64_t)fix_rshift_rnd32(rise, 1U);
+            d->pulse_num += (int64_t)d->dv_iq * (int64_t)d->n -
+                            (int64_t)fix_rshift_rnd64_sat32((int64_t)d->res.r_iq * trap, 24U);
+            d->pulse_den += (int64_t)rise;
+        }
+        d->sub++;
+        if (d->sub < 2U * ID_PULSES) {
+            if ((d->sub & 1U) != 0U) {
+                post_pulse(d);
+            } else {
+                post_hold(d, 0U, 0U, IQ(0.5), (iq_t)(IQ(1.0) / ID_LEVEL_RAMP), ID_PULSE_GAP, 16U, 0U);
+            }
+            return;
+        }
+        d->res.l_ts_iq = d->pulse_den > 0 ? fix_sat32(div64(d->pulse_num * 16777216, d->pulse_den)) : 0;
+        /* Bounds: L / (Z_b Ts) between 1/16 and 4096 (5 uH .. 6.5 H for Z_b = 31.8 ohm at 50 us). */
+        if (d->res.l_ts_iq < IQ(1.0 / 16.0) || d->res.l_ts_iq > IQ(4096.0 - 1.0)) {
+            fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_LS);
+            return;
+        }
+        next_step(d, (uint16_t)APP_IDENT_ENCODER);
+        post_hold(d, 0U, 0U, enc_level(d), (iq_t)(IQ(1.0) / ID_LEVEL_RAMP), ID_ENC_SETTLE, ID_ENC_MEAS, 2U);
+        return;
+    case APP_IDENT_ENCODER: {
+        const uint32_t move = d->n_dwell == 2U ? ID_ENC_MOVE_FSTP : ID_ENC_MOVE_SSTP;
+        const uint32_t span = span_of(d);
+        d->dwell_pos_q8[d->sub] = fix_sat32(div64(d->sum_pos * 256, (int64_t)d->n_meas));
+        d->sub++;
+        if (d->sub <= d->n_dwell) {
+            post_hold(d, span << 16, (uint32_t)div64((int64_t)span << 16, (int64_t)move), enc_level(d), (iq_t)(IQ(1.0) / ID_LEVEL_RAMP),
+                      ID_ENC_SETTLE, ID_ENC_MEAS, 2U);
+            return;
+        }
+        encoder_results(d, cfg);
+        if (d->step == (uint16_t)APP_IDENT_FAILED) {
+            return;
+        }
+        next_step(d, (uint16_t)APP_IDENT_DONE);
+        d->seg = (uint16_t)APP_IDENT_SEG_OFF;
+        return;
+    }
+    default:
+        return;
+    }
+}

@@ -1,0 +1,166 @@
+/*
+ * app_ident.h - self-commissioning of a PM machine at standstill (docs/commissioning.md): the
+ * firmware measures what it is connected to from the board data alone (ADC scaling, V_dc, the
+ * encoder's counts per turn, the topology) and the rated current (the current base, 1 pu):
+ *   1. R_s and the inverter's drop: DC current along one axis (res.axis) at four levels (1, 3/4,
+ *      1/2, 1/4 of rated), after the rotor aligned on it at half rated; the mean commanded voltage
+ *      against the mean current, line V = R I + V_0;
+ *   2. L_s: voltage steps on the half-rated DC current, the current's rise (volt-seconds over
+ *      current, the resistive part removed with the fitted R);
+ *   3. encoder: the current vector stepped through one electrical turn (three DC vectors on the
+ *      SSTP, two on the FSTP, whose mid-point cannot carry a lasting phase-A current), the rotor
+ *      aligned on each: the counts' direction, the counts per electrical turn (pole pairs) and the
+ *      count-to-magnet offset.
+ * Every step limits the current to rated (references <= 1 pu, pulses stop at 0.9 pu, any phase
+ * above 1.25 pu ends the identification), checks its result against plausibility bounds and on
+ * failure stops with the gates off and a reason (enum app_ident_fail).
+ *
+ * Split: the 50 us ISR (app_ident_isr) only regulates the current, writes the PWM command and adds
+ * samples into sums (multiplications, additions, shifts); every division and fit is in the
+ * background (app_ident_service), which hands the ISR one segment at a time (go / done flags).
+ *
+ * Current regulator (ISR): PI on the reference axis and its quadrature, reference I (cos th, sin th),
+ * gains from the board's base impedance Z_b = V_b / I_b only (nothing of the machine is known):
+ * kp = Z_b / 64, ki = Z_b * 4 rad/s (per period: Z_b * 4 * Ts). Amplitude-invariant Clarke
+ * (Hoang eqs. 1-5 convention): i_alpha = i_a, i_beta = (i_b - i_c) / sqrt(3). The voltage reference
+ * goes out as one centred pulse per leg: SSTP d_x = 1/2 + v_x / V_dc; FSTP (phase A on the
+ * mid-point) d_x = (v_mid + v_x - v_a) / V_dc for legs B, C, with the measured mid-point.
+ *
+ * Formats: currents, voltages IQ pu (fixmath.h Q24); angles angle_t; sums int64 (at most 2^16
+ * samples of |x| <= 2 pu: < 2^42); results as documented in app_ident_result_t.
+ */
+#ifndef APP_IDENT_H
+#define APP_IDENT_H
+
+#include <stdint.h>
+
+#include "dtc_config.h"
+#include "fixmath.h"
+#include "hal.h"
+#include "law_io.h"
+
+/* The identification's progress (app_ident_t.step). */
+enum app_ident_step {
+    APP_IDENT_IDLE = 0,
+    APP_IDENT_RS = 1,      /* DC injection at four levels */
+    APP_IDENT_LS = 2,      /* voltage steps on a DC current */
+    APP_IDENT_ENCODER = 3, /* DC vectors through one electrical turn */
+    APP_IDENT_DONE = 4,    /* every result set, gates off */
+    APP_IDENT_FAILED = 5   /* app_ident_t.fail says why, fail_step in which step; gates off */
+};
+
+/* Why the identification stopped (app_ident_t.fail). */
+enum app_ident_fail {
+    APP_IDENT_OK = 0,
+    APP_IDENT_FAIL_OPEN_PHASE = 1,     /* the regulator at its voltage limit and the current below a
+                                        * quarter of its reference: a phase or leg carries no current */
+    APP_IDENT_FAIL_BOUNDS = 2,         /* a result outside its plausibility bounds (fail_detail: which) */
+    APP_IDENT_FAIL_ENC_NOT_COUNTING = 3, /* the count moved less than a 64th of a turn over one
+                                          * electrical turn of the current vector */
+    APP_IDENT_FAIL_ENC_LINES = 4,      /* the counts per electrical turn are no whole fraction of the
+                                        * encoder's counts per turn (wrong line count) */
+    APP_IDENT_FAIL_OVERCURRENT = 5,    /* a phase above 1.25 x rated */
+    APP_IDENT_FAIL_TRIP = 6,           /* the drive's protection tripped (app fault latched) */
+    APP_IDENT_FAIL_NOT_AT_REST = 7     /* encoder step: the rotor did not come to rest on a DC vector
+                                        * within 2 s (a coupled load, a blocked or too heavy rotor) */
+};
+
+/* fail_detail of APP_IDENT_FAIL_BOUNDS: the quantity out of bounds. */
+enum app_ident_quantity {
+    APP_IDENT_Q_RS = 1,
+    APP_IDENT_Q_V0 = 2,
+    APP_IDENT_Q_LS = 3,
+    APP_IDENT_Q_POLE_PAIRS = 4
+};
+
+/* Segment kinds the background hands the ISR. */
+enum app_ident_seg {
+    APP_IDENT_SEG_OFF = 0,   /* gates off */
+    APP_IDENT_SEG_HOLD = 1,  /* regulated current: ramp to (th, i_ref), settle, then sum n_meas samples */
+    APP_IDENT_SEG_PULSE = 2  /* regulator frozen, hold voltage + dv on the axis until the current rose
+                              * by di_stop or n_meas periods, then one more sample (the pulse's end) */
+};
+
+#define APP_IDENT_R_LEVELS 4U
+
+/* Results, pu of the configuration's bases (dtc_base.h: V_b, I_b; Ts the control period). */
+typedef struct {
+    angle_t axis;            /* the injection axis: 90 degrees (beta) on the FSTP, 0 (alpha) on the SSTP */
+    iq_t r_iq;               /* slope of V = R I + V_0 on the injection axis, pu (R_s + R_on: Hoang
+                              * Table III's drop is in series in every state, docs/commissioning.md) */
+    iq_t v0_iq;              /* intercept V_0, pu (device thresholds and dead time on that axis) */
+    iq_t l_ts_iq;            /* L / (Z_b Ts): the inductance in pu per control period */
+    uint16_t pole_pairs;
+    uint16_t enc_reversed;   /* 1: the count runs down for positive electrical rotation */
+    angle_t enc_offset;      /* electrical angle at count 0 with the count's direction applied */
+    int32_t counts_per_turn; /* counts over one electrical turn of the current vector (signed) */
+    iq_t level_i_iq[APP_IDENT_R_LEVELS]; /* the fit's points: mean current, ... */
+    iq_t level_v_iq[APP_IDENT_R_LEVELS]; /* ... mean commanded voltage on the axis */
+    uint32_t ticks[4];       /* control periods spent in the steps RS, LS, ENCODER (index = step) */
+} app_ident_result_t;
+
+typedef struct {
+    /* background -> ISR: the segment (written only while go = 0 and done = 1 or before start) */
+    uint16_t seg;            /* enum app_ident_seg */
+    uint32_t th_left_q16;    /* forward turn of the reference angle still to make, angle_t Q16 (<= half a turn) */
+    uint32_t th_rate_q16;    /* angle_t LSB per period, Q16 */
+    iq_t i_target;
+    iq_t i_rate;             /* pu per period */
+    uint16_t n_settle;       /* periods after the ramps ended before the sums start */
+    uint16_t n_meas;         /* periods summed (PULSE: the pulse's longest length) */
+    iq_t dv_iq;              /* PULSE: the voltage step on the axis */
+    iq_t di_stop_iq;         /* PULSE: the rise that ends it */
+    iq_t inv_vdc_iq;         /* 1 / V_dc measured, pu (background) */
+    uint16_t slow;           /* HOLD: 1 = the slow regulator (app_ident.c regulate: the rotor settles) */
+    uint16_t still;          /* HOLD: 1 = the sums wait for the rotor at rest (encoder step) */
+    volatile uint16_t go;    /* background sets it when the segment is ready */
+    volatile uint16_t done;  /* the ISR sets it when the segment's sums are complete */
+    /* ISR state */
+    uint32_t th_q16;         /* the reference angle, angle_t in bits 31..16 */
+    iq_t i_ref;
+    iq_t integ[2];           /* regulator integrators, v_alpha, v_beta */
+    iq_t v_ab[2];            /* the voltage commanded this period */
+    iq_t v_hold, v_hold_b;   /* PULSE: the regulated (v_alpha, v_beta) before the step */
+    uint16_t phase;          /* HOLD: 0 ramps, 1 settle, 2 sums, 4 done (regulating on);
+                              * PULSE: 6 first step command, 5 start sample, 2 step on, 3 end sample */
+    uint16_t n;              /* periods in the current phase */
+    uint16_t sat_n;          /* periods at the voltage limit with little current (open phase) */
+    uint16_t still_n;        /* encoder dwell: periods the count stayed within +-1 of still_ref */
+    int32_t still_ref;
+    int64_t sum_i, sum_v, sum_pos;
+    iq_t i_first, i_last;    /* PULSE: the current at its start and end */
+    uint16_t last_count;
+    int32_t pos;             /* unwrapped encoder count since the start */
+    iq_t vdc_iq;             /* last measured DC link */
+    /* kp, ki: see the file comment */
+    iq_t kp_iq, ki_iq, v_lim_iq;
+    /* background */
+    uint16_t step;           /* enum app_ident_step */
+    uint16_t sub;            /* the step's segment index */
+    uint16_t fail;           /* enum app_ident_fail */
+    uint16_t fail_step;      /* enum app_ident_step that failed */
+    int16_t fail_detail;
+    uint16_t n_dwell;        /* encoder DC vectors per electrical turn */
+    int64_t pulse_num, pulse_den; /* L: sums over the pulses */
+    int32_t dwell_pos_q8[4]; /* encoder: mean unwrapped count at each dwell, Q8 */
+    uint16_t count0;         /* raw count at the start */
+    uint32_t tick, step_tick;
+    app_ident_result_t res;
+} app_ident_t;
+
+/* Starts the identification (gates on from the next period). ts_pu / bases are not used: only
+ * cfg->board (scaling, topology, encoder counts, mid-point measured) and the per-unit bases. */
+void app_ident_start(app_ident_t *d, const dtc_config_t *cfg, uint16_t qep_count, iq_t vdc_iq);
+
+/* ISR: one period. pu: this sample, per unit; writes cmd (PWM form at t1pr). Returns 1 when the
+ * gates must be off (finished, failed, or between steps). No division. */
+uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t *pu, uint16_t t1pr,
+                       hal_cmd_t *cmd);
+
+/* Background: fits a finished segment and hands the ISR the next one. */
+void app_ident_service(app_ident_t *d, const dtc_config_t *cfg);
+
+/* The drive's protection tripped during the identification: stop, APP_IDENT_FAIL_TRIP. */
+void app_ident_abort(app_ident_t *d);
+
+#endif /* APP_IDENT_H */

@@ -1,0 +1,291 @@
+// identify.cpp - dtc-sil identify: the firmware's self-commissioning (firmware/app/app_ident.h) on a
+// scenario's rig, and its results as a [firmware] overlay (identified.toml) and a report against the
+// plant's true values (identification.json). docs/commissioning.md.
+#include "identify.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+extern "C" {
+#include "app.h"
+#include "dtc_config_si.h"
+}
+
+#include "controller_adapter.hpp"
+#include "hal_host.hpp"
+#include "run.hpp"
+#include "run_parts.hpp"
+
+namespace sil {
+
+namespace {
+
+constexpr double kIqOne = 16777216.0; // 2^FIX_IQ_Q (iq_t = Q24)
+
+const char* step_name(unsigned step)
+{
+    switch (step) {
+    case APP_IDENT_RS: return "rs";
+    case APP_IDENT_LS: return "ls";
+    case APP_IDENT_ENCODER: return "encoder";
+    case APP_IDENT_DONE: return "done";
+    default: return "start";
+    }
+}
+
+std::string fail_text(const app_ident_t& d)
+{
+    switch (d.fail) {
+    case APP_IDENT_FAIL_OPEN_PHASE:
+        return "open_phase: the current regulator reached its voltage limit with the current below a quarter of "
+               "its reference (a phase, leg or connection carries no current)";
+    case APP_IDENT_FAIL_BOUNDS: {
+        static const char* const q[] = {"?", "R (slope of V = R I + V0)", "V0 (intercept)", "L_s", "pole pairs"};
+        const int k = d.fail_detail >= 1 && d.fail_detail <= 4 ? d.fail_detail : 0;
+        return std::string("out_of_bounds: ") + q[k] + " outside its plausibility bounds";
+    }
+    case APP_IDENT_FAIL_ENC_NOT_COUNTING:
+        return "encoder_not_counting: the count moved " + std::to_string(d.fail_detail) +
+               " over one electrical turn of the current vector";
+    case APP_IDENT_FAIL_ENC_LINES:
+        return "encoder_lines: " + std::to_string(d.fail_detail) +
+               " counts per electrical turn, no whole fraction of the configured counts per turn (wrong line count?)";
+    case APP_IDENT_FAIL_OVERCURRENT: return "overcurrent: a phase above 1.25 x rated current";
+    case APP_IDENT_FAIL_TRIP: return "trip: the drive's protection tripped";
+    case APP_IDENT_FAIL_NOT_AT_REST:
+        return "not_at_rest: the rotor did not come to rest on a DC vector within 2 s (a coupled load, a blocked or "
+               "a far too heavy rotor)";
+    default: return "unknown";
+    }
+}
+
+// The firmware's configuration for the identification: the scenario's board (sensing, link,
+// topology, encoder lines), nameplate (rated current, speed, torque) and protection; for the
+// machine the law's configuration needs, placeholders that carry nothing of the plant (the
+// identification reads none of them: app_ident.h).
+dtc_config_si_t ident_si(const Scenario& sc)
+{
+    dtc_config_si_t si = firmware_si_config(sc);
+    const double z_b = si.v_base_v / si.i_base_a;
+    si.rs_ohm = z_b / 64.0;
+    si.ls_h = z_b * sc.ts_s * 4.0;
+    si.pole_pairs = 1;
+    si.w_base_rad_s = sc.motor.rated_speed_rpm * kPi / 30.0;
+    si.psi_m_wb = sc.motor.rated_torque_nm / (1.5 * sc.motor.rated_current_a); // nameplate torque constant, p = 1
+    si.flux_ref_wb = si.psi_m_wb;
+    si.enc_offset_rad = 0.0;
+    si.inertia_kgm2 = 1e-4;
+    si.kp_nm_s_rad = 0.0;
+    si.ki_nm_rad = 0.0;
+    si.cal_hold = 0; // the start-up's rotor hold needs the machine; the identification aligns the rotor itself
+    return si;
+}
+
+double wrap_pi(double x) { return std::remainder(x, 2.0 * kPi); }
+
+std::string fmt(double x)
+{
+    char b[40];
+    std::snprintf(b, sizeof b, "%.6g", x);
+    return b;
+}
+
+} // namespace
+
+bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* rep, std::string* err)
+{
+    if (sc.motor.type != MotorType::Pmsm || sc.inverter.topology == Topology::Ideal) {
+        *err = "identify: the PM machine on the SSTP or FSTP only (motor.type = \"pmsm\", inverter.topology "
+               "\"sstp\" or \"fstp\")";
+        return false;
+    }
+    const dtc_config_si_t si = ident_si(sc);
+    dtc_config_t cfg;
+    char msg[256] = {0};
+    if (const int rc = dtc_config_from_si(&si, &cfg, msg, sizeof msg); rc != DTC_SI_OK) {
+        *err = "identify: firmware configuration refused (" + std::to_string(rc) + "): " + msg;
+        return false;
+    }
+    const plant_params_t pp = plant_params_from(sc);
+    ActiveHarness active;
+    if (!active.open(pp, sc, err)) {
+        return false;
+    }
+    hal_host::Harness* const h = active.get();
+    hal_init();
+    if (const int16_t rc = app_init(&cfg); rc != 0) {
+        *err = "identify: app_init() refused the configuration (dtc_err " + std::to_string(rc) + ")";
+        return false;
+    }
+    app_request_ident();
+    RunEvents events(sc, pp.load);
+    const auto max_periods = static_cast<std::uint64_t>(std::llround(rep->max_time_s / sc.ts_s));
+    app_ident_t d{};
+    app_status_t st{};
+    std::uint64_t k = 0;
+    for (; k < max_periods; ++k) {
+        events.before_sample(*h);
+        h->sample();
+        app_isr();
+        app_background();
+        h->advance();
+        if ((k & 63u) == 0u) {
+            app_get_ident(&d);
+            app_get_status(&st);
+            if (d.step == APP_IDENT_DONE || d.step == APP_IDENT_FAILED || st.state == APP_STATE_FAULT) {
+                break;
+            }
+        }
+    }
+    app_get_ident(&d);
+    app_get_status(&st);
+    rep->duration_s = static_cast<double>(k) * sc.ts_s;
+
+    // Results in SI (app_ident.h formats; bases: V_b = inverter.vdc_v, I_b = rated current).
+    const double v_b = si.v_base_v, i_b = si.i_base_a, z_b = v_b / i_b;
+    const double ts = sc.ts_s;
+    const double r_fit = d.res.r_iq / kIqOne * z_b;
+    const double v0 = d.res.v0_iq / kIqOne * v_b;
+    const double ls = d.res.l_ts_iq / kIqOne * z_b * ts;
+    const int p = d.res.pole_pairs;
+    const double off_e = d.res.enc_offset / 65536.0 * 2.0 * kPi;
+    // The board's device data (the inverter's datasheet): R_on is in series with R_s in every
+    // conduction state (Hoang Table III: v = rail - v_f - R_on i), so no injection separates them:
+    // the slope is R_s + R_on (docs/commissioning.md).
+    // (An inverter without drops, inverter.drops = false, has datasheet values 0.)
+    const double r_on = sc.inverter.drops ? sc.inverter.r_on_ohm : 0.0;
+    const double v_ce = sc.inverter.drops ? sc.inverter.v_ce_v : 0.0;
+    const double v_d = sc.inverter.drops ? sc.inverter.v_d_v : 0.0;
+    const double rs = r_fit - r_on;
+    // V0 = g (V_CE + V_d + 2 V_dc T_d / T_s) on the injection axis, g = 1/sqrt(3) on the beta axis
+    // (FSTP: legs B and C carry +-I), 2/3 on the alpha axis (SSTP: +I in leg A, -I/2 in B and C)
+    // (docs/commissioning.md): the dead time follows with the datasheet's thresholds.
+    const double g = d.res.axis == 0 ? 2.0 / 3.0 : 1.0 / std::sqrt(3.0);
+    const double td = (v0 / g - v_ce - v_d) * ts / (2.0 * sc.inverter.vdc_v);
+    const double drop_rated = v0 + r_on * i_b;
+
+    const MotorCfg& m = sc.motor;
+    const double td_true = sc.inverter.dead_time ? sc.inverter.dead_time_s : 0.0;
+    const double thr_true = sc.inverter.drops ? v_ce + v_d : 0.0;
+    const double r_on_true = sc.inverter.drops ? r_on : 0.0;
+    const double v0_true = g * (thr_true + 2.0 * sc.inverter.vdc_v * td_true / ts);
+    const double drop_true = v0_true + r_on_true * i_b;
+    // hal_host: the electrical angle at count 0 is -p * sensors.encoder_offset_rad.
+    const double off_e_true = wrap_pi(-static_cast<double>(m.pole_pairs) * sc.sensors.encoder_offset_rad);
+
+    const double step_s[4] = {0.0, d.res.ticks[1] * ts, d.res.ticks[2] * ts, d.res.ticks[3] * ts};
+    const bool ok = d.step == APP_IDENT_DONE;
+    const unsigned failed_step = d.step == APP_IDENT_FAILED ? d.fail_step : (ok ? 0u : d.step);
+    auto status_of = [&](unsigned step) -> std::string {
+        if (ok || (failed_step != 0 && step < failed_step)) {
+            return "ok";
+        }
+        return step == failed_step ? "failed" : "not_run";
+    };
+    nlohmann::json q = nlohmann::json::object();
+    auto add = [&](const std::string& key, double id, double truth, const std::string& unit, unsigned step,
+                   bool relative, const std::string& note) {
+        nlohmann::json e;
+        e["identified"] = id;
+        e["true"] = truth;
+        e["unit"] = unit;
+        if (relative) {
+            e["error_pct"] = truth != 0.0 ? 100.0 * (id - truth) / truth : 0.0;
+        } else {
+            e["error"] = id - truth;
+        }
+        e["step"] = step_name(step);
+        e["duration_s"] = step_s[step];
+        e["status"] = status_of(step);
+        if (!note.empty()) {
+            e["note"] = note;
+        }
+        q[key] = e;
+    };
+    add("rs_ohm", rs, m.rs_ohm, "ohm", APP_IDENT_RS, true, "slope R_s + R_on less the datasheet R_on");
+    add("r_slope_ohm", r_fit, m.rs_ohm + r_on_true, "ohm", APP_IDENT_RS, true,
+        "slope of V = R I + V0 on the injection axis: R_s + R_on");
+    add("v0_v", v0, v0_true, "V", APP_IDENT_RS, true, "g (V_CE + V_d + 2 V_dc T_d / T_s), g = 1/sqrt(3) (FSTP, beta axis) or 2/3 (SSTP, alpha axis)");
+    add("drop_at_rated_v", drop_rated, drop_true, "V", APP_IDENT_RS, true,
+        "inverter drop on the injection axis at rated current: V0 + R_on I_rated");
+    add("dead_time_s", td, td_true, "s", APP_IDENT_RS, true, "from V0 with the datasheet's V_CE + V_d");
+    add("ls_h", ls, m.ls_h, "H", APP_IDENT_LS, true, "L_d: the rotor aligned on the step axis");
+    add("pole_pairs", p, static_cast<double>(m.pole_pairs), "", APP_IDENT_ENCODER, false, "");
+    add("encoder_reversed", d.res.enc_reversed, 0.0, "", APP_IDENT_ENCODER, false, "");
+    {
+        const double e_deg = wrap_pi(off_e - off_e_true) * 180.0 / kPi;
+        add("encoder_offset_el_deg", off_e * 180.0 / kPi, off_e_true * 180.0 / kPi, "deg (electrical)",
+            APP_IDENT_ENCODER, false, "");
+        q["encoder_offset_el_deg"]["error"] = e_deg;
+    }
+    nlohmann::json j;
+    j["scenario"] = sc.path;
+    j["status"] = ok ? "ok" : "failed";
+    j["failed_step"] = ok ? "" : step_name(failed_step);
+    j["reason"] = ok ? "" : (d.step == APP_IDENT_FAILED ? fail_text(d)
+                                                        : (st.state == APP_STATE_FAULT ? "drive fault before the identification"
+                                                                                       : "timeout"));
+    j["duration_s"] = rep->duration_s;
+    j["injection_axis"] = d.res.axis == 0 ? "alpha" : "beta";
+    j["standstill_s"] = step_s[1] + step_s[2] + step_s[3];
+    j["quantities"] = q;
+    for (unsigned l = 0; l < APP_IDENT_R_LEVELS; ++l) {
+        j["rs_fit_points"].push_back({{"i_a", d.res.level_i_iq[l] / kIqOne * i_b}, {"v_v", d.res.level_v_iq[l] / kIqOne * v_b}});
+    }
+    j["not_identified"] = {"psi_m_wb", "j_kgm2", "b_nm_s_per_rad", "coulomb_nm", "v_ce_v", "v_d_v", "r_on_ohm"};
+
+    rep->ok = ok;
+    rep->failed_step = ok ? "" : step_name(failed_step);
+    rep->reason = j["reason"];
+    rep->json = j.dump(2);
+
+    std::error_code ec;
+    std::filesystem::create_directories(out_dir, ec);
+    if (ec) {
+        *err = "--out " + out_dir + ": " + ec.message();
+        return false;
+    }
+    {
+        std::ofstream f(std::filesystem::path(out_dir) / "identification.json");
+        f << rep->json << "\n";
+        if (!f) {
+            *err = "cannot write " + out_dir + "/identification.json";
+            return false;
+        }
+    }
+    std::ostringstream t;
+    t << "# dtc-sil identify " << sc.path << ": the firmware's self-commissioning (docs/commissioning.md).\n"
+      << "# Use: dtc-sil run SCENARIO --overlay identified.toml\n";
+    if (!ok) {
+        t << "# FAILED in step " << rep->failed_step << ": " << rep->reason << "\n";
+    }
+    t << "# Not identified (the firmware keeps the scenario's): psi_m_wb, j_kgm2; v_ce_v, v_d_v, r_on_ohm are the\n"
+      << "# board's datasheet values (not separable by DC injection), rs_ohm is the slope less r_on_ohm.\n"
+      << "[firmware]\n";
+    if (ok || failed_step > APP_IDENT_RS) {
+        t << "rs_ohm = " << fmt(rs) << "\n";
+        t << "dead_time_s = " << fmt(std::fmax(td, 0.0)) << "\n";
+    }
+    if (ok || failed_step > APP_IDENT_LS) {
+        t << "ls_h = " << fmt(ls) << "\n";
+    }
+    if (ok) {
+        t << "pole_pairs = " << p << "\n";
+        // sensors.encoder_offset_rad's sense: the electrical angle at count 0 is -p times it.
+        t << "encoder_offset_rad = " << fmt(wrap_pi(-off_e / p)) << "\n";
+        t << "encoder_reversed = " << (d.res.enc_reversed != 0U ? "true" : "false") << "\n";
+    }
+    std::ofstream f(std::filesystem::path(out_dir) / "identified.toml");
+    f << t.str();
+    if (!f) {
+        *err = "cannot write " + out_dir + "/identified.toml";
+        return false;
+    }
+    return true;
+}
+
+} // namespace sil
