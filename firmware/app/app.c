@@ -6,20 +6,139 @@
 #include "app.h"
 
 #include "app_core.h"
+#include "app_proto.h"
 #include "hal.h"
 
-/* The one global of the firmware (DESIGN.md section 4): the controller owned by the ISR. */
+#include <stddef.h>
+
+/* The one global of the firmware (DESIGN.md section 4): the controller owned by the ISR, with
+ * the capture it feeds and the fault log it writes. */
 static app_core_t g_app;
+static capture_t g_cap;
+static faultlog_t g_flog;
+/* Background-owned: the serial protocol, the configuration in force (a RAM copy the parameter
+ * writes change while disarmed) and the reference set published last. */
+static app_proto_t g_proto;
+static dtc_config_t g_cfg;
+static dtc_refs_t g_refs;
 
 int16_t app_init(const struct dtc_config *cfg)
 {
     int16_t rc;
     hal_gates_off();
+    capture_init(&g_cap);
+    faultlog_init(&g_flog);
+    app_proto_init(&g_proto, APP_ISR_PERIOD_NS);
+    if (cfg != NULL) {
+        g_cfg = *cfg;
+        cfg = &g_cfg;
+    }
     rc = app_core_init(&g_app, cfg);
+    app_core_attach(&g_app, &g_cap, &g_flog);
     if (rc != 0) {
         return rc;
     }
+    dtc_refs_from_config(&g_refs, cfg);
     return app_core_set_pwm_period(&g_app, hal_pwm_period());
+}
+
+void app_set_arming(uint16_t mode)
+{
+    app_core_set_arming(&g_app, mode);
+    if (mode == (uint16_t)APP_ARM_COMMAND && g_app.cfg != NULL) {
+        dtc_refs_t r = g_refs; /* safe power-up: both references zero until the host sets them */
+        r.speed_ref_iq = 0;
+        r.torque_ref_iq = 0;
+        (void)app_set_refs(&r);
+    }
+}
+
+void app_set_isr_period_ns(uint32_t ns)
+{
+    app_proto_init(&g_proto, ns);
+}
+
+uint16_t app_arm(void)
+{
+    app_status_t s;
+    uint16_t why;
+    app_get_status(&s);
+    why = app_core_arm_refusal(&g_app, &s, &g_refs);
+    if (why == (uint16_t)APP_ARM_OK && s.state != APP_STATE_RUN) {
+        app_core_request_arm(&g_app, APP_REQ_ARM);
+    }
+    return why;
+}
+
+void app_disarm(void)
+{
+    app_core_request_arm(&g_app, APP_REQ_DISARM);
+}
+
+void app_comm_seen(void)
+{
+    app_core_comm_seen(&g_app);
+}
+
+void app_set_comm_timeout(uint32_t periods)
+{
+    app_core_set_comm_timeout(&g_app, periods);
+}
+
+capture_t *app_capture(void)
+{
+    return &g_cap;
+}
+
+const faultlog_t *app_faultlog(void)
+{
+    return &g_flog;
+}
+
+void app_get_refs(dtc_refs_t *r)
+{
+    *r = g_refs;
+}
+
+const dtc_config_t *app_config(void)
+{
+    return g_app.cfg;
+}
+
+int16_t app_reconfigure(const dtc_config_t *cfg)
+{
+    int16_t rc;
+    uint16_t irq;
+    const uint16_t mode = g_app.arm_mode;
+    const uint32_t timeout = g_app.comm_timeout_n;
+    if (g_app.st.state == APP_STATE_RUN) {
+        return APP_ERR_ARMED;
+    }
+    rc = law_check(cfg, NULL);
+    if (rc != DTC_OK) {
+        return rc;
+    }
+    /* Disarmed, gates off: the ISR is held off while the core restarts on the new set (it
+     * calibrates again). */
+    irq = hal_irq_save();
+    g_cfg = *cfg;
+    rc = app_core_init(&g_app, &g_cfg);
+    app_core_attach(&g_app, &g_cap, &g_flog);
+    app_core_set_arming(&g_app, mode);
+    app_core_set_comm_timeout(&g_app, timeout);
+    if (rc == 0) {
+        rc = app_core_set_pwm_period(&g_app, hal_pwm_period());
+    }
+    hal_irq_restore(irq);
+    if (rc == 0) {
+        dtc_refs_t r;
+        dtc_refs_from_config(&r, &g_cfg);
+        r.speed_ref_iq = g_refs.speed_ref_iq;
+        r.torque_ref_iq = g_refs.torque_ref_iq;
+        r.mode = g_refs.mode;
+        (void)app_set_refs(&r);
+    }
+    return rc;
 }
 
 int16_t app_set_reconfig(const struct dtc_config *post)
@@ -45,6 +164,7 @@ void app_isr(void)
 void app_background(void)
 {
     hal_watchdog_service();
+    app_proto_poll(&g_proto);
 }
 
 void app_get_status(app_status_t *s)
@@ -56,10 +176,15 @@ void app_get_status(app_status_t *s)
 
 int16_t app_set_refs(const dtc_refs_t *r)
 {
+    int16_t rc;
     if (g_app.cfg == 0) {
         return DTC_ERR_NULL;
     }
-    return law_shadow_write(&g_app.law, r);
+    rc = law_shadow_write(&g_app.law, r);
+    if (rc == DTC_OK) {
+        g_refs = *r;
+    }
+    return rc;
 }
 
 void app_request_fault_clear(void)

@@ -26,8 +26,44 @@ void app_isr(void);
  * then in its configuration fault). */
 int16_t app_set_reconfig(const struct dtc_config *post);
 
-/* Background loop work: watchdog service. */
+/* Background loop work: watchdog service, one pass of the serial protocol (app_proto.h). */
 void app_background(void);
+
+/* The control period the protocol reports and times with (HELLO, the command timeout, the
+ * line's idle time), ns; APP_ISR_PERIOD_NS unless set. After app_init. */
+#define APP_ISR_PERIOD_NS 50000UL
+void app_set_isr_period_ns(uint32_t ns);
+
+/* Arming (app_core.h enum app_arm_mode). APP_ARM_COMMAND (a drive operated over its serial
+ * line; the board's main()): READY after the calibration, both references set to zero. After
+ * app_init, before the ISR is enabled. */
+void app_set_arming(uint16_t mode);
+
+/* Background: arm (enum app_arm_refusal: APP_ARM_OK, the ISR then enters RUN at its next
+ * period, or why not) and disarm (always; RUN -> READY at the next period). */
+uint16_t app_arm(void);
+void app_disarm(void);
+
+/* Background: a valid frame arrived (the command timeout restarts); the timeout in periods (0 = off). */
+void app_comm_seen(void);
+void app_set_comm_timeout(uint32_t periods);
+
+/* The capture the ISR feeds, the fault log it writes (background access as capture.h, faultlog.h say). */
+capture_t *app_capture(void);
+const faultlog_t *app_faultlog(void);
+
+/* Background: the reference set published last (app_set_refs). */
+void app_get_refs(dtc_refs_t *r);
+
+/* The configuration in force (the application's RAM copy), NULL before app_init accepted one. */
+const dtc_config_t *app_config(void);
+
+/* Background, disarmed only: cfg (checked by its law's check, law_check) becomes the
+ * configuration in force; the core restarts on it (calibration, then READY or RUN as the arming
+ * mode says) with the references, mode and command timeout kept. Returns 0, APP_ERR_ARMED while
+ * armed, or the check's enum dtc_err code (nothing changed then). */
+#define APP_ERR_ARMED 1
+int16_t app_reconfigure(const dtc_config_t *cfg);
 
 /* Background / host: a copy of the application status (state, fault reason, last per-unit
  * measurement and controller output), taken with interrupts masked. */

@@ -8,13 +8,40 @@
 
 #include <stddef.h>
 
+/* The fault log's snapshot: the last per-unit sample and the law's output of the last step. */
+static void log_fault(app_core_t *a)
+{
+    faultlog_snapshot_t s;
+    s.ia_iq = a->st.meas.ia_iq;
+    s.ib_iq = a->st.meas.ib_iq;
+    s.ic_iq = a->st.meas.ic_iq;
+    s.vdc_iq = a->st.meas.vdc_iq;
+    s.vmid_iq = a->st.meas.vmid_iq;
+    s.speed_iq = a->st.out.speed_iq;
+    s.psi_alpha_iq = a->st.out.psi_alpha_iq;
+    s.psi_beta_iq = a->st.out.psi_beta_iq;
+    s.te_iq = a->st.out.te_iq;
+    s.te_ref_iq = a->st.out.te_ref_iq;
+    s.speed_ref_iq = a->cfg != NULL ? law_speed_ref(&a->law) : 0;
+    s.sector = a->st.out.sector;
+    s.vector = a->st.out.vector;
+    s.state = a->st.state;
+    faultlog_record(a->flog, a->st.tick, a->st.fault, a->st.fault_detail, &s);
+}
+
 static void latch_fault(app_core_t *a, uint16_t fault, int16_t detail)
 {
     if (a->st.state != APP_STATE_FAULT) {
+        const uint16_t was = a->st.state;
         a->st.state = APP_STATE_FAULT;
         a->st.fault = fault;
         a->st.fault_detail = detail;
         a->st.fault_tick = a->st.tick;
+        if (a->flog != NULL) {
+            a->st.state = was; /* the snapshot's state: the one the fault ended */
+            log_fault(a);
+            a->st.state = APP_STATE_FAULT;
+        }
     }
 }
 
@@ -46,6 +73,14 @@ int16_t app_core_init(app_core_t *a, const dtc_config_t *cfg)
     a->cfg = NULL;
     a->post = NULL;
     a->perm = 0U;
+    a->arm_mode = (uint16_t)APP_ARM_AUTO;
+    a->arm_request = (uint16_t)APP_REQ_NONE;
+    a->comm_seen = 0U;
+    a->comm_timeout_n = 0U;
+    a->comm_idle_n = 0U;
+    a->cap = NULL;
+    a->flog = NULL;
+    a->speed_ref_iq = 0;
     app_fault_init(&a->flt);
     a->clear_request = 0U;
     a->t1pr = 0U;
@@ -196,6 +231,11 @@ static void calibrate_finish(app_core_t *a, const hal_meas_t *m)
             latch_fault(a, APP_FAULT_DC_OVERVOLTAGE, 0);
             return;
         }
+    }
+    if (a->arm_mode == (uint16_t)APP_ARM_COMMAND) {
+        a->arm_request = (uint16_t)APP_REQ_NONE; /* a request from before the calibration is stale */
+        a->st.state = APP_STATE_READY;
+        return;
     }
     law_reset(&a->law);
     a->st.state = APP_STATE_RUN;
@@ -405,7 +445,119 @@ int16_t app_core_set_pwm_period(app_core_t *a, uint16_t t1pr)
     return 0;
 }
 
+void app_core_set_arming(app_core_t *a, uint16_t mode)
+{
+    a->arm_mode = mode == (uint16_t)APP_ARM_COMMAND ? (uint16_t)APP_ARM_COMMAND : (uint16_t)APP_ARM_AUTO;
+}
+
+void app_core_set_comm_timeout(app_core_t *a, uint32_t periods)
+{
+    a->comm_timeout_n = periods;
+}
+
+uint16_t app_core_arm_refusal(const app_core_t *a, const app_status_t *s, const dtc_refs_t *r)
+{
+    if (s->state == APP_STATE_FAULT) {
+        return APP_ARM_FAULT;
+    }
+    if (s->state == APP_STATE_RUN) {
+        return APP_ARM_OK;
+    }
+    if (s->state != APP_STATE_READY || a->cfg == NULL) {
+        return APP_ARM_NOT_CALIBRATED;
+    }
+    if (s->meas.vdc_iq < a->cfg->prot.vdc_min_iq || s->meas.vdc_iq > a->cfg->prot.vdc_max_iq) {
+        return APP_ARM_VDC_RANGE;
+    }
+    if (r->speed_ref_iq != 0 || r->torque_ref_iq != 0) {
+        return APP_ARM_REF_NONZERO;
+    }
+    return APP_ARM_OK;
+}
+
+void app_core_attach(app_core_t *a, capture_t *cap, faultlog_t *flog)
+{
+    a->cap = cap;
+    a->flog = flog;
+    if (cap != NULL) {
+        (void)capture_bind(cap, CAPTURE_Q_I_A, &a->st.meas.ia_iq);
+        (void)capture_bind(cap, CAPTURE_Q_I_B, &a->st.meas.ib_iq);
+        (void)capture_bind(cap, CAPTURE_Q_I_C, &a->st.meas.ic_iq);
+        (void)capture_bind(cap, CAPTURE_Q_PSI_ALPHA_EST, &a->st.out.psi_alpha_iq);
+        (void)capture_bind(cap, CAPTURE_Q_PSI_BETA_EST, &a->st.out.psi_beta_iq);
+        (void)capture_bind(cap, CAPTURE_Q_TORQUE_EST, &a->st.out.te_iq);
+        (void)capture_bind(cap, CAPTURE_Q_SPEED, &a->st.out.speed_iq);
+        (void)capture_bind(cap, CAPTURE_Q_SPEED_REF, &a->speed_ref_iq);
+        (void)capture_bind(cap, CAPTURE_Q_TORQUE_REF, &a->st.out.te_ref_iq);
+        (void)capture_bind(cap, CAPTURE_Q_PSI_REF, &a->st.out.psi_ref_iq);
+        (void)capture_bind(cap, CAPTURE_Q_VDC, &a->st.meas.vdc_iq);
+        (void)capture_bind(cap, CAPTURE_Q_VMID, &a->st.meas.vmid_iq);
+        (void)capture_bind_u16(cap, CAPTURE_Q_SECTOR, &a->st.out.sector);
+        (void)capture_bind_u16(cap, CAPTURE_Q_VECTOR, &a->st.out.vector);
+    }
+}
+
+/* The background's arm and disarm requests (app_core_request_arm), taken once per period. */
+static void take_arm_request(app_core_t *a, const hal_meas_t *m)
+{
+    const uint16_t req = a->arm_request;
+    if (req == (uint16_t)APP_REQ_NONE) {
+        return;
+    }
+    a->arm_request = (uint16_t)APP_REQ_NONE;
+    if (req == (uint16_t)APP_REQ_ARM && a->st.state == APP_STATE_READY) {
+        dtc_meas_t pu;
+        app_core_convert(a, m, &pu); /* the DC link once more, on this very sample */
+        if (pu.vdc_iq >= a->cfg->prot.vdc_min_iq && pu.vdc_iq <= a->cfg->prot.vdc_max_iq) {
+            law_reset(&a->law);
+            app_fault_init(&a->flt);
+            app_enc_reset(&a->enc); /* the count moved while disarmed: the check starts afresh */
+            app_plaus_reset(&a->plaus);
+            a->comm_seen = 0U;
+            a->comm_idle_n = 0U;
+            a->st.state = APP_STATE_RUN;
+        }
+    } else if (req == (uint16_t)APP_REQ_DISARM && a->st.state == APP_STATE_RUN &&
+               a->arm_mode == (uint16_t)APP_ARM_COMMAND) {
+        a->st.state = APP_STATE_READY;
+    }
+}
+
+/* RUN with the command timeout on: counts the periods since the background last saw a valid
+ * frame; latches APP_FAULT_COMM_TIMEOUT when they reach comm_timeout_n. Returns 1 on a trip. */
+static uint16_t check_comm(app_core_t *a)
+{
+    const uint32_t n = a->comm_timeout_n;
+    if (n == 0U || a->arm_mode != (uint16_t)APP_ARM_COMMAND) {
+        return 0U;
+    }
+    if (a->comm_seen != 0U) {
+        a->comm_seen = 0U;
+        a->comm_idle_n = 0U;
+        return 0U;
+    }
+    if (++a->comm_idle_n >= n) {
+        latch_fault(a, APP_FAULT_COMM_TIMEOUT, 0);
+        return 1U;
+    }
+    return 0U;
+}
+
+static uint16_t core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd);
+
 uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
+{
+    const uint16_t off = core_step(a, m, cmd);
+    if (a->cap != NULL) {
+        if (a->cap->state >= (uint16_t)CAPTURE_ARMED) {
+            a->speed_ref_iq = a->cfg != NULL ? law_speed_ref(&a->law) : 0;
+        }
+        capture_isr(a->cap, a->st.tick, (uint16_t)(a->st.state == APP_STATE_FAULT ? 1U : 0U));
+    }
+    return off;
+}
+
+static uint16_t core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
 {
     cmd->sa = 0U;
     cmd->sb = 0U;
@@ -426,6 +578,7 @@ uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
             enter_calibrate(a);
         }
     }
+    take_arm_request(a, m);
 
     switch (a->st.state) {
     case APP_STATE_CALIBRATE:
@@ -453,9 +606,15 @@ uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
         calibrate_step(a, m);
         return 1U; /* gates off until RUN (or the hold) */
 
+    case APP_STATE_READY:
+        /* disarmed: the measurement kept fresh for the status and the arm check; gates off */
+        app_core_convert(a, m, &a->st.meas);
+        (void)check_hw_trip(a, m);
+        return 1U;
+
     case APP_STATE_RUN:
         app_core_convert(a, m, &a->st.meas);
-        if (check_trips(a, m, &a->st.meas) != 0U) {
+        if (check_trips(a, m, &a->st.meas) != 0U || check_comm(a) != 0U) {
             return 1U;
         }
         law_step(&a->law, &a->st.meas, &a->st.out);
