@@ -471,6 +471,13 @@ public:
     }
     bool has_estimates() const override { return true; }
 
+    std::string serve(double ts_s) override
+    {
+        app_set_arming(APP_ARM_COMMAND);
+        app_set_isr_period_ns(static_cast<std::uint32_t>(std::llround(ts_s * 1e9)));
+        return "";
+    }
+
 private:
     /// step() with the ISR recorded: what hal_read() returns this period (the harness's sample),
     /// the ISR and background pass, then what the firmware did to the HAL and its status.
