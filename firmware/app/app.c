@@ -6,35 +6,28 @@
 #include "app.h"
 
 #include "app_core.h"
-#include "app_proto.h"
 #include "hal.h"
 
 #include <stddef.h>
 
-/* The one global of the firmware (DESIGN.md section 4): the controller owned by the ISR, with
- * the capture it feeds and the fault log it writes. */
+/* The one global of the firmware (DESIGN.md section 4): the controller owned by the ISR. */
 static app_core_t g_app;
-static capture_t g_cap;
-static faultlog_t g_flog;
-/* Background-owned: the serial protocol, the configuration in force (a RAM copy the parameter
- * writes change while disarmed) and the reference set published last. */
-static app_proto_t g_proto;
+/* Background-owned: the configuration in force (a RAM copy that parameter writes change) and
+ * the reference set published last. */
 static dtc_config_t g_cfg;
+static const dtc_config_t *g_cfg_default; /* the compiled-in configuration app_init was given */
 static dtc_refs_t g_refs;
 
 int16_t app_init(const struct dtc_config *cfg)
 {
     int16_t rc;
     hal_gates_off();
-    capture_init(&g_cap);
-    faultlog_init(&g_flog);
-    app_proto_init(&g_proto, APP_ISR_PERIOD_NS);
+    g_cfg_default = cfg;
     if (cfg != NULL) {
         g_cfg = *cfg;
         cfg = &g_cfg;
     }
     rc = app_core_init(&g_app, cfg);
-    app_core_attach(&g_app, &g_cap, &g_flog);
     if (rc != 0) {
         return rc;
     }
@@ -53,9 +46,11 @@ void app_set_arming(uint16_t mode)
     }
 }
 
-void app_set_isr_period_ns(uint32_t ns)
+void app_attach(capture_t *cap, faultlog_t *flog)
 {
-    app_proto_init(&g_proto, ns);
+    const uint16_t irq = hal_irq_save();
+    app_core_attach(&g_app, cap, flog);
+    hal_irq_restore(irq);
 }
 
 uint16_t app_arm(void)
@@ -85,16 +80,6 @@ void app_set_comm_timeout(uint32_t periods)
     app_core_set_comm_timeout(&g_app, periods);
 }
 
-capture_t *app_capture(void)
-{
-    return &g_cap;
-}
-
-const faultlog_t *app_faultlog(void)
-{
-    return &g_flog;
-}
-
 void app_get_refs(dtc_refs_t *r)
 {
     *r = g_refs;
@@ -105,12 +90,43 @@ const dtc_config_t *app_config(void)
     return g_app.cfg;
 }
 
+const dtc_config_t *app_config_default(void)
+{
+    return g_cfg_default;
+}
+
+/* The references in force with cfg's gains and flux reference (the shadow set's other fields). */
+static int16_t publish_with(const dtc_config_t *cfg)
+{
+    dtc_refs_t r;
+    dtc_refs_from_config(&r, cfg);
+    r.speed_ref_iq = g_refs.speed_ref_iq;
+    r.torque_ref_iq = g_refs.torque_ref_iq;
+    r.mode = g_refs.mode;
+    return app_set_refs(&r);
+}
+
+int16_t app_config_live(const dtc_config_t *cfg)
+{
+    uint16_t irq;
+    int16_t rc = law_check(cfg, NULL);
+    if (rc != DTC_OK) {
+        return rc;
+    }
+    irq = hal_irq_save(); /* a copy of a few hundred words: the ISR never sees half of it */
+    g_cfg = *cfg;
+    hal_irq_restore(irq);
+    return publish_with(&g_cfg);
+}
+
 int16_t app_reconfigure(const dtc_config_t *cfg)
 {
     int16_t rc;
     uint16_t irq;
     const uint16_t mode = g_app.arm_mode;
     const uint32_t timeout = g_app.comm_timeout_n;
+    capture_t *const cap = g_app.cap;
+    faultlog_t *const flog = g_app.flog;
     if (g_app.st.state == APP_STATE_RUN) {
         return APP_ERR_ARMED;
     }
@@ -123,7 +139,7 @@ int16_t app_reconfigure(const dtc_config_t *cfg)
     irq = hal_irq_save();
     g_cfg = *cfg;
     rc = app_core_init(&g_app, &g_cfg);
-    app_core_attach(&g_app, &g_cap, &g_flog);
+    app_core_attach(&g_app, cap, flog);
     app_core_set_arming(&g_app, mode);
     app_core_set_comm_timeout(&g_app, timeout);
     if (rc == 0) {
@@ -131,12 +147,7 @@ int16_t app_reconfigure(const dtc_config_t *cfg)
     }
     hal_irq_restore(irq);
     if (rc == 0) {
-        dtc_refs_t r;
-        dtc_refs_from_config(&r, &g_cfg);
-        r.speed_ref_iq = g_refs.speed_ref_iq;
-        r.torque_ref_iq = g_refs.torque_ref_iq;
-        r.mode = g_refs.mode;
-        (void)app_set_refs(&r);
+        (void)publish_with(&g_cfg);
     }
     return rc;
 }
@@ -164,7 +175,6 @@ void app_isr(void)
 void app_background(void)
 {
     hal_watchdog_service();
-    app_proto_poll(&g_proto);
 }
 
 void app_get_status(app_status_t *s)

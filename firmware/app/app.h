@@ -26,13 +26,13 @@ void app_isr(void);
  * then in its configuration fault). */
 int16_t app_set_reconfig(const struct dtc_config *post);
 
-/* Background loop work: watchdog service, one pass of the serial protocol (app_proto.h). */
+/* Background loop work: watchdog service. (A drive with a serial line runs the protocol's
+ * pass beside it: app_proto_background, firmware/proto/app_proto.h.) */
 void app_background(void);
 
-/* The control period the protocol reports and times with (HELLO, the command timeout, the
- * line's idle time), ns; APP_ISR_PERIOD_NS unless set. After app_init. */
-#define APP_ISR_PERIOD_NS 50000UL
-void app_set_isr_period_ns(uint32_t ns);
+/* The capture the ISR feeds after each step and the fault log it writes at each fault (either
+ * NULL: none); after app_init (the serial protocol's start attaches its own, app_proto.h). */
+void app_attach(capture_t *cap, faultlog_t *flog);
 
 /* Arming (app_core.h enum app_arm_mode). APP_ARM_COMMAND (a drive operated over its serial
  * line; the board's main()): READY after the calibration, both references set to zero. After
@@ -48,15 +48,21 @@ void app_disarm(void);
 void app_comm_seen(void);
 void app_set_comm_timeout(uint32_t periods);
 
-/* The capture the ISR feeds, the fault log it writes (background access as capture.h, faultlog.h say). */
-capture_t *app_capture(void);
-const faultlog_t *app_faultlog(void);
-
 /* Background: the reference set published last (app_set_refs). */
 void app_get_refs(dtc_refs_t *r);
 
 /* The configuration in force (the application's RAM copy), NULL before app_init accepted one. */
 const dtc_config_t *app_config(void);
+
+/* The compiled-in configuration (the one app_init was given). */
+const dtc_config_t *app_config_default(void);
+
+/* Background, armed: cfg (checked by law_check; it differs from the configuration in force only
+ * in live parameters, those the ISR reads as it goes or takes from the shadow set) becomes the
+ * configuration in force, copied with the ISR held off; its speed-PI gains and flux reference
+ * are published through the shadow set with the references and mode kept. Returns 0 or the
+ * check's (or the shadow set's) enum dtc_err code. */
+int16_t app_config_live(const dtc_config_t *cfg);
 
 /* Background, disarmed only: cfg (checked by its law's check, law_check) becomes the
  * configuration in force; the core restarts on it (calibration, then READY or RUN as the arming

@@ -517,9 +517,15 @@ static void take_arm_request(app_core_t *a, const hal_meas_t *m)
             a->comm_idle_n = 0U;
             a->st.state = APP_STATE_RUN;
         }
-    } else if (req == (uint16_t)APP_REQ_DISARM && a->st.state == APP_STATE_RUN &&
-               a->arm_mode == (uint16_t)APP_ARM_COMMAND) {
+    } else if (req == (uint16_t)APP_REQ_DISARM) {
+        /* a drive disarmed by a host stays under its command: no calibration re-arms it */
+        a->arm_mode = (uint16_t)APP_ARM_COMMAND;
+        if (a->st.state != APP_STATE_RUN) {
+            return;
+        }
         a->st.state = APP_STATE_READY;
+        a->st.out.te_iq = 0; /* gates off: no torque (the status must not show the last one) */
+        a->st.out.te_ref_iq = 0;
     }
 }
 

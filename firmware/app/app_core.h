@@ -175,7 +175,8 @@ void app_core_set_arming(app_core_t *a, uint16_t mode);
 uint16_t app_core_arm_refusal(const app_core_t *a, const app_status_t *s, const dtc_refs_t *r);
 
 /* Background: asks the ISR to arm (APP_REQ_ARM: READY -> RUN, the law reset; ignored in any other
- * state) or disarm (APP_REQ_DISARM: RUN -> READY, gates off). */
+ * state) or disarm (APP_REQ_DISARM: RUN -> READY, gates off; the arming mode becomes
+ * APP_ARM_COMMAND). */
 static inline void app_core_request_arm(app_core_t *a, uint16_t req)
 {
     a->arm_request = req;

@@ -336,6 +336,10 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
 }
 
 namespace {
+// Words of dtc-sil serve's parameter medium: two slots of 512 words (store.h), a 25LC256's 16 K
+// words would only make the file larger.
+constexpr std::uint16_t kServeStoreWords = 1024;
+
 bool run_once(const Scenario& sc, std::unique_ptr<Controller> ctrl, const RunOptions& opt, RunResult* res,
               std::string* err)
 {
@@ -359,7 +363,28 @@ bool run_once(const Scenario& sc, std::unique_ptr<Controller> ctrl, const RunOpt
         return false;
     }
     const bool serving = !opt.serial_link.empty();
+    // dtc-sil serve: the parameter store's medium, an EEPROM kept in the file LINK.params (a
+    // restart of the same link boots into the parameters saved there).
+    std::unique_ptr<hal_host::StoreMedium> medium;
+    struct MediumOff {
+        hal_host::StoreMedium* m = nullptr;
+        ~MediumOff()
+        {
+            if (m != nullptr) {
+                m->deactivate();
+            }
+        }
+    } medium_off;
     if (serving) {
+        try {
+            medium = std::make_unique<hal_host::StoreMedium>(kServeStoreWords, 32, hal_host::StoreMedium::Kind::eeprom,
+                                                             opt.serial_link + ".params");
+        } catch (const std::exception& ex) {
+            *err = std::string("--serial ") + opt.serial_link + ": parameter store: " + ex.what();
+            return false;
+        }
+        medium->activate();
+        medium_off.m = medium.get();
         if (std::string e = ctrl->serve(sc.ts_s); !e.empty()) {
             *err = e;
             return false;

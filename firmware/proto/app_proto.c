@@ -13,6 +13,36 @@
 
 #include <stddef.h>
 
+/* The drive's protocol instance and what it serves (app_proto_start): background-owned, except
+ * the capture's samples and the fault log's entries, which the ISR writes. */
+static app_proto_t g_proto;
+static capture_t g_cap;
+static faultlog_t g_flog;
+
+void app_proto_start(uint32_t period_ns)
+{
+    capture_init(&g_cap);
+    faultlog_init(&g_flog);
+    app_attach(&g_cap, &g_flog);
+    app_proto_init(&g_proto, period_ns);
+    app_params_boot(&g_proto);
+}
+
+void app_proto_background(void)
+{
+    app_proto_poll(&g_proto);
+}
+
+capture_t *app_capture(void)
+{
+    return &g_cap;
+}
+
+const faultlog_t *app_faultlog(void)
+{
+    return &g_flog;
+}
+
 void app_proto_init(app_proto_t *p, uint32_t period_ns)
 {
     frame_dec_init(&p->dec);
@@ -89,7 +119,11 @@ static void do_hello(frame_t *rs, const app_proto_t *p)
     frame_put_u16(&o[20], CAPTURE_CHANNELS);
     frame_put_u16(&o[22], FRAME_MAX_PAYLOAD);
     frame_put_u16(&o[24], FAULTLOG_ENTRIES);
-    rs->len = 26U;
+    frame_put_u32(&o[26], c != NULL ? c->board.v_base_mv : 0U);
+    frame_put_u32(&o[30], c != NULL ? c->board.i_base_ma : 0U);
+    frame_put_u32(&o[34], c != NULL ? c->board.w_base_mrad_s : 0U);
+    frame_put_u16(&o[38], c != NULL ? c->machine.pole_pairs : 0U);
+    rs->len = 40U;
 }
 
 static void do_status(frame_t *rs, const frame_dec_t *dec)
@@ -401,7 +435,7 @@ static void flush(app_proto_t *p)
 
 static void telemetry(app_proto_t *p, uint32_t tick)
 {
-    static frame_t f; /* background only */
+    frame_t *const f = &p->out;
     app_status_t s;
     dtc_refs_t r;
     uint16_t k;
@@ -411,19 +445,18 @@ static void telemetry(app_proto_t *p, uint32_t tick)
     p->tm_next = tick + p->tm_decim;
     app_get_status(&s);
     app_get_refs(&r);
-    f.cmd = PROTO_TELEMETRY;
-    f.seq = p->tm_seq;
-    frame_put_u32(&f.payload[0], s.tick);
+    f->cmd = PROTO_TELEMETRY;
+    f->seq = p->tm_seq;
+    frame_put_u32(&f->payload[0], s.tick);
     for (k = 0U; k < p->tm_count; k++) {
-        frame_put_i32(&f.payload[4U + 4U * k], quantity(&s, &r, p->tm_q[k]));
+        frame_put_i32(&f->payload[4U + 4U * k], quantity(&s, &r, p->tm_q[k]));
     }
-    f.len = (uint16_t)(4U + 4U * p->tm_count);
-    send(p, &f);
+    f->len = (uint16_t)(4U + 4U * p->tm_count);
+    send(p, f);
 }
 
 void app_proto_poll(app_proto_t *p)
 {
-    static frame_t rs; /* background only: the response being built */
     uint16_t buf[APP_PROTO_RX_OCTETS];
     uint16_t n, k;
     app_status_t s;
@@ -452,8 +485,8 @@ void app_proto_poll(app_proto_t *p)
     }
     if (frame_dec_poll(&p->dec, APP_PROTO_PARSE_STEPS) != 0U) {
         app_comm_seen();
-        app_proto_handle(p, &p->dec.frame, &rs);
-        send(p, &rs);
+        app_proto_handle(p, &p->dec.frame, &p->out);
+        send(p, &p->out);
         flush(p);
         return;
     }

@@ -18,6 +18,8 @@
 
 #include <stdint.h>
 
+#include "capture.h"
+#include "faultlog.h"
 #include "frame.h"
 
 #define APP_PROTO_RX_OCTETS 16u    /* octets read from the line per pass (one receive FIFO) */
@@ -37,10 +39,24 @@ typedef struct {
     uint16_t tm_on, tm_seq, tm_decim, tm_count;
     uint16_t tm_q[4];
     uint32_t tm_next;              /* tick of the next telemetry frame */
+    frame_t out;                   /* the answer (or telemetry frame) being built */
 } app_proto_t;
 
 /* Empty decoder, nothing to send, telemetry off; period_ns the control period (> 0). */
 void app_proto_init(app_proto_t *p, uint32_t period_ns);
+
+/* The drive's one protocol instance, with the capture and fault log it serves: after app_init,
+ * before the ISR is enabled, app_proto_start empties them, attaches them to the application
+ * (app_attach) and starts the protocol at the control period period_ns (APP_ISR_PERIOD_NS on
+ * the F2812); app_proto_background is its pass of the background loop. */
+#define APP_ISR_PERIOD_NS 50000UL
+void app_proto_start(uint32_t period_ns);
+void app_proto_background(void);
+
+/* The capture and the fault log of app_proto_start (background access as capture.h and
+ * faultlog.h say). */
+capture_t *app_capture(void);
+const faultlog_t *app_faultlog(void);
 
 /* One background pass: line -> decoder -> at most one request handled -> line. */
 void app_proto_poll(app_proto_t *p);

@@ -20,6 +20,10 @@ uint32_t app_param_table_hash(void);
 /* Answers a parameter, save or restore request rq into rs (an unknown command otherwise). */
 void app_proto_param(app_proto_t *p, const frame_t *rq, frame_t *rs);
 
+/* Boot: the newest valid stored parameter set (store.h) becomes the configuration in force; with
+ * none (or one the checks refuse) the compiled-in configuration stays. Disarmed (before arming). */
+void app_params_boot(app_proto_t *p);
+
 /* The command timeout (comm_timeout_s) in ms, 0 = off: the ISR's limit in periods from it. */
 void app_proto_set_timeout_ms(app_proto_t *p, uint16_t ms);
 
