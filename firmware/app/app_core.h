@@ -136,8 +136,6 @@ typedef struct app_core {
     /* Capture and fault log (app_core_attach), NULL = none. */
     capture_t *cap;
     faultlog_t *flog;
-    iq_t speed_ref_iq;     /* the law's speed reference in force while a capture records (its
-                            * speed_ref_rpm quantity) */
 } app_core_t;
 
 /* Validates the configuration (law_init) and enters CALIBRATE. Returns 0 or the dtc_err code;

@@ -182,6 +182,26 @@ iq_t law_speed_ref(const law_t *l)
     }
 }
 
+const iq_t *law_speed_ref_ptr(const law_t *l)
+{
+    switch (l->law) {
+#if DTC_LAW_PM_LINKED
+    case DTC_LAW_PM_DTC: return &l->u.pm.act.speed_ref_iq;
+#endif
+#if DTC_LAW_IM_LINKED
+    case DTC_LAW_IM_DTC:
+    case DTC_LAW_IM_DSC:
+    case DTC_LAW_IM_SFVC:
+    case DTC_LAW_IM_DFOC:
+    case DTC_LAW_IM_DSVM: return &l->u.im.act.speed_ref_iq;
+#endif
+#if DTC_LAW_ITC_LINKED
+    case DTC_LAW_PM_ITC: return &l->u.itc.act.speed_ref_iq;
+#endif
+    default: return NULL;
+    }
+}
+
 uint16_t law_out_form(const law_t *l)
 {
     switch (l->law) {

@@ -33,9 +33,9 @@ from dtc_drive import Drive, DriveError, ERR  # noqa: E402
 
 CONSOLE = os.path.join(ROOT, "tools", "console", "dtc_console.py")
 FRACTION = 0.75    # the torque limit set while disarmed, of its value
-FAULT_T_S = 20.0   # the scenario's fault (faults.time_s): after the session's other steps
-DURATION_S = 21.0
-PACE = 2.0
+FAULT_T_S = 25.0   # the scenario's fault (faults.time_s): after the session's other steps
+DURATION_S = 26.0
+PACE = 1.0
 
 failures = []
 SAVED = [0.0, 0.0]  # the torque limit saved, the compiled-in one
