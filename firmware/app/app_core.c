@@ -60,6 +60,7 @@ static void enter_calibrate(app_core_t *a)
     app_plaus_reset(&a->plaus);
     a->plaus_win = 0U;
     a->st.out.speed_iq = 0; /* the encoder-freeze check reads the last reported speed */
+    a->arming = 0U;
     a->st.fault = APP_FAULT_NONE;
     a->st.fault_detail = 0;
     a->st.state = APP_STATE_CALIBRATE;
@@ -231,11 +232,13 @@ static void calibrate_finish(app_core_t *a, const hal_meas_t *m)
             return;
         }
     }
-    if (a->arm_mode == (uint16_t)APP_ARM_COMMAND) {
-        a->arm_request = (uint16_t)APP_REQ_NONE; /* a request from before the calibration is stale */
+    if (a->arm_mode == (uint16_t)APP_ARM_COMMAND && a->arming == 0U) {
         a->st.state = APP_STATE_READY;
         return;
     }
+    a->arming = 0U;
+    a->comm_seen = 0U;
+    a->comm_idle_n = 0U;
     law_reset(&a->law);
     a->st.state = APP_STATE_RUN;
 }
@@ -444,8 +447,10 @@ int16_t app_core_set_pwm_period(app_core_t *a, uint16_t t1pr)
     return 0;
 }
 
-/* The background's arm and disarm requests (app_core_request_arm), taken once per period. */
-static void take_arm_request(app_core_t *a, const hal_meas_t *m)
+/* The background's arm and disarm requests (app_core_request_arm), taken once per period. An arm
+ * request in READY starts a calibration that ends in RUN: fresh current offsets, the DC link
+ * checked on the last sample (calibrate_finish), every detector reset (enter_calibrate). */
+static void take_arm_request(app_core_t *a)
 {
     const uint16_t req = a->arm_request;
     if (req == (uint16_t)APP_REQ_NONE) {
@@ -453,17 +458,8 @@ static void take_arm_request(app_core_t *a, const hal_meas_t *m)
     }
     a->arm_request = (uint16_t)APP_REQ_NONE;
     if (req == (uint16_t)APP_REQ_ARM && a->st.state == APP_STATE_READY) {
-        dtc_meas_t pu;
-        app_core_convert(a, m, &pu); /* the DC link once more, on this very sample */
-        if (pu.vdc_iq >= a->cfg->prot.vdc_min_iq && pu.vdc_iq <= a->cfg->prot.vdc_max_iq) {
-            law_reset(&a->law);
-            app_fault_init(&a->flt);
-            app_enc_reset(&a->enc); /* the count moved while disarmed: the check starts afresh */
-            app_plaus_reset(&a->plaus);
-            a->comm_seen = 0U;
-            a->comm_idle_n = 0U;
-            a->st.state = APP_STATE_RUN;
-        }
+        enter_calibrate(a);
+        a->arming = 1U;
     } else if (req == (uint16_t)APP_REQ_DISARM) {
         /* a drive disarmed by a host stays under its command: no calibration re-arms it */
         a->arm_mode = (uint16_t)APP_ARM_COMMAND;
@@ -528,7 +524,7 @@ static uint16_t core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
             enter_calibrate(a);
         }
     }
-    take_arm_request(a, m);
+    take_arm_request(a);
 
     switch (a->st.state) {
     case APP_STATE_CALIBRATE:

@@ -12,8 +12,9 @@
  * Arming (app_core_set_arming). APP_ARM_AUTO (the default: a SIL scenario without a serial line,
  * the unit tests): the end of the calibration enters RUN as above. APP_ARM_COMMAND (a drive
  * operated over its serial line, docs/operate.md): the end of the calibration enters READY, gates
- * off, and only an arm request (app_core_arm_refusal passed, then app_core_request_arm) enters
- * RUN; a disarm request takes RUN back to READY; a fault clear ends in READY too, never in RUN.
+ * off, and only an arm request (app_core_arm_refusal passed, then app_core_request_arm) leads to
+ * RUN, through a calibration of its own (fresh offsets, the DC link checked at its end); a disarm
+ * request takes RUN back to READY; a fault clear ends in READY too, never in RUN.
  * With a command timeout set (app_core_set_comm_timeout), RUN without a valid frame from the host
  * (app_core_comm_seen) for that many periods latches APP_FAULT_COMM_TIMEOUT: gates off, so no
  * torque, and disarmed.
@@ -133,6 +134,7 @@ typedef struct app_core {
     volatile uint16_t comm_seen;   /* set by the background on a valid frame, taken by the ISR */
     volatile uint32_t comm_timeout_n; /* periods without a valid frame that trip, 0 = off */
     uint32_t comm_idle_n;  /* RUN: periods since the last valid frame */
+    uint16_t arming;       /* 1: this calibration was started by an arm request and ends in RUN */
     /* Capture and fault log (app_core_attach), NULL = none. */
     capture_t *cap;
     faultlog_t *flog;
@@ -172,8 +174,8 @@ void app_core_set_arming(app_core_t *a, uint16_t mode);
  * references zero. Pure. */
 uint16_t app_core_arm_refusal(const app_core_t *a, const app_status_t *s, const dtc_refs_t *r);
 
-/* Background: asks the ISR to arm (APP_REQ_ARM: READY -> RUN, the law reset; ignored in any other
- * state) or disarm (APP_REQ_DISARM: RUN -> READY, gates off; the arming mode becomes
+/* Background: asks the ISR to arm (APP_REQ_ARM: READY -> CALIBRATE -> RUN, the law reset: 2^APP_CAL_LOG2
+ * periods, 2^APP_VMID_CAL_LOG2 with the mid-point calibration; ignored in any other state) or disarm (APP_REQ_DISARM: RUN -> READY, gates off; the arming mode becomes
  * APP_ARM_COMMAND). */
 static inline void app_core_request_arm(app_core_t *a, uint16_t req)
 {

@@ -128,15 +128,6 @@ uint32_t app_param_table_hash(void)
     return crc;
 }
 
-static void answer_error(const frame_t *rq, frame_t *rs, uint16_t code, int16_t detail)
-{
-    rs->cmd = PROTO_ERROR;
-    rs->len = 6U;
-    frame_put_u16(&rs->payload[0], rq->cmd);
-    frame_put_u16(&rs->payload[2], code);
-    frame_put_u16(&rs->payload[4], (uint16_t)detail);
-}
-
 static const app_param_t *app_row(uint16_t id)
 {
     uint16_t i;
@@ -157,7 +148,7 @@ static void do_desc(const frame_t *rq, frame_t *rs)
     const char *unit;
     const char *name;
     if (i >= app_param_count()) {
-        answer_error(rq, rs, PROTO_ERR_RANGE, 0);
+        app_proto_error(rq, rs, PROTO_ERR_RANGE, 0);
         return;
     }
     frame_put_u16(&o[0], i);
@@ -228,7 +219,7 @@ static void do_read(const app_proto_t *p, const frame_t *rq, frame_t *rs)
     int32_t raw = 0;
     const uint16_t e = read_raw(p, id, &raw);
     if (e != 0U) {
-        answer_error(rq, rs, e, 0);
+        app_proto_error(rq, rs, e, 0);
         return;
     }
     frame_put_u16(&rs->payload[0], id);
@@ -248,21 +239,21 @@ static void do_write(app_proto_t *p, const frame_t *rq, frame_t *rs)
     int32_t now = 0;
     if (a != NULL) {
         if (raw < a->lo || raw > a->hi) {
-            answer_error(rq, rs, PROTO_ERR_RANGE, 2);
+            app_proto_error(rq, rs, PROTO_ERR_RANGE, 2);
             return;
         }
         app_proto_set_timeout_ms(p, (uint16_t)raw);
     } else if (c == NULL || cfg == NULL) {
-        answer_error(rq, rs, PROTO_ERR_PARAM_ID, 0);
+        app_proto_error(rq, rs, PROTO_ERR_PARAM_ID, 0);
         return;
     } else {
         app_get_status(&s);
         if ((c->flags & DTC_PARAM_RO) != 0U) {
-            answer_error(rq, rs, PROTO_ERR_READ_ONLY, 0);
+            app_proto_error(rq, rs, PROTO_ERR_READ_ONLY, 0);
             return;
         }
         if (s.state == APP_STATE_RUN && (c->flags & DTC_PARAM_LIVE) == 0U) {
-            answer_error(rq, rs, PROTO_ERR_ARMED, 0);
+            app_proto_error(rq, rs, PROTO_ERR_ARMED, 0);
             return;
         }
         g_copy = *cfg;
@@ -271,16 +262,16 @@ static void do_write(app_proto_t *p, const frame_t *rq, frame_t *rs)
             rc = law_check(&g_copy, NULL);
         }
         if (rc != DTC_OK) {
-            answer_error(rq, rs, PROTO_ERR_RANGE, rc);
+            app_proto_error(rq, rs, PROTO_ERR_RANGE, rc);
             return;
         }
         rc = s.state == APP_STATE_RUN ? app_config_live(&g_copy) : app_reconfigure(&g_copy);
         if (rc == APP_ERR_ARMED) {
-            answer_error(rq, rs, PROTO_ERR_ARMED, 0); /* armed between the check and the write */
+            app_proto_error(rq, rs, PROTO_ERR_ARMED, 0); /* armed between the check and the write */
             return;
         }
         if (rc != 0) {
-            answer_error(rq, rs, PROTO_ERR_REFUSED, PROTO_REFUSE_CONFIG);
+            app_proto_error(rq, rs, PROTO_ERR_REFUSED, PROTO_REFUSE_CONFIG);
             return;
         }
     }
@@ -414,18 +405,18 @@ static void do_save(app_proto_t *p, const frame_t *rq, frame_t *rs)
     uint16_t n, st;
     app_get_status(&s);
     if (s.state == APP_STATE_RUN) {
-        answer_error(rq, rs, PROTO_ERR_ARMED, 0);
+        app_proto_error(rq, rs, PROTO_ERR_ARMED, 0);
         return;
     }
     n = cfg != NULL ? serialize(cfg, app_proto_timeout_ms(p), g_set) : 0U;
     if (n == 0U) {
-        answer_error(rq, rs, PROTO_ERR_STORE, STORE_ERR_SIZE);
+        app_proto_error(rq, rs, PROTO_ERR_STORE, STORE_ERR_SIZE);
         return;
     }
     /* g_store: the medium as app_params_boot (or the last save) left it */
     st = store_save(&g_store, 0U, (uint16_t)app_param_table_hash(), g_set, n);
     if (st != STORE_OK) {
-        answer_error(rq, rs, PROTO_ERR_STORE, (int16_t)st);
+        app_proto_error(rq, rs, PROTO_ERR_STORE, (int16_t)st);
         return;
     }
     frame_put_u32(&rs->payload[0], g_store.seq);
@@ -438,12 +429,12 @@ static void do_restore(app_proto_t *p, const frame_t *rq, frame_t *rs)
     const uint16_t src = frame_get_u16(&rq->payload[0]);
     uint16_t e;
     if (src > 1U) {
-        answer_error(rq, rs, PROTO_ERR_RANGE, 0);
+        app_proto_error(rq, rs, PROTO_ERR_RANGE, 0);
         return;
     }
     e = restore(p, src, &detail);
     if (e != 0U) {
-        answer_error(rq, rs, e, detail);
+        app_proto_error(rq, rs, e, detail);
         return;
     }
     frame_put_u16(&rs->payload[0], src);
@@ -469,7 +460,7 @@ void app_proto_param(app_proto_t *p, const frame_t *rq, frame_t *rs)
         do_restore(p, rq, rs);
         break;
     default:
-        answer_error(rq, rs, PROTO_ERR_UNKNOWN_CMD, 0);
+        app_proto_error(rq, rs, PROTO_ERR_UNKNOWN_CMD, 0);
         break;
     }
 }

@@ -73,7 +73,7 @@ void app_proto_set_timeout_ms(app_proto_t *p, uint16_t ms)
     app_set_comm_timeout(ms == 0U ? 0U : (uint32_t)(((uint64_t)ms * 1000000U + p->period_ns - 1U) / p->period_ns));
 }
 
-static void answer_error(const frame_t *rq, frame_t *rs, uint16_t code, int16_t detail)
+void app_proto_error(const frame_t *rq, frame_t *rs, uint16_t code, int16_t detail)
 {
     rs->cmd = PROTO_ERROR;
     rs->len = 6U;
@@ -167,7 +167,7 @@ static void do_ref(const frame_t *rq, frame_t *rs, uint16_t mode)
     }
     rc = app_set_refs(&r);
     if (rc != DTC_OK) {
-        answer_error(rq, rs, PROTO_ERR_RANGE, rc);
+        app_proto_error(rq, rs, PROTO_ERR_RANGE, rc);
         return;
     }
     frame_put_i32(&rs->payload[0], v);
@@ -191,7 +191,7 @@ static void do_capture_setup(const frame_t *rq, frame_t *rs)
     s.level = frame_get_i32(&i[20]);
     rc = capture_setup(app_capture(), &s);
     if (rc != CAPTURE_OK) {
-        answer_error(rq, rs, PROTO_ERR_RANGE, (int16_t)rc);
+        app_proto_error(rq, rs, PROTO_ERR_RANGE, (int16_t)rc);
     }
 }
 
@@ -216,11 +216,11 @@ static void do_capture_read(const frame_t *rq, frame_t *rs)
     uint16_t k, ch, at = 4U;
     const uint16_t per = (uint16_t)(4U * c->cfg.count);
     if (capture_state(c) != (uint16_t)CAPTURE_DONE) {
-        answer_error(rq, rs, PROTO_ERR_STATE, 0);
+        app_proto_error(rq, rs, PROTO_ERR_STATE, 0);
         return;
     }
     if (first >= c->cfg.samples) {
-        answer_error(rq, rs, PROTO_ERR_RANGE, 0);
+        app_proto_error(rq, rs, PROTO_ERR_RANGE, 0);
         return;
     }
     if (n > (uint16_t)(c->cfg.samples - first)) {
@@ -250,11 +250,11 @@ static void do_faultlog(const frame_t *rq, frame_t *rs)
         rc = faultlog_get(app_faultlog(), k, &e);
     }
     if (rc == (uint16_t)FAULTLOG_EMPTY) {
-        answer_error(rq, rs, PROTO_ERR_RANGE, 0);
+        app_proto_error(rq, rs, PROTO_ERR_RANGE, 0);
         return;
     }
     if (rc != (uint16_t)FAULTLOG_OK) {
-        answer_error(rq, rs, PROTO_ERR_STATE, 0);
+        app_proto_error(rq, rs, PROTO_ERR_STATE, 0);
         return;
     }
     frame_put_u16(&o[0], k);
@@ -286,13 +286,13 @@ static void do_telemetry_start(app_proto_t *p, const frame_t *rq, frame_t *rs)
     uint16_t decim = frame_get_u16(&rq->payload[0]);
     uint32_t min_decim;
     if (count > 4U || rq->len < (uint16_t)(4U + 2U * count)) {
-        answer_error(rq, rs, count > 4U ? PROTO_ERR_RANGE : PROTO_ERR_LENGTH, 2);
+        app_proto_error(rq, rs, count > 4U ? PROTO_ERR_RANGE : PROTO_ERR_LENGTH, 2);
         return;
     }
     for (k = 0U; k < count; k++) {
         p->tm_q[k] = frame_get_u16(&rq->payload[4U + 2U * k]);
         if (p->tm_q[k] >= (uint16_t)CAPTURE_Q_COUNT) {
-            answer_error(rq, rs, PROTO_ERR_RANGE, (int16_t)(4U + 2U * k));
+            app_proto_error(rq, rs, PROTO_ERR_RANGE, (int16_t)(4U + 2U * k));
             return;
         }
     }
@@ -352,11 +352,11 @@ void app_proto_handle(app_proto_t *p, const frame_t *rq, frame_t *rs)
     rs->cmd = (uint16_t)(rq->cmd | PROTO_RESPONSE);
     rs->len = 0U;
     if (need == 0xFFFFU) {
-        answer_error(rq, rs, PROTO_ERR_UNKNOWN_CMD, 0);
+        app_proto_error(rq, rs, PROTO_ERR_UNKNOWN_CMD, 0);
         return;
     }
     if (rq->len < need) {
-        answer_error(rq, rs, PROTO_ERR_LENGTH, (int16_t)need);
+        app_proto_error(rq, rs, PROTO_ERR_LENGTH, (int16_t)need);
         return;
     }
     switch (rq->cmd) {
@@ -369,7 +369,7 @@ void app_proto_handle(app_proto_t *p, const frame_t *rq, frame_t *rs)
     case PROTO_ARM: {
         const uint16_t why = app_arm();
         if (why != (uint16_t)APP_ARM_OK) {
-            answer_error(rq, rs, PROTO_ERR_REFUSED, (int16_t)why);
+            app_proto_error(rq, rs, PROTO_ERR_REFUSED, (int16_t)why);
         }
         break;
     }
@@ -386,7 +386,7 @@ void app_proto_handle(app_proto_t *p, const frame_t *rq, frame_t *rs)
         app_status_t s;
         app_get_status(&s);
         if (s.state == APP_STATE_FAULT && s.fault == (uint16_t)APP_FAULT_CONFIG) {
-            answer_error(rq, rs, PROTO_ERR_REFUSED, PROTO_REFUSE_CONFIG);
+            app_proto_error(rq, rs, PROTO_ERR_REFUSED, PROTO_REFUSE_CONFIG);
         } else {
             app_request_fault_clear();
         }

@@ -10,6 +10,9 @@
 
 #include "app_proto.h"
 
+/* rs := the ERROR answer to rq (proto.h PROTO_ERROR: the request's id, code, detail). */
+void app_proto_error(const frame_t *rq, frame_t *rs, uint16_t code, int16_t detail);
+
 /* Rows of the protocol's parameter table (the configuration's and the application's). */
 uint16_t app_param_count(void);
 

@@ -40,6 +40,7 @@
 #include "dtc_config_si.h"
 #include "dtc_params.h"
 #include "frame.h"
+#include "fuzz_reader.h"
 #include "hal.h"
 #include "proto.h"
 
@@ -221,21 +222,6 @@ static void period(void)
 }
 
 /* ---- input -------------------------------------------------------------------------------- */
-
-typedef struct {
-    const uint8_t *p;
-    size_t n;
-} rd_t;
-
-static uint8_t rd_u8(rd_t *r)
-{
-    uint8_t v = 0U;
-    if (r->n > 0U) {
-        v = *r->p++;
-        r->n--;
-    }
-    return v;
-}
 
 static void send(uint16_t octet)
 {

@@ -1227,16 +1227,31 @@ static void test_command_arming(void **state)
     assert_int_equal(app_core_arm_refusal(&fx.app, &st, &r), APP_ARM_VDC_RANGE);
     st = fx.app.st;
     assert_int_equal(app_core_arm_refusal(&fx.app, &st, &r), APP_ARM_OK);
-    /* the ISR checks the link once more on its own sample: a sagged link is not armed */
+    /* arming calibrates again, gates off, and checks the link at the end: a link that sagged
+     * meanwhile is a fault, not a run */
     fx.m.adc[HAL_ADC_VDC] = v_counts(0.5 * fx.si.vdc_v * fx.cfg.prot.vdc_min_iq / fx.cfg.prot.vdc_max_iq);
     app_core_request_arm(&fx.app, APP_REQ_ARM);
+    for (k = 0; k < cal_len(); k++) {
+        assert_int_equal(step(), 1U);
+        assert_int_equal(fx.cmd.enable, 0U);
+    }
     assert_int_equal(step(), 1U);
-    assert_int_equal(fx.app.st.state, APP_STATE_READY);
+    assert_int_equal(fx.app.st.state, APP_STATE_FAULT);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_DC_UNDERVOLTAGE);
     meas_idle();
+    fx.app.clear_request = 1U;
+    for (k = 0; k < cal_len() + 10U; k++) {
+        assert_int_equal(step(), 1U);
+    }
+    assert_int_equal(fx.app.st.state, APP_STATE_READY);
     app_core_request_arm(&fx.app, APP_REQ_ARM);
+    for (k = 0; k < cal_len(); k++) {
+        assert_int_equal(step(), 1U);
+        assert_int_equal(fx.cmd.enable, 0U);
+    }
+    assert_int_equal(fx.app.st.state, APP_STATE_RUN);
     assert_int_equal(step(), 0U);
     assert_int_equal(fx.cmd.enable, 1U);
-    assert_int_equal(fx.app.st.state, APP_STATE_RUN);
     app_core_request_arm(&fx.app, APP_REQ_DISARM);
     assert_int_equal(step(), 1U);
     assert_int_equal(fx.cmd.enable, 0U);
@@ -1271,6 +1286,10 @@ static void test_comm_timeout(void **state)
     }
     assert_int_equal(fx.app.st.state, APP_STATE_READY);
     app_core_request_arm(&fx.app, APP_REQ_ARM);
+    for (k = 0; k < cal_len(); k++) {
+        (void)step();
+    }
+    assert_int_equal(fx.app.st.state, APP_STATE_RUN);
     for (k = 0; k < 3000U; k++) { /* off: runs on */
         assert_int_equal(step(), 0U);
     }

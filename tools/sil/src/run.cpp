@@ -271,6 +271,17 @@ struct Divergence {
     std::uint64_t period = 0; // the period whose sample left the bounds (the run's length)
 };
 
+/// A run without metrics (null in metrics.json).
+void no_metrics(RunResult* res)
+{
+    const double nan = std::nan("");
+    res->metrics = Metrics{};
+    res->metrics.torque_mean_nm = nan;
+    res->metrics.trf_pct = nan;
+    res->metrics.trf_filtered_pct = nan;
+    res->metrics.speed_mean_rpm = nan;
+}
+
 /// The run's metrics from its series and its fault's name: a diverged plant has no metrics, only
 /// why; otherwise the metrics, the firmware fault named for this scenario, and a metric that is
 /// not finite reported as such.
@@ -278,12 +289,7 @@ void fault_metrics(const Scenario& sc, const Divergence& div, RunResult* res)
 {
     if (!div.why.empty()) {
         // The recorded window is incomplete and the state meaningless: no metrics, only why.
-        const double nan = std::nan("");
-        res->metrics = Metrics{};
-        res->metrics.torque_mean_nm = nan;
-        res->metrics.trf_pct = nan;
-        res->metrics.trf_filtered_pct = nan;
-        res->metrics.speed_mean_rpm = nan;
+        no_metrics(res);
         res->info.fault = "plant_diverged";
         res->info.fault_time_s = div.t_s;
         res->info.fault_detail = "plant state at t = " + std::to_string(div.t_s) + " s: " + div.why +
@@ -591,12 +597,7 @@ bool run_once(const Scenario& sc, std::unique_ptr<Controller> ctrl, const RunOpt
     events.report(&res->info);
     if (stopped && div.why.empty()) {
         // a served run ended by a signal before its metrics window: the run's facts, no metrics
-        const double nan = std::nan("");
-        res->metrics = Metrics{};
-        res->metrics.torque_mean_nm = nan;
-        res->metrics.trf_pct = nan;
-        res->metrics.trf_filtered_pct = nan;
-        res->metrics.speed_mean_rpm = nan;
+        no_metrics(res);
         name_fault(sc, &res->info);
     } else {
         fault_metrics(sc, div, res);
