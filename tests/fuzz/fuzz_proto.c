@@ -91,7 +91,10 @@ void hal_irq_restore(uint16_t state) { (void)state; }
 static void ref_rx_drain(void)
 {
     for (;;) {
-        if (frame_dec_poll(&g_ref_rx, 8U) != 0U) {
+        /* poll(1) with nothing queued: a truncated candidate on a silent line is rejected and its
+         * octets queued again; otherwise nothing is left to do */
+        if (frame_dec_poll(&g_ref_rx, 8U) != 0U ||
+            (frame_dec_pending(&g_ref_rx) == 0U && frame_dec_poll(&g_ref_rx, 1U) != 0U)) {
             g_requests++;
             if (g_ref_rx.frame.cmd == PROTO_ARM) {
                 g_arm_frames++;
