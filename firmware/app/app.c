@@ -16,28 +16,6 @@
  * of firmware/proto/app_ops.c reach them there). */
 app_instance_t g_app_instance;
 
-int16_t app_init(const struct dtc_config *cfg)
-{
-    int16_t rc;
-    hal_gates_off();
-    g_app_instance.cfg_default = cfg;
-    if (cfg != NULL) {
-        g_app_instance.cfg = *cfg;
-        cfg = &g_app_instance.cfg;
-    }
-    rc = app_core_init(&g_app_instance.core, cfg);
-    if (rc != 0) {
-        return rc;
-    }
-    dtc_refs_from_config(&g_app_instance.refs, cfg);
-    return app_core_set_pwm_period(&g_app_instance.core, hal_pwm_period());
-}
-
-int16_t app_set_reconfig(const struct dtc_config *post)
-{
-    return app_core_set_reconfig(&g_app_instance.core, post);
-}
-
 void app_isr(void)
 {
     hal_meas_t m;

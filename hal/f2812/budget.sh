@@ -19,8 +19,9 @@
 #              small IM blocks) in ramfuncs (L0+L1; H0 in the RAM build), libdtc_fixmath.a,
 #              libdtc_im.a (IM law and estimator) and
 #              libdtc_app.a in ramfuncs_h (7K words of H0; L1 in the RAM build), so all of them
-#              are ISR path. libdtc_config.a and libdtc_init.a (the configuration's validation,
-#              the IM law's init: init only) stay in flash and are printed for information. The members are found by a relocatable link
+#              are ISR path. libdtc_config.a, libdtc_init.a and libdtc_app_init.a (the configuration's
+#              validation, the IM law's init, the application's init and background calls) stay
+#              in flash and are printed for information. The members are found by a relocatable link
 #              of the proxy objects (ld -r -M).
 #   hal        libhal_f2812.a without the register blocks (RAM on the proxies, peripheral frames on
 #              the DSP); the ISR-path part is the functions marked F2812_RAMFUNC in hal/f2812/*.c
@@ -109,7 +110,8 @@ linked_members() { # $1 = label, $2 = ld tool, $3 = build dir, $4 = main obj, $5
   local dir="$tmp/$1/$5" ar_tool=${2%ld}ar members
   mkdir -p "$dir"
   members=$("$2" -r -M -o "$dir/all.o" "$4" --start-group "$3/hal/f2812/libhal_f2812.a" \
-              "$3/firmware/libdtc_app.a" "$3/firmware/libdtc_init.a" "$3/firmware/libdtc_im.a" \
+              "$3/firmware/libdtc_app.a" "$3/firmware/libdtc_app_init.a" \
+              "$3/firmware/libdtc_init.a" "$3/firmware/libdtc_im.a" \
               "$3/firmware/libdtc_firmware.a" \
               "$3/firmware/libdtc_config.a" "$3/firmware/libdtc_fixmath.a" \
               "$3/firmware/libdtc_proto.a" "$3/firmware/libdtc_comm.a" \
@@ -131,6 +133,7 @@ report() { # $1 = label, $2 = size tool, $3 = nm tool, $4 = build dir, $5 = main
   im_list=$(linked_members "$1" "$6" "$4" "$5" libdtc_im optional) || exit 2
   cf_list=$(linked_members "$1" "$6" "$4" "$5" libdtc_config) || exit 2
   in_list=$(linked_members "$1" "$6" "$4" "$5" libdtc_init optional) || exit 2
+  ai_list=$(linked_members "$1" "$6" "$4" "$5" libdtc_app_init optional) || exit 2
   pr_list=$(linked_members "$1" "$6" "$4" "$5" libdtc_proto optional) || exit 2
   cm_list=$(linked_members "$1" "$6" "$4" "$5" libdtc_comm optional) || exit 2
   # The operation layer, all in flash (linker/f2812_flash.cmd places neither libdtc_comm.a nor
@@ -142,7 +145,7 @@ report() { # $1 = label, $2 = size tool, $3 = nm tool, $4 = build dir, $5 = main
   mapfile -t fw_objs <<< "$fw_list"
   mapfile -t fx_objs < <(printf '%s\n%s\n' "$fx_list" "$app_list")
   mapfile -t im_objs < <(printf '%s' "$im_list" | sed '/^$/d')
-  mapfile -t cf_objs < <(printf '%s\n%s\n' "$cf_list" "$in_list" | sed '/^$/d')
+  mapfile -t cf_objs < <(printf '%s\n%s\n%s\n' "$cf_list" "$in_list" "$ai_list" | sed '/^$/d')
   read -r fw_t fw_r fw_d fw_b < <(sum_sections "$2" "${fw_objs[@]}")
   read -r fx_t fx_r fx_d fx_b < <(sum_sections "$2" "${fx_objs[@]}")
   read -r im_t im_r im_d im_b < <(sum_sections "$2" "${im_objs[@]}")
@@ -160,7 +163,7 @@ report() { # $1 = label, $2 = size tool, $3 = nm tool, $4 = build dir, $5 = main
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "libdtc_firmware.a (linked)" "$fw_t" "$fw_r" "$fw_d" "$fw_b"
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "libdtc_im.a (linked)" "$im_t" "$im_r" "$im_d" "$im_b"
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "fixmath + app + im (linked)" "$fx_t" "$fx_r" "$fx_d" "$fx_b"
-  printf '%-9s %-28s %8d %8d %8d %8d\n' "" "config + init (flash)" "$cf_t" "$cf_r" "$cf_d" "$cf_b"
+  printf '%-9s %-28s %8d %8d %8d %8d\n' "" "config + inits (flash)" "$cf_t" "$cf_r" "$cf_d" "$cf_b"
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "capture + log (flash, ISR)" "$ci_t" "$ci_r" "$ci_d" "$ci_b"
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "proto + comm (flash)" "$op_t" "$op_r" "$op_d" "$op_b"
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "libhal_f2812.a (no regs)" "$hal_t" "$hal_r" "$hal_d" "$hal_b"

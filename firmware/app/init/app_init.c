@@ -1,7 +1,8 @@
 /*
- * app_ops.c - the application's background operations (app.h): arming, the command timeout, the
- * capture and fault-log attachment, the configuration's replacement. Background code: in
- * libdtc_proto.a, which the F2812 image runs from flash (only the ISR path is in zero-wait RAM).
+ * app_init.c - the application's init-time and background calls (app.h): init, the post-fault
+ * configuration, arming, the command timeout, the capture and fault-log attachment, the
+ * configuration's replacement. In libdtc_app_init.a, which the F2812 image runs from flash (only
+ * the ISR path, libdtc_app.a, is in zero-wait RAM); the instance is app.c's (app_instance.h).
  */
 #include "app.h"
 #include "app_instance.h"
@@ -9,6 +10,27 @@
 
 #include <stddef.h>
 
+int16_t app_init(const struct dtc_config *cfg)
+{
+    int16_t rc;
+    hal_gates_off();
+    g_app_instance.cfg_default = cfg;
+    if (cfg != NULL) {
+        g_app_instance.cfg = *cfg;
+        cfg = &g_app_instance.cfg;
+    }
+    rc = app_core_init(&g_app_instance.core, cfg);
+    if (rc != 0) {
+        return rc;
+    }
+    dtc_refs_from_config(&g_app_instance.refs, cfg);
+    return app_core_set_pwm_period(&g_app_instance.core, hal_pwm_period());
+}
+
+int16_t app_set_reconfig(const struct dtc_config *post)
+{
+    return app_core_set_reconfig(&g_app_instance.core, post);
+}
 
 void app_set_arming(uint16_t mode)
 {
