@@ -69,12 +69,11 @@ def cmd_params(d, a):
         print("saved, copy %d" % d.save())
     elif a.op == "export":
         need(a.args, 1, "params export FILE")
+        text, left = d.firmware_toml()
         with open(a.args[0], "w", encoding="utf-8") as f:
-            f.write("# parameters read from the drive on %s\n[firmware]\n" % a.port)
-            for r in d.params():
-                if r["flags"] & 1:
-                    continue
-                f.write("%s = %.9g\n" % (r["name"].replace(".", "_"), d.param_get(r["name"])))
+            f.write("# read from the drive on %s; parameters without a [firmware] key: %s\n"
+                    % (a.port, ", ".join(left) if left else "none"))
+            f.write(text)
         print("wrote %s" % a.args[0])
 
 

@@ -356,6 +356,25 @@ class Drive:
         _, v = struct.unpack_from("<Hi", self.request(CMD["PARAM_WRITE"], struct.pack("<Hi", r["id"], raw)))
         return v * self._scale(r)
 
+    def firmware_toml(self):
+        """The [firmware] section dtc-sil and dtc_config_gen read (docs/sil.md: the machine and
+        inverter values the firmware assumes), from the parameters in force: each key from the row
+        whose field it is (FIRMWARE_KEYS), in SI. Returns (text, rows left out)."""
+        lines = ["[firmware]"]
+        done = set()
+        for r in self.params():
+            field = r["name"].rsplit(".", 1)[-1]
+            if field not in FIRMWARE_KEYS or r["flags"] & 1:
+                continue
+            key, conv = FIRMWARE_KEYS[field]
+            v = self.param_get(r["name"])
+            if conv == "ts":
+                v *= self.info["isr_period_ns"] * 1e-9
+            lines.append("%s = %.9g  # %s" % (key, v, r["name"]))
+            done.add(r["name"])
+        left = [r["name"] for r in self.params() if r["name"] not in done]
+        return "\n".join(lines) + "\n", left
+
     def save(self):
         (seq,) = struct.unpack_from("<I", self.request(CMD["PARAMS_SAVE"]))
         return seq
@@ -364,6 +383,15 @@ class Drive:
         self.request(CMD["PARAMS_RESTORE"], struct.pack("<H", source))
         self._params = None
 
+
+# [firmware] keys (dtc-sil keys) of the configuration's fields: field name -> (key, conversion);
+# "si": the row's SI value as it is, "ts": a ratio to the control period, times that period.
+FIRMWARE_KEYS = {
+    "rs_iq": ("rs_ohm", "si"), "ls_iq": ("ls_h", "si"), "psi_m_iq": ("psi_m_wb", "si"),
+    "rr_iq": ("rr_ohm", "si"), "lls_iq": ("lls_h", "si"), "llr_iq": ("llr_h", "si"), "lm_iq": ("lm_h", "si"),
+    "v_ce_iq": ("v_ce_v", "si"), "v_d_iq": ("v_d_v", "si"), "r_on_iq": ("r_on_ohm", "si"),
+    "td_ts_q15": ("dead_time_s", "ts"),
+}
 
 # PARAM_DESC's base codes (proto.h enum proto_base) -> Drive.bases() keys; "one": dimensionless.
 PARAM_BASE = {v: k.lower() for k, v in _enum(_PROTO, "PROTO_BASE_").items()}
