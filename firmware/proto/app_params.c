@@ -107,7 +107,8 @@ static uint16_t crc_u32(uint16_t crc, uint32_t v)
     return crc;
 }
 
-uint32_t app_param_table_hash(void)
+/* The table's CRC, computed once (the table is constant). */
+static uint32_t table_hash(void)
 {
     uint16_t crc = CRC16_INIT;
     uint16_t i;
@@ -126,6 +127,17 @@ uint32_t app_param_table_hash(void)
         crc = crc_str(crc, k_app_params[i].name);
     }
     return crc;
+}
+
+uint32_t app_param_table_hash(void)
+{
+    static uint32_t hash;
+    static uint16_t have;
+    if (have == 0U) {
+        hash = table_hash();
+        have = 1U;
+    }
+    return hash;
 }
 
 static const app_param_t *app_row(uint16_t id)
