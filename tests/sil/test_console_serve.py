@@ -10,7 +10,7 @@ targets of the serial protocol:
  3. a parameter set while disarmed changes the behaviour it should; one refused while armed is
     refused (PROTO_ERR_ARMED) and changes nothing;
  4. the command timeout (comm_timeout_s) disarms within its setting plus one speed-loop period;
- 5. the scenario's [faults] event (the encoder signal lost at faults.time_s) shows in `faults`
+ 5. the telemetry stream; the scenario's [faults] event (the encoder signal lost at faults.time_s) shows in `faults`
     with its reason and a snapshot at speed.
 
 Usage: test_console_serve.py DTC_SIL SCENARIO WORKDIR
@@ -154,6 +154,12 @@ def session(link, work):
         mean = sum(speeds) / len(speeds)
         check(abs(mean - 1000.0) <= 20.0, "status speed %.1f rpm within 2 %% of 1000 rpm" % mean)
         garbage_checks(d)
+        # telemetry: a stream at 10 ms (200 periods), every frame one decimation apart
+        dec, tm = d.telemetry(["speed_rpm", "torque_est_nm"], 200, 20)
+        steps = sorted(set(b[0] - a[0] for a, b in zip(tm, tm[1:])))
+        check(dec == 200 and len(tm) == 20 and steps == [200] and
+              all(abs(v["speed_rpm"] - 1000.0) <= 20.0 for _, v in tm),
+              "telemetry: 20 frames 200 periods apart at 1000 rpm (decim %d, steps %s)" % (dec, steps))
         # --- 2. capture -------------------------------------------------------------------------
         cap = os.path.join(work, "cap")
         rc, txt, err = console(link, "capture", "--channels", "torque_est_nm,psi_alpha_est_wb,psi_beta_est_wb",

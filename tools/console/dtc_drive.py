@@ -265,6 +265,25 @@ class Drive:
             })
         return out
 
+    def telemetry(self, channels, decim, n, timeout_s=5.0):
+        """Starts the telemetry stream of up to 4 channels (capture names), collects n frames and
+        stops it: (decim in force, [(tick, {channel: SI value})])."""
+        qs = [QUANTITY[CHANNEL[c][0]] for c in channels]
+        pl = self.request(CMD["TELEMETRY_START"], struct.pack("<HH%dH" % len(qs), decim, len(qs), *qs))
+        (got,) = struct.unpack_from("<H", pl)
+        out = []
+        end = time.monotonic() + timeout_s
+        while len(out) < n and time.monotonic() < end:
+            for rcmd, rseq, pl in self.dec.feed(self.ser.read(256)):
+                if rcmd != CMD["TELEMETRY"] or rseq != self.seq:
+                    continue
+                tick = struct.unpack_from("<I", pl)[0]
+                vals = struct.unpack_from("<%di" % len(qs), pl, 4)
+                out.append((tick, {c: (v if CHANNEL[c][1] is None else self.si(v, CHANNEL[c][1]))
+                                   for c, v in zip(channels, vals)}))
+        self.request(CMD["TELEMETRY_STOP"])
+        return got, out[:n]
+
     # ---- capture ----------------------------------------------------------------------------
     def capture(self, channels, samples, trigger="now", pre=0, decim=1, timeout_s=30.0):
         """Sets up a capture, waits for it and reads it out: (ticks, {channel: [SI values]}).
