@@ -255,7 +255,7 @@ def garbage_checks(d):
 
 
 def speed_loop_periods(d):
-    return int(round(d.param_get("speed.div"))) if any(r["name"] == "speed.div" for r in d.params()) else 1
+    return int(round(d.param_get("speed.speed_div"))) if any(r["name"] == "speed.speed_div" for r in d.params()) else 1
 
 
 def param_checks(d, link, ts):
