@@ -59,14 +59,15 @@ const dtc_config_t *app_config_default(void);
 
 /* Background, armed: cfg (checked by law_check; it differs from the configuration in force only
  * in live parameters, those the ISR reads as it goes or takes from the shadow set) becomes the
- * configuration in force, copied with the ISR held off; its speed-PI gains and flux reference
- * are published through the shadow set with the references and mode kept. Returns 0 or the
- * check's (or the shadow set's) enum dtc_err code. */
+ * configuration in force, copied with the ISR held off; of the shadow set (references, mode,
+ * speed-PI gains, flux reference) the fields the change gave a new value are published, the
+ * others stay as the background last set them. Returns 0 or the check's (or the shadow set's)
+ * enum dtc_err code. */
 int16_t app_config_live(const dtc_config_t *cfg);
 
 /* Background, disarmed only: cfg (checked by its law's check, law_check) becomes the
  * configuration in force; the core restarts on it (calibration, then READY or RUN as the arming
- * mode says) with the references, mode and command timeout kept. Returns 0, APP_ERR_ARMED while
+ * mode says) with the command timeout kept and the shadow set as app_config_live publishes it. Returns 0, APP_ERR_ARMED while
  * armed, or the check's enum dtc_err code (nothing changed then). */
 #define APP_ERR_ARMED 1
 int16_t app_reconfigure(const dtc_config_t *cfg);

@@ -193,7 +193,10 @@ enum proto_base {
     PROTO_BASE_S = 8,     /* t_base = 1 / w_base */
     PROTO_BASE_RPM = 9,   /* per-unit speed as mechanical rpm */
     PROTO_BASE_TURN = 10, /* 2 pi rad */
-    PROTO_BASE_MILLI = 11 /* 1e-3 (milli-units: ms, mV, mA) */
+    PROTO_BASE_MILLI = 11, /* 1e-3 (milli-units: ms, mV, mA) */
+    PROTO_BASE_INV_L = 12, /* 1 / L_base */
+    PROTO_BASE_INV_PSI = 13, /* 1 / psi_base */
+    PROTO_BASE_T_W = 14   /* T_base / w_base: N.m per electrical rad/s */
 };
 
 /* PARAM_DESC flags. */

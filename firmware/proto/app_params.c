@@ -45,37 +45,73 @@ static const app_param_t k_app_params[] = {APP_PARAM_LIST(APP_PARAM_ROW_)};
 
 static dtc_config_t g_copy; /* background only: the configuration being changed */
 
-/* The SI unit and base of a configuration row's quantity (PARAM_DESC). */
-static void qty_unit(uint16_t qty, uint16_t *base, const char **unit)
+/* PARAM_DESC's base (enum proto_base) of a configuration row's quantity (enum dtc_param_qty). */
+static uint16_t qty_base(uint16_t qty)
 {
     switch (qty) {
-    case DTC_QTY_V: *base = PROTO_BASE_V; *unit = "V"; break;
-    case DTC_QTY_I: *base = PROTO_BASE_I; *unit = "A"; break;
-    case DTC_QTY_W: *base = PROTO_BASE_W; *unit = "rad/s"; break;
-    case DTC_QTY_PSI: *base = PROTO_BASE_PSI; *unit = "Wb"; break;
-    case DTC_QTY_T: *base = PROTO_BASE_T; *unit = "N*m"; break;
-    case DTC_QTY_Z: *base = PROTO_BASE_Z; *unit = "ohm"; break;
-    case DTC_QTY_L: *base = PROTO_BASE_L; *unit = "H"; break;
-    case DTC_QTY_TIME: *base = PROTO_BASE_S; *unit = "s"; break;
-    default: *base = PROTO_BASE_ONE; *unit = ""; break;
+    case DTC_PQ_V:
+    case DTC_PQ_V_COUNT: return PROTO_BASE_V;
+    case DTC_PQ_A:
+    case DTC_PQ_A_COUNT: return PROTO_BASE_I;
+    case DTC_PQ_W: return PROTO_BASE_W;
+    case DTC_PQ_PSI: return PROTO_BASE_PSI;
+    case DTC_PQ_T: return PROTO_BASE_T;
+    case DTC_PQ_Z: return PROTO_BASE_Z;
+    case DTC_PQ_L: return PROTO_BASE_L;
+    case DTC_PQ_INV_L: return PROTO_BASE_INV_L;
+    case DTC_PQ_INV_PSI: return PROTO_BASE_INV_PSI;
+    case DTC_PQ_TIME: return PROTO_BASE_S;
+    case DTC_PQ_ANGLE: return PROTO_BASE_TURN;
+    case DTC_PQ_T_W: return PROTO_BASE_T_W;
+    default: return PROTO_BASE_ONE; /* NONE, RATIO, PU */
     }
 }
 
-/* Fraction bits of a configuration row's raw value. */
+/* Fraction bits of a configuration row's raw value (enum dtc_param_fmt). */
 static uint16_t fmt_frac(uint16_t fmt)
 {
     switch (fmt) {
-    case DTC_FMT_IQ: return 24U;
-    case DTC_FMT_Q15: return 15U;
-    case DTC_FMT_Q31: return 31U;
-    case DTC_FMT_ANGLE: return 16U;
+    case DTC_PF_IQ: return 24U;
+    case DTC_PF_Q15: return 15U;
+    case DTC_PF_Q31: return 31U;
+    case DTC_PF_ANGLE: return 16U;
     default: return 0U;
     }
 }
 
+/* The protocol's configuration rows: those of the configuration in force (the common part's, then
+ * its law's part's; dtc_params.h), by position and by id. */
+static uint16_t cfg_law(void)
+{
+    const dtc_config_t *c = app_config();
+    return c != NULL ? c->law : 0xFFFFU;
+}
+
+static uint16_t cfg_rows(void)
+{
+    const dtc_param_list_t *l = dtc_param_law_list(cfg_law());
+    return (uint16_t)(dtc_params_common.n + (l != NULL ? l->n : 0U));
+}
+
+static const dtc_param_t *cfg_row(uint16_t k)
+{
+    const dtc_param_list_t *l = dtc_param_law_list(cfg_law());
+    if (k < dtc_params_common.n) {
+        return &dtc_params_common.rows[k];
+    }
+    k = (uint16_t)(k - dtc_params_common.n);
+    return l != NULL && k < l->n ? &l->rows[k] : NULL;
+}
+
+static const dtc_param_t *cfg_find(uint16_t id)
+{
+    const dtc_param_t *p = dtc_param_find(id);
+    return p != NULL && dtc_param_of_law(p, cfg_law()) != 0U ? p : NULL;
+}
+
 uint16_t app_param_count(void)
 {
-    return (uint16_t)(dtc_param_count() + APP_PARAM_N);
+    return (uint16_t)(cfg_rows() + APP_PARAM_N);
 }
 
 static void put_str(uint16_t *o, const char *s, uint16_t max, uint16_t *n)
@@ -112,8 +148,8 @@ static uint32_t table_hash(void)
 {
     uint16_t crc = CRC16_INIT;
     uint16_t i;
-    for (i = 0U; i < dtc_param_count(); i++) {
-        const dtc_param_t *p = dtc_param_at(i);
+    for (i = 0U; i < cfg_rows(); i++) {
+        const dtc_param_t *p = cfg_row(i);
         crc = crc_u32(crc, (uint32_t)p->id | ((uint32_t)p->fmt << 16));
         crc = crc_u32(crc, (uint32_t)p->qty | ((uint32_t)p->flags << 16));
         crc = crc_u32(crc, (uint32_t)p->lo);
@@ -154,7 +190,7 @@ static const app_param_t *app_row(uint16_t id)
 static void do_desc(const frame_t *rq, frame_t *rs)
 {
     const uint16_t i = frame_get_u16(&rq->payload[0]);
-    const uint16_t n_cfg = dtc_param_count();
+    const uint16_t n_cfg = cfg_rows();
     uint16_t *o = rs->payload;
     uint16_t base, n, m;
     const char *unit;
@@ -165,7 +201,7 @@ static void do_desc(const frame_t *rq, frame_t *rs)
     }
     frame_put_u16(&o[0], i);
     if (i < n_cfg) {
-        const dtc_param_t *p = dtc_param_at(i);
+        const dtc_param_t *p = cfg_row(i);
         const dtc_config_t *dflt = app_config_default();
         int32_t d = 0;
         uint16_t flags = 0U;
@@ -180,7 +216,8 @@ static void do_desc(const frame_t *rq, frame_t *rs)
                 flags |= PROTO_PARAM_DISARMED_ONLY;
             }
         }
-        qty_unit(p->qty, &base, &unit);
+        base = qty_base(p->qty);
+        unit = dtc_param_unit(p->qty);
         name = p->name;
         frame_put_u16(&o[2], p->id);
         frame_put_u16(&o[4], fmt_frac(p->fmt));
@@ -210,7 +247,7 @@ static void do_desc(const frame_t *rq, frame_t *rs)
 /* The value in force of parameter id into *raw; 0, or PROTO_ERR_PARAM_ID. */
 static uint16_t read_raw(const app_proto_t *p, uint16_t id, int32_t *raw)
 {
-    const dtc_param_t *c = dtc_param_find(id);
+    const dtc_param_t *c = cfg_find(id);
     if (c != NULL) {
         const dtc_config_t *cfg = app_config();
         if (cfg == NULL || dtc_param_get(cfg, c, raw) != DTC_OK) {
@@ -243,7 +280,7 @@ static void do_write(app_proto_t *p, const frame_t *rq, frame_t *rs)
 {
     const uint16_t id = frame_get_u16(&rq->payload[0]);
     const int32_t raw = frame_get_i32(&rq->payload[2]);
-    const dtc_param_t *c = dtc_param_find(id);
+    const dtc_param_t *c = cfg_find(id);
     const app_param_t *a = app_row(id);
     const dtc_config_t *cfg = app_config();
     app_status_t s;
@@ -316,8 +353,8 @@ static int32_t get_raw(const uint16_t *w)
 static uint16_t serialize(const dtc_config_t *cfg, uint16_t ms, uint16_t *w)
 {
     uint16_t i, n = 0U;
-    for (i = 0U; i < dtc_param_count(); i++) {
-        const dtc_param_t *p = dtc_param_at(i);
+    for (i = 0U; i < cfg_rows(); i++) {
+        const dtc_param_t *p = cfg_row(i);
         int32_t raw = 0;
         if ((p->flags & DTC_PARAM_RO) != 0U) {
             continue;
@@ -343,8 +380,8 @@ static int16_t deserialize(const uint16_t *w, dtc_config_t *cfg, uint16_t *ms)
     uint16_t i, n = 0U;
     int16_t rc;
     int32_t t;
-    for (i = 0U; i < dtc_param_count(); i++) {
-        const dtc_param_t *p = dtc_param_at(i);
+    for (i = 0U; i < cfg_rows(); i++) {
+        const dtc_param_t *p = cfg_row(i);
         int32_t now = 0;
         const int32_t raw = get_raw(&w[n]);
         if ((p->flags & DTC_PARAM_RO) != 0U) {

@@ -196,11 +196,17 @@ class Drive:
         h = self.info
         psi = h["v_base_v"] / h["w_base_rad_s"]
         p = max(1, h["pole_pairs"])
-        return {"v": h["v_base_v"], "i": h["i_base_a"], "psi": psi, "w": h["w_base_rad_s"],
+        return self._derived({"v": h["v_base_v"], "i": h["i_base_a"], "psi": psi, "w": h["w_base_rad_s"],
                 "t": 1.5 * p * psi * h["i_base_a"], "rpm": h["w_base_rad_s"] / p * 60.0 / (2.0 * math.pi),
                 "s": 1.0 / h["w_base_rad_s"], "z": h["v_base_v"] / h["i_base_a"],
                 "l": h["v_base_v"] / h["i_base_a"] / h["w_base_rad_s"], "one": 1.0, "turn": 2.0 * math.pi,
-                "milli": 1e-3}
+                "milli": 1e-3})
+
+    def _derived(self, b):
+        b["inv_l"] = 1.0 / b["l"]
+        b["inv_psi"] = 1.0 / b["psi"]
+        b["t_w"] = b["t"] / b["w"]
+        return b
 
     def si(self, raw, base):
         return raw / IQ_ONE * self.bases()[base]
@@ -383,7 +389,7 @@ class Drive:
         done = set()
         for r in self.params():
             field = r["name"].rsplit(".", 1)[-1]
-            if field not in FIRMWARE_KEYS or r["flags"] & 1:
+            if field not in FIRMWARE_KEYS:
                 continue
             key, conv = FIRMWARE_KEYS[field]
             v = self.param_get(r["name"])

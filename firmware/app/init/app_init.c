@@ -92,16 +92,38 @@ const dtc_config_t *app_config_default(void)
     return g_app_instance.cfg_default;
 }
 
-/* The references in force with cfg's gains and flux reference (the shadow set's other fields). */
-static int16_t publish_with(const dtc_config_t *cfg)
+/* The shadow set after a change of the configuration from old to cfg: the set published last,
+ * with each field that the change gave a new value (a gain, the flux reference, a reference or
+ * the mode written by id) taken from cfg. */
+static int16_t publish_with(const dtc_config_t *old, const dtc_config_t *cfg)
 {
-    dtc_refs_t r;
-    dtc_refs_from_config(&r, cfg);
-    r.speed_ref_iq = g_app_instance.refs.speed_ref_iq;
-    r.torque_ref_iq = g_app_instance.refs.torque_ref_iq;
-    r.mode = g_app_instance.refs.mode;
+    dtc_refs_t was, now;
+    dtc_refs_t r = g_app_instance.refs;
+    dtc_refs_from_config(&was, old);
+    dtc_refs_from_config(&now, cfg);
+    if (now.speed_ref_iq != was.speed_ref_iq) {
+        r.speed_ref_iq = now.speed_ref_iq;
+    }
+    if (now.torque_ref_iq != was.torque_ref_iq) {
+        r.torque_ref_iq = now.torque_ref_iq;
+    }
+    if (now.flux_ref_iq != was.flux_ref_iq) {
+        r.flux_ref_iq = now.flux_ref_iq;
+    }
+    if (now.kp_iq != was.kp_iq) {
+        r.kp_iq = now.kp_iq;
+    }
+    if (now.ki_ts_iq != was.ki_ts_iq) {
+        r.ki_ts_iq = now.ki_ts_iq;
+    }
+    if (now.mode != was.mode) {
+        r.mode = now.mode;
+    }
     return app_set_refs(&r);
 }
+
+/* The configuration before a change (background only). */
+static dtc_config_t g_old;
 
 int16_t app_config_live(const dtc_config_t *cfg)
 {
@@ -111,9 +133,10 @@ int16_t app_config_live(const dtc_config_t *cfg)
         return rc;
     }
     irq = hal_irq_save(); /* a copy of a few hundred words: the ISR never sees half of it */
+    g_old = g_app_instance.cfg;
     g_app_instance.cfg = *cfg;
     hal_irq_restore(irq);
-    return publish_with(&g_app_instance.cfg);
+    return publish_with(&g_old, &g_app_instance.cfg);
 }
 
 int16_t app_reconfigure(const dtc_config_t *cfg)
@@ -134,6 +157,7 @@ int16_t app_reconfigure(const dtc_config_t *cfg)
     /* Disarmed, gates off: the ISR is held off while the core restarts on the new set (it
      * calibrates again). */
     irq = hal_irq_save();
+    g_old = g_app_instance.cfg;
     g_app_instance.cfg = *cfg;
     rc = app_core_init(&g_app_instance.core, &g_app_instance.cfg);
     app_core_attach(&g_app_instance.core, cap, flog);
@@ -144,7 +168,7 @@ int16_t app_reconfigure(const dtc_config_t *cfg)
     }
     hal_irq_restore(irq);
     if (rc == 0) {
-        (void)publish_with(&g_app_instance.cfg);
+        (void)publish_with(&g_old, &g_app_instance.cfg); /* the law starts from cfg's set */
     }
     return rc;
 }
