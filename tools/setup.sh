@@ -17,6 +17,7 @@ PKGS=(
   libcli11-dev                             # dtc-sil command line
   libfftw3-dev                             # THD / harmonics
   python3-numpy python3-matplotlib         # plots and report
+  python3-serial                           # tools/console/dtc_console.py: the drive's serial line
   python3-distributed                      # dtc-sil sweep --dask (dask.distributed scheduler and workers)
   valgrind                                 # instruction-count budgets
   libsimavr-dev libelf-dev                 # processor-in-the-loop: AVR emulator as a library (tools/pil)

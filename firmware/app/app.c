@@ -6,37 +6,26 @@
 #include "app.h"
 
 #include "app_core.h"
+#include "app_instance.h"
 #include "hal.h"
 
-/* The one global of the firmware (DESIGN.md section 4): the controller owned by the ISR. */
-static app_core_t g_app;
+#include <stddef.h>
 
-int16_t app_init(const struct dtc_config *cfg)
-{
-    int16_t rc;
-    hal_gates_off();
-    rc = app_core_init(&g_app, cfg);
-    if (rc != 0) {
-        return rc;
-    }
-    return app_core_set_pwm_period(&g_app, hal_pwm_period());
-}
-
-int16_t app_set_reconfig(const struct dtc_config *post)
-{
-    return app_core_set_reconfig(&g_app, post);
-}
+/* The one global of the firmware (DESIGN.md section 4): the controller owned by the ISR, with
+ * the background's configuration copy and references (app_instance.h; the background operations
+ * of firmware/proto/app_ops.c reach them there). */
+app_instance_t g_app_instance;
 
 void app_isr(void)
 {
     hal_meas_t m;
     hal_cmd_t cmd;
 
-    if (g_app.clear_request != 0U) {
+    if (g_app_instance.core.clear_request != 0U) {
         hal_trip_clear(); /* the core decides whether the fault may be left (app_core_step) */
     }
     hal_read(&m);
-    if (app_core_step(&g_app, &m, &cmd) != 0U) {
+    if (app_core_step(&g_app_instance.core, &m, &cmd) != 0U) {
         hal_gates_off(); /* a trip on this sample: off now, not at the next period boundary */
     }
     hal_write(&cmd);
@@ -60,19 +49,24 @@ void app_get_ident(app_ident_t *d)
 void app_get_status(app_status_t *s)
 {
     uint16_t irq = hal_irq_save();
-    *s = g_app.st;
+    *s = g_app_instance.core.st;
     hal_irq_restore(irq);
 }
 
 int16_t app_set_refs(const dtc_refs_t *r)
 {
-    if (g_app.cfg == 0) {
+    int16_t rc;
+    if (g_app_instance.core.cfg == 0) {
         return DTC_ERR_NULL;
     }
-    return law_shadow_write(&g_app.law, r);
+    rc = law_shadow_write(&g_app_instance.core.law, r);
+    if (rc == DTC_OK) {
+        g_app_instance.refs = *r;
+    }
+    return rc;
 }
 
 void app_request_fault_clear(void)
 {
-    g_app.clear_request = 1U;
+    g_app_instance.core.clear_request = 1U;
 }

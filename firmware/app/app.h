@@ -26,8 +26,51 @@ void app_isr(void);
  * then in its configuration fault). */
 int16_t app_set_reconfig(const struct dtc_config *post);
 
-/* Background loop work: watchdog service. */
+/* Background loop work: watchdog service. (A drive with a serial line runs the protocol's
+ * pass beside it: app_proto_background, firmware/proto/app_proto.h.) */
 void app_background(void);
+
+/* The capture the ISR feeds after each step and the fault log it writes at each fault (either
+ * NULL: none); after app_init (the serial protocol's start attaches its own, app_proto.h). */
+void app_attach(capture_t *cap, faultlog_t *flog);
+
+/* Arming (app_core.h enum app_arm_mode). APP_ARM_COMMAND (a drive operated over its serial
+ * line; the board's main()): READY after the calibration, both references set to zero. After
+ * app_init, before the ISR is enabled. */
+void app_set_arming(uint16_t mode);
+
+/* Background: arm (enum app_arm_refusal: APP_ARM_OK, the ISR then enters RUN at its next
+ * period, or why not) and disarm (always; RUN -> READY at the next period). */
+uint16_t app_arm(void);
+void app_disarm(void);
+
+/* Background: a valid frame arrived (the command timeout restarts); the timeout in periods (0 = off). */
+void app_comm_seen(void);
+void app_set_comm_timeout(uint32_t periods);
+
+/* Background: the reference set published last (app_set_refs). */
+void app_get_refs(dtc_refs_t *r);
+
+/* The configuration in force (the application's RAM copy), NULL before app_init accepted one. */
+const dtc_config_t *app_config(void);
+
+/* The compiled-in configuration (the one app_init was given). */
+const dtc_config_t *app_config_default(void);
+
+/* Background, armed: cfg (checked by law_check; it differs from the configuration in force only
+ * in live parameters, those the ISR reads as it goes or takes from the shadow set) becomes the
+ * configuration in force, copied with the ISR held off; of the shadow set (references, mode,
+ * speed-PI gains, flux reference) the fields the change gave a new value are published, the
+ * others stay as the background last set them. Returns 0 or the check's (or the shadow set's)
+ * enum dtc_err code. */
+int16_t app_config_live(const dtc_config_t *cfg);
+
+/* Background, disarmed only: cfg (checked by its law's check, law_check) becomes the
+ * configuration in force; the core restarts on it (calibration, then READY or RUN as the arming
+ * mode says) with the command timeout kept and the shadow set as app_config_live publishes it. Returns 0, APP_ERR_ARMED while
+ * armed, or the check's enum dtc_err code (nothing changed then). */
+#define APP_ERR_ARMED 1
+int16_t app_reconfigure(const dtc_config_t *cfg);
 
 /* Background / host: a copy of the application status (state, fault reason, last per-unit
  * measurement and controller output), taken with interrupts masked. */

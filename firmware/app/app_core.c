@@ -2,23 +2,51 @@
  * app_core.c - drive state machine and ISR body (see app_core.h).
  */
 #include "app_core.h"
+#include "app_core_internal.h"
 
 #include "app_adc.h"
 #include "app_pwm.h"
 
 #include <stddef.h>
 
-static void latch_fault(app_core_t *a, uint16_t fault, int16_t detail)
+/* The fault log's snapshot: the last per-unit sample and the law's output of the last step. */
+static void log_fault(app_core_t *a)
+{
+    faultlog_snapshot_t s;
+    s.ia_iq = a->st.meas.ia_iq;
+    s.ib_iq = a->st.meas.ib_iq;
+    s.ic_iq = a->st.meas.ic_iq;
+    s.vdc_iq = a->st.meas.vdc_iq;
+    s.vmid_iq = a->st.meas.vmid_iq;
+    s.speed_iq = a->st.out.speed_iq;
+    s.psi_alpha_iq = a->st.out.psi_alpha_iq;
+    s.psi_beta_iq = a->st.out.psi_beta_iq;
+    s.te_iq = a->st.out.te_iq;
+    s.te_ref_iq = a->st.out.te_ref_iq;
+    s.speed_ref_iq = a->cfg != NULL ? law_speed_ref(&a->law) : 0;
+    s.sector = a->st.out.sector;
+    s.vector = a->st.out.vector;
+    s.state = a->st.state;
+    faultlog_record(a->flog, a->st.tick, a->st.fault, a->st.fault_detail, &s);
+}
+
+void app_core_latch(app_core_t *a, uint16_t fault, int16_t detail)
 {
     if (a->st.state != APP_STATE_FAULT) {
+        const uint16_t was = a->st.state;
         a->st.state = APP_STATE_FAULT;
         a->st.fault = fault;
         a->st.fault_detail = detail;
         a->st.fault_tick = a->st.tick;
+        if (a->flog != NULL) {
+            a->st.state = was; /* the snapshot's state: the one the fault ended */
+            log_fault(a);
+            a->st.state = APP_STATE_FAULT;
+        }
     }
 }
 
-static void enter_calibrate(app_core_t *a)
+void app_core_enter_calibrate(app_core_t *a)
 {
     uint16_t k;
     for (k = 0U; k < 3U; k++) {
@@ -33,54 +61,10 @@ static void enter_calibrate(app_core_t *a)
     app_plaus_reset(&a->plaus);
     a->plaus_win = 0U;
     a->st.out.speed_iq = 0; /* the encoder-freeze check reads the last reported speed */
+    a->arming = 0U;
     a->st.fault = APP_FAULT_NONE;
     a->st.fault_detail = 0;
     a->st.state = APP_STATE_CALIBRATE;
-}
-
-int16_t app_core_init(app_core_t *a, const dtc_config_t *cfg)
-{
-    int16_t rc;
-    uint16_t k;
-
-    a->cfg = NULL;
-    a->post = NULL;
-    a->perm = 0U;
-    app_fault_init(&a->flt);
-    a->clear_request = 0U;
-    a->t1pr = 0U;
-    a->st.tick = 0U;
-    a->st.fault_tick = 0U;
-    a->st.state = APP_STATE_INIT;
-    a->st.fault = APP_FAULT_NONE;
-    a->st.fault_detail = 0;
-    a->st.reconfigured = 0U;
-    a->ident_request = 0U;
-    a->ident.step = (uint16_t)APP_IDENT_IDLE;
-    rc = law_init(&a->law, cfg);
-    if (rc != DTC_OK) {
-        latch_fault(a, APP_FAULT_CONFIG, rc);
-        return rc;
-    }
-    a->cfg = cfg;
-    for (k = 0U; k < 3U; k++) {
-        a->offset[k] = cfg->board.adc_i_offset[k];
-    }
-    /* Which two currents are measured (clarke.h): SSTP i_a, i_b; FSTP i_b, i_c, the two switched
-     * phases whose signs the FSTP compensation tables need (Hoang Tables V-VI). */
-    if (cfg->board.topology == (uint16_t)DTC_TOPO_FSTP) {
-        a->meas_ch[0] = (uint16_t)HAL_ADC_IB;
-        a->meas_ch[1] = (uint16_t)HAL_ADC_IC;
-    } else {
-        a->meas_ch[0] = (uint16_t)HAL_ADC_IA;
-        a->meas_ch[1] = (uint16_t)HAL_ADC_IB;
-    }
-    a->meas_mask = cfg->board.i_sensors3 != 0U ? 7U
-                   : (cfg->board.topology == (uint16_t)DTC_TOPO_FSTP ? 6U : 3U);
-    app_plaus_init(&a->plaus_p, cfg->board.adc_i_gain_iq);
-    app_enc_init(&a->enc, cfg);
-    enter_calibrate(a);
-    return 0;
 }
 
 void app_core_convert(const app_core_t *a, const hal_meas_t *m, dtc_meas_t *pu)
@@ -118,7 +102,7 @@ static uint16_t check_hw_trip(app_core_t *a, const hal_meas_t *m)
     int16_t detail = 0;
     const uint16_t f = app_fault_hw(m, &detail);
     if (f != (uint16_t)APP_FAULT_NONE) {
-        latch_fault(a, f, detail);
+        app_core_latch(a, f, detail);
         return 1U;
     }
     return 0U;
@@ -135,12 +119,12 @@ static uint16_t check_trips(app_core_t *a, const hal_meas_t *m, const dtc_meas_t
     }
     f = app_fault_trips(&a->flt, a->cfg, pu, a->perm, &detail);
     if (f != (uint16_t)APP_FAULT_NONE) {
-        latch_fault(a, f, detail);
+        app_core_latch(a, f, detail);
         return 1U;
     }
     detail = app_enc_check(&a->enc, a->cfg, m, a->st.out.speed_iq);
     if (detail != 0) {
-        latch_fault(a, APP_FAULT_ENCODER, detail);
+        app_core_latch(a, APP_FAULT_ENCODER, detail);
         return 1U;
     }
     return 0U;
@@ -173,7 +157,7 @@ static uint16_t app_vmid_cal_set(app_core_t *a, const hal_meas_t *m)
     iq_t mean = fix_sat32((a->vmid_cal_sum_iq + ((int64_t)1 << (APP_VMID_CAL_LOG2 - 1U))) >>
                           APP_VMID_CAL_LOG2);
     if (fix_abs32(mean) > fix_rshift_rnd32(fix_abs32(vdc), APP_VMID_TOL_LOG2)) {
-        latch_fault(a, APP_FAULT_ADC_OFFSET, (int16_t)HAL_ADC_VMID);
+        app_core_latch(a, APP_FAULT_ADC_OFFSET, (int16_t)HAL_ADC_VMID);
         return 1U;
     }
     a->vmid_cal_iq = mean;
@@ -191,11 +175,11 @@ static void calibrate_finish(app_core_t *a, const hal_meas_t *m)
         dtc_meas_t pu;
         app_core_convert(a, m, &pu);
         if (pu.vdc_iq < a->cfg->prot.vdc_min_iq) {
-            latch_fault(a, APP_FAULT_DC_UNDERVOLTAGE, 0);
+            app_core_latch(a, APP_FAULT_DC_UNDERVOLTAGE, 0);
             return;
         }
         if (pu.vdc_iq > a->cfg->prot.vdc_max_iq) {
-            latch_fault(a, APP_FAULT_DC_OVERVOLTAGE, 0);
+            app_core_latch(a, APP_FAULT_DC_OVERVOLTAGE, 0);
             return;
         }
     }
@@ -206,6 +190,13 @@ static void calibrate_finish(app_core_t *a, const hal_meas_t *m)
         a->st.state = APP_STATE_IDENT;
         return;
     }
+    if (a->arm_mode == (uint16_t)APP_ARM_COMMAND && a->arming == 0U) {
+        a->st.state = APP_STATE_READY;
+        return;
+    }
+    a->arming = 0U;
+    a->comm_seen = 0U;
+    a->comm_idle_n = 0U;
     law_reset(&a->law);
     a->st.state = APP_STATE_RUN;
 }
@@ -253,7 +244,7 @@ static void calibrate_step(app_core_t *a, const hal_meas_t *m)
             uint32_t mean = (a->cal_sum[ch] + ((uint32_t)1U << (APP_CAL_LOG2 - 1U))) >> APP_CAL_LOG2;
             int32_t dev = (int32_t)mean - (int32_t)a->cfg->board.adc_i_offset[ch];
             if (fix_abs32(dev) > (int32_t)DTC_ADC_OFFSET_TOL_COUNTS) {
-                latch_fault(a, APP_FAULT_ADC_OFFSET, (int16_t)ch);
+                app_core_latch(a, APP_FAULT_ADC_OFFSET, (int16_t)ch);
                 return;
             }
             a->offset[ch] = (uint16_t)mean;
@@ -277,7 +268,7 @@ static void calibrate_step(app_core_t *a, const hal_meas_t *m)
 static uint16_t reconfigure(app_core_t *a, uint16_t x)
 {
     if (law_reconfigure(&a->law, a->post, x) != DTC_OK) {
-        latch_fault(a, APP_FAULT_LEG, (int16_t)x);
+        app_core_latch(a, APP_FAULT_LEG, (int16_t)x);
         return 1U;
     }
     a->cfg = a->post;
@@ -302,23 +293,8 @@ static uint16_t check_open_phase(app_core_t *a)
     if (a->post != NULL && a->st.reconfigured == 0U) { /* post is a PM leg-form law (set_reconfig) */
         return reconfigure(a, x);
     }
-    latch_fault(a, APP_FAULT_LEG, (int16_t)x);
+    app_core_latch(a, APP_FAULT_LEG, (int16_t)x);
     return 1U;
-}
-
-int16_t app_core_set_reconfig(app_core_t *a, const dtc_config_t *post)
-{
-    if (post == NULL) {
-        a->post = NULL;
-        return 0;
-    }
-    if (a->cfg == NULL || a->st.reconfigured != 0U || app_fault_post_ok(a->cfg, post) == 0U) {
-        a->post = NULL;
-        latch_fault(a, APP_FAULT_CONFIG, DTC_ERR_RECONFIG);
-        return DTC_ERR_RECONFIG;
-    }
-    a->post = post;
-    return 0;
 }
 
 /* Overspeed (app_fault_overspeed), the encoder against the flux speed (app_enc_flux_check, on the
@@ -337,7 +313,7 @@ static uint16_t check_speed(app_core_t *a)
         f = app_fault_stall(&a->flt, a->cfg, &a->st.out, ref, &detail);
     }
     if (f != (uint16_t)APP_FAULT_NONE) {
-        latch_fault(a, f, detail);
+        app_core_latch(a, f, detail);
         return 1U;
     }
     return 0U;
@@ -406,24 +382,67 @@ static uint16_t check_sensors(app_core_t *a)
             }
         }
     }
-    latch_fault(a, APP_FAULT_CURRENT_SENSOR, (int16_t)(3U * kind + app_fault_phase(a->perm, pick)));
+    app_core_latch(a, APP_FAULT_CURRENT_SENSOR, (int16_t)(3U * kind + app_fault_phase(a->perm, pick)));
     return 1U;
 }
 
-int16_t app_core_set_pwm_period(app_core_t *a, uint16_t t1pr)
+/* The background's arm and disarm requests (app_core_request_arm), taken once per period. An arm
+ * request in READY starts a calibration that ends in RUN: fresh current offsets, the DC link
+ * checked on the last sample (calibrate_finish), every detector reset (enter_calibrate). */
+static void take_arm_request(app_core_t *a)
 {
-    a->t1pr = t1pr;
-    if (a->cfg != NULL && app_pwm_period_check(law_out_form(&a->law), t1pr) != 0) {
-        latch_fault(a, APP_FAULT_CONFIG, DTC_ERR_SVM);
-        /* also over a fault latched before: a clear request ends that one, this one it must not */
-        a->st.fault = APP_FAULT_CONFIG;
-        a->st.fault_detail = DTC_ERR_SVM;
-        return DTC_ERR_SVM;
+    const uint16_t req = a->arm_request;
+    if (req == (uint16_t)APP_REQ_NONE) {
+        return;
     }
-    return 0;
+    a->arm_request = (uint16_t)APP_REQ_NONE;
+    if (req == (uint16_t)APP_REQ_ARM && a->st.state == APP_STATE_READY) {
+        app_core_enter_calibrate(a);
+        a->arming = 1U;
+    } else if (req == (uint16_t)APP_REQ_DISARM) {
+        /* a drive disarmed by a host stays under its command: no calibration re-arms it */
+        a->arm_mode = (uint16_t)APP_ARM_COMMAND;
+        if (a->st.state != APP_STATE_RUN) {
+            return;
+        }
+        a->st.state = APP_STATE_READY;
+        a->st.out.te_iq = 0; /* gates off: no torque (the status must not show the last one) */
+        a->st.out.te_ref_iq = 0;
+    }
 }
 
+/* RUN with the command timeout on: counts the periods since the background last saw a valid
+ * frame; latches APP_FAULT_COMM_TIMEOUT when they reach comm_timeout_n. Returns 1 on a trip. */
+static uint16_t check_comm(app_core_t *a)
+{
+    const uint32_t n = a->comm_timeout_n;
+    if (n == 0U || a->arm_mode != (uint16_t)APP_ARM_COMMAND) {
+        return 0U;
+    }
+    if (a->comm_seen != 0U) {
+        a->comm_seen = 0U;
+        a->comm_idle_n = 0U;
+        return 0U;
+    }
+    if (++a->comm_idle_n >= n) {
+        app_core_latch(a, APP_FAULT_COMM_TIMEOUT, 0);
+        return 1U;
+    }
+    return 0U;
+}
+
+static uint16_t core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd);
+
 uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
+{
+    const uint16_t off = core_step(a, m, cmd);
+    if (a->cap != NULL) {
+        capture_isr(a->cap, a->st.tick, (uint16_t)(a->st.state == APP_STATE_FAULT ? 1U : 0U));
+    }
+    return off;
+}
+
+static uint16_t core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
 {
     cmd->sa = 0U;
     cmd->sb = 0U;
@@ -441,9 +460,10 @@ uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
     if (a->clear_request != 0U) {
         a->clear_request = 0U;
         if (a->st.state == APP_STATE_FAULT && a->st.fault != (uint16_t)APP_FAULT_CONFIG) {
-            enter_calibrate(a);
+            app_core_enter_calibrate(a);
         }
     }
+    take_arm_request(a);
 
     switch (a->st.state) {
     case APP_STATE_CALIBRATE:
@@ -471,9 +491,15 @@ uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
         calibrate_step(a, m);
         return 1U; /* gates off until RUN (or the hold) */
 
+    case APP_STATE_READY:
+        /* disarmed: the measurement kept fresh for the status and the arm check; gates off */
+        app_core_convert(a, m, &a->st.meas);
+        (void)check_hw_trip(a, m);
+        return 1U;
+
     case APP_STATE_RUN:
         app_core_convert(a, m, &a->st.meas);
-        if (check_trips(a, m, &a->st.meas) != 0U) {
+        if (check_trips(a, m, &a->st.meas) != 0U || check_comm(a) != 0U) {
             return 1U;
         }
         law_step(&a->law, &a->st.meas, &a->st.out);

@@ -9,6 +9,16 @@
  *   FAULT is latched with every gate off and a reason code; a clear request (background) takes
  *   the drive back to CALIBRATE, unless the fault is the configuration.
  *
+ * Arming (app_core_set_arming). APP_ARM_AUTO (the default: a SIL scenario without a serial line,
+ * the unit tests): the end of the calibration enters RUN as above. APP_ARM_COMMAND (a drive
+ * operated over its serial line, docs/operate.md): the end of the calibration enters READY, gates
+ * off, and only an arm request (app_core_arm_refusal passed, then app_core_request_arm) leads to
+ * RUN, through a calibration of its own (fresh offsets, the DC link checked at its end); a disarm
+ * request takes RUN back to READY; a fault clear ends in READY too, never in RUN.
+ * With a command timeout set (app_core_set_comm_timeout), RUN without a valid frame from the host
+ * (app_core_comm_seen) for that many periods latches APP_FAULT_COMM_TIMEOUT: gates off, so no
+ * torque, and disarmed.
+ *
  * Per period (app_core_step): raw ADC/encoder counts -> per-unit (calibrated offsets, config
  * gains) -> trip checks on THIS sample (phase over-current on all three currents, DC-link over-
  * and under-voltage, hardware trip input, encoder plausibility) -> the configured control law
@@ -34,6 +44,8 @@
 #include "app_hold.h"
 #include "app_ident.h"
 #include "app_plaus.h"
+#include "capture.h"
+#include "faultlog.h"
 #include "hal.h"
 #include "law.h"
 
@@ -44,9 +56,34 @@ enum app_state {
                               * hold (gates on, phases B and C only) until it ends */
     APP_STATE_RUN = 2,
     APP_STATE_FAULT = 3,     /* latched, gates off */
-    APP_STATE_IDENT = 4      /* self-commissioning (app_ident.h), entered from CALIBRATE instead
+    APP_STATE_READY = 4,     /* APP_ARM_COMMAND: calibrated and disarmed, gates off, waiting
+                              * for an arm request */
+    APP_STATE_IDENT = 5      /* self-commissioning (app_ident.h), entered from CALIBRATE instead
                               * of RUN when requested (app_core_request_ident); stays there with
                               * the gates off once it ended (ident.step DONE or FAILED) */
+};
+
+/* How the drive enters RUN after its calibration (app_core_set_arming). */
+enum app_arm_mode {
+    APP_ARM_AUTO = 0,   /* by itself */
+    APP_ARM_COMMAND = 1 /* only on an arm request (READY until then) */
+};
+
+/* Background -> ISR requests (app_core_t.arm_request). */
+enum app_arm_request {
+    APP_REQ_NONE = 0,
+    APP_REQ_ARM = 1,
+    APP_REQ_DISARM = 2
+};
+
+/* Why an arm request is refused (app_core_arm_refusal); the values are proto.h's enum
+ * proto_refusal, the serial protocol's detail. */
+enum app_arm_refusal {
+    APP_ARM_OK = 0,
+    APP_ARM_NOT_CALIBRATED = 1, /* not READY: calibrating (or not command arming) */
+    APP_ARM_VDC_RANGE = 2,      /* the last V_dc sample outside [prot.vdc_min_iq, prot.vdc_max_iq] */
+    APP_ARM_FAULT = 3,          /* a fault is latched */
+    APP_ARM_REF_NONZERO = 4     /* the speed or torque reference is not zero */
 };
 
 /* Calibration: 2^APP_CAL_LOG2 samples averaged per current channel (and for the FSTP mid-point,
@@ -97,6 +134,16 @@ typedef struct app_core {
     volatile uint16_t ident_request; /* set by the background: identify instead of RUN */
     uint16_t plaus_win;    /* three sensors, this window: bit 0 their sum was above prot.i_sum_max_iq,
                             * bit 1 a phase read zero (check_sensors) */
+    /* Arming and the command timeout (app_core_set_arming, app_core_set_comm_timeout). */
+    uint16_t arm_mode;     /* enum app_arm_mode */
+    volatile uint16_t arm_request; /* enum app_arm_request: set by the background, taken by the ISR */
+    volatile uint16_t comm_seen;   /* set by the background on a valid frame, taken by the ISR */
+    volatile uint32_t comm_timeout_n; /* periods without a valid frame that trip, 0 = off */
+    uint32_t comm_idle_n;  /* RUN: periods since the last valid frame */
+    uint16_t arming;       /* 1: this calibration was started by an arm request and ends in RUN */
+    /* Capture and fault log (app_core_attach), NULL = none. */
+    capture_t *cap;
+    faultlog_t *flog;
 } app_core_t;
 
 /* Validates the configuration (law_init) and enters CALIBRATE. Returns 0 or the dtc_err code;
@@ -122,6 +169,38 @@ int16_t app_core_set_pwm_period(app_core_t *a, uint16_t t1pr);
  * trips (APP_FAULT_LEG). Call after app_core_init, before the first step; post must outlive the
  * core. */
 int16_t app_core_set_reconfig(app_core_t *a, const dtc_config_t *post);
+
+/* Arming mode (enum app_arm_mode); after app_core_init, before the first step. APP_ARM_AUTO
+ * after app_core_init. */
+void app_core_set_arming(app_core_t *a, uint16_t mode);
+
+/* Background: the refusal an arm request gets now (enum app_arm_refusal, APP_ARM_OK = armable),
+ * from a status copy s (app_get_status) and the references r the background published last:
+ * READY (RUN: already armed, APP_ARM_OK), no fault, s->meas.vdc_iq in [prot.vdc_min_iq, prot.vdc_max_iq], speed and torque
+ * references zero. Pure. */
+uint16_t app_core_arm_refusal(const app_core_t *a, const app_status_t *s, const dtc_refs_t *r);
+
+/* Background: asks the ISR to arm (APP_REQ_ARM: READY -> CALIBRATE -> RUN, the law reset: 2^APP_CAL_LOG2
+ * periods, 2^APP_VMID_CAL_LOG2 with the mid-point calibration; ignored in any other state) or disarm (APP_REQ_DISARM: RUN -> READY, gates off; the arming mode becomes
+ * APP_ARM_COMMAND). */
+static inline void app_core_request_arm(app_core_t *a, uint16_t req)
+{
+    a->arm_request = req;
+}
+
+/* Background: a valid frame arrived from the host (restarts the command timeout). */
+static inline void app_core_comm_seen(app_core_t *a)
+{
+    a->comm_seen = 1U;
+}
+
+/* Background: the command timeout in control periods (0 = off); counted in RUN only. */
+void app_core_set_comm_timeout(app_core_t *a, uint32_t periods);
+
+/* The capture (fed once per period after the control step, its fault trigger by the latched
+ * fault) and the fault log (an entry with a snapshot at every latched fault); either may be NULL.
+ * Binds the capture's quantities to the core's variables. After app_core_init. */
+void app_core_attach(app_core_t *a, capture_t *cap, faultlog_t *flog);
 
 /* One control period: raw measurement in, leg command out. Returns 1 when the gates must be
  * turned off NOW (a trip decided on this sample, or any period outside RUN), else 0. */

@@ -49,7 +49,9 @@ enum app_fault_detail {
  *    reconfiguration is possible.
  *  - OVERSPEED: app_fault_overspeed.
  *  - ENCODER_SPEED: the IM laws with the encoder: the encoder's speed against the estimated flux's
- *    (app_enc.h app_enc_flux_check); detail the sign of (flux speed - encoder speed). */
+ *    (app_enc.h app_enc_flux_check); detail the sign of (flux speed - encoder speed).
+ *  - COMM_TIMEOUT: command arming (app_core.h APP_ARM_COMMAND) with a command timeout set: the
+ *    drive was armed and the host sent no valid frame for that long. */
 #define APP_FAULT_LIST(X)                                                                          \
     X(NONE, 0, "none", APP_DETAIL_NONE, "")                                                        \
     X(CONFIG, 1, "config", APP_DETAIL_DTC_ERR, "")                                                 \
@@ -73,7 +75,9 @@ enum app_fault_detail {
     X(ENCODER_SPEED, 13, "encoder_speed", APP_DETAIL_SIGN,                                         \
       "the encoder's speed disagrees with the speed of the estimated rotor flux less its slip "     \
       "(Casadei eqs. 16, 22) by more than the slip at the torque limit allows: encoder lost, "     \
-      "slipping or wired to another shaft")
+      "slipping or wired to another shaft")                                   \
+    X(COMM_TIMEOUT, 14, "comm_timeout", APP_DETAIL_NONE,                                           \
+      "armed and no valid frame from the host for comm_timeout_s: torque to zero, disarmed")
 
 /* The current-sensor fault's details: X(check, meaning); the detail is 3 * check + the physical
  * phase, "%c" its letter.

@@ -162,24 +162,30 @@ uint16_t law_enc_plaus(const law_t *l, iq_t *err_iq, iq_t *tol_iq)
     return 0U;
 }
 
-iq_t law_speed_ref(const law_t *l)
+const iq_t *law_speed_ref_ptr(const law_t *l)
 {
     switch (l->law) {
 #if DTC_LAW_PM_LINKED
-    case DTC_LAW_PM_DTC: return l->u.pm.act.speed_ref_iq;
+    case DTC_LAW_PM_DTC: return &l->u.pm.act.speed_ref_iq;
 #endif
 #if DTC_LAW_IM_LINKED
     case DTC_LAW_IM_DTC:
     case DTC_LAW_IM_DSC:
     case DTC_LAW_IM_SFVC:
     case DTC_LAW_IM_DFOC:
-    case DTC_LAW_IM_DSVM: return l->u.im.act.speed_ref_iq;
+    case DTC_LAW_IM_DSVM: return &l->u.im.act.speed_ref_iq;
 #endif
 #if DTC_LAW_ITC_LINKED
-    case DTC_LAW_PM_ITC: return l->u.itc.act.speed_ref_iq;
+    case DTC_LAW_PM_ITC: return &l->u.itc.act.speed_ref_iq;
 #endif
-    default: return 0;
+    default: return NULL;
     }
+}
+
+iq_t law_speed_ref(const law_t *l)
+{
+    const iq_t *const p = law_speed_ref_ptr(l);
+    return p != NULL ? *p : 0;
 }
 
 uint16_t law_out_form(const law_t *l)

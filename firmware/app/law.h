@@ -90,6 +90,8 @@ uint16_t law_enc_plaus(const law_t *l, iq_t *err_iq, iq_t *tol_iq);
 int16_t law_check_reconfig(const dtc_config_t *post);
 /* The speed reference in force (the app's stall check). */
 iq_t law_speed_ref(const law_t *l);
+/* Where the law holds it (the capture reads it there), NULL for a law not initialised. */
+const iq_t *law_speed_ref_ptr(const law_t *l);
 /* Encoder count -> electrical angle with the configuration's encoder gain and offset (flux_est.h
  * flux_est_angle), for the application's rotor hold. */
 angle_t law_enc_angle(const dtc_config_t *cfg, uint16_t count);

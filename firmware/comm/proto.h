@@ -39,14 +39,17 @@ enum proto_cmd {
      *   request: empty
      *   response: 0 u16 proto_version (PROTO_VERSION)
      *             2 u16 firmware_version (major << 8 | minor)
-     *             4 u32 param_table_hash (CRC-32 of the parameter table's ids, names, units,
-     *                   formats and ranges: the host's cached table is valid while it matches)
+     *             4 u32 param_table_hash (CRC-16/CCITT-FALSE of the parameter table's ids,
+     *                   formats, quantities, flags, ranges and names, in the low half: the host's
+     *                   cached table is valid while it matches)
      *             8 u16 param_count
      *            10 u16 law (enum dtc_law of the configuration in force)
      *            12 u32 isr_period_ns (the control period)
      *            16 u16 iq_q (FIX_IQ_Q)
      *            18 u16 capture_buf_words32 (CAPTURE_BUF_WORDS32) 20 u16 capture_channels_max
-     *            22 u16 frame_max_payload (FRAME_MAX_PAYLOAD)  24 u16 faultlog_entries */
+     *            22 u16 frame_max_payload (FRAME_MAX_PAYLOAD)  24 u16 faultlog_entries
+     *            26 u32 v_base_mv  30 u32 i_base_ma  34 u32 w_base_mrad_s  38 u16 pole_pairs (the
+     *                   configuration's per-unit bases, dtc_base.h: the host's SI conversion) */
     PROTO_HELLO = 0x01,
 
     /* STATUS: the drive's state.
@@ -63,7 +66,9 @@ enum proto_cmd {
      *   request: 0 u16 index
      *   response: 0 u16 index  2 u16 id  4 u16 format (fraction bits of the raw value; 0 = integer)
      *             6 u16 flags (PROTO_PARAM_*)  8 i32 min_raw  12 i32 max_raw  16 i32 default_raw
-     *            20 u16 name_len  22 str name (name_len octets)  then str unit (the rest) */
+     *            20 u16 base (enum proto_base: SI value = raw / 2^format * base)
+     *            22 u16 name_len  24 str name (name_len octets)  then str unit (the rest)
+     *   PROTO_ERR_RANGE for an index >= param_count. */
     PROTO_PARAM_DESC = 0x10,
     /* PARAM_READ: the value in force.
      *   request: 0 u16 id          response: 0 u16 id  2 i32 value_raw */
@@ -154,7 +159,8 @@ enum proto_err {
     PROTO_ERR_ARMED = 5,       /* refused while armed */
     PROTO_ERR_REFUSED = 6,     /* the drive's state does not allow it (detail: enum proto_refusal) */
     PROTO_ERR_STATE = 7,       /* not now (e.g. capture not done) */
-    PROTO_ERR_STORE = 8        /* the storage medium failed (detail: enum store_status) */
+    PROTO_ERR_STORE = 8,       /* the storage medium failed (detail: enum store_status) */
+    PROTO_ERR_READ_ONLY = 9    /* PARAM_WRITE of a read-only parameter (PROTO_PARAM_READ_ONLY) */
 };
 
 /* Why ARM (or FAULT_CLEAR) was refused: PROTO_ERR_REFUSED's detail. */
@@ -170,6 +176,27 @@ enum proto_refusal {
 enum proto_mode {
     PROTO_MODE_SPEED = 0,
     PROTO_MODE_TORQUE = 1
+};
+
+/* PARAM_DESC base: what a parameter's value (raw / 2^format) is multiplied by for SI. The
+ * per-unit bases are HELLO's (dtc_base.h); RPM: a per-unit electrical speed as mechanical rpm
+ * (w_base / pole_pairs * 60 / 2 pi); TURN: an angle_t (a turn = 2 pi rad; format 16). */
+enum proto_base {
+    PROTO_BASE_ONE = 0,   /* dimensionless, or already SI */
+    PROTO_BASE_V = 1,     /* V_base */
+    PROTO_BASE_I = 2,     /* I_base */
+    PROTO_BASE_W = 3,     /* w_base, electrical rad/s */
+    PROTO_BASE_PSI = 4,   /* psi_base */
+    PROTO_BASE_T = 5,     /* T_base */
+    PROTO_BASE_Z = 6,     /* Z_base */
+    PROTO_BASE_L = 7,     /* L_base */
+    PROTO_BASE_S = 8,     /* t_base = 1 / w_base */
+    PROTO_BASE_RPM = 9,   /* per-unit speed as mechanical rpm */
+    PROTO_BASE_TURN = 10, /* 2 pi rad */
+    PROTO_BASE_MILLI = 11, /* 1e-3 (milli-units: ms, mV, mA) */
+    PROTO_BASE_INV_L = 12, /* 1 / L_base */
+    PROTO_BASE_INV_PSI = 13, /* 1 / psi_base */
+    PROTO_BASE_T_W = 14   /* T_base / w_base: N.m per electrical rad/s */
 };
 
 /* PARAM_DESC flags. */

@@ -19,8 +19,9 @@
 #              small IM blocks) in ramfuncs (L0+L1; H0 in the RAM build), libdtc_fixmath.a,
 #              libdtc_im.a (IM law and estimator) and
 #              libdtc_app.a in ramfuncs_h (7K words of H0; L1 in the RAM build), so all of them
-#              are ISR path. libdtc_config.a and libdtc_init.a (the configuration's validation,
-#              the IM law's init: init only) stay in flash and are printed for information. The members are found by a relocatable link
+#              are ISR path. libdtc_config.a, libdtc_init.a and libdtc_app_init.a (the configuration's
+#              validation, the IM law's init, the application's init and background calls) stay
+#              in flash and are printed for information. The members are found by a relocatable link
 #              of the proxy objects (ld -r -M).
 #   hal        libhal_f2812.a without the register blocks (RAM on the proxies, peripheral frames on
 #              the DSP); the ISR-path part is the functions marked F2812_RAMFUNC in hal/f2812/*.c
@@ -109,9 +110,11 @@ linked_members() { # $1 = label, $2 = ld tool, $3 = build dir, $4 = main obj, $5
   local dir="$tmp/$1/$5" ar_tool=${2%ld}ar members
   mkdir -p "$dir"
   members=$("$2" -r -M -o "$dir/all.o" "$4" --start-group "$3/hal/f2812/libhal_f2812.a" \
-              "$3/firmware/libdtc_app.a" "$3/firmware/libdtc_init.a" "$3/firmware/libdtc_im.a" \
+              "$3/firmware/libdtc_app.a" "$3/firmware/libdtc_app_init.a" \
+              "$3/firmware/libdtc_init.a" "$3/firmware/libdtc_im.a" \
               "$3/firmware/libdtc_firmware.a" \
               "$3/firmware/libdtc_config.a" "$3/firmware/libdtc_fixmath.a" \
+              "$3/firmware/libdtc_proto.a" "$3/firmware/libdtc_comm.a" \
               --end-group 2>/dev/null |
             grep -o "$5\\.a([A-Za-z0-9_.]*)" | sed 's/.*(\(.*\))/\1/' | sort -u)
   if [ -z "$members" ]; then
@@ -130,14 +133,26 @@ report() { # $1 = label, $2 = size tool, $3 = nm tool, $4 = build dir, $5 = main
   im_list=$(linked_members "$1" "$6" "$4" "$5" libdtc_im optional) || exit 2
   cf_list=$(linked_members "$1" "$6" "$4" "$5" libdtc_config) || exit 2
   in_list=$(linked_members "$1" "$6" "$4" "$5" libdtc_init optional) || exit 2
+  ai_list=$(linked_members "$1" "$6" "$4" "$5" libdtc_app_init optional) || exit 2
+  pr_list=$(linked_members "$1" "$6" "$4" "$5" libdtc_proto optional) || exit 2
+  cm_list=$(linked_members "$1" "$6" "$4" "$5" libdtc_comm optional) || exit 2
+  # The operation layer, all in flash (linker/f2812_flash.cmd places neither libdtc_comm.a nor
+  # libdtc_proto.a in RAM): the ISR's part of libdtc_comm.a (capture.c, faultlog.c: run from
+  # flash while a capture records and at a fault) and the background's (the frames, the store,
+  # the dispatcher and the application's background operations, libdtc_proto.a).
+  mapfile -t ci_objs < <(printf '%s\n' "$cm_list" | grep -E '/(capture|faultlog)\.c\.(o|obj)$')
+  mapfile -t op_objs < <(printf '%s\n%s\n' "$pr_list" "$cm_list" | sed '/^$/d' | grep -vE '/(capture|faultlog)\.c\.(o|obj)$')
   mapfile -t fw_objs <<< "$fw_list"
   mapfile -t fx_objs < <(printf '%s\n%s\n' "$fx_list" "$app_list")
   mapfile -t im_objs < <(printf '%s' "$im_list" | sed '/^$/d')
-  mapfile -t cf_objs < <(printf '%s\n%s\n' "$cf_list" "$in_list" | sed '/^$/d')
+  mapfile -t cf_objs < <(printf '%s\n%s\n%s\n' "$cf_list" "$in_list" "$ai_list" | sed '/^$/d')
   read -r fw_t fw_r fw_d fw_b < <(sum_sections "$2" "${fw_objs[@]}")
   read -r fx_t fx_r fx_d fx_b < <(sum_sections "$2" "${fx_objs[@]}")
   read -r im_t im_r im_d im_b < <(sum_sections "$2" "${im_objs[@]}")
   read -r cf_t cf_r cf_d cf_b < <(sum_sections "$2" "${cf_objs[@]}")
+  read -r op_t op_r op_d op_b < <(sum_sections "$2" "${op_objs[@]}")
+  read -r ci_t ci_r ci_d ci_b < <(sum_sections "$2" "${ci_objs[@]}")
+  op_data=$((op_d + op_b + ci_d + ci_b))
   fx_t=$((fx_t + im_t)); fx_r=$((fx_r + im_r)); fx_d=$((fx_d + im_d)); fx_b=$((fx_b + im_b))
   read -r hal_t hal_r hal_d hal_b < <(sum_sections "$2" "$4/hal/f2812/libhal_f2812.a")
   read -r reg_d reg_b < <(reg_bytes "$3" "$4/hal/f2812/libhal_f2812.a")
@@ -148,7 +163,9 @@ report() { # $1 = label, $2 = size tool, $3 = nm tool, $4 = build dir, $5 = main
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "libdtc_firmware.a (linked)" "$fw_t" "$fw_r" "$fw_d" "$fw_b"
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "libdtc_im.a (linked)" "$im_t" "$im_r" "$im_d" "$im_b"
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "fixmath + app + im (linked)" "$fx_t" "$fx_r" "$fx_d" "$fx_b"
-  printf '%-9s %-28s %8d %8d %8d %8d\n' "" "config + init (flash)" "$cf_t" "$cf_r" "$cf_d" "$cf_b"
+  printf '%-9s %-28s %8d %8d %8d %8d\n' "" "config + inits (flash)" "$cf_t" "$cf_r" "$cf_d" "$cf_b"
+  printf '%-9s %-28s %8d %8d %8d %8d\n' "" "capture + log (flash, ISR)" "$ci_t" "$ci_r" "$ci_d" "$ci_b"
+  printf '%-9s %-28s %8d %8d %8d %8d\n' "" "proto + comm (flash)" "$op_t" "$op_r" "$op_d" "$op_b"
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "libhal_f2812.a (no regs)" "$hal_t" "$hal_r" "$hal_d" "$hal_b"
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "f2812_main.c" "$mn_t" "$mn_r" "$mn_d" "$mn_b"
   printf '%-9s %-28s %8d\n' "" "hal ISR-path functions" "$hal_isr"
@@ -162,6 +179,8 @@ isr_table_bytes=$fw_r
 fx_code_bytes=$fx_t
 fx_table_bytes=$fx_r
 state_bytes=$((fw_d + fw_b + fx_d + fx_b + cf_d + cf_b + hal_d + hal_b + mn_d + mn_b))
+op_code_bytes=$((op_t + ci_t))
+op_data_bytes=$op_data
 report cross-avr avr-size avr-nm "$avr" "$avr_main" avr-ld
 
 words_nom() { echo $(( ($1 + 1) / 2 )); }
@@ -185,21 +204,25 @@ printf '             pessimistic total %d words: flash build H0 %d words (%d%%),
   "$fx_total_pess" "$RAMFUNCS_H_FLASH_WORDS" "$(pct "$fx_total_pess" "$RAMFUNCS_H_FLASH_WORDS")" \
   "$RAMFUNCS_H_RAM_WORDS" "$(pct "$fx_total_pess" "$RAMFUNCS_H_RAM_WORDS")"
 printf '  state      %6d words (.ebss: last 1K words of H0 in the flash build, of L0 in the RAM build)\n' "$state"
-# The operation layer (firmware/comm: frames, capture, fault log, parameter store; docs/operate.md)
-# is not linked by the image yet: printed for information, not checked. The capture buffer is
-# CAPTURE_BUF_WORDS32 int32 values = twice that in 16-bit words, meant for the part of H0 that
-# ramfuncs_h leaves free in the flash build.
-comm_lib=$cm0/firmware/libdtc_comm.a
-if [ -f "$comm_lib" ]; then
-  read -r cm_t cm_r cm_d cm_b < <(sum_sections arm-none-eabi-size "$comm_lib")
-  cap_words=$(( 2 * $(sed -n 's/^#define CAPTURE_BUF_WORDS32 \([0-9]*\)u$/\1/p' "$root/firmware/comm/capture.h") ))
-  h0_free=$((RAMFUNCS_H_FLASH_WORDS - fx_total_pess))
-  echo
-  echo "Operation layer (libdtc_comm.a, not linked by the image yet; cross-cm0, ESTIMATE):"
-  printf '  code       %6d words nominal, %6d pessimistic (frames, capture, fault log, store)\n' \
-    "$(words_nom "$cm_t")" "$(words_pess "$cm_t")"
-  printf '  capture    %6d words of buffer (CAPTURE_BUF_WORDS32 int32); H0 left free by ramfuncs_h: %d words (pessimistic)\n' \
-    "$cap_words" "$h0_free"
+# The operation layer (docs/operate.md), in flash: the capture and the fault log (called by the
+# ISR, run from flash: a few hundred cycles of wait states while a capture records), the frames,
+# the parameter store, the dispatcher and the application's background operations. Their data (the capture buffer of CAPTURE_BUF_WORDS32 int32 values,
+# the fault log, the frame decoder's ring, the dispatcher's frames, the stored-set buffer and the
+# configuration copy a parameter write is checked on) needs zero-wait RAM beside the controller
+# state; where it fits is printed, not checked (no section for it in linker/f2812_flash.cmd yet).
+cap_words=$(( 2 * $(sed -n 's/^#define CAPTURE_BUF_WORDS32 \([0-9]*\)u$/\1/p' "$root/firmware/comm/capture.h") ))
+h0_free=$((RAMFUNCS_H_FLASH_WORDS - fx_total_pess))
+ebss_free=$((1024 - state))
+op_data=$(words_nom "$op_data_bytes")
+echo
+echo "Operation layer (cross-cm0, ESTIMATE):"
+printf '  code       %6d words nominal, %6d pessimistic in flash (capture, log, frames, store, dispatcher)\n' \
+  "$(words_nom "$op_code_bytes")" "$(words_pess "$op_code_bytes")"
+printf '  data       %6d words, of them %d the capture buffer (CAPTURE_BUF_WORDS32 int32)\n' "$op_data" "$cap_words"
+printf '             free beside the image: H0 after ramfuncs_h %d words (pessimistic), .ebss %d words\n' \
+  "$h0_free" "$ebss_free"
+if [ "$op_data" -gt $((h0_free > 0 ? h0_free + ebss_free : ebss_free)) ]; then
+  echo "budget: WARNING: the operation layer's data ($op_data words) does NOT fit the zero-wait RAM left by the pessimistic estimate"
 fi
 status=0
 # The flash build is the product and must fit. The RAM build is a debugging image (linker/

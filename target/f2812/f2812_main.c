@@ -7,6 +7,7 @@
  * off) -> _c_int00 (C run-time init) -> main().
  */
 #include "app.h"
+#include "app_proto.h"
 #include "hal.h"
 
 #include "f2812_hal.h"
@@ -31,10 +32,15 @@ int main(void)
     hal_init();                       /* clocks, flash, PIE, ADC, EV-A, QEP; outputs Hi-Z, INTM set */
     if (app_init(&g_dtc_config) == 0) { /* on error the application stays in FAULT, gates off */
         (void)app_set_reconfig(g_dtc_config_post); /* NULL: no relays, a failed leg trips */
+        /* safe power-up: disarmed with both references zero until the host arms the drive over
+         * SCI-A (docs/operate.md) */
+        app_set_arming(APP_ARM_COMMAND);
     }
+    app_proto_start(APP_ISR_PERIOD_NS); /* the serial protocol with its capture and fault log */
     f2812_watchdog_start();
     f2812_interrupts_enable();
     for (;;) {
         app_background();             /* services the watchdog through hal_watchdog_service() */
+        app_proto_background();       /* one pass of the serial protocol on SCI-A */
     }
 }

@@ -26,6 +26,7 @@
 
 #include "app_core.h"
 #include "dtc_config_si.h"
+#include "fuzz_reader.h"
 #include "hal.h"
 #include "law.h"
 #include "swtab.h"
@@ -34,34 +35,6 @@
  * plus the hold's settling and some RUN periods. */
 #define FUZZ_MAX_PERIODS 4096U
 
-/* ---- byte reader ---------------------------------------------------------------------------- */
-
-typedef struct {
-    const uint8_t *p;
-    size_t n;
-} rd_t;
-
-static uint8_t rd_u8(rd_t *r)
-{
-    uint8_t v = 0U;
-    if (r->n > 0U) {
-        v = *r->p++;
-        r->n--;
-    }
-    return v;
-}
-
-static uint16_t rd_u16(rd_t *r)
-{
-    uint16_t lo = rd_u8(r);
-    return (uint16_t)(lo | ((uint16_t)rd_u8(r) << 8));
-}
-
-static uint32_t rd_u32(rd_t *r)
-{
-    uint32_t lo = rd_u16(r);
-    return lo | ((uint32_t)rd_u16(r) << 16);
-}
 
 #define FUZZ_CHECK(cond, ...)                                                                      \
     do {                                                                                          \

@@ -1182,7 +1182,7 @@ static void test_fault_names(void **state)
     static const char *const want[] = {"none", "config", "overcurrent", "dc_overvoltage",
                                        "dc_undervoltage", "encoder", "hw_trip", "adc_offset",
                                        "stall", "desat", "current_sensor", "leg", "overspeed",
-                                       "encoder_speed"};
+                                       "encoder_speed", "comm_timeout"};
     const uint16_t n = (uint16_t)(sizeof want / sizeof want[0]);
     uint16_t k;
     (void)state;
@@ -1193,6 +1193,160 @@ static void test_fault_names(void **state)
     assert_int_equal(APP_FAULT_LEG, 11);
     assert_string_equal(app_fault_name(n), "unknown");
     assert_string_equal(app_fault_name(999U), "unknown");
+}
+
+/* Command arming (app_core.h APP_ARM_COMMAND): the calibration ends in READY with every gate off
+ * however long it waits; an arm request is refused (app_core_arm_refusal) with a reference not
+ * zero, the DC link out of range or a latched fault, and taken otherwise; a disarm request turns
+ * the gates off at the next period; a fault clear ends in READY, never in RUN. */
+static void test_command_arming(void **state)
+{
+    app_status_t st;
+    dtc_refs_t r = {0, 0, 1, 0, 0, DTC_MODE_TORQUE};
+    uint16_t k;
+    (void)state;
+    setup_topology(DTC_TOPO_SSTP);
+    static_currents();
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    app_core_set_arming(&fx.app, APP_ARM_COMMAND);
+    for (k = 0; k < cal_len() + 2000U; k++) {
+        assert_int_equal(step(), 1U);
+        assert_int_equal(fx.cmd.enable, 0U);
+    }
+    assert_int_equal(fx.app.st.state, APP_STATE_READY);
+    st = fx.app.st;
+    r.torque_ref_iq = 1;
+    assert_int_equal(app_core_arm_refusal(&fx.app, &st, &r), APP_ARM_REF_NONZERO);
+    r.torque_ref_iq = 0;
+    r.speed_ref_iq = -1;
+    assert_int_equal(app_core_arm_refusal(&fx.app, &st, &r), APP_ARM_REF_NONZERO);
+    r.speed_ref_iq = 0;
+    st.meas.vdc_iq = fx.cfg.prot.vdc_max_iq + 1;
+    assert_int_equal(app_core_arm_refusal(&fx.app, &st, &r), APP_ARM_VDC_RANGE);
+    st.meas.vdc_iq = fx.cfg.prot.vdc_min_iq - 1;
+    assert_int_equal(app_core_arm_refusal(&fx.app, &st, &r), APP_ARM_VDC_RANGE);
+    st = fx.app.st;
+    assert_int_equal(app_core_arm_refusal(&fx.app, &st, &r), APP_ARM_OK);
+    /* arming calibrates again, gates off, and checks the link at the end: a link that sagged
+     * meanwhile is a fault, not a run */
+    fx.m.adc[HAL_ADC_VDC] = v_counts(0.5 * fx.si.vdc_v * fx.cfg.prot.vdc_min_iq / fx.cfg.prot.vdc_max_iq);
+    app_core_request_arm(&fx.app, APP_REQ_ARM);
+    for (k = 0; k < cal_len(); k++) {
+        assert_int_equal(step(), 1U);
+        assert_int_equal(fx.cmd.enable, 0U);
+    }
+    assert_int_equal(step(), 1U);
+    assert_int_equal(fx.app.st.state, APP_STATE_FAULT);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_DC_UNDERVOLTAGE);
+    meas_idle();
+    fx.app.clear_request = 1U;
+    for (k = 0; k < cal_len() + 10U; k++) {
+        assert_int_equal(step(), 1U);
+    }
+    assert_int_equal(fx.app.st.state, APP_STATE_READY);
+    app_core_request_arm(&fx.app, APP_REQ_ARM);
+    for (k = 0; k < cal_len(); k++) {
+        assert_int_equal(step(), 1U);
+        assert_int_equal(fx.cmd.enable, 0U);
+    }
+    assert_int_equal(fx.app.st.state, APP_STATE_RUN);
+    assert_int_equal(step(), 0U);
+    assert_int_equal(fx.cmd.enable, 1U);
+    app_core_request_arm(&fx.app, APP_REQ_DISARM);
+    assert_int_equal(step(), 1U);
+    assert_int_equal(fx.cmd.enable, 0U);
+    assert_int_equal(fx.app.st.state, APP_STATE_READY);
+    /* a fault, then its clear: READY again after the calibration, not RUN */
+    fx.m.trip = 1U;
+    assert_int_equal(step(), 1U);
+    assert_int_equal(fx.app.st.state, APP_STATE_FAULT);
+    st = fx.app.st;
+    assert_int_equal(app_core_arm_refusal(&fx.app, &st, &r), APP_ARM_FAULT);
+    fx.m.trip = 0U;
+    fx.app.clear_request = 1U;
+    for (k = 0; k < cal_len() + 100U; k++) {
+        assert_int_equal(step(), 1U);
+    }
+    assert_int_equal(fx.app.st.state, APP_STATE_READY);
+}
+
+/* The command timeout: armed, N periods without a valid frame latch comm_timeout on the N-th
+ * (gates off: no torque, disarmed); every valid frame restarts the count; 0 is off. */
+static void test_comm_timeout(void **state)
+{
+    uint16_t k;
+    const uint32_t n = 200U;
+    (void)state;
+    setup_topology(DTC_TOPO_SSTP);
+    static_currents();
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    app_core_set_arming(&fx.app, APP_ARM_COMMAND);
+    for (k = 0; k < cal_len(); k++) {
+        (void)step();
+    }
+    assert_int_equal(fx.app.st.state, APP_STATE_READY);
+    app_core_request_arm(&fx.app, APP_REQ_ARM);
+    for (k = 0; k < cal_len(); k++) {
+        (void)step();
+    }
+    assert_int_equal(fx.app.st.state, APP_STATE_RUN);
+    for (k = 0; k < 3000U; k++) { /* off: runs on */
+        assert_int_equal(step(), 0U);
+    }
+    app_core_set_comm_timeout(&fx.app, n);
+    for (k = 0; k < 1000U; k++) { /* a frame every n - 1 periods keeps it armed */
+        if (k % (n - 1U) == 0U) {
+            app_core_comm_seen(&fx.app);
+        }
+        assert_int_equal(step(), 0U);
+    }
+    app_core_comm_seen(&fx.app);
+    assert_int_equal(step(), 0U);
+    for (k = 1; k < n; k++) {
+        assert_int_equal(step(), 0U);
+    }
+    assert_int_equal(step(), 1U);
+    assert_int_equal(fx.cmd.enable, 0U);
+    assert_int_equal(fx.app.st.state, APP_STATE_FAULT);
+    assert_int_equal(fx.app.st.fault, APP_FAULT_COMM_TIMEOUT);
+    assert_string_equal(app_fault_name(fx.app.st.fault), "comm_timeout");
+}
+
+/* The fault log gets one entry per latched fault with the tick, reason and the sample that
+ * tripped; the capture's fault trigger fires on it. */
+static void test_faultlog_and_capture_fed(void **state)
+{
+    static capture_t cap;
+    static faultlog_t flog;
+    faultlog_entry_t e;
+    capture_setup_t cs = {1U, {CAPTURE_Q_I_A, 0U, 0U, 0U}, 8U, 4U, 1U, CAPTURE_TRIG_FAULT, 0U, 0};
+    uint32_t trip_tick;
+    (void)state;
+    capture_init(&cap);
+    faultlog_init(&flog);
+    run_to_state(DTC_TOPO_SSTP, 0);
+    app_core_attach(&fx.app, &cap, &flog);
+    assert_int_equal(capture_setup(&cap, &cs), CAPTURE_OK);
+    for (uint16_t k = 0; k < 20U; k++) {
+        assert_int_equal(step(), 0U);
+    }
+    fx.m.adc[HAL_ADC_IA] = 4095U; /* far above the trip level */
+    trip_tick = fx.m.tick;
+    assert_int_equal(step(), 1U);
+    fx.m.adc[HAL_ADC_IA] = (uint16_t)fx.si.adc_i_offset[0];
+    for (uint16_t k = 0; k < 10U; k++) {
+        (void)step();
+    }
+    assert_int_equal(faultlog_count(&flog), 1U);
+    assert_int_equal(faultlog_get(&flog, 0U, &e), FAULTLOG_OK);
+    assert_int_equal(e.tick, trip_tick);
+    assert_int_equal(e.reason, APP_FAULT_OVERCURRENT);
+    assert_int_equal(e.detail, 0);
+    assert_int_equal(e.snap.state, APP_STATE_RUN);
+    assert_true(e.snap.ia_iq > fx.cfg.prot.i_trip_iq);
+    assert_int_equal(capture_state(&cap), CAPTURE_DONE);
+    assert_int_equal(capture_first_tick(&cap), trip_tick - 4U);
+    assert_int_equal(capture_read(&cap, 4U, 0U), e.snap.ia_iq);
 }
 
 /* Every step writes the whole command, the relay included: app.c hands hal_write() a local
@@ -1252,6 +1406,9 @@ int main(void)
         cmocka_unit_test(test_run_forwards_controller_decision),
         cmocka_unit_test(test_sfvc_writes_the_pwm_form),
         cmocka_unit_test(test_fault_names),
+        cmocka_unit_test(test_command_arming),
+        cmocka_unit_test(test_comm_timeout),
+        cmocka_unit_test(test_faultlog_and_capture_fed),
         cmocka_unit_test(test_desat_names_the_leg),
         cmocka_unit_test(test_current_sum_finds_a_stuck_sensor),
         cmocka_unit_test(test_lost_encoder_at_speed_trips),

@@ -100,6 +100,27 @@ instr e dsvm im_dsvm_step bench_dsvm_normal bench_dsvm_tick 1000 1320 \
 instr f itc itc_step bench_itc_normal bench_itc_tick 1200 1700 \
   dqpi_step svm4_step flux_est_step vcomp_step fix_sin speed_meas_step speed_pi_step
 echo
+# The capture's cost in the ISR (app_core_step, PM law, in RUN): none attached, attached and off,
+# recording four channels every period.
+echo "== 1g. the capture's added cost per ISR (app_core_step, PM law; valgrind callgrind, $steps periods)"
+for cmode in none off on; do
+  valgrind --tool=callgrind --callgrind-out-file="$tmp/cap_$cmode.out" "$bench" "$steps" capture $cmode \
+    >"$tmp/cap_$cmode.txt" 2>/dev/null
+  callgrind_annotate --inclusive=yes "$tmp/cap_$cmode.out" 2>/dev/null |
+    awk '/:bench_app_step/ { gsub(",", "", $1); print $1; exit }' >"$tmp/cap_$cmode.ir"
+done
+"$py" - "$tmp" "$steps" <<'PY'
+import sys
+tmp, n = sys.argv[1], int(sys.argv[2])
+ir = {m: int(open("%s/cap_%s.ir" % (tmp, m)).read()) / n for m in ("none", "off", "on")}
+print("  app_core_step per ISR: no capture %.1f, capture off %.1f, recording 4 channels %.1f instructions"
+      % (ir["none"], ir["off"], ir["on"]))
+print("  added by the capture: off %+.1f, on %+.1f instructions per ISR (%.1f %% of the step without it)"
+      "   [on <= 5 %% of the PM step, off ~0]" % (ir["off"] - ir["none"], ir["on"] - ir["none"],
+                                                  100.0 * (ir["on"] - ir["none"]) / ir["none"]))
+PY
+echo
+
 echo "== 2. cross-cm0 stack usage of the control path"
 (cd "$root" && env -u CC -u CXX cmake --preset cross-cm0 >/dev/null && cmake --build --preset cross-cm0 >/dev/null)
 echo "  -fstack-usage of the cross-cm0 build (build/cross-cm0, MinSizeRel):"

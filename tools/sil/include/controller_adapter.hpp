@@ -67,6 +67,14 @@ public:
     }
     /// After the last step(): complete the recording (ISR count in its header). "" or why not.
     virtual std::string end_isr_record() { return ""; }
+    /// After init(): the drive is operated over its serial line (dtc-sil serve): it starts
+    /// disarmed with zero references and arms only on the host's command; ts_s is the control
+    /// period the protocol reports. "" or why not.
+    virtual std::string serve(double ts_s)
+    {
+        (void)ts_s;
+        return "serve: only control.implementation = \"firmware\" has a serial line";
+    }
 };
 
 /// Control side for a scenario, or nullptr with *err set (e.g. firmware not built in).

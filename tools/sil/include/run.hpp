@@ -43,6 +43,13 @@ struct RunOptions {
     std::string record_isr;  // non-empty: write the ISR recording (docs/pil.md) to this file
     double max_trace_bytes = 1.0e9;
     std::ostream* progress = nullptr; // progress line with ETA ("\r", for a terminal); nullptr: none
+    // dtc-sil serve: the firmware's serial line on a pseudo-terminal linked at serial_link, the
+    // run paced at `pace` times real time (0: as fast as it goes), until SIGINT/SIGTERM or
+    // duration_s (the scenario's duration_s is replaced; 0: until a signal). A signal ends a
+    // served run normally: trace and metrics of what ran.
+    std::string serial_link;
+    double pace = 1.0;
+    double serve_duration_s = 0.0;
 };
 
 /// Bytes per trace.csv row used for the estimate before the run (rows take 371-376 bytes on the

@@ -86,6 +86,24 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
     ident->add_option("--max-time", ident_max_s, "simulated time limit of the whole sequence, s (default 10)")
         ->check(CLI::Range(0.01, 1000.0));
 
+    std::string serial_link;
+    double pace = 1.0, serve_duration_s = 0.0;
+    CLI::App* serve = app.add_subcommand(
+        "serve", "run a scenario with the firmware's serial line on a pseudo-terminal (docs/operate.md): the drive "
+                 "starts disarmed and is operated by a host (tools/console/dtc_console.py)");
+    serve->add_option("scenario", scenario_path, "scenario TOML file")->required();
+    serve->add_option("--serial", serial_link, "path to link the pseudo-terminal at (the console's --port)")
+        ->required();
+    serve->add_option("--pace", pace, "simulated time per wall-clock time (default 1: real time; 0: as fast as it goes)")
+        ->check(CLI::Range(0.0, 1000.0));
+    serve->add_option("--duration-s", serve_duration_s, "stop after T s of simulated time (default: at SIGINT/SIGTERM)")
+        ->check(CLI::Range(0.0, 1.0e6));
+    serve->add_option("--out,-o", out_dir, "write DIR/trace.csv and DIR/metrics.json on exit, as run does");
+    serve->add_option("--set,-s", sets, "override a scenario key (repeatable)");
+    serve->add_option("--decimate", decimate, "write every N-th ISR to trace.csv (default 1)")
+        ->check(CLI::Range(1u, 1000000u));
+    serve->add_flag("--quiet,-q", quiet, "no summary on stdout");
+
     CLI::App* keys = app.add_subcommand("keys", "print every scenario key with unit, default and range (markdown)");
 
     std::vector<std::string> argv_rev(args.rbegin(), args.rend()); // CLI11 parses a reversed vector
@@ -136,6 +154,12 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
     opt.write_trace = !no_trace;
     opt.force = force;
     opt.record_isr = record_isr;
+    if (serve->parsed()) {
+        opt.serial_link = serial_link;
+        opt.pace = pace;
+        opt.serve_duration_s = serve_duration_s;
+        opt.write_trace = !out_dir.empty();
+    }
     RunResult res;
     std::string e;
     if (check->parsed()) {
@@ -163,7 +187,7 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
         out << scenario_path << ": ok\n";
         return 0;
     }
-    if (std::error_code ec; std::filesystem::exists(out_dir, ec) && !std::filesystem::is_directory(out_dir, ec)) {
+    if (std::error_code ec; !out_dir.empty() && std::filesystem::exists(out_dir, ec) && !std::filesystem::is_directory(out_dir, ec)) {
         err << "dtc-sil: --out " << out_dir << ": exists and is not a directory; nothing run or written\n";
         return 1;
     }
@@ -188,7 +212,9 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
         }
         return g_stop_signal != 0 ? 128 + static_cast<int>(g_stop_signal) : 2;
     }
-    if (!quiet) {
+    if (!quiet && out_dir.empty()) {
+        out << "dtc-sil serve: " << res.info.sim_time_s << " s simulated, fault " << res.info.fault << "\n";
+    } else if (!quiet) {
         out << summary_text(sc, res.metrics, res.info);
         out << "  wrote " << (std::filesystem::path(out_dir) / "metrics.json").string();
         if (opt.write_trace) {

@@ -13,6 +13,7 @@
 
 extern "C" {
 #include "app.h"
+#include "app_proto.h"
 #include "dtc_config_si.h"
 #include "pil_format.h"
 }
@@ -139,6 +140,9 @@ public:
         }
         app_isr();        // hal_read() -> per-unit, trips -> dtc_step() -> hal_write()
         app_background(); // one pass of the background loop per period (watchdog)
+        if (serving_) {
+            app_proto_background(); // and of the serial protocol (dtc-sil serve)
+        }
         status_fresh_ = false; // the status is copied out only when someone asks (see refresh())
     }
 
@@ -217,6 +221,14 @@ public:
     }
     bool has_estimates() const override { return true; }
 
+    std::string serve(double ts_s) override
+    {
+        app_set_arming(APP_ARM_COMMAND);
+        app_proto_start(static_cast<std::uint32_t>(std::llround(ts_s * 1e9)));
+        serving_ = true;
+        return "";
+    }
+
 private:
     /// step() with the ISR recorded: what hal_read() returns this period (the harness's sample),
     /// the ISR and background pass, then what the firmware did to the HAL and its status.
@@ -265,6 +277,7 @@ private:
     }
     mutable app_status_t st_{};
     mutable bool status_fresh_ = false;
+    bool serving_ = false; // dtc-sil serve: the background loop runs the serial protocol
     double te_scale_ = 0.0;  // N*m per IQ count: t_base / 2^24 (a power-of-two scale: exact)
     double psi_scale_ = 0.0; // Wb per IQ count
 };

@@ -7,10 +7,13 @@
 #include <cstdio>
 #include <fstream>
 #include <new>
+#include <thread>
 #include <ostream>
 
 extern "C" {
 #include "app_fault.h"
+#include "hal_host_line.hpp"
+#include "proto.h"
 }
 
 #include "controller_adapter.hpp"
@@ -285,6 +288,17 @@ struct Divergence {
     std::uint64_t period = 0; // the period whose sample left the bounds (the run's length)
 };
 
+/// A run without metrics (null in metrics.json).
+void no_metrics(RunResult* res)
+{
+    const double nan = std::nan("");
+    res->metrics = Metrics{};
+    res->metrics.torque_mean_nm = nan;
+    res->metrics.trf_pct = nan;
+    res->metrics.trf_filtered_pct = nan;
+    res->metrics.speed_mean_rpm = nan;
+}
+
 /// The run's metrics from its series and its fault's name: a diverged plant has no metrics, only
 /// why; otherwise the metrics, the firmware fault named for this scenario, and a metric that is
 /// not finite reported as such.
@@ -292,12 +306,7 @@ void fault_metrics(const Scenario& sc, const Divergence& div, RunResult* res)
 {
     if (!div.why.empty()) {
         // The recorded window is incomplete and the state meaningless: no metrics, only why.
-        const double nan = std::nan("");
-        res->metrics = Metrics{};
-        res->metrics.torque_mean_nm = nan;
-        res->metrics.trf_pct = nan;
-        res->metrics.trf_filtered_pct = nan;
-        res->metrics.speed_mean_rpm = nan;
+        no_metrics(res);
         res->info.fault = "plant_diverged";
         res->info.fault_time_s = div.t_s;
         res->info.fault_detail = "plant state at t = " + std::to_string(div.t_s) + " s: " + div.why +
@@ -350,6 +359,10 @@ bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, con
 }
 
 namespace {
+// Words of dtc-sil serve's parameter medium: two slots of 512 words (store.h), a 25LC256's 16 K
+// words would only make the file larger.
+constexpr std::uint16_t kServeStoreWords = 1024;
+
 bool run_once(const Scenario& sc, std::unique_ptr<Controller> ctrl, const RunOptions& opt, RunResult* res,
               std::string* err)
 {
@@ -368,14 +381,46 @@ bool run_once(const Scenario& sc, std::unique_ptr<Controller> ctrl, const RunOpt
         *err = "controller: " + e;
         return false;
     }
-    const auto periods = static_cast<std::uint64_t>(std::llround(sc.duration_s / sc.ts_s));
+    const bool serving = !opt.serial_link.empty();
+    // dtc-sil serve: the parameter store's medium, an EEPROM kept in the file LINK.params (a
+    // restart of the same link boots into the parameters saved there).
+    std::unique_ptr<hal_host::StoreMedium> medium;
+    struct MediumOff {
+        hal_host::StoreMedium* m = nullptr;
+        ~MediumOff()
+        {
+            if (m != nullptr) {
+                m->deactivate();
+            }
+        }
+    } medium_off;
+    if (serving) {
+        try {
+            medium = std::make_unique<hal_host::StoreMedium>(kServeStoreWords, 32, hal_host::StoreMedium::Kind::eeprom,
+                                                             opt.serial_link + ".params");
+        } catch (const std::exception& ex) {
+            *err = std::string("--serial ") + opt.serial_link + ": parameter store: " + ex.what();
+            return false;
+        }
+        medium->activate();
+        medium_off.m = medium.get();
+        if (std::string e = ctrl->serve(sc.ts_s); !e.empty()) {
+            *err = e;
+            return false;
+        }
+    }
+    // A served run without --duration-s lasts until a signal: periods is then only a bound.
+    const bool until_signal = serving && opt.serve_duration_s <= 0.0;
+    const double duration_s = serving && !until_signal ? opt.serve_duration_s : sc.duration_s;
+    const auto periods = until_signal ? (std::uint64_t{1} << 62)
+                                      : static_cast<std::uint64_t>(std::llround(duration_s / sc.ts_s));
     if (periods == 0) {
-        *err = "duration_s = " + std::to_string(sc.duration_s) + " s simulates no full control period";
+        *err = "duration_s = " + std::to_string(duration_s) + " s simulates no full control period";
         return false;
     }
     const unsigned decimate = opt.decimate == 0 ? 1u : opt.decimate;
     const bool writing = !opt.out_dir.empty();
-    if (writing && opt.write_trace && !opt.force) {
+    if (writing && opt.write_trace && !opt.force && !until_signal) {
         const double rows = std::floor(static_cast<double>(periods - 1) / decimate) + 1.0;
         const double bytes = rows * kTraceBytesPerRow;
         if (bytes > opt.max_trace_bytes) {
@@ -421,16 +466,58 @@ bool run_once(const Scenario& sc, std::unique_ptr<Controller> ctrl, const RunOpt
             return false;
         }
     }
-    const bool guard_trace = writing && opt.write_trace && !opt.force;
+    const bool guard_trace = writing && opt.write_trace && !opt.force && !until_signal;
     const double trace_rows = std::floor(static_cast<double>(periods - 1) / decimate) + 1.0;
     RunEvents events(sc, pp.load);
     const PlantBounds bounds = plant_bounds(sc);
     Divergence div;
 
+    // dtc-sil serve: the firmware's SCI on a pseudo-terminal, modelled at its baud rate in
+    // simulated time (hal_host_line.hpp); pumped every kServePump periods.
+    std::unique_ptr<hal_host::SerialLine> sci;
+    std::unique_ptr<hal_host::PtyLink> pty;
+    constexpr std::uint64_t kServePump = 8;
+    if (serving) {
+        sci = std::make_unique<hal_host::SerialLine>(static_cast<double>(PROTO_BAUD), sc.ts_s);
+        try {
+            pty = std::make_unique<hal_host::PtyLink>(opt.serial_link);
+        } catch (const std::exception& ex) {
+            *err = std::string("--serial ") + opt.serial_link + ": " + ex.what();
+            return false;
+        }
+        sci->activate();
+    }
+    struct LineOff {
+        hal_host::SerialLine* l;
+        ~LineOff()
+        {
+            if (l != nullptr) {
+                l->deactivate();
+            }
+        }
+    } sci_off{sci.get()};
+    bool stopped = false;
+    std::uint64_t k = 0;
+
     const auto t0 = std::chrono::steady_clock::now();
     auto t_progress = t0;
-    for (std::uint64_t k = 0; k < periods; ++k) {
-        if ((k & 4095u) == 0u && k != 0u) {
+    for (; k < periods; ++k) {
+        if (serving && (k % kServePump) == 0u) {
+            pty->pump(*sci);
+            if (g_stop_signal != 0) {
+                stopped = true;
+                break;
+            }
+            if (opt.pace > 0.0) {
+                // wall time of period k at `pace` times real time
+                const auto due = t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                          std::chrono::duration<double>(static_cast<double>(k) * sc.ts_s / opt.pace));
+                if (due > std::chrono::steady_clock::now() + std::chrono::microseconds(200)) {
+                    std::this_thread::sleep_until(due);
+                }
+            }
+        }
+        if ((k & 4095u) == 0u && k != 0u && !serving) {
             if (g_stop_signal != 0) {
                 if (opt.progress != nullptr) {
                     *opt.progress << "\n";
@@ -484,6 +571,12 @@ bool run_once(const Scenario& sc, std::unique_ptr<Controller> ctrl, const RunOpt
             rec.record(k, *h, *ctrl);
         }
         h->advance();
+        if (serving) {
+            sci->advance_period();
+        }
+    }
+    if (serving) {
+        pty->pump(*sci);
     }
     // Closing the trace (the writer thread's last batch) is part of the loop's cost.
     if (writing && !rec.close_trace(err)) {
@@ -502,7 +595,7 @@ bool run_once(const Scenario& sc, std::unique_ptr<Controller> ctrl, const RunOpt
     }
 
     res->info = RunInfo{};
-    const std::uint64_t done = div.why.empty() ? periods : div.period;
+    const std::uint64_t done = !div.why.empty() ? div.period : stopped ? k : periods;
     res->info.sim_time_s = static_cast<double>(done) * sc.ts_s;
     res->info.wall_time_s = std::chrono::duration<double>(t1 - t0).count();
     res->info.isr_count = done;
@@ -515,7 +608,13 @@ bool run_once(const Scenario& sc, std::unique_ptr<Controller> ctrl, const RunOpt
         res->info.reconfigured = std::string(1, static_cast<char>('a' + r - 1));
     }
     events.report(&res->info);
-    fault_metrics(sc, div, res);
+    if (stopped && div.why.empty()) {
+        // a served run ended by a signal before its metrics window: the run's facts, no metrics
+        no_metrics(res);
+        name_fault(sc, &res->info);
+    } else {
+        fault_metrics(sc, div, res);
+    }
 
     if (writing) {
         std::ofstream mj(out.path("metrics.json"));
