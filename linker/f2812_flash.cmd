@@ -13,7 +13,9 @@
  *               its fixed-point tables), so the 50 us path never waits on flash (5 wait states at 150 MHz, fact
  *               sheet 4.7). The configuration's validation (libdtc_config.a) runs at init only
  *               and stays in flash (.text), as do the application's init and background calls
- *               (libdtc_app_init.a) and the serial protocol (libdtc_proto.a, libdtc_comm.a: the
+ *               (libdtc_app_init.a), the parameters by id, the commissioning and the calibration's
+ *               rotor hold (libdtc_app_flash.a: ISR parts that run only in place of the law) and
+ *               the serial protocol (libdtc_proto.a, libdtc_comm.a: the
  *               capture and the fault log that the ISR calls run from flash too, docs/operate.md).
  *   ramfuncs_h  the same for the fixed-point core, the induction-machine law and the application
  *               (libdtc_fixmath.a, libdtc_im.a, libdtc_app.a), copied into the first 7K words of

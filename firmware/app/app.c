@@ -34,15 +34,15 @@ void app_isr(void)
 void app_background(void)
 {
     hal_watchdog_service();
-    app_core_ident_service(&g_app);
+    app_core_ident_service(&g_app_instance.core);
 }
 
-void app_request_ident(void) { app_core_request_ident(&g_app); }
+void app_request_ident(void) { app_core_request_ident(&g_app_instance.core); }
 
 void app_get_ident(app_ident_t *d)
 {
     uint16_t irq = hal_irq_save();
-    *d = g_app.ident;
+    *d = g_app_instance.core.ident;
     hal_irq_restore(irq);
 }
 

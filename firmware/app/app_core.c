@@ -544,7 +544,7 @@ static uint16_t core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
         }
         f = app_fault_trips(&a->flt, a->cfg, &a->st.meas, a->perm, &detail);
         if (f != (uint16_t)APP_FAULT_NONE) {
-            latch_fault(a, f, detail);
+            app_core_latch(a, f, detail);
             app_ident_abort(&a->ident);
             return 1U;
         }

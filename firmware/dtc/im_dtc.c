@@ -122,12 +122,14 @@ void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m)
 /* The encoder plausibility's comparison on a speed-loop period (im_dtc.h): the sensorless speed
  * (Casadei eqs. 16, 22: im_speed_step on this period's rotor-flux angle and torque), the encoder's
  * speed through the same filter, their difference; before the rotor flux reaches
- * plaus_psir_iq the filtered encoder speed is set to the sensorless one and nothing is compared.
+ * plaus_psir_iq, and while the start-up magnetises (the flux is built at DC: on a rotor that
+ * already turns its angle stands while the encoder's moves), the filtered encoder speed is set to
+ * the sensorless one and nothing is compared.
  * Formats IQ pu; the difference saturates. */
 void im_dtc_enc_plaus(im_dtc_t *c, iq_t te)
 {
     im_speed_step(&c->isp, &c->isp_p, c->est.theta_r, te, c->cfg->u.im.ref.inv_psir_sq_iq);
-    if (c->est.psir_mag_iq < c->plaus_psir_iq || c->isp.primed == 0U) {
+    if (c->est.psir_mag_iq < c->plaus_psir_iq || c->isp.primed == 0U || c->magnetised == 0U) {
         c->enc_filt_iq = c->isp.speed_iq;
         c->plaus_on = 0U;
         return;

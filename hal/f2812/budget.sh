@@ -19,9 +19,10 @@
 #              small IM blocks) in ramfuncs (L0+L1; H0 in the RAM build), libdtc_fixmath.a,
 #              libdtc_im.a (IM law and estimator) and
 #              libdtc_app.a in ramfuncs_h (7K words of H0; L1 in the RAM build), so all of them
-#              are ISR path. libdtc_config.a, libdtc_init.a and libdtc_app_init.a (the configuration's
-#              validation, the IM law's init, the application's init and background calls) stay
-#              in flash and are printed for information. The members are found by a relocatable link
+#              are ISR path. libdtc_config.a, libdtc_init.a, libdtc_app_init.a and
+#              libdtc_app_flash.a (the configuration's validation, the IM law's init, the
+#              application's init and background calls, the parameters by id, the commissioning and
+#              the calibration's rotor hold, which run in place of the law) stay in flash. The members are found by a relocatable link
 #              of the proxy objects (ld -r -M).
 #   hal        libhal_f2812.a without the register blocks (RAM on the proxies, peripheral frames on
 #              the DSP); the ISR-path part is the functions marked F2812_RAMFUNC in hal/f2812/*.c

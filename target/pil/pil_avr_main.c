@@ -19,8 +19,11 @@
 #include "pil_avr_channel.h"
 #include "pil_replay.h"
 
-/* Configuration fields this image can hold (pil_config_fields() must not exceed it). */
-#define PIL_CONFIG_MAX 256U
+/* Configuration fields this image can hold (pil_config_fields() must not exceed it: 98 with the
+ * parameter rows of the common part and the IM part, the longest law part). The ATmega2560 has 8 KB of
+ * RAM, which its constants share (the parameter rows, dtc_param.h): the blob buffer is sized to
+ * leave the stack its room, and a longer blob is refused at run time (main below). */
+#define PIL_CONFIG_MAX 128U
 
 static uint8_t g_blob[4U * PIL_CONFIG_MAX];
 

@@ -227,7 +227,7 @@ TEST(Scenario, SfvcCarrierAndControlPeriod)
         ASSERT_TRUE(parse_scenario(im + "carrier_hz = 5000.0\n", "case.toml", {}, &sc, &d)) << d.text();
         EXPECT_NEAR(sc.ts_s, 200e-6, 1e-15);
         // (at 250 us the derived current limit less one period's rise leaves the 4 kW IM no torque:
-        // the converter refuses it, naming protection.overcurrent_a)
+        // the converter then sets no current limit, the trip is the only protection)
         ASSERT_TRUE(parse_scenario("ts_s = 100e-6\n" + im, "case.toml", {}, &sc, &d)) << d.text();
         EXPECT_NEAR(sc.control.carrier_hz, 10000.0, 1e-9);
     }

@@ -127,8 +127,11 @@ void dtc_si_im_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_ba
         const double ilim = dtc_si_ilim_convert(c, si, b, cfg);
         if (ilim > 0.0) {
             const double t_i = dtc_im_torque_at_current_nm(si, ilim - dtc_ilim_step_a(si));
-            if (!(t_i > 0.0)) { dtc_si_fail(c, DTC_SI_ERR_ILIM, "i_trip_a", "i_trip_a = %g: the current limit %g A less one period's rise %g A leaves no torque above the magnetising current", si->i_trip_a, ilim, dtc_ilim_step_a(si)); return; }
-            if (t_i < si->torque_limit_nm) {
+            if (!(t_i > 0.0)) {
+                /* the trip level leaves no room for the limit with a period this long: no limit,
+                 * the trip is the only protection, as dtc_ilim_default_a does for the PM law */
+                cfg->prot.i_lim_iq = 0;
+            } else if (t_i < si->torque_limit_nm) {
                 /* a larger request is held at the limit, as the firmware clamps a reference set */
                 cfg->speed.torque_limit_iq = dtc_si_to_iq(c, "torque_limit_nm (the current limit's torque)", t_i, t_i / b->t_base_nm);
                 cfg->speed.torque_ref_iq = fix_clamp32(cfg->speed.torque_ref_iq, -cfg->speed.torque_limit_iq,
