@@ -384,6 +384,25 @@ TEST(FaultTolerance, OverspeedTripsBelow115PercentOfRated)
     EXPECT_LT(n_max, 1.15 * sc.motor.rated_speed_rpm);
 }
 
+// protection.overspeed_rpm reaches the firmware: set to 3150 rpm (above the 3000 rpm speed limit,
+// below the derived 3300 rpm), the same run trips on the way up within one speed period's
+// acceleration beyond it. (A level at or below the speed limit is refused naming the key.)
+TEST(FaultTolerance, OverspeedKeySetsTheTripLevel)
+{
+    Columns o = run_columns("sstp_current_full.toml",
+                            {"control.mode=\"torque\"", "load.type=\"inertia\"", "duration_s=1.6",
+                             "protection.overspeed_rpm=3150"},
+                            "overspeed_key");
+    EXPECT_EQ(o.info.fault, "overspeed") << o.info.fault_detail;
+    double n_max = 0.0;
+    for (double n : o.c["speed_rpm"]) {
+        n_max = std::max(n_max, std::fabs(n));
+    }
+    std::printf("MEASURE overspeed at protection.overspeed_rpm = 3150: largest speed %.0f rpm\n", n_max);
+    EXPECT_GT(n_max, 3150.0);
+    EXPECT_LT(n_max, 3200.0);
+}
+
 // The induction machine's encoder lost during the magnetisation (im_dtc_speed: the count stands
 // still at zero from 0.2 s, while the rotor is still at rest): when the magnetisation ends the
 // speed loop sees 0 rpm and commands the torque limit. The lost-signal check cannot see a count

@@ -127,6 +127,7 @@ dtc_config_si_t firmware_si_config(const Scenario& sc)
     si.adc_vmid_v_per_count = sc.sensors.voltage_range_v / PLANT_DEF_ADC_FULL_SCALE_CODES;
     si.adc_vmid_offset = 0;
     si.i_trip_a = sc.protection.overcurrent_a;
+    si.overspeed_rpm = sc.protection.overspeed_rpm; // 0: derived (dtc_overspeed_default_rpm), < 0: off
     si.stall_time_s = sc.protection.stall_time_s;
     si.vdc_max_v = sc.protection.vdc_max_v;
     si.vdc_min_v = sc.protection.vdc_min_v;
