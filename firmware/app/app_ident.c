@@ -84,7 +84,7 @@ static void post_pulse(app_ident_t *d)
 {
     d->seg = (uint16_t)APP_IDENT_SEG_PULSE;
     d->dv_iq = IQ(1.0 / 32.0);       /* 2.2 V on a 70 V link */
-    d->di_stop_iq = IQ(0.4);         /* from the half-rated hold: at most 0.9 x rated */
+    d->di_stop_iq = IQ_FRAC(2, 5);        /* from the half-rated hold: at most 0.9 x rated */
     d->n_meas = ID_PULSE_MAX;
     d->done = 0U;
     d->go = 1U;

@@ -36,7 +36,7 @@
 #include "vrec.h"
 
 /* n/3 in IQ, n = 0..3 */
-static const iq_t dsvm_thirds_iq[4] = {0, IQ(1.0 / 3.0), IQ(2.0 / 3.0), IQ(1.0)};
+static const iq_t dsvm_thirds_iq[4] = {0, IQ_FRAC(1, 3), IQ_FRAC(2, 3), IQ(1.0)};
 
 /* The duty a leg pattern applies (file comment), from its dsvm_edges() over the leg's state in
  * the last third of the previous period and its pattern; a rising edge loses T_d with the current leaving the leg, a falling edge

@@ -38,7 +38,7 @@ int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg)
     c->dt_p.fstp = 0U; /* the IM laws run the six-switch inverter (im_dtc_check) */
     c->il_p.i_lim_iq = cfg->prot.i_lim_iq;
     c->il_p.fstp = 0U;
-    c->il_box_iq = iq_mpy(cfg->prot.i_lim_iq, IQ(0.70710675)); /* 1/sqrt2 rounded down */
+    c->il_box_iq = iq_mpy(cfg->prot.i_lim_iq, (iq_t)11863283L); /* 1/sqrt2 rounded down: floor(2^24 / sqrt(2)) */
     vcomp_init(&c->vc_p, cfg->est.compensation, cfg->board.v_f_iq, cfg->board.v_ce_iq,
                cfg->board.v_d_iq, cfg->board.r_on_iq);
     dtc_speed_params_from_config(&c->sm_p, &c->pi_p, cfg);

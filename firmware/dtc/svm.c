@@ -3,7 +3,6 @@
 #include <stddef.h>
 
 #define SVM_HALF_IQ ((iq_t)1 << (FIX_IQ_Q - 1))
-#define SVM_SQRT3_2_Q31 Q31(0.86602540378443865)
 
 void svm_reset(svm_t *s)
 {
@@ -60,7 +59,7 @@ void svm_step(svm_t *s, const svm_params_t *p, iq_t v_alpha_iq, iq_t v_beta_iq, 
         const iq_t a = fix_clamp32(iq_mpy(v_alpha_iq, s->inv_vdc_iq), -SVM_ONE_IQ * 32, SVM_ONE_IQ * 32);
         const iq_t b = fix_clamp32(iq_mpy(v_beta_iq, s->inv_vdc_iq), -SVM_ONE_IQ * 32, SVM_ONE_IQ * 32);
         const iq_t half_a = fix_rshift_rnd32(a, 1U);
-        const iq_t sb = q31_mul(b, SVM_SQRT3_2_Q31);
+        const iq_t sb = q31_mul(b, FIX_Q31_SQRT3_2);
         na = a;
         nb = sb - half_a;
         nc = -(sb + half_a);

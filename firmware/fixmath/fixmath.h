@@ -65,6 +65,12 @@ typedef uint16_t angle_t;
 #define FIX_Q31_THIRD ((q31_t)715827883L)       /* 1/3 */
 #define FIX_Q31_INV_SQRT3 ((q31_t)1239850262L)  /* 1/sqrt(3) */
 #define FIX_Q31_SQRT3_2 ((q31_t)1859775393L)    /* sqrt(3)/2 */
+/* A ratio of whole numbers n/d (0 <= n/d < 128 for IQ, < 1 for Q31), rounded to nearest in
+ * integer arithmetic at compile time: the same on every target, where IQ(n.0 / d) is not
+ * (above). n, d: integer constants, d > 0. tests/rules/check_fix_literals.py finds the literals
+ * that need it. */
+#define IQ_FRAC(n, d) ((iq_t)((((int64_t)(n) << FIX_IQ_Q) + (int64_t)(d) / 2) / (int64_t)(d)))
+#define Q31_FRAC(n, d) ((q31_t)((((int64_t)(n) << 31) + (int64_t)(d) / 2) / (int64_t)(d)))
 /* Angle in turns (1.0 = 2*pi), rounded to the nearest 1/65536 turn (halves up) and reduced
  * modulo one turn: ANGLE(0.25) = 90 degrees, ANGLE(-0.25) = ANGLE(0.75) = 270 degrees.
  * Valid for |turns| < 32768. The cast truncates towards zero, so FIX_FLOOR_ subtracts 1 where

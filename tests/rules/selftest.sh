@@ -11,3 +11,14 @@ if "$here/check_firmware_source.sh" "$tmp/bad" >/dev/null; then
 fi
 "$here/check_firmware_source.sh" "$tmp/good" >/dev/null
 echo "selftest: checker rejects float, accepts clean code"
+
+# The literal check must reject a constant the C28x's 32-bit double folds differently and accept
+# the same constant written as a ratio of integers.
+mkdir -p "$tmp/lit_bad" "$tmp/lit_good"
+printf 'static const long k = IQ(1.0 / 3.0);\n' > "$tmp/lit_bad/x.c"
+printf 'static const long k = IQ_FRAC(1, 3);\nstatic const long h = IQ(0.5);\n' > "$tmp/lit_good/x.c"
+if python3 "$here/check_fix_literals.py" "$tmp/lit_bad" >/dev/null; then
+  echo "selftest: the literal check accepted IQ(1.0 / 3.0)"; exit 1
+fi
+python3 "$here/check_fix_literals.py" "$tmp/lit_good" >/dev/null
+echo "selftest: literal check rejects IQ(1.0 / 3.0), accepts IQ_FRAC(1, 3) and IQ(0.5)"
