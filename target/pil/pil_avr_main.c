@@ -21,11 +21,11 @@
 
 /* Configuration fields this image can hold (pil_config_fields() must not exceed it: 98 with the
  * parameter rows of the common part and the IM part, the longest law part). The ATmega2560 has 8 KB of
- * RAM, which its constants share (the parameter rows, dtc_param.h): the blob buffer is sized to
- * leave the stack its room, and a longer blob is refused at run time (main below). */
+ * RAM, which its constants share (the parameter rows, dtc_param.h). The blob is needed only until
+ * pil_replay_init has decoded it, so it lives on the stack of load_config (below), whose frame is
+ * given back before the first ISR: the ISR path's stack has that room. A longer blob is refused at
+ * run time. */
 #define PIL_CONFIG_MAX 128U
-
-static uint8_t g_blob[4U * PIL_CONFIG_MAX];
 
 void pil_target_isr_begin(void)
 {
@@ -61,6 +61,23 @@ static void fail(uint8_t kind, int16_t code)
     }
 }
 
+/* Reads the configuration blob and starts the application on it; fails on a blob longer than
+ * PIL_CONFIG_MAX fields or one the application refuses. */
+static __attribute__((noinline)) void load_config(const pil_header_t *h)
+{
+    uint8_t blob[4U * PIL_CONFIG_MAX];
+    int16_t rc;
+
+    if (h->config_fields > PIL_CONFIG_MAX) {
+        fail(PIL_AVR_ERROR_HEADER, PIL_ERR_LAYOUT);
+    }
+    get(blob, (uint16_t)(4U * h->config_fields));
+    rc = pil_replay_init(h, blob);
+    if (rc != 0) {
+        fail(PIL_AVR_ERROR_INIT, rc);
+    }
+}
+
 int main(void)
 {
     uint8_t hb[PIL_HEADER_BYTES];
@@ -75,14 +92,7 @@ int main(void)
     if (rc != PIL_OK) {
         fail(PIL_AVR_ERROR_HEADER, rc);
     }
-    if (h.config_fields > PIL_CONFIG_MAX) {
-        fail(PIL_AVR_ERROR_HEADER, PIL_ERR_LAYOUT);
-    }
-    get(g_blob, (uint16_t)(4U * h.config_fields));
-    rc = pil_replay_init(&h, g_blob);
-    if (rc != 0) {
-        fail(PIL_AVR_ERROR_INIT, rc);
-    }
+    load_config(&h);
     for (k = 0UL; k < h.isr_count; ++k) {
         get(in, PIL_IN_BYTES + PIL_OUT_BYTES);
         pil_replay_isr(in, out);

@@ -49,7 +49,9 @@ IN_FIELDS = fields_of("PIL_IN_FIELDS")
 OUT_BYTES = sum(w for _, w in OUT_FIELDS)
 IN_BYTES = sum(w for _, w in IN_FIELDS)
 HEADER_BYTES = 20
-LAW_PM_DTC = 0  # DTC_LAW_PM_DTC (firmware/dtc/dtc_config_common.h); every other law is an IM one
+LAW_PM_DTC = 0  # DTC_LAW_PM_DTC (firmware/dtc/dtc_config_common.h)
+LAW_PM_ITC = 6  # DTC_LAW_PM_ITC; every other law is an IM one
+PM_LAWS = (LAW_PM_DTC, LAW_PM_ITC)
 
 
 class Recording:
@@ -255,10 +257,10 @@ def coverage(rec, require):
     torque_at = next((k for k in range(rec.count) if states[k] == 2 and te_ref[k] != 0), None)
     speed = 0 if torque_at is None else sum(ticks[torque_at:])
     hand = next((k for k in range(1, rec.count) if cm[k - 1] == 1 and cm[k] == 0), None)
-    magn = rec.law != LAW_PM_DTC and run_at is not None and torque_at is not None and torque_at > run_at
+    magn = rec.law not in PM_LAWS and run_at is not None and torque_at is not None and torque_at > run_at
     have = {"calibrate": cal > 0, "run": run_at is not None, "magnetise": magn, "speed": speed > 0,
             "handover": hand is not None}
-    law = "induction machine" if rec.law != LAW_PM_DTC else "PM"
+    law = "induction machine" if rec.law not in PM_LAWS else "PM"
     print("coverage (%s law): %d ISRs in CALIBRATE, RUN from ISR %s, torque from ISR %s%s, %d speed-loop "
           "updates with torque, hand-over to the voltage model at ISR %s, faults: %s"
           % (law, cal, run_at, torque_at,
