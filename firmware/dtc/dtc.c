@@ -38,6 +38,7 @@ static void dtc_reset_ilim_pol(dtc_t *c)
     c->dcs_kw_iq = 0;
     c->vmid_beta_iq = 0;
     c->vmid_dev_iq = 0;
+    c->gains_due = 0U;
 }
 
 void dtc_reset(dtc_t *c)
@@ -215,6 +216,26 @@ void dtc_lpf_r(dtc_t *c)
     c->lpf_r_iq = c->speed_iq < 0 ? fix_neg32(r) : r;
 }
 
+/* The estimator's speed-dependent gains (low-pass correction r, DC-suppression gain, mid-point
+ * beta) from the speed measured at the last speed-loop step. Called at the start of the step after
+ * that speed-loop step: every one of them is first read by the step after the one that measured
+ * the speed (dtc_vmid_dev, the estimator's input, dtc_dcsupp all come before the speed loop in
+ * dtc_step), so forming them there gives the same values at the same steps, and the speed-loop
+ * step, the longest, no longer carries them. Formats as in dtc_lpf_r, dtc_vmid_beta; the DC
+ * suppression's gain Ts l_s |w| / 20 is a rounded, saturating IQ product. */
+void dtc_speed_gains(dtc_t *c)
+{
+    const dtc_config_t *cfg = c->cfg;
+    c->gains_due = 0U;
+    if (cfg->u.pm_dtc.est.lpf_comp != 0U) {
+        dtc_lpf_r(c);
+    }
+    c->dcs_kw_iq = iq_mpy(cfg->u.pm_dtc.est.dcs_k_iq, fix_abs32(c->speed_iq)); /* dtc_dcsupp: Ts l_s |w|/20 */
+    if (cfg->u.pm_dtc.est.vmid_beta_s_iq > 0) {
+        dtc_vmid_beta(c);
+    }
+}
+
 void dtc_handover(dtc_t *c)
 {
     const dtc_config_t *cfg = c->cfg;
@@ -310,6 +331,10 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         }
     }
 
+    if (c->gains_due != 0U) {
+        dtc_speed_gains(c);
+    }
+
     vmid_r = m->vmid_iq;
     if (cfg->board.fstp_vmid_measured != 0U && cfg->est.estimator == DTC_EST_VOLTAGE) {
         c->vmid_dev_iq = dtc_vmid_dev(c, m);
@@ -395,13 +420,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
         c->wts_iq = iq_mpy(c->speed_iq, cfg->board.ts_pu_iq); /* dtc_predict's rotation per period */
         dtc_handover(c);
-        if (cfg->u.pm_dtc.est.lpf_comp != 0U) {
-            dtc_lpf_r(c);
-        }
-        c->dcs_kw_iq = iq_mpy(cfg->u.pm_dtc.est.dcs_k_iq, fix_abs32(c->speed_iq)); /* dtc_dcsupp: Ts l_s |w|/20 */
-        if (cfg->u.pm_dtc.est.vmid_beta_s_iq > 0) {
-            dtc_vmid_beta(c);
-        }
+        c->gains_due = 1U; /* dtc_speed_gains, at the start of the next step */
         if (c->act.mode == DTC_MODE_SPEED) {
             c->te_ref_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
         }

@@ -91,6 +91,8 @@ typedef struct {
                           * updated with the speed at the speed-loop rate */
     iq_t ri_alpha_iq, ri_beta_iq; /* r_s i of this step, IQ pu (dtc_step: the voltage model and
                                    * dtc_predict take the same product) */
+    uint16_t gains_due;  /* 1: the speed-dependent gains of the speed measured last are still to be
+                          * formed (dtc_speed_gains, at the start of the next step) */
 } dtc_t;
 
 /* The law's configuration check (dtc_check.c): the common part, then the law DTC_LAW_PM_DTC and

@@ -59,5 +59,8 @@ static inline void dtc_block_params(dtc_t *c, const dtc_config_t *cfg)
 }
 /* Internal to dtc_step (low-pass correction factor, lpfcorr.h). */
 void dtc_lpf_r(dtc_t *c);
+/* Internal to dtc_step and dtc_reconfigure: the speed-dependent gains (dtc_lpf_r, the DC
+ * suppression's, dtc_vmid_beta) of the last measured speed, due after a speed-loop step. */
+void dtc_speed_gains(dtc_t *c);
 
 #endif /* DTC_INTERNAL_H */

@@ -44,6 +44,9 @@ int16_t dtc_reconfigure(dtc_t *c, const dtc_config_t *post, uint16_t phase)
         dtc_check(post, NULL) != DTC_OK) {
         return DTC_ERR_RECONFIG;
     }
+    if (c->gains_due != 0U) {
+        dtc_speed_gains(c); /* with the configuration the speed was measured under */
+    }
     l1[0] = c->legs_1.sa; l1[1] = c->legs_1.sb; l1[2] = c->legs_1.sc;
     l2[0] = c->legs_2.sa; l2[1] = c->legs_2.sb; l2[2] = c->legs_2.sc;
     l3[0] = c->legs_3.sa; l3[1] = c->legs_3.sb; l3[2] = c->legs_3.sc;
