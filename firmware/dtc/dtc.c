@@ -357,13 +357,17 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     fin.r_iq = c->lpf_r_iq; /* 0 unless lpf_comp (dtc_lpf_r) */
     if (cfg->est.estimator == DTC_EST_VOLTAGE) {
         iq_t vfa, vfb;
+        /* the reconstruction of legs_2 goes through c->v1_*: the delay compensation below takes
+         * it as that of legs_1 when the legs did not change (same link and mid-point samples) */
         if (cfg->board.topology == DTC_TOPO_FSTP) {
             vrec_fstp(c->legs_2.sb, c->legs_2.sc, m->vdc_iq, vmid_r, cfg->board.fstp_vmid_measured,
-                      &fin.v_alpha_iq, &fin.v_beta_iq);
+                      &c->v1_alpha_iq, &c->v1_beta_iq);
         } else {
-            vrec_sstp(c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, m->vdc_iq, &fin.v_alpha_iq,
-                      &fin.v_beta_iq);
+            vrec_sstp(c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, m->vdc_iq, &c->v1_alpha_iq,
+                      &c->v1_beta_iq);
         }
+        fin.v_alpha_iq = c->v1_alpha_iq;
+        fin.v_beta_iq = c->v1_beta_iq;
         if (cfg->u.pm_dtc.est.polarity_mid != 0U) {
             dtc_pol_mid(c, &i);
         }
@@ -435,7 +439,10 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
      *    flux comparator works on it, so the ISR takes no square root), sector.
      *    Hysteresis comparators (Hoang eqs. 13-14, Casadei section 4). */
     if (cfg->u.pm_dtc.est.delay_comp != 0U) {
-        if (cfg->board.topology == DTC_TOPO_FSTP) {
+        if (cfg->est.estimator == DTC_EST_VOLTAGE && c->legs_1.sa == c->legs_2.sa && c->legs_1.sb == c->legs_2.sb &&
+            c->legs_1.sc == c->legs_2.sc) {
+            /* legs_1 = legs_2: c->v1_* holds their reconstruction (step 3) */
+        } else if (cfg->board.topology == DTC_TOPO_FSTP) {
             vrec_fstp(c->legs_1.sb, c->legs_1.sc, m->vdc_iq, vmid_r, cfg->board.fstp_vmid_measured,
                       &c->v1_alpha_iq, &c->v1_beta_iq);
         } else {
