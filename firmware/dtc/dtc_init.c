@@ -1,7 +1,9 @@
 /*
- * dtc_init.c - initialisation of the PM law (dtc.h dtc_init). Runs once, from app_init in the
- * background before the control interrupt starts: built into the init-only archive dtc_init,
- * which the F2812 image keeps in flash (firmware/CMakeLists.txt), so it costs no zero-wait RAM.
+ * dtc_init.c - initialisation of the PM law (dtc.h dtc_init) and the PM laws' estimator
+ * parameters (dtc_refs.h dtc_pm_est_params_from_config, for dtc_init and itc_init). Runs once,
+ * from app_init in the background before the control interrupt starts: built into the init-only
+ * archive dtc_init, which the F2812 image keeps in flash (firmware/CMakeLists.txt), so it costs
+ * no zero-wait RAM.
  */
 #include "dtc.h"
 #include "dtc_internal.h"
@@ -37,4 +39,19 @@ int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg)
     speed_meas_init(&c->sm, &c->sm_p, 0U);
     dtc_reset(c);
     return DTC_OK;
+}
+
+void dtc_pm_est_params_from_config(flux_est_params_t *fe_p, vcomp_params_t *vc_p, const dtc_config_t *cfg,
+                                   const dtc_pm_machine_cfg_t *mach)
+{
+    fe_p->estimator = cfg->est.estimator;
+    fe_p->k_in_q31 = cfg->est.k_in_q31;
+    fe_p->k_leak_q31 = cfg->est.k_leak_q31;
+    fe_p->rs_iq = cfg->machine.rs_iq;
+    fe_p->ls_iq = mach->ls_iq;
+    fe_p->psi_m_iq = mach->psi_m_iq;
+    fe_p->enc_gain_q16 = cfg->board.enc_gain_q16;
+    fe_p->enc_offset = cfg->board.enc_offset;
+    vcomp_init(vc_p, cfg->est.compensation, cfg->board.v_f_iq, cfg->board.v_ce_iq, cfg->board.v_d_iq,
+               cfg->board.r_on_iq);
 }

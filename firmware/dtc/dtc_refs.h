@@ -102,7 +102,8 @@ void dtc_speed_params_from_config(speed_meas_params_t *sm_p, speed_pi_params_t *
 
 /* The PM laws (DTC, ITC): the stator-flux estimator's and the drop compensation's parameters from
  * the common part of cfg and the law's machine model mach (its part's l_s and psi_m). Defined in
- * flux_est.c, the PM estimator's member, so that an image without a PM law links none of it. */
+ * dtc_init.c, a PM member of the init-only archive, so that an image without a PM law links none
+ * of it and an image with one runs it from flash. */
 void dtc_pm_est_params_from_config(flux_est_params_t *fe_p, vcomp_params_t *vc_p, const dtc_config_t *cfg,
                                    const dtc_pm_machine_cfg_t *mach);
 

@@ -58,18 +58,3 @@ void flux_est_vm_step(flux_est_t *s, const flux_est_in_t *in, iq_t ri_alpha_iq, 
     s->psi_alpha_iq = flux_est_lpf(s->psi_alpha_iq, e_a, p->k_in_q31, p->k_leak_q31);
     s->psi_beta_iq = flux_est_lpf(s->psi_beta_iq, e_b, p->k_in_q31, p->k_leak_q31);
 }
-
-void dtc_pm_est_params_from_config(flux_est_params_t *fe_p, vcomp_params_t *vc_p, const dtc_config_t *cfg,
-                                   const dtc_pm_machine_cfg_t *mach)
-{
-    fe_p->estimator = cfg->est.estimator;
-    fe_p->k_in_q31 = cfg->est.k_in_q31;
-    fe_p->k_leak_q31 = cfg->est.k_leak_q31;
-    fe_p->rs_iq = cfg->machine.rs_iq;
-    fe_p->ls_iq = mach->ls_iq;
-    fe_p->psi_m_iq = mach->psi_m_iq;
-    fe_p->enc_gain_q16 = cfg->board.enc_gain_q16;
-    fe_p->enc_offset = cfg->board.enc_offset;
-    vcomp_init(vc_p, cfg->est.compensation, cfg->board.v_f_iq, cfg->board.v_ce_iq, cfg->board.v_d_iq,
-               cfg->board.r_on_iq);
-}
