@@ -9,6 +9,11 @@
 #              line per archive: which control law's code an image of that build's DTC_LAWS holds
 #              (an IM-only build: cmake -B build/cross-cm0-im with the cross-cm0 toolchain and
 #              -DDTC_LAWS=im, then its targets dtc_app dtc_init hal_f2812 f2812_main).
+#          hal/f2812/budget.sh PROJECT_ROOT --im [CM0_IM_BUILD_DIR]
+#              the same check for the IM-only image (default build/cross-cm0-im: the cross-cm0
+#              toolchain with -DDTC_LAWS=im, targets dtc_app dtc_init dtc_proto dtc_comm hal_f2812
+#              f2812_main), with the PM image's placement (libdtc_firmware.a in ramfuncs; the
+#              fixed-point core, libdtc_im.a and the application in ramfuncs_h); cross-cm0 only.
 #
 # What is counted
 #   firmware   the members of libdtc_firmware.a, libdtc_fixmath.a, libdtc_im.a and libdtc_app.a
@@ -57,6 +62,12 @@ if [ "${2:-}" = --members ]; then
 fi
 cm0=$root/build/cross-cm0
 avr=$root/build/cross-avr
+image=pm
+if [ "${2:-}" = --im ]; then
+  image=im
+  cm0=${3:-$root/build/cross-cm0-im}
+  avr=
+fi
 
 # Zero-wait RAM reserved for ramfuncs (linker/f2812_flash.cmd: L0+L1; linker/f2812_ram.cmd: H0
 # after the 2-word boot entry).
@@ -67,7 +78,7 @@ RAMFUNCS_H_FLASH_WORDS=7168
 RAMFUNCS_H_RAM_WORDS=4096
 
 need() { [ -f "$1" ] || { echo "budget: $1 not found (build the cross presets first)" >&2; exit 2; }; }
-for d in "$cm0" "$avr"; do
+for d in "$cm0" ${avr:+"$avr"}; do
   for f in "$d/firmware/libdtc_firmware.a" "$d/firmware/libdtc_fixmath.a" "$d/firmware/libdtc_app.a" \
            "$d/firmware/libdtc_im.a" "$d/firmware/libdtc_config.a" "$d/firmware/libdtc_init.a" \
            "$d/hal/f2812/libhal_f2812.a"; do
@@ -75,8 +86,11 @@ for d in "$cm0" "$avr"; do
   done
 done
 cm0_main=$(find "$cm0/target/f2812" -name 'f2812_main.c.obj' | head -1)
-avr_main=$(find "$avr/target/f2812" -name 'f2812_main.c.obj' | head -1)
-need "$cm0_main"; need "$avr_main"
+need "$cm0_main"
+if [ -n "$avr" ]; then
+  avr_main=$(find "$avr/target/f2812" -name 'f2812_main.c.obj' | head -1)
+  need "$avr_main"
+fi
 
 # Sum sections of `size -A` output by kind: text / rodata / data / bss.
 sum_sections() { # $1 = size tool, rest = files
@@ -172,7 +186,7 @@ report() { # $1 = label, $2 = size tool, $3 = nm tool, $4 = build dir, $5 = main
   printf '%-9s %-28s %8d\n' "" "hal ISR-path functions" "$hal_isr"
 }
 
-echo "== F2812 control-path size budget (proxy builds; see the ESTIMATE note in this script) =="
+echo "== F2812 control-path size budget, $image image (proxy builds; see the ESTIMATE note in this script) =="
 echo "hal ramfuncs: ${ramfuncs//|/ }"
 report cross-cm0 arm-none-eabi-size arm-none-eabi-nm "$cm0" "$cm0_main" arm-none-eabi-ld
 isr_code_bytes=$((fw_t + hal_isr))
@@ -182,7 +196,7 @@ fx_table_bytes=$fx_r
 state_bytes=$((fw_d + fw_b + fx_d + fx_b + cf_d + cf_b + hal_d + hal_b + mn_d + mn_b))
 op_code_bytes=$((op_t + ci_t))
 op_data_bytes=$op_data
-report cross-avr avr-size avr-nm "$avr" "$avr_main" avr-ld
+[ -z "$avr" ] || report cross-avr avr-size avr-nm "$avr" "$avr_main" avr-ld
 
 words_nom() { echo $(( ($1 + 1) / 2 )); }
 words_pess() { echo $(( ($1 * 3 + 3) / 4 )); }
