@@ -5,7 +5,7 @@
 # target (1c and 1f worst call, the stack chains) the target stays and the figure is a finding.
 #   1. host instructions per control-law step (valgrind --tool=callgrind, host preset build of
 #      tools/bench/bench_dtc.c), average and the speed-loop steps (the worst path):
-#      1a. PM law dtc_step: FSTP, voltage model, Hoang Table VI compensation [avg <= 1490, worst <= 1870]
+#      1a. PM law dtc_step: FSTP, voltage model, Hoang Table VI compensation [avg <= 1480, worst <= 1750]
 #      1b. IM law im_dtc_step: improved estimator, Casadei eq. 19, sensorless [avg <= 990, worst <= 1380]
 #      1c. IM law im_sfvc_step: SFVC (Casadei eqs. 18, 23, 24) + SVM, same [avg <= 1190, worst <= 1700]
 #      1d. IM law im_dfoc_step: DFOC (sec. 13) + two-phase SVM, same    [avg <= 1200, worst <= 1540]
@@ -81,7 +81,7 @@ PY
 }
 
 # PM law (FSTP, voltage model, Hoang Table VI compensation, speed loop on).
-instr a "" dtc_step bench_step_normal bench_step_tick 1490 1870 \
+instr a "" dtc_step bench_step_normal bench_step_tick 1480 1750 \
   flux_est_step vcomp_step iq_mag fix_isqrt64 speed_meas_step speed_pi_step
 # IM law (improved estimator, speed-dependent tau, Casadei eq. 19, sensorless, speed-dependent table), at
 # 40 us.
