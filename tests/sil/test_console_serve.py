@@ -96,7 +96,7 @@ def main():
             srv.wait(timeout=30)
     check(srv.returncode == 0, "dtc-sil serve exits 0 (%s)" % srv.returncode)
     # a restart on the same link boots into the saved parameters
-    srv = subprocess.Popen([sil, "serve", scenario, "--serial", link, "--pace", "1", "--duration-s", "3", "-q"])
+    srv = subprocess.Popen([sil, "serve", scenario, "--serial", link, "--pace", "1", "--duration-s", "8", "-q"])
     try:
         for _ in range(200):
             if os.path.exists(link):
@@ -106,10 +106,20 @@ def main():
             v = d.param_get("speed.torque_limit_iq")
             check(abs(v - SAVED[0]) <= d.bases()["t"] / 2 ** 24,
                   "after a restart the saved torque limit %.4f N*m is in force (%.4f)" % (SAVED[0], v))
-            d.restore(1)
+        rc, _, err = console(link, "params", "restore", "compiled")
+        check(rc == 0, "params restore compiled accepted: %s" % err.strip())
+        with Drive(link, timeout_s=2.0) as d:
             v = d.param_get("speed.torque_limit_iq")
             check(abs(v - SAVED[1]) <= d.bases()["t"] / 2 ** 24,
                   "restore of the compiled-in set: %.4f N*m again (%.4f)" % (SAVED[1], v))
+        rc, _, err = console(link, "params", "restore")
+        check(rc == 0, "params restore (the stored copy) accepted: %s" % err.strip())
+        with Drive(link, timeout_s=2.0) as d:
+            v = d.param_get("speed.torque_limit_iq")
+            check(abs(v - SAVED[0]) <= d.bases()["t"] / 2 ** 24,
+                  "params restore loads the stored torque limit %.4f N*m again (%.4f)" % (SAVED[0], v))
+        rc, _, err = console(link, "params", "restore", "elsewhere")
+        check(rc == 2, "params restore with an unknown source is a usage error (%d)" % rc)
     finally:
         srv.send_signal(signal.SIGINT)
         srv.wait(timeout=30)
