@@ -382,7 +382,9 @@ class Drive:
 
     def param_set(self, name, value):
         r = self._row(name)
-        raw = int(round(float(value) / self._scale(r)))
+        # the wire carries an i32: a value beyond it is sent as the nearest i32, which the drive
+        # refuses as out of range like any other
+        raw = max(-(1 << 31), min((1 << 31) - 1, int(round(float(value) / self._scale(r)))))
         _, v = struct.unpack_from("<Hi", self.request(CMD["PARAM_WRITE"], struct.pack("<Hi", r["id"], raw)))
         return v * self._scale(r)
 
