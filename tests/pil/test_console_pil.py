@@ -38,40 +38,22 @@ import sys
 import time
 import tty
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
-sys.path.insert(0, os.path.join(ROOT, "tools", "console"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "sil", "support"))
+import console_session  # noqa: E402
+from console_session import exit_code, stop, wait_state  # noqa: E402
 from dtc_drive import Drive, encode, CMD  # noqa: E402
-
-CONSOLE = os.path.join(ROOT, "tools", "console", "dtc_console.py")
 # qemu -icount shift=0: one instruction per ns of virtual time, so the 50 us SysTick period is
 # 50,000 instructions of which the ISR takes about 8,000 (docs/pil.md) and the background loop
 # gets the rest, whatever the host's speed.
 QEMU_ICOUNT_SHIFT = 0
-failures = []
 
 
 def check(target, cond, what):
-    print(("ok   " if cond else "FAIL ") + "[%s] %s" % (target, what), flush=True)
-    if not cond:
-        failures.append("[%s] %s" % (target, what))
+    console_session.check(cond, "[%s] %s" % (target, what))
 
 
 def console(port, *args):
-    r = subprocess.run([sys.executable, CONSOLE, "--port", port, "--timeout", "2"] + list(args),
-                       capture_output=True, text=True, timeout=120)
-    return r.returncode, r.stdout, r.stderr
-
-
-def wait_state(d, state, limit_s=30.0):
-    end = time.monotonic() + limit_s
-    s = None
-    while time.monotonic() < end:
-        s = d.status()
-        if s["state"] == state:
-            return s
-        time.sleep(0.05)
-    raise RuntimeError("the drive did not reach %s (last %s)" % (state, s))
+    return console_session.console(port, "--timeout", "2", *args)
 
 
 def timeless(s):
@@ -211,14 +193,6 @@ def run_qemu(elf, work):
     return p, pts
 
 
-def stop(p):
-    p.send_signal(signal.SIGTERM)
-    try:
-        p.wait(timeout=20)
-    except subprocess.TimeoutExpired:
-        p.kill()
-
-
 def diff(a, b, path=""):
     """The first places where a and b differ."""
     if type(a) is not type(b):
@@ -256,16 +230,13 @@ def main():
             print("[%s] session took %.1f s" % (target, time.monotonic() - t0), flush=True)
         finally:
             os.close(keep)
-            stop(p)
+            stop(p, signal.SIGTERM)
         with open(os.path.join(w, "answers.json"), "w", encoding="utf-8") as f:
             json.dump(answers[target], f, indent=1)
     d = diff(answers["host"], answers["qemu"])
     check("host = qemu", not d, "the same answers from qemu's UART as from the host build (%d steps)%s" %
           (len(answers["host"]), "" if not d else ": " + "; ".join(d[:8])))
-    if failures:
-        print("%d check(s) failed" % len(failures))
-        return 1
-    return 0
+    return exit_code()
 
 
 if __name__ == "__main__":

@@ -18,30 +18,13 @@ Usage: test_console_identify.py DTC_SIL PM_SCENARIO IM_SCENARIO WORKDIR
 import json
 import os
 import shutil
-import signal
 import subprocess
 import sys
 import time
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
-sys.path.insert(0, os.path.join(ROOT, "tools", "console"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
+from console_session import check, console, exit_code, stop, wait_state  # noqa: E402
 from dtc_drive import Drive, DriveError, ERR, REFUSAL  # noqa: E402
-
-CONSOLE = os.path.join(ROOT, "tools", "console", "dtc_console.py")
-failures = []
-
-
-def check(cond, what):
-    print(("ok   " if cond else "FAIL ") + what, flush=True)
-    if not cond:
-        failures.append(what)
-
-
-def console(link, *args):
-    r = subprocess.run([sys.executable, CONSOLE, "--port", link] + list(args), capture_output=True, text=True,
-                       timeout=120)
-    return r.returncode, r.stdout, r.stderr
 
 
 def serve(sil, scenario, link, pace, duration):
@@ -55,25 +38,6 @@ def serve(sil, scenario, link, pace, duration):
         time.sleep(0.02)
     p.kill()
     raise RuntimeError("dtc-sil serve made no link %s" % link)
-
-
-def stop(p):
-    p.send_signal(signal.SIGINT)
-    try:
-        p.wait(timeout=30)
-    except subprocess.TimeoutExpired:
-        p.kill()
-
-
-def wait_state(d, state, limit_s=30.0):
-    end = time.monotonic() + limit_s
-    s = None
-    while time.monotonic() < end:
-        s = d.status()
-        if s["state"] == state:
-            return s
-        time.sleep(0.05)
-    raise RuntimeError("the drive did not reach %s (last %s)" % (state, s))
 
 
 def refused(fn, code, detail=None):
@@ -160,10 +124,7 @@ def main():
         check(rc == 1 and "law" in se, "an induction-machine drive refuses it: %s" % se.strip())
     finally:
         stop(srv)
-    if failures:
-        print("%d check(s) failed" % len(failures))
-        return 1
-    return 0
+    return exit_code()
 
 
 if __name__ == "__main__":

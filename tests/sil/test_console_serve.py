@@ -26,31 +26,16 @@ import subprocess
 import sys
 import time
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
-sys.path.insert(0, os.path.join(ROOT, "tools", "console"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
+from console_session import check, console, failures, wait_state  # noqa: E402
 from dtc_drive import Drive, DriveError, ERR  # noqa: E402
 
-CONSOLE = os.path.join(ROOT, "tools", "console", "dtc_console.py")
 FRACTION = 0.75    # the torque limit set while disarmed, of its value
 FAULT_T_S = 25.0   # the scenario's fault (faults.time_s): after the session's other steps
 DURATION_S = 26.0
 PACE = 1.0
 
-failures = []
 SAVED = [0.0, 0.0]  # the torque limit saved, the compiled-in one
-
-
-def check(cond, what):
-    print(("ok   " if cond else "FAIL ") + what, flush=True)
-    if not cond:
-        failures.append(what)
-
-
-def console(link, *args):
-    r = subprocess.run([sys.executable, CONSOLE, "--port", link] + list(args), capture_output=True, text=True,
-                       timeout=60)
-    return r.returncode, r.stdout, r.stderr
 
 
 def wait_tick(d, tick, limit_s=60.0):
@@ -61,16 +46,6 @@ def wait_tick(d, tick, limit_s=60.0):
             return s
         time.sleep(0.02)
     raise RuntimeError("the simulation did not reach tick %d" % tick)
-
-
-def wait_state(d, state, limit_s=20.0):
-    end = time.monotonic() + limit_s
-    while time.monotonic() < end:
-        s = d.status()
-        if s["state"] == state:
-            return s
-        time.sleep(0.02)
-    raise RuntimeError("the drive did not reach state %s (last: %s)" % (state, s))
 
 
 def main():
