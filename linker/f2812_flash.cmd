@@ -23,6 +23,17 @@
  *               zero-wait RAM, not 8K.
  *   .stack      M0+M1 (low 64K: the SP is 16 bits, fact sheet 1.1)
  *   .ebss       the last 1K words of H0 (zero-wait): controller state
+ *   opdata      the operation layer's data (libdtc_proto.a, libdtc_comm.a: the capture buffer, the
+ *               fault log, the frame decoder's ring and the frames, the stored-set buffer, the
+ *               configuration copy a parameter write is checked on; ~2.4K words, printed by
+ *               hal/f2812/budget.sh) in external RAM on XINTF zone 6 (0x100000, fact sheet 1.1):
+ *               every zero-wait block is taken by the ISR path and its state (L0+L1, H0 by the
+ *               pessimistic estimate) or the stack (M0+M1), and this data is the background's,
+ *               except the capture's samples and the fault log's entries, which the ISR writes at
+ *               the XINTF's wait states (a few words per sample while a capture records, one
+ *               entry per fault). BOARD FACT, UNVERIFIED: the Spectrum Digital eZdsp F2812 fits
+ *               64K words of SRAM on zone 6; a board without it must give opdata another block
+ *               (docs/operate.md, "Where the operation layer's data lives").
  *   the rest    flash sectors J..C. Sector B is left free for the user's parameter storage;
  *               sector A holds only codestart and the CSM words.
  * The CSM password words (0x3F7FF8..0x3F7FFF) and CSM_RSVD are deliberately NOT written: erased
@@ -43,6 +54,7 @@ PAGE 0:    /* program */
 PAGE 1:    /* data */
     RAMM0M1   : origin = 0x000000, length = 0x000800   /* M0 + M1 SARAM, low 64K */
     RAMH0D    : origin = 0x3F9C00, length = 0x000400   /* H0 SARAM (last 1K), zero-wait: state */
+    XRAM      : origin = 0x100000, length = 0x010000   /* XINTF zone 6: external SRAM (board fact) */
 }
 
 SECTIONS
@@ -90,6 +102,13 @@ SECTIONS
     .econst   : > FLASH_JC, PAGE = 0   /* flash, PAGE 0 (TI note for flash programmers) */
 
     .stack    : > RAMM0M1, PAGE = 1
+    /* the operation layer's data before the generic .ebss rule claims it: uninitialised, its
+     * init calls (app_proto_start) set it up */
+    opdata    : {
+                    -l=libdtc_proto.a (.ebss)
+                    -l=libdtc_comm.a (.ebss)
+                }
+                > XRAM,    PAGE = 1
     .ebss     : > RAMH0D,  PAGE = 1
     .esysmem  : > RAMH0D,  PAGE = 1   /* the firmware allocates nothing; heap size 0 */
 

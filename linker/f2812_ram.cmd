@@ -10,6 +10,7 @@
  *   .text/.cinit/.econst (start-up code, RTS, constants outside the firmware library)  L0 (3K)
  *   .ebss      the last 1K words of L0
  *   .stack     M0 + M1 (low 64K)
+ *   opdata     the operation layer's data in external RAM on XINTF zone 6 (as in f2812_flash.cmd)
  * Every block is zero-wait SARAM, so timing equals the flash build's ISR timing. The control path
  * (the whole firmware library) gets the largest block, H0, as in the flash build it gets L0+L1,
  * and the fixed-point core L1 (4K words; 7K in the flash build): hal/f2812/budget.sh checks the
@@ -26,6 +27,7 @@ PAGE 0:    /* program */
 PAGE 1:    /* data */
     RAMM0M1   : origin = 0x000000, length = 0x000800   /* M0 + M1, low 64K: stack */
     RAML0D    : origin = 0x008C00, length = 0x000400   /* L0 (last 1K): controller state */
+    XRAM      : origin = 0x100000, length = 0x010000   /* XINTF zone 6: external SRAM (board fact) */
 }
 
 SECTIONS
@@ -69,6 +71,11 @@ SECTIONS
     .econst   : > RAML0,   PAGE = 0
 
     .stack    : > RAMM0M1, PAGE = 1
+    opdata    : {
+                    -l=libdtc_proto.a (.ebss)
+                    -l=libdtc_comm.a (.ebss)
+                }
+                > XRAM,    PAGE = 1
     .ebss     : > RAML0D,  PAGE = 1
     .esysmem  : > RAML0D,  PAGE = 1
 

@@ -40,9 +40,15 @@ void app_attach(capture_t *cap, faultlog_t *flog);
 void app_set_arming(uint16_t mode);
 
 /* Background: arm (enum app_arm_refusal: APP_ARM_OK, the ISR then enters RUN at its next
- * period, or why not) and disarm (always; RUN -> READY at the next period). */
+ * period, or why not) and disarm (always; RUN -> READY at the next period; IDENT -> READY at
+ * once, the identification stopped where it was, its results so far kept). */
 uint16_t app_arm(void);
 void app_disarm(void);
+
+/* Background: the identification (app_ident.h) started from READY as an arm is, under the arm's
+ * conditions (enum app_arm_refusal; APP_ARM_NOT_CALIBRATED when not READY): its fresh calibration
+ * ends in APP_STATE_IDENT instead of RUN. Read the progress with app_get_ident; disarm ends it. */
+uint16_t app_identify(void);
 
 /* Background: a valid frame arrived (the command timeout restarts); the timeout in periods (0 = off). */
 void app_comm_seen(void);

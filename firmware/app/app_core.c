@@ -187,6 +187,7 @@ static void calibrate_finish(app_core_t *a, const hal_meas_t *m)
         dtc_meas_t pu;
         app_core_convert(a, m, &pu);
         app_ident_start(&a->ident, a->cfg, m->qep_count, pu.vdc_iq);
+        a->ident_request = 0U; /* once: a later calibration (fault clear, arm) ends as usual */
         a->st.state = APP_STATE_IDENT;
         return;
     }

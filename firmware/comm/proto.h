@@ -140,10 +140,21 @@ enum proto_cmd {
      * Disarmed only.  request: 0 u16 source    response: 0 u16 source (loaded) */
     PROTO_PARAMS_RESTORE = 0x61,
 
-    /* IDENTIFY: the commissioning's identification runs (sub-commands start, status, result).
-     *   request: 0 u16 sub (0 = start, 1 = status, 2 = result)  2.. sub-command's fields
-     *   response: 0 u16 sub  2 u16 state  4.. results as parameter (id, i32 value_raw) pairs.
-     * Layout of the fields beyond sub and state is defined with the commissioning. */
+    /* IDENTIFY: the self-commissioning's identification (app_ident.h, docs/commissioning.md).
+     *   request: 0 u16 sub (PROTO_IDENT_START, PROTO_IDENT_STATUS, PROTO_IDENT_RESULT)
+     *   START: from READY under the arm's conditions (PROTO_ERR_REFUSED, detail enum
+     *          proto_refusal; PROTO_REFUSE_LAW unless the law is a PM law; PROTO_ERR_ARMED while
+     *          armed): a fresh calibration, then the identification with the gates driven by
+     *          it; DISARM stops it.   response: 0 u16 sub
+     *   STATUS: response: 0 u16 sub  2 u16 step (enum app_ident_step)  4 u16 fail (enum
+     *          app_ident_fail)  6 u16 fail_step  8 i16 fail_detail  10 u16 state (enum app_state)
+     *   RESULT: the results so far (complete when step is APP_IDENT_DONE), app_ident_result_t:
+     *          response: 0 u16 sub  2 u16 step  4 u16 axis (angle_t)  6 iq r (R_s + R_on, pu of
+     *          Z_b = V_b / I_b)  10 iq v0 (pu of V_b)  14 iq l_ts (L / (Z_b Ts))  18 u16 pole_pairs
+     *          20 u16 enc_reversed  22 u16 enc_offset (angle_t)  24 i32 counts_per_turn
+     *          28 u32 ticks[1..3] (control periods of the steps RS, LS, ENCODER)
+     *          40 iq level_i[4]  56 iq level_v[4] (the R fit's points, pu)
+     *   PROTO_ERR_RANGE for another sub. */
     PROTO_IDENTIFY = 0x70,
 
     /* ERROR (drive -> host): the request was not carried out.
@@ -169,7 +180,15 @@ enum proto_refusal {
     PROTO_REFUSE_VDC_RANGE = 2,
     PROTO_REFUSE_FAULT = 3,
     PROTO_REFUSE_REF_NONZERO = 4,
-    PROTO_REFUSE_CONFIG = 5
+    PROTO_REFUSE_CONFIG = 5,
+    PROTO_REFUSE_LAW = 6 /* IDENTIFY: the identification is for a PM machine (app_ident.h) */
+};
+
+/* IDENTIFY sub-commands. */
+enum proto_ident_sub {
+    PROTO_IDENT_START = 0,
+    PROTO_IDENT_STATUS = 1,
+    PROTO_IDENT_RESULT = 2
 };
 
 /* STATUS mode. */

@@ -279,6 +279,67 @@ static void do_faultlog(const frame_t *rq, frame_t *rs)
     rs->len = 62U;
 }
 
+/* IDENTIFY (proto.h): start from READY, or the progress and the results so far. */
+static void do_identify(const frame_t *rq, frame_t *rs)
+{
+    const uint16_t sub = frame_get_u16(&rq->payload[0]);
+    uint16_t *o = rs->payload;
+    uint16_t k;
+    app_ident_t d;
+    app_status_t s;
+    frame_put_u16(&o[0], sub);
+    rs->len = 2U;
+    if (sub == (uint16_t)PROTO_IDENT_START) {
+        const dtc_config_t *c = app_config();
+        uint16_t why;
+        app_get_status(&s);
+        if (s.state == APP_STATE_RUN || s.state == APP_STATE_IDENT) {
+            app_proto_error(rq, rs, PROTO_ERR_ARMED, 0);
+            return;
+        }
+        if (c == NULL || (c->law != (uint16_t)DTC_LAW_PM_DTC && c->law != (uint16_t)DTC_LAW_PM_ITC)) {
+            app_proto_error(rq, rs, PROTO_ERR_REFUSED, PROTO_REFUSE_LAW);
+            return;
+        }
+        why = app_identify();
+        if (why != (uint16_t)APP_ARM_OK) {
+            app_proto_error(rq, rs, PROTO_ERR_REFUSED, (int16_t)why);
+        }
+        return;
+    }
+    if (sub != (uint16_t)PROTO_IDENT_STATUS && sub != (uint16_t)PROTO_IDENT_RESULT) {
+        app_proto_error(rq, rs, PROTO_ERR_RANGE, 0);
+        return;
+    }
+    app_get_ident(&d);
+    frame_put_u16(&o[2], d.step);
+    if (sub == (uint16_t)PROTO_IDENT_STATUS) {
+        app_get_status(&s);
+        frame_put_u16(&o[4], d.fail);
+        frame_put_u16(&o[6], d.fail_step);
+        frame_put_u16(&o[8], (uint16_t)d.fail_detail);
+        frame_put_u16(&o[10], s.state);
+        rs->len = 12U;
+        return;
+    }
+    frame_put_u16(&o[4], d.res.axis);
+    frame_put_i32(&o[6], d.res.r_iq);
+    frame_put_i32(&o[10], d.res.v0_iq);
+    frame_put_i32(&o[14], d.res.l_ts_iq);
+    frame_put_u16(&o[18], d.res.pole_pairs);
+    frame_put_u16(&o[20], d.res.enc_reversed);
+    frame_put_u16(&o[22], d.res.enc_offset);
+    frame_put_i32(&o[24], d.res.counts_per_turn);
+    for (k = 0U; k < 3U; k++) {
+        frame_put_u32(&o[28U + 4U * k], d.res.ticks[k + 1U]);
+    }
+    for (k = 0U; k < APP_IDENT_R_LEVELS; k++) {
+        frame_put_i32(&o[40U + 4U * k], d.res.level_i_iq[k]);
+        frame_put_i32(&o[56U + 4U * k], d.res.level_v_iq[k]);
+    }
+    rs->len = 72U;
+}
+
 static void do_telemetry_start(app_proto_t *p, const frame_t *rq, frame_t *rs)
 {
     uint16_t k;
@@ -330,6 +391,7 @@ static uint16_t min_len(uint16_t cmd)
     case PROTO_PARAM_READ:
     case PROTO_FAULTLOG_READ:
     case PROTO_PARAMS_RESTORE:
+    case PROTO_IDENTIFY:
         return 2U;
     case PROTO_SPEED_REF:
     case PROTO_TORQUE_REF:
@@ -412,6 +474,9 @@ void app_proto_handle(app_proto_t *p, const frame_t *rq, frame_t *rs)
         break;
     case PROTO_FAULTLOG_READ:
         do_faultlog(rq, rs);
+        break;
+    case PROTO_IDENTIFY:
+        do_identify(rq, rs);
         break;
     default: /* the parameter commands, save and restore */
         app_proto_param(p, rq, rs);

@@ -8,6 +8,9 @@
 int main(void);
 void pil_cm_reset(void);
 void pil_cm_fault(void);
+/* SysTick's handler: the console image's control ISR (pil_console_cm.c); the replay images run
+ * SysTick without its interrupt and link none (then a SysTick interrupt is a fault). */
+void pil_cm_systick(void) __attribute__((weak, alias("pil_cm_fault")));
 
 extern uint32_t __bss_start, __bss_end, __stack_top;
 
@@ -34,4 +37,4 @@ void pil_cm_fault(void)
 __attribute__((section(".vectors"), used)) static void (*const g_vectors[16])(void) = {
     (void (*)(void))(uintptr_t)&__stack_top, pil_cm_reset, pil_cm_fault, pil_cm_fault,
     pil_cm_fault, pil_cm_fault, pil_cm_fault, 0, 0, 0, 0, pil_cm_fault, pil_cm_fault, 0,
-    pil_cm_fault, pil_cm_fault};
+    pil_cm_fault, pil_cm_systick};

@@ -16,12 +16,14 @@
  *                a payload of 0..24 octets from the input, the right CRC;
  *   op % 4 == 2  a well-formed frame with one bit flipped, or cut short;
  *   op % 4 == 3  time passes: 1..1024 periods with nothing sent.
- * Then the line stays silent for 2000 periods.
+ * Then the line stays silent until it is idle and every request has been answered for 64
+ * periods, at most 2000 periods.
  *
  * Invariants (each violation aborts):
  *   1. never armed without a valid arm frame: every READY -> RUN transition follows an ARM frame
  *      that the drive decoded (a reference decoder fed the same octets as the dispatcher counts
- *      them) and that no other transition used;
+ *      them) and that no other transition used; likewise every entry into the identification
+ *      (the gates driven by it) follows an IDENTIFY frame;
  *   2. never a parameter out of range: every row of the configuration's parameter description
  *      (dtc_params.h) reads within [lo, hi] after each write;
  *   3. never blocked: after the silence every decoded request has had exactly one answer (its
@@ -67,7 +69,7 @@ static size_t g_rx_n, g_rx_rd;
 static uint16_t g_tx_credit;
 static frame_dec_t g_ref_rx; /* the requests, decoded as the dispatcher reads them */
 static frame_dec_t g_ref_tx; /* the drive's answers */
-static uint32_t g_requests, g_answers, g_arm_frames, g_arms;
+static uint32_t g_requests, g_answers, g_arm_frames, g_arms, g_ident_frames, g_idents;
 static int32_t g_armed_raw[PARAM_MAX];
 static uint32_t g_last_rx_tick; /* the dispatcher's idle rule, mirrored for the reference decoder */
 static uint16_t g_rx_seen;
@@ -98,6 +100,9 @@ static void ref_rx_drain(void)
             g_requests++;
             if (g_ref_rx.frame.cmd == PROTO_ARM) {
                 g_arm_frames++;
+            }
+            if (g_ref_rx.frame.cmd == PROTO_IDENTIFY) {
+                g_ident_frames++;
             }
         } else if (frame_dec_pending(&g_ref_rx) == 0U) {
             break;
@@ -197,7 +202,7 @@ static void check_armed_params(void)
 
 static void period(void)
 {
-    static uint16_t was_run;
+    static uint16_t was_run, was_ident;
     app_status_t s;
     g_tx_credit = 16U;
     app_isr();
@@ -218,7 +223,13 @@ static void period(void)
     } else if (s.state == APP_STATE_RUN && (g_tick & 63U) == 0U) {
         check_armed_params();
     }
+    if (s.state == APP_STATE_IDENT && was_ident == 0U) {
+        g_idents++;
+        FUZZ_CHECK(g_idents <= g_ident_frames, "identifying %u times on %u identify frames", g_idents,
+                   g_ident_frames);
+    }
     was_run = (uint16_t)(s.state == APP_STATE_RUN ? 1U : 0U);
+    was_ident = (uint16_t)(s.state == APP_STATE_IDENT ? 1U : 0U);
     if ((g_tick & 255U) == 0U) {
         check_params();
     }
@@ -269,7 +280,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     rd_t r = {data, size};
     char msg[200];
-    uint32_t k;
+    uint32_t k, quiet = 0U;
     if (g_si.ts_s == 0.0) {
         dtc_config_si_defaults(&g_si);
         if (dtc_config_from_si(&g_si, &g_cfg, msg, sizeof msg) != DTC_SI_OK) {
@@ -287,7 +298,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     g_tick = 0U;
     g_rx_n = 0U;
     g_rx_rd = 0U;
-    g_requests = g_answers = g_arm_frames = g_arms = 0U;
+    g_requests = g_answers = g_arm_frames = g_arms = g_ident_frames = g_idents = 0U;
     g_rx_seen = 0U;
     frame_dec_init(&g_ref_rx);
     frame_dec_init(&g_ref_tx);
@@ -326,8 +337,17 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             period();
         }
     }
+    /* the silence: the line declared idle (a truncated request ended, one that began inside it
+     * found), then 64 periods with every request answered; at most 2000 periods */
     for (k = 0U; k < 2000U; k++) {
         period();
+        if (g_answers == g_requests && g_rx_seen == 0U) {
+            if (++quiet >= 64U) {
+                break;
+            }
+        } else {
+            quiet = 0U;
+        }
     }
     check_params();
     FUZZ_CHECK(g_answers == g_requests, "%lu requests decoded, %lu answered", (unsigned long)g_requests,

@@ -26,31 +26,16 @@ import subprocess
 import sys
 import time
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
-sys.path.insert(0, os.path.join(ROOT, "tools", "console"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
+from console_session import check, console, failures, wait_state  # noqa: E402
 from dtc_drive import Drive, DriveError, ERR  # noqa: E402
 
-CONSOLE = os.path.join(ROOT, "tools", "console", "dtc_console.py")
 FRACTION = 0.75    # the torque limit set while disarmed, of its value
 FAULT_T_S = 25.0   # the scenario's fault (faults.time_s): after the session's other steps
 DURATION_S = 26.0
 PACE = 1.0
 
-failures = []
 SAVED = [0.0, 0.0]  # the torque limit saved, the compiled-in one
-
-
-def check(cond, what):
-    print(("ok   " if cond else "FAIL ") + what, flush=True)
-    if not cond:
-        failures.append(what)
-
-
-def console(link, *args):
-    r = subprocess.run([sys.executable, CONSOLE, "--port", link] + list(args), capture_output=True, text=True,
-                       timeout=60)
-    return r.returncode, r.stdout, r.stderr
 
 
 def wait_tick(d, tick, limit_s=60.0):
@@ -61,16 +46,6 @@ def wait_tick(d, tick, limit_s=60.0):
             return s
         time.sleep(0.02)
     raise RuntimeError("the simulation did not reach tick %d" % tick)
-
-
-def wait_state(d, state, limit_s=20.0):
-    end = time.monotonic() + limit_s
-    while time.monotonic() < end:
-        s = d.status()
-        if s["state"] == state:
-            return s
-        time.sleep(0.02)
-    raise RuntimeError("the drive did not reach state %s (last: %s)" % (state, s))
 
 
 def main():
@@ -96,7 +71,7 @@ def main():
             srv.wait(timeout=30)
     check(srv.returncode == 0, "dtc-sil serve exits 0 (%s)" % srv.returncode)
     # a restart on the same link boots into the saved parameters
-    srv = subprocess.Popen([sil, "serve", scenario, "--serial", link, "--pace", "1", "--duration-s", "3", "-q"])
+    srv = subprocess.Popen([sil, "serve", scenario, "--serial", link, "--pace", "1", "--duration-s", "8", "-q"])
     try:
         for _ in range(200):
             if os.path.exists(link):
@@ -106,10 +81,20 @@ def main():
             v = d.param_get("speed.torque_limit_iq")
             check(abs(v - SAVED[0]) <= d.bases()["t"] / 2 ** 24,
                   "after a restart the saved torque limit %.4f N*m is in force (%.4f)" % (SAVED[0], v))
-            d.restore(1)
+        rc, _, err = console(link, "params", "restore", "compiled")
+        check(rc == 0, "params restore compiled accepted: %s" % err.strip())
+        with Drive(link, timeout_s=2.0) as d:
             v = d.param_get("speed.torque_limit_iq")
             check(abs(v - SAVED[1]) <= d.bases()["t"] / 2 ** 24,
                   "restore of the compiled-in set: %.4f N*m again (%.4f)" % (SAVED[1], v))
+        rc, _, err = console(link, "params", "restore")
+        check(rc == 0, "params restore (the stored copy) accepted: %s" % err.strip())
+        with Drive(link, timeout_s=2.0) as d:
+            v = d.param_get("speed.torque_limit_iq")
+            check(abs(v - SAVED[0]) <= d.bases()["t"] / 2 ** 24,
+                  "params restore loads the stored torque limit %.4f N*m again (%.4f)" % (SAVED[0], v))
+        rc, _, err = console(link, "params", "restore", "elsewhere")
+        check(rc == 2, "params restore with an unknown source is a usage error (%d)" % rc)
     finally:
         srv.send_signal(signal.SIGINT)
         srv.wait(timeout=30)

@@ -121,6 +121,29 @@ print("  added by the capture: off %+.1f, on %+.1f instructions per ISR (%.1f %%
 PY
 echo
 
+# The background loop's pass per protocol command (bench_proto.c): read the line, decode, answer
+# one request, start sending; the largest is the worst pass.
+echo "== 1h. the background loop's pass per protocol command (app_proto_background; valgrind callgrind)"
+bench_proto=${DTC_BENCH_PROTO:-$(dirname "$bench")/dtc_bench_proto}
+proto_n=20
+for pcmd in hello status param_desc param_read param_write param_write_cfg save restore restore_compiled \
+            capture_read faultlog_read arm_refused identify_result telemetry_start; do
+  valgrind --tool=callgrind --callgrind-out-file="$tmp/proto_$pcmd.out" "$bench_proto" "$proto_n" "$pcmd" \
+    >"$tmp/proto_$pcmd.txt" 2>/dev/null || { echo "budget: bench_proto $pcmd failed" >&2; exit 1; }
+  callgrind_annotate --inclusive=yes --threshold=100 "$tmp/proto_$pcmd.out" 2>/dev/null |
+    awk -v c="$pcmd" '/:bench_pass/ { gsub(",", "", $1); print c, $1; exit }' >>"$tmp/proto.ir"
+done
+"$py" - "$tmp/proto.ir" "$proto_n" <<'PY'
+import sys
+rows = [l.split() for l in open(sys.argv[1]) if l.strip()]
+n = int(sys.argv[2])
+per = sorted(((int(ir) / n, c) for c, ir in rows), reverse=True)
+for ir, c in per:
+    print("  %-17s %9.0f instructions per pass" % (c, ir))
+print("  worst pass: %s, %.0f host instructions (the ISR's PM step is about 2,000)" % (per[0][1], per[0][0]))
+PY
+echo
+
 echo "== 2. cross-cm0 stack usage of the control path"
 (cd "$root" && env -u CC -u CXX cmake --preset cross-cm0 >/dev/null && cmake --build --preset cross-cm0 >/dev/null)
 echo "  -fstack-usage of the cross-cm0 build (build/cross-cm0, MinSizeRel):"

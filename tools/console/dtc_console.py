@@ -5,8 +5,10 @@
     dtc_console.py --port PATH arm | disarm | clear
     dtc_console.py --port PATH speed RPM | torque NM
     dtc_console.py --port PATH faults [--json]
-    dtc_console.py --port PATH params list | get NAME | set NAME VALUE | save | export FILE
+    dtc_console.py --port PATH params list | get NAME | set NAME VALUE | save | restore [stored|compiled]
+                                      | export FILE
     dtc_console.py --port PATH capture --channels A,B.. --samples N --trigger SPEC --pre N --out DIR
+    dtc_console.py --port PATH identify [--json] [--out DIR]
     dtc_console.py --port PATH watch
 
 PATH is a serial port, the link of `dtc-sil serve --serial PATH`, or an emulator's UART. Values
@@ -67,6 +69,12 @@ def cmd_params(d, a):
         print("%.9g" % d.param_set(a.args[0], a.args[1]))
     elif a.op == "save":
         print("saved, copy %d" % d.save())
+    elif a.op == "restore":
+        if len(a.args) > 1 or (a.args and a.args[0] not in RESTORE_SOURCE):
+            raise SystemExit2("usage: dtc_console.py --port PATH params restore [stored|compiled]")
+        src = a.args[0] if a.args else "stored"
+        d.restore(RESTORE_SOURCE[src])
+        print("restored the %s parameters" % src)
     elif a.op == "export":
         need(a.args, 1, "params export FILE")
         text, left = d.firmware_toml()
@@ -75,6 +83,10 @@ def cmd_params(d, a):
                     % (a.port, ", ".join(left) if left else "none"))
             f.write(text)
         print("wrote %s" % a.args[0])
+
+
+# params restore's sources (proto.h PARAMS_RESTORE): the newest valid stored copy, the compiled-in set.
+RESTORE_SOURCE = {"stored": 0, "compiled": 1}
 
 
 def need(args, n, usage):
@@ -114,6 +126,47 @@ def cmd_capture(d, a):
     print("wrote %s (%d samples)" % (path, len(ticks)))
 
 
+def cmd_identify(d, a):
+    """The self-commissioning (docs/commissioning.md): start, wait, the results in SI; with --out
+    DIR the same identified.toml and identification.json as `dtc-sil identify` writes."""
+    try:
+        st, res = d.identify(a.timeout)
+        ok = True
+    except DriveError as e:
+        if not isinstance(e.detail, tuple):
+            raise
+        (st, res), ok, err = e.detail, False, e
+    if a.out:
+        os.makedirs(a.out, exist_ok=True)
+        with open(os.path.join(a.out, "identification.json"), "w", encoding="utf-8") as f:
+            json.dump({"status": "ok" if ok else "failed", "drive": st, **res}, f, indent=2)
+        with open(os.path.join(a.out, "identified.toml"), "w", encoding="utf-8") as f:
+            f.write("# dtc_console.py identify on %s: the firmware's self-commissioning (docs/commissioning.md).\n"
+                    "# Use: dtc-sil run SCENARIO --overlay identified.toml\n" % a.port)
+            if not ok:
+                f.write("# FAILED: %s\n" % err)
+            f.write("[firmware]\n")
+            done = res["step"] == "done"
+            # the steps a failed identification completed: those before the one that failed
+            failed_at = {"rs": 1, "ls": 2, "encoder": 3}.get(st["fail_step"], 1) if not ok else 4
+            if done or failed_at > 1:
+                f.write("rs_ohm = %.6g\ndead_time_s = %.6g\n" % (res["rs_ohm"], res["dead_time_s"]))
+            if done or failed_at > 2:
+                f.write("ls_h = %.6g\n" % res["ls_h"])
+            if done:
+                f.write("pole_pairs = %d\nencoder_offset_rad = %.6g\nencoder_reversed = %s\n" %
+                        (res["pole_pairs"], res["encoder_offset_rad"], "true" if res["encoder_reversed"] else "false"))
+    if a.json:
+        print(json.dumps({"status": "ok" if ok else "failed", "drive": st, **res}, indent=2))
+    elif ok:
+        print("identified: R_s %.4g ohm (slope %.4g), L_s %.4g H, V0 %.4g V, dead time %.3g s, %d pole pairs, "
+              "encoder offset %.2f deg (el.)%s" % (res["rs_ohm"], res["r_slope_ohm"], res["ls_h"], res["v0_v"],
+                                                   res["dead_time_s"], res["pole_pairs"], res["encoder_offset_el_deg"],
+                                                   ", reversed" if res["encoder_reversed"] else ""))
+    if not ok:
+        raise err
+
+
 def cmd_watch(d, a):
     try:
         while True:
@@ -142,8 +195,8 @@ def main(argv=None):
     sub.add_parser("clear", help="clear a latched fault (the fault log keeps it)")
     s = sub.add_parser("faults", help="the fault log, newest first")
     s.add_argument("--json", action="store_true")
-    s = sub.add_parser("params", help="list | get NAME | set NAME VALUE | save | export FILE")
-    s.add_argument("op", choices=["list", "get", "set", "save", "export"])
+    s = sub.add_parser("params", help="list | get NAME | set NAME VALUE | save | restore [stored|compiled] | export FILE")
+    s.add_argument("op", choices=["list", "get", "set", "save", "restore", "export"])
     s.add_argument("args", nargs="*")
     s = sub.add_parser("capture", help="triggered capture to DIR/capture.csv and capture.png")
     s.add_argument("--channels", required=True, help="comma-separated, named as the SIL trace's columns")
@@ -153,11 +206,15 @@ def main(argv=None):
     s.add_argument("--decim", type=int, default=1, help="one sample every N ISR periods")
     s.add_argument("--timeout", type=float, default=30.0, help="seconds to wait for the trigger")
     s.add_argument("--out", required=True)
+    s = sub.add_parser("identify", help="self-commissioning: R_s, L_s, the inverter's drop, pole pairs, encoder")
+    s.add_argument("--json", action="store_true")
+    s.add_argument("--out", help="write identified.toml and identification.json here")
+    s.add_argument("--timeout", type=float, default=30.0, help="seconds to wait for the end (default 30)")
     s = sub.add_parser("watch", help="live status until Ctrl-C")
     s.add_argument("--interval", type=float, default=0.2)
     a = p.parse_args(argv)
     handlers = {
-        "status": cmd_status, "faults": cmd_faults, "params": cmd_params, "capture": cmd_capture, "watch": cmd_watch,
+        "status": cmd_status, "faults": cmd_faults, "identify": cmd_identify, "params": cmd_params, "capture": cmd_capture, "watch": cmd_watch,
         "arm": lambda d, _: d.arm(), "disarm": lambda d, _: d.disarm(), "clear": lambda d, _: d.clear(),
         "speed": lambda d, x: d.speed(x.rpm), "torque": lambda d, x: d.torque(x.nm),
     }

@@ -44,6 +44,7 @@ _PROTO = _read("firmware/comm/proto.h")
 _CAPTURE = _read("firmware/comm/capture.h")
 _FAULT = _read("firmware/app/app_fault.h")
 _CORE = _read("firmware/app/app_core.h")
+_IDENT = _read("firmware/app/app_ident.h")
 
 CMD = _enum(_PROTO, "PROTO_", "proto_cmd")
 ERR = _enum(_PROTO, "PROTO_ERR_")
@@ -52,6 +53,10 @@ QUANTITY = _enum(_CAPTURE, "CAPTURE_Q_")
 TRIGGER = _enum(_CAPTURE, "CAPTURE_TRIG_")
 CAPTURE_STATE = {"OFF": 0, "DONE": 1, "ARMED": 2, "TRIGGERED": 3}
 STATE = {v: k.lower() for k, v in _enum(_CORE, "APP_STATE_").items()}
+IDENT_SUB = _enum(_PROTO, "PROTO_IDENT_", "proto_ident_sub")
+IDENT_STEP = {v: k.lower() for k, v in _enum(_IDENT, "APP_IDENT_", "app_ident_step").items()}
+IDENT_FAIL = {v: k.lower() for k, v in _enum(_IDENT, "APP_IDENT_FAIL_", "app_ident_fail").items()}
+IDENT_QUANTITY = {v: k.lower() for k, v in _enum(_IDENT, "APP_IDENT_Q_", "app_ident_quantity").items()}
 FAULT = {int(m.group(2)): (m.group(3), m.group(1)) for m in
          re.finditer(r'X\((\w+), (\d+), "(\w+)", (\w+),', _FAULT)}
 PARAM_FLAG_RO = 0x0001
@@ -377,7 +382,9 @@ class Drive:
 
     def param_set(self, name, value):
         r = self._row(name)
-        raw = int(round(float(value) / self._scale(r)))
+        # the wire carries an i32: a value beyond it is sent as the nearest i32, which the drive
+        # refuses as out of range like any other
+        raw = max(-(1 << 31), min((1 << 31) - 1, int(round(float(value) / self._scale(r)))))
         _, v = struct.unpack_from("<Hi", self.request(CMD["PARAM_WRITE"], struct.pack("<Hi", r["id"], raw)))
         return v * self._scale(r)
 
@@ -399,6 +406,80 @@ class Drive:
             done.add(r["name"])
         left = [r["name"] for r in self.params() if r["name"] not in done]
         return "\n".join(lines) + "\n", left
+
+    # ---- identification (app_ident.h, docs/commissioning.md) ---------------------------------
+    def identify_start(self):
+        self.request(CMD["IDENTIFY"], struct.pack("<H", IDENT_SUB["START"]))
+
+    def identify_status(self):
+        _, step, fail, fail_step, detail, state = struct.unpack_from(
+            "<HHHHhH", self.request(CMD["IDENTIFY"], struct.pack("<H", IDENT_SUB["STATUS"])))
+        return {"step": IDENT_STEP.get(step, str(step)), "fail": IDENT_FAIL.get(fail, "ok" if fail == 0 else str(fail)),
+                "fail_step": IDENT_STEP.get(fail_step, str(fail_step)), "fail_detail": detail,
+                "state": STATE.get(state, str(state))}
+
+    def identify_result(self):
+        """The results so far in SI (the bases of HELLO, the control period, the board's device
+        data from the parameters): the quantities `dtc-sil identify` reports under the same keys."""
+        pl = self.request(CMD["IDENTIFY"], struct.pack("<H", IDENT_SUB["RESULT"]))
+        (_, step, axis, r, v0, l_ts, p, rev, off, cpt, t_rs, t_ls, t_enc) = struct.unpack_from("<HHHiiiHHHiIII", pl)
+        lev = struct.unpack_from("<8i", pl, 40)
+        b = self.bases()
+        ts = self.info["isr_period_ns"] * 1e-9
+        z_b = b["z"]
+        r_on = self.param_get("board.r_on_iq")
+        v_ce = self.param_get("board.v_ce_iq")
+        v_d = self.param_get("board.v_d_iq")
+        r_slope = r / IQ_ONE * z_b
+        v0_v = v0 / IQ_ONE * b["v"]
+        # V0 = g (V_CE + V_d + 2 V_dc T_d / T_s) on the injection axis, g = 1/sqrt(3) on the beta
+        # axis (FSTP), 2/3 on the alpha axis (SSTP) (docs/commissioning.md)
+        g = 2.0 / 3.0 if axis == 0 else 1.0 / math.sqrt(3.0)
+        off_e = off / 65536.0 * 2.0 * math.pi
+        q = {
+            "step": IDENT_STEP.get(step, str(step)),
+            "injection_axis": "alpha" if axis == 0 else "beta",
+            "r_slope_ohm": r_slope, "rs_ohm": r_slope - r_on, "v0_v": v0_v,
+            "drop_at_rated_v": v0_v + r_on * b["i"],
+            "dead_time_s": max(0.0, (v0_v / g - v_ce - v_d) * ts / (2.0 * b["v"])),
+            "ls_h": l_ts / IQ_ONE * z_b * ts, "pole_pairs": p, "encoder_reversed": bool(rev),
+            "encoder_offset_el_deg": off_e * 180.0 / math.pi,
+            "encoder_offset_rad": math.remainder(-off_e / p, 2.0 * math.pi) if p > 0 else 0.0,
+            "counts_per_turn": cpt,
+            "duration_s": {"rs": t_rs * ts, "ls": t_ls * ts, "encoder": t_enc * ts},
+            "rs_fit_points": [{"i_a": lev[k] / IQ_ONE * b["i"], "v_v": lev[4 + k] / IQ_ONE * b["v"]} for k in range(4)],
+        }
+        return q
+
+    def identify(self, timeout_s=30.0, poll_s=0.1):
+        """Starts the identification, waits for its end, disarms (READY again) and returns
+        (status, result): DriveError when it is refused, fails or does not end in timeout_s."""
+        self.identify_start()
+        end = time.monotonic() + timeout_s
+        try:
+            while True:
+                st = self.identify_status()
+                if st["state"] == "ident" and st["step"] in ("done", "failed"):
+                    break
+                if st["state"] in ("fault", "ready") and st["step"] != "idle":
+                    break
+                if time.monotonic() > end:
+                    raise DriveError("the identification did not end within %.0f s (step %s)" % (timeout_s, st["step"]))
+                time.sleep(poll_s)
+            res = self.identify_result()
+        finally:
+            self.disarm()
+        if st["step"] != "done":
+            why = st["fail"]
+            if st["fail"] == "bounds":
+                why += " (%s)" % IDENT_QUANTITY.get(st["fail_detail"], st["fail_detail"])
+            elif st["fail_detail"]:
+                why += " (detail %d)" % st["fail_detail"]
+            if st["state"] == "fault":
+                why = "the drive tripped (%s)" % self.status()["fault"]
+            raise DriveError("the identification failed in step %s: %s" % (st["fail_step"] if st["step"] == "failed"
+                                                                           else st["step"], why), detail=(st, res))
+        return st, res
 
     def save(self):
         (seq,) = struct.unpack_from("<I", self.request(CMD["PARAMS_SAVE"]))

@@ -62,9 +62,35 @@ uint16_t app_arm(void)
     return why;
 }
 
+uint16_t app_identify(void)
+{
+    app_status_t s;
+    uint16_t why;
+    app_get_status(&s);
+    if (s.state != APP_STATE_READY) {
+        return (uint16_t)APP_ARM_NOT_CALIBRATED;
+    }
+    why = app_core_arm_refusal(&g_app_instance.core, &s, &g_app_instance.refs);
+    if (why == (uint16_t)APP_ARM_OK) {
+        /* the arm's fresh calibration ends in IDENT instead of RUN (calibrate_finish) */
+        app_core_request_ident(&g_app_instance.core);
+        app_core_request_arm(&g_app_instance.core, APP_REQ_ARM);
+    }
+    return why;
+}
+
 void app_disarm(void)
 {
-    app_core_request_arm(&g_app_instance.core, APP_REQ_DISARM);
+    app_core_t *const a = &g_app_instance.core;
+    const uint16_t irq = hal_irq_save();
+    if (a->st.state == APP_STATE_IDENT) {
+        /* the identification stops where it is (its results so far kept); READY gates the legs
+         * off from the next period */
+        a->st.state = APP_STATE_READY;
+        a->arm_mode = (uint16_t)APP_ARM_COMMAND;
+    }
+    hal_irq_restore(irq);
+    app_core_request_arm(a, APP_REQ_DISARM);
 }
 
 void app_comm_seen(void)
