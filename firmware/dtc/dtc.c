@@ -17,14 +17,9 @@ static void dtc_adopt(dtc_t *c, const dtc_refs_t *r)
 
 int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg)
 {
-    int16_t err;
     dtc_refs_t r;
+    const int16_t err = dtc_config_law_init_begin(c != NULL ? &c->cfg : NULL, cfg, dtc_check);
 
-    if (c == NULL) {
-        return DTC_ERR_NULL;
-    }
-    c->cfg = NULL;
-    err = dtc_check(cfg, NULL);
     if (err != DTC_OK) {
         return err;
     }
@@ -34,11 +29,9 @@ int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg)
     dtc_block_params(c, cfg);
     dtc_speed_params_from_config(&c->sm_p, &c->pi_p, cfg);
 
-    dtc_refs_from_config(&r, cfg);
-    c->act.mode = cfg->speed.mode;
+    dtc_refs_start(&c->act, &c->sh, &r, cfg);
     c->te_ref_iq = 0;
     dtc_adopt(c, &r);
-    dtc_shadow_init(&c->sh);
 
     flux_est_init(&c->fe, &c->fe_p);
     speed_meas_init(&c->sm, &c->sm_p, 0U);
@@ -104,12 +97,7 @@ int16_t dtc_shadow_write(dtc_t *c, const dtc_refs_t *r)
 
 void dtc_refs_get(const dtc_t *c, dtc_refs_t *r)
 {
-    r->speed_ref_iq = c->act.speed_ref_iq;
-    r->torque_ref_iq = c->act.torque_ref_iq;
-    r->flux_ref_iq = c->act.flux_ref_iq;
-    r->kp_iq = c->act.kp_iq;
-    r->ki_ts_iq = c->act.ki_ts_iq;
-    r->mode = c->act.mode;
+    *r = c->act;
 }
 
 /* Copies the shadow set (complete: the caller checked the sequence number) and adopts it.
@@ -416,13 +404,9 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     o->te_iq = te;
 
     /* 5. Speed loop every speed_div-th call (the first call of each group). */
-    o->speed_tick = 0U;
-    if (c->speed_primed == 0U) {
-        speed_meas_reset(&c->sm, m->enc_count);
-        c->speed_primed = 1U;
-        c->div_cnt = 0U;
-    } else if (c->div_cnt == 0U) {
-        o->speed_tick = 1U;
+    o->speed_tick = speed_period_due(&c->sm, &c->speed_primed, &c->div_cnt, m->enc_count,
+                                     cfg->speed.speed_div);
+    if (o->speed_tick != 0U) {
         c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
         c->wts_iq = iq_mpy(c->speed_iq, cfg->board.ts_pu_iq); /* dtc_predict's rotation per period */
         dtc_handover(c);
@@ -437,7 +421,6 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
             c->te_ref_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
         }
     }
-    c->div_cnt = (uint16_t)(c->div_cnt + 1U >= cfg->speed.speed_div ? 0U : c->div_cnt + 1U);
     if (c->act.mode == DTC_MODE_TORQUE) {
         dtc_torque_trim(c, te);
     }

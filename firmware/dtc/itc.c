@@ -17,14 +17,9 @@ static void itc_adopt(itc_t *c, const dtc_refs_t *r)
 
 int16_t itc_init(itc_t *c, const dtc_config_t *cfg)
 {
-    int16_t err;
     dtc_refs_t r;
+    const int16_t err = dtc_config_law_init_begin(c != NULL ? &c->cfg : NULL, cfg, itc_check);
 
-    if (c == NULL) {
-        return DTC_ERR_NULL;
-    }
-    c->cfg = NULL;
-    err = itc_check(cfg, NULL);
     if (err != DTC_OK) {
         return err;
     }
@@ -61,11 +56,9 @@ int16_t itc_init(itc_t *c, const dtc_config_t *cfg)
     c->svm4_p.dt_comp = c->svm_p.dt_comp;
     c->svm4_p.td_iq = c->svm_p.td_iq;
 
-    dtc_refs_from_config(&r, cfg);
-    c->act.mode = cfg->speed.mode;
+    dtc_refs_start(&c->act, &c->sh, &r, cfg);
     c->te_ref_iq = 0;
     itc_adopt(c, &r);
-    dtc_shadow_init(&c->sh);
 
     flux_est_init(&c->fe, &c->fe_p);
     speed_meas_init(&c->sm, &c->sm_p, 0U);
@@ -177,13 +170,9 @@ static iq_t itc_observe(itc_t *c, const dtc_meas_t *m, const clarke_out_t *i)
 static void itc_speed(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
 {
     const dtc_config_t *cfg = c->cfg;
-    o->speed_tick = 0U;
-    if (c->speed_primed == 0U) {
-        speed_meas_reset(&c->sm, m->enc_count);
-        c->speed_primed = 1U;
-        c->div_cnt = 0U;
-    } else if (c->div_cnt == 0U) {
-        o->speed_tick = 1U;
+    o->speed_tick = speed_period_due(&c->sm, &c->speed_primed, &c->div_cnt, m->enc_count,
+                                     cfg->speed.speed_div);
+    if (o->speed_tick != 0U) {
         c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
         /* the speed's products of the step (itc_step): w l_s, w psi_m, 1.5 w Ts */
         c->wls_iq = iq_mpy(c->speed_iq, cfg->u.pm_itc.machine.ls_iq);
@@ -198,7 +187,6 @@ static void itc_speed(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
             c->te_ref_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
         }
     }
-    c->div_cnt = (uint16_t)(c->div_cnt + 1U >= cfg->speed.speed_div ? 0U : c->div_cnt + 1U);
     if (c->act.mode == DTC_MODE_TORQUE) {
         c->te_ref_iq = c->act.torque_ref_iq;
     }
