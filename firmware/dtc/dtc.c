@@ -404,9 +404,13 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     o->te_iq = te;
 
     /* 5. Speed loop every speed_div-th call (the first call of each group). */
-    o->speed_tick = speed_period_due(&c->sm, &c->speed_primed, &c->div_cnt, m->enc_count,
-                                     cfg->speed.speed_div);
-    if (o->speed_tick != 0U) {
+    o->speed_tick = 0U;
+    if (c->speed_primed == 0U) {
+        speed_meas_reset(&c->sm, m->enc_count);
+        c->speed_primed = 1U;
+        c->div_cnt = 0U;
+    } else if (c->div_cnt == 0U) {
+        o->speed_tick = 1U;
         c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
         c->wts_iq = iq_mpy(c->speed_iq, cfg->board.ts_pu_iq); /* dtc_predict's rotation per period */
         dtc_handover(c);
@@ -421,6 +425,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
             c->te_ref_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
         }
     }
+    c->div_cnt = (uint16_t)(c->div_cnt + 1U >= cfg->speed.speed_div ? 0U : c->div_cnt + 1U);
     if (c->act.mode == DTC_MODE_TORQUE) {
         dtc_torque_trim(c, te);
     }

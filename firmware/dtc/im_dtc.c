@@ -149,10 +149,14 @@ void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
 {
     const dtc_config_t *cfg = c->cfg;
 
+    o->speed_tick = 0U;
     c->plaus_on = 0U;
-    o->speed_tick = speed_period_due(&c->sm, &c->speed_primed, &c->div_cnt, m->enc_count,
-                                     cfg->speed.speed_div);
-    if (o->speed_tick != 0U) {
+    if (c->speed_primed == 0U) {
+        speed_meas_reset(&c->sm, m->enc_count);
+        c->speed_primed = 1U;
+        c->div_cnt = 0U;
+    } else if (c->div_cnt == 0U) {
+        o->speed_tick = 1U;
         if (cfg->speed.sensor == DTC_SPEED_NONE) {
             im_speed_step(&c->isp, &c->isp_p, c->est.theta_r, te, cfg->u.im.ref.inv_psir_sq_iq);
             c->speed_iq = c->isp.speed_iq;
@@ -167,6 +171,7 @@ void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
             c->te_cmd_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
         }
     }
+    c->div_cnt = (uint16_t)(c->div_cnt + 1U >= cfg->speed.speed_div ? 0U : c->div_cnt + 1U);
     if (c->act.mode == DTC_MODE_TORQUE) {
         /* the torque reference with the mean-torque trim (as the PM law), once torque is allowed.
          * Not with flux weakening: there T_command is scaled by Casadei eq. 33 and the torque is at the

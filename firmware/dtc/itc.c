@@ -170,9 +170,13 @@ static iq_t itc_observe(itc_t *c, const dtc_meas_t *m, const clarke_out_t *i)
 static void itc_speed(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
 {
     const dtc_config_t *cfg = c->cfg;
-    o->speed_tick = speed_period_due(&c->sm, &c->speed_primed, &c->div_cnt, m->enc_count,
-                                     cfg->speed.speed_div);
-    if (o->speed_tick != 0U) {
+    o->speed_tick = 0U;
+    if (c->speed_primed == 0U) {
+        speed_meas_reset(&c->sm, m->enc_count);
+        c->speed_primed = 1U;
+        c->div_cnt = 0U;
+    } else if (c->div_cnt == 0U) {
+        o->speed_tick = 1U;
         c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
         /* the speed's products of the step (itc_step): w l_s, w psi_m, 1.5 w Ts */
         c->wls_iq = iq_mpy(c->speed_iq, cfg->u.pm_itc.machine.ls_iq);
@@ -187,6 +191,7 @@ static void itc_speed(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
             c->te_ref_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
         }
     }
+    c->div_cnt = (uint16_t)(c->div_cnt + 1U >= cfg->speed.speed_div ? 0U : c->div_cnt + 1U);
     if (c->act.mode == DTC_MODE_TORQUE) {
         c->te_ref_iq = c->act.torque_ref_iq;
     }

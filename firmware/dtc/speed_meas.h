@@ -61,24 +61,4 @@ void speed_meas_reset(speed_meas_t *s, uint16_t count_now);
 /* One speed period: returns the new speed estimate (also in s->speed_iq). */
 iq_t speed_meas_step(speed_meas_t *s, uint16_t count_now);
 
-/* The speed loop's period divider, once per control period in every law: the first call after a
- * reset (*primed == 0) makes count_now the measurement's reference and primes it; from then on
- * the first control period of each group of speed_div (>= 1) is a speed period. Returns 1 on a
- * speed period, on which the caller measures the speed and steps its speed loop; 0 otherwise.
- * *div_cnt counts 0 .. speed_div-1 (no overflow). Inline: it runs in every step. */
-static inline uint16_t speed_period_due(speed_meas_t *s, uint16_t *primed, uint16_t *div_cnt,
-                                        uint16_t count_now, uint16_t speed_div)
-{
-    uint16_t due = 0U;
-    if (*primed == 0U) {
-        speed_meas_reset(s, count_now);
-        *primed = 1U;
-        *div_cnt = 0U;
-    } else if (*div_cnt == 0U) {
-        due = 1U;
-    }
-    *div_cnt = (uint16_t)(*div_cnt + 1U >= speed_div ? 0U : *div_cnt + 1U);
-    return due;
-}
-
 #endif /* SPEED_MEAS_H */
