@@ -143,6 +143,18 @@ inline plant_params_t default_plant() {
 // FSTP vector (S_B, S_C) whose direction is nearest to an angle (Hoang Table I; ref_dtc.h).
 using dtc_ref::fstp_vector_towards;
 
+// n periods of 50 us motoring on the FSTP: each period the vector 90 deg ahead of the rotor's
+// electrical angle (the drive of the energy balances).
+inline void drive_fstp_ahead(const PlantPtr &pl, int n) {
+    for (int k = 0; k < n; ++k) {
+        const plant_state_t s = state(pl);
+        int sb, sc;
+        fstp_vector_towards(s.theta_e_rad + kPi / 2, sb, sc);
+        plant_set_legs(pl.get(), 0, sb, sc, 1);
+        plant_advance(pl.get(), 50e-6);
+    }
+}
+
 // The fixed switching run shared by the convergence and integrator tests: sampled every 50 us.
 struct Traj {
     std::vector<double> ia, ib, vlo, w;
