@@ -35,11 +35,7 @@ int16_t law_init(law_t *l, const dtc_config_t *cfg)
     case DTC_LAW_PM_DTC: err = dtc_init(&l->u.pm, cfg); break;
 #endif
 #if DTC_LAW_IM_LINKED
-    case DTC_LAW_IM_DTC:
-    case DTC_LAW_IM_DSC:
-    case DTC_LAW_IM_SFVC:
-    case DTC_LAW_IM_DFOC:
-    case DTC_LAW_IM_DSVM: err = im_dtc_init(&l->u.im, cfg); break;
+    DTC_LAW_IM_CASES: err = im_dtc_init(&l->u.im, cfg); break;
 #endif
 #if DTC_LAW_ITC_LINKED
     case DTC_LAW_PM_ITC: err = itc_init(&l->u.itc, cfg); break;
@@ -57,11 +53,7 @@ void law_reset(law_t *l)
     case DTC_LAW_PM_DTC: dtc_reset(&l->u.pm); break;
 #endif
 #if DTC_LAW_IM_LINKED
-    case DTC_LAW_IM_DTC:
-    case DTC_LAW_IM_DSC:
-    case DTC_LAW_IM_SFVC:
-    case DTC_LAW_IM_DFOC:
-    case DTC_LAW_IM_DSVM: im_dtc_reset(&l->u.im); break;
+    DTC_LAW_IM_CASES: im_dtc_reset(&l->u.im); break;
 #endif
 #if DTC_LAW_ITC_LINKED
     case DTC_LAW_PM_ITC: itc_reset(&l->u.itc); break;
@@ -97,11 +89,7 @@ int16_t law_shadow_write(law_t *l, const dtc_refs_t *r)
     case DTC_LAW_PM_DTC: return dtc_shadow_write(&l->u.pm, r);
 #endif
 #if DTC_LAW_IM_LINKED
-    case DTC_LAW_IM_DTC:
-    case DTC_LAW_IM_DSC:
-    case DTC_LAW_IM_SFVC:
-    case DTC_LAW_IM_DFOC:
-    case DTC_LAW_IM_DSVM: return im_dtc_shadow_write(&l->u.im, r);
+    DTC_LAW_IM_CASES: return im_dtc_shadow_write(&l->u.im, r);
 #endif
 #if DTC_LAW_ITC_LINKED
     case DTC_LAW_PM_ITC: return itc_shadow_write(&l->u.itc, r);
@@ -117,11 +105,7 @@ void law_refs_get(const law_t *l, dtc_refs_t *r)
     case DTC_LAW_PM_DTC: dtc_refs_get(&l->u.pm, r); break;
 #endif
 #if DTC_LAW_IM_LINKED
-    case DTC_LAW_IM_DTC:
-    case DTC_LAW_IM_DSC:
-    case DTC_LAW_IM_SFVC:
-    case DTC_LAW_IM_DFOC:
-    case DTC_LAW_IM_DSVM: im_dtc_refs_get(&l->u.im, r); break;
+    DTC_LAW_IM_CASES: im_dtc_refs_get(&l->u.im, r); break;
 #endif
 #if DTC_LAW_ITC_LINKED
     case DTC_LAW_PM_ITC: itc_refs_get(&l->u.itc, r); break;
@@ -169,11 +153,7 @@ const iq_t *law_speed_ref_ptr(const law_t *l)
     case DTC_LAW_PM_DTC: return &l->u.pm.act.speed_ref_iq;
 #endif
 #if DTC_LAW_IM_LINKED
-    case DTC_LAW_IM_DTC:
-    case DTC_LAW_IM_DSC:
-    case DTC_LAW_IM_SFVC:
-    case DTC_LAW_IM_DFOC:
-    case DTC_LAW_IM_DSVM: return &l->u.im.act.speed_ref_iq;
+    DTC_LAW_IM_CASES: return &l->u.im.act.speed_ref_iq;
 #endif
 #if DTC_LAW_ITC_LINKED
     case DTC_LAW_PM_ITC: return &l->u.itc.act.speed_ref_iq;

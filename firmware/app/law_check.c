@@ -19,11 +19,7 @@ int16_t law_check(const dtc_config_t *cfg, const char **field)
         return dtc_check(cfg, f);
 #endif
 #if DTC_LAW_IM_LINKED
-    case DTC_LAW_IM_DTC:
-    case DTC_LAW_IM_DSC:
-    case DTC_LAW_IM_SFVC:
-    case DTC_LAW_IM_DFOC:
-    case DTC_LAW_IM_DSVM:
+    DTC_LAW_IM_CASES:
         return im_dtc_check(cfg, f);
 #endif
 #if DTC_LAW_ITC_LINKED

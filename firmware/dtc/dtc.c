@@ -74,12 +74,7 @@ int16_t dtc_shadow_write(dtc_t *c, const dtc_refs_t *r)
 
 void dtc_refs_get(const dtc_t *c, dtc_refs_t *r)
 {
-    r->speed_ref_iq = c->act.speed_ref_iq;
-    r->torque_ref_iq = c->act.torque_ref_iq;
-    r->flux_ref_iq = c->act.flux_ref_iq;
-    r->kp_iq = c->act.kp_iq;
-    r->ki_ts_iq = c->act.ki_ts_iq;
-    r->mode = c->act.mode;
+    *r = c->act;
 }
 
 /* Copies the shadow set (complete: the caller checked the sequence number) and adopts it.

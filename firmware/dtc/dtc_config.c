@@ -92,3 +92,13 @@ int16_t dtc_config_check_law(const dtc_config_t *cfg, uint16_t first, uint16_t l
     DTC_REFUSE(cfg->law < first || cfg->law > last, DTC_ERR_VARIANT, "law");
     return part(cfg, f);
 }
+
+int16_t dtc_config_law_init_begin(const dtc_config_t **law_cfg, const dtc_config_t *cfg,
+                                  int16_t (*check)(const dtc_config_t *cfg, const char **field))
+{
+    if (law_cfg == NULL) {
+        return DTC_ERR_NULL;
+    }
+    *law_cfg = NULL;
+    return check(cfg, NULL);
+}

@@ -74,5 +74,11 @@ int16_t dtc_config_check_common(const dtc_config_t *cfg, const char **field);
  * *field as above. */
 int16_t dtc_config_check_law(const dtc_config_t *cfg, uint16_t first, uint16_t last,
                              int16_t (*part)(const dtc_config_t *cfg, const char **f), const char **field);
+/* The start of a law's init (dtc_init, im_dtc_init, itc_init): DTC_ERR_NULL when there is no law
+ * state (law_cfg null); else the law's configuration pointer *law_cfg is cleared, so that a law
+ * whose init is refused is never stepped, and cfg goes through the law's check. Returns DTC_OK
+ * or the check's code; the law sets *law_cfg itself once its init has succeeded. Init only. */
+int16_t dtc_config_law_init_begin(const dtc_config_t **law_cfg, const dtc_config_t *cfg,
+                                  int16_t (*check)(const dtc_config_t *cfg, const char **field));
 
 #endif /* DTC_CONFIG_H */

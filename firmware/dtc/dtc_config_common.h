@@ -46,6 +46,16 @@ enum dtc_law {
 #define DTC_PART_IM 0x494DU     /* "IM": dtc_im_cfg_t */
 #define DTC_PART_PM_ITC 0x5049U /* "PI": dtc_pm_itc_cfg_t */
 
+/* The case labels of the induction-machine laws, the ones dtc_law_is_im accepts: one module
+ * (im_dtc.h) runs them all on one configuration part (u.im), so a dispatch on the law that does
+ * the same for all five writes `DTC_LAW_IM_CASES: ...;`. */
+#define DTC_LAW_IM_CASES                                                                           \
+    case DTC_LAW_IM_DTC:                                                                           \
+    case DTC_LAW_IM_DSC:                                                                           \
+    case DTC_LAW_IM_SFVC:                                                                          \
+    case DTC_LAW_IM_DFOC:                                                                          \
+    case DTC_LAW_IM_DSVM
+
 /* 1 for the induction-machine laws (their part is u.im). */
 static inline uint16_t dtc_law_is_im(uint16_t law)
 {
@@ -269,100 +279,100 @@ typedef struct {
  * conditions on a law are checked in code (dtc_config.c and the laws' checks). */
 #define DTC_I32_MAX 2147483647L
 #define DTC_I32_MIN (-2147483647L - 1L)
-#define DTC_PARAMS_COMMON(X)                                                                                  \
-    X(1, version, U16, NONE, DTC_CONFIG_VERSION, DTC_CONFIG_VERSION, DTC_ERR_VERSION, DTC_PARAM_RO,           \
-      "layout version of the configuration (DTC_CONFIG_VERSION)")                                             \
-    X(2, law, U16, NONE, 0, DTC_LAW_COUNT - 1, DTC_ERR_VARIANT, DTC_PARAM_RO,                                 \
-      "control law (enum dtc_law): 0 PM DTC, 1 IM DTC, 2 IM DSC, 3 IM SFVC, 4 IM DFOC, 5 IM DSVM, 6 PM ITC")  \
-    X(3, board.v_base_mv, U32, NONE, 1, DTC_I32_MAX, DTC_ERR_BASE, DTC_PARAM_RO, "voltage base V_b, mV")   \
-    X(4, board.i_base_ma, U32, NONE, 1, DTC_I32_MAX, DTC_ERR_BASE, DTC_PARAM_RO, "current base I_b, mA")   \
-    X(5, board.w_base_mrad_s, U32, NONE, 1, DTC_I32_MAX, DTC_ERR_BASE, DTC_PARAM_RO,                       \
-      "electrical speed base w_b, mrad/s")                                                                    \
-    X(6, board.topology, U16, NONE, 0, DTC_TOPO_FSTP, DTC_ERR_VARIANT, DTC_PARAM_RO,                         \
-      "inverter: 0 six-switch (SSTP), 1 four-switch (FSTP)")                                                  \
-    X(7, board.fstp_vmid_measured, U16, NONE, 0, 1, DTC_ERR_VARIANT, DTC_PARAM_RO,                           \
-      "1: the FSTP's capacitor mid-point voltage is measured")                                                \
-    X(8, board.ts_pu_iq, IQ, TIME, 1, DTC_I32_MAX, DTC_ERR_DELAY, DTC_PARAM_RO, "control period T_s")        \
-    X(9, board.td_ts_q15, Q15, RATIO, 0, 16383, DTC_ERR_DEADTIME, 0U,                                         \
-      "inverter dead time over the control period, T_d / T_s, below 1/2")                                     \
-    X(10, board.v_f_iq, IQ, V, 0, DTC_I32_MAX, DTC_ERR_DROP, 0U,                                             \
-      "equal device and diode drop V_f (SSTP ref. [29], Hoang Table V)")                                      \
-    X(11, board.v_ce_iq, IQ, V, 0, DTC_I32_MAX, DTC_ERR_DROP, 0U, "switching-device forward drop V_CE (Hoang Table VI)") \
-    X(12, board.v_d_iq, IQ, V, 0, DTC_I32_MAX, DTC_ERR_DROP, 0U, "diode forward drop V_d (Hoang Table VI)")  \
-    X(13, board.r_on_iq, IQ, Z, 0, DTC_I32_MAX, DTC_ERR_DROP, 0U, "device on-state resistance R_on (Hoang eqs. 37-38)") \
-    X(14, board.enc_counts, U16, NONE, 4, 65535, DTC_ERR_ENCODER, DTC_PARAM_RO,                               \
-      "encoder counts per mechanical turn (4 x lines)")                                                       \
-    X(15, board.enc_gain_q16, U32, NONE, 1, DTC_I32_MAX, DTC_ERR_ENCODER, DTC_PARAM_RO,                      \
-      "electrical angle per count, Q16 angle LSB: 65536 p / counts (at least 3 counts per electrical turn)")                                          \
-    X(16, board.enc_offset, ANGLE, ANGLE, 0, 65535, DTC_ERR_ENCODER, 0U,                                      \
-      "electrical angle at encoder count 0 (encoder-to-magnet offset)")                                       \
-    X(17, board.adc_i_gain_iq, IQ, A_COUNT, 1, DTC_I32_MAX, DTC_ERR_ADC, DTC_PARAM_RO, "phase current per ADC count") \
-    X(18, board.adc_i_offset[0], U16, NONE, 0, 4095, DTC_ERR_ADC, 0U, "phase A current ADC count at zero current") \
-    X(19, board.adc_i_offset[1], U16, NONE, 0, 4095, DTC_ERR_ADC, 0U, "phase B current ADC count at zero current") \
-    X(20, board.adc_i_offset[2], U16, NONE, 0, 4095, DTC_ERR_ADC, 0U, "phase C current ADC count at zero current") \
-    X(21, board.adc_vdc_gain_iq, IQ, V_COUNT, 1, DTC_I32_MAX, DTC_ERR_ADC, DTC_PARAM_RO, "DC-link voltage per ADC count") \
-    X(22, board.adc_vdc_offset, U16, NONE, 0, 4095, DTC_ERR_ADC, 0U, "DC-link ADC count at zero voltage")  \
-    X(23, board.adc_vmid_gain_iq, IQ, V_COUNT, 1, DTC_I32_MAX, DTC_ERR_ADC, DTC_PARAM_RO,                    \
-      "mid-point voltage per ADC count")                                                                      \
-    X(24, board.adc_vmid_offset, U16, NONE, 0, 4095, DTC_ERR_ADC, 0U, "mid-point ADC count at zero voltage") \
-    X(25, board.vmid_cal, U16, NONE, 0, 1, DTC_ERR_POLARITY, 0U,                                              \
-      "1: the mid-point sensor is calibrated against V_dc / 2 before the drive starts")                       \
-    X(26, board.i_sensors3, U16, NONE, 0, 1, DTC_ERR_FAULTDET, DTC_PARAM_RO,                                  \
-      "1: all three phase currents are measured, 0: two")                                                     \
-    X(30, prot.i_trip_iq, IQ, A, 1, DTC_I32_MAX, DTC_ERR_LIMIT, 0U, "phase-current trip level")              \
-    X(31, prot.vdc_max_iq, IQ, V, 1, DTC_I32_MAX, DTC_ERR_LIMIT, 0U, "DC-link over-voltage trip level")       \
-    X(32, prot.vdc_min_iq, IQ, V, 0, DTC_I32_MAX, DTC_ERR_LIMIT, 0U,                                          \
-      "DC-link under-voltage trip level, below the over-voltage one")                                         \
-    X(33, prot.i_lim_iq, IQ, A, 0, DTC_I32_MAX, DTC_ERR_ILIM, 0U,                                             \
-      "current limit of the vector override, below the trip; 0 = off")                                        \
-    X(34, prot.stall_speed_periods, U16, NONE, 1, 65535, DTC_ERR_SPEED, 0U,                                   \
-      "stall: speed periods at the torque limit with no shrinking speed error")                               \
-    X(35, prot.i_hold_iq, IQ, A, 0, DTC_I32_MAX, DTC_ERR_ILIM, 0U,                                            \
-      "largest rotor-hold current during the mid-point calibration, below the trip; 0 = gates off")          \
-    X(36, prot.i_sum_max_iq, IQ, A, 0, DTC_I32_MAX, DTC_ERR_FAULTDET, 0U,                                     \
-      "three sensors: largest |i_a + i_b + i_c| before a sensor fault; 0 = off")                              \
-    X(37, prot.leg_i_min_iq, IQ, A, 0, DTC_I32_MAX, DTC_ERR_FAULTDET, 0U,                                     \
-      "open phase: least |i| at which a phase that stays near zero is an open leg; 0 = off")                 \
-    X(38, prot.enc_freeze_speed_iq, IQ, W, 0, DTC_I32_MAX, DTC_ERR_FAULTDET, 0U,                              \
-      "lost encoder: speed above which a count that does not move is a fault; 0 = off")                      \
-    X(39, prot.relay_periods, U16, NONE, 0, 65535, DTC_ERR_RECONFIG, 0U,                                      \
-      "control periods from the relay command until the phase is on the mid-point")                           \
-    X(40, prot.i_plaus, U16, NONE, 0, 1, DTC_ERR_FAULTDET, 0U,                                                \
-      "1: measured currents checked against the law's prediction (stuck sensor)")                             \
-    X(41, prot.overspeed_iq, IQ, W, 0, DTC_I32_MAX, DTC_ERR_LIMIT, 0U,                                        \
-      "overspeed trip, electrical speed above the speed limit; 0 = off")                                      \
-    X(45, machine.pole_pairs, U16, NONE, 1, 65535, DTC_ERR_ENCODER, DTC_PARAM_RO, "pole pairs p")           \
-    X(46, machine.rs_iq, IQ, Z, 0, DTC_I32_MAX, DTC_ERR_MACHINE, 0U, "stator resistance R_s")               \
-    X(50, est.estimator, U16, NONE, 0, DTC_EST_IMPROVED, DTC_ERR_VARIANT, 0U,                                 \
-      "flux estimator: 0 voltage model, 1 current model (PM), 2 improved (IM, Casadei eqs. 20-22)")           \
-    X(51, est.compensation, U16, NONE, 0, DTC_COMP_FSTP_PROPOSED, DTC_ERR_COMPENSATION, 0U,                   \
-      "voltage-drop compensation: 0 none, 1 SSTP ref. [29], 2 FSTP Hoang Table V, 3 FSTP Hoang Table VI")    \
-    X(52, est.k_in_q31, Q31, RATIO, 1, DTC_I32_MAX, DTC_ERR_FLUX_EST, DTC_PARAM_RO,                           \
-      "voltage model's low-pass input gain per period")                                                      \
-    X(53, est.k_leak_q31, Q31, RATIO, 1, DTC_I32_MAX, DTC_ERR_FLUX_EST, DTC_PARAM_RO,                         \
-      "voltage model's low-pass leak per period, 1 - exp(-w_c T_s)")                                          \
-    X(54, est.deadtime_comp, U16, NONE, 0, 1, DTC_ERR_DEADTIME, 0U,                                           \
-      "1: the reconstructed voltage is corrected for the dead time")                                          \
-    X(60, speed.mode, U16, NONE, 0, DTC_MODE_TORQUE, DTC_ERR_VARIANT, DTC_PARAM_LIVE,                         \
-      "initial mode: 0 speed (PI), 1 torque")                                                                 \
-    X(61, speed.sensor, U16, NONE, 0, DTC_SPEED_NONE, DTC_ERR_VARIANT, 0U,                                    \
-      "speed: 0 encoder, 1 none (IM, from the flux)")                                                         \
-    X(62, speed.speed_div, U16, NONE, 1, 65535, DTC_ERR_SPEED, DTC_PARAM_RO, "control periods per speed period") \
-    X(63, speed.speed_k_iq, IQ, PU, 1, DTC_I32_MAX, DTC_ERR_SPEED, DTC_PARAM_RO,                              \
-      "pu speed of one encoder count per speed period")                                                       \
-    X(64, speed.speed_min_counts, U16, NONE, 1, 65535, DTC_ERR_SPEED, 0U,                                     \
-      "speed window: the shortest with at least this many counts")                                            \
-    X(65, speed.kp_iq, IQ, T_W, 0, DTC_I32_MAX, DTC_ERR_PI, DTC_PARAM_LIVE, "speed PI proportional gain")     \
-    X(66, speed.ki_ts_iq, IQ, T_W, 0, DTC_I32_MAX, DTC_ERR_PI, DTC_PARAM_LIVE,                                \
-      "speed PI integral gain times the speed period")                                                       \
-    X(67, speed.torque_limit_iq, IQ, T, 1, DTC_I32_MAX, DTC_ERR_PI, 0U, "torque reference limit")             \
-    X(68, speed.torque_trim_k_q15, Q15, RATIO, 0, 32767, DTC_ERR_PI, 0U,                                      \
-      "torque mode: mean-torque trim gain per period, T_s / tau; 0 = off")                                    \
-    X(69, speed.speed_limit_iq, IQ, W, 1, DTC_I32_MAX, DTC_ERR_REFERENCE, 0U, "speed reference limit (electrical)") \
-    X(70, speed.flux_ref_iq, IQ, PSI, 1, DTC_I32_MAX, DTC_ERR_REFERENCE, 0U, "stator-flux reference")         \
-    X(71, speed.speed_ref_iq, IQ, W, DTC_I32_MIN, DTC_I32_MAX, DTC_ERR_REFERENCE, DTC_PARAM_LIVE,             \
-      "speed reference (electrical), within the speed limit")                                                 \
-    X(72, speed.torque_ref_iq, IQ, T, DTC_I32_MIN, DTC_I32_MAX, DTC_ERR_REFERENCE, DTC_PARAM_LIVE,            \
+#define DTC_PARAMS_COMMON(X)                                                                       \
+    X(1, version, U16, NONE, DTC_CONFIG_VERSION, DTC_CONFIG_VERSION, DTC_ERR_VERSION, DTC_PARAM_RO,\
+      "layout version of the configuration (DTC_CONFIG_VERSION)")                                  \
+    X(2, law, U16, NONE, 0, DTC_LAW_COUNT - 1, DTC_ERR_VARIANT, DTC_PARAM_RO,                      \
+      "control law (enum dtc_law): 0 PM DTC, 1 IM DTC, 2 IM DSC, 3 IM SFVC, 4 IM DFOC, 5 IM DSVM, 6 PM ITC")\
+    X(3, board.v_base_mv, U32, NONE, 1, DTC_I32_MAX, DTC_ERR_BASE, DTC_PARAM_RO, "voltage base V_b, mV")\
+    X(4, board.i_base_ma, U32, NONE, 1, DTC_I32_MAX, DTC_ERR_BASE, DTC_PARAM_RO, "current base I_b, mA")\
+    X(5, board.w_base_mrad_s, U32, NONE, 1, DTC_I32_MAX, DTC_ERR_BASE, DTC_PARAM_RO,               \
+      "electrical speed base w_b, mrad/s")                                                         \
+    X(6, board.topology, U16, NONE, 0, DTC_TOPO_FSTP, DTC_ERR_VARIANT, DTC_PARAM_RO,               \
+      "inverter: 0 six-switch (SSTP), 1 four-switch (FSTP)")                                       \
+    X(7, board.fstp_vmid_measured, U16, NONE, 0, 1, DTC_ERR_VARIANT, DTC_PARAM_RO,                 \
+      "1: the FSTP's capacitor mid-point voltage is measured")                                     \
+    X(8, board.ts_pu_iq, IQ, TIME, 1, DTC_I32_MAX, DTC_ERR_DELAY, DTC_PARAM_RO, "control period T_s")\
+    X(9, board.td_ts_q15, Q15, RATIO, 0, 16383, DTC_ERR_DEADTIME, 0U,                              \
+      "inverter dead time over the control period, T_d / T_s, below 1/2")                          \
+    X(10, board.v_f_iq, IQ, V, 0, DTC_I32_MAX, DTC_ERR_DROP, 0U,                                   \
+      "equal device and diode drop V_f (SSTP ref. [29], Hoang Table V)")                           \
+    X(11, board.v_ce_iq, IQ, V, 0, DTC_I32_MAX, DTC_ERR_DROP, 0U, "switching-device forward drop V_CE (Hoang Table VI)")\
+    X(12, board.v_d_iq, IQ, V, 0, DTC_I32_MAX, DTC_ERR_DROP, 0U, "diode forward drop V_d (Hoang Table VI)")\
+    X(13, board.r_on_iq, IQ, Z, 0, DTC_I32_MAX, DTC_ERR_DROP, 0U, "device on-state resistance R_on (Hoang eqs. 37-38)")\
+    X(14, board.enc_counts, U16, NONE, 4, 65535, DTC_ERR_ENCODER, DTC_PARAM_RO,                    \
+      "encoder counts per mechanical turn (4 x lines)")                                            \
+    X(15, board.enc_gain_q16, U32, NONE, 1, DTC_I32_MAX, DTC_ERR_ENCODER, DTC_PARAM_RO,            \
+      "electrical angle per count, Q16 angle LSB: 65536 p / counts (at least 3 counts per electrical turn)")\
+    X(16, board.enc_offset, ANGLE, ANGLE, 0, 65535, DTC_ERR_ENCODER, 0U,                           \
+      "electrical angle at encoder count 0 (encoder-to-magnet offset)")                            \
+    X(17, board.adc_i_gain_iq, IQ, A_COUNT, 1, DTC_I32_MAX, DTC_ERR_ADC, DTC_PARAM_RO, "phase current per ADC count")\
+    X(18, board.adc_i_offset[0], U16, NONE, 0, 4095, DTC_ERR_ADC, 0U, "phase A current ADC count at zero current")\
+    X(19, board.adc_i_offset[1], U16, NONE, 0, 4095, DTC_ERR_ADC, 0U, "phase B current ADC count at zero current")\
+    X(20, board.adc_i_offset[2], U16, NONE, 0, 4095, DTC_ERR_ADC, 0U, "phase C current ADC count at zero current")\
+    X(21, board.adc_vdc_gain_iq, IQ, V_COUNT, 1, DTC_I32_MAX, DTC_ERR_ADC, DTC_PARAM_RO, "DC-link voltage per ADC count")\
+    X(22, board.adc_vdc_offset, U16, NONE, 0, 4095, DTC_ERR_ADC, 0U, "DC-link ADC count at zero voltage")\
+    X(23, board.adc_vmid_gain_iq, IQ, V_COUNT, 1, DTC_I32_MAX, DTC_ERR_ADC, DTC_PARAM_RO,          \
+      "mid-point voltage per ADC count")                                                           \
+    X(24, board.adc_vmid_offset, U16, NONE, 0, 4095, DTC_ERR_ADC, 0U, "mid-point ADC count at zero voltage")\
+    X(25, board.vmid_cal, U16, NONE, 0, 1, DTC_ERR_POLARITY, 0U,                                   \
+      "1: the mid-point sensor is calibrated against V_dc / 2 before the drive starts")            \
+    X(26, board.i_sensors3, U16, NONE, 0, 1, DTC_ERR_FAULTDET, DTC_PARAM_RO,                       \
+      "1: all three phase currents are measured, 0: two")                                          \
+    X(30, prot.i_trip_iq, IQ, A, 1, DTC_I32_MAX, DTC_ERR_LIMIT, 0U, "phase-current trip level")    \
+    X(31, prot.vdc_max_iq, IQ, V, 1, DTC_I32_MAX, DTC_ERR_LIMIT, 0U, "DC-link over-voltage trip level")\
+    X(32, prot.vdc_min_iq, IQ, V, 0, DTC_I32_MAX, DTC_ERR_LIMIT, 0U,                               \
+      "DC-link under-voltage trip level, below the over-voltage one")                              \
+    X(33, prot.i_lim_iq, IQ, A, 0, DTC_I32_MAX, DTC_ERR_ILIM, 0U,                                  \
+      "current limit of the vector override, below the trip; 0 = off")                             \
+    X(34, prot.stall_speed_periods, U16, NONE, 1, 65535, DTC_ERR_SPEED, 0U,                        \
+      "stall: speed periods at the torque limit with no shrinking speed error")                    \
+    X(35, prot.i_hold_iq, IQ, A, 0, DTC_I32_MAX, DTC_ERR_ILIM, 0U,                                 \
+      "largest rotor-hold current during the mid-point calibration, below the trip; 0 = gates off")\
+    X(36, prot.i_sum_max_iq, IQ, A, 0, DTC_I32_MAX, DTC_ERR_FAULTDET, 0U,                          \
+      "three sensors: largest |i_a + i_b + i_c| before a sensor fault; 0 = off")                   \
+    X(37, prot.leg_i_min_iq, IQ, A, 0, DTC_I32_MAX, DTC_ERR_FAULTDET, 0U,                          \
+      "open phase: least |i| at which a phase that stays near zero is an open leg; 0 = off")       \
+    X(38, prot.enc_freeze_speed_iq, IQ, W, 0, DTC_I32_MAX, DTC_ERR_FAULTDET, 0U,                   \
+      "lost encoder: speed above which a count that does not move is a fault; 0 = off")            \
+    X(39, prot.relay_periods, U16, NONE, 0, 65535, DTC_ERR_RECONFIG, 0U,                           \
+      "control periods from the relay command until the phase is on the mid-point")                \
+    X(40, prot.i_plaus, U16, NONE, 0, 1, DTC_ERR_FAULTDET, 0U,                                     \
+      "1: measured currents checked against the law's prediction (stuck sensor)")                  \
+    X(41, prot.overspeed_iq, IQ, W, 0, DTC_I32_MAX, DTC_ERR_LIMIT, 0U,                             \
+      "overspeed trip, electrical speed above the speed limit; 0 = off")                           \
+    X(45, machine.pole_pairs, U16, NONE, 1, 65535, DTC_ERR_ENCODER, DTC_PARAM_RO, "pole pairs p")  \
+    X(46, machine.rs_iq, IQ, Z, 0, DTC_I32_MAX, DTC_ERR_MACHINE, 0U, "stator resistance R_s")      \
+    X(50, est.estimator, U16, NONE, 0, DTC_EST_IMPROVED, DTC_ERR_VARIANT, 0U,                      \
+      "flux estimator: 0 voltage model, 1 current model (PM), 2 improved (IM, Casadei eqs. 20-22)")\
+    X(51, est.compensation, U16, NONE, 0, DTC_COMP_FSTP_PROPOSED, DTC_ERR_COMPENSATION, 0U,        \
+      "voltage-drop compensation: 0 none, 1 SSTP ref. [29], 2 FSTP Hoang Table V, 3 FSTP Hoang Table VI")\
+    X(52, est.k_in_q31, Q31, RATIO, 1, DTC_I32_MAX, DTC_ERR_FLUX_EST, DTC_PARAM_RO,                \
+      "voltage model's low-pass input gain per period")                                            \
+    X(53, est.k_leak_q31, Q31, RATIO, 1, DTC_I32_MAX, DTC_ERR_FLUX_EST, DTC_PARAM_RO,              \
+      "voltage model's low-pass leak per period, 1 - exp(-w_c T_s)")                               \
+    X(54, est.deadtime_comp, U16, NONE, 0, 1, DTC_ERR_DEADTIME, 0U,                                \
+      "1: the reconstructed voltage is corrected for the dead time")                               \
+    X(60, speed.mode, U16, NONE, 0, DTC_MODE_TORQUE, DTC_ERR_VARIANT, DTC_PARAM_LIVE,              \
+      "initial mode: 0 speed (PI), 1 torque")                                                      \
+    X(61, speed.sensor, U16, NONE, 0, DTC_SPEED_NONE, DTC_ERR_VARIANT, 0U,                         \
+      "speed: 0 encoder, 1 none (IM, from the flux)")                                              \
+    X(62, speed.speed_div, U16, NONE, 1, 65535, DTC_ERR_SPEED, DTC_PARAM_RO, "control periods per speed period")\
+    X(63, speed.speed_k_iq, IQ, PU, 1, DTC_I32_MAX, DTC_ERR_SPEED, DTC_PARAM_RO,                   \
+      "pu speed of one encoder count per speed period")                                            \
+    X(64, speed.speed_min_counts, U16, NONE, 1, 65535, DTC_ERR_SPEED, 0U,                          \
+      "speed window: the shortest with at least this many counts")                                 \
+    X(65, speed.kp_iq, IQ, T_W, 0, DTC_I32_MAX, DTC_ERR_PI, DTC_PARAM_LIVE, "speed PI proportional gain")\
+    X(66, speed.ki_ts_iq, IQ, T_W, 0, DTC_I32_MAX, DTC_ERR_PI, DTC_PARAM_LIVE,                     \
+      "speed PI integral gain times the speed period")                                             \
+    X(67, speed.torque_limit_iq, IQ, T, 1, DTC_I32_MAX, DTC_ERR_PI, 0U, "torque reference limit")  \
+    X(68, speed.torque_trim_k_q15, Q15, RATIO, 0, 32767, DTC_ERR_PI, 0U,                           \
+      "torque mode: mean-torque trim gain per period, T_s / tau; 0 = off")                         \
+    X(69, speed.speed_limit_iq, IQ, W, 1, DTC_I32_MAX, DTC_ERR_REFERENCE, 0U, "speed reference limit (electrical)")\
+    X(70, speed.flux_ref_iq, IQ, PSI, 1, DTC_I32_MAX, DTC_ERR_REFERENCE, 0U, "stator-flux reference")\
+    X(71, speed.speed_ref_iq, IQ, W, DTC_I32_MIN, DTC_I32_MAX, DTC_ERR_REFERENCE, DTC_PARAM_LIVE,  \
+      "speed reference (electrical), within the speed limit")                                      \
+    X(72, speed.torque_ref_iq, IQ, T, DTC_I32_MIN, DTC_I32_MAX, DTC_ERR_REFERENCE, DTC_PARAM_LIVE, \
       "torque reference, within the torque limit")
 
 /* A check's refusal: the code, and *f pointed at the field's name ("part.field", a string

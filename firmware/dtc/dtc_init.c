@@ -12,14 +12,9 @@
 
 int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg)
 {
-    int16_t err;
     dtc_refs_t r;
+    const int16_t err = dtc_config_law_init_begin(c != NULL ? &c->cfg : NULL, cfg, dtc_check);
 
-    if (c == NULL) {
-        return DTC_ERR_NULL;
-    }
-    c->cfg = NULL;
-    err = dtc_check(cfg, NULL);
     if (err != DTC_OK) {
         return err;
     }
@@ -29,11 +24,9 @@ int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg)
     dtc_block_params(c, cfg);
     dtc_speed_params_from_config(&c->sm_p, &c->pi_p, cfg);
 
-    dtc_refs_from_config(&r, cfg);
-    c->act.mode = cfg->speed.mode;
+    dtc_refs_start(&c->act, &c->sh, &r, cfg);
     c->te_ref_iq = 0;
     dtc_refs_adopt(&c->act, &c->pi_p, &c->pi, &c->te_trim_iq, c->te_ref_iq, &r, cfg);
-    dtc_shadow_init(&c->sh);
 
     flux_est_init(&c->fe, &c->fe_p);
     speed_meas_init(&c->sm, &c->sm_p, 0U);

@@ -16,12 +16,6 @@ int16_t dtc_refs_check(const dtc_refs_t *r)
     return DTC_OK;
 }
 
-void dtc_shadow_init(dtc_shadow_t *s)
-{
-    s->seq = 0U;
-    s->adopted = 0U;
-}
-
 int16_t dtc_shadow_publish(dtc_shadow_t *s, const dtc_refs_t *r)
 {
     int16_t err = dtc_refs_check(r);
@@ -59,16 +53,6 @@ void dtc_shadow_take(dtc_shadow_t *s, uint16_t seq, dtc_refs_t *r)
     r->ki_ts_iq = s->ki_ts_iq;
     r->mode = s->mode;
     s->adopted = seq;
-}
-
-void dtc_refs_from_config(dtc_refs_t *r, const dtc_config_t *cfg)
-{
-    r->speed_ref_iq = cfg->speed.speed_ref_iq;
-    r->torque_ref_iq = cfg->speed.torque_ref_iq;
-    r->flux_ref_iq = cfg->speed.flux_ref_iq;
-    r->kp_iq = cfg->speed.kp_iq;
-    r->ki_ts_iq = cfg->speed.ki_ts_iq;
-    r->mode = cfg->speed.mode;
 }
 
 void dtc_speed_params_from_config(speed_meas_params_t *sm_p, speed_pi_params_t *pi_p,

@@ -40,7 +40,7 @@ typedef struct {
 /* DTC_OK, or DTC_ERR_VARIANT (mode), DTC_ERR_PI (negative gain), DTC_ERR_REFERENCE (flux <= 0). */
 int16_t dtc_refs_check(const dtc_refs_t *r);
 
-/* Nothing published, nothing adopted. */
+/* Nothing published, nothing adopted. Init only (dtc_refs_init.c). */
 void dtc_shadow_init(dtc_shadow_t *s);
 
 /* Background: publishes r (checked first; a refused set is not published). Returns DTC_OK or the
@@ -65,8 +65,14 @@ void dtc_shadow_take(dtc_shadow_t *s, uint16_t seq, dtc_refs_t *r);
  * clamped (limit > 0, validated). */
 iq_t dtc_trim_step(iq_t *trim_iq, iq_t ref_iq, iq_t te_iq, q15_t k_q15, iq_t limit_iq);
 
-/* The reference set a configuration starts with (its initial references, gains and mode). */
+/* The reference set a configuration starts with (its initial references, gains and mode). Init
+ * and background only (dtc_refs_init.c). */
 void dtc_refs_from_config(dtc_refs_t *r, const dtc_config_t *cfg);
+
+/* Every law's init: *r the configuration's set (dtc_refs_from_config) and act->mode its mode, so
+ * that the law's adoption of *r that follows is no change of mode (no PI preload, the trim kept);
+ * the shadow empty (dtc_shadow_init). Init only (dtc_refs_init.c). */
+void dtc_refs_start(dtc_refs_t *act, dtc_shadow_t *sh, dtc_refs_t *r, const dtc_config_t *cfg);
 
 /* Every law: makes r the set in force (*act): the speed and torque references clamped to the
  * configured limits, the speed-PI gains into *pi_p; a change to speed mode preloads the PI with

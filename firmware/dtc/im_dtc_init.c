@@ -8,13 +8,8 @@
 int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg)
 {
     dtc_refs_t r;
-    int16_t err;
+    const int16_t err = dtc_config_law_init_begin(c != NULL ? &c->cfg : NULL, cfg, im_dtc_check);
 
-    if (c == NULL) {
-        return DTC_ERR_NULL;
-    }
-    c->cfg = NULL;
-    err = im_dtc_check(cfg, NULL);
     if (err != DTC_OK) {
         return err;
     }
@@ -72,12 +67,10 @@ int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg)
                                         4U);
     c->cfg = cfg;
 
-    dtc_refs_from_config(&r, cfg);
-    c->act.mode = cfg->speed.mode;
+    dtc_refs_start(&c->act, &c->sh, &r, cfg);
     c->te_cmd_iq = 0;
     c->te_trim_iq = 0;
     im_dtc_apply(c, &r);
-    dtc_shadow_init(&c->sh);
     im_est_init(&c->est, &c->est_p);
     speed_meas_init(&c->sm, &c->sm_p, 0U);
     im_dtc_reset(c);

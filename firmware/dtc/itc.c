@@ -17,14 +17,9 @@ static void itc_adopt(itc_t *c, const dtc_refs_t *r)
 
 int16_t itc_init(itc_t *c, const dtc_config_t *cfg)
 {
-    int16_t err;
     dtc_refs_t r;
+    const int16_t err = dtc_config_law_init_begin(c != NULL ? &c->cfg : NULL, cfg, itc_check);
 
-    if (c == NULL) {
-        return DTC_ERR_NULL;
-    }
-    c->cfg = NULL;
-    err = itc_check(cfg, NULL);
     if (err != DTC_OK) {
         return err;
     }
@@ -61,11 +56,9 @@ int16_t itc_init(itc_t *c, const dtc_config_t *cfg)
     c->svm4_p.dt_comp = c->svm_p.dt_comp;
     c->svm4_p.td_iq = c->svm_p.td_iq;
 
-    dtc_refs_from_config(&r, cfg);
-    c->act.mode = cfg->speed.mode;
+    dtc_refs_start(&c->act, &c->sh, &r, cfg);
     c->te_ref_iq = 0;
     itc_adopt(c, &r);
-    dtc_shadow_init(&c->sh);
 
     flux_est_init(&c->fe, &c->fe_p);
     speed_meas_init(&c->sm, &c->sm_p, 0U);

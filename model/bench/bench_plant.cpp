@@ -18,15 +18,6 @@
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 
-void vec_towards(double a, int &sb, int &sc) {
-    double x = std::fmod(a, 2 * kPi);
-    if (x < 0) x += 2 * kPi;
-    const int k = static_cast<int>(std::floor((x + kPi / 4) / (kPi / 2))) % 4;
-    static const int tab[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-    sb = tab[k][0];
-    sc = tab[k][1];
-}
-
 struct Result {
     double ratio, cpu_ratio, ns_per_period, steps_per_period, evals_per_period, events_per_period;
 };
@@ -109,7 +100,7 @@ Result run(const plant_params_t &p, double sim_s) {
     if (g_pattern == 0) {
         for (int k = 0; k < n && k < 200000; ++k) {
             const double ang = 2 * kPi * 25.0 * k * 50e-6 + kPi / 2;
-            vec_towards((k % 4 == 3) ? ang + kPi : ang, pat[0][k], pat[1][k]);
+            dtc_ref::fstp_vector_towards((k % 4 == 3) ? ang + kPi : ang, pat[0][k], pat[1][k]);
         }
     }
     plant_state_t s;

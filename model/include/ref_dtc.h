@@ -135,6 +135,9 @@ int table_casadei3(SwitchingTable st, int sector, int d_psi, int d_te, const int
 int table_hoang2(int sector, int d_psi, int d_te);
 void sstp_vector_legs(int vector, int legs[3]);
 void fstp_vector_legs(int vector, int &sb, int &sc);
+// FSTP legs (S_B, S_C) of the vector whose direction is nearest to angle_rad (Hoang Table I: V1
+// 0, V2 90, V3 180, V4 270 deg): the open-loop drive patterns of the plant tests and benchmark.
+void fstp_vector_towards(double angle_rad, int &sb, int &sc);
 
 // ---- The controller ----
 class Controller {
@@ -159,6 +162,9 @@ private:
     double psi_a_ = 0.0, psi_b_ = 0.0;
     double i_alpha_prev_ = 0.0, i_beta_prev_ = 0.0, i_prev_[3] = {0, 0, 0};
     double vdc_prev_ = 0.0, vc_lo_prev_ = 0.0, vc_hi_prev_ = 0.0;
+    // Keeps the samples of this period (currents, the alpha/beta ones, link and capacitor
+    // voltages) for the next: the "previous" values of the voltage reconstruction.
+    void keep_samples(const Meas &m, double i_alpha, double i_beta);
     bool first_ = true;
     int hist_[4][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}};  // hist_[d] = output d steps ago
     int c_psi_ = 1, c_te_ = 1;

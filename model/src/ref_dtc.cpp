@@ -148,6 +148,13 @@ void fstp_vector_legs(int vector, int &sb, int &sc) {
     sc = tab[v][1];
 }
 
+void fstp_vector_towards(double angle_rad, int &sb, int &sc) {
+    double x = std::fmod(angle_rad, 2 * kPi);
+    if (x < 0) x += 2 * kPi;
+    const int k = static_cast<int>(std::floor((x + kPi / 4) / (kPi / 2))) % 4;
+    fstp_vector_legs(k + 1, sb, sc);
+}
+
 int Controller::init(const Params &p) {
     msg_.clear();
     auto fail = [this](const char *m) {
@@ -191,19 +198,23 @@ void Controller::reset(double theta_e0_rad) {
     last_ = Out{};
 }
 
+void Controller::keep_samples(const Meas &m, double i_alpha, double i_beta) {
+    i_alpha_prev_ = i_alpha;
+    i_beta_prev_ = i_beta;
+    i_prev_[0] = m.i_a;
+    i_prev_[1] = m.i_b;
+    i_prev_[2] = m.i_c;
+    vdc_prev_ = m.vdc_v;
+    vc_lo_prev_ = m.vc_lo_v;
+    vc_hi_prev_ = m.vc_hi_v;
+}
+
 Out Controller::step(const Meas &m) {
     const Params &p = p_;
     Out o;
     clarke(m.i_a, m.i_b, m.i_c, o.i_alpha, o.i_beta);
     const double ix[3] = {m.i_a, m.i_b, m.i_c};
-    if (first_) {
-        i_alpha_prev_ = o.i_alpha;
-        i_beta_prev_ = o.i_beta;
-        for (int x = 0; x < 3; ++x) i_prev_[x] = ix[x];
-        vdc_prev_ = m.vdc_v;
-        vc_lo_prev_ = m.vc_lo_v;
-        vc_hi_prev_ = m.vc_hi_v;
-    }
+    if (first_) keep_samples(m, o.i_alpha, o.i_beta);
     // ---- Stator flux ----
     if (p.estimator == FluxEstimator::CURRENT_MODEL) {
         psi_a_ = p.ls_h * o.i_alpha + p.psi_m_wb * std::cos(m.theta_e_rad);  // Hoang eq. (8)
@@ -317,13 +328,7 @@ Out Controller::step(const Meas &m) {
     for (int d = 3; d > 0; --d)
         for (int x = 0; x < 3; ++x) hist_[d][x] = hist_[d - 1][x];
     for (int x = 0; x < 3; ++x) hist_[0][x] = legs[x];
-    // ---- Keep this period's samples ----
-    i_alpha_prev_ = o.i_alpha;
-    i_beta_prev_ = o.i_beta;
-    for (int x = 0; x < 3; ++x) i_prev_[x] = ix[x];
-    vdc_prev_ = m.vdc_v;
-    vc_lo_prev_ = m.vc_lo_v;
-    vc_hi_prev_ = m.vc_hi_v;
+    keep_samples(m, o.i_alpha, o.i_beta);
     first_ = false;
     last_ = o;
     return o;

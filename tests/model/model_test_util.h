@@ -12,6 +12,7 @@
 #include <memory>
 
 #include "plant.h"
+#include "ref_dtc.h"
 
 namespace mt {
 
@@ -76,6 +77,12 @@ inline plant_state_t state(const PlantPtr &pl) {
     plant_get_state(pl.get(), &s);
     return s;
 }
+// The fault-side state (relay, desaturation) of pl now.
+inline plant_fault_state_t fault_state(const PlantPtr &pl) {
+    plant_fault_state_t f;
+    plant_get_fault_state(pl.get(), &f);
+    return f;
+}
 
 // Energy balance between two states: DC input against every loss (copper, devices, friction,
 // load, source resistance, link ESR and balancing resistors) plus the change of magnetic, kinetic
@@ -133,15 +140,19 @@ inline plant_params_t default_plant() {
 }
 
 
-// FSTP vector (S_B, S_C) whose direction is nearest to angle a (Hoang Table I: V1 0, V2 90 deg,
-// V3 180 deg, V4 270 deg).
-inline void fstp_vector_towards(double a, int &sb, int &sc) {
-    double x = std::fmod(a, 2 * kPi);
-    if (x < 0) x += 2 * kPi;
-    const int k = static_cast<int>(std::floor((x + kPi / 4) / (kPi / 2))) % 4;
-    static const int tab[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-    sb = tab[k][0];
-    sc = tab[k][1];
+// FSTP vector (S_B, S_C) whose direction is nearest to an angle (Hoang Table I; ref_dtc.h).
+using dtc_ref::fstp_vector_towards;
+
+// n periods of 50 us motoring on the FSTP: each period the vector 90 deg ahead of the rotor's
+// electrical angle (the drive of the energy balances).
+inline void drive_fstp_ahead(const PlantPtr &pl, int n) {
+    for (int k = 0; k < n; ++k) {
+        const plant_state_t s = state(pl);
+        int sb, sc;
+        fstp_vector_towards(s.theta_e_rad + kPi / 2, sb, sc);
+        plant_set_legs(pl.get(), 0, sb, sc, 1);
+        plant_advance(pl.get(), 50e-6);
+    }
 }
 
 // The fixed switching run shared by the convergence and integrator tests: sampled every 50 us.

@@ -27,13 +27,7 @@ TEST(Energy, FstpFullFidelityBalance) {
     plant_params_t p = fstp_generator(0.15);
     auto pl = make(p);
     const plant_state_t s0 = state(pl);
-    for (int k = 0; k < 6000; ++k) {  // 0.3 s
-        const plant_state_t s = state(pl);
-        int sb, sc;
-        fstp_vector_towards(s.theta_e_rad + kPi / 2, sb, sc);
-        plant_set_legs(pl.get(), 0, sb, sc, 1);
-        plant_advance(pl.get(), 50e-6);
-    }
+    drive_fstp_ahead(pl, 6000);  // 0.3 s
     plant_set_legs(pl.get(), 0, 0, 0, 0);
     for (int k = 0; k < 400; ++k) plant_advance(pl.get(), 50e-6);
     const plant_state_t s = state(pl);

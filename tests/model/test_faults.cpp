@@ -100,8 +100,7 @@ TEST(Faults, RelayOnPhaseAWithLegAOpenIsTheFstp) {
     const plant_state_t ss = mt::state(s), sf = mt::state(f);
     EXPECT_GT(std::fabs(sf.i_a), 0.1);  // the comparison is not between two idle plants
     EXPECT_NEAR(ss.vc_lo_v, sf.vc_lo_v, 1e-9);
-    plant_fault_state_t fs;
-    plant_get_fault_state(s.get(), &fs);
+    plant_fault_state_t fs = mt::fault_state(s);
     EXPECT_EQ(fs.relay_closed, 1);
     EXPECT_EQ(fs.desat_mask, 0);
 }
@@ -120,8 +119,7 @@ TEST(Faults, RelayOnPhaseBCarriesTheMidPointCurrent) {
     ASSERT_EQ(plant_set_relay(pl.get(), 2), 0);
     double w = 0.0;
     drive_pattern(pl.get(), nullptr, 40, &w, 1);  // 2 ms: exactly the delay
-    plant_fault_state_t fs;
-    plant_get_fault_state(pl.get(), &fs);
+    plant_fault_state_t fs = mt::fault_state(pl);
     EXPECT_EQ(fs.relay_closed, 2);
     const plant_state_t s0 = mt::state(pl);
     EXPECT_EQ(s0.i_b, 0.0);  // open leg, the relay not closed before now
@@ -141,14 +139,13 @@ TEST(Faults, ShortedSwitchTripsWhenItsComplementTurnsOnAndHoldsThePhaseAtTheRail
     // Upper gated (the short changes nothing), B and C lower: current builds up.
     plant_set_legs(pl.get(), 1, 0, 0, 1);
     for (int k = 0; k < 20; ++k) plant_advance(pl.get(), 50e-6);
-    plant_fault_state_t fs;
-    plant_get_fault_state(pl.get(), &fs);
+    plant_fault_state_t fs = mt::fault_state(pl);
     EXPECT_EQ(fs.desat_mask, 0);
     const double t_cmd = mt::state(pl).t_s;
     // Lower commanded: the upper turns off (it stays shorted), the lower turns on after the dead time.
     plant_set_legs(pl.get(), 0, 0, 0, 1);
     plant_advance(pl.get(), 50e-6);
-    plant_get_fault_state(pl.get(), &fs);
+    fs = mt::fault_state(pl);
     EXPECT_EQ(fs.desat_mask, 1);
     EXPECT_NEAR(fs.desat_t_s, t_cmd + p.dead_time_s, 1e-15);
     // Every gate off; the shorted device keeps phase A on the plus rail, B and C on their diodes.
@@ -160,7 +157,7 @@ TEST(Faults, ShortedSwitchTripsWhenItsComplementTurnsOnAndHoldsThePhaseAtTheRail
     EXPECT_LT(s.i_b, 0.0);
     EXPECT_NEAR(s.v_b0_v, p.vdc_v, 1e-12 * p.vdc_v);  // i_b < 0: the upper diode (gates off)
     plant_clear_desat(pl.get());
-    plant_get_fault_state(pl.get(), &fs);
+    fs = mt::fault_state(pl);
     EXPECT_EQ(fs.desat_mask, 0);
 }
 
@@ -173,8 +170,7 @@ TEST(Faults, ShortedSwitchWithoutDeadTimeTripsAtTheCommand) {
     plant_leg_edges_t e[3] = {{1, 0, {0}}, {0, 0, {0}}, {0, 1, {17e-6}}};
     ASSERT_EQ(plant_set_leg_edges(pl.get(), e, 1), 0);
     plant_advance(pl.get(), 50e-6);
-    plant_fault_state_t fs;
-    plant_get_fault_state(pl.get(), &fs);
+    plant_fault_state_t fs = mt::fault_state(pl);
     EXPECT_EQ(fs.desat_mask, 4);
     EXPECT_NEAR(fs.desat_t_s, 67e-6, 1e-15);
 }
@@ -226,8 +222,7 @@ TEST(Faults, RelayClosingOnAGatedLegTripsAndOnAGatedOffLegDoesNot) {
     plant_advance(a.get(), 50e-6);
     ASSERT_EQ(plant_set_relay(a.get(), 2), 0);
     plant_advance(a.get(), 50e-6);
-    plant_fault_state_t fs;
-    plant_get_fault_state(a.get(), &fs);
+    plant_fault_state_t fs = mt::fault_state(a);
     EXPECT_EQ(fs.relay_closed, 2);
     EXPECT_EQ(fs.desat_mask, 2);
     EXPECT_NEAR(fs.desat_t_s, 50e-6, 1e-15);
@@ -238,7 +233,7 @@ TEST(Faults, RelayClosingOnAGatedLegTripsAndOnAGatedOffLegDoesNot) {
     ASSERT_EQ(plant_set_relay(b.get(), 2), 0);
     ASSERT_EQ(plant_set_leg_override(b.get(), 1, PLANT_LEG_DIODE_ONLY), 0);
     plant_advance(b.get(), 50e-6);
-    plant_get_fault_state(b.get(), &fs);
+    fs = mt::fault_state(b);
     EXPECT_EQ(fs.relay_closed, 2);
     EXPECT_EQ(fs.desat_mask, 0);
 }

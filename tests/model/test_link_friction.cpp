@@ -185,13 +185,7 @@ TEST(Energy, BalanceWithCoulombAndLinkResistors) {
     p.esr_ohm = 0.02;
     auto pl = make(p);
     const plant_state_t s0 = state(pl);
-    for (int k = 0; k < 6000; ++k) {
-        const plant_state_t s = state(pl);
-        int sb, sc;
-        fstp_vector_towards(s.theta_e_rad + kPi / 2, sb, sc);
-        plant_set_legs(pl.get(), 0, sb, sc, 1);
-        plant_advance(pl.get(), 50e-6);
-    }
+    drive_fstp_ahead(pl, 6000);
     const double w_run = state(pl).speed_rpm;
     plant_set_legs(pl.get(), 0, 0, 0, 0);
     for (int k = 0; k < 10000; ++k) plant_advance(pl.get(), 50e-6);

@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_capture.hpp"
 #include "run.hpp"
 #include "scenario.hpp"
 
@@ -42,13 +43,7 @@ protected:
 
     int cli(std::vector<std::string> args, std::string* err = nullptr)
     {
-        args.insert(args.begin(), "dtc-sil");
-        std::ostringstream o, e;
-        const int rc = dtc_sil_main(args, o, e);
-        if (err != nullptr) {
-            *err = e.str();
-        }
-        return rc;
+        return sil_test::run_cli(std::move(args), nullptr, err);
     }
     int identify(const std::string& scenario, const std::vector<std::string>& sets, std::string* err = nullptr)
     {

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_capture.hpp"
 #include "controller_adapter.hpp"
 #include "hal_host.hpp"
 #include "run.hpp"
@@ -62,16 +63,7 @@ protected:
     }
     int cli(std::vector<std::string> args, std::string* out = nullptr, std::string* err = nullptr)
     {
-        args.insert(args.begin(), "dtc-sil");
-        std::ostringstream o, e;
-        const int rc = sil::dtc_sil_main(args, o, e);
-        if (out != nullptr) {
-            *out = o.str();
-        }
-        if (err != nullptr) {
-            *err = e.str();
-        }
-        return rc;
+        return sil_test::run_cli(std::move(args), out, err);
     }
 };
 

@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 
+#include "cli_capture.hpp"
 #include "sweep.hpp"
 
 namespace fs = std::filesystem;
@@ -23,16 +24,7 @@ const std::string kScenario = std::string(DTC_SOURCE_DIR) + "/tools/scenarios/fs
 
 int sweep(std::vector<std::string> args, std::string* out_text = nullptr, std::string* err_text = nullptr)
 {
-    args.insert(args.begin(), "dtc-sil");
-    std::ostringstream out, err;
-    const int rc = sweep_main(args, out, err);
-    if (out_text != nullptr) {
-        *out_text = out.str();
-    }
-    if (err_text != nullptr) {
-        *err_text = err.str();
-    }
-    return rc;
+    return sil_test::run_cli(std::move(args), out_text, err_text, sweep_main);
 }
 
 std::string read(const fs::path& p)
@@ -50,17 +42,38 @@ fs::path fresh_dir(const std::string& name)
     return d;
 }
 
-Spec two_axis_spec()
+// A sweep of the test scenario, no axes yet.
+Spec scenario_spec()
 {
     Spec s;
     s.scenario_path = kScenario;
     s.scenario_text = read(kScenario);
-    Axis g1, g2, r;
+    return s;
+}
+
+// The axis of a --grid (opt "--zip": of a --zip) argument; a refused one fails the test.
+Axis grid(const std::string& arg, const char* opt = "--grid")
+{
+    Axis a;
     std::string e;
-    EXPECT_TRUE(parse_grid_axis("control.speed_ref_rpm=300,700,1500", &g1, &e)) << e;
-    EXPECT_TRUE(parse_grid_axis("control.estimator=current,voltage", &g2, &e)) << e;
-    EXPECT_TRUE(parse_sample_axis("motor.rs_ohm=normal:0.466:0.05", &r, &e)) << e;
-    s.axes = {g1, g2, r};
+    EXPECT_TRUE(parse_grid_axis(arg, &a, &e, opt)) << e;
+    return a;
+}
+
+// The axis of a --sample argument; a refused one fails the test.
+Axis sample(const std::string& arg)
+{
+    Axis a;
+    std::string e;
+    EXPECT_TRUE(parse_sample_axis(arg, &a, &e)) << e;
+    return a;
+}
+
+Spec two_axis_spec()
+{
+    Spec s = scenario_spec();
+    s.axes = {grid("control.speed_ref_rpm=300,700,1500"), grid("control.estimator=current,voltage"),
+              sample("motor.rs_ohm=normal:0.466:0.05")};
     s.n = 4;
     s.seed = 7;
     return s;
@@ -97,15 +110,9 @@ TEST(Sweep, GridIsTheCartesianProductLastAxisFastest)
 
 TEST(Sweep, ZipAxesAreCasesCrossedWithTheGrid)
 {
-    Spec s;
-    s.scenario_path = kScenario;
-    s.scenario_text = read(kScenario);
-    Axis g, z1, z2;
-    std::string e;
-    ASSERT_TRUE(parse_grid_axis("control.speed_ref_rpm=700,1500", &g, &e)) << e;
-    ASSERT_TRUE(parse_grid_axis("inverter.topology=sstp,fstp,fstp", &z1, &e, "--zip")) << e;
-    ASSERT_TRUE(parse_grid_axis("control.compensation=simple,simple,proposed", &z2, &e, "--zip")) << e;
-    s.axes = {g, z1, z2};
+    Spec s = scenario_spec();
+    s.axes = {grid("control.speed_ref_rpm=700,1500"), grid("inverter.topology=sstp,fstp,fstp", "--zip"),
+              grid("control.compensation=simple,simple,proposed", "--zip")};
     ASSERT_EQ(run_count(s), 6u);
     const auto runs = expand(s);
     // Cases slowest, then the grid: (sstp, simple) x {700, 1500}, (fstp, simple) x ..., ...
@@ -160,10 +167,7 @@ TEST(Sweep, SamplesDependOnlyOnSeedRunAndAxis)
 TEST(Sweep, PerPhaseArraysAreDrawnElementByElement)
 {
     Spec s;
-    Axis a;
-    std::string e;
-    ASSERT_TRUE(parse_sample_axis("sensors.current_offset_a=uniform:-0.01:0.01", &a, &e)) << e;
-    s.axes = {a};
+    s.axes = {sample("sensors.current_offset_a=uniform:-0.01:0.01")};
     s.n = 3;
     for (const PlannedRun& p : expand(s)) {
         double x[3];
@@ -180,11 +184,7 @@ TEST(Sweep, PerPhaseArraysAreDrawnElementByElement)
 TEST(Sweep, NormalAndUniformSamplesHaveTheirMoments)
 {
     Spec s;
-    Axis nrm, uni;
-    std::string e;
-    ASSERT_TRUE(parse_sample_axis("motor.rs_ohm=normal:0.5:0.1", &nrm, &e)) << e;
-    ASSERT_TRUE(parse_sample_axis("motor.ls_h=uniform:2e-3:4e-3", &uni, &e)) << e;
-    s.axes = {nrm, uni};
+    s.axes = {sample("motor.rs_ohm=normal:0.5:0.1"), sample("motor.ls_h=uniform:2e-3:4e-3")};
     s.n = 40000;
     s.seed = 3;
     double sn = 0, sn2 = 0, su = 0, lo = 1, hi = 0;

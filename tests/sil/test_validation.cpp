@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_capture.hpp"
 #include "run.hpp"
 
 namespace fs = std::filesystem;
@@ -41,16 +42,7 @@ protected:
 
     int cli(std::vector<std::string> args, std::string* err = nullptr, std::string* out = nullptr)
     {
-        args.insert(args.begin(), "dtc-sil");
-        std::ostringstream o, e;
-        const int rc = dtc_sil_main(args, o, e);
-        if (err != nullptr) {
-            *err = e.str();
-        }
-        if (out != nullptr) {
-            *out = o.str();
-        }
-        return rc;
+        return sil_test::run_cli(std::move(args), out, err);
     }
     static std::vector<std::string> with_sets(std::vector<std::string> a, const std::vector<std::string>& sets)
     {

@@ -16,6 +16,8 @@
 #include <string.h>
 #include <cmocka.h>
 
+#include "fixtest.h"
+
 #include "app_ident.h"
 #include "dtc_config_si.h"
 
@@ -177,12 +179,7 @@ static void test_overcurrent_on_the_sample(void **state)
     assert_int_equal(g_d.fail_detail, 1); /* phase B */
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_rs_drop_ls_against_the_load),
-        cmocka_unit_test(test_open_phase_named),
-        cmocka_unit_test(test_overcurrent_on_the_sample),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("app ident", NULL,
+               cmocka_unit_test(test_rs_drop_ls_against_the_load),
+               cmocka_unit_test(test_open_phase_named),
+               cmocka_unit_test(test_overcurrent_on_the_sample))

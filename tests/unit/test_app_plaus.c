@@ -21,6 +21,8 @@
 
 #include <cmocka.h>
 
+#include "fixtest.h"
+
 #include "app_plaus.h"
 
 #define PU(x) ((iq_t)((x) * 16777216.0))
@@ -226,16 +228,11 @@ static void test_decision_matches_double_reference(void **state)
     }
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_healthy_channels_never_trip),
-        cmocka_unit_test(test_a_biased_prediction_is_not_a_fault),
-        cmocka_unit_test(test_a_stuck_channel_trips_within_two_windows),
-        cmocka_unit_test(test_idle_drive_never_trips),
-        cmocka_unit_test(test_no_prediction_rests),
-        cmocka_unit_test(test_derived_channel_is_never_named),
-        cmocka_unit_test(test_decision_matches_double_reference),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("app plaus", NULL,
+               cmocka_unit_test(test_healthy_channels_never_trip),
+               cmocka_unit_test(test_a_biased_prediction_is_not_a_fault),
+               cmocka_unit_test(test_a_stuck_channel_trips_within_two_windows),
+               cmocka_unit_test(test_idle_drive_never_trips),
+               cmocka_unit_test(test_no_prediction_rests),
+               cmocka_unit_test(test_derived_channel_is_never_named),
+               cmocka_unit_test(test_decision_matches_double_reference))

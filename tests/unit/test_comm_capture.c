@@ -12,6 +12,8 @@
 #include <string.h>
 #include <cmocka.h>
 
+#include "fixtest.h"
+
 #include "capture.h"
 
 static capture_t g_cap;
@@ -240,14 +242,9 @@ static void test_setup_refusals(void **state)
     assert_int_equal(capture_state(&g_cap), CAPTURE_OFF);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test_setup(test_off_does_nothing, setup),
-        cmocka_unit_test_setup(test_now_every_period_and_decimated, setup),
-        cmocka_unit_test_setup(test_level_and_edge_with_pretrigger, setup),
-        cmocka_unit_test_setup(test_fault_trigger_between_decimated_samples, setup),
-        cmocka_unit_test_setup(test_setup_refusals, setup),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("comm capture", NULL,
+               cmocka_unit_test_setup(test_off_does_nothing, setup),
+               cmocka_unit_test_setup(test_now_every_period_and_decimated, setup),
+               cmocka_unit_test_setup(test_level_and_edge_with_pretrigger, setup),
+               cmocka_unit_test_setup(test_fault_trigger_between_decimated_samples, setup),
+               cmocka_unit_test_setup(test_setup_refusals, setup))

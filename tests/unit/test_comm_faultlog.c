@@ -14,6 +14,8 @@
 #include <sys/time.h>
 #include <cmocka.h>
 
+#include "fixtest.h"
+
 #include "faultlog.h"
 
 static faultlog_t g_log;
@@ -174,14 +176,9 @@ static void test_kept_until_init(void **state)
     assert_int_equal(faultlog_count(&g_log), 0);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test_setup(test_empty, setup),
-        cmocka_unit_test_setup(test_order_and_ring, setup),
-        cmocka_unit_test_setup(test_counter_wrap, setup),
-        cmocka_unit_test_setup(test_reader_interrupted_by_isr, setup),
-        cmocka_unit_test_setup(test_kept_until_init, setup),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("comm faultlog", NULL,
+               cmocka_unit_test_setup(test_empty, setup),
+               cmocka_unit_test_setup(test_order_and_ring, setup),
+               cmocka_unit_test_setup(test_counter_wrap, setup),
+               cmocka_unit_test_setup(test_reader_interrupted_by_isr, setup),
+               cmocka_unit_test_setup(test_kept_until_init, setup))

@@ -15,6 +15,8 @@
 #include <string.h>
 #include <cmocka.h>
 
+#include "fixtest.h"
+
 #include "crc16.h"
 #include "frame.h"
 
@@ -379,21 +381,16 @@ static void test_payload_fields(void **state)
     }
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test_setup(test_crc_ccitt_false, setup),
-        cmocka_unit_test_setup(test_encode_layout_matches_python, setup),
-        cmocka_unit_test_setup(test_round_trip_every_length, setup),
-        cmocka_unit_test_setup(test_garbage_then_frame, setup),
-        cmocka_unit_test_setup(test_every_truncation_then_frame, setup),
-        cmocka_unit_test_setup(test_truncated_released_by_idle, setup),
-        cmocka_unit_test_setup(test_len_too_large, setup),
-        cmocka_unit_test_setup(test_every_single_bit_error, setup),
-        cmocka_unit_test_setup(test_bursts_up_to_16_bits, setup),
-        cmocka_unit_test_setup(test_bounded_work_and_full_ring, setup),
-        cmocka_unit_test_setup(test_full_load_stream, setup),
-        cmocka_unit_test_setup(test_payload_fields, setup),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("comm frame", NULL,
+               cmocka_unit_test_setup(test_crc_ccitt_false, setup),
+               cmocka_unit_test_setup(test_encode_layout_matches_python, setup),
+               cmocka_unit_test_setup(test_round_trip_every_length, setup),
+               cmocka_unit_test_setup(test_garbage_then_frame, setup),
+               cmocka_unit_test_setup(test_every_truncation_then_frame, setup),
+               cmocka_unit_test_setup(test_truncated_released_by_idle, setup),
+               cmocka_unit_test_setup(test_len_too_large, setup),
+               cmocka_unit_test_setup(test_every_single_bit_error, setup),
+               cmocka_unit_test_setup(test_bursts_up_to_16_bits, setup),
+               cmocka_unit_test_setup(test_bounded_work_and_full_ring, setup),
+               cmocka_unit_test_setup(test_full_load_stream, setup),
+               cmocka_unit_test_setup(test_payload_fields, setup))

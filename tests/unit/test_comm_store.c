@@ -18,6 +18,8 @@
 #include <string.h>
 #include <cmocka.h>
 
+#include "fixtest.h"
+
 #include "crc16.h"
 #include "hal.h"
 #include "store.h"
@@ -379,14 +381,9 @@ static void test_sequence_wraps(void **state)
     assert_int_equal(boot_id(&st), 8);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test_setup(test_power_cut_every_word_eeprom, setup),
-        cmocka_unit_test_setup(test_power_cut_every_word_flash, setup),
-        cmocka_unit_test_setup(test_refusals, setup),
-        cmocka_unit_test_setup(test_corruption_falls_back, setup),
-        cmocka_unit_test_setup(test_sequence_wraps, setup),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("comm store", NULL,
+               cmocka_unit_test_setup(test_power_cut_every_word_eeprom, setup),
+               cmocka_unit_test_setup(test_power_cut_every_word_flash, setup),
+               cmocka_unit_test_setup(test_refusals, setup),
+               cmocka_unit_test_setup(test_corruption_falls_back, setup),
+               cmocka_unit_test_setup(test_sequence_wraps, setup))

@@ -162,13 +162,8 @@ static void test_park_against_double_rotation(void **state)
     }
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_steps_match_discrete_reference),
-        cmocka_unit_test(test_closed_loop_is_first_order_at_the_derived_bandwidth),
-        cmocka_unit_test(test_voltage_limit_and_anti_windup),
-        cmocka_unit_test(test_park_against_double_rotation),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("dqpi", NULL,
+               cmocka_unit_test(test_steps_match_discrete_reference),
+               cmocka_unit_test(test_closed_loop_is_first_order_at_the_derived_bandwidth),
+               cmocka_unit_test(test_voltage_limit_and_anti_windup),
+               cmocka_unit_test(test_park_against_double_rotation))

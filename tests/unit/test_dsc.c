@@ -134,13 +134,8 @@ static void test_hexagon_cw(void **state)
     hexagon(0U);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_components),
-        cmocka_unit_test(test_hexagon_ccw),
-        cmocka_unit_test(test_hexagon_cw),
-        cmocka_unit_test(test_reset_on_the_hexagon),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("dsc", NULL,
+               cmocka_unit_test(test_components),
+               cmocka_unit_test(test_hexagon_ccw),
+               cmocka_unit_test(test_hexagon_cw),
+               cmocka_unit_test(test_reset_on_the_hexagon))

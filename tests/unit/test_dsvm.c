@@ -26,6 +26,8 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include "fixtest.h"
+
 #include <math.h>
 #include <stdio.h>
 
@@ -292,16 +294,11 @@ static void patterns_of_a_code(void **state)
     assert_int_equal(pat[2], 0);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(every_entry_follows_the_criterion),
-        cmocka_unit_test(the_papers_high_speed_example),
-        cmocka_unit_test(codes_are_the_ring_and_the_null),
-        cmocka_unit_test(half_sector_and_range),
-        cmocka_unit_test(five_level_comparator),
-        cmocka_unit_test(all_eight_patterns_in_the_pwm_form),
-        cmocka_unit_test(patterns_of_a_code),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("dsvm", NULL,
+               cmocka_unit_test(every_entry_follows_the_criterion),
+               cmocka_unit_test(the_papers_high_speed_example),
+               cmocka_unit_test(codes_are_the_ring_and_the_null),
+               cmocka_unit_test(half_sector_and_range),
+               cmocka_unit_test(five_level_comparator),
+               cmocka_unit_test(all_eight_patterns_in_the_pwm_form),
+               cmocka_unit_test(patterns_of_a_code))

@@ -150,14 +150,9 @@ static void test_fstp_measured_midpoint_drift(void **state)
     assert_true(va < IQ(-40.0));
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_clarke_sweep_lsb),
-        cmocka_unit_test(test_clarke_saturates_at_edges),
-        cmocka_unit_test(test_hoang_table_i_reproduced),
-        cmocka_unit_test(test_sstp_vectors_casadei_eq2),
-        cmocka_unit_test(test_fstp_measured_midpoint_drift),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("dtc clarke vrec", NULL,
+               cmocka_unit_test(test_clarke_sweep_lsb),
+               cmocka_unit_test(test_clarke_saturates_at_edges),
+               cmocka_unit_test(test_hoang_table_i_reproduced),
+               cmocka_unit_test(test_sstp_vectors_casadei_eq2),
+               cmocka_unit_test(test_fstp_measured_midpoint_drift))

@@ -433,15 +433,10 @@ static void test_every_variant_converts_and_inits(void **state)
                 }
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_defaults_convert_to_expected_pu),
-        cmocka_unit_test(test_bad_si_configs_refused_with_field),
-        cmocka_unit_test(test_dtc_init_refuses_bad_struct),
-        cmocka_unit_test(test_trips_beyond_the_adc_range_refused),
-        cmocka_unit_test(test_handover_default_from_machine),
-        cmocka_unit_test(test_every_variant_converts_and_inits),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("dtc config", NULL,
+               cmocka_unit_test(test_defaults_convert_to_expected_pu),
+               cmocka_unit_test(test_bad_si_configs_refused_with_field),
+               cmocka_unit_test(test_dtc_init_refuses_bad_struct),
+               cmocka_unit_test(test_trips_beyond_the_adc_range_refused),
+               cmocka_unit_test(test_handover_default_from_machine),
+               cmocka_unit_test(test_every_variant_converts_and_inits))

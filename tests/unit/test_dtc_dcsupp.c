@@ -12,6 +12,8 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include "fixtest.h"
+
 #include <math.h>
 #include <stdlib.h>
 
@@ -185,12 +187,7 @@ static void test_reconstruction_takes_the_restored_mid_point(void **state)
     assert_true(fabs(db + k_in * r * dva) < 0.01 * k_in * dva + 4.0 / 16777216.0);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_dc_error_removed_at_w_over_20),
-        cmocka_unit_test(test_restoring_beta_follows_the_speed),
-        cmocka_unit_test(test_reconstruction_takes_the_restored_mid_point),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("dtc dcsupp", NULL,
+               cmocka_unit_test(test_dc_error_removed_at_w_over_20),
+               cmocka_unit_test(test_restoring_beta_follows_the_speed),
+               cmocka_unit_test(test_reconstruction_takes_the_restored_mid_point))

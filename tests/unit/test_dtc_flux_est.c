@@ -254,15 +254,10 @@ static void test_voltage_model_offset_does_not_drift(void **state)
     assert_int_equal(s.psi_alpha_iq, 0);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_current_model_matches_eqs_8_9),
-        cmocka_unit_test(test_encoder_angle),
-        cmocka_unit_test(test_lpf_step_lsb_and_saturation),
-        cmocka_unit_test(test_voltage_model_1500rpm),
-        cmocka_unit_test(test_voltage_model_100rpm),
-        cmocka_unit_test(test_voltage_model_offset_does_not_drift),
-    };
-    return cmocka_run_group_tests(tests, setup, NULL);
-}
+UNIT_TEST_MAIN("dtc flux est", setup,
+               cmocka_unit_test(test_current_model_matches_eqs_8_9),
+               cmocka_unit_test(test_encoder_angle),
+               cmocka_unit_test(test_lpf_step_lsb_and_saturation),
+               cmocka_unit_test(test_voltage_model_1500rpm),
+               cmocka_unit_test(test_voltage_model_100rpm),
+               cmocka_unit_test(test_voltage_model_offset_does_not_drift))

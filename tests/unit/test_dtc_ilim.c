@@ -13,6 +13,8 @@
 #include <setjmp.h>
 #include <cmocka.h>
 
+#include "fixtest.h"
+
 #include "dtc_config.h"
 #include "ilim.h"
 #include "dtc_config_si.h"
@@ -170,13 +172,8 @@ static void test_ilim_currents_at_the_rail(void **state)
     assert_int_equal(limited, 1U);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_ilim_fstp),
-        cmocka_unit_test(test_ilim_sstp),
-        cmocka_unit_test(test_ilim_currents_at_the_rail),
-        cmocka_unit_test(test_ilim_default),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("dtc ilim", NULL,
+               cmocka_unit_test(test_ilim_fstp),
+               cmocka_unit_test(test_ilim_sstp),
+               cmocka_unit_test(test_ilim_currents_at_the_rail),
+               cmocka_unit_test(test_ilim_default))

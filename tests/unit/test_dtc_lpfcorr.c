@@ -14,6 +14,8 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include "fixtest.h"
+
 #include <complex.h>
 #include <math.h>
 
@@ -170,12 +172,7 @@ static void test_correction_holds_through_an_acceleration(void **state)
     accelerate(1200.0); /* the Hoang Table VIII drive at its 0.6 N*m limit on 5e-4 kg m^2 */
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_recip_converges),
-        cmocka_unit_test(test_corrected_lowpass_is_the_true_flux),
-        cmocka_unit_test(test_correction_holds_through_an_acceleration),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("dtc lpfcorr", NULL,
+               cmocka_unit_test(test_recip_converges),
+               cmocka_unit_test(test_corrected_lowpass_is_the_true_flux),
+               cmocka_unit_test(test_correction_holds_through_an_acceleration))

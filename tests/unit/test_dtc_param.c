@@ -13,6 +13,8 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include "fixtest.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -239,14 +241,9 @@ static void test_emitter_writes_every_row(void **state)
     }
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_check_refuses_each_row_outside_its_range),
-        cmocka_unit_test(test_ids_unique_and_found),
-        cmocka_unit_test(test_set_by_id),
-        cmocka_unit_test(test_quantities_give_back_si),
-        cmocka_unit_test(test_emitter_writes_every_row),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("dtc param", NULL,
+               cmocka_unit_test(test_check_refuses_each_row_outside_its_range),
+               cmocka_unit_test(test_ids_unique_and_found),
+               cmocka_unit_test(test_set_by_id),
+               cmocka_unit_test(test_quantities_give_back_si),
+               cmocka_unit_test(test_emitter_writes_every_row))

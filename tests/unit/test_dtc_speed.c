@@ -187,13 +187,8 @@ static void test_pi_limit_and_antiwindup(void **state)
     fixtest_assert_lsb(fixtest_iq_to_d(speed_pi_step(&s, &p, 0, 0)), 0.1, LSB, 0.5, "bumpless");
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_speed_resolution_over_range),
-        cmocka_unit_test(test_speed_wraps_and_reset),
-        cmocka_unit_test(test_pi_against_reference),
-        cmocka_unit_test(test_pi_limit_and_antiwindup),
-    };
-    return cmocka_run_group_tests(tests, setup, NULL);
-}
+UNIT_TEST_MAIN("dtc speed", setup,
+               cmocka_unit_test(test_speed_resolution_over_range),
+               cmocka_unit_test(test_speed_wraps_and_reset),
+               cmocka_unit_test(test_pi_against_reference),
+               cmocka_unit_test(test_pi_limit_and_antiwindup))

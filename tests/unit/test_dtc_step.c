@@ -636,21 +636,16 @@ static void test_extreme_measurements_all_variants(void **state)
                 }
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_closed_loop_torque_mode),
-        cmocka_unit_test(test_closed_loop_speed_mode),
-        cmocka_unit_test(test_voltage_model_start_up_at_speed),
-        cmocka_unit_test(test_compensation_on_fstp_with_drops),
-        cmocka_unit_test(test_voltage_model_uses_legs_from_two_steps_back),
-        cmocka_unit_test(test_handover_up_and_down),
-        cmocka_unit_test(test_deadtime_error),
-        cmocka_unit_test(test_delay_prediction_matches_machine),
-        cmocka_unit_test(test_shadow_set_and_modes),
-        cmocka_unit_test(test_torque_mode_trim),
-        cmocka_unit_test(test_outputs_consistent),
-        cmocka_unit_test(test_extreme_measurements_all_variants),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("dtc step", NULL,
+               cmocka_unit_test(test_closed_loop_torque_mode),
+               cmocka_unit_test(test_closed_loop_speed_mode),
+               cmocka_unit_test(test_voltage_model_start_up_at_speed),
+               cmocka_unit_test(test_compensation_on_fstp_with_drops),
+               cmocka_unit_test(test_voltage_model_uses_legs_from_two_steps_back),
+               cmocka_unit_test(test_handover_up_and_down),
+               cmocka_unit_test(test_deadtime_error),
+               cmocka_unit_test(test_delay_prediction_matches_machine),
+               cmocka_unit_test(test_shadow_set_and_modes),
+               cmocka_unit_test(test_torque_mode_trim),
+               cmocka_unit_test(test_outputs_consistent),
+               cmocka_unit_test(test_extreme_measurements_all_variants))

@@ -424,21 +424,16 @@ static void test_hyst3_casadei(void **state)
     assert_int_equal(hyst3_step(&h, IQ_MIN), -1);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_casadei_table1_exact),
-        cmocka_unit_test(test_casadei_table3_exact),
-        cmocka_unit_test(test_hoang_table2_exact),
-        cmocka_unit_test(test_null_vector_minimises_transitions),
-        cmocka_unit_test(test_sstp_sectors_against_atan2),
-        cmocka_unit_test(test_fstp_sectors_derived_from_tables_i_ii),
-        cmocka_unit_test(test_sstp_selected_vectors_act_as_table2),
-        cmocka_unit_test(test_sstp_speed_dependent_entries),
-        cmocka_unit_test(test_fstp_selected_vectors_act_as_demanded),
-        cmocka_unit_test(test_hyst2_eqs_13_14),
-        cmocka_unit_test(test_hyst2_sq_flux),
-        cmocka_unit_test(test_hyst3_casadei),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("dtc tables", NULL,
+               cmocka_unit_test(test_casadei_table1_exact),
+               cmocka_unit_test(test_casadei_table3_exact),
+               cmocka_unit_test(test_hoang_table2_exact),
+               cmocka_unit_test(test_null_vector_minimises_transitions),
+               cmocka_unit_test(test_sstp_sectors_against_atan2),
+               cmocka_unit_test(test_fstp_sectors_derived_from_tables_i_ii),
+               cmocka_unit_test(test_sstp_selected_vectors_act_as_table2),
+               cmocka_unit_test(test_sstp_speed_dependent_entries),
+               cmocka_unit_test(test_fstp_selected_vectors_act_as_demanded),
+               cmocka_unit_test(test_hyst2_eqs_13_14),
+               cmocka_unit_test(test_hyst2_sq_flux),
+               cmocka_unit_test(test_hyst3_casadei))

@@ -72,12 +72,7 @@ static void test_flux_magnitude_eq11(void **state)
     assert_int_equal(torque_flux_mag(IQ_MIN, 0), IQ_MAX);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_torque_eq10_sweep),
-        cmocka_unit_test(test_torque_saturates),
-        cmocka_unit_test(test_flux_magnitude_eq11),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("dtc torque", NULL,
+               cmocka_unit_test(test_torque_eq10_sweep),
+               cmocka_unit_test(test_torque_saturates),
+               cmocka_unit_test(test_flux_magnitude_eq11))

@@ -199,15 +199,10 @@ static void test_none_and_saturation(void **state)
     assert_int_equal(fa, IQ_MIN);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_hoang_table_v_every_row),
-        cmocka_unit_test(test_hoang_table_vi_every_row),
-        cmocka_unit_test(test_table_vi_follows_from_table_iii_and_eqs_33_34),
-        cmocka_unit_test(test_r_on_terms_from_eq20),
-        cmocka_unit_test(test_sstp_equal_drop_scheme),
-        cmocka_unit_test(test_none_and_saturation),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("dtc vcomp", NULL,
+               cmocka_unit_test(test_hoang_table_v_every_row),
+               cmocka_unit_test(test_hoang_table_vi_every_row),
+               cmocka_unit_test(test_table_vi_follows_from_table_iii_and_eqs_33_34),
+               cmocka_unit_test(test_r_on_terms_from_eq20),
+               cmocka_unit_test(test_sstp_equal_drop_scheme),
+               cmocka_unit_test(test_none_and_saturation))

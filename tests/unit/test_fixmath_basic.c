@@ -500,7 +500,6 @@ static void test_conversion_trajectory_snr(void **state)
 {
     fixtest_acc_t acc;
     fixtest_acc_t acc31;
-    double p = 0.0;
     int32_t k;
     const int32_t n = 20000;
     (void)state;
@@ -514,10 +513,9 @@ static void test_conversion_trajectory_snr(void **state)
         double xr = fixtest_iq_to_d(xi);
         fixtest_acc_add(&acc, fixtest_q15_to_d(q15_from_iq(xi)), xr);
         fixtest_acc_add(&acc31, fixtest_q15_to_d(q15_from_q31(xq)), fixtest_q31_to_d(xq));
-        p += xr * xr;
     }
     {
-        double ideal = 10.0 * log10((p / n) / (LSB_Q15 * LSB_Q15 / 12.0));
+        double ideal = fixtest_acc_ideal_snr_db(&acc, LSB_Q15);
         print_message("[ MEASURE  ] ideal Q15 rounding SNR for this signal: %.2f dB\n", ideal);
         fixtest_snr_check(&acc, ideal - 0.5, "q15_from_iq, 50 Hz sine trajectory");
         fixtest_snr_check(&acc31, ideal - 0.5, "q15_from_q31, 50 Hz sine trajectory");
@@ -616,21 +614,16 @@ static void test_literal_macros(void **state)
     assert_int_equal(k_static_angle, 49152);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_q15_sat),
-        cmocka_unit_test(test_fix_sat32_clamp32),
-        cmocka_unit_test(test_fix_rshift_rnd32),
-        cmocka_unit_test(test_fix_rshift_rnd64_sat32),
-        cmocka_unit_test(test_q15_unary_exhaustive),
-        cmocka_unit_test(test_q15_add_sub),
-        cmocka_unit_test(test_add32_sub32),
-        cmocka_unit_test(test_neg32_abs32),
-        cmocka_unit_test(test_conversions_from_16bit),
-        cmocka_unit_test(test_conversions_from_32bit),
-        cmocka_unit_test(test_conversion_trajectory_snr),
-        cmocka_unit_test(test_literal_macros),
-    };
-    return cmocka_run_group_tests_name("fixmath basic", tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("fixmath basic", NULL,
+               cmocka_unit_test(test_q15_sat),
+               cmocka_unit_test(test_fix_sat32_clamp32),
+               cmocka_unit_test(test_fix_rshift_rnd32),
+               cmocka_unit_test(test_fix_rshift_rnd64_sat32),
+               cmocka_unit_test(test_q15_unary_exhaustive),
+               cmocka_unit_test(test_q15_add_sub),
+               cmocka_unit_test(test_add32_sub32),
+               cmocka_unit_test(test_neg32_abs32),
+               cmocka_unit_test(test_conversions_from_16bit),
+               cmocka_unit_test(test_conversions_from_32bit),
+               cmocka_unit_test(test_conversion_trajectory_snr),
+               cmocka_unit_test(test_literal_macros))

@@ -248,7 +248,6 @@ static void test_iq_mpy_q15_uq16_sweep(void **state)
 /* Trajectories                                                                               */
 
 /* SNR of ideal rounding to a grid of step lsb, for a signal of mean power p. */
-static double ideal_rounding_snr_db(double p, double lsb) { return 10.0 * log10(p / (lsb * lsb / 12.0)); }
 
 /* Memoryless products of quantised signals: mixing two sines (q15_mul, q31_mul, iq_mpy) and
  * scaling an IQ sine by a Q15 / UQ16 gain ramp. Reference: the double product of the same
@@ -299,11 +298,6 @@ static void test_product_trajectories(void **state)
     fixtest_acc_t aiq;
     fixtest_acc_t aq15;
     fixtest_acc_t au16;
-    double p15 = 0.0;
-    double p31 = 0.0;
-    double piq = 0.0;
-    double pq15 = 0.0;
-    double pu16 = 0.0;
     const int32_t n = 40000;
     int32_t k;
     (void)state;
@@ -329,29 +323,24 @@ static void test_product_trajectories(void **state)
 
         r = fixtest_q15_to_d(x15) * fixtest_q15_to_d(y15);
         fixtest_acc_add(&a15, fixtest_q15_to_d(q15_mul(x15, y15)), r);
-        p15 += r * r;
         r = fixtest_q31_to_d(x31) * fixtest_q31_to_d(y31);
         fixtest_acc_add(&a31, fixtest_q31_to_d(q31_mul(x31, y31)), r);
-        p31 += r * r;
         r = fixtest_iq_to_d(xiq) * fixtest_iq_to_d(yiq);
         fixtest_acc_add(&aiq, fixtest_iq_to_d(iq_mpy(xiq, yiq)), r);
-        piq += r * r;
         r = fixtest_iq_to_d(xiq) * fixtest_q15_to_d(g15);
         fixtest_acc_add(&aq15, fixtest_iq_to_d(iq_mpy_q15(xiq, g15)), r);
-        pq15 += r * r;
         r = fixtest_iq_to_d(xiq) * ((double)g16 / 65536.0);
         fixtest_acc_add(&au16, fixtest_iq_to_d(iq_mpy_uq16(xiq, g16)), r);
-        pu16 += r * r;
     }
-    fixtest_snr_check(&a15, ideal_rounding_snr_db(p15 / n, LSB_Q15) - 0.5,
+    fixtest_snr_check(&a15, fixtest_acc_ideal_snr_db(&a15, LSB_Q15) - 0.5,
                       "q15_mul, 50 Hz x 173 Hz mixing (bound = ideal rounding - 0.5 dB)");
-    fixtest_snr_check(&a31, ideal_rounding_snr_db(p31 / n, LSB_Q31) - 0.5,
+    fixtest_snr_check(&a31, fixtest_acc_ideal_snr_db(&a31, LSB_Q31) - 0.5,
                       "q31_mul, 50 Hz x 173 Hz mixing (bound = ideal rounding - 0.5 dB)");
-    fixtest_snr_check(&aiq, ideal_rounding_snr_db(piq / n, LSB_IQ) - 0.5,
+    fixtest_snr_check(&aiq, fixtest_acc_ideal_snr_db(&aiq, LSB_IQ) - 0.5,
                       "iq_mpy, 50 Hz x 173 Hz mixing (bound = ideal rounding - 0.5 dB)");
-    fixtest_snr_check(&aq15, ideal_rounding_snr_db(pq15 / n, LSB_IQ) - 0.5,
+    fixtest_snr_check(&aq15, fixtest_acc_ideal_snr_db(&aq15, LSB_IQ) - 0.5,
                       "iq_mpy_q15, sine x gain ramp -1..1 (bound = ideal rounding - 0.5 dB)");
-    fixtest_snr_check(&au16, ideal_rounding_snr_db(pu16 / n, LSB_IQ) - 0.5,
+    fixtest_snr_check(&au16, fixtest_acc_ideal_snr_db(&au16, LSB_IQ) - 0.5,
                       "iq_mpy_uq16, sine x gain ramp 0..1 (bound = ideal rounding - 0.5 dB)");
 }
 
@@ -376,7 +365,6 @@ static void run_lpf(const char *what, bool use_uq16, double fc_hz, int32_t n_ste
     double g = use_uq16 ? (double)g_u16 / 65536.0 : fixtest_iq_to_d(g_iq);
     iq_t y = 0;
     double yd = 0.0;
-    double p = 0.0;
     int32_t k;
     fixtest_acc_init(&acc);
     fixtest_rng_seed(&rng, SEED);
@@ -393,11 +381,10 @@ static void run_lpf(const char *what, bool use_uq16, double fc_hz, int32_t n_ste
         y = iq_add(y, use_uq16 ? iq_mpy_uq16(e, g_u16) : iq_mpy(g_iq, e));
         yd += g * (xq - yd);
         fixtest_acc_add(&acc, fixtest_iq_to_d(y), yd);
-        p += yd * yd;
     }
     {
         double var_lsb2 = (1.0 / 12.0) / (1.0 - (1.0 - g) * (1.0 - g));
-        double predicted = 10.0 * log10((p / n_steps) / (var_lsb2 * LSB_IQ * LSB_IQ));
+        double predicted = 10.0 * log10(fixtest_acc_ref_power(&acc) / (var_lsb2 * LSB_IQ * LSB_IQ));
         print_message("[ MEASURE  ] %s: predicted SNR for ideal rounding %.2f dB (g = %.6g)\n",
                       what, predicted, g);
         fixtest_snr_check(&acc, predicted - margin_db, what);
@@ -420,16 +407,11 @@ static void test_lpf_chain_iq_mpy_uq16(void **state)
             true, 5.0 / (2.0 * FIXTEST_PI), 400000, 1.5);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_q15_mul_sweep),
-        cmocka_unit_test(test_q31_mul_iq_mpy_sweep),
-        cmocka_unit_test(test_iq_mpy_q15_uq16_sweep),
-        cmocka_unit_test(test_iq_mac2_exact),
-        cmocka_unit_test(test_product_trajectories),
-        cmocka_unit_test(test_lpf_chain_iq_mpy),
-        cmocka_unit_test(test_lpf_chain_iq_mpy_uq16),
-    };
-    return cmocka_run_group_tests_name("fixmath multiplies", tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("fixmath multiplies", NULL,
+               cmocka_unit_test(test_q15_mul_sweep),
+               cmocka_unit_test(test_q31_mul_iq_mpy_sweep),
+               cmocka_unit_test(test_iq_mpy_q15_uq16_sweep),
+               cmocka_unit_test(test_iq_mac2_exact),
+               cmocka_unit_test(test_product_trajectories),
+               cmocka_unit_test(test_lpf_chain_iq_mpy),
+               cmocka_unit_test(test_lpf_chain_iq_mpy_uq16))

@@ -68,7 +68,6 @@ static void test_sin_cos_all_angles(void **state)
     assert_int_equal(fix_sin(65535U), -fix_sin(1U)); /* the zero crossing, both sides */
 }
 
-static double ideal_rounding_snr_db(double p, double lsb) { return 10.0 * log10(p / (lsb * lsb / 12.0)); }
 
 /* Angle ramps: 50 Hz at the 50 us control rate (phase accumulated in double and quantised to
  * angle_t, as a speed integrator would), and a chirp 0 -> 400 Hz over 2 s. Reference: sin/cos of
@@ -84,8 +83,6 @@ static void test_sin_cos_trajectories(void **state)
     fixtest_acc_t ac;
     fixtest_acc_t am;
     double phase = 0.0;
-    double ps = 0.0;
-    double pc = 0.0;
     const int32_t n = 40000;
     int32_t k;
     int pass;
@@ -94,8 +91,6 @@ static void test_sin_cos_trajectories(void **state)
         fixtest_acc_init(&as);
         fixtest_acc_init(&ac);
         fixtest_acc_init(&am);
-        ps = 0.0;
-        pc = 0.0;
         phase = 0.0;
         for (k = 0; k < n; k++) {
             double t = (double)k * 50e-6;
@@ -112,18 +107,16 @@ static void test_sin_cos_trajectories(void **state)
             fixtest_acc_add(&as, fixtest_q15_to_d(s), sin(th));
             fixtest_acc_add(&ac, fixtest_q15_to_d(c), cos(th));
             fixtest_acc_add(&am, hypot(fixtest_q15_to_d(c), fixtest_q15_to_d(s)), 1.0);
-            ps += sin(th) * sin(th);
-            pc += cos(th) * cos(th);
         }
         {
-            double bound_s = ideal_rounding_snr_db(ps / n, LSB_Q15) - SIN_SNR_LOSS_DB;
-            double bound_c = ideal_rounding_snr_db(pc / n, LSB_Q15) - SIN_SNR_LOSS_DB;
+            double bound_s = fixtest_acc_ideal_snr_db(&as, LSB_Q15) - SIN_SNR_LOSS_DB;
+            double bound_c = fixtest_acc_ideal_snr_db(&ac, LSB_Q15) - SIN_SNR_LOSS_DB;
             fixtest_snr_check(&as, bound_s, pass == 0 ? "fix_sin, 50 Hz angle ramp" : "fix_sin, 0..400 Hz chirp");
             fixtest_snr_check(&ac, bound_c, pass == 0 ? "fix_cos, 50 Hz angle ramp" : "fix_cos, 0..400 Hz chirp");
             /* Radius of (cos, sin): SNR against the unit circle, bound as for the components
              * plus 0.5 dB (the saturated peaks add a -1 LSB radius error four times per turn),
              * and worst case within sqrt(2) * SIN_MAX_LSB. */
-            fixtest_snr_check(&am, ideal_rounding_snr_db(1.0, LSB_Q15) - SIN_SNR_LOSS_DB - 0.5,
+            fixtest_snr_check(&am, fixtest_ideal_rounding_snr_db(1.0, LSB_Q15) - SIN_SNR_LOSS_DB - 0.5,
                               pass == 0 ? "hypot(fix_cos, fix_sin) vs 1, 50 Hz ramp"
                                         : "hypot(fix_cos, fix_sin) vs 1, chirp");
             print_message("[ MEASURE  ] radius error max %.4f LSB (bound %.4f)\n",
@@ -302,13 +295,8 @@ static void test_sector_quadrant_boundaries(void **state)
     assert_int_equal(fix_quadrant(0, 0), 1U);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_sin_cos_all_angles),
-        cmocka_unit_test(test_sin_cos_trajectories),
-        cmocka_unit_test(test_sector_quadrant_sweeps),
-        cmocka_unit_test(test_sector_quadrant_boundaries),
-    };
-    return cmocka_run_group_tests_name("fixmath sine, cosine, sector", tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("fixmath sine, cosine, sector", NULL,
+               cmocka_unit_test(test_sin_cos_all_angles),
+               cmocka_unit_test(test_sin_cos_trajectories),
+               cmocka_unit_test(test_sector_quadrant_sweeps),
+               cmocka_unit_test(test_sector_quadrant_boundaries))

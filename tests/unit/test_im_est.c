@@ -337,16 +337,11 @@ static void test_sensorless_speed(void **state)
     }
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_polar_against_atan2_and_hypot),
-        cmocka_unit_test(test_improved_estimator_magnetises_from_zero_as_eq20_says),
-        cmocka_unit_test(test_improved_estimator_tracks_double_reference_in_steady_state),
-        cmocka_unit_test(test_improved_estimator_error_against_the_true_flux),
-        cmocka_unit_test(test_speed_dependent_tau),
-        cmocka_unit_test(test_eq19_and_eq16),
-        cmocka_unit_test(test_sensorless_speed),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("im est", NULL,
+               cmocka_unit_test(test_polar_against_atan2_and_hypot),
+               cmocka_unit_test(test_improved_estimator_magnetises_from_zero_as_eq20_says),
+               cmocka_unit_test(test_improved_estimator_tracks_double_reference_in_steady_state),
+               cmocka_unit_test(test_improved_estimator_error_against_the_true_flux),
+               cmocka_unit_test(test_speed_dependent_tau),
+               cmocka_unit_test(test_eq19_and_eq16),
+               cmocka_unit_test(test_sensorless_speed))

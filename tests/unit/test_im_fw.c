@@ -109,12 +109,7 @@ static void test_bad_parameters_are_refused(void **state)
     assert_int_not_equal(im_fw_check(&p), 0);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_window_rule),
-        cmocka_unit_test(test_torque_reference_eqs_33_34),
-        cmocka_unit_test(test_bad_parameters_are_refused),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("im fw", NULL,
+               cmocka_unit_test(test_window_rule),
+               cmocka_unit_test(test_torque_reference_eqs_33_34),
+               cmocka_unit_test(test_bad_parameters_are_refused))

@@ -334,16 +334,11 @@ static void test_compare_values(void **state)
     }
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_every_sector_matches_reference),
-        cmocka_unit_test(test_zero_reference_and_duty_sums),
-        cmocka_unit_test(test_full_duty_at_the_vertices),
-        cmocka_unit_test(test_overmodulation_keeps_the_angle),
-        cmocka_unit_test(test_deadtime_compensation_edges),
-        cmocka_unit_test(test_reciprocal_and_link),
-        cmocka_unit_test(test_compare_values),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("svm", NULL,
+               cmocka_unit_test(test_every_sector_matches_reference),
+               cmocka_unit_test(test_zero_reference_and_duty_sums),
+               cmocka_unit_test(test_full_duty_at_the_vertices),
+               cmocka_unit_test(test_overmodulation_keeps_the_angle),
+               cmocka_unit_test(test_deadtime_compensation_edges),
+               cmocka_unit_test(test_reciprocal_and_link),
+               cmocka_unit_test(test_compare_values))

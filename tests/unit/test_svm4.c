@@ -245,14 +245,9 @@ static void test_dead_time_on_the_switched_legs(void **state)
     assert_int_equal(o.d_iq[1], o0.d_iq[1]);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_sweep_matches_four_vector_reference),
-        cmocka_unit_test(test_overmodulation_keeps_angle_on_unbalanced_link),
-        cmocka_unit_test(test_vertices_are_the_switching_states),
-        cmocka_unit_test(test_no_link_and_moving_link),
-        cmocka_unit_test(test_dead_time_on_the_switched_legs),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+UNIT_TEST_MAIN("svm4", NULL,
+               cmocka_unit_test(test_sweep_matches_four_vector_reference),
+               cmocka_unit_test(test_overmodulation_keeps_angle_on_unbalanced_link),
+               cmocka_unit_test(test_vertices_are_the_switching_states),
+               cmocka_unit_test(test_no_link_and_moving_link),
+               cmocka_unit_test(test_dead_time_on_the_switched_legs))

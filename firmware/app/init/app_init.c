@@ -118,6 +118,13 @@ const dtc_config_t *app_config_default(void)
     return g_app_instance.cfg_default;
 }
 
+/* cur, or now where the change of the configuration moved the field from was to now (a
+ * selection in any format: no arithmetic, no overflow). */
+static iq_t changed_iq(iq_t cur, iq_t was, iq_t now)
+{
+    return now != was ? now : cur;
+}
+
 /* The shadow set after a change of the configuration from old to cfg: the set published last,
  * with each field that the change gave a new value (a gain, the flux reference, a reference or
  * the mode written by id) taken from cfg. */
@@ -127,21 +134,11 @@ static int16_t publish_with(const dtc_config_t *old, const dtc_config_t *cfg)
     dtc_refs_t r = g_app_instance.refs;
     dtc_refs_from_config(&was, old);
     dtc_refs_from_config(&now, cfg);
-    if (now.speed_ref_iq != was.speed_ref_iq) {
-        r.speed_ref_iq = now.speed_ref_iq;
-    }
-    if (now.torque_ref_iq != was.torque_ref_iq) {
-        r.torque_ref_iq = now.torque_ref_iq;
-    }
-    if (now.flux_ref_iq != was.flux_ref_iq) {
-        r.flux_ref_iq = now.flux_ref_iq;
-    }
-    if (now.kp_iq != was.kp_iq) {
-        r.kp_iq = now.kp_iq;
-    }
-    if (now.ki_ts_iq != was.ki_ts_iq) {
-        r.ki_ts_iq = now.ki_ts_iq;
-    }
+    r.speed_ref_iq = changed_iq(r.speed_ref_iq, was.speed_ref_iq, now.speed_ref_iq);
+    r.torque_ref_iq = changed_iq(r.torque_ref_iq, was.torque_ref_iq, now.torque_ref_iq);
+    r.flux_ref_iq = changed_iq(r.flux_ref_iq, was.flux_ref_iq, now.flux_ref_iq);
+    r.kp_iq = changed_iq(r.kp_iq, was.kp_iq, now.kp_iq);
+    r.ki_ts_iq = changed_iq(r.ki_ts_iq, was.ki_ts_iq, now.ki_ts_iq);
     if (now.mode != was.mode) {
         r.mode = now.mode;
     }

@@ -38,4 +38,16 @@ inline Outcome run_shipped(const std::string& file, const std::vector<std::strin
     return Outcome{r.metrics, r.info, r.series};
 }
 
+// Loads tools/scenarios/<file> with the --set style overrides, which must refuse it (a scenario
+// that loads is a test failure), and expects the diagnostics to contain `names` (a key, or a whole
+// message).
+inline void expect_refused(const std::string& file, const std::vector<std::string>& sets,
+                           const std::string& names)
+{
+    sil::Scenario sc;
+    sil::Diagnostics d;
+    EXPECT_FALSE(sil::load_scenario(scenarios_dir() + file, sets, &sc, &d)) << file << " loaded";
+    EXPECT_NE(d.text().find(names), std::string::npos) << d.text();
+}
+
 } // namespace sil_test

@@ -30,10 +30,8 @@ iq_t fixtest_d_to_iq(double x)
 
 void fixtest_acc_init(fixtest_acc_t *acc)
 {
-    acc->sig_energy = 0.0;
-    acc->err_energy = 0.0;
-    acc->max_abs_err = 0.0;
-    acc->n = 0U;
+    const fixtest_acc_t empty = {0.0, 0.0, 0.0, 0U};
+    *acc = empty;
 }
 
 void fixtest_acc_add(fixtest_acc_t *acc, double val, double ref)
@@ -45,6 +43,21 @@ void fixtest_acc_add(fixtest_acc_t *acc, double val, double ref)
         acc->max_abs_err = fabs(e);
     }
     acc->n++;
+}
+
+double fixtest_acc_ref_power(const fixtest_acc_t *acc)
+{
+    return acc->n > 0U ? acc->sig_energy / (double)acc->n : 0.0;
+}
+
+double fixtest_ideal_rounding_snr_db(double p, double lsb)
+{
+    return 10.0 * log10(p / (lsb * lsb / 12.0));
+}
+
+double fixtest_acc_ideal_snr_db(const fixtest_acc_t *acc, double lsb)
+{
+    return fixtest_ideal_rounding_snr_db(fixtest_acc_ref_power(acc), lsb);
 }
 
 double fixtest_acc_snr_db(const fixtest_acc_t *acc)
@@ -113,13 +126,8 @@ double fixtest_rng_unit(fixtest_rng_t *rng)
 
 void fixtest_lsb_init(fixtest_lsb_t *t)
 {
-    t->max_lsb = 0.0;
-    t->sum_sq_lsb = 0.0;
-    t->worst_val = 0.0;
-    t->worst_ref = 0.0;
-    t->worst_in1 = 0;
-    t->worst_in2 = 0;
-    t->n = 0U;
+    const fixtest_lsb_t empty = {0.0, 0.0, 0.0, 0.0, 0, 0, 0U};
+    *t = empty;
 }
 
 void fixtest_lsb_add_err(fixtest_lsb_t *t, double err_lsb, double val, double ref, int64_t in1,

@@ -32,10 +32,27 @@ void fixtest_acc_init(fixtest_acc_t *acc);
 void fixtest_acc_add(fixtest_acc_t *acc, double val, double ref);
 /* 10*log10(signal energy / error energy); 200 dB when the error is exactly zero. */
 double fixtest_acc_snr_db(const fixtest_acc_t *acc);
+/* Mean power of the reference signal accumulated: sig_energy / n (0 with no samples). */
+double fixtest_acc_ref_power(const fixtest_acc_t *acc);
+/* The SNR in dB of ideal rounding to a step of lsb on a signal of mean power p: the rounding
+ * error is uniform over one step (variance lsb^2/12), so 10*log10(p / (lsb^2/12)). */
+double fixtest_ideal_rounding_snr_db(double p, double lsb);
+/* The same for the reference signal acc accumulated (mean power fixtest_acc_ref_power). */
+double fixtest_acc_ideal_snr_db(const fixtest_acc_t *acc, double lsb);
 
 /* CMocka-friendly assertions with a readable message (they call fail_msg on violation). */
 void fixtest_assert_lsb(double val, double ref, double lsb, double max_lsb, const char *what);
 void fixtest_assert_snr(const fixtest_acc_t *acc, double min_db, const char *what);
+
+/* The main() of every C unit test: runs the listed CMocka tests (cmocka_unit_test(...) entries)
+ * as one group named `group`, with `setup` (or NULL) run once before them, and returns the
+ * number of failures. Expand it after <cmocka.h>. */
+#define UNIT_TEST_MAIN(group, setup, ...)                                                        \
+    int main(void)                                                                               \
+    {                                                                                            \
+        const struct CMUnitTest tests[] = {__VA_ARGS__};                                         \
+        return cmocka_run_group_tests_name(group, tests, setup, NULL);                           \
+    }
 
 /* ---- Added for the fixmath suite (host-only helpers) ------------------------------------- */
 

@@ -25,12 +25,15 @@ unsigned switched_legs(const Scenario& sc); // bit mask of the legs the topology
 /// made the active harness of hal.h; deactivated when this object goes.
 class ActiveHarness {
 public:
-    /// False with *err when the plant or harness refuses the scenario.
-    bool open(const plant_params_t& pp, const Scenario& sc, std::string* err);
-    hal_host::Harness* get() const { return h_.get(); }
+    /// The scenario's plant (plant_params_from) in an activated harness; nullptr with *err when
+    /// the plant or harness refuses the scenario.
+    hal_host::Harness* open(const Scenario& sc, std::string* err);
+    /// The plant parameters of the last open().
+    const plant_params_t& params() const { return pp_; }
     ~ActiveHarness();
 
 private:
+    plant_params_t pp_{};
     std::unique_ptr<hal_host::Harness> h_;
 };
 

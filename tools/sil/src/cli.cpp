@@ -8,6 +8,7 @@
 #include <ostream>
 #include <unistd.h>
 
+#include "cli_parse.hpp"
 #include "controller_adapter.hpp"
 #include "identify.hpp"
 #include "im_tau_check.h"
@@ -106,15 +107,8 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
 
     CLI::App* keys = app.add_subcommand("keys", "print every scenario key with unit, default and range (markdown)");
 
-    std::vector<std::string> argv_rev(args.rbegin(), args.rend()); // CLI11 parses a reversed vector
-    if (!argv_rev.empty()) {
-        argv_rev.pop_back(); // program name
-    }
-    try {
-        app.parse(argv_rev);
-    } catch (const CLI::ParseError& e) {
-        const int rc = app.exit(e, out, err);
-        return rc == 0 ? 0 : 1;
+    if (int rc = 0; !cli_parse(app, args, out, err, &rc)) {
+        return rc;
     }
 
     if (keys->parsed()) {

@@ -110,19 +110,18 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
         *err = "identify: firmware configuration refused (" + std::to_string(rc) + "): " + msg;
         return false;
     }
-    const plant_params_t pp = plant_params_from(sc);
     ActiveHarness active;
-    if (!active.open(pp, sc, err)) {
+    hal_host::Harness* const h = active.open(sc, err);
+    if (h == nullptr) {
         return false;
     }
-    hal_host::Harness* const h = active.get();
     hal_init();
     if (const int16_t rc = app_init(&cfg); rc != 0) {
         *err = "identify: app_init() refused the configuration (dtc_err " + std::to_string(rc) + ")";
         return false;
     }
     app_request_ident();
-    RunEvents events(sc, pp.load);
+    RunEvents events(sc, active.params().load);
     const auto max_periods = static_cast<std::uint64_t>(std::llround(rep->max_time_s / sc.ts_s));
     app_ident_t d{};
     app_status_t st{};

@@ -123,14 +123,14 @@ hal_host::HarnessConfig harness_config_from(const Scenario& sc)
     return c;
 }
 
-bool ActiveHarness::open(const plant_params_t& pp, const Scenario& sc, std::string* err)
+hal_host::Harness* ActiveHarness::open(const Scenario& sc, std::string* err)
 {
-    h_ = hal_host::Harness::create(pp, harness_config_from(sc), err);
-    if (!h_) {
-        return false;
+    pp_ = plant_params_from(sc);
+    h_ = hal_host::Harness::create(pp_, harness_config_from(sc), err);
+    if (h_) {
+        h_->activate();
     }
-    h_->activate();
-    return true;
+    return h_.get();
 }
 
 ActiveHarness::~ActiveHarness()
@@ -371,12 +371,11 @@ bool run_once(const Scenario& sc, std::unique_ptr<Controller> ctrl, const RunOpt
         *err = "no controller";
         return false;
     }
-    const plant_params_t pp = plant_params_from(sc);
     ActiveHarness active;
-    if (!active.open(pp, sc, err)) {
+    hal_host::Harness* const h = active.open(sc, err);
+    if (h == nullptr) {
         return false;
     }
-    hal_host::Harness* const h = active.get();
     if (std::string e = ctrl->init(*h); !e.empty()) {
         *err = "controller: " + e;
         return false;
@@ -468,7 +467,7 @@ bool run_once(const Scenario& sc, std::unique_ptr<Controller> ctrl, const RunOpt
     }
     const bool guard_trace = writing && opt.write_trace && !opt.force && !until_signal;
     const double trace_rows = std::floor(static_cast<double>(periods - 1) / decimate) + 1.0;
-    RunEvents events(sc, pp.load);
+    RunEvents events(sc, active.params().load);
     const PlantBounds bounds = plant_bounds(sc);
     Divergence div;
 

@@ -18,6 +18,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "cli_parse.hpp"
 #include "run.hpp"
 #include "sweep_detail.hpp"
 #include "toml_limits.hpp"
@@ -173,15 +174,8 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
     ex->add_option("--jobs,-j", exec_jobs, "runs at once")->check(CLI::Range(1u, 4096u));
     ex->group(""); // not listed in --help: an internal interface
 
-    std::vector<std::string> argv_rev(args.rbegin(), args.rend());
-    if (!argv_rev.empty()) {
-        argv_rev.pop_back();
-    }
-    try {
-        app.parse(argv_rev);
-    } catch (const CLI::ParseError& e) {
-        const int rc = app.exit(e, out, err);
-        return rc == 0 ? 0 : 1;
+    if (int rc = 0; !cli_parse(app, args, out, err, &rc)) {
+        return rc;
     }
 
     if (ex->parsed()) {
@@ -212,35 +206,27 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
     }
     spec.sets = sets;
     spec.seed = seed;
-    for (const std::string& g : grids) {
-        Axis a;
-        if (!parse_grid_axis(g, &a, &e)) {
-            err << "dtc-sil sweep: " << e << "\n";
-            return 1;
+    // The axes in the order of their options: --grid, then --zip, then --sample.
+    const std::vector<std::string>* const axis_args[3] = {&grids, &zips, &samples};
+    for (const std::vector<std::string>* args_of_kind : axis_args) {
+        for (const std::string& arg : *args_of_kind) {
+            Axis a;
+            const bool ok = args_of_kind == &samples ? parse_sample_axis(arg, &a, &e)
+                            : args_of_kind == &zips  ? parse_grid_axis(arg, &a, &e, "--zip")
+                                                     : parse_grid_axis(arg, &a, &e);
+            if (!ok) {
+                err << "dtc-sil sweep: " << e << "\n";
+                return 1;
+            }
+            if (a.kind == Axis::Kind::Zip && !spec.axes.empty() && spec.axes.back().kind == Axis::Kind::Zip &&
+                a.values.size() != spec.axes.back().values.size()) {
+                err << "dtc-sil sweep: --zip " << arg << ": " << a.values.size()
+                    << " values, but the other --zip axes have " << spec.axes.back().values.size()
+                    << " (zipped axes go together value by value)\n";
+                return 1;
+            }
+            spec.axes.push_back(a);
         }
-        spec.axes.push_back(a);
-    }
-    for (const std::string& z : zips) {
-        Axis a;
-        if (!parse_grid_axis(z, &a, &e, "--zip")) {
-            err << "dtc-sil sweep: " << e << "\n";
-            return 1;
-        }
-        if (!spec.axes.empty() && spec.axes.back().kind == Axis::Kind::Zip &&
-            a.values.size() != spec.axes.back().values.size()) {
-            err << "dtc-sil sweep: --zip " << z << ": " << a.values.size() << " values, but the other --zip axes have "
-                << spec.axes.back().values.size() << " (zipped axes go together value by value)\n";
-            return 1;
-        }
-        spec.axes.push_back(a);
-    }
-    for (const std::string& s : samples) {
-        Axis a;
-        if (!parse_sample_axis(s, &a, &e)) {
-            err << "dtc-sil sweep: " << e << "\n";
-            return 1;
-        }
-        spec.axes.push_back(a);
     }
     if (samples.empty() && n != 0) {
         err << "dtc-sil sweep: --n " << n << ": --n counts samples of the --sample axes, and there is none\n";
