@@ -1,6 +1,6 @@
 #!/usr/bin/python3
-"""Casadei et al. 2006: the items of the one-command report (tools/report/papers.py) for Figs. 6-7,
-9-10, 19-20, 21, 22-24, 25, 35-36 and Table 5, each measured on the SIL or from the paper's
+"""Casadei et al. 2006: the items of the one-command report (tools/report/papers.py) for Figs. 1, 6-7,
+9-10, 19-20, 21, 22-24, 25, 31, 35-36 and Table 5, each measured on the SIL or from the paper's
 equations with the configured machine, as status.json entries.
 
     items(ctx) -> list of dict
@@ -141,6 +141,95 @@ def fig21(ctx):
                    "rad/s lose their flux too (sil.ImStability prints them): the drops' residual voltage error is "
                    "a mismatch eqs. 26-28 leave out",
                    png, "Casadei Fig. 21: contour lines over (w_s, tau), hatched unstable area at negative w_s")]
+
+
+# ---- Casadei Fig. 1 ------------------------------------------------------------------------------------
+# The stator-flux trajectory under the basic DTC at three cycle periods T_c, the hysteresis bands at
+# zero so that the period alone sets how far the flux strays (Casadei eq. 5: an active vector moves
+# it by (2/3) V_C T_c per period); default IM, half rated torque, 360 rpm held by the dynamometer.
+FIG1_TS = (40e-6, 80e-6, 160e-6)
+
+
+def fig1(ctx):
+    sc = _toml(SCN)
+    rated = sc["motor"].get("rated_torque_nm", 26.5)
+    vdc = _vdc(SCN)
+    rows, locus = [], {}
+    for ts in FIG1_TS:
+        m, tr = _run(ctx, SCN, _held_sets(360.0, 0.5 * rated, {"ts_s": ts, "control.flux_band_wb": 0,
+                                                               "control.torque_band_nm": 0}, window=0.1),
+                     "fig1_%g" % (ts * 1e6), trace=True)
+        w = tr["t_s"] >= tr["t_s"][-1] - 1.0 / 12.0  # one electrical turn at 360 rpm, 2 pole pairs
+        a, b = tr["psi_alpha_wb"][w], tr["psi_beta_wb"][w]
+        mag = np.hypot(a, b)
+        locus[ts] = (a, b)
+        rows.append(dict(ts=ts, rms=float(np.std(mag)), pp=float(mag.max() - mag.min()), mean=float(mag.mean()),
+                         step=2.0 / 3.0 * vdc * ts, fault=m["fault"]))
+    png = os.path.join("casadei", "fig1.png")
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.6))
+    for ts, (a, b) in locus.items():
+        axes[0].plot(a, b, lw=0.6, label="T_c = %g us" % (ts * 1e6))
+        axes[1].plot(np.degrees(np.arctan2(b, a)), np.hypot(a, b), ".", ms=1.5, label="T_c = %g us" % (ts * 1e6))
+    axes[0].set_aspect("equal")
+    axes[0].set_xlabel("phi_s alpha, Wb")
+    axes[0].set_ylabel("phi_s beta, Wb")
+    axes[1].set_xlabel("phi_s angle, deg")
+    axes[1].set_ylabel("|phi_s|, Wb")
+    for ax in axes:
+        ax.legend(fontsize=7)
+    axes[0].set_title("Fig. 1: stator-flux trajectory, basic DTC, zero bands, 360 rpm, half rated torque", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(ctx.out_dir, png), dpi=100)
+    plt.close(fig)
+    ok = all(r["fault"] == "none" for r in rows) and all(
+        rows[k + 1]["rms"] > 1.3 * rows[k]["rms"] for k in range(len(rows) - 1))
+    meas = "; ".join("T_c %g us: |phi_s| %.4f Wb, spread rms %.2f mWb, peak to peak %.1f mWb (eq. 5's step (2/3) V_dc T_c "
+                     "%.1f mWb), fault %s" % (r["ts"] * 1e6, r["mean"], 1e3 * r["rms"], 1e3 * r["pp"], 1e3 * r["step"],
+                                              r["fault"]) for r in rows)
+    return [_entry("Fig. 1", "reproduced" if ok else "deviates", meas,
+                   "a smaller cycle period gives a more regular stator-flux trajectory (eq. 5: the flux moves by "
+                   "(2/3) V_C T_c per period)",
+                   "" if ok else "the flux magnitude's spread does not grow by at least 1.3 x per doubling of T_c",
+                   png, "Casadei Fig. 1: stator-flux trajectories at different cycle periods")]
+
+
+# ---- Casadei Fig. 31 -----------------------------------------------------------------------------------
+# The motor current under DSVM at Fig. 30's point (100 rpm, rated torque, 160 us, flux band 0.0055 Wb
+# as tests/sil/test_dsvm.cpp, torque band zero), drawn beside basic DTC at Fig. 29's 80 us with zero
+# bands; the paper's Fig. 31 is a measured waveform: sinusoidal, with less ripple than basic DTC's.
+def fig31(ctx):
+    sc = _toml(SCN)
+    rated = sc["motor"].get("rated_torque_nm", 26.5)
+    f_e = 2.0 * 100.0 / 60.0
+    runs = {}
+    for name, extra in (("DSVM, 160 us", {"control.scheme": "dsvm", "ts_s": 160e-6, "control.flux_band_wb": 0.0055,
+                                          "control.torque_band_nm": 0}),
+                        ("basic DTC, 80 us", {"ts_s": 80e-6, "control.flux_band_wb": 0, "control.torque_band_nm": 0})):
+        runs[name] = _run(ctx, SCN, _held_sets(100.0, rated, extra, window=3.0 / f_e), "fig31_" + name.split(",")[0].split()[-1],
+                          trace=True)
+    png = os.path.join("casadei", "fig31.png")
+    fig, ax = plt.subplots(figsize=(8, 3.6))
+    for name, (m, tr) in runs.items():
+        w = tr["t_s"] >= tr["t_s"][-1] - 2.0 / f_e
+        ax.plot(tr["t_s"][w] - tr["t_s"][w][0], tr["i_a_a"][w], lw=0.6, label="%s: ripple %.2f A, %.0f Hz" % (
+            name, m.get("current_ripple_rms_a") or float("nan"), m.get("switching_freq_hz") or 0.0))
+    ax.set_xlabel("s")
+    ax.set_ylabel("i_a, A")
+    ax.legend(fontsize=7)
+    ax.set_title("Fig. 31: motor current, 100 rpm, rated torque", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(os.path.join(ctx.out_dir, png), dpi=100)
+    plt.close(fig)
+    (md, _), (mb, _) = runs["DSVM, 160 us"], runs["basic DTC, 80 us"]
+    rd, rb = md.get("current_ripple_rms_a") or float("nan"), mb.get("current_ripple_rms_a") or float("nan")
+    ok = md["fault"] == "none" and mb["fault"] == "none" and rd < 0.9 * rb and abs(md["torque_mean_nm"] / rated - 1) < 0.03
+    meas = ("DSVM 160 us: ripple %.3f A at %.0f Hz, torque %.2f N*m, fault %s; basic DTC 80 us: ripple %.3f A at %.0f Hz, "
+            "torque %.2f N*m, fault %s (the comparison at equal switching frequency is Figs. 29-30's, sil_dsvm)" % (rd, md.get("switching_freq_hz") or 0.0, md["torque_mean_nm"], md["fault"], rb,
+                                           mb.get("switching_freq_hz") or 0.0, mb["torque_mean_nm"], mb["fault"]))
+    return [_entry("Fig. 31", "reproduced" if ok else "deviates", meas,
+                   "measured motor current with DSVM (100 rpm): sinusoidal, less ripple than basic DTC",
+                   "" if ok else "DSVM's ripple is not below 0.9 x basic DTC's, or the torque is off by more than 3 %",
+                   png, "Casadei Fig. 31: measured motor current with DSVM")]
 
 
 # ---- Casadei Figs. 6-7 --------------------------------------------------------------------------------
@@ -322,8 +411,8 @@ def figs22_24(ctx):
         res.append(_entry(item, "reproduced" if ok else "deviates", m, says,
                           "" if ok else "sil.ImCasadei.Figs22To24 failed", None,
                           "Casadei %s: rotor-flux error traces of the improved and the basic estimator" % item))
-    f24 = [x for x in meas if x.startswith("Fig24")]
-    res.append(fig24(f24, ok))
+    f24 = [x for x in meas if x.startswith("Fig24 ")]
+    res.append(fig24(ctx, f24, ok))
     return res
 
 
@@ -336,7 +425,7 @@ def figs22_24(ctx):
 F24_AMP_MARGIN = 0.25
 
 
-def fig24(f24, ok):
+def fig24(ctx, f24, ok):
     says = ("0.01 A offset, w = 1 rad/s, tau = 0.01 s, rated torque: the improved estimator's rotor-flux magnitude "
             "oscillates around the reference; amplitude and frequency equal to the theory's (eq. 26)")
     mach = im_linear.Machine.from_scenario(SCN)
@@ -370,28 +459,112 @@ def fig24(f24, ok):
             "tau = %g s; the offset's own rotor-flux oscillation in steady state (the run less the same run without it, "
             "last 3 s of 5 s): %s. Eq. 27's dominant poles %.2f +- j%.2f 1/s, w_s = %.2f rad/s" %
             (tau, rows, lam.real, abs(lam.imag), ws))
-    reason = "" if amp_ok and freq_ok else (
-        "the frequency is %s; the amplitude exceeds eq. 26's (%s). Eq. 26 is right for its model: linearised "
-        "numerically its eigenvalues are eq. 27's to 1e-8, and the same reduced drive simulated without "
-        "linearising gives the same amplitude within 0.2 %% (tests/unit/test_im_linear.py). Its dominant pole pair "
-        "lies %.2f rad/s from w_s with a damping of %.2f 1/s (near resonance). The drive follows eq. 26's "
-        "structure: with ideal devices its amplitude goes with tau as eq. 26's does (tau 5 / 10 / 20 ms above), at a "
-        "ratio of %s: a gain on the offset's way in, not a detuned resonance (a lost damping would raise the ratio "
-        "most at the longest tau, where the pair is least damped; the ratio falls there). The flux regulator is not "
-        "it (sfvc_kp_per_s 1000 or 6000 1/s instead of 3125: 11.5 / 10.0 %%, by hand), nor a discretisation error that "
-        "a shorter period removes (the SFVC at 40 us, ideal devices, by hand: 29 %%, and 9.7 %% at w_s without the "
-        "offset). Which path multiplies the offset by about 1.5 is not isolated" %
-        ("the theory's (w_s) for every scheme" if freq_ok else "NOT w_s in every scheme" if ok else
-         "not checked: sil.ImCasadei.Figs22To24 failed",
-         ", ".join("%s %+.0f %%" % (k, 100 * v) for k, v in rel.items()), abs(abs(lam.imag) - ws), -lam.real,
-         " / ".join("%.2f" % (got[k]["amp"] / got[k]["pred"]) for k in
-                    ("sfvc_ideal_tau0.005", "sfvc_ideal", "sfvc_ideal_tau0.02") if k in got)))
+    pok, paths, paths_txt = fig24_paths(ctx)
+    reason = "" if amp_ok and freq_ok else fig24_reason(mach, torque, psir, tau, got, rel, freq_ok, ok, pok, paths)
+    meas += ". The offset's paths, one switched off at a time (sil.ImCasadei.Fig24OffsetPathsSwitchedOffOneAtATime): " + \
+        paths_txt
     e = _entry("Fig. 24", "reproduced" if amp_ok and freq_ok else "deviates", meas, says, reason, None,
                "Casadei Fig. 24: rotor-flux error with a 0.01 A offset")
     e["measured"]["eq26"] = {k: {"sil_pct": round(100 * g["amp"], 3), "sil_w_rad_s": g["w_pk"],
                                  "eq26_pct": round(100 * g["pred"], 3), "eq26_w_rad_s": round(g["ws"], 3)}
                              for k, g in got.items()}
+    e["measured"]["paths"] = {k: {x: round(v, 4) if isinstance(v, float) else v for x, v in row.items()}
+                              for k, row in paths.items()}
     return e
+
+
+def fig24_reason(mach, torque, psir, tau, got, rel, freq_ok, ok, pok, paths):
+    """The measured reason why the drive's Fig. 24 amplitude differs from eq. 26's (the wording
+    follows the numbers of fig24 and fig24_paths)."""
+    di = 0.25 * complex(1.0, 1.0 / math.sqrt(3.0))
+    base = im_linear.offset_oscillation(mach, 1.0, torque, psir, tau, di, "sfvc")[0]
+    more = im_linear.offset_oscillation(mach, 1.0, torque, psir, tau, di, "sfvc", 0.1 * mach.rs)[0]
+    x = lambda k: paths[k]["sil_pct"] / paths[k]["eq26_pct"] if k in paths else float("nan")  # noqa: E731
+    y = lambda k, j: paths[k]["sil_pct"] / paths[j]["sil_pct"] if k in paths and j in paths else float("nan")  # noqa
+    ideal = ["dtc_ideal_no_dt_tau0.005", "dtc_ideal_no_dt", "dtc_ideal_no_dt_tau0.02"]
+    eq26_holds = pok and all(k in paths and abs(x(k) - 1.0) <= 0.15 for k in ideal + ["dtc_ideal_no_dt_alpha"])
+    head = "the frequency is %s; the amplitude exceeds eq. 26's (%s). " % (
+        "the theory's (w_s) for every scheme" if freq_ok else "NOT w_s in every scheme" if ok else
+        "not checked: sil.ImCasadei.Figs22To24 failed", ", ".join("%s %+.0f %%" % (k, 100 * v) for k, v in rel.items()))
+    if not paths:
+        return head + "sil.ImCasadei.Fig24OffsetPathsSwitchedOffOneAtATime printed no figures"
+    return head + (
+        "Isolated one path at a time: eq. 26 takes the offset in by R_s di (eq. 20) and by sigma L_s di (eq. 21), "
+        "which work against each other at w_s on this machine, so a voltage in phase with R_s di is magnified (10 %% "
+        "more resistance on the offset's way gives %+.0f %% amplitude at tau %g s). (1) Eq. 26 %s: with the "
+        "inverter's dead time off (plant and firmware) the DTC's amplitude is eq. 26's x %s at tau 5 / 10 / 20 ms, "
+        "at w_s. (2) The Clarke path only makes the offset a vector: phase A's 0.25 A (|di| = 0.289 A on "
+        "(1, 1/sqrt 3)) and 0.289 A on the alpha axis give x %.2f of each other. (3) The factor comes from the "
+        "sign-dependent voltages the estimator takes from the measured current's sign (the dead time in svm.h's "
+        "d_eff and vrec.h, the device drops in the simple compensation): around each zero crossing of a phase the "
+        "offset moves, the sign is wrong for di/|i| rad, where the estimator's voltage is off by twice that "
+        "voltage. Measured on the DTC: the dead time x %.2f, the drops x %.2f (together on the rig: the DTC's "
+        "%+.0f %% above); estimated as a resistance 2 V / (pi |i|) beside R_s (im_linear.fig24_offset_resistance): "
+        "x %.2f for the drops (V = (V_CE + V_D) / 2), x %.2f for the SFVC's dead time (V = V_dc T_d f_c, %.3f ohm). "
+        "Compensated at the gates or not, the estimator's sign model is "
+        "the same (SFVC x %.2f). (4) The SFVC with the dead time: x %.2f of eq. 26; without it its oscillation is "
+        "not at w_s: the largest line moves to %.2f rad/s (%.2f %% at w_s), a mode below w_s the offset's step "
+        "excites and eq. 27 does not have (the SFVC without the dead time is known to settle off its operating "
+        "point: docs/sil.md, the SFVC finding); the SFVC's factor beyond the dead time's estimate belongs to that "
+        "closed loop, not to a path of the offset, and is not isolated further. Not the cause: the LPF's "
+        "discretisation (Ts/tau = 0.004 for the 40 us DTC, 0.016 for the 160 us SFVC: forward Euler moves eq. "
+        "20's pole by under 1 %%, and the DTC meets eq. 26 in (1)), the "
+        "current-model branch (the start-up's magnetisation only, off at the operating point), the flux regulator "
+        "(sfvc_kp_per_s 1000 or 6000 1/s instead of 3125: 11.5 / 10.0 %%, by hand)" % (
+            100 * (more / base - 1), tau,
+            "holds" if eq26_holds else "does NOT hold within 15 %",
+            " / ".join("%.2f" % x(k) for k in ideal), y("dtc_ideal_no_dt_alpha", "dtc_ideal_no_dt"),
+            y("dtc_ideal", "dtc_ideal_no_dt"), y("dtc_drops_no_dt", "dtc_ideal_no_dt"),
+            100 * rel.get("dtc", float("nan")),
+            paths.get("dtc_drops_no_dt", {}).get("eq26_r_pct", float("nan")) / paths.get("dtc_drops_no_dt", {}).get(
+                "eq26_pct", float("nan")),
+            paths.get("sfvc_ideal", {}).get("eq26_r_pct", float("nan")) / paths.get("sfvc_ideal", {}).get(
+                "eq26_pct", float("nan")), paths.get("sfvc_ideal", {}).get("r_off_ohm", float("nan")),
+            y("sfvc_ideal_dt_uncompensated", "sfvc_ideal"), x("sfvc_ideal"),
+            paths.get("sfvc_ideal_no_dt", {}).get("w_pk", float("nan")),
+            paths.get("sfvc_ideal_no_dt", {}).get("sil_pct", float("nan"))))
+
+
+# ---- Casadei Fig. 24: the offset's paths, one switched off at a time ---------------------------------
+def fig24_paths(ctx):
+    """sil.ImCasadei.Fig24OffsetPathsSwitchedOffOneAtATime beside Casadei eq. 26 (im_linear.
+    offset_oscillation), without and with the resistance the sign-dependent voltages add on the
+    offset's way (im_linear.fig24_offset_resistance: the dead time's V_dc T_d f_c where the dead-time
+    compensation is on, the mean forward drop (V_CE + V_D) / 2 where the device drops are). Returns
+    (rows {tag: dict}, text)."""
+    ok, meas, _ = _gtest(ctx, "Fig24OffsetPathsSwitchedOffOneAtATime")
+    mach = im_linear.Machine.from_scenario(SCN)
+    sc, d = _toml(SCN), im_linear.plant_defaults()
+    psir, torque = sc["control"]["rotor_flux_ref_wb"], sc["motor"].get("rated_torque_nm", 26.5)
+    vdc = _vdc(SCN)
+    _, i_op, _ = machine_steady_state(mach, psir, 1.0 * 30.0 / math.pi / mach.p, torque)
+    v_dt = vdc * d["PLANT_DEF_DEAD_TIME_S"] * d["PLANT_DEF_IM_CARRIER_HZ"]
+    v_drop = 0.5 * (d["PLANT_DEF_V_CE_V"] + d["PLANT_DEF_V_D_V"])
+    rows = {}
+    for ln in meas:
+        a = re.search(r"Fig24path (\S+) offset A ([-\d.]+) B ([-\d.]+) A, tau ([\d.e-]+) s: the offset's own ([\d.]+) %"
+                      r" at w_s = ([\d.]+) rad/s, largest line at ([\d.]+) rad/s, fault (\S+)", ln)
+        if not a:
+            continue
+        tag = a.group(1)
+        da, db, tau = float(a.group(2)), float(a.group(3)), float(a.group(4))
+        di = complex(da, (da + 2.0 * db) / math.sqrt(3.0))  # the two-sensor Clarke (clarke.h clarke_sstp)
+        law = "dtc" if tag.startswith("dtc") else "sfvc"
+        dt_comp = "no_dt" not in tag and "uncompensated" not in tag
+        drops = "drops" in tag
+        # the DTC's dead-time voltage follows its own switching frequency, not printed: no estimate there
+        v_sign = (v_dt if dt_comp and law == "sfvc" else 0.0) + (v_drop if drops else 0.0)
+        r_off = im_linear.fig24_offset_resistance(v_sign, abs(i_op)) if v_sign else 0.0
+        pred, ws = im_linear.offset_oscillation(mach, 1.0, torque, psir, tau, di, law)
+        pred_r = im_linear.offset_oscillation(mach, 1.0, torque, psir, tau, di, law, r_off)[0]
+        rows[tag] = dict(sil_pct=float(a.group(5)), eq26_pct=100 * pred, eq26_r_pct=100 * pred_r, r_off_ohm=r_off,
+                         tau=tau, w_pk=float(a.group(7)), ws=ws, fault=a.group(8))
+    txt = "; ".join("%s: SIL %.2f %% (largest line at %.2f rad/s), eq. 26 %.2f %% (x %.2f)%s" % (
+        k, v["sil_pct"], v["w_pk"], v["eq26_pct"], v["sil_pct"] / v["eq26_pct"],
+        ", with the sign paths' estimated %.3f ohm %.2f %% (x %.2f)" % (v["r_off_ohm"], v["eq26_r_pct"],
+                                                                      v["sil_pct"] / v["eq26_r_pct"])
+        if v["r_off_ohm"] else "") for k, v in rows.items())
+    return ok, rows, txt
 
 
 def fig25(ctx):
@@ -570,6 +743,152 @@ def _t5_fmt(m):
     return "%.2f A at %.0f Hz" % (m.get("current_ripple_rms_a") or float("nan"), m.get("switching_freq_hz") or 0.0)
 
 
+# ---- Casadei Table 5: the DFOC's ripple against the load -------------------------------------------
+# The ripple of a PWM inverter on the machine is the volt-seconds each carrier period applies away
+# from its mean, over the transient inductance sigma L_s: it depends on the modulation index, the
+# voltage vector's angle and the clamping rule, not on the current, so the load moves it only
+# through the stator voltage it needs. dpwm_ripple evaluates that for the firmware's two-phase rule
+# (svm.h SVM_TWO_PHASE: the leg of the largest |phase voltage| clamped to its rail), centred pulses,
+# ideal switches, at the machine's steady state (Casadei eq. 19's stator flux at constant rotor
+# flux, v = R_s i + j w_s phi_s in the rotor-flux frame). The SIL measures the same quantity
+# (current_ripple_rms_a: the per-phase rms of the current less its fundamental).
+def machine_steady_state(mach, psir, rpm, torque):
+    """(v, i, w_s) in the rotor-flux frame at constant rotor flux (Casadei eqs. 16, 19, A6)."""
+    i_d = psir / mach.m
+    i_q = torque * mach.lr / (1.5 * mach.p * mach.m * psir)
+    w_s = mach.p * rpm * math.pi / 30.0 + mach.m / mach.tau_r * i_q / psir
+    i = complex(i_d, i_q)
+    phis = complex(mach.sigma * mach.ls * i_d + mach.m / mach.lr * psir, mach.sigma * mach.ls * i_q)
+    return mach.rs * i + 1j * w_s * phis, i, w_s
+
+
+def dpwm_ripple(mach, vdc, carrier_hz, v, i=None, rule="voltage", n_angle=240, n_sub=160):
+    """Per-phase rms current ripple (A) of centred PWM of the rotor-frame voltage v over one
+    electrical turn, ideal switches, one carrier period per angle. rule: "voltage" two-phase, the leg
+    of the largest |v_x| clamped (the firmware's); "current" two-phase, of the two legs that can be
+    clamped (the highest to its upper rail, the lowest to its lower) the one carrying the larger
+    |i_x| (the loss-minimising variant; i the rotor-frame current); "symmetric" min-max injection."""
+    tc, sls = 1.0 / carrier_hz, mach.sigma * mach.ls
+    th = np.linspace(0.0, 2.0 * math.pi, n_angle, endpoint=False)
+
+    def phases(x):
+        x = x * np.exp(1j * th)
+        return np.stack([x.real, -0.5 * x.real + math.sqrt(3) / 2 * x.imag, -0.5 * x.real - math.sqrt(3) / 2 * x.imag])
+    ph = phases(v) / vdc
+    kmax, kmin = ph.argmax(axis=0), ph.argmin(axis=0)
+    if rule == "symmetric":
+        n0 = -0.5 * (ph.max(axis=0) + ph.min(axis=0))
+    else:
+        if rule == "current":
+            ia = np.abs(phases(i))
+            cols = np.arange(n_angle)
+            hi = ia[kmax, cols] >= ia[kmin, cols]
+        else:
+            hi = np.abs(ph.max(axis=0)) >= np.abs(ph.min(axis=0))
+        n0 = np.where(hi, 0.5 - ph.max(axis=0), -0.5 - ph.min(axis=0))
+    d = np.clip(ph + n0 + 0.5, 0.0, 1.0)  # (3, n_angle)
+    t = (np.arange(n_sub) + 0.5) / n_sub * tc
+    sw = (np.abs(t[None, None, :] - tc / 2) < d[:, :, None] * tc / 2).astype(float)  # (3, n_angle, n_sub)
+    vph = vdc * (sw - sw.mean(axis=0, keepdims=True))
+    r = np.cumsum(vph - vph.mean(axis=2, keepdims=True), axis=2) * (tc / n_sub) / sls
+    r -= r.mean(axis=2, keepdims=True)
+    return float(math.sqrt(np.mean(np.sum(r * r, axis=0) / 3.0)))
+
+
+T5_PAPER_DFOC = {26.5: (0.64, 0.63, 0.58), 13.25: (0.64, 0.94, 0.47), 0.0: (0.65, 0.93, 0.34)}
+# The DFOC at 720 rpm under each change that could bring a load dependence: the devices' drops and
+# the dead time (on the rig, off one at a time, both off: Casadei's simulations had neither, sec.
+# 13.1), and the current loops at the tuning that reproduces the paper's Fig. 35 (both poles at
+# w_c = 0.2/Ts, damping 0.7).
+T5_LOAD_VARIANTS = [
+    ("rig (drops and dead time)", {}),
+    ("no dead time", {"inverter.dead_time": "false", "control.deadtime_comp": "false"}),
+    ("ideal devices", {"inverter.drops": "false", "control.compensation": "none"}),
+    ("ideal devices, no dead time", {"inverter.drops": "false", "control.compensation": "none",
+                                     "inverter.dead_time": "false", "control.deadtime_comp": "false"}),
+    ("Fig. 35's placed-pole tuning", {"control.dfoc_bw_hz": 0, "control.dfoc_zeta": 0.7}),
+]
+
+
+def table5_dfoc_load(ctx):
+    """The DFOC's ripple at 720 rpm and the three loads under T5_LOAD_VARIANTS (short: the first and
+    the fourth), and the two-phase law (dpwm_ripple) at the nine cells: (text, {variant: [A per load]},
+    law {(rpm, torque): A})."""
+    import concurrent.futures
+    mach = im_linear.Machine.from_scenario(SCN)
+    sc = _toml(SCN)
+    psir = sc["control"]["rotor_flux_ref_wb"]
+    vdc, carrier = _vdc(SCN), im_linear.plant_defaults()["PLANT_DEF_IM_CARRIER_HZ"]
+    law, other = {}, {}
+    for rpm in (1440.0, 720.0, 144.0):
+        for t in (26.5, 13.25, 0.0):
+            v, i, _ = machine_steady_state(mach, psir, rpm, t)
+            law[(rpm, t)] = dpwm_ripple(mach, vdc, carrier, v)
+            if rpm == 720.0:
+                for rule in ("current", "symmetric"):
+                    other.setdefault(rule, []).append(dpwm_ripple(mach, vdc, carrier, v, i, rule))
+    variants = [T5_LOAD_VARIANTS[0], T5_LOAD_VARIANTS[3]] if ctx.short else T5_LOAD_VARIANTS
+    jobs = {}
+    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, ctx.jobs)) as ex:
+        for k, (label, extra) in enumerate(variants):
+            for t in (26.5, 13.25, 0.0):
+                jobs[ex.submit(_t5_cell, ctx, SCN, extra, "dfoc", 720.0, t, "t5load_%d_%g" % (k, t))] = (label, t)
+        got = {jobs[f]: f.result() for f in concurrent.futures.as_completed(jobs)}
+    sil = {label: [(got[(label, t)] or {}).get("current_ripple_rms_a") for t in (26.5, 13.25, 0.0)]
+           for label, _ in variants}
+    fmt = lambda xs: " / ".join("%.3f" % x if x is not None else "n/a" for x in xs)  # noqa: E731
+    ratios = {(rpm, t): T5_PAPER_DFOC[t][(1440.0, 720.0, 144.0).index(rpm)] / law[(rpm, t)] for rpm, t in law}
+    txt = ("DFOC at 720 rpm, 26.5 / 13.25 / 0 N*m, A: %s; the paper 0.63 / 0.94 / 0.93. Two-phase modulation's "
+           "ripple on this machine (volt-seconds over sigma L_s, ideal switches, tools/report/casadei_items.py "
+           "dpwm_ripple): 1440 rpm %s, 720 rpm %s, 144 rpm %s A; the paper's DFOC over it: 1440 rpm %s, 720 rpm %s, "
+           "144 rpm %s; at 720 rpm with the loss-minimising two-phase rule (largest current clamped) %s A, with "
+           "symmetric SVM %s A" % (
+               "; ".join("%s %s" % (label, fmt(v)) for label, v in sil.items()),
+               *[fmt([law[(rpm, t)] for t in (26.5, 13.25, 0.0)]) for rpm in (1440.0, 720.0, 144.0)],
+               *[" / ".join("%.2f" % ratios[(rpm, t)] for t in (26.5, 13.25, 0.0)) for rpm in (1440.0, 720.0, 144.0)],
+               fmt(other["current"]), fmt(other["symmetric"])))
+    return txt, sil, law, ratios, other
+
+
+def table5_load_reason(sil, law, ratios, other):
+    """Why the paper's DFOC rises at light load at 720 rpm and ours does not, from table5_dfoc_load's
+    measurements (the wording follows the numbers)."""
+    j = lambda xs: " / ".join("%.2f" % x for x in xs)  # noqa: E731
+    spans = {label: max(v) / min(v) for label, v in sil.items() if all(x for x in v)}
+    flat = all(sp < 1.15 for sp in spans.values())
+    r720 = [ratios[(720.0, t)] for t in (26.5, 13.25, 0.0)]
+    per_speed = {rpm: [ratios[(rpm, t)] for t in (26.5, 13.25, 0.0)] for rpm in (1440.0, 144.0)}
+    steady = all(max(v) / min(v) < 1.1 for v in per_speed.values()) and r720[1] / r720[2] < 1.1 and all(
+        max(v) / min(v) < 1.15 for v in other.values())
+    law720 = [law[(720.0, t)] for t in (26.5, 13.25, 0.0)]
+    mach, psir = im_linear.Machine.from_scenario(SCN), _toml(SCN)["control"]["rotor_flux_ref_wb"]
+    mi = [abs(machine_steady_state(mach, psir, 720.0, t)[0]) / (_vdc(SCN) / math.sqrt(3)) for t in (26.5, 0.0)]
+    law_txt = ("the ripple of a PWM inverter is the volt-seconds each carrier period applies away from its mean over "
+               "sigma L_s, so the load reaches it only through the stator voltage; at 720 rpm the modulation index "
+               "moves from %.2f to %.2f between rated and no load and two-phase modulation's ripple by %.0f %% (%s A)"
+               % (mi[0], mi[1], 100 * (max(law720) / min(law720) - 1), j(law720)))
+    sil_txt = ("The SIL follows that law: across the three loads ours changes by at most %.0f %% under every variant "
+               "(%s), so neither the dead time nor the device drops (Casadei's Table 5 is simulated without them, sec. "
+               "13.1) nor the current loops' tuning makes a load dependence" % (
+                   100 * (max(spans.values()) - 1) if spans else float("nan"),
+                   ", ".join("%s x %.2f" % (k, v) for k, v in spans.items()))) if flat else (
+        "A SIL variant moves with the load by more than 15 %%: %s" % ", ".join(
+            "%s x %.2f" % (k, v) for k, v in spans.items()))
+    if steady:
+        paper_txt = ("The paper's DFOC column is the same law times a factor per speed in eight of its nine cells "
+                     "(1440 rpm %s, 144 rpm %s, 720 rpm at half and no load %s: its machine and link, unprinted, set "
+                     "the factor); the one cell off the law is 720 rpm at rated torque (x %.2f, where the other two "
+                     "720-rpm cells give x %.2f, i.e. %.2f A): the rise at light load is that one low cell, not a load "
+                     "dependence that two-phase modulation (either clamping rule) or symmetric SVM of an ideal inverter "
+                     "produces (measured)" % (
+                         j(per_speed[1440.0]), j(per_speed[144.0]), j(r720[1:]), r720[0], 0.5 * (r720[1] + r720[2]),
+                         0.5 * (r720[1] + r720[2]) * law720[0]))
+    else:
+        paper_txt = ("The paper's DFOC over the law per cell: 1440 rpm %s, 720 rpm %s, 144 rpm %s: no factor per "
+                     "speed fits its column" % (j(per_speed[1440.0]), j(r720), j(per_speed[144.0])))
+    return "%s. %s. %s" % (law_txt, sil_txt, paper_txt)
+
+
 def table5(ctx):
     cmd = [sys.executable, os.path.join(ROOT, "tools", "plot", "casadei_table5.py"), "--exe", ctx.dtc_sil, "--out",
            os.path.join(ctx.work, "table5"), "--jobs", str(ctx.jobs)]
@@ -628,6 +947,9 @@ def table5(ctx):
                     pd[rpm][0] / pd[rpm][1]))
         eq_txt = ("; sec. 13.1's equal switching frequency at rated torque: " + "; ".join(rows))
         meas += eq_txt
+    load_txt, load_sil, law, ratios, other = table5_dfoc_load(ctx)
+    meas += "; the DFOC's ripple against the load: " + load_txt
+    load_reason = table5_load_reason(load_sil, law, ratios, other)
     reason = ("the paper's finding holds: DFOC below DTC in every cell, also with both at the same switching frequency "
               "(the DFOC's carrier lowered to the DTC's where the DTC, bounded by its 40 us period, cannot reach the "
               "DFOC's 4.17 kHz: every cell here, 1.1 kHz at 1440 rpm to 4.1 kHz at 144 rpm), and on the second machine. "
@@ -638,12 +960,11 @@ def table5(ctx):
               "the zero-band DTC's frequency is set by its period and by the link against the back-EMF, not by the "
               "leakage (x 1.5 link: %.0f Hz, 20 us: %.0f Hz, against %.0f Hz); at 40 us it stays below the DFOC's "
               "4.17 kHz at 720 rpm (the paper notes it below 4.1 kHz in the high-speed range only); with 20 us and its band tuned to 4.1 kHz (the "
-              "criterion met from the DTC's side) its ripple at 720 rpm halves%s; (3) not explained by any of these: "
-              "the paper's DFOC at 720 rpm rises from 0.63 A at rated torque to 0.94 / 0.93 A at half / no load, ours "
-              "stays flat (a load dependence, not a scale factor)" % (
+              "criterion met from the DTC's side) its ripple at 720 rpm halves%s; (3) the paper's DFOC at 720 rpm rises "
+              "from 0.63 A at rated torque to 0.94 / 0.93 A at half / no load, ours stays flat: %s" % (
                   span, vl, r(causes[4][1]) / r(base[1]), r(causes[4][2]) / r(base[2]), 0.63 / r(base[2]),
                   1.57 / r(base[1]), fs(causes[2][1]), fs(causes[3][1]), fs(base[1]),
-                  "" if ctx.short else " (ratios above)")) if p.returncode == 0 else (
+                  "" if ctx.short else " (ratios above)", load_reason)) if p.returncode == 0 else (
         "tools/plot/casadei_table5.py: " + p.stdout.strip()[-600:])
     return [_entry("Table 5", "deviates", meas,
                    "three-phase rms current ripple, DFOC 0.34..0.94 A, DTC 1.09..1.57 A, DFOC lower in every cell, "
@@ -654,8 +975,9 @@ def items(ctx):
     ctx.work = os.path.join(ctx.out_dir, "casadei", "runs")
     os.makedirs(ctx.work, exist_ok=True)
     out = []
-    for name, fn in (("Fig. 21", fig21), ("Figs. 6-7", figs6_7), ("Figs. 9-10", figs9_10), ("Figs. 19-20", figs19_20),
-                     ("Figs. 22-24", figs22_24), ("Fig. 25", fig25), ("Figs. 35-36", figs35_36), ("Table 5", table5)):
+    for name, fn in (("Fig. 1", fig1), ("Fig. 21", fig21), ("Figs. 6-7", figs6_7), ("Figs. 9-10", figs9_10), ("Figs. 19-20", figs19_20),
+                     ("Figs. 22-24", figs22_24), ("Fig. 25", fig25), ("Fig. 31", fig31), ("Figs. 35-36", figs35_36),
+                     ("Table 5", table5)):
         ctx.progress("casadei: %s" % name)
         try:
             out += fn(ctx)

@@ -104,7 +104,7 @@ class Machine:
         return torque_nm * self.rr / (1.5 * self.p * psir_wb * psir_wb)
 
 
-def _reduced(mach, x, u, w0, torque, psir, tau, law):
+def _reduced(mach, x, u, w0, torque, psir, tau, law, r_off=0.0):
     """The drive of Casadei sec. 10.6 reduced to its slow states, in the frame of the estimated rotor
     flux (the angle of eq. 21's phi_r^): x = (phi_rd, phi_rq, e_d) with phi_r the machine's rotor
     flux and e = phi_s - phi_s^ the estimator's error; u = (dR_s, di_d, di_q), eq. 25's mismatch
@@ -116,7 +116,8 @@ def _reduced(mach, x, u, w0, torque, psir, tau, law):
     whose q part is zero in this frame: it fixes e_q. The machine: Casadei eqs. A7-A9 (rotor flux
     from the stator current, speed w0). The estimator error from eq. 20: de/dt = dR_s i + R_s di -
     (phi_r* - |phi_r^|)/tau - j w_f e. The frame's speed w_f keeps phi_r^ on its axis, the offset
-    turning backwards at w_f in it."""
+    turning backwards at w_f in it. r_off: a resistance the current error meets in the estimator's EMF
+    beside R_s (0 in eq. 26; fig24_offset_resistance gives the drive's)."""
     g, sls = mach.g, mach.sigma * mach.ls
     xd, xq, ed = x
     dr, dd, dq = u
@@ -131,14 +132,14 @@ def _reduced(mach, x, u, w0, torque, psir, tau, law):
     e = complex(ed, eq)
     i = (ps + e - complex(xd, xq) / g) / sls
     tr = mach.tau_r
-    wf = (mach.m / tr * i.imag - xq / tr + w0 * xd - g * dr * i.imag - g * mach.rs * dq) / pr
+    wf = (mach.m / tr * i.imag - xq / tr + w0 * xd - g * dr * i.imag - g * (mach.rs + r_off) * dq) / pr
     dxd = mach.m / tr * i.real - xd / tr + (wf - w0) * xq
     dxq = mach.m / tr * i.imag - xq / tr - (wf - w0) * xd
-    ded = wf * eq + dr * i.real + mach.rs * dd - (psir - pr) / tau
+    ded = wf * eq + dr * i.real + (mach.rs + r_off) * dd - (psir - pr) / tau
     return np.array([dxd, dxq, ded]), wf
 
 
-def linearised(mach, w0, torque, psir, tau, law="sfvc"):
+def linearised(mach, w0, torque, psir, tau, law="sfvc", r_off=0.0):
     """Casadei eq. 26 by numerical linearisation of _reduced at its operating point without mismatch:
     (A, B, w_s, x0); A's eigenvalues are eq. 27's (tests/unit/test_im_linear.py), B is eq. 28's
     in this model's states."""
@@ -163,19 +164,30 @@ def linearised(mach, w0, torque, psir, tau, law="sfvc"):
         d[k] = h
         A[:, k] = (_reduced(mach, x + d, u0, w0, torque, psir, tau, law)[0] -
                    _reduced(mach, x - d, u0, w0, torque, psir, tau, law)[0]) / (2 * h)
-        B[:, k] = (_reduced(mach, x, d, w0, torque, psir, tau, law)[0] -
-                   _reduced(mach, x, -d, w0, torque, psir, tau, law)[0]) / (2 * h)
+        B[:, k] = (_reduced(mach, x, d, w0, torque, psir, tau, law, r_off)[0] -
+                   _reduced(mach, x, -d, w0, torque, psir, tau, law, r_off)[0]) / (2 * h)
     return A, B, ws, x
 
 
-def offset_oscillation(mach, w0, torque, psir, tau, di_ab, law="sfvc"):
+def offset_oscillation(mach, w0, torque, psir, tau, di_ab, law="sfvc", r_off=0.0):
     """Casadei eq. 26's answer to a constant current-sensor offset di_ab (complex, A, stationary frame):
     in the rotor-flux frame it turns at -w_s, so the rotor-flux magnitude oscillates at w_s with
     amplitude |(j w_s - A)^-1 B (0, 1, j)| |di_ab| (first row). Returns (relative amplitude of
-    |phi_r| / phi_r*, w_s rad/s)."""
-    A, B, ws, _ = linearised(mach, w0, torque, psir, tau, law)
+    |phi_r| / phi_r*, w_s rad/s). r_off: as _reduced."""
+    A, B, ws, _ = linearised(mach, w0, torque, psir, tau, law, r_off)
     x = np.linalg.solve(1j * ws * np.eye(3) - A, B @ np.array([0.0, 1.0, 1j]) * abs(di_ab))
     return abs(x[0]) / psir, ws
+
+
+def fig24_offset_resistance(v_sign_v, i_peak_a):
+    """The resistance a current-sensor offset meets in addition to R_s when the drive takes a
+    sign-dependent voltage (the dead time's V_dc T_d f_sw per leg, a device's forward drop) from the
+    measured current's sign: around each zero crossing of a phase whose measurement is offset by di
+    the sign is wrong for di / i_peak rad of the turn, where the voltage the estimator assumes is off
+    by 2 v_sign from the plant's; two crossings per turn give a mean 2 v_sign di / (pi i_peak) along
+    the offset (for a two-sensor Clarke, phase A's offset also moves the reconstructed C the other way:
+    the leg errors add up along the offset's alpha-beta vector). Ohm."""
+    return 2.0 * v_sign_v / (math.pi * i_peak_a)
 
 
 def offset_oscillation_simulated(mach, w0, torque, psir, tau, di_ab, h=2e-4, t_run=8.0, t_from=5.0):
