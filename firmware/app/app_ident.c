@@ -6,24 +6,24 @@
 
 #include <stddef.h>
 
-/* Segment timing, control periods (50 us: 6000 = 0.3 s). */
-#define ID_ALIGN_RAMP 2000      /* first ramp to rated current: the rotor swings into alignment */
-#define ID_ALIGN_SETTLE 6000U
+/* Segment timing, control periods (50 us: 2000 = 0.1 s). */
+#define ID_ALIGN_RAMP 2000      /* first ramp to the aligning current: the rotor swings into alignment */
+#define ID_ALIGN_SETTLE 2000U   /* alignment: the least settling before the wait for the rotor at rest */
 #define ID_LEVEL_RAMP 400       /* later level changes: a full-rated change over 400 periods */
-#define ID_LEVEL_SETTLE 1500U   /* > 10 closed-loop time constants of the regulator */
+#define ID_LEVEL_SETTLE 800U    /* 40 ms: 6.5 time constants of the regulator's closed loop (163 1/s
+                                 * for Hoang Table VIII, docs/commissioning.md), its error < 0.2 % */
 #define ID_MEAS 1024U
 #define ID_PULSE_GAP 600U       /* regulated hold between two voltage steps */
 #define ID_PULSE_MAX 2000U      /* longest voltage step (100 ms) */
 #define ID_PULSES 4U
 #define ID_ENC_MOVE_SSTP 3000U  /* periods for one 120-degree move of the vector (SSTP) */
 #define ID_ENC_MOVE_FSTP 3000U  /* one 180-degree move (FSTP) */
-#define ID_ENC_LEVEL_FSTP 0.5
-#define ID_ENC_SETTLE 3000U    /* encoder dwell: the least settling; the quadrature trim from its half */
+#define ID_ENC_LEVEL IQ(0.5)    /* the aligning and encoder current (see app_ident_start) */
+#define ID_ENC_SETTLE 1500U     /* encoder dwell: the least settling before the wait for rest */
 #define ID_ENC_MEAS 1024U
 #define ID_OPEN_PERIODS 400U    /* regulator saturated with little current this long: open phase */
-#define ID_TRIM_LOG2 4U         /* slow regulator: the quadrature trim's integral gain ki / 2^4 */
-#define ID_STILL 2000U          /* encoder dwell: periods with the count within +-1 before the sums */
-#define ID_SETTLE_MAX 40000U    /* encoder dwell: the longest wait for the rotor to come to rest (2 s) */
+#define ID_STILL 1000U          /* dwell: periods with the count within +-1 before the sums (50 ms) */
+#define ID_SETTLE_MAX 40000U    /* dwell: the longest wait for the rotor to come to rest (2 s) */
 
 /* The injection axis (res.axis). FSTP: beta (90 degrees), current from leg B into leg C, so that
  * phase A (the capacitor mid-point) carries none and the mid-point does not drift. SSTP: alpha
@@ -69,7 +69,6 @@ static void post_hold(app_ident_t *d, uint32_t th_move_q16, uint32_t th_rate_q16
 {
     d->seg = (uint16_t)APP_IDENT_SEG_HOLD;
     d->slow = slow != 0U ? 1U : 0U;
-    d->still = slow == 2U ? 1U : 0U;
     d->th_left_q16 = th_move_q16;
     d->th_rate_q16 = th_rate_q16;
     d->i_target = i_target;
@@ -139,10 +138,11 @@ void app_ident_start(app_ident_t *d, const dtc_config_t *cfg, uint16_t qep_count
     d->step = (uint16_t)APP_IDENT_RS;
     d->sub = 0U;
     /* The rotor swings onto the axis under the slow regulator (regulate), at half rated: the
-     * braking quadrature current is at most the aligning current (overdamped, the braking torque
-     * balances the magnet's pull 1.5 p psi_m I sin(delta)), so |i| stays below 0.71 x rated. Then
-     * the levels. */
-    post_hold(d, 0U, 0U, IQ(0.5), (iq_t)(IQ(0.5) / ID_ALIGN_RAMP), ID_ALIGN_SETTLE, 16U, 1U);
+     * braking quadrature current is at most the aligning current (the braking torque balances the
+     * magnet's pull 1.5 p psi_m I sin(delta)), so |i| stays below 0.71 x rated. The alignment is the
+     * encoder step's first dwell (it waits for the rotor at rest and sums the count). Then the
+     * levels. */
+    post_hold(d, 0U, 0U, ID_ENC_LEVEL, (iq_t)(ID_ENC_LEVEL / ID_ALIGN_RAMP), ID_ALIGN_SETTLE, ID_ENC_MEAS, 1U);
 }
 
 void app_ident_abort(app_ident_t *d) { fail(d, (uint16_t)APP_IDENT_FAIL_TRIP, 0); }
@@ -211,17 +211,15 @@ static uint16_t ramps(app_ident_t *d)
  * it. d->slow: no integral action on the quadrature axis, only kp: there the machine is
  * voltage-fed through R_s + kp, so a swing of the rotor about the axis (whose back-EMF is in
  * quadrature to the current once aligned) drives a quadrature current that brakes it, about
- * 1.5 p^2 psi_m^2 / (R_s + kp) of damping (0.013 N.m.s/rad for Hoang Table VIII: critically damped
- * at a quarter of rated current, where the friction alone takes seconds); at rest no quadrature
- * voltage is left to pull the rotor off the axis. */
+ * 1.5 p^2 psi_m^2 / (R_s + kp) of damping (0.012 N.m.s/rad for Hoang Table VIII: damping ratio
+ * 0.8 at half rated current, where the friction alone takes seconds). A static quadrature voltage
+ * error (the FSTP mid-point sensor's, the dead time's) leaves a quadrature current at rest, so the
+ * rotor rests on the current actually flowing: its angle is measured (store_dwell), not regulated
+ * away (an integral would pull the rotor slowly after every swing). */
 static void regulate(app_ident_t *d, iq_t i_par, iq_t i_perp, q15_t c, q15_t s)
 {
     const iq_t e[2] = {fix_sub32(d->i_ref, i_par), fix_neg32(i_perp)};
-    /* slow: the quadrature integral off while the rotor swings (moves, first half of the settling),
-     * then at ki / 2^ID_TRIM_LOG2: the static quadrature voltage error (the mid-point sensor's on
-     * the FSTP) is taken out slower than the rotor's swing, so the rotor follows without swinging */
-    const uint16_t trim = (uint16_t)(d->phase == 2U || (d->phase == 1U && d->n >= (d->n_settle >> 1)));
-    const iq_t ki[2] = {d->ki_iq, d->slow == 0U ? d->ki_iq : (trim != 0U ? fix_rshift_rnd32(d->ki_iq, ID_TRIM_LOG2) : 0)};
+    const iq_t ki[2] = {d->ki_iq, d->slow == 0U ? d->ki_iq : 0};
     iq_t v[2];
     uint16_t k;
     for (k = 0U; k < 2U; k++) {
@@ -275,6 +273,7 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
         d->sum_i = 0;
         d->sum_v = 0;
         d->sum_pos = 0;
+        d->sum_q = 0;
         d->sat_n = 0U;
         d->still_n = 0U;
         d->still_ref = d->pos;
@@ -340,7 +339,7 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
             d->n = 0U;
         } else if (d->phase == 1U) {
             ++d->n;
-            if (d->still != 0U) {
+            if (d->slow != 0U) {
                 /* the encoder step: after n_settle, wait until the count stays within +-1 of one
                  * value for ID_STILL periods; a rotor not at rest by ID_SETTLE_MAX is a coupled
                  * load, a blocked or a far too heavy rotor: named, not measured */
@@ -351,12 +350,13 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
                 } else if (d->still_n < ID_STILL) {
                     d->still_n++;
                 }
+
                 if (d->n >= ID_SETTLE_MAX) {
                     fail(d, (uint16_t)APP_IDENT_FAIL_NOT_AT_REST, 0);
                     return 1U;
                 }
             }
-            if (d->n >= d->n_settle && (d->still == 0U || d->still_n >= ID_STILL)) {
+            if (d->n >= d->n_settle && (d->slow == 0U || d->still_n >= ID_STILL)) {
                 d->phase = 2U;
                 d->n = 0U;
             }
@@ -364,6 +364,7 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
             d->sum_i += (int64_t)i_par;
             d->sum_v += (int64_t)v_par;
             d->sum_pos += (int64_t)d->pos;
+            d->sum_q += (int64_t)i_perp;
             if (++d->n >= d->n_meas) {
                 d->phase = 4U;
                 d->done = 1U;
@@ -459,7 +460,7 @@ static void encoder_results(app_ident_t *d, const dtc_config_t *cfg)
             cq8 = -cq8;
         }
         th = div64(cq8 * p * 65536, n_q8);       /* electrical angle of the count, angle_t units */
-        th_vec = (angle_t)(d->res.axis + (angle_t)(span_of(d) * j));
+        th_vec = (angle_t)(d->res.axis + (angle_t)(span_of(d) * j) + (angle_t)d->dwell_ang[j]);
         off = (angle_t)((uint32_t)th_vec - (uint32_t)(uint16_t)(uint64_t)th); /* modulo one turn */
         if (j == 0U) {
             off0 = off;
@@ -469,10 +470,29 @@ static void encoder_results(app_ident_t *d, const dtc_config_t *cfg)
     d->res.enc_offset = (angle_t)(off0 + (angle_t)(int16_t)div64(acc, (int64_t)d->n_dwell));
 }
 
-/* The encoder step's current: half rated; a quarter on the FSTP, where the moves between its two
- * vectors pass phase A's current through the capacitor mid-point (0.55 A over a 0.2 s half turn
- * moves it by about 7 V on 2 x 4.7 mF). */
-static iq_t enc_level(const app_ident_t *d) { return d->n_dwell == 2U ? IQ(ID_ENC_LEVEL_FSTP) : IQ(0.75); }
+
+/* Background: the mean count and the measured current's angle of the dwell just ended (index j).
+ * The rotor at rest lies on the current actually flowing, the reference axis turned by
+ * atan2(mean quadrature, mean parallel current): the slow regulator has no quadrature integral,
+ * so a static quadrature voltage error (the FSTP mid-point sensor's, the dead time's) leaves a
+ * quadrature current; its angle is measured instead of regulated away. */
+static void store_dwell(app_ident_t *d, uint16_t j)
+{
+    angle_t a;
+    iq_t mag;
+    d->dwell_pos_q8[j] = fix_sat32(div64(d->sum_pos * 256, (int64_t)d->n_meas));
+    fix_polar(fix_sat32(div64(d->sum_i, (int64_t)d->n_meas)), fix_sat32(div64(d->sum_q, (int64_t)d->n_meas)), &a, &mag);
+    d->dwell_ang[j] = (int16_t)a;
+}
+
+/* Background: the next move of the encoder step (one span forward), then a dwell at rest. */
+static void post_move(app_ident_t *d)
+{
+    const uint32_t move = d->n_dwell == 2U ? ID_ENC_MOVE_FSTP : ID_ENC_MOVE_SSTP;
+    const uint32_t span = span_of(d);
+    post_hold(d, span << 16, (uint32_t)div64((int64_t)span << 16, (int64_t)move), ID_ENC_LEVEL,
+              (iq_t)(IQ(1.0) / ID_LEVEL_RAMP), ID_ENC_SETTLE, ID_ENC_MEAS, 1U);
+}
 
 static void next_step(app_ident_t *d, uint16_t step)
 {
@@ -494,7 +514,9 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
     }
     switch (d->step) {
     case APP_IDENT_RS:
-        if (d->sub > 0U) { /* segment 0 aligned the rotor; 1.. are the levels */
+        if (d->sub == 0U) { /* segment 0 aligned the rotor: the encoder's first dwell */
+            store_dwell(d, 0U);
+        } else { /* 1.. are the levels */
             d->res.level_i_iq[d->sub - 1U] = fix_sat32(div64(d->sum_i, (int64_t)d->n_meas));
             d->res.level_v_iq[d->sub - 1U] = fix_sat32(div64(d->sum_v, (int64_t)d->n_meas));
         }
@@ -542,17 +564,16 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
             fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_LS);
             return;
         }
+        /* the first dwell was the alignment (step RS); the encoder step starts with a move */
         next_step(d, (uint16_t)APP_IDENT_ENCODER);
-        post_hold(d, 0U, 0U, enc_level(d), (iq_t)(IQ(1.0) / ID_LEVEL_RAMP), ID_ENC_SETTLE, ID_ENC_MEAS, 2U);
+        d->sub = 1U;
+        post_move(d);
         return;
-    case APP_IDENT_ENCODER: {
-        const uint32_t move = d->n_dwell == 2U ? ID_ENC_MOVE_FSTP : ID_ENC_MOVE_SSTP;
-        const uint32_t span = span_of(d);
-        d->dwell_pos_q8[d->sub] = fix_sat32(div64(d->sum_pos * 256, (int64_t)d->n_meas));
-        d->sub++;
-        if (d->sub <= d->n_dwell) {
-            post_hold(d, span << 16, (uint32_t)div64((int64_t)span << 16, (int64_t)move), enc_level(d), (iq_t)(IQ(1.0) / ID_LEVEL_RAMP),
-                      ID_ENC_SETTLE, ID_ENC_MEAS, 2U);
+    case APP_IDENT_ENCODER:
+        store_dwell(d, d->sub);
+        if (d->sub < d->n_dwell) {
+            d->sub++;
+            post_move(d);
             return;
         }
         encoder_results(d, cfg);
@@ -562,7 +583,6 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
         next_step(d, (uint16_t)APP_IDENT_DONE);
         d->seg = (uint16_t)APP_IDENT_SEG_OFF;
         return;
-    }
     default:
         return;
     }

@@ -111,8 +111,8 @@ typedef struct {
     iq_t dv_iq;              /* PULSE: the voltage step on the axis */
     iq_t di_stop_iq;         /* PULSE: the rise that ends it */
     iq_t inv_vdc_iq;         /* 1 / V_dc measured, pu (background) */
-    uint16_t slow;           /* HOLD: 1 = the slow regulator (app_ident.c regulate: the rotor settles) */
-    uint16_t still;          /* HOLD: 1 = the sums wait for the rotor at rest (encoder step) */
+    uint16_t slow;           /* HOLD: 1 = the slow regulator (app_ident.c regulate: the rotor settles),
+                              * and the sums wait for the rotor at rest (a dwell) */
     volatile uint16_t go;    /* background sets it when the segment is ready */
     volatile uint16_t done;  /* the ISR sets it when the segment's sums are complete */
     /* ISR state */
@@ -127,7 +127,7 @@ typedef struct {
     uint16_t sat_n;          /* periods at the voltage limit with little current (open phase) */
     uint16_t still_n;        /* encoder dwell: periods the count stayed within +-1 of still_ref */
     int32_t still_ref;
-    int64_t sum_i, sum_v, sum_pos;
+    int64_t sum_i, sum_v, sum_pos, sum_q;
     iq_t i_first, i_last;    /* PULSE: the current at its start and end */
     uint16_t last_count;
     int32_t pos;             /* unwrapped encoder count since the start */
@@ -143,6 +143,8 @@ typedef struct {
     uint16_t n_dwell;        /* encoder DC vectors per electrical turn */
     int64_t pulse_num, pulse_den; /* L: sums over the pulses */
     int32_t dwell_pos_q8[4]; /* encoder: mean unwrapped count at each dwell, Q8 */
+    int16_t dwell_ang[4];    /* encoder: the measured current's angle from the reference axis at each
+                              * dwell, angle_t LSB (signed) */
     uint16_t count0;         /* raw count at the start */
     uint32_t tick, step_tick;
     app_ident_result_t res;

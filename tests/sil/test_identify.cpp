@@ -124,15 +124,20 @@ TEST_F(Identify, FstpTwoPolePairsOffsetEncoderMeetTheTargets)
     expect_targets(report(), 1.0 / std::sqrt(3.0), 2, 1.0);
 }
 
-// The time target for the standstill steps (3 s on the Table VIII rig). Not met: the
-// encoder step waits for the rotor to come to rest on each DC vector (the rig's 5e-4 kg m^2 on the
-// magnet's spring), 4.1 s on the FSTP, 4.4 s on the SSTP (docs/commissioning.md). Run with
-// --gtest_also_run_disabled_tests.
-TEST_F(Identify, DISABLED_StandstillStepsWithinThreeSecondsOnTheTableViiiRig)
+// The self-commissioning issue's time target for the standstill steps: at most 3 s (simulated) on
+// the Table VIII rig, on both topologies, with the accuracy targets still met; the report's
+// standstill time is the sum of the steps' durations.
+TEST_F(Identify, StandstillStepsWithinThreeSecondsOnTheTableViiiRig)
 {
     for (const std::string& s : {kFstp, kSstp}) {
-        ASSERT_EQ(identify(s, {}), 0);
-        EXPECT_LE(report()["standstill_s"].get<double>(), 3.0) << s;
+        ASSERT_EQ(identify(s, {}), 0) << s;
+        const nlohmann::json j = report();
+        const auto& q = j["quantities"];
+        const double sum = q["rs_ohm"]["duration_s"].get<double>() + q["ls_h"]["duration_s"].get<double>() +
+                           q["pole_pairs"]["duration_s"].get<double>();
+        EXPECT_NEAR(j["standstill_s"].get<double>(), sum, 1e-9) << s;
+        EXPECT_LE(j["standstill_s"].get<double>(), 3.0) << s;
+        expect_targets(j, s == kFstp ? 1.0 / std::sqrt(3.0) : 2.0 / 3.0, 1, 0.0);
     }
 }
 
