@@ -24,6 +24,11 @@
 #define ID_OPEN_PERIODS 400U    /* regulator saturated with little current this long: open phase */
 #define ID_STILL 1000U          /* dwell: periods with the count within +-1 before the sums (50 ms) */
 #define ID_SETTLE_MAX 40000U    /* dwell: the longest wait for the rotor to come to rest (2 s) */
+#define ID_SPIN_I IQ(0.5)       /* spin: the q current of the acceleration (half rated) */
+#define ID_SPIN_W IQ(0.25)      /* spin: the speed that ends the acceleration, pu electrical */
+#define ID_SPIN_WIN 400U        /* spin: periods per speed window (20 ms) */
+#define ID_SPIN_MAXW 100U       /* spin: the longest acceleration, windows (2 s) */
+#define ID_COAST_MAXW 100U      /* spin: the longest coast, windows (2 s) */
 
 /* The injection axis (res.axis). FSTP: beta (90 degrees), current from leg B into leg C, so that
  * phase A (the capacitor mid-point) carries none and the mid-point does not drift. SSTP: alpha
@@ -123,7 +128,7 @@ void app_ident_start(app_ident_t *d, const dtc_config_t *cfg, uint16_t qep_count
     d->pulse_den = 0;
     d->tick = 0U;
     d->step_tick = 0U;
-    for (k = 0U; k < 4U; k++) {
+    for (k = 0U; k < 7U; k++) {
         d->res.ticks[k] = 0U;
     }
     d->res.pole_pairs = 0U;
@@ -133,6 +138,11 @@ void app_ident_start(app_ident_t *d, const dtc_config_t *cfg, uint16_t qep_count
     d->res.v0_iq = 0;
     d->res.l_ts_iq = 0;
     d->res.counts_per_turn = 0;
+    d->res.psi_iq = 0;
+    d->res.j_q12 = 0;
+    d->res.b_iq = 0;
+    d->res.tc_iq = 0;
+    d->fresh = 0U;
     /* 1 / V_dc (background: a division), for the duties. */
     d->inv_vdc_iq = vdc_iq > IQ(1.0 / 16.0) ? fix_sat32(div64((int64_t)1 << 48, (int64_t)vdc_iq)) : IQ(1.0);
     d->step = (uint16_t)APP_IDENT_RS;
@@ -278,10 +288,28 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
         d->still_n = 0U;
         d->still_ref = d->pos;
         d->phase = d->seg == (uint16_t)APP_IDENT_SEG_PULSE ? 6U : 0U;
+        d->win_tick = d->tick;
+        if (d->seg == (uint16_t)APP_IDENT_SEG_SPIN || d->seg == (uint16_t)APP_IDENT_SEG_COAST) {
+            d->phase = 2U; /* a window: sums from its first period */
+            if (d->fresh != 0U) {
+                d->fresh = 0U;
+                d->integ[0] = 0;
+                d->integ[1] = 0;
+                d->i_ref = 0;
+            }
+        }
         if (d->seg == (uint16_t)APP_IDENT_SEG_PULSE) {
             d->v_hold = d->v_ab[0]; /* the regulated voltage before the step, both axes */
             d->v_hold_b = d->v_ab[1];
         }
+    }
+    if (d->seg == (uint16_t)APP_IDENT_SEG_SPIN) {
+        /* the reference axis on the rotor's q axis: theta_e = offset + count x gain (direction
+         * applied), + 90 degrees; the count's product < 2^31 x 2^32 in 64 bits, modulo one turn */
+        const int64_t e = (((int64_t)d->count0 + (int64_t)d->pos) * (int64_t)d->gain_q16) >> 16;
+        const uint16_t el = (uint16_t)(uint64_t)e;
+        const angle_t th_e = (angle_t)(d->res.enc_offset + (d->res.enc_reversed != 0U ? (angle_t)(0U - el) : (angle_t)el));
+        d->th_q16 = (uint32_t)(angle_t)(th_e + ANGLE(0.25)) << 16;
     }
     {
         const angle_t th = (angle_t)(d->th_q16 >> 16);
@@ -330,6 +358,35 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
             d->v_ab[0] = d->v_hold;
             d->v_ab[1] = d->v_hold_b;
         }
+    } else if (d->seg == (uint16_t)APP_IDENT_SEG_SPIN) {
+        (void)ramps(d);
+        regulate(d, i_par, i_perp, c, s);
+        v_par = fix_add32(iq_mpy_q15(d->v_ab[0], c), iq_mpy_q15(d->v_ab[1], s));
+        if (d->phase == 2U) {
+            d->sum_i += (int64_t)i_par;
+            d->sum_v += (int64_t)v_par;
+            if (++d->n >= d->n_meas) {
+                d->phase = 4U;
+                d->win_dpos = d->pos - d->still_ref;
+                d->done = 1U;
+            }
+        }
+        /* the regulator at its voltage limit: the back-EMF and drops exceed what the link gives */
+        if (fix_abs32(v_par) >= fix_sub32(d->v_lim_iq, IQ(1.0 / 256.0))) {
+            if (++d->sat_n >= ID_OPEN_PERIODS) {
+                fail(d, (uint16_t)APP_IDENT_FAIL_VDC_LOW, 0);
+                return 1U;
+            }
+        } else {
+            d->sat_n = 0U;
+        }
+    } else if (d->seg == (uint16_t)APP_IDENT_SEG_COAST) {
+        if (d->phase == 2U && ++d->n >= d->n_meas) {
+            d->phase = 4U;
+            d->win_dpos = d->pos - d->still_ref;
+            d->done = 1U;
+        }
+        return 1U;
     } else if (d->seg == (uint16_t)APP_IDENT_SEG_HOLD) {
         const uint16_t moving = ramps(d);
         regulate(d, i_par, i_perp, c, s);
@@ -502,11 +559,177 @@ static void next_step(app_ident_t *d, uint16_t step)
     d->sub = 0U;
 }
 
+/* Background: one spin window with the q current i (SEG_SPIN) or with the gates off (SEG_COAST). */
+static void post_window(app_ident_t *d, uint16_t seg, iq_t i)
+{
+    d->seg = seg;
+    d->slow = 0U;
+    d->th_left_q16 = 0U;
+    d->i_target = i;
+    d->i_rate = (iq_t)(IQ(1.0) / ID_LEVEL_RAMP);
+    d->n_meas = ID_SPIN_WIN;
+    d->done = 0U;
+    d->go = 1U;
+}
+
+/* Background: the row of the spin's integrated equation of motion between the centres of windows
+ * x and y (app_ident.h units: speed in counts per period, torque in pu q current):
+ *   J (w_y - w_x) + B (pos_y - pos_x) + T_c (t_y - t_x) = mean torque x (t_y - t_x),
+ * times 2 N (N = ID_SPIN_WIN, w = dpos / N, pos at the centre pos0 + dpos / 2):
+ *   r[0] = 2 (dpos_y - dpos_x), r[1] = N (2 pos0_y + dpos_y - 2 pos0_x - dpos_x), r[2] = 2 N (t_y - t_x).
+ * Magnitudes: counts and periods below 2^26 over a spin: each element < 2^37. */
+static void motion_row(const app_ident_win_t *x, const app_ident_win_t *y, int64_t r[3])
+{
+    r[0] = 2 * ((int64_t)y->dpos - (int64_t)x->dpos);
+    r[1] = (int64_t)ID_SPIN_WIN * (2 * (int64_t)y->pos0 + (int64_t)y->dpos - 2 * (int64_t)x->pos0 - (int64_t)x->dpos);
+    r[2] = 2 * (int64_t)ID_SPIN_WIN * (int64_t)(uint32_t)(y->tick0 - x->tick0);
+}
+
+/* Background: psi_m and the mechanics from the spin's windows (app_ident.h).
+ * psi_m (Hoang eq. 30 in the rotor frame at i_d = 0: v_q = R i_q + w_e psi_m + the inverter's
+ * threshold and dead-time drop along the current, constant for a current of one sign): the q
+ * voltage's change less R (step RS's slope) times the q current's change, over the electrical
+ * speed's change between windows A and B, w_e = dpos p 2 pi / (enc_counts N Ts):
+ *   psi_pu = dv_q enc_counts N ts_pu / (ddpos p 2 pi).
+ * Mechanics (J dw/dt + B w + T_c = T_e, T_e = k_t i_q): the two coast rows (no torque) fix
+ * (J, B, T_c) up to a factor, their cross product (a, b, c): B / J = b / a, T_c / J = c / a; the
+ * acceleration row (the measured q current's integral) gives J. Scaling as commented below. */
+static void spin_results(app_ident_t *d, const dtc_config_t *cfg)
+{
+    const app_ident_win_t *const a_w = &d->w[0];
+    const app_ident_win_t *const b_w = &d->w[1];
+    const int64_t ddpos = (int64_t)b_w->dpos - (int64_t)a_w->dpos;
+    int64_t r0[3], r1[3], r2[3], x[3];
+    uint16_t k;
+    if (ddpos <= 0) {
+        fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_PSI);
+        return;
+    }
+    {
+        /* the q voltage's change less the resistive part of the q current's change (R of step RS) */
+        const iq_t dv = fix_sub32(fix_sub32(b_w->vq, a_w->vq), iq_mpy(d->res.r_iq, fix_sub32(b_w->iq, a_w->iq)));
+        const int64_t t = div64((int64_t)dv * (int64_t)cfg->board.ts_pu_iq,
+                                ddpos * (int64_t)d->res.pole_pairs);
+        d->res.psi_iq = fix_sat32(div64(t * (int64_t)ID_SPIN_WIN * (int64_t)cfg->board.enc_counts, (int64_t)IQ(6.283185307179586)));
+    }
+    /* Bounds: psi_m from 1/64 to 4 pu (the back-EMF at rated speed 1/64 .. 4 x V_dc) */
+    if (d->res.psi_iq < IQ(1.0 / 64.0) || d->res.psi_iq > IQ(4.0)) {
+        fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_PSI);
+        return;
+    }
+    motion_row(a_w, b_w, r0);
+    motion_row(&d->w[2], &d->w[3], r1);
+    motion_row(&d->w[3], &d->w[4], r2);
+    /* (a, b, c) = r1 x r2, halved together below 2^32 (elements of r below 2^31: products < 2^62) */
+    x[0] = r1[1] * r2[2] - r1[2] * r2[1];
+    x[1] = r1[2] * r2[0] - r1[0] * r2[2];
+    x[2] = r1[0] * r2[1] - r1[1] * r2[0];
+    while ((x[0] < 0 ? -x[0] : x[0]) >= ((int64_t)1 << 32) || (x[1] < 0 ? -x[1] : x[1]) >= ((int64_t)1 << 32) ||
+           (x[2] < 0 ? -x[2] : x[2]) >= ((int64_t)1 << 32)) {
+        for (k = 0U; k < 3U; k++) {
+            x[k] /= 2;
+        }
+    }
+    /* B / J and T_c / J as x_1 / x_0, x_2 / x_0 in Q30; J must be positive and dominate (a coast
+     * that decelerates) */
+    if (x[0] == 0 || (x[1] < 0 ? -x[1] : x[1]) > (x[0] < 0 ? -x[0] : x[0]) * 256 ||
+        (x[2] < 0 ? -x[2] : x[2]) > (x[0] < 0 ? -x[0] : x[0]) * 256) {
+        fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_MECH);
+        return;
+    }
+    {
+        const int64_t beta = div64(x[1] * ((int64_t)1 << 30) * (x[0] < 0 ? -1 : 1), x[0] < 0 ? -x[0] : x[0]);
+        const int64_t gamma = div64(x[2] * ((int64_t)1 << 30) * (x[0] < 0 ? -1 : 1), x[0] < 0 ? -x[0] : x[0]);
+        /* the acceleration row: J (r0[0] + beta r0[1] + gamma r0[2]) = 2 N (torque integral from A's
+         * centre to B's): the q current summed over the windows A..B less half of A's and B's sums
+         * (IQ x periods); den in Q30 (r0 < 2^31, beta, gamma < 2^38: < 2^63 for the rig's spans) */
+        const int64_t den = r0[0] * ((int64_t)1 << 30) + beta * r0[1] + gamma * r0[2];
+        const int64_t rhs = 2 * (int64_t)ID_SPIN_WIN *
+                            (d->acc_i - (((int64_t)a_w->iq + (int64_t)b_w->iq) * (int64_t)ID_SPIN_WIN) / 2);
+        if (den <= ((int64_t)1 << 12) || rhs <= 0) {
+            fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_MECH);
+            return;
+        }
+        /* J in row units = rhs 2^30 / (den 2^24); Q12: rhs / (den >> 12) x 2^6 */
+        d->res.j_q12 = fix_sat32(div64(rhs, den >> 12) * 64);
+        d->res.b_iq = fix_sat32((beta * (int64_t)d->res.j_q12) >> 18);
+        d->res.tc_iq = fix_sat32((gamma * (int64_t)d->res.j_q12) >> 18);
+    }
+    if (d->res.j_q12 <= 0) {
+        fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_MECH);
+    }
+}
+
+/* Background: the spin step. sub 0 accelerating at ID_SPIN_I on the q axis until ID_SPIN_W or the
+ * voltage headroom (5/8 of the limit); 1 coasting (gates off) until two thirds of the coast's
+ * first speed (window D); 2 until one third (window E); then the fits. Window 1 of each phase
+ * (the current's ramp, its decay) is not used. */
+static void spin_service(app_ident_t *d, const dtc_config_t *cfg)
+{
+    const int32_t dir = d->res.enc_reversed != 0U ? -1 : 1;
+    app_ident_win_t rec;
+    const int64_t dpos_t =
+        div64((((int64_t)ID_SPIN_W * (int64_t)cfg->board.ts_pu_iq) >> 24) * (int64_t)ID_SPIN_WIN * (int64_t)cfg->board.enc_counts,
+              (int64_t)IQ(6.283185307179586) * (int64_t)d->res.pole_pairs);
+    rec.dpos = dir * d->win_dpos;
+    rec.pos0 = dir * d->still_ref;
+    rec.tick0 = d->win_tick;
+    rec.vq = fix_sat32(div64(d->sum_v, (int64_t)ID_SPIN_WIN));
+    rec.iq = fix_sat32(div64(d->sum_i, (int64_t)ID_SPIN_WIN));
+    if (d->sub == 0U) {
+        d->n_acc++;
+        if (d->n_acc == 2U) {
+            d->w[0] = rec;
+            d->acc_i = 0;
+        }
+        if (d->n_acc >= 2U) {
+            d->acc_i += d->sum_i;
+        }
+        d->w[1] = rec;
+        if (d->n_acc >= 3U && ((int64_t)rec.dpos >= dpos_t || fix_abs32(rec.vq) >= iq_mpy(d->v_lim_iq, IQ(0.625)) ||
+                               d->n_acc >= ID_SPIN_MAXW)) {
+            if ((int64_t)rec.dpos < (dpos_t >> 3)) {
+                fail(d, fix_abs32(rec.vq) >= iq_mpy(d->v_lim_iq, IQ(0.625)) ? (uint16_t)APP_IDENT_FAIL_VDC_LOW
+                                                                            : (uint16_t)APP_IDENT_FAIL_BLOCKED,
+                     (int16_t)(rec.dpos > 32767 ? 32767 : rec.dpos));
+                return;
+            }
+            d->sub = 1U;
+            post_window(d, (uint16_t)APP_IDENT_SEG_COAST, 0);
+            return;
+        }
+        post_window(d, (uint16_t)APP_IDENT_SEG_SPIN, ID_SPIN_I);
+        return;
+    }
+    d->n_coast++;
+    if (d->n_coast == 2U) {
+        d->w[2] = rec;
+    } else if (d->n_coast > 2U) {
+        if (d->sub == 1U && ((int64_t)rec.dpos * 3 <= 2 * (int64_t)d->w[2].dpos || d->n_coast >= ID_COAST_MAXW / 2U)) {
+            d->w[3] = rec;
+            d->sub = 2U;
+        } else if (d->sub == 2U && ((int64_t)rec.dpos * 3 <= (int64_t)d->w[2].dpos || d->n_coast >= ID_COAST_MAXW)) {
+            d->w[4] = rec;
+            spin_results(d, cfg);
+            if (d->step == (uint16_t)APP_IDENT_FAILED) {
+                return;
+            }
+            next_step(d, (uint16_t)APP_IDENT_DONE);
+            d->seg = (uint16_t)APP_IDENT_SEG_OFF;
+            return;
+        } else {
+            /* between D and E, or before D */
+        }
+    }
+    post_window(d, (uint16_t)APP_IDENT_SEG_COAST, 0);
+}
+
+
 void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
 {
     static const iq_t levels[APP_IDENT_R_LEVELS] = {IQ(1.0), IQ(0.75), IQ(0.5), IQ(0.25)};
     if (d->step != (uint16_t)APP_IDENT_RS && d->step != (uint16_t)APP_IDENT_LS &&
-        d->step != (uint16_t)APP_IDENT_ENCODER) {
+        d->step != (uint16_t)APP_IDENT_ENCODER && d->step != (uint16_t)APP_IDENT_SPIN) {
         return;
     }
     if (d->go != 0U || d->done == 0U) {
@@ -580,8 +803,16 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
         if (d->step == (uint16_t)APP_IDENT_FAILED) {
             return;
         }
-        next_step(d, (uint16_t)APP_IDENT_DONE);
-        d->seg = (uint16_t)APP_IDENT_SEG_OFF;
+        /* electrical angle per count, Q16: p 2^32 / enc_counts */
+        d->gain_q16 = (uint32_t)div64((int64_t)d->res.pole_pairs << 32, (int64_t)cfg->board.enc_counts);
+        next_step(d, (uint16_t)APP_IDENT_SPIN);
+        d->n_acc = 0U;
+        d->n_coast = 0U;
+        d->fresh = 1U;
+        post_window(d, (uint16_t)APP_IDENT_SEG_SPIN, ID_SPIN_I);
+        return;
+    case APP_IDENT_SPIN:
+        spin_service(d, cfg);
         return;
     default:
         return;

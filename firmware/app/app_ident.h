@@ -46,7 +46,9 @@ enum app_ident_step {
     APP_IDENT_LS = 2,      /* voltage steps on a DC current */
     APP_IDENT_ENCODER = 3, /* DC vectors through one electrical turn */
     APP_IDENT_DONE = 4,    /* every result set, gates off */
-    APP_IDENT_FAILED = 5   /* app_ident_t.fail says why, fail_step in which step; gates off */
+    APP_IDENT_FAILED = 5,  /* app_ident_t.fail says why, fail_step in which step; gates off */
+    APP_IDENT_SPIN = 6     /* after ENCODER: accelerate at a known q current, coast (psi_m, J,
+                            * friction); numbered after FAILED to keep the earlier values */
 };
 
 /* Why the identification stopped (app_ident_t.fail). */
@@ -61,8 +63,12 @@ enum app_ident_fail {
                                         * encoder's counts per turn (wrong line count) */
     APP_IDENT_FAIL_OVERCURRENT = 5,    /* a phase above 1.25 x rated */
     APP_IDENT_FAIL_TRIP = 6,           /* the drive's protection tripped (app fault latched) */
-    APP_IDENT_FAIL_NOT_AT_REST = 7     /* encoder step: the rotor did not come to rest on a DC vector
+    APP_IDENT_FAIL_NOT_AT_REST = 7,    /* encoder step: the rotor did not come to rest on a DC vector
                                         * within 2 s (a coupled load, a blocked or too heavy rotor) */
+    APP_IDENT_FAIL_BLOCKED = 8,        /* spin: the rotor did not reach an eighth of the spin speed
+                                        * in 2 s at half rated q current (blocked, or a load coupled) */
+    APP_IDENT_FAIL_VDC_LOW = 9         /* spin: the regulator at its voltage limit before an eighth of
+                                        * the spin speed (the DC link too low to spin the machine) */
 };
 
 /* fail_detail of APP_IDENT_FAIL_BOUNDS: the quantity out of bounds. */
@@ -70,16 +76,30 @@ enum app_ident_quantity {
     APP_IDENT_Q_RS = 1,
     APP_IDENT_Q_V0 = 2,
     APP_IDENT_Q_LS = 3,
-    APP_IDENT_Q_POLE_PAIRS = 4
+    APP_IDENT_Q_POLE_PAIRS = 4,
+    APP_IDENT_Q_PSI = 5,
+    APP_IDENT_Q_MECH = 6   /* J <= 0, or the coast fit singular (no deceleration measured) */
 };
 
 /* Segment kinds the background hands the ISR. */
 enum app_ident_seg {
     APP_IDENT_SEG_OFF = 0,   /* gates off */
     APP_IDENT_SEG_HOLD = 1,  /* regulated current: ramp to (th, i_ref), settle, then sum n_meas samples */
-    APP_IDENT_SEG_PULSE = 2  /* regulator frozen, hold voltage + dv on the axis until the current rose
+    APP_IDENT_SEG_PULSE = 2, /* regulator frozen, hold voltage + dv on the axis until the current rose
                               * by di_stop or n_meas periods, then one more sample (the pulse's end) */
+    APP_IDENT_SEG_SPIN = 3,  /* regulated current i_ref on the encoder's q axis (the identified offset,
+                              * pole pairs and direction); a window of n_meas periods of sums */
+    APP_IDENT_SEG_COAST = 4  /* gates off; a window of n_meas periods (the count's change) */
 };
+
+/* One speed window of the spin step (background): its count change, start count and start
+ * period; the mean q voltage and q current (IQ pu) over it. */
+typedef struct {
+    int32_t dpos;
+    int32_t pos0;
+    uint32_t tick0;
+    iq_t vq, iq;
+} app_ident_win_t;
 
 #define APP_IDENT_R_LEVELS 4U
 
@@ -96,7 +116,12 @@ typedef struct {
     int32_t counts_per_turn; /* counts over one electrical turn of the current vector (signed) */
     iq_t level_i_iq[APP_IDENT_R_LEVELS]; /* the fit's points: mean current, ... */
     iq_t level_v_iq[APP_IDENT_R_LEVELS]; /* ... mean commanded voltage on the axis */
-    uint32_t ticks[4];       /* control periods spent in the steps RS, LS, ENCODER (index = step) */
+    iq_t psi_iq;             /* psi_m, pu (V_b / w_b): slope of the q voltage over the electrical speed */
+    int32_t j_q12;           /* J / k_t in pu current x Ts^2 per count, Q12 (k_t = 1.5 p psi_m I_b,
+                              * a count = 2 pi / enc_counts mechanical rad) */
+    iq_t b_iq;               /* viscous friction / k_t, pu current x Ts per count, IQ */
+    iq_t tc_iq;              /* Coulomb friction / k_t, pu current, IQ */
+    uint32_t ticks[7];       /* control periods spent in the steps RS, LS, ENCODER, SPIN (index = step) */
 } app_ident_result_t;
 
 typedef struct {
@@ -146,6 +171,13 @@ typedef struct {
     int16_t dwell_ang[4];    /* encoder: the measured current's angle from the reference axis at each
                               * dwell, angle_t LSB (signed) */
     uint16_t count0;         /* raw count at the start */
+    uint32_t gain_q16;       /* spin: electrical angle_t per count, Q16 (p 2^32 / enc_counts) */
+    uint16_t fresh;          /* spin: 1 = the first window (integrators and current from zero) */
+    int32_t win_dpos;        /* the last window's count change (ISR) */
+    uint32_t win_tick;       /* the last window's first period (ISR) */
+    app_ident_win_t w[5];    /* spin: A, B first and last acceleration windows; C, D, E coast */
+    uint16_t n_acc, n_coast; /* spin: windows so far */
+    int64_t acc_i;           /* spin: the q current summed over the windows A..B (IQ x periods) */
     uint32_t tick, step_tick;
     app_ident_result_t res;
 } app_ident_t;
