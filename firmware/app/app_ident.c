@@ -124,8 +124,8 @@ void app_ident_start(app_ident_t *d, const dtc_config_t *cfg, uint16_t qep_count
     d->fail_step = 0U;
     d->fail_detail = 0;
     d->n_dwell = cfg->board.topology == (uint16_t)DTC_TOPO_FSTP ? 2U : 3U;
-    d->pulse_num = 0;
-    d->pulse_den = 0;
+    d->u.st.pulse_num = 0;
+    d->u.st.pulse_den = 0;
     d->tick = 0U;
     d->step_tick = 0U;
     for (k = 0U; k < 7U; k++) {
@@ -479,7 +479,7 @@ static uint32_t span_of(const app_ident_t *d) { return d->n_dwell == 2U ? 32768U
 static void encoder_results(app_ident_t *d, const dtc_config_t *cfg)
 {
     const int64_t n_q8 = (int64_t)cfg->board.enc_counts << 8;
-    const int64_t delta = (int64_t)d->dwell_pos_q8[d->n_dwell] - (int64_t)d->dwell_pos_q8[0];
+    const int64_t delta = (int64_t)d->u.st.dwell_pos_q8[d->n_dwell] - (int64_t)d->u.st.dwell_pos_q8[0];
     const int64_t ad = delta < 0 ? -delta : delta;
     int64_t p;
     int32_t acc = 0;
@@ -506,7 +506,7 @@ static void encoder_results(app_ident_t *d, const dtc_config_t *cfg)
     d->res.pole_pairs = (uint16_t)p;
     for (j = 0U; j < d->n_dwell; j++) {
         /* the raw count at the dwell (Q8), in [0, N) */
-        const int64_t raw = ((int64_t)d->count0 << 8) + (int64_t)d->dwell_pos_q8[j];
+        const int64_t raw = ((int64_t)d->count0 << 8) + (int64_t)d->u.st.dwell_pos_q8[j];
         int64_t cq8 = raw - div64(raw, n_q8) * n_q8;
         int64_t th;
         angle_t th_vec, off;
@@ -517,7 +517,7 @@ static void encoder_results(app_ident_t *d, const dtc_config_t *cfg)
             cq8 = -cq8;
         }
         th = div64(cq8 * p * 65536, n_q8);       /* electrical angle of the count, angle_t units */
-        th_vec = (angle_t)(d->res.axis + (angle_t)(span_of(d) * j) + (angle_t)d->dwell_ang[j]);
+        th_vec = (angle_t)(d->res.axis + (angle_t)(span_of(d) * j) + (angle_t)d->u.st.dwell_ang[j]);
         off = (angle_t)((uint32_t)th_vec - (uint32_t)(uint16_t)(uint64_t)th); /* modulo one turn */
         if (j == 0U) {
             off0 = off;
@@ -537,9 +537,9 @@ static void store_dwell(app_ident_t *d, uint16_t j)
 {
     angle_t a;
     iq_t mag;
-    d->dwell_pos_q8[j] = fix_sat32(div64(d->sum_pos * 256, (int64_t)d->n_meas));
+    d->u.st.dwell_pos_q8[j] = fix_sat32(div64(d->sum_pos * 256, (int64_t)d->n_meas));
     fix_polar(fix_sat32(div64(d->sum_i, (int64_t)d->n_meas)), fix_sat32(div64(d->sum_q, (int64_t)d->n_meas)), &a, &mag);
-    d->dwell_ang[j] = (int16_t)a;
+    d->u.st.dwell_ang[j] = (int16_t)a;
 }
 
 /* Background: the next move of the encoder step (one span forward), then a dwell at rest. */
@@ -596,8 +596,8 @@ static void motion_row(const app_ident_win_t *x, const app_ident_win_t *y, int64
  * acceleration row (the measured q current's integral) gives J. Scaling as commented below. */
 static void spin_results(app_ident_t *d, const dtc_config_t *cfg)
 {
-    const app_ident_win_t *const a_w = &d->w[0];
-    const app_ident_win_t *const b_w = &d->w[1];
+    const app_ident_win_t *const a_w = &d->u.sp.w[0];
+    const app_ident_win_t *const b_w = &d->u.sp.w[1];
     const int64_t ddpos = (int64_t)b_w->dpos - (int64_t)a_w->dpos;
     int64_t r0[3], r1[3], r2[3], x[3];
     uint16_t k;
@@ -607,7 +607,7 @@ static void spin_results(app_ident_t *d, const dtc_config_t *cfg)
     }
     {
         /* the q voltage's change less the resistive part of the q current's change (R of step RS) */
-        const iq_t dv = fix_sub32(fix_sub32(b_w->vq, a_w->vq), iq_mpy(d->res.r_iq, fix_sub32(b_w->iq, a_w->iq)));
+        const iq_t dv = fix_sub32(fix_sub32(d->u.sp.vq[1], d->u.sp.vq[0]), iq_mpy(d->res.r_iq, fix_sub32(d->u.sp.iq[1], d->u.sp.iq[0])));
         const int64_t t = div64((int64_t)dv * (int64_t)cfg->board.ts_pu_iq,
                                 ddpos * (int64_t)d->res.pole_pairs);
         d->res.psi_iq = fix_sat32(div64(t * (int64_t)ID_SPIN_WIN * (int64_t)cfg->board.enc_counts, (int64_t)IQ(6.283185307179586)));
@@ -618,8 +618,8 @@ static void spin_results(app_ident_t *d, const dtc_config_t *cfg)
         return;
     }
     motion_row(a_w, b_w, r0);
-    motion_row(&d->w[2], &d->w[3], r1);
-    motion_row(&d->w[3], &d->w[4], r2);
+    motion_row(&d->u.sp.w[2], &d->u.sp.w[3], r1);
+    motion_row(&d->u.sp.w[3], &d->u.sp.w[4], r2);
     /* (a, b, c) = r1 x r2, halved together below 2^32 (elements of r below 2^31: products < 2^62) */
     x[0] = r1[1] * r2[2] - r1[2] * r2[1];
     x[1] = r1[2] * r2[0] - r1[0] * r2[2];
@@ -645,7 +645,7 @@ static void spin_results(app_ident_t *d, const dtc_config_t *cfg)
          * (IQ x periods); den in Q30 (r0 < 2^31, beta, gamma < 2^38: < 2^63 for the rig's spans) */
         const int64_t den = r0[0] * ((int64_t)1 << 30) + beta * r0[1] + gamma * r0[2];
         const int64_t rhs = 2 * (int64_t)ID_SPIN_WIN *
-                            (d->acc_i - (((int64_t)a_w->iq + (int64_t)b_w->iq) * (int64_t)ID_SPIN_WIN) / 2);
+                            (d->u.sp.acc_i - (((int64_t)d->u.sp.iq[0] + (int64_t)d->u.sp.iq[1]) * (int64_t)ID_SPIN_WIN) / 2);
         if (den <= ((int64_t)1 << 12) || rhs <= 0) {
             fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_MECH);
             return;
@@ -668,28 +668,33 @@ static void spin_service(app_ident_t *d, const dtc_config_t *cfg)
 {
     const int32_t dir = d->res.enc_reversed != 0U ? -1 : 1;
     app_ident_win_t rec;
+    iq_t vq, iq;
     const int64_t dpos_t =
         div64((((int64_t)ID_SPIN_W * (int64_t)cfg->board.ts_pu_iq) >> 24) * (int64_t)ID_SPIN_WIN * (int64_t)cfg->board.enc_counts,
               (int64_t)IQ(6.283185307179586) * (int64_t)d->res.pole_pairs);
     rec.dpos = dir * d->win_dpos;
     rec.pos0 = dir * d->still_ref;
     rec.tick0 = d->win_tick;
-    rec.vq = fix_sat32(div64(d->sum_v, (int64_t)ID_SPIN_WIN));
-    rec.iq = fix_sat32(div64(d->sum_i, (int64_t)ID_SPIN_WIN));
+    vq = fix_sat32(div64(d->sum_v, (int64_t)ID_SPIN_WIN));
+    iq = fix_sat32(div64(d->sum_i, (int64_t)ID_SPIN_WIN));
     if (d->sub == 0U) {
         d->n_acc++;
         if (d->n_acc == 2U) {
-            d->w[0] = rec;
-            d->acc_i = 0;
+            d->u.sp.w[0] = rec;
+            d->u.sp.vq[0] = vq;
+            d->u.sp.iq[0] = iq;
+            d->u.sp.acc_i = 0;
         }
         if (d->n_acc >= 2U) {
-            d->acc_i += d->sum_i;
+            d->u.sp.acc_i += d->sum_i;
         }
-        d->w[1] = rec;
-        if (d->n_acc >= 3U && ((int64_t)rec.dpos >= dpos_t || fix_abs32(rec.vq) >= iq_mpy(d->v_lim_iq, IQ(0.625)) ||
+        d->u.sp.w[1] = rec;
+        d->u.sp.vq[1] = vq;
+        d->u.sp.iq[1] = iq;
+        if (d->n_acc >= 3U && ((int64_t)rec.dpos >= dpos_t || fix_abs32(vq) >= iq_mpy(d->v_lim_iq, IQ(0.625)) ||
                                d->n_acc >= ID_SPIN_MAXW)) {
             if ((int64_t)rec.dpos < (dpos_t >> 3)) {
-                fail(d, fix_abs32(rec.vq) >= iq_mpy(d->v_lim_iq, IQ(0.625)) ? (uint16_t)APP_IDENT_FAIL_VDC_LOW
+                fail(d, fix_abs32(vq) >= iq_mpy(d->v_lim_iq, IQ(0.625)) ? (uint16_t)APP_IDENT_FAIL_VDC_LOW
                                                                             : (uint16_t)APP_IDENT_FAIL_BLOCKED,
                      (int16_t)(rec.dpos > 32767 ? 32767 : rec.dpos));
                 return;
@@ -703,13 +708,13 @@ static void spin_service(app_ident_t *d, const dtc_config_t *cfg)
     }
     d->n_coast++;
     if (d->n_coast == 2U) {
-        d->w[2] = rec;
+        d->u.sp.w[2] = rec;
     } else if (d->n_coast > 2U) {
-        if (d->sub == 1U && ((int64_t)rec.dpos * 3 <= 2 * (int64_t)d->w[2].dpos || d->n_coast >= ID_COAST_MAXW / 2U)) {
-            d->w[3] = rec;
+        if (d->sub == 1U && ((int64_t)rec.dpos * 3 <= 2 * (int64_t)d->u.sp.w[2].dpos || d->n_coast >= ID_COAST_MAXW / 2U)) {
+            d->u.sp.w[3] = rec;
             d->sub = 2U;
-        } else if (d->sub == 2U && ((int64_t)rec.dpos * 3 <= (int64_t)d->w[2].dpos || d->n_coast >= ID_COAST_MAXW)) {
-            d->w[4] = rec;
+        } else if (d->sub == 2U && ((int64_t)rec.dpos * 3 <= (int64_t)d->u.sp.w[2].dpos || d->n_coast >= ID_COAST_MAXW)) {
+            d->u.sp.w[4] = rec;
             spin_results(d, cfg);
             if (d->step == (uint16_t)APP_IDENT_FAILED) {
                 return;
@@ -768,9 +773,9 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
              * over its current rise, Hoang eq. 28's L di/dt = v - R i on the step axis */
             const iq_t rise = fix_sub32(d->i_last, d->i_first);
             const int64_t trap = d->sum_i + (int64_t)fix_rshift_rnd32(rise, 1U);
-            d->pulse_num += (int64_t)d->dv_iq * (int64_t)d->n -
+            d->u.st.pulse_num += (int64_t)d->dv_iq * (int64_t)d->n -
                             (int64_t)fix_rshift_rnd64_sat32((int64_t)d->res.r_iq * trap, 24U);
-            d->pulse_den += (int64_t)rise;
+            d->u.st.pulse_den += (int64_t)rise;
         }
         d->sub++;
         if (d->sub < 2U * ID_PULSES) {
@@ -781,7 +786,7 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
             }
             return;
         }
-        d->res.l_ts_iq = d->pulse_den > 0 ? fix_sat32(div64(d->pulse_num * 16777216, d->pulse_den)) : 0;
+        d->res.l_ts_iq = d->u.st.pulse_den > 0 ? fix_sat32(div64(d->u.st.pulse_num * 16777216, d->u.st.pulse_den)) : 0;
         /* Bounds: L / (Z_b Ts) between 1/16 and 4096 (5 uH .. 6.5 H for Z_b = 31.8 ohm at 50 us). */
         if (d->res.l_ts_iq < IQ(1.0 / 16.0) || d->res.l_ts_iq > IQ(4096.0 - 1.0)) {
             fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_LS);

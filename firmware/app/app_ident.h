@@ -93,12 +93,11 @@ enum app_ident_seg {
 };
 
 /* One speed window of the spin step (background): its count change, start count and start
- * period; the mean q voltage and q current (IQ pu) over it. */
+ * period (the count's direction applied). */
 typedef struct {
     int32_t dpos;
     int32_t pos0;
     uint32_t tick0;
-    iq_t vq, iq;
 } app_ident_win_t;
 
 #define APP_IDENT_R_LEVELS 4U
@@ -166,18 +165,26 @@ typedef struct {
     uint16_t fail_step;      /* enum app_ident_step that failed */
     int16_t fail_detail;
     uint16_t n_dwell;        /* encoder DC vectors per electrical turn */
-    int64_t pulse_num, pulse_den; /* L: sums over the pulses */
-    int32_t dwell_pos_q8[4]; /* encoder: mean unwrapped count at each dwell, Q8 */
-    int16_t dwell_ang[4];    /* encoder: the measured current's angle from the reference axis at each
-                              * dwell, angle_t LSB (signed) */
+    /* the steps' scratch: the standstill steps' (st) and the spin's (sp) never live together */
+    union {
+        struct {
+            int64_t pulse_num, pulse_den; /* L: sums over the pulses */
+            int32_t dwell_pos_q8[4];      /* encoder: mean unwrapped count at each dwell, Q8 */
+            int16_t dwell_ang[4];         /* encoder: the measured current's angle from the reference
+                                           * axis at each dwell, angle_t LSB (signed) */
+        } st;
+        struct {
+            app_ident_win_t w[5];  /* A, B first and last acceleration windows; C, D, E coast */
+            iq_t vq[2], iq[2];     /* A, B: mean q voltage and q current, IQ pu */
+            int64_t acc_i;         /* the q current summed over the windows A..B (IQ x periods) */
+        } sp;
+    } u;
     uint16_t count0;         /* raw count at the start */
     uint32_t gain_q16;       /* spin: electrical angle_t per count, Q16 (p 2^32 / enc_counts) */
     uint16_t fresh;          /* spin: 1 = the first window (integrators and current from zero) */
     int32_t win_dpos;        /* the last window's count change (ISR) */
     uint32_t win_tick;       /* the last window's first period (ISR) */
-    app_ident_win_t w[5];    /* spin: A, B first and last acceleration windows; C, D, E coast */
     uint16_t n_acc, n_coast; /* spin: windows so far */
-    int64_t acc_i;           /* spin: the q current summed over the windows A..B (IQ x periods) */
     uint32_t tick, step_tick;
     app_ident_result_t res;
 } app_ident_t;
