@@ -1,5 +1,5 @@
 /*
- * app_ident.h - self-commissioning of a PM machine at standstill (docs/commissioning.md): the
+ * app_ident.h - self-commissioning of a PM machine (docs/commissioning.md): the
  * firmware measures what it is connected to from the board data alone (ADC scaling, V_dc, the
  * encoder's counts per turn, the topology) and the rated current (the current base, 1 pu):
  *   1. R_s and the inverter's drop: DC current along one axis (res.axis) at four levels (1, 3/4,
@@ -10,7 +10,10 @@
  *   3. encoder: the current vector stepped through one electrical turn (three DC vectors on the
  *      SSTP, two on the FSTP, whose mid-point cannot carry a lasting phase-A current), the rotor
  *      aligned on each: the counts' direction, the counts per electrical turn (pole pairs) and the
- *      count-to-magnet offset.
+ *      count-to-magnet offset (the first dwell is step 1's alignment);
+ *   4. spin: half rated current on the identified q axis up to a quarter of the base speed, then a
+ *      coast with the gates off: psi_m from the q voltage's slope over speed, J, viscous and Coulomb
+ *      friction from the integrated equation of motion (app_ident.c spin_results).
  * Every step limits the current to rated (references <= 1 pu, pulses stop at 0.9 pu, any phase
  * above 1.25 pu ends the identification), checks its result against plausibility bounds and on
  * failure stops with the gates off and a reason (enum app_ident_fail).
