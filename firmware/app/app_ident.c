@@ -24,6 +24,7 @@
 #define ID_OPEN_PERIODS 400U    /* regulator saturated with little current this long: open phase */
 #define ID_STILL 1000U          /* dwell: periods with the count within +-1 before the sums (50 ms) */
 #define ID_SETTLE_MAX 40000U    /* dwell: the longest wait for the rotor to come to rest (2 s) */
+#define ID_IQ_2PI ((int64_t)105414357) /* 2 pi in IQ, round(2 pi 2^24) (an integer: the same on every target) */
 #define ID_SPIN_I IQ(0.5)       /* spin: the q current of the acceleration (half rated) */
 #define ID_SPIN_W IQ(0.25)      /* spin: the speed that ends the acceleration, pu electrical */
 #define ID_SPIN_WIN 400U        /* spin: periods per speed window (20 ms) */
@@ -610,7 +611,7 @@ static void spin_results(app_ident_t *d, const dtc_config_t *cfg)
         const iq_t dv = fix_sub32(fix_sub32(d->u.sp.vq[1], d->u.sp.vq[0]), iq_mpy(d->res.r_iq, fix_sub32(d->u.sp.iq[1], d->u.sp.iq[0])));
         const int64_t t = div64((int64_t)dv * (int64_t)cfg->board.ts_pu_iq,
                                 ddpos * (int64_t)d->res.pole_pairs);
-        d->res.psi_iq = fix_sat32(div64(t * (int64_t)ID_SPIN_WIN * (int64_t)cfg->board.enc_counts, (int64_t)IQ(6.283185307179586)));
+        d->res.psi_iq = fix_sat32(div64(t * (int64_t)ID_SPIN_WIN * (int64_t)cfg->board.enc_counts, ID_IQ_2PI));
     }
     /* Bounds: psi_m from 1/64 to 4 pu (the back-EMF at rated speed 1/64 .. 4 x V_dc) */
     if (d->res.psi_iq < IQ(1.0 / 64.0) || d->res.psi_iq > IQ(4.0)) {
@@ -671,7 +672,7 @@ static void spin_service(app_ident_t *d, const dtc_config_t *cfg)
     iq_t vq, iq;
     const int64_t dpos_t =
         div64((((int64_t)ID_SPIN_W * (int64_t)cfg->board.ts_pu_iq) >> 24) * (int64_t)ID_SPIN_WIN * (int64_t)cfg->board.enc_counts,
-              (int64_t)IQ(6.283185307179586) * (int64_t)d->res.pole_pairs);
+              ID_IQ_2PI * (int64_t)d->res.pole_pairs);
     rec.dpos = dir * d->win_dpos;
     rec.pos0 = dir * d->still_ref;
     rec.tick0 = d->win_tick;
