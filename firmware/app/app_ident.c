@@ -587,7 +587,8 @@ static void motion_row(const app_ident_win_t *x, const app_ident_win_t *y, int64
 }
 
 /* Background: psi_m and the mechanics from the spin's windows (app_ident.h).
- * psi_m (Hoang eq. 30 in the rotor frame at i_d = 0: v_q = R i_q + w_e psi_m + the inverter's
+ * psi_m (Hoang eqs. 6-9, v = R i + d psi / dt, psi = L i + psi_m e^{j theta}, in the rotor frame at
+ * constant current, i_d = 0: v_q = R i_q + w_e psi_m + the inverter's
  * threshold and dead-time drop along the current, constant for a current of one sign): the q
  * voltage's change less R (step RS's slope) times the q current's change, over the electrical
  * speed's change between windows A and B, w_e = dpos p 2 pi / (enc_counts N Ts):

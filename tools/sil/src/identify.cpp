@@ -248,7 +248,7 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
                                                   ? sc.load.torque_nm / (sc.load.speed_rpm * kPi / 30.0)
                                                   : 0.0);
     add("psi_m_wb", psi, m.psi_m_wb, "Wb", APP_IDENT_SPIN, true,
-        "slope of the q voltage over the electrical speed at constant q current (Hoang eq. 30)");
+        "slope of the q voltage over the electrical speed at constant q current (Hoang eqs. 6-9)");
     add("j_kgm2", j_id, m.j_kgm2, "kg*m^2", APP_IDENT_SPIN, true, "acceleration at half rated q current and a coast");
     add("b_nm_s_per_rad", b_id, b_true, "N*m*s/rad", APP_IDENT_SPIN, true,
         "viscous friction, the coupled DC generator's included");
