@@ -6,24 +6,30 @@
 
 #include <stddef.h>
 
-/* Segment timing, control periods (50 us: 6000 = 0.3 s). */
-#define ID_ALIGN_RAMP 2000      /* first ramp to rated current: the rotor swings into alignment */
-#define ID_ALIGN_SETTLE 6000U
+/* Segment timing, control periods (50 us: 2000 = 0.1 s). */
+#define ID_ALIGN_RAMP 2000      /* first ramp to the aligning current: the rotor swings into alignment */
+#define ID_ALIGN_SETTLE 2000U   /* alignment: the least settling before the wait for the rotor at rest */
 #define ID_LEVEL_RAMP 400       /* later level changes: a full-rated change over 400 periods */
-#define ID_LEVEL_SETTLE 1500U   /* > 10 closed-loop time constants of the regulator */
+#define ID_LEVEL_SETTLE 800U    /* 40 ms: 6.5 time constants of the regulator's closed loop (163 1/s
+                                 * for Hoang Table VIII, docs/commissioning.md), its error < 0.2 % */
 #define ID_MEAS 1024U
 #define ID_PULSE_GAP 600U       /* regulated hold between two voltage steps */
 #define ID_PULSE_MAX 2000U      /* longest voltage step (100 ms) */
 #define ID_PULSES 4U
 #define ID_ENC_MOVE_SSTP 3000U  /* periods for one 120-degree move of the vector (SSTP) */
 #define ID_ENC_MOVE_FSTP 3000U  /* one 180-degree move (FSTP) */
-#define ID_ENC_LEVEL_FSTP 0.5
-#define ID_ENC_SETTLE 3000U    /* encoder dwell: the least settling; the quadrature trim from its half */
+#define ID_ENC_LEVEL IQ(0.5)    /* the aligning and encoder current (see app_ident_start) */
+#define ID_ENC_SETTLE 1500U     /* encoder dwell: the least settling before the wait for rest */
 #define ID_ENC_MEAS 1024U
 #define ID_OPEN_PERIODS 400U    /* regulator saturated with little current this long: open phase */
-#define ID_TRIM_LOG2 4U         /* slow regulator: the quadrature trim's integral gain ki / 2^4 */
-#define ID_STILL 2000U          /* encoder dwell: periods with the count within +-1 before the sums */
-#define ID_SETTLE_MAX 40000U    /* encoder dwell: the longest wait for the rotor to come to rest (2 s) */
+#define ID_STILL 1000U          /* dwell: periods with the count within +-1 before the sums (50 ms) */
+#define ID_SETTLE_MAX 40000U    /* dwell: the longest wait for the rotor to come to rest (2 s) */
+#define ID_IQ_2PI ((int64_t)105414357) /* 2 pi in IQ, round(2 pi 2^24) (an integer: the same on every target) */
+#define ID_SPIN_I IQ(0.5)       /* spin: the q current of the acceleration (half rated) */
+#define ID_SPIN_W IQ(0.25)      /* spin: the speed that ends the acceleration, pu electrical */
+#define ID_SPIN_WIN 400U        /* spin: periods per speed window (20 ms) */
+#define ID_SPIN_MAXW 100U       /* spin: the longest acceleration, windows (2 s) */
+#define ID_COAST_MAXW 100U      /* spin: the longest coast, windows (2 s) */
 
 /* The injection axis (res.axis). FSTP: beta (90 degrees), current from leg B into leg C, so that
  * phase A (the capacitor mid-point) carries none and the mid-point does not drift. SSTP: alpha
@@ -69,7 +75,6 @@ static void post_hold(app_ident_t *d, uint32_t th_move_q16, uint32_t th_rate_q16
 {
     d->seg = (uint16_t)APP_IDENT_SEG_HOLD;
     d->slow = slow != 0U ? 1U : 0U;
-    d->still = slow == 2U ? 1U : 0U;
     d->th_left_q16 = th_move_q16;
     d->th_rate_q16 = th_rate_q16;
     d->i_target = i_target;
@@ -120,11 +125,11 @@ void app_ident_start(app_ident_t *d, const dtc_config_t *cfg, uint16_t qep_count
     d->fail_step = 0U;
     d->fail_detail = 0;
     d->n_dwell = cfg->board.topology == (uint16_t)DTC_TOPO_FSTP ? 2U : 3U;
-    d->pulse_num = 0;
-    d->pulse_den = 0;
+    d->u.st.pulse_num = 0;
+    d->u.st.pulse_den = 0;
     d->tick = 0U;
     d->step_tick = 0U;
-    for (k = 0U; k < 4U; k++) {
+    for (k = 0U; k < 7U; k++) {
         d->res.ticks[k] = 0U;
     }
     d->res.pole_pairs = 0U;
@@ -134,15 +139,21 @@ void app_ident_start(app_ident_t *d, const dtc_config_t *cfg, uint16_t qep_count
     d->res.v0_iq = 0;
     d->res.l_ts_iq = 0;
     d->res.counts_per_turn = 0;
+    d->res.psi_iq = 0;
+    d->res.j_q12 = 0;
+    d->res.b_iq = 0;
+    d->res.tc_iq = 0;
+    d->fresh = 0U;
     /* 1 / V_dc (background: a division), for the duties. */
     d->inv_vdc_iq = vdc_iq > IQ(1.0 / 16.0) ? fix_sat32(div64((int64_t)1 << 48, (int64_t)vdc_iq)) : IQ(1.0);
     d->step = (uint16_t)APP_IDENT_RS;
     d->sub = 0U;
     /* The rotor swings onto the axis under the slow regulator (regulate), at half rated: the
-     * braking quadrature current is at most the aligning current (overdamped, the braking torque
-     * balances the magnet's pull 1.5 p psi_m I sin(delta)), so |i| stays below 0.71 x rated. Then
-     * the levels. */
-    post_hold(d, 0U, 0U, IQ(0.5), (iq_t)(IQ(0.5) / ID_ALIGN_RAMP), ID_ALIGN_SETTLE, 16U, 1U);
+     * braking quadrature current is at most the aligning current (the braking torque balances the
+     * magnet's pull 1.5 p psi_m I sin(delta)), so |i| stays below 0.71 x rated. The alignment is the
+     * encoder step's first dwell (it waits for the rotor at rest and sums the count). Then the
+     * levels. */
+    post_hold(d, 0U, 0U, ID_ENC_LEVEL, (iq_t)(ID_ENC_LEVEL / ID_ALIGN_RAMP), ID_ALIGN_SETTLE, ID_ENC_MEAS, 1U);
 }
 
 void app_ident_abort(app_ident_t *d) { fail(d, (uint16_t)APP_IDENT_FAIL_TRIP, 0); }
@@ -211,17 +222,15 @@ static uint16_t ramps(app_ident_t *d)
  * it. d->slow: no integral action on the quadrature axis, only kp: there the machine is
  * voltage-fed through R_s + kp, so a swing of the rotor about the axis (whose back-EMF is in
  * quadrature to the current once aligned) drives a quadrature current that brakes it, about
- * 1.5 p^2 psi_m^2 / (R_s + kp) of damping (0.013 N.m.s/rad for Hoang Table VIII: critically damped
- * at a quarter of rated current, where the friction alone takes seconds); at rest no quadrature
- * voltage is left to pull the rotor off the axis. */
+ * 1.5 p^2 psi_m^2 / (R_s + kp) of damping (0.012 N.m.s/rad for Hoang Table VIII: damping ratio
+ * 0.8 at half rated current, where the friction alone takes seconds). A static quadrature voltage
+ * error (the FSTP mid-point sensor's, the dead time's) leaves a quadrature current at rest, so the
+ * rotor rests on the current actually flowing: its angle is measured (store_dwell), not regulated
+ * away (an integral would pull the rotor slowly after every swing). */
 static void regulate(app_ident_t *d, iq_t i_par, iq_t i_perp, q15_t c, q15_t s)
 {
     const iq_t e[2] = {fix_sub32(d->i_ref, i_par), fix_neg32(i_perp)};
-    /* slow: the quadrature integral off while the rotor swings (moves, first half of the settling),
-     * then at ki / 2^ID_TRIM_LOG2: the static quadrature voltage error (the mid-point sensor's on
-     * the FSTP) is taken out slower than the rotor's swing, so the rotor follows without swinging */
-    const uint16_t trim = (uint16_t)(d->phase == 2U || (d->phase == 1U && d->n >= (d->n_settle >> 1)));
-    const iq_t ki[2] = {d->ki_iq, d->slow == 0U ? d->ki_iq : (trim != 0U ? fix_rshift_rnd32(d->ki_iq, ID_TRIM_LOG2) : 0)};
+    const iq_t ki[2] = {d->ki_iq, d->slow == 0U ? d->ki_iq : 0};
     iq_t v[2];
     uint16_t k;
     for (k = 0U; k < 2U; k++) {
@@ -275,14 +284,33 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
         d->sum_i = 0;
         d->sum_v = 0;
         d->sum_pos = 0;
+        d->sum_q = 0;
         d->sat_n = 0U;
         d->still_n = 0U;
         d->still_ref = d->pos;
         d->phase = d->seg == (uint16_t)APP_IDENT_SEG_PULSE ? 6U : 0U;
+        d->win_tick = d->tick;
+        if (d->seg == (uint16_t)APP_IDENT_SEG_SPIN || d->seg == (uint16_t)APP_IDENT_SEG_COAST) {
+            d->phase = 2U; /* a window: sums from its first period */
+            if (d->fresh != 0U) {
+                d->fresh = 0U;
+                d->integ[0] = 0;
+                d->integ[1] = 0;
+                d->i_ref = 0;
+            }
+        }
         if (d->seg == (uint16_t)APP_IDENT_SEG_PULSE) {
             d->v_hold = d->v_ab[0]; /* the regulated voltage before the step, both axes */
             d->v_hold_b = d->v_ab[1];
         }
+    }
+    if (d->seg == (uint16_t)APP_IDENT_SEG_SPIN) {
+        /* the reference axis on the rotor's q axis: theta_e = offset + count x gain (direction
+         * applied), + 90 degrees; the count's product < 2^31 x 2^32 in 64 bits, modulo one turn */
+        const int64_t e = (((int64_t)d->count0 + (int64_t)d->pos) * (int64_t)d->gain_q16) >> 16;
+        const uint16_t el = (uint16_t)(uint64_t)e;
+        const angle_t th_e = (angle_t)(d->res.enc_offset + (d->res.enc_reversed != 0U ? (angle_t)(0U - el) : (angle_t)el));
+        d->th_q16 = (uint32_t)(angle_t)(th_e + ANGLE(0.25)) << 16;
     }
     {
         const angle_t th = (angle_t)(d->th_q16 >> 16);
@@ -331,6 +359,35 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
             d->v_ab[0] = d->v_hold;
             d->v_ab[1] = d->v_hold_b;
         }
+    } else if (d->seg == (uint16_t)APP_IDENT_SEG_SPIN) {
+        (void)ramps(d);
+        regulate(d, i_par, i_perp, c, s);
+        v_par = fix_add32(iq_mpy_q15(d->v_ab[0], c), iq_mpy_q15(d->v_ab[1], s));
+        if (d->phase == 2U) {
+            d->sum_i += (int64_t)i_par;
+            d->sum_v += (int64_t)v_par;
+            if (++d->n >= d->n_meas) {
+                d->phase = 4U;
+                d->win_dpos = d->pos - d->still_ref;
+                d->done = 1U;
+            }
+        }
+        /* the regulator at its voltage limit: the back-EMF and drops exceed what the link gives */
+        if (fix_abs32(v_par) >= fix_sub32(d->v_lim_iq, IQ(1.0 / 256.0))) {
+            if (++d->sat_n >= ID_OPEN_PERIODS) {
+                fail(d, (uint16_t)APP_IDENT_FAIL_VDC_LOW, 0);
+                return 1U;
+            }
+        } else {
+            d->sat_n = 0U;
+        }
+    } else if (d->seg == (uint16_t)APP_IDENT_SEG_COAST) {
+        if (d->phase == 2U && ++d->n >= d->n_meas) {
+            d->phase = 4U;
+            d->win_dpos = d->pos - d->still_ref;
+            d->done = 1U;
+        }
+        return 1U;
     } else if (d->seg == (uint16_t)APP_IDENT_SEG_HOLD) {
         const uint16_t moving = ramps(d);
         regulate(d, i_par, i_perp, c, s);
@@ -340,7 +397,7 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
             d->n = 0U;
         } else if (d->phase == 1U) {
             ++d->n;
-            if (d->still != 0U) {
+            if (d->slow != 0U) {
                 /* the encoder step: after n_settle, wait until the count stays within +-1 of one
                  * value for ID_STILL periods; a rotor not at rest by ID_SETTLE_MAX is a coupled
                  * load, a blocked or a far too heavy rotor: named, not measured */
@@ -351,12 +408,13 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
                 } else if (d->still_n < ID_STILL) {
                     d->still_n++;
                 }
+
                 if (d->n >= ID_SETTLE_MAX) {
                     fail(d, (uint16_t)APP_IDENT_FAIL_NOT_AT_REST, 0);
                     return 1U;
                 }
             }
-            if (d->n >= d->n_settle && (d->still == 0U || d->still_n >= ID_STILL)) {
+            if (d->n >= d->n_settle && (d->slow == 0U || d->still_n >= ID_STILL)) {
                 d->phase = 2U;
                 d->n = 0U;
             }
@@ -364,6 +422,7 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
             d->sum_i += (int64_t)i_par;
             d->sum_v += (int64_t)v_par;
             d->sum_pos += (int64_t)d->pos;
+            d->sum_q += (int64_t)i_perp;
             if (++d->n >= d->n_meas) {
                 d->phase = 4U;
                 d->done = 1U;
@@ -421,7 +480,7 @@ static uint32_t span_of(const app_ident_t *d) { return d->n_dwell == 2U ? 32768U
 static void encoder_results(app_ident_t *d, const dtc_config_t *cfg)
 {
     const int64_t n_q8 = (int64_t)cfg->board.enc_counts << 8;
-    const int64_t delta = (int64_t)d->dwell_pos_q8[d->n_dwell] - (int64_t)d->dwell_pos_q8[0];
+    const int64_t delta = (int64_t)d->u.st.dwell_pos_q8[d->n_dwell] - (int64_t)d->u.st.dwell_pos_q8[0];
     const int64_t ad = delta < 0 ? -delta : delta;
     int64_t p;
     int32_t acc = 0;
@@ -448,7 +507,7 @@ static void encoder_results(app_ident_t *d, const dtc_config_t *cfg)
     d->res.pole_pairs = (uint16_t)p;
     for (j = 0U; j < d->n_dwell; j++) {
         /* the raw count at the dwell (Q8), in [0, N) */
-        const int64_t raw = ((int64_t)d->count0 << 8) + (int64_t)d->dwell_pos_q8[j];
+        const int64_t raw = ((int64_t)d->count0 << 8) + (int64_t)d->u.st.dwell_pos_q8[j];
         int64_t cq8 = raw - div64(raw, n_q8) * n_q8;
         int64_t th;
         angle_t th_vec, off;
@@ -459,7 +518,7 @@ static void encoder_results(app_ident_t *d, const dtc_config_t *cfg)
             cq8 = -cq8;
         }
         th = div64(cq8 * p * 65536, n_q8);       /* electrical angle of the count, angle_t units */
-        th_vec = (angle_t)(d->res.axis + (angle_t)(span_of(d) * j));
+        th_vec = (angle_t)(d->res.axis + (angle_t)(span_of(d) * j) + (angle_t)d->u.st.dwell_ang[j]);
         off = (angle_t)((uint32_t)th_vec - (uint32_t)(uint16_t)(uint64_t)th); /* modulo one turn */
         if (j == 0U) {
             off0 = off;
@@ -469,10 +528,29 @@ static void encoder_results(app_ident_t *d, const dtc_config_t *cfg)
     d->res.enc_offset = (angle_t)(off0 + (angle_t)(int16_t)div64(acc, (int64_t)d->n_dwell));
 }
 
-/* The encoder step's current: half rated; a quarter on the FSTP, where the moves between its two
- * vectors pass phase A's current through the capacitor mid-point (0.55 A over a 0.2 s half turn
- * moves it by about 7 V on 2 x 4.7 mF). */
-static iq_t enc_level(const app_ident_t *d) { return d->n_dwell == 2U ? IQ(ID_ENC_LEVEL_FSTP) : IQ(0.75); }
+
+/* Background: the mean count and the measured current's angle of the dwell just ended (index j).
+ * The rotor at rest lies on the current actually flowing, the reference axis turned by
+ * atan2(mean quadrature, mean parallel current): the slow regulator has no quadrature integral,
+ * so a static quadrature voltage error (the FSTP mid-point sensor's, the dead time's) leaves a
+ * quadrature current; its angle is measured instead of regulated away. */
+static void store_dwell(app_ident_t *d, uint16_t j)
+{
+    angle_t a;
+    iq_t mag;
+    d->u.st.dwell_pos_q8[j] = fix_sat32(div64(d->sum_pos * 256, (int64_t)d->n_meas));
+    fix_polar(fix_sat32(div64(d->sum_i, (int64_t)d->n_meas)), fix_sat32(div64(d->sum_q, (int64_t)d->n_meas)), &a, &mag);
+    d->u.st.dwell_ang[j] = (int16_t)a;
+}
+
+/* Background: the next move of the encoder step (one span forward), then a dwell at rest. */
+static void post_move(app_ident_t *d)
+{
+    const uint32_t move = d->n_dwell == 2U ? ID_ENC_MOVE_FSTP : ID_ENC_MOVE_SSTP;
+    const uint32_t span = span_of(d);
+    post_hold(d, span << 16, (uint32_t)div64((int64_t)span << 16, (int64_t)move), ID_ENC_LEVEL,
+              (iq_t)(IQ(1.0) / ID_LEVEL_RAMP), ID_ENC_SETTLE, ID_ENC_MEAS, 1U);
+}
 
 static void next_step(app_ident_t *d, uint16_t step)
 {
@@ -482,11 +560,183 @@ static void next_step(app_ident_t *d, uint16_t step)
     d->sub = 0U;
 }
 
+/* Background: one spin window with the q current i (SEG_SPIN) or with the gates off (SEG_COAST). */
+static void post_window(app_ident_t *d, uint16_t seg, iq_t i)
+{
+    d->seg = seg;
+    d->slow = 0U;
+    d->th_left_q16 = 0U;
+    d->i_target = i;
+    d->i_rate = (iq_t)(IQ(1.0) / ID_LEVEL_RAMP);
+    d->n_meas = ID_SPIN_WIN;
+    d->done = 0U;
+    d->go = 1U;
+}
+
+/* Background: the row of the spin's integrated equation of motion between the centres of windows
+ * x and y (app_ident.h units: speed in counts per period, torque in pu q current):
+ *   J (w_y - w_x) + B (pos_y - pos_x) + T_c (t_y - t_x) = mean torque x (t_y - t_x),
+ * times 2 N (N = ID_SPIN_WIN, w = dpos / N, pos at the centre pos0 + dpos / 2):
+ *   r[0] = 2 (dpos_y - dpos_x), r[1] = N (2 pos0_y + dpos_y - 2 pos0_x - dpos_x), r[2] = 2 N (t_y - t_x).
+ * Magnitudes: counts and periods below 2^26 over a spin: each element < 2^37. */
+static void motion_row(const app_ident_win_t *x, const app_ident_win_t *y, int64_t r[3])
+{
+    r[0] = 2 * ((int64_t)y->dpos - (int64_t)x->dpos);
+    r[1] = (int64_t)ID_SPIN_WIN * (2 * (int64_t)y->pos0 + (int64_t)y->dpos - 2 * (int64_t)x->pos0 - (int64_t)x->dpos);
+    r[2] = 2 * (int64_t)ID_SPIN_WIN * (int64_t)(uint32_t)(y->tick0 - x->tick0);
+}
+
+/* Background: psi_m and the mechanics from the spin's windows (app_ident.h).
+ * psi_m (Hoang eqs. 6-9, v = R i + d psi / dt, psi = L i + psi_m e^{j theta}, in the rotor frame at
+ * constant current, i_d = 0: v_q = R i_q + w_e psi_m + the inverter's
+ * threshold and dead-time drop along the current, constant for a current of one sign): the q
+ * voltage's change less R (step RS's slope) times the q current's change, over the electrical
+ * speed's change between windows A and B, w_e = dpos p 2 pi / (enc_counts N Ts):
+ *   psi_pu = dv_q enc_counts N ts_pu / (ddpos p 2 pi).
+ * Mechanics (J dw/dt + B w + T_c = T_e, T_e = k_t i_q): the two coast rows (no torque) fix
+ * (J, B, T_c) up to a factor, their cross product (a, b, c): B / J = b / a, T_c / J = c / a; the
+ * acceleration row (the measured q current's integral) gives J. Scaling as commented below. */
+static void spin_results(app_ident_t *d, const dtc_config_t *cfg)
+{
+    const app_ident_win_t *const a_w = &d->u.sp.w[0];
+    const app_ident_win_t *const b_w = &d->u.sp.w[1];
+    const int64_t ddpos = (int64_t)b_w->dpos - (int64_t)a_w->dpos;
+    int64_t r0[3], r1[3], r2[3], x[3];
+    uint16_t k;
+    if (ddpos <= 0) {
+        fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_PSI);
+        return;
+    }
+    {
+        /* the q voltage's change less the resistive part of the q current's change (R of step RS) */
+        const iq_t dv = fix_sub32(fix_sub32(d->u.sp.vq[1], d->u.sp.vq[0]), iq_mpy(d->res.r_iq, fix_sub32(d->u.sp.iq[1], d->u.sp.iq[0])));
+        const int64_t t = div64((int64_t)dv * (int64_t)cfg->board.ts_pu_iq,
+                                ddpos * (int64_t)d->res.pole_pairs);
+        d->res.psi_iq = fix_sat32(div64(t * (int64_t)ID_SPIN_WIN * (int64_t)cfg->board.enc_counts, ID_IQ_2PI));
+    }
+    /* Bounds: psi_m from 1/64 to 4 pu (the back-EMF at rated speed 1/64 .. 4 x V_dc) */
+    if (d->res.psi_iq < IQ(1.0 / 64.0) || d->res.psi_iq > IQ(4.0)) {
+        fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_PSI);
+        return;
+    }
+    motion_row(a_w, b_w, r0);
+    motion_row(&d->u.sp.w[2], &d->u.sp.w[3], r1);
+    motion_row(&d->u.sp.w[3], &d->u.sp.w[4], r2);
+    /* (a, b, c) = r1 x r2, halved together below 2^32 (elements of r below 2^31: products < 2^62) */
+    x[0] = r1[1] * r2[2] - r1[2] * r2[1];
+    x[1] = r1[2] * r2[0] - r1[0] * r2[2];
+    x[2] = r1[0] * r2[1] - r1[1] * r2[0];
+    while ((x[0] < 0 ? -x[0] : x[0]) >= ((int64_t)1 << 32) || (x[1] < 0 ? -x[1] : x[1]) >= ((int64_t)1 << 32) ||
+           (x[2] < 0 ? -x[2] : x[2]) >= ((int64_t)1 << 32)) {
+        for (k = 0U; k < 3U; k++) {
+            x[k] /= 2;
+        }
+    }
+    /* B / J and T_c / J as x_1 / x_0, x_2 / x_0 in Q30; J must be positive and dominate (a coast
+     * that decelerates) */
+    if (x[0] == 0 || (x[1] < 0 ? -x[1] : x[1]) > (x[0] < 0 ? -x[0] : x[0]) * 256 ||
+        (x[2] < 0 ? -x[2] : x[2]) > (x[0] < 0 ? -x[0] : x[0]) * 256) {
+        fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_MECH);
+        return;
+    }
+    {
+        const int64_t beta = div64(x[1] * ((int64_t)1 << 30) * (x[0] < 0 ? -1 : 1), x[0] < 0 ? -x[0] : x[0]);
+        const int64_t gamma = div64(x[2] * ((int64_t)1 << 30) * (x[0] < 0 ? -1 : 1), x[0] < 0 ? -x[0] : x[0]);
+        /* the acceleration row: J (r0[0] + beta r0[1] + gamma r0[2]) = 2 N (torque integral from A's
+         * centre to B's): the q current summed over the windows A..B less half of A's and B's sums
+         * (IQ x periods); den in Q30 (r0 < 2^31, beta, gamma < 2^38: < 2^63 for the rig's spans) */
+        const int64_t den = r0[0] * ((int64_t)1 << 30) + beta * r0[1] + gamma * r0[2];
+        const int64_t rhs = 2 * (int64_t)ID_SPIN_WIN *
+                            (d->u.sp.acc_i - (((int64_t)d->u.sp.iq[0] + (int64_t)d->u.sp.iq[1]) * (int64_t)ID_SPIN_WIN) / 2);
+        if (den <= ((int64_t)1 << 12) || rhs <= 0) {
+            fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_MECH);
+            return;
+        }
+        /* J in row units = rhs 2^30 / (den 2^24); Q12: rhs / (den >> 12) x 2^6 */
+        d->res.j_q12 = fix_sat32(div64(rhs, den >> 12) * 64);
+        d->res.b_iq = fix_sat32((beta * (int64_t)d->res.j_q12) >> 18);
+        d->res.tc_iq = fix_sat32((gamma * (int64_t)d->res.j_q12) >> 18);
+    }
+    if (d->res.j_q12 <= 0) {
+        fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_MECH);
+    }
+}
+
+/* Background: the spin step. sub 0 accelerating at ID_SPIN_I on the q axis until ID_SPIN_W or the
+ * voltage headroom (5/8 of the limit); 1 coasting (gates off) until two thirds of the coast's
+ * first speed (window D); 2 until one third (window E); then the fits. Window 1 of each phase
+ * (the current's ramp, its decay) is not used. */
+static void spin_service(app_ident_t *d, const dtc_config_t *cfg)
+{
+    const int32_t dir = d->res.enc_reversed != 0U ? -1 : 1;
+    app_ident_win_t rec;
+    iq_t vq, iq;
+    const int64_t dpos_t =
+        div64((((int64_t)ID_SPIN_W * (int64_t)cfg->board.ts_pu_iq) >> 24) * (int64_t)ID_SPIN_WIN * (int64_t)cfg->board.enc_counts,
+              ID_IQ_2PI * (int64_t)d->res.pole_pairs);
+    rec.dpos = dir * d->win_dpos;
+    rec.pos0 = dir * d->still_ref;
+    rec.tick0 = d->win_tick;
+    vq = fix_sat32(div64(d->sum_v, (int64_t)ID_SPIN_WIN));
+    iq = fix_sat32(div64(d->sum_i, (int64_t)ID_SPIN_WIN));
+    if (d->sub == 0U) {
+        d->n_acc++;
+        if (d->n_acc == 2U) {
+            d->u.sp.w[0] = rec;
+            d->u.sp.vq[0] = vq;
+            d->u.sp.iq[0] = iq;
+            d->u.sp.acc_i = 0;
+        }
+        if (d->n_acc >= 2U) {
+            d->u.sp.acc_i += d->sum_i;
+        }
+        d->u.sp.w[1] = rec;
+        d->u.sp.vq[1] = vq;
+        d->u.sp.iq[1] = iq;
+        if (d->n_acc >= 3U && ((int64_t)rec.dpos >= dpos_t || fix_abs32(vq) >= iq_mpy(d->v_lim_iq, IQ(0.625)) ||
+                               d->n_acc >= ID_SPIN_MAXW)) {
+            if ((int64_t)rec.dpos < (dpos_t >> 3)) {
+                fail(d, fix_abs32(vq) >= iq_mpy(d->v_lim_iq, IQ(0.625)) ? (uint16_t)APP_IDENT_FAIL_VDC_LOW
+                                                                            : (uint16_t)APP_IDENT_FAIL_BLOCKED,
+                     (int16_t)(rec.dpos > 32767 ? 32767 : rec.dpos));
+                return;
+            }
+            d->sub = 1U;
+            post_window(d, (uint16_t)APP_IDENT_SEG_COAST, 0);
+            return;
+        }
+        post_window(d, (uint16_t)APP_IDENT_SEG_SPIN, ID_SPIN_I);
+        return;
+    }
+    d->n_coast++;
+    if (d->n_coast == 2U) {
+        d->u.sp.w[2] = rec;
+    } else if (d->n_coast > 2U) {
+        if (d->sub == 1U && ((int64_t)rec.dpos * 3 <= 2 * (int64_t)d->u.sp.w[2].dpos || d->n_coast >= ID_COAST_MAXW / 2U)) {
+            d->u.sp.w[3] = rec;
+            d->sub = 2U;
+        } else if (d->sub == 2U && ((int64_t)rec.dpos * 3 <= (int64_t)d->u.sp.w[2].dpos || d->n_coast >= ID_COAST_MAXW)) {
+            d->u.sp.w[4] = rec;
+            spin_results(d, cfg);
+            if (d->step == (uint16_t)APP_IDENT_FAILED) {
+                return;
+            }
+            next_step(d, (uint16_t)APP_IDENT_DONE);
+            d->seg = (uint16_t)APP_IDENT_SEG_OFF;
+            return;
+        } else {
+            /* between D and E, or before D */
+        }
+    }
+    post_window(d, (uint16_t)APP_IDENT_SEG_COAST, 0);
+}
+
+
 void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
 {
     static const iq_t levels[APP_IDENT_R_LEVELS] = {IQ(1.0), IQ(0.75), IQ(0.5), IQ(0.25)};
     if (d->step != (uint16_t)APP_IDENT_RS && d->step != (uint16_t)APP_IDENT_LS &&
-        d->step != (uint16_t)APP_IDENT_ENCODER) {
+        d->step != (uint16_t)APP_IDENT_ENCODER && d->step != (uint16_t)APP_IDENT_SPIN) {
         return;
     }
     if (d->go != 0U || d->done == 0U) {
@@ -494,7 +744,9 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
     }
     switch (d->step) {
     case APP_IDENT_RS:
-        if (d->sub > 0U) { /* segment 0 aligned the rotor; 1.. are the levels */
+        if (d->sub == 0U) { /* segment 0 aligned the rotor: the encoder's first dwell */
+            store_dwell(d, 0U);
+        } else { /* 1.. are the levels */
             d->res.level_i_iq[d->sub - 1U] = fix_sat32(div64(d->sum_i, (int64_t)d->n_meas));
             d->res.level_v_iq[d->sub - 1U] = fix_sat32(div64(d->sum_v, (int64_t)d->n_meas));
         }
@@ -523,9 +775,9 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
              * over its current rise, Hoang eq. 28's L di/dt = v - R i on the step axis */
             const iq_t rise = fix_sub32(d->i_last, d->i_first);
             const int64_t trap = d->sum_i + (int64_t)fix_rshift_rnd32(rise, 1U);
-            d->pulse_num += (int64_t)d->dv_iq * (int64_t)d->n -
+            d->u.st.pulse_num += (int64_t)d->dv_iq * (int64_t)d->n -
                             (int64_t)fix_rshift_rnd64_sat32((int64_t)d->res.r_iq * trap, 24U);
-            d->pulse_den += (int64_t)rise;
+            d->u.st.pulse_den += (int64_t)rise;
         }
         d->sub++;
         if (d->sub < 2U * ID_PULSES) {
@@ -536,33 +788,39 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
             }
             return;
         }
-        d->res.l_ts_iq = d->pulse_den > 0 ? fix_sat32(div64(d->pulse_num * 16777216, d->pulse_den)) : 0;
+        d->res.l_ts_iq = d->u.st.pulse_den > 0 ? fix_sat32(div64(d->u.st.pulse_num * 16777216, d->u.st.pulse_den)) : 0;
         /* Bounds: L / (Z_b Ts) between 1/16 and 4096 (5 uH .. 6.5 H for Z_b = 31.8 ohm at 50 us). */
         if (d->res.l_ts_iq < IQ(1.0 / 16.0) || d->res.l_ts_iq > IQ(4096.0 - 1.0)) {
             fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_LS);
             return;
         }
+        /* the first dwell was the alignment (step RS); the encoder step starts with a move */
         next_step(d, (uint16_t)APP_IDENT_ENCODER);
-        post_hold(d, 0U, 0U, enc_level(d), (iq_t)(IQ(1.0) / ID_LEVEL_RAMP), ID_ENC_SETTLE, ID_ENC_MEAS, 2U);
+        d->sub = 1U;
+        post_move(d);
         return;
-    case APP_IDENT_ENCODER: {
-        const uint32_t move = d->n_dwell == 2U ? ID_ENC_MOVE_FSTP : ID_ENC_MOVE_SSTP;
-        const uint32_t span = span_of(d);
-        d->dwell_pos_q8[d->sub] = fix_sat32(div64(d->sum_pos * 256, (int64_t)d->n_meas));
-        d->sub++;
-        if (d->sub <= d->n_dwell) {
-            post_hold(d, span << 16, (uint32_t)div64((int64_t)span << 16, (int64_t)move), enc_level(d), (iq_t)(IQ(1.0) / ID_LEVEL_RAMP),
-                      ID_ENC_SETTLE, ID_ENC_MEAS, 2U);
+    case APP_IDENT_ENCODER:
+        store_dwell(d, d->sub);
+        if (d->sub < d->n_dwell) {
+            d->sub++;
+            post_move(d);
             return;
         }
         encoder_results(d, cfg);
         if (d->step == (uint16_t)APP_IDENT_FAILED) {
             return;
         }
-        next_step(d, (uint16_t)APP_IDENT_DONE);
-        d->seg = (uint16_t)APP_IDENT_SEG_OFF;
+        /* electrical angle per count, Q16: p 2^32 / enc_counts */
+        d->gain_q16 = (uint32_t)div64((int64_t)d->res.pole_pairs << 32, (int64_t)cfg->board.enc_counts);
+        next_step(d, (uint16_t)APP_IDENT_SPIN);
+        d->n_acc = 0U;
+        d->n_coast = 0U;
+        d->fresh = 1U;
+        post_window(d, (uint16_t)APP_IDENT_SEG_SPIN, ID_SPIN_I);
         return;
-    }
+    case APP_IDENT_SPIN:
+        spin_service(d, cfg);
+        return;
     default:
         return;
     }

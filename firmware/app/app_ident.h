@@ -1,5 +1,5 @@
 /*
- * app_ident.h - self-commissioning of a PM machine at standstill (docs/commissioning.md): the
+ * app_ident.h - self-commissioning of a PM machine (docs/commissioning.md): the
  * firmware measures what it is connected to from the board data alone (ADC scaling, V_dc, the
  * encoder's counts per turn, the topology) and the rated current (the current base, 1 pu):
  *   1. R_s and the inverter's drop: DC current along one axis (res.axis) at four levels (1, 3/4,
@@ -10,7 +10,10 @@
  *   3. encoder: the current vector stepped through one electrical turn (three DC vectors on the
  *      SSTP, two on the FSTP, whose mid-point cannot carry a lasting phase-A current), the rotor
  *      aligned on each: the counts' direction, the counts per electrical turn (pole pairs) and the
- *      count-to-magnet offset.
+ *      count-to-magnet offset (the first dwell is step 1's alignment);
+ *   4. spin: half rated current on the identified q axis up to a quarter of the base speed, then a
+ *      coast with the gates off: psi_m from the q voltage's slope over speed, J, viscous and Coulomb
+ *      friction from the integrated equation of motion (app_ident.c spin_results).
  * Every step limits the current to rated (references <= 1 pu, pulses stop at 0.9 pu, any phase
  * above 1.25 pu ends the identification), checks its result against plausibility bounds and on
  * failure stops with the gates off and a reason (enum app_ident_fail).
@@ -46,7 +49,9 @@ enum app_ident_step {
     APP_IDENT_LS = 2,      /* voltage steps on a DC current */
     APP_IDENT_ENCODER = 3, /* DC vectors through one electrical turn */
     APP_IDENT_DONE = 4,    /* every result set, gates off */
-    APP_IDENT_FAILED = 5   /* app_ident_t.fail says why, fail_step in which step; gates off */
+    APP_IDENT_FAILED = 5,  /* app_ident_t.fail says why, fail_step in which step; gates off */
+    APP_IDENT_SPIN = 6     /* after ENCODER: accelerate at a known q current, coast (psi_m, J,
+                            * friction); numbered after FAILED to keep the earlier values */
 };
 
 /* Why the identification stopped (app_ident_t.fail). */
@@ -61,8 +66,12 @@ enum app_ident_fail {
                                         * encoder's counts per turn (wrong line count) */
     APP_IDENT_FAIL_OVERCURRENT = 5,    /* a phase above 1.25 x rated */
     APP_IDENT_FAIL_TRIP = 6,           /* the drive's protection tripped (app fault latched) */
-    APP_IDENT_FAIL_NOT_AT_REST = 7     /* encoder step: the rotor did not come to rest on a DC vector
+    APP_IDENT_FAIL_NOT_AT_REST = 7,    /* encoder step: the rotor did not come to rest on a DC vector
                                         * within 2 s (a coupled load, a blocked or too heavy rotor) */
+    APP_IDENT_FAIL_BLOCKED = 8,        /* spin: the rotor did not reach an eighth of the spin speed
+                                        * in 2 s at half rated q current (blocked, or a load coupled) */
+    APP_IDENT_FAIL_VDC_LOW = 9         /* spin: the regulator at its voltage limit before an eighth of
+                                        * the spin speed (the DC link too low to spin the machine) */
 };
 
 /* fail_detail of APP_IDENT_FAIL_BOUNDS: the quantity out of bounds. */
@@ -70,16 +79,29 @@ enum app_ident_quantity {
     APP_IDENT_Q_RS = 1,
     APP_IDENT_Q_V0 = 2,
     APP_IDENT_Q_LS = 3,
-    APP_IDENT_Q_POLE_PAIRS = 4
+    APP_IDENT_Q_POLE_PAIRS = 4,
+    APP_IDENT_Q_PSI = 5,
+    APP_IDENT_Q_MECH = 6   /* J <= 0, or the coast fit singular (no deceleration measured) */
 };
 
 /* Segment kinds the background hands the ISR. */
 enum app_ident_seg {
     APP_IDENT_SEG_OFF = 0,   /* gates off */
     APP_IDENT_SEG_HOLD = 1,  /* regulated current: ramp to (th, i_ref), settle, then sum n_meas samples */
-    APP_IDENT_SEG_PULSE = 2  /* regulator frozen, hold voltage + dv on the axis until the current rose
+    APP_IDENT_SEG_PULSE = 2, /* regulator frozen, hold voltage + dv on the axis until the current rose
                               * by di_stop or n_meas periods, then one more sample (the pulse's end) */
+    APP_IDENT_SEG_SPIN = 3,  /* regulated current i_ref on the encoder's q axis (the identified offset,
+                              * pole pairs and direction); a window of n_meas periods of sums */
+    APP_IDENT_SEG_COAST = 4  /* gates off; a window of n_meas periods (the count's change) */
 };
+
+/* One speed window of the spin step (background): its count change, start count and start
+ * period (the count's direction applied). */
+typedef struct {
+    int32_t dpos;
+    int32_t pos0;
+    uint32_t tick0;
+} app_ident_win_t;
 
 #define APP_IDENT_R_LEVELS 4U
 
@@ -96,7 +118,12 @@ typedef struct {
     int32_t counts_per_turn; /* counts over one electrical turn of the current vector (signed) */
     iq_t level_i_iq[APP_IDENT_R_LEVELS]; /* the fit's points: mean current, ... */
     iq_t level_v_iq[APP_IDENT_R_LEVELS]; /* ... mean commanded voltage on the axis */
-    uint32_t ticks[4];       /* control periods spent in the steps RS, LS, ENCODER (index = step) */
+    iq_t psi_iq;             /* psi_m, pu (V_b / w_b): slope of the q voltage over the electrical speed */
+    int32_t j_q12;           /* J / k_t in pu current x Ts^2 per count, Q12 (k_t = 1.5 p psi_m I_b,
+                              * a count = 2 pi / enc_counts mechanical rad) */
+    iq_t b_iq;               /* viscous friction / k_t, pu current x Ts per count, IQ */
+    iq_t tc_iq;              /* Coulomb friction / k_t, pu current, IQ */
+    uint32_t ticks[7];       /* control periods spent in the steps RS, LS, ENCODER, SPIN (index = step) */
 } app_ident_result_t;
 
 typedef struct {
@@ -111,8 +138,8 @@ typedef struct {
     iq_t dv_iq;              /* PULSE: the voltage step on the axis */
     iq_t di_stop_iq;         /* PULSE: the rise that ends it */
     iq_t inv_vdc_iq;         /* 1 / V_dc measured, pu (background) */
-    uint16_t slow;           /* HOLD: 1 = the slow regulator (app_ident.c regulate: the rotor settles) */
-    uint16_t still;          /* HOLD: 1 = the sums wait for the rotor at rest (encoder step) */
+    uint16_t slow;           /* HOLD: 1 = the slow regulator (app_ident.c regulate: the rotor settles),
+                              * and the sums wait for the rotor at rest (a dwell) */
     volatile uint16_t go;    /* background sets it when the segment is ready */
     volatile uint16_t done;  /* the ISR sets it when the segment's sums are complete */
     /* ISR state */
@@ -127,7 +154,7 @@ typedef struct {
     uint16_t sat_n;          /* periods at the voltage limit with little current (open phase) */
     uint16_t still_n;        /* encoder dwell: periods the count stayed within +-1 of still_ref */
     int32_t still_ref;
-    int64_t sum_i, sum_v, sum_pos;
+    int64_t sum_i, sum_v, sum_pos, sum_q;
     iq_t i_first, i_last;    /* PULSE: the current at its start and end */
     uint16_t last_count;
     int32_t pos;             /* unwrapped encoder count since the start */
@@ -141,9 +168,26 @@ typedef struct {
     uint16_t fail_step;      /* enum app_ident_step that failed */
     int16_t fail_detail;
     uint16_t n_dwell;        /* encoder DC vectors per electrical turn */
-    int64_t pulse_num, pulse_den; /* L: sums over the pulses */
-    int32_t dwell_pos_q8[4]; /* encoder: mean unwrapped count at each dwell, Q8 */
+    /* the steps' scratch: the standstill steps' (st) and the spin's (sp) never live together */
+    union {
+        struct {
+            int64_t pulse_num, pulse_den; /* L: sums over the pulses */
+            int32_t dwell_pos_q8[4];      /* encoder: mean unwrapped count at each dwell, Q8 */
+            int16_t dwell_ang[4];         /* encoder: the measured current's angle from the reference
+                                           * axis at each dwell, angle_t LSB (signed) */
+        } st;
+        struct {
+            app_ident_win_t w[5];  /* A, B first and last acceleration windows; C, D, E coast */
+            iq_t vq[2], iq[2];     /* A, B: mean q voltage and q current, IQ pu */
+            int64_t acc_i;         /* the q current summed over the windows A..B (IQ x periods) */
+        } sp;
+    } u;
     uint16_t count0;         /* raw count at the start */
+    uint32_t gain_q16;       /* spin: electrical angle_t per count, Q16 (p 2^32 / enc_counts) */
+    uint16_t fresh;          /* spin: 1 = the first window (integrators and current from zero) */
+    int32_t win_dpos;        /* the last window's count change (ISR) */
+    uint32_t win_tick;       /* the last window's first period (ISR) */
+    uint16_t n_acc, n_coast; /* spin: windows so far */
     uint32_t tick, step_tick;
     app_ident_result_t res;
 } app_ident_t;

@@ -90,6 +90,13 @@ void expect_targets(const nlohmann::json& j, double g, int pole_pairs, double en
     for (const auto& [k, v] : j["quantities"].items()) {
         EXPECT_EQ(v["status"], "ok") << k;
     }
+    // Spinning: psi_m 3 %, J 10 % (the targets), the viscous friction (the coupled DC
+    // generator's torque over speed included) 10 %; the whole sequence within 10 s.
+    const auto rel = [&](const char* q) { return std::fabs(j["quantities"][q]["error_pct"].get<double>()); };
+    EXPECT_LT(rel("psi_m_wb"), 3.0) << id_of(j, "psi_m_wb");
+    EXPECT_LT(rel("j_kgm2"), 10.0) << id_of(j, "j_kgm2");
+    EXPECT_LT(rel("b_nm_s_per_rad"), 10.0) << id_of(j, "b_nm_s_per_rad");
+    EXPECT_LE(j["duration_s"].get<double>(), 10.0);
 }
 
 TEST_F(Identify, FstpTableViiiRigMeetsTheTargets)
@@ -119,16 +126,38 @@ TEST_F(Identify, FstpTwoPolePairsOffsetEncoderMeetTheTargets)
     expect_targets(report(), 1.0 / std::sqrt(3.0), 2, 1.0);
 }
 
-// The time target for the standstill steps (3 s on the Table VIII rig). Not met: the
-// encoder step waits for the rotor to come to rest on each DC vector (the rig's 5e-4 kg m^2 on the
-// magnet's spring), 4.1 s on the FSTP, 4.4 s on the SSTP (docs/commissioning.md). Run with
-// --gtest_also_run_disabled_tests.
-TEST_F(Identify, DISABLED_StandstillStepsWithinThreeSecondsOnTheTableViiiRig)
+// The self-commissioning issue's time target for the standstill steps: at most 3 s (simulated) on
+// the Table VIII rig, on both topologies, with the accuracy targets still met; the report's
+// standstill time is the sum of the steps' durations.
+TEST_F(Identify, StandstillStepsWithinThreeSecondsOnTheTableViiiRig)
 {
     for (const std::string& s : {kFstp, kSstp}) {
-        ASSERT_EQ(identify(s, {}), 0);
-        EXPECT_LE(report()["standstill_s"].get<double>(), 3.0) << s;
+        ASSERT_EQ(identify(s, {}), 0) << s;
+        const nlohmann::json j = report();
+        const auto& q = j["quantities"];
+        const double sum = q["rs_ohm"]["duration_s"].get<double>() + q["ls_h"]["duration_s"].get<double>() +
+                           q["pole_pairs"]["duration_s"].get<double>();
+        EXPECT_NEAR(j["standstill_s"].get<double>(), sum, 1e-9) << s;
+        EXPECT_LE(j["standstill_s"].get<double>(), 3.0) << s;
+        expect_targets(j, s == kFstp ? 1.0 / std::sqrt(3.0) : 2.0 / 3.0, 1, 0.0);
     }
+}
+
+TEST_F(Identify, CoupledLoadThatStopsTheSpinIsNamed)
+{
+    // The DC generator loaded to 0.225 N.m at 100 rpm (0.0215 N.m.s/rad): at the spin's half rated
+    // q current (0.15 N.m) the rotor settles at 67 rpm, below an eighth of the spin speed (94 rpm);
+    // the standstill steps pass (the load only damps the rotor's swing).
+    std::string err;
+    EXPECT_EQ(identify(kFstp, {"load.speed_rpm=100"}, &err), 3);
+    EXPECT_NE(err.find("identification failed in step spin: blocked"), std::string::npos) << err;
+    const nlohmann::json j = report();
+    EXPECT_EQ(j["quantities"]["rs_ohm"]["status"], "ok");
+    EXPECT_EQ(j["quantities"]["j_kgm2"]["status"], "failed");
+    EXPECT_EQ(toml().find("\nj_kgm2 ="), std::string::npos);
+    // and a rotor held by a dry friction above the aligning torque never moves: named in the encoder step
+    EXPECT_EQ(identify(kFstp, {"load.coulomb_nm=0.6"}, &err), 3);
+    EXPECT_NE(err.find("identification failed in step encoder: encoder_not_counting"), std::string::npos) << err;
 }
 
 TEST_F(Identify, OpenPhaseIsNamedAndNothingIsIdentified)
@@ -167,8 +196,9 @@ TEST_F(Identify, DriveRunsOnIdentifiedValuesFromStandstillTo1500RpmUnderFullLoad
     Scenario sc;
     Diagnostics d;
     ASSERT_TRUE(load_scenario(kFstp, {}, &sc, &d, {(dir / "id" / "identified.toml").string()})) << d.text();
-    ASSERT_TRUE(sc.firmware.value.count("rs_ohm") != 0 && sc.firmware.value.count("ls_h") != 0 && sc.firmware.pole_pairs &&
-                sc.firmware.encoder_offset_rad);
+    ASSERT_TRUE(sc.firmware.value.count("rs_ohm") != 0 && sc.firmware.value.count("ls_h") != 0 &&
+                sc.firmware.value.count("psi_m_wb") != 0 && sc.firmware.pole_pairs && sc.firmware.encoder_offset_rad &&
+                sc.firmware.j_kgm2);
     EXPECT_EQ(*sc.firmware.pole_pairs, 1);
     // Standstill to 1500 rpm under 0.3 N.m (0.225 N.m generator + 0.075 N.m friction at 1500 rpm).
     ASSERT_EQ(cli({"run", kFstp, "--overlay", (dir / "id" / "identified.toml").string(), "--out",

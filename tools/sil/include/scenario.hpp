@@ -258,6 +258,12 @@ struct FirmwareCfg {
     std::optional<std::int64_t> pole_pairs;
     std::optional<double> encoder_offset_rad;
     bool encoder_reversed = false;
+    /// The mechanics as identified (dtc-sil identify's spin step): the inertia the speed PI and the
+    /// lost-encoder level derive from (unset: motor.j_kgm2); the friction is recorded (the
+    /// firmware's configuration has no friction term).
+    std::optional<double> j_kgm2;
+    std::optional<double> b_nm_s_per_rad;
+    std::optional<double> coulomb_nm;
 };
 
 /// Faults injected from faults.time_s on (docs/sil.md). Each is off by default.

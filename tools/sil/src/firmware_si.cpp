@@ -73,7 +73,7 @@ dtc_config_si_t firmware_si_config(const Scenario& sc)
     si.rated_speed_rpm = m.rated_speed_rpm;
     si.rated_torque_nm = m.rated_torque_nm;
     si.rated_current_a = m.rated_current_a;
-    si.inertia_kgm2 = m.j_kgm2;
+    si.inertia_kgm2 = sc.firmware.j_kgm2.value_or(m.j_kgm2);
     // Inverter, timing.
     si.topology = topology_of(inv.topology);
     si.vdc_v = inv.vdc_v;

@@ -32,6 +32,7 @@ const char* step_name(unsigned step)
     case APP_IDENT_RS: return "rs";
     case APP_IDENT_LS: return "ls";
     case APP_IDENT_ENCODER: return "encoder";
+    case APP_IDENT_SPIN: return "spin";
     case APP_IDENT_DONE: return "done";
     default: return "start";
     }
@@ -44,8 +45,9 @@ std::string fail_text(const app_ident_t& d)
         return "open_phase: the current regulator reached its voltage limit with the current below a quarter of "
                "its reference (a phase, leg or connection carries no current)";
     case APP_IDENT_FAIL_BOUNDS: {
-        static const char* const q[] = {"?", "R (slope of V = R I + V0)", "V0 (intercept)", "L_s", "pole pairs"};
-        const int k = d.fail_detail >= 1 && d.fail_detail <= 4 ? d.fail_detail : 0;
+        static const char* const q[] = {"?",          "R (slope of V = R I + V0)", "V0 (intercept)", "L_s",
+                                        "pole pairs", "psi_m",                     "J (the coast's fit)"};
+        const int k = d.fail_detail >= 1 && d.fail_detail <= 6 ? d.fail_detail : 0;
         return std::string("out_of_bounds: ") + q[k] + " outside its plausibility bounds";
     }
     case APP_IDENT_FAIL_ENC_NOT_COUNTING:
@@ -56,6 +58,12 @@ std::string fail_text(const app_ident_t& d)
                " counts per electrical turn, no whole fraction of the configured counts per turn (wrong line count?)";
     case APP_IDENT_FAIL_OVERCURRENT: return "overcurrent: a phase above 1.25 x rated current";
     case APP_IDENT_FAIL_TRIP: return "trip: the drive's protection tripped";
+    case APP_IDENT_FAIL_BLOCKED:
+        return "blocked: the rotor did not reach an eighth of the spin speed in 2 s at half rated q current (a "
+               "blocked rotor or a coupled load)";
+    case APP_IDENT_FAIL_VDC_LOW:
+        return "dc_link_low: the current regulator at its voltage limit before an eighth of the spin speed (the DC "
+               "link too low to spin the machine)";
     case APP_IDENT_FAIL_NOT_AT_REST:
         return "not_at_rest: the rotor did not come to rest on a DC vector within 2 s (a coupled load, a blocked or "
                "a far too heavy rotor)";
@@ -176,11 +184,16 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
     // hal_host: the electrical angle at count 0 is -p * sensors.encoder_offset_rad.
     const double off_e_true = wrap_pi(-static_cast<double>(m.pole_pairs) * sc.sensors.encoder_offset_rad);
 
-    const double step_s[4] = {0.0, d.res.ticks[1] * ts, d.res.ticks[2] * ts, d.res.ticks[3] * ts};
+    double step_s[7] = {};
+    for (unsigned k2 = 0; k2 < 7; ++k2) {
+        step_s[k2] = d.res.ticks[k2] * ts;
+    }
     const bool ok = d.step == APP_IDENT_DONE;
     const unsigned failed_step = d.step == APP_IDENT_FAILED ? d.fail_step : (ok ? 0u : d.step);
+    // the steps' order (APP_IDENT_SPIN is numbered after APP_IDENT_FAILED)
+    auto rank = [](unsigned step) { return step == APP_IDENT_SPIN ? 4u : step; };
     auto status_of = [&](unsigned step) -> std::string {
-        if (ok || (failed_step != 0 && step < failed_step)) {
+        if (ok || (failed_step != 0 && rank(step) < rank(failed_step))) {
             return "ok";
         }
         return step == failed_step ? "failed" : "not_run";
@@ -221,6 +234,24 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
             APP_IDENT_ENCODER, false, "");
         q["encoder_offset_el_deg"]["error"] = e_deg;
     }
+    // Spin (app_ident.h formats): psi_m in pu of V_b / w_b; J, B, T_c over k_t I_b (k_t = 1.5 p psi_m)
+    // in pu current x Ts^2 per count, x Ts per count, pu current; a count is 2 pi / enc_counts rad.
+    const double psi = d.res.psi_iq / kIqOne * v_b / si.w_base_rad_s;
+    const double kt_ib = 1.5 * p * psi * i_b;
+    const double rad_per_count = 2.0 * kPi / (4.0 * static_cast<double>(sc.sensors.encoder_lines));
+    const double j_id = d.res.j_q12 / 4096.0 * kt_ib * ts * ts / rad_per_count;
+    const double b_id = d.res.b_iq / kIqOne * kt_ib * ts / rad_per_count;
+    const double tc_id = d.res.tc_iq / kIqOne * kt_ib;
+    // the plant's friction: motor.b_nm_s_per_rad, and the DC generator's torque proportional to speed
+    const double b_true = m.b_nm_s_per_rad + (sc.load.type == LoadType::Generator && sc.load.speed_rpm > 0.0
+                                                  ? sc.load.torque_nm / (sc.load.speed_rpm * kPi / 30.0)
+                                                  : 0.0);
+    add("psi_m_wb", psi, m.psi_m_wb, "Wb", APP_IDENT_SPIN, true,
+        "slope of the q voltage over the electrical speed at constant q current (Hoang eqs. 6-9)");
+    add("j_kgm2", j_id, m.j_kgm2, "kg*m^2", APP_IDENT_SPIN, true, "acceleration at half rated q current and a coast");
+    add("b_nm_s_per_rad", b_id, b_true, "N*m*s/rad", APP_IDENT_SPIN, true,
+        "viscous friction, the coupled DC generator's included");
+    add("coulomb_nm", tc_id, sc.load.coulomb_nm, "N*m", APP_IDENT_SPIN, false, "");
     nlohmann::json j;
     j["scenario"] = sc.path;
     j["status"] = ok ? "ok" : "failed";
@@ -231,11 +262,12 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
     j["duration_s"] = rep->duration_s;
     j["injection_axis"] = d.res.axis == 0 ? "alpha" : "beta";
     j["standstill_s"] = step_s[1] + step_s[2] + step_s[3];
+    j["spin_s"] = step_s[APP_IDENT_SPIN];
     j["quantities"] = q;
     for (unsigned l = 0; l < APP_IDENT_R_LEVELS; ++l) {
         j["rs_fit_points"].push_back({{"i_a", d.res.level_i_iq[l] / kIqOne * i_b}, {"v_v", d.res.level_v_iq[l] / kIqOne * v_b}});
     }
-    j["not_identified"] = {"psi_m_wb", "j_kgm2", "b_nm_s_per_rad", "coulomb_nm", "v_ce_v", "v_d_v", "r_on_ohm"};
+    j["not_identified"] = {"v_ce_v", "v_d_v", "r_on_ohm"};
 
     rep->ok = ok;
     rep->failed_step = ok ? "" : step_name(failed_step);
@@ -262,8 +294,8 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
     if (!ok) {
         t << "# FAILED in step " << rep->failed_step << ": " << rep->reason << "\n";
     }
-    t << "# Not identified (the firmware keeps the scenario's): psi_m_wb, j_kgm2; v_ce_v, v_d_v, r_on_ohm are the\n"
-      << "# board's datasheet values (not separable by DC injection), rs_ohm is the slope less r_on_ohm.\n"
+    t << "# Not identified: v_ce_v, v_d_v, r_on_ohm are the board's datasheet values (not separable by DC\n"
+      << "# injection), rs_ohm is the slope less r_on_ohm.\n"
       << "[firmware]\n";
     if (ok || failed_step > APP_IDENT_RS) {
         t << "rs_ohm = " << fmt(rs) << "\n";
@@ -277,6 +309,11 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
         // sensors.encoder_offset_rad's sense: the electrical angle at count 0 is -p times it.
         t << "encoder_offset_rad = " << fmt(wrap_pi(-off_e / p)) << "\n";
         t << "encoder_reversed = " << (d.res.enc_reversed != 0U ? "true" : "false") << "\n";
+        t << "psi_m_wb = " << fmt(psi) << "\n";
+        t << "j_kgm2 = " << fmt(j_id) << "\n";
+        // friction measured below zero (noise on a frictionless rotor) is written as 0
+        t << "b_nm_s_per_rad = " << fmt(std::fmax(b_id, 0.0)) << "\n";
+        t << "coulomb_nm = " << fmt(std::fmax(tc_id, 0.0)) << "\n";
     }
     std::ofstream f(std::filesystem::path(out_dir) / "identified.toml");
     f << t.str();

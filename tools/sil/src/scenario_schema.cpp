@@ -484,6 +484,22 @@ const std::vector<Spec>& schema()
              "firmware has no reversed count, so true is refused (swap the encoder's A and B)", any(), {},
              [](Scenario& s, const Value& v) { s.firmware.encoder_reversed = v.boolean; },
              [](const Scenario& s) { return std::string(s.firmware.encoder_reversed ? "true" : "false"); }},
+        Spec{"firmware.j_kgm2", Kind::Number, "kg*m^2",
+             "inertia the firmware's speed PI and lost-encoder level derive from; not given: motor.j_kgm2", positive(), {},
+             [](Scenario& s, const Value& v) { s.firmware.j_kgm2 = v.num; },
+             [](const Scenario& s) { return s.firmware.j_kgm2 ? fmt_double(*s.firmware.j_kgm2) : std::string("the plant's"); }},
+        Spec{"firmware.b_nm_s_per_rad", Kind::Number, "N*m*s/rad",
+             "viscous friction as identified (recorded: the firmware's configuration has no friction term)", nonneg(), {},
+             [](Scenario& s, const Value& v) { s.firmware.b_nm_s_per_rad = v.num; },
+             [](const Scenario& s) {
+                 return s.firmware.b_nm_s_per_rad ? fmt_double(*s.firmware.b_nm_s_per_rad) : std::string("not given");
+             }},
+        Spec{"firmware.coulomb_nm", Kind::Number, "N*m",
+             "Coulomb friction as identified (recorded: the firmware's configuration has no friction term)", nonneg(), {},
+             [](Scenario& s, const Value& v) { s.firmware.coulomb_nm = v.num; },
+             [](const Scenario& s) {
+                 return s.firmware.coulomb_nm ? fmt_double(*s.firmware.coulomb_nm) : std::string("not given");
+             }},
         // ---- faults: every one configured occurs at faults.time_s ----
         num("faults.time_s", "s", positive(), "when the configured faults occur (first control period at or after it)",
             ACC(faults.time_s)),
