@@ -32,18 +32,33 @@ uint16_t app_fault_trips(app_fault_t *f, const dtc_config_t *c, const dtc_meas_t
     /* Failed current sensor (three sensors, prot.i_sum_max_iq): the star point is isolated, so
      * the three phase currents sum to zero; a sum above the level for APP_ISUM_PERIODS periods
      * is a sensor that does not measure its current (stuck, lost, wrong gain). The sum alone does
-     * not say which: the detail is the phase reading the least |i|, the signature of a sensor
-     * stuck at its zero (mid-scale), the common case. Sums saturate. */
+     * not say which; a stuck sensor reads one code whatever its current while the phases that
+     * carry the machine's current move with the switching: the one phase whose reading stood
+     * still (within APP_ISUM_STILL_COUNTS) over those periods while the other two moved is named
+     * (APP_SENSOR_DETAIL_LIST 1), otherwise none (3). Only while the sum is off: nothing is kept
+     * on a healthy period. Sums saturate. */
     if (c->prot.i_sum_max_iq > 0) {
         if (fix_abs32(fix_add32(fix_add32(i[0], i[1]), i[2])) > c->prot.i_sum_max_iq) {
-            if (++f->isum_n >= APP_ISUM_PERIODS) {
-                uint16_t lo = 0U;
-                for (k = 1U; k < 3U; k++) {
-                    if (fix_abs32(i[k]) < fix_abs32(i[lo])) {
-                        lo = k;
+            if (f->isum_n == 0U) {
+                f->isum_moved = 0U;
+                for (k = 0U; k < 3U; k++) {
+                    f->isum_i0_iq[k] = i[k];
+                }
+            } else {
+                const iq_t still = fix_sat32((int64_t)c->board.adc_i_gain_iq * APP_ISUM_STILL_COUNTS);
+                for (k = 0U; k < 3U; k++) {
+                    if (fix_abs32(fix_sub32(i[k], f->isum_i0_iq[k])) > still) {
+                        f->isum_moved |= (uint16_t)(1U << k);
                     }
                 }
-                *detail = (int16_t)(3U + app_fault_phase(perm, lo)); /* APP_SENSOR_DETAIL_LIST 1 */
+            }
+            if (++f->isum_n >= APP_ISUM_PERIODS) {
+                /* the one phase that did not move: 6, 5, 3 are the masks of two moved */
+                const uint16_t m = f->isum_moved;
+                *detail = m == 6U   ? (int16_t)(3U + app_fault_phase(perm, 0U))
+                          : m == 5U ? (int16_t)(3U + app_fault_phase(perm, 1U))
+                          : m == 3U ? (int16_t)(3U + app_fault_phase(perm, 2U))
+                                    : (int16_t)9; /* APP_SENSOR_DETAIL_LIST 3: cannot tell */
                 return APP_FAULT_CURRENT_SENSOR;
             }
         } else {

@@ -323,3 +323,37 @@ void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     o->vector = vec;
     im_out_report(c, o, te);
 }
+
+void im_dtc_i_pred(const im_dtc_t *c, iq_t vdc_iq, iq_t i1[3])
+{
+    const dtc_config_t *cfg = c->cfg;
+    const iq_t ts = cfg->board.ts_pu_iq;
+    const iq_t sl = cfg->u.im.machine.sigma_ls_iq;
+    const iq_t wts = iq_mpy(c->speed_iq, ts);
+    iq_t va, vb, xa, xb, da, db;
+    clarke_out_t o;
+
+    if (cfg->law == DTC_LAW_IM_DTC || cfg->law == DTC_LAW_IM_DSC) {
+        /* the legs returned by the previous step act in the coming period (im_dtc.h timing) */
+        vrec_sstp(c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, vdc_iq, &va, &vb);
+    } else {
+        /* kept by im_pwm_out / im_dsvm_select for the coming period (d_eff: the dead time is in
+         * it), with the device drops of this period's currents (im_sfvc_estimate: the SSTP's
+         * equal drops do not depend on the legs) */
+        va = fix_add32(c->v2_alpha_iq, c->dva_iq);
+        vb = fix_add32(c->v2_beta_iq, c->dvb_iq);
+    }
+    /* Ts (v - r_s i) - (Ts/tau_r) ((m^2/l_r) i - x) - w Ts j x, x = phi_s - sigma l_s i (Casadei
+     * eq. 21 over k_r), j x = (-x_beta, x_alpha) */
+    xa = iq_sub(c->est.psi_alpha_iq, iq_mpy(sl, c->i.i_alpha_iq));
+    xb = iq_sub(c->est.psi_beta_iq, iq_mpy(sl, c->i.i_beta_iq));
+    da = fix_sub32(fix_add32(iq_mpy(ts, iq_sub(va, iq_mpy(cfg->machine.rs_iq, c->i.i_alpha_iq))), iq_mpy(wts, xb)),
+                   iq_mpy(c->ts_rr_lr_iq, iq_sub(iq_mpy(c->m2_lr_iq, c->i.i_alpha_iq), xa)));
+    db = fix_sub32(fix_sub32(iq_mpy(ts, iq_sub(vb, iq_mpy(cfg->machine.rs_iq, c->i.i_beta_iq))), iq_mpy(wts, xa)),
+                   iq_mpy(c->ts_rr_lr_iq, iq_sub(iq_mpy(c->m2_lr_iq, c->i.i_beta_iq), xb)));
+    clarke_inv(iq_add(c->i.i_alpha_iq, iq_mpy(c->inv_sigma_ls_iq, da)),
+               iq_add(c->i.i_beta_iq, iq_mpy(c->inv_sigma_ls_iq, db)), &o);
+    i1[0] = o.ia_iq;
+    i1[1] = o.ib_iq;
+    i1[2] = o.ic_iq;
+}
