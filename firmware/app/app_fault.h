@@ -261,4 +261,10 @@ static inline uint16_t app_fault_overspeed(const dtc_config_t *c, const dtc_out_
  * (app_core_set_reconfig, app_core.h), else 0. */
 uint16_t app_fault_post_ok(const dtc_config_t *c, const dtc_config_t *post);
 
+/* The three-sensor sum check on a period its sum is off (app_fault_trips; app_fault_isum.c, from
+ * flash on the F2812): counts the period and follows which readings moved (APP_ISUM_STILL_COUNTS);
+ * on the APP_ISUM_PERIODS-th in a row returns 1 with *detail the APP_SENSOR_DETAIL_LIST code
+ * (1: the one reading that stood still, the physical phase through perm; 3: none to name). */
+uint16_t app_fault_isum(app_fault_t *f, const dtc_config_t *c, const iq_t i[3], uint16_t perm, int16_t *detail);
+
 #endif /* APP_FAULT_H */

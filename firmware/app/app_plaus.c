@@ -8,15 +8,6 @@ static int32_t to_q16(iq_t x)
     return fix_rshift_rnd32(x, 8U);
 }
 
-void app_plaus_init(app_plaus_params_t *p, iq_t adc_i_gain_iq, uint16_t win_log2, uint16_t bias_log2)
-{
-    const int64_t f = (int64_t)to_q16(fix_sat32((int64_t)adc_i_gain_iq * APP_PLAUS_FLOOR_COUNTS));
-    p->win_log2 = win_log2;
-    p->bias_log2 = bias_log2;
-    p->floor_raw = f * f * (int64_t)(1U << win_log2);
-    p->floor_var = f * f * (int64_t)(1U << (2U * win_log2));
-}
-
 void app_plaus_reset(app_plaus_t *s)
 {
     uint16_t k;
