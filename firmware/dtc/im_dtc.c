@@ -327,10 +327,10 @@ void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
 void im_dtc_i_pred(const im_dtc_t *c, iq_t vdc_iq, iq_t i1[3])
 {
     const dtc_config_t *cfg = c->cfg;
-    const iq_t ts = cfg->board.ts_pu_iq;
     const iq_t sl = cfg->u.im.machine.sigma_ls_iq;
-    const iq_t wts = iq_mpy(c->speed_iq, ts);
-    iq_t va, vb, xa, xb, da, db;
+    const iq_t wa = iq_mpy(c->speed_iq, c->ip_a_iq); /* w a: the rotation's gain this period */
+    const iq_t ia = c->i.i_alpha_iq, ib = c->i.i_beta_iq;
+    iq_t va, vb;
     clarke_out_t o;
 
     if (cfg->law == DTC_LAW_IM_DTC || cfg->law == DTC_LAW_IM_DSC) {
@@ -343,16 +343,15 @@ void im_dtc_i_pred(const im_dtc_t *c, iq_t vdc_iq, iq_t i1[3])
         va = fix_add32(c->v2_alpha_iq, c->dva_iq);
         vb = fix_add32(c->v2_beta_iq, c->dvb_iq);
     }
-    /* Ts (v - r_s i) - (Ts/tau_r) ((m^2/l_r) i - x) - w Ts j x, x = phi_s - sigma l_s i (Casadei
-     * eq. 21 over k_r), j x = (-x_beta, x_alpha) */
-    xa = iq_sub(c->est.psi_alpha_iq, iq_mpy(sl, c->i.i_alpha_iq));
-    xb = iq_sub(c->est.psi_beta_iq, iq_mpy(sl, c->i.i_beta_iq));
-    da = fix_sub32(fix_add32(iq_mpy(ts, iq_sub(va, iq_mpy(cfg->machine.rs_iq, c->i.i_alpha_iq))), iq_mpy(wts, xb)),
-                   iq_mpy(c->ts_rr_lr_iq, iq_sub(iq_mpy(c->m2_lr_iq, c->i.i_alpha_iq), xa)));
-    db = fix_sub32(fix_sub32(iq_mpy(ts, iq_sub(vb, iq_mpy(cfg->machine.rs_iq, c->i.i_beta_iq))), iq_mpy(wts, xa)),
-                   iq_mpy(c->ts_rr_lr_iq, iq_sub(iq_mpy(c->m2_lr_iq, c->i.i_beta_iq), xb)));
-    clarke_inv(iq_add(c->i.i_alpha_iq, iq_mpy(c->inv_sigma_ls_iq, da)),
-               iq_add(c->i.i_beta_iq, iq_mpy(c->inv_sigma_ls_iq, db)), &o);
+    /* i + a v - g i + b phi_s - w a j x, x = phi_s - sigma l_s i (Casadei eq. 21 over k_r),
+     * j x = (-x_beta, x_alpha) (im_dtc.h) */
+    clarke_inv(fix_add32(fix_add32(fix_sub32(fix_add32(ia, iq_mpy(c->ip_a_iq, va)), iq_mpy(c->ip_g_iq, ia)),
+                                   iq_mpy(c->ip_b_iq, c->est.psi_alpha_iq)),
+                         iq_mpy(wa, iq_sub(c->est.psi_beta_iq, iq_mpy(sl, ib)))),
+               fix_sub32(fix_add32(fix_sub32(fix_add32(ib, iq_mpy(c->ip_a_iq, vb)), iq_mpy(c->ip_g_iq, ib)),
+                                   iq_mpy(c->ip_b_iq, c->est.psi_beta_iq)),
+                         iq_mpy(wa, iq_sub(c->est.psi_alpha_iq, iq_mpy(sl, ia)))),
+               &o);
     i1[0] = o.ia_iq;
     i1[1] = o.ib_iq;
     i1[2] = o.ic_iq;

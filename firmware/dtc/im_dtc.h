@@ -169,10 +169,10 @@ typedef struct {
     ilim_params_t il_p;
     iq_t il_box_iq;       /* I_lim / sqrt2: the square inside the limit's circle (im_ilim) */
     uint16_t i_limited;
-    /* the current prediction (im_dtc_i_pred), derived at init */
-    iq_t inv_sigma_ls_iq; /* 1 / (sigma l_s), pu */
-    iq_t ts_rr_lr_iq;     /* Ts r_r / l_r = Ts / tau_r, pu */
-    iq_t m2_lr_iq;        /* m^2 / l_r, pu */
+    /* the current prediction's constants (im_dtc_i_pred), derived at init */
+    iq_t ip_a_iq;         /* a = Ts / (sigma l_s) */
+    iq_t ip_b_iq;         /* b = (Ts/tau_r) / (sigma l_s), Ts/tau_r = Ts r_r / l_r */
+    iq_t ip_g_iq;         /* g = a r_s + b (m^2/l_r + sigma l_s) */
 } im_dtc_t;
 
 /* The IM laws' configuration check (im_dtc_check.c): the common part, then one of the laws
@@ -202,7 +202,10 @@ void im_dtc_refs_get(const im_dtc_t *c, dtc_refs_t *r);
  *                                                     electrical speed in use: the slip is in the
  *                                                     first term, so no torque or slip estimate)
  * by forward Euler over one period:
- *   i(k+1) = i(k) + (1/(sigma l_s)) [Ts (v - r_s i) - (Ts/tau_r) ((m^2/l_r) i - x) - w Ts j x].
+ *   i(k+1) = i(k) + (1/(sigma l_s)) [Ts (v - r_s i) - (Ts/tau_r) ((m^2/l_r) i - x) - w Ts j x]
+ *          = i(k) + a v - g i + b phi_s - w a j x
+ * with the constants of init (im_dtc_t ip_*): a = Ts/(sigma l_s), b = (Ts/tau_r)/(sigma l_s),
+ * g = a r_s + b (m^2/l_r + sigma l_s); eleven IQ products a period.
  * What it leaves out (the devices' drops and dead time, parameter errors) is nearly constant
  * over a few periods: the plausibility that reads it (app/app_plaus.h) learns and removes such a
  * bias. For the application's current-sensor plausibility only; the law itself does not use it.

@@ -141,6 +141,32 @@ static void test_a_stuck_channel_trips_within_two_windows(void **state)
     }
 }
 
+/* A sensor that lost most of its gain (it follows 15 % of each change: below the 1/4 of the
+ * checks, above the 1/16 of "stood still") fails every window, but is reported only at the end of
+ * the second failed window in a row; one that stands still is reported on the first. */
+static void test_a_failure_that_moves_waits_one_window(void **state)
+{
+    (void)state;
+    for (int still = 0; still < 2; still++) {
+        rig_t r;
+        double kk[3] = {1.0, 1.0, 1.0};
+        uint32_t t, first = 0U;
+        uint16_t bad = 0U;
+        rig_init(&r);
+        for (t = 0; t < 8U * WIN; t++) {
+            assert_int_equal(rig_step(&r, t, kk, 0.05, 0.0, 3U, 1), 0);
+        }
+        kk[0] = still != 0 ? 0.0 : 0.15; /* from a window's start */
+        for (; t < 12U * WIN && bad == 0U; t++) {
+            bad = rig_step(&r, t, kk, 0.05, 0.0, 3U, 1);
+            first = t - 8U * WIN;
+        }
+        assert_int_equal(bad, 1U);
+        /* the first window holds the change's first sample: it ends after WIN samples */
+        assert_int_equal(first + 1U, (still != 0 ? 1U : 2U) * WIN + 1U);
+    }
+}
+
 static void test_idle_drive_never_trips(void **state)
 {
     rig_t r;
@@ -236,6 +262,7 @@ int main(void)
         cmocka_unit_test(test_healthy_channels_never_trip),
         cmocka_unit_test(test_a_biased_prediction_is_not_a_fault),
         cmocka_unit_test(test_a_stuck_channel_trips_within_two_windows),
+        cmocka_unit_test(test_a_failure_that_moves_waits_one_window),
         cmocka_unit_test(test_idle_drive_never_trips),
         cmocka_unit_test(test_no_prediction_rests),
         cmocka_unit_test(test_derived_channel_is_never_named),
