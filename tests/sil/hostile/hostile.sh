@@ -167,6 +167,9 @@ sil set_quoted_key 1 'unknown key' check "$scen" --set '"control.speed_ref_rpm"=
 sil set_no_equals 1 'expected key=value' check "$scen" --set duration_s
 # a refused member the user did not set (derived): the key the user set that makes it impossible
 sil derived_refusal_names_the_set_key 1 "--set #1 'motor.rs_ohm=1000': motor.rs_ohm: handover_speed_rpm .* follows from motor.rs_ohm" check "$src/tools/scenarios/sstp_current_full.toml" --set motor.rs_ohm=1000
+# no hardware comparator: an IM law predicts its currents (accepted); the PM ITC does not (refused)
+sil no_comparator_im_accepted 0 'im_dtc_speed.toml: ok' check "$src/tools/scenarios/im_dtc_speed.toml" --set protection.hw_trip_current_a=0
+sil no_comparator_itc_refused 1 'protection.hw_trip_current_a: 0 \(no hardware comparator\) needs a firmware path' check "$src/tools/scenarios/sstp_itc_full.toml" --set protection.hw_trip_current_a=0
 sil huge_value_says_why 1 'motor.j_kgm2: inertia_kgm2 = 1e\+308: beyond the largest value' check "$scen" --set motor.j_kgm2=1e308
 long=$(py "print('x'*100000)")
 sil set_long_value_not_echoed 1 "motor.type: expected one of .*\.\.\. \(100000 bytes\)" check "$scen" --set "motor.type=$long"
