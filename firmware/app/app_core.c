@@ -363,7 +363,7 @@ static uint16_t check_sensors(app_core_t *a)
             }
         }
     }
-    bad = app_plaus_step(&a->plaus, &a->plaus_p, i, law_i_pred(&a->law, i1) != 0U ? i1 : NULL, a->meas_mask);
+    bad = app_plaus_step(&a->plaus, &a->plaus_p, i, law_i_pred(&a->law, a->st.meas.vdc_iq, i1) != 0U ? i1 : NULL, a->meas_mask);
     win = a->plaus_win;
     if (a->plaus.n == 0U) { /* a window ended (or the block rests): the next one starts afresh */
         a->plaus_win = 0U;

@@ -32,18 +32,14 @@ uint16_t app_fault_trips(app_fault_t *f, const dtc_config_t *c, const dtc_meas_t
     /* Failed current sensor (three sensors, prot.i_sum_max_iq): the star point is isolated, so
      * the three phase currents sum to zero; a sum above the level for APP_ISUM_PERIODS periods
      * is a sensor that does not measure its current (stuck, lost, wrong gain). The sum alone does
-     * not say which: the detail is the phase reading the least |i|, the signature of a sensor
-     * stuck at its zero (mid-scale), the common case. Sums saturate. */
+     * not say which; a stuck sensor reads one code whatever its current while the phases that
+     * carry the machine's current move with the switching: the one phase whose reading stood
+     * still (within APP_ISUM_STILL_COUNTS) over those periods while the other two moved is named
+     * (APP_SENSOR_DETAIL_LIST 1), otherwise none (3): app_fault_isum, from flash on the F2812
+     * (app_fault_isum.c), called only while the sum is off. Sums saturate. */
     if (c->prot.i_sum_max_iq > 0) {
         if (fix_abs32(fix_add32(fix_add32(i[0], i[1]), i[2])) > c->prot.i_sum_max_iq) {
-            if (++f->isum_n >= APP_ISUM_PERIODS) {
-                uint16_t lo = 0U;
-                for (k = 1U; k < 3U; k++) {
-                    if (fix_abs32(i[k]) < fix_abs32(i[lo])) {
-                        lo = k;
-                    }
-                }
-                *detail = (int16_t)(3U + app_fault_phase(perm, lo)); /* APP_SENSOR_DETAIL_LIST 1 */
+            if (app_fault_isum(f, c, i, perm, detail) != 0U) {
                 return APP_FAULT_CURRENT_SENSOR;
             }
         } else {
@@ -179,25 +175,4 @@ uint16_t app_fault_stall(app_fault_t *f, const dtc_config_t *c, const dtc_out_t 
         return APP_FAULT_STALL;
     }
     return APP_FAULT_NONE;
-}
-
-uint16_t app_fault_post_ok(const dtc_config_t *c, const dtc_config_t *post)
-{
-    uint16_t k, same_adc = 1U;
-    for (k = 0U; k < 3U; k++) {
-        if (post->board.adc_i_offset[k] != c->board.adc_i_offset[k]) {
-            same_adc = 0U;
-        }
-    }
-    return (uint16_t)!(law_check_reconfig(post) != DTC_OK ||
-        c->law != (uint16_t)DTC_LAW_PM_DTC || post->law != (uint16_t)DTC_LAW_PM_DTC ||
-        c->board.topology != (uint16_t)DTC_TOPO_SSTP || post->board.topology != (uint16_t)DTC_TOPO_FSTP ||
-        c->board.i_sensors3 == 0U || post->board.i_sensors3 == 0U || c->prot.leg_i_min_iq <= 0 ||
-        post->board.vmid_cal != 0U || post->prot.relay_periods == 0U ||
-        post->est.estimator != c->est.estimator || same_adc == 0U ||
-        post->board.enc_counts != c->board.enc_counts || post->board.enc_gain_q16 != c->board.enc_gain_q16 ||
-        post->board.enc_offset != c->board.enc_offset || post->board.adc_i_gain_iq != c->board.adc_i_gain_iq ||
-        post->board.adc_vdc_gain_iq != c->board.adc_vdc_gain_iq ||
-        post->board.adc_vdc_offset != c->board.adc_vdc_offset || post->board.ts_pu_iq != c->board.ts_pu_iq ||
-        post->speed.speed_div != c->speed.speed_div);
 }

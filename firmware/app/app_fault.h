@@ -83,16 +83,19 @@ enum app_fault_detail {
  * phase, "%c" its letter.
  *  0: two sensors, the channel does not follow the current the law predicts from the voltage it
  *     applied (app_plaus.h);
- *  1: three sensors whose sum is not zero (the phase reading the least is named);
+ *  1: three sensors whose sum is not zero, one reading standing still while the others moved
+ *     (APP_ISUM_STILL_COUNTS): that phase is named;
  *  2: two sensors, the channel reads zero while the law drives current into it: its sensor stuck
  *     at zero or the phase open, which two sensors cannot tell apart. */
 #define APP_SENSOR_DETAIL_LIST(X)                                                                  \
     X(0, "phase %c's current sensor does not follow the current the law predicts from the voltage " \
          "it applied: a stuck or failed sensor")                                                   \
-    X(1, "the three measured phase currents do not sum to zero: a failed current sensor (phase %c " \
-         "reads the least)")                                                                       \
+    X(1, "the three measured phase currents do not sum to zero and phase %c's reading stood still " \
+         "while the others moved: its current sensor stuck")                                       \
     X(2, "phase %c reads zero while the law drives current into it: its current sensor stuck at "  \
-         "zero, or the phase open (two sensors cannot tell which; a third sensor can)")
+         "zero, or the phase open (two sensors cannot tell which; a third sensor can)")           \
+    X(3, "the three measured phase currents do not sum to zero: a failed current sensor; which one " \
+         "the sum cannot tell (no single reading stood still while the others moved)")
 
 /* The encoder fault's details: X(number, meaning) (app_enc.h). */
 #define APP_ENC_DETAIL_LIST(X)                                                                     \
@@ -111,6 +114,11 @@ const char *app_fault_name(uint16_t fault);
  * failed sensor (a few periods: noise and the sampling skew of the three channels never last
  * that long at that level). */
 #define APP_ISUM_PERIODS 8U
+/* The phase the sum check names: the one reading that stood still, within this many ADC counts
+ * (the sensors' noise), over those periods while the other two moved (a stuck sensor reads one
+ * code whatever its current; a phase carrying the machine's current moves by the switching
+ * ripple every period). */
+#define APP_ISUM_STILL_COUNTS 2
 /* Open phase: the electrical angle, IQ rad (pi/3), over which a phase must stay inside the zero
  * band (prot.leg_i_min_iq / 2^APP_LEG_ZERO_LOG2) while |i| is above prot.leg_i_min_iq to be taken
  * for open: 6.7 ms at 1500 rpm for Hoang Table VIII (p = 1; within 20 ms). A healthy sinusoidal phase
@@ -140,6 +148,9 @@ const char *app_fault_name(uint16_t fault);
 
 typedef struct {
     uint16_t isum_n;       /* consecutive periods with |i_a + i_b + i_c| > prot.i_sum_max_iq */
+    uint16_t isum_moved;   /* bit k: phase k (law's order) moved beyond APP_ISUM_STILL_COUNTS from
+                            * isum_i0_iq during those periods */
+    iq_t isum_i0_iq[3];    /* the phase currents of the first of those periods */
     iq_t leg_acc_iq[3];    /* electrical angle, IQ rad, over which phase k (law's order) looked open */
     iq_t pos_acc_iq[3];    /* electrical angle, IQ rad, since phase k last read above the zero band */
     iq_t neg_acc_iq[3];    /* electrical angle, IQ rad, since phase k last read below the zero band */
@@ -249,5 +260,11 @@ static inline uint16_t app_fault_overspeed(const dtc_config_t *c, const dtc_out_
 /* 1 when post may be the post-fault configuration of the running configuration c
  * (app_core_set_reconfig, app_core.h), else 0. */
 uint16_t app_fault_post_ok(const dtc_config_t *c, const dtc_config_t *post);
+
+/* The three-sensor sum check on a period its sum is off (app_fault_trips; app_fault_isum.c, from
+ * flash on the F2812): counts the period and follows which readings moved (APP_ISUM_STILL_COUNTS);
+ * on the APP_ISUM_PERIODS-th in a row returns 1 with *detail the APP_SENSOR_DETAIL_LIST code
+ * (1: the one reading that stood still, the physical phase through perm; 3: none to name). */
+uint16_t app_fault_isum(app_fault_t *f, const dtc_config_t *c, const iq_t i[3], uint16_t perm, int16_t *detail);
 
 #endif /* APP_FAULT_H */

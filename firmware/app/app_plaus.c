@@ -8,13 +8,6 @@ static int32_t to_q16(iq_t x)
     return fix_rshift_rnd32(x, 8U);
 }
 
-void app_plaus_init(app_plaus_params_t *p, iq_t adc_i_gain_iq)
-{
-    const int64_t f = (int64_t)to_q16(fix_sat32((int64_t)adc_i_gain_iq * APP_PLAUS_FLOOR_COUNTS));
-    p->floor_raw = f * f * (int64_t)(1U << APP_PLAUS_WIN_LOG2);
-    p->floor_var = f * f * (int64_t)(1U << (2U * APP_PLAUS_WIN_LOG2));
-}
-
 void app_plaus_reset(app_plaus_t *s)
 {
     uint16_t k;
@@ -29,6 +22,7 @@ void app_plaus_reset(app_plaus_t *s)
     }
     s->primed = 0U;
     s->n = 0U;
+    s->pend = 0U;
 }
 
 uint16_t app_plaus_step(app_plaus_t *s, const app_plaus_params_t *p, const iq_t i[3], const iq_t *i1,
@@ -49,24 +43,28 @@ uint16_t app_plaus_step(app_plaus_t *s, const app_plaus_params_t *p, const iq_t 
             const int32_t dp0 = to_q16(fix_sub32(s->i1_prev[k], s->i_prev[k]));
             const int32_t dp = fix_sub32(dp0, s->bias[k]);
             s->bias[k] = fix_add32(s->bias[k], fix_rshift_rnd32(fix_sub32(fix_sub32(dp0, dm), s->bias[k]),
-                                                                APP_PLAUS_BIAS_LOG2));
+                                                                p->bias_log2));
             s->s_m[k] += dm;
             s->s_p[k] += dp;
             s->s_mp[k] += (int64_t)dm * dp;
             s->s_pp[k] += (int64_t)dp * dp;
         }
-        if (++s->n >= (uint16_t)(1U << APP_PLAUS_WIN_LOG2)) {
+        if (++s->n >= (uint16_t)(1U << p->win_log2)) {
+            uint16_t still = 0U;
             for (k = 0U; k < 3U; k++) {
                 if ((measured & (uint16_t)(1U << k)) == 0U) {
                     continue;
                 }
-                /* N^2 cov(d_m, d_p) and N^2 var(d_p), N = 2^APP_PLAUS_WIN_LOG2 */
-                const int64_t cov = s->s_mp[k] * (int64_t)(1U << APP_PLAUS_WIN_LOG2) - (int64_t)s->s_m[k] * s->s_p[k];
-                const int64_t var = s->s_pp[k] * (int64_t)(1U << APP_PLAUS_WIN_LOG2) - (int64_t)s->s_p[k] * s->s_p[k];
+                /* N^2 cov(d_m, d_p) and N^2 var(d_p), N = 2^win_log2 */
+                const int64_t cov = s->s_mp[k] * (int64_t)(1U << p->win_log2) - (int64_t)s->s_m[k] * s->s_p[k];
+                const int64_t var = s->s_pp[k] * (int64_t)(1U << p->win_log2) - (int64_t)s->s_p[k] * s->s_p[k];
                 const uint16_t raw_bad = (uint16_t)(s->s_pp[k] > p->floor_raw && 4 * s->s_mp[k] < s->s_pp[k]);
                 const uint16_t follows = (uint16_t)(var > p->floor_var && 4 * cov >= var);
                 if (raw_bad != 0U && follows == 0U) {
                     bad |= (uint16_t)(1U << k);
+                    if (16 * s->s_mp[k] < s->s_pp[k] && -16 * s->s_mp[k] < s->s_pp[k]) {
+                        still |= (uint16_t)(1U << k);
+                    }
                 }
                 s->s_m[k] = 0;
                 s->s_p[k] = 0;
@@ -74,6 +72,17 @@ uint16_t app_plaus_step(app_plaus_t *s, const app_plaus_params_t *p, const iq_t 
                 s->s_pp[k] = 0;
             }
             s->n = 0U;
+            if (still != 0U) {
+                bad = still;
+                s->pend = 0U;
+            } else {
+                /* none stood still: reported only on a second failed window in a row */
+                const uint16_t first = (uint16_t)(s->pend == 0U ? 1U : 0U);
+                s->pend = bad;
+                if (first != 0U) {
+                    bad = 0U;
+                }
+            }
         }
     }
     if (i1 == NULL) {

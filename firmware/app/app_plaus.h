@@ -41,7 +41,9 @@
  * before the products, so |d| < 2^24 (the bias, a mean of two such, < 2^25; their difference
  * saturates) and each product < 2^50; N = 2^3 of them sum below 2^51, the
  * sums of changes below 2^27; N times a sum of products and a product of two sums stay below
- * 2^54 in int64_t, and 4 cov below 2^57. The floor is formed the same way at init.
+ * 2^54 in int64_t, and 4 cov below 2^57, 16 s_mp below 2^55. The floor is formed the same way
+ * at init. The window and the bias's leak are parameters (app_plaus_init): the PM law's
+ * APP_PLAUS_WIN_LOG2 and APP_PLAUS_BIAS_LOG2, the IM laws' _IM values.
  */
 #ifndef APP_PLAUS_H
 #define APP_PLAUS_H
@@ -50,17 +52,29 @@
 
 #include "fixmath.h"
 
-/* Window: 2^3 = 8 control periods. */
+/* Window: 2^3 = 8 control periods (the PM law; at most 3: the bounds above). */
 #define APP_PLAUS_WIN_LOG2 3U
 /* Least mean predicted change per period that makes a window count: 8 ADC counts (a few times
  * the sensors' noise and quantisation). */
 #define APP_PLAUS_FLOOR_COUNTS 8
-/* The prediction's bias is learnt over 2^6 = 64 periods. */
+/* The prediction's bias is learnt over 2^6 = 64 periods (the PM law). */
 #define APP_PLAUS_BIAS_LOG2 6U
+/* The IM laws (im_dtc.h im_dtc_i_pred): a window of 2^2 = 4 periods and the bias over 2^4 = 16.
+ * Their prediction takes the rotor's speed from the encoder's filtered speed, which lags the
+ * machine's during a hard acceleration: the back-EMF it leaves out then grows by a few per cent
+ * of the signal per period (measured: DFOC, the first torque on the default IM at 160 us), so the
+ * bias must follow within some tens of periods; and their SVM and DSVM schemes run at 160 us,
+ * where the first whole window after a stuck sensor's jump (the jump itself disturbs the window it
+ * falls in) must end within 2 ms: at most 2 N - 1 periods, 7 at N = 4 (1.1 ms). A stuck sensor
+ * still reads no change at all over the windows after its jump, whatever the bias has learnt. */
+#define APP_PLAUS_WIN_LOG2_IM 2U
+#define APP_PLAUS_BIAS_LOG2_IM 4U
 
 typedef struct {
     int64_t floor_raw; /* N (APP_PLAUS_FLOOR_COUNTS counts in pu, IQ16)^2: least sum(d_p^2) */
     int64_t floor_var; /* N^2 (the same)^2: least N^2 var(d_p) */
+    uint16_t win_log2;  /* N = 2^win_log2 periods a window (1..3) */
+    uint16_t bias_log2; /* the bias's leak, 2^-bias_log2 per period */
 } app_plaus_params_t;
 
 typedef struct {
@@ -68,6 +82,7 @@ typedef struct {
     iq_t i1_prev[3];   /* the law's prediction made then for this sample */
     uint16_t primed;   /* 1: i_prev and i1_prev hold a valid pair */
     uint16_t n;        /* periods in the current window */
+    uint16_t pend;     /* the phases the last window failed when none of them stood still */
     int32_t bias[3];   /* the prediction's bias, mean of d_p - d_m, IQ16 pu per period */
     int32_t s_m[3];    /* sum of d_m, IQ16 */
     int32_t s_p[3];    /* sum of d_p, IQ16 */
@@ -75,15 +90,23 @@ typedef struct {
     int64_t s_pp[3];   /* sum of d_p^2, IQ32 */
 } app_plaus_t;
 
-/* adc_i_gain_iq: pu current per ADC count (board.adc_i_gain_iq). */
-void app_plaus_init(app_plaus_params_t *p, iq_t adc_i_gain_iq);
+/* adc_i_gain_iq: pu current per ADC count (board.adc_i_gain_iq); win_log2 (1..3) and bias_log2:
+ * APP_PLAUS_WIN_LOG2 and APP_PLAUS_BIAS_LOG2, or their _IM values for the IM laws. */
+void app_plaus_init(app_plaus_params_t *p, iq_t adc_i_gain_iq, uint16_t win_log2, uint16_t bias_log2);
 void app_plaus_reset(app_plaus_t *s);
 
 /* One period, after the law's step. i: this sample's phase currents (law order); i1: the law's
  * prediction for the next sample, or NULL where the law has none (the block then rests and
  * restarts its window when a prediction comes back); measured: bit k set when phase k (law order)
  * is measured, not derived. Returns the set of measured phases (bit k: law phase k) that did not
- * follow the predicted current over the window that ended now, 0 when none (or no window ended). */
+ * follow the predicted current over the window that ended now, 0 when none (or no window ended).
+ * Phases that failed and stood still (|sum(d_m d_p)| below sum(d_p^2)/16: a stuck sensor reads
+ * no change at all) are returned at once, and only they when others failed too: the law's state
+ * is formed from both sensors, so a stuck reading misleads the prediction of the healthy phase
+ * as well (through the rotor flux x = phi_s - sigma l_s i of the IM laws' back-EMF), which still
+ * moves with its current. Failed phases none of which stood still are returned only when the
+ * next window fails too (a stuck sensor's jump to its code disturbs the window it falls in,
+ * where the healthy phase may fail alone; the next window shows which one stands still). */
 uint16_t app_plaus_step(app_plaus_t *s, const app_plaus_params_t *p, const iq_t i[3], const iq_t *i1,
                         uint16_t measured);
 

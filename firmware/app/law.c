@@ -114,7 +114,7 @@ void law_refs_get(const law_t *l, dtc_refs_t *r)
     }
 }
 
-uint16_t law_i_pred(const law_t *l, iq_t i1[3])
+uint16_t law_i_pred(const law_t *l, iq_t vdc_iq, iq_t i1[3])
 {
 #if DTC_LAW_PM_LINKED
     if (l->law == (uint16_t)DTC_LAW_PM_DTC && l->u.pm.cfg->u.pm_dtc.est.delay_comp != 0U) {
@@ -123,9 +123,15 @@ uint16_t law_i_pred(const law_t *l, iq_t i1[3])
         i1[2] = l->u.pm.i1.ic_iq;
         return 1U;
     }
-#else
-    (void)l;
 #endif
+#if DTC_LAW_IM_LINKED
+    if (dtc_law_is_im(l->law) != 0U) {
+        im_dtc_i_pred(&l->u.im, vdc_iq, i1);
+        return 1U;
+    }
+#endif
+    (void)l;
+    (void)vdc_iq;
     (void)i1;
     return 0U;
 }

@@ -77,9 +77,10 @@ uint16_t law_out_form(const law_t *l);
 int16_t law_reconfigure(law_t *l, const dtc_config_t *post, uint16_t phase);
 /* The phase currents (IQ pu, the law's phase order) the law predicts for the next sample from the
  * voltage it committed for the coming period (PM law with the actuation-delay compensation:
- * dtc.c dtc_predict). Returns 1 and fills i1[0..2], or 0 where the law makes no prediction (the
- * app's sensor plausibility, app_plaus.h, then rests). */
-uint16_t law_i_pred(const law_t *l, iq_t i1[3]);
+ * dtc.c dtc_predict; the IM laws: im_dtc.h im_dtc_i_pred, with vdc_iq the link voltage measured
+ * at this sample). Returns 1 and fills i1[0..2], or 0 where the law makes no prediction (the
+ * app's sensor plausibility, app_plaus.h, then rests). After law_step only. */
+uint16_t law_i_pred(const law_t *l, iq_t vdc_iq, iq_t i1[3]);
 /* The encoder plausibility's comparison of this step (IM laws with the encoder and
  * u.im.ref.enc_plaus_iq > 0, im_dtc.h): returns 1 on a speed-loop step where the rotor flux is
  * built, with *err_iq the sensorless speed (Casadei eqs. 16, 22) less the encoder's speed through

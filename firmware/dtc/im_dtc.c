@@ -323,3 +323,40 @@ void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     o->vector = vec;
     im_out_report(c, o, te);
 }
+
+void im_dtc_i_pred(const im_dtc_t *c, iq_t vdc_iq, iq_t i1[3])
+{
+    const dtc_config_t *cfg = c->cfg;
+    const iq_t sl = cfg->u.im.machine.sigma_ls_iq;
+    const iq_t wa = iq_mpy(c->speed_iq, c->ip_a_iq); /* w a: the rotation's gain this period */
+    /* (w Ts)^2 / 2 / (sigma l_s) = w a (w Ts) / 2: the rotation's second-order term */
+    const iq_t h = fix_rshift_rnd32(iq_mpy(wa, iq_mpy(c->speed_iq, cfg->board.ts_pu_iq)), 1U);
+    const iq_t ia = c->i.i_alpha_iq, ib = c->i.i_beta_iq;
+    const iq_t xa = iq_sub(c->est.psi_alpha_iq, iq_mpy(sl, ia));
+    const iq_t xb = iq_sub(c->est.psi_beta_iq, iq_mpy(sl, ib));
+    iq_t va, vb;
+    clarke_out_t o;
+
+    if (cfg->law == DTC_LAW_IM_DTC || cfg->law == DTC_LAW_IM_DSC) {
+        /* the legs returned by the previous step act in the coming period (im_dtc.h timing) */
+        vrec_sstp(c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, vdc_iq, &va, &vb);
+    } else {
+        /* kept by im_pwm_out / im_dsvm_select for the coming period (d_eff: the dead time is in
+         * it), with the device drops of this period's currents (im_sfvc_estimate: the SSTP's
+         * equal drops do not depend on the legs) */
+        va = fix_add32(c->v2_alpha_iq, c->dva_iq);
+        vb = fix_add32(c->v2_beta_iq, c->dvb_iq);
+    }
+    /* i + a v - g i + b phi_s - (e^{j w Ts} - 1) x / (sigma l_s), x = phi_s - sigma l_s i
+     * (Casadei eq. 21 over k_r), e^{j w Ts} - 1 ~ j w Ts - (w Ts)^2 / 2: - w a j x + h x,
+     * j x = (-x_beta, x_alpha) (im_dtc.h) */
+    clarke_inv(fix_add32(fix_add32(fix_sub32(fix_add32(ia, iq_mpy(c->ip_a_iq, va)), iq_mpy(c->ip_g_iq, ia)),
+                                   iq_mpy(c->ip_b_iq, c->est.psi_alpha_iq)),
+                         fix_add32(iq_mpy(wa, xb), iq_mpy(h, xa))),
+               fix_add32(fix_sub32(fix_add32(ib, iq_mpy(c->ip_a_iq, vb)), iq_mpy(c->ip_g_iq, ib)),
+                         fix_sub32(iq_mpy(c->ip_b_iq, c->est.psi_beta_iq), fix_sub32(iq_mpy(wa, xa), iq_mpy(h, xb)))),
+               &o);
+    i1[0] = o.ia_iq;
+    i1[1] = o.ib_iq;
+    i1[2] = o.ic_iq;
+}

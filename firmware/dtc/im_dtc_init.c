@@ -34,6 +34,18 @@ int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg)
     c->il_p.i_lim_iq = cfg->prot.i_lim_iq;
     c->il_p.fstp = 0U;
     c->il_box_iq = iq_mpy(cfg->prot.i_lim_iq, (iq_t)11863283L); /* 1/sqrt2 rounded down: floor(2^24 / sqrt(2)) */
+    {
+        /* the current prediction's constants (im_dtc_i_pred): 1/(sigma l_s) and 1/l_r = 1/(k_r m)
+         * by the SVM's Newton reciprocal from a fresh seed (svm.h svm_recip; sigma l_s and l_r
+         * > 0 by im_dtc_check, exact to a few LSB from 2^-7 pu), then rounded IQ products */
+        const dtc_im_machine_cfg_t *im = &cfg->u.im.machine;
+        const iq_t inv_sl = svm_recip(0, im->sigma_ls_iq);
+        const iq_t inv_lr = svm_recip(0, iq_mpy(im->kr_iq, im->m_iq));
+        c->ip_a_iq = iq_mpy(cfg->board.ts_pu_iq, inv_sl);
+        c->ip_b_iq = iq_mpy(iq_mpy(cfg->board.ts_pu_iq, iq_mpy(im->rr_iq, inv_lr)), inv_sl);
+        c->ip_g_iq = iq_add(iq_mpy(c->ip_a_iq, cfg->machine.rs_iq),
+                            iq_mpy(c->ip_b_iq, iq_add(iq_mpy(im->m_iq, iq_mpy(im->m_iq, inv_lr)), im->sigma_ls_iq)));
+    }
     vcomp_init(&c->vc_p, cfg->est.compensation, cfg->board.v_f_iq, cfg->board.v_ce_iq,
                cfg->board.v_d_iq, cfg->board.r_on_iq);
     dtc_speed_params_from_config(&c->sm_p, &c->pi_p, cfg);

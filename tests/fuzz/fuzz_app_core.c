@@ -375,7 +375,7 @@ static void check_status(const fuzz_t *z)
         FUZZ_CHECK(s->fault_detail == 1 || s->fault_detail == -1, "stall detail %d", s->fault_detail);
         break;
     case APP_FAULT_CURRENT_SENSOR: /* 3 * check + phase (app_fault.h APP_SENSOR_DETAIL_LIST) */
-        FUZZ_CHECK(s->fault_detail >= 0 && s->fault_detail <= 8, "current_sensor detail %d", s->fault_detail);
+        FUZZ_CHECK(s->fault_detail >= 0 && s->fault_detail <= 9, "current_sensor detail %d", s->fault_detail);
         break;
     case APP_FAULT_OVERSPEED:
         FUZZ_CHECK(s->fault_detail == 1 || s->fault_detail == -1, "overspeed detail %d", s->fault_detail);

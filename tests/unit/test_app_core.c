@@ -700,6 +700,9 @@ static void test_sfvc_writes_the_pwm_form(void **state)
     if (dtc_config_from_si(&fx.si, &fx.cfg, msg, sizeof msg) != DTC_SI_OK) {
         fail_msg("SFVC configuration refused: %s", msg);
     }
+    /* no machine here: the currents read stand still whatever the law applies, which the
+     * current-sensor plausibility (app_plaus.h) rightly takes for stuck sensors */
+    fx.cfg.prot.i_plaus = 0U;
     fx.m.tick = 0U;
     meas_idle();
     assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
@@ -827,7 +830,42 @@ static void test_current_sum_finds_a_stuck_sensor(void **state)
     assert_int_equal(step(), 1);
     assert_int_equal(fx.cmd.enable, 0);
     assert_int_equal(fx.app.st.fault, APP_FAULT_CURRENT_SENSOR);
-    assert_int_equal(fx.app.st.fault_detail, 3); /* the sum check, phase A reads the least */
+    /* every reading stood still (static currents): the sum cannot tell which sensor failed */
+    assert_int_equal(fx.app.st.fault_detail, 9);
+}
+
+/* Three sensors, one stuck at a code away from its zero while the other two carry a switching
+ * ripple (+-0.2 A about -0.5 A, 20 ADC counts and more each way): the sum check names the phase
+ * whose reading stood still, B or C as A, though it does not read the least. */
+static void test_current_sum_names_the_phase_that_stood_still(void **state)
+{
+    char msg[200];
+    uint16_t k, stuck;
+    (void)state;
+    for (stuck = 0U; stuck < 3U; stuck++) {
+        const uint16_t ch[3] = {HAL_ADC_IA, HAL_ADC_IB, HAL_ADC_IC};
+        setup_topology(DTC_TOPO_SSTP);
+        fx.si.i_sensors3 = 1;
+        assert_int_equal(dtc_config_from_si(&fx.si, &fx.cfg, msg, sizeof msg), DTC_SI_OK);
+        static_currents();
+        assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+        for (k = 0; k < cal_len(); k++) {
+            step();
+        }
+        assert_int_equal(fx.app.st.state, APP_STATE_RUN);
+        for (k = 0; k < APP_ISUM_PERIODS; k++) {
+            const double r = (k & 1U) != 0U ? 0.2 : -0.2;
+            uint16_t x;
+            for (x = 0U; x < 3U; x++) {
+                /* the stuck one reads +2 A whatever flows (the sum 1 A); the others -0.5 A plus the ripple */
+                fx.m.adc[ch[x]] = x == stuck ? i_counts(2.0, fx.si.adc_i_offset[x])
+                                             : i_counts(-0.5 + (x == (stuck + 1U) % 3U ? r : -r), fx.si.adc_i_offset[x]);
+            }
+            assert_int_equal(step(), k + 1U == APP_ISUM_PERIODS ? 1 : 0);
+        }
+        assert_int_equal(fx.app.st.fault, APP_FAULT_CURRENT_SENSOR);
+        assert_int_equal(fx.app.st.fault_detail, 3 + (int)stuck); /* APP_SENSOR_DETAIL_LIST 1 */
+    }
     /* with two sensors the check cannot exist: a configuration asking for it is refused */
     fx.cfg.board.i_sensors3 = 0U;
     {
@@ -1409,6 +1447,7 @@ UNIT_TEST_MAIN("app core", NULL,
                cmocka_unit_test(test_faultlog_and_capture_fed),
                cmocka_unit_test(test_desat_names_the_leg),
                cmocka_unit_test(test_current_sum_finds_a_stuck_sensor),
+               cmocka_unit_test(test_current_sum_names_the_phase_that_stood_still),
                cmocka_unit_test(test_lost_encoder_at_speed_trips),
                cmocka_unit_test(test_open_phase_trips_or_reconfigures),
                cmocka_unit_test(test_open_device_keeps_one_direction),

@@ -116,6 +116,10 @@ int dtc_si_params_check(dtc_si_conv_t *c, const dtc_config_si_t *si)
                 continue;
             }
             dtc_si_param_range_text(p, range, sizeof range);
+            if (fabs(v) >= DTC_SIP_INF && v == v) {
+                /* an open end of the range stops at +-DTC_SIP_INF, which the range text leaves out */
+                return dtc_si_fail(c, p->err, p->name, "%s = %g: beyond the largest value any conversion takes (|x| < %g)", p->name, v, DTC_SIP_INF);
+            }
             if (n > 1) {
                 return dtc_si_fail(c, p->err, p->name, "%s[%d] = %g: must be %s%s", p->name, k, v, range[0] == '(' || range[0] == '[' ? "in " : "", range);
             }

@@ -57,7 +57,11 @@ int16_t app_core_init(app_core_t *a, const dtc_config_t *cfg)
     }
     a->meas_mask = cfg->board.i_sensors3 != 0U ? 7U
                    : (cfg->board.topology == (uint16_t)DTC_TOPO_FSTP ? 6U : 3U);
-    app_plaus_init(&a->plaus_p, cfg->board.adc_i_gain_iq);
+    if (dtc_law_is_im(cfg->law) != 0U) {
+        app_plaus_init(&a->plaus_p, cfg->board.adc_i_gain_iq, APP_PLAUS_WIN_LOG2_IM, APP_PLAUS_BIAS_LOG2_IM);
+    } else {
+        app_plaus_init(&a->plaus_p, cfg->board.adc_i_gain_iq, APP_PLAUS_WIN_LOG2, APP_PLAUS_BIAS_LOG2);
+    }
     app_enc_init(&a->enc, cfg);
     app_core_enter_calibrate(a);
     return 0;

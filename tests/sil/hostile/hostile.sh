@@ -81,6 +81,9 @@ file quoted_plain '[control]
 "speed_ref_rpm" = 300.0
 '
 expect quoted_plain_key_is_the_key 0 ': ok$' -- "$exe" check "$work/in/quoted_plain.toml"
+file k_derived '[motor]
+rs_ohm = 1000'
+expect derived_refusal_file_line 1 'k_derived.toml:2:[0-9]+: motor.rs_ohm: .* follows from motor.rs_ohm' -- "$exe" check "$work/in/k_derived.toml"
 file motor_only '[motor]
 '
 expect only_motor_table 1 'sets no key \(.*motor_only.toml:1:[0-9]+: \[motor\] empty\)' -- "$exe" run "$work/in/motor_only.toml" --out "$work/out"
@@ -162,6 +165,12 @@ sil set_unknown_key 1 "--set #1 'motor.rs_ohms=1': motor.rs_ohms: unknown key" c
 sil set_nan 1 "duration_s: expected a number, got 'nan'|duration_s: value nan is impossible" check "$scen" --set duration_s=nan
 sil set_quoted_key 1 'unknown key' check "$scen" --set '"control.speed_ref_rpm"=1'
 sil set_no_equals 1 'expected key=value' check "$scen" --set duration_s
+# a refused member the user did not set (derived): the key the user set that makes it impossible
+sil derived_refusal_names_the_set_key 1 "--set #1 'motor.rs_ohm=1000': motor.rs_ohm: handover_speed_rpm .* follows from motor.rs_ohm" check "$src/tools/scenarios/sstp_current_full.toml" --set motor.rs_ohm=1000
+# no hardware comparator: an IM law predicts its currents (accepted); the PM ITC does not (refused)
+sil no_comparator_im_accepted 0 'im_dtc_speed.toml: ok' check "$src/tools/scenarios/im_dtc_speed.toml" --set protection.hw_trip_current_a=0
+sil no_comparator_itc_refused 1 'protection.hw_trip_current_a: 0 \(no hardware comparator\) needs a firmware path' check "$src/tools/scenarios/sstp_itc_full.toml" --set protection.hw_trip_current_a=0
+sil huge_value_says_why 1 'motor.j_kgm2: inertia_kgm2 = 1e\+308: beyond the largest value' check "$scen" --set motor.j_kgm2=1e308
 long=$(py "print('x'*100000)")
 sil set_long_value_not_echoed 1 "motor.type: expected one of .*\.\.\. \(100000 bytes\)" check "$scen" --set "motor.type=$long"
 sil window_50000_check 1 'metrics_window_s: is 50000 s, 1e\+09 samples' check "$scen" --set duration_s=50000 --set metrics_window_s=50000

@@ -3,10 +3,12 @@
 // firmware configuration the scenario makes, refused by the converter's and the firmware's own
 // checks (dtc_config_from_si_err) with the scenario key named.
 #include "firmware_si.hpp"
+#include "dtc_si_params.h"
 #include "scenario_schema.hpp"
 #include "sil_constants.hpp"
 
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -158,6 +160,25 @@ template <typename Err, typename Warn> void check_faults(const Scenario& s, Err 
     }
 }
 
+// Of the scenario keys listed in keys (dtc_si_params.h), the first the scenario sets, else the
+// first that exists; "" when none does.
+static std::string first_key_set(const Scenario& s, const std::string& keys)
+{
+    std::string key;
+    std::string word;
+    for (const char ch : keys + " ") {
+        if ((ch >= 'a' && ch <= 'z') || (ch >= '0' && ch <= '9') || ch == '_' || ch == '.') {
+            word += ch;
+            continue;
+        }
+        if (find_spec(word) != nullptr && (key.empty() || (s.origin.count(key) == 0 && s.origin.count(word) != 0))) {
+            key = word;
+        }
+        word.clear();
+    }
+    return key;
+}
+
 // The firmware configuration the scenario makes (firmware_si_config, as the run hands it to the
 // converter), refused by the converter's and the firmware's own checks: the refused member's
 // scenario key (dtc_si_params.h: the first of its keys the scenario sets, else the first) named
@@ -171,19 +192,43 @@ void check_firmware_config(const Scenario& s, Diagnostics* d)
         return;
     }
     const std::string keys = keys_of_refusal(e);
-    std::string key;
-    std::string word;
-    for (const char ch : keys + " ") {
-        if ((ch >= 'a' && ch <= 'z') || (ch >= '0' && ch <= '9') || ch == '_' || ch == '.') {
-            word += ch;
-            continue;
+    std::string key = first_key_set(s, keys);
+    std::string derived;
+    if (key.empty() || s.origin.count(key) == 0) {
+        // The refused member is not one the scenario sets (a derived value, or a default): the
+        // key the scenario sets that causes the refusal is the first whose member, put back to
+        // the converter's default, lets the conversion pass (or refuse another member).
+        dtc_config_si_t def;
+        if (dtc_law_is_im(static_cast<uint16_t>(si.law)) != 0U) {
+            dtc_config_si_im_defaults(&def);
+        } else {
+            dtc_config_si_defaults(&def);
         }
-        if (find_spec(word) != nullptr && (key.empty() || (s.origin.count(key) == 0 && s.origin.count(word) != 0))) {
-            key = word;
+        for (std::size_t r = 0; r < dtc_si_param_count; ++r) {
+            const dtc_si_param_t& p = dtc_si_params[r];
+            const std::size_t n = p.type == DTC_SIP_DOUBLE ? sizeof(double) : p.type == DTC_SIP_INT3 ? 3 * sizeof(int) : sizeof(int);
+            const char* at = reinterpret_cast<const char*>(&si) + p.offset;
+            const char* at_def = reinterpret_cast<const char*>(&def) + p.offset;
+            if (std::memcmp(at, at_def, n) == 0) {
+                continue;
+            }
+            const std::string k = first_key_set(s, p.keys);
+            if (k.empty() || s.origin.count(k) == 0) {
+                continue;
+            }
+            dtc_config_si_t trial = si;
+            std::memcpy(reinterpret_cast<char*>(&trial) + p.offset, at_def, n);
+            dtc_config_t tcfg;
+            dtc_si_error_t te;
+            if (dtc_config_from_si_err(&trial, &tcfg, &te) == DTC_SI_OK || std::strcmp(te.field, e.field) != 0) {
+                derived = " (" + (keys.empty() ? std::string(e.field) : keys) + ", not set, follows from " + k +
+                          " (converter field " + p.name + "))";
+                key = k;
+                break;
+            }
         }
-        word.clear();
     }
-    const std::string what = std::string(e.msg) + " (firmware configuration refused, " +
+    const std::string what = std::string(e.msg) + derived + " (firmware configuration refused, " +
                              (e.field[0] != '\0' ? std::string("converter field ") + e.field + ", " : "") +
                              "error " + std::to_string(e.code) + ")";
     d->errors.push_back(key.empty() ? s.path + ": firmware configuration: " + what
@@ -322,15 +367,17 @@ void cross_validate(Scenario& s, Diagnostics* d)
         // Without the hardware comparator only the firmware can see an over-current, and it sees
         // it through the current sensors: a failed sensor must be found, by the current sum of
         // three sensors or by the plausibility against the law's prediction (the PM law with
-        // the delay compensation; firmware/app/app_plaus.h), both with the fault detection on.
+        // the delay compensation, every IM law; firmware/app/app_plaus.h), both with the fault
+        // detection on. The PM indirect torque control makes no prediction (law.h law_i_pred).
         const bool sum = s.sensors.current_sensors == 3;
-        const bool pred = s.motor.type == MotorType::Pmsm && s.control.delay_comp;
+        const bool pred = (s.motor.type == MotorType::Pmsm && s.control.delay_comp && s.control.scheme != Scheme::Itc) ||
+                          s.motor.type == MotorType::Im;
         if (!s.control.fault_detect || !(sum || pred)) {
             err("protection.hw_trip_current_a",
                 "0 (no hardware comparator) needs a firmware path that sees a failed current sensor: "
-                "control.fault_detect = true with sensors.current_sensors = 3, or the PM law with "
-                "control.delay_comp = true; otherwise a stuck sensor hides an over-current. Fit the comparator "
-                "or set protection.allow_unsafe = true");
+                "control.fault_detect = true with sensors.current_sensors = 3, the PM DTC with "
+                "control.delay_comp = true, or an IM law; otherwise a stuck sensor hides an over-current. Fit the "
+                "comparator or set protection.allow_unsafe = true");
         }
     }
     if (!open_loop && !s.protection.allow_unsafe) {
