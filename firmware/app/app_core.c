@@ -213,7 +213,8 @@ void app_core_ident_service(app_core_t *a)
 
 /* Calibration period: accumulate the measured channels; after 2^APP_CAL_LOG2 samples set the
  * current offsets (rounded mean, a shift: no division) and check them; with the mid-point
- * calibration and a hold current, start the rotor hold then (app_hold.h); at the end of the
+ * calibration and a hold current, the rotor hold starts then on a rotor at rest (app_hold_cal,
+ * app_hold.h; a turning rotor is started into when the calibration ends); at the end of the
  * calibration check the mid-point and the DC link and enter RUN. */
 static void calibrate_step(app_core_t *a, const hal_meas_t *m)
 {
@@ -230,6 +231,9 @@ static void calibrate_step(app_core_t *a, const hal_meas_t *m)
         return;
     }
     if (a->cal_n < n_off) {
+        if (app_hold_cal(&a->hold, a->cfg, m->qep_count, a->cal_n) != 0U) {
+            a->enc.primed = 0U; /* the hold starts with this period's offsets (app_hold.h) */
+        }
         for (k = 0U; k < n_ch; k++) {
             uint16_t ch = n_ch == 3U ? k : a->meas_ch[k];
             a->cal_sum[ch] += (uint32_t)m->adc[ch];
@@ -249,10 +253,6 @@ static void calibrate_step(app_core_t *a, const hal_meas_t *m)
                 return;
             }
             a->offset[ch] = (uint16_t)mean;
-        }
-        if (a->cfg->board.vmid_cal != 0U && a->cfg->prot.i_hold_iq > 0 && n_cal > n_off) {
-            app_hold_start(&a->hold, m->qep_count);
-            a->enc.primed = 0U;
         }
     }
     if (a->cal_n < n_cal || app_hold_settled(&a->hold) == 0U) {

@@ -3,6 +3,7 @@
  */
 #include "app_hold.h"
 
+#include "app_core.h"
 #include "app_enc.h"
 #include "law.h"
 
@@ -65,4 +66,31 @@ void app_hold_step(app_hold_t *h, const dtc_config_t *c, const dtc_meas_t *pu, c
         cmd->sc = 1U;
     }
     cmd->enable = 1U;
+}
+
+/* The rest test (APP_HOLD_REST_COUNTS): d1 = prev - count0, d2 = count - prev, folded into
+ * (-enc_counts/2, enc_counts/2] (|d| < 2^15, so 3 d1 - d2 fits int32). The test is on raw counts,
+ * the encoder's own resolution. */
+uint16_t app_hold_cal(app_hold_t *h, const dtc_config_t *c, uint16_t count, uint16_t n)
+{
+    const uint16_t last = (uint16_t)((1U << APP_CAL_LOG2) - 1U);
+    int32_t d1, d2;
+    if (n == 1U) {
+        h->count0 = count;
+    } else if (n == (uint16_t)(1U << (APP_CAL_LOG2 - 1U))) {
+        h->prev = count;
+    }
+    if (n != last || c->board.vmid_cal == 0U || c->prot.i_hold_iq <= 0) {
+        return 0U;
+    }
+    d1 = app_enc_fold((int32_t)h->prev - (int32_t)h->count0, c->board.enc_counts);
+    d2 = app_enc_fold((int32_t)count - (int32_t)h->prev, c->board.enc_counts);
+    if (fix_abs32(3 * d1 - d2) > (int32_t)APP_HOLD_REST_COUNTS) {
+        return 0U; /* turning: no hold, the drive starts into the rotor */
+    }
+    h->on = 1U;
+    h->count0 = count;
+    h->prev = count;
+    h->v_q16 = 0;
+    return 1U;
 }

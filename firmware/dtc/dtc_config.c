@@ -49,8 +49,8 @@ static int16_t dtc_common_relations(const dtc_config_t *cfg, const char **f)
     DTC_REFUSE(p->overspeed_iq > 0 && p->overspeed_iq <= s->speed_limit_iq, DTC_ERR_LIMIT, "prot.overspeed_iq");
     /* the sum of two measured and one derived current is 0 */
     DTC_REFUSE(p->i_sum_max_iq > 0 && cfg->board.i_sensors3 == 0U, DTC_ERR_FAULTDET, "prot.i_sum_max_iq");
-    DTC_REFUSE((topology == DTC_TOPO_SSTP && comp >= DTC_COMP_FSTP_SIMPLE) ||
-                   (topology == DTC_TOPO_FSTP && comp == DTC_COMP_SSTP),
+    DTC_REFUSE((topology == DTC_TOPO_SSTP && (comp == DTC_COMP_FSTP_SIMPLE || comp == DTC_COMP_FSTP_PROPOSED)) ||
+                   (topology == DTC_TOPO_FSTP && (comp == DTC_COMP_SSTP || comp == DTC_COMP_SSTP_PROPOSED)),
                DTC_ERR_COMPENSATION, "est.compensation");
     DTC_REFUSE(s->speed_ref_iq > s->speed_limit_iq || s->speed_ref_iq < -s->speed_limit_iq, DTC_ERR_REFERENCE,
                "speed.speed_ref_iq");

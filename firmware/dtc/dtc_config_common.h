@@ -78,7 +78,10 @@ enum dtc_compensation {
     DTC_COMP_NONE = 0,          /* ideal switches (Hoang eqs. 15-16) */
     DTC_COMP_SSTP = 1,          /* SSTP, equal device and diode drops (Hoang ref. [29], eqs. 24-25) */
     DTC_COMP_FSTP_SIMPLE = 2,   /* FSTP, Hoang Table V (eqs. 35-36), V_f */
-    DTC_COMP_FSTP_PROPOSED = 3  /* FSTP, Hoang Table VI with V_CE, V_d, plus the R_on terms (37-38) */
+    DTC_COMP_FSTP_PROPOSED = 3, /* FSTP, Hoang Table VI with V_CE, V_d, plus the R_on terms (37-38) */
+    DTC_COMP_SSTP_PROPOSED = 4  /* SSTP, Hoang Table III per leg with V_CE and V_d (the device that
+                                 * conducts: the transistor of the leg's on switch or the diode of
+                                 * the other), plus the R_on terms of eqs. 24-25 */
 };
 
 enum dtc_sstp_table {
@@ -345,8 +348,8 @@ typedef struct {
     X(46, machine.rs_iq, IQ, Z, 0, DTC_I32_MAX, DTC_ERR_MACHINE, 0U, "stator resistance R_s")      \
     X(50, est.estimator, U16, NONE, 0, DTC_EST_IMPROVED, DTC_ERR_VARIANT, 0U,                      \
       "flux estimator: 0 voltage model, 1 current model (PM), 2 improved (IM, Casadei eqs. 20-22)")\
-    X(51, est.compensation, U16, NONE, 0, DTC_COMP_FSTP_PROPOSED, DTC_ERR_COMPENSATION, 0U,        \
-      "voltage-drop compensation: 0 none, 1 SSTP ref. [29], 2 FSTP Hoang Table V, 3 FSTP Hoang Table VI")\
+    X(51, est.compensation, U16, NONE, 0, DTC_COMP_SSTP_PROPOSED, DTC_ERR_COMPENSATION, 0U,        \
+      "voltage-drop compensation: 0 none, 1 SSTP ref. [29], 2 FSTP Hoang Table V, 3 FSTP Hoang Table VI, 4 SSTP Hoang Table III")\
     X(52, est.k_in_q31, Q31, RATIO, 1, DTC_I32_MAX, DTC_ERR_FLUX_EST, DTC_PARAM_RO,                \
       "voltage model's low-pass input gain per period")                                            \
     X(53, est.k_leak_q31, Q31, RATIO, 1, DTC_I32_MAX, DTC_ERR_FLUX_EST, DTC_PARAM_RO,              \

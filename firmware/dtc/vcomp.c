@@ -8,8 +8,9 @@ void vcomp_init(vcomp_params_t *p, uint16_t mode, iq_t v_f_iq, iq_t v_ce_iq, iq_
 {
     p->mode = mode;
     p->v_f_iq = v_f_iq;
-    p->v_ce_iq = v_ce_iq;
-    p->v_d_iq = v_d_iq;
+    /* the SSTP schemes share one code path: [29] is Table III with V_CE = V_d = V_f */
+    p->v_ce_iq = mode == DTC_COMP_SSTP ? v_f_iq : v_ce_iq;
+    p->v_d_iq = mode == DTC_COMP_SSTP ? v_f_iq : v_d_iq;
     p->r_on_iq = r_on_iq;
     p->r_on_third_iq = q31_mul(r_on_iq, VREC_THIRD_Q31);
 }
@@ -21,11 +22,13 @@ void vcomp_step(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t sc,
 
     switch (p->mode) {
     case DTC_COMP_SSTP:
-        /* Leg drops V_f*sign(i_x) (Hoang Table III with V_CE = V_d = V_f); minus their Clarke
+    case DTC_COMP_SSTP_PROPOSED:
+        /* Leg drops (Hoang Table III: V_CE through the on transistor, V_d through the diode of
+         * the other switch; [29]: V_CE = V_d = V_f, set so by vcomp_init); minus their Clarke
          * transform, then the on-resistance terms of Hoang eqs. 24-25. */
-        da = vcomp_leg_drop(sa, i->ia_iq, p->v_f_iq, p->v_f_iq);
-        db = vcomp_leg_drop(sb, i->ib_iq, p->v_f_iq, p->v_f_iq);
-        dc = vcomp_leg_drop(sc, i->ic_iq, p->v_f_iq, p->v_f_iq);
+        da = vcomp_leg_drop(sa, i->ia_iq, p->v_ce_iq, p->v_d_iq);
+        db = vcomp_leg_drop(sb, i->ib_iq, p->v_ce_iq, p->v_d_iq);
+        dc = vcomp_leg_drop(sc, i->ic_iq, p->v_ce_iq, p->v_d_iq);
         vrec_from_legs(da, db, dc, &fa, &fb);
         *v_f_alpha_iq = fix_sub32(fix_neg32(fa), iq_mpy(p->r_on_iq, i->i_alpha_iq));
         *v_f_beta_iq = fix_sub32(fix_neg32(fb), iq_mpy(p->r_on_iq, i->i_beta_iq));

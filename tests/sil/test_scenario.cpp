@@ -253,8 +253,9 @@ TEST(Scenario, MissingValuesAndInconsistentCombinations)
     expect_error("[control]\nmode = \"open_loop\"\nvoltage_csv = \"v.csv\"\n", "inverter.topology", 0,
                  "\"ideal\"");
     expect_error("[inverter]\ntopology = \"ideal\"\n", "inverter.topology", 2, "open_loop");
-    expect_error("[inverter]\ntopology = \"sstp\"\n[control]\nestimator = \"voltage\"\ncompensation = \"proposed\"\n",
-                 "control.compensation", 5, "not available for topology");
+    expect_error("[inverter]\ntopology = \"sstp\"\n[control]\nimplementation = \"reference\"\nestimator = \"voltage\"\n"
+                 "compensation = \"proposed\"\n",
+                 "control.compensation", 6, "reference controller");
     expect_error("[control]\nvoltage_csv = \"\"\n", "control.voltage_csv", 2, "missing value");
 }
 
@@ -367,6 +368,9 @@ TEST(Scenario, FirmwareSiConfigCarriesTheScenario)
     EXPECT_EQ(c.topology, DTC_TOPO_FSTP);
     EXPECT_EQ(c.estimator, DTC_EST_VOLTAGE);
     EXPECT_EQ(c.compensation, DTC_COMP_FSTP_PROPOSED);
+    Scenario ss;
+    ASSERT_EQ(errors_of(kGood, {"inverter.topology=sstp"}, &ss), "");
+    EXPECT_EQ(firmware_si_config(ss).compensation, DTC_COMP_SSTP_PROPOSED); // Hoang Table III per leg
     EXPECT_EQ(c.mode, DTC_MODE_SPEED);
     EXPECT_DOUBLE_EQ(c.rs_ohm, 0.466);
     EXPECT_DOUBLE_EQ(c.v_ce_v, 0.9);

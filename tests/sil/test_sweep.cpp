@@ -234,9 +234,10 @@ TEST(Sweep, BadSpecificationsAreRefusedBeforeAnyRunNamingTheArgument)
         {{}, "nothing to sweep"},
         {{"--zip", "inverter.topology=sstp,fstp", "--zip", "control.compensation=none"},
          "--zip control.compensation=none: 1 values, but the other --zip axes have 2"},
-        // Each value is valid alone; the case (SSTP with Hoang's FSTP-only proposed scheme) is not.
+        // Each value is valid alone; the case (the reference controller on the SSTP with the proposed
+        // scheme, which only the firmware has there) is not.
         {{"--zip", "inverter.topology=fstp,sstp", "--zip", "control.compensation=proposed,proposed", "--set",
-          "control.estimator=\"voltage\""},
+          "control.estimator=\"voltage\"", "--set", "control.implementation=\"reference\""},
          "--zip case 2 (inverter.topology=\"sstp\", control.compensation=\"proposed\") is rejected"},
         {{"--zip", "inverter.topology=fstp", "--keep-runs", "--dask", "tcp://127.0.0.1:1"}, "--keep-runs with --dask"},
     };

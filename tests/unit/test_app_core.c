@@ -330,6 +330,54 @@ static void test_rotor_hold(void **state)
     assert_int_equal(fx.app.st.state, APP_STATE_RUN);
 }
 
+/* The hold engages only on a rotor at rest when the calibration begins (app_hold.h
+ * APP_HOLD_REST_COUNTS): the gates-off offset window fed with the counts of a rotor at speed v0 and
+ * constant acceleration a (theta(k) = v0 k + a k^2 / 2 counts, floored as a quadrature counter
+ * counts), from a fractional start. The double-precision reference of the test: |3 d1 - d2| of
+ * the samples 1, 32 and 63 above 4 counts is a turning rotor (no hold: the gates stay off), and
+ * the continuous 2 v0 h (h = 31) it measures lies within 4 counts of it. Cases: at rest and an
+ * active load pulling it from rest (a up to 0.01 counts/period^2: 0.3 N*m on 5e-4 kg m^2 with 8000
+ * counts is 0.0019) are held; 0.1 counts/period (15 rpm at 8000 counts, 50 us) and faster, either
+ * sign, with or without a load against or along, are not; the counter's wrap at enc_counts is
+ * folded. */
+static void test_rotor_hold_only_at_rest(void **state)
+{
+    (void)state;
+    const double v0s[] = {0.0, 0.1, -0.1, 0.5, -3.0, 6.67, 10.0};
+    const double as[] = {0.0, 0.01, -0.01, 0.002};
+    for (unsigned i = 0; i < sizeof v0s / sizeof v0s[0]; i++) {
+        for (unsigned j = 0; j < sizeof as / sizeof as[0]; j++) {
+            setup_topology(DTC_TOPO_FSTP);
+            static_currents();
+            const double start = (double)fx.cfg.board.enc_counts - 40.3; /* wraps within the window */
+            const int32_t n = (int32_t)fx.cfg.board.enc_counts;
+            double th[64];
+            for (int k = 0; k < 64; k++) {
+                th[k] = floor(start + v0s[i] * k + as[j] * k * k / 2.0);
+            }
+            fx.m.qep_count = (uint16_t)(((int32_t)th[0] % n + n) % n);
+            assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+            for (int k = 0; k < 64; k++) {
+                fx.m.qep_count = (uint16_t)(((int32_t)th[k] % n + n) % n);
+                assert_int_equal(step(), 1);
+            }
+            const double d1 = th[32] - th[1], d2 = th[63] - th[32];
+            const int turning = fabs(3.0 * d1 - d2) > 4.0;
+            assert_true(fabs((3.0 * d1 - d2) - 2.0 * v0s[i] * 31.0 - 2.0 * as[j] * 31.0) <= 4.0 + 1e-9);
+            if (v0s[i] == 0.0) {
+                assert_false(turning);
+            }
+            if (fabs(v0s[i]) >= 0.1) {
+                assert_true(turning);
+            }
+            fx.m.qep_count = (uint16_t)(((int32_t)floor(start + v0s[i] * 64 + as[j] * 64 * 64 / 2.0) % n + n) % n);
+            step();
+            assert_int_equal(fx.app.st.state, APP_STATE_CALIBRATE);
+            assert_int_equal(fx.cmd.enable, turning ? 0U : 1U);
+        }
+    }
+}
+
 static void test_offset_too_far_is_a_fault(void **state)
 {
     (void)state;
@@ -1429,6 +1477,7 @@ UNIT_TEST_MAIN("app core", NULL,
                cmocka_unit_test(test_calibration_mean_is_rounded_with_noise),
                cmocka_unit_test(test_midpoint_calibration),
                cmocka_unit_test(test_rotor_hold),
+               cmocka_unit_test(test_rotor_hold_only_at_rest),
                cmocka_unit_test(test_offset_too_far_is_a_fault),
                cmocka_unit_test(test_bad_config_latches_config_fault),
                cmocka_unit_test(test_conversion_matches_double_reference),

@@ -1,6 +1,7 @@
 /*
  * test_dtc_vcomp.c - inverter voltage-drop compensation: Hoang Tables V and VI reproduced row by
- * row (typed in from the paper in dtc_ref.c), the SSTP equal-drop scheme of ref. [29], and the
+ * row (typed in from the paper in dtc_ref.c), the SSTP equal-drop scheme of ref. [29], the SSTP
+ * with Table III per leg, and the
  * on-resistance terms of eqs. 24-25 / 37-38 derived from eq. 20 leg by leg.
  */
 #include <setjmp.h>
@@ -177,6 +178,44 @@ static void test_sstp_equal_drop_scheme(void **state)
     }
 }
 
+static void test_sstp_table_iii_per_leg(void **state)
+{
+    (void)state;
+    /* The SSTP with the devices' own drops (DTC_COMP_SSTP_PROPOSED): Hoang Table III per leg (state
+     * 1: + -> V_CE through the upper transistor, - -> -V_d through the upper diode; state 0:
+     * + -> V_d through the lower diode, - -> -V_CE through the lower transistor), every leg state
+     * and current-sign sector, minus the Clarke transform (Hoang eqs. 4-5) and the R_on terms of
+     * eqs. 24-25, against the double reference. With V_CE = V_d it is ref. [29]'s scheme. */
+    vcomp_params_t p, q, e;
+    vcomp_init(&p, DTC_COMP_SSTP_PROPOSED, 0, fixtest_d_to_iq(VCE), fixtest_d_to_iq(VD), fixtest_d_to_iq(RON));
+    vcomp_init(&q, DTC_COMP_SSTP_PROPOSED, 0, fixtest_d_to_iq(VCE), fixtest_d_to_iq(VCE), 0);
+    vcomp_init(&e, DTC_COMP_SSTP, fixtest_d_to_iq(VCE), fixtest_d_to_iq(VD), fixtest_d_to_iq(VD), 0);
+    for (int n = 0; n < 360; n++) {
+        const double th = (n + 0.5) * DTC_REF_PI / 180.0, amp = 1.5;
+        const double ix[3] = {amp * cos(th), amp * cos(th - 2.0 * DTC_REF_PI / 3.0), 0.0};
+        const double ic = -ix[0] - ix[1];
+        const uint16_t st[3] = {(uint16_t)(n & 1), (uint16_t)((n >> 1) & 1), (uint16_t)((n >> 2) & 1)};
+        double d[3], ra, rb, ial, ibe;
+        clarke_out_t i;
+        iq_t fa, fb, ga, gb, ha, hb;
+        for (int x = 0; x < 3; x++) {
+            const double ii = x == 2 ? ic : ix[x];
+            d[x] = st[x] != 0U ? (ii >= 0 ? VCE : -VD) : (ii >= 0 ? VD : -VCE);
+        }
+        clarke_sstp(fixtest_d_to_iq(ix[0]), fixtest_d_to_iq(ix[1]), &i);
+        vcomp_step(&p, st[0], st[1], st[2], &i, &fa, &fb);
+        dtc_ref_clarke3(d[0], d[1], d[2], &ra, &rb);
+        dtc_ref_clarke3(ix[0], ix[1], ic, &ial, &ibe);
+        fixtest_assert_lsb(fixtest_iq_to_d(fa), -ra - RON * ial, LSB, 3.0, "SSTP Table III alpha");
+        fixtest_assert_lsb(fixtest_iq_to_d(fb), -rb - RON * ibe, LSB, 3.0, "SSTP Table III beta");
+        /* equal drops: the [29] scheme, whatever V_CE and V_d the SSTP [29] mode was given */
+        vcomp_step(&q, st[0], st[1], st[2], &i, &ga, &gb);
+        vcomp_step(&e, st[0], st[1], st[2], &i, &ha, &hb);
+        assert_int_equal(ga, ha);
+        assert_int_equal(gb, hb);
+    }
+}
+
 static void test_none_and_saturation(void **state)
 {
     (void)state;
@@ -205,4 +244,5 @@ UNIT_TEST_MAIN("dtc vcomp", NULL,
                cmocka_unit_test(test_table_vi_follows_from_table_iii_and_eqs_33_34),
                cmocka_unit_test(test_r_on_terms_from_eq20),
                cmocka_unit_test(test_sstp_equal_drop_scheme),
+               cmocka_unit_test(test_sstp_table_iii_per_leg),
                cmocka_unit_test(test_none_and_saturation))

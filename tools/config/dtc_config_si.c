@@ -259,9 +259,9 @@ static int convert(const dtc_config_si_t *si, dtc_config_t *cfg, dtc_si_conv_t *
         return dtc_si_fail(c, DTC_SI_ERR_CUTOFF, "lpf_cutoff_rad_s", "lpf_cutoff_rad_s = %g: at or above the Nyquist rate pi/ts_s = %g rad/s", si->lpf_cutoff_rad_s, M_PI / si->ts_s);
     if (!(si->dead_time_s < 0.5 * si->ts_s))
         return dtc_si_fail(c, DTC_SI_ERR_DEADTIME, "dead_time_s", "dead_time_s = %g: must be in [0, ts_s/2)", si->dead_time_s);
-    if ((si->topology == DTC_TOPO_SSTP && si->compensation >= DTC_COMP_FSTP_SIMPLE) ||
-        (si->topology == DTC_TOPO_FSTP && si->compensation == DTC_COMP_SSTP))
-        return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "compensation", "compensation = %d: not available for topology %d (the SSTP takes DTC_COMP_NONE or DTC_COMP_SSTP, the FSTP DTC_COMP_NONE or the FSTP ones, Hoang Tables V-VI)", si->compensation, si->topology);
+    if ((si->topology == DTC_TOPO_SSTP && (si->compensation == DTC_COMP_FSTP_SIMPLE || si->compensation == DTC_COMP_FSTP_PROPOSED)) ||
+        (si->topology == DTC_TOPO_FSTP && (si->compensation == DTC_COMP_SSTP || si->compensation == DTC_COMP_SSTP_PROPOSED)))
+        return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "compensation", "compensation = %d: not available for topology %d (the SSTP takes DTC_COMP_NONE or the SSTP ones, the FSTP DTC_COMP_NONE or the FSTP ones, Hoang Tables III, V-VI)", si->compensation, si->topology);
     if (!(si->stall_time_s == 0.0 ||
           (si->stall_time_s >= 20.0 * si->ts_s * si->speed_div && si->stall_time_s / (si->ts_s * si->speed_div) <= 65535.0)))
         return dtc_si_fail(c, DTC_SI_ERR_GAIN, "stall_time_s", "stall_time_s = %g: must be 0 (derived) or span 20 .. 65535 speed periods of %g s", si->stall_time_s, si->ts_s * si->speed_div);

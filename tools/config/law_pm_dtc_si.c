@@ -16,7 +16,7 @@ double dtc_handover_residual_v(const dtc_config_si_t *si, double i_a)
     case DTC_COMP_NONE: v = dev + si->r_on_ohm * i_a; break;
     case DTC_COMP_SSTP: v = off_f; break;                           /* V_f and R_on (Hoang eqs. 24-25) */
     case DTC_COMP_FSTP_SIMPLE: v = off_f + si->r_on_ohm * i_a; break; /* Hoang Table V: V_f only */
-    default: v = 0.0; break;                                        /* Hoang Table VI with eqs. 37-38 */
+    default: v = 0.0; break; /* Hoang Table VI with eqs. 37-38 (FSTP), Table III per leg with eqs. 24-25 (SSTP) */
     }
     if (si->deadtime_comp == 0) {
         v += si->dead_time_s / si->ts_s * si->vdc_v;
@@ -99,7 +99,9 @@ int dtc_config_post_fault_si(const dtc_config_si_t *si, dtc_config_si_t *post)
     }
     *post = *si;
     post->topology = DTC_TOPO_FSTP;
-    post->compensation = si->compensation == DTC_COMP_SSTP ? DTC_COMP_FSTP_SIMPLE : si->compensation;
+    post->compensation = si->compensation == DTC_COMP_SSTP            ? DTC_COMP_FSTP_SIMPLE
+                         : si->compensation == DTC_COMP_SSTP_PROPOSED ? DTC_COMP_FSTP_PROPOSED
+                                                                      : si->compensation;
     post->vmid_cal = 0;
     post->cal_hold = 0;
     return DTC_SI_OK;

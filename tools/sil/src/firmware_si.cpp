@@ -26,7 +26,7 @@ int compensation_of(Compensation c, Topology t)
     switch (c) {
     case Compensation::None: return DTC_COMP_NONE;
     case Compensation::Simple: return t == Topology::Fstp ? DTC_COMP_FSTP_SIMPLE : DTC_COMP_SSTP;
-    case Compensation::Proposed: return DTC_COMP_FSTP_PROPOSED;
+    case Compensation::Proposed: return t == Topology::Fstp ? DTC_COMP_FSTP_PROPOSED : DTC_COMP_SSTP_PROPOSED;
     }
     return DTC_COMP_NONE;
 }

@@ -358,6 +358,11 @@ void cross_validate(Scenario& s, Diagnostics* d)
         if (s.control.estimator == Estimator::Current && s.control.compensation != Compensation::None) {
             warn("control.compensation", "ignored by the current-model estimator");
         }
+        if (s.control.implementation == Implementation::Reference && s.inverter.topology == Topology::Sstp &&
+            s.control.compensation == Compensation::Proposed) {
+            err("control.compensation", "\"proposed\" on the SSTP (Hoang Table III per leg) is the firmware's only: "
+                                        "the reference controller takes \"none\" or \"simple\" there");
+        }
         if (s.inverter.topology == Topology::Fstp && s.control.table != SwitchingTable::Basic) {
             warn("control.table", "ignored: the FSTP always uses Hoang Table II");
         }

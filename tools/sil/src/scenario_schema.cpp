@@ -225,7 +225,7 @@ const std::vector<Spec>& schema()
                ACC(control.estimator)),
         choice<Compensation>("control.compensation",
                "voltage-model drop compensation: simple = Hoang Table V (FSTP) / ref. [29] (SSTP); "
-               "proposed = Table VI + eqs. 37-38 (FSTP only)",
+               "proposed = Table VI + eqs. 37-38 (FSTP) / Table III per leg with V_CE and V_d + eqs. 24-25 (SSTP)",
                ACC(control.compensation)),
         choice<SwitchingTable>("control.table",
                "SSTP switching table (Casadei Tables 1, 3); speed-dependent = Casadei sec. 8, ST-D below "
