@@ -3,46 +3,14 @@
  * docs/commissioning.md).
  */
 #include "app_ident.h"
+#include "app_ident_internal.h"
 
 #include <stddef.h>
-
-/* Segment timing, control periods (50 us: 2000 = 0.1 s). */
-#define ID_ALIGN_RAMP 2000      /* first ramp to the aligning current: the rotor swings into alignment */
-#define ID_ALIGN_SETTLE 2000U   /* alignment: the least settling before the wait for the rotor at rest */
-#define ID_LEVEL_RAMP 400       /* later level changes: a full-rated change over 400 periods */
-#define ID_LEVEL_SETTLE 800U    /* 40 ms: 6.5 time constants of the regulator's closed loop (163 1/s
-                                 * for Hoang Table VIII, docs/commissioning.md), its error < 0.2 % */
-#define ID_MEAS 1024U
-#define ID_PULSE_GAP 600U       /* regulated hold between two voltage steps */
-#define ID_PULSE_MAX 2000U      /* longest voltage step (100 ms) */
-#define ID_PULSES 4U
-#define ID_ENC_MOVE_SSTP 3000U  /* periods for one 120-degree move of the vector (SSTP) */
-#define ID_ENC_MOVE_FSTP 3000U  /* one 180-degree move (FSTP) */
-#define ID_ENC_LEVEL IQ(0.5)    /* the aligning and encoder current (see app_ident_start) */
-#define ID_ENC_SETTLE 1500U     /* encoder dwell: the least settling before the wait for rest */
-#define ID_ENC_MEAS 1024U
-#define ID_OPEN_PERIODS 400U    /* regulator saturated with little current this long: open phase */
-#define ID_STILL 1000U          /* dwell: periods with the count within +-1 before the sums (50 ms) */
-#define ID_SETTLE_MAX 40000U    /* dwell: the longest wait for the rotor to come to rest (2 s) */
-#define ID_IQ_2PI ((int64_t)105414357) /* 2 pi in IQ, round(2 pi 2^24) (an integer: the same on every target) */
-#define ID_SPIN_I IQ(0.5)       /* spin: the q current of the acceleration (half rated) */
-#define ID_SPIN_W IQ(0.25)      /* spin: the speed that ends the acceleration, pu electrical */
-#define ID_SPIN_WIN 400U        /* spin: periods per speed window (20 ms) */
-#define ID_SPIN_MAXW 100U       /* spin: the longest acceleration, windows (2 s) */
-#define ID_COAST_MAXW 100U      /* spin: the longest coast, windows (2 s) */
-
-/* The injection axis (res.axis). FSTP: beta (90 degrees), current from leg B into leg C, so that
- * phase A (the capacitor mid-point) carries none and the mid-point does not drift. SSTP: alpha
- * (0 degrees), i_a = I, i_b = i_c = -I/2: every phase carries current, so no leg sits in the
- * dead time's zero-current clamp, which would block the quadrature current that brakes the
- * rotor's swing (regulate). */
-#define ID_TH0_FSTP ANGLE(0.25)
-#define ID_TH0_SSTP ANGLE(0.0)
 
 /* Background only: num / den rounded toward zero, for den > 0 and |num| < 2^63, by restoring
  * binary long division (64 shift-and-subtract steps): the firmware calls no division helper
  * (the C28x has no 64-bit divide; tests/rules checks the libraries for helpers). */
-static int64_t div64(int64_t num, int64_t den)
+int64_t app_ident_div64(int64_t num, int64_t den)
 {
     const uint64_t n = num < 0 ? (uint64_t)0 - (uint64_t)num : (uint64_t)num;
     const uint64_t dd = (uint64_t)den;
@@ -58,7 +26,7 @@ static int64_t div64(int64_t num, int64_t den)
     return num < 0 ? -(int64_t)q : (int64_t)q;
 }
 
-static void fail(app_ident_t *d, uint16_t why, int16_t detail)
+void app_ident_fail(app_ident_t *d, uint16_t why, int16_t detail)
 {
     if (d->step != (uint16_t)APP_IDENT_FAILED && d->step != (uint16_t)APP_IDENT_DONE) {
         d->fail = why;
@@ -145,7 +113,7 @@ void app_ident_start(app_ident_t *d, const dtc_config_t *cfg, uint16_t qep_count
     d->res.tc_iq = 0;
     d->fresh = 0U;
     /* 1 / V_dc (background: a division), for the duties. */
-    d->inv_vdc_iq = vdc_iq > IQ(1.0 / 16.0) ? fix_sat32(div64((int64_t)1 << 48, (int64_t)vdc_iq)) : IQ(1.0);
+    d->inv_vdc_iq = vdc_iq > IQ(1.0 / 16.0) ? fix_sat32(app_ident_div64((int64_t)1 << 48, (int64_t)vdc_iq)) : IQ(1.0);
     d->step = (uint16_t)APP_IDENT_RS;
     d->sub = 0U;
     /* The rotor swings onto the axis under the slow regulator (regulate), at half rated: the
@@ -156,7 +124,7 @@ void app_ident_start(app_ident_t *d, const dtc_config_t *cfg, uint16_t qep_count
     post_hold(d, 0U, 0U, ID_ENC_LEVEL, (iq_t)(ID_ENC_LEVEL / ID_ALIGN_RAMP), ID_ALIGN_SETTLE, ID_ENC_MEAS, 1U);
 }
 
-void app_ident_abort(app_ident_t *d) { fail(d, (uint16_t)APP_IDENT_FAIL_TRIP, 0); }
+void app_ident_abort(app_ident_t *d) { app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_TRIP, 0); }
 
 /* The voltage (v_alpha, v_beta) as one centred pulse per leg (app_ident.h: SSTP d_x = 1/2 +
  * v_x / V_dc; FSTP d_x = (v_mid + v_x - v_a) / V_dc, legs B and C). Inverse Clarke, amplitude
@@ -271,7 +239,7 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
     }
     for (k = 0U; k < 3U; k++) {
         if (fix_abs32(iph[k]) > IQ(1.25)) {
-            fail(d, (uint16_t)APP_IDENT_FAIL_OVERCURRENT, (int16_t)k);
+            app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_OVERCURRENT, (int16_t)k);
             return 1U;
         }
     }
@@ -375,7 +343,7 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
         /* the regulator at its voltage limit: the back-EMF and drops exceed what the link gives */
         if (fix_abs32(v_par) >= fix_sub32(d->v_lim_iq, IQ(1.0 / 256.0))) {
             if (++d->sat_n >= ID_OPEN_PERIODS) {
-                fail(d, (uint16_t)APP_IDENT_FAIL_VDC_LOW, 0);
+                app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_VDC_LOW, 0);
                 return 1U;
             }
         } else {
@@ -410,7 +378,7 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
                 }
 
                 if (d->n >= ID_SETTLE_MAX) {
-                    fail(d, (uint16_t)APP_IDENT_FAIL_NOT_AT_REST, 0);
+                    app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_NOT_AT_REST, 0);
                     return 1U;
                 }
             }
@@ -435,7 +403,7 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
         if (fix_abs32(v_par) >= fix_sub32(d->v_lim_iq, IQ(1.0 / 256.0)) && d->i_ref >= IQ(0.25) &&
             fix_abs32(i_par) < fix_rshift_rnd32(d->i_ref, 2U)) {
             if (++d->sat_n >= ID_OPEN_PERIODS) {
-                fail(d, (uint16_t)APP_IDENT_FAIL_OPEN_PHASE, 0);
+                app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_OPEN_PHASE, 0);
                 return 1U;
             }
         } else {
@@ -448,87 +416,6 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
     return 0U;
 }
 
-/* Least-squares line through the level means (background): R = S_xy / S_xx on deviations
- * from the means, V_0 = mean_v - R mean_i. Scaling: deviations |dx| < 2 pu (2^25), products
- * < 2^50, four of them < 2^52 in 64 bits; S_xx >> 24 is S_xx in IQ. */
-static void fit_line(app_ident_t *d)
-{
-    int64_t mx = 0, my = 0, sxx = 0, sxy = 0;
-    uint16_t k;
-    for (k = 0U; k < APP_IDENT_R_LEVELS; k++) {
-        mx += d->res.level_i_iq[k];
-        my += d->res.level_v_iq[k];
-    }
-    mx = div64(mx, (int64_t)APP_IDENT_R_LEVELS);
-    my = div64(my, (int64_t)APP_IDENT_R_LEVELS);
-    for (k = 0U; k < APP_IDENT_R_LEVELS; k++) {
-        const int64_t dx = (int64_t)d->res.level_i_iq[k] - mx;
-        const int64_t dy = (int64_t)d->res.level_v_iq[k] - my;
-        sxx += dx * dx;
-        sxy += dx * dy;
-    }
-    sxx >>= 24;
-    d->res.r_iq = sxx > 0 ? fix_sat32(div64(sxy, sxx)) : 0;
-    d->res.v0_iq = fix_sub32(fix_sat32(my), iq_mpy(d->res.r_iq, fix_sat32(mx)));
-}
-
-/* One move of the encoder step: a turn over the dwells per turn, angle_t LSB (three: 21845, one
- * LSB short of a third, so the last dwell is 3 LSB = 0.02 degree short of a full turn). */
-static uint32_t span_of(const app_ident_t *d) { return d->n_dwell == 2U ? 32768UL : 21845UL; }
-
-/* Encoder results from the dwell positions (background; app_ident.h). */
-static void encoder_results(app_ident_t *d, const dtc_config_t *cfg)
-{
-    const int64_t n_q8 = (int64_t)cfg->board.enc_counts << 8;
-    const int64_t delta = (int64_t)d->u.st.dwell_pos_q8[d->n_dwell] - (int64_t)d->u.st.dwell_pos_q8[0];
-    const int64_t ad = delta < 0 ? -delta : delta;
-    int64_t p;
-    int32_t acc = 0;
-    angle_t off0 = 0U;
-    uint16_t j;
-    d->res.counts_per_turn = fix_sat32(div64(delta, 256));
-    if (ad < (n_q8 >> 6)) {
-        fail(d, (uint16_t)APP_IDENT_FAIL_ENC_NOT_COUNTING, (int16_t)d->res.counts_per_turn);
-        return;
-    }
-    d->res.enc_reversed = delta < 0 ? 1U : 0U;
-    p = div64(n_q8 + (ad >> 1), ad);
-    if (p < 1 || p > 16) {
-        fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_POLE_PAIRS);
-        return;
-    }
-    {
-        const int64_t err = p * ad - n_q8;
-        if ((err < 0 ? -err : err) > div64(n_q8, 20)) {
-            fail(d, (uint16_t)APP_IDENT_FAIL_ENC_LINES, (int16_t)d->res.counts_per_turn);
-            return;
-        }
-    }
-    d->res.pole_pairs = (uint16_t)p;
-    for (j = 0U; j < d->n_dwell; j++) {
-        /* the raw count at the dwell (Q8), in [0, N) */
-        const int64_t raw = ((int64_t)d->count0 << 8) + (int64_t)d->u.st.dwell_pos_q8[j];
-        int64_t cq8 = raw - div64(raw, n_q8) * n_q8;
-        int64_t th;
-        angle_t th_vec, off;
-        if (cq8 < 0) {
-            cq8 += n_q8;
-        }
-        if (d->res.enc_reversed != 0U) {
-            cq8 = -cq8;
-        }
-        th = div64(cq8 * p * 65536, n_q8);       /* electrical angle of the count, angle_t units */
-        th_vec = (angle_t)(d->res.axis + (angle_t)(span_of(d) * j) + (angle_t)d->u.st.dwell_ang[j]);
-        off = (angle_t)((uint32_t)th_vec - (uint32_t)(uint16_t)(uint64_t)th); /* modulo one turn */
-        if (j == 0U) {
-            off0 = off;
-        }
-        acc += (int32_t)(int16_t)(uint16_t)(off - off0);
-    }
-    d->res.enc_offset = (angle_t)(off0 + (angle_t)(int16_t)div64(acc, (int64_t)d->n_dwell));
-}
-
-
 /* Background: the mean count and the measured current's angle of the dwell just ended (index j).
  * The rotor at rest lies on the current actually flowing, the reference axis turned by
  * atan2(mean quadrature, mean parallel current): the slow regulator has no quadrature integral,
@@ -538,8 +425,8 @@ static void store_dwell(app_ident_t *d, uint16_t j)
 {
     angle_t a;
     iq_t mag;
-    d->u.st.dwell_pos_q8[j] = fix_sat32(div64(d->sum_pos * 256, (int64_t)d->n_meas));
-    fix_polar(fix_sat32(div64(d->sum_i, (int64_t)d->n_meas)), fix_sat32(div64(d->sum_q, (int64_t)d->n_meas)), &a, &mag);
+    d->u.st.dwell_pos_q8[j] = fix_sat32(app_ident_div64(d->sum_pos * 256, (int64_t)d->n_meas));
+    fix_polar(fix_sat32(app_ident_div64(d->sum_i, (int64_t)d->n_meas)), fix_sat32(app_ident_div64(d->sum_q, (int64_t)d->n_meas)), &a, &mag);
     d->u.st.dwell_ang[j] = (int16_t)a;
 }
 
@@ -547,190 +434,18 @@ static void store_dwell(app_ident_t *d, uint16_t j)
 static void post_move(app_ident_t *d)
 {
     const uint32_t move = d->n_dwell == 2U ? ID_ENC_MOVE_FSTP : ID_ENC_MOVE_SSTP;
-    const uint32_t span = span_of(d);
-    post_hold(d, span << 16, (uint32_t)div64((int64_t)span << 16, (int64_t)move), ID_ENC_LEVEL,
+    const uint32_t span = app_ident_span_of(d);
+    post_hold(d, span << 16, (uint32_t)app_ident_div64((int64_t)span << 16, (int64_t)move), ID_ENC_LEVEL,
               (iq_t)(IQ(1.0) / ID_LEVEL_RAMP), ID_ENC_SETTLE, ID_ENC_MEAS, 1U);
 }
 
-static void next_step(app_ident_t *d, uint16_t step)
+void app_ident_next_step(app_ident_t *d, uint16_t step)
 {
     d->res.ticks[d->step] = d->tick - d->step_tick;
     d->step_tick = d->tick;
     d->step = step;
     d->sub = 0U;
 }
-
-/* Background: one spin window with the q current i (SEG_SPIN) or with the gates off (SEG_COAST). */
-static void post_window(app_ident_t *d, uint16_t seg, iq_t i)
-{
-    d->seg = seg;
-    d->slow = 0U;
-    d->th_left_q16 = 0U;
-    d->i_target = i;
-    d->i_rate = (iq_t)(IQ(1.0) / ID_LEVEL_RAMP);
-    d->n_meas = ID_SPIN_WIN;
-    d->done = 0U;
-    d->go = 1U;
-}
-
-/* Background: the row of the spin's integrated equation of motion between the centres of windows
- * x and y (app_ident.h units: speed in counts per period, torque in pu q current):
- *   J (w_y - w_x) + B (pos_y - pos_x) + T_c (t_y - t_x) = mean torque x (t_y - t_x),
- * times 2 N (N = ID_SPIN_WIN, w = dpos / N, pos at the centre pos0 + dpos / 2):
- *   r[0] = 2 (dpos_y - dpos_x), r[1] = N (2 pos0_y + dpos_y - 2 pos0_x - dpos_x), r[2] = 2 N (t_y - t_x).
- * Magnitudes: counts and periods below 2^26 over a spin: each element < 2^37. */
-static void motion_row(const app_ident_win_t *x, const app_ident_win_t *y, int64_t r[3])
-{
-    r[0] = 2 * ((int64_t)y->dpos - (int64_t)x->dpos);
-    r[1] = (int64_t)ID_SPIN_WIN * (2 * (int64_t)y->pos0 + (int64_t)y->dpos - 2 * (int64_t)x->pos0 - (int64_t)x->dpos);
-    r[2] = 2 * (int64_t)ID_SPIN_WIN * (int64_t)(uint32_t)(y->tick0 - x->tick0);
-}
-
-/* Background: psi_m and the mechanics from the spin's windows (app_ident.h).
- * psi_m (Hoang eqs. 6-9, v = R i + d psi / dt, psi = L i + psi_m e^{j theta}, in the rotor frame at
- * constant current, i_d = 0: v_q = R i_q + w_e psi_m + the inverter's
- * threshold and dead-time drop along the current, constant for a current of one sign): the q
- * voltage's change less R (step RS's slope) times the q current's change, over the electrical
- * speed's change between windows A and B, w_e = dpos p 2 pi / (enc_counts N Ts):
- *   psi_pu = dv_q enc_counts N ts_pu / (ddpos p 2 pi).
- * Mechanics (J dw/dt + B w + T_c = T_e, T_e = k_t i_q): the two coast rows (no torque) fix
- * (J, B, T_c) up to a factor, their cross product (a, b, c): B / J = b / a, T_c / J = c / a; the
- * acceleration row (the measured q current's integral) gives J. Scaling as commented below. */
-static void spin_results(app_ident_t *d, const dtc_config_t *cfg)
-{
-    const app_ident_win_t *const a_w = &d->u.sp.w[0];
-    const app_ident_win_t *const b_w = &d->u.sp.w[1];
-    const int64_t ddpos = (int64_t)b_w->dpos - (int64_t)a_w->dpos;
-    int64_t r0[3], r1[3], r2[3], x[3];
-    uint16_t k;
-    if (ddpos <= 0) {
-        fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_PSI);
-        return;
-    }
-    {
-        /* the q voltage's change less the resistive part of the q current's change (R of step RS) */
-        const iq_t dv = fix_sub32(fix_sub32(d->u.sp.vq[1], d->u.sp.vq[0]), iq_mpy(d->res.r_iq, fix_sub32(d->u.sp.iq[1], d->u.sp.iq[0])));
-        const int64_t t = div64((int64_t)dv * (int64_t)cfg->board.ts_pu_iq,
-                                ddpos * (int64_t)d->res.pole_pairs);
-        d->res.psi_iq = fix_sat32(div64(t * (int64_t)ID_SPIN_WIN * (int64_t)cfg->board.enc_counts, ID_IQ_2PI));
-    }
-    /* Bounds: psi_m from 1/64 to 4 pu (the back-EMF at rated speed 1/64 .. 4 x V_dc) */
-    if (d->res.psi_iq < IQ(1.0 / 64.0) || d->res.psi_iq > IQ(4.0)) {
-        fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_PSI);
-        return;
-    }
-    motion_row(a_w, b_w, r0);
-    motion_row(&d->u.sp.w[2], &d->u.sp.w[3], r1);
-    motion_row(&d->u.sp.w[3], &d->u.sp.w[4], r2);
-    /* (a, b, c) = r1 x r2, halved together below 2^32 (elements of r below 2^31: products < 2^62) */
-    x[0] = r1[1] * r2[2] - r1[2] * r2[1];
-    x[1] = r1[2] * r2[0] - r1[0] * r2[2];
-    x[2] = r1[0] * r2[1] - r1[1] * r2[0];
-    while ((x[0] < 0 ? -x[0] : x[0]) >= ((int64_t)1 << 32) || (x[1] < 0 ? -x[1] : x[1]) >= ((int64_t)1 << 32) ||
-           (x[2] < 0 ? -x[2] : x[2]) >= ((int64_t)1 << 32)) {
-        for (k = 0U; k < 3U; k++) {
-            x[k] /= 2;
-        }
-    }
-    /* B / J and T_c / J as x_1 / x_0, x_2 / x_0 in Q30; J must be positive and dominate (a coast
-     * that decelerates) */
-    if (x[0] == 0 || (x[1] < 0 ? -x[1] : x[1]) > (x[0] < 0 ? -x[0] : x[0]) * 256 ||
-        (x[2] < 0 ? -x[2] : x[2]) > (x[0] < 0 ? -x[0] : x[0]) * 256) {
-        fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_MECH);
-        return;
-    }
-    {
-        const int64_t beta = div64(x[1] * ((int64_t)1 << 30) * (x[0] < 0 ? -1 : 1), x[0] < 0 ? -x[0] : x[0]);
-        const int64_t gamma = div64(x[2] * ((int64_t)1 << 30) * (x[0] < 0 ? -1 : 1), x[0] < 0 ? -x[0] : x[0]);
-        /* the acceleration row: J (r0[0] + beta r0[1] + gamma r0[2]) = 2 N (torque integral from A's
-         * centre to B's): the q current summed over the windows A..B less half of A's and B's sums
-         * (IQ x periods); den in Q30 (r0 < 2^31, beta, gamma < 2^38: < 2^63 for the rig's spans) */
-        const int64_t den = r0[0] * ((int64_t)1 << 30) + beta * r0[1] + gamma * r0[2];
-        const int64_t rhs = 2 * (int64_t)ID_SPIN_WIN *
-                            (d->u.sp.acc_i - (((int64_t)d->u.sp.iq[0] + (int64_t)d->u.sp.iq[1]) * (int64_t)ID_SPIN_WIN) / 2);
-        if (den <= ((int64_t)1 << 12) || rhs <= 0) {
-            fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_MECH);
-            return;
-        }
-        /* J in row units = rhs 2^30 / (den 2^24); Q12: rhs / (den >> 12) x 2^6 */
-        d->res.j_q12 = fix_sat32(div64(rhs, den >> 12) * 64);
-        d->res.b_iq = fix_sat32((beta * (int64_t)d->res.j_q12) >> 18);
-        d->res.tc_iq = fix_sat32((gamma * (int64_t)d->res.j_q12) >> 18);
-    }
-    if (d->res.j_q12 <= 0) {
-        fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_MECH);
-    }
-}
-
-/* Background: the spin step. sub 0 accelerating at ID_SPIN_I on the q axis until ID_SPIN_W or the
- * voltage headroom (5/8 of the limit); 1 coasting (gates off) until two thirds of the coast's
- * first speed (window D); 2 until one third (window E); then the fits. Window 1 of each phase
- * (the current's ramp, its decay) is not used. */
-static void spin_service(app_ident_t *d, const dtc_config_t *cfg)
-{
-    const int32_t dir = d->res.enc_reversed != 0U ? -1 : 1;
-    app_ident_win_t rec;
-    iq_t vq, iq;
-    const int64_t dpos_t =
-        div64((((int64_t)ID_SPIN_W * (int64_t)cfg->board.ts_pu_iq) >> 24) * (int64_t)ID_SPIN_WIN * (int64_t)cfg->board.enc_counts,
-              ID_IQ_2PI * (int64_t)d->res.pole_pairs);
-    rec.dpos = dir * d->win_dpos;
-    rec.pos0 = dir * d->still_ref;
-    rec.tick0 = d->win_tick;
-    vq = fix_sat32(div64(d->sum_v, (int64_t)ID_SPIN_WIN));
-    iq = fix_sat32(div64(d->sum_i, (int64_t)ID_SPIN_WIN));
-    if (d->sub == 0U) {
-        d->n_acc++;
-        if (d->n_acc == 2U) {
-            d->u.sp.w[0] = rec;
-            d->u.sp.vq[0] = vq;
-            d->u.sp.iq[0] = iq;
-            d->u.sp.acc_i = 0;
-        }
-        if (d->n_acc >= 2U) {
-            d->u.sp.acc_i += d->sum_i;
-        }
-        d->u.sp.w[1] = rec;
-        d->u.sp.vq[1] = vq;
-        d->u.sp.iq[1] = iq;
-        if (d->n_acc >= 3U && ((int64_t)rec.dpos >= dpos_t || fix_abs32(vq) >= iq_mpy(d->v_lim_iq, IQ(0.625)) ||
-                               d->n_acc >= ID_SPIN_MAXW)) {
-            if ((int64_t)rec.dpos < (dpos_t >> 3)) {
-                fail(d, fix_abs32(vq) >= iq_mpy(d->v_lim_iq, IQ(0.625)) ? (uint16_t)APP_IDENT_FAIL_VDC_LOW
-                                                                            : (uint16_t)APP_IDENT_FAIL_BLOCKED,
-                     (int16_t)(rec.dpos > 32767 ? 32767 : rec.dpos));
-                return;
-            }
-            d->sub = 1U;
-            post_window(d, (uint16_t)APP_IDENT_SEG_COAST, 0);
-            return;
-        }
-        post_window(d, (uint16_t)APP_IDENT_SEG_SPIN, ID_SPIN_I);
-        return;
-    }
-    d->n_coast++;
-    if (d->n_coast == 2U) {
-        d->u.sp.w[2] = rec;
-    } else if (d->n_coast > 2U) {
-        if (d->sub == 1U && ((int64_t)rec.dpos * 3 <= 2 * (int64_t)d->u.sp.w[2].dpos || d->n_coast >= ID_COAST_MAXW / 2U)) {
-            d->u.sp.w[3] = rec;
-            d->sub = 2U;
-        } else if (d->sub == 2U && ((int64_t)rec.dpos * 3 <= (int64_t)d->u.sp.w[2].dpos || d->n_coast >= ID_COAST_MAXW)) {
-            d->u.sp.w[4] = rec;
-            spin_results(d, cfg);
-            if (d->step == (uint16_t)APP_IDENT_FAILED) {
-                return;
-            }
-            next_step(d, (uint16_t)APP_IDENT_DONE);
-            d->seg = (uint16_t)APP_IDENT_SEG_OFF;
-            return;
-        } else {
-            /* between D and E, or before D */
-        }
-    }
-    post_window(d, (uint16_t)APP_IDENT_SEG_COAST, 0);
-}
-
 
 void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
 {
@@ -747,26 +462,26 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
         if (d->sub == 0U) { /* segment 0 aligned the rotor: the encoder's first dwell */
             store_dwell(d, 0U);
         } else { /* 1.. are the levels */
-            d->res.level_i_iq[d->sub - 1U] = fix_sat32(div64(d->sum_i, (int64_t)d->n_meas));
-            d->res.level_v_iq[d->sub - 1U] = fix_sat32(div64(d->sum_v, (int64_t)d->n_meas));
+            d->res.level_i_iq[d->sub - 1U] = fix_sat32(app_ident_div64(d->sum_i, (int64_t)d->n_meas));
+            d->res.level_v_iq[d->sub - 1U] = fix_sat32(app_ident_div64(d->sum_v, (int64_t)d->n_meas));
         }
         d->sub++;
         if (d->sub <= APP_IDENT_R_LEVELS) {
             post_hold(d, 0U, 0U, levels[d->sub - 1U], (iq_t)(IQ(1.0) / ID_LEVEL_RAMP), ID_LEVEL_SETTLE, ID_MEAS, 0U);
             return;
         }
-        fit_line(d);
+        app_ident_fit_line(d);
         /* Bounds: R between 1/4096 and 1/2 of Z_b; V_0 from -V_b/256 (a drop-free inverter's
          * measurement noise) to V_b/10 (7 V on 70 V). */
         if (d->res.r_iq < IQ(1.0 / 4096.0) || d->res.r_iq > IQ(0.5)) {
-            fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_RS);
+            app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_RS);
             return;
         }
         if (d->res.v0_iq < -IQ(1.0 / 256.0) || d->res.v0_iq > IQ(0.1)) {
-            fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_V0);
+            app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_V0);
             return;
         }
-        next_step(d, (uint16_t)APP_IDENT_LS);
+        app_ident_next_step(d, (uint16_t)APP_IDENT_LS);
         post_hold(d, 0U, 0U, IQ(0.5), (iq_t)(IQ(1.0) / ID_LEVEL_RAMP), ID_LEVEL_SETTLE, 16U, 0U);
         return;
     case APP_IDENT_LS:
@@ -788,14 +503,14 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
             }
             return;
         }
-        d->res.l_ts_iq = d->u.st.pulse_den > 0 ? fix_sat32(div64(d->u.st.pulse_num * 16777216, d->u.st.pulse_den)) : 0;
+        d->res.l_ts_iq = d->u.st.pulse_den > 0 ? fix_sat32(app_ident_div64(d->u.st.pulse_num * 16777216, d->u.st.pulse_den)) : 0;
         /* Bounds: L / (Z_b Ts) between 1/16 and 4096 (5 uH .. 6.5 H for Z_b = 31.8 ohm at 50 us). */
         if (d->res.l_ts_iq < IQ(1.0 / 16.0) || d->res.l_ts_iq > IQ(4096.0 - 1.0)) {
-            fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_LS);
+            app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_LS);
             return;
         }
         /* the first dwell was the alignment (step RS); the encoder step starts with a move */
-        next_step(d, (uint16_t)APP_IDENT_ENCODER);
+        app_ident_next_step(d, (uint16_t)APP_IDENT_ENCODER);
         d->sub = 1U;
         post_move(d);
         return;
@@ -806,20 +521,20 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
             post_move(d);
             return;
         }
-        encoder_results(d, cfg);
+        app_ident_encoder_results(d, cfg);
         if (d->step == (uint16_t)APP_IDENT_FAILED) {
             return;
         }
         /* electrical angle per count, Q16: p 2^32 / enc_counts */
-        d->gain_q16 = (uint32_t)div64((int64_t)d->res.pole_pairs << 32, (int64_t)cfg->board.enc_counts);
-        next_step(d, (uint16_t)APP_IDENT_SPIN);
+        d->gain_q16 = (uint32_t)app_ident_div64((int64_t)d->res.pole_pairs << 32, (int64_t)cfg->board.enc_counts);
+        app_ident_next_step(d, (uint16_t)APP_IDENT_SPIN);
         d->n_acc = 0U;
         d->n_coast = 0U;
         d->fresh = 1U;
-        post_window(d, (uint16_t)APP_IDENT_SEG_SPIN, ID_SPIN_I);
+        app_ident_post_window(d, (uint16_t)APP_IDENT_SEG_SPIN, ID_SPIN_I);
         return;
     case APP_IDENT_SPIN:
-        spin_service(d, cfg);
+        app_ident_spin_service(d, cfg);
         return;
     default:
         return;

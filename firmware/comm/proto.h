@@ -154,6 +154,8 @@ enum proto_cmd {
      *          20 u16 enc_reversed  22 u16 enc_offset (angle_t)  24 i32 counts_per_turn
      *          28 u32 ticks[1..3] (control periods of the steps RS, LS, ENCODER)
      *          40 iq level_i[4]  56 iq level_v[4] (the R fit's points, pu)
+     *          72 iq psi (psi_m, pu of V_b / w_b)  76 i32 j_q12  80 iq b  84 iq tc (J, viscous and
+     *          Coulomb friction over k_t, app_ident_result_t's units)  88 u32 ticks[6] (SPIN)
      *   PROTO_ERR_RANGE for another sub. */
     PROTO_IDENTIFY = 0x70,
 

@@ -337,7 +337,12 @@ static void do_identify(const frame_t *rq, frame_t *rs)
         frame_put_i32(&o[40U + 4U * k], d.res.level_i_iq[k]);
         frame_put_i32(&o[56U + 4U * k], d.res.level_v_iq[k]);
     }
-    rs->len = 72U;
+    frame_put_i32(&o[72], d.res.psi_iq);
+    frame_put_i32(&o[76], d.res.j_q12);
+    frame_put_i32(&o[80], d.res.b_iq);
+    frame_put_i32(&o[84], d.res.tc_iq);
+    frame_put_u32(&o[88], d.res.ticks[APP_IDENT_SPIN]);
+    rs->len = 92U;
 }
 
 static void do_telemetry_start(app_proto_t *p, const frame_t *rq, frame_t *rs)

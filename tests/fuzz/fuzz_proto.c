@@ -44,6 +44,7 @@
 #include "frame.h"
 #include "fuzz_reader.h"
 #include "hal.h"
+#include "hal_null.h"
 #include "proto.h"
 
 #define FUZZ_CHECK(cond, ...)                                                                      \
@@ -61,8 +62,6 @@
 
 static dtc_config_si_t g_si;
 static dtc_config_t g_cfg;
-static hal_meas_t g_meas;
-static uint32_t g_tick;
 /* host -> drive: octets sent, octets the dispatcher read */
 static uint16_t g_rx[LINE_MAX_OCTETS];
 static size_t g_rx_n, g_rx_rd;
@@ -75,19 +74,6 @@ static uint32_t g_last_rx_tick; /* the dispatcher's idle rule, mirrored for the 
 static uint16_t g_rx_seen;
 
 /* ---- the HAL ------------------------------------------------------------------------------ */
-void hal_init(void) {}
-void hal_read(hal_meas_t *m)
-{
-    *m = g_meas;
-    m->tick = g_tick;
-}
-void hal_write(const hal_cmd_t *cmd) { (void)cmd; }
-uint16_t hal_pwm_period(void) { return 3750U; }
-void hal_gates_off(void) {}
-void hal_trip_clear(void) {}
-void hal_watchdog_service(void) {}
-uint16_t hal_irq_save(void) { return 0U; }
-void hal_irq_restore(uint16_t state) { (void)state; }
 /* The reference decoder parses everything queued (the dispatcher parses it too, before its line
  * goes idle), counting the requests and the arm frames among them. */
 static void ref_rx_drain(void)
@@ -116,7 +102,7 @@ uint16_t hal_serial_read(uint16_t *buf, uint16_t max)
     while (n < max && n < 16U && g_rx_rd < g_rx_n) {
         buf[n] = g_rx[g_rx_rd++];
         (void)frame_dec_put(&g_ref_rx, buf[n]);
-        g_last_rx_tick = g_tick;
+        g_last_rx_tick = hal_null_tick;
         g_rx_seen = 1U;
         ref_rx_drain();
         n++;
@@ -208,19 +194,19 @@ static void period(void)
     app_isr();
     app_background();
     app_proto_background();
-    if (g_rx_seen != 0U && g_tick - g_last_rx_tick >= (uint32_t)PROTO_IDLE_MS * 1000000UL / 50000UL &&
+    if (g_rx_seen != 0U && hal_null_tick - g_last_rx_tick >= (uint32_t)PROTO_IDLE_MS * 1000000UL / 50000UL &&
         frame_dec_pending(&g_ref_rx) == 0U) {
         frame_dec_idle(&g_ref_rx); /* a truncated request ends as the dispatcher ends it */
         g_rx_seen = 0U;
         ref_rx_drain(); /* a request that began inside it is found now */
     }
-    g_tick++;
+    hal_null_tick++;
     app_get_status(&s);
     if (s.state == APP_STATE_RUN && was_run == 0U) {
         g_arms++;
         FUZZ_CHECK(g_arms <= g_arm_frames, "armed %u times on %u arm frames", g_arms, g_arm_frames);
         snapshot_params();
-    } else if (s.state == APP_STATE_RUN && (g_tick & 63U) == 0U) {
+    } else if (s.state == APP_STATE_RUN && (hal_null_tick & 63U) == 0U) {
         check_armed_params();
     }
     if (s.state == APP_STATE_IDENT && was_ident == 0U) {
@@ -230,7 +216,7 @@ static void period(void)
     }
     was_run = (uint16_t)(s.state == APP_STATE_RUN ? 1U : 0U);
     was_ident = (uint16_t)(s.state == APP_STATE_IDENT ? 1U : 0U);
-    if ((g_tick & 255U) == 0U) {
+    if ((hal_null_tick & 255U) == 0U) {
         check_params();
     }
 }
@@ -288,14 +274,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             abort();
         }
     }
-    memset(&g_meas, 0, sizeof g_meas);
+    memset(&hal_null_meas, 0, sizeof hal_null_meas);
     for (k = 0U; k < 3U; k++) {
-        g_meas.adc[k] = g_cfg.board.adc_i_offset[k];
+        hal_null_meas.adc[k] = g_cfg.board.adc_i_offset[k];
     }
-    g_meas.adc[HAL_ADC_VDC] = (uint16_t)(g_si.vdc_v / g_si.adc_vdc_v_per_count + 0.5);
-    g_meas.adc[HAL_ADC_VMID] = (uint16_t)(g_si.vdc_v / 2.0 / g_si.adc_vdc_v_per_count + 0.5);
-    g_meas.qep_count = 100U;
-    g_tick = 0U;
+    hal_null_meas.adc[HAL_ADC_VDC] = (uint16_t)(g_si.vdc_v / g_si.adc_vdc_v_per_count + 0.5);
+    hal_null_meas.adc[HAL_ADC_VMID] = (uint16_t)(g_si.vdc_v / 2.0 / g_si.adc_vdc_v_per_count + 0.5);
+    hal_null_meas.qep_count = 100U;
+    hal_null_tick = 0U;
     g_rx_n = 0U;
     g_rx_rd = 0U;
     g_requests = g_answers = g_arm_frames = g_arms = g_ident_frames = g_idents = 0U;
@@ -308,7 +294,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     for (k = 0U; k < 200U; k++) {
         period();
     }
-    while (r.n > 0U && g_tick < 60000U) {
+    while (r.n > 0U && hal_null_tick < 60000U) {
         const uint8_t op = rd_u8(&r);
         switch (op & 3U) {
         case 0U: {

@@ -97,7 +97,7 @@ def main():
             check(res["pole_pairs"] == truth["pole_pairs"]["true"], "pole pairs %d (true %d)" %
                   (res["pole_pairs"], truth["pole_pairs"]["true"]))
             check(res["encoder_reversed"] == bool(truth["encoder_reversed"]["true"]), "encoder direction")
-            for key, tol in (("rs_ohm", 0.02), ("ls_h", 0.03), ("drop_at_rated_v", 0.02)):
+            for key, tol in (("rs_ohm", 0.02), ("ls_h", 0.03), ("drop_at_rated_v", 0.02), ("psi_m_wb", 0.03), ("j_kgm2", 0.10)):
                 t = truth[key]["true"]
                 check(abs(res[key] - t) <= tol * abs(t), "%s %.6g within %g %% of the true %.6g (%.2f %%)" %
                       (key, res[key], 100 * tol, t, 100 * (res[key] - t) / t))

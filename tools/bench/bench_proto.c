@@ -23,31 +23,17 @@
 #include "dtc_config_si.h"
 #include "frame.h"
 #include "hal.h"
+#include "hal_null.h"
 #include "proto.h"
 
 #define STORE_WORDS 16384u
 #define LINE_OCTETS 256u
 
-static hal_meas_t g_meas;
-static uint32_t g_tick;
 static uint16_t g_rx[LINE_OCTETS];
 static uint16_t g_rx_n, g_rx_rd;
 static uint32_t g_tx_octets, g_errors;
 static uint16_t g_store[STORE_WORDS];
 
-void hal_init(void) {}
-void hal_read(hal_meas_t *m)
-{
-    *m = g_meas;
-    m->tick = g_tick;
-}
-void hal_write(const hal_cmd_t *cmd) { (void)cmd; }
-uint16_t hal_pwm_period(void) { return 3750U; }
-void hal_gates_off(void) {}
-void hal_trip_clear(void) {}
-void hal_watchdog_service(void) {}
-uint16_t hal_irq_save(void) { return 0U; }
-void hal_irq_restore(uint16_t state) { (void)state; }
 uint16_t hal_serial_read(uint16_t *buf, uint16_t max)
 {
     uint16_t n = 0U;
@@ -90,7 +76,7 @@ static void period(void)
     app_isr();
     app_background();
     app_proto_background();
-    g_tick++;
+    hal_null_tick++;
 }
 
 static void put(uint16_t cmd, const uint16_t *pl, uint16_t len)
@@ -154,11 +140,11 @@ int main(int argc, char **argv)
         return 1;
     }
     for (k = 0; k < 3; k++) {
-        g_meas.adc[k] = cfg.board.adc_i_offset[k];
+        hal_null_meas.adc[k] = cfg.board.adc_i_offset[k];
     }
-    g_meas.adc[HAL_ADC_VDC] = (uint16_t)(si.vdc_v / si.adc_vdc_v_per_count + 0.5);
-    g_meas.adc[HAL_ADC_VMID] = (uint16_t)(si.vdc_v / 2.0 / si.adc_vdc_v_per_count + 0.5);
-    g_meas.qep_count = 100U;
+    hal_null_meas.adc[HAL_ADC_VDC] = (uint16_t)(si.vdc_v / si.adc_vdc_v_per_count + 0.5);
+    hal_null_meas.adc[HAL_ADC_VMID] = (uint16_t)(si.vdc_v / 2.0 / si.adc_vdc_v_per_count + 0.5);
+    hal_null_meas.qep_count = 100U;
     for (j = 0; j < STORE_WORDS; j++) {
         g_store[j] = 0xFFFFU;
     }
@@ -195,11 +181,11 @@ int main(int argc, char **argv)
     }
     if (strcmp(r->name, "faultlog_read") == 0) {
         /* a hardware trip in the log (an entry with its snapshot), cleared: READY again */
-        g_meas.trip = 1U;
+        hal_null_meas.trip = 1U;
         for (j = 0; j < 10U; j++) {
             period();
         }
-        g_meas.trip = 0U;
+        hal_null_meas.trip = 0U;
         put(PROTO_FAULT_CLEAR, NULL, 0U);
         for (j = 0; j < 2000U; j++) {
             period();
@@ -216,7 +202,7 @@ int main(int argc, char **argv)
         app_isr();
         app_background();
         bench_pass();
-        g_tick++;
+        hal_null_tick++;
         for (j = 0; j < 2000U; j++) {
             period(); /* the answer out; after a restart on a new configuration, READY again */
         }

@@ -156,6 +156,9 @@ def cmd_identify(d, a):
             if done:
                 f.write("pole_pairs = %d\nencoder_offset_rad = %.6g\nencoder_reversed = %s\n" %
                         (res["pole_pairs"], res["encoder_offset_rad"], "true" if res["encoder_reversed"] else "false"))
+                # friction measured below zero (noise on a frictionless rotor) is written as 0, as dtc-sil does
+                f.write("psi_m_wb = %.6g\nj_kgm2 = %.6g\nb_nm_s_per_rad = %.6g\ncoulomb_nm = %.6g\n" %
+                        (res["psi_m_wb"], res["j_kgm2"], max(res["b_nm_s_per_rad"], 0.0), max(res["coulomb_nm"], 0.0)))
     if a.json:
         print(json.dumps({"status": "ok" if ok else "failed", "drive": st, **res}, indent=2))
     elif ok:

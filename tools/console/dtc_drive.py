@@ -424,6 +424,7 @@ class Drive:
         pl = self.request(CMD["IDENTIFY"], struct.pack("<H", IDENT_SUB["RESULT"]))
         (_, step, axis, r, v0, l_ts, p, rev, off, cpt, t_rs, t_ls, t_enc) = struct.unpack_from("<HHHiiiHHHiIII", pl)
         lev = struct.unpack_from("<8i", pl, 40)
+        psi_pu, j_q12, b_pu, tc_pu, t_spin = struct.unpack_from("<iiiiI", pl, 72)
         b = self.bases()
         ts = self.info["isr_period_ns"] * 1e-9
         z_b = b["z"]
@@ -446,9 +447,16 @@ class Drive:
             "encoder_offset_el_deg": off_e * 180.0 / math.pi,
             "encoder_offset_rad": math.remainder(-off_e / p, 2.0 * math.pi) if p > 0 else 0.0,
             "counts_per_turn": cpt,
-            "duration_s": {"rs": t_rs * ts, "ls": t_ls * ts, "encoder": t_enc * ts},
+            "duration_s": {"rs": t_rs * ts, "ls": t_ls * ts, "encoder": t_enc * ts, "spin": t_spin * ts},
             "rs_fit_points": [{"i_a": lev[k] / IQ_ONE * b["i"], "v_v": lev[4 + k] / IQ_ONE * b["v"]} for k in range(4)],
         }
+        # the spin step (app_ident.h formats): psi_m in pu of V_b / w_b; J, B, T_c over k_t I_b
+        # (k_t = 1.5 p psi_m), per encoder count (2 pi / enc_counts mechanical rad) and period
+        psi = psi_pu / IQ_ONE * b["v"] / b["w"]
+        kt_ib = 1.5 * p * psi * b["i"]
+        rad_per_count = 2.0 * math.pi / self.param_get("board.enc_counts")
+        q.update({"psi_m_wb": psi, "j_kgm2": j_q12 / 4096.0 * kt_ib * ts * ts / rad_per_count,
+                  "b_nm_s_per_rad": b_pu / IQ_ONE * kt_ib * ts / rad_per_count, "coulomb_nm": tc_pu / IQ_ONE * kt_ib})
         return q
 
     def identify(self, timeout_s=30.0, poll_s=0.1):
