@@ -179,10 +179,22 @@ static std::string first_key_set(const Scenario& s, const std::string& keys)
     return key;
 }
 
+// The scenario key that sets converter member p: its firmware.* key when given (the firmware's
+// own value, firmware_si_config), else the first of the row's keys the scenario sets.
+static std::string key_of_member(const Scenario& s, const dtc_si_param_t& p)
+{
+    if (p.belief != nullptr && s.firmware.value.count(p.name) != 0) {
+        return std::string("firmware.") + p.name;
+    }
+    return first_key_set(s, p.keys);
+}
+
 // The firmware configuration the scenario makes (firmware_si_config, as the run hands it to the
-// converter), refused by the converter's and the firmware's own checks: the refused member's
-// scenario key (dtc_si_params.h: the first of its keys the scenario sets, else the first) named
-// with where it was set.
+// converter), refused by the converter's and the firmware's own checks, named by the scenario key
+// that causes the refusal: of the members the scenario sets away from the converter's default,
+// the first whose value put back to the default lets the conversion pass (or refuse another
+// member), trying the keys given with --set before the file's, and the refused member's own key
+// before the others. Where none does (a relation the defaults share), the refused member's key.
 void check_firmware_config(const Scenario& s, Diagnostics* d)
 {
     const dtc_config_si_t si = firmware_si_config(s);
@@ -193,42 +205,50 @@ void check_firmware_config(const Scenario& s, Diagnostics* d)
     }
     const std::string keys = keys_of_refusal(e);
     std::string key = first_key_set(s, keys);
-    std::string derived;
-    if (key.empty() || s.origin.count(key) == 0) {
-        // The refused member is not one the scenario sets (a derived value, or a default): the
-        // key the scenario sets that causes the refusal is the first whose member, put back to
-        // the converter's default, lets the conversion pass (or refuse another member).
-        dtc_config_si_t def;
-        if (dtc_law_is_im(static_cast<uint16_t>(si.law)) != 0U) {
-            dtc_config_si_im_defaults(&def);
-        } else {
-            dtc_config_si_defaults(&def);
+    std::string cause;
+    dtc_config_si_t def;
+    if (dtc_law_is_im(static_cast<uint16_t>(si.law)) != 0U) {
+        dtc_config_si_im_defaults(&def);
+    } else {
+        dtc_config_si_defaults(&def);
+    }
+    // The member's value put back to the default: does the refusal go away?
+    auto causes = [&](const dtc_si_param_t& p) {
+        const std::size_t n = p.type == DTC_SIP_DOUBLE ? sizeof(double) : p.type == DTC_SIP_INT3 ? 3 * sizeof(int) : sizeof(int);
+        const char* at_def = reinterpret_cast<const char*>(&def) + p.offset;
+        if (std::memcmp(reinterpret_cast<const char*>(&si) + p.offset, at_def, n) == 0) {
+            return false;
         }
-        for (std::size_t r = 0; r < dtc_si_param_count; ++r) {
-            const dtc_si_param_t& p = dtc_si_params[r];
-            const std::size_t n = p.type == DTC_SIP_DOUBLE ? sizeof(double) : p.type == DTC_SIP_INT3 ? 3 * sizeof(int) : sizeof(int);
-            const char* at = reinterpret_cast<const char*>(&si) + p.offset;
-            const char* at_def = reinterpret_cast<const char*>(&def) + p.offset;
-            if (std::memcmp(at, at_def, n) == 0) {
-                continue;
-            }
-            const std::string k = first_key_set(s, p.keys);
-            if (k.empty() || s.origin.count(k) == 0) {
-                continue;
-            }
-            dtc_config_si_t trial = si;
-            std::memcpy(reinterpret_cast<char*>(&trial) + p.offset, at_def, n);
-            dtc_config_t tcfg;
-            dtc_si_error_t te;
-            if (dtc_config_from_si_err(&trial, &tcfg, &te) == DTC_SI_OK || std::strcmp(te.field, e.field) != 0) {
-                derived = " (" + (keys.empty() ? std::string(e.field) : keys) + ", not set, follows from " + k +
-                          " (converter field " + p.name + "))";
+        dtc_config_si_t trial = si;
+        std::memcpy(reinterpret_cast<char*>(&trial) + p.offset, at_def, n);
+        dtc_config_t tcfg;
+        dtc_si_error_t te;
+        return dtc_config_from_si_err(&trial, &tcfg, &te) == DTC_SI_OK || std::strcmp(te.field, e.field) != 0;
+    };
+    bool found = false;
+    for (const bool from_set : {true, false}) {
+        for (std::size_t pass = 0; pass < 2 && !found; ++pass) {
+            for (std::size_t r = 0; r < dtc_si_param_count && !found; ++r) {
+                const dtc_si_param_t& p = dtc_si_params[r];
+                const bool own = std::strcmp(p.name, e.field) == 0;
+                if (own != (pass == 0)) {
+                    continue; // the refused member first, then the others in row order
+                }
+                const std::string k = key_of_member(s, p);
+                const auto o = s.origin.find(k);
+                if (o == s.origin.end() || (o->second.rfind("--set", 0) == 0) != from_set || !causes(p)) {
+                    continue;
+                }
+                found = true;
+                if (!own) {
+                    cause = " (" + (keys.empty() ? std::string(e.field) : keys) + ": follows from " + k +
+                            ", converter field " + p.name + ")";
+                }
                 key = k;
-                break;
             }
         }
     }
-    const std::string what = std::string(e.msg) + derived + " (firmware configuration refused, " +
+    const std::string what = std::string(e.msg) + cause + " (firmware configuration refused, " +
                              (e.field[0] != '\0' ? std::string("converter field ") + e.field + ", " : "") +
                              "error " + std::to_string(e.code) + ")";
     d->errors.push_back(key.empty() ? s.path + ": firmware configuration: " + what
