@@ -160,9 +160,9 @@ template <typename Err, typename Warn> void check_faults(const Scenario& s, Err 
     }
 }
 
-// Of the scenario keys listed in keys (dtc_si_params.h), the first the scenario sets, else the
-// first that exists; "" when none does.
-static std::string first_key_set(const Scenario& s, const std::string& keys)
+// Of the scenario keys listed in keys (dtc_si_params.h), the first the scenario sets (only_first:
+// the first listed, set or not), else the first that exists; "" when none does.
+static std::string first_key_set(const Scenario& s, const std::string& keys, bool only_first = false)
 {
     std::string key;
     std::string word;
@@ -171,7 +171,8 @@ static std::string first_key_set(const Scenario& s, const std::string& keys)
             word += ch;
             continue;
         }
-        if (find_spec(word) != nullptr && (key.empty() || (s.origin.count(key) == 0 && s.origin.count(word) != 0))) {
+        if (find_spec(word) != nullptr &&
+            (key.empty() || (!only_first && s.origin.count(key) == 0 && s.origin.count(word) != 0))) {
             key = word;
         }
         word.clear();
@@ -180,21 +181,23 @@ static std::string first_key_set(const Scenario& s, const std::string& keys)
 }
 
 // The scenario key that sets converter member p: its firmware.* key when given (the firmware's
-// own value, firmware_si_config), else the first of the row's keys the scenario sets.
-static std::string key_of_member(const Scenario& s, const dtc_si_param_t& p)
+// own value, firmware_si_config), else the first of the row's keys the scenario sets (only_first:
+// the first listed, the member's own key).
+static std::string key_of_member(const Scenario& s, const dtc_si_param_t& p, bool only_first = false)
 {
     if (p.belief != nullptr && s.firmware.value.count(p.name) != 0) {
         return std::string("firmware.") + p.name;
     }
-    return first_key_set(s, p.keys);
+    return first_key_set(s, p.keys, only_first);
 }
 
 // The firmware configuration the scenario makes (firmware_si_config, as the run hands it to the
 // converter), refused by the converter's and the firmware's own checks, named by the scenario key
-// that causes the refusal: of the members the scenario sets away from the converter's default,
-// the first whose value put back to the default lets the conversion pass (or refuse another
-// member), trying the keys given with --set before the file's, and the refused member's own key
-// before the others. Where none does (a relation the defaults share), the refused member's key.
+// that causes the refusal. A key causes it when its member (dtc_si_params.h), put back to the
+// converter's default, lets the conversion pass or refuse another member. In this order: a key
+// given with --set that causes it (the refused member's first); the refused member's own key when
+// the scenario sets it (its value is the one refused); a key of the file that causes it; else the
+// first of the refused member's keys the scenario sets.
 void check_firmware_config(const Scenario& s, Diagnostics* d)
 {
     const dtc_config_si_t si = firmware_si_config(s);
@@ -212,7 +215,6 @@ void check_firmware_config(const Scenario& s, Diagnostics* d)
     } else {
         dtc_config_si_defaults(&def);
     }
-    // The member's value put back to the default: does the refusal go away?
     auto causes = [&](const dtc_si_param_t& p) {
         const std::size_t n = p.type == DTC_SIP_DOUBLE ? sizeof(double) : p.type == DTC_SIP_INT3 ? 3 * sizeof(int) : sizeof(int);
         const char* at_def = reinterpret_cast<const char*>(&def) + p.offset;
@@ -225,28 +227,36 @@ void check_firmware_config(const Scenario& s, Diagnostics* d)
         dtc_si_error_t te;
         return dtc_config_from_si_err(&trial, &tcfg, &te) == DTC_SI_OK || std::strcmp(te.field, e.field) != 0;
     };
-    bool found = false;
-    for (const bool from_set : {true, false}) {
-        for (std::size_t pass = 0; pass < 2 && !found; ++pass) {
-            for (std::size_t r = 0; r < dtc_si_param_count && !found; ++r) {
+    // The first member (the refused one first) whose key the scenario sets from_set (--set or
+    // not) and causes the refusal; "" when none.
+    auto search = [&](bool from_set) {
+        for (std::size_t pass = 0; pass < 2; ++pass) {
+            for (std::size_t r = 0; r < dtc_si_param_count; ++r) {
                 const dtc_si_param_t& p = dtc_si_params[r];
                 const bool own = std::strcmp(p.name, e.field) == 0;
-                if (own != (pass == 0)) {
-                    continue; // the refused member first, then the others in row order
-                }
                 const std::string k = key_of_member(s, p);
                 const auto o = s.origin.find(k);
-                if (o == s.origin.end() || (o->second.rfind("--set", 0) == 0) != from_set || !causes(p)) {
+                if (own != (pass == 0) || o == s.origin.end() || (o->second.rfind("--set", 0) == 0) != from_set ||
+                    !causes(p)) {
                     continue;
                 }
-                found = true;
                 if (!own) {
                     cause = " (" + (keys.empty() ? std::string(e.field) : keys) + ": follows from " + k +
                             ", converter field " + p.name + ")";
                 }
-                key = k;
+                return k;
             }
         }
+        return std::string();
+    };
+    const dtc_si_param_t* refused = dtc_si_param_find(e.field);
+    const std::string own_key = refused != nullptr ? key_of_member(s, *refused, true) : std::string();
+    if (std::string k = search(true); !k.empty()) {
+        key = k;
+    } else if (!own_key.empty() && s.origin.count(own_key) != 0) {
+        key = own_key;
+    } else if (std::string kf = search(false); !kf.empty()) {
+        key = kf;
     }
     const std::string what = std::string(e.msg) + cause + " (firmware configuration refused, " +
                              (e.field[0] != '\0' ? std::string("converter field ") + e.field + ", " : "") +
