@@ -15,63 +15,23 @@
 // The file is written under OUTPUT.partial-PID and renamed to OUTPUT when complete: a refused
 // configuration, a bad argument or a write error (a full disk included) leaves OUTPUT as it was.
 // OUTPUT that exists and is not a regular file (/dev/stdout, a pipe) is written directly.
-// Exit status: 0 written; 1 the configuration refused or a write error; 2 bad usage (CLI11).
-#include <CLI/CLI.hpp>
-
+// Exit status: 0 written; 1 the configuration refused or a write error; 2 bad usage (CLI11;
+// the command line is read by parse_gen_args, dtc_config_gen_cli.hpp).
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <iostream>
 #include <string>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "dtc_config_gen_cli.hpp"
 #include "dtc_config_si.h"
 #include "im_tau_check.h"
 #include "f2812_board.h"
 
 namespace {
-
-/// The suffix the longest generated name adds to SYMBOL (SYMBOL_post_fstp).
-constexpr const char* kLongestSuffix = "_post_fstp";
-/// C99 5.2.4.1: 63 significant initial characters in an internal identifier.
-constexpr std::size_t kMaxIdentifier = 63;
-
-/// "" when s is a C identifier that can be SYMBOL, else why not.
-std::string check_symbol(const std::string& s)
-{
-    static const char* const keywords[] = {
-        "auto",     "break",    "case",     "char",   "const",    "continue", "default",  "do",
-        "double",   "else",     "enum",     "extern", "float",    "for",      "goto",     "if",
-        "inline",   "int",      "long",     "register", "restrict", "return", "short",    "signed",
-        "sizeof",   "static",   "struct",   "switch", "typedef",  "union",    "unsigned", "void",
-        "volatile", "while",    "_Bool",    "_Complex", "_Imaginary"};
-    if (s.empty()) {
-        return "is empty";
-    }
-    const auto ident = [](char c, bool first) {
-        return c == '_' || (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (!first && c >= '0' && c <= '9');
-    };
-    for (std::size_t i = 0; i < s.size(); ++i) {
-        if (!ident(s[i], i == 0)) {
-            return "is not a C identifier (letters, digits and _, not starting with a digit)";
-        }
-    }
-    for (const char* k : keywords) {
-        if (s == k) {
-            return "is a C keyword";
-        }
-    }
-    if (s[0] == '_' && (s.size() == 1 || s[1] == '_' || (s[1] >= 'A' && s[1] <= 'Z'))) {
-        return "is reserved for the implementation (C99 7.1.3: _ followed by _ or a capital)";
-    }
-    if (s.size() + std::strlen(kLongestSuffix) > kMaxIdentifier) {
-        return "is " + std::to_string(s.size()) + " characters: with the " + kLongestSuffix + " suffix the file adds, " +
-               "more than the " + std::to_string(kMaxIdentifier) + " a C compiler must tell apart (at most " +
-               std::to_string(kMaxIdentifier - std::strlen(kLongestSuffix)) + ")";
-    }
-    return "";
-}
 
 /// Writes the configuration(s) to f; "" or why not.
 std::string emit(std::FILE* f, const dtc_config_si_t& si, const std::string& sym, bool relay)
@@ -157,44 +117,14 @@ std::string emit_params_md(std::FILE* f)
 
 int main(int argc, char** argv)
 {
-    CLI::App app{"dtc_config_gen: writes the firmware's default configuration as a C source file"};
-    app.set_version_flag("--version", std::string("dtc_config_gen ") + DTC_PROJECT_VERSION +
-                                          " (configuration version " + std::to_string(DTC_CONFIG_VERSION) + ")");
-    bool board = false, params_md = false;
-    double relay_s = 0.0;
-    std::string output, sym = "dtc_config_default";
-    app.add_flag("--f2812-board", board, "dead time and control period as the F2812 board's registers produce them");
-    app.add_flag("--params-md", params_md,
-                 "write the table of every firmware parameter (docs/parameters.md) to OUTPUT instead");
-    app.add_option("--reconfig-relay", relay_s,
-                   "a six-switch board with reconfiguration relays closing in DELAY_S seconds (defines SYMBOL_post)")
-        ->type_name("DELAY_S")
-        ->check(CLI::Validator(
-            [](std::string& v) {
-                char* end = nullptr;
-                const double x = std::strtod(v.c_str(), &end);
-                return end != v.c_str() && *end == '\0' && std::isfinite(x) && x > 0.0 && x <= 10.0
-                           ? std::string()
-                           : "the relay's closing time in s: a number in (0, 10]";
-            },
-            "DELAY_S", "(0, 10] s"));
-    app.add_option("output", output, "the C file to write")->required()->type_name("OUTPUT.c");
-    app.add_option("symbol", sym, "the configuration's C name (default dtc_config_default)")->type_name("SYMBOL");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        return app.exit(e) == 0 ? 0 : 2;
+    GenArgs a;
+    if (const int rc = parse_gen_args(argc, argv, &a, std::cout, std::cerr); rc >= 0) {
+        return rc;
     }
-    if (output.empty() || output[0] == '-') {
-        std::fprintf(stderr, "dtc_config_gen: OUTPUT '%s': a file name cannot start with '-' (write ./%s)\n",
-                     output.c_str(), output.c_str());
-        return 2;
-    }
-    if (const std::string why = check_symbol(sym); !why.empty()) {
-        std::fprintf(stderr, "dtc_config_gen: SYMBOL '%.80s%s': %s\n", sym.c_str(), sym.size() > 80 ? "..." : "",
-                     why.c_str());
-        return 2;
-    }
+    const bool board = a.board, params_md = a.params_md;
+    const double relay_s = a.relay_s;
+    const std::string& output = a.output;
+    const std::string& sym = a.sym;
 
     dtc_config_si_t si;
     dtc_config_si_defaults(&si);

@@ -167,6 +167,12 @@ sil set_quoted_key 1 'unknown key' check "$scen" --set '"control.speed_ref_rpm"=
 sil set_no_equals 1 'expected key=value' check "$scen" --set duration_s
 # a refused member the user did not set (derived): the key the user set that makes it impossible
 sil derived_refusal_names_the_set_key 1 "--set #1 'motor.rs_ohm=1000': motor.rs_ohm: handover_speed_rpm .* follows from motor.rs_ohm" check "$src/tools/scenarios/sstp_current_full.toml" --set motor.rs_ohm=1000
+# a refused member whose own keys the scenario sets (cal_hold lists motor.psi_m_wb, set in the
+# file): the key that causes it, not the first listed key the scenario happens to set
+sil derived_refusal_names_the_cause 1 "--set #1 'motor.rs_ohm=1000': motor.rs_ohm: cal_hold: .* follows from motor.rs_ohm" check "$scen" --set motor.rs_ohm=1000
+py "open('$work/in/k_cause.toml','w').write(open('$scen').read().replace('rs_ohm = 0.466', 'rs_ohm = 1000.0'))"
+expect derived_refusal_cause_file_line 1 'k_cause.toml:[0-9]+:[0-9]+: motor.rs_ohm: cal_hold: .* follows from motor.rs_ohm' -- "$exe" check "$work/in/k_cause.toml"
+sil derived_refusal_names_the_belief 1 "--set #1 'firmware.rs_ohm=1000': firmware.rs_ohm: cal_hold: .* follows from firmware.rs_ohm" check "$scen" --set firmware.rs_ohm=1000 --set motor.rs_ohm=0.5
 # no hardware comparator: an IM law predicts its currents (accepted); the PM ITC does not (refused)
 sil no_comparator_im_accepted 0 'im_dtc_speed.toml: ok' check "$src/tools/scenarios/im_dtc_speed.toml" --set protection.hw_trip_current_a=0
 sil no_comparator_itc_refused 1 'protection.hw_trip_current_a: 0 \(no hardware comparator\) needs a firmware path' check "$src/tools/scenarios/sstp_itc_full.toml" --set protection.hw_trip_current_a=0
@@ -210,6 +216,48 @@ if [ $rc -eq 130 ] && [ ! -e "$work/rec.bin" ] && ! ls "$work" | grep -q 'partia
     echo "ok   record_isr_sigint"; pass=$((pass + 1))
 else
     bad record_isr_sigint "exit $rc"; ls "$work"
+fi
+
+# --out D where the move into D crosses file systems or fails part-way (mounts in a private mount
+# namespace, where unshare -m is allowed): D a mount point (the staging folder goes inside it),
+# a previous file of D that cannot be moved aside (a busy mount point: the files moved in so far
+# are moved back, exit 2, nothing written), D on a read-only file system.
+sil out_parent_missing 0 '' run "$scen" --out "$work/o_new/a/b" -q --no-trace $short
+[ -s "$work/o_new/a/b/metrics.json" ] || { echo "FAIL out_parent_missing: no metrics.json"; fail=$((fail + 1)); }
+if unshare -m true 2>/dev/null; then
+    mkdir -p "$work/o_mnt" "$work/o_busy/trace.csv" "$work/o_ro"
+    echo previous >"$work/o_busy/metrics.json"
+    cat >"$work/mounts.sh" <<EOS
+mount -t tmpfs none "$work/o_mnt" && mount -t tmpfs none "$work/o_busy/trace.csv" && mount -t tmpfs -o ro none "$work/o_ro" || exit 99
+"$exe" run "$scen" --out "$work/o_mnt" -q $short; echo "rc_mnt=\$?"
+ls -A "$work/o_mnt"
+"$exe" run "$scen" --out "$work/o_busy" -q $short; echo "rc_busy=\$?"
+ls -A "$work/o_busy"; cat "$work/o_busy/metrics.json"
+"$exe" run "$scen" --out "$work/o_ro/D" -q $short; echo "rc_ro=\$?"
+ls -A "$work/o_ro"
+EOS
+    unshare -m sh "$work/mounts.sh" >"$work/log" 2>&1
+    if grep -q '^rc_mnt=0$' "$work/log" && grep -q '^trace.csv$' "$work/log"; then
+        echo "ok   out_mount_point"; pass=$((pass + 1))
+    else
+        bad out_mount_point "the run into a mount point failed"
+    fi
+    if grep -q '^rc_busy=2$' "$work/log" && grep -q 'o_busy: cannot move the previous trace.csv aside' "$work/log" &&
+        grep -q 'nothing written to .*o_busy' "$work/log" && grep -q '^previous$' "$work/log" &&
+        [ "$(cat "$work/o_busy/metrics.json")" = previous ]; then
+        echo "ok   out_move_fails_partway"; pass=$((pass + 1))
+    else
+        bad out_move_fails_partway "not all-or-nothing"
+    fi
+    if grep -q '^rc_ro=2$' "$work/log" && grep -q 'Read-only file system' "$work/log" &&
+        ! grep -q '^D$' "$work/log"; then
+        echo "ok   out_read_only"; pass=$((pass + 1))
+    else
+        bad out_read_only "a read-only parent"
+    fi
+    if find "$work" -name '*partial-*' | grep -q .; then bad out_mounts "a staging folder is left"; fi
+else
+    echo "skip out_mount_point, out_move_fails_partway, out_read_only: unshare -m not allowed here"
 fi
 
 # ---- sweeps ----

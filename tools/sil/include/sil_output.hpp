@@ -147,8 +147,9 @@ struct RunInfo {
 nlohmann::json metrics_json(const Scenario& sc, const Metrics& m, const RunInfo& info);
 std::string summary_text(const Scenario& sc, const Metrics& m, const RunInfo& info);
 
-/// Output staging: files are written into a fresh sibling directory and moved into the
-/// destination only when the run completed, so a failed run leaves nothing partial behind.
+/// Output staging: files are written into a fresh sibling directory (inside the destination when
+/// the destination is a mount point, so that every move is a rename on one file system) and moved
+/// into the destination only when the run completed, so a failed run leaves nothing partial behind.
 class StagedOutput {
 public:
     /// Checks that out_dir can be used (a directory or not existing, parent creatable) and creates

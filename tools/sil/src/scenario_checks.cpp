@@ -160,9 +160,9 @@ template <typename Err, typename Warn> void check_faults(const Scenario& s, Err 
     }
 }
 
-// Of the scenario keys listed in keys (dtc_si_params.h), the first the scenario sets, else the
-// first that exists; "" when none does.
-static std::string first_key_set(const Scenario& s, const std::string& keys)
+// Of the scenario keys listed in keys (dtc_si_params.h), the first the scenario sets (only_first:
+// the first listed, set or not), else the first that exists; "" when none does.
+static std::string first_key_set(const Scenario& s, const std::string& keys, bool only_first = false)
 {
     std::string key;
     std::string word;
@@ -171,7 +171,8 @@ static std::string first_key_set(const Scenario& s, const std::string& keys)
             word += ch;
             continue;
         }
-        if (find_spec(word) != nullptr && (key.empty() || (s.origin.count(key) == 0 && s.origin.count(word) != 0))) {
+        if (find_spec(word) != nullptr &&
+            (key.empty() || (!only_first && s.origin.count(key) == 0 && s.origin.count(word) != 0))) {
             key = word;
         }
         word.clear();
@@ -179,10 +180,24 @@ static std::string first_key_set(const Scenario& s, const std::string& keys)
     return key;
 }
 
+// The scenario key that sets converter member p: its firmware.* key when given (the firmware's
+// own value, firmware_si_config), else the first of the row's keys the scenario sets (only_first:
+// the first listed, the member's own key).
+static std::string key_of_member(const Scenario& s, const dtc_si_param_t& p, bool only_first = false)
+{
+    if (p.belief != nullptr && s.firmware.value.count(p.name) != 0) {
+        return std::string("firmware.") + p.name;
+    }
+    return first_key_set(s, p.keys, only_first);
+}
+
 // The firmware configuration the scenario makes (firmware_si_config, as the run hands it to the
-// converter), refused by the converter's and the firmware's own checks: the refused member's
-// scenario key (dtc_si_params.h: the first of its keys the scenario sets, else the first) named
-// with where it was set.
+// converter), refused by the converter's and the firmware's own checks, named by the scenario key
+// that causes the refusal. A key causes it when its member (dtc_si_params.h), put back to the
+// converter's default, lets the conversion pass or refuse another member. In this order: a key
+// given with --set that causes it (the refused member's first); the refused member's own key when
+// the scenario sets it (its value is the one refused); a key of the file that causes it; else the
+// first of the refused member's keys the scenario sets.
 void check_firmware_config(const Scenario& s, Diagnostics* d)
 {
     const dtc_config_si_t si = firmware_si_config(s);
@@ -193,42 +208,57 @@ void check_firmware_config(const Scenario& s, Diagnostics* d)
     }
     const std::string keys = keys_of_refusal(e);
     std::string key = first_key_set(s, keys);
-    std::string derived;
-    if (key.empty() || s.origin.count(key) == 0) {
-        // The refused member is not one the scenario sets (a derived value, or a default): the
-        // key the scenario sets that causes the refusal is the first whose member, put back to
-        // the converter's default, lets the conversion pass (or refuse another member).
-        dtc_config_si_t def;
-        if (dtc_law_is_im(static_cast<uint16_t>(si.law)) != 0U) {
-            dtc_config_si_im_defaults(&def);
-        } else {
-            dtc_config_si_defaults(&def);
-        }
-        for (std::size_t r = 0; r < dtc_si_param_count; ++r) {
-            const dtc_si_param_t& p = dtc_si_params[r];
-            const std::size_t n = p.type == DTC_SIP_DOUBLE ? sizeof(double) : p.type == DTC_SIP_INT3 ? 3 * sizeof(int) : sizeof(int);
-            const char* at = reinterpret_cast<const char*>(&si) + p.offset;
-            const char* at_def = reinterpret_cast<const char*>(&def) + p.offset;
-            if (std::memcmp(at, at_def, n) == 0) {
-                continue;
-            }
-            const std::string k = first_key_set(s, p.keys);
-            if (k.empty() || s.origin.count(k) == 0) {
-                continue;
-            }
-            dtc_config_si_t trial = si;
-            std::memcpy(reinterpret_cast<char*>(&trial) + p.offset, at_def, n);
-            dtc_config_t tcfg;
-            dtc_si_error_t te;
-            if (dtc_config_from_si_err(&trial, &tcfg, &te) == DTC_SI_OK || std::strcmp(te.field, e.field) != 0) {
-                derived = " (" + (keys.empty() ? std::string(e.field) : keys) + ", not set, follows from " + k +
-                          " (converter field " + p.name + "))";
-                key = k;
-                break;
-            }
-        }
+    std::string cause;
+    dtc_config_si_t def;
+    if (dtc_law_is_im(static_cast<uint16_t>(si.law)) != 0U) {
+        dtc_config_si_im_defaults(&def);
+    } else {
+        dtc_config_si_defaults(&def);
     }
-    const std::string what = std::string(e.msg) + derived + " (firmware configuration refused, " +
+    auto causes = [&](const dtc_si_param_t& p) {
+        const std::size_t n = p.type == DTC_SIP_DOUBLE ? sizeof(double) : p.type == DTC_SIP_INT3 ? 3 * sizeof(int) : sizeof(int);
+        const char* at_def = reinterpret_cast<const char*>(&def) + p.offset;
+        if (std::memcmp(reinterpret_cast<const char*>(&si) + p.offset, at_def, n) == 0) {
+            return false;
+        }
+        dtc_config_si_t trial = si;
+        std::memcpy(reinterpret_cast<char*>(&trial) + p.offset, at_def, n);
+        dtc_config_t tcfg;
+        dtc_si_error_t te;
+        return dtc_config_from_si_err(&trial, &tcfg, &te) == DTC_SI_OK || std::strcmp(te.field, e.field) != 0;
+    };
+    // The first member (the refused one first) whose key the scenario sets from_set (--set or
+    // not) and causes the refusal; "" when none.
+    auto search = [&](bool from_set) {
+        for (std::size_t pass = 0; pass < 2; ++pass) {
+            for (std::size_t r = 0; r < dtc_si_param_count; ++r) {
+                const dtc_si_param_t& p = dtc_si_params[r];
+                const bool own = std::strcmp(p.name, e.field) == 0;
+                const std::string k = key_of_member(s, p);
+                const auto o = s.origin.find(k);
+                if (own != (pass == 0) || o == s.origin.end() || (o->second.rfind("--set", 0) == 0) != from_set ||
+                    !causes(p)) {
+                    continue;
+                }
+                if (!own) {
+                    cause = " (" + (keys.empty() ? std::string(e.field) : keys) + ": follows from " + k +
+                            ", converter field " + p.name + ")";
+                }
+                return k;
+            }
+        }
+        return std::string();
+    };
+    const dtc_si_param_t* refused = dtc_si_param_find(e.field);
+    const std::string own_key = refused != nullptr ? key_of_member(s, *refused, true) : std::string();
+    if (std::string k = search(true); !k.empty()) {
+        key = k;
+    } else if (!own_key.empty() && s.origin.count(own_key) != 0) {
+        key = own_key;
+    } else if (std::string kf = search(false); !kf.empty()) {
+        key = kf;
+    }
+    const std::string what = std::string(e.msg) + cause + " (firmware configuration refused, " +
                              (e.field[0] != '\0' ? std::string("converter field ") + e.field + ", " : "") +
                              "error " + std::to_string(e.code) + ")";
     d->errors.push_back(key.empty() ? s.path + ": firmware configuration: " + what

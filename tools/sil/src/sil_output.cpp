@@ -13,6 +13,7 @@
 #include <unistd.h>
 #ifdef __linux__
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/syscall.h>
 #endif
 
@@ -612,6 +613,13 @@ bool StagedOutput::begin(const std::string& out_dir, std::string* err)
         out_dir_.pop_back();
     }
     stage_dir_ = out_dir_ + ".partial-" + std::to_string(static_cast<long>(::getpid()));
+    struct stat st_out {}, st_parent {};
+    if (::stat(out_dir_.c_str(), &st_out) == 0 && ::stat(parent.c_str(), &st_parent) == 0 &&
+        st_out.st_dev != st_parent.st_dev) {
+        // out_dir is a mount point: a sibling staging folder is on another file system and no
+        // file could be renamed from it; stage inside out_dir, on its own file system.
+        stage_dir_ = (fs::path(out_dir_) / (".partial-" + std::to_string(static_cast<long>(::getpid())))).string();
+    }
     fs::remove_all(stage_dir_, ec);
     if (!fs::create_directory(stage_dir_, ec)) {
         *err = stage_dir_ + ": cannot create (" + ec.message() + ")";

@@ -1,0 +1,50 @@
+// fuzz_cli.cpp - libFuzzer harness of dtc_config_gen's command line (parse_gen_args,
+// tools/config/dtc_config_gen_cli.hpp), docs/fuzzing.md.
+//
+// Input: the arguments after the program's name, separated by '\n' (at most 16).
+// Invariants (each a crash): no undefined behaviour, memory error or escaping exception; the
+// status is -1 (accepted), 0 (--help, --version or -h, alone or in a group -hx) or 2 (bad usage, with a message); an
+// accepted command line has an OUTPUT that is not empty and does not start with '-', a SYMBOL
+// check_symbol accepts, and a relay closing time of 0 (not given) or in (0, 10] s.
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "dtc_config_gen_cli.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t n)
+{
+    const std::string text(reinterpret_cast<const char*>(data), n);
+    std::vector<std::string> args{"dtc_config_gen"};
+    std::size_t b = 0;
+    for (std::size_t i = 0; i <= text.size() && args.size() <= 16; ++i) {
+        if (i == text.size() || text[i] == '\n') {
+            args.push_back(text.substr(b, i - b));
+            b = i + 1;
+        }
+    }
+    std::vector<const char*> argv;
+    bool help = false;
+    for (const std::string& a : args) {
+        argv.push_back(a.c_str());
+        // --help, --version, or -h alone or in a group of short flags (-hx)
+        help = help || a.rfind("--help", 0) == 0 || a.rfind("--version", 0) == 0 ||
+               (a.size() > 1 && a[0] == '-' && a[1] != '-' && a.find('h') != std::string::npos);
+    }
+    GenArgs g;
+    std::ostringstream out, err;
+    const int rc = parse_gen_args(static_cast<int>(argv.size()), argv.data(), &g, out, err);
+    if (rc == -1) {
+        const bool relay_ok = g.relay_s == 0.0 || (std::isfinite(g.relay_s) && g.relay_s > 0.0 && g.relay_s <= 10.0);
+        if (g.output.empty() || g.output[0] == '-' || !check_symbol(g.sym).empty() || !relay_ok) {
+            std::abort();
+        }
+    } else if (!((rc == 0 && help && !out.str().empty()) || (rc == 2 && !err.str().empty()))) {
+        std::abort();
+    }
+    return 0;
+}
