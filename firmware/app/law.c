@@ -130,6 +130,12 @@ uint16_t law_i_pred(const law_t *l, iq_t vdc_iq, iq_t i1[3])
         return 1U;
     }
 #endif
+#if DTC_LAW_ITC_LINKED
+    if (l->law == (uint16_t)DTC_LAW_PM_ITC) {
+        itc_i_pred(&l->u.itc, i1);
+        return 1U;
+    }
+#endif
     (void)l;
     (void)vdc_iq;
     (void)i1;

@@ -98,6 +98,10 @@ void itc_reset(itc_t *c)
     c->vmid_y_iq = 0;
     c->id_iq = 0;
     c->iq_iq = 0;
+    c->i_alpha_iq = 0;
+    c->i_beta_iq = 0;
+    c->sc.cos_q15 = Q15(1.0);
+    c->sc.sin_q15 = 0;
     c->iq_ref_iq = 0;
 }
 
@@ -223,11 +227,14 @@ void itc_step(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     }
     te = itc_observe(c, m, &i);
     itc_speed(c, m, o);
+    c->i_alpha_iq = i.i_alpha_iq;
+    c->i_beta_iq = i.i_beta_iq;
 
     /* 3. Rotor frame (the encoder's electrical angle), references, current PI (dqpi.h) on the
      *    decoupling and back-EMF feed-forward, the voltage limit of the inverter. */
     th = c->fe.theta_e; /* the encoder's electrical angle of this step (flux_est_angle, set by the observer) */
     park_sincos(th, &sc);
+    c->sc = sc;
     park_fwd(&sc, i.i_alpha_iq, i.i_beta_iq, &c->id_iq, &c->iq_iq);
     c->iq_ref_iq = iq_mpy(cfg->u.pm_itc.cc.iq_per_t_iq, c->te_ref_iq);
     vlo = cfg->board.fstp_vmid_measured != 0U ? m->vmid_iq : fix_rshift_rnd32(m->vdc_iq, 1U);
@@ -291,4 +298,22 @@ void itc_step(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     o->psi_ref_iq = c->act.flux_ref_iq;
     o->psir_mag_iq = 0;
     o->i_limited = 0U; /* the voltage limit is dqpi's (v.limited), not the current limit's */
+}
+
+void itc_i_pred(const itc_t *c, iq_t i1[3])
+{
+    const dtc_config_t *cfg = c->cfg;
+    const iq_t ts = cfg->board.ts_pu_iq;
+    const iq_t inv_ls = cfg->u.pm_itc.machine.inv_ls_iq;
+    const iq_t ets = iq_mpy(c->wpsi_iq, ts); /* w psi_m Ts */
+    /* Ts (v - r_s i) - w Ts j psi_r, psi_r = psi_m (cos, sin): j psi_r = (-sin, cos) psi_m */
+    const iq_t da = fix_add32(iq_mpy(ts, iq_sub(c->v2_alpha_iq, iq_mpy(cfg->machine.rs_iq, c->i_alpha_iq))),
+                              iq_mpy_q15(ets, c->sc.sin_q15));
+    const iq_t db = fix_sub32(iq_mpy(ts, iq_sub(c->v2_beta_iq, iq_mpy(cfg->machine.rs_iq, c->i_beta_iq))),
+                              iq_mpy_q15(ets, c->sc.cos_q15));
+    clarke_out_t o;
+    clarke_inv(iq_add(c->i_alpha_iq, iq_mpy(inv_ls, da)), iq_add(c->i_beta_iq, iq_mpy(inv_ls, db)), &o);
+    i1[0] = o.ia_iq;
+    i1[1] = o.ib_iq;
+    i1[2] = o.ic_iq;
 }

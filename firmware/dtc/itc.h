@@ -63,6 +63,7 @@
 #include "dtc_refs.h"
 #include "flux_est.h"
 #include "law_io.h"
+#include "park.h"
 #include "speed_meas.h"
 #include "speed_pi.h"
 #include "svm.h"
@@ -110,6 +111,9 @@ typedef struct {
     iq_t vmid_imax_iq; /* the bound of its phase-A current */
     /* the dq currents and their references of the last step (telemetry, tests) */
     iq_t id_iq, iq_iq, iq_ref_iq;
+    /* the step's measured current and rotor angle, for the current prediction (itc_i_pred) */
+    iq_t i_alpha_iq, i_beta_iq;
+    park_sc_t sc;
 } itc_t;
 
 /* The law's configuration check: dtc_config_check_common, then the law (DTC_LAW_PM_ITC) and its
@@ -128,5 +132,16 @@ void itc_reset(itc_t *c);
 void itc_step(itc_t *c, const dtc_meas_t *m, dtc_out_t *o);
 int16_t itc_shadow_write(itc_t *c, const dtc_refs_t *r);
 void itc_refs_get(const itc_t *c, dtc_refs_t *r);
+
+/* The phase currents predicted for the next sample, for the application's current-sensor
+ * plausibility (law.h law_i_pred; the law itself does not use them). The PM machine of Hoang
+ * eqs. 6-9 with L_d = L_q, psi = l_s i + psi_m e^{j theta}, over the period after the step:
+ *   i(k+1) = i(k) + (1/l_s) [Ts (v - r_s i) - w Ts j psi_m e^{j theta}]
+ * with v the voltage of the duties computed one step earlier (they act in that period: itc_step
+ * keeps them as v2), theta and i of the step, w psi_m of the speed loop. What it leaves out (the
+ * devices' drops, the rotation within the period, parameter errors) is nearly constant over a few
+ * periods: the plausibility (app/app_plaus.h) learns and removes such a bias. Formats: IQ pu,
+ * products rounded, sums saturated; |i1| saturates at 128 pu at worst (no wrap). */
+void itc_i_pred(const itc_t *c, iq_t i1[3]);
 
 #endif /* ITC_H */

@@ -173,9 +173,11 @@ sil derived_refusal_names_the_cause 1 "--set #1 'motor.rs_ohm=1000': motor.rs_oh
 py "open('$work/in/k_cause.toml','w').write(open('$scen').read().replace('rs_ohm = 0.466', 'rs_ohm = 1000.0'))"
 expect derived_refusal_cause_file_line 1 'k_cause.toml:[0-9]+:[0-9]+: motor.rs_ohm: cal_hold: .* follows from motor.rs_ohm' -- "$exe" check "$work/in/k_cause.toml"
 sil derived_refusal_names_the_belief 1 "--set #1 'firmware.rs_ohm=1000': firmware.rs_ohm: cal_hold: .* follows from firmware.rs_ohm" check "$scen" --set firmware.rs_ohm=1000 --set motor.rs_ohm=0.5
-# no hardware comparator: an IM law predicts its currents (accepted); the PM ITC does not (refused)
+# no hardware comparator: an IM law and the PM ITC predict their currents (accepted); the PM DTC
+# without the delay compensation does not (refused)
 sil no_comparator_im_accepted 0 'im_dtc_speed.toml: ok' check "$src/tools/scenarios/im_dtc_speed.toml" --set protection.hw_trip_current_a=0
-sil no_comparator_itc_refused 1 'protection.hw_trip_current_a: 0 \(no hardware comparator\) needs a firmware path' check "$src/tools/scenarios/sstp_itc_full.toml" --set protection.hw_trip_current_a=0
+sil no_comparator_itc_accepted 0 'sstp_itc_full.toml: ok' check "$src/tools/scenarios/sstp_itc_full.toml" --set protection.hw_trip_current_a=0
+sil no_comparator_no_prediction_refused 1 'protection.hw_trip_current_a: 0 \(no hardware comparator\) needs a firmware path' check "$src/tools/scenarios/sstp_current_full.toml" --set protection.hw_trip_current_a=0 --set control.delay_comp=false
 sil huge_value_says_why 1 'motor.j_kgm2: inertia_kgm2 = 1e\+308: beyond the largest value' check "$scen" --set motor.j_kgm2=1e308
 long=$(py "print('x'*100000)")
 sil set_long_value_not_echoed 1 "motor.type: expected one of .*\.\.\. \(100000 bytes\)" check "$scen" --set "motor.type=$long"

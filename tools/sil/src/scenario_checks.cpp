@@ -402,16 +402,16 @@ void cross_validate(Scenario& s, Diagnostics* d)
         // Without the hardware comparator only the firmware can see an over-current, and it sees
         // it through the current sensors: a failed sensor must be found, by the current sum of
         // three sensors or by the plausibility against the law's prediction (the PM law with
-        // the delay compensation, every IM law; firmware/app/app_plaus.h), both with the fault
-        // detection on. The PM indirect torque control makes no prediction (law.h law_i_pred).
+        // the delay compensation, the PM indirect torque control, every IM law;
+        // firmware/app/app_plaus.h, law.h law_i_pred), both with the fault detection on.
         const bool sum = s.sensors.current_sensors == 3;
-        const bool pred = (s.motor.type == MotorType::Pmsm && s.control.delay_comp && s.control.scheme != Scheme::Itc) ||
+        const bool pred = (s.motor.type == MotorType::Pmsm && (s.control.delay_comp || s.control.scheme == Scheme::Itc)) ||
                           s.motor.type == MotorType::Im;
         if (!s.control.fault_detect || !(sum || pred)) {
             err("protection.hw_trip_current_a",
                 "0 (no hardware comparator) needs a firmware path that sees a failed current sensor: "
                 "control.fault_detect = true with sensors.current_sensors = 3, the PM DTC with "
-                "control.delay_comp = true, or an IM law; otherwise a stuck sensor hides an over-current. Fit the "
+                "control.delay_comp = true, the PM ITC, or an IM law; otherwise a stuck sensor hides an over-current. Fit the "
                 "comparator or set protection.allow_unsafe = true");
         }
     }
