@@ -107,7 +107,7 @@ for cmode in none off on; do
   valgrind --tool=callgrind --callgrind-out-file="$tmp/cap_$cmode.out" "$bench" "$steps" capture $cmode \
     >"$tmp/cap_$cmode.txt" 2>/dev/null
   callgrind_annotate --inclusive=yes "$tmp/cap_$cmode.out" 2>/dev/null |
-    awk '/:bench_app_step/ { gsub(",", "", $1); print $1; exit }' >"$tmp/cap_$cmode.ir"
+    awk '/:bench_app_step/ && !done { gsub(",", "", $1); print $1; done = 1 }' >"$tmp/cap_$cmode.ir"
 done
 "$py" - "$tmp" "$steps" <<'PY'
 import sys
@@ -131,7 +131,7 @@ for pcmd in hello status param_desc param_read param_write param_write_cfg save 
   valgrind --tool=callgrind --callgrind-out-file="$tmp/proto_$pcmd.out" "$bench_proto" "$proto_n" "$pcmd" \
     >"$tmp/proto_$pcmd.txt" 2>/dev/null || { echo "budget: bench_proto $pcmd failed" >&2; exit 1; }
   callgrind_annotate --inclusive=yes --threshold=100 "$tmp/proto_$pcmd.out" 2>/dev/null |
-    awk -v c="$pcmd" '/:bench_pass/ { gsub(",", "", $1); print c, $1; exit }' >>"$tmp/proto.ir"
+    awk -v c="$pcmd" '/:bench_pass/ && !done { gsub(",", "", $1); print c, $1; done = 1 }' >>"$tmp/proto.ir"
 done
 "$py" - "$tmp/proto.ir" "$proto_n" <<'PY'
 import sys
