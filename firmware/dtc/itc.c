@@ -84,6 +84,7 @@ void itc_reset(itc_t *c)
     c->speed_iq = 0;
     c->wls_iq = 0;
     c->wpsi_iq = 0;
+    c->wpsi_ts_iq = 0;
     c->adv_iq = 0;
     c->v1_alpha_iq = 0;
     c->v1_beta_iq = 0;
@@ -185,6 +186,7 @@ static void itc_speed(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         /* the speed's products of the step (itc_step): w l_s, w psi_m, 1.5 w Ts */
         c->wls_iq = iq_mpy(c->speed_iq, cfg->u.pm_itc.machine.ls_iq);
         c->wpsi_iq = iq_mpy(c->speed_iq, cfg->u.pm_itc.machine.psi_m_iq);
+        c->wpsi_ts_iq = iq_mpy(c->wpsi_iq, cfg->board.ts_pu_iq); /* itc_i_pred's back-EMF step */
         c->adv_iq = iq_mpy(c->speed_iq, c->ts15_iq);
         if (cfg->u.pm_itc.est.lpf_comp != 0U) {
             const iq_t r = iq_mpy(cfg->u.pm_itc.est.wc_pu_iq,
@@ -305,7 +307,7 @@ void itc_i_pred(const itc_t *c, iq_t i1[3])
     const dtc_config_t *cfg = c->cfg;
     const iq_t ts = cfg->board.ts_pu_iq;
     const iq_t inv_ls = cfg->u.pm_itc.machine.inv_ls_iq;
-    const iq_t ets = iq_mpy(c->wpsi_iq, ts); /* w psi_m Ts */
+    const iq_t ets = c->wpsi_ts_iq; /* w psi_m Ts, at the speed-loop rate */
     /* Ts (v - r_s i) - w Ts j psi_r, psi_r = psi_m (cos, sin): j psi_r = (-sin, cos) psi_m */
     const iq_t da = fix_add32(iq_mpy(ts, iq_sub(c->v2_alpha_iq, iq_mpy(cfg->machine.rs_iq, c->i_alpha_iq))),
                               iq_mpy_q15(ets, c->sc.sin_q15));

@@ -197,12 +197,7 @@ int main(int argc, char **argv) {
     double sim_s = (argc > 1) ? std::atof(argv[1]) : 2.0;
     if (!(sim_s > 0.0) || sim_s > 9.0) sim_s = 2.0;  // pattern buffer holds 10 s
     plant_params_t p;
-    plant_params_default(&p);
-    p.inverter = PLANT_INVERTER_FSTP;
-    plant_params_emf_table_vii(&p);
-    p.load = PLANT_LOAD_GENERATOR;
-    p.load_speed_rpm = 1500.0;
-    p.load_torque_nm = 0.3;
+    plant_params_fstp_generator(&p, 0.3);
     p.speed0_rpm = 1500.0;
     std::printf("bench_plant: %.1f s simulated per case, 50 us periods, max_step %.1f us, dead time %.1f us\n",
                 sim_s, p.max_step_s * 1e6, p.dead_time_s * 1e6);

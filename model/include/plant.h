@@ -207,6 +207,11 @@ void plant_get_state(const plant_t *plant, plant_state_t *s);
  * amplitudes relative to that phase's fundamental. Call after setting psi_m_wb and pole_pairs. */
 void plant_params_emf_table_vii(plant_params_t *p);
 
+/* The full-fidelity FSTP rig of Hoang sec. IV: the defaults (Table IV drops, dead time, finite
+ * split link) on the four-switch inverter with Table VII's back-EMF, into a DC-generator load of
+ * torque_nm reached at 1500 rpm. Starts at standstill (speed0_rpm as the defaults). */
+void plant_params_fstp_generator(plant_params_t *p, double torque_nm);
+
 /* Override one leg (0 = A, 1 = B, 2 = C; FSTP leg A has no devices and ignores this). Takes effect
  * at the next advance. Returns 0, or -1 for a bad leg or mode. */
 int plant_set_leg_override(plant_t *plant, int leg, plant_leg_override_t mode);

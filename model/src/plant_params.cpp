@@ -77,4 +77,13 @@ void plant_params_emf_table_vii(plant_params_t *p) {
     }
 }
 
+void plant_params_fstp_generator(plant_params_t *p, double torque_nm) {
+    plant_params_default(p);
+    p->inverter = PLANT_INVERTER_FSTP;
+    plant_params_emf_table_vii(p);
+    p->load = PLANT_LOAD_GENERATOR;
+    p->load_speed_rpm = 1500.0;
+    p->load_torque_nm = torque_nm;
+}
+
 }  // extern "C"

@@ -116,12 +116,7 @@ inline plant_params_t ideal_inverter(plant_inverter_t inv) {
 // reaches it at 1500 rpm.
 inline plant_params_t fstp_generator(double torque_nm) {
     plant_params_t p;
-    plant_params_default(&p);
-    p.inverter = PLANT_INVERTER_FSTP;
-    plant_params_emf_table_vii(&p);
-    p.load = PLANT_LOAD_GENERATOR;
-    p.load_speed_rpm = 1500.0;
-    p.load_torque_nm = torque_nm;
+    plant_params_fstp_generator(&p, torque_nm);
     return p;
 }
 
