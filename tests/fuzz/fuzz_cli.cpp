@@ -15,25 +15,16 @@
 #include <vector>
 
 #include "dtc_config_gen_cli.hpp"
+#include "fuzz_args.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t n)
 {
-    const std::string text(reinterpret_cast<const char*>(data), n);
-    std::vector<std::string> args{"dtc_config_gen"};
-    std::size_t b = 0;
-    for (std::size_t i = 0; i <= text.size() && args.size() <= 16; ++i) {
-        if (i == text.size() || text[i] == '\n') {
-            args.push_back(text.substr(b, i - b));
-            b = i + 1;
-        }
-    }
+    const std::vector<std::string> args = fuzz_args(data, n, "dtc_config_gen", 16);
     std::vector<const char*> argv;
     bool help = false;
     for (const std::string& a : args) {
         argv.push_back(a.c_str());
-        // --help, --version, or -h alone or in a group of short flags (-hx)
-        help = help || a.rfind("--help", 0) == 0 || a.rfind("--version", 0) == 0 ||
-               (a.size() > 1 && a[0] == '-' && a[1] != '-' && a.find('h') != std::string::npos);
+        help = help || fuzz_arg_is_help(a);
     }
     GenArgs g;
     std::ostringstream out, err;

@@ -236,6 +236,21 @@ static const uint16_t k_cmds[] = {PROTO_HELLO,          PROTO_STATUS,        PRO
                                   PROTO_CAPTURE_SETUP,  PROTO_CAPTURE_STATUS, PROTO_CAPTURE_READ,   PROTO_CAPTURE_STOP,
                                   PROTO_FAULTLOG_READ,  PROTO_PARAMS_SAVE,   PROTO_PARAMS_RESTORE,  PROTO_IDENTIFY};
 
+/* With FUZZ_PROTO_STATS set in the environment the harness prints at exit what the inputs sent in
+ * all (every input libFuzzer executed, each checked against the invariants above): the fuzzed frames
+ * that docs/operate.md counts. */
+static uint64_t stat_inputs, stat_good, stat_damaged, stat_raw_octets, stat_decoded;
+
+static void stats_print(void)
+{
+    fprintf(stderr,
+            "fuzz_proto: inputs %llu; frames sent %llu (well-formed %llu, damaged or cut %llu), raw octets %llu; "
+            "requests decoded and answered %llu\n",
+            (unsigned long long)stat_inputs, (unsigned long long)(stat_good + stat_damaged),
+            (unsigned long long)stat_good, (unsigned long long)stat_damaged, (unsigned long long)stat_raw_octets,
+            (unsigned long long)stat_decoded);
+}
+
 static void frame_op(rd_t *r, uint16_t damage)
 {
     uint16_t f[FRAME_MAX_OCTETS], pl[24];
@@ -259,6 +274,11 @@ static void frame_op(rd_t *r, uint16_t damage)
     for (k = 0U; k < n; k++) {
         send(f[k]);
     }
+    if (damage != 0U) {
+        stat_damaged++;
+    } else {
+        stat_good++;
+    }
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
@@ -273,7 +293,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             fprintf(stderr, "fuzz_proto: default configuration refused: %s\n", msg);
             abort();
         }
+        if (getenv("FUZZ_PROTO_STATS") != NULL) {
+            atexit(stats_print);
+        }
     }
+    stat_inputs++;
     memset(&hal_null_meas, 0, sizeof hal_null_meas);
     for (k = 0U; k < 3U; k++) {
         hal_null_meas.adc[k] = g_cfg.board.adc_i_offset[k];
@@ -302,6 +326,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             for (k = 0U; k < n; k++) {
                 send(rd_u8(&r));
             }
+            stat_raw_octets += n;
             break;
         }
         case 1U:
@@ -338,5 +363,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     check_params();
     FUZZ_CHECK(g_answers == g_requests, "%lu requests decoded, %lu answered", (unsigned long)g_requests,
                (unsigned long)g_answers);
+    stat_decoded += g_requests;
     return 0;
 }

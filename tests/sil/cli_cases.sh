@@ -37,6 +37,13 @@ expect directory 1 'not a regular file' -- run "$work" --out "$work/o1"
 : >"$work/empty.toml"
 expect empty_file 1 'sets no key' -- run "$work/empty.toml" --out "$work/o1"
 expect empty_out 1 'empty directory name' -- run "$scen" --out ""
+# Found by fuzz_sil_cli: CLI11's Range passes NaN, and an empty DIR would write into the working directory.
+expect pace_nan 1 '--pace: nan: expected a number' -- serve "$scen" --serial "$work/l" --pace nan
+expect serve_duration_nan 1 '--duration-s: nan' -- serve "$scen" --serial "$work/l" --duration-s nan
+expect max_time_nan 1 '--max-time: nan' -- identify "$scen" --out "$work/o1" --max-time nan
+expect identify_empty_out 1 'empty directory name' -- identify "$scen" --out ""
+expect serve_empty_serial 1 '--serial: empty path' -- serve "$scen" --serial ""
+expect merge_empty_out 1 'empty directory name' -- sweep-merge --out "" "$work"
 expect no_period 1 "duration_s: is 1e-300 s: shorter than one control period" -- run "$scen" --out "$work/o1" --set duration_s=1e-300
 expect pole_pairs_check 1 'motor.pole_pairs: value 64 is impossible' -- check "$scen" --set motor.pole_pairs=64
 expect vdc_names_key 1 'inverter.vdc_v' -- check "$scen" --set inverter.vdc_v=1e6

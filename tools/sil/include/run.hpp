@@ -106,6 +106,23 @@ bool run_failed_physically(const RunInfo& info);
 bool run_scenario_with(const Scenario& sc, std::unique_ptr<Controller> ctrl, const RunOptions& opt, RunResult* res,
                        std::string* err);
 
+/// The dtc-sil command line, as parsed (nothing read, nothing checked beyond each option's own
+/// type and range). A sweep command is only recognised here: its line is sweep::parse_sweep_args's.
+struct SilArgs {
+    enum class Command { None, Run, Check, Identify, Serve, Keys, Sweep } cmd = Command::None;
+    std::string scenario_path, out_dir, record_isr, serial_link;
+    std::vector<std::string> sets, overlays;
+    unsigned decimate = 1;     ///< run, serve: every N-th ISR to trace.csv, 1..10^6
+    bool no_trace = false, quiet = false, force = false;
+    double ident_max_s = 10.0; ///< identify --max-time, s, 0.01..1000
+    double pace = 1.0;         ///< serve --pace, 0..1000
+    double serve_duration_s = 0.0; ///< serve --duration-s, 0..10^6 (0: until a signal)
+};
+
+/// Parses dtc-sil's line (args[0] the program) into *a. Returns -1 when accepted, else the exit
+/// status with CLI11's text written: 0 after --help or --version on out, 1 after a usage error on err.
+int parse_sil_args(const std::vector<std::string>& args, SilArgs* a, std::ostream& out, std::ostream& err);
+
 /// The dtc-sil command line (main() is a one-line call; tests call it directly).
 /// Exit status: 0 done (a firmware trip is a result), 1 bad usage or scenario, 2 run failed,
 /// 3 plant diverged or a metric is not finite, 128 + N interrupted by signal N.

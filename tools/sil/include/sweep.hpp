@@ -99,6 +99,25 @@ bool write_summary(const std::string& dir, const Spec& spec, std::vector<nlohman
 /// Reads dir/rows.jsonl (a torn last line, from a killed sweep, is ignored).
 std::vector<nlohmann::json> read_rows(const std::string& dir);
 
+/// The command line of `dtc-sil sweep`, `sweep-merge` and `sweep-exec`, as parsed (no file read,
+/// nothing checked beyond each option's own type and range).
+struct SweepArgs {
+    enum class Command { None, Sweep, Merge, Exec } cmd = Command::None;
+    std::string scenario_path, out_dir, shard_text, dask_addr;
+    std::vector<std::string> sets, overlays, grids, zips, samples, asserts, merge_dirs;
+    std::uint64_t n = 0, seed = 1;
+    unsigned jobs = 1;      ///< --jobs; the cores present unless given
+    unsigned chunk = 0;     ///< --chunk; 0: chosen from the workers
+    unsigned exec_jobs = 1; ///< sweep-exec --jobs
+    double timeout_s = 600.0;
+    bool resume = false, quiet = false, keep_runs = false, allow_failed = false;
+};
+
+/// Parses the sweep commands' line (args[0] the program, args[1] the subcommand) into *a.
+/// Returns -1 when accepted, else the exit status with CLI11's text written: 0 after --help on
+/// out, 1 after a usage error on err.
+int parse_sweep_args(const std::vector<std::string>& args, SweepArgs* a, std::ostream& out, std::ostream& err);
+
 /// The `dtc-sil sweep`, `sweep-merge` and `sweep-exec` commands (args[0] is the program, args[1]
 /// the subcommand). Exit status: 0 done, 1 bad specification (nothing run), 2 a run could not be
 /// executed at all, output failed or runs have no row (sweep-merge: a shard is missing), 3 an

@@ -1,5 +1,4 @@
-// cli.cpp - the dtc-sil command line (CLI11).
-#include <CLI/CLI.hpp>
+// cli.cpp - dtc-sil: acts on the command line cli_args.cpp parses.
 
 #include <cmath>
 #include <csignal>
@@ -8,7 +7,6 @@
 #include <ostream>
 #include <unistd.h>
 
-#include "cli_parse.hpp"
 #include "controller_adapter.hpp"
 #include "identify.hpp"
 #include "im_tau_check.h"
@@ -39,79 +37,19 @@ StopSignals::~StopSignals()
 
 int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::ostream& err)
 {
-    // Sweeps have their own command line (sweep.cpp); listed here for --help.
-    if (args.size() > 1 && (args[1] == "sweep" || args[1] == "sweep-merge" || args[1] == "sweep-exec")) {
-        return sweep::sweep_main(args, out, err);
-    }
-    CLI::App app{"dtc-sil: runs the DTC firmware against the plant model (software in the loop)"};
-    app.require_subcommand(1);
-    app.add_subcommand("sweep", "many runs over grid / Monte Carlo axes, local cores or Dask (dtc-sil sweep --help)");
-    app.add_subcommand("sweep-merge", "join the shards of one sweep (dtc-sil sweep-merge --help)");
-
-    std::string scenario_path, out_dir, record_isr;
-    std::vector<std::string> sets, overlays;
-    unsigned decimate = 1;
-    bool no_trace = false, quiet = false, force = false;
-
-    CLI::App* run = app.add_subcommand("run", "run a scenario and write DIR/metrics.json and DIR/trace.csv");
-    run->add_option("scenario", scenario_path, "scenario TOML file")->required();
-    run->add_option("--out,-o", out_dir, "output directory (created; files replaced only when the run succeeds)")
-        ->required()
-        ->check(CLI::Validator(
-            [](std::string& v) { return v.empty() ? std::string("empty directory name") : std::string(); },
-            "DIR", "non-empty"));
-    run->add_option("--set,-s", sets, "override a scenario key: --set load.speed_rpm=700 (repeatable)");
-    run->add_option("--overlay", overlays,
-                    "TOML fragment applied over the scenario before --set, e.g. identified.toml (repeatable)");
-    run->add_option("--decimate", decimate, "write every N-th ISR to trace.csv (default 1)")
-        ->check(CLI::Range(1u, 1000000u));
-    run->add_flag("--no-trace", no_trace, "do not write trace.csv (metrics only)");
-    run->add_flag("--quiet,-q", quiet, "no summary on stdout");
-    run->add_flag("--force", force, "run even when trace.csv would exceed 1 GB");
-    run->add_option("--record-isr", record_isr,
-                    "write what the firmware saw and commanded in every ISR to FILE (docs/pil.md)");
-
-    CLI::App* check = app.add_subcommand("check", "validate a scenario (and --set overrides) without running it");
-    check->add_option("scenario", scenario_path, "scenario TOML file")->required();
-    check->add_option("--set,-s", sets, "override a scenario key (repeatable)");
-    check->add_option("--overlay", overlays, "TOML fragment applied over the scenario before --set (repeatable)");
-
-    double ident_max_s = 10.0;
-    CLI::App* ident = app.add_subcommand(
-        "identify", "self-commissioning on the scenario's rig: writes DIR/identified.toml ([firmware] overlay) and "
-                    "DIR/identification.json (docs/commissioning.md)");
-    ident->add_option("scenario", scenario_path, "scenario TOML file")->required();
-    ident->add_option("--out,-o", out_dir, "output directory (created)")->required();
-    ident->add_option("--set,-s", sets, "override a scenario key (repeatable)");
-    ident->add_option("--overlay", overlays, "TOML fragment applied over the scenario before --set (repeatable)");
-    ident->add_option("--max-time", ident_max_s, "simulated time limit of the whole sequence, s (default 10)")
-        ->check(CLI::Range(0.01, 1000.0));
-
-    std::string serial_link;
-    double pace = 1.0, serve_duration_s = 0.0;
-    CLI::App* serve = app.add_subcommand(
-        "serve", "run a scenario with the firmware's serial line on a pseudo-terminal (docs/operate.md): the drive "
-                 "starts disarmed and is operated by a host (tools/console/dtc_console.py)");
-    serve->add_option("scenario", scenario_path, "scenario TOML file")->required();
-    serve->add_option("--serial", serial_link, "path to link the pseudo-terminal at (the console's --port)")
-        ->required();
-    serve->add_option("--pace", pace, "simulated time per wall-clock time (default 1: real time; 0: as fast as it goes)")
-        ->check(CLI::Range(0.0, 1000.0));
-    serve->add_option("--duration-s", serve_duration_s, "stop after T s of simulated time (default: at SIGINT/SIGTERM)")
-        ->check(CLI::Range(0.0, 1.0e6));
-    serve->add_option("--out,-o", out_dir, "write DIR/trace.csv and DIR/metrics.json on exit, as run does");
-    serve->add_option("--set,-s", sets, "override a scenario key (repeatable)");
-    serve->add_option("--decimate", decimate, "write every N-th ISR to trace.csv (default 1)")
-        ->check(CLI::Range(1u, 1000000u));
-    serve->add_flag("--quiet,-q", quiet, "no summary on stdout");
-
-    CLI::App* keys = app.add_subcommand("keys", "print every scenario key with unit, default and range (markdown)");
-
-    if (int rc = 0; !cli_parse(app, args, out, err, &rc)) {
+    SilArgs a;
+    if (const int rc = parse_sil_args(args, &a, out, err); rc >= 0) {
         return rc;
     }
+    if (a.cmd == SilArgs::Command::Sweep) {
+        return sweep::sweep_main(args, out, err);
+    }
+    const std::string& scenario_path = a.scenario_path;
+    const std::string& out_dir = a.out_dir;
+    const std::vector<std::string>& sets = a.sets;
+    const std::vector<std::string>& overlays = a.overlays;
 
-    if (keys->parsed()) {
+    if (a.cmd == SilArgs::Command::Keys) {
         out << scenario_keys_markdown();
         return 0;
     }
@@ -124,9 +62,9 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
         err << "dtc-sil: " << scenario_path << ": scenario rejected, nothing run or written\n";
         return 1;
     }
-    if (ident->parsed()) {
+    if (a.cmd == SilArgs::Command::Identify) {
         IdentifyReport rep;
-        rep.max_time_s = ident_max_s;
+        rep.max_time_s = a.ident_max_s;
         std::string e;
         if (!identify(sc, out_dir, &rep, &e)) {
             err << "dtc-sil: " << scenario_path << ": " << e << "\n";
@@ -144,19 +82,19 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
     }
     RunOptions opt;
     opt.out_dir = out_dir;
-    opt.decimate = decimate;
-    opt.write_trace = !no_trace;
-    opt.force = force;
-    opt.record_isr = record_isr;
-    if (serve->parsed()) {
-        opt.serial_link = serial_link;
-        opt.pace = pace;
-        opt.serve_duration_s = serve_duration_s;
+    opt.decimate = a.decimate;
+    opt.write_trace = !a.no_trace;
+    opt.force = a.force;
+    opt.record_isr = a.record_isr;
+    if (a.cmd == SilArgs::Command::Serve) {
+        opt.serial_link = a.serial_link;
+        opt.pace = a.pace;
+        opt.serve_duration_s = a.serve_duration_s;
         opt.write_trace = !out_dir.empty();
     }
     RunResult res;
     std::string e;
-    if (check->parsed()) {
+    if (a.cmd == SilArgs::Command::Check) {
         // The same path as run up to the first period: plant, harness and firmware configuration.
         opt.check_only = true;
         opt.out_dir.clear();
@@ -202,13 +140,13 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
         err << "dtc-sil: " << scenario_path << ": " << e << "\n";
         if (!res.output_touched) {
             err << "dtc-sil: nothing written to " << out_dir
-                << (record_isr.empty() ? std::string() : " or " + record_isr) << "\n";
+                << (a.record_isr.empty() ? std::string() : " or " + a.record_isr) << "\n";
         }
         return g_stop_signal != 0 ? 128 + static_cast<int>(g_stop_signal) : 2;
     }
-    if (!quiet && out_dir.empty()) {
+    if (!a.quiet && out_dir.empty()) {
         out << "dtc-sil serve: " << res.info.sim_time_s << " s simulated, fault " << res.info.fault << "\n";
-    } else if (!quiet) {
+    } else if (!a.quiet) {
         out << summary_text(sc, res.metrics, res.info);
         out << "  wrote " << (std::filesystem::path(out_dir) / "metrics.json").string();
         if (opt.write_trace) {

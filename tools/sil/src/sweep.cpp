@@ -3,7 +3,6 @@
 // plan is sweep_plan.cpp's, the execution sweep_exec.cpp's, the rows and summary sweep_rows.cpp's.
 #include "sweep.hpp"
 
-#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <cerrno>
@@ -18,7 +17,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "cli_parse.hpp"
 #include "run.hpp"
 #include "sweep_detail.hpp"
 #include "toml_limits.hpp"
@@ -118,72 +116,38 @@ int cmd_merge(const std::vector<std::string>& dirs, const std::string& out_dir, 
 
 int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ostream& err)
 {
-    CLI::App app{"dtc-sil sweeps"};
-    app.require_subcommand(1);
-    std::string scenario_path, out_dir, shard_text, dask_addr;
-    std::vector<std::string> sets, overlays, grids, zips, samples, asserts, merge_dirs;
-    std::uint64_t n = 0, seed = 1;
-    unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
-    unsigned chunk = 0, exec_jobs = 1;
-    double timeout_s = 600.0;
-    bool resume = false, quiet = false, keep_runs = false, allow_failed = false;
-
-    CLI::App* sw = app.add_subcommand("sweep", "run a scenario over grid and Monte Carlo axes; write DIR/summary.csv");
-    sw->add_option("scenario", scenario_path, "scenario TOML file")->required();
-    sw->add_option("--out,-o", out_dir, "output directory (summary.csv, summary.json, rows.jsonl, plan.json)")
-        ->required();
-    sw->add_option("--set,-s", sets, "fixed override of a scenario key for every run (repeatable)");
-    sw->add_option("--overlay", overlays,
-                   "TOML fragment applied over the scenario before --set for every run, e.g. identified.toml "
-                   "(repeatable)");
-    sw->add_option("--grid", grids, "grid axis KEY=V1,V2,... (repeatable; Cartesian product)");
-    sw->add_option("--zip", zips,
-                   "case axis KEY=V1,V2,... (repeatable): all --zip axes have the same length and their i-th "
-                   "values go together, as one dimension of the product");
-    sw->add_option("--sample", samples, "random axis KEY=normal:MEAN:SD or KEY=uniform:LO:HI (repeatable)");
-    sw->add_option("--n", n, "samples per grid point (with --sample)");
-    sw->add_option("--seed", seed, "seed of the sampled axes (same seed, same runs)");
-    sw->add_option("--jobs,-j", jobs, "runs at once (default: the cores present)")->check(CLI::Range(1u, 4096u));
-    sw->add_option("--timeout-s", timeout_s, "per-run wall-clock limit; a run over it is killed and reported")
-        ->check(CLI::Validator(
-            [](std::string& v) {
-                // CLI::Range lets NaN through (every comparison with it is false).
-                double x = 0.0;
-                return parse_double(v, &x) && x >= 0.001 && x <= 1e7 ? std::string()
-                                                                      : "--timeout-s " + echo(v) +
-                                                                            ": expected a number in [0.001, 1e7] s";
-            },
-            "SECONDS", "finite, 0.001 to 1e7"));
-    sw->add_flag("--resume", resume, "continue the sweep in DIR: skip the runs it already has");
-    sw->add_option("--shard", shard_text, "run only shard I of N (runs r with r mod N = I), e.g. 0/4");
-    sw->add_option("--assert", asserts, "envelope METRIC OP NUMBER every run must meet, e.g. imbalance_pct<8");
-    sw->add_option("--dask", dask_addr, "run on a dask.distributed scheduler, e.g. tcp://10.0.0.1:8786");
-    sw->add_option("--chunk", chunk, "runs per Dask task (default: about 4 tasks per worker, at most 50 runs)")
-        ->check(CLI::Range(1u, 100000u));
-    sw->add_flag("--quiet,-q", quiet, "no closing summary line");
-    sw->add_flag("--allow-failed-runs", allow_failed,
-                 "exit 0 even when runs crashed, timed out, diverged or could not be completed (their rows "
-                 "say so)");
-    sw->add_flag("--keep-runs", keep_runs, "also write every run's metrics.json and trace.csv to DIR/runs/RUN");
-
-    CLI::App* mg = app.add_subcommand("sweep-merge", "join the shards of one sweep into DIR/summary.csv");
-    mg->add_option("--out,-o", out_dir, "output directory")->required();
-    mg->add_option("shards", merge_dirs, "the shards' output directories")->required();
-
-    CLI::App* ex = app.add_subcommand("sweep-exec", "(for Dask workers) run a chunk read from stdin, rows on stdout");
-    ex->add_option("--jobs,-j", exec_jobs, "runs at once")->check(CLI::Range(1u, 4096u));
-    ex->group(""); // not listed in --help: an internal interface
-
-    if (int rc = 0; !cli_parse(app, args, out, err, &rc)) {
+    SweepArgs cl;
+    if (const int rc = parse_sweep_args(args, &cl, out, err); rc >= 0) {
         return rc;
     }
+    const std::string& scenario_path = cl.scenario_path;
+    const std::string& out_dir = cl.out_dir;
+    const std::string& shard_text = cl.shard_text;
+    const std::string& dask_addr = cl.dask_addr;
+    const std::vector<std::string>& sets = cl.sets;
+    const std::vector<std::string>& overlays = cl.overlays;
+    const std::vector<std::string>& grids = cl.grids;
+    const std::vector<std::string>& zips = cl.zips;
+    const std::vector<std::string>& samples = cl.samples;
+    const std::vector<std::string>& asserts = cl.asserts;
+    const std::vector<std::string>& merge_dirs = cl.merge_dirs;
+    const std::uint64_t& n = cl.n;
+    const std::uint64_t& seed = cl.seed;
+    const unsigned& jobs = cl.jobs;
+    const unsigned& chunk = cl.chunk;
+    const unsigned& exec_jobs = cl.exec_jobs;
+    const double& timeout_s = cl.timeout_s;
+    const bool& resume = cl.resume;
+    const bool& quiet = cl.quiet;
+    const bool& keep_runs = cl.keep_runs;
+    const bool& allow_failed = cl.allow_failed;
 
-    if (ex->parsed()) {
+    if (cl.cmd == SweepArgs::Command::Exec) {
         return cmd_exec(std::cin, out, err, exec_jobs);
     }
 
     std::string e;
-    if (mg->parsed()) {
+    if (cl.cmd == SweepArgs::Command::Merge) {
         return cmd_merge(merge_dirs, out_dir, out, err);
     }
 
@@ -277,10 +241,6 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
     }
     if (!check_axes(spec, &e)) {
         err << "dtc-sil sweep: " << e << "\n";
-        return 1;
-    }
-    if (out_dir.empty()) {
-        err << "dtc-sil sweep: --out is empty\n";
         return 1;
     }
     const std::string id = plan_id(spec);
