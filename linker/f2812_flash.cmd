@@ -1,10 +1,10 @@
 /*
  * f2812_flash.cmd - stand-alone flash image of the PM drive for the TMS320F2812 (target dtc_f2812,
  * the application of DTC_LAWS; boot mode "jump to flash", GPIOF4 = 1, the default through its
- * pull-up: fact sheet 1.5). Link with f2812_regs.cmd. Written for this project from the memory
- * map in ../shared/reference/f2812-facts.md 1.1-1.4; COFF ABI (C symbol X is _X here), large
- * memory model (.ebss/.econst). The IM image's is f2812_flash_im.cmd, the same layout with its
- * own lists.
+ * pull-up: fact sheet 1.5). Link with f2812_flash_mem.cmd (the memory map, from
+ * ../shared/reference/f2812-facts.md 1.1-1.4) and f2812_regs.cmd. COFF ABI (C symbol X is _X
+ * here), large memory model (.ebss/.econst). The IM image's is f2812_flash_im.cmd, the same
+ * layout with its own lists.
  *
  * Placement by function: the ISR's hot functions (cl2000 --gen_func_subsections: one section
  * `.text:_NAME` per function, target/f2812/CMakeLists.txt) are named in three zero-wait blocks,
@@ -45,24 +45,7 @@
  * The CSM password words (0x3F7FF8..0x3F7FFF) and CSM_RSVD are deliberately NOT written: erased
  * flash (0xFFFF) leaves the device unsecured. Never program the password to all zeros.
  */
-MEMORY
-{
-PAGE 0:    /* program */
-    RAML0L1   : origin = 0x008000, length = 0x002000   /* L0 + L1 SARAM, zero-wait: ramfuncs run */
-    RAMH0P    : origin = 0x3F8000, length = 0x001A00   /* H0 SARAM (first 6.5K), zero-wait: ramfuncs_h */
-    FLASH_JC  : origin = 0x3D8000, length = 0x01C000   /* sectors J, I, H, G, F, E, D, C */
-    FLASHB    : origin = 0x3F4000, length = 0x002000   /* sector B: free (user parameters) */
-    FLASHA    : origin = 0x3F6000, length = 0x001F80   /* sector A below the CSM words: free */
-    CSM_RSVD  : origin = 0x3F7F80, length = 0x000076   /* zeros only when the CSM is used */
-    BEGIN     : origin = 0x3F7FF6, length = 0x000002   /* boot-to-flash entry */
-    CSM_PWL   : origin = 0x3F7FF8, length = 0x000008   /* CSM password: left erased */
-    RESET     : origin = 0x3FFFC0, length = 0x000002   /* boot ROM's reset vector */
-    RAMM1P    : origin = 0x000400, length = 0x000400   /* M1 SARAM, zero-wait: ramfuncs_m */
-PAGE 1:    /* data */
-    RAMM0     : origin = 0x000000, length = 0x000400   /* M0 SARAM, low 64K: the stack (0x400) */
-    RAMH0D    : origin = 0x3F9A00, length = 0x000600   /* H0 SARAM (last 1.5K), zero-wait: state */
-    XRAM      : origin = 0x100000, length = 0x010000   /* XINTF zone 6: external SRAM (board fact) */
-}
+/* MEMORY: f2812_flash_mem.cmd (the blocks this file names) */
 
 SECTIONS
 {

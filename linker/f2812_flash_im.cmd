@@ -1,19 +1,21 @@
 /*
  * f2812_flash_im.cmd - stand-alone flash image of the induction-machine drive for the TMS320F2812
  * (target dtc_f2812_im: the IM-only application libdtc_app_im.a; boot mode "jump to flash",
- * GPIOF4 = 1). Link with f2812_regs.cmd. The memory map is ../shared/reference/f2812-facts.md
- * 1.1-1.4 as in f2812_flash.cmd; COFF ABI (C symbol X is _X here), large memory model.
+ * GPIOF4 = 1). Link with f2812_flash_mem.cmd (the memory map, from
+ * ../shared/reference/f2812-facts.md 1.1-1.4) and f2812_regs.cmd. COFF ABI (C symbol X is _X
+ * here), large memory model.
  *
- * Why a layout of its own: the IM law's code (the law with its five schemes, its estimator and
- * start-up, the flux weakening) is about 14K words nominal and 21K pessimistic on the cross-cm0
- * proxy (hal/f2812/budget.sh --im), more than the 15.4K words of zero-wait RAM L0+L1+H0 hold, so
- * the PM image's placement by archive does not fit. Here the ISR's hot functions are placed by
- * name (cl2000 --gen_func_subsections: one section `.text:_NAME` per function, target/f2812/
- * CMakeLists.txt), chosen by measurement with hal/f2812/hot_functions.py (callgrind inside app_isr
- * on the shipped IM scenario, every IM scheme: what runs every period or at the speed loop's
- * rate; the lists between the hot: markers are written by it), and everything else of the control
- * archives runs from flash with its wait states (RANDWAIT = PAGEWAIT = 5 at 150 MHz, fact sheet
- * 4.7), which tools/pil/pil_profile.py --ram-cmd linker/f2812_flash_im.cmd counts per ISR.
+ * The layout is the PM image's (f2812_flash.cmd: placement by function) with the IM image's
+ * archives and lists. The IM law's code (five schemes, the estimator, the start-up, the flux
+ * weakening) is about 14K words nominal and 21K pessimistic on the cross-cm0 proxy (hal/f2812/
+ * budget.sh --im), more than the zero-wait RAM holds, so only the ISR's hot functions are named
+ * (cl2000 --gen_func_subsections: one section `.text:_NAME` per function, target/f2812/
+ * CMakeLists.txt), chosen by measurement with hal/f2812/hot_functions.py --image im (callgrind
+ * inside app_isr on the shipped IM scenario, every IM scheme, and the Cortex-M0 replay's counts:
+ * what runs every period or at the speed loop's rate; the lists between the hot: markers are
+ * written by it), and everything else of the control archives runs from flash with its wait states
+ * (RANDWAIT = PAGEWAIT = 5 at 150 MHz, fact sheet 4.7), which tools/pil/pil_profile.py --ram-cmd
+ * linker/f2812_flash_im.cmd counts per ISR.
  *
  * Where things run
  *   codestart   BEGIN 0x3F7FF6: the long branch the boot ROM jumps to (f2812_codestart.asm)
@@ -22,13 +24,10 @@
  *               PDPINTA ISR, the flash wait-state set-up), the hot functions of the first list and
  *               the control archives' constant tables (.econst, .switch: the ISR reads them)
  *   ramfuncs_h  the same into H0's first 6.5K words: the hot functions of the second list
- *   ramfuncs_m  the same into M1 (1K words): the third list. The PM image leaves M1 to the
- *               2K-word stack block, of which the 0x400-word stack (--stack_size) takes half; here
- *               the stack has M0 alone and M1 holds code
- *   .ebss       H0's last 1.5K words (zero-wait): the controller state. The IM law's state
- *               (law_t with im_dtc_t, the application) is about 1.2K words, more than the PM
- *               image's 1K of .ebss; H0 is split 6.5K code / 1.5K state for it (budget.sh --im
- *               checks both parts with its 5 % margin)
+ *   ramfuncs_m  the same into M1 (1K words): the third list; the stack (--stack_size 0x400) has M0
+ *   .ebss       H0's last 1.5K words (zero-wait): the controller state, about 1.2K words with the
+ *               IM law (law_t with im_dtc_t, the application): more than a 1K-word .ebss, so H0 is
+ *               split 6.5K code / 1.5K state (budget.sh --im checks both with its 5 % margin)
  *   .stack      M0 (low 64K: the SP is 16 bits, fact sheet 1.1)
  *   opdata      the operation layer's data in external RAM on XINTF zone 6, as in f2812_flash.cmd
  *               (BOARD FACT, UNVERIFIED: 64K words of SRAM on zone 6 of the eZdsp F2812)
@@ -37,24 +36,7 @@
  *               protocol. Sector B is left free for the user's parameter storage.
  * The CSM password words are deliberately NOT written (erased flash leaves the device unsecured).
  */
-MEMORY
-{
-PAGE 0:    /* program */
-    RAML0L1   : origin = 0x008000, length = 0x002000   /* L0 + L1 SARAM, zero-wait: ramfuncs run */
-    RAMH0P    : origin = 0x3F8000, length = 0x001A00   /* H0 SARAM (first 6.5K), zero-wait: ramfuncs_h */
-    FLASH_JC  : origin = 0x3D8000, length = 0x01C000   /* sectors J, I, H, G, F, E, D, C */
-    FLASHB    : origin = 0x3F4000, length = 0x002000   /* sector B: free (user parameters) */
-    FLASHA    : origin = 0x3F6000, length = 0x001F80   /* sector A below the CSM words: free */
-    CSM_RSVD  : origin = 0x3F7F80, length = 0x000076   /* zeros only when the CSM is used */
-    BEGIN     : origin = 0x3F7FF6, length = 0x000002   /* boot-to-flash entry */
-    CSM_PWL   : origin = 0x3F7FF8, length = 0x000008   /* CSM password: left erased */
-    RESET     : origin = 0x3FFFC0, length = 0x000002   /* boot ROM's reset vector */
-    RAMM1P    : origin = 0x000400, length = 0x000400   /* M1 SARAM, zero-wait: ramfuncs_m */
-PAGE 1:    /* data */
-    RAMM0     : origin = 0x000000, length = 0x000400   /* M0 SARAM, low 64K: the stack (0x400) */
-    RAMH0D    : origin = 0x3F9A00, length = 0x000600   /* H0 SARAM (last 1.5K), zero-wait: state */
-    XRAM      : origin = 0x100000, length = 0x010000   /* XINTF zone 6: external SRAM (board fact) */
-}
+/* MEMORY: f2812_flash_mem.cmd (the blocks this file names) */
 
 SECTIONS
 {

@@ -238,9 +238,12 @@ ramb_h_pess=$(( fx_t * 3 / 4 + (fx_r + 1) / 2 ))
 # error: the lists are kept to the code (hal/f2812/hot_functions.py writes them).
 cmd=$root/linker/f2812_flash${layout_sfx:-}.cmd
 need "$cmd"
+mem=$root/linker/f2812_flash_mem.cmd   # the flash images' memory map
+need "$mem"
 cmd_text=$(perl -0pe 's{/\*.*?\*/}{}gs' "$cmd")
-mem_len() { # length in words of the MEMORY block $1 of the .cmd
-  printf '%d\n' "$(printf '%s\n' "$cmd_text" | sed -n "s/^ *$1 *: *origin *= *0x[0-9A-Fa-f]*, *length *= *\(0x[0-9A-Fa-f]*\).*/\1/p")"
+mem_text=$(perl -0pe 's{/\*.*?\*/}{}gs' "$mem")
+mem_len() { # length in words of the MEMORY block $1
+  printf '%d\n' "$(printf '%s\n' "$mem_text" | sed -n "s/^ *$1 *: *origin *= *0x[0-9A-Fa-f]*, *length *= *\(0x[0-9A-Fa-f]*\).*/\1/p")"
 }
 sect_funcs() { # the function names section $1 of the .cmd places by name
   printf '%s\n' "$cmd_text" | awk -v sec="$1" '
@@ -323,7 +326,7 @@ cap_words=$(( 2 * $(sed -n 's/^#define CAPTURE_BUF_WORDS32 \([0-9]*\)u$/\1/p' "$
 h0_free=$((RAMFUNCS_H_FLASH_WORDS - fx_total_pess))
 ebss_free=$((EBSS_WORDS - state))
 op_data=$(words_nom "$op_data_bytes")
-xram_words=$(( $(sed -n 's/^ *XRAM *: origin = 0x[0-9A-Fa-f]*, length = \(0x[0-9A-Fa-f]*\).*/\1/p' "$layout") ))
+xram_words=$(mem_len XRAM)
 grep -q -- "-l=libdtc_proto${layout_sfx:-}.a (.ebss)" "$layout" &&
   grep -q -- '-l=libdtc_comm.a (.ebss)' "$layout" ||
   { echo "budget: ${layout#$root/} does not place the operation layer's .ebss in opdata" >&2; exit 2; }

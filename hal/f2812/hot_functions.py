@@ -12,9 +12,8 @@ dtc_f2812_im).
    valgrind's callgrind with collection inside app_isr() only: each function's own instructions
    and calls per ISR on the host build (dtc-sil).
    With --pil JSON (tools/pil/pil_profile.py --json on a dtc-sil --record-isr recording): the
-   Cortex-M0 image's own calls per ISR as well, which see the functions the host inlines; only
-   those the image's call graph reaches from app_isr count (the replay also runs the background
-   between two ISRs).
+   Cortex-M0 image's own calls per ISR inside app_isr() as well, which see the functions the
+   host inlines (and those called through a pointer).
 2. A function is hot when some run calls it at least HOT_CALLS_PER_ISR times per ISR (the
    per-period path and the speed loop; not the start-up's one-off steps, the fault paths or the
    background). Its weight is what it would cost from flash in an ISR that runs it: its
@@ -162,7 +161,7 @@ def cmd_words(cmd_text, block):
     m = re.search(r"^\s*%s\s*:\s*origin\s*=\s*0x[0-9A-Fa-f]+,\s*length\s*=\s*(0x[0-9A-Fa-f]+)" % block,
                   cmd_text, re.M)
     if not m:
-        raise SystemExit("hot_functions: no MEMORY block %s in the .cmd" % block)
+        raise SystemExit("hot_functions: no MEMORY block %s in linker/f2812_flash_mem.cmd" % block)
     return int(m.group(1), 16)
 
 
@@ -187,6 +186,8 @@ def main():
     cmd_path = os.path.join(a.root, "linker", img["cmd"])
     with open(cmd_path) as f:
         cmd_text = f.read()
+    with open(os.path.join(a.root, "linker", "f2812_flash_mem.cmd")) as f:
+        mem_text = f.read()
     runs = ["%s%s" % (sc, "".join(" " + x.split("=")[1].strip('"') for x in sets[:1])) for sc, sets in img["runs"]]
     with tempfile.TemporaryDirectory() as tmp:
         weight, hot_host, seen, profs = {}, set(), set(), {}
@@ -200,21 +201,15 @@ def main():
                     weight[name] = max(weight.get(name, 0.0), ir / min(calls, 1.0) * rate)
         size, callees = image_functions(cm0, img, tmp)
     host = host_functions(sil)
-    # the Cortex-M0 replays: calls per ISR of the functions app_isr reaches; weight at 25,000 ISRs/s
-    # (the fastest period) when the host saw none
-    reach, stack = {"app_isr"}, ["app_isr"]
-    while stack:
-        for c in callees.get(stack.pop(), ()):
-            if c not in reach:
-                reach.add(c)
-                stack.append(c)
+    # the Cortex-M0 replays: calls per ISR inside app_isr (pil_profile.py: from its entry to the
+    # harness's end of the ISR); weight at 25,000 ISRs/s (the fastest period)
     for path in a.pil:
         with open(path) as f:
             pil = json.load(f)
         for name, v in pil["functions"].items():
-            instr, calls = v[0], v[1]
+            instr, calls = v[4], v[5]  # inside the ISR
             name = name.split(".")[0]
-            if name in size and name in reach and calls / pil["isrs"] >= HOT_CALLS_PER_ISR:
+            if name in size and calls / pil["isrs"] >= HOT_CALLS_PER_ISR:
                 hot_host.add(name)
                 weight[name] = max(weight.get(name, 0.0),
                                    instr / pil["isrs"] / min(calls / pil["isrs"], 1.0) * 25000.0)
@@ -236,9 +231,9 @@ def main():
                     changed = True
     # the most instructions per second saved from the wait states per word of RAM first
     order = sorted(hot, key=lambda n: (-weight.get(n, 0.0) / max(size[n], 1), n))
-    cap = {"ramfuncs_h": int(cmd_words(cmd_text, "RAMH0P") * MARGIN),
-           "ramfuncs_m": int(cmd_words(cmd_text, "RAMM1P") * MARGIN),
-           "ramfuncs": int(cmd_words(cmd_text, "RAML0L1") * MARGIN) - TABLE_RESERVE}
+    cap = {"ramfuncs_h": int(cmd_words(mem_text, "RAMH0P") * MARGIN),
+           "ramfuncs_m": int(cmd_words(mem_text, "RAMM1P") * MARGIN),
+           "ramfuncs": int(cmd_words(mem_text, "RAML0L1") * MARGIN) - TABLE_RESERVE}
     place = {"ramfuncs_h": [], "ramfuncs_m": [], "ramfuncs": [], "flash": []}
     used = {"ramfuncs_h": 0, "ramfuncs_m": 0, "ramfuncs": 0}
     for n in order:

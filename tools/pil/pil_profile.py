@@ -110,7 +110,9 @@ def flash_wait(name, n, ram):
 
 
 def profile(rec, elf, ram=None):
-    """{function: [instructions, calls, blocks]} over the replay, and per ISR (split at each entry
+    """{function: [instructions, calls, blocks, instructions from flash in the ISR, instructions
+    in the ISR, calls in the ISR]} over the replay (in the ISR: from app_isr's entry to
+    pil_target_isr_end's), and per ISR (split at each entry
     of app_isr) the ISR path's M0 instructions and C28x cycles (harness excluded)."""
     qemu = shutil.which("qemu-system-arm")
     if qemu is None:
@@ -140,15 +142,18 @@ def profile(rec, elf, ram=None):
                     n = tb_len.get(pc, 0)
                     i = bisect.bisect_right(addrs, pc) - 1
                     name = syms[i][1] if i >= 0 else "?"
-                    e = per.setdefault(name, [0, 0, 0, 0])
+                    if pc in entry and name in ("app_isr", "pil_target_isr_end"):
+                        in_isr = name == "app_isr"
+                    e = per.setdefault(name, [0, 0, 0, 0, 0, 0])
                     e[0] += n
                     e[2] += 1
+                    if in_isr:
+                        e[4] += n
                     if pc in entry:
                         e[1] += 1
-                        if name == "pil_target_isr_end":
-                            in_isr = False
+                        if in_isr:
+                            e[5] += 1
                         if name == "app_isr":
-                            in_isr = True
                             isr_m0.append(0)
                             isr_c28.append(0.0)
                             isr_law.append(False)
