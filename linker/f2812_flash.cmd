@@ -115,6 +115,7 @@ SECTIONS
                     *(.text:_law_i_pred)
                     *(.text:_law_out_form)
                     *(.text:_law_speed_ref)
+                    *(.text:_law_speed_ref_ptr)
                     *(.text:_law_step)
                     *(.text:_q31_mul)
                     *(.text:_q32_integrate)

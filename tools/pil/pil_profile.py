@@ -3,7 +3,7 @@
 function, and the C28x cycle estimate made from that instruction mix (docs/f2812.md, "C28x cycle
 estimate").
 
-  pil_profile.py RECORDING [--cm-image ELF] [--top N] [--json OUT]
+  pil_profile.py RECORDING [--cm-image ELF] [--top N] [--json OUT] [--ram-cmd CMD] [--period-cycles N]
 
 Replays RECORDING (dtc-sil run --record-isr FILE) on qemu-system-arm (mps2-an385, the cross-cm0
 PIL image, as pil_compare.py does) with qemu's translation-block log: every translated block's
@@ -187,6 +187,8 @@ def main():
     ap.add_argument("--cm-image", default=os.path.join(ROOT, "build", "cross-cm0", "bin", "pil_cm.elf"))
     ap.add_argument("--top", type=int, default=25)
     ap.add_argument("--json")
+    ap.add_argument("--period-cycles", type=int, default=7500,
+                    help="C28x cycles of the control period at 150 MHz (7500: 50 us; 6000: 40 us)")
     ap.add_argument("--ram-cmd", help="linker command file naming the functions in zero-wait RAM; "
                     "the others are charged flash wait states")
     a = ap.parse_args()
@@ -207,8 +209,9 @@ def main():
     print("  C28x ESTIMATE, cycles (weights: %.1f per M0 instruction, +%d per block, %d per 64-bit helper call,"
           % (C28X_CYCLES_PER_INSN, C28X_BRANCH_EXTRA, C28X_HELPER_CYCLES))
     print("    %d per iq_mpy, %d per saturating add; docs/f2812.md): mean %.0f, worst %.0f (ISR %d) = %.0f %% of"
-          " the 7,500-cycle 50 us period; %.2f C28x cycles per M0 instruction"
-          % (IQ_MPY_CYCLES, FIX_SAT_CYCLES, c28_mean, isr_c28[w], w, 100.0 * isr_c28[w] / 7500.0,
+          " the %d-cycle period; %.2f C28x cycles per M0 instruction"
+          % (IQ_MPY_CYCLES, FIX_SAT_CYCLES, c28_mean, isr_c28[w], w, 100.0 * isr_c28[w] / a.period_cycles,
+             a.period_cycles,
              c28_mean / m0_mean if m0_mean else 0.0))
     if ram is not None:
         wf = max(range(count), key=lambda k: isr_wait[k])
@@ -223,7 +226,7 @@ def main():
         wr = max(run, key=lambda k: isr_c28[k])
         print("    ISRs that ran the control law (%d): M0 mean %.0f, worst %d; C28x mean %.0f, worst %.0f (ISR %d) = %.0f %%"
               % (len(run), sum(isr_m0[k] for k in run) / len(run), max(isr_m0[k] for k in run),
-                 sum(isr_c28[k] for k in run) / len(run), isr_c28[wr], wr, 100.0 * isr_c28[wr] / 7500.0))
+                 sum(isr_c28[k] for k in run) / len(run), isr_c28[wr], wr, 100.0 * isr_c28[wr] / a.period_cycles))
     if a.json:
         with open(a.json, "w") as f:
             json.dump({"isrs": count, "m0_mean": m0_mean, "m0_worst": max(isr_m0), "c28x_mean": c28_mean,
