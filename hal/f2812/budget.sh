@@ -4,38 +4,37 @@
 # zero-wait RAM the linker command files reserve for it (section "ramfuncs").
 #
 #   usage: hal/f2812/budget.sh PROJECT_ROOT     (after: cmake --build --preset cross-cm0 / cross-avr)
-#          hal/f2812/budget.sh PROJECT_ROOT --members [CM0_BUILD_DIR]
-#              only the firmware archives' members the image links (default build/cross-cm0), one
-#              line per archive: which control law's code an image of that build's DTC_LAWS holds
-#              (an IM-only build: cmake -B build/cross-cm0-im with the cross-cm0 toolchain and
-#              -DDTC_LAWS=im, then its targets dtc_app dtc_init hal_f2812 f2812_main).
+#              the PM image (dtc_f2812: the application of the build's DTC_LAWS, pm in the presets)
+#              with its placement, linker/f2812_flash.cmd
 #          hal/f2812/budget.sh PROJECT_ROOT --im [CM0_BUILD_DIR]
-#              the same check for the IM image (dtc_f2812_im: the IM-only application
-#              libdtc_app_im.a, libdtc_proto_im.a and f2812_main_im that the cross-cm0 preset builds
-#              beside the PM image's, default build/cross-cm0; or a cross-cm0 build with
-#              -DDTC_LAWS=im, whose libdtc_app.a is the IM application) with its placement,
-#              linker/f2812_flash_im.cmd: the functions that file names (`.text:_NAME`) in zero-wait
-#              RAM, each in the section that names it, everything else of the control archives in
-#              flash; the blocks' sizes from its MEMORY; cross-cm0 only.
+#              the IM image (dtc_f2812_im: the IM-only application libdtc_app_im.a,
+#              libdtc_proto_im.a and f2812_main_im that the cross-cm0 preset builds beside the PM
+#              image's, default build/cross-cm0; or a cross-cm0 build with -DDTC_LAWS=im, whose
+#              libdtc_app.a is the IM application) with its placement, linker/f2812_flash_im.cmd;
+#              cross-cm0 only
+#          hal/f2812/budget.sh PROJECT_ROOT --members [CM0_BUILD_DIR]
+#              only the firmware archives' members each image of that build links, one line per
+#              archive, and the law check below.
 #
 # Which law's code an image links: the PM image links no member of the IM law (im_*, dsc, dsvm)
 # and the IM image none of the PM laws (dtc, flux_est, itc*, dqpi, svm4, dtc_init, dtc_reconfig,
 # dtc_check); a member of the other law fails the check (a call across the laws pulls it in).
 #
 # What is counted
-#   firmware   the members of libdtc_firmware.a, libdtc_fixmath.a, libdtc_im.a and libdtc_app.a
-#              that the image links (those f2812_main.c and the HAL reference, directly or not: a
-#              linker pulls only referenced archive members, so a control law the application does
-#              not call is not in the image). linker/f2812_*.cmd places all of them in zero-wait
-#              RAM (.text and the constant tables): libdtc_firmware.a (shared blocks, PM law, the
-#              small IM blocks) in ramfuncs (L0+L1; H0 in the RAM build), libdtc_fixmath.a,
-#              libdtc_im.a (IM law and estimator) and
-#              libdtc_app.a in ramfuncs_h (7K words of H0; L1 in the RAM build), so all of them
-#              are ISR path. libdtc_config.a, libdtc_init.a, libdtc_app_init.a and
-#              libdtc_app_flash.a (the configuration's validation, the IM law's init, the
-#              application's init and background calls, the parameters by id, the commissioning and
-#              the calibration's rotor hold, which run in place of the law) stay in flash. The members are found by a relocatable link
-#              of the proxy objects (ld -r -M).
+#   firmware   the members of libdtc_firmware.a, libdtc_fixmath.a, libdtc_im.a and the
+#              application's archive that the image links (those f2812_main.c and the HAL
+#              reference, directly or not: a linker pulls only referenced archive members, so a
+#              control law the application does not call is not in the image). The flash images'
+#              .cmd files place the functions they name (the ISR's hot path, hal/f2812/
+#              hot_functions.py) in zero-wait RAM, ramfuncs (L0+L1), ramfuncs_h (H0's first 6.5K
+#              words) and ramfuncs_m (M1), with every control table in ramfuncs; the rest of these
+#              archives runs from flash. libdtc_config.a, libdtc_init.a, the application's _init and
+#              _flash archives (the configuration's validation, the laws' init, the application's
+#              init and background calls, the parameters by id, the commissioning and the
+#              calibration's rotor hold, which run in place of the law) stay in flash. The members
+#              are found by a relocatable link of the proxy objects (ld -r -M). The blocks' sizes
+#              come from linker/f2812_flash_mem.cmd. The RAM build (linker/f2812_ram.cmd, PM only)
+#              places whole archives: reported, not checked.
 #   hal        libhal_f2812.a without the register blocks (RAM on the proxies, peripheral frames on
 #              the DSP); the ISR-path part is the functions marked F2812_RAMFUNC in hal/f2812/*.c
 #              and target/f2812/*.c.
