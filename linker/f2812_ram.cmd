@@ -30,6 +30,12 @@ PAGE 1:    /* data */
     XRAM      : origin = 0x100000, length = 0x010000   /* XINTF zone 6: external SRAM (board fact) */
 }
 
+/* The IM image's third code block (ramfuncs_m, f2812_flash_im.cmd) does not exist here: its copy
+ * (hal_init, f2812_target.h f2812_ramfuncs_copy) moves no word. */
+_f2812_ramfuncs_m_load_start = 0;
+_f2812_ramfuncs_m_load_end = 0;
+_f2812_ramfuncs_m_run_start = 0;
+
 SECTIONS
 {
     /* Control path first, so the library-member specifications claim the firmware's sections

@@ -77,10 +77,16 @@ extern uint16_t f2812_ramfuncs_run_start;
 extern uint16_t f2812_ramfuncs_h_load_start; /* ramfuncs_h: libdtc_fixmath.a and libdtc_app.a */
 extern uint16_t f2812_ramfuncs_h_load_end;
 extern uint16_t f2812_ramfuncs_h_run_start;
+/* ramfuncs_m: the IM image's third zero-wait code block, M1 (linker/f2812_flash_im.cmd); the PM
+ * image's .cmd files set its three symbols equal, so its copy moves no word. */
+extern uint16_t f2812_ramfuncs_m_load_start;
+extern uint16_t f2812_ramfuncs_m_load_end;
+extern uint16_t f2812_ramfuncs_m_run_start;
 static inline void f2812_ramfuncs_copy(void)
 {
     f2812_memcopy(&f2812_ramfuncs_run_start, &f2812_ramfuncs_load_start, &f2812_ramfuncs_load_end);
     f2812_memcopy(&f2812_ramfuncs_h_run_start, &f2812_ramfuncs_h_load_start, &f2812_ramfuncs_h_load_end);
+    f2812_memcopy(&f2812_ramfuncs_m_run_start, &f2812_ramfuncs_m_load_start, &f2812_ramfuncs_m_load_end);
 }
 
 #else

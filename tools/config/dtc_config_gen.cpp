@@ -1,7 +1,7 @@
 // dtc_config_gen - writes the default configuration (dtc_config_si_defaults) as a C source file for
 // a target build.
 //
-//   dtc_config_gen [--f2812-board] [--reconfig-relay DELAY_S] OUTPUT.c [SYMBOL]
+//   dtc_config_gen [--f2812-board] [--im] [--reconfig-relay DELAY_S] OUTPUT.c [SYMBOL]
 //
 // SYMBOL (default dtc_config_default) names the `const struct dtc_config`; the file also defines
 // `const struct dtc_config *const SYMBOL_post`: the post-fault FSTP configuration for a six-switch
@@ -10,7 +10,8 @@
 // --f2812-board takes what the F2812 board's registers really produce from hal/f2812/f2812_board.h
 // instead of the rig's defaults: the dead time the dead-band unit inserts (its DBT/prescaler
 // rounding included) and the control period of timer 1, so the firmware's dead-time compensation
-// and period scaling match the hardware it runs on.
+// and period scaling match the hardware it runs on. --im writes the induction-machine defaults
+// (dtc_config_si_im_defaults; the F2812's IM image, target/f2812/dtc_config_board_im.c).
 //
 // The file is written under OUTPUT.partial-PID and renamed to OUTPUT when complete: a refused
 // configuration, a bad argument or a write error (a full disk included) leaves OUTPUT as it was.
@@ -127,7 +128,11 @@ int main(int argc, char** argv)
     const std::string& sym = a.sym;
 
     dtc_config_si_t si;
-    dtc_config_si_defaults(&si);
+    if (a.im) {
+        dtc_config_si_im_defaults(&si);
+    } else {
+        dtc_config_si_defaults(&si);
+    }
     if (relay_s > 0.0) {
         si.topology = DTC_TOPO_SSTP;
         si.compensation = DTC_COMP_SSTP;

@@ -60,6 +60,8 @@ int parse_gen_args(int argc, const char* const* argv, GenArgs* a, std::ostream& 
     app.set_version_flag("--version", std::string("dtc_config_gen ") + DTC_PROJECT_VERSION +
                                           " (configuration version " + std::to_string(DTC_CONFIG_VERSION) + ")");
     app.add_flag("--f2812-board", a->board, "dead time and control period as the F2812 board's registers produce them");
+    app.add_flag("--im", a->im,
+                 "the induction-machine defaults (dtc_config_si_im_defaults) instead of the PM drive's");
     app.add_flag("--params-md", a->params_md,
                  "write the table of every firmware parameter (docs/parameters.md) to OUTPUT instead");
     app.add_option("--reconfig-relay", a->relay_s,
@@ -80,6 +82,11 @@ int parse_gen_args(int argc, const char* const* argv, GenArgs* a, std::ostream& 
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         return app.exit(e, out, err) == 0 ? 0 : 2;
+    }
+    if (a->im && a->relay_s > 0.0) {
+        err << "dtc_config_gen: --reconfig-relay with --im: the IM law has no post-fault configuration "
+               "(a failed leg trips)\n";
+        return 2;
     }
     if (a->output.empty() || a->output[0] == '-') {
         err << "dtc_config_gen: OUTPUT '" << a->output << "': a file name cannot start with '-' (write ./" << a->output

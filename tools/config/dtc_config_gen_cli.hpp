@@ -9,6 +9,7 @@
 
 struct GenArgs {
     bool board = false;     // --f2812-board
+    bool im = false;        // --im
     bool params_md = false; // --params-md
     double relay_s = 0.0;   // --reconfig-relay: in (0, 10] s when given, else 0
     std::string output;     // OUTPUT.c: not empty, not starting with '-'

@@ -3,7 +3,7 @@
 function, and the C28x cycle estimate made from that instruction mix (docs/f2812.md, "C28x cycle
 estimate").
 
-  pil_profile.py RECORDING [--cm-image ELF] [--top N] [--json OUT]
+  pil_profile.py RECORDING [--cm-image ELF] [--top N] [--json OUT] [--ram-cmd CMD] [--period-cycles N]
 
 Replays RECORDING (dtc-sil run --record-isr FILE) on qemu-system-arm (mps2-an385, the cross-cm0
 PIL image, as pil_compare.py does) with qemu's translation-block log: every translated block's
@@ -34,6 +34,17 @@ The C28x estimate (ESTIMATE: no C28x compiler or simulator is available) re-weig
     cost 4 cycles taken or not (7 for the short form taken) and a call or return 4, against the
     one counted for its M0 instruction.
   The weights are printed with the figure so that the reader can scale them.
+
+With --ram-cmd CMD (a linker command file that places functions by name, `*(.text:_NAME)`, as
+linker/f2812_flash_im.cmd does), every function CMD does not name runs from flash, and each of
+its executed M0 instructions is charged FLASH_WAIT_PER_INSN more cycles: the F2812's flash at
+150 MHz with RANDWAIT = PAGEWAIT = 5 (fact sheet 4.7), taken pessimistically as one random-access
+fetch per instruction (the flash pipeline's prefetch ignored). The listing marks those functions
+and sums their wait cycles per ISR: from app_isr()'s entry to the harness's pil_target_isr_end()
+(the background the replay runs after it is not the ISR's). The out-of-line helpers (64-bit
+helpers, iq_mpy, the saturating adds) are single C28x sequences inlined by cl2000 into their
+caller: they run where the caller runs; the HAL's functions (hal_*: the replay HAL here) are the
+F2812 HAL's ramfuncs (F2812_RAMFUNC) on the target.
 """
 import argparse
 import bisect
@@ -58,6 +69,14 @@ C28X_BRANCH_EXTRA = 3
 C28X_HELPER_CYCLES = 4
 IQ_MPY_CYCLES = 8
 FIX_SAT_CYCLES = 4
+FLASH_WAIT_PER_INSN = 5
+
+
+def ram_functions(cmd):
+    """Names of the functions a linker command file places by name (`.text:_NAME`, COFF)."""
+    with open(cmd) as f:
+        text = re.sub(r"/\*.*?\*/", "", f.read(), flags=re.S)
+    return set(re.findall(r"\.text:_([A-Za-z0-9_]+)", text))
 
 
 def symbols(elf):
@@ -83,8 +102,17 @@ def block_cycles(name, n, is_entry):
     return n * C28X_CYCLES_PER_INSN + C28X_BRANCH_EXTRA
 
 
-def profile(rec, elf):
-    """{function: [instructions, calls, blocks]} over the replay, and per ISR (split at each entry
+def flash_wait(name, n, ram):
+    """Wait cycles of one executed block of n M0 instructions of function name; ram None: all RAM."""
+    if ram is None or name in ram or name in HELPERS or name in IQ_MPY or name in FIX_SAT or name.startswith("hal_"):
+        return 0
+    return n * FLASH_WAIT_PER_INSN
+
+
+def profile(rec, elf, ram=None):
+    """{function: [instructions, calls, blocks, instructions from flash in the ISR, instructions
+    in the ISR, calls in the ISR]} over the replay (in the ISR: from app_isr's entry to
+    pil_target_isr_end's), and per ISR (split at each entry
     of app_isr) the ISR path's M0 instructions and C28x cycles (harness excluded)."""
     qemu = shutil.which("qemu-system-arm")
     if qemu is None:
@@ -94,7 +122,7 @@ def profile(rec, elf):
     entry = {a for a, _ in syms}
     tb_len = {}
     per = {}
-    isr_m0, isr_c28, isr_law = [], [], []
+    isr_m0, isr_c28, isr_law, isr_wait = [], [], [], []
     with tempfile.TemporaryDirectory() as d:
         shutil.copyfile(rec, os.path.join(d, "pil_in.bin"))
         fifo = os.path.join(d, "log")
@@ -103,6 +131,7 @@ def profile(rec, elf):
                               "-d", "in_asm,exec,nochain", "-D", fifo,
                               "-semihosting-config", "enable=on,target=native", "-kernel", elf], cwd=d)
         cur_pc, cur_n = None, 0
+        in_isr = False
         with open(fifo, errors="replace") as f:
             for line in f:
                 if line.startswith("Trace "):
@@ -113,20 +142,31 @@ def profile(rec, elf):
                     n = tb_len.get(pc, 0)
                     i = bisect.bisect_right(addrs, pc) - 1
                     name = syms[i][1] if i >= 0 else "?"
-                    e = per.setdefault(name, [0, 0, 0])
+                    if pc in entry and name in ("app_isr", "pil_target_isr_end"):
+                        in_isr = name == "app_isr"
+                    e = per.setdefault(name, [0, 0, 0, 0, 0, 0])
                     e[0] += n
                     e[2] += 1
+                    if in_isr:
+                        e[4] += n
                     if pc in entry:
                         e[1] += 1
+                        if in_isr:
+                            e[5] += 1
                         if name == "app_isr":
                             isr_m0.append(0)
                             isr_c28.append(0.0)
                             isr_law.append(False)
+                            isr_wait.append(0)
                         elif name == "law_step" and isr_law:
                             isr_law[-1] = True
                     if isr_m0 and (not HARNESS.match(name) or name in HELPERS):
                         isr_m0[-1] += n
-                        isr_c28[-1] += block_cycles(name, n, pc in entry)
+                        w = flash_wait(name, n, ram) if in_isr else 0
+                        isr_c28[-1] += block_cycles(name, n, pc in entry) + w
+                        isr_wait[-1] += w
+                        if w:
+                            e[3] += n  # instructions run from flash inside the ISR
                 elif line.startswith("IN:"):
                     cur_pc, cur_n = None, 0
                 elif line.startswith("0x"):
@@ -138,7 +178,7 @@ def profile(rec, elf):
                         tb_len[cur_pc] = cur_n
         if p.wait() != 0:
             raise SystemExit("pil_profile: qemu failed")
-    return per, isr_m0, isr_c28, isr_law
+    return per, isr_m0, isr_c28, isr_law, isr_wait
 
 
 def main():
@@ -147,8 +187,13 @@ def main():
     ap.add_argument("--cm-image", default=os.path.join(ROOT, "build", "cross-cm0", "bin", "pil_cm.elf"))
     ap.add_argument("--top", type=int, default=25)
     ap.add_argument("--json")
+    ap.add_argument("--period-cycles", type=int, default=7500,
+                    help="C28x cycles of the control period at 150 MHz (7500: 50 us; 6000: 40 us)")
+    ap.add_argument("--ram-cmd", help="linker command file naming the functions in zero-wait RAM; "
+                    "the others are charged flash wait states")
     a = ap.parse_args()
-    per, isr_m0, isr_c28, isr_law = profile(a.recording, a.cm_image)
+    ram = ram_functions(a.ram_cmd) if a.ram_cmd else None
+    per, isr_m0, isr_c28, isr_law, isr_wait = profile(a.recording, a.cm_image, ram)
     count = len(isr_m0)
     if count == 0:
         raise SystemExit("pil_profile: no app_isr call in the replay")
@@ -156,22 +201,32 @@ def main():
                   reverse=True)
     print("  Cortex-M0 instructions per ISR by function (qemu block log, %d ISRs; self, not inclusive):" % count)
     for n, calls, _, k in rows[:a.top]:
-        print("    %-26s %8.1f instr/ISR %6.2f calls/ISR" % (k, n / count, calls / count))
+        print("    %-26s %8.1f instr/ISR %6.2f calls/ISR%s" % (k, n / count, calls / count,
+              "  (flash)" if flash_wait(k, 1, ram) else ""))
     m0_mean, c28_mean = sum(isr_m0) / count, sum(isr_c28) / count
     w = max(range(count), key=lambda k: isr_c28[k])
     print("  ISR path (replay harness excluded), Cortex-M0 instructions: mean %.0f, worst %d" % (m0_mean, max(isr_m0)))
     print("  C28x ESTIMATE, cycles (weights: %.1f per M0 instruction, +%d per block, %d per 64-bit helper call,"
           % (C28X_CYCLES_PER_INSN, C28X_BRANCH_EXTRA, C28X_HELPER_CYCLES))
     print("    %d per iq_mpy, %d per saturating add; docs/f2812.md): mean %.0f, worst %.0f (ISR %d) = %.0f %% of"
-          " the 7,500-cycle 50 us period; %.2f C28x cycles per M0 instruction"
-          % (IQ_MPY_CYCLES, FIX_SAT_CYCLES, c28_mean, isr_c28[w], w, 100.0 * isr_c28[w] / 7500.0,
+          " the %d-cycle period; %.2f C28x cycles per M0 instruction"
+          % (IQ_MPY_CYCLES, FIX_SAT_CYCLES, c28_mean, isr_c28[w], w, 100.0 * isr_c28[w] / a.period_cycles,
+             a.period_cycles,
              c28_mean / m0_mean if m0_mean else 0.0))
+    if ram is not None:
+        wf = max(range(count), key=lambda k: isr_wait[k])
+        flash = sorted(((v[3], k) for k, v in per.items()
+                        if (not HARNESS.match(k) or k in HELPERS) and flash_wait(k, 1, ram) and v[3]), reverse=True)
+        print("  flash wait states (%s: functions not named there run from flash, +%d cycles per M0 instruction,"
+              " pessimistic): mean %.0f, worst %d cycles per ISR (ISR %d), included above"
+              % (os.path.relpath(a.ram_cmd), FLASH_WAIT_PER_INSN, sum(isr_wait) / count, isr_wait[wf], wf))
+        print("    executed from flash: %s" % (", ".join("%s %.1f" % (k, n / count) for n, k in flash[:12]) or "none"))
     run = [k for k in range(count) if isr_law[k]]
     if run:
         wr = max(run, key=lambda k: isr_c28[k])
         print("    ISRs that ran the control law (%d): M0 mean %.0f, worst %d; C28x mean %.0f, worst %.0f (ISR %d) = %.0f %%"
               % (len(run), sum(isr_m0[k] for k in run) / len(run), max(isr_m0[k] for k in run),
-                 sum(isr_c28[k] for k in run) / len(run), isr_c28[wr], wr, 100.0 * isr_c28[wr] / 7500.0))
+                 sum(isr_c28[k] for k in run) / len(run), isr_c28[wr], wr, 100.0 * isr_c28[wr] / a.period_cycles))
     if a.json:
         with open(a.json, "w") as f:
             json.dump({"isrs": count, "m0_mean": m0_mean, "m0_worst": max(isr_m0), "c28x_mean": c28_mean,

@@ -350,6 +350,7 @@ gen_case gen_unknown_option 2 'not expected: --bogus' -- "$gen" --bogus out.c
 gen_case gen_no_args 2 'output is required' -- "$gen"
 gen_case gen_relay_nan 2 'reconfig-relay.*\(0, 10\]' -- "$gen" --reconfig-relay nan out.c
 gen_case gen_relay_order 0 "" -- "$gen" --reconfig-relay 0.015 --f2812-board out_relay.c
+gen_case gen_im_relay 2 'reconfig-relay with --im: the IM law has no post-fault configuration' -- "$gen" --im --reconfig-relay 0.015 out_im.c
 gen_case gen_bad_symbol 2 "SYMBOL '9bad': is not a C identifier" -- "$gen" out.c 9bad
 gen_case gen_keyword_symbol 2 "SYMBOL 'int': is a C keyword" -- "$gen" out.c int
 gen_case gen_reserved_symbol 2 'reserved' -- "$gen" out.c __x

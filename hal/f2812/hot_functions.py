@@ -1,0 +1,280 @@
+#!/usr/bin/env python3
+"""hot_functions.py - which functions of an F2812 flash image run from zero-wait RAM, chosen by
+measurement, written into the linker command file that places them by name (linker/
+f2812_flash.cmd for the PM image dtc_f2812, linker/f2812_flash_im.cmd for the IM image
+dtc_f2812_im).
+
+  hot_functions.py --image pm|im [--pil JSON]... [--root DIR] [--sil EXE] [--cm0 DIR] [--write]
+
+1. Measures: runs the image's shipped scenarios (IMAGES below: the PM law's on both topologies
+   with both estimators and the measured mid-point; the IM speed scenario, standstill,
+   magnetisation, acceleration to 1000 rpm and the step to rated load, once per IM scheme) under
+   valgrind's callgrind with collection inside app_isr() only: each function's own instructions
+   and calls per ISR on the host build (dtc-sil).
+   With --pil JSON (tools/pil/pil_profile.py --json on a dtc-sil --record-isr recording): the
+   Cortex-M0 image's own calls per ISR inside app_isr() as well, which see the functions the
+   host inlines (and those called through a pointer).
+2. A function is hot when some run calls it at least HOT_CALLS_PER_ISR times per ISR (the
+   per-period path and the speed loop; not the start-up's one-off steps, the fault paths or the
+   background). Its weight is what it would cost from flash in an ISR that runs it: its
+   instructions in such an ISR (per ISR, or per call when it runs less than once per ISR: the
+   speed loop's ISR is the worst one) times the run's ISRs per second, the largest over the runs.
+3. Maps them onto the image the linker sees (the image's application in the cross-cm0 build, as
+   hal/f2812/budget.sh links it): the host inlines static functions the Cortex-M0 build keeps, so
+   every function of the image that a hot function calls (its `bl` targets, transitively) is hot
+   too, unless the host build has it as a function of its own that the measurement found cold (a
+   rare branch: a fault, a limit, a hand-over).
+4. Fills the blocks in order of weight per word (the wait states saved per word of RAM), each up
+   to MARGIN of its words by the pessimistic size (Thumb bytes / 2 * 1.5, as budget.sh counts):
+   ramfuncs_h (H0's code part) first, then ramfuncs_m (M1), then ramfuncs (L0+L1, less the control
+   tables and the HAL's ramfuncs that budget.sh adds there: TABLE_RESERVE words). What does not fit
+   stays in flash; the script prints it with the host instructions per ISR left in flash, and
+   tools/pil/pil_profile.py --ram-cmd counts their wait states per ISR on the Cortex-M0 replay.
+
+--write replaces the lists between the markers `hot:SECTION begin` and `hot:SECTION end` of the
+.cmd; without it the lists are printed. Run it after a change to a law or the application
+(budget.sh fails on a name the image no longer defines).
+"""
+import argparse
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+HOT_CALLS_PER_ISR = 0.01   # at least once per 100 control periods (the speed loop runs every few)
+MARGIN = 0.95              # budget.sh's margin
+FLASH_WAIT = 5             # RANDWAIT = PAGEWAIT = 5 at 150 MHz (fact sheet 4.7), per fetch
+TABLE_RESERVE = 1300       # words of L0+L1 kept for the control tables and the HAL's ramfuncs
+# Per image: its linker command file, its application archives and main object (cross-cm0), and
+# the runs measured (scenario, dtc-sil --set overrides).
+IMAGES = {
+    "pm": {"cmd": "f2812_flash.cmd", "app": "libdtc_app", "proto": "libdtc_proto", "main": "f2812_main.dir",
+           "runs": [(sc, ()) for sc in ("fstp_voltage_proposed_full", "fstp_current_full", "sstp_voltage_simple_full",
+                                        "sstp_current_full", "fstp_voltage_simple_full_midpoint")]},
+    "im": {"cmd": "f2812_flash_im.cmd", "app": "libdtc_app_im", "proto": "libdtc_proto_im",
+           "main": "f2812_main_im.dir",
+           "runs": [("im_dtc_speed", ('control.scheme="%s"' % s, "duration_s=1.5"))
+                    for s in ("dtc", "dsc", "sfvc", "dfoc", "dsvm")]},
+}
+SECTIONS = ("ramfuncs_h", "ramfuncs_m", "ramfuncs")  # filled in this order (.cmd MEMORY RAMH0P, RAMM1P, RAML0L1)
+HELPERS = re.compile(r"^(__aeabi_|__.*di3$)")  # libgcc: single C28x instructions, not placed
+
+
+def run(cmd, **kw):
+    return subprocess.run(cmd, check=True, capture_output=True, text=True, **kw).stdout
+
+
+def callgrind_profile(sil, scenario, sets, tmp):
+    """{function: (instructions, calls)} per ISR inside app_isr, and ISRs per second."""
+    out = os.path.join(tmp, "cg.out")
+    cmd = ["nice", "valgrind", "--tool=callgrind", "--toggle-collect=app_isr", "--callgrind-out-file=" + out,
+           sil, "run", scenario, "--out", os.path.join(tmp, "run")]
+    for x in sets:
+        cmd += ["--set", x]
+    res = subprocess.run(cmd, capture_output=True, text=True)
+    if res.returncode != 0:
+        raise SystemExit("hot_functions: %s failed: %s" % (" ".join(cmd[5:]), res.stderr[-400:]))
+    m = re.search(r"simulated ([0-9.]+) s in .*?, ([0-9]+) ISRs", res.stdout)
+    if not m:
+        raise SystemExit("hot_functions: no ISR count in dtc-sil's output (%s)" % scenario)
+    seconds, isrs = float(m.group(1)), int(m.group(2))
+    names, own, calls = {}, {}, {}
+    fn = cfn = None
+    pending_calls = False
+    with open(out) as f:
+        for line in f:
+            m = re.match(r"^(c?fn)=\((\d+)\)(?: (.*))?$", line.rstrip("\n"))
+            if m:
+                if m.group(3):
+                    names[m.group(2)] = m.group(3)
+                name = names.get(m.group(2), "?")
+                if m.group(1) == "fn":
+                    fn = name
+                else:
+                    cfn = name
+                continue
+            if line.startswith("calls="):
+                calls[cfn] = calls.get(cfn, 0) + int(line.split()[0][6:])
+                pending_calls = True
+                continue
+            m = re.match(r"^(?:[+-]?\d+|\*) (\d+)$", line.strip())
+            if m:
+                if pending_calls:  # the cost line of a call: inclusive, the callee's
+                    pending_calls = False
+                else:
+                    own[fn] = own.get(fn, 0) + int(m.group(1))
+    prof = {k: (own.get(k, 0) / isrs, calls.get(k, 0) / isrs) for k in set(own) | set(calls)}
+    return prof, isrs / seconds
+
+
+def image_functions(cm0, img, tmp):
+    """{name: bytes} of the image's control functions and {name: set of callees}, cross-cm0."""
+    fw = os.path.join(cm0, "firmware")
+    app = img["app"] if os.path.exists(os.path.join(fw, img["app"] + ".a")) else "libdtc_app"
+    main_dir = img["main"] if app == img["app"] else "f2812_main.dir"
+    main = os.path.join(cm0, "target", "f2812", "CMakeFiles", main_dir, "f2812_main.c.obj")
+    allo = os.path.join(tmp, "all.o")
+    libs = [os.path.join(cm0, "hal", "f2812", "libhal_f2812.a")] + [
+        os.path.join(fw, a + ".a") for a in (app, app + "_init", "libdtc_init", "libdtc_im", "libdtc_firmware",
+                                             "libdtc_config", "libdtc_fixmath", "libdtc_comm")]
+    libs.append(os.path.join(fw, (img["proto"] if app == img["app"] else "libdtc_proto") + ".a"))
+    run(["arm-none-eabi-ld", "-r", "-o", allo, main, "--start-group"] + libs + ["--end-group"])
+    # only the control archives' functions are placed (the HAL's by its pragma, the rest in flash)
+    ctl = set()
+    for a in (app, "libdtc_im", "libdtc_firmware", "libdtc_fixmath"):
+        for member in run(["arm-none-eabi-ar", "t", os.path.join(fw, a + ".a")]).split():
+            ctl.add(member)
+    size, owner = {}, {}
+    cur_obj = None
+    for line in run(["arm-none-eabi-nm", "-S", "-t", "d", "-A", allo]).splitlines():
+        p = line.split()
+        if len(p) == 4 and p[2] in "tT":
+            name = p[3].split(".")[0]
+            size[name] = size.get(name, 0) + int(p[1])
+    # owner object of each function: from the archives' own members
+    for a in (app, "libdtc_im", "libdtc_firmware", "libdtc_fixmath"):
+        for line in run(["arm-none-eabi-nm", "-S", "-t", "d", "-A", os.path.join(fw, a + ".a")]).splitlines():
+            p = line.split()
+            if len(p) == 4 and p[2] in "tT":
+                owner[p[3].split(".")[0]] = a
+    callees = {}
+    for line in run(["arm-none-eabi-objdump", "-dr", allo]).splitlines():
+        m = re.match(r"^[0-9a-f]+ <([A-Za-z0-9_.]+)>:$", line)
+        if m:
+            cur_obj = m.group(1).split(".")[0]
+            callees.setdefault(cur_obj, set())
+            continue
+        m = re.search(r"\bbl\s+[0-9a-f]+ <([A-Za-z0-9_.]+?)(?:\+0x[0-9a-f]+)?>", line) or \
+            re.search(r"R_ARM_THM_CALL\s+([A-Za-z0-9_.]+)", line)
+        if m and cur_obj:
+            callees[cur_obj].add(m.group(1).split(".")[0])
+    return {k: v for k, v in size.items() if k in owner}, callees
+
+
+def host_functions(sil):
+    return {p[2] for p in (l.split() for l in run(["nm", sil]).splitlines()) if len(p) == 3 and p[1] in "tT"}
+
+
+def cmd_words(cmd_text, block):
+    m = re.search(r"^\s*%s\s*:\s*origin\s*=\s*0x[0-9A-Fa-f]+,\s*length\s*=\s*(0x[0-9A-Fa-f]+)" % block,
+                  cmd_text, re.M)
+    if not m:
+        raise SystemExit("hot_functions: no MEMORY block %s in linker/f2812_flash_mem.cmd" % block)
+    return int(m.group(1), 16)
+
+
+def pess_words(nbytes):
+    return (nbytes * 3 + 3) // 4
+
+
+def main():
+    here = os.path.dirname(os.path.abspath(__file__))
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--root", default=os.path.normpath(os.path.join(here, "..", "..")))
+    ap.add_argument("--sil")
+    ap.add_argument("--cm0")
+    ap.add_argument("--write", action="store_true")
+    ap.add_argument("--image", choices=sorted(IMAGES), required=True)
+    ap.add_argument("--pil", action="append", default=[], metavar="JSON",
+                    help="pil_profile.py --json output of a replay of this image's law")
+    a = ap.parse_args()
+    img = IMAGES[a.image]
+    sil = a.sil or os.path.join(a.root, "build", "host", "bin", "dtc-sil")
+    cm0 = a.cm0 or os.path.join(a.root, "build", "cross-cm0")
+    cmd_path = os.path.join(a.root, "linker", img["cmd"])
+    with open(cmd_path) as f:
+        cmd_text = f.read()
+    with open(os.path.join(a.root, "linker", "f2812_flash_mem.cmd")) as f:
+        mem_text = f.read()
+    runs = ["%s%s" % (sc, "".join(" " + x.split("=")[1].strip('"') for x in sets[:1])) for sc, sets in img["runs"]]
+    with tempfile.TemporaryDirectory() as tmp:
+        weight, hot_host, seen, profs = {}, set(), set(), {}
+        for label, (sc, sets) in zip(runs, img["runs"]):
+            prof, rate = callgrind_profile(sil, os.path.join(a.root, "tools", "scenarios", sc + ".toml"), sets, tmp)
+            profs[label] = (prof, rate)
+            for name, (ir, calls) in prof.items():
+                seen.add(name)
+                if calls >= HOT_CALLS_PER_ISR:
+                    hot_host.add(name)
+                    weight[name] = max(weight.get(name, 0.0), ir / min(calls, 1.0) * rate)
+        size, callees = image_functions(cm0, img, tmp)
+    host = host_functions(sil)
+    # the Cortex-M0 replays: calls per ISR inside app_isr (pil_profile.py: from its entry to the
+    # harness's end of the ISR); weight at 25,000 ISRs/s (the fastest period)
+    for path in a.pil:
+        with open(path) as f:
+            pil = json.load(f)
+        for name, v in pil["functions"].items():
+            instr, calls = v[4], v[5]  # inside the ISR
+            name = name.split(".")[0]
+            if name in size and calls / pil["isrs"] >= HOT_CALLS_PER_ISR:
+                hot_host.add(name)
+                weight[name] = max(weight.get(name, 0.0),
+                                   instr / pil["isrs"] / min(calls / pil["isrs"], 1.0) * 25000.0)
+    # closure over the image's call graph; a function the host inlined takes the largest weight of
+    # its hot callers (iterated to the fixed point, so the result does not depend on the order)
+    hot = {n for n in hot_host if n in size}
+    changed = True
+    while changed:
+        changed = False
+        for f in sorted(hot):
+            for c in sorted(callees.get(f, ())):
+                if c not in size or HELPERS.match(c) or (c in host and c not in hot_host):
+                    continue  # not placed, or a function of its own on the host too, measured cold
+                if c not in hot_host and weight.get(c, 0.0) < weight.get(f, 0.0):
+                    weight[c] = weight.get(f, 0.0)
+                    changed = True
+                if c not in hot:
+                    hot.add(c)
+                    changed = True
+    # the most instructions per second saved from the wait states per word of RAM first
+    order = sorted(hot, key=lambda n: (-weight.get(n, 0.0) / max(size[n], 1), n))
+    cap = {"ramfuncs_h": int(cmd_words(mem_text, "RAMH0P") * MARGIN),
+           "ramfuncs_m": int(cmd_words(mem_text, "RAMM1P") * MARGIN),
+           "ramfuncs": int(cmd_words(mem_text, "RAML0L1") * MARGIN) - TABLE_RESERVE}
+    place = {"ramfuncs_h": [], "ramfuncs_m": [], "ramfuncs": [], "flash": []}
+    used = {"ramfuncs_h": 0, "ramfuncs_m": 0, "ramfuncs": 0}
+    for n in order:
+        w = pess_words(size[n])
+        for sect in SECTIONS:
+            if used[sect] + w <= cap[sect]:
+                place[sect].append(n)
+                used[sect] += w
+                break
+        else:
+            place["flash"].append(n)
+    print("hot functions (host callgrind, %s; >= %.2f calls/ISR in some run, plus their callees on the "
+          "Cortex-M0): %d, %d words pessimistic" % ("; ".join(runs), HOT_CALLS_PER_ISR, len(order),
+                                                    sum(pess_words(size[n]) for n in order)))
+    for sect in SECTIONS:
+        print("  %-10s %5d words pessimistic of %d: %s" % (sect, used[sect], cap[sect], " ".join(place[sect])))
+    print("  hot but in flash (no room): %s" % (" ".join(place["flash"]) or "none"))
+    ram = set(place["ramfuncs_h"]) | set(place["ramfuncs_m"]) | set(place["ramfuncs"])
+    print("  host instructions per ISR outside these lists (x %d wait cycles each from flash, pessimistic):"
+          % FLASH_WAIT)
+    for s in runs:
+        prof, rate = profs[s]
+        fl = sum(ir for n, (ir, _) in prof.items() if n in size and n not in ram)
+        print("    %-30s %7.1f of %7.1f (%.0f ISRs/s): ~%.0f wait cycles per ISR"
+              % (s, fl, sum(ir for n, (ir, _) in prof.items() if n in size), rate, fl * FLASH_WAIT))
+    cold = sorted(n for n in size if n not in hot)
+    print("  the image's other control functions, in flash: %d, %d words pessimistic"
+          % (len(cold), sum(pess_words(size[n]) for n in cold)))
+    if a.write:
+        text = cmd_text
+        for sect in SECTIONS:
+            body = "".join("                    *(.text:_%s)\n" % n for n in sorted(place[sect]))
+            pat = re.compile(r"(/\* hot:%s begin[^\n]*\n)(.*?)([ \t]*/\* hot:%s end \*/)" % (sect, sect), re.S)
+            if not pat.search(text):
+                raise SystemExit("hot_functions: no hot:%s markers in %s" % (sect, cmd_path))
+            text = pat.sub(lambda m: m.group(1) + body + m.group(3), text)
+        with open(cmd_path, "w") as f:
+            f.write(text)
+        print("wrote %s" % cmd_path)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
