@@ -32,6 +32,8 @@
 #define IM_WIN 512U              /* settling window (20.5 ms at 40 us) */
 #define IM_WIN_MAX 200U          /* the longest wait for a level to settle (4.1 s at 40 us) */
 #define IM_SETTLED_N 2U          /* consecutive windows that pass */
+#define IM_WIN_RELAX 50U         /* ... a quarter of the LSB after this many windows */
+#define IM_LSB_SHIFT 4U          /* ... and at least 1/2^IM_LSB_SHIFT of the duty's LSB */
 #define IM_BASE 4U               /* the test compares the last IM_BASE windows with the IM_BASE before */
 #define IM_SETTLE_SHIFT 13U      /* the test: a window's mean moved by less than 1/8192 of its value */
 #define IM_PULSE_DV IQ_FRAC(1, 8) /* the voltage step, V_b / 8 */
@@ -118,7 +120,7 @@ static uint16_t im_settle(app_ident_t *d, iq_t *mv, iq_t *mi)
         m->y_hist[m->n_win % (2U * IM_BASE)] = y;
         if (m->n_win + 1U >= 2U * IM_BASE) {
             /* the last IM_BASE windows' sum against the IM_BASE before them; the threshold is
-             * 1/2^IM_SETTLE_SHIFT of the voltage, at least a sixteenth of the duty's LSB
+             * 1/2^IM_SETTLE_SHIFT of the voltage, at least a sixteenth of the duty's LSB (IM_LSB_SHIFT)
              * (3 quant_k: the regulator dithers between LSBs, app_ident_im_quant) */
             int64_t dy = 0;
             int64_t thr = (*mv < 0 ? -(int64_t)*mv : (int64_t)*mv) >> IM_SETTLE_SHIFT;
@@ -127,8 +129,13 @@ static uint16_t im_settle(app_ident_t *d, iq_t *mv, iq_t *mi)
                 dy += (int64_t)m->y_hist[(m->n_win - k) % (2U * IM_BASE)] -
                       (int64_t)m->y_hist[(m->n_win - k - IM_BASE) % (2U * IM_BASE)];
             }
-            if (thr < ((int64_t)m->quant_k * 3) >> 4) {
-                thr = ((int64_t)m->quant_k * 3) >> 4;
+            {
+                /* after IM_WIN_RELAX windows a regulator dithering between LSBs is taken as
+                 * settled at a quarter LSB (the flux's tail is added, im_taur) */
+                const int64_t lsb = ((int64_t)m->quant_k * 3) >> (m->n_win < IM_WIN_RELAX ? IM_LSB_SHIFT : 2U);
+                if (thr < lsb) {
+                    thr = lsb;
+                }
             }
             if ((dy < 0 ? -dy : dy) <= thr * (int64_t)IM_BASE) {
                 m->n_ok++;
@@ -154,26 +161,31 @@ static iq_t im_lsig(const app_ident_im_t *m, iq_t r)
     return m->p_rise > 0 ? fix_sat32(app_ident_div64(num * 16777216, m->p_rise)) : 0;
 }
 
-/* tau_r (periods, Q4) from the DC step's integrals (file comment 3) with sigma L_s = lsig;
- * L_s into m->res.ls_ts_iq. Returns 0 when psi_R(T) is not positive (no result). Units: psi in
- * IQ x periods, its integral in IQ x periods^2; L / (Z_b Ts) in IQ times a current integral
- * (IQ x periods) >> 24 is IQ x periods^2. */
-static int32_t im_taur(app_ident_t *d, iq_t lsig)
+/* tau_r (periods, Q4) from the DC step's integrals (file comment 3) with sigma L_s = lsig and the
+ * previous pass's tau_r (taur, 0 on the first); L_s into m->res.ls_ts_iq. Returns 0 when the rotor
+ * flux's change is not positive (no result). Baseline: the line v = R i + V_0 through the four
+ * levels. The rotor flux still moving when a level was taken (its excess voltage e = v - R i - V_0,
+ * decaying with tau_r) is added as its exponential tail: e tau_r of flux, e tau_r^2 of the area;
+ * e_0 of the level before the step is flux that level still owed. Units: psi in IQ x periods,
+ * areas in IQ x periods^2; L / (Z_b Ts) in IQ times a current integral (IQ x periods) >> 24 is
+ * IQ x periods^2. Magnitudes: e < 2^22, tau_r Q4 < 2^20: e tau_r^2 < 2^54 before the shifts. */
+static int32_t im_taur(app_ident_t *d, iq_t lsig, int32_t taur)
 {
     app_ident_im_t *const m = &d->u.im;
     const int64_t t = (int64_t)m->t;
-    /* the baseline v = R i + V_0' through the step's own settled point (i_end, level_v[0]) instead
-     * of the line's intercept: a baseline error dv adds dv T to psi_s over the step's T (about 5
-     * tau_r), and R then multiplies only the rise's integral of (i - i_end) */
     const int64_t i0 = (int64_t)d->res.level_i_iq[IM_STEP - 1U];
     const int64_t di_end = (int64_t)m->i_end - i0;
-    const int64_t v0 = (int64_t)fix_sub32(d->res.level_v_iq[IM_STEP], iq_mpy(d->res.r_iq, m->i_end));
-    /* deviations from the settled state before the step (v = R i0 + V_0' there): psi_s - L_s i0,
-     * psi_R - L_M i0, i - i0 */
-    const int64_t psi_s = m->a_v - mul_q24(m->a_i, d->res.r_iq) - v0 * t;
+    const int64_t v0 = (int64_t)d->res.v0_iq;
+    const int64_t e_end = (int64_t)d->res.level_v_iq[IM_STEP] - (int64_t)iq_mpy(d->res.r_iq, m->i_end) - v0;
+    const int64_t e_0 = (int64_t)d->res.level_v_iq[IM_STEP - 1U] - (int64_t)iq_mpy(d->res.r_iq, (iq_t)i0) - v0;
+    const int64_t tail = app_ident_div64((e_end - e_0) * (int64_t)taur, 16);
+    const int64_t tail2 = app_ident_div64(app_ident_div64(e_end * (int64_t)taur, 16) * (int64_t)taur, 16);
+    /* deviations from the state before the step: psi_s - L_s i0, psi_R - L_M i0, i - i0 */
+    const int64_t psi_s = m->a_v - mul_q24(m->a_i, d->res.r_iq) - v0 * t + tail;
     const int64_t int_di = m->a_i - i0 * t;
     const int64_t psi_r = psi_s - mul_q24(di_end, lsig);
-    const int64_t int_psi_r = m->b_v - mul_q24(m->b_i, d->res.r_iq) - app_ident_div64(v0 * t * t, 2) - mul_q24(int_di, lsig);
+    const int64_t int_psi_r = m->b_v - mul_q24(m->b_i, d->res.r_iq) - app_ident_div64(v0 * t * t, 2) -
+                              mul_q24(int_di, lsig) - tail2;
     if (psi_r <= 0 || di_end <= 0) {
         return 0;
     }
@@ -190,7 +202,7 @@ static void im_results(app_ident_t *d)
     uint16_t k;
     for (k = 0U; k < IM_ITER; k++) {
         lsig = im_lsig(m, fix_add32(d->res.r_iq, rrg));
-        taur = im_taur(d, lsig);
+        taur = im_taur(d, lsig, taur);
         if (taur <= 16) { /* below one period: nothing measured */
             app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_IM_TAUR);
             return;
