@@ -7,20 +7,23 @@
  *   v = R_s i + d psi_s / dt,  psi_s = sigma L_s i + psi_R,  d psi_R / dt = R_R i - psi_R / tau_r
  * (psi_R = (M / L_r) phi_r, R_R = R_r (M / L_r)^2, tau_r = L_r / R_r, L_M = M^2 / L_r = R_R tau_r,
  * L_s = sigma L_s + L_M). A DC current produces no torque, so the rotor stays at rest.
- *   1. R_s (step RS): the current is stepped from zero to half rated, then held at 1, 3/4 and 1/4 of
- *      rated; each level is held in windows until the axis voltage and current settle (the rotor
- *      flux settles with tau_r), its last window is the level's point, and the PM's line
- *      V = R I + V_0 is fitted through the four points (app_ident_fit_line).
+ *   1. R_s (step RS): the current is held at 1/4 of rated, stepped to 3/4 (the DC step of 3.),
+ *      then held at 1 and 1/2; each level is held in windows until the axis voltage settles (the
+ *      rotor flux settles with tau_r), its last window is the level's point, and the PM's line
+ *      V = R I + V_0 is fitted through the four points (app_ident_fit_line). The voltage summed is
+ *      the one the compare values apply (app_ident_im_quant).
  *   2. sigma L_s (step LS): on the settled half-rated hold, voltage steps of V_b/8 until the
  *      current rose by 0.4 pu: over a step much shorter than tau_r, psi_R moves by R_R times the
  *      rise's integral, so dv = (R + R_R) di + sigma L_s d(di)/dt and
  *      sigma L_s = (dv n Ts - (R + R_R) Ts sum_trapezoid(di)) / rise (the PM's L_s with R_R added).
- *   3. L_s, tau_r, R_r (from the DC step of step 1, once R, V_0 and sigma L_s are known):
- *      psi_s(t) = integral (v - R i - V_0) dt from zero current, L_s = psi_s(T) / i(T) at the
- *      settled end T; integrating d psi_R / dt = R_R i - psi_R / tau_r from 0 to T with
- *      psi_R(T) = L_M i(T) gives the area
- *        tau_r = integral_0^T (i / i(T) - psi_R / psi_R(T)) dt,  psi_R = psi_s - sigma L_s i,
- *      which needs no exponential fit and holds for any shape of the current's rise; then
+ *   3. L_s, tau_r, R_r (from the DC step of step 1, once R, V_0 and sigma L_s are known), in
+ *      deviations from the settled state before the step (di = i - i_0, ...):
+ *      dpsi_s(t) = integral (v - R i - V_0) dt, L_s = dpsi_s(T) / di(T) at the settled end T;
+ *      integrating d psi_R / dt = R_R i - psi_R / tau_r from 0 to T with dpsi_R(T) = L_M di(T)
+ *      gives the area
+ *        tau_r = integral_0^T (di / di(T) - dpsi_R / dpsi_R(T)) dt,  psi_R = psi_s - sigma L_s i,
+ *      which needs no exponential fit and holds for any shape of the current's rise (the
+ *      regulator's); the flux still moving at T is added as its tail (im_taur). Then
  *      R_R = L_M / tau_r and R_r = L_r / tau_r with L_r = L_s (L_lr = L_ls).
  * R_R needs sigma L_s and sigma L_s needs R_R: the background iterates the two (four passes; the
  * R_R term is a third of the step's volt-seconds at most for the rig, so each pass shrinks the
