@@ -8,15 +8,12 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
-#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
-#include "cli_capture.hpp"
+#include "identify_fixture.hpp"
 
 namespace fs = std::filesystem;
 
@@ -37,37 +34,15 @@ const Machine k4kW{0.4250, 0.4220, 1.7663e-3, 1.7663e-3, 52.09e-3};
 // im-facts.md: gym-electric-motor's squirrel-cage default.
 const Machine kGem{2.9338, 1.355, 5.87e-3, 5.87e-3, 143.75e-3};
 
-class IdentifyIm : public ::testing::Test {
+class IdentifyIm : public sil_test::IdentifyFixture {
 protected:
-    fs::path dir;
-    void SetUp() override
-    {
-        dir = fs::temp_directory_path() / ("sil_identify_im_" + std::to_string(::getpid()) + "_" +
-                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir);
-        fs::create_directories(dir);
-    }
-    void TearDown() override { fs::remove_all(dir); }
-    int cli(std::vector<std::string> args, std::string* err = nullptr)
-    {
-        return sil_test::run_cli(std::move(args), nullptr, err);
-    }
-    nlohmann::json json(const fs::path& p) const
-    {
-        std::ifstream f(p);
-        return nlohmann::json::parse(f);
-    }
-    double id_of(const nlohmann::json& j, const char* q) const { return j["quantities"][q]["identified"].get<double>(); }
+    static double id_of(const nlohmann::json& j, const char* q) { return sil_test::id_of(j, q); }
+    static nlohmann::json json(const fs::path& p) { return json_of(p); }
 
     void expect_targets(const std::string& scenario, const Machine& m, const std::vector<std::string>& sets = {})
     {
         std::string err;
-        std::vector<std::string> a = {"identify", scenario, "--out", (dir / "id").string()};
-        for (const auto& s : sets) {
-            a.push_back("--set");
-            a.push_back(s);
-        }
-        ASSERT_EQ(cli(a, &err), 0) << err;
+        ASSERT_EQ(identify(scenario, sets, &err), 0) << err;
         const nlohmann::json j = json(dir / "id" / "identification.json");
         ASSERT_EQ(j["status"], "ok") << j.dump(2);
         EXPECT_NEAR(id_of(j, "rs_ohm"), m.rs, 0.05 * m.rs) << j.dump(2);
@@ -78,11 +53,9 @@ protected:
         // the rotor time constant L_r / R_r, from which R_r follows
         EXPECT_NEAR(id_of(j, "tau_r_s"), m.lr() / m.rr, 0.10 * m.lr() / m.rr) << j.dump(2);
         // identified.toml carries the T model's keys the converter takes
-        std::ifstream f(dir / "id" / "identified.toml");
-        std::stringstream s;
-        s << f.rdbuf();
+        const std::string t = toml();
         for (const char* k : {"rs_ohm =", "rr_ohm =", "lls_h =", "llr_h =", "lm_h ="}) {
-            EXPECT_NE(s.str().find(k), std::string::npos) << k << "\n" << s.str();
+            EXPECT_NE(t.find(k), std::string::npos) << k << "\n" << t;
         }
     }
 };
@@ -107,10 +80,7 @@ TEST_F(IdentifyIm, FourKwMachineWithLowResistancesMeetsTheTargets)
 TEST_F(IdentifyIm, OpenPhaseIsNamed)
 {
     std::string err;
-    EXPECT_EQ(cli({"identify", kIm, "--out", (dir / "id").string(), "--set", "faults.leg_open=b", "--set",
-                   "faults.time_s=1e-3"},
-                  &err),
-              3);
+    EXPECT_EQ(identify(kIm, {"faults.leg_open=b", "faults.time_s=1e-3"}, &err), 3);
     EXPECT_NE(err.find("identification failed in step rs: open_phase"), std::string::npos) << err;
     const nlohmann::json j = json(dir / "id" / "identification.json");
     EXPECT_EQ(j["status"], "failed");
@@ -122,7 +92,7 @@ TEST_F(IdentifyIm, OpenPhaseIsNamed)
 TEST_F(IdentifyIm, DtcTorqueOnIdentifiedValuesWithinThreePercent)
 {
     std::string err;
-    ASSERT_EQ(cli({"identify", kIm, "--out", (dir / "id").string()}, &err), 0) << err;
+    ASSERT_EQ(identify(kIm, {}, &err), 0) << err;
     ASSERT_EQ(cli({"run", kIm, "--overlay", (dir / "id" / "identified.toml").string(), "--out", (dir / "run").string(),
                    "--no-trace", "-q"},
                   &err),
