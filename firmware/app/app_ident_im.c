@@ -26,8 +26,8 @@
  *      regulator's); the flux still moving at T is added as its tail (im_taur). Then
  *      R_R = L_M / tau_r and R_r = L_r / tau_r with L_r = L_s (L_lr = L_ls).
  * R_R needs sigma L_s and sigma L_s needs R_R: the background iterates the two (four passes; the
- * R_R term is a third of the step's volt-seconds at most for the rig, so each pass shrinks the
- * error by about that factor).
+ * R_R term is about 4 % of a step's volt-seconds on the 4 kW machine, dv = V_b / 8 over 0.7 ms,
+ * and a pass's error in R_R moves sigma L_s by that share of it).
  */
 #include "app_ident_internal.h"
 

@@ -5,7 +5,7 @@
  * handling; app_ident_t carries one app_ident_im_t.
  *
  * Units: inductances as L / (Z_b Ts) in IQ (the PM's l_ts_iq), resistances in pu of Z_b (IQ), the
- * rotor time constant in control periods (Q4). Model (Casadei eqs. 1-4 at standstill, written in
+ * rotor time constant in control periods (Q4). Model (Casadei eqs. A6-A9 at standstill, written in
  * the inverse-Gamma form that is all a stator's terminals can see): psi_s = sigma L_s i_s + psi_R,
  * d psi_R / dt = R_R i_s - psi_R / tau_r, with L_s = sigma L_s + L_M, L_M = L_m^2 / L_r,
  * R_R = R_r (L_m / L_r)^2 = L_M / tau_r, tau_r = L_r / R_r.
