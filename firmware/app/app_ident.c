@@ -53,6 +53,27 @@ static void post_hold(app_ident_t *d, uint32_t th_move_q16, uint32_t th_rate_q16
     d->go = 1U;
 }
 
+void app_ident_post_hold(app_ident_t *d, uint32_t th_move_q16, uint32_t th_rate_q16, iq_t i_target, iq_t i_rate,
+                         uint16_t n_settle, uint16_t n_meas, uint16_t slow)
+{
+    post_hold(d, th_move_q16, th_rate_q16, i_target, i_rate, n_settle, n_meas, slow);
+}
+
+/* Bounds: R between 1/4096 and 1/2 of Z_b; V_0 from -V_b/256 (a drop-free inverter's
+ * measurement noise) to V_b/10 (7 V on 70 V). */
+uint16_t app_ident_rs_bounds(app_ident_t *d)
+{
+    if (d->res.r_iq < IQ(1.0 / 4096.0) || d->res.r_iq > IQ(0.5)) {
+        app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_RS);
+        return 0U;
+    }
+    if (d->res.v0_iq < -IQ(1.0 / 256.0) || d->res.v0_iq > IQ(0.1)) {
+        app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_V0);
+        return 0U;
+    }
+    return 1U;
+}
+
 static void post_pulse(app_ident_t *d)
 {
     d->seg = (uint16_t)APP_IDENT_SEG_PULSE;
@@ -116,6 +137,11 @@ void app_ident_start(app_ident_t *d, const dtc_config_t *cfg, uint16_t qep_count
     d->inv_vdc_iq = vdc_iq > IQ(1.0 / 16.0) ? fix_sat32(app_ident_div64((int64_t)1 << 48, (int64_t)vdc_iq)) : IQ(1.0);
     d->step = (uint16_t)APP_IDENT_RS;
     d->sub = 0U;
+    d->im_on = 0U;
+    if (dtc_law_is_im(cfg->law) != 0U) {
+        app_ident_im_start(d); /* no alignment: a DC current gives an induction machine no torque */
+        return;
+    }
     /* The rotor swings onto the axis under the slow regulator (regulate), at half rated: the
      * braking quadrature current is at most the aligning current (the braking torque balances the
      * magnet's pull 1.5 p psi_m I sin(delta)), so |i| stays below 0.71 x rated. The alignment is the
@@ -131,9 +157,10 @@ void app_ident_abort(app_ident_t *d) { app_ident_fail(d, (uint16_t)APP_IDENT_FAI
  * invariant: v_a = v_alpha, v_b,c = -v_alpha / 2 +- sqrt(3)/2 v_beta. Duties clamp to [1/16, 15/16];
  * compare value T1PR (1 - d) (hal.h: upper on from the up-count match to the down-count match).
  * Scaling: |v| <= v_lim = 0.25 pu, the sums stay below 2 pu; duty x T1PR < 2^40 in 64 bits. */
-static void ident_pwm(const app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t *pu, uint16_t t1pr,
-                      hal_cmd_t *cmd)
+static int64_t ident_pwm(const app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t *pu, uint16_t t1pr,
+                         hal_cmd_t *cmd)
 {
+    int64_t rq[3];
     const iq_t va = d->v_ab[0];
     const iq_t half_a = fix_neg32(fix_rshift_rnd32(va, 1U));
     const iq_t sb = fix_rshift_rnd64_sat32((int64_t)d->v_ab[1] * (int64_t)FIX_Q31_SQRT3_2, 31U);
@@ -152,12 +179,20 @@ static void ident_pwm(const app_ident_t *d, const dtc_config_t *cfg, const dtc_m
             u = fix_sub32(u, va); /* leg voltage to the negative rail: v_mid + v_x - v_a */
         }
         duty = iq_sat(iq_mpy(u, d->inv_vdc_iq), IQ(1.0 / 16.0), IQ(15.0 / 16.0));
-        cmd->cmpr_up[x] = (uint16_t)((uint32_t)t1pr -
-                                     (uint32_t)(((int64_t)duty * (int64_t)t1pr + ((int64_t)1 << 23)) >> 24));
+        {
+            const int64_t prod = (int64_t)duty * (int64_t)t1pr; /* counts, Q24 (< 2^40) */
+            const int64_t counts = (prod + ((int64_t)1 << 23)) >> 24;
+            rq[x] = prod - (counts << 24); /* the rounding's residual, counts Q24, |rq| <= 2^23 */
+            cmd->cmpr_up[x] = (uint16_t)((uint32_t)t1pr - (uint32_t)counts);
+        }
         cmd->cmpr_dn[x] = cmd->cmpr_up[x];
         cmd->act[x] = (uint16_t)HAL_PWM_UPPER_ACTIVE_HIGH;
     }
     cmd->enable = 1U;
+    /* The compare register's whole counts apply duty - rq / t1pr per leg: the SSTP's
+     * phase-to-neutral alpha voltage is short by V_dc (2 rq_a - rq_b - rq_c) / (3 t1pr) (Hoang
+     * eqs. 1-4), in counts Q24 x 3 here; the caller scales it (app_ident_im.c). */
+    return 2 * rq[0] - rq[1] - rq[2];
 }
 
 /* The angle and current ramps of a HOLD segment; returns 1 while either is moving. The angle
@@ -219,6 +254,7 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
     uint16_t k;
 
     d->tick++;
+    d->summed = 0U;
     d->vdc_iq = pu->vdc_iq;
     {
         /* unwrapped count: the per-period change folded into (-N/2, N/2] */
@@ -387,6 +423,7 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
                 d->n = 0U;
             }
         } else if (d->phase == 2U) {
+            d->summed = 1U;
             d->sum_i += (int64_t)i_par;
             d->sum_v += (int64_t)v_par;
             d->sum_pos += (int64_t)d->pos;
@@ -412,7 +449,12 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
     } else {
         return 1U;
     }
-    ident_pwm(d, cfg, pu, t1pr, cmd);
+    {
+        const int64_t rq3 = ident_pwm(d, cfg, pu, t1pr, cmd);
+        if (d->im_on != 0U && d->summed != 0U) {
+            app_ident_im_quant(d, rq3, t1pr); /* summed this period: the applied voltage's share */
+        }
+    }
     return 0U;
 }
 
@@ -457,6 +499,10 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
     if (d->go != 0U || d->done == 0U) {
         return; /* the ISR is in a segment */
     }
+    if (d->im_on != 0U) {
+        app_ident_im_service(d);
+        return;
+    }
     switch (d->step) {
     case APP_IDENT_RS:
         if (d->sub == 0U) { /* segment 0 aligned the rotor: the encoder's first dwell */
@@ -471,14 +517,7 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
             return;
         }
         app_ident_fit_line(d);
-        /* Bounds: R between 1/4096 and 1/2 of Z_b; V_0 from -V_b/256 (a drop-free inverter's
-         * measurement noise) to V_b/10 (7 V on 70 V). */
-        if (d->res.r_iq < IQ(1.0 / 4096.0) || d->res.r_iq > IQ(0.5)) {
-            app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_RS);
-            return;
-        }
-        if (d->res.v0_iq < -IQ(1.0 / 256.0) || d->res.v0_iq > IQ(0.1)) {
-            app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_V0);
+        if (app_ident_rs_bounds(d) == 0U) {
             return;
         }
         app_ident_next_step(d, (uint16_t)APP_IDENT_LS);

@@ -41,6 +41,7 @@
 #include "fixmath.h"
 #include "hal.h"
 #include "law_io.h"
+#include "app_ident_im.h"
 
 /* The identification's progress (app_ident_t.step). */
 enum app_ident_step {
@@ -70,8 +71,10 @@ enum app_ident_fail {
                                         * within 2 s (a coupled load, a blocked or too heavy rotor) */
     APP_IDENT_FAIL_BLOCKED = 8,        /* spin: the rotor did not reach an eighth of the spin speed
                                         * in 2 s at half rated q current (blocked, or a load coupled) */
-    APP_IDENT_FAIL_VDC_LOW = 9         /* spin: the regulator at its voltage limit before an eighth of
+    APP_IDENT_FAIL_VDC_LOW = 9,        /* spin: the regulator at its voltage limit before an eighth of
                                         * the spin speed (the DC link too low to spin the machine) */
+    APP_IDENT_FAIL_NOT_SETTLED = 20    /* IM: a DC level's voltage and current did not settle within
+                                        * 200 windows (app_ident_im.c; fail_detail: the level) */
 };
 
 /* fail_detail of APP_IDENT_FAIL_BOUNDS: the quantity out of bounds. */
@@ -81,7 +84,9 @@ enum app_ident_quantity {
     APP_IDENT_Q_LS = 3,
     APP_IDENT_Q_POLE_PAIRS = 4,
     APP_IDENT_Q_PSI = 5,
-    APP_IDENT_Q_MECH = 6   /* J <= 0, or the coast fit singular (no deceleration measured) */
+    APP_IDENT_Q_MECH = 6,  /* J <= 0, or the coast fit singular (no deceleration measured) */
+    APP_IDENT_Q_IM_LSIG = 20, /* IM: sigma L_s */
+    APP_IDENT_Q_IM_TAUR = 21  /* IM: tau_r, R_r */
 };
 
 /* Segment kinds the background hands the ISR. */
@@ -168,7 +173,8 @@ typedef struct {
     uint16_t fail_step;      /* enum app_ident_step that failed */
     int16_t fail_detail;
     uint16_t n_dwell;        /* encoder DC vectors per electrical turn */
-    /* the steps' scratch: the standstill steps' (st) and the spin's (sp) never live together */
+    /* the steps' scratch: the standstill steps' (st), the spin's (sp) and an induction machine's (im,
+     * its results too) never live together */
     union {
         struct {
             int64_t pulse_num, pulse_den; /* L: sums over the pulses */
@@ -181,6 +187,7 @@ typedef struct {
             iq_t vq[2], iq[2];     /* A, B: mean q voltage and q current, IQ pu */
             int64_t acc_i;         /* the q current summed over the windows A..B (IQ x periods) */
         } sp;
+        app_ident_im_t im;         /* an induction machine's steps: scratch and results */
     } u;
     uint16_t count0;         /* raw count at the start */
     uint32_t gain_q16;       /* spin: electrical angle_t per count, Q16 (p 2^32 / enc_counts) */
@@ -190,6 +197,8 @@ typedef struct {
     uint16_t n_acc, n_coast; /* spin: windows so far */
     uint32_t tick, step_tick;
     app_ident_result_t res;
+    uint16_t summed;         /* ISR: 1 when this period's HOLD sample went into the sums */
+    uint16_t im_on;          /* 1: an induction machine (app_ident_im.c runs the background, u.im) */
 } app_ident_t;
 
 /* Starts the identification (gates on from the next period). ts_pu / bases are not used: only

@@ -59,4 +59,19 @@ void app_ident_encoder_results(app_ident_t *d, const dtc_config_t *cfg);
 /* Background: the spin step's service after each window (app_ident_results.c). */
 void app_ident_spin_service(app_ident_t *d, const dtc_config_t *cfg);
 
+/* Background: a HOLD segment (app_ident.c post_hold). */
+void app_ident_post_hold(app_ident_t *d, uint32_t th_move_q16, uint32_t th_rate_q16, iq_t i_target, iq_t i_rate,
+                         uint16_t n_settle, uint16_t n_meas, uint16_t slow);
+
+/* Background: the R line's plausibility bounds; 0 (and the identification failed) when outside. */
+uint16_t app_ident_rs_bounds(app_ident_t *d);
+
+/* The induction machine's sequence (app_ident_im.c): its first segment, and its background. */
+void app_ident_im_start(app_ident_t *d);
+void app_ident_im_service(app_ident_t *d);
+
+/* ISR (no division): the applied voltage's share of this period's HOLD sample, from the compare
+ * values' rounding (rq3 = 2 rq_a - rq_b - rq_c, counts Q24; app_ident.c ident_pwm). */
+void app_ident_im_quant(app_ident_t *d, int64_t rq3, uint16_t t1pr);
+
 #endif /* APP_IDENT_INTERNAL_H */

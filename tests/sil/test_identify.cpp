@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_capture.hpp"
+#include "identify_fixture.hpp"
 #include "run.hpp"
 #include "scenario.hpp"
 
@@ -29,46 +30,8 @@ constexpr double kPi = 3.14159265358979323846;
 // Hoang Table IV devices, the 70 V link and 1 us dead time of the rig, 50 us period, 2.2 A rated.
 constexpr double kVce = 0.9, kVd = 1.25, kRon = 0.075, kVdc = 70.0, kTd = 1e-6, kTs = 50e-6, kIr = 2.2;
 
-class Identify : public ::testing::Test {
-protected:
-    fs::path dir;
-    void SetUp() override
-    {
-        dir = fs::temp_directory_path() / ("sil_identify_" + std::to_string(::getpid()) + "_" +
-                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir);
-        fs::create_directories(dir);
-    }
-    void TearDown() override { fs::remove_all(dir); }
-
-    int cli(std::vector<std::string> args, std::string* err = nullptr)
-    {
-        return sil_test::run_cli(std::move(args), nullptr, err);
-    }
-    int identify(const std::string& scenario, const std::vector<std::string>& sets, std::string* err = nullptr)
-    {
-        std::vector<std::string> a = {"identify", scenario, "--out", (dir / "id").string()};
-        for (const auto& s : sets) {
-            a.push_back("--set");
-            a.push_back(s);
-        }
-        return cli(a, err);
-    }
-    nlohmann::json report() const
-    {
-        std::ifstream f(dir / "id" / "identification.json");
-        return nlohmann::json::parse(f);
-    }
-    std::string toml() const
-    {
-        std::ifstream f(dir / "id" / "identified.toml");
-        std::ostringstream s;
-        s << f.rdbuf();
-        return s.str();
-    }
-};
-
-double id_of(const nlohmann::json& j, const char* q) { return j["quantities"][q]["identified"].get<double>(); }
+class Identify : public sil_test::IdentifyFixture {};
+using sil_test::id_of;
 
 // The standstill steps against the targets. g: the injection axis's share of the drop
 // (docs/commissioning.md: 1/sqrt(3) on the FSTP's beta axis, 2/3 on the SSTP's alpha axis), so the

@@ -3,6 +3,7 @@
 // plant's true values (identification.json). docs/commissioning.md.
 #include "identify.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -43,11 +44,18 @@ std::string fail_text(const app_ident_t& d)
     switch (d.fail) {
     case APP_IDENT_FAIL_OPEN_PHASE:
         return "open_phase: the current regulator reached its voltage limit with the current below a quarter of "
-               "its reference (a phase, leg or connection carries no current)";
+               "its reference, or (induction machine) a quadrature current above a quarter of the injected one that "
+               "it cannot null (a phase, leg or connection carries no current)";
     case APP_IDENT_FAIL_BOUNDS: {
         static const char* const q[] = {"?",          "R (slope of V = R I + V0)", "V0 (intercept)", "L_s",
                                         "pole pairs", "psi_m",                     "J (the coast's fit)"};
         const int k = d.fail_detail >= 1 && d.fail_detail <= 6 ? d.fail_detail : 0;
+        if (d.fail_detail == APP_IDENT_Q_IM_LSIG) {
+            return "out_of_bounds: sigma L_s outside its plausibility bounds (Z_b Ts / 16 .. L_s / 2)";
+        }
+        if (d.fail_detail == APP_IDENT_Q_IM_TAUR) {
+            return "out_of_bounds: tau_r or R_r outside its plausibility bounds";
+        }
         return std::string("out_of_bounds: ") + q[k] + " outside its plausibility bounds";
     }
     case APP_IDENT_FAIL_ENC_NOT_COUNTING:
@@ -64,6 +72,9 @@ std::string fail_text(const app_ident_t& d)
     case APP_IDENT_FAIL_VDC_LOW:
         return "dc_link_low: the current regulator at its voltage limit before an eighth of the spin speed (the DC "
                "link too low to spin the machine)";
+    case APP_IDENT_FAIL_NOT_SETTLED:
+        return "not_settled: the voltage and current of DC level " + std::to_string(d.fail_detail) +
+               " did not settle within 200 windows (a rotor time constant above about a second, or a turning rotor)";
     case APP_IDENT_FAIL_NOT_AT_REST:
         return "not_at_rest: the rotor did not come to rest on a DC vector within 2 s (a coupled load, a blocked or "
                "a far too heavy rotor)";
@@ -90,6 +101,16 @@ dtc_config_si_t ident_si(const Scenario& sc)
     si.kp_nm_s_rad = 0.0;
     si.ki_nm_rad = 0.0;
     si.cal_hold = 0; // the start-up's rotor hold needs the machine; the identification aligns the rotor itself
+    if (sc.motor.type == MotorType::Im) {
+        // placeholders for the induction machine's law, from the bases only (nothing of the plant):
+        // L_m = 512 Z_b Ts, L_ls = L_lr = 16 Z_b Ts, R_r = Z_b / 16 (tau_r = 8192 Ts)
+        si.rr_ohm = z_b / 16.0;
+        si.lls_h = z_b * sc.ts_s * 16.0;
+        si.llr_h = si.lls_h;
+        si.lm_h = z_b * sc.ts_s * 512.0;
+        si.ls_h = 0.0;
+        si.psi_m_wb = 0.0;
+    }
     return si;
 }
 
@@ -106,9 +127,11 @@ std::string fmt(double x)
 
 bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* rep, std::string* err)
 {
-    if (sc.motor.type != MotorType::Pmsm || sc.inverter.topology == Topology::Ideal) {
-        *err = "identify: the PM machine on the SSTP or FSTP only (motor.type = \"pmsm\", inverter.topology "
-               "\"sstp\" or \"fstp\")";
+    const bool im = sc.motor.type == MotorType::Im;
+    if ((sc.motor.type != MotorType::Pmsm && !(im && sc.inverter.topology == Topology::Sstp)) ||
+        sc.inverter.topology == Topology::Ideal) {
+        *err = "identify: the PM machine on the SSTP or FSTP, or the induction machine on the SSTP (motor.type = "
+               "\"pmsm\" or \"im\", inverter.topology \"sstp\" or \"fstp\")";
         return false;
     }
     const dtc_config_si_t si = ident_si(sc);
@@ -225,15 +248,6 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
     add("drop_at_rated_v", drop_rated, drop_true, "V", APP_IDENT_RS, true,
         "inverter drop on the injection axis at rated current: V0 + R_on I_rated");
     add("dead_time_s", td, td_true, "s", APP_IDENT_RS, true, "from V0 with the datasheet's V_CE + V_d");
-    add("ls_h", ls, m.ls_h, "H", APP_IDENT_LS, true, "L_d: the rotor aligned on the step axis");
-    add("pole_pairs", p, static_cast<double>(m.pole_pairs), "", APP_IDENT_ENCODER, false, "");
-    add("encoder_reversed", d.res.enc_reversed, 0.0, "", APP_IDENT_ENCODER, false, "");
-    {
-        const double e_deg = wrap_pi(off_e - off_e_true) * 180.0 / kPi;
-        add("encoder_offset_el_deg", off_e * 180.0 / kPi, off_e_true * 180.0 / kPi, "deg (electrical)",
-            APP_IDENT_ENCODER, false, "");
-        q["encoder_offset_el_deg"]["error"] = e_deg;
-    }
     // Spin (app_ident.h formats): psi_m in pu of V_b / w_b; J, B, T_c over k_t I_b (k_t = 1.5 p psi_m)
     // in pu current x Ts^2 per count, x Ts per count, pu current; a count is 2 pi / enc_counts rad.
     const double psi = d.res.psi_iq / kIqOne * v_b / si.w_base_rad_s;
@@ -246,12 +260,51 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
     const double b_true = m.b_nm_s_per_rad + (sc.load.type == LoadType::Generator && sc.load.speed_rpm > 0.0
                                                   ? sc.load.torque_nm / (sc.load.speed_rpm * kPi / 30.0)
                                                   : 0.0);
-    add("psi_m_wb", psi, m.psi_m_wb, "Wb", APP_IDENT_SPIN, true,
-        "slope of the q voltage over the electrical speed at constant q current (Hoang eqs. 6-9)");
-    add("j_kgm2", j_id, m.j_kgm2, "kg*m^2", APP_IDENT_SPIN, true, "acceleration at half rated q current and a coast");
-    add("b_nm_s_per_rad", b_id, b_true, "N*m*s/rad", APP_IDENT_SPIN, true,
-        "viscous friction, the coupled DC generator's included");
-    add("coulomb_nm", tc_id, sc.load.coulomb_nm, "N*m", APP_IDENT_SPIN, false, "");
+    double im_ls = 0.0, im_lsig = 0.0, im_l = 0.0, im_lm = 0.0, im_rr = 0.0;
+    if (im) {
+        // Induction machine (app_ident_im.h): L_s, sigma L_s as L / (Z_b Ts); tau_r in periods (Q4);
+        // R_r (T model with L_lr = L_ls, so L_r = L_s) and R_R (inverse Gamma) in pu of Z_b. The T
+        // model's split of the leakage is not observable at the stator's terminals: with
+        // L_ls = L_lr = l, sigma L_s = L_s - (L_s - l)^2 / L_s gives l = L_s (1 - sqrt(1 - sigma)),
+        // L_m = L_s - l.
+        im_ls = d.u.im.res.ls_ts_iq / kIqOne * z_b * ts;
+        im_lsig = d.u.im.res.lsig_ts_iq / kIqOne * z_b * ts;
+        const double sigma = im_ls > 0.0 ? std::clamp(im_lsig / im_ls, 0.0, 1.0) : 0.0;
+        im_l = im_ls * (1.0 - std::sqrt(1.0 - sigma));
+        im_lm = im_ls - im_l;
+        im_rr = d.u.im.res.rr_iq / kIqOne * z_b;
+        const double taur = d.u.im.res.taur_q4 / 16.0 * ts;
+        const double ls_t = m.lls_h + m.lm_h, lr_t = m.llr_h + m.lm_h;
+        const double lsig_t = ls_t - m.lm_h * m.lm_h / lr_t;
+        add("ls_h", im_ls, ls_t, "H", APP_IDENT_RS, true,
+            "L_s = L_ls + L_m: the stator flux over the current after the DC step settled");
+        add("sigma_ls_h", im_lsig, lsig_t, "H", APP_IDENT_LS, true,
+            "transient inductance sigma L_s = L_s - L_m^2 / L_r: voltage steps on the half-rated hold");
+        add("tau_r_s", taur, lr_t / m.rr_ohm, "s", APP_IDENT_RS, true,
+            "rotor time constant L_r / R_r: the area of the rotor flux's rise after the DC step");
+        add("rr_ohm", im_rr, m.rr_ohm, "ohm", APP_IDENT_RS, true, "R_r = L_r / tau_r with L_r = L_s (L_lr = L_ls)");
+        add("rr_inv_gamma_ohm", (im_ls - im_lsig) / taur, m.rr_ohm * (m.lm_h / lr_t) * (m.lm_h / lr_t), "ohm",
+            APP_IDENT_RS, true, "R_R = R_r (L_m / L_r)^2 = L_M / tau_r: independent of the leakage split");
+        add("lm_h", im_lm, m.lm_h, "H", APP_IDENT_RS, true, "L_m = L_s - l, l = L_ls = L_lr assumed equal");
+        add("lls_h", im_l, m.lls_h, "H", APP_IDENT_LS, true, "L_ls = L_s (1 - sqrt(1 - sigma)), L_lr = L_ls assumed");
+        add("llr_h", im_l, m.llr_h, "H", APP_IDENT_LS, true, "L_lr = L_ls assumed");
+    } else {
+        add("ls_h", ls, m.ls_h, "H", APP_IDENT_LS, true, "L_d: the rotor aligned on the step axis");
+        add("pole_pairs", p, static_cast<double>(m.pole_pairs), "", APP_IDENT_ENCODER, false, "");
+        add("encoder_reversed", d.res.enc_reversed, 0.0, "", APP_IDENT_ENCODER, false, "");
+        {
+            const double e_deg = wrap_pi(off_e - off_e_true) * 180.0 / kPi;
+            add("encoder_offset_el_deg", off_e * 180.0 / kPi, off_e_true * 180.0 / kPi, "deg (electrical)",
+                APP_IDENT_ENCODER, false, "");
+            q["encoder_offset_el_deg"]["error"] = e_deg;
+        }
+        add("psi_m_wb", psi, m.psi_m_wb, "Wb", APP_IDENT_SPIN, true,
+            "slope of the q voltage over the electrical speed at constant q current (Hoang eqs. 6-9)");
+        add("j_kgm2", j_id, m.j_kgm2, "kg*m^2", APP_IDENT_SPIN, true, "acceleration at half rated q current and a coast");
+        add("b_nm_s_per_rad", b_id, b_true, "N*m*s/rad", APP_IDENT_SPIN, true,
+            "viscous friction, the coupled DC generator's included");
+        add("coulomb_nm", tc_id, sc.load.coulomb_nm, "N*m", APP_IDENT_SPIN, false, "");
+    }
     nlohmann::json j;
     j["scenario"] = sc.path;
     j["status"] = ok ? "ok" : "failed";
@@ -268,6 +321,10 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
         j["rs_fit_points"].push_back({{"i_a", d.res.level_i_iq[l] / kIqOne * i_b}, {"v_v", d.res.level_v_iq[l] / kIqOne * v_b}});
     }
     j["not_identified"] = {"v_ce_v", "v_d_v", "r_on_ohm"};
+    if (im) {
+        // the spin step (J, friction, L_m at rated flux while turning) is the PM's only
+        j["not_identified"] = {"v_ce_v", "v_d_v", "r_on_ohm", "pole_pairs", "j_kgm2", "b_nm_s_per_rad", "coulomb_nm"};
+    }
 
     rep->ok = ok;
     rep->failed_step = ok ? "" : step_name(failed_step);
@@ -301,10 +358,16 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
         t << "rs_ohm = " << fmt(rs) << "\n";
         t << "dead_time_s = " << fmt(std::fmax(td, 0.0)) << "\n";
     }
-    if (ok || failed_step > APP_IDENT_LS) {
+    if (im && ok) {
+        t << "rr_ohm = " << fmt(im_rr) << "\n";
+        t << "lls_h = " << fmt(im_l) << "\n";
+        t << "llr_h = " << fmt(im_l) << "\n";
+        t << "lm_h = " << fmt(im_lm) << "\n";
+    }
+    if (!im && (ok || failed_step > APP_IDENT_LS)) {
         t << "ls_h = " << fmt(ls) << "\n";
     }
-    if (ok) {
+    if (!im && ok) {
         t << "pole_pairs = " << p << "\n";
         // sensors.encoder_offset_rad's sense: the electrical angle at count 0 is -p times it.
         t << "encoder_offset_rad = " << fmt(wrap_pi(-off_e / p)) << "\n";
