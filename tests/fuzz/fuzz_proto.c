@@ -236,10 +236,12 @@ static const uint16_t k_cmds[] = {PROTO_HELLO,          PROTO_STATUS,        PRO
                                   PROTO_CAPTURE_SETUP,  PROTO_CAPTURE_STATUS, PROTO_CAPTURE_READ,   PROTO_CAPTURE_STOP,
                                   PROTO_FAULTLOG_READ,  PROTO_PARAMS_SAVE,   PROTO_PARAMS_RESTORE,  PROTO_IDENTIFY};
 
-/* With FUZZ_PROTO_STATS set in the environment the harness prints at exit what the inputs sent in
- * all (every input libFuzzer executed, each checked against the invariants above): the fuzzed frames
- * that docs/operate.md counts. */
+/* With FUZZ_PROTO_STATS set in the environment the harness prints what the inputs sent in all
+ * (every input libFuzzer executed, each checked against the invariants above: the fuzzed frames
+ * that docs/operate.md counts), every 4096 inputs and at exit (an interrupted run ends without
+ * the exit line). */
 static uint64_t stat_inputs, stat_good, stat_damaged, stat_raw_octets, stat_decoded;
+static int g_stats_on;
 
 static void stats_print(void)
 {
@@ -293,7 +295,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             fprintf(stderr, "fuzz_proto: default configuration refused: %s\n", msg);
             abort();
         }
-        if (getenv("FUZZ_PROTO_STATS") != NULL) {
+        g_stats_on = getenv("FUZZ_PROTO_STATS") != NULL;
+        if (g_stats_on != 0) {
             atexit(stats_print);
         }
     }
@@ -364,5 +367,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     FUZZ_CHECK(g_answers == g_requests, "%lu requests decoded, %lu answered", (unsigned long)g_requests,
                (unsigned long)g_answers);
     stat_decoded += g_requests;
+    if (g_stats_on != 0 && stat_inputs % 4096U == 0U) {
+        stats_print();
+    }
     return 0;
 }
