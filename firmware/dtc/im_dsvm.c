@@ -55,7 +55,7 @@ static inline iq_t dsvm_leg_duty(uint16_t e, iq_t i_iq, iq_t td_iq)
     return d;
 }
 
-void im_dsvm_select(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
+void im_dsvm_select(im_dtc_t *c, const dtc_meas_t *m, iq_t te, uint16_t lim_vec, dtc_out_t *o)
 {
     const iq_t psi_a = c->est.psi_alpha_iq, psi_b = c->est.psi_beta_iq;
     const uint16_t flux_up = hyst2_sq_step(&c->h_flux, c->psi_ref_iq, iq_sumsq_q48(psi_a, psi_b));
@@ -75,13 +75,10 @@ void im_dsvm_select(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
         level = hyst5_step(&c->h_torque5, iq_sub(c->te_ref_iq, te));
         code = dsvm_rotate(dsvm_table(range, flux_up, level), sector);
     }
-    {
-        /* the current limit (im_ilim): its vector over the whole period (code 6 of sector v: V_v
-         * V_v V_v) */
-        const uint16_t v = im_ilim(c, 0U);
-        if (c->i_limited != 0U) {
-            code = dsvm_rotate(6U, v);
-        }
+    if (c->i_limited != 0U) {
+        /* the current limit (im_ilim, im_dsvm_step): its vector over the whole period (code 6 of
+         * sector v: V_v V_v V_v) */
+        code = dsvm_rotate(6U, lim_vec);
     }
     dsvm_code_patterns(code, null_vec, pat);
     {
@@ -124,8 +121,11 @@ void im_dsvm_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     const iq_t te = im_dtc_front(c, m, o, 1U);
     /* 6. References: start-up, Casadei eq. 19. */
     im_dtc_refs(c);
-    /* 7. Comparators, tables, the three sub-interval vectors, the voltage they apply. */
-    im_dsvm_select(c, m, te, o);
+    /* 7. The current limit (im_ilim: sets c->i_limited; here, not in im_dsvm_select, so that its
+     *    chain and the tables' are not on one stack path), comparators, tables, the three
+     *    sub-interval vectors, the voltage they apply. */
+    const uint16_t lim_vec = im_ilim(c, 0U);
+    im_dsvm_select(c, m, te, lim_vec, o);
     /* 8. Outputs. */
     o->sa = 0U; /* the PWM form carries the command (thirds) */
     o->sb = 0U;

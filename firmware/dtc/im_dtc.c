@@ -106,7 +106,7 @@ void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m)
     im_est_in_t *in = &c->ein;
 
     vrec_sstp(c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, m->vdc_iq, &in->v_alpha_iq, &in->v_beta_iq);
-    vcomp_step(&c->vc_p, c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, &c->i, &c->dva_iq, &c->dvb_iq);
+    im_vcomp(c, c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, 1U);
     in->v_alpha_iq = fix_add32(in->v_alpha_iq, c->dva_iq);
     in->v_beta_iq = fix_add32(in->v_beta_iq, c->dvb_iq);
     if (cfg->est.deadtime_comp != 0U &&

@@ -149,6 +149,7 @@ typedef struct {
     clarke_out_t i;       /* currents of this step */
     im_est_in_t ein;      /* estimator input */
     iq_t dva_iq, dvb_iq;  /* a compensation term */
+    vcomp_tab_t vc_t;     /* vc_p as a table of the currents' signs (im_vcomp) */
     /* the SVM schemes: stator-flux vector control (DTC_LAW_IM_SFVC, im_sfvc.c) and rotor-flux-
      * oriented control (DTC_LAW_IM_DFOC, im_dfoc.c) */
     svm_params_t svm_p;

@@ -30,7 +30,8 @@ void im_sfvc_regulate(im_dtc_t *c);
 void im_dfoc_regulate(im_dtc_t *c);
 
 /* Internal to im_dsvm_step, out of line for the stack. */
-void im_dsvm_select(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o);
+/* lim_vec: im_ilim's vector of this step (used when c->i_limited). */
+void im_dsvm_select(im_dtc_t *c, const dtc_meas_t *m, iq_t te, uint16_t lim_vec, dtc_out_t *o);
 
 /* Steps 1-5 of a control period, common to both schemes: the shadow set (dtc_refs.h), Clarke
  * (Hoang eqs. 4-5, the same transform as Casadei's space vectors), the stator and rotor flux
@@ -53,7 +54,10 @@ static inline iq_t im_dtc_front(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, 
     } else {
         im_dtc_estimate(c, m);
     }
-    im_est_step(&c->est, &c->ein);
+    im_est_flux(&c->est, &c->ein);
+    if (c->ein.want_polar != 0U) {
+        im_est_polar(&c->est); /* a call of its own: the CORDIC's frame is not under im_est_flux's */
+    }
     te = torque_eq10(c->est.psi_alpha_iq, c->est.psi_beta_iq, c->i.i_alpha_iq, c->i.i_beta_iq);
     im_dtc_speed(c, m, te, o);
     return te;
@@ -143,6 +147,19 @@ static inline void im_pwm_out(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, iq
     }
     law_out_duty_only(o); /* the PWM form carries the command (duty_iq) */
     im_out_report(c, o, te);
+}
+
+/* The device-drop compensation of a period (vcomp.h) into c->dva_iq, c->dvb_iq for the leg states
+ * sa, sb, sc (legs_any = 0: the caller's legs are all off, the SVM schemes): by the table of the
+ * currents' signs where it holds (vcomp_tab_step, bit-identical), else vcomp_step (Hoang Table III
+ * per leg with the legs switching). */
+static inline void im_vcomp(im_dtc_t *c, uint16_t sa, uint16_t sb, uint16_t sc, uint16_t legs_any)
+{
+    if (legs_any == 0U || c->vc_t.legs_free != 0U) {
+        vcomp_tab_step(&c->vc_t, &c->i, &c->dva_iq, &c->dvb_iq);
+    } else {
+        vcomp_step(&c->vc_p, sa, sb, sc, &c->i, &c->dva_iq, &c->dvb_iq);
+    }
 }
 
 /* The estimator input's part common to both schemes (currents, rotor-flux reference, speed, and

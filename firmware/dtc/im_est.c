@@ -37,6 +37,10 @@ void im_est_reset(im_est_t *s)
     s->u_beta_iq = 0;
     s->inv_mag_iq = 0;
     s->k_valid = 0U;
+    s->x_alpha_iq = 0;
+    s->x_beta_iq = 0;
+    s->ri_alpha_iq = 0;
+    s->ri_beta_iq = 0;
 }
 
 /* |x| below which the direction is not resolved: 2^-6 pu, |x|^2 = 2^36 in Q48. */
@@ -121,13 +125,18 @@ q31_t im_est_gain(const im_est_params_t *p, iq_t speed_iq)
                                             (uint16_t)FIX_IQ_Q));
 }
 
-void im_est_step(im_est_t *s, const im_est_in_t *in)
+void im_est_flux(im_est_t *s, const im_est_in_t *in)
 {
     const im_est_params_t *p = s->p;
     /* Casadei eq. 1: the stator EMF over the period. */
-    const iq_t e_a = fix_sub32(in->v_alpha_iq, iq_mpy(p->rs_iq, in->i_alpha_iq));
-    const iq_t e_b = fix_sub32(in->v_beta_iq, iq_mpy(p->rs_iq, in->i_beta_iq));
+    const iq_t ri_a = iq_mpy(p->rs_iq, in->i_alpha_iq);
+    const iq_t ri_b = iq_mpy(p->rs_iq, in->i_beta_iq);
+    const iq_t e_a = fix_sub32(in->v_alpha_iq, ri_a);
+    const iq_t e_b = fix_sub32(in->v_beta_iq, ri_b);
     iq_t x_a, x_b;
+
+    s->ri_alpha_iq = ri_a;
+    s->ri_beta_iq = ri_b;
 
     if (p->estimator == IM_EST_IMPROVED) {
         /* Casadei eq. 20, with the correction phi_r* e^{j theta} - phi_r of the previous
@@ -153,11 +162,23 @@ void im_est_step(im_est_t *s, const im_est_in_t *in)
     x_a = fix_sub32(s->psi_alpha_iq, iq_mpy(p->sigma_ls_iq, in->i_alpha_iq));
     x_b = fix_sub32(s->psi_beta_iq, iq_mpy(p->sigma_ls_iq, in->i_beta_iq));
     im_est_unit(s, x_a, x_b);
-    if (in->want_polar != 0U) {
-        iq_t mag;
-        fix_polar(x_a, x_b, &s->theta_r, &mag);
-        s->psir_mag_iq = iq_mpy(p->kr_iq, mag);
-    }
+    s->x_alpha_iq = x_a;
+    s->x_beta_iq = x_b;
     s->psir_alpha_iq = iq_mpy(p->kr_iq, x_a);
     s->psir_beta_iq = iq_mpy(p->kr_iq, x_b);
+}
+
+void im_est_polar(im_est_t *s)
+{
+    iq_t mag;
+    fix_polar(s->x_alpha_iq, s->x_beta_iq, &s->theta_r, &mag);
+    s->psir_mag_iq = iq_mpy(s->p->kr_iq, mag);
+}
+
+void im_est_step(im_est_t *s, const im_est_in_t *in)
+{
+    im_est_flux(s, in);
+    if (in->want_polar != 0U) {
+        im_est_polar(s);
+    }
 }

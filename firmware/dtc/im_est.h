@@ -96,6 +96,8 @@ typedef struct {
     q31_t k_q31;                        /* Ts/tau in use, for the speed k_speed_iq */
     iq_t k_speed_iq;
     uint16_t k_valid;                   /* 0 after a reset */
+    iq_t x_alpha_iq, x_beta_iq;         /* x = phi_s - sigma l_s i of the last step (Casadei eq. 21) */
+    iq_t ri_alpha_iq, ri_beta_iq;       /* r_s i of the last step (Casadei eq. 1), pu */
 } im_est_t;
 
 typedef struct {
@@ -113,8 +115,13 @@ void im_est_init(im_est_t *s, const im_est_params_t *p);
 /* Zero flux: the machine is demagnetised at start. */
 void im_est_reset(im_est_t *s);
 /* Integrates one period, then updates the rotor flux and its direction (and its angle and
- * magnitude when in->want_polar). */
+ * magnitude when in->want_polar): im_est_flux, then im_est_polar when asked. */
 void im_est_step(im_est_t *s, const im_est_in_t *in);
+/* The parts of im_est_step, for a caller that keeps the CORDIC's frame off the flux update's stack
+ * path (the IM laws): the flux, the rotor flux and its direction (in->want_polar not read); the
+ * rotor-flux angle and magnitude of that step's x. */
+void im_est_flux(im_est_t *s, const im_est_in_t *in);
+void im_est_polar(im_est_t *s);
 
 /* Ts/tau at electrical speed w (improved estimator; exposed for the tests). */
 q31_t im_est_gain(const im_est_params_t *p, iq_t speed_iq);

@@ -48,7 +48,7 @@ void im_sfvc_estimate(im_dtc_t *c, const dtc_meas_t *m)
 {
     im_est_in_t *in = &c->ein;
     (void)m;
-    vcomp_step(&c->vc_p, 0U, 0U, 0U, &c->i, &c->dva_iq, &c->dvb_iq);
+    im_vcomp(c, 0U, 0U, 0U, 0U);
     in->v_alpha_iq = fix_add32(c->v2_alpha_iq, c->dva_iq);
     in->v_beta_iq = fix_add32(c->v2_beta_iq, c->dvb_iq);
     im_dtc_ein_common(c);
@@ -62,14 +62,10 @@ void im_sfvc_regulate(im_dtc_t *c)
     const dtc_config_t *cfg = c->cfg;
     const iq_t ts = cfg->board.ts_pu_iq;
     const iq_t kp = cfg->u.im.sfvc.kp_iq;
-    const iq_t ria = iq_mpy(cfg->machine.rs_iq, c->i.i_alpha_iq);
-    const iq_t rib = iq_mpy(cfg->machine.rs_iq, c->i.i_beta_iq);
-    iq_t pa, pb, ra, rb, ws;
+    iq_t ws;
 
-    /* the flux predicted for k+1: the stator-voltage equation over the period under way */
-    pa = iq_add(c->est.psi_alpha_iq, iq_mpy(ts, iq_sub(iq_add(c->v1_alpha_iq, c->dva_iq), ria)));
-    pb = iq_add(c->est.psi_beta_iq, iq_mpy(ts, iq_sub(iq_add(c->v1_beta_iq, c->dvb_iq), rib)));
-    /* K_p phi_s*: Casadei eq. 18 in the rotor-flux frame (d along phi_r), turned by e^{j theta} (eq. 22) */
+    /* K_p phi_s*: Casadei eq. 18 in the rotor-flux frame (d along phi_r), turned by e^{j theta}
+     * (eq. 22), formed in c->vs_* (not on this frame, which the rotation's call would keep) */
     {
         iq_t d, q;
         if (c->magnetised == 0U) {
@@ -79,15 +75,22 @@ void im_sfvc_regulate(im_dtc_t *c)
             d = c->sfvc_kpd_iq;
             q = iq_mpy(c->sfvc_kpq_iq, c->te_ref_iq);
         }
-        ra = iq_mac2(d, c->est.u_alpha_iq, fix_neg32(q), c->est.u_beta_iq);
-        rb = iq_mac2(d, c->est.u_beta_iq, q, c->est.u_alpha_iq);
+        c->vs_alpha_iq = iq_mac2(d, c->est.u_alpha_iq, fix_neg32(q), c->est.u_beta_iq);
+        c->vs_beta_iq = iq_mac2(d, c->est.u_beta_iq, q, c->est.u_alpha_iq);
     }
     /* w_s = w + w_slip (Casadei eq. 16), the reference advanced by w_s Ts to k+1 */
     ws = iq_add(c->speed_iq, iq_mpy(c->sfvc_kslip_iq, c->te_ref_iq));
-    iq_cmul_1jx(iq_mpy(ws, ts), &ra, &rb);
-    /* Casadei eqs. 23-24: v_s* = R_s i + j w_s phi_s + K_p (phi_s* - phi_s) */
-    c->vs_alpha_iq = iq_add(iq_sub(ria, iq_mac2(ws, pb, kp, pa)), ra);
-    c->vs_beta_iq = iq_add(iq_add(rib, iq_mac2(ws, pa, fix_neg32(kp), pb)), rb);
+    iq_cmul_1jx(iq_mpy(ws, ts), &c->vs_alpha_iq, &c->vs_beta_iq);
+    {
+        /* R_s i: the estimator's product of this step (im_est_flux, the same r_s and i) */
+        const iq_t ria = c->est.ri_alpha_iq, rib = c->est.ri_beta_iq;
+        /* the flux predicted for k+1: the stator-voltage equation over the period under way */
+        const iq_t pa = iq_add(c->est.psi_alpha_iq, iq_mpy(ts, iq_sub(iq_add(c->v1_alpha_iq, c->dva_iq), ria)));
+        const iq_t pb = iq_add(c->est.psi_beta_iq, iq_mpy(ts, iq_sub(iq_add(c->v1_beta_iq, c->dvb_iq), rib)));
+        /* Casadei eqs. 23-24: v_s* = R_s i + j w_s phi_s + K_p (phi_s* - phi_s) */
+        c->vs_alpha_iq = iq_add(iq_sub(ria, iq_mac2(ws, pb, kp, pa)), c->vs_alpha_iq);
+        c->vs_beta_iq = iq_add(iq_add(rib, iq_mac2(ws, pa, fix_neg32(kp), pb)), c->vs_beta_iq);
+    }
 }
 
 void im_sfvc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)

@@ -40,6 +40,7 @@ int16_t itc_init(itc_t *c, const dtc_config_t *cfg)
             c->vcd_beta_iq[x] = iq_sub(b1, b0);
         }
     }
+    vcomp_tab_init(&c->vc_t, &c->vc_p);
     c->cc_p.kp_iq = cfg->u.pm_itc.cc.kp_iq;
     c->cc_p.ki_ts_iq = cfg->u.pm_itc.cc.ki_ts_iq;
     c->cc_p.int_max_iq = iq_from_int(2); /* above any V_max: the link's 2/3 V_dc is < 2 pu */
@@ -135,7 +136,7 @@ void itc_refs_get(const itc_t *c, dtc_refs_t *r)
 static void itc_vcomp(const itc_t *c, const clarke_out_t *i, const iq_t d[2], iq_t *va, iq_t *vb)
 {
     iq_t a0, b0;
-    vcomp_step(&c->vc_p, 0U, 0U, 0U, i, &a0, &b0);
+    vcomp_tab_step(&c->vc_t, i, &a0, &b0); /* F(0): vcomp_step with the legs off */
     *va = iq_add(a0, iq_add(iq_mpy(d[0], c->vcd_alpha_iq[0]), iq_mpy(d[1], c->vcd_alpha_iq[1])));
     *vb = iq_add(b0, iq_add(iq_mpy(d[0], c->vcd_beta_iq[0]), iq_mpy(d[1], c->vcd_beta_iq[1])));
 }

@@ -75,6 +75,7 @@ typedef struct {
     /* parameters derived at init */
     flux_est_params_t fe_p;
     vcomp_params_t vc_p;
+    vcomp_tab_t vc_t;     /* vc_p as a table of the currents' signs (itc_vcomp's base term) */
     speed_meas_params_t sm_p;
     speed_pi_params_t pi_p;
     dqpi_params_t cc_p;

@@ -56,3 +56,36 @@ void vcomp_step(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t sc,
         break;
     }
 }
+
+void vcomp_tab_init(vcomp_tab_t *t, const vcomp_params_t *p)
+{
+    vcomp_params_t p0 = *p;
+    uint16_t k;
+    p0.r_on_iq = 0;
+    p0.r_on_third_iq = 0;
+    for (k = 0U; k < 8U; k++) {
+        clarke_out_t i0;
+        i0.ia_iq = (k & 1U) != 0U ? -1 : 0;
+        i0.ib_iq = (k & 2U) != 0U ? -1 : 0;
+        i0.ic_iq = (k & 4U) != 0U ? -1 : 0;
+        i0.i_alpha_iq = 0;
+        i0.i_beta_iq = 0;
+        vcomp_step(&p0, 0U, 0U, 0U, &i0, &t->v_iq[k][0], &t->v_iq[k][1]);
+    }
+    switch (p->mode) {
+    case DTC_COMP_SSTP:
+    case DTC_COMP_SSTP_PROPOSED:
+        t->ka_iq = p->r_on_iq;
+        t->kb_iq = p->r_on_iq;
+        break;
+    case DTC_COMP_FSTP_PROPOSED:
+        t->ka_iq = p->r_on_third_iq;
+        t->kb_iq = p->r_on_iq;
+        break;
+    default: /* NONE, FSTP_SIMPLE: no R_on term */
+        t->ka_iq = 0;
+        t->kb_iq = 0;
+        break;
+    }
+    t->legs_free = (uint16_t)(p->mode == DTC_COMP_SSTP_PROPOSED || p->mode == DTC_COMP_FSTP_PROPOSED ? 0U : 1U);
+}

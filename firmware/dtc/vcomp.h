@@ -75,4 +75,31 @@ static inline iq_t vcomp_leg_drop(uint16_t state, iq_t i_iq, iq_t v_ce_iq, iq_t 
 void vcomp_step(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t sc,
                 const clarke_out_t *i, iq_t *v_f_alpha_iq, iq_t *v_f_beta_iq);
 
+/* vcomp_step as a table of the phase currents' signs (the IM laws, the ITC's observer). With the legs
+ * off (an SVM period's base term), or with drops that do not depend on the state (NONE, SSTP
+ * [29] and Hoang Table V: V_CE = V_d = V_f), every variant above is a function of sgn i_a, sgn i_b,
+ * sgn i_c alone plus the linear R_on terms: the table holds vcomp_step's value without the R_on
+ * terms for each sign pattern (index bit 0: i_a < 0, bit 1: i_b < 0, bit 2: i_c < 0; vcomp_step
+ * itself with R_on = 0, at init) and vcomp_tab_step subtracts the R_on terms by the same rounded
+ * product and saturating difference as vcomp_step: the result is bit-identical to vcomp_step's.
+ * ka, kb are the R_on coefficients of alpha and beta (R_on, R_on or R_on/3, R_on; 0 where the
+ * variant has none: fix_sub32(x, 0) = x). */
+typedef struct {
+    iq_t v_iq[8][2];    /* [sign pattern][alpha, beta] without the R_on terms, legs off */
+    iq_t ka_iq, kb_iq;  /* the R_on terms' coefficients */
+    uint16_t legs_free; /* 1: the table holds for any leg states */
+} vcomp_tab_t;
+
+/* Fills t from p (init only). */
+void vcomp_tab_init(vcomp_tab_t *t, const vcomp_params_t *p);
+
+/* vcomp_step(p, 0, 0, 0, i, ...) for the p of vcomp_tab_init (any legs when t->legs_free). */
+static inline void vcomp_tab_step(const vcomp_tab_t *t, const clarke_out_t *i, iq_t *v_f_alpha_iq,
+                                  iq_t *v_f_beta_iq)
+{
+    const uint16_t k = (uint16_t)((i->ia_iq < 0 ? 1U : 0U) | (i->ib_iq < 0 ? 2U : 0U) | (i->ic_iq < 0 ? 4U : 0U));
+    *v_f_alpha_iq = fix_sub32(t->v_iq[k][0], iq_mpy(t->ka_iq, i->i_alpha_iq));
+    *v_f_beta_iq = fix_sub32(t->v_iq[k][1], iq_mpy(t->kb_iq, i->i_beta_iq));
+}
+
 #endif /* VCOMP_H */
