@@ -238,6 +238,59 @@ static void test_none_and_saturation(void **state)
     assert_int_equal(fa, IQ_MIN);
 }
 
+static void test_sign_table_equals_vcomp_step(void **state)
+{
+    (void)state;
+    /* vcomp_tab_step (the IM laws, the ITC's observer) against vcomp_step, bit for bit: every
+     * variant, Hoang Table IV devices and saturating ones, currents around the circle at several
+     * amplitudes (zero and the rails included), the legs off, and every leg state where the
+     * table claims to hold for any (legs_free). Where it does not claim so (Hoang Table III per leg,
+     * V_CE != V_d) the leg states do change vcomp_step's result: the flag is needed. */
+    static const uint16_t modes[5] = {DTC_COMP_NONE, DTC_COMP_SSTP, DTC_COMP_FSTP_SIMPLE, DTC_COMP_FSTP_PROPOSED,
+                                      DTC_COMP_SSTP_PROPOSED};
+    static const double amps[5] = {0.0, 1e-7, 0.3, 1.5, 200.0};
+    for (int dev = 0; dev < 2; dev++) {
+        for (int k = 0; k < 5; k++) {
+            vcomp_params_t p;
+            vcomp_tab_t t;
+            int legs_differ = 0;
+            if (dev == 0) {
+                vcomp_init(&p, modes[k], fixtest_d_to_iq(0.9 / 70.0), fixtest_d_to_iq(VCE), fixtest_d_to_iq(VD),
+                           fixtest_d_to_iq(RON));
+            } else {
+                vcomp_init(&p, modes[k], IQ_MAX, IQ_MAX, IQ(100.0), IQ(100.0));
+            }
+            vcomp_tab_init(&t, &p);
+            assert_int_equal(t.legs_free, modes[k] == DTC_COMP_SSTP_PROPOSED || modes[k] == DTC_COMP_FSTP_PROPOSED ? 0 : 1);
+            for (int a = 0; a < 5; a++) {
+                for (int n = 0; n < 72; n++) {
+                    const double th = n * DTC_REF_PI / 36.0;
+                    clarke_out_t i;
+                    iq_t ta, tb;
+                    if (modes[k] == DTC_COMP_FSTP_SIMPLE || modes[k] == DTC_COMP_FSTP_PROPOSED) {
+                        clarke_fstp(fixtest_d_to_iq(amps[a] * cos(th)), fixtest_d_to_iq(amps[a] * sin(th)), &i);
+                    } else {
+                        clarke_sstp(fixtest_d_to_iq(amps[a] * cos(th)), fixtest_d_to_iq(amps[a] * sin(th)), &i);
+                    }
+                    vcomp_tab_step(&t, &i, &ta, &tb);
+                    for (uint16_t legs = 0U; legs < 8U; legs++) {
+                        iq_t fa, fb;
+                        vcomp_step(&p, (uint16_t)(legs & 1U), (uint16_t)((legs >> 1) & 1U), (uint16_t)((legs >> 2) & 1U),
+                                   &i, &fa, &fb);
+                        if (legs == 0U || t.legs_free != 0U) {
+                            assert_int_equal(fa, ta);
+                            assert_int_equal(fb, tb);
+                        } else if (fa != ta || fb != tb) {
+                            legs_differ = 1;
+                        }
+                    }
+                }
+            }
+            assert_int_equal(legs_differ, t.legs_free != 0U ? 0 : 1);
+        }
+    }
+}
+
 UNIT_TEST_MAIN("dtc vcomp", NULL,
                cmocka_unit_test(test_hoang_table_v_every_row),
                cmocka_unit_test(test_hoang_table_vi_every_row),
@@ -245,4 +298,5 @@ UNIT_TEST_MAIN("dtc vcomp", NULL,
                cmocka_unit_test(test_r_on_terms_from_eq20),
                cmocka_unit_test(test_sstp_equal_drop_scheme),
                cmocka_unit_test(test_sstp_table_iii_per_leg),
-               cmocka_unit_test(test_none_and_saturation))
+               cmocka_unit_test(test_none_and_saturation),
+               cmocka_unit_test(test_sign_table_equals_vcomp_step))
