@@ -83,7 +83,9 @@ void vcomp_step(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t sc,
  * itself with R_on = 0, at init) and vcomp_tab_step subtracts the R_on terms by the same rounded
  * product and saturating difference as vcomp_step: the result is bit-identical to vcomp_step's.
  * ka, kb are the R_on coefficients of alpha and beta (R_on, R_on or R_on/3, R_on; 0 where the
- * variant has none: fix_sub32(x, 0) = x). */
+ * variant has none: fix_sub32(x, 0) = x).
+ * Formats: IQ pu as vcomp_step. Overflow: as vcomp_step (the table holds its saturated values, the
+ * R_on product is rounded and saturated, the difference saturates). 8 x 2 words of RAM per user. */
 typedef struct {
     iq_t v_iq[8][2];    /* [sign pattern][alpha, beta] without the R_on terms, legs off */
     iq_t ka_iq, kb_iq;  /* the R_on terms' coefficients */
