@@ -73,7 +73,6 @@ void im_dtc_reset(im_dtc_t *c)
     c->vs_beta_iq = 0;
     c->foc_id_int_iq = 0;
     c->foc_iq_int_iq = 0;
-    c->ws_valid = 0U;
     c->i_limited = 0U;
 }
 

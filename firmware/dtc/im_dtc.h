@@ -164,14 +164,6 @@ typedef struct {
     iq_t sfvc_kpq_iq;     /* K_p (l_s/m) sigma l_r / phi_r*: K_p times Casadei eq. 18's q component per pu T* */
     iq_t sfvc_kslip_iq;   /* r_r / phi_r*^2: Casadei eq. 16's slip per pu torque */
     iq_t foc_id_int_iq, foc_iq_int_iq; /* DFOC: the current PIs' integral parts, pu voltage */
-    /* the SVM schemes' products of w and T* (im_ws), formed again only when either changed (at
-     * the speed-loop rate in speed mode): w_s = w + w_slip (Casadei eq. 16), w_s times the
-     * command's advance, T* times k_te */
-    iq_t ws_adv_ts_iq;    /* the advance: Ts (SFVC), 1.5 Ts (DFOC), pu (init) */
-    iq_t ws_kte_iq;       /* k_te: sfvc_kpq_iq (SFVC), u.im.dfoc.iq_per_t_iq (DFOC) (init) */
-    iq_t ws_speed_iq, ws_te_iq; /* the w and T* they were formed for */
-    uint16_t ws_valid;    /* 0: not formed since the reset */
-    iq_t ws_iq, ws_adv_iq, ws_te_k_iq; /* w_s, w_s times the advance, k_te T* */
     deadtime_params_t dt_p; /* dead-time block's parameters (vrec.h), derived at init */
     /* the current limit of the switching-table laws (DTC, DSC, DSVM; ilim.h): its parameters
      * (prot.i_lim_iq, six-switch) and whether it replaced this step's vector */

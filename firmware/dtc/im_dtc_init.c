@@ -72,12 +72,6 @@ int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg)
     c->sfvc_kpq_iq = iq_mpy(cfg->u.im.sfvc.kp_iq, iq_mpy(iq_mpy(cfg->u.im.machine.ks_iq, cfg->u.im.machine.sigma_lr_iq),
                                                        cfg->u.im.ref.inv_psir_ref_iq));
     c->sfvc_kslip_iq = iq_mpy(cfg->u.im.machine.rr_iq, cfg->u.im.ref.inv_psir_sq_iq);
-    /* im_ws: the SFVC's reference advances by Ts, the DFOC's command by 1.5 Ts (to the middle of
-     * the period it acts in); k_te the law's product with T* */
-    c->ws_adv_ts_iq = cfg->law == DTC_LAW_IM_DFOC
-                          ? iq_add(cfg->board.ts_pu_iq, fix_rshift_rnd32(cfg->board.ts_pu_iq, 1U))
-                          : cfg->board.ts_pu_iq;
-    c->ws_kte_iq = cfg->law == DTC_LAW_IM_DFOC ? cfg->u.im.dfoc.iq_per_t_iq : c->sfvc_kpq_iq;
     /* the rotor flux from which the encoder plausibility trusts the flux angle: phi_r* / 16 (the
      * constant rotor flux of Casadei eq. 19, or the no-load one of the stator-flux reference) */
     c->plaus_psir_iq = fix_rshift_rnd32(cfg->u.im.ref.psir_ref_iq > 0

@@ -149,22 +149,6 @@ static inline void im_pwm_out(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, iq
     im_out_report(c, o, te);
 }
 
-/* The SVM schemes' products of the speed and T* (im_dtc.h ws_*): w_s = w + r_r T* / phi_r*^2
- * (Casadei eq. 16 solved for the slip), w_s times the advance and k_te T*, rounded IQ products and a
- * saturating sum, formed again only when w or T* differ from those they were formed for: the same
- * values as forming them every period. */
-static inline void im_ws(im_dtc_t *c)
-{
-    if (c->ws_valid == 0U || c->speed_iq != c->ws_speed_iq || c->te_ref_iq != c->ws_te_iq) {
-        c->ws_iq = iq_add(c->speed_iq, iq_mpy(c->sfvc_kslip_iq, c->te_ref_iq));
-        c->ws_adv_iq = iq_mpy(c->ws_iq, c->ws_adv_ts_iq);
-        c->ws_te_k_iq = iq_mpy(c->ws_kte_iq, c->te_ref_iq);
-        c->ws_speed_iq = c->speed_iq;
-        c->ws_te_iq = c->te_ref_iq;
-        c->ws_valid = 1U;
-    }
-}
-
 /* The device-drop compensation of a period (vcomp.h) into c->dva_iq, c->dvb_iq for the leg states
  * sa, sb, sc (legs_any = 0: the caller's legs are all off, the SVM schemes): by the table of the
  * currents' signs where it holds (vcomp_tab_step, bit-identical), else vcomp_step (Hoang Table III

@@ -64,7 +64,6 @@ void im_sfvc_regulate(im_dtc_t *c)
     const iq_t kp = cfg->u.im.sfvc.kp_iq;
     iq_t ws;
 
-    im_ws(c);
     /* K_p phi_s*: Casadei eq. 18 in the rotor-flux frame (d along phi_r), turned by e^{j theta}
      * (eq. 22), formed in c->vs_* (not on this frame, which the rotation's call would keep) */
     {
@@ -74,14 +73,14 @@ void im_sfvc_regulate(im_dtc_t *c)
             q = 0;
         } else {
             d = c->sfvc_kpd_iq;
-            q = c->ws_te_k_iq; /* K_p (l_s/m) sigma l_r T* / phi_r* (im_ws) */
+            q = iq_mpy(c->sfvc_kpq_iq, c->te_ref_iq);
         }
         c->vs_alpha_iq = iq_mac2(d, c->est.u_alpha_iq, fix_neg32(q), c->est.u_beta_iq);
         c->vs_beta_iq = iq_mac2(d, c->est.u_beta_iq, q, c->est.u_alpha_iq);
     }
     /* w_s = w + w_slip (Casadei eq. 16), the reference advanced by w_s Ts to k+1 */
-    ws = c->ws_iq;
-    iq_cmul_1jx(c->ws_adv_iq, &c->vs_alpha_iq, &c->vs_beta_iq);
+    ws = iq_add(c->speed_iq, iq_mpy(c->sfvc_kslip_iq, c->te_ref_iq));
+    iq_cmul_1jx(iq_mpy(ws, ts), &c->vs_alpha_iq, &c->vs_beta_iq);
     {
         /* R_s i: the estimator's product of this step (im_est_flux, the same r_s and i) */
         const iq_t ria = c->est.ri_alpha_iq, rib = c->est.ri_beta_iq;

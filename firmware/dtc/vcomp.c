@@ -70,7 +70,7 @@ void vcomp_tab_init(vcomp_tab_t *t, const vcomp_params_t *p)
         i0.ic_iq = (k & 4U) != 0U ? -1 : 0;
         i0.i_alpha_iq = 0;
         i0.i_beta_iq = 0;
-        vcomp_step(&p0, 0U, 0U, 0U, &i0, &t->v_iq[k][0], &t->v_iq[k][1]);
+        vcomp_step(&p0, 0U, 0U, 0U, &i0, &t->va_iq[k], &t->vb_iq[k >> 1]); /* beta: the same for k and k ^ 1 */
     }
     switch (p->mode) {
     case DTC_COMP_SSTP:

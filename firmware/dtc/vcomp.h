@@ -85,9 +85,11 @@ void vcomp_step(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t sc,
  * ka, kb are the R_on coefficients of alpha and beta (R_on, R_on or R_on/3, R_on; 0 where the
  * variant has none: fix_sub32(x, 0) = x).
  * Formats: IQ pu as vcomp_step. Overflow: as vcomp_step (the table holds its saturated values, the
- * R_on product is rounded and saturated, the difference saturates). 8 x 2 words of RAM per user. */
+ * R_on product is rounded and saturated, the difference saturates). 12 words of RAM per user. */
 typedef struct {
-    iq_t v_iq[8][2];    /* [sign pattern][alpha, beta] without the R_on terms, legs off */
+    iq_t va_iq[8];      /* alpha without the R_on term, legs off, per sign pattern */
+    iq_t vb_iq[4];      /* beta, per the signs of i_b, i_c (pattern / 2: every variant's beta term
+                         * depends on legs B and C only) */
     iq_t ka_iq, kb_iq;  /* the R_on terms' coefficients */
     uint16_t legs_free; /* 1: the table holds for any leg states */
 } vcomp_tab_t;
@@ -100,8 +102,8 @@ static inline void vcomp_tab_step(const vcomp_tab_t *t, const clarke_out_t *i, i
                                   iq_t *v_f_beta_iq)
 {
     const uint16_t k = (uint16_t)((i->ia_iq < 0 ? 1U : 0U) | (i->ib_iq < 0 ? 2U : 0U) | (i->ic_iq < 0 ? 4U : 0U));
-    *v_f_alpha_iq = fix_sub32(t->v_iq[k][0], iq_mpy(t->ka_iq, i->i_alpha_iq));
-    *v_f_beta_iq = fix_sub32(t->v_iq[k][1], iq_mpy(t->kb_iq, i->i_beta_iq));
+    *v_f_alpha_iq = fix_sub32(t->va_iq[k], iq_mpy(t->ka_iq, i->i_alpha_iq));
+    *v_f_beta_iq = fix_sub32(t->vb_iq[k >> 1], iq_mpy(t->kb_iq, i->i_beta_iq));
 }
 
 #endif /* VCOMP_H */
