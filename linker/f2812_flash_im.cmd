@@ -52,7 +52,7 @@ SECTIONS
                     *(.text:_im_dtc_refs)
                     *(.text:_im_dtc_select)
                     *(.text:_im_dtc_speed)
-                    *(.text:_im_est_step)
+                    *(.text:_im_est_flux)
                     *(.text:_iq_cmul_1jx)
                     *(.text:_speed_pi_step)
                     *(.text:_svm_step)
