@@ -129,7 +129,7 @@ void im_est_step(im_est_t *s, const im_est_in_t *in)
     const iq_t e_b = fix_sub32(in->v_beta_iq, iq_mpy(p->rs_iq, in->i_beta_iq));
     iq_t x_a, x_b;
 
-    if (p->estimator == IM_EST_IMPROVED) {
+    if (p->estimator == IM_EST_IMPROVED || in->start != 0U) {
         /* Casadei eq. 20, with the correction phi_r* e^{j theta} - phi_r of the previous
          * instant (eqs. 21-22 evaluated at the end of the previous step; e^{j theta} = x/|x|). */
         q31_t k;
