@@ -166,7 +166,8 @@ static inline void im_dtc_ein_common(im_dtc_t *c)
     /* the rotor-flux angle and magnitude (CORDIC) only where the speed loop runs: sensorless
      * speed, telemetry */
     in->want_polar = (uint16_t)(c->div_cnt == 0U ? 1U : 0U);
-    in->start = (uint16_t)(c->magnetised == 0U ? 1U : 0U); /* the voltage model's start (im_est.h) */
+    /* in->start (the voltage model's start, im_est.h) follows c->magnetised where that changes:
+     * set by im_dtc_reset, cleared when the magnetisation ends (im_dtc_refs) */
 }
 
 #endif /* IM_DTC_INTERNAL_H */
