@@ -47,6 +47,7 @@ void im_dtc_reset(im_dtc_t *c)
     c->dsc_on = 0U;
     c->div_cnt = 0U;
     c->magnetised = 0U;
+    c->ein.start = 1U; /* the voltage model's start-up correction (im_est.h) */
     c->magn_n = 0U;
     c->magn_psir_iq = 0;
     c->ref_due = 1U;
@@ -203,6 +204,7 @@ void im_dtc_refs(im_dtc_t *c)
 
     if (c->magnetised == 0U && ++c->magn_n >= cfg->u.im.ref.magn_periods) {
         c->magnetised = 1U;
+        c->ein.start = 0U;
         im_dtc_psir_ref(c, c->act.flux_ref_iq); /* the estimator's reference of the set in force */
     }
     if (c->magnetised == 0U) {

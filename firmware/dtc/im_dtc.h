@@ -43,16 +43,16 @@
  * rotor flux to its reference within tau whatever the machine's, while the machine's rotor flux
  * rises as 1 - exp(-t/tau_r) (eq. 9 with the estimator's DC error: d phi_r/dt = -(r_r/l_r)
  * (phi_r - phi_r*)); the host converts the fraction to reach into that time.
- * Meanwhile, with the rotor at rest (a turning rotor: im_magn_vector), the flux is built by the
+ * Meanwhile, with the rotor at rest (a turning rotor, or no encoder: im_magn_vector), the flux is built by the
  * radial vector: the active vector V_k of the stator flux's own sector k while the flux
  * comparator asks for more flux, a null vector otherwise. V_k lies
  * within +-30 degrees of the flux: it raises |phi_s| and applies almost no torque, so the phase
  * currents settle to the DC magnetising current, as in Casadei Fig. 17b. (Table 1 itself cannot start a
  * demagnetised machine at zero torque: with T* = T = 0 the three-level comparator stays at 0 and
- * the table gives null vectors only.) With the pure-integrator voltage model the estimate of this
- * DC flux decays through the low-pass and the machine is over-magnetised instead (the paper's
- * Casadei Fig. 17a statement that the pure integrator cannot magnetise the machine at zero torque); the
- * improved estimator's correction holds it.
+ * the table gives null vectors only.) The low-pass voltage model alone would lose the estimate of
+ * this DC flux and over-magnetise the machine (the paper's Casadei Fig. 17a statement that the pure
+ * integrator cannot magnetise the machine at zero torque); the improved estimator's correction
+ * holds it, and the voltage model takes the same correction during the start-up (im_est.h).
  *
  * Encoder plausibility (speed.sensor = DTC_SPEED_ENCODER and u.im.ref.enc_plaus_iq > 0): on every
  * speed-loop period the sensorless speed (the rotor-flux angular speed minus the slip of Casadei

@@ -25,8 +25,10 @@ static int16_t im_part_check(const dtc_config_t *cfg, const char **f)
     DTC_REFUSE(cfg->board.topology != DTC_TOPO_SSTP, DTC_ERR_VARIANT, "board.topology");
     DTC_REFUSE(cfg->est.estimator != DTC_EST_VOLTAGE && cfg->est.estimator != DTC_EST_IMPROVED,
                DTC_ERR_VARIANT, "est.estimator");
+    /* the low-speed gain of Casadei eq. 20 also corrects the voltage model during the start-up
+     * (im_est.h) */
+    DTC_REFUSE(p->est.k_lo_q31 <= 0, DTC_ERR_FLUX_EST, "u.im.est.k_lo_q31");
     if (cfg->est.estimator == DTC_EST_IMPROVED) {
-        DTC_REFUSE(p->est.k_lo_q31 <= 0, DTC_ERR_FLUX_EST, "u.im.est.k_lo_q31");
         DTC_REFUSE(p->est.k_hi_q31 <= 0, DTC_ERR_FLUX_EST, "u.im.est.k_hi_q31");
         DTC_REFUSE(p->est.w_hi_iq < p->est.w_lo_iq, DTC_ERR_FLUX_EST, "u.im.est.w_hi_iq");
     }

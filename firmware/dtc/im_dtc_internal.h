@@ -76,12 +76,21 @@ static inline iq_t im_dtc_front(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, 
  *     small mean torque against the motion (the zero band with the period's actuation delay;
  *     docs/sil.md gives the figures). At rest they would alternate about the radial direction
  *     with a torque ripple of about a quarter of the rated torque, hence the radial vector there.
- * Without an encoder the speed is not known before the flux is: the radial vector always, and a
- * start into a turning rotor is not supported (docs/sil.md). */
+ * Without an encoder (a sensorless flying start) the speed is not known before the flux is, so
+ * ST-D's vectors at T* = 0 run from the first period, at rest too: the torque comparator is then
+ * the zero-torque loop that finds the rotor. Zero torque means zero slip (Casadei eq. 16,
+ * w_slip = r_r T / |phi_r|^2, valid in transients), so the flux it builds turns at the rotor's
+ * own speed and sense from its first volt-seconds, the rotor-flux angle (Casadei eq. 22) moves
+ * with the rotor and the sensorless speed (the angle's rate less that slip, im_ref.h) reads the
+ * rotor's speed and direction by the end of the magnetisation; no search sweep, no added state
+ * or step cost. At rest the torque ripples about zero (no mean torque) while the machine is
+ * magnetised. DSVM (im_dsvm.c) takes the same vectors. The modulated laws (SFVC, DFOC) build
+ * their flux along the estimated rotor flux turned at the sensorless speed, whose slip term
+ * already moves that speed towards the rotor's (docs/sil.md gives the measured starts). */
 static inline uint16_t im_magn_vector(im_dtc_t *c, uint16_t sector, uint16_t flux_up, iq_t err, int16_t *tdem)
 {
     uint16_t up;
-    if (c->cfg->speed.sensor == DTC_SPEED_NONE || c->speed_iq == 0) {
+    if (c->cfg->speed.sensor == DTC_SPEED_ENCODER && c->speed_iq == 0) {
         *tdem = 0;
         return flux_up != 0U ? sector : SWTAB_NULL;
     }
@@ -174,6 +183,8 @@ static inline void im_dtc_ein_common(im_dtc_t *c)
     /* the rotor-flux angle and magnitude (CORDIC) only where the speed loop runs: sensorless
      * speed, telemetry */
     in->want_polar = (uint16_t)(c->div_cnt == 0U ? 1U : 0U);
+    /* in->start (the voltage model's start, im_est.h) follows c->magnetised where that changes:
+     * set by im_dtc_reset, cleared when the magnetisation ends (im_dtc_refs) */
 }
 
 #endif /* IM_DTC_INTERNAL_H */

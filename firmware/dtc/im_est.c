@@ -138,7 +138,10 @@ void im_est_flux(im_est_t *s, const im_est_in_t *in)
     s->ri_alpha_iq = ri_a;
     s->ri_beta_iq = ri_b;
 
-    if (p->estimator == IM_EST_IMPROVED) {
+    if (p->estimator == IM_EST_VOLTAGE && in->start == 0U) {
+        s->psi_alpha_iq = flux_est_lpf(s->psi_alpha_iq, e_a, p->k_in_q31, p->k_leak_q31);
+        s->psi_beta_iq = flux_est_lpf(s->psi_beta_iq, e_b, p->k_in_q31, p->k_leak_q31);
+    } else {
         /* Casadei eq. 20, with the correction phi_r* e^{j theta} - phi_r of the previous
          * instant (eqs. 21-22 evaluated at the end of the previous step; e^{j theta} = x/|x|). */
         q31_t k;
@@ -154,9 +157,6 @@ void im_est_flux(im_est_t *s, const im_est_in_t *in)
         const int64_t d_b = (int64_t)p->ts_pu_q31 * (int64_t)e_b + (int64_t)k * (int64_t)c_b;
         s->psi_alpha_iq = fix_add32(s->psi_alpha_iq, fix_rshift_rnd64_sat32(d_a, 31U));
         s->psi_beta_iq = fix_add32(s->psi_beta_iq, fix_rshift_rnd64_sat32(d_b, 31U));
-    } else {
-        s->psi_alpha_iq = flux_est_lpf(s->psi_alpha_iq, e_a, p->k_in_q31, p->k_leak_q31);
-        s->psi_beta_iq = flux_est_lpf(s->psi_beta_iq, e_b, p->k_in_q31, p->k_leak_q31);
     }
     /* Casadei eqs. 21-22. */
     x_a = fix_sub32(s->psi_alpha_iq, iq_mpy(p->sigma_ls_iq, in->i_alpha_iq));

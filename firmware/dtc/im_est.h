@@ -10,7 +10,16 @@
  * Two stator-flux estimators, chosen by the configuration:
  *   IM_EST_VOLTAGE  Casadei eq. 1, d phi_s/dt = v_s - R_s i_s, integrated by the same exactly
  *                   discretised first-order low-pass as the PM drive's voltage model (flux_est_lpf,
- *                   cut-off w_c) to stop offset drift.
+ *                   cut-off w_c) to stop offset drift. Not during the start-up (in->start): the
+ *                   machine is magnetised at DC there, where the low-pass has no gain (its estimate
+ *                   of a DC flux decays as exp(-w_c t) while the machine holds it), so the drive
+ *                   would keep adding volt-seconds the estimate loses, w_c |phi_s*| a second
+ *                   (the machine over-magnetised beyond 2.5 x phi_s* in the 0.44 s start of the
+ *                   default IM, and a trip when torque is applied: Casadei Fig. 17a's
+ *                   statement for the pure integrator). During the start-up the voltage model
+ *                   takes Casadei eq. 20's correction (below, at the low-speed gain k_lo)
+ *                   towards the start-up's rotor-flux model, which is exact at DC (im_dtc.h);
+ *                   the low-pass then runs on from the flux so reached.
  *   IM_EST_IMPROVED Casadei eq. 20, the voltage model pulled towards the rotor-flux reference:
  *                     d phi_s/dt = v_s - R_s i_s + (phi_r* e^{j theta} - phi_r) / tau
  *                   with phi_r from Casadei eq. 21 and e^{j theta} = x/|x| from eq. 22. Discretised by forward Euler over
@@ -106,6 +115,8 @@ typedef struct {
     iq_t psir_ref_iq;            /* rotor-flux reference magnitude phi_r* (improved estimator) */
     iq_t speed_iq;               /* electrical speed for a speed-dependent tau, pu */
     uint16_t want_polar;         /* 1: compute theta_r and |phi_r| (CORDIC) in this period */
+    uint16_t start;              /* 1: the start-up's magnetisation (IM_EST_VOLTAGE corrected as
+                                  * Casadei eq. 20, file comment) */
 } im_est_in_t;
 
 /* Returns 0, or a nonzero code when the parameters are inconsistent (negative resistance,

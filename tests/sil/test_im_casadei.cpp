@@ -28,175 +28,17 @@ extern "C" {
 
 #include "controller_adapter.hpp"
 #include "hal_host.hpp"
+#include "im_rig.hpp"
 #include "metrics.hpp"
 #include "run.hpp"
 #include "scenario.hpp"
 
 using namespace sil;
+using sil_test::kIqOne;
+using sil_test::kScenario;
+using sil_test::Rig;
 
 namespace {
-
-const std::string kScenario = std::string(DTC_SOURCE_DIR) + "/tools/scenarios/im_dtc_speed.toml";
-constexpr double kIqOne = 16777216.0; // 2^24, iq_t
-
-// One SIL rig from im_dtc_speed.toml plus overrides, stepped period by period.
-struct Rig {
-    Scenario sc;
-    dtc_config_si_t si{};
-    dtc_config_t cfg{};
-    dtc_bases_t b{};
-    std::unique_ptr<hal_host::Harness> h;
-    std::unique_ptr<Controller> ctrl;
-    bool ok = false;
-
-    explicit Rig(const std::vector<std::string>& sets)
-    {
-        Diagnostics d;
-        if (!load_scenario(kScenario, sets, &sc, &d)) {
-            ADD_FAILURE() << d.text();
-            return;
-        }
-        si = firmware_si_config(sc);
-        char msg[256] = {0};
-        if (dtc_config_from_si(&si, &cfg, msg, sizeof msg) != DTC_SI_OK) {
-            ADD_FAILURE() << msg;
-            return;
-        }
-        dtc_bases_from_si(&si, &b);
-        std::string err;
-        h = hal_host::Harness::create(plant_params_from(sc), harness_config_from(sc), &err);
-        if (!h) {
-            ADD_FAILURE() << err;
-            return;
-        }
-        h->activate();
-        ctrl = make_controller(sc, &err);
-        if (!ctrl) {
-            ADD_FAILURE() << err;
-            return;
-        }
-        const std::string e = ctrl->init(*h);
-        if (!e.empty()) {
-            ADD_FAILURE() << e;
-            return;
-        }
-        ok = true;
-    }
-    ~Rig()
-    {
-        stop_record();
-        if (h) {
-            h->deactivate();
-        }
-    }
-    double ts() const { return sc.ts_s; }
-    long periods(double t_s) const { return static_cast<long>(std::llround(t_s / sc.ts_s)); }
-    void period()
-    {
-        h->run_period([this] { ctrl->step(*h); });
-        if (wave && ++wave_k % wave_every == 0) {
-            write_wave_row();
-        }
-    }
-    // Waveforms for tools/plot/casadei_report.py's figures: while recording, one row every `every`
-    // periods to $DTC_FIGURE_DIR/NAME.csv (nothing without the variable).
-    void record(const std::string& name, long every = 1)
-    {
-        stop_record();
-        const char* dir = std::getenv("DTC_FIGURE_DIR");
-        if (!dir || !*dir) {
-            return;
-        }
-        wave = std::fopen((std::string(dir) + "/" + name + ".csv").c_str(), "w");
-        if (!wave) {
-            ADD_FAILURE() << "cannot write " << dir << "/" << name << ".csv";
-            return;
-        }
-        wave_every = every;
-        wave_k = 0;
-        std::fprintf(wave, "t_s,speed_rpm,speed_est_rpm,te_nm,te_ref_nm,psi_alpha_wb,psi_beta_wb,psi_r_alpha_wb,"
-                           "psi_r_beta_wb,psi_est_wb,psi_ref_wb,i_a_a,i_mag_a,vdc_v\n");
-        write_wave_row();
-    }
-    void stop_record()
-    {
-        if (wave) {
-            std::fclose(wave);
-            wave = nullptr;
-        }
-    }
-    void write_wave_row()
-    {
-        const app_status_t s = status();
-        const double pb = b.psi_base_wb / kIqOne;
-        std::fprintf(wave, "%.6f,%.3f,%.3f,%.4f,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%.4f,%.3f\n", h->time_s(),
-                     st().speed_rpm, speed_est_rpm(), st().te_nm, s.out.te_ref_iq / kIqOne * b.t_base_nm, st().psi_alpha_wb,
-                     st().psi_beta_wb, st().psi_r_alpha_wb, st().psi_r_beta_wb,
-                     std::hypot(static_cast<double>(s.out.psi_alpha_iq), static_cast<double>(s.out.psi_beta_iq)) * pb,
-                     s.out.psi_ref_iq * pb, st().i_alpha_a, imag(), st().vdc_v);
-    }
-    std::FILE* wave = nullptr;
-    long wave_every = 1, wave_k = 0;
-    // Runs t_s, calling f after every period.
-    void run(double t_s, const std::function<void()>& f = {})
-    {
-        for (long k = 0, n = periods(t_s); k < n; ++k) {
-            period();
-            if (f) {
-                f();
-            }
-        }
-    }
-    const plant_state_t& st() const { return h->state(); }
-    double psir() const { return std::hypot(st().psi_r_alpha_wb, st().psi_r_beta_wb); }
-    double psis() const { return std::hypot(st().psi_alpha_wb, st().psi_beta_wb); }
-    double imag() const { return std::hypot(st().i_alpha_a, st().i_beta_a); }
-    app_status_t status() const
-    {
-        app_status_t s;
-        app_get_status(&s);
-        return s;
-    }
-    std::string fault() const { return ctrl->fault(); }
-    iq_t torque_iq(double nm) const { return static_cast<iq_t>(std::lround(nm / b.t_base_nm * kIqOne)); }
-    iq_t speed_iq(double rpm) const
-    {
-        return static_cast<iq_t>(std::lround(rpm * kPi / 30.0 * static_cast<double>(si.pole_pairs) / b.w_base_rad_s * kIqOne));
-    }
-    double speed_est_rpm() const
-    {
-        return static_cast<double>(status().out.speed_iq) / kIqOne * b.w_base_rad_s * 30.0 / kPi /
-               static_cast<double>(si.pole_pairs);
-    }
-    // Publishes a new reference set through the shadow (app_set_refs).
-    void refs(int mode, double torque_nm, double speed_rpm)
-    {
-        dtc_refs_t r{};
-        r.mode = static_cast<std::uint16_t>(mode);
-        r.flux_ref_iq = cfg.speed.flux_ref_iq;
-        r.kp_iq = cfg.speed.kp_iq;
-        r.ki_ts_iq = cfg.speed.ki_ts_iq;
-        r.torque_ref_iq = torque_iq(torque_nm);
-        r.speed_ref_iq = speed_iq(speed_rpm);
-        EXPECT_EQ(app_set_refs(&r), DTC_OK);
-    }
-    // Start-up: calibration and the magnetisation at zero torque, then settle_s more.
-    void magnetise(double settle_s)
-    {
-        const double t_magn = static_cast<double>(cfg.u.im.ref.magn_periods) * ts();
-        run(t_magn + 64.0 * ts() + settle_s);
-    }
-    // Moves the dynamometer's held speed linearly to rpm over t_s.
-    void ramp_held_speed(double rpm, double t_s)
-    {
-        const double from = st().speed_rpm;
-        const long n = periods(t_s);
-        for (long k = 1; k <= n; ++k) {
-            plant_set_load(h->plant(), PLANT_LOAD_SPEED, from + (rpm - from) * static_cast<double>(k) / static_cast<double>(n), 0.0);
-            period();
-        }
-    }
-};
 
 // Machine constants of the default IM (the plant's, as the scenario builds it).
 struct Machine {
@@ -224,12 +66,14 @@ struct Machine {
 
 // ---- Casadei Fig. 17: start-up at zero torque, then a rated torque step ------------------------
 // Casadei sec. 10.2: with a pure integrator the machine cannot be magnetised at zero torque and
-// the torque then rises slowly; with the improved estimator (tau = 0.01 s) the phase current
+// the torque then rises slowly (the voltage model here is magnetised by the start-up's
+// correction, then over-magnetised when held at DC); with the improved estimator (tau = 0.01 s) the phase current
 // settles to the magnetising current at zero torque and the torque reaches its reference within
 // a few ms. Rotor held at standstill (the dynamometer), torque mode, T* = 0, then rated.
 struct StartUp {
     double psir_before = 0.0, i_dc = 0.0, i_drift = 0.0, rise_ms = -1.0, te_worst_magn = 0.0;
     double i_peak_magn = 0.0; // largest current-vector magnitude during the magnetisation
+    double psir_magn = 0.0;   // the plant's rotor flux when the magnetisation ends
     std::string fault;
 };
 static StartUp start_up(const std::string& estimator, std::vector<std::string> extra = {})
@@ -248,6 +92,7 @@ static StartUp start_up(const std::string& estimator, std::vector<std::string> e
         o.te_worst_magn = std::fmax(o.te_worst_magn, std::fabs(r.st().te_nm));
         o.i_peak_magn = std::fmax(o.i_peak_magn, r.imag());
     });
+    o.psir_magn = r.psir();
     r.run(0.3); // torque allowed, still commanded zero: the rotor flux completes its rise (tau_r)
     // The 50 ms before the torque step: the mean current-vector magnitude (the DC magnetising
     // current) and the spread of its 5 ms means (a DC current has none).
@@ -283,8 +128,9 @@ TEST(ImCasadei, Fig17ImprovedEstimatorMagnetisesAtZeroTorqueAndTheTorqueFollowsI
 {
     const StartUp imp = start_up("improved");
     const StartUp vol = start_up("voltage");
-    std::printf("MEASURE Fig17 voltage: DC current %.2f A (spread %.2f %%), rotor flux %.3f Wb, rise %.2f ms, fault %s\n",
-                vol.i_dc, 100.0 * vol.i_drift, vol.psir_before, vol.rise_ms, vol.fault.c_str());
+    std::printf("MEASURE Fig17 voltage: rotor flux %.3f Wb at the end of the magnetisation, then held at T* = 0: DC "
+                "current %.2f A (spread %.2f %%), rotor flux %.3f Wb, rise %.2f ms, fault %s\n",
+                vol.psir_magn, vol.i_dc, 100.0 * vol.i_drift, vol.psir_before, vol.rise_ms, vol.fault.c_str());
     std::printf("MEASURE Fig17 improved: DC current %.2f A (5 ms means spread %.2f %%), rotor flux %.3f Wb, max |T| "
                 "while magnetising %.2f N*m, peak current %.1f A (rated %.1f), rise to 90 %% rated %.2f ms, fault %s\n",
                 imp.i_dc, 100.0 * imp.i_drift, imp.psir_before, imp.te_worst_magn, imp.i_peak_magn,
@@ -305,15 +151,17 @@ TEST(ImCasadei, Fig17ImprovedEstimatorMagnetisesAtZeroTorqueAndTheTorqueFollowsI
     ASSERT_GT(imp.rise_ms, 0.0);
     EXPECT_LE(imp.rise_ms, 5.0);
     // Voltage model (Casadei eq. 1, a low-pass for the integrator), Fig. 17a, on the rig's trips
-    // (the start-up ramp holds the current below rated, im_dtc.h): the DC flux it is asked to
-    // hold drifts in its estimate
-    // (5 rad/s low-pass), so the machine is not magnetised as commanded at zero torque (rotor
-    // flux more than 20 % from its reference, measured 0.77 Wb for 0.53; the current not a steady DC) and the torque then rises far slower than
-    // with the improved estimator (not at 90 % of rated within 10x its rise time).
+    // (the start-up ramp holds the current below rated, im_dtc.h). During the start-up it takes
+    // Casadei eq. 20's correction towards the start-up's rotor-flux model (im_est.h), so the
+    // magnetisation itself reaches the reference (within 10 %, as the improved estimator's).
+    // Held at standstill at zero torque after it, the low-pass alone cannot hold the DC flux (its
+    // estimate decays at 5 rad/s while the machine keeps it): the machine is over-magnetised
+    // (rotor flux more than 20 % above its reference; the current not a steady DC), the
+    // statement of Fig. 17a that remains for the low-pass at DC.
     EXPECT_EQ(vol.fault, "none");
-    EXPECT_GT(std::fabs(vol.psir_before / psir_ref - 1.0), 0.2);
+    EXPECT_NEAR(vol.psir_magn, psir_ref, 0.10 * psir_ref);
+    EXPECT_GT(vol.psir_before / psir_ref - 1.0, 0.2);
     EXPECT_GT(vol.i_drift, 0.05);
-    EXPECT_TRUE(vol.rise_ms < 0.0 || vol.rise_ms > 10.0 * imp.rise_ms) << vol.rise_ms;
 }
 
 // ---- common: magnetised at standstill, then torque mode at a held speed --------------------------

@@ -385,16 +385,21 @@ static void test_startup_current_is_dc(void **state)
 }
 
 /* Casadei Fig. 17a: with the voltage model (its low-pass at 5 rad/s instead of the pure integrator) the
- * estimate of a DC flux decays, so at standstill the law keeps raising the machine's flux: the
- * machine is over-magnetised (the real stator flux beyond 130 % of phi_s* within 0.3 s), where
- * with the improved estimator it converges with tau_r (im_dtc.h): from 0.3 s (2.3 tau_r) after the
- * magnetisation on (zero torque command) its mean is within 3 % of phi_s* and its ripple (zero
- * bands, one period of actuation delay) within 5 %. */
-static void test_voltage_model_cannot_hold_standstill_flux(void **state)
+ * estimate of a DC flux decays, so a law that holds the estimate at phi_s* keeps adding volt-seconds
+ * to the machine. During the start-up the voltage model takes Casadei eq. 20's correction towards
+ * the start-up's rotor-flux model (im_est.h), so the magnetisation at standstill reaches phi_s*
+ * without over-magnetising (the real stator flux below 110 % of phi_s* throughout, and within
+ * 5 % of it at the end); held at standstill at zero torque after the start-up, the low-pass alone
+ * cannot hold the DC flux and the machine is over-magnetised (beyond 120 % of phi_s* within
+ * 0.3 s): the limitation of Fig. 17a that remains (docs/sil.md). With the improved estimator it
+ * converges with tau_r (im_dtc.h): from 0.3 s (2.3 tau_r) after the magnetisation on (zero torque
+ * command) its mean is within 3 % of phi_s* and its ripple (zero bands, one period of actuation
+ * delay) within 5 %. */
+static void test_voltage_model_start_up_magnetises_but_cannot_hold_standstill_flux(void **state)
 {
     sim_t s;
     dtc_out_t o;
-    double worst_v = 0.0, worst_i = 0.0, mean_i = 0.0, ref;
+    double worst_v = 0.0, worst_start = 0.0, end_start = 0.0, worst_i = 0.0, mean_i = 0.0, ref;
     long n_i = 0;
     (void)state;
 
@@ -403,13 +408,20 @@ static void test_voltage_model_cannot_hold_standstill_flux(void **state)
     s.si.i_trip_a = 1800.0 * s.si.adc_i_a_per_count; /* near the largest trip the ADC can see (the law alone) */
     sim_start(&s, 0.0);
     ref = wb_to_pu(&s, s.si.flux_ref_wb);
-    for (long k = 0; k < (long)periods(&s, 0.3); k++) {
+    for (long k = 0; k < (long)s.cfg.u.im.ref.magn_periods + (long)periods(&s, 0.3); k++) {
         sim_period(&s, &o);
-        if (psis_mag(&s) / ref > worst_v) {
-            worst_v = psis_mag(&s) / ref;
+        if (k < (long)s.cfg.u.im.ref.magn_periods) {
+            worst_start = fmax(worst_start, psis_mag(&s) / ref);
+            end_start = psis_mag(&s) / ref;
+        } else {
+            worst_v = fmax(worst_v, psis_mag(&s) / ref);
         }
     }
-    assert_true(worst_v > 1.3);
+    printf("MEASURE voltage model at standstill: |phi_s| / phi_s* at most %.3f during the start-up, %.3f at its end, "
+           "%.3f within 0.3 s after\n", worst_start, end_start, worst_v);
+    assert_true(worst_start < 1.1);
+    assert_true(fabs(end_start - 1.0) < 0.05);
+    assert_true(worst_v > 1.2);
 
     sim_defaults(&s);
     sim_start(&s, 0.0);
@@ -729,7 +741,7 @@ UNIT_TEST_MAIN("im dtc", NULL,
                cmocka_unit_test(test_bad_im_config_refused_with_field),
                cmocka_unit_test(test_startup_magnetises_then_torque),
                cmocka_unit_test(test_startup_current_is_dc),
-               cmocka_unit_test(test_voltage_model_cannot_hold_standstill_flux),
+               cmocka_unit_test(test_voltage_model_start_up_magnetises_but_cannot_hold_standstill_flux),
                cmocka_unit_test(test_constant_rotor_flux_torque_step),
                cmocka_unit_test(test_speed_dependent_table),
                cmocka_unit_test(test_tables_through_the_law),
