@@ -57,6 +57,7 @@ SECTIONS
                     *(.text:_speed_pi_step)
                     *(.text:_svm_step)
                     *(.text:_vcomp_step)
+                    *(.text:_vcomp_step_lin)
                     /* hot:ramfuncs end */
                     -l=libdtc_firmware.a (.econst)
                     -l=libdtc_firmware.a (.switch)
@@ -117,7 +118,6 @@ SECTIONS
                     *(.text:_swtab_rot6)
                     *(.text:_swtab_sstp_basic)
                     *(.text:_swtab_sstp_legs)
-                    *(.text:_vcomp_leg_drop)
                     *(.text:_vrec_from_legs)
                     *(.text:_vrec_sstp)
                     /* hot:ramfuncs_h end */

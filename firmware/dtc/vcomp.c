@@ -18,21 +18,21 @@ void vcomp_init(vcomp_params_t *p, uint16_t mode, iq_t v_f_iq, iq_t v_ce_iq, iq_
 /* vcomp.h: the leg drop averaged over a period of linear current. */
 iq_t vcomp_leg_drop_lin(uint16_t state, iq_t i0_iq, iq_t i1_iq, iq_t v_ce_iq, iq_t v_d_iq)
 {
-    const int64_t d = (int64_t)i1_iq - (int64_t)i0_iq;
-    const int64_t p0 = (int64_t)i0_iq * 8 + d; /* 8 x the current at 1/8 of the period */
     const iq_t dp = vcomp_leg_drop(state, 0, v_ce_iq, v_d_iq);  /* drop for i >= 0 */
     const iq_t dm = vcomp_leg_drop(state, -1, v_ce_iq, v_d_iq); /* drop for i < 0 */
-    int64_t n = 0; /* points with i >= 0 */
-    int64_t j;
+    const int64_t d = (int64_t)i1_iq - (int64_t)i0_iq;
+    const int64_t step = d + d;          /* 8 x the change over a quarter period */
+    int64_t pt = (int64_t)i0_iq * 8 + d; /* 8 x the current at 1/8 of the period */
+    int32_t sum = 0;
+    uint16_t j;
     if (i0_iq == i1_iq) {
         return i0_iq >= 0 ? dp : dm;
     }
-    for (j = 0; j < 4; j++) {
-        if (p0 + 2 * j * d >= 0) {
-            n++;
-        }
+    for (j = 0U; j < 4U; j++) {
+        sum = fix_add32(sum, pt >= 0 ? dp : dm);
+        pt += step;
     }
-    return fix_rshift_rnd32(fix_sat32(n * (int64_t)dp + (4 - n) * (int64_t)dm), 2U);
+    return fix_rshift_rnd32(sum, 2U);
 }
 
 void vcomp_step(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t sc,

@@ -78,9 +78,10 @@ static inline iq_t vcomp_leg_drop(uint16_t state, iq_t i_iq, iq_t v_ce_iq, iq_t 
  * (V_CE + V_d)/2 of error on that period, on legs B and C only in the FSTP (phase A has no
  * device), a negative-sequence voltage error that the voltage model integrates into the flux. The
  * four points leave at most (V_CE + V_d)/8. i0 == i1 gives vcomp_leg_drop's value.
- * Formats: currents and drops IQ pu. The points are formed times 8 in 64 bits (|8 i0| + 7 |i1 - i0|
- * < 2^38, no overflow); the mean is a sum of four drops (|drop| <= max(V_CE, V_d), saturating)
- * shifted right by 2 with rounding (exact when the four polarities agree). No division. */
+ * Formats: currents and drops IQ pu. The points are formed times 8 in 64 bits by additions
+ * (|8 i0| + 7 |i1 - i0| < 2^37, no overflow); the mean is a saturating sum of four drops
+ * (|drop| <= max(V_CE, V_d)) shifted right by 2 with rounding (exact when the four polarities
+ * agree). No multiplication beyond the constant 8, no division. */
 iq_t vcomp_leg_drop_lin(uint16_t state, iq_t i0_iq, iq_t i1_iq, iq_t v_ce_iq, iq_t v_d_iq);
 /* Compensation voltages for the leg states applied during the integration interval and the
  * currents (all three phases and alpha-beta, from clarke_*). Outputs IQ pu, to be ADDED to v. */
