@@ -58,6 +58,8 @@ SECTIONS
                     *(.text:_dtc_step)
                     *(.text:_ilim_select)
                     *(.text:_vcomp_step)
+                    *(.text:_vcomp_step_lin)
+                    *(.text:_vcomp_leg_drop_lin)
                     /* hot:ramfuncs end */
                     -l=libdtc_firmware.a (.econst)
                     -l=libdtc_firmware.a (.switch)
@@ -126,7 +128,6 @@ SECTIONS
                     *(.text:_swtab_rot6)
                     *(.text:_swtab_sstp_basic)
                     *(.text:_swtab_sstp_legs)
-                    *(.text:_vcomp_leg_drop)
                     *(.text:_vrec_from_legs)
                     *(.text:_vrec_fstp)
                     *(.text:_vrec_sstp)

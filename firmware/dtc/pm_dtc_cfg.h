@@ -25,10 +25,11 @@ typedef struct {
      * period k+1, so the comparators and the sector work on the flux and torque predicted for
      * the start of period k+1 from the vector already committed for period k. */
     uint16_t delay_comp;      /* 1: on (default), 0: comparators on the estimate at k */
-    uint16_t polarity_mid;    /* 1: the drop compensation of period [k-1, k] takes the current
-                               * polarity from the period's mean current (i(k-1) + i(k))/2 and the
-                               * dead-time compensation from the current at the switching instant
-                               * i(k-1); 0: both from the sample i(k) */
+    uint16_t polarity_mid;    /* 1: the drop compensation of period [k-1, k] takes each leg's
+                               * forward drop averaged over the current's line from i(k-1) to i(k)
+                               * (vcomp_step_lin), its R_on terms at the period's mean current
+                               * (i(k-1) + i(k))/2, and the dead-time compensation from the current
+                               * at the switching instant i(k-1); 0: all from the sample i(k) */
     uint16_t lpf_comp;        /* voltage model: 1 = gain/phase correction of the low-pass with the
                                * measured speed (lpfcorr.h), 0 = the low-pass output as it is */
     uint16_t dc_supp;         /* voltage model: 1 = DC-current suppression (dtc.c dtc_dcsupp) */
@@ -76,7 +77,7 @@ typedef struct {
     X(104, u.pm_dtc.est.delay_comp, U16, NONE, 0, 1, DTC_ERR_DELAY, 0U,                                       \
       "1: the comparators act on the estimate predicted for k+1")                                             \
     X(105, u.pm_dtc.est.polarity_mid, U16, NONE, 0, 1, DTC_ERR_POLARITY, 0U,                                  \
-      "1: the drop polarity from the period-mean current, 0: from the sample")                               \
+      "1: the drops averaged over the period's current, 0: from the sample")                                  \
     X(106, u.pm_dtc.est.lpf_comp, U16, NONE, 0, 1, DTC_ERR_LPFCOMP, 0U,                                       \
       "voltage model: 1 = gain and phase correction of the low-pass")                                        \
     X(107, u.pm_dtc.est.dc_supp, U16, NONE, 0, 1, DTC_ERR_DCSUPP, 0U,                                         \

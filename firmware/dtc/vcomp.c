@@ -15,8 +15,34 @@ void vcomp_init(vcomp_params_t *p, uint16_t mode, iq_t v_f_iq, iq_t v_ce_iq, iq_
     p->r_on_third_iq = q31_mul(r_on_iq, VREC_THIRD_Q31);
 }
 
+/* vcomp.h: the leg drop averaged over a period of linear current. */
+iq_t vcomp_leg_drop_lin(uint16_t state, iq_t i0_iq, iq_t i1_iq, iq_t v_ce_iq, iq_t v_d_iq)
+{
+    const iq_t dp = vcomp_leg_drop(state, 0, v_ce_iq, v_d_iq);  /* drop for i >= 0 */
+    const iq_t dm = vcomp_leg_drop(state, -1, v_ce_iq, v_d_iq); /* drop for i < 0 */
+    const int64_t d = (int64_t)i1_iq - (int64_t)i0_iq;
+    const int64_t step = d + d;          /* 8 x the change over a quarter period */
+    int64_t pt = (int64_t)i0_iq * 8 + d; /* 8 x the current at 1/8 of the period */
+    int32_t sum = 0;
+    uint16_t j;
+    if (i0_iq == i1_iq) {
+        return i0_iq >= 0 ? dp : dm;
+    }
+    for (j = 0U; j < 4U; j++) {
+        sum = fix_add32(sum, pt >= 0 ? dp : dm);
+        pt += step;
+    }
+    return fix_rshift_rnd32(sum, 2U);
+}
+
 void vcomp_step(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t sc,
                 const clarke_out_t *i, iq_t *v_f_alpha_iq, iq_t *v_f_beta_iq)
+{
+    vcomp_step_lin(p, sa, sb, sc, i, i, i, v_f_alpha_iq, v_f_beta_iq);
+}
+
+void vcomp_step_lin(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t sc, const clarke_out_t *i,
+                    const clarke_out_t *i0, const clarke_out_t *i1, iq_t *v_f_alpha_iq, iq_t *v_f_beta_iq)
 {
     iq_t da, db, dc, fa, fb;
 
@@ -26,25 +52,25 @@ void vcomp_step(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t sc,
         /* Leg drops (Hoang Table III: V_CE through the on transistor, V_d through the diode of
          * the other switch; [29]: V_CE = V_d = V_f, set so by vcomp_init); minus their Clarke
          * transform, then the on-resistance terms of Hoang eqs. 24-25. */
-        da = vcomp_leg_drop(sa, i->ia_iq, p->v_ce_iq, p->v_d_iq);
-        db = vcomp_leg_drop(sb, i->ib_iq, p->v_ce_iq, p->v_d_iq);
-        dc = vcomp_leg_drop(sc, i->ic_iq, p->v_ce_iq, p->v_d_iq);
+        da = vcomp_leg_drop_lin(sa, i0->ia_iq, i1->ia_iq, p->v_ce_iq, p->v_d_iq);
+        db = vcomp_leg_drop_lin(sb, i0->ib_iq, i1->ib_iq, p->v_ce_iq, p->v_d_iq);
+        dc = vcomp_leg_drop_lin(sc, i0->ic_iq, i1->ic_iq, p->v_ce_iq, p->v_d_iq);
         vrec_from_legs(da, db, dc, &fa, &fb);
         *v_f_alpha_iq = fix_sub32(fix_neg32(fa), iq_mpy(p->r_on_iq, i->i_alpha_iq));
         *v_f_beta_iq = fix_sub32(fix_neg32(fb), iq_mpy(p->r_on_iq, i->i_beta_iq));
         break;
     case DTC_COMP_FSTP_SIMPLE:
         /* Hoang Table V = eqs. 35-36: legs B and C, V_f, no leg-A device. */
-        db = vcomp_leg_drop(sb, i->ib_iq, p->v_f_iq, p->v_f_iq);
-        dc = vcomp_leg_drop(sc, i->ic_iq, p->v_f_iq, p->v_f_iq);
+        db = vcomp_leg_drop_lin(sb, i0->ib_iq, i1->ib_iq, p->v_f_iq, p->v_f_iq);
+        dc = vcomp_leg_drop_lin(sc, i0->ic_iq, i1->ic_iq, p->v_f_iq, p->v_f_iq);
         *v_f_alpha_iq = q31_mul(fix_add32(db, dc), VREC_THIRD_Q31);          /* Hoang eq. 33 */
         *v_f_beta_iq = q31_mul(fix_sub32(dc, db), VREC_INV_SQRT3_Q31);       /* Hoang eq. 34 */
         break;
     case DTC_COMP_FSTP_PROPOSED:
         /* Hoang Table VI = Table III per leg + eqs. 33-34, plus the R_on terms (eqs. 37-38; see the
          * header for the sign of the alpha term). */
-        db = vcomp_leg_drop(sb, i->ib_iq, p->v_ce_iq, p->v_d_iq);
-        dc = vcomp_leg_drop(sc, i->ic_iq, p->v_ce_iq, p->v_d_iq);
+        db = vcomp_leg_drop_lin(sb, i0->ib_iq, i1->ib_iq, p->v_ce_iq, p->v_d_iq);
+        dc = vcomp_leg_drop_lin(sc, i0->ic_iq, i1->ic_iq, p->v_ce_iq, p->v_d_iq);
         fa = q31_mul(fix_add32(db, dc), VREC_THIRD_Q31);                     /* Hoang eq. 33 */
         fb = q31_mul(fix_sub32(dc, db), VREC_INV_SQRT3_Q31);                 /* Hoang eq. 34 */
         *v_f_alpha_iq = fix_sub32(fa, iq_mpy(p->r_on_third_iq, i->i_alpha_iq));

@@ -70,10 +70,28 @@ static inline iq_t vcomp_leg_drop(uint16_t state, iq_t i_iq, iq_t v_ce_iq, iq_t 
     return i_iq >= 0 ? v_ce_iq : fix_neg32(v_d_iq);
 }
 
+/* Forward drop of one leg (Hoang Table III) averaged over a period in which its current moves
+ * linearly from i0_iq to i1_iq (one vector applied, back-EMF nearly constant): the mean of the drop
+ * at the four points i0 + (i1 - i0)(2j + 1)/8, j = 0..3. A current that crosses zero inside the
+ * period has one polarity for part of it and the other for the rest, and the leg's drop changes
+ * with it (V_CE to -V_d or V_d to -V_CE); one polarity for the whole period leaves up to
+ * (V_CE + V_d)/2 of error on that period, on legs B and C only in the FSTP (phase A has no
+ * device), a negative-sequence voltage error that the voltage model integrates into the flux. The
+ * four points leave at most (V_CE + V_d)/8. i0 == i1 gives vcomp_leg_drop's value.
+ * Formats: currents and drops IQ pu. The points are formed times 8 in 64 bits by additions
+ * (|8 i0| + 7 |i1 - i0| < 2^37, no overflow); the mean is a saturating sum of four drops
+ * (|drop| <= max(V_CE, V_d)) shifted right by 2 with rounding (exact when the four polarities
+ * agree). No multiplication beyond the constant 8, no division. */
+iq_t vcomp_leg_drop_lin(uint16_t state, iq_t i0_iq, iq_t i1_iq, iq_t v_ce_iq, iq_t v_d_iq);
 /* Compensation voltages for the leg states applied during the integration interval and the
  * currents (all three phases and alpha-beta, from clarke_*). Outputs IQ pu, to be ADDED to v. */
 void vcomp_step(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t sc,
                 const clarke_out_t *i, iq_t *v_f_alpha_iq, iq_t *v_f_beta_iq);
+/* As vcomp_step for a period in which the currents move linearly from i0 to i1: the forward drops
+ * of each leg averaged over the period (vcomp_leg_drop_lin), the R_on terms (linear in the current)
+ * at the period's mean current i_mean. vcomp_step(p, .., i, ..) is vcomp_step_lin(p, .., i, i, i, ..). */
+void vcomp_step_lin(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t sc, const clarke_out_t *i_mean,
+                    const clarke_out_t *i0, const clarke_out_t *i1, iq_t *v_f_alpha_iq, iq_t *v_f_beta_iq);
 
 /* vcomp_step as a table of the phase currents' signs (the IM laws, the ITC's observer). With the legs
  * off (an SVM period's base term), or with drops that do not depend on the state (NONE, SSTP

@@ -291,6 +291,76 @@ static void test_sign_table_equals_vcomp_step(void **state)
     }
 }
 
+/* Hoang Table III's drop of one leg over a period in which its current moves linearly from i0 to i1
+ * (one vector applied): the exact period mean is the drop for i >= 0 over the fraction of the period
+ * the current is >= 0 and the other drop over the rest. vcomp_leg_drop_lin takes four points, so it
+ * is within (V_CE + V_d)/8 of that mean (double-precision reference below), equals Table III when
+ * the current keeps its sign, and the FSTP compensation of such a period (vcomp_step_lin) is minus
+ * eqs. 33-34 of the two legs' means plus the R_on terms at the period's mean current. */
+static void test_period_mean_drop_over_a_zero_crossing(void **state)
+{
+    (void)state;
+    int worst_cross = 0;
+    double worst_err = 0.0;
+    for (int n = 0; n < 400; n++) {
+        const double i0 = -0.4003 + 0.002 * n, i1 = 0.3001 - 0.0017 * n; /* crossings at every fraction, no zero end */
+        for (uint16_t st = 0U; st < 2U; st++) {
+            const double dp = st != 0U ? VCE : VD, dm = st != 0U ? -VD : -VCE;
+            double fpos; /* fraction of the period with i >= 0, current linear from i0 to i1 */
+            if ((i0 >= 0.0) == (i1 >= 0.0)) {
+                fpos = i0 >= 0.0 ? 1.0 : 0.0;
+            } else {
+                const double f0 = i0 / (i0 - i1); /* where i crosses zero */
+                fpos = i0 >= 0.0 ? f0 : 1.0 - f0;
+            }
+            const double exact = fpos * dp + (1.0 - fpos) * dm;
+            const double got = fixtest_iq_to_d(
+                vcomp_leg_drop_lin(st, fixtest_d_to_iq(i0), fixtest_d_to_iq(i1), fixtest_d_to_iq(VCE), fixtest_d_to_iq(VD)));
+            const double err = fabs(got - exact);
+            if ((i0 >= 0.0) == (i1 >= 0.0)) {
+                assert_true(err <= LSB);
+            } else {
+                worst_cross++;
+                worst_err = err > worst_err ? err : worst_err;
+            }
+            assert_true(err <= (VCE + VD) / 8.0 + 4.0 * LSB);
+        }
+    }
+    assert_true(worst_cross > 100);
+    /* the crossings fall between the four points too: the bound is approached, not trivially met */
+    assert_true(worst_err > (VCE + VD) / 16.0);
+    /* equal ends: Table III itself */
+    for (int sg = -1; sg <= 1; sg += 2) {
+        for (uint16_t st = 0U; st < 2U; st++) {
+            const iq_t i = fixtest_d_to_iq(0.3 * sg);
+            assert_int_equal(vcomp_leg_drop_lin(st, i, i, fixtest_d_to_iq(VCE), fixtest_d_to_iq(VD)),
+                             vcomp_leg_drop(st, i, fixtest_d_to_iq(VCE), fixtest_d_to_iq(VD)));
+        }
+    }
+    /* the FSTP compensation of a period over which i_b crosses zero, i_c does not */
+    {
+        vcomp_params_t p;
+        clarke_out_t c0, c1, cm;
+        iq_t fa, fb;
+        const double ib0 = 0.2, ib1 = -0.6, ic0 = 0.5, ic1 = 0.9; /* i_b >= 0 for a quarter */
+        const double db = 0.25 * VCE + 0.75 * (-VD), dc = VCE;       /* legs B and C up (state 1) */
+        double ra, rb;
+        vcomp_init(&p, DTC_COMP_FSTP_PROPOSED, 0, fixtest_d_to_iq(VCE), fixtest_d_to_iq(VD), fixtest_d_to_iq(RON));
+        clarke_fstp(fixtest_d_to_iq(ib0), fixtest_d_to_iq(ic0), &c0);
+        clarke_fstp(fixtest_d_to_iq(ib1), fixtest_d_to_iq(ic1), &c1);
+        clarke_fstp(fixtest_d_to_iq(0.5 * (ib0 + ib1)), fixtest_d_to_iq(0.5 * (ic0 + ic1)), &cm);
+        vcomp_step_lin(&p, 0U, 1U, 1U, &cm, &c0, &c1, &fa, &fb);
+        dtc_ref_clarke3(0.0, db, dc, &ra, &rb); /* phase A: no device */
+        /* i_alpha = i_a = -(i_b + i_c), i_beta = (i_b - i_c)/sqrt(3) at the period's mean */
+        {
+            const double ibm = 0.5 * (ib0 + ib1), icm = 0.5 * (ic0 + ic1);
+            const double ial = -(ibm + icm), ibe = (ibm - icm) / sqrt(3.0);
+            fixtest_assert_lsb(fixtest_iq_to_d(fa), -ra - RON * ial / 3.0, LSB, 4.0, "period-mean alpha");
+            fixtest_assert_lsb(fixtest_iq_to_d(fb), -rb - RON * ibe, LSB, 4.0, "period-mean beta");
+        }
+    }
+}
+
 UNIT_TEST_MAIN("dtc vcomp", NULL,
                cmocka_unit_test(test_hoang_table_v_every_row),
                cmocka_unit_test(test_hoang_table_vi_every_row),
@@ -299,4 +369,5 @@ UNIT_TEST_MAIN("dtc vcomp", NULL,
                cmocka_unit_test(test_sstp_equal_drop_scheme),
                cmocka_unit_test(test_sstp_table_iii_per_leg),
                cmocka_unit_test(test_none_and_saturation),
-               cmocka_unit_test(test_sign_table_equals_vcomp_step))
+               cmocka_unit_test(test_sign_table_equals_vcomp_step),
+               cmocka_unit_test(test_period_mean_drop_over_a_zero_crossing))

@@ -153,8 +153,8 @@ typedef struct {
     /* ---- Current limit and ripple-robust polarity (firmware ilim.h) ---- */
     int current_limit_auto;  /* 1: current_limit_a = dtc_ilim_default_a(si) */
     double current_limit_a;  /* current-limit override on |i|, A; 0 = off, else < i_trip_a */
-    int polarity_mid;        /* 1: drop/dead-time polarity from the period-mean / switching-instant
-                              * current (dtc_config.h), 0: from the sample */
+    int polarity_mid;        /* 1: drops averaged over the period's current, dead-time polarity
+                              * at the switching instant (pm_dtc_cfg.h), 0: from the sample */
     int lpf_comp;            /* voltage model: 1 = low-pass gain/phase correction (lpfcorr.h) */
     int dc_supp;             /* voltage model: 1 = DC-current suppression (dtc.c dtc_dcsupp), its
                               * rate w_d = |w| / 20; FSTP with the mid-point measured: also the

@@ -155,7 +155,7 @@ enum dtc_sip_when {
     X(vdc_min_v, DTC_SIP_DOUBLE, "V", 0, DTC_SIP_INF, DTC_SIP_HI_OPEN, DTC_SIP_ALL, DTC_SIP_ALWAYS, DTC_SI_ERR_LIMIT, "protection.vdc_min_v, protection.vdc_max_v", NULL, "DC-link under-voltage trip") \
     X(current_limit_auto, DTC_SIP_INT, "", 0, 1, DTC_SIP_FLAG, DTC_SIP_ALL, DTC_SIP_ALWAYS, DTC_SI_ERR_ILIM, "control.current_limit_a", NULL, "1: the current limit is derived (dtc_ilim_default_a)") \
     X(current_limit_a, DTC_SIP_DOUBLE, "A", 0, DTC_SIP_INF, DTC_SIP_HI_OPEN, DTC_SIP_ALL, DTC_SIP_IF_ILIM_GIVEN, DTC_SI_ERR_ILIM, "control.current_limit_a (derived from protection.overcurrent_a, inverter.vdc_v, motor.*, ts_s, control.delay_comp)", NULL, "current-limit override on |i|, below i_trip_a (0 = off)") \
-    X(polarity_mid, DTC_SIP_INT, "", 0, 1, DTC_SIP_FLAG, DTC_SIP_ALL, DTC_SIP_ALWAYS, DTC_SI_ERR_ILIM, "control.polarity_mid", NULL, "1: drop and dead-time polarity from the period-mean current") \
+    X(polarity_mid, DTC_SIP_INT, "", 0, 1, DTC_SIP_FLAG, DTC_SIP_ALL, DTC_SIP_ALWAYS, DTC_SI_ERR_ILIM, "control.polarity_mid", NULL, "1: drops averaged over the period's current, dead-time polarity at the switching instant") \
     X(lpf_comp, DTC_SIP_INT, "", 0, 1, DTC_SIP_FLAG, DTC_SIP_ALL, DTC_SIP_ALWAYS, DTC_SI_ERR_CUTOFF, "control.lpf_comp", NULL, "voltage model: 1 = low-pass gain and phase correction") \
     X(dc_supp, DTC_SIP_INT, "", 0, 1, DTC_SIP_FLAG, DTC_SIP_ALL, DTC_SIP_ALWAYS, DTC_SI_ERR_CUTOFF, "control.dc_supp", NULL, "voltage model: 1 = DC-current suppression (and the FSTP mid-point regulation)") \
     X(c_dc_f, DTC_SIP_DOUBLE, "F", 0, DTC_SIP_INF, DTC_SIP_OPEN, DTC_SIP_ALL, DTC_SIP_ALWAYS, DTC_SI_ERR_INVERTER, "inverter.c_dc_f", NULL, "each split DC-link capacitor") \

@@ -358,9 +358,11 @@ const std::vector<Spec>& schema()
                  return s.control.current_limit_given ? fmt_double(s.control.current_limit_a) : std::string("derived");
              }},
         boolean("control.polarity_mid",
-                 "firmware: the drop compensation of a period takes the current polarity from the period's mean "
-                 "current (previous and present sample) and the dead-time compensation from the current at the "
-                 "switching instant (the previous sample); false: both from the present sample",
+                 "firmware: the drop compensation of a period takes each leg's forward drop averaged over the "
+                 "current's line from the previous to the present sample (a current that crosses zero inside the "
+                 "period has both polarities in it) and its on-resistance terms at the period's mean current, and "
+                 "the dead-time compensation from the current at the switching instant (the previous sample); "
+                 "false: all from the present sample",
                  ACC(control.polarity_mid)),
         boolean("control.lpf_comp",
                  "firmware, voltage model: undo the low-pass's gain and phase lead at the measured speed by "
