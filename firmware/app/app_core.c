@@ -9,6 +9,8 @@
 
 #include <stddef.h>
 
+const uint16_t app_core_cap_none = (uint16_t)CAPTURE_OFF;
+
 /* The fault log's snapshot: the last per-unit sample and the law's output of the last step. */
 static void log_fault(app_core_t *a)
 {
@@ -437,8 +439,10 @@ static uint16_t core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd);
 uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
 {
     const uint16_t off = core_step(a, m, cmd);
-    if (a->cap != NULL) {
-        capture_isr(a->cap, a->st.tick, (uint16_t)(a->st.state == APP_STATE_FAULT ? 1U : 0U));
+    /* capture_isr's test on the word app_core_attach chose: one load and compare whether a
+     * capture is attached or not */
+    if (*a->cap_state >= (uint16_t)CAPTURE_ARMED) {
+        capture_isr_run(a->cap, a->st.tick, (uint16_t)(a->st.state == APP_STATE_FAULT ? 1U : 0U));
     }
     return off;
 }

@@ -143,6 +143,10 @@ typedef struct app_core {
     uint16_t arming;       /* 1: this calibration was started by an arm request and ends in RUN */
     /* Capture and fault log (app_core_attach), NULL = none. */
     capture_t *cap;
+    /* The word the ISR tests after the control step (app_core_step): &cap->state, or without a
+     * capture a constant CAPTURE_OFF, so that "no capture" and "capture off" are the same one
+     * load and compare, and the capture's off state adds nothing to the ISR. */
+    const volatile uint16_t *cap_state;
     faultlog_t *flog;
 } app_core_t;
 

@@ -16,8 +16,9 @@
  *         as i_a = -(i_b + i_c); it is also the phase with the least switching ripple.
  *
  * Formats: currents in IQ (Q24) pu. Scaling and overflow: the sums are formed in 32 bits and
- * saturated (fix_add32); the 1/sqrt(3) factor is a Q31 constant applied with a rounded 64-bit
- * product (<= 0.5 LSB). Inputs beyond +-64 pu saturate rather than wrap.
+ * saturated (fix_add32); the 1/sqrt(3) and sqrt(3)/2 factors are Q31 constants below 1 applied
+ * with a rounded 64-bit product (q31_mul_k: <= 0.5 LSB, cannot overflow). Inputs beyond +-64 pu
+ * saturate rather than wrap.
  */
 #ifndef CLARKE_H
 #define CLARKE_H
@@ -39,7 +40,7 @@ static inline void clarke_sstp(iq_t ia_iq, iq_t ib_iq, clarke_out_t *o)
     o->ib_iq = ib_iq;
     o->ic_iq = fix_neg32(fix_add32(ia_iq, ib_iq));
     o->i_alpha_iq = ia_iq;
-    o->i_beta_iq = q31_mul(fix_add32(ia_iq, fix_add32(ib_iq, ib_iq)), CLARKE_INV_SQRT3_Q31);
+    o->i_beta_iq = q31_mul_k(fix_add32(ia_iq, fix_add32(ib_iq, ib_iq)), CLARKE_INV_SQRT3_Q31);
 }
 
 /* FSTP: measured i_b, i_c. i_alpha = i_a = -(i_b + i_c) (Hoang eq. 4 with the zero sum),
@@ -50,7 +51,7 @@ static inline void clarke_fstp(iq_t ib_iq, iq_t ic_iq, clarke_out_t *o)
     o->ic_iq = ic_iq;
     o->ia_iq = fix_neg32(fix_add32(ib_iq, ic_iq));
     o->i_alpha_iq = o->ia_iq;
-    o->i_beta_iq = q31_mul(fix_sub32(ib_iq, ic_iq), CLARKE_INV_SQRT3_Q31);
+    o->i_beta_iq = q31_mul_k(fix_sub32(ib_iq, ic_iq), CLARKE_INV_SQRT3_Q31);
 }
 
 /* Inverse (Hoang eqs. 4-5 solved for the phases with i_a + i_b + i_c = 0): i_a = i_alpha,
@@ -62,7 +63,7 @@ static inline void clarke_inv(iq_t i_alpha_iq, iq_t i_beta_iq, clarke_out_t *o)
     o->i_alpha_iq = i_alpha_iq;
     o->i_beta_iq = i_beta_iq;
     o->ia_iq = i_alpha_iq;
-    o->ib_iq = fix_sub32(q31_mul(i_beta_iq, CLARKE_SQRT3_2_Q31), fix_rshift_rnd32(i_alpha_iq, 1U));
+    o->ib_iq = fix_sub32(q31_mul_k(i_beta_iq, CLARKE_SQRT3_2_Q31), fix_rshift_rnd32(i_alpha_iq, 1U));
     o->ic_iq = fix_neg32(fix_add32(o->ia_iq, o->ib_iq));
 }
 

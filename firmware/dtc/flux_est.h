@@ -95,11 +95,14 @@ void flux_est_step(flux_est_t *s, const flux_est_in_t *in);
  * flux_est_vm_step(s, in, iq_mpy(rs, i_alpha), iq_mpy(rs, i_beta)), bit for bit. */
 void flux_est_vm_step(flux_est_t *s, const flux_est_in_t *in, iq_t ri_alpha_iq, iq_t ri_beta_iq);
 
-/* Encoder count -> electrical angle (modulo one turn by design). Exact 64-bit product of the
- * count and the Q16 gain, truncated; the error is < 1 angle LSB + count * 0.5/65536 LSB. */
+/* Encoder count -> electrical angle (modulo one turn by design): bits 16-31 of the product of
+ * the count and the Q16 gain, truncated; the error is < 1 angle LSB + count * 0.5/65536 LSB.
+ * The product is formed modulo 2^32: the bits above 31 of the exact (48-bit) product are whole
+ * turns, which the angle drops anyway, so the 32-bit product gives the same angle as the exact one
+ * (one 32-bit multiply instead of a 64-bit one on the 16- and 32-bit targets). */
 static inline angle_t flux_est_angle(uint16_t count, uint32_t gain_q16, angle_t offset)
 {
-    uint64_t a = ((uint64_t)count * (uint64_t)gain_q16) >> 16;
+    uint32_t a = ((uint32_t)count * gain_q16) >> 16;
     return (angle_t)((angle_t)(a & 0xFFFFU) + offset);
 }
 

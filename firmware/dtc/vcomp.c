@@ -63,16 +63,16 @@ void vcomp_step_lin(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t 
         /* Hoang Table V = eqs. 35-36: legs B and C, V_f, no leg-A device. */
         db = vcomp_leg_drop_lin(sb, i0->ib_iq, i1->ib_iq, p->v_f_iq, p->v_f_iq);
         dc = vcomp_leg_drop_lin(sc, i0->ic_iq, i1->ic_iq, p->v_f_iq, p->v_f_iq);
-        *v_f_alpha_iq = q31_mul(fix_add32(db, dc), VREC_THIRD_Q31);          /* Hoang eq. 33 */
-        *v_f_beta_iq = q31_mul(fix_sub32(dc, db), VREC_INV_SQRT3_Q31);       /* Hoang eq. 34 */
+        *v_f_alpha_iq = q31_mul_k(fix_add32(db, dc), VREC_THIRD_Q31);          /* Hoang eq. 33 */
+        *v_f_beta_iq = q31_mul_k(fix_sub32(dc, db), VREC_INV_SQRT3_Q31);       /* Hoang eq. 34 */
         break;
     case DTC_COMP_FSTP_PROPOSED:
         /* Hoang Table VI = Table III per leg + eqs. 33-34, plus the R_on terms (eqs. 37-38; see the
          * header for the sign of the alpha term). */
         db = vcomp_leg_drop_lin(sb, i0->ib_iq, i1->ib_iq, p->v_ce_iq, p->v_d_iq);
         dc = vcomp_leg_drop_lin(sc, i0->ic_iq, i1->ic_iq, p->v_ce_iq, p->v_d_iq);
-        fa = q31_mul(fix_add32(db, dc), VREC_THIRD_Q31);                     /* Hoang eq. 33 */
-        fb = q31_mul(fix_sub32(dc, db), VREC_INV_SQRT3_Q31);                 /* Hoang eq. 34 */
+        fa = q31_mul_k(fix_add32(db, dc), VREC_THIRD_Q31);                     /* Hoang eq. 33 */
+        fb = q31_mul_k(fix_sub32(dc, db), VREC_INV_SQRT3_Q31);                 /* Hoang eq. 34 */
         *v_f_alpha_iq = fix_sub32(fa, iq_mpy(p->r_on_third_iq, i->i_alpha_iq));
         *v_f_beta_iq = fix_sub32(fb, iq_mpy(p->r_on_iq, i->i_beta_iq));
         break;

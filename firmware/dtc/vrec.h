@@ -12,7 +12,8 @@
  *
  * Formats: V_dc, V_mid, outputs in IQ pu; leg states 0/1. Scaling and overflow: 2 v_a0 - v_b0 -
  * v_c0 is bounded by 2*|V_dc| + 2*|V_mid|, formed with saturating adds; the 1/3 and 1/sqrt(3)
- * factors are Q31 constants (rounded 64-bit product, <= 0.5 LSB each). No division.
+ * factors are Q31 constants below 1 (q31_mul_k: rounded 64-bit product, <= 0.5 LSB each, cannot
+ * overflow). No division.
  */
 #ifndef VREC_H
 #define VREC_H
@@ -31,8 +32,8 @@ static inline void vrec_from_legs(iq_t va0_iq, iq_t vb0_iq, iq_t vc0_iq, iq_t *v
                                   iq_t *v_beta_iq)
 {
     iq_t num = fix_sub32(fix_add32(va0_iq, va0_iq), fix_add32(vb0_iq, vc0_iq));
-    *v_alpha_iq = q31_mul(num, VREC_THIRD_Q31);
-    *v_beta_iq = q31_mul(fix_sub32(vb0_iq, vc0_iq), VREC_INV_SQRT3_Q31);
+    *v_alpha_iq = q31_mul_k(num, VREC_THIRD_Q31);
+    *v_beta_iq = q31_mul_k(fix_sub32(vb0_iq, vc0_iq), VREC_INV_SQRT3_Q31);
 }
 
 /* SSTP: v_x0 = S_x * V_dc (Casadei eq. 2: active vectors have length 2/3 V_dc). */

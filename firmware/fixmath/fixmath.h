@@ -95,16 +95,19 @@ static inline q15_t q15_sat(int32_t x)
     return (q15_t)x;
 }
 
-/* Scaling and overflow: clamps a 64-bit value to the int32 range (q31_t and iq_t alike). */
+/* Scaling and overflow: clamps a 64-bit value to the int32 range (q31_t and iq_t alike).
+ * x is in range exactly when its low 32 bits, read as an int32, equal it: one sign extension and
+ * one compare on the path every call takes (on a 32-bit target: the high word against the low
+ * word's sign), the direction of the clamp only on the saturating path. The low word is converted
+ * without an implementation-defined conversion; compilers turn that into a plain move. */
 static inline int32_t fix_sat32(int64_t x)
 {
-    if (x > INT32_MAX) {
-        return INT32_MAX;
+    const uint32_t u = (uint32_t)x; /* the low 32 bits (modulo 2^32, C99 6.3.1.3) */
+    const int32_t lo = u <= (uint32_t)INT32_MAX ? (int32_t)u : -(int32_t)(~u) - 1;
+    if ((int64_t)lo != x) {
+        return x < 0 ? INT32_MIN : INT32_MAX;
     }
-    if (x < INT32_MIN) {
-        return INT32_MIN;
-    }
-    return (int32_t)x;
+    return lo;
 }
 
 /* Scaling and overflow: clamps x to [lo, hi] (any 32-bit format; requires lo <= hi). */
@@ -183,6 +186,15 @@ static inline iq_t iq_sub(iq_t a, iq_t b) { return fix_sub32(a, b); }
 static inline q31_t q31_mul(q31_t a, q31_t b)
 {
     return fix_rshift_rnd64_sat32((int64_t)a * (int64_t)b, 31U);
+}
+
+/* Q31 x Q31 -> Q31 as q31_mul, for a factor k > Q31_MIN (a constant such as 1/3 or 1/sqrt(3)):
+ * the same rounded result, without the saturation test, which only (-1)*(-1) needs.
+ * Scaling and overflow: |a k| <= 2^31 (2^31 - 1), so (a k + 2^30) >> 31 lies in
+ * [-2^31 + 1, 2^31 - 1]: it cannot overflow. Error <= 0.5 LSB. */
+static inline q31_t q31_mul_k(q31_t a, q31_t k)
+{
+    return (q31_t)(((int64_t)a * (int64_t)k + ((int64_t)1 << 30)) >> 31);
 }
 
 /* IQ x IQ -> IQ (Q24), rounded and saturated (as IQmath's _IQrsmpy).

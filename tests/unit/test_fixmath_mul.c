@@ -1,6 +1,7 @@
 /*
  * test_fixmath_mul.c - the rounding multiplies (q15_mul, q15_mul_q30, q31_mul, iq_mpy,
- * iq_mpy_q15, iq_mpy_uq16) against a double reference.
+ * iq_mpy_q15, iq_mpy_uq16) against a double reference; q31_mul_k equal to q31_mul wherever its
+ * factor is not Q31_MIN (the edge and random pairs of the q31_mul sweep).
  *
  * Sweeps: the error of every product against the real value a*b/2^shift clamped to the output
  * format (the saturating reference) must be <= 0.5 LSB (the best a rounding multiply can do;
@@ -133,6 +134,9 @@ static void mul32_point(mul32_ctx_t *c, int32_t a, int32_t b)
                         ldexp((double)p, -24), a, b);
     if (riq == IQ_MAX || riq == IQ_MIN) {
         c->sat_hits++;
+    }
+    if (b != INT32_MIN) { /* q31_mul_k: the same product without the saturation test */
+        assert_int_equal(q31_mul_k(a, b), r31);
     }
 }
 

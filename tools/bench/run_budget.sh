@@ -5,7 +5,7 @@
 # target (the stack chains of itc_step and law_step) the target stays and the figure is a finding.
 #   1. host instructions per control-law step (valgrind --tool=callgrind, host preset build of
 #      tools/bench/bench_dtc.c), average and the speed-loop steps (the worst path):
-#      1a. PM law dtc_step: FSTP, voltage model, Hoang Table VI compensation [avg <= 1480, worst <= 1750]
+#      1a. PM law dtc_step: FSTP, voltage model, Hoang Table VI compensation [avg <= 1400, worst <= 1670]
 #      1b. IM law im_dtc_step: improved estimator, Casadei eq. 19, sensorless [avg <= 930, worst <= 1320]
 #      1c. IM law im_sfvc_step: SFVC (Casadei eqs. 18, 23, 24) + SVM, same [avg <= 1100, worst <= 1700]
 #      1d. IM law im_dfoc_step: DFOC (sec. 13) + two-phase SVM, same    [avg <= 1140, worst <= 1480]
@@ -84,7 +84,7 @@ PY
 }
 
 # PM law (FSTP, voltage model, Hoang Table VI compensation, speed loop on).
-instr a "" dtc_step bench_step_normal bench_step_tick 1480 1750 \
+instr a "" dtc_step bench_step_normal bench_step_tick 1400 1670 \
   flux_est_step vcomp_step iq_mag fix_isqrt64 speed_meas_step speed_pi_step
 # IM law (improved estimator, speed-dependent tau, Casadei eq. 19, sensorless, speed-dependent table), at
 # 40 us.

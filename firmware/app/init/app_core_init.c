@@ -25,6 +25,7 @@ int16_t app_core_init(app_core_t *a, const dtc_config_t *cfg)
     a->comm_timeout_n = 0U;
     a->comm_idle_n = 0U;
     a->cap = NULL;
+    a->cap_state = &app_core_cap_none;
     a->flog = NULL;
     app_fault_init(&a->flt);
     a->clear_request = 0U;
@@ -128,6 +129,7 @@ uint16_t app_core_arm_refusal(const app_core_t *a, const app_status_t *s, const 
 void app_core_attach(app_core_t *a, capture_t *cap, faultlog_t *flog)
 {
     a->cap = cap;
+    a->cap_state = cap != NULL ? &cap->state : &app_core_cap_none;
     a->flog = flog;
     if (cap != NULL) {
         (void)capture_bind(cap, CAPTURE_Q_I_A, &a->st.meas.ia_iq);
