@@ -438,7 +438,14 @@ static uint16_t core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd);
 
 uint16_t app_core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
 {
-    const uint16_t off = core_step(a, m, cmd);
+    hal_meas_t rev;
+    const hal_meas_t *mm = m;
+    uint16_t off;
+    if (a->cfg != NULL && a->cfg->board.enc_reversed != 0U) {
+        app_enc_reverse(a->cfg, m, &rev); /* every consumer of the count sees it forward */
+        mm = &rev;
+    }
+    off = core_step(a, mm, cmd);
     /* capture_isr's test on the word app_core_attach chose: one load and compare whether a
      * capture is attached or not */
     if (*a->cap_state >= (uint16_t)CAPTURE_ARMED) {

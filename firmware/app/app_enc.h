@@ -46,6 +46,22 @@ static inline int32_t app_enc_fold(int32_t d, uint16_t counts)
     return d;
 }
 
+/* The count as the drive uses it: with board.enc_reversed, m's counter and index capture read
+ * enc_counts - 1 - count (a bijection of 0 .. enc_counts - 1 that keeps the index semantics: a
+ * forward crossing latches 0), into out; a count outside the range is left as read (app_enc_check
+ * names it). Subtractions only (the 50 us path). */
+static inline void app_enc_reverse(const dtc_config_t *cfg, const hal_meas_t *m, hal_meas_t *out)
+{
+    const uint16_t last = (uint16_t)(cfg->board.enc_counts - 1U);
+    *out = *m;
+    if (m->qep_count <= last) {
+        out->qep_count = (uint16_t)(last - m->qep_count);
+    }
+    if (m->qep_index_count <= last) {
+        out->qep_index_count = (uint16_t)(last - m->qep_index_count);
+    }
+}
+
 /* The largest plausible count change per period for cfg (app_enc.c); the checks restarted. */
 void app_enc_init(app_enc_t *e, const dtc_config_t *cfg);
 

@@ -74,14 +74,105 @@ uint16_t app_ident_rs_bounds(app_ident_t *d)
     return 1U;
 }
 
-static void post_pulse(app_ident_t *d)
+/* Background: hands the ISR an open-loop segment (SEG_PULSE: a step of dv on the hold voltage;
+ * SEG_SIGN: a voltage rising by dv per period), ended at di_stop (PULSE: the current's rise; SIGN: a
+ * phase current) or after n_meas periods. */
+static void post_open_loop(app_ident_t *d, uint16_t seg, iq_t dv, iq_t di_stop, uint16_t n_meas)
 {
-    d->seg = (uint16_t)APP_IDENT_SEG_PULSE;
-    d->dv_iq = IQ(1.0 / 32.0);       /* 2.2 V on a 70 V link */
-    d->di_stop_iq = IQ_FRAC(2, 5);        /* from the half-rated hold: at most 0.9 x rated */
-    d->n_meas = ID_PULSE_MAX;
+    d->seg = seg;
+    d->dv_iq = dv;
+    d->di_stop_iq = di_stop;
+    d->n_meas = n_meas;
     d->done = 0U;
     d->go = 1U;
+}
+
+/* The L step's voltage pulse: 2.2 V on a 70 V link, until the current rose by 0.4 pu (from the
+ * half-rated hold: at most 0.9 x rated). */
+static void post_pulse(app_ident_t *d)
+{
+    post_open_loop(d, (uint16_t)APP_IDENT_SEG_PULSE, IQ(1.0 / 32.0), IQ_FRAC(2, 5), ID_PULSE_MAX);
+}
+
+/* Background: the duties' 1 / V_dc and the regulator's voltage limit from the last measured link
+ * (a division: background only), before each segment, so a link that sags (a weak supply pulled
+ * down through its resistance) is followed. The limit is a quarter of the board's base
+ * V_b and of the measured V_dc: what both topologies apply without the duties' clamp (the FSTP's
+ * largest vector is V_dc 7/16 / sqrt(3) = 0.25 V_dc with the duties in [1/16, 15/16]), so a link
+ * too low for the step saturates the regulator (open_phase, dc_link_low) instead of the duties,
+ * which would leave the commanded voltage, and every result from it, silently wrong. */
+static void link_update(app_ident_t *d)
+{
+    const iq_t vdc = d->vdc_iq;
+    const iq_t q = fix_rshift_rnd32(vdc, 2U);
+    d->inv_vdc_iq = vdc > IQ(1.0 / 16.0) ? fix_sat32(app_ident_div64((int64_t)1 << 48, (int64_t)vdc)) : IQ(16.0);
+    d->v_lim_iq = q < IQ(0.25) ? q : IQ(0.25);
+}
+
+/* Background: the sign pulse along phase k's axis (0, 120, 240 degrees). */
+static void post_sign(app_ident_t *d, uint16_t k)
+{
+    d->seg = (uint16_t)APP_IDENT_SEG_SIGN;
+    d->th_q16 = (uint32_t)(angle_t)(k == 0U ? 0U : (k == 1U ? 21845U : 43691U)) << 16;
+    post_open_loop(d, (uint16_t)APP_IDENT_SEG_SIGN, ID_SIGN_RATE, ID_SIGN_STOP, ID_SIGN_MAX);
+}
+
+/* Background: the alignment, step RS's first regulated segment. The rotor swings onto the axis
+ * under the slow regulator (regulate), at half rated: the braking quadrature current is at most the
+ * aligning current (the braking torque balances the magnet's pull 1.5 p psi_m I sin(delta)), so
+ * |i| stays below 0.71 x rated. The alignment is the encoder step's first dwell (it waits for the
+ * rotor at rest and sums the count). Then the levels. */
+static void post_align(app_ident_t *d)
+{
+    d->u.st.pulse_num = 0; /* the sign pulses' scratch (u.sg) ends here */
+    d->u.st.pulse_den = 0;
+    d->th_q16 = (uint32_t)d->res.axis << 16;
+    d->i_ref = 0;
+    d->integ[0] = 0;
+    d->integ[1] = 0;
+    post_hold(d, 0U, 0U, ID_ENC_LEVEL, (iq_t)(ID_ENC_LEVEL / ID_ALIGN_RAMP), ID_ALIGN_SETTLE, ID_ENC_MEAS, 1U);
+}
+
+/* Background: one sign pulse ended (phase k pulsed). A pulse that reached no current within the
+ * regulator's voltage limit is an open phase. Otherwise each measured phase (the derived one,
+ * -(sum of the others), is never the culprit) that read the clearly wrong sign (+ expected for k,
+ * - for the others; wrong by more than a quarter of the stop level) is marked: bit 0 on its own
+ * pulse (it carries the whole current there), bit 1 on another's (a non-pulsed phase can sit near
+ * zero: on the FSTP the leg at the mid-point's potential is in the dead time's clamp). After the
+ * third pulse: a phase wrong on its own pulse is a sensor mounted the wrong way round (named);
+ * any other mark is named without a phase. */
+static void sign_result(app_ident_t *d, const dtc_config_t *cfg, uint16_t k)
+{
+    const iq_t lo = fix_rshift_rnd32(ID_SIGN_STOP, 2U);
+    /* the phase the firmware derives: none with three sensors, A on the FSTP, C on the SSTP */
+    const uint16_t derived = cfg->board.i_sensors3 != 0U ? 3U : (cfg->board.topology == (uint16_t)DTC_TOPO_FSTP ? 0U : 2U);
+    iq_t mx = 0;
+    uint16_t x, bad = 0U;
+    for (x = 0U; x < 3U; x++) {
+        const iq_t a = fix_abs32(d->u.sg.i[x]);
+        const iq_t want = x == k ? d->u.sg.i[x] : fix_neg32(d->u.sg.i[x]);
+        mx = a > mx ? a : mx;
+        if (x != derived && want < fix_neg32(lo)) {
+            d->u.sg.bad[x] |= x == k ? 1U : 2U;
+        }
+    }
+    if (mx < fix_sub32(ID_SIGN_STOP, IQ(1.0 / 64.0))) {
+        app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_OPEN_PHASE, (int16_t)(k + 1U));
+        return;
+    }
+    if (k < 2U) {
+        return;
+    }
+    for (x = 0U; x < 3U; x++) {
+        if ((d->u.sg.bad[x] & 1U) != 0U) {
+            app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_SENSOR_SIGN, (int16_t)(x + 1U));
+            return;
+        }
+        bad |= d->u.sg.bad[x];
+    }
+    if (bad != 0U) {
+        app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_SENSOR_SIGN, 0);
+    }
 }
 
 void app_ident_start(app_ident_t *d, const dtc_config_t *cfg, uint16_t qep_count, iq_t vdc_iq)
@@ -109,13 +200,10 @@ void app_ident_start(app_ident_t *d, const dtc_config_t *cfg, uint16_t qep_count
     /* Regulator gains from the base impedance Z_b = V_b / I_b = 1 pu (app_ident.h). */
     d->kp_iq = IQ(1.0 / 64.0);
     d->ki_iq = IQ(1.0 / 4096.0);     /* per period: Z_b * 4.9 rad/s at 50 us */
-    d->v_lim_iq = IQ(0.25);
     d->fail = (uint16_t)APP_IDENT_OK;
     d->fail_step = 0U;
     d->fail_detail = 0;
     d->n_dwell = cfg->board.topology == (uint16_t)DTC_TOPO_FSTP ? 2U : 3U;
-    d->u.st.pulse_num = 0;
-    d->u.st.pulse_den = 0;
     d->tick = 0U;
     d->step_tick = 0U;
     for (k = 0U; k < 7U; k++) {
@@ -133,8 +221,12 @@ void app_ident_start(app_ident_t *d, const dtc_config_t *cfg, uint16_t qep_count
     d->res.b_iq = 0;
     d->res.tc_iq = 0;
     d->fresh = 0U;
-    /* 1 / V_dc (background: a division), for the duties. */
-    d->inv_vdc_iq = vdc_iq > IQ(1.0 / 16.0) ? fix_sat32(app_ident_div64((int64_t)1 << 48, (int64_t)vdc_iq)) : IQ(1.0);
+    d->sign_k = 0U;
+    for (k = 0U; k < 3U; k++) {
+        d->u.sg.bad[k] = 0U;
+        d->u.sg.i[k] = 0;
+    }
+    link_update(d);
     d->step = (uint16_t)APP_IDENT_RS;
     d->sub = 0U;
     d->im_on = 0U;
@@ -142,12 +234,8 @@ void app_ident_start(app_ident_t *d, const dtc_config_t *cfg, uint16_t qep_count
         app_ident_im_start(d); /* no alignment: a DC current gives an induction machine no torque */
         return;
     }
-    /* The rotor swings onto the axis under the slow regulator (regulate), at half rated: the
-     * braking quadrature current is at most the aligning current (the braking torque balances the
-     * magnet's pull 1.5 p psi_m I sin(delta)), so |i| stays below 0.71 x rated. The alignment is the
-     * encoder step's first dwell (it waits for the rotor at rest and sums the count). Then the
-     * levels. */
-    post_hold(d, 0U, 0U, ID_ENC_LEVEL, (iq_t)(ID_ENC_LEVEL / ID_ALIGN_RAMP), ID_ALIGN_SETTLE, ID_ENC_MEAS, 1U);
+    /* first the sensors' signs, then the alignment (service) */
+    post_sign(d, 0U);
 }
 
 void app_ident_abort(app_ident_t *d) { app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_TRIP, 0); }
@@ -303,6 +391,10 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
                 d->i_ref = 0;
             }
         }
+        if (d->seg == (uint16_t)APP_IDENT_SEG_SIGN) {
+            d->phase = 2U;
+            d->v_hold = 0;
+        }
         if (d->seg == (uint16_t)APP_IDENT_SEG_PULSE) {
             d->v_hold = d->v_ab[0]; /* the regulated voltage before the step, both axes */
             d->v_hold_b = d->v_ab[1];
@@ -385,6 +477,30 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
         } else {
             d->sat_n = 0U;
         }
+    } else if (d->seg == (uint16_t)APP_IDENT_SEG_SIGN) {
+        /* open loop (a reversed sensor would make any regulator run away): the voltage rises along
+         * th until a phase current reaches di_stop or the pulse its longest, then the gates off */
+        if (d->phase == 2U) {
+            const iq_t mx = fix_abs32(iph[0]) > fix_abs32(iph[1]) ? fix_abs32(iph[0]) : fix_abs32(iph[1]);
+            if ((mx > fix_abs32(iph[2]) ? mx : fix_abs32(iph[2])) >= d->di_stop_iq || d->n >= d->n_meas) {
+                for (k = 0U; k < 3U; k++) {
+                    d->u.sg.i[k] = iph[k];
+                }
+                d->phase = 3U;
+                d->n = 0U;
+                return 1U;
+            }
+            d->n++;
+            d->v_hold = fix_add32(d->v_hold, d->dv_iq);
+            d->v_ab[0] = iq_mpy_q15(d->v_hold, c);
+            d->v_ab[1] = iq_mpy_q15(d->v_hold, s);
+        } else {
+            if (d->phase == 3U && ++d->n >= ID_SIGN_GAP) {
+                d->phase = 4U;
+                d->done = 1U;
+            }
+            return 1U;
+        }
     } else if (d->seg == (uint16_t)APP_IDENT_SEG_COAST) {
         if (d->phase == 2U && ++d->n >= d->n_meas) {
             d->phase = 4U;
@@ -423,6 +539,12 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
                 d->n = 0U;
             }
         } else if (d->phase == 2U) {
+            /* a sum with the regulator at its limit measures the limit, not the machine: the link
+             * is too low for this step's current (link_update) */
+            if (fix_abs32(v_par) >= fix_sub32(d->v_lim_iq, IQ(1.0 / 256.0))) {
+                app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_VDC_LOW, (int16_t)d->step);
+                return 1U;
+            }
             d->summed = 1U;
             d->sum_i += (int64_t)i_par;
             d->sum_v += (int64_t)v_par;
@@ -499,12 +621,26 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
     if (d->go != 0U || d->done == 0U) {
         return; /* the ISR is in a segment */
     }
+    link_update(d);
     if (d->im_on != 0U) {
         app_ident_im_service(d);
         return;
     }
     switch (d->step) {
     case APP_IDENT_RS:
+        if (d->sign_k < 3U) {
+            sign_result(d, cfg, d->sign_k);
+            d->sign_k++;
+            if (d->step == (uint16_t)APP_IDENT_FAILED) {
+                return;
+            }
+            if (d->sign_k < 3U) {
+                post_sign(d, d->sign_k);
+            } else {
+                post_align(d);
+            }
+            return;
+        }
         if (d->sub == 0U) { /* segment 0 aligned the rotor: the encoder's first dwell */
             store_dwell(d, 0U);
         } else { /* 1.. are the levels */

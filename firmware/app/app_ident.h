@@ -2,6 +2,12 @@
  * app_ident.h - self-commissioning of a PM machine (docs/commissioning.md): the
  * firmware measures what it is connected to from the board data alone (ADC scaling, V_dc, the
  * encoder's counts per turn, the topology) and the rated current (the current base, 1 pu):
+ *   0. the sensors' signs (start of step RS): an open-loop voltage pulse along each phase's axis
+ *      (A, B, C) up to a quarter of rated current, the gates off between them: the pulsed phase
+ *      must read positive, the other two not positive (a reversed sensor is named; a pulse that
+ *      reaches no current is an open phase); the phase order cannot be seen at standstill (the
+ *      windings are symmetric): two leads exchanged turn the rotor backward in step 3, which
+ *      identifies it as a reversed count (res.enc_reversed), the same correction;
  *   1. R_s and the inverter's drop: DC current along one axis (res.axis) at four levels (1, 3/4,
  *      1/2, 1/4 of rated), after the rotor aligned on it at half rated; the mean commanded voltage
  *      against the mean current, line V = R I + V_0;
@@ -72,7 +78,12 @@ enum app_ident_fail {
     APP_IDENT_FAIL_BLOCKED = 8,        /* spin: the rotor did not reach an eighth of the spin speed
                                         * in 2 s at half rated q current (blocked, or a load coupled) */
     APP_IDENT_FAIL_VDC_LOW = 9,        /* spin: the regulator at its voltage limit before an eighth of
-                                        * the spin speed (the DC link too low to spin the machine) */
+                                        * the spin speed (the DC link too low to spin the machine);
+                                        * standstill: at its limit while a level is summed */
+    APP_IDENT_FAIL_SENSOR_SIGN = 10,   /* step RS's sign pulses: a phase current of the wrong sign
+                                        * (fail_detail: 1..3 the measured phase A..C that read the wrong
+                                        * sign on its own pulse, a sensor mounted the wrong way round;
+                                        * 0 a wrong sign elsewhere) */
     APP_IDENT_FAIL_NOT_SETTLED = 20    /* IM: a DC level's voltage and current did not settle within
                                         * 200 windows (app_ident_im.c; fail_detail: the level) */
 };
@@ -97,7 +108,10 @@ enum app_ident_seg {
                               * by di_stop or n_meas periods, then one more sample (the pulse's end) */
     APP_IDENT_SEG_SPIN = 3,  /* regulated current i_ref on the encoder's q axis (the identified offset,
                               * pole pairs and direction); a window of n_meas periods of sums */
-    APP_IDENT_SEG_COAST = 4  /* gates off; a window of n_meas periods (the count's change) */
+    APP_IDENT_SEG_COAST = 4, /* gates off; a window of n_meas periods (the count's change) */
+    APP_IDENT_SEG_SIGN = 5   /* open loop: a voltage along th rising by dv_iq per period until a phase
+                              * current reaches di_stop_iq or n_meas periods, the phase currents of
+                              * that sample kept (u.sg.i), then the gates off for ID_SIGN_GAP periods */
 };
 
 /* One speed window of the spin step (background): its count change, start count and start
@@ -152,7 +166,8 @@ typedef struct {
     iq_t i_ref;
     iq_t integ[2];           /* regulator integrators, v_alpha, v_beta */
     iq_t v_ab[2];            /* the voltage commanded this period */
-    iq_t v_hold, v_hold_b;   /* PULSE: the regulated (v_alpha, v_beta) before the step */
+    iq_t v_hold, v_hold_b;   /* PULSE: the regulated (v_alpha, v_beta) before the step; SIGN: v_hold
+                              * the open-loop voltage so far */
     uint16_t phase;          /* HOLD: 0 ramps, 1 settle, 2 sums, 4 done (regulating on);
                               * PULSE: 6 first step command, 5 start sample, 2 step on, 3 end sample */
     uint16_t n;              /* periods in the current phase */
@@ -173,9 +188,15 @@ typedef struct {
     uint16_t fail_step;      /* enum app_ident_step that failed */
     int16_t fail_detail;
     uint16_t n_dwell;        /* encoder DC vectors per electrical turn */
-    /* the steps' scratch: the standstill steps' (st), the spin's (sp) and an induction machine's (im,
-     * its results too) never live together */
+    uint16_t sign_k;         /* step RS: sign pulses done (0..3, along phase A, B, C) */
+    /* the steps' scratch: the sign pulses' (sg), the standstill steps' (st), the spin's (sp) and an
+     * induction machine's (im, its results too) never live together (st is cleared when the
+     * alignment starts) */
     union {
+        struct {
+            uint16_t bad[3];   /* per phase: bit 0 wrong sign on its own pulse, bit 1 on another's */
+            iq_t i[3];         /* SEG_SIGN: the phase currents at the pulse's end */
+        } sg;
         struct {
             int64_t pulse_num, pulse_den; /* L: sums over the pulses */
             int32_t dwell_pos_q8[4];      /* encoder: mean unwrapped count at each dwell, Q8 */
@@ -186,6 +207,9 @@ typedef struct {
             app_ident_win_t w[5];  /* A, B first and last acceleration windows; C, D, E coast */
             iq_t vq[2], iq[2];     /* A, B: mean q voltage and q current, IQ pu */
             int64_t acc_i;         /* the q current summed over the windows A..B (IQ x periods) */
+            int64_t fit[4];        /* psi_m's line over the windows A..B (n_acc - 1 of them): sum x,
+                                    * sum y, sum x^2, sum x y; x the window's count change, y its mean
+                                    * q voltage less R times its mean q current (IQ) */
         } sp;
         app_ident_im_t im;         /* an induction machine's steps: scratch and results */
     } u;

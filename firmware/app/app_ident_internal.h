@@ -23,6 +23,10 @@
 #define ID_ENC_LEVEL IQ(0.5)    /* the aligning and encoder current (see app_ident_start) */
 #define ID_ENC_SETTLE 1500U     /* encoder dwell: the least settling before the wait for rest */
 #define ID_ENC_MEAS 1024U
+#define ID_SIGN_RATE IQ(1.0 / 1600.0) /* sign pulse: the voltage's rise per period (V_b / 8 in 10 ms) */
+#define ID_SIGN_MAX 400U        /* sign pulse: the longest (the voltage at V_b / 4, the regulator's limit) */
+#define ID_SIGN_STOP IQ(0.25)   /* sign pulse: ends when a phase current reaches a quarter of rated */
+#define ID_SIGN_GAP 100U        /* gates off after a sign pulse (the current decays through the diodes) */
 #define ID_OPEN_PERIODS 400U    /* regulator saturated with little current this long: open phase */
 #define ID_STILL 1000U          /* dwell: periods with the count within +-1 before the sums (50 ms) */
 #define ID_SETTLE_MAX 40000U    /* dwell: the longest wait for the rotor to come to rest (2 s) */

@@ -51,14 +51,25 @@ void app_ident_encoder_results(app_ident_t *d, const dtc_config_t *cfg)
         return;
     }
     d->res.enc_reversed = delta < 0 ? 1U : 0U;
-    p = app_ident_div64(n_q8 + (ad >> 1), ad);
-    if (p < 1 || p > 16) {
-        app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_POLE_PAIRS);
-        return;
-    }
+    /* The rotor rests on the current actually flowing (store_dwell), so between the first and the
+     * last dwell it turned one electrical turn plus the change of the current's angle from the
+     * reference (on the FSTP the mid-point moves with the vector and a mid-point sensor's error
+     * turns the current by a few degrees): travel = 2^16 + ang_n - ang_0, angle_t units (< 2^17).
+     * p = enc_counts travel / (2^16 |delta|), rounded; n_q8 travel < 2^24 2^17 in 64 bits. */
     {
-        const int64_t err = p * ad - n_q8;
-        if ((err < 0 ? -err : err) > app_ident_div64(n_q8, 20)) {
+        const int64_t travel = 65536 + (int64_t)(int16_t)(uint16_t)((uint16_t)d->u.st.dwell_ang[d->n_dwell] -
+                                                                     (uint16_t)d->u.st.dwell_ang[0]);
+        const int64_t den = ad * 65536;
+        int64_t err;
+        p = app_ident_div64(n_q8 * travel + (den >> 1), den);
+        if (p < 1 || p > 16) {
+            app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_POLE_PAIRS);
+            return;
+        }
+        err = p * den - n_q8 * travel;
+        /* within 1/64 (1.6 %, 5.6 degrees electrical over the turn): the usual line-count mix-ups
+         * (500 for 1024, 1000 for 512 or 1024) are 2.3 % or more off a whole pole-pair number */
+        if ((err < 0 ? -err : err) > (n_q8 << 10)) {
             app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_ENC_LINES, (int16_t)d->res.counts_per_turn);
             return;
         }
@@ -136,10 +147,22 @@ static void spin_results(app_ident_t *d, const dtc_config_t *cfg)
         return;
     }
     {
-        /* the q voltage's change less the resistive part of the q current's change (R of step RS) */
-        const iq_t dv = fix_sub32(fix_sub32(d->u.sp.vq[1], d->u.sp.vq[0]), iq_mpy(d->res.r_iq, fix_sub32(d->u.sp.iq[1], d->u.sp.iq[0])));
-        const int64_t t = app_ident_div64((int64_t)dv * (int64_t)cfg->board.ts_pu_iq,
-                                ddpos * (int64_t)d->res.pole_pairs);
+        /* the slope of (v_q - R i_q) over the count change per window, least squares over every
+         * window from A to B (not A and B alone: the windows are short against an electrical turn,
+         * and what ripples at the electrical frequency, the FSTP's mid-point above all, would bias
+         * a two-point slope by several per cent): slope = (n Sxy - Sx Sy) / (n Sxx - Sx^2), IQ per
+         * count in Q8 (the products < 2^47 x 2^7 windows, num x 2^8 < 2^63) */
+        const int64_t *const f = d->u.sp.fit;
+        const int64_t n = (int64_t)d->n_acc - 1; /* the windows 2 .. n_acc */
+        const int64_t num = n * f[3] - f[0] * f[1];
+        const int64_t den = n * f[2] - f[0] * f[0];
+        int64_t slope_q8, t;
+        if (den <= 0 || n < 2) {
+            app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_PSI);
+            return;
+        }
+        slope_q8 = app_ident_div64(num * 256, den);
+        t = app_ident_div64(slope_q8 * (int64_t)cfg->board.ts_pu_iq, 256 * (int64_t)d->res.pole_pairs);
         d->res.psi_iq = fix_sat32(app_ident_div64(t * (int64_t)ID_SPIN_WIN * (int64_t)cfg->board.enc_counts, ID_IQ_2PI));
     }
     /* Bounds: psi_m from 1/64 to 4 pu (the back-EMF at rated speed 1/64 .. 4 x V_dc) */
@@ -210,13 +233,24 @@ void app_ident_spin_service(app_ident_t *d, const dtc_config_t *cfg)
     if (d->sub == 0U) {
         d->n_acc++;
         if (d->n_acc == 2U) {
+            uint16_t f;
             d->u.sp.w[0] = rec;
             d->u.sp.vq[0] = vq;
             d->u.sp.iq[0] = iq;
             d->u.sp.acc_i = 0;
+            for (f = 0U; f < 4U; f++) {
+                d->u.sp.fit[f] = 0;
+            }
         }
         if (d->n_acc >= 2U) {
+            /* |x| < 2^15 counts per window, |y| < 2^25: x y < 2^40, over <= 100 windows < 2^47 */
+            const int64_t x = (int64_t)rec.dpos;
+            const int64_t y = (int64_t)fix_sub32(vq, iq_mpy(d->res.r_iq, iq));
             d->u.sp.acc_i += d->sum_i;
+            d->u.sp.fit[0] += x;
+            d->u.sp.fit[1] += y;
+            d->u.sp.fit[2] += x * x;
+            d->u.sp.fit[3] += x * y;
         }
         d->u.sp.w[1] = rec;
         d->u.sp.vq[1] = vq;

@@ -174,6 +174,9 @@ typedef struct {
     uint16_t enc_counts;       /* 4 * lines (quadrature), counts per mechanical turn */
     uint32_t enc_gain_q16;     /* electrical angle LSB per count, unsigned Q16: 65536*p/enc_counts */
     angle_t enc_offset;        /* electrical angle at count 0 (encoder-to-magnet alignment) */
+    uint16_t enc_reversed;     /* 1: the encoder counts down when the inverter's field turns forward (a
+                                * reversed encoder or two motor leads exchanged): the app reads
+                                * enc_counts - 1 - count (app_enc_reverse) before anything uses it */
 
     /* ADC scaling for the app: pu = (count - offset) * gain. Offsets are nominal; the app
      * calibrates the current offsets with the gates off. */
@@ -309,6 +312,8 @@ typedef struct {
       "electrical angle per count, Q16 angle LSB: 65536 p / counts (at least 3 counts per electrical turn)")\
     X(16, board.enc_offset, ANGLE, ANGLE, 0, 65535, DTC_ERR_ENCODER, 0U,                           \
       "electrical angle at encoder count 0 (encoder-to-magnet offset)")                            \
+    X(27, board.enc_reversed, U16, NONE, 0, 1, DTC_ERR_ENCODER, DTC_PARAM_RO,                      \
+      "1: the count runs down for forward rotation of the field; the app reads counts - 1 - count")\
     X(17, board.adc_i_gain_iq, IQ, A_COUNT, 1, DTC_I32_MAX, DTC_ERR_ADC, DTC_PARAM_RO, "phase current per ADC count")\
     X(18, board.adc_i_offset[0], U16, NONE, 0, 4095, DTC_ERR_ADC, 0U, "phase A current ADC count at zero current")\
     X(19, board.adc_i_offset[1], U16, NONE, 0, 4095, DTC_ERR_ADC, 0U, "phase B current ADC count at zero current")\

@@ -21,6 +21,7 @@ const dtc_config_t g_dtc_config = {
     .board.enc_counts = 8000U, /* #14 */
     .board.enc_gain_q16 = 536871U, /* #15 */
     .board.enc_offset = 0U, /* #16 = 0 rad */
+    .board.enc_reversed = 0U, /* #27 */
     .board.adc_i_gain_iq = 37245, /* #17 0.00221997499 = 0.00488394 A/count */
     .board.adc_i_offset[0] = 2048U, /* #18 */
     .board.adc_i_offset[1] = 2048U, /* #19 */

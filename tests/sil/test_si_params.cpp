@@ -198,11 +198,12 @@ TEST(SiParams, TheFirmwareScenarioKeysAreTheBeliefRows)
         EXPECT_TRUE(found);
     }
     // Every other firmware.* key is one of the machine's sensors or its mechanics as the firmware
-    // believes them, which dtc-sil identify writes (tools/sil/src/firmware_si.cpp reads them): not
-    // a converter member with a plant fallback.
+    // believes them, which dtc-sil identify writes (tools/sil/src/firmware_si.cpp reads them), or the
+    // board data's encoder line count (a wrong one): not a converter member with a plant fallback.
     static const std::set<std::string> sensors = {"firmware.pole_pairs",       "firmware.encoder_offset_rad",
                                                   "firmware.encoder_reversed", "firmware.j_kgm2",
-                                                  "firmware.b_nm_s_per_rad",   "firmware.coulomb_nm"};
+                                                  "firmware.b_nm_s_per_rad",   "firmware.coulomb_nm",
+                                                  "firmware.encoder_lines"};
     int firmware_keys = 0;
     for (const auto& k : keys) {
         firmware_keys += k.name.rfind("firmware.", 0) == 0 && sensors.count(k.name) == 0 ? 1 : 0;

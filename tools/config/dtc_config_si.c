@@ -38,6 +38,7 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->speed_div = PLANT_DEF_SPEED_LOOP_DIVIDER;
     si->enc_lines = PLANT_DEF_ENCODER_LINES;
     si->enc_offset_rad = 0.0;
+    si->enc_reversed = 0;
     si->speed_min_counts = 100; /* <= 1 % quantisation wherever a window holds 100 counts */
     /* Hoang sec. IV: zero bands */
     si->flux_band_wb = 0.0;
@@ -322,8 +323,11 @@ static int convert(const dtc_config_si_t *si, dtc_config_t *cfg, dtc_si_conv_t *
         return dtc_si_fail(c, DTC_SI_ERR_ENCODER, "enc_lines", "enc_lines = %d: two or fewer counts per electrical turn with %d pole pairs (the electrical angle aliases)", si->enc_lines, si->pole_pairs);
     cfg->board.enc_counts = (uint16_t)enc_counts;
     cfg->board.enc_gain_q16 = (uint32_t)nearbyint(65536.0 * 65536.0 * si->pole_pairs / enc_counts);
+    cfg->board.enc_reversed = (uint16_t)si->enc_reversed;
     {
-        double turns = si->enc_offset_rad / (2.0 * M_PI);
+        /* reversed: the firmware reads N - 1 - count, whose angle at raw count 0 is the offset less one
+         * count's angle; the board's offset is one count ahead to keep enc_offset_rad's meaning */
+        double turns = si->enc_offset_rad / (2.0 * M_PI) + (si->enc_reversed != 0 ? si->pole_pairs / enc_counts : 0.0);
         turns -= floor(turns);
         cfg->board.enc_offset = (angle_t)((uint32_t)nearbyint(turns * 65536.0) & 0xFFFFu);
     }

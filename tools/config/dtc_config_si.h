@@ -68,7 +68,8 @@ typedef struct {
 
     /* Encoder. */
     int enc_lines;          /* lines per turn (2000); quadrature gives 4x counts */
-    double enc_offset_rad;  /* electrical angle at count 0 */
+    double enc_offset_rad;  /* electrical angle at count 0 (the raw count the encoder gives) */
+    int enc_reversed;       /* 1: the count runs down for forward rotation of the field */
     int speed_min_counts;   /* speed window: shortest with at least this many counts (100) */
 
     /* Control. */

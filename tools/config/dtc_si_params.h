@@ -100,6 +100,7 @@ enum dtc_sip_when {
     X(speed_div, DTC_SIP_INT, "", 1, 1000, DTC_SIP_CLOSED, DTC_SIP_ALL, DTC_SIP_ALWAYS, DTC_SI_ERR_TIMING, "control.speed_loop_divider", NULL, "the speed loop runs every speed_div-th period") \
     X(enc_lines, DTC_SIP_INT, "", 1, 16383, DTC_SIP_CLOSED, DTC_SIP_ALL, DTC_SIP_ALWAYS, DTC_SI_ERR_ENCODER, "sensors.encoder_lines", NULL, "encoder lines per turn (4 lines * 4 counts fit 16 bits)") \
     X(enc_offset_rad, DTC_SIP_DOUBLE, "rad", -DTC_SIP_INF, DTC_SIP_INF, DTC_SIP_ANY, DTC_SIP_ALL, DTC_SIP_ALWAYS, DTC_SI_ERR_ENCODER, "sensors.encoder_offset_rad", NULL, "electrical angle at encoder count 0") \
+    X(enc_reversed, DTC_SIP_INT, "", 0, 1, DTC_SIP_FLAG, DTC_SIP_ALL, DTC_SIP_ALWAYS, DTC_SI_ERR_ENCODER, "sensors.encoder_reversed or firmware.encoder_reversed", NULL, "1: the count runs down for forward rotation of the field (a reversed encoder or two motor leads exchanged)") \
     X(speed_min_counts, DTC_SIP_INT, "", 1, 16000, DTC_SIP_CLOSED, DTC_SIP_ALL, DTC_SIP_ALWAYS, DTC_SI_ERR_ENCODER, "", NULL, "speed window: the shortest holding at least this many counts") \
     X(flux_band_wb, DTC_SIP_DOUBLE, "Wb", 0, DTC_SIP_INF, DTC_SIP_HI_OPEN, DTC_SIP_ALL, DTC_SIP_ALWAYS, DTC_SI_ERR_BAND, "control.flux_band_wb", NULL, "flux hysteresis band (full width)") \
     X(torque_band_nm, DTC_SIP_DOUBLE, "N*m", 0, DTC_SIP_INF, DTC_SIP_HI_OPEN, DTC_SIP_ALL, DTC_SIP_ALWAYS, DTC_SI_ERR_BAND, "control.torque_band_nm", NULL, "torque hysteresis band (full width)") \

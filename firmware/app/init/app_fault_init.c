@@ -22,7 +22,7 @@ uint16_t app_fault_post_ok(const dtc_config_t *c, const dtc_config_t *post)
         post->board.vmid_cal != 0U || post->prot.relay_periods == 0U ||
         post->est.estimator != c->est.estimator || same_adc == 0U ||
         post->board.enc_counts != c->board.enc_counts || post->board.enc_gain_q16 != c->board.enc_gain_q16 ||
-        post->board.enc_offset != c->board.enc_offset || post->board.adc_i_gain_iq != c->board.adc_i_gain_iq ||
+        post->board.enc_offset != c->board.enc_offset || post->board.enc_reversed != c->board.enc_reversed || post->board.adc_i_gain_iq != c->board.adc_i_gain_iq ||
         post->board.adc_vdc_gain_iq != c->board.adc_vdc_gain_iq ||
         post->board.adc_vdc_offset != c->board.adc_vdc_offset || post->board.ts_pu_iq != c->board.ts_pu_iq ||
         post->speed.speed_div != c->speed.speed_div);

@@ -55,6 +55,8 @@ struct SensorConfig {
     bool vmid_fitted = true;                   // false: HAL_ADC_VMID reads 0
     std::uint32_t encoder_lines = PLANT_DEF_ENCODER_LINES; // Hoang Fig. 9(b): 2000 pulse/rev
     double encoder_offset_rad = 0.0;           // mechanical angle of the index pulse is -offset
+    bool encoder_reversed = false;             // counts -theta (A and B exchanged): the index at +offset
+    int current_reversed = -1;                 // 0..2: that phase's sensor reads minus its current; -1 none
     double trip_current_a = 0.0;               // PDPINTA comparator level on |i_a|,|i_b|,|i_c|; 0 = off
     std::uint64_t noise_seed = 1;
 };
@@ -67,6 +69,9 @@ struct HarnessConfig {
     // turns the gates off (the leg-state form works at any ts_s).
     double pwm_clock_hz = PLANT_DEF_PWM_CLOCK_HZ;
     SensorConfig sensors;
+    // Two motor leads exchanged: the inverter's legs B and C drive the machine's phases C and B,
+    // and the phase-current sensors (on the legs) read the machine's i_c and i_b.
+    bool phases_swapped = false;
 };
 
 /// Why the gates are off (for the runner's log).
@@ -204,6 +209,8 @@ public:
 private:
     Harness(plant_t* plant, const HarnessConfig& cfg, const plant_params_t& params);
     bool comparator_active() const;
+    /// The shaft angle the encoder reads: minus the shaft's with A and B exchanged.
+    double encoder_theta() const { return cfg_.sensors.encoder_reversed ? -sensed_.theta_m_rad : sensed_.theta_m_rad; }
     void apply_to_plant();
     void advance_plain(); // one period of the active command, in substeps_ parts
     static bool pwm_asymmetric(const hal_cmd_t& c);

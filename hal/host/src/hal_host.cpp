@@ -1,5 +1,7 @@
 // hal_host.cpp - Harness (see hal_host.hpp) and the C functions of hal.h forwarding to it.
 #include "hal_host.hpp"
+
+#include <utility>
 #include "hal_host_pwm.hpp"
 
 #include <cmath>
@@ -76,7 +78,7 @@ Harness::Harness(plant_t* plant, const HarnessConfig& cfg, const plant_params_t&
     adc_[HAL_ADC_VDC] = voltage_channel(s.voltage_range_v, s.vdc_gain_error, s.vdc_offset_v, s.voltage_noise_v_rms);
     adc_[HAL_ADC_VMID] = voltage_channel(s.voltage_range_v, s.vmid_gain_error, s.vmid_offset_v, s.voltage_noise_v_rms);
     plant_get_sensed(plant_, &sensed_);
-    last_turn_ = encoder_.turn(sensed_.theta_m_rad);
+    last_turn_ = encoder_.turn(encoder_theta());
     relay_fitted_ = params.reconfig_relay != 0;
     active_ = hal_cmd_t{};
     pending_ = active_;
@@ -132,7 +134,7 @@ void Harness::sample()
     // a lost signal leaves the counter and the index flag as they were.
     std::int64_t turn = last_turn_;
     if (!encoder_lost_) {
-        meas_.qep_count = encoder_.read(sensed_.theta_m_rad, &turn);
+        meas_.qep_count = encoder_.read(encoder_theta(), &turn);
     }
     if (turn != last_turn_) {
         // The capture unit latches the counter at the pulse edge: the index position is count 0
@@ -145,7 +147,14 @@ void Harness::sample()
 
     // ADC: one noise draw per noisy channel per period, in channel order (reproducible for a
     // seed and a configuration; noiseless channels cost no draw).
-    const double x[HAL_ADC_COUNT] = {sensed_.i_a, sensed_.i_b, sensed_.i_c, sensed_.vdc_v, sensed_.vc_lo_v};
+    // The sensors sit on the inverter's legs: with the leads B and C exchanged (phases_swapped) leg
+    // B carries the machine's i_c; a sensor mounted the wrong way round reads minus its current.
+    const bool sw = cfg_.phases_swapped;
+    double x[HAL_ADC_COUNT] = {sensed_.i_a, sw ? sensed_.i_c : sensed_.i_b, sw ? sensed_.i_b : sensed_.i_c,
+                               sensed_.vdc_v, sensed_.vc_lo_v};
+    if (cfg_.sensors.current_reversed >= 0 && cfg_.sensors.current_reversed < 3) {
+        x[cfg_.sensors.current_reversed] = -x[cfg_.sensors.current_reversed];
+    }
     for (int ch = 0; ch < HAL_ADC_COUNT; ++ch) {
         const AnalogChannel& a = adc_[static_cast<std::size_t>(ch)];
         const double n = a.noise_rms > 0.0 ? noise_.next() : 0.0;
@@ -345,6 +354,13 @@ void Harness::hal_write(const hal_cmd_t* cmd)
         ++invalid_writes_;
     }
     pending_ = *cmd;
+    if (cfg_.phases_swapped) {
+        // the machine's phase B on leg C and C on leg B: the plant's phase x takes leg x's command
+        std::swap(pending_.cmpr_up[1], pending_.cmpr_up[2]);
+        std::swap(pending_.cmpr_dn[1], pending_.cmpr_dn[2]);
+        std::swap(pending_.act[1], pending_.act[2]);
+        std::swap(pending_.sb, pending_.sc);
+    }
     written_ = *cmd;
     if (cmd->relay != relay_ && cmd->relay <= HAL_RELAY_C && relay_fitted_ && inverter_ == PLANT_INVERTER_SSTP) {
         // The coil at once (GPIO); the leg it names off from now (both its gates).

@@ -19,9 +19,9 @@ struct IdentifyReport {
 };
 
 /// Runs the identification on the scenario's plant (faults included) with the firmware given the
-/// board data only, and writes DIR/identified.toml and DIR/identification.json. False with *err
-/// when it could not run or write (a failed identification still writes both and returns true
-/// with rep->ok = false).
+/// board data only, and writes DIR/identified.toml and DIR/identification.json (nothing when
+/// out_dir is empty: rep->json only, dtc-sil sweep --identify). False with *err when it could not
+/// run or write (a failed identification still writes both and returns true with rep->ok = false).
 bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* rep, std::string* err);
 
 } // namespace sil

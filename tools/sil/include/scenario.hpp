@@ -148,6 +148,7 @@ struct InverterCfg {
     double r_bal_ohm = 0.0;        // balancing resistor across each capacitor; 0 = not fitted
     double esr_ohm = 0.0;          // capacitor ESR; 0 = ideal capacitor (docs/plant.md gives typical values)
     bool drops = true;
+    bool phases_swapped = false;   // the machine's phases B and C on the inverter's legs C and B
     bool dead_time = true;
     bool finite_dc_link = true;
     bool reconfig_relay = false;   // a relay per phase ties it to the capacitor mid-point (fault tolerance)
@@ -233,6 +234,8 @@ struct SensorsCfg {
     bool vmid_fitted = true;
     std::int64_t encoder_lines = PLANT_DEF_ENCODER_LINES;
     double encoder_offset_rad = 0.0;
+    bool encoder_reversed = false;       // the count runs down for positive rotation (A and B swapped)
+    FaultPhase current_reversed = FaultPhase::None; // that phase's current sensor mounted the wrong way round
     std::int64_t seed = 1;
     std::int64_t current_sensors = 2;    // 2: the firmware derives the third phase; 3: all measured
 };
@@ -257,7 +260,8 @@ struct FirmwareCfg {
     /// the plant's (motor.pole_pairs, sensors.encoder_offset_rad).
     std::optional<std::int64_t> pole_pairs;
     std::optional<double> encoder_offset_rad;
-    bool encoder_reversed = false;
+    std::optional<bool> encoder_reversed;     // unset: sensors.encoder_reversed
+    std::optional<std::int64_t> encoder_lines; // the board data's line count; unset: sensors.encoder_lines
     /// The mechanics as identified (dtc-sil identify's spin step): the inertia the speed PI and the
     /// lost-encoder level derive from (unset: motor.j_kgm2); the friction is recorded (the
     /// firmware's configuration has no friction term).

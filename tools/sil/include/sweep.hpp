@@ -42,6 +42,7 @@ struct Spec {
     std::vector<Axis> axes;          // grid axes first, then sampled ones, in the order given
     std::uint64_t n = 1;             // samples per grid point (1 when there is no sampled axis)
     std::uint64_t seed = 1;
+    bool identify = false;           // each run is `dtc-sil identify` (identify_metric_columns), not `run`
 };
 
 struct PlannedRun {
@@ -89,9 +90,15 @@ struct Assertion {
     std::string text, metric, op;
     double value = 0.0;
 };
-bool parse_assertion(const std::string& text, Assertion* out, std::string* err);
+bool parse_assertion(const std::string& text, Assertion* out, std::string* err, bool identify = false);
 /// Every metric column name a row can have (for checking --assert before any run).
 std::vector<std::string> metric_columns();
+/// The columns of an identification's row (--identify): per quantity of identification.json its
+/// error ("Q.error_pct" and "Q.abs_error_pct" for relative ones, "Q.error" and "Q.abs_error" for
+/// the others), "ok" (1: the identification succeeded), standstill_s, spin_s, duration_s.
+std::vector<std::string> identify_metric_columns();
+/// An identification's row metrics from identification.json (quantities whose step ran).
+nlohmann::json identify_metrics(const nlohmann::json& report);
 
 /// Writes summary.csv and summary.json in dir from the rows (sorted by "run").
 bool write_summary(const std::string& dir, const Spec& spec, std::vector<nlohmann::json> rows, std::string* err);
@@ -111,6 +118,7 @@ struct SweepArgs {
     unsigned exec_jobs = 1; ///< sweep-exec --jobs
     double timeout_s = 600.0;
     bool resume = false, quiet = false, keep_runs = false, allow_failed = false;
+    bool identify = false;  ///< --identify: each run is dtc-sil identify
 };
 
 /// Parses the sweep commands' line (args[0] the program, args[1] the subcommand) into *a.

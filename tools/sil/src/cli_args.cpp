@@ -163,6 +163,11 @@ int parse_sweep_args(const std::vector<std::string>& args, SweepArgs* a, std::os
     sw->add_flag("--allow-failed-runs", a->allow_failed,
                  "exit 0 even when runs crashed, timed out, diverged or could not be completed (their rows "
                  "say so)");
+    sw->add_flag("--identify", a->identify,
+                 "each run is the self-commissioning (dtc-sil identify) instead of a drive run: its metrics are the "
+                 "identification's errors against the plant (Q.error_pct, Q.abs_error_pct, ...: docs/commissioning.md), "
+                 "status fault naming the step and reason when it stopped; with --keep-runs DIR/runs/RUN holds "
+                 "identified.toml and identification.json");
     sw->add_flag("--keep-runs", a->keep_runs, "also write every run's metrics.json and trace.csv to DIR/runs/RUN");
 
     CLI::App* mg = app.add_subcommand("sweep-merge", "join the shards of one sweep into DIR/summary.csv");

@@ -86,9 +86,13 @@ dtc_config_si_t firmware_si_config(const Scenario& sc)
     si.speed_div = static_cast<int>(c.speed_loop_divider);
     // Encoder: hal_host counts 0 where theta_m + offset = 0, i.e. the electrical angle at count 0
     // is -p * offset (the firmware is told the true mounting offset).
-    si.enc_lines = static_cast<int>(sc.sensors.encoder_lines);
-    si.enc_offset_rad =
-        -static_cast<double>(pole_pairs) * sc.firmware.encoder_offset_rad.value_or(sc.sensors.encoder_offset_rad);
+    // Reversed (sensors.encoder_reversed: hal_host counts -theta_m), the electrical angle at count 0
+    // is +p * offset: firmware.encoder_offset_rad is in the same sense as the plant's key.
+    const bool reversed = sc.firmware.encoder_reversed.value_or(sc.sensors.encoder_reversed);
+    si.enc_lines = static_cast<int>(sc.firmware.encoder_lines.value_or(sc.sensors.encoder_lines));
+    si.enc_reversed = reversed ? 1 : 0;
+    si.enc_offset_rad = (reversed ? 1.0 : -1.0) * static_cast<double>(pole_pairs) *
+                        sc.firmware.encoder_offset_rad.value_or(sc.sensors.encoder_offset_rad);
     // Control: the converter designs the PI from the bandwidth with the same rule as
     // speed_pi_gains() (crossover wc, PI zero at wc/4); the gains are also given explicitly.
     si.flux_band_wb = c.flux_band_wb;

@@ -39,7 +39,7 @@ const char* step_name(unsigned step)
     }
 }
 
-std::string fail_text(const app_ident_t& d)
+std::string fail_text(const app_ident_t& d, const app_status_t& st)
 {
     switch (d.fail) {
     case APP_IDENT_FAIL_OPEN_PHASE:
@@ -65,16 +65,27 @@ std::string fail_text(const app_ident_t& d)
         return "encoder_lines: " + std::to_string(d.fail_detail) +
                " counts per electrical turn, no whole fraction of the configured counts per turn (wrong line count?)";
     case APP_IDENT_FAIL_OVERCURRENT: return "overcurrent: a phase above 1.25 x rated current";
-    case APP_IDENT_FAIL_TRIP: return "trip: the drive's protection tripped";
+    case APP_IDENT_FAIL_TRIP: return std::string("trip: the drive's protection tripped (") + app_fault_name(st.fault) + ")";
     case APP_IDENT_FAIL_BLOCKED:
         return "blocked: the rotor did not reach an eighth of the spin speed in 2 s at half rated q current (a "
                "blocked rotor or a coupled load)";
     case APP_IDENT_FAIL_VDC_LOW:
+        if (d.fail_step != APP_IDENT_SPIN) {
+            return "dc_link_low: the current regulator at its voltage limit (a quarter of the measured DC link) while "
+                   "a level was measured (the DC link too low for rated current in this machine)";
+        }
         return "dc_link_low: the current regulator at its voltage limit before an eighth of the spin speed (the DC "
                "link too low to spin the machine)";
     case APP_IDENT_FAIL_NOT_SETTLED:
         return "not_settled: the voltage and current of DC level " + std::to_string(d.fail_detail) +
                " did not settle within 200 windows (a rotor time constant above about a second, or a turning rotor)";
+    case APP_IDENT_FAIL_SENSOR_SIGN:
+        if (d.fail_detail >= 1 && d.fail_detail <= 3) {
+            return std::string("current_sensor_reversed: phase ") + static_cast<char>('A' + d.fail_detail - 1) +
+                   " read the wrong sign on its own sign pulse (its current sensor mounted the wrong way round)";
+        }
+        return "current_sensor_reversed: a phase current of the wrong sign on a sign pulse (sensor polarity or "
+               "wiring)";
     case APP_IDENT_FAIL_NOT_AT_REST:
         return "not_at_rest: the rotor did not come to rest on a DC vector within 2 s (a coupled load, a blocked or "
                "a far too heavy rotor)";
@@ -101,6 +112,7 @@ dtc_config_si_t ident_si(const Scenario& sc)
     si.kp_nm_s_rad = 0.0;
     si.ki_nm_rad = 0.0;
     si.cal_hold = 0; // the start-up's rotor hold needs the machine; the identification aligns the rotor itself
+    si.enc_reversed = 0; // the direction is identified from the raw count
     if (sc.motor.type == MotorType::Im) {
         // placeholders for the induction machine's law, from the bases only (nothing of the plant):
         // L_m = 512 Z_b Ts, L_ls = L_lr = 16 Z_b Ts, R_r = Z_b / 16 (tau_r = 8192 Ts)
@@ -205,7 +217,11 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
     const double v0_true = g * (thr_true + 2.0 * sc.inverter.vdc_v * td_true / ts);
     const double drop_true = v0_true + r_on_true * i_b;
     // hal_host: the electrical angle at count 0 is -p * sensors.encoder_offset_rad.
-    const double off_e_true = wrap_pi(-static_cast<double>(m.pole_pairs) * sc.sensors.encoder_offset_rad);
+    // The inverter's frame with two leads exchanged (inverter.phases_swapped) is the machine's mirrored
+    // (theta_inv = -theta_e): the count then runs down for the inverter's forward field, as with a
+    // reversed encoder (hal_host counts -theta_m, the angle at count 0 +p offset); both cancel.
+    const bool rev_true = sc.sensors.encoder_reversed != sc.inverter.phases_swapped;
+    const double off_e_true = wrap_pi((rev_true ? 1.0 : -1.0) * static_cast<double>(m.pole_pairs) * sc.sensors.encoder_offset_rad);
 
     double step_s[7] = {};
     for (unsigned k2 = 0; k2 < 7; ++k2) {
@@ -252,7 +268,7 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
     // in pu current x Ts^2 per count, x Ts per count, pu current; a count is 2 pi / enc_counts rad.
     const double psi = d.res.psi_iq / kIqOne * v_b / si.w_base_rad_s;
     const double kt_ib = 1.5 * p * psi * i_b;
-    const double rad_per_count = 2.0 * kPi / (4.0 * static_cast<double>(sc.sensors.encoder_lines));
+    const double rad_per_count = 2.0 * kPi / (4.0 * static_cast<double>(si.enc_lines)); // the board data's lines
     const double j_id = d.res.j_q12 / 4096.0 * kt_ib * ts * ts / rad_per_count;
     const double b_id = d.res.b_iq / kIqOne * kt_ib * ts / rad_per_count;
     const double tc_id = d.res.tc_iq / kIqOne * kt_ib;
@@ -291,7 +307,8 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
     } else {
         add("ls_h", ls, m.ls_h, "H", APP_IDENT_LS, true, "L_d: the rotor aligned on the step axis");
         add("pole_pairs", p, static_cast<double>(m.pole_pairs), "", APP_IDENT_ENCODER, false, "");
-        add("encoder_reversed", d.res.enc_reversed, 0.0, "", APP_IDENT_ENCODER, false, "");
+        add("encoder_reversed", d.res.enc_reversed, rev_true ? 1.0 : 0.0, "", APP_IDENT_ENCODER, false,
+            "the count runs down for the inverter's forward field: a reversed encoder or two motor leads exchanged");
         {
             const double e_deg = wrap_pi(off_e - off_e_true) * 180.0 / kPi;
             add("encoder_offset_el_deg", off_e * 180.0 / kPi, off_e_true * 180.0 / kPi, "deg (electrical)",
@@ -309,7 +326,7 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
     j["scenario"] = sc.path;
     j["status"] = ok ? "ok" : "failed";
     j["failed_step"] = ok ? "" : step_name(failed_step);
-    j["reason"] = ok ? "" : (d.step == APP_IDENT_FAILED ? fail_text(d)
+    j["reason"] = ok ? "" : (d.step == APP_IDENT_FAILED ? fail_text(d, st)
                                                         : (st.state == APP_STATE_FAULT ? "drive fault before the identification"
                                                                                        : "timeout"));
     j["duration_s"] = rep->duration_s;
@@ -331,6 +348,9 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
     rep->reason = j["reason"];
     rep->json = j.dump(2);
 
+    if (out_dir.empty()) {
+        return true; // the report only (dtc-sil sweep --identify)
+    }
     std::error_code ec;
     std::filesystem::create_directories(out_dir, ec);
     if (ec) {
@@ -369,8 +389,9 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
     }
     if (!im && ok) {
         t << "pole_pairs = " << p << "\n";
-        // sensors.encoder_offset_rad's sense: the electrical angle at count 0 is -p times it.
-        t << "encoder_offset_rad = " << fmt(wrap_pi(-off_e / p)) << "\n";
+        // sensors.encoder_offset_rad's sense: the electrical angle at count 0 is -p times it, +p times it
+        // reversed (firmware.encoder_reversed).
+        t << "encoder_offset_rad = " << fmt(wrap_pi((d.res.enc_reversed != 0U ? off_e : -off_e) / p)) << "\n";
         t << "encoder_reversed = " << (d.res.enc_reversed != 0U ? "true" : "false") << "\n";
         t << "psi_m_wb = " << fmt(psi) << "\n";
         t << "j_kgm2 = " << fmt(j_id) << "\n";

@@ -118,6 +118,9 @@ hal_host::HarnessConfig harness_config_from(const Scenario& sc)
     s.vmid_fitted = sc.sensors.vmid_fitted;
     s.encoder_lines = static_cast<std::uint32_t>(sc.sensors.encoder_lines);
     s.encoder_offset_rad = sc.sensors.encoder_offset_rad;
+    s.encoder_reversed = sc.sensors.encoder_reversed;
+    s.current_reversed = static_cast<int>(sc.sensors.current_reversed) - 1;
+    c.phases_swapped = sc.inverter.phases_swapped;
     s.trip_current_a = sc.protection.hw_trip_current_a;
     s.noise_seed = static_cast<std::uint64_t>(sc.sensors.seed);
     return c;

@@ -273,9 +273,18 @@ void cross_validate(Scenario& s, Diagnostics* d)
     auto warn = [&](const std::string& key, const std::string& msg) {
         d->warnings.push_back(origin_of(s, key) + ": " + key + ": " + msg);
     };
-    if (s.firmware.encoder_reversed) {
-        err("firmware.encoder_reversed", "true: the firmware has no reversed count (dtc_board_cfg_t); swap the "
-                                         "encoder's A and B channels so that it counts up for positive rotation");
+    // The wiring faults act on the board's signals, which only the firmware reads through the HAL.
+    if (s.control.implementation != Implementation::Firmware) {
+        for (const char* k : {"sensors.encoder_reversed", "sensors.current_reversed", "inverter.phases_swapped",
+                              "firmware.encoder_reversed", "firmware.encoder_lines"}) {
+            if (s.origin.count(k) != 0) {
+                err(k, "needs control.implementation = \"firmware\" (the reference controller reads the plant's "
+                       "wiring as it should be)");
+            }
+        }
+    }
+    if (s.inverter.phases_swapped && s.inverter.topology == Topology::Ideal) {
+        err("inverter.phases_swapped", "the ideal inverter has no legs (inverter.topology = \"sstp\" or \"fstp\")");
     }
     if (s.metrics_window_s > s.duration_s) {
         err("metrics_window_s", "is " + fmt_double(s.metrics_window_s) + " s, longer than duration_s = " +

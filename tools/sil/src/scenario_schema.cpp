@@ -176,6 +176,10 @@ const std::vector<Spec>& schema()
             ACC(inverter.esr_ohm)),
         boolean("inverter.drops", "device forward drops and R_on (false: ideal devices)", ACC(inverter.drops)),
         boolean("inverter.dead_time", "dead time modelled", ACC(inverter.dead_time)),
+        boolean("inverter.phases_swapped",
+                "two motor leads exchanged: the machine's phases B and C on the inverter's legs C and B (the phase "
+                "sensors sit on the legs); the inverter's forward field turns the machine backward",
+                ACC(inverter.phases_swapped)),
         boolean("inverter.finite_dc_link", "capacitor voltages move (false: stiff DC link)",
                 ACC(inverter.finite_dc_link)),
         boolean("inverter.reconfig_relay",
@@ -438,6 +442,13 @@ const std::vector<Spec>& schema()
                 ACC(sensors.encoder_lines)),
         num("sensors.encoder_offset_rad", "rad", any(), "mechanical angle offset of the encoder index",
             ACC(sensors.encoder_offset_rad)),
+        boolean("sensors.encoder_reversed",
+                "the encoder counts down for positive rotation (its A and B exchanged); the electrical angle at "
+                "count 0 is then +pole_pairs times sensors.encoder_offset_rad",
+                ACC(sensors.encoder_reversed)),
+        choice<FaultPhase>("sensors.current_reversed",
+                           "that phase's current sensor mounted the wrong way round: it reads minus the phase current",
+                           ACC(sensors.current_reversed)),
         integer("sensors.seed", "", closed(0, 9.0e18), "noise generator seed (same seed, same run)",
                 ACC(sensors.seed)),
         integer("sensors.current_sensors", "", closed(2, 3),
@@ -482,10 +493,22 @@ const std::vector<Spec>& schema()
                  return s.firmware.encoder_offset_rad ? fmt_double(*s.firmware.encoder_offset_rad)
                                                       : std::string("the plant's");
              }},
-        Spec{"firmware.encoder_reversed", Kind::Bool, "", "true: the encoder counts down for positive rotation; the "
-             "firmware has no reversed count, so true is refused (swap the encoder's A and B)", any(), {},
+        Spec{"firmware.encoder_reversed", Kind::Bool, "", "true: the firmware reads the count reversed (counts - 1 - "
+             "count: dtc_board_cfg_t.enc_reversed), for an encoder that counts down when the inverter's field turns "
+             "forward (a reversed encoder, or two motor leads exchanged); firmware.encoder_offset_rad is then in the "
+             "reversed sense (the electrical angle at count 0 is +pole_pairs times it); not given: "
+             "sensors.encoder_reversed", any(), {},
              [](Scenario& s, const Value& v) { s.firmware.encoder_reversed = v.boolean; },
-             [](const Scenario& s) { return std::string(s.firmware.encoder_reversed ? "true" : "false"); }},
+             [](const Scenario& s) {
+                 return s.firmware.encoder_reversed ? std::string(*s.firmware.encoder_reversed ? "true" : "false")
+                                                    : std::string("the plant's");
+             }},
+        Spec{"firmware.encoder_lines", Kind::Integer, "", "encoder lines in the firmware's board data (a wrong line "
+             "count: the plant's encoder has sensors.encoder_lines); not given: sensors.encoder_lines",
+             closed(1, 16383), {}, [](Scenario& s, const Value& v) { s.firmware.encoder_lines = v.integer; },
+             [](const Scenario& s) {
+                 return s.firmware.encoder_lines ? std::to_string(*s.firmware.encoder_lines) : std::string("the plant's");
+             }},
         Spec{"firmware.j_kgm2", Kind::Number, "kg*m^2",
              "inertia the firmware's speed PI and lost-encoder level derive from; not given: motor.j_kgm2", positive(), {},
              [](Scenario& s, const Value& v) { s.firmware.j_kgm2 = v.num; },

@@ -170,6 +170,7 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
     }
     spec.sets = sets;
     spec.seed = seed;
+    spec.identify = cl.identify;
     // The axes in the order of their options: --grid, then --zip, then --sample.
     const std::vector<std::string>* const axis_args[3] = {&grids, &zips, &samples};
     for (const std::vector<std::string>* args_of_kind : axis_args) {
@@ -224,7 +225,7 @@ int sweep_main(const std::vector<std::string>& args, std::ostream& out, std::ost
     std::vector<Assertion> checks;
     for (const std::string& a : asserts) {
         Assertion as;
-        if (!parse_assertion(a, &as, &e)) {
+        if (!parse_assertion(a, &as, &e, spec.identify)) {
             err << "dtc-sil sweep: " << e << "\n";
             return 1;
         }

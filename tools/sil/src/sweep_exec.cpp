@@ -20,6 +20,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "identify.hpp"
 #include "run.hpp"
 #include "scenario.hpp"
 #include "sil_output.hpp"
@@ -49,6 +50,21 @@ std::string child_run(const Spec& spec, const PlannedRun& p, const std::string& 
             e += (e.empty() ? "" : "; ") + s;
         }
         return make_row(p.index, spec, p, "refused", nullptr, e, json::object()).dump();
+    }
+    if (spec.identify) {
+        // The identification (dtc-sil identify): its errors against the plant's values as the metrics,
+        // status ok when it succeeded, fault naming the reason when it stopped.
+        IdentifyReport rep;
+        std::string e;
+        const std::string dir = runs_dir.empty() ? std::string() : (fs::path(runs_dir) / std::to_string(p.index)).string();
+        if (!identify(sc, dir, &rep, &e)) {
+            return make_row(p.index, spec, p, "error", nullptr, e, json::object()).dump();
+        }
+        const json rj = json::parse(rep.json);
+        const std::string code = rep.reason.substr(0, rep.reason.find(':'));
+        return make_row(p.index, spec, p, rep.ok ? "ok" : "fault", rep.ok ? json(nullptr) : json(rep.failed_step + ": " + code),
+                        rep.ok ? json(nullptr) : json(rep.reason), identify_metrics(rj))
+            .dump();
     }
     RunOptions opt; // no output folder (metrics only), unless the sweep keeps its runs
     if (!runs_dir.empty()) {

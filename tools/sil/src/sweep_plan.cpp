@@ -343,7 +343,10 @@ json spec_json(const Spec& spec)
     }
     json j{{"scenario_path", spec.scenario_path}, {"scenario_text", spec.scenario_text}, {"sets", spec.sets},
            {"axes", axes}, {"n", spec.n}, {"seed", spec.seed}};
-    // only when given: a plan without overlays keeps its text (and plan id) as before
+    // only when given: a plan without overlays or --identify keeps its text (and plan id) as before
+    if (spec.identify) {
+        j["mode"] = "identify";
+    }
     for (const OverlayText& o : spec.overlays) {
         j["overlays"].push_back(json{{"path", o.path}, {"text", o.text}});
     }
@@ -357,6 +360,7 @@ bool spec_from_json(const json& j, Spec* out, std::string* err)
         s.scenario_path = j.at("scenario_path").get<std::string>();
         s.scenario_text = j.at("scenario_text").get<std::string>();
         s.sets = j.at("sets").get<std::vector<std::string>>();
+        s.identify = j.value("mode", std::string("run")) == "identify";
         if (j.contains("overlays")) {
             for (const json& o : j.at("overlays")) {
                 s.overlays.push_back(OverlayText{o.at("path").get<std::string>(), o.at("text").get<std::string>()});

@@ -15,6 +15,7 @@
 #include "sweep.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -169,7 +170,50 @@ std::vector<std::string> metric_columns()
     return cols;
 }
 
-bool parse_assertion(const std::string& text, Assertion* out, std::string* err)
+namespace {
+// identification.json's quantities (tools/sil/src/identify.cpp): true = a relative error (error_pct).
+const std::vector<std::pair<const char*, bool>>& identify_quantities()
+{
+    static const std::vector<std::pair<const char*, bool>> q = {
+        {"rs_ohm", true},         {"r_slope_ohm", true},   {"v0_v", true},     {"drop_at_rated_v", true},
+        {"dead_time_s", true},    {"ls_h", true},          {"pole_pairs", false}, {"encoder_reversed", false},
+        {"encoder_offset_el_deg", false}, {"psi_m_wb", true}, {"j_kgm2", true}, {"b_nm_s_per_rad", true},
+        {"coulomb_nm", false}};
+    return q;
+}
+} // namespace
+
+std::vector<std::string> identify_metric_columns()
+{
+    std::vector<std::string> cols = {"ok", "standstill_s", "spin_s", "duration_s"};
+    for (const auto& [q, rel] : identify_quantities()) {
+        cols.push_back(std::string(q) + (rel ? ".error_pct" : ".error"));
+        cols.push_back(std::string(q) + (rel ? ".abs_error_pct" : ".abs_error"));
+    }
+    return cols;
+}
+
+json identify_metrics(const json& report)
+{
+    json m = json::object();
+    m["ok"] = report.value("status", std::string()) == "ok" ? 1 : 0;
+    for (const char* k : {"standstill_s", "spin_s", "duration_s"}) {
+        m[k] = report.value(k, 0.0);
+    }
+    const json& q = report.at("quantities");
+    for (const auto& [name, rel] : identify_quantities()) {
+        if (!q.contains(name) || q.at(name).value("status", std::string()) != "ok") {
+            continue; // a step that failed or did not run has no error
+        }
+        const char* key = rel ? "error_pct" : "error";
+        const double e = q.at(name).value(key, 0.0);
+        m[std::string(name) + "." + key] = e;
+        m[std::string(name) + (rel ? ".abs_error_pct" : ".abs_error")] = std::fabs(e);
+    }
+    return m;
+}
+
+bool parse_assertion(const std::string& text, Assertion* out, std::string* err, bool identify)
 {
     static const char* ops[] = {"<=", ">=", "==", "!=", "<", ">"};
     for (const char* op : ops) {
@@ -185,7 +229,7 @@ bool parse_assertion(const std::string& text, Assertion* out, std::string* err)
             *err = "--assert " + echo(text) + ": the right-hand side must be a finite number";
             return false;
         }
-        const std::vector<std::string> cols = metric_columns();
+        const std::vector<std::string> cols = identify ? identify_metric_columns() : metric_columns();
         const std::string base = a.metric.substr(0, a.metric.find('['));
         const std::string index = base == a.metric ? std::string() : a.metric.substr(base.size());
         // A per-phase metric (null in the record) is asserted on one phase: [A], [B] or [C].
@@ -259,7 +303,7 @@ bool write_summary(const std::string& dir, const Spec& spec, std::vector<json> r
             cols.push_back(c);
         }
     };
-    for (const std::string& c : metric_columns()) {
+    for (const std::string& c : spec.identify ? identify_metric_columns() : metric_columns()) {
         if (present.count(c + "[A]") != 0) {
             for (const char* ph : {"[A]", "[B]", "[C]"}) {
                 add(c + ph);
