@@ -75,6 +75,7 @@ void im_dtc_reset(im_dtc_t *c)
     c->foc_id_int_iq = 0;
     c->foc_iq_int_iq = 0;
     c->i_limited = 0U;
+    im_sup_reset(c);
 }
 
 int16_t im_dtc_shadow_write(im_dtc_t *c, const dtc_refs_t *r)
@@ -167,6 +168,7 @@ void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
                 im_dtc_enc_plaus(c, te);
             }
         }
+        im_sup_step(c);
         c->ref_due = 1U;
         if (c->act.mode == DTC_MODE_SPEED && c->magnetised != 0U) {
             c->te_cmd_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
