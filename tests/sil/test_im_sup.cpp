@@ -37,17 +37,26 @@ std::string off(const char* key, double plant, double factor)
 
 TEST(ImSup, RrOrLmThirtyPercentOffWarnsWithinOneSecond)
 {
-    // Encoder fitted, im_dtc_speed (magnetised at 0.44 s, then 1000 rpm on a fan load). The warning
-    // must come within 1 s of the start; measured 0.52-0.66 s (0.08-0.22 s of running): the
+    // Encoder fitted, from standstill: im_dtc_speed (magnetised at 0.44 s, then 1000 rpm on a fan
+    // load) and the second machine (im_second_machine.toml, R_r 1.355 ohm, L_m 0.14375 H). The
+    // warning must come within 1 s of the start; measured 0.52-0.66 s and 0.48-0.62 s: the
     // adaptation's time constant at half the rated torque is 4 T_filt T_lim / T = 0.12 s, the flux
-    // check's is tau_r. The estimate converges to the plant's: rho -> 1/0.7, 1/1.3 for R_r.
-    for (const std::string& s : {off("rr_ohm", PLANT_DEF_IM_RR_OHM, 0.7), off("rr_ohm", PLANT_DEF_IM_RR_OHM, 1.3),
-                                 off("lm_h", PLANT_DEF_IM_LM_H, 0.7), off("lm_h", PLANT_DEF_IM_LM_H, 1.3)}) {
-        const Outcome o = sil_test::run_shipped(kIm, {s});
-        EXPECT_EQ(o.info.fault, "none") << s;
-        EXPECT_TRUE(warned(o)) << s;
-        EXPECT_GE(o.info.warning_time_s, 0.44) << s; // not before the machine is magnetised
-        EXPECT_LT(o.info.warning_time_s, 1.0) << s;
+    // check's tau_r. (The estimate converges to the plant's: r_r^/r_r -> 1.42 and 0.76 for the
+    // 4 kW machine's R_r x0.7 and x1.3, 1/0.7 = 1.43 and 1/1.3 = 0.77.)
+    struct Case {
+        const char* file;
+        double rr, lm;
+    };
+    for (const Case& c : {Case{"im_dtc_speed.toml", PLANT_DEF_IM_RR_OHM, PLANT_DEF_IM_LM_H},
+                          Case{"im_second_machine.toml", 1.355, 0.14375}}) {
+        for (const std::string& s : {off("rr_ohm", c.rr, 0.7), off("rr_ohm", c.rr, 1.3), off("lm_h", c.lm, 0.7),
+                                     off("lm_h", c.lm, 1.3)}) {
+            const Outcome o = sil_test::run_shipped(c.file, {s});
+            EXPECT_EQ(o.info.fault, "none") << c.file << " " << s;
+            EXPECT_TRUE(warned(o)) << c.file << " " << s;
+            EXPECT_GT(o.info.warning_time_s, 0.3) << c.file << " " << s; // not before the flux is built
+            EXPECT_LT(o.info.warning_time_s, 1.0) << c.file << " " << s;
+        }
     }
 }
 
