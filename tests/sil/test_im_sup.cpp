@@ -91,8 +91,9 @@ TEST(ImSup, TrackingHoldsTheTorqueAsTheWindingsWarm)
 {
     // Torque mode, dynamometer at 720 rpm, T* = 13.25 N*m (50 % rated), the windings 102.6 K warmer
     // at the end of the 2 s run: R_s and R_r 40 % up (copper, 0.39 %/K). The torque over
-    // 0.6..2.0 s in 0.1 s blocks: within 3 % of T* with the tracking; without it the voltage
-    // model's R_s error biases the estimate and the torque falls out of the 3 % late in the run. The warning is raised either way: the configured
+    // 0.6..2.0 s in 0.1 s blocks, every IM scheme: within 3 % of T* with the tracking; without it
+    // the voltage model's R_s error biases the estimate and the torque falls out of the 3 % late in
+    // the run (DTC, SFVC, DSVM; DSC and DFOC lose 2.2-2.5 %). The warning is raised either way: the configured
     // resistances are off the warm machine's by more than a fifth.
     const std::vector<std::string> base = {"control.mode=\"torque\"", "load.type=\"speed\"", "load.speed_rpm=720",
                                            "control.torque_ref_nm=13.25", "load.step_time_s=0", "duration_s=2.0",
@@ -109,18 +110,7 @@ TEST(ImSup, TrackingHoldsTheTorqueAsTheWindingsWarm)
         }
         return worst;
     };
-    std::vector<std::string> on = base, off_ = base;
-    on.push_back("control.rr_tracking=true");
-    off_.push_back("control.rr_tracking=false");
-    const Outcome t = sil_test::run_shipped(kIm, on);
-    const Outcome u = sil_test::run_shipped(kIm, off_);
-    ASSERT_EQ(t.info.fault, "none");
-    ASSERT_EQ(u.info.fault, "none");
-    ASSERT_GT(t.series.te.size(), 20000u);
-    EXPECT_LT(worst_block(t), 0.03);
-    EXPECT_GT(worst_block(u), 0.03);
-    // the last 0.3 s (R +36..40 %): measured -0.75 % with the tracking, -3.77 % without
-    auto tail_mean = [](const Outcome& o) {
+    auto tail_mean = [](const Outcome& o) { // the last 0.3 s: R +36..40 %
         const std::size_t n = static_cast<std::size_t>(std::lround(0.3 / o.series.ts_s));
         double s = 0.0;
         for (std::size_t k = o.series.te.size() - n; k < o.series.te.size(); ++k) {
@@ -128,10 +118,29 @@ TEST(ImSup, TrackingHoldsTheTorqueAsTheWindingsWarm)
         }
         return s / static_cast<double>(n) / 13.25 - 1.0;
     };
-    EXPECT_NEAR(tail_mean(t), -0.0075, 0.01);
-    EXPECT_LT(tail_mean(u), -0.03);
-    EXPECT_TRUE(warned(t));
-    EXPECT_TRUE(warned(u));
+    // Measured, last 0.3 s, tracking on / off: DTC -0.75 / -3.77 %, DSC +0.98 / -2.23 %, SFVC
+    // -0.70 / -3.96 %, DFOC -0.37 / -2.53 %, DSVM -1.13 / -3.90 %.
+    for (const char* scheme : {"dtc", "dsc", "sfvc", "dfoc", "dsvm"}) {
+        std::vector<std::string> on = base, off_ = base;
+        on.push_back(std::string("control.scheme=\"") + scheme + "\"");
+        off_.push_back(on.back());
+        on.push_back("control.rr_tracking=true");
+        off_.push_back("control.rr_tracking=false");
+        const Outcome t = sil_test::run_shipped(kIm, on);
+        const Outcome u = sil_test::run_shipped(kIm, off_);
+        ASSERT_EQ(t.info.fault, "none") << scheme;
+        ASSERT_EQ(u.info.fault, "none") << scheme;
+        ASSERT_GT(t.series.te.size(), 5000u) << scheme;
+        EXPECT_LT(worst_block(t), 0.03) << scheme;
+        EXPECT_LT(std::fabs(tail_mean(t)), 0.015) << scheme;
+        EXPECT_GT(std::fabs(tail_mean(u)) - std::fabs(tail_mean(t)), 0.01) << scheme; // the tracking matters
+        if (std::string(scheme) != "dsc" && std::string(scheme) != "dfoc") {
+            EXPECT_LT(tail_mean(u), -0.03) << scheme;
+            EXPECT_GT(worst_block(u), 0.03) << scheme;
+        }
+        EXPECT_TRUE(warned(t)) << scheme;
+        EXPECT_TRUE(warned(u)) << scheme;
+    }
 }
 
 TEST(ImSup, TempRiseKeyIsValidated)
