@@ -11,6 +11,8 @@ void im_sup_reset(im_dtc_t *c)
     im_sup_t *s = &c->sup;
     s->psir_cm_iq = 0;
     s->slip_err_iq = 0;
+    s->due = 0U;
+    s->compared = 0U;
     s->adapting = 0U;
     s->n_bad = 0U;
     s->cause = 0U;
@@ -28,7 +30,8 @@ static void im_sup_apply(im_dtc_t *c)
 }
 
 /* rho's adaptation on a speed period the encoder plausibility compared (im_dtc_enc_plaus: w_psi and
- * the encoder's speed through one filter, te_filt through it too). q = |phi_r,cm|^2 / phi_r*^2
+ * the encoder's speed through one filter, te_filt through it too; they hold until the next speed
+ * period). q = |phi_r,cm|^2 / phi_r*^2
  * (IQ, inv_psir_sq the configuration's 1/phi_r*^2), 1/q ~ 1 - d + d^2. Returns nothing; sets
  * s->adapting. */
 static void im_sup_adapt(im_dtc_t *c, const dtc_config_t *cfg)
@@ -66,7 +69,7 @@ void im_sup_step(im_dtc_t *c)
     if (c->magnetised == 0U) {
         return;
     }
-    if (c->plaus_on != 0U) {
+    if (s->compared != 0U) {
         im_sup_adapt(c, cfg);
         if (s->adapting != 0U && s->track != 0U) {
             im_sup_apply(c);

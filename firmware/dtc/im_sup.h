@@ -2,8 +2,9 @@
  * im_sup.h - supervision of the induction machine's model (IM laws, im_dtc.h): the improved
  * estimator's rotor flux (Casadei eqs. 20-22) set against a current model's, a mismatch of r_r or m
  * reported as a warning (app_warn.h APP_WARN_IM_MODEL_MISMATCH), and r_r tracked on line.
- * Everything here runs once per speed period (the speed-loop step, im_dtc_speed), never in the
- * other control periods.
+ * Everything here runs once per speed period, on the values of the speed-loop step (im_dtc_speed)
+ * but in a later step that carries neither the speed loop nor Casadei eq. 19 (slot), so the worst
+ * step does not grow; never in the other control periods.
  *
  * Current model of the rotor-flux magnitude (Casadei eqs. A7, A9 in the frame of the rotor flux,
  * the form of the start-up model in im_dtc_refs):
@@ -70,10 +71,15 @@ typedef struct {
     iq_t te_min_iq;       /* |torque| from which rho adapts, pu */
     uint16_t n_confirm;   /* speed periods a condition must hold for the warning */
     uint16_t track;       /* 1: r_r^ (and r_s by rho) in use */
+    uint16_t slot;        /* im_sup_step runs in the step whose div_cnt (after its increment in
+                           * im_dtc_speed) is this: 3, two steps after the speed loop's and one after
+                           * Casadei eq. 19's; 0 (the last step of the speed period) for speed_div < 4 */
     /* state */
     iq_t rho_iq;          /* r_r^ / r_r,cfg */
     iq_t psir_cm_iq;      /* the current model's |phi_r|, pu */
     iq_t slip_err_iq;     /* last measured - model slip, pu (telemetry, tests) */
+    uint16_t due;         /* 1: a speed period's values wait for im_sup_step */
+    uint16_t compared;    /* 1: the encoder plausibility compared in that speed period */
     uint16_t adapting;    /* 1: rho adapted in the last speed period */
     uint16_t n_bad;       /* consecutive speed periods with a condition */
     uint16_t cause;       /* bit 0: rho beyond 1/5, bit 1: |phi_r| differ beyond 1/8 (last period) */

@@ -34,5 +34,6 @@ void im_sup_init(im_dtc_t *c, const dtc_config_t *cfg)
     }
     s->n_confirm = n;
     s->track = cfg->u.im.ref.rr_track;
+    s->slot = cfg->speed.speed_div > 3U ? 3U : 0U;
     s->rho_iq = IQ(1.0);
 }
