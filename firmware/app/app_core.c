@@ -515,6 +515,14 @@ static uint16_t core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
             return 1U;
         }
         law_step(&a->law, &a->st.meas, &a->st.out);
+        if (a->st.out.speed_tick != 0U) {
+            /* the laws' warnings change at the speed-loop rate */
+            const uint16_t w = law_warnings(&a->law);
+            if (w != 0U && a->st.warnings == 0U) {
+                a->st.warn_tick = a->st.tick;
+            }
+            a->st.warnings |= w;
+        }
         if (check_sensors(a) != 0U) {
             return 1U;
         }

@@ -106,6 +106,9 @@ typedef struct {
     dtc_out_t out;        /* last controller output (valid in RUN) */
     uint16_t reconfigured; /* enum hal_relay: the phase moved onto the mid-point after a leg
                             * failure (the drive runs as an FSTP since), 0 = none */
+    uint16_t warnings;    /* bit APP_WARN_<id> (app_warn.h): the law raised that warning at least
+                           * once since app_core_init (latched; the drive runs on) */
+    uint32_t warn_tick;   /* tick at which the first warning was raised (warnings != 0) */
 } app_status_t;
 
 typedef struct app_core {

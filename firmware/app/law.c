@@ -3,6 +3,7 @@
 #include <stddef.h>
 
 #include "dsvm.h"
+#include "app_warn.h"
 #include "flux_est.h"
 #include "hal.h"
 #include "svm.h"
@@ -139,6 +140,18 @@ uint16_t law_i_pred(const law_t *l, iq_t vdc_iq, iq_t i1[3])
     (void)l;
     (void)vdc_iq;
     (void)i1;
+    return 0U;
+}
+
+uint16_t law_warnings(const law_t *l)
+{
+#if DTC_LAW_IM_LINKED
+    if (dtc_law_is_im(l->law) != 0U) {
+        return (uint16_t)(l->u.im.sup.warn != 0U ? 1U << APP_WARN_IM_MODEL_MISMATCH : 0U);
+    }
+#else
+    (void)l;
+#endif
     return 0U;
 }
 

@@ -87,6 +87,9 @@ uint16_t law_i_pred(const law_t *l, iq_t vdc_iq, iq_t i1[3]);
  * the same filter and *tol_iq the largest credible difference (pu electrical speed); 0 where the
  * law compares nothing (PM laws, sensorless, off, other steps). */
 uint16_t law_enc_plaus(const law_t *l, iq_t *err_iq, iq_t *tol_iq);
+/* The warnings the law raises now (bits APP_WARN_<id>, app_warn.h): the IM laws' model supervision
+ * (im_sup.h: APP_WARN_IM_MODEL_MISMATCH); 0 for the PM laws. */
+uint16_t law_warnings(const law_t *l);
 /* The check of a post-fault configuration for law_reconfigure (the PM law's check). */
 int16_t law_check_reconfig(const dtc_config_t *post);
 /* The speed reference in force (the app's stall check). */

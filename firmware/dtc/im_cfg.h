@@ -72,6 +72,10 @@ typedef struct {
      * derives it from the slip at the torque limit and the speed period's delay at the largest
      * acceleration. 0 = off; >= 0. */
     iq_t enc_plaus_iq;
+    /* The rotor resistance tracked on line (im_sup.h, encoder and encoder plausibility): 1 = the
+     * slip of Casadei eq. 16 uses the tracked r_r and the estimator's r_s follows it by the same
+     * ratio; 0 = tracked and reported only. 0 or 1. */
+    uint16_t rr_track;
 } dtc_im_ref_cfg_t;
 
 /* Stator-flux vector control (DTC_LAW_IM_SFVC, Casadei sections 10.3-10.5). The SVM carrier
@@ -172,6 +176,8 @@ typedef struct {
       "start-up rotor-flux model's gain per period, T_s / tau_r")                                             \
     X(248, u.im.ref.enc_plaus_iq, IQ, W, 0, DTC_I32_MAX, DTC_ERR_SPEED, DTC_PARAM_RO,                         \
       "encoder plausibility: largest credible sensorless - encoder speed difference (Casadei eqs. 16, 22); 0 = off") \
+    X(249, u.im.ref.rr_track, U16, NONE, 0, 1, DTC_ERR_SPEED, DTC_PARAM_RO,                                  \
+      "1: the slip uses the rotor resistance tracked on line and r_s follows it (im_sup.h)")                 \
     X(250, u.im.svm_mode, U16, NONE, 0, 1, DTC_ERR_SVM, 0U, "SFVC, DFOC: 0 symmetric SVM, 1 two-phase")      \
     X(251, u.im.sfvc.kp_iq, IQ, PU, 0, DTC_I32_MAX, DTC_ERR_SVM, 0U,                                          \
       "SFVC flux-regulator gain K_p of Casadei eq. 24 over w_b, in (0, 1/T_s]")                               \

@@ -75,6 +75,7 @@ void im_dtc_reset(im_dtc_t *c)
     c->foc_id_int_iq = 0;
     c->foc_iq_int_iq = 0;
     c->i_limited = 0U;
+    im_sup_reset(c);
 }
 
 int16_t im_dtc_shadow_write(im_dtc_t *c, const dtc_refs_t *r)
@@ -167,12 +168,20 @@ void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
                 im_dtc_enc_plaus(c, te);
             }
         }
+        c->sup.due = 1U;
+        c->sup.compared = c->plaus_on;
         c->ref_due = 1U;
         if (c->act.mode == DTC_MODE_SPEED && c->magnetised != 0U) {
             c->te_cmd_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
         }
     }
     c->div_cnt = (uint16_t)(c->div_cnt + 1U >= cfg->speed.speed_div ? 0U : c->div_cnt + 1U);
+    if (c->sup.due != 0U && c->div_cnt == c->sup.slot) {
+        /* the model's supervision, once per speed period, in a step that carries neither the
+         * speed loop nor Casadei eq. 19 (im_sup.h) */
+        c->sup.due = 0U;
+        im_sup_step(c);
+    }
     if (c->act.mode == DTC_MODE_TORQUE) {
         /* the torque reference with the mean-torque trim (as the PM law), once torque is allowed.
          * Not with flux weakening: there T_command is scaled by Casadei eq. 33 and the torque is at the

@@ -88,6 +88,7 @@
 #include "im_est.h"
 #include "im_fw.h"
 #include "im_ref.h"
+#include "im_sup.h"
 #include "law_io.h"
 #include "speed_meas.h"
 #include "speed_pi.h"
@@ -174,6 +175,7 @@ typedef struct {
     iq_t ip_a_iq;         /* a = Ts / (sigma l_s) */
     iq_t ip_b_iq;         /* b = (Ts/tau_r) / (sigma l_s), Ts/tau_r = Ts r_r / l_r */
     iq_t ip_g_iq;         /* g = a r_s + b (m^2/l_r + sigma l_s) */
+    im_sup_t sup;         /* the model's supervision and the on-line r_r (im_sup.h) */
 } im_dtc_t;
 
 /* The IM laws' configuration check (im_dtc_check.c): the common part, then one of the laws

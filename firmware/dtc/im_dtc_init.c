@@ -79,6 +79,7 @@ int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg)
                                             : iq_mpy(cfg->u.im.machine.inv_ks_iq, cfg->speed.flux_ref_iq),
                                         4U);
     c->cfg = cfg;
+    im_sup_init(c, cfg);
 
     dtc_refs_start(&c->act, &c->sh, &r, cfg);
     c->te_cmd_iq = 0;

@@ -22,6 +22,13 @@ void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o);
 void im_dtc_enc_plaus(im_dtc_t *c, iq_t te);
 void im_dtc_refs(im_dtc_t *c);
 uint16_t im_dtc_select(im_dtc_t *c, iq_t te, dtc_out_t *o);
+/* The model's supervision (im_sup.h): its parameters from cfg (im_sup_init.c, init only; after
+ * sfvc_kslip_iq), its state back to the start with the tracked r_r kept (im_dtc_reset), and its
+ * step once per speed period on that period's speed and encoder plausibility, in the step
+ * sup.slot (im_dtc_speed). */
+void im_sup_init(im_dtc_t *c, const dtc_config_t *cfg);
+void im_sup_reset(im_dtc_t *c);
+void im_sup_step(im_dtc_t *c);
 
 /* Internal to im_sfvc_step, out of line for the stack. */
 void im_sfvc_estimate(im_dtc_t *c, const dtc_meas_t *m);

@@ -271,6 +271,12 @@ int plant_set_relay(plant_t *plant, int phase);
  * at once. Returns 0, or -1 unless vdc_v is finite and > 0. */
 int plant_set_source_voltage(plant_t *plant, double vdc_v);
 
+/* The machine's winding resistances from now on (a winding that warms or cools during a run):
+ * rs_ohm (both machines) and rr_ohm (the induction machine's rotor; ignored for the PM machine),
+ * the other parameters and the state (currents, rotor flux, speed) kept. Returns 0, or -1 unless
+ * both are finite and > 0. */
+int plant_set_resistances(plant_t *plant, double rs_ohm, double rr_ohm);
+
 /* Reset of the gate drivers' desaturation latch (the gates may be commanded again). */
 void plant_clear_desat(plant_t *plant);
 

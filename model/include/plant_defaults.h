@@ -64,6 +64,7 @@
                                                * Casadei Table 4, for the constant-switching-
                                                * frequency drive (T1PR 6000) */
 #define PLANT_DEF_PWM_CLOCK_HZ 75e6           /* F2812 HSPCLK, Timer 1 clock of the PWM form (hal.h) */
+#define PLANT_DEF_CU_TEMPCO_PER_K 0.0039     /* copper's resistance temperature coefficient, 0.39 %/K */
 #define PLANT_DEF_IM_MAGN_FRAC 0.9            /* start-up: torque allowed at 90 % of the rotor flux */
 /* Sensing and protection sized for the 300 % torque current (about 2.5x rated, 48 A peak):
  * +-100 A Hall sensors, 0..500 V divider, firmware trip at 55 A (below 3x rated = 57.6 A), the

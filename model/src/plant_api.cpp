@@ -326,6 +326,16 @@ int plant_set_source_voltage(plant_t *plant, double vdc_v) {
     return 0;
 }
 
+int plant_set_resistances(plant_t *plant, double rs_ohm, double rr_ohm) {
+    if (!plant || !std::isfinite(rs_ohm) || rs_ohm <= 0.0 || !std::isfinite(rr_ohm) || rr_ohm <= 0.0) return -1;
+    plant->p.rs_ohm = rs_ohm;
+    if (plant->p.machine == PLANT_MACHINE_IM) plant->p.rr_ohm = rr_ohm;
+    Machines::make(plant->p, plant->machine);  // the machine's constants only: its state lives in y
+    std::visit([&](const auto &m) { plant->r_ph = m.circuit_resistance(); }, plant->machine);
+    rebuild_legs(plant);
+    return 0;
+}
+
 void plant_clear_desat(plant_t *plant) {
     plant->desat_mask = 0;
     plant->desat_t = -1.0;

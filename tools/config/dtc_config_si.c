@@ -71,6 +71,7 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->table_speed_rpm = 0.0;
     si->speed_filter_s = 0.005;
     si->magn_frac = PLANT_DEF_IM_MAGN_FRAC;
+    si->rr_track = 0;
     si->flux_weakening = 0;
     si->fw_window = 20;
     si->fw_step_frac = 0.005;

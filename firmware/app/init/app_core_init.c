@@ -36,6 +36,8 @@ int16_t app_core_init(app_core_t *a, const dtc_config_t *cfg)
     a->st.fault = APP_FAULT_NONE;
     a->st.fault_detail = 0;
     a->st.reconfigured = 0U;
+    a->st.warnings = 0U;
+    a->st.warn_tick = 0U;
     a->ident_request = 0U;
     a->ident.step = (uint16_t)APP_IDENT_IDLE;
     rc = law_init(&a->law, cfg);

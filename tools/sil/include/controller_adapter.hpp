@@ -55,6 +55,10 @@ public:
     /// hal_relay: 1..3 = A..C), 0 = none, -1 = the controller has no such status (called after
     /// the last step, harness active).
     virtual int reconfigured() const { return -1; }
+    /// The names of the warnings the controller raised during the run (firmware/app/app_warn.h),
+    /// empty when none, and the time of the first (-1: none); after the last step, harness active.
+    virtual std::vector<std::string> warnings() const { return {}; }
+    virtual double warning_time_s() const { return -1.0; }
     /// True if the controller produces torque/flux estimates at all (open loop does not).
     virtual bool has_estimates() const = 0;
     /// ISR recording (dtc-sil run --record-isr, docs/pil.md): only the firmware runs an ISR.

@@ -134,6 +134,9 @@ struct MotorCfg {
     double lm_h = ImDefaults{}.lm_h;
     double rated_current_a = PLANT_DEF_PM_RATED_CURRENT_A;
     double rated_speed_rpm = PLANT_DEF_PM_RATED_SPEED_RPM;
+    // The windings' temperature rise over the run, linear from 0 at t = 0 to this at duration_s:
+    // R_s and R_r (im) times 1 + 0.39 %/K * rise(t) (copper, PLANT_DEF_CU_TEMPCO_PER_K); 0 = none.
+    double temp_rise_k = 0.0;
 };
 
 struct InverterCfg {
@@ -210,6 +213,7 @@ struct ControlCfg {
     double observer_tau_lo_rpm = 0.0;    // |speed| up to which observer_tau_s applies
     double observer_tau_hi_rpm = 0.0;    // |speed| from which observer_tau_high_s applies
     double magnetise_frac = PLANT_DEF_IM_MAGN_FRAC; // start-up: torque allowed at this rotor-flux fraction
+    bool rr_tracking = false;            // IM, encoder: the tracked rotor resistance in use (im_sup.h)
     double table_speed_rpm = 0.0;        // speed-dependent table: ST-D below, ST-A above; 0 = derived
     // Stator-flux vector control (scheme sfvc, Casadei secs. 10.3-10.5).
     double carrier_hz = PLANT_DEF_IM_CARRIER_HZ; // SVM carrier; the control period ts_s = 1 / carrier_hz

@@ -138,6 +138,8 @@ struct RunInfo {
     // the speed's response after the fault (speed mode; NaN = not defined, see docs/sil.md).
     double injected_fault_time_s = -1.0;
     std::string reconfigured;
+    std::vector<std::string> warnings; // the firmware's warnings raised in the run (app_warn.h names)
+    double warning_time_s = -1.0;      // when the first was raised (-1: none)
     double speed_dip_rpm = -1.0;  // largest drop after the fault below the speed at the fault (capped at
                                   // control.speed_ref_rpm); -1: n/a
     double recovery_s = -1.0;     // fault until the speed is back within 1 % of the reference for

@@ -14,6 +14,7 @@
 extern "C" {
 #include "app.h"
 #include "app_proto.h"
+#include "app_warn.h"
 #include "dtc_config_si.h"
 #include "pil_format.h"
 }
@@ -107,6 +108,7 @@ public:
         dtc_bases_from_si(&si, &bases_);
         te_scale_ = bases_.t_base_nm / kIqOne;
         psi_scale_ = bases_.psi_base_wb / kIqOne;
+        ts_s_ = si.ts_s;
         hal_init(); // board bring-up, as main() does on the DSP before the ISR is enabled
         const int16_t init_rc = app_init(&cfg_);
         if (init_rc != 0) {
@@ -219,6 +221,22 @@ public:
         refresh();
         return static_cast<int>(st_.reconfigured);
     }
+    std::vector<std::string> warnings() const override
+    {
+        refresh();
+        std::vector<std::string> w;
+        for (std::uint16_t b = 0; b < APP_WARN_COUNT_; ++b) {
+            if ((st_.warnings >> b) & 1u) {
+                w.emplace_back(app_warn_name(b));
+            }
+        }
+        return w;
+    }
+    double warning_time_s() const override
+    {
+        refresh();
+        return st_.warnings != 0u ? static_cast<double>(st_.warn_tick) * ts_s_ : -1.0;
+    }
     bool has_estimates() const override { return true; }
 
     std::string serve(double ts_s) override
@@ -280,6 +298,7 @@ private:
     bool serving_ = false; // dtc-sil serve: the background loop runs the serial protocol
     double te_scale_ = 0.0;  // N*m per IQ count: t_base / 2^24 (a power-of-two scale: exact)
     double psi_scale_ = 0.0; // Wb per IQ count
+    double ts_s_ = 0.0;      // control period, s (the ticks' time)
 };
 
 } // namespace

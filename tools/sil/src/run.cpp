@@ -603,6 +603,8 @@ bool run_once(const Scenario& sc, std::unique_ptr<Controller> ctrl, const RunOpt
     res->info.isr_count = done;
     res->info.fault = ctrl->fault();
     res->info.fault_detail = ctrl->fault_detail();
+    res->info.warnings = ctrl->warnings();
+    res->info.warning_time_s = ctrl->warning_time_s();
     res->info.invalid_commands = h->invalid_writes();
     res->info.hw_trip = h->trip_latched();
     res->info.traced = writing && opt.write_trace;

@@ -65,6 +65,14 @@ void RunEvents::before_sample(hal_host::Harness& h)
                        load_stepped_ && sc.load.step_time_s > 0.0 ? sc.load.step_torque_nm : sc.load.torque_nm);
         dyno_ramp_ = t_end < sc.load.speed_ramp_start_s + sc.load.speed_ramp_s;
     }
+    if (sc.motor.temp_rise_k != 0.0 && h.time_s() + 0.5 * sc.ts_s >= temp_next_t_) {
+        // motor.temp_rise_k: the windings' rise at the middle of the coming millisecond (copper)
+        const double dt = 1e-3;
+        const double rise = sc.motor.temp_rise_k * std::min(1.0, (h.time_s() + 0.5 * dt) / sc.duration_s);
+        const double k = 1.0 + PLANT_DEF_CU_TEMPCO_PER_K * rise;
+        (void)plant_set_resistances(h.plant(), sc.motor.rs_ohm * k, sc.motor.rr_ohm * k);
+        temp_next_t_ = h.time_s() + dt;
+    }
     if (faults_pending_ && h.time_s() + 0.5 * sc.ts_s >= sc.faults.time_s) {
         inject_faults(sc, h);
         faults_pending_ = false;

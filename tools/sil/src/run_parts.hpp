@@ -45,6 +45,7 @@ private:
     bool legs_;
     bool ever_enabled_ = false, prev_enabled_ = false;
     double trip_t_ = -1.0, hw_trip_t_ = -1.0;
+    double temp_next_t_ = 0.0;  // motor.temp_rise_k: when the resistances are next updated
 };
 
 /// The metrics window's samples (Series, sized once: no allocation in the loop) and trace.csv's rows.

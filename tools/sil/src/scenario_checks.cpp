@@ -85,7 +85,7 @@ void check_law_keys(const Scenario& s, Diagnostics* d)
         "control.dsvm_torque_band2_nm",
         "control.speed_sensor", "control.flux_weakening", "control.rotor_flux_ref_wb",
         "control.observer_tau_s", "control.observer_tau_high_s", "control.observer_tau_lo_rpm",
-        "control.observer_tau_hi_rpm", "control.magnetise_frac", "control.table_speed_rpm",
+        "control.observer_tau_hi_rpm", "control.magnetise_frac", "control.table_speed_rpm", "control.rr_tracking",
         "firmware.rr_ohm", "firmware.lls_h", "firmware.llr_h", "firmware.lm_h"};
     static const std::vector<std::string> pm_law = {"firmware.ls_h", "firmware.psi_m_wb", "control.handover_rpm",
                                                     "control.handover_hyst_frac", "control.delay_comp"};

@@ -153,6 +153,12 @@ const std::vector<Spec>& schema()
         num("motor.llr_h", "H", nonneg(), "im: rotor leakage inductance, stator-referred (same source)",
             ACC(motor.llr_h)),
         num("motor.lm_h", "H", positive(), "im: magnetising inductance (same source)", ACC(motor.lm_h)),
+        num("motor.temp_rise_k", "K", Range{-100.0, 300.0, false, false},
+            "the windings' temperature rise over the run, linear from 0 at t = 0 to this value at duration_s: the "
+            "plant's motor.rs_ohm and (im) motor.rr_ohm are multiplied by 1 + 0.0039/K * rise(t) (copper, 0.39 %/K; "
+            "both windings at one temperature), updated every millisecond; the firmware keeps its configured "
+            "values (firmware.*); 0 = resistances constant",
+            ACC(motor.temp_rise_k)),
         // ---- inverter ----
         choice<Topology>("inverter.topology",
                "ideal = alpha/beta voltage source (open loop only); sstp = six switches; fstp = four switches, "
@@ -308,6 +314,13 @@ const std::vector<Spec>& schema()
             "motor.rated_current_a) and until the rotor flux has reached this fraction of its reference, "
             "tau_r ln(1/(1 - frac)) more",
             ACC(control.magnetise_frac)),
+        boolean("control.rr_tracking",
+                 "IM with the encoder and control.fault_detect: the firmware's rotor resistance tracked on line (the "
+                 "improved estimator's rotor-flux speed less the encoder's is the measured slip, Casadei eq. 16's "
+                 "the model's: MRAS, firmware/dtc/im_sup.h) is used in the slip (sensorless speed, SFVC) and the "
+                 "stator resistance of the estimator follows it by the same ratio (one winding temperature); "
+                 "false: tracked and reported (warning im_model_mismatch) only",
+                 ACC(control.rr_tracking)),
         num("control.table_speed_rpm", "rpm", nonneg(),
             "IM speed-dependent table: ST-D below, ST-A above; 0 = derived (half the speed where the back-EMF "
             "reaches V_dc/sqrt(3))",

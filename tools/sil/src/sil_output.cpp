@@ -485,6 +485,8 @@ nlohmann::json metrics_json(const Scenario& sc, const Metrics& m, const RunInfo&
     j["hw_trip"] = info.hw_trip;
     j["injected_fault_time_s"] = info.injected_fault_time_s >= 0.0 ? json(info.injected_fault_time_s) : json(nullptr);
     j["reconfigured"] = info.reconfigured.empty() ? json(nullptr) : json(info.reconfigured);
+    j["warnings"] = info.warnings;
+    j["warning_time_s"] = info.warning_time_s >= 0.0 ? json(info.warning_time_s) : json(nullptr);
     j["speed_dip_rpm"] = info.speed_dip_rpm >= 0.0 ? json(info.speed_dip_rpm) : json(nullptr);
     j["recovery_s"] = info.recovery_s >= 0.0 ? json(info.recovery_s) : json(nullptr);
     j["invalid_commands"] = info.invalid_commands;

@@ -1,0 +1,95 @@
+/* im_sup.c - the IM model's supervision and the on-line r_r (im_sup.h), once per speed period. */
+#include "im_dtc_internal.h"
+
+#define IM_SUP_RHO_MIN IQ(0.5)
+#define IM_SUP_RHO_MAX IQ(2.0)
+#define IM_SUP_RHO_TOL IQ(0.2)     /* |rho - 1| beyond which r_r is reported off */
+#define IM_SUP_D_MAX IQ(0.25)      /* |q - 1| within which rho adapts */
+
+void im_sup_reset(im_dtc_t *c)
+{
+    im_sup_t *s = &c->sup;
+    s->psir_cm_iq = 0;
+    s->slip_err_iq = 0;
+    s->due = 0U;
+    s->compared = 0U;
+    s->adapting = 0U;
+    s->n_bad = 0U;
+    s->cause = 0U;
+    s->warn = 0U;
+}
+
+/* The tracked r_r in use (u.im.ref.rr_track): the slip of the sensorless speed and of the SFVC,
+ * and the estimator's r_s by the same ratio (im_sup.h). Rounded IQ products. */
+static void im_sup_apply(im_dtc_t *c)
+{
+    const im_sup_t *s = &c->sup;
+    c->isp_p.rr_iq = iq_mpy(s->rho_iq, s->rr_cfg_iq);
+    c->sfvc_kslip_iq = iq_mpy(s->rho_iq, s->kslip_cfg_iq);
+    c->est_p.rs_iq = iq_mpy(s->rho_iq, s->rs_cfg_iq);
+}
+
+/* rho's adaptation on a speed period the encoder plausibility compared (im_dtc_enc_plaus: w_psi and
+ * the encoder's speed through one filter, te_filt through it too; they hold until the next speed
+ * period). q = |phi_r,cm|^2 / phi_r*^2
+ * (IQ, inv_psir_sq the configuration's 1/phi_r*^2), 1/q ~ 1 - d + d^2. Returns nothing; sets
+ * s->adapting. */
+static void im_sup_adapt(im_dtc_t *c, const dtc_config_t *cfg)
+{
+    im_sup_t *s = &c->sup;
+    const iq_t te = c->isp.te_filt_iq;
+    const iq_t q = iq_mpy(iq_mpy(s->psir_cm_iq, s->psir_cm_iq), cfg->u.im.ref.inv_psir_sq_iq);
+    const iq_t d = iq_sub(q, IQ(1.0));
+    iq_t inv_q, slip_hat, e, step;
+
+    s->adapting = 0U;
+    if (fix_abs32(d) > IM_SUP_D_MAX || fix_abs32(te) < s->te_min_iq || fix_abs32(c->speed_iq) < s->w_min_iq) {
+        return;
+    }
+    inv_q = iq_add(iq_sub(IQ(1.0), d), iq_mpy(d, d));
+    /* Casadei eq. 16 with r_r^ and the current model's flux */
+    slip_hat = iq_mpy(im_ref_slip(iq_mpy(s->rho_iq, s->rr_cfg_iq), te, cfg->u.im.ref.inv_psir_sq_iq), inv_q);
+    e = iq_sub(fix_sub32(c->isp.w_psi_iq, c->enc_filt_iq), slip_hat);
+    s->slip_err_iq = e;
+    step = iq_mpy(s->k_rho_iq, e);
+    s->rho_iq = te >= 0 ? iq_add(s->rho_iq, step) : iq_sub(s->rho_iq, step);
+    s->rho_iq = s->rho_iq < IM_SUP_RHO_MIN ? IM_SUP_RHO_MIN : (s->rho_iq > IM_SUP_RHO_MAX ? IM_SUP_RHO_MAX : s->rho_iq);
+    s->adapting = 1U;
+}
+
+void im_sup_step(im_dtc_t *c)
+{
+    const dtc_config_t *cfg = c->cfg;
+    im_sup_t *s = &c->sup;
+    uint16_t cause = 0U;
+    /* the current model, Casadei eqs. A7, A9 in the rotor-flux frame (im_sup.h) */
+    const iq_t i_d = iq_add(iq_mpy(c->i.i_alpha_iq, c->est.u_alpha_iq), iq_mpy(c->i.i_beta_iq, c->est.u_beta_iq));
+    s->psir_cm_iq = iq_add(s->psir_cm_iq,
+                           q31_mul(s->k_cm_q31, iq_sub(iq_mpy(cfg->u.im.machine.m_iq, i_d), s->psir_cm_iq)));
+    if (c->magnetised == 0U) {
+        return;
+    }
+    if (s->compared != 0U) {
+        im_sup_adapt(c, cfg);
+        if (s->adapting != 0U && s->track != 0U) {
+            im_sup_apply(c);
+        }
+    }
+    if (fix_abs32(iq_sub(s->rho_iq, IQ(1.0))) > IM_SUP_RHO_TOL) {
+        cause |= 1U;
+    }
+    /* the two rotor-flux magnitudes (improved estimator, Casadei eqs. 20-21; current model) differ
+     * by more than 1/8 of the estimator's */
+    if (fix_abs32(iq_sub(s->psir_cm_iq, c->est.psir_mag_iq)) > fix_rshift_rnd32(c->est.psir_mag_iq, 3U)) {
+        cause |= 2U;
+    }
+    s->cause = cause;
+    if (cause == 0U) {
+        s->n_bad = 0U;
+        s->warn = 0U;
+    } else if (s->n_bad < s->n_confirm) {
+        ++s->n_bad;
+    } else {
+        s->warn = 1U;
+    }
+}
