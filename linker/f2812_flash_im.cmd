@@ -47,10 +47,12 @@ SECTIONS
                     /* hot:ramfuncs begin (hal/f2812/hot_functions.py --write) */
                     *(.text:_app_core_step)
                     *(.text:_app_fault_open_phase)
-                    *(.text:_app_fault_stall)
-                    *(.text:_app_plaus_step)
+                    *(.text:_im_dfoc_regulate)
                     *(.text:_im_dsvm_select)
+                    *(.text:_im_dtc_refs)
+                    *(.text:_im_dtc_select)
                     *(.text:_im_est_flux)
+                    *(.text:_speed_pi_step)
                     *(.text:_svm_step)
                     /* hot:ramfuncs end */
                     -l=libdtc_firmware.a (.econst)
@@ -101,6 +103,8 @@ SECTIONS
                     *(.text:_im_sfvc_estimate)
                     *(.text:_im_speed_lpf)
                     *(.text:_im_speed_step)
+                    *(.text:_im_sup_step)
+                    *(.text:_iq_cmul_1jx)
                     *(.text:_iq_mag)
                     *(.text:_iq_mpy)
                     *(.text:_law_enc_plaus)
@@ -109,6 +113,7 @@ SECTIONS
                     *(.text:_law_pwm)
                     *(.text:_law_speed_ref)
                     *(.text:_law_step)
+                    *(.text:_law_warnings)
                     *(.text:_speed_meas_step)
                     *(.text:_svm_leg_dt)
                     *(.text:_svm_recip)
@@ -129,9 +134,8 @@ SECTIONS
 
     ramfuncs_m : {
                     /* hot:ramfuncs_m begin (hal/f2812/hot_functions.py --write) */
-                    *(.text:_im_dtc_select)
+                    *(.text:_app_plaus_step)
                     *(.text:_im_dtc_speed)
-                    *(.text:_iq_cmul_1jx)
                     /* hot:ramfuncs_m end */
                 }
                 LOAD = FLASH_JC,

@@ -21,6 +21,7 @@ const dtc_config_t g_dtc_config = {
     .board.enc_counts = 8000U, /* #14 */
     .board.enc_gain_q16 = 1073742U, /* #15 */
     .board.enc_offset = 0U, /* #16 = 0 rad */
+    .board.enc_reversed = 0U, /* #27 */
     .board.adc_i_gain_iq = 42677, /* #17 0.00254374743 = 0.04884 A/count */
     .board.adc_i_offset[0] = 2048U, /* #18 */
     .board.adc_i_offset[1] = 2048U, /* #19 */
@@ -96,6 +97,7 @@ const dtc_config_t g_dtc_config = {
     .u.im.ref.magn_ramp_iq = 3214, /* #246 0.000191569328 = 0.000189643 Wb */
     .u.im.ref.magn_k_q31 = 841316, /* #247 0.000391768292 */
     .u.im.ref.enc_plaus_iq = 3489612, /* #248 0.207997084 = 65.3442 rad/s */
+    .u.im.ref.rr_track = 0U, /* #249 */
     .u.im.svm_mode = 0U, /* #250 */
     .u.im.sfvc.kp_iq = 0, /* #251 0 = 0 pu */
     .u.im.dfoc.kp_iq = 0, /* #255 0 = 0 ohm */
