@@ -18,16 +18,20 @@ void vcomp_init(vcomp_params_t *p, uint16_t mode, iq_t v_f_iq, iq_t v_ce_iq, iq_
 /* vcomp.h: the leg drop averaged over a period of linear current. */
 iq_t vcomp_leg_drop_lin(uint16_t state, iq_t i0_iq, iq_t i1_iq, iq_t v_ce_iq, iq_t v_d_iq)
 {
-    const iq_t dp = vcomp_leg_drop(state, 0, v_ce_iq, v_d_iq);  /* drop for i >= 0 */
-    const iq_t dm = vcomp_leg_drop(state, -1, v_ce_iq, v_d_iq); /* drop for i < 0 */
-    const int64_t d = (int64_t)i1_iq - (int64_t)i0_iq;
-    const int64_t step = d + d;          /* 8 x the change over a quarter period */
-    int64_t pt = (int64_t)i0_iq * 8 + d; /* 8 x the current at 1/8 of the period */
+    iq_t dp, dm;
+    int64_t d, step, pt;
     int32_t sum = 0;
     uint16_t j;
-    if (i0_iq == i1_iq) {
-        return i0_iq >= 0 ? dp : dm;
+    if ((i0_iq >= 0) == (i1_iq >= 0)) {
+        /* no zero crossing inside the period: the four points' polarities are i0's (the mean of
+         * four equal drops is that drop, exactly) */
+        return vcomp_leg_drop(state, i0_iq, v_ce_iq, v_d_iq);
     }
+    dp = vcomp_leg_drop(state, 0, v_ce_iq, v_d_iq);  /* drop for i >= 0 */
+    dm = vcomp_leg_drop(state, -1, v_ce_iq, v_d_iq); /* drop for i < 0 */
+    d = (int64_t)i1_iq - (int64_t)i0_iq;
+    step = d + d;                /* 8 x the change over a quarter period */
+    pt = (int64_t)i0_iq * 8 + d; /* 8 x the current at 1/8 of the period */
     for (j = 0U; j < 4U; j++) {
         sum = fix_add32(sum, pt >= 0 ? dp : dm);
         pt += step;

@@ -77,7 +77,9 @@ static inline iq_t vcomp_leg_drop(uint16_t state, iq_t i_iq, iq_t v_ce_iq, iq_t 
  * with it (V_CE to -V_d or V_d to -V_CE); one polarity for the whole period leaves up to
  * (V_CE + V_d)/2 of error on that period, on legs B and C only in the FSTP (phase A has no
  * device), a negative-sequence voltage error that the voltage model integrates into the flux. The
- * four points leave at most (V_CE + V_d)/8. i0 == i1 gives vcomp_leg_drop's value.
+ * four points leave at most (V_CE + V_d)/8. Currents of one sign at both ends (i0 == i1 among them)
+ * give vcomp_leg_drop's value at once, without the points: only a period with a zero crossing
+ * pays for them.
  * Formats: currents and drops IQ pu. The points are formed times 8 in 64 bits by additions
  * (|8 i0| + 7 |i1 - i0| < 2^37, no overflow); the mean is a saturating sum of four drops
  * (|drop| <= max(V_CE, V_d)) shifted right by 2 with rounding (exact when the four polarities
