@@ -83,7 +83,7 @@ int16_t app_reconfigure(const dtc_config_t *cfg);
 void app_get_status(app_status_t *s);
 
 /* Background: new references / speed-PI gains through the controller's shadow set
- * (dtc_shadow_write). Returns 0 or an enum dtc_err code (nothing published then). */
+ * (law_shadow_write). Returns 0 or an enum dtc_err code (nothing published then). */
 int16_t app_set_refs(const dtc_refs_t *r);
 
 /* Background: identify the machine (app_ident.h) at the end of the start-up calibration instead of

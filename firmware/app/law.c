@@ -87,13 +87,13 @@ int16_t law_shadow_write(law_t *l, const dtc_refs_t *r)
 {
     switch (l->law) {
 #if DTC_LAW_PM_LINKED
-    case DTC_LAW_PM_DTC: return dtc_shadow_write(&l->u.pm, r);
+    case DTC_LAW_PM_DTC: return dtc_shadow_publish(&l->u.pm.sh, r);
 #endif
 #if DTC_LAW_IM_LINKED
-    DTC_LAW_IM_CASES: return im_dtc_shadow_write(&l->u.im, r);
+    DTC_LAW_IM_CASES: return dtc_shadow_publish(&l->u.im.sh, r);
 #endif
 #if DTC_LAW_ITC_LINKED
-    case DTC_LAW_PM_ITC: return itc_shadow_write(&l->u.itc, r);
+    case DTC_LAW_PM_ITC: return dtc_shadow_publish(&l->u.itc.sh, r);
 #endif
     default: (void)r; return DTC_ERR_VARIANT;
     }
@@ -103,13 +103,13 @@ void law_refs_get(const law_t *l, dtc_refs_t *r)
 {
     switch (l->law) {
 #if DTC_LAW_PM_LINKED
-    case DTC_LAW_PM_DTC: dtc_refs_get(&l->u.pm, r); break;
+    case DTC_LAW_PM_DTC: *r = l->u.pm.act; break;
 #endif
 #if DTC_LAW_IM_LINKED
-    DTC_LAW_IM_CASES: im_dtc_refs_get(&l->u.im, r); break;
+    DTC_LAW_IM_CASES: *r = l->u.im.act; break;
 #endif
 #if DTC_LAW_ITC_LINKED
-    case DTC_LAW_PM_ITC: itc_refs_get(&l->u.itc, r); break;
+    case DTC_LAW_PM_ITC: *r = l->u.itc.act; break;
 #endif
     default: (void)r; break;
     }

@@ -12,8 +12,9 @@
  *   DTC_LAW_PM_ITC   PM indirect torque control (Hoang Figs. 5-8 (a))     firmware/dtc/itc.h
  *
  * Every law has the same shape: a check of its configuration part (error codes naming the field),
- * init, reset, step, shadow write, refs get, and the form of its command (enum law_out_form),
- * fixed by the law; law.c dispatches each call with one switch on the law law_init accepted
+ * init, reset, step, and the form of its command (enum law_out_form), fixed by the law; each
+ * keeps its reference set in force `act` and its shadow set `sh` (dtc_refs.h), which
+ * law_shadow_write and law_refs_get reach; law.c dispatches each call with one switch on the law law_init accepted
  * (DESIGN.md section 4: at most a switch in the ISR path, no function pointers there). The laws share the
  * measurement and output structs (law_io.h) and the reference set (dtc_refs.h). Their states share storage (a union): only the configured one is used. Only
  * the laws linked into the image (firmware/CMakeLists.txt DTC_LAWS: DTC_LAW_PM_LINKED,

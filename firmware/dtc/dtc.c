@@ -67,16 +67,6 @@ void dtc_reset(dtc_t *c)
     dtc_reset_ilim_pol(c);
 }
 
-int16_t dtc_shadow_write(dtc_t *c, const dtc_refs_t *r)
-{
-    return dtc_shadow_publish(&c->sh, r);
-}
-
-void dtc_refs_get(const dtc_t *c, dtc_refs_t *r)
-{
-    *r = c->act;
-}
-
 /* Copies the shadow set (complete: the caller checked the sequence number) and adopts it.
  * External linkage on purpose: a static function called once is inlined, and its copy of the
  * set would then sit in dtc_step's frame on the deepest stack path. */
@@ -416,11 +406,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
 
     /* 5. Speed loop every speed_div-th call (the first call of each group). */
     o->speed_tick = 0U;
-    if (c->speed_primed == 0U) {
-        speed_meas_reset(&c->sm, m->enc_count);
-        c->speed_primed = 1U;
-        c->div_cnt = 0U;
-    } else if (c->div_cnt == 0U) {
+    if (speed_loop_due(&c->sm, &c->speed_primed, &c->div_cnt, m->enc_count) != 0U) {
         o->speed_tick = 1U;
         c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
         c->wts_iq = iq_mpy(c->speed_iq, cfg->board.ts_pu_iq); /* dtc_predict's rotation per period */
@@ -430,7 +416,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
             c->te_ref_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
         }
     }
-    c->div_cnt = (uint16_t)(c->div_cnt + 1U >= cfg->speed.speed_div ? 0U : c->div_cnt + 1U);
+    speed_loop_advance(&c->div_cnt, cfg->speed.speed_div);
     if (c->act.mode == DTC_MODE_TORQUE) {
         dtc_torque_trim(c, te);
     }

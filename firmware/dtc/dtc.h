@@ -16,7 +16,7 @@
  * dtc_init() must outlive the controller (it is typically const data in flash).
  *
  * Shadow set: the background loop changes references and speed-PI gains with
- * dtc_shadow_write(); dtc_step() adopts a complete set atomically at its top (dtc_refs.h: the
+ * law_shadow_write() into the shadow set `sh`; dtc_step() adopts a complete set atomically at its top (dtc_refs.h: the
  * sequence lock every law shares).
  */
 #ifndef DTC_H
@@ -128,12 +128,5 @@ static inline iq_t dtc_out_flux_mag(const dtc_out_t *o)
 {
     return torque_flux_mag(o->psi_alpha_iq, o->psi_beta_iq);
 }
-
-/* Background: publish a new parameter set. Returns DTC_OK, or DTC_ERR_REFERENCE / DTC_ERR_PI /
- * DTC_ERR_VARIANT for a set that would be refused (nothing is published then). */
-int16_t dtc_shadow_write(dtc_t *c, const dtc_refs_t *r);
-
-/* The set in force (for the background's display). */
-void dtc_refs_get(const dtc_t *c, dtc_refs_t *r);
 
 #endif /* DTC_H */

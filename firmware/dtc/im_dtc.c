@@ -78,16 +78,6 @@ void im_dtc_reset(im_dtc_t *c)
     im_sup_reset(c);
 }
 
-int16_t im_dtc_shadow_write(im_dtc_t *c, const dtc_refs_t *r)
-{
-    return dtc_shadow_publish(&c->sh, r);
-}
-
-void im_dtc_refs_get(const im_dtc_t *c, dtc_refs_t *r)
-{
-    *r = c->act;
-}
-
 /* Copies the shadow set and adopts it. External linkage on purpose (dtc.c dtc_shadow_adopt):
  * inlined, the copy would sit in im_dtc_step's frame. */
 void im_dtc_adopt(im_dtc_t *c, uint16_t seq)
@@ -153,11 +143,7 @@ void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
 
     o->speed_tick = 0U;
     c->plaus_on = 0U;
-    if (c->speed_primed == 0U) {
-        speed_meas_reset(&c->sm, m->enc_count);
-        c->speed_primed = 1U;
-        c->div_cnt = 0U;
-    } else if (c->div_cnt == 0U) {
+    if (speed_loop_due(&c->sm, &c->speed_primed, &c->div_cnt, m->enc_count) != 0U) {
         o->speed_tick = 1U;
         if (cfg->speed.sensor == DTC_SPEED_NONE) {
             im_speed_step(&c->isp, &c->isp_p, c->est.theta_r, te, cfg->u.im.ref.inv_psir_sq_iq);
@@ -175,7 +161,7 @@ void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
             c->te_cmd_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
         }
     }
-    c->div_cnt = (uint16_t)(c->div_cnt + 1U >= cfg->speed.speed_div ? 0U : c->div_cnt + 1U);
+    speed_loop_advance(&c->div_cnt, cfg->speed.speed_div);
     if (c->sup.due != 0U && c->div_cnt == c->sup.slot) {
         /* the model's supervision, once per speed period, in a step that carries neither the
          * speed loop nor Casadei eq. 19 (im_sup.h) */

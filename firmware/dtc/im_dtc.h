@@ -190,10 +190,6 @@ int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg);
 void im_dtc_reset(im_dtc_t *c);
 /* One control period (dtc_out_t as the PM law; theta_e is the rotor-flux angle, Casadei eq. 22). */
 void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
-/* Background: publish a new reference set (dtc_refs.h). */
-int16_t im_dtc_shadow_write(im_dtc_t *c, const dtc_refs_t *r);
-/* The set in force. */
-void im_dtc_refs_get(const im_dtc_t *c, dtc_refs_t *r);
 
 /* The phase currents (IQ pu, phases a, b, c) predicted for the next sample, after a step, from
  * the voltage committed for the coming period (the legs returned by the previous step with the

@@ -115,16 +115,6 @@ static void itc_shadow_adopt(itc_t *c, uint16_t seq)
     itc_adopt(c, &r);
 }
 
-int16_t itc_shadow_write(itc_t *c, const dtc_refs_t *r)
-{
-    return dtc_shadow_publish(&c->sh, r);
-}
-
-void itc_refs_get(const itc_t *c, dtc_refs_t *r)
-{
-    *r = c->act;
-}
-
 /* Drop compensation of a PWM period (vcomp.h) with the effective duties d of the legs: each leg
  * spends d of the period in state 1 and 1 - d in state 0, and the compensation is a sum of
  * per-leg terms (minus the Clarke transform of the leg drops, Hoang eqs. 31-34), so its period
@@ -177,11 +167,7 @@ static void itc_speed(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
 {
     const dtc_config_t *cfg = c->cfg;
     o->speed_tick = 0U;
-    if (c->speed_primed == 0U) {
-        speed_meas_reset(&c->sm, m->enc_count);
-        c->speed_primed = 1U;
-        c->div_cnt = 0U;
-    } else if (c->div_cnt == 0U) {
+    if (speed_loop_due(&c->sm, &c->speed_primed, &c->div_cnt, m->enc_count) != 0U) {
         o->speed_tick = 1U;
         c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
         /* the speed's products of the step (itc_step): w l_s, w psi_m, 1.5 w Ts */
@@ -198,7 +184,7 @@ static void itc_speed(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
             c->te_ref_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
         }
     }
-    c->div_cnt = (uint16_t)(c->div_cnt + 1U >= cfg->speed.speed_div ? 0U : c->div_cnt + 1U);
+    speed_loop_advance(&c->div_cnt, cfg->speed.speed_div);
     if (c->act.mode == DTC_MODE_TORQUE) {
         c->te_ref_iq = c->act.torque_ref_iq;
     }

@@ -46,7 +46,7 @@
  * tools/config (law_pm_itc_si.c) derives them from the machine and the board.
  *
  * Ownership and shadow set as dtc.h: the caller owns itc_t; the configuration must outlive it;
- * references and speed-PI gains change through itc_shadow_write (dtc_refs.h).
+ * references and speed-PI gains change through the shadow set `sh` (dtc_refs.h, law_shadow_write).
  *
  * Formats: IQ pu (dtc_base.h); angles angle_t.
  * Scaling and overflow: see the blocks (clarke.h, park.h, dqpi.h, svm.h, svm4.h, flux_est.h);
@@ -132,8 +132,6 @@ int16_t itc_init(itc_t *c, const dtc_config_t *cfg);
 void itc_reset(itc_t *c);
 /* One control period: the duties (o->duty_iq, law_io.h LAW_OUT_DUTY) for the next period. */
 void itc_step(itc_t *c, const dtc_meas_t *m, dtc_out_t *o);
-int16_t itc_shadow_write(itc_t *c, const dtc_refs_t *r);
-void itc_refs_get(const itc_t *c, dtc_refs_t *r);
 
 /* The phase currents predicted for the next sample, for the application's current-sensor
  * plausibility (law.h law_i_pred; the law itself does not use them). The PM machine of Hoang

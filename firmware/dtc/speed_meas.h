@@ -61,4 +61,29 @@ void speed_meas_reset(speed_meas_t *s, uint16_t count_now);
 /* One speed period: returns the new speed estimate (also in s->speed_iq). */
 iq_t speed_meas_step(speed_meas_t *s, uint16_t count_now);
 
+/* The speed loop's divider, shared by every law: the loop runs in the first step of each group of
+ * speed_div steps. speed_loop_due() is called once per step before the law's speed work: it returns
+ * 1 in a speed-loop step (*div_cnt == 0) and 0 otherwise; the very first step after a reset
+ * (*primed == 0) takes count_now as the encoder reference and returns 0. The law's reset clears
+ * *primed and *div_cnt together, so *div_cnt != 0 (nine steps of ten) answers at once.
+ * speed_loop_advance() is called once per step after it and counts *div_cnt modulo speed_div
+ * (speed_div >= 1, checked at init). Inline: the 50 us path pays for no call. */
+static inline uint16_t speed_loop_due(speed_meas_t *s, uint16_t *primed, uint16_t *div_cnt, uint16_t count_now)
+{
+    if (*div_cnt != 0U) {
+        return 0U;
+    }
+    if (*primed == 0U) {
+        speed_meas_reset(s, count_now);
+        *primed = 1U;
+        return 0U;
+    }
+    return 1U;
+}
+
+static inline void speed_loop_advance(uint16_t *div_cnt, uint16_t speed_div)
+{
+    *div_cnt = (uint16_t)(*div_cnt + 1U >= speed_div ? 0U : *div_cnt + 1U);
+}
+
 #endif /* SPEED_MEAS_H */

@@ -325,9 +325,9 @@ static void test_handover_up_and_down(void **state)
     for (int k = 0; k < 40000; k++) {
         if (k == 20000) {
             dtc_refs_t r;
-            dtc_refs_get(&c, &r);
+            r = c.act;
             r.speed_ref_iq = fixtest_d_to_iq(200.0 / rpm_per_pu);
-            assert_int_equal(dtc_shadow_write(&c, &r), DTC_OK);
+            assert_int_equal(dtc_shadow_publish(&c.sh, &r), DTC_OK);
         }
         const double pa = s.m.psi_a, pb = s.m.psi_b; /* the flux the step measures */
         sim_period(&s, &c, &o);
@@ -473,13 +473,13 @@ static void test_shadow_set_and_modes(void **state)
     sim_period(&s, &c, &o);
     fixtest_assert_lsb(fixtest_iq_to_d(o.te_ref_iq), 0.2, 1.0 / 16777216.0, 0.5, "initial ref");
 
-    dtc_refs_get(&c, &r);
+    r = c.act;
     r.torque_ref_iq = IQ(0.35);
     r.flux_ref_iq = IQ(0.40);
-    assert_int_equal(dtc_shadow_write(&c, &r), DTC_OK);
+    assert_int_equal(dtc_shadow_publish(&c.sh, &r), DTC_OK);
     sim_period(&s, &c, &o); /* adopted at the top of the next step */
     fixtest_assert_lsb(fixtest_iq_to_d(o.te_ref_iq), 0.35, 1.0 / 16777216.0, 0.5, "adopted");
-    dtc_refs_get(&c, &got);
+    got = c.act;
     assert_int_equal(got.flux_ref_iq, IQ(0.40));
 
     /* a write interrupted half-way (sequence odd) is not adopted */
@@ -489,29 +489,29 @@ static void test_shadow_set_and_modes(void **state)
     fixtest_assert_lsb(fixtest_iq_to_d(o.te_ref_iq), 0.35, 1.0 / 16777216.0, 0.5, "not half");
     c.sh.seq = (uint16_t)(c.sh.seq + 1U); /* the writer completes */
     sim_period(&s, &c, &o);
-    dtc_refs_get(&c, &got);
+    got = c.act;
     assert_int_equal(got.torque_ref_iq, IQ(-0.1));
 
     /* references beyond the limits are clamped on adoption; invalid sets are refused */
     r.torque_ref_iq = IQ(5.0);
-    assert_int_equal(dtc_shadow_write(&c, &r), DTC_OK);
+    assert_int_equal(dtc_shadow_publish(&c.sh, &r), DTC_OK);
     sim_period(&s, &c, &o);
     assert_int_equal(o.te_ref_iq, s.cfg.speed.torque_limit_iq);
     r.flux_ref_iq = 0;
-    assert_int_equal(dtc_shadow_write(&c, &r), DTC_ERR_REFERENCE);
+    assert_int_equal(dtc_shadow_publish(&c.sh, &r), DTC_ERR_REFERENCE);
     r.flux_ref_iq = IQ(0.4);
     r.kp_iq = -1;
-    assert_int_equal(dtc_shadow_write(&c, &r), DTC_ERR_PI);
+    assert_int_equal(dtc_shadow_publish(&c.sh, &r), DTC_ERR_PI);
     r.kp_iq = 0;
     r.mode = 7U;
-    assert_int_equal(dtc_shadow_write(&c, &r), DTC_ERR_VARIANT);
+    assert_int_equal(dtc_shadow_publish(&c.sh, &r), DTC_ERR_VARIANT);
 
     /* torque -> speed mode is bumpless: the PI integrator starts at the torque in force */
     r.mode = DTC_MODE_SPEED;
     r.torque_ref_iq = IQ(0.25);
     r.kp_iq = 0;
     r.ki_ts_iq = 0;
-    assert_int_equal(dtc_shadow_write(&c, &r), DTC_OK);
+    assert_int_equal(dtc_shadow_publish(&c.sh, &r), DTC_OK);
     iq_t before = o.te_ref_iq;
     for (int k = 0; k < 20; k++) {
         sim_period(&s, &c, &o);
