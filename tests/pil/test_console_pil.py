@@ -1,9 +1,11 @@
 #!/usr/bin/python3
 """The console against the emulated target (docs/pil.md, docs/operate.md): one scripted console
-session on qemu-system-arm's mps2-an385 UART (the cross-cm0 console image pil_cm_console.elf) and
-the same session against the host build of the same image (pil-console-host, its line a
-pseudo-terminal at the protocol's baud rate in simulated time). Both must give the same answers,
-and each answer must be the right one:
+session on an emulator's UART and the same session against the host build of the same image
+(pil-console-host, its line a pseudo-terminal at the protocol's baud rate in simulated time). The
+emulator is qemu-system-arm's mps2-an385 (its CMSDK UART0; the cross-cm0 console image
+pil_cm_console.elf) or, with --simavr, simavr's ATmega2560 (its USART0 bridged to a
+pseudo-terminal by pil-simavr --console; the cross-avr console image pil_avr_console.elf). Both
+must give the same answers, and each answer must be the right one:
 
   hello            the protocol and firmware versions, the parameter table's hash, the bases;
   params           every row's description and value;
@@ -22,9 +24,16 @@ and each answer must be the right one:
                    fault log keeps it.
 
 Ticks (the ISR count when a request arrives) and the line counters depend on when the host's
-octets arrive and are left out of the comparison; everything else is compared exactly.
+octets arrive and are left out of the comparison. So is HELLO's capture_buf_words32: the capture
+buffer's depth is the board's (the AVR's is smaller, pil_console_avr.c); each target must report
+its own and the console sizes the capture by it. Everything else is compared exactly.
+
+On simavr the session must also run on the part itself: no octet may arrive while the
+ATmega2560's receive buffer is full (pil-simavr's "would overrun" count), and its RAM line
+(static data and stack peak) is printed.
 
 Usage: test_console_pil.py PIL_CONSOLE_HOST PIL_CM_CONSOLE_ELF WORKDIR
+       test_console_pil.py PIL_CONSOLE_HOST PIL_AVR_CONSOLE_ELF WORKDIR --simavr PIL_SIMAVR
 """
 
 import csv
@@ -42,6 +51,9 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import console_session  # noqa: E402
 from console_session import exit_code, stop, wait_state  # noqa: E402
 from dtc_drive import Drive, encode, CMD  # noqa: E402
+# HELLO's capture depth (int32 words) of each console image: the F2812 board's on the host and the
+# Cortex-M (capture.h), the AVR console image's (target/pil/CMakeLists.txt).
+CAPTURE_WORDS32 = {"host": 512, "qemu": 512, "simavr": int(os.environ.get("PIL_AVR_CAPTURE_WORDS32", "128"))}
 # qemu -icount shift=0: one instruction per ns of virtual time, so the 50 us SysTick period is
 # 50,000 instructions of which the ISR takes about 8,000 (docs/pil.md) and the background loop
 # gets the rest, whatever the host's speed.
@@ -66,9 +78,11 @@ def session(t, port, work):
     A = {}
     with Drive(port, timeout_s=2.0) as d:
         h = d.hello()
-        A["hello"] = h
+        A["hello"] = {k: v for k, v in h.items() if k != "capture_buf_words32"}
         check(t, h["proto_version"] == 1 and h["isr_period_ns"] == 50000 and h["law"] == 0,
               "hello: protocol 1, 50 us, PM DTC (%s)" % h)
+        check(t, h["capture_buf_words32"] == CAPTURE_WORDS32[t],
+              "hello: the board's capture depth, %d int32 words" % h["capture_buf_words32"])
         s = wait_state(d, "ready")
         A["status_ready"] = timeless(s)
         check(t, not s["armed"] and s["fault"] == "none" and abs(s["vdc_v"] - h["v_base_v"]) < 0.05,
@@ -193,6 +207,30 @@ def run_qemu(elf, work):
     return p, pts
 
 
+def run_simavr(simavr, elf, work):
+    link = os.path.join(work, "link")
+    log = open(os.path.join(work, "simavr.log"), "w+", encoding="utf-8")
+    # the ATmega2560 with 32 KB of external SRAM (target/pil/pil_console_avr.c)
+    p = subprocess.Popen([simavr, "--console", elf, link, "--ram-end", "7fff"], stdout=log, stderr=subprocess.STDOUT,
+                         cwd=work)
+    for _ in range(300):
+        if os.path.exists(link):
+            break
+        time.sleep(0.02)
+    return p, link
+
+
+def simavr_report(work):
+    """pil-simavr's lines at exit (RAM, ISR cycles, line counts), printed; the would-overrun count."""
+    with open(os.path.join(work, "simavr.log"), encoding="utf-8") as f:
+        text = f.read()
+    for line in text.splitlines():
+        if line.startswith(("ram:", "isr:", "line:", "simulated:")):
+            print("[simavr] " + line, flush=True)
+    m = re.search(r"(\d+) would overrun", text)
+    return int(m.group(1)) if m else None
+
+
 def diff(a, b, path=""):
     """The first places where a and b differ."""
     if type(a) is not type(b):
@@ -214,12 +252,19 @@ def diff(a, b, path=""):
 
 def main():
     host_bin, elf, work = sys.argv[1:4]
+    simavr = sys.argv[5] if len(sys.argv) == 6 and sys.argv[4] == "--simavr" else None
+    emulator = "simavr" if simavr else "qemu"
     shutil.rmtree(work, ignore_errors=True)
     answers = {}
-    for target in ("host", "qemu"):
+    for target in ("host", emulator):
         w = os.path.join(work, target)
         os.makedirs(w)
-        p, port = run_host(host_bin, w) if target == "host" else run_qemu(elf, w)
+        if target == "host":
+            p, port = run_host(host_bin, w)
+        elif target == "simavr":
+            p, port = run_simavr(simavr, elf, w)
+        else:
+            p, port = run_qemu(elf, w)
         # held open for the whole session, raw: qemu's pseudo-terminal stays connected between the
         # console's invocations (a closed one drops what the guest sends until it reconnects)
         keep = os.open(port, os.O_RDWR | os.O_NOCTTY)
@@ -233,9 +278,12 @@ def main():
             stop(p, signal.SIGTERM)
         with open(os.path.join(w, "answers.json"), "w", encoding="utf-8") as f:
             json.dump(answers[target], f, indent=1)
-    d = diff(answers["host"], answers["qemu"])
-    check("host = qemu", not d, "the same answers from qemu's UART as from the host build (%d steps)%s" %
-          (len(answers["host"]), "" if not d else ": " + "; ".join(d[:8])))
+        if target == "simavr":
+            overruns = simavr_report(w)
+            check(target, overruns == 0, "no octet arrived while the part's receive buffer was full (%s)" % overruns)
+    d = diff(answers["host"], answers[emulator])
+    check("host = %s" % emulator, not d, "the same answers from %s's UART as from the host build (%d steps)%s" %
+          (emulator, len(answers["host"]), "" if not d else ": " + "; ".join(d[:8])))
     return exit_code()
 
 

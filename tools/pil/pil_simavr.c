@@ -1,21 +1,26 @@
 /*
- * pil_simavr.c - pil-simavr: runs the AVR replay image (target/pil/pil_avr_main.c, cross-avr
- * preset) in simavr, linked as a library (libsimavr), and streams an ISR recording through it
- * (docs/pil.md).
+ * pil_simavr.c - pil-simavr: runs an AVR image of processor-in-the-loop (docs/pil.md) in simavr,
+ * linked as a library (libsimavr).
  *
  *   pil-simavr IMAGE.elf RECORDING OUTPUT [CYCLES]
+ *   pil-simavr --console IMAGE.elf LINK [--cycles FILE] [--ram-end ADDR]
  *
- * The image reads the recording byte by byte from GPIOR1 and writes output records to GPIOR0;
- * this program serves and collects those bytes in the I/O callbacks, so there is no UART timing
- * and no limit from the AVR's memory. With CYCLES, it writes simavr's cycle count of every
- * app_isr() call (between the image's ISR_BEGIN and ISR_END markers) as u32 little-endian.
+ * Replay (the first form): the replay image (target/pil/pil_avr_main.c, cross-avr preset) streams
+ * an ISR recording. The image reads the recording byte by byte from GPIOR1 and writes output
+ * records to GPIOR0; this program serves and collects those bytes in the I/O callbacks, so there
+ * is no UART timing and no limit from the AVR's memory. With CYCLES, it writes simavr's cycle
+ * count of every app_isr() call (between the image's ISR_BEGIN and ISR_END markers) as u32
+ * little-endian.
+ *
+ * Console (--console, pil_simavr_console.c): the console image (target/pil/pil_console_avr.c)
+ * with USART0 on a pseudo-terminal linked at LINK, until SIGINT or SIGTERM.
  *
  * RAM: before the run, the RAM between the end of the image's static data (symbol _end) and RAMEND
  * is painted with PIL_SIMAVR_PAINT; after it, the lowest byte the stack changed gives the peak
  * stack depth, printed with the static size ("ram: ..." on stdout; docs/pil.md).
  *
- * Exit 0 when the image ran every ISR; 1 usage or file error; 2 the image reported an error or
- * stopped early.
+ * Exit 0 when the image ran every ISR (console: when it was stopped by a signal); 1 usage or file
+ * error; 2 the image reported an error or stopped early.
  */
 #include <stdint.h>
 #include <stdio.h>
@@ -27,6 +32,7 @@
 #include <sim_io.h>
 
 #include "pil_avr_channel.h"
+#include "pil_simavr.h"
 
 static uint8_t *g_in;
 static size_t g_in_len, g_in_pos;
@@ -104,8 +110,7 @@ const char *__lsan_default_suppressions(void)
     return "leak:libsimavr.so\n";
 }
 
-/* Everything simavr allocated (the sanitizer build's leak check runs this program). */
-static void release(avr_t *avr, elf_firmware_t *fw)
+void pil_simavr_release(avr_t *avr, elf_firmware_t *fw)
 {
     uint32_t i;
     avr_terminate(avr);
@@ -118,7 +123,47 @@ static void release(avr_t *avr, elf_firmware_t *fw)
     free(fw->eeprom);
     free(fw->fuse);
     free(fw->lockbits);
-    free(g_in);
+}
+
+avr_t *pil_simavr_load(const char *path, elf_firmware_t *fw, uint16_t ramend, uint16_t *end)
+{
+    avr_t *avr;
+    memset(fw, 0, sizeof *fw);
+    if (elf_read_firmware(path, fw) != 0) {
+        fprintf(stderr, "pil-simavr: %s: not a readable AVR ELF image\n", path);
+        return NULL;
+    }
+    avr = avr_make_mcu_by_name("atmega2560");
+    if (avr == NULL) {
+        fprintf(stderr, "pil-simavr: simavr has no atmega2560 core\n");
+        return NULL;
+    }
+    if (ramend != 0u) {
+        avr->ramend = ramend; /* a probe image linked for more RAM than the part has */
+    }
+    avr_init(avr);
+    avr->frequency = 16000000u;
+    avr->log = 0;
+    fw->frequency = 16000000u;
+    avr_load_firmware(avr, fw);
+    *end = static_end(fw);
+    if (*end != 0u && *end <= avr->ramend) {
+        memset(avr->data + *end, (int)PIL_SIMAVR_PAINT, (size_t)(avr->ramend - *end + 1u));
+    }
+    return avr;
+}
+
+void pil_simavr_ram_report(const avr_t *avr, uint16_t end)
+{
+    if (end != 0u && end <= avr->ramend) {
+        uint32_t low = end;
+        while (low <= avr->ramend && avr->data[low] == PIL_SIMAVR_PAINT) {
+            ++low;
+        }
+        printf("ram: static %u bytes (0x200..0x%04x), stack peak %u bytes, never used %u of %u bytes\n",
+               (unsigned)(end - 0x200u), (unsigned)end, (unsigned)(avr->ramend + 1u - low),
+               (unsigned)(low - end), (unsigned)(avr->ramend + 1u - 0x200u));
+    }
 }
 
 int main(int argc, char **argv)
@@ -130,6 +175,9 @@ int main(int argc, char **argv)
     int state;
     uint16_t end;
 
+    if (argc >= 2 && strcmp(argv[1], "--console") == 0) {
+        return pil_simavr_console(argc - 1, argv + 1);
+    }
     if (argc != 4 && argc != 5) {
         fprintf(stderr, "usage: pil-simavr IMAGE.elf RECORDING OUTPUT [CYCLES]\n");
         return 1;
@@ -159,24 +207,9 @@ int main(int argc, char **argv)
             return 1;
         }
     }
-    memset(&fw, 0, sizeof fw);
-    if (elf_read_firmware(argv[1], &fw) != 0) {
-        fprintf(stderr, "pil-simavr: %s: not a readable AVR ELF image\n", argv[1]);
-        return 1;
-    }
-    avr = avr_make_mcu_by_name("atmega2560");
+    avr = pil_simavr_load(argv[1], &fw, 0u, &end);
     if (avr == NULL) {
-        fprintf(stderr, "pil-simavr: simavr has no atmega2560 core\n");
         return 1;
-    }
-    avr_init(avr);
-    avr->frequency = 16000000u;
-    avr->log = 0;
-    fw.frequency = 16000000u;
-    avr_load_firmware(avr, &fw);
-    end = static_end(&fw);
-    if (end != 0u && end <= avr->ramend) {
-        memset(avr->data + end, (int)PIL_SIMAVR_PAINT, (size_t)(avr->ramend - end + 1u));
     }
     avr_register_io_read(avr, PIL_AVR_ADDR_IN, on_read, NULL);
     avr_register_io_write(avr, PIL_AVR_ADDR_OUT, on_write, NULL);
@@ -184,16 +217,9 @@ int main(int argc, char **argv)
     do {
         state = avr_run(avr);
     } while (state != cpu_Done && state != cpu_Crashed);
-    if (end != 0u && end <= avr->ramend) {
-        uint32_t low = end;
-        while (low <= avr->ramend && avr->data[low] == PIL_SIMAVR_PAINT) {
-            ++low;
-        }
-        printf("ram: static %u bytes (0x200..0x%04x), stack peak %u bytes, never used %u of %u bytes\n",
-               (unsigned)(end - 0x200u), (unsigned)end, (unsigned)(avr->ramend + 1u - low),
-               (unsigned)(low - end), (unsigned)(avr->ramend + 1u - 0x200u));
-    }
-    release(avr, &fw);
+    pil_simavr_ram_report(avr, end);
+    pil_simavr_release(avr, &fw);
+    free(g_in);
     if (fclose(g_out) != 0 || (g_cyc != NULL && fclose(g_cyc) != 0)) {
         fprintf(stderr, "pil-simavr: write failed\n");
         return 1;
