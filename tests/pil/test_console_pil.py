@@ -17,6 +17,8 @@ must give the same answers, and each answer must be the right one:
   garbage          garbage, a bad CRC and a truncated frame before a request: it is answered, the
                    CRC errors are counted, nothing trips;
   capture          a capture at once: consecutive ticks, the DC link and the current as measured;
+                   one deeper than the board's buffer refused by the console with the depth
+                   HELLO reported;
   identify         on a bench without a machine the identification stops with open_phase, the
                    console exits 1 naming it, the drive is READY again;
   armed trip       armed on a bench without a machine the current-sensor check trips: the fault
@@ -53,7 +55,7 @@ from console_session import exit_code, stop, wait_state  # noqa: E402
 from dtc_drive import Drive, encode, CMD  # noqa: E402
 # HELLO's capture depth (int32 words) of each console image: the F2812 board's on the host and the
 # Cortex-M (capture.h), the AVR console image's (target/pil/CMakeLists.txt).
-CAPTURE_WORDS32 = {"host": 512, "qemu": 512, "simavr": int(os.environ.get("PIL_AVR_CAPTURE_WORDS32", "128"))}
+CAPTURE_WORDS32 = {"host": 512, "qemu": 512, "simavr": 128}
 # qemu -icount shift=0: one instruction per ns of virtual time, so the 50 us SysTick period is
 # 50,000 instructions of which the ISR takes about 8,000 (docs/pil.md) and the background loop
 # gets the rest, whatever the host's speed.
@@ -145,6 +147,12 @@ def session(t, port, work):
     check(t, rc == 0 and len(rows) == 32 and all(b - a == 1 for a, b in zip(ticks, ticks[1:])) and
           all(abs(v[0] - A["status_ready"]["vdc_v"]) < 1e-9 and v[1] == 0.0 for v in vals),
           "capture now: 32 consecutive ticks, V_dc and i_a as measured (%s)" % err.strip())
+    # a capture deeper than the board's buffer: the console refuses it naming the depth it read
+    depth = CAPTURE_WORDS32[t]
+    rc, _, err = console(port, "capture", "--channels", "vdc_v,i_a_a,sector", "--samples", str(depth // 3 + 1),
+                         "--trigger", "now", "--out", cap + "_deep")
+    check(t, rc == 1 and ("holds %d" % depth) in err and ("at most %d samples" % (depth // 3)) in err,
+          "capture deeper than the buffer refused with its depth: %s" % err.strip())
     # the identification on a bench without a machine
     rc, _, err = console(port, "identify", "--timeout", "60")
     with Drive(port, timeout_s=2.0) as d:

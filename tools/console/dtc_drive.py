@@ -318,6 +318,13 @@ class Drive:
             tch = channels.index(parts[1])
             base = CHANNEL[parts[1]][1]
             level = int(float(parts[2])) if base is None else self.raw(float(parts[2]), base)
+        if self.info is None:
+            self.hello()
+        depth = self.info["capture_buf_words32"]
+        if samples < 1 or samples * len(channels) > depth:
+            raise DriveError("capture: %d channel(s) x %d samples need %d values; this drive's capture buffer holds %d "
+                             "(HELLO capture_buf_words32): at most %d samples" %
+                             (len(channels), samples, len(channels) * samples, depth, depth // len(channels)))
         qs = [QUANTITY[CHANNEL[c][0]] for c in channels] + [0] * (4 - len(channels))
         self.request(CMD["CAPTURE_SETUP"], struct.pack("<H4HHHHHHi", len(channels), *qs, samples, pre, decim,
                                                         TRIGGER[kind], tch, level))
