@@ -6,15 +6,17 @@
  * drive at standstill (the current channels at their offsets, the DC link at the voltage base,
  * the mid-point at half of it, a still encoder, no trip) and the gate commands go nowhere.
  *
- * The same C runs in two bindings that give the same answers to the same session
+ * The same C runs in three bindings that give the same answers to the same session
  * (tests/pil/test_console_pil.py):
  *   pil_cm_console.elf  cross-cm0, qemu-system-arm -M mps2-an385: the line is the board's CMSDK
  *                       UART0, the ISR SysTick's (pil_console_cm.c);
+ *   pil_avr_console.elf cross-avr, pil-simavr --console: the line is the ATmega2560's USART0, the
+ *                       ISR Timer1's every 4 ms (pil_console_avr.c);
  *   pil-console-host    host: the line is hal/host's SerialLine at PROTO_BAUD in simulated time
  *                       on a pseudo-terminal, the ISR called once per period
  *                       (tools/pil/pil_console_host.cpp).
- * The storage medium is RAM of the F2812 board's EEPROM geometry (hal/f2812/f2812_board.h): a
- * save lasts until the image stops.
+ * The storage medium is RAM of the F2812 board's EEPROM geometry (hal/f2812/f2812_board.h) on the
+ * Cortex-M and the host, where a save lasts until the image stops; the AVR's own EEPROM on the AVR.
  */
 #ifndef PIL_CONSOLE_H
 #define PIL_CONSOLE_H
@@ -39,6 +41,14 @@ void pil_console_background(void);
 
 /* ISR periods so far. */
 uint32_t pil_console_ticks(void);
+
+/* The range checks of the Cortex-M and AVR bindings' EEPROM-like stores of `words` words (hal.h
+ * hal_store_*): pil_console_store_range is 1 when [addr, addr + n) lies in the store;
+ * pil_console_store_erase is hal_store_erase's answer for erase units of `unit` words (a power of
+ * two): HAL_STORE_OK for a range on unit boundaries (an EEPROM rewrites words in place, so there
+ * is nothing to do), else HAL_STORE_ERR_RANGE. */
+uint16_t pil_console_store_range(uint16_t addr, uint16_t n, uint16_t words);
+uint16_t pil_console_store_erase(uint16_t addr, uint16_t n, uint16_t words, uint16_t unit);
 
 #ifdef __cplusplus
 }

@@ -74,15 +74,10 @@ uint16_t hal_serial_write(const uint16_t *buf, uint16_t n)
 uint16_t hal_store_words(void) { return (uint16_t)PIL_CONSOLE_STORE_WORDS; }
 uint16_t hal_store_erase_words(void) { return (uint16_t)PIL_CONSOLE_STORE_ERASE; }
 
-static uint16_t in_range(uint16_t addr, uint16_t n)
-{
-    return (uint16_t)((uint32_t)addr + n <= (uint32_t)PIL_CONSOLE_STORE_WORDS);
-}
-
 uint16_t hal_store_read(uint16_t addr, uint16_t *buf, uint16_t n)
 {
     uint16_t k;
-    if (in_range(addr, n) == 0U) {
+    if (pil_console_store_range(addr, n, PIL_CONSOLE_STORE_WORDS) == 0U) {
         return HAL_STORE_ERR_RANGE;
     }
     for (k = 0U; k < n; k++) {
@@ -94,7 +89,7 @@ uint16_t hal_store_read(uint16_t addr, uint16_t *buf, uint16_t n)
 uint16_t hal_store_write(uint16_t addr, const uint16_t *buf, uint16_t n)
 {
     uint16_t k;
-    if (in_range(addr, n) == 0U) {
+    if (pil_console_store_range(addr, n, PIL_CONSOLE_STORE_WORDS) == 0U) {
         return HAL_STORE_ERR_RANGE;
     }
     for (k = 0U; k < n; k++) {
@@ -105,11 +100,7 @@ uint16_t hal_store_write(uint16_t addr, const uint16_t *buf, uint16_t n)
 
 uint16_t hal_store_erase(uint16_t addr, uint16_t n)
 {
-    if (in_range(addr, n) == 0U || (addr & (PIL_CONSOLE_STORE_ERASE - 1U)) != 0U ||
-        (n & (PIL_CONSOLE_STORE_ERASE - 1U)) != 0U) {
-        return HAL_STORE_ERR_RANGE;
-    }
-    return HAL_STORE_OK; /* an EEPROM: words are rewritten in place */
+    return pil_console_store_erase(addr, n, PIL_CONSOLE_STORE_WORDS, PIL_CONSOLE_STORE_ERASE);
 }
 
 int main(void)

@@ -70,14 +70,11 @@ static void on_marker(avr_t *avr, avr_io_addr_t addr, uint8_t v, void *param)
 {
     (void)addr;
     (void)param;
-    if (v == PIL_AVR_ISR_BEGIN) {
-        g_isr_start = avr->cycle;
-    } else if (v == PIL_AVR_ISR_END) {
-        const uint32_t c = (uint32_t)(avr->cycle - g_isr_start);
-        const uint8_t b[4] = {(uint8_t)c, (uint8_t)(c >> 8), (uint8_t)(c >> 16), (uint8_t)(c >> 24)};
+    const uint64_t c = pil_simavr_isr_cycles(avr, v, &g_isr_start);
+    if (v == PIL_AVR_ISR_END) {
         ++g_isrs;
         if (g_cyc != NULL) {
-            fwrite(b, 1, 4, g_cyc);
+            pil_simavr_put_cycles(g_cyc, (uint32_t)c);
         }
     } else if (v == PIL_AVR_DONE) {
         g_done = 1;
@@ -86,6 +83,22 @@ static void on_marker(avr_t *avr, avr_io_addr_t addr, uint8_t v, void *param)
         g_error_kind = v;
         g_error = -1;
     }
+}
+
+uint64_t pil_simavr_isr_cycles(const avr_t *avr, uint8_t marker, uint64_t *start)
+{
+    if (marker == PIL_AVR_ISR_BEGIN) {
+        *start = avr->cycle;
+    } else if (marker == PIL_AVR_ISR_END) {
+        return avr->cycle - *start;
+    }
+    return 0u;
+}
+
+void pil_simavr_put_cycles(FILE *f, uint32_t c)
+{
+    const uint8_t b[4] = {(uint8_t)c, (uint8_t)(c >> 8), (uint8_t)(c >> 16), (uint8_t)(c >> 24)};
+    fwrite(b, 1, 4, f);
 }
 
 #define PIL_SIMAVR_PAINT 0xA5u

@@ -6,6 +6,7 @@
 #define PIL_SIMAVR_H
 
 #include <stdint.h>
+#include <stdio.h>
 
 #include <sim_avr.h>
 #include <sim_elf.h>
@@ -23,6 +24,13 @@ void pil_simavr_ram_report(const avr_t *avr, uint16_t end);
 
 /* Everything simavr allocated for avr and fw (the sanitizer build's leak check runs this program). */
 void pil_simavr_release(avr_t *avr, elf_firmware_t *fw);
+
+/* The ISR timing of the markers (pil_avr_channel.h): PIL_AVR_ISR_BEGIN keeps simavr's cycle
+ * count in *start and returns 0; PIL_AVR_ISR_END returns the cycles since; any other marker 0. */
+uint64_t pil_simavr_isr_cycles(const avr_t *avr, uint8_t marker, uint64_t *start);
+
+/* One ISR's cycle count c into a CYCLES file: u32 little-endian. */
+void pil_simavr_put_cycles(FILE *f, uint32_t c);
 
 /* pil-simavr --console IMAGE.elf LINK [--cycles FILE] [--ram-end ADDR] (argv[0] is "--console"). */
 int pil_simavr_console(int argc, char **argv);

@@ -140,20 +140,17 @@ static avr_cycle_count_t on_octet_time(avr_t *avr, avr_cycle_count_t when, void 
 
 static void on_marker(avr_t *avr, avr_io_addr_t addr, uint8_t v, void *param)
 {
+    const uint64_t c = pil_simavr_isr_cycles(avr, v, &g_isr_start);
     (void)addr;
     (void)param;
-    if (v == PIL_AVR_ISR_BEGIN) {
-        g_isr_start = avr->cycle;
-    } else if (v == PIL_AVR_ISR_END) {
-        const uint64_t c = avr->cycle - g_isr_start;
+    if (v == PIL_AVR_ISR_END) {
         const uint32_t period = ((uint32_t)avr->data[OCR1A_ADDR + 1u] << 8 | avr->data[OCR1A_ADDR]) + 1u;
         ++g_isrs;
         g_isr_sum += c;
         g_isr_max = c > g_isr_max ? c : g_isr_max;
         g_isr_late += c > period ? 1u : 0u;
         if (g_cyc != NULL) {
-            const uint8_t b[4] = {(uint8_t)c, (uint8_t)(c >> 8), (uint8_t)(c >> 16), (uint8_t)(c >> 24)};
-            fwrite(b, 1, 4, g_cyc);
+            pil_simavr_put_cycles(g_cyc, (uint32_t)c);
         }
     }
 }
@@ -252,7 +249,8 @@ int pil_simavr_console(int argc, char **argv)
     printf("isr: %llu calls, mean %.0f cycles, worst %llu cycles, %llu longer than the period\n",
            (unsigned long long)g_isrs, g_isrs > 0u ? (double)g_isr_sum / (double)g_isrs : 0.0,
            (unsigned long long)g_isr_max, (unsigned long long)g_isr_late);
-    printf("line: %lu octets in, %lu out, %lu would overrun the part's receive buffer\n", g_rx, g_tx, g_overrun);
+    printf("line: %lu octets in, %lu out, %lu would overrun the part's receive buffer; an octet %llu cycles\n", g_rx,
+           g_tx, g_overrun, (unsigned long long)g_uart->cycles_per_byte);
     printf("simulated: %.3f s\n", (double)avr->cycle / (double)avr->frequency);
     fflush(stdout);
     if (state == cpu_Crashed) {
