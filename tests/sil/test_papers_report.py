@@ -17,6 +17,7 @@ import sys
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 sys.path.insert(0, os.path.join(ROOT, "tools", "report"))
 import papers  # noqa: E402
+from hoang_items import BALANCED_PCT as papers_bal  # noqa: E402
 
 # Hoang figures reproduced on the shipped scenarios, each by the paper's statement with a margin.
 # Casadei figures reproduced by this report's checks (each one's margin in tools/report/casadei_items.py).
@@ -43,6 +44,23 @@ def main():
         e = cas.get(item)
         if e is None or e["status"] != "reproduced":
             problems.append("casadei %s: %s (%s)" % (item, e and e["status"], e and e["reason"]))
+    # Hoang Fig. 17 deviates with a measured cause: Table VII's back-EMF under the voltage model. The reason
+    # holds while the SIL's light-load imbalance is the ideal law's (tools/report/hoang_emf.py) on the SSTP
+    # and on the FSTP, and within 10 % once the back-EMF is balanced.
+    f17 = got.get("Fig. 17")
+    if f17 and f17["status"] == "deviates":
+        light = f17["measured"].get("light-load causes (imbalance %, mean over seeds)", {})
+        law = f17["measured"].get("ideal law on Table VII's machine (hoang_emf)", {})
+        for ld in ("inertial", "half"):
+            ideal = (law.get(ld) or {}).get("imbalance_pct")
+            for lab in ("as shipped", "SSTP, compensation [29]"):
+                v = light.get("%s, %s" % (ld, lab))
+                if ideal is None or v is None or not 0.6 * ideal <= v <= 1.15 * ideal:
+                    problems.append("hoang Fig. 17 %s, %s: %s %% not within 0.6..1.15 x the ideal law's %s %%"
+                                    % (ld, lab, v, ideal))
+            v = light.get("%s, balanced back-EMF" % ld)
+            if v is None or v > papers_bal:
+                problems.append("hoang Fig. 17 %s, balanced back-EMF: %s %% (> %.0f %%)" % (ld, v, papers_bal))
     # Hoang Figs. 5-8 (a) run once dtc-sil has the ITC law (hoang_items.itc_sets()); then they are checked too.
     for item, e in got.items():
         if item.endswith("(a)") and e["measured"] and e["status"] != "reproduced":

@@ -9,7 +9,8 @@ numbers) and DIR/status.json: a list with one entry per numbered figure and tabl
 shows a result (CASADEI_ITEMS below, hoang_items.ITEMS), each
 
     {"paper": "casadei"|"hoang", "item": "Fig. 21", "status": "reproduced"|"deviates"|"not applicable",
-     "measured": {...}, "paper_values": {...}, "reason": "...", "figure": "relative/path.png" (optional)}
+     "measured": {...}, "paper_values": {...}, "reason": "...", "figure": "relative/path.png" (optional),
+     "figures": ["relative/path.png", ...] (optional: more figures of the same item)}
 
 The items come from tools/report/hoang_items.py and tools/report/casadei_items.py, each exposing
 items(ctx) -> list[dict] with ctx = Ctx below. The Casadei items that casadei_items.py does not
@@ -239,7 +240,7 @@ def write_html(path, entries, meta):
             h.append("<div class=item id='%s'><div><h3>%s <span class=%s>%s</span></h3>%s<p>%s</p></div><div>%s</div></div>"
                      % (html.escape(paper + e["item"]), html.escape(e["item"]), cls, e["status"],
                         side_by_side(e.get("paper_values") or {}, e.get("measured") or {}), html.escape(e["reason"]),
-                        "<img src='%s'>" % html.escape(e["figure"]) if e.get("figure") else ""))
+                        "".join("<img src='%s'>" % html.escape(f) for f in [e.get("figure")] + e.get("figures", []) if f)))
     h.append("<h2>Outputs of the existing reports</h2><ul>")
     for rel in meta["links"]:
         h.append("<li><a href='%s'>%s</a></li>" % (html.escape(rel), html.escape(rel)))
