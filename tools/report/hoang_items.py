@@ -320,7 +320,10 @@ def items(ctx):
     out.append(entry("Table IX", "reproduced" if ix_ok else "deviates", ours_ix, paper_ix, reason_ix))
 
     # Hoang Table X
-    out.append(table_x(allm))
+    tx = table_x(allm)
+    ctx.progress("hoang: Table X, the uncompensated torque estimate against the device drops (8 runs)")
+    table_x_drops(ctx, sets, tx)
+    out.append(tx)
 
     # Hoang Fig. 11 (SSTP current model) and Fig. 13 (SSTP voltage model without / with compensation)
     m11 = met("sstp_current_full")
@@ -451,9 +454,11 @@ def bare_finding(bare, steps):
         return float("nan") if x is None else x
     delta = {lab: [v(lab, c) - v("bare", c) for c in comps] for lab, _, _ in steps if lab != "bare"}
     what = {lab: w for lab, w, _ in steps}
-    causes = [lab for lab, d in delta.items() if d[1] <= -cause_pts and d[2] <= -cause_pts]
-    not_causes = [lab for lab, d in delta.items() if all(not (x <= -cause_pts) for x in d)]
-    none_min = min(v(lab, "none") for lab, _, _ in steps)
+    trips = {lab: [c for c in comps if bare[c][lab]["imbalance_pct"] is None] for lab in delta}
+    causes = [lab for lab, d in delta.items() if not trips[lab] and d[1] <= -cause_pts and d[2] <= -cause_pts]
+    not_causes = [lab for lab, d in delta.items() if not trips[lab] and all(x > -cause_pts for x in d)]
+    none_vals = [(v(lab, "none"), lab) for lab, _, _ in steps if bare["none"][lab]["imbalance_pct"] is not None]
+    none_min, none_min_lab = min(none_vals)
     hd = "dead_time_0+balanced_emf+half_drops"
     return (
         "Why the bare algorithm (every addition off, stiff link) does worse here than on the paper's rig, measured "
@@ -462,13 +467,16 @@ def bare_finding(bare, steps):
         "causes (no row lowered by %.0f points): %s. The Table VII back-EMF acts through the voltage model "
         "(Fig. 17's reason: the ideal law on Table VII's machine gives the proposed row's size at full load); the "
         "1 us dead time is not in the paper's algorithm (Table VI has the device drops only) and its value on "
-        "the paper's rig is not printed. The uncompensated row's lowest over the switches is %.1f %% against "
-        "the paper's 26.6 %%%s (the paper does not state its dead time, sampling instant or sensor "
-        "bandwidths)." % (
-            "; ".join("%s %s" % (lab, " / ".join("%+.1f" % x for x in d)) for lab, d in delta.items()),
+        "the paper's rig is not printed. A switch that makes a row trip is neither (%s). The uncompensated "
+        "row's lowest over the switches is %.1f %% (%s) against the paper's 26.6 %%%s." % (
+            "; ".join("%s %s" % (lab, " / ".join("trip (%s)" % bare[c][lab]["fault"] if bare[c][lab]["imbalance_pct"]
+                                                 is None else "%+.1f" % x for c, x in zip(comps, d)))
+                      for lab, d in delta.items()),
             cause_pts, ", ".join("%s (%s)" % (lab, what[lab]) for lab in causes) or "none",
             cause_pts, ", ".join("%s (%s)" % (lab, what[lab]) for lab in not_causes) or "none",
-            none_min, ": that remainder is not explained" if none_min > PAPER_IMB["none"] + 5.0 else "")) + (
+            ", ".join("%s: %s" % (lab, "/".join(t)) for lab, t in trips.items() if t) or "none tripped",
+            none_min, none_min_lab, ": that remainder is not explained (the paper does not state its dead time, "
+            "sampling instant or sensor bandwidths)" if none_min > PAPER_IMB["none"] + 5.0 else "")) + (
         " With no dead time, balanced back-EMF and half of Table IV's drops the uncompensated row is %s %% with "
         "the torque estimate %s N*m, against the paper's 0.3345 N*m, which the full drops give (%s N*m): the "
         "paper's imbalance and its torque over-estimate are not both met by one drop size." % (
@@ -744,6 +752,45 @@ def table_x(allm):
                                           "; not for " + ", ".join(k for k in concl if k not in held)
                                           if len(held) < len(concl) else ""))
     return entry("Table X", "reproduced" if ok else "deviates", ours, paper, reason)
+
+
+# The uncompensated voltage model's torque over-estimate (Hoang Table X) against the size of the device drops
+# the estimator leaves out: (label, share of Hoang Table IV's drops, overrides).
+DROP_STEPS = [("ideal devices", 0.0, {"inverter.drops": "false"}),
+              ("half of Table IV", 0.5, {"inverter.v_ce_v": "0.45", "inverter.v_d_v": "0.625", "inverter.r_on_ohm": "0.0375"}),
+              ("Table IV", 1.0, {}),
+              ("Table IV, dead time not compensated", 1.0, {"control.deadtime_comp": "false"})]
+
+
+def table_x_drops(ctx, sets, tx):
+    """Adds to Table X's entry the uncompensated rows' predicted torque under DROP_STEPS, and the share of
+    Table IV's drops at which each row meets the paper's predicted torque (linear between the steps)."""
+    keys = sorted({k for _, _, d in DROP_STEPS for k in d})
+    res, share = {}, {}
+    for topo, paper_t in (("sstp", 0.3296), ("fstp", 0.3345)):
+        stem = "%s_voltage_none_full" % topo
+        base = scenario_values(ctx, stem, keys, sets)
+        rows, _ = zip_sweep(ctx, "tx_drops_" + topo, stem, [dict(base, **d) for _, _, d in DROP_STEPS], sets)
+        res[topo.upper()] = {lab: r(row.get("torque_est_mean_nm"), 4) for (lab, _, _), row in zip(DROP_STEPS, rows)}
+        pts = [(f, row.get("torque_est_mean_nm")) for (lab, f, _), row in zip(DROP_STEPS[:3], rows[:3])]
+        share[topo.upper()] = None
+        for (f0, t0), (f1, t1) in zip(pts, pts[1:]):
+            if t0 is not None and t1 is not None and min(t0, t1) <= paper_t <= max(t0, t1) and t1 != t0:
+                share[topo.upper()] = f0 + (paper_t - t0) / (t1 - t0) * (f1 - f0)
+        if share[topo.upper()] is None and pts[-1][1] is not None and pts[-1][1] < paper_t:
+            share[topo.upper()] = "above 1 (Table IV's drops give %.4f N*m)" % pts[-1][1]
+    tx["measured"]["uncompensated predicted torque against the device drops (N*m)"] = res
+    fmt = lambda v: "%.2f" % v if isinstance(v, float) else str(v)  # noqa: E731
+    tx["reason"] += (
+        " The uncompensated rows' torque over-estimate is the device drops the estimator leaves out (measured: "
+        "SSTP %s N*m, FSTP %s N*m for %s): the paper's SSTP 0.3296 N*m is met at %s of Table IV's drops, its FSTP "
+        "0.3345 N*m at %s, so no one drop size gives both rows; with the dead time left uncompensated the SSTP "
+        "gives %s N*m (the firmware's dead-time handling enters this estimate too, not isolated further; the paper's "
+        "dead time and its compensation are not printed)." % (
+            " / ".join(str(v) for v in list(res["SSTP"].values())[:3]),
+            " / ".join(str(v) for v in list(res["FSTP"].values())[:3]),
+            " / ".join(lab for lab, _, _ in DROP_STEPS[:3]), fmt(share["SSTP"]), fmt(share["FSTP"]),
+            res["SSTP"]["Table IV, dead time not compensated"]))
 
 
 def fig14(ctx, sets):
