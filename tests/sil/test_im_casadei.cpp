@@ -1529,7 +1529,8 @@ TEST(ImCasadei, Figs35And36AtEqualSwitchingFrequencyDfocWithPlacedPolesOvershoot
         std::snprintf(bw, sizeof bw, "control.dfoc_bw_hz=%.10g", t.wc_ts / ts_c / (2.0 * kPi));
         sets.push_back(bw);
         sets.push_back("control.dfoc_zeta=" + std::to_string(t.zeta));
-        const Step35 x = torque_step_100rpm(sets, std::string("fig35_dfoc_eq_") + (t.wc_ts > 0.0 ? bw + 19 : "derived"));
+        const Step35 x = torque_step_100rpm(sets, std::string("fig35_dfoc_eq_") +
+                                                      (t.wc_ts > 0.0 ? bw + 19 : t.zeta > 0.0 ? "placed" : "derived"));
         std::printf("MEASURE Figs35-36 equal f_sw DFOC %s (w_c Ts %.3f): rise %.2f ms, settling %.2f / %.2f ms (0.48 / 2 ms "
                     "average), overshoot %.1f %%, final %.2f N*m, fault %s\n", t.name, t.wc_ts > 0.0 ? t.wc_ts : 0.2,
                     x.fast.rise_ms, x.fast.settle_ms, x.slow.settle_ms, x.fast.overshoot_pct, x.fast.final_nm, x.fault.c_str());

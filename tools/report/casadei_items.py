@@ -558,12 +558,51 @@ def fig25(ctx):
                    "Casadei Fig. 25: speed, torque and line current over 2 s")]
 
 
+def figs35_36_plot(ctx, data):
+    """The torque steps of sil.ImCasadei.Figs35And36AtEqualSwitchingFrequency* (plant torque, raw and on the
+    test's 2 ms average), DTC beside the DFOC's tunings; None when the traces are missing."""
+    runs = [("DTC, zero bands", "fig36_dtc_eq"), ("DFOC, poles at w_c, zeta 0.7", "fig35_dfoc_eq_placed"),
+            ("DFOC, derived (zero on the stator pole)", "fig35_dfoc_eq_derived")]
+    fig, ax = plt.subplots(figsize=(7, 4))
+    drawn = 0
+    for lab, stem in runs:
+        path = os.path.join(data, stem + ".csv")
+        if not os.path.isfile(path):
+            continue
+        x = np.genfromtxt(path, delimiter=",", names=True)
+        ref = x["te_ref_nm"]
+        t = x["t_s"] - x["t_s"][int(np.argmax(ref > 0.5 * ref.max()))]  # 0 at the step of T*
+        dt = float(np.median(np.diff(t)))
+        n = max(1, int(round(2e-3 / dt)))
+        avg = np.convolve(x["te_nm"], np.ones(n) / n, mode="valid")
+        line, = ax.plot(1e3 * t, x["te_nm"], lw=0.4, alpha=0.5)
+        ax.plot(1e3 * t[n - 1:], avg, lw=1.2, color=line.get_color(),
+                label=lab + " (bold: mean over the last 2 ms)")
+        if drawn == 0:
+            ax.plot(1e3 * t, ref, "k--", lw=0.8, label="T*")
+        drawn += 1
+    if not drawn:
+        plt.close(fig)
+        return None
+    ax.set_xlabel("ms after the step of T*")
+    ax.set_ylabel("plant torque, N*m")
+    ax.set_title("Figs. 35-36: torque step at 100 rpm, equal mean switching frequency", fontsize=9)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    png = os.path.join("casadei", "figs35_36.png")
+    fig.savefig(os.path.join(ctx.out_dir, png), dpi=100)
+    plt.close(fig)
+    return png
+
+
 def figs35_36(ctx):
     """Casadei sec. 13.1's criteria on the step of Figs. 35-36 (sil.ImCasadei.Figs35And36*): equal mean
     switching frequency (the DFOC's carrier lowered to 3/2 of the DTC's zero-band frequency at 100 rpm)
     and the DFOC's current PIs at the tunings control.dfoc_bw_hz / control.dfoc_zeta offer."""
     ok0, meas0, _ = _gtest(ctx, "Figs35And36TorqueStepAt100RpmDtcRisesFasterThanDfoc")
-    ok, meas, _ = _gtest(ctx, "Figs35And36AtEqualSwitchingFrequencyDfocWithPlacedPolesOvershootsAndSettlesLater")
+    ok, meas, data = _gtest(ctx, "Figs35And36AtEqualSwitchingFrequencyDfocWithPlacedPolesOvershootsAndSettlesLater")
+    png = figs35_36_plot(ctx, data)
     says = ("torque step at 100 rpm: DTC better in settling time and maximum overshoot; the PI regulators of DFOC delay "
             "it (sec. 13.1: same mean switching frequency; the paper prints no DFOC tuning)")
     eq = re.search(r"equal f_sw: DTC (\d+) Hz \(zero bands\), DFOC (\d+) Hz.*DTC rise ([\d.]+) ms, settling ([\d.]+) / "
@@ -599,7 +638,7 @@ def figs35_36(ctx):
             "spectrum of Fig. 34, +-1.7 N*m) whose excursions leave the 5 % band until 12.7 ms")
     res = []
     for item in ("Fig. 35", "Fig. 36"):
-        e = _entry(item, "reproduced" if reproduced else "deviates", m, says, reason, None,
+        e = _entry(item, "reproduced" if reproduced else "deviates", m, says, reason, png,
                    "Casadei %s: %s torque step response" % (item, "DFOC" if item == "Fig. 35" else "DTC"))
         e["measured"]["tuning"] = note
         res.append(e)
