@@ -355,8 +355,48 @@ def _gtest(ctx, name):
     return ok, meas, data
 
 
+def figs22_24_plot(ctx, data):
+    """Rotor-flux error |phi_r| / phi_r* - 1 of the plant over the runs of sil.ImCasadei.Figs22To24*: R_s 10 %
+    low (Fig. 22), high (Fig. 23), the phase-A offset (Fig. 24), improved estimator beside the basic voltage
+    model, and the run without a mismatch; None when the traces are missing."""
+    ref = _toml(SCN)["control"]["rotor_flux_ref_wb"]
+    def mismatch(name):
+        return [("fig22_%s_improved" % name, "improved (tau 0.01 s)", "-"),
+                ("fig22_%s_voltage" % name, "basic voltage model", "-"),
+                ("fig22_none_improved", "improved, no mismatch", ":")]
+    panels = [("Fig. 22: R_s 10 % low", mismatch("rs_low")), ("Fig. 23: R_s 10 % high", mismatch("rs_high")),
+              ("Fig. 24: 0.25 A phase-A offset after the calibration (five ADC counts), DTC",
+               [("fig22_drift_path_dtc_improved", "improved (tau 0.01 s), offset", "-"),
+                ("fig22_none_path_dtc_improved", "improved, no offset", ":")])]
+    fig, axes = plt.subplots(3, 1, figsize=(7, 8))
+    drawn = 0
+    for ax, (title, stems) in zip(axes, panels):
+        for stem, lab, st in stems:
+            path = os.path.join(data, stem + ".csv")
+            if not os.path.isfile(path):
+                continue
+            x = np.genfromtxt(path, delimiter=",", names=True)
+            err = 100.0 * (np.hypot(x["psi_r_alpha_wb"], x["psi_r_beta_wb"]) / ref - 1.0)
+            ax.plot(x["t_s"] - x["t_s"][0], err, st, lw=0.7, label=lab)
+            drawn += 1
+        ax.set_title(title, fontsize=8)
+        ax.set_ylabel("rotor-flux error, %")
+        ax.set_xlabel("s after the mismatch (rotor at 1 rad/s electrical, rated torque)", fontsize=7)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7)
+    if not drawn:
+        plt.close(fig)
+        return None
+    fig.tight_layout()
+    png = os.path.join("casadei", "figs22_24.png")
+    fig.savefig(os.path.join(ctx.out_dir, png), dpi=100)
+    plt.close(fig)
+    return png
+
+
 def figs22_24(ctx):
-    ok, meas, _ = _gtest(ctx, "Figs22To24ImprovedEstimatorErrorBoundedBasicGrows")
+    ok, meas, data = _gtest(ctx, "Figs22To24ImprovedEstimatorErrorBoundedBasicGrows")
+    png = figs22_24_plot(ctx, data)
     says = ("w = 1 rad/s (electrical: 4.77 rpm here), tau = 0.01 s, rated torque: R_s 10 % low / high: rotor-flux error practically independent "
             "of tau, at the theoretical value; 0.01 A offset: the improved estimator oscillates around the "
             "reference, the basic one grows")
@@ -367,10 +407,12 @@ def figs22_24(ctx):
                           "checked (sil.ImCasadei.Figs22To24ImprovedEstimatorErrorBoundedBasicGrows): the improved "
                           "estimator's mean rotor-flux error moves by eq. 26's steady state for R_s -/+10 % within 2.5 "
                           "points, stays within 15 %, no fault, and the basic voltage model's is more than twice it"
-                          if ok else "sil.ImCasadei.Figs22To24 failed", None,
+                          if ok else "sil.ImCasadei.Figs22To24 failed", png,
                           "Casadei %s: rotor-flux error traces of the improved and the basic estimator" % item))
     f24 = [x for x in meas if x.startswith("Fig24 ")]
     res.append(fig24(ctx, f24, ok))
+    if png:
+        res[-1]["figure"] = png
     return res
 
 
