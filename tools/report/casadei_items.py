@@ -626,16 +626,9 @@ def figs35_36_plot(ctx, data):
     if not drawn:
         plt.close(fig)
         return None
-    ax.set_xlabel("ms after the step of T*")
-    ax.set_ylabel("plant torque, N*m")
-    ax.set_title("Figs. 35-36: torque step at 100 rpm, equal mean switching frequency", fontsize=9)
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    png = os.path.join("casadei", "figs35_36.png")
-    fig.savefig(os.path.join(ctx.out_dir, png), dpi=100)
-    plt.close(fig)
-    return png
+    from figsave import save_axes_figure
+    return save_axes_figure(fig, ax, ctx.out_dir, os.path.join("casadei", "figs35_36.png"), "ms after the step of T*",
+                            "plant torque, N*m", "Figs. 35-36: torque step at 100 rpm, equal mean switching frequency")
 
 
 def figs35_36(ctx):

@@ -595,16 +595,9 @@ def light_figure(ctx, meas, light, ideal, share):
             label="ideal law, Table VII x %.2f" % k)
     ax.plot([1.0], [PAPER_IMB["proposed"]], "r*", ms=12, label="paper, Table IX proposed FSTP")
     ax.axhline(BALANCED_PCT, color="gray", lw=0.6)
-    ax.set_xlabel("load (share of 0.3 N*m)")
-    ax.set_ylabel("imbalance 100 (max/min - 1), %")
-    ax.set_title("Hoang Fig. 17: light-load imbalance and its cause", fontsize=9)
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    rel = os.path.join("hoang", "fig17_causes.png")
-    fig.savefig(os.path.join(ctx.out_dir, rel), dpi=100)
-    plt.close(fig)
-    return rel
+    from figsave import save_axes_figure
+    return save_axes_figure(fig, ax, ctx.out_dir, os.path.join("hoang", "fig17_causes.png"), "load (share of 0.3 N*m)",
+                            "imbalance 100 (max/min - 1), %", "Hoang Fig. 17: light-load imbalance and its cause")
 
 
 def light_finding(meas, light, ideal, share):
