@@ -18,7 +18,7 @@ import sys
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 sys.path.insert(0, os.path.join(ROOT, "tools", "report"))
 import papers  # noqa: E402
-from hoang_items import BALANCED_PCT as papers_bal  # noqa: E402
+from hoang_common import BALANCED_PCT as papers_bal  # noqa: E402
 
 # Hoang figures reproduced on the shipped scenarios, each by the paper's statement with a margin.
 # Casadei figures reproduced by this report's checks (each one's margin in tools/report/casadei_items.py).
