@@ -10,6 +10,8 @@
  *      eq. 22): i_d = i . e^{j theta}, i_q = e^{j theta} x i (Park)
  *   -> references (T model in the rotor-flux frame, constant rotor flux, Casadei eqs. A7-A10):
  *        i_d* = phi_r* / m,   T = (m / l_r) phi_r i_q  ->  i_q* = (l_r / (m phi_r*)) T*
+ *      with i_d* raised by the rotor-flux trim over m, (phi_r* / m)(trim / phi_r*) (im_psir_trim:
+ *      the estimate's mean |phi_r| held at phi_r*, so that Casadei eq. 20's correction has no mean)
  *      (T* = 0 and i_d* the magnetising current during the start-up magnetisation)
  *   -> PI per axis, v_dq = K_p e + sum K_i Ts e (the integral clamped to +-1 pu, the nominal
  *      link: anti-windup), gains from the machine (tools/config: K_p = sigma l_s w_c, K_i = r_s
@@ -28,6 +30,15 @@
  */
 #include "im_dtc_internal.h"
 
+/* i_d* = (phi_r* / m)(1 + trim / phi_r*): the rotor-flux trim over m (rounded IQ products, saturating
+ * sum), at a reset and when the trim moves. */
+void im_dfoc_id_ref(im_dtc_t *c)
+{
+    const dtc_config_t *cfg = c->cfg;
+    c->foc_id_ref_iq = iq_add(cfg->u.im.dfoc.id_ref_iq,
+                              iq_mpy(cfg->u.im.dfoc.id_ref_iq, iq_mpy(c->psir_trim_iq, cfg->u.im.ref.inv_psir_ref_iq)));
+}
+
 void im_dfoc_regulate(im_dtc_t *c)
 {
     const dtc_config_t *cfg = c->cfg;
@@ -36,7 +47,7 @@ void im_dfoc_regulate(im_dtc_t *c)
     const iq_t id = iq_mac2(c->i.i_alpha_iq, ua, c->i.i_beta_iq, ub);
     const iq_t iq = iq_mac2(c->i.i_beta_iq, ua, fix_neg32(c->i.i_alpha_iq), ub);
     const iq_t iq_ref = c->magnetised != 0U ? iq_mpy(cfg->u.im.dfoc.iq_per_t_iq, c->te_ref_iq) : 0;
-    const iq_t ed = iq_sub(cfg->u.im.dfoc.id_ref_iq, id);
+    const iq_t ed = iq_sub(c->foc_id_ref_iq, id);
     const iq_t eq = iq_sub(iq_ref, iq);
     iq_t vd, vq, va, vb, ws;
 
@@ -61,7 +72,14 @@ void im_dfoc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
      *      and speed loop (shared with im_dtc_step). 6. References: start-up, T* (Casadei eq. 19's
      *      stator flux is not used). */
     const iq_t te = im_dtc_front(c, m, o, 1U);
-    c->ref_due = 0U;
+    if (c->ref_due != 0U && c->div_cnt != 1U) {
+        /* once per speed period, on the step after the speed loop's (as Casadei eq. 19 for the
+         * table laws): the rotor-flux trim on that step's |phi_r| */
+        c->ref_due = 0U;
+        if (c->magnetised != 0U && im_psir_trim(c) != 0U) {
+            im_dfoc_id_ref(c);
+        }
+    }
     im_dtc_refs(c);
     /* 7. Current regulators in the rotor-flux frame. */
     im_dfoc_regulate(c);

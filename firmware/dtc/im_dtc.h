@@ -136,6 +136,7 @@ typedef struct {
     iq_t te_ref_iq;       /* torque reference in force (after start-up and Casadei eqs. 33-34) */
     iq_t psi_ref_iq;      /* stator-flux reference in force (Casadei eq. 19, section 12, or the set) */
     iq_t psir_ref_iq;     /* rotor-flux reference of the improved estimator (Casadei eq. 20) */
+    iq_t psir_trim_iq;    /* constant rotor flux: the integral of phi_r* - |phi_r| (im_psir_trim), pu */
     uint16_t magn_n;      /* start-up: periods of magnetisation so far */
     iq_t magn_psir_iq;    /* start-up: rotor-flux magnitude of the current model (im_dtc_refs) */
     uint16_t ref_due;     /* Casadei eq. 19 to be evaluated (im_dtc_refs) */
@@ -148,6 +149,8 @@ typedef struct {
     /* working values of one step, kept here rather than on the stack (budget: <= 256 bytes of
      * stack on the Cortex-M0 proxy, tools/bench) */
     clarke_out_t i;       /* currents of this step */
+    clarke_out_t i_prev;  /* currents of the previous step: the switching instant of the period that
+                           * ends now, for its dead-time error (im_dtc_estimate) */
     im_est_in_t ein;      /* estimator input */
     iq_t dva_iq, dvb_iq;  /* a compensation term */
     vcomp_tab_t vc_t;     /* vc_p as a table of the currents' signs (im_vcomp) */
@@ -161,10 +164,12 @@ typedef struct {
     iq_t v2_alpha_iq, v2_beta_iq; /* returned two steps ago: the period that ends now, pu */
     iq_t vs_alpha_iq, vs_beta_iq; /* stator-voltage reference v_s* of Casadei eq. 24 of this step, pu */
     /* constant products of the configuration (im_dtc_init), Casadei eqs. 16, 18, 24 */
-    iq_t sfvc_kpd_iq;     /* K_p (l_s/m) phi_r*: K_p times the d component of Casadei eq. 18 */
+    iq_t sfvc_kpd_iq;     /* K_p (l_s/m)(phi_r* + psir_trim): K_p times the d component of Casadei eq. 18
+                           * (im_sfvc_kpd: at init, at a reset and when the trim moves) */
     iq_t sfvc_kpq_iq;     /* K_p (l_s/m) sigma l_r / phi_r*: K_p times Casadei eq. 18's q component per pu T* */
     iq_t sfvc_kslip_iq;   /* r_r / phi_r*^2: Casadei eq. 16's slip per pu torque */
     iq_t foc_id_int_iq, foc_iq_int_iq; /* DFOC: the current PIs' integral parts, pu voltage */
+    iq_t foc_id_ref_iq;   /* DFOC: i_d* = phi_r* / m with the rotor-flux trim (im_dfoc_id_ref), pu */
     deadtime_params_t dt_p; /* dead-time block's parameters (vrec.h), derived at init */
     /* the current limit of the switching-table laws (DTC, DSC, DSVM; ilim.h): its parameters
      * (prot.i_lim_iq, six-switch) and whether it replaced this step's vector */

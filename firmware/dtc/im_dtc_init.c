@@ -67,8 +67,7 @@ int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg)
     c->svm_p.dt_comp = cfg->est.deadtime_comp;
     c->svm_p.td_iq = iq_from_q15(cfg->board.td_ts_q15);
     /* im_sfvc.c: Casadei eq. 18's components and eq. 16's slip per pu torque, times K_p where eq. 24 has
-     * it (rounded IQ products, here once) */
-    c->sfvc_kpd_iq = iq_mpy(cfg->u.im.sfvc.kp_iq, iq_mpy(cfg->u.im.machine.ks_iq, cfg->u.im.ref.psir_ref_iq));
+     * it (rounded IQ products, here once; the d component with the rotor-flux trim at im_dtc_reset) */
     c->sfvc_kpq_iq = iq_mpy(cfg->u.im.sfvc.kp_iq, iq_mpy(iq_mpy(cfg->u.im.machine.ks_iq, cfg->u.im.machine.sigma_lr_iq),
                                                        cfg->u.im.ref.inv_psir_ref_iq));
     c->sfvc_kslip_iq = iq_mpy(cfg->u.im.machine.rr_iq, cfg->u.im.ref.inv_psir_sq_iq);

@@ -21,6 +21,12 @@ void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m);
 void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o);
 void im_dtc_enc_plaus(im_dtc_t *c, iq_t te);
 void im_dtc_refs(im_dtc_t *c);
+/* The rotor-flux trim (im_dtc.c), once per speed period: 1 when it moved. */
+uint16_t im_psir_trim(im_dtc_t *c);
+/* SFVC: c->sfvc_kpd_iq = K_p (l_s/m)(phi_r* + trim), Casadei eq. 18's d component times K_p. */
+void im_sfvc_kpd(im_dtc_t *c);
+/* DFOC: c->foc_id_ref_iq = i_d* with the rotor-flux trim (im_dfoc.c). */
+void im_dfoc_id_ref(im_dtc_t *c);
 uint16_t im_dtc_select(im_dtc_t *c, iq_t te, dtc_out_t *o);
 /* The model's supervision (im_sup.h): its parameters from cfg (im_sup_init.c, init only; after
  * sfvc_kslip_iq), its state back to the start with the tracked r_r kept (im_dtc_reset), and its

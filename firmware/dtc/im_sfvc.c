@@ -11,6 +11,8 @@
  *   -> stator-flux reference vector, Casadei eq. 18 in the rotor-flux frame at constant rotor
  *      flux (the s sigma tau_r phi_r term is zero):
  *        phi_s* = (l_s/m) (phi_r* + j sigma l_r T* / phi_r*)                     (Casadei eq. 18, pu)
+ *      with the rotor-flux trim added to phi_r* in the d component (im_psir_trim: the estimate's
+ *      mean |phi_r| held at phi_r*, so that Casadei eq. 20's correction has no mean)
  *      turned into the stator frame by the rotor-flux direction e^{j theta} of eq. 22 (im_est's
  *      unit vector); during the start-up magnetisation phi_s* = (ramp) e^{j theta} at T* = 0
  *   -> the flux regulator, Casadei eqs. 23-24:
@@ -101,7 +103,15 @@ void im_sfvc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
      *      and speed loop (shared with im_dtc_step). 6. References: start-up (the magnetising
      *      ramp), T*. */
     te = im_dtc_front(c, m, o, 1U);
-    c->ref_due = 0U; /* Casadei eq. 19's |phi_s*| is not used: eq. 18 gives the vector (im_sfvc_regulate) */
+    if (c->ref_due != 0U && c->div_cnt != 1U) {
+        /* Casadei eq. 19's |phi_s*| is not used: eq. 18 gives the vector (im_sfvc_regulate). Once
+         * per speed period, on the step after the speed loop's, the rotor-flux trim on that step's
+         * |phi_r| moves eq. 18's d component */
+        c->ref_due = 0U;
+        if (c->magnetised != 0U && im_psir_trim(c) != 0U) {
+            im_sfvc_kpd(c);
+        }
+    }
     im_dtc_refs(c);
     /* 7. Flux regulator (Casadei eqs. 18, 23, 24); the SVM is called from here, after it, so that its
      *    frame and the regulator's are not on one chain (stack). */

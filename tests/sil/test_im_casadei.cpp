@@ -848,9 +848,10 @@ TEST(ImCasadei, Fig24OffsetPathsSwitchedOffOneAtATime)
     EXPECT_NEAR(amp("dtc_ideal_no_dt") / amp("dtc_ideal_no_dt_tau0.005"), 2.0, 0.3);
     EXPECT_NEAR(amp("dtc_ideal_no_dt_tau0.02") / amp("dtc_ideal_no_dt"), 2.0, 0.3);
     // The sign-dependent voltages the estimator takes from the measured current's sign each raise it:
-    // the dead time (measured +15 %) and the device drops (+16 %; 2 V / (pi |i|) of resistance in
-    // phase with R_s di, V = (V_CE + V_D) / 2, estimates +11 %).
-    EXPECT_GT(amp("dtc_ideal") / amp("dtc_ideal_no_dt"), 1.07);
+    // the dead time (measured +15 % with the sign of the sample at the period's end, +6.4 % with the
+    // sign at the switching instant, the previous sample, im_dtc_estimate) and the device drops
+    // (+16 %; 2 V / (pi |i|) of resistance in phase with R_s di, V = (V_CE + V_D) / 2, estimates +11 %).
+    EXPECT_GT(amp("dtc_ideal") / amp("dtc_ideal_no_dt"), 1.03);
     EXPECT_GT(amp("dtc_drops_no_dt") / amp("dtc_ideal_no_dt"), 1.07);
     // Compensated at the gates or not, the estimator's sign model of the dead time (svm.h d_eff) is
     // the same: the same amplitude.
@@ -1053,7 +1054,11 @@ TEST(ImCasadei, Fig32FluxWeakeningReaches400PercentWithNearlyConstantCurrent)
     const Fw o = flux_weakening_run();
     EXPECT_EQ(o.fault, "none");
     ASSERT_GT(o.t_end, 0.0);
-    EXPECT_LT((o.i_hi - o.i_lo) / o.i_mean, 0.3); // nearly constant current in the constant-power range
+    // nearly constant current in the constant-power range (the paper gives no number): the spread of
+    // the 5 ms means was 0.264 with the dead-time error taken on the current's sign at the period's
+    // end, 0.301 with the sign at the switching instant (the previous sample, im_dtc_estimate),
+    // which the torque accuracy at low speed needs; the bound covers both
+    EXPECT_LT((o.i_hi - o.i_lo) / o.i_mean, 0.35);
 }
 
 // ---- Fault and input handling of the IM drive ------------------------------------------------------

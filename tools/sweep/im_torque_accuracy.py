@@ -1,0 +1,127 @@
+#!/usr/bin/python3
+"""The IM drive's torque accuracy over the operating grid (issue target: the plant's mean torque
+within 1.5 % of the reference for every IM law, 10 to 100 % rated torque, 5 to 100 % rated speed).
+
+Torque mode, the rotor held at each speed by the dynamometer (load.type = "speed"), from standstill:
+the drive magnetises, then holds T*. The plant's mean torque over the last 0.84 s of 2 s (two
+electrical periods at 5 % of rated speed) against T*, and the firmware's own estimate beside it.
+Each machine runs with the per-leg device-drop compensation (control.compensation = "proposed",
+Hoang Table III per leg on the six-switch inverter: the drops of the rig's devices, V_CE when the
+leg's switch conducts, V_d when the other switch's diode does). The shipped IM scenarios keep
+Hoang ref. [29]'s one drop ("simple"), which cannot meet the target below 25 % of rated speed at
+light load (docs/sil.md: its assumed V_f = V_CE leaves V_d - V_CE per leg uncompensated while a
+diode conducts); --compensation simple shows it.
+
+Usage: im_torque_accuracy.py [--exe build/host/bin/dtc-sil] [--out DIR] [--compensation C]
+                             [--laws dtc,dsc,...] [--jobs N]
+Writes DIR/<machine>/summary.csv (dtc-sil sweep) and prints one table per machine: per law and
+speed, the plant's error and the estimate's error in % of T*. Exit status 1 when a point outside
+KNOWN_MISSES misses the target, or a run faults; the known misses are printed with their values
+(and a known miss that meets the target is reported, so the list cannot go stale unseen).
+"""
+import argparse
+import csv
+import os
+import subprocess
+import sys
+
+TARGET_PCT = 1.5
+LAWS = ["dtc", "dsc", "sfvc", "dfoc", "dsvm"]
+SPEED_FRACS = [0.05, 0.10, 0.25, 0.50, 1.00]
+TORQUE_FRACS = [0.10, 0.50, 1.00]
+# (scenario, rated torque N*m, rated speed rpm)
+MACHINES = {
+    "4kW": ("im_dtc_speed.toml", 26.5, 1440.0),
+    "second": ("im_second_machine.toml", 23.5, 1440.0),
+}
+# Points that miss the target, each with its measured cause (docs/sil.md, the IM torque accuracy):
+#   dsc at 5-25 % speed and 10 % torque: DSC does not control the flux amplitude (Casadei sec. 9);
+#     under the long null-vector intervals of low speed and light load the machine's flux decays
+#     (0.045 Wb for 0.53 at 72 rpm) while the improved estimator (Casadei eq. 20) holds the estimate
+#     at phi_r*: the estimate then reads T* and the machine gives the wrong sign.
+#     On the second machine at 10 % speed the encoder plausibility trips (encoder_speed) as the flux goes.
+#   sfvc and dsvm at 5-10 % speed and 10 % torque (+1.7 .. +4.7 %): not a reconstruction error
+#     (the second machine's DSVM gives +5.1 % with ideal devices and no dead time); cause not found.
+#   sfvc and dfoc on the second machine at rated torque: held at the torque limit the current allows
+#     (tools/config dtc_im_torque_at_current_nm at I_lim - dI: 160 us, 30 A trip, 22.1 N*m = 94 %).
+KNOWN_MISSES = {("second", law, s, 1.00) for law in ("sfvc", "dfoc") for s in SPEED_FRACS} | {
+    ("4kW", "dsc", 0.05, 0.10), ("4kW", "dsc", 0.10, 0.10), ("4kW", "dsc", 0.25, 0.10),
+    ("second", "dsc", 0.05, 0.10), ("second", "dsc", 0.10, 0.10), ("second", "dsc", 0.25, 0.10),
+    ("4kW", "sfvc", 0.05, 0.10), ("4kW", "dsvm", 0.05, 0.10),
+    ("second", "sfvc", 0.05, 0.10), ("second", "dsvm", 0.05, 0.10), ("second", "dsvm", 0.10, 0.10),
+}
+
+
+def run_machine(exe, out, name, laws, comp, jobs):
+    scen, t_rated, n_rated = MACHINES[name]
+    src = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenarios", scen)
+    d = os.path.join(out, name)
+    if os.path.isdir(d):
+        subprocess.run(["rm", "-rf", d], check=True)
+    cmd = [exe, "sweep", src, "--out", d, "-j", str(jobs), "-q", "--allow-failed-runs",
+           "--set", "control.mode=torque", "--set", "load.type=speed", "--set", "load.step_time_s=0",
+           "--set", "duration_s=2.0", "--set", "metrics_window_s=0.84",
+           "--set", "control.compensation=" + comp,
+           "--grid", "control.scheme=" + ",".join(laws),
+           "--grid", "load.speed_rpm=" + ",".join("%g" % (f * n_rated) for f in SPEED_FRACS),
+           "--grid", "control.torque_ref_nm=" + ",".join("%g" % (f * t_rated) for f in TORQUE_FRACS)]
+    subprocess.run(cmd, check=True)
+    rows = list(csv.DictReader(open(os.path.join(d, "summary.csv"))))
+    res = {}
+    for r in rows:
+        sf = round(float(r["load.speed_rpm"]) / n_rated, 4)
+        tf = round(float(r["control.torque_ref_nm"]) / t_rated, 4)
+        t = float(r["control.torque_ref_nm"])
+        if r["status"] != "ok" or r["fault"] != "none":
+            res[(r["control.scheme"], sf, tf)] = (None, None, r["fault"] or r["status"])
+        else:
+            res[(r["control.scheme"], sf, tf)] = (100.0 * (float(r["torque_mean_nm"]) / t - 1.0),
+                                                  100.0 * (float(r["torque_est_mean_nm"]) / t - 1.0), "")
+    return res
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--exe", default="build/host/bin/dtc-sil")
+    ap.add_argument("--out", default="out/im_torque_accuracy")
+    ap.add_argument("--compensation", default="proposed")
+    ap.add_argument("--laws", default=",".join(LAWS))
+    ap.add_argument("--machines", default=",".join(MACHINES))
+    ap.add_argument("--jobs", type=int, default=2)
+    a = ap.parse_args()
+    laws = a.laws.split(",")
+    bad, stale = [], []
+    for name in a.machines.split(","):
+        res = run_machine(a.exe, a.out, name, laws, a.compensation, a.jobs)
+        print("%s (%s), compensation %s: plant / estimate error, %% of T*" % (name, MACHINES[name][0], a.compensation))
+        print("| law | speed | " + " | ".join("T* %g %%" % (100 * f) for f in TORQUE_FRACS) + " |")
+        print("|---|---|" + "---|" * len(TORQUE_FRACS))
+        for law in laws:
+            for sf in SPEED_FRACS:
+                cells = []
+                for tf in TORQUE_FRACS:
+                    e, est, fault = res[(law, round(sf, 4), round(tf, 4))]
+                    known = (name, law, sf, tf) in KNOWN_MISSES
+                    if e is None:
+                        cells.append(fault + (" (known)" if known else " MISS"))
+                        if not known:
+                            bad.append((name, law, sf, tf, fault))
+                        continue
+                    miss = abs(e) > TARGET_PCT
+                    cells.append("%+.2f / %+.2f%s" % (e, est, (" (known)" if known else " MISS") if miss else ""))
+                    if miss and not known:
+                        bad.append((name, law, sf, tf, "%+.2f %%" % e))
+                    if known and not miss:
+                        stale.append((name, law, sf, tf, "%+.2f %%" % e))
+                print("| %s | %g %% | %s |" % (law, 100 * sf, " | ".join(cells)))
+        print()
+    for s in stale:
+        print("known miss now within the target (update KNOWN_MISSES): %s %s %g %% speed %g %% torque: %s"
+              % (s[0], s[1], 100 * s[2], 100 * s[3], s[4]))
+    for b in bad:
+        print("MISS: %s %s at %g %% speed, %g %% torque: %s" % (b[0], b[1], 100 * b[2], 100 * b[3], b[4]))
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
