@@ -59,8 +59,9 @@ TEST(ImTorqueBias, DeviceDropsPerLegRemoveTheLowSpeedBias)
     // drop V_f = 0.9 V for both, so over the intervals in which a phase's current flows through the
     // diode of the switch that is off 0.35 V per leg goes uncompensated. At 72 rpm (5 % of rated)
     // and 10 % rated torque the stator voltage is a few volts and the estimated flux follows the
-    // error: DTC gives -8.0 % (-11.8 % before the rotor-flux trim, +13.2 % with V_f = 1.25 V: the
-    // sign follows the assumed drop). Hoang Table III per leg ("proposed" on the SSTP) removes it.
+    // error: DTC gives -13.6 % (-11.8 % before the rotor-flux trim and the dead-time sign; +13.2 %
+    // with V_f = 1.25 V: the sign follows the assumed drop). Hoang Table III per leg ("proposed" on
+    // the SSTP) removes it.
     const double t_ref = 0.1 * 26.5;
     EXPECT_LT(run_point("im_dtc_speed.toml", "dtc", "simple", 72.0, t_ref).te_mean, 0.95 * t_ref); // the cause, shown
     EXPECT_NEAR(run_point("im_dtc_speed.toml", "dtc", "proposed", 72.0, t_ref).te_mean, t_ref, 0.015 * t_ref);
