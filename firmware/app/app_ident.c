@@ -221,6 +221,21 @@ void app_ident_start(app_ident_t *d, const dtc_config_t *cfg, uint16_t qep_count
     d->res.b_iq = 0;
     d->res.tc_iq = 0;
     d->fresh = 0U;
+    d->i_perp_ref = 0;
+    d->comp_iq = 0;
+    d->v_ff_iq = 0;
+    d->dv_ff_iq = 0;
+    d->im_rate_q16 = 0U;
+    d->spin_i_iq = ID_SPIN_I;
+    d->spin_w_iq = ID_SPIN_W;
+    d->spin_a = 2U; /* the first window holds the current's ramp */
+    d->gain_q16 = 0U;
+    d->res.im.ls_ts_iq = 0;
+    d->res.im.lsig_ts_iq = 0;
+    d->res.im.taur_q4 = 0;
+    d->res.im.rr_iq = 0;
+    d->res.im.id_iq = 0;
+    d->res.im.vq_pole_iq = 0;
     d->sign_k = 0U;
     for (k = 0U; k < 3U; k++) {
         d->u.sg.bad[k] = 0U;
@@ -252,9 +267,25 @@ static int64_t ident_pwm(const app_ident_t *d, const dtc_config_t *cfg, const dt
     const iq_t va = d->v_ab[0];
     const iq_t half_a = fix_neg32(fix_rshift_rnd32(va, 1U));
     const iq_t sb = fix_rshift_rnd64_sat32((int64_t)d->v_ab[1] * (int64_t)FIX_Q31_SQRT3_2, 31U);
-    const iq_t v[3] = {va, fix_add32(half_a, sb), fix_sub32(half_a, sb)};
+    iq_t v[3] = {va, fix_add32(half_a, sb), fix_sub32(half_a, sb)};
     iq_t base = fix_rshift_rnd32(d->vdc_iq, 1U);
     uint16_t x;
+    if (d->comp_iq != 0) {
+        /* the legs' drop (thresholds and dead time, comp_iq = 3/4 V_0 of step RS: V_0 is 2/3 of
+         * two legs' drops on the alpha axis) added along the sign of each phase's reference
+         * current (the reference: no sign noise at the crossings); reference (i_ref on th,
+         * i_perp_ref on th + 90 degrees) to phases by the inverse Clarke transform */
+        const q15_t cc = fix_cos((angle_t)(d->th_q16 >> 16));
+        const q15_t ss = fix_sin((angle_t)(d->th_q16 >> 16));
+        const iq_t ra = fix_sub32(iq_mpy_q15(d->i_ref, cc), iq_mpy_q15(d->i_perp_ref, ss));
+        const iq_t rb = fix_add32(iq_mpy_q15(d->i_ref, ss), iq_mpy_q15(d->i_perp_ref, cc));
+        const iq_t hra = fix_neg32(fix_rshift_rnd32(ra, 1U));
+        const iq_t srb = fix_rshift_rnd64_sat32((int64_t)rb * (int64_t)FIX_Q31_SQRT3_2, 31U);
+        const iq_t r[3] = {ra, fix_add32(hra, srb), fix_sub32(hra, srb)};
+        for (x = 0U; x < 3U; x++) {
+            v[x] = r[x] >= 0 ? fix_add32(v[x], d->comp_iq) : fix_sub32(v[x], d->comp_iq);
+        }
+    }
     const uint16_t fstp = cfg->board.topology == (uint16_t)DTC_TOPO_FSTP ? 1U : 0U;
     if (fstp != 0U && cfg->board.fstp_vmid_measured != 0U) {
         base = pu->vmid_iq;
@@ -320,7 +351,7 @@ static uint16_t ramps(app_ident_t *d)
  * away (an integral would pull the rotor slowly after every swing). */
 static void regulate(app_ident_t *d, iq_t i_par, iq_t i_perp, q15_t c, q15_t s)
 {
-    const iq_t e[2] = {fix_sub32(d->i_ref, i_par), fix_neg32(i_perp)};
+    const iq_t e[2] = {fix_sub32(d->i_ref, i_par), fix_sub32(d->i_perp_ref, i_perp)};
     const iq_t ki[2] = {d->ki_iq, d->slow == 0U ? d->ki_iq : 0};
     iq_t v[2];
     uint16_t k;
@@ -341,6 +372,7 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
     q15_t c, s;
     uint16_t k;
 
+    int32_t dc;
     d->tick++;
     d->summed = 0U;
     d->vdc_iq = pu->vdc_iq;
@@ -348,7 +380,7 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
         /* unwrapped count: the per-period change folded into (-N/2, N/2] */
         const int32_t n_c = (int32_t)cfg->board.enc_counts;
         const int32_t half = (int32_t)(cfg->board.enc_counts >> 1U);
-        int32_t dc = (int32_t)pu->enc_count - (int32_t)d->last_count;
+        dc = (int32_t)pu->enc_count - (int32_t)d->last_count;
         if (dc > half) {
             dc -= n_c;
         } else if (dc <= -half) {
@@ -400,7 +432,14 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
             d->v_hold_b = d->v_ab[1];
         }
     }
-    if (d->seg == (uint16_t)APP_IDENT_SEG_SPIN) {
+    if (d->seg == (uint16_t)APP_IDENT_SEG_SPIN && d->im_on != 0U) {
+        /* induction machine: the reference axis (the rotor flux's q axis) turns by the rotor's
+         * electrical angle, this period's count change times gain (direction applied), plus
+         * im_rate (the slip of indirect field orientation; the whole field in the encoder step,
+         * gain 0); |dc| gain < 2^31 in 64 bits, modulo one turn */
+        const int64_t de = (int64_t)(d->res.enc_reversed != 0U ? -dc : dc) * (int64_t)d->gain_q16;
+        d->th_q16 += d->im_rate_q16 + (uint32_t)(uint64_t)de;
+    } else if (d->seg == (uint16_t)APP_IDENT_SEG_SPIN) {
         /* the reference axis on the rotor's q axis: theta_e = offset + count x gain (direction
          * applied), + 90 degrees; the count's product < 2^31 x 2^32 in 64 bits, modulo one turn */
         const int64_t e = (((int64_t)d->count0 + (int64_t)d->pos) * (int64_t)d->gain_q16) >> 16;
@@ -458,6 +497,13 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
     } else if (d->seg == (uint16_t)APP_IDENT_SEG_SPIN) {
         (void)ramps(d);
         regulate(d, i_par, i_perp, c, s);
+        if (d->im_on != 0U) {
+            /* the back-EMF's rise as a feed-forward on the q axis (the regulator's integral alone
+             * would trail the rising speed by a large share of i_q, app_ident_im.c im_spin_ff) */
+            d->v_ff_iq = fix_add32(d->v_ff_iq, d->dv_ff_iq);
+            d->v_ab[0] = fix_add32(d->v_ab[0], iq_mpy_q15(d->v_ff_iq, c));
+            d->v_ab[1] = fix_add32(d->v_ab[1], iq_mpy_q15(d->v_ff_iq, s));
+        }
         v_par = fix_add32(iq_mpy_q15(d->v_ab[0], c), iq_mpy_q15(d->v_ab[1], s));
         if (d->phase == 2U) {
             d->sum_i += (int64_t)i_par;
@@ -623,7 +669,7 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
     }
     link_update(d);
     if (d->im_on != 0U) {
-        app_ident_im_service(d);
+        app_ident_im_service(d, cfg);
         return;
     }
     switch (d->step) {

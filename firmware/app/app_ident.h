@@ -80,6 +80,10 @@ enum app_ident_fail {
     APP_IDENT_FAIL_VDC_LOW = 9,        /* spin: the regulator at its voltage limit before an eighth of
                                         * the spin speed (the DC link too low to spin the machine);
                                         * standstill: at its limit while a level is summed */
+    APP_IDENT_FAIL_COUPLED_LOAD = 11,  /* IM spin: the rotor turned freely in the encoder step but did
+                                        * not reach half the spin speed at the spin's q current (a
+                                        * load coupled to the shaft; fail_detail: the last window's
+                                        * count change) */
     APP_IDENT_FAIL_SENSOR_SIGN = 10,   /* step RS's sign pulses: a phase current of the wrong sign
                                         * (fail_detail: 1..3 the measured phase A..C that read the wrong
                                         * sign on its own pulse, a sensor mounted the wrong way round;
@@ -143,6 +147,9 @@ typedef struct {
     iq_t b_iq;               /* viscous friction / k_t, pu current x Ts per count, IQ */
     iq_t tc_iq;              /* Coulomb friction / k_t, pu current, IQ */
     uint32_t ticks[7];       /* control periods spent in the steps RS, LS, ENCODER, SPIN (index = step) */
+    app_ident_im_result_t im; /* an induction machine's own results (app_ident_im.h); on an IM, psi_iq
+                               * is L_s i_d (the stator flux of the spin's magnetising current im.id_iq)
+                               * and J, B, T_c are over k_t = 1.5 p L_M i_d (app_ident_im.c) */
 } app_ident_result_t;
 
 typedef struct {
@@ -216,6 +223,16 @@ typedef struct {
     uint16_t count0;         /* raw count at the start */
     uint32_t gain_q16;       /* spin: electrical angle_t per count, Q16 (p 2^32 / enc_counts) */
     uint16_t fresh;          /* spin: 1 = the first window (integrators and current from zero) */
+    iq_t i_perp_ref;         /* the quadrature current's reference (0 but on an IM's spin: -i_d) */
+    iq_t comp_iq;            /* IM spin: each leg's drop added along its reference current's sign
+                              * (ident_pwm), pu; 0 = none */
+    uint32_t im_rate_q16;    /* IM spin: the field's turn per period beyond the rotor's, angle_t Q16
+                              * (the encoder step: the whole rotating field; the spin: the slip) */
+    iq_t spin_i_iq;          /* spin: the q current of the acceleration */
+    iq_t spin_w_iq;          /* spin: the electrical speed that ends the acceleration, pu */
+    uint16_t spin_a;         /* spin: the first acceleration window of the fits (window A) */
+    iq_t v_ff_iq, dv_ff_iq;  /* IM spin: the q voltage's feed-forward (the back-EMF's rise since the
+                              * encoder step, omega_e L_s i_d), and its rise per period (ISR adds it) */
     int32_t win_dpos;        /* the last window's count change (ISR) */
     uint32_t win_tick;       /* the last window's first period (ISR) */
     uint16_t n_acc, n_coast; /* spin: windows so far */

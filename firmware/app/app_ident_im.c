@@ -41,6 +41,14 @@
 #define IM_SETTLE_SHIFT 13U      /* the test: a window's mean moved by less than 1/8192 of its value */
 #define IM_PULSE_DV IQ_FRAC(1, 8) /* the voltage step, V_b / 8 */
 #define IM_ITER 4U
+#define IM_POLE_RAMP 16U         /* encoder step: windows of the field's speed ramp (0.26 s at 40 us) */
+#define IM_POLE_SETTLE 24U       /* encoder step: windows before the sums (the ramp, then 8 to settle) */
+#define IM_SPIN_A 4U             /* spin: the first window of the fits (the q current's step and the
+                                  * regulator's settling before it) */
+#define IM_POLE_MEAS 16U         /* encoder step: windows summed */
+#define IM_SPIN_IQ IQ_FRAC(1, 8) /* spin: the q current; small, so that the acceleration spans many
+                                  * windows on a light rotor and the field orientation's error from
+                                  * a tau_r off by 10 % stays below 1 % of the torque */
 
 /* The DC levels: a quarter of rated first (the current leaves the dead time's zone around zero,
  * where the commanded voltage is not the applied one), then the step to 3/4 whose transient is
@@ -165,7 +173,7 @@ static iq_t im_lsig(const app_ident_im_t *m, iq_t r)
 }
 
 /* tau_r (periods, Q4) from the DC step's integrals (file comment 3) with sigma L_s = lsig and the
- * previous pass's tau_r (taur, 0 on the first); L_s into m->res.ls_ts_iq. Returns 0 when the rotor
+ * previous pass's tau_r (taur, 0 on the first); L_s into d->res.im.ls_ts_iq. Returns 0 when the rotor
  * flux's change is not positive (no result). Baseline: the line v = R i + V_0 through the four
  * levels. The rotor flux still moving when a level was taken (its excess voltage e = v - R i - V_0,
  * decaying with tau_r) is added as its exponential tail: e tau_r of flux, e tau_r^2 of the area;
@@ -192,7 +200,7 @@ static int32_t im_taur(app_ident_t *d, iq_t lsig, int32_t taur)
     if (psi_r <= 0 || di_end <= 0) {
         return 0;
     }
-    m->res.ls_ts_iq = fix_sat32(app_ident_div64(psi_s * 16777216, di_end));
+    d->res.im.ls_ts_iq = fix_sat32(app_ident_div64(psi_s * 16777216, di_end));
     return fix_sat32(app_ident_div64(int_di * 16, di_end) - app_ident_div64(int_psi_r * 16, psi_r));
 }
 
@@ -210,24 +218,202 @@ static void im_results(app_ident_t *d)
             app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_IM_TAUR);
             return;
         }
-        rrg = fix_sat32(app_ident_div64((int64_t)fix_sub32(m->res.ls_ts_iq, lsig) * 16, (int64_t)taur));
+        rrg = fix_sat32(app_ident_div64((int64_t)fix_sub32(d->res.im.ls_ts_iq, lsig) * 16, (int64_t)taur));
     }
-    m->res.lsig_ts_iq = lsig;
-    m->res.taur_q4 = taur;
-    m->res.rr_iq = fix_sat32(app_ident_div64((int64_t)m->res.ls_ts_iq * 16, (int64_t)taur));
+    d->res.im.lsig_ts_iq = lsig;
+    d->res.im.taur_q4 = taur;
+    d->res.im.rr_iq = fix_sat32(app_ident_div64((int64_t)d->res.im.ls_ts_iq * 16, (int64_t)taur));
     /* Bounds: L_s as the PM's L (1/16 .. 4096 x Z_b Ts); sigma L_s between 1/16 x Z_b Ts and half
      * of L_s (sigma < 1/2: a machine with a magnetising inductance); R_r as R_s (1/4096 .. 1/2 Z_b). */
-    if (m->res.ls_ts_iq < IQ(1.0 / 16.0) || m->res.ls_ts_iq > IQ(4096.0 - 1.0)) {
+    if (d->res.im.ls_ts_iq < IQ(1.0 / 16.0) || d->res.im.ls_ts_iq > IQ(4096.0 - 1.0)) {
         app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_LS);
         return;
     }
-    if (lsig < IQ(1.0 / 16.0) || lsig > (m->res.ls_ts_iq >> 1)) {
+    if (lsig < IQ(1.0 / 16.0) || lsig > (d->res.im.ls_ts_iq >> 1)) {
         app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_IM_LSIG);
         return;
     }
-    if (m->res.rr_iq < IQ(1.0 / 4096.0) || m->res.rr_iq > IQ(0.5)) {
+    if (d->res.im.rr_iq < IQ(1.0 / 4096.0) || d->res.im.rr_iq > IQ(0.5)) {
         app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_IM_TAUR);
     }
+}
+
+/* Background: the encoder step of an induction machine (file comment 4): the field at w_b / 16
+ * electrical, d axis on the standstill steps' axis (where the rotor flux is), the q axis (the
+ * reference axis of SEG_SPIN) 90 degrees ahead; i_q = 0 and i_d the magnetising current of the
+ * configured stator flux, i_d = phi_s* / L_s (L_s pu = L_s / (Z_b Ts) x Ts w_b), within 1/8 .. 3/4
+ * of rated. The field's turn per period w_b Ts / 16 in angle_t Q16: ts_pu 2^32 / (16 2 pi) =
+ * ts_pu_iq 2^28 / (2 pi 2^24) (ts_pu_iq < 2^24: < 2^52). */
+static void im_pole_start(app_ident_t *d, const dtc_config_t *cfg)
+{
+    app_ident_im_t *const m = &d->u.im;
+    const iq_t ls_pu = iq_mpy(d->res.im.ls_ts_iq, cfg->board.ts_pu_iq);
+    iq_t id = ls_pu > 0 ? fix_sat32(app_ident_div64((int64_t)cfg->speed.flux_ref_iq * 16777216, (int64_t)ls_pu)) : 0;
+    id = iq_sat(id, IQ_FRAC(1, 8), IQ_FRAC(3, 4));
+    d->res.im.id_iq = id;
+    app_ident_next_step(d, (uint16_t)APP_IDENT_ENCODER);
+    m->pole_rate_q16 = (uint32_t)app_ident_div64((int64_t)cfg->board.ts_pu_iq * ((int64_t)1 << 29), ID_IQ_2PI);
+    d->im_rate_q16 = (uint32_t)app_ident_div64((int64_t)m->pole_rate_q16, (int64_t)IM_POLE_RAMP);
+    d->gain_q16 = 0U;
+    d->th_q16 = (uint32_t)(angle_t)(d->res.axis + ANGLE(0.25)) << 16;
+    d->i_perp_ref = fix_neg32(id);
+    /* the regulator's gains from the machine now known: a closed current loop of 1 / (32 Ts)
+     * (781 rad/s at 40 us), kp = sigma L_s / (32 Ts), ki Ts = R Ts / (32 Ts). The board's gains
+     * close it at about 70 rad/s on the 4 kW machine: too slow to impose the current, and a
+     * machine half voltage-fed at the field's low frequency hunts about it (measured: the speed
+     * swinging between 35 % and 140 % of the field's); and the spin's rising back-EMF would
+     * leave the q current short. */
+    d->kp_iq = fix_rshift_rnd32(d->res.im.lsig_ts_iq, 5U);
+    d->ki_iq = fix_rshift_rnd32(d->res.r_iq, 5U);
+    /* The inverter's drop from step RS as a feed-forward on each leg (app_ident.c ident_pwm): left
+     * to the regulator, its square wave at six times the field's frequency, near the loop's
+     * bandwidth, moves the q current by 15 % from window to window and the rotor hunts about
+     * the field. V_0 on the alpha axis is 2/3 of two legs' drops: a leg's is 3/4 V_0. */
+    d->comp_iq = iq_mpy(d->res.v0_iq, IQ(0.75));
+    m->pole_win = 0U;
+    m->pole_sum_v = 0;
+    d->fresh = 1U;
+    app_ident_post_window(d, (uint16_t)APP_IDENT_SEG_SPIN, 0);
+}
+
+static void im_spin_start(app_ident_t *d, const dtc_config_t *cfg);
+
+/* Background: after each window of the encoder step. IM_POLE_SETTLE windows for the rotor's run-up
+ * and the rotor flux's turn, then IM_POLE_MEAS windows summed: over P periods the field made
+ * F = rate P / 2^32 electrical turns and the count moved dpos, so the counts per electrical turn
+ * are dpos / F and p = enc_counts F / |dpos| = N rate P / (|dpos| 2^32), rounded (N rate P < 2^14
+ * 2^24 2^14 for the rig's encoders). The rotor lags the field by the slip, which only raises
+ * enc_counts F / |dpos| (no load: friction's slip, well below 1 %): accepted from 1/64 below to
+ * 1/16 above a whole number; outside, the line count is wrong (encoder_lines). A count that moved
+ * less than 1/64 of a turn per electrical turn: the field's q voltage tells a rotor that follows
+ * the field (omega_e L_s i_d: the encoder does not count) from one that does not (about
+ * omega_e sigma L_s i_d plus the rotor's share at full slip: blocked). */
+static void im_pole_service(app_ident_t *d, const dtc_config_t *cfg)
+{
+    app_ident_im_t *const m = &d->u.im;
+    m->pole_win++;
+    if (m->pole_win < IM_POLE_RAMP) {
+        /* the field's speed ramps up over IM_POLE_RAMP windows: the rotor follows it without
+         * swinging (at a step of the field's speed the current-fed rotor swings about it, its
+         * damping ratio 1 / (2 sqrt(K tau_r / J)), 0.08 on the 4 kW machine, K = dT / d omega) */
+        d->im_rate_q16 = (uint32_t)app_ident_div64((int64_t)m->pole_rate_q16 * (int64_t)(m->pole_win + 1U), (int64_t)IM_POLE_RAMP);
+    }
+    if (m->pole_win == IM_POLE_SETTLE) {
+        m->pole_pos0 = d->still_ref;
+        m->pole_tick0 = d->win_tick;
+        m->pole_sum_v = 0;
+    }
+    if (m->pole_win >= IM_POLE_SETTLE) {
+        m->pole_sum_v += d->sum_v;
+    }
+    if (m->pole_win < IM_POLE_SETTLE + IM_POLE_MEAS) {
+        app_ident_post_window(d, (uint16_t)APP_IDENT_SEG_SPIN, 0);
+        return;
+    }
+    {
+        const int64_t dpos = (int64_t)d->still_ref + (int64_t)d->win_dpos - (int64_t)m->pole_pos0;
+        const int64_t per = (int64_t)(uint32_t)(d->win_tick + (uint32_t)ID_SPIN_WIN - 1U - m->pole_tick0);
+        const int64_t num = (int64_t)cfg->board.enc_counts * (int64_t)d->im_rate_q16 * per;
+        const int64_t ad = dpos < 0 ? -dpos : dpos;
+        const int64_t den = ad * ((int64_t)1 << 32);
+        int64_t p, err;
+        d->res.im.vq_pole_iq = fix_sat32(app_ident_div64(m->pole_sum_v, (int64_t)IM_POLE_MEAS * (int64_t)ID_SPIN_WIN));
+        d->res.counts_per_turn = d->im_rate_q16 != 0U ? fix_sat32(app_ident_div64(dpos * ((int64_t)1 << 32), (int64_t)d->im_rate_q16 * per)) : 0;
+        if (den * 64 < num) {
+            /* the expected q voltage omega_e L_s i_d: omega_e Ts = rate 2 pi / 2^32 (IQ rad per
+             * period, < 2^24), times L / (Z_b Ts) and i_d (IQ) */
+            const iq_t w_ts = fix_sat32(((int64_t)d->im_rate_q16 * ID_IQ_2PI) >> 32);
+            const iq_t vq_free = iq_mpy(iq_mpy(w_ts, d->res.im.ls_ts_iq), d->res.im.id_iq);
+            app_ident_fail(d,
+                           d->res.im.vq_pole_iq * 2 >= vq_free ? (uint16_t)APP_IDENT_FAIL_ENC_NOT_COUNTING
+                                                               : (uint16_t)APP_IDENT_FAIL_BLOCKED,
+                           (int16_t)d->res.counts_per_turn);
+            return;
+        }
+        p = app_ident_div64(num + (den >> 1), den);
+        if (p < 1 || p > 16) {
+            app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_POLE_PAIRS);
+            return;
+        }
+        err = p * den - num; /* negative for a rotor lagging the field */
+        if (err > (num >> 6) || -err > (num >> 4)) {
+            app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_ENC_LINES, (int16_t)d->res.counts_per_turn);
+            return;
+        }
+        d->res.pole_pairs = (uint16_t)p;
+        d->res.enc_reversed = dpos < 0 ? 1U : 0U;
+        d->res.enc_offset = 0U;
+        /* the field's speed as a count change per window: rate N_win enc_counts / (p 2^32) */
+        m->pole_dpos = fix_sat32(app_ident_div64((int64_t)d->im_rate_q16 * (int64_t)ID_SPIN_WIN * (int64_t)cfg->board.enc_counts,
+                                                 p * ((int64_t)1 << 32)));
+    }
+    im_spin_start(d, cfg);
+}
+
+/* Background: the spin (file comment 5): indirect field orientation on the encoder, the reference
+ * axis turning with the rotor's electrical angle (gain p 2^32 / enc_counts per count) plus the
+ * slip of Casadei eq. 16 in the steady state of constant i_d, i_q: omega_sl = i_q / (tau_r i_d).
+ * In angle_t Q16 per period: omega_sl Ts 2^32 / (2 pi) = (i_q / i_d) 16 / taur_q4 x 2^32 / (2 pi)
+ * = r 2^12 / (taur_q4 2 pi) with r = i_q / i_d in Q24: t = r 2^24 / taur_q4 (< 2^44 for
+ * taur_q4 >= 16 and 0 <= i_q <= i_d), rate = t 2^12 / (2 pi 2^24) (< 2^56 before the division);
+ * im_slip sets it for a q current (the reference at the start, then each window's measured mean). The acceleration ends
+ * at the speed where the back-EMF omega_e L_s i_d = omega_e phi_s* is half the voltage limit,
+ * omega_e = v_lim / (2 phi_s*), pu. */
+static void im_slip(app_ident_t *d, iq_t iq)
+{
+    const int64_t r = app_ident_div64((int64_t)iq_sat(iq, 0, d->res.im.id_iq) * 16777216, (int64_t)d->res.im.id_iq);
+    const int64_t t = app_ident_div64(r * 16777216, (int64_t)d->res.im.taur_q4);
+    d->im_rate_q16 = (uint32_t)app_ident_div64(t * 4096, ID_IQ_2PI);
+}
+
+static void im_spin_start(app_ident_t *d, const dtc_config_t *cfg)
+{
+    app_ident_next_step(d, (uint16_t)APP_IDENT_SPIN);
+    d->gain_q16 = (uint32_t)app_ident_div64((int64_t)d->res.pole_pairs << 32, (int64_t)cfg->board.enc_counts);
+    im_slip(d, IM_SPIN_IQ);
+    d->spin_i_iq = IM_SPIN_IQ;
+    d->spin_a = IM_SPIN_A;
+    d->spin_w_iq = cfg->speed.flux_ref_iq > 0
+                       ? fix_sat32(app_ident_div64((int64_t)d->v_lim_iq * 8388608, (int64_t)cfg->speed.flux_ref_iq))
+                       : ID_SPIN_W;
+    d->n_acc = 0U;
+    d->n_coast = 0U;
+    d->u.im.w_k = app_ident_div64((int64_t)d->gain_q16 * ID_IQ_2PI, (int64_t)ID_SPIN_WIN);
+    d->u.im.psi_ts = iq_mpy(d->res.im.ls_ts_iq, d->res.im.id_iq);
+    d->u.im.ff_prev = 0;
+    d->v_ff_iq = 0;
+    d->dv_ff_iq = 0;
+    d->fresh = 0U; /* the field, its integrators and i_d go on from the encoder step */
+    app_ident_post_window(d, (uint16_t)APP_IDENT_SEG_SPIN, IM_SPIN_IQ);
+}
+
+/* Background: after an acceleration window of the spin, the q voltage's feed-forward for the next:
+ * the back-EMF's rise omega_e L_s i_d since the encoder step (whose back-EMF the regulator's
+ * integrators hold), from the window's count change x less the encoder step's:
+ * omega_e Ts = x gain 2 pi / (2^32 N_win), in IQ x w_k >> 32 (w_k = gain 2 pi 2^24 / N_win),
+ * times L_s i_d / (Z_b Ts).
+ * The window's mean stands for its centre; the next window starts about half a window later: the
+ * feed-forward starts at the mean plus half the last rise and rises by one rise per window. With
+ * it, a PI of the board's gains (Z_b / 64, Z_b 4 rad/s) no longer trails the back-EMF's ramp (at
+ * 0.46 pu/s on the 4 kW machine its error would be 0.11 pu of the 0.125 pu q current).
+ * Scaling: |x| < 2^15, w_k = gain 2^26.7 / 400 < 2^32 2^18: x w_k < 2^63 for gain < 2^30. */
+static void im_spin_ff(app_ident_t *d)
+{
+    app_ident_im_t *const m = &d->u.im;
+    const int64_t x = (int64_t)(d->res.enc_reversed != 0U ? -d->win_dpos : d->win_dpos) - (int64_t)m->pole_dpos;
+    const iq_t v = iq_mpy(fix_sat32((x * m->w_k) >> 32), m->psi_ts);
+    const iq_t rise = fix_sub32(v, m->ff_prev);
+    m->ff_prev = v;
+    if (d->sub != 0U || d->n_acc == 0U) {
+        d->v_ff_iq = d->sub != 0U ? 0 : d->v_ff_iq;
+        d->dv_ff_iq = 0;
+        return;
+    }
+    d->v_ff_iq = fix_add32(v, fix_rshift_rnd32(rise, 1U));
+    d->dv_ff_iq = fix_sat32(app_ident_div64((int64_t)rise, (int64_t)ID_SPIN_WIN));
+    /* the slip from the window's measured q current (Casadei eq. 16 with the current that flows,
+     * not the reference) */
+    im_slip(d, fix_sat32(app_ident_div64(d->sum_i, (int64_t)ID_SPIN_WIN)));
 }
 
 /* ISR: the sample just summed is the commanded voltage; the legs apply their compare values'
@@ -262,19 +448,30 @@ void app_ident_im_start(app_ident_t *d)
     m->p_rise = 0;
     m->t1pr = 0U;
     m->quant_k = 0;
-    m->res.ls_ts_iq = 0;
-    m->res.lsig_ts_iq = 0;
-    m->res.taur_q4 = 0;
-    m->res.rr_iq = 0;
+    m->pole_pos0 = 0;
+    m->pole_tick0 = 0U;
+    m->pole_sum_v = 0;
+    m->pole_win = 0U;
     d->im_on = 1U;
     /* the step from zero: the reference steps (rate 0), the regulator limits the rise */
     im_window(d, im_levels[0], 0);
 }
 
-void app_ident_im_service(app_ident_t *d)
+void app_ident_im_service(app_ident_t *d, const dtc_config_t *cfg)
 {
     app_ident_im_t *const m = &d->u.im;
     iq_t mv, mi;
+    if (d->step == (uint16_t)APP_IDENT_ENCODER) {
+        im_pole_service(d, cfg);
+        return;
+    }
+    if (d->step == (uint16_t)APP_IDENT_SPIN) {
+        app_ident_spin_service(d, cfg);
+        if (d->step == (uint16_t)APP_IDENT_SPIN) {
+            im_spin_ff(d);
+        }
+        return;
+    }
     if (m->quant_k == 0 && m->t1pr != 0U) {
         m->quant_k = fix_sat32(app_ident_div64((int64_t)d->vdc_iq, 3 * (int64_t)m->t1pr));
     }
@@ -337,8 +534,7 @@ void app_ident_im_service(app_ident_t *d)
         if (d->step == (uint16_t)APP_IDENT_FAILED) {
             return;
         }
-        app_ident_next_step(d, (uint16_t)APP_IDENT_DONE);
-        d->seg = (uint16_t)APP_IDENT_SEG_OFF;
+        im_pole_start(d, cfg);
         return;
     }
     /* the regulated gap ended: the next step */

@@ -23,6 +23,9 @@ typedef struct {
     int32_t taur_q4; /* tau_r = L_r / R_r, control periods, Q4 */
     iq_t rr_iq;      /* R_r of the T model with L_lr = L_ls (so L_r = L_s): L_s / tau_r, pu (the
                       * inverse-Gamma R_R = (L_s - sigma L_s) / tau_r follows from the three above) */
+    iq_t id_iq;      /* the spin's magnetising current i_d, pu: the configured stator flux over L_s */
+    iq_t vq_pole_iq; /* encoder step: the mean q voltage of the rotating field, pu (omega_e L_s i_d
+                      * when the rotor follows it, about sigma L_s omega_e i_d when it is blocked) */
 } app_ident_im_result_t;
 
 /* The background's scratch of the IM steps. The DC step's integrals are kept as sums that are
@@ -45,7 +48,15 @@ typedef struct {
     int64_t p_rise;     /* sum of the rises, IQ */
     uint16_t t1pr;      /* the PWM period in timer counts, as the ISR saw it */
     int32_t quant_k;    /* V_dc / (3 t1pr), IQ pu per count (background; 0 until known) */
-    app_ident_im_result_t res;
+    int32_t pole_pos0;  /* encoder step: the count at the first summed window's start */
+    uint32_t pole_tick0; /* ... and its period */
+    int64_t pole_sum_v; /* ... the q voltage summed over the summed windows (IQ x periods) */
+    uint16_t pole_win;  /* ... windows so far */
+    uint32_t pole_rate_q16; /* encoder step: the field's turn per period at full speed, angle_t Q16 */
+    int32_t pole_dpos;  /* ... the count change per window of the field's speed (spin feed-forward's zero) */
+    int64_t w_k;        /* spin: electrical rad per period (IQ) of one count per window, times 2^32 */
+    iq_t psi_ts;        /* spin: L_s i_d / (Z_b Ts), IQ (the back-EMF per rad per period) */
+    iq_t ff_prev;       /* spin: the last window's back-EMF rise */
 } app_ident_im_t;
 
 #endif /* APP_IDENT_IM_H */

@@ -72,7 +72,7 @@ uint16_t app_ident_rs_bounds(app_ident_t *d);
 
 /* The induction machine's sequence (app_ident_im.c): its first segment, and its background. */
 void app_ident_im_start(app_ident_t *d);
-void app_ident_im_service(app_ident_t *d);
+void app_ident_im_service(app_ident_t *d, const dtc_config_t *cfg);
 
 /* ISR (no division): the applied voltage's share of this period's HOLD sample, from the compare
  * values' rounding (rq3 = 2 rq_a - rq_b - rq_c, counts Q24; app_ident.c ident_pwm). */

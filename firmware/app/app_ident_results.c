@@ -153,7 +153,7 @@ static void spin_results(app_ident_t *d, const dtc_config_t *cfg)
          * a two-point slope by several per cent): slope = (n Sxy - Sx Sy) / (n Sxx - Sx^2), IQ per
          * count in Q8 (the products < 2^47 x 2^7 windows, num x 2^8 < 2^63) */
         const int64_t *const f = d->u.sp.fit;
-        const int64_t n = (int64_t)d->n_acc - 1; /* the windows 2 .. n_acc */
+        const int64_t n = (int64_t)d->n_acc - (int64_t)d->spin_a + 1; /* the windows spin_a .. n_acc */
         const int64_t num = n * f[3] - f[0] * f[1];
         const int64_t den = n * f[2] - f[0] * f[0];
         int64_t slope_q8, t;
@@ -223,7 +223,7 @@ void app_ident_spin_service(app_ident_t *d, const dtc_config_t *cfg)
     app_ident_win_t rec;
     iq_t vq, iq;
     const int64_t dpos_t =
-        app_ident_div64((((int64_t)ID_SPIN_W * (int64_t)cfg->board.ts_pu_iq) >> 24) * (int64_t)ID_SPIN_WIN * (int64_t)cfg->board.enc_counts,
+        app_ident_div64((((int64_t)d->spin_w_iq * (int64_t)cfg->board.ts_pu_iq) >> 24) * (int64_t)ID_SPIN_WIN * (int64_t)cfg->board.enc_counts,
               ID_IQ_2PI * (int64_t)d->res.pole_pairs);
     rec.dpos = dir * d->win_dpos;
     rec.pos0 = dir * d->still_ref;
@@ -232,7 +232,7 @@ void app_ident_spin_service(app_ident_t *d, const dtc_config_t *cfg)
     iq = fix_sat32(app_ident_div64(d->sum_i, (int64_t)ID_SPIN_WIN));
     if (d->sub == 0U) {
         d->n_acc++;
-        if (d->n_acc == 2U) {
+        if (d->n_acc == d->spin_a) {
             uint16_t f;
             d->u.sp.w[0] = rec;
             d->u.sp.vq[0] = vq;
@@ -242,7 +242,7 @@ void app_ident_spin_service(app_ident_t *d, const dtc_config_t *cfg)
                 d->u.sp.fit[f] = 0;
             }
         }
-        if (d->n_acc >= 2U) {
+        if (d->n_acc >= d->spin_a) {
             /* |x| < 2^15 counts per window, |y| < 2^25: x y < 2^40, over <= 100 windows < 2^47 */
             const int64_t x = (int64_t)rec.dpos;
             const int64_t y = (int64_t)fix_sub32(vq, iq_mpy(d->res.r_iq, iq));
@@ -255,19 +255,24 @@ void app_ident_spin_service(app_ident_t *d, const dtc_config_t *cfg)
         d->u.sp.w[1] = rec;
         d->u.sp.vq[1] = vq;
         d->u.sp.iq[1] = iq;
-        if (d->n_acc >= 3U && ((int64_t)rec.dpos >= dpos_t || fix_abs32(vq) >= iq_mpy(d->v_lim_iq, IQ(0.625)) ||
+        if (d->n_acc > d->spin_a && ((int64_t)rec.dpos >= dpos_t || fix_abs32(vq) >= iq_mpy(d->v_lim_iq, IQ(0.625)) ||
                                d->n_acc >= ID_SPIN_MAXW)) {
-            if ((int64_t)rec.dpos < (dpos_t >> 3)) {
-                app_ident_fail(d, fix_abs32(vq) >= iq_mpy(d->v_lim_iq, IQ(0.625)) ? (uint16_t)APP_IDENT_FAIL_VDC_LOW
-                                                                            : (uint16_t)APP_IDENT_FAIL_BLOCKED,
-                     (int16_t)(rec.dpos > 32767 ? 32767 : rec.dpos));
+            /* An induction machine already turned freely in its encoder step (app_ident_im.c): a
+             * rotor that stays below half the spin speed carries a load (the PM's spin starts at
+             * rest, so there a rotor below an eighth of it may be blocked as well). */
+            const uint16_t vlow = fix_abs32(vq) >= iq_mpy(d->v_lim_iq, IQ(0.625)) ? 1U : 0U;
+            if ((int64_t)rec.dpos < (dpos_t >> (d->im_on != 0U ? 1U : 3U))) {
+                app_ident_fail(d, vlow != 0U ? (uint16_t)APP_IDENT_FAIL_VDC_LOW
+                                             : (d->im_on != 0U ? (uint16_t)APP_IDENT_FAIL_COUPLED_LOAD
+                                                               : (uint16_t)APP_IDENT_FAIL_BLOCKED),
+                               (int16_t)(rec.dpos > 32767 ? 32767 : rec.dpos));
                 return;
             }
             d->sub = 1U;
             app_ident_post_window(d, (uint16_t)APP_IDENT_SEG_COAST, 0);
             return;
         }
-        app_ident_post_window(d, (uint16_t)APP_IDENT_SEG_SPIN, ID_SPIN_I);
+        app_ident_post_window(d, (uint16_t)APP_IDENT_SEG_SPIN, d->spin_i_iq);
         return;
     }
     d->n_coast++;

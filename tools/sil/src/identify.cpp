@@ -66,7 +66,14 @@ std::string fail_text(const app_ident_t& d, const app_status_t& st)
                " counts per electrical turn, no whole fraction of the configured counts per turn (wrong line count?)";
     case APP_IDENT_FAIL_OVERCURRENT: return "overcurrent: a phase above 1.25 x rated current";
     case APP_IDENT_FAIL_TRIP: return std::string("trip: the drive's protection tripped (") + app_fault_name(st.fault) + ")";
+    case APP_IDENT_FAIL_COUPLED_LOAD:
+        return "coupled_load: the rotor turned freely in the encoder step but stayed below half the spin speed at "
+               "the spin's q current (a load coupled to the shaft; uncouple it to identify the machine's mechanics)";
     case APP_IDENT_FAIL_BLOCKED:
+        if (d.fail_step == APP_IDENT_ENCODER) {
+            return "blocked: the count did not move under a rotating field and the field's q voltage is below half "
+                   "of omega_e L_s i_d (the rotor does not follow the field: blocked)";
+        }
         return "blocked: the rotor did not reach an eighth of the spin speed in 2 s at half rated q current (a "
                "blocked rotor or a coupled load)";
     case APP_IDENT_FAIL_VDC_LOW:
@@ -106,7 +113,9 @@ dtc_config_si_t ident_si(const Scenario& sc)
     si.pole_pairs = 1;
     si.w_base_rad_s = sc.motor.rated_speed_rpm * kPi / 30.0;
     si.psi_m_wb = sc.motor.rated_torque_nm / (1.5 * sc.motor.rated_current_a); // nameplate torque constant, p = 1
-    si.flux_ref_wb = si.psi_m_wb;
+    if (sc.motor.type != MotorType::Im) {
+        si.flux_ref_wb = si.psi_m_wb; // an induction machine keeps the drive's configured stator flux (its spin's)
+    }
     si.enc_offset_rad = 0.0;
     si.inertia_kgm2 = 1e-4;
     si.kp_nm_s_rad = 0.0;
@@ -164,7 +173,11 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
         return false;
     }
     app_request_ident();
-    RunEvents events(sc, active.params().load);
+    // The rig as the identification finds it: the scenario's load law at its initial torque; the
+    // scenario's load step belongs to its test run, not to the machine (its faults stay).
+    Scenario rig = sc;
+    rig.load.step_time_s = 0.0;
+    RunEvents events(rig, active.params().load);
     const auto max_periods = static_cast<std::uint64_t>(std::llround(rep->max_time_s / sc.ts_s));
     app_ident_t d{};
     app_status_t st{};
@@ -267,33 +280,51 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
     // Spin (app_ident.h formats): psi_m in pu of V_b / w_b; J, B, T_c over k_t I_b (k_t = 1.5 p psi_m)
     // in pu current x Ts^2 per count, x Ts per count, pu current; a count is 2 pi / enc_counts rad.
     const double psi = d.res.psi_iq / kIqOne * v_b / si.w_base_rad_s;
-    const double kt_ib = 1.5 * p * psi * i_b;
+    double kt_ib = 1.5 * p * psi * i_b;
     const double rad_per_count = 2.0 * kPi / (4.0 * static_cast<double>(si.enc_lines)); // the board data's lines
-    const double j_id = d.res.j_q12 / 4096.0 * kt_ib * ts * ts / rad_per_count;
-    const double b_id = d.res.b_iq / kIqOne * kt_ib * ts / rad_per_count;
-    const double tc_id = d.res.tc_iq / kIqOne * kt_ib;
+    double j_id = d.res.j_q12 / 4096.0 * kt_ib * ts * ts / rad_per_count;
+    double b_id = d.res.b_iq / kIqOne * kt_ib * ts / rad_per_count;
+    double tc_id = d.res.tc_iq / kIqOne * kt_ib;
     // the plant's friction: motor.b_nm_s_per_rad, and the DC generator's torque proportional to speed
     const double b_true = m.b_nm_s_per_rad + (sc.load.type == LoadType::Generator && sc.load.speed_rpm > 0.0
                                                   ? sc.load.torque_nm / (sc.load.speed_rpm * kPi / 30.0)
                                                   : 0.0);
-    double im_ls = 0.0, im_lsig = 0.0, im_l = 0.0, im_lm = 0.0, im_rr = 0.0;
+    double im_ls = 0.0, im_lsig = 0.0, im_l = 0.0, im_lm = 0.0, im_rr = 0.0, im_ls_spin = 0.0;
     if (im) {
         // Induction machine (app_ident_im.h): L_s, sigma L_s as L / (Z_b Ts); tau_r in periods (Q4);
         // R_r (T model with L_lr = L_ls, so L_r = L_s) and R_R (inverse Gamma) in pu of Z_b. The T
         // model's split of the leakage is not observable at the stator's terminals: with
         // L_ls = L_lr = l, sigma L_s = L_s - (L_s - l)^2 / L_s gives l = L_s (1 - sqrt(1 - sigma)),
         // L_m = L_s - l.
-        im_ls = d.u.im.res.ls_ts_iq / kIqOne * z_b * ts;
-        im_lsig = d.u.im.res.lsig_ts_iq / kIqOne * z_b * ts;
+        im_ls = d.res.im.ls_ts_iq / kIqOne * z_b * ts;
+        im_lsig = d.res.im.lsig_ts_iq / kIqOne * z_b * ts;
         const double sigma = im_ls > 0.0 ? std::clamp(im_lsig / im_ls, 0.0, 1.0) : 0.0;
         im_l = im_ls * (1.0 - std::sqrt(1.0 - sigma));
         im_lm = im_ls - im_l;
-        im_rr = d.u.im.res.rr_iq / kIqOne * z_b;
-        const double taur = d.u.im.res.taur_q4 / 16.0 * ts;
+        im_rr = d.res.im.rr_iq / kIqOne * z_b;
+        const double taur = d.res.im.taur_q4 / 16.0 * ts;
         const double ls_t = m.lls_h + m.lm_h, lr_t = m.llr_h + m.lm_h;
         const double lsig_t = ls_t - m.lm_h * m.lm_h / lr_t;
         add("ls_h", im_ls, ls_t, "H", APP_IDENT_RS, true,
             "L_s = L_ls + L_m: the stator flux over the current after the DC step settled");
+        // Spinning (app_ident_im.c): psi_iq = L_s i_d at the configured stator flux; J, B, T_c over
+        // k_t = 1.5 p L_M i_d (L_M = L_s - sigma L_s, the inverse-Gamma magnetising inductance).
+        const double id_a = d.res.im.id_iq / kIqOne * i_b;
+        im_ls_spin = id_a > 0.0 ? psi / id_a : 0.0;
+        if (im_ls_spin > im_lsig) {
+            const double sig = im_lsig / im_ls_spin;
+            im_l = im_ls_spin * (1.0 - std::sqrt(1.0 - sig));
+            im_lm = im_ls_spin - im_l;
+            kt_ib = 1.5 * p * (im_ls_spin - im_lsig) * id_a * i_b;
+            j_id = d.res.j_q12 / 4096.0 * kt_ib * ts * ts / rad_per_count;
+            b_id = d.res.b_iq / kIqOne * kt_ib * ts / rad_per_count;
+            tc_id = d.res.tc_iq / kIqOne * kt_ib;
+        }
+        add("ls_spin_h", im_ls_spin, ls_t, "H", APP_IDENT_SPIN, true,
+            "L_s at the configured stator flux, turning: the q voltage's slope over the electrical speed over i_d");
+        add("id_a", id_a, 0.0, "A", APP_IDENT_SPIN, false, "the spin's magnetising current: flux_ref_wb over the standstill L_s");
+        q["id_a"].erase("true");
+        q["id_a"].erase("error");
         add("sigma_ls_h", im_lsig, lsig_t, "H", APP_IDENT_LS, true,
             "transient inductance sigma L_s = L_s - L_m^2 / L_r: voltage steps on the half-rated hold");
         add("tau_r_s", taur, lr_t / m.rr_ohm, "s", APP_IDENT_RS, true,
@@ -301,9 +332,19 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
         add("rr_ohm", im_rr, m.rr_ohm, "ohm", APP_IDENT_RS, true, "R_r = L_r / tau_r with L_r = L_s (L_lr = L_ls)");
         add("rr_inv_gamma_ohm", (im_ls - im_lsig) / taur, m.rr_ohm * (m.lm_h / lr_t) * (m.lm_h / lr_t), "ohm",
             APP_IDENT_RS, true, "R_R = R_r (L_m / L_r)^2 = L_M / tau_r: independent of the leakage split");
-        add("lm_h", im_lm, m.lm_h, "H", APP_IDENT_RS, true, "L_m = L_s - l, l = L_ls = L_lr assumed equal");
+        add("lm_h", im_lm, m.lm_h, "H", APP_IDENT_SPIN, true,
+            "L_m = L_s - l with the spinning L_s (the standstill L_s if the spin failed), l = L_ls = L_lr assumed equal");
         add("lls_h", im_l, m.lls_h, "H", APP_IDENT_LS, true, "L_ls = L_s (1 - sqrt(1 - sigma)), L_lr = L_ls assumed");
         add("llr_h", im_l, m.llr_h, "H", APP_IDENT_LS, true, "L_lr = L_ls assumed");
+        add("pole_pairs", p, static_cast<double>(m.pole_pairs), "", APP_IDENT_ENCODER, false,
+            "the encoder's counts per turn of a field rotating at w_b / 16, the rotor unloaded");
+        add("encoder_reversed", d.res.enc_reversed, rev_true ? 1.0 : 0.0, "", APP_IDENT_ENCODER, false,
+            "the count runs down for the inverter's forward field");
+        add("j_kgm2", j_id, m.j_kgm2, "kg*m^2", APP_IDENT_SPIN, true,
+            "acceleration at i_q = 1/8 rated under indirect field orientation and a coast");
+        add("b_nm_s_per_rad", b_id, b_true, "N*m*s/rad", APP_IDENT_SPIN, false,
+            "viscous friction; a fan load (torque ~ speed^2) is absorbed in b and T_c");
+        add("coulomb_nm", tc_id, sc.load.coulomb_nm, "N*m", APP_IDENT_SPIN, false, "");
     } else {
         add("ls_h", ls, m.ls_h, "H", APP_IDENT_LS, true, "L_d: the rotor aligned on the step axis");
         add("pole_pairs", p, static_cast<double>(m.pole_pairs), "", APP_IDENT_ENCODER, false, "");
@@ -338,10 +379,7 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
         j["rs_fit_points"].push_back({{"i_a", d.res.level_i_iq[l] / kIqOne * i_b}, {"v_v", d.res.level_v_iq[l] / kIqOne * v_b}});
     }
     j["not_identified"] = {"v_ce_v", "v_d_v", "r_on_ohm"};
-    if (im) {
-        // the spin step (J, friction, L_m at rated flux while turning) is the PM's only
-        j["not_identified"] = {"v_ce_v", "v_d_v", "r_on_ohm", "pole_pairs", "j_kgm2", "b_nm_s_per_rad", "coulomb_nm"};
-    }
+
 
     rep->ok = ok;
     rep->failed_step = ok ? "" : step_name(failed_step);
@@ -383,6 +421,11 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
         t << "lls_h = " << fmt(im_l) << "\n";
         t << "llr_h = " << fmt(im_l) << "\n";
         t << "lm_h = " << fmt(im_lm) << "\n";
+        t << "pole_pairs = " << p << "\n";
+        t << "encoder_reversed = " << (d.res.enc_reversed != 0U ? "true" : "false") << "\n";
+        t << "j_kgm2 = " << fmt(j_id) << "\n";
+        t << "b_nm_s_per_rad = " << fmt(std::fmax(b_id, 0.0)) << "\n";
+        t << "coulomb_nm = " << fmt(std::fmax(tc_id, 0.0)) << "\n";
     }
     if (!im && (ok || failed_step > APP_IDENT_LS)) {
         t << "ls_h = " << fmt(ls) << "\n";
