@@ -372,8 +372,9 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
                                                                                        : "timeout"));
     j["duration_s"] = rep->duration_s;
     j["injection_axis"] = d.res.axis == 0 ? "alpha" : "beta";
-    j["standstill_s"] = step_s[1] + step_s[2] + step_s[3];
-    j["spin_s"] = step_s[APP_IDENT_SPIN];
+    // an induction machine's encoder step turns the rotor (a rotating field): it is part of its spin
+    j["standstill_s"] = step_s[1] + step_s[2] + (im ? 0.0 : step_s[3]);
+    j["spin_s"] = step_s[APP_IDENT_SPIN] + (im ? step_s[3] : 0.0);
     j["quantities"] = q;
     for (unsigned l = 0; l < APP_IDENT_R_LEVELS; ++l) {
         j["rs_fit_points"].push_back({{"i_a", d.res.level_i_iq[l] / kIqOne * i_b}, {"v_v", d.res.level_v_iq[l] / kIqOne * v_b}});
