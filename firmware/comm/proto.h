@@ -143,7 +143,7 @@ enum proto_cmd {
     /* IDENTIFY: the self-commissioning's identification (app_ident.h, docs/commissioning.md).
      *   request: 0 u16 sub (PROTO_IDENT_START, PROTO_IDENT_STATUS, PROTO_IDENT_RESULT)
      *   START: from READY under the arm's conditions (PROTO_ERR_REFUSED, detail enum
-     *          proto_refusal; PROTO_REFUSE_LAW unless the law is a PM law; PROTO_ERR_ARMED while
+     *          proto_refusal; PROTO_REFUSE_LAW unless the law is a PM or an IM law; PROTO_ERR_ARMED while
      *          armed): a fresh calibration, then the identification with the gates driven by
      *          it; DISARM stops it.   response: 0 u16 sub
      *   STATUS: response: 0 u16 sub  2 u16 step (enum app_ident_step)  4 u16 fail (enum
@@ -156,6 +156,11 @@ enum proto_cmd {
      *          40 iq level_i[4]  56 iq level_v[4] (the R fit's points, pu)
      *          72 iq psi (psi_m, pu of V_b / w_b)  76 i32 j_q12  80 iq b  84 iq tc (J, viscous and
      *          Coulomb friction over k_t, app_ident_result_t's units)  88 u32 ticks[6] (SPIN)
+     *          92 u16 machine (0 PM, 1 induction machine; then pole_pairs and enc_reversed are
+     *          the rotating field's, psi is L_s i_d and k_t = 1.5 p L_M i_d, app_ident.h)
+     *          94 iq ls_ts  98 iq lsig_ts (L_s, sigma L_s as L / (Z_b Ts))  102 i32 taur_q4
+     *          (tau_r, control periods Q4)  106 iq rr (R_r, pu of Z_b)  110 iq id (the spin's
+     *          magnetising current, pu) (app_ident_im.h; 0 on a PM machine)
      *   PROTO_ERR_RANGE for another sub. */
     PROTO_IDENTIFY = 0x70,
 
@@ -183,7 +188,7 @@ enum proto_refusal {
     PROTO_REFUSE_FAULT = 3,
     PROTO_REFUSE_REF_NONZERO = 4,
     PROTO_REFUSE_CONFIG = 5,
-    PROTO_REFUSE_LAW = 6 /* IDENTIFY: the identification is for a PM machine (app_ident.h) */
+    PROTO_REFUSE_LAW = 6 /* IDENTIFY: the identification is for the PM and the IM laws (app_ident.h) */
 };
 
 /* IDENTIFY sub-commands. */

@@ -297,7 +297,8 @@ static void do_identify(const frame_t *rq, frame_t *rs)
             app_proto_error(rq, rs, PROTO_ERR_ARMED, 0);
             return;
         }
-        if (c == NULL || (c->law != (uint16_t)DTC_LAW_PM_DTC && c->law != (uint16_t)DTC_LAW_PM_ITC)) {
+        if (c == NULL || (c->law != (uint16_t)DTC_LAW_PM_DTC && c->law != (uint16_t)DTC_LAW_PM_ITC &&
+                          dtc_law_is_im(c->law) == 0U)) {
             app_proto_error(rq, rs, PROTO_ERR_REFUSED, PROTO_REFUSE_LAW);
             return;
         }
@@ -342,7 +343,13 @@ static void do_identify(const frame_t *rq, frame_t *rs)
     frame_put_i32(&o[80], d.res.b_iq);
     frame_put_i32(&o[84], d.res.tc_iq);
     frame_put_u32(&o[88], d.res.ticks[APP_IDENT_SPIN]);
-    rs->len = 92U;
+    frame_put_u16(&o[92], d.im_on);
+    frame_put_i32(&o[94], d.res.im.ls_ts_iq);
+    frame_put_i32(&o[98], d.res.im.lsig_ts_iq);
+    frame_put_i32(&o[102], d.res.im.taur_q4);
+    frame_put_i32(&o[106], d.res.im.rr_iq);
+    frame_put_i32(&o[110], d.res.im.id_iq);
+    rs->len = 114U;
 }
 
 static void do_telemetry_start(app_proto_t *p, const frame_t *rq, frame_t *rs)

@@ -151,9 +151,18 @@ def cmd_identify(d, a):
             failed_at = {"rs": 1, "ls": 2, "encoder": 3}.get(st["fail_step"], 1) if not ok else 4
             if done or failed_at > 1:
                 f.write("rs_ohm = %.6g\ndead_time_s = %.6g\n" % (res["rs_ohm"], res["dead_time_s"]))
-            if done or failed_at > 2:
+            if res.get("machine") == "im":
+                # the keys dtc-sil identify writes for an induction machine
+                if done:
+                    f.write("rr_ohm = %.6g\nlls_h = %.6g\nllr_h = %.6g\nlm_h = %.6g\n" %
+                            (res["rr_ohm"], res["lls_h"], res["llr_h"], res["lm_h"]))
+                    f.write("pole_pairs = %d\nencoder_reversed = %s\n" %
+                            (res["pole_pairs"], "true" if res["encoder_reversed"] else "false"))
+                    f.write("j_kgm2 = %.6g\nb_nm_s_per_rad = %.6g\ncoulomb_nm = %.6g\n" %
+                            (res["j_kgm2"], max(res["b_nm_s_per_rad"], 0.0), max(res["coulomb_nm"], 0.0)))
+            elif done or failed_at > 2:
                 f.write("ls_h = %.6g\n" % res["ls_h"])
-            if done:
+            if done and res.get("machine") != "im":
                 f.write("pole_pairs = %d\nencoder_offset_rad = %.6g\nencoder_reversed = %s\n" %
                         (res["pole_pairs"], res["encoder_offset_rad"], "true" if res["encoder_reversed"] else "false"))
                 # friction measured below zero (noise on a frictionless rotor) is written as 0, as dtc-sil does
@@ -161,6 +170,11 @@ def cmd_identify(d, a):
                         (res["psi_m_wb"], res["j_kgm2"], max(res["b_nm_s_per_rad"], 0.0), max(res["coulomb_nm"], 0.0)))
     if a.json:
         print(json.dumps({"status": "ok" if ok else "failed", "drive": st, **res}, indent=2))
+    elif ok and res.get("machine") == "im":
+        print("identified: R_s %.4g ohm, R_r %.4g ohm, sigma L_s %.4g H, L_s %.4g H (turning %.4g H), L_m %.4g H, "
+              "%d pole pairs%s, J %.4g kg*m^2" % (res["rs_ohm"], res["rr_ohm"], res["sigma_ls_h"], res["ls_h"],
+                                                  res["ls_spin_h"], res["lm_h"], res["pole_pairs"],
+                                                  ", encoder reversed" if res["encoder_reversed"] else "", res["j_kgm2"]))
     elif ok:
         print("identified: R_s %.4g ohm (slope %.4g), L_s %.4g H, V0 %.4g V, dead time %.3g s, %d pole pairs, "
               "encoder offset %.2f deg (el.)%s" % (res["rs_ohm"], res["r_slope_ohm"], res["ls_h"], res["v0_v"],

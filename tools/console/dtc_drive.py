@@ -462,6 +462,28 @@ class Drive:
         psi = psi_pu / IQ_ONE * b["v"] / b["w"]
         kt_ib = 1.5 * p * psi * b["i"]
         rad_per_count = 2.0 * math.pi / self.param_get("board.enc_counts")
+        machine = struct.unpack_from("<H", pl, 92)[0] if len(pl) >= 114 else 0
+        q["machine"] = "im" if machine == 1 else "pm"
+        if machine == 1:
+            # an induction machine (app_ident_im.h, docs/commissioning.md "Induction machine"), as
+            # dtc-sil identify reports it: L_s, sigma L_s, tau_r, R_r (L_lr = L_ls, so L_r = L_s); the
+            # spin's psi is L_s i_d (L_s at the configured flux) and k_t = 1.5 p L_M i_d with
+            # L_M = L_s - sigma L_s; the leakage split l = L_s (1 - sqrt(1 - sigma)), L_m = L_s - l
+            ls_ts, lsig_ts, taur_q4, rr_pu, id_pu = struct.unpack_from("<iiiii", pl, 94)
+            ls = ls_ts / IQ_ONE * z_b * ts
+            lsig = lsig_ts / IQ_ONE * z_b * ts
+            id_a = id_pu / IQ_ONE * b["i"]
+            ls_spin = psi / id_a if id_a > 0.0 else 0.0
+            ls_m = ls_spin if ls_spin > lsig else ls
+            l_leak = ls_m * (1.0 - math.sqrt(max(0.0, 1.0 - lsig / ls_m))) if ls_m > 0.0 else 0.0
+            kt_ib = 1.5 * p * (ls_spin - lsig) * id_a * b["i"] if ls_spin > lsig else 0.0
+            del q["encoder_offset_el_deg"], q["encoder_offset_rad"]
+            del q["ls_h"]
+            q.update({"ls_h": ls, "sigma_ls_h": lsig, "tau_r_s": taur_q4 / 16.0 * ts, "rr_ohm": rr_pu / IQ_ONE * z_b,
+                      "ls_spin_h": ls_spin, "id_a": id_a, "lm_h": ls_m - l_leak, "lls_h": l_leak, "llr_h": l_leak,
+                      "j_kgm2": j_q12 / 4096.0 * kt_ib * ts * ts / rad_per_count,
+                      "b_nm_s_per_rad": b_pu / IQ_ONE * kt_ib * ts / rad_per_count, "coulomb_nm": tc_pu / IQ_ONE * kt_ib})
+            return q
         q.update({"psi_m_wb": psi, "j_kgm2": j_q12 / 4096.0 * kt_ib * ts * ts / rad_per_count,
                   "b_nm_s_per_rad": b_pu / IQ_ONE * kt_ib * ts / rad_per_count, "coulomb_nm": tc_pu / IQ_ONE * kt_ib})
         return q
