@@ -46,7 +46,7 @@
 #define IM_SPIN_A 4U             /* spin: the first window of the fits (the q current's step and the
                                   * regulator's settling before it) */
 #define IM_POLE_MEAS 16U         /* encoder step: windows summed */
-#define IM_SPIN_IQ IQ_FRAC(1, 8) /* spin: the q current; small, so that the acceleration spans many
+#define IM_SPIN_IQ IQ_FRAC(1, 8) /* spin: the q current at p = 2; small, so that the acceleration spans many
                                   * windows on a light rotor and the field orientation's error from
                                   * a tau_r off by 10 % stays below 1 % of the torque */
 
@@ -368,10 +368,16 @@ static void im_slip(app_ident_t *d, iq_t iq)
 
 static void im_spin_start(app_ident_t *d, const dtc_config_t *cfg)
 {
+    const int64_t pp = (int64_t)d->res.pole_pairs;
+    /* i_q = IM_SPIN_IQ (2 / p)^2: the torque grows with p and the target's mechanical speed falls
+     * with it, so the acceleration's time would go as 1 / p^2 (one window for a four-pole-pair
+     * 4 kW rotor, which then overshoots into the voltage limit); this keeps it that of p = 2
+     * (1/2 rated at p = 1, 1/32 at p = 4) */
+    const iq_t iq = fix_sat32(app_ident_div64((int64_t)IM_SPIN_IQ * 4, pp * pp));
     app_ident_next_step(d, (uint16_t)APP_IDENT_SPIN);
     d->gain_q16 = (uint32_t)app_ident_div64((int64_t)d->res.pole_pairs << 32, (int64_t)cfg->board.enc_counts);
-    im_slip(d, IM_SPIN_IQ);
-    d->spin_i_iq = IM_SPIN_IQ;
+    im_slip(d, iq);
+    d->spin_i_iq = iq;
     d->spin_a = IM_SPIN_A;
     d->spin_w_iq = cfg->speed.flux_ref_iq > 0
                        ? fix_sat32(app_ident_div64((int64_t)d->v_lim_iq * 8388608, (int64_t)cfg->speed.flux_ref_iq))
@@ -384,7 +390,7 @@ static void im_spin_start(app_ident_t *d, const dtc_config_t *cfg)
     d->v_ff_iq = 0;
     d->dv_ff_iq = 0;
     d->fresh = 0U; /* the field, its integrators and i_d go on from the encoder step */
-    app_ident_post_window(d, (uint16_t)APP_IDENT_SEG_SPIN, IM_SPIN_IQ);
+    app_ident_post_window(d, (uint16_t)APP_IDENT_SEG_SPIN, iq);
 }
 
 /* Background: after an acceleration window of the spin, the q voltage's feed-forward for the next:
