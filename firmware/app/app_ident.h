@@ -197,8 +197,8 @@ typedef struct {
     uint16_t n_dwell;        /* encoder DC vectors per electrical turn */
     uint16_t sign_k;         /* step RS: sign pulses done (0..3, along phase A, B, C) */
     /* the steps' scratch: the sign pulses' (sg), the standstill steps' (st), the spin's (sp) and an
-     * induction machine's (im, its results too) never live together (st is cleared when the
-     * alignment starts) */
+     * induction machine's standstill and encoder steps' (im; its results are in res.im) never live
+     * together (st is cleared when the alignment starts, sp when a spin's first window is taken) */
     union {
         struct {
             uint16_t bad[3];   /* per phase: bit 0 wrong sign on its own pulse, bit 1 on another's */
@@ -218,7 +218,7 @@ typedef struct {
                                     * sum y, sum x^2, sum x y; x the window's count change, y its mean
                                     * q voltage less R times its mean q current (IQ) */
         } sp;
-        app_ident_im_t im;         /* an induction machine's steps: scratch and results */
+        app_ident_im_t im;         /* an induction machine's steps before its spin: scratch */
     } u;
     uint16_t count0;         /* raw count at the start */
     uint32_t gain_q16;       /* spin: electrical angle_t per count, Q16 (p 2^32 / enc_counts) */
@@ -233,6 +233,11 @@ typedef struct {
     uint16_t spin_a;         /* spin: the first acceleration window of the fits (window A) */
     iq_t v_ff_iq, dv_ff_iq;  /* IM spin: the q voltage's feed-forward (the back-EMF's rise since the
                               * encoder step, omega_e L_s i_d), and its rise per period (ISR adds it) */
+    /* IM spin, background (outside the union: the spin's fits use u.sp meanwhile) */
+    int32_t ff_dpos0;        /* the count change per window of the encoder step's field speed */
+    int64_t ff_w_k;          /* electrical rad per period (IQ) of one count per window, times 2^32 */
+    iq_t ff_psi_ts;          /* L_s i_d / (Z_b Ts), IQ: the back-EMF per rad per period */
+    iq_t ff_prev;            /* the last window's back-EMF rise */
     int32_t win_dpos;        /* the last window's count change (ISR) */
     uint32_t win_tick;       /* the last window's first period (ISR) */
     uint16_t n_acc, n_coast; /* spin: windows so far */

@@ -1,7 +1,7 @@
 /*
- * app_ident_im.c - self-commissioning of an induction machine at standstill (background only;
- * the 50 us path is app_ident.c's HOLD and PULSE segments: sums, no division). docs/commissioning.md
- * "Induction machine".
+ * app_ident_im.c - self-commissioning of an induction machine (background only; the 50 us path is
+ * app_ident.c's HOLD, PULSE and SPIN segments: sums, products, no division). docs/commissioning.md
+ * "Induction machine". Steps 1-3 at standstill, 4-5 turning the rotor (file comment's end).
  *
  * The machine at standstill (Casadei eqs. A6-A9 with w = 0), eliminating the rotor current:
  *   v = R_s i + d psi_s / dt,  psi_s = sigma L_s i + psi_R,  d psi_R / dt = R_R i - psi_R / tau_r
@@ -28,6 +28,21 @@
  * R_R needs sigma L_s and sigma L_s needs R_R: the background iterates the two (four passes; the
  * R_R term is about 4 % of a step's volt-seconds on the 4 kW machine, dv = V_b / 8 over 0.7 ms,
  * and a pass's error in R_R moves sigma L_s by that share of it).
+ *   4. Pole pairs and direction (step ENCODER, im_pole_start / im_pole_service): a current vector
+ *      of the magnetising current i_d (the configured stator flux over L_s) turned at w_b / 8
+ *      electrical (SEG_SPIN with no encoder term); the unloaded rotor follows it at the slip of
+ *      its friction, so the counts per electrical turn give p = enc_counts / (counts per turn).
+ *      The current regulator takes gains from sigma L_s and R, and the legs' drops from V_0 are
+ *      fed forward: with the board's gains and the drops left to the regulator the rotor hunts
+ *      about the field (the current-fed rotor's swing is damped by 1 / (2 sqrt(K tau_r / J)) only).
+ *   5. Spin (step SPIN, im_spin_start, then app_ident_results.c's spin and coast): indirect
+ *      rotor-flux orientation on the encoder, the slip of Casadei eq. 16 in steady state,
+ *      omega_sl = i_q / (tau_r i_d), i_d as in 4 and a small q current. In the rotor-flux frame at
+ *      constant currents (Casadei eqs. A6-A9) v_q = R_s i_q + omega_e L_s i_d: the q voltage's
+ *      slope over the electrical speed is L_s i_d (the PM's psi_m fit, res.psi_iq), L_s at the
+ *      configured flux while turning; the torque is 1.5 p L_M i_d i_q, so the PM's J, B, T_c rows
+ *      hold with k_t = 1.5 p L_M i_d (L_M = L_s - sigma L_s). A rotor that turned in 4 but stays
+ *      below half the spin speed carries a load: coupled_load.
  */
 #include "app_ident_internal.h"
 
@@ -238,12 +253,12 @@ static void im_results(app_ident_t *d)
     }
 }
 
-/* Background: the encoder step of an induction machine (file comment 4): the field at w_b / 16
+/* Background: the encoder step of an induction machine (file comment 4): the field at w_b / 8
  * electrical, d axis on the standstill steps' axis (where the rotor flux is), the q axis (the
  * reference axis of SEG_SPIN) 90 degrees ahead; i_q = 0 and i_d the magnetising current of the
  * configured stator flux, i_d = phi_s* / L_s (L_s pu = L_s / (Z_b Ts) x Ts w_b), within 1/8 .. 3/4
- * of rated. The field's turn per period w_b Ts / 16 in angle_t Q16: ts_pu 2^32 / (16 2 pi) =
- * ts_pu_iq 2^28 / (2 pi 2^24) (ts_pu_iq < 2^24: < 2^52). */
+ * of rated. The field's turn per period w_b Ts / 8 in angle_t Q16: ts_pu 2^32 / (8 2 pi) =
+ * ts_pu_iq 2^29 / (2 pi 2^24) (ts_pu_iq < 2^24: < 2^53), reached by a ramp (im_pole_service). */
 static void im_pole_start(app_ident_t *d, const dtc_config_t *cfg)
 {
     app_ident_im_t *const m = &d->u.im;
@@ -344,7 +359,7 @@ static void im_pole_service(app_ident_t *d, const dtc_config_t *cfg)
         d->res.enc_reversed = dpos < 0 ? 1U : 0U;
         d->res.enc_offset = 0U;
         /* the field's speed as a count change per window: rate N_win enc_counts / (p 2^32) */
-        m->pole_dpos = fix_sat32(app_ident_div64((int64_t)d->im_rate_q16 * (int64_t)ID_SPIN_WIN * (int64_t)cfg->board.enc_counts,
+        d->ff_dpos0 = fix_sat32(app_ident_div64((int64_t)d->im_rate_q16 * (int64_t)ID_SPIN_WIN * (int64_t)cfg->board.enc_counts,
                                                  p * ((int64_t)1 << 32)));
     }
     im_spin_start(d, cfg);
@@ -384,9 +399,9 @@ static void im_spin_start(app_ident_t *d, const dtc_config_t *cfg)
                        : ID_SPIN_W;
     d->n_acc = 0U;
     d->n_coast = 0U;
-    d->u.im.w_k = app_ident_div64((int64_t)d->gain_q16 * ID_IQ_2PI, (int64_t)ID_SPIN_WIN);
-    d->u.im.psi_ts = iq_mpy(d->res.im.ls_ts_iq, d->res.im.id_iq);
-    d->u.im.ff_prev = 0;
+    d->ff_w_k = app_ident_div64((int64_t)d->gain_q16 * ID_IQ_2PI, (int64_t)ID_SPIN_WIN);
+    d->ff_psi_ts = iq_mpy(d->res.im.ls_ts_iq, d->res.im.id_iq);
+    d->ff_prev = 0;
     d->v_ff_iq = 0;
     d->dv_ff_iq = 0;
     d->fresh = 0U; /* the field, its integrators and i_d go on from the encoder step */
@@ -396,20 +411,19 @@ static void im_spin_start(app_ident_t *d, const dtc_config_t *cfg)
 /* Background: after an acceleration window of the spin, the q voltage's feed-forward for the next:
  * the back-EMF's rise omega_e L_s i_d since the encoder step (whose back-EMF the regulator's
  * integrators hold), from the window's count change x less the encoder step's:
- * omega_e Ts = x gain 2 pi / (2^32 N_win), in IQ x w_k >> 32 (w_k = gain 2 pi 2^24 / N_win),
+ * omega_e Ts = x gain 2 pi / (2^32 N_win), in IQ x ff_w_k >> 32 (ff_w_k = gain 2 pi 2^24 / N_win),
  * times L_s i_d / (Z_b Ts).
  * The window's mean stands for its centre; the next window starts about half a window later: the
  * feed-forward starts at the mean plus half the last rise and rises by one rise per window. With
  * it, a PI of the board's gains (Z_b / 64, Z_b 4 rad/s) no longer trails the back-EMF's ramp (at
  * 0.46 pu/s on the 4 kW machine its error would be 0.11 pu of the 0.125 pu q current).
- * Scaling: |x| < 2^15, w_k = gain 2^26.7 / 400 < 2^32 2^18: x w_k < 2^63 for gain < 2^30. */
+ * Scaling: |x| < 2^15, ff_w_k = gain 2^26.7 / 400 < 2^32 2^18: x ff_w_k < 2^63 for gain < 2^30. */
 static void im_spin_ff(app_ident_t *d)
 {
-    app_ident_im_t *const m = &d->u.im;
-    const int64_t x = (int64_t)(d->res.enc_reversed != 0U ? -d->win_dpos : d->win_dpos) - (int64_t)m->pole_dpos;
-    const iq_t v = iq_mpy(fix_sat32((x * m->w_k) >> 32), m->psi_ts);
-    const iq_t rise = fix_sub32(v, m->ff_prev);
-    m->ff_prev = v;
+    const int64_t x = (int64_t)(d->res.enc_reversed != 0U ? -d->win_dpos : d->win_dpos) - (int64_t)d->ff_dpos0;
+    const iq_t v = iq_mpy(fix_sat32((x * d->ff_w_k) >> 32), d->ff_psi_ts);
+    const iq_t rise = fix_sub32(v, d->ff_prev);
+    d->ff_prev = v;
     if (d->sub != 0U || d->n_acc == 0U) {
         d->v_ff_iq = d->sub != 0U ? 0 : d->v_ff_iq;
         d->dv_ff_iq = 0;

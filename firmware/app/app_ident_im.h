@@ -1,8 +1,9 @@
 /*
  * app_ident_im.h - the induction machine's part of the self-commissioning (app_ident_im.c,
  * docs/commissioning.md "Induction machine"): its results and the background's scratch. The
- * sequence shares the PM's segments (app_ident.h: HOLD, PULSE), its R_s line and its failure
- * handling; app_ident_t carries one app_ident_im_t.
+ * sequence shares the PM's segments (app_ident.h: HOLD, PULSE, SPIN, COAST), its R_s line, its
+ * spin's fits and its failure handling; app_ident_t carries the scratch (u.im) and the results
+ * (res.im).
  *
  * Units: inductances as L / (Z_b Ts) in IQ (the PM's l_ts_iq), resistances in pu of Z_b (IQ), the
  * rotor time constant in control periods (Q4). Model (Casadei eqs. A6-A9 at standstill, written in
@@ -53,10 +54,7 @@ typedef struct {
     int64_t pole_sum_v; /* ... the q voltage summed over the summed windows (IQ x periods) */
     uint16_t pole_win;  /* ... windows so far */
     uint32_t pole_rate_q16; /* encoder step: the field's turn per period at full speed, angle_t Q16 */
-    int32_t pole_dpos;  /* ... the count change per window of the field's speed (spin feed-forward's zero) */
-    int64_t w_k;        /* spin: electrical rad per period (IQ) of one count per window, times 2^32 */
-    iq_t psi_ts;        /* spin: L_s i_d / (Z_b Ts), IQ (the back-EMF per rad per period) */
-    iq_t ff_prev;       /* spin: the last window's back-EMF rise */
+
 } app_ident_im_t;
 
 #endif /* APP_IDENT_IM_H */

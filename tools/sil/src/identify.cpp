@@ -337,11 +337,11 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
         add("lls_h", im_l, m.lls_h, "H", APP_IDENT_LS, true, "L_ls = L_s (1 - sqrt(1 - sigma)), L_lr = L_ls assumed");
         add("llr_h", im_l, m.llr_h, "H", APP_IDENT_LS, true, "L_lr = L_ls assumed");
         add("pole_pairs", p, static_cast<double>(m.pole_pairs), "", APP_IDENT_ENCODER, false,
-            "the encoder's counts per turn of a field rotating at w_b / 16, the rotor unloaded");
+            "the encoder's counts per turn of a field rotating at w_b / 8, the rotor unloaded");
         add("encoder_reversed", d.res.enc_reversed, rev_true ? 1.0 : 0.0, "", APP_IDENT_ENCODER, false,
             "the count runs down for the inverter's forward field");
         add("j_kgm2", j_id, m.j_kgm2, "kg*m^2", APP_IDENT_SPIN, true,
-            "acceleration at i_q = 1/8 rated under indirect field orientation and a coast");
+            "acceleration at i_q = (2/p)^2 / 8 of rated under indirect field orientation and a coast");
         add("b_nm_s_per_rad", b_id, b_true, "N*m*s/rad", APP_IDENT_SPIN, false,
             "viscous friction; a fan load (torque ~ speed^2) is absorbed in b and T_c");
         add("coulomb_nm", tc_id, sc.load.coulomb_nm, "N*m", APP_IDENT_SPIN, false, "");
