@@ -51,6 +51,22 @@ def refused(fn, code, detail=None):
     return False
 
 
+def check_results(label, res, truth, tolerances, out, ref):
+    """The console's results against dtc-sil identify's true values: pole pairs and direction exact,
+    each (key, relative tolerance), and identified.toml with the keys dtc-sil identify writes."""
+    check(res["pole_pairs"] == truth["pole_pairs"]["true"], "%spole pairs %d (true %d)" %
+          (label, res["pole_pairs"], truth["pole_pairs"]["true"]))
+    check(res["encoder_reversed"] == bool(truth["encoder_reversed"]["true"]), "%sencoder direction" % label)
+    for key, tol in tolerances:
+        t = truth[key]["true"]
+        check(abs(res[key] - t) <= tol * abs(t), "%s%s %.6g within %g %% of the true %.6g (%.2f %%)" %
+              (label, key, res[key], 100 * tol, t, 100 * (res[key] - t) / t))
+    keys = lambda path: sorted(l.split("=")[0].strip() for l in open(path, encoding="utf-8")
+                               if "=" in l and not l.startswith("#"))
+    check(keys(os.path.join(out, "identified.toml")) == keys(os.path.join(ref, "identified.toml")),
+          "%sidentified.toml has the keys dtc-sil identify writes: %s" % (label, keys(os.path.join(out, "identified.toml"))))
+
+
 def main():
     sil, pm, im, work = sys.argv[1:5]
     shutil.rmtree(work, ignore_errors=True)
@@ -97,19 +113,10 @@ def main():
         res = json.loads(so) if rc == 0 else {}
         if res:
             check(res["step"] == "done" and res["status"] == "ok", "identification done")
-            check(res["pole_pairs"] == truth["pole_pairs"]["true"], "pole pairs %d (true %d)" %
-                  (res["pole_pairs"], truth["pole_pairs"]["true"]))
-            check(res["encoder_reversed"] == bool(truth["encoder_reversed"]["true"]), "encoder direction")
-            for key, tol in (("rs_ohm", 0.02), ("ls_h", 0.03), ("drop_at_rated_v", 0.02), ("psi_m_wb", 0.03), ("j_kgm2", 0.10)):
-                t = truth[key]["true"]
-                check(abs(res[key] - t) <= tol * abs(t), "%s %.6g within %g %% of the true %.6g (%.2f %%)" %
-                      (key, res[key], 100 * tol, t, 100 * (res[key] - t) / t))
+            check_results("", res, truth, (("rs_ohm", 0.02), ("ls_h", 0.03), ("drop_at_rated_v", 0.02),
+                                           ("psi_m_wb", 0.03), ("j_kgm2", 0.10)), out, ref)
             e = (res["encoder_offset_el_deg"] - truth["encoder_offset_el_deg"]["true"] + 180.0) % 360.0 - 180.0
             check(abs(e) <= 2.0, "encoder offset %.3f el. deg off the true one (within 2)" % e)
-            keys = lambda path: sorted(l.split("=")[0].strip() for l in open(path, encoding="utf-8")
-                                       if "=" in l and not l.startswith("#"))
-            check(keys(os.path.join(out, "identified.toml")) == keys(os.path.join(ref, "identified.toml")),
-                  "identified.toml has the keys dtc-sil identify writes: %s" % keys(os.path.join(out, "identified.toml")))
         # 4. READY afterwards, and it arms
         with Drive(link, timeout_s=2.0) as d:
             s = d.status()
@@ -133,18 +140,8 @@ def main():
         res = json.loads(so) if rc == 0 else {}
         if res:
             check(res["step"] == "done" and res["machine"] == "im", "IM identification done")
-            check(res["pole_pairs"] == truth_im["pole_pairs"]["true"], "IM pole pairs %d (true %d)" %
-                  (res["pole_pairs"], truth_im["pole_pairs"]["true"]))
-            check(res["encoder_reversed"] == bool(truth_im["encoder_reversed"]["true"]), "IM encoder direction")
-            for key, tol in (("rs_ohm", 0.05), ("rr_ohm", 0.10), ("sigma_ls_h", 0.10), ("ls_h", 0.05),
-                             ("ls_spin_h", 0.05), ("lm_h", 0.05), ("j_kgm2", 0.10)):
-                t = truth_im[key]["true"]
-                check(abs(res[key] - t) <= tol * abs(t), "IM %s %.6g within %g %% of the true %.6g (%.2f %%)" %
-                      (key, res[key], 100 * tol, t, 100 * (res[key] - t) / t))
-            keys = lambda path: sorted(l.split("=")[0].strip() for l in open(path, encoding="utf-8")
-                                       if "=" in l and not l.startswith("#"))
-            check(keys(os.path.join(out, "identified.toml")) == keys(os.path.join(ref_im, "identified.toml")),
-                  "IM identified.toml has the keys dtc-sil identify writes: %s" % keys(os.path.join(out, "identified.toml")))
+            check_results("IM ", res, truth_im, (("rs_ohm", 0.05), ("rr_ohm", 0.10), ("sigma_ls_h", 0.10), ("ls_h", 0.05),
+                                                 ("ls_spin_h", 0.05), ("lm_h", 0.05), ("j_kgm2", 0.10)), out, ref_im)
     finally:
         stop(srv)
     return exit_code()
