@@ -64,19 +64,6 @@ uint32_t pil_console_ticks(void)
     return g_tick;
 }
 
-uint16_t pil_console_store_range(uint16_t addr, uint16_t n, uint16_t words)
-{
-    return (uint16_t)((uint32_t)addr + n <= (uint32_t)words);
-}
-
-uint16_t pil_console_store_erase(uint16_t addr, uint16_t n, uint16_t words, uint16_t unit)
-{
-    if (pil_console_store_range(addr, n, words) == 0U || (addr & (unit - 1U)) != 0U || (n & (unit - 1U)) != 0U) {
-        return HAL_STORE_ERR_RANGE;
-    }
-    return HAL_STORE_OK;
-}
-
 /* ---- hal.h: the bench ---------------------------------------------------------------------- */
 void hal_init(void) {}
 

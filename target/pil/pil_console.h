@@ -42,13 +42,12 @@ void pil_console_background(void);
 /* ISR periods so far. */
 uint32_t pil_console_ticks(void);
 
-/* The range checks of the Cortex-M and AVR bindings' EEPROM-like stores of `words` words (hal.h
- * hal_store_*): pil_console_store_range is 1 when [addr, addr + n) lies in the store;
- * pil_console_store_erase is hal_store_erase's answer for erase units of `unit` words (a power of
- * two): HAL_STORE_OK for a range on unit boundaries (an EEPROM rewrites words in place, so there
- * is nothing to do), else HAL_STORE_ERR_RANGE. */
-uint16_t pil_console_store_range(uint16_t addr, uint16_t n, uint16_t words);
-uint16_t pil_console_store_erase(uint16_t addr, uint16_t n, uint16_t words, uint16_t unit);
+/* The Cortex-M and AVR bindings' store (pil_console_store.c implements hal.h's hal_store_read,
+ * hal_store_write and hal_store_erase on it): an EEPROM-like array of hal_store_words() words,
+ * rewritten in place, its slots aligned to hal_store_erase_words() (a power of two). The binding
+ * supplies those two sizes and the access to one word at addr < hal_store_words(). */
+uint16_t pil_console_store_get(uint16_t addr);
+void pil_console_store_put(uint16_t addr, uint16_t value);
 
 #ifdef __cplusplus
 }

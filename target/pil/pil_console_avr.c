@@ -121,33 +121,14 @@ uint16_t hal_serial_write(const uint16_t *buf, uint16_t n)
 uint16_t hal_store_words(void) { return PIL_AVR_STORE_WORDS; }
 uint16_t hal_store_erase_words(void) { return PIL_AVR_STORE_ERASE; }
 
-uint16_t hal_store_read(uint16_t addr, uint16_t *buf, uint16_t n)
+uint16_t pil_console_store_get(uint16_t addr)
 {
-    uint16_t k;
-    if (pil_console_store_range(addr, n, PIL_AVR_STORE_WORDS) == 0U) {
-        return HAL_STORE_ERR_RANGE;
-    }
-    for (k = 0U; k < n; k++) {
-        buf[k] = eeprom_read_word((const uint16_t *)(uintptr_t)(2U * (addr + k)));
-    }
-    return HAL_STORE_OK;
+    return eeprom_read_word((const uint16_t *)(uintptr_t)(2U * addr));
 }
 
-uint16_t hal_store_write(uint16_t addr, const uint16_t *buf, uint16_t n)
+void pil_console_store_put(uint16_t addr, uint16_t value)
 {
-    uint16_t k;
-    if (pil_console_store_range(addr, n, PIL_AVR_STORE_WORDS) == 0U) {
-        return HAL_STORE_ERR_RANGE;
-    }
-    for (k = 0U; k < n; k++) {
-        eeprom_update_word((uint16_t *)(uintptr_t)(2U * (addr + k)), buf[k]);
-    }
-    return HAL_STORE_OK;
-}
-
-uint16_t hal_store_erase(uint16_t addr, uint16_t n)
-{
-    return pil_console_store_erase(addr, n, PIL_AVR_STORE_WORDS, PIL_AVR_STORE_ERASE);
+    eeprom_update_word((uint16_t *)(uintptr_t)(2U * addr), value);
 }
 
 int main(void)

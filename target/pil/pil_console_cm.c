@@ -74,33 +74,14 @@ uint16_t hal_serial_write(const uint16_t *buf, uint16_t n)
 uint16_t hal_store_words(void) { return (uint16_t)PIL_CONSOLE_STORE_WORDS; }
 uint16_t hal_store_erase_words(void) { return (uint16_t)PIL_CONSOLE_STORE_ERASE; }
 
-uint16_t hal_store_read(uint16_t addr, uint16_t *buf, uint16_t n)
+uint16_t pil_console_store_get(uint16_t addr)
 {
-    uint16_t k;
-    if (pil_console_store_range(addr, n, PIL_CONSOLE_STORE_WORDS) == 0U) {
-        return HAL_STORE_ERR_RANGE;
-    }
-    for (k = 0U; k < n; k++) {
-        buf[k] = g_store[addr + k];
-    }
-    return HAL_STORE_OK;
+    return g_store[addr];
 }
 
-uint16_t hal_store_write(uint16_t addr, const uint16_t *buf, uint16_t n)
+void pil_console_store_put(uint16_t addr, uint16_t value)
 {
-    uint16_t k;
-    if (pil_console_store_range(addr, n, PIL_CONSOLE_STORE_WORDS) == 0U) {
-        return HAL_STORE_ERR_RANGE;
-    }
-    for (k = 0U; k < n; k++) {
-        g_store[addr + k] = buf[k];
-    }
-    return HAL_STORE_OK;
-}
-
-uint16_t hal_store_erase(uint16_t addr, uint16_t n)
-{
-    return pil_console_store_erase(addr, n, PIL_CONSOLE_STORE_WORDS, PIL_CONSOLE_STORE_ERASE);
+    g_store[addr] = value;
 }
 
 int main(void)

@@ -51,6 +51,13 @@ def refused(fn, code, detail=None):
     return False
 
 
+def identify_on_console(link, out, label):
+    """`dtc_console.py identify --json --out OUT` on the line: its results, or {} when it failed."""
+    rc, so, se = console(link, "identify", "--json", "--out", out)
+    check(rc == 0, "%sdtc_console.py identify exits 0 (%s)" % (label, se.strip()))
+    return json.loads(so) if rc == 0 else {}
+
+
 def check_results(label, res, truth, tolerances, out, ref):
     """The console's results against dtc-sil identify's true values: pole pairs and direction exact,
     each (key, relative tolerance), and identified.toml with the keys dtc-sil identify writes."""
@@ -108,9 +115,7 @@ def main():
             check(d.identify_status()["step"] == st["step"], "it stays stopped (step %s)" % st["step"])
         # 3. the whole identification through the console
         out = os.path.join(work, "out")
-        rc, so, se = console(link, "identify", "--json", "--out", out)
-        check(rc == 0, "dtc_console.py identify exits 0 (%s)" % se.strip())
-        res = json.loads(so) if rc == 0 else {}
+        res = identify_on_console(link, out, "")
         if res:
             check(res["step"] == "done" and res["status"] == "ok", "identification done")
             check_results("", res, truth, (("rs_ohm", 0.02), ("ls_h", 0.03), ("drop_at_rated_v", 0.02),
@@ -135,9 +140,7 @@ def main():
     srv = serve(sil, im, link, 2.0, 60.0)
     try:
         out = os.path.join(work, "out_im")
-        rc, so, se = console(link, "identify", "--json", "--out", out)
-        check(rc == 0, "dtc_console.py identify exits 0 on the induction machine (%s)" % se.strip())
-        res = json.loads(so) if rc == 0 else {}
+        res = identify_on_console(link, out, "IM ")
         if res:
             check(res["step"] == "done" and res["machine"] == "im", "IM identification done")
             check_results("IM ", res, truth_im, (("rs_ohm", 0.05), ("rr_ohm", 0.10), ("sigma_ls_h", 0.10), ("ls_h", 0.05),
