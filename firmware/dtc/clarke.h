@@ -54,6 +54,17 @@ static inline void clarke_fstp(iq_t ib_iq, iq_t ic_iq, clarke_out_t *o)
     o->i_beta_iq = q31_mul_k(fix_sub32(ib_iq, ic_iq), CLARKE_INV_SQRT3_Q31);
 }
 
+/* The measured currents of either inverter (fstp != 0: i_b, i_c by clarke_fstp; else i_a, i_b by
+ * clarke_sstp; the unmeasured one is not read). */
+static inline void clarke_meas(uint16_t fstp, iq_t ia_iq, iq_t ib_iq, iq_t ic_iq, clarke_out_t *o)
+{
+    if (fstp != 0U) {
+        clarke_fstp(ib_iq, ic_iq, o);
+    } else {
+        clarke_sstp(ia_iq, ib_iq, o);
+    }
+}
+
 /* Inverse (Hoang eqs. 4-5 solved for the phases with i_a + i_b + i_c = 0): i_a = i_alpha,
  * i_b = -i_alpha/2 + (sqrt(3)/2) i_beta, i_c = -i_a - i_b (the zero sum holds exactly). IQ pu;
  * the products round, the sums saturate. */

@@ -38,13 +38,14 @@ void dsc_reset(dsc_t *s, uint16_t ccw, iq_t psi_alpha_iq, iq_t psi_beta_iq)
 uint16_t dsc_step(dsc_t *s, iq_t psi_alpha_iq, iq_t psi_beta_iq, iq_t psi_ref_iq)
 {
     iq_t c[3];
+    const iq_t lo = fix_neg32(psi_ref_iq);
     uint16_t x;
     dsc_components(psi_alpha_iq, psi_beta_iq, s->ccw, c);
     for (x = 0U; x < 3U; ++x) {
         /* Casadei section 9: upper limit -> S = 0, lower limit -> S = 1. */
         if (c[x] > psi_ref_iq) {
             s->s[x] = 0U;
-        } else if (c[x] < fix_neg32(psi_ref_iq)) {
+        } else if (c[x] < lo) {
             s->s[x] = 1U;
         }
     }

@@ -302,8 +302,8 @@ void dtc_pol_mid(dtc_t *c, const clarke_out_t *i)
 void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
 {
     const dtc_config_t *cfg = c->cfg;
-    clarke_out_t i;
-    flux_est_in_t fin;
+    clarke_out_t *const i = &c->i_k; /* in the state, not the frame: see dtc.h */
+    flux_est_in_t *const fin = &c->fin;
     iq_t psi_a, psi_b, te;
     uint64_t mag2;
     uint16_t sector, flux_up, vec, vm;
@@ -330,19 +330,15 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     }
 
     /* 2. Clarke (Hoang eqs. 4-5) from the two measured currents. */
-    if (cfg->board.topology == DTC_TOPO_FSTP) {
-        clarke_fstp(m->ib_iq, m->ic_iq, &i);
-    } else {
-        clarke_sstp(m->ia_iq, m->ib_iq, &i);
-    }
+    clarke_meas(cfg->board.topology == DTC_TOPO_FSTP ? 1U : 0U, m->ia_iq, m->ib_iq, m->ic_iq, i);
 
     /* 3. Flux estimator. */
-    fin.i_alpha_iq = i.i_alpha_iq;
-    fin.i_beta_iq = i.i_beta_iq;
-    fin.enc_count = m->enc_count;
-    fin.v_alpha_iq = 0;
-    fin.v_beta_iq = 0;
-    fin.r_iq = c->lpf_r_iq; /* 0 unless lpf_comp (dtc_lpf_r) */
+    fin->i_alpha_iq = i->i_alpha_iq;
+    fin->i_beta_iq = i->i_beta_iq;
+    fin->enc_count = m->enc_count;
+    fin->v_alpha_iq = 0;
+    fin->v_beta_iq = 0;
+    fin->r_iq = c->lpf_r_iq; /* 0 unless lpf_comp (dtc_lpf_r) */
     if (cfg->est.estimator == DTC_EST_VOLTAGE) {
         iq_t vfa, vfb;
         /* the reconstruction of legs_2 goes through c->v1_*: the delay compensation below takes
@@ -354,23 +350,23 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
             vrec_sstp(c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, m->vdc_iq, &c->v1_alpha_iq,
                       &c->v1_beta_iq);
         }
-        fin.v_alpha_iq = c->v1_alpha_iq;
-        fin.v_beta_iq = c->v1_beta_iq;
+        fin->v_alpha_iq = c->v1_alpha_iq;
+        fin->v_beta_iq = c->v1_beta_iq;
         if (cfg->u.pm_dtc.est.polarity_mid != 0U) {
             /* the period [k-1, k]: drops over the current's line from i(k-1) to i(k), R_on at its mean */
-            dtc_pol_mid(c, &i);
-            vcomp_step_lin(&c->vc_p, c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, &c->i_mid, &c->i_prev, &i, &vfa,
+            dtc_pol_mid(c, i);
+            vcomp_step_lin(&c->vc_p, c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, &c->i_mid, &c->i_prev, i, &vfa,
                            &vfb);
         } else {
-            vcomp_step(&c->vc_p, c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, &i, &vfa, &vfb);
+            vcomp_step(&c->vc_p, c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, i, &vfa, &vfb);
         }
-        fin.v_alpha_iq = fix_add32(fin.v_alpha_iq, vfa);
-        fin.v_beta_iq = fix_add32(fin.v_beta_iq, vfb);
+        fin->v_alpha_iq = fix_add32(fin->v_alpha_iq, vfa);
+        fin->v_beta_iq = fix_add32(fin->v_beta_iq, vfb);
         if (cfg->est.deadtime_comp != 0U) {
-            deadtime_error(&c->dt_p, m->vdc_iq, cfg->u.pm_dtc.est.polarity_mid != 0U ? &c->i_prev : &i, &c->legs_3,
+            deadtime_error(&c->dt_p, m->vdc_iq, cfg->u.pm_dtc.est.polarity_mid != 0U ? &c->i_prev : i, &c->legs_3,
                          &c->legs_2, &vfa, &vfb);
-            fin.v_alpha_iq = fix_add32(fin.v_alpha_iq, vfa);
-            fin.v_beta_iq = fix_add32(fin.v_beta_iq, vfb);
+            fin->v_alpha_iq = fix_add32(fin->v_alpha_iq, vfa);
+            fin->v_beta_iq = fix_add32(fin->v_beta_iq, vfb);
         }
     }
     if (c->cm_hold != 0U) {
@@ -380,26 +376,26 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     vm = cfg->est.estimator == DTC_EST_VOLTAGE && c->speed_primed != 0U && c->on_cm == 0U ? 1U : 0U;
     if (vm != 0U || cfg->u.pm_dtc.est.delay_comp != 0U) {
         /* r_s i (Hoang eqs. 15-16): one product for the voltage model and the prediction */
-        c->ri_alpha_iq = iq_mpy(cfg->machine.rs_iq, i.i_alpha_iq);
-        c->ri_beta_iq = iq_mpy(cfg->machine.rs_iq, i.i_beta_iq);
+        c->ri_alpha_iq = iq_mpy(cfg->machine.rs_iq, i->i_alpha_iq);
+        c->ri_beta_iq = iq_mpy(cfg->machine.rs_iq, i->i_beta_iq);
     }
     if (vm != 0U) {
-        flux_est_vm_step(&c->fe, &fin, c->ri_alpha_iq, c->ri_beta_iq); /* low-pass correction: lpfcorr.h */
+        flux_est_vm_step(&c->fe, fin, c->ri_alpha_iq, c->ri_beta_iq); /* low-pass correction: lpfcorr.h */
     } else {
         /* The current model (Hoang eqs. 8-9): the estimator, or with the voltage model the first
          * step after a reset and every step below the hand-over speed, written into the low-pass
          * state so that the voltage model starts from it when the hand-over comes (dtc_config.h).
          * flux_est_seed is flux_est_step of a current-model estimator. */
-        flux_est_seed(&c->fe, &fin);
+        flux_est_seed(&c->fe, fin);
     }
     psi_a = c->fe.psi_alpha_iq;
     psi_b = c->fe.psi_beta_iq;
     if (cfg->u.pm_dtc.est.dc_supp != 0U && cfg->est.estimator == DTC_EST_VOLTAGE) {
-        dtc_dcsupp(c, &i, &psi_a, &psi_b);
+        dtc_dcsupp(c, i, &psi_a, &psi_b);
     }
 
     /* 4. Torque (Hoang eq. 10); the estimate at k is reported as it is. */
-    te = torque_eq10(psi_a, psi_b, i.i_alpha_iq, i.i_beta_iq);
+    te = torque_eq10(psi_a, psi_b, i->i_alpha_iq, i->i_beta_iq);
     o->psi_alpha_iq = psi_a;
     o->psi_beta_iq = psi_b;
     o->te_iq = te;
@@ -436,15 +432,15 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
             vrec_sstp(c->legs_1.sa, c->legs_1.sb, c->legs_1.sc, m->vdc_iq, &c->v1_alpha_iq,
                       &c->v1_beta_iq);
         }
-        vcomp_step(&c->vc_p, c->legs_1.sa, c->legs_1.sb, c->legs_1.sc, &i, &c->v1f_alpha_iq,
+        vcomp_step(&c->vc_p, c->legs_1.sa, c->legs_1.sb, c->legs_1.sc, i, &c->v1f_alpha_iq,
                    &c->v1f_beta_iq);
         c->v1d_alpha_iq = 0;
         c->v1d_beta_iq = 0;
         if (cfg->est.deadtime_comp != 0U) {
-            deadtime_error(&c->dt_p, m->vdc_iq, &i, &c->legs_2, &c->legs_1, &c->v1d_alpha_iq,
+            deadtime_error(&c->dt_p, m->vdc_iq, i, &c->legs_2, &c->legs_1, &c->v1d_alpha_iq,
                          &c->v1d_beta_iq);
         }
-        dtc_predict(c, &i, &psi_a, &psi_b, &te);
+        dtc_predict(c, i, &psi_a, &psi_b, &te);
     }
     mag2 = iq_sumsq_q48(psi_a, psi_b);
     sector = cfg->board.topology == DTC_TOPO_FSTP ? sector_fstp(psi_a, psi_b) : sector_sstp(psi_a, psi_b);
@@ -471,16 +467,16 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     if (cfg->prot.i_lim_iq > 0) {
         /* Current limit (ilim.h) on the current predicted for k+1, or on i(k) without the
          * delay compensation (the host's margin covers the second period then). */
-        vec = ilim_select(&c->il_p, cfg->u.pm_dtc.est.delay_comp != 0U ? &c->i1 : &i, vec, &c->i_limited);
+        vec = ilim_select(&c->il_p, cfg->u.pm_dtc.est.delay_comp != 0U ? &c->i1 : i, vec, &c->i_limited);
         if (c->i_limited != 0U) {
             legs = cfg->board.topology == DTC_TOPO_FSTP ? swtab_fstp_legs(vec) : swtab_sstp_legs(vec);
         }
     }
-    c->i_prev.ia_iq = i.ia_iq; /* the sample at k is the previous one for the next step */
-    c->i_prev.ib_iq = i.ib_iq;
-    c->i_prev.ic_iq = i.ic_iq;
-    c->i_prev.i_alpha_iq = i.i_alpha_iq;
-    c->i_prev.i_beta_iq = i.i_beta_iq;
+    c->i_prev.ia_iq = i->ia_iq; /* the sample at k is the previous one for the next step */
+    c->i_prev.ib_iq = i->ib_iq;
+    c->i_prev.ic_iq = i->ic_iq;
+    c->i_prev.i_alpha_iq = i->i_alpha_iq;
+    c->i_prev.i_beta_iq = i->i_beta_iq;
     swtab_legs_shift(&c->legs_3, &c->legs_2, &c->legs_1, &legs);
     c->vec_1 = vec;
 

@@ -93,6 +93,10 @@ typedef struct {
                                    * dtc_predict take the same product) */
     uint16_t gains_due;  /* 1: the speed-dependent gains of the speed measured last are still to be
                           * formed (dtc_speed_gains, at the start of the next step) */
+    /* dtc_step's working values of one step (the currents at k, the estimator's input), kept here
+     * and not in its frame: dtc_step heads the deepest call chains of the Cortex-M0 stack budget */
+    clarke_out_t i_k;
+    flux_est_in_t fin;
 } dtc_t;
 
 /* The law's configuration check (dtc_check.c): the common part, then the law DTC_LAW_PM_DTC and

@@ -107,8 +107,8 @@ void itc_reset(itc_t *c)
     c->iq_ref_iq = 0;
 }
 
-/* Copies the shadow set whose (even) sequence number is seq and adopts it. */
-static void itc_shadow_adopt(itc_t *c, uint16_t seq)
+/* Copies the shadow set whose (even) sequence number is seq and adopts it (itc.h). */
+void itc_shadow_adopt(itc_t *c, uint16_t seq)
 {
     dtc_refs_t r;
     dtc_shadow_take(&c->sh, seq, &r);
@@ -132,38 +132,40 @@ static void itc_vcomp(const itc_t *c, const clarke_out_t *i, const iq_t d[2], iq
 }
 
 /* Observer (itc.h): the estimator on the voltage of the period just ended; returns the torque of
- * Hoang eq. 10 from its flux. Out of line: its temporaries stay out of itc_step's frame. */
-static iq_t itc_observe(itc_t *c, const dtc_meas_t *m, const clarke_out_t *i)
+ * Hoang eq. 10 from its flux. */
+iq_t itc_observe(itc_t *c, const dtc_meas_t *m)
 {
     const dtc_config_t *cfg = c->cfg;
-    flux_est_in_t fin;
-    fin.i_alpha_iq = i->i_alpha_iq;
-    fin.i_beta_iq = i->i_beta_iq;
-    fin.enc_count = m->enc_count;
-    fin.v_alpha_iq = c->v2_alpha_iq;
-    fin.v_beta_iq = c->v2_beta_iq;
-    fin.r_iq = c->lpf_r_iq;
+    clarke_out_t *const i = &c->i_k;
+    flux_est_in_t *const fin = &c->fin;
+    /* Clarke (Hoang eqs. 4-5) of the measured currents */
+    clarke_meas(cfg->board.topology == (uint16_t)DTC_TOPO_FSTP ? 1U : 0U, m->ia_iq, m->ib_iq, m->ic_iq, i);
+    fin->i_alpha_iq = i->i_alpha_iq;
+    fin->i_beta_iq = i->i_beta_iq;
+    fin->enc_count = m->enc_count;
+    fin->v_alpha_iq = c->v2_alpha_iq;
+    fin->v_beta_iq = c->v2_beta_iq;
+    fin->r_iq = c->lpf_r_iq;
     if (cfg->est.estimator == DTC_EST_VOLTAGE && c->vc_p.mode != (uint16_t)DTC_COMP_NONE) {
         iq_t vfa, vfb;
         itc_vcomp(c, i, c->d2_iq, &vfa, &vfb);
-        fin.v_alpha_iq = fix_add32(fin.v_alpha_iq, vfa);
-        fin.v_beta_iq = fix_add32(fin.v_beta_iq, vfb);
+        fin->v_alpha_iq = fix_add32(fin->v_alpha_iq, vfa);
+        fin->v_beta_iq = fix_add32(fin->v_beta_iq, vfb);
     }
     if (cfg->est.estimator != DTC_EST_VOLTAGE || c->speed_primed == 0U) {
         /* the current model (Hoang eqs. 8-9): the estimator, or the voltage model's first step;
          * flux_est_seed is flux_est_step of a current-model estimator */
-        flux_est_seed(&c->fe, &fin);
+        flux_est_seed(&c->fe, fin);
     } else {
         /* the voltage model entered directly: through flux_est_step its frame would add to this chain */
-        flux_est_vm_step(&c->fe, &fin, iq_mpy(cfg->machine.rs_iq, i->i_alpha_iq),
+        flux_est_vm_step(&c->fe, fin, iq_mpy(cfg->machine.rs_iq, i->i_alpha_iq),
                          iq_mpy(cfg->machine.rs_iq, i->i_beta_iq));
     }
     return torque_eq10(c->fe.psi_alpha_iq, c->fe.psi_beta_iq, i->i_alpha_iq, i->i_beta_iq);
 }
 
-/* Speed loop (every speed_div-th step, as dtc_step): measured speed, the low-pass correction
- * factor, and T* in speed mode. */
-static void itc_speed(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
+/* Speed loop (itc.h). */
+void itc_speed(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
 {
     const dtc_config_t *cfg = c->cfg;
     o->speed_tick = 0U;
@@ -190,78 +192,49 @@ static void itc_speed(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     }
 }
 
-void itc_step(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
+void itc_cc_in(itc_t *c, const dtc_meas_t *m, iq_t vlo_iq)
 {
     const dtc_config_t *cfg = c->cfg;
-    const uint16_t fstp = cfg->board.topology == (uint16_t)DTC_TOPO_FSTP ? 1U : 0U;
-    clarke_out_t i;
-    park_sc_t sc;
-    dqpi_in_t in;
-    dqpi_out_t v;
-    angle_t th;
-    iq_t vlo, te, va, vb;
+    dqpi_in_t *const in = &c->cc_in;
+    const park_sc_t *const sc = &c->sc;
 
-    /* 1. Shadow set: adopt a complete, not yet adopted set (dtc_refs.h). */
-    {
-        const uint16_t seq = dtc_shadow_pending(&c->sh);
-        if (seq != 0U) {
-            itc_shadow_adopt(c, seq);
-        }
-    }
-    /* 2. Clarke (Hoang eqs. 4-5), the observer, the speed loop. */
-    if (fstp != 0U) {
-        clarke_fstp(m->ib_iq, m->ic_iq, &i);
-    } else {
-        clarke_sstp(m->ia_iq, m->ib_iq, &i);
-    }
-    te = itc_observe(c, m, &i);
-    itc_speed(c, m, o);
-    c->i_alpha_iq = i.i_alpha_iq;
-    c->i_beta_iq = i.i_beta_iq;
-
-    /* 3. Rotor frame (the encoder's electrical angle), references, current PI (dqpi.h) on the
-     *    decoupling and back-EMF feed-forward, the voltage limit of the inverter. */
-    th = c->fe.theta_e; /* the encoder's electrical angle of this step (flux_est_angle, set by the observer) */
-    park_sincos(th, &sc);
-    c->sc = sc;
-    park_fwd(&sc, i.i_alpha_iq, i.i_beta_iq, &c->id_iq, &c->iq_iq);
+    park_sincos(c->fe.theta_e, &c->sc); /* the encoder's electrical angle of this step (flux_est_angle, set by the observer) */
+    park_fwd(sc, c->i_alpha_iq, c->i_beta_iq, &c->id_iq, &c->iq_iq);
     c->iq_ref_iq = iq_mpy(cfg->u.pm_itc.cc.iq_per_t_iq, c->te_ref_iq);
-    vlo = cfg->board.fstp_vmid_measured != 0U ? m->vmid_iq : fix_rshift_rnd32(m->vdc_iq, 1U);
-    in.ref_d_iq = 0;
-    in.ref_q_iq = c->iq_ref_iq;
-    if (fstp != 0U && cfg->u.pm_itc.mid.g_iq > 0) {
+    in->ref_d_iq = 0;
+    in->ref_q_iq = c->iq_ref_iq;
+    if (cfg->board.topology == (uint16_t)DTC_TOPO_FSTP && cfg->u.pm_itc.mid.g_iq > 0) {
         /* mid-point regulation: i_a* = g y, y += k_f (d - y) (itc.h), into the rotor frame */
-        const iq_t d = iq_sub(vlo, fix_rshift_rnd32(m->vdc_iq, 1U));
+        const iq_t d = iq_sub(vlo_iq, fix_rshift_rnd32(m->vdc_iq, 1U));
         c->vmid_y_iq = iq_add(c->vmid_y_iq, iq_mpy(cfg->u.pm_itc.mid.kf_iq, iq_sub(d, c->vmid_y_iq)));
         const iq_t ia0 = fix_clamp32(iq_mpy(cfg->u.pm_itc.mid.g_iq, c->vmid_y_iq), -c->vmid_imax_iq, c->vmid_imax_iq);
-        in.ref_d_iq = iq_mpy_q15(ia0, sc.cos_q15); /* park.h of (i_a*, 0) */
-        in.ref_q_iq = iq_sub(in.ref_q_iq, iq_mpy_q15(ia0, sc.sin_q15));
+        in->ref_d_iq = iq_mpy_q15(ia0, sc->cos_q15); /* park.h of (i_a*, 0) */
+        in->ref_q_iq = iq_sub(in->ref_q_iq, iq_mpy_q15(ia0, sc->sin_q15));
     }
-    in.meas_d_iq = c->id_iq;
-    in.meas_q_iq = c->iq_iq;
-    in.ff_d_iq = fix_neg32(iq_mpy(c->wls_iq, c->iq_iq));
-    in.ff_q_iq = iq_add(iq_mpy(c->wls_iq, c->id_iq), c->wpsi_iq);
-    if (fstp != 0U) {
-        const iq_t hi = iq_sub(m->vdc_iq, vlo);
-        in.vmax_iq = q31_mul(vlo < hi ? vlo : hi, FIX_Q31_INV_SQRT3);
+    in->meas_d_iq = c->id_iq;
+    in->meas_q_iq = c->iq_iq;
+    in->ff_d_iq = fix_neg32(iq_mpy(c->wls_iq, c->iq_iq));
+    in->ff_q_iq = iq_add(iq_mpy(c->wls_iq, c->id_iq), c->wpsi_iq);
+    if (cfg->board.topology == (uint16_t)DTC_TOPO_FSTP) {
+        const iq_t hi = iq_sub(m->vdc_iq, vlo_iq);
+        in->vmax_iq = q31_mul(vlo_iq < hi ? vlo_iq : hi, FIX_Q31_INV_SQRT3);
     } else {
-        in.vmax_iq = q31_mul(m->vdc_iq, FIX_Q31_INV_SQRT3);
+        in->vmax_iq = q31_mul(m->vdc_iq, FIX_Q31_INV_SQRT3);
     }
-    dqpi_step(&c->cc, &c->cc_p, &in, &v);
+}
 
-    /* 4. Stator frame, advanced by the 1.5 w Ts the rotor turns until the middle of the period the
-     *    command acts in: (1 + j 1.5 w Ts) (as im_dfoc.c; the magnitude error (1 + x^2)^(1/2) - 1
-     *    is 7e-5 at 1500 rpm, x = 0.012 rad). */
-    park_inv(&sc, v.v_d_iq, v.v_q_iq, &va, &vb);
-    iq_cmul_1jx(c->adv_iq, &va, &vb);
+void itc_cc_out(const itc_t *c, iq_t *va, iq_t *vb)
+{
+    /* Stator frame, advanced by the 1.5 w Ts the rotor turns until the middle of the period the
+     * command acts in: (1 + j 1.5 w Ts) (as im_dfoc.c; the magnitude error (1 + x^2)^(1/2) - 1
+     * is 7e-5 at 1500 rpm, x = 0.012 rad). */
+    park_inv(&c->sc, c->cc_out.v_d_iq, c->cc_out.v_q_iq, va, vb);
+    iq_cmul_1jx(c->adv_iq, va, vb);
+}
 
-    /* 5. SVM of the inverter (svm.h six switches, svm4.h four), the voltage it will apply kept
-     *    for the observer (vrec_from_legs of the effective duties on the link measured now). */
-    if (fstp != 0U) {
-        svm4_step(&c->svm4, &c->svm4_p, va, vb, m->vdc_iq, vlo, &i, &c->svm_o);
-    } else {
-        svm_step(&c->svm, &c->svm_p, va, vb, m->vdc_iq, &i, &c->svm_o);
-    }
+void itc_keep(itc_t *c, const dtc_meas_t *m)
+{
+    iq_t va, vb;
     c->v2_alpha_iq = c->v1_alpha_iq;
     c->v2_beta_iq = c->v1_beta_iq;
     vrec_from_legs(c->svm_o.d_eff_iq[0], c->svm_o.d_eff_iq[1], c->svm_o.d_eff_iq[2], &va, &vb);
@@ -271,18 +244,56 @@ void itc_step(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     c->d2_iq[1] = c->d1_iq[1];
     c->d1_iq[0] = c->svm_o.d_eff_iq[1];
     c->d1_iq[1] = c->svm_o.d_eff_iq[2];
+}
+
+void itc_step(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
+{
+    const dtc_config_t *cfg = c->cfg;
+    const uint16_t fstp = cfg->board.topology == (uint16_t)DTC_TOPO_FSTP ? 1U : 0U;
+    clarke_out_t *const i = &c->i_k;
+    iq_t vlo, te, va, vb;
+
+    /* 1. Shadow set: adopt a complete, not yet adopted set (dtc_refs.h). */
+    {
+        const uint16_t seq = dtc_shadow_pending(&c->sh);
+        if (seq != 0U) {
+            itc_shadow_adopt(c, seq);
+        }
+    }
+    /* 2. Clarke (Hoang eqs. 4-5) and the observer (itc_observe), the speed loop. */
+    te = itc_observe(c, m);
+    itc_speed(c, m, o);
+    c->i_alpha_iq = i->i_alpha_iq;
+    c->i_beta_iq = i->i_beta_iq;
+
+    /* 3. Rotor frame (the encoder's electrical angle), references, current PI (dqpi.h) on the
+     *    decoupling and back-EMF feed-forward, the voltage limit of the inverter, back to the
+     *    stator frame (itc_cc_in, itc_cc_out). */
+    vlo = cfg->board.fstp_vmid_measured != 0U ? m->vmid_iq : fix_rshift_rnd32(m->vdc_iq, 1U);
+    itc_cc_in(c, m, vlo);
+    dqpi_step(&c->cc, &c->cc_p, &c->cc_in, &c->cc_out);
+    itc_cc_out(c, &va, &vb);
+
+    /* 4. SVM of the inverter (svm.h six switches, svm4.h four), the voltage it will apply kept
+     *    for the observer (itc_keep). */
+    if (fstp != 0U) {
+        svm4_step(&c->svm4, &c->svm4_p, va, vb, m->vdc_iq, vlo, i, &c->svm_o);
+    } else {
+        svm_step(&c->svm, &c->svm_p, va, vb, m->vdc_iq, i, &c->svm_o);
+    }
+    itc_keep(c, m);
     o->duty_iq[0] = c->svm_o.d_iq[0];
     o->duty_iq[1] = c->svm_o.d_iq[1];
     o->duty_iq[2] = c->svm_o.d_iq[2];
 
-    /* 6. Outputs. */
+    /* 5. Outputs. */
     law_out_duty_only(o);
     o->psi_alpha_iq = c->fe.psi_alpha_iq;
     o->psi_beta_iq = c->fe.psi_beta_iq;
     o->te_iq = te;
     o->te_ref_iq = c->te_ref_iq;
     o->speed_iq = c->speed_iq;
-    o->theta_e = th;
+    o->theta_e = c->fe.theta_e;
     o->on_cm = cfg->est.estimator == DTC_EST_CURRENT ? 1U : 0U;
     o->psi_ref_iq = c->act.flux_ref_iq;
     o->psir_mag_iq = 0;

@@ -116,6 +116,13 @@ typedef struct {
     /* the step's measured current and rotor angle, for the current prediction (itc_i_pred) */
     iq_t i_alpha_iq, i_beta_iq;
     park_sc_t sc;
+    /* working values of the step, kept here and not in the frames of itc_step and its parts
+     * (itc_step heads the call chains of the Cortex-M0 stack budget): the measured currents
+     * (Clarke), the observer's input, the current PI's input and output */
+    clarke_out_t i_k;
+    flux_est_in_t fin;
+    dqpi_in_t cc_in;
+    dqpi_out_t cc_out;
 } itc_t;
 
 /* The law's configuration check: dtc_config_check_common, then the law (DTC_LAW_PM_ITC) and its
@@ -143,5 +150,31 @@ void itc_step(itc_t *c, const dtc_meas_t *m, dtc_out_t *o);
  * periods: the plausibility (app/app_plaus.h) learns and removes such a bias. Formats: IQ pu,
  * products rounded, sums saturated; |i1| saturates at 128 pu at worst (no wrap). */
 void itc_i_pred(const itc_t *c, iq_t i1[3]);
+
+/* Internal to itc_step (ISR side): adopts the shadow set whose (even) sequence number is seq.
+ * External linkage on purpose: a static function called once is inlined, and its copy of the set
+ * would then sit in itc_step's frame on the deepest stack path. */
+void itc_shadow_adopt(itc_t *c, uint16_t seq);
+/* Internal to itc_step: the measured currents through Clarke into c->i_k, and the observer (the
+ * estimator on the voltage of the period just ended, with its drop compensation); returns the
+ * torque of Hoang eq. 10 from its flux. External linkage on purpose, as itc_shadow_adopt (its
+ * temporaries would sit in itc_step's frame). */
+iq_t itc_observe(itc_t *c, const dtc_meas_t *m);
+/* Internal to itc_step: the speed loop (every speed_div-th step, as dtc_step): measured speed, the
+ * speed's products, the low-pass correction factor, and T* in speed mode. External linkage on
+ * purpose, as itc_shadow_adopt. */
+void itc_speed(itc_t *c, const dtc_meas_t *m, dtc_out_t *o);
+/* Internal to itc_step: the rotor frame at the encoder's angle of the step (c->sc), the dq
+ * currents and the current PI's input c->cc_in (references, mid-point regulation, decoupling and
+ * back-EMF feed-forward, the voltage limit from the link and vlo_iq, the FSTP's lower half-link).
+ * External linkage on purpose, as itc_shadow_adopt. */
+void itc_cc_in(itc_t *c, const dtc_meas_t *m, iq_t vlo_iq);
+/* Internal to itc_step: the current PI's output c->cc_out back in the stator frame, advanced by
+ * 1.5 w Ts: the voltage command *va, *vb, IQ pu. External linkage on purpose, as itc_shadow_adopt. */
+void itc_cc_out(const itc_t *c, iq_t *va, iq_t *vb);
+/* Internal to itc_step: the voltage of the SVM's effective duties on the link measured now
+ * (vrec_from_legs), kept for the observer of the step after next, and the legs B, C duties for its
+ * drop compensation. External linkage on purpose, as itc_shadow_adopt. */
+void itc_keep(itc_t *c, const dtc_meas_t *m);
 
 #endif /* ITC_H */

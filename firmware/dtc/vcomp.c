@@ -6,93 +6,106 @@
 void vcomp_init(vcomp_params_t *p, uint16_t mode, iq_t v_f_iq, iq_t v_ce_iq, iq_t v_d_iq,
                 iq_t r_on_iq)
 {
+    /* the SSTP schemes share one code path: [29] is Table III with V_CE = V_d = V_f; Hoang
+     * Table V is the same with V_f on legs B and C */
+    const uint16_t equal = (uint16_t)(mode == DTC_COMP_SSTP || mode == DTC_COMP_FSTP_SIMPLE ? 1U : 0U);
+    const iq_t vce = equal != 0U ? v_f_iq : v_ce_iq, vd = equal != 0U ? v_f_iq : v_d_iq;
+    uint16_t s, n, j;
     p->mode = mode;
-    p->v_f_iq = v_f_iq;
-    /* the SSTP schemes share one code path: [29] is Table III with V_CE = V_d = V_f */
-    p->v_ce_iq = mode == DTC_COMP_SSTP ? v_f_iq : v_ce_iq;
-    p->v_d_iq = mode == DTC_COMP_SSTP ? v_f_iq : v_d_iq;
-    p->r_on_iq = r_on_iq;
-    p->r_on_third_iq = q31_mul(r_on_iq, VREC_THIRD_Q31);
+    for (s = 0U; s < 2U; s++) {
+        const iq_t dp = vcomp_leg_drop(s, 0, vce, vd), dm = vcomp_leg_drop(s, -1, vce, vd);
+        p->mean_iq[s][0] = dm;
+        p->mean_iq[s][4] = dp;
+        for (n = 1U; n < 4U; n++) {
+            /* 4 - n points with i < 0, then n with i >= 0: a saturating sum (no partial sum can
+             * saturate for drops below 2^29, 32 pu) shifted right by 2 with rounding */
+            int32_t sum = 0;
+            for (j = 0U; j < 4U; j++) {
+                sum = fix_add32(sum, j < 4U - n ? dm : dp);
+            }
+            p->mean_iq[s][n] = fix_rshift_rnd32(sum, 2U);
+        }
+    }
+    switch (mode) {
+    case DTC_COMP_SSTP:
+    case DTC_COMP_SSTP_PROPOSED:
+        p->ka_iq = r_on_iq; /* Hoang eqs. 24-25 */
+        p->kb_iq = r_on_iq;
+        break;
+    case DTC_COMP_FSTP_PROPOSED:
+        p->ka_iq = q31_mul(r_on_iq, VREC_THIRD_Q31); /* Hoang eqs. 37-38 (alpha: see vcomp.h) */
+        p->kb_iq = r_on_iq;
+        break;
+    default: /* NONE, FSTP_SIMPLE (Hoang Table V is the forward drop alone) */
+        p->ka_iq = 0;
+        p->kb_iq = 0;
+        break;
+    }
 }
 
-/* vcomp.h: the leg drop averaged over a period of linear current. */
-iq_t vcomp_leg_drop_lin(uint16_t state, iq_t i0_iq, iq_t i1_iq, iq_t v_ce_iq, iq_t v_d_iq)
+/* vcomp.h vcomp_leg_drop_lin, a period whose current crosses zero: how many of the four points
+ * have i >= 0. Point j is i0 + (i1 - i0)(2j + 1)/8; its sign is that of p_j = (7 - 2j) i0 +
+ * (2j + 1) i1 (8 times the point), formed as p_0 = 7 i0 + i1 and p_(j+1) = p_j + 2 (i1 - i0).
+ * Formats and overflow: IQ pu, 32 bits. i0 and i1 have opposite signs here, so for |i0|, |i1| <
+ * 2^28 (16 pu) every p_j lies within 7 * 2^28 < 2^31 and 2 (i1 - i0) within 2^30: the points are
+ * exact. A current at or beyond 16 pu (never measured: the over-current trip is far below) takes
+ * both currents 4 bits shorter first (rounded shift; the ratio that places the crossing is kept,
+ * a point within 2^4 x 8 LSB of zero may take the other polarity). No multiplication beyond the
+ * constant 7, no division. */
+uint16_t vcomp_points_pos(iq_t i0_iq, iq_t i1_iq)
 {
-    iq_t dp, dm;
-    int64_t d, step, pt;
-    int32_t sum = 0;
-    uint16_t j;
-    if ((i0_iq >= 0) == (i1_iq >= 0)) {
-        /* no zero crossing inside the period: the four points' polarities are i0's (the mean of
-         * four equal drops is that drop, exactly) */
-        return vcomp_leg_drop(state, i0_iq, v_ce_iq, v_d_iq);
+    const int32_t lim = (int32_t)1 << 28;
+    int32_t a = i0_iq, b = i1_iq, pt, step;
+    uint16_t n = 0U, j;
+    if (a <= -lim || a >= lim || b <= -lim || b >= lim) {
+        a = fix_rshift_rnd32(a, 4U);
+        b = fix_rshift_rnd32(b, 4U);
     }
-    dp = vcomp_leg_drop(state, 0, v_ce_iq, v_d_iq);  /* drop for i >= 0 */
-    dm = vcomp_leg_drop(state, -1, v_ce_iq, v_d_iq); /* drop for i < 0 */
-    d = (int64_t)i1_iq - (int64_t)i0_iq;
-    step = d + d;                /* 8 x the change over a quarter period */
-    pt = (int64_t)i0_iq * 8 + d; /* 8 x the current at 1/8 of the period */
+    pt = (int32_t)7 * a + b;
+    step = (b - a) * (int32_t)2;
     for (j = 0U; j < 4U; j++) {
-        sum = fix_add32(sum, pt >= 0 ? dp : dm);
+        n = (uint16_t)(n + (pt >= 0 ? 1U : 0U));
         pt += step;
     }
-    return fix_rshift_rnd32(sum, 2U);
-}
-
-void vcomp_step(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t sc,
-                const clarke_out_t *i, iq_t *v_f_alpha_iq, iq_t *v_f_beta_iq)
-{
-    vcomp_step_lin(p, sa, sb, sc, i, i, i, v_f_alpha_iq, v_f_beta_iq);
+    return n;
 }
 
 void vcomp_step_lin(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t sc, const clarke_out_t *i,
                     const clarke_out_t *i0, const clarke_out_t *i1, iq_t *v_f_alpha_iq, iq_t *v_f_beta_iq)
 {
-    iq_t da, db, dc, fa, fb;
+    iq_t db, dc, fa, fb;
 
-    switch (p->mode) {
-    case DTC_COMP_SSTP:
-    case DTC_COMP_SSTP_PROPOSED:
+    if (p->mode == DTC_COMP_NONE) {
+        *v_f_alpha_iq = 0;
+        *v_f_beta_iq = 0;
+        return;
+    }
+    db = vcomp_leg_drop_lin(p->mean_iq[sb], i0->ib_iq, i1->ib_iq);
+    dc = vcomp_leg_drop_lin(p->mean_iq[sc], i0->ic_iq, i1->ic_iq);
+    if (p->mode == DTC_COMP_SSTP || p->mode == DTC_COMP_SSTP_PROPOSED) {
         /* Leg drops (Hoang Table III: V_CE through the on transistor, V_d through the diode of
          * the other switch; [29]: V_CE = V_d = V_f, set so by vcomp_init); minus their Clarke
          * transform, then the on-resistance terms of Hoang eqs. 24-25. */
-        da = vcomp_leg_drop_lin(sa, i0->ia_iq, i1->ia_iq, p->v_ce_iq, p->v_d_iq);
-        db = vcomp_leg_drop_lin(sb, i0->ib_iq, i1->ib_iq, p->v_ce_iq, p->v_d_iq);
-        dc = vcomp_leg_drop_lin(sc, i0->ic_iq, i1->ic_iq, p->v_ce_iq, p->v_d_iq);
-        vrec_from_legs(da, db, dc, &fa, &fb);
-        *v_f_alpha_iq = fix_sub32(fix_neg32(fa), iq_mpy(p->r_on_iq, i->i_alpha_iq));
-        *v_f_beta_iq = fix_sub32(fix_neg32(fb), iq_mpy(p->r_on_iq, i->i_beta_iq));
-        break;
-    case DTC_COMP_FSTP_SIMPLE:
-        /* Hoang Table V = eqs. 35-36: legs B and C, V_f, no leg-A device. */
-        db = vcomp_leg_drop_lin(sb, i0->ib_iq, i1->ib_iq, p->v_f_iq, p->v_f_iq);
-        dc = vcomp_leg_drop_lin(sc, i0->ic_iq, i1->ic_iq, p->v_f_iq, p->v_f_iq);
-        *v_f_alpha_iq = q31_mul_k(fix_add32(db, dc), VREC_THIRD_Q31);          /* Hoang eq. 33 */
-        *v_f_beta_iq = q31_mul_k(fix_sub32(dc, db), VREC_INV_SQRT3_Q31);       /* Hoang eq. 34 */
-        break;
-    case DTC_COMP_FSTP_PROPOSED:
-        /* Hoang Table VI = Table III per leg + eqs. 33-34, plus the R_on terms (eqs. 37-38; see the
-         * header for the sign of the alpha term). */
-        db = vcomp_leg_drop_lin(sb, i0->ib_iq, i1->ib_iq, p->v_ce_iq, p->v_d_iq);
-        dc = vcomp_leg_drop_lin(sc, i0->ic_iq, i1->ic_iq, p->v_ce_iq, p->v_d_iq);
-        fa = q31_mul_k(fix_add32(db, dc), VREC_THIRD_Q31);                     /* Hoang eq. 33 */
-        fb = q31_mul_k(fix_sub32(dc, db), VREC_INV_SQRT3_Q31);                 /* Hoang eq. 34 */
-        *v_f_alpha_iq = fix_sub32(fa, iq_mpy(p->r_on_third_iq, i->i_alpha_iq));
-        *v_f_beta_iq = fix_sub32(fb, iq_mpy(p->r_on_iq, i->i_beta_iq));
-        break;
-    default: /* DTC_COMP_NONE */
-        *v_f_alpha_iq = 0;
-        *v_f_beta_iq = 0;
-        break;
+        vrec_from_legs(vcomp_leg_drop_lin(p->mean_iq[sa], i0->ia_iq, i1->ia_iq), db, dc, &fa, &fb);
+        fa = fix_neg32(fa);
+        fb = fix_neg32(fb);
+    } else {
+        /* FSTP, legs B and C, no leg-A device: Hoang Table V (V_f) or Table VI (Table III per leg),
+         * combined by Hoang eqs. 33-34 (= eqs. 35-36 for Table V) */
+        fa = q31_mul_k(fix_add32(db, dc), VREC_THIRD_Q31);    /* Hoang eq. 33 */
+        fb = q31_mul_k(fix_sub32(dc, db), VREC_INV_SQRT3_Q31); /* Hoang eq. 34 */
     }
+    /* the R_on terms (Hoang eqs. 24-25, 37-38; see the header for the sign of eq. 37's) */
+    *v_f_alpha_iq = fix_sub32(fa, iq_mpy(p->ka_iq, i->i_alpha_iq));
+    *v_f_beta_iq = fix_sub32(fb, iq_mpy(p->kb_iq, i->i_beta_iq));
 }
 
 void vcomp_tab_init(vcomp_tab_t *t, const vcomp_params_t *p)
 {
     vcomp_params_t p0 = *p;
     uint16_t k;
-    p0.r_on_iq = 0;
-    p0.r_on_third_iq = 0;
+    p0.ka_iq = 0;
+    p0.kb_iq = 0;
     for (k = 0U; k < 8U; k++) {
         clarke_out_t i0;
         i0.ia_iq = (k & 1U) != 0U ? -1 : 0;
@@ -102,20 +115,7 @@ void vcomp_tab_init(vcomp_tab_t *t, const vcomp_params_t *p)
         i0.i_beta_iq = 0;
         vcomp_step(&p0, 0U, 0U, 0U, &i0, &t->va_iq[k], &t->vb_iq[k >> 1]); /* beta: the same for k and k ^ 1 */
     }
-    switch (p->mode) {
-    case DTC_COMP_SSTP:
-    case DTC_COMP_SSTP_PROPOSED:
-        t->ka_iq = p->r_on_iq;
-        t->kb_iq = p->r_on_iq;
-        break;
-    case DTC_COMP_FSTP_PROPOSED:
-        t->ka_iq = p->r_on_third_iq;
-        t->kb_iq = p->r_on_iq;
-        break;
-    default: /* NONE, FSTP_SIMPLE: no R_on term */
-        t->ka_iq = 0;
-        t->kb_iq = 0;
-        break;
-    }
+    t->ka_iq = p->ka_iq;
+    t->kb_iq = p->kb_iq;
     t->legs_free = (uint16_t)(p->mode == DTC_COMP_SSTP_PROPOSED || p->mode == DTC_COMP_FSTP_PROPOSED ? 0U : 1U);
 }

@@ -50,11 +50,14 @@
 
 typedef struct {
     uint16_t mode;      /* enum dtc_compensation */
-    iq_t v_f_iq;        /* SSTP [29] and Hoang Table V */
-    iq_t v_ce_iq;       /* Hoang Table VI */
-    iq_t v_d_iq;        /* Hoang Table VI */
-    iq_t r_on_iq;       /* Hoang eqs. 20, 24-25, 37-38 (SSTP and FSTP proposed) */
-    iq_t r_on_third_iq; /* R_on/3 (precomputed at init, Hoang eq. 37) */
+    iq_t ka_iq, kb_iq;  /* the R_on terms' coefficients on alpha and beta (Hoang eqs. 20, 24-25,
+                         * 37-38): R_on, R_on (SSTP), R_on/3, R_on (FSTP proposed, eq. 37 as
+                         * derived above), 0 where the variant has none (NONE, Hoang Table V) */
+    iq_t mean_iq[2][5]; /* a leg's drop averaged over the four points of a period (vcomp_leg_drop_lin)
+                         * by [leg state][points with i >= 0]: [s][4] is the drop for i >= 0, [s][0]
+                         * for i < 0 (Hoang Table III with V_CE, V_d; V_f for both devices in [29]
+                         * and Hoang Table V), [s][n] the rounded mean of 4 - n drops for i < 0 and n
+                         * for i >= 0; filled at init so that the step only selects */
 } vcomp_params_t;
 
 /* Fills the parameters (mode checked by dtc_config_validate). */
@@ -77,23 +80,32 @@ static inline iq_t vcomp_leg_drop(uint16_t state, iq_t i_iq, iq_t v_ce_iq, iq_t 
  * with it (V_CE to -V_d or V_d to -V_CE); one polarity for the whole period leaves up to
  * (V_CE + V_d)/2 of error on that period, on legs B and C only in the FSTP (phase A has no
  * device), a negative-sequence voltage error that the voltage model integrates into the flux. The
- * four points leave at most (V_CE + V_d)/8. Currents of one sign at both ends (i0 == i1 among them)
- * give vcomp_leg_drop's value at once, without the points: only a period with a zero crossing
- * pays for them.
- * Formats: currents and drops IQ pu. The points are formed times 8 in 64 bits by additions
- * (|8 i0| + 7 |i1 - i0| < 2^37, no overflow); the mean is a saturating sum of four drops
- * (|drop| <= max(V_CE, V_d)) shifted right by 2 with rounding (exact when the four polarities
- * agree). No multiplication beyond the constant 8, no division. */
-iq_t vcomp_leg_drop_lin(uint16_t state, iq_t i0_iq, iq_t i1_iq, iq_t v_ce_iq, iq_t v_d_iq);
-/* Compensation voltages for the leg states applied during the integration interval and the
- * currents (all three phases and alpha-beta, from clarke_*). Outputs IQ pu, to be ADDED to v. */
-void vcomp_step(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t sc,
-                const clarke_out_t *i, iq_t *v_f_alpha_iq, iq_t *v_f_beta_iq);
+ * four points leave at most (V_CE + V_d)/8. mean is vcomp_params_t.mean_iq[state]. Currents of one
+ * sign at both ends (i0 == i1 among them) give that sign's drop at once: only a period with a zero
+ * crossing counts the points (vcomp_points_pos).
+ * Formats: currents and drops IQ pu; the means are formed at init (vcomp_init). */
+uint16_t vcomp_points_pos(iq_t i0_iq, iq_t i1_iq);
+static inline iq_t vcomp_leg_drop_lin(const iq_t mean[5], iq_t i0_iq, iq_t i1_iq)
+{
+    if ((i0_iq >= 0) == (i1_iq >= 0)) {
+        return mean[i0_iq >= 0 ? 4 : 0]; /* the mean of four equal drops is that drop, exactly */
+    }
+    return mean[vcomp_points_pos(i0_iq, i1_iq)];
+}
+
 /* As vcomp_step for a period in which the currents move linearly from i0 to i1: the forward drops
  * of each leg averaged over the period (vcomp_leg_drop_lin), the R_on terms (linear in the current)
  * at the period's mean current i_mean. vcomp_step(p, .., i, ..) is vcomp_step_lin(p, .., i, i, i, ..). */
 void vcomp_step_lin(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t sc, const clarke_out_t *i_mean,
                     const clarke_out_t *i0, const clarke_out_t *i1, iq_t *v_f_alpha_iq, iq_t *v_f_beta_iq);
+/* Compensation voltages for the leg states (0 or 1) applied during the integration interval and the
+ * currents (all three phases and alpha-beta, from clarke_*). Outputs IQ pu, to be ADDED to v.
+ * Inline, so that a caller's chain holds no frame of its own for it. */
+static inline void vcomp_step(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t sc,
+                              const clarke_out_t *i, iq_t *v_f_alpha_iq, iq_t *v_f_beta_iq)
+{
+    vcomp_step_lin(p, sa, sb, sc, i, i, i, v_f_alpha_iq, v_f_beta_iq);
+}
 
 /* vcomp_step as a table of the phase currents' signs (the IM laws, the ITC's observer). With the legs
  * off (an SVM period's base term), or with drops that do not depend on the state (NONE, SSTP

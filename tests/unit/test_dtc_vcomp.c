@@ -291,6 +291,14 @@ static void test_sign_table_equals_vcomp_step(void **state)
     }
 }
 
+/* vcomp_leg_drop_lin of one leg in state st with Table III's drops V_CE, V_d (vcomp_init's means). */
+static iq_t leg_lin(uint16_t st, iq_t i0, iq_t i1, iq_t vce, iq_t vd)
+{
+    vcomp_params_t p;
+    vcomp_init(&p, DTC_COMP_FSTP_PROPOSED, 0, vce, vd, 0);
+    return vcomp_leg_drop_lin(p.mean_iq[st], i0, i1);
+}
+
 /* Hoang Table III's drop of one leg over a period in which its current moves linearly from i0 to i1
  * (one vector applied): the exact period mean is the drop for i >= 0 over the fraction of the period
  * the current is >= 0 and the other drop over the rest. vcomp_leg_drop_lin takes four points, so it
@@ -315,7 +323,7 @@ static void test_period_mean_drop_over_a_zero_crossing(void **state)
             }
             const double exact = fpos * dp + (1.0 - fpos) * dm;
             const double got = fixtest_iq_to_d(
-                vcomp_leg_drop_lin(st, fixtest_d_to_iq(i0), fixtest_d_to_iq(i1), fixtest_d_to_iq(VCE), fixtest_d_to_iq(VD)));
+                leg_lin(st, fixtest_d_to_iq(i0), fixtest_d_to_iq(i1), fixtest_d_to_iq(VCE), fixtest_d_to_iq(VD)));
             const double err = fabs(got - exact);
             if ((i0 >= 0.0) == (i1 >= 0.0)) {
                 assert_true(err <= LSB);
@@ -333,7 +341,7 @@ static void test_period_mean_drop_over_a_zero_crossing(void **state)
     for (int sg = -1; sg <= 1; sg += 2) {
         for (uint16_t st = 0U; st < 2U; st++) {
             const iq_t i = fixtest_d_to_iq(0.3 * sg);
-            assert_int_equal(vcomp_leg_drop_lin(st, i, i, fixtest_d_to_iq(VCE), fixtest_d_to_iq(VD)),
+            assert_int_equal(leg_lin(st, i, i, fixtest_d_to_iq(VCE), fixtest_d_to_iq(VD)),
                              vcomp_leg_drop(st, i, fixtest_d_to_iq(VCE), fixtest_d_to_iq(VD)));
         }
     }
@@ -361,6 +369,51 @@ static void test_period_mean_drop_over_a_zero_crossing(void **state)
     }
 }
 
+/* The four points of a zero-crossing period are placed in 32 bits: for currents below 16 pu the
+ * polarities (and so the mean) are those of the points formed exactly in 64 bits, i0 + (i1 - i0)
+ * (2j + 1)/8 times 8; beyond 16 pu (both currents taken 4 bits shorter) the mean stays within the
+ * four-point bound of the exact period mean. */
+static iq_t leg_lin_exact(const iq_t d[2], iq_t i0, iq_t i1)
+{
+    int32_t sum = 0;
+    for (int j = 0; j < 4; j++) {
+        const int64_t pt = (int64_t)i0 * 8 + ((int64_t)i1 - (int64_t)i0) * (2 * j + 1);
+        sum += d[pt >= 0 ? 0 : 1];
+    }
+    return (iq_t)((sum + 2) >> 2);
+}
+
+static void test_crossing_points_in_32_bits(void **state)
+{
+    (void)state;
+    const iq_t d[2] = {fixtest_d_to_iq(VCE), fixtest_d_to_iq(-VD)}; /* state 1: i >= 0, i < 0 */
+    vcomp_params_t p;
+    uint32_t x = 12345U;
+    int mixed = 0; /* crossings whose four points do not all agree: the placement matters */
+    vcomp_init(&p, DTC_COMP_FSTP_PROPOSED, 0, fixtest_d_to_iq(VCE), fixtest_d_to_iq(VD), 0);
+    for (int n = 0; n < 200000; n++) {
+        x = x * 1664525U + 1013904223U;
+        const int sh = (int)(x >> 27); /* magnitudes 2^0 .. 2^31: every scale, the rails included */
+        x = x * 1664525U + 1013904223U;
+        const int64_t a64 = (int64_t)(x >> (31 - (sh % 32)));
+        x = x * 1664525U + 1013904223U;
+        const int64_t b64 = (int64_t)(x >> (31 - ((sh * 7 + 3) % 32)));
+        const iq_t i0 = (iq_t)(a64 > INT32_MAX ? INT32_MAX : a64);
+        const iq_t i1 = (iq_t)-(b64 > INT32_MAX ? INT32_MAX : b64);
+        const iq_t lo = n & 1 ? i0 : i1, hi = n & 1 ? i1 : i0; /* either direction of crossing */
+        const iq_t got = vcomp_leg_drop_lin(p.mean_iq[1], lo, hi), ref = leg_lin_exact(d, lo, hi);
+        if (lo > -(1 << 28) && lo < (1 << 28) && hi > -(1 << 28) && hi < (1 << 28)) {
+            assert_int_equal(got, ref);
+            mixed += got != d[0] && got != d[1];
+        } else if ((lo >= 0) != (hi >= 0)) { /* a crossing (one end may be zero: no crossing) */
+            const double f0 = (double)lo / ((double)lo - (double)hi), fpos = lo >= 0 ? f0 : 1.0 - f0;
+            const double exact = fpos * VCE + (1.0 - fpos) * (-VD);
+            assert_true(fabs(fixtest_iq_to_d(got) - exact) <= (VCE + VD) / 8.0 + 4.0 * LSB);
+        }
+    }
+    assert_true(mixed > 1000);
+}
+
 UNIT_TEST_MAIN("dtc vcomp", NULL,
                cmocka_unit_test(test_hoang_table_v_every_row),
                cmocka_unit_test(test_hoang_table_vi_every_row),
@@ -370,4 +423,5 @@ UNIT_TEST_MAIN("dtc vcomp", NULL,
                cmocka_unit_test(test_sstp_table_iii_per_leg),
                cmocka_unit_test(test_none_and_saturation),
                cmocka_unit_test(test_sign_table_equals_vcomp_step),
-               cmocka_unit_test(test_period_mean_drop_over_a_zero_crossing))
+               cmocka_unit_test(test_period_mean_drop_over_a_zero_crossing),
+               cmocka_unit_test(test_crossing_points_in_32_bits))
