@@ -111,7 +111,8 @@ uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_m
         sq[k] = (uint64_t)((int64_t)i[k] * (int64_t)i[k]) >> 5;
     }
     tot = sq[0] + sq[1] + sq[2];
-    s2 = (uint64_t)((int64_t)s * (int64_t)s) >> 5;
+    /* s is 0 whenever the third current is the other two's Kirchhoff sum (two sensors): no product */
+    s2 = s == 0 ? 0U : (uint64_t)((int64_t)s * (int64_t)s) >> 5;
     if (f->relay_wait > 0U) {
         f->relay_wait--;
         app_fault_leg_clear(f);
@@ -126,7 +127,12 @@ uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_m
         app_fault_leg_clear(f); /* the sum says a sensor is wrong: no phase is judged */
         return 0U;
     }
-    dth = iq_mpy(fix_abs32(speed_iq), c->board.ts_pu_iq);
+    if (speed_iq != f->dth_w_iq || c->board.ts_pu_iq != f->dth_ts_iq) { /* the speed changes at the speed-loop rate */
+        f->dth_w_iq = speed_iq;
+        f->dth_ts_iq = c->board.ts_pu_iq;
+        f->dth_iq = iq_mpy(fix_abs32(speed_iq), c->board.ts_pu_iq);
+    }
+    dth = f->dth_iq;
     sign = dtc_law_is_im(c->law) == 0U ? 1U : 0U;
     for (k = 0U; k < 3U; k++) {
         if (sign != 0U) {

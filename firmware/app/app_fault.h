@@ -160,6 +160,9 @@ typedef struct {
     iq_t imin_iq;          /* open phase: the leg_i_min_iq that imin2_3 was formed from */
     uint64_t imin2_3;      /* 3 ((imin_iq^2) >> 5), IQ pu^2 / 2^5 (app_fault_open_phase): formed when
                             * the configuration's leg_i_min_iq differs from imin_iq, not per period */
+    iq_t dth_w_iq, dth_ts_iq; /* open phase: the speed and period that dth_iq was formed from */
+    iq_t dth_iq;           /* |w| Ts, IQ rad per period: formed when the speed (a speed-loop rate
+                            * quantity) or the period differs from the last, not per period */
 } app_fault_t;
 
 /* (p + k) mod 3 for p + k in 0..5, without a division: the physical phase of the law's phase k
@@ -196,6 +199,9 @@ static inline void app_fault_init(app_fault_t *f)
     f->stall_err0_iq = 0;
     f->imin_iq = 0;
     f->imin2_3 = 0U; /* 3 ((0^2) >> 5) */
+    f->dth_w_iq = 0;
+    f->dth_ts_iq = 0;
+    f->dth_iq = 0; /* |0| 0 */
     app_fault_reset(f);
 }
 

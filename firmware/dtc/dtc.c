@@ -287,12 +287,10 @@ void dtc_predict(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t
  * pk-pk ripple on a 0.6 A fundamental the sign of one sample at the period's end is often not the
  * sign the period had, and at 0.55 A pk-pk per period on a 0.8 A fundamental (Hoang Table VIII,
  * 50 us, 700 rpm, 25 % load) a leg current crosses zero inside a third of the periods. IQ pu; the
- * sum saturates, the halving rounds. */
+ * sum saturates, the halving rounds. Only alpha and beta are formed: the R_on terms read nothing
+ * else (the phases of i_mid stay as dtc_reset_currents left them). */
 void dtc_pol_mid(dtc_t *c, const clarke_out_t *i)
 {
-    c->i_mid.ia_iq = fix_add32(fix_rshift_rnd32(c->i_prev.ia_iq, 1U), fix_rshift_rnd32(i->ia_iq, 1U));
-    c->i_mid.ib_iq = fix_add32(fix_rshift_rnd32(c->i_prev.ib_iq, 1U), fix_rshift_rnd32(i->ib_iq, 1U));
-    c->i_mid.ic_iq = fix_add32(fix_rshift_rnd32(c->i_prev.ic_iq, 1U), fix_rshift_rnd32(i->ic_iq, 1U));
     c->i_mid.i_alpha_iq =
         fix_add32(fix_rshift_rnd32(c->i_prev.i_alpha_iq, 1U), fix_rshift_rnd32(i->i_alpha_iq, 1U));
     c->i_mid.i_beta_iq =
