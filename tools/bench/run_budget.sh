@@ -2,7 +2,7 @@
 # DTC budget report: prints the figures, does not judge them (targets in brackets). The host
 # targets are the figures reached (rounded up to 10 instructions) where they were below the
 # earlier targets, so that a change that adds to a step shows; where a figure is above its
-# target (the stack chains of itc_step and law_step) the target stays and the figure is a finding.
+# target the target stays and the figure is a finding.
 #   1. host instructions per control-law step (valgrind --tool=callgrind, host preset build of
 #      tools/bench/bench_dtc.c), average and the speed-loop steps (the worst path):
 #      1a. PM law dtc_step: FSTP, voltage model, Hoang Table VI compensation [avg <= 1400, worst <= 1670]
