@@ -38,26 +38,27 @@ void app_ident_fail(app_ident_t *d, uint16_t why, int16_t detail)
     }
 }
 
-/* Background: hands the ISR a regulated-current segment. */
-static void post_hold(app_ident_t *d, uint32_t th_move_q16, uint32_t th_rate_q16, iq_t i_target, iq_t i_rate,
-                      uint16_t n_settle, uint16_t n_meas, uint16_t slow)
+/* Background: hands the ISR segment seg for n_meas periods, its parameters already written: go is
+ * written last, and the ISR starts the segment in its next period. */
+static void post_go(app_ident_t *d, uint16_t seg, uint16_t n_meas)
 {
-    d->seg = (uint16_t)APP_IDENT_SEG_HOLD;
+    d->seg = seg;
+    d->n_meas = n_meas;
+    d->done = 0U;
+    d->go = 1U;
+}
+
+/* Background: hands the ISR a regulated-current segment. */
+void app_ident_post_hold(app_ident_t *d, uint32_t th_move_q16, uint32_t th_rate_q16, iq_t i_target, iq_t i_rate,
+                         uint16_t n_settle, uint16_t n_meas, uint16_t slow)
+{
     d->slow = slow != 0U ? 1U : 0U;
     d->th_left_q16 = th_move_q16;
     d->th_rate_q16 = th_rate_q16;
     d->i_target = i_target;
     d->i_rate = i_rate;
     d->n_settle = n_settle;
-    d->n_meas = n_meas;
-    d->done = 0U;
-    d->go = 1U;
-}
-
-void app_ident_post_hold(app_ident_t *d, uint32_t th_move_q16, uint32_t th_rate_q16, iq_t i_target, iq_t i_rate,
-                         uint16_t n_settle, uint16_t n_meas, uint16_t slow)
-{
-    post_hold(d, th_move_q16, th_rate_q16, i_target, i_rate, n_settle, n_meas, slow);
+    post_go(d, (uint16_t)APP_IDENT_SEG_HOLD, n_meas);
 }
 
 /* Bounds: R between 1/4096 and 1/2 of Z_b; V_0 from -V_b/256 (a drop-free inverter's
@@ -80,12 +81,9 @@ uint16_t app_ident_rs_bounds(app_ident_t *d)
  * phase current) or after n_meas periods. */
 static void post_open_loop(app_ident_t *d, uint16_t seg, iq_t dv, iq_t di_stop, uint16_t n_meas)
 {
-    d->seg = seg;
     d->dv_iq = dv;
     d->di_stop_iq = di_stop;
-    d->n_meas = n_meas;
-    d->done = 0U;
-    d->go = 1U;
+    post_go(d, seg, n_meas);
 }
 
 /* The L step's voltage pulse: 2.2 V on a 70 V link, until the current rose by 0.4 pu (from the
@@ -131,7 +129,8 @@ static void post_align(app_ident_t *d)
     d->i_ref = 0;
     d->integ[0] = 0;
     d->integ[1] = 0;
-    post_hold(d, 0U, 0U, ID_ENC_LEVEL, (iq_t)(ID_ENC_LEVEL / ID_ALIGN_RAMP), ID_ALIGN_SETTLE, ID_ENC_MEAS, 1U);
+    app_ident_post_hold(d, 0U, 0U, ID_ENC_LEVEL, (iq_t)(ID_ENC_LEVEL / ID_ALIGN_RAMP),
+                        ID_ALIGN_SETTLE, ID_ENC_MEAS, 1U);
 }
 
 /* Background: one sign pulse ended (phase k pulsed). A pulse that reached no current within the
@@ -275,7 +274,7 @@ static void post_move(app_ident_t *d)
 {
     const uint32_t move = d->n_dwell == 2U ? ID_ENC_MOVE_FSTP : ID_ENC_MOVE_SSTP;
     const uint32_t span = app_ident_span_of(d);
-    post_hold(d, span << 16, (uint32_t)app_ident_div64((int64_t)span << 16, (int64_t)move), ID_ENC_LEVEL,
+    app_ident_post_hold(d, span << 16, (uint32_t)app_ident_div64((int64_t)span << 16, (int64_t)move), ID_ENC_LEVEL,
               (iq_t)(IQ(1.0) / ID_LEVEL_RAMP), ID_ENC_SETTLE, ID_ENC_MEAS, 1U);
 }
 
@@ -325,7 +324,8 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
         }
         d->sub++;
         if (d->sub <= APP_IDENT_R_LEVELS) {
-            post_hold(d, 0U, 0U, levels[d->sub - 1U], (iq_t)(IQ(1.0) / ID_LEVEL_RAMP), ID_LEVEL_SETTLE, ID_MEAS, 0U);
+            app_ident_post_hold(d, 0U, 0U, levels[d->sub - 1U], (iq_t)(IQ(1.0) / ID_LEVEL_RAMP),
+                                ID_LEVEL_SETTLE, ID_MEAS, 0U);
             return;
         }
         app_ident_fit_line(d);
@@ -333,7 +333,7 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
             return;
         }
         app_ident_next_step(d, (uint16_t)APP_IDENT_LS);
-        post_hold(d, 0U, 0U, IQ(0.5), (iq_t)(IQ(1.0) / ID_LEVEL_RAMP), ID_LEVEL_SETTLE, 16U, 0U);
+        app_ident_post_hold(d, 0U, 0U, IQ(0.5), (iq_t)(IQ(1.0) / ID_LEVEL_RAMP), ID_LEVEL_SETTLE, 16U, 0U);
         return;
     case APP_IDENT_LS:
         if ((d->sub & 1U) != 0U) {
@@ -350,7 +350,8 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
             if ((d->sub & 1U) != 0U) {
                 post_pulse(d);
             } else {
-                post_hold(d, 0U, 0U, IQ(0.5), (iq_t)(IQ(1.0) / ID_LEVEL_RAMP), ID_PULSE_GAP, 16U, 0U);
+                app_ident_post_hold(d, 0U, 0U, IQ(0.5), (iq_t)(IQ(1.0) / ID_LEVEL_RAMP),
+                                    ID_PULSE_GAP, 16U, 0U);
             }
             return;
         }

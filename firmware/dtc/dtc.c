@@ -331,12 +331,8 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     clarke_meas(cfg->board.topology == DTC_TOPO_FSTP ? 1U : 0U, m->ia_iq, m->ib_iq, m->ic_iq, i);
 
     /* 3. Flux estimator. */
-    fin->i_alpha_iq = i->i_alpha_iq;
-    fin->i_beta_iq = i->i_beta_iq;
-    fin->enc_count = m->enc_count;
-    fin->v_alpha_iq = 0;
-    fin->v_beta_iq = 0;
-    fin->r_iq = c->lpf_r_iq; /* 0 unless lpf_comp (dtc_lpf_r) */
+    /* the voltage model's voltage follows; r: 0 unless lpf_comp (dtc_lpf_r) */
+    flux_est_in_set(fin, 0, 0, i->i_alpha_iq, i->i_beta_iq, m->enc_count, c->lpf_r_iq);
     if (cfg->est.estimator == DTC_EST_VOLTAGE) {
         iq_t vfa, vfb;
         /* the reconstruction of legs_2 goes through c->v1_*: the delay compensation below takes
@@ -486,11 +482,8 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     o->sector = sector;
     o->flux_up = flux_up;
     o->torque_dem = tdem;
-    o->te_ref_iq = c->te_ref_iq;
-    o->speed_iq = c->speed_iq;
-    o->theta_e = c->fe.theta_e;
-    o->on_cm = cfg->est.estimator == DTC_EST_CURRENT ? 1U : c->on_cm;
-    o->psi_ref_iq = c->act.flux_ref_iq;
+    law_out_state(o, c->te_ref_iq, c->speed_iq, c->fe.theta_e,
+                  cfg->est.estimator == DTC_EST_CURRENT ? 1U : c->on_cm, c->act.flux_ref_iq);
     o->psir_mag_iq = 0;
     o->i_limited = c->i_limited;
 }

@@ -138,11 +138,8 @@ static inline void im_out_report(const im_dtc_t *c, dtc_out_t *o, iq_t te)
     o->psi_alpha_iq = c->est.psi_alpha_iq;
     o->psi_beta_iq = c->est.psi_beta_iq;
     o->te_iq = te;
-    o->te_ref_iq = c->te_ref_iq;
-    o->speed_iq = c->speed_iq;
-    o->theta_e = c->est.theta_r;
-    o->on_cm = 0U;
-    o->psi_ref_iq = c->psi_ref_iq; /* the start-up ramp, then (l_s/m) phi_r*: Casadei eq. 18's d part */
+    /* psi_ref: the start-up ramp, then (l_s/m) phi_r*: Casadei eq. 18's d part */
+    law_out_state(o, c->te_ref_iq, c->speed_iq, c->est.theta_r, 0U, c->psi_ref_iq);
     o->psir_mag_iq = c->est.psir_mag_iq;
     o->i_limited = c->i_limited;
 }

@@ -140,12 +140,7 @@ iq_t itc_observe(itc_t *c, const dtc_meas_t *m)
     flux_est_in_t *const fin = &c->fin;
     /* Clarke (Hoang eqs. 4-5) of the measured currents */
     clarke_meas(cfg->board.topology == (uint16_t)DTC_TOPO_FSTP ? 1U : 0U, m->ia_iq, m->ib_iq, m->ic_iq, i);
-    fin->i_alpha_iq = i->i_alpha_iq;
-    fin->i_beta_iq = i->i_beta_iq;
-    fin->enc_count = m->enc_count;
-    fin->v_alpha_iq = c->v2_alpha_iq;
-    fin->v_beta_iq = c->v2_beta_iq;
-    fin->r_iq = c->lpf_r_iq;
+    flux_est_in_set(fin, c->v2_alpha_iq, c->v2_beta_iq, i->i_alpha_iq, i->i_beta_iq, m->enc_count, c->lpf_r_iq);
     if (cfg->est.estimator == DTC_EST_VOLTAGE && c->vc_p.mode != (uint16_t)DTC_COMP_NONE) {
         iq_t vfa, vfb;
         itc_vcomp(c, i, c->d2_iq, &vfa, &vfb);
@@ -291,11 +286,8 @@ void itc_step(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     o->psi_alpha_iq = c->fe.psi_alpha_iq;
     o->psi_beta_iq = c->fe.psi_beta_iq;
     o->te_iq = te;
-    o->te_ref_iq = c->te_ref_iq;
-    o->speed_iq = c->speed_iq;
-    o->theta_e = c->fe.theta_e;
-    o->on_cm = cfg->est.estimator == DTC_EST_CURRENT ? 1U : 0U;
-    o->psi_ref_iq = c->act.flux_ref_iq;
+    law_out_state(o, c->te_ref_iq, c->speed_iq, c->fe.theta_e, cfg->est.estimator == DTC_EST_CURRENT ? 1U : 0U,
+                  c->act.flux_ref_iq);
     o->psir_mag_iq = 0;
     o->i_limited = 0U; /* the voltage limit is dqpi's (v.limited), not the current limit's */
 }

@@ -56,6 +56,19 @@ typedef struct {
     uint16_t thirds[3];    /* THIRDS: legs A, B, C, bit 2 = first third, 1 = upper on */
 } dtc_out_t;
 
+/* The part of every law's report that states what is in force: the torque reference, the speed,
+ * the angle the law is oriented on, whether the flux came from the current model, and the flux
+ * reference (dtc_out_t's fields of the same names). Inline: five stores. */
+static inline void law_out_state(dtc_out_t *o, iq_t te_ref, iq_t speed, angle_t theta, uint16_t on_cm,
+                                 iq_t psi_ref)
+{
+    o->te_ref_iq = te_ref;
+    o->speed_iq = speed;
+    o->theta_e = theta;
+    o->on_cm = on_cm;
+    o->psi_ref_iq = psi_ref;
+}
+
 /* The duty-form laws (SVM: IM SFVC, DFOC; PM ITC): the table laws' fields of o at 0 (leg states,
  * vector, sector, comparator outputs); the command is duty_iq. */
 static inline void law_out_duty_only(dtc_out_t *o)
