@@ -293,7 +293,7 @@ static uint16_t check_open_phase(app_core_t *a)
     if (app_fault_open_phase(&a->flt, a->cfg, &a->st.meas, a->st.out.speed_iq, a->perm, &x) == 0U) {
         return 0U;
     }
-    if (a->post != NULL && a->st.reconfigured == 0U) { /* post is a PM leg-form law (set_reconfig) */
+    if (a->post != NULL && a->st.reconfigured == 0U) { /* post: a leg-form law on the FSTP (set_reconfig) */
         return reconfigure(a, x);
     }
     app_core_latch(a, APP_FAULT_LEG, (int16_t)x);

@@ -220,6 +220,22 @@ void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
  * Formats IQ pu; rounded IQ products, saturating sums (|di| saturates at +-128 pu, no wrap). */
 void im_dtc_i_pred(const im_dtc_t *c, iq_t vdc_iq, iq_t i1[3]);
 
+/* The law DTC_LAW_IM_DTC's control period on the four-switch inverter (board.topology =
+ * DTC_TOPO_FSTP, im_dtc_fstp.c): the same estimator, speed loop, start-up and references as
+ * im_dtc_step on the FSTP's currents and phase voltages (leg A on the measured mid-point), the
+ * two-level comparators and Hoang Table II's four-sector table, the current limit over its four
+ * vectors. law.c calls it for that configuration, chosen at init or by im_dtc_reconfigure. */
+void im_dtc_step_fstp(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
+
+/* Live reconfiguration of a six-switch DTC_LAW_IM_DTC drive after leg `phase` (0..2 = A..C)
+ * failed (im_dtc_reconfig.c): the law goes on as DTC_LAW_IM_DTC on the FSTP of post (post must be
+ * that law on the FSTP and pass im_dtc_check), with phase A' = `phase` on the mid-point and
+ * B', C' the legs phase+1, phase+2 (mod 3); the caller permutes the measurements and the legs
+ * (app_core.c reconfigure). Returns DTC_OK, or DTC_ERR_RECONFIG with c unchanged. Init-time code
+ * (flash on the F2812), run once in the ISR that found the failure; then step with
+ * im_dtc_step_fstp. */
+int16_t im_dtc_reconfigure(im_dtc_t *c, const dtc_config_t *post, uint16_t phase);
+
 /* The law DTC_LAW_IM_SFVC's control period (im_sfvc.c): the same estimator, speed loop,
  * start-up and references as im_dtc_step, then the stator-flux regulator of Casadei eqs. 18, 23,
  * 24 and the SVM (svm.h); the output is the PWM form (LAW_OUT_DUTY, duty_iq). law.c calls

@@ -152,7 +152,10 @@ FMUT(f_rr, c->u.im.machine.rr_iq = 0)
 FMUT(f_klo, c->u.im.est.k_lo_q31 = 0)
 FMUT(f_whi, c->u.im.est.w_hi_iq = c->u.im.est.w_lo_iq - 1)
 FMUT(f_est, c->est.estimator = DTC_EST_CURRENT)
-FMUT(f_topo, { c->board.topology = DTC_TOPO_FSTP; c->est.compensation = DTC_COMP_NONE; })
+/* the four-switch inverter runs the switching-table DTC only (im_dtc_fstp.c), without section
+ * 12's flux weakening */
+FMUT(f_topo, { c->board.topology = DTC_TOPO_FSTP; c->est.compensation = DTC_COMP_NONE; c->law = DTC_LAW_IM_DSC; })
+FMUT(f_topo_fw, { c->board.topology = DTC_TOPO_FSTP; c->est.compensation = DTC_COMP_NONE; c->u.im.fw.on = 1U; })
 FMUT(f_fw_window, { c->u.im.fw.on = 1U; c->u.im.fw.window = 19U; })
 FMUT(f_fw_kt, { c->u.im.fw.on = 1U; c->u.im.fw.kt_iq = 0; })
 FMUT(f_table, c->u.im.sw.sstp_table = DTC_ST_SPEED + 1U)
@@ -224,6 +227,7 @@ static void test_bad_im_config_refused_with_field(void **state)
         {f_whi, DTC_ERR_FLUX_EST, "u.im.est.w_hi_iq"},
         {f_est, DTC_ERR_VARIANT, "est.estimator"},
         {f_topo, DTC_ERR_VARIANT, "board.topology"},
+        {f_topo_fw, DTC_ERR_VARIANT, "board.topology"},
         {f_fw_window, DTC_ERR_WEAKENING, "u.im.fw.window"},
         {f_fw_kt, DTC_ERR_WEAKENING, "u.im.fw.kt_iq"},
         {f_table, DTC_ERR_VARIANT, "u.im.sw.sstp_table"},
@@ -284,8 +288,19 @@ static void test_bad_im_config_refused_with_field(void **state)
     si.lm_h = 0.0;
     expect_si_refused(&si, DTC_SI_ERR_MACHINE, "lm_h");
     dtc_config_si_im_defaults(&si);
-    si.topology = DTC_TOPO_FSTP;
+    si.topology = DTC_TOPO_FSTP; /* the FSTP takes the switching-table DTC only */
+    si.compensation = DTC_COMP_FSTP_SIMPLE;
+    si.law = DTC_LAW_IM_DSC;
     expect_si_refused(&si, DTC_SI_ERR_VARIANT, "topology");
+    si.law = DTC_LAW_IM_DTC;
+    si.flux_weakening = 1;
+    expect_si_refused(&si, DTC_SI_ERR_VARIANT, "flux_weakening");
+    si.flux_weakening = 0;
+    {
+        dtc_config_t f;
+        assert_int_equal(dtc_config_from_si(&si, &f, NULL, 0), DTC_SI_OK);
+        assert_int_equal(law_init(&l, &f), DTC_OK);
+    }
     dtc_config_si_im_defaults(&si);
     si.flux_weakening = 1;
     si.fw_window = 10;

@@ -1,0 +1,78 @@
+/*
+ * im_dtc_reconfig.c - live reconfiguration of the IM switching-table DTC from the six-switch to the
+ * four-switch inverter after a leg failure (im_dtc.h im_dtc_reconfigure), as the PM law does it
+ * (dtc_reconfig.c). Runs once, in the ISR that found the failure: built into the init-only
+ * archive dtc_init, which the F2812 image keeps in flash (firmware/CMakeLists.txt).
+ */
+#include "im_dtc_internal.h"
+
+#include <stddef.h>
+
+#include "clarke.h"
+
+/* What is frame-free carries over: the speed measurement and the sensorless speed's filters, the
+ * speed PI and its integrator, the references, the torque trim, the start-up's progress, the
+ * model supervision. The flux estimate's vectors (Casadei eqs. 1, 20-22: phi_s, phi_r, x, the unit
+ * vector e^{j theta}, r_s i) are turned into the new frame (clarke_rot_phase), the rotor-flux
+ * angle and the sensorless speed's previous angle by -x 120 deg (clarke_phase_angle), so the
+ * estimator and Casadei eq. 22's speed go on from the same flux; the leg history is taken into the
+ * new frame (b', c' = the legs x+1, x+2; leg x is off); the comparators restart with post's bands;
+ * the drop and dead-time compensations and the current limit take the FSTP's parameters. The
+ * flux the FSTP's voltage holds (post's references, Casadei eq. 19) takes effect through post:
+ * a stator-flux reference in force above post's is brought down to it, and Casadei eq. 19 is
+ * evaluated again on the next step. */
+int16_t im_dtc_reconfigure(im_dtc_t *c, const dtc_config_t *post, uint16_t phase)
+{
+    uint16_t l1[3], l2[3], l3[3];
+    const uint16_t y = phase == 2U ? 0U : (uint16_t)(phase + 1U); /* (phase + 1) mod 3 */
+    const uint16_t z = phase == 0U ? 2U : (uint16_t)(phase - 1U); /* (phase + 2) mod 3 */
+    const angle_t d = clarke_phase_angle(phase);
+    im_est_t *e = &c->est;
+
+    if (phase > 2U || post == NULL || c->cfg == NULL || c->cfg->law != DTC_LAW_IM_DTC ||
+        c->cfg->board.topology != DTC_TOPO_SSTP || post->law != DTC_LAW_IM_DTC ||
+        post->board.topology != DTC_TOPO_FSTP || im_dtc_check(post, NULL) != DTC_OK) {
+        return DTC_ERR_RECONFIG;
+    }
+    l1[0] = c->legs_1.sa; l1[1] = c->legs_1.sb; l1[2] = c->legs_1.sc;
+    l2[0] = c->legs_2.sa; l2[1] = c->legs_2.sb; l2[2] = c->legs_2.sc;
+    l3[0] = c->legs_3.sa; l3[1] = c->legs_3.sb; l3[2] = c->legs_3.sc;
+    c->legs_1.sa = 0U; c->legs_1.sb = l1[y]; c->legs_1.sc = l1[z];
+    c->legs_2.sa = 0U; c->legs_2.sb = l2[y]; c->legs_2.sc = l2[z];
+    c->legs_3.sa = 0U; c->legs_3.sb = l3[y]; c->legs_3.sc = l3[z];
+    clarke_rot_phase(&e->psi_alpha_iq, &e->psi_beta_iq, phase);
+    clarke_rot_phase(&e->psir_alpha_iq, &e->psir_beta_iq, phase);
+    clarke_rot_phase(&e->u_alpha_iq, &e->u_beta_iq, phase);
+    clarke_rot_phase(&e->x_alpha_iq, &e->x_beta_iq, phase);
+    clarke_rot_phase(&e->ri_alpha_iq, &e->ri_beta_iq, phase);
+    e->theta_r = (angle_t)(e->theta_r - d);
+    c->isp.theta_prev = (angle_t)(c->isp.theta_prev - d);
+
+    c->cfg = post;
+    vcomp_init(&c->vc_p, post->est.compensation, post->board.v_f_iq, post->board.v_ce_iq, post->board.v_d_iq,
+               post->board.r_on_iq);
+    vcomp_tab_init(&c->vc_t, &c->vc_p);
+    c->dt_p.td_ts_q15 = post->board.td_ts_q15;
+    c->dt_p.fstp = 1U;
+    c->il_p.i_lim_iq = post->prot.i_lim_iq;
+    c->il_p.fstp = 1U;
+    c->il_box_iq = iq_mpy(post->prot.i_lim_iq, (iq_t)11863283L); /* 1/sqrt2 rounded down, as im_dtc_init */
+    hyst2_init(&c->h_flux, post->u.im.sw.flux_band_iq, 1U);
+    hyst2_init(&c->h_torque2, post->u.im.sw.torque_band_iq, 1U);
+    c->vec_1 = 1U;
+    c->tdem_1 = 0;
+    c->pi_p.limit_iq = post->speed.torque_limit_iq;
+    if (c->act.flux_ref_iq > post->speed.flux_ref_iq) {
+        c->act.flux_ref_iq = post->speed.flux_ref_iq;
+    }
+    if (c->act.torque_ref_iq > post->speed.torque_limit_iq) {
+        c->act.torque_ref_iq = post->speed.torque_limit_iq;
+    } else if (c->act.torque_ref_iq < fix_neg32(post->speed.torque_limit_iq)) {
+        c->act.torque_ref_iq = fix_neg32(post->speed.torque_limit_iq);
+    }
+    if (c->magnetised != 0U) {
+        im_dtc_psir_ref(c, c->act.flux_ref_iq);
+    }
+    c->ref_due = 1U;
+    return DTC_OK;
+}
