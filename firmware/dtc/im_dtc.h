@@ -181,6 +181,11 @@ typedef struct {
     iq_t ip_b_iq;         /* b = (Ts/tau_r) / (sigma l_s), Ts/tau_r = Ts r_r / l_r */
     iq_t ip_g_iq;         /* g = a r_s + b (m^2/l_r + sigma l_s) */
     im_sup_t sup;         /* the model's supervision and the on-line r_r (im_sup.h) */
+    /* after a live reconfiguration (im_dtc_reconfigure): the periods left until the relay has
+     * tied the failed phase A' to the mid-point (A' open meanwhile, im_dtc_fstp.c), and the
+     * rotor's r_r / l_r for that interval's alpha voltage, pu */
+    uint16_t open_wait;
+    iq_t rr_lr_iq;
 } im_dtc_t;
 
 /* The IM laws' configuration check (im_dtc_check.c): the common part, then one of the laws

@@ -33,7 +33,27 @@
  *     speed, as ST-D's vectors do on the SSTP (im_dtc_internal.h im_magn_vector); at rest without
  *     an encoder that flux is DC with an alpha part and moves the mid-point (not solved:
  *     docs/firmware-core.md);
- *   current limit: ilim_select over the four vectors (ilim.h, fstp).
+ *   current limit: ilim_select over the four vectors (ilim.h, fstp);
+ *   after a live reconfiguration (im_dtc_reconfigure), until the relay has tied the failed phase
+ *     A' to the mid-point: phase A' is open, i_alpha = i_a' = 0, and its terminal floats at the machine's voltage, which no sensor reads. The
+ *     machine then runs on the line B'-C' alone (a single-phase machine): its alpha stator flux
+ *     is the rotor's, phi_s,alpha = sigma l_s i_alpha + x_alpha = x_alpha (Casadei eq. 21 over
+ *     k_r, x = (m/l_r) phi_r), so the estimator takes the alpha voltage of the rotor equation
+ *     (Casadei eqs. A7-A9 in the stator frame, dx/dt = (r_r/l_r)((m^2/l_r) i - x) + j w x, with
+ *     i_alpha = 0): v_alpha = -(r_r/l_r) x_alpha - w x_beta, w the speed in use; the beta voltage
+ *     is the legs' (v_beta = (v_b'0 - v_c'0)/sqrt3, Hoang eq. 5, whatever A' does). The torque is
+ *     then phi_s,alpha i_beta (Hoang eq. 10 with i_alpha = 0), which only the beta voltage moves:
+ *     the torque comparator's demand takes V_2 (+beta) where phi_s,alpha >= 0 and V_4 (-beta)
+ *     where it is negative, and V_1 (S_B' = S_C' = 0: no line voltage, the beta current
+ *     free-wheels) when the torque is to fall; the flux is the rotor's and is not regulated.
+ *     Hoang Table II in that interval chooses the vectors for a phase A' on the mid-point and
+ *     gives half of them no beta voltage (SIL: the mean torque near zero for the 15 ms, a speed
+ *     dip twice as deep). The interval ends when phase A' carries current, |i_alpha| beyond the
+ *     open-phase check's zero band prot.leg_i_min_iq / 4 (app_fault.h APP_LEG_ZERO_LOG2): the
+ *     relay has closed; or after prot.relay_periods, the relay's closing time with the host's
+ *     margin (1.5 times, tools/config), which the app waits too. The margin's periods on the
+ *     interval's vectors with phase A' on the mid-point drove 40 A of DC into it and the current
+ *     limit braked the machine (SIL, 4 kW IM at 1000 rpm: 7.6 ms past the closure, a 41 % dip).
  * The FSTP's voltage is half the SSTP's on the same link (the largest circle inside Hoang Table
  * I's rhombus has the radius V_dc / (2 sqrt3), against V_dc / sqrt3): the flux the speed allows is
  * the host's to derive (docs/firmware-core.md).
@@ -54,6 +74,11 @@ void im_dtc_estimate_fstp(im_dtc_t *c, const dtc_meas_t *m)
 
     vrec_fstp(c->legs_2.sb, c->legs_2.sc, m->vdc_iq, m->vmid_iq, cfg->board.fstp_vmid_measured, &in->v_alpha_iq,
               &in->v_beta_iq);
+    if (c->open_wait != 0U) {
+        /* phase A' open (file comment): v_alpha = -(r_r/l_r) x_alpha - w x_beta; rounded IQ
+         * products, saturating sums */
+        in->v_alpha_iq = fix_neg32(fix_add32(iq_mpy(c->rr_lr_iq, c->est.x_alpha_iq), iq_mpy(c->speed_iq, c->est.x_beta_iq)));
+    }
     im_vcomp(c, 0U, c->legs_2.sb, c->legs_2.sc, 1U);
     in->v_alpha_iq = fix_add32(in->v_alpha_iq, c->dva_iq);
     in->v_beta_iq = fix_add32(in->v_beta_iq, c->dvb_iq);
@@ -76,12 +101,26 @@ uint16_t im_dtc_select_fstp(im_dtc_t *c, iq_t te, dtc_out_t *o)
 
     o->sector = sector;
     o->flux_up = flux_up;
+    o->torque_dem = up != 0U ? 1 : -1;
+    if (c->open_wait != 0U) {
+        /* phase A' open (file comment) until it carries current, |i_alpha| > h (the unsigned
+         * box test of im_ilim), or the relay's periods have run out; then the estimator takes
+         * the FSTP's rotor-flux reference (im_dtc_reconfigure) and Hoang Table II drives */
+        const uint32_t h = (uint32_t)fix_rshift_rnd32(c->cfg->prot.leg_i_min_iq, 2U);
+        c->open_wait = (uint32_t)c->i.i_alpha_iq + h > h + h ? 0U : (uint16_t)(c->open_wait - 1U);
+        if (c->open_wait != 0U) {
+            /* the torque by the beta voltage alone */
+            return im_ilim(c, up == 0U ? 1U : (psi_a >= 0 ? 2U : 4U));
+        }
+        if (c->magnetised != 0U) {
+            im_dtc_psir_ref(c, c->act.flux_ref_iq);
+        }
+    }
     if (c->magnetised == 0U && c->cfg->speed.sensor == DTC_SPEED_ENCODER && c->speed_iq == 0) {
         /* at rest: the flux along +beta (file comment), V_2 = +beta, V_4 = -beta */
         o->torque_dem = 0;
         return im_ilim(c, flux_up != 0U || psi_b < 0 ? 2U : 4U);
     }
-    o->torque_dem = up != 0U ? 1 : -1;
     return im_ilim(c, swtab_fstp(sector, flux_up, up));
 }
 

@@ -20,7 +20,9 @@
  * the drop and dead-time compensations and the current limit take the FSTP's parameters. The
  * flux the FSTP's voltage holds (post's references, Casadei eq. 19) takes effect through post:
  * a stator-flux reference in force above post's is brought down to it, and Casadei eq. 19 is
- * evaluated again on the next step. */
+ * evaluated again on the next step; the estimator's rotor-flux reference (Casadei eq. 20) keeps
+ * the machine's flux until the relay has closed (im_dtc_fstp.c: the flux is not regulated while
+ * phase A' is open, and a reference below the machine's flux pulls the estimate off it). */
 int16_t im_dtc_reconfigure(im_dtc_t *c, const dtc_config_t *post, uint16_t phase)
 {
     uint16_t l1[3], l2[3], l3[3];
@@ -70,9 +72,11 @@ int16_t im_dtc_reconfigure(im_dtc_t *c, const dtc_config_t *post, uint16_t phase
     } else if (c->act.torque_ref_iq < fix_neg32(post->speed.torque_limit_iq)) {
         c->act.torque_ref_iq = fix_neg32(post->speed.torque_limit_iq);
     }
-    if (c->magnetised != 0U) {
-        im_dtc_psir_ref(c, c->act.flux_ref_iq);
-    }
     c->ref_due = 1U;
+    /* until the relay has closed phase A' is open (im_dtc_fstp.c): r_r / l_r = r_r / (k_r m) for
+     * its alpha voltage, by the SVM's Newton reciprocal as im_dtc_init's constants */
+    c->open_wait = post->prot.relay_periods;
+    c->rr_lr_iq = iq_mpy(post->u.im.machine.rr_iq,
+                         svm_recip(0, iq_mpy(post->u.im.machine.kr_iq, post->u.im.machine.m_iq)));
     return DTC_OK;
 }
