@@ -412,9 +412,9 @@ TEST(Scenario, ShippedScenariosAreValid)
             EXPECT_NEAR(total, expect, 1e-4) << f;
         }
     }
-    EXPECT_EQ(n, 22); // 15 paper operating points, the mid-point study, the open-loop example, the IM
-                      // start (open loop), the IM drive, the second IM, the PM indirect torque control
-                      // on both inverters
+    EXPECT_EQ(n, 23); // 15 paper operating points, the mid-point study, the open-loop example, the IM
+                      // start (open loop), the IM drive, the second IM, the IM on the four-switch
+                      // inverter, the PM indirect torque control on both inverters
 }
 
 TEST(Scenario, FuzzedTomlAndSetNeverCrashOrHang)
