@@ -19,9 +19,6 @@
  * current model drives for a while (below). */
 int16_t dtc_reconfigure(dtc_t *c, const dtc_config_t *post, uint16_t phase)
 {
-    uint16_t l1[3], l2[3], l3[3];
-    const uint16_t y = phase == 2U ? 0U : (uint16_t)(phase + 1U); /* (phase + 1) mod 3 */
-    const uint16_t z = phase == 0U ? 2U : (uint16_t)(phase - 1U); /* (phase + 2) mod 3 */
     if (phase > 2U || post == NULL || post->law != DTC_LAW_PM_DTC || post->board.topology != DTC_TOPO_FSTP ||
         dtc_check(post, NULL) != DTC_OK) {
         return DTC_ERR_RECONFIG;
@@ -29,12 +26,9 @@ int16_t dtc_reconfigure(dtc_t *c, const dtc_config_t *post, uint16_t phase)
     if (c->gains_due != 0U) {
         dtc_speed_gains(c); /* with the configuration the speed was measured under */
     }
-    l1[0] = c->legs_1.sa; l1[1] = c->legs_1.sb; l1[2] = c->legs_1.sc;
-    l2[0] = c->legs_2.sa; l2[1] = c->legs_2.sb; l2[2] = c->legs_2.sc;
-    l3[0] = c->legs_3.sa; l3[1] = c->legs_3.sb; l3[2] = c->legs_3.sc;
-    c->legs_1.sa = 0U; c->legs_1.sb = l1[y]; c->legs_1.sc = l1[z];
-    c->legs_2.sa = 0U; c->legs_2.sb = l2[y]; c->legs_2.sc = l2[z];
-    c->legs_3.sa = 0U; c->legs_3.sb = l3[y]; c->legs_3.sc = l3[z];
+    swtab_legs_permute(&c->legs_1, phase);
+    swtab_legs_permute(&c->legs_2, phase);
+    swtab_legs_permute(&c->legs_3, phase);
     c->cfg = post;
     c->wts_iq = iq_mpy(c->speed_iq, post->board.ts_pu_iq); /* dtc_predict: w Ts of the new period */
     c->fe_p.estimator = post->est.estimator;

@@ -373,16 +373,8 @@ void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     /* 7. Comparators, table or DSC, null-vector choice. */
     vec = im_dtc_select(c, te, o);
     legs = swtab_sstp_legs(vec);
-    swtab_legs_shift(&c->legs_3, &c->legs_2, &c->legs_1, &legs);
-    c->vec_1 = vec;
-    c->tdem_1 = o->torque_dem;
-
     /* 8. Outputs. */
-    o->sa = legs.sa;
-    o->sb = legs.sb;
-    o->sc = legs.sc;
-    o->vector = vec;
-    im_out_report(c, o, te);
+    im_dtc_legs_out(c, o, vec, &legs, te);
 }
 
 void im_dtc_i_pred(const im_dtc_t *c, iq_t vdc_iq, iq_t i1[3])

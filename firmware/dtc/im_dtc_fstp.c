@@ -137,14 +137,6 @@ void im_dtc_step_fstp(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     /* 7. Comparators, Hoang Table II, current limit. */
     vec = im_dtc_select_fstp(c, te, o);
     legs = swtab_fstp_legs(vec);
-    swtab_legs_shift(&c->legs_3, &c->legs_2, &c->legs_1, &legs);
-    c->vec_1 = vec;
-    c->tdem_1 = o->torque_dem;
-
     /* 8. Outputs (S_A = 0: leg A is the mid-point). */
-    o->sa = legs.sa;
-    o->sb = legs.sb;
-    o->sc = legs.sc;
-    o->vector = vec;
-    im_out_report(c, o, te);
+    im_dtc_legs_out(c, o, vec, &legs, te);
 }

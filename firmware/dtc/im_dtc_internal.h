@@ -159,6 +159,21 @@ static inline void im_out_report(const im_dtc_t *c, dtc_out_t *o, iq_t te)
     o->i_limited = c->i_limited;
 }
 
+/* The end of a switching-table step (im_dtc_step, im_dtc_step_fstp) with the vector vec and its
+ * legs: the legs into the history, the vector and the torque demand kept for the next step, the
+ * command and the estimate out. */
+static inline void im_dtc_legs_out(im_dtc_t *c, dtc_out_t *o, uint16_t vec, const swtab_legs_t *legs, iq_t te)
+{
+    swtab_legs_shift(&c->legs_3, &c->legs_2, &c->legs_1, legs);
+    c->vec_1 = vec;
+    c->tdem_1 = o->torque_dem;
+    o->sa = legs->sa;
+    o->sb = legs->sb;
+    o->sc = legs->sc;
+    o->vector = vec;
+    im_out_report(c, o, te);
+}
+
 /* The end of an SVM scheme's period (SFVC, DFOC): the SVM of c->vs_* on the measured link with
  * dead-time compensation (svm.h), the voltage the new duties will apply kept for the estimator
  * and the prediction (d_eff on the link measured now, Casadei eq. 2 / Hoang eqs. 1-5: (2 d_a -

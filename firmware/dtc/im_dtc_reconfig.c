@@ -25,9 +25,6 @@
  * phase A' is open, and a reference below the machine's flux pulls the estimate off it). */
 int16_t im_dtc_reconfigure(im_dtc_t *c, const dtc_config_t *post, uint16_t phase)
 {
-    uint16_t l1[3], l2[3], l3[3];
-    const uint16_t y = phase == 2U ? 0U : (uint16_t)(phase + 1U); /* (phase + 1) mod 3 */
-    const uint16_t z = phase == 0U ? 2U : (uint16_t)(phase - 1U); /* (phase + 2) mod 3 */
     const angle_t d = clarke_phase_angle(phase);
     im_est_t *e = &c->est;
 
@@ -36,12 +33,9 @@ int16_t im_dtc_reconfigure(im_dtc_t *c, const dtc_config_t *post, uint16_t phase
         post->board.topology != DTC_TOPO_FSTP || im_dtc_check(post, NULL) != DTC_OK) {
         return DTC_ERR_RECONFIG;
     }
-    l1[0] = c->legs_1.sa; l1[1] = c->legs_1.sb; l1[2] = c->legs_1.sc;
-    l2[0] = c->legs_2.sa; l2[1] = c->legs_2.sb; l2[2] = c->legs_2.sc;
-    l3[0] = c->legs_3.sa; l3[1] = c->legs_3.sb; l3[2] = c->legs_3.sc;
-    c->legs_1.sa = 0U; c->legs_1.sb = l1[y]; c->legs_1.sc = l1[z];
-    c->legs_2.sa = 0U; c->legs_2.sb = l2[y]; c->legs_2.sc = l2[z];
-    c->legs_3.sa = 0U; c->legs_3.sb = l3[y]; c->legs_3.sc = l3[z];
+    swtab_legs_permute(&c->legs_1, phase);
+    swtab_legs_permute(&c->legs_2, phase);
+    swtab_legs_permute(&c->legs_3, phase);
     clarke_rot_phase(&e->psi_alpha_iq, &e->psi_beta_iq, phase);
     clarke_rot_phase(&e->psir_alpha_iq, &e->psir_beta_iq, phase);
     clarke_rot_phase(&e->u_alpha_iq, &e->u_beta_iq, phase);
