@@ -35,8 +35,8 @@
  *     docs/firmware-core.md);
  *   current limit: ilim_select over the four vectors (ilim.h, fstp);
  *   after a live reconfiguration (im_dtc_reconfigure), until the relay has tied the failed phase
- *     A' to the mid-point: phase A' is open, i_alpha = i_a' = 0, and its terminal floats at the machine's voltage, which no sensor reads. The
- *     machine then runs on the line B'-C' alone (a single-phase machine): its alpha stator flux
+ *     A' to the mid-point: phase A' is open, i_alpha = i_a' = 0, and its terminal floats at the
+ *     machine's voltage, which no sensor reads. The machine then runs on the line B'-C' alone (a single-phase machine): its alpha stator flux
  *     is the rotor's, phi_s,alpha = sigma l_s i_alpha + x_alpha = x_alpha (Casadei eq. 21 over
  *     k_r, x = (m/l_r) phi_r), so the estimator takes the alpha voltage of the rotor equation
  *     (Casadei eqs. A7-A9 in the stator frame, dx/dt = (r_r/l_r)((m^2/l_r) i - x) + j w x, with
@@ -77,7 +77,8 @@ void im_dtc_estimate_fstp(im_dtc_t *c, const dtc_meas_t *m)
     if (c->open_wait != 0U) {
         /* phase A' open (file comment): v_alpha = -(r_r/l_r) x_alpha - w x_beta; rounded IQ
          * products, saturating sums */
-        in->v_alpha_iq = fix_neg32(fix_add32(iq_mpy(c->rr_lr_iq, c->est.x_alpha_iq), iq_mpy(c->speed_iq, c->est.x_beta_iq)));
+        in->v_alpha_iq =
+            fix_neg32(fix_add32(iq_mpy(c->rr_lr_iq, c->est.x_alpha_iq), iq_mpy(c->speed_iq, c->est.x_beta_iq)));
     }
     im_vcomp(c, 0U, c->legs_2.sb, c->legs_2.sc, 1U);
     in->v_alpha_iq = fix_add32(in->v_alpha_iq, c->dva_iq);
@@ -107,7 +108,7 @@ uint16_t im_dtc_select_fstp(im_dtc_t *c, iq_t te, dtc_out_t *o)
          * box test of im_ilim), or the relay's periods have run out; then the estimator takes
          * the FSTP's rotor-flux reference (im_dtc_reconfigure) and Hoang Table II drives */
         const uint32_t h = (uint32_t)fix_rshift_rnd32(c->cfg->prot.leg_i_min_iq, 2U);
-        c->open_wait = (uint32_t)c->i.i_alpha_iq + h > h + h ? 0U : (uint16_t)(c->open_wait - 1U);
+        c->open_wait = (uint16_t)((uint32_t)c->i.i_alpha_iq + h > h + h ? 0U : c->open_wait - 1U);
         if (c->open_wait != 0U) {
             /* the torque by the beta voltage alone */
             return im_ilim(c, up == 0U ? 1U : (psi_a >= 0 ? 2U : 4U));
