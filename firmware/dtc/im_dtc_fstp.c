@@ -84,10 +84,12 @@ void im_dtc_estimate_fstp(im_dtc_t *c, const dtc_meas_t *m)
     in->v_alpha_iq = fix_add32(in->v_alpha_iq, c->dva_iq);
     in->v_beta_iq = fix_add32(in->v_beta_iq, c->dvb_iq);
     if (cfg->est.deadtime_comp != 0U && (c->legs_3.sb != c->legs_2.sb || c->legs_3.sc != c->legs_2.sc)) {
-        deadtime_error(&c->dt_p, m->vdc_iq, &c->i, &c->legs_3, &c->legs_2, &c->dva_iq, &c->dvb_iq);
+        /* the currents' signs at the switching instant: the previous step's sample (im_dtc_estimate) */
+        deadtime_error(&c->dt_p, m->vdc_iq, &c->i_prev, &c->legs_3, &c->legs_2, &c->dva_iq, &c->dvb_iq);
         in->v_alpha_iq = fix_add32(in->v_alpha_iq, c->dva_iq);
         in->v_beta_iq = fix_add32(in->v_beta_iq, c->dvb_iq);
     }
+    c->i_prev = c->i;
     im_dtc_ein_common(c);
 }
 

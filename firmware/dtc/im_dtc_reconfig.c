@@ -42,6 +42,14 @@ int16_t im_dtc_reconfigure(im_dtc_t *c, const dtc_config_t *post, uint16_t phase
     clarke_rot_phase(&e->x_alpha_iq, &e->x_beta_iq, phase);
     clarke_rot_phase(&e->ri_alpha_iq, &e->ri_beta_iq, phase);
     e->theta_r = (angle_t)(e->theta_r - d);
+    {
+        /* the previous sample (the dead time's current signs) in the new phase order and frame */
+        const iq_t ip[3] = {c->i_prev.ia_iq, c->i_prev.ib_iq, c->i_prev.ic_iq};
+        c->i_prev.ia_iq = ip[phase];
+        c->i_prev.ib_iq = ip[phase == 2U ? 0U : phase + 1U];
+        c->i_prev.ic_iq = ip[phase == 0U ? 2U : phase - 1U];
+        clarke_rot_phase(&c->i_prev.i_alpha_iq, &c->i_prev.i_beta_iq, phase);
+    }
     c->isp.theta_prev = (angle_t)(c->isp.theta_prev - d);
 
     c->cfg = post;
