@@ -293,7 +293,7 @@ static uint16_t check_open_phase(app_core_t *a)
     if (app_fault_open_phase(&a->flt, a->cfg, &a->st.meas, a->st.out.speed_iq, a->perm, &x) == 0U) {
         return 0U;
     }
-    if (a->post != NULL && a->st.reconfigured == 0U) { /* post is a PM leg-form law (set_reconfig) */
+    if (a->post != NULL && a->st.reconfigured == 0U) { /* post: a leg-form law on the FSTP (set_reconfig) */
         return reconfigure(a, x);
     }
     app_core_latch(a, APP_FAULT_LEG, (int16_t)x);
@@ -301,14 +301,15 @@ static uint16_t check_open_phase(app_core_t *a)
 }
 
 /* Overspeed (app_fault_overspeed), the encoder against the flux speed (app_enc_flux_check, on the
- * steps the law compared them) and stall (app_fault_stall); latches and returns 1 on a trip. */
+ * steps the law compared them, not while a phase looks open: app_fault_phase_suspect) and stall (app_fault_stall); latches and returns 1 on a trip. */
 static uint16_t check_speed(app_core_t *a)
 {
     int16_t detail = 0;
     const iq_t ref = law_speed_ref(&a->law);
     iq_t err = 0, tol = 0;
     uint16_t f = app_fault_overspeed(a->cfg, &a->st.out, &detail);
-    if (f == (uint16_t)APP_FAULT_NONE && law_enc_plaus(&a->law, &err, &tol) != 0U) {
+    if (f == (uint16_t)APP_FAULT_NONE && law_enc_plaus(&a->law, &err, &tol) != 0U &&
+        app_fault_phase_suspect(&a->flt) == 0U) {
         detail = app_enc_flux_check(&a->enc, err, tol);
         f = detail != 0 ? (uint16_t)APP_FAULT_ENCODER_SPEED : (uint16_t)APP_FAULT_NONE;
     }

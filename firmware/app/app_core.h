@@ -167,10 +167,11 @@ int16_t app_core_set_pwm_period(app_core_t *a, uint16_t t1pr);
 /* Fault tolerance: post is the FSTP configuration of the same PM drive that the
  * application switches to when a leg fails (app_fault_open_phase: a phase carries no current while the
  * others do; app_fault_open_phase), with the failed phase on the capacitor mid-point through the relay (hal_cmd_t
- * relay). It must pass the PM law's check (law_check_reconfig), be the PM law on the FSTP, with the same encoder and
+ * relay). It must pass its law's check (law_check_reconfig), be the running law (the PM DTC, or the IM
+ * switching-table DTC with Hoang Table II: law.h law_reconfigure) on the FSTP, with the same encoder and
  * ADC scaling, three current sensors (board.i_sensors3: only the sum of three measured currents
  * tells a failed sensor from a failed leg), no mid-point calibration (the drive does not stop for
- * it), prot.relay_periods > 0; the running configuration must be the PM law on the SSTP with
+ * it), prot.relay_periods > 0; the running configuration must be that law on the SSTP with
  * three sensors and the open-phase check on. Otherwise the core latches APP_FAULT_CONFIG with
  * DTC_ERR_RECONFIG and returns it. post = NULL (the default): no relay fitted, a failed leg
  * trips (APP_FAULT_LEG). Call after app_core_init, before the first step; post must outlive the

@@ -214,6 +214,20 @@ static inline void app_fault_reconfigured(app_fault_t *f, uint16_t relay_periods
     app_fault_leg_clear(f);
 }
 
+/* 1 while a phase has looked open (inside the zero band, app_fault_open_phase) over more than an
+ * eighth of APP_LEG_ANGLE_IQ (7.5 deg electrical): the open-phase check is judging it. An open
+ * phase makes the law's voltage reconstruction wrong (the open leg's voltage is not what its
+ * state says), so the flux angle's speed (Casadei eqs. 16, 22) leaves the encoder's before the
+ * open phase is found (SIL, IM on im_second_machine at 1000 rpm, leg B: the encoder plausibility
+ * latched 3.4 ms after the leg opened, the open-phase check needs 60 deg, 5 ms): the
+ * encoder plausibility (app_enc_flux_check) rests meanwhile. A healthy phase leaves the band
+ * within a period or two (app_fault_open_phase). */
+static inline uint16_t app_fault_phase_suspect(const app_fault_t *f)
+{
+    const iq_t lim = APP_LEG_ANGLE_IQ >> 3;
+    return (uint16_t)(f->leg_acc_iq[0] > lim || f->leg_acc_iq[1] > lim || f->leg_acc_iq[2] > lim ? 1U : 0U);
+}
+
 /* The hardware protection input (PDPINTA) and the gate drivers' desaturation outputs that pull
  * it: a desaturation is named with its leg (the lowest one flagged), any other trip as the
  * hardware trip. Returns the fault (APP_FAULT_NONE: none) and sets *detail. */

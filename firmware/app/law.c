@@ -17,6 +17,18 @@
  * costs at most a switch in the ISR path; no function pointers there). l->law is the
  * configuration's law after a successful law_init, LAW_NONE after a refused one: nothing runs. */
 #define LAW_NONE 0xFFFFU
+/* law_t.step: the law's value, or this one for DTC_LAW_IM_DTC on the four-switch inverter
+ * (im_dtc_step_fstp), so that the topology is chosen with the law, at init or at a
+ * reconfiguration, and costs the six-switch step nothing. */
+#define LAW_STEP_IM_DTC_FSTP 0xFFFEU
+
+/* The dispatch key of law_step for the configuration cfg of law `law` (LAW_NONE for none). */
+static uint16_t law_step_key(uint16_t law, const dtc_config_t *cfg)
+{
+    return law == (uint16_t)DTC_LAW_IM_DTC && cfg->board.topology == (uint16_t)DTC_TOPO_FSTP
+               ? (uint16_t)LAW_STEP_IM_DTC_FSTP
+               : law;
+}
 
 /* No law, or a law not linked: the common part's code if it has one, else DTC_ERR_VARIANT. */
 static int16_t none_init(const dtc_config_t *cfg)
@@ -44,6 +56,7 @@ int16_t law_init(law_t *l, const dtc_config_t *cfg)
     default: err = none_init(cfg); break;
     }
     l->law = err == DTC_OK ? cfg->law : (uint16_t)LAW_NONE;
+    l->step = law_step_key(l->law, cfg);
     return err;
 }
 
@@ -65,7 +78,7 @@ void law_reset(law_t *l)
 
 void law_step(law_t *l, const dtc_meas_t *m, dtc_out_t *o)
 {
-    switch (l->law) {
+    switch (l->step) {
 #if DTC_LAW_PM_LINKED
     case DTC_LAW_PM_DTC: dtc_step(&l->u.pm, m, o); break;
 #endif
@@ -75,6 +88,7 @@ void law_step(law_t *l, const dtc_meas_t *m, dtc_out_t *o)
     case DTC_LAW_IM_SFVC: im_sfvc_step(&l->u.im, m, o); break;
     case DTC_LAW_IM_DFOC: im_dfoc_step(&l->u.im, m, o); break;
     case DTC_LAW_IM_DSVM: im_dsvm_step(&l->u.im, m, o); break;
+    case LAW_STEP_IM_DTC_FSTP: im_dtc_step_fstp(&l->u.im, m, o); break;
 #endif
 #if DTC_LAW_ITC_LINKED
     case DTC_LAW_PM_ITC: itc_step(&l->u.itc, m, o); break;
@@ -206,26 +220,33 @@ uint16_t law_out_form(const law_t *l)
 
 int16_t law_reconfigure(law_t *l, const dtc_config_t *post, uint16_t phase)
 {
+    int16_t err = DTC_ERR_RECONFIG;
+    switch (l->law) {
 #if DTC_LAW_PM_LINKED
-    if (l->law == (uint16_t)DTC_LAW_PM_DTC) {
-        return dtc_reconfigure(&l->u.pm, post, phase);
-    }
-#else
-    (void)post;
-    (void)phase;
+    case DTC_LAW_PM_DTC: err = dtc_reconfigure(&l->u.pm, post, phase); break;
 #endif
-    (void)l;
-    return DTC_ERR_RECONFIG;
+#if DTC_LAW_IM_LINKED
+    case DTC_LAW_IM_DTC: err = im_dtc_reconfigure(&l->u.im, post, phase); break;
+#endif
+    default: (void)post; (void)phase; break;
+    }
+    if (err == DTC_OK) {
+        l->step = law_step_key(l->law, post);
+    }
+    return err;
 }
 
 int16_t law_check_reconfig(const dtc_config_t *post)
 {
+    switch (post->law) {
 #if DTC_LAW_PM_LINKED
-    return dtc_check(post, NULL);
-#else
-    (void)post;
-    return DTC_ERR_RECONFIG;
+    case DTC_LAW_PM_DTC: return dtc_check(post, NULL);
 #endif
+#if DTC_LAW_IM_LINKED
+    case DTC_LAW_IM_DTC: return im_dtc_check(post, NULL);
+#endif
+    default: return DTC_ERR_RECONFIG;
+    }
 }
 
 angle_t law_enc_angle(const dtc_config_t *cfg, uint16_t count)

@@ -46,6 +46,8 @@
 typedef struct {
     uint16_t law;          /* enum dtc_law, from the configuration once law_init accepted it
                             * (0xFFFF after a refused one: no law runs) */
+    uint16_t step;         /* law_step's dispatch key: law, or the IM DTC's four-switch step
+                            * (law.c), set with law */
     union {
 #if DTC_LAW_PM_LINKED
         dtc_t pm;
@@ -72,9 +74,10 @@ int16_t law_shadow_write(law_t *l, const dtc_refs_t *r);
 void law_refs_get(const law_t *l, dtc_refs_t *r);
 /* The form of the law's command (enum law_out_form), the law's from law_init on. */
 uint16_t law_out_form(const law_t *l);
-/* Live SSTP -> FSTP reconfiguration after leg `phase` failed (dtc.h dtc_reconfigure): the PM
- * law only; DTC_ERR_RECONFIG for the IM laws (Casadei's tables are six-switch ones) and for a
- * post that dtc_reconfigure refuses. */
+/* Live SSTP -> FSTP reconfiguration after leg `phase` failed: the PM law (dtc.h dtc_reconfigure)
+ * and the IM switching-table DTC (im_dtc.h im_dtc_reconfigure, Hoang Table II on the FSTP);
+ * DTC_ERR_RECONFIG for the other laws (DSC, DSVM and the SVM schemes are six-switch ones) and for
+ * a post the law refuses. */
 int16_t law_reconfigure(law_t *l, const dtc_config_t *post, uint16_t phase);
 /* The phase currents (IQ pu, the law's phase order) the law predicts for the next sample from the
  * voltage it committed for the coming period (PM law with the actuation-delay compensation:
@@ -91,7 +94,8 @@ uint16_t law_enc_plaus(const law_t *l, iq_t *err_iq, iq_t *tol_iq);
 /* The warnings the law raises now (bits APP_WARN_<id>, app_warn.h): the IM laws' model supervision
  * (im_sup.h: APP_WARN_IM_MODEL_MISMATCH); 0 for the PM laws. */
 uint16_t law_warnings(const law_t *l);
-/* The check of a post-fault configuration for law_reconfigure (the PM law's check). */
+/* The check of a post-fault configuration for law_reconfigure (its law's check: the PM DTC's or
+ * the IM DTC's; DTC_ERR_RECONFIG for another law). */
 int16_t law_check_reconfig(const dtc_config_t *post);
 /* The speed reference in force (the app's stall check). */
 iq_t law_speed_ref(const law_t *l);

@@ -78,4 +78,30 @@ static inline void clarke_inv(iq_t i_alpha_iq, iq_t i_beta_iq, clarke_out_t *o)
     o->ic_iq = fix_neg32(fix_add32(o->ia_iq, o->ib_iq));
 }
 
+/* Rotation of a space vector into the frame of a cyclic phase permutation (the live
+ * reconfiguration after a leg failure: dtc_reconfig.c, im_dtc_reconfig.c): with (a', b', c') =
+ * (x, x+1, x+2) the amplitude-invariant Clarke vector (Hoang eqs. 4-5), (2/3)(v_a' + a v_b' +
+ * a^2 v_c') with a = e^{j 120 deg}, equals a^{-x} (2/3)(v_a + a v_b + a^2 v_c): the vector turned
+ * by -x 120 deg. x = 1: (alpha, beta) -> (-alpha/2 + (sqrt3/2) beta, -(sqrt3/2) alpha - beta/2);
+ * x = 2 the same with sqrt3/2 negated; x = 0 unchanged. Formats: IQ in and out, sqrt(3)/2 in
+ * Q15 (28378, error 1.4e-5); products rounded, sums saturating. Init-time use. */
+static inline void clarke_rot_phase(iq_t *a, iq_t *b, uint16_t x)
+{
+    const q15_t s = x == 1U ? (q15_t)-28378 : (q15_t)28378;
+    const iq_t a0 = *a;
+    const iq_t b0 = *b;
+    if (x == 0U) {
+        return;
+    }
+    *a = fix_sub32(fix_neg32(fix_rshift_rnd32(a0, 1U)), iq_mpy_q15(b0, s));
+    *b = fix_sub32(iq_mpy_q15(a0, s), fix_rshift_rnd32(b0, 1U));
+}
+
+/* The angle of that rotation, x 120 deg in angle_t (65536 / 3 = 21845.33 LSB per 120 deg: the 1/3
+ * LSB left is 0.002 deg), x = 0..2: an angle in the new frame is the old one less this. */
+static inline angle_t clarke_phase_angle(uint16_t x)
+{
+    return (angle_t)(x * 21845U + (x == 2U ? 1U : 0U));
+}
+
 #endif /* CLARKE_H */

@@ -9,27 +9,9 @@
 
 #include <stddef.h>
 
-/* Rotation of a space vector into the frame of a cyclic phase permutation: with (a', b', c') =
- * (x, x+1, x+2) the amplitude-invariant Clarke vector (Hoang eqs. 4-5), (2/3)(v_a' + a v_b' +
- * a^2 v_c') with a = e^{j 120 deg}, equals a^{-x} (2/3)(v_a + a v_b + a^2 v_c): the vector turned
- * by -x 120 deg. x = 1: (alpha, beta) -> (-alpha/2 + (sqrt3/2) beta, -(sqrt3/2) alpha - beta/2);
- * x = 2 the same with sqrt3/2 negated; x = 0 unchanged. Formats: IQ in and out, sqrt(3)/2 in
- * Q15 (28378, error 1.4e-5); products rounded, sums saturating. */
-static void dtc_rot_phase(iq_t *a, iq_t *b, uint16_t x)
-{
-    const q15_t s = x == 1U ? (q15_t)-28378 : (q15_t)28378;
-    const iq_t a0 = *a;
-    const iq_t b0 = *b;
-    if (x == 0U) {
-        return;
-    }
-    *a = fix_sub32(fix_neg32(fix_rshift_rnd32(a0, 1U)), iq_mpy_q15(b0, s));
-    *b = fix_sub32(iq_mpy_q15(a0, s), fix_rshift_rnd32(b0, 1U));
-}
-
 /* Reconfiguration (dtc.h): what is frame-free carries over (speed measurement, speed PI and its
  * integrator, references, torque trim, the low-pass correction factor); the flux estimate and the
- * DC-suppression correction are turned into the new frame (dtc_rot_phase), the encoder offset by
+ * DC-suppression correction are turned into the new frame (clarke.h clarke_rot_phase), the encoder offset by
  * -x 120 deg (the same angle: theta_e' = theta_e - x 120 deg), so the current model and the
  * voltage model go on from the same flux; the leg history is taken into the new frame (b', c' =
  * the legs x+1, x+2; leg x is off); the comparators restart in the FSTP's state; the drop
@@ -37,9 +19,6 @@ static void dtc_rot_phase(iq_t *a, iq_t *b, uint16_t x)
  * current model drives for a while (below). */
 int16_t dtc_reconfigure(dtc_t *c, const dtc_config_t *post, uint16_t phase)
 {
-    uint16_t l1[3], l2[3], l3[3];
-    const uint16_t y = phase == 2U ? 0U : (uint16_t)(phase + 1U); /* (phase + 1) mod 3 */
-    const uint16_t z = phase == 0U ? 2U : (uint16_t)(phase - 1U); /* (phase + 2) mod 3 */
     if (phase > 2U || post == NULL || post->law != DTC_LAW_PM_DTC || post->board.topology != DTC_TOPO_FSTP ||
         dtc_check(post, NULL) != DTC_OK) {
         return DTC_ERR_RECONFIG;
@@ -47,21 +26,17 @@ int16_t dtc_reconfigure(dtc_t *c, const dtc_config_t *post, uint16_t phase)
     if (c->gains_due != 0U) {
         dtc_speed_gains(c); /* with the configuration the speed was measured under */
     }
-    l1[0] = c->legs_1.sa; l1[1] = c->legs_1.sb; l1[2] = c->legs_1.sc;
-    l2[0] = c->legs_2.sa; l2[1] = c->legs_2.sb; l2[2] = c->legs_2.sc;
-    l3[0] = c->legs_3.sa; l3[1] = c->legs_3.sb; l3[2] = c->legs_3.sc;
-    c->legs_1.sa = 0U; c->legs_1.sb = l1[y]; c->legs_1.sc = l1[z];
-    c->legs_2.sa = 0U; c->legs_2.sb = l2[y]; c->legs_2.sc = l2[z];
-    c->legs_3.sa = 0U; c->legs_3.sb = l3[y]; c->legs_3.sc = l3[z];
+    swtab_legs_permute(&c->legs_1, phase);
+    swtab_legs_permute(&c->legs_2, phase);
+    swtab_legs_permute(&c->legs_3, phase);
     c->cfg = post;
     c->wts_iq = iq_mpy(c->speed_iq, post->board.ts_pu_iq); /* dtc_predict: w Ts of the new period */
     c->fe_p.estimator = post->est.estimator;
     c->fe_p.k_in_q31 = post->est.k_in_q31;
     c->fe_p.k_leak_q31 = post->est.k_leak_q31;
-    /* -x 120 deg: 65536 / 3 = 21845.33 LSB per 120 deg (the 1/3 LSB left is 0.002 deg) */
-    c->fe_p.enc_offset = (angle_t)(post->board.enc_offset - (angle_t)(phase * 21845U + (phase == 2U ? 1U : 0U)));
-    dtc_rot_phase(&c->fe.psi_alpha_iq, &c->fe.psi_beta_iq, phase);
-    dtc_rot_phase(&c->dcs_alpha_iq, &c->dcs_beta_iq, phase);
+    c->fe_p.enc_offset = (angle_t)(post->board.enc_offset - clarke_phase_angle(phase)); /* -x 120 deg */
+    clarke_rot_phase(&c->fe.psi_alpha_iq, &c->fe.psi_beta_iq, phase);
+    clarke_rot_phase(&c->dcs_alpha_iq, &c->dcs_beta_iq, phase);
     vcomp_init(&c->vc_p, post->est.compensation, post->board.v_f_iq, post->board.v_ce_iq, post->board.v_d_iq,
                post->board.r_on_iq);
     dtc_block_params(c, post);

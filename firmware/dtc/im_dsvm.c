@@ -118,7 +118,7 @@ void im_dsvm_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
 {
     /* 1-5. Shadow set, Clarke, stator and rotor flux from the mean voltage of the period that
      *      ends now (v2), torque, speed and speed loop (shared with im_dtc_step). */
-    const iq_t te = im_dtc_front(c, m, o, 1U);
+    const iq_t te = im_dtc_front(c, m, o, IM_FRONT_PWM);
     /* 6. References: start-up, Casadei eq. 19. */
     im_dtc_refs(c);
     /* 7. The current limit (im_ilim: sets c->i_limited; here, not in im_dsvm_select, so that its

@@ -54,7 +54,7 @@ void im_dtc_reset(im_dtc_t *c)
     c->legs_1 = off;
     c->legs_2 = off;
     c->legs_3 = off;
-    c->vec_1 = 0U;
+    c->vec_1 = cfg->board.topology == DTC_TOPO_FSTP ? 1U : 0U; /* Hoang Table I's V_1 = legs off */
     c->tdem_1 = 0;
     c->te_cmd_iq = 0;
     c->te_trim_iq = 0;
@@ -83,6 +83,7 @@ void im_dtc_reset(im_dtc_t *c)
     c->i_prev.ic_iq = 0;
     c->i_prev.i_alpha_iq = 0;
     c->i_prev.i_beta_iq = 0;
+    c->open_wait = 0U;
     im_sup_reset(c);
 }
 
@@ -366,22 +367,14 @@ void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     uint16_t vec;
 
     /* 1-5. Shadow set, Clarke, stator and rotor flux, torque, speed and speed loop. */
-    te = im_dtc_front(c, m, o, 0U);
+    te = im_dtc_front(c, m, o, IM_FRONT_LEGS);
     /* 6. References: start-up, flux weakening, Casadei eq. 19. */
     im_dtc_refs(c);
     /* 7. Comparators, table or DSC, null-vector choice. */
     vec = im_dtc_select(c, te, o);
     legs = swtab_sstp_legs(vec);
-    swtab_legs_shift(&c->legs_3, &c->legs_2, &c->legs_1, &legs);
-    c->vec_1 = vec;
-    c->tdem_1 = o->torque_dem;
-
     /* 8. Outputs. */
-    o->sa = legs.sa;
-    o->sb = legs.sb;
-    o->sc = legs.sc;
-    o->vector = vec;
-    im_out_report(c, o, te);
+    im_dtc_legs_out(c, o, vec, &legs, te);
 }
 
 void im_dtc_i_pred(const im_dtc_t *c, iq_t vdc_iq, iq_t i1[3])
@@ -397,7 +390,11 @@ void im_dtc_i_pred(const im_dtc_t *c, iq_t vdc_iq, iq_t i1[3])
     iq_t va, vb;
     clarke_out_t o;
 
-    if (cfg->law == DTC_LAW_IM_DTC || cfg->law == DTC_LAW_IM_DSC) {
+    if (cfg->board.topology == DTC_TOPO_FSTP) {
+        /* the FSTP's legs B, C (im_dtc_fstp.c), leg A on the mid-point taken at V_dc/2 (Hoang eqs.
+         * 17-19): the mid-point's slow swing is a bias the plausibility learns */
+        vrec_fstp(c->legs_2.sb, c->legs_2.sc, vdc_iq, 0, 0U, &va, &vb);
+    } else if (cfg->law == DTC_LAW_IM_DTC || cfg->law == DTC_LAW_IM_DSC) {
         /* the legs returned by the previous step act in the coming period (im_dtc.h timing) */
         vrec_sstp(c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, vdc_iq, &va, &vb);
     } else {

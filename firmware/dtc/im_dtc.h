@@ -181,6 +181,11 @@ typedef struct {
     iq_t ip_b_iq;         /* b = (Ts/tau_r) / (sigma l_s), Ts/tau_r = Ts r_r / l_r */
     iq_t ip_g_iq;         /* g = a r_s + b (m^2/l_r + sigma l_s) */
     im_sup_t sup;         /* the model's supervision and the on-line r_r (im_sup.h) */
+    /* after a live reconfiguration (im_dtc_reconfigure): the periods left until the relay has
+     * tied the failed phase A' to the mid-point (A' open meanwhile, im_dtc_fstp.c), and the
+     * rotor's r_r / l_r for that interval's alpha voltage, pu */
+    uint16_t open_wait;
+    iq_t rr_lr_iq;
 } im_dtc_t;
 
 /* The IM laws' configuration check (im_dtc_check.c): the common part, then one of the laws
@@ -219,6 +224,22 @@ void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
  * bias. For the application's current-sensor plausibility only; the law itself does not use it.
  * Formats IQ pu; rounded IQ products, saturating sums (|di| saturates at +-128 pu, no wrap). */
 void im_dtc_i_pred(const im_dtc_t *c, iq_t vdc_iq, iq_t i1[3]);
+
+/* The law DTC_LAW_IM_DTC's control period on the four-switch inverter (board.topology =
+ * DTC_TOPO_FSTP, im_dtc_fstp.c): the same estimator, speed loop, start-up and references as
+ * im_dtc_step on the FSTP's currents and phase voltages (leg A on the measured mid-point), the
+ * two-level comparators and Hoang Table II's four-sector table, the current limit over its four
+ * vectors. law.c calls it for that configuration, chosen at init or by im_dtc_reconfigure. */
+void im_dtc_step_fstp(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o);
+
+/* Live reconfiguration of a six-switch DTC_LAW_IM_DTC drive after leg `phase` (0..2 = A..C)
+ * failed (im_dtc_reconfig.c): the law goes on as DTC_LAW_IM_DTC on the FSTP of post (post must be
+ * that law on the FSTP and pass im_dtc_check), with phase A' = `phase` on the mid-point and
+ * B', C' the legs phase+1, phase+2 (mod 3); the caller permutes the measurements and the legs
+ * (app_core.c reconfigure). Returns DTC_OK, or DTC_ERR_RECONFIG with c unchanged. Init-time code
+ * (flash on the F2812), run once in the ISR that found the failure; then step with
+ * im_dtc_step_fstp. */
+int16_t im_dtc_reconfigure(im_dtc_t *c, const dtc_config_t *post, uint16_t phase);
 
 /* The law DTC_LAW_IM_SFVC's control period (im_sfvc.c): the same estimator, speed loop,
  * start-up and references as im_dtc_step, then the stator-flux regulator of Casadei eqs. 18, 23,

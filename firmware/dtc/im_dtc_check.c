@@ -21,8 +21,13 @@ static int16_t im_part_check(const dtc_config_t *cfg, const char **f)
     if (err != DTC_OK) {
         return err;
     }
-    /* Casadei's tables, DSC and the IM estimators are written for the six-switch inverter. */
-    DTC_REFUSE(cfg->board.topology != DTC_TOPO_SSTP, DTC_ERR_VARIANT, "board.topology");
+    /* Casadei's tables, DSC, DSVM's 19 vectors and the SVM schemes are written for the six-switch
+     * inverter; the switching-table DTC also runs the four-switch inverter with Hoang Table II
+     * (im_dtc_fstp.c). Section 12's flux weakening watches a comparator with a null vector, which
+     * the FSTP has not. */
+    DTC_REFUSE(cfg->board.topology != DTC_TOPO_SSTP &&
+                   !(cfg->board.topology == DTC_TOPO_FSTP && law == DTC_LAW_IM_DTC && p->fw.on == 0U),
+               DTC_ERR_VARIANT, "board.topology");
     DTC_REFUSE(cfg->est.estimator != DTC_EST_VOLTAGE && cfg->est.estimator != DTC_EST_IMPROVED,
                DTC_ERR_VARIANT, "est.estimator");
     /* the low-speed gain of Casadei eq. 20 also corrects the voltage model during the start-up

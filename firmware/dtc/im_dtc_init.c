@@ -30,9 +30,10 @@ int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg)
         return DTC_ERR_FLUX_EST;
     }
     c->dt_p.td_ts_q15 = cfg->board.td_ts_q15;
-    c->dt_p.fstp = 0U; /* the IM laws run the six-switch inverter (im_dtc_check) */
+    /* the six-switch inverter, or the FSTP with DTC_LAW_IM_DTC (im_dtc_check, im_dtc_fstp.c) */
+    c->dt_p.fstp = cfg->board.topology == DTC_TOPO_FSTP ? 1U : 0U;
     c->il_p.i_lim_iq = cfg->prot.i_lim_iq;
-    c->il_p.fstp = 0U;
+    c->il_p.fstp = c->dt_p.fstp;
     c->il_box_iq = iq_mpy(cfg->prot.i_lim_iq, (iq_t)11863283L); /* 1/sqrt2 rounded down: floor(2^24 / sqrt(2)) */
     {
         /* the current prediction's constants (im_dtc_i_pred): 1/(sigma l_s) and 1/l_r = 1/(k_r m)

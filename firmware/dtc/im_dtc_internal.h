@@ -46,13 +46,21 @@ void im_dfoc_regulate(im_dtc_t *c);
 /* lim_vec: im_ilim's vector of this step (used when c->i_limited). */
 void im_dsvm_select(im_dtc_t *c, const dtc_meas_t *m, iq_t te, uint16_t lim_vec, dtc_out_t *o);
 
-/* Steps 1-5 of a control period, common to both schemes: the shadow set (dtc_refs.h), Clarke
- * (Hoang eqs. 4-5, the same transform as Casadei's space vectors), the stator and rotor flux
- * (Casadei eqs. 1, 20-22) from the scheme's voltage (pwm = 0: the legs, im_dtc_estimate; 1: the
- * modulated duties, im_sfvc_estimate), the torque (Casadei eq. A10 = Hoang eq. 10 in these bases),
- * the speed and the speed loop. Returns the estimated torque. Inline with a constant pwm: each
+/* Internal to im_dtc_step_fstp (im_dtc_fstp.c), out of line for the stack. */
+void im_dtc_estimate_fstp(im_dtc_t *c, const dtc_meas_t *m);
+uint16_t im_dtc_select_fstp(im_dtc_t *c, iq_t te, dtc_out_t *o);
+
+/* The estimator input of im_dtc_front: the legs on the six-switch inverter (im_dtc_estimate), the
+ * modulated duties (im_sfvc_estimate), the legs on the four-switch inverter (im_dtc_estimate_fstp). */
+enum im_front_kind { IM_FRONT_LEGS = 0, IM_FRONT_PWM = 1, IM_FRONT_FSTP = 2 };
+
+/* Steps 1-5 of a control period, common to every scheme: the shadow set (dtc_refs.h), Clarke
+ * (Hoang eqs. 4-5, the same transform as Casadei's space vectors; on the FSTP from i_b, i_c, the
+ * switched phases), the stator and rotor flux (Casadei eqs. 1, 20-22) from the scheme's voltage
+ * (kind, enum im_front_kind), the torque (Casadei eq. A10 = Hoang eq. 10 in these bases),
+ * the speed and the speed loop. Returns the estimated torque. Inline with a constant kind: each
  * scheme's step gets its own copy (no call or branch added to the DTC path). */
-static inline iq_t im_dtc_front(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, uint16_t pwm)
+static inline iq_t im_dtc_front(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, uint16_t kind)
 {
     iq_t te;
     {
@@ -61,10 +69,14 @@ static inline iq_t im_dtc_front(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, 
             im_dtc_adopt(c, seq);
         }
     }
-    clarke_sstp(m->ia_iq, m->ib_iq, &c->i);
-    if (pwm != 0U) {
+    if (kind == (uint16_t)IM_FRONT_FSTP) {
+        clarke_fstp(m->ib_iq, m->ic_iq, &c->i);
+        im_dtc_estimate_fstp(c, m);
+    } else if (kind == (uint16_t)IM_FRONT_PWM) {
+        clarke_sstp(m->ia_iq, m->ib_iq, &c->i);
         im_sfvc_estimate(c, m);
     } else {
+        clarke_sstp(m->ia_iq, m->ib_iq, &c->i);
         im_dtc_estimate(c, m);
     }
     im_est_flux(&c->est, &c->ein);
@@ -142,6 +154,21 @@ static inline void im_out_report(const im_dtc_t *c, dtc_out_t *o, iq_t te)
     law_out_state(o, c->te_ref_iq, c->speed_iq, c->est.theta_r, 0U, c->psi_ref_iq);
     o->psir_mag_iq = c->est.psir_mag_iq;
     o->i_limited = c->i_limited;
+}
+
+/* The end of a switching-table step (im_dtc_step, im_dtc_step_fstp) with the vector vec and its
+ * legs: the legs into the history, the vector and the torque demand kept for the next step, the
+ * command and the estimate out. */
+static inline void im_dtc_legs_out(im_dtc_t *c, dtc_out_t *o, uint16_t vec, const swtab_legs_t *legs, iq_t te)
+{
+    swtab_legs_shift(&c->legs_3, &c->legs_2, &c->legs_1, legs);
+    c->vec_1 = vec;
+    c->tdem_1 = o->torque_dem;
+    o->sa = legs->sa;
+    o->sb = legs->sb;
+    o->sc = legs->sc;
+    o->vector = vec;
+    im_out_report(c, o, te);
 }
 
 /* The end of an SVM scheme's period (SFVC, DFOC): the SVM of c->vs_* on the measured link with

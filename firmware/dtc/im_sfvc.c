@@ -102,7 +102,7 @@ void im_sfvc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     /* 1-5. Shadow set, Clarke, stator and rotor flux from the modulated voltage, torque, speed
      *      and speed loop (shared with im_dtc_step). 6. References: start-up (the magnetising
      *      ramp), T*. */
-    te = im_dtc_front(c, m, o, 1U);
+    te = im_dtc_front(c, m, o, IM_FRONT_PWM);
     if (c->ref_due != 0U && c->div_cnt != 1U) {
         /* Casadei eq. 19's |phi_s*| is not used: eq. 18 gives the vector (im_sfvc_regulate). Once
          * per speed period, on the step after the speed loop's, the rotor-flux trim on that step's

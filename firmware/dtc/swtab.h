@@ -60,6 +60,17 @@ static inline void swtab_legs_shift(swtab_legs_t *l3, swtab_legs_t *l2, swtab_le
     l1->sc = now->sc;
 }
 
+/* A leg state taken into the frame of the FSTP whose phase A' is the failed leg `phase` (0..2):
+ * b', c' = the legs phase+1, phase+2 (mod 3), a' off (the live reconfigurations, dtc_reconfig.c
+ * and im_dtc_reconfig.c; init-time use). */
+static inline void swtab_legs_permute(swtab_legs_t *l, uint16_t phase)
+{
+    const uint16_t s[3] = {l->sa, l->sb, l->sc};
+    l->sa = 0U;
+    l->sb = s[phase == 2U ? 0U : phase + 1U];
+    l->sc = s[phase == 0U ? 2U : phase - 1U];
+}
+
 /* Casadei Table 1. sector 1..6, flux_up 1/0 (c_phi = +1/-1), c_t in {+1, 0, -1}.
  * Returns 1..6 or SWTAB_NULL. */
 uint16_t swtab_sstp_basic(uint16_t sector, uint16_t flux_up, int16_t c_t);

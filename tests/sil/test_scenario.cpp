@@ -412,9 +412,9 @@ TEST(Scenario, ShippedScenariosAreValid)
             EXPECT_NEAR(total, expect, 1e-4) << f;
         }
     }
-    EXPECT_EQ(n, 22); // 15 paper operating points, the mid-point study, the open-loop example, the IM
-                      // start (open loop), the IM drive, the second IM, the PM indirect torque control
-                      // on both inverters
+    EXPECT_EQ(n, 23); // 15 paper operating points, the mid-point study, the open-loop example, the IM
+                      // start (open loop), the IM drive, the second IM, the IM on the four-switch
+                      // inverter, the PM indirect torque control on both inverters
 }
 
 TEST(Scenario, FuzzedTomlAndSetNeverCrashOrHang)
@@ -567,7 +567,9 @@ TEST(Scenario, ImLawKeysSelectTheImLawAndAreRefusedByName)
     // Refusals name the key and the line.
     expect_error(im + "estimator = \"current\"\n", "control.estimator", 7, "needs a magnet");
     expect_error(im + "implementation = \"reference\"\n", "control.implementation", 7);
-    expect_error(im + "[inverter]\ntopology = \"fstp\"\n", "inverter.topology", 8, "six-switch");
+    // the four-switch inverter runs the switching-table DTC only (Hoang Table II, im_dtc_fstp.c)
+    ASSERT_EQ(errors_of(im + "[inverter]\ntopology = \"fstp\"\n", {}, &d), "");
+    expect_error(im + "scheme = \"dsc\"\n[inverter]\ntopology = \"fstp\"\n", "inverter.topology", 9, "six-switch");
     expect_error(im + "table = \"st-e\"\n", "control.table", 7, "expected one of");
     expect_error(im + "scheme = \"dtcx\"\n", "control.scheme", 7, "expected one of");
     expect_error(im + "speed_sensor = \"resolver\"\n", "control.speed_sensor", 7, "expected one of");

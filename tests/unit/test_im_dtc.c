@@ -152,7 +152,10 @@ FMUT(f_rr, c->u.im.machine.rr_iq = 0)
 FMUT(f_klo, c->u.im.est.k_lo_q31 = 0)
 FMUT(f_whi, c->u.im.est.w_hi_iq = c->u.im.est.w_lo_iq - 1)
 FMUT(f_est, c->est.estimator = DTC_EST_CURRENT)
-FMUT(f_topo, { c->board.topology = DTC_TOPO_FSTP; c->est.compensation = DTC_COMP_NONE; })
+/* the four-switch inverter runs the switching-table DTC only (im_dtc_fstp.c), without section
+ * 12's flux weakening */
+FMUT(f_topo, { c->board.topology = DTC_TOPO_FSTP; c->est.compensation = DTC_COMP_NONE; c->law = DTC_LAW_IM_DSC; })
+FMUT(f_topo_fw, { c->board.topology = DTC_TOPO_FSTP; c->est.compensation = DTC_COMP_NONE; c->u.im.fw.on = 1U; })
 FMUT(f_fw_window, { c->u.im.fw.on = 1U; c->u.im.fw.window = 19U; })
 FMUT(f_fw_kt, { c->u.im.fw.on = 1U; c->u.im.fw.kt_iq = 0; })
 FMUT(f_table, c->u.im.sw.sstp_table = DTC_ST_SPEED + 1U)
@@ -224,6 +227,7 @@ static void test_bad_im_config_refused_with_field(void **state)
         {f_whi, DTC_ERR_FLUX_EST, "u.im.est.w_hi_iq"},
         {f_est, DTC_ERR_VARIANT, "est.estimator"},
         {f_topo, DTC_ERR_VARIANT, "board.topology"},
+        {f_topo_fw, DTC_ERR_VARIANT, "board.topology"},
         {f_fw_window, DTC_ERR_WEAKENING, "u.im.fw.window"},
         {f_fw_kt, DTC_ERR_WEAKENING, "u.im.fw.kt_iq"},
         {f_table, DTC_ERR_VARIANT, "u.im.sw.sstp_table"},
@@ -284,8 +288,19 @@ static void test_bad_im_config_refused_with_field(void **state)
     si.lm_h = 0.0;
     expect_si_refused(&si, DTC_SI_ERR_MACHINE, "lm_h");
     dtc_config_si_im_defaults(&si);
-    si.topology = DTC_TOPO_FSTP;
+    si.topology = DTC_TOPO_FSTP; /* the FSTP takes the switching-table DTC only */
+    si.compensation = DTC_COMP_FSTP_SIMPLE;
+    si.law = DTC_LAW_IM_DSC;
     expect_si_refused(&si, DTC_SI_ERR_VARIANT, "topology");
+    si.law = DTC_LAW_IM_DTC;
+    si.flux_weakening = 1;
+    expect_si_refused(&si, DTC_SI_ERR_VARIANT, "flux_weakening");
+    si.flux_weakening = 0;
+    {
+        dtc_config_t f;
+        assert_int_equal(dtc_config_from_si(&si, &f, NULL, 0), DTC_SI_OK);
+        assert_int_equal(law_init(&l, &f), DTC_OK);
+    }
     dtc_config_si_im_defaults(&si);
     si.flux_weakening = 1;
     si.fw_window = 10;
@@ -740,6 +755,101 @@ static void test_current_prediction_matches_the_machine(void **state)
     assert_true(e2 < 0.05 * 0.05 * d2);
 }
 
+/* The live reconfiguration after a leg failure (im_dtc_reconfigure): the host's post-fault
+ * configuration is the same IM DTC on the FSTP with the FSTP's compensation and the flux scaled to
+ * what the FSTP's voltage holds (dtc_config_post_fault_si); the estimator's vectors are turned by
+ * -x 120 deg into the frame whose phase A' is the failed phase x (Clarke of the permuted phases,
+ * against a double rotation), the rotor-flux angle with them, the leg history permuted, the
+ * relay's interval armed; a phase beyond C, a post of another law or topology and a running law
+ * other than the DTC are refused with the controller unchanged. */
+static void test_reconfigure_turns_the_estimate_into_the_new_frame(void **state)
+{
+    dtc_config_si_t si, post_si;
+    dtc_config_t pre, post, bad;
+    char msg[200];
+    int x;
+    (void)state;
+    dtc_config_si_im_defaults(&si);
+    si.i_sensors3 = 1;
+    si.reconfig_relay = 1;
+    si.relay_delay_s = 15e-3;
+    si.mode = DTC_MODE_SPEED;
+    si.speed_ref_rpm = 1000.0;
+    si.psir_ref_wb = 0.53;
+    assert_int_equal(dtc_config_from_si(&si, &pre, msg, sizeof msg), DTC_SI_OK);
+    assert_int_equal(dtc_config_post_fault_si(&si, &post_si), DTC_SI_OK);
+    assert_int_equal(post_si.topology, DTC_TOPO_FSTP);
+    assert_int_equal(post_si.compensation, DTC_COMP_FSTP_SIMPLE);
+    /* the stator flux the FSTP's circle V_dc/(2 sqrt3) holds after R_s I_n at 1000 rpm plus the
+     * rated slip (Casadei eq. 16), over the configured flux */
+    {
+        const double psir = 0.53, ws = si.rr_ohm * si.rated_torque_nm / (1.5 * si.pole_pairs * psir * psir);
+        const double we = 1000.0 * FIXTEST_PI / 30.0 * si.pole_pairs + ws;
+        const double k = (si.vdc_v / (2.0 * sqrt(3.0)) - si.rs_ohm * si.rated_current_a) / we / si.flux_ref_wb;
+        assert_true(k < 1.0);
+        assert_true(fabs(post_si.flux_ref_wb - k * si.flux_ref_wb) < 1e-9);
+        assert_true(fabs(post_si.psir_ref_wb - k * 0.53) < 1e-9);
+    }
+    assert_int_equal(dtc_config_from_si(&post_si, &post, msg, sizeof msg), DTC_SI_OK);
+    for (x = 0; x < 3; x++) {
+        im_dtc_t c;
+        const double r = -2.0 * FIXTEST_PI * x / 3.0;
+        const double v[5][2] = {{0.6, -0.3}, {0.55, 0.2}, {-0.4, 0.7}, {0.1, -0.9}, {0.02, 0.03}};
+        iq_t *const f[5][2] = {{&c.est.psi_alpha_iq, &c.est.psi_beta_iq}, {&c.est.psir_alpha_iq, &c.est.psir_beta_iq},
+                               {&c.est.x_alpha_iq, &c.est.x_beta_iq}, {&c.est.u_alpha_iq, &c.est.u_beta_iq},
+                               {&c.est.ri_alpha_iq, &c.est.ri_beta_iq}};
+        const uint16_t l[3] = {1U, 0U, 1U};
+        int k;
+        assert_int_equal(im_dtc_init(&c, &pre), DTC_OK);
+        for (k = 0; k < 5; k++) {
+            *f[k][0] = IQ(v[k][0]);
+            *f[k][1] = IQ(v[k][1]);
+        }
+        c.est.theta_r = 12000U;
+        c.legs_1.sa = l[0];
+        c.legs_1.sb = l[1];
+        c.legs_1.sc = l[2];
+        assert_int_equal(im_dtc_reconfigure(&c, &post, 3U), DTC_ERR_RECONFIG);
+        assert_ptr_equal(c.cfg, &pre);
+        assert_int_equal(im_dtc_reconfigure(&c, &post, (uint16_t)x), DTC_OK);
+        assert_ptr_equal(c.cfg, &post);
+        for (k = 0; k < 5; k++) {
+            const double ra = cos(r) * v[k][0] - sin(r) * v[k][1], rb = sin(r) * v[k][0] + cos(r) * v[k][1];
+            assert_true(fabs(*f[k][0] / 16777216.0 - ra) < 1e-4);
+            assert_true(fabs(*f[k][1] / 16777216.0 - rb) < 1e-4);
+        }
+        /* -x 120 deg in angle_t (21845.33 LSB per 120 deg) */
+        {
+            const long want = (12000L - lround(x * 65536.0 / 3.0)) & 0xFFFFL;
+            const long d = (long)c.est.theta_r - want;
+            assert_true(d >= -1L && d <= 1L);
+        }
+        /* legs (a, b, c) = (1, 0, 1): b' = leg x+1, c' = leg x+2, a' (the failed leg) off */
+        assert_int_equal(c.legs_1.sa, 0U);
+        assert_int_equal(c.legs_1.sb, l[(x + 1) % 3]);
+        assert_int_equal(c.legs_1.sc, l[(x + 2) % 3]);
+        assert_int_equal(c.open_wait, post.prot.relay_periods);
+        assert_int_equal(c.il_p.fstp, 1U);
+        assert_int_equal(c.dt_p.fstp, 1U);
+    }
+    {
+        im_dtc_t c;
+        assert_int_equal(im_dtc_init(&c, &pre), DTC_OK);
+        bad = post;
+        bad.board.topology = DTC_TOPO_SSTP;
+        bad.est.compensation = DTC_COMP_SSTP;
+        assert_int_equal(im_dtc_reconfigure(&c, &bad, 0U), DTC_ERR_RECONFIG);
+        bad = post;
+        bad.law = DTC_LAW_IM_DSC;
+        assert_int_equal(im_dtc_reconfigure(&c, &bad, 0U), DTC_ERR_RECONFIG);
+        bad = pre;
+        bad.law = DTC_LAW_IM_DSC;
+        assert_int_equal(im_dtc_init(&c, &bad), DTC_OK);
+        assert_int_equal(im_dtc_reconfigure(&c, &post, 0U), DTC_ERR_RECONFIG);
+        assert_ptr_equal(c.cfg, &bad);
+    }
+}
+
 UNIT_TEST_MAIN("im dtc", NULL,
                cmocka_unit_test(test_bad_im_config_refused_with_field),
                cmocka_unit_test(test_startup_magnetises_then_torque),
@@ -751,4 +861,5 @@ UNIT_TEST_MAIN("im dtc", NULL,
                cmocka_unit_test(test_dsc_hexagon),
                cmocka_unit_test(test_flux_weakening),
                cmocka_unit_test(test_sensorless_speed),
-               cmocka_unit_test(test_current_prediction_matches_the_machine))
+               cmocka_unit_test(test_current_prediction_matches_the_machine),
+               cmocka_unit_test(test_reconfigure_turns_the_estimate_into_the_new_frame))

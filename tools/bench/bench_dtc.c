@@ -14,6 +14,8 @@
  * dead-time compensation: the variant with the most work per step (the machine is fed by the
  * ideal inverter; the compensation's cost does not depend on that). The start-up magnetisation (cheaper steps) runs through a third wrapper that the script
  * leaves out. `bench_dtc N im ideal`: the same without the drop and dead-time compensation.
+ * `bench_dtc N imfstp`: the same law on the four-switch inverter (im_dtc_step_fstp, Hoang Table
+ * II, the FSTP's equal-drop compensation), the machine fed with Hoang Table I's vectors.
  * `bench_dtc N sfvc`: the IM law's stator-flux vector control (im_sfvc_step: Casadei eqs. 18, 23, 24 and
  * the SVM with dead-time compensation) in the same conditions, at its 160 us period; `bench_dtc N
  * dfoc`: the rotor-flux-oriented control (im_dfoc_step, two-phase SVM), the same.
@@ -138,6 +140,8 @@ static int run_itc(long n)
 BENCH_STEP(im_dtc_t, bench_im_normal, im_dtc_step)
 BENCH_STEP(im_dtc_t, bench_im_tick, im_dtc_step)
 BENCH_STEP(im_dtc_t, bench_im_start, im_dtc_step)
+BENCH_STEP(im_dtc_t, bench_imfstp_normal, im_dtc_step_fstp)
+BENCH_STEP(im_dtc_t, bench_imfstp_tick, im_dtc_step_fstp)
 BENCH_STEP(im_dtc_t, bench_sfvc_normal, im_sfvc_step)
 BENCH_STEP(im_dtc_t, bench_sfvc_tick, im_sfvc_step)
 BENCH_STEP(im_dtc_t, bench_dfoc_normal, im_dfoc_step)
@@ -145,7 +149,9 @@ BENCH_STEP(im_dtc_t, bench_dfoc_tick, im_dfoc_step)
 BENCH_STEP(im_dtc_t, bench_dsvm_normal, im_dsvm_step)
 BENCH_STEP(im_dtc_t, bench_dsvm_tick, im_dsvm_step)
 
-/* ideal: no drop or dead-time compensation; sfvc: 3 the DTC with DSVM (im_dsvm_step, 160 us, the
+/* ideal: no drop or dead-time compensation; sfvc: 4 the DTC on the four-switch inverter
+ * (im_dtc_step_fstp, Hoang Table II, the FSTP's equal-drop compensation, the machine fed with
+ * Hoang Table I's vectors on a 1 pu link with the mid-point at 0.5 pu), 3 the DTC with DSVM (im_dsvm_step, 160 us, the
  * machine fed with the mean of the three sub-intervals, duty_iq), 1 the stator-flux vector control (im_sfvc_step,
  * symmetric SVM), 2 the rotor-flux-oriented control (im_dfoc_step, two-phase SVM), at the default
  * 6.25 kHz carrier = 160 us control period (their start-up steps run unwrapped), the machine fed
@@ -177,7 +183,11 @@ static int run_im(long n, int ideal, int sfvc)
     si.speed_sensor = DTC_SPEED_NONE;
     si.sstp_table = DTC_ST_SPEED;
     si.speed_ref_rpm = 750.0;
-    if (sfvc) {
+    if (sfvc == 4) {
+        si.topology = DTC_TOPO_FSTP;
+        si.compensation = ideal ? DTC_COMP_NONE : DTC_COMP_FSTP_SIMPLE;
+        si.sstp_table = DTC_ST_BASIC;
+    } else if (sfvc) {
         si.law = sfvc == 3 ? DTC_LAW_IM_DSVM : sfvc == 2 ? DTC_LAW_IM_DFOC : DTC_LAW_IM_SFVC;
         si.svm_mode = sfvc == 2 ? 1 : 0;
         si.ts_s = 1.0 / 6250.0;
@@ -212,7 +222,20 @@ static int run_im(long n, int ideal, int sfvc)
         me.vmid_iq = to_iq(0.5);
         double cnt = fmod(floor(theta / (2.0 * M_PI * si.pole_pairs) * 8000.0), 8000.0);
         me.enc_count = (uint16_t)(cnt < 0 ? cnt + 8000.0 : cnt);
-        if (c.magnetised == 0U) {
+        if (sfvc == 4) {
+            /* the FSTP's currents are i_b, i_c (clarke_fstp) */
+            if (c.magnetised == 0U) {
+                im_dtc_step_fstp(&c, &me, &o);
+            } else if (c.div_cnt == 0U) {
+                x.w = 0.5;
+                bench_imfstp_tick(&c, &me, &o);
+                n_tick++;
+            } else {
+                x.w = 0.5;
+                bench_imfstp_normal(&c, &me, &o);
+                n_norm++;
+            }
+        } else if (c.magnetised == 0U) {
             if (sfvc == 3) {
                 im_dsvm_step(&c, &me, &o);
             } else if (sfvc == 2) {
@@ -248,7 +271,11 @@ static int run_im(long n, int ideal, int sfvc)
             }
             n_norm++;
         }
-        if (sfvc) {
+        if (sfvc == 4) {
+            /* Hoang Table I with leg A on the mid-point at 0.5 pu (vrec.h) */
+            va = (1.0 - sb - sc) / 3.0;
+            vb = (sb - sc) / sqrt(3.0);
+        } else if (sfvc) {
             /* the mean voltage of the previous step's duties on a 1 pu link (Casadei eq. 2): the
              * one-period delay of hal.h; the inverter's dead time as the SVM models it (d_eff) */
             va = (2.0 * d1[0] - d1[1] - d1[2]) / 3.0;
@@ -259,7 +286,7 @@ static int run_im(long n, int ideal, int sfvc)
         } else {
             dtc_ref_sstp_ideal(sa, sb, sc, 1.0, &va, &vb);
         }
-        dtc_ref_im_step(&x, va, vb, tspu, sfvc ? 8 : 2); /* the same 20 us sub-step */
+        dtc_ref_im_step(&x, va, vb, tspu, sfvc != 0 && sfvc != 4 ? 8 : 2); /* the same 20 us sub-step */
         theta += x.w * tspu;
         sa = (int)o.sa;
         sb = (int)o.sb;
@@ -338,6 +365,9 @@ int main(int argc, char **argv)
     long n = argc > 1 ? atol(argv[1]) : 20000;
     if (argc > 2 && strcmp(argv[2], "im") == 0) {
         return run_im(n, argc > 3 && strcmp(argv[3], "ideal") == 0, 0);
+    }
+    if (argc > 2 && strcmp(argv[2], "imfstp") == 0) {
+        return run_im(n, argc > 3 && strcmp(argv[3], "ideal") == 0, 4);
     }
     if (argc > 2 && strcmp(argv[2], "sfvc") == 0) {
         return run_im(n, 0, 1);

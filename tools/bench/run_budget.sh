@@ -7,6 +7,7 @@
 #      tools/bench/bench_dtc.c), average and the speed-loop steps (the worst path):
 #      1a. PM law dtc_step: FSTP, voltage model, Hoang Table VI compensation [avg <= 1400, worst <= 1670]
 #      1b. IM law im_dtc_step: improved estimator, Casadei eq. 19, sensorless [avg <= 930, worst <= 1320]
+#      1b2. the same law on the four-switch inverter, im_dtc_step_fstp (Hoang Table II) [avg <= 930, worst <= 1320]
 #      1c. IM law im_sfvc_step: SFVC (Casadei eqs. 18, 23, 24) + SVM, same [avg <= 1100, worst <= 1700]
 #      1d. IM law im_dfoc_step: DFOC (sec. 13) + two-phase SVM, same    [avg <= 1140, worst <= 1480]
 #      1e. IM law im_dsvm_step: DTC with DSVM (sec. 11), 160 us          [avg <= 950, worst <= 1270]
@@ -90,6 +91,9 @@ instr a "" dtc_step bench_step_normal bench_step_tick 1400 1670 \
 # 40 us.
 instr b im im_dtc_step bench_im_normal bench_im_tick 930 1320 \
   im_est_flux im_est_polar fix_polar im_speed_step iq_mag fix_isqrt64 im_dtc_select im_dtc_estimate speed_pi_step
+# The same IM law on the four-switch inverter (Hoang Table II, the FSTP's equal drops), 40 us.
+instr b2 imfstp im_dtc_step_fstp bench_imfstp_normal bench_imfstp_tick 930 1320 \
+  im_est_flux im_est_polar fix_polar im_speed_step im_dtc_select_fstp im_dtc_estimate_fstp speed_pi_step
 # IM law, stator-flux vector control with SVM, 160 us.
 instr c sfvc im_sfvc_step bench_sfvc_normal bench_sfvc_tick 1100 1700 \
   im_est_flux im_est_polar fix_polar im_speed_step iq_mag fix_isqrt64 im_sfvc_regulate svm_step im_sfvc_estimate speed_pi_step

@@ -320,14 +320,20 @@ double dtc_itc_wc_rad_s(const dtc_config_si_t *si);
  * over 20 (law_pm_itc_si.c). */
 double dtc_itc_vmid_wm_rad_s(const dtc_config_si_t *si);
 
-/* The post-fault configuration of an SSTP PM drive with reconfiguration relays: the same drive as
- * an FSTP whose phase A is the failed one (firmware dtc.h dtc_reconfigure). Changed from si:
- * topology FSTP; the compensation for the same device model (none stays none, the SSTP's equal
- * drop [29] becomes the FSTP's equal-drop Hoang Table V, "simple"); no mid-point calibration and no
- * rotor hold (the drive does not stop for them); the derived hand-over speed and current limit
- * are derived again for the FSTP. Returns DTC_SI_OK, or DTC_SI_ERR_VARIANT when si is not an
- * SSTP PM drive with reconfig_relay = 1. */
+/* The post-fault configuration of an SSTP drive with reconfiguration relays, the PM DTC or the IM
+ * switching-table DTC: the same drive as an FSTP whose phase A is the failed one (firmware dtc.h
+ * dtc_reconfigure, im_dtc.h im_dtc_reconfigure). Changed from si: topology FSTP; the compensation
+ * for the same device model (none stays none, the SSTP's equal drop [29] becomes the FSTP's
+ * equal-drop Hoang Table V, "simple"); no mid-point calibration and no rotor hold (the drive does
+ * not stop for them); the derived hand-over speed and current limit are derived again for the
+ * FSTP; the IM's flux references scaled to what the FSTP's voltage holds
+ * (dtc_im_fstp_flux_scale). Returns DTC_SI_OK, or DTC_SI_ERR_VARIANT when si is not such a drive
+ * with reconfig_relay = 1. */
 int dtc_config_post_fault_si(const dtc_config_si_t *si, dtc_config_si_t *post);
+/* The IM on the four-switch inverter: the factor (<= 1) on flux_ref_wb and psir_ref_wb that
+ * leaves the stator flux within what the FSTP's voltage holds at the drive's speed (the speed
+ * reference in speed mode, else the rated speed), law_im_si.c. */
+double dtc_im_fstp_flux_scale(const dtc_config_si_t *si);
 
 /* A refusal of the converter: the code, the refused member and the message. */
 typedef struct {

@@ -88,6 +88,28 @@ double dtc_im_torque_at_current_nm(const dtc_config_si_t *si, double i_a)
     return 1.5 * (double)si->pole_pairs * m * m / lr * sqrt(id2) * sqrt(i_a * i_a - id2);
 }
 
+double dtc_im_fstp_flux_scale(const dtc_config_si_t *si)
+{
+    /* Hoang Table I's four vectors span a rhombus with the vertices V_dc/3 (alpha) and V_dc/sqrt3
+     * (beta); the largest circle inside it has the radius V_dc / (2 sqrt3), half the SSTP's
+     * V_dc / sqrt3. The flux follows a circle at w_e while the voltage left after R_s I_n,
+     * V = V_dc / (2 sqrt3) - R_s I_n, covers w_e |phi_s| (Casadei eq. 1 in steady state), at the
+     * drive's speed plus the rated slip at the rated flux (Casadei eq. 16 in SI:
+     * w_slip = R_r T_n / (3/2 p phi_r^2), phi_r the configured rotor flux). Along the alpha axis the
+     * rhombus reaches V_dc/3, 15 % beyond the circle: the torque-producing part of the stator flux
+     * (Casadei eq. 19's second term) that a rotor-flux reference scaled by the same factor leaves
+     * under load is within that. */
+    const double ls = si->lls_h + si->lm_h, m = si->lm_h;
+    const double psir = si->psir_ref_wb > 0.0 ? si->psir_ref_wb : si->flux_ref_wb * m / ls;
+    const double rpm = si->mode == DTC_MODE_SPEED && si->speed_ref_rpm != 0.0 ? fabs(si->speed_ref_rpm)
+                                                                             : si->rated_speed_rpm;
+    const double w_slip = si->rr_ohm * si->rated_torque_nm / (1.5 * si->pole_pairs * psir * psir);
+    const double w_e = rpm * M_PI / 30.0 * si->pole_pairs + w_slip;
+    const double v = si->vdc_v / (2.0 * sqrt(3.0)) - si->rs_ohm * si->rated_current_a;
+    const double psi_max = w_e > 0.0 && v > 0.0 ? v / w_e : si->flux_ref_wb;
+    return psi_max < si->flux_ref_wb ? psi_max / si->flux_ref_wb : 1.0;
+}
+
 int dtc_si_im_check(dtc_si_conv_t *c, const dtc_config_si_t *si)
 {
     /* the PM law's machine fields are not this law's (its machine: rr_ohm, lls_h, llr_h, lm_h) */
@@ -95,8 +117,10 @@ int dtc_si_im_check(dtc_si_conv_t *c, const dtc_config_si_t *si)
     if (si->psi_m_wb != 0.0) return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "psi_m_wb", "psi_m_wb = %g: a PM machine's field, not one of the IM law's (rr_ohm, lls_h, llr_h, lm_h); must be 0", si->psi_m_wb);
     if (si->estimator != DTC_EST_VOLTAGE && si->estimator != DTC_EST_IMPROVED)
         return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "estimator", "estimator = %d: the IM law has DTC_EST_VOLTAGE or DTC_EST_IMPROVED (DTC_EST_CURRENT, Hoang eqs. 8-9, needs a magnet)", si->estimator);
-    if (si->topology != DTC_TOPO_SSTP)
-        return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "topology", "topology = %d: the IM law needs the six-switch inverter (DTC_TOPO_SSTP)", si->topology);
+    if (si->topology != DTC_TOPO_SSTP && !(si->topology == DTC_TOPO_FSTP && si->law == DTC_LAW_IM_DTC))
+        return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "topology", "topology = %d: the four-switch inverter (DTC_TOPO_FSTP) runs the IM switching-table DTC only (law DTC_LAW_IM_DTC, Hoang Table II); DSC, DSVM, SFVC and DFOC need the six-switch inverter (DTC_TOPO_SSTP)", si->topology);
+    if (si->topology == DTC_TOPO_FSTP && si->flux_weakening != 0)
+        return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "flux_weakening", "flux_weakening = %d: Casadei section 12's flux weakening is not written for the four-switch inverter (DTC_TOPO_FSTP)", si->flux_weakening);
     if (si->sstp_table < DTC_ST_BASIC || si->sstp_table > DTC_ST_SPEED)
         return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "sstp_table", "sstp_table = %d: must be DTC_ST_BASIC..DTC_ST_SPEED", si->sstp_table);
     if (si->speed_sensor != DTC_SPEED_ENCODER && si->speed_sensor != DTC_SPEED_NONE)

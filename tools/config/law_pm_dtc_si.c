@@ -94,11 +94,17 @@ double dtc_ilim_default_a(const dtc_config_si_t *si)
 
 int dtc_config_post_fault_si(const dtc_config_si_t *si, dtc_config_si_t *post)
 {
-    if (si->law != DTC_LAW_PM_DTC || si->topology != DTC_TOPO_SSTP || si->reconfig_relay != 1) {
+    if ((si->law != DTC_LAW_PM_DTC && si->law != DTC_LAW_IM_DTC) || si->topology != DTC_TOPO_SSTP ||
+        si->reconfig_relay != 1) {
         return DTC_SI_ERR_VARIANT;
     }
     *post = *si;
     post->topology = DTC_TOPO_FSTP;
+    if (si->law == DTC_LAW_IM_DTC) {
+        const double k = dtc_im_fstp_flux_scale(post);
+        post->flux_ref_wb *= k;
+        post->psir_ref_wb *= k;
+    }
     post->compensation = si->compensation == DTC_COMP_SSTP            ? DTC_COMP_FSTP_SIMPLE
                          : si->compensation == DTC_COMP_SSTP_PROPOSED ? DTC_COMP_FSTP_PROPOSED
                                                                       : si->compensation;

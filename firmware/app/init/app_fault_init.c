@@ -15,8 +15,10 @@ uint16_t app_fault_post_ok(const dtc_config_t *c, const dtc_config_t *post)
             same_adc = 0U;
         }
     }
-    return (uint16_t)!(law_check_reconfig(post) != DTC_OK ||
-        c->law != (uint16_t)DTC_LAW_PM_DTC || post->law != (uint16_t)DTC_LAW_PM_DTC ||
+    /* the same law before and after: the PM DTC, or the IM switching-table DTC (law.h
+     * law_reconfigure) */
+    return (uint16_t)!(law_check_reconfig(post) != DTC_OK || c->law != post->law ||
+        (c->law != (uint16_t)DTC_LAW_PM_DTC && c->law != (uint16_t)DTC_LAW_IM_DTC) ||
         c->board.topology != (uint16_t)DTC_TOPO_SSTP || post->board.topology != (uint16_t)DTC_TOPO_FSTP ||
         c->board.i_sensors3 == 0U || post->board.i_sensors3 == 0U || c->prot.leg_i_min_iq <= 0 ||
         post->board.vmid_cal != 0U || post->prot.relay_periods == 0U ||

@@ -118,7 +118,7 @@ public:
             // the same drive as an FSTP with the failed phase on the mid-point (dtc_config_post_fault_si)
             dtc_config_si_t post_si;
             if (dtc_config_post_fault_si(&si, &post_si) != DTC_SI_OK) {
-                return "inverter.reconfig_relay: the post-fault configuration needs the PM law on the SSTP";
+                return "inverter.reconfig_relay: the post-fault configuration needs the PM DTC or the IM switching-table DTC (control.scheme = \"dtc\") on the SSTP";
             }
             const int prc = dtc_config_from_si(&post_si, &post_cfg_, msg, sizeof msg);
             if (prc != DTC_SI_OK) {

@@ -1,0 +1,145 @@
+/*
+ * im_dtc_fstp.c - the IM switching-table DTC (DTC_LAW_IM_DTC) on the four-switch inverter (FSTP,
+ * board.topology = DTC_TOPO_FSTP): Hoang Table II's four-sector table on Casadei's estimator,
+ * speed loop, start-up and references (Hoang sec. I and its refs. [12], [13]: the four-switch DTC
+ * of an induction machine). law.c calls im_dtc_step_fstp instead of im_dtc_step for such a
+ * configuration, a choice made at init (law_init) or at a live reconfiguration
+ * (law_reconfigure), so the six-switch step carries no test of the topology.
+ *
+ * What differs from im_dtc_step (im_dtc.c), and why:
+ *   currents: Clarke of the two switched phases i_b, i_c (clarke_fstp, Hoang eqs. 4-5 with the
+ *     zero sum): phase A's current returns through the capacitors' mid-point;
+ *   voltage: the phase voltages of the FSTP, leg A on the mid-point (vrec_fstp, Hoang eqs. 1-5 with
+ *     v_a0 = V_mid): the measured lower capacitor voltage when board.fstp_vmid_measured (phase A's
+ *     current moves the mid-point; Hoang eqs. 17-19 assume V_dc/2), with the FSTP's device drops
+ *     (Hoang Table V = eqs. 35-36 or Table VI with eqs. 37-38, vcomp.h) and the dead time of legs
+ *     B and C only (vrec.h deadtime_error, fstp);
+ *   vectors: the four active vectors of Hoang Table I (V_1..V_4 = S_B S_C 00, 10, 11, 01), no
+ *     null vector; the sector is the flux's quadrant (sector.h sector_fstp, derived there from
+ *     Hoang Tables I-II); the torque comparator two-level (Table II has no zero-torque row);
+ *   start-up: phase A's current is the split capacitors' only path, d(v_hi - v_lo)/dt = i_a / C
+ *     (docs/plant.md "DC link"), so a flux built at DC with an alpha part charges the mid-point
+ *     without limit (SIL, 4 kW IM, 2 x 4.7 mF: the lower capacitor from 155 V to 0 V within 0.1 s
+ *     of the magnetisation). With the encoder reading a rotor at rest the flux is built along
+ *     +beta, where i_alpha = i_a = 0: V_2 (S_B S_C = 10, pure +beta with leg A at the mid-point,
+ *     Hoang Table I) while the flux comparator asks for more flux or the flux has crossed to
+ *     -beta, V_4 (01, -beta) while it asks for less (a fixed half-axis: a choice by the flux's
+ *     sign alone limit-cycles about zero with the period's actuation delay, where the flux
+ *     starts; V_4 for less flux at any sign takes a flux that crossed zero away without
+ *     limit, SIL), so i_b = -i_c carries the DC magnetising current and
+ *     the mid-point stays where it is. Otherwise (a turning rotor, or no encoder) the same table
+ *     at T* = 0: the comparator alternates the two vectors of the quadrant that raise (or lower)
+ *     the flux and turn it either way, zero mean torque, so the flux builds at the rotor's own
+ *     speed, as ST-D's vectors do on the SSTP (im_dtc_internal.h im_magn_vector); at rest without
+ *     an encoder that flux is DC with an alpha part and moves the mid-point (not solved:
+ *     docs/firmware-core.md);
+ *   current limit: ilim_select over the four vectors (ilim.h, fstp);
+ *   after a live reconfiguration (im_dtc_reconfigure), until the relay has tied the failed phase
+ *     A' to the mid-point: phase A' is open, i_alpha = i_a' = 0, and its terminal floats at the
+ *     machine's voltage, which no sensor reads. The machine then runs on the line B'-C' alone (a single-phase machine): its alpha stator flux
+ *     is the rotor's, phi_s,alpha = sigma l_s i_alpha + x_alpha = x_alpha (Casadei eq. 21 over
+ *     k_r, x = (m/l_r) phi_r), so the estimator takes the alpha voltage of the rotor equation
+ *     (Casadei eqs. A7-A9 in the stator frame, dx/dt = (r_r/l_r)((m^2/l_r) i - x) + j w x, with
+ *     i_alpha = 0): v_alpha = -(r_r/l_r) x_alpha - w x_beta, w the speed in use; the beta voltage
+ *     is the legs' (v_beta = (v_b'0 - v_c'0)/sqrt3, Hoang eq. 5, whatever A' does). The torque is
+ *     then phi_s,alpha i_beta (Hoang eq. 10 with i_alpha = 0), which only the beta voltage moves:
+ *     the torque comparator's demand takes V_2 (+beta) where phi_s,alpha >= 0 and V_4 (-beta)
+ *     where it is negative, and V_1 (S_B' = S_C' = 0: no line voltage, the beta current
+ *     free-wheels) when the torque is to fall; the flux is the rotor's and is not regulated.
+ *     Hoang Table II in that interval chooses the vectors for a phase A' on the mid-point and
+ *     gives half of them no beta voltage (SIL: the mean torque near zero for the 15 ms, a speed
+ *     dip twice as deep). The interval ends when phase A' carries current, |i_alpha| beyond the
+ *     open-phase check's zero band prot.leg_i_min_iq / 4 (app_fault.h APP_LEG_ZERO_LOG2): the
+ *     relay has closed; or after prot.relay_periods, the relay's closing time with the host's
+ *     margin (1.5 times, tools/config), which the app waits too. The margin's periods on the
+ *     interval's vectors with phase A' on the mid-point drove 40 A of DC into it and the current
+ *     limit braked the machine (SIL, 4 kW IM at 1000 rpm: 7.6 ms past the closure, a 41 % dip).
+ * The FSTP's voltage is half the SSTP's on the same link (the largest circle inside Hoang Table
+ * I's rhombus has the radius V_dc / (2 sqrt3), against V_dc / sqrt3): the flux the speed allows is
+ * the host's to derive (docs/firmware-core.md).
+ */
+#include "im_dtc_internal.h"
+
+#include "clarke.h"
+#include "sector.h"
+#include "vrec.h"
+
+/* The estimator's input on the FSTP: the voltage of the period that ends now (legs_2: S_B, S_C;
+ * S_A is reported 0 and not read) on the measured link and mid-point, the FSTP's drop and
+ * dead-time compensations, the currents (im_dtc_ein_common). Formats IQ pu, saturating sums. */
+void im_dtc_estimate_fstp(im_dtc_t *c, const dtc_meas_t *m)
+{
+    const dtc_config_t *cfg = c->cfg;
+    im_est_in_t *in = &c->ein;
+
+    vrec_fstp(c->legs_2.sb, c->legs_2.sc, m->vdc_iq, m->vmid_iq, cfg->board.fstp_vmid_measured, &in->v_alpha_iq,
+              &in->v_beta_iq);
+    if (c->open_wait != 0U) {
+        /* phase A' open (file comment): v_alpha = -(r_r/l_r) x_alpha - w x_beta; rounded IQ
+         * products, saturating sums */
+        in->v_alpha_iq =
+            fix_neg32(fix_add32(iq_mpy(c->rr_lr_iq, c->est.x_alpha_iq), iq_mpy(c->speed_iq, c->est.x_beta_iq)));
+    }
+    im_vcomp(c, 0U, c->legs_2.sb, c->legs_2.sc, 1U);
+    in->v_alpha_iq = fix_add32(in->v_alpha_iq, c->dva_iq);
+    in->v_beta_iq = fix_add32(in->v_beta_iq, c->dvb_iq);
+    if (cfg->est.deadtime_comp != 0U && (c->legs_3.sb != c->legs_2.sb || c->legs_3.sc != c->legs_2.sc)) {
+        /* the currents' signs at the switching instant: the previous step's sample (im_dtc_estimate) */
+        deadtime_error(&c->dt_p, m->vdc_iq, &c->i_prev, &c->legs_3, &c->legs_2, &c->dva_iq, &c->dvb_iq);
+        in->v_alpha_iq = fix_add32(in->v_alpha_iq, c->dva_iq);
+        in->v_beta_iq = fix_add32(in->v_beta_iq, c->dvb_iq);
+    }
+    c->i_prev = c->i;
+    im_dtc_ein_common(c);
+}
+
+/* The flux comparator on |phi_s|^2, the two-level torque comparator, Hoang Table II on the
+ * flux's quadrant, then the current limit over the four vectors (im_ilim). Returns V_1..V_4. */
+uint16_t im_dtc_select_fstp(im_dtc_t *c, iq_t te, dtc_out_t *o)
+{
+    const iq_t psi_a = c->est.psi_alpha_iq, psi_b = c->est.psi_beta_iq;
+    const uint16_t flux_up = hyst2_sq_step(&c->h_flux, c->psi_ref_iq, iq_sumsq_q48(psi_a, psi_b));
+    const uint16_t sector = sector_fstp(psi_a, psi_b);
+    const uint16_t up = hyst2_step(&c->h_torque2, iq_sub(c->te_ref_iq, te));
+
+    o->sector = sector;
+    o->flux_up = flux_up;
+    o->torque_dem = up != 0U ? 1 : -1;
+    if (c->open_wait != 0U) {
+        /* phase A' open (file comment) until it carries current, |i_alpha| > h (the unsigned
+         * box test of im_ilim), or the relay's periods have run out; then the estimator takes
+         * the FSTP's rotor-flux reference (im_dtc_reconfigure) and Hoang Table II drives */
+        const uint32_t h = (uint32_t)fix_rshift_rnd32(c->cfg->prot.leg_i_min_iq, 2U);
+        c->open_wait = (uint16_t)((uint32_t)c->i.i_alpha_iq + h > h + h ? 0U : c->open_wait - 1U);
+        if (c->open_wait != 0U) {
+            /* the torque by the beta voltage alone */
+            return im_ilim(c, up == 0U ? 1U : (psi_a >= 0 ? 2U : 4U));
+        }
+        if (c->magnetised != 0U) {
+            im_dtc_psir_ref(c, c->act.flux_ref_iq);
+        }
+    }
+    if (c->magnetised == 0U && c->cfg->speed.sensor == DTC_SPEED_ENCODER && c->speed_iq == 0) {
+        /* at rest: the flux along +beta (file comment), V_2 = +beta, V_4 = -beta */
+        o->torque_dem = 0;
+        return im_ilim(c, flux_up != 0U || psi_b < 0 ? 2U : 4U);
+    }
+    return im_ilim(c, swtab_fstp(sector, flux_up, up));
+}
+
+void im_dtc_step_fstp(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
+{
+    swtab_legs_t legs;
+    iq_t te;
+    uint16_t vec;
+
+    /* 1-5. Shadow set, Clarke (i_b, i_c), stator and rotor flux, torque, speed and speed loop. */
+    te = im_dtc_front(c, m, o, IM_FRONT_FSTP);
+    /* 6. References: start-up, flux weakening, Casadei eq. 19. */
+    im_dtc_refs(c);
+    /* 7. Comparators, Hoang Table II, current limit. */
+    vec = im_dtc_select_fstp(c, te, o);
+    legs = swtab_fstp_legs(vec);
+    /* 8. Outputs (S_A = 0: leg A is the mid-point). */
+    im_dtc_legs_out(c, o, vec, &legs, te);
+}
