@@ -52,8 +52,8 @@ SECTIONS
                     *(.text:_im_dsvm_select)
                     *(.text:_im_dtc_refs)
                     *(.text:_im_dtc_select)
+                    *(.text:_im_dtc_speed)
                     *(.text:_im_est_flux)
-                    *(.text:_iq_cmul_1jx)
                     *(.text:_speed_pi_step)
                     *(.text:_svm_step)
                     /* hot:ramfuncs end */
@@ -85,6 +85,7 @@ SECTIONS
                     *(.text:_app_pwm_encode)
                     *(.text:_check_hw_trip)
                     *(.text:_check_trips)
+                    *(.text:_clarke_sstp)
                     *(.text:_deadtime_error)
                     *(.text:_deadtime_leg)
                     *(.text:_dsc_step)
@@ -92,6 +93,7 @@ SECTIONS
                     *(.text:_dsvm_rotate)
                     *(.text:_fix_add32)
                     *(.text:_fix_isqrt_rnd)
+                    *(.text:_fix_neg32)
                     *(.text:_fix_polar)
                     *(.text:_fix_sector6)
                     *(.text:_fix_sub32)
@@ -107,6 +109,7 @@ SECTIONS
                     *(.text:_im_speed_lpf)
                     *(.text:_im_speed_step)
                     *(.text:_im_sup_step)
+                    *(.text:_iq_cmul_1jx)
                     *(.text:_iq_mag)
                     *(.text:_iq_mpy)
                     *(.text:_law_enc_plaus)
@@ -123,7 +126,6 @@ SECTIONS
                     *(.text:_swtab_rot6)
                     *(.text:_swtab_sstp_basic)
                     *(.text:_swtab_sstp_legs)
-                    *(.text:_vrec_from_legs)
                     *(.text:_vrec_sstp)
                     /* hot:ramfuncs_h end */
                 }
@@ -137,7 +139,7 @@ SECTIONS
     ramfuncs_m : {
                     /* hot:ramfuncs_m begin (hal/f2812/hot_functions.py --write) */
                     *(.text:_app_plaus_step)
-                    *(.text:_im_dtc_speed)
+                    *(.text:_vrec_from_legs)
                     /* hot:ramfuncs_m end */
                 }
                 LOAD = FLASH_JC,

@@ -362,19 +362,7 @@ uint16_t im_dtc_select(im_dtc_t *c, iq_t te, dtc_out_t *o)
 
 void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
 {
-    swtab_legs_t legs;
-    iq_t te;
-    uint16_t vec;
-
-    /* 1-5. Shadow set, Clarke, stator and rotor flux, torque, speed and speed loop. */
-    te = im_dtc_front(c, m, o, IM_FRONT_LEGS);
-    /* 6. References: start-up, flux weakening, Casadei eq. 19. */
-    im_dtc_refs(c);
-    /* 7. Comparators, table or DSC, null-vector choice. */
-    vec = im_dtc_select(c, te, o);
-    legs = swtab_sstp_legs(vec);
-    /* 8. Outputs. */
-    im_dtc_legs_out(c, o, vec, &legs, te);
+    im_dtc_table_step(c, m, o, 0U);
 }
 
 void im_dtc_i_pred(const im_dtc_t *c, iq_t vdc_iq, iq_t i1[3])

@@ -129,17 +129,5 @@ uint16_t im_dtc_select_fstp(im_dtc_t *c, iq_t te, dtc_out_t *o)
 
 void im_dtc_step_fstp(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
 {
-    swtab_legs_t legs;
-    iq_t te;
-    uint16_t vec;
-
-    /* 1-5. Shadow set, Clarke (i_b, i_c), stator and rotor flux, torque, speed and speed loop. */
-    te = im_dtc_front(c, m, o, IM_FRONT_FSTP);
-    /* 6. References: start-up, flux weakening, Casadei eq. 19. */
-    im_dtc_refs(c);
-    /* 7. Comparators, Hoang Table II, current limit. */
-    vec = im_dtc_select_fstp(c, te, o);
-    legs = swtab_fstp_legs(vec);
-    /* 8. Outputs (S_A = 0: leg A is the mid-point). */
-    im_dtc_legs_out(c, o, vec, &legs, te);
+    im_dtc_table_step(c, m, o, 1U);
 }

@@ -171,6 +171,30 @@ static inline void im_dtc_legs_out(im_dtc_t *c, dtc_out_t *o, uint16_t vec, cons
     im_out_report(c, o, te);
 }
 
+/* A switching-table step on the six-switch (fstp = 0: Casadei's tables or DSC) or the four-switch
+ * inverter (fstp = 1: Hoang Table II, im_dtc_fstp.c). Each caller passes a constant, so the
+ * inlined copy of each step holds only its own branch. */
+static inline void im_dtc_table_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, uint16_t fstp)
+{
+    swtab_legs_t legs;
+    uint16_t vec;
+    /* 1-5. Shadow set, Clarke (SSTP i_a, i_b; FSTP i_b, i_c), stator and rotor flux, torque, speed
+     * and speed loop. */
+    const iq_t te = im_dtc_front(c, m, o, fstp != 0U ? IM_FRONT_FSTP : IM_FRONT_LEGS);
+    /* 6. References: start-up, flux weakening, Casadei eq. 19. */
+    im_dtc_refs(c);
+    /* 7. Comparators, the table (or DSC), the null-vector choice, the current limit. */
+    if (fstp != 0U) {
+        vec = im_dtc_select_fstp(c, te, o);
+        legs = swtab_fstp_legs(vec); /* S_A = 0: leg A is the mid-point */
+    } else {
+        vec = im_dtc_select(c, te, o);
+        legs = swtab_sstp_legs(vec);
+    }
+    /* 8. Outputs. */
+    im_dtc_legs_out(c, o, vec, &legs, te);
+}
+
 /* The end of an SVM scheme's period (SFVC, DFOC): the SVM of c->vs_* on the measured link with
  * dead-time compensation (svm.h), the voltage the new duties will apply kept for the estimator
  * and the prediction (d_eff on the link measured now, Casadei eq. 2 / Hoang eqs. 1-5: (2 d_a -
