@@ -68,21 +68,5 @@ void im_dfoc_regulate(im_dtc_t *c)
 
 void im_dfoc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
 {
-    /* 1-5. Shadow set, Clarke, stator and rotor flux from the modulated voltage, torque, speed
-     *      and speed loop (shared with im_dtc_step). 6. References: start-up, T* (Casadei eq. 19's
-     *      stator flux is not used). */
-    const iq_t te = im_dtc_front(c, m, o, IM_FRONT_PWM);
-    if (c->ref_due != 0U && c->div_cnt != 1U) {
-        /* once per speed period, on the step after the speed loop's (as Casadei eq. 19 for the
-         * table laws): the rotor-flux trim on that step's |phi_r| */
-        c->ref_due = 0U;
-        if (c->magnetised != 0U && im_psir_trim(c) != 0U) {
-            im_dfoc_id_ref(c);
-        }
-    }
-    im_dtc_refs(c);
-    /* 7. Current regulators in the rotor-flux frame. */
-    im_dfoc_regulate(c);
-    /* 8. SVM and outputs (shared with the SFVC). */
-    im_pwm_out(c, m, o, te);
+    im_svm_scheme_step(c, m, o, 1U);
 }

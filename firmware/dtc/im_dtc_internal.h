@@ -219,6 +219,38 @@ static inline void im_pwm_out(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, iq
     im_out_report(c, o, te);
 }
 
+/* A step of an SVM scheme: the SFVC (dfoc = 0: Casadei eqs. 18, 23, 24) or the DFOC (dfoc = 1:
+ * Casadei sec. 13). Each caller passes a constant, so the inlined copy of each step holds only
+ * its own branch.
+ * 1-5. Shadow set, Clarke, stator and rotor flux from the modulated voltage, torque, speed and
+ * speed loop (im_dtc_front, as im_dtc_step). 6. References: start-up (the magnetising ramp), T*;
+ * Casadei eq. 19's |phi_s*| is not used. Once per speed period, on the step after the speed
+ * loop's, the rotor-flux trim on that step's |phi_r| moves the SFVC's eq. 18 d component or the
+ * DFOC's i_d*. 7. The SFVC's flux regulator or the DFOC's current regulators in the rotor-flux
+ * frame; the SVM is called after it, so that its frame and the regulator's are not on one chain
+ * (stack). 8. SVM and outputs. */
+static inline void im_svm_scheme_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, uint16_t dfoc)
+{
+    const iq_t te = im_dtc_front(c, m, o, IM_FRONT_PWM);
+    if (c->ref_due != 0U && c->div_cnt != 1U) {
+        c->ref_due = 0U;
+        if (c->magnetised != 0U && im_psir_trim(c) != 0U) {
+            if (dfoc != 0U) {
+                im_dfoc_id_ref(c);
+            } else {
+                im_sfvc_kpd(c);
+            }
+        }
+    }
+    im_dtc_refs(c);
+    if (dfoc != 0U) {
+        im_dfoc_regulate(c);
+    } else {
+        im_sfvc_regulate(c);
+    }
+    im_pwm_out(c, m, o, te);
+}
+
 /* The device-drop compensation of a period (vcomp.h) into c->dva_iq, c->dvb_iq for the leg states
  * sa, sb, sc (legs_any = 0: the caller's legs are all off, the SVM schemes): by the table of the
  * currents' signs where it holds (vcomp_tab_step, bit-identical), else vcomp_step (Hoang Table III

@@ -97,25 +97,5 @@ void im_sfvc_regulate(im_dtc_t *c)
 
 void im_sfvc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
 {
-    iq_t te;
-
-    /* 1-5. Shadow set, Clarke, stator and rotor flux from the modulated voltage, torque, speed
-     *      and speed loop (shared with im_dtc_step). 6. References: start-up (the magnetising
-     *      ramp), T*. */
-    te = im_dtc_front(c, m, o, IM_FRONT_PWM);
-    if (c->ref_due != 0U && c->div_cnt != 1U) {
-        /* Casadei eq. 19's |phi_s*| is not used: eq. 18 gives the vector (im_sfvc_regulate). Once
-         * per speed period, on the step after the speed loop's, the rotor-flux trim on that step's
-         * |phi_r| moves eq. 18's d component */
-        c->ref_due = 0U;
-        if (c->magnetised != 0U && im_psir_trim(c) != 0U) {
-            im_sfvc_kpd(c);
-        }
-    }
-    im_dtc_refs(c);
-    /* 7. Flux regulator (Casadei eqs. 18, 23, 24); the SVM is called from here, after it, so that its
-     *    frame and the regulator's are not on one chain (stack). */
-    im_sfvc_regulate(c);
-    /* 8. SVM and outputs (shared with the DFOC). */
-    im_pwm_out(c, m, o, te);
+    im_svm_scheme_step(c, m, o, 0U);
 }

@@ -127,6 +127,12 @@ inline plant_params_t held_at(plant_params_t p, double speed_rpm) {
     return p;
 }
 inline plant_params_t locked(plant_params_t p) { return held_at(p, 0.0); }
+// p with a constant load torque of torque_nm (the torque load).
+inline plant_params_t torque_load(plant_params_t p, double torque_nm) {
+    p.load = PLANT_LOAD_TORQUE;
+    p.load_torque_nm = torque_nm;
+    return p;
+}
 // The default plant (plant_params_default).
 inline plant_params_t default_plant() {
     plant_params_t p;

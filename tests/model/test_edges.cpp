@@ -296,10 +296,7 @@ TEST(Edges, ImPwmRunAgreesWithAFineStepAndBalancesEnergy) {
 // the default machine accelerating) through plant_set_legs and through plant_set_leg_edges with
 // n = 0 gives the same state bit for bit.
 TEST(Edges, LegStateFormIsTheZeroInstantCaseBitForBit) {
-    plant_params_t p;
-    plant_params_default(&p);
-    p.load = PLANT_LOAD_TORQUE;
-    p.load_torque_nm = 0.1;
+    const plant_params_t p = mt::torque_load(mt::default_plant(), 0.1);
     auto a = make(p);
     auto b = make(p);
     for (int k = 0; k < 4000; ++k) {

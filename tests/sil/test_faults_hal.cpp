@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "hal_host.hpp"
+#include "model_test_util.h"
 #include "run.hpp"
 #include "trace_csv.hpp"
 
@@ -43,10 +44,7 @@ hal_cmd_t legs(int sa, int sb, int sc, std::uint16_t relay = 0u)
 
 TEST(HalHostFaults, ShortedSwitchRaisesDesatAndTheTripAtTheNextSample)
 {
-    plant_params_t p;
-    plant_params_default(&p);
-    p.load = PLANT_LOAD_SPEED;
-    p.load_speed_rpm = 0.0;
+    const plant_params_t p = mt::locked(mt::default_plant());
     auto h = make(p);
     ASSERT_EQ(plant_set_switch_fault(h->plant(), 1, 0, PLANT_SWITCH_SHORT), 0);  // leg B lower shorted
     hal_meas_t m{};
@@ -114,10 +112,7 @@ TEST(HalHostFaults, RelayCommandClosesThePlantRelayAfterItsDelayAndGatesTheLegOf
 
 TEST(HalHostFaults, LostEncoderFreezesTheCountAndTheIndex)
 {
-    plant_params_t p;
-    plant_params_default(&p);
-    p.load = PLANT_LOAD_SPEED;
-    p.load_speed_rpm = 3000.0;  // 20 ms per turn: an index every 400 periods
+    const plant_params_t p = mt::held_at(mt::default_plant(), 3000.0);  // 20 ms per turn: an index every 400 periods
     auto h = make(p);
     hal_meas_t m{};
     for (int k = 0; k < 100; ++k) {

@@ -11,6 +11,7 @@
 
 #include "hal_host.hpp"
 #include "ideal_plant.hpp"
+#include "model_test_util.h"
 #include "plant.h"
 
 using hal_host::Harness;
@@ -108,10 +109,7 @@ TEST(HalHostPwm, CompareValuesGiveTheCommandedVoltSecondsOnePeriodLater)
 // the default plant (drops, dead time, finite link) identically, bit for bit.
 TEST(HalHostPwm, LegStateFormEqualsPwmFormAtZeroAndFullDuty)
 {
-    plant_params_t p;
-    plant_params_default(&p);
-    p.load = PLANT_LOAD_TORQUE;
-    p.load_torque_nm = 0.1;
+    const plant_params_t p = mt::torque_load(mt::default_plant(), 0.1);
     auto a = make(p);
     auto b = make(p);
     for (Harness* h : {a.get(), b.get()}) {
