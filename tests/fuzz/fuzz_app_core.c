@@ -424,7 +424,12 @@ static void check_conversion(const fuzz_t *z)
     }
     FUZZ_CHECK(pu->vdc_iq == ref_pu(z->m.adc[HAL_ADC_VDC], b->adc_vdc_offset, b->adc_vdc_gain_iq),
                "V_dc %d for code %u", pu->vdc_iq, z->m.adc[HAL_ADC_VDC]);
-    FUZZ_CHECK(pu->enc_count == z->m.qep_count, "encoder count");
+    /* board.enc_reversed: the drive reads enc_counts - 1 - count for a count in range (app_enc.h) */
+    const uint16_t last = (uint16_t)(b->enc_counts - 1U);
+    const uint16_t count = b->enc_reversed != 0U && z->m.qep_count <= last ? (uint16_t)(last - z->m.qep_count)
+                                                                           : z->m.qep_count;
+    FUZZ_CHECK(pu->enc_count == count, "encoder count %u for the counter's %u (reversed %u)", pu->enc_count,
+               z->m.qep_count, b->enc_reversed);
 }
 
 /* The PWM form does what the law asked: the upper device's duty of each leg, read from the compare

@@ -47,6 +47,16 @@ def open_phase_reconfig():
     return bytes(cfg + recs)
 
 
+def reversed_encoder_run():
+    """An input the fuzzer found: a configuration whose raw patches set board.enc_reversed, run to
+    RUN; the drive then reads enc_counts - 1 - count (app_enc.h), which the harness's conversion
+    check must expect. Kept as a seed so that every slice runs it first."""
+    return bytes.fromhex(
+        "fae9e9e9e9e9e910000100e9e90165e9e9e9e9e9e9000000d30028d80000f8010028d80000f801000000000000000000"
+        "00000000000000fe41003829fe000af8010028d80000f8010028d841414158b225414141414141414141414141414141"
+        "413b414141464141000000000000006465616474696d655f636f6d7041414141414141414104")
+
+
 def main():
     if len(sys.argv) != 2:
         sys.exit(__doc__)
@@ -55,6 +65,8 @@ def main():
     os.makedirs(d)
     with open(os.path.join(d, "open_phase_reconfig"), "wb") as f:
         f.write(open_phase_reconfig())
+    with open(os.path.join(d, "reversed_encoder_run"), "wb") as f:
+        f.write(reversed_encoder_run())
 
 
 if __name__ == "__main__":
