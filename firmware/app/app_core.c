@@ -173,22 +173,20 @@ static void calibrate_finish(app_core_t *a, const hal_meas_t *m)
     if (a->cfg->board.vmid_cal != 0U && app_vmid_cal_set(a, m) != 0U) {
         return;
     }
-    {
-        dtc_meas_t pu;
-        app_core_convert(a, m, &pu);
-        if (pu.vdc_iq < a->cfg->prot.vdc_min_iq) {
-            app_core_latch(a, APP_FAULT_DC_UNDERVOLTAGE, 0);
-            return;
-        }
-        if (pu.vdc_iq > a->cfg->prot.vdc_max_iq) {
-            app_core_latch(a, APP_FAULT_DC_OVERVOLTAGE, 0);
-            return;
-        }
+    /* Into the status's measurement: a status read between this period and the next (READY
+     * converts every period from the next one) shows this period's V_dc, not the zeros of init
+     * (the fault snapshot of a DC-link trip here holds the level that tripped). */
+    app_core_convert(a, m, &a->st.meas);
+    if (a->st.meas.vdc_iq < a->cfg->prot.vdc_min_iq) {
+        app_core_latch(a, APP_FAULT_DC_UNDERVOLTAGE, 0);
+        return;
+    }
+    if (a->st.meas.vdc_iq > a->cfg->prot.vdc_max_iq) {
+        app_core_latch(a, APP_FAULT_DC_OVERVOLTAGE, 0);
+        return;
     }
     if (a->ident_request != 0U) {
-        dtc_meas_t pu;
-        app_core_convert(a, m, &pu);
-        app_ident_start(&a->ident, a->cfg, m->qep_count, pu.vdc_iq);
+        app_ident_start(&a->ident, a->cfg, m->qep_count, a->st.meas.vdc_iq);
         a->ident_request = 0U; /* once: a later calibration (fault clear, arm) ends as usual */
         a->st.state = APP_STATE_IDENT;
         return;

@@ -1291,6 +1291,21 @@ static void test_command_arming(void **state)
     dtc_refs_t r = {0, 0, 1, 0, 0, DTC_MODE_TORQUE};
     uint16_t k;
     (void)state;
+    /* without the rotor hold (nothing converts the measurement while calibrating): the status
+     * read between the period that ends the calibration and the next shows the link as measured
+     * (the console's "powers up READY, V_dc at the bench's" once read 0 V in that window) */
+    setup_topology(DTC_TOPO_SSTP);
+    static_currents();
+    fx.si.cal_hold = 0;
+    assert_int_equal(dtc_config_from_si(&fx.si, &fx.cfg, NULL, 0), 0);
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    app_core_set_arming(&fx.app, APP_ARM_COMMAND);
+    for (k = 0; k < cal_len() && fx.app.st.state == APP_STATE_CALIBRATE; k++) {
+        assert_int_equal(step(), 1U);
+    }
+    assert_int_equal(fx.app.st.state, APP_STATE_READY);
+    assert_true(fx.app.st.meas.vdc_iq >= fx.cfg.prot.vdc_min_iq);
+    assert_true(fx.app.st.meas.vdc_iq <= fx.cfg.prot.vdc_max_iq);
     setup_topology(DTC_TOPO_SSTP);
     static_currents();
     assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);

@@ -13,6 +13,7 @@
 
 int16_t app_core_init(app_core_t *a, const dtc_config_t *cfg)
 {
+    static const dtc_meas_t no_meas; /* zeros: nothing measured before the first period */
     int16_t rc;
     uint16_t k;
 
@@ -38,6 +39,7 @@ int16_t app_core_init(app_core_t *a, const dtc_config_t *cfg)
     a->st.reconfigured = 0U;
     a->st.warnings = 0U;
     a->st.warn_tick = 0U;
+    a->st.meas = no_meas;
     a->ident_request = 0U;
     a->ident.step = (uint16_t)APP_IDENT_IDLE;
     rc = law_init(&a->law, cfg);
