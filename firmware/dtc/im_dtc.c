@@ -84,6 +84,7 @@ void im_dtc_reset(im_dtc_t *c)
     c->i_prev.i_alpha_iq = 0;
     c->i_prev.i_beta_iq = 0;
     c->open_wait = 0U;
+    c->psir_fall = 0U;
     im_sup_reset(c);
 }
 

@@ -186,6 +186,11 @@ typedef struct {
      * rotor's r_r / l_r for that interval's alpha voltage, pu */
     uint16_t open_wait;
     iq_t rr_lr_iq;
+    /* from the relay's closing until the machine's rotor flux has fallen to the FSTP's reference:
+     * 1 while the estimator's rotor-flux reference follows the current model's rotor flux
+     * (magn_psir_iq, im_dtc_fstp.c im_fstp_psir_fall) */
+    uint16_t psir_fall;
+    iq_t vb_max_iq;       /* phase A' open: V_dc / sqrt3, the beta vectors' length (im_dtc_fstp.c), pu */
 } im_dtc_t;
 
 /* The IM laws' configuration check (im_dtc_check.c): the common part, then one of the laws

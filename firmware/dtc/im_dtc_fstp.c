@@ -79,6 +79,7 @@ void im_dtc_estimate_fstp(im_dtc_t *c, const dtc_meas_t *m)
          * products, saturating sums */
         in->v_alpha_iq =
             fix_neg32(fix_add32(iq_mpy(c->rr_lr_iq, c->est.x_alpha_iq), iq_mpy(c->speed_iq, c->est.x_beta_iq)));
+        c->vb_max_iq = q31_mul(FIX_Q31_INV_SQRT3, m->vdc_iq); /* V_dc / sqrt3 */
     }
     im_vcomp(c, 0U, c->legs_2.sb, c->legs_2.sc, 1U);
     in->v_alpha_iq = fix_add32(in->v_alpha_iq, c->dva_iq);
@@ -91,6 +92,59 @@ void im_dtc_estimate_fstp(im_dtc_t *c, const dtc_meas_t *m)
     }
     c->i_prev = c->i;
     im_dtc_ein_common(c);
+}
+
+/* After the relay's closing (im_dtc_reconfigure): the estimator's rotor-flux reference (Casadei
+ * eq. 20) follows the machine's rotor flux down to the FSTP's reference instead of stepping to it.
+ * The machine's rotor flux cannot step: it follows the T model's rotor equation in rotor-flux
+ * coordinates, tau_r d|phi_r|/dt = m i_d - |phi_r| (Casadei eqs. A7, A9 in the frame of phi_r, as
+ * the start-up's current model, im_dtc_refs), i_d the current along the estimated rotor-flux
+ * direction (Casadei eq. 22), from the estimate's |phi_r| at the closing. A reference stepped below
+ * the machine's flux pulls the estimate below it (SIL, 4 kW IM at 1000 rpm, leg B: the estimated
+ * |phi_s| 0.06 Wb below the machine's for 8 ms), and the table then turns a flux larger than the
+ * one it sees, beyond what the FSTP's voltage turns at that speed. Once the current model's flux
+ * reaches the FSTP's reference (im_dtc_psir_ref of the set in force) that reference holds.
+ * Formats: IQ pu, Ts/tau_r Q31 (u.im.ref.magn_k_q31); rounded products, saturating sums. */
+static void im_fstp_psir_fall(im_dtc_t *c)
+{
+    const dtc_im_machine_cfg_t *im = &c->cfg->u.im.machine;
+    const iq_t i_d = iq_add(iq_mpy(c->i.i_alpha_iq, c->est.u_alpha_iq), iq_mpy(c->i.i_beta_iq, c->est.u_beta_iq));
+    c->magn_psir_iq = iq_add(c->magn_psir_iq,
+                             q31_mul(c->cfg->u.im.ref.magn_k_q31, iq_sub(iq_mpy(im->m_iq, i_d), c->magn_psir_iq)));
+    im_dtc_psir_ref(c, c->act.flux_ref_iq);
+    if (c->magn_psir_iq > c->psir_ref_iq) {
+        c->psir_ref_iq = c->magn_psir_iq;
+    } else {
+        c->psir_fall = 0U;
+    }
+}
+
+/* Phase A' open (file comment): the vector of the torque by the beta voltage alone, V_2 (+beta)
+ * where phi_s,alpha >= 0 and V_4 (-beta) where it is negative while the torque is to rise (up),
+ * V_1 when it is to fall; but the beta current brought back towards zero, by the beta vector
+ * against it, once it cannot be reversed before phi_s,alpha crosses zero. The torque is
+ * phi_s,alpha i_beta (Hoang eq. 10 with i_alpha = 0): the current that the comparator builds
+ * while phi_s,alpha is small gives little torque, and the same current after phi_s,alpha has
+ * changed sign gives the opposite torque (SIL, 4 kW IM at 1000 rpm, leg C: the beta current at
+ * the current limit, -6.6 N*m over 2 ms, 45 rpm lost within the relay's time). phi_s,alpha
+ * approaches zero when it and its rate have opposite signs, its rate the estimator's alpha voltage
+ * of this interval (v_alpha = d phi_s,alpha / dt, i_alpha = 0: im_dtc_estimate_fstp); it reaches
+ * zero within |phi_s,alpha| / |v_alpha|. The beta vector against the current takes it to zero
+ * within sigma l_s |i_beta| / (V_dc / sqrt3) (Casadei eq. 21: phi_s = sigma l_s i + x, the rotor's
+ * x_beta near its peak, and so nearly at rest, where x_alpha crosses zero; Hoang Table I: V_2, V_4
+ * = +-V_dc/sqrt3 along beta, V_dc the measured link, vb_max_iq). The current is reversed when the
+ * second time is not shorter than the first:
+ *   sigma l_s |i_beta| |v_alpha| >= |phi_s,alpha| V_dc / sqrt3,
+ * compared as exact 64-bit products of IQ values (each < 2^31: no overflow). */
+static uint16_t im_open_vector(const im_dtc_t *c, iq_t psi_a, uint16_t up)
+{
+    const iq_t ib = c->i.i_beta_iq, va = c->ein.v_alpha_iq;
+    if ((psi_a >= 0) != (va >= 0) &&
+        (int64_t)iq_mpy(c->cfg->u.im.machine.sigma_ls_iq, fix_abs32(ib)) * (int64_t)fix_abs32(va) >=
+            (int64_t)fix_abs32(psi_a) * (int64_t)c->vb_max_iq) {
+        return ib >= 0 ? 4U : 2U;
+    }
+    return up == 0U ? 1U : (psi_a >= 0 ? 2U : 4U);
 }
 
 /* The flux comparator on |phi_s|^2, the two-level torque comparator, Hoang Table II on the
@@ -107,17 +161,21 @@ uint16_t im_dtc_select_fstp(im_dtc_t *c, iq_t te, dtc_out_t *o)
     o->torque_dem = up != 0U ? 1 : -1;
     if (c->open_wait != 0U) {
         /* phase A' open (file comment) until it carries current, |i_alpha| > h (the unsigned
-         * box test of im_ilim), or the relay's periods have run out; then the estimator takes
-         * the FSTP's rotor-flux reference (im_dtc_reconfigure) and Hoang Table II drives */
+         * box test of im_ilim), or the relay's periods have run out; then Hoang Table II drives */
         const uint32_t h = (uint32_t)fix_rshift_rnd32(c->cfg->prot.leg_i_min_iq, 2U);
         c->open_wait = (uint16_t)((uint32_t)c->i.i_alpha_iq + h > h + h ? 0U : c->open_wait - 1U);
         if (c->open_wait != 0U) {
             /* the torque by the beta voltage alone */
-            return im_ilim(c, up == 0U ? 1U : (psi_a >= 0 ? 2U : 4U));
+            return im_ilim(c, im_open_vector(c, psi_a, up));
         }
         if (c->magnetised != 0U) {
-            im_dtc_psir_ref(c, c->act.flux_ref_iq);
+            /* the machine's rotor flux at the closing, from which it falls (im_fstp_psir_fall) */
+            c->magn_psir_iq = c->est.psir_mag_iq;
+            c->psir_fall = 1U;
         }
+    }
+    if (c->psir_fall != 0U) {
+        im_fstp_psir_fall(c);
     }
     if (c->magnetised == 0U && c->cfg->speed.sensor == DTC_SPEED_ENCODER && c->speed_iq == 0) {
         /* at rest: the flux along +beta (file comment), V_2 = +beta, V_4 = -beta */

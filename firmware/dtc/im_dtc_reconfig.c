@@ -78,6 +78,7 @@ int16_t im_dtc_reconfigure(im_dtc_t *c, const dtc_config_t *post, uint16_t phase
     /* until the relay has closed phase A' is open (im_dtc_fstp.c): r_r / l_r = r_r / (k_r m) for
      * its alpha voltage, by the SVM's Newton reciprocal as im_dtc_init's constants */
     c->open_wait = post->prot.relay_periods;
+    c->psir_fall = 0U;
     c->rr_lr_iq = iq_mpy(post->u.im.machine.rr_iq,
                          svm_recip(0, iq_mpy(post->u.im.machine.kr_iq, post->u.im.machine.m_iq)));
     return DTC_OK;
