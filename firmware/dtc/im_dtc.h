@@ -138,7 +138,8 @@ typedef struct {
     iq_t psir_ref_iq;     /* rotor-flux reference of the improved estimator (Casadei eq. 20) */
     iq_t psir_trim_iq;    /* constant rotor flux: the integral of phi_r* - |phi_r| (im_psir_trim), pu */
     uint16_t magn_n;      /* start-up: periods of magnetisation so far */
-    iq_t magn_psir_iq;    /* start-up: rotor-flux magnitude of the current model (im_dtc_refs) */
+    iq_t magn_psir_iq;    /* rotor-flux magnitude of the current model: the start-up's (im_dtc_refs)
+                           * and, after a reconfiguration, the FSTP's (im_dtc_fstp.c) */
     uint16_t ref_due;     /* Casadei eq. 19 to be evaluated (im_dtc_refs) */
     iq_t speed_iq;        /* electrical speed in use (encoder or estimated), pu */
     /* encoder plausibility (u.im.ref.enc_plaus_iq > 0 with the encoder; im_dtc_speed) */
@@ -186,7 +187,7 @@ typedef struct {
      * rotor's r_r / l_r for that interval's alpha voltage, pu */
     uint16_t open_wait;
     iq_t rr_lr_iq;
-    /* from the relay's closing until the machine's rotor flux has fallen to the FSTP's reference:
+    /* from the reconfiguration until the machine's rotor flux has fallen to the FSTP's reference:
      * 1 while the estimator's rotor-flux reference follows the current model's rotor flux
      * (magn_psir_iq, im_dtc_fstp.c im_fstp_psir_fall) */
     uint16_t psir_fall;

@@ -45,7 +45,8 @@
  *     then phi_s,alpha i_beta (Hoang eq. 10 with i_alpha = 0), which only the beta voltage moves:
  *     the torque comparator's demand takes V_2 (+beta) where phi_s,alpha >= 0 and V_4 (-beta)
  *     where it is negative, and V_1 (S_B' = S_C' = 0: no line voltage, the beta current
- *     free-wheels) when the torque is to fall; the flux is the rotor's and is not regulated.
+ *     free-wheels) when the torque is to fall, the beta current turned back before phi_s,alpha
+ *     crosses zero (im_open_vector); the flux is the rotor's and is not regulated.
  *     Hoang Table II in that interval chooses the vectors for a phase A' on the mid-point and
  *     gives half of them no beta voltage (SIL: the mean torque near zero for the 15 ms, a speed
  *     dip twice as deep). The interval ends when phase A' carries current, |i_alpha| beyond the
@@ -94,16 +95,20 @@ void im_dtc_estimate_fstp(im_dtc_t *c, const dtc_meas_t *m)
     im_dtc_ein_common(c);
 }
 
-/* After the relay's closing (im_dtc_reconfigure): the estimator's rotor-flux reference (Casadei
- * eq. 20) follows the machine's rotor flux down to the FSTP's reference instead of stepping to it.
- * The machine's rotor flux cannot step: it follows the T model's rotor equation in rotor-flux
- * coordinates, tau_r d|phi_r|/dt = m i_d - |phi_r| (Casadei eqs. A7, A9 in the frame of phi_r, as
- * the start-up's current model, im_dtc_refs), i_d the current along the estimated rotor-flux
- * direction (Casadei eq. 22), from the estimate's |phi_r| at the closing. A reference stepped below
- * the machine's flux pulls the estimate below it (SIL, 4 kW IM at 1000 rpm, leg B: the estimated
- * |phi_s| 0.06 Wb below the machine's for 8 ms), and the table then turns a flux larger than the
- * one it sees, beyond what the FSTP's voltage turns at that speed. Once the current model's flux
- * reaches the FSTP's reference (im_dtc_psir_ref of the set in force) that reference holds.
+/* From the live reconfiguration (im_dtc_reconfigure) until the machine's rotor flux has fallen
+ * to the FSTP's reference: the estimator's rotor-flux reference (Casadei eq. 20) follows the
+ * machine's rotor flux instead of holding the six-switch drive's or stepping to the FSTP's. The
+ * machine's rotor flux follows the T model's rotor equation in rotor-flux coordinates,
+ * tau_r d|phi_r|/dt = m i_d - |phi_r| (Casadei eqs. A7, A9 in the frame of phi_r, as the start-up's
+ * current model, im_dtc_refs), i_d the current along the estimated rotor-flux direction (Casadei
+ * eq. 22), from the reference in force at the reconfiguration (magn_psir_iq). While phase A' is
+ * open the single-phase machine's beta current takes the rotor flux down within the relay's time
+ * (SIL, 4 kW IM at 1000 rpm: 0.53 to 0.45 Wb in 15 ms), and a reference held at 0.53 Wb pulls the
+ * estimate above the machine's flux (the estimated torque 33 N*m against the machine's 26); after
+ * the closing a reference stepped below the machine's flux pulls the estimate below it (the
+ * estimated |phi_s| 0.06 Wb low for 8 ms), and the table then turns a flux larger than the one it
+ * sees, beyond what the FSTP's voltage turns at that speed. Once the current model's flux reaches
+ * the FSTP's reference (im_dtc_psir_ref of the set in force) that reference holds.
  * Formats: IQ pu, Ts/tau_r Q31 (u.im.ref.magn_k_q31); rounded products, saturating sums. */
 static void im_fstp_psir_fall(im_dtc_t *c)
 {
@@ -159,6 +164,9 @@ uint16_t im_dtc_select_fstp(im_dtc_t *c, iq_t te, dtc_out_t *o)
     o->sector = sector;
     o->flux_up = flux_up;
     o->torque_dem = up != 0U ? 1 : -1;
+    if (c->psir_fall != 0U) {
+        im_fstp_psir_fall(c);
+    }
     if (c->open_wait != 0U) {
         /* phase A' open (file comment) until it carries current, |i_alpha| > h (the unsigned
          * box test of im_ilim), or the relay's periods have run out; then Hoang Table II drives */
@@ -168,14 +176,6 @@ uint16_t im_dtc_select_fstp(im_dtc_t *c, iq_t te, dtc_out_t *o)
             /* the torque by the beta voltage alone */
             return im_ilim(c, im_open_vector(c, psi_a, up));
         }
-        if (c->magnetised != 0U) {
-            /* the machine's rotor flux at the closing, from which it falls (im_fstp_psir_fall) */
-            c->magn_psir_iq = c->est.psir_mag_iq;
-            c->psir_fall = 1U;
-        }
-    }
-    if (c->psir_fall != 0U) {
-        im_fstp_psir_fall(c);
     }
     if (c->magnetised == 0U && c->cfg->speed.sensor == DTC_SPEED_ENCODER && c->speed_iq == 0) {
         /* at rest: the flux along +beta (file comment), V_2 = +beta, V_4 = -beta */
