@@ -581,7 +581,7 @@ double im_torque_at_voltage(const MotorCfg& m, double w_r, double v_max)
 // docs/reliability.md); asserted: the rated torque beyond that bound, and the drive's torque
 // 0.2-0.3 s after the fault above it (the DTC goes into the corners of Hoang Table I's rhombus).
 // The issue's target for the dip is 10 %; measured (docs/reliability.md, "The induction machine
-// after a leg failure") 10.7 / 12.5 / 9.4 % on the 4 kW IM and 6.1 / 5.7 / 7.2 % on the second
+// after a leg failure") 10.3 / 12.3 / 8.8 % on the 4 kW IM and 6.1 / 5.7 / 6.9 % on the second
 // machine: not met on two of the six. The dip is asserted within 18 % so that a regression shows.
 TEST(FaultTolerance, ImOpenLegAtFullLoadIsFoundAndTheDriveGoesOnAsAnFstp)
 {

@@ -760,7 +760,8 @@ static void test_current_prediction_matches_the_machine(void **state)
  * what the FSTP's voltage holds (dtc_config_post_fault_si); the estimator's vectors are turned by
  * -x 120 deg into the frame whose phase A' is the failed phase x (Clarke of the permuted phases,
  * against a double rotation), the rotor-flux angle with them, the leg history permuted, the
- * relay's interval armed; a phase beyond C, a post of another law or topology and a running law
+ * relay's interval armed, the failed phase's axis of a magnetised estimate taken again from the
+ * rotor flux (im_dtc_reconfig.c im_reseed_alpha); a phase beyond C, a post of another law or topology and a running law
  * other than the DTC are refused with the controller unchanged. */
 static void test_reconfigure_turns_the_estimate_into_the_new_frame(void **state)
 {
@@ -780,12 +781,16 @@ static void test_reconfigure_turns_the_estimate_into_the_new_frame(void **state)
     assert_int_equal(dtc_config_post_fault_si(&si, &post_si), DTC_SI_OK);
     assert_int_equal(post_si.topology, DTC_TOPO_FSTP);
     assert_int_equal(post_si.compensation, DTC_COMP_FSTP_SIMPLE);
-    /* the stator flux the FSTP's circle V_dc/(2 sqrt3) holds after R_s I_n at 1000 rpm plus the
-     * rated slip (Casadei eq. 16), over the configured flux */
+    /* the stator flux the circle inside the FSTP's rhombus holds after R_s I_n at 1000 rpm plus
+     * the rated slip (Casadei eq. 16), over the configured flux; the rhombus's alpha vertex V_dc/3
+     * less 2/3 of the mid-point's swing I_n / (2 C w_e), its beta vertex V_dc/sqrt3 */
     {
         const double psir = 0.53, ws = si.rr_ohm * si.rated_torque_nm / (1.5 * si.pole_pairs * psir * psir);
         const double we = 1000.0 * FIXTEST_PI / 30.0 * si.pole_pairs + ws;
-        const double k = (si.vdc_v / (2.0 * sqrt(3.0)) - si.rs_ohm * si.rated_current_a) / we / si.flux_ref_wb;
+        const double a = si.vdc_v / 3.0 - 2.0 / 3.0 * si.rated_current_a / (2.0 * si.c_dc_f * we);
+        const double b = si.vdc_v / sqrt(3.0);
+        const double k = (a * b / sqrt(a * a + b * b) - si.rs_ohm * si.rated_current_a) / we / si.flux_ref_wb;
+        assert_true(si.c_dc_f > 0.0);
         assert_true(k < 1.0);
         assert_true(fabs(post_si.flux_ref_wb - k * si.flux_ref_wb) < 1e-9);
         assert_true(fabs(post_si.psir_ref_wb - k * 0.53) < 1e-9);
@@ -831,6 +836,33 @@ static void test_reconfigure_turns_the_estimate_into_the_new_frame(void **state)
         assert_int_equal(c.open_wait, post.prot.relay_periods);
         assert_int_equal(c.il_p.fstp, 1U);
         assert_int_equal(c.dt_p.fstp, 1U);
+        assert_int_equal(c.psir_fall, 0U); /* not magnetised: no rotor flux to follow */
+    }
+    /* A magnetised drive: the alpha part (the failed phase's axis) is taken again from the turned
+     * beta part and the estimator's rotor-flux reference, x = (m/l_r) phi_r* (Casadei eq. 21),
+     * x_alpha = sign(x_alpha) sqrt(|x|^2 - x_beta^2), phi_s,alpha = x_alpha (i_alpha = 0),
+     * phi_r,alpha = (l_r/m) x_alpha, against a double reference; the rotor flux then followed from
+     * the reference in force. */
+    for (x = 0; x < 3; x++) {
+        im_dtc_t c;
+        const double r = -2.0 * FIXTEST_PI * x / 3.0, xa0 = 0.3, xb0 = -0.2;
+        const double xb = sin(r) * xa0 + cos(r) * xb0, xa_turned = cos(r) * xa0 - sin(r) * xb0;
+        const double kr = (si.llr_h + si.lm_h) / si.lm_h;
+        double xm, xa;
+        assert_int_equal(im_dtc_init(&c, &pre), DTC_OK);
+        c.magnetised = 1U;
+        c.psir_ref_iq = pre.u.im.ref.psir_ref_iq;
+        c.est.x_alpha_iq = IQ(xa0);
+        c.est.x_beta_iq = IQ(xb0);
+        assert_int_equal(im_dtc_reconfigure(&c, &post, (uint16_t)x), DTC_OK);
+        xm = c.psir_ref_iq / 16777216.0 / kr;
+        xa = (xa_turned < 0.0 ? -1.0 : 1.0) * sqrt(xm * xm - xb * xb);
+        assert_true(fabs(c.est.x_beta_iq / 16777216.0 - xb) < 1e-4);
+        assert_true(fabs(c.est.x_alpha_iq / 16777216.0 - xa) < 1e-4);
+        assert_int_equal(c.est.psi_alpha_iq, c.est.x_alpha_iq);
+        assert_true(fabs(c.est.psir_alpha_iq / 16777216.0 - kr * xa) < 1e-4);
+        assert_int_equal(c.psir_fall, 1U);
+        assert_int_equal(c.magn_psir_iq, c.psir_ref_iq);
     }
     {
         im_dtc_t c;

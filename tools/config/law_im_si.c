@@ -92,8 +92,8 @@ double dtc_im_fstp_flux_scale(const dtc_config_si_t *si)
 {
     /* Hoang Table I's four vectors span a rhombus with the vertices V_dc/3 (alpha) and V_dc/sqrt3
      * (beta); the largest circle inside it has the radius V_dc / (2 sqrt3), half the SSTP's
-     * V_dc / sqrt3. The flux follows a circle at w_e while the voltage left after R_s I_n,
-     * V = V_dc / (2 sqrt3) - R_s I_n, covers w_e |phi_s| (Casadei eq. 1 in steady state), at the
+     * V_dc / sqrt3 (less the mid-point's swing, below). The flux follows a circle at w_e while the
+     * voltage left after R_s I_n, V = r - R_s I_n, covers w_e |phi_s| (Casadei eq. 1 in steady state), at the
      * drive's speed plus the rated slip at the rated flux (Casadei eq. 16 in SI:
      * w_slip = R_r T_n / (3/2 p phi_r^2), phi_r the configured rotor flux). Along the alpha axis the
      * rhombus reaches V_dc/3, 15 % beyond the circle: the torque-producing part of the stator flux
@@ -105,7 +105,16 @@ double dtc_im_fstp_flux_scale(const dtc_config_si_t *si)
                                                                              : si->rated_speed_rpm;
     const double w_slip = si->rr_ohm * si->rated_torque_nm / (1.5 * si->pole_pairs * psir * psir);
     const double w_e = rpm * M_PI / 30.0 * si->pole_pairs + w_slip;
-    const double v = si->vdc_v / (2.0 * sqrt(3.0)) - si->rs_ohm * si->rated_current_a;
+    /* The split link's mid-point swings with phase A's current, which returns through the two
+     * capacitors: d v_lo / dt = -i_a / (2 C) (docs/plant.md "DC link"), so a phase current of
+     * amplitude I_n at w_e moves the mid-point by I_n / (2 C w_e) either way, and the alpha
+     * vectors V_1, V_3 (2/3 of the mid-point's distance from either rail, Hoang Table I with
+     * v_a0 = V_mid) each shrink by 2/3 of that in their half-period: the rhombus's alpha vertex is
+     * a = V_dc/3 - I_n / (3 C w_e), its beta vertex b = V_dc/sqrt3, and the circle inside it has
+     * the radius a b / sqrt(a^2 + b^2) (V_dc / (2 sqrt3) for a stiff mid-point). */
+    const double a = si->vdc_v / 3.0 - (w_e > 0.0 && si->c_dc_f > 0.0 ? si->rated_current_a / (3.0 * si->c_dc_f * w_e) : 0.0);
+    const double b = si->vdc_v / sqrt(3.0);
+    const double v = (a > 0.0 ? a * b / sqrt(a * a + b * b) : 0.0) - si->rs_ohm * si->rated_current_a;
     const double psi_max = w_e > 0.0 && v > 0.0 ? v / w_e : si->flux_ref_wb;
     return psi_max < si->flux_ref_wb ? psi_max / si->flux_ref_wb : 1.0;
 }
