@@ -237,6 +237,18 @@ void app_ident_start(app_ident_t *d, const dtc_config_t *cfg, uint16_t qep_count
     d->res.im.id_iq = 0;
     d->res.im.vq_pole_iq = 0;
     d->sign_k = 0U;
+    /* a dwell at rest: the count within a quarter degree (3 counts of 4096, at least 1); its swing
+     * over (the mid-point hold, app_ident_isr.c mid_hold): within 1/256 turn */
+    d->rest_tol = (int32_t)((3U * (uint32_t)cfg->board.enc_counts + 2048U) >> 12);
+    d->rest_tol = d->rest_tol < 1 ? 1 : d->rest_tol;
+    d->quiet_tol = (int32_t)(cfg->board.enc_counts >> 8);
+    d->quiet_tol = d->quiet_tol < 1 ? 1 : d->quiet_tol;
+    d->quiet_ref = 0;
+    d->quiet_n = 0U;
+    d->mid_on = 0U;
+    d->mid_ref_iq = 0;
+    d->recentre = 0U;
+    d->ia_ref_iq = 0;
     for (k = 0U; k < 3U; k++) {
         d->u.sg.bad[k] = 0U;
         d->u.sg.i[k] = 0;
@@ -276,6 +288,36 @@ static void post_move(app_ident_t *d)
     const uint32_t span = app_ident_span_of(d);
     app_ident_post_hold(d, span << 16, (uint32_t)app_ident_div64((int64_t)span << 16, (int64_t)move), ID_ENC_LEVEL,
               (iq_t)(IQ(1.0) / ID_LEVEL_RAMP), ID_ENC_SETTLE, ID_ENC_MEAS, 1U);
+}
+
+/* Background, FSTP with the mid-point measured: before the spin, the mid-point back to V_dc/2
+ * (the ISR's phase-A current reference, app_ident_isr.c) on the last dwell's vector, slow
+ * regulator, until within ID_RECENTRE_TOL or ID_RECENTRE_MAX. The standstill steps leave it where
+ * the swings' braking currents and the moves put it (15 V off on the rig's p = 4 machines): the
+ * legs then reach the duties' clamp below the regulator's limit (the B and C legs span
+ * v_mid - V_dc/16 .. 15 V_dc/16 - v_mid about the mid-point, sqrt(3) |v| needed), and the spin's
+ * q voltage, psi_m and J are wrong (psi_m +18 % on such a machine, 0.3 % with a stiff link). The
+ * spin needs no rotor at rest: the recentring's pull on the rotor ends with it. */
+static void recentre(app_ident_t *d)
+{
+    d->sub = ID_SPIN_RECENTRE;
+    d->recentre = 1U;
+    app_ident_post_hold(d, 0U, 0U, ID_ENC_LEVEL, (iq_t)(IQ(1.0) / ID_LEVEL_RAMP), ID_RECENTRE_MAX, 16U, 1U);
+}
+
+/* Background: the spin's first window. On the FSTP the legs' drop (thresholds and dead time) is
+ * compensated during the spin, each leg's sqrt(3)/2 V_0 (step RS's intercept on the beta axis,
+ * where legs B and C carry +-I: V_0 = 2 d / sqrt(3) for a leg's drop d) along its reference
+ * current's sign (ident_pwm): with two switching legs the drop has a negative-sequence part,
+ * which in the rotor frame ripples the q voltage at twice the electrical frequency, a large share
+ * of a spin's back-EMF that a few 20 ms windows do not average (psi_m +5 % on the rig's p = 2
+ * machines without it, +0.3 % with it; the SSTP's three legs give no such part). */
+static void spin_start(app_ident_t *d, const dtc_config_t *cfg)
+{
+    if (cfg->board.topology == (uint16_t)DTC_TOPO_FSTP) {
+        d->comp_iq = fix_rshift_rnd64_sat32((int64_t)d->res.v0_iq * (int64_t)FIX_Q31_SQRT3_2, 31U);
+    }
+    app_ident_post_window(d, (uint16_t)APP_IDENT_SEG_SPIN, ID_SPIN_I);
 }
 
 void app_ident_next_step(app_ident_t *d, uint16_t step)
@@ -383,9 +425,19 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
         d->n_acc = 0U;
         d->n_coast = 0U;
         d->fresh = 1U;
-        app_ident_post_window(d, (uint16_t)APP_IDENT_SEG_SPIN, ID_SPIN_I);
+        if (cfg->board.topology == (uint16_t)DTC_TOPO_FSTP && cfg->board.fstp_vmid_measured != 0U) {
+            recentre(d);
+            return;
+        }
+        spin_start(d, cfg);
         return;
     case APP_IDENT_SPIN:
+        if (d->sub == ID_SPIN_RECENTRE) {
+            d->recentre = 0U;
+            d->sub = 0U;
+            spin_start(d, cfg);
+            return;
+        }
         app_ident_spin_service(d, cfg);
         return;
     default:

@@ -19,7 +19,9 @@
  *      count-to-magnet offset (the first dwell is step 1's alignment);
  *   4. spin: half rated current on the identified q axis up to a quarter of the base speed, then a
  *      coast with the gates off: psi_m from the q voltage's slope over speed, J, viscous and Coulomb
- *      friction from the integrated equation of motion (app_ident.c spin_results).
+ *      friction from the integrated equation of motion (app_ident_results.c spin_results); on the
+ *      FSTP after the mid-point's recentring and with the legs' drop compensated (app_ident.c
+ *      recentre, spin_start).
  * Every step limits the current to rated (references <= 1 pu, pulses stop at 0.9 pu, any phase
  * above 1.25 pu ends the identification), checks its result against plausibility bounds and on
  * failure stops with the gates off and a reason (enum app_ident_fail).
@@ -245,6 +247,16 @@ typedef struct {
     app_ident_result_t res;
     uint16_t summed;         /* ISR: 1 when this period's HOLD sample went into the sums */
     uint16_t im_on;          /* 1: an induction machine (app_ident_im.c runs the background, u.im) */
+    /* FSTP with the mid-point measured (app_ident_isr.c mid_hold, recentre): */
+    int32_t rest_tol;        /* a dwell's rest: the count within +-rest_tol (a quarter degree) */
+    int32_t quiet_tol;       /* a dwell's swing is over: the count within +-quiet_tol for ID_QUIET */
+    int32_t quiet_ref;       /* ISR: the count the swing check compares with */
+    uint16_t quiet_n;        /* ISR: periods the count stayed within +-quiet_tol of quiet_ref */
+    uint16_t wait_n;         /* ISR: periods a dwell waited for rest before its sums began */
+    uint16_t mid_on;         /* ISR: 1 once this dwell's swing is over: the mid-point is held */
+    iq_t mid_ref_iq;         /* ISR: the mid-point's deviation from V_dc/2 when the swing ended, pu */
+    uint16_t recentre;       /* HOLD: 1 = the mid-point is brought back to V_dc/2 (before the spin) */
+    iq_t ia_ref_iq;          /* ISR: the phase-A (alpha) current reference that does it, pu */
 } app_ident_t;
 
 /* Starts the identification (gates on from the next period). ts_pu / bases are not used: only

@@ -30,6 +30,13 @@
 #define ID_OPEN_PERIODS 400U    /* regulator saturated with little current this long: open phase */
 #define ID_STILL 1000U          /* dwell: periods with the count within +-1 before the sums (50 ms) */
 #define ID_SETTLE_MAX 40000U    /* dwell: the longest wait for the rotor to come to rest (2 s) */
+#define ID_QUIET 400U           /* dwell: periods with the count within +-quiet_tol that end the swing (20 ms) */
+#define ID_MID_HOLD_LOG2 5U     /* dwell: the mid-point hold's gain, 1/32 volt per volt (app_ident_isr.c mid_hold) */
+#define ID_RECENTRE_LOG2 3U     /* recentring: 8 pu phase-A current per pu of mid-point deviation ... */
+#define ID_RECENTRE_I IQ(0.5)   /* ... at most half rated */
+#define ID_RECENTRE_TOL IQ(1.0 / 128.0) /* recentred: within V_b / 128 of V_dc / 2 (0.55 V on 70 V) */
+#define ID_RECENTRE_MAX 10000U  /* the longest recentring (0.5 s) */
+#define ID_SPIN_RECENTRE 3U     /* the spin step's sub while the mid-point is recentred */
 #define ID_IQ_2PI ((int64_t)105414357) /* 2 pi in IQ, round(2 pi 2^24) (an integer: the same on every target) */
 #define ID_SPIN_I IQ(0.5)       /* spin: the q current of the acceleration (half rated) */
 #define ID_SPIN_W IQ(0.25)      /* spin: the speed that ends the acceleration, pu electrical */

@@ -37,8 +37,14 @@ static int64_t ident_pwm(const app_ident_t *d, const dtc_config_t *cfg, const dt
         const iq_t hra = fix_neg32(fix_rshift_rnd32(ra, 1U));
         const iq_t srb = fix_rshift_rnd64_sat32((int64_t)rb * (int64_t)FIX_Q31_SQRT3_2, 31U);
         const iq_t r[3] = {ra, fix_add32(hra, srb), fix_sub32(hra, srb)};
+        /* a PM spin's references start from zero: a phase whose reference is below 1/16 of i_ref
+         * gets none (all three at zero would put the whole drop on one axis and drive a current
+         * through the low impedance of a machine at rest) */
+        const iq_t thr = d->im_on != 0U ? 0 : fix_rshift_rnd32(fix_abs32(d->i_ref), 4U);
         for (x = 0U; x < 3U; x++) {
-            v[x] = r[x] >= 0 ? fix_add32(v[x], d->comp_iq) : fix_sub32(v[x], d->comp_iq);
+            if (d->im_on != 0U || fix_abs32(r[x]) > thr) {
+                v[x] = r[x] >= 0 ? fix_add32(v[x], d->comp_iq) : fix_sub32(v[x], d->comp_iq);
+            }
         }
     }
     const uint16_t fstp = cfg->board.topology == (uint16_t)DTC_TOPO_FSTP ? 1U : 0U;
@@ -106,7 +112,10 @@ static uint16_t ramps(app_ident_t *d)
  * away (an integral would pull the rotor slowly after every swing). */
 static void regulate(app_ident_t *d, iq_t i_par, iq_t i_perp, q15_t c, q15_t s)
 {
-    const iq_t e[2] = {fix_sub32(d->i_ref, i_par), fix_sub32(d->i_perp_ref, i_perp)};
+    /* the references: i_ref on the axis, i_perp_ref on its quadrature, and ia_ref_iq on alpha
+     * (phase A: recentre) turned into the reference frame */
+    const iq_t e[2] = {fix_sub32(fix_add32(d->i_ref, iq_mpy_q15(d->ia_ref_iq, c)), i_par),
+                       fix_sub32(fix_sub32(d->i_perp_ref, iq_mpy_q15(d->ia_ref_iq, s)), i_perp)};
     const iq_t ki[2] = {d->ki_iq, d->slow == 0U ? d->ki_iq : 0};
     iq_t v[2];
     uint16_t k;
@@ -116,6 +125,40 @@ static void regulate(app_ident_t *d, iq_t i_par, iq_t i_perp, q15_t c, q15_t s)
     }
     d->v_ab[0] = fix_sub32(iq_mpy_q15(v[0], c), iq_mpy_q15(v[1], s));
     d->v_ab[1] = fix_add32(iq_mpy_q15(v[0], s), iq_mpy_q15(v[1], c));
+}
+
+/* The mid-point hold of an FSTP dwell (slow regulator, the mid-point measured; dev: the measured
+ * mid-point's deviation from V_dc / 2, pu). Phase A sits on the capacitors' mid-point, whose only
+ * DC path it is: 2 C dv_mid/dt = -i_a, and on a beta-axis dwell i_a is the quadrature current
+ * (Hoang eqs. 1-5 with phase A on the mid-point). The legs' duties follow the measured mid-point,
+ * so anything that makes the applied phase-A voltage depend on the mid-point's position puts
+ * k (v_mid - V_dc/2) on phase A: the two voltage sensors' ratio error (their consistency is
+ * calibrated at V_dc/2 only, app_core.c vmid_cal) and the legs' threshold difference, which enters
+ * as (V_D - V_CE)(d_b + d_c - 1)/2 with d_b + d_c - 1 = 2 (v_mid - V_dc/2)/V_dc (Hoang Table III);
+ * k is about 1 % with datasheet tolerances. The swing's braking current moves the mid-point by
+ * about 11 V on the Hoang Table VIII rig; with k of one sign the phase-A current that k drives
+ * moves it further, growing as e^(k t / (2 C (R_s + kp))) (about 1/s), and the rotor follows the
+ * current's angle without coming to rest. Once the swing is over (after the ramps, the count
+ * within +-quiet_tol for ID_QUIET periods) the deviation is frozen and 2^-ID_MID_HOLD_LOG2 (1/32)
+ * of its change since then is added to v_alpha: more than such a k, so the mid-point stays where
+ * the swing left it and the phase-A current dies out. Holding it at V_dc/2 instead would send the
+ * swing's charge back through phase A and pull the rotor (3.69 s instead of 2.80 s of standstill
+ * steps on the rig); a larger gain adds a slower mode (docs/commissioning.md). Scaling:
+ * |dev| <= 2 pu, the term <= 1/16 pu. */
+static void mid_hold(app_ident_t *d, iq_t dev)
+{
+    if (d->mid_on == 0U) {
+        const int32_t m = d->pos - d->quiet_ref;
+        if (m > d->quiet_tol || m < -d->quiet_tol) {
+            d->quiet_ref = d->pos;
+            d->quiet_n = 0U;
+        } else if (++d->quiet_n >= ID_QUIET) {
+            d->mid_on = 1U;
+        }
+        d->mid_ref_iq = dev;
+        return;
+    }
+    d->v_ab[0] = fix_add32(d->v_ab[0], fix_rshift_rnd32(fix_sub32(dev, d->mid_ref_iq), ID_MID_HOLD_LOG2));
 }
 
 uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t *pu, uint16_t t1pr,
@@ -167,6 +210,10 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
         d->sat_n = 0U;
         d->still_n = 0U;
         d->still_ref = d->pos;
+        d->quiet_n = 0U;
+        d->quiet_ref = d->pos;
+        d->mid_on = 0U;
+        d->ia_ref_iq = 0;
         d->phase = d->seg == (uint16_t)APP_IDENT_SEG_PULSE ? 6U : 0U;
         d->win_tick = d->tick;
         if (d->seg == (uint16_t)APP_IDENT_SEG_SPIN || d->seg == (uint16_t)APP_IDENT_SEG_COAST) {
@@ -311,7 +358,24 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
         return 1U;
     } else if (d->seg == (uint16_t)APP_IDENT_SEG_HOLD) {
         const uint16_t moving = ramps(d);
+        const uint16_t mid = cfg->board.topology == (uint16_t)DTC_TOPO_FSTP && cfg->board.fstp_vmid_measured != 0U ? 1U : 0U;
+        const iq_t dev = fix_sub32(pu->vmid_iq, fix_rshift_rnd32(pu->vdc_iq, 1U));
+        if (d->recentre != 0U) {
+            /* the mid-point back to V_dc/2 (app_ident.c recentre): a phase-A current
+             * 2^ID_RECENTRE_LOG2 pu per pu of deviation, at most ID_RECENTRE_I (2 C dv_mid/dt = -i_a) */
+            d->ia_ref_iq = iq_sat(fix_sat32((int64_t)dev * ((int64_t)1 << ID_RECENTRE_LOG2)), fix_neg32(ID_RECENTRE_I),
+                                  ID_RECENTRE_I);
+        }
         regulate(d, i_par, i_perp, c, s);
+        if (mid != 0U && d->slow != 0U && d->recentre == 0U) {
+            if (d->phase == 0U) {
+                /* the current and the vector still move: the swing has not begun */
+                d->quiet_n = 0U;
+                d->quiet_ref = d->pos;
+            } else {
+                mid_hold(d, dev);
+            }
+        }
         v_par = fix_add32(iq_mpy_q15(d->v_ab[0], c), iq_mpy_q15(d->v_ab[1], s));
         if (d->phase == 0U && moving == 0U) {
             d->phase = 1U;
@@ -319,11 +383,11 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
         } else if (d->phase == 1U) {
             ++d->n;
             if (d->slow != 0U) {
-                /* the encoder step: after n_settle, wait until the count stays within +-1 of one
-                 * value for ID_STILL periods; a rotor not at rest by ID_SETTLE_MAX is a coupled
+                /* the encoder step: after n_settle, wait until the count stays within +-rest_tol
+                 * of one value for ID_STILL periods; a rotor not at rest by ID_SETTLE_MAX is a coupled
                  * load, a blocked or a far too heavy rotor: named, not measured */
-                const int32_t dev = d->pos - d->still_ref;
-                if (dev > 1 || dev < -1) {
+                const int32_t dev_c = d->pos - d->still_ref;
+                if (dev_c > d->rest_tol || dev_c < -d->rest_tol) {
                     d->still_ref = d->pos;
                     d->still_n = 0U;
                 } else if (d->still_n < ID_STILL) {
@@ -335,10 +399,27 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
                     return 1U;
                 }
             }
-            if (d->n >= d->n_settle && (d->slow == 0U || d->still_n >= ID_STILL)) {
+            if (d->recentre != 0U && fix_abs32(dev) < ID_RECENTRE_TOL && d->n < d->n_settle) {
+                d->n = d->n_settle; /* recentred (the spin needs no rotor at rest) */
+            }
+            if (d->n >= d->n_settle && (d->slow == 0U || d->recentre != 0U || d->still_n >= ID_STILL)) {
                 d->phase = 2U;
+                d->wait_n = d->n;
                 d->n = 0U;
             }
+        } else if (d->phase == 2U && d->slow != 0U && d->recentre == 0U &&
+                   (d->pos - d->still_ref > d->rest_tol || d->pos - d->still_ref < -d->rest_tol)) {
+            /* a dwell's rotor that leaves its rest during the sums was at the turning point of a
+             * slow creep, not at rest: the wait goes on (its time counted) and the sums start
+             * again */
+            d->phase = 1U;
+            d->n = (uint16_t)(d->wait_n + d->n);
+            d->still_n = 0U;
+            d->still_ref = d->pos;
+            d->sum_i = 0;
+            d->sum_v = 0;
+            d->sum_pos = 0;
+            d->sum_q = 0;
         } else if (d->phase == 2U) {
             /* a sum with the regulator at its limit measures the limit, not the machine: the link
              * is too low for this step's current (link_update) */
