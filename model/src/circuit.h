@@ -136,6 +136,10 @@ inline void rhs_t(plant_t *pl, const M &m, const Vec &y, Vec &dy, RhsOutputs *au
         vn0 = (q.nk >= 2) ? sum * q.inv_nk : vn0_all_blocked(pl, y, e);
     }
     const double inv_l = pl->inv_l, inv_l_2_3 = pl->inv_l_2_3, inv_l_1_3 = pl->inv_l_1_3;
+    // Only the ideal inverter's sources deliver power of their own (LinearLink::pdc_src = 1, every
+    // other kind 0 with PhaseCoef::src = 0): the switching inverters skip the term.
+    const dclink::LinearLink &g = pl->link.lin;
+    const bool src = g.pdc_src != 0.0;
     double di[3], vx0[3];
     double p_cu = 0.0, p_dev = 0.0, p_src = 0.0;
 #pragma GCC unroll 3
@@ -151,11 +155,10 @@ inline void rhs_t(plant_t *pl, const M &m, const Vec &y, Vec &dy, RhsOutputs *au
             vx0[x] = k[x]->cond * vc + (1.0 - k[x]->cond) * (vn0 + e[x]);  // blocked: floating terminal
         }
         p_dev += (k[x]->pd + k[x]->pr * i) * i;
-        p_src += k[x]->src * vc * i;
+        if (src) p_src += k[x]->src * vc * i;
         p_cu += i * i;
     }
     // DC link.
-    const dclink::LinearLink &g = pl->link.lin;
     double i_s, dv_hi, dv_lo, p_link;
     if (!rc) {
         i_s = g.is_g * (pl->p.vdc_v - (vlo + vhi));
@@ -168,7 +171,8 @@ inline void rhs_t(plant_t *pl, const M &m, const Vec &y, Vec &dy, RhsOutputs *au
         dv_lo = ln.dv_lo;
         p_link = ln.p_loss;
     }
-    const double p_dc = g.pdc_s * i_s + g.pdc_st * ((vlo + vhi) * i_plus + vlo * i_mid) + g.pdc_src * p_src;
+    double p_dc = g.pdc_s * i_s + g.pdc_st * ((vlo + vhi) * i_plus + vlo * i_mid);
+    if (src) p_dc += g.pdc_src * p_src;
     const double p_rdc = g.r_dc * i_s * i_s;
     const double p_cu_stator = m.stator_resistance() * p_cu;
     // The machine's torque and own states (it writes dy[S_MACH0..1]), then the shaft.
