@@ -90,7 +90,9 @@ inline double vn0_all_blocked(const plant_t *pl, const Vec &y, const double e[3]
 // Only the first ND entries of y are read. Branch-free apart from the all-blocked neutral
 // (ConductionCoefs, dclink::LinearLink and mech::Shaft hold the linear forms of the paths, the DC
 // link and the load). kAll: all three phases conduct (the common case; the blocked-phase terms
-// drop out).
+// drop out). Every quantity is formed in locals and dy is written at the end: a store into dy
+// may alias the coefficients (all doubles), so stores in between would make the compiler load
+// them again.
 template <class M, bool kAll>
 inline void rhs_t(plant_t *pl, const M &m, const Vec &y, Vec &dy, RhsOutputs *aux) {
     ++pl->stats.evals;
@@ -103,17 +105,20 @@ inline void rhs_t(plant_t *pl, const M &m, const Vec &y, Vec &dy, RhsOutputs *au
     m.emf(y, omega_e, e, work);
     const double vlo = y[S_VCLO], vhi = y[S_VCHI];
     const double ix[3] = {y[S_IA], y[S_IB], y[S_IC]};
+    // Currents drawn from the plus rail and from the mid-point (the link's inputs).
+    double i_plus = 0.0, i_mid = 0.0;
+#pragma GCC unroll 3
+    for (int x = 0; x < 3; ++x) {
+        i_plus += k[x]->plus * ix[x];
+        i_mid += k[x]->mid * ix[x];
+    }
     // Rail voltages: the capacitor voltages, or with ESR / balancing resistors the link's node
     // voltages (dclink::LinkRC), which depend on the currents the inverter draws.
+    const bool rc = pl->link.rc.on;
     double tvlo = vlo, tvhi = vhi;
     dclink::LinkNodes ln;
-    if (pl->link.rc.on) {
-        double ip = 0.0, im = 0.0;
-        for (int x = 0; x < 3; ++x) {
-            ip += k[x]->plus * ix[x];
-            im += k[x]->mid * ix[x];
-        }
-        dclink::dc_link_nodes(pl->link.rc, vlo, vhi, ip, im, ln);
+    if (rc) {
+        dclink::dc_link_nodes(pl->link.rc, vlo, vhi, i_plus, i_mid, ln);
         tvlo = ln.tv_lo;
         tvhi = ln.tv_hi;
     }
@@ -130,55 +135,67 @@ inline void rhs_t(plant_t *pl, const M &m, const Vec &y, Vec &dy, RhsOutputs *au
         const double sum = k[0]->cond * u[0] + k[1]->cond * u[1] + k[2]->cond * u[2];
         vn0 = (q.nk >= 2) ? sum * q.inv_nk : vn0_all_blocked(pl, y, e);
     }
-    const double inv_l = pl->inv_l;
-    double vx0[3];
-    double p_cu = 0.0, p_dev = 0.0, i_plus = 0.0, i_mid = 0.0, p_src = 0.0;
+    const double inv_l = pl->inv_l, inv_l_2_3 = pl->inv_l_2_3, inv_l_1_3 = pl->inv_l_1_3;
+    // Only the ideal inverter's sources deliver power of their own (LinearLink::pdc_src = 1, every
+    // other kind 0 with PhaseCoef::src = 0): the switching inverters skip the term.
+    const dclink::LinearLink &g = pl->link.lin;
+    const bool src = g.pdc_src != 0.0;
+    double di[3], vx0[3];
+    double p_cu = 0.0, p_dev = 0.0, p_src = 0.0;
 #pragma GCC unroll 3
     for (int x = 0; x < 3; ++x) {
         const double i = ix[x];
         const double vc = vp[x] - k[x]->r * i;
         if (kAll) {
             // (u_x - vn0) / L with vn0 = mean(u), written so that u_x does not wait for the sum.
-            dy[S_IA + x] = pl->inv_l_2_3 * u[x] - pl->inv_l_1_3 * (u[(x + 1) % 3] + u[(x + 2) % 3]);
+            di[x] = inv_l_2_3 * u[x] - inv_l_1_3 * (u[(x + 1) % 3] + u[(x + 2) % 3]);
             vx0[x] = vc;
         } else {
-            dy[S_IA + x] = k[x]->cond * (u[x] - vn0) * inv_l;
+            di[x] = k[x]->cond * (u[x] - vn0) * inv_l;
             vx0[x] = k[x]->cond * vc + (1.0 - k[x]->cond) * (vn0 + e[x]);  // blocked: floating terminal
         }
         p_dev += (k[x]->pd + k[x]->pr * i) * i;
-        i_plus += k[x]->plus * i;
-        i_mid += k[x]->mid * i;
-        p_src += k[x]->src * vc * i;
+        if (src) p_src += k[x]->src * vc * i;
         p_cu += i * i;
     }
-    double te, p_machine;
-    m.torque_and_states(y, ix, omega_e, work, dy, te, p_machine);
-    double tl, p_fric;
-    dy[S_THETA] = omega;
-    mech::shaft_derivatives(pl->shaft, omega, pl->y[S_OMEGA], te, tl, dy[S_OMEGA], p_fric);
-    dy[S_EFRIC] = p_fric;
     // DC link.
-    const dclink::LinearLink &g = pl->link.lin;
-    double i_s;
-    if (!pl->link.rc.on) {
+    double i_s, dv_hi, dv_lo, p_link;
+    if (!rc) {
         i_s = g.is_g * (pl->p.vdc_v - (vlo + vhi));
-        dy[S_VCHI] = g.hi_s * i_s - g.hi_p * i_plus;
-        dy[S_VCLO] = g.lo_s * i_s - g.lo_p * i_plus - g.lo_m * i_mid;
-        dy[S_ELINK] = 0.0;
+        dv_hi = g.hi_s * i_s - g.hi_p * i_plus;
+        dv_lo = g.lo_s * i_s - g.lo_p * i_plus - g.lo_m * i_mid;
+        p_link = 0.0;
     } else {
         i_s = ln.i_s;
-        dy[S_VCHI] = ln.dv_hi;
-        dy[S_VCLO] = ln.dv_lo;
-        dy[S_ELINK] = ln.p_loss;
+        dv_hi = ln.dv_hi;
+        dv_lo = ln.dv_lo;
+        p_link = ln.p_loss;
     }
-    dy[S_EDC] = g.pdc_s * i_s + g.pdc_st * ((vlo + vhi) * i_plus + vlo * i_mid) + g.pdc_src * p_src;
-    dy[S_ECU] = m.stator_resistance() * p_cu + p_machine;
+    double p_dc = g.pdc_s * i_s + g.pdc_st * ((vlo + vhi) * i_plus + vlo * i_mid);
+    if (src) p_dc += g.pdc_src * p_src;
+    const double p_rdc = g.r_dc * i_s * i_s;
+    const double p_cu_stator = m.stator_resistance() * p_cu;
+    // The machine's torque and own states (it writes dy[S_MACH0..1]), then the shaft.
+    double te, p_machine;
+    m.torque_and_states(y, ix, omega_e, work, dy, te, p_machine);
+    double tl, p_fric, domega;
+    mech::shaft_derivatives(pl->shaft, omega, pl->y[S_OMEGA], te, tl, domega, p_fric);
+#pragma GCC unroll 3
+    for (int x = 0; x < 3; ++x) dy[S_IA + x] = di[x];
+    dy[S_THETA] = omega;
+    dy[S_OMEGA] = domega;
+    dy[S_EFRIC] = p_fric;
+    dy[S_VCHI] = dv_hi;
+    dy[S_VCLO] = dv_lo;
+    dy[S_ELINK] = p_link;
+    dy[S_EDC] = p_dc;
+    dy[S_ECU] = p_cu_stator + p_machine;
     dy[S_EDEV] = p_dev;
     dy[S_ELOAD] = tl * omega;
-    dy[S_ERDC] = g.r_dc * i_s * i_s;
+    dy[S_ERDC] = p_rdc;
     dy[S_I2] = p_cu;
-    dy[S_QA] = y[S_IA];
-    dy[S_QB] = y[S_IB];
+    dy[S_QA] = ix[0];
+    dy[S_QB] = ix[1];
     dy[S_IVA0] = vx0[0];
     dy[S_IVB0] = vx0[1];
     dy[S_IVC0] = vx0[2];

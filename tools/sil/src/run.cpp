@@ -168,7 +168,9 @@ PlantBounds plant_bounds(const Scenario& sc)
     return b;
 }
 
-std::string plant_out_of_bounds(const plant_sensed_t& s, const PlantBounds& b)
+namespace {
+/// The first quantity of s beyond its bound, named (plant_out_of_bounds once one is).
+[[gnu::noinline]] std::string out_of_bounds_text(const plant_sensed_t& s, const PlantBounds& b)
 {
     struct Q {
         const char* name;
@@ -193,6 +195,19 @@ std::string plant_out_of_bounds(const plant_sensed_t& s, const PlantBounds& b)
         }
     }
     return "";
+}
+} // namespace
+
+std::string plant_out_of_bounds(const plant_sensed_t& s, const PlantBounds& b)
+{
+    // Every period: the common case (all within, none NaN) decided by comparisons alone; the
+    // table that names the quantity is built only when one is out.
+    if (std::fabs(s.i_a) <= b.current_a && std::fabs(s.i_b) <= b.current_a && std::fabs(s.i_c) <= b.current_a &&
+        std::fabs(s.omega_m_rad_s) <= b.omega_rad_s && std::fabs(s.vdc_v) <= b.voltage_v &&
+        std::fabs(s.vc_lo_v) <= b.voltage_v && std::fabs(s.vc_hi_v) <= b.voltage_v) {
+        return std::string();
+    }
+    return out_of_bounds_text(s, b);
 }
 
 namespace {
