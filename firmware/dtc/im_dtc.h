@@ -181,6 +181,9 @@ typedef struct {
     iq_t ip_a_iq;         /* a = Ts / (sigma l_s) */
     iq_t ip_b_iq;         /* b = (Ts/tau_r) / (sigma l_s), Ts/tau_r = Ts r_r / l_r */
     iq_t ip_g_iq;         /* g = a r_s + b (m^2/l_r + sigma l_s) */
+    iq_t dsvm_rip_iq[8];  /* DSVM: by a leg's pattern s1 s2 s3 (bit 2 = s1), k (s1 - s3) with
+                           * k = r_s a / 9: the resistive drop of the period's mean ripple current
+                           * in duty (im_dsvm.c), IQ */
     im_sup_t sup;         /* the model's supervision and the on-line r_r (im_sup.h) */
     /* after a live reconfiguration (im_dtc_reconfigure): the periods left until the relay has
      * tied the failed phase A' to the mid-point (A' open meanwhile, im_dtc_fstp.c), and the

@@ -46,6 +46,13 @@ int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg)
         c->ip_b_iq = iq_mpy(iq_mpy(cfg->board.ts_pu_iq, iq_mpy(im->rr_iq, inv_lr)), inv_sl);
         c->ip_g_iq = iq_add(iq_mpy(c->ip_a_iq, cfg->machine.rs_iq),
                             iq_mpy(c->ip_b_iq, iq_add(iq_mpy(im->m_iq, iq_mpy(im->m_iq, inv_lr)), im->sigma_ls_iq)));
+        /* DSVM's mean ripple current's drop, k = r_s Ts / (9 sigma l_s), by pattern (im_dsvm.c) */
+        const iq_t k = iq_mpy(iq_mpy(c->ip_a_iq, cfg->machine.rs_iq), IQ_FRAC(1, 9));
+        uint16_t p;
+        for (p = 0U; p < 8U; p++) {
+            const uint16_t s1 = (uint16_t)((p >> 2) & 1U), s3 = (uint16_t)(p & 1U);
+            c->dsvm_rip_iq[p] = s1 == s3 ? 0 : (s1 != 0U ? k : fix_neg32(k));
+        }
     }
     vcomp_init(&c->vc_p, cfg->est.compensation, cfg->board.v_f_iq, cfg->board.v_ce_iq,
                cfg->board.v_d_iq, cfg->board.r_on_iq);

@@ -78,12 +78,13 @@ TEST(ImTorqueBias, DeviceDropsPerLegRemoveTheLowSpeedBias)
 //     i_d/i_q times larger in the torque: ideal inverter, DTC, 0.31 mWb -> 2.7 mrad -> -1.9 %. The
 //     rotor-flux trim (im_psir_trim) holds the mean |phi_r| at phi_r*;
 //   - the dead-time error taken on the current's sign at the period's end instead of at the
-//     switching instant: +3.1 % (DTC, ideal devices) once the trim is in.
+//     switching instant: +3.1 % (DTC, ideal devices) once the trim is in;
+//   - DSVM's resistive drop on the sampled current, while its fixed order of thirds (the nulls
+//     first, dsvm.h) moves the period's mean current off the samples by (v_1 - v_3) Ts/(9 sigma L_s)
+//     (im_dsvm.c): the second machine +4.68 % -> +0.82 %, 4 kW +1.89 % -> -1.36 %.
 // Before these: DTC -1.35 %, SFVC -3.28 %, DFOC +8.62 %, DSVM -4.62 % at 10 % torque (4 kW).
-// Asserted: within the 1.5 %, except SFVC and DSVM at 10 % torque: measured SFVC +1.72 %
-// (4 kW) and +2.22 % (second machine), DSVM +1.89 % and +4.68 %. Not met; not a reconstruction
-// error (DSVM on the second machine gives +5.1 % with ideal devices and no dead time, SFVC +0.3 %),
-// cause not found. Asserted within 2.5 % (DSVM second machine 6 %) so that a change shows.
+// Asserted: within the 1.5 %, except SFVC at 10 % torque: measured +1.72 % (4 kW) and
+// +2.22 % (second machine); asserted within 2.5 % so that a change shows.
 TEST(ImTorqueBias, EveryLawWithinOnePointFivePercentAtFivePercentSpeed)
 {
     struct M {
@@ -99,12 +100,12 @@ TEST(ImTorqueBias, EveryLawWithinOnePointFivePercentAtFivePercentSpeed)
                 const Point p = run_point(mc.file, law, "proposed", 72.0, t);
                 EXPECT_EQ(p.fault, "none");
                 const bool second = std::string(mc.file) != "im_dtc_speed.toml";
-                const bool known = frac == 0.1 && (std::string(law) == "sfvc" || std::string(law) == "dsvm");
+                const bool known = frac == 0.1 && std::string(law) == "sfvc";
                 // SFVC and DFOC on the second machine at rated torque: the torque limit the current
                 // allows (tools/config dtc_im_torque_at_current_nm at I_lim - dI, 160 us, 30 A trip)
                 // is 22.1 N*m, 94 % of rated: held there (docs/sil.md), not a bias
                 const bool limited = second && frac == 1.0 && (std::string(law) == "sfvc" || std::string(law) == "dfoc");
-                const double tol = limited ? 0.07 : !known ? 0.015 : (second && std::string(law) == "dsvm" ? 0.06 : 0.025);
+                const double tol = limited ? 0.07 : !known ? 0.015 : 0.025;
                 EXPECT_NEAR(p.te_mean, t, tol * t);
                 if (!limited) {
                     EXPECT_NEAR(p.te_est, t, 0.005 * t); // the comparators and regulators hold the estimate
