@@ -26,8 +26,10 @@ extern "C" {
 #include "dtc_config_si.h"
 }
 
+#include "firmware_si.hpp"
 #include "hal_host.hpp"
 #include "plant.h"
+#include "scenario_outcome.hpp"
 
 namespace {
 
@@ -306,25 +308,14 @@ TEST(ImLaw, FlyingStartIntoATurningRotorBuildsTheFluxThenTracksTorque)
 // none for DTC at 40 us nor for the 4 kW IM's SFVC; each suggestion, applied alone (0.1 % inside
 // it), gives a torque limit at or above the rated torque and silences the check, and 1 % outside
 // it does not (the suggestion is the bound, not a guess).
-static dtc_config_si_t second_machine_si(int law, double ts_s)
+// The firmware's SI configuration of the shipped scenario `file` with the scheme `scheme`.
+static dtc_config_si_t shipped_si(const char* file, const char* scheme)
 {
-    dtc_config_si_t si;
-    dtc_config_si_im_defaults(&si);
-    si.law = law;
-    si.ts_s = ts_s;
-    si.rs_ohm = 2.9338;
-    si.rr_ohm = 1.355;
-    si.lls_h = si.llr_h = 0.00587;
-    si.lm_h = 0.14375;
-    si.pole_pairs = 2;
-    si.rated_torque_nm = 23.5;
-    si.rated_current_a = 10.9;
-    si.vdc_v = 565.0;
-    si.i_trip_a = 30.0;
-    si.flux_ref_wb = 0.96;
-    si.psir_ref_wb = 0.90;
-    si.current_limit_auto = 1;
-    return si;
+    sil::Scenario sc;
+    sil::Diagnostics d;
+    EXPECT_TRUE(sil::load_scenario(sil_test::scenarios_dir() + file, {std::string("control.scheme=") + scheme}, &sc, &d))
+        << d.text();
+    return sil::firmware_si_config(sc);
 }
 
 static double room_torque(const dtc_config_si_t& si)
@@ -335,35 +326,32 @@ static double room_torque(const dtc_config_si_t& si)
 TEST(ImLaw, TorqueRoomCheckNamesThePeriodAndTripThatCarryTheRatedTorque)
 {
     char msg[600];
-    for (int law : {DTC_LAW_IM_SFVC, DTC_LAW_IM_DFOC}) {
-        const dtc_config_si_t si = second_machine_si(law, 160e-6);
+    for (const char* law : {"sfvc", "dfoc"}) {
+        const dtc_config_si_t si = shipped_si("im_second_machine.toml", law);
+        const double t_rated = si.rated_torque_nm;
         ASSERT_EQ(dtc_im_torque_room_check(&si, msg, sizeof msg), 1);
-        std::printf("MEASURE second machine, law %d, 160 us: %s\n", law, msg);
-        EXPECT_LT(room_torque(si), 23.5);
+        std::printf("MEASURE second machine, %s, %.0f us: %s\n", law, 1e6 * si.ts_s, msg);
+        EXPECT_LT(room_torque(si), t_rated);
         const char* at = std::strstr(msg, "ts_s <= ");
         ASSERT_NE(at, nullptr);
         double ts_max = 0.0, trip_min = 0.0;
         ASSERT_EQ(std::sscanf(at, "ts_s <= %lf s or i_trip_a >= %lf A", &ts_max, &trip_min), 2) << msg;
-        dtc_config_si_t a = si;
-        a.ts_s = 0.999 * ts_max;
-        EXPECT_GE(room_torque(a), 23.5);
-        EXPECT_EQ(dtc_im_torque_room_check(&a, msg, sizeof msg), 0);
-        a.ts_s = 1.01 * ts_max;
-        EXPECT_LT(room_torque(a), 23.5);
-        dtc_config_si_t b = si;
-        b.i_trip_a = 1.001 * trip_min;
-        EXPECT_GE(room_torque(b), 23.5);
-        EXPECT_EQ(dtc_im_torque_room_check(&b, msg, sizeof msg), 0);
-        b.i_trip_a = 0.99 * trip_min;
-        EXPECT_LT(room_torque(b), 23.5);
+        // the suggestion applied alone: `inside` times it carries the rated torque and silences the
+        // check, `outside` times it does not
+        const auto bound = [&](double dtc_config_si_t::*key, double value, double inside, double outside) {
+            dtc_config_si_t x = si;
+            x.*key = inside * value;
+            EXPECT_GE(room_torque(x), t_rated);
+            EXPECT_EQ(dtc_im_torque_room_check(&x, msg, sizeof msg), 0);
+            x.*key = outside * value;
+            EXPECT_LT(room_torque(x), t_rated);
+        };
+        bound(&dtc_config_si_t::ts_s, ts_max, 0.999, 1.01);
+        bound(&dtc_config_si_t::i_trip_a, trip_min, 1.001, 0.99);
     }
-    const dtc_config_si_t dtc40 = second_machine_si(DTC_LAW_IM_DTC, 40e-6);
+    const dtc_config_si_t dtc40 = shipped_si("im_second_machine.toml", "dtc");
     EXPECT_EQ(dtc_im_torque_room_check(&dtc40, msg, sizeof msg), 0);
-    dtc_config_si_t four;
-    dtc_config_si_im_defaults(&four);
-    four.law = DTC_LAW_IM_SFVC;
-    four.ts_s = 160e-6;
-    four.current_limit_auto = 1;
+    const dtc_config_si_t four = shipped_si("im_dtc_speed.toml", "sfvc");
     EXPECT_EQ(dtc_im_torque_room_check(&four, msg, sizeof msg), 0);
 }
 
