@@ -15,11 +15,25 @@
  *      (LAW_OUT_THIRDS, thirds)
  *   -> the mean voltage they will apply, kept for the estimator (as the SVM schemes' v1/v2,
  *      im_pwm_out): d_x = n_x/3 (n_x the leg's "on" thirds) minus the dead time's loss, Casadei
- *      eq. 2 / Hoang eqs. 1-5 on the link measured now (vrec_from_legs, rounded IQ products).
+ *      eq. 2 / Hoang eqs. 1-5 on the link measured now plus the duty's share of the per-leg drops
+ *      (pwm_dv_iq, im_dtc.h) (vrec_from_legs, rounded IQ products).
  * Start-up (im_dtc.h): the radial vector V_k of the flux's sector over the whole period while the
  * flux comparator asks for more flux, the null otherwise.
  * Current limit (im_ilim, ilim.h): when the sampled current passes prot.i_lim_iq, the vector that
  * reduces |i| fastest over the whole period in place of the tables' three.
+ * Mean ripple current: the estimator's resistive drop takes the current sampled at the period's
+ * end (im_est.h), the mean over the period in the long run for a vector held over a period. The
+ * three thirds' vectors v_1, v_2, v_3 (mean v) move the current off the straight line between the
+ * samples by rho(t) = (1/(sigma L_s)) int_0^t (v - v_mean) (Casadei eq. A6 over one period: the rotor
+ * flux and the back-EMF constant, the current's fast part driven through the transient inductance
+ * sigma L_s), zero at both ends, rho_1 = (v_1 - v) Ts/(3 sigma L_s) and rho_2 = -(v_3 - v) Ts/(3 sigma L_s)
+ * after the first and second thirds, so its mean over the period is (rho_1 + rho_2)/3 =
+ * (v_1 - v_3) Ts/(9 sigma L_s). The order of the thirds is fixed (the nulls first, dsvm.h), so this
+ * mean does not average out: measured, the second machine at 72 rpm and 10 % torque, ideal
+ * inverter, the estimate's stator flux 7.1 mrad ahead of the machine's and the plant's torque
+ * +5.9 % of T* (the resistive drop of 0.146 A per third of a whole vector, 0.43 V, against 15 V of
+ * back-EMF). The voltage kept for the estimator is the mean voltage less R_s times that current,
+ * per leg by linearity of Casadei eq. 2: d_x - k (s1_x - s3_x), k = r_s Ts/(9 sigma l_s).
  * Dead time (the sign rule of svm.h / vrec.h deadtime_error): a rising edge of the upper command loses T_d
  * when the phase current leaves the leg (i > 0), a falling edge gains T_d when it enters (i < 0);
  * the edges counted are those inside the period and the one at its start (the previous period's
@@ -87,9 +101,11 @@ void im_dsvm_select(im_dtc_t *c, const dtc_meas_t *m, iq_t te, uint16_t lim_vec,
         const uint16_t ea = dsvm_edges(c->legs_1.sa, pat[0]);
         const uint16_t eb = dsvm_edges(c->legs_1.sb, pat[1]);
         const uint16_t ec = dsvm_edges(c->legs_1.sc, pat[2]);
-        const iq_t da = dsvm_leg_duty(ea, c->i.ia_iq, td);
-        const iq_t db = dsvm_leg_duty(eb, c->i.ib_iq, td);
-        const iq_t dc = dsvm_leg_duty(ec, c->i.ic_iq, td);
+        /* less the resistive drop of the mean ripple current (file comment), by the leg's pattern */
+        const iq_t da = dsvm_leg_duty(ea, c->i.ia_iq, td) - c->dsvm_rip_iq[pat[0] & 7U];
+        const iq_t db = dsvm_leg_duty(eb, c->i.ib_iq, td) - c->dsvm_rip_iq[pat[1] & 7U];
+        const iq_t dc = dsvm_leg_duty(ec, c->i.ic_iq, td) - c->dsvm_rip_iq[pat[2] & 7U];
+        const iq_t vdc = fix_add32(m->vdc_iq, c->pwm_dv_iq); /* the duty's share of the drops (im_dtc.h) */
         iq_t a, b;
         o->duty_iq[0] = dsvm_thirds_iq[ea & 3U];
         o->duty_iq[1] = dsvm_thirds_iq[eb & 3U];
@@ -97,8 +113,8 @@ void im_dsvm_select(im_dtc_t *c, const dtc_meas_t *m, iq_t te, uint16_t lim_vec,
         vrec_from_legs(da, db, dc, &a, &b);
         c->v2_alpha_iq = c->v1_alpha_iq;
         c->v2_beta_iq = c->v1_beta_iq;
-        c->v1_alpha_iq = iq_mpy(a, m->vdc_iq);
-        c->v1_beta_iq = iq_mpy(b, m->vdc_iq);
+        c->v1_alpha_iq = iq_mpy(a, vdc);
+        c->v1_beta_iq = iq_mpy(b, vdc);
     }
     /* the leg states of the last third, for the next period's edges and null choice (legs_2 and
      * legs_3 are the table scheme's, im_dtc_estimate) */

@@ -181,6 +181,17 @@ typedef struct {
     iq_t ip_a_iq;         /* a = Ts / (sigma l_s) */
     iq_t ip_b_iq;         /* b = (Ts/tau_r) / (sigma l_s), Ts/tau_r = Ts r_r / l_r */
     iq_t ip_g_iq;         /* g = a r_s + b (m^2/l_r + sigma l_s) */
+    iq_t pwm_dv_iq;       /* the modulated laws (SFVC, DFOC, DSVM): V_d - V_CE under the per-leg
+                           * compensation (Hoang Table III, DTC_COMP_SSTP_PROPOSED), else 0, pu.
+                           * A leg at duty d carrying i > 0 gives d (V_dc - V_CE) - (1 - d) V_d, with
+                           * i < 0 d (V_dc + V_d) + (1 - d) V_CE: the state-0 drops the estimator
+                           * adds (im_sfvc_estimate: +V_d, -V_CE) plus d (V_dc + V_d - V_CE) in
+                           * both cases, so the duties act on V_dc + V_d - V_CE (0.35 V more on
+                           * the IM rig's devices: at 72 rpm the estimate's voltage 0.06 % short
+                           * of the machine's, +0.8 % of torque at 10 % of rated, SFVC) */
+    iq_t dsvm_rip_iq[8];  /* DSVM: by a leg's pattern s1 s2 s3 (bit 2 = s1), k (s1 - s3) with
+                           * k = r_s a / 9: the resistive drop of the period's mean ripple current
+                           * in duty (im_dsvm.c), IQ */
     im_sup_t sup;         /* the model's supervision and the on-line r_r (im_sup.h) */
     /* after a live reconfiguration (im_dtc_reconfigure): the periods left until the relay has
      * tied the failed phase A' to the mid-point (A' open meanwhile, im_dtc_fstp.c), and the

@@ -46,10 +46,21 @@ int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg)
         c->ip_b_iq = iq_mpy(iq_mpy(cfg->board.ts_pu_iq, iq_mpy(im->rr_iq, inv_lr)), inv_sl);
         c->ip_g_iq = iq_add(iq_mpy(c->ip_a_iq, cfg->machine.rs_iq),
                             iq_mpy(c->ip_b_iq, iq_add(iq_mpy(im->m_iq, iq_mpy(im->m_iq, inv_lr)), im->sigma_ls_iq)));
+        /* DSVM's mean ripple current's drop, k = r_s Ts / (9 sigma l_s), by pattern (im_dsvm.c) */
+        const iq_t k = iq_mpy(iq_mpy(c->ip_a_iq, cfg->machine.rs_iq), IQ_FRAC(1, 9));
+        uint16_t p;
+        for (p = 0U; p < 8U; p++) {
+            const uint16_t s1 = (uint16_t)((p >> 2) & 1U), s3 = (uint16_t)(p & 1U);
+            c->dsvm_rip_iq[p] = s1 == s3 ? 0 : (s1 != 0U ? k : fix_neg32(k));
+        }
     }
     vcomp_init(&c->vc_p, cfg->est.compensation, cfg->board.v_f_iq, cfg->board.v_ce_iq,
                cfg->board.v_d_iq, cfg->board.r_on_iq);
     vcomp_tab_init(&c->vc_t, &c->vc_p);
+    /* the duty's share of the per-leg drops (im_dtc.h): Table III's state-0 minus state-1 drop
+     * for i >= 0, V_d - V_CE */
+    c->pwm_dv_iq = cfg->est.compensation == DTC_COMP_SSTP_PROPOSED
+                       ? fix_sub32(c->vc_p.mean_iq[0][4], c->vc_p.mean_iq[1][4]) : 0;
     dtc_speed_params_from_config(&c->sm_p, &c->pi_p, cfg);
     c->isp_p.gain_w_iq = cfg->u.im.ref.gain_w_iq;
     c->isp_p.k_filt_q31 = cfg->u.im.ref.speed_filt_q31;

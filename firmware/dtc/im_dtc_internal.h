@@ -197,8 +197,9 @@ static inline void im_dtc_table_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t
 
 /* The end of an SVM scheme's period (SFVC, DFOC): the SVM of c->vs_* on the measured link with
  * dead-time compensation (svm.h), the voltage the new duties will apply kept for the estimator
- * and the prediction (d_eff on the link measured now, Casadei eq. 2 / Hoang eqs. 1-5: (2 d_a -
- * d_b - d_c)/3 V_dc, (d_b - d_c)/sqrt3 V_dc; vrec_from_legs saturates, IQ products rounded),
+ * and the prediction (d_eff on the link measured now plus pwm_dv_iq, Casadei eq. 2 / Hoang eqs.
+ * 1-5: (2 d_a - d_b - d_c)/3 V, (d_b - d_c)/sqrt3 V with V = V_dc + V_d - V_CE under the per-leg
+ * compensation, im_dtc.h; vrec_from_legs saturates, IQ products rounded),
  * and the outputs: the PWM form (duty_iq), the estimate, the references. */
 static inline void im_pwm_out(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, iq_t te)
 {
@@ -208,9 +209,10 @@ static inline void im_pwm_out(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, iq
     c->v2_beta_iq = c->v1_beta_iq;
     {
         iq_t a, b;
+        const iq_t vdc = fix_add32(m->vdc_iq, c->pwm_dv_iq); /* the duty's share of the drops (im_dtc.h) */
         vrec_from_legs(c->svm_o.d_eff_iq[0], c->svm_o.d_eff_iq[1], c->svm_o.d_eff_iq[2], &a, &b);
-        c->v1_alpha_iq = iq_mpy(a, m->vdc_iq);
-        c->v1_beta_iq = iq_mpy(b, m->vdc_iq);
+        c->v1_alpha_iq = iq_mpy(a, vdc);
+        c->v1_beta_iq = iq_mpy(b, vdc);
     }
     for (x = 0U; x < 3U; x++) {
         o->duty_iq[x] = c->svm_o.d_iq[x];

@@ -78,12 +78,20 @@ TEST(ImTorqueBias, DeviceDropsPerLegRemoveTheLowSpeedBias)
 //     i_d/i_q times larger in the torque: ideal inverter, DTC, 0.31 mWb -> 2.7 mrad -> -1.9 %. The
 //     rotor-flux trim (im_psir_trim) holds the mean |phi_r| at phi_r*;
 //   - the dead-time error taken on the current's sign at the period's end instead of at the
-//     switching instant: +3.1 % (DTC, ideal devices) once the trim is in.
+//     switching instant: +3.1 % (DTC, ideal devices) once the trim is in;
+//   - DSVM's resistive drop on the sampled current, while its fixed order of thirds (the nulls
+//     first, dsvm.h) moves the period's mean current off the samples by (v_1 - v_3) Ts/(9 sigma L_s)
+//     (im_dsvm.c): the second machine +4.68 % -> +0.82 %, 4 kW +1.89 % -> -1.36 %;
+//   - the modulated laws' per-leg drops: a leg at duty d gives d (V_dc + V_d - V_CE) besides the
+//     state-0 drops the estimator adds, 0.35 V per volt-second of duty that the estimate lacked
+//     (im_dtc.h pwm_dv_iq): measured with the dead time off, second machine, SFVC +1.15 -> +0.60 %,
+//     DFOC -0.17 % (the ideal inverter's -0.23 %). With the dead time on it leaves the dead time's
+//     own error: SFVC +2.22 -> +1.76 %, DFOC -0.91 -> -1.79 % (the drop error had hidden part of
+//     it), 4 kW SFVC +1.72 -> +0.91 %, DSVM -1.36 -> +1.37 %.
 // Before these: DTC -1.35 %, SFVC -3.28 %, DFOC +8.62 %, DSVM -4.62 % at 10 % torque (4 kW).
-// Asserted: within the 1.5 %, except SFVC and DSVM at 10 % torque: measured SFVC +1.72 %
-// (4 kW) and +2.22 % (second machine), DSVM +1.89 % and +4.68 %. Not met; not a reconstruction
-// error (DSVM on the second machine gives +5.1 % with ideal devices and no dead time, SFVC +0.3 %),
-// cause not found. Asserted within 2.5 % (DSVM second machine 6 %) so that a change shows.
+// Asserted: within the 1.5 %, except SFVC and DFOC on the second machine at 10 % torque,
+// the dead time's error (measured alone: SFVC +1.3 %, DFOC -1.6 %); asserted within 2.5 % so that
+// a change shows.
 TEST(ImTorqueBias, EveryLawWithinOnePointFivePercentAtFivePercentSpeed)
 {
     struct M {
@@ -99,12 +107,12 @@ TEST(ImTorqueBias, EveryLawWithinOnePointFivePercentAtFivePercentSpeed)
                 const Point p = run_point(mc.file, law, "proposed", 72.0, t);
                 EXPECT_EQ(p.fault, "none");
                 const bool second = std::string(mc.file) != "im_dtc_speed.toml";
-                const bool known = frac == 0.1 && (std::string(law) == "sfvc" || std::string(law) == "dsvm");
+                const bool known = second && frac == 0.1 && (std::string(law) == "sfvc" || std::string(law) == "dfoc");
                 // SFVC and DFOC on the second machine at rated torque: the torque limit the current
                 // allows (tools/config dtc_im_torque_at_current_nm at I_lim - dI, 160 us, 30 A trip)
                 // is 22.1 N*m, 94 % of rated: held there (docs/sil.md), not a bias
                 const bool limited = second && frac == 1.0 && (std::string(law) == "sfvc" || std::string(law) == "dfoc");
-                const double tol = limited ? 0.07 : !known ? 0.015 : (second && std::string(law) == "dsvm" ? 0.06 : 0.025);
+                const double tol = limited ? 0.07 : !known ? 0.015 : 0.025;
                 EXPECT_NEAR(p.te_mean, t, tol * t);
                 if (!limited) {
                     EXPECT_NEAR(p.te_est, t, 0.005 * t); // the comparators and regulators hold the estimate
@@ -117,18 +125,28 @@ TEST(ImTorqueBias, EveryLawWithinOnePointFivePercentAtFivePercentSpeed)
 // DSC at low speed: at 72 rpm and 50 % rated torque the hexagon's flux sat below phi_s* (mean
 // |phi_r| 17 mWb under phi_r*) and Casadei eq. 20's correction turned that into a flux-angle error
 // of -150 mrad: -17 % of torque (-4.6 % at rated torque). With the rotor-flux trim: within 1.5 %.
-// At 10 % torque DSC still gives the wrong sign: DSC does not control the flux amplitude (Casadei
-// sec. 9, "to the detriment of the control of the stator flux amplitude"); under the long null-vector
-// intervals of low speed and light load the machine's flux decays while the improved estimator holds
-// the estimate at its reference. Asserted: the machine's |phi_s| below a fifth of the estimate's.
-TEST(ImTorqueBias, DscAtFivePercentSpeedHoldsTheTorqueLoadedAndLosesTheFluxAtLightLoad)
+// At 10 % torque DSC gave the wrong sign: DSC does not control the flux amplitude (Casadei sec. 9,
+// "to the detriment of the control of the stator flux amplitude"); under the long null-vector
+// intervals of low speed and light load the machine's flux decayed to 0.045 Wb while the improved
+// estimator held the estimate at its reference (0.51 Wb). The law now holds the amplitude there as
+// sec. 9 says a DTC with a wide flux band reproduces DSC: where the torque comparator asks for the
+// null and the flux lies inside the hexagon by more than the flux comparator's half band, ST-D's
+// flux-raising vector of the same torque sense (im_dtc_select). Asserted: the machine's mean
+// |phi_s| within 2 % of the estimate's, the torque of the right sign within 15 % of T* (measured
+// -10.9 %: the accuracy target is not met there, docs/sil.md), and the second machine at 10 %
+// speed without the encoder-plausibility trip it had while its flux collapsed.
+TEST(ImTorqueBias, DscAtFivePercentSpeedHoldsTheTorqueLoadedAndTheFluxAtLightLoad)
 {
     const Point loaded = run_point("im_dtc_speed.toml", "dsc", "proposed", 72.0, 13.25);
     EXPECT_EQ(loaded.fault, "none");
     EXPECT_NEAR(loaded.te_mean, 13.25, 0.015 * 13.25);
     const Point light = run_point("im_dtc_speed.toml", "dsc", "proposed", 72.0, 2.65);
     EXPECT_EQ(light.fault, "none");
-    EXPECT_LT(light.psi, 0.2 * light.psi_est);
-    EXPECT_LT(light.te_mean, 0.0); // the wrong sign, the finding
+    EXPECT_NEAR(light.psi, light.psi_est, 0.02 * light.psi_est);
+    EXPECT_NEAR(light.te_mean, 2.65, 0.15 * 2.65);
     EXPECT_NEAR(light.te_est, 2.65, 0.02 * 2.65);
+    const Point second = run_point("im_second_machine.toml", "dsc", "proposed", 144.0, 2.35);
+    EXPECT_EQ(second.fault, "none");
+    EXPECT_NEAR(second.psi, second.psi_est, 0.02 * second.psi_est);
+    EXPECT_GT(second.te_mean, 0.0);
 }

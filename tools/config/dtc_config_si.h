@@ -313,6 +313,17 @@ void dtc_im_transient_si(const dtc_config_si_t *si, double *l_h, double *psi_wb)
  * The 4 kW IM, phi_s* = 0.55 Wb, 40 A: 57.9 N*m (218 % of rated). */
 double dtc_im_torque_at_current_nm(const dtc_config_si_t *si, double i_a);
 
+/* The IM laws' torque room: the torque limit the current allows (dtc_im_torque_at_current_nm at
+ * I_lim - dI, the converter's, law_im_si.c) against the machine's rated torque. Returns 1 and writes
+ * a warning into msg naming the keys when it is below rated_torque_nm: the current the rated torque
+ * needs, the margin the period leaves, and the longest control period (ts_s) and the lowest trip
+ * level (i_trip_a) that each, alone, would give the rated torque with the same derivation (dI is
+ * proportional to ts_s; with current_limit_auto the margin is the n + 1 periods' dI of
+ * dtc_ilim_default_a). Returns 0 otherwise (not an IM law, no current limit, or room enough).
+ * The second machine (im_second_machine.toml) with SFVC at 160 us: 30 A trip, dI 6.46 A, 22.1 N*m
+ * for 23.5 rated (10.9 A): ts_s <= 157.7 us (carrier 6342 Hz) or i_trip_a >= 30.3 A. */
+int dtc_im_torque_room_check(const dtc_config_si_t *si, char *msg, size_t msg_size);
+
 /* The PM indirect torque control's current-loop crossover w_c, rad/s (law_pm_itc_si.c): 60 deg of
  * phase margin against the 1.5 Ts loop delay, pi / (9 Ts). */
 double dtc_itc_wc_rad_s(const dtc_config_si_t *si);

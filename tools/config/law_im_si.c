@@ -6,6 +6,7 @@
 #include "plant_defaults.h"
 
 #include <math.h>
+#include <stdio.h>
 
 void dtc_config_si_im_defaults(dtc_config_si_t *si)
 {
@@ -86,6 +87,63 @@ double dtc_im_torque_at_current_nm(const dtc_config_si_t *si, double i_a)
         return 0.0;
     }
     return 1.5 * (double)si->pole_pairs * m * m / lr * sqrt(id2) * sqrt(i_a * i_a - id2);
+}
+
+int dtc_im_torque_room_check(const dtc_config_si_t *si, char *msg, size_t msg_size)
+{
+    double ilim, di, t_i, lo = 0.0, hi, i_need, k, ts_max;
+    int n;
+    if (dtc_law_is_im((uint16_t)si->law) == 0U || !(si->rated_torque_nm > 0.0) || !(si->ts_s > 0.0)) {
+        return 0;
+    }
+    ilim = si->current_limit_auto != 0 ? dtc_ilim_default_a(si) : si->current_limit_a;
+    if (!(ilim > 0.0)) {
+        return 0;
+    }
+    di = dtc_ilim_step_a(si);
+    t_i = dtc_im_torque_at_current_nm(si, ilim - di);
+    if (!(t_i < si->rated_torque_nm) || !(di > 0.0)) {
+        return 0;
+    }
+    /* the current the rated torque needs: the torque rises with the current (bisection) */
+    hi = si->i_trip_a > 0.0 ? si->i_trip_a : 1.0;
+    for (n = 0; n < 40 && dtc_im_torque_at_current_nm(si, hi) < si->rated_torque_nm; n++) {
+        hi *= 2.0;
+    }
+    for (n = 0; n < 60; n++) {
+        const double mid = 0.5 * (lo + hi);
+        if (dtc_im_torque_at_current_nm(si, mid) < si->rated_torque_nm) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    i_need = hi;
+    if (si->current_limit_auto != 0) {
+        /* the margin between the trip and the current held, in periods' dI; dI = a + b i_trip (its
+         * r_s i_trip term) and proportional to ts_s */
+        dtc_config_si_t z = *si;
+        double di0, b, trip_min;
+        k = (si->i_trip_a - ilim + di) / di;
+        ts_max = si->i_trip_a > i_need ? si->ts_s * (si->i_trip_a - i_need) / (k * di) : 0.0;
+        z.i_trip_a = 0.0;
+        di0 = dtc_ilim_step_a(&z);
+        b = si->i_trip_a > 0.0 ? (di - di0) / si->i_trip_a : 0.0;
+        trip_min = 1.0 - k * b > 0.0 ? (i_need + k * di0) / (1.0 - k * b) : HUGE_VAL;
+        snprintf(msg, msg_size,
+                 "the torque the current allows, %.1f N*m, is below rated_torque_nm %.1f N*m: the rated torque "
+                 "needs %.2f A, the limit holds %.2f A (i_trip_a %.1f A less %.2f periods' largest change dI = %.2f A "
+                 "at ts_s = %.4g s); ts_s <= %.4g s or i_trip_a >= %.2f A gives it",
+                 t_i, si->rated_torque_nm, i_need, ilim - di, si->i_trip_a, k, di, si->ts_s, ts_max, trip_min);
+    } else {
+        ts_max = ilim > i_need ? si->ts_s * (ilim - i_need) / di : 0.0;
+        snprintf(msg, msg_size,
+                 "the torque the current allows, %.1f N*m, is below rated_torque_nm %.1f N*m: the rated torque "
+                 "needs %.2f A, the limit holds %.2f A (current_limit_a %.1f A less the period's largest change "
+                 "dI = %.2f A at ts_s = %.4g s); ts_s <= %.4g s or current_limit_a >= %.2f A (below i_trip_a) gives it",
+                 t_i, si->rated_torque_nm, i_need, ilim - di, ilim, di, si->ts_s, ts_max, i_need + di);
+    }
+    return 1;
 }
 
 double dtc_im_fstp_flux_scale(const dtc_config_si_t *si)

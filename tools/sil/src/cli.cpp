@@ -116,6 +116,12 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
         if (im_tau_check(&tau_si, &tau_report, tau_msg, sizeof tau_msg) != 0) {
             err << "warning: control.observer_tau_s: " << tau_msg << "\n";
         }
+        // The IM laws: the torque limit the current allows against the rated torque.
+        char room_msg[600];
+        if (dtc_im_torque_room_check(&tau_si, room_msg, sizeof room_msg) != 0) {
+            err << "warning: motor.rated_torque_nm, protection.overcurrent_a, ts_s (control.carrier_hz): " << room_msg
+                << "\n";
+        }
         out << scenario_path << ": ok\n";
         return 0;
     }
