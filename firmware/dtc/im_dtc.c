@@ -77,6 +77,7 @@ void im_dtc_reset(im_dtc_t *c)
     c->vs_beta_iq = 0;
     c->foc_id_int_iq = 0;
     c->foc_iq_int_iq = 0;
+    c->sr_valid = 0U;
     c->i_limited = 0U;
     c->i_prev.ia_iq = 0;
     c->i_prev.ib_iq = 0;
