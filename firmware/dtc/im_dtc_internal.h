@@ -73,6 +73,12 @@ void im_dsvm_select(im_dtc_t *c, const dtc_meas_t *m, iq_t te, uint16_t lim_vec,
 /* Internal to im_dtc_step_fstp (im_dtc_fstp.c), out of line for the stack. */
 void im_dtc_estimate_fstp(im_dtc_t *c, const dtc_meas_t *m);
 uint16_t im_dtc_select_fstp(im_dtc_t *c, iq_t te, dtc_out_t *o);
+/* After a leg failure, the estimator's rotor-flux reference down the current model's rotor flux
+ * (im_dtc_fstp.c), out of line for the stack. */
+void im_fstp_psir_fall(im_dtc_t *c);
+/* The vector while phase A' is open after a leg failure (im_dtc_fstp.c), out of line for the
+ * stack. */
+uint16_t im_open_vector(const im_dtc_t *c, iq_t psi_a, uint16_t up);
 
 /* Speed every speed_div-th period, as in the PM law (im_dtc_speed_tick: the encoder's or the
  * sensorless speed, the speed PI); the model's supervision once per speed period in a step that
