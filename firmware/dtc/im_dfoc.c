@@ -46,22 +46,24 @@ void im_dfoc_regulate(im_dtc_t *c)
     const iq_t kp = cfg->u.im.dfoc.kp_iq, ki = cfg->u.im.dfoc.ki_ts_iq;
     const iq_t id = iq_mac2(c->i.i_alpha_iq, ua, c->i.i_beta_iq, ub);
     const iq_t iq = iq_mac2(c->i.i_beta_iq, ua, fix_neg32(c->i.i_alpha_iq), ub);
-    const iq_t iq_ref = c->magnetised != 0U ? iq_mpy(cfg->u.im.dfoc.iq_per_t_iq, c->te_ref_iq) : 0;
-    const iq_t ed = iq_sub(c->foc_id_ref_iq, id);
-    const iq_t eq = iq_sub(iq_ref, iq);
-    iq_t vd, vq, va, vb, ws;
+    iq_t iq_ref, ed, eq, vd, vq, va, vb, ws;
+
+    /* w_s = w + w_slip (Casadei eq. 16), its advance by 1.5 w_s Ts, and i_q* */
+    im_svm_rate(c, cfg->u.im.dfoc.iq_per_t_iq, iq_add(cfg->board.ts_pu_iq, fix_rshift_rnd32(cfg->board.ts_pu_iq, 1U)));
+    ws = c->sr_ws_iq;
+    iq_ref = c->magnetised != 0U ? c->sr_gt_iq : 0;
+    ed = iq_sub(c->foc_id_ref_iq, id);
+    eq = iq_sub(iq_ref, iq);
 
     c->foc_id_int_iq = fix_clamp32(iq_add(c->foc_id_int_iq, iq_mpy(ki, ed)), -IQ(1.0), IQ(1.0));
     c->foc_iq_int_iq = fix_clamp32(iq_add(c->foc_iq_int_iq, iq_mpy(ki, eq)), -IQ(1.0), IQ(1.0));
     vd = iq_add(iq_mpy(kp, ed), c->foc_id_int_iq);
     vq = iq_add(iq_mpy(kp, eq), c->foc_iq_int_iq);
-    /* w_s = w + w_slip (Casadei eq. 16) */
-    ws = iq_add(c->speed_iq, iq_mpy(c->sfvc_kslip_iq, c->te_ref_iq));
     /* stator frame (inverse Park) plus j w_s phi_s */
     va = iq_sub(iq_mac2(vd, ua, fix_neg32(vq), ub), iq_mpy(ws, c->est.psi_beta_iq));
     vb = iq_add(iq_mac2(vd, ub, vq, ua), iq_mpy(ws, c->est.psi_alpha_iq));
     /* advanced by 1.5 w_s Ts: the flux turns that far until the middle of the next period */
-    iq_cmul_1jx(iq_mpy(ws, iq_add(cfg->board.ts_pu_iq, fix_rshift_rnd32(cfg->board.ts_pu_iq, 1U))), &va, &vb);
+    iq_cmul_1jx(c->sr_adv_iq, &va, &vb);
     c->vs_alpha_iq = va;
     c->vs_beta_iq = vb;
 }

@@ -85,7 +85,14 @@ void im_dsvm_select(im_dtc_t *c, const dtc_meas_t *m, iq_t te, uint16_t lim_vec,
         const uint16_t v = im_magn_vector(c, sector, flux_up, iq_sub(c->te_ref_iq, te), &level);
         code = v == SWTAB_NULL ? 0U : dsvm_rotate(6U, v);
     } else {
-        const uint16_t range = dsvm_range(c->speed_iq, c->psi_ref_iq, m->vdc_iq, dsvm_half(sector, psi_a, psi_b));
+        uint16_t range = dsvm_range(c->speed_iq, c->psi_ref_iq, m->vdc_iq, 0U);
+        /* the half sector (a cross product) only where the range uses it, the high speeds: there
+         * dsvm_range with half_plus = 0 returns DSVM_HIGH_*_M, and its 1+ half is the next range
+         * (enum dsvm_range) */
+        if ((range == (uint16_t)DSVM_HIGH_CCW_M || range == (uint16_t)DSVM_HIGH_CW_M) &&
+            dsvm_half(sector, psi_a, psi_b) != 0U) {
+            range = (uint16_t)(range + 1U);
+        }
         level = hyst5_step(&c->h_torque5, iq_sub(c->te_ref_iq, te));
         code = dsvm_rotate(dsvm_table(range, flux_up, level), sector);
     }
@@ -136,7 +143,7 @@ void im_dsvm_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
      *      ends now (v2), torque, speed and speed loop (shared with im_dtc_step). */
     const iq_t te = im_dtc_front(c, m, o, IM_FRONT_PWM);
     /* 6. References: start-up, Casadei eq. 19. */
-    im_dtc_refs(c);
+    im_dtc_refs_step(c);
     /* 7. The current limit (im_ilim: sets c->i_limited; here, not in im_dsvm_select, so that its
      *    chain and the tables' are not on one stack path), comparators, tables, the three
      *    sub-interval vectors, the voltage they apply. */

@@ -77,6 +77,7 @@ void im_dtc_reset(im_dtc_t *c)
     c->vs_beta_iq = 0;
     c->foc_id_int_iq = 0;
     c->foc_iq_int_iq = 0;
+    c->sr_valid = 0U;
     c->i_limited = 0U;
     c->i_prev.ia_iq = 0;
     c->i_prev.ib_iq = 0;
@@ -147,55 +148,44 @@ void im_dtc_enc_plaus(im_dtc_t *c, iq_t te)
     c->plaus_on = 1U;
 }
 
-/* Speed every speed_div-th period, as in the PM law: the encoder's, or the sensorless estimate
- * (the rotor-flux angle's change over the speed period, Casadei eq. 22, minus the slip of eq. 16
- * with the estimated torque te, im_ref.h), then the speed PI. The PI is held at rest
- * during the start-up magnetisation; in torque mode the command is the reference in force with
- * the mean-torque trim of the PM law (dtc_trim_step: with the actuation delay and zero bands the
- * bang-bang torque settles below T* by about half its ripple). */
-void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
+/* The speed-loop period's part of im_dtc_speed (im_dtc_internal.h): the encoder's speed, or the
+ * sensorless estimate (the rotor-flux angle's change over the speed period, Casadei eq. 22, minus
+ * the slip of eq. 16 with the estimated torque te, im_ref.h), then the speed PI. The PI is held at
+ * rest during the start-up magnetisation. */
+void im_dtc_speed_tick(im_dtc_t *c, const dtc_meas_t *m, iq_t te)
 {
     const dtc_config_t *cfg = c->cfg;
 
-    o->speed_tick = 0U;
-    c->plaus_on = 0U;
-    if (speed_loop_due(&c->sm, &c->speed_primed, &c->div_cnt, m->enc_count) != 0U) {
-        o->speed_tick = 1U;
-        if (cfg->speed.sensor == DTC_SPEED_NONE) {
-            im_speed_step(&c->isp, &c->isp_p, c->est.theta_r, te, cfg->u.im.ref.inv_psir_sq_iq);
-            c->speed_iq = c->isp.speed_iq;
-        } else {
-            c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
-            if (cfg->u.im.ref.enc_plaus_iq > 0) {
-                im_dtc_enc_plaus(c, te);
-            }
-        }
-        c->sup.due = 1U;
-        c->sup.compared = c->plaus_on;
-        c->ref_due = 1U;
-        if (c->act.mode == DTC_MODE_SPEED && c->magnetised != 0U) {
-            c->te_cmd_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
+    if (cfg->speed.sensor == DTC_SPEED_NONE) {
+        im_speed_step(&c->isp, &c->isp_p, c->est.theta_r, te, cfg->u.im.ref.inv_psir_sq_iq);
+        c->speed_iq = c->isp.speed_iq;
+    } else {
+        c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
+        if (cfg->u.im.ref.enc_plaus_iq > 0) {
+            im_dtc_enc_plaus(c, te);
         }
     }
-    speed_loop_advance(&c->div_cnt, cfg->speed.speed_div);
-    if (c->sup.due != 0U && c->div_cnt == c->sup.slot) {
-        /* the model's supervision, once per speed period, in a step that carries neither the
-         * speed loop nor Casadei eq. 19 (im_sup.h) */
-        c->sup.due = 0U;
-        im_sup_step(c);
+    c->sup.due = 1U;
+    c->sup.compared = c->plaus_on;
+    c->ref_due = 1U;
+    if (c->act.mode == DTC_MODE_SPEED && c->magnetised != 0U) {
+        c->te_cmd_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
     }
-    if (c->act.mode == DTC_MODE_TORQUE) {
-        /* the torque reference with the mean-torque trim (as the PM law), once torque is allowed.
-         * Not with flux weakening: there T_command is scaled by Casadei eq. 33 and the torque is at the
-         * voltage limit by design, so a trim towards T_command (or towards eq. 33's T*, which the
-         * machine cannot reach while the flux steps down) winds up to its limit (measured: T*
-         * 29 % of T_command above Casadei eq. 33 towards T_command, 54 % towards T*); T* is eqs. 33-34
-         * as in section 12. */
-        c->te_cmd_iq = c->magnetised != 0U && cfg->u.im.fw.on == 0U
-                           ? dtc_trim_step(&c->te_trim_iq, c->act.torque_ref_iq, te,
-                                           cfg->speed.torque_trim_k_q15, cfg->speed.torque_limit_iq)
-                           : c->act.torque_ref_iq;
-    }
+}
+
+/* The torque mode's command (im_dtc_speed): the torque reference with the mean-torque trim (as
+ * the PM law), once torque is allowed. Not with flux weakening: there T_command is scaled by
+ * Casadei eq. 33 and the torque is at the voltage limit by design, so a trim towards T_command (or
+ * towards eq. 33's T*, which the machine cannot reach while the flux steps down) winds up to its
+ * limit (measured: T* 29 % of T_command above Casadei eq. 33 towards T_command, 54 % towards T*);
+ * T* is eqs. 33-34 as in section 12. */
+void im_dtc_torque_cmd(im_dtc_t *c, iq_t te)
+{
+    const dtc_config_t *cfg = c->cfg;
+    c->te_cmd_iq = c->magnetised != 0U && cfg->u.im.fw.on == 0U
+                       ? dtc_trim_step(&c->te_trim_iq, c->act.torque_ref_iq, te,
+                                       cfg->speed.torque_trim_k_q15, cfg->speed.torque_limit_iq)
+                       : c->act.torque_ref_iq;
 }
 
 /* The rotor-flux trim of the IM laws (DTC, DSC, DSVM by |phi_s*| of Casadei eq. 19; SFVC by the

@@ -169,6 +169,13 @@ typedef struct {
                            * (im_sfvc_kpd: at init, at a reset and when the trim moves) */
     iq_t sfvc_kpq_iq;     /* K_p (l_s/m) sigma l_r / phi_r*: K_p times Casadei eq. 18's q component per pu T* */
     iq_t sfvc_kslip_iq;   /* r_r / phi_r*^2: Casadei eq. 16's slip per pu torque */
+    /* SFVC, DFOC: the period's terms of T* and w (im_svm_rate), kept with the T*, w and slip gain
+     * they were formed for (sr_valid = 0: none formed since the reset) */
+    iq_t sr_te_iq, sr_w_iq, sr_kslip_iq;
+    iq_t sr_ws_iq;        /* w_s = w + w_slip (Casadei eq. 16), pu */
+    iq_t sr_adv_iq;       /* w_s t_adv: the SFVC's w_s Ts, the DFOC's 1.5 w_s Ts, pu */
+    iq_t sr_gt_iq;        /* g T*: the SFVC's K_p times Casadei eq. 18's q component, the DFOC's i_q*, pu */
+    uint16_t sr_valid;
     iq_t foc_id_int_iq, foc_iq_int_iq; /* DFOC: the current PIs' integral parts, pu voltage */
     iq_t foc_id_ref_iq;   /* DFOC: i_d* = phi_r* / m with the rotor-flux trim (im_dfoc_id_ref), pu */
     deadtime_params_t dt_p; /* dead-time block's parameters (vrec.h), derived at init */

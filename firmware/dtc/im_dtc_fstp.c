@@ -109,8 +109,10 @@ void im_dtc_estimate_fstp(im_dtc_t *c, const dtc_meas_t *m)
  * estimated |phi_s| 0.06 Wb low for 8 ms), and the table then turns a flux larger than the one it
  * sees, beyond what the FSTP's voltage turns at that speed. Once the current model's flux reaches
  * the FSTP's reference (im_dtc_psir_ref of the set in force) that reference holds.
- * Formats: IQ pu, Ts/tau_r Q31 (u.im.ref.magn_k_q31); rounded products, saturating sums. */
-static void im_fstp_psir_fall(im_dtc_t *c)
+ * Formats: IQ pu, Ts/tau_r Q31 (u.im.ref.magn_k_q31); rounded products, saturating sums.
+ * External linkage on purpose (im_dtc_internal.h): inlined, its temporaries would sit in
+ * im_dtc_select_fstp's frame on the four-switch step's deepest stack path. */
+void im_fstp_psir_fall(im_dtc_t *c)
 {
     const dtc_im_machine_cfg_t *im = &c->cfg->u.im.machine;
     const iq_t i_d = iq_add(iq_mpy(c->i.i_alpha_iq, c->est.u_alpha_iq), iq_mpy(c->i.i_beta_iq, c->est.u_beta_iq));
@@ -140,8 +142,9 @@ static void im_fstp_psir_fall(im_dtc_t *c)
  * = +-V_dc/sqrt3 along beta, V_dc the measured link, vb_max_iq). The current is reversed when the
  * second time is not shorter than the first:
  *   sigma l_s |i_beta| |v_alpha| >= |phi_s,alpha| V_dc / sqrt3,
- * compared as exact 64-bit products of IQ values (each < 2^31: no overflow). */
-static uint16_t im_open_vector(const im_dtc_t *c, iq_t psi_a, uint16_t up)
+ * compared as exact 64-bit products of IQ values (each < 2^31: no overflow). External linkage on
+ * purpose, as im_fstp_psir_fall. */
+uint16_t im_open_vector(const im_dtc_t *c, iq_t psi_a, uint16_t up)
 {
     const iq_t ib = c->i.i_beta_iq, va = c->ein.v_alpha_iq;
     if ((psi_a >= 0) != (va >= 0) &&

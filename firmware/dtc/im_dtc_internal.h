@@ -18,7 +18,10 @@ void im_dtc_apply(im_dtc_t *c, const dtc_refs_t *r);
 /* Internal to im_dtc_step, out of line for the stack (as dtc.c's helpers). */
 void im_dtc_adopt(im_dtc_t *c, uint16_t seq);
 void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m);
-void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o);
+/* The speed-loop period's speed and speed PI, and the torque mode's command (im_dtc.c), out of
+ * line: im_dtc_speed's other periods pay for no call. */
+void im_dtc_speed_tick(im_dtc_t *c, const dtc_meas_t *m, iq_t te);
+void im_dtc_torque_cmd(im_dtc_t *c, iq_t te);
 void im_dtc_enc_plaus(im_dtc_t *c, iq_t te);
 void im_dtc_refs(im_dtc_t *c);
 /* The rotor-flux trim (im_dtc.c), once per speed period: 1 when it moved. */
@@ -42,6 +45,27 @@ void im_sfvc_regulate(im_dtc_t *c);
 /* Internal to im_dfoc_step, out of line for the stack. */
 void im_dfoc_regulate(im_dtc_t *c);
 
+/* The SFVC's and the DFOC's terms of T* and w: w_s = w + w_slip (Casadei eq. 16, the slip gain
+ * r_r / phi_r*^2 that im_sup tracks), its advance w_s t_adv (t_adv_iq: the SFVC's Ts, the DFOC's
+ * 1.5 Ts) and g T* (g_iq: the SFVC's K_p times Casadei eq. 18's q component per pu T*, the DFOC's
+ * i_q per pu T*), into c->sr_*. Formed again only when T*, w or the slip gain differ from the ones
+ * they were formed for (t_adv and g are constants of the configuration): in speed mode T* and w
+ * change at the speed-loop rate. The same rounded IQ products and saturating sum as formed every
+ * period. */
+static inline void im_svm_rate(im_dtc_t *c, iq_t g_iq, iq_t t_adv_iq)
+{
+    if (c->sr_valid == 0U || c->te_ref_iq != c->sr_te_iq || c->speed_iq != c->sr_w_iq ||
+        c->sfvc_kslip_iq != c->sr_kslip_iq) {
+        c->sr_te_iq = c->te_ref_iq;
+        c->sr_w_iq = c->speed_iq;
+        c->sr_kslip_iq = c->sfvc_kslip_iq;
+        c->sr_valid = 1U;
+        c->sr_ws_iq = iq_add(c->speed_iq, iq_mpy(c->sfvc_kslip_iq, c->te_ref_iq));
+        c->sr_adv_iq = iq_mpy(c->sr_ws_iq, t_adv_iq);
+        c->sr_gt_iq = iq_mpy(g_iq, c->te_ref_iq);
+    }
+}
+
 /* Internal to im_dsvm_step, out of line for the stack. */
 /* lim_vec: im_ilim's vector of this step (used when c->i_limited). */
 void im_dsvm_select(im_dtc_t *c, const dtc_meas_t *m, iq_t te, uint16_t lim_vec, dtc_out_t *o);
@@ -49,6 +73,48 @@ void im_dsvm_select(im_dtc_t *c, const dtc_meas_t *m, iq_t te, uint16_t lim_vec,
 /* Internal to im_dtc_step_fstp (im_dtc_fstp.c), out of line for the stack. */
 void im_dtc_estimate_fstp(im_dtc_t *c, const dtc_meas_t *m);
 uint16_t im_dtc_select_fstp(im_dtc_t *c, iq_t te, dtc_out_t *o);
+/* After a leg failure, the estimator's rotor-flux reference down the current model's rotor flux
+ * (im_dtc_fstp.c), out of line for the stack. */
+void im_fstp_psir_fall(im_dtc_t *c);
+/* The vector while phase A' is open after a leg failure (im_dtc_fstp.c), out of line for the
+ * stack. */
+uint16_t im_open_vector(const im_dtc_t *c, iq_t psi_a, uint16_t up);
+
+/* Speed every speed_div-th period, as in the PM law (im_dtc_speed_tick: the encoder's or the
+ * sensorless speed, the speed PI); the model's supervision once per speed period in a step that
+ * carries neither the speed loop nor Casadei eq. 19 (im_sup.h); in torque mode the command of the
+ * set in force (im_dtc_torque_cmd). Inline: the periods without the speed loop pay for no call. */
+static inline void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
+{
+    o->speed_tick = 0U;
+    c->plaus_on = 0U;
+    if (speed_loop_due(&c->sm, &c->speed_primed, &c->div_cnt, m->enc_count) != 0U) {
+        o->speed_tick = 1U;
+        im_dtc_speed_tick(c, m, te);
+    }
+    speed_loop_advance(&c->div_cnt, c->cfg->speed.speed_div);
+    if (c->sup.due != 0U && c->div_cnt == c->sup.slot) {
+        c->sup.due = 0U;
+        im_sup_step(c);
+    }
+    if (c->act.mode == DTC_MODE_TORQUE) {
+        im_dtc_torque_cmd(c, te);
+    }
+}
+
+/* The references of the period (im_dtc_refs). Most periods of the constant-rotor-flux law
+ * (Casadei eq. 19, no flux weakening) after the start-up change nothing but T* = the speed loop's
+ * or the torque mode's command: those take it here, without the call; the others, and eq. 19's
+ * period (ref_due, not the speed loop's: im_dtc_refs), call im_dtc_refs. */
+static inline void im_dtc_refs_step(im_dtc_t *c)
+{
+    if (c->magnetised != 0U && (c->ref_due == 0U || c->div_cnt == 1U) && c->cfg->u.im.fw.on == 0U &&
+        c->cfg->u.im.ref.psir_ref_iq > 0) {
+        c->te_ref_iq = c->te_cmd_iq;
+    } else {
+        im_dtc_refs(c);
+    }
+}
 
 /* The estimator input of im_dtc_front: the legs on the six-switch inverter (im_dtc_estimate), the
  * modulated duties (im_sfvc_estimate), the legs on the four-switch inverter (im_dtc_estimate_fstp). */
@@ -81,7 +147,7 @@ static inline iq_t im_dtc_front(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, 
     }
     im_est_flux(&c->est, &c->ein);
     if (c->ein.want_polar != 0U) {
-        im_est_polar(&c->est); /* a call of its own: the CORDIC's frame is not under im_est_flux's */
+        im_est_polar(&c->est); /* after im_est_flux: the CORDIC's frame is not under im_est_flux's */
     }
     te = torque_eq10(c->est.psi_alpha_iq, c->est.psi_beta_iq, c->i.i_alpha_iq, c->i.i_beta_iq);
     im_dtc_speed(c, m, te, o);
@@ -182,7 +248,7 @@ static inline void im_dtc_table_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t
      * and speed loop. */
     const iq_t te = im_dtc_front(c, m, o, fstp != 0U ? IM_FRONT_FSTP : IM_FRONT_LEGS);
     /* 6. References: start-up, flux weakening, Casadei eq. 19. */
-    im_dtc_refs(c);
+    im_dtc_refs_step(c);
     /* 7. Comparators, the table (or DSC), the null-vector choice, the current limit. */
     if (fstp != 0U) {
         vec = im_dtc_select_fstp(c, te, o);
@@ -244,7 +310,7 @@ static inline void im_svm_scheme_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_
             }
         }
     }
-    im_dtc_refs(c);
+    im_dtc_refs_step(c);
     if (dfoc != 0U) {
         im_dfoc_regulate(c);
     } else {

@@ -168,13 +168,6 @@ void im_est_flux(im_est_t *s, const im_est_in_t *in)
     s->psir_beta_iq = iq_mpy(p->kr_iq, x_b);
 }
 
-void im_est_polar(im_est_t *s)
-{
-    iq_t mag;
-    fix_polar(s->x_alpha_iq, s->x_beta_iq, &s->theta_r, &mag);
-    s->psir_mag_iq = iq_mpy(s->p->kr_iq, mag);
-}
-
 void im_est_step(im_est_t *s, const im_est_in_t *in)
 {
     im_est_flux(s, in);

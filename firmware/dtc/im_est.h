@@ -132,7 +132,14 @@ void im_est_step(im_est_t *s, const im_est_in_t *in);
  * path (the IM laws): the flux, the rotor flux and its direction (in->want_polar not read); the
  * rotor-flux angle and magnitude of that step's x. */
 void im_est_flux(im_est_t *s, const im_est_in_t *in);
-void im_est_polar(im_est_t *s);
+/* Casadei eq. 22 by CORDIC (fix_polar) on x: theta_r and |phi_r| = k_r |x| (Casadei eq. 21),
+ * the magnitude a rounded IQ product, saturated. Inline: the speed-loop periods pay for one call
+ * (the CORDIC's) and no frame. */
+static inline void im_est_polar(im_est_t *s)
+{
+    fix_polar(s->x_alpha_iq, s->x_beta_iq, &s->theta_r, &s->psir_mag_iq);
+    s->psir_mag_iq = iq_mpy(s->p->kr_iq, s->psir_mag_iq);
+}
 
 /* Ts/tau at electrical speed w (improved estimator; exposed for the tests). */
 q31_t im_est_gain(const im_est_params_t *p, iq_t speed_iq);

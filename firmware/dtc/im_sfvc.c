@@ -66,6 +66,9 @@ void im_sfvc_regulate(im_dtc_t *c)
     const iq_t kp = cfg->u.im.sfvc.kp_iq;
     iq_t ws;
 
+    /* w_s = w + w_slip (Casadei eq. 16), w_s Ts, and Casadei eq. 18's q component times K_p */
+    im_svm_rate(c, c->sfvc_kpq_iq, ts);
+    ws = c->sr_ws_iq;
     /* K_p phi_s*: Casadei eq. 18 in the rotor-flux frame (d along phi_r), turned by e^{j theta}
      * (eq. 22), formed in c->vs_* (not on this frame, which the rotation's call would keep) */
     {
@@ -75,14 +78,13 @@ void im_sfvc_regulate(im_dtc_t *c)
             q = 0;
         } else {
             d = c->sfvc_kpd_iq;
-            q = iq_mpy(c->sfvc_kpq_iq, c->te_ref_iq);
+            q = c->sr_gt_iq;
         }
         c->vs_alpha_iq = iq_mac2(d, c->est.u_alpha_iq, fix_neg32(q), c->est.u_beta_iq);
         c->vs_beta_iq = iq_mac2(d, c->est.u_beta_iq, q, c->est.u_alpha_iq);
     }
-    /* w_s = w + w_slip (Casadei eq. 16), the reference advanced by w_s Ts to k+1 */
-    ws = iq_add(c->speed_iq, iq_mpy(c->sfvc_kslip_iq, c->te_ref_iq));
-    iq_cmul_1jx(iq_mpy(ws, ts), &c->vs_alpha_iq, &c->vs_beta_iq);
+    /* the reference advanced by w_s Ts to k+1 */
+    iq_cmul_1jx(c->sr_adv_iq, &c->vs_alpha_iq, &c->vs_beta_iq);
     {
         /* R_s i: the estimator's product of this step (im_est_flux, the same r_s and i) */
         const iq_t ria = c->est.ri_alpha_iq, rib = c->est.ri_beta_iq;

@@ -131,14 +131,14 @@ static void itc_vcomp(const itc_t *c, const clarke_out_t *i, const iq_t d[2], iq
     *vb = iq_add(b0, iq_add(iq_mpy(d[0], c->vcd_beta_iq[0]), iq_mpy(d[1], c->vcd_beta_iq[1])));
 }
 
-/* Observer (itc.h): the estimator on the voltage of the period just ended; returns the torque of
- * Hoang eq. 10 from its flux. */
-iq_t itc_observe(itc_t *c, const dtc_meas_t *m)
+/* The observer's input (itc.h): Clarke (Hoang eqs. 4-5) of the measured currents into c->i_k, and
+ * the estimator's input c->fin on the voltage of the period just ended with its drop
+ * compensation. */
+void itc_observe_in(itc_t *c, const dtc_meas_t *m)
 {
     const dtc_config_t *cfg = c->cfg;
     clarke_out_t *const i = &c->i_k;
     flux_est_in_t *const fin = &c->fin;
-    /* Clarke (Hoang eqs. 4-5) of the measured currents */
     clarke_meas(cfg->board.topology == (uint16_t)DTC_TOPO_FSTP ? 1U : 0U, m->ia_iq, m->ib_iq, m->ic_iq, i);
     flux_est_in_set(fin, c->v2_alpha_iq, c->v2_beta_iq, i->i_alpha_iq, i->i_beta_iq, m->enc_count, c->lpf_r_iq);
     if (cfg->est.estimator == DTC_EST_VOLTAGE && c->vc_p.mode != (uint16_t)DTC_COMP_NONE) {
@@ -147,6 +147,16 @@ iq_t itc_observe(itc_t *c, const dtc_meas_t *m)
         fin->v_alpha_iq = fix_add32(fin->v_alpha_iq, vfa);
         fin->v_beta_iq = fix_add32(fin->v_beta_iq, vfb);
     }
+}
+
+/* Observer (itc.h): the estimator on the voltage of the period just ended; returns the torque of
+ * Hoang eq. 10 from its flux. */
+iq_t itc_observe(itc_t *c, const dtc_meas_t *m)
+{
+    const dtc_config_t *cfg = c->cfg;
+    const clarke_out_t *const i = &c->i_k;
+    flux_est_in_t *const fin = &c->fin;
+    itc_observe_in(c, m); /* its temporaries (Clarke, the drop compensation) are off this frame */
     if (cfg->est.estimator != DTC_EST_VOLTAGE || c->speed_primed == 0U) {
         /* the current model (Hoang eqs. 8-9): the estimator, or the voltage model's first step;
          * flux_est_seed is flux_est_step of a current-model estimator */
@@ -218,8 +228,9 @@ void itc_cc_in(itc_t *c, const dtc_meas_t *m, iq_t vlo_iq)
     }
 }
 
-void itc_cc_out(const itc_t *c, iq_t *va, iq_t *vb)
+void itc_cc_out(itc_t *c)
 {
+    iq_t *const va = &c->vs_alpha_iq, *const vb = &c->vs_beta_iq;
     /* Stator frame, advanced by the 1.5 w Ts the rotor turns until the middle of the period the
      * command acts in: (1 + j 1.5 w Ts) (as im_dfoc.c; the magnitude error (1 + x^2)^(1/2) - 1
      * is 7e-5 at 1500 rpm, x = 0.012 rad). */
@@ -246,7 +257,7 @@ void itc_step(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     const dtc_config_t *cfg = c->cfg;
     const uint16_t fstp = cfg->board.topology == (uint16_t)DTC_TOPO_FSTP ? 1U : 0U;
     clarke_out_t *const i = &c->i_k;
-    iq_t vlo, te, va, vb;
+    iq_t vlo, te;
 
     /* 1. Shadow set: adopt a complete, not yet adopted set (dtc_refs.h). */
     {
@@ -267,14 +278,14 @@ void itc_step(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     vlo = cfg->board.fstp_vmid_measured != 0U ? m->vmid_iq : fix_rshift_rnd32(m->vdc_iq, 1U);
     itc_cc_in(c, m, vlo);
     dqpi_step(&c->cc, &c->cc_p, &c->cc_in, &c->cc_out);
-    itc_cc_out(c, &va, &vb);
+    itc_cc_out(c);
 
     /* 4. SVM of the inverter (svm.h six switches, svm4.h four), the voltage it will apply kept
      *    for the observer (itc_keep). */
     if (fstp != 0U) {
-        svm4_step(&c->svm4, &c->svm4_p, va, vb, m->vdc_iq, vlo, i, &c->svm_o);
+        svm4_step(&c->svm4, &c->svm4_p, c->vs_alpha_iq, c->vs_beta_iq, m->vdc_iq, vlo, i, &c->svm_o);
     } else {
-        svm_step(&c->svm, &c->svm_p, va, vb, m->vdc_iq, i, &c->svm_o);
+        svm_step(&c->svm, &c->svm_p, c->vs_alpha_iq, c->vs_beta_iq, m->vdc_iq, i, &c->svm_o);
     }
     itc_keep(c, m);
     o->duty_iq[0] = c->svm_o.d_iq[0];

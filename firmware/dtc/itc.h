@@ -118,11 +118,13 @@ typedef struct {
     park_sc_t sc;
     /* working values of the step, kept here and not in the frames of itc_step and its parts
      * (itc_step heads the call chains of the Cortex-M0 stack budget): the measured currents
-     * (Clarke), the observer's input, the current PI's input and output */
+     * (Clarke), the observer's input, the current PI's input and output, the stator-frame voltage
+     * command (itc_cc_out) */
     clarke_out_t i_k;
     flux_est_in_t fin;
     dqpi_in_t cc_in;
     dqpi_out_t cc_out;
+    iq_t vs_alpha_iq, vs_beta_iq;
 } itc_t;
 
 /* The law's configuration check: dtc_config_check_common, then the law (DTC_LAW_PM_ITC) and its
@@ -160,6 +162,10 @@ void itc_shadow_adopt(itc_t *c, uint16_t seq);
  * torque of Hoang eq. 10 from its flux. External linkage on purpose, as itc_shadow_adopt (its
  * temporaries would sit in itc_step's frame). */
 iq_t itc_observe(itc_t *c, const dtc_meas_t *m);
+/* Internal to itc_observe: the measured currents through Clarke into c->i_k and the estimator's
+ * input c->fin with its drop compensation. External linkage on purpose: inlined, its temporaries
+ * would sit in itc_observe's frame, under the estimator's on the deepest stack path. */
+void itc_observe_in(itc_t *c, const dtc_meas_t *m);
 /* Internal to itc_step: the speed loop (every speed_div-th step, as dtc_step): measured speed, the
  * speed's products, the low-pass correction factor, and T* in speed mode. External linkage on
  * purpose, as itc_shadow_adopt. */
@@ -170,8 +176,9 @@ void itc_speed(itc_t *c, const dtc_meas_t *m, dtc_out_t *o);
  * External linkage on purpose, as itc_shadow_adopt. */
 void itc_cc_in(itc_t *c, const dtc_meas_t *m, iq_t vlo_iq);
 /* Internal to itc_step: the current PI's output c->cc_out back in the stator frame, advanced by
- * 1.5 w Ts: the voltage command *va, *vb, IQ pu. External linkage on purpose, as itc_shadow_adopt. */
-void itc_cc_out(const itc_t *c, iq_t *va, iq_t *vb);
+ * 1.5 w Ts: the voltage command c->vs_alpha_iq, c->vs_beta_iq, IQ pu. External linkage on purpose,
+ * as itc_shadow_adopt. */
+void itc_cc_out(itc_t *c);
 /* Internal to itc_step: the voltage of the SVM's effective duties on the link measured now
  * (vrec_from_legs), kept for the observer of the step after next, and the legs B, C duties for its
  * drop compensation. External linkage on purpose, as itc_shadow_adopt. */
