@@ -125,12 +125,31 @@ static inline int32_t fix_clamp32(int32_t x, int32_t lo, int32_t hi)
 /* ------------------------------------------------------------------------------------------ */
 /* Shifts (the only place negative values are shifted right)                                   */
 
+/* FIX_WORD64: 1 where a 64-bit sum is one register (a 64-bit host), 0 on the 32- and 16-bit
+ * targets (Cortex-M0, AVR, C28x), where it is a pair or four of them. fix_rshift_rnd32, fix_add32
+ * and fix_sub32 take the form that is short there: the 64-bit one on a 64-bit host, the 32-bit
+ * one elsewhere. On a 64-bit host the 32-bit form is also there, as fix_..._w32, and
+ * tests/unit/test_fixmath_basic.c finds both equal for every input it tries. */
+#if UINTPTR_MAX > 0xFFFFFFFFU
+#define FIX_WORD64 1
+#define FIX_W32_(name) name##_w32
+#else
+#define FIX_WORD64 0
+#define FIX_W32_(name) name
+#endif
+
 /* Arithmetic right shift with round-half-up: (x + 2^(n-1)) >> n, 1 <= n <= 31.
- * Scaling and overflow: the rounding add is done in 64 bits, so it cannot overflow. */
+ * Scaling and overflow: the 64-bit form does the rounding add in 64 bits, so it cannot overflow.
+ * The 32-bit form does without it: with x = q 2^n + r, 0 <= r < 2^n, (x + 2^(n-1)) >> n is q
+ * plus 1 when r >= 2^(n-1), which is bit n-1 of x; so (x >> n) + ((x >> (n-1)) & 1), which
+ * cannot overflow (|x >> n| <= 2^30). */
+static inline int32_t FIX_W32_(fix_rshift_rnd32)(int32_t x, uint16_t n) { return (x >> n) + ((x >> (n - 1U)) & 1); }
+#if FIX_WORD64
 static inline int32_t fix_rshift_rnd32(int32_t x, uint16_t n)
 {
     return (int32_t)(((int64_t)x + ((int64_t)1 << (n - 1U))) >> n);
 }
+#endif
 
 /* Arithmetic right shift with round-half-up on a 64-bit value, 1 <= n <= 62, saturated to int32.
  * Scaling and overflow: the rounding add cannot overflow for |x| <= 2^62 (every 32x32 product,
@@ -166,10 +185,40 @@ static inline int32_t q15_mul_q30(q15_t a, q15_t b) { return (int32_t)a * (int32
 /* ------------------------------------------------------------------------------------------ */
 /* Q31 / IQ arithmetic (both are int32; the functions are format-agnostic where noted)         */
 
-/* Scaling and overflow: 64-bit sum saturated to int32. Same format in and out (Q31 or IQ). */
+/* The int32 of the low 32 bits u (modulo 2^32), without an implementation-defined conversion
+ * (as fix_sat32). */
+static inline int32_t fix_from_u32(uint32_t u)
+{
+    return u <= (uint32_t)INT32_MAX ? (int32_t)u : -(int32_t)(~u) - 1;
+}
+
+/* Scaling and overflow: the sum saturated to int32. Same format in and out (Q31 or IQ). The
+ * 64-bit form saturates the 64-bit sum. The 32-bit form: the sum modulo 2^32 is the true one
+ * unless a and b have one sign and it has the other (then the true sum lies beyond the range on
+ * a's side), which is exactly where the 64-bit sum saturates. */
+static inline int32_t FIX_W32_(fix_add32)(int32_t a, int32_t b)
+{
+    const uint32_t ua = (uint32_t)a, ub = (uint32_t)b, s = ua + ub;
+    if ((((ua ^ s) & (ub ^ s)) >> 31) != 0U) {
+        return a < 0 ? INT32_MIN : INT32_MAX;
+    }
+    return fix_from_u32(s);
+}
+/* Scaling and overflow: the difference saturated to int32. Same format in and out. The 32-bit
+ * form: the difference modulo 2^32 is the true one unless a and b have different signs and it
+ * has b's sign (then the true difference lies beyond the range on a's side). */
+static inline int32_t FIX_W32_(fix_sub32)(int32_t a, int32_t b)
+{
+    const uint32_t ua = (uint32_t)a, ub = (uint32_t)b, d = ua - ub;
+    if ((((ua ^ ub) & (ua ^ d)) >> 31) != 0U) {
+        return a < 0 ? INT32_MIN : INT32_MAX;
+    }
+    return fix_from_u32(d);
+}
+#if FIX_WORD64
 static inline int32_t fix_add32(int32_t a, int32_t b) { return fix_sat32((int64_t)a + (int64_t)b); }
-/* Scaling and overflow: 64-bit difference saturated to int32. Same format in and out. */
 static inline int32_t fix_sub32(int32_t a, int32_t b) { return fix_sat32((int64_t)a - (int64_t)b); }
+#endif
 /* Scaling and overflow: -INT32_MIN saturates to INT32_MAX. */
 static inline int32_t fix_neg32(int32_t a) { return fix_sat32(-(int64_t)a); }
 /* Scaling and overflow: |INT32_MIN| saturates to INT32_MAX. */

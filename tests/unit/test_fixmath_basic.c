@@ -184,6 +184,13 @@ static void test_fix_rshift_rnd32(void **state)
                 fail_msg("fix_rshift_rnd32(%d, %u) = %d, round-half-up gives %.0f", x, n, r,
                          floor(ref + 0.5));
             }
+#if FIX_WORD64
+            /* the 32-bit targets' form (fixmath.h FIX_WORD64), exactly */
+            if (fix_rshift_rnd32_w32(x, n) != r) {
+                fail_msg("fix_rshift_rnd32_w32(%d, %u) = %d, fix_rshift_rnd32 %d", x, n,
+                         fix_rshift_rnd32_w32(x, n), r);
+            }
+#endif
         }
     }
     fixtest_lsb_check(&t, 0.5, "fix_rshift_rnd32, n = 1..31");
@@ -344,6 +351,12 @@ static void check_add32_point(fixtest_lsb_t *t, int32_t a, int32_t b)
         fixtest_lsb_add_err(&t[k], fixtest_err_lsb_exact(r[k], ref, 0U, INT32_MIN, INT32_MAX),
                             r[k], (double)ref, a, b);
     }
+#if FIX_WORD64
+    /* the 32-bit targets' forms (fixmath.h FIX_WORD64), exactly */
+    if (fix_add32_w32(a, b) != r[0] || fix_sub32_w32(a, b) != r[3]) {
+        fail_msg("fix_add32/fix_sub32(%d, %d): the 32- and 64-bit forms differ", a, b);
+    }
+#endif
 }
 
 static void test_add32_sub32(void **state)
