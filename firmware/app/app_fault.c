@@ -96,11 +96,16 @@ uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_m
     const iq_t i[3] = {pu->ia_iq, pu->ib_iq, pu->ic_iq};
     const iq_t s = fix_add32(fix_add32(i[0], i[1]), i[2]);
     const iq_t zero = fix_rshift_rnd32(c->prot.leg_i_min_iq, APP_LEG_ZERO_LOG2);
-    uint64_t sq[3], tot, s2;
+    uint64_t sq[3], tot;
     iq_t dth;
     uint16_t k, sign;
 
     if (c->prot.leg_i_min_iq <= 0) {
+        return 0U;
+    }
+    if (f->relay_wait > 0U) {
+        f->relay_wait--;
+        app_fault_leg_clear(f);
         return 0U;
     }
     if (f->imin_iq != c->prot.leg_i_min_iq) { /* a configuration constant: squared once per change */
@@ -111,19 +116,14 @@ uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_m
         sq[k] = (uint64_t)((int64_t)i[k] * (int64_t)i[k]) >> 5;
     }
     tot = sq[0] + sq[1] + sq[2];
-    /* s is 0 whenever the third current is the other two's Kirchhoff sum (two sensors): no product */
-    s2 = s == 0 ? 0U : (uint64_t)((int64_t)s * (int64_t)s) >> 5;
-    if (f->relay_wait > 0U) {
-        f->relay_wait--;
-        app_fault_leg_clear(f);
-        return 0U;
-    }
     if (2U * tot <= f->imin2_3) {
         return 0U; /* too little current to judge: the sums wait (a healthy phase leaves the band,
                     * which resets its sum, as soon as there is current again); the current sum is
                     * not judged either (near zero the sensors' noise alone reaches tot / 24) */
     }
-    if (24U * s2 >= tot) {
+    /* s is 0 whenever the third current is the other two's Kirchhoff sum (two sensors): then
+     * 24 s^2 = 0 < tot (tot > imin2_3 / 2 >= 0 here) and no product is formed */
+    if (s != 0 && 24U * ((uint64_t)((int64_t)s * (int64_t)s) >> 5) >= tot) {
         app_fault_leg_clear(f); /* the sum says a sensor is wrong: no phase is judged */
         return 0U;
     }
@@ -143,9 +143,10 @@ uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_m
         f->leg_acc_iq[k] = fix_abs32(i[k]) < zero ? fix_add32(f->leg_acc_iq[k], dth) : 0;
     }
     for (k = 0U; k < 3U; k++) {
+        /* app_fault_one_way's own first test here, so that the call comes only past it */
         if (f->leg_acc_iq[k] > APP_LEG_ANGLE_IQ ||
-            (sign != 0U && (app_fault_one_way(f, k, f->pos_acc_iq[k]) != 0U ||
-                            app_fault_one_way(f, k, f->neg_acc_iq[k]) != 0U))) {
+            (sign != 0U && ((f->pos_acc_iq[k] > APP_LEG_SIGN_ANGLE_IQ && app_fault_one_way(f, k, f->pos_acc_iq[k]) != 0U) ||
+                            (f->neg_acc_iq[k] > APP_LEG_SIGN_ANGLE_IQ && app_fault_one_way(f, k, f->neg_acc_iq[k]) != 0U)))) {
             *phase = app_fault_phase(perm, k);
             return 1U;
         }

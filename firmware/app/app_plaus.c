@@ -39,11 +39,14 @@ uint16_t app_plaus_step(app_plaus_t *s, const app_plaus_params_t *p, const iq_t 
                 continue;
             }
             const int32_t dm = to_q16(fix_sub32(i[k], s->i_prev[k]));
-            /* the predicted change less the model's bias learnt so far (app_plaus.h) */
+            /* the predicted change less the model's bias learnt so far (app_plaus.h). Plain 32-bit
+             * sums: |dm|, |dp0| <= 2^23 (a saturated difference shifted by 8), so |dp0 - dm| <=
+             * 2^24; the bias, each step moved towards dp0 - dm by a rounded 2^-bias_log2 of the
+             * distance (bias_log2 >= 1), which never passes it, stays within 2^24; every sum
+             * below stays within 2^26 and none could saturate. */
             const int32_t dp0 = to_q16(fix_sub32(s->i1_prev[k], s->i_prev[k]));
-            const int32_t dp = fix_sub32(dp0, s->bias[k]);
-            s->bias[k] = fix_add32(s->bias[k], fix_rshift_rnd32(fix_sub32(fix_sub32(dp0, dm), s->bias[k]),
-                                                                p->bias_log2));
+            const int32_t dp = dp0 - s->bias[k];
+            s->bias[k] += fix_rshift_rnd32(dp0 - dm - s->bias[k], p->bias_log2);
             s->s_m[k] += dm;
             s->s_p[k] += dp;
             s->s_mp[k] += (int64_t)dm * dp;

@@ -38,8 +38,9 @@
  *
  * Formats: currents IQ pu (dtc_base.h). Scaling and overflow: each change is a saturated
  * difference of two values below the trip level (<= 128 pu), shifted right by 8 (rounded) to IQ16
- * before the products, so |d| < 2^24 (the bias, a mean of two such, < 2^25; their difference
- * saturates) and each product < 2^50; N = 2^3 of them sum below 2^51, the
+ * before the products, so |d| < 2^24 (the bias, a leaky mean of the difference of two such, within
+ * 2^24 for bias_log2 >= 1, and the sums it enters below 2^26: plain 32-bit sums) and each product
+ * < 2^50; N = 2^3 of them sum below 2^51, the
  * sums of changes below 2^27; N times a sum of products and a product of two sums stay below
  * 2^54 in int64_t, and 4 cov below 2^57, 16 s_mp below 2^55. The floor is formed the same way
  * at init. The window and the bias's leak are parameters (app_plaus_init): the PM law's
@@ -90,7 +91,7 @@ typedef struct {
     int64_t s_pp[3];   /* sum of d_p^2, IQ32 */
 } app_plaus_t;
 
-/* adc_i_gain_iq: pu current per ADC count (board.adc_i_gain_iq); win_log2 (1..3) and bias_log2:
+/* adc_i_gain_iq: pu current per ADC count (board.adc_i_gain_iq); win_log2 (1..3) and bias_log2 (1..15):
  * APP_PLAUS_WIN_LOG2 and APP_PLAUS_BIAS_LOG2, or their _IM values for the IM laws. */
 void app_plaus_init(app_plaus_params_t *p, iq_t adc_i_gain_iq, uint16_t win_log2, uint16_t bias_log2);
 void app_plaus_reset(app_plaus_t *s);
