@@ -57,7 +57,7 @@ static inline iq_t lpfcorr_recip(iq_t y_iq, iq_t w_iq, iq_t w_min_iq)
 /* (a + j b)(1 - j r): the corrected low-pass input (flux_est.c). */
 static inline void lpfcorr_rotate(iq_t r_iq, iq_t *a, iq_t *b)
 {
-    iq_cmul_1jx(fix_neg32(r_iq), a, b);
+    iq_cmul_1jx_inline(fix_neg32(r_iq), a, b);
 }
 
 #endif /* LPFCORR_H */

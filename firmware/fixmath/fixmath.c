@@ -177,12 +177,7 @@ iq_t iq_recip_newton(iq_t y, iq_t x)
     return iq_mpy(y, iq_sub(two, iq_mpy(x, y)));
 }
 
-void iq_cmul_1jx(iq_t x, iq_t *a, iq_t *b)
-{
-    const iq_t a0 = *a;
-    *a = iq_sub(a0, iq_mpy(x, *b));
-    *b = iq_add(*b, iq_mpy(x, a0));
-}
+void iq_cmul_1jx(iq_t x, iq_t *a, iq_t *b) { iq_cmul_1jx_inline(x, a, b); }
 
 iq_t q32_integrate(int32_t *acc, iq_t k, iq_t x)
 {

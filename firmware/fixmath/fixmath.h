@@ -384,7 +384,15 @@ void fix_polar(iq_t x, iq_t y, angle_t *angle, iq_t *mag);
  * throughout, products rounded; |y| <= 128 pu (saturating). */
 iq_t iq_recip_newton(iq_t y, iq_t x);
 
-/* (a + j b) <- (a + j b)(1 + j x): a - x b, b + x a. IQ, products rounded, sums saturated. */
+/* (a + j b) <- (a + j b)(1 + j x): a - x b, b + x a. IQ, products rounded, sums saturated.
+ * iq_cmul_1jx_inline is the same for a caller that keeps it in its own frame (one call less on
+ * its stack chain); iq_cmul_1jx, out of line, is it. */
+static inline void iq_cmul_1jx_inline(iq_t x, iq_t *a, iq_t *b)
+{
+    const iq_t a0 = *a;
+    *a = iq_sub(a0, iq_mpy(x, *b));
+    *b = iq_add(*b, iq_mpy(x, a0));
+}
 void iq_cmul_1jx(iq_t x, iq_t *a, iq_t *b);
 
 /* Integrator with 8 fractional bits below IQ: *acc (Q32 pu, +-0.5 pu, saturating) += k x

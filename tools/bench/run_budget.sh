@@ -15,7 +15,7 @@
 #      1e. IM law im_dsvm_step: DTC with DSVM (sec. 11), 160 us          [avg <= 900, worst <= 1250]
 #      1f. PM law itc_step: ITC, FSTP SVM, voltage-model observer (VI)   [avg <= 1160, worst <= 1700]
 #   2. cross-cm0 stack usage of the control path (-fstack-usage per function from the preset's
-#      build, worst call chain from -fcallgraph-info=su)              [<= 256 bytes]
+#      build, worst call chain from -fcallgraph-info=su)   [<= 224 bytes per law, law_step <= 256]
 #   3. cross-cm0 code and data size of the firmware library (arm-none-eabi-size)
 #   4. processor-in-the-loop (docs/pil.md): per app_isr() call, AVR cycles (simavr, ATmega2560)
 #      and Cortex-M0 instructions (qemu -icount), average and worst, on a 20,000-ISR recording of
@@ -167,9 +167,12 @@ for f in "$root"/firmware/dtc/*.c "$root"/firmware/fixmath/*.c "$root"/firmware/
     -fdata-sections -Os -DNDEBUG -fstack-usage -fcallgraph-info=su \
     -I"$root/firmware/dtc" -I"$root/firmware/fixmath" -I"$root/firmware/app" -I"$root/hal/include" $lawdefs -c "$f" -o "$tmp/$(basename "$f" .c).o"
 done
+# Every law's chain: <= 224 bytes (issue 34's target, reached); law_step's, the dispatch over
+# every law: <= 256 (224 not reached: 8 bytes of its own over dtc_step's chain).
 for fn in dtc_step im_dtc_step im_sfvc_step im_dfoc_step im_dsvm_step itc_step law_step; do
   echo "  -- $fn"
-  "$py" "$root/tools/bench/stack_report.py" $fn "$tmp" "$(arm-none-eabi-gcc -mcpu=cortex-m0 -mthumb -print-libgcc-file-name)"
+  lim=224; [ $fn = law_step ] && lim=256
+  "$py" "$root/tools/bench/stack_report.py" $fn "$tmp" "$(arm-none-eabi-gcc -mcpu=cortex-m0 -mthumb -print-libgcc-file-name)" $lim
 done
 
 echo

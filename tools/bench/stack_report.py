@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Worst-case stack of the DTC control path from GCC's -fcallgraph-info=su graphs (.ci files).
 
-usage: stack_report.py ROOT_FUNCTION DIR_WITH_CI_FILES [LIBGCC_A]
+usage: stack_report.py ROOT_FUNCTION DIR_WITH_CI_FILES [LIBGCC_A [TARGET_BYTES]]
 
 Each function's own frame comes from the graph ("N bytes (static)"); the worst path from the
 root is own frame + the deepest callee chain. Library helpers (__aeabi_*) have no graph node:
@@ -14,6 +14,7 @@ import sys
 
 root, cidir = sys.argv[1], sys.argv[2]
 libgcc = sys.argv[3] if len(sys.argv) > 3 else None
+target = int(sys.argv[4]) if len(sys.argv) > 4 else 256
 
 frames, edges, kinds = {}, {}, {}
 node_re = re.compile(r'node: \{ title: "([^"]+)" label: "([^"]*)"')
@@ -84,7 +85,7 @@ for f in path:
     name = f.split(":")[-1]
     src = "libgcc" if f in builtins else kinds.get(f, "?")
     print("  %-28s %4d bytes (%s)" % (name, frame_of(f), src))
-print("  worst-case total from %s: %d bytes (target <= 256)" % (root, total))
+print("  worst-case total from %s: %d bytes (target <= %d)" % (root, total, target))
 unknown = [b for b, v in builtins.items() if v is None]
 if unknown:
     print("  note: frames not found for", ", ".join(unknown), "(counted as 0)")
