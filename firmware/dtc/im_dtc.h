@@ -209,7 +209,11 @@ typedef struct {
      * 1 while the estimator's rotor-flux reference follows the current model's rotor flux
      * (magn_psir_iq, im_dtc_fstp.c im_fstp_psir_fall) */
     uint16_t psir_fall;
-    iq_t vb_max_iq;       /* phase A' open: V_dc / sqrt3, the beta vectors' length (im_dtc_fstp.c), pu */
+    /* while phase A' is open after the reconfiguration (im_dtc_fstp.c), pu: V_dc / sqrt3, the
+     * beta vectors' length (Hoang Table I), and the shorter alpha vector on the measured
+     * mid-point, (2/3) min(V_mid, V_dc - V_mid) */
+    iq_t vb_max_iq;
+    iq_t va_min_iq;
 } im_dtc_t;
 
 /* The IM laws' configuration check (im_dtc_check.c): the common part, then one of the laws

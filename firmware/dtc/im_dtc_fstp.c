@@ -80,7 +80,15 @@ void im_dtc_estimate_fstp(im_dtc_t *c, const dtc_meas_t *m)
          * products, saturating sums */
         in->v_alpha_iq =
             fix_neg32(fix_add32(iq_mpy(c->rr_lr_iq, c->est.x_alpha_iq), iq_mpy(c->speed_iq, c->est.x_beta_iq)));
-        c->vb_max_iq = q31_mul(FIX_Q31_INV_SQRT3, m->vdc_iq); /* V_dc / sqrt3 */
+        {
+            /* Hoang Table I with v_a0 = V_mid: V_2, V_4 = +-V_dc/sqrt3 along beta, V_1 = (2/3) V_mid
+             * and V_3 = -(2/3)(V_dc - V_mid) along alpha, V_mid the measured lower capacitor
+             * (V_dc/2 when it is not measured); 1/sqrt3 and 2/3 in Q31 */
+            const iq_t lo = cfg->board.fstp_vmid_measured != 0U ? m->vmid_iq : fix_rshift_rnd32(m->vdc_iq, 1U);
+            const iq_t hi = iq_sub(m->vdc_iq, lo);
+            c->vb_max_iq = q31_mul(FIX_Q31_INV_SQRT3, m->vdc_iq);
+            c->va_min_iq = q31_mul((q31_t)1431655765L, lo < hi ? lo : hi);
+        }
     }
     im_vcomp(c, 0U, c->legs_2.sb, c->legs_2.sc, 1U);
     in->v_alpha_iq = fix_add32(in->v_alpha_iq, c->dva_iq);
@@ -126,10 +134,38 @@ void im_fstp_psir_fall(im_dtc_t *c)
     }
 }
 
+/* Phase A' open, before the relay's closing: the stator flux that the FSTP turns at the speed.
+ * Once A' is tied to the mid-point the flux turns near the beta axis by the alpha vectors alone
+ * (Hoang Table I: V_1, V_3 along alpha, V_a the shorter, va_min_iq), at most at |V_a| / |phi_s|: a flux with
+ * |phi_s| w > |V_a| falls behind the rotor's there, and Hoang Table II's flux-lowering vector at a
+ * quadrant's start is radial, which stops it while the rotor's turns (SIL, 4 kW IM at 1000 rpm,
+ * leg B: |phi_s| 0.61 Wb at the closing, 0.47 Wb turned, the torque -18 to -26 N*m for 2 ms). The
+ * excess is sigma l_s i_beta of the interval's current (Casadei eq. 21, phi_s = sigma l_s i + x,
+ * phi_s,alpha = x_alpha while i_alpha = 0), which the beta vector against the current takes down
+ * at V_dc/sqrt3 / (sigma l_s) (vb_max_iq): the largest current the limit allows within
+ * t_w = sigma l_s I_lim / (V_dc/sqrt3). So from t_w before the relay's nominal closing (its time
+ * is relay_periods / 1.5, the host's margin: im_dtc_reconfigure; 3 open_wait - relay_periods is
+ * three times the periods left to it) a flux with |phi_s w|^2 > V_a^2 takes that vector. w is
+ * the rotor's electrical speed in use (the slip left out: the bound is a little above the
+ * stator flux's). Formats: IQ pu; the window as the exact 64-bit product of the periods (< 2^18)
+ * and Ts V_dc/sqrt3 / (sigma l_s) (ip_a_iq vb_max_iq, < 2^31) against 3 I_lim; the flux as Q48
+ * sums of squares of rounded IQ products. Returns 2 or 4, or 0 when the flux is within it. */
+static uint16_t im_open_turnable(const im_dtc_t *c, iq_t psi_a)
+{
+    if (((int64_t)c->open_wait * 3 - (int64_t)c->cfg->prot.relay_periods) * (int64_t)iq_mpy(c->ip_a_iq, c->vb_max_iq) <=
+            3 * (int64_t)c->il_p.i_lim_iq &&
+        iq_sumsq_q48(iq_mpy(psi_a, c->speed_iq), iq_mpy(c->est.psi_beta_iq, c->speed_iq)) >
+            iq_sumsq_q48(c->va_min_iq, 0)) {
+        return c->i.i_beta_iq >= 0 ? 4U : 2U;
+    }
+    return 0U;
+}
+
 /* Phase A' open (file comment): the vector of the torque by the beta voltage alone, V_2 (+beta)
  * where phi_s,alpha >= 0 and V_4 (-beta) where it is negative while the torque is to rise (up),
  * V_1 when it is to fall; but the beta current brought back towards zero, by the beta vector
- * against it, once it cannot be reversed before phi_s,alpha crosses zero. The torque is
+ * against it, near the relay's closing while the flux is beyond what the FSTP turns
+ * (im_open_turnable), and once it cannot be reversed before phi_s,alpha crosses zero. The torque is
  * phi_s,alpha i_beta (Hoang eq. 10 with i_alpha = 0): the current that the comparator builds
  * while phi_s,alpha is small gives little torque, and the same current after phi_s,alpha has
  * changed sign gives the opposite torque (SIL, 4 kW IM at 1000 rpm, leg C: the beta current at
@@ -147,12 +183,61 @@ void im_fstp_psir_fall(im_dtc_t *c)
 uint16_t im_open_vector(const im_dtc_t *c, iq_t psi_a, uint16_t up)
 {
     const iq_t ib = c->i.i_beta_iq, va = c->ein.v_alpha_iq;
+    const uint16_t down = im_open_turnable(c, psi_a);
+    if (down != 0U) {
+        return down;
+    }
     if ((psi_a >= 0) != (va >= 0) &&
         (int64_t)iq_mpy(c->cfg->u.im.machine.sigma_ls_iq, fix_abs32(ib)) * (int64_t)fix_abs32(va) >=
             (int64_t)fix_abs32(psi_a) * (int64_t)c->vb_max_iq) {
         return ib >= 0 ? 4U : 2U;
     }
     return up == 0U ? 1U : (psi_a >= 0 ? 2U : 4U);
+}
+
+/* From the reconfiguration until the machine's rotor flux has fallen to the FSTP's reference
+ * (psir_fall), with the torque to rise and T* > 0: of Hoang Table II's two torque-raising vectors
+ * of the quadrant (the rows (1,1) and (0,1)), the one that turns the stator flux forward faster,
+ * while the torque's relative error exceeds the flux's. The flux turns at (phi_s x V) / |phi_s|^2
+ * (Hoang eq. 10's cross product, d phi_s / dt = V), so the larger phi_s x V advances it more:
+ * V_1: -phi_b V_dc/3; V_2: phi_a V_dc/sqrt3; V_3: phi_b V_dc/3; V_4: -phi_a V_dc/sqrt3 (Hoang
+ * Table I on the measured V_dc; with the measured mid-point's alpha lengths, (2/3) V_mid and
+ * (2/3)(V_dc - V_mid), the 4 kW IM's leg B dipped 10.9 % instead of 9.4 % in SIL: the choice near
+ * the beta axis is sensitive to them, and the mid-point swings within the half-period the choice
+ * acts over, docs/reliability.md). The table's choice by the flux comparator alone takes the weaker of
+ * the two where the flux is at the FSTP's voltage limit: an alpha vector (V_dc/3, less 2/3 of the
+ * mid-point's swing) turns a flux of |phi_s| at most at |V_a| / |phi_s|, and where it is the
+ * flux-raising row's vector the flux holds its magnitude and lags the rotor's (SIL, 4 kW IM at
+ * 1000 rpm, leg A: 13-17 N*m against the load's 26.5 for 13 ms after the relay's closing, the
+ * flux on its reference; leg B: the flux-lowering row's V_4 radial at a quadrant's start, the
+ * flux stopped while the rotor's turns, -18 to -26 N*m). The relative errors:
+ *   | |phi_s|^2 - phi*^2 | / (2 phi*^2) < (T* - T) / T*
+ * (|phi_s|^2 - phi*^2 = (|phi_s| - phi*)(|phi_s| + phi*), about 2 phi* (|phi_s| - phi*)), compared
+ * as products of Q24 squares (the Q48 sums of squares >> 24, < 2^27) and IQ torques (< 2^31):
+ * below 2^59, exact. Once the flux's error is the larger the table's row by the flux comparator
+ * holds the flux. Returns that vector, or Hoang Table II's (swtab_fstp) otherwise; the common
+ * factor V_dc/sqrt3 left out (the comparison does not depend on it), fix_neg32 saturating. */
+uint16_t im_dtc_fstp_advance(const im_dtc_t *c, uint16_t sector, uint16_t flux_up, uint16_t up, iq_t te)
+{
+    const iq_t pa = c->est.psi_alpha_iq, pb = c->est.psi_beta_iq, dt = iq_sub(c->te_ref_iq, te);
+    const int64_t e2 = (int64_t)(iq_sumsq_q48(pa, pb) >> 24);
+    const int64_t r2 = (int64_t)(iq_sumsq_q48(c->psi_ref_iq, 0) >> 24);
+    /* phi_s x V over V_dc/sqrt3: the alpha vectors' 1/sqrt3 (Q31), the beta vectors' 1 */
+    const iq_t xa = q31_mul(FIX_Q31_INV_SQRT3, pb);
+    iq_t x[5];
+    uint16_t v11, v01;
+    if (up == 0U || c->te_ref_iq <= 0 || dt <= 0 ||
+        (e2 > r2 ? e2 - r2 : r2 - e2) * (int64_t)c->te_ref_iq >= 2 * r2 * (int64_t)dt) {
+        return swtab_fstp(sector, flux_up, up);
+    }
+    x[0] = 0;
+    x[1] = fix_neg32(xa);
+    x[2] = pa;
+    x[3] = xa;
+    x[4] = fix_neg32(pa);
+    v11 = swtab_fstp(sector, 1U, 1U);
+    v01 = swtab_fstp(sector, 0U, 1U);
+    return x[v11] >= x[v01] ? v11 : v01;
 }
 
 /* The flux comparator on |phi_s|^2, the two-level torque comparator, Hoang Table II on the
@@ -185,7 +270,7 @@ uint16_t im_dtc_select_fstp(im_dtc_t *c, iq_t te, dtc_out_t *o)
         o->torque_dem = 0;
         return im_ilim(c, flux_up != 0U || psi_b < 0 ? 2U : 4U);
     }
-    return im_ilim(c, swtab_fstp(sector, flux_up, up));
+    return im_ilim(c, c->psir_fall != 0U ? im_dtc_fstp_advance(c, sector, flux_up, up, te) : swtab_fstp(sector, flux_up, up));
 }
 
 void im_dtc_step_fstp(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)

@@ -79,6 +79,10 @@ void im_fstp_psir_fall(im_dtc_t *c);
 /* The vector while phase A' is open after a leg failure (im_dtc_fstp.c), out of line for the
  * stack. */
 uint16_t im_open_vector(const im_dtc_t *c, iq_t psi_a, uint16_t up);
+/* From the reconfiguration while the rotor flux falls: the torque-raising vector of the quadrant
+ * that advances the flux more, or Hoang Table II's (im_dtc_fstp.c); out of line so that the
+ * four-switch step of a drive that has not reconfigured carries none of it. */
+uint16_t im_dtc_fstp_advance(const im_dtc_t *c, uint16_t sector, uint16_t flux_up, uint16_t up, iq_t te);
 
 /* Speed every speed_div-th period, as in the PM law (im_dtc_speed_tick: the encoder's or the
  * sensorless speed, the speed PI); the model's supervision once per speed period in a step that
