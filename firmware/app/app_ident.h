@@ -274,4 +274,31 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg);
 /* The drive's protection tripped during the identification: stop, APP_IDENT_FAIL_TRIP. */
 void app_ident_abort(app_ident_t *d);
 
+/* Why applying the identification's results was refused (app_ident_derive, app_ident_apply). */
+enum app_ident_apply_err {
+    APP_IDENT_APPLY_OK = 0,
+    APP_IDENT_APPLY_NOT_DONE = 1, /* no finished identification (step is not APP_IDENT_DONE) */
+    APP_IDENT_APPLY_ARMED = 2,    /* the drive is armed or identifying */
+    APP_IDENT_APPLY_LAW = 3,      /* the configuration in force is not the PM DTC law, or the
+                                   * identification was an induction machine's (not applied) */
+    APP_IDENT_APPLY_RS = 4,       /* the R line's slope not above the board's R_on: R_s <= 0 */
+    APP_IDENT_APPLY_LS = 5,       /* L_s below 1/128 pu (1 / L_s beyond IQ) or above the IQ range */
+    APP_IDENT_APPLY_ENCODER = 6,  /* the encoder gain p 2^32 / enc_counts beyond its row */
+    APP_IDENT_APPLY_DEADTIME = 7, /* the dead time from V_0 at or above half a period, or no V_dc */
+    APP_IDENT_APPLY_CHECK = 8     /* the law's check (law_check) refused the copy (detail: its
+                                   * enum dtc_err code) */
+};
+
+/* Background: the finished PM identification d written into out, a copy of in (the configuration
+ * in force), with the rows derived from it (app_ident_apply.c lists them, their formats and
+ * rounding). Returns APP_IDENT_APPLY_OK or why not (out then partly written: discard it). No law
+ * check: the caller's. */
+int16_t app_ident_derive(const app_ident_t *d, const dtc_config_t *in, dtc_config_t *out);
+
+/* Background, disarmed: the identification's results (app_get_ident) into a copy of the
+ * configuration in force (app_ident_derive), checked by law_check and made the configuration in
+ * force (app_reconfigure: calibration, then READY). Returns enum app_ident_apply_err, *detail the
+ * check's enum dtc_err code for APP_IDENT_APPLY_CHECK. */
+int16_t app_ident_apply(int16_t *detail);
+
 #endif /* APP_IDENT_H */

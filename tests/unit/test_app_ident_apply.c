@@ -1,0 +1,215 @@
+/*
+ * test_app_ident_apply.c - the identification's results into the configuration
+ * (firmware/app/app_ident_apply.c app_ident_derive) against double precision: a finished PM
+ * identification is made from a machine's SI values (app_ident.h formats), the configuration in
+ * force from the same machine 30 % off; each derived row is compared with the exact double of its
+ * formula on the same raw inputs (the rounding) and with the host converter's value for the true
+ * machine (dtc_config_from_si: the quantisation of the inputs), and the result passes the law's
+ * check. The refusals are named.
+ */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "app_ident.h"
+#include "dtc_config_si.h"
+#include "law.h"
+
+#define IQ1 16777216.0
+#define PI 3.14159265358979323846
+
+static dtc_config_si_t g_si;  /* the true machine */
+static dtc_config_t g_ref;    /* the host converter's configuration of the true machine */
+static dtc_config_t g_in;     /* the configuration in force: R_s, L_s, psi_m, T_d 30 % off */
+static dtc_config_t g_out;
+static app_ident_t g_d;
+static dtc_bases_t g_b;
+
+static int32_t iq_of(double x) { return (int32_t)lround(x * IQ1); }
+
+/* The configuration from si, failing the test when the converter refuses it. */
+static void convert(const dtc_config_si_t *si, dtc_config_t *cfg)
+{
+    char msg[256];
+    if (dtc_config_from_si(si, cfg, msg, sizeof msg) != DTC_SI_OK) {
+        fail_msg("configuration refused: %s", msg);
+    }
+}
+
+/* A finished identification of the machine g_si on topology topo, offset off_e (electrical rad at
+ * raw count 0) and direction rev, as app_ident_results.c leaves it (app_ident.h units). */
+static void setup(int topo, double off_e, int rev)
+{
+    dtc_config_si_t wrong;
+    double ts, z_b, g, v0;
+    dtc_config_si_defaults(&g_si);
+    ts = g_si.ts_s;
+    g_si.topology = topo;
+    if (topo == DTC_TOPO_SSTP) {
+        g_si.compensation = DTC_COMP_SSTP;
+    }
+    g_si.enc_offset_rad = off_e;
+    g_si.enc_reversed = rev;
+    convert(&g_si, &g_ref);
+    dtc_bases_from_si(&g_si, &g_b);
+    wrong = g_si;
+    wrong.rs_ohm *= 1.3;
+    wrong.ls_h *= 0.7;
+    wrong.psi_m_wb *= 1.3;
+    wrong.dead_time_s *= 0.7;
+    wrong.enc_offset_rad = 0.0;
+    wrong.enc_reversed = 0;
+    convert(&wrong, &g_in);
+    memset(&g_d, 0, sizeof g_d);
+    z_b = g_b.z_base_ohm;
+    g_d.step = APP_IDENT_DONE;
+    g_d.res.axis = topo == DTC_TOPO_FSTP ? 16384U : 0U;
+    g_d.res.r_iq = iq_of((g_si.rs_ohm + g_si.r_on_ohm) / z_b);
+    g_d.res.l_ts_iq = iq_of(g_si.ls_h / (z_b * ts));
+    g_d.res.psi_iq = iq_of(g_si.psi_m_wb / g_b.psi_base_wb);
+    /* V_0 = g (V_CE + V_d + 2 V_dc T_d / T_s) (docs/commissioning.md section 1) */
+    g = topo == DTC_TOPO_FSTP ? 1.0 / sqrt(3.0) : 2.0 / 3.0;
+    v0 = g * (g_si.v_ce_v + g_si.v_d_v + 2.0 * g_si.vdc_v * g_si.dead_time_s / ts);
+    g_d.res.v0_iq = iq_of(v0 / g_b.v_base_v);
+    g_d.vdc_iq = iq_of(g_si.vdc_v / g_b.v_base_v);
+    g_d.res.pole_pairs = (uint16_t)g_si.pole_pairs;
+    g_d.res.enc_reversed = (uint16_t)rev;
+    {
+        double t = off_e / (2.0 * PI);
+        t -= floor(t);
+        g_d.res.enc_offset = (angle_t)((uint32_t)lround(t * 65536.0) & 0xFFFFU);
+    }
+}
+
+/* Each derived row against its formula in double on the same raw inputs, and against the host
+ * converter's value of the true machine. */
+static void check_rows(void)
+{
+    const double ls_raw = (double)g_d.res.l_ts_iq * (double)g_in.board.ts_pu_iq / IQ1;
+    const double n = (double)g_in.board.enc_counts;
+    const double gain = ldexp((double)g_d.res.pole_pairs, 32) / n;
+    const char *f = NULL;
+    int16_t rc;
+    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
+    rc = law_check(&g_out, &f);
+    if (rc != 0) {
+        fail_msg("law_check refused the applied configuration: %d (%s)", rc, f != NULL ? f : "");
+    }
+    /* R_s: the slope less R_on, exact; the converter's within the inputs' rounding */
+    assert_int_equal(g_out.machine.rs_iq, g_d.res.r_iq - g_in.board.r_on_iq);
+    assert_true(labs((long)g_out.machine.rs_iq - (long)g_ref.machine.rs_iq) <= 2L);
+    /* L_s: the product rounded to nearest */
+    assert_true(fabs((double)g_out.u.pm_dtc.machine.ls_iq - ls_raw) <= 0.5);
+    /* the converter's L_s within ts_pu_iq's quantisation (half an LSB of ~2.6e5: 2e-6) plus l_ts's */
+    assert_true(fabs((double)g_out.u.pm_dtc.machine.ls_iq / (double)g_ref.u.pm_dtc.machine.ls_iq - 1.0) < 4e-6);
+    /* 1 / L_s: 2^48 / ls rounded to nearest */
+    assert_true(fabs((double)g_out.u.pm_dtc.machine.inv_ls_iq - ldexp(1.0, 48) / (double)g_out.u.pm_dtc.machine.ls_iq) <= 0.5);
+    assert_true(fabs((double)g_out.u.pm_dtc.machine.inv_ls_iq / (double)g_ref.u.pm_dtc.machine.inv_ls_iq - 1.0) < 4e-6);
+    /* psi_m: the identified value itself */
+    assert_int_equal(g_out.u.pm_dtc.machine.psi_m_iq, g_d.res.psi_iq);
+    assert_true(labs((long)g_out.u.pm_dtc.machine.psi_m_iq - (long)g_ref.u.pm_dtc.machine.psi_m_iq) <= 1L);
+    /* pole pairs and the encoder gain: p 2^32 / N rounded to nearest, the converter's exactly */
+    assert_int_equal(g_out.machine.pole_pairs, g_ref.machine.pole_pairs);
+    assert_true(fabs((double)g_out.board.enc_gain_q16 - gain) <= 0.5);
+    assert_int_equal(g_out.board.enc_gain_q16, g_ref.board.enc_gain_q16);
+    /* direction and offset as the converter writes them for the true offset (one LSB: the offset's
+     * own rounding into res.enc_offset) */
+    assert_int_equal(g_out.board.enc_reversed, g_ref.board.enc_reversed);
+    assert_true(abs((int)(int16_t)(uint16_t)(g_out.board.enc_offset - g_ref.board.enc_offset)) <= 1);
+    /* dead time over the period, Q15: the converter's within one LSB */
+    assert_true(abs((int)g_out.board.td_ts_q15 - (int)g_ref.board.td_ts_q15) <= 1);
+    /* the rows not identified are those in force */
+    assert_int_equal(g_out.board.v_ce_iq, g_in.board.v_ce_iq);
+    assert_int_equal(g_out.board.r_on_iq, g_in.board.r_on_iq);
+    assert_int_equal(g_out.speed.kp_iq, g_in.speed.kp_iq);
+}
+
+static void test_fstp_forward(void **state)
+{
+    (void)state;
+    setup(DTC_TOPO_FSTP, 1.0, 0);
+    check_rows();
+}
+
+static void test_sstp_reversed(void **state)
+{
+    (void)state;
+    setup(DTC_TOPO_SSTP, -2.5 + 2.0 * PI, 1);
+    check_rows();
+}
+
+/* The identification sees the count the configuration's direction gives it (app_core_step): on a
+ * configuration with the encoder reversed, a count found running down means the raw count runs
+ * forward. */
+static void test_reversed_in_force(void **state)
+{
+    (void)state;
+    setup(DTC_TOPO_SSTP, 0.7, 1);
+    g_in.board.enc_reversed = 1U;
+    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
+    assert_int_equal(g_out.board.enc_reversed, 0U);
+    g_d.res.enc_reversed = 0U;
+    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
+    assert_int_equal(g_out.board.enc_reversed, 1U);
+    assert_int_equal(g_out.board.enc_offset, g_d.res.enc_offset);
+}
+
+/* Another pole-pair count: the gain p 2^32 / N for p = 4. */
+static void test_pole_pairs(void **state)
+{
+    (void)state;
+    setup(DTC_TOPO_SSTP, 0.3, 0);
+    g_d.res.pole_pairs = 4U;
+    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
+    assert_int_equal(g_out.machine.pole_pairs, 4U);
+    assert_true(fabs((double)g_out.board.enc_gain_q16 - ldexp(4.0, 32) / (double)g_in.board.enc_counts) <= 0.5);
+}
+
+/* The dead time: a negative result (V_0 below the thresholds) is 0; half a period is refused. */
+static void test_dead_time_bounds(void **state)
+{
+    (void)state;
+    setup(DTC_TOPO_FSTP, 0.0, 0);
+    g_d.res.v0_iq = 0;
+    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
+    assert_int_equal(g_out.board.td_ts_q15, 0);
+    g_d.res.v0_iq = iq_of(0.6); /* 0.6 sqrt(3) / 2 > 1/2 of a period */
+    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_DEADTIME);
+}
+
+static void test_refusals(void **state)
+{
+    (void)state;
+    setup(DTC_TOPO_SSTP, 0.0, 0);
+    g_d.step = APP_IDENT_SPIN;
+    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_NOT_DONE);
+    g_d.step = APP_IDENT_FAILED;
+    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_NOT_DONE);
+    g_d.step = APP_IDENT_DONE;
+    g_d.im_on = 1U;
+    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_LAW);
+    g_d.im_on = 0U;
+    g_in.law = DTC_LAW_IM_DTC;
+    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_LAW);
+    g_in.law = DTC_LAW_PM_DTC;
+    g_d.res.r_iq = g_in.board.r_on_iq;
+    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_RS);
+    setup(DTC_TOPO_SSTP, 0.0, 0);
+    g_d.res.l_ts_iq = 1;
+    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_LS);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_fstp_forward),     cmocka_unit_test(test_sstp_reversed),
+        cmocka_unit_test(test_reversed_in_force), cmocka_unit_test(test_pole_pairs),
+        cmocka_unit_test(test_dead_time_bounds), cmocka_unit_test(test_refusals),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
