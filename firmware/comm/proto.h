@@ -163,6 +163,18 @@ enum proto_cmd {
      *          magnetising current, pu) (app_ident_im.h; 0 on a PM machine)
      *   PROTO_ERR_RANGE for another sub. */
     PROTO_IDENTIFY = 0x70,
+    /* IDENT_APPLY: the finished identification's results into the parameters in force (app_ident.h
+     * app_ident_apply: R_s, L_s and 1/L_s, psi_m, pole pairs with the encoder gain, the encoder's
+     * direction and offset, the dead time; a PM DTC configuration only), checked by its law's check
+     * and applied as a PARAM_WRITE is while disarmed (calibration, then READY); PARAMS_SAVE stores
+     * them. Disarmed only.   request: empty    response: 0 u16 rows written (enum
+     * app_ident_apply_err APP_IDENT_APPLY_OK: the count of configuration rows whose value changed)
+     *   errors: PROTO_ERR_ARMED; PROTO_ERR_STATE (detail APP_IDENT_APPLY_NOT_DONE: no finished
+     *   identification); PROTO_ERR_REFUSED (detail PROTO_REFUSE_LAW: not a PM DTC configuration or
+     *   an induction machine's identification); PROTO_ERR_RANGE (detail: enum app_ident_apply_err
+     *   APP_IDENT_APPLY_RS .. APP_IDENT_APPLY_DEADTIME, a derived value outside its row, positive;
+     *   or the law's check's enum dtc_err code, negative). */
+    PROTO_IDENT_APPLY = 0x71,
 
     /* ERROR (drive -> host): the request was not carried out.
      *   0 u16 request_cmd  2 u16 code (enum proto_err)  4 i16 detail */
@@ -228,6 +240,7 @@ enum proto_base {
 /* PARAM_DESC flags. */
 #define PROTO_PARAM_READ_ONLY 0x0001u     /* a measured or derived value (e.g. the bases) */
 #define PROTO_PARAM_DISARMED_ONLY 0x0002u /* writing it while armed is refused (PROTO_ERR_ARMED) */
-#define PROTO_PARAM_STORED 0x0004u        /* part of the stored set (PARAMS_SAVE) */
+#define PROTO_PARAM_STORED 0x0004u        /* part of the stored set (PARAMS_SAVE); with READ_ONLY: a
+                                           * derived row IDENT_APPLY writes */
 
 #endif /* PROTO_H */

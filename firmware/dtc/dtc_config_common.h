@@ -308,11 +308,11 @@ typedef struct {
     X(13, board.r_on_iq, IQ, Z, 0, DTC_I32_MAX, DTC_ERR_DROP, 0U, "device on-state resistance R_on (Hoang eqs. 37-38)")\
     X(14, board.enc_counts, U16, NONE, 4, 65535, DTC_ERR_ENCODER, DTC_PARAM_RO,                    \
       "encoder counts per mechanical turn (4 x lines)")                                            \
-    X(15, board.enc_gain_q16, U32, NONE, 1, DTC_I32_MAX, DTC_ERR_ENCODER, DTC_PARAM_RO,            \
+    X(15, board.enc_gain_q16, U32, NONE, 1, DTC_I32_MAX, DTC_ERR_ENCODER, DTC_PARAM_RO | DTC_PARAM_STORED,\
       "electrical angle per count, Q16 angle LSB: 65536 p / counts (at least 3 counts per electrical turn)")\
     X(16, board.enc_offset, ANGLE, ANGLE, 0, 65535, DTC_ERR_ENCODER, 0U,                           \
       "electrical angle at encoder count 0 (encoder-to-magnet offset)")                            \
-    X(27, board.enc_reversed, U16, NONE, 0, 1, DTC_ERR_ENCODER, DTC_PARAM_RO,                      \
+    X(27, board.enc_reversed, U16, NONE, 0, 1, DTC_ERR_ENCODER, DTC_PARAM_RO | DTC_PARAM_STORED,\
       "1: the count runs down for forward rotation of the field; the app reads counts - 1 - count")\
     X(17, board.adc_i_gain_iq, IQ, A_COUNT, 1, DTC_I32_MAX, DTC_ERR_ADC, DTC_PARAM_RO, "phase current per ADC count")\
     X(18, board.adc_i_offset[0], U16, NONE, 0, 4095, DTC_ERR_ADC, 0U, "phase A current ADC count at zero current")\
@@ -349,7 +349,7 @@ typedef struct {
       "1: measured currents checked against the law's prediction (stuck sensor)")                  \
     X(41, prot.overspeed_iq, IQ, W, 0, DTC_I32_MAX, DTC_ERR_LIMIT, 0U,                             \
       "overspeed trip, electrical speed above the speed limit; 0 = off")                           \
-    X(45, machine.pole_pairs, U16, NONE, 1, 65535, DTC_ERR_ENCODER, DTC_PARAM_RO, "pole pairs p")  \
+    X(45, machine.pole_pairs, U16, NONE, 1, 65535, DTC_ERR_ENCODER, DTC_PARAM_RO | DTC_PARAM_STORED, "pole pairs p")\
     X(46, machine.rs_iq, IQ, Z, 0, DTC_I32_MAX, DTC_ERR_MACHINE, 0U, "stator resistance R_s")      \
     X(50, est.estimator, U16, NONE, 0, DTC_EST_IMPROVED, DTC_ERR_VARIANT, 0U,                      \
       "flux estimator: 0 voltage model, 1 current model (PM), 2 improved (IM, Casadei eqs. 20-22)")\

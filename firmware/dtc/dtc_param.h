@@ -18,7 +18,8 @@
  *   err    enum dtc_err returned when the value is outside [lo, hi]
  *   flags  DTC_PARAM_RO (derived from other values, or a fact of the board: written only by the
  *          host converter), DTC_PARAM_LIVE (may be changed while the drive runs), or 0 (writable
- *          while the drive is disarmed)
+ *          while the drive is disarmed); DTC_PARAM_RO | DTC_PARAM_STORED: derived, written by the
+ *          identification's apply and kept in the stored set
  *   text   one line of meaning (kept in the image only where DTC_PARAM_TEXT is 1)
  *
  * What derives from it: each part's plain range check at init (dtc_param_check_rows, called by
@@ -90,6 +91,10 @@ enum dtc_param_qty {
 
 #define DTC_PARAM_RO 1U   /* derived or a board fact: not writable by id */
 #define DTC_PARAM_LIVE 2U /* may be written while the drive runs */
+/* With DTC_PARAM_RO: a derived row the identification writes with the rows it derives from
+ * (app_ident_apply.c), kept in the stored parameter set (PARAMS_SAVE) so that a restart keeps it;
+ * still not writable by id. */
+#define DTC_PARAM_STORED 4U
 
 /* The configuration's parts a row belongs to. */
 enum dtc_param_part {
@@ -107,7 +112,7 @@ typedef struct {
     unsigned fmt : 3;     /* enum dtc_param_fmt */
     unsigned qty : 5;     /* enum dtc_param_qty */
     unsigned part : 2;    /* enum dtc_param_part */
-    unsigned flags : 2;   /* DTC_PARAM_RO, DTC_PARAM_LIVE */
+    unsigned flags : 3;   /* DTC_PARAM_RO, DTC_PARAM_LIVE, DTC_PARAM_STORED */
     int16_t err;          /* enum dtc_err */
     int32_t lo, hi;       /* inclusive raw range; U32 rows within 0 .. 2^31 - 1 */
     const char *name;     /* the path, e.g. "speed.kp_iq" */

@@ -96,9 +96,10 @@ typedef struct {
       "FSTP mid-point regulation gain; 0 = off")                                                              \
     X(114, u.pm_dtc.est.vmid_beta_s_iq, IQ, PU, 0, DTC_I32_MAX, DTC_ERR_DCSUPP, DTC_PARAM_RO,                 \
       "FSTP restoring mid-point reconstruction gain; 0 = off")                                                \
-    X(115, u.pm_dtc.machine.ls_iq, IQ, L, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO,                      \
+    X(115, u.pm_dtc.machine.ls_iq, IQ, L, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO | DTC_PARAM_STORED,                     \
       "synchronous inductance L_s (1/L_s is derived with it)")                                                \
     X(116, u.pm_dtc.machine.psi_m_iq, IQ, PSI, 1, DTC_I32_MAX, DTC_ERR_MACHINE, 0U, "magnet flux linkage psi_m") \
-    X(117, u.pm_dtc.machine.inv_ls_iq, IQ, INV_L, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO, "1 / L_s")
+    X(117, u.pm_dtc.machine.inv_ls_iq, IQ, INV_L, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO | DTC_PARAM_STORED, \
+      "1 / L_s")
 
 #endif /* PM_DTC_CFG_H */

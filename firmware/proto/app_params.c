@@ -9,8 +9,9 @@
  * live row (DTC_PARAM_LIVE) is written, through the shadow set (app_config_live). Background only.
  *
  * Stored parameters (PARAMS_SAVE, PARAMS_RESTORE, app_params_boot; store.h): the set is every
- * writable configuration row's raw value (two words, low first) in table order, then the
- * application's rows; its layout version is the table's hash (app_param_table_hash), so a set
+ * writable configuration row's and every stored derived row's (DTC_PARAM_STORED: those the
+ * identification's apply writes, app_ident_apply.c) raw value (two words, low first) in table
+ * order, then the application's rows; its layout version is the table's hash (app_param_table_hash), so a set
  * written by another table is never loaded. A stored set is loaded row by row into a copy of the
  * compiled-in configuration (each value range-checked by its row) and the copy checked by its
  * law's check: a set that fails either is not used.
@@ -44,6 +45,12 @@ static const app_param_t k_app_params[] = {APP_PARAM_LIST(APP_PARAM_ROW_)};
 #define APP_PARAM_N ((uint16_t)(sizeof k_app_params / sizeof k_app_params[0]))
 
 static dtc_config_t g_copy; /* background only: the configuration being changed */
+
+/* 1 when row p is in the stored set: writable, or derived and marked stored. */
+static uint16_t row_stored(const dtc_param_t *p)
+{
+    return (p->flags & DTC_PARAM_RO) == 0U || (p->flags & DTC_PARAM_STORED) != 0U ? 1U : 0U;
+}
 
 /* PARAM_DESC's base (enum proto_base) of a configuration row's quantity (enum dtc_param_qty). */
 static uint16_t qty_base(uint16_t qty)
@@ -210,6 +217,9 @@ static void do_desc(const frame_t *rq, frame_t *rs)
         }
         if ((p->flags & DTC_PARAM_RO) != 0U) {
             flags |= PROTO_PARAM_READ_ONLY;
+            if ((p->flags & DTC_PARAM_STORED) != 0U) {
+                flags |= PROTO_PARAM_STORED;
+            }
         } else {
             flags |= PROTO_PARAM_STORED;
             if ((p->flags & DTC_PARAM_LIVE) == 0U) {
@@ -356,7 +366,7 @@ static uint16_t serialize(const dtc_config_t *cfg, uint16_t ms, uint16_t *w)
     for (i = 0U; i < cfg_rows(); i++) {
         const dtc_param_t *p = cfg_row(i);
         int32_t raw = 0;
-        if ((p->flags & DTC_PARAM_RO) != 0U) {
+        if (row_stored(p) == 0U) {
             continue;
         }
         if (n + 2U > APP_STORE_WORDS) {
@@ -384,13 +394,16 @@ static int16_t deserialize(const uint16_t *w, dtc_config_t *cfg, uint16_t *ms)
         const dtc_param_t *p = cfg_row(i);
         int32_t now = 0;
         const int32_t raw = get_raw(&w[n]);
-        if ((p->flags & DTC_PARAM_RO) != 0U) {
+        if (row_stored(p) == 0U) {
             continue;
         }
         n = (uint16_t)(n + 2U);
         (void)dtc_param_get(cfg, p, &now);
         if (raw != now) {
-            rc = dtc_param_set(cfg, p, raw);
+            /* a stored derived row is read-only by id: its range check and store directly */
+            const int64_t v = p->fmt == (uint16_t)DTC_PF_U32 ? (int64_t)(uint32_t)raw : (int64_t)raw;
+            rc = (p->flags & DTC_PARAM_RO) == 0U ? dtc_param_set(cfg, p, raw)
+                 : (dtc_param_in_range(p, v) != 0U && dtc_param_store(cfg, p, v) == 0 ? (int16_t)DTC_OK : p->err);
             if (rc != DTC_OK) {
                 return rc;
             }

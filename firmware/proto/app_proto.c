@@ -6,6 +6,7 @@
 #include "app.h"
 #include "app_proto_param.h"
 #include "capture.h"
+#include "dtc_params.h"
 #include "faultlog.h"
 #include "hal.h"
 #include "proto.h"
@@ -352,6 +353,54 @@ static void do_identify(const frame_t *rq, frame_t *rs)
     rs->len = 114U;
 }
 
+/* IDENT_APPLY (proto.h): the finished identification into the parameters in force. The rows whose
+ * value changed are counted against a copy of the configuration before (background). */
+static dtc_config_t g_before;
+
+static void do_ident_apply(const frame_t *rq, frame_t *rs)
+{
+    const dtc_config_t *c = app_config();
+    int16_t detail = 0;
+    int16_t rc;
+    uint16_t n = 0U, k;
+    if (c != NULL) {
+        g_before = *c;
+    }
+    rc = app_ident_apply(&detail);
+    switch (rc) {
+    case APP_IDENT_APPLY_OK:
+        break;
+    case APP_IDENT_APPLY_ARMED:
+        app_proto_error(rq, rs, PROTO_ERR_ARMED, 0);
+        return;
+    case APP_IDENT_APPLY_NOT_DONE:
+        app_proto_error(rq, rs, PROTO_ERR_STATE, rc);
+        return;
+    case APP_IDENT_APPLY_LAW:
+        app_proto_error(rq, rs, PROTO_ERR_REFUSED, PROTO_REFUSE_LAW);
+        return;
+    case APP_IDENT_APPLY_CHECK:
+        app_proto_error(rq, rs, PROTO_ERR_RANGE, detail);
+        return;
+    default:
+        app_proto_error(rq, rs, PROTO_ERR_RANGE, rc);
+        return;
+    }
+    c = app_config();
+    if (c != NULL) {
+        const dtc_param_list_t *l = dtc_param_law_list(c->law);
+        const uint16_t n_law = l != NULL ? l->n : 0U;
+        for (k = 0U; k < dtc_params_common.n + n_law; k++) {
+            const dtc_param_t *p = k < dtc_params_common.n ? &dtc_params_common.rows[k] : &l->rows[k - dtc_params_common.n];
+            if (dtc_param_raw(c, p) != dtc_param_raw(&g_before, p)) {
+                n++;
+            }
+        }
+    }
+    frame_put_u16(&rs->payload[0], n);
+    rs->len = 2U;
+}
+
 static void do_telemetry_start(app_proto_t *p, const frame_t *rq, frame_t *rs)
 {
     uint16_t k;
@@ -398,6 +447,7 @@ static uint16_t min_len(uint16_t cmd)
     case PROTO_CAPTURE_STATUS:
     case PROTO_CAPTURE_STOP:
     case PROTO_PARAMS_SAVE:
+    case PROTO_IDENT_APPLY:
         return 0U;
     case PROTO_PARAM_DESC:
     case PROTO_PARAM_READ:
@@ -489,6 +539,9 @@ void app_proto_handle(app_proto_t *p, const frame_t *rq, frame_t *rs)
         break;
     case PROTO_IDENTIFY:
         do_identify(rq, rs);
+        break;
+    case PROTO_IDENT_APPLY:
+        do_ident_apply(rq, rs);
         break;
     default: /* the parameter commands, save and restore */
         app_proto_param(p, rq, rs);

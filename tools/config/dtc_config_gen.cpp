@@ -89,9 +89,10 @@ std::string emit_params_md(std::FILE* f)
         "The id is the serial protocol's and never changes meaning. The range is of the stored raw value\n"
         "(the format's integer); the unit is what the per-unit value becomes with the board's bases\n"
         "(`firmware/dtc/dtc_base.h`). Flags: `RO` derived from other values or fixed by the board (written\n"
-        "by the host converter only), `live` may be written while the drive runs; the others while it is\n"
-        "disarmed. The firmware's checks refuse a value outside its range with the code given\n"
-        "(`enum dtc_err`); relations between fields are checked in code.\n";
+        "by the host converter only; `RO, stored`: derived, also written by the identification's apply and\n"
+        "kept in the stored set, docs/commissioning.md), `live` may be written while the drive runs; the\n"
+        "others while it is disarmed. The firmware's checks refuse a value outside its range with the code\n"
+        "given (`enum dtc_err`); relations between fields are checked in code.\n";
     for (int l = 0; l < 4; l++) {
         out += std::string("\n## ") + part_name[l] + "\n\n| id | name | format | unit | raw range | code | flags | meaning |\n"
                "|---:|---|---|---|---|---:|---|---|\n";
@@ -103,7 +104,7 @@ std::string emit_params_md(std::FILE* f)
                           static_cast<unsigned>(p.id), p.name, fmt_name[p.fmt],
                           unit[0] != '\0' ? unit : (p.qty == DTC_PQ_PU ? "pu" : "-"), static_cast<long long>(p.lo),
                           static_cast<long long>(p.hi), static_cast<int>(p.err),
-                          (p.flags & DTC_PARAM_RO) != 0U ? "RO" : (p.flags & DTC_PARAM_LIVE) != 0U ? "live" : "",
+                          (p.flags & DTC_PARAM_RO) != 0U ? ((p.flags & DTC_PARAM_STORED) != 0U ? "RO, stored" : "RO") : (p.flags & DTC_PARAM_LIVE) != 0U ? "live" : "",
                           p.text);
             out += line;
         }

@@ -8,7 +8,7 @@
     dtc_console.py --port PATH params list | get NAME | set NAME VALUE | save | restore [stored|compiled]
                                       | export FILE
     dtc_console.py --port PATH capture --channels A,B.. --samples N --trigger SPEC --pre N --out DIR
-    dtc_console.py --port PATH identify [--json] [--out DIR]
+    dtc_console.py --port PATH identify [--json] [--out DIR] [--apply [--save]]
     dtc_console.py --port PATH watch
 
 PATH is a serial port, the link of `dtc-sil serve --serial PATH`, or an emulator's UART. Values
@@ -129,6 +129,8 @@ def cmd_capture(d, a):
 def cmd_identify(d, a):
     """The self-commissioning (docs/commissioning.md): start, wait, the results in SI; with --out
     DIR the same identified.toml and identification.json as `dtc-sil identify` writes."""
+    if a.save and not a.apply:
+        raise SystemExit2("usage: dtc_console.py --port PATH identify [--json] [--out DIR] [--apply [--save]]")
     try:
         st, res = d.identify(a.timeout)
         ok = True
@@ -182,6 +184,16 @@ def cmd_identify(d, a):
                                                    ", reversed" if res["encoder_reversed"] else ""))
     if not ok:
         raise err
+    if a.apply:
+        # the printed lines go to stderr under --json (stdout is the identification's JSON)
+        out = sys.stderr if a.json else sys.stdout
+        n, changed = d.identify_apply()
+        for name, was, now in changed:
+            print("applied %-28s %14.6g -> %.6g" % (name, was, now), file=out)
+        print("applied the identification: %d rows changed%s" % (n, "" if a.save else " (params save stores them)"),
+              file=out)
+        if a.save:
+            print("saved, copy %d" % d.save(), file=out)
 
 
 def cmd_watch(d, a):
@@ -227,6 +239,9 @@ def main(argv=None):
     s.add_argument("--json", action="store_true")
     s.add_argument("--out", help="write identified.toml and identification.json here")
     s.add_argument("--timeout", type=float, default=30.0, help="seconds to wait for the end (default 30)")
+    s.add_argument("--apply", action="store_true",
+                   help="after a successful identification, write its results into the parameters in force")
+    s.add_argument("--save", action="store_true", help="with --apply: store the parameters (params save)")
     s = sub.add_parser("watch", help="live status until Ctrl-C")
     s.add_argument("--interval", type=float, default=0.2)
     a = p.parse_args(argv)

@@ -56,6 +56,11 @@ STATE = {v: k.lower() for k, v in _enum(_CORE, "APP_STATE_").items()}
 IDENT_SUB = _enum(_PROTO, "PROTO_IDENT_", "proto_ident_sub")
 IDENT_STEP = {v: k.lower() for k, v in _enum(_IDENT, "APP_IDENT_", "app_ident_step").items()}
 IDENT_FAIL = {v: k.lower() for k, v in _enum(_IDENT, "APP_IDENT_FAIL_", "app_ident_fail").items()}
+APPLY_ERR = {v: k.lower() for k, v in _enum(_IDENT, "APP_IDENT_APPLY_", "app_ident_apply_err").items()}
+# The rows IDENT_APPLY writes on a PM DTC configuration (firmware/app/app_ident_apply.c).
+IDENT_APPLY_ROWS = ["machine.rs_iq", "u.pm_dtc.machine.ls_iq", "u.pm_dtc.machine.inv_ls_iq",
+                    "u.pm_dtc.machine.psi_m_iq", "machine.pole_pairs", "board.enc_gain_q16",
+                    "board.enc_reversed", "board.enc_offset", "board.td_ts_q15"]
 IDENT_QUANTITY = {v: k.lower() for k, v in _enum(_IDENT, "APP_IDENT_Q_", "app_ident_quantity").items()}
 FAULT = {int(m.group(2)): (m.group(3), m.group(1)) for m in
          re.finditer(r'X\((\w+), (\d+), "(\w+)", (\w+),', _FAULT)}
@@ -517,6 +522,23 @@ class Drive:
             raise DriveError("the identification failed in step %s: %s" % (st["fail_step"] if st["step"] == "failed"
                                                                            else st["step"], why), detail=(st, res))
         return st, res
+
+    def identify_apply(self):
+        """IDENT_APPLY (proto.h): the finished identification's results into the parameters in force
+        (app_ident_apply). Returns [(name, before, after)] in SI for the rows it may write
+        (IDENT_APPLY_ROWS) whose value changed; a refusal names its reason (app_ident_apply_err, or
+        the law check's dtc_err code)."""
+        before = {n: self.param_get(n) for n in IDENT_APPLY_ROWS}
+        try:
+            (n,) = struct.unpack_from("<H", self.request(CMD["IDENT_APPLY"]))
+        except DriveError as e:
+            if e.code in (ERR["STATE"], ERR["RANGE"]) and e.detail is not None:
+                why = APPLY_ERR.get(e.detail) if e.detail > 0 else "law check refused the result (dtc_err %d)" % e.detail
+                raise DriveError("%s: %s" % (e, why), e.code, e.detail) from None
+            raise
+        after = {k: self.param_get(k) for k in IDENT_APPLY_ROWS}
+        changed = [(k, before[k], after[k]) for k in IDENT_APPLY_ROWS if after[k] != before[k]]
+        return n, changed
 
     def save(self):
         (seq,) = struct.unpack_from("<I", self.request(CMD["PARAMS_SAVE"]))
