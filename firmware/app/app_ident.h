@@ -297,8 +297,9 @@ int16_t app_ident_derive(const app_ident_t *d, const dtc_config_t *in, dtc_confi
 
 /* Background, disarmed: the identification's results (app_get_ident) into a copy of the
  * configuration in force (app_ident_derive), checked by law_check and made the configuration in
- * force (app_reconfigure: calibration, then READY). Returns enum app_ident_apply_err, *detail the
- * check's enum dtc_err code for APP_IDENT_APPLY_CHECK. */
-int16_t app_ident_apply(int16_t *detail);
+ * force (app_reconfigure: calibration, then READY). Returns enum app_ident_apply_err; *changed the
+ * configuration rows whose value changed (0 unless applied), *detail the check's enum dtc_err code
+ * for APP_IDENT_APPLY_CHECK. */
+int16_t app_ident_apply(uint16_t *changed, int16_t *detail);
 
 #endif /* APP_IDENT_H */

@@ -7,20 +7,38 @@
 #include "app_ident.h"
 
 #include "app.h"
+#include "dtc_params.h"
 #include "law.h"
 
 #include <stddef.h>
 
-/* The background's copies: the identification's state, the configuration being changed. */
-static app_ident_t g_ident;
+/* The background's copy of the configuration being changed (the identification's state is read
+ * into a local: the stack of a background call, as the IDENTIFY command's). */
 static dtc_config_t g_apply;
 
-int16_t app_ident_apply(int16_t *detail)
+/* Configuration rows (the common part's and its law's) whose raw value differs between a and b. */
+static uint16_t rows_changed(const dtc_config_t *a, const dtc_config_t *b)
+{
+    const dtc_param_list_t *l = dtc_param_law_list(a->law);
+    const uint16_t n_law = l != NULL ? l->n : 0U;
+    uint16_t k, n = 0U;
+    for (k = 0U; k < dtc_params_common.n + n_law; k++) {
+        const dtc_param_t *p = k < dtc_params_common.n ? &dtc_params_common.rows[k] : &l->rows[k - dtc_params_common.n];
+        if (dtc_param_raw(a, p) != dtc_param_raw(b, p)) {
+            n++;
+        }
+    }
+    return n;
+}
+
+int16_t app_ident_apply(uint16_t *changed, int16_t *detail)
 {
     const dtc_config_t *cfg = app_config();
+    app_ident_t d;
     app_status_t s;
     int16_t rc;
     *detail = 0;
+    *changed = 0U;
     app_get_status(&s);
     if (s.state == APP_STATE_RUN || s.state == APP_STATE_IDENT) {
         return (int16_t)APP_IDENT_APPLY_ARMED;
@@ -28,8 +46,8 @@ int16_t app_ident_apply(int16_t *detail)
     if (cfg == NULL) {
         return (int16_t)APP_IDENT_APPLY_NOT_DONE;
     }
-    app_get_ident(&g_ident);
-    rc = app_ident_derive(&g_ident, cfg, &g_apply);
+    app_get_ident(&d);
+    rc = app_ident_derive(&d, cfg, &g_apply);
     if (rc != (int16_t)APP_IDENT_APPLY_OK) {
         return rc;
     }
@@ -38,11 +56,14 @@ int16_t app_ident_apply(int16_t *detail)
         *detail = rc;
         return (int16_t)APP_IDENT_APPLY_CHECK;
     }
+    *changed = rows_changed(&g_apply, cfg);
     rc = app_reconfigure(&g_apply);
     if (rc == APP_ERR_ARMED) {
+        *changed = 0U;
         return (int16_t)APP_IDENT_APPLY_ARMED;
     }
     if (rc != 0) {
+        *changed = 0U;
         *detail = rc;
         return (int16_t)APP_IDENT_APPLY_CHECK;
     }

@@ -6,7 +6,6 @@
 #include "app.h"
 #include "app_proto_param.h"
 #include "capture.h"
-#include "dtc_params.h"
 #include "faultlog.h"
 #include "hal.h"
 #include "proto.h"
@@ -353,20 +352,12 @@ static void do_identify(const frame_t *rq, frame_t *rs)
     rs->len = 114U;
 }
 
-/* IDENT_APPLY (proto.h): the finished identification into the parameters in force. The rows whose
- * value changed are counted against a copy of the configuration before (background). */
-static dtc_config_t g_before;
-
+/* IDENT_APPLY (proto.h): the finished identification into the parameters in force. */
 static void do_ident_apply(const frame_t *rq, frame_t *rs)
 {
-    const dtc_config_t *c = app_config();
     int16_t detail = 0;
-    int16_t rc;
-    uint16_t n = 0U, k;
-    if (c != NULL) {
-        g_before = *c;
-    }
-    rc = app_ident_apply(&detail);
+    uint16_t n = 0U;
+    const int16_t rc = app_ident_apply(&n, &detail);
     switch (rc) {
     case APP_IDENT_APPLY_OK:
         break;
@@ -385,17 +376,6 @@ static void do_ident_apply(const frame_t *rq, frame_t *rs)
     default:
         app_proto_error(rq, rs, PROTO_ERR_RANGE, rc);
         return;
-    }
-    c = app_config();
-    if (c != NULL) {
-        const dtc_param_list_t *l = dtc_param_law_list(c->law);
-        const uint16_t n_law = l != NULL ? l->n : 0U;
-        for (k = 0U; k < dtc_params_common.n + n_law; k++) {
-            const dtc_param_t *p = k < dtc_params_common.n ? &dtc_params_common.rows[k] : &l->rows[k - dtc_params_common.n];
-            if (dtc_param_raw(c, p) != dtc_param_raw(&g_before, p)) {
-                n++;
-            }
-        }
     }
     frame_put_u16(&rs->payload[0], n);
     rs->len = 2U;

@@ -26,30 +26,14 @@ import sys
 import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
-from console_session import check, console, exit_code, stop, wait_state  # noqa: E402
-from dtc_drive import Drive, DriveError, ERR  # noqa: E402
+from console_session import check, console, exit_code, refused, serve, stop, wait_state  # noqa: E402
+from dtc_drive import Drive  # noqa: E402
 
 ROWS = {"rs": "machine.rs_iq", "ls": "u.pm_dtc.machine.ls_iq", "psi": "u.pm_dtc.machine.psi_m_iq",
         "p": "machine.pole_pairs", "rev": "board.enc_reversed", "off": "board.enc_offset",
         "td": "board.td_ts_q15", "inv_ls": "u.pm_dtc.machine.inv_ls_iq", "gain": "board.enc_gain_q16"}
 RPM = 1500.0
 WRONG = 1.3  # R_s and psi_m 30 % high, L_s 30 % low
-
-
-def serve(sil, scenario, link, sets, duration):
-    if os.path.exists(link):
-        os.unlink(link)
-    args = [sil, "serve", scenario, "--serial", link, "--pace", "2", "--duration-s", str(duration),
-            "--set", "duration_s=%g" % duration, "-q"]
-    for s in sets:
-        args += ["--set", s]
-    p = subprocess.Popen(args)
-    for _ in range(300):
-        if os.path.exists(link):
-            return p
-        time.sleep(0.02)
-    p.kill()
-    raise RuntimeError("dtc-sil serve made no link %s" % link)
 
 
 def rows(d):
@@ -100,7 +84,7 @@ def main():
     os.makedirs(work)
     # A. exact values
     link_a = os.path.join(work, "exact")
-    srv = serve(sil, scenario, link_a, [], 30.0)
+    srv = serve(sil, scenario, link_a, 2.0, 30.0)
     try:
         with Drive(link_a, timeout_s=2.0) as d:
             wait_state(d, "ready")
@@ -116,7 +100,7 @@ def main():
     for f in (link + ".params",):
         if os.path.exists(f):
             os.unlink(f)
-    srv = serve(sil, scenario, link, wrong, 40.0)
+    srv = serve(sil, scenario, link, 2.0, 40.0, wrong)
     try:
         with Drive(link, timeout_s=2.0) as d:
             wait_state(d, "ready")
@@ -129,11 +113,7 @@ def main():
             if d.status()["state"] == "fault":
                 d.clear()  # a trip on the wrong values: cleared, the drive calibrates again
             wait_state(d, "ready")
-            try:
-                d.identify_apply()
-                check(False, "IDENT_APPLY refused before any identification")
-            except DriveError as e:
-                check(e.code == ERR["STATE"], "IDENT_APPLY refused before any identification: %s" % e)
+            check(refused(d.identify_apply, "STATE"), "IDENT_APPLY refused before any identification (state)")
         rc, so, se = console(link, "identify", "--apply", "--save")
         print(so + se, flush=True)
         check(rc == 0, "dtc_console.py identify --apply --save exits 0")
@@ -154,16 +134,12 @@ def main():
             print("     dead time / Ts: applied %.5f, exact %.5f" % (applied["td"], exact["td"]), flush=True)
             d.arm()
             wait_state(d, "run")
-            try:
-                d.identify_apply()
-                check(False, "IDENT_APPLY refused while armed")
-            except DriveError as e:
-                check(e.code == ERR["ARMED"], "IDENT_APPLY refused while armed: %s" % e)
+            check(refused(d.identify_apply, "ARMED"), "IDENT_APPLY refused while armed")
             d.disarm()
     finally:
         stop(srv)
     # C. restart on the same medium with the wrong values compiled in
-    srv = serve(sil, scenario, link, wrong, 30.0)
+    srv = serve(sil, scenario, link, 2.0, 30.0, wrong)
     try:
         with Drive(link, timeout_s=2.0) as d:
             wait_state(d, "ready")

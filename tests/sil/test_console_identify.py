@@ -26,29 +26,8 @@ import sys
 import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "support"))
-from console_session import check, console, exit_code, stop, wait_state  # noqa: E402
-from dtc_drive import Drive, DriveError, ERR, REFUSAL  # noqa: E402
-
-
-def serve(sil, scenario, link, pace, duration):
-    if os.path.exists(link):
-        os.unlink(link)
-    p = subprocess.Popen([sil, "serve", scenario, "--serial", link, "--pace", str(pace), "--duration-s",
-                          str(duration), "--set", "duration_s=%g" % duration, "-q"])
-    for _ in range(300):
-        if os.path.exists(link):
-            return p
-        time.sleep(0.02)
-    p.kill()
-    raise RuntimeError("dtc-sil serve made no link %s" % link)
-
-
-def refused(fn, code, detail=None):
-    try:
-        fn()
-    except DriveError as e:
-        return e.code == ERR[code] and (detail is None or e.detail == REFUSAL[detail])
-    return False
+from console_session import check, console, exit_code, refused, serve, stop, wait_state  # noqa: E402
+from dtc_drive import Drive  # noqa: E402
 
 
 def identify_on_console(link, out, label):

@@ -29,6 +29,35 @@ def console(port, *args, timeout_s=120):
     return r.returncode, r.stdout, r.stderr
 
 
+def serve(sil, scenario, link, pace, duration, sets=()):
+    """`dtc-sil serve SCENARIO --serial LINK` at pace for duration s of simulated time, each of sets
+    a --set override; returns the process once the link exists."""
+    if os.path.exists(link):
+        os.unlink(link)
+    args = [sil, "serve", scenario, "--serial", link, "--pace", str(pace), "--duration-s", str(duration),
+            "--set", "duration_s=%g" % duration, "-q"]
+    for s in sets:
+        args += ["--set", s]
+    p = subprocess.Popen(args)
+    for _ in range(300):
+        if os.path.exists(link):
+            return p
+        time.sleep(0.02)
+    p.kill()
+    raise RuntimeError("dtc-sil serve made no link %s" % link)
+
+
+def refused(fn, code, detail=None):
+    """1 when fn() raises DriveError with error code (a name of dtc_drive.ERR) and, when given, the
+    refusal detail (a name of dtc_drive.REFUSAL)."""
+    from dtc_drive import DriveError, ERR, REFUSAL
+    try:
+        fn()
+    except DriveError as e:
+        return e.code == ERR[code] and (detail is None or e.detail == REFUSAL[detail])
+    return False
+
+
 def wait_state(d, state, limit_s=30.0):
     """Polls d.status() until the drive is in state; RuntimeError after limit_s."""
     end = time.monotonic() + limit_s
