@@ -237,6 +237,10 @@ void app_ident_start(app_ident_t *d, const dtc_config_t *cfg, uint16_t qep_count
     d->res.im.id_iq = 0;
     d->res.im.vq_pole_iq = 0;
     d->sign_k = 0U;
+    /* The calibration's rotor hold (app_hold.h) ends with its current still in the windings (up to
+     * its limit, several amperes); gates off for a sign pulse's gap first, so that neither the
+     * first sign pulse nor the over-current check below reads it (app_ident_isr). */
+    d->start_gap = ID_SIGN_GAP;
     /* a dwell at rest: the count within a quarter degree (3 counts of 4096, at least 1); its swing
      * over (the mid-point hold, app_ident_isr.c mid_hold): within 1/256 turn */
     d->rest_tol = (int32_t)((3U * (uint32_t)cfg->board.enc_counts + 2048U) >> 12);

@@ -256,6 +256,8 @@ typedef struct {
     uint16_t mid_on;         /* ISR: 1 once this dwell's swing is over: the mid-point is held */
     iq_t mid_ref_iq;         /* ISR: the mid-point's deviation from V_dc/2 when the swing ended, pu */
     uint16_t recentre;       /* HOLD: 1 = the mid-point is brought back to V_dc/2 (before the spin) */
+    uint16_t start_gap;      /* ISR: periods left with the gates off before the first step: the
+                              * current the calibration's rotor hold left decays through the diodes */
     iq_t ia_ref_iq;          /* ISR: the phase-A (alpha) current reference that does it, pu */
 } app_ident_t;
 

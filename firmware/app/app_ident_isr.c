@@ -191,6 +191,10 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
         d->step == (uint16_t)APP_IDENT_IDLE) {
         return 1U;
     }
+    if (d->start_gap != 0U) {
+        d->start_gap--; /* gates off: the hold's current decays (app_ident_start) */
+        return 1U;
+    }
     for (k = 0U; k < 3U; k++) {
         if (fix_abs32(iph[k]) > IQ(1.25)) {
             app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_OVERCURRENT, (int16_t)k);

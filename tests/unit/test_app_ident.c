@@ -19,6 +19,7 @@
 #include "fixtest.h"
 
 #include "app_ident.h"
+#include "app_ident_internal.h" /* ID_SIGN_GAP */
 #include "dtc_config_si.h"
 
 #define IQ1 16777216.0
@@ -164,11 +165,21 @@ static void test_overcurrent_on_the_sample(void **state)
 {
     hal_cmd_t cmd;
     dtc_meas_t pu;
+    uint32_t k;
     (void)state;
     setup_sstp();
     memset(&pu, 0, sizeof pu);
     pu.vdc_iq = (iq_t)IQ1;
     app_ident_start(&g_d, &g_cfg, 0U, pu.vdc_iq);
+    /* the start's gap: gates off while the rotor hold's current decays, above the limit too */
+    pu.ib_iq = (iq_t)(2 * IQ1);
+    pu.ic_iq = -pu.ib_iq;
+    for (k = 0U; k < ID_SIGN_GAP; k++) {
+        assert_int_equal(app_ident_isr(&g_d, &g_cfg, &pu, 1875U, &cmd), 1U);
+    }
+    assert_int_equal(g_d.fail, APP_IDENT_OK);
+    pu.ib_iq = 0;
+    pu.ic_iq = 0;
     assert_int_equal(app_ident_isr(&g_d, &g_cfg, &pu, 1875U, &cmd), 0U);
     pu.ib_iq = (iq_t)(1.25 * IQ1); /* at the limit: not yet (the sign pulse ends, the gates go off) */
     pu.ic_iq = -pu.ib_iq;
