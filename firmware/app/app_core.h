@@ -83,7 +83,10 @@ enum app_arm_refusal {
     APP_ARM_NOT_CALIBRATED = 1, /* not READY: calibrating (or not command arming) */
     APP_ARM_VDC_RANGE = 2,      /* the last V_dc sample outside [prot.vdc_min_iq, prot.vdc_max_iq] */
     APP_ARM_FAULT = 3,          /* a fault is latched */
-    APP_ARM_REF_NONZERO = 4     /* the speed or torque reference is not zero */
+    APP_ARM_REF_NONZERO = 4,    /* the speed or torque reference is not zero */
+    APP_ARM_VMID_RANGE = 7      /* FSTP with the mid-point measured: the last sample's mid-point more
+                                 * than V_dc / 2^APP_VMID_TOL_LOG2 off V_dc / 2 (the calibration
+                                 * would take that imbalance for a sensor offset) */
 };
 
 /* Calibration: 2^APP_CAL_LOG2 samples averaged per current channel (and for the FSTP mid-point,

@@ -200,7 +200,8 @@ enum proto_refusal {
     PROTO_REFUSE_FAULT = 3,
     PROTO_REFUSE_REF_NONZERO = 4,
     PROTO_REFUSE_CONFIG = 5,
-    PROTO_REFUSE_LAW = 6 /* IDENTIFY: the identification is for the PM and the IM laws (app_ident.h) */
+    PROTO_REFUSE_LAW = 6, /* IDENTIFY: the identification is for the PM and the IM laws (app_ident.h) */
+    PROTO_REFUSE_VMID_RANGE = 7 /* FSTP, mid-point measured: the split link's mid-point off V_dc / 2 */
 };
 
 /* IDENTIFY sub-commands. */

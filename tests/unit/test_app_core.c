@@ -1281,6 +1281,48 @@ static void test_fault_names(void **state)
     assert_string_equal(app_fault_name(999U), "unknown");
 }
 
+/* FSTP with the mid-point measured: an arm request is refused (vmid_range) while the split link's
+ * mid-point sits off V_dc / 2 by more than V_dc / 16 (after a trip at speed the rectified back-EMF
+ * charges one capacitor), and taken again once it is back within that. */
+static void test_arming_refused_with_the_mid_point_off(void **state)
+{
+    app_status_t st;
+    const dtc_refs_t r = {0, 0, 1, 0, 0, DTC_MODE_TORQUE};
+    const double tol = fx.si.vdc_v / 16.0;
+    uint16_t k;
+    (void)state;
+    setup_topology(DTC_TOPO_FSTP);
+    fx.si.cal_hold = 0;
+    assert_int_equal(dtc_config_from_si(&fx.si, &fx.cfg, NULL, 0), 0);
+    static_currents();
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    app_core_set_arming(&fx.app, APP_ARM_COMMAND);
+    for (k = 0; k < cal_len() + 10U; k++) {
+        (void)step();
+    }
+    assert_int_equal(fx.app.st.state, APP_STATE_READY);
+    st = fx.app.st;
+    assert_int_equal(app_core_arm_refusal(&fx.app, &st, &r), APP_ARM_OK);
+    fx.m.adc[HAL_ADC_VMID] = v_counts(fx.si.vdc_v / 2.0 + 1.2 * tol); /* the upper capacitor low */
+    (void)step();
+    st = fx.app.st;
+    assert_int_equal(app_core_arm_refusal(&fx.app, &st, &r), APP_ARM_VMID_RANGE);
+    fx.m.adc[HAL_ADC_VMID] = v_counts(fx.si.vdc_v / 2.0 - 1.2 * tol);
+    (void)step();
+    st = fx.app.st;
+    assert_int_equal(app_core_arm_refusal(&fx.app, &st, &r), APP_ARM_VMID_RANGE);
+    fx.m.adc[HAL_ADC_VMID] = v_counts(fx.si.vdc_v / 2.0 + 0.8 * tol); /* back within: armed */
+    (void)step();
+    st = fx.app.st;
+    assert_int_equal(app_core_arm_refusal(&fx.app, &st, &r), APP_ARM_OK);
+    /* the six-switch inverter has no mid-point: never refused for it */
+    setup_topology(DTC_TOPO_SSTP);
+    st.meas.vmid_iq = 0;
+    assert_int_equal(app_core_init(&fx.app, &fx.cfg), 0);
+    st.state = APP_STATE_READY;
+    assert_int_equal(app_core_arm_refusal(&fx.app, &st, &r), APP_ARM_OK);
+}
+
 /* Command arming (app_core.h APP_ARM_COMMAND): the calibration ends in READY with every gate off
  * however long it waits; an arm request is refused (app_core_arm_refusal) with a reference not
  * zero, the DC link out of range or a latched fault, and taken otherwise; a disarm request turns
@@ -1507,6 +1549,7 @@ UNIT_TEST_MAIN("app core", NULL,
                cmocka_unit_test(test_sfvc_writes_the_pwm_form),
                cmocka_unit_test(test_fault_names),
                cmocka_unit_test(test_command_arming),
+               cmocka_unit_test(test_arming_refused_with_the_mid_point_off),
                cmocka_unit_test(test_comm_timeout),
                cmocka_unit_test(test_faultlog_and_capture_fed),
                cmocka_unit_test(test_desat_names_the_leg),

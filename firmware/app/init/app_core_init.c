@@ -124,6 +124,17 @@ uint16_t app_core_arm_refusal(const app_core_t *a, const app_status_t *s, const 
     if (s->meas.vdc_iq < a->cfg->prot.vdc_min_iq || s->meas.vdc_iq > a->cfg->prot.vdc_max_iq) {
         return APP_ARM_VDC_RANGE;
     }
+    /* FSTP: the split link's mid-point where the balancing resistors hold it at rest. After a trip
+     * at speed the machine's back-EMF, rectified by the two legs' diodes, charges one capacitor
+     * (measured: 62.5 V of 70 V after a stall trip at 1500 rpm, Hoang Table VIII's rig); arming
+     * then would calibrate that imbalance as an offset and drive phase A, on the mid-point, with it.
+     * Refused (vmid_range) until the resistors bring it back. Background: a comparison of the
+     * status copy's samples, no division. */
+    if (a->cfg->board.topology == (uint16_t)DTC_TOPO_FSTP && a->cfg->board.fstp_vmid_measured != 0U &&
+        fix_abs32(fix_sub32(s->meas.vmid_iq, fix_rshift_rnd32(s->meas.vdc_iq, 1U))) >
+            fix_rshift_rnd32(fix_abs32(s->meas.vdc_iq), APP_VMID_TOL_LOG2)) {
+        return APP_ARM_VMID_RANGE;
+    }
     if (r->speed_ref_iq != 0 || r->torque_ref_iq != 0) {
         return APP_ARM_REF_NONZERO;
     }
