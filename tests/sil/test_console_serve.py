@@ -70,8 +70,10 @@ def main():
             srv.send_signal(signal.SIGINT)
             srv.wait(timeout=30)
     check(srv.returncode == 0, "dtc-sil serve exits 0 (%s)" % srv.returncode)
-    # a restart on the same link boots into the saved parameters
-    srv = subprocess.Popen([sil, "serve", scenario, "--serial", link, "--pace", "1", "--duration-s", "8", "-q"])
+    # a restart on the same link boots into the saved parameters (stopped by SIGINT below: its 60 s
+    # of simulated time at real-time pace only bound a session that hangs; 8 s ran out on a loaded
+    # machine before the session's console processes had finished)
+    srv = subprocess.Popen([sil, "serve", scenario, "--serial", link, "--pace", "1", "--duration-s", "60", "-q"])
     try:
         for _ in range(200):
             if os.path.exists(link):
