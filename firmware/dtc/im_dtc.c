@@ -303,6 +303,29 @@ void im_dtc_refs(im_dtc_t *c)
     c->te_ref_iq = te;
 }
 
+/* DSC's flux path by speed: Casadei sec. 9's hexagon above the speed at which sec. 8 hands ST-D over
+ * to ST-A (u.im.table_speed_iq: half the speed at which the back-EMF reaches V_dc/sqrt3, so that
+ * below it the null vectors fill more than half of each period), the circular path of ST-D below
+ * it (Depenbrock's low-speed remedy for DSC, Casadei refs. [5], [6]: a DSC drive runs a circular
+ * path at low speed), with a hysteresis of 1/16 of that speed either side, so that a speed held at
+ * the threshold does not toggle. Why: with the long null intervals of low speed the hexagon's
+ * path leaves Casadei eq. 20's correction a mean (phi_r* - |phi_r|)/tau that the estimator turns
+ * into an angle error (im_psir_trim), and at light load the torque error is that angle times
+ * i_d/i_q (docs/sil.md, the IM torque accuracy). Returns 1 while the hexagon runs; c->dsc_on is 0
+ * on the circular path, so that the hexagon is re-seeded from the flux (dsc_reset) when it resumes.
+ * Formats: speeds IQ pu; the threshold's 1/16 a rounded shift, the sums below 2^31 for any speed
+ * limit the configuration accepts. */
+static inline uint16_t im_dsc_hexagon(im_dtc_t *c)
+{
+    const iq_t ws = c->cfg->u.im.table_speed_iq, w = fix_abs32(c->speed_iq);
+    const iq_t h = fix_rshift_rnd32(ws, 4U);
+    const uint16_t hex = c->dsc_on != 0U ? (uint16_t)(w >= ws - h ? 1U : 0U) : (uint16_t)(w > ws + h ? 1U : 0U);
+    if (hex == 0U) {
+        c->dsc_on = 0U;
+    }
+    return hex;
+}
+
 /* Comparators and vector selection (Casadei sections 4-9), then the current limit (im_ilim).
  * Returns the SSTP vector 0..7. */
 uint16_t im_dtc_select(im_dtc_t *c, iq_t te, dtc_out_t *o)
@@ -317,7 +340,7 @@ uint16_t im_dtc_select(im_dtc_t *c, iq_t te, dtc_out_t *o)
 
     if (c->magnetised == 0U) {
         vec = im_magn_vector(c, sector, flux_up, err, &tdem);
-    } else if (cfg->law == DTC_LAW_IM_DSC) {
+    } else if (cfg->law == DTC_LAW_IM_DSC && im_dsc_hexagon(c) != 0U) {
         /* Section 9. The hexagon turns with the rotor (the sign of the speed; at standstill the
          * sign of T*): the flux then leads the rotor under the active vectors (torque up in the
          * sense of rotation) and falls back under the null vectors (torque down). The hexagon
@@ -342,7 +365,9 @@ uint16_t im_dtc_select(im_dtc_t *c, iq_t te, dtc_out_t *o)
         tdem = up != 0U ? 1 : -1;
         vec = (up != 0U) == (ccw != 0U) ? act : (flux_up != 0U ? swtab_sstp_st(DTC_ST_D, sector, 1U, up) : SWTAB_NULL);
     } else {
-        if (table == DTC_ST_SPEED) {
+        if (cfg->law == DTC_LAW_IM_DSC) {
+            table = DTC_ST_D; /* DSC's circular path (im_dsc_hexagon) */
+        } else if (table == DTC_ST_SPEED) {
             /* Section 8: ST-D at low speed, ST-A at high speed. */
             table = fix_abs32(c->speed_iq) < cfg->u.im.table_speed_iq ? DTC_ST_D : DTC_ST_A;
         }

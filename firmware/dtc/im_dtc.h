@@ -21,7 +21,8 @@
  *      two-level (Table 3)
  *   -> scheme DTC: Casadei Table 1 (basic), ST-A..ST-D (Table 3), speed-dependent (section 8: ST-D below
  *      the configured speed, ST-A above); or DSC (section 9, dsc.h: hexagon by the phase-flux
- *      comparators, torque by null vectors); the null vector chosen for the fewest commutations
+ *      comparators, torque by null vectors, above the section 8 speed; ST-D's circle below it,
+ *      im_dsc_hexagon); the null vector chosen for the fewest commutations
  *   -> leg states for the next period.
  * The law DTC_LAW_IM_DSVM (im_dsvm.c) keeps the comparators with a five-level torque comparator
  * and the DSVM tables of Casadei section 11 (dsvm.h), three sub-intervals per period in the PWM
@@ -125,7 +126,7 @@ typedef struct {
     uint16_t div_cnt;
     uint16_t speed_primed;
     uint16_t magnetised;  /* 0 during the start-up magnetisation */
-    uint16_t dsc_on;      /* DSC: 1 once the hexagon runs (dsc_reset done) */
+    uint16_t dsc_on;      /* DSC: 1 while the hexagon runs (dsc_reset done), 0 on the circular path */
     swtab_legs_t legs_1;  /* returned by the previous step: applied during this period */
     swtab_legs_t legs_2;  /* returned two steps ago: applied during the period just ended */
     swtab_legs_t legs_3;  /* returned three steps ago (dead time) */

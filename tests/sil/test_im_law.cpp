@@ -419,12 +419,6 @@ TEST(ImLaw, CurrentLimitHolds300PercentRequestAtTheTorqueTheCurrentAllows)
             EXPECT_EQ(o.fault, APP_FAULT_NONE) << app_fault_name(o.fault);
             EXPECT_LT(o.i_peak, o.i_trip);
             EXPECT_LT(o.t_lim, 3.0 * 26.5); // the trip level does not allow 300 % on this machine
-            if (law == DTC_LAW_IM_DSC && rpm == 0.0) {
-                // DSC at standstill: the hexagon's mean torque exceeds T* (measured +18 % at the
-                // limit, peak current 47 A): the current stays below the trip, the torque is
-                // reported, not asserted
-                continue;
-            }
             EXPECT_NEAR(o.te_mean, o.t_lim, 0.10 * o.t_lim);
         }
     }

@@ -12,7 +12,8 @@
  *   - constant rotor flux (Casadei eq. 19) through a 50 % -> 300 % torque step;
  *   - Casadei Table 1 and ST-A..ST-D (Table 3) through the law, with the null-vector choice; the
  *     speed-dependent table (section 8) picks ST-D below and ST-A above its speed;
- *   - DSC (section 9): the hexagon (vertex / side-centre radius 1/cos 30 deg);
+ *   - DSC (section 9): the hexagon (vertex / side-centre radius 1/cos 30 deg) above the section 8
+ *     table's speed, ST-D's circle below it, with a hysteresis;
  *   - flux weakening (section 12): phi_s* at most once per window, T* by Casadei eqs. 33-34;
  *   - sensorless speed: flux angular speed minus the slip of Casadei eq. 16.
  */
@@ -604,15 +605,35 @@ static void test_tables_through_the_law(void **state)
 
 /* ---- DSC ------------------------------------------------------------------------------------ */
 
-/* Section 9: with DSC the stator flux runs on a hexagon whose sides lie at phi_s* from the
- * origin: |phi_s| ranges from phi_s* (side centres) to phi_s* / cos 30 deg (vertices). Held
- * speed 0.5 pu, half the rated torque; the mean torque follows T* within 10 %. */
+/* |phi_s| range and mean machine torque over two electrical periods at the held speed w (pu). */
+static void dsc_locus(sim_t *s, double w, double *lo, double *hi, double *tmean)
+{
+    dtc_out_t o;
+    const long n = (long)periods(s, 2.0 * 2.0 * FIXTEST_PI / (w * s->b.w_base_rad_s));
+    double tsum = 0.0;
+    *lo = 1e9;
+    *hi = 0.0;
+    for (long k = 0; k < n; k++) {
+        sim_period(s, &o);
+        *lo = fmin(*lo, psis_mag(s));
+        *hi = fmax(*hi, psis_mag(s));
+        tsum += dtc_ref_im_torque(&s->x);
+    }
+    *tmean = tsum / (double)n;
+}
+
+/* Section 9: above the speed at which section 8 hands ST-D over to ST-A (table_speed) the DSC's
+ * stator flux runs on a hexagon whose sides lie at phi_s* from the origin: |phi_s| ranges from
+ * phi_s* (side centres) to phi_s* / cos 30 deg (vertices). Below it the law runs ST-D's circular
+ * path (im_dsc_hexagon): |phi_s| within 5 % of phi_s*, far from the hexagon's 15.5 % spread. The
+ * path changes with a hysteresis of table_speed/16 either side: at table_speed itself the path
+ * the law came with is kept, both ways. Half the rated torque; the mean torque follows T* within
+ * 10 % on both paths. */
 static void test_dsc_hexagon(void **state)
 {
     sim_t s;
     dtc_out_t o;
-    double lo = 1e9, hi = 0.0, tsum = 0.0, ref, tref;
-    long n, nm;
+    double lo, hi, tm, ref, tref, ws;
     (void)state;
 
     sim_defaults(&s);
@@ -621,18 +642,33 @@ static void test_dsc_hexagon(void **state)
     sim_start(&s, 0.0);
     ref = wb_to_pu(&s, s.si.flux_ref_wb);
     tref = nm_to_pu(&s, s.si.torque_ref_nm);
-    sim_magnetise_at(&s, 0.5, 0.2, &o);
-    n = (long)periods(&s, 0.04); /* two electrical periods at 25 Hz */
-    nm = n;
-    for (long k = 0; k < n; k++) {
-        sim_period(&s, &o);
-        lo = fmin(lo, psis_mag(&s));
-        hi = fmax(hi, psis_mag(&s));
-        tsum += dtc_ref_im_torque(&s.x);
-    }
+    ws = fixtest_iq_to_d(s.cfg.u.im.table_speed_iq);
+    assert_true(ws > 0.0);
+    /* below: the circle, and it stays at table_speed */
+    sim_magnetise_at(&s, 0.5 * ws, 0.2, &o);
+    dsc_locus(&s, 0.5 * ws, &lo, &hi, &tm);
+    assert_int_equal(s.law.u.im.dsc_on, 0U);
+    assert_true(fabs(lo / ref - 1.0) < 0.05 && fabs(hi / ref - 1.0) < 0.05);
+    assert_true(fabs(tm / tref - 1.0) < 0.1);
+    s.x.w = ws;
+    dsc_locus(&s, ws, &lo, &hi, &tm);
+    assert_int_equal(s.law.u.im.dsc_on, 0U);
+    /* above: the hexagon, and it stays at table_speed */
+    s.x.w = 1.25 * ws;
+    dsc_locus(&s, 1.25 * ws, &lo, &hi, &tm); /* the speed estimate crosses the threshold here */
+    dsc_locus(&s, 1.25 * ws, &lo, &hi, &tm);
+    assert_int_equal(s.law.u.im.dsc_on, 1U);
     assert_true(fabs(lo / ref - 1.0) < 0.04);
     assert_true(fabs(hi / (ref / cos(FIXTEST_PI / 6.0)) - 1.0) < 0.04);
-    assert_true(fabs(tsum / nm / tref - 1.0) < 0.1);
+    assert_true(fabs(tm / tref - 1.0) < 0.1);
+    s.x.w = ws;
+    dsc_locus(&s, ws, &lo, &hi, &tm);
+    assert_int_equal(s.law.u.im.dsc_on, 1U);
+    assert_true(hi / lo > 1.1);
+    /* and back to the circle below the band */
+    s.x.w = 0.8 * ws;
+    dsc_locus(&s, 0.8 * ws, &lo, &hi, &tm);
+    assert_int_equal(s.law.u.im.dsc_on, 0U);
 }
 
 /* ---- flux weakening ------------------------------------------------------------------------- */

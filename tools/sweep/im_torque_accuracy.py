@@ -35,20 +35,16 @@ MACHINES = {
     "second": ("im_second_machine.toml", 23.5, 1440.0),
 }
 # Points that miss the target, each with its measured cause (docs/sil.md, the IM torque accuracy):
-#   dsc at 5-25 % speed and 10 % torque (4 kW -10.9 / +4.7 / +7.6 %, second machine +49 / -4.7 %
-#     at 5 / 10 %): the flux amplitude is held there (ST-D's flux-raising vector for the null while
-#     the flux lies inside the hexagon, im_dtc_select), the machine's flux within 1 % of the
-#     estimate's, but the estimate's angle is 6-15 mrad off the machine's: Casadei eq. 20's
-#     correction keeps a mean under the hexagon's amplitude ripple at light load; not removed.
-#   sfvc and dfoc on the second machine at 5 % speed and 10 % torque (+1.8 %, -1.8 %): the dead
-#     time (measured alone, drops off: SFVC +1.3 %, DFOC -1.6 %; ideal inverter +0.3 %, -0.2 %),
-#     the leg's error taken on the sign of the current sampled 1.5 periods before its edges while
-#     the period's ripple crosses zero; not removed.
+#   sfvc and dfoc on the second machine at 5 % speed and 10 % torque (+1.8 %, -1.8 %): the rotor-flux
+#     trim (firmware im_psir_trim) still settling when the window opens. At 72 rpm Casadei eq. 20's
+#     estimate learns a flux mismatch only through its slow pole (about w_s^2 tau / k_r, 2.6 1/s);
+#     with the trim's integral that loop rings at about 0.65 Hz and decays over seconds, with an
+#     ideal inverter as well (per stator period +-2 to 3 % at 1-3 s). 4 s runs: +0.7 / -0.9 %, 6 s:
+#     +0.2 / -1.0 %; without the trim a steady -2.1 / +7.3 %. The dead time's sign is not the cause
+#     (the sign taken at each edge from the duties' ripple moved the points by 0.06 / 0.03 %).
 #   sfvc and dfoc on the second machine at rated torque: held at the torque limit the current allows
 #     (tools/config dtc_im_torque_at_current_nm at I_lim - dI: 160 us, 30 A trip, 22.1 N*m = 94 %).
 KNOWN_MISSES = {("second", law, s, 1.00) for law in ("sfvc", "dfoc") for s in SPEED_FRACS} | {
-    ("4kW", "dsc", 0.05, 0.10), ("4kW", "dsc", 0.10, 0.10), ("4kW", "dsc", 0.25, 0.10),
-    ("second", "dsc", 0.05, 0.10), ("second", "dsc", 0.10, 0.10),
     ("second", "sfvc", 0.05, 0.10), ("second", "dfoc", 0.05, 0.10),
 }
 

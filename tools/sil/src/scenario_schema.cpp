@@ -247,7 +247,7 @@ const std::vector<Spec>& schema()
                "regulators (i_d* = 0, i_q* from the speed loop, gains derived from the machine) and SVM of the "
                "six- or four-switch inverter at one carrier period per control period ts_s, the configured "
                "estimator running as an observer (firmware/dtc/itc.h). IM machine: dtc = switching table (Casadei secs. 4-8); dsc = Direct Self Control, hexagonal flux "
-               "locus (sec. 9); sfvc = stator-flux vector control with SVM at the constant switching frequency "
+               "locus (sec. 9) above control.table_speed_rpm, ST-D's circular locus below it; sfvc = stator-flux vector control with SVM at the constant switching frequency "
                "control.carrier_hz (secs. 10.3-10.5, Fig. 18, eqs. 18, 23, 24); dfoc = direct rotor-flux-oriented control, PI current "
                "regulators in the rotor-flux frame, SVM at control.carrier_hz (sec. 13, the baseline); dsvm = DTC with "
                "discrete space vector modulation, three equal sub-intervals per control period ts_s, switching tables "
@@ -322,7 +322,8 @@ const std::vector<Spec>& schema()
                  "false: tracked and reported (warning im_model_mismatch) only",
                  ACC(control.rr_tracking)),
         num("control.table_speed_rpm", "rpm", nonneg(),
-            "IM speed-dependent table: ST-D below, ST-A above; 0 = derived (half the speed where the back-EMF "
+            "IM speed-dependent table: ST-D below, ST-A above; DSC: ST-D's circle below, the hexagon above (a "
+            "hysteresis of 1/16 of it either side); 0 = derived (half the speed where the back-EMF "
             "reaches V_dc/sqrt(3))",
             ACC(control.table_speed_rpm)),
         num("control.speed_ref_rpm", "rpm", any(), "speed reference (speed mode)", ACC(control.speed_ref_rpm)),
