@@ -281,17 +281,21 @@ enum app_ident_apply_err {
     APP_IDENT_APPLY_OK = 0,
     APP_IDENT_APPLY_NOT_DONE = 1, /* no finished identification (step is not APP_IDENT_DONE) */
     APP_IDENT_APPLY_ARMED = 2,    /* the drive is armed or identifying */
-    APP_IDENT_APPLY_LAW = 3,      /* the configuration in force is not the PM DTC law, or the
-                                   * identification was an induction machine's (not applied) */
+    APP_IDENT_APPLY_LAW = 3,      /* the identification's machine is not the law's: a PM's on a
+                                   * configuration other than the PM DTC law, an induction machine's
+                                   * on one other than an IM law (or the law not in the image) */
     APP_IDENT_APPLY_RS = 4,       /* the R line's slope not above the board's R_on: R_s <= 0 */
     APP_IDENT_APPLY_LS = 5,       /* L_s below 1/128 pu (1 / L_s beyond IQ) or above the IQ range */
     APP_IDENT_APPLY_ENCODER = 6,  /* the encoder gain p 2^32 / enc_counts beyond its row */
     APP_IDENT_APPLY_DEADTIME = 7, /* the dead time from V_0 at or above half a period, or no V_dc */
-    APP_IDENT_APPLY_CHECK = 8     /* the law's check (law_check) refused the copy (detail: its
+    APP_IDENT_APPLY_CHECK = 8,    /* the law's check (law_check) refused the copy (detail: its
                                    * enum dtc_err code) */
+    APP_IDENT_APPLY_IM = 9        /* an induction machine's rows out of range: L_s not above sigma
+                                   * L_s, R_r <= 0, the magnetising current phi_r* / M not below
+                                   * rated (the current base), a row beyond its format */
 };
 
-/* Background: the finished PM identification d written into out, a copy of in (the configuration
+/* Background: the finished identification d (a PM's or an induction machine's) written into out, a copy of in (the configuration
  * in force), with the rows derived from it (app_ident_apply.c lists them, their formats and
  * rounding). Returns APP_IDENT_APPLY_OK or why not (out then partly written: discard it). No law
  * check: the caller's. */

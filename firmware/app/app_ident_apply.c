@@ -2,14 +2,17 @@
  * app_ident_apply.c - the identification's results into the drive's parameters (background only;
  * docs/commissioning.md "Applying the results").
  *
- * app_ident_derive writes a finished PM identification (app_ident_result_t) into a copy of the
- * configuration in force and derives there the rows that go with them; app_ident_apply checks the
+ * app_ident_derive writes a finished identification (app_ident_result_t), a PM's or an induction
+ * machine's, into a copy of the configuration in force and derives there the rows that go with
+ * them; app_ident_apply checks the
  * copy with its law's check (law_check) and makes it the configuration in force as a parameter
  * write does (app_reconfigure: calibration, then READY; app_ident_apply_run.c, apart so that the
  * derivation links without the application). Nothing here runs in the 50 us path; the
  * divisions are app_ident_div64's (shift and subtract).
  *
- * Rows written (pu of the configuration's bases, dtc_base.h; res = app_ident_result_t):
+ * Rows written (pu of the configuration's bases, dtc_base.h; res = app_ident_result_t), on both
+ * machines (derive_common): machine.rs_iq, machine.pole_pairs, board.enc_gain_q16,
+ * board.enc_reversed, board.td_ts_q15; on a PM also L_s, 1/L_s, psi_m and the encoder's offset:
  *   machine.rs_iq            = res.r_iq - board.r_on_iq: the R line's slope is R_s + R_on (Hoang
  *                              Table III: R_on is in series in every conduction state), R_on the
  *                              board's datasheet value; IQ, exact (a subtraction).
@@ -35,6 +38,34 @@
  *                              board's datasheet values, V_dc the link the identification measured
  *                              last; Q15 rounded to nearest, a negative result written as 0, above
  *                              the row's range refused.
+ * An induction machine (derive_im; docs/commissioning.md "Induction machine": the terminals show
+ * R_s, sigma L_s, L_s and tau_r, the inverse-Gamma model, not the T model's split of the leakage,
+ * which is taken equal, L_ls = L_lr, so L_r = L_s, as dtc-sil identify writes identified.toml):
+ *   sls = res.im.lsig_ts_iq x ts_pu (as L_s above); ls = res.psi_iq / res.im.id_iq (the spin's
+ *   L_s i_d over i_d: L_s at the configured flux, turning), or res.im.ls_ts_iq x ts_pu (standing)
+ *   when that is not above sls; lm = ls - sls (L_M, the inverse-Gamma magnetising inductance);
+ *   all IQ rounded to nearest. Then, each rounded to nearest from exact integer operands:
+ *   u.im.machine.rr_iq       = res.im.rr_iq (R_r = L_r / tau_r with L_r = L_s standing), exact.
+ *   u.im.machine.sigma_ls_iq = u.im.machine.sigma_lr_iq = sls (sigma L_r = sigma L_s when L_r = L_s).
+ *   u.im.machine.m_iq        = sqrt(ls lm) (M^2 = L_s L_r - sigma L_s L_r = L_s L_M): the root of a
+ *                              Q48 product (< 2^62).
+ *   u.im.machine.kr_iq = ks_iq = sqrt(ls 2^48 / lm) (L_r / M = L_s / M = sqrt(L_s / L_M)): the
+ *                              quotient floored in Q48 (its error < 2^-24 LSB), then the root.
+ *   u.im.machine.inv_ks_iq   = sqrt(lm 2^48 / ls) (M / L_s).
+ *   u.im.fw.kt_iq            = lm 2^47 / (sls ls) (Casadei eq. 34's k_T = (1 - sigma) / (2 sigma l_s)).
+ *   u.im.ref.magn_k_q31      = ts_pu rr 2^7 / ls (T_s / tau_r, tau_r = l_r / r_r; Q31).
+ *   u.im.ref.inv_psir_sq_iq  = ls 2^72 / (phi_s*^2 lm) (1 / phi_r*^2 with phi_r* = (M / L_s) phi_s*,
+ *                              written only when psir_ref_iq = 0: the rotor-flux reference derived
+ *                              from speed.flux_ref_iq; in two quotients, error < 1/64 LSB).
+ *   u.im.ref.magn_ramp_iq    = (1 - phi_r* / M) rr ts_pu (the start-up's flux ramp, the converter's
+ *                              (I_n - I_m) L_s / tau_r T_s with I_n the rated current = I_b, the
+ *                              identification's current base; refused unless I_m < I_n).
+ *   u.im.dfoc.id_ref_iq      = phi_r* / M, u.im.dfoc.iq_per_t_iq = sqrt(ls / (lm phi_r*^2))
+ *                              (l_r / (m phi_r*)): the DFOC law only.
+ *   Not written: u.im.ref.magn_periods (its wait, tau_r ln(1 / (1 - magn_frac)), needs magn_frac,
+ *   which the image does not hold), u.im.ref.enc_plaus_iq (from the torque limit and J), the DFOC
+ *   current PI's gains (from a bandwidth the image does not hold), the derived DSVM outer band,
+ *   the current limit and the torque limit it allows (the converter's dtc_ilim_step_a).
  * Not written: board.v_ce_iq, v_d_iq, r_on_iq, v_f_iq (no injection separates a device's threshold
  * and on-state resistance from R_s and the dead time: docs/commissioning.md); J and the friction
  * (no row: the speed PI's gains and the lost-encoder level derive from J in the host converter).
@@ -44,50 +75,34 @@
 /* 1 / g on the beta axis (g = 1 / sqrt(3)), IQ; on the alpha axis 1 / g = 3/2 is exact */
 #define APPLY_IQ_SQRT3 29058990LL /* round(sqrt(3) 2^24) */
 
-#if DTC_LAW_PM_LINKED
+#if DTC_LAW_PM_LINKED || DTC_LAW_IM_LINKED
 /* round(num / den) for den > 0 (background) */
 static int64_t div_round(int64_t num, int64_t den)
 {
     return num >= 0 ? app_ident_div64(num + den / 2, den) : -app_ident_div64(-num + den / 2, den);
 }
 
-int16_t app_ident_derive(const app_ident_t *d, const dtc_config_t *in, dtc_config_t *out)
+/* The common rows of a PM's and an IM's identification: R_s, the dead time, the pole pairs and
+ * the encoder's gain and direction (the file comment). *gain: the encoder gain written. */
+static int16_t derive_common(const app_ident_t *d, const dtc_config_t *in, dtc_config_t *out, int64_t *gain)
 {
-    int64_t ls, inv, gain, td;
-    if (d->step != (uint16_t)APP_IDENT_DONE) {
-        return (int16_t)APP_IDENT_APPLY_NOT_DONE;
-    }
-    if (in->law != (uint16_t)DTC_LAW_PM_DTC || d->im_on != 0U) {
-        return (int16_t)APP_IDENT_APPLY_LAW;
-    }
-    *out = *in;
+    int64_t td;
     /* R_s: the slope less the board's R_on */
     if (d->res.r_iq <= in->board.r_on_iq) {
         return (int16_t)APP_IDENT_APPLY_RS;
     }
     out->machine.rs_iq = d->res.r_iq - in->board.r_on_iq;
-    /* L_s and 1 / L_s: IQ x IQ < 2^31 x 2^24 */
-    ls = ((int64_t)d->res.l_ts_iq * (int64_t)in->board.ts_pu_iq + ((int64_t)1 << 23)) >> 24;
-    if (ls < ((int64_t)1 << 17) || ls > (int64_t)0x7FFFFFFF) {
-        return (int16_t)APP_IDENT_APPLY_LS;
-    }
-    inv = div_round((int64_t)1 << 48, ls);
-    out->u.pm_dtc.machine.ls_iq = (iq_t)ls;
-    out->u.pm_dtc.machine.inv_ls_iq = fix_sat32(inv);
-    out->u.pm_dtc.machine.psi_m_iq = d->res.psi_iq;
-    /* pole pairs and the encoder's gain, direction and offset */
+    /* pole pairs and the encoder's gain and direction */
     if (in->board.enc_counts == 0U || d->res.pole_pairs == 0U) {
         return (int16_t)APP_IDENT_APPLY_ENCODER;
     }
-    gain = div_round((int64_t)d->res.pole_pairs << 32, (int64_t)in->board.enc_counts);
-    if (gain > (int64_t)0x7FFFFFFF) {
+    *gain = div_round((int64_t)d->res.pole_pairs << 32, (int64_t)in->board.enc_counts);
+    if (*gain > (int64_t)0x7FFFFFFF) {
         return (int16_t)APP_IDENT_APPLY_ENCODER;
     }
     out->machine.pole_pairs = d->res.pole_pairs;
-    out->board.enc_gain_q16 = (uint32_t)gain;
+    out->board.enc_gain_q16 = (uint32_t)*gain;
     out->board.enc_reversed = (uint16_t)((in->board.enc_reversed != 0U) != (d->res.enc_reversed != 0U) ? 1U : 0U);
-    out->board.enc_offset = (angle_t)(d->res.enc_offset +
-                                      (d->res.enc_reversed != 0U ? (angle_t)((uint32_t)(gain + 32768) >> 16) : 0U));
     /* dead time: V_0 / g in IQ (|V_0| < 2 pu: x sqrt(3) < 2^51), less the thresholds, over 2 V_dc */
     if (d->vdc_iq <= 0) {
         return (int16_t)APP_IDENT_APPLY_DEADTIME;
@@ -104,12 +119,201 @@ int16_t app_ident_derive(const app_ident_t *d, const dtc_config_t *in, dtc_confi
     out->board.td_ts_q15 = (q15_t)td;
     return (int16_t)APP_IDENT_APPLY_OK;
 }
-#else
-/* An image without the PM DTC law (an IM image): nothing to apply. */
-int16_t app_ident_derive(const app_ident_t *d, const dtc_config_t *in, dtc_config_t *out)
+
+/* An inductance identified as L / (Z_b Ts) (IQ) in pu of L_b: x board.ts_pu_iq (Ts w_b), IQ x IQ
+ * in 64 bits (< 2^55), rounded to nearest. */
+static int64_t l_pu(iq_t l_ts_iq, const dtc_config_t *in)
 {
-    (void)in;
-    (void)out;
-    return d->step != (uint16_t)APP_IDENT_DONE ? (int16_t)APP_IDENT_APPLY_NOT_DONE : (int16_t)APP_IDENT_APPLY_LAW;
+    return ((int64_t)l_ts_iq * (int64_t)in->board.ts_pu_iq + ((int64_t)1 << 23)) >> 24;
 }
 #endif
+
+#if DTC_LAW_PM_LINKED
+/* The PM's rows (the file comment). */
+static int16_t derive_pm(const app_ident_t *d, const dtc_config_t *in, dtc_config_t *out)
+{
+    int64_t ls, inv, gain = 0;
+    const int16_t rc = derive_common(d, in, out, &gain);
+    if (rc != (int16_t)APP_IDENT_APPLY_OK) {
+        return rc;
+    }
+    /* L_s and 1 / L_s */
+    ls = l_pu(d->res.l_ts_iq, in);
+    if (ls < ((int64_t)1 << 17) || ls > (int64_t)0x7FFFFFFF) {
+        return (int16_t)APP_IDENT_APPLY_LS;
+    }
+    inv = div_round((int64_t)1 << 48, ls);
+    out->u.pm_dtc.machine.ls_iq = (iq_t)ls;
+    out->u.pm_dtc.machine.inv_ls_iq = fix_sat32(inv);
+    out->u.pm_dtc.machine.psi_m_iq = d->res.psi_iq;
+    /* the encoder's offset: read as N - 1 - count when the count was found running down */
+    out->board.enc_offset = (angle_t)(d->res.enc_offset +
+                                      (d->res.enc_reversed != 0U ? (angle_t)((uint32_t)(gain + 32768) >> 16) : 0U));
+    return (int16_t)APP_IDENT_APPLY_OK;
+}
+#endif
+
+#if DTC_LAW_IM_LINKED
+/* floor(num 2^sh / den) for num >= 0 and 0 < den < 2^62, by restoring long division over the bits
+ * of num followed by sh zeros (the shifted numerator never formed: any sh); -1 when the quotient
+ * reaches 2^62 (the caller refuses). Background. */
+static int64_t div_shl(int64_t num, uint16_t sh, int64_t den)
+{
+    const uint64_t n = (uint64_t)num, dd = (uint64_t)den;
+    uint64_t q = 0U, r = 0U;
+    int16_t b;
+    for (b = (int16_t)(63 + (int16_t)sh); b >= 0; b--) {
+        const uint64_t bit = b >= (int16_t)sh ? (n >> (uint16_t)(b - (int16_t)sh)) & 1U : 0U;
+        r = (r << 1) | bit;
+        if (q >= ((uint64_t)1 << 61)) {
+            return -1;
+        }
+        q <<= 1;
+        if (r >= dd) {
+            r -= dd;
+            q |= 1U;
+        }
+    }
+    return (int64_t)q;
+}
+
+/* round(num 2^sh / den) (div_shl's range; -1 beyond it) */
+static int64_t div_shl_round(int64_t num, uint16_t sh, int64_t den)
+{
+    const int64_t q = div_shl(num, (uint16_t)(sh + 1U), den);
+    return q < 0 ? -1 : (q + 1) >> 1;
+}
+
+/* round(sqrt(x)) for x >= 0 (bit by bit; background) */
+static int64_t isqrt_round(int64_t x)
+{
+    uint64_t v = (uint64_t)x, r = 0U, bit = (uint64_t)1 << 62;
+    while (bit > v) {
+        bit >>= 2;
+    }
+    while (bit != 0U) {
+        if (v >= r + bit) {
+            v -= r + bit;
+            r = (r >> 1) + bit;
+        } else {
+            r >>= 1;
+        }
+        bit >>= 2;
+    }
+    /* v = x - r^2; round up when x > r^2 + r, i.e. x >= (r + 1/2)^2 for an integer x */
+    return (int64_t)(v > r ? r + 1U : r);
+}
+
+/* ls / (lm x^2) in 2^sh units for IQ inputs, floor within one unit: floor(ls 2^(sh1) / (lm x))
+ * then that 2^16 / x (the first quotient's floor costs less than 2^16 / x < 1 unit for x > 2^16);
+ * -1 beyond range. */
+static int64_t ls_over_lm_x2(int64_t ls, int64_t lm, int64_t x, uint16_t sh)
+{
+    const int64_t a = div_shl(ls, (uint16_t)(sh - 16U), lm * x);
+    return a < 0 ? -1 : div_shl(a, 16U, x);
+}
+
+/* The induction machine's rows (the file comment). */
+static int16_t derive_im(const app_ident_t *d, const dtc_config_t *in, dtc_config_t *out)
+{
+    dtc_im_cfg_t *im = &out->u.im;
+    int64_t ls, sls, lm, m, kr, inv_ks, kt, mk, psir, i_m, ramp, gain = 0;
+    const int16_t rc = derive_common(d, in, out, &gain);
+    if (rc != (int16_t)APP_IDENT_APPLY_OK) {
+        return rc;
+    }
+    /* sigma L_s (the voltage steps), L_s (turning: psi / i_d; standing when that is not above
+     * sigma L_s, a spin that measured no flux), L_M = L_s - sigma L_s */
+    sls = l_pu(d->res.im.lsig_ts_iq, in);
+    ls = d->res.im.id_iq > 0 && d->res.psi_iq > 0 ? div_shl_round(d->res.psi_iq, 24U, d->res.im.id_iq) : 0;
+    if (!(ls > sls)) {
+        ls = l_pu(d->res.im.ls_ts_iq, in);
+    }
+    if (sls < 1 || ls > (int64_t)0x7FFFFFFF || !(ls > sls) || d->res.im.rr_iq <= 0) {
+        return (int16_t)APP_IDENT_APPLY_IM;
+    }
+    lm = ls - sls;
+    /* T model with L_ls = L_lr (L_r = L_s): M = sqrt(L_s L_M), L_r / M = L_s / M = sqrt(L_s / L_M),
+     * M / L_s = sqrt(L_M / L_s), sigma L_s = sigma L_r = the identified sigma L_s */
+    m = isqrt_round(ls * lm);
+    kr = div_shl(ls, 48U, lm);
+    if (kr < 0) {
+        return (int16_t)APP_IDENT_APPLY_IM;
+    }
+    kr = isqrt_round(kr);
+    inv_ks = isqrt_round(div_shl(lm, 48U, ls)); /* lm < ls: below 2^48 */
+    /* Casadei eq. 34's k_T = (1 - sigma) / (2 sigma l_s) = L_M / (2 sigma L_s L_s) */
+    kt = div_shl_round(lm, 47U, sls * ls);
+    /* T_s / tau_r = T_s w_b r_r / l_r (Q31) */
+    mk = div_shl_round((int64_t)in->board.ts_pu_iq * (int64_t)d->res.im.rr_iq, 7U, ls);
+    if (kr > (int64_t)0x7FFFFFFF || kt < 1 || kt > (int64_t)0x7FFFFFFF || mk < 1 || mk > (int64_t)0x7FFFFFFF) {
+        return (int16_t)APP_IDENT_APPLY_IM;
+    }
+    im->machine.rr_iq = d->res.im.rr_iq;
+    im->machine.sigma_ls_iq = (iq_t)sls;
+    im->machine.sigma_lr_iq = (iq_t)sls;
+    im->machine.kr_iq = (iq_t)kr;
+    im->machine.ks_iq = (iq_t)kr;
+    im->machine.inv_ks_iq = (iq_t)inv_ks;
+    im->machine.m_iq = (iq_t)m;
+    im->fw.kt_iq = (iq_t)kt;
+    im->ref.magn_k_q31 = (q31_t)mk;
+    /* the rotor-flux reference: the configured one, or the stator flux's at no load, (M / L_s)
+     * phi_s*; 1 / its square when it is derived: L_s / (phi_s*^2 L_M) */
+    if (im->ref.psir_ref_iq > 0) {
+        psir = im->ref.psir_ref_iq;
+    } else {
+        const int64_t inv_sq = ls_over_lm_x2(ls, lm, (int64_t)in->speed.flux_ref_iq, 72U);
+        if (inv_sq < 1 || inv_sq > (int64_t)0x7FFFFFFF) {
+            return (int16_t)APP_IDENT_APPLY_IM;
+        }
+        im->ref.inv_psir_sq_iq = (iq_t)inv_sq;
+        psir = ((int64_t)in->speed.flux_ref_iq * inv_ks + ((int64_t)1 << 23)) >> 24;
+    }
+    /* the start-up's flux ramp: (I_n - phi_r* / M) r_r T_s, I_n the rated current = the current
+     * base (the identification's), refused when the magnetising current is not below it */
+    i_m = div_shl_round(psir, 24U, m);
+    if (i_m < 0 || i_m >= ((int64_t)1 << 24)) {
+        return (int16_t)APP_IDENT_APPLY_IM;
+    }
+    ramp = (((((int64_t)1 << 24) - i_m) * (int64_t)d->res.im.rr_iq + ((int64_t)1 << 23)) >> 24) * in->board.ts_pu_iq;
+    ramp = (ramp + ((int64_t)1 << 23)) >> 24;
+    if (ramp < 1) {
+        return (int16_t)APP_IDENT_APPLY_IM;
+    }
+    im->ref.magn_ramp_iq = (iq_t)ramp;
+    if (out->law == (uint16_t)DTC_LAW_IM_DFOC) {
+        /* i_d* = phi_r* / M, i_q per torque l_r / (m phi_r*) = sqrt(L_s / (L_M phi_r*^2)) */
+        const int64_t q2 = ls_over_lm_x2(ls, lm, psir, 96U);
+        const int64_t q = q2 < 0 ? -1 : isqrt_round(q2);
+        if (q < 1 || q > (int64_t)0x7FFFFFFF) {
+            return (int16_t)APP_IDENT_APPLY_IM;
+        }
+        im->dfoc.id_ref_iq = (iq_t)i_m;
+        im->dfoc.iq_per_t_iq = (iq_t)q;
+    }
+    return (int16_t)APP_IDENT_APPLY_OK;
+}
+#endif
+
+int16_t app_ident_derive(const app_ident_t *d, const dtc_config_t *in, dtc_config_t *out)
+{
+    if (d->step != (uint16_t)APP_IDENT_DONE) {
+        return (int16_t)APP_IDENT_APPLY_NOT_DONE;
+    }
+#if DTC_LAW_PM_LINKED
+    if (in->law == (uint16_t)DTC_LAW_PM_DTC && d->im_on == 0U) {
+        *out = *in;
+        return derive_pm(d, in, out);
+    }
+#endif
+#if DTC_LAW_IM_LINKED
+    if (dtc_law_is_im(in->law) != 0U && d->im_on != 0U) {
+        *out = *in;
+        return derive_im(d, in, out);
+    }
+#endif
+    (void)in;
+    (void)out;
+    return (int16_t)APP_IDENT_APPLY_LAW;
+}

@@ -164,15 +164,17 @@ enum proto_cmd {
      *   PROTO_ERR_RANGE for another sub. */
     PROTO_IDENTIFY = 0x70,
     /* IDENT_APPLY: the finished identification's results into the parameters in force (app_ident.h
-     * app_ident_apply: R_s, L_s and 1/L_s, psi_m, pole pairs with the encoder gain, the encoder's
-     * direction and offset, the dead time; a PM DTC configuration only), checked by its law's check
+     * app_ident_apply: R_s, the dead time, pole pairs with the encoder gain and direction; on a PM
+     * DTC configuration L_s and 1/L_s, psi_m and the encoder's offset, on an IM law's the IM rows
+     * derived from R_r, sigma L_s and L_s, app_ident_apply.c), checked by its law's check
      * and applied as a PARAM_WRITE is while disarmed (calibration, then READY); PARAMS_SAVE stores
      * them. Disarmed only.   request: empty    response: 0 u16 rows written (enum
      * app_ident_apply_err APP_IDENT_APPLY_OK: the count of configuration rows whose value changed)
      *   errors: PROTO_ERR_ARMED; PROTO_ERR_STATE (detail APP_IDENT_APPLY_NOT_DONE: no finished
-     *   identification); PROTO_ERR_REFUSED (detail PROTO_REFUSE_LAW: not a PM DTC configuration or
-     *   an induction machine's identification); PROTO_ERR_RANGE (detail: enum app_ident_apply_err
-     *   APP_IDENT_APPLY_RS .. APP_IDENT_APPLY_DEADTIME, a derived value outside its row, positive;
+     *   identification); PROTO_ERR_REFUSED (detail PROTO_REFUSE_LAW: the identification's machine
+     *   is not the law's: a PM's on other than the PM DTC law, an IM's on other than an IM law);
+     *   PROTO_ERR_RANGE (detail: enum app_ident_apply_err APP_IDENT_APPLY_RS ..
+     *   APP_IDENT_APPLY_DEADTIME or APP_IDENT_APPLY_IM, a derived value outside its row, positive;
      *   or the law's check's enum dtc_err code, negative). */
     PROTO_IDENT_APPLY = 0x71,
 

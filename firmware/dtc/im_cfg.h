@@ -117,19 +117,20 @@ typedef struct {
 } dtc_im_cfg_t;
 
 /* The IM part's parameters, once (dtc_param.h). The machine's values are derived together from
- * R_r, the leakages and M (tools/config law_im_si.c): read-only here. */
+ * R_r, the leakages and M (tools/config law_im_si.c): read-only here; those an identification
+ * writes (app_ident_apply.c) are stored with the parameters (DTC_PARAM_STORED). */
 #define DTC_PARAMS_IM(X)                                                                                      \
     X(200, u.im.part, U16, NONE, DTC_PART_IM, DTC_PART_IM, DTC_ERR_PART, DTC_PARAM_RO,                        \
       "tag of the IM part (DTC_PART_IM)")                                                                     \
-    X(201, u.im.machine.rr_iq, IQ, Z, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO, "rotor resistance R_r (Casadei eq. 16)") \
-    X(202, u.im.machine.sigma_ls_iq, IQ, L, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO,                    \
+    X(201, u.im.machine.rr_iq, IQ, Z, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO | DTC_PARAM_STORED, "rotor resistance R_r (Casadei eq. 16)") \
+    X(202, u.im.machine.sigma_ls_iq, IQ, L, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO | DTC_PARAM_STORED,                    \
       "stator transient inductance sigma L_s (Casadei eq. 21)")                                               \
-    X(203, u.im.machine.sigma_lr_iq, IQ, L, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO,                    \
+    X(203, u.im.machine.sigma_lr_iq, IQ, L, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO | DTC_PARAM_STORED,                    \
       "rotor transient inductance sigma L_r (Casadei eq. 19)")                                                \
-    X(204, u.im.machine.kr_iq, IQ, RATIO, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO, "L_r / M (Casadei eq. 21)") \
-    X(205, u.im.machine.ks_iq, IQ, RATIO, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO, "L_s / M (Casadei eq. 19)") \
-    X(206, u.im.machine.inv_ks_iq, IQ, RATIO, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO, "M / L_s")       \
-    X(207, u.im.machine.m_iq, IQ, L, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO, "magnetising inductance M") \
+    X(204, u.im.machine.kr_iq, IQ, RATIO, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO | DTC_PARAM_STORED, "L_r / M (Casadei eq. 21)") \
+    X(205, u.im.machine.ks_iq, IQ, RATIO, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO | DTC_PARAM_STORED, "L_s / M (Casadei eq. 19)") \
+    X(206, u.im.machine.inv_ks_iq, IQ, RATIO, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO | DTC_PARAM_STORED, "M / L_s")       \
+    X(207, u.im.machine.m_iq, IQ, L, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO | DTC_PARAM_STORED, "magnetising inductance M") \
     X(210, u.im.est.k_lo_q31, Q31, RATIO, 0, DTC_I32_MAX, DTC_ERR_FLUX_EST, DTC_PARAM_RO,                     \
       "improved estimator's correction gain T_s / tau at low speed (> 0 with it)")                            \
     X(211, u.im.est.k_hi_q31, Q31, RATIO, 0, DTC_I32_MAX, DTC_ERR_FLUX_EST, DTC_PARAM_RO,                     \
@@ -156,13 +157,13 @@ typedef struct {
     X(234, u.im.fw.psi_min_iq, IQ, PSI, 0, DTC_I32_MAX, DTC_ERR_WEAKENING, 0U, "lowest flux reference")       \
     X(235, u.im.fw.inv_psi_rated_iq, IQ, INV_PSI, 0, DTC_I32_MAX, DTC_ERR_WEAKENING, DTC_PARAM_RO,            \
       "1 / the rated stator-flux reference")                                                                  \
-    X(236, u.im.fw.kt_iq, IQ, PU, 0, DTC_I32_MAX, DTC_ERR_WEAKENING, DTC_PARAM_RO,                            \
+    X(236, u.im.fw.kt_iq, IQ, PU, 0, DTC_I32_MAX, DTC_ERR_WEAKENING, DTC_PARAM_RO | DTC_PARAM_STORED,                            \
       "k_T of Casadei eq. 34, torque per flux squared")                                                       \
     X(240, u.im.ref.psir_ref_iq, IQ, PSI, 0, DTC_I32_MAX, DTC_ERR_REFERENCE, DTC_PARAM_RO,                    \
       "rotor-flux reference (Casadei eq. 19); 0 = the stator-flux reference")                                 \
     X(241, u.im.ref.inv_psir_ref_iq, IQ, INV_PSI, 0, DTC_I32_MAX, DTC_ERR_REFERENCE, DTC_PARAM_RO,             \
       "1 / the rotor-flux reference")                                                                         \
-    X(242, u.im.ref.inv_psir_sq_iq, IQ, PU, 1, DTC_I32_MAX, DTC_ERR_REFERENCE, DTC_PARAM_RO,                  \
+    X(242, u.im.ref.inv_psir_sq_iq, IQ, PU, 1, DTC_I32_MAX, DTC_ERR_REFERENCE, DTC_PARAM_RO | DTC_PARAM_STORED,                  \
       "1 / the rotor-flux reference squared (Casadei eq. 16 slip)")                                           \
     X(243, u.im.ref.gain_w_iq, IQ, PU, 1, DTC_I32_MAX, DTC_ERR_SPEED, DTC_PARAM_RO,                           \
       "pu speed of one angle LSB per speed period")                                                           \
@@ -170,9 +171,9 @@ typedef struct {
       "sensorless speed filter gain per speed period")                                                        \
     X(245, u.im.ref.magn_periods, U16, NONE, 1, 65535, DTC_ERR_STARTUP, DTC_PARAM_RO,                          \
       "start-up: control periods of the magnetisation")                                                       \
-    X(246, u.im.ref.magn_ramp_iq, IQ, PSI, 1, DTC_I32_MAX, DTC_ERR_STARTUP, DTC_PARAM_RO,                     \
+    X(246, u.im.ref.magn_ramp_iq, IQ, PSI, 1, DTC_I32_MAX, DTC_ERR_STARTUP, DTC_PARAM_RO | DTC_PARAM_STORED,                     \
       "start-up: flux-reference ramp per period")                                                             \
-    X(247, u.im.ref.magn_k_q31, Q31, RATIO, 1, DTC_I32_MAX, DTC_ERR_STARTUP, DTC_PARAM_RO,                    \
+    X(247, u.im.ref.magn_k_q31, Q31, RATIO, 1, DTC_I32_MAX, DTC_ERR_STARTUP, DTC_PARAM_RO | DTC_PARAM_STORED,                    \
       "start-up rotor-flux model's gain per period, T_s / tau_r")                                             \
     X(248, u.im.ref.enc_plaus_iq, IQ, W, 0, DTC_I32_MAX, DTC_ERR_SPEED, DTC_PARAM_RO,                         \
       "encoder plausibility: largest credible sensorless - encoder speed difference (Casadei eqs. 16, 22); 0 = off") \
@@ -183,9 +184,9 @@ typedef struct {
       "SFVC flux-regulator gain K_p of Casadei eq. 24 over w_b, in (0, 1/T_s]")                               \
     X(255, u.im.dfoc.kp_iq, IQ, Z, 0, DTC_I32_MAX, DTC_ERR_SVM, 0U, "DFOC current PI proportional gain")      \
     X(256, u.im.dfoc.ki_ts_iq, IQ, Z, 0, DTC_I32_MAX, DTC_ERR_SVM, 0U, "DFOC current PI integral gain times T_s") \
-    X(257, u.im.dfoc.id_ref_iq, IQ, A, 0, DTC_I32_MAX, DTC_ERR_SVM, DTC_PARAM_RO,                             \
+    X(257, u.im.dfoc.id_ref_iq, IQ, A, 0, DTC_I32_MAX, DTC_ERR_SVM, DTC_PARAM_RO | DTC_PARAM_STORED,                             \
       "DFOC d-axis current reference psi_r* / M")                                                             \
-    X(258, u.im.dfoc.iq_per_t_iq, IQ, PU, 0, DTC_I32_MAX, DTC_ERR_SVM, DTC_PARAM_RO,                          \
+    X(258, u.im.dfoc.iq_per_t_iq, IQ, PU, 0, DTC_I32_MAX, DTC_ERR_SVM, DTC_PARAM_RO | DTC_PARAM_STORED,                          \
       "DFOC q-axis current per unit torque, L_r / (M psi_r*)")                                                \
     X(260, u.im.dsvm.torque_band2_iq, IQ, T, 0, DTC_I32_MAX, DTC_ERR_BAND, DTC_PARAM_LIVE,                    \
       "DSVM five-level torque comparator's outer band, full width (>= the torque band)")

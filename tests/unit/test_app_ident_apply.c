@@ -6,6 +6,12 @@
  * formula on the same raw inputs (the rounding) and with the host converter's value for the true
  * machine (dtc_config_from_si: the quantisation of the inputs), and the result passes the law's
  * check. The refusals are named.
+ *
+ * An induction machine likewise (setup_im, check_im_rows): the identification's R_s, R_r, sigma L_s
+ * and L_s (turning: the spin's L_s i_d over i_d) of the 4 kW machine (L_ls = L_lr, the split the
+ * apply takes), the configuration in force from R_s, R_r, L_m 30 % high and the leakages 30 % low;
+ * every derived IM row against its double formula on the same integer inputs (half an LSB) and
+ * against the converter's value for the true machine (the inputs' quantisation: ts_pu's 2.4e-6).
  */
 #include <math.h>
 #include <setjmp.h>
@@ -204,12 +210,224 @@ static void test_refusals(void **state)
     assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_LS);
 }
 
+
+/* ---- induction machine ---------------------------------------------------------------------- */
+
+static double g_err_lsb;  /* the largest |row - its double formula| seen, LSB */
+static double g_err_conv; /* the largest relative difference from the converter's row */
+
+/* |got - want| <= tol (LSB), the largest kept */
+static void near_lsb(const char *row, double got, double want, double tol)
+{
+    const double e = fabs(got - want);
+    if (e > g_err_lsb) {
+        g_err_lsb = e;
+    }
+    if (!(e <= tol)) {
+        fail_msg("%s: %.3f against its formula %.3f (%.3f LSB, tolerance %.3f)", row, got, want, e, tol);
+    }
+}
+
+/* |got / want - 1| <= tol, the largest kept */
+static void near_conv(const char *row, double got, double want, double tol)
+{
+    const double e = fabs(got / want - 1.0);
+    if (e > g_err_conv) {
+        g_err_conv = e;
+    }
+    if (!(e <= tol)) {
+        fail_msg("%s: %.0f against the converter's %.0f (%.3g relative, tolerance %.3g)", row, got, want, e, tol);
+    }
+}
+
+/* A finished identification of the IM g_si (law, rotor-flux reference psir_ref_wb, encoder
+ * direction rev, pole pairs p) as app_ident_im.c leaves it (app_ident_im.h units); the
+ * configuration in force from the same machine with R_s, R_r, L_m 30 % high, L_ls, L_lr 30 % low. */
+static void setup_im(int law, double psir_ref_wb, int rev, int p)
+{
+    dtc_config_si_t wrong;
+    double ts, z_b, ls, lr, sls, id;
+    dtc_config_si_im_defaults(&g_si);
+    g_si.law = law;
+    g_si.psir_ref_wb = psir_ref_wb;
+    g_si.enc_reversed = rev;
+    g_si.pole_pairs = p;
+    convert(&g_si, &g_ref);
+    dtc_bases_from_si(&g_si, &g_b);
+    wrong = g_si;
+    wrong.rs_ohm *= 1.3;
+    wrong.rr_ohm *= 1.3;
+    wrong.lm_h *= 1.3;
+    wrong.lls_h *= 0.7;
+    wrong.llr_h *= 0.7;
+    wrong.enc_reversed = 0;
+    wrong.pole_pairs = 2;
+    convert(&wrong, &g_in);
+    ts = g_si.ts_s;
+    z_b = g_b.z_base_ohm;
+    ls = g_si.lls_h + g_si.lm_h;
+    lr = g_si.llr_h + g_si.lm_h;
+    sls = ls - g_si.lm_h * g_si.lm_h / lr;
+    memset(&g_d, 0, sizeof g_d);
+    g_d.step = APP_IDENT_DONE;
+    g_d.im_on = 1U;
+    g_d.res.axis = 0U;
+    g_d.res.r_iq = iq_of((g_si.rs_ohm + g_si.r_on_ohm) / z_b);
+    g_d.res.v0_iq = iq_of(2.0 / 3.0 * (g_si.v_ce_v + g_si.v_d_v + 2.0 * g_si.vdc_v * g_si.dead_time_s / ts) / g_b.v_base_v);
+    g_d.vdc_iq = iq_of(g_si.vdc_v / g_b.v_base_v);
+    g_d.res.pole_pairs = (uint16_t)p;
+    g_d.res.enc_reversed = (uint16_t)rev;
+    g_d.res.im.ls_ts_iq = iq_of(ls / (z_b * ts));
+    g_d.res.im.lsig_ts_iq = iq_of(sls / (z_b * ts));
+    g_d.res.im.taur_q4 = (int32_t)lround(16.0 * lr / g_si.rr_ohm / ts);
+    g_d.res.im.rr_iq = iq_of(g_si.rr_ohm / z_b);
+    /* the spin: i_d the stator flux reference over L_s, psi the stator flux L_s i_d */
+    id = g_si.flux_ref_wb / ls;
+    g_d.res.im.id_iq = iq_of(id / g_b.i_base_a);
+    g_d.res.psi_iq = iq_of(ls * ((double)g_d.res.im.id_iq / IQ1 * g_b.i_base_a) / g_b.psi_base_wb);
+}
+
+/* Each derived IM row against its double formula on the same integer inputs and against the
+ * converter's row for the true machine. */
+static void check_im_rows(void)
+{
+    const dtc_im_cfg_t *o = &g_out.u.im, *r = &g_ref.u.im;
+    const double ts = (double)g_in.board.ts_pu_iq;
+    const double ls_raw = (double)g_d.res.psi_iq * IQ1 / (double)g_d.res.im.id_iq;
+    const double sls_raw = (double)g_d.res.im.lsig_ts_iq * ts / IQ1;
+    const char *f = NULL;
+    double ls, sls, lm, psir;
+    int16_t rc;
+    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
+    rc = law_check(&g_out, &f);
+    if (rc != 0) {
+        fail_msg("law_check refused the applied configuration: %d (%s)", rc, f != NULL ? f : "");
+    }
+    /* the inputs: sigma L_s and L_s (turning) rounded to nearest */
+    near_lsb("sigma_ls_iq", (double)o->machine.sigma_ls_iq, sls_raw, 0.5);
+    assert_int_equal(o->machine.sigma_lr_iq, o->machine.sigma_ls_iq);
+    sls = (double)o->machine.sigma_ls_iq;
+    ls = nearbyint(ls_raw);
+    lm = ls - sls;
+    /* the T model with L_ls = L_lr: M = sqrt(L_s L_M), L_r/M = L_s/M = sqrt(L_s/L_M), M/L_s */
+    near_lsb("m_iq", (double)o->machine.m_iq, sqrt(ls * lm), 0.5);
+    near_lsb("kr_iq", (double)o->machine.kr_iq, IQ1 * sqrt(ls / lm), 0.5 + 1e-6);
+    assert_int_equal(o->machine.ks_iq, o->machine.kr_iq);
+    near_lsb("inv_ks_iq", (double)o->machine.inv_ks_iq, IQ1 * sqrt(lm / ls), 0.5 + 1e-6);
+    assert_int_equal(o->machine.rr_iq, g_d.res.im.rr_iq);
+    /* Casadei eq. 34's k_T = (1 - sigma) / (2 sigma l_s) = L_M / (2 sigma L_s L_s) */
+    near_lsb("kt_iq", (double)o->fw.kt_iq, IQ1 * lm / (2.0 * sls / IQ1 * ls), 0.5);
+    /* T_s / tau_r = ts_pu r_r / l_r, Q31 */
+    near_lsb("magn_k_q31", (double)o->ref.magn_k_q31, 2147483648.0 * ts * (double)g_d.res.im.rr_iq / (IQ1 * ls), 0.5);
+    if (g_in.u.im.ref.psir_ref_iq > 0) {
+        psir = (double)g_in.u.im.ref.psir_ref_iq;
+        assert_int_equal(o->ref.inv_psir_sq_iq, g_in.u.im.ref.inv_psir_sq_iq);
+    } else {
+        const double fl = (double)g_in.speed.flux_ref_iq;
+        /* 1 / phi_r*^2, phi_r* = (M / L_s) phi_s*: L_s / (phi_s*^2 L_M); two quotients (1/64 LSB) */
+        near_lsb("inv_psir_sq_iq", (double)o->ref.inv_psir_sq_iq, ldexp(ls / (fl * fl * lm), 72), 0.5 + 1.0 / 64.0);
+        psir = nearbyint(fl * (double)o->machine.inv_ks_iq / IQ1);
+        near_conv("inv_psir_sq_iq", (double)o->ref.inv_psir_sq_iq, (double)r->ref.inv_psir_sq_iq, 5e-6);
+    }
+    /* the start-up's flux ramp (1 - phi_r* / M) r_r ts (the current base is the rated current) */
+    near_lsb("magn_ramp_iq", (double)o->ref.magn_ramp_iq,
+             (1.0 - psir / (double)o->machine.m_iq) * (double)g_d.res.im.rr_iq * ts / IQ1, 0.5 + 0.01);
+    if (g_in.law == DTC_LAW_IM_DFOC) {
+        near_lsb("dfoc.id_ref_iq", (double)o->dfoc.id_ref_iq, IQ1 * psir / (double)o->machine.m_iq, 0.5);
+        near_lsb("dfoc.iq_per_t_iq", (double)o->dfoc.iq_per_t_iq, IQ1 * sqrt(ls / lm) * IQ1 / psir, 0.5 + 1e-3);
+        near_conv("dfoc.id_ref_iq", (double)o->dfoc.id_ref_iq, (double)r->dfoc.id_ref_iq, 5e-6);
+        near_conv("dfoc.iq_per_t_iq", (double)o->dfoc.iq_per_t_iq, (double)r->dfoc.iq_per_t_iq, 5e-6);
+    }
+    /* against the converter of the true machine: the inputs' quantisation (ts_pu_iq: 2.4e-6) */
+    near_conv("sigma_ls_iq", (double)o->machine.sigma_ls_iq, (double)r->machine.sigma_ls_iq, 5e-6);
+    near_conv("sigma_lr_iq", (double)o->machine.sigma_lr_iq, (double)r->machine.sigma_lr_iq, 5e-6);
+    near_conv("m_iq", (double)o->machine.m_iq, (double)r->machine.m_iq, 5e-6);
+    near_conv("kr_iq", (double)o->machine.kr_iq, (double)r->machine.kr_iq, 5e-6);
+    near_conv("ks_iq", (double)o->machine.ks_iq, (double)r->machine.ks_iq, 5e-6);
+    near_conv("inv_ks_iq", (double)o->machine.inv_ks_iq, (double)r->machine.inv_ks_iq, 5e-6);
+    near_conv("rr_iq", (double)o->machine.rr_iq, (double)r->machine.rr_iq, 5e-6);
+    near_conv("kt_iq", (double)o->fw.kt_iq, (double)r->fw.kt_iq, 5e-6);
+    near_conv("magn_k_q31", (double)o->ref.magn_k_q31, (double)r->ref.magn_k_q31, 5e-6);
+    near_conv("magn_ramp_iq", (double)o->ref.magn_ramp_iq, (double)r->ref.magn_ramp_iq, 5e-6);
+    assert_true(labs((long)g_out.machine.rs_iq - (long)g_ref.machine.rs_iq) <= 2L);
+    assert_int_equal(g_out.machine.pole_pairs, g_ref.machine.pole_pairs);
+    assert_int_equal(g_out.board.enc_gain_q16, g_ref.board.enc_gain_q16);
+    assert_int_equal(g_out.board.enc_reversed, g_ref.board.enc_reversed);
+    assert_true(abs((int)g_out.board.td_ts_q15 - (int)g_ref.board.td_ts_q15) <= 1);
+    /* not written: the rows the image cannot derive (app_ident_apply.c) */
+    assert_int_equal(o->ref.magn_periods, g_in.u.im.ref.magn_periods);
+    assert_int_equal(o->ref.enc_plaus_iq, g_in.u.im.ref.enc_plaus_iq);
+    assert_int_equal(g_out.board.enc_offset, g_in.board.enc_offset);
+    assert_int_equal(g_out.speed.kp_iq, g_in.speed.kp_iq);
+}
+
+static void test_im_dtc(void **state)
+{
+    (void)state;
+    setup_im(DTC_LAW_IM_DTC, 0.53, 0, 2);
+    check_im_rows();
+}
+
+/* the rotor-flux reference derived from the stator flux's (psir_ref_wb = 0): 1 / phi_r*^2 written */
+static void test_im_derived_rotor_flux(void **state)
+{
+    (void)state;
+    setup_im(DTC_LAW_IM_DTC, 0.0, 1, 3);
+    check_im_rows();
+}
+
+static void test_im_dfoc(void **state)
+{
+    (void)state;
+    setup_im(DTC_LAW_IM_DFOC, 0.53, 0, 2);
+    check_im_rows();
+    print_message("IM rows: largest error against the formulas %.4f LSB, against the converter %.3g relative\n",
+                  g_err_lsb, g_err_conv);
+}
+
+/* no flux measured turning (a spin without i_d): the standing L_s */
+static void test_im_standing_ls(void **state)
+{
+    (void)state;
+    setup_im(DTC_LAW_IM_DTC, 0.53, 0, 2);
+    g_d.res.im.id_iq = 0;
+    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
+    {
+        const double ls = nearbyint((double)g_d.res.im.ls_ts_iq * (double)g_in.board.ts_pu_iq / IQ1);
+        const double lm = ls - (double)g_out.u.im.machine.sigma_ls_iq;
+        near_lsb("m_iq (standing L_s)", (double)g_out.u.im.machine.m_iq, sqrt(ls * lm), 0.5);
+    }
+}
+
+static void test_im_refusals(void **state)
+{
+    (void)state;
+    setup_im(DTC_LAW_IM_DTC, 0.53, 0, 2);
+    /* the machines must agree: an IM's identification on a PM configuration and a PM's on an IM's */
+    g_d.im_on = 0U;
+    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_LAW);
+    g_d.im_on = 1U;
+    /* L_s not above sigma L_s, turning and standing */
+    g_d.res.im.lsig_ts_iq = g_d.res.im.ls_ts_iq;
+    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_IM);
+    setup_im(DTC_LAW_IM_DTC, 0.53, 0, 2);
+    g_d.res.im.rr_iq = 0;
+    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_IM);
+    /* a magnetising current phi_r* / M at rated: M three times too small */
+    setup_im(DTC_LAW_IM_DTC, 0.53, 0, 2);
+    g_d.res.psi_iq /= 8;
+    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_IM);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_fstp_forward),     cmocka_unit_test(test_sstp_reversed),
         cmocka_unit_test(test_reversed_in_force), cmocka_unit_test(test_pole_pairs),
         cmocka_unit_test(test_dead_time_bounds), cmocka_unit_test(test_refusals),
+        cmocka_unit_test(test_im_dtc),           cmocka_unit_test(test_im_derived_rotor_flux),
+        cmocka_unit_test(test_im_dfoc),          cmocka_unit_test(test_im_standing_ls),
+        cmocka_unit_test(test_im_refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

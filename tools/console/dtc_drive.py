@@ -57,10 +57,18 @@ IDENT_SUB = _enum(_PROTO, "PROTO_IDENT_", "proto_ident_sub")
 IDENT_STEP = {v: k.lower() for k, v in _enum(_IDENT, "APP_IDENT_", "app_ident_step").items()}
 IDENT_FAIL = {v: k.lower() for k, v in _enum(_IDENT, "APP_IDENT_FAIL_", "app_ident_fail").items()}
 APPLY_ERR = {v: k.lower() for k, v in _enum(_IDENT, "APP_IDENT_APPLY_", "app_ident_apply_err").items()}
-# The rows IDENT_APPLY writes on a PM DTC configuration (firmware/app/app_ident_apply.c).
-IDENT_APPLY_ROWS = ["machine.rs_iq", "u.pm_dtc.machine.ls_iq", "u.pm_dtc.machine.inv_ls_iq",
-                    "u.pm_dtc.machine.psi_m_iq", "machine.pole_pairs", "board.enc_gain_q16",
-                    "board.enc_reversed", "board.enc_offset", "board.td_ts_q15"]
+# The rows IDENT_APPLY writes (firmware/app/app_ident_apply.c): on both machines, then on a PM DTC
+# configuration, then on an induction machine's (the DFOC's two rows on the DFOC law only).
+_IDENT_APPLY_COMMON = ["machine.rs_iq", "machine.pole_pairs", "board.enc_gain_q16", "board.enc_reversed",
+                       "board.td_ts_q15"]
+IDENT_APPLY_ROWS = _IDENT_APPLY_COMMON + ["u.pm_dtc.machine.ls_iq", "u.pm_dtc.machine.inv_ls_iq",
+                                          "u.pm_dtc.machine.psi_m_iq", "board.enc_offset"]
+IDENT_APPLY_ROWS_IM = _IDENT_APPLY_COMMON + [
+    "u.im.machine.rr_iq", "u.im.machine.sigma_ls_iq", "u.im.machine.sigma_lr_iq", "u.im.machine.kr_iq",
+    "u.im.machine.ks_iq", "u.im.machine.inv_ks_iq", "u.im.machine.m_iq", "u.im.fw.kt_iq",
+    "u.im.ref.inv_psir_sq_iq", "u.im.ref.magn_ramp_iq", "u.im.ref.magn_k_q31"]
+IDENT_APPLY_ROWS_DFOC = IDENT_APPLY_ROWS_IM + ["u.im.dfoc.id_ref_iq", "u.im.dfoc.iq_per_t_iq"]
+LAW = _enum(_read("firmware/dtc/dtc_config_common.h"), "DTC_LAW_", "dtc_law")
 IDENT_QUANTITY = {v: k.lower() for k, v in _enum(_IDENT, "APP_IDENT_Q_", "app_ident_quantity").items()}
 FAULT = {int(m.group(2)): (m.group(3), m.group(1)) for m in
          re.finditer(r'X\((\w+), (\d+), "(\w+)", (\w+),', _FAULT)}
@@ -525,10 +533,11 @@ class Drive:
 
     def identify_apply(self):
         """IDENT_APPLY (proto.h): the finished identification's results into the parameters in force
-        (app_ident_apply). Returns [(name, before, after)] in SI for the rows it may write
-        (IDENT_APPLY_ROWS) whose value changed; a refusal names its reason (app_ident_apply_err, or
-        the law check's dtc_err code)."""
-        before = {n: self.param_get(n) for n in IDENT_APPLY_ROWS}
+        (app_ident_apply). Returns [(name, before, after)] in SI for the rows it may write on the
+        drive's law (identify_apply_rows) whose value changed; a refusal names its reason
+        (app_ident_apply_err, or the law check's dtc_err code)."""
+        rows = self.identify_apply_rows()
+        before = {n: self.param_get(n) for n in rows}
         try:
             (n,) = struct.unpack_from("<H", self.request(CMD["IDENT_APPLY"]))
         except DriveError as e:
@@ -536,9 +545,18 @@ class Drive:
                 why = APPLY_ERR.get(e.detail) if e.detail > 0 else "law check refused the result (dtc_err %d)" % e.detail
                 raise DriveError("%s: %s" % (e, why), e.code, e.detail) from None
             raise
-        after = {k: self.param_get(k) for k in IDENT_APPLY_ROWS}
-        changed = [(k, before[k], after[k]) for k in IDENT_APPLY_ROWS if after[k] != before[k]]
+        after = {k: self.param_get(k) for k in rows}
+        changed = [(k, before[k], after[k]) for k in rows if after[k] != before[k]]
         return n, changed
+
+    def identify_apply_rows(self):
+        """The rows IDENT_APPLY may write on the drive's law (HELLO's law)."""
+        law = self.hello()["law"]
+        if law == LAW["PM_DTC"]:
+            return IDENT_APPLY_ROWS
+        if law == LAW["IM_DFOC"]:
+            return IDENT_APPLY_ROWS_DFOC
+        return IDENT_APPLY_ROWS_IM if LAW["IM_DTC"] <= law <= LAW["IM_DSVM"] else _IDENT_APPLY_COMMON
 
     def save(self):
         (seq,) = struct.unpack_from("<I", self.request(CMD["PARAMS_SAVE"]))
