@@ -290,9 +290,11 @@ enum app_ident_apply_err {
     APP_IDENT_APPLY_DEADTIME = 7, /* the dead time from V_0 at or above half a period, or no V_dc */
     APP_IDENT_APPLY_CHECK = 8,    /* the law's check (law_check) refused the copy (detail: its
                                    * enum dtc_err code) */
-    APP_IDENT_APPLY_IM = 9        /* an induction machine's rows out of range: L_s not above sigma
+    APP_IDENT_APPLY_IM = 9,       /* an induction machine's rows out of range: L_s not above sigma
                                    * L_s, R_r <= 0, the magnetising current phi_r* / M not below
                                    * rated (the current base), a row beyond its format */
+    APP_IDENT_APPLY_J = 10        /* the speed PI's gains or the lost-encoder level from the
+                                   * identified J beyond their rows (or no torque constant) */
 };
 
 /* Background: the finished identification d (a PM's or an induction machine's) written into out, a copy of in (the configuration

@@ -63,14 +63,19 @@
  *   u.im.dfoc.id_ref_iq      = phi_r* / M, u.im.dfoc.iq_per_t_iq = sqrt(ls / (lm phi_r*^2))
  *                              (l_r / (m phi_r*)): the DFOC law only.
  *   Not written: u.im.ref.magn_periods (its wait, tau_r ln(1 / (1 - magn_frac)), needs magn_frac,
- *   which the image does not hold), u.im.ref.enc_plaus_iq (from the torque limit and J), the DFOC
+ *   which the image does not hold), u.im.ref.enc_plaus_iq (from the converter's torque limit, the
+ *   slip and J, with the flux weakening's range), the DFOC
  *   current PI's gains (from a bandwidth the image does not hold), the derived DSVM outer band,
  *   the current limit and the torque limit it allows (the converter's dtc_ilim_step_a).
+ * On both machines, from the identified J, when the configuration holds the speed loop's design
+ * bandwidth (speed.speed_bw_iq > 0): speed.kp_iq, speed.ki_ts_iq and prot.enc_freeze_speed_iq as
+ * the host converter designs them (derive_speed).
  * Not written: board.v_ce_iq, v_d_iq, r_on_iq, v_f_iq (no injection separates a device's threshold
- * and on-state resistance from R_s and the dead time: docs/commissioning.md); J and the friction
- * (no row: the speed PI's gains and the lost-encoder level derive from J in the host converter).
+ * and on-state resistance from R_s and the dead time: docs/commissioning.md); J, the friction (no
+ * row holds them: only what is designed from J).
  */
 #include "app_ident_internal.h"
+#include "app_enc.h"
 
 /* 1 / g on the beta axis (g = 1 / sqrt(3)), IQ; on the alpha axis 1 / g = 3/2 is exact */
 #define APPLY_IQ_SQRT3 29058990LL /* round(sqrt(3) 2^24) */
@@ -80,6 +85,29 @@
 static int64_t div_round(int64_t num, int64_t den)
 {
     return num >= 0 ? app_ident_div64(num + den / 2, den) : -app_ident_div64(-num + den / 2, den);
+}
+
+/* floor(num 2^sh / den) for num >= 0 and 0 < den < 2^62, by restoring long division over the bits
+ * of num followed by sh zeros (the shifted numerator never formed: any sh); -1 when the quotient
+ * reaches 2^62 (the caller refuses). Background. */
+static int64_t div_shl(int64_t num, uint16_t sh, int64_t den)
+{
+    const uint64_t n = (uint64_t)num, dd = (uint64_t)den;
+    uint64_t q = 0U, r = 0U;
+    int16_t b;
+    for (b = (int16_t)(63 + (int16_t)sh); b >= 0; b--) {
+        const uint64_t bit = b >= (int16_t)sh ? (n >> (uint16_t)(b - (int16_t)sh)) & 1U : 0U;
+        r = (r << 1) | bit;
+        if (q >= ((uint64_t)1 << 61)) {
+            return -1;
+        }
+        q <<= 1;
+        if (r >= dd) {
+            r -= dd;
+            q |= 1U;
+        }
+    }
+    return (int64_t)q;
 }
 
 /* The common rows of a PM's and an IM's identification: R_s, the dead time, the pole pairs and
@@ -120,6 +148,123 @@ static int16_t derive_common(const app_ident_t *d, const dtc_config_t *in, dtc_c
     return (int16_t)APP_IDENT_APPLY_OK;
 }
 
+/* A product chain in floating form, m 2^e with m < 2^31 after fx_of (each step's rounding costs
+ * at most 2^-31 of the value; background). */
+typedef struct {
+    uint64_t m;
+    int16_t e;
+} apply_fx_t;
+
+static apply_fx_t fx_of(uint64_t m, int16_t e)
+{
+    apply_fx_t r;
+    uint16_t k = 0U;
+    while ((m >> k) >= ((uint64_t)1 << 31)) {
+        k++;
+    }
+    if (k > 0U) {
+        m = (m + ((uint64_t)1 << (k - 1U))) >> k;
+        if (m >= ((uint64_t)1 << 31)) {
+            m >>= 1;
+            k++;
+        }
+    }
+    r.m = m;
+    r.e = (int16_t)(e + (int16_t)k);
+    return r;
+}
+
+static apply_fx_t fx_mul(apply_fx_t a, apply_fx_t b)
+{
+    return fx_of(a.m * b.m, (int16_t)(a.e + b.e));
+}
+
+/* a / b for b.m > 0: the quotient with 31 more bits (below 2^62) */
+static apply_fx_t fx_div(apply_fx_t a, apply_fx_t b)
+{
+    return fx_of((uint64_t)div_shl((int64_t)a.m, 31U, (int64_t)b.m), (int16_t)(a.e - b.e - 31));
+}
+
+/* round(a 2^frac) as an int32 row; -1 beyond 2^31 - 1 (the caller refuses) */
+static int64_t fx_row(apply_fx_t a, int16_t frac)
+{
+    const int16_t sh = (int16_t)(a.e + frac);
+    if (sh >= 0) {
+        return sh > 31 || (a.m << (uint16_t)sh) > (uint64_t)0x7FFFFFFF ? -1 : (int64_t)(a.m << (uint16_t)sh);
+    }
+    if (sh < -40) {
+        return 0;
+    }
+    {
+        const uint64_t r = (a.m + ((uint64_t)1 << (uint16_t)(-sh - 1))) >> (uint16_t)(-sh);
+        return r > (uint64_t)0x7FFFFFFF ? -1 : (int64_t)r;
+    }
+}
+
+/* The rows designed from the inertia, again on the identified J (when the configuration holds
+ * the speed loop's design bandwidth, speed.speed_bw_iq > 0, and the spin measured J > 0). kt_iq:
+ * the torque per pu current of the spin's fit, pu (PM: psi_m; IM: L_M i_d). With
+ * Jn = J w_b^2 / (p T_b) (the inertia in pu; T_b = 3/2 p psi_b I_b) and res.j_q12 = J / k_t in pu
+ * current x Ts^2 per count (Q12; a count = 2 pi / counts mechanical rad, k_t I_b = T_b kt):
+ *     Jn = (j_q12 / 2^12) kt counts ts_pu^2 / (2 pi p)
+ *     speed.kp_iq       = Jn bw                 (the converter's kp = J bw, in pu w_b / (p T_b))
+ *     speed.ki_ts_iq    = Jn bw^2 ts_pu speed_div / 4   (ki = kp bw / 4, times the speed period)
+ *     prot.enc_freeze_speed_iq (when the configuration has it, > 0) = the larger of
+ *         2 pi 8 p / (counts N ts_pu)          (8 counts in N = APP_ENC_FREEZE_PERIODS periods)
+ *         8 T_lim N ts_pu / Jn                 (4 times the speed 2 T_lim / J takes in N periods)
+ *       the second as the level in force times (kp_old p_old) / (Jn bw p): T_lim is the
+ *       converter's torque_limit_nm, which the image does not hold (speed.torque_limit_iq may be the
+ *       current limit's, smaller), and the level in force is 8 (T_lim / T_b_old) N ts / Jn_old with
+ *       Jn_old bw = kp_old and T_b proportional to the pole pairs (a kp changed by hand since
+ *       scales it likewise);
+ * each a chain of fx products (relative error < 2^-28), rounded to nearest at the end. */
+static int16_t derive_speed(const app_ident_t *d, const dtc_config_t *in, dtc_config_t *out, iq_t kt_iq)
+{
+    apply_fx_t jn, bw, ts, x;
+    int64_t kp, ki, fr;
+    const uint16_t p = out->machine.pole_pairs;
+    if (in->speed.speed_bw_iq <= 0 || d->res.j_q12 <= 0) {
+        return (int16_t)APP_IDENT_APPLY_OK;
+    }
+    if (kt_iq <= 0) {
+        return (int16_t)APP_IDENT_APPLY_J;
+    }
+    ts = fx_of((uint64_t)in->board.ts_pu_iq, -24);
+    bw = fx_of((uint64_t)in->speed.speed_bw_iq, -24);
+    jn = fx_mul(fx_of((uint64_t)d->res.j_q12, -12), fx_of((uint64_t)kt_iq, -24));
+    jn = fx_mul(fx_mul(jn, fx_of((uint64_t)in->board.enc_counts, 0)), fx_mul(ts, ts));
+    jn = fx_div(jn, fx_of((uint64_t)ID_IQ_2PI * p, -24));
+    kp = fx_row(fx_mul(jn, bw), 24);
+    ki = fx_row(fx_mul(fx_mul(fx_mul(jn, bw), fx_mul(bw, ts)), fx_of((uint64_t)in->speed.speed_div, 0)), 22);
+    if (kp < 1 || ki < 0) {
+        return (int16_t)APP_IDENT_APPLY_J;
+    }
+    out->speed.kp_iq = (iq_t)kp;
+    out->speed.ki_ts_iq = (iq_t)ki;
+    if (in->prot.enc_freeze_speed_iq > 0) {
+        /* the deceleration's term scales with 1 / J: the level in force times kp in force over the
+         * new kp (both Jn bw), when that term was the larger (the torque limit it was designed
+         * with, the converter's torque_limit_nm, is not held: the one in force may be the current
+         * limit's, smaller) */
+        const apply_fx_t nts = fx_mul(fx_of(APP_ENC_FREEZE_PERIODS, 0), ts);
+        const apply_fx_t w_counts = fx_div(fx_of((uint64_t)ID_IQ_2PI * 8U * p, -24),
+                                           fx_mul(fx_of((uint64_t)in->board.enc_counts, 0), nts));
+        const int64_t counts_iq = fx_row(w_counts, 24);
+        x = w_counts;
+        if (counts_iq >= 0 && (int64_t)in->prot.enc_freeze_speed_iq > counts_iq + 1 && in->speed.kp_iq > 0) {
+            x = fx_div(fx_mul(fx_mul(fx_of((uint64_t)in->prot.enc_freeze_speed_iq, -24), fx_of((uint64_t)in->speed.kp_iq, -24)),
+                              fx_of(in->machine.pole_pairs, 0)),
+                       fx_mul(fx_mul(jn, bw), fx_of(p, 0)));
+        }
+        fr = fx_row(x, 24);
+        if (fr < 1) {
+            return (int16_t)APP_IDENT_APPLY_J;
+        }
+        out->prot.enc_freeze_speed_iq = (iq_t)fr;
+    }
+    return (int16_t)APP_IDENT_APPLY_OK;
+}
+
 /* An inductance identified as L / (Z_b Ts) (IQ) in pu of L_b: x board.ts_pu_iq (Ts w_b), IQ x IQ
  * in 64 bits (< 2^55), rounded to nearest. */
 static int64_t l_pu(iq_t l_ts_iq, const dtc_config_t *in)
@@ -149,34 +294,11 @@ static int16_t derive_pm(const app_ident_t *d, const dtc_config_t *in, dtc_confi
     /* the encoder's offset: read as N - 1 - count when the count was found running down */
     out->board.enc_offset = (angle_t)(d->res.enc_offset +
                                       (d->res.enc_reversed != 0U ? (angle_t)((uint32_t)(gain + 32768) >> 16) : 0U));
-    return (int16_t)APP_IDENT_APPLY_OK;
+    return derive_speed(d, in, out, d->res.psi_iq);
 }
 #endif
 
 #if DTC_LAW_IM_LINKED
-/* floor(num 2^sh / den) for num >= 0 and 0 < den < 2^62, by restoring long division over the bits
- * of num followed by sh zeros (the shifted numerator never formed: any sh); -1 when the quotient
- * reaches 2^62 (the caller refuses). Background. */
-static int64_t div_shl(int64_t num, uint16_t sh, int64_t den)
-{
-    const uint64_t n = (uint64_t)num, dd = (uint64_t)den;
-    uint64_t q = 0U, r = 0U;
-    int16_t b;
-    for (b = (int16_t)(63 + (int16_t)sh); b >= 0; b--) {
-        const uint64_t bit = b >= (int16_t)sh ? (n >> (uint16_t)(b - (int16_t)sh)) & 1U : 0U;
-        r = (r << 1) | bit;
-        if (q >= ((uint64_t)1 << 61)) {
-            return -1;
-        }
-        q <<= 1;
-        if (r >= dd) {
-            r -= dd;
-            q |= 1U;
-        }
-    }
-    return (int64_t)q;
-}
-
 /* round(num 2^sh / den) (div_shl's range; -1 beyond it) */
 static int64_t div_shl_round(int64_t num, uint16_t sh, int64_t den)
 {
@@ -184,24 +306,12 @@ static int64_t div_shl_round(int64_t num, uint16_t sh, int64_t den)
     return q < 0 ? -1 : (q + 1) >> 1;
 }
 
-/* round(sqrt(x)) for x >= 0 (bit by bit; background) */
+/* round(sqrt(x)) for 0 <= x < 2^62: fix_isqrt64's floor r, rounded up when x - r^2 > r (x at or
+ * above (r + 1/2)^2 for an integer x; background) */
 static int64_t isqrt_round(int64_t x)
 {
-    uint64_t v = (uint64_t)x, r = 0U, bit = (uint64_t)1 << 62;
-    while (bit > v) {
-        bit >>= 2;
-    }
-    while (bit != 0U) {
-        if (v >= r + bit) {
-            v -= r + bit;
-            r = (r >> 1) + bit;
-        } else {
-            r >>= 1;
-        }
-        bit >>= 2;
-    }
-    /* v = x - r^2; round up when x > r^2 + r, i.e. x >= (r + 1/2)^2 for an integer x */
-    return (int64_t)(v > r ? r + 1U : r);
+    const uint64_t r = fix_isqrt64((uint64_t)x);
+    return (int64_t)((uint64_t)x - r * r > r ? r + 1U : r);
 }
 
 /* ls / (lm x^2) in 2^sh units for IQ inputs, floor within one unit: floor(ls 2^(sh1) / (lm x))
@@ -292,7 +402,8 @@ static int16_t derive_im(const app_ident_t *d, const dtc_config_t *in, dtc_confi
         im->dfoc.id_ref_iq = (iq_t)i_m;
         im->dfoc.iq_per_t_iq = (iq_t)q;
     }
-    return (int16_t)APP_IDENT_APPLY_OK;
+    /* the spin's fit is over k_t = 3/2 p L_M i_d: kt = L_M i_d in pu (app_ident_im.c) */
+    return derive_speed(d, in, out, (iq_t)((lm * (int64_t)d->res.im.id_iq + ((int64_t)1 << 23)) >> 24));
 }
 #endif
 

@@ -166,7 +166,8 @@ enum proto_cmd {
     /* IDENT_APPLY: the finished identification's results into the parameters in force (app_ident.h
      * app_ident_apply: R_s, the dead time, pole pairs with the encoder gain and direction; on a PM
      * DTC configuration L_s and 1/L_s, psi_m and the encoder's offset, on an IM law's the IM rows
-     * derived from R_r, sigma L_s and L_s, app_ident_apply.c), checked by its law's check
+     * derived from R_r, sigma L_s and L_s; the speed PI's gains and the lost-encoder level from
+     * the identified J with speed.speed_bw_iq > 0; app_ident_apply.c), checked by its law's check
      * and applied as a PARAM_WRITE is while disarmed (calibration, then READY); PARAMS_SAVE stores
      * them. Disarmed only.   request: empty    response: 0 u16 rows written (enum
      * app_ident_apply_err APP_IDENT_APPLY_OK: the count of configuration rows whose value changed)
@@ -174,7 +175,8 @@ enum proto_cmd {
      *   identification); PROTO_ERR_REFUSED (detail PROTO_REFUSE_LAW: the identification's machine
      *   is not the law's: a PM's on other than the PM DTC law, an IM's on other than an IM law);
      *   PROTO_ERR_RANGE (detail: enum app_ident_apply_err APP_IDENT_APPLY_RS ..
-     *   APP_IDENT_APPLY_DEADTIME or APP_IDENT_APPLY_IM, a derived value outside its row, positive;
+     *   APP_IDENT_APPLY_DEADTIME, APP_IDENT_APPLY_IM or APP_IDENT_APPLY_J, a derived value outside
+     *   its row, positive;
      *   or the law's check's enum dtc_err code, negative). */
     PROTO_IDENT_APPLY = 0x71,
 

@@ -278,6 +278,10 @@ typedef struct {
     iq_t flux_ref_iq;             /* stator-flux reference */
     iq_t speed_ref_iq;
     iq_t torque_ref_iq;
+    iq_t speed_bw_iq;             /* the speed loop's crossover the host designed kp, ki for, pu of
+                                   * w_base (kp = J bw, ki = kp bw / 4: tools/config); 0 = the gains
+                                   * were given, not designed. Read by the identification's apply,
+                                   * which designs them again on the identified J (app_ident_apply.c) */
 } dtc_speed_cfg_t;
 
 /* The common part's parameters, once (dtc_param.h: X(id, path, fmt, qty, lo, hi, err, flags,
@@ -381,7 +385,9 @@ typedef struct {
     X(71, speed.speed_ref_iq, IQ, W, DTC_I32_MIN, DTC_I32_MAX, DTC_ERR_REFERENCE, DTC_PARAM_LIVE,  \
       "speed reference (electrical), within the speed limit")                                      \
     X(72, speed.torque_ref_iq, IQ, T, DTC_I32_MIN, DTC_I32_MAX, DTC_ERR_REFERENCE, DTC_PARAM_LIVE, \
-      "torque reference, within the torque limit")
+      "torque reference, within the torque limit")                                                 \
+    X(73, speed.speed_bw_iq, IQ, W, 0, DTC_I32_MAX, DTC_ERR_PI, DTC_PARAM_RO,                      \
+      "speed PI's design crossover (kp = J bw, ki = kp bw / 4); 0 = the gains given")
 
 /* A check's refusal: the code, and *f pointed at the field's name ("part.field", a string
  * constant). For the checks of dtc_config.c and of the laws (their *_check functions), each of

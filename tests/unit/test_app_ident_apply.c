@@ -47,6 +47,45 @@ static void convert(const dtc_config_si_t *si, dtc_config_t *cfg)
     }
 }
 
+/* The converter's configurations of the true machine g_si (g_ref, and its bases g_b) and of wrong
+ * (g_in, the configuration in force), wrong's R_s and J 30 % high and its encoder forward besides
+ * the caller's changes. */
+static void convert_both(dtc_config_si_t *wrong)
+{
+    convert(&g_si, &g_ref);
+    dtc_bases_from_si(&g_si, &g_b);
+    wrong->rs_ohm = 1.3 * g_si.rs_ohm;
+    wrong->inertia_kgm2 = 1.3 * g_si.inertia_kgm2;
+    wrong->enc_reversed = 0;
+    convert(wrong, &g_in);
+}
+
+/* res.j_q12 of the true J for the torque constant kt_nm_a (N.m/A): J / k_t in pu current x Ts^2
+ * per count (a count = 2 pi / counts mechanical rad), Q12 (app_ident.h). */
+static int32_t j_q12_of(double kt_nm_a)
+{
+    const double rad = 2.0 * PI / (4.0 * g_si.enc_lines);
+    return (int32_t)lround(4096.0 * g_si.inertia_kgm2 * rad / (kt_nm_a * g_b.i_base_a * g_si.ts_s * g_si.ts_s));
+}
+
+/* The rows designed from J (app_ident_apply.c derive_speed) against the converter's for the true
+ * J: the inputs' quantisation (j_q12's 1e-7, ts_pu's 2.4e-6 squared in Jn: 5e-6). */
+static void check_speed_rows(void)
+{
+    const iq_t got[3] = {g_out.speed.kp_iq, g_out.speed.ki_ts_iq, g_out.prot.enc_freeze_speed_iq};
+    const iq_t want[3] = {g_ref.speed.kp_iq, g_ref.speed.ki_ts_iq, g_ref.prot.enc_freeze_speed_iq};
+    const char *name[3] = {"kp_iq", "ki_ts_iq", "enc_freeze_speed_iq"};
+    int k;
+    assert_true(g_in.speed.kp_iq != g_ref.speed.kp_iq); /* the configuration in force was 30 % off */
+    for (k = 0; k < 3; k++) {
+        const double e = fabs((double)got[k] - (double)want[k]);
+        print_message("%s from J: %d against the converter's %d (%.0f LSB)\n", name[k], got[k], want[k], e);
+        if (!(e <= 1.0 + 1e-5 * fabs((double)want[k]))) {
+            fail_msg("%s: %d against the converter's %d", name[k], got[k], want[k]);
+        }
+    }
+}
+
 /* A finished identification of the machine g_si on topology topo, offset off_e (electrical rad at
  * raw count 0) and direction rev, as app_ident_results.c leaves it (app_ident.h units). */
 static void setup(int topo, double off_e, int rev)
@@ -61,16 +100,12 @@ static void setup(int topo, double off_e, int rev)
     }
     g_si.enc_offset_rad = off_e;
     g_si.enc_reversed = rev;
-    convert(&g_si, &g_ref);
-    dtc_bases_from_si(&g_si, &g_b);
     wrong = g_si;
-    wrong.rs_ohm *= 1.3;
     wrong.ls_h *= 0.7;
     wrong.psi_m_wb *= 1.3;
     wrong.dead_time_s *= 0.7;
     wrong.enc_offset_rad = 0.0;
-    wrong.enc_reversed = 0;
-    convert(&wrong, &g_in);
+    convert_both(&wrong);
     memset(&g_d, 0, sizeof g_d);
     z_b = g_b.z_base_ohm;
     g_d.step = APP_IDENT_DONE;
@@ -85,6 +120,7 @@ static void setup(int topo, double off_e, int rev)
     g_d.vdc_iq = iq_of(g_si.vdc_v / g_b.v_base_v);
     g_d.res.pole_pairs = (uint16_t)g_si.pole_pairs;
     g_d.res.enc_reversed = (uint16_t)rev;
+    g_d.res.j_q12 = j_q12_of(1.5 * g_si.pole_pairs * g_si.psi_m_wb);
     {
         double t = off_e / (2.0 * PI);
         t -= floor(t);
@@ -132,7 +168,7 @@ static void check_rows(void)
     /* the rows not identified are those in force */
     assert_int_equal(g_out.board.v_ce_iq, g_in.board.v_ce_iq);
     assert_int_equal(g_out.board.r_on_iq, g_in.board.r_on_iq);
-    assert_int_equal(g_out.speed.kp_iq, g_in.speed.kp_iq);
+    check_speed_rows();
 }
 
 static void test_fstp_forward(void **state)
@@ -252,17 +288,13 @@ static void setup_im(int law, double psir_ref_wb, int rev, int p)
     g_si.psir_ref_wb = psir_ref_wb;
     g_si.enc_reversed = rev;
     g_si.pole_pairs = p;
-    convert(&g_si, &g_ref);
-    dtc_bases_from_si(&g_si, &g_b);
     wrong = g_si;
-    wrong.rs_ohm *= 1.3;
     wrong.rr_ohm *= 1.3;
     wrong.lm_h *= 1.3;
     wrong.lls_h *= 0.7;
     wrong.llr_h *= 0.7;
-    wrong.enc_reversed = 0;
     wrong.pole_pairs = 2;
-    convert(&wrong, &g_in);
+    convert_both(&wrong);
     ts = g_si.ts_s;
     z_b = g_b.z_base_ohm;
     ls = g_si.lls_h + g_si.lm_h;
@@ -285,6 +317,8 @@ static void setup_im(int law, double psir_ref_wb, int rev, int p)
     id = g_si.flux_ref_wb / ls;
     g_d.res.im.id_iq = iq_of(id / g_b.i_base_a);
     g_d.res.psi_iq = iq_of(ls * ((double)g_d.res.im.id_iq / IQ1 * g_b.i_base_a) / g_b.psi_base_wb);
+    /* the spin's J over k_t = 3/2 p L_M i_d (app_ident_im.c), L_M = L_s - sigma L_s */
+    g_d.res.j_q12 = j_q12_of(1.5 * p * (ls - sls) * ((double)g_d.res.im.id_iq / IQ1 * g_b.i_base_a));
 }
 
 /* Each derived IM row against its double formula on the same integer inputs and against the
@@ -358,7 +392,7 @@ static void check_im_rows(void)
     assert_int_equal(o->ref.magn_periods, g_in.u.im.ref.magn_periods);
     assert_int_equal(o->ref.enc_plaus_iq, g_in.u.im.ref.enc_plaus_iq);
     assert_int_equal(g_out.board.enc_offset, g_in.board.enc_offset);
-    assert_int_equal(g_out.speed.kp_iq, g_in.speed.kp_iq);
+    check_speed_rows();
 }
 
 static void test_im_dtc(void **state)
@@ -391,6 +425,7 @@ static void test_im_standing_ls(void **state)
     (void)state;
     setup_im(DTC_LAW_IM_DTC, 0.53, 0, 2);
     g_d.res.im.id_iq = 0;
+    g_d.res.j_q12 = 0; /* a spin without i_d has no torque constant: no J */
     assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
     {
         const double ls = nearbyint((double)g_d.res.im.ls_ts_iq * (double)g_in.board.ts_pu_iq / IQ1);

@@ -363,6 +363,7 @@ static int convert(const dtc_config_si_t *si, dtc_config_t *cfg, dtc_si_conv_t *
     /* kp: N.m per mech rad/s -> pu torque per pu speed: w_mech = w_pu w_base / p. */
     cfg->speed.kp_iq = dtc_si_to_iq(c, "kp_nm_s_rad", kp, kp * b.w_base_rad_s / (si->pole_pairs * b.t_base_nm));
     cfg->speed.ki_ts_iq = dtc_si_to_iq(c, "ki_nm_rad", ki, ki * tsp * b.w_base_rad_s / (si->pole_pairs * b.t_base_nm));
+    cfg->speed.speed_bw_iq = si->pi_from_bandwidth ? dtc_si_to_iq(c, "speed_bw_rad_s", si->speed_bw_rad_s, si->speed_bw_rad_s / b.w_base_rad_s) : 0;
     cfg->speed.torque_limit_iq = dtc_si_to_iq(c, "torque_limit_nm", si->torque_limit_nm, si->torque_limit_nm / b.t_base_nm);
     cfg->speed.torque_trim_k_q15 = si->torque_trim_tau_s == 0.0 ? 0
                              : (q15_t)lround(32768.0 * si->ts_s / si->torque_trim_tau_s);

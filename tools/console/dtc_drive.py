@@ -60,7 +60,7 @@ APPLY_ERR = {v: k.lower() for k, v in _enum(_IDENT, "APP_IDENT_APPLY_", "app_ide
 # The rows IDENT_APPLY writes (firmware/app/app_ident_apply.c): on both machines, then on a PM DTC
 # configuration, then on an induction machine's (the DFOC's two rows on the DFOC law only).
 _IDENT_APPLY_COMMON = ["machine.rs_iq", "machine.pole_pairs", "board.enc_gain_q16", "board.enc_reversed",
-                       "board.td_ts_q15"]
+                       "board.td_ts_q15", "speed.kp_iq", "speed.ki_ts_iq", "prot.enc_freeze_speed_iq"]
 IDENT_APPLY_ROWS = _IDENT_APPLY_COMMON + ["u.pm_dtc.machine.ls_iq", "u.pm_dtc.machine.inv_ls_iq",
                                           "u.pm_dtc.machine.psi_m_iq", "board.enc_offset"]
 IDENT_APPLY_ROWS_IM = _IDENT_APPLY_COMMON + [
