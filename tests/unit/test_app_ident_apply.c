@@ -373,16 +373,20 @@ static void check_im_rows(void)
         near_conv("dfoc.iq_per_t_iq", (double)o->dfoc.iq_per_t_iq, (double)r->dfoc.iq_per_t_iq, 5e-6);
     }
     /* against the converter of the true machine: the inputs' quantisation (ts_pu_iq: 2.4e-6) */
-    near_conv("sigma_ls_iq", (double)o->machine.sigma_ls_iq, (double)r->machine.sigma_ls_iq, 5e-6);
-    near_conv("sigma_lr_iq", (double)o->machine.sigma_lr_iq, (double)r->machine.sigma_lr_iq, 5e-6);
-    near_conv("m_iq", (double)o->machine.m_iq, (double)r->machine.m_iq, 5e-6);
-    near_conv("kr_iq", (double)o->machine.kr_iq, (double)r->machine.kr_iq, 5e-6);
-    near_conv("ks_iq", (double)o->machine.ks_iq, (double)r->machine.ks_iq, 5e-6);
-    near_conv("inv_ks_iq", (double)o->machine.inv_ks_iq, (double)r->machine.inv_ks_iq, 5e-6);
-    near_conv("rr_iq", (double)o->machine.rr_iq, (double)r->machine.rr_iq, 5e-6);
-    near_conv("kt_iq", (double)o->fw.kt_iq, (double)r->fw.kt_iq, 5e-6);
-    near_conv("magn_k_q31", (double)o->ref.magn_k_q31, (double)r->ref.magn_k_q31, 5e-6);
-    near_conv("magn_ramp_iq", (double)o->ref.magn_ramp_iq, (double)r->ref.magn_ramp_iq, 5e-6);
+    {
+        const char *name[10] = {"sigma_ls_iq", "sigma_lr_iq", "m_iq", "kr_iq", "ks_iq",
+                                "inv_ks_iq", "rr_iq", "kt_iq", "magn_k_q31", "magn_ramp_iq"};
+        const int32_t got[10] = {o->machine.sigma_ls_iq, o->machine.sigma_lr_iq, o->machine.m_iq, o->machine.kr_iq,
+                                 o->machine.ks_iq, o->machine.inv_ks_iq, o->machine.rr_iq, o->fw.kt_iq,
+                                 o->ref.magn_k_q31, o->ref.magn_ramp_iq};
+        const int32_t want[10] = {r->machine.sigma_ls_iq, r->machine.sigma_lr_iq, r->machine.m_iq, r->machine.kr_iq,
+                                  r->machine.ks_iq, r->machine.inv_ks_iq, r->machine.rr_iq, r->fw.kt_iq,
+                                  r->ref.magn_k_q31, r->ref.magn_ramp_iq};
+        int k;
+        for (k = 0; k < 10; k++) {
+            near_conv(name[k], (double)got[k], (double)want[k], 5e-6);
+        }
+    }
     assert_true(labs((long)g_out.machine.rs_iq - (long)g_ref.machine.rs_iq) <= 2L);
     assert_int_equal(g_out.machine.pole_pairs, g_ref.machine.pole_pairs);
     assert_int_equal(g_out.board.enc_gain_q16, g_ref.board.enc_gain_q16);
