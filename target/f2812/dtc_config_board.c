@@ -64,6 +64,7 @@ const dtc_config_t g_dtc_config = {
     .speed.flux_ref_iq = 6987466, /* #70 0.416485429 = 0.0928001 Wb */
     .speed.speed_ref_iq = 8388608, /* #71 0.5 = 157.079 rad/s */
     .speed.torque_ref_iq = 0, /* #72 0 = 0 N.m */
+    .speed.speed_bw_iq = 3355443, /* #73 0.199999988 = 62.8318 rad/s */
     .u.pm_dtc.part = 20548U, /* #100 */
     .u.pm_dtc.sw.sstp_table = 0U, /* #101 */
     .u.pm_dtc.sw.flux_band_iq = 0, /* #102 0 = 0 Wb */

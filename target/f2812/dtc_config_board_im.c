@@ -64,6 +64,7 @@ const dtc_config_t g_dtc_config = {
     .speed.flux_ref_iq = 9321205, /* #70 0.555587113 = 0.55 Wb */
     .speed.speed_ref_iq = 0, /* #71 0 = 0 rad/s */
     .speed.torque_ref_iq = 0, /* #72 0 = 0 N.m */
+    .speed.speed_bw_iq = 1602106, /* #73 0.095492959 = 30 rad/s */
     .u.im.part = 18765U, /* #200 */
     .u.im.machine.rr_iq = 437079, /* #201 0.0260519385 = 0.421987 ohm */
     .u.im.machine.sigma_ls_iq = 1130639, /* #202 0.067391336 = 0.00347467 H */
