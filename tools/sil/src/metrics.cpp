@@ -49,13 +49,14 @@ namespace {
 /// the planned ones: the same plan and the same numbers as planning for each phase.
 class SpectrumPlan {
 public:
-    SpectrumPlan(std::size_t n, int periods) : n_(n), periods_(periods), in_(n), nc_(n / 2 + 1)
+    SpectrumPlan(std::size_t n, int periods) : n_(n), periods_(periods), nc_(n / 2 + 1)
     {
         if (n < 4 || periods < 1 || static_cast<std::size_t>(periods) * 2 > n) {
             throw std::invalid_argument("spectrum: need at least 2 samples per period");
         }
+        in_ = fftw_alloc_real(n);
         spec_ = fftw_alloc_complex(nc_);
-        plan_ = fftw_plan_dft_r2c_1d(static_cast<int>(n), in_.data(), spec_, FFTW_ESTIMATE);
+        plan_ = fftw_plan_dft_r2c_1d(static_cast<int>(n), in_, spec_, FFTW_ESTIMATE);
     }
     SpectrumPlan(const SpectrumPlan&) = delete;
     SpectrumPlan& operator=(const SpectrumPlan&) = delete;
@@ -63,14 +64,15 @@ public:
     {
         fftw_destroy_plan(plan_);
         fftw_free(spec_);
+        fftw_free(in_);
     }
     Spectrum operator()(const double* x);
 
 private:
     std::size_t n_;
     int periods_;
-    std::vector<double> in_;
     std::size_t nc_;
+    double* in_ = nullptr;
     fftw_complex* spec_ = nullptr;
     fftw_plan plan_ = nullptr;
 };
@@ -80,7 +82,7 @@ Spectrum SpectrumPlan::operator()(const double* x)
     Spectrum out;
     const std::size_t n = n_, nc = nc_;
     const fftw_complex* spec = spec_;
-    std::copy(x, x + n, in_.begin());
+    std::copy(x, x + n, in_);
     fftw_execute(plan_);
     // RMS^2 of the line at bin k: 2|X_k|^2/N^2 inside, |X_k|^2/N^2 at DC and Nyquist.
     auto rms2 = [&](std::size_t k) {
@@ -122,6 +124,13 @@ Spectrum SpectrumPlan::operator()(const double* x)
 } // namespace
 
 Spectrum spectrum(const double* x, std::size_t n, int periods) { return SpectrumPlan(n, periods)(x); }
+
+void prepare_spectrum(std::size_t n)
+{
+    if (n >= 4) {
+        const SpectrumPlan plan(n, 1);
+    }
+}
 
 double imbalance_pct(const std::array<double, 3>& a)
 {

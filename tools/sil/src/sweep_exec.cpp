@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <set>
 #include <sstream>
 
 #include <fcntl.h>
@@ -21,6 +22,7 @@
 #include <unistd.h>
 
 #include "identify.hpp"
+#include "metrics.hpp"
 #include "run.hpp"
 #include "scenario.hpp"
 #include "sil_output.hpp"
@@ -39,9 +41,11 @@ using namespace detail;
 
 namespace {
 
-// The body of one run's child process: the row as JSON text.
-std::string child_run(const Spec& spec, const PlannedRun& p, const std::string& runs_dir)
+// The body of one run's child process: the row as JSON text, and in *spectrum_n the length of the
+// metrics' spectra (0: none).
+std::string child_run(const Spec& spec, const PlannedRun& p, const std::string& runs_dir, std::size_t* spectrum_n)
 {
+    *spectrum_n = 0;
     Scenario sc;
     Diagnostics diag;
     if (!parse_scenario(spec.scenario_text, spec.scenario_path, run_overrides(spec, p), &sc, &diag, spec.overlays)) {
@@ -75,6 +79,9 @@ std::string child_run(const Spec& spec, const PlannedRun& p, const std::string& 
     if (!run_scenario(sc, opt, &res, &e)) {
         return make_row(p.index, spec, p, "error", nullptr, e, json::object()).dump();
     }
+    if (res.metrics.window.periods >= 1) {
+        *spectrum_n = res.metrics.window.n;
+    }
     const json mj = metrics_json(sc, res.metrics, res.info);
     const std::string fault = res.info.fault;
     // A plant that left physics (or a metric that is not finite) is not a drive trip.
@@ -106,6 +113,9 @@ void execute(const Spec& spec, const std::vector<PlannedRun>& runs, const ExecOp
     };
     std::vector<Child> active;
     std::size_t next = 0;
+    // Spectrum lengths the runs reported, planned here once each: the children forked after it
+    // inherit FFTW's planner memory (prepare_spectrum()).
+    std::set<std::size_t> spectra;
     const unsigned jobs = std::max(1u, opt.jobs);
     const auto limit = std::chrono::duration<double>(opt.timeout_s);
 
@@ -128,6 +138,15 @@ void execute(const Spec& spec, const std::vector<PlannedRun>& runs, const ExecOp
             on_row(make_row(p.index, spec, p, "crashed", nullptr, "run process died: " + signal_text(WTERMSIG(status)),
                             json::object()));
             return;
+        }
+        // The child's output: the row, then a line with its spectrum length when it had one.
+        const std::size_t eol = c.buf.find('\n');
+        if (eol != std::string::npos) {
+            const std::size_t n = std::strtoull(c.buf.c_str() + eol + 1, nullptr, 10);
+            c.buf.resize(eol);
+            if (n != 0 && spectra.insert(n).second) {
+                prepare_spectrum(n);
+            }
         }
         json row = json::parse(c.buf, nullptr, false);
         if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || row.is_discarded() || !row.is_object()) {
@@ -186,7 +205,11 @@ void execute(const Spec& spec, const std::vector<PlannedRun>& runs, const ExecOp
                     dup2(devnull, 1);
                     dup2(devnull, 2);
                 }
-                const std::string text = child_run(spec, runs[next], opt.runs_dir);
+                std::size_t spectrum_n = 0;
+                std::string text = child_run(spec, runs[next], opt.runs_dir, &spectrum_n);
+                if (spectrum_n != 0) {
+                    text += "\n" + std::to_string(spectrum_n) + "\n";
+                }
                 const char* b = text.data();
                 std::size_t left = text.size();
                 while (left > 0) {
