@@ -2,6 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "metrics.hpp"
 
@@ -326,4 +330,50 @@ TEST(Metrics, CurrentRippleUsesTheContinuousCurrentsNotTheSamples)
     // Without the integrals there is no ripple metric (not a sample-based stand-in).
     s.i2_int.clear();
     EXPECT_FALSE(compute_metrics(s, MetricsConfig{}).current_ripple_rms_a);
+}
+
+namespace {
+// spectrum() of x in a forked child, its four figures' bytes read back through a pipe.
+std::array<double, 4> spectrum_in_child(const std::vector<double>& x, int periods)
+{
+    int fds[2];
+    EXPECT_EQ(pipe(fds), 0);
+    const pid_t pid = fork();
+    if (pid == 0) {
+        close(fds[0]);
+        const Spectrum sp = spectrum(x.data(), x.size(), periods);
+        const double v[4] = {sp.fundamental_peak, sp.thd_pct, sp.thd_harmonic_pct, sp.thd40_pct};
+        const ssize_t w = write(fds[1], v, sizeof v);
+        _exit(w == static_cast<ssize_t>(sizeof v) ? 0 : 1);
+    }
+    close(fds[1]);
+    std::array<double, 4> v{};
+    EXPECT_EQ(read(fds[0], v.data(), sizeof v), static_cast<ssize_t>(sizeof v));
+    close(fds[0]);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+    return v;
+}
+} // namespace
+
+TEST(Metrics, SpectrumOfAPreparedLengthIsTheSameToTheLastBit)
+{
+    // A sweep's parent plans each spectrum length its runs report (prepare_spectrum), and the runs
+    // forked after it plan with FFTW's planner memory warm: their figures must be the ones a cold
+    // process computes. 7202 = 2 x 13 x 277 samples (the default scenario's window), 9 periods of
+    // a distorted current with an off-grid ripple line, so that every bin carries rounding.
+    const std::size_t n = 7202;
+    std::vector<double> x(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        const double t = static_cast<double>(k) * kTs;
+        x[k] = 2.2 * std::cos(2 * kPi * 24.99 * t + 0.3) + 0.15 * std::cos(2 * kPi * 5 * 24.99 * t) +
+               0.05 * std::sin(2 * kPi * 4731.7 * t) + 1e-3 * std::cos(0.37 * static_cast<double>(k * k % 1009));
+    }
+    const std::array<double, 4> cold = spectrum_in_child(x, 9);
+    prepare_spectrum(n);
+    const std::array<double, 4> warm = spectrum_in_child(x, 9);
+    EXPECT_EQ(std::memcmp(cold.data(), warm.data(), sizeof cold), 0)
+        << cold[1] << " vs " << warm[1] << " (thd_pct)";
+    EXPECT_GT(cold[1], 5.0); // the 5th at 0.15 / 2.2 alone is 6.8 %
 }

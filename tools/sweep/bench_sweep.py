@@ -59,7 +59,7 @@ def main():
         if a.mc > 0:
             smc = timed_sweep(exe, os.path.join(tmp, "mc"), mc + ["--n", str(a.mc)])
             print(f"Monte Carlo, {a.mc} runs of the 1.5 s scenario on {cores} cores: {smc:.1f} s "
-                  f"(target <= 90 s for 10000 runs)")
+                  f"(target <= 60 s for 10000 runs)")
         if a.dask_runs > 0:
             sl = timed_sweep(exe, os.path.join(tmp, "l2"), mc + ["--n", str(a.dask_runs), "--jobs", "2"])
             with LocalCluster(os.path.join(tmp, "cluster"), n_workers=2) as cl:
