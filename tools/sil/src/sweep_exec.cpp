@@ -140,13 +140,11 @@ void execute(const Spec& spec, const std::vector<PlannedRun>& runs, const ExecOp
             return;
         }
         // The child's output: the row, then a line with its spectrum length when it had one.
+        std::uint64_t spectrum_n = 0;
         const std::size_t eol = c.buf.find('\n');
         if (eol != std::string::npos) {
-            const std::size_t n = std::strtoull(c.buf.c_str() + eol + 1, nullptr, 10);
+            spectrum_n = std::strtoull(c.buf.c_str() + eol + 1, nullptr, 10);
             c.buf.resize(eol);
-            if (n != 0 && spectra.insert(n).second) {
-                prepare_spectrum(n);
-            }
         }
         json row = json::parse(c.buf, nullptr, false);
         if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || row.is_discarded() || !row.is_object()) {
@@ -156,6 +154,9 @@ void execute(const Spec& spec, const std::vector<PlannedRun>& runs, const ExecOp
                                 " and no result",
                             json::object()));
             return;
+        }
+        if (spectrum_n != 0 && spectrum_n <= kMaxWindowSamples && spectra.insert(spectrum_n).second) {
+            prepare_spectrum(static_cast<std::size_t>(spectrum_n));
         }
         on_row(row);
     };
