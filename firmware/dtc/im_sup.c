@@ -17,6 +17,32 @@ void im_sup_reset(im_dtc_t *c)
     s->n_bad = 0U;
     s->cause = 0U;
     s->warn = 0U;
+    /* the machine is demagnetised: the current model starts at zero, at rest */
+    s->cm_wt_q31 = 0;
+    s->cm_b_iq = s->cm_on != 0U ? IQ(1.0) : 0;
+    s->cm_alpha_iq = 0;
+    s->cm_beta_iq = 0;
+    s->cm_mi_alpha_iq = 0;
+    s->cm_mi_beta_iq = 0;
+    s->cm_run = 1U;
+}
+
+/* The current model's rotation per step and its blend weight for this speed period (im_sup.h):
+ * w Ts = w (IQ) ts_pu (Q31), a Q55 product rounded to Q31, saturated; (w Ts)^2 a Q62 product;
+ * (w Ts)^2 / (3W) = ((w Ts)^2 2^cm_n, as IQ: Q62 >> (38 - cm_n), rounded, saturated) times
+ * 1/(3W 2^cm_n), a rounded IQ product; b = 4/3 - that, clamped to [0, 1]. */
+static void im_sup_cm_blend(im_dtc_t *c)
+{
+    im_sup_t *s = &c->sup;
+    int64_t w2;
+    if (s->cm_on == 0U) {
+        return;
+    }
+    s->cm_wt_q31 = fix_rshift_rnd64_sat32((int64_t)c->speed_iq * (int64_t)c->est_p.ts_pu_q31, (uint16_t)FIX_IQ_Q);
+    w2 = (int64_t)s->cm_wt_q31 * (int64_t)s->cm_wt_q31;
+    s->cm_b_iq = fix_clamp32(iq_sub(IQ_FRAC(4, 3), iq_mpy(fix_rshift_rnd64_sat32(w2, (uint16_t)(38U - s->cm_n)),
+                                                          s->cm_inv_iq)),
+                             0, IQ(1.0));
 }
 
 /* The tracked r_r in use (u.im.ref.rr_track): the slip of the sensorless speed and of the SFVC,
@@ -62,6 +88,7 @@ void im_sup_step(im_dtc_t *c)
     const dtc_config_t *cfg = c->cfg;
     im_sup_t *s = &c->sup;
     uint16_t cause = 0U;
+    im_sup_cm_blend(c);
     /* the current model, Casadei eqs. A7, A9 in the rotor-flux frame (im_sup.h) */
     const iq_t i_d = iq_add(iq_mpy(c->i.i_alpha_iq, c->est.u_alpha_iq), iq_mpy(c->i.i_beta_iq, c->est.u_beta_iq));
     s->psir_cm_iq = iq_add(s->psir_cm_iq,

@@ -35,18 +35,9 @@ MACHINES = {
     "second": ("im_second_machine.toml", 23.5, 1440.0),
 }
 # Points that miss the target, each with its measured cause (docs/sil.md, the IM torque accuracy):
-#   sfvc and dfoc on the second machine at 5 % speed and 10 % torque (+1.8 %, -1.8 %): the rotor-flux
-#     trim (firmware im_psir_trim) still settling when the window opens. At 72 rpm Casadei eq. 20's
-#     estimate learns a flux mismatch only through its slow pole (about w_s^2 tau / k_r, 2.6 1/s);
-#     with the trim's integral that loop rings at about 0.65 Hz and decays over seconds, with an
-#     ideal inverter as well (per stator period +-2 to 3 % at 1-3 s). 4 s runs: +0.7 / -0.9 %, 6 s:
-#     +0.2 / -1.0 %; without the trim a steady -2.1 / +7.3 %. The dead time's sign is not the cause
-#     (the sign taken at each edge from the duties' ripple moved the points by 0.06 / 0.03 %).
 #   sfvc and dfoc on the second machine at rated torque: held at the torque limit the current allows
 #     (tools/config dtc_im_torque_at_current_nm at I_lim - dI: 160 us, 30 A trip, 22.1 N*m = 94 %).
-KNOWN_MISSES = {("second", law, s, 1.00) for law in ("sfvc", "dfoc") for s in SPEED_FRACS} | {
-    ("second", "sfvc", 0.05, 0.10), ("second", "dfoc", 0.05, 0.10),
-}
+KNOWN_MISSES = {("second", law, s, 1.00) for law in ("sfvc", "dfoc") for s in SPEED_FRACS}
 
 
 def run_machine(exe, out, name, laws, comp, jobs):
