@@ -38,6 +38,9 @@ uint16_t im_dtc_select(im_dtc_t *c, iq_t te, dtc_out_t *o);
 void im_sup_init(im_dtc_t *c, const dtc_config_t *cfg);
 void im_sup_reset(im_dtc_t *c);
 void im_sup_step(im_dtc_t *c);
+/* While the blend weight sup.cm_b_iq > 0: the current model's step and Casadei eq. 20's reference
+ * vector into c->ein (im_sup.c). */
+void im_sup_cm_ref(im_dtc_t *c);
 
 /* Internal to im_sfvc_step, out of line for the stack. */
 void im_sfvc_estimate(im_dtc_t *c, const dtc_meas_t *m);
@@ -338,67 +341,19 @@ static inline void im_vcomp(im_dtc_t *c, uint16_t sa, uint16_t sb, uint16_t sc, 
 
 /* The estimator input's part common to both schemes (currents, rotor-flux reference, speed, and
  * the angle on the speed-loop periods). */
-/* Casadei eq. 20's reference vector at low speed and the current model's step (im_sup.h): while
- * the blend weight b > 0, once magnetised, the reference phi_r* e^{j theta} + b (phi_r,cm -
- * phi_r* e^{j theta}) for the estimator (in->ref_vec), with the current model's flux and
- * e^{j theta} of the previous sampling instant, the instant of the estimate's phi_r that
- * im_est_flux corrects; then the current model one symplectic Euler step on to this instant with
- * the previous instant's current (forward Euler: taking this instant's current would put the model
- * one period ahead, w_s Ts in angle, and with a reference of this instant the estimate two:
- * measured 4.9 mrad, +3.6 % of torque on the second machine at 72 rpm, 10 % torque). When b has
- * risen from 0 the model starts from the estimate's rotor flux (and this instant's m i). Otherwise
- * the paper's reference (ref_vec 0). Formats: IQ pu, Ts/tau_r and w Ts Q31; each component's change
- * Q31 x IQ products summed in 64 bits (each < 2^62) and rounded once, added with saturation; m i and
- * the blend rounded IQ products, saturating sums. */
-static inline void im_cm_ref(im_dtc_t *c, im_est_in_t *in)
-{
-    im_sup_t *s = &c->sup;
-    const q31_t k = c->cfg->u.im.ref.magn_k_q31;
-    const iq_t m = c->cfg->u.im.machine.m_iq;
-    const iq_t mi_a = iq_mpy(m, in->i_alpha_iq), mi_b = iq_mpy(m, in->i_beta_iq);
-    int64_t d;
-
-    in->ref_vec = 0U;
-    if (s->cm_b_iq == 0) {
-        s->cm_run = 0U;
-        return;
-    }
-    if (s->cm_run == 0U) {
-        s->cm_alpha_iq = c->est.psir_alpha_iq;
-        s->cm_beta_iq = c->est.psir_beta_iq;
-        s->cm_mi_alpha_iq = mi_a;
-        s->cm_mi_beta_iq = mi_b;
-        s->cm_run = 1U;
-    }
-    if (c->magnetised != 0U) {
-        if (s->cm_b_iq >= IQ(1.0)) {
-            in->ref_alpha_iq = s->cm_alpha_iq;
-            in->ref_beta_iq = s->cm_beta_iq;
-        } else {
-            const iq_t pa = iq_mpy(in->psir_ref_iq, c->est.u_alpha_iq);
-            const iq_t pb = iq_mpy(in->psir_ref_iq, c->est.u_beta_iq);
-            in->ref_alpha_iq = iq_add(pa, iq_mpy(s->cm_b_iq, iq_sub(s->cm_alpha_iq, pa)));
-            in->ref_beta_iq = iq_add(pb, iq_mpy(s->cm_b_iq, iq_sub(s->cm_beta_iq, pb)));
-        }
-        in->ref_vec = 1U;
-    }
-    d = (int64_t)k * (int64_t)fix_sub32(s->cm_mi_alpha_iq, s->cm_alpha_iq) -
-        (int64_t)s->cm_wt_q31 * (int64_t)s->cm_beta_iq;
-    s->cm_alpha_iq = fix_add32(s->cm_alpha_iq, fix_rshift_rnd64_sat32(d, 31U));
-    d = (int64_t)k * (int64_t)fix_sub32(s->cm_mi_beta_iq, s->cm_beta_iq) +
-        (int64_t)s->cm_wt_q31 * (int64_t)s->cm_alpha_iq;
-    s->cm_beta_iq = fix_add32(s->cm_beta_iq, fix_rshift_rnd64_sat32(d, 31U));
-    s->cm_mi_alpha_iq = mi_a;
-    s->cm_mi_beta_iq = mi_b;
-}
-
 static inline void im_dtc_ein_common(im_dtc_t *c)
 {
     im_est_in_t *in = &c->ein;
     in->i_alpha_iq = c->i.i_alpha_iq;
     in->i_beta_iq = c->i.i_beta_iq;
     in->psir_ref_iq = c->psir_ref_iq;
-    im_cm_ref(c, in);
+    /* at low speed with the encoder, eq. 20's reference vector (im_sup_cm_ref, out of line: the
+     * other periods pay a compare) */
+    if (c->sup.cm_b_iq != 0) {
+        im_sup_cm_ref(c);
+    } else {
+        in->ref_vec = 0U;
+    }
     in->speed_iq = c->speed_iq;
     /* the rotor-flux angle and magnitude (CORDIC) only where the speed loop runs: sensorless
      * speed, telemetry */

@@ -43,6 +43,9 @@ static void im_sup_cm_blend(im_dtc_t *c)
     s->cm_b_iq = fix_clamp32(iq_sub(IQ_FRAC(4, 3), iq_mpy(fix_rshift_rnd64_sat32(w2, (uint16_t)(38U - s->cm_n)),
                                                           s->cm_inv_iq)),
                              0, IQ(1.0));
+    if (s->cm_b_iq == 0) {
+        s->cm_run = 0U; /* re-seeded from the estimate when b rises again */
+    }
 }
 
 /* The tracked r_r in use (u.im.ref.rr_track): the slip of the sensorless speed and of the SFVC,
@@ -81,6 +84,60 @@ static void im_sup_adapt(im_dtc_t *c, const dtc_config_t *cfg)
     s->rho_iq = te >= 0 ? iq_add(s->rho_iq, step) : iq_sub(s->rho_iq, step);
     s->rho_iq = s->rho_iq < IM_SUP_RHO_MIN ? IM_SUP_RHO_MIN : (s->rho_iq > IM_SUP_RHO_MAX ? IM_SUP_RHO_MAX : s->rho_iq);
     s->adapting = 1U;
+}
+
+/* Casadei eq. 20's reference vector at low speed and the current model's step (im_sup.h), called
+ * by im_dtc_ein_common while the blend weight b > 0: once magnetised, the reference phi_r* e^{j theta} + b (phi_r,cm -
+ * phi_r* e^{j theta}) for the estimator (in->ref_vec), with the current model's flux and
+ * e^{j theta} of the previous sampling instant, the instant of the estimate's phi_r that
+ * im_est_flux corrects; then the current model one symplectic Euler step on to this instant with
+ * the previous instant's current (forward Euler: taking this instant's current would put the model
+ * one period ahead, w_s Ts in angle, and with a reference of this instant the estimate two:
+ * measured 4.9 mrad, +3.6 % of torque on the second machine at 72 rpm, 10 % torque). When b has
+ * risen from 0 the model starts from the estimate's rotor flux (and this instant's m i). Otherwise
+ * the paper's reference (ref_vec 0; im_dtc_ein_common sets it while b = 0). Formats: IQ pu, Ts/tau_r and w Ts Q31; each component's change
+ * Q31 x IQ products summed in 64 bits (each < 2^62) and rounded once, added with saturation; m i and
+ * the blend rounded IQ products, saturating sums. */
+void im_sup_cm_ref(im_dtc_t *c)
+{
+    im_sup_t *s = &c->sup;
+    im_est_in_t *in = &c->ein;
+    q31_t k;
+    iq_t m, mi_a, mi_b;
+    int64_t d;
+
+    in->ref_vec = 0U;
+    k = c->cfg->u.im.ref.magn_k_q31;
+    m = c->cfg->u.im.machine.m_iq;
+    mi_a = iq_mpy(m, in->i_alpha_iq);
+    mi_b = iq_mpy(m, in->i_beta_iq);
+    if (s->cm_run == 0U) {
+        s->cm_alpha_iq = c->est.psir_alpha_iq;
+        s->cm_beta_iq = c->est.psir_beta_iq;
+        s->cm_mi_alpha_iq = mi_a;
+        s->cm_mi_beta_iq = mi_b;
+        s->cm_run = 1U;
+    }
+    if (c->magnetised != 0U) {
+        if (s->cm_b_iq >= IQ(1.0)) {
+            in->ref_alpha_iq = s->cm_alpha_iq;
+            in->ref_beta_iq = s->cm_beta_iq;
+        } else {
+            const iq_t pa = iq_mpy(in->psir_ref_iq, c->est.u_alpha_iq);
+            const iq_t pb = iq_mpy(in->psir_ref_iq, c->est.u_beta_iq);
+            in->ref_alpha_iq = iq_add(pa, iq_mpy(s->cm_b_iq, iq_sub(s->cm_alpha_iq, pa)));
+            in->ref_beta_iq = iq_add(pb, iq_mpy(s->cm_b_iq, iq_sub(s->cm_beta_iq, pb)));
+        }
+        in->ref_vec = 1U;
+    }
+    d = (int64_t)k * (int64_t)fix_sub32(s->cm_mi_alpha_iq, s->cm_alpha_iq) -
+        (int64_t)s->cm_wt_q31 * (int64_t)s->cm_beta_iq;
+    s->cm_alpha_iq = fix_add32(s->cm_alpha_iq, fix_rshift_rnd64_sat32(d, 31U));
+    d = (int64_t)k * (int64_t)fix_sub32(s->cm_mi_beta_iq, s->cm_beta_iq) +
+        (int64_t)s->cm_wt_q31 * (int64_t)s->cm_alpha_iq;
+    s->cm_beta_iq = fix_add32(s->cm_beta_iq, fix_rshift_rnd64_sat32(d, 31U));
+    s->cm_mi_alpha_iq = mi_a;
+    s->cm_mi_beta_iq = mi_b;
 }
 
 void im_sup_step(im_dtc_t *c)

@@ -49,8 +49,9 @@
  * slip, in which r_r is the unknown): an r_r error becomes a speed error and nothing in the
  * stator's quantities shows it in steady state. The flux check (m) runs without the encoder.
  *
- * The current model as the improved estimator's reference at low speed (encoder fitted, improved
- * estimator). Casadei eq. 20's correction (phi_r* e^{j theta} - phi_r)/tau is radial: an error of
+ * The current model as the improved estimator's reference at low speed (u.im.ref.cm_ref, encoder
+ * fitted, improved estimator; off by default: with it the estimator is no longer Casadei's at low
+ * speed, and the paper's figures reproduced in tests/sil/test_im_casadei.cpp are eq. 20's). Casadei eq. 20's correction (phi_r* e^{j theta} - phi_r)/tau is radial: an error of
  * the estimate's angle decays only as the stator frequency turns it into a radial one, through the
  * estimator's slow pole w_s^2 tau / k_r (tau from k_lo), and the rotor-flux trim's integral
  * (im_psir_trim, gain 1/tau_r) closes its loop through that pole: damping sqrt(a tau_r)/2 with

@@ -42,7 +42,8 @@ void im_sup_init(im_dtc_t *c, const dtc_config_t *cfg)
     s->cm_on = 0U;
     s->cm_n = 0U;
     s->cm_inv_iq = 0;
-    if (cfg->speed.sensor != DTC_SPEED_NONE && c->est_p.estimator == IM_EST_IMPROVED && cfg->law != DTC_LAW_IM_DSVM) {
+    if (cfg->u.im.ref.cm_ref != 0U && cfg->speed.sensor != DTC_SPEED_NONE && c->est_p.estimator == IM_EST_IMPROVED &&
+        cfg->law != DTC_LAW_IM_DSVM) {
         const q31_t w = iq_mpy(cfg->u.im.machine.kr_iq, q31_mul(c->est_p.k_lo_q31, cfg->u.im.ref.magn_k_q31));
         int64_t x = (int64_t)3 * (int64_t)w;
         int16_t sh = 0;

@@ -23,14 +23,17 @@ struct Point {
 // The IM of `file` in torque mode, the dynamometer holding rpm from standstill, T* = t_nm, law
 // `scheme`, compensation `comp`: 2 s, the plant's mean torque over the last 0.84 s (two electrical
 // periods at 72 rpm) and the mean stator-flux magnitudes of the plant and of the estimate.
-// `sensor`: control.speed_sensor (the shipped scenarios' encoder, or "none").
+// `sensor`: control.speed_sensor (the shipped scenarios' encoder, or "none"); `cm`:
+// control.current_model_ref (Casadei eq. 20's reference from the rotor-flux current model at low speed,
+// firmware/dtc/im_sup.h), on as in tools/sweep/im_torque_accuracy.py.
 Point run_point(const std::string& file, const std::string& scheme, const std::string& comp, double rpm, double t_nm,
-                const std::string& sensor = "encoder")
+                const std::string& sensor = "encoder", bool cm = true)
 {
     const sil_test::Outcome o = sil_test::run_shipped(
         file, {"control.mode=torque", "load.type=speed", "load.step_time_s=0", "duration_s=2.0", "metrics_window_s=0.84",
                "load.speed_rpm=" + std::to_string(rpm), "control.torque_ref_nm=" + std::to_string(t_nm),
-               "control.scheme=" + scheme, "control.compensation=" + comp, "control.speed_sensor=" + sensor});
+               "control.scheme=" + scheme, "control.compensation=" + comp, "control.speed_sensor=" + sensor,
+               "control.current_model_ref=" + std::string(cm ? "true" : "false")});
     Point p;
     p.fault = o.info.fault;
     p.te_mean = o.m.torque_mean_nm;

@@ -823,6 +823,10 @@ static void test_current_model_reference_at_low_speed(void **state)
     (void)state;
 
     sim_defaults(&s);
+    sim_start(&s, 0.05); /* off by default (u.im.ref.cm_ref 0): Casadei eq. 20 at every speed */
+    assert_int_equal(s.law.u.im.sup.cm_on, 0U);
+    assert_int_equal(s.law.u.im.sup.cm_b_iq, 0);
+    s.si.cm_ref = 1;
     s.si.torque_ref_nm = 0.1 * s.si.rated_torque_nm;
     sim_start(&s, 0.05);
     sim_magnetise_at(&s, 0.05, 0.5, &o);

@@ -7,7 +7,9 @@ the drive magnetises, then holds T*. The plant's mean torque over the last 0.84 
 electrical periods at 5 % of rated speed) against T*, and the firmware's own estimate beside it.
 Each machine runs with the per-leg device-drop compensation (control.compensation = "proposed",
 Hoang Table III per leg on the six-switch inverter: the drops of the rig's devices, V_CE when the
-leg's switch conducts, V_d when the other switch's diode does). The shipped IM scenarios keep
+leg's switch conducts, V_d when the other switch's diode does) and Casadei eq. 20's reference from the
+rotor-flux current model at low speed (control.current_model_ref, firmware/dtc/im_sup.h: without it the
+rotor-flux trim rings through the estimator's slow pole at 5 % speed). The shipped IM scenarios keep
 Hoang ref. [29]'s one drop ("simple"), which cannot meet the target below 25 % of rated speed at
 light load (docs/sil.md: its assumed V_f = V_CE leaves V_d - V_CE per leg uncompensated while a
 diode conducts); --compensation simple shows it.
@@ -49,7 +51,7 @@ def run_machine(exe, out, name, laws, comp, jobs):
     cmd = [exe, "sweep", src, "--out", d, "-j", str(jobs), "-q", "--allow-failed-runs",
            "--set", "control.mode=torque", "--set", "load.type=speed", "--set", "load.step_time_s=0",
            "--set", "duration_s=2.0", "--set", "metrics_window_s=0.84",
-           "--set", "control.compensation=" + comp,
+           "--set", "control.compensation=" + comp, "--set", "control.current_model_ref=true",
            "--grid", "control.scheme=" + ",".join(laws),
            "--grid", "load.speed_rpm=" + ",".join("%g" % (f * n_rated) for f in SPEED_FRACS),
            "--grid", "control.torque_ref_nm=" + ",".join("%g" % (f * t_rated) for f in TORQUE_FRACS)]

@@ -8,7 +8,7 @@ where the plant's rotor-flux angle passes a whole turn) in % of T*, from 0.5 s t
 largest |error| of the periods after 1 s.
 
 Usage: im_torque_ring.py [--exe build/host/bin/dtc-sil] [--out DIR] [--laws sfvc,dfoc]
-                         [--machines 4kW,second] [--speeds 0.05,0.10] [--torque 0.10] [--duration 4]
+                         [--machines 4kW,second] [--cm true|false] [--speeds 0.05,0.10] [--torque 0.10] [--duration 4]
 """
 import argparse
 import csv
@@ -51,6 +51,7 @@ def main():
     ap.add_argument("--speeds", default="0.05,0.10")
     ap.add_argument("--torque", type=float, default=0.10)
     ap.add_argument("--duration", type=float, default=4.0)
+    ap.add_argument("--cm", default="true", help="control.current_model_ref (true, false)")
     ap.add_argument("--set", action="append", default=[], help="extra dtc-sil --set key=value")
     a = ap.parse_args()
     for name in a.machines.split(","):
@@ -64,6 +65,7 @@ def main():
                        "--set", "control.mode=torque", "--set", "load.type=speed", "--set", "load.step_time_s=0",
                        "--set", "duration_s=%g" % a.duration, "--set", "metrics_window_s=0.84",
                        "--set", "control.compensation=proposed", "--set", "control.scheme=" + law,
+                       "--set", "control.current_model_ref=" + a.cm,
                        "--set", "load.speed_rpm=%g" % (sf * n_rated), "--set", "control.torque_ref_nm=%g" % tref]
                 for s in a.set:
                     cmd += ["--set", s]
