@@ -76,6 +76,10 @@ typedef struct {
      * slip of Casadei eq. 16 uses the tracked r_r and the estimator's r_s follows it by the same
      * ratio; 0 = tracked and reported only. 0 or 1. */
     uint16_t rr_track;
+    /* Casadei eq. 20's reference at low speed from the rotor-flux current model (im_sup.h; the
+     * encoder and the improved estimator, not DSVM): 1 = on, 0 = the paper's reference at every
+     * speed. 0 or 1. */
+    uint16_t cm_ref;
 } dtc_im_ref_cfg_t;
 
 /* Stator-flux vector control (DTC_LAW_IM_SFVC, Casadei sections 10.3-10.5). The SVM carrier
@@ -179,6 +183,8 @@ typedef struct {
       "encoder plausibility: largest credible sensorless - encoder speed difference (Casadei eqs. 16, 22); 0 = off") \
     X(249, u.im.ref.rr_track, U16, NONE, 0, 1, DTC_ERR_SPEED, DTC_PARAM_RO,                                  \
       "1: the slip uses the rotor resistance tracked on line and r_s follows it (im_sup.h)")                 \
+    X(259, u.im.ref.cm_ref, U16, NONE, 0, 1, DTC_ERR_SPEED, DTC_PARAM_RO,                                    \
+      "1: Casadei eq. 20's reference from the rotor-flux current model at low speed (im_sup.h)")             \
     X(250, u.im.svm_mode, U16, NONE, 0, 1, DTC_ERR_SVM, 0U, "SFVC, DFOC: 0 symmetric SVM, 1 two-phase")      \
     X(251, u.im.sfvc.kp_iq, IQ, PU, 0, DTC_I32_MAX, DTC_ERR_SVM, 0U,                                          \
       "SFVC flux-regulator gain K_p of Casadei eq. 24 over w_b, in (0, 1/T_s]")                               \

@@ -38,6 +38,9 @@ uint16_t im_dtc_select(im_dtc_t *c, iq_t te, dtc_out_t *o);
 void im_sup_init(im_dtc_t *c, const dtc_config_t *cfg);
 void im_sup_reset(im_dtc_t *c);
 void im_sup_step(im_dtc_t *c);
+/* While the blend weight sup.cm_b_iq > 0: the current model's step and Casadei eq. 20's reference
+ * vector into c->ein (im_sup.c). */
+void im_sup_cm_ref(im_dtc_t *c);
 
 /* Internal to im_sfvc_step, out of line for the stack. */
 void im_sfvc_estimate(im_dtc_t *c, const dtc_meas_t *m);
@@ -344,6 +347,13 @@ static inline void im_dtc_ein_common(im_dtc_t *c)
     in->i_alpha_iq = c->i.i_alpha_iq;
     in->i_beta_iq = c->i.i_beta_iq;
     in->psir_ref_iq = c->psir_ref_iq;
+    /* at low speed with the encoder, eq. 20's reference vector (im_sup_cm_ref, out of line: the
+     * other periods pay a compare) */
+    if (c->sup.cm_b_iq != 0) {
+        im_sup_cm_ref(c);
+    } else {
+        in->ref_vec = 0U;
+    }
     in->speed_iq = c->speed_iq;
     /* the rotor-flux angle and magnitude (CORDIC) only where the speed loop runs: sensorless
      * speed, telemetry */

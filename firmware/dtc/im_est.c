@@ -151,8 +151,10 @@ void im_est_flux(im_est_t *s, const im_est_in_t *in)
             s->k_valid = 1U;
         }
         k = s->k_q31;
-        const iq_t c_a = fix_sub32(iq_mpy(in->psir_ref_iq, s->u_alpha_iq), s->psir_alpha_iq);
-        const iq_t c_b = fix_sub32(iq_mpy(in->psir_ref_iq, s->u_beta_iq), s->psir_beta_iq);
+        const iq_t r_a = in->ref_vec != 0U ? in->ref_alpha_iq : iq_mpy(in->psir_ref_iq, s->u_alpha_iq);
+        const iq_t r_b = in->ref_vec != 0U ? in->ref_beta_iq : iq_mpy(in->psir_ref_iq, s->u_beta_iq);
+        const iq_t c_a = fix_sub32(r_a, s->psir_alpha_iq);
+        const iq_t c_b = fix_sub32(r_b, s->psir_beta_iq);
         const int64_t d_a = (int64_t)p->ts_pu_q31 * (int64_t)e_a + (int64_t)k * (int64_t)c_a;
         const int64_t d_b = (int64_t)p->ts_pu_q31 * (int64_t)e_b + (int64_t)k * (int64_t)c_b;
         s->psi_alpha_iq = fix_add32(s->psi_alpha_iq, fix_rshift_rnd64_sat32(d_a, 31U));

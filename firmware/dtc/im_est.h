@@ -27,6 +27,8 @@
  *                   any sensible tau, so the Euler error of that term is below 0.5 % of it):
  *                     phi_s[k+1] = phi_s[k] + ts_pu (v - r_s i) + (Ts/tau) (phi_r* c - k_r x)
  *                   x = phi_s[k] - sigma l_s i[k], c = (cos theta, sin theta), k_r = l_r/m.
+ *                   With in->ref_vec the caller's vector ref_* stands for phi_r* c (the IM law at
+ *                   low speed with the encoder: a current model's rotor flux, im_sup.h).
  *                   Timing as in the PM drive (dtc.h): v is the (zero-order held) voltage of the
                    period that ends at this step and i the current sampled at this step, so the
                    state after the step is the flux at this instant and Casadei eqs. 21-22 pair it with the
@@ -117,6 +119,9 @@ typedef struct {
     uint16_t want_polar;         /* 1: compute theta_r and |phi_r| (CORDIC) in this period */
     uint16_t start;              /* 1: the start-up's magnetisation (IM_EST_VOLTAGE corrected as
                                   * Casadei eq. 20, file comment) */
+    uint16_t ref_vec;            /* 1: Casadei eq. 20's correction pulls towards the vector ref_*
+                                  * in place of phi_r* e^{j theta} (im_sup.h, the current model) */
+    iq_t ref_alpha_iq, ref_beta_iq; /* that reference vector, pu */
 } im_est_in_t;
 
 /* Returns 0, or a nonzero code when the parameters are inconsistent (negative resistance,

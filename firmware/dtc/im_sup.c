@@ -17,6 +17,35 @@ void im_sup_reset(im_dtc_t *c)
     s->n_bad = 0U;
     s->cause = 0U;
     s->warn = 0U;
+    /* the machine is demagnetised: the current model starts at zero, at rest */
+    s->cm_wt_q31 = 0;
+    s->cm_b_iq = s->cm_on != 0U ? IQ(1.0) : 0;
+    s->cm_alpha_iq = 0;
+    s->cm_beta_iq = 0;
+    s->cm_mi_alpha_iq = 0;
+    s->cm_mi_beta_iq = 0;
+    s->cm_run = 1U;
+}
+
+/* The current model's rotation per step and its blend weight for this speed period (im_sup.h):
+ * w Ts = w (IQ) ts_pu (Q31), a Q55 product rounded to Q31, saturated; (w Ts)^2 a Q62 product;
+ * (w Ts)^2 / (3W) = ((w Ts)^2 2^cm_n, as IQ: Q62 >> (38 - cm_n), rounded, saturated) times
+ * 1/(3W 2^cm_n), a rounded IQ product; b = 4/3 - that, clamped to [0, 1]. */
+static void im_sup_cm_blend(im_dtc_t *c)
+{
+    im_sup_t *s = &c->sup;
+    int64_t w2;
+    if (s->cm_on == 0U) {
+        return;
+    }
+    s->cm_wt_q31 = fix_rshift_rnd64_sat32((int64_t)c->speed_iq * (int64_t)c->est_p.ts_pu_q31, (uint16_t)FIX_IQ_Q);
+    w2 = (int64_t)s->cm_wt_q31 * (int64_t)s->cm_wt_q31;
+    s->cm_b_iq = fix_clamp32(iq_sub(IQ_FRAC(4, 3), iq_mpy(fix_rshift_rnd64_sat32(w2, (uint16_t)(38U - s->cm_n)),
+                                                          s->cm_inv_iq)),
+                             0, IQ(1.0));
+    if (s->cm_b_iq == 0) {
+        s->cm_run = 0U; /* re-seeded from the estimate when b rises again */
+    }
 }
 
 /* The tracked r_r in use (u.im.ref.rr_track): the slip of the sensorless speed and of the SFVC,
@@ -57,11 +86,66 @@ static void im_sup_adapt(im_dtc_t *c, const dtc_config_t *cfg)
     s->adapting = 1U;
 }
 
+/* Casadei eq. 20's reference vector at low speed and the current model's step (im_sup.h), called
+ * by im_dtc_ein_common while the blend weight b > 0: once magnetised, the reference phi_r* e^{j theta} + b (phi_r,cm -
+ * phi_r* e^{j theta}) for the estimator (in->ref_vec), with the current model's flux and
+ * e^{j theta} of the previous sampling instant, the instant of the estimate's phi_r that
+ * im_est_flux corrects; then the current model one symplectic Euler step on to this instant with
+ * the previous instant's current (forward Euler: taking this instant's current would put the model
+ * one period ahead, w_s Ts in angle, and with a reference of this instant the estimate two:
+ * measured 4.9 mrad, +3.6 % of torque on the second machine at 72 rpm, 10 % torque). When b has
+ * risen from 0 the model starts from the estimate's rotor flux (and this instant's m i). Otherwise
+ * the paper's reference (ref_vec 0; im_dtc_ein_common sets it while b = 0). Formats: IQ pu, Ts/tau_r and w Ts Q31; each component's change
+ * Q31 x IQ products summed in 64 bits (each < 2^62) and rounded once, added with saturation; m i and
+ * the blend rounded IQ products, saturating sums. */
+void im_sup_cm_ref(im_dtc_t *c)
+{
+    im_sup_t *s = &c->sup;
+    im_est_in_t *in = &c->ein;
+    q31_t k;
+    iq_t m, mi_a, mi_b;
+    int64_t d;
+
+    in->ref_vec = 0U;
+    k = c->cfg->u.im.ref.magn_k_q31;
+    m = c->cfg->u.im.machine.m_iq;
+    mi_a = iq_mpy(m, in->i_alpha_iq);
+    mi_b = iq_mpy(m, in->i_beta_iq);
+    if (s->cm_run == 0U) {
+        s->cm_alpha_iq = c->est.psir_alpha_iq;
+        s->cm_beta_iq = c->est.psir_beta_iq;
+        s->cm_mi_alpha_iq = mi_a;
+        s->cm_mi_beta_iq = mi_b;
+        s->cm_run = 1U;
+    }
+    if (c->magnetised != 0U) {
+        if (s->cm_b_iq >= IQ(1.0)) {
+            in->ref_alpha_iq = s->cm_alpha_iq;
+            in->ref_beta_iq = s->cm_beta_iq;
+        } else {
+            const iq_t pa = iq_mpy(in->psir_ref_iq, c->est.u_alpha_iq);
+            const iq_t pb = iq_mpy(in->psir_ref_iq, c->est.u_beta_iq);
+            in->ref_alpha_iq = iq_add(pa, iq_mpy(s->cm_b_iq, iq_sub(s->cm_alpha_iq, pa)));
+            in->ref_beta_iq = iq_add(pb, iq_mpy(s->cm_b_iq, iq_sub(s->cm_beta_iq, pb)));
+        }
+        in->ref_vec = 1U;
+    }
+    d = (int64_t)k * (int64_t)fix_sub32(s->cm_mi_alpha_iq, s->cm_alpha_iq) -
+        (int64_t)s->cm_wt_q31 * (int64_t)s->cm_beta_iq;
+    s->cm_alpha_iq = fix_add32(s->cm_alpha_iq, fix_rshift_rnd64_sat32(d, 31U));
+    d = (int64_t)k * (int64_t)fix_sub32(s->cm_mi_beta_iq, s->cm_beta_iq) +
+        (int64_t)s->cm_wt_q31 * (int64_t)s->cm_alpha_iq;
+    s->cm_beta_iq = fix_add32(s->cm_beta_iq, fix_rshift_rnd64_sat32(d, 31U));
+    s->cm_mi_alpha_iq = mi_a;
+    s->cm_mi_beta_iq = mi_b;
+}
+
 void im_sup_step(im_dtc_t *c)
 {
     const dtc_config_t *cfg = c->cfg;
     im_sup_t *s = &c->sup;
     uint16_t cause = 0U;
+    im_sup_cm_blend(c);
     /* the current model, Casadei eqs. A7, A9 in the rotor-flux frame (im_sup.h) */
     const iq_t i_d = iq_add(iq_mpy(c->i.i_alpha_iq, c->est.u_alpha_iq), iq_mpy(c->i.i_beta_iq, c->est.u_beta_iq));
     s->psir_cm_iq = iq_add(s->psir_cm_iq,

@@ -36,4 +36,29 @@ void im_sup_init(im_dtc_t *c, const dtc_config_t *cfg)
     s->track = cfg->u.im.ref.rr_track;
     s->slot = cfg->speed.speed_div > 3U ? 3U : 0U;
     s->rho_iq = IQ(1.0);
+    /* the current model's blend (im_sup.h): W = k_r (Ts/tau)(Ts/tau_r) (Q31, rounded products), 3W
+     * shifted by cm_n into [1/2, 1) (Q31; 3W < 4 as k_r < 2^6 and both ratios < 1, so the shift
+     * right ends within two steps), its reciprocal by the SVM's Newton steps from [1/2, 1) pu */
+    s->cm_on = 0U;
+    s->cm_n = 0U;
+    s->cm_inv_iq = 0;
+    if (cfg->u.im.ref.cm_ref != 0U && cfg->speed.sensor != DTC_SPEED_NONE && c->est_p.estimator == IM_EST_IMPROVED &&
+        cfg->law != DTC_LAW_IM_DSVM) {
+        const q31_t w = iq_mpy(cfg->u.im.machine.kr_iq, q31_mul(c->est_p.k_lo_q31, cfg->u.im.ref.magn_k_q31));
+        int64_t x = (int64_t)3 * (int64_t)w;
+        int16_t sh = 0;
+        if (x > 0) {
+            while (x < ((int64_t)1 << 30)) {
+                x <<= 1;
+                ++sh;
+            }
+            while (x >= ((int64_t)1 << 31)) {
+                x >>= 1;
+                --sh;
+            }
+            s->cm_on = sh >= 0 ? 1U : 0U; /* 3W >= 1: a slow pole above 1/tau_r at any speed */
+            s->cm_n = (uint16_t)(sh >= 0 ? sh : 0);
+            s->cm_inv_iq = svm_recip(0, (iq_t)(x >> 7));
+        }
+    }
 }

@@ -453,7 +453,7 @@ TEST(Scenario, FuzzedTomlAndSetNeverCrashOrHang)
         Scenario s;
         Diagnostics d;
         if (!parse_scenario("ts_s = 50e-6\n", "fuzz.toml", {o}, &s, &d)) {
-            EXPECT_NE(d.text().find("--set #1"), std::string::npos) << d.text();
+            EXPECT_NE(d.text().find("--set #1"), std::string::npos) << o << ": " << d.text();
         }
     }
     for (int i = 0; i < 3000; ++i) {

@@ -801,6 +801,97 @@ static void test_current_prediction_matches_the_machine(void **state)
     assert_true(e2 < 0.05 * 0.05 * d2);
 }
 
+/* The current model behind Casadei eq. 20's reference at low speed (im_sup.h, im_dtc_internal.h
+ * im_cm_ref), encoder fitted, 10 % of rated torque held at 5 % of the base speed: over 0.2 s after
+ * the settling
+ *   - the firmware's model against the same recursion in double precision, from the same sampled
+ *     currents and encoder speed, with m, Ts/tau_r and w Ts from the SI machine: within 1e-4 pu;
+ *   - the model's rotor flux against the machine's (the double T model, the same instant): the T
+ *     model's rotor equation with the machine's parameters is exact, so within 1 % of |phi_r|, and
+ *     the estimate's rotor flux (eq. 21) with it;
+ *   - the blend weight against b = clamp(4/3 - (w Ts)^2 / (3W), 0, 1), W = k_r (Ts/tau)(Ts/tau_r)
+ *     from the SI values, within 1e-3, and b = 1 here (the slow pole w^2 tau / k_r below 1/tau_r);
+ * then at the base speed b = 0 and the paper's reference alone (in->ref_vec 0). */
+static void test_current_model_reference_at_low_speed(void **state)
+{
+    sim_t s;
+    dtc_out_t o;
+    double ca = 0.0, cb = 0.0, mia = 0.0, mib = 0.0, worst_fx = 0.0, worst_cm = 0.0, worst_est = 0.0;
+    double kr, W, w_ts, b;
+    long k, n;
+    const im_dtc_t *c;
+    (void)state;
+
+    sim_defaults(&s);
+    sim_start(&s, 0.05); /* off by default (u.im.ref.cm_ref 0): Casadei eq. 20 at every speed */
+    assert_int_equal(s.law.u.im.sup.cm_on, 0U);
+    assert_int_equal(s.law.u.im.sup.cm_b_iq, 0);
+    s.si.cm_ref = 1;
+    s.si.torque_ref_nm = 0.1 * s.si.rated_torque_nm;
+    sim_start(&s, 0.05);
+    sim_magnetise_at(&s, 0.05, 0.5, &o);
+    c = &s.law.u.im;
+    kr = s.lr / s.m;
+    W = kr * (s.si.ts_s / s.si.tau_lo_s) * (s.si.ts_s * s.si.rr_ohm / ((s.si.llr_h + s.si.lm_h)));
+    assert_int_equal(c->sup.cm_on, 1U);
+    ca = fixtest_iq_to_d(c->sup.cm_alpha_iq);
+    cb = fixtest_iq_to_d(c->sup.cm_beta_iq);
+    mia = fixtest_iq_to_d(c->sup.cm_mi_alpha_iq);
+    mib = fixtest_iq_to_d(c->sup.cm_mi_beta_iq);
+    n = (long)periods(&s, 0.2);
+    for (k = 0; k < n; k++) {
+        const double pra = s.x.pra, prb = s.x.prb, kt = s.si.ts_s * s.si.rr_ohm / (s.si.llr_h + s.si.lm_h);
+        double wt, na;
+        sim_period(&s, &o);
+        /* the double recursion: the previous instant's m i, the speed period's w Ts */
+        wt = fixtest_iq_to_d(c->speed_iq) * s.tspu;
+        na = ca + kt * (mia - ca) - wt * cb;
+        cb = cb + kt * (mib - cb) + wt * na;
+        ca = na;
+        mia = s.m * fixtest_iq_to_d(c->i.i_alpha_iq);
+        mib = s.m * fixtest_iq_to_d(c->i.i_beta_iq);
+        worst_fx = fmax(worst_fx, hypot(fixtest_iq_to_d(c->sup.cm_alpha_iq) - ca, fixtest_iq_to_d(c->sup.cm_beta_iq) - cb));
+        worst_cm = fmax(worst_cm, hypot(fixtest_iq_to_d(c->sup.cm_alpha_iq) - pra, fixtest_iq_to_d(c->sup.cm_beta_iq) - prb) /
+                                      hypot(pra, prb));
+        worst_est = fmax(worst_est, hypot(fixtest_iq_to_d(c->est.psir_alpha_iq) - pra,
+                                          fixtest_iq_to_d(c->est.psir_beta_iq) - prb) / hypot(pra, prb));
+    }
+    w_ts = fixtest_iq_to_d(c->speed_iq) * s.tspu;
+    b = fmin(1.0, fmax(0.0, 4.0 / 3.0 - w_ts * w_ts / (3.0 * W)));
+    printf("MEASURE IM current model at 5 %% speed: fixed vs double %.2e pu; vs the machine's rotor flux %.3f %%, "
+           "the estimate's %.3f %%; b %.4f (double %.4f)\n",
+           worst_fx, 100.0 * worst_cm, 100.0 * worst_est, fixtest_iq_to_d(c->sup.cm_b_iq), b);
+    assert_true(worst_fx < 1e-4);
+    assert_true(worst_cm < 0.01);
+    assert_true(worst_est < 0.01);
+    assert_true(fabs(fixtest_iq_to_d(c->sup.cm_b_iq) - b) < 1e-3);
+    assert_true(b > 0.999);
+    assert_int_equal(c->ein.ref_vec, 1U);
+
+    /* halfway in the blend, (w Ts)^2 = 2.5 W: b = 1/2 */
+    s.x.w = sqrt(2.5 * W) / s.tspu;
+    for (k = 0; k < (long)periods(&s, 0.05); k++) {
+        sim_period(&s, &o);
+    }
+    w_ts = fixtest_iq_to_d(c->speed_iq) * s.tspu;
+    b = fmin(1.0, fmax(0.0, 4.0 / 3.0 - w_ts * w_ts / (3.0 * W)));
+    printf("MEASURE IM current model blend at w %.4f pu: b %.4f (double %.4f)\n", fixtest_iq_to_d(c->speed_iq),
+           fixtest_iq_to_d(c->sup.cm_b_iq), b);
+    assert_true(b > 0.4 && b < 0.6);
+    assert_true(fabs(fixtest_iq_to_d(c->sup.cm_b_iq) - b) < 1e-3);
+    assert_int_equal(c->ein.ref_vec, 1U);
+
+    /* the base speed: the slow pole far above 4/tau_r, the paper's reference alone */
+    s.x.w = 1.0;
+    for (k = 0; k < (long)periods(&s, 0.05); k++) {
+        sim_period(&s, &o);
+    }
+    w_ts = fixtest_iq_to_d(c->speed_iq) * s.tspu;
+    assert_true(w_ts * w_ts > 4.0 * W);
+    assert_int_equal(c->sup.cm_b_iq, 0);
+    assert_int_equal(c->ein.ref_vec, 0U);
+}
+
 /* DSVM (im_dsvm.c): the voltage kept for the estimator is the period's mean voltage less R_s times
  * the mean of the current's ripple about the straight line between the two samples, so that the
  * estimator's resistive drop on the sampled current (im_est.h) is R_s times the period's mean
@@ -1004,5 +1095,6 @@ UNIT_TEST_MAIN("im dtc", NULL,
                cmocka_unit_test(test_flux_weakening),
                cmocka_unit_test(test_sensorless_speed),
                cmocka_unit_test(test_current_prediction_matches_the_machine),
+        cmocka_unit_test(test_current_model_reference_at_low_speed),
                cmocka_unit_test(test_dsvm_voltage_takes_the_mean_ripple_current),
                cmocka_unit_test(test_reconfigure_turns_the_estimate_into_the_new_frame))

@@ -133,7 +133,7 @@ static void test_improved_estimator_magnetises_from_zero_as_eq20_says(void **sta
     im_est_init(&v, &pv);
     im_est_t vs; /* the voltage model during the start-up (in.start = 1): Casadei eq. 20's update */
     im_est_init(&vs, &pv);
-    im_est_in_t in = {0, 0, 0, 0, fixtest_d_to_iq(psir_ref), 0, 1, 0};
+    im_est_in_t in = {0, 0, 0, 0, fixtest_d_to_iq(psir_ref), 0, 1, 0, 0, 0, 0};
     im_est_in_t in_start = in;
     in_start.start = 1U;
     const double kr = kLr / kLm;
@@ -198,7 +198,7 @@ static void test_improved_estimator_tracks_double_reference_in_steady_state(void
         double v[2], i[2];
         steady_state_inputs(k, v, i);
         im_est_in_t in = {fixtest_d_to_iq(v[0]), fixtest_d_to_iq(v[1]), fixtest_d_to_iq(i[0]), fixtest_d_to_iq(i[1]),
-                          fixtest_d_to_iq(psir_ref), fixtest_d_to_iq(SS_W), 0, 0};
+                          fixtest_d_to_iq(psir_ref), fixtest_d_to_iq(SS_W), 0, 0, 0, 0, 0};
         im_est_step(&s, &in);
         ref_step(&r, K, v, i, psir_ref);
         if (k > 1000) {
@@ -220,7 +220,7 @@ static void test_improved_estimator_tracks_double_reference_in_steady_state(void
         assert_true(fabs(ua * pb - ub * pa) < 1e-6 * hypot(pa, pb));
         steady_state_inputs(50000, v, i);
         im_est_in_t in = {fixtest_d_to_iq(v[0]), fixtest_d_to_iq(v[1]), fixtest_d_to_iq(i[0]), fixtest_d_to_iq(i[1]),
-                          fixtest_d_to_iq(psir_ref), fixtest_d_to_iq(SS_W), 1, 0};
+                          fixtest_d_to_iq(psir_ref), fixtest_d_to_iq(SS_W), 1, 0, 0, 0, 0};
         im_est_step(&s, &in);
         a_ref = atan2(fixtest_iq_to_d(s.psir_beta_iq), fixtest_iq_to_d(s.psir_alpha_iq)) / TWO_PI * 65536.0;
         da = wrap_lsb((double)s.theta_r - a_ref);
@@ -244,7 +244,7 @@ static double improved_steady_error(double rel)
         double v[2], i[2];
         steady_state_inputs(k, v, i);
         im_est_in_t in = {fixtest_d_to_iq(v[0]), fixtest_d_to_iq(v[1]), fixtest_d_to_iq(i[0]), fixtest_d_to_iq(i[1]),
-                          fixtest_d_to_iq((1.0 + rel) * kLr / kLm * steady_state_x()), fixtest_d_to_iq(SS_W), 0, 0};
+                          fixtest_d_to_iq((1.0 + rel) * kLr / kLm * steady_state_x()), fixtest_d_to_iq(SS_W), 0, 0, 0, 0, 0};
         im_est_step(&s, &in);
     }
     return hypot(fixtest_iq_to_d(s.psi_alpha_iq) - SS_PSI * cos(SS_W * n * kTs),

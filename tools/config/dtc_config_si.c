@@ -72,6 +72,7 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->speed_filter_s = 0.005;
     si->magn_frac = PLANT_DEF_IM_MAGN_FRAC;
     si->rr_track = 0;
+    si->cm_ref = 0;
     si->flux_weakening = 0;
     si->fw_window = 20;
     si->fw_step_frac = 0.005;

@@ -109,6 +109,7 @@ typedef struct {
     double magn_frac;       /* start-up: torque allowed once the rotor flux has reached this
                              * fraction of its reference: after tau_r ln(1/(1 - magn_frac)) */
     int rr_track;           /* 1: the rotor resistance tracked on line is used (firmware/dtc/im_sup.h) */
+    int cm_ref;             /* 1: Casadei eq. 20's reference from the current model at low speed (im_sup.h) */
     int flux_weakening;     /* 1: Casadei section 12 */
     int fw_window;          /* N control periods per flux-reference decision (>= 20) */
     double fw_step_frac;    /* flux-reference step per decision, fraction of flux_ref_wb */

@@ -345,6 +345,7 @@ void dtc_si_im_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_ba
                                           1.0 - exp(-si->ts_s * si->speed_div / si->speed_filter_s));
     cfg->u.im.ref.enc_plaus_iq = 0;
     cfg->u.im.ref.rr_track = (uint16_t)si->rr_track;
+    cfg->u.im.ref.cm_ref = (uint16_t)si->cm_ref;
     if (si->fault_detect == 1 && si->speed_sensor == DTC_SPEED_ENCODER && si->inertia_kgm2 > 0.0) {
         /* Encoder plausibility (im_dtc.h, app_enc.h app_enc_flux_check): the sensorless speed
          * (Casadei eq. 22's angular speed less eq. 16's slip r_r T / phi_r*^2) and the encoder's

@@ -186,6 +186,7 @@ dtc_config_si_t firmware_si_config(const Scenario& sc)
         si.tau_w_hi_rpm = c.observer_tau_hi_rpm;
         si.magn_frac = c.magnetise_frac;
         si.rr_track = c.rr_tracking ? 1 : 0;
+        si.cm_ref = c.current_model_ref ? 1 : 0;
         si.table_speed_rpm = c.table_speed_rpm;
     }
     // The firmware.* keys given (the belief rows of dtc_si_params.h): the firmware's own values.

@@ -86,6 +86,7 @@ void check_law_keys(const Scenario& s, Diagnostics* d)
         "control.speed_sensor", "control.flux_weakening", "control.rotor_flux_ref_wb",
         "control.observer_tau_s", "control.observer_tau_high_s", "control.observer_tau_lo_rpm",
         "control.observer_tau_hi_rpm", "control.magnetise_frac", "control.table_speed_rpm", "control.rr_tracking",
+        "control.current_model_ref",
         "firmware.rr_ohm", "firmware.lls_h", "firmware.llr_h", "firmware.lm_h"};
     static const std::vector<std::string> pm_law = {"firmware.ls_h", "firmware.psi_m_wb", "control.handover_rpm",
                                                     "control.handover_hyst_frac", "control.delay_comp"};
@@ -130,7 +131,14 @@ template <typename Err, typename Warn> void check_faults(const Scenario& s, Err 
         }
     }
     if (s.origin.count("faults.time_s") == 0) {
-        err("faults.time_s", "missing value: required when a fault is configured");
+        // named with the fault's own key and where it was set (a --set of a fault without its time)
+        std::string by;
+        for (const auto& o : s.origin) {
+            if (by.empty() && o.first.rfind("faults.", 0) == 0 && o.first != "faults.current_sensor_code") {
+                by = " (" + o.first + ", " + origin_of(s, o.first) + ")";
+            }
+        }
+        err("faults.time_s", "missing value: required when a fault is configured" + by);
     } else if (f.time_s >= s.duration_s) {
         warn("faults.time_s", "at or after the end of the run (duration_s = " + fmt_double(s.duration_s) + " s)");
     }

@@ -321,6 +321,13 @@ const std::vector<Spec>& schema()
                  "stator resistance of the estimator follows it by the same ratio (one winding temperature); "
                  "false: tracked and reported (warning im_model_mismatch) only",
                  ACC(control.rr_tracking)),
+        boolean("control.current_model_ref",
+                 "IM with the encoder and the improved estimator (not DSVM): below the speed at which Casadei eq. "
+                 "20's slow pole w^2 tau / k_r passes 1/tau_r, the estimator's correction pulls towards the rotor "
+                 "flux of a current model on the encoder's speed (T model, Casadei eqs. A7, A9), blended out by "
+                 "4/tau_r (firmware/dtc/im_sup.h); the rotor-flux trim's ring at low speed gone and the voltage's "
+                 "errors kept out of the flux angle there; false: Casadei eq. 20's phi_r* e^{j theta} at every speed",
+                 ACC(control.current_model_ref)),
         num("control.table_speed_rpm", "rpm", nonneg(),
             "IM speed-dependent table: ST-D below, ST-A above; DSC: ST-D's circle below, the hexagon above (a "
             "hysteresis of 1/16 of it either side); 0 = derived (half the speed where the back-EMF "
