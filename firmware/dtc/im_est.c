@@ -95,10 +95,11 @@ static void im_est_unit(im_est_t *s, iq_t x_a, iq_t x_b)
         t = im_est_scale(x_a, x_b, s->inv_mag_iq, &s->u_alpha_iq, &s->u_beta_iq);
     }
     for (k = 0U; k < 8U; ++k) {
-        const uint16_t small = (uint16_t)(t > one - near && t < one + near ? 1U : 0U);
+        uint16_t small;
         if (t > one - tol && t < one + tol) {
             break; /* |x r|^2 within 2^-20 of 1 (u = x r in use) */
         }
+        small = (uint16_t)(t > one - near && t < one + near ? 1U : 0U);
         s->inv_mag_iq = im_est_newton(s->inv_mag_iq, t);
         t = im_est_scale(x_a, x_b, s->inv_mag_iq, &s->u_alpha_iq, &s->u_beta_iq);
         if (small != 0U) {

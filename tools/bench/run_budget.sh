@@ -8,7 +8,7 @@
 #   1. host instructions per control-law step (valgrind --tool=callgrind, host preset build of
 #      tools/bench/bench_dtc.c), average and the speed-loop steps (the worst path):
 #      1a. PM law dtc_step: FSTP, voltage model, Hoang Table VI compensation [avg <= 1400, worst <= 1670]
-#      1b. IM law im_dtc_step: improved estimator, Casadei eq. 19, sensorless [avg <= 900, worst <= 1320]
+#      1b. IM law im_dtc_step: improved estimator, Casadei eq. 19, sensorless [avg <= 900, worst <= 1250]
 #      1b2. the same law on the four-switch inverter, im_dtc_step_fstp (Hoang Table II) [avg <= 900, worst <= 1250]
 #      1c. IM law im_sfvc_step: SFVC (Casadei eqs. 18, 23, 24) + SVM, same [avg <= 1100, worst <= 1700]
 #      1d. IM law im_dfoc_step: DFOC (sec. 13) + two-phase SVM, same    [avg <= 1140, worst <= 1480]
@@ -91,7 +91,7 @@ instr a "" dtc_step bench_step_normal bench_step_tick 1400 1670 \
   flux_est_step vcomp_step iq_mag fix_isqrt64 speed_meas_step speed_pi_step
 # IM law (improved estimator, speed-dependent tau, Casadei eq. 19, sensorless, speed-dependent table), at
 # 40 us.
-instr b im im_dtc_step bench_im_normal bench_im_tick 900 1320 \
+instr b im im_dtc_step bench_im_normal bench_im_tick 900 1250 \
   im_est_flux im_est_polar fix_polar im_speed_step iq_mag fix_isqrt64 im_dtc_select im_dtc_estimate speed_pi_step
 # The same IM law on the four-switch inverter (Hoang Table II, the FSTP's equal drops), 40 us.
 instr b2 imfstp im_dtc_step_fstp bench_imfstp_normal bench_imfstp_tick 900 1250 \
