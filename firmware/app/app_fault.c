@@ -143,12 +143,29 @@ uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_m
     dth = held != 0U ? fix_add32(f->dth_iq, f->dth_iq) : f->dth_iq; /* the held period's angle too */
     sign = dtc_law_is_im(c->law) == 0U ? 1U : 0U;
     for (k = 0U; k < 3U; k++) {
-        if (sign != 0U) {
-            /* the angle since each direction was last seen (an open device: one direction only) */
-            f->pos_acc_iq[k] = i[k] > zero ? 0 : fix_add32(f->pos_acc_iq[k], dth);
-            f->neg_acc_iq[k] = i[k] < -zero ? 0 : fix_add32(f->neg_acc_iq[k], dth);
+        /* the angle since each direction was last seen (PM laws: an open device, one direction
+         * only) and inside the band. Beyond it (|i| >= zero, the usual case) only the other
+         * direction's angle grows; zero >= 0, so i > zero and i < -zero exclude each other and
+         * |i| < zero holds only between them (|INT32_MIN| saturates, beyond -zero anyway). */
+        if (i[k] > zero) {
+            f->leg_acc_iq[k] = 0;
+            if (sign != 0U) {
+                f->pos_acc_iq[k] = 0;
+                f->neg_acc_iq[k] = fix_add32(f->neg_acc_iq[k], dth);
+            }
+        } else if (i[k] < -zero) {
+            f->leg_acc_iq[k] = 0;
+            if (sign != 0U) {
+                f->pos_acc_iq[k] = fix_add32(f->pos_acc_iq[k], dth);
+                f->neg_acc_iq[k] = 0;
+            }
+        } else {
+            f->leg_acc_iq[k] = fix_abs32(i[k]) < zero ? fix_add32(f->leg_acc_iq[k], dth) : 0;
+            if (sign != 0U) {
+                f->pos_acc_iq[k] = fix_add32(f->pos_acc_iq[k], dth);
+                f->neg_acc_iq[k] = fix_add32(f->neg_acc_iq[k], dth);
+            }
         }
-        f->leg_acc_iq[k] = fix_abs32(i[k]) < zero ? fix_add32(f->leg_acc_iq[k], dth) : 0;
     }
     for (k = 0U; k < 3U; k++) {
         /* app_fault_one_way's own first test here, so that the call comes only past it */
