@@ -8,16 +8,22 @@ static int32_t to_q16(iq_t x)
     return fix_rshift_rnd32(x, 8U);
 }
 
+/* Channel k's window sums zeroed (a window judged, or the reset). */
+static void plaus_sums_clear(app_plaus_t *s, uint16_t k)
+{
+    s->s_m[k] = 0;
+    s->s_p[k] = 0;
+    s->s_mp[k] = 0;
+    s->s_pp[k] = 0;
+}
+
 void app_plaus_reset(app_plaus_t *s)
 {
     uint16_t k;
     for (k = 0U; k < 3U; k++) {
         s->i_prev[k] = 0;
         s->i1_prev[k] = 0;
-        s->s_m[k] = 0;
-        s->s_p[k] = 0;
-        s->s_mp[k] = 0;
-        s->s_pp[k] = 0;
+        plaus_sums_clear(s, k);
         s->bias[k] = 0;
     }
     s->primed = 0U;
@@ -45,10 +51,7 @@ static uint16_t plaus_judge(app_plaus_t *s, const app_plaus_params_t *p, uint16_
                 still |= (uint16_t)(1U << k);
             }
         }
-        s->s_m[k] = 0;
-        s->s_p[k] = 0;
-        s->s_mp[k] = 0;
-        s->s_pp[k] = 0;
+        plaus_sums_clear(s, k);
     }
     s->n = 0U;
     s->due = 0U;
