@@ -80,7 +80,6 @@ SECTIONS
                     *(.text:_app_enc_check)
                     *(.text:_app_fault_one_way)
                     *(.text:_app_fault_open_phase)
-                    *(.text:_app_fault_stall)
                     *(.text:_app_fault_trips)
                     *(.text:_app_isr)
                     *(.text:_app_plaus_step)
@@ -88,7 +87,8 @@ SECTIONS
                     *(.text:_calibrate_step)
                     *(.text:_check_hw_trip)
                     *(.text:_check_trips)
-                    *(.text:_deadtime_error)
+                    *(.text:_deadtime_apply)
+                    *(.text:_deadtime_code)
                     *(.text:_deadtime_leg)
                     *(.text:_dtc_dcsupp)
                     *(.text:_dtc_handover)
@@ -119,6 +119,7 @@ SECTIONS
                     *(.text:_law_speed_ref_ptr)
                     *(.text:_law_step)
                     *(.text:_law_warnings)
+                    *(.text:_plaus_judge)
                     *(.text:_q32_integrate)
                     *(.text:_speed_meas_step)
                     *(.text:_speed_pi_step)
@@ -145,6 +146,7 @@ SECTIONS
 
     ramfuncs_m : {
                     /* hot:ramfuncs_m begin (hal/f2812/hot_functions.py --write) */
+                    *(.text:_app_fault_stall)
                     /* hot:ramfuncs_m end */
                 }
                 LOAD = FLASH_JC,

@@ -288,7 +288,8 @@ static uint16_t reconfigure(app_core_t *a, uint16_t x)
 static uint16_t check_open_phase(app_core_t *a)
 {
     uint16_t x = 0U;
-    if (app_fault_open_phase(&a->flt, a->cfg, &a->st.meas, a->st.out.speed_iq, a->perm, &x) == 0U) {
+    if (app_fault_open_phase(&a->flt, a->cfg, &a->st.meas, a->st.out.speed_iq, a->perm, a->st.out.speed_tick, &x) ==
+        0U) {
         return 0U;
     }
     if (a->post != NULL && a->st.reconfigured == 0U) { /* post: a leg-form law on the FSTP (set_reconfig) */
@@ -342,7 +343,7 @@ static uint16_t check_sensors(app_core_t *a)
     const iq_t i[3] = {a->st.meas.ia_iq, a->st.meas.ib_iq, a->st.meas.ic_iq};
     const iq_t zero = fix_rshift_rnd32(c->prot.leg_i_min_iq, APP_LEG_ZERO_LOG2);
     iq_t i1[3];
-    uint16_t bad, k, pick = 3U, kind = 0U, win;
+    uint16_t bad, k, pick = 3U, kind = 0U, win, fl = 0U;
     if (c->prot.i_plaus == 0U) {
         return 0U;
     }
@@ -356,16 +357,20 @@ static uint16_t check_sensors(app_core_t *a)
     }
     if (c->board.i_sensors3 != 0U) {
         if (fix_abs32(fix_add32(fix_add32(i[0], i[1]), i[2])) > c->prot.i_sum_max_iq) {
-            a->plaus_win |= 1U;
+            fl |= 1U;
         }
         for (k = 0U; k < 3U; k++) {
             if (fix_abs32(i[k]) < zero) {
-                a->plaus_win |= 2U;
+                fl |= 2U;
             }
         }
     }
-    bad = app_plaus_step(&a->plaus, &a->plaus_p, i, law_i_pred(&a->law, a->st.meas.vdc_iq, i1) != 0U ? i1 : NULL, a->meas_mask);
-    win = a->plaus_win;
+    /* a window held over from the last (speed-loop) period is judged before this sample, which
+     * starts the next window (app_plaus_step's hold) */
+    win = a->plaus.due != 0U ? a->plaus_win : (uint16_t)(a->plaus_win | fl);
+    a->plaus_win = a->plaus.due != 0U ? fl : win;
+    bad = app_plaus_step(&a->plaus, &a->plaus_p, i, law_i_pred(&a->law, a->st.meas.vdc_iq, i1) != 0U ? i1 : NULL,
+                         a->meas_mask, a->st.out.speed_tick);
     if (a->plaus.n == 0U) { /* a window ended (or the block rests): the next one starts afresh */
         a->plaus_win = 0U;
     }

@@ -91,23 +91,31 @@ static uint16_t app_fault_one_way(const app_fault_t *f, uint16_t k, iq_t acc)
  * most 128 pu (2^31 IQ); squares are formed in 64 bits and shifted right by 5 (<= 2^57), so 24 x^2 and the
  * sum of three stay below 2^63; 3 i_min^2 likewise; the angle sum saturates. */
 uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_meas_t *pu, iq_t speed_iq,
-                              uint16_t perm, uint16_t *phase)
+                              uint16_t perm, uint16_t hold, uint16_t *phase)
 {
     const iq_t i[3] = {pu->ia_iq, pu->ib_iq, pu->ic_iq};
-    const iq_t s = fix_add32(fix_add32(i[0], i[1]), i[2]);
-    const iq_t zero = fix_rshift_rnd32(c->prot.leg_i_min_iq, APP_LEG_ZERO_LOG2);
+    iq_t s, zero;
     uint64_t sq[3], tot;
     iq_t dth;
-    uint16_t k, sign;
+    uint16_t k, sign, held;
 
     if (c->prot.leg_i_min_iq <= 0) {
         return 0U;
     }
     if (f->relay_wait > 0U) {
         f->relay_wait--;
+        f->op_held = 0U;
         app_fault_leg_clear(f);
         return 0U;
     }
+    /* a speed-loop period's sample is held over (app_fault.h), never two in a row */
+    held = f->op_held;
+    f->op_held = (uint16_t)(hold != 0U && held == 0U ? 1U : 0U);
+    if (f->op_held != 0U) {
+        return 0U;
+    }
+    s = fix_add32(fix_add32(i[0], i[1]), i[2]);
+    zero = fix_rshift_rnd32(c->prot.leg_i_min_iq, APP_LEG_ZERO_LOG2);
     if (f->imin_iq != c->prot.leg_i_min_iq) { /* a configuration constant: squared once per change */
         f->imin_iq = c->prot.leg_i_min_iq;
         f->imin2_3 = 3U * ((uint64_t)((int64_t)f->imin_iq * (int64_t)f->imin_iq) >> 5);
@@ -132,15 +140,32 @@ uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_m
         f->dth_ts_iq = c->board.ts_pu_iq;
         f->dth_iq = iq_mpy(fix_abs32(speed_iq), c->board.ts_pu_iq);
     }
-    dth = f->dth_iq;
+    dth = held != 0U ? fix_add32(f->dth_iq, f->dth_iq) : f->dth_iq; /* the held period's angle too */
     sign = dtc_law_is_im(c->law) == 0U ? 1U : 0U;
     for (k = 0U; k < 3U; k++) {
-        if (sign != 0U) {
-            /* the angle since each direction was last seen (an open device: one direction only) */
-            f->pos_acc_iq[k] = i[k] > zero ? 0 : fix_add32(f->pos_acc_iq[k], dth);
-            f->neg_acc_iq[k] = i[k] < -zero ? 0 : fix_add32(f->neg_acc_iq[k], dth);
+        /* the angle since each direction was last seen (PM laws: an open device, one direction
+         * only) and inside the band. Beyond it (|i| >= zero, the usual case) only the other
+         * direction's angle grows; zero >= 0, so i > zero and i < -zero exclude each other and
+         * |i| < zero holds only between them (|INT32_MIN| saturates, beyond -zero anyway). */
+        if (i[k] > zero) {
+            f->leg_acc_iq[k] = 0;
+            if (sign != 0U) {
+                f->pos_acc_iq[k] = 0;
+                f->neg_acc_iq[k] = fix_add32(f->neg_acc_iq[k], dth);
+            }
+        } else if (i[k] < -zero) {
+            f->leg_acc_iq[k] = 0;
+            if (sign != 0U) {
+                f->pos_acc_iq[k] = fix_add32(f->pos_acc_iq[k], dth);
+                f->neg_acc_iq[k] = 0;
+            }
+        } else {
+            f->leg_acc_iq[k] = fix_abs32(i[k]) < zero ? fix_add32(f->leg_acc_iq[k], dth) : 0;
+            if (sign != 0U) {
+                f->pos_acc_iq[k] = fix_add32(f->pos_acc_iq[k], dth);
+                f->neg_acc_iq[k] = fix_add32(f->neg_acc_iq[k], dth);
+            }
         }
-        f->leg_acc_iq[k] = fix_abs32(i[k]) < zero ? fix_add32(f->leg_acc_iq[k], dth) : 0;
     }
     for (k = 0U; k < 3U; k++) {
         /* app_fault_one_way's own first test here, so that the call comes only past it */

@@ -163,6 +163,8 @@ typedef struct {
     iq_t dth_w_iq, dth_ts_iq; /* open phase: the speed and period that dth_iq was formed from */
     iq_t dth_iq;           /* |w| Ts, IQ rad per period: formed when the speed (a speed-loop rate
                             * quantity) or the period differs from the last, not per period */
+    uint16_t op_held;      /* open phase: 1 when the last period's sample was not judged (a
+                            * speed-loop period, app_fault_open_phase's hold), 0 else */
 } app_fault_t;
 
 /* (p + k) mod 3 for p + k in 0..5, without a division: the physical phase of the law's phase k
@@ -188,6 +190,7 @@ static inline void app_fault_leg_clear(app_fault_t *f)
 static inline void app_fault_reset(app_fault_t *f)
 {
     f->isum_n = 0U;
+    f->op_held = 0U;
     app_fault_leg_clear(f);
 }
 
@@ -255,9 +258,13 @@ uint16_t app_fault_trips(app_fault_t *f, const dtc_config_t *c, const dtc_meas_t
 
 /* Open phase (prot.leg_i_min_iq > 0) on the sample pu at the reported speed speed_iq (app_fault.c):
  * a phase inside the zero band over APP_LEG_ANGLE_IQ, or (PM laws) never beyond it in one
- * direction over APP_LEG_SIGN_ANGLE_IQ while the other two alternate. Returns 1 with *phase the physical phase found open, else 0. */
+ * direction over APP_LEG_SIGN_ANGLE_IQ while the other two alternate. Returns 1 with *phase the physical phase found open, else 0.
+ * hold = 1 (the law ran its speed loop in this period, its longest step): the sample is not judged
+ * unless the last one was not either; the next judged sample then counts the angle of both
+ * periods. So the check never adds to a speed-loop period but with a speed loop every period,
+ * and an open phase is found at most one period (Ts) later than when every sample is judged. */
 uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_meas_t *pu, iq_t speed_iq,
-                              uint16_t perm, uint16_t *phase);
+                              uint16_t perm, uint16_t hold, uint16_t *phase);
 
 /* Stall (speed mode) on the law's output o with the speed reference speed_ref_iq (app_fault.c).
  * Returns APP_FAULT_STALL (detail: the sign of the torque reference) or APP_FAULT_NONE. */

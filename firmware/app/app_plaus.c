@@ -8,29 +8,74 @@ static int32_t to_q16(iq_t x)
     return fix_rshift_rnd32(x, 8U);
 }
 
+/* Channel k's window sums zeroed (a window judged, or the reset). */
+static void plaus_sums_clear(app_plaus_t *s, uint16_t k)
+{
+    s->s_m[k] = 0;
+    s->s_p[k] = 0;
+    s->s_mp[k] = 0;
+    s->s_pp[k] = 0;
+}
+
 void app_plaus_reset(app_plaus_t *s)
 {
     uint16_t k;
     for (k = 0U; k < 3U; k++) {
         s->i_prev[k] = 0;
         s->i1_prev[k] = 0;
-        s->s_m[k] = 0;
-        s->s_p[k] = 0;
-        s->s_mp[k] = 0;
-        s->s_pp[k] = 0;
+        plaus_sums_clear(s, k);
         s->bias[k] = 0;
     }
     s->primed = 0U;
     s->n = 0U;
     s->pend = 0U;
+    s->due = 0U;
+}
+
+/* The judgement of a full window (app_plaus.h app_plaus_step), its sums cleared for the next. */
+static uint16_t plaus_judge(app_plaus_t *s, const app_plaus_params_t *p, uint16_t measured)
+{
+    uint16_t bad = 0U, still = 0U, k;
+    for (k = 0U; k < 3U; k++) {
+        if ((measured & (uint16_t)(1U << k)) == 0U) {
+            continue;
+        }
+        /* N^2 cov(d_m, d_p) and N^2 var(d_p), N = 2^win_log2 */
+        const int64_t cov = s->s_mp[k] * (int64_t)(1U << p->win_log2) - (int64_t)s->s_m[k] * s->s_p[k];
+        const int64_t var = s->s_pp[k] * (int64_t)(1U << p->win_log2) - (int64_t)s->s_p[k] * s->s_p[k];
+        const uint16_t raw_bad = (uint16_t)(s->s_pp[k] > p->floor_raw && 4 * s->s_mp[k] < s->s_pp[k]);
+        const uint16_t follows = (uint16_t)(var > p->floor_var && 4 * cov >= var);
+        if (raw_bad != 0U && follows == 0U) {
+            bad |= (uint16_t)(1U << k);
+            if (16 * s->s_mp[k] < s->s_pp[k] && -16 * s->s_mp[k] < s->s_pp[k]) {
+                still |= (uint16_t)(1U << k);
+            }
+        }
+        plaus_sums_clear(s, k);
+    }
+    s->n = 0U;
+    s->due = 0U;
+    if (still != 0U) {
+        s->pend = 0U;
+        return still;
+    }
+    /* none stood still: reported only on a second failed window in a row */
+    {
+        const uint16_t first = (uint16_t)(s->pend == 0U ? 1U : 0U);
+        s->pend = bad;
+        return first != 0U ? 0U : bad;
+    }
 }
 
 uint16_t app_plaus_step(app_plaus_t *s, const app_plaus_params_t *p, const iq_t i[3], const iq_t *i1,
-                        uint16_t measured)
+                        uint16_t measured, uint16_t hold)
 {
     uint16_t bad = 0U;
     uint16_t k;
 
+    if (s->due != 0U) {
+        bad = plaus_judge(s, p, measured); /* the window held over from the last period */
+    }
     if (s->primed != 0U) {
         /* Only the measured channels are judged, so only they accumulate: an unmeasured channel's
          * sums stay zero (app_plaus_reset; a change of the mask comes with a reset). */
@@ -53,38 +98,10 @@ uint16_t app_plaus_step(app_plaus_t *s, const app_plaus_params_t *p, const iq_t 
             s->s_pp[k] += (int64_t)dp * dp;
         }
         if (++s->n >= (uint16_t)(1U << p->win_log2)) {
-            uint16_t still = 0U;
-            for (k = 0U; k < 3U; k++) {
-                if ((measured & (uint16_t)(1U << k)) == 0U) {
-                    continue;
-                }
-                /* N^2 cov(d_m, d_p) and N^2 var(d_p), N = 2^win_log2 */
-                const int64_t cov = s->s_mp[k] * (int64_t)(1U << p->win_log2) - (int64_t)s->s_m[k] * s->s_p[k];
-                const int64_t var = s->s_pp[k] * (int64_t)(1U << p->win_log2) - (int64_t)s->s_p[k] * s->s_p[k];
-                const uint16_t raw_bad = (uint16_t)(s->s_pp[k] > p->floor_raw && 4 * s->s_mp[k] < s->s_pp[k]);
-                const uint16_t follows = (uint16_t)(var > p->floor_var && 4 * cov >= var);
-                if (raw_bad != 0U && follows == 0U) {
-                    bad |= (uint16_t)(1U << k);
-                    if (16 * s->s_mp[k] < s->s_pp[k] && -16 * s->s_mp[k] < s->s_pp[k]) {
-                        still |= (uint16_t)(1U << k);
-                    }
-                }
-                s->s_m[k] = 0;
-                s->s_p[k] = 0;
-                s->s_mp[k] = 0;
-                s->s_pp[k] = 0;
-            }
-            s->n = 0U;
-            if (still != 0U) {
-                bad = still;
-                s->pend = 0U;
+            if (hold != 0U) {
+                s->due = 1U; /* judged at the start of the next call, before its sample */
             } else {
-                /* none stood still: reported only on a second failed window in a row */
-                const uint16_t first = (uint16_t)(s->pend == 0U ? 1U : 0U);
-                s->pend = bad;
-                if (first != 0U) {
-                    bad = 0U;
-                }
+                bad = plaus_judge(s, p, measured);
             }
         }
     }

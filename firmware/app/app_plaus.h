@@ -84,6 +84,7 @@ typedef struct {
     uint16_t primed;   /* 1: i_prev and i1_prev hold a valid pair */
     uint16_t n;        /* periods in the current window */
     uint16_t pend;     /* the phases the last window failed when none of them stood still */
+    uint16_t due;      /* 1: the window is full and held over to the next call (app_plaus_step's hold) */
     int32_t bias[3];   /* the prediction's bias, mean of d_p - d_m, IQ16 pu per period */
     int32_t s_m[3];    /* sum of d_m, IQ16 */
     int32_t s_p[3];    /* sum of d_p, IQ16 */
@@ -107,8 +108,12 @@ void app_plaus_reset(app_plaus_t *s);
  * as well (through the rotor flux x = phi_s - sigma l_s i of the IM laws' back-EMF), which still
  * moves with its current. Failed phases none of which stood still are returned only when the
  * next window fails too (a stuck sensor's jump to its code disturbs the window it falls in,
- * where the healthy phase may fail alone; the next window shows which one stands still). */
+ * where the healthy phase may fail alone; the next window shows which one stands still).
+ * hold = 1 (the law ran its speed loop in this period, its longest step): a window that ends now is
+ * judged at the start of the next call, before that call's sample enters the next window, and its
+ * result returned there: the same windows and results, one period (Ts) later, and the judgement
+ * never adds to a speed-loop period but with a speed loop every period. */
 uint16_t app_plaus_step(app_plaus_t *s, const app_plaus_params_t *p, const iq_t i[3], const iq_t *i1,
-                        uint16_t measured);
+                        uint16_t measured, uint16_t hold);
 
 #endif /* APP_PLAUS_H */

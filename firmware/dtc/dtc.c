@@ -25,6 +25,7 @@ void dtc_reset_currents(dtc_t *c)
     c->i_mid = c->i_prev;
     c->i1 = c->i_prev;
     c->i_limited = 0U;
+    c->dt_code = DEADTIME_CODE_NONE; /* i_prev is no longer the sample it was formed on */
 }
 
 /* Current limit and ripple-robust polarity (ilim.h, dtc_config.h polarity_mid): state at reset. */
@@ -357,8 +358,14 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         fin->v_alpha_iq = fix_add32(fin->v_alpha_iq, vfa);
         fin->v_beta_iq = fix_add32(fin->v_beta_iq, vfb);
         if (cfg->est.deadtime_comp != 0U) {
-            deadtime_error(&c->dt_p, m->vdc_iq, cfg->u.pm_dtc.est.polarity_mid != 0U ? &c->i_prev : i, &c->legs_3,
-                         &c->legs_2, &vfa, &vfb);
+            /* legs_3 -> legs_2 on i_prev (polarity_mid) is the change the last step's prediction
+             * formed on its sample (c->dt_code); without polarity_mid it is judged on i */
+            uint16_t code = c->dt_code;
+            if (code == DEADTIME_CODE_NONE || cfg->u.pm_dtc.est.polarity_mid == 0U) {
+                code = deadtime_code(&c->dt_p, cfg->u.pm_dtc.est.polarity_mid != 0U ? &c->i_prev : i, &c->legs_3,
+                                     &c->legs_2);
+            }
+            deadtime_apply(&c->dt_p, m->vdc_iq, code, &vfa, &vfb);
             fin->v_alpha_iq = fix_add32(fin->v_alpha_iq, vfa);
             fin->v_beta_iq = fix_add32(fin->v_beta_iq, vfb);
         }
@@ -431,8 +438,8 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         c->v1d_alpha_iq = 0;
         c->v1d_beta_iq = 0;
         if (cfg->est.deadtime_comp != 0U) {
-            deadtime_error(&c->dt_p, m->vdc_iq, i, &c->legs_2, &c->legs_1, &c->v1d_alpha_iq,
-                         &c->v1d_beta_iq);
+            c->dt_code = deadtime_code(&c->dt_p, i, &c->legs_2, &c->legs_1); /* the next step's estimator takes it */
+            deadtime_apply(&c->dt_p, m->vdc_iq, c->dt_code, &c->v1d_alpha_iq, &c->v1d_beta_iq);
         }
         dtc_predict(c, i, &psi_a, &psi_b, &te);
     }

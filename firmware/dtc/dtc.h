@@ -91,6 +91,10 @@ typedef struct {
                           * updated with the speed at the speed-loop rate */
     iq_t ri_alpha_iq, ri_beta_iq; /* r_s i of this step, IQ pu (dtc_step: the voltage model and
                                    * dtc_predict take the same product) */
+    uint16_t dt_code;    /* dead-time compensation: the deadtime_code (vrec.h) dtc_predict formed for
+                          * legs_2 -> legs_1 on the current sample, which the next step's estimator
+                          * takes for legs_3 -> legs_2 on i_prev; DEADTIME_CODE_NONE when none
+                          * (reset, no prediction) */
     uint16_t gains_due;  /* 1: the speed-dependent gains of the speed measured last are still to be
                           * formed (dtc_speed_gains, at the start of the next step) */
     /* dtc_step's working values of one step (the currents at k, the estimator's input), kept here

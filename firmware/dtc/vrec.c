@@ -33,7 +33,8 @@ static int32_t deadtime_leg(uint16_t prev, uint16_t cur, iq_t i)
     return 0;
 }
 
-/* Dead-time compensation (Casadei sec. 10.5): the leg errors of deadtime_leg through the same
+/* Dead-time compensation (Casadei sec. 10.5; deadtime_code, then vrec.h deadtime_apply): the leg
+ * errors of deadtime_leg through the same
  * leg-to-alpha/beta transform as the reconstruction (vrec_from_legs, Hoang eqs. 1-5; FSTP: leg A
  * is the mid-point and never switches). Phase currents at the switching instant, all three
  * (clarke_out_t: the two measured, the third by Kirchhoff).
@@ -42,20 +43,21 @@ static int32_t deadtime_leg(uint16_t prev, uint16_t cur, iq_t i)
  * 32 bits: vrec_from_legs' sums 2 v_a and v_b + v_c cannot saturate, and its saturating
  * difference and rounded Q31 products are taken here the same way on the integer multiples of e
  * (bit for bit vrec_from_legs of the three leg errors, with no 64-bit sum but the last). */
-void deadtime_error(const deadtime_params_t *p, iq_t vdc_iq, const clarke_out_t *i, const swtab_legs_t *prev,
-                    const swtab_legs_t *cur, iq_t *dva, iq_t *dvb)
+uint16_t deadtime_code(const deadtime_params_t *p, const clarke_out_t *i, const swtab_legs_t *prev,
+                       const swtab_legs_t *cur)
 {
-    iq_t e;
     int32_t ka, kb, kc;
     if (prev->sa == cur->sa && prev->sb == cur->sb && prev->sc == cur->sc) {
-        *dva = 0; /* no leg changed: no dead-time error (most periods; the sum below is 0 then) */
-        *dvb = 0;
-        return;
+        return DEADTIME_CODE_ZERO; /* no leg changed: no dead-time error (most periods) */
     }
-    e = iq_mpy_q15(vdc_iq, p->td_ts_q15);
     ka = p->fstp != 0U ? 0 : deadtime_leg(prev->sa, cur->sa, i->ia_iq);
     kb = deadtime_leg(prev->sb, cur->sb, i->ib_iq);
     kc = deadtime_leg(prev->sc, cur->sc, i->ic_iq);
-    *dva = q31_mul_k(fix_sub32((ka + ka) * e, (kb + kc) * e), VREC_THIRD_Q31);
-    *dvb = q31_mul_k((kb - kc) * e, VREC_INV_SQRT3_Q31);
+    return (uint16_t)((uint32_t)(ka + 1) | ((uint32_t)(kb + 1) << 2) | ((uint32_t)(kc + 1) << 4));
+}
+
+void deadtime_error(const deadtime_params_t *p, iq_t vdc_iq, const clarke_out_t *i, const swtab_legs_t *prev,
+                    const swtab_legs_t *cur, iq_t *dva, iq_t *dvb)
+{
+    deadtime_apply(p, vdc_iq, deadtime_code(p, i, prev, cur), dva, dvb);
 }

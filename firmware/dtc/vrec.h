@@ -59,4 +59,36 @@ typedef struct {
 void deadtime_error(const deadtime_params_t *p, iq_t vdc_iq, const clarke_out_t *i, const swtab_legs_t *prev,
                     const swtab_legs_t *cur, iq_t *dva, iq_t *dvb);
 
+/* deadtime_error in its two parts, for a law that forms one leg change twice (dtc_step: the
+ * prediction for k+1, then the estimator one step later, on the same legs and current sample but
+ * the next link voltage): deadtime_error(p, vdc, i, prev, cur) is
+ * deadtime_apply(p, vdc, deadtime_code(p, i, prev, cur)), bit for bit.
+ * deadtime_code: the legs' errors k_x in {-1, 0, 1} (vrec.c deadtime_leg) packed as
+ * (k_a + 1) | (k_b + 1) << 2 | (k_c + 1) << 4; DEADTIME_CODE_ZERO (every k_x 0) also when no leg
+ * changed. DEADTIME_CODE_NONE is no code (a caller's mark for "not formed"); deadtime_apply must
+ * not be given it. */
+#define DEADTIME_CODE_ZERO 21U
+#define DEADTIME_CODE_NONE 0xFFFFU
+uint16_t deadtime_code(const deadtime_params_t *p, const clarke_out_t *i, const swtab_legs_t *prev,
+                       const swtab_legs_t *cur);
+
+/* The voltages of a deadtime_code for the link voltage vdc_iq: 0 for DEADTIME_CODE_ZERO, else
+ * vrec_from_legs of the leg errors k_x e (formats and overflow: vrec.c deadtime_error). */
+static inline void deadtime_apply(const deadtime_params_t *p, iq_t vdc_iq, uint16_t code, iq_t *dva, iq_t *dvb)
+{
+    iq_t e;
+    int32_t ka, kb, kc;
+    if (code == DEADTIME_CODE_ZERO) {
+        *dva = 0; /* no leg changed, or none with an error (the sums below are 0 then) */
+        *dvb = 0;
+        return;
+    }
+    e = iq_mpy_q15(vdc_iq, p->td_ts_q15);
+    ka = (int32_t)(code & 3U) - 1;
+    kb = (int32_t)((code >> 2) & 3U) - 1;
+    kc = (int32_t)((code >> 4) & 3U) - 1;
+    *dva = q31_mul_k(fix_sub32((ka + ka) * e, (kb + kc) * e), VREC_THIRD_Q31);
+    *dvb = q31_mul_k((kb - kc) * e, VREC_INV_SQRT3_Q31);
+}
+
 #endif /* VREC_H */

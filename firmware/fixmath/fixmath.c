@@ -179,8 +179,3 @@ iq_t iq_recip_newton(iq_t y, iq_t x)
 
 void iq_cmul_1jx(iq_t x, iq_t *a, iq_t *b) { iq_cmul_1jx_inline(x, a, b); }
 
-iq_t q32_integrate(int32_t *acc, iq_t k, iq_t x)
-{
-    *acc = fix_add32(*acc, fix_rshift_rnd64_sat32((int64_t)k * (int64_t)x, 16U));
-    return fix_rshift_rnd32(*acc, 8U);
-}

@@ -416,7 +416,7 @@ uint16_t fix_quadrant(iq_t alpha, iq_t beta);
 void fix_polar(iq_t x, iq_t y, angle_t *angle, iq_t *mag);
 
 /* ------------------------------------------------------------------------------------------ */
-/* Reciprocal, small complex factors, a high-resolution integrator (fixmath.c)                 */
+/* Reciprocal, small complex factors (fixmath.c), a high-resolution integrator (inline)       */
 
 /* Two Newton steps y <- y (2 - x y) towards 1/x (x > 0, IQ): quadratic convergence for
  * 0 < y < 2/x (the error e = 1 - x y becomes e^4); the caller keeps y from call to call. IQ
@@ -436,7 +436,12 @@ void iq_cmul_1jx(iq_t x, iq_t *a, iq_t *b);
 
 /* Integrator with 8 fractional bits below IQ: *acc (Q32 pu, +-0.5 pu, saturating) += k x
  * (IQ x IQ rounded to Q32); returns *acc rounded to IQ. For increments below one IQ LSB per
- * step (an IQ state would stop short by 0.5 LSB / k of input). */
-iq_t q32_integrate(int32_t *acc, iq_t k, iq_t x);
+ * step (an IQ state would stop short by 0.5 LSB / k of input). Inline: its caller runs it every
+ * period (dtc_dcsupp), where a call costs as much as its body. */
+static inline iq_t q32_integrate(int32_t *acc, iq_t k, iq_t x)
+{
+    *acc = fix_add32(*acc, fix_rshift_rnd64_sat32((int64_t)k * (int64_t)x, 16U));
+    return fix_rshift_rnd32(*acc, 8U);
+}
 
 #endif /* FIXMATH_H */

@@ -1085,7 +1085,7 @@ static void test_open_phase_trips_or_reconfigures(void **state)
  * to judge (2 sum i^2 <= 3 leg_i_min^2, app_fault.c: there the angle waits). */
 
 static uint32_t feed_open_phase(app_fault_t *f, iq_t speed_iq, double dth, double amp, int shape, uint32_t n,
-                                uint16_t *ph, uint32_t *waits)
+                                uint16_t hold_div, uint16_t *ph, uint32_t *waits)
 {
     const double imin = (double)fx.cfg.prot.leg_i_min_iq / 16777216.0;
     const double zero = (double)fx.cfg.prot.leg_i_min_iq / 16777216.0 / 4.0;
@@ -1118,7 +1118,9 @@ static uint32_t feed_open_phase(app_fault_t *f, iq_t speed_iq, double dth, doubl
         pu.ib_iq = IQ(i[1]);
         pu.ic_iq = IQ(i[2]);
         pu.vdc_iq = fx.cfg.prot.vdc_min_iq;
-        if (app_fault_open_phase(f, &fx.cfg, &pu, speed_iq, 0U, ph) != 0U) {
+        /* hold_div > 0: a speed-loop period every hold_div-th (the first of each group, as the laws) */
+        if (app_fault_open_phase(f, &fx.cfg, &pu, speed_iq, 0U, hold_div > 0U && k % hold_div == 0U ? 1U : 0U, ph) !=
+            0U) {
             return k + 1U;
         }
     }
@@ -1143,13 +1145,35 @@ static void test_open_device_keeps_one_direction(void **state)
     amp = 8.0 * (double)fx.cfg.prot.leg_i_min_iq / 16777216.0; /* never below the level to judge */
     speed_iq = IQ(dth / ((double)fx.cfg.board.ts_pu_iq / 16777216.0));
     app_fault_init(&f);
-    assert_int_equal(feed_open_phase(&f, speed_iq, dth, amp, 0, 4000U, &ph, &waits), 0U);
+    assert_int_equal(feed_open_phase(&f, speed_iq, dth, amp, 0, 4000U, 0U, &ph, &waits), 0U);
     app_fault_init(&f);
-    assert_int_equal(feed_open_phase(&f, speed_iq, dth, amp, 1, 4000U, &ph, &waits), 0U);
+    assert_int_equal(feed_open_phase(&f, speed_iq, dth, amp, 1, 4000U, 0U, &ph, &waits), 0U);
     app_fault_init(&f);
     waits = 0U;
-    found = feed_open_phase(&f, speed_iq, dth, amp, 2, 4000U, &ph, &waits);
+    found = feed_open_phase(&f, speed_iq, dth, amp, 2, 4000U, 0U, &ph, &waits);
     assert_int_equal(ph, 0U);
+    /* the speed-loop periods' samples held over (app_fault_open_phase's hold, at the configured
+     * speed-loop rate and at every period): the healthy sets still pass, the open device is found
+     * at most one period later, the held periods' angle counted */
+    {
+        const uint16_t divs[2] = {fx.cfg.speed.speed_div, 1U};
+        uint16_t d;
+        for (d = 0U; d < 2U; d++) {
+            uint16_t ph_h = 9U;
+            uint32_t found_h, waits_h = 0U;
+            app_fault_init(&f);
+            assert_int_equal(feed_open_phase(&f, speed_iq, dth, amp, 0, 4000U, divs[d], &ph_h, &waits_h), 0U);
+            app_fault_init(&f);
+            assert_int_equal(feed_open_phase(&f, speed_iq, dth, amp, 1, 4000U, divs[d], &ph_h, &waits_h), 0U);
+            app_fault_init(&f);
+            found_h = feed_open_phase(&f, speed_iq, dth, amp, 2, 4000U, divs[d], &ph_h, &waits_h);
+            assert_int_equal(ph_h, 0U);
+            if (!(found_h >= found && found_h <= found + 1U)) {
+                fail_msg("speed loop every %u periods: found in period %u, every sample judged: %u", (unsigned)divs[d],
+                         (unsigned)found_h, (unsigned)found);
+            }
+        }
+    }
     /* the angle the firmware sums is iq_mpy(speed, ts_pu) per judged period: 7 pi/3 of it (where
      * the open phase takes the others' current to near zero with it, the periods wait), within
      * two periods for the roundings */

@@ -76,7 +76,7 @@ static uint16_t rig_step(rig_t *r, uint32_t t, const double k[3], double d, doub
         dp[x] = dpred(t, (uint16_t)x, d);
         i1q[x] = PU(r->i[x] + dp[x]);
     }
-    const uint16_t bad = app_plaus_step(&r->s, &r->p, iq, with_pred ? i1q : NULL, measured);
+    const uint16_t bad = app_plaus_step(&r->s, &r->p, iq, with_pred ? i1q : NULL, measured, 0U);
     /* the next sample */
     for (int x = 0; x < 3; x++) {
         r->i[x] += k[x] * dp[x] + noise(noise_pu);
@@ -112,7 +112,7 @@ static void test_a_biased_prediction_is_not_a_fault(void **state)
         for (uint32_t t = 0; t < 2000U; t++) {
             const double d = dpred(t, 0U, 0.02); /* the true change, small */
             iq_t iq[3] = {PU(i), 0, 0}, i1q[3] = {PU(i + d + bias), 0, 0};
-            assert_int_equal(app_plaus_step(&s, &p, iq, i1q, 1U), 0U);
+            assert_int_equal(app_plaus_step(&s, &p, iq, i1q, 1U, 0U), 0U);
             i += d;
         }
     }
@@ -169,6 +169,46 @@ static void test_a_failure_that_moves_waits_one_window(void **state)
     }
 }
 
+/* A window that ends in a speed-loop period (app_plaus_step's hold) is judged at the start of the
+ * next call: the same decisions as a block that judges at once, each one period later where the
+ * window ended in a held period, with a speed loop every 10 periods and every period; a channel
+ * stuck from period 200 on is reported by both. */
+static void test_a_held_window_is_judged_one_period_later(void **state)
+{
+    const uint16_t divs[2] = {10U, 1U};
+    (void)state;
+    for (uint16_t d = 0U; d < 2U; d++) {
+        app_plaus_params_t p;
+        app_plaus_t a, b;
+        double i[3] = {-0.3, 0.0, 0.3};
+        uint16_t ra_prev = 0U, hold_prev = 0U, n_bad = 0U;
+        app_plaus_init(&p, PU(kGainPu), APP_PLAUS_WIN_LOG2, APP_PLAUS_BIAS_LOG2);
+        app_plaus_reset(&a);
+        app_plaus_reset(&b);
+        for (uint32_t t = 0; t < 400U; t++) {
+            const uint16_t hold = (uint16_t)(t % divs[d] == 0U ? 1U : 0U);
+            iq_t iq[3], i1q[3];
+            double dp[3];
+            uint16_t ra, rb;
+            for (int x = 0; x < 3; x++) {
+                iq[x] = PU(i[x]);
+                dp[x] = dpred(t, (uint16_t)x, 0.05);
+                i1q[x] = PU(i[x] + dp[x]);
+            }
+            ra = app_plaus_step(&a, &p, iq, i1q, 3U, 0U);
+            rb = app_plaus_step(&b, &p, iq, i1q, 3U, hold);
+            assert_int_equal(rb, (uint16_t)((hold != 0U ? 0U : ra) | (hold_prev != 0U ? ra_prev : 0U)));
+            n_bad = (uint16_t)(n_bad + (ra != 0U ? 1U : 0U));
+            ra_prev = ra;
+            hold_prev = hold;
+            for (int x = 0; x < 3; x++) {
+                i[x] += (t >= 200U && x == 0 ? 0.0 : 1.0) * dp[x]; /* phase A stuck from 200 on */
+            }
+        }
+        assert_true(n_bad > 0U);
+    }
+}
+
 static void test_idle_drive_never_trips(void **state)
 {
     rig_t r;
@@ -222,7 +262,7 @@ static void test_decision_matches_double_reference(void **state)
             iq_t iq[3] = {PU(i), 0, 0}, i1q[3] = {0, 0, 0};
             i1 = i + dp;
             i1q[0] = PU(i1);
-            bad = app_plaus_step(&s, &p, iq, i1q, 1U);
+            bad = app_plaus_step(&s, &p, iq, i1q, 1U, 0U);
             if (t < WIN) {
                 const double inext = i + k * (dp - bias);
                 /* what the block will see: the rounded samples */
@@ -263,6 +303,7 @@ UNIT_TEST_MAIN("app plaus", NULL,
                cmocka_unit_test(test_a_biased_prediction_is_not_a_fault),
                cmocka_unit_test(test_a_stuck_channel_trips_within_two_windows),
                cmocka_unit_test(test_a_failure_that_moves_waits_one_window),
+               cmocka_unit_test(test_a_held_window_is_judged_one_period_later),
                cmocka_unit_test(test_idle_drive_never_trips),
                cmocka_unit_test(test_no_prediction_rests),
                cmocka_unit_test(test_derived_channel_is_never_named),
