@@ -10,60 +10,134 @@ static const q15_t fix_sin_table[257] = {
 #include "fix_sin_table.inc"
 };
 
-/* Digit-by-digit square root of x < 4^n_digits: n_digits iterations, each a compare and a
- * subtract; returns floor(sqrt(x)) and leaves x - floor(sqrt(x))^2 in *rem_out.
- * Scaling and overflow: root < 2^n_digits <= 2^32 and bit <= 2^62, so root + bit < 2^64. */
-static uint64_t fix_isqrt_core(uint64_t x, uint16_t n_digits, uint64_t *rem_out)
+/* Aligns *w so that its most significant nonzero bit pair occupies bits 31..30 and returns the
+ * number of bit pairs from that pair down to bit 0 (1..16; 0 for w == 0, left unchanged). A
+ * binary search on halves, quarters, ... of the word: no count-leading-zeros instruction needed
+ * (the C28x and AVR compilers have no portable one). */
+static uint16_t fix_pair_align(uint32_t *w)
 {
-    uint64_t rem = x;
-    uint64_t root = 0U;
-    uint64_t bit = (uint64_t)1 << (2U * (n_digits - 1U));
+    uint32_t v = *w;
+    uint16_t n = 16U;
+    if (v == 0U) {
+        return 0U;
+    }
+    if (v < 0x00010000UL) {
+        v <<= 16;
+        n = (uint16_t)(n - 8U);
+    }
+    if (v < 0x01000000UL) {
+        v <<= 8;
+        n = (uint16_t)(n - 4U);
+    }
+    if (v < 0x10000000UL) {
+        v <<= 4;
+        n = (uint16_t)(n - 2U);
+    }
+    if (v < 0x40000000UL) {
+        v <<= 2;
+        n = (uint16_t)(n - 1U);
+    }
+    *w = v;
+    return n;
+}
+
+/* Digit-by-digit square root, one bit of the root per bit pair of x, from the most significant
+ * nonzero pair down (the leading zero pairs contribute zero digits and are skipped): for each
+ * pair p, rem = 4 rem + p and, with trial t = 4 root + 1, root = 2 root + 1 and rem -= t when
+ * rem >= t, else root = 2 root. Returns floor(sqrt(x)) and leaves x - floor(sqrt(x))^2 in
+ * *rem_out.
+ * Scaling and overflow: with k digits done, root < 2^k and 0 <= rem <= 2 root (rem is the
+ * remainder of the partial root), so the next step's 4 rem + p < 2^(k+3) and t < 2^(k+2): in
+ * 32 bits while k <= 29. Only the last two digits of an input >= 2^60 take 64-bit remainders;
+ * the root itself is < 2^32 throughout. */
+static uint64_t fix_isqrt_core(uint64_t x, uint64_t *rem_out)
+{
+    uint32_t hi = (uint32_t)(x >> 32);
+    uint32_t lo = (uint32_t)x;
+    uint32_t root = 0U;
+    uint32_t rem = 0U;
+    uint64_t rem64;
+    uint16_t n_hi;
+    uint16_t n_lo = 16U;
+    uint16_t n_lo32;
     uint16_t i;
 
-    for (i = 0U; i < n_digits; i++) {
-        if (rem >= root + bit) {
-            rem -= root + bit;
-            root = (root >> 1) + bit;
-        } else {
-            root >>= 1;
-        }
-        bit >>= 2;
+    if (hi != 0U) {
+        n_hi = fix_pair_align(&hi);
+    } else {
+        n_hi = 0U;
+        n_lo = fix_pair_align(&lo);
     }
-    *rem_out = rem;
+    /* digits of the high word: at most 16, all in 32 bits */
+    for (i = 0U; i < n_hi; i++) {
+        uint32_t t = (root << 2) | 1U;
+        rem = (rem << 2) | (hi >> 30);
+        hi <<= 2;
+        root <<= 1;
+        if (rem >= t) {
+            rem -= t;
+            root |= 1U;
+        }
+    }
+    /* digits of the low word while at most 29 digits are done: 32 bits */
+    n_lo32 = (uint16_t)(n_hi + n_lo <= 30U ? n_lo : 30U - n_hi);
+    for (i = 0U; i < n_lo32; i++) {
+        uint32_t t = (root << 2) | 1U;
+        rem = (rem << 2) | (lo >> 30);
+        lo <<= 2;
+        root <<= 1;
+        if (rem >= t) {
+            rem -= t;
+            root |= 1U;
+        }
+    }
+    /* the last (at most two) digits of a root >= 2^30: 64-bit remainder and trial */
+    rem64 = rem;
+    for (i = n_lo32; i < n_lo; i++) {
+        uint64_t t = ((uint64_t)root << 2) | 1U;
+        rem64 = (rem64 << 2) | (lo >> 30);
+        lo <<= 2;
+        root <<= 1;
+        if (rem64 >= t) {
+            rem64 -= t;
+            root |= 1U;
+        }
+    }
+    *rem_out = rem64;
     return root;
 }
 
 /* Square root rounded to nearest: r = floor(sqrt(x)) is rounded up when x - r^2 > r, i.e. when
  * x >= r^2 + r + 1 > (r + 1/2)^2 (x <= r^2 + r < (r + 1/2)^2 otherwise; no ties, since
- * (r + 1/2)^2 is never an integer). Result <= 2^n_digits, returned in 64 bits. */
-static uint64_t fix_isqrt_rnd(uint64_t x, uint16_t n_digits)
+ * (r + 1/2)^2 is never an integer). Result <= 2^32, returned in 64 bits. */
+static uint64_t fix_isqrt_rnd(uint64_t x)
 {
     uint64_t rem;
-    uint64_t root = fix_isqrt_core(x, n_digits, &rem);
+    uint64_t root = fix_isqrt_core(x, &rem);
     return rem > root ? root + 1U : root;
 }
 
 uint32_t fix_isqrt64(uint64_t x)
 {
     uint64_t rem;
-    return (uint32_t)fix_isqrt_core(x, 32U, &rem);
+    return (uint32_t)fix_isqrt_core(x, &rem);
 }
 
 iq_t iq_sqrt(iq_t x)
 {
-    /* sqrt(X / 2^24) * 2^24 = sqrt(X * 2^24): the argument is < 2^55, so 28 digits suffice and
-     * the rounded result is <= 2^27.5 + 1, far inside iq_t. */
+    /* sqrt(X / 2^24) * 2^24 = sqrt(X * 2^24): the argument is < 2^55 (at most 28 digits, all of
+     * them in 32 bits) and the rounded result is <= 2^27.5 + 1, far inside iq_t. */
     if (x <= 0) {
         return 0;
     }
-    return (iq_t)fix_isqrt_rnd((uint64_t)x << FIX_IQ_Q, 28U);
+    return (iq_t)fix_isqrt_rnd((uint64_t)x << FIX_IQ_Q);
 }
 
 iq_t iq_mag(iq_t a, iq_t b)
 {
     /* a^2 + b^2 in Q48 is at most 2 * 2^62 = 2^63: fits uint64. Its root is Q24, at most
      * 2^31.5 before saturation. */
-    uint64_t r = fix_isqrt_rnd(iq_sumsq_q48(a, b), 32U);
+    uint64_t r = fix_isqrt_rnd(iq_sumsq_q48(a, b));
     if (r > (uint64_t)IQ_MAX) {
         return IQ_MAX;
     }
@@ -72,10 +146,10 @@ iq_t iq_mag(iq_t a, iq_t b)
 
 q15_t q15_mag(q15_t a, q15_t b)
 {
-    /* a^2 + b^2 in Q30 is at most 2^31 < 4^16: exact in uint64, 16 digits suffice. Its root is
-     * Q15, at most 2^15.5 before saturation. */
+    /* a^2 + b^2 in Q30 is at most 2^31 < 4^16: exact in uint64, at most 16 digits, all in 32
+     * bits. Its root is Q15, at most 2^15.5 before saturation. */
     uint64_t s = (uint64_t)((int32_t)a * (int32_t)a) + (uint64_t)((int32_t)b * (int32_t)b);
-    uint64_t r = fix_isqrt_rnd(s, 16U);
+    uint64_t r = fix_isqrt_rnd(s);
     if (r > (uint64_t)Q15_MAX) {
         return Q15_MAX;
     }
