@@ -10,63 +10,62 @@ static const q15_t fix_sin_table[257] = {
 #include "fix_sin_table.inc"
 };
 
-/* Aligns *w so that its most significant nonzero bit pair occupies bits 31..30 and returns the
- * number of bit pairs from that pair down to bit 0 (1..16; 0 for w == 0, left unchanged). A
- * binary search on halves, quarters, ... of the word: no count-leading-zeros instruction needed
- * (the C28x and AVR compilers have no portable one). */
-static uint16_t fix_pair_align(uint32_t *w)
-{
-    uint32_t v = *w;
-    uint16_t n = 16U;
-    if (v == 0U) {
-        return 0U;
-    }
-    if (v < 0x00010000UL) {
-        v <<= 16;
-        n = (uint16_t)(n - 8U);
-    }
-    if (v < 0x01000000UL) {
-        v <<= 8;
-        n = (uint16_t)(n - 4U);
-    }
-    if (v < 0x10000000UL) {
-        v <<= 4;
-        n = (uint16_t)(n - 2U);
-    }
-    if (v < 0x40000000UL) {
-        v <<= 2;
-        n = (uint16_t)(n - 1U);
-    }
-    *w = v;
-    return n;
-}
-
-/* Digit-by-digit square root, one bit of the root per bit pair of x, from the most significant
- * nonzero pair down (the leading zero pairs contribute zero digits and are skipped): for each
- * pair p, rem = 4 rem + p and, with trial t = 4 root + 1, root = 2 root + 1 and rem -= t when
- * rem >= t, else root = 2 root. Returns floor(sqrt(x)) and leaves x - floor(sqrt(x))^2 in
- * *rem_out.
+/* Square root of x, both floor(sqrt(x)) (in *floor_out) and rounded to nearest (returned).
+ * Digit-by-digit, one bit of the root per bit pair of x, from the most significant nonzero pair
+ * down (the leading zero pairs contribute zero digits and are skipped): for each pair p,
+ * rem = 4 rem + p and, with trial t = 4 root + 1, root = 2 root + 1 and rem -= t when rem >= t,
+ * else root = 2 root; rem ends as x - root^2. The top nonzero pair is found by a binary search
+ * on halves, quarters, ... of the word (the C28x and AVR compilers have no portable
+ * count-leading-zeros).
+ * Rounding: root is rounded up when x - root^2 > root, i.e. when x >= root^2 + root + 1 >
+ * (root + 1/2)^2 (x <= root^2 + root < (root + 1/2)^2 otherwise; no ties, since (root + 1/2)^2 is
+ * never an integer). Result <= 2^32, returned in 64 bits.
  * Scaling and overflow: with k digits done, root < 2^k and 0 <= rem <= 2 root (rem is the
  * remainder of the partial root), so the next step's 4 rem + p < 2^(k+3) and t < 2^(k+2): in
- * 32 bits while k <= 29. Only the last two digits of an input >= 2^60 take 64-bit remainders;
- * the root itself is < 2^32 throughout. */
-static uint64_t fix_isqrt_core(uint64_t x, uint64_t *rem_out)
+ * 32 bits while k <= 29. Only the last two digits of an input >= 2^60 take a 64-bit remainder;
+ * the floor root itself is < 2^32 throughout. */
+static uint64_t fix_isqrt_rnd(uint64_t x, uint32_t *floor_out)
 {
     uint32_t hi = (uint32_t)(x >> 32);
     uint32_t lo = (uint32_t)x;
+    uint32_t w = hi != 0U ? hi : lo;
     uint32_t root = 0U;
     uint32_t rem = 0U;
     uint64_t rem64;
+    uint16_t n = 16U; /* bit pairs of w from its top nonzero pair down */
     uint16_t n_hi;
-    uint16_t n_lo = 16U;
+    uint16_t n_lo;
     uint16_t n_lo32;
     uint16_t i;
 
+    if (w == 0U) {
+        *floor_out = 0U;
+        return 0U;
+    }
+    if (w < 0x00010000UL) {
+        w <<= 16;
+        n = (uint16_t)(n - 8U);
+    }
+    if (w < 0x01000000UL) {
+        w <<= 8;
+        n = (uint16_t)(n - 4U);
+    }
+    if (w < 0x10000000UL) {
+        w <<= 4;
+        n = (uint16_t)(n - 2U);
+    }
+    if (w < 0x40000000UL) {
+        w <<= 2;
+        n = (uint16_t)(n - 1U);
+    }
     if (hi != 0U) {
-        n_hi = fix_pair_align(&hi);
+        hi = w;
+        n_hi = n;
+        n_lo = 16U;
     } else {
+        lo = w;
         n_hi = 0U;
-        n_lo = fix_pair_align(&lo);
+        n_lo = n;
     }
     /* digits of the high word: at most 16, all in 32 bits */
     for (i = 0U; i < n_hi; i++) {
@@ -103,41 +102,34 @@ static uint64_t fix_isqrt_core(uint64_t x, uint64_t *rem_out)
             root |= 1U;
         }
     }
-    *rem_out = rem64;
-    return root;
-}
-
-/* Square root rounded to nearest: r = floor(sqrt(x)) is rounded up when x - r^2 > r, i.e. when
- * x >= r^2 + r + 1 > (r + 1/2)^2 (x <= r^2 + r < (r + 1/2)^2 otherwise; no ties, since
- * (r + 1/2)^2 is never an integer). Result <= 2^32, returned in 64 bits. */
-static uint64_t fix_isqrt_rnd(uint64_t x)
-{
-    uint64_t rem;
-    uint64_t root = fix_isqrt_core(x, &rem);
-    return rem > root ? root + 1U : root;
+    *floor_out = root;
+    return rem64 > root ? (uint64_t)root + 1U : (uint64_t)root;
 }
 
 uint32_t fix_isqrt64(uint64_t x)
 {
-    uint64_t rem;
-    return (uint32_t)fix_isqrt_core(x, &rem);
+    uint32_t root;
+    (void)fix_isqrt_rnd(x, &root);
+    return root;
 }
 
 iq_t iq_sqrt(iq_t x)
 {
+    uint32_t root_floor;
     /* sqrt(X / 2^24) * 2^24 = sqrt(X * 2^24): the argument is < 2^55 (at most 28 digits, all of
      * them in 32 bits) and the rounded result is <= 2^27.5 + 1, far inside iq_t. */
     if (x <= 0) {
         return 0;
     }
-    return (iq_t)fix_isqrt_rnd((uint64_t)x << FIX_IQ_Q);
+    return (iq_t)fix_isqrt_rnd((uint64_t)x << FIX_IQ_Q, &root_floor);
 }
 
 iq_t iq_mag(iq_t a, iq_t b)
 {
     /* a^2 + b^2 in Q48 is at most 2 * 2^62 = 2^63: fits uint64. Its root is Q24, at most
      * 2^31.5 before saturation. */
-    uint64_t r = fix_isqrt_rnd(iq_sumsq_q48(a, b));
+    uint32_t root_floor;
+    uint64_t r = fix_isqrt_rnd(iq_sumsq_q48(a, b), &root_floor);
     if (r > (uint64_t)IQ_MAX) {
         return IQ_MAX;
     }
@@ -149,7 +141,8 @@ q15_t q15_mag(q15_t a, q15_t b)
     /* a^2 + b^2 in Q30 is at most 2^31 < 4^16: exact in uint64, at most 16 digits, all in 32
      * bits. Its root is Q15, at most 2^15.5 before saturation. */
     uint64_t s = (uint64_t)((int32_t)a * (int32_t)a) + (uint64_t)((int32_t)b * (int32_t)b);
-    uint64_t r = fix_isqrt_rnd(s);
+    uint32_t root_floor;
+    uint64_t r = fix_isqrt_rnd(s, &root_floor);
     if (r > (uint64_t)Q15_MAX) {
         return Q15_MAX;
     }
