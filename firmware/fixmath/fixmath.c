@@ -31,8 +31,10 @@ static uint64_t fix_isqrt_rnd(uint64_t x, uint32_t *floor_out)
     uint32_t w = hi != 0U ? hi : lo;
     uint32_t root = 0U;
     uint32_t rem = 0U;
+    uint32_t src;
     uint64_t rem64;
     uint16_t n = 16U; /* bit pairs of w from its top nonzero pair down */
+    uint16_t pass;
     uint16_t n_hi;
     uint16_t n_lo;
     uint16_t n_lo32;
@@ -67,35 +69,31 @@ static uint64_t fix_isqrt_rnd(uint64_t x, uint32_t *floor_out)
         n_hi = 0U;
         n_lo = n;
     }
-    /* digits of the high word: at most 16, all in 32 bits */
-    for (i = 0U; i < n_hi; i++) {
-        uint32_t t = (root << 2) | 1U;
-        rem = (rem << 2) | (hi >> 30);
-        hi <<= 2;
-        root <<= 1;
-        if (rem >= t) {
-            rem -= t;
-            root |= 1U;
-        }
-    }
-    /* digits of the low word while at most 29 digits are done: 32 bits */
+    /* digits of the high word (at most 16), then of the low word while at most 29 digits are
+     * done: all in 32 bits */
     n_lo32 = (uint16_t)(n_hi + n_lo <= 30U ? n_lo : 30U - n_hi);
-    for (i = 0U; i < n_lo32; i++) {
-        uint32_t t = (root << 2) | 1U;
-        rem = (rem << 2) | (lo >> 30);
-        lo <<= 2;
-        root <<= 1;
-        if (rem >= t) {
-            rem -= t;
-            root |= 1U;
+    src = hi;
+    n = n_hi;
+    for (pass = 0U; pass < 2U; pass++) {
+        for (i = 0U; i < n; i++) {
+            uint32_t t = (root << 2) | 1U;
+            rem = (rem << 2) | (src >> 30);
+            src <<= 2;
+            root <<= 1;
+            if (rem >= t) {
+                rem -= t;
+                root |= 1U;
+            }
         }
+        src = pass == 0U ? lo : src;
+        n = n_lo32;
     }
     /* the last (at most two) digits of a root >= 2^30: 64-bit remainder and trial */
     rem64 = rem;
     for (i = n_lo32; i < n_lo; i++) {
         uint64_t t = ((uint64_t)root << 2) | 1U;
-        rem64 = (rem64 << 2) | (lo >> 30);
-        lo <<= 2;
+        rem64 = (rem64 << 2) | (src >> 30);
+        src <<= 2;
         root <<= 1;
         if (rem64 >= t) {
             rem64 -= t;
