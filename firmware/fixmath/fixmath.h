@@ -339,24 +339,25 @@ static inline iq_t iq_from_q31(q31_t a) { return fix_rshift_rnd32(a, (uint16_t)(
 static inline iq_t iq_from_int(int16_t n) { return fix_sat32((int64_t)n * ((int64_t)1 << FIX_IQ_Q)); }
 
 /* ------------------------------------------------------------------------------------------ */
-/* Square root and vector magnitude (fixmath.c; bit-by-bit, no division, fixed iteration count) */
+/* Square root and vector magnitude (fixmath.c; bit-by-bit, no division, one iteration per bit  */
+/* pair of the argument from its top nonzero pair, at most the counts given below)             */
 
-/* floor(sqrt(x)) for a 64-bit unsigned x. Result fits in 32 bits. 32 iterations.
+/* floor(sqrt(x)) for a 64-bit unsigned x. Result fits in 32 bits. At most 32 iterations.
  * Scaling and overflow: integer in, integer out; exact floor (0 <= sqrt(x) - result < 1). */
 uint32_t fix_isqrt64(uint64_t x);
 
 /* sqrt of an IQ value (Q24 -> Q24), rounded to nearest (error < 0.5 LSB). Negative input
- * returns 0. Scaling and overflow: sqrt(x * 2^24) of an argument < 2^55 (28 iterations); the
+ * returns 0. Scaling and overflow: sqrt(x * 2^24) of an argument < 2^55 (at most 28 iterations); the
  * result is below 2^27.5 (sqrt(128) pu), cannot overflow. */
 iq_t iq_sqrt(iq_t x);
 
 /* sqrt(a^2 + b^2) in IQ (Q24), rounded to nearest (error < 0.5 LSB). Scaling and overflow: sum of
- * squares formed in 64 bits (Q48, <= 2^63, cannot overflow), 32 iterations; the result saturates
+ * squares formed in 64 bits (Q48, <= 2^63, cannot overflow), at most 32 iterations; the result saturates
  * to IQ_MAX when it would reach 128 (possible only when |a| or |b| exceeds 90.5 pu). */
 iq_t iq_mag(iq_t a, iq_t b);
 
 /* sqrt(a^2 + b^2) in Q15, rounded to nearest (error < 0.5 LSB). Scaling and overflow: sum of
- * squares in Q30 (<= 2^31), 16 iterations; saturates to Q15_MAX when the result rounds to 1.0. */
+ * squares in Q30 (<= 2^31), at most 16 iterations; saturates to Q15_MAX when the result rounds to 1.0. */
 q15_t q15_mag(q15_t a, q15_t b);
 
 /* Sum of squares a^2 + b^2 as unsigned Q48 (IQ inputs). Exact; for comparing a magnitude with a
