@@ -47,15 +47,17 @@ SECTIONS
                     /* hot:ramfuncs begin (hal/f2812/hot_functions.py --write) */
                     *(.text:_app_core_step)
                     *(.text:_app_fault_stall)
-                    *(.text:_clarke_sstp)
                     *(.text:_ilim_select)
                     *(.text:_im_dfoc_regulate)
                     *(.text:_im_dsvm_select)
                     *(.text:_im_dsvm_step)
                     *(.text:_im_dtc_select)
                     *(.text:_im_est_flux)
+                    *(.text:_im_sfvc_kpd)
                     *(.text:_im_sup_step)
                     *(.text:_iq_cmul_1jx)
+                    *(.text:_law_pwm)
+                    *(.text:_law_step)
                     *(.text:_svm_step)
                     /* hot:ramfuncs end */
                     -l=libdtc_firmware.a (.econst)
@@ -78,6 +80,7 @@ SECTIONS
                     /* hot:ramfuncs_h begin (hal/f2812/hot_functions.py --write) */
                     *(.text:_app_adc_to_pu)
                     *(.text:_app_core_convert)
+                    *(.text:_app_enc_check)
                     *(.text:_app_enc_flux_check)
                     *(.text:_app_fault_one_way)
                     *(.text:_app_fault_open_phase)
@@ -89,7 +92,6 @@ SECTIONS
                     *(.text:_check_trips)
                     *(.text:_deadtime_code)
                     *(.text:_deadtime_error)
-                    *(.text:_deadtime_leg)
                     *(.text:_dsc_step)
                     *(.text:_dsvm_leg_duty)
                     *(.text:_dsvm_rotate)
@@ -119,7 +121,6 @@ SECTIONS
                     *(.text:_law_warnings)
                     *(.text:_plaus_judge)
                     *(.text:_speed_meas_step)
-                    *(.text:_speed_pi_step)
                     *(.text:_svm_leg_dt)
                     *(.text:_swtab_null_choice)
                     *(.text:_swtab_rot6)
@@ -139,11 +140,10 @@ SECTIONS
 
     ramfuncs_m : {
                     /* hot:ramfuncs_m begin (hal/f2812/hot_functions.py --write) */
-                    *(.text:_app_enc_check)
+                    *(.text:_clarke_sstp)
+                    *(.text:_deadtime_leg)
                     *(.text:_im_dtc_refs)
-                    *(.text:_im_sfvc_kpd)
-                    *(.text:_law_pwm)
-                    *(.text:_law_step)
+                    *(.text:_speed_pi_step)
                     *(.text:_svm_recip)
                     /* hot:ramfuncs_m end */
                 }
