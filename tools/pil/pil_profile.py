@@ -40,7 +40,7 @@ The C28x estimate (ESTIMATE: no C28x compiler or simulator is available) re-weig
   out by hand in C28x assembly the way cl2000 -O2 would plausibly compile them (docs/c28x-sample.md),
   their cycles on the path the PIL runs against what the weights charge for the same path. It is
   printed twice: for the C as written (portable saturating sums) and with the saturating sums as
-  ADDL under the C28x's overflow mode. A hand estimate of five functions, not a compiler's output.
+  ADDL under the C28x's overflow mode. A hand estimate of six functions, not a compiler's output.
 
 With --ram-cmd CMD (a linker command file that places functions by name, `*(.text:_NAME)`, as
 linker/f2812_flash_im.cmd does), every function CMD does not name runs from flash, and each of
@@ -88,6 +88,7 @@ HAND_SAMPLE = (
     ("dtc_pol_mid",       33,      3,        0,      0,        2,                   61,         37),
     ("vrec_from_legs",    46,      7,        2,      0,        2,                   71,         33),
     ("check_trips",       41,      7,        0,      0,        0,                   64,         64),
+    ("q32_integrate",     27,      4,        1,      0,        1,                   42,         31),
     # iq_mpy is charged as one sequence (its 20 M0 instructions, 3 blocks and product as one iq_mpy)
     ("iq_mpy",             0,      0,        0,      1,        0,                   19,         19),
 )
