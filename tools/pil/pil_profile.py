@@ -27,9 +27,10 @@ The C28x estimate (ESTIMATE: no C28x compiler or simulator is available) re-weig
     ADDL with OVM set, MOVL), so their body, the helpers they call and their call/return on the M0
     are replaced by that;
   - every other M0 instruction is charged C28X_CYCLES_PER_INSN cycles: both are single-issue
-    in-order machines with a one-cycle ALU path; the M0 pays more for 32-bit work in 8 registers
-    (spills, MOVS/LSLS sequences for constants, two instructions per 64-bit add), which the C28x
-    does in one, so 1.0 per M0 instruction is pessimistic for the arithmetic;
+    in-order machines with a one-cycle ALU path (TI's IQmath benchmarks: about 1 cycle per C28x
+    instruction outside calls and branches); the M0 pays more for 32-bit work in 8 registers and
+    64-bit sums, the C28x for 16-bit logic, far struct offsets and saturating sums written as
+    portable C, and the hand-compiled sample below finds the two about even;
   - every executed block (a straight run of M0 code ending in a branch, a call or a return) is
     charged C28X_BRANCH_EXTRA more cycles: on the C28x's 8-stage pipeline the fast conditional
     branches (BF, SBF) take 4 cycles taken or not, B and SB 7 taken and 4 not, LCR and LRETR 4
