@@ -28,7 +28,9 @@
 #      instructions, every block charged the C28x's branch cost; mean and worst ISR, beside the M0
 #      figures, on the first 0.3 s of the PM scenario of 4 (start-up, hand-over, speed loop),
 #      with the flash wait states of what linker/f2812_flash.cmd leaves in flash counted in
-#      (--ram-cmd)                                                   [worst <= 50 % of 7,500]
+#      (--ram-cmd); beside it the same scaled by the hand-compiled sample's ratio
+#      (docs/c28x-sample.md), for the C as written and with the saturating sums under OVM
+#                                                                    [worst <= 50 % of 7,500]
 #      5b. the same for the IM image (linker/f2812_flash_im.cmd) on the first 0.5 s of
 #      im_dtc_speed (magnetisation, then the speed loop; 40 us: 6,000 cycles)
 # usage: tools/bench/run_budget.sh        (or: cmake --build build/host --target dtc_budget)

@@ -21,19 +21,27 @@ The C28x estimate (ESTIMATE: no C28x compiler or simulator is available) re-weig
     product takes ~40 instructions; the C28x does the 64-bit product in IMPYL + QMPYL and the
     shift in one LSL64/ASR64: each call is charged C28X_HELPER_CYCLES;
   - the out-of-line IQ helpers the M0 build keeps (iq_mpy: product, rounding, shift and 32-bit
-    saturation; fix_add32/fix_sub32: the saturating sum): one C28x sequence of IQ_MPY_CYCLES /
-    FIX_SAT_CYCLES cycles per call (MOVL XT, IMPYL P, QMPYL ACC, ADD with carry, LSL64, SAT64;
-    MOVL ACC, ADDL with OVM set, MOVL), so their body, the helpers they call and their
-    call/return on the M0 are replaced by that;
+    saturation, IQmath's _IQrsmpy; fix_add32/fix_sub32: the saturating sum): one C28x sequence of
+    IQ_MPY_CYCLES / FIX_SAT_CYCLES cycles per call (MOVL XT, IMPYL P, QMPYL ACC, ADDUL/ADDCL,
+    MINL/MAXL, LSL64: 20 cycles with LCR/LRETR in TI's IQNrsmpy benchmark, 12 inline; MOVL ACC,
+    ADDL with OVM set, MOVL), so their body, the helpers they call and their call/return on the M0
+    are replaced by that;
   - every other M0 instruction is charged C28X_CYCLES_PER_INSN cycles: both are single-issue
-    in-order machines with a one-cycle ALU path; the M0 pays more for 32-bit work in 8 registers
-    (spills, MOVS/LSLS sequences for constants, two instructions per 64-bit add), which the C28x
-    does in one, so 1.0 per M0 instruction is pessimistic for the arithmetic;
+    in-order machines with a one-cycle ALU path (TI's IQmath benchmarks: about 1 cycle per C28x
+    instruction outside calls and branches); the M0 pays more for 32-bit work in 8 registers and
+    64-bit sums, the C28x for 16-bit logic, far struct offsets and saturating sums written as
+    portable C, and the hand-compiled sample below finds the two about even;
   - every executed block (a straight run of M0 code ending in a branch, a call or a return) is
-    charged C28X_BRANCH_EXTRA more cycles: the C28x's 8-stage pipeline makes a conditional branch
-    cost 4 cycles taken or not (7 for the short form taken) and a call or return 4, against the
-    one counted for its M0 instruction.
+    charged C28X_BRANCH_EXTRA more cycles: on the C28x's 8-stage pipeline the fast conditional
+    branches (BF, SBF) take 4 cycles taken or not, B and SB 7 taken and 4 not, LCR and LRETR 4
+    each (SPRU430, TI's C28x workshop), against the one counted for its M0 instruction.
   The weights are printed with the figure so that the reader can scale them.
+
+  A second figure scales that estimate by HAND_SAMPLE: a few hot functions of the PM ISR written
+  out by hand in C28x assembly the way cl2000 -O2 would plausibly compile them (docs/c28x-sample.md),
+  their cycles on the path the PIL runs against what the weights charge for the same path. It is
+  printed twice: for the C as written (portable saturating sums) and with the saturating sums as
+  ADDL under the C28x's overflow mode. A hand estimate of six functions, not a compiler's output.
 
 With --ram-cmd CMD (a linker command file that places functions by name, `*(.text:_NAME)`, as
 linker/f2812_flash_im.cmd does), every function CMD does not name runs from flash, and each of
@@ -67,9 +75,24 @@ HARNESS = re.compile(r"^(main|pil_|semi_|put(16|32)|get(16|32)|flush_|hal_replay
 C28X_CYCLES_PER_INSN = 1.0
 C28X_BRANCH_EXTRA = 3
 C28X_HELPER_CYCLES = 4
-IQ_MPY_CYCLES = 8
+IQ_MPY_CYCLES = 12
 FIX_SAT_CYCLES = 4
 FLASH_WAIT_PER_INSN = 5
+
+# The hand-compiled sample (docs/c28x-sample.md): per function, its Cortex-M0 path per call in the
+# PIL (self instructions, executed blocks, calls of the 64-bit product helper, of iq_mpy and of the
+# out-of-line saturating sums; pil_profile.py --json, "functions"), and the C28x cycles of the hand
+# listing for the C as written and with the saturating sums as ADDL under the overflow mode.
+HAND_SAMPLE = (
+    # name,            instr, blocks, products, iq_mpy, sat sums, hand (C as written), hand (OVM)
+    ("app_adc_to_pu",      9,      3,        1,      0,        0,                   21,         21),
+    ("dtc_pol_mid",       33,      3,        0,      0,        2,                   61,         37),
+    ("vrec_from_legs",    46,      7,        2,      0,        2,                   71,         33),
+    ("check_trips",       41,      7,        0,      0,        0,                   64,         64),
+    ("q32_integrate",     27,      4,        1,      0,        1,                   42,         31),
+    # iq_mpy is charged as one sequence (its 20 M0 instructions, 3 blocks and product as one iq_mpy)
+    ("iq_mpy",             0,      0,        0,      1,        0,                   19,         19),
+)
 
 
 def ram_functions(cmd):
@@ -100,6 +123,20 @@ def block_cycles(name, n, is_entry):
     if name in FIX_SAT:
         return FIX_SAT_CYCLES if is_entry else 0
     return n * C28X_CYCLES_PER_INSN + C28X_BRANCH_EXTRA
+
+
+def weighted_cycles(instr, blocks, products, iq_mpys, sat_sums):
+    """What the weights charge for one call's M0 path: its own instructions and blocks, and the
+    helpers it calls (block_cycles summed over that path)."""
+    return (instr * C28X_CYCLES_PER_INSN + blocks * C28X_BRANCH_EXTRA + products * C28X_HELPER_CYCLES
+            + iq_mpys * IQ_MPY_CYCLES + sat_sums * FIX_SAT_CYCLES)
+
+
+def hand_ratios(sample=HAND_SAMPLE):
+    """(hand cycles / weighted cycles) summed over the sample: for the C as written, and with the
+    saturating sums under the overflow mode."""
+    weighted = sum(weighted_cycles(*row[1:6]) for row in sample)
+    return sum(row[6] for row in sample) / weighted, sum(row[7] for row in sample) / weighted
 
 
 def flash_wait(name, n, ram):
@@ -206,13 +243,20 @@ def main():
     m0_mean, c28_mean = sum(isr_m0) / count, sum(isr_c28) / count
     w = max(range(count), key=lambda k: isr_c28[k])
     print("  ISR path (replay harness excluded), Cortex-M0 instructions: mean %.0f, worst %d" % (m0_mean, max(isr_m0)))
-    print("  C28x ESTIMATE, cycles (weights: %.1f per M0 instruction, +%d per block, %d per 64-bit helper call,"
+    print("  C28x ESTIMATE from the weights, cycles (%.1f per M0 instruction, +%d per block, %d per 64-bit helper call,"
           % (C28X_CYCLES_PER_INSN, C28X_BRANCH_EXTRA, C28X_HELPER_CYCLES))
     print("    %d per iq_mpy, %d per saturating add; docs/f2812.md): mean %.0f, worst %.0f (ISR %d) = %.0f %% of"
           " the %d-cycle period; %.2f C28x cycles per M0 instruction"
           % (IQ_MPY_CYCLES, FIX_SAT_CYCLES, c28_mean, isr_c28[w], w, 100.0 * isr_c28[w] / a.period_cycles,
              a.period_cycles,
              c28_mean / m0_mean if m0_mean else 0.0))
+    r_c, r_ovm = hand_ratios()
+    print("  C28x ESTIMATE from the hand-compiled sample (docs/c28x-sample.md: its hand cycles are x%.2f the weights'"
+          " for the C as written,\n    x%.2f with the saturating sums as ADDL under OVM): mean %.0f / %.0f, worst %.0f / %.0f"
+          " = %.0f / %.0f %% (a hand estimate of %d functions, +-30 %%)"
+          % (r_c, r_ovm, r_c * c28_mean, r_ovm * c28_mean, r_c * isr_c28[w], r_ovm * isr_c28[w],
+             100.0 * r_c * isr_c28[w] / a.period_cycles, 100.0 * r_ovm * isr_c28[w] / a.period_cycles,
+             len(HAND_SAMPLE)))
     if ram is not None:
         wf = max(range(count), key=lambda k: isr_wait[k])
         flash = sorted(((v[3], k) for k, v in per.items()
@@ -227,10 +271,14 @@ def main():
         print("    ISRs that ran the control law (%d): M0 mean %.0f, worst %d; C28x mean %.0f, worst %.0f (ISR %d) = %.0f %%"
               % (len(run), sum(isr_m0[k] for k in run) / len(run), max(isr_m0[k] for k in run),
                  sum(isr_c28[k] for k in run) / len(run), isr_c28[wr], wr, 100.0 * isr_c28[wr] / a.period_cycles))
+        print("      from the hand-compiled sample: worst %.0f = %.0f %% as written, %.0f = %.0f %% with ADDL under OVM"
+              % (r_c * isr_c28[wr], 100.0 * r_c * isr_c28[wr] / a.period_cycles,
+                 r_ovm * isr_c28[wr], 100.0 * r_ovm * isr_c28[wr] / a.period_cycles))
     if a.json:
         with open(a.json, "w") as f:
             json.dump({"isrs": count, "m0_mean": m0_mean, "m0_worst": max(isr_m0), "c28x_mean": c28_mean,
-                       "c28x_worst": isr_c28[w], "isr_m0": isr_m0, "isr_c28x": isr_c28, "isr_law": isr_law,
+                       "c28x_worst": isr_c28[w], "c28x_hand_ratio": r_c, "c28x_hand_ratio_ovm": r_ovm,
+                       "isr_m0": isr_m0, "isr_c28x": isr_c28, "isr_law": isr_law,
                        "functions": per}, f, indent=1)
     return 0
 
