@@ -111,6 +111,43 @@ double event_g(plant_t *pl, const M &mach, const Vec &y, const ConductionMode &m
     return g;
 }
 
+// Earliest s in (0, 1] at which a current of an active conducting phase reaches zero on the step's
+// cubic Hermite interpolant (values y0, y1, derivatives k0, k1 at the step's ends, length h), its
+// derivative there in A/s in slope; 2 when none does. The interpolant's error is h^4/384 times the
+// current's fourth derivative (docs/plant.md, section 2).
+double hermite_first_zero(const Vec &y0, const Vec &y1, const Vec &k0, const Vec &k1, double h,
+                          const ConductionMode &m, const bool active[3], double &slope) {
+    double best = 2.0;
+    for (int x = 0; x < 3; ++x) {
+        if (!active[x]) continue;
+        const double dir = (m.ph[x] == PH_POS) ? 1.0 : -1.0;
+        const double p0 = dir * y0[S_IA + x], p1 = dir * y1[S_IA + x];
+        const double m0 = dir * k0[S_IA + x] * h, m1 = dir * k1[S_IA + x] * h;
+        // p(s) = p0 + m0 s + c2 s^2 + c3 s^3 (the Hermite cubic in power form).
+        const double c2 = 3.0 * (p1 - p0) - 2.0 * m0 - m1, c3 = 2.0 * (p0 - p1) + m0 + m1;
+        auto p = [&](double t) { return p0 + t * (m0 + t * (c2 + t * c3)); };
+        // First sign change on a grid of 8 (a cubic has at most 3 zeros; the bracket is then
+        // refined by bisection to the last bit).
+        double lo = 0.0, plo = p0, hi = -1.0;
+        for (int j = 1; j <= 8 && lo < best; ++j) {
+            const double t = j * 0.125, pt = p(t);
+            if (pt <= 0.0) { hi = t; break; }
+            lo = t; plo = pt;
+        }
+        if (hi < 0.0 || !(plo > 0.0) || lo >= best) continue;
+        for (int it = 0; it < 60 && hi - lo > 1e-16; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            if (p(mid) > 0.0) lo = mid;
+            else hi = mid;
+        }
+        if (hi < best) {
+            best = hi;
+            slope = (m0 + hi * (2.0 * c2 + 3.0 * hi * c3)) / h;
+        }
+    }
+    return best;
+}
+
 // After forcing the currents in snapped[] to zero, restore sum(i) = 0 on the others: with one other
 // conducting phase left, it must be zero too; with two, they share the removed amount.
 void snap_currents(Vec &y, bool snapped[3]) {
@@ -193,7 +230,8 @@ double step(plant_t *pl, M &mach, double h) {
         y = y1;
         return h;
     }
-    // Locate the earliest sign change with the Illinois method on s in (0, 1].
+    // Locate the earliest sign change on s in (0, 1]: first from the step's cubic Hermite
+    // interpolant (currents only), then with the Illinois method on the step's own solution.
     ++pl->stats.events;
     double a = 0.0, b = 1.0;
     double ga = event_g(pl, mach, y, m, active), gb = g1;
@@ -202,6 +240,30 @@ double step(plant_t *pl, M &mach, double h) {
     Vec ys = y1;
     double sb_keep = 1.0;
     Vec yb = y1;
+    double snap_tol = 1e-9;  // a current this close to zero (A) counts as crossed
+    if (m.ph[0] != PH_BLOCKED && m.ph[1] != PH_BLOCKED && m.ph[2] != PH_BLOCKED) {
+        // Every active phase is a conducting current (event_g's first kind only): the earliest
+        // zero of the currents' interpolant is the first trial; the step's solution there is
+        // accepted when its current lies within the location tolerance of zero (its rate of
+        // change times 1e-12 s), else it narrows the Illinois bracket.
+        Vec k2;
+        rhs(pl, mach, y1, k2, nullptr);
+        double slope = 0.0;
+        const double s = hermite_first_zero(y, y1, k1, k2, h, m, active, slope);
+        if (s > 0.0 && s < 1.0) {
+            integrate(pl, mach, y, s * h, k1, ys);
+            const double gs = event_g(pl, mach, ys, m, active);
+            const double tol = std::fabs(slope) * 1e-12;
+            if (std::fabs(gs) <= tol) {
+                a = b = s; yb = ys; sb_keep = s;
+                snap_tol = std::max(snap_tol, tol);
+            } else if (gs < 0.0) {
+                b = s; gb = gs; yb = ys; sb_keep = s;
+            } else {
+                a = s; ga = gs;
+            }
+        }
+    }
     for (int it = 0; it < 40 && (b - a) * h > 1e-12; ++it) {
         double s = (a * gb - b * ga) / (gb - ga);
         if (!(s > a && s < b)) s = 0.5 * (a + b);
@@ -223,7 +285,7 @@ double step(plant_t *pl, M &mach, double h) {
     for (int x = 0; x < 3; ++x) {
         if (!active[x] || m.ph[x] == PH_BLOCKED) continue;
         const double v = (m.ph[x] == PH_POS) ? y1[S_IA + x] : -y1[S_IA + x];
-        if (v <= 1e-9) snapped[x] = true;
+        if (v <= snap_tol) snapped[x] = true;
     }
     snap_currents(y1, snapped);
     y = y1;
@@ -380,7 +442,7 @@ void advance_with(plant_t *pl, M &mach, double dt_s) {
             }
         }
         if (changed || guard == 1) set_legs_in_force(pl);
-        if (has_edges && next < t_end && next - pl->t < pl->p.max_step_s && pl->y[S_IA] != 0.0 &&
+        if (next < t_end && next - pl->t < pl->p.max_step_s && pl->y[S_IA] != 0.0 &&
             pl->y[S_IB] != 0.0 && pl->y[S_IC] != 0.0)
             next = first_change(pl, t_end, eps);
         if (pl->relay_pending) next = std::min(next, pl->relay_due);
@@ -400,7 +462,7 @@ void advance_with(plant_t *pl, M &mach, double dt_s) {
         else pl->t += taken;
     }
     // Breakpoints a sub-step ran through before the end (only then are any left before t_end - eps).
-    for (int x = 0; has_edges && x < 3; ++x) apply_due(pl, x, t_end - eps, t_end - eps, eps, true);
+    for (int x = 0; x < 3; ++x) apply_due(pl, x, t_end - eps, t_end - eps, eps, true);
     // Instants left (at or within eps of the end, or beyond it) set the command held from now.
     for (int x = 0; has_edges && x < 3; ++x) {
         for (; ls.edge_k[x] < ls.edge_n[x]; ++ls.edge_k[x]) ls.cmd[x] ^= 1;
