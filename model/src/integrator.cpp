@@ -126,23 +126,30 @@ double hermite_first_zero(const Vec &y0, const Vec &y1, const Vec &k0, const Vec
         // p(s) = p0 + m0 s + c2 s^2 + c3 s^3 (the Hermite cubic in power form).
         const double c2 = 3.0 * (p1 - p0) - 2.0 * m0 - m1, c3 = 2.0 * (p0 - p1) + m0 + m1;
         auto p = [&](double t) { return p0 + t * (m0 + t * (c2 + t * c3)); };
-        // First sign change on a grid of 8 (a cubic has at most 3 zeros; the bracket is then
-        // refined by bisection to the last bit).
-        double lo = 0.0, plo = p0, hi = -1.0;
+        auto dp = [&](double t) { return m0 + t * (2.0 * c2 + 3.0 * t * c3); };
+        // First sign change on a grid of 8 (a cubic has at most 3 zeros), then Newton's method
+        // kept inside that bracket (bisection when a Newton step leaves it) to 1e-15.
+        double lo = 0.0, plo = p0, hi = -1.0, phi = 0.0;
         for (int j = 1; j <= 8 && lo < best; ++j) {
             const double t = j * 0.125, pt = p(t);
-            if (pt <= 0.0) { hi = t; break; }
+            if (pt <= 0.0) { hi = t; phi = pt; break; }
             lo = t; plo = pt;
         }
         if (hi < 0.0 || !(plo > 0.0) || lo >= best) continue;
-        for (int it = 0; it < 60 && hi - lo > 1e-16; ++it) {
-            const double mid = 0.5 * (lo + hi);
-            if (p(mid) > 0.0) lo = mid;
-            else hi = mid;
+        double t = lo + (hi - lo) * plo / (plo - phi);
+        for (int it = 0; it < 60; ++it) {
+            const double pt = p(t);
+            if (pt > 0.0) lo = t;
+            else hi = t;
+            double tn = t - pt / dp(t);
+            if (!(tn > lo && tn < hi)) tn = 0.5 * (lo + hi);
+            const bool done = std::fabs(tn - t) <= 1e-15;
+            t = tn;
+            if (done) break;
         }
-        if (hi < best) {
-            best = hi;
-            slope = (m0 + hi * (2.0 * c2 + 3.0 * hi * c3)) / h;
+        if (t < best) {
+            best = t;
+            slope = dp(t) / h;
         }
     }
     return best;
