@@ -1,8 +1,9 @@
 // integrator.cpp - time integration of the plant (docs/plant.md, section 2): classical RK4 on
 // sub-steps that land exactly on every switching instant and dead-time end at which the right-hand
-// side changes (with switching instants, a breakpoint that changes nothing for the present current
-// signs is run through: first_change) and on every located current zero crossing / zero-current
-// release (Illinois root finding on the step's own solution); the explicit midpoint rule on a
+// side changes (a breakpoint that changes nothing for the present current signs is run through:
+// first_change) and on every located current zero crossing / zero-current release (the zero of
+// the step's Hermite interpolant as the first trial, then Illinois root finding on the step's own
+// solution); the explicit midpoint rule on a
 // segment ending at a breakpoint and no longer than max_step/16; with switching instants,
 // Ralston's third-order rule on the other segments up to max_step/2. Between events and changing
 // breakpoints the right-hand side (circuit.h) is smooth. The functions are templates on the
@@ -328,7 +329,7 @@ bool apply_due(plant_t *pl, int x, double dead_limit, double edge_limit, double 
     }
 }
 
-// Where the sub-step from now may end when the advance has switching instants and every current
+// Where the sub-step from now may end when a breakpoint lies inside the advance and every current
 // is non-zero: at the first breakpoint after which some leg's path for its current's sign differs
 // (Leg::same_as), the breakpoints before it changing nothing in the right-hand side (with drops
 // and dead time half of them: a device turning off while the diode of the same side carries the
@@ -390,8 +391,9 @@ void relay_contacts_move(plant_t *pl) {
 
 // One advance of dt_s: sub-steps that end at every switching instant (the legs' commands toggle
 // there and their dead times start), every dead-time end and the advance's end, each at most
-// max_step_s - except that with switching instants inside the advance a sub-step runs through
-// the breakpoints that change nothing for the present current signs (first_change).
+// max_step_s - except that a sub-step runs through the breakpoints that change nothing for the
+// present current signs (first_change; in the leg-state form the dead-time ends into the device
+// whose diode already carries the current).
 template <class M>
 void advance_with(plant_t *pl, M &mach, double dt_s) {
     LegSchedule &ls = pl->schedule;
