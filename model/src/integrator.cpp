@@ -1,8 +1,9 @@
 // integrator.cpp - time integration of the plant (docs/plant.md, section 2): classical RK4 on
 // sub-steps that land exactly on every switching instant and dead-time end at which the right-hand
-// side changes (with switching instants, a breakpoint that changes nothing for the present current
-// signs is run through: first_change) and on every located current zero crossing / zero-current
-// release (Illinois root finding on the step's own solution); the explicit midpoint rule on a
+// side changes (a breakpoint that changes nothing for the present current signs is run through:
+// first_change) and on every located current zero crossing / zero-current release (the zero of
+// the step's Hermite interpolant as the first trial, then Illinois root finding on the step's own
+// solution); the explicit midpoint rule on a
 // segment ending at a breakpoint and no longer than max_step/16; with switching instants,
 // Ralston's third-order rule on the other segments up to max_step/2. Between events and changing
 // breakpoints the right-hand side (circuit.h) is smooth. The functions are templates on the
@@ -111,6 +112,50 @@ double event_g(plant_t *pl, const M &mach, const Vec &y, const ConductionMode &m
     return g;
 }
 
+// Earliest s in (0, 1] at which a current of an active conducting phase reaches zero on the step's
+// cubic Hermite interpolant (values y0, y1, derivatives k0, k1 at the step's ends, length h), its
+// derivative there in A/s in slope; 2 when none does. The interpolant's error is h^4/384 times the
+// current's fourth derivative (docs/plant.md, section 2).
+double hermite_first_zero(const Vec &y0, const Vec &y1, const Vec &k0, const Vec &k1, double h,
+                          const ConductionMode &m, const bool active[3], double &slope) {
+    double best = 2.0;
+    for (int x = 0; x < 3; ++x) {
+        if (!active[x]) continue;
+        const double dir = (m.ph[x] == PH_POS) ? 1.0 : -1.0;
+        const double p0 = dir * y0[S_IA + x], p1 = dir * y1[S_IA + x];
+        const double m0 = dir * k0[S_IA + x] * h, m1 = dir * k1[S_IA + x] * h;
+        // p(s) = p0 + m0 s + c2 s^2 + c3 s^3 (the Hermite cubic in power form).
+        const double c2 = 3.0 * (p1 - p0) - 2.0 * m0 - m1, c3 = 2.0 * (p0 - p1) + m0 + m1;
+        auto p = [&](double t) { return p0 + t * (m0 + t * (c2 + t * c3)); };
+        auto dp = [&](double t) { return m0 + t * (2.0 * c2 + 3.0 * t * c3); };
+        // First sign change on a grid of 8 (a cubic has at most 3 zeros), then Newton's method
+        // kept inside that bracket (bisection when a Newton step leaves it) to 1e-15.
+        double lo = 0.0, plo = p0, hi = -1.0, phi = 0.0;
+        for (int j = 1; j <= 8 && lo < best; ++j) {
+            const double t = j * 0.125, pt = p(t);
+            if (pt <= 0.0) { hi = t; phi = pt; break; }
+            lo = t; plo = pt;
+        }
+        if (hi < 0.0 || !(plo > 0.0) || lo >= best) continue;
+        double t = lo + (hi - lo) * plo / (plo - phi);
+        for (int it = 0; it < 60; ++it) {
+            const double pt = p(t);
+            if (pt > 0.0) lo = t;
+            else hi = t;
+            double tn = t - pt / dp(t);
+            if (!(tn > lo && tn < hi)) tn = 0.5 * (lo + hi);
+            const bool done = std::fabs(tn - t) <= 1e-15;
+            t = tn;
+            if (done) break;
+        }
+        if (t < best) {
+            best = t;
+            slope = dp(t) / h;
+        }
+    }
+    return best;
+}
+
 // After forcing the currents in snapped[] to zero, restore sum(i) = 0 on the others: with one other
 // conducting phase left, it must be zero too; with two, they share the removed amount.
 void snap_currents(Vec &y, bool snapped[3]) {
@@ -193,7 +238,8 @@ double step(plant_t *pl, M &mach, double h) {
         y = y1;
         return h;
     }
-    // Locate the earliest sign change with the Illinois method on s in (0, 1].
+    // Locate the earliest sign change on s in (0, 1]: first from the step's cubic Hermite
+    // interpolant (currents only), then with the Illinois method on the step's own solution.
     ++pl->stats.events;
     double a = 0.0, b = 1.0;
     double ga = event_g(pl, mach, y, m, active), gb = g1;
@@ -202,6 +248,30 @@ double step(plant_t *pl, M &mach, double h) {
     Vec ys = y1;
     double sb_keep = 1.0;
     Vec yb = y1;
+    double snap_tol = 1e-9;  // a current this close to zero (A) counts as crossed
+    if (m.ph[0] != PH_BLOCKED && m.ph[1] != PH_BLOCKED && m.ph[2] != PH_BLOCKED) {
+        // Every active phase is a conducting current (event_g's first kind only): the earliest
+        // zero of the currents' interpolant is the first trial; the step's solution there is
+        // accepted when its current lies within the location tolerance of zero (its rate of
+        // change times 1e-12 s), else it narrows the Illinois bracket.
+        Vec k2;
+        rhs(pl, mach, y1, k2, nullptr);
+        double slope = 0.0;
+        const double s = hermite_first_zero(y, y1, k1, k2, h, m, active, slope);
+        if (s > 0.0 && s < 1.0) {
+            integrate(pl, mach, y, s * h, k1, ys);
+            const double gs = event_g(pl, mach, ys, m, active);
+            const double tol = std::fabs(slope) * 1e-12;
+            if (std::fabs(gs) <= tol) {
+                a = b = s; yb = ys; sb_keep = s;
+                snap_tol = std::max(snap_tol, tol);
+            } else if (gs < 0.0) {
+                b = s; gb = gs; yb = ys; sb_keep = s;
+            } else {
+                a = s; ga = gs;
+            }
+        }
+    }
     for (int it = 0; it < 40 && (b - a) * h > 1e-12; ++it) {
         double s = (a * gb - b * ga) / (gb - ga);
         if (!(s > a && s < b)) s = 0.5 * (a + b);
@@ -223,7 +293,7 @@ double step(plant_t *pl, M &mach, double h) {
     for (int x = 0; x < 3; ++x) {
         if (!active[x] || m.ph[x] == PH_BLOCKED) continue;
         const double v = (m.ph[x] == PH_POS) ? y1[S_IA + x] : -y1[S_IA + x];
-        if (v <= 1e-9) snapped[x] = true;
+        if (v <= snap_tol) snapped[x] = true;
     }
     snap_currents(y1, snapped);
     y = y1;
@@ -259,7 +329,7 @@ bool apply_due(plant_t *pl, int x, double dead_limit, double edge_limit, double 
     }
 }
 
-// Where the sub-step from now may end when the advance has switching instants and every current
+// Where the sub-step from now may end when a breakpoint lies inside the advance and every current
 // is non-zero: at the first breakpoint after which some leg's path for its current's sign differs
 // (Leg::same_as), the breakpoints before it changing nothing in the right-hand side (with drops
 // and dead time half of them: a device turning off while the diode of the same side carries the
@@ -321,8 +391,9 @@ void relay_contacts_move(plant_t *pl) {
 
 // One advance of dt_s: sub-steps that end at every switching instant (the legs' commands toggle
 // there and their dead times start), every dead-time end and the advance's end, each at most
-// max_step_s - except that with switching instants inside the advance a sub-step runs through
-// the breakpoints that change nothing for the present current signs (first_change).
+// max_step_s - except that a sub-step runs through the breakpoints that change nothing for the
+// present current signs (first_change; in the leg-state form the dead-time ends into the device
+// whose diode already carries the current).
 template <class M>
 void advance_with(plant_t *pl, M &mach, double dt_s) {
     LegSchedule &ls = pl->schedule;
@@ -380,7 +451,7 @@ void advance_with(plant_t *pl, M &mach, double dt_s) {
             }
         }
         if (changed || guard == 1) set_legs_in_force(pl);
-        if (has_edges && next < t_end && next - pl->t < pl->p.max_step_s && pl->y[S_IA] != 0.0 &&
+        if (next < t_end && next - pl->t < pl->p.max_step_s && pl->y[S_IA] != 0.0 &&
             pl->y[S_IB] != 0.0 && pl->y[S_IC] != 0.0)
             next = first_change(pl, t_end, eps);
         if (pl->relay_pending) next = std::min(next, pl->relay_due);
@@ -400,7 +471,7 @@ void advance_with(plant_t *pl, M &mach, double dt_s) {
         else pl->t += taken;
     }
     // Breakpoints a sub-step ran through before the end (only then are any left before t_end - eps).
-    for (int x = 0; has_edges && x < 3; ++x) apply_due(pl, x, t_end - eps, t_end - eps, eps, true);
+    for (int x = 0; x < 3; ++x) apply_due(pl, x, t_end - eps, t_end - eps, eps, true);
     // Instants left (at or within eps of the end, or beyond it) set the command held from now.
     for (int x = 0; has_edges && x < 3; ++x) {
         for (; ls.edge_k[x] < ls.edge_n[x]; ++ls.edge_k[x]) ls.cmd[x] ^= 1;
