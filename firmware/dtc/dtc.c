@@ -26,6 +26,7 @@ void dtc_reset_currents(dtc_t *c)
     c->i1 = c->i_prev;
     c->i_limited = 0U;
     c->dt_code = DEADTIME_CODE_NONE; /* i_prev is no longer the sample it was formed on */
+    c->fwd_ok = 0U;                  /* nor of c->fwd_* */
 }
 
 /* Current limit and ripple-robust polarity (ilim.h, dtc_config.h polarity_mid): state at reset. */
@@ -298,6 +299,33 @@ void dtc_pol_mid(dtc_t *c, const clarke_out_t *i)
         fix_add32(fix_rshift_rnd32(c->i_prev.i_beta_iq, 1U), fix_rshift_rnd32(i->i_beta_iq, 1U));
 }
 
+/* The estimator's drop compensation of legs_2 (applied during the period [k-1, k]): vcomp_step_lin
+ * of the legs over i0 -> i with the R_on terms at i_r (vcomp.h). Its forward drops are those the
+ * last step's prediction formed for the same legs (then legs_1) on its sample (now i_prev),
+ * c->fwd_*, when no phase current changed sign from i_prev to i: a leg whose current keeps its
+ * sign over a period has the drop of that sign (vcomp_leg_drop_lin), the same at i_prev, over
+ * i_prev -> i and at i (i0 is i_prev or i). Bit for bit the value vcomp_step_lin forms; the
+ * forward drops are formed here only in a period with a zero crossing, or after a reset (fwd_ok).
+ * Signs compared by the sign bit of the exclusive or (0 counts as positive, as in vcomp.h). */
+static void dtc_vcomp_est(dtc_t *c, const clarke_out_t *i0, const clarke_out_t *i, const clarke_out_t *i_r,
+                          iq_t *vfa, iq_t *vfb)
+{
+    const clarke_out_t *ip = &c->i_prev;
+    iq_t fa, fb;
+    if (c->vc_p.mode == (uint16_t)DTC_COMP_NONE) {
+        *vfa = 0;
+        *vfb = 0;
+        return;
+    }
+    if (c->fwd_ok != 0U && ((ip->ia_iq ^ i->ia_iq) | (ip->ib_iq ^ i->ib_iq) | (ip->ic_iq ^ i->ic_iq)) >= 0) {
+        fa = c->fwd_alpha_iq;
+        fb = c->fwd_beta_iq;
+    } else {
+        vcomp_fwd_lin(&c->vc_p, c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, i0, i, &fa, &fb);
+    }
+    vcomp_ron(&c->vc_p, i_r, fa, fb, vfa, vfb);
+}
+
 void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
 {
     const dtc_config_t *cfg = c->cfg;
@@ -350,10 +378,9 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         if (cfg->u.pm_dtc.est.polarity_mid != 0U) {
             /* the period [k-1, k]: drops over the current's line from i(k-1) to i(k), R_on at its mean */
             dtc_pol_mid(c, i);
-            vcomp_step_lin(&c->vc_p, c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, &c->i_mid, &c->i_prev, i, &vfa,
-                           &vfb);
+            dtc_vcomp_est(c, &c->i_prev, i, &c->i_mid, &vfa, &vfb);
         } else {
-            vcomp_step(&c->vc_p, c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, i, &vfa, &vfb);
+            dtc_vcomp_est(c, i, i, i, &vfa, &vfb);
         }
         fin->v_alpha_iq = fix_add32(fin->v_alpha_iq, vfa);
         fin->v_beta_iq = fix_add32(fin->v_beta_iq, vfb);
@@ -433,8 +460,16 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
             vrec_sstp(c->legs_1.sa, c->legs_1.sb, c->legs_1.sc, m->vdc_iq, &c->v1_alpha_iq,
                       &c->v1_beta_iq);
         }
-        vcomp_step(&c->vc_p, c->legs_1.sa, c->legs_1.sb, c->legs_1.sc, i, &c->v1f_alpha_iq,
-                   &c->v1f_beta_iq);
+        if (c->vc_p.mode != (uint16_t)DTC_COMP_NONE) {
+            /* vcomp_step in its two parts: the forward drops are kept for the next step (dtc_vcomp_est) */
+            vcomp_fwd_lin(&c->vc_p, c->legs_1.sa, c->legs_1.sb, c->legs_1.sc, i, i, &c->fwd_alpha_iq,
+                          &c->fwd_beta_iq);
+            c->fwd_ok = 1U;
+            vcomp_ron(&c->vc_p, i, c->fwd_alpha_iq, c->fwd_beta_iq, &c->v1f_alpha_iq, &c->v1f_beta_iq);
+        } else {
+            c->v1f_alpha_iq = 0;
+            c->v1f_beta_iq = 0;
+        }
         c->v1d_alpha_iq = 0;
         c->v1d_beta_iq = 0;
         if (cfg->est.deadtime_comp != 0U) {

@@ -93,6 +93,23 @@ static inline iq_t vcomp_leg_drop_lin(const iq_t mean[5], iq_t i0_iq, iq_t i1_iq
     return mean[vcomp_points_pos(i0_iq, i1_iq)];
 }
 
+/* vcomp_step_lin's two parts, for a law that forms the forward drops of one period once (dtc_step:
+ * the prediction's drops of the legs at the sample i0 are the next step's estimator's drops of the
+ * same legs over i0 -> i1 when no phase current changed sign, vcomp_leg_drop_lin).
+ * vcomp_fwd_lin: the forward drops alone (Hoang Tables III, V, VI through eqs. 31-36), for a mode
+ * other than DTC_COMP_NONE; vcomp_ron: the R_on terms (Hoang eqs. 24-25, 37-38) at the current i
+ * subtracted from them, f - k i, by a rounded, saturating IQ product and a saturating difference.
+ * vcomp_step_lin is the two in a row. Formats as vcomp_step_lin. */
+void vcomp_fwd_lin(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t sc, const clarke_out_t *i0,
+                   const clarke_out_t *i1, iq_t *fa_iq, iq_t *fb_iq);
+static inline void vcomp_ron(const vcomp_params_t *p, const clarke_out_t *i, iq_t fa_iq, iq_t fb_iq,
+                             iq_t *v_f_alpha_iq, iq_t *v_f_beta_iq)
+{
+    /* see the header for the sign of Hoang eq. 37's term */
+    *v_f_alpha_iq = fix_sub32(fa_iq, iq_mpy(p->ka_iq, i->i_alpha_iq));
+    *v_f_beta_iq = fix_sub32(fb_iq, iq_mpy(p->kb_iq, i->i_beta_iq));
+}
+
 /* As vcomp_step for a period in which the currents move linearly from i0 to i1: the forward drops
  * of each leg averaged over the period (vcomp_leg_drop_lin), the R_on terms (linear in the current)
  * at the period's mean current i_mean. vcomp_step(p, .., i, ..) is vcomp_step_lin(p, .., i, i, i, ..). */
