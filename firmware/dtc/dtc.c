@@ -13,6 +13,7 @@
 static void dtc_adopt(dtc_t *c, const dtc_refs_t *r)
 {
     dtc_refs_adopt(&c->act, &c->pi_p, &c->pi, &c->te_trim_iq, c->te_ref_iq, r, c->cfg);
+    dtc_flux_bounds(c);
 }
 
 void dtc_reset_currents(dtc_t *c)
@@ -54,6 +55,7 @@ void dtc_reset(dtc_t *c)
     speed_pi_reset(&c->pi, 0, cfg->speed.torque_limit_iq);
     c->te_trim_iq = 0;
     hyst2_init(&c->h_flux, cfg->u.pm_dtc.sw.flux_band_iq, 1U);
+    dtc_flux_bounds(c);
     hyst2_init(&c->h_torque2, cfg->u.pm_dtc.sw.torque_band_iq, 1U);
     hyst3_init(&c->h_torque3, cfg->u.pm_dtc.sw.torque_band_iq);
     c->div_cnt = 0U;
@@ -480,7 +482,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     }
     mag2 = iq_sumsq_q48(psi_a, psi_b);
     sector = cfg->board.topology == DTC_TOPO_FSTP ? sector_fstp(psi_a, psi_b) : sector_sstp(psi_a, psi_b);
-    flux_up = hyst2_sq_step(&c->h_flux, c->act.flux_ref_iq, mag2);
+    flux_up = hyst2_sq_step_b(&c->h_flux, &c->flux_sq, mag2); /* hyst2_sq_step of act.flux_ref_iq */
     if (cfg->board.topology == DTC_TOPO_SSTP && cfg->u.pm_dtc.sw.sstp_table == DTC_ST_BASIC) {
         tdem = hyst3_step(&c->h_torque3, iq_sub(c->te_ref_iq, te));
     } else {

@@ -106,6 +106,9 @@ typedef struct {
      * -> i when no phase current changed sign; fwd_ok 0 when none (reset, no prediction) */
     iq_t fwd_alpha_iq, fwd_beta_iq;
     uint16_t fwd_ok;
+    /* the flux comparator's squared bounds (hyst.h hyst2_sq_bounds) of act.flux_ref_iq and h_flux,
+     * formed where either changes (dtc_flux_bounds: reference adopted, reset, reconfiguration) */
+    hyst2_sq_t flux_sq;
 } dtc_t;
 
 /* The law's configuration check (dtc_check.c): the common part, then the law DTC_LAW_PM_DTC and

@@ -41,6 +41,7 @@ int16_t dtc_reconfigure(dtc_t *c, const dtc_config_t *post, uint16_t phase)
                post->board.r_on_iq);
     dtc_block_params(c, post);
     hyst2_init(&c->h_flux, post->u.pm_dtc.sw.flux_band_iq, 1U);
+    dtc_flux_bounds(c);
     hyst2_init(&c->h_torque2, post->u.pm_dtc.sw.torque_band_iq, 1U);
     c->vec_1 = 1U;
     dtc_reset_currents(c);
