@@ -503,10 +503,13 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         legs = swtab_sstp_legs(vec);
     }
     if (cfg->prot.i_lim_iq > 0) {
-        /* Current limit (ilim.h) on the current predicted for k+1, or on i(k) without the
-         * delay compensation (the host's margin covers the second period then). */
-        vec = ilim_select(&c->il_p, cfg->u.pm_dtc.est.delay_comp != 0U ? &c->i1 : i, vec, &c->i_limited);
+        /* Current limit (ilim.h ilim_select) on the current predicted for k+1, or on i(k) without
+         * the delay compensation (the host's margin covers the second period then): |i|^2 against
+         * I_lim^2 squared at init (ilim_over's exact comparison), then ilim_pick. */
+        const clarke_out_t *il = cfg->u.pm_dtc.est.delay_comp != 0U ? &c->i1 : i;
+        c->i_limited = iq_sumsq_q48(il->i_alpha_iq, il->i_beta_iq) > c->ilim2_q48 ? 1U : 0U;
         if (c->i_limited != 0U) {
+            vec = ilim_pick(&c->il_p, il);
             legs = cfg->board.topology == DTC_TOPO_FSTP ? swtab_fstp_legs(vec) : swtab_sstp_legs(vec);
         }
     }

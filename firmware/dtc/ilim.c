@@ -7,7 +7,7 @@ uint16_t ilim_over(iq_t lim_iq, const clarke_out_t *i)
     return iq_sumsq_q48(i->i_alpha_iq, i->i_beta_iq) > iq_sumsq_q48(lim_iq, 0) ? 1U : 0U;
 }
 
-uint16_t ilim_select(const ilim_params_t *p, const clarke_out_t *i, uint16_t vec, uint16_t *limited)
+uint16_t ilim_pick(const ilim_params_t *p, const clarke_out_t *i)
 {
     /* Leg states of the candidates as bits a = 4, b = 2, c = 1 (swtab.h): SSTP V_1..V_6 = 100
      * 110 010 011 001 101; FSTP V_1..V_4 = 00 10 11 01 (legs b, c). */
@@ -21,14 +21,9 @@ uint16_t ilim_select(const ilim_params_t *p, const clarke_out_t *i, uint16_t vec
     const iq_t hb = fix_rshift_rnd32(i->ib_iq, 2U);
     const iq_t hc = fix_rshift_rnd32(i->ic_iq, 2U);
     const uint16_t fstp = p->fstp;
-    uint16_t k, best;
+    uint16_t k, best = 1U;
     iq_t best_s = 0;
 
-    *limited = 0U;
-    if (p->i_lim_iq <= 0 || ilim_over(p->i_lim_iq, i) == 0U) {
-        return vec;
-    }
-    best = vec;
     for (k = 0U; k < (fstp != 0U ? 4U : 6U); k++) {
         const uint16_t legs = fstp != 0U ? fstp_legs[k] : sstp_legs[k];
         iq_t s = (legs & 4U) != 0U ? ha : 0;
@@ -39,6 +34,15 @@ uint16_t ilim_select(const ilim_params_t *p, const clarke_out_t *i, uint16_t vec
             best = (uint16_t)(k + 1U);
         }
     }
-    *limited = 1U;
     return best;
+}
+
+uint16_t ilim_select(const ilim_params_t *p, const clarke_out_t *i, uint16_t vec, uint16_t *limited)
+{
+    *limited = 0U;
+    if (p->i_lim_iq <= 0 || ilim_over(p->i_lim_iq, i) == 0U) {
+        return vec;
+    }
+    *limited = 1U;
+    return ilim_pick(p, i);
 }

@@ -50,4 +50,9 @@ uint16_t ilim_select(const ilim_params_t *p, const clarke_out_t *i, uint16_t vec
 /* Internal to ilim_select: 1 when |i| > lim_iq (exact squares), else 0. */
 uint16_t ilim_over(iq_t lim_iq, const clarke_out_t *i);
 
+/* ilim_select's vector for a current over the limit (the vector of least v . i), for a law that
+ * tests |i|^2 against its own I_lim^2 formed at init (dtc_step): ilim_select is ilim_over, then
+ * this. */
+uint16_t ilim_pick(const ilim_params_t *p, const clarke_out_t *i);
+
 #endif /* ILIM_H */
