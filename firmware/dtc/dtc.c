@@ -463,9 +463,16 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
                       &c->v1_beta_iq);
         }
         if (c->vc_p.mode != (uint16_t)DTC_COMP_NONE) {
-            /* vcomp_step in its two parts: the forward drops are kept for the next step (dtc_vcomp_est) */
-            vcomp_fwd_lin(&c->vc_p, c->legs_1.sa, c->legs_1.sb, c->legs_1.sc, i, i, &c->fwd_alpha_iq,
-                          &c->fwd_beta_iq);
+            /* vcomp_step in its two parts: the forward drops are kept for the next step (dtc_vcomp_est);
+             * on the FSTP from the table of vcomp_fwd_lin's values at a sample (vcomp_pt_t) */
+            if (c->vc_pt.ok != 0U) {
+                const uint16_t k = vcomp_pt_index(c->legs_1.sb, c->legs_1.sc, i);
+                c->fwd_alpha_iq = c->vc_pt.fa_iq[k];
+                c->fwd_beta_iq = c->vc_pt.fb_iq[k];
+            } else {
+                vcomp_fwd_lin(&c->vc_p, c->legs_1.sa, c->legs_1.sb, c->legs_1.sc, i, i, &c->fwd_alpha_iq,
+                              &c->fwd_beta_iq);
+            }
             c->fwd_ok = 1U;
             vcomp_ron(&c->vc_p, i, c->fwd_alpha_iq, c->fwd_beta_iq, &c->v1f_alpha_iq, &c->v1f_beta_iq);
         } else {

@@ -109,6 +109,7 @@ typedef struct {
     /* the flux comparator's squared bounds (hyst.h hyst2_sq_bounds) of act.flux_ref_iq and h_flux,
      * formed where either changes (dtc_flux_bounds: reference adopted, reset, reconfiguration) */
     hyst2_sq_t flux_sq;
+    vcomp_pt_t vc_pt;    /* vc_p's forward drops at a sample as a table (FSTP modes; dtc_predict's) */
     uint64_t ilim2_q48;  /* the current limit's square I_lim^2, Q48 (iq_sumsq_q48 of i_lim_iq; ilim.h),
                           * formed with il_p (dtc_block_params) */
 } dtc_t;

@@ -123,3 +123,24 @@ void vcomp_tab_init(vcomp_tab_t *t, const vcomp_params_t *p)
     t->kb_iq = p->kb_iq;
     t->legs_free = (uint16_t)(p->mode == DTC_COMP_SSTP_PROPOSED || p->mode == DTC_COMP_FSTP_PROPOSED ? 0U : 1U);
 }
+
+void vcomp_pt_init(vcomp_pt_t *t, const vcomp_params_t *p)
+{
+    uint16_t k;
+    t->ok = (uint16_t)(p->mode == DTC_COMP_FSTP_SIMPLE || p->mode == DTC_COMP_FSTP_PROPOSED ? 1U : 0U);
+    for (k = 0U; k < 16U; k++) {
+        clarke_out_t i0;
+        i0.ia_iq = 0;
+        i0.ib_iq = (k & 4U) != 0U ? -1 : 0;
+        i0.ic_iq = (k & 1U) != 0U ? -1 : 0;
+        i0.i_alpha_iq = 0;
+        i0.i_beta_iq = 0;
+        if (t->ok != 0U) {
+            vcomp_fwd_lin(p, 0U, (uint16_t)((k >> 3) & 1U), (uint16_t)((k >> 1) & 1U), &i0, &i0, &t->fa_iq[k],
+                          &t->fb_iq[k]);
+        } else {
+            t->fa_iq[k] = 0;
+            t->fb_iq[k] = 0;
+        }
+    }
+}

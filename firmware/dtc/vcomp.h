@@ -110,6 +110,28 @@ static inline void vcomp_ron(const vcomp_params_t *p, const clarke_out_t *i, iq_
     *v_f_beta_iq = fix_sub32(fb_iq, iq_mpy(p->kb_iq, i->i_beta_iq));
 }
 
+/* vcomp_fwd_lin at one sample (i0 = i1) on the four-switch inverter as a table. In the FSTP modes
+ * (FSTP_SIMPLE, FSTP_PROPOSED) the forward drops of legs B and C at a sample are a function of the
+ * two legs' states and their currents' signs alone (Hoang Tables V, VI: mean_iq[s][4] for i >= 0,
+ * mean_iq[s][0] for i < 0), so the table holds vcomp_fwd_lin's value for each of the 16
+ * combinations, formed at init by vcomp_fwd_lin itself: bit for bit the same. Index (vcomp_pt_index):
+ * bit 3 s_b, bit 2 i_b < 0, bit 1 s_c, bit 0 i_c < 0. ok = 0 in the other modes (SSTP: three legs,
+ * 64 combinations; NONE), where the caller forms the drops with vcomp_fwd_lin. Formats: IQ pu as
+ * vcomp_fwd_lin. 33 words of RAM per user. */
+typedef struct {
+    iq_t fa_iq[16], fb_iq[16];
+    uint16_t ok;
+} vcomp_pt_t;
+
+/* Fills t from p (init only). */
+void vcomp_pt_init(vcomp_pt_t *t, const vcomp_params_t *p);
+
+static inline uint16_t vcomp_pt_index(uint16_t sb, uint16_t sc, const clarke_out_t *i)
+{
+    return (uint16_t)((sb != 0U ? 8U : 0U) | (i->ib_iq < 0 ? 4U : 0U) | (sc != 0U ? 2U : 0U) |
+                      (i->ic_iq < 0 ? 1U : 0U));
+}
+
 /* As vcomp_step for a period in which the currents move linearly from i0 to i1: the forward drops
  * of each leg averaged over the period (vcomp_leg_drop_lin), the R_on terms (linear in the current)
  * at the period's mean current i_mean. vcomp_step(p, .., i, ..) is vcomp_step_lin(p, .., i, i, i, ..). */
