@@ -70,26 +70,6 @@ uint16_t vcomp_points_pos(iq_t i0_iq, iq_t i1_iq)
     return n;
 }
 
-void vcomp_fwd_lin(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t sc, const clarke_out_t *i0,
-                   const clarke_out_t *i1, iq_t *fa_iq, iq_t *fb_iq)
-{
-    const iq_t db = vcomp_leg_drop_lin(p->mean_iq[sb], i0->ib_iq, i1->ib_iq);
-    const iq_t dc = vcomp_leg_drop_lin(p->mean_iq[sc], i0->ic_iq, i1->ic_iq);
-    if (p->mode == DTC_COMP_SSTP || p->mode == DTC_COMP_SSTP_PROPOSED) {
-        /* Leg drops (Hoang Table III: V_CE through the on transistor, V_d through the diode of
-         * the other switch; [29]: V_CE = V_d = V_f, set so by vcomp_init); minus their Clarke
-         * transform (the on-resistance terms of Hoang eqs. 24-25 follow in vcomp_ron). */
-        vrec_from_legs(vcomp_leg_drop_lin(p->mean_iq[sa], i0->ia_iq, i1->ia_iq), db, dc, fa_iq, fb_iq);
-        *fa_iq = fix_neg32(*fa_iq);
-        *fb_iq = fix_neg32(*fb_iq);
-    } else {
-        /* FSTP, legs B and C, no leg-A device: Hoang Table V (V_f) or Table VI (Table III per leg),
-         * combined by Hoang eqs. 33-34 (= eqs. 35-36 for Table V) */
-        *fa_iq = q31_mul_k(fix_add32(db, dc), VREC_THIRD_Q31);    /* Hoang eq. 33 */
-        *fb_iq = q31_mul_k(fix_sub32(dc, db), VREC_INV_SQRT3_Q31); /* Hoang eq. 34 */
-    }
-}
-
 void vcomp_step_lin(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t sc, const clarke_out_t *i,
                     const clarke_out_t *i0, const clarke_out_t *i1, iq_t *v_f_alpha_iq, iq_t *v_f_beta_iq)
 {
@@ -136,8 +116,8 @@ void vcomp_pt_init(vcomp_pt_t *t, const vcomp_params_t *p)
         i0.i_alpha_iq = 0;
         i0.i_beta_iq = 0;
         if (t->ok != 0U) {
-            vcomp_fwd_lin(p, 0U, (uint16_t)((k >> 3) & 1U), (uint16_t)((k >> 1) & 1U), &i0, &i0, &t->fa_iq[k],
-                          &t->fb_iq[k]);
+            /* vcomp_fwd_lin: vcomp_step at i_alpha = i_beta = 0, whose R_on terms are 0 */
+            vcomp_step(p, 0U, (uint16_t)((k >> 3) & 1U), (uint16_t)((k >> 1) & 1U), &i0, &t->fa_iq[k], &t->fb_iq[k]);
         } else {
             t->fa_iq[k] = 0;
             t->fb_iq[k] = 0;
