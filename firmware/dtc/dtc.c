@@ -377,12 +377,14 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         }
         fin->v_alpha_iq = c->v1_alpha_iq;
         fin->v_beta_iq = c->v1_beta_iq;
-        if (cfg->u.pm_dtc.est.polarity_mid != 0U) {
-            /* the period [k-1, k]: drops over the current's line from i(k-1) to i(k), R_on at its mean */
-            dtc_pol_mid(c, i);
-            dtc_vcomp_est(c, &c->i_prev, i, &c->i_mid, &vfa, &vfb);
-        } else {
-            dtc_vcomp_est(c, i, i, i, &vfa, &vfb);
+        {
+            /* polarity_mid: the period [k-1, k], drops over the current's line from i(k-1) to
+             * i(k), R_on at its mean; else the drops and R_on at i(k). One call: inlined. */
+            const uint16_t pm = cfg->u.pm_dtc.est.polarity_mid;
+            if (pm != 0U) {
+                dtc_pol_mid(c, i);
+            }
+            dtc_vcomp_est(c, pm != 0U ? &c->i_prev : i, i, pm != 0U ? &c->i_mid : i, &vfa, &vfb);
         }
         fin->v_alpha_iq = fix_add32(fin->v_alpha_iq, vfa);
         fin->v_beta_iq = fix_add32(fin->v_beta_iq, vfb);

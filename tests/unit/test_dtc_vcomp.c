@@ -238,6 +238,16 @@ static void test_none_and_saturation(void **state)
     assert_int_equal(fa, IQ_MIN);
 }
 
+/* vcomp_init of mode with Hoang Table IV devices (dev 0) or saturating ones (dev 1). */
+static void init_devices(vcomp_params_t *p, uint16_t mode, int dev)
+{
+    if (dev == 0) {
+        vcomp_init(p, mode, fixtest_d_to_iq(0.9 / 70.0), fixtest_d_to_iq(VCE), fixtest_d_to_iq(VD), fixtest_d_to_iq(RON));
+    } else {
+        vcomp_init(p, mode, IQ_MAX, IQ_MAX, IQ(100.0), IQ(100.0));
+    }
+}
+
 static void test_sample_table_and_reuse_equal_vcomp_step(void **state)
 {
     (void)state;
@@ -258,12 +268,7 @@ static void test_sample_table_and_reuse_equal_vcomp_step(void **state)
             vcomp_params_t p;
             vcomp_pt_t t;
             const int fstp = modes[k] == DTC_COMP_FSTP_SIMPLE || modes[k] == DTC_COMP_FSTP_PROPOSED;
-            if (dev == 0) {
-                vcomp_init(&p, modes[k], fixtest_d_to_iq(0.9 / 70.0), fixtest_d_to_iq(VCE), fixtest_d_to_iq(VD),
-                           fixtest_d_to_iq(RON));
-            } else {
-                vcomp_init(&p, modes[k], IQ_MAX, IQ_MAX, IQ(100.0), IQ(100.0));
-            }
+            init_devices(&p, modes[k], dev);
             vcomp_pt_init(&t, &p);
             assert_int_equal(t.ok, fstp ? 1 : 0);
             for (int a = 0; a < 5; a++) {
@@ -337,12 +342,7 @@ static void test_sign_table_equals_vcomp_step(void **state)
             vcomp_params_t p;
             vcomp_tab_t t;
             int legs_differ = 0;
-            if (dev == 0) {
-                vcomp_init(&p, modes[k], fixtest_d_to_iq(0.9 / 70.0), fixtest_d_to_iq(VCE), fixtest_d_to_iq(VD),
-                           fixtest_d_to_iq(RON));
-            } else {
-                vcomp_init(&p, modes[k], IQ_MAX, IQ_MAX, IQ(100.0), IQ(100.0));
-            }
+            init_devices(&p, modes[k], dev);
             vcomp_tab_init(&t, &p);
             assert_int_equal(t.legs_free, modes[k] == DTC_COMP_SSTP_PROPOSED || modes[k] == DTC_COMP_FSTP_PROPOSED ? 0 : 1);
             for (int a = 0; a < 5; a++) {
