@@ -472,8 +472,11 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
                 c->fwd_alpha_iq = c->vc_pt.fa_iq[k];
                 c->fwd_beta_iq = c->vc_pt.fb_iq[k];
             } else {
-                vcomp_fwd_lin(&c->vc_p, c->legs_1.sa, c->legs_1.sb, c->legs_1.sc, i, i, &c->fwd_alpha_iq,
-                              &c->fwd_beta_iq);
+                /* vcomp_fwd_lin: vcomp_step_lin with no R_on current (its R_on terms are 0); the
+                 * estimator's call of vcomp_fwd_lin stays the only one, inlined */
+                static const clarke_out_t no_current = {0, 0, 0, 0, 0};
+                vcomp_step_lin(&c->vc_p, c->legs_1.sa, c->legs_1.sb, c->legs_1.sc, &no_current, i, i,
+                               &c->fwd_alpha_iq, &c->fwd_beta_iq);
             }
             c->fwd_ok = 1U;
             vcomp_ron(&c->vc_p, i, c->fwd_alpha_iq, c->fwd_beta_iq, &c->v1f_alpha_iq, &c->v1f_beta_iq);
