@@ -137,7 +137,7 @@ static inline void vcomp_ron(const vcomp_params_t *p, const clarke_out_t *i, iq_
  * the same. Index (vcomp_pt_index):
  * bit 3 s_b, bit 2 i_b < 0, bit 1 s_c, bit 0 i_c < 0. ok = 0 in the other modes (SSTP: three legs,
  * 64 combinations; NONE), where the caller forms the drops with vcomp_fwd_lin. Formats: IQ pu as
- * vcomp_fwd_lin. 33 words of RAM per user. */
+ * vcomp_fwd_lin. RAM per user: 32 IQ values and a flag (65 C28x words). */
 typedef struct {
     iq_t fa_iq[16], fb_iq[16];
     uint16_t ok;
