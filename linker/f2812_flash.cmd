@@ -107,8 +107,6 @@ SECTIONS
                     *(.text:_flux_est_current_model)
                     *(.text:_flux_est_seed)
                     *(.text:_flux_est_vm_step)
-                    *(.text:_ilim_over)
-                    *(.text:_ilim_select)
                     *(.text:_iq_mpy)
                     *(.text:_iq_recip_newton)
                     *(.text:_law_enc_angle)

@@ -13,6 +13,7 @@
 static void dtc_adopt(dtc_t *c, const dtc_refs_t *r)
 {
     dtc_refs_adopt(&c->act, &c->pi_p, &c->pi, &c->te_trim_iq, c->te_ref_iq, r, c->cfg);
+    dtc_flux_bounds(c);
 }
 
 void dtc_reset_currents(dtc_t *c)
@@ -26,6 +27,7 @@ void dtc_reset_currents(dtc_t *c)
     c->i1 = c->i_prev;
     c->i_limited = 0U;
     c->dt_code = DEADTIME_CODE_NONE; /* i_prev is no longer the sample it was formed on */
+    c->fwd_ok = 0U;                  /* nor of c->fwd_* */
 }
 
 /* Current limit and ripple-robust polarity (ilim.h, dtc_config.h polarity_mid): state at reset. */
@@ -53,6 +55,7 @@ void dtc_reset(dtc_t *c)
     speed_pi_reset(&c->pi, 0, cfg->speed.torque_limit_iq);
     c->te_trim_iq = 0;
     hyst2_init(&c->h_flux, cfg->u.pm_dtc.sw.flux_band_iq, 1U);
+    dtc_flux_bounds(c);
     hyst2_init(&c->h_torque2, cfg->u.pm_dtc.sw.torque_band_iq, 1U);
     hyst3_init(&c->h_torque3, cfg->u.pm_dtc.sw.torque_band_iq);
     c->div_cnt = 0U;
@@ -298,6 +301,33 @@ void dtc_pol_mid(dtc_t *c, const clarke_out_t *i)
         fix_add32(fix_rshift_rnd32(c->i_prev.i_beta_iq, 1U), fix_rshift_rnd32(i->i_beta_iq, 1U));
 }
 
+/* The estimator's drop compensation of legs_2 (applied during the period [k-1, k]): vcomp_step_lin
+ * of the legs over i0 -> i with the R_on terms at i_r (vcomp.h). Its forward drops are those the
+ * last step's prediction formed for the same legs (then legs_1) on its sample (now i_prev),
+ * c->fwd_*, when no phase current changed sign from i_prev to i: a leg whose current keeps its
+ * sign over a period has the drop of that sign (vcomp_leg_drop_lin), the same at i_prev, over
+ * i_prev -> i and at i (i0 is i_prev or i). Bit for bit the value vcomp_step_lin forms; the
+ * forward drops are formed here only in a period with a zero crossing, or after a reset (fwd_ok).
+ * Signs compared by the sign bit of the exclusive or (0 counts as positive, as in vcomp.h). */
+static void dtc_vcomp_est(dtc_t *c, const clarke_out_t *i0, const clarke_out_t *i, const clarke_out_t *i_r,
+                          iq_t *vfa, iq_t *vfb)
+{
+    const clarke_out_t *ip = &c->i_prev;
+    iq_t fa, fb;
+    if (c->vc_p.mode == (uint16_t)DTC_COMP_NONE) {
+        *vfa = 0;
+        *vfb = 0;
+        return;
+    }
+    if (c->fwd_ok != 0U && ((ip->ia_iq ^ i->ia_iq) | (ip->ib_iq ^ i->ib_iq) | (ip->ic_iq ^ i->ic_iq)) >= 0) {
+        fa = c->fwd_alpha_iq;
+        fb = c->fwd_beta_iq;
+    } else {
+        vcomp_fwd_lin(&c->vc_p, c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, i0, i, &fa, &fb);
+    }
+    vcomp_ron(&c->vc_p, i_r, fa, fb, vfa, vfb);
+}
+
 void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
 {
     const dtc_config_t *cfg = c->cfg;
@@ -347,13 +377,14 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         }
         fin->v_alpha_iq = c->v1_alpha_iq;
         fin->v_beta_iq = c->v1_beta_iq;
-        if (cfg->u.pm_dtc.est.polarity_mid != 0U) {
-            /* the period [k-1, k]: drops over the current's line from i(k-1) to i(k), R_on at its mean */
-            dtc_pol_mid(c, i);
-            vcomp_step_lin(&c->vc_p, c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, &c->i_mid, &c->i_prev, i, &vfa,
-                           &vfb);
-        } else {
-            vcomp_step(&c->vc_p, c->legs_2.sa, c->legs_2.sb, c->legs_2.sc, i, &vfa, &vfb);
+        {
+            /* polarity_mid: the period [k-1, k], drops over the current's line from i(k-1) to
+             * i(k), R_on at its mean; else the drops and R_on at i(k). One call: inlined. */
+            const uint16_t pm = cfg->u.pm_dtc.est.polarity_mid;
+            if (pm != 0U) {
+                dtc_pol_mid(c, i);
+            }
+            dtc_vcomp_est(c, pm != 0U ? &c->i_prev : i, i, pm != 0U ? &c->i_mid : i, &vfa, &vfb);
         }
         fin->v_alpha_iq = fix_add32(fin->v_alpha_iq, vfa);
         fin->v_beta_iq = fix_add32(fin->v_beta_iq, vfb);
@@ -433,8 +464,26 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
             vrec_sstp(c->legs_1.sa, c->legs_1.sb, c->legs_1.sc, m->vdc_iq, &c->v1_alpha_iq,
                       &c->v1_beta_iq);
         }
-        vcomp_step(&c->vc_p, c->legs_1.sa, c->legs_1.sb, c->legs_1.sc, i, &c->v1f_alpha_iq,
-                   &c->v1f_beta_iq);
+        if (c->vc_p.mode != (uint16_t)DTC_COMP_NONE) {
+            /* vcomp_step in its two parts: the forward drops are kept for the next step (dtc_vcomp_est);
+             * on the FSTP from the table of vcomp_fwd_lin's values at a sample (vcomp_pt_t) */
+            if (c->vc_pt.ok != 0U) {
+                const uint16_t k = vcomp_pt_index(c->legs_1.sb, c->legs_1.sc, i);
+                c->fwd_alpha_iq = c->vc_pt.fa_iq[k];
+                c->fwd_beta_iq = c->vc_pt.fb_iq[k];
+            } else {
+                /* vcomp_fwd_lin: vcomp_step_lin with no R_on current (its R_on terms are 0); the
+                 * estimator's call of vcomp_fwd_lin stays the only one, inlined */
+                static const clarke_out_t no_current = {0, 0, 0, 0, 0};
+                vcomp_step_lin(&c->vc_p, c->legs_1.sa, c->legs_1.sb, c->legs_1.sc, &no_current, i, i,
+                               &c->fwd_alpha_iq, &c->fwd_beta_iq);
+            }
+            c->fwd_ok = 1U;
+            vcomp_ron(&c->vc_p, i, c->fwd_alpha_iq, c->fwd_beta_iq, &c->v1f_alpha_iq, &c->v1f_beta_iq);
+        } else {
+            c->v1f_alpha_iq = 0;
+            c->v1f_beta_iq = 0;
+        }
         c->v1d_alpha_iq = 0;
         c->v1d_beta_iq = 0;
         if (cfg->est.deadtime_comp != 0U) {
@@ -445,7 +494,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     }
     mag2 = iq_sumsq_q48(psi_a, psi_b);
     sector = cfg->board.topology == DTC_TOPO_FSTP ? sector_fstp(psi_a, psi_b) : sector_sstp(psi_a, psi_b);
-    flux_up = hyst2_sq_step(&c->h_flux, c->act.flux_ref_iq, mag2);
+    flux_up = hyst2_sq_step_b(&c->h_flux, &c->flux_sq, mag2); /* hyst2_sq_step of act.flux_ref_iq */
     if (cfg->board.topology == DTC_TOPO_SSTP && cfg->u.pm_dtc.sw.sstp_table == DTC_ST_BASIC) {
         tdem = hyst3_step(&c->h_torque3, iq_sub(c->te_ref_iq, te));
     } else {
@@ -466,10 +515,13 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         legs = swtab_sstp_legs(vec);
     }
     if (cfg->prot.i_lim_iq > 0) {
-        /* Current limit (ilim.h) on the current predicted for k+1, or on i(k) without the
-         * delay compensation (the host's margin covers the second period then). */
-        vec = ilim_select(&c->il_p, cfg->u.pm_dtc.est.delay_comp != 0U ? &c->i1 : i, vec, &c->i_limited);
+        /* Current limit (ilim.h ilim_select) on the current predicted for k+1, or on i(k) without
+         * the delay compensation (the host's margin covers the second period then): |i|^2 against
+         * I_lim^2 squared at init (ilim_over's exact comparison), then ilim_pick. */
+        const clarke_out_t *il = cfg->u.pm_dtc.est.delay_comp != 0U ? &c->i1 : i;
+        c->i_limited = iq_sumsq_q48(il->i_alpha_iq, il->i_beta_iq) > c->ilim2_q48 ? 1U : 0U;
         if (c->i_limited != 0U) {
+            vec = ilim_pick(&c->il_p, il);
             legs = cfg->board.topology == DTC_TOPO_FSTP ? swtab_fstp_legs(vec) : swtab_sstp_legs(vec);
         }
     }

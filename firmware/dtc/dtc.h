@@ -101,6 +101,17 @@ typedef struct {
      * and not in its frame: dtc_step heads the deepest call chains of the Cortex-M0 stack budget */
     clarke_out_t i_k;
     flux_est_in_t fin;
+    /* drop compensation (dtc_vcomp_est): the forward drops dtc_predict formed for legs_1 on the
+     * current sample (vcomp_fwd_lin), which the next step's estimator takes for legs_2 over i_prev
+     * -> i when no phase current changed sign; fwd_ok 0 when none (reset, no prediction) */
+    iq_t fwd_alpha_iq, fwd_beta_iq;
+    uint16_t fwd_ok;
+    /* the flux comparator's squared bounds (hyst.h hyst2_sq_bounds) of act.flux_ref_iq and h_flux,
+     * formed where either changes (dtc_flux_bounds: reference adopted, reset, reconfiguration) */
+    hyst2_sq_t flux_sq;
+    vcomp_pt_t vc_pt;    /* vc_p's forward drops at a sample as a table (FSTP modes; dtc_predict's) */
+    uint64_t ilim2_q48;  /* the current limit's square I_lim^2, Q48 (iq_sumsq_q48 of i_lim_iq; ilim.h),
+                          * formed with il_p (dtc_block_params) */
 } dtc_t;
 
 /* The law's configuration check (dtc_check.c): the common part, then the law DTC_LAW_PM_DTC and

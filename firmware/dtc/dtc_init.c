@@ -21,6 +21,7 @@ int16_t dtc_init(dtc_t *c, const dtc_config_t *cfg)
     c->cfg = cfg;
 
     dtc_pm_est_params_from_config(&c->fe_p, &c->vc_p, cfg, &cfg->u.pm_dtc.machine);
+    vcomp_pt_init(&c->vc_pt, &c->vc_p);
     dtc_block_params(c, cfg);
     dtc_speed_params_from_config(&c->sm_p, &c->pi_p, cfg);
 

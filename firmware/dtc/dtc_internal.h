@@ -56,6 +56,14 @@ static inline void dtc_block_params(dtc_t *c, const dtc_config_t *cfg)
     c->dt_p.fstp = fstp;
     c->il_p.i_lim_iq = cfg->prot.i_lim_iq;
     c->il_p.fstp = fstp;
+    c->ilim2_q48 = iq_sumsq_q48(cfg->prot.i_lim_iq, 0); /* ilim_over's bound, once */
+}
+/* Internal to dtc_reset, the adoption of a reference set and dtc_reconfigure: the flux comparator's
+ * squared bounds (hyst.h hyst2_sq_bounds) of the flux reference in force and h_flux's band, after
+ * either changed; dtc_step compares |psi|^2 with them (hyst2_sq_step_b). */
+static inline void dtc_flux_bounds(dtc_t *c)
+{
+    hyst2_sq_bounds(&c->h_flux, c->act.flux_ref_iq, &c->flux_sq);
 }
 /* Internal to dtc_step (low-pass correction factor, lpfcorr.h). */
 void dtc_lpf_r(dtc_t *c);

@@ -39,8 +39,10 @@ int16_t dtc_reconfigure(dtc_t *c, const dtc_config_t *post, uint16_t phase)
     clarke_rot_phase(&c->dcs_alpha_iq, &c->dcs_beta_iq, phase);
     vcomp_init(&c->vc_p, post->est.compensation, post->board.v_f_iq, post->board.v_ce_iq, post->board.v_d_iq,
                post->board.r_on_iq);
+    vcomp_pt_init(&c->vc_pt, &c->vc_p);
     dtc_block_params(c, post);
     hyst2_init(&c->h_flux, post->u.pm_dtc.sw.flux_band_iq, 1U);
+    dtc_flux_bounds(c);
     hyst2_init(&c->h_torque2, post->u.pm_dtc.sw.torque_band_iq, 1U);
     c->vec_1 = 1U;
     dtc_reset_currents(c);

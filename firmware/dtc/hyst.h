@@ -63,6 +63,36 @@ static inline uint16_t hyst2_step(hyst2_t *h, iq_t err_iq)
     return h->out;
 }
 
+/* hyst2_sq_step's two parts, for a law whose reference and band change only when it adopts a
+ * reference set or resets (dtc.h: the PM law squares the bounds there, not every period):
+ * hyst2_sq_bounds squares lo and hi of hyst2_sq_step (below) into lo2 = lo^2 (0 when lo <= 0: no unsigned
+ * |psi|^2 is below it, so the first decision is never taken) and hi2p1 = hi^2 + 1 (0 when
+ * hi < 0: every |psi|^2 is at or above it), so that |psi|^2 > hi^2 is |psi|^2 >= hi2p1
+ * (hi^2 <= 2^62: the + 1 cannot wrap); hyst2_sq_step_b makes the decisions on them. The same
+ * decisions, bit for bit. */
+typedef struct {
+    uint64_t lo2_q48;   /* (psi* - h)^2, Q48; 0 when psi* - h <= 0 */
+    uint64_t hi2p1_q48; /* (psi* + h)^2 + 1, Q48; 0 when psi* + h < 0 */
+} hyst2_sq_t;
+
+static inline void hyst2_sq_bounds(const hyst2_t *h, iq_t ref_iq, hyst2_sq_t *b)
+{
+    const iq_t lo = iq_sub(ref_iq, h->half_band_iq);
+    const iq_t hi = iq_add(ref_iq, h->half_band_iq);
+    b->lo2_q48 = lo > 0 ? (uint64_t)((int64_t)lo * (int64_t)lo) : 0U;
+    b->hi2p1_q48 = hi < 0 ? 0U : (uint64_t)((int64_t)hi * (int64_t)hi) + 1U;
+}
+
+static inline uint16_t hyst2_sq_step_b(hyst2_t *h, const hyst2_sq_t *b, uint64_t mag2_q48)
+{
+    if (mag2_q48 < b->lo2_q48) {
+        h->out = 1U;
+    } else if (mag2_q48 >= b->hi2p1_q48) {
+        h->out = 0U;
+    }
+    return h->out;
+}
+
 /*
  * The flux comparator (Hoang eq. 13) on the squared magnitude, so the control path needs no square
  * root for eq. 11. With e = psi* - |psi| and the half band h:
@@ -73,6 +103,8 @@ static inline uint16_t hyst2_step(hyst2_t *h, iq_t err_iq)
  * Formats: ref_iq IQ pu; mag2_q48 = iq_sumsq_q48(psi_alpha, psi_beta), the exact sum of squares in
  * Q48 (< 2^64). lo and hi are formed with saturating arithmetic; |lo|, |hi| <= 2^31, so their
  * squares are exact in 64 bits. No rounding, no overflow.
+ * hyst2_sq_bounds, then hyst2_sq_step_b (above) make the same decisions; this form squares
+ * the bounds in the step, for a reference that changes every period (the IM laws).
  */
 static inline uint16_t hyst2_sq_step(hyst2_t *h, iq_t ref_iq, uint64_t mag2_q48)
 {

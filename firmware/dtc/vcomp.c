@@ -73,31 +73,15 @@ uint16_t vcomp_points_pos(iq_t i0_iq, iq_t i1_iq)
 void vcomp_step_lin(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t sc, const clarke_out_t *i,
                     const clarke_out_t *i0, const clarke_out_t *i1, iq_t *v_f_alpha_iq, iq_t *v_f_beta_iq)
 {
-    iq_t db, dc, fa, fb;
+    iq_t fa, fb;
 
     if (p->mode == DTC_COMP_NONE) {
         *v_f_alpha_iq = 0;
         *v_f_beta_iq = 0;
         return;
     }
-    db = vcomp_leg_drop_lin(p->mean_iq[sb], i0->ib_iq, i1->ib_iq);
-    dc = vcomp_leg_drop_lin(p->mean_iq[sc], i0->ic_iq, i1->ic_iq);
-    if (p->mode == DTC_COMP_SSTP || p->mode == DTC_COMP_SSTP_PROPOSED) {
-        /* Leg drops (Hoang Table III: V_CE through the on transistor, V_d through the diode of
-         * the other switch; [29]: V_CE = V_d = V_f, set so by vcomp_init); minus their Clarke
-         * transform, then the on-resistance terms of Hoang eqs. 24-25. */
-        vrec_from_legs(vcomp_leg_drop_lin(p->mean_iq[sa], i0->ia_iq, i1->ia_iq), db, dc, &fa, &fb);
-        fa = fix_neg32(fa);
-        fb = fix_neg32(fb);
-    } else {
-        /* FSTP, legs B and C, no leg-A device: Hoang Table V (V_f) or Table VI (Table III per leg),
-         * combined by Hoang eqs. 33-34 (= eqs. 35-36 for Table V) */
-        fa = q31_mul_k(fix_add32(db, dc), VREC_THIRD_Q31);    /* Hoang eq. 33 */
-        fb = q31_mul_k(fix_sub32(dc, db), VREC_INV_SQRT3_Q31); /* Hoang eq. 34 */
-    }
-    /* the R_on terms (Hoang eqs. 24-25, 37-38; see the header for the sign of eq. 37's) */
-    *v_f_alpha_iq = fix_sub32(fa, iq_mpy(p->ka_iq, i->i_alpha_iq));
-    *v_f_beta_iq = fix_sub32(fb, iq_mpy(p->kb_iq, i->i_beta_iq));
+    vcomp_fwd_lin(p, sa, sb, sc, i0, i1, &fa, &fb);
+    vcomp_ron(p, i, fa, fb, v_f_alpha_iq, v_f_beta_iq);
 }
 
 void vcomp_tab_init(vcomp_tab_t *t, const vcomp_params_t *p)
@@ -118,4 +102,25 @@ void vcomp_tab_init(vcomp_tab_t *t, const vcomp_params_t *p)
     t->ka_iq = p->ka_iq;
     t->kb_iq = p->kb_iq;
     t->legs_free = (uint16_t)(p->mode == DTC_COMP_SSTP_PROPOSED || p->mode == DTC_COMP_FSTP_PROPOSED ? 0U : 1U);
+}
+
+void vcomp_pt_init(vcomp_pt_t *t, const vcomp_params_t *p)
+{
+    uint16_t k;
+    t->ok = (uint16_t)(p->mode == DTC_COMP_FSTP_SIMPLE || p->mode == DTC_COMP_FSTP_PROPOSED ? 1U : 0U);
+    for (k = 0U; k < 16U; k++) {
+        clarke_out_t i0;
+        i0.ia_iq = 0;
+        i0.ib_iq = (k & 4U) != 0U ? -1 : 0;
+        i0.ic_iq = (k & 1U) != 0U ? -1 : 0;
+        i0.i_alpha_iq = 0;
+        i0.i_beta_iq = 0;
+        if (t->ok != 0U) {
+            /* vcomp_fwd_lin: vcomp_step at i_alpha = i_beta = 0, whose R_on terms are 0 */
+            vcomp_step(p, 0U, (uint16_t)((k >> 3) & 1U), (uint16_t)((k >> 1) & 1U), &i0, &t->fa_iq[k], &t->fb_iq[k]);
+        } else {
+            t->fa_iq[k] = 0;
+            t->fb_iq[k] = 0;
+        }
+    }
 }

@@ -46,7 +46,9 @@
 #include <stdint.h>
 
 #include "clarke.h"
+#include "dtc_config_common.h"
 #include "fixmath.h"
+#include "vrec.h"
 
 typedef struct {
     uint16_t mode;      /* enum dtc_compensation */
@@ -91,6 +93,63 @@ static inline iq_t vcomp_leg_drop_lin(const iq_t mean[5], iq_t i0_iq, iq_t i1_iq
         return mean[i0_iq >= 0 ? 4 : 0]; /* the mean of four equal drops is that drop, exactly */
     }
     return mean[vcomp_points_pos(i0_iq, i1_iq)];
+}
+
+/* vcomp_step_lin's two parts, for a law that forms the forward drops of one period once (dtc_step:
+ * the prediction's drops of the legs at the sample i0 are the next step's estimator's drops of the
+ * same legs over i0 -> i1 when no phase current changed sign, vcomp_leg_drop_lin).
+ * vcomp_fwd_lin: the forward drops alone (Hoang Tables III, V, VI through eqs. 31-36), for a mode
+ * other than DTC_COMP_NONE; vcomp_ron: the R_on terms (Hoang eqs. 24-25, 37-38) at the current i
+ * subtracted from them, f - k i, by a rounded, saturating IQ product and a saturating difference.
+ * vcomp_step_lin is the two in a row. Formats as vcomp_step_lin. */
+static inline void vcomp_fwd_lin(const vcomp_params_t *p, uint16_t sa, uint16_t sb, uint16_t sc,
+                                 const clarke_out_t *i0, const clarke_out_t *i1, iq_t *fa_iq, iq_t *fb_iq)
+{
+    const iq_t db = vcomp_leg_drop_lin(p->mean_iq[sb], i0->ib_iq, i1->ib_iq);
+    const iq_t dc = vcomp_leg_drop_lin(p->mean_iq[sc], i0->ic_iq, i1->ic_iq);
+    if (p->mode == DTC_COMP_SSTP || p->mode == DTC_COMP_SSTP_PROPOSED) {
+        /* Leg drops (Hoang Table III: V_CE through the on transistor, V_d through the diode of
+         * the other switch; [29]: V_CE = V_d = V_f, set so by vcomp_init); minus their Clarke
+         * transform (the on-resistance terms of Hoang eqs. 24-25 follow in vcomp_ron). */
+        vrec_from_legs(vcomp_leg_drop_lin(p->mean_iq[sa], i0->ia_iq, i1->ia_iq), db, dc, fa_iq, fb_iq);
+        *fa_iq = fix_neg32(*fa_iq);
+        *fb_iq = fix_neg32(*fb_iq);
+    } else {
+        /* FSTP, legs B and C, no leg-A device: Hoang Table V (V_f) or Table VI (Table III per leg),
+         * combined by Hoang eqs. 33-34 (= eqs. 35-36 for Table V) */
+        *fa_iq = q31_mul_k(fix_add32(db, dc), VREC_THIRD_Q31);    /* Hoang eq. 33 */
+        *fb_iq = q31_mul_k(fix_sub32(dc, db), VREC_INV_SQRT3_Q31); /* Hoang eq. 34 */
+    }
+}
+static inline void vcomp_ron(const vcomp_params_t *p, const clarke_out_t *i, iq_t fa_iq, iq_t fb_iq,
+                             iq_t *v_f_alpha_iq, iq_t *v_f_beta_iq)
+{
+    /* see the header for the sign of Hoang eq. 37's term */
+    *v_f_alpha_iq = fix_sub32(fa_iq, iq_mpy(p->ka_iq, i->i_alpha_iq));
+    *v_f_beta_iq = fix_sub32(fb_iq, iq_mpy(p->kb_iq, i->i_beta_iq));
+}
+
+/* vcomp_fwd_lin at one sample (i0 = i1) on the four-switch inverter as a table. In the FSTP modes
+ * (FSTP_SIMPLE, FSTP_PROPOSED) the forward drops of legs B and C at a sample are a function of the
+ * two legs' states and their currents' signs alone (Hoang Tables V, VI: mean_iq[s][4] for i >= 0,
+ * mean_iq[s][0] for i < 0), so the table holds vcomp_fwd_lin's value for each of the 16
+ * combinations, formed at init by vcomp_fwd_lin itself (vcomp_step with no R_on current): bit for bit
+ * the same. Index (vcomp_pt_index):
+ * bit 3 s_b, bit 2 i_b < 0, bit 1 s_c, bit 0 i_c < 0. ok = 0 in the other modes (SSTP: three legs,
+ * 64 combinations; NONE), where the caller forms the drops with vcomp_fwd_lin. Formats: IQ pu as
+ * vcomp_fwd_lin. RAM per user: 32 IQ values and a flag (65 C28x words). */
+typedef struct {
+    iq_t fa_iq[16], fb_iq[16];
+    uint16_t ok;
+} vcomp_pt_t;
+
+/* Fills t from p (init only). */
+void vcomp_pt_init(vcomp_pt_t *t, const vcomp_params_t *p);
+
+static inline uint16_t vcomp_pt_index(uint16_t sb, uint16_t sc, const clarke_out_t *i)
+{
+    return (uint16_t)((sb != 0U ? 8U : 0U) | (i->ib_iq < 0 ? 4U : 0U) | (sc != 0U ? 2U : 0U) |
+                      (i->ic_iq < 0 ? 1U : 0U));
 }
 
 /* As vcomp_step for a period in which the currents move linearly from i0 to i1: the forward drops

@@ -172,8 +172,63 @@ static void test_ilim_currents_at_the_rail(void **state)
     assert_int_equal(limited, 1U);
 }
 
+/* The FSTP choice written out (ilim_pick) against the candidates' sums S_b i_b + S_c i_c of
+ * Hoang Table I's V_1..V_4 (00 10 11 01) on the quartered currents, first of least sum: random
+ * currents over the whole int32 range, small ones, ties (zero, equal and opposite phases) and the
+ * rails. */
+static long long quarter_rounded(iq_t x) /* floor(x / 4 + 1/2), exact */
+{
+    const long long q = (long long)x + 2;
+    return q >= 0 ? q / 4 : -((-q + 3) / 4);
+}
+
+static void test_ilim_fstp_first_of_least_sum(void **state)
+{
+    static const int legs_b[4] = {0, 1, 1, 0}, legs_c[4] = {0, 0, 1, 1};
+    const ilim_params_t p = {1, 1U};
+    uint32_t r = 88172645U;
+    (void)state;
+    for (long n = 0; n < 200000; n++) {
+        clarke_out_t ci = {0, 0, 0, 0, 0};
+        r ^= r << 13;
+        r ^= r >> 17;
+        r ^= r << 5;
+        ci.ib_iq = (iq_t)r >> ((n & 3) == 0 ? 20 : 0);
+        r ^= r << 13;
+        r ^= r >> 17;
+        r ^= r << 5;
+        ci.ic_iq = (iq_t)r >> ((n & 3) == 0 ? 20 : 0);
+        if ((n & 7) == 1) {
+            ci.ic_iq = -ci.ib_iq; /* b + c = 0 */
+        } else if ((n & 7) == 2) {
+            ci.ic_iq = 0;
+        } else if ((n & 7) == 3) {
+            ci.ib_iq = 0;
+        } else if ((n & 7) == 5) {
+            ci.ic_iq = ci.ib_iq;
+        } else if (n == 6) {
+            ci.ib_iq = INT32_MIN;
+            ci.ic_iq = INT32_MIN;
+        }
+        {
+            const long long qb = quarter_rounded(ci.ib_iq), qc = quarter_rounded(ci.ic_iq);
+            long long best_s = 0;
+            unsigned best = 1U;
+            for (unsigned k = 0U; k < 4U; k++) {
+                const long long s = legs_b[k] * qb + legs_c[k] * qc;
+                if (k == 0U || s < best_s) {
+                    best_s = s;
+                    best = k + 1U;
+                }
+            }
+            assert_int_equal(ilim_pick(&p, &ci), best);
+        }
+    }
+}
+
 UNIT_TEST_MAIN("dtc ilim", NULL,
                cmocka_unit_test(test_ilim_fstp),
                cmocka_unit_test(test_ilim_sstp),
                cmocka_unit_test(test_ilim_currents_at_the_rail),
+               cmocka_unit_test(test_ilim_fstp_first_of_least_sum),
                cmocka_unit_test(test_ilim_default))

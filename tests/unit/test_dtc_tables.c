@@ -343,6 +343,15 @@ static int sq_ref_decision(iq_t pa, iq_t pb, iq_t ref, iq_t half, int prev)
     return prev;
 }
 
+/* hyst2_sq_step's split form (hyst2_sq_bounds once, hyst2_sq_step_b per period), which the PM law
+ * uses: it must take the decision hyst2_sq_step takes. */
+static uint16_t sq_split(hyst2_t *h, iq_t ref, uint64_t mag2)
+{
+    hyst2_sq_t b;
+    hyst2_sq_bounds(h, ref, &b);
+    return hyst2_sq_step_b(h, &b, mag2);
+}
+
 static void test_hyst2_sq_flux(void **state)
 {
     (void)state;
@@ -360,6 +369,23 @@ static void test_hyst2_sq_flux(void **state)
     hyst2_init(&h, 0, 1U);
     assert_int_equal(hyst2_sq_step(&h, -1, 0U), 0U);
     assert_int_equal(hyst2_sq_step(&h, IQ_MAX, iq_sumsq_q48(IQ_MAX, IQ_MAX)), 0U); /* 2^63 sum */
+    /* the split form at the same points */
+    hyst2_init(&h, IQ(0.02), 0U);
+    assert_int_equal(sq_split(&h, IQ(1.0), iq_sumsq_q48(lo, 0)), 0U);
+    assert_int_equal(sq_split(&h, IQ(1.0), iq_sumsq_q48(lo - 1, 0)), 1U);
+    assert_int_equal(sq_split(&h, IQ(1.0), iq_sumsq_q48(hi, 0)), 1U);
+    assert_int_equal(sq_split(&h, IQ(1.0), iq_sumsq_q48(0, -hi - 1)), 0U);
+    hyst2_init(&h, IQ(0.5), 0U);
+    assert_int_equal(sq_split(&h, IQ(0.2), 0U), 0U);
+    hyst2_init(&h, 0, 1U);
+    assert_int_equal(sq_split(&h, -1, 0U), 0U);
+    hyst2_init(&h, 0, 1U);
+    assert_int_equal(sq_split(&h, 0, 0U), 1U); /* lo = hi = 0: |psi|^2 = 0 is neither below nor above */
+    assert_int_equal(sq_split(&h, 0, 1U), 0U);
+    assert_int_equal(sq_split(&h, IQ_MAX, iq_sumsq_q48(IQ_MAX, IQ_MAX)), 0U);
+    hyst2_init(&h, 0, 0U);
+    assert_int_equal(sq_split(&h, IQ_MAX, iq_sumsq_q48(IQ_MAX, 0)), 0U); /* hi^2 exactly: hold */
+    assert_int_equal(sq_split(&h, IQ_MAX, iq_sumsq_q48(IQ_MAX - 1, 0)), 1U);
     /* random sweep */
     uint32_t r = 12345U;
     long n_diff_rounded = 0, n_near = 0;
@@ -373,9 +399,10 @@ static void test_hyst2_sq_flux(void **state)
         r = r * 1664525U + 1013904223U;
         const iq_t band = (k & 3) == 0 ? 0 : (iq_t)(r >> 10); /* 0 .. 0.25 pu, a quarter zero */
         const uint16_t prev = (uint16_t)(r & 1U);
-        hyst2_t a, b;
+        hyst2_t a, b, sp;
         hyst2_init(&a, band, prev);
         b = a;
+        sp = a;
         if ((k & 7) == 1) { /* |psi| within 2 LSB of lo or hi */
             const iq_t off = (iq_t)((r >> 8) % 5U) - 2;
             ref = iq_mag(pa, pb) + ((r & 2U) ? a.half_band_iq : -a.half_band_iq) + off;
@@ -384,6 +411,10 @@ static void test_hyst2_sq_flux(void **state)
         if (got != sq_ref_decision(pa, pb, ref, a.half_band_iq, prev)) {
             fail_msg("psi (%ld, %ld) ref %ld half %ld prev %u: got %d", (long)pa, (long)pb,
                      (long)ref, (long)a.half_band_iq, prev, got);
+        }
+        if ((int)sq_split(&sp, ref, iq_sumsq_q48(pa, pb)) != got) {
+            fail_msg("split form differs: psi (%ld, %ld) ref %ld half %ld prev %u", (long)pa, (long)pb,
+                     (long)ref, (long)a.half_band_iq, prev);
         }
         const iq_t mag = iq_mag(pa, pb);
         const int old = hyst2_step(&b, iq_sub(ref, mag));

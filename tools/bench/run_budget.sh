@@ -7,7 +7,7 @@
 # targets.
 #   1. host instructions per control-law step (valgrind --tool=callgrind, host preset build of
 #      tools/bench/bench_dtc.c), average and the speed-loop steps (the worst path):
-#      1a. PM law dtc_step: FSTP, voltage model, Hoang Table VI compensation [avg <= 1180, worst <= 1440]
+#      1a. PM law dtc_step: FSTP, voltage model, Hoang Table VI compensation [avg <= 1040, worst <= 1350]
 #      1b. IM law im_dtc_step: improved estimator, Casadei eq. 19, sensorless [avg <= 900, worst <= 1250]
 #      1b2. the same law on the four-switch inverter, im_dtc_step_fstp (Hoang Table II) [avg <= 900, worst <= 1250]
 #      1c. IM law im_sfvc_step: SFVC (Casadei eqs. 18, 23, 24) + SVM, same [avg <= 940, worst <= 1470]
@@ -89,7 +89,7 @@ PY
 }
 
 # PM law (FSTP, voltage model, Hoang Table VI compensation, speed loop on).
-instr a "" dtc_step bench_step_normal bench_step_tick 1180 1440 \
+instr a "" dtc_step bench_step_normal bench_step_tick 1040 1350 \
   flux_est_step vcomp_step iq_mag fix_isqrt64 speed_meas_step speed_pi_step
 # IM law (improved estimator, speed-dependent tau, Casadei eq. 19, sensorless, speed-dependent table), at
 # 40 us.
