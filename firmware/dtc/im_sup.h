@@ -50,8 +50,10 @@
  * stator's quantities shows it in steady state. The flux check (m) runs without the encoder.
  *
  * The current model as the improved estimator's reference at low speed (u.im.ref.cm_ref, encoder
- * fitted, improved estimator; off by default: with it the estimator is no longer Casadei's at low
- * speed, and the paper's figures reproduced in tests/sil/test_im_casadei.cpp are eq. 20's). Casadei eq. 20's correction (phi_r* e^{j theta} - phi_r)/tau is radial: an error of
+ * fitted, improved estimator; the converter's default: the torque target at 5 % of rated speed
+ * needs it. With it the estimator is not Casadei's at low speed: the paper's figures reproduced
+ * in tests/sil/test_im_casadei*.cpp run with it off, eq. 20 alone). Casadei eq. 20's correction
+ * (phi_r* e^{j theta} - phi_r)/tau is radial: an error of
  * the estimate's angle decays only as the stator frequency turns it into a radial one, through the
  * estimator's slow pole w_s^2 tau / k_r (tau from k_lo), and the rotor-flux trim's integral
  * (im_psir_trim, gain 1/tau_r) closes its loop through that pole: damping sqrt(a tau_r)/2 with
