@@ -125,7 +125,7 @@ void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m)
         in->v_beta_iq = fix_add32(in->v_beta_iq, c->dvb_iq);
     }
     c->i_prev = c->i;
-    im_dtc_ein_common(c);
+    im_dtc_ein_common(c, m);
 }
 
 /* The encoder plausibility's comparison on a speed-loop period (im_dtc.h): the sensorless speed

@@ -100,7 +100,7 @@ void im_dtc_estimate_fstp(im_dtc_t *c, const dtc_meas_t *m)
         in->v_beta_iq = fix_add32(in->v_beta_iq, c->dvb_iq);
     }
     c->i_prev = c->i;
-    im_dtc_ein_common(c);
+    im_dtc_ein_common(c, m);
 }
 
 /* From the live reconfiguration (im_dtc_reconfigure) until the machine's rotor flux has fallen

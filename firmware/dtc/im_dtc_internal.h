@@ -40,7 +40,7 @@ void im_sup_reset(im_dtc_t *c);
 void im_sup_step(im_dtc_t *c);
 /* While the blend weight sup.cm_b_iq > 0: the current model's step and Casadei eq. 20's reference
  * vector into c->ein (im_sup.c). */
-void im_sup_cm_ref(im_dtc_t *c);
+void im_sup_cm_ref(im_dtc_t *c, uint16_t enc_count);
 
 /* Internal to im_sfvc_step, out of line for the stack. */
 void im_sfvc_estimate(im_dtc_t *c, const dtc_meas_t *m);
@@ -341,7 +341,7 @@ static inline void im_vcomp(im_dtc_t *c, uint16_t sa, uint16_t sb, uint16_t sc, 
 
 /* The estimator input's part common to both schemes (currents, rotor-flux reference, speed, and
  * the angle on the speed-loop periods). */
-static inline void im_dtc_ein_common(im_dtc_t *c)
+static inline void im_dtc_ein_common(im_dtc_t *c, const dtc_meas_t *m)
 {
     im_est_in_t *in = &c->ein;
     in->i_alpha_iq = c->i.i_alpha_iq;
@@ -350,7 +350,7 @@ static inline void im_dtc_ein_common(im_dtc_t *c)
     /* at low speed with the encoder, eq. 20's reference vector (im_sup_cm_ref, out of line: the
      * other periods pay a compare) */
     if (c->sup.cm_b_iq != 0) {
-        im_sup_cm_ref(c);
+        im_sup_cm_ref(c, m->enc_count);
     } else {
         in->ref_vec = 0U;
     }

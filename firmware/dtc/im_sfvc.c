@@ -49,11 +49,10 @@
 void im_sfvc_estimate(im_dtc_t *c, const dtc_meas_t *m)
 {
     im_est_in_t *in = &c->ein;
-    (void)m;
     im_vcomp(c, 0U, 0U, 0U, 0U);
     in->v_alpha_iq = fix_add32(c->v2_alpha_iq, c->dva_iq);
     in->v_beta_iq = fix_add32(c->v2_beta_iq, c->dvb_iq);
-    im_dtc_ein_common(c);
+    im_dtc_ein_common(c, m);
 }
 
 /* Casadei Eqs. 18, 23, 24 (file comment) into c->vs_alpha_iq, c->vs_beta_iq. Eq. 24 is evaluated with K_p

@@ -42,6 +42,13 @@ void im_sup_init(im_dtc_t *c, const dtc_config_t *cfg)
     s->cm_on = 0U;
     s->cm_n = 0U;
     s->cm_inv_iq = 0;
+    /* one count's electrical angle, 2 pi p / counts rad = enc_gain_q16 (65536 p / counts, Q16) x
+     * 2 pi / 2^32; in Q31 that is enc_gain_q16 x pi: the product with round(pi 2^30) (< 2^64 as
+     * both factors are below 2^32), shifted right by 30 with rounding, saturated at 1 rad */
+    {
+        const uint64_t k = ((uint64_t)cfg->board.enc_gain_q16 * 3373259426ULL + (1ULL << 29)) >> 30;
+        s->cm_k_q31 = k > 2147483647ULL ? (q31_t)2147483647L : (q31_t)k;
+    }
     if (cfg->u.im.ref.cm_ref != 0U && cfg->speed.sensor != DTC_SPEED_NONE && c->est_p.estimator == IM_EST_IMPROVED &&
         cfg->law != DTC_LAW_IM_DSVM) {
         const q31_t w = iq_mpy(cfg->u.im.machine.kr_iq, q31_mul(c->est_p.k_lo_q31, cfg->u.im.ref.magn_k_q31));

@@ -59,11 +59,15 @@ struct Outcome {
 };
 
 // One run from standstill in torque mode, the dynamometer taking the rotor to rpm after the
-// magnetisation (0.6 s to 0.9 s), then 0.2 s of settling and the metrics window.
+// magnetisation (0.6 s to 0.9 s), then 0.2 s of settling and the metrics window. The paper's
+// estimator, as in its figures: Casadei eq. 20's reference phi_r* e^{j theta} at every speed
+// (control.current_model_ref = false; the product's default with the encoder pulls it towards a
+// rotor-flux current model at low speed, firmware/dtc/im_sup.h, which the paper does not).
 bool held_run(const std::string& scenario, double rpm, double torque, double window_s, std::vector<std::string> extra,
               RunResult* res)
 {
-    std::vector<std::string> sets = {"control.mode=torque", "control.torque_ref_nm=" + std::to_string(torque),
+    std::vector<std::string> sets = {"control.current_model_ref=false",
+                                     "control.mode=torque", "control.torque_ref_nm=" + std::to_string(torque),
                                      "load.type=speed", "load.speed_rpm=" + std::to_string(rpm),
                                      "load.speed_ramp_start_s=0.6", "load.speed_ramp_s=0.3", "load.step_time_s=0",
                                      "metrics_window_s=" + std::to_string(window_s),

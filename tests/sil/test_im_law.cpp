@@ -40,8 +40,9 @@ struct ImRig {
     std::unique_ptr<hal_host::Harness> h;
 
     // held_rpm: the rotor's speed at the start, at which the dynamometer holds it (free_rotor:
-    // inertia only, no dynamometer)
-    ImRig(bool ideal, bool free_rotor, double held_rpm = 0.0, int law = DTC_LAW_IM_DTC)
+    // inertia only, no dynamometer); paper: Casadei eq. 20's reference at every speed (the
+    // converter's default with the encoder pulls it towards the current model at low speed, im_sup.h)
+    ImRig(bool ideal, bool free_rotor, double held_rpm = 0.0, int law = DTC_LAW_IM_DTC, bool paper = false)
     {
         plant_params_default(&p);
         plant_params_im_default(&p);
@@ -59,6 +60,9 @@ struct ImRig {
         }
 
         dtc_config_si_im_defaults(&si);
+        if (paper) {
+            si.cm_ref = 0;
+        }
         si.mode = DTC_MODE_TORQUE;
         si.torque_ref_nm = 0.0;
         si.psir_ref_wb = 0.53;     // about the no-load rotor flux of 0.55 Wb stator flux
@@ -222,12 +226,20 @@ TEST(ImLaw, StandstillRealPartsMagnetisesThenTracksATorqueStep)
 // free (inertia only) so that it accelerates from standstill under the step, ideal devices (no
 // drops, no dead time; the firmware's compensation off) so that the law is judged without the
 // inverter's voltage errors, which those figures do not show: the rotor flux stays within 3 % of
-// phi_r* through the step (the paper: 2 %).
+// phi_r* through the step (the paper: 2 %). Both estimators: the product's (with the encoder,
+// Casadei eq. 20 pulled towards the rotor-flux current model at low speed, im_sup.h; measured
+// 0.9 %) and the paper's (eq. 20's reference at every speed; 2.0 %). The rotor accelerates at
+// about 19,000 rpm/s, through the current model's blend (136 to 272 rpm) within 7 ms: the model
+// turns by the encoder's count step of each period; turned by the speed of the speed period (a
+// mean over up to 16 of them) it lagged the rotor, and the machine's rotor flux moved 4.9 %.
 TEST(ImLaw, FreeRotorIdealInverterKeepsRotorFluxThroughATorqueStep)
 {
-    ImRig r(true, true);
-    ASSERT_TRUE(r.h);
-    run_case(r, true);
+    for (const bool paper : {false, true}) {
+        SCOPED_TRACE(paper ? "the paper's estimator" : "the product's estimator (current model at low speed)");
+        ImRig r(true, true, 0.0, DTC_LAW_IM_DTC, paper);
+        ASSERT_TRUE(r.h);
+        run_case(r, true);
+    }
 }
 
 namespace {
@@ -300,14 +312,17 @@ TEST(ImLaw, FlyingStartIntoATurningRotorBuildsTheFluxThenTracksTorque)
 }
 
 // ---- The torque room (tools/config dtc_im_torque_room_check) ----
-// The second machine (im_second_machine.toml: 30 A trip, 565 V) with SFVC at 160 us holds its
+// The second machine (im_second_machine.toml: 30 A trip, 565 V) with DFOC at 160 us holds its
 // steady current at I_trip - 3 dI = 10.6 A (dI = Ts (V_max + R_s I_trip)/(sigma L_s) = 6.46 A: two
-// periods' change under the limit, one more for the torque limit's current), below the 11.0 A its
-// rated torque needs: the converter's check says so and gives the longest period and the lowest
-// trip level that would carry the rated torque. Asserted: the warning for SFVC and DFOC at 160 us,
-// none for DTC at 40 us nor for the 4 kW IM's SFVC; each suggestion, applied alone (0.1 % inside
-// it), gives a torque limit at or above the rated torque and silences the check, and 1 % outside
-// it does not (the suggestion is the bound, not a guess).
+// periods' change under the limit, one more for its PI regulators' overshoot,
+// dtc_im_hold_margin_a), below the 11.0 A its rated torque needs: the converter's check says so
+// and gives the longest period and the lowest trip level that would carry the rated torque.
+// This machine on this board at 160 us cannot deliver its rated torque with the DFOC (22.3 N*m of
+// 23.5). The SFVC holds I_trip - 2 dI less its SVM ripple, V_max Ts / (4 sigma L_s) = 1.31 A:
+// 15.8 A, room enough. Asserted: the warning for DFOC at 160 us, none for SFVC at 160 us, DTC at
+// 40 us nor the 4 kW IM's SFVC and DFOC; each suggestion, applied alone (0.1 % inside it), gives a
+// torque limit at or above the rated torque and silences the check, and 1 % outside it does not
+// (the suggestion is the bound, not a guess).
 // The firmware's SI configuration of the shipped scenario `file` with the scheme `scheme`.
 static dtc_config_si_t shipped_si(const char* file, const char* scheme)
 {
@@ -320,13 +335,13 @@ static dtc_config_si_t shipped_si(const char* file, const char* scheme)
 
 static double room_torque(const dtc_config_si_t& si)
 {
-    return dtc_im_torque_at_current_nm(&si, dtc_ilim_default_a(&si) - dtc_ilim_step_a(&si));
+    return dtc_im_torque_at_current_nm(&si, dtc_ilim_default_a(&si) - dtc_im_hold_margin_a(&si));
 }
 
 TEST(ImLaw, TorqueRoomCheckNamesThePeriodAndTripThatCarryTheRatedTorque)
 {
     char msg[600];
-    for (const char* law : {"sfvc", "dfoc"}) {
+    for (const char* law : {"dfoc"}) {
         const dtc_config_si_t si = shipped_si("im_second_machine.toml", law);
         const double t_rated = si.rated_torque_nm;
         ASSERT_EQ(dtc_im_torque_room_check(&si, msg, sizeof msg), 1);
@@ -349,16 +364,24 @@ TEST(ImLaw, TorqueRoomCheckNamesThePeriodAndTripThatCarryTheRatedTorque)
         bound(&dtc_config_si_t::ts_s, ts_max, 0.999, 1.01);
         bound(&dtc_config_si_t::i_trip_a, trip_min, 1.001, 0.99);
     }
+    const dtc_config_si_t sfvc = shipped_si("im_second_machine.toml", "sfvc");
+    EXPECT_EQ(dtc_im_torque_room_check(&sfvc, msg, sizeof msg), 0);
+    EXPECT_GE(room_torque(sfvc), sfvc.rated_torque_nm);
+    std::printf("MEASURE second machine, sfvc, %.0f us: the torque the current allows %.1f N*m (rated %.1f)\n",
+                1e6 * sfvc.ts_s, room_torque(sfvc), sfvc.rated_torque_nm);
     const dtc_config_si_t dtc40 = shipped_si("im_second_machine.toml", "dtc");
     EXPECT_EQ(dtc_im_torque_room_check(&dtc40, msg, sizeof msg), 0);
-    const dtc_config_si_t four = shipped_si("im_dtc_speed.toml", "sfvc");
-    EXPECT_EQ(dtc_im_torque_room_check(&four, msg, sizeof msg), 0);
+    for (const char* law : {"sfvc", "dfoc"}) {
+        const dtc_config_si_t four = shipped_si("im_dtc_speed.toml", law);
+        EXPECT_EQ(dtc_im_torque_room_check(&four, msg, sizeof msg), 0);
+    }
 }
 
 // ---- The current limit (tools/config dtc_ilim_default_a, firmware im_ilim / the torque limit) ----
 // Every IM law, realistic parts, the rotor held by the dynamometer at held_rpm; magnetised, then
 // a 300 % rated torque request (Casadei Fig. 14's step size) through the shadow set. The firmware
-// holds the torque at the limit the current allows (dtc_im_torque_at_current_nm at I_lim - dI) and
+// holds the torque at the limit the current allows (dtc_im_torque_at_current_nm at I_lim less
+// dtc_im_hold_margin_a: dI, or the SFVC's SVM ripple) and
 // the switching-table laws replace the vector when the sampled current passes I_lim. Asserted on
 // the plant: no fault, the peak phase current below the trip level, the mean torque over the last
 // 50 ms within 10 % of the derived limit (the estimate's bias, -4 % at 50 % rated torque on this
@@ -377,7 +400,7 @@ static LimitRun run_limit(int scheme, double held_rpm, double t_req_nm)
     }
     const double ts = r.si.ts_s;
     const double ilim = dtc_ilim_default_a(&r.si);
-    o.t_lim = std::fmin(r.si.torque_limit_nm, dtc_im_torque_at_current_nm(&r.si, ilim - dtc_ilim_step_a(&r.si)));
+    o.t_lim = std::fmin(r.si.torque_limit_nm, dtc_im_torque_at_current_nm(&r.si, ilim - dtc_im_hold_margin_a(&r.si)));
     o.i_trip = r.si.i_trip_a;
     const long n_on = static_cast<long>(r.cfg.u.im.ref.magn_periods) + 64;
     for (long k = 0; k < n_on + static_cast<long>(0.2 / ts); ++k) {

@@ -78,6 +78,13 @@ static void sim_start(sim_t *s, double w)
     s->theta_e = 0.0;
 }
 
+/* The encoder's count at the electrical angle theta_e, unwrapped (sim_period reads it modulo the
+ * counts per turn). */
+static double enc_turn_counts(const sim_t *s, double theta_e)
+{
+    return floor(theta_e / (2.0 * FIXTEST_PI * s->si.pole_pairs) * 4.0 * s->si.enc_lines);
+}
+
 /* One control period: measure, step the law, advance the machine with the legs of the PREVIOUS
  * step (hal.h: a command acts from the next period boundary). */
 static void sim_period(sim_t *s, dtc_out_t *o)
@@ -85,7 +92,7 @@ static void sim_period(sim_t *s, dtc_out_t *o)
     dtc_meas_t me;
     double ia, ib, va, vb;
     const double counts = 4.0 * s->si.enc_lines;
-    double turns, cnt;
+    double cnt;
 
     dtc_ref_im_currents(&s->x, &ia, &ib);
     me.ia_iq = fixtest_d_to_iq(ia);
@@ -93,8 +100,7 @@ static void sim_period(sim_t *s, dtc_out_t *o)
     me.ic_iq = fixtest_d_to_iq(-0.5 * ia - 0.5 * sqrt(3.0) * ib);
     me.vdc_iq = IQ(1.0); /* V_base = the link voltage */
     me.vmid_iq = IQ(0.5);
-    turns = s->theta_e / (2.0 * FIXTEST_PI * s->si.pole_pairs);
-    cnt = fmod(floor(turns * counts), counts);
+    cnt = fmod(enc_turn_counts(s, s->theta_e), counts);
     me.enc_count = (uint16_t)(cnt < 0 ? cnt + counts : cnt);
     law_step(&s->law, &me, o);
     if (s->cfg.law == DTC_LAW_IM_DSVM) {
@@ -805,7 +811,8 @@ static void test_current_prediction_matches_the_machine(void **state)
  * im_cm_ref), encoder fitted, 10 % of rated torque held at 5 % of the base speed: over 0.2 s after
  * the settling
  *   - the firmware's model against the same recursion in double precision, from the same sampled
- *     currents and encoder speed, with m, Ts/tau_r and w Ts from the SI machine: within 1e-4 pu;
+ *     currents and encoder counts (the rotation of a step: its count difference times
+ *     2 pi p / counts), with m and Ts/tau_r from the SI machine: within 1e-4 pu;
  *   - the model's rotor flux against the machine's (the double T model, the same instant): the T
  *     model's rotor equation with the machine's parameters is exact, so within 1 % of |phi_r|, and
  *     the estimate's rotor flux (eq. 21) with it;
@@ -817,16 +824,17 @@ static void test_current_model_reference_at_low_speed(void **state)
     sim_t s;
     dtc_out_t o;
     double ca = 0.0, cb = 0.0, mia = 0.0, mib = 0.0, worst_fx = 0.0, worst_cm = 0.0, worst_est = 0.0;
-    double kr, W, w_ts, b;
+    double kr, W, w_ts, b, cnt_prev;
     long k, n;
     const im_dtc_t *c;
     (void)state;
 
     sim_defaults(&s);
-    sim_start(&s, 0.05); /* off by default (u.im.ref.cm_ref 0): Casadei eq. 20 at every speed */
+    s.si.cm_ref = 0; /* off: Casadei eq. 20 at every speed */
+    sim_start(&s, 0.05);
     assert_int_equal(s.law.u.im.sup.cm_on, 0U);
     assert_int_equal(s.law.u.im.sup.cm_b_iq, 0);
-    s.si.cm_ref = 1;
+    s.si.cm_ref = 1; /* the converter's default */
     s.si.torque_ref_nm = 0.1 * s.si.rated_torque_nm;
     sim_start(&s, 0.05);
     sim_magnetise_at(&s, 0.05, 0.5, &o);
@@ -839,12 +847,15 @@ static void test_current_model_reference_at_low_speed(void **state)
     mia = fixtest_iq_to_d(c->sup.cm_mi_alpha_iq);
     mib = fixtest_iq_to_d(c->sup.cm_mi_beta_iq);
     n = (long)periods(&s, 0.2);
+    cnt_prev = enc_turn_counts(&s, s.theta_e - s.x.w * s.tspu); /* the last step's count */
     for (k = 0; k < n; k++) {
         const double pra = s.x.pra, prb = s.x.prb, kt = s.si.ts_s * s.si.rr_ohm / (s.si.llr_h + s.si.lm_h);
+        const double cnt = enc_turn_counts(&s, s.theta_e); /* the count this step reads */
         double wt, na;
         sim_period(&s, &o);
-        /* the double recursion: the previous instant's m i, the speed period's w Ts */
-        wt = fixtest_iq_to_d(c->speed_iq) * s.tspu;
+        /* the double recursion: the previous instant's m i, the rotation of the count step */
+        wt = (cnt - cnt_prev) * 2.0 * FIXTEST_PI * s.si.pole_pairs / (4.0 * s.si.enc_lines);
+        cnt_prev = cnt;
         na = ca + kt * (mia - ca) - wt * cb;
         cb = cb + kt * (mib - cb) + wt * na;
         ca = na;

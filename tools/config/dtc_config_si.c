@@ -72,7 +72,8 @@ void dtc_config_si_defaults(dtc_config_si_t *si)
     si->speed_filter_s = 0.005;
     si->magn_frac = PLANT_DEF_IM_MAGN_FRAC;
     si->rr_track = 0;
-    si->cm_ref = 0;
+    si->cm_ref = 1;         /* on: with the encoder, the torque target at low speed needs it (im_sup.h);
+                             * the firmware ignores it without the encoder, with DSVM or another estimator */
     si->flux_weakening = 0;
     si->fw_window = 20;
     si->fw_step_frac = 0.005;

@@ -314,15 +314,34 @@ void dtc_im_transient_si(const dtc_config_si_t *si, double *l_h, double *psi_wb)
  * The 4 kW IM, phi_s* = 0.55 Wb, 40 A: 57.9 N*m (218 % of rated). */
 double dtc_im_torque_at_current_nm(const dtc_config_si_t *si, double i_a);
 
+/* The IM law's excursion of the phase current above the steady current its torque limit holds,
+ * A: the torque the current allows is dtc_im_torque_at_current_nm at I_lim less this.
+ *   SFVC: the SVM's ripple about the period's fundamental, at most V_max T_s / (4 sigma L_s). In a
+ *     centred pattern (one carrier period per control period) the current departs from its
+ *     period's line by the integral of the applied vector's difference from the period's mean,
+ *     which is at most V_max (adjacent vectors and the null in one sector) and whose integral over
+ *     each half period is zero (the halves mirror each other): at most V_max T_s/2 / 2. Its
+ *     deadbeat flux regulator (Casadei eq. 24) takes a step of the reference to the limit without
+ *     overshoot (measured: 0.15 dI above the held current on a 300 % step at 1000 rpm, 4 kW,
+ *     40 us; 0.01 dI at 160 us on both machines), so I_trip - I_lim = 2 dI stays for the transients.
+ *   The switching-table laws and DSVM: dI, a whole period under one vector (dtc_ilim_step_a).
+ *   DFOC: dI, the room of its PI current regulators' overshoot (measured 1.84 dI above the held
+ *     current on a 300 % step at 1000 rpm, 4 kW, 40 us; held at I_lim, the same step and its
+ *     braking flying start from 100 % tripped).
+ * The second machine at 160 us: SFVC 1.31 A (dI 6.46 A). */
+double dtc_im_hold_margin_a(const dtc_config_si_t *si);
+
 /* The IM laws' torque room: the torque limit the current allows (dtc_im_torque_at_current_nm at
- * I_lim - dI, the converter's, law_im_si.c) against the machine's rated torque. Returns 1 and writes
+ * I_lim less dtc_im_hold_margin_a, the converter's, law_im_si.c) against the machine's rated torque. Returns 1 and writes
  * a warning into msg naming the keys when it is below rated_torque_nm: the current the rated torque
  * needs, the margin the period leaves, and the longest control period (ts_s) and the lowest trip
- * level (i_trip_a) that each, alone, would give the rated torque with the same derivation (dI is
- * proportional to ts_s; with current_limit_auto the margin is the n + 1 periods' dI of
- * dtc_ilim_default_a). Returns 0 otherwise (not an IM law, no current limit, or room enough).
- * The second machine (im_second_machine.toml) with SFVC at 160 us: 30 A trip, dI 6.46 A, 22.1 N*m
- * for 23.5 rated (10.9 A): ts_s <= 157.7 us (carrier 6342 Hz) or i_trip_a >= 30.3 A. */
+ * level (i_trip_a) that each, alone, would give the rated torque with the same derivation (dI and
+ * the law's excursion are proportional to ts_s; with current_limit_auto the margin is the n
+ * periods' dI of dtc_ilim_default_a and the excursion). Returns 0 otherwise (not an IM law, no
+ * current limit, or room enough).
+ * The second machine (im_second_machine.toml) with DFOC at 160 us: 30 A trip, dI 6.46 A, 22.3 N*m
+ * for 23.5 rated (11.01 A): ts_s <= 156.8 us (carrier 6378 Hz) or i_trip_a >= 30.45 A; with SFVC
+ * (excursion 1.31 A) room enough. */
 int dtc_im_torque_room_check(const dtc_config_si_t *si, char *msg, size_t msg_size);
 
 /* The PM indirect torque control's current-loop crossover w_c, rad/s (law_pm_itc_si.c): 60 deg of

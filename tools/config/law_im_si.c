@@ -89,9 +89,20 @@ double dtc_im_torque_at_current_nm(const dtc_config_si_t *si, double i_a)
     return 1.5 * (double)si->pole_pairs * m * m / lr * sqrt(id2) * sqrt(i_a * i_a - id2);
 }
 
+double dtc_im_hold_margin_a(const dtc_config_si_t *si)
+{
+    if (si->law == DTC_LAW_IM_SFVC) {
+        /* V_max T_s / (4 sigma L_s): the SVM laws' dI without its r_s I_trip term, a quarter */
+        dtc_config_si_t z = *si;
+        z.i_trip_a = 0.0;
+        return 0.25 * dtc_ilim_step_a(&z);
+    }
+    return dtc_ilim_step_a(si);
+}
+
 int dtc_im_torque_room_check(const dtc_config_si_t *si, char *msg, size_t msg_size)
 {
-    double ilim, di, t_i, lo = 0.0, hi, i_need, k, ts_max;
+    double ilim, di, h, t_i, lo = 0.0, hi, i_need, k, ts_max;
     int n;
     if (dtc_law_is_im((uint16_t)si->law) == 0U || !(si->rated_torque_nm > 0.0) || !(si->ts_s > 0.0)) {
         return 0;
@@ -101,8 +112,9 @@ int dtc_im_torque_room_check(const dtc_config_si_t *si, char *msg, size_t msg_si
         return 0;
     }
     di = dtc_ilim_step_a(si);
-    t_i = dtc_im_torque_at_current_nm(si, ilim - di);
-    if (!(t_i < si->rated_torque_nm) || !(di > 0.0)) {
+    h = dtc_im_hold_margin_a(si);
+    t_i = dtc_im_torque_at_current_nm(si, ilim - h);
+    if (!(t_i < si->rated_torque_nm) || !(di > 0.0) || !(h > 0.0)) {
         return 0;
     }
     /* the current the rated torque needs: the torque rises with the current (bisection) */
@@ -120,28 +132,32 @@ int dtc_im_torque_room_check(const dtc_config_si_t *si, char *msg, size_t msg_si
     }
     i_need = hi;
     if (si->current_limit_auto != 0) {
-        /* the margin between the trip and the current held, in periods' dI; dI = a + b i_trip (its
-         * r_s i_trip term) and proportional to ts_s */
+        /* the margin between the trip and the current held: k periods' dI (dtc_ilim_default_a) and
+         * the law's excursion h, both proportional to ts_s and of the form a + b i_trip (dI's
+         * r_s i_trip term) */
         dtc_config_si_t z = *si;
-        double di0, b, trip_min;
-        k = (si->i_trip_a - ilim + di) / di;
-        ts_max = si->i_trip_a > i_need ? si->ts_s * (si->i_trip_a - i_need) / (k * di) : 0.0;
+        double tot, tot0, b, trip_min;
+        k = (si->i_trip_a - ilim) / di;
+        tot = si->i_trip_a - ilim + h;
+        ts_max = si->i_trip_a > i_need ? si->ts_s * (si->i_trip_a - i_need) / tot : 0.0;
         z.i_trip_a = 0.0;
-        di0 = dtc_ilim_step_a(&z);
-        b = si->i_trip_a > 0.0 ? (di - di0) / si->i_trip_a : 0.0;
-        trip_min = 1.0 - k * b > 0.0 ? (i_need + k * di0) / (1.0 - k * b) : HUGE_VAL;
+        tot0 = k * dtc_ilim_step_a(&z) + dtc_im_hold_margin_a(&z);
+        b = si->i_trip_a > 0.0 ? (tot - tot0) / si->i_trip_a : 0.0;
+        trip_min = 1.0 - b > 0.0 ? (i_need + tot0) / (1.0 - b) : HUGE_VAL;
         snprintf(msg, msg_size,
                  "the torque the current allows, %.1f N*m, is below rated_torque_nm %.1f N*m: the rated torque "
                  "needs %.2f A, the limit holds %.2f A (i_trip_a %.1f A less %.2f periods' largest change dI = %.2f A "
-                 "at ts_s = %.4g s); ts_s <= %.4g s or i_trip_a >= %.2f A gives it",
-                 t_i, si->rated_torque_nm, i_need, ilim - di, si->i_trip_a, k, di, si->ts_s, ts_max, trip_min);
+                 "at ts_s = %.4g s and the law's excursion above the held current, %.2f A); ts_s <= %.4g s or "
+                 "i_trip_a >= %.2f A gives it",
+                 t_i, si->rated_torque_nm, i_need, ilim - h, si->i_trip_a, k, di, si->ts_s, h, ts_max, trip_min);
     } else {
-        ts_max = ilim > i_need ? si->ts_s * (ilim - i_need) / di : 0.0;
+        ts_max = ilim > i_need ? si->ts_s * (ilim - i_need) / h : 0.0;
         snprintf(msg, msg_size,
                  "the torque the current allows, %.1f N*m, is below rated_torque_nm %.1f N*m: the rated torque "
-                 "needs %.2f A, the limit holds %.2f A (current_limit_a %.1f A less the period's largest change "
-                 "dI = %.2f A at ts_s = %.4g s); ts_s <= %.4g s or current_limit_a >= %.2f A (below i_trip_a) gives it",
-                 t_i, si->rated_torque_nm, i_need, ilim - di, ilim, di, si->ts_s, ts_max, i_need + di);
+                 "needs %.2f A, the limit holds %.2f A (current_limit_a %.1f A less the law's excursion above the "
+                 "held current, %.2f A at ts_s = %.4g s); ts_s <= %.4g s or current_limit_a >= %.2f A (below "
+                 "i_trip_a) gives it",
+                 t_i, si->rated_torque_nm, i_need, ilim - h, ilim, h, si->ts_s, ts_max, i_need + h);
     }
     return 1;
 }
@@ -212,12 +228,13 @@ void dtc_si_im_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_ba
     cfg->u.im.part = DTC_PART_IM;
     {
         /* The current limit (the switching-table laws' vector override, firmware/dtc/ilim.h) and
-         * the torque the current allows: the steady-state torque at I_lim - dI, so that one
-         * period's ripple (dI, dtc_ilim_step_a) stays below the limit. The torque limit in force
+         * the torque the current allows: the steady-state torque at I_lim less the law's excursion
+         * above the held current (dtc_im_hold_margin_a: one period's change dI, or the SFVC's SVM
+         * ripple), so that the excursion stays below the limit. The torque limit in force
          * (references, speed PI) is the smaller of torque_limit_nm and that torque. */
         const double ilim = dtc_si_ilim_convert(c, si, b, cfg);
         if (ilim > 0.0) {
-            const double t_i = dtc_im_torque_at_current_nm(si, ilim - dtc_ilim_step_a(si));
+            const double t_i = dtc_im_torque_at_current_nm(si, ilim - dtc_im_hold_margin_a(si));
             if (!(t_i > 0.0)) {
                 /* the trip level leaves no room for the limit with a period this long: no limit,
                  * the trip is the only protection, as dtc_ilim_default_a does for the PM law */

@@ -214,7 +214,7 @@ struct ControlCfg {
     double observer_tau_hi_rpm = 0.0;    // |speed| from which observer_tau_high_s applies
     double magnetise_frac = PLANT_DEF_IM_MAGN_FRAC; // start-up: torque allowed at this rotor-flux fraction
     bool rr_tracking = false;            // IM, encoder: the tracked rotor resistance in use (im_sup.h)
-    bool current_model_ref = false;      // IM, encoder: eq. 20's reference from the current model at low speed
+    bool current_model_ref = true;       // IM, encoder: eq. 20's reference from the current model at low speed
     double table_speed_rpm = 0.0;        // speed-dependent table: ST-D below, ST-A above; 0 = derived
     // Stator-flux vector control (scheme sfvc, Casadei secs. 10.3-10.5).
     double carrier_hz = PLANT_DEF_IM_CARRIER_HZ; // SVM carrier; the control period ts_s = 1 / carrier_hz

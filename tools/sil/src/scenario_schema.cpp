@@ -324,9 +324,10 @@ const std::vector<Spec>& schema()
         boolean("control.current_model_ref",
                  "IM with the encoder and the improved estimator (not DSVM): below the speed at which Casadei eq. "
                  "20's slow pole w^2 tau / k_r passes 1/tau_r, the estimator's correction pulls towards the rotor "
-                 "flux of a current model on the encoder's speed (T model, Casadei eqs. A7, A9), blended out by "
-                 "4/tau_r (firmware/dtc/im_sup.h); the rotor-flux trim's ring at low speed gone and the voltage's "
-                 "errors kept out of the flux angle there; false: Casadei eq. 20's phi_r* e^{j theta} at every speed",
+                 "flux of a current model turned by the encoder's angle (T model, Casadei eqs. A7, A9), blended out "
+                 "by 4/tau_r (firmware/dtc/im_sup.h); the rotor-flux trim's ring at low speed gone and the voltage's "
+                 "errors kept out of the flux angle there (the torque target at 5 % speed needs it); false: Casadei "
+                 "eq. 20's phi_r* e^{j theta} at every speed, the paper's estimator (its figures)",
                  ACC(control.current_model_ref)),
         num("control.table_speed_rpm", "rpm", nonneg(),
             "IM speed-dependent table: ST-D below, ST-A above; DSC: ST-D's circle below, the hexagon above (a "
