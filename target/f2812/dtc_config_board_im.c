@@ -99,7 +99,7 @@ const dtc_config_t g_dtc_config = {
     .u.im.ref.magn_k_q31 = 841316, /* #247 0.000391768292 */
     .u.im.ref.enc_plaus_iq = 3489612, /* #248 0.207997084 = 65.3442 rad/s */
     .u.im.ref.rr_track = 0U, /* #249 */
-    .u.im.ref.cm_ref = 0U, /* #259 */
+    .u.im.ref.cm_ref = 1U, /* #259 */
     .u.im.svm_mode = 0U, /* #250 */
     .u.im.sfvc.kp_iq = 0, /* #251 0 = 0 pu */
     .u.im.dfoc.kp_iq = 0, /* #255 0 = 0 ohm */
