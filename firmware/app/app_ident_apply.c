@@ -445,11 +445,14 @@ static apply_fx_t im_torque_at(const dtc_config_t *in, const apply_im_t *q, appl
 
 /* The rows the converter designs from the machine and the settings it holds in u.im.design, again
  * on the identified machine (each only where the converter wrote what it needs, else the row in
- * force stays). pu of the configuration's bases; every quantity a chain of fx operations
- * (relative error < 2^-26 each, before the rows' rounding to nearest; a ceiling is off by one
- * only within that of an integer). The SI settings are kept: the torque limit as N.m (its pu
+ * force stays). pu of the configuration's bases; every quantity a chain of at most 16 fx
+ * operations (each within 2^-30 relative, the chain within 2^-26, before the row's rounding to
+ * nearest; a ceiling can differ by one only within that of an integer). The SI settings are kept: the torque limit as N.m (its pu
  * value times p_in / p, T_b being proportional to p), the speed limit as mechanical speed (the
- * electrical row times p / p_in), p_in the pole pairs of the configuration in force.
+ * electrical row times p / p_in), p_in the pole pairs of the configuration in force. Overflow:
+ * fx mantissas stay below 2^31 (products below 2^62, sums below 2^63) and the exponents within
+ * +-200 for rows of IQ range; a row beyond its format (fx_row's -1) or below its least value is
+ * refused with APP_IDENT_APPLY_IM (the configuration in force unchanged).
  *  - The current step dI over one period (the converter's dtc_ilim_step_a): on DTC and DSC
  *    T_s (V_max + min(w_max (M / L_r) phi_r*, V_max) + R_s i_trip) / sigma L_s, on SFVC, DFOC and
  *    DSVM T_s (V_max + R_s i_trip) / sigma L_s; V_max = 2/3 V_dc (SSTP) or V_dc / sqrt(3) (FSTP),

@@ -708,6 +708,20 @@ static void test_im_refusals(void **state)
     setup_im(DTC_LAW_IM_DTC, 0.53, 0, 2);
     g_d.res.im.rr_iq = 0;
     assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_IM);
+    /* a DFOC current PI with K_p = 2 zeta w_c sigma L_s - R_s not positive (zeta 0.01) */
+    setup_im(DTC_LAW_IM_DFOC, 0.53, 0, 2);
+    g_in.u.im.design.dfoc_zeta_iq = iq_of(0.01);
+    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_IM);
+    /* a configuration without the design rows (all 0) keeps the rows designed from them */
+    setup_im(DTC_LAW_IM_DFOC, 0.53, 0, 2);
+    memset(&g_in.u.im.design, 0, sizeof g_in.u.im.design);
+    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
+    assert_int_equal(g_out.prot.i_lim_iq, g_in.prot.i_lim_iq);
+    assert_int_equal(g_out.speed.torque_limit_iq, g_in.speed.torque_limit_iq);
+    assert_int_equal(g_out.u.im.ref.magn_periods, g_in.u.im.ref.magn_periods);
+    assert_int_equal(g_out.u.im.dfoc.kp_iq, g_in.u.im.dfoc.kp_iq);
+    assert_int_equal(g_out.u.im.dfoc.ki_ts_iq, g_in.u.im.dfoc.ki_ts_iq);
+    assert_int_equal(g_out.u.im.ref.enc_plaus_iq, g_in.u.im.ref.enc_plaus_iq);
     /* a magnetising current phi_r* / M at rated: M three times too small */
     setup_im(DTC_LAW_IM_DTC, 0.53, 0, 2);
     g_d.res.psi_iq /= 8;
