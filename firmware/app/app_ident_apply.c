@@ -456,21 +456,27 @@ static apply_fx_t im_torque_at(const dtc_config_t *in, const apply_im_t *q, appl
  *  - The current step dI over one period (the converter's dtc_ilim_step_a): on DTC and DSC
  *    T_s (V_max + min(w_max (M / L_r) phi_r*, V_max) + R_s i_trip) / sigma L_s, on SFVC, DFOC and
  *    DSVM T_s (V_max + R_s i_trip) / sigma L_s; V_max = 2/3 V_dc (SSTP) or V_dc / sqrt(3) (FSTP),
- *    V_dc the nominal link (design.vdc_iq). With design.ilim_n = n > 0 the current limit
+ *    V_dc the nominal link (design.vdc_iq). With n = design.derived's bits 0-1 > 0 the current limit
  *    prot.i_lim_iq = i_trip - n dI (dtc_ilim_default_a; 0 when not positive; below i_trip_iq).
  *  - The torque limit (dtc_si_im_convert): the smaller of design.torque_limit_iq and the torque at
  *    I_lim - dI (im_torque_at); a current limit that allows no torque is switched off (0), as the
  *    converter does; the torque reference clamped to the limit.
- *  - DSVM, design.band2_auto: the outer band 2 dT with dT = (3/2) p M / (sigma L_s L_r)
+ *  - DSVM, design.derived's bit 2: the outer band 2 dT with dT = (3/2) p M / (sigma L_s L_r)
  *    (2/3 V_dc) |phi_r*| T_s (Casadei eqs. 12, 15: a whole vector across the flux at standstill),
  *    at least the inner band.
  *  - The magnetisation's periods (design.magn_wait_iq = ln(1 / (1 - magn_frac)) > 0):
  *    ceil(phi_s,final / (rho T_s)) + ceil(tau_r ln(1 / (1 - magn_frac)) / T_s), rho T_s the ramp
  *    (1 - phi_r* / M) r_r T_s (derive_im), phi_s,final = phi_r* L_s / M on a rotor-flux reference,
  *    else phi_s*; tau_r / T_s = l_r / (r_r ts_pu) (the converter's start-up, Casadei eq. 20 at DC).
- *  - DFOC, design.dfoc_bw_iq = w_c > 0 (Casadei sec. 13; the converter's design): zeta = 0:
- *    K_p = sigma L_s w_c, K_i T_s = R_s w_c T_s; zeta > 0: K_p = 2 zeta w_c sigma L_s - R_s (> 0,
- *    else refused), K_i T_s = sigma L_s w_c^2 T_s.
+ *  - DFOC (Casadei sec. 13; the converter's design for the crossover w_c and damping zeta, which
+ *    the gains in force, K_p' and K_i' T_s on the machine in force, sigma L_s' and R_s', hold):
+ *    with zeta = 0 the converter makes K_p' = sigma L_s' w_c, K_i' T_s = R_s' w_c T_s, so
+ *    K_i' T_s = R_s' (K_p' / sigma L_s') T_s, which the gains in force meet within 1 LSB plus 1e-5;
+ *    then w_c = K_p' / sigma L_s' and K_p = sigma L_s w_c, K_i T_s = R_s w_c T_s. Otherwise they are
+ *    zeta > 0's K_p' = 2 zeta w_c sigma L_s' - R_s', K_i' T_s = sigma L_s' w_c^2 T_s, and with the same
+ *    w_c and zeta K_p = (K_p' + R_s') sigma L_s / sigma L_s' - R_s (> 0, else refused),
+ *    K_i T_s = K_i' T_s sigma L_s / sigma L_s'. Gains set by hand since are taken for such a
+ *    design. Nothing is written while K_p' = 0.
  *  - The encoder plausibility (u.im.ref.enc_plaus_iq > 0 in force, J identified; kt_iq the spin's
  *    torque constant): 1.5 w_slip + (p T_lim / J) T_s speed_div, w_slip = r_r T_lim / phi_r*^2
  *    (Casadei eq. 16), with the flux weakening (Casadei sec. 12) the larger of that and
@@ -481,6 +487,7 @@ static int16_t derive_im_design(const app_ident_t *d, const dtc_config_t *in, dt
 {
     const dtc_im_design_cfg_t *g = &in->u.im.design;
     const uint16_t p = out->machine.pole_pairs, p_in = in->machine.pole_pairs;
+    const uint16_t ilim_n = (uint16_t)(g->derived & DTC_IM_DESIGN_ILIM_N);
     const uint16_t modulated = in->law == (uint16_t)DTC_LAW_IM_SFVC || in->law == (uint16_t)DTC_LAW_IM_DFOC ||
                                in->law == (uint16_t)DTC_LAW_IM_DSVM ? 1U : 0U;
     apply_fx_t vdc = fx_iq(g->vdc_iq);
@@ -498,8 +505,8 @@ static int16_t derive_im_design(const app_ident_t *d, const dtc_config_t *in, dt
             num = fx_addsub(num, fx_lt(e, vmax) != 0U ? e : vmax, 0U);
         }
         di = fx_div(fx_mul(q->ts, num), q->sls);
-        if (g->ilim_n > 0U) {
-            ilim = fx_addsub(itrip, fx_mul(fx_of(g->ilim_n, 0), di), 1U);
+        if (ilim_n > 0U) {
+            ilim = fx_addsub(itrip, fx_mul(fx_of(ilim_n, 0), di), 1U);
             row = fx_row(ilim, 24);
             if (row < 0) {
                 return (int16_t)APP_IDENT_APPLY_IM;
@@ -525,7 +532,7 @@ static int16_t derive_im_design(const app_ident_t *d, const dtc_config_t *in, dt
         out->speed.torque_ref_iq = fix_clamp32(out->speed.torque_ref_iq, -out->speed.torque_limit_iq,
                                                out->speed.torque_limit_iq);
     }
-    if (in->law == (uint16_t)DTC_LAW_IM_DSVM && g->band2_auto != 0U && g->vdc_iq > 0) {
+    if (in->law == (uint16_t)DTC_LAW_IM_DSVM && (g->derived & DTC_IM_DESIGN_BAND2) != 0U && g->vdc_iq > 0) {
         /* Casadei eqs. 12, 15: dT = M (2/3 V_dc) phi_r* T_s / (sigma L_s L_r), L_r = L_s */
         const apply_fx_t dt = fx_div(fx_mul(fx_mul(q->m, fx_div(fx_mul(vdc, fx_of(2U, 0)), fx_of(3U, 0))),
                                             fx_mul(q->psir, q->ts)),
@@ -548,15 +555,21 @@ static int16_t derive_im_design(const app_ident_t *d, const dtc_config_t *in, dt
         }
         out->u.im.ref.magn_periods = (uint16_t)(n1 + n2);
     }
-    if (in->law == (uint16_t)DTC_LAW_IM_DFOC && g->dfoc_bw_iq > 0) {
-        const apply_fx_t wc = fx_iq(g->dfoc_bw_iq);
+    if (in->law == (uint16_t)DTC_LAW_IM_DFOC && in->u.im.dfoc.kp_iq > 0 && in->machine.rs_iq > 0) {
+        const apply_fx_t kp_in = fx_iq(in->u.im.dfoc.kp_iq), sls_in = fx_iq(in->u.im.machine.sigma_ls_iq);
+        const apply_fx_t rs_in = fx_iq(in->machine.rs_iq), ki_in = fx_iq(in->u.im.dfoc.ki_ts_iq);
+        const apply_fx_t wc = fx_div(kp_in, sls_in);
+        const apply_fx_t ki0 = fx_mul(fx_mul(rs_in, wc), q->ts); /* K_i' T_s of the zeta = 0 design */
+        const apply_fx_t dev = fx_lt(ki0, ki_in) != 0U ? fx_addsub(ki_in, ki0, 1U) : fx_addsub(ki0, ki_in, 1U);
+        const apply_fx_t tol = fx_addsub(fx_iq(1), fx_div(ki_in, fx_of(100000U, 0)), 0U);
         int64_t kp, ki;
-        if (g->dfoc_zeta_iq > 0) {
-            kp = fx_row(fx_addsub(fx_mul(fx_mul(fx_iq(g->dfoc_zeta_iq), fx_of(2U, 0)), fx_mul(wc, q->sls)), q->rs, 1U), 24);
-            ki = fx_row(fx_mul(fx_mul(q->sls, fx_mul(wc, wc)), q->ts), 24);
-        } else {
+        if (fx_lt(tol, dev) == 0U) {
             kp = fx_row(fx_mul(q->sls, wc), 24);
             ki = fx_row(fx_mul(fx_mul(q->rs, wc), q->ts), 24);
+        } else {
+            const apply_fx_t k = fx_div(q->sls, sls_in);
+            kp = fx_row(fx_addsub(fx_mul(fx_addsub(kp_in, rs_in, 0U), k), q->rs, 1U), 24);
+            ki = fx_row(fx_mul(ki_in, k), 24);
         }
         if (kp < 1 || ki < 0) {
             return (int16_t)APP_IDENT_APPLY_IM;

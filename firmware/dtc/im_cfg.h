@@ -115,15 +115,17 @@ typedef struct {
     iq_t torque_limit_iq;    /* the configured torque limit (torque_limit_nm) before the current
                               * limit's clamp (speed.torque_limit_iq is the smaller of the two), pu
                               * of the torque base of machine.pole_pairs; 0 = not held */
-    uint16_t ilim_n;         /* the current limit derived as i_trip - n dI (dtc_ilim_default_a):
-                              * n = 1 (delay_comp) or 2; 0 = the limit given (or off) */
-    uint16_t band2_auto;     /* DSVM: 1 = the outer band derived (Casadei eqs. 12, 15), 0 = given */
     iq_t magn_wait_iq;       /* ln(1 / (1 - magn_frac)): the start-up's wait after the flux ramp,
-                              * in rotor time constants (> 0 on an IM law's configuration) */
-    iq_t dfoc_bw_iq;         /* DFOC: the current loop's crossover w_c, pu of w_b; 0 = other laws */
-    iq_t dfoc_zeta_iq;       /* DFOC: 0 = the PI's zero on the stator pole (K_p = sigma L_s w_c,
-                              * K_i = R_s w_c), > 0 = the damping of its two poles at w_c */
+                              * in rotor time constants; 0 = not held */
+    uint16_t derived;        /* bits 0-1: n of the current limit derived as i_trip - n dI
+                              * (dtc_ilim_default_a: 1 with delay_comp, else 2; 0 = the limit
+                              * given or off); bit 2: the DSVM outer band derived (Casadei eqs.
+                              * 12, 15), not given */
 } dtc_im_design_cfg_t;
+
+/* u.im.design.derived's bits */
+#define DTC_IM_DESIGN_ILIM_N 3U
+#define DTC_IM_DESIGN_BAND2 4U
 
 typedef struct {
     uint16_t part;               /* DTC_PART_IM */
@@ -220,15 +222,9 @@ typedef struct {
       "the nominal DC link the current step and the DSVM band are designed on; 0 = not designed")            \
     X(262, u.im.design.torque_limit_iq, IQ, T, 0, DTC_I32_MAX, DTC_ERR_PI, DTC_PARAM_RO,                       \
       "the configured torque limit before the current limit's clamp; 0 = not held")                          \
-    X(263, u.im.design.ilim_n, U16, NONE, 0, 2, DTC_ERR_ILIM, DTC_PARAM_RO,                                    \
-      "current limit derived as the trip less n periods' current step: n (1, 2); 0 = given")                 \
-    X(264, u.im.design.band2_auto, U16, NONE, 0, 1, DTC_ERR_BAND, DTC_PARAM_RO,                                \
-      "1: the DSVM outer band derived from the machine (Casadei eqs. 12, 15)")                                \
-    X(265, u.im.design.magn_wait_iq, IQ, RATIO, 0, DTC_I32_MAX, DTC_ERR_STARTUP, DTC_PARAM_RO,                 \
+    X(263, u.im.design.magn_wait_iq, IQ, RATIO, 0, DTC_I32_MAX, DTC_ERR_STARTUP, DTC_PARAM_RO,                 \
       "start-up: the wait after the flux ramp in rotor time constants, ln(1 / (1 - magn_frac))")             \
-    X(266, u.im.design.dfoc_bw_iq, IQ, W, 0, DTC_I32_MAX, DTC_ERR_SVM, DTC_PARAM_RO,                           \
-      "DFOC current loop's design crossover w_c; 0 = not designed")                                          \
-    X(267, u.im.design.dfoc_zeta_iq, IQ, RATIO, 0, 167772160, DTC_ERR_SVM, DTC_PARAM_RO,                       \
-      "DFOC current PI's damping (0 = its zero on the stator pole)")
+    X(264, u.im.design.derived, U16, NONE, 0, 6, DTC_ERR_ILIM, DTC_PARAM_RO,                                   \
+      "bits 0-1: n of the current limit derived as the trip less n current steps (0 = given); bit 2: the DSVM outer band derived")
 
 #endif /* IM_CFG_H */

@@ -446,7 +446,7 @@ static void check_im_design_rows(double ls_lsb, double sls_lsb, double lm_lsb)
     double di, ilim, t_lim = t_d, c;
     /* the design the converter holds */
     assert_true(g->vdc_iq > 0 && g->torque_limit_iq > 0 && g->magn_wait_iq > 0);
-    assert_int_equal(g->ilim_n, 2U);
+    assert_int_equal(g->derived & DTC_IM_DESIGN_ILIM_N, 2U);
     /* the current step and the current limit (dtc_ilim_step_a, dtc_ilim_default_a) */
     di = vmax + rs * itrip;
     if (!modulated) {
@@ -494,22 +494,28 @@ static void check_im_design_rows(double ls_lsb, double sls_lsb, double lm_lsb)
     if (g_in.law == DTC_LAW_IM_DSVM) {
         const double dt = m * (2.0 / 3.0 * vdc) * psir * ts / (sls * ls);
         const double b2 = fmax(2.0 * dt, (double)g_in.u.im.sw.torque_band_iq / IQ1);
-        assert_int_equal(g->band2_auto, 1U);
+        assert_int_equal(g->derived & DTC_IM_DESIGN_BAND2, DTC_IM_DESIGN_BAND2);
         near_lsb("dsvm.torque_band2_iq", (double)o->dsvm.torque_band2_iq, IQ1 * b2, 0.5 + 1e-7 * IQ1 * b2);
         near_conv("dsvm.torque_band2_iq", (double)o->dsvm.torque_band2_iq, (double)r->dsvm.torque_band2_iq, 5e-6);
         assert_true(g_in.u.im.dsvm.torque_band2_iq != r->dsvm.torque_band2_iq);
     }
     if (g_in.law == DTC_LAW_IM_DFOC) {
-        const double wc = (double)g->dfoc_bw_iq / IQ1, zeta = (double)g->dfoc_zeta_iq / IQ1;
-        const double kp = zeta > 0.0 ? 2.0 * zeta * wc * sls - rs : sls * wc;
-        const double ki = zeta > 0.0 ? sls * wc * wc * ts : rs * wc * ts;
+        /* the design the gains in force hold: w_c = K_p' / sigma L_s' (zeta = 0), or with zeta > 0
+         * the same w_c and zeta: K_p = (K_p' + R_s') sigma L_s / sigma L_s' - R_s,
+         * K_i T_s = K_i' T_s sigma L_s / sigma L_s' */
+        const double kp_in = (double)g_in.u.im.dfoc.kp_iq / IQ1, ki_in = (double)g_in.u.im.dfoc.ki_ts_iq / IQ1;
+        const double sls_in = (double)g_in.u.im.machine.sigma_ls_iq / IQ1, rs_in = (double)g_in.machine.rs_iq / IQ1;
+        const double wc = kp_in / sls_in;
+        const double kp = g_dfoc_zeta > 0.0 ? (kp_in + rs_in) * sls / sls_in - rs : sls * wc;
+        const double ki = g_dfoc_zeta > 0.0 ? ki_in * sls / sls_in : rs * wc * ts;
         near_lsb("dfoc.kp_iq", (double)o->dfoc.kp_iq, IQ1 * kp, 0.5 + 1e-7 * IQ1 * kp);
         near_lsb("dfoc.ki_ts_iq", (double)o->dfoc.ki_ts_iq, IQ1 * ki, 0.5 + 1e-7 * IQ1 * ki);
+        /* against the converter: the gains in force carry their own rounding (K_i' T_s of about 1e5
+         * LSB: 5e-6 in the zeta > 0 form), R_s its quantisation (2 LSB), and the rows theirs */
         near_conv("dfoc.kp_iq", (double)o->dfoc.kp_iq, (double)r->dfoc.kp_iq, 5e-6);
-        /* K_i T_s = R_s w_c T_s: R_s's own quantisation besides (the slope and R_on, 2 LSB), and the
-         * two rows' rounding (1 LSB of a row of about 1e5) */
         near_conv("dfoc.ki_ts_iq", (double)o->dfoc.ki_ts_iq, (double)r->dfoc.ki_ts_iq,
-                  5e-6 + (zeta > 0.0 ? 0.0 : 2.0 / (double)g_ref.machine.rs_iq) + 1.0 / (double)r->dfoc.ki_ts_iq);
+                  5e-6 + 2.0 / (double)g_ref.machine.rs_iq + 1.0 / (double)r->dfoc.ki_ts_iq +
+                      0.5 / (double)g_in.u.im.dfoc.ki_ts_iq);
         assert_true(g_in.u.im.dfoc.kp_iq != r->dfoc.kp_iq);
     }
     /* the encoder plausibility: 1.5 w_slip + T_lim ts speed_div / Jn, Jn the identified J in pu */
@@ -708,9 +714,11 @@ static void test_im_refusals(void **state)
     setup_im(DTC_LAW_IM_DTC, 0.53, 0, 2);
     g_d.res.im.rr_iq = 0;
     assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_IM);
-    /* a DFOC current PI with K_p = 2 zeta w_c sigma L_s - R_s not positive (zeta 0.01) */
+    /* a DFOC current PI whose gains in force give K_p = (K_p' + R_s') sigma L_s / sigma L_s' - R_s
+     * not positive (K_p' and R_s' 1 LSB: not the zeta = 0 design, K_i' T_s far above R_s' w_c T_s) */
     setup_im(DTC_LAW_IM_DFOC, 0.53, 0, 2);
-    g_in.u.im.design.dfoc_zeta_iq = iq_of(0.01);
+    g_in.u.im.dfoc.kp_iq = 1;
+    g_in.machine.rs_iq = 1;
     assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_IM);
     /* a configuration without the design rows (all 0) keeps the rows designed from them */
     setup_im(DTC_LAW_IM_DFOC, 0.53, 0, 2);
@@ -719,8 +727,6 @@ static void test_im_refusals(void **state)
     assert_int_equal(g_out.prot.i_lim_iq, g_in.prot.i_lim_iq);
     assert_int_equal(g_out.speed.torque_limit_iq, g_in.speed.torque_limit_iq);
     assert_int_equal(g_out.u.im.ref.magn_periods, g_in.u.im.ref.magn_periods);
-    assert_int_equal(g_out.u.im.dfoc.kp_iq, g_in.u.im.dfoc.kp_iq);
-    assert_int_equal(g_out.u.im.dfoc.ki_ts_iq, g_in.u.im.dfoc.ki_ts_iq);
     assert_int_equal(g_out.u.im.ref.enc_plaus_iq, g_in.u.im.ref.enc_plaus_iq);
     /* a magnetising current phi_r* / M at rated: M three times too small */
     setup_im(DTC_LAW_IM_DTC, 0.53, 0, 2);

@@ -230,8 +230,8 @@ void dtc_si_im_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_ba
      * (firmware app_ident_apply.c designs them again on the identified machine) */
     cfg->u.im.design.vdc_iq = dtc_si_to_iq(c, "vdc_v", si->vdc_v, si->vdc_v / b->v_base_v);
     cfg->u.im.design.torque_limit_iq = dtc_si_to_iq(c, "torque_limit_nm", si->torque_limit_nm, si->torque_limit_nm / b->t_base_nm);
-    cfg->u.im.design.ilim_n = (uint16_t)(si->current_limit_auto == 0 ? 0 : si->delay_comp != 0 ? 1 : 2);
-    cfg->u.im.design.band2_auto = (uint16_t)(si->law == DTC_LAW_IM_DSVM && si->dsvm_torque_band2_nm == 0.0 ? 1 : 0);
+    cfg->u.im.design.derived = (uint16_t)((si->current_limit_auto == 0 ? 0U : si->delay_comp != 0 ? 1U : 2U) |
+                                          (si->law == DTC_LAW_IM_DSVM && si->dsvm_torque_band2_nm == 0.0 ? DTC_IM_DESIGN_BAND2 : 0U));
     cfg->u.im.design.magn_wait_iq = si->magn_frac > 0.0 && si->magn_frac < 1.0
         ? dtc_si_to_iq(c, "magn_frac", si->magn_frac, log(1.0 / (1.0 - si->magn_frac))) : 0;
     {
@@ -312,8 +312,6 @@ void dtc_si_im_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_ba
         const double sls = sigma * ls;
         const double kp_ohm = si->dfoc_zeta > 0.0 ? 2.0 * si->dfoc_zeta * wc * sls - si->rs_ohm : sls * wc;
         const double ki_ohm_per_s = sls * wc * wc;
-        cfg->u.im.design.dfoc_bw_iq = dtc_si_to_iq(c, "dfoc_bw_hz", wc / (2.0 * M_PI), wc / b->w_base_rad_s);
-        cfg->u.im.design.dfoc_zeta_iq = dtc_si_to_iq(c, "dfoc_zeta", si->dfoc_zeta, si->dfoc_zeta);
         if (!(si->dfoc_bw_hz >= 0.0 && si->dfoc_bw_hz * 6.0 * si->ts_s < 1.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "dfoc_bw_hz", "dfoc_bw_hz = %g: must be 0 (derived) or below 1/(6 ts_s) = %g Hz, where the loop's 1.5 ts_s delay leaves no phase margin", si->dfoc_bw_hz, 1.0 / (6.0 * si->ts_s)); return; }
         if (!(si->dfoc_zeta >= 0.0 && si->dfoc_zeta <= 10.0 && kp_ohm > 0.0)) { dtc_si_fail(c, DTC_SI_ERR_IM, "dfoc_zeta", "dfoc_zeta = %g: must be 0 (the zero on the stator pole) or in (0, 10] with K_p = 2 zeta w_c sigma L_s - R_s > 0 (here %g ohm)", si->dfoc_zeta, kp_ohm); return; }
         if (si->dfoc_zeta > 0.0) {
