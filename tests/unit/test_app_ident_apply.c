@@ -309,6 +309,7 @@ static void near_conv(const char *row, double got, double want, double tol)
 enum { IM_4KW = 0, IM_SECOND = 1, IM_4KW_PLUS30 = 2, IM_4KW_MINUS30 = 3 };
 static int g_machine = IM_4KW;
 static double g_dfoc_zeta; /* the DFOC current PI's damping (0: its zero on the stator pole) */
+static int g_fw;           /* 1: Casadei sec. 12's flux weakening (DTC) */
 
 /* tools/scenarios/im_second_machine.toml's motor, inverter, sensors, protection and control keys
  * (the rest the IM defaults, as the scenario leaves them): its bases as the defaults take them,
@@ -364,6 +365,7 @@ static void setup_im(int law, double psir_ref_wb, int rev, int p)
     im_machine(&g_si);
     g_si.law = law;
     g_si.dfoc_zeta = g_dfoc_zeta;
+    g_si.flux_weakening = g_fw;
     g_si.psir_ref_wb = psir_ref_wb;
     g_si.enc_reversed = rev;
     g_si.pole_pairs = p;
@@ -651,6 +653,11 @@ static void test_im_second_machine(void **state)
     g_machine = IM_SECOND;
     setup_im(DTC_LAW_IM_DTC, 0.0, 0, 2);
     check_im_rows();
+    g_fw = 1; /* the encoder plausibility's slip over the flux weakening's range */
+    setup_im(DTC_LAW_IM_DTC, 0.0, 0, 2);
+    assert_int_equal(g_in.u.im.fw.on, 1U);
+    check_im_rows();
+    g_fw = 0;
     setup_im(DTC_LAW_IM_DFOC, 0.90, 1, 2);
     check_im_rows();
     g_dfoc_zeta = 0.7; /* the PI's two poles at w_c: K_p = 2 zeta w_c sigma L_s - R_s, K_i = sigma L_s w_c^2 */
