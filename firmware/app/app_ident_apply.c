@@ -459,7 +459,7 @@ static apply_fx_t im_torque_at(const dtc_config_t *in, const apply_im_t *q, appl
  *    V_dc the nominal link (design.vdc_iq). With n = design.derived's bits 0-1 > 0 the current limit
  *    prot.i_lim_iq = i_trip - n dI (dtc_ilim_default_a; 0 when not positive; below i_trip_iq).
  *  - The torque limit (dtc_si_im_convert): the smaller of design.torque_limit_iq and the torque at
- *    I_lim - dI (im_torque_at); a current limit that allows no torque is switched off (0), as the
+ *    I_lim - h (im_torque_at), h = dI, on SFVC V_max T_s / (4 sigma L_s) (dtc_im_hold_margin_a); a current limit that allows no torque is switched off (0), as the
  *    converter does; the torque reference clamped to the limit.
  *  - DSVM, design.derived's bit 2: the outer band 2 dT with dT = (3/2) p M / (sigma L_s L_r)
  *    (2/3 V_dc) |phi_r*| T_s (Casadei eqs. 12, 15: a whole vector across the flux at standstill),
@@ -516,8 +516,12 @@ static int16_t derive_im_design(const app_ident_t *d, const dtc_config_t *in, dt
             ilim = fx_iq(in->prot.i_lim_iq);
         }
         if (ilim.m != 0U) {
+            /* the excursion above the held current (the converter's dtc_im_hold_margin_a): dI, or
+             * on SFVC its SVM ripple V_max T_s / (4 sigma L_s) */
+            const apply_fx_t h = in->law == (uint16_t)DTC_LAW_IM_SFVC
+                                     ? fx_div(fx_mul(q->ts, vmax), fx_mul(q->sls, fx_of(4U, 0))) : di;
             uint16_t any;
-            const apply_fx_t t_i = im_torque_at(in, q, fx_addsub(ilim, di, 1U), &any);
+            const apply_fx_t t_i = im_torque_at(in, q, fx_addsub(ilim, h, 1U), &any);
             if (any == 0U && t_i.m == 0U) {
                 out->prot.i_lim_iq = 0; /* no torque below the limit: the trip alone protects */
             } else if (any == 0U && fx_lt(t_i, t_lim) != 0U) {

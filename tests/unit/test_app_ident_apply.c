@@ -458,7 +458,9 @@ static void check_im_design_rows(double ls_lsb, double sls_lsb, double lm_lsb)
     di *= ts / sls;
     ilim = fmax(itrip - 2.0 * di, 0.0);
     {
-        const double t_i = im_torque_at(ilim - di, ls, sls, lm, m, psir);
+        /* the excursion above the held current: dI, on SFVC V_max T_s / (4 sigma L_s) */
+        const double h = g_in.law == DTC_LAW_IM_SFVC ? vmax * ts / (4.0 * sls) : di;
+        const double t_i = im_torque_at(ilim - h, ls, sls, lm, m, psir);
         double want_ilim = fmin(IQ1 * ilim, (double)g_in.prot.i_trip_iq - 1.0);
         if (ilim > 0.0 && !(t_i > 0.0)) {
             want_ilim = 0.0;
@@ -664,6 +666,8 @@ static void test_im_second_machine(void **state)
     setup_im(DTC_LAW_IM_DFOC, 0.90, 0, 2);
     check_im_rows();
     g_dfoc_zeta = 0.0;
+    setup_im(DTC_LAW_IM_SFVC, 0.90, 0, 2);
+    check_im_rows();
     setup_im(DTC_LAW_IM_DSVM, 0.90, 0, 2);
     check_im_rows();
     g_machine = IM_4KW;
