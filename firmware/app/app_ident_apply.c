@@ -62,11 +62,10 @@
  *                              identification's current base; refused unless I_m < I_n).
  *   u.im.dfoc.id_ref_iq      = phi_r* / M, u.im.dfoc.iq_per_t_iq = sqrt(ls / (lm phi_r*^2))
  *                              (l_r / (m phi_r*)): the DFOC law only.
- *   Not written: u.im.ref.magn_periods (its wait, tau_r ln(1 / (1 - magn_frac)), needs magn_frac,
- *   which the image does not hold), u.im.ref.enc_plaus_iq (from the converter's torque limit, the
- *   slip and J, with the flux weakening's range), the DFOC
- *   current PI's gains (from a bandwidth the image does not hold), the derived DSVM outer band,
- *   the current limit and the torque limit it allows (the converter's dtc_ilim_step_a).
+ *   Then the rows the converter designs from the settings it holds in u.im.design (derive_im_design):
+ *   the current limit prot.i_lim_iq and the torque limit speed.torque_limit_iq it allows,
+ *   u.im.ref.magn_periods, u.im.dsvm.torque_band2_iq, u.im.dfoc.kp_iq and ki_ts_iq, and
+ *   u.im.ref.enc_plaus_iq (from the identified J).
  * On both machines, from the identified J, when the configuration holds the speed loop's design
  * bandwidth (speed.speed_bw_iq > 0): speed.kp_iq, speed.ki_ts_iq and prot.enc_freeze_speed_iq as
  * the host converter designs them (derive_speed).
@@ -148,8 +147,8 @@ static int16_t derive_common(const app_ident_t *d, const dtc_config_t *in, dtc_c
     return (int16_t)APP_IDENT_APPLY_OK;
 }
 
-/* A product chain in floating form, m 2^e with m < 2^31 after fx_of (each step's rounding costs
- * at most 2^-31 of the value; background). */
+/* A product chain in floating form, m 2^e with 2^30 <= m < 2^31 after fx_of (m = 0 for zero;
+ * each step's rounding costs at most 2^-30 of the value; background). */
 typedef struct {
     uint64_t m;
     int16_t e;
@@ -159,6 +158,10 @@ static apply_fx_t fx_of(uint64_t m, int16_t e)
 {
     apply_fx_t r;
     uint16_t k = 0U;
+    while (m != 0U && m < ((uint64_t)1 << 30)) {
+        m <<= 1;
+        e--;
+    }
     while ((m >> k) >= ((uint64_t)1 << 31)) {
         k++;
     }
@@ -183,6 +186,12 @@ static apply_fx_t fx_mul(apply_fx_t a, apply_fx_t b)
 static apply_fx_t fx_div(apply_fx_t a, apply_fx_t b)
 {
     return fx_of((uint64_t)div_shl((int64_t)a.m, 31U, (int64_t)b.m), (int16_t)(a.e - b.e - 31));
+}
+
+/* An IQ value (>= 0) in fx form: exact. */
+static apply_fx_t fx_iq(int64_t x)
+{
+    return fx_of((uint64_t)x, -24);
 }
 
 /* round(a 2^frac) as an int32 row; -1 beyond 2^31 - 1 (the caller refuses) */
@@ -218,6 +227,15 @@ static int64_t fx_row(apply_fx_t a, int16_t frac)
  *       Jn_old bw = kp_old and T_b proportional to the pole pairs (a kp changed by hand since
  *       scales it likewise);
  * each a chain of fx products (relative error < 2^-28), rounded to nearest at the end. */
+/* Jn = (j_q12 / 2^12) kt counts ts_pu^2 / (2 pi p) (derive_speed's comment), kt_iq > 0 */
+static apply_fx_t jn_of(const app_ident_t *d, const dtc_config_t *in, const dtc_config_t *out, iq_t kt_iq)
+{
+    const apply_fx_t ts = fx_iq(in->board.ts_pu_iq);
+    apply_fx_t jn = fx_mul(fx_of((uint64_t)d->res.j_q12, -12), fx_iq(kt_iq));
+    jn = fx_mul(fx_mul(jn, fx_of((uint64_t)in->board.enc_counts, 0)), fx_mul(ts, ts));
+    return fx_div(jn, fx_of((uint64_t)ID_IQ_2PI * out->machine.pole_pairs, -24));
+}
+
 static int16_t derive_speed(const app_ident_t *d, const dtc_config_t *in, dtc_config_t *out, iq_t kt_iq)
 {
     apply_fx_t jn, bw, ts, x;
@@ -229,11 +247,9 @@ static int16_t derive_speed(const app_ident_t *d, const dtc_config_t *in, dtc_co
     if (kt_iq <= 0) {
         return (int16_t)APP_IDENT_APPLY_J;
     }
-    ts = fx_of((uint64_t)in->board.ts_pu_iq, -24);
-    bw = fx_of((uint64_t)in->speed.speed_bw_iq, -24);
-    jn = fx_mul(fx_of((uint64_t)d->res.j_q12, -12), fx_of((uint64_t)kt_iq, -24));
-    jn = fx_mul(fx_mul(jn, fx_of((uint64_t)in->board.enc_counts, 0)), fx_mul(ts, ts));
-    jn = fx_div(jn, fx_of((uint64_t)ID_IQ_2PI * p, -24));
+    ts = fx_iq(in->board.ts_pu_iq);
+    bw = fx_iq(in->speed.speed_bw_iq);
+    jn = jn_of(d, in, out, kt_iq);
     kp = fx_row(fx_mul(jn, bw), 24);
     ki = fx_row(fx_mul(fx_mul(fx_mul(jn, bw), fx_mul(bw, ts)), fx_of((uint64_t)in->speed.speed_div, 0)), 22);
     if (kp < 1 || ki < 0) {
@@ -306,12 +322,11 @@ static int64_t div_shl_round(int64_t num, uint16_t sh, int64_t den)
     return q < 0 ? -1 : (q + 1) >> 1;
 }
 
-/* round(sqrt(x)) for 0 <= x < 2^62: fix_isqrt64's floor r, rounded up when x - r^2 > r (x at or
- * above (r + 1/2)^2 for an integer x; background) */
+/* round(sqrt(x)) for 0 <= x < 2^62 (fix_isqrt_rnd; below 2^31; background) */
 static int64_t isqrt_round(int64_t x)
 {
-    const uint64_t r = fix_isqrt64((uint64_t)x);
-    return (int64_t)((uint64_t)x - r * r > r ? r + 1U : r);
+    uint32_t fl;
+    return (int64_t)fix_isqrt_rnd((uint64_t)x, &fl);
 }
 
 /* ls / (lm x^2) in 2^sh units for IQ inputs, floor within one unit: floor(ls 2^(sh1) / (lm x))
@@ -323,11 +338,277 @@ static int64_t ls_over_lm_x2(int64_t ls, int64_t lm, int64_t x, uint16_t sh)
     return a < 0 ? -1 : div_shl(a, 16U, x);
 }
 
+/* a.m 2^31 on the exponent e >= a.e, rounded to nearest (< 2^62; 0 below half a unit) */
+static uint64_t fx_align(apply_fx_t a, int16_t e)
+{
+    const int16_t sh = (int16_t)(e - a.e);
+    if (sh > 62) {
+        return 0U;
+    }
+    if (sh == 0) {
+        return a.m << 31;
+    }
+    return ((a.m << 31) + ((uint64_t)1 << (uint16_t)(sh - 1))) >> (uint16_t)sh;
+}
+
+/* a + b (sub = 0), or a - b (sub = 1; 0 when a <= b), of two values >= 0: both on the larger
+ * exponent with 31 more bits (each < 2^62, the sum < 2^63), the smaller rounded there (2^-61 of
+ * the larger), then fx_of's rounding. */
+static apply_fx_t fx_addsub(apply_fx_t a, apply_fx_t b, uint16_t sub)
+{
+    int16_t e;
+    uint64_t ma, mb;
+    if (b.m == 0U) {
+        return a;
+    }
+    if (a.m == 0U) {
+        return sub != 0U ? a : b;
+    }
+    e = a.e > b.e ? a.e : b.e;
+    ma = fx_align(a, e);
+    mb = fx_align(b, e);
+    return fx_of(sub != 0U ? (ma > mb ? ma - mb : 0U) : ma + mb, (int16_t)(e - 31));
+}
+
+/* 1 when a < b (both >= 0) */
+static uint16_t fx_lt(apply_fx_t a, apply_fx_t b)
+{
+    return fx_addsub(b, a, 1U).m != 0U ? 1U : 0U;
+}
+
+/* sqrt(a) for a >= 0: the mantissa on an even exponent in [2^60, 2^62), its root rounded to
+ * nearest (fix_isqrt_rnd: 2^30..2^31, half a unit, 2^-31 of the value) */
+static apply_fx_t fx_sqrt(apply_fx_t a)
+{
+    uint32_t fl;
+    uint64_t m = a.m;
+    int16_t e = a.e;
+    if (m == 0U) {
+        return a;
+    }
+    if ((e & 1) != 0) {
+        m <<= 1;
+        e--;
+    }
+    m <<= 30;
+    e = (int16_t)(e - 30);
+    return fx_of(fix_isqrt_rnd(m, &fl), (int16_t)(e / 2));
+}
+
+/* ceil(a) for a >= 0 (below 2^31; -1 beyond it) */
+static int64_t fx_ceil(apply_fx_t a)
+{
+    if (a.e >= 0) {
+        return a.e > 31 || (a.m << (uint16_t)a.e) > (uint64_t)0x7FFFFFFF ? -1 : (int64_t)(a.m << (uint16_t)a.e);
+    }
+    if (a.e < -40) {
+        return a.m != 0U ? 1 : 0;
+    }
+    return (int64_t)((a.m + ((uint64_t)1 << (uint16_t)(-a.e)) - 1U) >> (uint16_t)(-a.e));
+}
+
+/* The identified machine for derive_im_design, fx (pu; L_r = L_s, the equal leakage split) */
+typedef struct {
+    apply_fx_t ls, sls, lm, m, rs, rr, ts;
+    apply_fx_t psir;   /* the rotor-flux reference phi_r*: the configured, or (M / L_s) phi_s* */
+    apply_fx_t t_lim;  /* the configured torque limit, pu of the identified pole pairs' T_b */
+} apply_im_t;
+
+/* The steady-state torque at the stator current i (pu; the converter's
+ * dtc_im_torque_at_current_nm, law_im_si.c, with L_r = L_s): T = (3/2) p (M^2 / L_r) i_d i_q
+ * (Casadei eq. 16's torque in the rotor-flux frame), in pu L_M i_d sqrt(i^2 - i_d^2), with
+ * i_d = phi_r* / M on a rotor-flux reference, or on the stator-flux reference phi_s* the i_d that
+ * gives |phi_s| = phi_s* in steady state (phi_s = L_s i_d + j sigma L_s i_q, Casadei eq. 19 at
+ * constant rotor flux): i_d^2 = (phi_s*^2 - (sigma L_s i)^2) / (L_s^2 - (sigma L_s)^2). 0 when
+ * i <= i_d; *any = 1 when phi_s* <= sigma L_s i (no such i_d: the converter's HUGE_VAL, no clamp). */
+static apply_fx_t im_torque_at(const dtc_config_t *in, const apply_im_t *q, apply_fx_t i, uint16_t *any)
+{
+    apply_fx_t id2, i2 = fx_mul(i, i);
+    *any = 0U;
+    if (in->u.im.ref.psir_ref_iq > 0) {
+        const apply_fx_t id = fx_div(q->psir, q->m);
+        id2 = fx_mul(id, id);
+    } else {
+        const apply_fx_t phi = fx_iq(in->speed.flux_ref_iq), sli = fx_mul(q->sls, i);
+        if (!fx_lt(sli, phi)) {
+            *any = 1U;
+            return fx_of(0U, 0);
+        }
+        id2 = fx_div(fx_addsub(fx_mul(phi, phi), fx_mul(sli, sli), 1U),
+                     fx_addsub(fx_mul(q->ls, q->ls), fx_mul(q->sls, q->sls), 1U));
+    }
+    if (!fx_lt(id2, i2)) {
+        return fx_of(0U, 0);
+    }
+    return fx_mul(fx_mul(q->lm, fx_sqrt(id2)), fx_sqrt(fx_addsub(i2, id2, 1U)));
+}
+
+/* The rows the converter designs from the machine and the settings it holds in u.im.design, again
+ * on the identified machine (each only where the converter wrote what it needs, else the row in
+ * force stays). pu of the configuration's bases; every quantity a chain of at most 16 fx
+ * operations (each within 2^-30 relative, the chain within 2^-26, before the row's rounding to
+ * nearest; a ceiling can differ by one only within that of an integer). The SI settings are kept: the torque limit as N.m (its pu
+ * value times p_in / p, T_b being proportional to p), the speed limit as mechanical speed (the
+ * electrical row times p / p_in), p_in the pole pairs of the configuration in force. Overflow:
+ * fx mantissas stay below 2^31 (products below 2^62, sums below 2^63) and the exponents within
+ * +-200 for rows of IQ range; a row beyond its format (fx_row's -1) or below its least value is
+ * refused with APP_IDENT_APPLY_IM (the configuration in force unchanged).
+ *  - The current step dI over one period (the converter's dtc_ilim_step_a): on DTC and DSC
+ *    T_s (V_max + min(w_max (M / L_r) phi_r*, V_max) + R_s i_trip) / sigma L_s, on SFVC, DFOC and
+ *    DSVM T_s (V_max + R_s i_trip) / sigma L_s; V_max = 2/3 V_dc (SSTP) or V_dc / sqrt(3) (FSTP),
+ *    V_dc the nominal link (design.vdc_iq). With n = design.derived's bits 0-1 > 0 the current limit
+ *    prot.i_lim_iq = i_trip - n dI (dtc_ilim_default_a; 0 when not positive; below i_trip_iq).
+ *  - The torque limit (dtc_si_im_convert): the smaller of design.torque_limit_iq and the torque at
+ *    I_lim - h (im_torque_at), h = dI, on SFVC V_max T_s / (4 sigma L_s) (dtc_im_hold_margin_a); a current limit that allows no torque is switched off (0), as the
+ *    converter does; the torque reference clamped to the limit.
+ *  - DSVM, design.derived's bit 2: the outer band 2 dT with dT = (3/2) p M / (sigma L_s L_r)
+ *    (2/3 V_dc) |phi_r*| T_s (Casadei eqs. 12, 15: a whole vector across the flux at standstill),
+ *    at least the inner band.
+ *  - The magnetisation's periods (design.magn_wait_iq = ln(1 / (1 - magn_frac)) > 0):
+ *    ceil(phi_s,final / (rho T_s)) + ceil(tau_r ln(1 / (1 - magn_frac)) / T_s), rho T_s the ramp
+ *    (1 - phi_r* / M) r_r T_s (derive_im), phi_s,final = phi_r* L_s / M on a rotor-flux reference,
+ *    else phi_s*; tau_r / T_s = l_r / (r_r ts_pu) (the converter's start-up, Casadei eq. 20 at DC).
+ *  - DFOC (Casadei sec. 13; the converter's design for the crossover w_c and damping zeta, which
+ *    the gains in force, K_p' and K_i' T_s on the machine in force, sigma L_s' and R_s', hold):
+ *    with zeta = 0 the converter makes K_p' = sigma L_s' w_c, K_i' T_s = R_s' w_c T_s, so
+ *    K_i' T_s = R_s' (K_p' / sigma L_s') T_s, which the gains in force meet within 1 LSB plus 1e-5;
+ *    then w_c = K_p' / sigma L_s' and K_p = sigma L_s w_c, K_i T_s = R_s w_c T_s. Otherwise they are
+ *    zeta > 0's K_p' = 2 zeta w_c sigma L_s' - R_s', K_i' T_s = sigma L_s' w_c^2 T_s, and with the same
+ *    w_c and zeta K_p = (K_p' + R_s') sigma L_s / sigma L_s' - R_s (> 0, else refused),
+ *    K_i T_s = K_i' T_s sigma L_s / sigma L_s'. Gains set by hand since are taken for such a
+ *    design. Nothing is written while K_p' = 0.
+ *  - The encoder plausibility (u.im.ref.enc_plaus_iq > 0 in force, J identified; kt_iq the spin's
+ *    torque constant): 1.5 w_slip + (p T_lim / J) T_s speed_div, w_slip = r_r T_lim / phi_r*^2
+ *    (Casadei eq. 16), with the flux weakening (Casadei sec. 12) the larger of that and
+ *    r_r min(T_lim, k_T psi_min^2) / ((M / L_s) psi_min)^2 (k_T of Casadei eq. 31,
+ *    L_M / (2 sigma L_s L_s)); in pu the acceleration term is T_lim ts_pu speed_div / Jn. */
+static int16_t derive_im_design(const app_ident_t *d, const dtc_config_t *in, dtc_config_t *out, const apply_im_t *q,
+                                iq_t kt_iq)
+{
+    const dtc_im_design_cfg_t *g = &in->u.im.design;
+    const uint16_t p = out->machine.pole_pairs, p_in = in->machine.pole_pairs;
+    const uint16_t ilim_n = (uint16_t)(g->derived & DTC_IM_DESIGN_ILIM_N);
+    const uint16_t modulated = in->law == (uint16_t)DTC_LAW_IM_SFVC || in->law == (uint16_t)DTC_LAW_IM_DFOC ||
+                               in->law == (uint16_t)DTC_LAW_IM_DSVM ? 1U : 0U;
+    apply_fx_t vdc = fx_iq(g->vdc_iq);
+    int64_t row;
+    if (g->vdc_iq > 0 && g->torque_limit_iq > 0) {
+        /* the current step, the limit and the torque it allows */
+        const apply_fx_t vmax = in->board.topology == (uint16_t)DTC_TOPO_SSTP
+                                    ? fx_div(fx_mul(vdc, fx_of(2U, 0)), fx_of(3U, 0))
+                                    : fx_div(vdc, fx_sqrt(fx_of(3U, 0)));
+        const apply_fx_t itrip = fx_iq(in->prot.i_trip_iq);
+        apply_fx_t num = fx_addsub(vmax, fx_mul(q->rs, itrip), 0U), di, ilim, t_lim = q->t_lim;
+        if (modulated == 0U) {
+            const apply_fx_t wmax = fx_div(fx_mul(fx_iq(in->speed.speed_limit_iq), fx_of(p, 0)), fx_of(p_in, 0));
+            const apply_fx_t e = fx_mul(wmax, fx_mul(q->psir, fx_div(q->m, q->ls)));
+            num = fx_addsub(num, fx_lt(e, vmax) != 0U ? e : vmax, 0U);
+        }
+        di = fx_div(fx_mul(q->ts, num), q->sls);
+        if (ilim_n > 0U) {
+            ilim = fx_addsub(itrip, fx_mul(fx_of(ilim_n, 0), di), 1U);
+            row = fx_row(ilim, 24);
+            if (row < 0) {
+                return (int16_t)APP_IDENT_APPLY_IM;
+            }
+            out->prot.i_lim_iq = (iq_t)(row >= (int64_t)in->prot.i_trip_iq ? (int64_t)in->prot.i_trip_iq - 1 : row);
+        } else {
+            ilim = fx_iq(in->prot.i_lim_iq);
+        }
+        if (ilim.m != 0U) {
+            /* the excursion above the held current (the converter's dtc_im_hold_margin_a): dI, or
+             * on SFVC its SVM ripple V_max T_s / (4 sigma L_s) */
+            const apply_fx_t h = in->law == (uint16_t)DTC_LAW_IM_SFVC
+                                     ? fx_div(fx_mul(q->ts, vmax), fx_mul(q->sls, fx_of(4U, 0))) : di;
+            uint16_t any;
+            const apply_fx_t t_i = im_torque_at(in, q, fx_addsub(ilim, h, 1U), &any);
+            if (any == 0U && t_i.m == 0U) {
+                out->prot.i_lim_iq = 0; /* no torque below the limit: the trip alone protects */
+            } else if (any == 0U && fx_lt(t_i, t_lim) != 0U) {
+                t_lim = t_i;
+            }
+        }
+        row = fx_row(t_lim, 24);
+        if (row < 1) {
+            return (int16_t)APP_IDENT_APPLY_IM;
+        }
+        out->speed.torque_limit_iq = (iq_t)row;
+        out->speed.torque_ref_iq = fix_clamp32(out->speed.torque_ref_iq, -out->speed.torque_limit_iq,
+                                               out->speed.torque_limit_iq);
+    }
+    if (in->law == (uint16_t)DTC_LAW_IM_DSVM && (g->derived & DTC_IM_DESIGN_BAND2) != 0U && g->vdc_iq > 0) {
+        /* Casadei eqs. 12, 15: dT = M (2/3 V_dc) phi_r* T_s / (sigma L_s L_r), L_r = L_s */
+        const apply_fx_t dt = fx_div(fx_mul(fx_mul(q->m, fx_div(fx_mul(vdc, fx_of(2U, 0)), fx_of(3U, 0))),
+                                            fx_mul(q->psir, q->ts)),
+                                     fx_mul(q->sls, q->ls));
+        const apply_fx_t b2 = fx_mul(dt, fx_of(2U, 0)), b1 = fx_iq(in->u.im.sw.torque_band_iq);
+        row = fx_row(fx_lt(b2, b1) != 0U ? b1 : b2, 24);
+        if (row < 0) {
+            return (int16_t)APP_IDENT_APPLY_IM;
+        }
+        out->u.im.dsvm.torque_band2_iq = (iq_t)row;
+    }
+    if (g->magn_wait_iq > 0) {
+        const apply_fx_t ramp = fx_mul(fx_mul(fx_addsub(fx_of(1U, 0), fx_div(q->psir, q->m), 1U), q->rr), q->ts);
+        const apply_fx_t psis = in->u.im.ref.psir_ref_iq > 0 ? fx_div(fx_mul(q->psir, q->ls), q->m)
+                                                            : fx_iq(in->speed.flux_ref_iq);
+        const int64_t n1 = ramp.m != 0U ? fx_ceil(fx_div(psis, ramp)) : -1;
+        const int64_t n2 = fx_ceil(fx_div(fx_mul(q->ls, fx_iq(g->magn_wait_iq)), fx_mul(q->rr, q->ts)));
+        if (n1 < 0 || n2 < 0 || n1 + n2 < 1 || n1 + n2 > 65535) {
+            return (int16_t)APP_IDENT_APPLY_IM;
+        }
+        out->u.im.ref.magn_periods = (uint16_t)(n1 + n2);
+    }
+    if (in->law == (uint16_t)DTC_LAW_IM_DFOC && in->u.im.dfoc.kp_iq > 0 && in->machine.rs_iq > 0) {
+        const apply_fx_t kp_in = fx_iq(in->u.im.dfoc.kp_iq), sls_in = fx_iq(in->u.im.machine.sigma_ls_iq);
+        const apply_fx_t rs_in = fx_iq(in->machine.rs_iq), ki_in = fx_iq(in->u.im.dfoc.ki_ts_iq);
+        const apply_fx_t wc = fx_div(kp_in, sls_in);
+        const apply_fx_t ki0 = fx_mul(fx_mul(rs_in, wc), q->ts); /* K_i' T_s of the zeta = 0 design */
+        const apply_fx_t dev = fx_lt(ki0, ki_in) != 0U ? fx_addsub(ki_in, ki0, 1U) : fx_addsub(ki0, ki_in, 1U);
+        const apply_fx_t tol = fx_addsub(fx_iq(1), fx_div(ki_in, fx_of(100000U, 0)), 0U);
+        int64_t kp, ki;
+        if (fx_lt(tol, dev) == 0U) {
+            kp = fx_row(fx_mul(q->sls, wc), 24);
+            ki = fx_row(fx_mul(fx_mul(q->rs, wc), q->ts), 24);
+        } else {
+            const apply_fx_t k = fx_div(q->sls, sls_in);
+            kp = fx_row(fx_addsub(fx_mul(fx_addsub(kp_in, rs_in, 0U), k), q->rs, 1U), 24);
+            ki = fx_row(fx_mul(ki_in, k), 24);
+        }
+        if (kp < 1 || ki < 0) {
+            return (int16_t)APP_IDENT_APPLY_IM;
+        }
+        out->u.im.dfoc.kp_iq = (iq_t)kp;
+        out->u.im.dfoc.ki_ts_iq = (iq_t)ki;
+    }
+    if (in->u.im.ref.enc_plaus_iq > 0 && g->torque_limit_iq > 0 && d->res.j_q12 > 0 && kt_iq > 0) {
+        apply_fx_t slip = fx_div(fx_mul(q->rr, q->t_lim), fx_mul(q->psir, q->psir));
+        const apply_fx_t acc = fx_div(fx_mul(fx_mul(q->t_lim, q->ts), fx_of(in->speed.speed_div, 0)),
+                                      jn_of(d, in, out, kt_iq));
+        if (in->u.im.fw.on != 0U && in->u.im.fw.psi_min_iq > 0) {
+            const apply_fx_t psi_min = fx_iq(in->u.im.fw.psi_min_iq);
+            const apply_fx_t kt = fx_div(q->lm, fx_mul(fx_mul(q->sls, q->ls), fx_of(2U, 0)));
+            const apply_fx_t psir_min = fx_mul(psi_min, fx_sqrt(fx_div(q->lm, q->ls)));
+            apply_fx_t t2 = fx_mul(kt, fx_mul(psi_min, psi_min)), s2;
+            t2 = fx_lt(q->t_lim, t2) != 0U ? q->t_lim : t2;
+            s2 = fx_div(fx_mul(q->rr, t2), fx_mul(psir_min, psir_min));
+            slip = fx_lt(slip, s2) != 0U ? s2 : slip;
+        }
+        row = fx_row(fx_addsub(fx_div(fx_mul(slip, fx_of(3U, 0)), fx_of(2U, 0)), acc, 0U), 24);
+        if (row < 1) {
+            return (int16_t)APP_IDENT_APPLY_IM;
+        }
+        out->u.im.ref.enc_plaus_iq = (iq_t)row;
+    }
+    return (int16_t)APP_IDENT_APPLY_OK;
+}
+
 /* The induction machine's rows (the file comment). */
 static int16_t derive_im(const app_ident_t *d, const dtc_config_t *in, dtc_config_t *out)
 {
     dtc_im_cfg_t *im = &out->u.im;
     int64_t ls, sls, lm, m, kr, inv_ks, kt, mk, psir, i_m, ramp, gain = 0;
+    iq_t kt_spin;
     const int16_t rc = derive_common(d, in, out, &gain);
     if (rc != (int16_t)APP_IDENT_APPLY_OK) {
         return rc;
@@ -403,7 +684,27 @@ static int16_t derive_im(const app_ident_t *d, const dtc_config_t *in, dtc_confi
         im->dfoc.iq_per_t_iq = (iq_t)q;
     }
     /* the spin's fit is over k_t = 3/2 p L_M i_d: kt = L_M i_d in pu (app_ident_im.c) */
-    return derive_speed(d, in, out, (iq_t)((lm * (int64_t)d->res.im.id_iq + ((int64_t)1 << 23)) >> 24));
+    kt_spin = (iq_t)((lm * (int64_t)d->res.im.id_iq + ((int64_t)1 << 23)) >> 24);
+    {
+        apply_im_t q;
+        int16_t rc2;
+        q.ls = fx_iq(ls);
+        q.sls = fx_iq(sls);
+        q.lm = fx_iq(lm);
+        q.m = fx_sqrt(fx_mul(q.ls, q.lm));
+        q.rs = fx_iq(out->machine.rs_iq);
+        q.rr = fx_iq(d->res.im.rr_iq);
+        q.ts = fx_iq(in->board.ts_pu_iq);
+        q.psir = im->ref.psir_ref_iq > 0 ? fx_iq(im->ref.psir_ref_iq)
+                                         : fx_mul(fx_iq(in->speed.flux_ref_iq), fx_sqrt(fx_div(q.lm, q.ls)));
+        q.t_lim = fx_div(fx_mul(fx_iq(in->u.im.design.torque_limit_iq), fx_of(in->machine.pole_pairs, 0)),
+                         fx_of(out->machine.pole_pairs, 0));
+        rc2 = derive_im_design(d, in, out, &q, d->res.j_q12 > 0 ? kt_spin : 0);
+        if (rc2 != (int16_t)APP_IDENT_APPLY_OK) {
+            return rc2;
+        }
+    }
+    return derive_speed(d, in, out, kt_spin);
 }
 #endif
 

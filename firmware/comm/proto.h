@@ -166,7 +166,9 @@ enum proto_cmd {
     /* IDENT_APPLY: the finished identification's results into the parameters in force (app_ident.h
      * app_ident_apply: R_s, the dead time, pole pairs with the encoder gain and direction; on a PM
      * DTC configuration L_s and 1/L_s, psi_m and the encoder's offset, on an IM law's the IM rows
-     * derived from R_r, sigma L_s and L_s; the speed PI's gains and the lost-encoder level from
+     * derived from R_r, sigma L_s and L_s and those the converter designs from its settings held
+     * in u.im.design (the current and torque limits, the magnetisation, the DSVM band, the DFOC
+     * current PI, the encoder plausibility); the speed PI's gains and the lost-encoder level from
      * the identified J with speed.speed_bw_iq > 0; app_ident_apply.c), checked by its law's check
      * and applied as a PARAM_WRITE is while disarmed (calibration, then READY); PARAMS_SAVE stores
      * them. Disarmed only.   request: empty    response: 0 u16 rows written (enum

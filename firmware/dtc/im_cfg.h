@@ -106,6 +106,27 @@ typedef struct {
                               * levels +-2, between +-torque_band/2 and +-band2/2 the levels +-1 */
 } dtc_im_dsvm_cfg_t;
 
+/* What the host converter designed rows from (tools/config law_im_si.c), held so that the
+ * identification's apply designs those rows again on the identified machine (app_ident_apply.c
+ * derive_im_design); written by the converter only, each 0 where it designed nothing. */
+typedef struct {
+    iq_t vdc_iq;             /* the nominal DC link (inverter.vdc_v) the current step dI and the
+                              * DSVM band are designed on, pu; 0 = neither designed here */
+    iq_t torque_limit_iq;    /* the configured torque limit (torque_limit_nm) before the current
+                              * limit's clamp (speed.torque_limit_iq is the smaller of the two), pu
+                              * of the torque base of machine.pole_pairs; 0 = not held */
+    iq_t magn_wait_iq;       /* ln(1 / (1 - magn_frac)): the start-up's wait after the flux ramp,
+                              * in rotor time constants; 0 = not held */
+    uint16_t derived;        /* bits 0-1: n of the current limit derived as i_trip - n dI
+                              * (dtc_ilim_default_a: 1 with delay_comp, else 2; 0 = the limit
+                              * given or off); bit 2: the DSVM outer band derived (Casadei eqs.
+                              * 12, 15), not given */
+} dtc_im_design_cfg_t;
+
+/* u.im.design.derived's bits */
+#define DTC_IM_DESIGN_ILIM_N 3U
+#define DTC_IM_DESIGN_BAND2 4U
+
 typedef struct {
     uint16_t part;               /* DTC_PART_IM */
     dtc_im_machine_cfg_t machine;
@@ -118,6 +139,7 @@ typedef struct {
     dtc_im_sfvc_cfg_t sfvc;
     dtc_im_dfoc_cfg_t dfoc;
     dtc_im_dsvm_cfg_t dsvm;
+    dtc_im_design_cfg_t design;
 } dtc_im_cfg_t;
 
 /* The IM part's parameters, once (dtc_param.h). The machine's values are derived together from
@@ -173,13 +195,13 @@ typedef struct {
       "pu speed of one angle LSB per speed period")                                                           \
     X(244, u.im.ref.speed_filt_q31, Q31, RATIO, 1, DTC_I32_MAX, DTC_ERR_SPEED, DTC_PARAM_RO,                  \
       "sensorless speed filter gain per speed period")                                                        \
-    X(245, u.im.ref.magn_periods, U16, NONE, 1, 65535, DTC_ERR_STARTUP, DTC_PARAM_RO,                          \
+    X(245, u.im.ref.magn_periods, U16, NONE, 1, 65535, DTC_ERR_STARTUP, DTC_PARAM_RO | DTC_PARAM_STORED,                         \
       "start-up: control periods of the magnetisation")                                                       \
     X(246, u.im.ref.magn_ramp_iq, IQ, PSI, 1, DTC_I32_MAX, DTC_ERR_STARTUP, DTC_PARAM_RO | DTC_PARAM_STORED,                     \
       "start-up: flux-reference ramp per period")                                                             \
     X(247, u.im.ref.magn_k_q31, Q31, RATIO, 1, DTC_I32_MAX, DTC_ERR_STARTUP, DTC_PARAM_RO | DTC_PARAM_STORED,                    \
       "start-up rotor-flux model's gain per period, T_s / tau_r")                                             \
-    X(248, u.im.ref.enc_plaus_iq, IQ, W, 0, DTC_I32_MAX, DTC_ERR_SPEED, DTC_PARAM_RO,                         \
+    X(248, u.im.ref.enc_plaus_iq, IQ, W, 0, DTC_I32_MAX, DTC_ERR_SPEED, DTC_PARAM_RO | DTC_PARAM_STORED,                        \
       "encoder plausibility: largest credible sensorless - encoder speed difference (Casadei eqs. 16, 22); 0 = off") \
     X(249, u.im.ref.rr_track, U16, NONE, 0, 1, DTC_ERR_SPEED, DTC_PARAM_RO,                                  \
       "1: the slip uses the rotor resistance tracked on line and r_s follows it (im_sup.h)")                 \
@@ -195,6 +217,14 @@ typedef struct {
     X(258, u.im.dfoc.iq_per_t_iq, IQ, PU, 0, DTC_I32_MAX, DTC_ERR_SVM, DTC_PARAM_RO | DTC_PARAM_STORED,                          \
       "DFOC q-axis current per unit torque, L_r / (M psi_r*)")                                                \
     X(260, u.im.dsvm.torque_band2_iq, IQ, T, 0, DTC_I32_MAX, DTC_ERR_BAND, DTC_PARAM_LIVE,                    \
-      "DSVM five-level torque comparator's outer band, full width (>= the torque band)")
+      "DSVM five-level torque comparator's outer band, full width (>= the torque band)")           \
+    X(261, u.im.design.vdc_iq, IQ, V, 0, DTC_I32_MAX, DTC_ERR_ILIM, DTC_PARAM_RO,                              \
+      "the nominal DC link the current step and the DSVM band are designed on; 0 = not designed")            \
+    X(262, u.im.design.torque_limit_iq, IQ, T, 0, DTC_I32_MAX, DTC_ERR_PI, DTC_PARAM_RO,                       \
+      "the configured torque limit before the current limit's clamp; 0 = not held")                          \
+    X(263, u.im.design.magn_wait_iq, IQ, RATIO, 0, DTC_I32_MAX, DTC_ERR_STARTUP, DTC_PARAM_RO,                 \
+      "start-up: the wait after the flux ramp in rotor time constants, ln(1 / (1 - magn_frac))")             \
+    X(264, u.im.design.derived, U16, NONE, 0, 6, DTC_ERR_ILIM, DTC_PARAM_RO,                                   \
+      "bits 0-1: n of the current limit derived as the trip less n current steps (0 = given); bit 2: the DSVM outer band derived")
 
 #endif /* IM_CFG_H */

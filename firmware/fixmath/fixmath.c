@@ -10,8 +10,8 @@ static const q15_t fix_sin_table[257] = {
 #include "fix_sin_table.inc"
 };
 
-/* Square root of x, both floor(sqrt(x)) (in *floor_out) and rounded to nearest (returned).
- * Digit-by-digit, one bit of the root per bit pair of x, from the most significant nonzero pair
+/* Square root of x, both floor(sqrt(x)) (in *floor_out) and rounded to nearest (returned);
+ * declared in fixmath.h. Digit-by-digit, one bit of the root per bit pair of x, from the most significant nonzero pair
  * down (the leading zero pairs contribute zero digits and are skipped): for each pair p,
  * rem = 4 rem + p and, with trial t = 4 root + 1, root = 2 root + 1 and rem -= t when rem >= t,
  * else root = 2 root; rem ends as x - root^2. The top nonzero pair is found by a binary search
@@ -24,7 +24,7 @@ static const q15_t fix_sin_table[257] = {
  * remainder of the partial root), so the next step's 4 rem + p < 2^(k+3) and t < 2^(k+2): in
  * 32 bits while k <= 29. Only the last two digits of an input >= 2^60 take a 64-bit remainder;
  * the floor root itself is < 2^32 throughout. */
-static uint64_t fix_isqrt_rnd(uint64_t x, uint32_t *floor_out)
+uint64_t fix_isqrt_rnd(uint64_t x, uint32_t *floor_out)
 {
     uint32_t hi = (uint32_t)(x >> 32);
     uint32_t lo = (uint32_t)x;

@@ -346,6 +346,12 @@ static inline iq_t iq_from_int(int16_t n) { return fix_sat32((int64_t)n * ((int6
  * Scaling and overflow: integer in, integer out; exact floor (0 <= sqrt(x) - result < 1). */
 uint32_t fix_isqrt64(uint64_t x);
 
+/* round(sqrt(x)) for a 64-bit unsigned x, and floor(sqrt(x)) in *floor_out (both from one
+ * digit-by-digit root; at most 32 iterations). Scaling and overflow: integer in, integer out; the
+ * rounded root is <= 2^32 (returned in 64 bits), error < 0.5 (no ties: (r + 1/2)^2 is never an
+ * integer); the floor fits in 32 bits. */
+uint64_t fix_isqrt_rnd(uint64_t x, uint32_t *floor_out);
+
 /* sqrt of an IQ value (Q24 -> Q24), rounded to nearest (error < 0.5 LSB). Negative input
  * returns 0. Scaling and overflow: sqrt(x * 2^24) of an argument < 2^55 (at most 28 iterations); the
  * result is below 2^27.5 (sqrt(128) pu), cannot overflow. */

@@ -19,13 +19,15 @@
 #include "pil_avr_channel.h"
 #include "pil_replay.h"
 
-/* Configuration fields this image can hold (pil_config_fields() must not exceed it: 98 with the
- * parameter rows of the common part and the IM part, the longest law part). The ATmega2560 has 8 KB of
- * RAM, which its constants share (the parameter rows, dtc_param.h). The blob is needed only until
- * pil_replay_init has decoded it, so it lives on the stack of load_config (below), whose frame is
- * given back before the first ISR: the ISR path's stack has that room. A longer blob is refused at
- * run time. */
-#define PIL_CONFIG_MAX 128U
+/* Configuration fields this image can hold (pil_config_fields() must not exceed it: 106 with the
+ * parameter rows of the common part and the IM part, the longest law part; two to spare). The
+ * ATmega2560 has 8 KB of RAM, which its constants share (the parameter rows, dtc_param.h). The blob
+ * is needed only until pil_replay_init has decoded it, so it lives on the stack of load_config
+ * (below), whose frame is given back before the first ISR: the ISR path's stack has that room. Its
+ * frame, below app_init's, is the image's deepest stack (pil-simavr's ram: line, im_dtc_speed with
+ * DFOC: 1,006 bytes with 108 fields), so each field allowed costs 4 bytes of it. A longer blob is
+ * refused at run time. */
+#define PIL_CONFIG_MAX 108U
 
 void pil_target_isr_begin(void)
 {

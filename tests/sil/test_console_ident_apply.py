@@ -23,7 +23,9 @@ rated) from standstill; at the steady speed it reaches the plant's torque is the
 fan's torque at the captured mean speed against the reference is the drive's torque error (run_torque),
 and the run ends under control at rest (the next identification starts at rest). B's applied
 rows: R_s, R_r, sigma L_s, L_s = (L_s / M) M and M within the issue's IM targets (5, 10, 10, 5, 5 %) of
-the exact values, pole pairs and direction exact; A and C: the torque within 3 % of its reference.
+the exact values, pole pairs and direction exact; the current limit and the torque limit it allows
+(designed again in the image) within 5 % of the converter's for the true machine and nearer to it
+than the wrong values'; A and C: the torque within 3 % of its reference.
 
 Usage: test_console_ident_apply.py DTC_SIL SCENARIO WORKDIR [--no-wrong-run] [--im]
 (--no-wrong-run: B without the run on the wrong values, the identification from the first start)
@@ -50,7 +52,9 @@ ROWS_IM = {"rs": "machine.rs_iq", "rr": "u.im.machine.rr_iq", "sls": "u.im.machi
            "kr": "u.im.machine.kr_iq", "inv_ks": "u.im.machine.inv_ks_iq", "kt": "u.im.fw.kt_iq",
            "magn_k": "u.im.ref.magn_k_q31", "magn_ramp": "u.im.ref.magn_ramp_iq", "p": "machine.pole_pairs",
            "rev": "board.enc_reversed", "gain": "board.enc_gain_q16", "td": "board.td_ts_q15",
-           "kp": "speed.kp_iq", "ki": "speed.ki_ts_iq", "bw": "speed.speed_bw_iq", "freeze": "prot.enc_freeze_speed_iq"}
+           "kp": "speed.kp_iq", "ki": "speed.ki_ts_iq", "bw": "speed.speed_bw_iq", "freeze": "prot.enc_freeze_speed_iq",
+           "ilim": "prot.i_lim_iq", "tlim": "speed.torque_limit_iq", "magn_n": "u.im.ref.magn_periods",
+           "plaus": "u.im.ref.enc_plaus_iq"}
 RPM = 1500.0
 WRONG = 1.3  # R_s and psi_m 30 % high, L_s 30 % low (IM: R_s, R_r, L_m high, the leakages low)
 IM = "--im" in sys.argv[4:]
@@ -172,8 +176,8 @@ def wrong_sets(exact):
             "firmware.llr_h=%.9g" % ((exact["kr"] - 1.0) * m / WRONG)]
 
 
-def check_applied(applied, exact):
-    """B's applied rows against the exact ones (the module comment)."""
+def check_applied(applied, exact, before):
+    """B's applied rows against the exact ones (the module comment); before: the wrong values' rows."""
     for k, what in (("kp", "the speed PI's kp (J bw)"), ("ki", "its ki (J bw^2 / 4)")):
         e = applied[k] / exact[k] - 1.0
         check(abs(e) <= 0.10, "applied %s %.6g within the J target 10 %% of the exact %.6g (%+.2f %%)" %
@@ -190,7 +194,16 @@ def check_applied(applied, exact):
         check(applied["ks"] == applied["kr"] and applied["sls"] == applied["slr"] and
               abs(applied["inv_ks"] * applied["ks"] - 1.0) < 1e-6,
               "the equal split: L_s / M = L_r / M, sigma L_s = sigma L_r, M / L_s = 1 / (L_s / M)")
-        for k in ("kt", "magn_k", "magn_ramp", "freeze"):
+        # the current limit and the torque it allows, designed again on the identified machine
+        # (the converter's design for the true machine is the exact run's): from sigma L_s and R_s
+        # (the limit) and L_s, L_M (the torque), so within their targets, and nearer than the wrong
+        # values' rows
+        for k, what, tol in (("ilim", "current limit", 0.05), ("tlim", "torque limit", 0.05)):
+            e, e0 = applied[k] / exact[k] - 1.0, before[k] / exact[k] - 1.0
+            check(abs(e) <= tol and abs(e) < abs(e0),
+                  "applied %s (%s) %.6g within %g %% of the converter's for the true machine %.6g (%+.2f %%; the "
+                  "wrong values' %+.2f %%)" % (what, ROWS_IM[k], applied[k], 100 * tol, exact[k], 100 * e, 100 * e0))
+        for k in ("kt", "magn_k", "magn_ramp", "freeze", "magn_n", "plaus"):
             print("     %s: applied %.6g, exact %.6g (%+.2f %%)" % (ROWS_IM[k], applied[k], exact[k],
                                                                  100 * (applied[k] / exact[k] - 1.0)), flush=True)
         print("     dead time / Ts: applied %.5f, exact %.5f" % (applied["td"], exact["td"]), flush=True)
@@ -272,7 +285,7 @@ def main():
         with Drive(link, timeout_s=2.0) as d:
             wait_state(d, "ready")
             applied = rows(d)
-            check_applied(applied, exact)
+            check_applied(applied, exact, before)
             d.arm()
             wait_state(d, "run")
             check(refused(d.identify_apply, "ARMED"), "IDENT_APPLY refused while armed")

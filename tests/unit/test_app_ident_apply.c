@@ -12,6 +12,12 @@
  * apply takes), the configuration in force from R_s, R_r, L_m 30 % high and the leakages 30 % low;
  * every derived IM row against its double formula on the same integer inputs (half an LSB) and
  * against the converter's value for the true machine (the inputs' quantisation: ts_pu's 2.4e-6).
+ * The rows the converter designs from what it holds in u.im.design (the current limit and the
+ * torque limit it allows, the magnetisation's periods, the DSVM outer band, the DFOC current PI,
+ * the encoder plausibility; check_im_design_rows) likewise, half an LSB plus the fixed-point
+ * chain's 1e-7 relative, on DTC, DFOC and DSVM, for the 4 kW, the second machine
+ * (tools/scenarios/im_second_machine.toml) and the 4 kW with every machine parameter 30 % high and
+ * 30 % low.
  */
 #include <math.h>
 #include <setjmp.h>
@@ -252,10 +258,31 @@ static void test_refusals(void **state)
 static double g_err_lsb;  /* the largest |row - its double formula| seen, LSB */
 static double g_err_conv; /* the largest relative difference from the converter's row */
 
+/* per row: the largest error against its formula (LSB) and against the converter (relative) */
+#define N_ROWS 40
+static struct {
+    const char *row;
+    double lsb, conv;
+} g_rows[N_ROWS];
+
+static void row_err(const char *row, double lsb, double conv)
+{
+    int k;
+    for (k = 0; k < N_ROWS && g_rows[k].row != NULL && strcmp(g_rows[k].row, row) != 0; k++) {
+    }
+    if (k == N_ROWS) {
+        return;
+    }
+    g_rows[k].row = row;
+    g_rows[k].lsb = fmax(g_rows[k].lsb, lsb);
+    g_rows[k].conv = fmax(g_rows[k].conv, conv);
+}
+
 /* |got - want| <= tol (LSB), the largest kept */
 static void near_lsb(const char *row, double got, double want, double tol)
 {
     const double e = fabs(got - want);
+    row_err(row, e, 0.0);
     if (e > g_err_lsb) {
         g_err_lsb = e;
     }
@@ -268,6 +295,7 @@ static void near_lsb(const char *row, double got, double want, double tol)
 static void near_conv(const char *row, double got, double want, double tol)
 {
     const double e = fabs(got / want - 1.0);
+    row_err(row, 0.0, e);
     if (e > g_err_conv) {
         g_err_conv = e;
     }
@@ -276,15 +304,68 @@ static void near_conv(const char *row, double got, double want, double tol)
     }
 }
 
-/* A finished identification of the IM g_si (law, rotor-flux reference psir_ref_wb, encoder
- * direction rev, pole pairs p) as app_ident_im.c leaves it (app_ident_im.h units); the
+/* The machines: the 4 kW IM (the defaults), the second machine, and the 4 kW with every machine
+ * parameter 30 % off (R_s, R_r, L_m and both leakages by k, J by 2 - k). */
+enum { IM_4KW = 0, IM_SECOND = 1, IM_4KW_PLUS30 = 2, IM_4KW_MINUS30 = 3 };
+static int g_machine = IM_4KW;
+static double g_dfoc_zeta; /* the DFOC current PI's damping (0: its zero on the stator pole) */
+static int g_fw;           /* 1: Casadei sec. 12's flux weakening (DTC) */
+
+/* tools/scenarios/im_second_machine.toml's motor, inverter, sensors, protection and control keys
+ * (the rest the IM defaults, as the scenario leaves them): its bases as the defaults take them,
+ * V_b = V_dc, I_b = the rated current. */
+static void im_second_machine(dtc_config_si_t *si)
+{
+    si->rs_ohm = 2.9338;
+    si->rr_ohm = 1.355;
+    si->lls_h = 0.00587;
+    si->llr_h = 0.00587;
+    si->lm_h = 0.14375;
+    si->pole_pairs = 2;
+    si->rated_torque_nm = 23.5;
+    si->rated_current_a = 10.9;
+    si->topology = DTC_TOPO_SSTP;
+    si->vdc_v = 565.0;
+    si->adc_i_a_per_count = 2.0 * 40.0 / 4096.0;
+    si->adc_vdc_v_per_count = 800.0 / 4096.0;
+    si->adc_vmid_v_per_count = 800.0 / 4096.0;
+    si->i_trip_a = 30.0;
+    si->vdc_min_v = 400.0;
+    si->vdc_max_v = 700.0;
+    si->speed_bw_rad_s = 2.0 * PI * 10.0;
+    si->flux_ref_wb = 0.96;
+    si->torque_limit_nm = 47.0;
+    si->v_base_v = 565.0;
+    si->i_base_a = 10.9;
+}
+
+static void im_machine(dtc_config_si_t *si)
+{
+    if (g_machine == IM_SECOND) {
+        im_second_machine(si);
+    } else if (g_machine == IM_4KW_PLUS30 || g_machine == IM_4KW_MINUS30) {
+        const double k = g_machine == IM_4KW_PLUS30 ? 1.3 : 0.7;
+        si->rs_ohm *= k;
+        si->rr_ohm *= k;
+        si->lm_h *= k;
+        si->lls_h *= k;
+        si->llr_h *= k;
+        si->inertia_kgm2 *= 2.0 - k;
+    }
+}
+
+/* A finished identification of the IM g_si (g_machine; law, rotor-flux reference psir_ref_wb,
+ * encoder direction rev, pole pairs p) as app_ident_im.c leaves it (app_ident_im.h units); the
  * configuration in force from the same machine with R_s, R_r, L_m 30 % high, L_ls, L_lr 30 % low. */
 static void setup_im(int law, double psir_ref_wb, int rev, int p)
 {
     dtc_config_si_t wrong;
     double ts, z_b, ls, lr, sls, id;
     dtc_config_si_im_defaults(&g_si);
+    im_machine(&g_si);
     g_si.law = law;
+    g_si.dfoc_zeta = g_dfoc_zeta;
+    g_si.flux_weakening = g_fw;
     g_si.psir_ref_wb = psir_ref_wb;
     g_si.enc_reversed = rev;
     g_si.pole_pairs = p;
@@ -319,6 +400,145 @@ static void setup_im(int law, double psir_ref_wb, int rev, int p)
     g_d.res.psi_iq = iq_of(ls * ((double)g_d.res.im.id_iq / IQ1 * g_b.i_base_a) / g_b.psi_base_wb);
     /* the spin's J over k_t = 3/2 p L_M i_d (app_ident_im.c), L_M = L_s - sigma L_s */
     g_d.res.j_q12 = j_q12_of(1.5 * p * (ls - sls) * ((double)g_d.res.im.id_iq / IQ1 * g_b.i_base_a));
+}
+
+/* The steady-state torque at the current i, pu (the converter's dtc_im_torque_at_current_nm with
+ * L_r = L_s): L_M i_d sqrt(i^2 - i_d^2); HUGE_VAL when the stator flux leaves no i_d. */
+static double im_torque_at(double i, double ls, double sls, double lm, double m, double psir)
+{
+    double id2;
+    if (g_in.u.im.ref.psir_ref_iq > 0) {
+        id2 = (psir / m) * (psir / m);
+    } else {
+        const double phi = (double)g_in.speed.flux_ref_iq / IQ1, sli = sls * i;
+        if (phi <= sli) {
+            return HUGE_VAL;
+        }
+        id2 = (phi * phi - sli * sli) / (ls * ls - sls * sls);
+    }
+    return i * i > id2 ? lm * sqrt(id2) * sqrt(i * i - id2) : 0.0;
+}
+
+/* ceil(x), and whether x is within 1e-6 of an integer (where the fixed point may take the
+ * neighbouring integer) */
+static int ceil_near(double x, double *c)
+{
+    *c = ceil(x);
+    return fabs(x - nearbyint(x)) < 1e-6;
+}
+
+/* The rows designed from u.im.design (app_ident_apply.c derive_im_design) against their double
+ * formulas on the same integer inputs (ls, sls, lm: the applied L_s, sigma L_s, L_M in LSB) and
+ * against the converter's rows for the true machine. */
+static void check_im_design_rows(double ls_lsb, double sls_lsb, double lm_lsb)
+{
+    const dtc_im_cfg_t *o = &g_out.u.im, *r = &g_ref.u.im;
+    const dtc_im_design_cfg_t *g = &g_in.u.im.design;
+    const double ls = ls_lsb / IQ1, sls = sls_lsb / IQ1, lm = lm_lsb / IQ1, m = sqrt(ls * lm);
+    const double ts = (double)g_in.board.ts_pu_iq / IQ1, rs = (double)g_out.machine.rs_iq / IQ1;
+    const double rr = (double)g_d.res.im.rr_iq / IQ1;
+    const double p = (double)g_out.machine.pole_pairs, p_in = (double)g_in.machine.pole_pairs;
+    const double psir = g_in.u.im.ref.psir_ref_iq > 0 ? (double)g_in.u.im.ref.psir_ref_iq / IQ1
+                                                      : (double)g_in.speed.flux_ref_iq / IQ1 * sqrt(lm / ls);
+    const double t_d = (double)g->torque_limit_iq / IQ1 * p_in / p;
+    const int modulated = g_in.law == DTC_LAW_IM_SFVC || g_in.law == DTC_LAW_IM_DFOC || g_in.law == DTC_LAW_IM_DSVM;
+    const double vdc = (double)g->vdc_iq / IQ1;
+    const double vmax = g_in.board.topology == DTC_TOPO_SSTP ? 2.0 * vdc / 3.0 : vdc / sqrt(3.0);
+    const double itrip = (double)g_in.prot.i_trip_iq / IQ1;
+    double di, ilim, t_lim = t_d, c;
+    /* the design the converter holds */
+    assert_true(g->vdc_iq > 0 && g->torque_limit_iq > 0 && g->magn_wait_iq > 0);
+    assert_int_equal(g->derived & DTC_IM_DESIGN_ILIM_N, 2U);
+    /* the current step and the current limit (dtc_ilim_step_a, dtc_ilim_default_a) */
+    di = vmax + rs * itrip;
+    if (!modulated) {
+        const double wmax = (double)g_in.speed.speed_limit_iq / IQ1 * p / p_in;
+        di += fmin(wmax * psir * m / ls, vmax);
+    }
+    di *= ts / sls;
+    ilim = fmax(itrip - 2.0 * di, 0.0);
+    {
+        /* the excursion above the held current: dI, on SFVC V_max T_s / (4 sigma L_s) */
+        const double h = g_in.law == DTC_LAW_IM_SFVC ? vmax * ts / (4.0 * sls) : di;
+        const double t_i = im_torque_at(ilim - h, ls, sls, lm, m, psir);
+        double want_ilim = fmin(IQ1 * ilim, (double)g_in.prot.i_trip_iq - 1.0);
+        if (ilim > 0.0 && !(t_i > 0.0)) {
+            want_ilim = 0.0;
+        } else if (ilim > 0.0 && t_i < t_lim) {
+            t_lim = t_i;
+        }
+        print_message("current limit %.4f pu (converter %.4f, in force %.4f), torque limit %.4f pu (converter %.4f, "
+                      "configured %.4f)\n", (double)g_out.prot.i_lim_iq / IQ1, (double)g_ref.prot.i_lim_iq / IQ1,
+                      (double)g_in.prot.i_lim_iq / IQ1, (double)g_out.speed.torque_limit_iq / IQ1,
+                      (double)g_ref.speed.torque_limit_iq / IQ1, t_d);
+        near_lsb("prot.i_lim_iq", (double)g_out.prot.i_lim_iq, want_ilim, 0.5 + 1e-7 * want_ilim);
+        near_lsb("speed.torque_limit_iq", (double)g_out.speed.torque_limit_iq, IQ1 * t_lim, 0.5 + 1e-7 * IQ1 * t_lim);
+    }
+    assert_true(g_in.prot.i_lim_iq != g_ref.prot.i_lim_iq); /* the configuration in force was off */
+    near_conv("prot.i_lim_iq", (double)g_out.prot.i_lim_iq, (double)g_ref.prot.i_lim_iq, 5e-6);
+    near_conv("speed.torque_limit_iq", (double)g_out.speed.torque_limit_iq, (double)g_ref.speed.torque_limit_iq, 5e-6);
+    assert_true(labs((long)g_out.speed.torque_ref_iq) <= (long)g_out.speed.torque_limit_iq);
+    /* the magnetisation: ceil(phi_s,final / (rho T_s)) + ceil(tau_r ln(1/(1 - magn_frac)) / T_s) */
+    {
+        const double ramp = (1.0 - psir / m) * rr * ts;
+        const double psis = g_in.u.im.ref.psir_ref_iq > 0 ? psir * ls / m : (double)g_in.speed.flux_ref_iq / IQ1;
+        double c2;
+        const int near1 = ceil_near(psis / ramp, &c);
+        const int near2 = ceil_near(ls * ((double)g->magn_wait_iq / IQ1) / (rr * ts), &c2);
+        print_message("magn_periods %u (converter %u, in force %u)\n", o->ref.magn_periods, r->ref.magn_periods,
+                      g_in.u.im.ref.magn_periods);
+        if (!(near1 || near2)) {
+            assert_int_equal(o->ref.magn_periods, (unsigned)(c + c2));
+        } else {
+            assert_true(fabs((double)o->ref.magn_periods - (c + c2)) <= 1.0);
+        }
+        assert_true(abs((int)o->ref.magn_periods - (int)r->ref.magn_periods) <= 1);
+        assert_true(g_in.u.im.ref.magn_periods != r->ref.magn_periods);
+    }
+    if (g_in.law == DTC_LAW_IM_DSVM) {
+        const double dt = m * (2.0 / 3.0 * vdc) * psir * ts / (sls * ls);
+        const double b2 = fmax(2.0 * dt, (double)g_in.u.im.sw.torque_band_iq / IQ1);
+        assert_int_equal(g->derived & DTC_IM_DESIGN_BAND2, DTC_IM_DESIGN_BAND2);
+        near_lsb("dsvm.torque_band2_iq", (double)o->dsvm.torque_band2_iq, IQ1 * b2, 0.5 + 1e-7 * IQ1 * b2);
+        near_conv("dsvm.torque_band2_iq", (double)o->dsvm.torque_band2_iq, (double)r->dsvm.torque_band2_iq, 5e-6);
+        assert_true(g_in.u.im.dsvm.torque_band2_iq != r->dsvm.torque_band2_iq);
+    }
+    if (g_in.law == DTC_LAW_IM_DFOC) {
+        /* the design the gains in force hold: w_c = K_p' / sigma L_s' (zeta = 0), or with zeta > 0
+         * the same w_c and zeta: K_p = (K_p' + R_s') sigma L_s / sigma L_s' - R_s,
+         * K_i T_s = K_i' T_s sigma L_s / sigma L_s' */
+        const double kp_in = (double)g_in.u.im.dfoc.kp_iq / IQ1, ki_in = (double)g_in.u.im.dfoc.ki_ts_iq / IQ1;
+        const double sls_in = (double)g_in.u.im.machine.sigma_ls_iq / IQ1, rs_in = (double)g_in.machine.rs_iq / IQ1;
+        const double wc = kp_in / sls_in;
+        const double kp = g_dfoc_zeta > 0.0 ? (kp_in + rs_in) * sls / sls_in - rs : sls * wc;
+        const double ki = g_dfoc_zeta > 0.0 ? ki_in * sls / sls_in : rs * wc * ts;
+        near_lsb("dfoc.kp_iq", (double)o->dfoc.kp_iq, IQ1 * kp, 0.5 + 1e-7 * IQ1 * kp);
+        near_lsb("dfoc.ki_ts_iq", (double)o->dfoc.ki_ts_iq, IQ1 * ki, 0.5 + 1e-7 * IQ1 * ki);
+        /* against the converter: the gains in force carry their own rounding (K_i' T_s of about 1e5
+         * LSB: 5e-6 in the zeta > 0 form), R_s its quantisation (2 LSB), and the rows theirs */
+        near_conv("dfoc.kp_iq", (double)o->dfoc.kp_iq, (double)r->dfoc.kp_iq, 5e-6);
+        near_conv("dfoc.ki_ts_iq", (double)o->dfoc.ki_ts_iq, (double)r->dfoc.ki_ts_iq,
+                  5e-6 + 2.0 / (double)g_ref.machine.rs_iq + 1.0 / (double)r->dfoc.ki_ts_iq +
+                      0.5 / (double)g_in.u.im.dfoc.ki_ts_iq);
+        assert_true(g_in.u.im.dfoc.kp_iq != r->dfoc.kp_iq);
+    }
+    /* the encoder plausibility: 1.5 w_slip + T_lim ts speed_div / Jn, Jn the identified J in pu */
+    {
+        const double kt_spin = nearbyint(lm_lsb * (double)g_d.res.im.id_iq / IQ1) / IQ1;
+        const double jn = (double)g_d.res.j_q12 / 4096.0 * kt_spin * (double)g_in.board.enc_counts * ts * ts /
+                          ((double)105414357 / IQ1 * p);
+        double slip = rr * t_d / (psir * psir), tol;
+        assert_true(r->ref.enc_plaus_iq > 0 && g_in.u.im.ref.enc_plaus_iq > 0);
+        if (g_in.u.im.fw.on != 0U) {
+            const double psi_min = (double)g_in.u.im.fw.psi_min_iq / IQ1, psir_min = psi_min * sqrt(lm / ls);
+            const double kt = lm / (2.0 * sls * ls);
+            slip = fmax(slip, rr * fmin(t_d, kt * psi_min * psi_min) / (psir_min * psir_min));
+        }
+        tol = 1.5 * slip + t_d * ts * (double)g_in.speed.speed_div / jn;
+        near_lsb("ref.enc_plaus_iq", (double)o->ref.enc_plaus_iq, IQ1 * tol, 0.5 + 1e-7 * IQ1 * tol);
+        near_conv("ref.enc_plaus_iq", (double)o->ref.enc_plaus_iq, (double)r->ref.enc_plaus_iq, 5e-6);
+        assert_true(g_in.u.im.ref.enc_plaus_iq != r->ref.enc_plaus_iq);
+    }
 }
 
 /* Each derived IM row against its double formula on the same integer inputs and against the
@@ -392,10 +612,9 @@ static void check_im_rows(void)
     assert_int_equal(g_out.board.enc_gain_q16, g_ref.board.enc_gain_q16);
     assert_int_equal(g_out.board.enc_reversed, g_ref.board.enc_reversed);
     assert_true(abs((int)g_out.board.td_ts_q15 - (int)g_ref.board.td_ts_q15) <= 1);
-    /* not written: the rows the image cannot derive (app_ident_apply.c) */
-    assert_int_equal(o->ref.magn_periods, g_in.u.im.ref.magn_periods);
-    assert_int_equal(o->ref.enc_plaus_iq, g_in.u.im.ref.enc_plaus_iq);
+    /* not written: the encoder offset (an IM has no magnet to align to) */
     assert_int_equal(g_out.board.enc_offset, g_in.board.enc_offset);
+    check_im_design_rows(ls, sls, lm);
     check_speed_rows();
 }
 
@@ -419,8 +638,62 @@ static void test_im_dfoc(void **state)
     (void)state;
     setup_im(DTC_LAW_IM_DFOC, 0.53, 0, 2);
     check_im_rows();
+}
+
+static void test_im_dsvm(void **state)
+{
+    (void)state;
+    setup_im(DTC_LAW_IM_DSVM, 0.53, 0, 2);
+    check_im_rows();
+}
+
+/* the second machine (tools/scenarios/im_second_machine.toml): DTC on its stator-flux reference,
+ * DFOC and DSVM on its rotor-flux reference */
+static void test_im_second_machine(void **state)
+{
+    (void)state;
+    g_machine = IM_SECOND;
+    setup_im(DTC_LAW_IM_DTC, 0.0, 0, 2);
+    check_im_rows();
+    g_fw = 1; /* the encoder plausibility's slip over the flux weakening's range */
+    setup_im(DTC_LAW_IM_DTC, 0.0, 0, 2);
+    assert_int_equal(g_in.u.im.fw.on, 1U);
+    check_im_rows();
+    g_fw = 0;
+    setup_im(DTC_LAW_IM_DFOC, 0.90, 1, 2);
+    check_im_rows();
+    g_dfoc_zeta = 0.7; /* the PI's two poles at w_c: K_p = 2 zeta w_c sigma L_s - R_s, K_i = sigma L_s w_c^2 */
+    setup_im(DTC_LAW_IM_DFOC, 0.90, 0, 2);
+    check_im_rows();
+    g_dfoc_zeta = 0.0;
+    setup_im(DTC_LAW_IM_SFVC, 0.90, 0, 2);
+    check_im_rows();
+    setup_im(DTC_LAW_IM_DSVM, 0.90, 0, 2);
+    check_im_rows();
+    g_machine = IM_4KW;
+}
+
+/* the 4 kW with every machine parameter 30 % high and 30 % low */
+static void test_im_variation(void **state)
+{
+    (void)state;
+    for (g_machine = IM_4KW_PLUS30; g_machine <= IM_4KW_MINUS30; g_machine++) {
+        setup_im(DTC_LAW_IM_DTC, 0.0, 0, 2);
+        check_im_rows();
+        setup_im(DTC_LAW_IM_DFOC, 0.53, 0, 2);
+        check_im_rows();
+        setup_im(DTC_LAW_IM_DSVM, 0.53, 1, 2);
+        check_im_rows();
+    }
+    g_machine = IM_4KW;
     print_message("IM rows: largest error against the formulas %.4f LSB, against the converter %.3g relative\n",
                   g_err_lsb, g_err_conv);
+    {
+        int k;
+        for (k = 0; k < N_ROWS && g_rows[k].row != NULL; k++) {
+            print_message("  %-22s %.4f LSB, %.3g relative\n", g_rows[k].row, g_rows[k].lsb, g_rows[k].conv);
+        }
+    }
 }
 
 /* no flux measured turning (a spin without i_d): the standing L_s */
@@ -452,6 +725,20 @@ static void test_im_refusals(void **state)
     setup_im(DTC_LAW_IM_DTC, 0.53, 0, 2);
     g_d.res.im.rr_iq = 0;
     assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_IM);
+    /* a DFOC current PI whose gains in force give K_p = (K_p' + R_s') sigma L_s / sigma L_s' - R_s
+     * not positive (K_p' and R_s' 1 LSB: not the zeta = 0 design, K_i' T_s far above R_s' w_c T_s) */
+    setup_im(DTC_LAW_IM_DFOC, 0.53, 0, 2);
+    g_in.u.im.dfoc.kp_iq = 1;
+    g_in.machine.rs_iq = 1;
+    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_IM);
+    /* a configuration without the design rows (all 0) keeps the rows designed from them */
+    setup_im(DTC_LAW_IM_DFOC, 0.53, 0, 2);
+    memset(&g_in.u.im.design, 0, sizeof g_in.u.im.design);
+    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
+    assert_int_equal(g_out.prot.i_lim_iq, g_in.prot.i_lim_iq);
+    assert_int_equal(g_out.speed.torque_limit_iq, g_in.speed.torque_limit_iq);
+    assert_int_equal(g_out.u.im.ref.magn_periods, g_in.u.im.ref.magn_periods);
+    assert_int_equal(g_out.u.im.ref.enc_plaus_iq, g_in.u.im.ref.enc_plaus_iq);
     /* a magnetising current phi_r* / M at rated: M three times too small */
     setup_im(DTC_LAW_IM_DTC, 0.53, 0, 2);
     g_d.res.psi_iq /= 8;
@@ -465,8 +752,9 @@ int main(void)
         cmocka_unit_test(test_reversed_in_force), cmocka_unit_test(test_pole_pairs),
         cmocka_unit_test(test_dead_time_bounds), cmocka_unit_test(test_refusals),
         cmocka_unit_test(test_im_dtc),           cmocka_unit_test(test_im_derived_rotor_flux),
-        cmocka_unit_test(test_im_dfoc),          cmocka_unit_test(test_im_standing_ls),
-        cmocka_unit_test(test_im_refusals),
+        cmocka_unit_test(test_im_dfoc),          cmocka_unit_test(test_im_dsvm),
+        cmocka_unit_test(test_im_second_machine), cmocka_unit_test(test_im_variation),
+        cmocka_unit_test(test_im_standing_ls),   cmocka_unit_test(test_im_refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,5 +1,5 @@
 /*
- * test_fixmath_sqrt.c - fix_isqrt64, iq_sqrt, iq_mag, q15_mag and iq_sumsq_q48 against a double
+ * test_fixmath_sqrt.c - fix_isqrt64, fix_isqrt_rnd, iq_sqrt, iq_mag, q15_mag and iq_sumsq_q48 against a double
  * reference.
  *
  * Bounds: fix_isqrt64 is a floor: 0 <= sqrt(x) - r < 1 LSB (checked in double, and exactly as
@@ -319,8 +319,8 @@ static void test_mag_sqrt_trajectories(void **state)
 
 /* ---------------------------------------------------------------------------------------- */
 /* The plain digit-by-digit root over all n_digits bit pairs of x < 4^n_digits, with 64-bit
- * remainder, root and trial bit throughout: the reference that fix_isqrt64, iq_sqrt, iq_mag and
- * q15_mag must match bit for bit (floor, and rounded up when x - r^2 > r). */
+ * remainder, root and trial bit throughout: the reference that fix_isqrt64, fix_isqrt_rnd, iq_sqrt,
+ * iq_mag and q15_mag must match bit for bit (floor, and rounded up when x - r^2 > r). */
 static uint64_t ref_isqrt(uint64_t x, unsigned n_digits, int rounded)
 {
     uint64_t rem = x;
@@ -342,8 +342,15 @@ static uint64_t ref_isqrt(uint64_t x, unsigned n_digits, int rounded)
 static void same_isqrt(uint64_t x)
 {
     uint32_t r = fix_isqrt64(x);
+    uint32_t fl;
+    uint64_t rr = fix_isqrt_rnd(x, &fl);
     if ((uint64_t)r != ref_isqrt(x, 32U, 0)) {
         fail_msg("fix_isqrt64(%llu) = %u, bit-by-bit reference %llu", (unsigned long long)x, r,
+                 (unsigned long long)ref_isqrt(x, 32U, 0));
+    }
+    if ((uint64_t)fl != ref_isqrt(x, 32U, 0) || rr != ref_isqrt(x, 32U, 1)) {
+        fail_msg("fix_isqrt_rnd(%llu) = %llu (floor %u), bit-by-bit reference %llu (floor %llu)",
+                 (unsigned long long)x, (unsigned long long)rr, fl, (unsigned long long)ref_isqrt(x, 32U, 1),
                  (unsigned long long)ref_isqrt(x, 32U, 0));
     }
 }

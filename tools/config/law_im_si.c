@@ -226,6 +226,14 @@ void dtc_si_im_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dtc_ba
     dtc_im_machine_cfg_t *im = &cfg->u.im.machine;
 
     cfg->u.im.part = DTC_PART_IM;
+    /* what the derived rows below are designed from, held for the identification's apply
+     * (firmware app_ident_apply.c designs them again on the identified machine) */
+    cfg->u.im.design.vdc_iq = dtc_si_to_iq(c, "vdc_v", si->vdc_v, si->vdc_v / b->v_base_v);
+    cfg->u.im.design.torque_limit_iq = dtc_si_to_iq(c, "torque_limit_nm", si->torque_limit_nm, si->torque_limit_nm / b->t_base_nm);
+    cfg->u.im.design.derived = (uint16_t)((si->current_limit_auto == 0 ? 0U : si->delay_comp != 0 ? 1U : 2U) |
+                                          (si->law == DTC_LAW_IM_DSVM && si->dsvm_torque_band2_nm == 0.0 ? DTC_IM_DESIGN_BAND2 : 0U));
+    cfg->u.im.design.magn_wait_iq = si->magn_frac > 0.0 && si->magn_frac < 1.0
+        ? dtc_si_to_iq(c, "magn_frac", si->magn_frac, log(1.0 / (1.0 - si->magn_frac))) : 0;
     {
         /* The current limit (the switching-table laws' vector override, firmware/dtc/ilim.h) and
          * the torque the current allows: the steady-state torque at I_lim less the law's excursion

@@ -58,7 +58,8 @@ IDENT_STEP = {v: k.lower() for k, v in _enum(_IDENT, "APP_IDENT_", "app_ident_st
 IDENT_FAIL = {v: k.lower() for k, v in _enum(_IDENT, "APP_IDENT_FAIL_", "app_ident_fail").items()}
 APPLY_ERR = {v: k.lower() for k, v in _enum(_IDENT, "APP_IDENT_APPLY_", "app_ident_apply_err").items()}
 # The rows IDENT_APPLY writes (firmware/app/app_ident_apply.c): on both machines, then on a PM DTC
-# configuration, then on an induction machine's (the DFOC's two rows on the DFOC law only).
+# configuration, then on an induction machine's (the DFOC's four rows on the DFOC law only, the
+# DSVM's band on the DSVM law only).
 _IDENT_APPLY_COMMON = ["machine.rs_iq", "machine.pole_pairs", "board.enc_gain_q16", "board.enc_reversed",
                        "board.td_ts_q15", "speed.kp_iq", "speed.ki_ts_iq", "prot.enc_freeze_speed_iq"]
 IDENT_APPLY_ROWS = _IDENT_APPLY_COMMON + ["u.pm_dtc.machine.ls_iq", "u.pm_dtc.machine.inv_ls_iq",
@@ -66,8 +67,11 @@ IDENT_APPLY_ROWS = _IDENT_APPLY_COMMON + ["u.pm_dtc.machine.ls_iq", "u.pm_dtc.ma
 IDENT_APPLY_ROWS_IM = _IDENT_APPLY_COMMON + [
     "u.im.machine.rr_iq", "u.im.machine.sigma_ls_iq", "u.im.machine.sigma_lr_iq", "u.im.machine.kr_iq",
     "u.im.machine.ks_iq", "u.im.machine.inv_ks_iq", "u.im.machine.m_iq", "u.im.fw.kt_iq",
-    "u.im.ref.inv_psir_sq_iq", "u.im.ref.magn_ramp_iq", "u.im.ref.magn_k_q31"]
-IDENT_APPLY_ROWS_DFOC = IDENT_APPLY_ROWS_IM + ["u.im.dfoc.id_ref_iq", "u.im.dfoc.iq_per_t_iq"]
+    "u.im.ref.inv_psir_sq_iq", "u.im.ref.magn_ramp_iq", "u.im.ref.magn_k_q31", "u.im.ref.magn_periods",
+    "u.im.ref.enc_plaus_iq", "prot.i_lim_iq", "speed.torque_limit_iq", "speed.torque_ref_iq"]
+IDENT_APPLY_ROWS_DFOC = IDENT_APPLY_ROWS_IM + ["u.im.dfoc.id_ref_iq", "u.im.dfoc.iq_per_t_iq", "u.im.dfoc.kp_iq",
+                                              "u.im.dfoc.ki_ts_iq"]
+IDENT_APPLY_ROWS_DSVM = IDENT_APPLY_ROWS_IM + ["u.im.dsvm.torque_band2_iq"]
 LAW = _enum(_read("firmware/dtc/dtc_config_common.h"), "DTC_LAW_", "dtc_law")
 IDENT_QUANTITY = {v: k.lower() for k, v in _enum(_IDENT, "APP_IDENT_Q_", "app_ident_quantity").items()}
 FAULT = {int(m.group(2)): (m.group(3), m.group(1)) for m in
@@ -556,6 +560,8 @@ class Drive:
             return IDENT_APPLY_ROWS
         if law == LAW["IM_DFOC"]:
             return IDENT_APPLY_ROWS_DFOC
+        if law == LAW["IM_DSVM"]:
+            return IDENT_APPLY_ROWS_DSVM
         return IDENT_APPLY_ROWS_IM if LAW["IM_DTC"] <= law <= LAW["IM_DSVM"] else _IDENT_APPLY_COMMON
 
     def save(self):

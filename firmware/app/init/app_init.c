@@ -125,47 +125,46 @@ static iq_t changed_iq(iq_t cur, iq_t was, iq_t now)
     return now != was ? now : cur;
 }
 
-/* The shadow set after a change of the configuration from old to cfg: the set published last,
- * with each field that the change gave a new value (a gain, the flux reference, a reference or
- * the mode written by id) taken from cfg. */
-static int16_t publish_with(const dtc_config_t *old, const dtc_config_t *cfg)
+/* The shadow set after a change of the configuration from one whose set was *was (its
+ * dtc_refs_from_config, taken before the change: no copy of the old configuration is kept) to cfg:
+ * the set published last, with each field that the change gave a new value (a gain, the flux
+ * reference, a reference or the mode written by id) taken from cfg. */
+static int16_t publish_with(const dtc_refs_t *was, const dtc_config_t *cfg)
 {
-    dtc_refs_t was, now;
+    dtc_refs_t now;
     dtc_refs_t r = g_app_instance.refs;
-    dtc_refs_from_config(&was, old);
     dtc_refs_from_config(&now, cfg);
-    r.speed_ref_iq = changed_iq(r.speed_ref_iq, was.speed_ref_iq, now.speed_ref_iq);
-    r.torque_ref_iq = changed_iq(r.torque_ref_iq, was.torque_ref_iq, now.torque_ref_iq);
-    r.flux_ref_iq = changed_iq(r.flux_ref_iq, was.flux_ref_iq, now.flux_ref_iq);
-    r.kp_iq = changed_iq(r.kp_iq, was.kp_iq, now.kp_iq);
-    r.ki_ts_iq = changed_iq(r.ki_ts_iq, was.ki_ts_iq, now.ki_ts_iq);
-    if (now.mode != was.mode) {
+    r.speed_ref_iq = changed_iq(r.speed_ref_iq, was->speed_ref_iq, now.speed_ref_iq);
+    r.torque_ref_iq = changed_iq(r.torque_ref_iq, was->torque_ref_iq, now.torque_ref_iq);
+    r.flux_ref_iq = changed_iq(r.flux_ref_iq, was->flux_ref_iq, now.flux_ref_iq);
+    r.kp_iq = changed_iq(r.kp_iq, was->kp_iq, now.kp_iq);
+    r.ki_ts_iq = changed_iq(r.ki_ts_iq, was->ki_ts_iq, now.ki_ts_iq);
+    if (now.mode != was->mode) {
         r.mode = now.mode;
     }
     return app_set_refs(&r);
 }
 
-/* The configuration before a change (background only). */
-static dtc_config_t g_old;
-
 int16_t app_config_live(const dtc_config_t *cfg)
 {
     uint16_t irq;
+    dtc_refs_t was;
     int16_t rc = law_check(cfg, NULL);
     if (rc != DTC_OK) {
         return rc;
     }
+    dtc_refs_from_config(&was, &g_app_instance.cfg); /* the background alone writes cfg */
     irq = hal_irq_save(); /* a copy of a few hundred words: the ISR never sees half of it */
-    g_old = g_app_instance.cfg;
     g_app_instance.cfg = *cfg;
     hal_irq_restore(irq);
-    return publish_with(&g_old, &g_app_instance.cfg);
+    return publish_with(&was, &g_app_instance.cfg);
 }
 
 int16_t app_reconfigure(const dtc_config_t *cfg)
 {
     int16_t rc;
     uint16_t irq;
+    dtc_refs_t was;
     const uint16_t mode = g_app_instance.core.arm_mode;
     const uint32_t timeout = g_app_instance.core.comm_timeout_n;
     capture_t *const cap = g_app_instance.core.cap;
@@ -177,10 +176,10 @@ int16_t app_reconfigure(const dtc_config_t *cfg)
     if (rc != DTC_OK) {
         return rc;
     }
+    dtc_refs_from_config(&was, &g_app_instance.cfg);
     /* Disarmed, gates off: the ISR is held off while the core restarts on the new set (it
      * calibrates again). */
     irq = hal_irq_save();
-    g_old = g_app_instance.cfg;
     g_app_instance.cfg = *cfg;
     rc = app_core_init(&g_app_instance.core, &g_app_instance.cfg);
     app_core_attach(&g_app_instance.core, cap, flog);
@@ -191,7 +190,7 @@ int16_t app_reconfigure(const dtc_config_t *cfg)
     }
     hal_irq_restore(irq);
     if (rc == 0) {
-        (void)publish_with(&g_old, &g_app_instance.cfg); /* the law starts from cfg's set */
+        (void)publish_with(&was, &g_app_instance.cfg); /* the law starts from cfg's set */
     }
     return rc;
 }
