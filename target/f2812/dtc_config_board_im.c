@@ -107,6 +107,10 @@ const dtc_config_t g_dtc_config = {
     .u.im.dfoc.id_ref_iq = 0, /* #257 0 = 0 A */
     .u.im.dfoc.iq_per_t_iq = 0, /* #258 0 = 0 pu */
     .u.im.dsvm.torque_band2_iq = 0, /* #260 0 = 0 N.m */
+    .u.im.design.vdc_iq = 16777216, /* #261 1 = 311 V */
+    .u.im.design.torque_limit_iq = 23391282, /* #262 1.39422905 = 79.5001 N.m */
+    .u.im.design.magn_wait_iq = 38630967, /* #263 2.30258507 */
+    .u.im.design.derived = 2U, /* #264 */
 };
 
 /* no reconfiguration relays: a failed leg trips (app_set_reconfig) */
