@@ -69,6 +69,7 @@ void im_dtc_reset(im_dtc_t *c)
     c->plaus_on = 0U;
     c->plaus_te_iq = 0;
     c->plaus_magn = 0U;
+    c->plaus_due = 0U;
     /* SFVC: the gates were off, no voltage */
     svm_reset(&c->svm);
     c->v1_alpha_iq = 0;
@@ -130,7 +131,7 @@ void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m)
     im_dtc_ein_common(c, m);
 }
 
-/* The encoder plausibility's comparison of a speed-loop period (im_dtc.h), run in the supervision's
+/* The encoder plausibility's comparison of a speed-loop period (im_dtc.h), run in plaus_slot's
  * step on the speed-loop step's values (held since: est.theta_r, est.psir_mag_iq, speed_iq;
  * plaus_te_iq, plaus_magn): the sensorless speed (Casadei eqs. 16, 22: im_speed_step on that
  * step's rotor-flux angle and torque), the encoder's speed through the same filter, their
@@ -164,11 +165,15 @@ void im_dtc_speed_tick(im_dtc_t *c, const dtc_meas_t *m, iq_t te)
         c->speed_iq = c->isp.speed_iq;
     } else {
         c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
-        /* the plausibility's values of this step, compared in the supervision's (im_dtc_speed) */
-        c->plaus_te_iq = te;
-        c->plaus_magn = c->magnetised;
+        /* the plausibility's values of this step, compared in plaus_slot's (im_dtc_speed) */
+        if (cfg->u.im.ref.enc_plaus_iq > 0) {
+            c->plaus_te_iq = te;
+            c->plaus_magn = c->magnetised;
+            c->plaus_due = 1U;
+        }
     }
     c->sup.due = 1U;
+    c->sup.compared = 0U;
     c->ref_due = 1U;
     if (c->act.mode == DTC_MODE_SPEED && c->magnetised != 0U) {
         c->te_cmd_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);

@@ -89,9 +89,9 @@ uint16_t im_dtc_fstp_advance(const im_dtc_t *c, uint16_t sector, uint16_t flux_u
 
 /* Speed every speed_div-th period, as in the PM law (im_dtc_speed_tick: the encoder's or the
  * sensorless speed, the speed PI); the encoder plausibility's comparison (im_dtc_enc_plaus, with
- * the encoder and u.im.ref.enc_plaus_iq > 0) and the model's supervision once per speed period in
- * a step that carries neither the speed loop nor Casadei eq. 19 (im_sup.h), on the speed-loop
- * step's values; in torque mode the command of the set in force (im_dtc_torque_cmd). Inline: the
+ * the encoder and u.im.ref.enc_plaus_iq > 0) and then the model's supervision once per speed
+ * period, each in a step of its own that carries neither the speed loop nor Casadei eq. 19
+ * (im_dtc.h plaus_slot, im_sup.h slot), on the speed-loop step's values; in torque mode the command of the set in force (im_dtc_torque_cmd). Inline: the
  * periods without the speed loop pay for no call. */
 static inline void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
 {
@@ -102,12 +102,13 @@ static inline void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_o
         im_dtc_speed_tick(c, m, te);
     }
     speed_loop_advance(&c->div_cnt, c->cfg->speed.speed_div);
+    if (c->plaus_due != 0U && c->div_cnt == c->plaus_slot) {
+        c->plaus_due = 0U;
+        im_dtc_enc_plaus(c);
+        c->sup.compared = c->plaus_on;
+    }
     if (c->sup.due != 0U && c->div_cnt == c->sup.slot) {
         c->sup.due = 0U;
-        if (c->cfg->speed.sensor != DTC_SPEED_NONE && c->cfg->u.im.ref.enc_plaus_iq > 0) {
-            im_dtc_enc_plaus(c);
-        }
-        c->sup.compared = c->plaus_on;
         im_sup_step(c);
     }
     if (c->act.mode == DTC_MODE_TORQUE) {
