@@ -25,7 +25,19 @@ void fix_polar(iq_t x, iq_t y, angle_t *angle, iq_t *mag)
         *mag = 0;
         return;
     }
-    /* Scale by 2^(up - down) so that the top bit of max(|x|, |y|) is bit 28 (fixmath.h). */
+    /* Scale by 2^(up - down) so that the top bit of max(|x|, |y|) is bit 28 (fixmath.h). On a
+     * 64-bit GCC/Clang host the compiler's count of leading zeros gives the same shift (b != 0);
+     * the portable search below is what the targets run (no count-leading-zeros in C99). */
+#if FIX_WORD64 && defined(__GNUC__)
+    {
+        const int lz = __builtin_clz(b);
+        if (lz >= 3) {
+            up = (uint16_t)(lz - 3);
+        } else {
+            down = (uint16_t)(3 - lz);
+        }
+    }
+#else
     while (b >= ((uint32_t)1U << 29)) { /* at most three times */
         b >>= 1;
         ++down;
@@ -49,6 +61,7 @@ void fix_polar(iq_t x, iq_t y, angle_t *angle, iq_t *mag)
     if (b < ((uint32_t)1U << 28)) {
         up = (uint16_t)(up + 1U);
     }
+#endif
     ax = (ax >> down) << up;
     ay = (ay >> down) << up;
     /* half turn for x < 0: (x, y) -> (-x, -y), so xs >= 0; both below 2^29 */
