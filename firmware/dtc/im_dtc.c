@@ -67,9 +67,6 @@ void im_dtc_reset(im_dtc_t *c)
     c->enc_filt_iq = 0;
     c->plaus_err_iq = 0;
     c->plaus_on = 0U;
-    c->plaus_te_iq = 0;
-    c->plaus_magn = 0U;
-    c->plaus_due = 0U;
     /* SFVC: the gates were off, no voltage */
     svm_reset(&c->svm);
     c->v1_alpha_iq = 0;
@@ -131,9 +128,9 @@ void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m)
     im_dtc_ein_common(c, m);
 }
 
-/* The encoder plausibility's comparison of a speed-loop period (im_dtc.h), run in plaus_slot's
+/* The encoder plausibility's comparison of a speed-loop period (im_dtc.h), run in the third
  * step on the speed-loop step's values (held since: est.theta_r, est.psir_mag_iq, speed_iq;
- * plaus_te_iq, plaus_magn): the sensorless speed (Casadei eqs. 16, 22: im_speed_step on that
+ * stored: the torque in plaus_err_iq, whether magnetised in sup.due bit 2): the sensorless speed (Casadei eqs. 16, 22: im_speed_step on that
  * step's rotor-flux angle and torque), the encoder's speed through the same filter, their
  * difference; before the rotor flux reaches plaus_psir_iq, and while the start-up magnetises (the
  * flux is built at DC: on a rotor that already turns its angle stands while the encoder's moves),
@@ -141,8 +138,8 @@ void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m)
  * Formats IQ pu; the difference saturates. */
 void im_dtc_enc_plaus(im_dtc_t *c)
 {
-    im_speed_step(&c->isp, &c->isp_p, c->est.theta_r, c->plaus_te_iq, c->cfg->u.im.ref.inv_psir_sq_iq);
-    if (c->est.psir_mag_iq < c->plaus_psir_iq || c->isp.primed == 0U || c->plaus_magn == 0U) {
+    im_speed_step(&c->isp, &c->isp_p, c->est.theta_r, c->plaus_err_iq, c->cfg->u.im.ref.inv_psir_sq_iq);
+    if (c->est.psir_mag_iq < c->plaus_psir_iq || c->isp.primed == 0U || (c->sup.due & 4U) == 0U) {
         c->enc_filt_iq = c->isp.speed_iq;
         c->plaus_on = 0U;
         return;
@@ -159,20 +156,20 @@ void im_dtc_enc_plaus(im_dtc_t *c)
 void im_dtc_speed_tick(im_dtc_t *c, const dtc_meas_t *m, iq_t te)
 {
     const dtc_config_t *cfg = c->cfg;
+    uint16_t plaus = 0U;
 
     if (cfg->speed.sensor == DTC_SPEED_NONE) {
         im_speed_step(&c->isp, &c->isp_p, c->est.theta_r, te, cfg->u.im.ref.inv_psir_sq_iq);
         c->speed_iq = c->isp.speed_iq;
     } else {
         c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
-        /* the plausibility's values of this step, compared in plaus_slot's (im_dtc_speed) */
+        /* the plausibility's values of this step, compared in the third step (im_dtc_speed) */
         if (cfg->u.im.ref.enc_plaus_iq > 0) {
-            c->plaus_te_iq = te;
-            c->plaus_magn = c->magnetised;
-            c->plaus_due = 1U;
+            c->plaus_err_iq = te;
+            plaus = (uint16_t)(c->magnetised != 0U ? 6U : 2U);
         }
     }
-    c->sup.due = 1U;
+    c->sup.due = (uint16_t)(1U | plaus);
     c->sup.compared = 0U;
     c->ref_due = 1U;
     if (c->act.mode == DTC_MODE_SPEED && c->magnetised != 0U) {

@@ -89,7 +89,6 @@ int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg)
                                             ? cfg->u.im.ref.psir_ref_iq
                                             : iq_mpy(cfg->u.im.machine.inv_ks_iq, cfg->speed.flux_ref_iq),
                                         4U);
-    c->plaus_slot = cfg->speed.speed_div > 3U ? 3U : 0U;
     c->cfg = cfg;
     im_sup_init(c, cfg);
 

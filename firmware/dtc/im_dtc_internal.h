@@ -91,7 +91,7 @@ uint16_t im_dtc_fstp_advance(const im_dtc_t *c, uint16_t sector, uint16_t flux_u
  * sensorless speed, the speed PI); the encoder plausibility's comparison (im_dtc_enc_plaus, with
  * the encoder and u.im.ref.enc_plaus_iq > 0) and then the model's supervision once per speed
  * period, each in a step of its own that carries neither the speed loop nor Casadei eq. 19
- * (im_dtc.h plaus_slot, im_sup.h slot), on the speed-loop step's values; in torque mode the command of the set in force (im_dtc_torque_cmd). Inline: the
+ * (im_dtc.h, im_sup.h slot), on the speed-loop step's values; in torque mode the command of the set in force (im_dtc_torque_cmd). Inline: the
  * periods without the speed loop pay for no call. */
 static inline void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
 {
@@ -102,9 +102,9 @@ static inline void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_o
         im_dtc_speed_tick(c, m, te);
     }
     speed_loop_advance(&c->div_cnt, c->cfg->speed.speed_div);
-    if (c->plaus_due != 0U && c->div_cnt == c->plaus_slot) {
-        c->plaus_due = 0U;
+    if ((c->sup.due & 2U) != 0U && c->div_cnt == (c->cfg->speed.speed_div > 3U ? 3U : 0U)) {
         im_dtc_enc_plaus(c);
+        c->sup.due = 1U;
         c->sup.compared = c->plaus_on;
     }
     if (c->sup.due != 0U && c->div_cnt == c->sup.slot) {
