@@ -128,17 +128,18 @@ void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m)
     im_dtc_ein_common(c, m);
 }
 
-/* The encoder plausibility's comparison on a speed-loop period (im_dtc.h): the sensorless speed
- * (Casadei eqs. 16, 22: im_speed_step on this period's rotor-flux angle and torque), the encoder's
- * speed through the same filter, their difference; before the rotor flux reaches
- * plaus_psir_iq, and while the start-up magnetises (the flux is built at DC: on a rotor that
- * already turns its angle stands while the encoder's moves), the filtered encoder speed is set to
- * the sensorless one and nothing is compared.
+/* The encoder plausibility's comparison of a speed-loop period (im_dtc.h), run in the third
+ * step on the speed-loop step's values (held since: est.theta_r, est.psir_mag_iq, speed_iq;
+ * stored: the torque in plaus_err_iq, whether magnetised in sup.due bit 2): the sensorless speed (Casadei eqs. 16, 22: im_speed_step on that
+ * step's rotor-flux angle and torque), the encoder's speed through the same filter, their
+ * difference; before the rotor flux reaches plaus_psir_iq, and while the start-up magnetises (the
+ * flux is built at DC: on a rotor that already turns its angle stands while the encoder's moves),
+ * the filtered encoder speed is set to the sensorless one and nothing is compared.
  * Formats IQ pu; the difference saturates. */
-void im_dtc_enc_plaus(im_dtc_t *c, iq_t te)
+void im_dtc_enc_plaus(im_dtc_t *c)
 {
-    im_speed_step(&c->isp, &c->isp_p, c->est.theta_r, te, c->cfg->u.im.ref.inv_psir_sq_iq);
-    if (c->est.psir_mag_iq < c->plaus_psir_iq || c->isp.primed == 0U || c->magnetised == 0U) {
+    im_speed_step(&c->isp, &c->isp_p, c->est.theta_r, c->plaus_err_iq, c->cfg->u.im.ref.inv_psir_sq_iq);
+    if (c->est.psir_mag_iq < c->plaus_psir_iq || c->isp.primed == 0U || (c->sup.due & 4U) == 0U) {
         c->enc_filt_iq = c->isp.speed_iq;
         c->plaus_on = 0U;
         return;
@@ -148,25 +149,28 @@ void im_dtc_enc_plaus(im_dtc_t *c, iq_t te)
     c->plaus_on = 1U;
 }
 
-/* The speed-loop period's part of im_dtc_speed (im_dtc_internal.h): the encoder's speed, or the
- * sensorless estimate (the rotor-flux angle's change over the speed period, Casadei eq. 22, minus
+/* The speed-loop period's part of im_dtc_speed (im_dtc_internal.h): the encoder's speed (and the
+ * values its plausibility compares later, im_dtc_enc_plaus), or the sensorless estimate (the rotor-flux angle's change over the speed period, Casadei eq. 22, minus
  * the slip of eq. 16 with the estimated torque te, im_ref.h), then the speed PI. The PI is held at
  * rest during the start-up magnetisation. */
 void im_dtc_speed_tick(im_dtc_t *c, const dtc_meas_t *m, iq_t te)
 {
     const dtc_config_t *cfg = c->cfg;
+    uint16_t plaus = 0U;
 
     if (cfg->speed.sensor == DTC_SPEED_NONE) {
         im_speed_step(&c->isp, &c->isp_p, c->est.theta_r, te, cfg->u.im.ref.inv_psir_sq_iq);
         c->speed_iq = c->isp.speed_iq;
     } else {
         c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
+        /* the plausibility's values of this step, compared in the third step (im_dtc_speed) */
         if (cfg->u.im.ref.enc_plaus_iq > 0) {
-            im_dtc_enc_plaus(c, te);
+            c->plaus_err_iq = te;
+            plaus = (uint16_t)(c->magnetised != 0U ? 6U : 2U);
         }
     }
-    c->sup.due = 1U;
-    c->sup.compared = c->plaus_on;
+    c->sup.due = (uint16_t)(1U | plaus);
+    c->sup.compared = 0U;
     c->ref_due = 1U;
     if (c->act.mode == DTC_MODE_SPEED && c->magnetised != 0U) {
         c->te_cmd_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);

@@ -62,7 +62,11 @@
  * application's to judge (app/law.h law_enc_plaus, app_enc.h). The check holds while the estimated
  * rotor flux is below phi_r* / 16 (its angle is not yet defined: the start of the magnetisation),
  * the filtered encoder speed following the sensorless one meanwhile, so both filters leave the
- * same state. It costs one im_speed_step and one filter step per speed period.
+ * same state. It costs one im_speed_step and one filter step per speed period, in a step of its
+ * own before the model supervision's (the third step, im_sup.h slot), on the speed-loop step's values (the angle, |phi_r|, the
+ * encoder's speed, the torque estimate and whether the machine was magnetised, all held since):
+ * the same sums and decisions as in the speed-loop step, the application's judgement
+ * (plaus_on) up to three periods later, and the speed-loop step carries none of it.
  *
  * Timing contract as the PM law (dtc.h): the command of step k acts in period k+1; the voltage
  * integrated at step k is that of the legs returned at step k-2. The IM law has no actuation-
@@ -145,9 +149,16 @@ typedef struct {
     iq_t speed_iq;        /* electrical speed in use (encoder or estimated), pu */
     /* encoder plausibility (u.im.ref.enc_plaus_iq > 0 with the encoder; im_dtc_speed) */
     iq_t enc_filt_iq;     /* the encoder's speed through the sensorless speed's filter, pu */
-    iq_t plaus_err_iq;    /* sensorless speed - enc_filt_iq of the last speed period, pu */
-    uint16_t plaus_on;    /* 1: plaus_err_iq compared in this step (a speed-loop step, flux built) */
+    iq_t plaus_err_iq;    /* sensorless speed - enc_filt_iq of the last speed period, pu; from the
+                           * speed-loop step to the comparison's (plaus_on 0 meanwhile) it holds
+                           * that step's torque estimate, which the comparison takes */
+    uint16_t plaus_on;    /* 1: plaus_err_iq compared in this step (the third step after a
+                           * speed-loop step, flux built: im_dtc_speed) */
     iq_t plaus_psir_iq;   /* |phi_r| from which the flux angle is trusted: phi_r* / 16, pu */
+    /* the comparison waits in sup.due (bit 1; bit 2: the machine was magnetised in the speed-loop
+     * step) for the step whose div_cnt (after its increment in im_dtc_speed) is 3,
+     * two steps after the speed loop's and one after Casadei eq. 19's; 0 (the last step of the
+     * speed period) for speed_div < 4; the supervision (im_sup.h slot) comes after it */
     /* working values of one step, kept here rather than on the stack (budget: <= 256 bytes of
      * stack on the Cortex-M0 proxy, tools/bench) */
     clarke_out_t i;       /* currents of this step */

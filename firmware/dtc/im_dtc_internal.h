@@ -22,7 +22,7 @@ void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m);
  * line: im_dtc_speed's other periods pay for no call. */
 void im_dtc_speed_tick(im_dtc_t *c, const dtc_meas_t *m, iq_t te);
 void im_dtc_torque_cmd(im_dtc_t *c, iq_t te);
-void im_dtc_enc_plaus(im_dtc_t *c, iq_t te);
+void im_dtc_enc_plaus(im_dtc_t *c);
 void im_dtc_refs(im_dtc_t *c);
 /* The rotor-flux trim (im_dtc.c), once per speed period: 1 when it moved. */
 uint16_t im_psir_trim(im_dtc_t *c);
@@ -88,9 +88,11 @@ uint16_t im_open_vector(const im_dtc_t *c, iq_t psi_a, uint16_t up);
 uint16_t im_dtc_fstp_advance(const im_dtc_t *c, uint16_t sector, uint16_t flux_up, uint16_t up, iq_t te);
 
 /* Speed every speed_div-th period, as in the PM law (im_dtc_speed_tick: the encoder's or the
- * sensorless speed, the speed PI); the model's supervision once per speed period in a step that
- * carries neither the speed loop nor Casadei eq. 19 (im_sup.h); in torque mode the command of the
- * set in force (im_dtc_torque_cmd). Inline: the periods without the speed loop pay for no call. */
+ * sensorless speed, the speed PI); the encoder plausibility's comparison (im_dtc_enc_plaus, with
+ * the encoder and u.im.ref.enc_plaus_iq > 0) and then the model's supervision once per speed
+ * period, each in a step of its own that carries neither the speed loop nor Casadei eq. 19
+ * (im_dtc.h, im_sup.h slot), on the speed-loop step's values; in torque mode the command of the set in force (im_dtc_torque_cmd). Inline: the
+ * periods without the speed loop pay for no call. */
 static inline void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_out_t *o)
 {
     o->speed_tick = 0U;
@@ -100,6 +102,11 @@ static inline void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_o
         im_dtc_speed_tick(c, m, te);
     }
     speed_loop_advance(&c->div_cnt, c->cfg->speed.speed_div);
+    if ((c->sup.due & 2U) != 0U && c->div_cnt == (c->cfg->speed.speed_div > 3U ? 3U : 0U)) {
+        im_dtc_enc_plaus(c);
+        c->sup.due = 1U;
+        c->sup.compared = c->plaus_on;
+    }
     if (c->sup.due != 0U && c->div_cnt == c->sup.slot) {
         c->sup.due = 0U;
         im_sup_step(c);

@@ -146,8 +146,10 @@ void im_est_flux(im_est_t *s, const im_est_in_t *in)
         /* Casadei eq. 20, with the correction phi_r* e^{j theta} - phi_r of the previous
          * instant (eqs. 21-22 evaluated at the end of the previous step; e^{j theta} = x/|x|). */
         q31_t k;
-        if (s->k_valid == 0U || in->speed_iq != s->k_speed_iq) {
-            s->k_q31 = im_est_gain(p, in->speed_iq); /* the speed changes at the speed-loop rate */
+        if (s->k_valid == 0U || (in->speed_iq != s->k_speed_iq && p->k_hi_q31 != p->k_lo_q31)) {
+            /* the speed changes at the speed-loop rate; with k_hi = k_lo (one tau at every speed) the
+             * gain is the reset's for good */
+            s->k_q31 = im_est_gain(p, in->speed_iq);
             s->k_speed_iq = in->speed_iq;
             s->k_valid = 1U;
         }

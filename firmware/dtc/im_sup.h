@@ -2,9 +2,10 @@
  * im_sup.h - supervision of the induction machine's model (IM laws, im_dtc.h): the improved
  * estimator's rotor flux (Casadei eqs. 20-22) set against a current model's, a mismatch of r_r or m
  * reported as a warning (app_warn.h APP_WARN_IM_MODEL_MISMATCH), and r_r tracked on line.
- * Everything here runs once per speed period, on the values of the speed-loop step (im_dtc_speed)
- * but in a later step that carries neither the speed loop nor Casadei eq. 19 (slot), so the worst
- * step does not grow; never in the other control periods.
+ * Everything here runs once per speed period, on the speed and the encoder plausibility's values
+ * of the speed period (im_dtc_speed) and the sample of its own step, in a later step that carries
+ * neither the speed loop, nor Casadei eq. 19, nor the plausibility's comparison (slot), so the
+ * worst step does not grow; never in the other control periods.
  *
  * Current model of the rotor-flux magnitude (Casadei eqs. A7, A9 in the frame of the rotor flux,
  * the form of the start-up model in im_dtc_refs):
@@ -113,8 +114,9 @@ typedef struct {
     uint16_t n_confirm;   /* speed periods a condition must hold for the warning */
     uint16_t track;       /* 1: r_r^ (and r_s by rho) in use */
     uint16_t slot;        /* im_sup_step runs in the step whose div_cnt (after its increment in
-                           * im_dtc_speed) is this: 3, two steps after the speed loop's and one after
-                           * Casadei eq. 19's; 0 (the last step of the speed period) for speed_div < 4 */
+                           * im_dtc_speed) is this: 4, three steps after the speed loop's, two after
+                           * Casadei eq. 19's and one after the encoder plausibility's (im_dtc.h:
+                           * comparison, the third); 0 (the last step of the speed period) for speed_div < 5 */
     uint16_t cm_on;       /* 1: the improved estimator with the encoder, not DSVM: the current model's vector
                            * (below) blended into Casadei eq. 20's reference at low speed */
     uint16_t cm_n;        /* 3W's normalising shift: 3W 2^cm_n in [1/2, 1) (Q31) */

@@ -34,7 +34,7 @@ void im_sup_init(im_dtc_t *c, const dtc_config_t *cfg)
     }
     s->n_confirm = n;
     s->track = cfg->u.im.ref.rr_track;
-    s->slot = cfg->speed.speed_div > 3U ? 3U : 0U;
+    s->slot = cfg->speed.speed_div > 4U ? 4U : 0U;
     s->rho_iq = IQ(1.0);
     /* the current model's blend (im_sup.h): W = k_r (Ts/tau)(Ts/tau_r) (Q31, rounded products), 3W
      * shifted by cm_n into [1/2, 1) (Q31; 3W < 4 as k_r < 2^6 and both ratios < 1, so the shift

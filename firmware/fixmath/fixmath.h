@@ -339,10 +339,10 @@ static inline iq_t iq_from_q31(q31_t a) { return fix_rshift_rnd32(a, (uint16_t)(
 static inline iq_t iq_from_int(int16_t n) { return fix_sat32((int64_t)n * ((int64_t)1 << FIX_IQ_Q)); }
 
 /* ------------------------------------------------------------------------------------------ */
-/* Square root and vector magnitude (fixmath.c; bit-by-bit, no division, one iteration per bit  */
-/* pair of the argument from its top nonzero pair, at most the counts given below)             */
+/* Square root and vector magnitude (fixmath.c; a seeded multiply-only reciprocal-root Newton    */
+/* estimate made exact by integer comparison, no division: the digit-by-digit root's results)  */
 
-/* floor(sqrt(x)) for a 64-bit unsigned x. Result fits in 32 bits. At most 32 iterations.
+/* floor(sqrt(x)) for a 64-bit unsigned x. Result fits in 32 bits.
  * Scaling and overflow: integer in, integer out; exact floor (0 <= sqrt(x) - result < 1). */
 uint32_t fix_isqrt64(uint64_t x);
 
@@ -353,17 +353,17 @@ uint32_t fix_isqrt64(uint64_t x);
 uint64_t fix_isqrt_rnd(uint64_t x, uint32_t *floor_out);
 
 /* sqrt of an IQ value (Q24 -> Q24), rounded to nearest (error < 0.5 LSB). Negative input
- * returns 0. Scaling and overflow: sqrt(x * 2^24) of an argument < 2^55 (at most 28 iterations); the
+ * returns 0. Scaling and overflow: sqrt(x * 2^24) of an argument < 2^55; the
  * result is below 2^27.5 (sqrt(128) pu), cannot overflow. */
 iq_t iq_sqrt(iq_t x);
 
 /* sqrt(a^2 + b^2) in IQ (Q24), rounded to nearest (error < 0.5 LSB). Scaling and overflow: sum of
- * squares formed in 64 bits (Q48, <= 2^63, cannot overflow), at most 32 iterations; the result saturates
+ * squares formed in 64 bits (Q48, <= 2^63, cannot overflow); the result saturates
  * to IQ_MAX when it would reach 128 (possible only when |a| or |b| exceeds 90.5 pu). */
 iq_t iq_mag(iq_t a, iq_t b);
 
 /* sqrt(a^2 + b^2) in Q15, rounded to nearest (error < 0.5 LSB). Scaling and overflow: sum of
- * squares in Q30 (<= 2^31), at most 16 iterations; saturates to Q15_MAX when the result rounds to 1.0. */
+ * squares in Q30 (<= 2^31); saturates to Q15_MAX when the result rounds to 1.0. */
 q15_t q15_mag(q15_t a, q15_t b);
 
 /* Sum of squares a^2 + b^2 as unsigned Q48 (IQ inputs). Exact; for comparing a magnitude with a
@@ -413,13 +413,20 @@ uint16_t fix_quadrant(iq_t alpha, iq_t beta);
  * micro-rotations by atan(2^-i) drive y to zero (16: the residual rotation atan(2^-15) is 0.32
  * angle_t LSB, below the resolution of the result); the rotation angles are summed in a 32-bit turn
  * accumulator (table of atan(2^-i) in Q32 turns, each rounded to 0.5 of 2^-32 turn) and rounded to
- * angle_t once. Error: angle 0.82 angle LSB (residual rotation 0.32 LSB, table and final rounding
- * 0.5) plus 16/(64 |v|) rad from the truncated shifts, so <= 0.86 LSB for |v| >= 2^16 LSB
- * (0.004 pu); magnitude <= 1 LSB + 6e-8 relative (CORDIC gain 1/K in Q24; the residual rotation's
- * cosine error is 5e-10).
- * Scaling and overflow: the iteration runs on x, y widened to 64 bits and scaled by 2^6, so
- * |x|, |y| < 2^31 grow by at most 1.65 * sqrt(2) to < 2^38.3; the gain product < 2^62. The
- * magnitude saturates to IQ_MAX (only when sqrt(x^2 + y^2) >= 128 pu). */
+ * angle_t once. The iteration runs in 32 bits on x, y scaled by a power of two (up to 2^28
+ * for the smallest, down to 2^-3 for the largest) that puts the top bit of max(|x|, |y|) at bit
+ * 28, so that every vector keeps 28 to 29 significant bits through the truncated shifts.
+ * Error: angle 0.82 angle LSB (residual rotation 0.32 LSB, table and final rounding 0.5) plus
+ * 16 truncated shifts of at most 2^-28 rad each relative to |v|, so <= 0.82 LSB for every
+ * nonzero vector; magnitude <= 1 LSB + 6e-8 relative (CORDIC gain 1/K in Q24 and the truncated
+ * shifts, about 2^-28 of |v| each, measured in tests/unit/test_im_est.c; for |x| or |y| >= 2^29
+ * the pre-shift drops the low 1 to 3 bits; the residual rotation's cosine error is 5e-10). Scaled by 2^6 (max(|x|, |y|) in
+ * [2^22, 2^23), 0.25 to 0.5 pu) the result is that of the same iteration on 64-bit values
+ * scaled by 2^6, bit for bit (tests/unit/test_im_est.c).
+ * Scaling and overflow: |xs|, |ys| < 2^29 after the scaling, |v| < 2^29.5, grown by the CORDIC
+ * gain K = 1.65 to < 2^30.3 (int32); the gain product K |v| 2^s * (1/K in Q24) < 2^54 is
+ * formed in 64 bits and shifted back by 24 + s with rounding. The magnitude saturates to IQ_MAX
+ * (only when sqrt(x^2 + y^2) >= 128 pu). */
 void fix_polar(iq_t x, iq_t y, angle_t *angle, iq_t *mag);
 
 /* ------------------------------------------------------------------------------------------ */

@@ -772,6 +772,67 @@ static void test_sensorless_speed(void **state)
     assert_true(fabs(sum / n - 0.5) < 0.005);
 }
 
+/* ---- encoder plausibility --------------------------------------------------------------------- */
+
+/* The encoder plausibility's comparison (im_dtc.h) runs in a step of its own on the speed-loop
+ * step's values. Encoder fitted, half the base speed, rated torque, after the
+ * magnetisation, over 0.1 s: no speed-loop step sets plaus_on; after each speed-loop step the
+ * step that leaves div_cnt at 3 compares (and no other); plaus_err is, to the bit, the sensorless speed
+ * (im_speed_step, Casadei eqs. 16, 22) of the speed-loop step's rotor-flux angle and torque
+ * estimate less that step's encoder speed through the same filter, formed here from what the
+ * speed-loop step left (the sums of a comparison made in the speed-loop step itself); and a sound
+ * encoder stays within the configured tolerance. */
+static void test_encoder_plausibility_compares_the_speed_loop_values_in_the_supervision_step(void **state)
+{
+    sim_t s;
+    dtc_out_t o;
+    im_speed_t ref;
+    iq_t ref_filt = 0, te = 0, w = 0;
+    angle_t th = 0U;
+    uint16_t pending = 0U, synced = 0U;
+    long n, k, ticks = 0, compared = 0;
+    const im_dtc_t *c;
+    (void)state;
+
+    sim_defaults(&s);
+    s.si.torque_ref_nm = s.si.rated_torque_nm;
+    sim_start(&s, 0.0);
+    sim_magnetise_at(&s, 0.5, 0.2, &o);
+    c = &s.law.u.im;
+    assert_true(c->cfg->u.im.ref.enc_plaus_iq > 0);
+    assert_true(c->cfg->speed.speed_div > 4U); /* the comparison's step (3) is not the speed loop's */
+    memset(&ref, 0, sizeof ref);
+    n = (long)periods(&s, 0.1);
+    for (k = 0; k < n; k++) {
+        sim_period(&s, &o);
+        if (o.speed_tick != 0U) {
+            assert_int_equal(c->plaus_on, 0U);
+            if (synced == 0U) { /* the filters' state before this speed period's comparison */
+                ref = c->isp;
+                ref_filt = c->enc_filt_iq;
+                synced = 1U;
+            }
+            th = c->est.theta_r;
+            te = o.te_iq;
+            w = c->speed_iq;
+            pending = synced;
+            ticks++;
+        } else if (pending != 0U && c->div_cnt == (c->cfg->speed.speed_div > 3U ? 3U : 0U)) {
+            im_speed_step(&ref, &c->isp_p, th, te, c->cfg->u.im.ref.inv_psir_sq_iq);
+            ref_filt = im_speed_lpf(ref_filt, w, c->isp_p.k_filt_q31);
+            assert_int_equal(c->plaus_on, 1U);
+            assert_int_equal(c->plaus_err_iq, fix_sub32(ref.speed_iq, ref_filt));
+            assert_true(fix_abs32(c->plaus_err_iq) < c->cfg->u.im.ref.enc_plaus_iq);
+            pending = 0U;
+            compared++;
+        } else {
+            assert_int_equal(c->plaus_on, 0U);
+        }
+    }
+    assert_true(ticks >= 20);
+    assert_true(compared >= ticks - 1);
+}
+
 /* The current prediction the application's sensor plausibility reads (law.h law_i_pred,
  * im_dtc.h im_dtc_i_pred) against the double-precision machine (dtc_ref_im) the law drives, with
  * the encoder at rated torque and half the base speed: after each step, the predicted phase-A
@@ -882,6 +943,9 @@ static void test_current_model_reference_at_low_speed(void **state)
     /* halfway in the blend, (w Ts)^2 = 2.5 W: b = 1/2 */
     s.x.w = sqrt(2.5 * W) / s.tspu;
     for (k = 0; k < (long)periods(&s, 0.05); k++) {
+        sim_period(&s, &o);
+    }
+    while (c->div_cnt != c->sup.slot) { /* to the supervision's step of this speed period */
         sim_period(&s, &o);
     }
     w_ts = fixtest_iq_to_d(c->speed_iq) * s.tspu;
@@ -1105,6 +1169,7 @@ UNIT_TEST_MAIN("im dtc", NULL,
                cmocka_unit_test(test_dsc_hexagon),
                cmocka_unit_test(test_flux_weakening),
                cmocka_unit_test(test_sensorless_speed),
+               cmocka_unit_test(test_encoder_plausibility_compares_the_speed_loop_values_in_the_supervision_step),
                cmocka_unit_test(test_current_prediction_matches_the_machine),
         cmocka_unit_test(test_current_model_reference_at_low_speed),
                cmocka_unit_test(test_dsvm_voltage_takes_the_mean_ripple_current),

@@ -4,6 +4,7 @@ function, and the C28x cycle estimate made from that instruction mix (docs/f2812
 estimate").
 
   pil_profile.py RECORDING [--cm-image ELF] [--top N] [--json OUT] [--ram-cmd CMD] [--period-cycles N]
+                 [--detail ISR|worst]...
 
 Replays RECORDING (dtc-sil run --record-isr FILE) on qemu-system-arm (mps2-an385, the cross-cm0
 PIL image, as pil_compare.py does) with qemu's translation-block log: every translated block's
@@ -159,7 +160,7 @@ def profile(rec, elf, ram=None):
     entry = {a for a, _ in syms}
     tb_len = {}
     per = {}
-    isr_m0, isr_c28, isr_law, isr_wait = [], [], [], []
+    isr_m0, isr_c28, isr_law, isr_wait, isr_fn = [], [], [], [], []
     with tempfile.TemporaryDirectory() as d:
         shutil.copyfile(rec, os.path.join(d, "pil_in.bin"))
         fifo = os.path.join(d, "log")
@@ -195,13 +196,18 @@ def profile(rec, elf, ram=None):
                             isr_c28.append(0.0)
                             isr_law.append(False)
                             isr_wait.append(0)
+                            isr_fn.append({})
                         elif name == "law_step" and isr_law:
                             isr_law[-1] = True
                     if isr_m0 and (not HARNESS.match(name) or name in HELPERS):
                         isr_m0[-1] += n
                         w = flash_wait(name, n, ram) if in_isr else 0
-                        isr_c28[-1] += block_cycles(name, n, pc in entry) + w
+                        cyc = block_cycles(name, n, pc in entry) + w
+                        isr_c28[-1] += cyc
                         isr_wait[-1] += w
+                        f_isr = isr_fn[-1].setdefault(name, [0, 0.0])
+                        f_isr[0] += n
+                        f_isr[1] += cyc
                         if w:
                             e[3] += n  # instructions run from flash inside the ISR
                 elif line.startswith("IN:"):
@@ -215,7 +221,7 @@ def profile(rec, elf, ram=None):
                         tb_len[cur_pc] = cur_n
         if p.wait() != 0:
             raise SystemExit("pil_profile: qemu failed")
-    return per, isr_m0, isr_c28, isr_law, isr_wait
+    return per, isr_m0, isr_c28, isr_law, isr_wait, isr_fn
 
 
 def main():
@@ -228,9 +234,12 @@ def main():
                     help="C28x cycles of the control period at 150 MHz (7500: 50 us; 6000: 40 us)")
     ap.add_argument("--ram-cmd", help="linker command file naming the functions in zero-wait RAM; "
                     "the others are charged flash wait states")
+    ap.add_argument("--detail", action="append", default=[], metavar="ISR",
+                    help="print the M0 instructions and C28x cycles per function of this ISR (an index, or "
+                         "'worst': the worst C28x ISR and the two after it); repeatable")
     a = ap.parse_args()
     ram = ram_functions(a.ram_cmd) if a.ram_cmd else None
-    per, isr_m0, isr_c28, isr_law, isr_wait = profile(a.recording, a.cm_image, ram)
+    per, isr_m0, isr_c28, isr_law, isr_wait, isr_fn = profile(a.recording, a.cm_image, ram)
     count = len(isr_m0)
     if count == 0:
         raise SystemExit("pil_profile: no app_isr call in the replay")
@@ -274,6 +283,15 @@ def main():
         print("      from the hand-compiled sample: worst %.0f = %.0f %% as written, %.0f = %.0f %% with ADDL under OVM"
               % (r_c * isr_c28[wr], 100.0 * r_c * isr_c28[wr] / a.period_cycles,
                  r_ovm * isr_c28[wr], 100.0 * r_ovm * isr_c28[wr] / a.period_cycles))
+    detail = []
+    for x in a.detail:
+        detail += [w, w + 1, w + 2] if x == "worst" else [int(x)]
+    for k in detail:
+        if 0 <= k < count:
+            print("  ISR %d: M0 %d, C28x %.0f (%.0f %%); per function, M0 instructions / C28x cycles:"
+                  % (k, isr_m0[k], isr_c28[k], 100.0 * isr_c28[k] / a.period_cycles))
+            for name, (n, cyc) in sorted(isr_fn[k].items(), key=lambda kv: -kv[1][1]):
+                print("    %-26s %6d %8.0f" % (name, n, cyc))
     if a.json:
         with open(a.json, "w") as f:
             json.dump({"isrs": count, "m0_mean": m0_mean, "m0_worst": max(isr_m0), "c28x_mean": c28_mean,
