@@ -12,7 +12,12 @@
  *      1/2, 1/4 of rated), after the rotor aligned on it at half rated; the mean commanded voltage
  *      against the mean current, line V = R I + V_0;
  *   2. L_s: voltage steps on the half-rated DC current, the current's rise (volt-seconds over
- *      current, the resistive part removed with the fitted R);
+ *      current, the resistive part removed with the fitted R): L_d, the rotor aligned on the axis;
+ *      then L_q: on the same hold, an alternating (zero-mean) voltage square wave along the
+ *      quadrature axis, its half period sized from L_d for a current swing of a fifth of rated,
+ *      volt-seconds over the swing in the same way (app_ident.c post_alt; the rotor's torque
+ *      averages out and its swing is far below a count), and whether L_q departs from L_d beyond
+ *      the measurement's accuracy (res.salient);
  *   3. encoder: the current vector stepped through one electrical turn (three DC vectors on the
  *      SSTP, two on the FSTP, whose mid-point cannot carry a lasting phase-A current), the rotor
  *      aligned on each: the counts' direction, the counts per electrical turn (pole pairs) and the
@@ -86,6 +91,11 @@ enum app_ident_fail {
                                         * not reach half the spin speed at the spin's q current (a
                                         * load coupled to the shaft; fail_detail: the last window's
                                         * count change) */
+    APP_IDENT_FAIL_MOVED = 12,         /* step LS's quadrature pulses: the count left +-quiet_tol (1/256
+                                        * turn; fail_detail: the largest excursion, counts) while
+                                        * they ran: the rotor turned, and the
+                                        * q voltage carries its back-EMF (a very light rotor, or a
+                                        * load driving the shaft) */
     APP_IDENT_FAIL_SENSOR_SIGN = 10,   /* step RS's sign pulses: a phase current of the wrong sign
                                         * (fail_detail: 1..3 the measured phase A..C that read the wrong
                                         * sign on its own pulse, a sensor mounted the wrong way round;
@@ -102,6 +112,7 @@ enum app_ident_quantity {
     APP_IDENT_Q_POLE_PAIRS = 4,
     APP_IDENT_Q_PSI = 5,
     APP_IDENT_Q_MECH = 6,  /* J <= 0, or the coast fit singular (no deceleration measured) */
+    APP_IDENT_Q_LQ = 7,    /* L_q: outside the L bounds, or L_q / L_d outside [1/4, 8] */
     APP_IDENT_Q_IM_LSIG = 20, /* IM: sigma L_s */
     APP_IDENT_Q_IM_TAUR = 21  /* IM: tau_r, R_r */
 };
@@ -115,9 +126,13 @@ enum app_ident_seg {
     APP_IDENT_SEG_SPIN = 3,  /* regulated current i_ref on the encoder's q axis (the identified offset,
                               * pole pairs and direction); a window of n_meas periods of sums */
     APP_IDENT_SEG_COAST = 4, /* gates off; a window of n_meas periods (the count's change) */
-    APP_IDENT_SEG_SIGN = 5   /* open loop: a voltage along th rising by dv_iq per period until a phase
+    APP_IDENT_SEG_SIGN = 5,  /* open loop: a voltage along th rising by dv_iq per period until a phase
                               * current reaches di_stop_iq or n_meas periods, the phase currents of
                               * that sample kept (u.sg.i), then the gates off for ID_SIGN_GAP periods */
+    APP_IDENT_SEG_ALT = 6    /* regulator frozen: the hold voltage + or - dv_iq along th + 90 degrees,
+                              * a lead-in of alt_n / 2 periods (+), alt_m halves of alt_n periods
+                              * (-, +, ...), a lead-out of alt_n / 2 (-); sums of the quadrature
+                              * current (app_ident_isr.c alt_step) */
 };
 
 /* One speed window of the spin step (background): its count change, start count and start
@@ -136,7 +151,12 @@ typedef struct {
     iq_t r_iq;               /* slope of V = R I + V_0 on the injection axis, pu (R_s + R_on: Hoang
                               * Table III's drop is in series in every state, docs/commissioning.md) */
     iq_t v0_iq;              /* intercept V_0, pu (device thresholds and dead time on that axis) */
-    iq_t l_ts_iq;            /* L / (Z_b Ts): the inductance in pu per control period */
+    iq_t l_ts_iq;            /* L / (Z_b Ts): the inductance in pu per control period (L_d: the
+                              * rotor aligned on the axis) */
+    iq_t lq_ts_iq;           /* L_q / (Z_b Ts), the quadrature axis's (0 until measured) */
+    uint16_t salient;        /* 1: |L_q - L_d| > L_d / 16 (beyond the measurement's accuracy) */
+    uint16_t alt_n;          /* L_q: the square wave's half period, control periods */
+    uint32_t lq_ticks;       /* control periods of the L_q part of step LS (in ticks[APP_IDENT_LS]) */
     uint16_t pole_pairs;
     uint16_t enc_reversed;   /* 1: the count runs down for positive electrical rotation */
     angle_t enc_offset;      /* electrical angle at count 0 with the count's direction applied */
@@ -198,6 +218,12 @@ typedef struct {
     int16_t fail_detail;
     uint16_t n_dwell;        /* encoder DC vectors per electrical turn */
     uint16_t sign_k;         /* step RS: sign pulses done (0..3, along phase A, B, C) */
+    uint16_t alt_m;          /* SEG_ALT: measured half periods (even) */
+    uint16_t alt_sec, alt_j; /* SEG_ALT, ISR: this command's section (0 lead-in, 1..alt_m the
+                              * halves, alt_m + 1 lead-out) and position in it */
+    uint16_t alt_psec, alt_pj; /* SEG_ALT, ISR: the previous command's (alt_psec 0xFFFF: none) */
+    uint16_t alt_moved;      /* SEG_ALT, ISR: the count's largest excursion from its start, counts */
+    uint32_t lq_tick0;       /* the tick the L_q part began */
     /* the steps' scratch: the sign pulses' (sg), the standstill steps' (st), the spin's (sp) and an
      * induction machine's standstill and encoder steps' (im; its results are in res.im) never live
      * together (st is cleared when the alignment starts, sp when a spin's first window is taken) */
