@@ -116,8 +116,8 @@ static void post_alt(app_ident_t *d)
     int64_t n = app_ident_div64((int64_t)d->res.l_ts_iq * (int64_t)ID_ALT_PP + (dv << 23), dv << 24);
     n = n < (int64_t)ID_ALT_NMIN ? (int64_t)ID_ALT_NMIN : (n > (int64_t)ID_ALT_NMAX ? (int64_t)ID_ALT_NMAX : n);
     n = (n + 1) & ~(int64_t)1;
-    d->res.alt_n = (uint16_t)n;
-    d->alt_m = (uint16_t)(2 * app_ident_div64((int64_t)ID_ALT_MEAS + 2 * n - 1, 2 * n));
+    d->u.st.alt_n = (uint16_t)n;
+    d->u.st.alt_m = (uint16_t)(2 * app_ident_div64((int64_t)ID_ALT_MEAS + 2 * n - 1, 2 * n));
     d->sub = ID_LQ_ALT;
     d->dv_iq = (iq_t)dv;
     post_go(d, (uint16_t)APP_IDENT_SEG_ALT, 0U);
@@ -125,9 +125,10 @@ static void post_alt(app_ident_t *d)
 
 /* Background: step LS's L_q part after each of its segments. L_q / (Z_b Ts) =
  * (alt_m alt_n dv - R sum_v / 2) / sum_i (alt_step's sums), in the L_d bounds and within [1/4, 8]
- * of L_d (beyond that an interior PM is implausible: a wiring or sensing fault); res.salient when
- * it departs from L_d by more than a sixteenth (the two measurements' accuracy,
- * docs/commissioning.md). Then the encoder step. */
+ * of L_d (beyond that an interior PM is implausible: a wiring or sensing fault), kept as L_q / L_d
+ * in Q12 (res.lq_q12, rounded to nearest: 1/4096 of L_d); res.salient when it departs from L_d by
+ * more than a sixteenth (the two measurements' accuracy, docs/commissioning.md). Then the encoder
+ * step. */
 static void lq_service(app_ident_t *d)
 {
     int64_t num;
@@ -140,21 +141,22 @@ static void lq_service(app_ident_t *d)
      * that turns (a load driving it), beyond 1/256 turn; a slow creep (the FSTP's rotor following
      * its hold's angle, about a count per 3 ms on the rig) adds a constant back-EMF that cancels
      * over the even number of halves */
-    if ((int32_t)d->alt_moved > d->quiet_tol) {
-        app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_MOVED, (int16_t)d->alt_moved);
+    if ((int32_t)d->u.st.alt_moved > d->quiet_tol) {
+        app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_MOVED, (int16_t)d->u.st.alt_moved);
         return;
     }
     /* R sum_v / 2 in IQ periods, rounded (|R| < 2^23, |sum_v| < 2^43: the product within 64 bits) */
-    num = (int64_t)d->dv_iq * (int64_t)d->res.alt_n * (int64_t)d->alt_m -
+    num = (int64_t)d->dv_iq * (int64_t)d->u.st.alt_n * (int64_t)d->u.st.alt_m -
           (((int64_t)d->res.r_iq * d->sum_v + ((int64_t)1 << 24)) >> 25);
     lq = d->sum_i > 0 ? fix_sat32(app_ident_div64(num * 16777216, d->sum_i)) : 0;
     ld = d->res.l_ts_iq;
-    d->res.lq_ts_iq = lq;
-    d->res.lq_ticks = d->tick - d->lq_tick0;
+    d->lq_periods = (uint16_t)(d->tick - d->u.st.lq_tick0); /* < 2^16: 416 + (alt_m + 1) alt_n */
     if (lq < IQ(1.0 / 16.0) || lq > IQ(4096.0 - 1.0) || (int64_t)lq * 4 < (int64_t)ld || (int64_t)lq > (int64_t)ld * 8) {
         app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_LQ);
         return;
     }
+    /* ld >= IQ(1/16) (the L_d bounds), lq < 2^36: the Q12 ratio <= 8 x 4096 fits 16 bits */
+    d->res.lq_q12 = (uint16_t)app_ident_div64(((int64_t)lq << 12) + ((int64_t)ld >> 1), (int64_t)ld);
     d->res.salient = ((int64_t)lq - (int64_t)ld) * 16 > (int64_t)ld || ((int64_t)ld - (int64_t)lq) * 16 > (int64_t)ld ? 1U : 0U;
     /* the first dwell was the alignment (step RS); the encoder step starts with a move */
     app_ident_next_step(d, (uint16_t)APP_IDENT_ENCODER);
@@ -284,13 +286,9 @@ void app_ident_start(app_ident_t *d, const dtc_config_t *cfg, uint16_t qep_count
     d->res.r_iq = 0;
     d->res.v0_iq = 0;
     d->res.l_ts_iq = 0;
-    d->res.lq_ts_iq = 0;
+    d->res.lq_q12 = 0U;
     d->res.salient = 0U;
-    d->res.alt_n = 0U;
-    d->res.lq_ticks = 0U;
-    d->lq_tick0 = 0U;
-    d->alt_m = 0U;
-    d->alt_moved = 0U;
+    d->lq_periods = 0U;
     d->res.counts_per_turn = 0;
     d->res.psi_iq = 0;
     d->res.j_q12 = 0;
@@ -488,7 +486,7 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
             return;
         }
         /* then L_q: the square wave after a regulated hold (lq_service) */
-        d->lq_tick0 = d->tick;
+        d->u.st.lq_tick0 = d->tick;
         d->sub = ID_LQ_GAP;
         app_ident_post_hold(d, 0U, 0U, IQ(0.5), (iq_t)(IQ(1.0) / ID_LEVEL_RAMP), ID_ALT_GAP, 16U, 0U);
         return;

@@ -130,9 +130,9 @@ enum app_ident_seg {
                               * current reaches di_stop_iq or n_meas periods, the phase currents of
                               * that sample kept (u.sg.i), then the gates off for ID_SIGN_GAP periods */
     APP_IDENT_SEG_ALT = 6    /* regulator frozen: the hold voltage + or - dv_iq along th + 90 degrees,
-                              * a lead-in of alt_n / 2 periods (+), alt_m halves of alt_n periods
-                              * (-, +, ...), a lead-out of alt_n / 2 (-); sums of the quadrature
-                              * current (app_ident_isr.c alt_step) */
+                              * a lead-in of u.st.alt_n / 2 periods (+), u.st.alt_m halves of alt_n
+                              * periods (-, +, ...), a lead-out of alt_n / 2 (-); sums of the
+                              * quadrature current (app_ident_isr.c alt_step) */
 };
 
 /* One speed window of the spin step (background): its count change, start count and start
@@ -148,18 +148,17 @@ typedef struct {
 /* Results, pu of the configuration's bases (dtc_base.h: V_b, I_b; Ts the control period). */
 typedef struct {
     angle_t axis;            /* the injection axis: 90 degrees (beta) on the FSTP, 0 (alpha) on the SSTP */
+    uint16_t lq_q12;         /* L_q / L_d, Q12 (the quadrature axis's inductance over l_ts_iq's;
+                              * within [1/4, 8] once measured, 0 before) */
     iq_t r_iq;               /* slope of V = R I + V_0 on the injection axis, pu (R_s + R_on: Hoang
                               * Table III's drop is in series in every state, docs/commissioning.md) */
     iq_t v0_iq;              /* intercept V_0, pu (device thresholds and dead time on that axis) */
     iq_t l_ts_iq;            /* L / (Z_b Ts): the inductance in pu per control period (L_d: the
                               * rotor aligned on the axis) */
-    iq_t lq_ts_iq;           /* L_q / (Z_b Ts), the quadrature axis's (0 until measured) */
-    uint16_t salient;        /* 1: |L_q - L_d| > L_d / 16 (beyond the measurement's accuracy) */
-    uint16_t alt_n;          /* L_q: the square wave's half period, control periods */
-    uint32_t lq_ticks;       /* control periods of the L_q part of step LS (in ticks[APP_IDENT_LS]) */
     uint16_t pole_pairs;
     uint16_t enc_reversed;   /* 1: the count runs down for positive electrical rotation */
     angle_t enc_offset;      /* electrical angle at count 0 with the count's direction applied */
+    uint16_t salient;        /* 1: |L_q - L_d| > L_d / 16 (beyond the measurement's accuracy) */
     int32_t counts_per_turn; /* counts over one electrical turn of the current vector (signed) */
     iq_t level_i_iq[APP_IDENT_R_LEVELS]; /* the fit's points: mean current, ... */
     iq_t level_v_iq[APP_IDENT_R_LEVELS]; /* ... mean commanded voltage on the axis */
@@ -218,12 +217,6 @@ typedef struct {
     int16_t fail_detail;
     uint16_t n_dwell;        /* encoder DC vectors per electrical turn */
     uint16_t sign_k;         /* step RS: sign pulses done (0..3, along phase A, B, C) */
-    uint16_t alt_m;          /* SEG_ALT: measured half periods (even) */
-    uint16_t alt_sec, alt_j; /* SEG_ALT, ISR: this command's section (0 lead-in, 1..alt_m the
-                              * halves, alt_m + 1 lead-out) and position in it */
-    uint16_t alt_psec, alt_pj; /* SEG_ALT, ISR: the previous command's (alt_psec 0xFFFF: none) */
-    uint16_t alt_moved;      /* SEG_ALT, ISR: the count's largest excursion from its start, counts */
-    uint32_t lq_tick0;       /* the tick the L_q part began */
     /* the steps' scratch: the sign pulses' (sg), the standstill steps' (st), the spin's (sp) and an
      * induction machine's standstill and encoder steps' (im; its results are in res.im) never live
      * together (st is cleared when the alignment starts, sp when a spin's first window is taken) */
@@ -237,6 +230,14 @@ typedef struct {
             int32_t dwell_pos_q8[4];      /* encoder: mean unwrapped count at each dwell, Q8 */
             int16_t dwell_ang[4];         /* encoder: the measured current's angle from the reference
                                            * axis at each dwell, angle_t LSB (signed) */
+            uint32_t lq_tick0;            /* L_q: the tick its part of step LS began */
+            uint16_t alt_n;               /* SEG_ALT: the half period, control periods (even) */
+            uint16_t alt_m;               /* SEG_ALT: measured half periods (even) */
+            uint16_t alt_sec, alt_j;      /* SEG_ALT, ISR: this command's section (0 lead-in, 1..alt_m
+                                           * the halves, alt_m + 1 lead-out) and position in it */
+            uint16_t alt_psec, alt_pj;    /* SEG_ALT, ISR: the previous command's (0xFFFF: none) */
+            uint16_t alt_moved;           /* SEG_ALT, ISR: the count's largest excursion from its
+                                           * start, counts */
         } st;
         struct {
             app_ident_win_t w[5];  /* A, B first and last acceleration windows; C, D, E coast */
@@ -280,6 +281,7 @@ typedef struct {
     uint16_t quiet_n;        /* ISR: periods the count stayed within +-quiet_tol of quiet_ref */
     uint16_t wait_n;         /* ISR: periods a dwell waited for rest before its sums began */
     uint16_t mid_on;         /* ISR: 1 once this dwell's swing is over: the mid-point is held */
+    uint16_t lq_periods;     /* control periods of step LS's L_q part (in res.ticks[APP_IDENT_LS]) */
     iq_t mid_ref_iq;         /* ISR: the mid-point's deviation from V_dc/2 when the swing ended, pu */
     uint16_t recentre;       /* HOLD: 1 = the mid-point is brought back to V_dc/2 (before the spin) */
     uint16_t start_gap;      /* ISR: periods left with the gates off before the first step: the

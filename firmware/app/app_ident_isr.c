@@ -179,27 +179,27 @@ static int32_t alt_sign(uint16_t sec) { return (sec & 1U) != 0U ? -1 : 1; }
  * of weight <= 2: the sums < 2^43. */
 static void alt_step(app_ident_t *d, iq_t i_q, q15_t c, q15_t s)
 {
-    const uint16_t last = (uint16_t)(d->alt_m + 1U);
+    const uint16_t last = (uint16_t)(d->u.st.alt_m + 1U);
     const int32_t dp = d->pos - d->still_ref;
     const int32_t adp = dp < 0 ? -dp : dp;
-    if (adp > (int32_t)d->alt_moved) {
-        d->alt_moved = adp > 0x7FFF ? 0x7FFFU : (uint16_t)adp;
+    if (adp > (int32_t)d->u.st.alt_moved) {
+        d->u.st.alt_moved = adp > 0x7FFF ? 0x7FFFU : (uint16_t)adp;
     }
-    if (d->alt_psec != 0xFFFFU && d->alt_psec >= 1U) {
-        const int64_t sg = (int64_t)alt_sign(d->alt_psec);
-        if (d->alt_pj == 0U && d->alt_psec <= last) {
-            const int64_t w = d->alt_psec == 1U || d->alt_psec == last ? 1 : 2;
+    if (d->u.st.alt_psec != 0xFFFFU && d->u.st.alt_psec >= 1U) {
+        const int64_t sg = (int64_t)alt_sign(d->u.st.alt_psec);
+        if (d->u.st.alt_pj == 0U && d->u.st.alt_psec <= last) {
+            const int64_t w = d->u.st.alt_psec == 1U || d->u.st.alt_psec == last ? 1 : 2;
             d->sum_i -= sg * w * (int64_t)i_q;
-            if (d->alt_psec == 1U) {
+            if (d->u.st.alt_psec == 1U) {
                 d->sum_v += sg * (int64_t)i_q;
-            } else if (d->alt_psec == last) {
+            } else if (d->u.st.alt_psec == last) {
                 d->sum_v -= sg * (int64_t)i_q;
             }
-        } else if (d->alt_psec < last) {
+        } else if (d->u.st.alt_psec < last) {
             d->sum_v += 2 * sg * (int64_t)i_q;
         }
     }
-    if (d->alt_sec > last) {
+    if (d->u.st.alt_sec > last) {
         /* the lead-out's last command governed the previous period: regulated again */
         d->v_ab[0] = d->v_hold;
         d->v_ab[1] = d->v_hold_b;
@@ -209,16 +209,16 @@ static void alt_step(app_ident_t *d, iq_t i_q, q15_t c, q15_t s)
         return;
     }
     {
-        const iq_t dv = alt_sign(d->alt_sec) > 0 ? d->dv_iq : fix_neg32(d->dv_iq);
-        const uint16_t len = d->alt_sec == 0U || d->alt_sec == last ? (uint16_t)(d->res.alt_n >> 1U) : d->res.alt_n;
+        const iq_t dv = alt_sign(d->u.st.alt_sec) > 0 ? d->dv_iq : fix_neg32(d->dv_iq);
+        const uint16_t len = d->u.st.alt_sec == 0U || d->u.st.alt_sec == last ? (uint16_t)(d->u.st.alt_n >> 1U) : d->u.st.alt_n;
         /* along th + 90 degrees: (-sin th, cos th) */
         d->v_ab[0] = fix_sub32(d->v_hold, iq_mpy_q15(dv, s));
         d->v_ab[1] = fix_add32(d->v_hold_b, iq_mpy_q15(dv, c));
-        d->alt_psec = d->alt_sec;
-        d->alt_pj = d->alt_j;
-        if (++d->alt_j >= len) {
-            d->alt_j = 0U;
-            d->alt_sec++;
+        d->u.st.alt_psec = d->u.st.alt_sec;
+        d->u.st.alt_pj = d->u.st.alt_j;
+        if (++d->u.st.alt_j >= len) {
+            d->u.st.alt_j = 0U;
+            d->u.st.alt_sec++;
         }
     }
 }
@@ -301,11 +301,11 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
         }
         if (d->seg == (uint16_t)APP_IDENT_SEG_ALT) {
             d->phase = 2U;
-            d->alt_sec = 0U;
-            d->alt_j = 0U;
-            d->alt_psec = 0xFFFFU;
-            d->alt_pj = 0U;
-            d->alt_moved = 0U;
+            d->u.st.alt_sec = 0U;
+            d->u.st.alt_j = 0U;
+            d->u.st.alt_psec = 0xFFFFU;
+            d->u.st.alt_pj = 0U;
+            d->u.st.alt_moved = 0U;
         }
     }
     if (d->seg == (uint16_t)APP_IDENT_SEG_SPIN && d->im_on != 0U) {

@@ -353,9 +353,10 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
             "viscous friction; a fan load (torque ~ speed^2) is absorbed in b and T_c");
         add("coulomb_nm", tc_id, sc.load.coulomb_nm, "N*m", APP_IDENT_SPIN, false, "");
     } else {
-        // L_d and L_q (step LS: the d steps, then the q square wave; lq_ticks is the latter's share)
-        const double lq = d.res.lq_ts_iq / kIqOne * z_b * ts;
-        const double lq_s = d.res.lq_ticks * ts;
+        // L_d and L_q (step LS: the d steps, then the q square wave; lq_periods is the latter's share;
+        // the firmware keeps L_q / L_d in Q12)
+        const double lq = ls * d.res.lq_q12 / 4096.0;
+        const double lq_s = d.lq_periods * ts;
         add("ls_h", ls, m.ls_h, "H", APP_IDENT_LS, true,
             "L_d: the rotor aligned on the step axis (the value the PM law runs on; a salient PM's L_d)");
         add("ld_h", ls, m.ls_h, "H", APP_IDENT_LS, true, "L_d: voltage steps on the half-rated DC current along the aligned axis");
@@ -364,7 +365,7 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
             "L_q: an alternating voltage square wave along the quadrature axis on the same hold, volt-seconds over the "
             "current swing");
         q["lq_h"]["duration_s"] = lq_s;
-        if (d.res.lq_ts_iq == 0) {
+        if (d.res.lq_q12 == 0U) {
             q["lq_h"]["status"] = q["ls_h"]["status"] == "ok" ? "failed" : q["ls_h"]["status"];
         }
         saliency = ls > 0.0 && lq > 0.0 ? lq / ls : 0.0;
@@ -398,7 +399,7 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
     j["standstill_s"] = step_s[1] + step_s[2] + (im ? 0.0 : step_s[3]);
     j["spin_s"] = step_s[APP_IDENT_SPIN] + (im ? step_s[3] : 0.0);
     j["quantities"] = q;
-    if (!im && d.res.lq_ts_iq != 0) {
+    if (!im && d.res.lq_q12 != 0U) {
         // The verdict on saliency (the firmware's res.salient: |L_q - L_d| > L_d / 16).
         j["saliency_ratio"] = saliency;
         j["saliency_ratio_true"] = m.lq_h / m.ls_h;
@@ -416,7 +417,7 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
 
     if (!im && salient) {
         rep->warning = "salient PM: L_q / L_d = " + fmt(saliency) + " (L_d = " + fmt(ls) + " H, L_q = " +
-                       fmt(d.res.lq_ts_iq / kIqOne * z_b * ts) +
+                       fmt(ls * d.res.lq_q12 / 4096.0) +
                        " H); the PM law runs on one L_s and identified.toml gives it L_d (ls_h): its flux and "
                        "torque estimates carry the q-axis error (docs/commissioning.md, salient PM)";
     }
@@ -468,7 +469,7 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
     }
     if (!im && (ok || failed_step > APP_IDENT_LS)) {
         // ls_h is L_d (the d steps with the rotor aligned); the PM law has no L_q row
-        const double lq = d.res.lq_ts_iq / kIqOne * z_b * ts;
+        const double lq = ls * d.res.lq_q12 / 4096.0;
         t << "# ls_h is L_d. L_d = " << fmt(ls) << " H, L_q = " << fmt(lq) << " H, L_q / L_d = " << fmt(saliency)
           << (salient ? ": SALIENT, the PM law runs on L_d alone (docs/commissioning.md)" : ": no saliency") << "\n";
         t << "ls_h = " << fmt(ls) << "\n";
