@@ -93,6 +93,77 @@ static void post_pulse(app_ident_t *d)
     post_open_loop(d, (uint16_t)APP_IDENT_SEG_PULSE, IQ(1.0 / 32.0), IQ_FRAC(2, 5), ID_PULSE_MAX);
 }
 
+static void post_move(app_ident_t *d);
+
+/* Step LS's L_q part, its sub-steps (after the L_d pulses' 2 ID_PULSES). */
+#define ID_LQ_GAP ((uint16_t)(2U * ID_PULSES + 1U))  /* the regulated hold before the square wave */
+#define ID_LQ_ALT ((uint16_t)(2U * ID_PULSES + 2U))  /* the square wave */
+
+/* Background: the L_q square wave (SEG_ALT) on the half-rated hold along the axis (the rotor
+ * aligned on it: the axis is d, the wave's axis q). Sized from the L_d just measured and the rated
+ * current, nothing else: the voltage the L_d steps use (V_b / 32), a half period alt_n of
+ * ID_ALT_PP L_d / dv (the swing a fifth of rated with L_q = L_d; 13 periods, 0.65 ms, on Hoang
+ * Table VIII), rounded to an even count in [ID_ALT_NMIN, ID_ALT_NMAX], and an even number alt_m
+ * of halves spanning at least ID_ALT_MEAS periods. The swing's torque 1.5 p psi_m i_q alternates
+ * with zero mean: the rotor swings by about (1.5 p psi_m / J) (i_pp / 2) (alt_n Ts / pi)^2 (a few
+ * microradians on the rig, far below a count) and its back-EMF biases L_q by about
+ * -1.5 p^2 psi_m^2 (alt_n Ts / pi)^2 / J relative to L_q (docs/commissioning.md). The hold's d
+ * current keeps every phase current's sign through the swing on both topologies (the legs' drops
+ * stay constant and cancel over the even number of halves). */
+static void post_alt(app_ident_t *d)
+{
+    const int64_t dv = (int64_t)IQ(1.0 / 32.0);
+    int64_t n = app_ident_div64((int64_t)d->res.l_ts_iq * (int64_t)ID_ALT_PP + (dv << 23), dv << 24);
+    n = n < (int64_t)ID_ALT_NMIN ? (int64_t)ID_ALT_NMIN : (n > (int64_t)ID_ALT_NMAX ? (int64_t)ID_ALT_NMAX : n);
+    n = (n + 1) & ~(int64_t)1;
+    d->u.st.alt_n = (uint16_t)n;
+    d->u.st.alt_m = (uint16_t)(2 * app_ident_div64((int64_t)ID_ALT_MEAS + 2 * n - 1, 2 * n));
+    d->sub = ID_LQ_ALT;
+    d->dv_iq = (iq_t)dv;
+    post_go(d, (uint16_t)APP_IDENT_SEG_ALT, 0U);
+}
+
+/* Background: step LS's L_q part after each of its segments. L_q / (Z_b Ts) =
+ * (alt_m alt_n dv - R sum_v / 2) / sum_i (alt_step's sums), in the L_d bounds and within [1/4, 8]
+ * of L_d (beyond that an interior PM is implausible: a wiring or sensing fault), kept as L_q / L_d
+ * in Q12 (res.lq_q12, rounded to nearest: 1/4096 of L_d); res.salient when it departs from L_d by
+ * more than a sixteenth (the two measurements' accuracy, docs/commissioning.md). Then the encoder
+ * step. */
+static void lq_service(app_ident_t *d)
+{
+    int64_t num;
+    iq_t lq, ld;
+    if (d->sub == ID_LQ_GAP) {
+        post_alt(d);
+        return;
+    }
+    /* the swing the wave drives is microradians (post_alt), below a count: the check names a rotor
+     * that turns (a load driving it), beyond 1/256 turn; a slow creep (the FSTP's rotor following
+     * its hold's angle, about a count per 3 ms on the rig) adds a constant back-EMF that cancels
+     * over the even number of halves */
+    if ((int32_t)d->u.st.alt_moved > d->quiet_tol) {
+        app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_MOVED, (int16_t)d->u.st.alt_moved);
+        return;
+    }
+    /* R sum_v / 2 in IQ periods, rounded (|R| < 2^23, |sum_v| < 2^43: the product within 64 bits) */
+    num = (int64_t)d->dv_iq * (int64_t)d->u.st.alt_n * (int64_t)d->u.st.alt_m -
+          (((int64_t)d->res.r_iq * d->sum_v + ((int64_t)1 << 24)) >> 25);
+    lq = d->sum_i > 0 ? fix_sat32(app_ident_div64(num * 16777216, d->sum_i)) : 0;
+    ld = d->res.l_ts_iq;
+    d->lq_periods = (uint16_t)(d->tick - d->u.st.lq_tick0); /* < 2^16: 416 + (alt_m + 1) alt_n */
+    if (lq < IQ(1.0 / 16.0) || lq > IQ(4096.0 - 1.0) || (int64_t)lq * 4 < (int64_t)ld || (int64_t)lq > (int64_t)ld * 8) {
+        app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_LQ);
+        return;
+    }
+    /* ld >= IQ(1/16) (the L_d bounds), lq < 2^36: the Q12 ratio <= 8 x 4096 fits 16 bits */
+    d->res.lq_q12 = (uint16_t)app_ident_div64(((int64_t)lq << 12) + ((int64_t)ld >> 1), (int64_t)ld);
+    d->res.salient = ((int64_t)lq - (int64_t)ld) * 16 > (int64_t)ld || ((int64_t)ld - (int64_t)lq) * 16 > (int64_t)ld ? 1U : 0U;
+    /* the first dwell was the alignment (step RS); the encoder step starts with a move */
+    app_ident_next_step(d, (uint16_t)APP_IDENT_ENCODER);
+    d->sub = 1U;
+    post_move(d);
+}
+
 /* Background: the duties' 1 / V_dc and the regulator's voltage limit from the last measured link
  * (a division: background only), before each segment, so a link that sags (a weak supply pulled
  * down through its resistance) is followed. The limit is a quarter of the board's base
@@ -215,6 +286,9 @@ void app_ident_start(app_ident_t *d, const dtc_config_t *cfg, uint16_t qep_count
     d->res.r_iq = 0;
     d->res.v0_iq = 0;
     d->res.l_ts_iq = 0;
+    d->res.lq_q12 = 0U;
+    d->res.salient = 0U;
+    d->lq_periods = 0U;
     d->res.counts_per_turn = 0;
     d->res.psi_iq = 0;
     d->res.j_q12 = 0;
@@ -382,6 +456,10 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
         app_ident_post_hold(d, 0U, 0U, IQ(0.5), (iq_t)(IQ(1.0) / ID_LEVEL_RAMP), ID_LEVEL_SETTLE, 16U, 0U);
         return;
     case APP_IDENT_LS:
+        if (d->sub > 2U * ID_PULSES) {
+            lq_service(d);
+            return;
+        }
         if ((d->sub & 1U) != 0U) {
             /* a step ended: its volt-periods less the resistive part (trapezoid of the rise)
              * over its current rise, Hoang eq. 28's L di/dt = v - R i on the step axis */
@@ -407,10 +485,10 @@ void app_ident_service(app_ident_t *d, const dtc_config_t *cfg)
             app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_BOUNDS, (int16_t)APP_IDENT_Q_LS);
             return;
         }
-        /* the first dwell was the alignment (step RS); the encoder step starts with a move */
-        app_ident_next_step(d, (uint16_t)APP_IDENT_ENCODER);
-        d->sub = 1U;
-        post_move(d);
+        /* then L_q: the square wave after a regulated hold (lq_service) */
+        d->u.st.lq_tick0 = d->tick;
+        d->sub = ID_LQ_GAP;
+        app_ident_post_hold(d, 0U, 0U, IQ(0.5), (iq_t)(IQ(1.0) / ID_LEVEL_RAMP), ID_ALT_GAP, 16U, 0U);
         return;
     case APP_IDENT_ENCODER:
         store_dwell(d, d->sub);

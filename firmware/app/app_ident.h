@@ -12,7 +12,12 @@
  *      1/2, 1/4 of rated), after the rotor aligned on it at half rated; the mean commanded voltage
  *      against the mean current, line V = R I + V_0;
  *   2. L_s: voltage steps on the half-rated DC current, the current's rise (volt-seconds over
- *      current, the resistive part removed with the fitted R);
+ *      current, the resistive part removed with the fitted R): L_d, the rotor aligned on the axis;
+ *      then L_q: on the same hold, an alternating (zero-mean) voltage square wave along the
+ *      quadrature axis, its half period sized from L_d for a current swing of a fifth of rated,
+ *      volt-seconds over the swing in the same way (app_ident.c post_alt; the rotor's torque
+ *      averages out and its swing is far below a count), and whether L_q departs from L_d beyond
+ *      the measurement's accuracy (res.salient);
  *   3. encoder: the current vector stepped through one electrical turn (three DC vectors on the
  *      SSTP, two on the FSTP, whose mid-point cannot carry a lasting phase-A current), the rotor
  *      aligned on each: the counts' direction, the counts per electrical turn (pole pairs) and the
@@ -86,6 +91,11 @@ enum app_ident_fail {
                                         * not reach half the spin speed at the spin's q current (a
                                         * load coupled to the shaft; fail_detail: the last window's
                                         * count change) */
+    APP_IDENT_FAIL_MOVED = 12,         /* step LS's quadrature pulses: the count left +-quiet_tol (1/256
+                                        * turn; fail_detail: the largest excursion, counts) while
+                                        * they ran: the rotor turned, and the
+                                        * q voltage carries its back-EMF (a very light rotor, or a
+                                        * load driving the shaft) */
     APP_IDENT_FAIL_SENSOR_SIGN = 10,   /* step RS's sign pulses: a phase current of the wrong sign
                                         * (fail_detail: 1..3 the measured phase A..C that read the wrong
                                         * sign on its own pulse, a sensor mounted the wrong way round;
@@ -102,6 +112,7 @@ enum app_ident_quantity {
     APP_IDENT_Q_POLE_PAIRS = 4,
     APP_IDENT_Q_PSI = 5,
     APP_IDENT_Q_MECH = 6,  /* J <= 0, or the coast fit singular (no deceleration measured) */
+    APP_IDENT_Q_LQ = 7,    /* L_q: outside the L bounds, or L_q / L_d outside [1/4, 8] */
     APP_IDENT_Q_IM_LSIG = 20, /* IM: sigma L_s */
     APP_IDENT_Q_IM_TAUR = 21  /* IM: tau_r, R_r */
 };
@@ -115,9 +126,13 @@ enum app_ident_seg {
     APP_IDENT_SEG_SPIN = 3,  /* regulated current i_ref on the encoder's q axis (the identified offset,
                               * pole pairs and direction); a window of n_meas periods of sums */
     APP_IDENT_SEG_COAST = 4, /* gates off; a window of n_meas periods (the count's change) */
-    APP_IDENT_SEG_SIGN = 5   /* open loop: a voltage along th rising by dv_iq per period until a phase
+    APP_IDENT_SEG_SIGN = 5,  /* open loop: a voltage along th rising by dv_iq per period until a phase
                               * current reaches di_stop_iq or n_meas periods, the phase currents of
                               * that sample kept (u.sg.i), then the gates off for ID_SIGN_GAP periods */
+    APP_IDENT_SEG_ALT = 6    /* regulator frozen: the hold voltage + or - dv_iq along th + 90 degrees,
+                              * a lead-in of u.st.alt_n / 2 periods (+), u.st.alt_m halves of alt_n
+                              * periods (-, +, ...), a lead-out of alt_n / 2 (-); sums of the
+                              * quadrature current (app_ident_isr.c alt_step) */
 };
 
 /* One speed window of the spin step (background): its count change, start count and start
@@ -133,13 +148,17 @@ typedef struct {
 /* Results, pu of the configuration's bases (dtc_base.h: V_b, I_b; Ts the control period). */
 typedef struct {
     angle_t axis;            /* the injection axis: 90 degrees (beta) on the FSTP, 0 (alpha) on the SSTP */
+    uint16_t lq_q12;         /* L_q / L_d, Q12 (the quadrature axis's inductance over l_ts_iq's;
+                              * within [1/4, 8] once measured, 0 before) */
     iq_t r_iq;               /* slope of V = R I + V_0 on the injection axis, pu (R_s + R_on: Hoang
                               * Table III's drop is in series in every state, docs/commissioning.md) */
     iq_t v0_iq;              /* intercept V_0, pu (device thresholds and dead time on that axis) */
-    iq_t l_ts_iq;            /* L / (Z_b Ts): the inductance in pu per control period */
+    iq_t l_ts_iq;            /* L / (Z_b Ts): the inductance in pu per control period (L_d: the
+                              * rotor aligned on the axis) */
     uint16_t pole_pairs;
     uint16_t enc_reversed;   /* 1: the count runs down for positive electrical rotation */
     angle_t enc_offset;      /* electrical angle at count 0 with the count's direction applied */
+    uint16_t salient;        /* 1: |L_q - L_d| > L_d / 16 (beyond the measurement's accuracy) */
     int32_t counts_per_turn; /* counts over one electrical turn of the current vector (signed) */
     iq_t level_i_iq[APP_IDENT_R_LEVELS]; /* the fit's points: mean current, ... */
     iq_t level_v_iq[APP_IDENT_R_LEVELS]; /* ... mean commanded voltage on the axis */
@@ -211,6 +230,14 @@ typedef struct {
             int32_t dwell_pos_q8[4];      /* encoder: mean unwrapped count at each dwell, Q8 */
             int16_t dwell_ang[4];         /* encoder: the measured current's angle from the reference
                                            * axis at each dwell, angle_t LSB (signed) */
+            uint32_t lq_tick0;            /* L_q: the tick its part of step LS began */
+            uint16_t alt_n;               /* SEG_ALT: the half period, control periods (even) */
+            uint16_t alt_m;               /* SEG_ALT: measured half periods (even) */
+            uint16_t alt_sec, alt_j;      /* SEG_ALT, ISR: this command's section (0 lead-in, 1..alt_m
+                                           * the halves, alt_m + 1 lead-out) and position in it */
+            uint16_t alt_psec, alt_pj;    /* SEG_ALT, ISR: the previous command's (0xFFFF: none) */
+            uint16_t alt_moved;           /* SEG_ALT, ISR: the count's largest excursion from its
+                                           * start, counts */
         } st;
         struct {
             app_ident_win_t w[5];  /* A, B first and last acceleration windows; C, D, E coast */
@@ -254,6 +281,7 @@ typedef struct {
     uint16_t quiet_n;        /* ISR: periods the count stayed within +-quiet_tol of quiet_ref */
     uint16_t wait_n;         /* ISR: periods a dwell waited for rest before its sums began */
     uint16_t mid_on;         /* ISR: 1 once this dwell's swing is over: the mid-point is held */
+    uint16_t lq_periods;     /* control periods of step LS's L_q part (in res.ticks[APP_IDENT_LS]) */
     iq_t mid_ref_iq;         /* ISR: the mid-point's deviation from V_dc/2 when the swing ended, pu */
     uint16_t recentre;       /* HOLD: 1 = the mid-point is brought back to V_dc/2 (before the spin) */
     uint16_t start_gap;      /* ISR: periods left with the gates off before the first step: the

@@ -18,6 +18,11 @@
 #define ID_PULSE_GAP 600U       /* regulated hold between two voltage steps */
 #define ID_PULSE_MAX 2000U      /* longest voltage step (100 ms) */
 #define ID_PULSES 4U
+#define ID_ALT_PP IQ(0.2)       /* L_q: the square wave's current swing, peak to peak, pu of rated */
+#define ID_ALT_NMIN 4U          /* L_q: the shortest half period (periods) */
+#define ID_ALT_NMAX 1000U       /* L_q: the longest half period (50 ms) */
+#define ID_ALT_MEAS 2000U       /* L_q: the measured halves span at least this many periods (0.1 s) */
+#define ID_ALT_GAP 400U         /* L_q: regulated hold before the square wave (20 ms) */
 #define ID_ENC_MOVE_SSTP 3000U  /* periods for one 120-degree move of the vector (SSTP) */
 #define ID_ENC_MOVE_FSTP 3000U  /* one 180-degree move (FSTP) */
 #define ID_ENC_LEVEL IQ(0.5)    /* the aligning and encoder current (see app_ident_start) */

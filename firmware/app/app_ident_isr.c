@@ -161,6 +161,68 @@ static void mid_hold(app_ident_t *d, iq_t dev)
     d->v_ab[0] = fix_add32(d->v_ab[0], fix_rshift_rnd32(fix_sub32(dev, d->mid_ref_iq), ID_MID_HOLD_LOG2));
 }
 
+/* The sign of section sec of the L_q square wave: + in the lead-in (0) and in the even halves,
+ * - in the odd ones and in the lead-out (alt_m + 1, alt_m even). */
+static int32_t alt_sign(uint16_t sec) { return (sec & 1U) != 0U ? -1 : 1; }
+
+/* One period of SEG_ALT (app_ident.h), i_q the quadrature current of this sample. The command of
+ * period k governs period k + 1 (hal.h): this sample lies at the start of the previous command's
+ * interval, so it is judged by that command's section (alt_psec) and position (alt_pj). With
+ * sigma_k the sign of half k (sections 1..alt_m) and its current running from i_s,k to i_e,k:
+ *   sum_i = sum_k sigma_k (i_e,k - i_s,k)   (the swings, > 0): a boundary between halves k-1 and k
+ *           enters twice (-2 sigma_k i), the first and the last once;
+ *   sum_v = 2 sum_k sigma_k (trapezoid of i_q over half k), in samples: the interior samples of a
+ *           half 2 sigma_k i, the first and last boundary sigma i, the others 0 (sigma alternates).
+ * The background's L_q: (alt_m alt_n dv - R sum_v / 2) / sum_i (Hoang eq. 28 on the q axis; the
+ * hold voltage and every constant drop cancel over the even number of equal halves). alt_moved
+ * keeps the count's largest excursion from its start (counts, saturated at 0x7FFF). Scaling: |i_q| < 1.25 pu, at most 2^16 samples
+ * of weight <= 2: the sums < 2^43. */
+static void alt_step(app_ident_t *d, iq_t i_q, q15_t c, q15_t s)
+{
+    const uint16_t last = (uint16_t)(d->u.st.alt_m + 1U);
+    const int32_t dp = d->pos - d->still_ref;
+    const int32_t adp = dp < 0 ? -dp : dp;
+    if (adp > (int32_t)d->u.st.alt_moved) {
+        d->u.st.alt_moved = adp > 0x7FFF ? 0x7FFFU : (uint16_t)adp;
+    }
+    if (d->u.st.alt_psec != 0xFFFFU && d->u.st.alt_psec >= 1U) {
+        const int64_t sg = (int64_t)alt_sign(d->u.st.alt_psec);
+        if (d->u.st.alt_pj == 0U && d->u.st.alt_psec <= last) {
+            const int64_t w = d->u.st.alt_psec == 1U || d->u.st.alt_psec == last ? 1 : 2;
+            d->sum_i -= sg * w * (int64_t)i_q;
+            if (d->u.st.alt_psec == 1U) {
+                d->sum_v += sg * (int64_t)i_q;
+            } else if (d->u.st.alt_psec == last) {
+                d->sum_v -= sg * (int64_t)i_q;
+            }
+        } else if (d->u.st.alt_psec < last) {
+            d->sum_v += 2 * sg * (int64_t)i_q;
+        }
+    }
+    if (d->u.st.alt_sec > last) {
+        /* the lead-out's last command governed the previous period: regulated again */
+        d->v_ab[0] = d->v_hold;
+        d->v_ab[1] = d->v_hold_b;
+        d->phase = 4U;
+        d->seg = (uint16_t)APP_IDENT_SEG_HOLD;
+        d->done = 1U;
+        return;
+    }
+    {
+        const iq_t dv = alt_sign(d->u.st.alt_sec) > 0 ? d->dv_iq : fix_neg32(d->dv_iq);
+        const uint16_t len = d->u.st.alt_sec == 0U || d->u.st.alt_sec == last ? (uint16_t)(d->u.st.alt_n >> 1U) : d->u.st.alt_n;
+        /* along th + 90 degrees: (-sin th, cos th) */
+        d->v_ab[0] = fix_sub32(d->v_hold, iq_mpy_q15(dv, s));
+        d->v_ab[1] = fix_add32(d->v_hold_b, iq_mpy_q15(dv, c));
+        d->u.st.alt_psec = d->u.st.alt_sec;
+        d->u.st.alt_pj = d->u.st.alt_j;
+        if (++d->u.st.alt_j >= len) {
+            d->u.st.alt_j = 0U;
+            d->u.st.alt_sec++;
+        }
+    }
+}
+
 uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t *pu, uint16_t t1pr,
                        hal_cmd_t *cmd)
 {
@@ -233,9 +295,17 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
             d->phase = 2U;
             d->v_hold = 0;
         }
-        if (d->seg == (uint16_t)APP_IDENT_SEG_PULSE) {
+        if (d->seg == (uint16_t)APP_IDENT_SEG_PULSE || d->seg == (uint16_t)APP_IDENT_SEG_ALT) {
             d->v_hold = d->v_ab[0]; /* the regulated voltage before the step, both axes */
             d->v_hold_b = d->v_ab[1];
+        }
+        if (d->seg == (uint16_t)APP_IDENT_SEG_ALT) {
+            d->phase = 2U;
+            d->u.st.alt_sec = 0U;
+            d->u.st.alt_j = 0U;
+            d->u.st.alt_psec = 0xFFFFU;
+            d->u.st.alt_pj = 0U;
+            d->u.st.alt_moved = 0U;
         }
     }
     if (d->seg == (uint16_t)APP_IDENT_SEG_SPIN && d->im_on != 0U) {
@@ -300,6 +370,8 @@ uint16_t app_ident_isr(app_ident_t *d, const dtc_config_t *cfg, const dtc_meas_t
             d->v_ab[0] = d->v_hold;
             d->v_ab[1] = d->v_hold_b;
         }
+    } else if (d->seg == (uint16_t)APP_IDENT_SEG_ALT) {
+        alt_step(d, i_perp, c, s);
     } else if (d->seg == (uint16_t)APP_IDENT_SEG_SPIN) {
         (void)ramps(d);
         regulate(d, i_par, i_perp, c, s);

@@ -30,15 +30,19 @@ typedef enum {
 } plant_load_t;
 
 typedef enum {
-    PLANT_MACHINE_PM = 0,     /* surface PM BLAC machine (Hoang eqs. 6-10): rs_ohm, ls_h, psi_m_wb, emf_* */
+    PLANT_MACHINE_PM = 0,     /* PM BLAC machine (Hoang eqs. 6-10): rs_ohm, ls_h, psi_m_wb, emf_*; salient
+                               * (interior PM) when lq_h differs from ls_h */
     PLANT_MACHINE_IM = 1      /* squirrel-cage induction machine (Casadei eqs. A1-A11): rs_ohm, rr_ohm,
                                * lls_h, llr_h, lm_h (T model) */
 } plant_machine_t;
 
 typedef struct {
-    /* Surface PM BLAC machine (Hoang eqs. 6-10); rs_ohm and pole_pairs serve both machines. */
+    /* PM BLAC machine (Hoang eqs. 6-10); rs_ohm and pole_pairs serve both machines. */
     double rs_ohm;
-    double ls_h;
+    double ls_h;               /* L_d, the inductance along the magnet (a surface PM's L_s) */
+    double lq_h;               /* L_q, the inductance across the magnet; 0 or ls_h: a surface PM
+                                * (L_d = L_q = ls_h); otherwise a salient PM, rotor frame
+                                * psi_d = L_d i_d + psi_m, psi_q = L_q i_q (docs/plant.md) */
     double psi_m_wb;
     int pole_pairs;
     double emf_gain[3];        /* per-phase back-EMF fundamental scale, 1.0 = psi_m_wb */

@@ -158,6 +158,12 @@ inline void rhs_t(plant_t *pl, const M &m, const Vec &y, Vec &dy, RhsOutputs *au
         if (src) p_src += k[x]->src * vc * i;
         p_cu += i * i;
     }
+    if constexpr (M::kKind == PLANT_MACHINE_PM) {
+        if (m.salient()) {
+            const double cond[3] = {kAll ? 1.0 : k[0]->cond, kAll ? 1.0 : k[1]->cond, kAll ? 1.0 : k[2]->cond};
+            m.salient_di(kAll ? 3 : q.nk, cond, ix, omega_e, work, e, di, vx0, vn0);
+        }
+    }
     // DC link.
     double i_s, dv_hi, dv_lo, p_link;
     if (!rc) {
@@ -276,15 +282,36 @@ ConductionMode select_mode(plant_t *pl, const M &mach, const Vec &y) {
             }
             viol = std::max(0.0, lo - hi);
         } else {
-            const double vn0 = sum / nk;
+            double vn0 = sum / nk;
+            // L di/dt of each phase and a blocked phase's floating voltage (the circuit's scalar L;
+            // a salient PM's from its inductance matrix, as in rhs_t)
+            double ldi[3], vfl[3];
+            for (int x = 0; x < 3; ++x) {
+                const bool on = t.ph[x] != PH_BLOCKED;
+                ldi[x] = on ? vp[x] - (pl->r_ph + rr[x]) * y[S_IA + x] - e[x] - vn0 : 0.0;
+                vfl[x] = vn0 + e[x];
+            }
+            if constexpr (M::kKind == PLANT_MACHINE_PM) {
+                if (mach.salient()) {
+                    const double cond[3] = {t.ph[0] != PH_BLOCKED ? 1.0 : 0.0, t.ph[1] != PH_BLOCKED ? 1.0 : 0.0,
+                                            t.ph[2] != PH_BLOCKED ? 1.0 : 0.0};
+                    const double lc = mach.circuit_inductance();
+                    double di[3] = {ldi[0] / lc, ldi[1] / lc, ldi[2] / lc};
+                    const double ix[3] = {y[S_IA], y[S_IB], y[S_IC]};
+                    typename M::Work w;
+                    mach.salient_work(y, w);
+                    mach.salient_di(nk, cond, ix, pl->pp * y[S_OMEGA], w, e, di, vfl, vn0);
+                    for (int x = 0; x < 3; ++x) ldi[x] = lc * di[x];
+                }
+            }
             for (int k = 0; k < nz; ++k) {
                 const int x = zl[k];
                 if (t.ph[x] == PH_BLOCKED) {
-                    const double vf = vn0 + e[x];
+                    const double vf = vfl[x];
                     const double a = path_v(pl->legs[x]->pos, rv[x]), b = path_v(pl->legs[x]->neg, rv[x]);
                     viol += std::max(0.0, std::min(a, b) - vf) + std::max(0.0, vf - std::max(a, b));
                 } else if (pl->legs[x]->sign_dep) {
-                    const double di = vp[x] - (pl->r_ph + rr[x]) * y[S_IA + x] - e[x] - vn0;  // L di/dt
+                    const double di = ldi[x];
                     if (t.ph[x] == PH_POS) viol += std::max(0.0, -di);
                     else viol += std::max(0.0, di);
                 }

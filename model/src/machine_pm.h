@@ -1,5 +1,5 @@
-// machine_pm.h - surface PM BLAC machine for the plant (SI units, stationary frame), one machine
-// behind the seam of machine.h.
+// machine_pm.h - PM BLAC machine for the plant (SI units, stationary frame), one machine behind
+// the seam of machine.h: a surface PM (L_d = L_q = L_s) or a salient one (L_d != L_q).
 //
 // Hoang 2011 eqs. (6)-(10), written per phase so that the per-phase back-EMF gains and the
 // 3rd/5th/7th harmonics (Hoang Table VII) enter naturally:
@@ -9,6 +9,17 @@
 // eq. (10), 1.5 p (psi_alpha i_beta - psi_beta i_alpha). For the shared per-phase circuit the PM
 // machine is the inductance L_s, the resistance R_s and the magnet's EMF; it has no states of its
 // own. docs/plant.md, section 2, gives the error of the EMF expansion below.
+//
+// Salient PM (lq_h given and != ls_h): in the rotor frame psi_d = L_d i_d + psi_m, psi_q = L_q i_q
+// (Hoang eqs. 8-9 with the inductance split by axis), T_e = 1.5 p (psi_m i_q + (L_d - L_q) i_d i_q).
+// In the stationary frame the inductance turns with 2 theta_e:
+//   L_ab(theta) = S0 I + S2 [cos 2th, sin 2th; sin 2th, -cos 2th],  S0 = (L_d + L_q)/2, S2 = (L_d - L_q)/2,
+//   v_ab - R i_ab - e_pm,ab = L_ab di_ab/dt + omega_e (dL_ab/dtheta_e) i_ab.
+// The circuit computes the currents' derivatives with the scalar L_c = L_d (circuit_inductance);
+// salient_di() turns them into the salient machine's from the same terminal voltages (all three
+// phases conducting: the 2x2 system above; one phase blocked: the system projected on the
+// conducting pair's direction), and gives a blocked phase its floating terminal voltage with the
+// mutually induced part. The surface machine never runs salient_di(): its arithmetic is unchanged.
 #ifndef DTC_MODEL_MACHINE_PM_H
 #define DTC_MODEL_MACHINE_PM_H
 
@@ -27,12 +38,18 @@ public:
         auto bad = [](double v) { return !std::isfinite(v); };
         if (bad(p.ls_h) || p.ls_h <= 0.0) return "ls_h must be finite and > 0";
         if (bad(p.psi_m_wb) || p.psi_m_wb < 0.0) return "psi_m_wb must be finite and >= 0";
+        if (bad(p.lq_h) || p.lq_h < 0.0) return "lq_h must be finite and >= 0 (0: L_q = ls_h)";
         return nullptr;
     }
 
     PmMachine() = default;
     explicit PmMachine(const plant_params_t &p) noexcept : pole_pairs_(p.pole_pairs), pp_(p.pole_pairs), rs_(p.rs_ohm), ls_(p.ls_h) {
         has_harm_ = false;
+        salient_ = p.lq_h > 0.0 && p.lq_h != p.ls_h;
+        ld_ = p.ls_h;
+        lq_ = salient_ ? p.lq_h : p.ls_h;
+        sig0_ = 0.5 * (ld_ + lq_);
+        sig2_ = 0.5 * (ld_ - lq_);
         for (int x = 0; x < 3; ++x) {
             const double g = p.psi_m_wb * p.emf_gain[x];
             const double h[4] = {1.0, p.emf_harm[x][0], p.emf_harm[x][1], p.emf_harm[x][2]};
@@ -76,10 +93,74 @@ public:
     // expansion; w keeps dpsi_pm,x/dtheta_e for the torque.
     struct Work {
         double dpsi[3];
+        double c, s;  // salient machine only: cos, sin theta_e
     };
     void emf(const Vec &y, double omega_e, double e[3], Work &w) const {
         dpsi_fast(pp_ * y[S_THETA], w.dpsi);
         for (int x = 0; x < 3; ++x) e[x] = omega_e * w.dpsi[x];
+        if (salient_) fast_sincos(pp_ * y[S_THETA], w.c, w.s);
+    }
+
+    bool salient() const { return salient_; }
+    // Work's angle for salient_di() outside the right-hand side (conduction-mode selection).
+    void salient_work(const Vec &y, Work &w) const {
+        const double th = pp_ * y[S_THETA];
+        w.c = std::cos(th);
+        w.s = std::sin(th);
+    }
+
+    // Salient machine: di (the circuit's dI/dt from L_c = L_d, phases), cond (1 conducting, 0
+    // blocked), nk the number conducting, ix the currents, e the EMFs, vn0 (in: the circuit's
+    // neutral voltage, out: the salient machine's) and vx0 (a blocked phase's floating terminal
+    // voltage) are rewritten for L_ab(theta) (file comment). Amplitude-invariant Clarke (Hoang eqs.
+    // 1-5 convention): x_alpha = x_a, x_beta = (x_b - x_c)/sqrt(3); a flux-like alpha-beta quantity X
+    // is X_x = T^+ X per phase (x_a = X_alpha, x_b,c = -X_alpha/2 +- sqrt(3)/2 X_beta).
+    void salient_di(int nk, const double cond[3], const double ix[3], double omega_e, const Work &w,
+                    const double e[3], double di[3], double vx0[3], double &vn0) const {
+        if (nk < 2) return;  // every phase blocked: no current, no change
+        const double c2 = w.c * w.c - w.s * w.s, s2 = 2.0 * w.s * w.c;
+        const double laa = sig0_ + sig2_ * c2, lab = sig2_ * s2, lbb = sig0_ - sig2_ * c2;  // L_ab(theta)
+        const double gaa = -2.0 * sig2_ * s2, gab = 2.0 * sig2_ * c2, gbb = -gaa;    // dL_ab/dtheta_e
+        const double ia = ix[0], ib = (ix[1] - ix[2]) * (1.0 / kSqrt3);
+        const double ma = omega_e * (gaa * ia + gab * ib), mb = omega_e * (gab * ia + gbb * ib);  // omega dL i
+        double da, db;
+        if (nk == 3) {
+            // L_c di_c (alpha-beta) = v - R i - e_pm; solve L_ab di = that - omega dL i (det L_d L_q).
+            const double ra = ld_ * di[0] - ma, rb = ld_ * (di[1] - di[2]) * (1.0 / kSqrt3) - mb;
+            const double inv_det = 1.0 / (ld_ * lq_);
+            da = (lbb * ra - lab * rb) * inv_det;
+            db = (laa * rb - lab * ra) * inv_det;
+            di[0] = da;
+            di[1] = -0.5 * da + 0.5 * kSqrt3 * db;
+            di[2] = -0.5 * da - 0.5 * kSqrt3 * db;
+            return;
+        }
+        // One phase blocked, the conducting pair y, z (i_y = -i_z): the circuit gave di_y =
+        // (u_y - u_z) / (2 L_c). Along n = T (e_y - e_z): n^T T^+-weighted L n = 1.5 n^T L_ab n, so
+        // di_y = (u_y - u_z - 1.5 n^T omega dL i) / (1.5 n^T L_ab n).
+        int yz[2], k = 0, xb = 0;
+        for (int x = 0; x < 3; ++x) {
+            if (cond[x] != 0.0) yz[k++] = x;
+            else xb = x;
+        }
+        static const double na_t[3] = {1.0, -0.5, -0.5}, nb_t[3] = {0.0, 0.5 * kSqrt3, -0.5 * kSqrt3};
+        const int y0 = yz[0], z0 = yz[1];
+        const double na = (2.0 / 3.0) * (na_t[y0] - na_t[z0]), nb = (2.0 / 3.0) * (nb_t[y0] - nb_t[z0]);
+        const double nln = na * (laa * na + lab * nb) + nb * (lab * na + lbb * nb);
+        const double sdi = (2.0 * ld_ * di[y0] - 1.5 * (na * ma + nb * mb)) / (1.5 * nln);
+        const double dic[3] = {di[0], di[1], di[2]};
+        di[y0] = sdi;
+        di[z0] = -sdi;
+        di[xb] = 0.0;
+        da = di[0];
+        db = (di[1] - di[2]) * (1.0 / kSqrt3);
+        // X = L_ab di + omega dL i per phase: the machine's part of each phase voltage beside e_pm.
+        const double xa = laa * da + lab * db + ma, xbt = lab * da + lbb * db + mb;
+        double xp[3];
+        for (int x = 0; x < 3; ++x) xp[x] = na_t[x] * xa + nb_t[x] * xbt;
+        // u_x - vn0_c = L_c di_c,x for a conducting phase: the salient neutral is u_x - X_x.
+        vn0 += 0.5 * ((ld_ * dic[y0] - xp[y0]) + (ld_ * dic[z0] - xp[z0]));
+        vx0[xb] = vn0 + e[xb] + xp[xb];
     }
     // Right-hand side, second half, from the phase currents ix: torque, derivatives of the
     // machine's own states (none) and its loss beyond R_s sum i^2 (none).
@@ -88,6 +169,7 @@ public:
         te = 0.0;
         for (int x = 0; x < 3; ++x) te += ix[x] * w.dpsi[x];
         te *= pp_;
+        if (salient_) te += reluctance_torque(ix[0], (ix[1] - ix[2]) * (1.0 / kSqrt3), w.c, w.s);
         dy[S_MACH0] = dy[S_MACH1] = 0.0;
         p_internal = 0.0;
     }
@@ -115,6 +197,23 @@ public:
         r.te = pp_ * te;
         const double ia2 = i_alpha * i_alpha + i_beta * i_beta;
         r.e_magnetic = 0.75 * ls_ * ia2;  // (3/2) * (1/2) L_s |i|^2, amplitude-invariant frame
+        if (salient_) {
+            // psi_ab = L_ab(theta) i_ab + psi_pm; energy (3/2)(1/2)(L_d i_d^2 + L_q i_q^2)
+            const double th = pp_ * y[S_THETA];
+            const double c = std::cos(th), s = std::sin(th);
+            const double c2 = c * c - s * s, s2 = 2.0 * s * c;
+            r.psi_alpha = (sig0_ + sig2_ * c2) * i_alpha + sig2_ * s2 * i_beta + psi_pm_alpha;
+            r.psi_beta = sig2_ * s2 * i_alpha + (sig0_ - sig2_ * c2) * i_beta + psi_pm_beta;
+            r.te += reluctance_torque(i_alpha, i_beta, c, s);
+            const double id = c * i_alpha + s * i_beta, iq = c * i_beta - s * i_alpha;
+            r.e_magnetic = 0.75 * (ld_ * id * id + lq_ * iq * iq);
+        }
+    }
+
+    // The reluctance torque 1.5 p (L_d - L_q) i_d i_q at theta_e (c, s = cos, sin), from i_ab.
+    double reluctance_torque(double i_alpha, double i_beta, double c, double s) const {
+        const double id = c * i_alpha + s * i_beta, iq = c * i_beta - s * i_alpha;
+        return 1.5 * pp_ * (ld_ - lq_) * id * iq;
     }
 
 private:
@@ -260,6 +359,8 @@ private:
     int pole_pairs_ = 1;
     double pp_ = 1.0;        // pole pairs as a double
     double rs_ = 0.0, ls_ = 0.0;
+    bool salient_ = false;                        // L_q != L_d
+    double ld_ = 0.0, lq_ = 0.0, sig0_ = 0.0, sig2_ = 0.0;  // L_d, L_q, (L_d + L_q)/2, (L_d - L_q)/2
     bool has_harm_ = false;
     double flux_amp_[3][4] = {};  // psi_m * gain * (1, h3/3, h5/5, h7/7)
     double emf_amp_[3][4] = {};   // psi_m * gain * (1, h3, h5, h7): -dpsi/dtheta amplitudes

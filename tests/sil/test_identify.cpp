@@ -59,6 +59,10 @@ void expect_targets(const nlohmann::json& j, double g, int pole_pairs, double en
     ASSERT_EQ(j["status"], "ok") << j.dump(2);
     EXPECT_NEAR(id_of(j, "rs_ohm"), 0.466, 0.05 * 0.466);                     // Hoang Table VIII R_s
     EXPECT_NEAR(id_of(j, "ls_h"), 3.19e-3, 0.05 * 3.19e-3);                   // Hoang Table VIII L_s
+    // the surface PM: the q-axis square wave finds L_q = L_s too, and says so
+    EXPECT_NEAR(id_of(j, "lq_h"), 3.19e-3, 0.05 * 3.19e-3);
+    EXPECT_EQ(j["salient"], false) << j["saliency"];
+    EXPECT_EQ(j["saliency"].get<std::string>().rfind("no saliency", 0), 0U) << j["saliency"];
     const double drop = g * (kVce + kVd + 2.0 * kVdc * kTd / kTs) + kRon * kIr;
     EXPECT_NEAR(id_of(j, "drop_at_rated_v"), drop, 0.10 * drop);
     EXPECT_EQ(id_of(j, "pole_pairs"), pole_pairs);
@@ -120,6 +124,36 @@ TEST_F(Identify, StandstillStepsWithinThreeSecondsOnTheTableViiiRig)
         EXPECT_NEAR(j["standstill_s"].get<double>(), sum, 1e-9) << s;
         EXPECT_LE(j["standstill_s"].get<double>(), 3.0) << s;
         expect_targets(j, s == kFstp ? 1.0 / std::sqrt(3.0) : 2.0 / 3.0, 1, 0.0);
+    }
+}
+
+// A salient (interior) PM: the Table VIII machine with L_q = 1.5 and 2 L_d on both rigs. The d
+// steps give L_d and the q-axis square wave L_q, each within 5 % (the L_s target), the
+// saliency L_q / L_d within 5 % of the plant's, the verdict "salient" in identification.json, a
+// warning on the command line, and identified.toml keeps ls_h = L_d (what the PM law runs on).
+TEST_F(Identify, SalientPmGivesLdAndLqWithinFivePercentAndIsNamed)
+{
+    const double ld = 3.19e-3;
+    for (const std::string& s : {kFstp, kSstp}) {
+        for (double ratio : {1.5, 2.0}) {
+            std::string err;
+            ASSERT_EQ(identify(s, {"motor.lq_h=" + std::to_string(ratio * ld)}, &err), 0) << s << err;
+            const nlohmann::json j = report();
+            EXPECT_NEAR(id_of(j, "ld_h"), ld, 0.05 * ld) << s << " " << ratio;
+            EXPECT_NEAR(id_of(j, "ls_h"), id_of(j, "ld_h"), 1e-12);
+            EXPECT_NEAR(id_of(j, "lq_h"), ratio * ld, 0.05 * ratio * ld) << s << " " << ratio;
+            EXPECT_NEAR(j["quantities"]["lq_h"]["true"].get<double>(), ratio * ld, 1e-12);
+            EXPECT_NEAR(j["saliency_ratio"].get<double>(), ratio, 0.05 * ratio);
+            EXPECT_EQ(j["salient"], true);
+            EXPECT_EQ(j["quantities"]["lq_h"]["status"], "ok");
+            EXPECT_GT(j["quantities"]["lq_h"]["duration_s"].get<double>(), 0.0);
+            EXPECT_NE(err.find("warning: salient PM"), std::string::npos) << err;
+            const std::string t = toml();
+            EXPECT_NE(t.find("SALIENT"), std::string::npos) << t;
+            // the other steps are unaffected by the saliency (i_d = 0 in the spin)
+            EXPECT_LT(std::fabs(j["quantities"]["psi_m_wb"]["error_pct"].get<double>()), 3.0);
+            EXPECT_LE(j["standstill_s"].get<double>(), 3.0) << s << " " << ratio;
+        }
     }
 }
 

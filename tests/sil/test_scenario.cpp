@@ -196,6 +196,25 @@ TEST(Scenario, WrongTypeNamesKeyAndLine)
     expect_error("motor = 3\n", "motor", 1, "expected a table");
 }
 
+// A salient PM: motor.ld_h is motor.ls_h's other name (L_d); motor.lq_h not given is L_d (a surface
+// PM). Both L_d keys given and different: refused naming motor.ld_h and its line, and motor.ls_h's.
+TEST(Scenario, SalientPmKeys)
+{
+    Scenario s;
+    EXPECT_EQ(errors_of("[motor]\nls_h = 4e-3\n", {}, &s), "");
+    EXPECT_DOUBLE_EQ(s.motor.ld_h, 4e-3);
+    EXPECT_DOUBLE_EQ(s.motor.lq_h, 4e-3);
+    EXPECT_EQ(errors_of("[motor]\nld_h = 2e-3\nlq_h = 5e-3\n", {}, &s), "");
+    EXPECT_DOUBLE_EQ(s.motor.ls_h, 2e-3);
+    EXPECT_DOUBLE_EQ(s.motor.lq_h, 5e-3);
+    EXPECT_EQ(errors_of("[motor]\nls_h = 2e-3\nld_h = 2e-3\nlq_h = 3e-3\n", {}, &s), "");
+    EXPECT_DOUBLE_EQ(s.motor.ls_h, 2e-3);
+    expect_error("[motor]\nls_h = 2e-3\nld_h = 3e-3\n", "motor.ld_h", 3, "differs from motor.ls_h");
+    EXPECT_NE(errors_of("[motor]\nls_h = 2e-3\nld_h = 3e-3\n").find("case.toml:2"), std::string::npos);
+    expect_error("[motor]\nlq_h = -1e-3\n", "motor.lq_h", 2, "must be > 0");
+    expect_error("[motor]\ntype = \"im\"\nlq_h = 1e-3\n", "motor.lq_h", 3, "not a parameter");
+}
+
 TEST(Scenario, ImpossibleNumbersNameKeyAndLine)
 {
     expect_error("\n[motor]\nrs_ohm = 0.0\n", "motor.rs_ohm", 3, "impossible");

@@ -4,7 +4,7 @@
 # pole pairs on a grid, the encoder mounted anywhere, datasheet-grade sensor errors, noise and
 # dead time; each run identifies the machine and its row holds the errors against the plant's true
 # values, asserted against the self-commissioning targets:
-#   R_s 5 %, L_s 5 %, psi_m 3 %, encoder offset 3 degrees electrical, direction and pole pairs
+#   R_s 5 %, L_s 5 % (L_d as ls_h, and L_q: the machine is a surface PM, L_q = L_d), psi_m 3 %, encoder offset 3 degrees electrical, direction and pole pairs
 #   exact, the inverter's drop at rated current 10 %, J 10 %.
 # Draws (1 sigma for normal ones):
 #   * motor: R_s 0.466 ohm, L_s 3.19 mH, psi_m 0.0928 Wb, J 5e-4 kg m^2 (rotor and DC generator),
@@ -49,6 +49,7 @@ for k in vdc vmid; do
   args+=(--sample "sensors.${k}_offset_v=normal:0:0.3" --sample "sensors.${k}_gain_error=normal:0:0.007")
 done
 asserts=(--assert "ok==1" --assert "rs_ohm.abs_error_pct<5" --assert "ls_h.abs_error_pct<5"
+  --assert "lq_h.abs_error_pct<5"
   --assert "psi_m_wb.abs_error_pct<3" --assert "encoder_offset_el_deg.abs_error<3" --assert "pole_pairs.abs_error==0"
   --assert "encoder_reversed.abs_error==0" --assert "drop_at_rated_v.abs_error_pct<10" --assert "j_kgm2.abs_error_pct<10")
 rc=0
@@ -58,7 +59,8 @@ done
 python3 - "$out" <<'EOF'
 import csv, math, os, sys
 out = sys.argv[1]
-targets = [("rs_ohm.abs_error_pct", 5, "R_s", "%"), ("ls_h.abs_error_pct", 5, "L_s", "%"),
+targets = [("rs_ohm.abs_error_pct", 5, "R_s", "%"), ("ls_h.abs_error_pct", 5, "L_s (L_d)", "%"),
+           ("lq_h.abs_error_pct", 5, "L_q", "%"),
            ("psi_m_wb.abs_error_pct", 3, "psi_m", "%"), ("encoder_offset_el_deg.abs_error", 3, "encoder offset", "deg el."),
            ("pole_pairs.abs_error", 0, "pole pairs", ""), ("encoder_reversed.abs_error", 0, "direction", ""),
            ("drop_at_rated_v.abs_error_pct", 10, "drop at rated current", "%"), ("j_kgm2.abs_error_pct", 10, "J", "%"),

@@ -16,6 +16,7 @@ struct IdentifyReport {
     std::string reason;       // the firmware's named reason
     double duration_s = 0.0;
     std::string json;         // identification.json's text
+    std::string warning;      // what the user must know beside the values (a salient PM), or empty
 };
 
 /// Runs the identification on the scenario's plant (faults included) with the firmware given the

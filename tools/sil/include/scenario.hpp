@@ -116,7 +116,9 @@ struct ImDefaults {
 struct MotorCfg {
     MotorType type = MotorType::Pmsm;
     double rs_ohm = PLANT_DEF_PM_RS_OHM;
-    double ls_h = PLANT_DEF_PM_LS_H;
+    double ls_h = PLANT_DEF_PM_LS_H;  // L_d of a salient PM
+    double ld_h = PLANT_DEF_PM_LS_H;  // = ls_h once the scenario is read
+    double lq_h = PLANT_DEF_PM_LS_H;  // not set: ls_h (a surface PM)
     double psi_m_wb = PLANT_DEF_PM_PSI_M_WB;
     std::int64_t pole_pairs = PLANT_DEF_PM_POLE_PAIRS;
     double j_kgm2 = PLANT_DEF_PM_J_KGM2;

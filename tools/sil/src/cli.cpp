@@ -73,6 +73,9 @@ int dtc_sil_main(const std::vector<std::string>& args, std::ostream& out, std::o
         out << "identify " << scenario_path << ": " << (rep.ok ? "ok" : "FAILED") << " after " << rep.duration_s
             << " s; wrote " << (std::filesystem::path(out_dir) / "identified.toml").string() << ", "
             << (std::filesystem::path(out_dir) / "identification.json").string() << "\n";
+        if (!rep.warning.empty()) {
+            err << "warning: " << rep.warning << "\n";
+        }
         if (!rep.ok) {
             err << "dtc-sil: " << scenario_path << ": identification failed in step " << rep.failed_step << ": "
                 << rep.reason << "\n";

@@ -47,9 +47,10 @@ std::string fail_text(const app_ident_t& d, const app_status_t& st)
                "its reference, or (induction machine) a quadrature current above a quarter of the injected one that "
                "it cannot null (a phase, leg or connection carries no current)";
     case APP_IDENT_FAIL_BOUNDS: {
-        static const char* const q[] = {"?",          "R (slope of V = R I + V0)", "V0 (intercept)", "L_s",
-                                        "pole pairs", "psi_m",                     "J (the coast's fit)"};
-        const int k = d.fail_detail >= 1 && d.fail_detail <= 6 ? d.fail_detail : 0;
+        static const char* const q[] = {"?",          "R (slope of V = R I + V0)", "V0 (intercept)", "L_s (L_d)",
+                                        "pole pairs", "psi_m",                     "J (the coast's fit)",
+                                        "L_q (or L_q / L_d outside 1/4 .. 8)"};
+        const int k = d.fail_detail >= 1 && d.fail_detail <= 7 ? d.fail_detail : 0;
         if (d.fail_detail == APP_IDENT_Q_IM_LSIG) {
             return "out_of_bounds: sigma L_s outside its plausibility bounds (Z_b Ts / 16 .. L_s / 2)";
         }
@@ -93,6 +94,10 @@ std::string fail_text(const app_ident_t& d, const app_status_t& st)
         }
         return "current_sensor_reversed: a phase current of the wrong sign on a sign pulse (sensor polarity or "
                "wiring)";
+    case APP_IDENT_FAIL_MOVED:
+        return "rotor_moved: the encoder count moved by " + std::to_string(d.fail_detail) +
+               " counts (more than 1/256 turn) during the q-axis pulses of the L_q measurement (a very light "
+               "rotor, or a load turning the shaft): L_q would carry the back-EMF";
     case APP_IDENT_FAIL_NOT_AT_REST:
         return "not_at_rest: the rotor did not come to rest on a DC vector within 2 s (a coupled load, a blocked or "
                "a far too heavy rotor)";
@@ -289,6 +294,8 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
     const double b_true = m.b_nm_s_per_rad + (sc.load.type == LoadType::Generator && sc.load.speed_rpm > 0.0
                                                   ? sc.load.torque_nm / (sc.load.speed_rpm * kPi / 30.0)
                                                   : 0.0);
+    double saliency = 0.0; // L_q / L_d (PM)
+    bool salient = false;  // the firmware's verdict: L_q departs from L_d beyond the measurement's accuracy
     double im_ls = 0.0, im_lsig = 0.0, im_l = 0.0, im_lm = 0.0, im_rr = 0.0, im_ls_spin = 0.0;
     if (im) {
         // Induction machine (app_ident_im.h): L_s, sigma L_s as L / (Z_b Ts); tau_r in periods (Q4);
@@ -346,7 +353,23 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
             "viscous friction; a fan load (torque ~ speed^2) is absorbed in b and T_c");
         add("coulomb_nm", tc_id, sc.load.coulomb_nm, "N*m", APP_IDENT_SPIN, false, "");
     } else {
-        add("ls_h", ls, m.ls_h, "H", APP_IDENT_LS, true, "L_d: the rotor aligned on the step axis");
+        // L_d and L_q (step LS: the d steps, then the q square wave; lq_periods is the latter's share;
+        // the firmware keeps L_q / L_d in Q12)
+        const double lq = ls * d.res.lq_q12 / 4096.0;
+        const double lq_s = d.lq_periods * ts;
+        add("ls_h", ls, m.ls_h, "H", APP_IDENT_LS, true,
+            "L_d: the rotor aligned on the step axis (the value the PM law runs on; a salient PM's L_d)");
+        add("ld_h", ls, m.ls_h, "H", APP_IDENT_LS, true, "L_d: voltage steps on the half-rated DC current along the aligned axis");
+        q["ld_h"]["duration_s"] = step_s[APP_IDENT_LS] - lq_s;
+        add("lq_h", lq, m.lq_h, "H", APP_IDENT_LS, true,
+            "L_q: an alternating voltage square wave along the quadrature axis on the same hold, volt-seconds over the "
+            "current swing");
+        q["lq_h"]["duration_s"] = lq_s;
+        if (d.res.lq_q12 == 0U) {
+            q["lq_h"]["status"] = q["ls_h"]["status"] == "ok" ? "failed" : q["ls_h"]["status"];
+        }
+        saliency = ls > 0.0 && lq > 0.0 ? lq / ls : 0.0;
+        salient = d.res.salient != 0U;
         add("pole_pairs", p, static_cast<double>(m.pole_pairs), "", APP_IDENT_ENCODER, false, "");
         add("encoder_reversed", d.res.enc_reversed, rev_true ? 1.0 : 0.0, "", APP_IDENT_ENCODER, false,
             "the count runs down for the inverter's forward field: a reversed encoder or two motor leads exchanged");
@@ -376,12 +399,28 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
     j["standstill_s"] = step_s[1] + step_s[2] + (im ? 0.0 : step_s[3]);
     j["spin_s"] = step_s[APP_IDENT_SPIN] + (im ? step_s[3] : 0.0);
     j["quantities"] = q;
+    if (!im && d.res.lq_q12 != 0U) {
+        // The verdict on saliency (the firmware's res.salient: |L_q - L_d| > L_d / 16).
+        j["saliency_ratio"] = saliency;
+        j["saliency_ratio_true"] = m.lq_h / m.ls_h;
+        j["salient"] = salient;
+        j["saliency"] = salient ? "salient: L_q / L_d = " + fmt(saliency) +
+                                      ", beyond the measurement's accuracy (1/16); the PM law runs on one L_s, L_d "
+                                      "(firmware.ls_h): see docs/commissioning.md, salient PM"
+                                : "no saliency: L_q / L_d = " + fmt(saliency) + ", within the measurement's accuracy (1/16)";
+    }
     for (unsigned l = 0; l < APP_IDENT_R_LEVELS; ++l) {
         j["rs_fit_points"].push_back({{"i_a", d.res.level_i_iq[l] / kIqOne * i_b}, {"v_v", d.res.level_v_iq[l] / kIqOne * v_b}});
     }
     j["not_identified"] = {"v_ce_v", "v_d_v", "r_on_ohm"};
 
 
+    if (!im && salient) {
+        rep->warning = "salient PM: L_q / L_d = " + fmt(saliency) + " (L_d = " + fmt(ls) + " H, L_q = " +
+                       fmt(ls * d.res.lq_q12 / 4096.0) +
+                       " H); the PM law runs on one L_s and identified.toml gives it L_d (ls_h): its flux and "
+                       "torque estimates carry the q-axis error (docs/commissioning.md, salient PM)";
+    }
     rep->ok = ok;
     rep->failed_step = ok ? "" : step_name(failed_step);
     rep->reason = j["reason"];
@@ -429,6 +468,10 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
         t << "coulomb_nm = " << fmt(std::fmax(tc_id, 0.0)) << "\n";
     }
     if (!im && (ok || failed_step > APP_IDENT_LS)) {
+        // ls_h is L_d (the d steps with the rotor aligned); the PM law has no L_q row
+        const double lq = ls * d.res.lq_q12 / 4096.0;
+        t << "# ls_h is L_d. L_d = " << fmt(ls) << " H, L_q = " << fmt(lq) << " H, L_q / L_d = " << fmt(saliency)
+          << (salient ? ": SALIENT, the PM law runs on L_d alone (docs/commissioning.md)" : ": no saliency") << "\n";
         t << "ls_h = " << fmt(ls) << "\n";
     }
     if (!im && ok) {

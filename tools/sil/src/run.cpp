@@ -54,6 +54,7 @@ plant_params_t plant_params_from(const Scenario& sc)
     plant_params_default(&p); // fields this runner does not know keep the plant's own defaults
     p.rs_ohm = sc.motor.rs_ohm;
     p.ls_h = sc.motor.ls_h;
+    p.lq_h = sc.motor.lq_h;  // = ls_h: a surface PM
     p.psi_m_wb = sc.motor.psi_m_wb;
     p.pole_pairs = static_cast<int>(sc.motor.pole_pairs);
     const std::array<double, 3>* harm[3] = {&sc.motor.emf_harm_a, &sc.motor.emf_harm_b, &sc.motor.emf_harm_c};

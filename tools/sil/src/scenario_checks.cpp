@@ -22,7 +22,8 @@ namespace sil::detail {
 // (ImDefaults), and a key of the other machine is refused by name.
 void apply_machine_defaults(Scenario& s, Diagnostics* d)
 {
-    static const std::vector<std::string> pm_only = {"motor.ls_h",        "motor.psi_m_wb",    "motor.emf_gain",
+    static const std::vector<std::string> pm_only = {"motor.ls_h",       "motor.ld_h",       "motor.lq_h",
+                                                     "motor.psi_m_wb",   "motor.emf_gain",
                                                      "motor.emf_harm_a", "motor.emf_harm_b", "motor.emf_harm_c"};
     static const std::vector<std::string> im_only = {"motor.rr_ohm", "motor.lls_h", "motor.llr_h", "motor.lm_h"};
     const bool im = s.motor.type == MotorType::Im;
@@ -36,6 +37,21 @@ void apply_machine_defaults(Scenario& s, Diagnostics* d)
         s.sensors.current_sensors = 3; // a board built for reconfiguration measures every phase
     }
     if (!im) {
+        // A salient PM: motor.ld_h is motor.ls_h's other name (L_d); both given, they must agree.
+        // motor.lq_h not given: L_q = L_d (a surface PM).
+        if (s.origin.count("motor.ld_h") != 0) {
+            if (s.origin.count("motor.ls_h") != 0 && s.motor.ld_h != s.motor.ls_h) {
+                d->errors.push_back(origin_of(s, "motor.ld_h") + ": motor.ld_h: " + std::to_string(s.motor.ld_h) +
+                                    " H differs from motor.ls_h = " + std::to_string(s.motor.ls_h) + " H (" +
+                                    origin_of(s, "motor.ls_h") +
+                                    "): motor.ls_h is a salient PM's L_d; give one of the two, or the same value");
+            }
+            s.motor.ls_h = s.motor.ld_h;
+        }
+        s.motor.ld_h = s.motor.ls_h;
+        if (s.origin.count("motor.lq_h") == 0) {
+            s.motor.lq_h = s.motor.ls_h;
+        }
         return;
     }
     const ImDefaults q;

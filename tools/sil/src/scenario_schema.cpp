@@ -126,7 +126,16 @@ const std::vector<Spec>& schema()
                "100 A / 500 V, protection 55 A (hardware 57 A), DC-link window 200..400 V",
                ACC(motor.type)),
         num("motor.rs_ohm", "ohm", positive(), "phase resistance (Hoang Table VIII)", ACC(motor.rs_ohm)),
-        num("motor.ls_h", "H", positive(), "synchronous inductance, Ld = Lq (Table VIII)", ACC(motor.ls_h)),
+        num("motor.ls_h", "H", positive(), "synchronous inductance, Ld = Lq (Table VIII); of a salient PM its L_d",
+            ACC(motor.ls_h)),
+        num("motor.ld_h", "H", positive(),
+            "d-axis inductance (along the magnet); not set: motor.ls_h; given with motor.ls_h it must equal it",
+            ACC(motor.ld_h)),
+        num("motor.lq_h", "H", positive(),
+            "q-axis inductance (across the magnet); not set: L_d (a surface PM); another value makes the plant a "
+            "salient (interior) PM: psi_d = L_d i_d + psi_m, psi_q = L_q i_q, T = 1.5 p (psi_m i_q + (L_d - L_q) "
+            "i_d i_q)",
+            ACC(motor.lq_h)),
         num("motor.psi_m_wb", "Wb", positive(), "PM flux linkage, peak (Table VIII)", ACC(motor.psi_m_wb)),
         integer("motor.pole_pairs", "", closed(1, 16), "pole pairs (Table VIII; the firmware converter's range)", ACC(motor.pole_pairs)),
         num("motor.j_kgm2", "kg*m^2", positive(),

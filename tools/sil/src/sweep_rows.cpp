@@ -176,7 +176,8 @@ const std::vector<std::pair<const char*, bool>>& identify_quantities()
 {
     static const std::vector<std::pair<const char*, bool>> q = {
         {"rs_ohm", true},         {"r_slope_ohm", true},   {"v0_v", true},     {"drop_at_rated_v", true},
-        {"dead_time_s", true},    {"ls_h", true},          {"pole_pairs", false}, {"encoder_reversed", false},
+        {"dead_time_s", true},    {"ls_h", true},          {"lq_h", true},     {"pole_pairs", false},
+        {"encoder_reversed", false},
         {"encoder_offset_el_deg", false}, {"psi_m_wb", true}, {"j_kgm2", true}, {"b_nm_s_per_rad", true},
         {"coulomb_nm", false}};
     return q;
