@@ -80,6 +80,7 @@ SECTIONS
                     *(.text:_app_enc_check)
                     *(.text:_app_fault_one_way)
                     *(.text:_app_fault_open_phase)
+                    *(.text:_app_fault_stall)
                     *(.text:_app_fault_trips)
                     *(.text:_app_isr)
                     *(.text:_app_plaus_step)
@@ -144,7 +145,6 @@ SECTIONS
 
     ramfuncs_m : {
                     /* hot:ramfuncs_m begin (hal/f2812/hot_functions.py --write) */
-                    *(.text:_app_fault_stall)
                     /* hot:ramfuncs_m end */
                 }
                 LOAD = FLASH_JC,

@@ -48,9 +48,9 @@ SECTIONS
                     *(.text:_app_core_step)
                     *(.text:_app_fault_stall)
                     *(.text:_ilim_select)
-                    *(.text:_im_dfoc_regulate)
                     *(.text:_im_dsvm_select)
                     *(.text:_im_dsvm_step)
+                    *(.text:_im_dtc_refs)
                     *(.text:_im_dtc_select)
                     *(.text:_im_est_flux)
                     *(.text:_im_sfvc_kpd)
@@ -58,6 +58,7 @@ SECTIONS
                     *(.text:_iq_cmul_1jx)
                     *(.text:_law_pwm)
                     *(.text:_law_step)
+                    *(.text:_svm_recip)
                     *(.text:_svm_step)
                     /* hot:ramfuncs end */
                     -l=libdtc_firmware.a (.econst)
@@ -80,7 +81,6 @@ SECTIONS
                     /* hot:ramfuncs_h begin (hal/f2812/hot_functions.py --write) */
                     *(.text:_app_adc_to_pu)
                     *(.text:_app_core_convert)
-                    *(.text:_app_enc_check)
                     *(.text:_app_enc_flux_check)
                     *(.text:_app_fault_one_way)
                     *(.text:_app_fault_open_phase)
@@ -92,6 +92,7 @@ SECTIONS
                     *(.text:_check_trips)
                     *(.text:_deadtime_code)
                     *(.text:_deadtime_error)
+                    *(.text:_deadtime_leg)
                     *(.text:_dsc_step)
                     *(.text:_dsvm_leg_duty)
                     *(.text:_dsvm_rotate)
@@ -140,11 +141,10 @@ SECTIONS
 
     ramfuncs_m : {
                     /* hot:ramfuncs_m begin (hal/f2812/hot_functions.py --write) */
+                    *(.text:_app_enc_check)
                     *(.text:_clarke_sstp)
-                    *(.text:_deadtime_leg)
-                    *(.text:_im_dtc_refs)
+                    *(.text:_im_sup_cm_ref)
                     *(.text:_speed_pi_step)
-                    *(.text:_svm_recip)
                     /* hot:ramfuncs_m end */
                 }
                 LOAD = FLASH_JC,
