@@ -161,6 +161,8 @@ enum proto_cmd {
      *          94 iq ls_ts  98 iq lsig_ts (L_s, sigma L_s as L / (Z_b Ts))  102 i32 taur_q4
      *          (tau_r, control periods Q4)  106 iq rr (R_r, pu of Z_b)  110 iq id (the spin's
      *          magnetising current, pu) (app_ident_im.h; 0 on a PM machine)
+     *          114 u16 lq_q12 (L_q / L_d, Q12, from step LS's q-axis square wave; 0 until measured
+     *          and on an IM)  116 u16 salient (1: |L_q - L_d| > L_d / 16, app_ident.h)
      *   PROTO_ERR_RANGE for another sub. */
     PROTO_IDENTIFY = 0x70,
     /* IDENT_APPLY: the finished identification's results into the parameters in force (app_ident.h

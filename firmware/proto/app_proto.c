@@ -349,7 +349,9 @@ static void do_identify(const frame_t *rq, frame_t *rs)
     frame_put_i32(&o[102], d.res.im.taur_q4);
     frame_put_i32(&o[106], d.res.im.rr_iq);
     frame_put_i32(&o[110], d.res.im.id_iq);
-    rs->len = 114U;
+    frame_put_u16(&o[114], d.res.lq_q12);
+    frame_put_u16(&o[116], d.res.salient);
+    rs->len = 118U;
 }
 
 /* IDENT_APPLY (proto.h): the finished identification into the parameters in force. */

@@ -6,7 +6,8 @@ console's `identify` against `dtc-sil serve` from standstill, checked against th
  2. a disarm during the identification stops it: READY, the gates off, no fault;
  3. `identify --json --out DIR` ends in `done`: the pole pairs and the encoder's direction exact,
     R_s, L_s and the inverter's drop within the accuracies of `dtc-sil identify` (docs/
-    commissioning.md: 2 %, 3 %, 2 %; encoder offset within 2 electrical degrees) against the
+    commissioning.md: 2 %, 3 %, 2 %; encoder offset within 2 electrical degrees; L_q within the
+    issue's 5 % and the surface PM read as not salient, from the RESULT frame) against the
     scenario's true values (identification.json of `dtc-sil identify`, which reports them);
     identified.toml carries the same [firmware] keys as `dtc-sil identify` writes;
  4. afterwards the drive is READY and arms as usual;
@@ -98,7 +99,9 @@ def main():
         if res:
             check(res["step"] == "done" and res["status"] == "ok", "identification done")
             check_results("", res, truth, (("rs_ohm", 0.02), ("ls_h", 0.03), ("drop_at_rated_v", 0.02),
-                                           ("psi_m_wb", 0.03), ("j_kgm2", 0.10)), out, ref)
+                                           ("psi_m_wb", 0.03), ("j_kgm2", 0.10), ("lq_h", 0.05)), out, ref)
+            check(res["salient"] is False and abs(res["saliency_ratio"] - 1.0) < 1.0 / 16.0,
+                  "the surface PM read as not salient (L_q / L_d = %.4f)" % res["saliency_ratio"])
             e = (res["encoder_offset_el_deg"] - truth["encoder_offset_el_deg"]["true"] + 180.0) % 360.0 - 180.0
             check(abs(e) <= 2.0, "encoder offset %.3f el. deg off the true one (within 2)" % e)
         # 4. READY afterwards, and it arms

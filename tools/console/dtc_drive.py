@@ -501,6 +501,11 @@ class Drive:
                       "j_kgm2": j_q12 / 4096.0 * kt_ib * ts * ts / rad_per_count,
                       "b_nm_s_per_rad": b_pu / IQ_ONE * kt_ib * ts / rad_per_count, "coulomb_nm": tc_pu / IQ_ONE * kt_ib})
             return q
+        if len(pl) >= 118:
+            # step ls's quadrature axis (app_ident.h res.lq_q12, res.salient): L_q = L_d lq_q12 / 2^12
+            lq_q12, salient = struct.unpack_from("<HH", pl, 114)
+            q.update({"ld_h": q["ls_h"], "lq_h": q["ls_h"] * lq_q12 / 4096.0,
+                      "saliency_ratio": lq_q12 / 4096.0, "salient": bool(salient)})
         q.update({"psi_m_wb": psi, "j_kgm2": j_q12 / 4096.0 * kt_ib * ts * ts / rad_per_count,
                   "b_nm_s_per_rad": b_pu / IQ_ONE * kt_ib * ts / rad_per_count, "coulomb_nm": tc_pu / IQ_ONE * kt_ib})
         return q

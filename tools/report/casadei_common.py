@@ -43,8 +43,11 @@ def _entry(item, status, measured, paper_says, reason="", figure=None, note=""):
 
 
 def _held_sets(rpm, torque, extra=(), duration=None, window=0.2):
-    """Torque mode from standstill; the dynamometer takes the rotor to rpm after the magnetisation."""
+    """Torque mode from standstill; the dynamometer takes the rotor to rpm after the magnetisation.
+    The figures' condition is Casadei's estimator (eq. 20 with the reference flux), so the product's
+    low-speed current-model reference (control.current_model_ref, on by default) is off."""
     s = {"control.mode": "torque", "control.torque_ref_nm": "%.6g" % torque, "load.type": "speed",
+         "control.current_model_ref": "false",
          "load.speed_rpm": "%.6g" % rpm, "load.speed_ramp_start_s": 0.6, "load.speed_ramp_s": 0.3,
          "load.step_time_s": 0, "metrics_window_s": window, "duration_s": duration or (0.9 + 0.2 + window)}
     s.update(dict(extra))
