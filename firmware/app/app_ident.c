@@ -98,6 +98,7 @@ static void post_move(app_ident_t *d);
 /* Step LS's L_q part, its sub-steps (after the L_d pulses' 2 ID_PULSES). */
 #define ID_LQ_GAP ((uint16_t)(2U * ID_PULSES + 1U))  /* the regulated hold before the square wave */
 #define ID_LQ_ALT ((uint16_t)(2U * ID_PULSES + 2U))  /* the square wave */
+#define ID_MOVED_TOLS 4          /* rotor_moved: the wave's excursion limit in quiet_tol (1/256 turn) */
 
 /* Background: the L_q square wave (SEG_ALT) on the half-rated hold along the axis (the rotor
  * aligned on it: the axis is d, the wave's axis q). Sized from the L_d just measured and the rated
@@ -138,10 +139,15 @@ static void lq_service(app_ident_t *d)
         return;
     }
     /* the swing the wave drives is microradians (post_alt), below a count: the check names a rotor
-     * that turns (a load driving it), beyond 1/256 turn; a slow creep (the FSTP's rotor following
-     * its hold's angle, about a count per 3 ms on the rig) adds a constant back-EMF that cancels
-     * over the even number of halves */
-    if ((int32_t)d->u.st.alt_moved > d->quiet_tol) {
+     * that turns (a load driving it), beyond ID_MOVED_TOLS x quiet_tol (about 1/64 turn). Below it
+     * the rotor may still swing about the hold's axis, left from its alignment in step RS (on the
+     * rig +-0.025 rad at about 3 Hz, friction its only damping: up to 2 x 32 counts of 8000 from
+     * the wave's start, by when the wave starts); that swing's back-EMF is a slow ramp that cancels
+     * over each pair of halves but for e1 T / (2 dv), about 1e-4 of L_q, and its axis error biases
+     * L_q by sin^2(delta) (L_d - L_q) / L_q (docs/commissioning.md). A slow creep (the FSTP's rotor
+     * following its hold's angle, about a count per 3 ms on the rig) adds a constant back-EMF that
+     * cancels over the even number of halves. */
+    if ((int32_t)d->u.st.alt_moved > ID_MOVED_TOLS * d->quiet_tol) {
         app_ident_fail(d, (uint16_t)APP_IDENT_FAIL_MOVED, (int16_t)d->u.st.alt_moved);
         return;
     }

@@ -91,8 +91,8 @@ enum app_ident_fail {
                                         * not reach half the spin speed at the spin's q current (a
                                         * load coupled to the shaft; fail_detail: the last window's
                                         * count change) */
-    APP_IDENT_FAIL_MOVED = 12,         /* step LS's quadrature pulses: the count left +-quiet_tol (1/256
-                                        * turn; fail_detail: the largest excursion, counts) while
+    APP_IDENT_FAIL_MOVED = 12,         /* step LS's quadrature pulses: the count left +-4 quiet_tol (about
+                                        * 1/64 turn; fail_detail: the largest excursion, counts) while
                                         * they ran: the rotor turned, and the
                                         * q voltage carries its back-EMF (a very light rotor, or a
                                         * load driving the shaft) */

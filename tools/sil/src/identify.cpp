@@ -96,7 +96,7 @@ std::string fail_text(const app_ident_t& d, const app_status_t& st)
                "wiring)";
     case APP_IDENT_FAIL_MOVED:
         return "rotor_moved: the encoder count moved by " + std::to_string(d.fail_detail) +
-               " counts (more than 1/256 turn) during the q-axis pulses of the L_q measurement (a very light "
+               " counts (more than about 1/64 turn) during the q-axis pulses of the L_q measurement (a very light "
                "rotor, or a load turning the shaft): L_q would carry the back-EMF";
     case APP_IDENT_FAIL_NOT_AT_REST:
         return "not_at_rest: the rotor did not come to rest on a DC vector within 2 s (a coupled load, a blocked or "
