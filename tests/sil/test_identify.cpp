@@ -376,6 +376,26 @@ TEST_F(Identify, DcLinkTooLowIsNamed)
     EXPECT_EQ(toml().find("\nrs_ohm ="), std::string::npos);
 }
 
+// A load torque on a shaft at rest (a hoist's weight: load.type torque, a third of the rig's rated
+// 0.15 N.m aligning torque at the half-rated hold, so the alignment of step rs still holds the rotor
+// some 19 degrees off its axis): during the L_q square wave the voltage is held open-loop and the
+// loaded rotor turns by hundreds of counts, far beyond the swing of a free rotor (at most 45 of
+// 8000 measured, docs/commissioning.md): named rotor_moved in step ls on both rigs, with L_d
+// already identified and L_q not written.
+TEST_F(Identify, LoadTurningTheShaftDuringTheLqWaveIsNamed)
+{
+    std::string err;
+    for (const auto& sc : {kFstp, kSstp}) {
+        EXPECT_EQ(identify(sc, {"load.type=torque", "load.torque_nm=0.05"}, &err), 3) << sc;
+        EXPECT_NE(err.find("identification failed in step ls: rotor_moved"), std::string::npos) << err;
+        const nlohmann::json j = report();
+        EXPECT_EQ(j["failed_step"], "ls");
+        EXPECT_EQ(j["quantities"]["rs_ohm"]["status"], "ok");
+        EXPECT_EQ(j["quantities"]["lq_h"]["status"], "failed");
+        EXPECT_EQ(toml().find("\nls_h ="), std::string::npos) << "a failed step writes no value";
+    }
+}
+
 // A winding whose resistance with the devices' is below the plausibility bound (R < Z_b / 4096: 7.8
 // mohm on the rig's 31.8 ohm base; here 2 mohm and an R_on of 0) is refused by name, not reported.
 TEST_F(Identify, ResultOutsideItsBoundsIsNamed)
