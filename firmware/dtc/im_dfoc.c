@@ -63,7 +63,7 @@ void im_dfoc_regulate(im_dtc_t *c)
     va = iq_sub(iq_mac2(vd, ua, fix_neg32(vq), ub), iq_mpy(ws, c->est.psi_beta_iq));
     vb = iq_add(iq_mac2(vd, ub, vq, ua), iq_mpy(ws, c->est.psi_alpha_iq));
     /* advanced by 1.5 w_s Ts: the flux turns that far until the middle of the next period */
-    iq_cmul_1jx(c->sr_adv_iq, &va, &vb);
+    iq_cmul_1jx_inline(c->sr_adv_iq, &va, &vb);
     c->vs_alpha_iq = va;
     c->vs_beta_iq = vb;
 }

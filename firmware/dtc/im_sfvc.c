@@ -82,8 +82,8 @@ void im_sfvc_regulate(im_dtc_t *c)
         c->vs_alpha_iq = iq_mac2(d, c->est.u_alpha_iq, fix_neg32(q), c->est.u_beta_iq);
         c->vs_beta_iq = iq_mac2(d, c->est.u_beta_iq, q, c->est.u_alpha_iq);
     }
-    /* the reference advanced by w_s Ts to k+1 */
-    iq_cmul_1jx(c->sr_adv_iq, &c->vs_alpha_iq, &c->vs_beta_iq);
+    /* the reference advanced by w_s Ts to k+1 (inline: a leaf, no call on its chain) */
+    iq_cmul_1jx_inline(c->sr_adv_iq, &c->vs_alpha_iq, &c->vs_beta_iq);
     {
         /* R_s i: the estimator's product of this step (im_est_flux, the same r_s and i) */
         const iq_t ria = c->est.ri_alpha_iq, rib = c->est.ri_beta_iq;

@@ -235,7 +235,7 @@ void itc_cc_out(itc_t *c)
      * command acts in: (1 + j 1.5 w Ts) (as im_dfoc.c; the magnitude error (1 + x^2)^(1/2) - 1
      * is 7e-5 at 1500 rpm, x = 0.012 rad). */
     park_inv(&c->sc, c->cc_out.v_d_iq, c->cc_out.v_q_iq, va, vb);
-    iq_cmul_1jx(c->adv_iq, va, vb);
+    iq_cmul_1jx_inline(c->adv_iq, va, vb);
 }
 
 void itc_keep(itc_t *c, const dtc_meas_t *m)

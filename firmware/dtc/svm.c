@@ -40,6 +40,17 @@ iq_t svm_recip_slow(iq_t y, iq_t x, iq_t e)
     return iq_recip_newton(y, x);
 }
 
+/* The three legs' duties n_x + n_0 clamped to [0, 1] and their dead time (svm_leg_dt) into o.
+ * Inline with a constant comp: svm_step takes one copy per case, decided once per call instead of
+ * per leg. */
+static inline void svm_legs(uint16_t comp, iq_t da, iq_t db, iq_t dc, iq_t ia, iq_t ib, iq_t ic, iq_t td,
+                            svm_out_t *o)
+{
+    svm_leg_dt(comp, fix_clamp32(da, 0, SVM_ONE_IQ), ia, td, &o->d_iq[0], &o->d_eff_iq[0]);
+    svm_leg_dt(comp, fix_clamp32(db, 0, SVM_ONE_IQ), ib, td, &o->d_iq[1], &o->d_eff_iq[1]);
+    svm_leg_dt(comp, fix_clamp32(dc, 0, SVM_ONE_IQ), ic, td, &o->d_iq[2], &o->d_eff_iq[2]);
+}
+
 void svm_step(svm_t *s, const svm_params_t *p, iq_t v_alpha_iq, iq_t v_beta_iq, iq_t vdc_iq,
               const clarke_out_t *i, svm_out_t *o)
 {
@@ -84,14 +95,11 @@ void svm_step(svm_t *s, const svm_params_t *p, iq_t v_alpha_iq, iq_t v_beta_iq, 
         /* min-max injection: 1/2 - (max + min)/2 */
         off = SVM_HALF_IQ - fix_rshift_rnd32(mx + mn, 1U);
     }
-    {
-        const iq_t td = p->td_iq;
-        const uint16_t comp = i != NULL ? p->dt_comp : 0U;
-        svm_leg_dt(comp, fix_clamp32(na + off, 0, SVM_ONE_IQ), i != NULL ? i->ia_iq : 0, td, &o->d_iq[0],
-                   &o->d_eff_iq[0]);
-        svm_leg_dt(comp, fix_clamp32(nb + off, 0, SVM_ONE_IQ), i != NULL ? i->ib_iq : 0, td, &o->d_iq[1],
-                   &o->d_eff_iq[1]);
-        svm_leg_dt(comp, fix_clamp32(nc + off, 0, SVM_ONE_IQ), i != NULL ? i->ic_iq : 0, td, &o->d_iq[2],
-                   &o->d_eff_iq[2]);
+    if (i == NULL) {
+        svm_legs(0U, na + off, nb + off, nc + off, 0, 0, 0, 0, o);
+    } else if (p->dt_comp != 0U) {
+        svm_legs(1U, na + off, nb + off, nc + off, i->ia_iq, i->ib_iq, i->ic_iq, p->td_iq, o);
+    } else {
+        svm_legs(0U, na + off, nb + off, nc + off, i->ia_iq, i->ib_iq, i->ic_iq, p->td_iq, o);
     }
 }

@@ -15,6 +15,14 @@ static iq_t svm4_room(iq_t n, iq_t m)
     return n > 0 ? SVM_ONE_IQ - m : m;
 }
 
+/* Legs B and C: m + n_x clamped to [0, 1] and their dead time (svm_leg_dt) into o. Inline with a
+ * constant comp: svm4_step takes one copy per case, decided once per call instead of per leg. */
+static inline void svm4_legs(uint16_t comp, iq_t db, iq_t dc, iq_t ib, iq_t ic, iq_t td, svm_out_t *o)
+{
+    svm_leg_dt(comp, fix_clamp32(db, 0, SVM_ONE_IQ), ib, td, &o->d_iq[1], &o->d_eff_iq[1]);
+    svm_leg_dt(comp, fix_clamp32(dc, 0, SVM_ONE_IQ), ic, td, &o->d_iq[2], &o->d_eff_iq[2]);
+}
+
 void svm4_step(svm4_t *s, const svm4_params_t *p, iq_t v_alpha_iq, iq_t v_beta_iq, iq_t vdc_iq, iq_t vlo_iq,
                const clarke_out_t *i, svm_out_t *o)
 {
@@ -55,11 +63,11 @@ void svm4_step(svm4_t *s, const svm4_params_t *p, iq_t v_alpha_iq, iq_t v_beta_i
     }
     o->d_iq[0] = m;
     o->d_eff_iq[0] = m;
-    {
-        const uint16_t comp = i != NULL ? p->dt_comp : 0U;
-        svm_leg_dt(comp, fix_clamp32(m + nb, 0, SVM_ONE_IQ), i != NULL ? i->ib_iq : 0, p->td_iq, &o->d_iq[1],
-                   &o->d_eff_iq[1]);
-        svm_leg_dt(comp, fix_clamp32(m + nc, 0, SVM_ONE_IQ), i != NULL ? i->ic_iq : 0, p->td_iq, &o->d_iq[2],
-                   &o->d_eff_iq[2]);
+    if (i == NULL) {
+        svm4_legs(0U, m + nb, m + nc, 0, 0, 0, o);
+    } else if (p->dt_comp != 0U) {
+        svm4_legs(1U, m + nb, m + nc, i->ib_iq, i->ic_iq, p->td_iq, o);
+    } else {
+        svm4_legs(0U, m + nb, m + nc, i->ib_iq, i->ic_iq, p->td_iq, o);
     }
 }
