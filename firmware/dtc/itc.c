@@ -169,31 +169,24 @@ iq_t itc_observe(itc_t *c, const dtc_meas_t *m)
     return torque_eq10(c->fe.psi_alpha_iq, c->fe.psi_beta_iq, i->i_alpha_iq, i->i_beta_iq);
 }
 
-/* Speed loop (itc.h). */
-void itc_speed(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
+/* Speed loop (itc.h): its step's work, out of line; itc_step calls it only where
+ * speed_loop_due says the speed loop runs. */
+void itc_speed(itc_t *c, const dtc_meas_t *m)
 {
     const dtc_config_t *cfg = c->cfg;
-    o->speed_tick = 0U;
-    if (speed_loop_due(&c->sm, &c->speed_primed, &c->div_cnt, m->enc_count) != 0U) {
-        o->speed_tick = 1U;
-        c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
-        /* the speed's products of the step (itc_step): w l_s, w psi_m, 1.5 w Ts */
-        c->wls_iq = iq_mpy(c->speed_iq, cfg->u.pm_itc.machine.ls_iq);
-        c->wpsi_iq = iq_mpy(c->speed_iq, cfg->u.pm_itc.machine.psi_m_iq);
-        c->wpsi_ts_iq = iq_mpy(c->wpsi_iq, cfg->board.ts_pu_iq); /* itc_i_pred's back-EMF step */
-        c->adv_iq = iq_mpy(c->speed_iq, c->ts15_iq);
-        if (cfg->u.pm_itc.est.lpf_comp != 0U) {
-            const iq_t r = iq_mpy(cfg->u.pm_itc.est.wc_pu_iq,
-                                  c->lpf_y_iq = lpfcorr_recip(c->lpf_y_iq, c->speed_iq, cfg->u.pm_itc.est.lpf_wmin_iq));
-            c->lpf_r_iq = c->speed_iq < 0 ? fix_neg32(r) : r;
-        }
-        if (c->act.mode == DTC_MODE_SPEED) {
-            c->te_ref_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
-        }
+    c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
+    /* the speed's products of the step (itc_step): w l_s, w psi_m, 1.5 w Ts */
+    c->wls_iq = iq_mpy(c->speed_iq, cfg->u.pm_itc.machine.ls_iq);
+    c->wpsi_iq = iq_mpy(c->speed_iq, cfg->u.pm_itc.machine.psi_m_iq);
+    c->wpsi_ts_iq = iq_mpy(c->wpsi_iq, cfg->board.ts_pu_iq); /* itc_i_pred's back-EMF step */
+    c->adv_iq = iq_mpy(c->speed_iq, c->ts15_iq);
+    if (cfg->u.pm_itc.est.lpf_comp != 0U) {
+        const iq_t r = iq_mpy(cfg->u.pm_itc.est.wc_pu_iq,
+                              c->lpf_y_iq = lpfcorr_recip(c->lpf_y_iq, c->speed_iq, cfg->u.pm_itc.est.lpf_wmin_iq));
+        c->lpf_r_iq = c->speed_iq < 0 ? fix_neg32(r) : r;
     }
-    speed_loop_advance(&c->div_cnt, cfg->speed.speed_div);
-    if (c->act.mode == DTC_MODE_TORQUE) {
-        c->te_ref_iq = c->act.torque_ref_iq;
+    if (c->act.mode == DTC_MODE_SPEED) {
+        c->te_ref_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
     }
 }
 
@@ -268,7 +261,15 @@ void itc_step(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     }
     /* 2. Clarke (Hoang eqs. 4-5) and the observer (itc_observe), the speed loop. */
     te = itc_observe(c, m);
-    itc_speed(c, m, o);
+    o->speed_tick = 0U;
+    if (speed_loop_due(&c->sm, &c->speed_primed, &c->div_cnt, m->enc_count) != 0U) {
+        o->speed_tick = 1U;
+        itc_speed(c, m);
+    }
+    speed_loop_advance(&c->div_cnt, cfg->speed.speed_div);
+    if (c->act.mode == DTC_MODE_TORQUE) {
+        c->te_ref_iq = c->act.torque_ref_iq;
+    }
     c->i_alpha_iq = i->i_alpha_iq;
     c->i_beta_iq = i->i_beta_iq;
 

@@ -166,10 +166,10 @@ iq_t itc_observe(itc_t *c, const dtc_meas_t *m);
  * input c->fin with its drop compensation. External linkage on purpose: inlined, its temporaries
  * would sit in itc_observe's frame, under the estimator's on the deepest stack path. */
 void itc_observe_in(itc_t *c, const dtc_meas_t *m);
-/* Internal to itc_step: the speed loop (every speed_div-th step, as dtc_step): measured speed, the
- * speed's products, the low-pass correction factor, and T* in speed mode. External linkage on
- * purpose, as itc_shadow_adopt. */
-void itc_speed(itc_t *c, const dtc_meas_t *m, dtc_out_t *o);
+/* Internal to itc_step: the speed loop's step (every speed_div-th step, as dtc_step; itc_step
+ * counts the steps and calls it only then): measured speed, the speed's products, the low-pass
+ * correction factor, and T* in speed mode. External linkage on purpose, as itc_shadow_adopt. */
+void itc_speed(itc_t *c, const dtc_meas_t *m);
 /* Internal to itc_step: the rotor frame at the encoder's angle of the step (c->sc), the dq
  * currents and the current PI's input c->cc_in (references, mid-point regulation, decoupling and
  * back-EMF feed-forward, the voltage limit from the link and vlo_iq, the FSTP's lower half-link).
