@@ -9,7 +9,7 @@ void dqpi_reset(dqpi_t *s, iq_t int_d_iq, iq_t int_q_iq)
 /* One axis's output before the limit and its candidate integral (dqpi.h). */
 static iq_t dqpi_axis(const dqpi_params_t *p, iq_t e, iq_t integ, iq_t ff, iq_t *integ_new)
 {
-    *integ_new = fix_clamp32(iq_add(integ, iq_mpy(p->ki_ts_iq, e)), -p->int_max_iq, p->int_max_iq);
+    *integ_new = dqpi_integrate(integ, p->ki_ts_iq, e, p->int_max_iq);
     return iq_add(ff, iq_add(iq_mpy(p->kp_iq, e), *integ_new));
 }
 

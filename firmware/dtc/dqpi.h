@@ -6,7 +6,7 @@
  * form: PI per axis on a feed-forward).
  *
  *   e_x = i_x* - i_x                                   (x = d, q)
- *   I_x[k] = clamp(I_x[k-1] + K_i Ts e_x, +-I_max)      (backward-Euler integral)
+ *   I_x[k] = clamp(I_x[k-1] + K_i Ts e_x, +-I_max)      (backward-Euler integral, dqpi_integrate)
  *   u_x = f_x + K_p e_x + I_x[k]                        (f_x: the caller's feed-forward)
  *   voltage limit, d axis first (|v| <= V_max, the largest vector the modulator makes without
  *   distortion in every direction):
@@ -36,7 +36,7 @@
 typedef struct {
     iq_t kp_iq;      /* K_p, pu voltage per pu current (may exceed 1) */
     iq_t ki_ts_iq;   /* K_i Ts, pu voltage per pu current per period */
-    iq_t int_max_iq; /* I_max > 0: clamp of each integral, pu voltage */
+    iq_t int_max_iq; /* I_max in (0, 64]: clamp of each integral, pu voltage */
 } dqpi_params_t;
 
 typedef struct {
@@ -55,7 +55,21 @@ typedef struct {
     uint16_t limited;    /* 1: the voltage limit acted in this period */
 } dqpi_out_t;
 
-/* Both integrals to the given voltages (bumpless start: the voltage the regulator should hold). */
+/* One backward-Euler step of a PI integral, I + k e clamped to [-lim, lim] with k e an IQ product
+ * rounded (dqpi_step, and the IM DFOC's current regulators, im_dfoc.c).
+ * Scaling and overflow: requires 0 <= lim <= 2^30 (64 pu) and |integ| <= lim (the integral as this
+ * function left it). The product is exact in 64 bits, the rounded shift below 2^38 and the sum
+ * below 2^39, clamped there: the same value as iq_mpy's saturation, the saturating sum and the
+ * clamp in 32 bits (a saturated product of either sign takes the sum beyond +-lim either way,
+ * since 2^31 - lim >= lim), without their two saturation tests. */
+static inline iq_t dqpi_integrate(iq_t integ, iq_t k, iq_t e, iq_t lim)
+{
+    const int64_t x = (int64_t)integ + (((int64_t)k * (int64_t)e + ((int64_t)1 << (FIX_IQ_Q - 1))) >> FIX_IQ_Q);
+    return (iq_t)(x > (int64_t)lim ? (int64_t)lim : (x < -(int64_t)lim ? -(int64_t)lim : x));
+}
+
+/* Both integrals to the given voltages (bumpless start: the voltage the regulator should hold;
+ * within +-I_max, dqpi_integrate). */
 void dqpi_reset(dqpi_t *s, iq_t int_d_iq, iq_t int_q_iq);
 void dqpi_step(dqpi_t *s, const dqpi_params_t *p, const dqpi_in_t *in, dqpi_out_t *o);
 

@@ -25,10 +25,12 @@
  * Formats: IQ pu (dtc_base.h); gains IQ (K_i Ts per period).
  * Scaling and overflow: Park and the inverse rotation are two-term products rounded once
  * (iq_mac2, each |product| <= 2^62); PI products rounded IQ (iq_mpy), sums saturating, the
- * integrals clamped to +-1 pu; the feed-forward products rounded and saturating; the SVM clamps
+ * integrals clamped to +-1 pu (dqpi_integrate: formed and clamped in 64 bits); the feed-forward products rounded and saturating; the SVM clamps
  * the result onto its hexagon.
  */
 #include "im_dtc_internal.h"
+
+#include "dqpi.h"
 
 /* i_d* = (phi_r* / m)(1 + trim / phi_r*): the rotor-flux trim over m (rounded IQ products, saturating
  * sum), at a reset and when the trim moves. */
@@ -55,8 +57,8 @@ void im_dfoc_regulate(im_dtc_t *c)
     ed = iq_sub(c->foc_id_ref_iq, id);
     eq = iq_sub(iq_ref, iq);
 
-    c->foc_id_int_iq = fix_clamp32(iq_add(c->foc_id_int_iq, iq_mpy(ki, ed)), -IQ(1.0), IQ(1.0));
-    c->foc_iq_int_iq = fix_clamp32(iq_add(c->foc_iq_int_iq, iq_mpy(ki, eq)), -IQ(1.0), IQ(1.0));
+    c->foc_id_int_iq = dqpi_integrate(c->foc_id_int_iq, ki, ed, IQ(1.0));
+    c->foc_iq_int_iq = dqpi_integrate(c->foc_iq_int_iq, ki, eq, IQ(1.0));
     vd = iq_add(iq_mpy(kp, ed), c->foc_id_int_iq);
     vq = iq_add(iq_mpy(kp, eq), c->foc_iq_int_iq);
     /* stator frame (inverse Park) plus j w_s phi_s */
