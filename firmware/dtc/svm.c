@@ -40,21 +40,21 @@ iq_t svm_recip_slow(iq_t y, iq_t x, iq_t e)
     return iq_recip_newton(y, x);
 }
 
-/* The three legs' duties n_x + n_0 clamped to [0, 1] and their dead time (svm_leg_dt) into o.
+/* The three legs' duties n_x + n_0 (in [0, 1]: svm_step) and their dead time (svm_leg_dt) into o.
  * Inline with a constant comp: svm_step takes one copy per case, decided once per call instead of
  * per leg. */
 static inline void svm_legs(uint16_t comp, iq_t da, iq_t db, iq_t dc, iq_t ia, iq_t ib, iq_t ic, iq_t td,
                             svm_out_t *o)
 {
-    svm_leg_dt(comp, fix_clamp32(da, 0, SVM_ONE_IQ), ia, td, &o->d_iq[0], &o->d_eff_iq[0]);
-    svm_leg_dt(comp, fix_clamp32(db, 0, SVM_ONE_IQ), ib, td, &o->d_iq[1], &o->d_eff_iq[1]);
-    svm_leg_dt(comp, fix_clamp32(dc, 0, SVM_ONE_IQ), ic, td, &o->d_iq[2], &o->d_eff_iq[2]);
+    svm_leg_dt(comp, da, ia, td, &o->d_iq[0], &o->d_eff_iq[0]);
+    svm_leg_dt(comp, db, ib, td, &o->d_iq[1], &o->d_eff_iq[1]);
+    svm_leg_dt(comp, dc, ic, td, &o->d_iq[2], &o->d_eff_iq[2]);
 }
 
 void svm_step(svm_t *s, const svm_params_t *p, iq_t v_alpha_iq, iq_t v_beta_iq, iq_t vdc_iq,
               const clarke_out_t *i, svm_out_t *o)
 {
-    iq_t na, nb, nc, mx, mn, off;
+    iq_t na, nb, nc, mx, mn, off, da, db, dc;
 
     o->overmod = 0U;
     if (vdc_iq <= 0) {
@@ -80,26 +80,37 @@ void svm_step(svm_t *s, const svm_params_t *p, iq_t v_alpha_iq, iq_t v_beta_iq, 
     mn = na < nb ? na : nb;
     mn = mn < nc ? mn : nc;
     if (mx - mn > SVM_ONE_IQ) {
-        /* overmodulation: onto the hexagon boundary along the same angle (scale 1/span, < 1) */
+        /* overmodulation: onto the hexagon boundary along the same angle (scale 1/span, < 1);
+         * the rounded products may leave [0, 1] by an LSB: clamped */
         const iq_t k = svm_recip(0, mx - mn);
         const iq_t mid = fix_rshift_rnd32(mx + mn, 1U);
-        na = iq_mpy(na - mid, k);
-        nb = iq_mpy(nb - mid, k);
-        nc = iq_mpy(nc - mid, k);
-        off = SVM_HALF_IQ;
+        da = fix_clamp32(iq_mpy(na - mid, k) + SVM_HALF_IQ, 0, SVM_ONE_IQ);
+        db = fix_clamp32(iq_mpy(nb - mid, k) + SVM_HALF_IQ, 0, SVM_ONE_IQ);
+        dc = fix_clamp32(iq_mpy(nc - mid, k) + SVM_HALF_IQ, 0, SVM_ONE_IQ);
         o->overmod = 1U;
-    } else if (p->mode == (uint16_t)SVM_TWO_PHASE) {
-        /* clamp the leg of the largest |n_x| to its rail */
-        off = mx + mn >= 0 ? SVM_ONE_IQ - mx : -mn;
     } else {
-        /* min-max injection: 1/2 - (max + min)/2 */
-        off = SVM_HALF_IQ - fix_rshift_rnd32(mx + mn, 1U);
+        /* inside the hexagon, span = max n - min n <= 1: every n_x + off lies in [0, 1] without a
+         * clamp. Two-phase: off = 1 - max n gives 1 - (max n - n_x) in [1 - span, 1], off = -min n
+         * gives n_x - min n in [0, span]. Symmetric: off = 1/2 - r, r = (max n + min n)/2 rounded
+         * half up, so (max n + min n)/2 <= r <= (max n + min n + 1 LSB)/2: max n + off <=
+         * 1/2 + span/2 <= 1 and min n + off >= 1/2 - (span + 1 LSB)/2 >= -1/2 LSB, i.e. >= 0 in
+         * whole LSB. */
+        if (p->mode == (uint16_t)SVM_TWO_PHASE) {
+            /* clamp the leg of the largest |n_x| to its rail */
+            off = mx + mn >= 0 ? SVM_ONE_IQ - mx : -mn;
+        } else {
+            /* min-max injection: 1/2 - (max + min)/2 */
+            off = SVM_HALF_IQ - fix_rshift_rnd32(mx + mn, 1U);
+        }
+        da = na + off;
+        db = nb + off;
+        dc = nc + off;
     }
     if (i == NULL) {
-        svm_legs(0U, na + off, nb + off, nc + off, 0, 0, 0, 0, o);
+        svm_legs(0U, da, db, dc, 0, 0, 0, 0, o);
     } else if (p->dt_comp != 0U) {
-        svm_legs(1U, na + off, nb + off, nc + off, i->ia_iq, i->ib_iq, i->ic_iq, p->td_iq, o);
+        svm_legs(1U, da, db, dc, i->ia_iq, i->ib_iq, i->ic_iq, p->td_iq, o);
     } else {
-        svm_legs(0U, na + off, nb + off, nc + off, i->ia_iq, i->ib_iq, i->ic_iq, p->td_iq, o);
+        svm_legs(0U, da, db, dc, i->ia_iq, i->ib_iq, i->ic_iq, p->td_iq, o);
     }
 }

@@ -15,18 +15,18 @@ static iq_t svm4_room(iq_t n, iq_t m)
     return n > 0 ? SVM_ONE_IQ - m : m;
 }
 
-/* Legs B and C: m + n_x clamped to [0, 1] and their dead time (svm_leg_dt) into o. Inline with a
+/* Legs B and C: their duties m + n_x (in [0, 1]: svm4_step) and dead time (svm_leg_dt) into o. Inline with a
  * constant comp: svm4_step takes one copy per case, decided once per call instead of per leg. */
 static inline void svm4_legs(uint16_t comp, iq_t db, iq_t dc, iq_t ib, iq_t ic, iq_t td, svm_out_t *o)
 {
-    svm_leg_dt(comp, fix_clamp32(db, 0, SVM_ONE_IQ), ib, td, &o->d_iq[1], &o->d_eff_iq[1]);
-    svm_leg_dt(comp, fix_clamp32(dc, 0, SVM_ONE_IQ), ic, td, &o->d_iq[2], &o->d_eff_iq[2]);
+    svm_leg_dt(comp, db, ib, td, &o->d_iq[1], &o->d_eff_iq[1]);
+    svm_leg_dt(comp, dc, ic, td, &o->d_iq[2], &o->d_eff_iq[2]);
 }
 
 void svm4_step(svm4_t *s, const svm4_params_t *p, iq_t v_alpha_iq, iq_t v_beta_iq, iq_t vdc_iq, iq_t vlo_iq,
                const clarke_out_t *i, svm_out_t *o)
 {
-    iq_t m, nb, nc;
+    iq_t m, nb, nc, db, dc;
 
     o->overmod = 0U;
     if (vdc_iq <= 0) {
@@ -56,18 +56,24 @@ void svm4_step(svm4_t *s, const svm4_params_t *p, iq_t v_alpha_iq, iq_t v_beta_i
             const iq_t r = iq_mpy(use_b ? nc : nb, svm_recip(0, use_b ? ab : ac));
             const iq_t n_o = iq_mpy(r, h);
             const iq_t n_s = (use_b ? nb : nc) > 0 ? h : -h;
-            nb = use_b ? n_s : n_o;
-            nc = use_b ? n_o : n_s;
+            /* the rounded n_o may leave [0, 1] by an LSB: clamped */
+            db = fix_clamp32(m + (use_b ? n_s : n_o), 0, SVM_ONE_IQ);
+            dc = fix_clamp32(m + (use_b ? n_o : n_s), 0, SVM_ONE_IQ);
             o->overmod = 1U;
+        } else {
+            /* inside: |n_x| <= h_x, the room towards the rail n_x points at (svm4_room), so
+             * m + n_x lies in [0, 1] (m in [0, 1]) without a clamp */
+            db = m + nb;
+            dc = m + nc;
         }
     }
     o->d_iq[0] = m;
     o->d_eff_iq[0] = m;
     if (i == NULL) {
-        svm4_legs(0U, m + nb, m + nc, 0, 0, 0, o);
+        svm4_legs(0U, db, dc, 0, 0, 0, o);
     } else if (p->dt_comp != 0U) {
-        svm4_legs(1U, m + nb, m + nc, i->ib_iq, i->ic_iq, p->td_iq, o);
+        svm4_legs(1U, db, dc, i->ib_iq, i->ic_iq, p->td_iq, o);
     } else {
-        svm4_legs(0U, m + nb, m + nc, i->ib_iq, i->ic_iq, p->td_iq, o);
+        svm4_legs(0U, db, dc, i->ib_iq, i->ic_iq, p->td_iq, o);
     }
 }

@@ -136,6 +136,44 @@ static void test_every_sector_matches_reference(void **state)
     print_message("worst duty error %.2f LSB\n", worst / LSB);
 }
 
+/* Inside the hexagon svm_step leaves the duties unclamped (svm.c: n_x + n_0 lies in [0, 1] when the
+ * span is at most 1): random references on random links, both modes, most of them within 2^-18
+ * of the hexagon's edge r(a) = V_dc / (sqrt3 cos(a mod 60 deg - 30 deg)) on either side, so that
+ * the span's IQ rounding reaches exactly 1 pu: every duty in [0, 1], and inside the hexagon the
+ * line-to-line duty differences are the reference's (n_x - n_y) within 8 LSB (the roundings of
+ * v/V_dc and of the reciprocal). */
+static void test_duties_in_range_at_the_hexagon_edge(void **state)
+{
+    (void)state;
+    uint64_t x = 0x2545F4914F6CDD1DULL;
+    long inside = 0;
+    for (long n = 0; n < 400000; n++) {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        const double u1 = (double)(x >> 11) / 9007199254740992.0;
+        const double u2 = (double)((x * 2654435761ULL) >> 11) / 9007199254740992.0;
+        const double vdc = 0.5 + 1.5 * u1;
+        const double ang = 2.0 * PI * u2;
+        const double edge = vdc / (sqrt(3.0) * cos(fmod(ang, PI / 3.0) - PI / 6.0));
+        const double mag = (n % 4 == 0) ? edge * u1 : edge * (1.0 + ldexp(u2 - 0.5, -17));
+        const double va = mag * cos(ang), vb = mag * sin(ang);
+        svm_out_t o;
+        run((n & 1) ? &kTwo : &kSym, va, vb, vdc, &o);
+        for (int k = 0; k < 3; k++) {
+            assert_true(o.d_iq[k] >= 0 && o.d_iq[k] <= IQ(1.0));
+        }
+        if (o.overmod == 0U) {
+            /* n_a - n_b = (3/2 va - sqrt3/2 vb) / vdc, n_b - n_c = sqrt3 vb / vdc */
+            const double ab = (1.5 * va - 0.5 * sqrt(3.0) * vb) / vdc, bc = sqrt(3.0) * vb / vdc;
+            fixtest_assert_lsb(fixtest_iq_to_d(o.d_iq[0] - o.d_iq[1]), ab, LSB, 8.0, "d_a - d_b");
+            fixtest_assert_lsb(fixtest_iq_to_d(o.d_iq[1] - o.d_iq[2]), bc, LSB, 8.0, "d_b - d_c");
+            inside++;
+        }
+    }
+    assert_true(inside > 100000 && inside < 400000); /* both sides of the edge reached */
+}
+
 /* Zero reference: all three legs at 1/2 (symmetric: 50 % square waves, V0 and V7 a quarter period
  * each) and, two-phase, every leg clamped to the same rail (no switching at all). The duty sums:
  * symmetric d_max + d_min = 1 (centred null times); two-phase one leg at 0 or 1. */
@@ -336,6 +374,7 @@ static void test_compare_values(void **state)
 
 UNIT_TEST_MAIN("svm", NULL,
                cmocka_unit_test(test_every_sector_matches_reference),
+               cmocka_unit_test(test_duties_in_range_at_the_hexagon_edge),
                cmocka_unit_test(test_zero_reference_and_duty_sums),
                cmocka_unit_test(test_full_duty_at_the_vertices),
                cmocka_unit_test(test_overmodulation_keeps_the_angle),
