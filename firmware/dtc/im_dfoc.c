@@ -51,7 +51,7 @@ void im_dfoc_regulate(im_dtc_t *c)
     iq_t iq_ref, ed, eq, vd, vq, va, vb, ws;
 
     /* w_s = w + w_slip (Casadei eq. 16), its advance by 1.5 w_s Ts, and i_q* */
-    im_svm_rate(c, cfg->u.im.dfoc.iq_per_t_iq, iq_add(cfg->board.ts_pu_iq, fix_rshift_rnd32(cfg->board.ts_pu_iq, 1U)));
+    im_svm_rate(c, cfg->u.im.dfoc.iq_per_t_iq, 1U);
     ws = c->sr_ws_iq;
     iq_ref = c->magnetised != 0U ? c->sr_gt_iq : 0;
     ed = iq_sub(c->foc_id_ref_iq, id);

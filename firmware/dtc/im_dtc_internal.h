@@ -49,13 +49,13 @@ void im_sfvc_regulate(im_dtc_t *c);
 void im_dfoc_regulate(im_dtc_t *c);
 
 /* The SFVC's and the DFOC's terms of T* and w: w_s = w + w_slip (Casadei eq. 16, the slip gain
- * r_r / phi_r*^2 that im_sup tracks), its advance w_s t_adv (t_adv_iq: the SFVC's Ts, the DFOC's
- * 1.5 Ts) and g T* (g_iq: the SFVC's K_p times Casadei eq. 18's q component per pu T*, the DFOC's
- * i_q per pu T*), into c->sr_*. Formed again only when T*, w or the slip gain differ from the ones
+ * r_r / phi_r*^2 that im_sup tracks), its advance w_s t_adv (t_adv: the SFVC's Ts, adv15 = 0, the
+ * DFOC's 1.5 Ts, adv15 = 1, formed only here) and g T* (g_iq: the SFVC's K_p times Casadei eq.
+ * 18's q component per pu T*, the DFOC's i_q per pu T*), into c->sr_*. Formed again only when T*, w or the slip gain differ from the ones
  * they were formed for (t_adv and g are constants of the configuration): in speed mode T* and w
  * change at the speed-loop rate. The same rounded IQ products and saturating sum as formed every
  * period. */
-static inline void im_svm_rate(im_dtc_t *c, iq_t g_iq, iq_t t_adv_iq)
+static inline void im_svm_rate(im_dtc_t *c, iq_t g_iq, uint16_t adv15)
 {
     if (c->sr_valid == 0U || c->te_ref_iq != c->sr_te_iq || c->speed_iq != c->sr_w_iq ||
         c->sfvc_kslip_iq != c->sr_kslip_iq) {
@@ -64,7 +64,8 @@ static inline void im_svm_rate(im_dtc_t *c, iq_t g_iq, iq_t t_adv_iq)
         c->sr_kslip_iq = c->sfvc_kslip_iq;
         c->sr_valid = 1U;
         c->sr_ws_iq = iq_add(c->speed_iq, iq_mpy(c->sfvc_kslip_iq, c->te_ref_iq));
-        c->sr_adv_iq = iq_mpy(c->sr_ws_iq, t_adv_iq);
+        const iq_t ts = c->cfg->board.ts_pu_iq;
+        c->sr_adv_iq = iq_mpy(c->sr_ws_iq, adv15 != 0U ? iq_add(ts, fix_rshift_rnd32(ts, 1U)) : ts);
         c->sr_gt_iq = iq_mpy(g_iq, c->te_ref_iq);
     }
 }

@@ -66,7 +66,7 @@ void im_sfvc_regulate(im_dtc_t *c)
     iq_t ws;
 
     /* w_s = w + w_slip (Casadei eq. 16), w_s Ts, and Casadei eq. 18's q component times K_p */
-    im_svm_rate(c, c->sfvc_kpq_iq, ts);
+    im_svm_rate(c, c->sfvc_kpq_iq, 0U);
     ws = c->sr_ws_iq;
     /* K_p phi_s*: Casadei eq. 18 in the rotor-flux frame (d along phi_r), turned by e^{j theta}
      * (eq. 22), formed in c->vs_* (not on this frame, which the rotation's call would keep) */
