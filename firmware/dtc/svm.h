@@ -99,12 +99,15 @@ void svm_step(svm_t *s, const svm_params_t *p, iq_t v_alpha_iq, iq_t v_beta_iq, 
 static inline void svm_leg_dt(uint16_t comp, iq_t d, iq_t i, iq_t td, iq_t *d_cmd, iq_t *d_eff)
 {
     const iq_t sgn_td = i > 0 ? td : (i < 0 ? -td : 0);
-    iq_t c = d;
     if (comp != 0U && d > 0 && d < SVM_ONE_IQ) {
-        c = fix_clamp32(d + sgn_td, 0, SVM_ONE_IQ);
+        /* a command left inside (0, 1) is d + sgn(i) T_d/T_s exactly: the leg produces d */
+        const iq_t c = fix_clamp32(d + sgn_td, 0, SVM_ONE_IQ);
+        *d_cmd = c;
+        *d_eff = (c > 0 && c < SVM_ONE_IQ) ? d : c;
+    } else {
+        *d_cmd = d;
+        *d_eff = (d > 0 && d < SVM_ONE_IQ) ? d - sgn_td : d;
     }
-    *d_cmd = c;
-    *d_eff = (c > 0 && c < SVM_ONE_IQ) ? c - sgn_td : c;
 }
 
 /* v / V_dc as v times the reciprocal inv (IQ), rounded, clamped to +-32 pu (svm_step, svm4_step).
