@@ -43,8 +43,10 @@ void im_sup_step(im_dtc_t *c);
 void im_sup_cm_ref(im_dtc_t *c, uint16_t enc_count);
 
 /* Internal to im_sfvc_step, out of line for the stack. */
-void im_sfvc_estimate(im_dtc_t *c, const dtc_meas_t *m);
 void im_sfvc_regulate(im_dtc_t *c);
+/* The modulated schemes' estimator input (SFVC, DFOC, DSVM), inline in im_dtc_front (defined
+ * below, after the pieces it uses). */
+static inline void im_sfvc_estimate(im_dtc_t *c, const dtc_meas_t *m);
 /* Internal to im_dfoc_step, out of line for the stack. */
 void im_dfoc_regulate(im_dtc_t *c);
 
@@ -368,6 +370,18 @@ static inline void im_dtc_ein_common(im_dtc_t *c, const dtc_meas_t *m)
     in->want_polar = (uint16_t)(c->div_cnt == 0U ? 1U : 0U);
     /* in->start (the voltage model's start, im_est.h) follows c->magnetised where that changes:
      * set by im_dtc_reset, cleared when the magnetisation ends (im_dtc_refs) */
+}
+
+/* The estimator's input of the modulated schemes: the voltage of the period that ends now (kept
+ * by the step two periods ago, d_eff: the dead time is in it, svm.h) plus the SSTP device-drop
+ * terms (vcomp.h; with the SSTP's equal drops the leg state does not matter). */
+static inline void im_sfvc_estimate(im_dtc_t *c, const dtc_meas_t *m)
+{
+    im_est_in_t *in = &c->ein;
+    im_vcomp(c, 0U, 0U, 0U, 0U);
+    in->v_alpha_iq = fix_add32(c->v2_alpha_iq, c->dva_iq);
+    in->v_beta_iq = fix_add32(c->v2_beta_iq, c->dvb_iq);
+    im_dtc_ein_common(c, m);
 }
 
 #endif /* IM_DTC_INTERNAL_H */

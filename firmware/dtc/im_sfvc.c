@@ -43,18 +43,6 @@
 #include "im_dtc_internal.h"
 
 
-/* The estimator's input (as im_dtc_estimate): the voltage of the period that ends now (kept by
- * the step two periods ago, d_eff: the dead time is in it, svm.h) plus the SSTP device-drop
- * terms (vcomp.h; with the SSTP's equal drops the leg state does not matter). */
-void im_sfvc_estimate(im_dtc_t *c, const dtc_meas_t *m)
-{
-    im_est_in_t *in = &c->ein;
-    im_vcomp(c, 0U, 0U, 0U, 0U);
-    in->v_alpha_iq = fix_add32(c->v2_alpha_iq, c->dva_iq);
-    in->v_beta_iq = fix_add32(c->v2_beta_iq, c->dvb_iq);
-    im_dtc_ein_common(c, m);
-}
-
 /* Casadei Eqs. 18, 23, 24 (file comment) into c->vs_alpha_iq, c->vs_beta_iq. Eq. 24 is evaluated with K_p
  * distributed, v_s* = R_s i + (j w_s - K_p) phi_s + K_p phi_s*, so that K_p phi_s* comes from the
  * products K_p (l_s/m) phi_r* and K_p (l_s/m) sigma l_r / phi_r* made at init. */
