@@ -10,10 +10,10 @@
 #      1a. PM law dtc_step: FSTP, voltage model, Hoang Table VI compensation [avg <= 1040, worst <= 1350]
 #      1b. IM law im_dtc_step: improved estimator, Casadei eq. 19, sensorless [avg <= 900, worst <= 1250]
 #      1b2. the same law on the four-switch inverter, im_dtc_step_fstp (Hoang Table II) [avg <= 900, worst <= 1250]
-#      1c. IM law im_sfvc_step: SFVC (Casadei eqs. 18, 23, 24) + SVM, same [avg <= 940, worst <= 1470]
-#      1d. IM law im_dfoc_step: DFOC (sec. 13) + two-phase SVM, same    [avg <= 980, worst <= 1310]
+#      1c. IM law im_sfvc_step: SFVC (Casadei eqs. 18, 23, 24) + SVM, same [avg <= 900, worst <= 1430]
+#      1d. IM law im_dfoc_step: DFOC (sec. 13) + two-phase SVM, same    [avg <= 900, worst <= 1250]
 #      1e. IM law im_dsvm_step: DTC with DSVM (sec. 11), 160 us          [avg <= 900, worst <= 1250]
-#      1f. PM law itc_step: ITC, FSTP SVM, voltage-model observer (VI)   [avg <= 1020, worst <= 1540]
+#      1f. PM law itc_step: ITC, FSTP SVM, voltage-model observer (VI)   [avg <= 960, worst <= 1330]
 #   2. cross-cm0 stack usage of the control path (-fstack-usage per function from the preset's
 #      build, worst call chain from -fcallgraph-info=su)   [<= 224 bytes per law, law_step <= 256]
 #   3. cross-cm0 code and data size of the firmware library (arm-none-eabi-size)
@@ -99,16 +99,16 @@ instr b im im_dtc_step bench_im_normal bench_im_tick 900 1250 \
 instr b2 imfstp im_dtc_step_fstp bench_imfstp_normal bench_imfstp_tick 900 1250 \
   im_est_flux im_est_polar fix_polar im_speed_step im_dtc_select_fstp im_dtc_estimate_fstp speed_pi_step
 # IM law, stator-flux vector control with SVM, 160 us.
-instr c sfvc im_sfvc_step bench_sfvc_normal bench_sfvc_tick 940 1470 \
-  im_est_flux im_est_polar fix_polar im_speed_step iq_mag fix_isqrt64 im_sfvc_regulate svm_step im_sfvc_estimate speed_pi_step
+instr c sfvc im_sfvc_step bench_sfvc_normal bench_sfvc_tick 900 1430 \
+  im_est_flux im_est_polar fix_polar im_speed_step iq_mag fix_isqrt64 im_sfvc_regulate svm_step speed_pi_step
 # IM law, rotor-flux-oriented control with two-phase SVM, 160 us.
-instr d dfoc im_dfoc_step bench_dfoc_normal bench_dfoc_tick 980 1310 \
-  im_est_flux im_est_polar fix_polar im_speed_step im_dfoc_regulate svm_step im_sfvc_estimate speed_pi_step
+instr d dfoc im_dfoc_step bench_dfoc_normal bench_dfoc_tick 900 1250 \
+  im_est_flux im_est_polar fix_polar im_speed_step im_dfoc_regulate svm_step speed_pi_step
 # IM law, DTC with DSVM, 160 us.
 instr e dsvm im_dsvm_step bench_dsvm_normal bench_dsvm_tick 900 1250 \
-  im_est_flux im_est_polar fix_polar im_speed_step im_dsvm_select dsvm_table dsvm_vectors dsvm_patterns im_sfvc_estimate speed_pi_step
+  im_est_flux im_est_polar fix_polar im_speed_step im_dsvm_select dsvm_table dsvm_vectors dsvm_patterns speed_pi_step
 # PM indirect torque control (<= 1,200 host instructions per step), FSTP, 50 us.
-instr f itc itc_step bench_itc_normal bench_itc_tick 1020 1540 \
+instr f itc itc_step bench_itc_normal bench_itc_tick 960 1330 \
   dqpi_step svm4_step flux_est_step vcomp_step fix_sin speed_meas_step speed_pi_step
 echo
 # The capture's cost in the ISR (app_core_step, PM law, in RUN): none attached, attached and off,
