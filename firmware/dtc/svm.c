@@ -67,8 +67,8 @@ void svm_step(svm_t *s, const svm_params_t *p, iq_t v_alpha_iq, iq_t v_beta_iq, 
         /* phase references over V_dc (inverse amplitude-invariant Clarke, Hoang eqs. 4-5), the
          * normalised alpha/beta clamped to +-32 (the angle is kept below |v| = 32 V_dc): every
          * sum below is then under 2^31 without saturation (|n_x| < 60, |n_x + off| < 120 pu) */
-        const iq_t a = svm_norm(v_alpha_iq, s->inv_vdc_iq);
-        const iq_t b = svm_norm(v_beta_iq, s->inv_vdc_iq);
+        const iq_t a = svm_norm(v_alpha_iq, s->inv_vdc_iq, -SVM_ONE_IQ * 32, SVM_ONE_IQ * 32);
+        const iq_t b = svm_norm(v_beta_iq, s->inv_vdc_iq, -SVM_ONE_IQ * 32, SVM_ONE_IQ * 32);
         const iq_t half_a = fix_rshift_rnd32(a, 1U);
         const iq_t sb = q31_mul_k(b, FIX_Q31_SQRT3_2); /* the constant > Q31_MIN: no saturation */
         na = a;

@@ -110,16 +110,16 @@ static inline void svm_leg_dt(uint16_t comp, iq_t d, iq_t i, iq_t td, iq_t *d_cm
     }
 }
 
-/* v / V_dc as v times the reciprocal inv (IQ), rounded, clamped to +-32 pu (svm_step, svm4_step).
- * Scaling and overflow: the product is exact in 64 bits (|v inv| <= 2^62), the rounded shift
- * by 24 is below 2^38 in magnitude, and it is clamped to +-2^29 before the conversion: the same
- * value as iq_mpy's saturation to int32 followed by the clamp (whose range lies inside int32), one
- * comparison pair instead of two. */
-static inline iq_t svm_norm(iq_t v, iq_t inv)
+/* v / V_dc as v times the reciprocal inv (IQ), rounded, clamped to [lo, hi] (svm_step, svm4_step:
+ * +-32 pu for the references, [0, 1] for the FSTP's mid-point).
+ * Scaling and overflow: requires lo <= hi. The product is exact in 64 bits (|v inv| <= 2^62), the
+ * rounded shift by 24 is below 2^38 in magnitude, and it is clamped to [lo, hi] before the
+ * conversion: the same value as iq_mpy's saturation to int32 followed by the clamp (whose range
+ * lies inside int32), one comparison pair instead of two. */
+static inline iq_t svm_norm(iq_t v, iq_t inv, iq_t lo, iq_t hi)
 {
-    const int64_t lim = (int64_t)SVM_ONE_IQ * 32;
     const int64_t x = ((int64_t)v * (int64_t)inv + ((int64_t)1 << (FIX_IQ_Q - 1))) >> FIX_IQ_Q;
-    return (iq_t)(x < -lim ? -lim : (x > lim ? lim : x));
+    return (iq_t)(x < (int64_t)lo ? (int64_t)lo : (x > (int64_t)hi ? (int64_t)hi : x));
 }
 
 iq_t svm_recip_slow(iq_t y, iq_t x, iq_t e);

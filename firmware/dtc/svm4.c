@@ -35,11 +35,11 @@ void svm4_step(svm4_t *s, const svm4_params_t *p, iq_t v_alpha_iq, iq_t v_beta_i
         return;
     }
     s->inv_vdc_iq = svm_recip(s->inv_vdc_iq, vdc_iq);
-    m = fix_clamp32(iq_mpy(vlo_iq, s->inv_vdc_iq), 0, SVM_ONE_IQ);
+    m = svm_norm(vlo_iq, s->inv_vdc_iq, 0, SVM_ONE_IQ);
     {
         /* line-to-A references over V_dc (inverse Clarke, Hoang eqs. 4-5) */
-        const iq_t a = svm_norm(v_alpha_iq, s->inv_vdc_iq);
-        const iq_t b = svm_norm(v_beta_iq, s->inv_vdc_iq);
+        const iq_t a = svm_norm(v_alpha_iq, s->inv_vdc_iq, -SVM_ONE_IQ * 32, SVM_ONE_IQ * 32);
+        const iq_t b = svm_norm(v_beta_iq, s->inv_vdc_iq, -SVM_ONE_IQ * 32, SVM_ONE_IQ * 32);
         const iq_t a15 = a + fix_rshift_rnd32(a, 1U);
         const iq_t sb = q31_mul_k(b, FIX_Q31_SQRT3_2); /* the constant > Q31_MIN: no saturation */
         nb = sb - a15;
