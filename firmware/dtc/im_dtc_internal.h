@@ -52,8 +52,8 @@ void im_dfoc_regulate(im_dtc_t *c);
 
 /* The SFVC's and the DFOC's terms of T* and w: w_s = w + w_slip (Casadei eq. 16, the slip gain
  * r_r / phi_r*^2 that im_sup tracks), its advance w_s t_adv (t_adv: the SFVC's Ts, adv15 = 0, the
- * DFOC's 1.5 Ts, adv15 = 1, formed only here) and g T* (g_iq: the SFVC's K_p times Casadei eq.
- * 18's q component per pu T*, the DFOC's i_q per pu T*), into c->sr_*. Formed again only when T*, w or the slip gain differ from the ones
+ * DFOC's 1.5 Ts, adv15 = 1, formed only here) and g T* (g_iq: the SFVC's K_p times
+ * Casadei eq. 18's q component per pu T*, the DFOC's i_q per pu T*), into c->sr_*. Formed again only when T*, w or the slip gain differ from the ones
  * they were formed for (t_adv and g are constants of the configuration): in speed mode T* and w
  * change at the speed-loop rate. The same rounded IQ products and saturating sum as formed every
  * period. */
