@@ -109,7 +109,6 @@ SECTIONS
                     *(.text:_im_dtc_speed_tick)
                     *(.text:_im_dtc_step)
                     *(.text:_im_psir_trim)
-                    *(.text:_im_sfvc_estimate)
                     *(.text:_im_speed_lpf)
                     *(.text:_im_speed_step)
                     *(.text:_iq_mag)
