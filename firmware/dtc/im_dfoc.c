@@ -14,7 +14,10 @@
  *      the estimate's mean |phi_r| held at phi_r*, so that Casadei eq. 20's correction has no mean)
  *      (T* = 0 and i_d* the magnetising current during the start-up magnetisation)
  *   -> PI per axis, v_dq = K_p e + sum K_i Ts e (the integral clamped to +-1 pu, the nominal
- *      link: anti-windup), gains from the machine (tools/config: K_p = sigma l_s w_c, K_i = r_s
+ *      link; while the previous period's vector lay outside the SVM's hexagon, svm_o.overmod, an
+ *      integral moves only towards zero: the conditional-integration anti-windup, so that a step
+ *      of i_q* to the current's limit does not overshoot it after the voltage limit; measured,
+ *      docs/sil.md), gains from the machine (tools/config: K_p = sigma l_s w_c, K_i = r_s
  *      w_c, w_c = 0.2 / Ts)
  *   -> stator frame, plus the back-EMF j w_s phi_s fed forward (Casadei eq. A6 in the steady
  *      state: v = R_s i + j w_s phi_s; with it the current loops see sigma l_s di/dt = v - R_s i),
@@ -57,8 +60,14 @@ void im_dfoc_regulate(im_dtc_t *c)
     ed = iq_sub(c->foc_id_ref_iq, id);
     eq = iq_sub(iq_ref, iq);
 
-    c->foc_id_int_iq = dqpi_integrate(c->foc_id_int_iq, ki, ed, IQ(1.0));
-    c->foc_iq_int_iq = dqpi_integrate(c->foc_iq_int_iq, ki, eq, IQ(1.0));
+    /* anti-windup: while the previous period's vector lay outside the SVM's hexagon (svm_o.overmod:
+     * scaled onto it, the voltage asked for not applied) an integral moves only towards zero */
+    if (c->svm_o.overmod == 0U || (ed < 0) != (c->foc_id_int_iq < 0)) {
+        c->foc_id_int_iq = dqpi_integrate(c->foc_id_int_iq, ki, ed, IQ(1.0));
+    }
+    if (c->svm_o.overmod == 0U || (eq < 0) != (c->foc_iq_int_iq < 0)) {
+        c->foc_iq_int_iq = dqpi_integrate(c->foc_iq_int_iq, ki, eq, IQ(1.0));
+    }
     vd = iq_add(iq_mpy(kp, ed), c->foc_id_int_iq);
     vq = iq_add(iq_mpy(kp, eq), c->foc_iq_int_iq);
     /* stator frame (inverse Park) plus j w_s phi_s */

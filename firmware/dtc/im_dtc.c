@@ -69,6 +69,7 @@ void im_dtc_reset(im_dtc_t *c)
     c->plaus_on = 0U;
     /* SFVC: the gates were off, no voltage */
     svm_reset(&c->svm);
+    c->svm_o.overmod = 0U; /* the DFOC's anti-windup reads the previous period's (im_dfoc.c) */
     c->v1_alpha_iq = 0;
     c->v1_beta_iq = 0;
     c->v2_alpha_iq = 0;
@@ -292,9 +293,9 @@ void im_dtc_refs(im_dtc_t *c)
         c->psi_ref_iq = c->fw.psi_ref_iq;
         im_dtc_psir_ref(c, c->psi_ref_iq);
     } else if (cfg->u.im.ref.psir_ref_iq > 0) {
-        /* Casadei eq. 19 (a square root) once per speed period, on the step after the speed loop's (so
-         * that no step carries both), and on the first step with torque */
-        if (c->ref_due != 0U && c->div_cnt != 1U) {
+        /* Casadei eq. 19 (a square root) and the trim once per speed period, in the step ref_slot
+         * (im_dtc.h: a step that carries no other once-per-speed-period work) */
+        if (c->ref_due != 0U && c->div_cnt == c->ref_slot) {
             im_psir_trim(c);
             c->psi_ref_iq = iq_add(im_ref_stator_flux(im->ks_iq, im->sigma_lr_iq, cfg->u.im.ref.psir_ref_iq,
                                                       cfg->u.im.ref.inv_psir_ref_iq, te),

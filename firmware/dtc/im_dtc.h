@@ -146,6 +146,13 @@ typedef struct {
     iq_t magn_psir_iq;    /* rotor-flux magnitude of the current model: the start-up's (im_dtc_refs)
                            * and, after a reconfiguration, the FSTP's (im_dtc_fstp.c) */
     uint16_t ref_due;     /* Casadei eq. 19 to be evaluated (im_dtc_refs) */
+    uint16_t ref_slot;    /* the step whose div_cnt (after its increment in im_dtc_speed) evaluates
+                           * Casadei eq. 19 and the rotor-flux trim: 6, a step of its own that
+                           * carries neither the speed loop (1), nor the application's checks
+                           * held over from the speed-loop step (2), nor the encoder plausibility's
+                           * comparison (3), nor the supervision (4), and whose parity is the
+                           * supervision's (the application's plausibility window of 2^k periods
+                           * ends on steps of one parity of div_cnt); 2 for speed_div 3..6, 0 below */
     iq_t speed_iq;        /* electrical speed in use (encoder or estimated), pu */
     /* encoder plausibility (u.im.ref.enc_plaus_iq > 0 with the encoder; im_dtc_speed) */
     iq_t enc_filt_iq;     /* the encoder's speed through the sensorless speed's filter, pu */
@@ -157,7 +164,7 @@ typedef struct {
     iq_t plaus_psir_iq;   /* |phi_r| from which the flux angle is trusted: phi_r* / 16, pu */
     /* the comparison waits in sup.due (bit 1; bit 2: the machine was magnetised in the speed-loop
      * step) for the step whose div_cnt (after its increment in im_dtc_speed) is 3,
-     * two steps after the speed loop's and one after Casadei eq. 19's; 0 (the last step of the
+     * two steps after the speed loop's (the step after it carries the application's held checks); 0 (the last step of the
      * speed period) for speed_div < 4; the supervision (im_sup.h slot) comes after it */
     /* working values of one step, kept here rather than on the stack (budget: <= 256 bytes of
      * stack on the Cortex-M0 proxy, tools/bench) */

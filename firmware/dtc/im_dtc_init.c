@@ -89,6 +89,8 @@ int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg)
                                             ? cfg->u.im.ref.psir_ref_iq
                                             : iq_mpy(cfg->u.im.machine.inv_ks_iq, cfg->speed.flux_ref_iq),
                                         4U);
+    /* Casadei eq. 19's step in the speed period (im_dtc.h ref_slot) */
+    c->ref_slot = (uint16_t)(cfg->speed.speed_div > 6U ? 6U : (cfg->speed.speed_div > 2U ? 2U : 0U));
     c->cfg = cfg;
     im_sup_init(c, cfg);
 

@@ -122,10 +122,10 @@ static inline void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_o
 /* The references of the period (im_dtc_refs). Most periods of the constant-rotor-flux law
  * (Casadei eq. 19, no flux weakening) after the start-up change nothing but T* = the speed loop's
  * or the torque mode's command: those take it here, without the call; the others, and eq. 19's
- * period (ref_due, not the speed loop's: im_dtc_refs), call im_dtc_refs. */
+ * period (ref_due, in the step ref_slot: im_dtc_refs), call im_dtc_refs. */
 static inline void im_dtc_refs_step(im_dtc_t *c)
 {
-    if (c->magnetised != 0U && (c->ref_due == 0U || c->div_cnt == 1U) && c->cfg->u.im.fw.on == 0U &&
+    if (c->magnetised != 0U && (c->ref_due == 0U || c->div_cnt != c->ref_slot) && c->cfg->u.im.fw.on == 0U &&
         c->cfg->u.im.ref.psir_ref_iq > 0) {
         c->te_ref_iq = c->te_cmd_iq;
     } else {
@@ -309,15 +309,15 @@ static inline void im_pwm_out(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, iq
  * its own branch.
  * 1-5. Shadow set, Clarke, stator and rotor flux from the modulated voltage, torque, speed and
  * speed loop (im_dtc_front, as im_dtc_step). 6. References: start-up (the magnetising ramp), T*;
- * Casadei eq. 19's |phi_s*| is not used. Once per speed period, on the step after the speed
- * loop's, the rotor-flux trim on that step's |phi_r| moves the SFVC's eq. 18 d component or the
+ * Casadei eq. 19's |phi_s*| is not used. Once per speed period, in the step ref_slot (im_dtc.h),
+ * the rotor-flux trim on the speed-loop step's |phi_r| moves the SFVC's eq. 18 d component or the
  * DFOC's i_d*. 7. The SFVC's flux regulator or the DFOC's current regulators in the rotor-flux
  * frame; the SVM is called after it, so that its frame and the regulator's are not on one chain
  * (stack). 8. SVM and outputs. */
 static inline void im_svm_scheme_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, uint16_t dfoc)
 {
     const iq_t te = im_dtc_front(c, m, o, IM_FRONT_PWM);
-    if (c->ref_due != 0U && c->div_cnt != 1U) {
+    if (c->ref_due != 0U && c->div_cnt == c->ref_slot) {
         c->ref_due = 0U;
         if (c->magnetised != 0U && im_psir_trim(c) != 0U) {
             if (dfoc != 0U) {

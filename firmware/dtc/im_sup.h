@@ -114,9 +114,10 @@ typedef struct {
     uint16_t n_confirm;   /* speed periods a condition must hold for the warning */
     uint16_t track;       /* 1: r_r^ (and r_s by rho) in use */
     uint16_t slot;        /* im_sup_step runs in the step whose div_cnt (after its increment in
-                           * im_dtc_speed) is this: 4, three steps after the speed loop's, two after
-                           * Casadei eq. 19's and one after the encoder plausibility's (im_dtc.h:
-                           * comparison, the third); 0 (the last step of the speed period) for speed_div < 5 */
+                           * im_dtc_speed) is this: 4, three steps after the speed loop's, one after
+                           * the encoder plausibility's comparison (im_dtc.h: the third) and one before
+                           * Casadei eq. 19's (im_dtc.h ref_slot); 0 (the last step of the speed
+                           * period) for speed_div < 5 */
     uint16_t cm_on;       /* 1: the improved estimator with the encoder, not DSVM: the current model's vector
                            * (below) blended into Casadei eq. 20's reference at low speed */
     uint16_t cm_n;        /* 3W's normalising shift: 3W 2^cm_n in [1/2, 1) (Q31) */

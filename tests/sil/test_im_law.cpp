@@ -314,7 +314,7 @@ TEST(ImLaw, FlyingStartIntoATurningRotorBuildsTheFluxThenTracksTorque)
 // ---- The torque room (tools/config dtc_im_torque_room_check) ----
 // The second machine (im_second_machine.toml: 30 A trip, 565 V) with DFOC at 160 us holds its
 // steady current at I_trip - 3 dI = 10.6 A (dI = Ts (V_max + R_s I_trip)/(sigma L_s) = 6.46 A: two
-// periods' change under the limit, one more for its PI regulators' overshoot,
+// periods' change under the limit, one more for the DFOC's excursion (docs/sil.md),
 // dtc_im_hold_margin_a), below the 11.0 A its rated torque needs: the converter's check says so
 // and gives the longest period and the lowest trip level that would carry the rated torque.
 // This machine on this board at 160 us cannot deliver its rated torque with the DFOC (22.3 N*m of

@@ -110,7 +110,7 @@ TEST(ImTorqueBias, DeviceDropsPerLegRemoveTheLowSpeedBias)
 // Asserted: within the 1.5 %, but the DFOC on the second machine at rated torque: this
 // machine on its board (30 A trip) at the DFOC's 160 us cannot deliver its rated torque, 23.5 N*m
 // (11.01 A): the torque limit the current allows is 22.3 N*m (10.62 A held, I_trip less two
-// periods' dI = 6.46 A and a third for its PI regulators' overshoot, dtc_im_hold_margin_a), and
+// periods' dI = 6.46 A and a third for the DFOC's excursion, dtc_im_hold_margin_a, docs/sil.md), and
 // the plant's torque is asserted within 1.5 % of that limit. The SFVC holds I_trip - 2 dI less its
 // SVM ripple (1.31 A): 37.6 N*m, room enough.
 TEST(ImTorqueBias, EveryLawWithinOnePointFivePercentAtFivePercentSpeed)

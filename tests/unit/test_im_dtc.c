@@ -473,7 +473,9 @@ static void test_voltage_model_start_up_magnetises_but_cannot_hold_standstill_fl
 
 /* Casadei Figs. 14-15 conditions in the unit loop: phi_r* constant (rotor_flux_ref), torque step from
  * 50 % to 300 % of rated at a held speed (0.5 pu). The law's stator-flux reference is Casadei eq. 19 (plus the rotor-flux trim, im_psir_trim) in
- * double within 1e-4 pu for the T* of the step that evaluated it (once per speed period); the machine's rotor flux stays within 3 % of phi_r* through the step;
+ * double within 1e-4 pu for the T* of the step that evaluated it (once per speed period, in the step
+ * ref_slot: after the speed loop's (1), the step the application's held checks take (2), the
+ * encoder plausibility's (3) and the supervision's (4), so that none of them carries two); the machine's rotor flux stays within 3 % of phi_r* through the step;
  * the mean torque over the last 10 ms follows T* within 5 %. */
 static void test_constant_rotor_flux_torque_step(void **state)
 {
@@ -493,6 +495,9 @@ static void test_constant_rotor_flux_torque_step(void **state)
     sim_start(&s, 0.0);
     psir = wb_to_pu(&s, s.si.psir_ref_wb);
     sim_magnetise_at(&s, 0.5, 0.2, &o);
+    assert_int_equal(s.law.u.im.cfg->speed.speed_div, 10);
+    assert_int_equal(s.law.u.im.ref_slot, 6);
+    assert_int_equal(s.law.u.im.sup.slot, 4);
     for (int step = 0; step < 2; step++) {
         const double tref = nm_to_pu(&s, (step == 0 ? 0.5 : 3.0) * s.si.rated_torque_nm);
         double tsum = 0.0;
@@ -509,6 +514,7 @@ static void test_constant_rotor_flux_torque_step(void **state)
                 const double want = s.ls / s.m * (sqrt(psir * psir + q * q) + trim);
                 assert_true(fabs(trim) <= psir / 8.0 + 1e-6);
                 assert_true(fabs(fixtest_iq_to_d(o.psi_ref_iq) - want) < 1e-4);
+                assert_int_equal(s.law.u.im.div_cnt, s.law.u.im.ref_slot);
                 n_eval++;
             }
             if (fabs(psir_mag(&s) / psir - 1.0) > worst) {

@@ -325,9 +325,12 @@ double dtc_im_torque_at_current_nm(const dtc_config_si_t *si, double i_a);
  *     overshoot (measured: 0.15 dI above the held current on a 300 % step at 1000 rpm, 4 kW,
  *     40 us; 0.01 dI at 160 us on both machines), so I_trip - I_lim = 2 dI stays for the transients.
  *   The switching-table laws and DSVM: dI, a whole period under one vector (dtc_ilim_step_a).
- *   DFOC: dI, the room of its PI current regulators' overshoot (measured 1.84 dI above the held
- *     current on a 300 % step at 1000 rpm, 4 kW, 40 us; held at I_lim, the same step and its
- *     braking flying start from 100 % tripped).
+ *   DFOC: dI. Its PI current regulators hold their integrals while the SVM scales the vector onto
+ *     its hexagon (im_dfoc.c), so a step to the limit no longer overshoots (a 300 % step at
+ *     1000 rpm, 4 kW, 40 us: 47.3 A for 47.0 A held, 51.9 A with the integrals free), but with
+ *     the SVM ripple alone (the torque it allows 44 N*m for 31.7 on the 4 kW at 160 us) the
+ *     sensorless braking flying start from 100 % loses the flux estimate (docs/sil.md: the DFOC's
+ *     angle error under heavy regenerating current), so the room stays.
  * The second machine at 160 us: SFVC 1.31 A (dI 6.46 A). */
 double dtc_im_hold_margin_a(const dtc_config_si_t *si);
 
