@@ -301,20 +301,23 @@ static uint16_t check_open_phase(app_core_t *a)
 }
 
 /* Overspeed (app_fault_overspeed), the encoder against the flux speed (app_enc_flux_check, on the
- * steps the law compared them, not while a phase looks open: app_fault_phase_suspect) and stall (app_fault_stall); latches and returns 1 on a trip. */
+ * steps the law compared them, not while a phase looks open: app_fault_phase_suspect) and stall
+ * (app_fault_stall); latches and returns 1 on a trip. Overspeed and stall judge the speed-loop
+ * period's speed and act on it only (slot 0, app_core.h): the other periods skip them and the
+ * speed reference's look-up. */
 static uint16_t check_speed(app_core_t *a)
 {
     int16_t detail = 0;
-    const iq_t ref = law_speed_ref(&a->law);
     iq_t err = 0, tol = 0;
-    uint16_t f = app_fault_overspeed(a->cfg, &a->st.out, &detail);
+    const uint16_t tick = a->st.out.speed_tick;
+    uint16_t f = tick != 0U ? app_fault_overspeed(a->cfg, &a->st.out, &detail) : (uint16_t)APP_FAULT_NONE;
     if (f == (uint16_t)APP_FAULT_NONE && law_enc_plaus(&a->law, &err, &tol) != 0U &&
         app_fault_phase_suspect(&a->flt) == 0U) {
         detail = app_enc_flux_check(&a->enc, err, tol);
         f = detail != 0 ? (uint16_t)APP_FAULT_ENCODER_SPEED : (uint16_t)APP_FAULT_NONE;
     }
-    if (f == (uint16_t)APP_FAULT_NONE) {
-        f = app_fault_stall(&a->flt, a->cfg, &a->st.out, ref, &detail);
+    if (f == (uint16_t)APP_FAULT_NONE && tick != 0U) {
+        f = app_fault_stall(&a->flt, a->cfg, &a->st.out, law_speed_ref(&a->law), &detail);
     }
     if (f != (uint16_t)APP_FAULT_NONE) {
         app_core_latch(a, f, detail);
