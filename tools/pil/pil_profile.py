@@ -12,9 +12,11 @@ instructions (-d in_asm) and every block executed (-d exec, with chaining off so
 execution is logged). Each executed block's instruction count is charged to the function its
 first address lies in (the image's symbol table), so the figures are dynamic instruction counts
 per function over the whole replay; the listing leaves out the replay harness (HARNESS) and
-divides by the app_isr() calls. Each ISR's own figures are the blocks between two entries of
-app_isr(), harness excluded; "ISRs that ran the control law" are those that entered law_step. A
-function's calls are the executions of its entry block.
+divides by the app_isr() calls. Each ISR's own figures are the blocks from an entry of
+app_isr() to the harness's pil_target_isr_end() (app_isr() and what it calls, up to its return),
+harness excluded: the background pass the replay runs after it (app_background, app_get_status)
+is not the ISR's. "ISRs that ran the control law" are those that entered law_step. A function's
+calls are the executions of its entry block.
 
 The C28x estimate (ESTIMATE: no C28x compiler or simulator is available) re-weights that mix:
   - the libgcc 64-bit helpers (__aeabi_lmul/__muldi3, __aeabi_lasr/__ashrdi3, __aeabi_llsl/
@@ -150,8 +152,8 @@ def flash_wait(name, n, ram):
 def profile(rec, elf, ram=None):
     """{function: [instructions, calls, blocks, instructions from flash in the ISR, instructions
     in the ISR, calls in the ISR]} over the replay (in the ISR: from app_isr's entry to
-    pil_target_isr_end's), and per ISR (split at each entry
-    of app_isr) the ISR path's M0 instructions and C28x cycles (harness excluded)."""
+    pil_target_isr_end's), and per ISR (from each entry of app_isr to pil_target_isr_end's) the
+    ISR path's M0 instructions and C28x cycles (harness excluded)."""
     qemu = shutil.which("qemu-system-arm")
     if qemu is None:
         raise SystemExit("pil_profile: qemu-system-arm not found (tools/setup.sh installs it)")
@@ -199,9 +201,9 @@ def profile(rec, elf, ram=None):
                             isr_fn.append({})
                         elif name == "law_step" and isr_law:
                             isr_law[-1] = True
-                    if isr_m0 and (not HARNESS.match(name) or name in HELPERS):
+                    if isr_m0 and in_isr and (not HARNESS.match(name) or name in HELPERS):
                         isr_m0[-1] += n
-                        w = flash_wait(name, n, ram) if in_isr else 0
+                        w = flash_wait(name, n, ram)
                         cyc = block_cycles(name, n, pc in entry) + w
                         isr_c28[-1] += cyc
                         isr_wait[-1] += w
@@ -251,7 +253,8 @@ def main():
               "  (flash)" if flash_wait(k, 1, ram) else ""))
     m0_mean, c28_mean = sum(isr_m0) / count, sum(isr_c28) / count
     w = max(range(count), key=lambda k: isr_c28[k])
-    print("  ISR path (replay harness excluded), Cortex-M0 instructions: mean %.0f, worst %d" % (m0_mean, max(isr_m0)))
+    print("  ISR path (app_isr() to its return; replay harness and background excluded), Cortex-M0 instructions:"
+          " mean %.0f, worst %d" % (m0_mean, max(isr_m0)))
     print("  C28x ESTIMATE from the weights, cycles (%.1f per M0 instruction, +%d per block, %d per 64-bit helper call,"
           % (C28X_CYCLES_PER_INSN, C28X_BRANCH_EXTRA, C28X_HELPER_CYCLES))
     print("    %d per iq_mpy, %d per saturating add; docs/f2812.md): mean %.0f, worst %.0f (ISR %d) = %.0f %% of"
