@@ -4,7 +4,7 @@ function, and the C28x cycle estimate made from that instruction mix (docs/f2812
 estimate").
 
   pil_profile.py RECORDING [--cm-image ELF] [--top N] [--json OUT] [--ram-cmd CMD] [--period-cycles N]
-                 [--detail ISR|worst]...
+                 [--detail ISR|worst]... [--capture]
 
 Replays RECORDING (dtc-sil run --record-isr FILE) on qemu-system-arm (mps2-an385, the cross-cm0
 PIL image, as pil_compare.py does) with qemu's translation-block log: every translated block's
@@ -45,6 +45,10 @@ The C28x estimate (ESTIMATE: no C28x compiler or simulator is available) re-weig
   their cycles on the path the PIL runs against what the weights charge for the same path. It is
   printed twice: for the C as written (portable saturating sums) and with the saturating sums as
   ADDL under the C28x's overflow mode. A hand estimate of six functions, not a compiler's output.
+
+With --capture the image attaches and arms a capture for the whole replay (target/pil/pil_cm_main.c:
+four channels every period, a trigger that never fires), so every ISR carries the capture's longest
+per-period path, as on a drive whose host records a capture.
 
 With --ram-cmd CMD (a linker command file that places functions by name, `*(.text:_NAME)`, as
 linker/f2812_flash_im.cmd does), every function CMD does not name runs from flash, and each of
@@ -149,7 +153,7 @@ def flash_wait(name, n, ram):
     return n * FLASH_WAIT_PER_INSN
 
 
-def profile(rec, elf, ram=None):
+def profile(rec, elf, ram=None, capture=False):
     """{function: [instructions, calls, blocks, instructions from flash in the ISR, instructions
     in the ISR, calls in the ISR]} over the replay (in the ISR: from app_isr's entry to
     pil_target_isr_end's), and per ISR (from each entry of app_isr to pil_target_isr_end's) the
@@ -165,6 +169,8 @@ def profile(rec, elf, ram=None):
     isr_m0, isr_c28, isr_law, isr_wait, isr_fn = [], [], [], [], []
     with tempfile.TemporaryDirectory() as d:
         shutil.copyfile(rec, os.path.join(d, "pil_in.bin"))
+        if capture:
+            open(os.path.join(d, "pil_capture.bin"), "wb").close()  # the image arms its capture
         fifo = os.path.join(d, "log")
         os.mkfifo(fifo)
         p = subprocess.Popen([qemu, "-M", "mps2-an385", "-nographic", "-monitor", "none", "-serial", "none",
@@ -239,9 +245,13 @@ def main():
     ap.add_argument("--detail", action="append", default=[], metavar="ISR",
                     help="print the M0 instructions and C28x cycles per function of this ISR (an index, or "
                          "'worst': the worst C28x ISR and the two after it); repeatable")
+    ap.add_argument("--capture", action="store_true",
+                    help="replay with a capture armed for the whole run (four channels every period)")
     a = ap.parse_args()
     ram = ram_functions(a.ram_cmd) if a.ram_cmd else None
-    per, isr_m0, isr_c28, isr_law, isr_wait, isr_fn = profile(a.recording, a.cm_image, ram)
+    per, isr_m0, isr_c28, isr_law, isr_wait, isr_fn = profile(a.recording, a.cm_image, ram, a.capture)
+    if a.capture and "capture_isr_run" not in per:
+        raise SystemExit("pil_profile: --capture: the image ran no capture (an image without it?)")
     count = len(isr_m0)
     if count == 0:
         raise SystemExit("pil_profile: no app_isr call in the replay")
