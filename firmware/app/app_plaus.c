@@ -14,16 +14,18 @@ void app_plaus_reset(app_plaus_t *s)
     for (k = 0U; k < 3U; k++) {
         s->i_prev[k] = 0;
         s->i1_prev[k] = 0;
-        s->acc.s_m[k] = 0;
-        s->acc.s_p[k] = 0;
-        s->acc.s_mp[k] = 0;
-        s->acc.s_pp[k] = 0;
-        s->held.s_m[k] = 0;
-        s->held.s_p[k] = 0;
-        s->held.s_mp[k] = 0;
-        s->held.s_pp[k] = 0;
+        s->sums[0].s_m[k] = 0;
+        s->sums[0].s_p[k] = 0;
+        s->sums[0].s_mp[k] = 0;
+        s->sums[0].s_pp[k] = 0;
+        s->sums[1].s_m[k] = 0;
+        s->sums[1].s_p[k] = 0;
+        s->sums[1].s_mp[k] = 0;
+        s->sums[1].s_pp[k] = 0;
         s->bias[k] = 0;
     }
+    s->acc = &s->sums[0];
+    s->held = &s->sums[1];
     s->primed = 0U;
     s->n = 0U;
     s->pend = 0U;
@@ -74,13 +76,14 @@ uint16_t app_plaus_step(app_plaus_t *s, const app_plaus_params_t *p, const iq_t 
 {
     uint16_t bad = 0U;
     uint16_t k;
+    app_plaus_sums_t *const w = s->acc;
 
     s->judged = 0U;
     if (s->due != 0U) {
         if (hold == 0U || s->due >= 2U) {
             /* the held window, before this sample: at the first call out of the held periods, or
              * the second call after it ended */
-            bad = plaus_judge(s, &s->held, p, measured);
+            bad = plaus_judge(s, s->held, p, measured);
             s->due = 0U;
             s->judged = APP_PLAUS_JUDGED_HELD;
         } else {
@@ -103,30 +106,21 @@ uint16_t app_plaus_step(app_plaus_t *s, const app_plaus_params_t *p, const iq_t 
             const int32_t dp0 = to_q16(fix_sub32(s->i1_prev[k], s->i_prev[k]));
             const int32_t dp = dp0 - s->bias[k];
             s->bias[k] += fix_rshift_rnd32(dp0 - dm - s->bias[k], p->bias_log2);
-            s->acc.s_m[k] += dm;
-            s->acc.s_p[k] += dp;
-            s->acc.s_mp[k] += (int64_t)dm * dp;
-            s->acc.s_pp[k] += (int64_t)dp * dp;
+            w->s_m[k] += dm;
+            w->s_p[k] += dp;
+            w->s_mp[k] += (int64_t)dm * dp;
+            w->s_pp[k] += (int64_t)dp * dp;
         }
         if (++s->n >= (uint16_t)(1U << p->win_log2)) {
             s->n = 0U;
             if (hold != 0U) {
-                /* held (N >= 2: the window held before is judged by now): moved aside for the
-                 * judgement, the sums cleared for the next window (element by element: no
-                 * library call in the ISR) */
-                for (k = 0U; k < 3U; k++) {
-                    s->held.s_m[k] = s->acc.s_m[k];
-                    s->held.s_p[k] = s->acc.s_p[k];
-                    s->held.s_mp[k] = s->acc.s_mp[k];
-                    s->held.s_pp[k] = s->acc.s_pp[k];
-                    s->acc.s_m[k] = 0;
-                    s->acc.s_p[k] = 0;
-                    s->acc.s_mp[k] = 0;
-                    s->acc.s_pp[k] = 0;
-                }
+                /* held (N >= 2: the window held before is judged by now, which cleared its
+                 * sums): set aside for the judgement, the next window collects in the other */
+                s->acc = s->held;
+                s->held = w;
                 s->due = 1U;
             } else {
-                bad |= plaus_judge(s, &s->acc, p, measured);
+                bad |= plaus_judge(s, w, p, measured);
                 s->judged |= APP_PLAUS_JUDGED_NOW;
             }
         }

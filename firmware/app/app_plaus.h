@@ -78,8 +78,8 @@ typedef struct {
     uint16_t bias_log2; /* the bias's leak, 2^-bias_log2 per period */
 } app_plaus_params_t;
 
-/* One window's sums (app_plaus_t keeps two: the window that collects samples, and a copy of one
- * that ended in a held period and waits for its judgement). */
+/* One window's sums (app_plaus_t keeps two: the window that collects samples, and one that ended
+ * in a held period and waits for its judgement). */
 typedef struct {
     int32_t s_m[3];    /* sum of d_m, IQ16 */
     int32_t s_p[3];    /* sum of d_p, IQ16 */
@@ -100,8 +100,9 @@ typedef struct {
     uint16_t due;      /* calls since a window ended in a held period and was not judged, 0: none */
     uint16_t judged;   /* APP_PLAUS_JUDGED_ bits of the last call */
     int32_t bias[3];   /* the prediction's bias, mean of d_p - d_m, IQ16 pu per period */
-    app_plaus_sums_t acc;  /* the window that collects samples */
-    app_plaus_sums_t held; /* a window that ended in a held period, until it is judged */
+    app_plaus_sums_t *acc;  /* the window that collects samples: one of sums (app_plaus_reset) */
+    app_plaus_sums_t *held; /* the other: a window that ended in a held period, until it is judged */
+    app_plaus_sums_t sums[2];
 } app_plaus_t;
 
 /* adc_i_gain_iq: pu current per ADC count (board.adc_i_gain_iq); win_log2 (1..3) and bias_log2 (1..15):
@@ -122,7 +123,7 @@ void app_plaus_reset(app_plaus_t *s);
  * next window fails too (a stuck sensor's jump to its code disturbs the window it falls in,
  * where the healthy phase may fail alone; the next window shows which one stands still).
  * hold != 0 (a period in which the law does its speed-loop work: app_core.h's slots 0 and 1): a
- * window that ends now is held, its sums copied aside while the next window collects, and judged at
+ * window that ends now is held, its sums set aside while the next window collects, and judged at
  * the start of the first later call with hold = 0, at the latest of the second later call (before
  * that call's sample enters the next window), and its result returned there: the same windows and
  * results, one or two periods (Ts, 2 Ts) later, and the judgement never adds to a held period
