@@ -100,7 +100,9 @@ typedef struct {
     uint16_t due;      /* calls since a window ended in a held period and was not judged, 0: none */
     uint16_t judged;   /* APP_PLAUS_JUDGED_ bits of the last call */
     int32_t bias[3];   /* the prediction's bias, mean of d_p - d_m, IQ16 pu per period */
-    app_plaus_sums_t *acc;  /* the window that collects samples: one of sums (app_plaus_reset) */
+    /* acc and held point into sums: app_plaus_reset sets them (before the first step), and the
+     * block is used in place, never copied */
+    app_plaus_sums_t *acc;  /* the window that collects samples: one of sums */
     app_plaus_sums_t *held; /* the other: a window that ended in a held period, until it is judged */
     app_plaus_sums_t sums[2];
 } app_plaus_t;
