@@ -108,7 +108,7 @@ enum app_arm_refusal {
  *    against the flux speed) and the laws' warnings; the open-phase check holds this period's
  *    sample over to slot 1 (app_fault_open_phase's hold);
  *  - slot 1: the PM law's speed-dependent gains (dtc_step forms them at the start of the step
- *    after its speed loop), the IM law's flux reference (Casadei eq. 19) and the open-phase
+ *    after its speed loop), the IM law's stator-flux reference (im_dtc_refs) and the open-phase
  *    check's held sample;
  *  - the later slots: the current-sensor plausibility's judgement of a window that ended in slot
  *    0 or 1 (app_plaus_step's hold: one or two periods later); the IM laws' encoder plausibility
