@@ -380,7 +380,9 @@ static uint16_t check_sensors(app_core_t *a)
                          ((a->plaus.judged & APP_PLAUS_JUDGED_NOW) != 0U ? fl : 0U));
     }
     a->plaus_win = fl;
-    if (a->plaus.n == 0U) { /* a window ended (or the block rests): the next one starts afresh */
+    if (a->plaus.n == 0U && a->plaus.due != 2U) {
+        /* a window ended (or the block rests): the next one starts afresh (due 2: this sample,
+         * which waits, is the next window's first) */
         if (a->plaus.due == 1U) {
             a->plaus_win_held = fl; /* it ended in a held slot: judged later */
         }

@@ -8,24 +8,24 @@ static int32_t to_q16(iq_t x)
     return fix_rshift_rnd32(x, 8U);
 }
 
+/* Channel k's window sums zeroed (a window judged, or the reset). */
+static void plaus_sums_clear(app_plaus_t *s, uint16_t k)
+{
+    s->s_m[k] = 0;
+    s->s_p[k] = 0;
+    s->s_mp[k] = 0;
+    s->s_pp[k] = 0;
+}
+
 void app_plaus_reset(app_plaus_t *s)
 {
     uint16_t k;
     for (k = 0U; k < 3U; k++) {
         s->i_prev[k] = 0;
         s->i1_prev[k] = 0;
-        s->sums[0].s_m[k] = 0;
-        s->sums[0].s_p[k] = 0;
-        s->sums[0].s_mp[k] = 0;
-        s->sums[0].s_pp[k] = 0;
-        s->sums[1].s_m[k] = 0;
-        s->sums[1].s_p[k] = 0;
-        s->sums[1].s_mp[k] = 0;
-        s->sums[1].s_pp[k] = 0;
+        plaus_sums_clear(s, k);
         s->bias[k] = 0;
     }
-    s->acc = &s->sums[0];
-    s->held = &s->sums[1];
     s->primed = 0U;
     s->n = 0U;
     s->pend = 0U;
@@ -33,9 +33,8 @@ void app_plaus_reset(app_plaus_t *s)
     s->judged = 0U;
 }
 
-/* The judgement of the full window w (app_plaus.h app_plaus_step), its sums cleared for a later
- * window. */
-static uint16_t plaus_judge(app_plaus_t *s, app_plaus_sums_t *w, const app_plaus_params_t *p, uint16_t measured)
+/* The judgement of a full window (app_plaus.h app_plaus_step), its sums cleared for the next. */
+static uint16_t plaus_judge(app_plaus_t *s, const app_plaus_params_t *p, uint16_t measured)
 {
     uint16_t bad = 0U, still = 0U, k;
     for (k = 0U; k < 3U; k++) {
@@ -43,21 +42,17 @@ static uint16_t plaus_judge(app_plaus_t *s, app_plaus_sums_t *w, const app_plaus
             continue;
         }
         /* N^2 cov(d_m, d_p) and N^2 var(d_p), N = 2^win_log2 */
-        const int64_t cov = w->s_mp[k] * (int64_t)(1U << p->win_log2) - (int64_t)w->s_m[k] * w->s_p[k];
-        const int64_t var = w->s_pp[k] * (int64_t)(1U << p->win_log2) - (int64_t)w->s_p[k] * w->s_p[k];
-        const uint16_t raw_bad = (uint16_t)(w->s_pp[k] > p->floor_raw && 4 * w->s_mp[k] < w->s_pp[k]);
+        const int64_t cov = s->s_mp[k] * (int64_t)(1U << p->win_log2) - (int64_t)s->s_m[k] * s->s_p[k];
+        const int64_t var = s->s_pp[k] * (int64_t)(1U << p->win_log2) - (int64_t)s->s_p[k] * s->s_p[k];
+        const uint16_t raw_bad = (uint16_t)(s->s_pp[k] > p->floor_raw && 4 * s->s_mp[k] < s->s_pp[k]);
         const uint16_t follows = (uint16_t)(var > p->floor_var && 4 * cov >= var);
         if (raw_bad != 0U && follows == 0U) {
             bad |= (uint16_t)(1U << k);
-            if (16 * w->s_mp[k] < w->s_pp[k] && -16 * w->s_mp[k] < w->s_pp[k]) {
+            if (16 * s->s_mp[k] < s->s_pp[k] && -16 * s->s_mp[k] < s->s_pp[k]) {
                 still |= (uint16_t)(1U << k);
             }
         }
-        /* cleared for a later window (an unmeasured channel's sums stay zero) */
-        w->s_m[k] = 0;
-        w->s_p[k] = 0;
-        w->s_mp[k] = 0;
-        w->s_pp[k] = 0;
+        plaus_sums_clear(s, k);
     }
     if (still != 0U) {
         s->pend = 0U;
@@ -76,18 +71,30 @@ uint16_t app_plaus_step(app_plaus_t *s, const app_plaus_params_t *p, const iq_t 
 {
     uint16_t bad = 0U;
     uint16_t k;
-    app_plaus_sums_t *const w = s->acc;
 
     s->judged = 0U;
     if (s->due != 0U) {
         if (hold == 0U || s->due >= 2U) {
             /* the held window, before this sample: at the first call out of the held periods, or
              * the second call after it ended */
-            bad = plaus_judge(s, s->held, p, measured);
-            s->due = 0U;
+            bad = plaus_judge(s, p, measured);
             s->judged = APP_PLAUS_JUDGED_HELD;
+            if (s->due >= 2U) {
+                /* the sample that waited is the next window's first (the sums were just cleared;
+                 * the same bounds as below) */
+                for (k = 0U; k < 3U; k++) {
+                    if ((measured & (uint16_t)(1U << k)) != 0U) {
+                        s->s_m[k] += s->wait_dm[k];
+                        s->s_p[k] += s->wait_dp[k];
+                        s->s_mp[k] += (int64_t)s->wait_dm[k] * s->wait_dp[k];
+                        s->s_pp[k] += (int64_t)s->wait_dp[k] * s->wait_dp[k];
+                    }
+                }
+                s->n = 1U;
+            }
+            s->due = 0U;
         } else {
-            s->due++;
+            s->due = 2U; /* this sample waits (below) */
         }
     }
     if (s->primed != 0U) {
@@ -106,21 +113,22 @@ uint16_t app_plaus_step(app_plaus_t *s, const app_plaus_params_t *p, const iq_t 
             const int32_t dp0 = to_q16(fix_sub32(s->i1_prev[k], s->i_prev[k]));
             const int32_t dp = dp0 - s->bias[k];
             s->bias[k] += fix_rshift_rnd32(dp0 - dm - s->bias[k], p->bias_log2);
-            w->s_m[k] += dm;
-            w->s_p[k] += dp;
-            w->s_mp[k] += (int64_t)dm * dp;
-            w->s_pp[k] += (int64_t)dp * dp;
+            if (s->due != 0U) {
+                s->wait_dm[k] = dm; /* due 2: the held window is not judged yet */
+                s->wait_dp[k] = dp;
+                continue;
+            }
+            s->s_m[k] += dm;
+            s->s_p[k] += dp;
+            s->s_mp[k] += (int64_t)dm * dp;
+            s->s_pp[k] += (int64_t)dp * dp;
         }
-        if (++s->n >= (uint16_t)(1U << p->win_log2)) {
+        if (s->due == 0U && ++s->n >= (uint16_t)(1U << p->win_log2)) {
             s->n = 0U;
             if (hold != 0U) {
-                /* held (N >= 2: the window held before is judged by now, which cleared its
-                 * sums): set aside for the judgement, the next window collects in the other */
-                s->acc = s->held;
-                s->held = w;
-                s->due = 1U;
+                s->due = 1U; /* judged at the start of a later call (N >= 2: before the next ends) */
             } else {
-                bad |= plaus_judge(s, w, p, measured);
+                bad |= plaus_judge(s, p, measured);
                 s->judged |= APP_PLAUS_JUDGED_NOW;
             }
         }
