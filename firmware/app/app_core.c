@@ -62,6 +62,7 @@ void app_core_enter_calibrate(app_core_t *a)
     app_fault_reset(&a->flt);
     app_plaus_reset(&a->plaus);
     a->plaus_win = 0U;
+    a->speed_slots = 0U;
     a->st.out.speed_iq = 0; /* the encoder-freeze check reads the last reported speed */
     a->arming = 0U;
     a->st.fault = APP_FAULT_NONE;
@@ -300,20 +301,23 @@ static uint16_t check_open_phase(app_core_t *a)
 }
 
 /* Overspeed (app_fault_overspeed), the encoder against the flux speed (app_enc_flux_check, on the
- * steps the law compared them, not while a phase looks open: app_fault_phase_suspect) and stall (app_fault_stall); latches and returns 1 on a trip. */
+ * steps the law compared them, not while a phase looks open: app_fault_phase_suspect) and stall
+ * (app_fault_stall); latches and returns 1 on a trip. Overspeed and stall judge the speed-loop
+ * period's speed and act on it only (slot 0, app_core.h): the other periods skip them and the
+ * speed reference's look-up. */
 static uint16_t check_speed(app_core_t *a)
 {
     int16_t detail = 0;
-    const iq_t ref = law_speed_ref(&a->law);
     iq_t err = 0, tol = 0;
-    uint16_t f = app_fault_overspeed(a->cfg, &a->st.out, &detail);
+    const uint16_t tick = a->st.out.speed_tick;
+    uint16_t f = tick != 0U ? app_fault_overspeed(a->cfg, &a->st.out, &detail) : (uint16_t)APP_FAULT_NONE;
     if (f == (uint16_t)APP_FAULT_NONE && law_enc_plaus(&a->law, &err, &tol) != 0U &&
         app_fault_phase_suspect(&a->flt) == 0U) {
         detail = app_enc_flux_check(&a->enc, err, tol);
         f = detail != 0 ? (uint16_t)APP_FAULT_ENCODER_SPEED : (uint16_t)APP_FAULT_NONE;
     }
-    if (f == (uint16_t)APP_FAULT_NONE) {
-        f = app_fault_stall(&a->flt, a->cfg, &a->st.out, ref, &detail);
+    if (f == (uint16_t)APP_FAULT_NONE && tick != 0U) {
+        f = app_fault_stall(&a->flt, a->cfg, &a->st.out, law_speed_ref(&a->law), &detail);
     }
     if (f != (uint16_t)APP_FAULT_NONE) {
         app_core_latch(a, f, detail);
@@ -365,13 +369,23 @@ static uint16_t check_sensors(app_core_t *a)
             }
         }
     }
-    /* a window held over from the last (speed-loop) period is judged before this sample, which
-     * starts the next window (app_plaus_step's hold) */
-    win = a->plaus.due != 0U ? a->plaus_win : (uint16_t)(a->plaus_win | fl);
-    a->plaus_win = a->plaus.due != 0U ? fl : win;
     bad = app_plaus_step(&a->plaus, &a->plaus_p, i, law_i_pred(&a->law, a->st.meas.vdc_iq, i1) != 0U ? i1 : NULL,
-                         a->meas_mask, a->st.out.speed_tick);
-    if (a->plaus.n == 0U) { /* a window ended (or the block rests): the next one starts afresh */
+                         a->meas_mask, a->speed_slots);
+    fl |= a->plaus_win; /* this window's flags with this sample's */
+    win = fl;
+    if (a->plaus.judged != 0U) {
+        /* the windows judged in this call: one held over from a speed-loop slot (judged before
+         * this sample) and the one this sample ended */
+        win = (uint16_t)(((a->plaus.judged & APP_PLAUS_JUDGED_HELD) != 0U ? a->plaus_win_held : 0U) |
+                         ((a->plaus.judged & APP_PLAUS_JUDGED_NOW) != 0U ? fl : 0U));
+    }
+    a->plaus_win = fl;
+    if (a->plaus.n == 0U && a->plaus.due != 2U) {
+        /* a window ended (or the block rests): the next one starts afresh (due 2: this sample,
+         * which waits, is the next window's first) */
+        if (a->plaus.due == 1U) {
+            a->plaus_win_held = fl; /* it ended in a held slot: judged later */
+        }
         a->plaus_win = 0U;
     }
     if (bad == 0U || win == 2U) {
@@ -519,6 +533,8 @@ static uint16_t core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
             return 1U;
         }
         law_step(&a->law, &a->st.meas, &a->st.out);
+        /* this period's slot in the speed-loop cycle (app_core.h speed_slots) */
+        a->speed_slots = (uint16_t)(((uint16_t)(a->speed_slots << 1) | a->st.out.speed_tick) & APP_SLOTS_HELD);
         if (a->st.out.speed_tick != 0U) {
             /* the laws' warnings change at the speed-loop rate */
             const uint16_t w = law_warnings(&a->law);

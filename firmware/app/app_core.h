@@ -99,6 +99,24 @@ enum app_arm_refusal {
 #define APP_VMID_CAL_LOG2 10U
 #define APP_CAL_LOG2 6U
 
+/* The speed-loop cycle's slots (app_core_t.speed_slots, RUN): the laws run their speed-rate work
+ * in fixed periods of the cycle of speed_div periods, and the application keeps its own
+ * occasional work out of them, so that the worst ISR is an ordinary period plus the largest one
+ * slot adds, not a sum of them:
+ *  - slot 0, the law's speed-loop period: the speed measurement, the speed PI and the hand-over
+ *    (PM dtc_step), the application's speed checks (check_speed: overspeed, stall, encoder
+ *    against the flux speed) and the laws' warnings; the open-phase check holds this period's
+ *    sample over to slot 1 (app_fault_open_phase's hold);
+ *  - slot 1: the PM law's speed-dependent gains (dtc_step forms them at the start of the step
+ *    after its speed loop), the IM law's stator-flux reference (im_dtc_refs) and the open-phase
+ *    check's held sample;
+ *  - the later slots: the current-sensor plausibility's judgement of a window that ended in slot
+ *    0 or 1 (app_plaus_step's hold: one or two periods later); the IM laws' encoder plausibility
+ *    (slot 3) and model supervision (slot 4, im_dtc_internal.h).
+ * With a speed_div of 1 or 2 every period is slot 0 or 1: app_plaus_step holds a window at most
+ * two periods. */
+#define APP_SLOTS_HELD 3U /* app_core_t.speed_slots: the bits of slots 0 and 1 */
+
 typedef struct {
     uint16_t state;       /* enum app_state */
     uint16_t fault;       /* enum app_fault (app_fault.h) */
@@ -140,6 +158,9 @@ typedef struct app_core {
     volatile uint16_t ident_request; /* set by the background: identify instead of RUN */
     uint16_t plaus_win;    /* three sensors, this window: bit 0 their sum was above prot.i_sum_max_iq,
                             * bit 1 a phase read zero (check_sensors) */
+    uint16_t plaus_win_held; /* the same for the window app_plaus_step holds over */
+    uint16_t speed_slots;  /* RUN, the slots below: bit 0 this period is slot 0 (the law's
+                            * speed-loop period), bit 1 the last one was (this one is slot 1) */
     /* Arming and the command timeout (app_core_set_arming, app_core_set_comm_timeout). */
     uint16_t arm_mode;     /* enum app_arm_mode */
     volatile uint16_t arm_request; /* enum app_arm_request: set by the background, taken by the ISR */

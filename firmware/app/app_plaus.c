@@ -30,6 +30,7 @@ void app_plaus_reset(app_plaus_t *s)
     s->n = 0U;
     s->pend = 0U;
     s->due = 0U;
+    s->judged = 0U;
 }
 
 /* The judgement of a full window (app_plaus.h app_plaus_step), its sums cleared for the next. */
@@ -53,8 +54,6 @@ static uint16_t plaus_judge(app_plaus_t *s, const app_plaus_params_t *p, uint16_
         }
         plaus_sums_clear(s, k);
     }
-    s->n = 0U;
-    s->due = 0U;
     if (still != 0U) {
         s->pend = 0U;
         return still;
@@ -73,8 +72,30 @@ uint16_t app_plaus_step(app_plaus_t *s, const app_plaus_params_t *p, const iq_t 
     uint16_t bad = 0U;
     uint16_t k;
 
+    s->judged = 0U;
     if (s->due != 0U) {
-        bad = plaus_judge(s, p, measured); /* the window held over from the last period */
+        if (hold == 0U || s->due >= 2U) {
+            /* the held window, before this sample: at the first call out of the held periods, or
+             * the second call after it ended */
+            bad = plaus_judge(s, p, measured);
+            s->judged = APP_PLAUS_JUDGED_HELD;
+            if (s->due >= 2U) {
+                /* the sample that waited is the next window's first (the sums were just cleared;
+                 * the same bounds as below) */
+                for (k = 0U; k < 3U; k++) {
+                    if ((measured & (uint16_t)(1U << k)) != 0U) {
+                        s->s_m[k] += s->wait_dm[k];
+                        s->s_p[k] += s->wait_dp[k];
+                        s->s_mp[k] += (int64_t)s->wait_dm[k] * s->wait_dp[k];
+                        s->s_pp[k] += (int64_t)s->wait_dp[k] * s->wait_dp[k];
+                    }
+                }
+                s->n = 1U;
+            }
+            s->due = 0U;
+        } else {
+            s->due = 2U; /* this sample waits (below) */
+        }
     }
     if (s->primed != 0U) {
         /* Only the measured channels are judged, so only they accumulate: an unmeasured channel's
@@ -92,16 +113,23 @@ uint16_t app_plaus_step(app_plaus_t *s, const app_plaus_params_t *p, const iq_t 
             const int32_t dp0 = to_q16(fix_sub32(s->i1_prev[k], s->i_prev[k]));
             const int32_t dp = dp0 - s->bias[k];
             s->bias[k] += fix_rshift_rnd32(dp0 - dm - s->bias[k], p->bias_log2);
+            if (s->due != 0U) {
+                s->wait_dm[k] = dm; /* due 2: the held window is not judged yet */
+                s->wait_dp[k] = dp;
+                continue;
+            }
             s->s_m[k] += dm;
             s->s_p[k] += dp;
             s->s_mp[k] += (int64_t)dm * dp;
             s->s_pp[k] += (int64_t)dp * dp;
         }
-        if (++s->n >= (uint16_t)(1U << p->win_log2)) {
+        if (s->due == 0U && ++s->n >= (uint16_t)(1U << p->win_log2)) {
+            s->n = 0U;
             if (hold != 0U) {
-                s->due = 1U; /* judged at the start of the next call, before its sample */
+                s->due = 1U; /* judged at the start of a later call (N >= 2: before the next ends) */
             } else {
-                bad = plaus_judge(s, p, measured);
+                bad |= plaus_judge(s, p, measured);
+                s->judged |= APP_PLAUS_JUDGED_NOW;
             }
         }
     }

@@ -78,14 +78,22 @@ typedef struct {
     uint16_t bias_log2; /* the bias's leak, 2^-bias_log2 per period */
 } app_plaus_params_t;
 
+/* app_plaus_t.judged: which windows the last app_plaus_step judged */
+#define APP_PLAUS_JUDGED_HELD 1U /* the held window, at the start of the call */
+#define APP_PLAUS_JUDGED_NOW 2U  /* the window that ended in the call, at its end */
+
 typedef struct {
     iq_t i_prev[3];    /* measured phase currents of the previous sample (law's phase order) */
     iq_t i1_prev[3];   /* the law's prediction made then for this sample */
     uint16_t primed;   /* 1: i_prev and i1_prev hold a valid pair */
     uint16_t n;        /* periods in the current window */
     uint16_t pend;     /* the phases the last window failed when none of them stood still */
-    uint16_t due;      /* 1: the window is full and held over to the next call (app_plaus_step's hold) */
+    uint16_t due;      /* 1: a window ended in a held period and waits for its judgement; 2: it
+                        * waited through a second held period, whose sample is in wait_dm/wait_dp */
+    uint16_t judged;   /* APP_PLAUS_JUDGED_ bits of the last call */
     int32_t bias[3];   /* the prediction's bias, mean of d_p - d_m, IQ16 pu per period */
+    int32_t wait_dm[3]; /* due 2: that period's d_m and d_p, IQ16, the next window's first sample */
+    int32_t wait_dp[3];
     int32_t s_m[3];    /* sum of d_m, IQ16 */
     int32_t s_p[3];    /* sum of d_p, IQ16 */
     int64_t s_mp[3];   /* sum of d_m d_p, IQ32 */
@@ -109,10 +117,12 @@ void app_plaus_reset(app_plaus_t *s);
  * moves with its current. Failed phases none of which stood still are returned only when the
  * next window fails too (a stuck sensor's jump to its code disturbs the window it falls in,
  * where the healthy phase may fail alone; the next window shows which one stands still).
- * hold = 1 (the law ran its speed loop in this period, its longest step): a window that ends now is
- * judged at the start of the next call, before that call's sample enters the next window, and its
- * result returned there: the same windows and results, one period (Ts) later, and the judgement
- * never adds to a speed-loop period but with a speed loop every period. */
+ * hold != 0 (a period in which the law does its speed-loop work: app_core.h's slots 0 and 1): a
+ * window that ends now is held and judged at the start of the first later call with hold = 0, at
+ * the latest of the second later call, and its result returned there; a held call's sample meanwhile
+ * waits (its d_m and d_p kept) and enters the next window first, after the judgement, so that the
+ * windows and results are the same, one or two periods (Ts, 2 Ts) later, and the judgement never
+ * adds to a held period but with hold set three periods in a row. */
 uint16_t app_plaus_step(app_plaus_t *s, const app_plaus_params_t *p, const iq_t i[3], const iq_t *i1,
                         uint16_t measured, uint16_t hold);
 

@@ -5,10 +5,16 @@
  *   pil_cycles.bin (SysTick counts of every app_isr() call, u32 little-endian) in qemu's working
  *   directory. With -icount shift=N every instruction advances the clock by 2^N ns, so the
  *   SysTick counts (25 MHz processor clock) measure instructions, not Cortex-M cycles.
+ * With a file pil_capture.bin in that directory (tools/pil/pil_profile.py --capture) a capture is
+ * attached and armed for the whole replay: four channels every period, an edge trigger that never
+ * fires, so every ISR runs the capture's longest per-period path (its sample and the trigger test;
+ * capture.h). The capture writes no output: the replay's records are the same.
  * Exits through SYS_EXIT: ApplicationExit on success, anything else on an error.
  */
 #include <stdint.h>
 
+#include "app.h"
+#include "capture.h"
 #include "pil_replay.h"
 
 #define SYS_OPEN 0x01U
@@ -28,6 +34,7 @@
 #define CYC_BUF 256U
 
 static uint8_t g_blob[4U * PIL_CONFIG_MAX];
+static capture_t g_cap;
 static uint32_t g_cyc[CYC_BUF];
 static uint32_t g_ncyc;
 static uint32_t g_t0;
@@ -85,6 +92,29 @@ void pil_target_isr_end(void)
     g_cyc[g_ncyc++] = (g_t0 - t1) & 0xFFFFFFUL; /* SysTick counts down, 24 bits */
 }
 
+/* The capture of --capture, armed: the phase currents and the estimated flux every period, 128
+ * samples, a rising edge of i_a through INT32_MAX as its trigger (never met). */
+static void capture_on(void)
+{
+    capture_setup_t s;
+    s.count = 4U;
+    s.quantity[0] = (uint16_t)CAPTURE_Q_I_A;
+    s.quantity[1] = (uint16_t)CAPTURE_Q_I_B;
+    s.quantity[2] = (uint16_t)CAPTURE_Q_PSI_ALPHA_EST;
+    s.quantity[3] = (uint16_t)CAPTURE_Q_PSI_BETA_EST;
+    s.samples = 128U;
+    s.pre = 64U;
+    s.decim = 1U;
+    s.trigger = (uint16_t)CAPTURE_TRIG_RISING;
+    s.trig_ch = 0U;
+    s.level = INT32_MAX;
+    capture_init(&g_cap);
+    app_attach(&g_cap, 0);
+    if (capture_setup(&g_cap, &s) != (uint16_t)CAPTURE_OK) {
+        semi_fail("pil_cm: the capture's set-up was refused\n");
+    }
+}
+
 static void flush_cycles(uint32_t fd)
 {
     uint8_t b[4U * CYC_BUF];
@@ -122,6 +152,13 @@ int main(void)
     semi_rw(SYS_READ, fin, g_blob, 4U * h.config_fields);
     if (pil_replay_init(&h, g_blob) != 0) {
         semi_fail("pil_cm: app_init() refused the recorded configuration\n");
+    }
+    {
+        uint32_t fcap = semi_open("pil_capture.bin", 15U, 1U); /* "rb": present = capture on */
+        if (fcap != 0xFFFFFFFFUL) {
+            (void)semi(SYS_CLOSE, &fcap);
+            capture_on();
+        }
     }
     SYST_RVR = 0xFFFFFFUL;
     SYST_CVR = 0U;

@@ -169,24 +169,28 @@ static void test_a_failure_that_moves_waits_one_window(void **state)
     }
 }
 
-/* A window that ends in a speed-loop period (app_plaus_step's hold) is judged at the start of the
- * next call: the same decisions as a block that judges at once, each one period later where the
- * window ended in a held period, with a speed loop every 10 periods and every period; a channel
- * stuck from period 200 on is reported by both. */
-static void test_a_held_window_is_judged_one_period_later(void **state)
+/* A window that ends in a held period (app_plaus_step's hold: the application's speed-loop slots
+ * 0 and 1) is judged at the start of the first later call out of the held periods, at the latest
+ * of the second later call: the same decisions as a block that judges at once, each one or two
+ * periods later where the window ended in a held period, with the hold of a speed loop every 10
+ * periods (slots 0 and 1), every 3, and every period; a channel stuck from period 200 on is
+ * reported by both. */
+static void test_a_held_window_is_judged_one_or_two_periods_later(void **state)
 {
-    const uint16_t divs[2] = {10U, 1U};
+    const uint16_t divs[3] = {10U, 3U, 1U};
     (void)state;
-    for (uint16_t d = 0U; d < 2U; d++) {
+    for (uint16_t d = 0U; d < 3U; d++) {
         app_plaus_params_t p;
         app_plaus_t a, b;
         double i[3] = {-0.3, 0.0, 0.3};
-        uint16_t ra_prev = 0U, hold_prev = 0U, n_bad = 0U;
+        uint16_t owed[3] = {0U, 0U, 0U}; /* owed[j]: what b must return j calls from now */
+        uint16_t n_bad = 0U, n_late = 0U;
         app_plaus_init(&p, PU(kGainPu), APP_PLAUS_WIN_LOG2, APP_PLAUS_BIAS_LOG2);
         app_plaus_reset(&a);
         app_plaus_reset(&b);
         for (uint32_t t = 0; t < 400U; t++) {
-            const uint16_t hold = (uint16_t)(t % divs[d] == 0U ? 1U : 0U);
+            const uint16_t hold = (uint16_t)(t % divs[d] < 2U ? 1U : 0U);
+            const uint16_t hold_next = (uint16_t)((t + 1U) % divs[d] < 2U ? 1U : 0U);
             iq_t iq[3], i1q[3];
             double dp[3];
             uint16_t ra, rb;
@@ -197,15 +201,29 @@ static void test_a_held_window_is_judged_one_period_later(void **state)
             }
             ra = app_plaus_step(&a, &p, iq, i1q, 3U, 0U);
             rb = app_plaus_step(&b, &p, iq, i1q, 3U, hold);
-            assert_int_equal(rb, (uint16_t)((hold != 0U ? 0U : ra) | (hold_prev != 0U ? ra_prev : 0U)));
+            if ((a.judged & APP_PLAUS_JUDGED_NOW) != 0U) {
+                /* a's window ended now: b judges it now, at the next call out of the hold, or at
+                 * the second call from now */
+                const uint16_t j = hold == 0U ? 0U : hold_next == 0U ? 1U : 2U;
+                owed[j] = (uint16_t)(owed[j] | ra);
+                assert_int_equal(b.n, 0U);
+                assert_int_equal(b.due, hold != 0U ? 1U : 0U);
+                assert_int_equal(b.judged & APP_PLAUS_JUDGED_NOW, hold == 0U ? APP_PLAUS_JUDGED_NOW : 0U);
+                n_late = (uint16_t)(n_late + (j != 0U && ra != 0U ? 1U : 0U));
+            }
+            assert_int_equal(rb, owed[0]);
+            owed[0] = owed[1];
+            owed[1] = owed[2];
+            owed[2] = 0U;
             n_bad = (uint16_t)(n_bad + (ra != 0U ? 1U : 0U));
-            ra_prev = ra;
-            hold_prev = hold;
             for (int x = 0; x < 3; x++) {
                 i[x] += (t >= 200U && x == 0 ? 0.0 : 1.0) * dp[x]; /* phase A stuck from 200 on */
             }
         }
         assert_true(n_bad > 0U);
+        if (d == 2U) {
+            assert_true(n_late > 0U); /* held every period: every report comes two calls late */
+        }
     }
 }
 
@@ -303,7 +321,7 @@ UNIT_TEST_MAIN("app plaus", NULL,
                cmocka_unit_test(test_a_biased_prediction_is_not_a_fault),
                cmocka_unit_test(test_a_stuck_channel_trips_within_two_windows),
                cmocka_unit_test(test_a_failure_that_moves_waits_one_window),
-               cmocka_unit_test(test_a_held_window_is_judged_one_period_later),
+               cmocka_unit_test(test_a_held_window_is_judged_one_or_two_periods_later),
                cmocka_unit_test(test_idle_drive_never_trips),
                cmocka_unit_test(test_no_prediction_rests),
                cmocka_unit_test(test_derived_channel_is_never_named),

@@ -28,7 +28,7 @@
 #      instructions, every block charged the C28x's branch cost; mean and worst ISR, beside the M0
 #      figures, on the first 0.3 s of the PM scenario of 4 (start-up, hand-over, speed loop),
 #      with the flash wait states of what linker/f2812_flash.cmd leaves in flash counted in
-#      (--ram-cmd); beside it the same scaled by the hand-compiled sample's ratio
+#      (--ram-cmd) and a capture armed for the whole replay (--capture); beside it the same scaled by the hand-compiled sample's ratio
 #      (docs/c28x-sample.md), for the C as written and with the saturating sums under OVM
 #                                                                    [worst <= 50 % of 7,500]
 #      5b. the same for the IM image (linker/f2812_flash_im.cmd) on the first 0.5 s of
@@ -218,8 +218,8 @@ sil="$(dirname "$(dirname "$bench")")/bin/dtc-sil"
 "$sil" run "$root/tools/scenarios/fstp_voltage_proposed_full.toml" --set duration_s=0.3 --set metrics_window_s=0.1 \
   --out "$tmp/c28run" --record-isr "$tmp/c28.rec" >/dev/null
 "$py" "$root/tools/pil/pil_profile.py" "$tmp/c28.rec" --cm-image "$root/build/cross-cm0/bin/pil_cm.elf" --top 15 \
-  --ram-cmd "$root/linker/f2812_flash.cmd"
-echo "  [target: worst <= 50 % of the period, 3,750 cycles; an ESTIMATE, not a C28x measurement]"
+  --ram-cmd "$root/linker/f2812_flash.cmd" --capture
+echo "  [target: worst <= 50 % of the period, 3,750 cycles, with the capture on; an ESTIMATE, not a C28x measurement]"
 echo "  -- 5b. IM image: im_dtc_speed, 0.5 s at 40 us (6,000 cycles)"
 "$sil" run "$root/tools/scenarios/im_dtc_speed.toml" --set duration_s=0.5 --out "$tmp/c28im" \
   --record-isr "$tmp/c28im.rec" >/dev/null

@@ -4,7 +4,7 @@ function, and the C28x cycle estimate made from that instruction mix (docs/f2812
 estimate").
 
   pil_profile.py RECORDING [--cm-image ELF] [--top N] [--json OUT] [--ram-cmd CMD] [--period-cycles N]
-                 [--detail ISR|worst]...
+                 [--detail ISR|worst]... [--capture]
 
 Replays RECORDING (dtc-sil run --record-isr FILE) on qemu-system-arm (mps2-an385, the cross-cm0
 PIL image, as pil_compare.py does) with qemu's translation-block log: every translated block's
@@ -12,9 +12,11 @@ instructions (-d in_asm) and every block executed (-d exec, with chaining off so
 execution is logged). Each executed block's instruction count is charged to the function its
 first address lies in (the image's symbol table), so the figures are dynamic instruction counts
 per function over the whole replay; the listing leaves out the replay harness (HARNESS) and
-divides by the app_isr() calls. Each ISR's own figures are the blocks between two entries of
-app_isr(), harness excluded; "ISRs that ran the control law" are those that entered law_step. A
-function's calls are the executions of its entry block.
+divides by the app_isr() calls. Each ISR's own figures are the blocks from an entry of
+app_isr() to the harness's pil_target_isr_end() (app_isr() and what it calls, up to its return),
+harness excluded: the background pass the replay runs after it (app_background, app_get_status)
+is not the ISR's. "ISRs that ran the control law" are those that entered law_step. A function's
+calls are the executions of its entry block.
 
 The C28x estimate (ESTIMATE: no C28x compiler or simulator is available) re-weights that mix:
   - the libgcc 64-bit helpers (__aeabi_lmul/__muldi3, __aeabi_lasr/__ashrdi3, __aeabi_llsl/
@@ -43,6 +45,10 @@ The C28x estimate (ESTIMATE: no C28x compiler or simulator is available) re-weig
   their cycles on the path the PIL runs against what the weights charge for the same path. It is
   printed twice: for the C as written (portable saturating sums) and with the saturating sums as
   ADDL under the C28x's overflow mode. A hand estimate of six functions, not a compiler's output.
+
+With --capture the image attaches and arms a capture for the whole replay (target/pil/pil_cm_main.c:
+four channels every period, a trigger that never fires), so every ISR carries the capture's longest
+per-period path, as on a drive whose host records a capture.
 
 With --ram-cmd CMD (a linker command file that places functions by name, `*(.text:_NAME)`, as
 linker/f2812_flash_im.cmd does), every function CMD does not name runs from flash, and each of
@@ -147,11 +153,11 @@ def flash_wait(name, n, ram):
     return n * FLASH_WAIT_PER_INSN
 
 
-def profile(rec, elf, ram=None):
+def profile(rec, elf, ram=None, capture=False):
     """{function: [instructions, calls, blocks, instructions from flash in the ISR, instructions
     in the ISR, calls in the ISR]} over the replay (in the ISR: from app_isr's entry to
-    pil_target_isr_end's), and per ISR (split at each entry
-    of app_isr) the ISR path's M0 instructions and C28x cycles (harness excluded)."""
+    pil_target_isr_end's), and per ISR (from each entry of app_isr to pil_target_isr_end's) the
+    ISR path's M0 instructions and C28x cycles (harness excluded)."""
     qemu = shutil.which("qemu-system-arm")
     if qemu is None:
         raise SystemExit("pil_profile: qemu-system-arm not found (tools/setup.sh installs it)")
@@ -163,6 +169,8 @@ def profile(rec, elf, ram=None):
     isr_m0, isr_c28, isr_law, isr_wait, isr_fn = [], [], [], [], []
     with tempfile.TemporaryDirectory() as d:
         shutil.copyfile(rec, os.path.join(d, "pil_in.bin"))
+        if capture:
+            open(os.path.join(d, "pil_capture.bin"), "wb").close()  # the image arms its capture
         fifo = os.path.join(d, "log")
         os.mkfifo(fifo)
         p = subprocess.Popen([qemu, "-M", "mps2-an385", "-nographic", "-monitor", "none", "-serial", "none",
@@ -199,9 +207,9 @@ def profile(rec, elf, ram=None):
                             isr_fn.append({})
                         elif name == "law_step" and isr_law:
                             isr_law[-1] = True
-                    if isr_m0 and (not HARNESS.match(name) or name in HELPERS):
+                    if isr_m0 and in_isr and (not HARNESS.match(name) or name in HELPERS):
                         isr_m0[-1] += n
-                        w = flash_wait(name, n, ram) if in_isr else 0
+                        w = flash_wait(name, n, ram)
                         cyc = block_cycles(name, n, pc in entry) + w
                         isr_c28[-1] += cyc
                         isr_wait[-1] += w
@@ -237,9 +245,13 @@ def main():
     ap.add_argument("--detail", action="append", default=[], metavar="ISR",
                     help="print the M0 instructions and C28x cycles per function of this ISR (an index, or "
                          "'worst': the worst C28x ISR and the two after it); repeatable")
+    ap.add_argument("--capture", action="store_true",
+                    help="replay with a capture armed for the whole run (four channels every period)")
     a = ap.parse_args()
     ram = ram_functions(a.ram_cmd) if a.ram_cmd else None
-    per, isr_m0, isr_c28, isr_law, isr_wait, isr_fn = profile(a.recording, a.cm_image, ram)
+    per, isr_m0, isr_c28, isr_law, isr_wait, isr_fn = profile(a.recording, a.cm_image, ram, a.capture)
+    if a.capture and "capture_isr_run" not in per:
+        raise SystemExit("pil_profile: --capture: the image ran no capture (an image without it?)")
     count = len(isr_m0)
     if count == 0:
         raise SystemExit("pil_profile: no app_isr call in the replay")
@@ -251,7 +263,8 @@ def main():
               "  (flash)" if flash_wait(k, 1, ram) else ""))
     m0_mean, c28_mean = sum(isr_m0) / count, sum(isr_c28) / count
     w = max(range(count), key=lambda k: isr_c28[k])
-    print("  ISR path (replay harness excluded), Cortex-M0 instructions: mean %.0f, worst %d" % (m0_mean, max(isr_m0)))
+    print("  ISR path (app_isr() to its return; replay harness and background excluded), Cortex-M0 instructions:"
+          " mean %.0f, worst %d" % (m0_mean, max(isr_m0)))
     print("  C28x ESTIMATE from the weights, cycles (%.1f per M0 instruction, +%d per block, %d per 64-bit helper call,"
           % (C28X_CYCLES_PER_INSN, C28X_BRANCH_EXTRA, C28X_HELPER_CYCLES))
     print("    %d per iq_mpy, %d per saturating add; docs/f2812.md): mean %.0f, worst %.0f (ISR %d) = %.0f %% of"
