@@ -155,20 +155,17 @@ void execute(const Spec& spec, const std::vector<PlannedRun>& runs, const ExecOp
         on_row(row);
         return true;
     };
-    // Hands w the next run, or ends it when there is none (false: w could not take it).
+    // Hands w the next run, or ends it when there is none. False: the worker is gone (the run
+    // is then its run in flight, reported by finish()).
     auto dispatch = [&](Worker& w) {
         if (next >= runs.size()) {
             shutdown(w.fd, SHUT_WR);
             return true;
         }
-        const std::uint64_t pos = next;
-        if (send(w.fd, &pos, sizeof pos, MSG_NOSIGNAL) != static_cast<ssize_t>(sizeof pos)) {
-            return false; // the worker died; its end is read below and the run goes to another
-        }
-        ++next;
+        const std::uint64_t pos = next++;
         w.run = static_cast<std::size_t>(pos);
         w.start = std::chrono::steady_clock::now();
-        return true;
+        return send(w.fd, &pos, sizeof pos, MSG_NOSIGNAL) == static_cast<ssize_t>(sizeof pos);
     };
     // A worker that ended: its run in flight, if any, gets a row saying why it has no result.
     auto finish = [&](Worker& w) {
