@@ -333,14 +333,19 @@ TEST(Metrics, CurrentRippleUsesTheContinuousCurrentsNotTheSamples)
 }
 
 namespace {
-// spectrum() of x in a forked child, its four figures' bytes read back through a pipe.
-std::array<double, 4> spectrum_in_child(const std::vector<double>& x, int periods)
+// spectrum() of x in a forked child, its four figures' bytes read back through a pipe; with
+// `before`, the child first transforms that signal (of the same length: the plan it keeps).
+std::array<double, 4> spectrum_in_child(const std::vector<double>& x, int periods,
+                                        const std::vector<double>* before = nullptr)
 {
     int fds[2];
     EXPECT_EQ(pipe(fds), 0);
     const pid_t pid = fork();
     if (pid == 0) {
         close(fds[0]);
+        if (before != nullptr) {
+            (void)spectrum(before->data(), before->size(), periods + 2);
+        }
         const Spectrum sp = spectrum(x.data(), x.size(), periods);
         const double v[4] = {sp.fundamental_peak, sp.thd_pct, sp.thd_harmonic_pct, sp.thd40_pct};
         const ssize_t w = write(fds[1], v, sizeof v);
@@ -357,7 +362,7 @@ std::array<double, 4> spectrum_in_child(const std::vector<double>& x, int period
 }
 } // namespace
 
-TEST(Metrics, SpectrumOfAPreparedLengthIsTheSameToTheLastBit)
+TEST(Metrics, SpectrumOfAPreparedOrKeptLengthIsTheSameToTheLastBit)
 {
     // A sweep's parent plans each spectrum length its runs report (prepare_spectrum), and the runs
     // forked after it plan with FFTW's planner memory warm: their figures must be the ones a cold
@@ -376,4 +381,13 @@ TEST(Metrics, SpectrumOfAPreparedLengthIsTheSameToTheLastBit)
     EXPECT_EQ(std::memcmp(cold.data(), warm.data(), sizeof cold), 0)
         << cold[1] << " vs " << warm[1] << " (thd_pct)";
     EXPECT_GT(cold[1], 5.0); // the 5th at 0.15 / 2.2 alone is 6.8 %
+    // A sweep's worker runs one run after another: the plan it kept from the previous window of
+    // that length gives the same figures too.
+    std::vector<double> other(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        other[k] = 1.1 * std::sin(2 * kPi * 30.5 * static_cast<double>(k) * kTs) + 0.01 * static_cast<double>(k % 7);
+    }
+    const std::array<double, 4> kept = spectrum_in_child(x, 9, &other);
+    EXPECT_EQ(std::memcmp(cold.data(), kept.data(), sizeof cold), 0)
+        << cold[1] << " vs " << kept[1] << " (thd_pct)";
 }

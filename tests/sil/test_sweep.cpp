@@ -377,6 +377,55 @@ TEST(Sweep, KeepRunsWritesEveryRunsOutputs)
     fs::remove_all(d);
 }
 
+TEST(Sweep, OneWorkerRunsEveryRunAndAKilledOneIsReplaced)
+{
+    // --jobs 1: the runs go one after another through a worker process. A run over the per-run
+    // limit is killed with its worker; a new worker takes the runs after it. Every run has its
+    // row, and a run's row is the one a sweep of that run alone gives (nothing carried over from
+    // the runs before it in the same worker).
+    const fs::path d = fresh_dir("worker");
+    std::string err;
+    EXPECT_EQ(sweep({"sweep", kScenario, "--out", d.string(), "--zip", "duration_s=600,0.06,600,0.06", "--zip",
+                     "control.speed_ref_rpm=100,300,200,700", "--set", "metrics_window_s=0.02", "--timeout-s", "1.5",
+                     "--jobs", "1", "--allow-failed-runs"},
+                    nullptr, &err),
+              0)
+        << err;
+    const json rows = json::parse(read(d / "summary.json")).at("rows");
+    ASSERT_EQ(rows.size(), 4u);
+    EXPECT_EQ(rows[0].at("status"), "timeout");
+    EXPECT_EQ(rows[2].at("status"), "timeout");
+    EXPECT_EQ(rows[1].at("status"), "ok");
+    EXPECT_EQ(rows[3].at("status"), "ok");
+    // The same two short runs, each alone in a sweep: the same metrics.
+    const fs::path alone = fresh_dir("worker_alone");
+    for (int r : {1, 3}) {
+        fs::remove_all(alone);
+        const std::string rpm = r == 1 ? "300" : "700";
+        ASSERT_EQ(sweep(with_short({"sweep", kScenario, "--out", alone.string(), "--grid", "control.speed_ref_rpm=" + rpm,
+                                    "--jobs", "1"}),
+                        nullptr, &err),
+                  0)
+            << err;
+        const json one = json::parse(read(alone / "summary.json")).at("rows").at(0);
+        EXPECT_EQ(one.at("metrics"), rows[static_cast<std::size_t>(r)].at("metrics")) << "run " << r;
+    }
+    // Several runs through one worker give the rows of runs in a worker each (--jobs 3, 3 runs).
+    const fs::path many = fresh_dir("worker_many");
+    const fs::path each = fresh_dir("worker_each");
+    const std::vector<std::string> axes = {"--grid", "control.speed_ref_rpm=300,700,1500"};
+    std::vector<std::string> a1 = with_short({"sweep", kScenario, "--out", many.string(), "--jobs", "1"});
+    std::vector<std::string> a3 = with_short({"sweep", kScenario, "--out", each.string(), "--jobs", "3"});
+    a1.insert(a1.end(), axes.begin(), axes.end());
+    a3.insert(a3.end(), axes.begin(), axes.end());
+    ASSERT_EQ(sweep(a1, nullptr, &err), 0) << err;
+    ASSERT_EQ(sweep(a3, nullptr, &err), 0) << err;
+    EXPECT_EQ(read(many / "summary.csv"), read(each / "summary.csv"));
+    for (const fs::path& x : {d, alone, many, each}) {
+        fs::remove_all(x);
+    }
+}
+
 TEST(Sweep, AssertSetsTheExitCodeAndTimedOutRunsAreRows)
 {
     const fs::path d = fresh_dir("assert");

@@ -73,7 +73,9 @@ struct Spectrum {
     double thd_harmonic_pct = 0.0; // integer harmonics only
     double thd40_pct = 0.0;        // harmonic subgroups 2..40 (see header)
 };
-/// DFT of x[0..n) that holds `periods` whole periods (fundamental at bin `periods`).
+/// DFT of x[0..n) that holds `periods` whole periods (fundamental at bin `periods`). The plan of
+/// the last length is kept for the next call of that length (spectrum() and compute_metrics()
+/// share it): the same plan, so the same numbers, without planning again. Not thread-safe.
 Spectrum spectrum(const double* x, std::size_t n, int periods);
 /// Plans (and drops) the transform of n samples that spectrum() and compute_metrics() make. FFTW
 /// keeps what its planner found for the rest of the process, and so does every process forked

@@ -1,5 +1,5 @@
-// sweep.hpp - many runs of one scenario: grid and Monte Carlo axes, executed on local cores (one
-// forked process per run), sliced into shards for batch systems, or sent to a Dask cluster.
+// sweep.hpp - many runs of one scenario: grid and Monte Carlo axes, executed on local cores (forked
+// worker processes), sliced into shards for batch systems, or sent to a Dask cluster.
 //
 // A sweep is a plan (the scenario text, fixed --set overrides, the axes, n and seed) expanded into
 // a numbered list of runs. The expansion is deterministic: run r's sampled values depend only on
@@ -74,8 +74,10 @@ bool spec_from_json(const nlohmann::json& j, Spec* out, std::string* err);
 /// One run's overrides: the spec's --set list followed by "key=value" for each axis.
 std::vector<std::string> run_overrides(const Spec& spec, const PlannedRun& run);
 
-/// Executes runs in forked child processes, at most `jobs` at a time; a run that has not finished
-/// after timeout_s seconds is killed and reported as "timeout"; a child that dies is "crashed".
+/// Executes runs in at most `jobs` forked worker processes, each running one run after another (the
+/// next handed to it when it reports the last); a run that has not finished after timeout_s seconds
+/// is killed with its worker and reported as "timeout"; a run whose worker dies is "crashed"; a new
+/// worker takes the runs left.
 /// on_row is called in the parent, in completion order, with the row (see the row layout in sweep_rows.cpp).
 struct ExecOptions {
     unsigned jobs = 1;

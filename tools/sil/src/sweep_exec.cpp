@@ -1,5 +1,5 @@
-// sweep_exec.cpp - a sweep's execution: the local process pool (one forked child per run, with its
-// per-run limit) and the `sweep-exec` side of the Dask hand-off (see sweep.hpp).
+// sweep_exec.cpp - a sweep's execution: the local process pool (forked workers that run one run
+// after another, with a per-run limit) and the `sweep-exec` side of the Dask hand-off (see sweep.hpp).
 #include "sweep.hpp"
 
 #include <algorithm>
@@ -18,6 +18,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <sys/prctl.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -103,29 +104,80 @@ std::string signal_text(int sig)
 void execute(const Spec& spec, const std::vector<PlannedRun>& runs, const ExecOptions& opt,
              const std::function<void(const json& row)>& on_row)
 {
-    struct Child {
+    // A worker is a forked child that runs one run after another: the parent hands it the next
+    // run's position in `runs` (8 bytes on its socket) when it has sent the previous run's result,
+    // and shuts the socket's sending side when none is left, which ends the worker. A worker pays
+    // its process's start (the page faults of the code it runs and of the memory a run fills) once
+    // for all its runs instead of once per run. A run's result is two lines: the row (JSON, no
+    // newline inside) and the length of its metrics' spectra (0: none).
+    constexpr std::size_t kIdle = static_cast<std::size_t>(-1);
+    struct Worker {
         pid_t pid;
         int fd;
         std::string buf;
-        std::chrono::steady_clock::time_point start;
-        const PlannedRun* run;
+        std::chrono::steady_clock::time_point start; // of the run in flight
+        std::size_t run = kIdle;                      // position in `runs` of the run in flight
         bool timed_out = false;
     };
-    std::vector<Child> active;
+    std::vector<Worker> active;
     std::size_t next = 0;
-    // Spectrum lengths the runs reported, planned here once each: the children forked after it
-    // inherit FFTW's planner memory (prepare_spectrum()).
+    // Spectrum lengths the runs reported, planned here once each: the workers forked after it
+    // inherit FFTW's planner memory (prepare_spectrum()); a worker's own planner memory is warm from
+    // its first run on.
     std::set<std::size_t> spectra;
     const unsigned jobs = std::max(1u, opt.jobs);
     const auto limit = std::chrono::duration<double>(opt.timeout_s);
 
-    auto finish = [&](Child& c) {
-        int status = 0;
-        while (waitpid(c.pid, &status, 0) < 0 && errno == EINTR) {
+    // The run in flight on w gets its row from what w sent, or the reason it has none.
+    auto take_result = [&](Worker& w) {
+        // Complete results only: the row's line and the spectrum line.
+        const std::size_t eol = w.buf.find('\n');
+        if (eol == std::string::npos) {
+            return false;
         }
-        close(c.fd);
-        const PlannedRun& p = *c.run;
-        if (c.timed_out) {
+        const std::size_t eol2 = w.buf.find('\n', eol + 1);
+        if (eol2 == std::string::npos) {
+            return false;
+        }
+        const PlannedRun& p = runs[w.run];
+        const std::uint64_t spectrum_n = std::strtoull(w.buf.c_str() + eol + 1, nullptr, 10);
+        json row = json::parse(w.buf.begin(), w.buf.begin() + static_cast<std::ptrdiff_t>(eol), nullptr, false);
+        w.buf.erase(0, eol2 + 1);
+        w.run = kIdle;
+        if (row.is_discarded() || !row.is_object()) {
+            on_row(make_row(p.index, spec, p, "crashed", nullptr, "run process sent no readable result",
+                            json::object()));
+            return true;
+        }
+        if (spectrum_n != 0 && spectrum_n <= kMaxWindowSamples && spectra.insert(spectrum_n).second) {
+            prepare_spectrum(static_cast<std::size_t>(spectrum_n));
+        }
+        on_row(row);
+        return true;
+    };
+    // Hands w the next run, or ends it when there is none. False: the worker is gone (the run
+    // is then its run in flight, reported by finish()).
+    auto dispatch = [&](Worker& w) {
+        if (next >= runs.size()) {
+            shutdown(w.fd, SHUT_WR);
+            return true;
+        }
+        const std::uint64_t pos = next++;
+        w.run = static_cast<std::size_t>(pos);
+        w.start = std::chrono::steady_clock::now();
+        return send(w.fd, &pos, sizeof pos, MSG_NOSIGNAL) == static_cast<ssize_t>(sizeof pos);
+    };
+    // A worker that ended: its run in flight, if any, gets a row saying why it has no result.
+    auto finish = [&](Worker& w) {
+        int status = 0;
+        while (waitpid(w.pid, &status, 0) < 0 && errno == EINTR) {
+        }
+        close(w.fd);
+        if (w.run == kIdle) {
+            return;
+        }
+        const PlannedRun& p = runs[w.run];
+        if (w.timed_out) {
             on_row(make_row(p.index, spec, p, "timeout", nullptr,
                             "killed after the per-run limit of " + shortest(opt.timeout_s) + " s", json::object()));
             return;
@@ -139,26 +191,10 @@ void execute(const Spec& spec, const std::vector<PlannedRun>& runs, const ExecOp
                             json::object()));
             return;
         }
-        // The child's output: the row, then a line with its spectrum length when it had one.
-        std::uint64_t spectrum_n = 0;
-        const std::size_t eol = c.buf.find('\n');
-        if (eol != std::string::npos) {
-            spectrum_n = std::strtoull(c.buf.c_str() + eol + 1, nullptr, 10);
-            c.buf.resize(eol);
-        }
-        json row = json::parse(c.buf, nullptr, false);
-        if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || row.is_discarded() || !row.is_object()) {
-            on_row(make_row(p.index, spec, p, "crashed", nullptr,
-                            "run process exited with status " +
-                                std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
-                                " and no result",
-                            json::object()));
-            return;
-        }
-        if (spectrum_n != 0 && spectrum_n <= kMaxWindowSamples && spectra.insert(spectrum_n).second) {
-            prepare_spectrum(static_cast<std::size_t>(spectrum_n));
-        }
-        on_row(row);
+        on_row(make_row(p.index, spec, p, "crashed", nullptr,
+                        "run process exited with status " + std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
+                            " and no result",
+                        json::object()));
     };
 
     std::cout.flush();
@@ -167,28 +203,28 @@ void execute(const Spec& spec, const std::vector<PlannedRun>& runs, const ExecOp
     while (next < runs.size() || !active.empty()) {
         if (g_stop_signal != 0) {
             // Interrupted: the runs in flight are killed and have no row (--resume runs them).
-            for (Child& c : active) {
-                kill(c.pid, SIGKILL);
+            for (Worker& w : active) {
+                kill(w.pid, SIGKILL);
                 int status = 0;
-                while (waitpid(c.pid, &status, 0) < 0 && errno == EINTR) {
+                while (waitpid(w.pid, &status, 0) < 0 && errno == EINTR) {
                 }
-                close(c.fd);
+                close(w.fd);
             }
             active.clear();
             return;
         }
         while (active.size() < jobs && next < runs.size()) {
             int fds[2];
-            if (pipe(fds) != 0) {
+            if (socketpair(AF_UNIX, SOCK_STREAM, 0, fds) != 0) {
                 const PlannedRun& p = runs[next++];
-                on_row(make_row(p.index, spec, p, "error", nullptr, std::string("pipe: ") + std::strerror(errno),
+                on_row(make_row(p.index, spec, p, "error", nullptr, std::string("socketpair: ") + std::strerror(errno),
                                 json::object()));
                 continue;
             }
             const pid_t parent = getpid();
             const pid_t pid = fork();
             if (pid == 0) {
-                // The child stays in the parent's process group (a terminal's ^C reaches it), dies
+                // The worker stays in the parent's process group (a terminal's ^C reaches it), dies
                 // on SIGINT/SIGTERM instead of finishing its run, and is killed when the parent
                 // dies, whatever kills it.
                 std::signal(SIGINT, SIG_DFL);
@@ -198,33 +234,47 @@ void execute(const Spec& spec, const std::vector<PlannedRun>& runs, const ExecOp
                     _exit(4); // the parent died before the line above
                 }
                 close(fds[0]);
-                for (const Child& c : active) {
-                    close(c.fd);
+                for (const Worker& w : active) {
+                    close(w.fd); // else another worker would not see its socket shut
                 }
                 const int devnull = open("/dev/null", O_WRONLY);
                 if (devnull >= 0) {
                     dup2(devnull, 1);
                     dup2(devnull, 2);
                 }
-                std::size_t spectrum_n = 0;
-                std::string text = child_run(spec, runs[next], opt.runs_dir, &spectrum_n);
-                if (spectrum_n != 0) {
-                    text += "\n" + std::to_string(spectrum_n) + "\n";
-                }
-                const char* b = text.data();
-                std::size_t left = text.size();
-                while (left > 0) {
-                    const ssize_t w = write(fds[1], b, left);
-                    if (w < 0 && errno == EINTR) {
-                        continue;
+                for (;;) {
+                    std::uint64_t pos = 0;
+                    std::size_t got = 0;
+                    while (got < sizeof pos) {
+                        const ssize_t r = read(fds[1], reinterpret_cast<char*>(&pos) + got, sizeof pos - got);
+                        if (r < 0 && errno == EINTR) {
+                            continue;
+                        }
+                        if (r <= 0) {
+                            _exit(got == 0 ? 0 : 3); // no run left (or a torn command)
+                        }
+                        got += static_cast<std::size_t>(r);
                     }
-                    if (w <= 0) {
+                    if (pos >= runs.size()) {
                         _exit(3);
                     }
-                    b += w;
-                    left -= static_cast<std::size_t>(w);
+                    std::size_t spectrum_n = 0;
+                    std::string text = child_run(spec, runs[static_cast<std::size_t>(pos)], opt.runs_dir, &spectrum_n);
+                    text += "\n" + std::to_string(spectrum_n) + "\n";
+                    const char* b = text.data();
+                    std::size_t left = text.size();
+                    while (left > 0) {
+                        const ssize_t wr = write(fds[1], b, left);
+                        if (wr < 0 && errno == EINTR) {
+                            continue;
+                        }
+                        if (wr <= 0) {
+                            _exit(3);
+                        }
+                        b += wr;
+                        left -= static_cast<std::size_t>(wr);
+                    }
                 }
-                _exit(0);
             }
             close(fds[1]);
             if (pid < 0) {
@@ -234,8 +284,12 @@ void execute(const Spec& spec, const std::vector<PlannedRun>& runs, const ExecOp
                                 json::object()));
                 continue;
             }
-            active.push_back(Child{pid, fds[0], {}, std::chrono::steady_clock::now(), &runs[next], false});
-            ++next;
+            active.push_back(Worker{pid, fds[0], {}, std::chrono::steady_clock::now()});
+            if (!dispatch(active.back())) {
+                kill(pid, SIGKILL);
+                finish(active.back());
+                active.pop_back();
+            }
         }
         if (active.empty()) {
             continue;
@@ -243,12 +297,14 @@ void execute(const Spec& spec, const std::vector<PlannedRun>& runs, const ExecOp
         // Wait for output, an exit, or the nearest per-run deadline.
         const auto now = std::chrono::steady_clock::now();
         double wait_s = opt.timeout_s;
-        for (const Child& c : active) {
-            wait_s = std::min(wait_s, (limit - (now - c.start)).count());
+        for (const Worker& w : active) {
+            if (w.run != kIdle) {
+                wait_s = std::min(wait_s, (limit - (now - w.start)).count());
+            }
         }
         std::vector<pollfd> pfd;
-        for (const Child& c : active) {
-            pfd.push_back(pollfd{c.fd, POLLIN, 0});
+        for (const Worker& w : active) {
+            pfd.push_back(pollfd{w.fd, POLLIN, 0});
         }
         const int ms = static_cast<int>(std::clamp(std::ceil(wait_s * 1000.0), 0.0, 1000.0));
         if (poll(pfd.data(), pfd.size(), ms) < 0 && errno != EINTR) {
@@ -256,20 +312,26 @@ void execute(const Spec& spec, const std::vector<PlannedRun>& runs, const ExecOp
         }
         std::vector<std::size_t> done;
         for (std::size_t i = 0; i < active.size(); ++i) {
-            Child& c = active[i];
+            Worker& w = active[i];
             if ((pfd[i].revents & (POLLIN | POLLHUP | POLLERR)) != 0) {
                 char buf[65536];
-                const ssize_t r = read(c.fd, buf, sizeof buf);
+                const ssize_t r = read(w.fd, buf, sizeof buf);
                 if (r > 0) {
-                    c.buf.append(buf, static_cast<std::size_t>(r));
-                } else if (r == 0 || errno != EINTR) {
+                    w.buf.append(buf, static_cast<std::size_t>(r));
+                    if (w.run != kIdle && take_result(w) && !dispatch(w)) {
+                        kill(w.pid, SIGKILL);
+                        done.push_back(i);
+                    }
+                    continue;
+                }
+                if (r == 0 || errno != EINTR) {
                     done.push_back(i);
                     continue;
                 }
             }
-            if (std::chrono::steady_clock::now() - c.start > limit) {
-                kill(c.pid, SIGKILL);
-                c.timed_out = true;
+            if (w.run != kIdle && std::chrono::steady_clock::now() - w.start > limit) {
+                kill(w.pid, SIGKILL);
+                w.timed_out = true;
                 done.push_back(i);
             }
         }
