@@ -40,19 +40,14 @@ uint16_t swtab_sstp_st(uint16_t strategy, uint16_t sector, uint16_t flux_up, uin
     }
 }
 
-uint16_t swtab_fstp(uint16_t sector, uint16_t flux_up, uint16_t torque_up)
-{
-    /* Hoang Table II rows in the order (1,1), (1,0), (0,1), (0,0); columns sector I..IV. */
-    static const uint16_t table[4][4] = {
-        {2U, 3U, 4U, 1U},
-        {1U, 2U, 3U, 4U},
-        {3U, 4U, 1U, 2U},
-        {4U, 1U, 2U, 3U},
-    };
-    uint16_t row = (uint16_t)((flux_up != 0U ? 0U : 2U) + (torque_up != 0U ? 0U : 1U));
-    uint16_t col = (uint16_t)((sector >= 1U && sector <= 4U) ? sector - 1U : 0U);
-    return table[row][col];
-}
+/* Hoang Table II rows in the order (1,1), (1,0), (0,1), (0,0); columns sector I..IV (swtab.h
+ * swtab_fstp). */
+const uint16_t swtab_fstp_table[4][4] = {
+    {2U, 3U, 4U, 1U},
+    {1U, 2U, 3U, 4U},
+    {3U, 4U, 1U, 2U},
+    {4U, 1U, 2U, 3U},
+};
 
 uint16_t swtab_null_choice(uint16_t vec, uint16_t present_vec)
 {
@@ -71,17 +66,6 @@ uint16_t swtab_null_choice(uint16_t vec, uint16_t present_vec)
     }
 }
 
-/* Leg states as a bit mask S_A S_B S_C (bit 2..0); built field by field so that no struct
- * copy (memcpy on some compilers) happens in the control path. */
-static swtab_legs_t swtab_legs_of_mask(uint16_t m)
-{
-    swtab_legs_t l;
-    l.sa = (uint16_t)((m >> 2) & 1U);
-    l.sb = (uint16_t)((m >> 1) & 1U);
-    l.sc = (uint16_t)(m & 1U);
-    return l;
-}
-
 swtab_legs_t swtab_sstp_legs(uint16_t vec)
 {
     /* V_0 = 000, V_1 = 100, V_2 = 110, V_3 = 010, V_4 = 011, V_5 = 001, V_6 = 101, V_7 = 111 */
@@ -89,9 +73,6 @@ swtab_legs_t swtab_sstp_legs(uint16_t vec)
     return swtab_legs_of_mask(mask[vec & 7U]);
 }
 
-swtab_legs_t swtab_fstp_legs(uint16_t vec)
-{
-    /* Hoang Table I, S_B S_C: V_1 = 00, V_2 = 10, V_3 = 11, V_4 = 01 (index 0 unused: V_1) */
-    static const uint16_t mask[5] = {0U, 0U, 2U, 3U, 1U};
-    return swtab_legs_of_mask(mask[vec <= 4U ? vec : 0U]);
-}
+/* Hoang Table I, S_B S_C: V_1 = 00, V_2 = 10, V_3 = 11, V_4 = 01 (index 0 unused: V_1) (swtab.h
+ * swtab_fstp_legs). */
+const uint16_t swtab_fstp_mask[5] = {0U, 0U, 2U, 3U, 1U};

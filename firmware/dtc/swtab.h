@@ -79,14 +79,37 @@ uint16_t swtab_sstp_basic(uint16_t sector, uint16_t flux_up, int16_t c_t);
  * torque_up 1/0. Returns 1..6 or SWTAB_NULL. */
 uint16_t swtab_sstp_st(uint16_t strategy, uint16_t sector, uint16_t flux_up, uint16_t torque_up);
 
-/* Hoang Table II. sector 1..4, flux_up and torque_up 1/0. Returns 1..4. */
-uint16_t swtab_fstp(uint16_t sector, uint16_t flux_up, uint16_t torque_up);
+/* Hoang Table II. sector 1..4, flux_up and torque_up 1/0. Returns 1..4. Inline (the table in
+ * swtab.c): the PM law's 50 us path, where a call costs as much as the look-up. */
+extern const uint16_t swtab_fstp_table[4][4];
+static inline uint16_t swtab_fstp(uint16_t sector, uint16_t flux_up, uint16_t torque_up)
+{
+    const uint16_t row = (uint16_t)((flux_up != 0U ? 0U : 2U) + (torque_up != 0U ? 0U : 1U));
+    const uint16_t col = (uint16_t)((sector >= 1U && sector <= 4U) ? sector - 1U : 0U);
+    return swtab_fstp_table[row][col];
+}
 
 /* Resolves SWTAB_NULL to 0 or 7 from the present SSTP vector (0..7); other vectors pass. */
 uint16_t swtab_null_choice(uint16_t vec, uint16_t present_vec);
 
-/* Leg states of SSTP vector 0..7 / FSTP vector 1..4 (sa = 0 for the FSTP). */
+/* Leg states as a bit mask S_A S_B S_C (bit 2..0); built field by field so that no struct
+ * copy (memcpy on some compilers) happens in the control path. */
+static inline swtab_legs_t swtab_legs_of_mask(uint16_t m)
+{
+    swtab_legs_t l;
+    l.sa = (uint16_t)((m >> 2) & 1U);
+    l.sb = (uint16_t)((m >> 1) & 1U);
+    l.sc = (uint16_t)(m & 1U);
+    return l;
+}
+
+/* Leg states of SSTP vector 0..7 / FSTP vector 1..4 (sa = 0 for the FSTP). The FSTP's inline (the
+ * mask table in swtab.c), as swtab_fstp. */
 swtab_legs_t swtab_sstp_legs(uint16_t vec);
-swtab_legs_t swtab_fstp_legs(uint16_t vec);
+extern const uint16_t swtab_fstp_mask[5];
+static inline swtab_legs_t swtab_fstp_legs(uint16_t vec)
+{
+    return swtab_legs_of_mask(swtab_fstp_mask[vec <= 4U ? vec : 0U]);
+}
 
 #endif /* SWTAB_H */

@@ -207,23 +207,6 @@ uint16_t fix_sector6(iq_t alpha, iq_t beta)
     return sector_of_code[code];
 }
 
-uint16_t fix_quadrant(iq_t alpha, iq_t beta)
-{
-    if (alpha > 0 && beta >= 0) {
-        return 1U;
-    }
-    if (alpha <= 0 && beta > 0) {
-        return 2U;
-    }
-    if (alpha < 0 && beta <= 0) {
-        return 3U;
-    }
-    if (alpha >= 0 && beta < 0) {
-        return 4U;
-    }
-    return 1U; /* origin */
-}
-
 iq_t iq_recip_newton(iq_t y, iq_t x)
 {
     const iq_t two = iq_from_int(2);

@@ -401,8 +401,24 @@ q15_t fix_cos(angle_t angle);
 uint16_t fix_sector6(iq_t alpha, iq_t beta);
 
 /* Quadrant of (alpha, beta): 1 for [0, 90), 2 for [90, 180), 3 for [180, 270), 4 for [270, 360)
- * degrees. (0, 0) returns 1. Sign tests only. */
-uint16_t fix_quadrant(iq_t alpha, iq_t beta);
+ * degrees. (0, 0) returns 1. Sign tests only; inline (the FSTP sector of the PM law's 50 us path,
+ * where a call costs as much as the tests). */
+static inline uint16_t fix_quadrant(iq_t alpha, iq_t beta)
+{
+    if (alpha > 0 && beta >= 0) {
+        return 1U;
+    }
+    if (alpha <= 0 && beta > 0) {
+        return 2U;
+    }
+    if (alpha < 0 && beta <= 0) {
+        return 3U;
+    }
+    if (alpha >= 0 && beta < 0) {
+        return 4U;
+    }
+    return 1U; /* origin */
+}
 
 /* ------------------------------------------------------------------------------------------ */
 /* Angle and magnitude of a vector (fixmath.c; CORDIC vectoring, shifts and adds, no division) */
