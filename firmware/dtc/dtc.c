@@ -263,7 +263,7 @@ void dtc_handover(dtc_t *c)
  * Scaling and overflow: every product is a rounded iq_mpy (64-bit intermediate), every sum
  * saturates: |dpsi| <= Ts_pu (|v| + r_s |i|) stays far below 1 pu for any measured input; the
  * current step (dpsi - dpsi_r)/l_s saturates at +-128 pu in the worst case (no wrap). */
-void dtc_predict(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t *te)
+static inline void dtc_predict_in(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t *te)
 {
     const dtc_config_t *cfg = c->cfg;
     const iq_t wts = c->wts_iq; /* w Ts: at the speed-loop rate, as w (dtc_step) */
@@ -285,6 +285,11 @@ void dtc_predict(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t
     *te = torque_eq10(*psi_a, *psi_b, ia1, ib1);
     clarke_inv(ia1, ib1, &c->i1); /* for the current limit (ilim.h) */
 }
+
+/* dtc_predict_in, external (dtc_internal.h). dtc_step takes the inline body where the compiler
+ * inlines it (the host: the call with the flux and torque through memory cost a tenth of it); the
+ * Cortex-M0 build (-Os) keeps it out of line, as the stack budget needs. */
+void dtc_predict(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t *te) { dtc_predict_in(c, i, psi_a, psi_b, te); }
 
 /* Ripple-robust polarity (dtc_config.h polarity_mid): the mean current of period [k-1, k],
  * i(k-1)/2 + i(k)/2, each halved and rounded first (the halves of two full-scale values round up
@@ -494,7 +499,7 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
             c->dt_code = deadtime_code(&c->dt_p, i, &c->legs_2, &c->legs_1); /* the next step's estimator takes it */
             deadtime_apply(&c->dt_p, m->vdc_iq, c->dt_code, &c->v1d_alpha_iq, &c->v1d_beta_iq);
         }
-        dtc_predict(c, i, &psi_a, &psi_b, &te);
+        dtc_predict_in(c, i, &psi_a, &psi_b, &te);
     }
     mag2 = iq_sumsq_q48(psi_a, psi_b);
     sector = cfg->board.topology == DTC_TOPO_FSTP ? sector_fstp(psi_a, psi_b) : sector_sstp(psi_a, psi_b);
