@@ -90,7 +90,6 @@ SECTIONS
                     *(.text:_app_pwm_encode)
                     *(.text:_check_hw_trip)
                     *(.text:_check_trips)
-                    *(.text:_deadtime_code)
                     *(.text:_deadtime_error)
                     *(.text:_deadtime_leg)
                     *(.text:_dsc_step)
@@ -128,7 +127,6 @@ SECTIONS
                     *(.text:_swtab_sstp_legs)
                     *(.text:_swtab_sstp_st)
                     *(.text:_vrec_from_legs)
-                    *(.text:_vrec_sstp)
                     /* hot:ramfuncs_h end */
                 }
                 LOAD = FLASH_JC,
