@@ -151,8 +151,8 @@ static inline void dtc_dcsupp_in(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, i
     *psi_b = iq_add(*psi_b, q32_integrate(&c->dcs_beta_iq, k, i->i_beta_iq));
 }
 
-/* dtc_dcsupp_in, external (dtc_internal.h); dtc_step takes the inline body: its call, with the
- * flux through memory, cost a quarter of the work. */
+/* dtc_dcsupp_in, external (dtc_internal.h); dtc_step takes the inline body: a call, with the
+ * flux through memory, costs a quarter of the work. */
 void dtc_dcsupp(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b) { dtc_dcsupp_in(c, i, psi_a, psi_b); }
 
 /* Restoring mid-point reconstruction (FSTP, voltage model, mid-point measured and calibrated:
@@ -287,7 +287,7 @@ static inline void dtc_predict_in(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, 
 }
 
 /* dtc_predict_in, external (dtc_internal.h). dtc_step takes the inline body where the compiler
- * inlines it (the host: the call with the flux and torque through memory cost a tenth of it); the
+ * inlines it (the host: a call with the flux and torque through memory costs a tenth of it); the
  * Cortex-M0 build (-Os) keeps it out of line, as the stack budget needs. */
 void dtc_predict(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t *te) { dtc_predict_in(c, i, psi_a, psi_b, te); }
 
