@@ -249,7 +249,8 @@ void dtc_handover(dtc_t *c)
  *   current (PM machine, Hoang eqs. 6-9 with L_d = L_q: psi = l_s i + psi_r, the rotor flux
  *   psi_r = psi_m e^{j theta} turning at w): psi_r = psi - l_s i, dpsi_r = w Ts j psi_r,
  *   i(k+1) = i + (dpsi - dpsi_r) / l_s;
- *   torque (Hoang eq. 10) of psi(k+1), i(k+1).
+ *   torque (Hoang eq. 10) of psi(k+1), i(k+1);
+ *   a salient PM (l_q != l_d, l_s = l_d): the current step's q-axis term of dtc_predict_salient.
  * w is the measured electrical speed (speed-loop rate; it changes little within 500 us).
  * dtc_step reconstructs v(legs_1) into c->v1_* and the drop (c->v1f_*) and dead-time (c->v1d_*)
  * compensations in force, and forms r_s i (c->ri_*) once for the estimator and this prediction;
@@ -276,10 +277,36 @@ void dtc_predict(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t
     ib1 = iq_add(i->i_beta_iq,
                  iq_mpy(cfg->u.pm_dtc.machine.inv_ls_iq,
                         iq_sub(dpb, iq_mpy(wts, iq_sub(*psi_a, iq_mpy(cfg->u.pm_dtc.machine.ls_iq, i->i_alpha_iq))))));
+    if (c->fe_p.dl_iq != 0) {
+        /* a salient PM: x = dpsi - j w Ts psi (dtc_predict_salient) */
+        dtc_predict_salient(c, fix_add32(dpa, iq_mpy(wts, *psi_b)), fix_sub32(dpb, iq_mpy(wts, *psi_a)), &ia1, &ib1);
+    }
     *psi_a = fix_add32(*psi_a, dpa);
     *psi_b = fix_add32(*psi_b, dpb);
     *te = torque_eq10(*psi_a, *psi_b, ia1, ib1);
     clarke_inv(ia1, ib1, &c->i1); /* for the current limit (ilim.h) */
+}
+
+/* The current step of dtc_predict on a salient PM (l_q != l_d). In the rotor frame (angle theta_e)
+ * psi_d = l_d i_d + psi_m, psi_q = l_q i_q (flux_est.h; Hoang eqs. 8-9 are its l_d = l_q case).
+ * Over one period the stator flux moves by dpsi (Hoang eqs. 6-7) and the frame turns by w Ts, so
+ * the rotor-frame flux moves by y = e^{-j theta} x, x = dpsi - j w Ts psi, and y = (l_d di_d,
+ * l_q di_q) (psi_m is fixed in that frame); the current turns with the frame: di = e^{j theta}
+ * (y_d / l_d, y_q / l_q) + j w Ts i. dtc_predict's surface step (x + j w Ts l_d i) / l_d is that
+ * with l_q = l_d; the salient PM adds
+ *   di += j e^{j theta} y_q (1/l_q - 1/l_d),  y_q = -x_alpha sin(theta) + x_beta cos(theta).
+ * theta_e is the estimator's angle of this step (the encoder's); 1/l_q and 1/l_d are the
+ * configuration's (no division here). Formats: IQ pu, Q15 sine and cosine; y_q of two rounded
+ * Q15 products (flux_est_park_q), times the IQ difference of the inverses (both in (0, 2^31):
+ * the difference cannot wrap) rounded and saturating, projected by two rounded Q15 products and
+ * added with saturation (no wrap). */
+void dtc_predict_salient(const dtc_t *c, iq_t xa, iq_t xb, iq_t *ia1, iq_t *ib1)
+{
+    const dtc_pm_machine_cfg_t *m = &c->cfg->u.pm_dtc.machine;
+    const q15_t sn = fix_sin(c->fe.theta_e), cs = fix_cos(c->fe.theta_e);
+    const iq_t k = iq_mpy(fix_sub32(m->inv_lq_iq, m->inv_ls_iq), flux_est_park_q(xa, xb, sn, cs));
+    *ia1 = iq_sub(*ia1, iq_mpy_q15(k, sn));
+    *ib1 = iq_add(*ib1, iq_mpy_q15(k, cs));
 }
 
 /* Ripple-robust polarity (dtc_config.h polarity_mid): the mean current of period [k-1, k],

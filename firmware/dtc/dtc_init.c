@@ -44,6 +44,7 @@ void dtc_pm_est_params_from_config(flux_est_params_t *fe_p, vcomp_params_t *vc_p
     fe_p->rs_iq = cfg->machine.rs_iq;
     fe_p->ls_iq = mach->ls_iq;
     fe_p->psi_m_iq = mach->psi_m_iq;
+    fe_p->dl_iq = fix_sub32(mach->lq_iq, mach->ls_iq); /* both > 0 (checked): no saturation */
     fe_p->enc_gain_q16 = cfg->board.enc_gain_q16;
     fe_p->enc_offset = cfg->board.enc_offset;
     vcomp_init(vc_p, cfg->est.compensation, cfg->board.v_f_iq, cfg->board.v_ce_iq, cfg->board.v_d_iq,

@@ -21,6 +21,8 @@ void dtc_shadow_adopt(dtc_t *c, uint16_t seq);
 /* Internal to dtc_step (actuation-delay compensation); out of line for the stack. On entry
  * *psi_a, *psi_b, *te hold the estimate at k; on return the prediction for k+1; the predicted current goes to c->i1_*. */
 void dtc_predict(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t *te);
+/* dtc_predict's salient-PM term (l_q != l_d), added to the predicted current (dtc.c). */
+void dtc_predict_salient(const dtc_t *c, iq_t xa, iq_t xb, iq_t *ia1, iq_t *ib1);
 /* Internal to dtc_step (ripple-robust polarity: the period-mean current into c->i_mid); out of line
  * for the stack (inlined, its saturating sums widen dtc_step's frame on the deepest chain). */
 void dtc_pol_mid(dtc_t *c, const clarke_out_t *i);
