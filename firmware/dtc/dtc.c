@@ -250,7 +250,7 @@ void dtc_handover(dtc_t *c)
  *   psi_r = psi_m e^{j theta} turning at w): psi_r = psi - l_s i, dpsi_r = w Ts j psi_r,
  *   i(k+1) = i + (dpsi - dpsi_r) / l_s;
  *   torque (Hoang eq. 10) of psi(k+1), i(k+1);
- *   a salient PM (l_q != l_d, l_s = l_d): the current step's q-axis term of dtc_predict_salient.
+ *   a salient PM (l_q != l_d, l_s = l_d): the rotor-frame step of dtc_predict_salient.
  * w is the measured electrical speed (speed-loop rate; it changes little within 500 us).
  * dtc_step reconstructs v(legs_1) into c->v1_* and the drop (c->v1f_*) and dead-time (c->v1d_*)
  * compensations in force, and forms r_s i (c->ri_*) once for the estimator and this prediction;
@@ -266,10 +266,7 @@ void dtc_predict(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t
     const iq_t wts = c->wts_iq; /* w Ts: at the speed-loop rate, as w (dtc_step) */
     iq_t dpa, dpb, ia1, ib1;
 
-    dpa = fix_add32(fix_add32(c->v1_alpha_iq, c->v1f_alpha_iq), c->v1d_alpha_iq);
-    dpb = fix_add32(fix_add32(c->v1_beta_iq, c->v1f_beta_iq), c->v1d_beta_iq);
-    dpa = iq_mpy(cfg->board.ts_pu_iq, iq_sub(dpa, c->ri_alpha_iq));
-    dpb = iq_mpy(cfg->board.ts_pu_iq, iq_sub(dpb, c->ri_beta_iq));
+    dtc_predict_dpsi(c, &dpa, &dpb);
     /* psi_r = psi - l_s i;  j psi_r w Ts = (-w Ts psi_rb, w Ts psi_ra) */
     ia1 = iq_add(i->i_alpha_iq,
                  iq_mpy(cfg->u.pm_dtc.machine.inv_ls_iq,
@@ -277,36 +274,7 @@ void dtc_predict(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t
     ib1 = iq_add(i->i_beta_iq,
                  iq_mpy(cfg->u.pm_dtc.machine.inv_ls_iq,
                         iq_sub(dpb, iq_mpy(wts, iq_sub(*psi_a, iq_mpy(cfg->u.pm_dtc.machine.ls_iq, i->i_alpha_iq))))));
-    if (c->fe_p.dl_iq != 0) {
-        /* a salient PM: x = dpsi - j w Ts psi (dtc_predict_salient) */
-        dtc_predict_salient(c, fix_add32(dpa, iq_mpy(wts, *psi_b)), fix_sub32(dpb, iq_mpy(wts, *psi_a)), &ia1, &ib1);
-    }
-    *psi_a = fix_add32(*psi_a, dpa);
-    *psi_b = fix_add32(*psi_b, dpb);
-    *te = torque_eq10(*psi_a, *psi_b, ia1, ib1);
-    clarke_inv(ia1, ib1, &c->i1); /* for the current limit (ilim.h) */
-}
-
-/* The current step of dtc_predict on a salient PM (l_q != l_d). In the rotor frame (angle theta_e)
- * psi_d = l_d i_d + psi_m, psi_q = l_q i_q (flux_est.h; Hoang eqs. 8-9 are its l_d = l_q case).
- * Over one period the stator flux moves by dpsi (Hoang eqs. 6-7) and the frame turns by w Ts, so
- * the rotor-frame flux moves by y = e^{-j theta} x, x = dpsi - j w Ts psi, and y = (l_d di_d,
- * l_q di_q) (psi_m is fixed in that frame); the current turns with the frame: di = e^{j theta}
- * (y_d / l_d, y_q / l_q) + j w Ts i. dtc_predict's surface step (x + j w Ts l_d i) / l_d is that
- * with l_q = l_d; the salient PM adds
- *   di += j e^{j theta} y_q (1/l_q - 1/l_d),  y_q = -x_alpha sin(theta) + x_beta cos(theta).
- * theta_e is the estimator's angle of this step (the encoder's); 1/l_q and 1/l_d are the
- * configuration's (no division here). Formats: IQ pu, Q15 sine and cosine; y_q of two rounded
- * Q15 products (flux_est_park_q), times the IQ difference of the inverses (both in (0, 2^31):
- * the difference cannot wrap) rounded and saturating, projected by two rounded Q15 products and
- * added with saturation (no wrap). */
-void dtc_predict_salient(const dtc_t *c, iq_t xa, iq_t xb, iq_t *ia1, iq_t *ib1)
-{
-    const dtc_pm_machine_cfg_t *m = &c->cfg->u.pm_dtc.machine;
-    const q15_t sn = fix_sin(c->fe.theta_e), cs = fix_cos(c->fe.theta_e);
-    const iq_t k = iq_mpy(fix_sub32(m->inv_lq_iq, m->inv_ls_iq), flux_est_park_q(xa, xb, sn, cs));
-    *ia1 = iq_sub(*ia1, iq_mpy_q15(k, sn));
-    *ib1 = iq_add(*ib1, iq_mpy_q15(k, cs));
+    dtc_predict_end(c, psi_a, psi_b, te, dpa, dpb, ia1, ib1);
 }
 
 /* Ripple-robust polarity (dtc_config.h polarity_mid): the mean current of period [k-1, k],
@@ -517,7 +485,11 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
             c->dt_code = deadtime_code(&c->dt_p, i, &c->legs_2, &c->legs_1); /* the next step's estimator takes it */
             deadtime_apply(&c->dt_p, m->vdc_iq, c->dt_code, &c->v1d_alpha_iq, &c->v1d_beta_iq);
         }
-        dtc_predict(c, i, &psi_a, &psi_b, &te);
+        if (c->fe_p.dl_iq != 0) {
+            dtc_predict_salient(c, i, &psi_a, &psi_b, &te); /* a salient PM: l_q != l_d */
+        } else {
+            dtc_predict(c, i, &psi_a, &psi_b, &te);
+        }
     }
     mag2 = iq_sumsq_q48(psi_a, psi_b);
     sector = cfg->board.topology == DTC_TOPO_FSTP ? sector_fstp(psi_a, psi_b) : sector_sstp(psi_a, psi_b);

@@ -17,16 +17,6 @@ void flux_est_reset(flux_est_t *s)
     s->theta_e = 0U;
 }
 
-/* A salient PM's q-axis excess of the current model (flux_est.h): psi += (l_q - l_d) i_q j e^{j theta_e}.
- * Apart from Hoang eqs. 8-9 so that the surface PM's path keeps its instructions. */
-static void flux_est_cm_salient(flux_est_t *s, const flux_est_in_t *in)
-{
-    const q15_t sn = fix_sin(s->theta_e), cs = fix_cos(s->theta_e);
-    const iq_t t = iq_mpy(s->p->dl_iq, flux_est_park_q(in->i_alpha_iq, in->i_beta_iq, sn, cs));
-    s->psi_alpha_iq = fix_sub32(s->psi_alpha_iq, iq_mpy_q15(t, sn));
-    s->psi_beta_iq = fix_add32(s->psi_beta_iq, iq_mpy_q15(t, cs));
-}
-
 /* Hoang eqs. 8-9 into the state; a salient PM's q-axis term after them. */
 static void flux_est_current_model(flux_est_t *s, const flux_est_in_t *in)
 {

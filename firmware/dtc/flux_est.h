@@ -111,6 +111,9 @@ void flux_est_reset(flux_est_t *s);
 void flux_est_seed(flux_est_t *s, const flux_est_in_t *in);
 /* One 50 us step; the estimate is in s->psi_alpha_iq, s->psi_beta_iq afterwards. */
 void flux_est_step(flux_est_t *s, const flux_est_in_t *in);
+/* The current model's salient-PM term (above; pm_salient.c), added to the state's flux; the current
+ * model calls it after Hoang eqs. 8-9 when dl_iq != 0. */
+void flux_est_cm_salient(flux_est_t *s, const flux_est_in_t *in);
 /* The voltage model's step (Hoang eqs. 15-16) with the resistive drop r_s i (IQ pu, alpha/beta)
  * formed by the caller, for a caller that needs the same product elsewhere in the period
  * (dtc.c: the delay compensation). flux_est_step(s, in) of a voltage-model estimator is

@@ -321,7 +321,8 @@ static void itc_i_pred_salient(const itc_t *c, iq_t da, iq_t db, clarke_out_t *o
     const dtc_pm_machine_cfg_t *m = &c->cfg->u.pm_itc.machine;
     const iq_t wts = iq_mpy(c->speed_iq, c->cfg->board.ts_pu_iq);
     const iq_t e = iq_mpy(wts, iq_mpy(c->fe_p.dl_iq, c->iq_iq));
-    const iq_t yq = fix_sub32(flux_est_park_q(da, db, c->sc.sin_q15, c->sc.cos_q15), iq_mpy(wts, iq_mpy(m->ls_iq, c->id_iq)));
+    const iq_t yq = fix_sub32(flux_est_park_q(da, db, c->sc.sin_q15, c->sc.cos_q15),
+                              iq_mpy(wts, iq_mpy(m->ls_iq, c->id_iq)));
     const iq_t k = iq_mpy(fix_sub32(m->inv_lq_iq, m->inv_ls_iq), yq);
     const iq_t xa = fix_add32(da, iq_mpy_q15(e, c->sc.cos_q15));
     const iq_t xb = fix_add32(db, iq_mpy_q15(e, c->sc.sin_q15));

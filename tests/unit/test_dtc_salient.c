@@ -1,7 +1,7 @@
 /*
  * test_dtc_salient.c - the PM law on a salient machine (l_q != l_d): the current model's q-axis
- * term (flux_est.h) and the actuation-delay prediction's (dtc.c dtc_predict_salient), each against
- * a double-precision reference of the rotor-frame model psi_d = l_d i_d + psi_m, psi_q = l_q i_q
+ * term (flux_est.h) and the actuation-delay prediction (pm_salient.c dtc_predict_salient), each
+ * against a double-precision reference of the rotor-frame model psi_d = l_d i_d + psi_m, psi_q = l_q i_q
  * (Hoang eqs. 8-9 are its l_d = l_q case), and the prediction against the machine itself: the
  * salient machine's stator equations (Hoang eqs. 6-7) integrated over one period.
  *
@@ -89,9 +89,11 @@ static void test_current_model_salient(void **state)
         const double th = 2.0 * DTC_REF_PI * s.theta_e / 65536.0;
         double ra, rb;
         model_flux(ia, ib, th, &ra, &rb);
-        worst = fmax(worst, fmax(fabs(fixtest_iq_to_d(s.psi_alpha_iq) - ra), fabs(fixtest_iq_to_d(s.psi_beta_iq) - rb)));
+        worst = fmax(worst, fmax(fabs(fixtest_iq_to_d(s.psi_alpha_iq) - ra),
+                                 fabs(fixtest_iq_to_d(s.psi_beta_iq) - rb)));
         /* Hoang eqs. 8-9 with l_s = l_d: what the surface model would make of this machine */
-        worst_surface = fmax(worst_surface, fmax(fabs(g_ld * ia + g_psim * cos(th) - ra), fabs(g_ld * ib + g_psim * sin(th) - rb)));
+        worst_surface = fmax(worst_surface, fmax(fabs(g_ld * ia + g_psim * cos(th) - ra),
+                                                 fabs(g_ld * ib + g_psim * sin(th) - rb)));
         bound = fmax(bound, g_sin_err * (g_psim + 3.0 * dl * hypot(ia, ib)) + 8.0 * LSB);
     }
     print_message("salient current model: worst %.3g pu (bound %.3g); Hoang eqs. 8-9 on L_d: %.3g pu\n", worst, bound,
@@ -112,7 +114,8 @@ static void machine_period(double va, double vb, double w, double th0, double *p
         double ka[4], kb[4];
         for (int st = 0; st < 4; st++) {
             const double f = st == 0 ? 0.0 : st == 3 ? 1.0 : 0.5;
-            const double qa = *pa + (st == 0 ? 0.0 : f * h * ka[st - 1]), qb = *pb + (st == 0 ? 0.0 : f * h * kb[st - 1]);
+            const double qa = *pa + (st == 0 ? 0.0 : f * h * ka[st - 1]);
+            const double qb = *pb + (st == 0 ? 0.0 : f * h * kb[st - 1]);
             double ia, ib;
             model_current(qa, qb, th0 + w * (t + f * h), &ia, &ib);
             ka[st] = va - g_rs * ia;
@@ -123,7 +126,7 @@ static void machine_period(double va, double vb, double w, double th0, double *p
     }
 }
 
-/* dtc_predict on the salient machine: against the double of the same first-order step (the
+/* dtc_predict_salient on the salient machine: against the double of the same first-order step (the
  * arithmetic) and against the machine integrated over the period (the physics: the salient step's
  * error is second order in the period, far below the error of the surface step on l_d, which
  * misses the q axis's inductance). */
@@ -154,7 +157,7 @@ static void test_prediction_salient(void **state)
         c->ri_beta_iq = iq_mpy(g_cfg.machine.rs_iq, i.i_beta_iq);
         iq_t psa = fixtest_d_to_iq(pa), psb = fixtest_d_to_iq(pb), te;
         const double psad = fixtest_iq_to_d(psa), psbd = fixtest_iq_to_d(psb);
-        dtc_predict(c, &i, &psa, &psb, &te);
+        dtc_predict_salient(c, &i, &psa, &psb, &te); /* dtc_step calls it in place of dtc_predict */
         const double fa = fixtest_iq_to_d(c->i1.i_alpha_iq), fb = fixtest_iq_to_d(c->i1.i_beta_iq);
 
         /* the first-order step in double (dtc_predict_salient's comment) */
@@ -169,8 +172,8 @@ static void test_prediction_salient(void **state)
         const double sa = iad + (xa + wts * g_ld * ibd) / g_ld, sb = ibd + (xb - wts * g_ld * iad) / g_ld;
         worst_arith = fmax(worst_arith, fmax(fabs(fa - ea), fabs(fb - eb)));
         /* rounded products times 1 / l_d (each inner term within a few LSB), and the sine table's
-         * error on the q-axis projection of x and on its return, both times 1/l_d - 1/l_q */
-        bound = fmax(bound, 16.0 * LSB / g_ld + 2.0 * g_sin_err * (hypot(xa, xb) + fabs(yq)) * (1.0 / g_ld - 1.0 / g_lq));
+         * error on the projections of x into the rotor frame and back, |y| = |x|, times 1 / l_d */
+        bound = fmax(bound, 16.0 * LSB / g_ld + 4.0 * g_sin_err * hypot(xa, xb) / g_ld);
 
         /* the machine over the period from the same state */
         double ma = pa, mb = pb, ta, tb;
