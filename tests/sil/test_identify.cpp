@@ -243,7 +243,10 @@ TEST_F(Identify, DriveRunsOnIdentifiedValuesFromStandstillTo1500RpmUnderFullLoad
 // on the identified ones (identified.toml: ls_h = L_d, lq_h = L_q), as on the surface PM. The law
 // takes L_q where the machine's q axis enters: its actuation-delay prediction (dtc.c
 // dtc_predict_salient) and its current model (flux_est.h). The SSTP (simple compensation) on the
-// identified values of L_q = 2 L_d: no trip, the speed and the torque held.
+// identified values of L_q = 2 L_d: no trip, the speed and the torque held. The ITC law on the FSTP
+// with L_q = 2 L_d (exact values): its current prediction, which the current-sensor plausibility
+// judges the measured current against, and its decoupling take L_q: no trip (on one L_s = L_d it
+// reads a sensor fault within 0.1 s).
 TEST_F(Identify, SalientPmDriveMeetsTheFstpTargetOnIdentifiedLdAndLq)
 {
     const double ld = 3.19e-3;
@@ -270,6 +273,13 @@ TEST_F(Identify, SalientPmDriveMeetsTheFstpTargetOnIdentifiedLdAndLq)
     const std::string lq2 = "motor.lq_h=" + std::to_string(2.0 * ld);
     ASSERT_EQ(identify(kSstp, {lq2}, &err), 0) << err;
     expect_run(run_on_identified(kSstp, {lq2}), false, "SSTP, L_q / L_d = 2, identified values");
+    ASSERT_EQ(cli({"run", kScenarios + "fstp_itc_full.toml", "--set", lq2, "--out", (dir / "itc").string(), "--no-trace",
+                   "-q"},
+                  &err),
+              0)
+        << err;
+    std::ifstream f(dir / "itc" / "metrics.json");
+    expect_run(nlohmann::json::parse(f), false, "ITC, FSTP, L_q / L_d = 2, exact values");
 }
 
 TEST_F(Identify, SweepAppliesTheOverlayToEveryRun)
