@@ -24,7 +24,6 @@
  *                              identified L_q / L_d) when res.salient, else ls_iq (L_q within the
  *                              measurement's accuracy of L_d: a surface PM, the laws' surface path);
  *                              refused (APP_IDENT_APPLY_LS) as L_s.
- *   u.pm_dtc.machine.inv_lq_iq = 2^48 / lq_iq rounded to nearest (1 / L_q).
  *   u.pm_dtc.machine.psi_m_iq = res.psi_iq (pu of V_b / w_b, the row's own base): exact.
  *   machine.pole_pairs       = res.pole_pairs.
  *   board.enc_gain_q16       = p 2^32 / enc_counts rounded to nearest (electrical angle_t LSB per
@@ -311,13 +310,12 @@ static int16_t derive_pm(const app_ident_t *d, const dtc_config_t *in, dtc_confi
     inv = div_round((int64_t)1 << 48, ls);
     out->u.pm_dtc.machine.ls_iq = (iq_t)ls;
     out->u.pm_dtc.machine.inv_ls_iq = fix_sat32(inv);
-    /* L_q and 1 / L_q (ls < 2^31, lq_q12 < 2^16: the product within 47 bits) */
+    /* L_q (ls < 2^31, lq_q12 < 2^16: the product within 47 bits); the law forms 1 / L_q at init */
     lq = d->res.salient != 0U ? (ls * (int64_t)d->res.lq_q12 + 2048) >> 12 : ls;
     if (lq < ((int64_t)1 << 17) || lq > (int64_t)0x7FFFFFFF) {
         return (int16_t)APP_IDENT_APPLY_LS;
     }
     out->u.pm_dtc.machine.lq_iq = (iq_t)lq;
-    out->u.pm_dtc.machine.inv_lq_iq = lq == ls ? fix_sat32(inv) : fix_sat32(div_round((int64_t)1 << 48, lq));
     out->u.pm_dtc.machine.psi_m_iq = d->res.psi_iq;
     /* the encoder's offset: read as N - 1 - count when the count was found running down */
     out->board.enc_offset = (angle_t)(d->res.enc_offset +

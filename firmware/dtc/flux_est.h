@@ -68,6 +68,7 @@ typedef struct {
     uint32_t enc_gain_q16; /* angle_t LSB per count, unsigned Q16 */
     angle_t enc_offset;
     iq_t dl_iq;            /* l_q - l_d (l_s), pu: 0 on a surface PM */
+    iq_t inv_lq_iq;        /* 1 / l_q, pu (the salient PM laws' predictions; formed at init) */
 } flux_est_params_t;
 
 typedef struct {

@@ -323,7 +323,7 @@ static void itc_i_pred_salient(const itc_t *c, iq_t da, iq_t db, clarke_out_t *o
     const iq_t e = iq_mpy(wts, iq_mpy(c->fe_p.dl_iq, c->iq_iq));
     const iq_t yq = fix_sub32(flux_est_park_q(da, db, c->sc.sin_q15, c->sc.cos_q15),
                               iq_mpy(wts, iq_mpy(m->ls_iq, c->id_iq)));
-    const iq_t k = iq_mpy(fix_sub32(m->inv_lq_iq, m->inv_ls_iq), yq);
+    const iq_t k = iq_mpy(fix_sub32(c->fe_p.inv_lq_iq, m->inv_ls_iq), yq);
     const iq_t xa = fix_add32(da, iq_mpy_q15(e, c->sc.cos_q15));
     const iq_t xb = fix_add32(db, iq_mpy_q15(e, c->sc.sin_q15));
     clarke_inv(fix_sub32(iq_add(c->i_alpha_iq, iq_mpy(m->inv_ls_iq, xa)), iq_mpy_q15(k, c->sc.sin_q15)),

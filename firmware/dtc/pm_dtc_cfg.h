@@ -18,8 +18,8 @@ typedef struct {
     iq_t ls_iq;     /* synchronous inductance l_s; of a salient PM its d-axis inductance l_d */
     iq_t psi_m_iq;  /* magnet flux linkage psi_m */
     iq_t inv_ls_iq; /* 1 / l_s (> 0; precomputed: no division in the ISR) */
-    iq_t lq_iq;     /* quadrature-axis inductance l_q (= ls_iq on a surface PM) */
-    iq_t inv_lq_iq; /* 1 / l_q (> 0; precomputed: no division in the ISR) */
+    iq_t lq_iq;     /* quadrature-axis inductance l_q (= ls_iq on a surface PM; >= 1/128 pu: 1/l_q,
+                     * formed at init, flux_est_params_t, within IQ) */
 } dtc_pm_machine_cfg_t;
 
 /* The PM law's estimator settings beside the common ones (dtc_est_cfg_t); the flags first (the
@@ -105,9 +105,7 @@ typedef struct {
     X(116, u.pm_dtc.machine.psi_m_iq, IQ, PSI, 1, DTC_I32_MAX, DTC_ERR_MACHINE, 0U, "magnet flux linkage psi_m") \
     X(117, u.pm_dtc.machine.inv_ls_iq, IQ, INV_L, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO | DTC_PARAM_STORED, \
       "1 / L_s")                                                                                              \
-    X(118, u.pm_dtc.machine.lq_iq, IQ, L, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO | DTC_PARAM_STORED,     \
-      "quadrature-axis inductance L_q, = L_s on a surface PM (1/L_q is derived with it)")                     \
-    X(119, u.pm_dtc.machine.inv_lq_iq, IQ, INV_L, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO | DTC_PARAM_STORED, \
-      "1 / L_q")
+    X(118, u.pm_dtc.machine.lq_iq, IQ, L, 131072L, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO | DTC_PARAM_STORED, \
+      "quadrature-axis inductance L_q, = L_s on a surface PM; 1/L_q is formed at init")
 
 #endif /* PM_DTC_CFG_H */

@@ -25,8 +25,8 @@ void flux_est_cm_salient(flux_est_t *s, const flux_est_in_t *in)
  * (psi_m is fixed in that frame); the current turns with the frame:
  *   i(k+1) = i + e^{j theta} (y_d / l_d, y_q / l_q) + j w Ts i.
  * dtc_predict's surface step i + (x + j w Ts l_s i) / l_s is this with l_q = l_d = l_s. theta_e is
- * the estimator's angle of this step (the encoder's); 1/l_d, 1/l_q are the configuration's (no
- * division here). Formats: IQ pu, Q15 sine and cosine; y of rounded Q15 projections, its two
+ * the estimator's angle of this step (the encoder's); 1/l_d is the configuration's, 1/l_q formed at
+ * init (dtc_init.c; no division here). Formats: IQ pu, Q15 sine and cosine; y of rounded Q15 projections, its two
  * components times the IQ inverses and projected back (rounded products, saturating sums: no wrap
  * for any input; the sine table's error, a few Q15 LSB, on |x| / l_d). dtc_step calls it in place
  * of dtc_predict when dl_iq != 0. */
@@ -41,7 +41,7 @@ void dtc_predict_salient(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi
     xa = fix_add32(dpa, iq_mpy(wts, *psi_b)); /* x = dpsi - j w Ts psi */
     xb = fix_sub32(dpb, iq_mpy(wts, *psi_a));
     dd = iq_mpy(m->inv_ls_iq, fix_add32(iq_mpy_q15(xa, cs), iq_mpy_q15(xb, sn))); /* y_d / l_d */
-    dq = iq_mpy(m->inv_lq_iq, flux_est_park_q(xa, xb, sn, cs));                   /* y_q / l_q */
+    dq = iq_mpy(c->fe_p.inv_lq_iq, flux_est_park_q(xa, xb, sn, cs));                   /* y_q / l_q */
     /* i + e^{j theta} (dd, dq) + j w Ts i */
     ia1 = fix_add32(i->i_alpha_iq, fix_sub32(iq_mpy_q15(dd, cs), iq_mpy_q15(dq, sn)));
     ib1 = fix_add32(i->i_beta_iq, fix_add32(iq_mpy_q15(dd, sn), iq_mpy_q15(dq, cs)));

@@ -218,8 +218,8 @@ TEST(Scenario, SalientPmKeys)
 // The firmware's L_q (firmware.lq_h, converter member lq_h): not given, the plant's (as every
 // firmware.* key); with the firmware's own L_d (firmware.ls_h) and no L_q, a surface PM's (0: the
 // converter takes ls_h), so that no plant value joins what the firmware was told; given, its own.
-// The converter writes L_q and 1/L_q into the PM law's rows; a surface PM's L_q row is its L_s row
-// bit for bit (the laws' surface path).
+// The converter writes L_q into the PM law's row; a surface PM's L_q row is its L_s row bit for bit
+// (the laws' surface path).
 TEST(Scenario, FirmwareLqFollowsThePlantOrTheFirmwaresOwnLd)
 {
     Scenario s;
@@ -238,13 +238,10 @@ TEST(Scenario, FirmwareLqFollowsThePlantOrTheFirmwaresOwnLd)
     const dtc_config_si_t surface = firmware_si_config(s);
     ASSERT_EQ(dtc_config_from_si(&surface, &cfg, nullptr, 0), DTC_SI_OK);
     EXPECT_EQ(cfg.u.pm_dtc.machine.lq_iq, cfg.u.pm_dtc.machine.ls_iq);
-    EXPECT_EQ(cfg.u.pm_dtc.machine.inv_lq_iq, cfg.u.pm_dtc.machine.inv_ls_iq);
     ASSERT_EQ(errors_of("[motor]\nls_h = 3.19e-3\nlq_h = 6.38e-3\n", {}, &s), "");
     const dtc_config_si_t si = firmware_si_config(s);
     ASSERT_EQ(dtc_config_from_si(&si, &cfg, nullptr, 0), DTC_SI_OK);
     EXPECT_NEAR(static_cast<double>(cfg.u.pm_dtc.machine.lq_iq) / cfg.u.pm_dtc.machine.ls_iq, 2.0, 1e-6);
-    EXPECT_NEAR(static_cast<double>(cfg.u.pm_dtc.machine.inv_lq_iq) * cfg.u.pm_dtc.machine.lq_iq / 281474976710656.0,
-                1.0, 1e-6); // 2^48: 1/L_q in IQ times L_q in IQ
 }
 
 TEST(Scenario, ImpossibleNumbersNameKeyAndLine)

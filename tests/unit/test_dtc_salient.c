@@ -134,6 +134,8 @@ static void test_prediction_salient(void **state)
 {
     (void)state;
     dtc_t *const c = &g_c;
+    /* 1/l_q as dtc_init formed it (Newton steps: a few IQ LSB of the reciprocal) */
+    assert_true(fabs(fixtest_iq_to_d(c->fe_p.inv_lq_iq) - 1.0 / g_lq) <= 4.0 * LSB);
     double worst_arith = 0.0, bound = 0.0, e_sal = 0.0, e_surf = 0.0;
     for (int k = 0; k < 500; k++) {
         const double th = 2.0 * DTC_REF_PI * k / 500.0 * 7.0;
@@ -166,7 +168,7 @@ static void test_prediction_salient(void **state)
         const double xa = dpa + wts * psbd, xb = dpb - wts * psad;
         const double cs = cos(thq), sn = sin(thq);
         const double yd = xa * cs + xb * sn, yq = -xa * sn + xb * cs;
-        const double ea = iad + (yd / g_ld) * cs - (yq / g_lq) * sn - wts * ibd;
+        const double ea = iad + (yd / g_ld) * cs - (yq / g_lq) * sn - wts * ibd; /* exact 1/l_q */
         const double eb = ibd + (yd / g_ld) * sn + (yq / g_lq) * cs + wts * iad;
         /* the surface step on l_d (Hoang eqs. 6-9 with l_s = l_d) */
         const double sa = iad + (xa + wts * g_ld * ibd) / g_ld, sb = ibd + (xb - wts * g_ld * iad) / g_ld;

@@ -141,7 +141,6 @@ void dtc_si_pm_dtc_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dt
     cfg->u.pm_dtc.machine.psi_m_iq = dtc_si_to_iq(c, "psi_m_wb", si->psi_m_wb, si->psi_m_wb / b->psi_base_wb);
     cfg->u.pm_dtc.machine.inv_ls_iq = dtc_si_to_iq(c, "ls_h (1/l_s)", si->ls_h, b->l_base_h / si->ls_h);
     cfg->u.pm_dtc.machine.lq_iq = dtc_si_to_iq(c, "lq_h", dtc_pm_lq_h(si), dtc_pm_lq_h(si) / b->l_base_h);
-    cfg->u.pm_dtc.machine.inv_lq_iq = dtc_si_to_iq(c, "lq_h (1/l_q)", dtc_pm_lq_h(si), b->l_base_h / dtc_pm_lq_h(si));
     {
         double h_rpm = si->handover_auto != 0 ? dtc_handover_default_rpm(si) : si->handover_speed_rpm;
         double h_pu = h_rpm * M_PI / 30.0 * si->pole_pairs / b->w_base_rad_s;

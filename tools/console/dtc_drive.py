@@ -63,7 +63,7 @@ APPLY_ERR = {v: k.lower() for k, v in _enum(_IDENT, "APP_IDENT_APPLY_", "app_ide
 _IDENT_APPLY_COMMON = ["machine.rs_iq", "machine.pole_pairs", "board.enc_gain_q16", "board.enc_reversed",
                        "board.td_ts_q15", "speed.kp_iq", "speed.ki_ts_iq", "prot.enc_freeze_speed_iq"]
 IDENT_APPLY_ROWS = _IDENT_APPLY_COMMON + ["u.pm_dtc.machine.ls_iq", "u.pm_dtc.machine.inv_ls_iq",
-                                          "u.pm_dtc.machine.lq_iq", "u.pm_dtc.machine.inv_lq_iq",
+                                          "u.pm_dtc.machine.lq_iq",
                                           "u.pm_dtc.machine.psi_m_iq", "board.enc_offset"]
 IDENT_APPLY_ROWS_IM = _IDENT_APPLY_COMMON + [
     "u.im.machine.rr_iq", "u.im.machine.sigma_ls_iq", "u.im.machine.sigma_lr_iq", "u.im.machine.kr_iq",
