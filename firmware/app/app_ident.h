@@ -313,7 +313,7 @@ enum app_ident_apply_err {
                                    * configuration other than the PM DTC law, an induction machine's
                                    * on one other than an IM law (or the law not in the image) */
     APP_IDENT_APPLY_RS = 4,       /* the R line's slope not above the board's R_on: R_s <= 0 */
-    APP_IDENT_APPLY_LS = 5,       /* L_s below 1/128 pu (1 / L_s beyond IQ) or above the IQ range */
+    APP_IDENT_APPLY_LS = 5,       /* L_s (or L_q) below 1/128 pu (1 / L beyond IQ) or above the IQ range */
     APP_IDENT_APPLY_ENCODER = 6,  /* the encoder gain p 2^32 / enc_counts beyond its row */
     APP_IDENT_APPLY_DEADTIME = 7, /* the dead time from V_0 at or above half a period, or no V_dc */
     APP_IDENT_APPLY_CHECK = 8,    /* the law's check (law_check) refused the copy (detail: its

@@ -20,6 +20,10 @@
  *                              IQ x IQ in 64 bits (< 2^55), rounded to nearest.
  *   u.pm_dtc.machine.inv_ls_iq = 2^48 / ls_iq rounded to nearest (1 / L_s, IQ); refused below
  *                              ls = 1/128 pu (1 / L_s above the IQ range).
+ *   u.pm_dtc.machine.lq_iq   = ls_iq x res.lq_q12 / 2^12 rounded to nearest (L_q = L_d times the
+ *                              identified L_q / L_d) when res.salient, else ls_iq (L_q within the
+ *                              measurement's accuracy of L_d: a surface PM, the laws' surface path);
+ *                              refused (APP_IDENT_APPLY_LS) as L_s.
  *   u.pm_dtc.machine.psi_m_iq = res.psi_iq (pu of V_b / w_b, the row's own base): exact.
  *   machine.pole_pairs       = res.pole_pairs.
  *   board.enc_gain_q16       = p 2^32 / enc_counts rounded to nearest (electrical angle_t LSB per
@@ -293,7 +297,7 @@ static int64_t l_pu(iq_t l_ts_iq, const dtc_config_t *in)
 /* The PM's rows (the file comment). */
 static int16_t derive_pm(const app_ident_t *d, const dtc_config_t *in, dtc_config_t *out)
 {
-    int64_t ls, inv, gain = 0;
+    int64_t ls, inv, lq, gain = 0;
     const int16_t rc = derive_common(d, in, out, &gain);
     if (rc != (int16_t)APP_IDENT_APPLY_OK) {
         return rc;
@@ -306,6 +310,12 @@ static int16_t derive_pm(const app_ident_t *d, const dtc_config_t *in, dtc_confi
     inv = div_round((int64_t)1 << 48, ls);
     out->u.pm_dtc.machine.ls_iq = (iq_t)ls;
     out->u.pm_dtc.machine.inv_ls_iq = fix_sat32(inv);
+    /* L_q (ls < 2^31, lq_q12 < 2^16: the product within 47 bits); the law forms 1 / L_q at init */
+    lq = d->res.salient != 0U ? (ls * (int64_t)d->res.lq_q12 + 2048) >> 12 : ls;
+    if (lq < ((int64_t)1 << 17) || lq > (int64_t)0x7FFFFFFF) {
+        return (int16_t)APP_IDENT_APPLY_LS;
+    }
+    out->u.pm_dtc.machine.lq_iq = (iq_t)lq;
     out->u.pm_dtc.machine.psi_m_iq = d->res.psi_iq;
     /* the encoder's offset: read as N - 1 - count when the count was found running down */
     out->board.enc_offset = (angle_t)(d->res.enc_offset +

@@ -253,7 +253,8 @@ void dtc_handover(dtc_t *c)
  *   current (PM machine, Hoang eqs. 6-9 with L_d = L_q: psi = l_s i + psi_r, the rotor flux
  *   psi_r = psi_m e^{j theta} turning at w): psi_r = psi - l_s i, dpsi_r = w Ts j psi_r,
  *   i(k+1) = i + (dpsi - dpsi_r) / l_s;
- *   torque (Hoang eq. 10) of psi(k+1), i(k+1).
+ *   torque (Hoang eq. 10) of psi(k+1), i(k+1);
+ *   a salient PM (l_q != l_d, l_s = l_d): the rotor-frame step of dtc_predict_salient.
  * w is the measured electrical speed (speed-loop rate; it changes little within 500 us).
  * dtc_step reconstructs v(legs_1) into c->v1_* and the drop (c->v1f_*) and dead-time (c->v1d_*)
  * compensations in force, and forms r_s i (c->ri_*) once for the estimator and this prediction;
@@ -269,10 +270,7 @@ static inline void dtc_predict_in(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, 
     const iq_t wts = c->wts_iq; /* w Ts: at the speed-loop rate, as w (dtc_step) */
     iq_t dpa, dpb, ia1, ib1;
 
-    dpa = fix_add32(fix_add32(c->v1_alpha_iq, c->v1f_alpha_iq), c->v1d_alpha_iq);
-    dpb = fix_add32(fix_add32(c->v1_beta_iq, c->v1f_beta_iq), c->v1d_beta_iq);
-    dpa = iq_mpy(cfg->board.ts_pu_iq, iq_sub(dpa, c->ri_alpha_iq));
-    dpb = iq_mpy(cfg->board.ts_pu_iq, iq_sub(dpb, c->ri_beta_iq));
+    dtc_predict_dpsi(c, &dpa, &dpb);
     /* psi_r = psi - l_s i;  j psi_r w Ts = (-w Ts psi_rb, w Ts psi_ra) */
     ia1 = iq_add(i->i_alpha_iq,
                  iq_mpy(cfg->u.pm_dtc.machine.inv_ls_iq,
@@ -280,10 +278,7 @@ static inline void dtc_predict_in(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, 
     ib1 = iq_add(i->i_beta_iq,
                  iq_mpy(cfg->u.pm_dtc.machine.inv_ls_iq,
                         iq_sub(dpb, iq_mpy(wts, iq_sub(*psi_a, iq_mpy(cfg->u.pm_dtc.machine.ls_iq, i->i_alpha_iq))))));
-    *psi_a = fix_add32(*psi_a, dpa);
-    *psi_b = fix_add32(*psi_b, dpb);
-    *te = torque_eq10(*psi_a, *psi_b, ia1, ib1);
-    clarke_inv(ia1, ib1, &c->i1); /* for the current limit (ilim.h) */
+    dtc_predict_end(c, psi_a, psi_b, te, dpa, dpb, ia1, ib1);
 }
 
 /* dtc_predict_in, external (dtc_internal.h). dtc_step takes the inline body where the compiler
@@ -499,7 +494,11 @@ void dtc_step(dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
             c->dt_code = deadtime_code(&c->dt_p, i, &c->legs_2, &c->legs_1); /* the next step's estimator takes it */
             deadtime_apply(&c->dt_p, m->vdc_iq, c->dt_code, &c->v1d_alpha_iq, &c->v1d_beta_iq);
         }
-        dtc_predict_in(c, i, &psi_a, &psi_b, &te);
+        if (c->fe_p.dl_iq != 0) {
+            dtc_predict_salient(c, i, &psi_a, &psi_b, &te); /* a salient PM: l_q != l_d */
+        } else {
+            dtc_predict_in(c, i, &psi_a, &psi_b, &te);
+        }
     }
     mag2 = iq_sumsq_q48(psi_a, psi_b);
     sector = cfg->board.topology == DTC_TOPO_FSTP ? sector_fstp(psi_a, psi_b) : sector_sstp(psi_a, psi_b);

@@ -18,9 +18,30 @@
 /* Used by dtc_step() (ISR side): adopts the shadow set whose (even) sequence number is seq.
  * Not for the background. */
 void dtc_shadow_adopt(dtc_t *c, uint16_t seq);
+/* dtc_predict's flux step over the period, dpsi = Ts (v(legs_1) + v_f - r_s i) (formats there). */
+static inline void dtc_predict_dpsi(const dtc_t *c, iq_t *dpa, iq_t *dpb)
+{
+    const iq_t va = fix_add32(fix_add32(c->v1_alpha_iq, c->v1f_alpha_iq), c->v1d_alpha_iq);
+    const iq_t vb = fix_add32(fix_add32(c->v1_beta_iq, c->v1f_beta_iq), c->v1d_beta_iq);
+    *dpa = iq_mpy(c->cfg->board.ts_pu_iq, iq_sub(va, c->ri_alpha_iq));
+    *dpb = iq_mpy(c->cfg->board.ts_pu_iq, iq_sub(vb, c->ri_beta_iq));
+}
+
+/* dtc_predict's end: the flux and torque at k+1 (Hoang eq. 10) and the current for the limit. */
+static inline void dtc_predict_end(dtc_t *c, iq_t *psi_a, iq_t *psi_b, iq_t *te, iq_t dpa, iq_t dpb, iq_t ia1,
+                                   iq_t ib1)
+{
+    *psi_a = fix_add32(*psi_a, dpa);
+    *psi_b = fix_add32(*psi_b, dpb);
+    *te = torque_eq10(*psi_a, *psi_b, ia1, ib1);
+    clarke_inv(ia1, ib1, &c->i1); /* for the current limit (ilim.h) */
+}
+
 /* Internal to dtc_step (actuation-delay compensation); out of line for the stack. On entry
  * *psi_a, *psi_b, *te hold the estimate at k; on return the prediction for k+1; the predicted current goes to c->i1_*. */
 void dtc_predict(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t *te);
+/* dtc_predict on a salient PM (l_q != l_d; pm_salient.c): the same contract. */
+void dtc_predict_salient(dtc_t *c, const clarke_out_t *i, iq_t *psi_a, iq_t *psi_b, iq_t *te);
 /* Internal to dtc_step (ripple-robust polarity: the period-mean current into c->i_mid); out of line
  * for the stack (inlined, its saturating sums widen dtc_step's frame on the deepest chain). */
 void dtc_pol_mid(dtc_t *c, const clarke_out_t *i);

@@ -16,7 +16,7 @@ void flux_est_reset(flux_est_t *s)
     s->theta_e = 0U;
 }
 
-/* Hoang eqs. 8-9 into the state. */
+/* Hoang eqs. 8-9 into the state; a salient PM's q-axis term after them. */
 static void flux_est_current_model(flux_est_t *s, const flux_est_in_t *in)
 {
     const flux_est_params_t *p = s->p;
@@ -24,6 +24,9 @@ static void flux_est_current_model(flux_est_t *s, const flux_est_in_t *in)
                                 iq_mpy_q15(p->psi_m_iq, fix_cos(s->theta_e)));
     s->psi_beta_iq = fix_add32(iq_mpy(p->ls_iq, in->i_beta_iq),
                                iq_mpy_q15(p->psi_m_iq, fix_sin(s->theta_e)));
+    if (p->dl_iq != 0) {
+        flux_est_cm_salient(s, in);
+    }
 }
 
 void flux_est_seed(flux_est_t *s, const flux_est_in_t *in)

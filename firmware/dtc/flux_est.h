@@ -33,6 +33,13 @@
  * Current model (Hoang eqs. 8-9), surface PM (L_d = L_q = L_s):
  *     psi_alpha = l_s i_alpha + psi_m cos(theta_e),  psi_beta = l_s i_beta + psi_m sin(theta_e)
  *   theta_e from the encoder count: theta_e = count * enc_gain + enc_offset (angle_t).
+ *   A salient PM (l_q != l_d; dl = l_q - l_d) has in the rotor frame psi_d = l_d i_d + psi_m,
+ *   psi_q = l_q i_q (the rotor-frame model of which Hoang eqs. 8-9 are the l_d = l_q case);
+ *   turned by theta_e into the stationary frame that is Hoang eqs. 8-9 with l_s = l_d plus the
+ *   q axis's excess dl i_q along j e^{j theta_e}:
+ *     psi_alpha += -dl i_q sin(theta_e),  psi_beta += dl i_q cos(theta_e),
+ *     i_q = -i_alpha sin(theta_e) + i_beta cos(theta_e) (the Park transform's q axis).
+ *   dl = 0 (a surface PM) skips it: the surface PM's flux is bit for bit Hoang eqs. 8-9.
  *
  * Formats: v, i, psi IQ pu; k_in, k_leak Q31 in (0, 1); theta angle_t.
  * Scaling and overflow: voltage model: k_in*e - k_leak*psi is accumulated in 64 bits (each
@@ -40,7 +47,9 @@
  * state saturates at +-128 pu and never wraps. The correction e (1 - j r) is two rounded products
  * and saturated sums (iq_cmul_1jx); |r| <= 1/2 (the host's speed floor) keeps it within 1.12 |e|.
  * Current model: two rounded IQ products (<= 0.5 LSB each) and fix_sin/fix_cos (<= 2 Q15 LSB),
- * summed with saturation.
+ * summed with saturation; the salient term: i_q of two rounded Q15 products (<= 1 LSB, |i_q| <=
+ * |i|), dl i_q one rounded IQ product, its projections two rounded Q15 products, added with
+ * saturation (no wrap for any input).
  */
 #ifndef FLUX_EST_H
 #define FLUX_EST_H
@@ -59,6 +68,8 @@ typedef struct {
     iq_t psi_m_iq;
     uint32_t enc_gain_q16; /* angle_t LSB per count, unsigned Q16 */
     angle_t enc_offset;
+    iq_t dl_iq;            /* l_q - l_d (l_s), pu: 0 on a surface PM */
+    iq_t inv_lq_iq;        /* 1 / l_q, pu (the salient PM laws' predictions; formed at init) */
 } flux_est_params_t;
 
 typedef struct {
@@ -102,6 +113,9 @@ void flux_est_reset(flux_est_t *s);
 void flux_est_seed(flux_est_t *s, const flux_est_in_t *in);
 /* One 50 us step; the estimate is in s->psi_alpha_iq, s->psi_beta_iq afterwards. */
 void flux_est_step(flux_est_t *s, const flux_est_in_t *in);
+/* The current model's salient-PM term (above; pm_salient.c), added to the state's flux; the current
+ * model calls it after Hoang eqs. 8-9 when dl_iq != 0. */
+void flux_est_cm_salient(flux_est_t *s, const flux_est_in_t *in);
 /* The voltage model's step (Hoang eqs. 15-16) with the resistive drop r_s i (IQ pu, alpha/beta)
  * formed by the caller, for a caller that needs the same product elsewhere in the period
  * (dtc.c: the delay compensation). flux_est_step(s, in) of a voltage-model estimator is
@@ -109,6 +123,15 @@ void flux_est_step(flux_est_t *s, const flux_est_in_t *in);
  * flux_est_angle and flux_est_lpf below): the PM laws' 50 us path, where the call and its
  * arguments through memory cost a fifth of the step's own work. */
 static inline void flux_est_vm_step(flux_est_t *s, const flux_est_in_t *in, iq_t ri_alpha_iq, iq_t ri_beta_iq);
+
+/* The q-axis component of the stationary-frame vector (x_alpha, x_beta) at the angle whose Q15
+ * sine and cosine are sn, cs (the Park transform's q axis): -x_alpha sin + x_beta cos. IQ; two
+ * rounded Q15 products (<= 1 LSB), saturating difference. Inline: the salient current model and
+ * the PM law's salient prediction (dtc.c) take the same projection. */
+static inline iq_t flux_est_park_q(iq_t x_alpha_iq, iq_t x_beta_iq, q15_t sn, q15_t cs)
+{
+    return fix_sub32(iq_mpy_q15(x_beta_iq, cs), iq_mpy_q15(x_alpha_iq, sn));
+}
 
 /* Encoder count -> electrical angle (modulo one turn by design): bits 16-31 of the product of
  * the count and the Q16 gain, truncated; the error is < 1 angle LSB + count * 0.5/65536 LSB.

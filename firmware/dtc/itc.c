@@ -84,6 +84,7 @@ void itc_reset(itc_t *c)
     c->te_ref_iq = c->act.mode == DTC_MODE_TORQUE ? c->act.torque_ref_iq : 0;
     c->speed_iq = 0;
     c->wls_iq = 0;
+    c->wlq_iq = 0;
     c->wpsi_iq = 0;
     c->wpsi_ts_iq = 0;
     c->adv_iq = 0;
@@ -177,6 +178,7 @@ void itc_speed(itc_t *c, const dtc_meas_t *m)
     c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
     /* the speed's products of the step (itc_step): w l_s, w psi_m, 1.5 w Ts */
     c->wls_iq = iq_mpy(c->speed_iq, cfg->u.pm_itc.machine.ls_iq);
+    c->wlq_iq = iq_mpy(c->speed_iq, cfg->u.pm_itc.machine.lq_iq);
     c->wpsi_iq = iq_mpy(c->speed_iq, cfg->u.pm_itc.machine.psi_m_iq);
     c->wpsi_ts_iq = iq_mpy(c->wpsi_iq, cfg->board.ts_pu_iq); /* itc_i_pred's back-EMF step */
     c->adv_iq = iq_mpy(c->speed_iq, c->ts15_iq);
@@ -211,7 +213,9 @@ void itc_cc_in(itc_t *c, const dtc_meas_t *m, iq_t vlo_iq)
     }
     in->meas_d_iq = c->id_iq;
     in->meas_q_iq = c->iq_iq;
-    in->ff_d_iq = fix_neg32(iq_mpy(c->wls_iq, c->iq_iq));
+    /* the rotor-frame EMF: v_d = -w l_q i_q, v_q = w l_d i_d + w psi_m (psi_d = l_d i_d + psi_m,
+     * psi_q = l_q i_q: flux_est.h; l_q = l_d on a surface PM) */
+    in->ff_d_iq = fix_neg32(iq_mpy(c->wlq_iq, c->iq_iq));
     in->ff_q_iq = iq_add(iq_mpy(c->wls_iq, c->id_iq), c->wpsi_iq);
     if (cfg->board.topology == (uint16_t)DTC_TOPO_FSTP) {
         const iq_t hi = iq_sub(m->vdc_iq, vlo_iq);
@@ -304,6 +308,28 @@ void itc_step(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     o->i_limited = 0U; /* the voltage limit is dqpi's (v.limited), not the current limit's */
 }
 
+/* itc_i_pred on a salient PM (l_q != l_d; l_s = l_d). With psi = l_d i + dl i_q j e^{j theta} +
+ * psi_m e^{j theta} (flux_est.h) in dtc.c dtc_predict_salient's step, x = dpsi - j w Ts psi and
+ * (da, db) = dpsi - j w Ts psi_m e^{j theta}:
+ *   x + j w Ts l_d i = (da, db) + w Ts dl i_q e^{j theta},
+ *   y_q = Im(e^{-j theta} x) = (da, db)_q - w Ts l_d i_d,
+ *   i(k+1) = i + (x + j w Ts l_d i) / l_d + j e^{j theta} y_q (1/l_q - 1/l_d).
+ * i_d, i_q and the angle's sine and cosine are the step's (itc_cc_in); w Ts from the speed-loop
+ * rate's w. Formats: IQ pu, Q15 sine and cosine; rounded products, saturating sums (no wrap). */
+static void itc_i_pred_salient(const itc_t *c, iq_t da, iq_t db, clarke_out_t *o)
+{
+    const dtc_pm_machine_cfg_t *m = &c->cfg->u.pm_itc.machine;
+    const iq_t wts = iq_mpy(c->speed_iq, c->cfg->board.ts_pu_iq);
+    const iq_t e = iq_mpy(wts, iq_mpy(c->fe_p.dl_iq, c->iq_iq));
+    const iq_t yq = fix_sub32(flux_est_park_q(da, db, c->sc.sin_q15, c->sc.cos_q15),
+                              iq_mpy(wts, iq_mpy(m->ls_iq, c->id_iq)));
+    const iq_t k = iq_mpy(fix_sub32(c->fe_p.inv_lq_iq, m->inv_ls_iq), yq);
+    const iq_t xa = fix_add32(da, iq_mpy_q15(e, c->sc.cos_q15));
+    const iq_t xb = fix_add32(db, iq_mpy_q15(e, c->sc.sin_q15));
+    clarke_inv(fix_sub32(iq_add(c->i_alpha_iq, iq_mpy(m->inv_ls_iq, xa)), iq_mpy_q15(k, c->sc.sin_q15)),
+               fix_add32(iq_add(c->i_beta_iq, iq_mpy(m->inv_ls_iq, xb)), iq_mpy_q15(k, c->sc.cos_q15)), o);
+}
+
 void itc_i_pred(const itc_t *c, iq_t i1[3])
 {
     const dtc_config_t *cfg = c->cfg;
@@ -316,7 +342,11 @@ void itc_i_pred(const itc_t *c, iq_t i1[3])
     const iq_t db = fix_sub32(iq_mpy(ts, iq_sub(c->v2_beta_iq, iq_mpy(cfg->machine.rs_iq, c->i_beta_iq))),
                               iq_mpy_q15(ets, c->sc.cos_q15));
     clarke_out_t o;
-    clarke_inv(iq_add(c->i_alpha_iq, iq_mpy(inv_ls, da)), iq_add(c->i_beta_iq, iq_mpy(inv_ls, db)), &o);
+    if (c->fe_p.dl_iq != 0) {
+        itc_i_pred_salient(c, da, db, &o);
+    } else {
+        clarke_inv(iq_add(c->i_alpha_iq, iq_mpy(inv_ls, da)), iq_add(c->i_beta_iq, iq_mpy(inv_ls, db)), &o);
+    }
     i1[0] = o.ia_iq;
     i1[1] = o.ib_iq;
     i1[2] = o.ic_iq;

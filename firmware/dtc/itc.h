@@ -98,7 +98,8 @@ typedef struct {
     iq_t te_ref_iq;
     iq_t te_trim_iq; /* dtc_refs_adopt's trim (ITC maps T* onto i_q* exactly: never used) */
     iq_t speed_iq;
-    iq_t wls_iq, wpsi_iq, adv_iq; /* w l_s, w psi_m, 1.5 w Ts: at the speed-loop rate */
+    iq_t wls_iq, wpsi_iq, adv_iq; /* w l_s (l_d), w psi_m, 1.5 w Ts: at the speed-loop rate */
+    iq_t wlq_iq;                  /* w l_q (= w l_s on a surface PM), at the speed-loop rate */
     iq_t wpsi_ts_iq;              /* w psi_m Ts (itc_i_pred), at the speed-loop rate */
     /* the voltage of the duties returned by the previous step (acting now) and by the one before
      * (acting over the period just ended: the observer's input), alpha/beta, and their effective

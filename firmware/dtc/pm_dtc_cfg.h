@@ -11,11 +11,15 @@
 
 #include "dtc_config_common.h"
 
-/* PM machine (Hoang Table VIII), pu. */
+/* PM machine (Hoang Table VIII), pu. A salient PM has the rotor-frame inductances L_d (ls_iq) and
+ * L_q (lq_iq); a surface PM L_q = L_d (Hoang eqs. 8-9), which the laws take as their unchanged
+ * surface-PM path (flux_est.h, dtc.c dtc_predict). */
 typedef struct {
-    iq_t ls_iq;     /* synchronous inductance l_s (surface PM: L_d = L_q) */
+    iq_t ls_iq;     /* synchronous inductance l_s; of a salient PM its d-axis inductance l_d */
     iq_t psi_m_iq;  /* magnet flux linkage psi_m */
     iq_t inv_ls_iq; /* 1 / l_s (> 0; precomputed: no division in the ISR) */
+    iq_t lq_iq;     /* quadrature-axis inductance l_q (= ls_iq on a surface PM; >= 1/128 pu: 1/l_q,
+                     * formed at init, flux_est_params_t, within IQ) */
 } dtc_pm_machine_cfg_t;
 
 /* The PM law's estimator settings beside the common ones (dtc_est_cfg_t); the flags first (the
@@ -97,9 +101,11 @@ typedef struct {
     X(114, u.pm_dtc.est.vmid_beta_s_iq, IQ, PU, 0, DTC_I32_MAX, DTC_ERR_DCSUPP, DTC_PARAM_RO,                 \
       "FSTP restoring mid-point reconstruction gain; 0 = off")                                                \
     X(115, u.pm_dtc.machine.ls_iq, IQ, L, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO | DTC_PARAM_STORED,                     \
-      "synchronous inductance L_s (1/L_s is derived with it)")                                                \
+      "synchronous inductance L_s, of a salient PM L_d (1/L_s is derived with it)")                           \
     X(116, u.pm_dtc.machine.psi_m_iq, IQ, PSI, 1, DTC_I32_MAX, DTC_ERR_MACHINE, 0U, "magnet flux linkage psi_m") \
     X(117, u.pm_dtc.machine.inv_ls_iq, IQ, INV_L, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO | DTC_PARAM_STORED, \
-      "1 / L_s")
+      "1 / L_s")                                                                                              \
+    X(118, u.pm_dtc.machine.lq_iq, IQ, L, 131072L, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO | DTC_PARAM_STORED, \
+      "quadrature-axis inductance L_q, = L_s on a surface PM; 1/L_q is formed at init")
 
 #endif /* PM_DTC_CFG_H */

@@ -44,7 +44,7 @@ typedef struct {
     dtc_itc_cc_cfg_t cc;
     dtc_itc_mid_cfg_t mid;
     dtc_itc_est_cfg_t est;
-    dtc_pm_machine_cfg_t machine; /* l_s, psi_m, 1/l_s (> 0 each) */
+    dtc_pm_machine_cfg_t machine; /* l_s (l_d), psi_m, 1/l_s, l_q (> 0 each) */
 } dtc_pm_itc_cfg_t;
 
 /* The PM ITC part's parameters, once (dtc_param.h). */
@@ -71,6 +71,8 @@ typedef struct {
       "synchronous inductance L_s (1/L_s is derived with it)")                                                \
     X(311, u.pm_itc.machine.psi_m_iq, IQ, PSI, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO,                 \
       "magnet flux linkage psi_m (1/psi_m is derived with it)")                                               \
-    X(312, u.pm_itc.machine.inv_ls_iq, IQ, INV_L, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO, "1 / L_s")
+    X(312, u.pm_itc.machine.inv_ls_iq, IQ, INV_L, 1, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO, "1 / L_s")    \
+    X(313, u.pm_itc.machine.lq_iq, IQ, L, 131072L, DTC_I32_MAX, DTC_ERR_MACHINE, DTC_PARAM_RO,                \
+      "quadrature-axis inductance L_q, = L_s on a surface PM; 1/L_q is formed at init")
 
 #endif /* PM_ITC_CFG_H */

@@ -83,6 +83,7 @@ const dtc_config_t g_dtc_config = {
     .u.pm_dtc.machine.ls_iq = 528427, /* #115 0.0314967036 = 0.00319 H */
     .u.pm_dtc.machine.psi_m_iq = 6987466, /* #116 0.416485429 = 0.0928001 Wb */
     .u.pm_dtc.machine.inv_ls_iq = 532665660, /* #117 31.7493474 = 313.479 1/H */
+    .u.pm_dtc.machine.lq_iq = 528427, /* #118 0.0314967036 = 0.00319 H */
 };
 
 /* no reconfiguration relays: a failed leg trips (app_set_reconfig) */

@@ -215,6 +215,35 @@ TEST(Scenario, SalientPmKeys)
     expect_error("[motor]\ntype = \"im\"\nlq_h = 1e-3\n", "motor.lq_h", 3, "not a parameter");
 }
 
+// The firmware's L_q (firmware.lq_h, converter member lq_h): not given, the plant's (as every
+// firmware.* key); with the firmware's own L_d (firmware.ls_h) and no L_q, a surface PM's (0: the
+// converter takes ls_h), so that no plant value joins what the firmware was told; given, its own.
+// The converter writes L_q into the PM law's row; a surface PM's L_q row is its L_s row bit for bit
+// (the laws' surface path).
+TEST(Scenario, FirmwareLqFollowsThePlantOrTheFirmwaresOwnLd)
+{
+    Scenario s;
+    ASSERT_EQ(errors_of("[motor]\nlq_h = 6.38e-3\n", {}, &s), "");
+    EXPECT_DOUBLE_EQ(firmware_si_config(s).lq_h, 6.38e-3);
+    ASSERT_EQ(errors_of("[motor]\nlq_h = 6.38e-3\n[firmware]\nls_h = 3.2e-3\n", {}, &s), "");
+    EXPECT_DOUBLE_EQ(firmware_si_config(s).ls_h, 3.2e-3);
+    EXPECT_DOUBLE_EQ(firmware_si_config(s).lq_h, 0.0);
+    ASSERT_EQ(errors_of("[motor]\nlq_h = 6.38e-3\n[firmware]\nls_h = 3.2e-3\nlq_h = 6.4e-3\n", {}, &s), "");
+    EXPECT_DOUBLE_EQ(firmware_si_config(s).lq_h, 6.4e-3);
+    expect_error("[firmware]\nlq_h = -1e-3\n", "firmware.lq_h", 2, "");
+    expect_error("[motor]\ntype = \"im\"\n[firmware]\nlq_h = 1e-3\n", "firmware.lq_h", 4, "");
+
+    dtc_config_t cfg;
+    ASSERT_EQ(errors_of("[motor]\nls_h = 3.19e-3\n", {}, &s), "");
+    const dtc_config_si_t surface = firmware_si_config(s);
+    ASSERT_EQ(dtc_config_from_si(&surface, &cfg, nullptr, 0), DTC_SI_OK);
+    EXPECT_EQ(cfg.u.pm_dtc.machine.lq_iq, cfg.u.pm_dtc.machine.ls_iq);
+    ASSERT_EQ(errors_of("[motor]\nls_h = 3.19e-3\nlq_h = 6.38e-3\n", {}, &s), "");
+    const dtc_config_si_t si = firmware_si_config(s);
+    ASSERT_EQ(dtc_config_from_si(&si, &cfg, nullptr, 0), DTC_SI_OK);
+    EXPECT_NEAR(static_cast<double>(cfg.u.pm_dtc.machine.lq_iq) / cfg.u.pm_dtc.machine.ls_iq, 2.0, 1e-6);
+}
+
 TEST(Scenario, ImpossibleNumbersNameKeyAndLine)
 {
     expect_error("\n[motor]\nrs_ohm = 0.0\n", "motor.rs_ohm", 3, "impossible");

@@ -209,7 +209,7 @@ TEST(SiParams, TheFirmwareScenarioKeysAreTheBeliefRows)
         firmware_keys += k.name.rfind("firmware.", 0) == 0 && sensors.count(k.name) == 0 ? 1 : 0;
     }
     EXPECT_EQ(firmware_keys, beliefs);
-    EXPECT_EQ(beliefs, 11); // rs, ls, psi_m, rr, lls, llr, lm, v_ce, v_d, r_on, dead time
+    EXPECT_EQ(beliefs, 12); // rs, ls, lq, psi_m, rr, lls, llr, lm, v_ce, v_d, r_on, dead time
 }
 
 TEST(SiParams, TheDocsTableIsTheDescriptions)

@@ -220,6 +220,8 @@ FMUT(f_handover_hyst, c->u.pm_dtc.est.handover_hyst_iq = c->u.pm_dtc.est.handove
 FMUT(f_delay, c->u.pm_dtc.est.delay_comp = 2U)
 FMUT(f_ts_pu, c->board.ts_pu_iq = 0)
 FMUT(f_inv_ls, c->u.pm_dtc.machine.inv_ls_iq = -1)
+/* a configuration without L_q (its row left 0) is refused, naming it */
+FMUT(f_lq, c->u.pm_dtc.machine.lq_iq = 0)
 FMUT(f_deadtime, c->est.deadtime_comp = 2U)
 FMUT(f_td, c->board.td_ts_q15 = Q15(0.5))
 FMUT(f_law, c->law = DTC_LAW_COUNT)
@@ -263,6 +265,7 @@ static void test_dtc_init_refuses_bad_struct(void **state)
         {f_handover_hyst, DTC_ERR_HANDOVER, "u.pm_dtc.est.handover_hyst_iq"},
         {f_delay, DTC_ERR_DELAY, "u.pm_dtc.est.delay_comp"}, {f_ts_pu, DTC_ERR_DELAY, "board.ts_pu_iq"},
         {f_inv_ls, DTC_ERR_MACHINE, "u.pm_dtc.machine.inv_ls_iq"},
+        {f_lq, DTC_ERR_MACHINE, "u.pm_dtc.machine.lq_iq"},
         {f_deadtime, DTC_ERR_DEADTIME, "est.deadtime_comp"}, {f_td, DTC_ERR_DEADTIME, "board.td_ts_q15"},
         {f_law, DTC_ERR_VARIANT, "law"}, {f_law_part, DTC_ERR_PART, "u.im.part"},
         {f_part, DTC_ERR_PART, "u.pm_dtc.part"},

@@ -54,6 +54,8 @@ static void params_from_cfg(flux_est_params_t *p, uint16_t est)
     p->psi_m_iq = g_cfg.u.pm_dtc.machine.psi_m_iq;
     p->enc_gain_q16 = g_cfg.board.enc_gain_q16;
     p->enc_offset = g_cfg.board.enc_offset;
+    p->dl_iq = 0; /* the surface PM of Hoang Table VIII */
+    p->inv_lq_iq = g_cfg.u.pm_dtc.machine.inv_ls_iq;
 }
 
 static void test_current_model_matches_eqs_8_9(void **state)

@@ -63,7 +63,7 @@ static void setup(dtc_config_si_t *si, dtc_config_t *cfg, flux_est_params_t *p)
     assert_int_equal(dtc_config_from_si(si, cfg, NULL, 0), 0);
     const flux_est_params_t v = {DTC_EST_VOLTAGE, cfg->est.k_in_q31, cfg->est.k_leak_q31, cfg->machine.rs_iq,
                                  cfg->u.pm_dtc.machine.ls_iq, cfg->u.pm_dtc.machine.psi_m_iq, cfg->board.enc_gain_q16,
-                                 cfg->board.enc_offset};
+                                 cfg->board.enc_offset, 0, 0}; /* dl_iq, inv_lq_iq: the surface PM */
     *p = v;
 }
 

@@ -40,7 +40,8 @@ typedef struct {
 
     /* Machine (Hoang Table VIII). */
     double rs_ohm;
-    double ls_h;
+    double ls_h;            /* of a salient PM its d-axis inductance L_d */
+    double lq_h;            /* the q-axis inductance L_q; 0 = ls_h (a surface PM, the default) */
     double psi_m_wb;
     int pole_pairs;
     double rated_speed_rpm;
@@ -295,8 +296,11 @@ double dtc_overspeed_default_rpm(const dtc_config_si_t *si);
  * voltage against the back-EMF: dI = T_s (V_max + r_s I_trip) / (sigma L_s) (40 us: 2.6 A,
  * I_lim = 49.7 A; 160 us: 10.6 A, I_lim = 33.8 A). */
 double dtc_ilim_default_a(const dtc_config_si_t *si);
-/* Its dI, A: the largest change of |i| over one control period. */
+/* Its dI, A: the largest change of |i| over one control period. A salient PM's current changes
+ * fastest along its smaller inductance: L_s is min(L_d, L_q) there (dtc_pm_lq_h). */
 double dtc_ilim_step_a(const dtc_config_si_t *si);
+/* The PM's L_q the firmware takes, H: lq_h, or ls_h when lq_h is 0 (a surface PM). */
+double dtc_pm_lq_h(const dtc_config_si_t *si);
 
 /* The induction machine's current dynamics in the form of a PM machine's (Casadei eqs. A6-A9, T
  * model, stator frame): sigma L_s di/dt = v - R_s i - (M/L_r) d phi_r/dt, the rotor-flux term a

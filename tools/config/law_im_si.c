@@ -197,6 +197,7 @@ int dtc_si_im_check(dtc_si_conv_t *c, const dtc_config_si_t *si)
 {
     /* the PM law's machine fields are not this law's (its machine: rr_ohm, lls_h, llr_h, lm_h) */
     if (si->ls_h != 0.0) return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "ls_h", "ls_h = %g: a PM machine's field, not one of the IM law's (rr_ohm, lls_h, llr_h, lm_h); must be 0", si->ls_h);
+    if (si->lq_h != 0.0) return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "lq_h", "lq_h = %g: a PM machine's field, not one of the IM law's (rr_ohm, lls_h, llr_h, lm_h); must be 0", si->lq_h);
     if (si->psi_m_wb != 0.0) return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "psi_m_wb", "psi_m_wb = %g: a PM machine's field, not one of the IM law's (rr_ohm, lls_h, llr_h, lm_h); must be 0", si->psi_m_wb);
     if (si->estimator != DTC_EST_VOLTAGE && si->estimator != DTC_EST_IMPROVED)
         return dtc_si_fail(c, DTC_SI_ERR_VARIANT, "estimator", "estimator = %d: the IM law has DTC_EST_VOLTAGE or DTC_EST_IMPROVED (DTC_EST_CURRENT, Hoang eqs. 8-9, needs a magnet)", si->estimator);

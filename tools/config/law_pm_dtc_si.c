@@ -65,11 +65,16 @@ double dtc_handover_default_rpm(const dtc_config_si_t *si)
     return w * 30.0 / M_PI / (double)si->pole_pairs;
 }
 
+double dtc_pm_lq_h(const dtc_config_si_t *si)
+{
+    return si->lq_h > 0.0 ? si->lq_h : si->ls_h;
+}
+
 double dtc_ilim_step_a(const dtc_config_si_t *si)
 {
     double v_max = si->topology == DTC_TOPO_SSTP ? 2.0 * si->vdc_v / 3.0 : si->vdc_v / sqrt(3.0);
     double w_max = si->speed_limit_rpm * M_PI / 30.0 * (double)si->pole_pairs;
-    double l = si->ls_h, psi = si->psi_m_wb;
+    double l = fmin(si->ls_h, dtc_pm_lq_h(si)), psi = si->psi_m_wb;
     double e_max;
     if (dtc_law_is_im((uint16_t)si->law) != 0U) {
         dtc_im_transient_si(si, &l, &psi);
@@ -135,6 +140,7 @@ void dtc_si_pm_dtc_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dt
     cfg->u.pm_dtc.machine.ls_iq = dtc_si_to_iq(c, "ls_h", si->ls_h, si->ls_h / b->l_base_h);
     cfg->u.pm_dtc.machine.psi_m_iq = dtc_si_to_iq(c, "psi_m_wb", si->psi_m_wb, si->psi_m_wb / b->psi_base_wb);
     cfg->u.pm_dtc.machine.inv_ls_iq = dtc_si_to_iq(c, "ls_h (1/l_s)", si->ls_h, b->l_base_h / si->ls_h);
+    cfg->u.pm_dtc.machine.lq_iq = dtc_si_to_iq(c, "lq_h", dtc_pm_lq_h(si), dtc_pm_lq_h(si) / b->l_base_h);
     {
         double h_rpm = si->handover_auto != 0 ? dtc_handover_default_rpm(si) : si->handover_speed_rpm;
         double h_pu = h_rpm * M_PI / 30.0 * si->pole_pairs / b->w_base_rad_s;

@@ -50,6 +50,7 @@ void dtc_si_pm_itc_convert(dtc_si_conv_t *c, const dtc_config_si_t *si, const dt
     p->machine.ls_iq = dtc_si_to_iq(c, "ls_h", si->ls_h, si->ls_h / b->l_base_h);
     p->machine.psi_m_iq = dtc_si_to_iq(c, "psi_m_wb", si->psi_m_wb, si->psi_m_wb / b->psi_base_wb);
     p->machine.inv_ls_iq = dtc_si_to_iq(c, "ls_h (1/l_s)", si->ls_h, b->l_base_h / si->ls_h);
+    p->machine.lq_iq = dtc_si_to_iq(c, "lq_h", dtc_pm_lq_h(si), dtc_pm_lq_h(si) / b->l_base_h);
     p->cc.kp_iq = dtc_si_to_iq(c, "ls_h (ITC K_p = L_s w_c)", si->ls_h, si->ls_h / b->l_base_h * wc / b->w_base_rad_s);
     p->cc.ki_ts_iq = dtc_si_to_iq(c, "rs_ohm (ITC K_i Ts = R_s w_c Ts)", si->rs_ohm, si->rs_ohm / b->z_base_ohm * wc * si->ts_s);
     p->cc.iq_per_t_iq = dtc_si_to_iq(c, "psi_m_wb (ITC 1/psi_m)", si->psi_m_wb, b->psi_base_wb / si->psi_m_wb);

@@ -164,6 +164,10 @@ def cmd_identify(d, a):
                             (res["j_kgm2"], max(res["b_nm_s_per_rad"], 0.0), max(res["coulomb_nm"], 0.0)))
             elif done or failed_at > 2:
                 f.write("ls_h = %.6g\n" % res["ls_h"])
+                if res.get("saliency_ratio"):
+                    # L_q when the drive read the machine as salient, else L_d (the surface PM's
+                    # model), as dtc-sil identify writes it and IDENT_APPLY applies it
+                    f.write("lq_h = %.6g\n" % (res["lq_h"] if res["salient"] else res["ls_h"]))
             if done and res.get("machine") != "im":
                 f.write("pole_pairs = %d\nencoder_offset_rad = %.6g\nencoder_reversed = %s\n" %
                         (res["pole_pairs"], res["encoder_offset_rad"], "true" if res["encoder_reversed"] else "false"))

@@ -63,6 +63,7 @@ APPLY_ERR = {v: k.lower() for k, v in _enum(_IDENT, "APP_IDENT_APPLY_", "app_ide
 _IDENT_APPLY_COMMON = ["machine.rs_iq", "machine.pole_pairs", "board.enc_gain_q16", "board.enc_reversed",
                        "board.td_ts_q15", "speed.kp_iq", "speed.ki_ts_iq", "prot.enc_freeze_speed_iq"]
 IDENT_APPLY_ROWS = _IDENT_APPLY_COMMON + ["u.pm_dtc.machine.ls_iq", "u.pm_dtc.machine.inv_ls_iq",
+                                          "u.pm_dtc.machine.lq_iq",
                                           "u.pm_dtc.machine.psi_m_iq", "board.enc_offset"]
 IDENT_APPLY_ROWS_IM = _IDENT_APPLY_COMMON + [
     "u.im.machine.rr_iq", "u.im.machine.sigma_ls_iq", "u.im.machine.sigma_lr_iq", "u.im.machine.kr_iq",
@@ -581,7 +582,7 @@ class Drive:
 # [firmware] keys (dtc-sil keys) of the configuration's fields: field name -> (key, conversion);
 # "si": the row's SI value as it is, "ts": a ratio to the control period, times that period.
 FIRMWARE_KEYS = {
-    "rs_iq": ("rs_ohm", "si"), "ls_iq": ("ls_h", "si"), "psi_m_iq": ("psi_m_wb", "si"),
+    "rs_iq": ("rs_ohm", "si"), "ls_iq": ("ls_h", "si"), "lq_iq": ("lq_h", "si"), "psi_m_iq": ("psi_m_wb", "si"),
     "rr_iq": ("rr_ohm", "si"), "lls_iq": ("lls_h", "si"), "llr_iq": ("llr_h", "si"), "lm_iq": ("lm_h", "si"),
     "v_ce_iq": ("v_ce_v", "si"), "v_d_iq": ("v_d_v", "si"), "r_on_iq": ("r_on_ohm", "si"),
     "td_ts_q15": ("dead_time_s", "ts"),

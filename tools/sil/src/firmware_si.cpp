@@ -68,6 +68,9 @@ dtc_config_si_t firmware_si_config(const Scenario& sc)
     // firmware.* keys given override them at the end.
     si.rs_ohm = m.rs_ohm;
     si.ls_h = m.ls_h;
+    // L_q: the plant's, unless the firmware was given its own L_d (firmware.ls_h): then a surface
+    // PM's (0 = ls_h) unless firmware.lq_h says otherwise, so that no plant value joins a belief.
+    si.lq_h = sc.firmware.value.count("ls_h") != 0 ? 0.0 : m.lq_h;
     si.psi_m_wb = m.psi_m_wb;
     si.pole_pairs = static_cast<int>(pole_pairs);
     si.rated_speed_rpm = m.rated_speed_rpm;
@@ -158,6 +161,7 @@ dtc_config_si_t firmware_si_config(const Scenario& sc)
         si.llr_h = m.llr_h;
         si.lm_h = m.lm_h;
         si.ls_h = 0.0;
+        si.lq_h = 0.0;
         si.psi_m_wb = 0.0;
         si.handover_auto = 0;
         si.handover_speed_rpm = 0.0;

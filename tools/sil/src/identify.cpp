@@ -405,8 +405,8 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
         j["saliency_ratio_true"] = m.lq_h / m.ls_h;
         j["salient"] = salient;
         j["saliency"] = salient ? "salient: L_q / L_d = " + fmt(saliency) +
-                                      ", beyond the measurement's accuracy (1/16); the PM law runs on one L_s, L_d "
-                                      "(firmware.ls_h): see docs/commissioning.md, salient PM"
+                                      ", beyond the measurement's accuracy (1/16); the PM law runs on L_d "
+                                      "(firmware.ls_h) and L_q (firmware.lq_h): see docs/commissioning.md, salient PM"
                                 : "no saliency: L_q / L_d = " + fmt(saliency) + ", within the measurement's accuracy (1/16)";
     }
     for (unsigned l = 0; l < APP_IDENT_R_LEVELS; ++l) {
@@ -418,8 +418,8 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
     if (!im && salient) {
         rep->warning = "salient PM: L_q / L_d = " + fmt(saliency) + " (L_d = " + fmt(ls) + " H, L_q = " +
                        fmt(ls * d.res.lq_q12 / 4096.0) +
-                       " H); the PM law runs on one L_s and identified.toml gives it L_d (ls_h): its flux and "
-                       "torque estimates carry the q-axis error (docs/commissioning.md, salient PM)";
+                       " H); identified.toml gives the PM law both (ls_h = L_d, lq_h = L_q; docs/commissioning.md, "
+                       "salient PM)";
     }
     rep->ok = ok;
     rep->failed_step = ok ? "" : step_name(failed_step);
@@ -468,11 +468,17 @@ bool identify(const Scenario& sc, const std::string& out_dir, IdentifyReport* re
         t << "coulomb_nm = " << fmt(std::fmax(tc_id, 0.0)) << "\n";
     }
     if (!im && (ok || failed_step > APP_IDENT_LS)) {
-        // ls_h is L_d (the d steps with the rotor aligned); the PM law has no L_q row
+        // ls_h is L_d (the d steps with the rotor aligned), lq_h L_q; within the measurement's accuracy
+        // (not salient) lq_h is L_d, a surface PM, as the firmware's IDENT_APPLY writes it
         const double lq = ls * d.res.lq_q12 / 4096.0;
         t << "# ls_h is L_d. L_d = " << fmt(ls) << " H, L_q = " << fmt(lq) << " H, L_q / L_d = " << fmt(saliency)
-          << (salient ? ": SALIENT, the PM law runs on L_d alone (docs/commissioning.md)" : ": no saliency") << "\n";
+          << (salient ? ": salient, the PM law runs on L_d and L_q (docs/commissioning.md)"
+                      : ": no saliency, lq_h = ls_h (a surface PM)")
+          << "\n";
         t << "ls_h = " << fmt(ls) << "\n";
+        if (d.res.lq_q12 != 0U) {
+            t << "lq_h = " << fmt(salient ? lq : ls) << "\n";
+        }
     }
     if (!im && ok) {
         t << "pole_pairs = " << p << "\n";

@@ -104,7 +104,7 @@ void check_law_keys(const Scenario& s, Diagnostics* d)
         "control.observer_tau_hi_rpm", "control.magnetise_frac", "control.table_speed_rpm", "control.rr_tracking",
         "control.current_model_ref",
         "firmware.rr_ohm", "firmware.lls_h", "firmware.llr_h", "firmware.lm_h"};
-    static const std::vector<std::string> pm_law = {"firmware.ls_h", "firmware.psi_m_wb", "control.handover_rpm",
+    static const std::vector<std::string> pm_law = {"firmware.ls_h", "firmware.lq_h", "firmware.psi_m_wb", "control.handover_rpm",
                                                     "control.handover_hyst_frac", "control.delay_comp"};
     const bool im = s.motor.type == MotorType::Im;
     for (const std::string& k : im ? pm_law : im_law) {
