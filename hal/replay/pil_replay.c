@@ -9,12 +9,22 @@
 /* The application keeps a pointer to its configuration: it lives here for the whole replay. */
 static dtc_config_t g_cfg;
 
-int16_t pil_replay_init(const pil_header_t *h, const uint8_t *blob)
+void pil_replay_decode(const uint8_t *blob)
 {
     pil_config_decode(blob, &g_cfg);
+}
+
+int16_t pil_replay_start(const pil_header_t *h)
+{
     hal_replay_set_pwm_period(h->t1pr);
     hal_init();
     return app_init(&g_cfg);
+}
+
+int16_t pil_replay_init(const pil_header_t *h, const uint8_t *blob)
+{
+    pil_replay_decode(blob);
+    return pil_replay_start(h);
 }
 
 void pil_replay_isr(const uint8_t *in, uint8_t *out)

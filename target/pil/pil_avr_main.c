@@ -22,11 +22,11 @@
 /* Configuration fields this image can hold (pil_config_fields() must not exceed it: 106 with the
  * parameter rows of the common part and the IM part, the longest law part; two to spare). The
  * ATmega2560 has 8 KB of RAM, which its constants share (the parameter rows, dtc_param.h). The blob
- * is needed only until pil_replay_init has decoded it, so it lives on the stack of load_config
- * (below), whose frame is given back before the first ISR: the ISR path's stack has that room. Its
- * frame, below app_init's, is the image's deepest stack (pil-simavr's ram: line, im_dtc_speed with
- * DFOC: 1,006 bytes with 108 fields), so each field allowed costs 4 bytes of it. A longer blob is
- * refused at run time. */
+ * is needed only until pil_replay_decode has rebuilt the configuration from it, so it lives on the
+ * stack of load_config (below), whose frame is given back before app_init runs
+ * (pil_replay_start) and before the first ISR: the blob and app_init's frames never share the
+ * stack. Each field allowed costs 4 bytes of load_config's frame. A longer blob is refused at run
+ * time. */
 #define PIL_CONFIG_MAX 108U
 
 void pil_target_isr_begin(void)
@@ -63,21 +63,17 @@ static void fail(uint8_t kind, int16_t code)
     }
 }
 
-/* Reads the configuration blob and starts the application on it; fails on a blob longer than
- * PIL_CONFIG_MAX fields or one the application refuses. */
+/* Reads the configuration blob and rebuilds the configuration from it; fails on a blob longer
+ * than PIL_CONFIG_MAX fields. */
 static __attribute__((noinline)) void load_config(const pil_header_t *h)
 {
     uint8_t blob[4U * PIL_CONFIG_MAX];
-    int16_t rc;
 
     if (h->config_fields > PIL_CONFIG_MAX) {
         fail(PIL_AVR_ERROR_HEADER, PIL_ERR_LAYOUT);
     }
     get(blob, (uint16_t)(4U * h->config_fields));
-    rc = pil_replay_init(h, blob);
-    if (rc != 0) {
-        fail(PIL_AVR_ERROR_INIT, rc);
-    }
+    pil_replay_decode(blob);
 }
 
 int main(void)
@@ -95,6 +91,10 @@ int main(void)
         fail(PIL_AVR_ERROR_HEADER, rc);
     }
     load_config(&h);
+    rc = pil_replay_start(&h); /* the application refuses the configuration: named */
+    if (rc != 0) {
+        fail(PIL_AVR_ERROR_INIT, rc);
+    }
     for (k = 0UL; k < h.isr_count; ++k) {
         get(in, PIL_IN_BYTES + PIL_OUT_BYTES);
         pil_replay_isr(in, out);
