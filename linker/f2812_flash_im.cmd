@@ -47,6 +47,7 @@ SECTIONS
                     /* hot:ramfuncs begin (hal/f2812/hot_functions.py --write) */
                     *(.text:_app_core_step)
                     *(.text:_app_fault_stall)
+                    *(.text:_clarke_sstp)
                     *(.text:_ilim_select)
                     *(.text:_im_dsvm_select)
                     *(.text:_im_dsvm_step)
@@ -55,11 +56,8 @@ SECTIONS
                     *(.text:_im_est_flux)
                     *(.text:_im_sfvc_kpd)
                     *(.text:_im_sup_step)
-                    *(.text:_iq_cmul_1jx)
                     *(.text:_law_pwm)
-                    *(.text:_law_step)
                     *(.text:_svm_recip)
-                    *(.text:_svm_step)
                     /* hot:ramfuncs end */
                     -l=libdtc_firmware.a (.econst)
                     -l=libdtc_firmware.a (.switch)
@@ -117,10 +115,12 @@ SECTIONS
                     *(.text:_law_out_form)
                     *(.text:_law_speed_ref)
                     *(.text:_law_speed_ref_ptr)
+                    *(.text:_law_step)
                     *(.text:_law_warnings)
                     *(.text:_plaus_judge)
                     *(.text:_speed_meas_step)
                     *(.text:_svm_leg_dt)
+                    *(.text:_svm_legs)
                     *(.text:_swtab_null_choice)
                     *(.text:_swtab_rot6)
                     *(.text:_swtab_sstp_basic)
@@ -139,9 +139,9 @@ SECTIONS
     ramfuncs_m : {
                     /* hot:ramfuncs_m begin (hal/f2812/hot_functions.py --write) */
                     *(.text:_app_enc_check)
-                    *(.text:_clarke_sstp)
                     *(.text:_im_sup_cm_ref)
                     *(.text:_speed_pi_step)
+                    *(.text:_vcomp_tab_step)
                     /* hot:ramfuncs_m end */
                 }
                 LOAD = FLASH_JC,
