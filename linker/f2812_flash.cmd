@@ -21,8 +21,9 @@
  *   ramfuncs    loaded in flash, copied by hal_init() into L0+L1 (8K words, zero-wait) and run
  *               there: the HAL's ramfuncs (the ADC ISR glue, hal_read/hal_write/hal_gates_off, the
  *               PDPINTA ISR, the flash wait-state set-up, which must not run from flash), the hot
- *               functions of the first list and the control archives' constant tables (.econst,
- *               .switch: the ISR reads them)
+ *               functions of the first list (with the operation layer's ISR part, the capture's
+ *               recording and the fault log's record) and the control archives' constant tables
+ *               (.econst, .switch: the ISR reads them)
  *   ramfuncs_h  the same into H0's first 6.5K words: the second list
  *   ramfuncs_m  the same into M1 (1K words): the third list; the stack (--stack_size 0x400) has M0
  *   .ebss       H0's last 1.5K words (zero-wait): the controller state
@@ -55,7 +56,9 @@ SECTIONS
                     *(ramfuncs)
                     /* hot:ramfuncs begin (hal/f2812/hot_functions.py --write) */
                     *(.text:_app_core_step)
+                    *(.text:_capture_isr_run)
                     *(.text:_dtc_step)
+                    *(.text:_faultlog_record)
                     /* hot:ramfuncs end */
                     -l=libdtc_firmware.a (.econst)
                     -l=libdtc_firmware.a (.switch)
@@ -96,6 +99,7 @@ SECTIONS
                     *(.text:_dtc_lpf_r)
                     *(.text:_dtc_pol_mid)
                     *(.text:_dtc_predict_in)
+                    *(.text:_dtc_reset_currents)
                     *(.text:_dtc_speed_gains)
                     *(.text:_dtc_vmid_beta)
                     *(.text:_fix_add32)
@@ -105,19 +109,25 @@ SECTIONS
                     *(.text:_fix_sin)
                     *(.text:_fix_sub32)
                     *(.text:_flux_est_current_model)
+                    *(.text:_flux_est_reset)
                     *(.text:_flux_est_seed)
+                    *(.text:_hyst2_init)
+                    *(.text:_hyst2_sq_bounds)
+                    *(.text:_hyst3_init)
                     *(.text:_iq_mpy)
                     *(.text:_iq_recip_newton)
                     *(.text:_law_enc_angle)
                     *(.text:_law_enc_plaus)
                     *(.text:_law_i_pred)
                     *(.text:_law_out_form)
+                    *(.text:_law_reset)
                     *(.text:_law_speed_ref)
                     *(.text:_law_speed_ref_ptr)
                     *(.text:_law_step)
                     *(.text:_law_warnings)
                     *(.text:_plaus_judge)
                     *(.text:_q32_integrate)
+                    *(.text:_speed_meas_reset)
                     *(.text:_speed_meas_step)
                     *(.text:_speed_pi_step)
                     *(.text:_swtab_null_choice)
@@ -139,6 +149,10 @@ SECTIONS
 
     ramfuncs_m : {
                     /* hot:ramfuncs_m begin (hal/f2812/hot_functions.py --write) */
+                    *(.text:_app_core_latch)
+                    *(.text:_calibrate_finish)
+                    *(.text:_dtc_reset)
+                    *(.text:_speed_pi_reset)
                     /* hot:ramfuncs_m end */
                 }
                 LOAD = FLASH_JC,

@@ -75,18 +75,21 @@ void app_core_convert(const app_core_t *a, const hal_meas_t *m, dtc_meas_t *pu)
     const dtc_config_t *c = a->cfg;
     iq_t i[3];
     uint16_t k;
+    /* the law's phases with a sensor: all three, or FSTP b', c', or SSTP a', b' (the unmeasured
+     * one's ADC channel is not converted: its value would be replaced below) */
+    const uint16_t k0 = c->board.i_sensors3 == 0U && c->board.topology == (uint16_t)DTC_TOPO_FSTP ? 1U : 0U;
+    const uint16_t k1 = c->board.i_sensors3 == 0U && k0 == 0U ? 2U : 3U;
 
-    for (k = 0U; k < 3U; k++) {
+    for (k = k0; k < k1; k++) {
         /* the law's phase k is the physical phase (perm + k) mod 3 (reconfigure) */
         const uint16_t ch = app_fault_phase(a->perm, k);
         i[k] = app_adc_to_pu(m->adc[ch], a->offset[ch], c->board.adc_i_gain_iq);
     }
-    /* The unmeasured phase from Kirchhoff's current law (isolated star point). */
-    if (c->board.i_sensors3 != 0U) {
-        /* all three measured: each as it is (their sum is checked, app_fault_trips) */
-    } else if (c->board.topology == (uint16_t)DTC_TOPO_FSTP) {
+    /* The unmeasured phase from Kirchhoff's current law (isolated star point). All three
+     * measured: each as it is (their sum is checked, app_fault_trips). */
+    if (k0 != 0U) {
         i[0] = fix_neg32(fix_add32(i[1], i[2]));
-    } else {
+    } else if (k1 != 3U) {
         i[2] = fix_neg32(fix_add32(i[0], i[1]));
     }
     pu->ia_iq = i[0];
@@ -561,7 +564,12 @@ static uint16_t core_step(app_core_t *a, const hal_meas_t *m, hal_cmd_t *cmd)
                 return 0U;
             }
         }
-        {
+        if (a->perm == 0U) {
+            /* not reconfigured: the law's legs are the physical legs */
+            cmd->sa = a->st.out.sa;
+            cmd->sb = a->st.out.sb;
+            cmd->sc = a->st.out.sc;
+        } else {
             /* the law's legs (a', b', c') onto the physical legs: leg (perm + k) mod 3 = law leg k */
             const uint16_t s3[3] = {a->st.out.sa, a->st.out.sb, a->st.out.sc};
             cmd->sa = s3[app_fault_phase(3U - a->perm, 0U)];

@@ -120,20 +120,31 @@ uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_m
         f->imin_iq = c->prot.leg_i_min_iq;
         f->imin2_3 = 3U * ((uint64_t)((int64_t)f->imin_iq * (int64_t)f->imin_iq) >> 5);
     }
-    for (k = 0U; k < 3U; k++) {
-        sq[k] = (uint64_t)((int64_t)i[k] * (int64_t)i[k]) >> 5;
-    }
-    tot = sq[0] + sq[1] + sq[2];
-    if (2U * tot <= f->imin2_3) {
-        return 0U; /* too little current to judge: the sums wait (a healthy phase leaves the band,
-                    * which resets its sum, as soon as there is current again); the current sum is
-                    * not judged either (near zero the sensors' noise alone reaches tot / 24) */
-    }
-    /* s is 0 whenever the third current is the other two's Kirchhoff sum (two sensors): then
-     * 24 s^2 = 0 < tot (tot > imin2_3 / 2 >= 0 here) and no product is formed */
-    if (s != 0 && 24U * ((uint64_t)((int64_t)s * (int64_t)s) >> 5) >= tot) {
-        app_fault_leg_clear(f); /* the sum says a sensor is wrong: no phase is judged */
-        return 0U;
+    /* Both tests below pass without the squares when s = 0 (two sensors: the third current is
+     * the other two's Kirchhoff sum) and a phase carries 1.5 i_min or more, the usual case:
+     * with M = max |i_k| >= i_min + (i_min >> 1) >= 1.5 i_min - 1/2 (LSB), 2 tot >= 2 (M^2 / 32 - 1)
+     * >= (2.25 i_min^2 - 1.5 i_min) / 16 - 2, which exceeds imin2_3 <= 3 i_min^2 / 32 for
+     * i_min >= 8 LSB (1.5 i_min^2 > 3 i_min + 64); below 2^29, i_min + (i_min >> 1) cannot
+     * overflow. Exact: the same decisions as with the squares, which are then not formed. */
+    if (s != 0 || f->imin_iq < 8 || f->imin_iq >= ((iq_t)1 << 29) ||
+        (fix_abs32(i[0]) < f->imin_iq + (f->imin_iq >> 1) && fix_abs32(i[1]) < f->imin_iq + (f->imin_iq >> 1) &&
+         fix_abs32(i[2]) < f->imin_iq + (f->imin_iq >> 1))) {
+        for (k = 0U; k < 3U; k++) {
+            sq[k] = (uint64_t)((int64_t)i[k] * (int64_t)i[k]) >> 5;
+        }
+        tot = sq[0] + sq[1] + sq[2];
+        if (2U * tot <= f->imin2_3) {
+            return 0U; /* too little current to judge: the sums wait (a healthy phase leaves the
+                        * band, which resets its sum, as soon as there is current again); the
+                        * current sum is not judged either (near zero the sensors' noise alone
+                        * reaches tot / 24) */
+        }
+        /* s is 0 whenever the third current is the other two's Kirchhoff sum (two sensors): then
+         * 24 s^2 = 0 < tot (tot > imin2_3 / 2 >= 0 here) and no product is formed */
+        if (s != 0 && 24U * ((uint64_t)((int64_t)s * (int64_t)s) >> 5) >= tot) {
+            app_fault_leg_clear(f); /* the sum says a sensor is wrong: no phase is judged */
+            return 0U;
+        }
     }
     if (speed_iq != f->dth_w_iq || c->board.ts_pu_iq != f->dth_ts_iq) { /* the speed changes at the speed-loop rate */
         f->dth_w_iq = speed_iq;

@@ -186,10 +186,10 @@ report() { # $1 = label, $2 = size tool, $3 = nm tool, $4 = build dir, $5 = main
   ai_list=$(linked_members "$1" "$6" "$4" "$5" "${app}_init" optional) || exit 2
   pr_list=$(linked_members "$1" "$6" "$4" "$5" "$proto" optional) || exit 2
   cm_list=$(linked_members "$1" "$6" "$4" "$5" libdtc_comm optional) || exit 2
-  # The operation layer, all in flash (linker/f2812_flash.cmd places neither libdtc_comm.a nor
-  # libdtc_proto.a in RAM): the ISR's part of libdtc_comm.a (capture.c, faultlog.c: run from
-  # flash while a capture records and at a fault) and the background's (the frames, the store,
-  # the dispatcher and the application's background operations, libdtc_proto.a).
+  # The operation layer: the ISR's part of libdtc_comm.a (capture.c, faultlog.c: run while a
+  # capture records and at a fault; the flash images' .cmd place their ISR functions by name in
+  # ramfuncs, the rest in flash) and the background's, in flash (the frames, the store, the
+  # dispatcher and the application's background operations, libdtc_proto.a).
   mapfile -t ci_objs < <(printf '%s\n' "$cm_list" | grep -E '/(capture|faultlog)\.c\.(o|obj)$')
   mapfile -t op_objs < <(printf '%s\n%s\n' "$pr_list" "$cm_list" | sed '/^$/d' | grep -vE '/(capture|faultlog)\.c\.(o|obj)$')
   mapfile -t fw_objs <<< "$fw_list"
@@ -214,7 +214,7 @@ report() { # $1 = label, $2 = size tool, $3 = nm tool, $4 = build dir, $5 = main
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "libdtc_im.a (linked)" "$im_t" "$im_r" "$im_d" "$im_b"
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "fixmath + app + im (linked)" "$fx_t" "$fx_r" "$fx_d" "$fx_b"
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "config + inits (flash)" "$cf_t" "$cf_r" "$cf_d" "$cf_b"
-  printf '%-9s %-28s %8d %8d %8d %8d\n' "" "capture + log (flash, ISR)" "$ci_t" "$ci_r" "$ci_d" "$ci_b"
+  printf '%-9s %-28s %8d %8d %8d %8d\n' "" "capture + log (ISR part)" "$ci_t" "$ci_r" "$ci_d" "$ci_b"
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "proto + comm (flash)" "$op_t" "$op_r" "$op_d" "$op_b"
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "libhal_f2812.a (no regs)" "$hal_t" "$hal_r" "$hal_d" "$hal_b"
   printf '%-9s %-28s %8d %8d %8d %8d\n' "" "f2812_main.c" "$mn_t" "$mn_r" "$mn_d" "$mn_b"
@@ -253,9 +253,14 @@ sect_funcs() { # the function names section $1 of the .cmd places by name
 RAMFUNCS_FLASH_WORDS=$(mem_len RAML0L1)
 RAMFUNCS_H_FLASH_WORDS=$(mem_len RAMH0P)
 EBSS_WORDS=$(mem_len RAMH0D)
-arm-none-eabi-nm -S -t d "${fw_objs[@]}" "${fx_objs[@]}" "${im_objs[@]}" 2>/dev/null |
-  awk 'NF == 4 && $3 ~ /^[tT]$/ { n = $4; sub(/\..*/, "", n); s[n] += $2 } END { for (n in s) print n, s[n] }' |
-  sort >"$tmp/funcs"
+fn_sizes() { # name and bytes of the functions of the given objects, sorted by name
+  arm-none-eabi-nm -S -t d "$@" 2>/dev/null |
+    awk 'NF == 4 && $3 ~ /^[tT]$/ { n = $4; sub(/\..*/, "", n); s[n] += $2 } END { for (n in s) print n, s[n] }' | sort
+}
+fn_sizes "${fw_objs[@]}" "${fx_objs[@]}" "${im_objs[@]}" "${ci_objs[@]}" >"$tmp/funcs"
+# the operation layer's ISR part (capture.c, faultlog.c of libdtc_comm.a): the .cmd places it by name
+# (hal/f2812/hot_functions.py OPS_ISR), outside the control archives' code counted above
+if [ ${#ci_objs[@]} -gt 0 ]; then fn_sizes "${ci_objs[@]}" >"$tmp/ci_funcs"; else : >"$tmp/ci_funcs"; fi
 place_bytes() { # bytes of the functions section $1 names; exits on a name the image lacks
   # An empty list is 0 bytes: hot_functions.py leaves M1 empty when H0 and L0+L1 hold every hot
   # function within the image's fill (its copy then moves 0 words, load start = load end).
@@ -272,13 +277,15 @@ ram_m_bytes=$(place_bytes ramfuncs_m)
 dup=$(sect_funcs ramfuncs; sect_funcs ramfuncs_h; sect_funcs ramfuncs_m)
 dup=$(printf '%s\n' "$dup" | sort | uniq -d)
 [ -z "$dup" ] || { echo "budget: $cmd places functions in two sections: $(echo $dup)" >&2; exit 2; }
-flash_code_bytes=$((fw_t + fx_t - ram_l_bytes - ram_h_bytes - ram_m_bytes))
+ci_ram_bytes=$( { sect_funcs ramfuncs; sect_funcs ramfuncs_h; sect_funcs ramfuncs_m; } | sort -u |
+  join - "$tmp/ci_funcs" | awk '{ s += $2 } END { print s + 0 }')
+flash_code_bytes=$((fw_t + fx_t + ci_ram_bytes - ram_l_bytes - ram_h_bytes - ram_m_bytes))
 isr_code_bytes=$((ram_l_bytes + hal_isr))
 isr_table_bytes=$((fw_r + fx_r))
 fx_code_bytes=$ram_h_bytes
 fx_table_bytes=0
 state_bytes=$((fw_d + fw_b + fx_d + fx_b + cf_d + cf_b + hal_d + hal_b + mn_d + mn_b))
-op_code_bytes=$((op_t + ci_t))
+op_code_bytes=$((op_t + ci_t - ci_ram_bytes))
 op_data_bytes=$op_data
 [ -z "$avr" ] || report cross-avr avr-size avr-nm "$avr" "$avr_main" avr-ld
 
@@ -316,9 +323,9 @@ if [ "$image" = pm ]; then
     "$ramb_h_pess" "$RAMFUNCS_H_RAM_WORDS" "$(pct "$ramb_h_pess" "$RAMFUNCS_H_RAM_WORDS")"
 fi
 layout=$cmd
-# The operation layer (docs/operate.md): its code in flash (the capture and the fault log, called by
-# the ISR, run from flash: a few hundred cycles of wait states while a capture records; the frames,
-# the parameter store, the dispatcher and the application's background operations), its data (the
+# The operation layer (docs/operate.md): its code in flash but the ISR's part (the capture's
+# recording and the fault log's record, placed by name in zero-wait RAM: the frames, the parameter
+# store, the dispatcher and the application's background operations), its data (the
 # capture buffer of CAPTURE_BUF_WORDS32 int32 values, the fault log, the frame decoder's ring, the
 # dispatcher's frames, the stored-set buffer and the configuration copy a parameter write is
 # checked on) in the section opdata, which the flash build's .cmd places in external RAM on XINTF
@@ -333,8 +340,11 @@ grep -q -- "-l=libdtc_proto${layout_sfx:-}.a (.ebss)" "$layout" &&
   { echo "budget: ${layout#$root/} does not place the operation layer's .ebss in opdata" >&2; exit 2; }
 echo
 echo "Operation layer (cross-cm0, ESTIMATE):"
-printf '  code       %6d words nominal, %6d pessimistic in flash (capture, log, frames, store, dispatcher)\n' \
+printf '  code       %6d words nominal, %6d pessimistic in flash (capture and log setup and read-out, frames, store, dispatcher)\n' \
   "$(words_nom "$op_code_bytes")" "$(words_pess "$op_code_bytes")"
+ci_names=$(cut -d' ' -f1 "$tmp/ci_funcs" | grep -xF -f <({ sect_funcs ramfuncs; sect_funcs ramfuncs_h; sect_funcs ramfuncs_m; }) | paste -sd' ' || true)
+printf '  ISR part   %6d words nominal, %6d pessimistic in zero-wait RAM (%s)\n' \
+  "$(words_nom "$ci_ram_bytes")" "$(words_pess "$ci_ram_bytes")" "${ci_names:-none named: the ISR part runs from flash}${ci_names:+; counted in its block above}"
 printf '  opdata     %6d words, of them %d the capture buffer (CAPTURE_BUF_WORDS32 int32): XRAM (XINTF zone 6) %d words (%d%%)\n' \
   "$op_data" "$cap_words" "$xram_words" "$(pct "$op_data" "$xram_words")"
 printf '             zero-wait RAM left beside the image: H0 after ramfuncs_h %d words (pessimistic), .ebss %d words\n' \

@@ -24,6 +24,10 @@ dtc_f2812_im).
    every function of the image that a hot function calls (its `bl` targets, transitively) is hot
    too, unless the host build has it as a function of its own that the measurement found cold (a
    rare branch: a fault, a limit, a hand-over).
+   With --pil, what the replay's ISRs call less often than that (the entry to RUN: the law's
+   reset, its first period's speed-measurement reset) is RARE: placed after every hot function,
+   where room is left, because the worst ISR counts, not only the mean. The operation layer's ISR
+   part (OPS_ISR: the capture's recording, the fault log's record) is always placed, in ramfuncs.
 4. Fills the blocks in order of weight per word (the wait states saved per word of RAM), each up
    to MARGIN of its words by the pessimistic size (Thumb bytes / 2 * 1.5, as budget.sh counts):
    ramfuncs_h (H0's code part) first, then ramfuncs_m (M1), then ramfuncs (L0+L1, less the control
@@ -62,6 +66,13 @@ IMAGES = {
            "runs": [("im_dtc_speed", ('control.scheme="%s"' % s, "duration_s=1.5"))
                     for s in ("dtc", "dsc", "sfvc", "dfoc", "dsvm")]},
 }
+# The operation layer's ISR part (libdtc_comm.a, capture.c and faultlog.c): the capture's per-period
+# recording (app_core_step calls capture_isr_run while a capture is armed or triggered) and the
+# fault log's record (at a fault). Always placed, in ramfuncs (L0+L1), with what they call: the hot
+# list is measured without a capture, and a capture may be armed at any time (issue 34: ramfuncs
+# <= 85 % with the capture and the protocol's ISR part in).
+OPS_ISR = ("capture_isr_run", "faultlog_record")
+OPS_ISR_MEMBERS = ("capture.c.obj", "faultlog.c.obj")
 SECTIONS = ("ramfuncs_h", "ramfuncs_m", "ramfuncs")  # filled in this order (.cmd MEMORY RAMH0P, RAMM1P, RAML0L1)
 HELPERS = re.compile(r"^(__aeabi_|__.*di3$)")  # libgcc: single C28x instructions, not placed
 
@@ -137,11 +148,13 @@ def image_functions(cm0, img, tmp):
         if len(p) == 4 and p[2] in "tT":
             name = p[3].split(".")[0]
             size[name] = size.get(name, 0) + int(p[1])
-    # owner object of each function: from the archives' own members
-    for a in (app, "libdtc_im", "libdtc_firmware", "libdtc_fixmath"):
+    # owner object of each function: from the archives' own members (of libdtc_comm.a only the
+    # ISR part, OPS_ISR_MEMBERS)
+    for a in (app, "libdtc_im", "libdtc_firmware", "libdtc_fixmath", "libdtc_comm"):
         for line in run(["arm-none-eabi-nm", "-S", "-t", "d", "-A", os.path.join(fw, a + ".a")]).splitlines():
             p = line.split()
-            if len(p) == 4 and p[2] in "tT":
+            if len(p) == 4 and p[2] in "tT" and (a != "libdtc_comm" or
+                                                  p[0].split(":")[-2] in OPS_ISR_MEMBERS):
                 owner[p[3].split(".")[0]] = a
     callees = {}
     for line in run(["arm-none-eabi-objdump", "-dr", allo]).splitlines():
@@ -207,6 +220,7 @@ def main():
     host = host_functions(sil)
     # the Cortex-M0 replays: calls per ISR inside app_isr (pil_profile.py: from its entry to the
     # harness's end of the ISR); weight at 25,000 ISRs/s (the fastest period)
+    rare = set()
     for path in a.pil:
         with open(path) as f:
             pil = json.load(f)
@@ -217,15 +231,27 @@ def main():
                 hot_host.add(name)
                 weight[name] = max(weight.get(name, 0.0),
                                    instr / pil["isrs"] / min(calls / pil["isrs"], 1.0) * 25000.0)
+            elif name in size and calls > 0:
+                rare.add(name)  # once in a while (the entry to RUN, the law's first period): RARE
+                weight[name] = max(weight.get(name, 0.0), instr / calls * 25000.0)
+    # the operation layer's ISR part and what it calls on the image (OPS_ISR): placed first, in
+    # ramfuncs, whatever the runs measured
+    ops = {n for n in OPS_ISR if n in size}
+    todo = sorted(ops)
+    while todo:
+        for c in sorted(callees.get(todo.pop(), ())):
+            if c in size and not HELPERS.match(c) and c not in ops:
+                ops.add(c)
+                todo.append(c)
     # closure over the image's call graph; a function the host inlined takes the largest weight of
     # its hot callers (iterated to the fixed point, so the result does not depend on the order)
-    hot = {n for n in hot_host if n in size}
+    hot = {n for n in hot_host if n in size and n not in ops}
     changed = True
     while changed:
         changed = False
         for f in sorted(hot):
             for c in sorted(callees.get(f, ())):
-                if c not in size or HELPERS.match(c) or (c in host and c not in hot_host):
+                if c not in size or HELPERS.match(c) or c in ops or (c in host and c not in hot_host):
                     continue  # not placed, or a function of its own on the host too, measured cold
                 if c not in hot_host and weight.get(c, 0.0) < weight.get(f, 0.0):
                     weight[c] = weight.get(f, 0.0)
@@ -233,15 +259,27 @@ def main():
                 if c not in hot:
                     hot.add(c)
                     changed = True
+    # RARE: what the replay's ISRs call less often than the hot threshold, and what that calls on
+    # the image (not the host's cold functions): placed after every hot function, where room is left
+    rare -= hot | ops
+    todo = sorted(rare)
+    while todo:
+        f = todo.pop()
+        for c in sorted(callees.get(f, ())):
+            if c in size and not HELPERS.match(c) and c not in hot and c not in ops and c not in rare:
+                rare.add(c)
+                weight[c] = max(weight.get(c, 0.0), weight.get(f, 0.0))
+                todo.append(c)
     # the most instructions per second saved from the wait states per word of RAM first
     order = sorted(hot, key=lambda n: (-weight.get(n, 0.0) / max(size[n], 1), n))
+    order_rare = sorted(rare, key=lambda n: (-weight.get(n, 0.0) / max(size[n], 1), n))
     fill = img["fill"]
     cap = {"ramfuncs_h": int(cmd_words(mem_text, "RAMH0P") * fill),
            "ramfuncs_m": int(cmd_words(mem_text, "RAMM1P") * fill),
            "ramfuncs": int(cmd_words(mem_text, "RAML0L1") * fill) - TABLE_RESERVE}
-    place = {"ramfuncs_h": [], "ramfuncs_m": [], "ramfuncs": [], "flash": []}
-    used = {"ramfuncs_h": 0, "ramfuncs_m": 0, "ramfuncs": 0}
-    for n in order:
+    place = {"ramfuncs_h": [], "ramfuncs_m": [], "ramfuncs": sorted(ops), "flash": []}
+    used = {"ramfuncs_h": 0, "ramfuncs_m": 0, "ramfuncs": sum(pess_words(size[n]) for n in ops)}
+    for n in order + order_rare:
         w = pess_words(size[n])
         for sect in SECTIONS:
             if used[sect] + w <= cap[sect]:
@@ -253,6 +291,10 @@ def main():
     print("hot functions (host callgrind, %s; >= %.2f calls/ISR in some run, plus their callees on the "
           "Cortex-M0): %d, %d words pessimistic" % ("; ".join(runs), HOT_CALLS_PER_ISR, len(order),
                                                     sum(pess_words(size[n]) for n in order)))
+    print("  the operation layer's ISR part (always in ramfuncs): %s, %d words pessimistic"
+          % (" ".join(sorted(ops)) or "none", sum(pess_words(size[n]) for n in ops)))
+    print("  rare in the Cortex-M0 replays' ISRs (placed after the hot ones, where room is left): %s, %d words "
+          "pessimistic" % (" ".join(order_rare) or "none", sum(pess_words(size[n]) for n in order_rare)))
     for sect in SECTIONS:
         print("  %-10s %5d words pessimistic of %d: %s" % (sect, used[sect], cap[sect], " ".join(place[sect])))
     print("  hot but in flash (no room): %s" % (" ".join(place["flash"]) or "none"))
@@ -264,7 +306,7 @@ def main():
         fl = sum(ir for n, (ir, _) in prof.items() if n in size and n not in ram)
         print("    %-30s %7.1f of %7.1f (%.0f ISRs/s): ~%.0f wait cycles per ISR"
               % (s, fl, sum(ir for n, (ir, _) in prof.items() if n in size), rate, fl * FLASH_WAIT))
-    cold = sorted(n for n in size if n not in hot)
+    cold = sorted(n for n in size if n not in hot and n not in ops and n not in rare)
     print("  the image's other control functions, in flash: %d, %d words pessimistic"
           % (len(cold), sum(pess_words(size[n]) for n in cold)))
     if a.write:

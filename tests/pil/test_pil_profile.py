@@ -41,6 +41,14 @@ check(pp.block_cycles("fix_add32", 7, True) + pp.block_cycles("fix_add32", 1, Fa
 check(pp.block_cycles("dtc_step", 10, True) == 13 and pp.block_cycles("dtc_step", 1, False) == 4,
       "another block is charged its instructions and 3 for its branch, call or return (4 on the C28x)")
 
+# Flash wait states (--ram-cmd): a function the .cmd does not name pays 5 per instruction, one it
+# names none, and gcc's clones (NAME.isra.N) are the .cmd's NAME, as budget.sh counts them.
+ram = {"hyst2_sq_bounds", "dtc_step"}
+check(pp.flash_wait("dtc_reset", 10, ram) == 50, "a function not in the .cmd pays 5 wait cycles per instruction")
+check(pp.flash_wait("dtc_step", 10, ram) == 0 and pp.flash_wait("hyst2_sq_bounds.isra.0", 10, ram) == 0,
+      "a function the .cmd names, or a clone of one, runs from RAM")
+check(pp.flash_wait("dtc_step.constprop.0", 10, {"dtc"}) == 50, "a clone of a function not named runs from flash")
+
 # The appendix: each listing's rows sum to its total; the totals are HAND_SAMPLE's.
 with open(os.path.join(ROOT, "docs", "c28x-sample.md")) as f:
     doc = f.read()

@@ -1127,6 +1127,72 @@ static uint32_t feed_open_phase(app_fault_t *f, iq_t speed_iq, double dth, doubl
     return 0U;
 }
 
+/* The open-phase check with two sensors (the three currents sum to zero) judges a sample without
+ * forming the squares when a phase carries 1.5 leg_i_min or more (app_fault.c): its decision must be
+ * the squares' own, 2 sum(i_k^2 >> 5) > 3 (leg_i_min^2 >> 5), at every level down to the shortcut's
+ * least leg_i_min (8 LSB) and around the 1.5 leg_i_min edge. A sample is judged when it moves an
+ * angle sum (each set to 1 rad before, at a speed of 1 pu); one that waits leaves them all. */
+static void test_open_phase_shortcut_decides_as_the_squares(void **state)
+{
+    static const iq_t imins[] = {8, 9, 15, 23, 100, 4097, 838861, ((iq_t)1 << 29) - 1, (iq_t)1 << 29};
+    uint32_t lcg = 12345U, n_judged = 0U, n_wait = 0U;
+    uint16_t a, r;
+    (void)state;
+    setup_topology(DTC_TOPO_SSTP);
+    for (a = 0U; a < (uint16_t)(sizeof imins / sizeof imins[0]); a++) {
+        const iq_t imin = imins[a];
+        const int64_t edge = (int64_t)imin + (imin >> 1);
+        fx.cfg.prot.leg_i_min_iq = imin;
+        for (r = 0U; r < 2000U; r++) {
+            app_fault_t f;
+            dtc_meas_t pu;
+            uint16_t ph = 9U, k, moved = 0U;
+            int64_t i0, i1, tot;
+            uint64_t sq_min;
+            lcg = lcg * 1664525U + 1013904223U;
+            /* the largest phase within +-4 LSB of the edge, or anywhere in 0.5 .. 2 times it */
+            i0 = r % 2U == 0U ? edge - 4 + (int64_t)(lcg >> 29) : edge / 2 + (int64_t)((lcg >> 8) % (uint32_t)(edge + 1));
+            lcg = lcg * 1664525U + 1013904223U;
+            i1 = -(int64_t)((lcg >> 8) % (uint32_t)(i0 + 1)); /* |i1| <= i0, i2 = -(i0 + i1) in -i0 .. 0 */
+            if (r % 3U == 1U) {
+                i0 = -i0;
+                i1 = -i1;
+            }
+            pu.ia_iq = (iq_t)i0;
+            pu.ib_iq = (iq_t)i1;
+            pu.ic_iq = (iq_t)(-(i0 + i1));
+            pu.vdc_iq = fx.cfg.prot.vdc_min_iq;
+            app_fault_init(&f);
+            for (k = 0U; k < 3U; k++) {
+                f.leg_acc_iq[k] = IQ(1.0);
+                f.pos_acc_iq[k] = IQ(1.0);
+                f.neg_acc_iq[k] = IQ(1.0);
+            }
+            (void)app_fault_open_phase(&f, &fx.cfg, &pu, IQ(1.0), 0U, 0U, &ph);
+            for (k = 0U; k < 3U; k++) {
+                if (f.leg_acc_iq[k] != IQ(1.0) || f.pos_acc_iq[k] != IQ(1.0) || f.neg_acc_iq[k] != IQ(1.0)) {
+                    moved = 1U;
+                }
+            }
+            tot = (i0 * i0 >> 5) + (i1 * i1 >> 5) + ((i0 + i1) * (i0 + i1) >> 5);
+            sq_min = 3U * ((uint64_t)((int64_t)imin * imin) >> 5);
+            if (moved != (uint16_t)(2U * (uint64_t)tot > sq_min ? 1U : 0U)) {
+                fail_msg("leg_i_min %ld, i = %ld %ld: judged %u, the squares say %u", (long)imin, (long)i0, (long)i1,
+                         (unsigned)moved, (unsigned)(2U * (uint64_t)tot > sq_min));
+            }
+            if (moved != 0U) {
+                n_judged++;
+            } else {
+                n_wait++;
+            }
+        }
+    }
+    /* both decisions were met (the draws reach below the level to judge as well as above it) */
+    assert_true(n_judged > 1000U);
+    assert_true(n_wait > 100U);
+    setup_topology(DTC_TOPO_SSTP);
+}
+
 /* Open device (PM laws): a phase whose current keeps one direction over 7 pi/3 of electrical angle
  * while the others alternate is open, found in the period the angle passes 7 pi/3; a healthy set
  * over ten turns is not, nor one whose phasor reverses on a zero crossing of A (A then keeps its
@@ -1582,5 +1648,6 @@ UNIT_TEST_MAIN("app core", NULL,
                cmocka_unit_test(test_lost_encoder_at_speed_trips),
                cmocka_unit_test(test_open_phase_trips_or_reconfigures),
                cmocka_unit_test(test_open_device_keeps_one_direction),
+               cmocka_unit_test(test_open_phase_shortcut_decides_as_the_squares),
                cmocka_unit_test(test_bad_post_fault_config_is_refused),
                cmocka_unit_test(test_reconfigure_turns_the_flux_into_the_new_frame))
