@@ -35,13 +35,37 @@
 
 #include "dqpi.h"
 
-/* i_d* = (phi_r* / m)(1 + trim / phi_r*): the rotor-flux trim over m (rounded IQ products, saturating
- * sum), at a reset and when the trim moves. */
+void im_dfoc_init(im_dtc_t *c, const dtc_config_t *cfg)
+{
+    /* (l_r/m)(tau_r/Ts) = kr / (Ts/tau_r) in Q16: (kr_iq 2^23) / magn_k_q31 by restoring long
+     * division (init only; kr_iq < 2^31, so the numerator < 2^54; the quotient saturated to 2^31 - 1) */
+    const uint64_t num = (uint64_t)(cfg->u.im.machine.kr_iq > 0 ? cfg->u.im.machine.kr_iq : 0) << 23;
+    const uint64_t den = (uint64_t)(cfg->u.im.ref.magn_k_q31 > 0 ? cfg->u.im.ref.magn_k_q31 : 1);
+    uint64_t q = 0U, r = 0U;
+    int16_t b;
+    for (b = 63; b >= 0; b--) {
+        r = (r << 1) | ((num >> (uint16_t)b) & 1U);
+        if (r >= den) {
+            r -= den;
+            q |= (uint64_t)1 << (uint16_t)b;
+        }
+    }
+    c->foc_kf_q16 = q > (uint64_t)DTC_I32_MAX ? DTC_I32_MAX : (int32_t)q;
+}
+
+/* i_d* = (phi_r* / m)(1 + (trim + K_f (phi_r* - |phi_r|)) / phi_r*): the rotor-flux trim and the flux
+ * term over m (rounded IQ products, saturating sums), at a reset and once per speed period. */
 void im_dfoc_id_ref(im_dtc_t *c)
 {
     const dtc_config_t *cfg = c->cfg;
-    c->foc_id_ref_iq = iq_add(cfg->u.im.dfoc.id_ref_iq,
-                              iq_mpy(cfg->u.im.dfoc.id_ref_iq, iq_mpy(c->psir_trim_iq, cfg->u.im.ref.inv_psir_ref_iq)));
+    iq_t d = c->psir_trim_iq;
+    if (c->magnetised != 0U && ((c->te_ref_iq > 0 && c->sr_ws_iq < 0) || (c->te_ref_iq < 0 && c->sr_ws_iq > 0))) {
+        /* K_f (phi_r* - |phi_r|) = foc_kf (Ts/tau) (phi_r* - |phi_r|): (Ts/tau) e in Q31 (Q55 >> 24, below
+         * 2^31 for |e| < 2^24), times the Q16 gain (< 2^62) back to IQ (>> 23), saturated */
+        const int64_t ke = ((int64_t)c->est.k_q31 * (int64_t)iq_sub(c->psir_ref_iq, c->est.psir_mag_iq)) >> 24;
+        d = iq_add(d, fix_rshift_rnd64_sat32(ke * (int64_t)c->foc_kf_q16, 23U));
+    }
+    c->foc_id_ref_iq = iq_add(cfg->u.im.dfoc.id_ref_iq, iq_mpy(cfg->u.im.dfoc.id_ref_iq, iq_mpy(d, cfg->u.im.ref.inv_psir_ref_iq)));
 }
 
 void im_dfoc_regulate(im_dtc_t *c)
