@@ -107,12 +107,10 @@ TEST(ImTorqueBias, DeviceDropsPerLegRemoveTheLowSpeedBias)
 //     of T* per stator period for seconds): the current model's reference at low speed
 //     (firmware/dtc/im_sup.h), second machine SFVC +1.76 -> +0.11 %, DFOC -1.79 -> +0.12 %.
 // Before these: DTC -1.35 %, SFVC -3.28 %, DFOC +8.62 %, DSVM -4.62 % at 10 % torque (4 kW).
-// Asserted: within the 1.5 %, but the DFOC on the second machine at rated torque: this
-// machine on its board (30 A trip) at the DFOC's 160 us cannot deliver its rated torque, 23.5 N*m
-// (11.01 A): the torque limit the current allows is 22.3 N*m (10.62 A held, I_trip less two
-// periods' dI = 6.46 A and a third for the DFOC's excursion, dtc_im_hold_margin_a, docs/sil.md), and
-// the plant's torque is asserted within 1.5 % of that limit. The SFVC holds I_trip - 2 dI less its
-// SVM ripple (1.31 A): 37.6 N*m, room enough.
+// Asserted: within the 1.5 % at every point, no law held below the torque asked for by the
+// torque limit the current allows (dtc_im_hold_margin_a). The DFOC on the second machine at rated
+// torque was (22.3 N*m of 23.5 while its excursion was a whole dI = 6.46 A); its zeta = 0 design
+// now keeps its SVM ripple (1.31 A) as the SFVC does: 37.6 N*m, room enough (docs/sil.md).
 TEST(ImTorqueBias, EveryLawWithinOnePointFivePercentAtFivePercentSpeed)
 {
     struct M {
