@@ -453,6 +453,21 @@ static apply_fx_t im_torque_at(const dtc_config_t *in, const apply_im_t *q, appl
     return fx_mul(fx_mul(q->lm, fx_sqrt(id2)), fx_sqrt(fx_addsub(i2, id2, 1U)));
 }
 
+/* 1 when the configuration's DFOC current PIs are the converter's zeta = 0 design (the zero on the
+ * stator transient pole: K_i T_s = R_s w_c T_s with w_c = K_p / sigma L_s, within 1e-5 of K_i T_s
+ * and one LSB), whose first-order loops do not overshoot (dtc_im_hold_margin_a); the crossover in
+ * *wc. */
+static uint16_t dfoc_zeta0(const dtc_config_t *in, const apply_im_t *q, apply_fx_t *wc)
+{
+    const apply_fx_t kp_in = fx_iq(in->u.im.dfoc.kp_iq), sls_in = fx_iq(in->u.im.machine.sigma_ls_iq);
+    const apply_fx_t rs_in = fx_iq(in->machine.rs_iq), ki_in = fx_iq(in->u.im.dfoc.ki_ts_iq);
+    const apply_fx_t ki0 = fx_mul(fx_mul(rs_in, fx_div(kp_in, sls_in)), q->ts); /* K_i' T_s of the zeta = 0 design */
+    const apply_fx_t dev = fx_lt(ki0, ki_in) != 0U ? fx_addsub(ki_in, ki0, 1U) : fx_addsub(ki0, ki_in, 1U);
+    const apply_fx_t tol = fx_addsub(fx_iq(1), fx_div(ki_in, fx_of(100000U, 0)), 0U);
+    *wc = fx_div(kp_in, sls_in);
+    return (uint16_t)(fx_lt(tol, dev) == 0U ? 1U : 0U);
+}
+
 /* The rows the converter designs from the machine and the settings it holds in u.im.design, again
  * on the identified machine (each only where the converter wrote what it needs, else the row in
  * force stays). pu of the configuration's bases; every quantity a chain of at most 16 fx
@@ -469,7 +484,8 @@ static apply_fx_t im_torque_at(const dtc_config_t *in, const apply_im_t *q, appl
  *    V_dc the nominal link (design.vdc_iq). With n = design.derived's bits 0-1 > 0 the current limit
  *    prot.i_lim_iq = i_trip - n dI (dtc_ilim_default_a; 0 when not positive; below i_trip_iq).
  *  - The torque limit (dtc_si_im_convert): the smaller of design.torque_limit_iq and the torque at
- *    I_lim - h (im_torque_at), h = dI, on SFVC V_max T_s / (4 sigma L_s) (dtc_im_hold_margin_a); a current limit that allows no torque is switched off (0), as the
+ *    I_lim - h (im_torque_at), h = dI, on SFVC and the DFOC's zeta = 0 design V_max T_s / (4 sigma L_s)
+ *    (dtc_im_hold_margin_a); a current limit that allows no torque is switched off (0), as the
  *    converter does; the torque reference clamped to the limit.
  *  - DSVM, design.derived's bit 2: the outer band 2 dT with dT = (3/2) p M / (sigma L_s L_r)
  *    (2/3 V_dc) |phi_r*| T_s (Casadei eqs. 12, 15: a whole vector across the flux at standstill),
@@ -527,8 +543,11 @@ static int16_t derive_im_design(const app_ident_t *d, const dtc_config_t *in, dt
         }
         if (ilim.m != 0U) {
             /* the excursion above the held current (the converter's dtc_im_hold_margin_a): dI, or
-             * on SFVC its SVM ripple V_max T_s / (4 sigma L_s) */
-            const apply_fx_t h = in->law == (uint16_t)DTC_LAW_IM_SFVC
+             * on SFVC and on the DFOC's zeta = 0 design its SVM ripple V_max T_s / (4 sigma L_s) */
+            apply_fx_t wc;
+            const apply_fx_t h = in->law == (uint16_t)DTC_LAW_IM_SFVC ||
+                                         (in->law == (uint16_t)DTC_LAW_IM_DFOC && in->u.im.dfoc.kp_iq > 0 &&
+                                          in->machine.rs_iq > 0 && dfoc_zeta0(in, q, &wc) != 0U)
                                      ? fx_div(fx_mul(q->ts, vmax), fx_mul(q->sls, fx_of(4U, 0))) : di;
             uint16_t any;
             const apply_fx_t t_i = im_torque_at(in, q, fx_addsub(ilim, h, 1U), &any);
@@ -572,12 +591,9 @@ static int16_t derive_im_design(const app_ident_t *d, const dtc_config_t *in, dt
     if (in->law == (uint16_t)DTC_LAW_IM_DFOC && in->u.im.dfoc.kp_iq > 0 && in->machine.rs_iq > 0) {
         const apply_fx_t kp_in = fx_iq(in->u.im.dfoc.kp_iq), sls_in = fx_iq(in->u.im.machine.sigma_ls_iq);
         const apply_fx_t rs_in = fx_iq(in->machine.rs_iq), ki_in = fx_iq(in->u.im.dfoc.ki_ts_iq);
-        const apply_fx_t wc = fx_div(kp_in, sls_in);
-        const apply_fx_t ki0 = fx_mul(fx_mul(rs_in, wc), q->ts); /* K_i' T_s of the zeta = 0 design */
-        const apply_fx_t dev = fx_lt(ki0, ki_in) != 0U ? fx_addsub(ki_in, ki0, 1U) : fx_addsub(ki0, ki_in, 1U);
-        const apply_fx_t tol = fx_addsub(fx_iq(1), fx_div(ki_in, fx_of(100000U, 0)), 0U);
+        apply_fx_t wc;
         int64_t kp, ki;
-        if (fx_lt(tol, dev) == 0U) {
+        if (dfoc_zeta0(in, q, &wc) != 0U) {
             kp = fx_row(fx_mul(q->sls, wc), 24);
             ki = fx_row(fx_mul(fx_mul(q->rs, wc), q->ts), 24);
         } else {

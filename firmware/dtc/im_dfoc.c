@@ -12,6 +12,14 @@
  *        i_d* = phi_r* / m,   T = (m / l_r) phi_r i_q  ->  i_q* = (l_r / (m phi_r*)) T*
  *      with i_d* raised by the rotor-flux trim over m, (phi_r* / m)(trim / phi_r*) (im_psir_trim:
  *      the estimate's mean |phi_r| held at phi_r*, so that Casadei eq. 20's correction has no mean)
+ *      and, while regenerating (T* w_s < 0), by the rotor-flux term K_f (phi_r* - |phi_r|) over m,
+ *      K_f = (l_r/m)(tau_r/tau), once per speed period: i_d* acts in the estimate's frame, so an
+ *      angle error eps moves the machine's i_d by -i_q eps, its rotor flux falls, and Casadei
+ *      eq. 20's radial correction (phi_r* - |phi_r|)/tau, integrated at w_s, lags the estimate by
+ *      (l_r/m)(phi_r* - |phi_r|)/(tau w_s |phi_r|): a loop of gain G = (l_r/m)(i_q/i_d)/(tau w_s),
+ *      positive while i_q w_s < 0. With the term the rotor flux obeys
+ *      tau_r^2 s^2 + tau_r (1 + K_f - G) s + 1 (the trim's integral included): stable wherever
+ *      |w_s| > |w_slip| (K_f >= G there); measured, docs/sil.md
  *      (T* = 0 and i_d* the magnetising current during the start-up magnetisation)
  *   -> PI per axis, v_dq = K_p e + sum K_i Ts e (the integral clamped to +-1 pu, the nominal
  *      link; while the previous period's vector lay outside the SVM's hexagon, svm_o.overmod, an
@@ -35,13 +43,36 @@
 
 #include "dqpi.h"
 
-/* i_d* = (phi_r* / m)(1 + trim / phi_r*): the rotor-flux trim over m (rounded IQ products, saturating
- * sum), at a reset and when the trim moves. */
+void im_dfoc_init(im_dtc_t *c, const dtc_config_t *cfg)
+{
+    /* (l_r/m)(tau_r/Ts) = kr / (Ts/tau_r) in Q16 (init only): Ts/tau_r (magn_k_q31 >= 1, a Q31 below 1)
+     * scaled by 2^n into [1/2, 1) and read as IQ (>> 7, exact to 2^-24), its reciprocal in (1, 2] by
+     * the SVM's Newton (svm_recip: within a few LSB for x >= 2^-7), times kr = l_r/m (rounded IQ product,
+     * saturating at 128 pu; kr is near 1), times 2^n back (below 2^62 in 64 bits for n <= 31) and
+     * IQ -> Q16 by a rounded shift of 8, saturated */
+    uint32_t x = (uint32_t)(cfg->u.im.ref.magn_k_q31 > 0 ? cfg->u.im.ref.magn_k_q31 : 1);
+    uint16_t n = 0U;
+    while (x < 0x40000000UL) {
+        x <<= 1;
+        ++n;
+    }
+    c->foc_kf_q16 = fix_rshift_rnd64_sat32(
+        (int64_t)iq_mpy(cfg->u.im.machine.kr_iq, svm_recip(0, (iq_t)(x >> 7))) * (int64_t)((uint64_t)1 << n), 8U);
+}
+
+/* i_d* = (phi_r* / m)(1 + (trim + K_f (phi_r* - |phi_r|)) / phi_r*): the rotor-flux trim and the flux
+ * term over m (rounded IQ products, saturating sums), at a reset and once per speed period. */
 void im_dfoc_id_ref(im_dtc_t *c)
 {
     const dtc_config_t *cfg = c->cfg;
-    c->foc_id_ref_iq = iq_add(cfg->u.im.dfoc.id_ref_iq,
-                              iq_mpy(cfg->u.im.dfoc.id_ref_iq, iq_mpy(c->psir_trim_iq, cfg->u.im.ref.inv_psir_ref_iq)));
+    iq_t d = c->psir_trim_iq;
+    if (c->magnetised != 0U && ((c->te_ref_iq > 0 && c->sr_ws_iq < 0) || (c->te_ref_iq < 0 && c->sr_ws_iq > 0))) {
+        /* K_f (phi_r* - |phi_r|) = foc_kf (Ts/tau) (phi_r* - |phi_r|): (Ts/tau) e in Q31 (Q55 >> 24, below
+         * 2^31 for |e| < 2^24), times the Q16 gain (< 2^62) back to IQ (>> 23), saturated */
+        const int64_t ke = ((int64_t)c->est.k_q31 * (int64_t)iq_sub(c->psir_ref_iq, c->est.psir_mag_iq)) >> 24;
+        d = iq_add(d, fix_rshift_rnd64_sat32(ke * (int64_t)c->foc_kf_q16, 23U));
+    }
+    c->foc_id_ref_iq = iq_add(cfg->u.im.dfoc.id_ref_iq, iq_mpy(cfg->u.im.dfoc.id_ref_iq, iq_mpy(d, cfg->u.im.ref.inv_psir_ref_iq)));
 }
 
 void im_dfoc_regulate(im_dtc_t *c)

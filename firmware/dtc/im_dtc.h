@@ -196,7 +196,8 @@ typedef struct {
     iq_t sr_gt_iq;        /* g T*: the SFVC's K_p times Casadei eq. 18's q component, the DFOC's i_q*, pu */
     uint16_t sr_valid;
     iq_t foc_id_int_iq, foc_iq_int_iq; /* DFOC: the current PIs' integral parts, pu voltage */
-    iq_t foc_id_ref_iq;   /* DFOC: i_d* = phi_r* / m with the rotor-flux trim (im_dfoc_id_ref), pu */
+    iq_t foc_id_ref_iq;   /* DFOC: i_d* = phi_r* / m with the rotor-flux trim and the flux term (im_dfoc_id_ref), pu */
+    int32_t foc_kf_q16;   /* DFOC: (l_r/m)(tau_r/Ts), Q16: the rotor-flux term's gain per Ts/tau (im_dfoc_init) */
     deadtime_params_t dt_p; /* dead-time block's parameters (vrec.h), derived at init */
     /* the current limit of the switching-table laws (DTC, DSC, DSVM; ilim.h): its parameters
      * (prot.i_lim_iq, six-switch) and whether it replaced this step's vector */

@@ -83,6 +83,7 @@ int16_t im_dtc_init(im_dtc_t *c, const dtc_config_t *cfg)
     c->sfvc_kpq_iq = iq_mpy(cfg->u.im.sfvc.kp_iq, iq_mpy(iq_mpy(cfg->u.im.machine.ks_iq, cfg->u.im.machine.sigma_lr_iq),
                                                        cfg->u.im.ref.inv_psir_ref_iq));
     c->sfvc_kslip_iq = iq_mpy(cfg->u.im.machine.rr_iq, cfg->u.im.ref.inv_psir_sq_iq);
+    im_dfoc_init(c, cfg);
     /* the rotor flux from which the encoder plausibility trusts the flux angle: phi_r* / 16 (the
      * constant rotor flux of Casadei eq. 19, or the no-load one of the stator-flux reference) */
     c->plaus_psir_iq = fix_rshift_rnd32(cfg->u.im.ref.psir_ref_iq > 0

@@ -28,8 +28,10 @@ void im_dtc_refs(im_dtc_t *c);
 uint16_t im_psir_trim(im_dtc_t *c);
 /* SFVC: c->sfvc_kpd_iq = K_p (l_s/m)(phi_r* + trim), Casadei eq. 18's d component times K_p. */
 void im_sfvc_kpd(im_dtc_t *c);
-/* DFOC: c->foc_id_ref_iq = i_d* with the rotor-flux trim (im_dfoc.c). */
+/* DFOC: c->foc_id_ref_iq = i_d* with the rotor-flux trim and the flux term (im_dfoc.c); the
+ * flux term's gain from the configuration (im_dfoc_init, init only). */
 void im_dfoc_id_ref(im_dtc_t *c);
+void im_dfoc_init(im_dtc_t *c, const dtc_config_t *cfg);
 uint16_t im_dtc_select(im_dtc_t *c, iq_t te, dtc_out_t *o);
 /* The model's supervision (im_sup.h): its parameters from cfg (im_sup_init.c, init only; after
  * sfvc_kslip_iq), its state back to the start with the tracked r_r kept (im_dtc_reset), and its
@@ -319,10 +321,11 @@ static inline void im_svm_scheme_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_
     const iq_t te = im_dtc_front(c, m, o, IM_FRONT_PWM);
     if (c->ref_due != 0U && c->div_cnt == c->ref_slot) {
         c->ref_due = 0U;
-        if (c->magnetised != 0U && im_psir_trim(c) != 0U) {
+        if (c->magnetised != 0U) {
+            const uint16_t moved = im_psir_trim(c);
             if (dfoc != 0U) {
-                im_dfoc_id_ref(c);
-            } else {
+                im_dfoc_id_ref(c); /* the flux term moves every speed period (im_dfoc.c) */
+            } else if (moved != 0U) {
                 im_sfvc_kpd(c);
             }
         }

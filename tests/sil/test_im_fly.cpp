@@ -174,8 +174,8 @@ INSTANTIATE_TEST_SUITE_P(Laws, ImFly,
 // over-magnetised (the plant's |phi_s| below 115 % of phi_s* during the magnetisation: the flux
 // band and the period's delay on top of the reference) and the drive carries the load (no fault,
 // the last 0.3 s at the reference speed within 1 % and the rated torque within 3 %). Every law on
-// the 4 kW IM; on the second machine the switching-table laws (SFVC and DFOC stall there after
-// the load step with the improved estimator as well: a finding of their own, docs/sil.md).
+// the 4 kW IM and on the second machine (whose SFVC and DFOC once stalled after the load step, with
+// the improved estimator as well: the torque limit the current allowed, docs/sil.md).
 TEST(ImVoltageModel, StartsWithoutOverMagnetisingAndCarriesTheRatedLoad)
 {
     const struct {
@@ -183,7 +183,8 @@ TEST(ImVoltageModel, StartsWithoutOverMagnetisingAndCarriesTheRatedLoad)
         const char* law;
     } cases[] = {{"im_dtc_speed.toml", "dtc"},       {"im_dtc_speed.toml", "dsc"},       {"im_dtc_speed.toml", "sfvc"},
                  {"im_dtc_speed.toml", "dfoc"},      {"im_dtc_speed.toml", "dsvm"},      {"im_second_machine.toml", "dtc"},
-                 {"im_second_machine.toml", "dsc"}, {"im_second_machine.toml", "dsvm"}};
+                 {"im_second_machine.toml", "dsc"}, {"im_second_machine.toml", "sfvc"},
+                 {"im_second_machine.toml", "dfoc"}, {"im_second_machine.toml", "dsvm"}};
     for (const auto& c : cases) {
         SCOPED_TRACE(std::string(c.machine) + " " + c.law);
         Rig r({"control.estimator=voltage", std::string("control.scheme=") + c.law},

@@ -458,8 +458,10 @@ static void check_im_design_rows(double ls_lsb, double sls_lsb, double lm_lsb)
     di *= ts / sls;
     ilim = fmax(itrip - 2.0 * di, 0.0);
     {
-        /* the excursion above the held current: dI, on SFVC V_max T_s / (4 sigma L_s) */
-        const double h = g_in.law == DTC_LAW_IM_SFVC ? vmax * ts / (4.0 * sls) : di;
+        /* the excursion above the held current: dI, on SFVC and the DFOC's zeta = 0 design (first-order
+         * current loops, no overshoot) V_max T_s / (4 sigma L_s) */
+        const int ripple = g_in.law == DTC_LAW_IM_SFVC || (g_in.law == DTC_LAW_IM_DFOC && !(g_dfoc_zeta > 0.0));
+        const double h = ripple ? vmax * ts / (4.0 * sls) : di;
         const double t_i = im_torque_at(ilim - h, ls, sls, lm, m, psir);
         double want_ilim = fmin(IQ1 * ilim, (double)g_in.prot.i_trip_iq - 1.0);
         if (ilim > 0.0 && !(t_i > 0.0)) {

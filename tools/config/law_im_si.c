@@ -91,12 +91,18 @@ double dtc_im_torque_at_current_nm(const dtc_config_si_t *si, double i_a)
 
 double dtc_im_hold_margin_a(const dtc_config_si_t *si)
 {
-    if (si->law == DTC_LAW_IM_SFVC) {
-        /* V_max T_s / (4 sigma L_s): the SVM laws' dI without its r_s I_trip term, a quarter */
+    if (si->law == DTC_LAW_IM_SFVC || (si->law == DTC_LAW_IM_DFOC && !(si->dfoc_zeta > 0.0))) {
+        /* V_max T_s / (4 sigma L_s): the SVM laws' dI without its r_s I_trip term, a quarter. The
+         * SFVC's deadbeat flux regulator (Casadei eq. 24) and the DFOC's first-order current loops
+         * (the PI's zero on the stator transient pole, dfoc_zeta = 0, with the conditional-integration
+         * anti-windup, firmware im_dfoc.c) put no overshoot on a step of the reference to the limit
+         * (measured, docs/sil.md), so what lies above the held current is the modulator's ripple */
         dtc_config_si_t z = *si;
         z.i_trip_a = 0.0;
         return 0.25 * dtc_ilim_step_a(&z);
     }
+    /* a whole period's dI: the switching-table laws and DSVM (one vector over the period), and the
+     * DFOC with dfoc_zeta > 0 (both poles at w_c: the PI's zero near w_c, the step overshoots) */
     return dtc_ilim_step_a(si);
 }
 
