@@ -281,6 +281,14 @@ int plant_set_source_voltage(plant_t *plant, double vdc_v);
  * both are finite and > 0. */
 int plant_set_resistances(plant_t *plant, double rs_ohm, double rr_ohm);
 
+/* Energy accounts (plant_state_t's e_dc_in_j, e_copper_j, e_device_j, e_load_j, e_rdc_j,
+ * e_link_j): on = 1 (from creation) integrates them; on = 0 holds them where they are and skips
+ * their terms in every right-hand-side evaluation, for a user that never reads them (the SIL run
+ * loop: about a fifth of an evaluation's instructions). No other state depends on them: every
+ * other field of plant_state_t, and every later state, is the same to the last bit either way.
+ * e_friction_j keeps being integrated (it is formed with the shaft's derivative). */
+void plant_set_energy_accounts(plant_t *plant, int on);
+
 /* Reset of the gate drivers' desaturation latch (the gates may be commanded again). */
 void plant_clear_desat(plant_t *plant);
 

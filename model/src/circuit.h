@@ -90,10 +90,11 @@ inline double vn0_all_blocked(const plant_t *pl, const Vec &y, const double e[3]
 // Only the first ND entries of y are read. Branch-free apart from the all-blocked neutral
 // (ConductionCoefs, dclink::LinearLink and mech::Shaft hold the linear forms of the paths, the DC
 // link and the load). kAll: all three phases conduct (the common case; the blocked-phase terms
-// drop out). Every quantity is formed in locals and dy is written at the end: a store into dy
+// drop out). kEnergy: the energy accounts' terms (plant_set_energy_accounts); without them their
+// derivatives are 0 and nothing else changes. Every quantity is formed in locals and dy is written at the end: a store into dy
 // may alias the coefficients (all doubles), so stores in between would make the compiler load
 // them again.
-template <class M, bool kAll>
+template <class M, bool kAll, bool kEnergy>
 inline void rhs_t(plant_t *pl, const M &m, const Vec &y, Vec &dy, RhsOutputs *aux) {
     ++pl->stats.evals;
     const ConductionCoefs &q = pl->coefs;
@@ -154,8 +155,10 @@ inline void rhs_t(plant_t *pl, const M &m, const Vec &y, Vec &dy, RhsOutputs *au
             di[x] = k[x]->cond * (u[x] - vn0) * inv_l;
             vx0[x] = k[x]->cond * vc + (1.0 - k[x]->cond) * (vn0 + e[x]);  // blocked: floating terminal
         }
-        p_dev += (k[x]->pd + k[x]->pr * i) * i;
-        if (src) p_src += k[x]->src * vc * i;
+        if (kEnergy) {
+            p_dev += (k[x]->pd + k[x]->pr * i) * i;
+            if (src) p_src += k[x]->src * vc * i;
+        }
         p_cu += i * i;
     }
     if constexpr (M::kKind == PLANT_MACHINE_PM) {
@@ -177,10 +180,13 @@ inline void rhs_t(plant_t *pl, const M &m, const Vec &y, Vec &dy, RhsOutputs *au
         dv_lo = ln.dv_lo;
         p_link = ln.p_loss;
     }
-    double p_dc = g.pdc_s * i_s + g.pdc_st * ((vlo + vhi) * i_plus + vlo * i_mid);
-    if (src) p_dc += g.pdc_src * p_src;
-    const double p_rdc = g.r_dc * i_s * i_s;
-    const double p_cu_stator = m.stator_resistance() * p_cu;
+    double p_dc = 0.0, p_rdc = 0.0, p_cu_stator = 0.0;
+    if (kEnergy) {
+        p_dc = g.pdc_s * i_s + g.pdc_st * ((vlo + vhi) * i_plus + vlo * i_mid);
+        if (src) p_dc += g.pdc_src * p_src;
+        p_rdc = g.r_dc * i_s * i_s;
+        p_cu_stator = m.stator_resistance() * p_cu;
+    }
     // The machine's torque and own states (it writes dy[S_MACH0..1]), then the shaft.
     double te, p_machine;
     m.torque_and_states(y, ix, omega_e, work, dy, te, p_machine);
@@ -193,11 +199,11 @@ inline void rhs_t(plant_t *pl, const M &m, const Vec &y, Vec &dy, RhsOutputs *au
     dy[S_EFRIC] = p_fric;
     dy[S_VCHI] = dv_hi;
     dy[S_VCLO] = dv_lo;
-    dy[S_ELINK] = p_link;
+    dy[S_ELINK] = kEnergy ? p_link : 0.0;
     dy[S_EDC] = p_dc;
-    dy[S_ECU] = p_cu_stator + p_machine;
+    dy[S_ECU] = kEnergy ? p_cu_stator + p_machine : 0.0;
     dy[S_EDEV] = p_dev;
-    dy[S_ELOAD] = tl * omega;
+    dy[S_ELOAD] = kEnergy ? tl * omega : 0.0;
     dy[S_ERDC] = p_rdc;
     dy[S_I2] = p_cu;
     dy[S_QA] = ix[0];
@@ -218,8 +224,13 @@ inline void rhs_t(plant_t *pl, const M &m, const Vec &y, Vec &dy, RhsOutputs *au
 
 template <class M>
 inline void rhs(plant_t *pl, const M &m, const Vec &y, Vec &dy, RhsOutputs *aux) {
-    if (pl->coefs.nk == 3) rhs_t<M, true>(pl, m, y, dy, aux);
-    else rhs_t<M, false>(pl, m, y, dy, aux);
+    if (pl->coefs.nk == 3) {
+        if (pl->energy) rhs_t<M, true, true>(pl, m, y, dy, aux);
+        else rhs_t<M, true, false>(pl, m, y, dy, aux);
+    } else {
+        if (pl->energy) rhs_t<M, false, true>(pl, m, y, dy, aux);
+        else rhs_t<M, false, false>(pl, m, y, dy, aux);
+    }
 }
 
 // Conduction mode at state y. Currents that are exactly zero on a sign-dependent leg are resolved

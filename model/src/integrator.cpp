@@ -471,7 +471,10 @@ void advance_with(plant_t *pl, M &mach, double dt_s) {
         else pl->t += taken;
     }
     // Breakpoints a sub-step ran through before the end (only then are any left before t_end - eps).
-    for (int x = 0; x < 3; ++x) apply_due(pl, x, t_end - eps, t_end - eps, eps, true);
+    // (A leg with neither a dead time running nor an instant left has nothing due: not called.)
+    for (int x = 0; x < 3; ++x)
+        if (ls.gate[x] != ls.gate_target[x] || ls.edge_k[x] < ls.edge_n[x])
+            apply_due(pl, x, t_end - eps, t_end - eps, eps, true);
     // Instants left (at or within eps of the end, or beyond it) set the command held from now.
     for (int x = 0; has_edges && x < 3; ++x) {
         for (; ls.edge_k[x] < ls.edge_n[x]; ++ls.edge_k[x]) ls.cmd[x] ^= 1;

@@ -91,6 +91,7 @@ plant_t *plant_create(const plant_params_t *p, char *err, size_t err_len) {
     pl->y[S_VCLO] = pl->y[S_VCHI] = 0.5 * p->vdc_v;
     pl->t = 0.0;
     pl->last_dt = 0.0;
+    pl->energy = true;
     LegSchedule &ls = pl->schedule;
     for (int x = 0; x < 3; ++x) {
         ls.cmd[x] = 0;
@@ -335,6 +336,8 @@ int plant_set_resistances(plant_t *plant, double rs_ohm, double rr_ohm) {
     rebuild_legs(plant);
     return 0;
 }
+
+void plant_set_energy_accounts(plant_t *plant, int on) { plant->energy = on != 0; }
 
 void plant_clear_desat(plant_t *plant) {
     plant->desat_mask = 0;

@@ -57,6 +57,7 @@ struct plant {
     plant_model::ConductionMode coefs_mode;
     plant_model::StepMethod step_method;  // the integrator of the step being taken (integrator.cpp)
     plant_stats_t stats;
+    bool energy;  // the energy accounts are integrated (plant_set_energy_accounts; circuit.h rhs_t)
     // Faults and the reconfiguration relay (plant.h). any_fault: a switch fault, an open
     // leg, a relay command or a desaturation latch exists (without one the fault checks are skipped).
     plant_model::LegFaults faults;

@@ -141,6 +141,7 @@ int plant_set_leg_open(plant_t*, int, int) { return 0; }
 int plant_set_relay(plant_t*, int) { return 0; }
 int plant_set_source_voltage(plant_t*, double) { return 0; }
 int plant_set_resistances(plant_t*, double, double) { return 0; }
+void plant_set_energy_accounts(plant_t*, int) {}
 int plant_set_leg_override(plant_t*, int, plant_leg_override_t) { return 0; }
 void plant_clear_desat(plant_t*) {}
 void plant_get_fault_state(const plant_t*, plant_fault_state_t* f)

@@ -132,6 +132,8 @@ hal_host::Harness* ActiveHarness::open(const Scenario& sc, std::string* err)
     pp_ = plant_params_from(sc);
     h_ = hal_host::Harness::create(pp_, harness_config_from(sc), err);
     if (h_) {
+        // Nothing the SIL reports reads the plant's energy accounts (plant.h): not integrated.
+        plant_set_energy_accounts(h_->plant(), 0);
         h_->activate();
     }
     return h_.get();
