@@ -160,12 +160,16 @@ iq_t itc_observe(itc_t *c, const dtc_meas_t *m)
     itc_observe_in(c, m); /* its temporaries (Clarke, the drop compensation) are off this frame */
     if (cfg->est.estimator != DTC_EST_VOLTAGE || c->speed_primed == 0U) {
         /* the current model (Hoang eqs. 8-9): the estimator, or the voltage model's first step;
-         * flux_est_seed is flux_est_step of a current-model estimator */
-        flux_est_seed(&c->fe, fin);
+         * flux_est_seed's steps, with the encoder angle's sine and cosine taken once for it and
+         * for the rotor frame of itc_cc_in and itc_i_pred (c->sc) */
+        c->fe.theta_e = flux_est_angle(fin->enc_count, c->fe_p.enc_gain_q16, c->fe_p.enc_offset);
+        park_sincos(c->fe.theta_e, &c->sc);
+        flux_est_cm(&c->fe, fin, c->sc.sin_q15, c->sc.cos_q15);
     } else {
         /* the voltage model entered directly: through flux_est_step its frame would add to this chain */
         flux_est_vm_step(&c->fe, fin, iq_mpy(cfg->machine.rs_iq, i->i_alpha_iq),
                          iq_mpy(cfg->machine.rs_iq, i->i_beta_iq));
+        park_sincos(c->fe.theta_e, &c->sc); /* the encoder's electrical angle (flux_est_angle) */
     }
     return torque_eq10(c->fe.psi_alpha_iq, c->fe.psi_beta_iq, i->i_alpha_iq, i->i_beta_iq);
 }
@@ -198,7 +202,7 @@ void itc_cc_in(itc_t *c, const dtc_meas_t *m, iq_t vlo_iq)
     dqpi_in_t *const in = &c->cc_in;
     const park_sc_t *const sc = &c->sc;
 
-    park_sincos(c->fe.theta_e, &c->sc); /* the encoder's electrical angle of this step (flux_est_angle, set by the observer) */
+    /* c->sc: the sine and cosine of the encoder's electrical angle of this step (itc_observe) */
     park_fwd(sc, c->i_alpha_iq, c->i_beta_iq, &c->id_iq, &c->iq_iq);
     c->iq_ref_iq = iq_mpy(cfg->u.pm_itc.cc.iq_per_t_iq, c->te_ref_iq);
     in->ref_d_iq = 0;
