@@ -129,14 +129,21 @@ iq_t svm_recip_slow(iq_t y, iq_t x, iq_t e);
  * this path); else svm_recip_slow: two steps when |e| <= 1/4, a re-seed from the power of two of x
  * and eight steps otherwise. The result is within a few IQ LSB of 1/x (relative 2^-24) whatever
  * y was. x <= 0 returns y unchanged. Scaling: IQ products rounded; for x >= 2^-7 pu (1/x <= 128)
- * only. */
+ * only.
+ * The fast path's arithmetic without the saturation tests that cannot act there, the same values:
+ * for x, y > 0 the product x y < 2^62 and its rounding r = (x y + 2^23) >> 24 are exact in 64 bits,
+ * and 1 - r lies in [-2^-12, 2^-12] exactly when iq_sub(1, iq_mpy(x, y)) does (a saturated r >=
+ * 2^31 gives e < -2^30 either way); then |y e| < 2^43 rounds below 2^19 (no saturation) and only
+ * the final sum saturates (y near 128 pu). The slow path gets iq_sub(1, iq_mpy(x, y)) as before. */
 static inline iq_t svm_recip(iq_t y, iq_t x)
 {
-    const iq_t e = iq_sub(SVM_ONE_IQ, iq_mpy(x, y));
-    if (x > 0 && y > 0 && e <= (SVM_ONE_IQ >> 12) && e >= -(SVM_ONE_IQ >> 12)) {
-        return iq_add(y, iq_mpy(y, e));
+    if (x > 0 && y > 0) {
+        const int64_t e = (int64_t)SVM_ONE_IQ - (((int64_t)x * (int64_t)y + ((int64_t)1 << (FIX_IQ_Q - 1))) >> FIX_IQ_Q);
+        if (e <= (int64_t)(SVM_ONE_IQ >> 12) && e >= -(int64_t)(SVM_ONE_IQ >> 12)) {
+            return fix_add32(y, (iq_t)(((int64_t)y * e + ((int64_t)1 << (FIX_IQ_Q - 1))) >> FIX_IQ_Q));
+        }
     }
-    return svm_recip_slow(y, x, e);
+    return svm_recip_slow(y, x, iq_sub(SVM_ONE_IQ, iq_mpy(x, y)));
 }
 
 /* 1/x for x in [1, 128) pu (the overmodulation's span, svm_step), rounded to the nearest IQ LSB

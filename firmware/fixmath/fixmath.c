@@ -177,13 +177,20 @@ q15_t fix_cos(angle_t angle)
  * 16384 - p (q odd), and fix_cos(angle) = fix_sin(angle + a quarter turn) reads quadrant q + 1 at
  * the same p, i.e. the other of the two folds; the signs: sin is negative in q = 2, 3, cos (q + 1
  * in 2, 3) in q = 1, 2. So a = fold(p), b = fold(16384 - p) give (sin, cos) = (a, b), (b, -a),
- * (-a, -b), (-b, a) for q = 0 .. 3: the same values as the two calls. */
+ * (-a, -b), (-b, a) for q = 0 .. 3: the same values as the two calls.
+ * Both folds from one segment: p = 64 i + f (i in [0, 255], f in [0, 63], p < 16384: no clamp),
+ * fold(p) = T[i] + rnd((T[i + 1] - T[i]) f / 64). For f > 0, 16384 - p = 64 (255 - i) + (64 - f),
+ * segment 255 - i (no clamp) at the fraction 64 - f; for f = 0, fold(16384 - p) = T[256 - i] (for i =
+ * 0 by the clamp: T[255] + (T[256] - T[255]) 64/64), which T[255 - i] + rnd((T[256 - i] - T[255 - i])
+ * (64 - f) / 64) is at f = 0 (the product an exact multiple of 64). So b = that form for every p. */
 void fix_sincos(angle_t angle, q15_t *sin_out, q15_t *cos_out)
 {
     const uint16_t quadrant = (uint16_t)(angle >> 14);
-    const uint16_t pos = (uint16_t)(angle & 0x3FFFU);
-    const int32_t a = fix_sin_fold(pos);
-    const int32_t b = fix_sin_fold((uint16_t)(16384U - (uint32_t)pos));
+    const uint16_t i = (uint16_t)((angle >> 6) & 0xFFU);
+    const int32_t f = (int32_t)(angle & 0x3FU);
+    const int32_t t0 = (int32_t)fix_sin_table[i], u0 = (int32_t)fix_sin_table[255U - i];
+    const int32_t a = t0 + fix_rshift_rnd32(((int32_t)fix_sin_table[i + 1U] - t0) * f, 6U);
+    const int32_t b = u0 + fix_rshift_rnd32(((int32_t)fix_sin_table[256U - i] - u0) * (64 - f), 6U);
     const int32_t s = (quadrant & 1U) != 0U ? b : a;
     const int32_t c = (quadrant & 1U) != 0U ? a : b;
     *sin_out = (quadrant & 2U) != 0U ? (q15_t)-s : (q15_t)s;
