@@ -30,7 +30,7 @@
  * onto the hexagon boundary, keeping its angle: d_x = 1/2 + (n_x - (max n + min n)/2)/s, no null
  * vector, the same duties in both modes. (Not the inscribed circle: the hexagon gives up to
  * 2/sqrt3 = 1.155 times more voltage between the active vectors.) The flag overmod says it
- * happened. 1/s rounded exactly (svm_recip_span: a 32-entry table seed and two Newton steps).
+ * happened. 1/s rounded exactly (svm_recip_span: a quadratic seed and two Newton steps).
  * Dead-time compensation (Casadei sec. 10.5; the sign rule of vrec.h deadtime_error): a leg that switches
  * in the period (0 < d < 1) loses T_d/T_s of duty when its current leaves the leg (i > 0: the
  * upper device's turn-on is delayed by T_d while the lower diode conducts) and gains T_d/T_s when
@@ -147,8 +147,8 @@ static inline iq_t svm_recip(iq_t y, iq_t x)
 }
 
 /* 1/x for x in [1, 128) pu (the overmodulation's span, svm_step), rounded to the nearest IQ LSB
- * (half up): round(2^48 / x). A seed from a 32-entry table on x's five bits below its leading one
- * (relative error <= 1/65), two Newton steps on the exact residual 2^48 - x y in 64 bits (error
+ * (half up): round(2^48 / x). A seed by the minimax quadratic of 1/x on x's octave (relative error
+ * <= 1/99; no table), two Newton steps on the exact residual 2^48 - x y in 64 bits (error
  * below 1.5 LSB) and one rounding correction by the residual's sign; the proof in svm.c. The
  * products are exact in 64 bits (< 2^61); no division. */
 iq_t svm_recip_span(iq_t x);
