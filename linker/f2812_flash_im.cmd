@@ -57,7 +57,6 @@ SECTIONS
                     *(.text:_im_sfvc_kpd)
                     *(.text:_im_sup_step)
                     *(.text:_law_pwm)
-                    *(.text:_svm_recip)
                     /* hot:ramfuncs end */
                     -l=libdtc_firmware.a (.econst)
                     -l=libdtc_firmware.a (.switch)

@@ -46,7 +46,7 @@
  * product < 2^62) and rounded ONCE (fix_rshift_rnd64_sat32), then added with saturation, so the
  * state saturates at +-128 pu and never wraps. The correction e (1 - j r) is two rounded products
  * and saturated sums (iq_cmul_1jx); |r| <= 1/2 (the host's speed floor) keeps it within 1.12 |e|.
- * Current model: two rounded IQ products (<= 0.5 LSB each) and fix_sin/fix_cos (<= 2 Q15 LSB),
+ * Current model: two rounded IQ products (<= 0.5 LSB each) and fix_sincos (<= 2 Q15 LSB),
  * summed with saturation; the salient term: i_q of two rounded Q15 products (<= 1 LSB, |i_q| <=
  * |i|), dl i_q one rounded IQ product, its projections two rounded Q15 products, added with
  * saturation (no wrap for any input).
@@ -111,11 +111,27 @@ void flux_est_reset(flux_est_t *s);
  * vectors for the wrong flux position (the machine can stall or reverse). dtc_step() calls it
  * on the first step after a reset. */
 void flux_est_seed(flux_est_t *s, const flux_est_in_t *in);
+/* Hoang eqs. 8-9 into the state at the angle whose Q15 sine sn and cosine cs are given (the
+ * surface PM's current model; flux_est_cm below adds the salient term). */
+void flux_est_cm_surface(flux_est_t *s, const flux_est_in_t *in, q15_t sn, q15_t cs);
 /* One 50 us step; the estimate is in s->psi_alpha_iq, s->psi_beta_iq afterwards. */
 void flux_est_step(flux_est_t *s, const flux_est_in_t *in);
 /* The current model's salient-PM term (above; pm_salient.c), added to the state's flux; the current
  * model calls it after Hoang eqs. 8-9 when dl_iq != 0. */
-void flux_est_cm_salient(flux_est_t *s, const flux_est_in_t *in);
+void flux_est_cm_salient(flux_est_t *s, const flux_est_in_t *in, q15_t sn, q15_t cs);
+/* The current model (Hoang eqs. 8-9 and the salient term) at the angle already in s->theta_e,
+ * whose Q15 sine sn and cosine cs (fix_sincos) the caller took, for a caller that needs the pair
+ * elsewhere in the period (itc.c: the Park transform): flux_est_seed(s, in) is s->theta_e =
+ * flux_est_angle(..), fix_sincos(s->theta_e, &sn, &cs), flux_est_cm(s, in, sn, cs), bit for bit.
+ * Inline, the two parts called one after the other: on the Cortex-M0 stack chains (dtc_step,
+ * itc_step) the salient part's frame does not sit on the surface part's. */
+static inline void flux_est_cm(flux_est_t *s, const flux_est_in_t *in, q15_t sn, q15_t cs)
+{
+    flux_est_cm_surface(s, in, sn, cs);
+    if (s->p->dl_iq != 0) {
+        flux_est_cm_salient(s, in, sn, cs);
+    }
+}
 /* The voltage model's step (Hoang eqs. 15-16) with the resistive drop r_s i (IQ pu, alpha/beta)
  * formed by the caller, for a caller that needs the same product elsewhere in the period
  * (dtc.c: the delay compensation). flux_est_step(s, in) of a voltage-model estimator is

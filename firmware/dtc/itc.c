@@ -10,6 +10,15 @@
 #include "torque.h"
 #include "vrec.h"
 
+/* T* and its q-axis current i_q* = (i_q per T*) T* (itc.h), set together wherever T* changes (reset,
+ * the speed loop, the torque mode's command), so that itc_cc_in need not form the product every
+ * period: in speed mode T* changes at the speed-loop rate. One rounded IQ product, as before. */
+static inline void itc_set_te_ref(itc_t *c, iq_t te_ref_iq)
+{
+    c->te_ref_iq = te_ref_iq;
+    c->iq_ref_iq = iq_mpy(c->cfg->u.pm_itc.cc.iq_per_t_iq, te_ref_iq);
+}
+
 static void itc_adopt(itc_t *c, const dtc_refs_t *r)
 {
     dtc_refs_adopt(&c->act, &c->pi_p, &c->pi, &c->te_trim_iq, c->te_ref_iq, r, c->cfg);
@@ -81,7 +90,7 @@ void itc_reset(itc_t *c)
     svm4_reset(&c->svm4);
     c->te_trim_iq = 0;
     c->div_cnt = 0U;
-    c->te_ref_iq = c->act.mode == DTC_MODE_TORQUE ? c->act.torque_ref_iq : 0;
+    itc_set_te_ref(c, c->act.mode == DTC_MODE_TORQUE ? c->act.torque_ref_iq : 0);
     c->speed_iq = 0;
     c->wls_iq = 0;
     c->wlq_iq = 0;
@@ -105,7 +114,6 @@ void itc_reset(itc_t *c)
     c->i_beta_iq = 0;
     c->sc.cos_q15 = Q15(1.0);
     c->sc.sin_q15 = 0;
-    c->iq_ref_iq = 0;
 }
 
 /* Copies the shadow set whose (even) sequence number is seq and adopts it (itc.h). */
@@ -160,12 +168,16 @@ iq_t itc_observe(itc_t *c, const dtc_meas_t *m)
     itc_observe_in(c, m); /* its temporaries (Clarke, the drop compensation) are off this frame */
     if (cfg->est.estimator != DTC_EST_VOLTAGE || c->speed_primed == 0U) {
         /* the current model (Hoang eqs. 8-9): the estimator, or the voltage model's first step;
-         * flux_est_seed is flux_est_step of a current-model estimator */
-        flux_est_seed(&c->fe, fin);
+         * flux_est_seed's steps, with the encoder angle's sine and cosine taken once for it and
+         * for the rotor frame of itc_cc_in and itc_i_pred (c->sc) */
+        c->fe.theta_e = flux_est_angle(fin->enc_count, c->fe_p.enc_gain_q16, c->fe_p.enc_offset);
+        park_sincos(c->fe.theta_e, &c->sc);
+        flux_est_cm(&c->fe, fin, c->sc.sin_q15, c->sc.cos_q15);
     } else {
         /* the voltage model entered directly: through flux_est_step its frame would add to this chain */
         flux_est_vm_step(&c->fe, fin, iq_mpy(cfg->machine.rs_iq, i->i_alpha_iq),
                          iq_mpy(cfg->machine.rs_iq, i->i_beta_iq));
+        park_sincos(c->fe.theta_e, &c->sc); /* the encoder's electrical angle (flux_est_angle) */
     }
     return torque_eq10(c->fe.psi_alpha_iq, c->fe.psi_beta_iq, i->i_alpha_iq, i->i_beta_iq);
 }
@@ -188,7 +200,7 @@ void itc_speed(itc_t *c, const dtc_meas_t *m)
         c->lpf_r_iq = c->speed_iq < 0 ? fix_neg32(r) : r;
     }
     if (c->act.mode == DTC_MODE_SPEED) {
-        c->te_ref_iq = speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq);
+        itc_set_te_ref(c, speed_pi_step(&c->pi, &c->pi_p, c->act.speed_ref_iq, c->speed_iq));
     }
 }
 
@@ -198,10 +210,9 @@ void itc_cc_in(itc_t *c, const dtc_meas_t *m, iq_t vlo_iq)
     dqpi_in_t *const in = &c->cc_in;
     const park_sc_t *const sc = &c->sc;
 
-    park_sincos(c->fe.theta_e, &c->sc); /* the encoder's electrical angle of this step (flux_est_angle, set by the observer) */
+    /* c->sc: the sine and cosine of the encoder's electrical angle of this step (itc_observe) */
     park_fwd(sc, c->i_alpha_iq, c->i_beta_iq, &c->id_iq, &c->iq_iq);
-    c->iq_ref_iq = iq_mpy(cfg->u.pm_itc.cc.iq_per_t_iq, c->te_ref_iq);
-    in->ref_d_iq = 0;
+    in->ref_d_iq = 0; /* c->iq_ref_iq: formed with T* (itc_set_te_ref) */
     in->ref_q_iq = c->iq_ref_iq;
     if (cfg->board.topology == (uint16_t)DTC_TOPO_FSTP && cfg->u.pm_itc.mid.g_iq > 0) {
         /* mid-point regulation: i_a* = g y, y += k_f (d - y) (itc.h), into the rotor frame */
@@ -219,9 +230,9 @@ void itc_cc_in(itc_t *c, const dtc_meas_t *m, iq_t vlo_iq)
     in->ff_q_iq = iq_add(iq_mpy(c->wls_iq, c->id_iq), c->wpsi_iq);
     if (cfg->board.topology == (uint16_t)DTC_TOPO_FSTP) {
         const iq_t hi = iq_sub(m->vdc_iq, vlo_iq);
-        in->vmax_iq = q31_mul(vlo_iq < hi ? vlo_iq : hi, FIX_Q31_INV_SQRT3);
+        in->vmax_iq = q31_mul_k(vlo_iq < hi ? vlo_iq : hi, FIX_Q31_INV_SQRT3); /* the constant > Q31_MIN */
     } else {
-        in->vmax_iq = q31_mul(m->vdc_iq, FIX_Q31_INV_SQRT3);
+        in->vmax_iq = q31_mul_k(m->vdc_iq, FIX_Q31_INV_SQRT3);
     }
 }
 
@@ -272,7 +283,7 @@ void itc_step(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     }
     speed_loop_advance(&c->div_cnt, cfg->speed.speed_div);
     if (c->act.mode == DTC_MODE_TORQUE) {
-        c->te_ref_iq = c->act.torque_ref_iq;
+        itc_set_te_ref(c, c->act.torque_ref_iq);
     }
     c->i_alpha_iq = i->i_alpha_iq;
     c->i_beta_iq = i->i_beta_iq;

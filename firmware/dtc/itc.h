@@ -171,7 +171,8 @@ void itc_observe_in(itc_t *c, const dtc_meas_t *m);
  * counts the steps and calls it only then): measured speed, the speed's products, the low-pass
  * correction factor, and T* in speed mode. External linkage on purpose, as itc_shadow_adopt. */
 void itc_speed(itc_t *c, const dtc_meas_t *m);
-/* Internal to itc_step: the rotor frame at the encoder's angle of the step (c->sc), the dq
+/* Internal to itc_step: the rotor frame at the encoder's angle of the step (c->sc, whose sine and
+ * cosine itc_observe took once for the estimator and this), the dq
  * currents and the current PI's input c->cc_in (references, mid-point regulation, decoupling and
  * back-EMF feed-forward, the voltage limit from the link and vlo_iq, the FSTP's lower half-link).
  * External linkage on purpose, as itc_shadow_adopt. */

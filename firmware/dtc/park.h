@@ -31,8 +31,7 @@ typedef struct {
 /* cos and sin of theta (angle_t, one turn = 65536), Q15. */
 static inline void park_sincos(angle_t theta, park_sc_t *sc)
 {
-    sc->cos_q15 = fix_cos(theta);
-    sc->sin_q15 = fix_sin(theta);
+    fix_sincos(theta, &sc->sin_q15, &sc->cos_q15);
 }
 
 /* (alpha, beta) -> (d, q). */

@@ -9,10 +9,10 @@
 #include "flux_est.h"
 
 /* A salient PM's q-axis excess of the current model (flux_est.h):
- * psi += (l_q - l_d) i_q j e^{j theta_e} (formats and overflow there). */
-void flux_est_cm_salient(flux_est_t *s, const flux_est_in_t *in)
+ * psi += (l_q - l_d) i_q j e^{j theta_e} (formats and overflow there); sn, cs: the current model's
+ * sine and cosine of theta_e. */
+void flux_est_cm_salient(flux_est_t *s, const flux_est_in_t *in, q15_t sn, q15_t cs)
 {
-    const q15_t sn = fix_sin(s->theta_e), cs = fix_cos(s->theta_e);
     const iq_t t = iq_mpy(s->p->dl_iq, flux_est_park_q(in->i_alpha_iq, in->i_beta_iq, sn, cs));
     s->psi_alpha_iq = fix_sub32(s->psi_alpha_iq, iq_mpy_q15(t, sn));
     s->psi_beta_iq = fix_add32(s->psi_beta_iq, iq_mpy_q15(t, cs));

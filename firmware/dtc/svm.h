@@ -30,7 +30,7 @@
  * onto the hexagon boundary, keeping its angle: d_x = 1/2 + (n_x - (max n + min n)/2)/s, no null
  * vector, the same duties in both modes. (Not the inscribed circle: the hexagon gives up to
  * 2/sqrt3 = 1.155 times more voltage between the active vectors.) The flag overmod says it
- * happened. 1/s by Newton steps from a power-of-two seed.
+ * happened. 1/s rounded exactly (svm_recip_span: a quadratic seed and two Newton steps).
  * Dead-time compensation (Casadei sec. 10.5; the sign rule of vrec.h deadtime_error): a leg that switches
  * in the period (0 < d < 1) loses T_d/T_s of duty when its current leaves the leg (i > 0: the
  * upper device's turn-on is delayed by T_d while the lower diode conducts) and gains T_d/T_s when
@@ -129,15 +129,29 @@ iq_t svm_recip_slow(iq_t y, iq_t x, iq_t e);
  * this path); else svm_recip_slow: two steps when |e| <= 1/4, a re-seed from the power of two of x
  * and eight steps otherwise. The result is within a few IQ LSB of 1/x (relative 2^-24) whatever
  * y was. x <= 0 returns y unchanged. Scaling: IQ products rounded; for x >= 2^-7 pu (1/x <= 128)
- * only. */
+ * only.
+ * The fast path's arithmetic without the saturation tests that cannot act there, the same values:
+ * for x, y > 0 the product x y < 2^62 and its rounding r = (x y + 2^23) >> 24 are exact in 64 bits,
+ * and 1 - r lies in [-2^-12, 2^-12] exactly when iq_sub(1, iq_mpy(x, y)) does (a saturated r >=
+ * 2^31 gives e < -2^30 either way); then |y e| < 2^43 rounds below 2^19 (no saturation) and only
+ * the final sum saturates (y near 128 pu). The slow path gets iq_sub(1, iq_mpy(x, y)) as before. */
 static inline iq_t svm_recip(iq_t y, iq_t x)
 {
-    const iq_t e = iq_sub(SVM_ONE_IQ, iq_mpy(x, y));
-    if (x > 0 && y > 0 && e <= (SVM_ONE_IQ >> 12) && e >= -(SVM_ONE_IQ >> 12)) {
-        return iq_add(y, iq_mpy(y, e));
+    if (x > 0 && y > 0) {
+        const int64_t e = (int64_t)SVM_ONE_IQ - (((int64_t)x * (int64_t)y + ((int64_t)1 << (FIX_IQ_Q - 1))) >> FIX_IQ_Q);
+        if (e <= (int64_t)(SVM_ONE_IQ >> 12) && e >= -(int64_t)(SVM_ONE_IQ >> 12)) {
+            return fix_add32(y, (iq_t)(((int64_t)y * e + ((int64_t)1 << (FIX_IQ_Q - 1))) >> FIX_IQ_Q));
+        }
     }
-    return svm_recip_slow(y, x, e);
+    return svm_recip_slow(y, x, iq_sub(SVM_ONE_IQ, iq_mpy(x, y)));
 }
+
+/* 1/x for x in [1, 128) pu (the overmodulation's span, svm_step), rounded to the nearest IQ LSB
+ * (half up): round(2^48 / x). A seed by the minimax quadratic of 1/x on x's octave (relative error
+ * <= 1/99; no table), two Newton steps on the exact residual 2^48 - x y in 64 bits (error
+ * below 1.5 LSB) and one rounding correction by the residual's sign; the proof in svm.c. The
+ * products are exact in 64 bits (< 2^61); no division. */
+iq_t svm_recip_span(iq_t x);
 
 /* Compare value of a centred pulse of duty d (hal.h, HAL_PWM_UPPER_ACTIVE_HIGH, cmpr_up =
  * cmpr_dn): on-time ts (1 - c/T1PR), so c = round(T1PR (1 - d)); c >= T1PR (a pulse of zero

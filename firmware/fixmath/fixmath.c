@@ -136,43 +136,65 @@ q15_t q15_mag(q15_t a, q15_t b)
     return (q15_t)r;
 }
 
-q15_t fix_sin(angle_t angle)
+/* The sine of a folded position pos in [0, 16384] (a quarter turn in 14 bits), in [0, 32767]:
+ * the segment idx = pos / 64 and the fraction frac/64 that interpolates linearly between two
+ * neighbouring entries. pos = 16384 exactly is taken as segment 255 with frac = 64, so the table
+ * is never read past entry 256.
+ * Scaling and overflow: 0 <= t1 - t0 <= 202 and frac <= 64, so the product is < 2^14; the
+ * interpolated value lies between t0 and t1, both within [0, 32767]. Error: table rounding <= 0.5
+ * LSB, interpolation <= (pi/512)^2/8 = 0.15 LSB, final rounding <= 0.5 LSB. */
+static inline int32_t fix_sin_fold(uint16_t pos)
 {
-    /* Quarter-wave symmetry: the two top bits give the quadrant; odd quadrants mirror the
-     * position (sin(pi/2 + x) = sin(pi/2 - x)), the lower half turn is negated
-     * (sin(x + pi) = -sin(x)). The folded position pos in [0, 16384] (14-bit quarter turn) is
-     * split into a segment idx = pos / 64 and a fraction frac/64 that interpolates linearly
-     * between two neighbouring entries. pos = 16384 exactly is taken as segment 255 with
-     * frac = 64, so the table is never read past entry 256.
-     * Scaling and overflow: 0 <= t1 - t0 <= 202 and frac <= 64, so the product is < 2^14; the
-     * interpolated value lies between t0 and t1, both within [0, 32767], and its negation
-     * cannot overflow. Error: table rounding <= 0.5 LSB, interpolation <= (pi/512)^2/8 =
-     * 0.15 LSB, final rounding <= 0.5 LSB. Odd symmetry sin(-x) = -sin(x) holds exactly. */
-    uint16_t quadrant = (uint16_t)(angle >> 14);
-    uint16_t pos = (uint16_t)(angle & 0x3FFFU);
-    uint16_t idx;
-    int32_t frac;
-    int32_t t0;
-    int32_t t1;
-    int32_t v;
-
-    if ((quadrant & 1U) != 0U) {
-        pos = (uint16_t)(16384U - (uint32_t)pos);
-    }
-    idx = (uint16_t)(pos >> 6);
+    uint16_t idx = (uint16_t)(pos >> 6);
+    int32_t frac, t0, t1;
     if (idx > 255U) {
         idx = 255U;
     }
     frac = (int32_t)pos - (int32_t)idx * 64;
     t0 = (int32_t)fix_sin_table[idx];
     t1 = (int32_t)fix_sin_table[idx + 1U];
-    v = t0 + fix_rshift_rnd32((t1 - t0) * frac, 6U);
+    return t0 + fix_rshift_rnd32((t1 - t0) * frac, 6U);
+}
+
+q15_t fix_sin(angle_t angle)
+{
+    /* Quarter-wave symmetry: the two top bits give the quadrant; odd quadrants mirror the
+     * position (sin(pi/2 + x) = sin(pi/2 - x)), the lower half turn is negated
+     * (sin(x + pi) = -sin(x)): the negation of a value in [0, 32767] cannot overflow. Odd
+     * symmetry sin(-x) = -sin(x) holds exactly. */
+    const uint16_t quadrant = (uint16_t)(angle >> 14);
+    const uint16_t pos = (uint16_t)(angle & 0x3FFFU);
+    const int32_t v = fix_sin_fold((quadrant & 1U) != 0U ? (uint16_t)(16384U - (uint32_t)pos) : pos);
     return (quadrant & 2U) != 0U ? (q15_t)-v : (q15_t)v;
 }
 
 q15_t fix_cos(angle_t angle)
 {
     return fix_sin((angle_t)(angle + ANGLE(0.25)));
+}
+
+/* fixmath.h. With q the quadrant and p the position in it, fix_sin reads the fold at p (q even) or
+ * 16384 - p (q odd), and fix_cos(angle) = fix_sin(angle + a quarter turn) reads quadrant q + 1 at
+ * the same p, i.e. the other of the two folds; the signs: sin is negative in q = 2, 3, cos (q + 1
+ * in 2, 3) in q = 1, 2. So a = fold(p), b = fold(16384 - p) give (sin, cos) = (a, b), (b, -a),
+ * (-a, -b), (-b, a) for q = 0 .. 3: the same values as the two calls.
+ * Both folds from one segment: p = 64 i + f (i in [0, 255], f in [0, 63], p < 16384: no clamp),
+ * fold(p) = T[i] + rnd((T[i + 1] - T[i]) f / 64). For f > 0, 16384 - p = 64 (255 - i) + (64 - f),
+ * segment 255 - i (no clamp) at the fraction 64 - f; for f = 0, fold(16384 - p) = T[256 - i] (for i =
+ * 0 by the clamp: T[255] + (T[256] - T[255]) 64/64), which T[255 - i] + rnd((T[256 - i] - T[255 - i])
+ * (64 - f) / 64) is at f = 0 (the product an exact multiple of 64). So b = that form for every p. */
+void fix_sincos(angle_t angle, q15_t *sin_out, q15_t *cos_out)
+{
+    const uint16_t quadrant = (uint16_t)(angle >> 14);
+    const uint16_t i = (uint16_t)((angle >> 6) & 0xFFU);
+    const int32_t f = (int32_t)(angle & 0x3FU);
+    const int32_t t0 = (int32_t)fix_sin_table[i], u0 = (int32_t)fix_sin_table[255U - i];
+    const int32_t a = t0 + fix_rshift_rnd32(((int32_t)fix_sin_table[i + 1U] - t0) * f, 6U);
+    const int32_t b = u0 + fix_rshift_rnd32(((int32_t)fix_sin_table[256U - i] - u0) * (64 - f), 6U);
+    const int32_t s = (quadrant & 1U) != 0U ? b : a;
+    const int32_t c = (quadrant & 1U) != 0U ? a : b;
+    *sin_out = (quadrant & 2U) != 0U ? (q15_t)-s : (q15_t)s;
+    *cos_out = ((quadrant + 1U) & 2U) != 0U ? (q15_t)-c : (q15_t)c;
 }
 
 uint16_t fix_sector6(iq_t alpha, iq_t beta)

@@ -387,6 +387,9 @@ static inline uint64_t iq_sumsq_q48(iq_t a, iq_t b)
 q15_t fix_sin(angle_t angle);
 /* cos(2*pi*angle/65536) in Q15, = fix_sin(angle + quarter turn). Same bounds. */
 q15_t fix_cos(angle_t angle);
+/* Both, *sin_out = fix_sin(angle) and *cos_out = fix_cos(angle) bit for bit, from one quadrant
+ * decode (fixmath.c): for a caller that needs the pair. */
+void fix_sincos(angle_t angle, q15_t *sin_out, q15_t *cos_out);
 
 /* ------------------------------------------------------------------------------------------ */
 /* Flux-vector position without an arctangent                                                  */

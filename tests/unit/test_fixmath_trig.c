@@ -55,6 +55,13 @@ static void test_sin_cos_all_angles(void **state)
         assert_true(s != Q15_MIN && c != Q15_MIN);
         assert_int_equal(fix_sin((angle_t)(65536 - a)), -s);
         assert_int_equal(fix_cos((angle_t)(65536 - a)), c);
+        {
+            /* the pair from one decode: the same two values (and so the same bounds) */
+            q15_t s2, c2;
+            fix_sincos((angle_t)a, &s2, &c2);
+            assert_int_equal(s2, s);
+            assert_int_equal(c2, c);
+        }
     }
     fixtest_lsb_check(&ts, SIN_MAX_LSB, "fix_sin, all 65536 angles");
     fixtest_lsb_check(&tc, SIN_MAX_LSB, "fix_cos, all 65536 angles");

@@ -353,6 +353,41 @@ static void test_reciprocal_and_link(void **state)
     }
 }
 
+/* The overmodulation's 1/span (svm_recip_span): the IQ rounding of 1/x (half up) for x in
+ * [1, 128) pu, against the double quotient 2^48 / x (exact to 2^-29 LSB below 2^24) and the exact
+ * integer rounding floor((2^49 + x) / 2x): every x in [1, 1 + 2^-4] pu, the table's 32 intervals at
+ * every octave around their ends, and a stride through the whole range. */
+static void check_recip_span(int64_t x)
+{
+    const iq_t y = svm_recip_span((iq_t)x);
+    const double yd = 281474976710656.0 / (double)x;
+    const int64_t yr = (((int64_t)1 << 49) + x) / (2 * x);
+    assert_true(fabs((double)y - yd) <= 0.5 + 1e-6);
+    assert_int_equal(y, yr);
+}
+
+static void test_overmodulation_reciprocal_is_rounded(void **state)
+{
+    (void)state;
+    int64_t x;
+    for (x = (int64_t)1 << 24; x <= ((int64_t)1 << 24) + ((int64_t)1 << 20); x++) {
+        check_recip_span(x);
+    }
+    for (int m = 0; m < 7; m++) {
+        for (int64_t j = 0; j <= 32; j++) {
+            const int64_t edge = ((32 + j) << (19 + m));
+            for (int64_t d = -300; d <= 300; d++) {
+                if (edge + d >= ((int64_t)1 << 24) && edge + d < ((int64_t)1 << 31)) {
+                    check_recip_span(edge + d);
+                }
+            }
+        }
+    }
+    for (x = (int64_t)1 << 24; x < ((int64_t)1 << 31); x += 9973) {
+        check_recip_span(x);
+    }
+}
+
 /* Compare values (hal.h): duty 1 -> 0, 0 -> T1PR + 1, 1/2 -> T1PR/2, and the on-time
  * ts (1 - c/T1PR) within half a count of d ts for every duty step. */
 static void test_compare_values(void **state)
@@ -380,4 +415,5 @@ UNIT_TEST_MAIN("svm", NULL,
                cmocka_unit_test(test_overmodulation_keeps_the_angle),
                cmocka_unit_test(test_deadtime_compensation_edges),
                cmocka_unit_test(test_reciprocal_and_link),
+               cmocka_unit_test(test_overmodulation_reciprocal_is_rounded),
                cmocka_unit_test(test_compare_values))

@@ -22,7 +22,8 @@
  * `bench_dtc N itc`: the PM indirect torque control (itc_step: rotor-frame current PI, FSTP SVM
  * with the measured mid-point and its regulation, the voltage-model observer with Hoang's Table VI
  * compensation) on the defaults' FSTP, 50 us, against the same PM machine fed by the mean voltage
- * of the duties (vrec of the effective duties on the 1 pu link).
+ * of the duties (vrec of the effective duties on the 1 pu link). `bench_dtc N itc cm`: the same with
+ * the current-model estimator (Hoang eqs. 8-9; the drop compensation then not used).
  * `bench_dtc N capture MODE`: the application's ISR body (app_core_step, PM law, the defaults'
  * configuration) in RUN on an idle measurement, N periods through the wrapper bench_app_step:
  * MODE none (no capture attached), off (attached, not recording) or on (four channels recorded
@@ -95,8 +96,8 @@ static void pm_meas(const dtc_ref_pm_t *m, dtc_meas_t *me, double *ia, double *i
 BENCH_STEP(itc_t, bench_itc_normal, itc_step)
 BENCH_STEP(itc_t, bench_itc_tick, itc_step)
 
-/* The PM ITC in closed loop (see the header comment). */
-static int run_itc(long n)
+/* The PM ITC in closed loop (see the header comment); cm: the current-model estimator. */
+static int run_itc(long n, int cm)
 {
     dtc_config_si_t si;
     dtc_config_t cfg;
@@ -107,7 +108,18 @@ static int run_itc(long n)
     long n_tick = 0, n_norm = 0;
     double va = 0.0, vb = 0.0;
     double w_mech;
-    if (pm_rig(DTC_LAW_PM_ITC, &si, &cfg, &b, &m, &w_mech) != 0 || itc_init(&c, &cfg) != DTC_OK) {
+    if (pm_rig(DTC_LAW_PM_ITC, &si, &cfg, &b, &m, &w_mech) != 0) {
+        return 1;
+    }
+    if (cm) {
+        char msg[256];
+        si.estimator = DTC_EST_CURRENT;
+        if (dtc_config_from_si(&si, &cfg, msg, sizeof msg) != DTC_SI_OK) {
+            fprintf(stderr, "bench: %s\n", msg);
+            return 1;
+        }
+    }
+    if (itc_init(&c, &cfg) != DTC_OK) {
         return 1;
     }
     const double tspu = si.ts_s * b.w_base_rad_s;
@@ -379,7 +391,7 @@ int main(int argc, char **argv)
         return run_im(n, 0, 3);
     }
     if (argc > 2 && strcmp(argv[2], "itc") == 0) {
-        return run_itc(n);
+        return run_itc(n, argc > 3 && strcmp(argv[3], "cm") == 0);
     }
     if (argc > 3 && strcmp(argv[2], "capture") == 0) {
         return run_capture(n, argv[3]);
