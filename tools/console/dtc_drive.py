@@ -513,9 +513,13 @@ class Drive:
 
     def identify(self, timeout_s=30.0, poll_s=0.1):
         """Starts the identification, waits for its end, disarms (READY again) and returns
-        (status, result): DriveError when it is refused, fails or does not end in timeout_s."""
-        self.identify_start()
+        (status, result): DriveError when it is refused, fails or does not end in timeout_s. A drive
+        still calibrating its current sensors (just powered, or just connected to) is waited for
+        first, within the same timeout: it would refuse the start with NOT_CALIBRATED."""
         end = time.monotonic() + timeout_s
+        while self.status()["state"] in ("init", "calibrate") and time.monotonic() < end:
+            time.sleep(poll_s)
+        self.identify_start()
         try:
             while True:
                 st = self.identify_status()
