@@ -150,11 +150,11 @@ typedef struct {
     uint16_t ref_slot;    /* the step whose div_cnt (after its increment in im_dtc_speed) evaluates
                            * Casadei eq. 19: 6, a step of its own, the one after the rotor-flux
                            * trim's (5, im_dtc_internal.h im_trim_slot), that carries neither the
-                           * CORDIC's halves (8, 0), nor the speed loop (1), nor the encoder
-                           * plausibility's comparison (2), nor the supervision (4), and whose
-                           * parity is theirs (the application's plausibility window of 2^k
-                           * periods ends on steps of one parity of div_cnt: the odd ones,
-                           * im_dtc_internal.h); 2 (with the trim) for speed_div 3..6, 0 below */
+                           * CORDIC's halves (9, 0), nor the speed loop (1), nor the encoder
+                           * plausibility's comparison (2), nor the supervision (4), and is even
+                           * (the application's plausibility window of 2^k periods ends on steps
+                           * of one parity of div_cnt: the odd ones, im_dtc_internal.h); 2 (with
+                           * the trim) for speed_div 3..6, 0 below */
     iq_t speed_iq;        /* electrical speed in use (encoder or estimated), pu */
     /* encoder plausibility (u.im.ref.enc_plaus_iq > 0 with the encoder; im_dtc_speed) */
     iq_t enc_filt_iq;     /* the encoder's speed through the sensorless speed's filter, pu */

@@ -93,11 +93,11 @@ uint16_t im_dtc_fstp_advance(const im_dtc_t *c, uint16_t sector, uint16_t flux_u
 /* The steps of the speed period that carry its once-per-period work (div_cnt after its increment
  * in im_dtc_speed: 1 the speed loop's step, 0 the last step), so that no step carries two of the
  * pieces and each fits beside an ordinary period (docs/f2812.md, the IM image's worst ISR):
- *   speed_div >= 7: 8 and 0 the CORDIC's halves (im_polar_due), 1 the speed loop, 2 the encoder
+ *   speed_div >= 7: 9 and 0 the CORDIC's halves (im_polar_due), 1 the speed loop, 2 the encoder
  *   plausibility's comparison (im_plaus_slot), 4 the supervision (im_sup.h slot), 5 the rotor-flux
- *   trim (im_trim_slot), 6 Casadei eq. 19 (ref_slot); all of them even but the trim, the
- *   smallest: the application's current-sensor plausibility judges its windows on the odd steps
- *   (app_core.h's slots);
+ *   trim (im_trim_slot), 6 Casadei eq. 19 (ref_slot); even steps where it can: the
+ *   application's current-sensor plausibility judges its windows on the odd steps (app_core.h's
+ *   slots);
  *   smaller speed_div: shared steps (im_dtc.h ref_slot, im_sup.h slot). */
 static inline uint16_t im_plaus_slot(uint16_t speed_div)
 {
@@ -107,16 +107,24 @@ static inline uint16_t im_trim_slot(const im_dtc_t *c)
 {
     return c->ref_slot > 2U ? (uint16_t)(c->ref_slot - 1U) : c->ref_slot;
 }
-/* In im_dtc_front, before im_dtc_speed's increment (div_cnt + 1 is the step's slot above): bit 0
- * im_est_polar_begin (the step two before the last, or the last when speed_div < 3), bit 1
- * im_est_polar_end (the last step: the speed loop's step follows). The angle and magnitude the
- * speed loop, the plausibility, the supervision, the trim and eq. 19 read are those of the x
- * three steps before the speed loop's (120 us at 40 us; with speed_div 2 one step before it, with
- * speed_div 1 the speed loop's own step). */
+/* In im_dtc_front, before im_dtc_speed's increment: bit 0 im_est_polar_begin (the last step but
+ * one of the speed period, or the last when speed_div is 1), bit 1 im_est_polar_end (the last
+ * step: the speed loop's step follows). The angle and magnitude the speed loop, the
+ * plausibility, the supervision, the trim and eq. 19 read are those of the x two steps before
+ * the speed loop's (80 us at 40 us; with speed_div 1 the speed loop's own step).
+ * Why the odd step 9 for the first half and not the even 8: the trim takes one sample of |phi_r|
+ * per speed period, and DSVM at 72 rpm and 10 % of rated torque (4 kW) has a ripple of |phi_r|
+ * that the sample aliases: its mean torque was -0.63 % of T* sampled at the speed loop's step
+ * (main), -0.60 % one step before it, +0.34 % two steps (this), +2.07 % three steps before it
+ * (beyond the 1.5 % target of sil.ImTorqueBias). */
 static inline uint16_t im_polar_due(const im_dtc_t *c)
 {
-    const uint16_t n = (uint16_t)(c->div_cnt + 1U), sd = c->cfg->speed.speed_div;
-    return (uint16_t)((n + 2U == sd || (sd < 3U && n == sd) ? 1U : 0U) | (n == sd ? 2U : 0U));
+    /* r: the steps after this one in the speed period (0 in its last) */
+    const uint16_t sd = c->cfg->speed.speed_div, r = (uint16_t)(sd - 1U - c->div_cnt);
+    if (r > 1U) {
+        return 0U;
+    }
+    return (uint16_t)(r == 1U ? 1U : (sd < 2U ? 3U : 2U));
 }
 
 /* Speed every speed_div-th period, as in the PM law (im_dtc_speed_tick: the encoder's or the
@@ -194,15 +202,17 @@ static inline iq_t im_dtc_front(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, 
     im_est_flux(&c->est, &c->ein);
     /* the rotor-flux angle and magnitude (CORDIC, Casadei eqs. 21-22) once per speed period, in
      * two halves (im_est_polar_begin, _end; after im_est_flux: the CORDIC's frame is not under
-     * im_est_flux's): begun on the x of the step two before the speed period's last, ended in
-     * the last step (im_polar_due); the speed loop's step that follows reads them */
+     * im_est_flux's): begun on the x of the speed period's last step but one, ended in the last
+     * (im_polar_due); the speed loop's step that follows reads them */
     {
         const uint16_t due = im_polar_due(c);
-        if ((due & 1U) != 0U) {
-            im_est_polar_begin(&c->est);
-        }
-        if ((due & 2U) != 0U) {
-            im_est_polar_end(&c->est);
+        if (due != 0U) {
+            if ((due & 1U) != 0U) {
+                im_est_polar_begin(&c->est);
+            }
+            if ((due & 2U) != 0U) {
+                im_est_polar_end(&c->est);
+            }
         }
     }
     te = torque_eq10(c->est.psi_alpha_iq, c->est.psi_beta_iq, c->i.i_alpha_iq, c->i.i_beta_iq);

@@ -116,7 +116,7 @@ typedef struct {
     uint16_t slot;        /* im_sup_step runs in the step whose div_cnt (after its increment in
                            * im_dtc_speed) is this: 4, three steps after the speed loop's, two after
                            * the encoder plausibility's comparison (im_dtc_internal.h im_plaus_slot)
-                           * and one before the rotor-flux trim's (im_trim_slot); 0 (the last step
+                           * and before the rotor-flux trim's (im_trim_slot); 0 (the last step
                            * of the speed period) for speed_div < 5 */
     uint16_t cm_on;       /* 1: the improved estimator with the encoder, not DSVM: the current model's vector
                            * (below) blended into Casadei eq. 20's reference at low speed */
