@@ -129,7 +129,7 @@ void im_dtc_estimate(im_dtc_t *c, const dtc_meas_t *m)
     im_dtc_ein_common(c, m);
 }
 
-/* The encoder plausibility's comparison of a speed-loop period (im_dtc.h), run in the third
+/* The encoder plausibility's comparison of a speed-loop period (im_dtc.h), run in the second
  * step on the speed-loop step's values (held since: est.theta_r, est.psir_mag_iq, speed_iq;
  * stored: the torque in plaus_err_iq, whether magnetised in sup.due bit 2): the sensorless speed (Casadei eqs. 16, 22: im_speed_step on that
  * step's rotor-flux angle and torque), the encoder's speed through the same filter, their
@@ -164,7 +164,7 @@ void im_dtc_speed_tick(im_dtc_t *c, const dtc_meas_t *m, iq_t te)
         c->speed_iq = c->isp.speed_iq;
     } else {
         c->speed_iq = speed_meas_step(&c->sm, m->enc_count);
-        /* the plausibility's values of this step, compared in the third step (im_dtc_speed) */
+        /* the plausibility's values of this step, compared in the next step (im_dtc_speed, im_plaus_slot) */
         if (cfg->u.im.ref.enc_plaus_iq > 0) {
             c->plaus_err_iq = te;
             plaus = (uint16_t)(c->magnetised != 0U ? 6U : 2U);
@@ -293,10 +293,15 @@ void im_dtc_refs(im_dtc_t *c)
         c->psi_ref_iq = c->fw.psi_ref_iq;
         im_dtc_psir_ref(c, c->psi_ref_iq);
     } else if (cfg->u.im.ref.psir_ref_iq > 0) {
-        /* Casadei eq. 19 (a square root) and the trim once per speed period, in the step ref_slot
-         * (im_dtc.h: a step that carries no other once-per-speed-period work) */
-        if (c->ref_due != 0U && c->div_cnt == c->ref_slot) {
+        /* the trim, then Casadei eq. 19 (a square root) with it, once per speed period, each in
+         * a step that carries no other once-per-speed-period work (im_dtc_internal.h
+         * im_trim_slot, im_dtc.h ref_slot; the same step with speed_div <= 6): ref_due 1 the
+         * trim is due, 2 eq. 19 */
+        if (c->ref_due == 1U && c->div_cnt == im_trim_slot(c)) {
             im_psir_trim(c);
+            c->ref_due = 2U;
+        }
+        if (c->ref_due == 2U && c->div_cnt == c->ref_slot) {
             c->psi_ref_iq = iq_add(im_ref_stator_flux(im->ks_iq, im->sigma_lr_iq, cfg->u.im.ref.psir_ref_iq,
                                                       cfg->u.im.ref.inv_psir_ref_iq, te),
                                    iq_mpy(im->ks_iq, c->psir_trim_iq));
@@ -399,13 +404,13 @@ void im_dtc_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o)
 void im_dtc_i_pred(const im_dtc_t *c, iq_t vdc_iq, iq_t i1[3])
 {
     const dtc_config_t *cfg = c->cfg;
-    const iq_t sl = cfg->u.im.machine.sigma_ls_iq;
     const iq_t wa = iq_mpy(c->speed_iq, c->ip_a_iq); /* w a: the rotation's gain this period */
     /* (w Ts)^2 / 2 / (sigma l_s) = w a (w Ts) / 2: the rotation's second-order term */
     const iq_t h = fix_rshift_rnd32(iq_mpy(wa, iq_mpy(c->speed_iq, cfg->board.ts_pu_iq)), 1U);
     const iq_t ia = c->i.i_alpha_iq, ib = c->i.i_beta_iq;
-    const iq_t xa = iq_sub(c->est.psi_alpha_iq, iq_mpy(sl, ia));
-    const iq_t xb = iq_sub(c->est.psi_beta_iq, iq_mpy(sl, ib));
+    /* x = phi_s - sigma l_s i of this step: the estimator's (im_est_flux, the same sigma l_s,
+     * flux and current), not formed again */
+    const iq_t xa = c->est.x_alpha_iq, xb = c->est.x_beta_iq;
     iq_t va, vb;
     clarke_out_t o;
 

@@ -63,10 +63,11 @@
  * rotor flux is below phi_r* / 16 (its angle is not yet defined: the start of the magnetisation),
  * the filtered encoder speed following the sensorless one meanwhile, so both filters leave the
  * same state. It costs one im_speed_step and one filter step per speed period, in a step of its
- * own before the model supervision's (the third step, im_sup.h slot), on the speed-loop step's values (the angle, |phi_r|, the
+ * own before the model supervision's (the second step, im_dtc_internal.h im_plaus_slot), on the
+ * speed-loop step's values (the angle and |phi_r| of the CORDIC that ended before it, the
  * encoder's speed, the torque estimate and whether the machine was magnetised, all held since):
  * the same sums and decisions as in the speed-loop step, the application's judgement
- * (plaus_on) up to three periods later, and the speed-loop step carries none of it.
+ * (plaus_on) one period later, and the speed-loop step carries none of it.
  *
  * Timing contract as the PM law (dtc.h): the command of step k acts in period k+1; the voltage
  * integrated at step k is that of the legs returned at step k-2. The IM law has no actuation-
@@ -145,14 +146,15 @@ typedef struct {
     uint16_t magn_n;      /* start-up: periods of magnetisation so far */
     iq_t magn_psir_iq;    /* rotor-flux magnitude of the current model: the start-up's (im_dtc_refs)
                            * and, after a reconfiguration, the FSTP's (im_dtc_fstp.c) */
-    uint16_t ref_due;     /* Casadei eq. 19 to be evaluated (im_dtc_refs) */
+    uint16_t ref_due;     /* the rotor-flux trim (1) or Casadei eq. 19 (2) to be evaluated (im_dtc_refs) */
     uint16_t ref_slot;    /* the step whose div_cnt (after its increment in im_dtc_speed) evaluates
-                           * Casadei eq. 19 and the rotor-flux trim: 6, a step of its own that
-                           * carries neither the speed loop (1), nor the application's checks
-                           * held over from the speed-loop step (2), nor the encoder plausibility's
-                           * comparison (3), nor the supervision (4), and whose parity is the
-                           * supervision's (the application's plausibility window of 2^k periods
-                           * ends on steps of one parity of div_cnt); 2 for speed_div 3..6, 0 below */
+                           * Casadei eq. 19: 6, a step of its own, the one after the rotor-flux
+                           * trim's (5, im_dtc_internal.h im_trim_slot), that carries neither the
+                           * CORDIC's halves (9, 0), nor the speed loop (1), nor the encoder
+                           * plausibility's comparison (2), nor the supervision (4), and is even
+                           * (the application's plausibility window of 2^k periods ends on steps
+                           * of one parity of div_cnt: the odd ones, im_dtc_internal.h); 2 (with
+                           * the trim) for speed_div 3..6, 0 below */
     iq_t speed_iq;        /* electrical speed in use (encoder or estimated), pu */
     /* encoder plausibility (u.im.ref.enc_plaus_iq > 0 with the encoder; im_dtc_speed) */
     iq_t enc_filt_iq;     /* the encoder's speed through the sensorless speed's filter, pu */
@@ -163,9 +165,9 @@ typedef struct {
                            * speed-loop step, flux built: im_dtc_speed) */
     iq_t plaus_psir_iq;   /* |phi_r| from which the flux angle is trusted: phi_r* / 16, pu */
     /* the comparison waits in sup.due (bit 1; bit 2: the machine was magnetised in the speed-loop
-     * step) for the step whose div_cnt (after its increment in im_dtc_speed) is 3,
-     * two steps after the speed loop's (the step after it carries the application's held checks); 0 (the last step of the
-     * speed period) for speed_div < 4; the supervision (im_sup.h slot) comes after it */
+     * step) for the step whose div_cnt (after its increment in im_dtc_speed) is 2, the one after
+     * the speed loop's (im_dtc_internal.h im_plaus_slot: 3 for speed_div 4..6, 0 below); the
+     * supervision (im_sup.h slot) comes after it */
     /* working values of one step, kept here rather than on the stack (budget: <= 256 bytes of
      * stack on the Cortex-M0 proxy, tools/bench) */
     clarke_out_t i;       /* currents of this step */

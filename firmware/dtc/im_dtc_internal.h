@@ -92,6 +92,43 @@ uint16_t im_open_vector(const im_dtc_t *c, iq_t psi_a, uint16_t up);
  * four-switch step of a drive that has not reconfigured carries none of it. */
 uint16_t im_dtc_fstp_advance(const im_dtc_t *c, uint16_t sector, uint16_t flux_up, uint16_t up, iq_t te);
 
+/* The steps of the speed period that carry its once-per-period work (div_cnt after its increment
+ * in im_dtc_speed: 1 the speed loop's step, 0 the last step), so that no step carries two of the
+ * pieces and each fits beside an ordinary period (docs/f2812.md, the IM image's worst ISR):
+ *   speed_div >= 7: 9 and 0 the CORDIC's halves (im_polar_due), 1 the speed loop, 2 the encoder
+ *   plausibility's comparison (im_plaus_slot), 4 the supervision (im_sup.h slot), 5 the rotor-flux
+ *   trim (im_trim_slot), 6 Casadei eq. 19 (ref_slot); even steps where it can: the
+ *   application's current-sensor plausibility judges its windows on the odd steps (app_core.h's
+ *   slots);
+ *   smaller speed_div: shared steps (im_dtc.h ref_slot, im_sup.h slot). */
+static inline uint16_t im_plaus_slot(uint16_t speed_div)
+{
+    return (uint16_t)(speed_div > 6U ? 2U : (speed_div > 3U ? 3U : 0U));
+}
+static inline uint16_t im_trim_slot(const im_dtc_t *c)
+{
+    return c->ref_slot > 2U ? (uint16_t)(c->ref_slot - 1U) : c->ref_slot;
+}
+/* In im_dtc_front, before im_dtc_speed's increment: bit 0 im_est_polar_begin (the last step but
+ * one of the speed period, or the last when speed_div is 1), bit 1 im_est_polar_end (the last
+ * step: the speed loop's step follows). The angle and magnitude the speed loop, the
+ * plausibility, the supervision, the trim and eq. 19 read are those of the x two steps before
+ * the speed loop's (80 us at 40 us; with speed_div 1 the speed loop's own step).
+ * Why the odd step 9 for the first half and not the even 8: the trim takes one sample of |phi_r|
+ * per speed period, and DSVM at 72 rpm and 10 % of rated torque (4 kW) has a ripple of |phi_r|
+ * that the sample aliases: its mean torque was -0.63 % of T* sampled at the speed loop's step
+ * (main), -0.60 % one step before it, +0.34 % two steps (this), +2.07 % three steps before it
+ * (beyond the 1.5 % target of sil.ImTorqueBias). */
+static inline uint16_t im_polar_due(const im_dtc_t *c)
+{
+    /* r: the steps after this one in the speed period (0 in its last) */
+    const uint16_t sd = c->cfg->speed.speed_div, r = (uint16_t)(sd - 1U - c->div_cnt);
+    if (r > 1U) {
+        return 0U;
+    }
+    return (uint16_t)(r == 1U ? 1U : (sd < 2U ? 3U : 2U));
+}
+
 /* Speed every speed_div-th period, as in the PM law (im_dtc_speed_tick: the encoder's or the
  * sensorless speed, the speed PI); the encoder plausibility's comparison (im_dtc_enc_plaus, with
  * the encoder and u.im.ref.enc_plaus_iq > 0) and then the model's supervision once per speed
@@ -107,7 +144,7 @@ static inline void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_o
         im_dtc_speed_tick(c, m, te);
     }
     speed_loop_advance(&c->div_cnt, c->cfg->speed.speed_div);
-    if ((c->sup.due & 2U) != 0U && c->div_cnt == (c->cfg->speed.speed_div > 3U ? 3U : 0U)) {
+    if ((c->sup.due & 2U) != 0U && c->div_cnt == im_plaus_slot(c->cfg->speed.speed_div)) {
         im_dtc_enc_plaus(c);
         c->sup.due = 1U;
         c->sup.compared = c->plaus_on;
@@ -127,8 +164,8 @@ static inline void im_dtc_speed(im_dtc_t *c, const dtc_meas_t *m, iq_t te, dtc_o
  * period (ref_due, in the step ref_slot: im_dtc_refs), call im_dtc_refs. */
 static inline void im_dtc_refs_step(im_dtc_t *c)
 {
-    if (c->magnetised != 0U && (c->ref_due == 0U || c->div_cnt != c->ref_slot) && c->cfg->u.im.fw.on == 0U &&
-        c->cfg->u.im.ref.psir_ref_iq > 0) {
+    if (c->magnetised != 0U && (c->ref_due == 0U || (uint16_t)(c->ref_slot - c->div_cnt) > 1U) &&
+        c->cfg->u.im.fw.on == 0U && c->cfg->u.im.ref.psir_ref_iq > 0) {
         c->te_ref_iq = c->te_cmd_iq;
     } else {
         im_dtc_refs(c);
@@ -165,8 +202,20 @@ static inline iq_t im_dtc_front(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, 
         im_dtc_estimate(c, m);
     }
     im_est_flux(&c->est, &c->ein);
-    if (c->ein.want_polar != 0U) {
-        im_est_polar(&c->est); /* after im_est_flux: the CORDIC's frame is not under im_est_flux's */
+    /* the rotor-flux angle and magnitude (CORDIC, Casadei eqs. 21-22) once per speed period, in
+     * two halves (im_est_polar_begin, _end; after im_est_flux: the CORDIC's frame is not under
+     * im_est_flux's): begun on the x of the speed period's last step but one, ended in the last
+     * (im_polar_due); the speed loop's step that follows reads them */
+    {
+        const uint16_t due = im_polar_due(c);
+        if (due != 0U) {
+            if ((due & 1U) != 0U) {
+                im_est_polar_begin(&c->est);
+            }
+            if ((due & 2U) != 0U) {
+                im_est_polar_end(&c->est);
+            }
+        }
     }
     te = torque_eq10(c->est.psi_alpha_iq, c->est.psi_beta_iq, c->i.i_alpha_iq, c->i.i_beta_iq);
     im_dtc_speed(c, m, te, o);
@@ -228,8 +277,8 @@ static inline uint16_t im_ilim(im_dtc_t *c, uint16_t vec)
 }
 
 /* What every IM scheme reports besides its command: the estimate (flux, torque at k), the
- * references, the speed and the rotor-flux angle and magnitude (updated on the speed-loop
- * periods), whether the current limit replaced the vector; the IM law has no current model. */
+ * references, the speed and the rotor-flux angle and magnitude (updated once per speed
+ * period), whether the current limit replaced the vector; the IM law has no current model. */
 static inline void im_out_report(const im_dtc_t *c, dtc_out_t *o, iq_t te)
 {
     o->psi_alpha_iq = c->est.psi_alpha_iq;
@@ -311,15 +360,15 @@ static inline void im_pwm_out(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, iq
  * its own branch.
  * 1-5. Shadow set, Clarke, stator and rotor flux from the modulated voltage, torque, speed and
  * speed loop (im_dtc_front, as im_dtc_step). 6. References: start-up (the magnetising ramp), T*;
- * Casadei eq. 19's |phi_s*| is not used. Once per speed period, in the step ref_slot (im_dtc.h),
- * the rotor-flux trim on the speed-loop step's |phi_r| moves the SFVC's eq. 18 d component or the
+ * Casadei eq. 19's |phi_s*| is not used. Once per speed period, in the step im_trim_slot,
+ * the rotor-flux trim on the |phi_r| of the speed period (im_polar_due) moves the SFVC's eq. 18 d component or the
  * DFOC's i_d*. 7. The SFVC's flux regulator or the DFOC's current regulators in the rotor-flux
  * frame; the SVM is called after it, so that its frame and the regulator's are not on one chain
  * (stack). 8. SVM and outputs. */
 static inline void im_svm_scheme_step(im_dtc_t *c, const dtc_meas_t *m, dtc_out_t *o, uint16_t dfoc)
 {
     const iq_t te = im_dtc_front(c, m, o, IM_FRONT_PWM);
-    if (c->ref_due != 0U && c->div_cnt == c->ref_slot) {
+    if (c->ref_due != 0U && c->div_cnt == im_trim_slot(c)) {
         c->ref_due = 0U;
         if (c->magnetised != 0U) {
             const uint16_t moved = im_psir_trim(c);
@@ -353,7 +402,7 @@ static inline void im_vcomp(im_dtc_t *c, uint16_t sa, uint16_t sb, uint16_t sc, 
 }
 
 /* The estimator input's part common to both schemes (currents, rotor-flux reference, speed, and
- * the angle on the speed-loop periods). */
+ * the current model's reference at low speed). */
 static inline void im_dtc_ein_common(im_dtc_t *c, const dtc_meas_t *m)
 {
     im_est_in_t *in = &c->ein;
@@ -368,9 +417,7 @@ static inline void im_dtc_ein_common(im_dtc_t *c, const dtc_meas_t *m)
         in->ref_vec = 0U;
     }
     in->speed_iq = c->speed_iq;
-    /* the rotor-flux angle and magnitude (CORDIC) only where the speed loop runs: sensorless
-     * speed, telemetry */
-    in->want_polar = (uint16_t)(c->div_cnt == 0U ? 1U : 0U);
+    /* in->want_polar is not read: im_dtc_front runs the CORDIC in its own steps (im_polar_due) */
     /* in->start (the voltage model's start, im_est.h) follows c->magnetised where that changes:
      * set by im_dtc_reset, cleared when the magnetisation ends (im_dtc_refs) */
 }

@@ -41,6 +41,10 @@ void im_est_reset(im_est_t *s)
     s->x_beta_iq = 0;
     s->ri_alpha_iq = 0;
     s->ri_beta_iq = 0;
+    s->polar.xs = 0;
+    s->polar.ys = 0;
+    s->polar.turn = 0U;
+    s->polar.shift = 0U;
 }
 
 /* |x| below which the direction is not resolved: 2^-6 pu, |x|^2 = 2^36 in Q48. */

@@ -109,6 +109,7 @@ typedef struct {
     uint16_t k_valid;                   /* 0 after a reset */
     iq_t x_alpha_iq, x_beta_iq;         /* x = phi_s - sigma l_s i of the last step (Casadei eq. 21) */
     iq_t ri_alpha_iq, ri_beta_iq;       /* r_s i of the last step (Casadei eq. 1), pu */
+    fix_polar_t polar;                  /* the CORDIC between im_est_polar_begin and _end */
 } im_est_t;
 
 typedef struct {
@@ -143,6 +144,19 @@ void im_est_flux(im_est_t *s, const im_est_in_t *in);
 static inline void im_est_polar(im_est_t *s)
 {
     fix_polar(s->x_alpha_iq, s->x_beta_iq, &s->theta_r, &s->psir_mag_iq);
+    s->psir_mag_iq = iq_mpy(s->p->kr_iq, s->psir_mag_iq);
+}
+/* im_est_polar in two halves (fixmath.h fix_polar_begin, fix_polar_end), for a caller that
+ * spreads the CORDIC over two periods (the IM laws, im_dtc_internal.h): _begin on this step's x,
+ * _end in a later step gives theta_r and |phi_r| of that x, bit for bit im_est_polar's.
+ * (im_est_reset leaves a (0, 0) vector pending: angle 0, magnitude 0.) */
+static inline void im_est_polar_begin(im_est_t *s)
+{
+    fix_polar_begin(s->x_alpha_iq, s->x_beta_iq, &s->polar);
+}
+static inline void im_est_polar_end(im_est_t *s)
+{
+    fix_polar_end(&s->polar, &s->theta_r, &s->psir_mag_iq);
     s->psir_mag_iq = iq_mpy(s->p->kr_iq, s->psir_mag_iq);
 }
 

@@ -10,7 +10,6 @@ void im_sup_reset(im_dtc_t *c)
 {
     im_sup_t *s = &c->sup;
     s->psir_cm_iq = 0;
-    s->slip_err_iq = 0;
     s->due = 0U;
     s->compared = 0U;
     s->adapting = 0U;
@@ -18,7 +17,6 @@ void im_sup_reset(im_dtc_t *c)
     s->cause = 0U;
     s->warn = 0U;
     /* the machine is demagnetised: the current model starts at zero, at rest */
-    s->cm_wt_q31 = 0;
     s->cm_b_iq = s->cm_on != 0U ? IQ(1.0) : 0;
     s->cm_alpha_iq = 0;
     s->cm_beta_iq = 0;
@@ -34,12 +32,13 @@ void im_sup_reset(im_dtc_t *c)
 static void im_sup_cm_blend(im_dtc_t *c)
 {
     im_sup_t *s = &c->sup;
+    q31_t wt;
     int64_t w2;
     if (s->cm_on == 0U) {
         return;
     }
-    s->cm_wt_q31 = fix_rshift_rnd64_sat32((int64_t)c->speed_iq * (int64_t)c->est_p.ts_pu_q31, (uint16_t)FIX_IQ_Q);
-    w2 = (int64_t)s->cm_wt_q31 * (int64_t)s->cm_wt_q31;
+    wt = fix_rshift_rnd64_sat32((int64_t)c->speed_iq * (int64_t)c->est_p.ts_pu_q31, (uint16_t)FIX_IQ_Q);
+    w2 = (int64_t)wt * (int64_t)wt;
     s->cm_b_iq = fix_clamp32(iq_sub(IQ_FRAC(4, 3), iq_mpy(fix_rshift_rnd64_sat32(w2, (uint16_t)(38U - s->cm_n)),
                                                           s->cm_inv_iq)),
                              0, IQ(1.0));
@@ -79,7 +78,6 @@ static void im_sup_adapt(im_dtc_t *c, const dtc_config_t *cfg)
     /* Casadei eq. 16 with r_r^ and the current model's flux */
     slip_hat = iq_mpy(im_ref_slip(iq_mpy(s->rho_iq, s->rr_cfg_iq), te, cfg->u.im.ref.inv_psir_sq_iq), inv_q);
     e = iq_sub(fix_sub32(c->isp.w_psi_iq, c->enc_filt_iq), slip_hat);
-    s->slip_err_iq = e;
     step = iq_mpy(s->k_rho_iq, e);
     s->rho_iq = te >= 0 ? iq_add(s->rho_iq, step) : iq_sub(s->rho_iq, step);
     s->rho_iq = s->rho_iq < IM_SUP_RHO_MIN ? IM_SUP_RHO_MIN : (s->rho_iq > IM_SUP_RHO_MAX ? IM_SUP_RHO_MAX : s->rho_iq);

@@ -114,10 +114,10 @@ typedef struct {
     uint16_t n_confirm;   /* speed periods a condition must hold for the warning */
     uint16_t track;       /* 1: r_r^ (and r_s by rho) in use */
     uint16_t slot;        /* im_sup_step runs in the step whose div_cnt (after its increment in
-                           * im_dtc_speed) is this: 4, three steps after the speed loop's, one after
-                           * the encoder plausibility's comparison (im_dtc.h: the third) and one before
-                           * Casadei eq. 19's (im_dtc.h ref_slot); 0 (the last step of the speed
-                           * period) for speed_div < 5 */
+                           * im_dtc_speed) is this: 4, three steps after the speed loop's, two after
+                           * the encoder plausibility's comparison (im_dtc_internal.h im_plaus_slot)
+                           * and before the rotor-flux trim's (im_trim_slot); 0 (the last step
+                           * of the speed period) for speed_div < 5 */
     uint16_t cm_on;       /* 1: the improved estimator with the encoder, not DSVM: the current model's vector
                            * (below) blended into Casadei eq. 20's reference at low speed */
     uint16_t cm_n;        /* 3W's normalising shift: 3W 2^cm_n in [1/2, 1) (Q31) */
@@ -126,7 +126,6 @@ typedef struct {
     /* state */
     iq_t rho_iq;          /* r_r^ / r_r,cfg */
     iq_t psir_cm_iq;      /* the current model's |phi_r|, pu */
-    iq_t slip_err_iq;     /* last measured - model slip, pu (telemetry, tests) */
     uint16_t due;         /* 1: a speed period's values wait for im_sup_step */
     uint16_t compared;    /* 1: the encoder plausibility compared in that speed period */
     uint16_t adapting;    /* 1: rho adapted in the last speed period */
@@ -134,7 +133,6 @@ typedef struct {
     uint16_t cause;       /* bit 0: rho beyond 1/5, bit 1: |phi_r| differ beyond 1/8 (last period) */
     uint16_t warn;        /* 1: model mismatch (im_model_mismatch) */
     /* the rotor-flux current model's vector and its blend (im_dtc_internal.h im_cm_ref) */
-    q31_t cm_wt_q31;      /* w Ts of the speed period's encoder speed, Q31 (the blend's speed) */
     uint16_t cm_count;    /* the encoder count of the previous step (the model's rotation) */
     iq_t cm_b_iq;         /* blend weight b in [0, 1], IQ; 0: the paper's reference alone */
     iq_t cm_alpha_iq, cm_beta_iq; /* the current model's rotor flux, pu (stator frame) */

@@ -447,6 +447,18 @@ static inline uint16_t fix_quadrant(iq_t alpha, iq_t beta)
  * formed in 64 bits and shifted back by 24 + s with rounding. The magnitude saturates to IQ_MAX
  * (only when sqrt(x^2 + y^2) >= 128 pu). */
 void fix_polar(iq_t x, iq_t y, angle_t *angle, iq_t *mag);
+/* fix_polar in two halves, for a caller that spreads its cost over two periods (the IM law's
+ * rotor-flux angle, im_est.h): fix_polar_begin scales (x, y) and runs micro-rotations 0..7 into
+ * *s, fix_polar_end runs 8..15 on it and forms the angle and the magnitude; begin then end is
+ * fix_polar bit for bit (fix_polar is that pair). The state: the rotated vector (xs, ys), the
+ * turn accumulator and the magnitude's shift back 24 + up - down (0: the vector was (0, 0)). */
+typedef struct {
+    int32_t xs, ys;
+    uint32_t turn;
+    uint16_t shift;
+} fix_polar_t;
+void fix_polar_begin(iq_t x, iq_t y, fix_polar_t *s);
+void fix_polar_end(fix_polar_t *s, angle_t *angle, iq_t *mag);
 
 /* ------------------------------------------------------------------------------------------ */
 /* Reciprocal, small complex factors (fixmath.c), a high-resolution integrator (inline)       */

@@ -783,7 +783,8 @@ static void test_sensorless_speed(void **state)
 /* The encoder plausibility's comparison (im_dtc.h) runs in a step of its own on the speed-loop
  * step's values. Encoder fitted, half the base speed, rated torque, after the
  * magnetisation, over 0.1 s: no speed-loop step sets plaus_on; after each speed-loop step the
- * step that leaves div_cnt at 3 compares (and no other); plaus_err is, to the bit, the sensorless speed
+ * step that leaves div_cnt at im_plaus_slot (2 with speed_div 10) compares (and no other);
+ * plaus_err is, to the bit, the sensorless speed
  * (im_speed_step, Casadei eqs. 16, 22) of the speed-loop step's rotor-flux angle and torque
  * estimate less that step's encoder speed through the same filter, formed here from what the
  * speed-loop step left (the sums of a comparison made in the speed-loop step itself); and a sound
@@ -806,7 +807,8 @@ static void test_encoder_plausibility_compares_the_speed_loop_values_in_the_supe
     sim_magnetise_at(&s, 0.5, 0.2, &o);
     c = &s.law.u.im;
     assert_true(c->cfg->u.im.ref.enc_plaus_iq > 0);
-    assert_true(c->cfg->speed.speed_div > 4U); /* the comparison's step (3) is not the speed loop's */
+    assert_true(c->cfg->speed.speed_div > 4U); /* the comparison's step is not the speed loop's */
+    assert_int_not_equal(im_plaus_slot(c->cfg->speed.speed_div), 1U);
     memset(&ref, 0, sizeof ref);
     n = (long)periods(&s, 0.1);
     for (k = 0; k < n; k++) {
@@ -823,7 +825,7 @@ static void test_encoder_plausibility_compares_the_speed_loop_values_in_the_supe
             w = c->speed_iq;
             pending = synced;
             ticks++;
-        } else if (pending != 0U && c->div_cnt == (c->cfg->speed.speed_div > 3U ? 3U : 0U)) {
+        } else if (pending != 0U && c->div_cnt == im_plaus_slot(c->cfg->speed.speed_div)) {
             im_speed_step(&ref, &c->isp_p, th, te, c->cfg->u.im.ref.inv_psir_sq_iq);
             ref_filt = im_speed_lpf(ref_filt, w, c->isp_p.k_filt_q31);
             assert_int_equal(c->plaus_on, 1U);
