@@ -74,9 +74,10 @@ IMAGES = {
 }
 # The operation layer's ISR part (libdtc_comm.a, capture.c and faultlog.c): the capture's per-period
 # recording (app_core_step calls capture_isr_run while a capture is armed or triggered) and the
-# fault log's record (at a fault). Always placed, in ramfuncs (L0+L1), with what they call: the hot
-# list is measured without a capture, and a capture may be armed at any time (issue 34: ramfuncs
-# <= 85 % with the capture and the protocol's ISR part in).
+# fault log's record (at a fault). On the PM image ("ops_first") placed first, in ramfuncs (L0+L1),
+# with what they call: the hot list is measured without a capture, and a capture may be armed at any
+# time, so the image's zero-wait RAM budget counts them in. On the IM image they are RARE (where
+# room is left; none is: an armed capture runs from flash there, docs/f2812.md).
 OPS_ISR = ("capture_isr_run", "faultlog_record")
 OPS_ISR_MEMBERS = ("capture.c.obj", "faultlog.c.obj")
 SECTIONS = ("ramfuncs_h", "ramfuncs_m", "ramfuncs")  # filled in this order (.cmd MEMORY RAMH0P, RAMM1P, RAML0L1)
