@@ -19,9 +19,14 @@ static inline void itc_set_te_ref(itc_t *c, iq_t te_ref_iq)
     c->iq_ref_iq = iq_mpy(c->cfg->u.pm_itc.cc.iq_per_t_iq, te_ref_iq);
 }
 
+/* Adopts r (dtc_refs_adopt); in torque mode T* is the set's torque reference, which changes only
+ * here, so T* and i_q* are formed here and not in every step. */
 static void itc_adopt(itc_t *c, const dtc_refs_t *r)
 {
     dtc_refs_adopt(&c->act, &c->pi_p, &c->pi, &c->te_trim_iq, c->te_ref_iq, r, c->cfg);
+    if (c->act.mode == DTC_MODE_TORQUE) {
+        itc_set_te_ref(c, c->act.torque_ref_iq);
+    }
 }
 
 int16_t itc_init(itc_t *c, const dtc_config_t *cfg)
@@ -35,6 +40,15 @@ int16_t itc_init(itc_t *c, const dtc_config_t *cfg)
     c->cfg = cfg;
 
     dtc_pm_est_params_from_config(&c->fe_p, &c->vc_p, cfg, &cfg->u.pm_itc.machine);
+    {
+        const uint16_t fstp = cfg->board.topology == (uint16_t)DTC_TOPO_FSTP ? 1U : 0U;
+        c->var = (uint16_t)((fstp != 0U ? ITC_VAR_FSTP : 0U) |
+                            (fstp != 0U && cfg->u.pm_itc.mid.g_iq > 0 ? ITC_VAR_MID_REG : 0U) |
+                            (cfg->est.estimator == DTC_EST_VOLTAGE && c->vc_p.mode != (uint16_t)DTC_COMP_NONE
+                                 ? ITC_VAR_VCOMP : 0U) |
+                            (cfg->board.fstp_vmid_measured != 0U ? ITC_VAR_VMID_MEAS : 0U) |
+                            (cfg->est.estimator != DTC_EST_VOLTAGE ? ITC_VAR_CM : 0U));
+    }
     dtc_speed_params_from_config(&c->sm_p, &c->pi_p, cfg);
     {
         /* itc_vcomp's constants: F(e_B) - F(0), F(e_C) - F(0) (any current: they do not depend
@@ -108,10 +122,13 @@ void itc_reset(itc_t *c)
     c->lpf_y_iq = 0;
     c->lpf_r_iq = 0;
     c->vmid_y_iq = 0;
-    c->id_iq = 0;
-    c->iq_iq = 0;
-    c->i_alpha_iq = 0;
-    c->i_beta_iq = 0;
+    c->cc_in.meas_d_iq = 0;
+    c->cc_in.meas_q_iq = 0;
+    c->i_k.ia_iq = 0;
+    c->i_k.ib_iq = 0;
+    c->i_k.ic_iq = 0;
+    c->i_k.i_alpha_iq = 0;
+    c->i_k.i_beta_iq = 0;
     c->sc.cos_q15 = Q15(1.0);
     c->sc.sin_q15 = 0;
 }
@@ -166,7 +183,7 @@ iq_t itc_observe(itc_t *c, const dtc_meas_t *m)
     const clarke_out_t *const i = &c->i_k;
     flux_est_in_t *const fin = &c->fin;
     itc_observe_in(c, m); /* its temporaries (Clarke, the drop compensation) are off this frame */
-    if (cfg->est.estimator != DTC_EST_VOLTAGE || c->speed_primed == 0U) {
+    if ((c->var & ITC_VAR_CM) != 0U || c->speed_primed == 0U) {
         /* the current model (Hoang eqs. 8-9): the estimator, or the voltage model's first step;
          * flux_est_seed's steps, with the encoder angle's sine and cosine taken once for it and
          * for the rotor frame of itc_cc_in and itc_i_pred (c->sc) */
@@ -211,24 +228,24 @@ void itc_cc_in(itc_t *c, const dtc_meas_t *m, iq_t vlo_iq)
     const park_sc_t *const sc = &c->sc;
 
     /* c->sc: the sine and cosine of the encoder's electrical angle of this step (itc_observe) */
-    park_fwd(sc, c->i_alpha_iq, c->i_beta_iq, &c->id_iq, &c->iq_iq);
-    in->ref_d_iq = 0; /* c->iq_ref_iq: formed with T* (itc_set_te_ref) */
-    in->ref_q_iq = c->iq_ref_iq;
-    if (cfg->board.topology == (uint16_t)DTC_TOPO_FSTP && cfg->u.pm_itc.mid.g_iq > 0) {
+    park_fwd(sc, c->i_k.i_alpha_iq, c->i_k.i_beta_iq, &in->meas_d_iq, &in->meas_q_iq);
+    /* the references: i_d* = 0, i_q* = c->iq_ref_iq (formed with T*: itc_set_te_ref) */
+    if ((c->var & ITC_VAR_MID_REG) != 0U) {
         /* mid-point regulation: i_a* = g y, y += k_f (d - y) (itc.h), into the rotor frame */
         const iq_t d = iq_sub(vlo_iq, fix_rshift_rnd32(m->vdc_iq, 1U));
         c->vmid_y_iq = iq_add(c->vmid_y_iq, iq_mpy(cfg->u.pm_itc.mid.kf_iq, iq_sub(d, c->vmid_y_iq)));
         const iq_t ia0 = fix_clamp32(iq_mpy(cfg->u.pm_itc.mid.g_iq, c->vmid_y_iq), -c->vmid_imax_iq, c->vmid_imax_iq);
         in->ref_d_iq = iq_mpy_q15(ia0, sc->cos_q15); /* park.h of (i_a*, 0) */
-        in->ref_q_iq = iq_sub(in->ref_q_iq, iq_mpy_q15(ia0, sc->sin_q15));
+        in->ref_q_iq = iq_sub(c->iq_ref_iq, iq_mpy_q15(ia0, sc->sin_q15));
+    } else {
+        in->ref_d_iq = 0;
+        in->ref_q_iq = c->iq_ref_iq;
     }
-    in->meas_d_iq = c->id_iq;
-    in->meas_q_iq = c->iq_iq;
     /* the rotor-frame EMF: v_d = -w l_q i_q, v_q = w l_d i_d + w psi_m (psi_d = l_d i_d + psi_m,
      * psi_q = l_q i_q: flux_est.h; l_q = l_d on a surface PM) */
-    in->ff_d_iq = fix_neg32(iq_mpy(c->wlq_iq, c->iq_iq));
-    in->ff_q_iq = iq_add(iq_mpy(c->wls_iq, c->id_iq), c->wpsi_iq);
-    if (cfg->board.topology == (uint16_t)DTC_TOPO_FSTP) {
+    in->ff_d_iq = fix_neg32(iq_mpy(c->wlq_iq, in->meas_q_iq));
+    in->ff_q_iq = iq_add(iq_mpy(c->wls_iq, in->meas_d_iq), c->wpsi_iq);
+    if ((c->var & ITC_VAR_FSTP) != 0U) {
         const iq_t hi = iq_sub(m->vdc_iq, vlo_iq);
         in->vmax_iq = q31_mul_k(vlo_iq < hi ? vlo_iq : hi, FIX_Q31_INV_SQRT3); /* the constant > Q31_MIN */
     } else {
@@ -263,7 +280,7 @@ void itc_keep(itc_t *c, const dtc_meas_t *m)
 void itc_step(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
 {
     const dtc_config_t *cfg = c->cfg;
-    const uint16_t fstp = cfg->board.topology == (uint16_t)DTC_TOPO_FSTP ? 1U : 0U;
+    const uint16_t var = c->var;
     clarke_out_t *const i = &c->i_k;
     iq_t vlo, te;
 
@@ -281,24 +298,19 @@ void itc_step(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
         o->speed_tick = 1U;
         itc_speed(c, m);
     }
-    speed_loop_advance(&c->div_cnt, cfg->speed.speed_div);
-    if (c->act.mode == DTC_MODE_TORQUE) {
-        itc_set_te_ref(c, c->act.torque_ref_iq);
-    }
-    c->i_alpha_iq = i->i_alpha_iq;
-    c->i_beta_iq = i->i_beta_iq;
+    speed_loop_advance(&c->div_cnt, cfg->speed.speed_div); /* T* in torque mode: itc_adopt */
 
     /* 3. Rotor frame (the encoder's electrical angle), references, current PI (dqpi.h) on the
      *    decoupling and back-EMF feed-forward, the voltage limit of the inverter, back to the
      *    stator frame (itc_cc_in, itc_cc_out). */
-    vlo = cfg->board.fstp_vmid_measured != 0U ? m->vmid_iq : fix_rshift_rnd32(m->vdc_iq, 1U);
+    vlo = (var & ITC_VAR_VMID_MEAS) != 0U ? m->vmid_iq : fix_rshift_rnd32(m->vdc_iq, 1U);
     itc_cc_in(c, m, vlo);
     dqpi_step(&c->cc, &c->cc_p, &c->cc_in, &c->cc_out);
     itc_cc_out(c);
 
     /* 4. SVM of the inverter (svm.h six switches, svm4.h four), the voltage it will apply kept
      *    for the observer (itc_keep). */
-    if (fstp != 0U) {
+    if ((var & ITC_VAR_FSTP) != 0U) {
         svm4_step(&c->svm4, &c->svm4_p, c->vs_alpha_iq, c->vs_beta_iq, m->vdc_iq, vlo, i, &c->svm_o);
     } else {
         svm_step(&c->svm, &c->svm_p, c->vs_alpha_iq, c->vs_beta_iq, m->vdc_iq, i, &c->svm_o);
@@ -313,7 +325,7 @@ void itc_step(itc_t *c, const dtc_meas_t *m, dtc_out_t *o)
     o->psi_alpha_iq = c->fe.psi_alpha_iq;
     o->psi_beta_iq = c->fe.psi_beta_iq;
     o->te_iq = te;
-    law_out_state(o, c->te_ref_iq, c->speed_iq, c->fe.theta_e, cfg->est.estimator == DTC_EST_CURRENT ? 1U : 0U,
+    law_out_state(o, c->te_ref_iq, c->speed_iq, c->fe.theta_e, (var & ITC_VAR_CM) != 0U ? 1U : 0U,
                   c->act.flux_ref_iq);
     o->psir_mag_iq = 0;
     o->i_limited = 0U; /* the voltage limit is dqpi's (v.limited), not the current limit's */
@@ -331,14 +343,14 @@ static void itc_i_pred_salient(const itc_t *c, iq_t da, iq_t db, clarke_out_t *o
 {
     const dtc_pm_machine_cfg_t *m = &c->cfg->u.pm_itc.machine;
     const iq_t wts = iq_mpy(c->speed_iq, c->cfg->board.ts_pu_iq);
-    const iq_t e = iq_mpy(wts, iq_mpy(c->fe_p.dl_iq, c->iq_iq));
+    const iq_t e = iq_mpy(wts, iq_mpy(c->fe_p.dl_iq, c->cc_in.meas_q_iq));
     const iq_t yq = fix_sub32(flux_est_park_q(da, db, c->sc.sin_q15, c->sc.cos_q15),
-                              iq_mpy(wts, iq_mpy(m->ls_iq, c->id_iq)));
+                              iq_mpy(wts, iq_mpy(m->ls_iq, c->cc_in.meas_d_iq)));
     const iq_t k = iq_mpy(fix_sub32(c->fe_p.inv_lq_iq, m->inv_ls_iq), yq);
     const iq_t xa = fix_add32(da, iq_mpy_q15(e, c->sc.cos_q15));
     const iq_t xb = fix_add32(db, iq_mpy_q15(e, c->sc.sin_q15));
-    clarke_inv(fix_sub32(iq_add(c->i_alpha_iq, iq_mpy(m->inv_ls_iq, xa)), iq_mpy_q15(k, c->sc.sin_q15)),
-               fix_add32(iq_add(c->i_beta_iq, iq_mpy(m->inv_ls_iq, xb)), iq_mpy_q15(k, c->sc.cos_q15)), o);
+    clarke_inv(fix_sub32(iq_add(c->i_k.i_alpha_iq, iq_mpy(m->inv_ls_iq, xa)), iq_mpy_q15(k, c->sc.sin_q15)),
+               fix_add32(iq_add(c->i_k.i_beta_iq, iq_mpy(m->inv_ls_iq, xb)), iq_mpy_q15(k, c->sc.cos_q15)), o);
 }
 
 void itc_i_pred(const itc_t *c, iq_t i1[3])
@@ -348,15 +360,15 @@ void itc_i_pred(const itc_t *c, iq_t i1[3])
     const iq_t inv_ls = cfg->u.pm_itc.machine.inv_ls_iq;
     const iq_t ets = c->wpsi_ts_iq; /* w psi_m Ts, at the speed-loop rate */
     /* Ts (v - r_s i) - w Ts j psi_r, psi_r = psi_m (cos, sin): j psi_r = (-sin, cos) psi_m */
-    const iq_t da = fix_add32(iq_mpy(ts, iq_sub(c->v2_alpha_iq, iq_mpy(cfg->machine.rs_iq, c->i_alpha_iq))),
+    const iq_t da = fix_add32(iq_mpy(ts, iq_sub(c->v2_alpha_iq, iq_mpy(cfg->machine.rs_iq, c->i_k.i_alpha_iq))),
                               iq_mpy_q15(ets, c->sc.sin_q15));
-    const iq_t db = fix_sub32(iq_mpy(ts, iq_sub(c->v2_beta_iq, iq_mpy(cfg->machine.rs_iq, c->i_beta_iq))),
+    const iq_t db = fix_sub32(iq_mpy(ts, iq_sub(c->v2_beta_iq, iq_mpy(cfg->machine.rs_iq, c->i_k.i_beta_iq))),
                               iq_mpy_q15(ets, c->sc.cos_q15));
     clarke_out_t o;
     if (c->fe_p.dl_iq != 0) {
         itc_i_pred_salient(c, da, db, &o);
     } else {
-        clarke_inv(iq_add(c->i_alpha_iq, iq_mpy(inv_ls, da)), iq_add(c->i_beta_iq, iq_mpy(inv_ls, db)), &o);
+        clarke_inv(iq_add(c->i_k.i_alpha_iq, iq_mpy(inv_ls, da)), iq_add(c->i_k.i_beta_iq, iq_mpy(inv_ls, db)), &o);
     }
     i1[0] = o.ia_iq;
     i1[1] = o.ib_iq;

@@ -70,6 +70,14 @@
 #include "svm4.h"
 #include "vcomp.h"
 
+/* The configuration's variant (itc_t.var), fixed at itc_init: the per-period branches test one
+ * word of the state instead of the configuration's fields. */
+#define ITC_VAR_FSTP 1U       /* the four-switch inverter (board.topology) */
+#define ITC_VAR_MID_REG 2U    /* FSTP with the mid-point regulation (u.pm_itc.mid.g_iq > 0) */
+#define ITC_VAR_VCOMP 4U      /* the voltage model with a drop compensation (itc_vcomp) */
+#define ITC_VAR_VMID_MEAS 8U  /* the FSTP mid-point voltage measured (board.fstp_vmid_measured) */
+#define ITC_VAR_CM 16U        /* the current-model estimator (est.estimator) */
+
 typedef struct {
     const dtc_config_t *cfg;
     /* parameters derived at init */
@@ -95,6 +103,7 @@ typedef struct {
     /* timing */
     uint16_t div_cnt;
     uint16_t speed_primed;
+    uint16_t var; /* ITC_VAR_* of the configuration, fixed at init (itc_init): the step's branches */
     iq_t te_ref_iq;
     iq_t te_trim_iq; /* dtc_refs_adopt's trim (ITC maps T* onto i_q* exactly: never used) */
     iq_t speed_iq;
@@ -112,10 +121,10 @@ typedef struct {
     iq_t lpf_y_iq, lpf_r_iq;
     iq_t vmid_y_iq;    /* the mid-point deviation low-passed (FSTP mid-point regulation) */
     iq_t vmid_imax_iq; /* the bound of its phase-A current */
-    /* the dq currents and their references of the last step (telemetry, tests) */
-    iq_t id_iq, iq_iq, iq_ref_iq;
-    /* the step's measured current and rotor angle, for the current prediction (itc_i_pred) */
-    iq_t i_alpha_iq, i_beta_iq;
+    /* i_q* of T* (itc_set_te_ref); the dq currents of the step are cc_in's meas_d_iq, meas_q_iq */
+    iq_t iq_ref_iq;
+    /* the step's rotor angle, for the rotor frame and the current prediction (itc_i_pred; its
+     * measured current is i_k's) */
     park_sc_t sc;
     /* working values of the step, kept here and not in the frames of itc_step and its parts
      * (itc_step heads the call chains of the Cortex-M0 stack budget): the measured currents
