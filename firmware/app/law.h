@@ -28,6 +28,7 @@
 #ifndef LAW_H
 #define LAW_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "dtc_config.h"
@@ -72,8 +73,18 @@ void law_reset(law_t *l);
 void law_step(law_t *l, const dtc_meas_t *m, dtc_out_t *o);
 int16_t law_shadow_write(law_t *l, const dtc_refs_t *r);
 void law_refs_get(const law_t *l, dtc_refs_t *r);
-/* The form of the law's command (enum law_out_form), the law's from law_init on. */
-uint16_t law_out_form(const law_t *l);
+/* The form of the law's command (enum law_out_form), the law's from law_init on. Inline: the
+ * ISR asks it every period (app_core.c), one switch on the law and no call. */
+static inline uint16_t law_out_form(const law_t *l)
+{
+    switch (l->law) {
+    case DTC_LAW_IM_SFVC:
+    case DTC_LAW_IM_DFOC:
+    case DTC_LAW_PM_ITC: return LAW_OUT_DUTY;
+    case DTC_LAW_IM_DSVM: return LAW_OUT_THIRDS;
+    default: return LAW_OUT_LEGS;
+    }
+}
 /* Live SSTP -> FSTP reconfiguration after leg `phase` failed: the PM law (dtc.h dtc_reconfigure)
  * and the IM switching-table DTC (im_dtc.h im_dtc_reconfigure, Hoang Table II on the FSTP);
  * DTC_ERR_RECONFIG for the other laws (DSC, DSVM and the SVM schemes are six-switch ones) and for
@@ -89,18 +100,52 @@ uint16_t law_i_pred(const law_t *l, iq_t vdc_iq, iq_t i1[3]);
  * u.im.ref.enc_plaus_iq > 0, im_dtc.h): returns 1 on a speed-loop step where the rotor flux is
  * built, with *err_iq the sensorless speed (Casadei eqs. 16, 22) less the encoder's speed through
  * the same filter and *tol_iq the largest credible difference (pu electrical speed); 0 where the
- * law compares nothing (PM laws, sensorless, off, other steps). */
-uint16_t law_enc_plaus(const law_t *l, iq_t *err_iq, iq_t *tol_iq);
+ * law compares nothing (PM laws, sensorless, off, other steps). Inline: the ISR asks it every
+ * period (app_core.c check_speed), a PM image then tests nothing. */
+static inline uint16_t law_enc_plaus(const law_t *l, iq_t *err_iq, iq_t *tol_iq)
+{
+#if DTC_LAW_IM_LINKED
+    if (dtc_law_is_im(l->law) != 0U) {
+        *err_iq = l->u.im.plaus_err_iq;
+        *tol_iq = l->u.im.cfg->u.im.ref.enc_plaus_iq;
+        return l->u.im.plaus_on;
+    }
+#else
+    (void)l;
+#endif
+    (void)err_iq;
+    (void)tol_iq;
+    return 0U;
+}
 /* The warnings the law raises now (bits APP_WARN_<id>, app_warn.h): the IM laws' model supervision
  * (im_sup.h: APP_WARN_IM_MODEL_MISMATCH); 0 for the PM laws. */
 uint16_t law_warnings(const law_t *l);
 /* The check of a post-fault configuration for law_reconfigure (its law's check: the PM DTC's or
  * the IM DTC's; DTC_ERR_RECONFIG for another law). */
 int16_t law_check_reconfig(const dtc_config_t *post);
-/* The speed reference in force (the app's stall check). */
-iq_t law_speed_ref(const law_t *l);
-/* Where the law holds it (the capture reads it there), NULL for a law not initialised. */
-const iq_t *law_speed_ref_ptr(const law_t *l);
+/* Where the law holds the speed reference in force (the capture reads it there), NULL for a law
+ * not initialised. Inline, as law_speed_ref: the stall check asks it every speed-loop period. */
+static inline const iq_t *law_speed_ref_ptr(const law_t *l)
+{
+    switch (l->law) {
+#if DTC_LAW_PM_LINKED
+    case DTC_LAW_PM_DTC: return &l->u.pm.act.speed_ref_iq;
+#endif
+#if DTC_LAW_IM_LINKED
+    DTC_LAW_IM_CASES: return &l->u.im.act.speed_ref_iq;
+#endif
+#if DTC_LAW_ITC_LINKED
+    case DTC_LAW_PM_ITC: return &l->u.itc.act.speed_ref_iq;
+#endif
+    default: return NULL;
+    }
+}
+/* The speed reference in force (the app's stall check), 0 for a law not initialised. */
+static inline iq_t law_speed_ref(const law_t *l)
+{
+    const iq_t *const p = law_speed_ref_ptr(l);
+    return p != NULL ? *p : 0;
+}
 /* Encoder count -> electrical angle with the configuration's encoder gain and offset (flux_est.h
  * flux_est_angle), for the application's rotor hold. */
 angle_t law_enc_angle(const dtc_config_t *cfg, uint16_t count);
