@@ -118,6 +118,8 @@ SECTIONS
                     *(.text:_law_enc_angle)
                     *(.text:_law_i_pred)
                     *(.text:_law_reset)
+                    *(.text:_law_speed_ref)
+                    *(.text:_law_speed_ref_ptr)
                     *(.text:_law_step)
                     *(.text:_law_warnings)
                     *(.text:_plaus_judge)

@@ -114,6 +114,8 @@ SECTIONS
                     *(.text:_iq_mag)
                     *(.text:_iq_mpy)
                     *(.text:_law_i_pred)
+                    *(.text:_law_speed_ref)
+                    *(.text:_law_speed_ref_ptr)
                     *(.text:_law_warnings)
                     *(.text:_plaus_judge)
                     *(.text:_speed_meas_step)

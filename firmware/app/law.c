@@ -169,6 +169,28 @@ uint16_t law_warnings(const law_t *l)
     return 0U;
 }
 
+const iq_t *law_speed_ref_ptr(const law_t *l)
+{
+    switch (l->law) {
+#if DTC_LAW_PM_LINKED
+    case DTC_LAW_PM_DTC: return &l->u.pm.act.speed_ref_iq;
+#endif
+#if DTC_LAW_IM_LINKED
+    DTC_LAW_IM_CASES: return &l->u.im.act.speed_ref_iq;
+#endif
+#if DTC_LAW_ITC_LINKED
+    case DTC_LAW_PM_ITC: return &l->u.itc.act.speed_ref_iq;
+#endif
+    default: return NULL;
+    }
+}
+
+iq_t law_speed_ref(const law_t *l)
+{
+    const iq_t *const p = law_speed_ref_ptr(l);
+    return p != NULL ? *p : 0;
+}
+
 int16_t law_reconfigure(law_t *l, const dtc_config_t *post, uint16_t phase)
 {
     int16_t err = DTC_ERR_RECONFIG;

@@ -28,7 +28,6 @@
 #ifndef LAW_H
 #define LAW_H
 
-#include <stddef.h>
 #include <stdint.h>
 
 #include "dtc_config.h"
@@ -123,29 +122,10 @@ uint16_t law_warnings(const law_t *l);
 /* The check of a post-fault configuration for law_reconfigure (its law's check: the PM DTC's or
  * the IM DTC's; DTC_ERR_RECONFIG for another law). */
 int16_t law_check_reconfig(const dtc_config_t *post);
-/* Where the law holds the speed reference in force (the capture reads it there), NULL for a law
- * not initialised. Inline, as law_speed_ref: the stall check asks it every speed-loop period. */
-static inline const iq_t *law_speed_ref_ptr(const law_t *l)
-{
-    switch (l->law) {
-#if DTC_LAW_PM_LINKED
-    case DTC_LAW_PM_DTC: return &l->u.pm.act.speed_ref_iq;
-#endif
-#if DTC_LAW_IM_LINKED
-    DTC_LAW_IM_CASES: return &l->u.im.act.speed_ref_iq;
-#endif
-#if DTC_LAW_ITC_LINKED
-    case DTC_LAW_PM_ITC: return &l->u.itc.act.speed_ref_iq;
-#endif
-    default: return NULL;
-    }
-}
-/* The speed reference in force (the app's stall check), 0 for a law not initialised. */
-static inline iq_t law_speed_ref(const law_t *l)
-{
-    const iq_t *const p = law_speed_ref_ptr(l);
-    return p != NULL ? *p : 0;
-}
+/* The speed reference in force (the app's stall check). */
+iq_t law_speed_ref(const law_t *l);
+/* Where the law holds it (the capture reads it there), NULL for a law not initialised. */
+const iq_t *law_speed_ref_ptr(const law_t *l);
 /* Encoder count -> electrical angle with the configuration's encoder gain and offset (flux_est.h
  * flux_est_angle), for the application's rotor hold. */
 angle_t law_enc_angle(const dtc_config_t *cfg, uint16_t count);
