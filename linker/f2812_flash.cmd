@@ -80,6 +80,7 @@ SECTIONS
                     /* hot:ramfuncs_h begin (hal/f2812/hot_functions.py --write) */
                     *(.text:_app_adc_to_pu)
                     *(.text:_app_core_convert)
+                    *(.text:_app_core_latch)
                     *(.text:_app_enc_check)
                     *(.text:_app_fault_one_way)
                     *(.text:_app_fault_open_phase)
@@ -99,7 +100,6 @@ SECTIONS
                     *(.text:_dtc_lpf_r)
                     *(.text:_dtc_pol_mid)
                     *(.text:_dtc_predict_in)
-                    *(.text:_dtc_reset_currents)
                     *(.text:_dtc_speed_gains)
                     *(.text:_dtc_vmid_beta)
                     *(.text:_fix_add32)
@@ -108,18 +108,11 @@ SECTIONS
                     *(.text:_fix_sincos)
                     *(.text:_fix_sub32)
                     *(.text:_flux_est_cm_surface)
-                    *(.text:_flux_est_reset)
                     *(.text:_flux_est_seed)
-                    *(.text:_hyst2_init)
-                    *(.text:_hyst2_sq_bounds)
-                    *(.text:_hyst3_init)
                     *(.text:_iq_mpy)
                     *(.text:_iq_recip_newton)
                     *(.text:_law_enc_angle)
-                    *(.text:_law_enc_plaus)
                     *(.text:_law_i_pred)
-                    *(.text:_law_out_form)
-                    *(.text:_law_reset)
                     *(.text:_law_speed_ref)
                     *(.text:_law_speed_ref_ptr)
                     *(.text:_law_step)
@@ -148,9 +141,14 @@ SECTIONS
 
     ramfuncs_m : {
                     /* hot:ramfuncs_m begin (hal/f2812/hot_functions.py --write) */
-                    *(.text:_app_core_latch)
                     *(.text:_calibrate_finish)
                     *(.text:_dtc_reset)
+                    *(.text:_dtc_reset_currents)
+                    *(.text:_flux_est_reset)
+                    *(.text:_hyst2_init)
+                    *(.text:_hyst2_sq_bounds)
+                    *(.text:_hyst3_init)
+                    *(.text:_law_reset)
                     *(.text:_speed_pi_reset)
                     /* hot:ramfuncs_m end */
                 }

@@ -75,10 +75,11 @@ void app_core_convert(const app_core_t *a, const hal_meas_t *m, dtc_meas_t *pu)
     const dtc_config_t *c = a->cfg;
     iq_t i[3];
     uint16_t k;
-    /* the law's phases with a sensor: all three, or FSTP b', c', or SSTP a', b' (the unmeasured
-     * one's ADC channel is not converted: its value would be replaced below) */
-    const uint16_t k0 = c->board.i_sensors3 == 0U && c->board.topology == (uint16_t)DTC_TOPO_FSTP ? 1U : 0U;
-    const uint16_t k1 = c->board.i_sensors3 == 0U && k0 == 0U ? 2U : 3U;
+    /* the law's phases with a sensor (meas_mask, set with the configuration at init and at a
+     * reconfiguration: 7 all three, 6 FSTP b', c', 3 SSTP a', b'; the unmeasured one's ADC
+     * channel is not converted: its value would be replaced below) */
+    const uint16_t k0 = (a->meas_mask & 1U) == 0U ? 1U : 0U;
+    const uint16_t k1 = (a->meas_mask & 4U) == 0U ? 2U : 3U;
 
     for (k = k0; k < k1; k++) {
         /* the law's phase k is the physical phase (perm + k) mod 3 (reconfigure) */
@@ -292,6 +293,9 @@ static uint16_t reconfigure(app_core_t *a, uint16_t x)
 static uint16_t check_open_phase(app_core_t *a)
 {
     uint16_t x = 0U;
+    if (app_fault_open_phase_held(&a->flt, a->cfg, a->st.out.speed_tick) != 0U) {
+        return 0U; /* the speed-loop period's sample, held over without the call */
+    }
     if (app_fault_open_phase(&a->flt, a->cfg, &a->st.meas, a->st.out.speed_iq, a->perm, a->st.out.speed_tick, &x) ==
         0U) {
         return 0U;

@@ -134,7 +134,6 @@ typedef struct {
 
 typedef struct app_core {
     const dtc_config_t *cfg;
-    law_t law;             /* the configured control law (law.h) */
     app_status_t st;
     uint16_t offset[3];    /* current-sensor offsets in use, counts */
     uint32_t cal_sum[3];
@@ -154,7 +153,6 @@ typedef struct app_core {
     app_plaus_params_t plaus_p; /* current-sensor plausibility, two sensors (app_plaus.h) */
     app_plaus_t plaus;
     uint16_t meas_mask;    /* bit k: the law's phase k is measured, not derived */
-    app_ident_t ident;     /* self-commissioning (APP_STATE_IDENT) */
     volatile uint16_t ident_request; /* set by the background: identify instead of RUN */
     uint16_t plaus_win;    /* three sensors, this window: bit 0 their sum was above prot.i_sum_max_iq,
                             * bit 1 a phase read zero (check_sensors) */
@@ -175,6 +173,12 @@ typedef struct app_core {
      * load and compare, and the capture's off state adds nothing to the ISR. */
     const volatile uint16_t *cap_state;
     faultlog_t *flog;
+    app_ident_t ident;     /* self-commissioning (APP_STATE_IDENT), not read in RUN: after the ISR's fields */
+    /* The configured control law (law.h), last: its state is most of the struct, and the fields
+     * the ISR reads every period (above) then lie at small offsets, which the targets address in
+     * one instruction (Cortex-M0: word fields below 128 bytes, halfwords below 64; the C28x's
+     * short offsets likewise) where a field past the law's state needs its offset built first. */
+    law_t law;
 } app_core_t;
 
 /* Validates the configuration (law_init) and enters CALIBRATE. Returns 0 or the dtc_err code;

@@ -19,15 +19,17 @@ const char *app_fault_name(uint16_t fault)
 uint16_t app_fault_trips(app_fault_t *f, const dtc_config_t *c, const dtc_meas_t *pu, uint16_t perm,
                          int16_t *detail)
 {
-    const iq_t i[3] = {pu->ia_iq, pu->ib_iq, pu->ic_iq};
-    uint16_t k;
+    const iq_t trip = c->prot.i_trip_iq;
+    /* the first phase (law's order) above the trip level, 3 for none: three compares, no loop */
+    const uint16_t k = fix_abs32(pu->ia_iq) > trip   ? 0U
+                       : fix_abs32(pu->ib_iq) > trip ? 1U
+                       : fix_abs32(pu->ic_iq) > trip ? 2U
+                                                     : 3U;
 
     *detail = 0;
-    for (k = 0U; k < 3U; k++) {
-        if (fix_abs32(i[k]) > c->prot.i_trip_iq) {
-            *detail = (int16_t)app_fault_phase(perm, k);
-            return APP_FAULT_OVERCURRENT;
-        }
+    if (k < 3U) {
+        *detail = (int16_t)app_fault_phase(perm, k);
+        return APP_FAULT_OVERCURRENT;
     }
     /* Failed current sensor (three sensors, prot.i_sum_max_iq): the star point is isolated, so
      * the three phase currents sum to zero; a sum above the level for APP_ISUM_PERIODS periods
@@ -38,7 +40,8 @@ uint16_t app_fault_trips(app_fault_t *f, const dtc_config_t *c, const dtc_meas_t
      * (APP_SENSOR_DETAIL_LIST 1), otherwise none (3): app_fault_isum, from flash on the F2812
      * (app_fault_isum.c), called only while the sum is off. Sums saturate. */
     if (c->prot.i_sum_max_iq > 0) {
-        if (fix_abs32(fix_add32(fix_add32(i[0], i[1]), i[2])) > c->prot.i_sum_max_iq) {
+        if (fix_abs32(fix_add32(fix_add32(pu->ia_iq, pu->ib_iq), pu->ic_iq)) > c->prot.i_sum_max_iq) {
+            const iq_t i[3] = {pu->ia_iq, pu->ib_iq, pu->ic_iq};
             if (app_fault_isum(f, c, i, perm, detail) != 0U) {
                 return APP_FAULT_CURRENT_SENSOR;
             }
@@ -97,7 +100,7 @@ uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_m
     iq_t s, zero;
     uint64_t sq[3], tot;
     iq_t dth;
-    uint16_t k, sign, held;
+    uint16_t k, sign, held, over = 0U;
 
     if (c->prot.leg_i_min_iq <= 0) {
         return 0U;
@@ -109,13 +112,12 @@ uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_m
         return 0U;
     }
     /* a speed-loop period's sample is held over (app_fault.h), never two in a row */
-    held = f->op_held;
-    f->op_held = (uint16_t)(hold != 0U && held == 0U ? 1U : 0U);
-    if (f->op_held != 0U) {
+    if (app_fault_open_phase_held(f, c, hold) != 0U) {
         return 0U;
     }
+    held = f->op_held;
+    f->op_held = 0U;
     s = fix_add32(fix_add32(i[0], i[1]), i[2]);
-    zero = fix_rshift_rnd32(c->prot.leg_i_min_iq, APP_LEG_ZERO_LOG2);
     if (f->imin_iq != c->prot.leg_i_min_iq) { /* a configuration constant: squared once per change */
         f->imin_iq = c->prot.leg_i_min_iq;
         f->imin2_3 = 3U * ((uint64_t)((int64_t)f->imin_iq * (int64_t)f->imin_iq) >> 5);
@@ -152,31 +154,43 @@ uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_m
         f->dth_iq = iq_mpy(fix_abs32(speed_iq), c->board.ts_pu_iq);
     }
     dth = held != 0U ? fix_add32(f->dth_iq, f->dth_iq) : f->dth_iq; /* the held period's angle too */
+    zero = fix_rshift_rnd32(c->prot.leg_i_min_iq, APP_LEG_ZERO_LOG2);
+    /* The angles since each direction was last seen (PM laws: an open device, one direction
+     * only) and inside the band. Beyond it (|i| >= zero, the usual case) only the other
+     * direction's angle grows; zero >= 0, so i > zero and i < -zero exclude each other and
+     * |i| < zero holds only between them (|INT32_MIN| saturates, beyond -zero anyway). A sum
+     * that grows past its level sets `over`; only then are the phases judged below (a sum that
+     * did not grow in this period was judged, and passed, when it last did). */
     sign = dtc_law_is_im(c->law) == 0U ? 1U : 0U;
     for (k = 0U; k < 3U; k++) {
-        /* the angle since each direction was last seen (PM laws: an open device, one direction
-         * only) and inside the band. Beyond it (|i| >= zero, the usual case) only the other
-         * direction's angle grows; zero >= 0, so i > zero and i < -zero exclude each other and
-         * |i| < zero holds only between them (|INT32_MIN| saturates, beyond -zero anyway). */
         if (i[k] > zero) {
             f->leg_acc_iq[k] = 0;
             if (sign != 0U) {
                 f->pos_acc_iq[k] = 0;
                 f->neg_acc_iq[k] = fix_add32(f->neg_acc_iq[k], dth);
+                over |= (uint16_t)(f->neg_acc_iq[k] > APP_LEG_SIGN_ANGLE_IQ ? 1U : 0U);
             }
         } else if (i[k] < -zero) {
             f->leg_acc_iq[k] = 0;
             if (sign != 0U) {
                 f->pos_acc_iq[k] = fix_add32(f->pos_acc_iq[k], dth);
                 f->neg_acc_iq[k] = 0;
+                over |= (uint16_t)(f->pos_acc_iq[k] > APP_LEG_SIGN_ANGLE_IQ ? 1U : 0U);
             }
         } else {
             f->leg_acc_iq[k] = fix_abs32(i[k]) < zero ? fix_add32(f->leg_acc_iq[k], dth) : 0;
+            over |= (uint16_t)(f->leg_acc_iq[k] > APP_LEG_ANGLE_IQ ? 1U : 0U);
             if (sign != 0U) {
                 f->pos_acc_iq[k] = fix_add32(f->pos_acc_iq[k], dth);
                 f->neg_acc_iq[k] = fix_add32(f->neg_acc_iq[k], dth);
+                over |= (uint16_t)(f->pos_acc_iq[k] > APP_LEG_SIGN_ANGLE_IQ || f->neg_acc_iq[k] > APP_LEG_SIGN_ANGLE_IQ
+                                       ? 1U
+                                       : 0U);
             }
         }
+    }
+    if (over == 0U) {
+        return 0U; /* no sum past its level: none of the tests below can pass */
     }
     for (k = 0U; k < 3U; k++) {
         /* app_fault_one_way's own first test here, so that the call comes only past it */

@@ -269,6 +269,19 @@ uint16_t app_fault_trips(app_fault_t *f, const dtc_config_t *c, const dtc_meas_t
 uint16_t app_fault_open_phase(app_fault_t *f, const dtc_config_t *c, const dtc_meas_t *pu, iq_t speed_iq,
                               uint16_t perm, uint16_t hold, uint16_t *phase);
 
+/* The hold of app_fault_open_phase: 1 when this period's sample is held over (hold set, the last
+ * sample judged, the check on and no relay closing), with the hold noted (op_held), else 0.
+ * Inline: the core asks it before the call (app_core.c), so that a speed-loop period pays no
+ * call for the check. */
+static inline uint16_t app_fault_open_phase_held(app_fault_t *f, const dtc_config_t *c, uint16_t hold)
+{
+    if (hold != 0U && f->op_held == 0U && f->relay_wait == 0U && c->prot.leg_i_min_iq > 0) {
+        f->op_held = 1U;
+        return 1U;
+    }
+    return 0U;
+}
+
 /* Stall (speed mode) on the law's output o with the speed reference speed_ref_iq (app_fault.c).
  * Returns APP_FAULT_STALL (detail: the sign of the torque reference) or APP_FAULT_NONE. */
 uint16_t app_fault_stall(app_fault_t *f, const dtc_config_t *c, const dtc_out_t *o, iq_t speed_ref_iq,

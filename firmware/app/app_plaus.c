@@ -113,6 +113,12 @@ uint16_t app_plaus_step(app_plaus_t *s, const app_plaus_params_t *p, const iq_t 
             const int32_t dp0 = to_q16(fix_sub32(s->i1_prev[k], s->i_prev[k]));
             const int32_t dp = dp0 - s->bias[k];
             s->bias[k] += fix_rshift_rnd32(dp0 - dm - s->bias[k], p->bias_log2);
+            if (i1 != NULL) {
+                /* the next call's pair, here where this channel's is read last (the unmeasured
+                 * channels' are never read) */
+                s->i_prev[k] = i[k];
+                s->i1_prev[k] = i1[k];
+            }
             if (s->due != 0U) {
                 s->wait_dm[k] = dm; /* due 2: the held window is not judged yet */
                 s->wait_dp[k] = dp;
@@ -137,10 +143,15 @@ uint16_t app_plaus_step(app_plaus_t *s, const app_plaus_params_t *p, const iq_t 
         app_plaus_reset(s);
         return bad;
     }
-    for (k = 0U; k < 3U; k++) {
-        s->i_prev[k] = i[k];
-        s->i1_prev[k] = i1[k];
+    if (s->primed == 0U) {
+        /* the first pair (a primed call kept it above): the measured channels', the only ones read */
+        for (k = 0U; k < 3U; k++) {
+            if ((measured & (uint16_t)(1U << k)) != 0U) {
+                s->i_prev[k] = i[k];
+                s->i1_prev[k] = i1[k];
+            }
+        }
+        s->primed = 1U;
     }
-    s->primed = 1U;
     return bad;
 }

@@ -83,8 +83,9 @@ typedef struct {
 #define APP_PLAUS_JUDGED_NOW 2U  /* the window that ended in the call, at its end */
 
 typedef struct {
-    iq_t i_prev[3];    /* measured phase currents of the previous sample (law's phase order) */
-    iq_t i1_prev[3];   /* the law's prediction made then for this sample */
+    iq_t i_prev[3];    /* measured phase currents of the previous sample (law's phase order; the
+                        * measured channels only: a derived one's is neither kept nor read) */
+    iq_t i1_prev[3];   /* the law's prediction made then for this sample (likewise) */
     uint16_t primed;   /* 1: i_prev and i1_prev hold a valid pair */
     uint16_t n;        /* periods in the current window */
     uint16_t pend;     /* the phases the last window failed when none of them stood still */

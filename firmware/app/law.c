@@ -169,22 +169,6 @@ uint16_t law_warnings(const law_t *l)
     return 0U;
 }
 
-uint16_t law_enc_plaus(const law_t *l, iq_t *err_iq, iq_t *tol_iq)
-{
-#if DTC_LAW_IM_LINKED
-    if (dtc_law_is_im(l->law) != 0U) {
-        *err_iq = l->u.im.plaus_err_iq;
-        *tol_iq = l->u.im.cfg->u.im.ref.enc_plaus_iq;
-        return l->u.im.plaus_on;
-    }
-#else
-    (void)l;
-#endif
-    (void)err_iq;
-    (void)tol_iq;
-    return 0U;
-}
-
 const iq_t *law_speed_ref_ptr(const law_t *l)
 {
     switch (l->law) {
@@ -205,17 +189,6 @@ iq_t law_speed_ref(const law_t *l)
 {
     const iq_t *const p = law_speed_ref_ptr(l);
     return p != NULL ? *p : 0;
-}
-
-uint16_t law_out_form(const law_t *l)
-{
-    switch (l->law) {
-    case DTC_LAW_IM_SFVC:
-    case DTC_LAW_IM_DFOC:
-    case DTC_LAW_PM_ITC: return LAW_OUT_DUTY;
-    case DTC_LAW_IM_DSVM: return LAW_OUT_THIRDS;
-    default: return LAW_OUT_LEGS;
-    }
 }
 
 int16_t law_reconfigure(law_t *l, const dtc_config_t *post, uint16_t phase)

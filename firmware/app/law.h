@@ -72,8 +72,18 @@ void law_reset(law_t *l);
 void law_step(law_t *l, const dtc_meas_t *m, dtc_out_t *o);
 int16_t law_shadow_write(law_t *l, const dtc_refs_t *r);
 void law_refs_get(const law_t *l, dtc_refs_t *r);
-/* The form of the law's command (enum law_out_form), the law's from law_init on. */
-uint16_t law_out_form(const law_t *l);
+/* The form of the law's command (enum law_out_form), the law's from law_init on. Inline: the
+ * ISR asks it every period (app_core.c), one switch on the law and no call. */
+static inline uint16_t law_out_form(const law_t *l)
+{
+    switch (l->law) {
+    case DTC_LAW_IM_SFVC:
+    case DTC_LAW_IM_DFOC:
+    case DTC_LAW_PM_ITC: return LAW_OUT_DUTY;
+    case DTC_LAW_IM_DSVM: return LAW_OUT_THIRDS;
+    default: return LAW_OUT_LEGS;
+    }
+}
 /* Live SSTP -> FSTP reconfiguration after leg `phase` failed: the PM law (dtc.h dtc_reconfigure)
  * and the IM switching-table DTC (im_dtc.h im_dtc_reconfigure, Hoang Table II on the FSTP);
  * DTC_ERR_RECONFIG for the other laws (DSC, DSVM and the SVM schemes are six-switch ones) and for
@@ -89,8 +99,23 @@ uint16_t law_i_pred(const law_t *l, iq_t vdc_iq, iq_t i1[3]);
  * u.im.ref.enc_plaus_iq > 0, im_dtc.h): returns 1 on a speed-loop step where the rotor flux is
  * built, with *err_iq the sensorless speed (Casadei eqs. 16, 22) less the encoder's speed through
  * the same filter and *tol_iq the largest credible difference (pu electrical speed); 0 where the
- * law compares nothing (PM laws, sensorless, off, other steps). */
-uint16_t law_enc_plaus(const law_t *l, iq_t *err_iq, iq_t *tol_iq);
+ * law compares nothing (PM laws, sensorless, off, other steps). Inline: the ISR asks it every
+ * period (app_core.c check_speed), a PM image then tests nothing. */
+static inline uint16_t law_enc_plaus(const law_t *l, iq_t *err_iq, iq_t *tol_iq)
+{
+#if DTC_LAW_IM_LINKED
+    if (dtc_law_is_im(l->law) != 0U) {
+        *err_iq = l->u.im.plaus_err_iq;
+        *tol_iq = l->u.im.cfg->u.im.ref.enc_plaus_iq;
+        return l->u.im.plaus_on;
+    }
+#else
+    (void)l;
+#endif
+    (void)err_iq;
+    (void)tol_iq;
+    return 0U;
+}
 /* The warnings the law raises now (bits APP_WARN_<id>, app_warn.h): the IM laws' model supervision
  * (im_sup.h: APP_WARN_IM_MODEL_MISMATCH); 0 for the PM laws. */
 uint16_t law_warnings(const law_t *l);
