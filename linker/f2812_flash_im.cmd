@@ -51,6 +51,7 @@ SECTIONS
                     *(.text:_capture_isr_run)
                     *(.text:_check_hw_trip)
                     *(.text:_clarke_sstp)
+                    *(.text:_hyst2_init)
                     *(.text:_ilim_select)
                     *(.text:_im_dfoc_id_ref)
                     *(.text:_im_dsvm_select)
@@ -59,7 +60,10 @@ SECTIONS
                     *(.text:_im_dtc_select)
                     *(.text:_im_est_flux)
                     *(.text:_im_fw_reset)
+                    *(.text:_im_speed_reset)
+                    *(.text:_law_reset)
                     *(.text:_law_step)
+                    *(.text:_speed_meas_reset)
                     *(.text:_svm_reset)
                     *(.text:_vcomp_tab_step)
                     /* hot:ramfuncs end */
