@@ -48,15 +48,23 @@ SECTIONS
                     *(.text:_app_core_step)
                     *(.text:_app_fault_open_phase)
                     *(.text:_app_fault_stall)
+                    *(.text:_capture_isr_run)
                     *(.text:_check_hw_trip)
                     *(.text:_clarke_sstp)
+                    *(.text:_hyst2_init)
+                    *(.text:_ilim_select)
                     *(.text:_im_dfoc_id_ref)
                     *(.text:_im_dsvm_select)
                     *(.text:_im_dsvm_step)
                     *(.text:_im_dtc_refs)
                     *(.text:_im_dtc_select)
                     *(.text:_im_est_flux)
-                    *(.text:_law_pwm)
+                    *(.text:_im_fw_reset)
+                    *(.text:_im_speed_reset)
+                    *(.text:_law_reset)
+                    *(.text:_law_step)
+                    *(.text:_speed_meas_reset)
+                    *(.text:_svm_reset)
                     *(.text:_vcomp_tab_step)
                     /* hot:ramfuncs end */
                     -l=libdtc_firmware.a (.econst)
@@ -79,7 +87,6 @@ SECTIONS
                     /* hot:ramfuncs_h begin (hal/f2812/hot_functions.py --write) */
                     *(.text:_app_adc_to_pu)
                     *(.text:_app_core_convert)
-                    *(.text:_app_enc_check)
                     *(.text:_app_enc_flux_check)
                     *(.text:_app_fault_one_way)
                     *(.text:_app_fault_trips)
@@ -88,6 +95,7 @@ SECTIONS
                     *(.text:_app_pwm_encode)
                     *(.text:_check_trips)
                     *(.text:_deadtime_error)
+                    *(.text:_deadtime_leg)
                     *(.text:_dsc_step)
                     *(.text:_dsvm_leg_duty)
                     *(.text:_dsvm_rotate)
@@ -105,7 +113,6 @@ SECTIONS
                     *(.text:_im_dtc_i_pred)
                     *(.text:_im_dtc_speed_tick)
                     *(.text:_im_dtc_step)
-                    *(.text:_im_fw_reset)
                     *(.text:_im_psir_trim)
                     *(.text:_im_sfvc_kpd)
                     *(.text:_im_speed_lpf)
@@ -119,6 +126,7 @@ SECTIONS
                     *(.text:_law_warnings)
                     *(.text:_plaus_judge)
                     *(.text:_speed_meas_step)
+                    *(.text:_speed_pi_step)
                     *(.text:_svm_leg_dt)
                     *(.text:_svm_legs)
                     *(.text:_swtab_null_choice)
@@ -138,12 +146,11 @@ SECTIONS
 
     ramfuncs_m : {
                     /* hot:ramfuncs_m begin (hal/f2812/hot_functions.py --write) */
-                    *(.text:_deadtime_leg)
-                    *(.text:_im_speed_reset)
+                    *(.text:_app_enc_check)
+                    *(.text:_faultlog_record)
+                    *(.text:_hyst3_init)
                     *(.text:_im_sup_step)
-                    *(.text:_law_reset)
-                    *(.text:_law_step)
-                    *(.text:_speed_pi_step)
+                    *(.text:_law_pwm)
                     /* hot:ramfuncs_m end */
                 }
                 LOAD = FLASH_JC,

@@ -3,6 +3,10 @@
  */
 #include "capture.h"
 
+/* What an unused source pointer of a selected channel points to (capture_t.ch). */
+static const int32_t zero32 = 0;
+static const uint16_t zero16 = 0u;
+
 void capture_init(capture_t *c)
 {
     uint16_t i;
@@ -28,9 +32,12 @@ void capture_init(capture_t *c)
     c->filled = 0u;
     c->post = 0u;
     c->dec_cnt = 0u;
-    c->fault_seen = 0u;
-    c->prev = 0;
-    c->prev_ok = 0u;
+    c->tch = 0u;
+    c->may_fire = 0u;
+    c->lvl = 0u;
+    c->on_fault = 0u;
+    c->tmask = 0;
+    c->tlevel = 0;
     c->trig_tick = 0u;
 }
 
@@ -93,21 +100,26 @@ uint16_t capture_setup(capture_t *c, const capture_setup_t *s)
     }
     c->cfg = *s;
     for (i = 0u; i < CAPTURE_CHANNELS; i++) {
-        if (i < s->count) {
-            c->ch[i] = c->src[s->quantity[i]];
-        } else {
-            c->ch[i].p32 = 0;
-            c->ch[i].p16 = 0;
-        }
+        const capture_src_t *b = &c->src[s->quantity[i < s->count ? i : 0u]];
+        c->ch[i].p32 = (i < s->count && b->p32 != 0) ? b->p32 : &zero32;
+        c->ch[i].p16 = (i < s->count && b->p16 != 0) ? b->p16 : &zero16;
     }
     c->span = (uint16_t)(s->count * s->samples);
     c->w = 0u;
     c->filled = 0u;
     c->post = (uint16_t)(s->samples - s->pre);
     c->dec_cnt = 1u; /* the first period after arming is recorded */
-    c->fault_seen = 0u;
-    c->prev = 0;
-    c->prev_ok = 0u;
+    /* The trigger as one test, hit(x) = (x ^ tmask) >= tlevel: with tmask = -1, x ^ tmask = ~x =
+     * -x - 1 reverses the order of int32 without overflow, so x <= L <=> ~x >= ~L. An edge fires
+     * on a hit after a miss (rising: prev < L <=> not prev >= L; falling: prev > L <=> not
+     * ~prev >= ~L); now and fault hit always (x >= INT32_MIN). */
+    c->tch = (s->trig_ch < s->count) ? s->trig_ch : 0u;
+    c->tmask = (s->trigger == (uint16_t)CAPTURE_TRIG_BELOW || s->trigger == (uint16_t)CAPTURE_TRIG_FALLING) ? -1 : 0;
+    c->tlevel = (s->trigger == (uint16_t)CAPTURE_TRIG_NOW || s->trigger == (uint16_t)CAPTURE_TRIG_FAULT)
+                    ? INT32_MIN : (int32_t)(s->level ^ c->tmask);
+    c->lvl = (uint16_t)(s->trigger <= (uint16_t)CAPTURE_TRIG_BELOW ? 1u : 0u);
+    c->on_fault = (uint16_t)(s->trigger == (uint16_t)CAPTURE_TRIG_FAULT ? 1u : 0u);
+    c->may_fire = c->lvl; /* an edge needs a recorded miss first, the fault trigger a fault */
     c->trig_tick = 0u;
     c->state = CAPTURE_ARMED; /* last: the set-up above is complete */
     return CAPTURE_OK;
@@ -123,40 +135,15 @@ uint16_t capture_state(const capture_t *c)
     return c->state;
 }
 
-static int32_t read_src(const capture_src_t *s)
-{
-    if (s->p32 != 0) {
-        return *s->p32;
-    }
-    return (int32_t)*s->p16;
-}
-
-static uint16_t triggered(const capture_t *c, int32_t x)
-{
-    const int32_t l = c->cfg.level;
-    switch (c->cfg.trigger) {
-    case CAPTURE_TRIG_NOW:
-        return 1u;
-    case CAPTURE_TRIG_ABOVE:
-        return (uint16_t)(x >= l);
-    case CAPTURE_TRIG_BELOW:
-        return (uint16_t)(x <= l);
-    case CAPTURE_TRIG_RISING:
-        return (uint16_t)(c->prev_ok != 0u && c->prev < l && x >= l);
-    case CAPTURE_TRIG_FALLING:
-        return (uint16_t)(c->prev_ok != 0u && c->prev > l && x <= l);
-    default: /* CAPTURE_TRIG_FAULT */
-        return c->fault_seen;
-    }
-}
-
 void capture_isr_run(capture_t *c, uint32_t tick, uint16_t fault)
 {
-    uint16_t i;
-    const uint16_t n = c->cfg.count;
+    const uint16_t n = c->cfg.count; /* >= 1 while armed (capture_setup) */
+    const capture_src_t *s = c->ch;
+    const capture_src_t *const end = &c->ch[n];
     int32_t *dst;
+    int32_t *d;
     if (fault != 0u) {
-        c->fault_seen = 1u;
+        c->may_fire |= c->on_fault;
     }
     c->dec_cnt--;
     if (c->dec_cnt != 0u) {
@@ -164,26 +151,27 @@ void capture_isr_run(capture_t *c, uint32_t tick, uint16_t fault)
     }
     c->dec_cnt = c->cfg.decim;
     dst = &c->buf[c->w];
-    for (i = 0u; i < n; i++) {
-        dst[i] = read_src(&c->ch[i]);
-    }
+    d = dst;
+    do {
+        /* one of the two points to a zero (capture_setup): the value of either type, no test */
+        *d = *s->p32 + (int32_t)*s->p16;
+        d++;
+        s++;
+    } while (s != end);
     c->w = (uint16_t)(c->w + n);
     if (c->w >= c->span) {
         c->w = 0u;
     }
     if (c->state == (uint16_t)CAPTURE_ARMED) {
-        const int32_t x = dst[c->cfg.trig_ch < n ? c->cfg.trig_ch : 0u];
+        const uint16_t hit = (uint16_t)((dst[c->tch] ^ c->tmask) >= c->tlevel ? 1u : 0u);
         /* the trigger is tested only once the pre-trigger history is full */
-        if (c->filled >= c->cfg.pre && triggered(c, x) != 0u) {
+        if (c->filled < c->cfg.pre) {
+            c->filled++;
+        } else if ((hit & c->may_fire) != 0u) {
             c->trig_tick = tick;
             c->state = CAPTURE_TRIGGERED;
         }
-        if (c->filled < c->cfg.samples) {
-            c->filled++;
-        }
-        c->prev = x;
-        c->prev_ok = 1u;
-        c->fault_seen = 0u;
+        c->may_fire = (uint16_t)((hit ^ 1u) | c->lvl);
         if (c->state == (uint16_t)CAPTURE_ARMED) {
             return;
         }

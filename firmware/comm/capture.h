@@ -111,18 +111,27 @@ typedef struct {
 
 typedef struct {
     volatile uint16_t state;  /* enum capture_state */
-    capture_setup_t cfg;      /* the set-up in force */
-    capture_src_t src[CAPTURE_Q_COUNT]; /* bindings */
-    capture_src_t ch[CAPTURE_CHANNELS]; /* the selected channels' sources */
-    uint16_t span;            /* count * samples: ring length in values */
+    /* The ISR's fields first: near the structure's start, reached with short offsets (C28x
+     * *+XARn[0..7] words, Thumb immediate offsets). */
     uint16_t w;               /* ring offset of the next sample */
-    uint16_t filled;          /* samples recorded since arming, saturating at samples */
-    uint16_t post;            /* samples still to record after the trigger */
+    uint16_t span;            /* count * samples: ring length in values */
     uint16_t dec_cnt;         /* ISR periods until the next sample */
-    uint16_t fault_seen;      /* a fault was reported since the last recorded sample */
-    int32_t prev;             /* the trigger channel's previous sample (edges) */
-    uint16_t prev_ok;         /* prev holds a sample */
+    uint16_t filled;          /* samples recorded since arming, saturating at cfg.pre */
+    uint16_t post;            /* samples still to record after the trigger */
+    uint16_t tch;             /* the channel the trigger reads (cfg.trig_ch, 0 if none) */
+    uint16_t may_fire;        /* a hit of the next recorded sample fires: 1 for a level trigger;
+                                 for an edge, the previous recorded sample missed; for a fault
+                                 trigger, a fault was reported since the last recorded sample */
+    uint16_t lvl;             /* 1: a level trigger (now, above, below): may_fire stays 1 */
+    uint16_t on_fault;        /* 1: the fault trigger: a fault reported sets may_fire */
+    int32_t tmask;            /* 0 (now, above, rising, fault) or -1 (below, falling) */
+    int32_t tlevel;           /* the trigger level ^ tmask; INT32_MIN for now and fault */
     uint32_t trig_tick;       /* ISR tick of the trigger sample */
+    capture_setup_t cfg;      /* the set-up in force */
+    capture_src_t ch[CAPTURE_CHANNELS]; /* the selected channels' sources; the unused pointer of
+                                 each points to a zero of its type, so that a sample is
+                                 *p32 + *p16 without a test */
+    capture_src_t src[CAPTURE_Q_COUNT]; /* bindings */
     int32_t buf[CAPTURE_BUF_WORDS32];
 } capture_t;
 

@@ -28,12 +28,15 @@ dtc_f2812_im).
    reset, its first period's speed-measurement reset) is RARE: placed after every hot function,
    where room is left, because the worst ISR counts, not only the mean. The operation layer's ISR
    part (OPS_ISR: the capture's recording, the fault log's record) is placed first, in ramfuncs, on
-   the PM image ("ops_first"); on the IM image, whose blocks the hot path nearly fills, it is RARE
-   (placed first, it pushed the law's hot functions to flash: worst IM ISR 95 -> 119 %, measured).
+   the PM image ("ops": "first"); on the IM image, whose blocks the hot path nearly fills, right
+   after the hot functions and before the rare ones ("after_hot": placed first, it pushed the law's
+   hot functions to flash, worst IM ISR 95 -> 119 %; after the rare ones, it found no room left and
+   an armed capture ran from flash, 111 %; both measured).
 4. Fills the blocks in order of weight per word (the wait states saved per word of RAM), each up
-   to MARGIN of its words by the pessimistic size (Thumb bytes / 2 * 1.5, as budget.sh counts):
-   ramfuncs_h (H0's code part) first, then ramfuncs_m (M1), then ramfuncs (L0+L1, less the control
-   tables and the HAL's ramfuncs that budget.sh adds there: TABLE_RESERVE words). What does not fit
+   to the image's fill of its words by the pessimistic size (Thumb bytes / 2 * 1.5, counted as
+   budget.sh counts it: the copies in the archives cl2000 splits by function): ramfuncs_h (H0's
+   code part) first, then ramfuncs_m (M1), then ramfuncs (L0+L1, less what budget.sh adds there,
+   measured on the image: the control tables and the HAL's ramfuncs). What does not fit
    stays in flash; the script prints it with the host instructions per ISR left in flash, and
    tools/pil/pil_profile.py --ram-cmd counts their wait states per ISR on the Cortex-M0 replay.
 
@@ -52,11 +55,6 @@ import tempfile
 HOT_CALLS_PER_ISR = 0.01   # at least once per 100 control periods (the speed loop runs every few)
 MARGIN = 0.95              # budget.sh's margin: the most of a block any image fills
 FLASH_WAIT = 5             # RANDWAIT = PAGEWAIT = 5 at 150 MHz (fact sheet 4.7), per fetch
-TABLE_RESERVE = 1300       # words of L0+L1 kept for the control tables and the HAL's ramfuncs (PM)
-# The IM image's control tables are larger (budget.sh: 681 words against the PM image's 447: the
-# DSVM's and the CORDIC's tables): its reserve is larger by the difference, rounded up, or the list
-# written takes L0+L1 past budget.sh's 95 %.
-TABLE_RESERVE_IM = TABLE_RESERVE + 250
 # Per image: its linker command file, its application archives and main object (cross-cm0), and
 # the runs measured (scenario, dtc-sil --set overrides).
 # "fill": the part of each zero-wait block the hot lists may take. The PM image stops at 85 %
@@ -64,20 +62,21 @@ TABLE_RESERVE_IM = TABLE_RESERVE + 250
 # with it, none left in flash); the IM image needs up to budget.sh's 95 % (at 85 % SFVC's and
 # DFOC's steps would run from flash, ~2,000 wait cycles per ISR).
 IMAGES = {
-    "pm": {"cmd": "f2812_flash.cmd", "fill": 0.85, "reserve": TABLE_RESERVE, "ops_first": True, "app": "libdtc_app", "proto": "libdtc_proto", "main": "f2812_main.dir",
+    "pm": {"cmd": "f2812_flash.cmd", "fill": 0.85, "ops": "first", "app": "libdtc_app", "proto": "libdtc_proto", "main": "f2812_main.dir",
            "runs": [(sc, ()) for sc in ("fstp_voltage_proposed_full", "fstp_current_full", "sstp_voltage_simple_full",
                                         "sstp_current_full", "fstp_voltage_simple_full_midpoint")]},
-    "im": {"cmd": "f2812_flash_im.cmd", "fill": MARGIN, "reserve": TABLE_RESERVE_IM, "ops_first": False, "app": "libdtc_app_im", "proto": "libdtc_proto_im",
+    "im": {"cmd": "f2812_flash_im.cmd", "fill": MARGIN, "ops": "after_hot", "app": "libdtc_app_im", "proto": "libdtc_proto_im",
            "main": "f2812_main_im.dir",
            "runs": [("im_dtc_speed", ('control.scheme="%s"' % s, "duration_s=1.5"))
                     for s in ("dtc", "dsc", "sfvc", "dfoc", "dsvm")]},
 }
 # The operation layer's ISR part (libdtc_comm.a, capture.c and faultlog.c): the capture's per-period
 # recording (app_core_step calls capture_isr_run while a capture is armed or triggered) and the
-# fault log's record (at a fault). On the PM image ("ops_first") placed first, in ramfuncs (L0+L1),
-# with what they call: the hot list is measured without a capture, and a capture may be armed at any
-# time, so the image's zero-wait RAM budget counts them in. On the IM image they are RARE (where
-# room is left; none is: an armed capture runs from flash there, docs/f2812.md).
+# fault log's record (at a fault), with what they call: the hot list is measured without a capture,
+# and a capture may be armed at any time, so the image's zero-wait RAM budget counts them in. On the
+# PM image ("first") placed first, in ramfuncs (L0+L1); on the IM image ("after_hot") after its hot
+# functions, before the rare entry functions (an armed capture runs in every ISR, the entry to RUN
+# in one: docs/f2812.md).
 OPS_ISR = ("capture_isr_run", "faultlog_record")
 OPS_ISR_MEMBERS = ("capture.c.obj", "faultlog.c.obj")
 SECTIONS = ("ramfuncs_h", "ramfuncs_m", "ramfuncs")  # filled in this order (.cmd MEMORY RAMH0P, RAMM1P, RAML0L1)
@@ -131,39 +130,63 @@ def callgrind_profile(sil, scenario, sets, tmp):
     return prof, isrs / seconds
 
 
-def image_functions(cm0, img, tmp):
-    """{name: bytes} of the image's control functions and {name: set of callees}, cross-cm0."""
+def image_functions(cm0, img, tmp, root):
+    """{name: bytes} of the image's control functions, {name: set of callees}, and the words of
+    L0+L1 that budget.sh adds to ramfuncs beside the hot list (the control tables, nominal, and
+    the HAL's ramfuncs, pessimistic), cross-cm0.
+
+    A function's bytes are counted as hal/f2812/budget.sh counts them: over the members the image
+    links of the archives cl2000 compiles with --gen_func_subsections (the control archives and,
+    of libdtc_comm.a, the ISR part OPS_ISR_MEMBERS), gcc's local copies of one name (a static
+    inline helper kept out of line in several objects) summed. The `*(.text:_NAME)` rules of the
+    .cmd claim exactly those copies; a copy in the init, configuration or background archives
+    (compiled without subsections) stays in their .text, in flash."""
     fw = os.path.join(cm0, "firmware")
     app = img["app"] if os.path.exists(os.path.join(fw, img["app"] + ".a")) else "libdtc_app"
     main_dir = img["main"] if app == img["app"] else "f2812_main.dir"
     main = os.path.join(cm0, "target", "f2812", "CMakeFiles", main_dir, "f2812_main.c.obj")
+    hal = os.path.join(cm0, "hal", "f2812", "libhal_f2812.a")
     allo = os.path.join(tmp, "all.o")
-    libs = [os.path.join(cm0, "hal", "f2812", "libhal_f2812.a")] + [
+    libs = [hal] + [
         os.path.join(fw, a + ".a") for a in (app, app + "_init", "libdtc_init", "libdtc_im", "libdtc_firmware",
                                              "libdtc_config", "libdtc_fixmath", "libdtc_comm")]
     libs.append(os.path.join(fw, (img["proto"] if app == img["app"] else "libdtc_proto") + ".a"))
-    run(["arm-none-eabi-ld", "-r", "-o", allo, main, "--start-group"] + libs + ["--end-group"])
-    # only the control archives' functions are placed (the HAL's by its pragma, the rest in flash)
-    ctl = set()
-    for a in (app, "libdtc_im", "libdtc_firmware", "libdtc_fixmath"):
-        for member in run(["arm-none-eabi-ar", "t", os.path.join(fw, a + ".a")]).split():
-            ctl.add(member)
-    size, owner = {}, {}
-    cur_obj = None
-    for line in run(["arm-none-eabi-nm", "-S", "-t", "d", "-A", allo]).splitlines():
-        p = line.split()
-        if len(p) == 4 and p[2] in "tT":
-            name = p[3].split(".")[0]
-            size[name] = size.get(name, 0) + int(p[1])
-    # owner object of each function: from the archives' own members (of libdtc_comm.a only the
-    # ISR part, OPS_ISR_MEMBERS)
-    for a in (app, "libdtc_im", "libdtc_firmware", "libdtc_fixmath", "libdtc_comm"):
+    link_map = run(["arm-none-eabi-ld", "-r", "-M", "-o", allo, main, "--start-group"] + libs + ["--end-group"])
+    control = (app, "libdtc_im", "libdtc_firmware", "libdtc_fixmath")
+    linked = {a: set(re.findall(r"%s\.a\(([A-Za-z0-9_.]+)\)" % re.escape(a), link_map))
+              for a in control + ("libdtc_comm",)}
+    linked["libdtc_comm"] &= set(OPS_ISR_MEMBERS)
+    size = {}
+    for a in control + ("libdtc_comm",):
         for line in run(["arm-none-eabi-nm", "-S", "-t", "d", "-A", os.path.join(fw, a + ".a")]).splitlines():
             p = line.split()
-            if len(p) == 4 and p[2] in "tT" and (a != "libdtc_comm" or
-                                                  p[0].split(":")[-2] in OPS_ISR_MEMBERS):
-                owner[p[3].split(".")[0]] = a
+            if len(p) == 4 and p[2] in "tT" and p[0].split(":")[-2] in linked[a]:
+                name = p[3].split(".")[0]
+                size[name] = size.get(name, 0) + int(p[1])
+    # budget.sh's other words in ramfuncs: every control table (.rodata of the control archives'
+    # linked members, nominal words) and the HAL's F2812_RAMFUNC functions (pessimistic words)
+    table_bytes = 0
+    for a in control:
+        member = None
+        for line in run(["arm-none-eabi-size", "-A", os.path.join(fw, a + ".a")]).splitlines():
+            m = re.match(r"^(\S+)\s+\(ex ", line)
+            if m:
+                member = m.group(1)
+                continue
+            p = line.split()
+            if len(p) >= 2 and p[0].startswith(".rodata") and member in linked[a]:
+                table_bytes += int(p[1])
+    ramfunc_names = set()
+    for d in (os.path.join(root, "hal", "f2812"), os.path.join(root, "target", "f2812")):
+        for fn in sorted(os.listdir(d)):
+            if fn.endswith(".c"):
+                with open(os.path.join(d, fn)) as f:
+                    ramfunc_names |= set(re.findall(r"F2812_RAMFUNC\(([a-z0-9_]+)\)", f.read()))
+    hal_bytes = sum(int(p[1]) for p in (l.split() for l in run(["arm-none-eabi-nm", "-S", "-t", "d", hal, main])
+                                          .splitlines()) if len(p) == 4 and p[3] in ramfunc_names)
+    reserve = (table_bytes + 1) // 2 + pess_words(hal_bytes)
     callees = {}
+    cur_obj = None
     for line in run(["arm-none-eabi-objdump", "-dr", allo]).splitlines():
         m = re.match(r"^[0-9a-f]+ <([A-Za-z0-9_.]+)>:$", line)
         if m:
@@ -174,7 +197,7 @@ def image_functions(cm0, img, tmp):
             re.search(r"R_ARM_THM_CALL\s+([A-Za-z0-9_.]+)", line)
         if m and cur_obj:
             callees[cur_obj].add(m.group(1).split(".")[0])
-    return {k: v for k, v in size.items() if k in owner}, callees
+    return size, callees, reserve
 
 
 def host_functions(sil):
@@ -223,7 +246,7 @@ def main():
                 if calls >= HOT_CALLS_PER_ISR:
                     hot_host.add(name)
                     weight[name] = max(weight.get(name, 0.0), ir / min(calls, 1.0) * rate)
-        size, callees = image_functions(cm0, img, tmp)
+        size, callees, reserve = image_functions(cm0, img, tmp, a.root)
     host = host_functions(sil)
     # the Cortex-M0 replays: calls per ISR inside app_isr (pil_profile.py: from its entry to the
     # harness's end of the ISR); weight at 25,000 ISRs/s (the fastest period)
@@ -241,10 +264,10 @@ def main():
             elif name in size and calls > 0:
                 rare.add(name)  # once in a while (the entry to RUN, the law's first period): RARE
                 weight[name] = max(weight.get(name, 0.0), instr / calls * 25000.0)
-    # the operation layer's ISR part and what it calls on the image (OPS_ISR): placed first, in
-    # ramfuncs, whatever the runs measured
-    ops = {n for n in OPS_ISR if n in size and img["ops_first"]}
-    rare |= {n for n in OPS_ISR if n in size and not img["ops_first"]}
+    # the operation layer's ISR part and what it calls on the image (OPS_ISR), whatever the runs
+    # measured: placed first, in ramfuncs (PM, "ops" "first"), or right after the hot functions,
+    # before the rare ones (IM, "after_hot")
+    ops = {n for n in OPS_ISR if n in size}
     todo = sorted(ops)
     while todo:
         for c in sorted(callees.get(todo.pop(), ())):
@@ -284,10 +307,11 @@ def main():
     fill = img["fill"]
     cap = {"ramfuncs_h": int(cmd_words(mem_text, "RAMH0P") * fill),
            "ramfuncs_m": int(cmd_words(mem_text, "RAMM1P") * fill),
-           "ramfuncs": int(cmd_words(mem_text, "RAML0L1") * fill) - img["reserve"]}
-    place = {"ramfuncs_h": [], "ramfuncs_m": [], "ramfuncs": sorted(ops), "flash": []}
-    used = {"ramfuncs_h": 0, "ramfuncs_m": 0, "ramfuncs": sum(pess_words(size[n]) for n in ops)}
-    for n in order + order_rare:
+           "ramfuncs": int(cmd_words(mem_text, "RAML0L1") * fill) - reserve}
+    first = img["ops"] == "first"
+    place = {"ramfuncs_h": [], "ramfuncs_m": [], "ramfuncs": sorted(ops) if first else [], "flash": []}
+    used = {"ramfuncs_h": 0, "ramfuncs_m": 0, "ramfuncs": sum(pess_words(size[n]) for n in ops) if first else 0}
+    for n in order + ([] if first else sorted(ops)) + order_rare:
         w = pess_words(size[n])
         for sect in SECTIONS:
             if used[sect] + w <= cap[sect]:
@@ -299,8 +323,10 @@ def main():
     print("hot functions (host callgrind, %s; >= %.2f calls/ISR in some run, plus their callees on the "
           "Cortex-M0): %d, %d words pessimistic" % ("; ".join(runs), HOT_CALLS_PER_ISR, len(order),
                                                     sum(pess_words(size[n]) for n in order)))
-    print("  the operation layer's ISR part (always in ramfuncs): %s, %d words pessimistic"
-          % (" ".join(sorted(ops)) or "none", sum(pess_words(size[n]) for n in ops)))
+    print("  the operation layer's ISR part (%s): %s, %d words pessimistic"
+          % ("first, in ramfuncs" if first else "after the hot functions, before the rare ones",
+             " ".join(sorted(ops)) or "none", sum(pess_words(size[n]) for n in ops)))
+    print("  ramfuncs' other words (budget.sh: the control tables and the HAL's ramfuncs): %d" % reserve)
     print("  rare in the Cortex-M0 replays' ISRs (placed after the hot ones, where room is left): %s, %d words "
           "pessimistic" % (" ".join(order_rare) or "none", sum(pess_words(size[n]) for n in order_rare)))
     for sect in SECTIONS:

@@ -202,6 +202,37 @@ static void test_fault_trigger_between_decimated_samples(void **state)
     /* the trigger sample is the first recorded period at or after the fault */
     assert_int_equal(capture_first_tick(&g_cap) + 100u * 10u, 1000u + 100u * 10u + 6u * 10u);
 }
+/* The trigger levels at int32's ends, where a test written as a difference or a negation would
+ * overflow (capture.c forms below/falling as ~x >= ~L): a level trigger at the end it includes
+ * fires on the first sample the history allows; an edge through a level no sample can pass
+ * never fires. */
+static void test_levels_at_the_int32_limits(void **state)
+{
+    (void)state;
+    capture_setup_t s = base();
+    s.pre = 3u;
+    s.trig_ch = 2u; /* te = -t */
+    s.trigger = CAPTURE_TRIG_ABOVE;
+    s.level = INT32_MIN;
+    run_and_check(&s, 10u, NULL);
+    assert_int_equal(capture_first_tick(&g_cap), 10u);
+    s.trigger = CAPTURE_TRIG_BELOW;
+    s.level = INT32_MAX;
+    run_and_check(&s, 10u, NULL);
+    assert_int_equal(capture_first_tick(&g_cap), 10u);
+    const uint16_t never[2] = {CAPTURE_TRIG_RISING, CAPTURE_TRIG_FALLING};
+    const int32_t at[2] = {INT32_MIN, INT32_MAX};
+    for (int i = 0; i < 2; i++) {
+        s.trigger = never[i];
+        s.level = at[i];
+        assert_int_equal(capture_setup(&g_cap, &s), CAPTURE_OK);
+        for (uint32_t t = 0u; t < 3000u; t++) {
+            set_vars(t);
+            capture_isr(&g_cap, t, 0u);
+        }
+        assert_int_equal(capture_state(&g_cap), CAPTURE_ARMED);
+    }
+}
 
 static void test_setup_refusals(void **state)
 {
@@ -247,4 +278,5 @@ UNIT_TEST_MAIN("comm capture", NULL,
                cmocka_unit_test_setup(test_now_every_period_and_decimated, setup),
                cmocka_unit_test_setup(test_level_and_edge_with_pretrigger, setup),
                cmocka_unit_test_setup(test_fault_trigger_between_decimated_samples, setup),
+               cmocka_unit_test_setup(test_levels_at_the_int32_limits, setup),
                cmocka_unit_test_setup(test_setup_refusals, setup))
