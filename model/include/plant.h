@@ -203,6 +203,12 @@ void plant_set_load(plant_t *plant, plant_load_t load, double speed_rpm, double 
 
 void plant_advance(plant_t *plant, double dt_s);
 void plant_get_state(const plant_t *plant, plant_state_t *s);
+/* The part of plant_get_state() that the metrics' series read in a recorded period (addition): the
+ * fields t_s, i_a, i_b, i_c, i_alpha_a, i_beta_a, psi_alpha_wb, psi_beta_wb, psi_r_alpha_wb,
+ * psi_r_beta_wb, te_nm, theta_m_rad, omega_m_rad_s, speed_rpm, i2_int_a2s, q_a_as and q_b_as, each
+ * exactly plant_get_state()'s value (the same code); the other fields of *s are left as they were.
+ * It skips the link's terminal voltages, the mean voltages, the energies and the load torque. */
+void plant_get_state_core(const plant_t *plant, plant_state_t *s);
 
 /* ---- Additions ---- */
 

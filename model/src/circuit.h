@@ -42,25 +42,40 @@ inline void dc_link_terminals(const plant_t *pl, const Vec &y, double &tv_lo, do
     tv_hi = n.tv_hi;
 }
 
-// Voltages of the rails phase x can be tied to, at state y.
-inline void rails(const plant_t *pl, const Vec &y, double rv[4], int x) {
-    rv[RAIL_ZERO] = 0.0;
+// Voltages of the rails each phase can be tied to, at state y: rv[x] for phase x (the link's
+// terminal voltages are formed once for the three).
+inline void rails_all(const plant_t *pl, const Vec &y, double rv[3][4]) {
+    double plus, mid;
     if (pl->link.rc.on) {
         double lo, hi;
         dc_link_terminals(pl, y, lo, hi);
-        rv[RAIL_PLUS] = lo + hi;
-        rv[RAIL_MID] = lo;
+        plus = lo + hi;
+        mid = lo;
     } else {
-        rv[RAIL_PLUS] = y[S_VCLO] + y[S_VCHI];
-        rv[RAIL_MID] = y[S_VCLO];
+        plus = y[S_VCLO] + y[S_VCHI];
+        mid = y[S_VCLO];
     }
-    rv[RAIL_SRC] = 0.0;
+    double src[3] = {0.0, 0.0, 0.0};
     if (pl->p.inverter == PLANT_INVERTER_IDEAL) {
         // Ideal source: phase voltages from the inverse amplitude-invariant Clarke transform.
         const double va = pl->v_set_alpha, vb = pl->v_set_beta;
-        const double v[3] = {va, -0.5 * va + 0.5 * kSqrt3 * vb, -0.5 * va - 0.5 * kSqrt3 * vb};
-        rv[RAIL_SRC] = v[x];
+        src[0] = va;
+        src[1] = -0.5 * va + 0.5 * kSqrt3 * vb;
+        src[2] = -0.5 * va - 0.5 * kSqrt3 * vb;
     }
+    for (int x = 0; x < 3; ++x) {
+        rv[x][RAIL_ZERO] = 0.0;
+        rv[x][RAIL_PLUS] = plus;
+        rv[x][RAIL_MID] = mid;
+        rv[x][RAIL_SRC] = src[x];
+    }
+}
+
+// Voltages of the rails phase x can be tied to, at state y.
+inline void rails(const plant_t *pl, const Vec &y, double rv[4], int x) {
+    double all[3][4];
+    rails_all(pl, y, all);
+    for (int r = 0; r < 4; ++r) rv[r] = all[x][r];
 }
 
 inline void make_coefs(const plant_t *pl, const ConductionMode &m, ConductionCoefs &q) {
@@ -76,9 +91,10 @@ inline void make_coefs(const plant_t *pl, const ConductionMode &m, ConductionCoe
 // Neutral voltage when every phase is blocked: centre of the feasible range.
 inline double vn0_all_blocked(const plant_t *pl, const Vec &y, const double e[3]) {
     double lo = -1e300, hi = 1e300;
+    double rvx[3][4];
+    rails_all(pl, y, rvx);
     for (int x = 0; x < 3; ++x) {
-        double rv[4];
-        rails(pl, y, rv, x);
+        const double *rv = rvx[x];
         const double a = path_v(pl->legs[x]->pos, rv), b = path_v(pl->legs[x]->neg, rv);
         lo = std::max(lo, std::min(a, b) - e[x]);
         hi = std::min(hi, std::max(a, b) - e[x]);
@@ -251,7 +267,7 @@ ConductionMode select_mode(plant_t *pl, const M &mach, const Vec &y) {
     ++pl->stats.mode_selects;
     double e[3], rv[3][4];
     mach.emf_exact(y, e);
-    for (int x = 0; x < 3; ++x) rails(pl, y, rv[x], x);
+    rails_all(pl, y, rv);
     int ncand = 1;
     for (int k = 0; k < nz; ++k) ncand *= 3;
     double best_v = 1e300;

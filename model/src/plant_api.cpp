@@ -187,15 +187,10 @@ void plant_advance(plant_t *pl, double dt_s) {
     advance(pl, dt_s);
 }
 
-void plant_get_state(const plant_t *plant, plant_state_t *s) {
-    plant_t *pl = const_cast<plant_t *>(plant);  // mode selection counts; the state is unchanged
-    // Every field is assigned below (no memset: this runs once per control period).
-    static_assert(offsetof(plant_state_t, q_b_as) == 37 * sizeof(double) &&
-                      sizeof(plant_state_t) <= 38 * sizeof(double),
-                  "plant_state_t changed: assign the new fields");
-    const plant_params_t &p = pl->p;
+namespace {
+// plant_get_state_core()'s fields (plant.h); returns the machine's report for the rest.
+plant_model::MachineReport state_core(const plant_t *pl, plant_state_t *s) {
     const Vec &y = pl->y;
-    const double theta_e = pl->pp * y[S_THETA];
     s->t_s = pl->t;
     s->i_a = y[S_IA];
     s->i_b = y[S_IB];
@@ -209,6 +204,29 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
     s->psi_beta_wb = r.psi_beta;
     s->psi_r_alpha_wb = r.psi_r_alpha;
     s->psi_r_beta_wb = r.psi_r_beta;
+    s->theta_m_rad = y[S_THETA];
+    s->omega_m_rad_s = y[S_OMEGA];
+    s->speed_rpm = y[S_OMEGA] * (1.0 / kRpmToRadS);
+    s->te_nm = r.te;
+    s->i2_int_a2s = y[S_I2];
+    s->q_a_as = y[S_QA];
+    s->q_b_as = y[S_QB];
+    return r;
+}
+}  // namespace
+
+void plant_get_state_core(const plant_t *plant, plant_state_t *s) { (void)state_core(plant, s); }
+
+void plant_get_state(const plant_t *plant, plant_state_t *s) {
+    plant_t *pl = const_cast<plant_t *>(plant);  // mode selection counts; the state is unchanged
+    // Every field is assigned below or by state_core() (no memset: this runs once per control period).
+    static_assert(offsetof(plant_state_t, q_b_as) == 37 * sizeof(double) &&
+                      sizeof(plant_state_t) <= 38 * sizeof(double),
+                  "plant_state_t changed: assign the new fields");
+    const plant_params_t &p = pl->p;
+    const Vec &y = pl->y;
+    const double theta_e = pl->pp * y[S_THETA];
+    const MachineReport r = state_core(pl, s);
     // Wrap to [0, 2 pi): floor by truncation (|turns| < 2^53 for any finite run).
     const double turns = theta_e * (0.5 / kPi);
     double whole = static_cast<double>(static_cast<long long>(turns));
@@ -217,10 +235,6 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
     if (th >= 2.0 * kPi) th -= 2.0 * kPi;
     if (th < 0.0) th = 0.0;
     s->theta_e_rad = th;
-    s->theta_m_rad = y[S_THETA];
-    s->omega_m_rad_s = y[S_OMEGA];
-    s->speed_rpm = y[S_OMEGA] * (1.0 / kRpmToRadS);
-    s->te_nm = r.te;
     s->tload_nm = mech::load_torque(pl->shaft, y[S_OMEGA], s->te_nm);  // as in the right-hand side
     if (pl->link.rc.on) {
         link_terminals(pl, s->vc_lo_v, s->vc_hi_v);
@@ -248,9 +262,6 @@ void plant_get_state(const plant_t *plant, plant_state_t *s) {
     s->e_load_j = y[S_ELOAD];
     s->e_rdc_j = y[S_ERDC];
     s->e_link_j = y[S_ELINK];
-    s->i2_int_a2s = y[S_I2];
-    s->q_a_as = y[S_QA];
-    s->q_b_as = y[S_QB];
     s->e_magnetic_j = r.e_magnetic;
     s->e_kinetic_j = 0.5 * p.j_kgm2 * y[S_OMEGA] * y[S_OMEGA];
     s->e_capacitor_j = dclink::capacitor_energy(p, pl->link, y[S_VCLO], y[S_VCHI]);

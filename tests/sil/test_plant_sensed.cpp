@@ -1,10 +1,12 @@
-// plant_get_sensed() (the per-period read of hal_host) against plant_get_state() on the real
-// plant: the same values, bit for bit, on a switching FSTP run with a finite DC link (every field
-// moves), and Harness::state() (computed on demand) equal to a direct plant_get_state() read.
+// plant_get_sensed() (the per-period read of hal_host) and plant_get_state_core() (the recorded
+// periods' read of the metrics' series) against plant_get_state() on the real plant: the same
+// values, bit for bit, on a switching FSTP run with a finite DC link (every field moves), and
+// Harness::state() / state_core() (computed on demand) equal to a direct plant_get_state() read.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
 
 #include "hal_host.hpp"
@@ -23,6 +25,28 @@ void expect_same(const plant_sensed_t& se, const plant_state_t& st, int k)
     EXPECT_EQ(se.vdc_v, st.vdc_v) << k;
     EXPECT_EQ(se.vc_lo_v, st.vc_lo_v) << k;
     EXPECT_EQ(se.vc_hi_v, st.vc_hi_v) << k;
+}
+
+// plant_get_state_core()'s fields (plant.h) equal to the full state's, bit for bit.
+void expect_same_core(const plant_state_t& c, const plant_state_t& st, int k)
+{
+    EXPECT_EQ(c.t_s, st.t_s) << k;
+    EXPECT_EQ(c.i_a, st.i_a) << k;
+    EXPECT_EQ(c.i_b, st.i_b) << k;
+    EXPECT_EQ(c.i_c, st.i_c) << k;
+    EXPECT_EQ(c.i_alpha_a, st.i_alpha_a) << k;
+    EXPECT_EQ(c.i_beta_a, st.i_beta_a) << k;
+    EXPECT_EQ(c.psi_alpha_wb, st.psi_alpha_wb) << k;
+    EXPECT_EQ(c.psi_beta_wb, st.psi_beta_wb) << k;
+    EXPECT_EQ(c.psi_r_alpha_wb, st.psi_r_alpha_wb) << k;
+    EXPECT_EQ(c.psi_r_beta_wb, st.psi_r_beta_wb) << k;
+    EXPECT_EQ(c.te_nm, st.te_nm) << k;
+    EXPECT_EQ(c.theta_m_rad, st.theta_m_rad) << k;
+    EXPECT_EQ(c.omega_m_rad_s, st.omega_m_rad_s) << k;
+    EXPECT_EQ(c.speed_rpm, st.speed_rpm) << k;
+    EXPECT_EQ(c.i2_int_a2s, st.i2_int_a2s) << k;
+    EXPECT_EQ(c.q_a_as, st.q_a_as) << k;
+    EXPECT_EQ(c.q_b_as, st.q_b_as) << k;
 }
 
 plant_params_t fstp_params()
@@ -60,6 +84,10 @@ TEST(PlantSensed, SameValuesAsTheFullStateOnASwitchingFstpRun)
         plant_get_sensed(pl, &se);
         plant_get_state(pl, &st);
         expect_same(se, st, k);
+        plant_state_t core;
+        std::memset(&core, 0xff, sizeof core); // NaN patterns: a field it fails to fill differs
+        plant_get_state_core(pl, &core);
+        expect_same_core(core, st, k);
         i_peak = std::max(i_peak, std::fabs(st.i_b));
         vc_min = std::min(vc_min, st.vc_lo_v);
         vc_max = std::max(vc_max, st.vc_lo_v);
@@ -85,6 +113,9 @@ TEST(PlantSensed, HarnessStateOnDemandEqualsADirectRead)
         h->sample();
         plant_state_t direct;
         plant_get_state(h->plant(), &direct);
+        // The core first (what a recorded period without a trace row reads), then the whole
+        // state, which must not be the core's partial fill.
+        expect_same_core(h->state_core(), direct, k);
         const plant_state_t& lazy = h->state();
         EXPECT_EQ(lazy.t_s, direct.t_s) << k;
         EXPECT_EQ(lazy.i_a, direct.i_a) << k;
@@ -92,6 +123,9 @@ TEST(PlantSensed, HarnessStateOnDemandEqualsADirectRead)
         EXPECT_EQ(lazy.psi_alpha_wb, direct.psi_alpha_wb) << k;
         EXPECT_EQ(lazy.psi_beta_wb, direct.psi_beta_wb) << k;
         EXPECT_EQ(lazy.vc_lo_v, direct.vc_lo_v) << k;
+        EXPECT_EQ(lazy.vdc_v, direct.vdc_v) << k;
+        EXPECT_EQ(lazy.e_kinetic_j, direct.e_kinetic_j) << k;
+        EXPECT_EQ(lazy.v_alpha_v, direct.v_alpha_v) << k;
         EXPECT_EQ(lazy.speed_rpm, direct.speed_rpm) << k;
         expect_same(h->sensed(), direct, k);
         int sb = 0, sc = 0;

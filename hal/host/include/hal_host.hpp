@@ -160,9 +160,20 @@ public:
     /// calls must call sample() again to see the change.
     const plant_state_t& state() const
     {
-        if (!state_valid_) {
+        if (state_level_ < 2) {
             plant_get_state(plant_, &state_);
-            state_valid_ = true;
+            state_level_ = 2;
+        }
+        return state_;
+    }
+    /// The same state with only plant_get_state_core()'s fields valid (plant.h: currents, flux,
+    /// torque, shaft, the currents' integrals), which is what the metrics' series read; the
+    /// others hold whatever an earlier call left. Cached like state().
+    const plant_state_t& state_core() const
+    {
+        if (state_level_ < 1) {
+            plant_get_state_core(plant_, &state_);
+            state_level_ = 1;
         }
         return state_;
     }
@@ -226,7 +237,7 @@ private:
 
     plant_sensed_t sensed_{};
     mutable plant_state_t state_{};
-    mutable bool state_valid_ = false;
+    mutable int state_level_ = 0; // state_ holds: 0 nothing valid, 1 state_core(), 2 state()
     hal_meas_t meas_{};
     hal_cmd_t active_{};  // applied over the current period
     hal_cmd_t pending_{}; // written in the current period, applied from the next boundary

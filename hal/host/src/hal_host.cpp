@@ -113,7 +113,7 @@ bool Harness::comparator_active() const
 void Harness::sample()
 {
     plant_get_sensed(plant_, &sensed_);
-    state_valid_ = false;
+    state_level_ = 0;
 
     // Protection first: the comparator acts in hardware, before any software sees the sample.
     if (comparator_active() && !trip_latched_) {
@@ -258,7 +258,7 @@ void Harness::advance()
         gates_enabled() && pending_.enable == 0u) {
         substep_fn_(plant_);
     }
-    state_valid_ = false;
+    state_level_ = 0;
     ++k_;
     active_ = pending_; // shadow registers load at the period boundary
     sampled_ = false;

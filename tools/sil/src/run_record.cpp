@@ -50,14 +50,16 @@ bool Recorder::close_trace(std::string* err) { return !trace_on_ || trace_.close
 
 void Recorder::record(std::uint64_t k, const hal_host::Harness& h, const Controller& ctrl)
 {
-    const plant_state_t& st = h.state();
+    // The series read only plant_get_state_core()'s fields; a trace row needs the whole state.
+    const bool row = trace_on_ && k % decimate_ == 0;
+    const plant_state_t& st = row ? h.state() : h.state_core();
     const ControllerEstimates e = ctrl.estimates();
     const hal_cmd_t& cmd = h.applied_cmd();
     const bool en = legs_ ? h.gates_enabled() : !h.trip_latched();
     if (k >= record_from_) {
         record_series(static_cast<std::size_t>(k - record_from_), st, e, cmd, en, h);
     }
-    if (trace_on_ && k % decimate_ == 0) {
+    if (row) {
         trace_row(st, e, cmd, en, h);
     }
 }
