@@ -99,11 +99,11 @@ SECTIONS
                     *(.text:_dtc_lpf_r)
                     *(.text:_dtc_pol_mid)
                     *(.text:_dtc_predict_in)
+                    *(.text:_dtc_reset)
                     *(.text:_dtc_reset_currents)
                     *(.text:_dtc_speed_gains)
                     *(.text:_dtc_vmid_beta)
                     *(.text:_fix_add32)
-                    *(.text:_fix_neg32)
                     *(.text:_fix_sector6)
                     *(.text:_fix_sincos)
                     *(.text:_fix_sub32)
@@ -111,7 +111,6 @@ SECTIONS
                     *(.text:_flux_est_reset)
                     *(.text:_flux_est_seed)
                     *(.text:_hyst2_init)
-                    *(.text:_hyst2_sq_bounds)
                     *(.text:_hyst3_init)
                     *(.text:_iq_mpy)
                     *(.text:_iq_recip_newton)
@@ -128,6 +127,7 @@ SECTIONS
                     *(.text:_q32_integrate)
                     *(.text:_speed_meas_reset)
                     *(.text:_speed_meas_step)
+                    *(.text:_speed_pi_reset)
                     *(.text:_speed_pi_step)
                     *(.text:_swtab_null_choice)
                     *(.text:_swtab_rot6)
@@ -150,8 +150,7 @@ SECTIONS
                     /* hot:ramfuncs_m begin (hal/f2812/hot_functions.py --write) */
                     *(.text:_app_core_latch)
                     *(.text:_calibrate_finish)
-                    *(.text:_dtc_reset)
-                    *(.text:_speed_pi_reset)
+                    *(.text:_hyst2_sq_bounds)
                     /* hot:ramfuncs_m end */
                 }
                 LOAD = FLASH_JC,

@@ -56,7 +56,12 @@ SECTIONS
                     *(.text:_im_dtc_refs)
                     *(.text:_im_dtc_select)
                     *(.text:_im_est_flux)
-                    *(.text:_law_pwm)
+                    *(.text:_im_est_reset)
+                    *(.text:_im_fw_reset)
+                    *(.text:_im_speed_reset)
+                    *(.text:_im_sup_reset)
+                    *(.text:_law_step)
+                    *(.text:_speed_meas_reset)
                     *(.text:_vcomp_tab_step)
                     /* hot:ramfuncs end */
                     -l=libdtc_firmware.a (.econst)
@@ -79,7 +84,6 @@ SECTIONS
                     /* hot:ramfuncs_h begin (hal/f2812/hot_functions.py --write) */
                     *(.text:_app_adc_to_pu)
                     *(.text:_app_core_convert)
-                    *(.text:_app_enc_check)
                     *(.text:_app_enc_flux_check)
                     *(.text:_app_fault_one_way)
                     *(.text:_app_fault_trips)
@@ -93,7 +97,6 @@ SECTIONS
                     *(.text:_dsvm_rotate)
                     *(.text:_fix_add32)
                     *(.text:_fix_isqrt_rnd)
-                    *(.text:_fix_neg32)
                     *(.text:_fix_polar_begin)
                     *(.text:_fix_polar_end)
                     *(.text:_fix_polar_iter)
@@ -105,7 +108,6 @@ SECTIONS
                     *(.text:_im_dtc_i_pred)
                     *(.text:_im_dtc_speed_tick)
                     *(.text:_im_dtc_step)
-                    *(.text:_im_fw_reset)
                     *(.text:_im_psir_trim)
                     *(.text:_im_sfvc_kpd)
                     *(.text:_im_speed_lpf)
@@ -116,11 +118,13 @@ SECTIONS
                     *(.text:_law_enc_plaus)
                     *(.text:_law_i_pred)
                     *(.text:_law_out_form)
+                    *(.text:_law_reset)
                     *(.text:_law_speed_ref)
                     *(.text:_law_speed_ref_ptr)
                     *(.text:_law_warnings)
                     *(.text:_plaus_judge)
                     *(.text:_speed_meas_step)
+                    *(.text:_speed_pi_step)
                     *(.text:_svm_leg_dt)
                     *(.text:_svm_legs)
                     *(.text:_swtab_null_choice)
@@ -140,12 +144,12 @@ SECTIONS
 
     ramfuncs_m : {
                     /* hot:ramfuncs_m begin (hal/f2812/hot_functions.py --write) */
+                    *(.text:_app_enc_check)
                     *(.text:_deadtime_leg)
-                    *(.text:_im_speed_reset)
+                    *(.text:_hyst2_init)
+                    *(.text:_hyst3_init)
                     *(.text:_im_sup_step)
-                    *(.text:_law_reset)
-                    *(.text:_law_step)
-                    *(.text:_speed_pi_step)
+                    *(.text:_law_pwm)
                     /* hot:ramfuncs_m end */
                 }
                 LOAD = FLASH_JC,

@@ -423,8 +423,8 @@ static void test_neg32_abs32(void **state)
                             b, fabs((double)a), a, 0);
 #if FIX_WORD64
         /* the 32-bit targets' forms (fixmath.h FIX_WORD64), exactly */
-        if (fix_neg32_w32(a) != n || fix_abs32_w32(a) != b) {
-            fail_msg("fix_neg32/fix_abs32(%d): the 32- and 64-bit forms differ", a);
+        if (fix_neg32_w32(a) != n) {
+            fail_msg("fix_neg32(%d): the 32- and 64-bit forms differ", a);
         }
 #endif
     }
