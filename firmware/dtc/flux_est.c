@@ -16,12 +16,17 @@ void flux_est_reset(flux_est_t *s)
     s->theta_e = 0U;
 }
 
-/* Hoang eqs. 8-9 into the state (flux_est.h). */
+/* Hoang eqs. 8-9 into the state (flux_est.h). psi_m cos and psi_m sin are iq_mpy_q15(psi_m, x)
+ * written as iq_mpy(psi_m, iq_from_q15(x)), the same value bit for bit: iq_from_q15(x) = 512 x
+ * exactly, and (512 y + 2^23) >> 24 = (512 (y + 2^14)) >> 24 = (y + 2^14) >> 15 for the product
+ * y = psi_m x: the same shifted value, so the same rounding and the same saturation. On the Cortex-M0
+ * (-Os) the inline 64-bit product, rounding and saturation held this function's frame at 48
+ * bytes on dtc_step's deepest stack chain; four calls of the one product keep it small. */
 void flux_est_cm_surface(flux_est_t *s, const flux_est_in_t *in, q15_t sn, q15_t cs)
 {
     const flux_est_params_t *p = s->p;
-    s->psi_alpha_iq = fix_add32(iq_mpy(p->ls_iq, in->i_alpha_iq), iq_mpy_q15(p->psi_m_iq, cs));
-    s->psi_beta_iq = fix_add32(iq_mpy(p->ls_iq, in->i_beta_iq), iq_mpy_q15(p->psi_m_iq, sn));
+    s->psi_alpha_iq = fix_add32(iq_mpy(p->ls_iq, in->i_alpha_iq), iq_mpy(p->psi_m_iq, iq_from_q15(cs)));
+    s->psi_beta_iq = fix_add32(iq_mpy(p->ls_iq, in->i_beta_iq), iq_mpy(p->psi_m_iq, iq_from_q15(sn)));
 }
 
 void flux_est_seed(flux_est_t *s, const flux_est_in_t *in)

@@ -421,6 +421,12 @@ static void test_neg32_abs32(void **state)
                             fixtest_err_lsb_exact(b, a < 0 ? -(int64_t)a : a, 0U, INT32_MIN,
                                                   INT32_MAX),
                             b, fabs((double)a), a, 0);
+#if FIX_WORD64
+        /* the 32-bit targets' forms (fixmath.h FIX_WORD64), exactly */
+        if (fix_neg32_w32(a) != n) {
+            fail_msg("fix_neg32(%d): the 32- and 64-bit forms differ", a);
+        }
+#endif
     }
     fixtest_lsb_check(&tn, 0.0, "fix_neg32, edges + random (exact, saturating)");
     fixtest_lsb_check(&ta, 0.0, "fix_abs32, edges + random (exact, saturating)");
