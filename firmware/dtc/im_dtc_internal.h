@@ -114,11 +114,12 @@ static inline uint16_t im_trim_slot(const im_dtc_t *c)
  * step: the speed loop's step follows). The angle and magnitude the speed loop, the
  * plausibility, the supervision, the trim and eq. 19 read are those of the x two steps before
  * the speed loop's (80 us at 40 us; with speed_div 1 the speed loop's own step).
- * Why the odd step 9 for the first half and not the even 8: the trim takes one sample of |phi_r|
- * per speed period, and DSVM at 72 rpm and 10 % of rated torque (4 kW) has a ripple of |phi_r|
- * that the sample aliases: its mean torque was -0.63 % of T* sampled at the speed loop's step
- * (main), -0.60 % one step before it, +0.34 % two steps (this), +2.07 % three steps before it
- * (beyond the 1.5 % target of sil.ImTorqueBias). */
+ * The first half sits in the odd step 9, where the IM image's worst ISR was measured with it
+ * (docs/f2812.md). The place of the trim's one |phi_r| sample per speed period does not move the
+ * mean torque beyond the measurement's scatter: DSVM at 72 rpm, 10 % of rated torque (4 kW) gives
+ * +0.06 .. +0.26 % of T* over an 8.33 s window with the sample zero to four steps before the
+ * speed loop's. (On the sweep's 0.84 s window the same places read -0.63 .. +2.07 %; that spread
+ * is the short window's scatter at this point, docs/sil.md, not an alias of the ripple.) */
 static inline uint16_t im_polar_due(const im_dtc_t *c)
 {
     /* r: the steps after this one in the speed period (0 in its last) */
