@@ -45,27 +45,28 @@ SECTIONS
     ramfuncs  : {
                     *(ramfuncs)
                     /* hot:ramfuncs begin (hal/f2812/hot_functions.py --write) */
+                    *(.text:_app_core_latch)
                     *(.text:_app_core_step)
                     *(.text:_app_fault_open_phase)
                     *(.text:_app_fault_stall)
+                    *(.text:_app_fault_trips)
                     *(.text:_capture_isr_run)
                     *(.text:_check_hw_trip)
                     *(.text:_clarke_sstp)
                     *(.text:_hyst2_init)
+                    *(.text:_hyst3_init)
                     *(.text:_ilim_select)
                     *(.text:_im_dfoc_id_ref)
                     *(.text:_im_dsvm_select)
                     *(.text:_im_dsvm_step)
                     *(.text:_im_dtc_refs)
                     *(.text:_im_dtc_select)
-                    *(.text:_im_est_flux)
+                    *(.text:_im_est_reset)
                     *(.text:_im_fw_reset)
                     *(.text:_im_speed_reset)
-                    *(.text:_law_reset)
-                    *(.text:_law_step)
+                    *(.text:_im_sup_step)
+                    *(.text:_law_pwm)
                     *(.text:_speed_meas_reset)
-                    *(.text:_svm_reset)
-                    *(.text:_vcomp_tab_step)
                     /* hot:ramfuncs end */
                     -l=libdtc_firmware.a (.econst)
                     -l=libdtc_firmware.a (.switch)
@@ -87,9 +88,9 @@ SECTIONS
                     /* hot:ramfuncs_h begin (hal/f2812/hot_functions.py --write) */
                     *(.text:_app_adc_to_pu)
                     *(.text:_app_core_convert)
+                    *(.text:_app_enc_check)
                     *(.text:_app_enc_flux_check)
                     *(.text:_app_fault_one_way)
-                    *(.text:_app_fault_trips)
                     *(.text:_app_isr)
                     *(.text:_app_plaus_step)
                     *(.text:_app_pwm_encode)
@@ -99,9 +100,9 @@ SECTIONS
                     *(.text:_dsc_step)
                     *(.text:_dsvm_leg_duty)
                     *(.text:_dsvm_rotate)
+                    *(.text:_faultlog_record)
                     *(.text:_fix_add32)
                     *(.text:_fix_isqrt_rnd)
-                    *(.text:_fix_neg32)
                     *(.text:_fix_polar_begin)
                     *(.text:_fix_polar_end)
                     *(.text:_fix_polar_iter)
@@ -134,6 +135,7 @@ SECTIONS
                     *(.text:_swtab_sstp_basic)
                     *(.text:_swtab_sstp_legs)
                     *(.text:_swtab_sstp_st)
+                    *(.text:_vcomp_tab_step)
                     *(.text:_vrec_from_legs)
                     /* hot:ramfuncs_h end */
                 }
@@ -146,11 +148,10 @@ SECTIONS
 
     ramfuncs_m : {
                     /* hot:ramfuncs_m begin (hal/f2812/hot_functions.py --write) */
-                    *(.text:_app_enc_check)
-                    *(.text:_faultlog_record)
-                    *(.text:_hyst3_init)
-                    *(.text:_im_sup_step)
-                    *(.text:_law_pwm)
+                    *(.text:_im_est_flux)
+                    *(.text:_law_reset)
+                    *(.text:_law_step)
+                    *(.text:_svm_reset)
                     /* hot:ramfuncs_m end */
                 }
                 LOAD = FLASH_JC,
