@@ -4,7 +4,11 @@ within 1.5 % of the reference for every IM law, 10 to 100 % rated torque, 5 to 1
 
 Torque mode, the rotor held at each speed by the dynamometer (load.type = "speed"), from standstill:
 the drive magnetises, then holds T*. The plant's mean torque over the last 0.84 s of 2 s (two
-electrical periods at 5 % of rated speed) against T*, and the firmware's own estimate beside it.
+electrical periods at 5 % of rated speed, four at 10 %) against T*, and the firmware's own estimate
+beside it; at 5 % of rated speed over the last 8.33 s of 9.2 s (20 electrical periods): there the
+plant's torque swings slowly (DSVM, 4 kW, 10 % torque: its 0.14 s means range 2.2 .. 3.2 N*m for
+2.65) and a 0.84 s mean scatters by about +-1.5 % of T* with the held speed moved by 0.02 rpm, as
+wide as the target (docs/sil.md, the IM torque accuracy).
 Each machine runs with the per-leg device-drop compensation (control.compensation = "proposed",
 Hoang Table III per leg on the six-switch inverter: the drops of the rig's devices, V_CE when the
 leg's switch conducts, V_d when the other switch's diode does) and Casadei eq. 20's reference from the
@@ -17,7 +21,7 @@ diode conducts); --compensation simple shows it.
 
 Usage: im_torque_accuracy.py [--exe build/host/bin/dtc-sil] [--out DIR] [--compensation C]
                              [--laws dtc,dsc,...] [--jobs N] [--cm true|false]
-Writes DIR/<machine>/summary.csv (dtc-sil sweep) and prints one table per machine: per law and
+Writes DIR/<machine>/w<k>/summary.csv (dtc-sil sweep, one per window of WINDOWS) and prints one table per machine: per law and
 speed, the plant's error and the estimate's error in % of T*. Exit status 1 when a point outside
 KNOWN_MISSES misses the target, or a run faults; the known misses are printed with their values
 (and a known miss that meets the target is reported, so the list cannot go stale unseen).
@@ -31,6 +35,9 @@ import sys
 TARGET_PCT = 1.5
 LAWS = ["dtc", "dsc", "sfvc", "dfoc", "dsvm"]
 SPEED_FRACS = [0.05, 0.10, 0.25, 0.50, 1.00]
+# (speed fractions, run duration s, metrics window s): the window at least two electrical periods,
+# twenty at the lowest speed (see above)
+WINDOWS = [([0.05], 9.2, 8.33), ([0.10, 0.25, 0.50, 1.00], 2.0, 0.84)]
 TORQUE_FRACS = [0.10, 0.50, 1.00]
 # (scenario, rated torque N*m, rated speed rpm)
 MACHINES = {
@@ -46,18 +53,20 @@ KNOWN_MISSES = set()
 def run_machine(exe, out, name, laws, comp, jobs, cm="true"):
     scen, t_rated, n_rated = MACHINES[name]
     src = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenarios", scen)
-    d = os.path.join(out, name)
-    if os.path.isdir(d):
-        subprocess.run(["rm", "-rf", d], check=True)
-    cmd = [exe, "sweep", src, "--out", d, "-j", str(jobs), "-q", "--allow-failed-runs",
-           "--set", "control.mode=torque", "--set", "load.type=speed", "--set", "load.step_time_s=0",
-           "--set", "duration_s=2.0", "--set", "metrics_window_s=0.84",
-           "--set", "control.compensation=" + comp, "--set", "control.current_model_ref=" + cm,
-           "--grid", "control.scheme=" + ",".join(laws),
-           "--grid", "load.speed_rpm=" + ",".join("%g" % (f * n_rated) for f in SPEED_FRACS),
-           "--grid", "control.torque_ref_nm=" + ",".join("%g" % (f * t_rated) for f in TORQUE_FRACS)]
-    subprocess.run(cmd, check=True)
-    rows = list(csv.DictReader(open(os.path.join(d, "summary.csv"))))
+    rows = []
+    for k, (fracs, duration, window) in enumerate(WINDOWS):
+        d = os.path.join(out, name, "w%d" % k)
+        if os.path.isdir(d):
+            subprocess.run(["rm", "-rf", d], check=True)
+        cmd = [exe, "sweep", src, "--out", d, "-j", str(jobs), "-q", "--allow-failed-runs",
+               "--set", "control.mode=torque", "--set", "load.type=speed", "--set", "load.step_time_s=0",
+               "--set", "duration_s=%g" % duration, "--set", "metrics_window_s=%g" % window,
+               "--set", "control.compensation=" + comp, "--set", "control.current_model_ref=" + cm,
+               "--grid", "control.scheme=" + ",".join(laws),
+               "--grid", "load.speed_rpm=" + ",".join("%g" % (f * n_rated) for f in fracs),
+               "--grid", "control.torque_ref_nm=" + ",".join("%g" % (f * t_rated) for f in TORQUE_FRACS)]
+        subprocess.run(cmd, check=True)
+        rows += list(csv.DictReader(open(os.path.join(d, "summary.csv"))))
     res = {}
     for r in rows:
         sf = round(float(r["load.speed_rpm"]) / n_rated, 4)
