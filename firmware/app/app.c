@@ -46,6 +46,13 @@ void app_get_ident(app_ident_t *d)
     hal_irq_restore(irq);
 }
 
+void app_get_ident_view(app_ident_view_t *v)
+{
+    uint16_t irq = hal_irq_save();
+    app_ident_view_of(&g_app_instance.core.ident, v);
+    hal_irq_restore(irq);
+}
+
 void app_get_status(app_status_t *s)
 {
     uint16_t irq = hal_irq_save();

@@ -92,6 +92,8 @@ void app_request_ident(void);
 
 /* Background / host: a copy of the identification's state and results, interrupts masked. */
 void app_get_ident(app_ident_t *d);
+/* The same, only its progress and results (app_ident_view_t): for the background's stack. */
+void app_get_ident_view(app_ident_view_t *v);
 
 /* Background: ask the ISR to leave FAULT (back to CALIBRATE). Ignored for a configuration fault. */
 void app_request_fault_clear(void);

@@ -289,6 +289,28 @@ typedef struct {
     iq_t ia_ref_iq;          /* ISR: the phase-A (alpha) current reference that does it, pu */
 } app_ident_t;
 
+/* A background function kept out of line (as fixmath.h's fix_sat32_clamp): the large locals and
+ * temporaries of a function inlined stay on its caller's stack while the caller calls on, so a
+ * chain of such calls sums them. The F2812's stack is M0's 1K words (hal/f2812/stack_budget.py). */
+#define APP_NOINLINE __attribute__((noinline))
+
+/* What the background reads of an identification (app_get_ident_view, app_ident_derive): its
+ * progress, the last DC link it measured and its results, without the steps' working state: a
+ * copy small enough for a background call's stack (the F2812's stack is M0's 1K words,
+ * hal/f2812/stack_budget.py). */
+typedef struct {
+    uint16_t step;           /* enum app_ident_step */
+    uint16_t fail;           /* enum app_ident_fail */
+    uint16_t fail_step;      /* enum app_ident_step that failed */
+    int16_t fail_detail;
+    uint16_t im_on;          /* 1: an induction machine's identification */
+    iq_t vdc_iq;             /* the DC link it measured last */
+    app_ident_result_t res;
+} app_ident_view_t;
+
+/* v = the view of d (its fields of the same names). */
+void app_ident_view_of(const app_ident_t *d, app_ident_view_t *v);
+
 /* Starts the identification (gates on from the next period). ts_pu / bases are not used: only
  * cfg->board (scaling, topology, encoder counts, mid-point measured) and the per-unit bases. */
 void app_ident_start(app_ident_t *d, const dtc_config_t *cfg, uint16_t qep_count, iq_t vdc_iq);
@@ -329,9 +351,9 @@ enum app_ident_apply_err {
  * in force), with the rows derived from it (app_ident_apply.c lists them, their formats and
  * rounding). Returns APP_IDENT_APPLY_OK or why not (out then partly written: discard it). No law
  * check: the caller's. */
-int16_t app_ident_derive(const app_ident_t *d, const dtc_config_t *in, dtc_config_t *out);
+int16_t app_ident_derive(const app_ident_view_t *d, const dtc_config_t *in, dtc_config_t *out);
 
-/* Background, disarmed: the identification's results (app_get_ident) into a copy of the
+/* Background, disarmed: the identification's results (app_get_ident_view) into a copy of the
  * configuration in force (app_ident_derive), checked by law_check and made the configuration in
  * force (app_reconfigure: calibration, then READY). Returns enum app_ident_apply_err; *changed the
  * configuration rows whose value changed (0 unless applied), *detail the check's enum dtc_err code

@@ -115,7 +115,7 @@ static int64_t div_shl(int64_t num, uint16_t sh, int64_t den)
 
 /* The common rows of a PM's and an IM's identification: R_s, the dead time, the pole pairs and
  * the encoder's gain and direction (the file comment). *gain: the encoder gain written. */
-static int16_t derive_common(const app_ident_t *d, const dtc_config_t *in, dtc_config_t *out, int64_t *gain)
+APP_NOINLINE static int16_t derive_common(const app_ident_view_t *d, const dtc_config_t *in, dtc_config_t *out, int64_t *gain)
 {
     int64_t td;
     /* R_s: the slope less the board's R_on */
@@ -154,7 +154,7 @@ static int16_t derive_common(const app_ident_t *d, const dtc_config_t *in, dtc_c
 /* A product chain in floating form, m 2^e with 2^30 <= m < 2^31 after fx_of (m = 0 for zero;
  * each step's rounding costs at most 2^-30 of the value; background). */
 typedef struct {
-    uint64_t m;
+    uint32_t m; /* below 2^31 (fx_of); widened to 64 bits before every shift and product */
     int16_t e;
 } apply_fx_t;
 
@@ -176,14 +176,14 @@ static apply_fx_t fx_of(uint64_t m, int16_t e)
             k++;
         }
     }
-    r.m = m;
+    r.m = (uint32_t)m; /* < 2^31 here */
     r.e = (int16_t)(e + (int16_t)k);
     return r;
 }
 
 static apply_fx_t fx_mul(apply_fx_t a, apply_fx_t b)
 {
-    return fx_of(a.m * b.m, (int16_t)(a.e + b.e));
+    return fx_of((uint64_t)a.m * (uint64_t)b.m, (int16_t)(a.e + b.e));
 }
 
 /* a / b for b.m > 0: the quotient with 31 more bits (below 2^62) */
@@ -203,13 +203,13 @@ static int64_t fx_row(apply_fx_t a, int16_t frac)
 {
     const int16_t sh = (int16_t)(a.e + frac);
     if (sh >= 0) {
-        return sh > 31 || (a.m << (uint16_t)sh) > (uint64_t)0x7FFFFFFF ? -1 : (int64_t)(a.m << (uint16_t)sh);
+        return sh > 31 || ((uint64_t)a.m << (uint16_t)sh) > (uint64_t)0x7FFFFFFF ? -1 : (int64_t)((uint64_t)a.m << (uint16_t)sh);
     }
     if (sh < -40) {
         return 0;
     }
     {
-        const uint64_t r = (a.m + ((uint64_t)1 << (uint16_t)(-sh - 1))) >> (uint16_t)(-sh);
+        const uint64_t r = ((uint64_t)a.m + ((uint64_t)1 << (uint16_t)(-sh - 1))) >> (uint16_t)(-sh);
         return r > (uint64_t)0x7FFFFFFF ? -1 : (int64_t)r;
     }
 }
@@ -232,7 +232,7 @@ static int64_t fx_row(apply_fx_t a, int16_t frac)
  *       scales it likewise);
  * each a chain of fx products (relative error < 2^-28), rounded to nearest at the end. */
 /* Jn = (j_q12 / 2^12) kt counts ts_pu^2 / (2 pi p) (derive_speed's comment), kt_iq > 0 */
-static apply_fx_t jn_of(const app_ident_t *d, const dtc_config_t *in, const dtc_config_t *out, iq_t kt_iq)
+static apply_fx_t jn_of(const app_ident_view_t *d, const dtc_config_t *in, const dtc_config_t *out, iq_t kt_iq)
 {
     const apply_fx_t ts = fx_iq(in->board.ts_pu_iq);
     apply_fx_t jn = fx_mul(fx_of((uint64_t)d->res.j_q12, -12), fx_iq(kt_iq));
@@ -240,7 +240,7 @@ static apply_fx_t jn_of(const app_ident_t *d, const dtc_config_t *in, const dtc_
     return fx_div(jn, fx_of((uint64_t)ID_IQ_2PI * out->machine.pole_pairs, -24));
 }
 
-static int16_t derive_speed(const app_ident_t *d, const dtc_config_t *in, dtc_config_t *out, iq_t kt_iq)
+APP_NOINLINE static int16_t derive_speed(const app_ident_view_t *d, const dtc_config_t *in, dtc_config_t *out, iq_t kt_iq)
 {
     apply_fx_t jn, bw, ts, x;
     int64_t kp, ki, fr;
@@ -295,7 +295,7 @@ static int64_t l_pu(iq_t l_ts_iq, const dtc_config_t *in)
 
 #if DTC_LAW_PM_LINKED
 /* The PM's rows (the file comment). */
-static int16_t derive_pm(const app_ident_t *d, const dtc_config_t *in, dtc_config_t *out)
+static int16_t derive_pm(const app_ident_view_t *d, const dtc_config_t *in, dtc_config_t *out)
 {
     int64_t ls, inv, lq, gain = 0;
     const int16_t rc = derive_common(d, in, out, &gain);
@@ -356,9 +356,9 @@ static uint64_t fx_align(apply_fx_t a, int16_t e)
         return 0U;
     }
     if (sh == 0) {
-        return a.m << 31;
+        return (uint64_t)a.m << 31;
     }
-    return ((a.m << 31) + ((uint64_t)1 << (uint16_t)(sh - 1))) >> (uint16_t)sh;
+    return (((uint64_t)a.m << 31) + ((uint64_t)1 << (uint16_t)(sh - 1))) >> (uint16_t)sh;
 }
 
 /* a + b (sub = 0), or a - b (sub = 1; 0 when a <= b), of two values >= 0: both on the larger
@@ -409,12 +409,12 @@ static apply_fx_t fx_sqrt(apply_fx_t a)
 static int64_t fx_ceil(apply_fx_t a)
 {
     if (a.e >= 0) {
-        return a.e > 31 || (a.m << (uint16_t)a.e) > (uint64_t)0x7FFFFFFF ? -1 : (int64_t)(a.m << (uint16_t)a.e);
+        return a.e > 31 || ((uint64_t)a.m << (uint16_t)a.e) > (uint64_t)0x7FFFFFFF ? -1 : (int64_t)((uint64_t)a.m << (uint16_t)a.e);
     }
     if (a.e < -40) {
         return a.m != 0U ? 1 : 0;
     }
-    return (int64_t)((a.m + ((uint64_t)1 << (uint16_t)(-a.e)) - 1U) >> (uint16_t)(-a.e));
+    return (int64_t)(((uint64_t)a.m + ((uint64_t)1 << (uint16_t)(-a.e)) - 1U) >> (uint16_t)(-a.e));
 }
 
 /* The identified machine for derive_im_design, fx (pu; L_r = L_s, the equal leakage split) */
@@ -468,6 +468,187 @@ static uint16_t dfoc_zeta0(const dtc_config_t *in, const apply_im_t *q, apply_fx
     return (uint16_t)(fx_lt(tol, dev) == 0U ? 1U : 0U);
 }
 
+/* derive_im_design's parts, each its own function (APP_NOINLINE), so that the fx temporaries
+ * (apply_fx_t, returned through the stack) of one are not on the stack beside the others'. Each returns APP_IDENT_APPLY_OK or APP_IDENT_APPLY_IM. */
+/* design_limits' current step dI and current limit I_lim (written when derived), with V_max */
+typedef struct {
+    apply_fx_t vmax, di, ilim;
+} apply_step_t;
+
+/* the current step and the current limit (design.vdc_iq > 0) */
+APP_NOINLINE static int16_t limit_step(const dtc_config_t *in, dtc_config_t *out, const apply_im_t *q,
+                                       apply_step_t *st)
+{
+    const dtc_im_design_cfg_t *g = &in->u.im.design;
+    const uint16_t p = out->machine.pole_pairs, p_in = in->machine.pole_pairs;
+    const uint16_t ilim_n = (uint16_t)(g->derived & DTC_IM_DESIGN_ILIM_N);
+    const uint16_t modulated = in->law == (uint16_t)DTC_LAW_IM_SFVC || in->law == (uint16_t)DTC_LAW_IM_DFOC ||
+                               in->law == (uint16_t)DTC_LAW_IM_DSVM ? 1U : 0U;
+    const apply_fx_t vdc = fx_iq(g->vdc_iq);
+    const apply_fx_t vmax = in->board.topology == (uint16_t)DTC_TOPO_SSTP
+                                ? fx_div(fx_mul(vdc, fx_of(2U, 0)), fx_of(3U, 0))
+                                : fx_div(vdc, fx_sqrt(fx_of(3U, 0)));
+    const apply_fx_t itrip = fx_iq(in->prot.i_trip_iq);
+    apply_fx_t num = fx_addsub(vmax, fx_mul(q->rs, itrip), 0U);
+    int64_t row;
+    if (modulated == 0U) {
+        const apply_fx_t wmax = fx_div(fx_mul(fx_iq(in->speed.speed_limit_iq), fx_of(p, 0)), fx_of(p_in, 0));
+        const apply_fx_t e = fx_mul(wmax, fx_mul(q->psir, fx_div(q->m, q->ls)));
+        num = fx_addsub(num, fx_lt(e, vmax) != 0U ? e : vmax, 0U);
+    }
+    st->vmax = vmax;
+    st->di = fx_div(fx_mul(q->ts, num), q->sls);
+    if (ilim_n > 0U) {
+        st->ilim = fx_addsub(itrip, fx_mul(fx_of(ilim_n, 0), st->di), 1U);
+        row = fx_row(st->ilim, 24);
+        if (row < 0) {
+            return (int16_t)APP_IDENT_APPLY_IM;
+        }
+        out->prot.i_lim_iq = (iq_t)(row >= (int64_t)in->prot.i_trip_iq ? (int64_t)in->prot.i_trip_iq - 1 : row);
+    } else {
+        st->ilim = fx_iq(in->prot.i_lim_iq);
+    }
+    return (int16_t)APP_IDENT_APPLY_OK;
+}
+
+/* the torque the current limit st->ilim allows: *t_lim the smaller of it and *t_lim; the current
+ * limit switched off (0) when it allows no torque */
+APP_NOINLINE static void limit_torque(const dtc_config_t *in, dtc_config_t *out, const apply_im_t *q,
+                                      const apply_step_t *st, apply_fx_t *t_lim)
+{
+    /* the excursion above the held current (the converter's dtc_im_hold_margin_a): dI, or
+     * on SFVC and on the DFOC's zeta = 0 design its SVM ripple V_max T_s / (4 sigma L_s) */
+    apply_fx_t wc;
+    const apply_fx_t h = in->law == (uint16_t)DTC_LAW_IM_SFVC ||
+                                 (in->law == (uint16_t)DTC_LAW_IM_DFOC && in->u.im.dfoc.kp_iq > 0 &&
+                                  in->machine.rs_iq > 0 && dfoc_zeta0(in, q, &wc) != 0U)
+                             ? fx_div(fx_mul(q->ts, st->vmax), fx_mul(q->sls, fx_of(4U, 0))) : st->di;
+    uint16_t any;
+    const apply_fx_t t_i = im_torque_at(in, q, fx_addsub(st->ilim, h, 1U), &any);
+    if (any == 0U && t_i.m == 0U) {
+        out->prot.i_lim_iq = 0; /* no torque below the limit: the trip alone protects */
+    } else if (any == 0U && fx_lt(t_i, *t_lim) != 0U) {
+        *t_lim = t_i;
+    }
+}
+
+/* the current step, the current limit and the torque it allows */
+APP_NOINLINE static int16_t design_limits(const dtc_config_t *in, dtc_config_t *out, const apply_im_t *q)
+{
+    const dtc_im_design_cfg_t *g = &in->u.im.design;
+    if (g->vdc_iq > 0 && g->torque_limit_iq > 0) {
+        apply_step_t st;
+        apply_fx_t t_lim = q->t_lim;
+        int64_t row;
+        if (limit_step(in, out, q, &st) != (int16_t)APP_IDENT_APPLY_OK) {
+            return (int16_t)APP_IDENT_APPLY_IM;
+        }
+        if (st.ilim.m != 0U) {
+            limit_torque(in, out, q, &st, &t_lim);
+        }
+        row = fx_row(t_lim, 24);
+        if (row < 1) {
+            return (int16_t)APP_IDENT_APPLY_IM;
+        }
+        out->speed.torque_limit_iq = (iq_t)row;
+        out->speed.torque_ref_iq = fix_clamp32(out->speed.torque_ref_iq, -out->speed.torque_limit_iq,
+                                               out->speed.torque_limit_iq);
+    }
+    return (int16_t)APP_IDENT_APPLY_OK;
+}
+
+/* DSVM's outer torque band */
+APP_NOINLINE static int16_t design_band2(const dtc_config_t *in, dtc_config_t *out, const apply_im_t *q)
+{
+    const dtc_im_design_cfg_t *g = &in->u.im.design;
+    const apply_fx_t vdc = fx_iq(g->vdc_iq);
+    int64_t row;
+    if (in->law == (uint16_t)DTC_LAW_IM_DSVM && (g->derived & DTC_IM_DESIGN_BAND2) != 0U && g->vdc_iq > 0) {
+        /* Casadei eqs. 12, 15: dT = M (2/3 V_dc) phi_r* T_s / (sigma L_s L_r), L_r = L_s */
+        const apply_fx_t dt = fx_div(fx_mul(fx_mul(q->m, fx_div(fx_mul(vdc, fx_of(2U, 0)), fx_of(3U, 0))),
+                                            fx_mul(q->psir, q->ts)),
+                                     fx_mul(q->sls, q->ls));
+        const apply_fx_t b2 = fx_mul(dt, fx_of(2U, 0)), b1 = fx_iq(in->u.im.sw.torque_band_iq);
+        row = fx_row(fx_lt(b2, b1) != 0U ? b1 : b2, 24);
+        if (row < 0) {
+            return (int16_t)APP_IDENT_APPLY_IM;
+        }
+        out->u.im.dsvm.torque_band2_iq = (iq_t)row;
+    }
+    return (int16_t)APP_IDENT_APPLY_OK;
+}
+
+/* the magnetisation's periods */
+APP_NOINLINE static int16_t design_magn(const dtc_config_t *in, dtc_config_t *out, const apply_im_t *q)
+{
+    const dtc_im_design_cfg_t *g = &in->u.im.design;
+    if (g->magn_wait_iq > 0) {
+        const apply_fx_t ramp = fx_mul(fx_mul(fx_addsub(fx_of(1U, 0), fx_div(q->psir, q->m), 1U), q->rr), q->ts);
+        const apply_fx_t psis = in->u.im.ref.psir_ref_iq > 0 ? fx_div(fx_mul(q->psir, q->ls), q->m)
+                                                            : fx_iq(in->speed.flux_ref_iq);
+        const int64_t n1 = ramp.m != 0U ? fx_ceil(fx_div(psis, ramp)) : -1;
+        const int64_t n2 = fx_ceil(fx_div(fx_mul(q->ls, fx_iq(g->magn_wait_iq)), fx_mul(q->rr, q->ts)));
+        if (n1 < 0 || n2 < 0 || n1 + n2 < 1 || n1 + n2 > 65535) {
+            return (int16_t)APP_IDENT_APPLY_IM;
+        }
+        out->u.im.ref.magn_periods = (uint16_t)(n1 + n2);
+    }
+    return (int16_t)APP_IDENT_APPLY_OK;
+}
+
+/* the DFOC current PIs */
+APP_NOINLINE static int16_t design_dfoc(const dtc_config_t *in, dtc_config_t *out, const apply_im_t *q)
+{
+    if (in->law == (uint16_t)DTC_LAW_IM_DFOC && in->u.im.dfoc.kp_iq > 0 && in->machine.rs_iq > 0) {
+        const apply_fx_t kp_in = fx_iq(in->u.im.dfoc.kp_iq), sls_in = fx_iq(in->u.im.machine.sigma_ls_iq);
+        const apply_fx_t rs_in = fx_iq(in->machine.rs_iq), ki_in = fx_iq(in->u.im.dfoc.ki_ts_iq);
+        apply_fx_t wc;
+        int64_t kp, ki;
+        if (dfoc_zeta0(in, q, &wc) != 0U) {
+            kp = fx_row(fx_mul(q->sls, wc), 24);
+            ki = fx_row(fx_mul(fx_mul(q->rs, wc), q->ts), 24);
+        } else {
+            const apply_fx_t k = fx_div(q->sls, sls_in);
+            kp = fx_row(fx_addsub(fx_mul(fx_addsub(kp_in, rs_in, 0U), k), q->rs, 1U), 24);
+            ki = fx_row(fx_mul(ki_in, k), 24);
+        }
+        if (kp < 1 || ki < 0) {
+            return (int16_t)APP_IDENT_APPLY_IM;
+        }
+        out->u.im.dfoc.kp_iq = (iq_t)kp;
+        out->u.im.dfoc.ki_ts_iq = (iq_t)ki;
+    }
+    return (int16_t)APP_IDENT_APPLY_OK;
+}
+
+/* the encoder plausibility */
+APP_NOINLINE static int16_t design_enc_plaus(const app_ident_view_t *d, const dtc_config_t *in, dtc_config_t *out,
+                                           const apply_im_t *q, iq_t kt_iq)
+{
+    const dtc_im_design_cfg_t *g = &in->u.im.design;
+    int64_t row;
+    if (in->u.im.ref.enc_plaus_iq > 0 && g->torque_limit_iq > 0 && d->res.j_q12 > 0 && kt_iq > 0) {
+        apply_fx_t slip = fx_div(fx_mul(q->rr, q->t_lim), fx_mul(q->psir, q->psir));
+        const apply_fx_t acc = fx_div(fx_mul(fx_mul(q->t_lim, q->ts), fx_of(in->speed.speed_div, 0)),
+                                      jn_of(d, in, out, kt_iq));
+        if (in->u.im.fw.on != 0U && in->u.im.fw.psi_min_iq > 0) {
+            const apply_fx_t psi_min = fx_iq(in->u.im.fw.psi_min_iq);
+            const apply_fx_t kt = fx_div(q->lm, fx_mul(fx_mul(q->sls, q->ls), fx_of(2U, 0)));
+            const apply_fx_t psir_min = fx_mul(psi_min, fx_sqrt(fx_div(q->lm, q->ls)));
+            apply_fx_t t2 = fx_mul(kt, fx_mul(psi_min, psi_min)), s2;
+            t2 = fx_lt(q->t_lim, t2) != 0U ? q->t_lim : t2;
+            s2 = fx_div(fx_mul(q->rr, t2), fx_mul(psir_min, psir_min));
+            slip = fx_lt(slip, s2) != 0U ? s2 : slip;
+        }
+        row = fx_row(fx_addsub(fx_div(fx_mul(slip, fx_of(3U, 0)), fx_of(2U, 0)), acc, 0U), 24);
+        if (row < 1) {
+            return (int16_t)APP_IDENT_APPLY_IM;
+        }
+        out->u.im.ref.enc_plaus_iq = (iq_t)row;
+    }
+    return (int16_t)APP_IDENT_APPLY_OK;
+}
+
 /* The rows the converter designs from the machine and the settings it holds in u.im.design, again
  * on the identified machine (each only where the converter wrote what it needs, else the row in
  * force stays). pu of the configuration's bases; every quantity a chain of at most 16 fx
@@ -508,129 +689,45 @@ static uint16_t dfoc_zeta0(const dtc_config_t *in, const apply_im_t *q, apply_fx
  *    (Casadei eq. 16), with the flux weakening (Casadei sec. 12) the larger of that and
  *    r_r min(T_lim, k_T psi_min^2) / ((M / L_s) psi_min)^2 (k_T of Casadei eq. 31,
  *    L_M / (2 sigma L_s L_s)); in pu the acceleration term is T_lim ts_pu speed_div / Jn. */
-static int16_t derive_im_design(const app_ident_t *d, const dtc_config_t *in, dtc_config_t *out, const apply_im_t *q,
+APP_NOINLINE static int16_t derive_im_design(const app_ident_view_t *d, const dtc_config_t *in, dtc_config_t *out, const apply_im_t *q,
                                 iq_t kt_iq)
 {
-    const dtc_im_design_cfg_t *g = &in->u.im.design;
-    const uint16_t p = out->machine.pole_pairs, p_in = in->machine.pole_pairs;
-    const uint16_t ilim_n = (uint16_t)(g->derived & DTC_IM_DESIGN_ILIM_N);
-    const uint16_t modulated = in->law == (uint16_t)DTC_LAW_IM_SFVC || in->law == (uint16_t)DTC_LAW_IM_DFOC ||
-                               in->law == (uint16_t)DTC_LAW_IM_DSVM ? 1U : 0U;
-    apply_fx_t vdc = fx_iq(g->vdc_iq);
-    int64_t row;
-    if (g->vdc_iq > 0 && g->torque_limit_iq > 0) {
-        /* the current step, the limit and the torque it allows */
-        const apply_fx_t vmax = in->board.topology == (uint16_t)DTC_TOPO_SSTP
-                                    ? fx_div(fx_mul(vdc, fx_of(2U, 0)), fx_of(3U, 0))
-                                    : fx_div(vdc, fx_sqrt(fx_of(3U, 0)));
-        const apply_fx_t itrip = fx_iq(in->prot.i_trip_iq);
-        apply_fx_t num = fx_addsub(vmax, fx_mul(q->rs, itrip), 0U), di, ilim, t_lim = q->t_lim;
-        if (modulated == 0U) {
-            const apply_fx_t wmax = fx_div(fx_mul(fx_iq(in->speed.speed_limit_iq), fx_of(p, 0)), fx_of(p_in, 0));
-            const apply_fx_t e = fx_mul(wmax, fx_mul(q->psir, fx_div(q->m, q->ls)));
-            num = fx_addsub(num, fx_lt(e, vmax) != 0U ? e : vmax, 0U);
-        }
-        di = fx_div(fx_mul(q->ts, num), q->sls);
-        if (ilim_n > 0U) {
-            ilim = fx_addsub(itrip, fx_mul(fx_of(ilim_n, 0), di), 1U);
-            row = fx_row(ilim, 24);
-            if (row < 0) {
-                return (int16_t)APP_IDENT_APPLY_IM;
-            }
-            out->prot.i_lim_iq = (iq_t)(row >= (int64_t)in->prot.i_trip_iq ? (int64_t)in->prot.i_trip_iq - 1 : row);
-        } else {
-            ilim = fx_iq(in->prot.i_lim_iq);
-        }
-        if (ilim.m != 0U) {
-            /* the excursion above the held current (the converter's dtc_im_hold_margin_a): dI, or
-             * on SFVC and on the DFOC's zeta = 0 design its SVM ripple V_max T_s / (4 sigma L_s) */
-            apply_fx_t wc;
-            const apply_fx_t h = in->law == (uint16_t)DTC_LAW_IM_SFVC ||
-                                         (in->law == (uint16_t)DTC_LAW_IM_DFOC && in->u.im.dfoc.kp_iq > 0 &&
-                                          in->machine.rs_iq > 0 && dfoc_zeta0(in, q, &wc) != 0U)
-                                     ? fx_div(fx_mul(q->ts, vmax), fx_mul(q->sls, fx_of(4U, 0))) : di;
-            uint16_t any;
-            const apply_fx_t t_i = im_torque_at(in, q, fx_addsub(ilim, h, 1U), &any);
-            if (any == 0U && t_i.m == 0U) {
-                out->prot.i_lim_iq = 0; /* no torque below the limit: the trip alone protects */
-            } else if (any == 0U && fx_lt(t_i, t_lim) != 0U) {
-                t_lim = t_i;
-            }
-        }
-        row = fx_row(t_lim, 24);
-        if (row < 1) {
-            return (int16_t)APP_IDENT_APPLY_IM;
-        }
-        out->speed.torque_limit_iq = (iq_t)row;
-        out->speed.torque_ref_iq = fix_clamp32(out->speed.torque_ref_iq, -out->speed.torque_limit_iq,
-                                               out->speed.torque_limit_iq);
+    int16_t rc = design_limits(in, out, q);
+    if (rc == (int16_t)APP_IDENT_APPLY_OK) {
+        rc = design_band2(in, out, q);
     }
-    if (in->law == (uint16_t)DTC_LAW_IM_DSVM && (g->derived & DTC_IM_DESIGN_BAND2) != 0U && g->vdc_iq > 0) {
-        /* Casadei eqs. 12, 15: dT = M (2/3 V_dc) phi_r* T_s / (sigma L_s L_r), L_r = L_s */
-        const apply_fx_t dt = fx_div(fx_mul(fx_mul(q->m, fx_div(fx_mul(vdc, fx_of(2U, 0)), fx_of(3U, 0))),
-                                            fx_mul(q->psir, q->ts)),
-                                     fx_mul(q->sls, q->ls));
-        const apply_fx_t b2 = fx_mul(dt, fx_of(2U, 0)), b1 = fx_iq(in->u.im.sw.torque_band_iq);
-        row = fx_row(fx_lt(b2, b1) != 0U ? b1 : b2, 24);
-        if (row < 0) {
-            return (int16_t)APP_IDENT_APPLY_IM;
-        }
-        out->u.im.dsvm.torque_band2_iq = (iq_t)row;
+    if (rc == (int16_t)APP_IDENT_APPLY_OK) {
+        rc = design_magn(in, out, q);
     }
-    if (g->magn_wait_iq > 0) {
-        const apply_fx_t ramp = fx_mul(fx_mul(fx_addsub(fx_of(1U, 0), fx_div(q->psir, q->m), 1U), q->rr), q->ts);
-        const apply_fx_t psis = in->u.im.ref.psir_ref_iq > 0 ? fx_div(fx_mul(q->psir, q->ls), q->m)
-                                                            : fx_iq(in->speed.flux_ref_iq);
-        const int64_t n1 = ramp.m != 0U ? fx_ceil(fx_div(psis, ramp)) : -1;
-        const int64_t n2 = fx_ceil(fx_div(fx_mul(q->ls, fx_iq(g->magn_wait_iq)), fx_mul(q->rr, q->ts)));
-        if (n1 < 0 || n2 < 0 || n1 + n2 < 1 || n1 + n2 > 65535) {
-            return (int16_t)APP_IDENT_APPLY_IM;
-        }
-        out->u.im.ref.magn_periods = (uint16_t)(n1 + n2);
+    if (rc == (int16_t)APP_IDENT_APPLY_OK) {
+        rc = design_dfoc(in, out, q);
     }
-    if (in->law == (uint16_t)DTC_LAW_IM_DFOC && in->u.im.dfoc.kp_iq > 0 && in->machine.rs_iq > 0) {
-        const apply_fx_t kp_in = fx_iq(in->u.im.dfoc.kp_iq), sls_in = fx_iq(in->u.im.machine.sigma_ls_iq);
-        const apply_fx_t rs_in = fx_iq(in->machine.rs_iq), ki_in = fx_iq(in->u.im.dfoc.ki_ts_iq);
-        apply_fx_t wc;
-        int64_t kp, ki;
-        if (dfoc_zeta0(in, q, &wc) != 0U) {
-            kp = fx_row(fx_mul(q->sls, wc), 24);
-            ki = fx_row(fx_mul(fx_mul(q->rs, wc), q->ts), 24);
-        } else {
-            const apply_fx_t k = fx_div(q->sls, sls_in);
-            kp = fx_row(fx_addsub(fx_mul(fx_addsub(kp_in, rs_in, 0U), k), q->rs, 1U), 24);
-            ki = fx_row(fx_mul(ki_in, k), 24);
-        }
-        if (kp < 1 || ki < 0) {
-            return (int16_t)APP_IDENT_APPLY_IM;
-        }
-        out->u.im.dfoc.kp_iq = (iq_t)kp;
-        out->u.im.dfoc.ki_ts_iq = (iq_t)ki;
+    if (rc == (int16_t)APP_IDENT_APPLY_OK) {
+        rc = design_enc_plaus(d, in, out, q, kt_iq);
     }
-    if (in->u.im.ref.enc_plaus_iq > 0 && g->torque_limit_iq > 0 && d->res.j_q12 > 0 && kt_iq > 0) {
-        apply_fx_t slip = fx_div(fx_mul(q->rr, q->t_lim), fx_mul(q->psir, q->psir));
-        const apply_fx_t acc = fx_div(fx_mul(fx_mul(q->t_lim, q->ts), fx_of(in->speed.speed_div, 0)),
-                                      jn_of(d, in, out, kt_iq));
-        if (in->u.im.fw.on != 0U && in->u.im.fw.psi_min_iq > 0) {
-            const apply_fx_t psi_min = fx_iq(in->u.im.fw.psi_min_iq);
-            const apply_fx_t kt = fx_div(q->lm, fx_mul(fx_mul(q->sls, q->ls), fx_of(2U, 0)));
-            const apply_fx_t psir_min = fx_mul(psi_min, fx_sqrt(fx_div(q->lm, q->ls)));
-            apply_fx_t t2 = fx_mul(kt, fx_mul(psi_min, psi_min)), s2;
-            t2 = fx_lt(q->t_lim, t2) != 0U ? q->t_lim : t2;
-            s2 = fx_div(fx_mul(q->rr, t2), fx_mul(psir_min, psir_min));
-            slip = fx_lt(slip, s2) != 0U ? s2 : slip;
-        }
-        row = fx_row(fx_addsub(fx_div(fx_mul(slip, fx_of(3U, 0)), fx_of(2U, 0)), acc, 0U), 24);
-        if (row < 1) {
-            return (int16_t)APP_IDENT_APPLY_IM;
-        }
-        out->u.im.ref.enc_plaus_iq = (iq_t)row;
-    }
-    return (int16_t)APP_IDENT_APPLY_OK;
+    return rc;
+}
+
+/* derive_im's machine for derive_im_design (apply_im_t), from L_s, sigma L_s and L_M (pu, IQ) */
+APP_NOINLINE static void im_q_of(const app_ident_view_t *d, const dtc_config_t *in, const dtc_config_t *out,
+                                 int64_t ls, int64_t sls, int64_t lm, apply_im_t *q)
+{
+    const dtc_im_cfg_t *im = &out->u.im;
+    q->ls = fx_iq(ls);
+    q->sls = fx_iq(sls);
+    q->lm = fx_iq(lm);
+    q->m = fx_sqrt(fx_mul(q->ls, q->lm));
+    q->rs = fx_iq(out->machine.rs_iq);
+    q->rr = fx_iq(d->res.im.rr_iq);
+    q->ts = fx_iq(in->board.ts_pu_iq);
+    q->psir = im->ref.psir_ref_iq > 0 ? fx_iq(im->ref.psir_ref_iq)
+                                      : fx_mul(fx_iq(in->speed.flux_ref_iq), fx_sqrt(fx_div(q->lm, q->ls)));
+    q->t_lim = fx_div(fx_mul(fx_iq(in->u.im.design.torque_limit_iq), fx_of(in->machine.pole_pairs, 0)),
+                      fx_of(out->machine.pole_pairs, 0));
 }
 
 /* The induction machine's rows (the file comment). */
-static int16_t derive_im(const app_ident_t *d, const dtc_config_t *in, dtc_config_t *out)
+static int16_t derive_im(const app_ident_view_t *d, const dtc_config_t *in, dtc_config_t *out)
 {
     dtc_im_cfg_t *im = &out->u.im;
     int64_t ls, sls, lm, m, kr, inv_ks, kt, mk, psir, i_m, ramp, gain = 0;
@@ -714,17 +811,7 @@ static int16_t derive_im(const app_ident_t *d, const dtc_config_t *in, dtc_confi
     {
         apply_im_t q;
         int16_t rc2;
-        q.ls = fx_iq(ls);
-        q.sls = fx_iq(sls);
-        q.lm = fx_iq(lm);
-        q.m = fx_sqrt(fx_mul(q.ls, q.lm));
-        q.rs = fx_iq(out->machine.rs_iq);
-        q.rr = fx_iq(d->res.im.rr_iq);
-        q.ts = fx_iq(in->board.ts_pu_iq);
-        q.psir = im->ref.psir_ref_iq > 0 ? fx_iq(im->ref.psir_ref_iq)
-                                         : fx_mul(fx_iq(in->speed.flux_ref_iq), fx_sqrt(fx_div(q.lm, q.ls)));
-        q.t_lim = fx_div(fx_mul(fx_iq(in->u.im.design.torque_limit_iq), fx_of(in->machine.pole_pairs, 0)),
-                         fx_of(out->machine.pole_pairs, 0));
+        im_q_of(d, in, out, ls, sls, lm, &q);
         rc2 = derive_im_design(d, in, out, &q, d->res.j_q12 > 0 ? kt_spin : 0);
         if (rc2 != (int16_t)APP_IDENT_APPLY_OK) {
             return rc2;
@@ -734,7 +821,18 @@ static int16_t derive_im(const app_ident_t *d, const dtc_config_t *in, dtc_confi
 }
 #endif
 
-int16_t app_ident_derive(const app_ident_t *d, const dtc_config_t *in, dtc_config_t *out)
+void app_ident_view_of(const app_ident_t *d, app_ident_view_t *v)
+{
+    v->step = d->step;
+    v->fail = d->fail;
+    v->fail_step = d->fail_step;
+    v->fail_detail = d->fail_detail;
+    v->im_on = d->im_on;
+    v->vdc_iq = d->vdc_iq;
+    v->res = d->res;
+}
+
+int16_t app_ident_derive(const app_ident_view_t *d, const dtc_config_t *in, dtc_config_t *out)
 {
     if (d->step != (uint16_t)APP_IDENT_DONE) {
         return (int16_t)APP_IDENT_APPLY_NOT_DONE;

@@ -12,8 +12,9 @@
 
 #include <stddef.h>
 
-/* The background's copy of the configuration being changed (the identification's state is read
- * into a local: the stack of a background call, as the IDENTIFY command's). */
+/* The background's copy of the configuration being changed (the identification's progress and
+ * results are read into a local app_ident_view_t: the stack of a background call, as the IDENTIFY
+ * command's). */
 static dtc_config_t g_apply;
 
 /* Configuration rows (the common part's and its law's) whose raw value differs between a and b. */
@@ -31,22 +32,28 @@ static uint16_t rows_changed(const dtc_config_t *a, const dtc_config_t *b)
     return n;
 }
 
+/* 1 when the drive is armed or identifying (its status copy off the derivation's stack) */
+APP_NOINLINE static uint16_t busy(void)
+{
+    app_status_t s;
+    app_get_status(&s);
+    return s.state == APP_STATE_RUN || s.state == APP_STATE_IDENT ? 1U : 0U;
+}
+
 int16_t app_ident_apply(uint16_t *changed, int16_t *detail)
 {
     const dtc_config_t *cfg = app_config();
-    app_ident_t d;
-    app_status_t s;
+    app_ident_view_t d;
     int16_t rc;
     *detail = 0;
     *changed = 0U;
-    app_get_status(&s);
-    if (s.state == APP_STATE_RUN || s.state == APP_STATE_IDENT) {
+    if (busy() != 0U) {
         return (int16_t)APP_IDENT_APPLY_ARMED;
     }
     if (cfg == NULL) {
         return (int16_t)APP_IDENT_APPLY_NOT_DONE;
     }
-    app_get_ident(&d);
+    app_get_ident_view(&d);
     rc = app_ident_derive(&d, cfg, &g_apply);
     if (rc != (int16_t)APP_IDENT_APPLY_OK) {
         return rc;

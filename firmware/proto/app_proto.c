@@ -83,7 +83,7 @@ void app_proto_error(const frame_t *rq, frame_t *rs, uint16_t code, int16_t deta
 }
 
 /* A quantity (enum capture_quantity) from a status copy and the references published last. */
-static int32_t quantity(const app_status_t *s, const dtc_refs_t *r, uint16_t q)
+APP_NOINLINE static int32_t quantity(const app_status_t *s, const dtc_refs_t *r, uint16_t q)
 {
     switch (q) {
     case CAPTURE_Q_I_A: return s->meas.ia_iq;
@@ -104,7 +104,7 @@ static int32_t quantity(const app_status_t *s, const dtc_refs_t *r, uint16_t q)
     }
 }
 
-static void do_hello(frame_t *rs, const app_proto_t *p)
+APP_NOINLINE static void do_hello(frame_t *rs, const app_proto_t *p)
 {
     const dtc_config_t *c = app_config();
     uint16_t *o = rs->payload;
@@ -126,7 +126,7 @@ static void do_hello(frame_t *rs, const app_proto_t *p)
     rs->len = 40U;
 }
 
-static void do_status(frame_t *rs, const frame_dec_t *dec)
+APP_NOINLINE static void do_status(frame_t *rs, const frame_dec_t *dec)
 {
     app_status_t s;
     dtc_refs_t r;
@@ -153,7 +153,7 @@ static void do_status(frame_t *rs, const frame_dec_t *dec)
 }
 
 /* SPEED_REF / TORQUE_REF: the reference and its mode through the shadow set. */
-static void do_ref(const frame_t *rq, frame_t *rs, uint16_t mode)
+APP_NOINLINE static void do_ref(const frame_t *rq, frame_t *rs, uint16_t mode)
 {
     dtc_refs_t r;
     int16_t rc;
@@ -174,7 +174,7 @@ static void do_ref(const frame_t *rq, frame_t *rs, uint16_t mode)
     rs->len = 4U;
 }
 
-static void do_capture_setup(const frame_t *rq, frame_t *rs)
+APP_NOINLINE static void do_capture_setup(const frame_t *rq, frame_t *rs)
 {
     capture_setup_t s;
     uint16_t k, rc;
@@ -195,7 +195,7 @@ static void do_capture_setup(const frame_t *rq, frame_t *rs)
     }
 }
 
-static void do_capture_status(frame_t *rs)
+APP_NOINLINE static void do_capture_status(frame_t *rs)
 {
     const capture_t *c = app_capture();
     const uint16_t st = capture_state(c);
@@ -208,7 +208,7 @@ static void do_capture_status(frame_t *rs)
     rs->len = 12U;
 }
 
-static void do_capture_read(const frame_t *rq, frame_t *rs)
+APP_NOINLINE static void do_capture_read(const frame_t *rq, frame_t *rs)
 {
     const capture_t *c = app_capture();
     const uint16_t first = frame_get_u16(&rq->payload[0]);
@@ -240,7 +240,7 @@ static void do_capture_read(const frame_t *rq, frame_t *rs)
     rs->len = at;
 }
 
-static void do_faultlog(const frame_t *rq, frame_t *rs)
+APP_NOINLINE static void do_faultlog(const frame_t *rq, frame_t *rs)
 {
     faultlog_entry_t e;
     uint16_t rc = FAULTLOG_BUSY, tries;
@@ -280,12 +280,12 @@ static void do_faultlog(const frame_t *rq, frame_t *rs)
 }
 
 /* IDENTIFY (proto.h): start from READY, or the progress and the results so far. */
-static void do_identify(const frame_t *rq, frame_t *rs)
+APP_NOINLINE static void do_identify(const frame_t *rq, frame_t *rs)
 {
     const uint16_t sub = frame_get_u16(&rq->payload[0]);
     uint16_t *o = rs->payload;
     uint16_t k;
-    app_ident_t d;
+    app_ident_view_t d;
     app_status_t s;
     frame_put_u16(&o[0], sub);
     rs->len = 2U;
@@ -312,7 +312,7 @@ static void do_identify(const frame_t *rq, frame_t *rs)
         app_proto_error(rq, rs, PROTO_ERR_RANGE, 0);
         return;
     }
-    app_get_ident(&d);
+    app_get_ident_view(&d);
     frame_put_u16(&o[2], d.step);
     if (sub == (uint16_t)PROTO_IDENT_STATUS) {
         app_get_status(&s);
@@ -354,8 +354,20 @@ static void do_identify(const frame_t *rq, frame_t *rs)
     rs->len = 118U;
 }
 
+/* FAULT_CLEAR (proto.h): refused while the configuration is the fault. */
+APP_NOINLINE static void do_fault_clear(const frame_t *rq, frame_t *rs)
+{
+    app_status_t s;
+    app_get_status(&s);
+    if (s.state == APP_STATE_FAULT && s.fault == (uint16_t)APP_FAULT_CONFIG) {
+        app_proto_error(rq, rs, PROTO_ERR_REFUSED, PROTO_REFUSE_CONFIG);
+    } else {
+        app_request_fault_clear();
+    }
+}
+
 /* IDENT_APPLY (proto.h): the finished identification into the parameters in force. */
-static void do_ident_apply(const frame_t *rq, frame_t *rs)
+APP_NOINLINE static void do_ident_apply(const frame_t *rq, frame_t *rs)
 {
     int16_t detail = 0;
     uint16_t n = 0U;
@@ -383,7 +395,7 @@ static void do_ident_apply(const frame_t *rq, frame_t *rs)
     rs->len = 2U;
 }
 
-static void do_telemetry_start(app_proto_t *p, const frame_t *rq, frame_t *rs)
+APP_NOINLINE static void do_telemetry_start(app_proto_t *p, const frame_t *rq, frame_t *rs)
 {
     uint16_t k;
     const uint16_t count = frame_get_u16(&rq->payload[2]);
@@ -488,16 +500,9 @@ void app_proto_handle(app_proto_t *p, const frame_t *rq, frame_t *rs)
     case PROTO_TORQUE_REF:
         do_ref(rq, rs, DTC_MODE_TORQUE);
         break;
-    case PROTO_FAULT_CLEAR: {
-        app_status_t s;
-        app_get_status(&s);
-        if (s.state == APP_STATE_FAULT && s.fault == (uint16_t)APP_FAULT_CONFIG) {
-            app_proto_error(rq, rs, PROTO_ERR_REFUSED, PROTO_REFUSE_CONFIG);
-        } else {
-            app_request_fault_clear();
-        }
+    case PROTO_FAULT_CLEAR:
+        do_fault_clear(rq, rs);
         break;
-    }
     case PROTO_TELEMETRY_START:
         do_telemetry_start(p, rq, rs);
         break;
@@ -545,7 +550,7 @@ static void flush(app_proto_t *p)
     }
 }
 
-static void telemetry(app_proto_t *p, uint32_t tick)
+APP_NOINLINE static void telemetry(app_proto_t *p, uint32_t tick)
 {
     frame_t *const f = &p->out;
     app_status_t s;
@@ -567,16 +572,22 @@ static void telemetry(app_proto_t *p, uint32_t tick)
     send(p, f);
 }
 
+/* The drive's tick (its status copy off the stack of the request's handling) */
+APP_NOINLINE static uint32_t status_tick(void)
+{
+    app_status_t s;
+    app_get_status(&s);
+    return s.tick;
+}
+
 void app_proto_poll(app_proto_t *p)
 {
     uint16_t buf[APP_PROTO_RX_OCTETS];
     uint16_t n, k;
-    app_status_t s;
     uint32_t tick;
 
     flush(p);
-    app_get_status(&s);
-    tick = s.tick;
+    tick = status_tick();
     n = frame_dec_room(&p->dec);
     n = hal_serial_read(buf, n < APP_PROTO_RX_OCTETS ? n : APP_PROTO_RX_OCTETS);
     for (k = 0U; k < n; k++) {

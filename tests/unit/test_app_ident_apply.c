@@ -40,6 +40,14 @@ static dtc_config_t g_ref;    /* the host converter's configuration of the true 
 static dtc_config_t g_in;     /* the configuration in force: R_s, L_s, psi_m, T_d 30 % off */
 static dtc_config_t g_out;
 static app_ident_t g_d;
+
+/* app_ident_derive on the view of d, as app_ident_apply reads it (app_get_ident_view) */
+static int16_t derive_of(const app_ident_t *d, const dtc_config_t *in, dtc_config_t *out)
+{
+    app_ident_view_t v;
+    app_ident_view_of(d, &v);
+    return app_ident_derive(&v, in, out);
+}
 static dtc_bases_t g_b;
 
 static int32_t iq_of(double x) { return (int32_t)lround(x * IQ1); }
@@ -143,7 +151,7 @@ static void check_rows(void)
     const double gain = ldexp((double)g_d.res.pole_pairs, 32) / n;
     const char *f = NULL;
     int16_t rc;
-    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
+    assert_int_equal(derive_of(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
     rc = law_check(&g_out, &f);
     if (rc != 0) {
         fail_msg("law_check refused the applied configuration: %d (%s)", rc, f != NULL ? f : "");
@@ -199,10 +207,10 @@ static void test_reversed_in_force(void **state)
     (void)state;
     setup(DTC_TOPO_SSTP, 0.7, 1);
     g_in.board.enc_reversed = 1U;
-    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
+    assert_int_equal(derive_of(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
     assert_int_equal(g_out.board.enc_reversed, 0U);
     g_d.res.enc_reversed = 0U;
-    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
+    assert_int_equal(derive_of(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
     assert_int_equal(g_out.board.enc_reversed, 1U);
     assert_int_equal(g_out.board.enc_offset, g_d.res.enc_offset);
 }
@@ -213,7 +221,7 @@ static void test_pole_pairs(void **state)
     (void)state;
     setup(DTC_TOPO_SSTP, 0.3, 0);
     g_d.res.pole_pairs = 4U;
-    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
+    assert_int_equal(derive_of(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
     assert_int_equal(g_out.machine.pole_pairs, 4U);
     assert_true(fabs((double)g_out.board.enc_gain_q16 - ldexp(4.0, 32) / (double)g_in.board.enc_counts) <= 0.5);
 }
@@ -224,10 +232,10 @@ static void test_dead_time_bounds(void **state)
     (void)state;
     setup(DTC_TOPO_FSTP, 0.0, 0);
     g_d.res.v0_iq = 0;
-    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
+    assert_int_equal(derive_of(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
     assert_int_equal(g_out.board.td_ts_q15, 0);
     g_d.res.v0_iq = iq_of(0.6); /* 0.6 sqrt(3) / 2 > 1/2 of a period */
-    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_DEADTIME);
+    assert_int_equal(derive_of(&g_d, &g_in, &g_out), APP_IDENT_APPLY_DEADTIME);
 }
 
 static void test_refusals(void **state)
@@ -235,21 +243,21 @@ static void test_refusals(void **state)
     (void)state;
     setup(DTC_TOPO_SSTP, 0.0, 0);
     g_d.step = APP_IDENT_SPIN;
-    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_NOT_DONE);
+    assert_int_equal(derive_of(&g_d, &g_in, &g_out), APP_IDENT_APPLY_NOT_DONE);
     g_d.step = APP_IDENT_FAILED;
-    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_NOT_DONE);
+    assert_int_equal(derive_of(&g_d, &g_in, &g_out), APP_IDENT_APPLY_NOT_DONE);
     g_d.step = APP_IDENT_DONE;
     g_d.im_on = 1U;
-    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_LAW);
+    assert_int_equal(derive_of(&g_d, &g_in, &g_out), APP_IDENT_APPLY_LAW);
     g_d.im_on = 0U;
     g_in.law = DTC_LAW_IM_DTC;
-    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_LAW);
+    assert_int_equal(derive_of(&g_d, &g_in, &g_out), APP_IDENT_APPLY_LAW);
     g_in.law = DTC_LAW_PM_DTC;
     g_d.res.r_iq = g_in.board.r_on_iq;
-    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_RS);
+    assert_int_equal(derive_of(&g_d, &g_in, &g_out), APP_IDENT_APPLY_RS);
     setup(DTC_TOPO_SSTP, 0.0, 0);
     g_d.res.l_ts_iq = 1;
-    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_LS);
+    assert_int_equal(derive_of(&g_d, &g_in, &g_out), APP_IDENT_APPLY_LS);
 }
 
 
@@ -554,7 +562,7 @@ static void check_im_rows(void)
     const char *f = NULL;
     double ls, sls, lm, psir;
     int16_t rc;
-    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
+    assert_int_equal(derive_of(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
     rc = law_check(&g_out, &f);
     if (rc != 0) {
         fail_msg("law_check refused the applied configuration: %d (%s)", rc, f != NULL ? f : "");
@@ -705,7 +713,7 @@ static void test_im_standing_ls(void **state)
     setup_im(DTC_LAW_IM_DTC, 0.53, 0, 2);
     g_d.res.im.id_iq = 0;
     g_d.res.j_q12 = 0; /* a spin without i_d has no torque constant: no J */
-    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
+    assert_int_equal(derive_of(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
     {
         const double ls = nearbyint((double)g_d.res.im.ls_ts_iq * (double)g_in.board.ts_pu_iq / IQ1);
         const double lm = ls - (double)g_out.u.im.machine.sigma_ls_iq;
@@ -719,24 +727,24 @@ static void test_im_refusals(void **state)
     setup_im(DTC_LAW_IM_DTC, 0.53, 0, 2);
     /* the machines must agree: an IM's identification on a PM configuration and a PM's on an IM's */
     g_d.im_on = 0U;
-    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_LAW);
+    assert_int_equal(derive_of(&g_d, &g_in, &g_out), APP_IDENT_APPLY_LAW);
     g_d.im_on = 1U;
     /* L_s not above sigma L_s, turning and standing */
     g_d.res.im.lsig_ts_iq = g_d.res.im.ls_ts_iq;
-    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_IM);
+    assert_int_equal(derive_of(&g_d, &g_in, &g_out), APP_IDENT_APPLY_IM);
     setup_im(DTC_LAW_IM_DTC, 0.53, 0, 2);
     g_d.res.im.rr_iq = 0;
-    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_IM);
+    assert_int_equal(derive_of(&g_d, &g_in, &g_out), APP_IDENT_APPLY_IM);
     /* a DFOC current PI whose gains in force give K_p = (K_p' + R_s') sigma L_s / sigma L_s' - R_s
      * not positive (K_p' and R_s' 1 LSB: not the zeta = 0 design, K_i' T_s far above R_s' w_c T_s) */
     setup_im(DTC_LAW_IM_DFOC, 0.53, 0, 2);
     g_in.u.im.dfoc.kp_iq = 1;
     g_in.machine.rs_iq = 1;
-    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_IM);
+    assert_int_equal(derive_of(&g_d, &g_in, &g_out), APP_IDENT_APPLY_IM);
     /* a configuration without the design rows (all 0) keeps the rows designed from them */
     setup_im(DTC_LAW_IM_DFOC, 0.53, 0, 2);
     memset(&g_in.u.im.design, 0, sizeof g_in.u.im.design);
-    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
+    assert_int_equal(derive_of(&g_d, &g_in, &g_out), APP_IDENT_APPLY_OK);
     assert_int_equal(g_out.prot.i_lim_iq, g_in.prot.i_lim_iq);
     assert_int_equal(g_out.speed.torque_limit_iq, g_in.speed.torque_limit_iq);
     assert_int_equal(g_out.u.im.ref.magn_periods, g_in.u.im.ref.magn_periods);
@@ -744,7 +752,7 @@ static void test_im_refusals(void **state)
     /* a magnetising current phi_r* / M at rated: M three times too small */
     setup_im(DTC_LAW_IM_DTC, 0.53, 0, 2);
     g_d.res.psi_iq /= 8;
-    assert_int_equal(app_ident_derive(&g_d, &g_in, &g_out), APP_IDENT_APPLY_IM);
+    assert_int_equal(derive_of(&g_d, &g_in, &g_out), APP_IDENT_APPLY_IM);
 }
 
 int main(void)
